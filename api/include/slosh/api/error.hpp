@@ -1,0 +1,42 @@
+#pragma once
+// The one error type of the API surface, rendered as {"error": {"code", "message", "field"}}.
+
+#include <stdexcept>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+namespace slosh::api {
+
+/// Error classes and their HTTP status.
+enum class ErrorCode {
+  kMalformedJson,   ///< 400: the body is not JSON
+  kInvalidValue,    ///< 422: a field is missing, of the wrong type or out of range
+  kNotFound,        ///< 404
+  kPayloadTooLarge, ///< 413
+  kOverloaded,      ///< 503
+  kTimeout,         ///< 504
+  kInternal,        ///< 500
+};
+
+[[nodiscard]] int http_status(ErrorCode code);
+[[nodiscard]] std::string to_string(ErrorCode code);
+
+/// Thrown by parsing and validation; carries the JSON path of the offending field.
+class ApiError : public std::runtime_error {
+ public:
+  ApiError(ErrorCode code, std::string field, const std::string& message)
+      : std::runtime_error(message), code_(code), field_(std::move(field)) {}
+  [[nodiscard]] ErrorCode code() const { return code_; }
+  [[nodiscard]] const std::string& field() const { return field_; }
+  [[nodiscard]] int status() const { return http_status(code_); }
+
+ private:
+  ErrorCode code_;
+  std::string field_;
+};
+
+/// {"error": {"code": "invalid_value", "message": "...", "field": "format.radius_mm"}}
+[[nodiscard]] nlohmann::json error_envelope(const ApiError& error);
+
+}  // namespace slosh::api

@@ -1,0 +1,57 @@
+#pragma once
+// Typed access to JSON request fields with validation messages that name the field path, the
+// value and the allowed range: "format.radius_mm = -3 is out of range: allowed 1 to 2000 mm".
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace slosh::api {
+
+/// Closed or open numeric range with a unit for messages.
+struct Range {
+  double lo;
+  double hi;
+  std::string_view unit;
+  bool lo_open{false};  ///< lo excluded
+  bool hi_open{false};  ///< hi excluded
+  [[nodiscard]] bool contains(double v) const;
+  [[nodiscard]] std::string describe() const;  ///< "1 to 2000 mm", "> 0 and <= 5000 mm"
+};
+
+/// "a.b" + "c" -> "a.b.c"
+[[nodiscard]] std::string join_path(std::string_view parent, std::string_view key);
+
+/// Compact JSON text of a value for messages.
+[[nodiscard]] std::string show(const nlohmann::json& value);
+
+/// Throws ApiError(kInvalidValue) unless `object` is a JSON object.
+void require_object(const nlohmann::json& object, const std::string& path);
+
+/// Rejects members of `object` not in `allowed` (catches typos such as "radius" for "radius_mm").
+void reject_unknown_fields(const nlohmann::json& object, const std::string& path,
+                           const std::vector<std::string_view>& allowed);
+
+/// A required number within `range`.
+[[nodiscard]] double required_number(const nlohmann::json& object, const std::string& path,
+                                     std::string_view key, const Range& range);
+
+/// An optional number within `range`; `fallback` when absent.
+[[nodiscard]] double optional_number(const nlohmann::json& object, const std::string& path,
+                                     std::string_view key, const Range& range, double fallback);
+
+/// An optional integer within [lo, hi].
+[[nodiscard]] int optional_integer(const nlohmann::json& object, const std::string& path,
+                                   std::string_view key, int lo, int hi, int fallback);
+
+/// An optional boolean.
+[[nodiscard]] bool optional_bool(const nlohmann::json& object, const std::string& path,
+                                 std::string_view key, bool fallback);
+
+/// Throws ApiError(kInvalidValue) for `path` with `message`.
+[[noreturn]] void invalid(const std::string& path, const std::string& message);
+
+}  // namespace slosh::api

@@ -1,0 +1,50 @@
+#pragma once
+// JSON <-> format, fluid and model types. The HTTP/CLI surface speaks mm and s; core is SI.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/fields.hpp"
+#include "slosh/core/format.hpp"
+#include "slosh/core/sloshing_model.hpp"
+
+namespace slosh::api {
+
+/// Allowed ranges of the request fields (user units).
+namespace ranges {
+inline const Range kRadiusMm{1.0, 2000.0, "mm"};
+inline const Range kContainerHeightMm{0.0, 10000.0, "mm", true};
+inline const Range kFillHeightMm{0.0, 5000.0, "mm", true};
+inline const Range kStrokeMm{0.0, 100000.0, "mm", true};
+inline const Range kMotionTimeS{0.05, 60.0, "s"};
+inline const Range kDensity{100.0, 20000.0, "kg/m^3"};
+inline const Range kViscosity{0.0, 10.0, "Pa·s", true};
+inline const Range kZeta{0.0, 0.5, "", false, true};
+inline const Range kAlpha{0.0, 2.0, ""};
+inline const Range kRestTimeS{0.0, 60.0, "s"};
+inline const Range kSamplePeriodS{1e-4, 1.0, "s"};
+inline const Range kMinRampS{1e-3, 1.0, "s"};
+constexpr int kMaxSeriesSamples{200000};
+}  // namespace ranges
+
+/// Parses and validates `format` (radius, height, fill, fluid, stroke, motion time).
+[[nodiscard]] Format parse_format(const nlohmann::json& format, const std::string& path = "format");
+
+/// Parses `fluid`: a catalogue name or {"density_kg_m3", "viscosity_pa_s"}.
+[[nodiscard]] Fluid parse_fluid(const nlohmann::json& fluid, const std::string& path);
+
+/// Parses the model members of an options object (modes, damping, alpha) into `options`.
+void parse_model_options(const nlohmann::json& options, const std::string& path,
+                         ModelOptions& model);
+
+/// The format echoed back in user units.
+[[nodiscard]] nlohmann::json format_json(const Format& format);
+
+/// "model": omega_rad_s, f_hz, zeta, C, alpha, K_mm, masses, gains.
+[[nodiscard]] nlohmann::json model_json(const SloshingModel& model, const ModelOptions& options);
+
+/// GET /v1/fluids body: the catalogue with sources.
+[[nodiscard]] nlohmann::json fluids_json();
+
+}  // namespace slosh::api

@@ -1,0 +1,45 @@
+#pragma once
+// POST /v1/simulate and `slosh simulate`: any supported law on a format -> eta peaks and series.
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/simulation.hpp"
+
+namespace slosh::api {
+
+/// Law types accepted by simulate.
+enum class LawType { kSevenSegment, kSevenSegmentUniform, kPoly5, kModifiedTrapezoid, kCycloidal };
+
+/// A validated simulate request.
+struct SimulateRequest {
+  Format format;
+  LawType law_type{LawType::kSevenSegment};
+  std::optional<Durations> durations;  ///< for kSevenSegment
+  SimulationOptions options;
+  double min_ramp{kDefaultMinRamp};
+};
+
+/// Parses the request body text; throws ApiError (400 malformed JSON, 422 invalid value).
+[[nodiscard]] nlohmann::json parse_json_body(std::string_view body);
+
+/// Validates a parsed simulate request; throws ApiError(kInvalidValue) naming the field.
+[[nodiscard]] SimulateRequest parse_simulate_request(const nlohmann::json& body);
+
+/// Builds the law of a validated request.
+[[nodiscard]] MotionLaw build_law(const SimulateRequest& request);
+
+/// Runs a validated request and renders the response
+/// {"law", "kinematics", "model", "prediction", "series"?, "warnings"}.
+[[nodiscard]] nlohmann::json run_simulate(const SimulateRequest& request);
+
+/// Kinematics and prediction blocks shared with plans.
+[[nodiscard]] nlohmann::json prediction_json(const SimulationResult& result);
+
+[[nodiscard]] std::string to_string(LawType type);
+
+}  // namespace slosh::api

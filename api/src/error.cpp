@@ -1,0 +1,51 @@
+#include "slosh/api/error.hpp"
+
+namespace slosh::api {
+
+int http_status(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kMalformedJson:
+      return 400;
+    case ErrorCode::kInvalidValue:
+      return 422;
+    case ErrorCode::kNotFound:
+      return 404;
+    case ErrorCode::kPayloadTooLarge:
+      return 413;
+    case ErrorCode::kOverloaded:
+      return 503;
+    case ErrorCode::kTimeout:
+      return 504;
+    case ErrorCode::kInternal:
+      return 500;
+  }
+  return 500;
+}
+
+std::string to_string(ErrorCode code) {
+  switch (code) {
+    case ErrorCode::kMalformedJson:
+      return "malformed_json";
+    case ErrorCode::kInvalidValue:
+      return "invalid_value";
+    case ErrorCode::kNotFound:
+      return "not_found";
+    case ErrorCode::kPayloadTooLarge:
+      return "payload_too_large";
+    case ErrorCode::kOverloaded:
+      return "overloaded";
+    case ErrorCode::kTimeout:
+      return "timeout";
+    case ErrorCode::kInternal:
+      return "internal";
+  }
+  return "internal";
+}
+
+nlohmann::json error_envelope(const ApiError& error) {
+  nlohmann::json e{{"code", to_string(error.code())}, {"message", error.what()}};
+  e["field"] = error.field().empty() ? nlohmann::json(nullptr) : nlohmann::json(error.field());
+  return {{"error", e}};
+}
+
+}  // namespace slosh::api

@@ -1,0 +1,127 @@
+#include "slosh/api/fields.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <sstream>
+
+#include "slosh/api/error.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+std::string number_text(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
+
+const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
+  auto it = object.find(std::string(key));
+  return it == object.end() ? nullptr : &*it;
+}
+
+}  // namespace
+
+bool Range::contains(double v) const {
+  const bool lo_ok = lo_open ? v > lo : v >= lo;
+  const bool hi_ok = hi_open ? v < hi : v <= hi;
+  return lo_ok && hi_ok;
+}
+
+std::string Range::describe() const {
+  std::ostringstream os;
+  if (!lo_open && !hi_open) {
+    os << number_text(lo) << " to " << number_text(hi);
+  } else {
+    os << (lo_open ? "> " : ">= ") << number_text(lo) << " and " << (hi_open ? "< " : "<= ")
+       << number_text(hi);
+  }
+  if (!unit.empty()) os << ' ' << unit;
+  return os.str();
+}
+
+std::string join_path(std::string_view parent, std::string_view key) {
+  if (parent.empty()) return std::string(key);
+  return std::string(parent) + "." + std::string(key);
+}
+
+std::string show(const nlohmann::json& value) {
+  std::string s = value.dump();
+  if (s.size() > 60) s = s.substr(0, 57) + "...";
+  return s;
+}
+
+void invalid(const std::string& path, const std::string& message) {
+  throw ApiError(ErrorCode::kInvalidValue, path, message);
+}
+
+void require_object(const nlohmann::json& object, const std::string& path) {
+  if (!object.is_object()) {
+    invalid(path, (path.empty() ? std::string("the request") : path) +
+                      " must be a JSON object, got " + show(object));
+  }
+}
+
+void reject_unknown_fields(const nlohmann::json& object, const std::string& path,
+                           const std::vector<std::string_view>& allowed) {
+  for (const auto& [key, value] : object.items()) {
+    if (std::find(allowed.begin(), allowed.end(), key) != allowed.end()) continue;
+    std::string list;
+    for (std::string_view a : allowed) list += (list.empty() ? "" : ", ") + std::string(a);
+    invalid(join_path(path, key),
+            join_path(path, key) + " is not a known field; allowed here: " + list);
+  }
+}
+
+double required_number(const nlohmann::json& object, const std::string& path,
+                       std::string_view key, const Range& range) {
+  const std::string field = join_path(path, key);
+  const nlohmann::json* v = member(object, key);
+  if (v == nullptr || v->is_null()) {
+    invalid(field, field + " is required: a number, allowed " + range.describe());
+  }
+  if (!v->is_number()) {
+    invalid(field, field + " must be a number, got " + show(*v) + "; allowed " + range.describe());
+  }
+  const double x = v->get<double>();
+  if (!std::isfinite(x) || !range.contains(x)) {
+    invalid(field, field + " = " + number_text(x) + " is out of range: allowed " + range.describe());
+  }
+  return x;
+}
+
+double optional_number(const nlohmann::json& object, const std::string& path,
+                       std::string_view key, const Range& range, double fallback) {
+  const nlohmann::json* v = member(object, key);
+  if (v == nullptr || v->is_null()) return fallback;
+  return required_number(object, path, key, range);
+}
+
+int optional_integer(const nlohmann::json& object, const std::string& path, std::string_view key,
+                     int lo, int hi, int fallback) {
+  const std::string field = join_path(path, key);
+  const nlohmann::json* v = member(object, key);
+  if (v == nullptr || v->is_null()) return fallback;
+  const std::string allowed = "allowed an integer " + std::to_string(lo) + " to " + std::to_string(hi);
+  if (!v->is_number()) invalid(field, field + " must be a number, got " + show(*v) + "; " + allowed);
+  const double x = v->get<double>();
+  if (x != std::floor(x) || x < lo || x > hi) {
+    invalid(field, field + " = " + number_text(x) + " is out of range: " + allowed);
+  }
+  return static_cast<int>(x);
+}
+
+bool optional_bool(const nlohmann::json& object, const std::string& path, std::string_view key,
+                   bool fallback) {
+  const nlohmann::json* v = member(object, key);
+  if (v == nullptr || v->is_null()) return fallback;
+  if (!v->is_boolean()) {
+    const std::string field = join_path(path, key);
+    invalid(field, field + " must be true or false, got " + show(*v));
+  }
+  return v->get<bool>();
+}
+
+}  // namespace slosh::api

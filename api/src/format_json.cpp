@@ -1,0 +1,140 @@
+#include "slosh/api/format_json.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "slosh/api/error.hpp"
+#include "slosh/core/fluid.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+std::string catalogue_names() {
+  std::string names;
+  for (const Fluid& f : fluid_catalogue()) names += (names.empty() ? "" : ", ") + f.name;
+  return names;
+}
+
+}  // namespace
+
+Fluid parse_fluid(const nlohmann::json& fluid, const std::string& path) {
+  if (fluid.is_string()) {
+    const auto name = fluid.get<std::string>();
+    if (auto f = find_fluid(name)) return *f;
+    invalid(path, path + " = " + show(fluid) + " is not in the catalogue; allowed: " +
+                      catalogue_names() + ", or {\"density_kg_m3\", \"viscosity_pa_s\"}");
+  }
+  if (!fluid.is_object()) {
+    invalid(path, path + " must be a catalogue name (" + catalogue_names() +
+                      ") or {\"density_kg_m3\", \"viscosity_pa_s\"}, got " + show(fluid));
+  }
+  reject_unknown_fields(fluid, path, {"density_kg_m3", "viscosity_pa_s", "name"});
+  Fluid f;
+  f.name = "custom";
+  f.density = required_number(fluid, path, "density_kg_m3", ranges::kDensity);
+  f.viscosity = required_number(fluid, path, "viscosity_pa_s", ranges::kViscosity);
+  f.source = "given by the caller";
+  return f;
+}
+
+Format parse_format(const nlohmann::json& format, const std::string& path) {
+  require_object(format, path);
+  reject_unknown_fields(format, path,
+                        {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"});
+  const std::string cpath = join_path(path, "container");
+  auto it = format.find("container");
+  if (it == format.end()) invalid(cpath, cpath + " is required: {\"radius_mm\", \"height_mm\"}");
+  require_object(*it, cpath);
+  reject_unknown_fields(*it, cpath, {"radius_mm", "height_mm"});
+  Format f;
+  f.container.radius = required_number(*it, cpath, "radius_mm", ranges::kRadiusMm) * 1e-3;
+  const double fill_mm = required_number(format, path, "fill_height_mm", ranges::kFillHeightMm);
+  f.fill_height = fill_mm * 1e-3;
+  if (it->contains("height_mm") && !(*it)["height_mm"].is_null()) {
+    const Range height_range{fill_mm, ranges::kContainerHeightMm.hi, "mm", true};
+    f.container.height = required_number(*it, cpath, "height_mm", height_range) * 1e-3;
+  }
+  const std::string fpath = join_path(path, "fluid");
+  auto fl = format.find("fluid");
+  if (fl == format.end()) {
+    invalid(fpath, fpath + " is required: a catalogue name (" + catalogue_names() +
+                       ") or {\"density_kg_m3\", \"viscosity_pa_s\"}");
+  }
+  f.fluid = parse_fluid(*fl, fpath);
+  f.stroke = required_number(format, path, "stroke_mm", ranges::kStrokeMm) * 1e-3;
+  f.motion_time = required_number(format, path, "motion_time_s", ranges::kMotionTimeS);
+  return f;
+}
+
+void parse_model_options(const nlohmann::json& options, const std::string& path,
+                         ModelOptions& model) {
+  model.modes = optional_integer(options, path, "modes", 1, static_cast<int>(kMaxModes), 3);
+  model.alpha = optional_number(options, path, "alpha", ranges::kAlpha, kDefaultAlpha);
+  const std::string dpath = join_path(path, "damping");
+  auto it = options.find("damping");
+  if (it == options.end() || it->is_null()) {
+    model.damping = DampingCorrelation::kThesis;
+    return;
+  }
+  if (it->is_string()) {
+    const auto name = it->get<std::string>();
+    for (auto c : {DampingCorrelation::kThesis, DampingCorrelation::kPaper,
+                   DampingCorrelation::kEq227, DampingCorrelation::kEq228}) {
+      if (name == to_string(c)) {
+        model.damping = c;
+        return;
+      }
+    }
+  } else if (it->is_object()) {
+    reject_unknown_fields(*it, dpath, {"zeta"});
+    model.damping = DampingCorrelation::kExplicit;
+    model.explicit_zeta = required_number(*it, dpath, "zeta", ranges::kZeta);
+    return;
+  }
+  invalid(dpath, dpath + " = " + show(*it) +
+                     " is not allowed: one of \"thesis\", \"paper\", \"eq227\", \"eq228\" or "
+                     "{\"zeta\": value in " +
+                     ranges::kZeta.describe() + "}");
+}
+
+nlohmann::json format_json(const Format& f) {
+  nlohmann::json container{{"radius_mm", f.container.radius * 1e3}};
+  if (f.container.height) container["height_mm"] = *f.container.height * 1e3;
+  return {{"container", container},
+          {"fill_height_mm", f.fill_height * 1e3},
+          {"fluid",
+           {{"name", f.fluid.name},
+            {"density_kg_m3", f.fluid.density},
+            {"viscosity_pa_s", f.fluid.viscosity}}},
+          {"stroke_mm", f.stroke * 1e3},
+          {"motion_time_s", f.motion_time}};
+}
+
+nlohmann::json model_json(const SloshingModel& m, const ModelOptions& options) {
+  nlohmann::json f_hz = nlohmann::json::array();
+  for (double w : m.omega) f_hz.push_back(w / (2.0 * std::numbers::pi));
+  return {{"omega_rad_s", m.omega},
+          {"f_hz", f_hz},
+          {"zeta", m.zeta},
+          {"damping", to_string(options.damping)},
+          {"C", m.C},
+          {"alpha", m.alpha},
+          {"K_mm", m.K * 1e3},
+          {"sloshing_mass_kg", m.mass},
+          {"fluid_mass_kg", m.fluid_mass},
+          {"eta_gain", m.eta_gain}};
+}
+
+nlohmann::json fluids_json() {
+  nlohmann::json list = nlohmann::json::array();
+  for (const Fluid& f : fluid_catalogue()) {
+    list.push_back({{"name", f.name},
+                    {"density_kg_m3", f.density},
+                    {"viscosity_pa_s", f.viscosity},
+                    {"source", f.source}});
+  }
+  return {{"fluids", list}, {"temperature_c", 20}};
+}
+
+}  // namespace slosh::api

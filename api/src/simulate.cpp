@@ -1,0 +1,216 @@
+#include "slosh/api/simulate.hpp"
+
+#include <cmath>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+constexpr double kDurationSumToleranceS = 1e-6;
+
+LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
+  const std::string tpath = join_path(path, "type");
+  const std::string allowed =
+      "\"seven_segment\", \"seven_segment_uniform\", \"poly5\", \"modified_trapezoid\", "
+      "\"cycloidal\"";
+  auto it = law.find("type");
+  if (it == law.end()) invalid(tpath, tpath + " is required: one of " + allowed);
+  if (it->is_string()) {
+    const auto name = it->get<std::string>();
+    for (auto t : {LawType::kSevenSegment, LawType::kSevenSegmentUniform, LawType::kPoly5,
+                   LawType::kModifiedTrapezoid, LawType::kCycloidal}) {
+      if (name == to_string(t)) return t;
+    }
+  }
+  invalid(tpath, tpath + " = " + show(*it) + " is not allowed: one of " + allowed);
+}
+
+Durations parse_durations(const nlohmann::json& law, const std::string& path, double motion_time,
+                          double min_ramp) {
+  const std::string dpath = join_path(path, "durations_s");
+  auto it = law.find("durations_s");
+  if (it == law.end() || !it->is_array() || it->size() != kSegments) {
+    invalid(dpath, dpath + " must be an array of 7 durations in s (sum = format.motion_time_s), got " +
+                       (it == law.end() ? std::string("nothing") : show(*it)));
+  }
+  Durations d{};
+  const Range ramp{min_ramp, motion_time, "s"};
+  const Range plateau{0.0, motion_time, "s"};
+  double sum = 0.0;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    const bool is_ramp = i % 2 == 0;
+    nlohmann::json holder{{"v", (*it)[i]}};
+    const std::string name = "durations_s[" + std::to_string(i) + "]";
+    try {
+      d[i] = required_number(holder, "", "v", is_ramp ? ramp : plateau);
+    } catch (const ApiError& e) {
+      std::string msg = e.what();
+      msg.replace(0, 1, join_path(path, name));  // "v ..." -> "law.durations_s[i] ..."
+      if (is_ramp) msg += " (segment " + std::to_string(i + 1) + " is a jerk ramp: >= min_ramp_s)";
+      invalid(join_path(path, name), msg);
+    }
+    sum += d[i];
+  }
+  if (std::abs(sum - motion_time) > kDurationSumToleranceS) {
+    invalid(dpath, dpath + " sum to " + nlohmann::json(sum).dump() +
+                       " s but format.motion_time_s = " + nlohmann::json(motion_time).dump() +
+                       " s: they must be equal (tolerance 1e-6 s)");
+  }
+  // Rescale the tiny residual so the law ends exactly at T.
+  for (double& x : d) x *= motion_time / sum;
+  return d;
+}
+
+}  // namespace
+
+std::string to_string(LawType type) {
+  switch (type) {
+    case LawType::kSevenSegment:
+      return "seven_segment";
+    case LawType::kSevenSegmentUniform:
+      return "seven_segment_uniform";
+    case LawType::kPoly5:
+      return "poly5";
+    case LawType::kModifiedTrapezoid:
+      return "modified_trapezoid";
+    case LawType::kCycloidal:
+      return "cycloidal";
+  }
+  return "unknown";
+}
+
+nlohmann::json parse_json_body(std::string_view body) {
+  try {
+    return nlohmann::json::parse(body);
+  } catch (const nlohmann::json::parse_error& e) {
+    throw ApiError(ErrorCode::kMalformedJson, "",
+                   std::string("the body is not valid JSON: ") + e.what());
+  }
+}
+
+SimulateRequest parse_simulate_request(const nlohmann::json& body) {
+  require_object(body, "");
+  reject_unknown_fields(body, "", {"format", "law", "rest_time_s", "sample_period_s", "options"});
+  SimulateRequest r;
+  if (!body.contains("format")) invalid("format", "format is required");
+  r.format = parse_format(body["format"], "format");
+
+  nlohmann::json options = body.value("options", nlohmann::json::object());
+  require_object(options, "options");
+  reject_unknown_fields(options, "options", {"modes", "damping", "alpha", "min_ramp_s"});
+  parse_model_options(options, "options", r.options.model);
+  const Range min_ramp_range{ranges::kMinRampS.lo, r.format.motion_time / 4.0, "s"};
+  r.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp_range, kDefaultMinRamp);
+
+  if (!body.contains("law")) invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
+  const nlohmann::json& law = body["law"];
+  require_object(law, "law");
+  reject_unknown_fields(law, "law", {"type", "durations_s"});
+  r.law_type = parse_law_type(law, "law");
+  if (r.law_type == LawType::kSevenSegment) {
+    r.durations = parse_durations(law, "law", r.format.motion_time, r.min_ramp);
+    try {
+      (void)SevenSegmentLaw(*r.durations, r.format.stroke);
+    } catch (const std::invalid_argument& e) {
+      invalid("law.durations_s", std::string("law.durations_s: ") + e.what());
+    }
+  } else if (law.contains("durations_s")) {
+    invalid("law.durations_s", "law.durations_s is only allowed with law.type \"seven_segment\"");
+  }
+
+  r.options.rest_time = optional_number(body, "", "rest_time_s", ranges::kRestTimeS, kDefaultRestTime);
+  if (body.contains("sample_period_s") && !body["sample_period_s"].is_null()) {
+    const double dt = required_number(body, "", "sample_period_s", ranges::kSamplePeriodS);
+    const double span = r.format.motion_time + r.options.rest_time;
+    if (span / dt > ranges::kMaxSeriesSamples) {
+      invalid("sample_period_s",
+              "sample_period_s = " + nlohmann::json(dt).dump() + " gives " +
+                  std::to_string(static_cast<long long>(span / dt)) + " samples over " +
+                  nlohmann::json(span).dump() + " s; at most " +
+                  std::to_string(ranges::kMaxSeriesSamples) + " are returned: use >= " +
+                  nlohmann::json(span / ranges::kMaxSeriesSamples).dump() + " s");
+    }
+    r.options.sample_period = dt;
+  }
+  return r;
+}
+
+MotionLaw build_law(const SimulateRequest& r) {
+  const double s = r.format.stroke;
+  const double T = r.format.motion_time;
+  switch (r.law_type) {
+    case LawType::kSevenSegment:
+      return SevenSegmentLaw(*r.durations, s).law();
+    case LawType::kSevenSegmentUniform:
+      return SevenSegmentLaw(uniform_durations(T), s).law();
+    case LawType::kPoly5:
+      return make_poly5_law(s, T);
+    case LawType::kModifiedTrapezoid:
+      return make_modified_trapezoid_law(s, T);
+    case LawType::kCycloidal:
+      return make_cycloidal_law(s, T);
+  }
+  return {};
+}
+
+nlohmann::json prediction_json(const SimulationResult& r) {
+  auto peaks = [](const SloshPeaks& p) {
+    return nlohmann::json{{"eta_motion_mm", p.motion.value * 1e3},
+                          {"eta_rest_mm", p.rest.value * 1e3},
+                          {"t_motion_s", p.motion.time},
+                          {"t_rest_s", p.rest.time}};
+  };
+  return {{"nonlinear", peaks(r.nonlinear)}, {"linear", peaks(r.linear)}};
+}
+
+nlohmann::json run_simulate(const SimulateRequest& request) {
+  const MotionLaw law = build_law(request);
+  const SimulationResult r = simulate(request.format, law, request.options);
+  nlohmann::json out;
+  nlohmann::json law_json{{"type", to_string(request.law_type)},
+                          {"duration_s", law.duration()},
+                          {"stroke_mm", law.stroke() * 1e3},
+                          {"breakpoints_s", law.breakpoints()}};
+  nlohmann::json kin{{"a_max", r.kinematics.a_peak_positive},
+                     {"a_min", r.kinematics.a_peak_negative},
+                     {"v_peak", r.kinematics.v_peak},
+                     {"j_peak", r.kinematics.j_peak}};
+  if (request.law_type == LawType::kSevenSegment ||
+      request.law_type == LawType::kSevenSegmentUniform) {
+    const SevenSegmentLaw seven(request.durations ? *request.durations
+                                                  : uniform_durations(request.format.motion_time),
+                                request.format.stroke);
+    law_json["durations_s"] = seven.durations();
+    law_json["switch_times_s"] = seven.switch_times();
+    law_json["jerks_m_s3"] = seven.jerks();
+    kin["a_max"] = seven.A();
+    kin["a_min"] = seven.B();
+    kin["v_peak"] = seven.v_peak();
+  }
+  out["format"] = format_json(request.format);
+  out["law"] = law_json;
+  out["kinematics"] = kin;
+  out["model"] = model_json(r.model, request.options.model);
+  out["prediction"] = prediction_json(r);
+  out["rest_time_s"] = request.options.rest_time;
+  if (r.series) {
+    auto mm = [](std::vector<double> v) {
+      for (double& x : v) x *= 1e3;
+      return v;
+    };
+    out["series"] = {{"t_s", r.series->t},
+                     {"a", r.series->a},
+                     {"v", r.series->v},
+                     {"s", r.series->s},
+                     {"eta_linear_mm", mm(r.series->eta_linear)},
+                     {"eta_nonlinear_mm", mm(r.series->eta_nonlinear)}};
+  }
+  out["warnings"] = r.warnings;
+  return out;
+}
+
+}  // namespace slosh::api

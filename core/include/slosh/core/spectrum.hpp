@@ -1,0 +1,49 @@
+#pragma once
+// Fourier transform of the acceleration, X_a(omega) = int_0^T a(t) exp(-j omega t) dt (SPEC §4).
+
+#include <array>
+#include <complex>
+
+#include "slosh/core/motion_law.hpp"
+#include "slosh/core/seven_segment.hpp"
+
+namespace slosh {
+
+/// Closed-form X_a(omega) of the 7-segment law with durations d and stroke s.
+///
+/// For omega T >= 1 it uses the jerk-jump form obtained by integrating by parts twice
+/// (a(0) = a(T) = 0):  X = -(1/omega^2) sum_k (J_{k+1} - J_k) exp(-j omega t_k),
+/// for omega T < 1 the per-segment form of SPEC §4 written with the well-conditioned
+/// phi1(z) = (1 - e^{-z})/z and phi2(z) = (1 - (1 + z) e^{-z})/z^2 (series for small |z|).
+/// Instantiated for double and long double (the latter for high-precision checks).
+template <typename T>
+[[nodiscard]] std::complex<T> seven_segment_spectrum(const std::array<T, kSegments>& d, T stroke,
+                                                     T omega);
+
+/// X_a(omega) of a built law.
+[[nodiscard]] std::complex<double> acceleration_spectrum(const SevenSegmentLaw& law, double omega);
+
+/// |X_a(omega)|^2 and its exact gradient with respect to the 7 durations (A and B move with the
+/// durations so that the stroke and rest-to-rest stay satisfied). Forward-mode differentiation of
+/// A, B and the jerks, analytic differentiation of the exponentials. Relative accuracy of the
+/// gradient is about 50 eps / (omega T)^4, i.e. full precision for omega T >= 1, where every
+/// spectral objective of the product is evaluated.
+struct SpectrumPowerGradient {
+  double power{};                          ///< |X_a(omega)|^2 [(m/s)^2]
+  std::array<double, kSegments> gradient;  ///< d|X|^2 / d dT_i [(m/s)^2 / s]
+  std::complex<double> X;                  ///< X_a(omega) [m/s]
+};
+[[nodiscard]] SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
+                                                            double omega);
+
+/// X_a(omega) of any piecewise law by composite 8-point Gauss-Legendre quadrature, with enough
+/// sub-intervals that every one spans less than one radian of the integrand's oscillation
+/// (relative error near machine precision).
+[[nodiscard]] std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega);
+
+/// FFT-normalised single-sided amplitude A_fft = (2/T)|X_a| (thesis eq. 4.50) [m/s^2].
+[[nodiscard]] inline double fft_amplitude(std::complex<double> X, double motion_time) {
+  return 2.0 / motion_time * std::abs(X);
+}
+
+}  // namespace slosh

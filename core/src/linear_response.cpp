@@ -1,0 +1,111 @@
+#include "slosh/core/response.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace slosh {
+
+ModeState LinearModePiece::at(double tau) const {
+  ModeState s;
+  s.x = r[0] + tau * (r[1] + tau * (r[2] + tau * r[3]));
+  s.x_dot = r[1] + tau * (2.0 * r[2] + tau * 3.0 * r[3]);
+  if (W != 0.0) {
+    const double c = std::cos(W * tau);
+    const double sn = std::sin(W * tau);
+    s.x += P * c + Q * sn + tau * (U * c + V * sn);
+    s.x_dot += W * (-P * sn + Q * c) + (U * c + V * sn) + tau * W * (-U * sn + V * c);
+  }
+  const double e = std::exp(-sigma * tau);
+  const double c = std::cos(wd * tau);
+  const double sn = std::sin(wd * tau);
+  s.x += e * (c1 * c + c2 * sn);
+  s.x_dot += e * ((-sigma * c1 + wd * c2) * c + (-sigma * c2 - wd * c1) * sn);
+  return s;
+}
+
+LinearResponse::LinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time)
+    : gains_(model.eta_gain),
+      motion_time_(law.duration()),
+      end_time_(law.duration() + rest_time) {
+  std::vector<LawPiece> pieces = law.pieces();
+  LawPiece rest{motion_time_, end_time_};  // zero forcing
+  pieces.push_back(rest);
+  const int modes = model.modes();
+  coefficients_.resize(pieces.size() * static_cast<std::size_t>(modes));
+  for (const LawPiece& p : pieces) piece_begin_.push_back(p.t_begin);
+
+  for (int m = 0; m < modes; ++m) {
+    const double w = model.omega[static_cast<std::size_t>(m)];
+    const double z = model.zeta;
+    const double two_zw = 2.0 * z * w;
+    const double w2 = w * w;
+    ModeState state{};  // at rest at t = 0
+    for (std::size_t k = 0; k < pieces.size(); ++k) {
+      const LawPiece& p = pieces[k];
+      LinearModePiece& c = coefficients_[k * static_cast<std::size_t>(modes) + static_cast<std::size_t>(m)];
+      // Forcing f = -a: polynomial part q, harmonic part (fc, fs) at W.
+      const std::array<double, 4> q{-p.poly[0], -p.poly[1], -p.poly[2], -p.poly[3]};
+      c.r[3] = q[3] / w2;
+      c.r[2] = (q[2] - 3.0 * two_zw * c.r[3]) / w2;
+      c.r[1] = (q[1] - 2.0 * two_zw * c.r[2] - 6.0 * c.r[3]) / w2;
+      c.r[0] = (q[0] - two_zw * c.r[1] - 2.0 * c.r[2]) / w2;
+      c.W = p.harmonic_omega;
+      if (c.W != 0.0) {
+        const double fc = -p.harmonic_cos;
+        const double fs = -p.harmonic_sin;
+        const double W = c.W;
+        const double kk = w2 - W * W;
+        const double cc = two_zw * W;
+        const double det = kk * kk + cc * cc;
+        if (det > 1e-16 * w2 * w2) {
+          // (w^2 - W^2) P + 2 z w W Q = fc ; (w^2 - W^2) Q - 2 z w W P = fs
+          c.P = (kk * fc - cc * fs) / det;
+          c.Q = (kk * fs + cc * fc) / det;
+        } else {
+          // Undamped resonance: x_p = tau (U cos + V sin).
+          c.V = fc / (2.0 * W);
+          c.U = -fs / (2.0 * W);
+        }
+      }
+      c.sigma = z * w;
+      c.wd = w * std::sqrt(1.0 - z * z);
+      // Homogeneous part matches the state at the piece start.
+      LinearModePiece particular = c;
+      particular.c1 = particular.c2 = 0.0;
+      const ModeState p0 = particular.at(0.0);
+      c.c1 = state.x - p0.x;
+      c.c2 = (state.x_dot - p0.x_dot + c.sigma * c.c1) / c.wd;
+      state = c.at(p.duration());
+    }
+  }
+  double w_max = *std::max_element(model.omega.begin(), model.omega.end());
+  peak_step_ = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / w_max / kSamplesPerPeriod);
+}
+
+ModeState LinearResponse::mode_state(int mode, double t) const {
+  if (t <= 0.0) return {};
+  auto it = std::upper_bound(piece_begin_.begin(), piece_begin_.end(), t);
+  const std::size_t k = static_cast<std::size_t>(it - piece_begin_.begin()) - 1;
+  return coefficients_[k * gains_.size() + static_cast<std::size_t>(mode)].at(t - piece_begin_[k]);
+}
+
+double LinearResponse::eta(double t) const {
+  if (t <= 0.0) return 0.0;
+  auto it = std::upper_bound(piece_begin_.begin(), piece_begin_.end(), t);
+  const std::size_t k = static_cast<std::size_t>(it - piece_begin_.begin()) - 1;
+  const double tau = t - piece_begin_[k];
+  double eta = 0.0;
+  for (std::size_t m = 0; m < gains_.size(); ++m) {
+    eta += gains_[m] * coefficients_[k * gains_.size() + m].at(tau).x;
+  }
+  return eta;
+}
+
+SloshPeaks LinearResponse::peaks() const {
+  auto abs_eta = [this](double t) { return std::abs(eta(t)); };
+  return {find_max(abs_eta, 0.0, motion_time_, peak_step_),
+          find_max(abs_eta, motion_time_, end_time_, peak_step_)};
+}
+
+}  // namespace slosh

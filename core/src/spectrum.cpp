@@ -1,0 +1,146 @@
+#include "slosh/core/spectrum.hpp"
+
+#include <cmath>
+
+#include "dual.hpp"
+
+namespace slosh {
+
+namespace {
+
+template <typename T>
+using Complex = std::complex<T>;
+
+// phi1(z) = (1 - e^{-z})/z and phi2(z) = (1 - (1+z) e^{-z})/z^2, z = j w L.
+template <typename T>
+void phi12(T wl, Complex<T>* phi1, Complex<T>* phi2) {
+  const Complex<T> z(T(0), wl);
+  if (std::abs(wl) < T(0.5)) {
+    // phi1 = sum (-z)^n/(n+1)!, phi2 = sum (-z)^n (n+1)/(n+2)!.
+    Complex<T> term(1);  // (-z)^n / n!
+    Complex<T> s1(0), s2(0);
+    for (int n = 0; n < 30; ++n) {
+      s1 += term / T(n + 1);
+      s2 += term * T(n + 1) / (T(n + 1) * T(n + 2));
+      term *= -z / T(n + 1);
+    }
+    *phi1 = s1;
+    *phi2 = s2;
+    return;
+  }
+  const Complex<T> e = std::exp(-z);
+  *phi1 = (T(1) - e) / z;
+  *phi2 = (T(1) - (T(1) + z) * e) / (z * z);
+}
+
+template <typename T>
+Complex<T> expj(T phase) {
+  return {std::cos(phase), -std::sin(phase)};  // exp(-j phase)
+}
+
+}  // namespace
+
+template <typename T>
+std::complex<T> seven_segment_spectrum(const std::array<T, kSegments>& d, T stroke, T omega) {
+  if (omega == T(0)) return {};
+  const auto lv = plateau_levels(d, stroke);
+  std::array<T, kSegments + 1> t{};
+  for (std::size_t i = 0; i < kSegments; ++i) t[i + 1] = t[i] + d[i];
+  const std::array<T, kSegments> J{lv.A / d[0], T(0), -lv.A / d[2], T(0),
+                                   -lv.B / d[4], T(0), lv.B / d[6]};
+  if (std::abs(omega) * t[kSegments] >= T(1)) {
+    Complex<T> sum(0);
+    for (std::size_t k = 0; k < kSegments; k += 2) {
+      sum += J[k] * (expj(omega * t[k]) - expj(omega * t[k + 1]));
+    }
+    return -sum / (omega * omega);
+  }
+  const std::array<T, kSegments> a0{T(0), lv.A, lv.A, T(0), T(0), -lv.B, -lv.B};
+  Complex<T> sum(0);
+  for (std::size_t k = 0; k < kSegments; ++k) {
+    if (d[k] == T(0)) continue;
+    Complex<T> p1, p2;
+    phi12(omega * d[k], &p1, &p2);
+    sum += expj(omega * t[k]) * (a0[k] * d[k] * p1 + J[k] * d[k] * d[k] * p2);
+  }
+  return sum;
+}
+
+template std::complex<double> seven_segment_spectrum(const std::array<double, kSegments>&, double,
+                                                     double);
+template std::complex<long double> seven_segment_spectrum(const std::array<long double, kSegments>&,
+                                                          long double, long double);
+
+std::complex<double> acceleration_spectrum(const SevenSegmentLaw& law, double omega) {
+  return seven_segment_spectrum(law.durations(), law.stroke(), omega);
+}
+
+SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke, double omega) {
+  SpectrumPowerGradient out{};
+  if (omega == 0.0) {
+    out.gradient.fill(0.0);
+    return out;
+  }
+  std::array<Dual7, kSegments> dd;
+  for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
+  const auto lv = plateau_levels(dd, Dual7(stroke));
+  // Only the four ramps carry jerk: (segment index, jerk).
+  const std::array<Dual7, 4> J{lv.A / dd[0], -lv.A / dd[2], -lv.B / dd[4], lv.B / dd[6]};
+  std::array<double, kSegments + 1> t{};
+  std::array<std::complex<double>, kSegments + 1> E;
+  E[0] = 1.0;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    t[i + 1] = t[i] + d[i];
+    E[i + 1] = expj(omega * t[i + 1]);
+  }
+  const double scale = -1.0 / (omega * omega);
+  std::complex<double> X(0.0);
+  std::array<std::complex<double>, kSegments> dX{};
+  // dE_k/d dT_i = -j omega E_k for every switch time t_k that includes dT_i (k > i).
+  const std::complex<double> mj_omega(0.0, -omega);
+  for (std::size_t r = 0; r < 4; ++r) {
+    const std::size_t k = 2 * r;
+    const std::complex<double> diff = E[k] - E[k + 1];
+    X += J[r].v * diff;
+    for (std::size_t i = 0; i < kSegments; ++i) {
+      std::complex<double> d_diff = 0.0;
+      if (k > i) d_diff += mj_omega * E[k];
+      if (k + 1 > i) d_diff -= mj_omega * E[k + 1];
+      dX[i] += J[r].d[i] * diff + J[r].v * d_diff;
+    }
+  }
+  X *= scale;
+  out.X = X;
+  out.power = std::norm(X);
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    out.gradient[i] = 2.0 * scale * (X.real() * dX[i].real() + X.imag() * dX[i].imag());
+  }
+  return out;
+}
+
+std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega) {
+  static constexpr std::array<double, 8> kNodes{
+      -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+      0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+  static constexpr std::array<double, 8> kWeights{
+      0.1012285362903763, 0.2223810344533745, 0.3137066959828426, 0.3626837833783620,
+      0.3626837833783620, 0.3137066959828426, 0.2223810344533745, 0.1012285362903763};
+  std::complex<double> sum(0.0);
+  for (const LawPiece& p : law.pieces()) {
+    const double L = p.duration();
+    if (L <= 0.0) continue;
+    const double rate = std::abs(omega) + std::abs(p.harmonic_omega) + 1.0 / L;
+    const int n = static_cast<int>(std::ceil(rate * L));
+    const double h = L / n;
+    for (int s = 0; s < n; ++s) {
+      const double mid = (s + 0.5) * h;
+      for (std::size_t q = 0; q < kNodes.size(); ++q) {
+        const double tau = mid + 0.5 * h * kNodes[q];
+        sum += 0.5 * h * kWeights[q] * p.at(tau).acceleration * expj(omega * (p.t_begin + tau));
+      }
+    }
+  }
+  return sum;
+}
+
+}  // namespace slosh

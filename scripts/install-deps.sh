@@ -1,0 +1,40 @@
+#!/usr/bin/env bash
+# Installs the Debian packages slosh needs to build, test, benchmark and run.
+# Idempotent: installs only what is missing, runs `apt-get update` only when
+# something is missing, works as root without sudo (and uses sudo otherwise).
+set -euo pipefail
+
+packages=(
+  build-essential cmake ninja-build pkg-config git # toolchain
+  libeigen3-dev                                    # dense linear algebra (core)
+  libnlopt-cxx-dev                                 # NLopt optimisers (core/optimize)
+  coinor-libipopt-dev                              # Ipopt interior point (core/optimize)
+  nlohmann-json3-dev                               # JSON (api)
+  libcpp-httplib-dev                               # HTTP server/client (service)
+  libspdlog-dev                                    # structured logs (service)
+  libsqlite3-dev                                   # persistent plan cache (service)
+  libcli11-dev                                     # command-line parsing (service)
+  libgtest-dev libgmock-dev                        # unit and integration tests
+  libbenchmark-dev                                 # Google Benchmark targets
+  clang-format                                     # formatting check
+  curl wrk                                         # loopback load script
+)
+
+missing=()
+for p in "${packages[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q 'install ok installed'; then
+    missing+=("$p")
+  fi
+done
+
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "install-deps: all ${#packages[@]} packages present"
+  exit 0
+fi
+
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+echo "install-deps: installing ${missing[*]}"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

@@ -1,0 +1,21 @@
+#!/usr/bin/env bash
+# Runs every test through ctest and closes with one summary line "N passed, N failed".
+set -uo pipefail
+build_dir=${1:-build}
+log=$(mktemp)
+ctest --test-dir "$build_dir" --output-on-failure -j "$(nproc)" --timeout 600 2>&1 | tee "$log"
+rc=${PIPESTATUS[0]}
+summary=$(grep -E '[0-9]+% tests passed, [0-9]+ tests failed out of [0-9]+' "$log" | tail -1)
+rm -f "$log"
+if [ -z "$summary" ]; then
+  echo "run-tests: ctest printed no summary" >&2
+  exit 1
+fi
+total=$(sed -E 's/.*out of ([0-9]+).*/\1/' <<<"$summary")
+failed=$(sed -E 's/.* ([0-9]+) tests failed.*/\1/' <<<"$summary")
+echo "$((total - failed)) passed, ${failed} failed"
+if [ "$total" -eq 0 ]; then
+  echo "run-tests: no test ran" >&2
+  exit 1
+fi
+exit "$rc"

@@ -1,0 +1,15 @@
+#pragma once
+// The CLI subcommands that print JSON: same bodies and responses as the HTTP API.
+
+#include <string>
+
+namespace slosh::service {
+
+/// Exit codes of the CLI.
+enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitInvalidInput = 2 };
+
+/// `slosh simulate --request FILE|-`: prints the simulate response on stdout; on invalid input
+/// prints the error envelope on stderr and returns kExitInvalidInput.
+int run_simulate_command(const std::string& request_path);
+
+}  // namespace slosh::service
