@@ -75,8 +75,8 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& path
   }
 }
 
-double required_number(const nlohmann::json& object, const std::string& path,
-                       std::string_view key, const Range& range) {
+double required_number(const nlohmann::json& object, const std::string& path, std::string_view key,
+                       const Range& range) {
   const std::string field = join_path(path, key);
   const nlohmann::json* v = member(object, key);
   if (v == nullptr || v->is_null()) {
@@ -87,13 +87,14 @@ double required_number(const nlohmann::json& object, const std::string& path,
   }
   const double x = v->get<double>();
   if (!std::isfinite(x) || !range.contains(x)) {
-    invalid(field, field + " = " + number_text(x) + " is out of range: allowed " + range.describe());
+    invalid(field,
+            field + " = " + number_text(x) + " is out of range: allowed " + range.describe());
   }
   return x;
 }
 
-double optional_number(const nlohmann::json& object, const std::string& path,
-                       std::string_view key, const Range& range, double fallback) {
+double optional_number(const nlohmann::json& object, const std::string& path, std::string_view key,
+                       const Range& range, double fallback) {
   const nlohmann::json* v = member(object, key);
   if (v == nullptr || v->is_null()) return fallback;
   return required_number(object, path, key, range);
@@ -104,8 +105,10 @@ int optional_integer(const nlohmann::json& object, const std::string& path, std:
   const std::string field = join_path(path, key);
   const nlohmann::json* v = member(object, key);
   if (v == nullptr || v->is_null()) return fallback;
-  const std::string allowed = "allowed an integer " + std::to_string(lo) + " to " + std::to_string(hi);
-  if (!v->is_number()) invalid(field, field + " must be a number, got " + show(*v) + "; " + allowed);
+  const std::string allowed =
+      "allowed an integer " + std::to_string(lo) + " to " + std::to_string(hi);
+  if (!v->is_number())
+    invalid(field, field + " must be a number, got " + show(*v) + "; " + allowed);
   const double x = v->get<double>();
   if (x != std::floor(x) || x < lo || x > hi) {
     invalid(field, field + " = " + number_text(x) + " is out of range: " + allowed);

@@ -34,7 +34,8 @@ Durations parse_durations(const nlohmann::json& law, const std::string& path, do
   const std::string dpath = join_path(path, "durations_s");
   auto it = law.find("durations_s");
   if (it == law.end() || !it->is_array() || it->size() != kSegments) {
-    invalid(dpath, dpath + " must be an array of 7 durations in s (sum = format.motion_time_s), got " +
+    invalid(dpath, dpath +
+                       " must be an array of 7 durations in s (sum = format.motion_time_s), got " +
                        (it == law.end() ? std::string("nothing") : show(*it)));
   }
   Durations d{};
@@ -106,7 +107,8 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   const Range min_ramp_range{ranges::kMinRampS.lo, r.format.motion_time / 4.0, "s"};
   r.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp_range, kDefaultMinRamp);
 
-  if (!body.contains("law")) invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
+  if (!body.contains("law"))
+    invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
   const nlohmann::json& law = body["law"];
   require_object(law, "law");
   reject_unknown_fields(law, "law", {"type", "durations_s"});
@@ -122,7 +124,8 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
     invalid("law.durations_s", "law.durations_s is only allowed with law.type \"seven_segment\"");
   }
 
-  r.options.rest_time = optional_number(body, "", "rest_time_s", ranges::kRestTimeS, kDefaultRestTime);
+  r.options.rest_time =
+      optional_number(body, "", "rest_time_s", ranges::kRestTimeS, kDefaultRestTime);
   if (body.contains("sample_period_s") && !body["sample_period_s"].is_null()) {
     const double dt = required_number(body, "", "sample_period_s", ranges::kSamplePeriodS);
     const double span = r.format.motion_time + r.options.rest_time;
@@ -181,9 +184,9 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
                      {"j_peak", r.kinematics.j_peak}};
   if (request.law_type == LawType::kSevenSegment ||
       request.law_type == LawType::kSevenSegmentUniform) {
-    const SevenSegmentLaw seven(request.durations ? *request.durations
-                                                  : uniform_durations(request.format.motion_time),
-                                request.format.stroke);
+    const SevenSegmentLaw seven(
+        request.durations ? *request.durations : uniform_durations(request.format.motion_time),
+        request.format.stroke);
     law_json["durations_s"] = seven.durations();
     law_json["switch_times_s"] = seven.switch_times();
     law_json["jerks_m_s3"] = seven.jerks();

@@ -25,9 +25,7 @@ ModeState LinearModePiece::at(double tau) const {
 }
 
 LinearResponse::LinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time)
-    : gains_(model.eta_gain),
-      motion_time_(law.duration()),
-      end_time_(law.duration() + rest_time) {
+    : gains_(model.eta_gain), motion_time_(law.duration()), end_time_(law.duration() + rest_time) {
   std::vector<LawPiece> pieces = law.pieces();
   LawPiece rest{motion_time_, end_time_};  // zero forcing
   pieces.push_back(rest);
@@ -43,7 +41,8 @@ LinearResponse::LinearResponse(const SloshingModel& model, const MotionLaw& law,
     ModeState state{};  // at rest at t = 0
     for (std::size_t k = 0; k < pieces.size(); ++k) {
       const LawPiece& p = pieces[k];
-      LinearModePiece& c = coefficients_[k * static_cast<std::size_t>(modes) + static_cast<std::size_t>(m)];
+      LinearModePiece& c =
+          coefficients_[k * static_cast<std::size_t>(modes) + static_cast<std::size_t>(m)];
       // Forcing f = -a: polynomial part q, harmonic part (fc, fs) at W.
       const std::array<double, 4> q{-p.poly[0], -p.poly[1], -p.poly[2], -p.poly[3]};
       c.r[3] = q[3] / w2;

@@ -16,9 +16,10 @@ KinematicState LawPiece::at(double tau) const {
   s.jerk = p[1] + tau * (2.0 * p[2] + tau * 3.0 * p[3]);
   s.velocity =
       velocity_begin + tau * (p[0] + tau * (p[1] / 2.0 + tau * (p[2] / 3.0 + tau * p[3] / 4.0)));
-  s.position = position_begin +
-               tau * (velocity_begin +
-                      tau * (p[0] / 2.0 + tau * (p[1] / 6.0 + tau * (p[2] / 12.0 + tau * p[3] / 20.0))));
+  s.position =
+      position_begin +
+      tau * (velocity_begin +
+             tau * (p[0] / 2.0 + tau * (p[1] / 6.0 + tau * (p[2] / 12.0 + tau * p[3] / 20.0))));
   if (harmonic_omega != 0.0) {
     const double w = harmonic_omega;
     const double c = std::cos(w * tau);
@@ -106,8 +107,10 @@ MotionLaw MotionLaw::scaled(double factor) const {
 
 MotionLaw make_poly5_law(double stroke, double motion_time) {
   const double T = motion_time;
-  LawPiece p{0.0, T, {0.0, 60.0 * stroke / std::pow(T, 3), -180.0 * stroke / std::pow(T, 4),
-                      120.0 * stroke / std::pow(T, 5)}};
+  LawPiece p{0.0,
+             T,
+             {0.0, 60.0 * stroke / std::pow(T, 3), -180.0 * stroke / std::pow(T, 4),
+              120.0 * stroke / std::pow(T, 5)}};
   return MotionLaw("poly5", {p});
 }
 

@@ -84,7 +84,9 @@ ModeState NonlinearResponse::state(double t) const {
           h00 * v_[i] + h10 * h * acc_[i] + h01 * v_[i + 1] + h11 * h * acc_[i + 1]};
 }
 
-double NonlinearResponse::eta(double t) const { return K_ * state(t).x; }
+double NonlinearResponse::eta(double t) const {
+  return K_ * state(t).x;
+}
 
 SloshPeaks NonlinearResponse::peaks() const {
   auto abs_eta = [this](double t) { return std::abs(eta(t)); };

@@ -17,7 +17,9 @@ std::string format_seconds(double v) {
   return os.str();
 }
 
-bool is_ramp(std::size_t i) { return i % 2 == 0; }
+bool is_ramp(std::size_t i) {
+  return i % 2 == 0;
+}
 
 }  // namespace
 
@@ -57,8 +59,8 @@ PlateauLevelsT<T> plateau_levels(const std::array<T, kSegments>& d, T stroke) {
   const T sixth = T(1.0) / T(6.0);
   // Areas and first moments of the unit positive lobe (segments 1-3) and negative lobe (5-7).
   const T area_p = half * d[0] + d[1] + half * d[2];
-  const T moment_p = third * d[0] * d[0] + half * d[1] * (t1 + t2) + half * t2 * d[2] +
-                     sixth * d[2] * d[2];
+  const T moment_p =
+      third * d[0] * d[0] + half * d[1] * (t1 + t2) + half * t2 * d[2] + sixth * d[2] * d[2];
   const T area_n = half * d[4] + d[5] + half * d[6];
   const T moment_n = half * t4 * d[4] + third * d[4] * d[4] + half * d[5] * (t5 + t6) +
                      half * t6 * d[6] + sixth * d[6] * d[6];
@@ -75,8 +77,8 @@ SevenSegmentLaw::SevenSegmentLaw(const Durations& durations, double stroke)
     : durations_(durations), stroke_(stroke) {
   for (std::size_t i = 0; i < kSegments; ++i) {
     if (!std::isfinite(durations[i]) || durations[i] < 0.0 || (is_ramp(i) && durations[i] <= 0.0)) {
-      throw std::invalid_argument("seven-segment law: durations_s[" + std::to_string(i) + "] = " +
-                                  format_seconds(durations[i]) +
+      throw std::invalid_argument("seven-segment law: durations_s[" + std::to_string(i) +
+                                  "] = " + format_seconds(durations[i]) +
                                   " s is not allowed (ramps > 0, plateaus >= 0)");
     }
   }
@@ -107,7 +109,9 @@ std::array<double, kSegments + 1> SevenSegmentLaw::switch_times() const {
   return t;
 }
 
-double SevenSegmentLaw::motion_time() const { return switch_times().back(); }
+double SevenSegmentLaw::motion_time() const {
+  return switch_times().back();
+}
 
 std::array<double, kSegments> SevenSegmentLaw::jerks() const {
   const auto& d = durations_;

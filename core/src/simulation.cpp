@@ -57,9 +57,9 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   const NonlinearResponse nonlinear(r.model, law, options.rest_time, options.nonlinear);
   r.linear = linear.peaks();
   r.nonlinear = nonlinear.peaks();
-  r.warnings = validity_warnings(format,
-                                 std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
-                                 r.linear.motion.value, r.nonlinear.motion.value);
+  r.warnings = validity_warnings(
+      format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
+      r.linear.motion.value, r.nonlinear.motion.value);
   if (options.sample_period) {
     const double dt = *options.sample_period;
     const double end = law.duration() + options.rest_time;

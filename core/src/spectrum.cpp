@@ -46,7 +46,7 @@ std::complex<T> seven_segment_spectrum(const std::array<T, kSegments>& d, T stro
   const auto lv = plateau_levels(d, stroke);
   std::array<T, kSegments + 1> t{};
   for (std::size_t i = 0; i < kSegments; ++i) t[i + 1] = t[i] + d[i];
-  const std::array<T, kSegments> J{lv.A / d[0], T(0), -lv.A / d[2], T(0),
+  const std::array<T, kSegments> J{lv.A / d[0],  T(0), -lv.A / d[2], T(0),
                                    -lv.B / d[4], T(0), lv.B / d[6]};
   if (std::abs(omega) * t[kSegments] >= T(1)) {
     Complex<T> sum(0);
@@ -123,8 +123,8 @@ std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega) {
       -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
       0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
   static constexpr std::array<double, 8> kWeights{
-      0.1012285362903763, 0.2223810344533745, 0.3137066959828426, 0.3626837833783620,
-      0.3626837833783620, 0.3137066959828426, 0.2223810344533745, 0.1012285362903763};
+      0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+      0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
   std::complex<double> sum(0.0);
   for (const LawPiece& p : law.pieces()) {
     const double L = p.duration();

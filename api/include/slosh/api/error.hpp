@@ -10,13 +10,13 @@ namespace slosh::api {
 
 /// Error classes and their HTTP status.
 enum class ErrorCode {
-  kMalformedJson,   ///< 400: the body is not JSON
-  kInvalidValue,    ///< 422: a field is missing, of the wrong type or out of range
-  kNotFound,        ///< 404
-  kPayloadTooLarge, ///< 413
-  kOverloaded,      ///< 503
-  kTimeout,         ///< 504
-  kInternal,        ///< 500
+  kMalformedJson,    ///< 400: the body is not JSON
+  kInvalidValue,     ///< 422: a field is missing, of the wrong type or out of range
+  kNotFound,         ///< 404
+  kPayloadTooLarge,  ///< 413
+  kOverloaded,       ///< 503
+  kTimeout,          ///< 504
+  kInternal,         ///< 500
 };
 
 [[nodiscard]] int http_status(ErrorCode code);

@@ -14,7 +14,7 @@ constexpr std::size_t kMaxModes{5};
 
 /// Roots xi_n of J1'(xi) = 0, first circumferential mode, radial modes n = 1..5 [-].
 constexpr std::array<double, kMaxModes> kBesselRoots{1.841184, 5.331443, 8.536316, 11.706005,
-                                                    14.863589};
+                                                     14.863589};
 
 /// Number of segments of the trapezoidal-acceleration law.
 constexpr std::size_t kSegments{7};

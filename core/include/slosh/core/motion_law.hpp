@@ -21,14 +21,14 @@ struct KinematicState {
 
 /// One piece of a piecewise law.
 struct LawPiece {
-  double t_begin{};                   ///< [s]
-  double t_end{};                     ///< [s]
-  std::array<double, 4> poly{};       ///< acceleration polynomial in tau [m/s^2, m/s^3, ...]
-  double harmonic_cos{};              ///< hc [m/s^2]
-  double harmonic_sin{};              ///< hs [m/s^2]
-  double harmonic_omega{};            ///< W [rad/s]; 0 when the piece has no harmonic term
-  double velocity_begin{};            ///< v(t_begin) [m/s]
-  double position_begin{};            ///< s(t_begin) [m]
+  double t_begin{};              ///< [s]
+  double t_end{};                ///< [s]
+  std::array<double, 4> poly{};  ///< acceleration polynomial in tau [m/s^2, m/s^3, ...]
+  double harmonic_cos{};         ///< hc [m/s^2]
+  double harmonic_sin{};         ///< hs [m/s^2]
+  double harmonic_omega{};       ///< W [rad/s]; 0 when the piece has no harmonic term
+  double velocity_begin{};       ///< v(t_begin) [m/s]
+  double position_begin{};       ///< s(t_begin) [m]
 
   [[nodiscard]] double duration() const { return t_end - t_begin; }
   /// State at local time tau in [0, duration()].

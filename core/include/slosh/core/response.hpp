@@ -54,9 +54,8 @@ class LinearResponse {
   [[nodiscard]] double end_time() const { return end_time_; }
 
  private:
-
   std::vector<double> gains_;
-  std::vector<double> piece_begin_;     // start time of every piece (law pieces + rest)
+  std::vector<double> piece_begin_;            // start time of every piece (law pieces + rest)
   std::vector<LinearModePiece> coefficients_;  // [piece * modes + mode]
   double motion_time_{};
   double end_time_{};

@@ -20,8 +20,8 @@ using Durations = std::array<double, kSegments>;
 
 /// Admissibility rules of a set of durations.
 struct AdmissibilityRules {
-  double motion_time{1.0};           ///< required sum T [s]
-  double min_ramp{kDefaultMinRamp};  ///< lower bound of segments 1, 3, 5, 7 [s]
+  double motion_time{1.0};                      ///< required sum T [s]
+  double min_ramp{kDefaultMinRamp};             ///< lower bound of segments 1, 3, 5, 7 [s]
   double sum_tolerance{kDurationSumTolerance};  ///< |sum - T| allowed [s]
 };
 

@@ -33,16 +33,16 @@ struct ModelOptions {
 
 /// Immutable model parameters of one format. All SI.
 struct SloshingModel {
-  double radius{};       ///< R [m]
-  double fill_height{};  ///< h [m]
-  double density{};      ///< rho [kg/m^3]
-  double fluid_mass{};   ///< m_f = pi R^2 h rho [kg]
-  double zeta{};         ///< damping ratio, shared by all modes [-]
-  double alpha{};        ///< nonlinear stiffening [-]
-  double C{};            ///< C = xi_1 tanh(xi_1 h/R) = omega_1^2 R / g [-]
-  double K{};            ///< nonlinear height gain eta = K xbar, K = 2 R C / (xi_1^2 - 1) [m]
-  std::vector<double> omega;     ///< natural circular frequencies omega_n [rad/s]
-  std::vector<double> mass;      ///< sloshing masses m_n [kg]
+  double radius{};            ///< R [m]
+  double fill_height{};       ///< h [m]
+  double density{};           ///< rho [kg/m^3]
+  double fluid_mass{};        ///< m_f = pi R^2 h rho [kg]
+  double zeta{};              ///< damping ratio, shared by all modes [-]
+  double alpha{};             ///< nonlinear stiffening [-]
+  double C{};                 ///< C = xi_1 tanh(xi_1 h/R) = omega_1^2 R / g [-]
+  double K{};                 ///< nonlinear height gain eta = K xbar, K = 2 R C / (xi_1^2 - 1) [m]
+  std::vector<double> omega;  ///< natural circular frequencies omega_n [rad/s]
+  std::vector<double> mass;   ///< sloshing masses m_n [kg]
   std::vector<double> eta_gain;  ///< linear wall height eta = sum eta_gain_n x_n [-]
 
   [[nodiscard]] int modes() const { return static_cast<int>(omega.size()); }
@@ -58,7 +58,8 @@ struct SloshingModel {
 /// Builds the model parameters. Inputs are assumed validated (see api/validation).
 [[nodiscard]] SloshingModel make_sloshing_model(const Format& format, const ModelOptions& options);
 
-/// Human name of a correlation as used on the API ("thesis", "paper", "eq227", "eq228", "explicit").
+/// Human name of a correlation as used on the API ("thesis", "paper", "eq227", "eq228",
+/// "explicit").
 [[nodiscard]] std::string to_string(DampingCorrelation correlation);
 
 }  // namespace slosh

@@ -1,0 +1,70 @@
+#include "support/reference_integrators.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace slosh::test {
+
+std::array<double, 8> TrapezoidAcceleration::knots() const {
+  std::array<double, 8> k{};
+  for (int i = 0; i < 7; ++i) k[i + 1] = k[i] + d[i];
+  return k;
+}
+
+double TrapezoidAcceleration::operator()(double t) const {
+  const auto k = knots();
+  if (t <= 0.0 || t >= k[7]) return 0.0;
+  if (t < k[1]) return A * (t - k[0]) / d[0];
+  if (t < k[2]) return A;
+  if (t < k[3]) return A * (k[3] - t) / d[2];
+  if (t < k[4]) return 0.0;
+  if (t < k[5]) return -B * (t - k[4]) / d[4];
+  if (t < k[6]) return -B;
+  return -B * (k[7] - t) / d[6];
+}
+
+double Rk4Trajectory::x_at(double time) const {
+  if (time <= t.front()) return x.front();
+  if (time >= t.back()) return x.back();
+  const double h = t[1] - t[0];
+  const auto i = std::min(static_cast<std::size_t>(time / h), t.size() - 2);
+  const double u = (time - t[i]) / (t[i + 1] - t[i]);
+  return x[i] + u * (x[i + 1] - x[i]);
+}
+
+Rk4Trajectory rk4_solve(const std::function<double(double, double, double)>& f, double t_end,
+                        double step) {
+  const auto n = static_cast<std::size_t>(std::ceil(t_end / step));
+  const double h = t_end / static_cast<double>(n);
+  Rk4Trajectory r;
+  r.t.reserve(n + 1);
+  r.x.reserve(n + 1);
+  r.v.reserve(n + 1);
+  double x = 0.0, v = 0.0;
+  r.t.push_back(0.0);
+  r.x.push_back(x);
+  r.v.push_back(v);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double t = h * static_cast<double>(i);
+    const double k1x = v, k1v = f(t, x, v);
+    const double k2x = v + 0.5 * h * k1v, k2v = f(t + 0.5 * h, x + 0.5 * h * k1x, k2x);
+    const double k3x = v + 0.5 * h * k2v, k3v = f(t + 0.5 * h, x + 0.5 * h * k2x, k3x);
+    const double k4x = v + h * k3v, k4v = f(t + h, x + h * k3x, k4x);
+    x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
+    v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+    r.t.push_back(h * static_cast<double>(i + 1));
+    r.x.push_back(x);
+    r.v.push_back(v);
+  }
+  return r;
+}
+
+std::complex<double> dft_bin(const std::vector<double>& samples, double dt, double w) {
+  std::complex<double> sum{};
+  for (std::size_t n = 0; n < samples.size(); ++n) {
+    sum += samples[n] * std::polar(1.0, -w * dt * static_cast<double>(n));
+  }
+  return sum * dt;
+}
+
+}  // namespace slosh::test

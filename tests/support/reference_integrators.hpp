@@ -1,0 +1,56 @@
+#pragma once
+// Independent reference computations for the tests. Nothing here calls into slosh::core: every
+// quantity is rebuilt from the SPEC text so the core can be checked against it.
+
+#include <array>
+#include <complex>
+#include <functional>
+#include <vector>
+
+namespace slosh::test {
+
+/// Acceleration of the 7-segment law from its durations and plateau levels, rebuilt from the
+/// SPEC §3 description (0 -> +A, +A, +A -> 0, 0, 0 -> -B, -B, -B -> 0).
+struct TrapezoidAcceleration {
+  std::array<double, 7> d{};
+  double A{};
+  double B{};
+
+  [[nodiscard]] double operator()(double t) const;
+  /// 0, t_1, ..., t_7.
+  [[nodiscard]] std::array<double, 8> knots() const;
+};
+
+/// Composite Simpson rule on [a, b] with n (even) intervals; exact for cubics.
+template <typename F>
+auto simpson(const F& f, double a, double b, int n) -> decltype(f(a)) {
+  const double h = (b - a) / n;
+  auto sum = f(a) + f(b);
+  for (int i = 1; i < n; ++i) sum += (i % 2 == 1 ? 4.0 : 2.0) * f(a + h * i);
+  return sum * (h / 3.0);
+}
+
+/// Integral of f over consecutive knot intervals, Simpson with n intervals on each.
+template <typename F, typename Knots>
+auto simpson_piecewise(const F& f, const Knots& knots, int n) -> decltype(f(0.0)) {
+  decltype(f(0.0)) total{};
+  for (std::size_t k = 0; k + 1 < knots.size(); ++k) {
+    if (knots[k + 1] > knots[k]) total += simpson(f, knots[k], knots[k + 1], n);
+  }
+  return total;
+}
+
+/// Fixed-step classical RK4 of x'' = f(t, x, x') from x = x' = 0 over [0, t_end].
+struct Rk4Trajectory {
+  std::vector<double> t, x, v;
+  /// Linear interpolation between grid points (use with a fine step only).
+  [[nodiscard]] double x_at(double time) const;
+};
+[[nodiscard]] Rk4Trajectory rk4_solve(const std::function<double(double, double, double)>& f,
+                                      double t_end, double step);
+
+/// Fourier integral int f(t) exp(-j w t) dt of a sampled signal by the DFT sum
+/// dt * sum f(n dt) exp(-j w n dt) (rectangle rule, as an FFT bin computes it).
+[[nodiscard]] std::complex<double> dft_bin(const std::vector<double>& samples, double dt, double w);
+
+}  // namespace slosh::test

@@ -1,0 +1,421 @@
+// The `slosh` binary end to end: version and help, `simulate` from a file and from stdin (same JSON
+// as the in-process API), exit codes and the error envelope on stderr, every law type, the sampled
+// series, and a `serve` smoke test (health endpoints, graceful SIGTERM).
+
+#include <fcntl.h>
+#include <httplib.h>
+#include <signal.h>
+#include <sys/stat.h>
+#include <sys/types.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <optional>
+#include <regex>
+#include <sstream>
+#include <stdexcept>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/simulate.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+namespace fs = std::filesystem;
+
+/// A private temporary directory, removed with its content.
+class TempDir {
+ public:
+  TempDir() {
+    std::string pattern = (fs::temp_directory_path() / "slosh_cli_XXXXXX").string();
+    if (::mkdtemp(pattern.data()) == nullptr) throw std::runtime_error("mkdtemp failed");
+    path_ = pattern;
+  }
+  ~TempDir() {
+    std::error_code ec;
+    fs::remove_all(path_, ec);
+  }
+  TempDir(const TempDir&) = delete;
+  TempDir& operator=(const TempDir&) = delete;
+  [[nodiscard]] fs::path operator/(const std::string& name) const { return path_ / name; }
+
+ private:
+  fs::path path_;
+};
+
+std::string read_file(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream buffer;
+  buffer << in.rdbuf();
+  return buffer.str();
+}
+
+void write_file(const fs::path& path, const std::string& text) {
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+/// Starts the binary with `args`; stdin from `stdin_path` (or /dev/null), stdout and stderr to
+/// the given files. Returns the child's pid.
+pid_t spawn(const std::vector<std::string>& args, const fs::path& stdin_path,
+            const fs::path& stdout_path, const fs::path& stderr_path) {
+  std::vector<std::string> storage{SLOSH_BINARY};
+  storage.insert(storage.end(), args.begin(), args.end());
+  std::vector<char*> argv;
+  for (std::string& a : storage) argv.push_back(a.data());
+  argv.push_back(nullptr);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const int in = ::open(stdin_path.c_str(), O_RDONLY);
+    const int out = ::open(stdout_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    const int err = ::open(stderr_path.c_str(), O_WRONLY | O_CREAT | O_TRUNC, 0600);
+    if (in < 0 || out < 0 || err < 0) ::_exit(126);
+    ::dup2(in, STDIN_FILENO);
+    ::dup2(out, STDOUT_FILENO);
+    ::dup2(err, STDERR_FILENO);
+    ::execv(argv[0], argv.data());
+    ::_exit(127);
+  }
+  return pid;
+}
+
+/// Exit code of a waited-for child; 128 + signal when killed by a signal.
+int exit_code(int status) {
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  if (WIFSIGNALED(status)) return 128 + WTERMSIG(status);
+  return -1;
+}
+
+struct RunResult {
+  int exit_code{-1};
+  std::string out;
+  std::string err;
+};
+
+/// Runs the binary to completion with `stdin_text` on its standard input.
+RunResult run_slosh(const std::vector<std::string>& args, const std::string& stdin_text = "") {
+  const TempDir dir;
+  write_file(dir / "stdin", stdin_text);
+  const pid_t pid = spawn(args, dir / "stdin", dir / "stdout", dir / "stderr");
+  RunResult r;
+  if (pid < 0) return r;
+  int status = 0;
+  if (::waitpid(pid, &status, 0) != pid) return r;
+  r.exit_code = exit_code(status);
+  r.out = read_file(dir / "stdout");
+  r.err = read_file(dir / "stderr");
+  return r;
+}
+
+/// The thesis format with the uniform 7-segment law and fluid given by its properties.
+json thesis_request() {
+  return json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5},
+               "fill_height_mm": 82,
+               "fluid": {"density_kg_m3": 1000, "viscosity_pa_s": 0.001},
+               "stroke_mm": 800, "motion_time_s": 1.0},
+    "law": {"type": "seven_segment_uniform"}
+  })");
+}
+
+/// Runs `slosh simulate --request FILE` on `body`.
+RunResult simulate_file(const json& body) {
+  const TempDir dir;
+  write_file(dir / "request.json", body.dump());
+  return run_slosh({"simulate", "--request", (dir / "request.json").string()});
+}
+
+/// Parses text that must be JSON; a test failure otherwise.
+json parse_or_fail(const std::string& text) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception& e) {
+    ADD_FAILURE() << "not JSON (" << e.what() << "):\n" << text;
+  }
+  return json::object();
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(CliBasics, VersionPrintsNameAndSemver) {
+  const RunResult r = run_slosh({"--version"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(std::regex_match(r.out, std::regex(R"(^slosh [0-9]+\.[0-9]+\.[0-9]+\n$)"))) << r.out;
+}
+
+TEST(CliBasics, HelpListsTheSubcommands) {
+  const RunResult r = run_slosh({"--help"});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("serve"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("simulate"), std::string::npos) << r.out;
+}
+
+TEST(CliBasics, MissingSubcommandIsInvalidInput) {
+  const RunResult r = run_slosh({});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+TEST(CliBasics, UnknownSubcommandIsInvalidInput) {
+  const RunResult r = run_slosh({"simulat"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+// ---------------------------------------------------------------------------------------------
+
+TEST(CliSimulate, ThesisFormatMatchesReferenceAndInProcessApi) {
+  const json body = thesis_request();
+  const RunResult r = simulate_file(body);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const json out = parse_or_fail(r.out);
+  ASSERT_TRUE(out.contains("model")) << r.out;
+  EXPECT_NEAR(out["model"]["omega_rad_s"][0].get<double>(), 19.260, 5e-4);
+  EXPECT_NEAR(out["model"]["zeta"].get<double>(), 4.43e-3, 5e-6);
+
+  const json in_process = api::run_simulate(api::parse_simulate_request(body));
+  EXPECT_EQ(out["prediction"], in_process["prediction"]);
+  EXPECT_EQ(out["kinematics"], in_process["kinematics"]);
+  EXPECT_EQ(out["model"], in_process["model"]);
+  // Same document, byte for byte (the CLI prints dump(2) and a newline).
+  EXPECT_EQ(r.out, in_process.dump(2) + "\n");
+  // The numbers are real predictions, not placeholders.
+  EXPECT_GT(out["prediction"]["nonlinear"]["eta_rest_mm"].get<double>(), 0.0);
+  EXPECT_GT(out["prediction"]["linear"]["eta_motion_mm"].get<double>(), 0.0);
+}
+
+TEST(CliSimulate, StdinGivesTheSameOutputAsAFile) {
+  const json body = thesis_request();
+  const RunResult from_file = simulate_file(body);
+  const RunResult from_stdin = run_slosh({"simulate", "--request", "-"}, body.dump());
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.err;
+  ASSERT_EQ(from_stdin.exit_code, 0) << from_stdin.err;
+  EXPECT_FALSE(from_stdin.out.empty());
+  EXPECT_EQ(from_stdin.out, from_file.out);
+}
+
+TEST(CliSimulate, InvalidValueExits2WithEnvelopeOnStderr) {
+  json body = thesis_request();
+  body["format"]["container"]["radius_mm"] = -3;
+  const RunResult r = simulate_file(body);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const json err = parse_or_fail(r.err);
+  EXPECT_EQ(err, json::parse(R"({"error": {
+      "code": "invalid_value",
+      "message": "format.container.radius_mm = -3 is out of range: allowed 1 to 2000 mm",
+      "field": "format.container.radius_mm"}})"));
+}
+
+TEST(CliSimulate, MalformedJsonExits2) {
+  const RunResult r = run_slosh({"simulate", "--request", "-"}, "{\"format\": ");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const json err = parse_or_fail(r.err);
+  ASSERT_TRUE(err.contains("error")) << r.err;
+  EXPECT_EQ(err["error"]["code"], json("malformed_json"));
+  EXPECT_TRUE(err["error"]["field"].is_null());
+  EXPECT_EQ(err["error"]["message"].get<std::string>().rfind("the body is not valid JSON: ", 0),
+            0u);
+}
+
+TEST(CliSimulate, MissingRequestFileExits2NamingThePath) {
+  const TempDir dir;
+  const std::string path = (dir / "no_such_request.json").string();
+  const RunResult r = run_slosh({"simulate", "--request", path});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const json err = parse_or_fail(r.err);
+  ASSERT_TRUE(err.contains("error")) << r.err;
+  EXPECT_EQ(err["error"]["code"], json("invalid_value"));
+  EXPECT_EQ(err["error"]["field"], json("--request"));
+  EXPECT_EQ(err["error"]["message"], json("cannot read request file '" + path + "'"));
+}
+
+// An overflowing number escapes parse_json_body as nlohmann out_of_range: today the CLI reports
+// an internal error and exits 1. Enable when fixed.
+TEST(CliSimulate, DISABLED_NumberOverflowIsMalformedJson) {
+  const RunResult r = run_slosh({"simulate", "--request", "-"}, "{\"rest_time_s\": 1e400}");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(parse_or_fail(r.err)["error"]["code"], json("malformed_json"));
+}
+
+// A long non-ASCII value is truncated inside a UTF-8 sequence; printing the envelope throws and
+// the CLI aborts (SIGABRT). Enable when fixed.
+TEST(CliSimulate, DISABLED_LongNonAsciiValueGivesAnEnvelope) {
+  json body = thesis_request();
+  std::string name = "a";
+  for (int i = 0; i < 40; ++i) name += "\xc3\xa9";  // U+00E9
+  body["format"]["fluid"] = name;
+  const RunResult r = simulate_file(body);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(parse_or_fail(r.err)["error"]["field"], json("format.fluid"));
+}
+
+struct LawCase {
+  const char* type;
+  json durations;  // null: none
+};
+
+TEST(CliSimulate, EveryLawTypeRunsTheStroke) {
+  const LawCase cases[] = {
+      {"seven_segment", json::array({0.1, 0.15, 0.1, 0.3, 0.1, 0.15, 0.1})},
+      {"seven_segment_uniform", nullptr},
+      {"poly5", nullptr},
+      {"modified_trapezoid", nullptr},
+      {"cycloidal", nullptr},
+  };
+  for (const LawCase& c : cases) {
+    json body = thesis_request();
+    body["law"] = {{"type", c.type}};
+    if (!c.durations.is_null()) body["law"]["durations_s"] = c.durations;
+    const RunResult r = simulate_file(body);
+    ASSERT_EQ(r.exit_code, 0) << c.type << ": " << r.err;
+    const json out = parse_or_fail(r.out);
+    ASSERT_TRUE(out.contains("law")) << c.type;
+    EXPECT_EQ(out["law"]["type"], json(c.type));
+    EXPECT_NEAR(out["law"]["stroke_mm"].get<double>(), 800.0, 1e-9) << c.type;
+    EXPECT_NEAR(out["law"]["duration_s"].get<double>(), 1.0, 1e-12) << c.type;
+    EXPECT_GT(out["kinematics"]["v_peak"].get<double>(), 0.8) << c.type;  // > mean speed s/T
+    EXPECT_GT(out["prediction"]["nonlinear"]["eta_motion_mm"].get<double>(), 0.0) << c.type;
+    if (!c.durations.is_null()) {
+      ASSERT_EQ(out["law"]["durations_s"].size(), 7u);
+      for (std::size_t i = 0; i < 7; ++i) {
+        EXPECT_NEAR(out["law"]["durations_s"][i].get<double>(), c.durations[i].get<double>(),
+                    1e-15);
+      }
+    }
+  }
+}
+
+TEST(CliSimulate, SamplePeriodGivesTheSeries) {
+  json body = thesis_request();
+  body["sample_period_s"] = 0.01;
+  const RunResult r = simulate_file(body);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json out = parse_or_fail(r.out);
+  ASSERT_TRUE(out.contains("series")) << r.out.substr(0, 2000);
+  const json& series = out["series"];
+  // [0, T + rest] = [0, 2 s] at 10 ms, both ends included: 201 samples.
+  constexpr std::size_t kSamples = 201;
+  for (const char* name : {"t_s", "a", "v", "s", "eta_linear_mm", "eta_nonlinear_mm"}) {
+    ASSERT_TRUE(series.contains(name)) << name;
+    EXPECT_EQ(series[name].size(), kSamples) << name;
+  }
+  for (std::size_t i = 0; i < kSamples; ++i) {
+    EXPECT_NEAR(series["t_s"][i].get<double>(), 0.01 * static_cast<double>(i), 1e-12) << i;
+  }
+  EXPECT_EQ(series["s"][0].get<double>(), 0.0);
+  EXPECT_NEAR(series["s"][kSamples - 1].get<double>(), 0.8, 1e-12);  // metres, at rest
+  EXPECT_NEAR(series["v"][kSamples - 1].get<double>(), 0.0, 1e-12);
+
+  // Without sample_period_s there is no series.
+  const RunResult plain = simulate_file(thesis_request());
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_FALSE(parse_or_fail(plain.out).contains("series"));
+}
+
+// ---------------------------------------------------------------------------------------------
+
+/// A child process killed (SIGKILL) and reaped on scope exit unless already reaped.
+class Child {
+ public:
+  explicit Child(pid_t pid) : pid_(pid) {}
+  ~Child() {
+    if (pid_ > 0) {
+      ::kill(pid_, SIGKILL);
+      int status = 0;
+      ::waitpid(pid_, &status, 0);
+    }
+  }
+  Child(const Child&) = delete;
+  Child& operator=(const Child&) = delete;
+  [[nodiscard]] pid_t pid() const { return pid_; }
+  /// Waits up to `timeout` for the child; its exit code, or nullopt when still running.
+  std::optional<int> wait_for(std::chrono::milliseconds timeout) {
+    const auto deadline = std::chrono::steady_clock::now() + timeout;
+    while (true) {
+      int status = 0;
+      const pid_t done = ::waitpid(pid_, &status, WNOHANG);
+      if (done == pid_) {
+        pid_ = -1;
+        return exit_code(status);
+      }
+      if (std::chrono::steady_clock::now() > deadline) return std::nullopt;
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+
+ private:
+  pid_t pid_;
+};
+
+/// Polls `path` until it holds a newline-terminated port number; 0 on timeout.
+int wait_for_port(const fs::path& path, Child& child, std::chrono::milliseconds timeout) {
+  const auto deadline = std::chrono::steady_clock::now() + timeout;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const std::string text = read_file(path);
+    if (!text.empty() && text.back() == '\n') return std::atoi(text.c_str());
+    if (child.wait_for(std::chrono::milliseconds(0))) return 0;  // exited early
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return 0;
+}
+
+TEST(CliServe, HealthEndpointsAndGracefulSigterm) {
+  const TempDir dir;
+  const fs::path port_file = dir / "port";
+  write_file(dir / "stdin", "");
+  Child child(
+      spawn({"serve", "--host", "127.0.0.1", "--port", "0", "--port-file", port_file.string()},
+            dir / "stdin", dir / "stdout", dir / "stderr"));
+  ASSERT_GT(child.pid(), 0);
+  const int port = wait_for_port(port_file, child, std::chrono::seconds(10));
+  ASSERT_GT(port, 0) << "no port file; stderr:\n"
+                     << read_file(dir / "stderr") << "\nstdout:\n"
+                     << read_file(dir / "stdout");
+  ASSERT_LE(port, 65535);
+
+  httplib::Client client("127.0.0.1", port);
+  client.set_connection_timeout(5, 0);
+  client.set_read_timeout(5, 0);
+
+  const httplib::Result health = client.Get("/healthz");
+  ASSERT_TRUE(health) << httplib::to_string(health.error());
+  EXPECT_EQ(health->status, 200);
+  EXPECT_EQ(health->get_header_value("Content-Type"), "application/json");
+  const json health_body = parse_or_fail(health->body);
+  EXPECT_EQ(health_body["status"], json("ok"));
+  ASSERT_TRUE(health_body.contains("version") && health_body["version"].is_string())
+      << health->body;
+  const RunResult version = run_slosh({"--version"});
+  EXPECT_EQ("slosh " + health_body["version"].get<std::string>() + "\n", version.out);
+
+  const httplib::Result ready = client.Get("/readyz");
+  ASSERT_TRUE(ready) << httplib::to_string(ready.error());
+  EXPECT_EQ(ready->status, 200);
+
+  const httplib::Result missing = client.Get("/no/such/endpoint");
+  ASSERT_TRUE(missing) << httplib::to_string(missing.error());
+  EXPECT_EQ(missing->status, 404);
+
+  ASSERT_EQ(::kill(child.pid(), SIGTERM), 0);
+  const std::optional<int> code = child.wait_for(std::chrono::seconds(5));
+  ASSERT_TRUE(code.has_value()) << "still running 5 s after SIGTERM";
+  EXPECT_EQ(*code, 0) << read_file(dir / "stderr");
+}
+
+}  // namespace
+}  // namespace slosh

@@ -1,0 +1,157 @@
+// The exact linear response against an independent fine-step RK4 solve of SPEC §2's mode
+// equations, and its peaks against a dense scan.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "slosh/core/response.hpp"
+#include "slosh/core/seven_segment.hpp"
+#include "support/reference_integrators.hpp"
+
+namespace slosh {
+namespace {
+
+Format thesis_format() {
+  Format f;
+  f.container.radius = 0.0485;
+  f.fill_height = 0.082;
+  f.fluid = Fluid{"custom", 1000.0, 1.0e-3, "thesis"};
+  return f;
+}
+
+const Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
+
+// Reference eta(t) on a grid: every mode integrated by RK4 with step h from rest.
+struct ReferenceEta {
+  std::vector<test::Rk4Trajectory> modes;
+  std::vector<double> gains;
+  double at(double t) const {
+    double eta = 0.0;
+    for (std::size_t m = 0; m < modes.size(); ++m) eta += gains[m] * modes[m].x_at(t);
+    return eta;
+  }
+};
+
+template <typename Accel>
+ReferenceEta reference_eta(const SloshingModel& model, const Accel& a, double t_end, double h) {
+  ReferenceEta r;
+  r.gains = model.eta_gain;
+  for (int m = 0; m < model.modes(); ++m) {
+    const double w = model.omega[m], z = model.zeta;
+    r.modes.push_back(test::rk4_solve(
+        [&](double t, double x, double v) { return -a(t) - 2.0 * z * w * v - w * w * x; }, t_end,
+        h));
+  }
+  return r;
+}
+
+TEST(LinearResponse, SevenSegmentMatchesFineStepRk4) {
+  ModelOptions options;
+  options.modes = 3;
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const test::TrapezoidAcceleration a{law.durations(), law.A(), law.B()};
+  const LinearResponse exact(model, law.law(), 1.0);
+  const double h = 2e-6;  // the reference grid; compare on its nodes only
+  const ReferenceEta ref = reference_eta(model, a, 2.0, h);
+  double worst = 0.0, peak = 0.0;
+  for (std::size_t i = 0; i < ref.modes[0].t.size(); i += 97) {
+    const double t = ref.modes[0].t[i];
+    double eta_ref = 0.0;
+    for (int m = 0; m < 3; ++m) {
+      eta_ref += model.eta_gain[m] * ref.modes[m].x[i];
+      EXPECT_NEAR(exact.mode_state(m, t).x, ref.modes[m].x[i], 1e-9) << "mode " << m << " t " << t;
+      EXPECT_NEAR(exact.mode_state(m, t).x_dot, ref.modes[m].v[i], 1e-8)
+          << "mode " << m << " t " << t;
+    }
+    worst = std::max(worst, std::abs(exact.eta(t) - eta_ref));
+    peak = std::max(peak, std::abs(eta_ref));
+  }
+  EXPECT_LT(worst, 1e-9);
+  EXPECT_GT(peak, 0.01);  // a real excitation: centimetres of sloshing
+}
+
+TEST(LinearResponse, HarmonicPiecesMatchRk4) {
+  // The cycloidal law exercises the harmonic particular solution.
+  ModelOptions options;
+  options.modes = 2;
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const MotionLaw law = make_cycloidal_law(0.5, 0.7);
+  const LinearResponse exact(model, law, 0.8);
+  const double T = 0.7, s = 0.5;
+  const auto a = [&](double t) {
+    return t <= 0.0 || t >= T ? 0.0
+                              : 2.0 * std::numbers::pi * s / (T * T) *
+                                    std::sin(2.0 * std::numbers::pi * t / T);
+  };
+  const ReferenceEta ref = reference_eta(model, a, 1.5, 2e-6);
+  for (double t : {0.1, 0.35, 0.7, 0.9, 1.23, 1.5}) {
+    EXPECT_NEAR(exact.eta(t), ref.at(t), 1e-9) << t;
+  }
+}
+
+TEST(LinearResponse, UndampedResonantHarmonicMatchesRk4) {
+  // Cycloidal law whose harmonic frequency is exactly omega_1 with zeta = 0: the secular
+  // particular solution tau (U cos + V sin).
+  ModelOptions options;
+  options.modes = 1;
+  options.damping = DampingCorrelation::kExplicit;
+  options.explicit_zeta = 0.0;
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const double T = 2.0 * std::numbers::pi / model.omega[0];
+  const double s = 0.1;
+  const MotionLaw law = make_cycloidal_law(s, T);
+  const LinearResponse exact(model, law, 0.5);
+  const auto a = [&](double t) {
+    return t <= 0.0 || t >= T ? 0.0
+                              : 2.0 * std::numbers::pi * s / (T * T) *
+                                    std::sin(2.0 * std::numbers::pi * t / T);
+  };
+  const ReferenceEta ref = reference_eta(model, a, T + 0.5, 1e-6);
+  for (double t : {0.05, T / 2, T, T + 0.25, T + 0.5}) {
+    EXPECT_NEAR(exact.eta(t), ref.at(t), 1e-9) << t;
+  }
+}
+
+TEST(LinearResponse, PeaksAreTheMaximaOfTheContinuousResponse) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const LinearResponse r(model, law.law(), 1.0);
+  const SloshPeaks p = r.peaks();
+  // Dense independent scan at 10 us.
+  double motion = 0.0, rest = 0.0;
+  for (int i = 0; i <= 200000; ++i) {
+    const double t = 1e-5 * i;
+    (t <= 1.0 ? motion : rest) = std::max(t <= 1.0 ? motion : rest, std::abs(r.eta(t)));
+  }
+  EXPECT_GE(p.motion.value, motion - 1e-12);
+  EXPECT_LT(p.motion.value - motion, 1e-8 * motion);
+  EXPECT_GE(p.rest.value, rest - 1e-12);
+  EXPECT_LT(p.rest.value - rest, 1e-8 * rest);
+  EXPECT_NEAR(std::abs(r.eta(p.motion.time)), p.motion.value, 1e-15);
+  EXPECT_LE(p.motion.time, 1.0);
+  EXPECT_GE(p.rest.time, 1.0);
+  EXPECT_LE(p.rest.time, 2.0);
+}
+
+TEST(LinearResponse, StartsAtRestAndDecaysAtTheDampingRate) {
+  ModelOptions options;
+  options.modes = 1;
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const SevenSegmentLaw law(uniform_durations(1.0), 0.8);
+  const LinearResponse r(model, law.law(), 30.0);
+  EXPECT_EQ(r.eta(0.0), 0.0);
+  // After the motion the free response decays as exp(-zeta w t): compare energy envelopes.
+  const auto energy = [&](double t) {
+    const ModeState s = r.mode_state(0, t);
+    return s.x_dot * s.x_dot + model.omega[0] * model.omega[0] * s.x * s.x;
+  };
+  const double e1 = energy(2.0), e2 = energy(22.0);
+  // The energy of a lightly damped oscillator oscillates by O(zeta) within a period.
+  EXPECT_NEAR(std::log(e2 / e1), -2.0 * model.zeta * model.omega[0] * 20.0, 2e-2);
+}
+
+}  // namespace
+}  // namespace slosh

@@ -1,0 +1,104 @@
+// The comparison laws: rest-to-rest, stroke reached, continuity, known acceleration coefficients,
+// and position / velocity consistent with the integrated acceleration.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "slosh/core/motion_law.hpp"
+#include "slosh/core/seven_segment.hpp"
+#include "support/reference_integrators.hpp"
+
+namespace slosh {
+namespace {
+
+struct LawCase {
+  const char* name;
+  MotionLaw (*make)(double, double);
+  double acceleration_coefficient;  // C_a = a_max T^2 / s
+};
+
+const LawCase kCases[] = {
+    {"poly5", make_poly5_law, 10.0 / std::sqrt(3.0)},
+    {"cycloidal", make_cycloidal_law, 2.0 * std::numbers::pi},
+    {"modified_trapezoid", make_modified_trapezoid_law, 4.888},
+};
+
+class ComparisonLaws : public ::testing::TestWithParam<LawCase> {};
+
+TEST_P(ComparisonLaws, RestToRestWithTheStroke) {
+  const double s = 0.8, T = 1.3;
+  const MotionLaw law = GetParam().make(s, T);
+  EXPECT_NEAR(law.duration(), T, 1e-15);
+  EXPECT_NEAR(law.stroke(), s, 1e-12);
+  const KinematicState end = law.at(T);
+  EXPECT_NEAR(end.position, s, 1e-12);
+  EXPECT_NEAR(end.velocity, 0.0, 1e-12);
+  EXPECT_NEAR(end.acceleration, 0.0, 1e-12);
+  const KinematicState start = law.at(0.0);
+  EXPECT_EQ(start.position, 0.0);
+  EXPECT_NEAR(start.velocity, 0.0, 1e-15);
+  EXPECT_NEAR(start.acceleration, 0.0, 1e-12);
+  // At rest outside the motion.
+  EXPECT_EQ(law.at(-1.0).velocity, 0.0);
+  EXPECT_NEAR(law.at(T + 5.0).position, s, 1e-12);
+  EXPECT_EQ(law.at(T + 5.0).acceleration, 0.0);
+}
+
+TEST_P(ComparisonLaws, AccelerationCoefficient) {
+  const double s = 0.5, T = 0.7;
+  const KinematicSummary k = GetParam().make(s, T).summary();
+  EXPECT_NEAR(k.a_peak_positive * T * T / s, GetParam().acceleration_coefficient, 1e-3);
+  EXPECT_NEAR(k.a_peak_negative, k.a_peak_positive, 1e-9);  // all three are symmetric
+}
+
+TEST_P(ComparisonLaws, ContinuousAtEveryBreakpoint) {
+  const MotionLaw law = GetParam().make(0.8, 1.0);
+  for (double t : law.breakpoints()) {
+    const KinematicState l = law.at(t - 1e-12), r = law.at(t + 1e-12);
+    EXPECT_NEAR(l.position, r.position, 1e-10) << t;
+    EXPECT_NEAR(l.velocity, r.velocity, 1e-9) << t;
+    EXPECT_NEAR(l.acceleration, r.acceleration, 1e-8) << t;
+  }
+}
+
+TEST_P(ComparisonLaws, VelocityAndPositionAreTheIntegralsOfAcceleration) {
+  const MotionLaw law = GetParam().make(0.8, 1.0);
+  const auto accel = [&](double t) { return law.at(t).acceleration; };
+  const auto knots = law.breakpoints();
+  for (double t : {0.1, 0.33, 0.5, 0.77, 1.0}) {
+    std::vector<double> upto;
+    for (double k : knots)
+      if (k < t) upto.push_back(k);
+    upto.push_back(t);
+    const double v = test::simpson_piecewise(accel, upto, 2000);
+    EXPECT_NEAR(law.at(t).velocity, v, 1e-10) << t;
+    const auto moment = [&](double tau) { return accel(tau) * (t - tau); };
+    EXPECT_NEAR(law.at(t).position, test::simpson_piecewise(moment, upto, 2000), 1e-10) << t;
+  }
+}
+
+TEST_P(ComparisonLaws, JerkIsTheDerivativeOfAcceleration) {
+  const MotionLaw law = GetParam().make(0.8, 1.0);
+  for (double t : {0.05, 0.21, 0.5, 0.66, 0.93}) {
+    const double h = 1e-6;
+    const double fd = (law.at(t + h).acceleration - law.at(t - h).acceleration) / (2 * h);
+    EXPECT_NEAR(law.at(t).jerk, fd, 1e-5 * (1.0 + std::abs(fd))) << t;
+  }
+}
+
+INSTANTIATE_TEST_SUITE_P(Laws, ComparisonLaws, ::testing::ValuesIn(kCases),
+                         [](const auto& param_info) { return std::string(param_info.param.name); });
+
+TEST(MotionLaw, ScaledMultipliesEverything) {
+  const MotionLaw law = make_cycloidal_law(1.0, 1.0);
+  const MotionLaw half = law.scaled(0.5);
+  for (double t : {0.1, 0.4, 0.9}) {
+    EXPECT_NEAR(half.at(t).position, 0.5 * law.at(t).position, 1e-15);
+    EXPECT_NEAR(half.at(t).jerk, 0.5 * law.at(t).jerk, 1e-12);
+  }
+}
+
+}  // namespace
+}  // namespace slosh
