@@ -14,14 +14,14 @@ namespace {
 template <typename Body>
 int print_json_or_error(Body&& body) {
   try {
-    std::cout << body().dump(2) << '\n';
+    std::cout << api::dump_json(body(), 2) << '\n';
     return kExitOk;
   } catch (const api::ApiError& e) {
-    std::cerr << api::error_envelope(e).dump(2) << '\n';
+    std::cerr << api::dump_json(api::error_envelope(e), 2) << '\n';
     return e.status() < 500 ? kExitInvalidInput : kExitFailure;
   } catch (const std::exception& e) {
     const api::ApiError wrapped(api::ErrorCode::kInternal, "", e.what());
-    std::cerr << api::error_envelope(wrapped).dump(2) << '\n';
+    std::cerr << api::dump_json(api::error_envelope(wrapped), 2) << '\n';
     return kExitFailure;
   }
 }

@@ -3,7 +3,12 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include <pthread.h>
+
+#include <atomic>
+#include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <thread>
@@ -14,10 +19,16 @@ namespace slosh::service {
 
 namespace {
 
-httplib::Server* g_server = nullptr;
-
-void handle_signal(int) {
-  if (g_server != nullptr) g_server->stop();
+// Writes the port to `path` atomically (temporary file + rename) so a reader never sees a
+// partial number.
+bool write_port_file(const std::string& path, int port) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << port << '\n';
+    if (!out) return false;
+  }
+  return std::rename(tmp.c_str(), path.c_str()) == 0;
 }
 
 }  // namespace
@@ -32,6 +43,14 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     res.set_content(nlohmann::json{{"status", "ready"}}.dump(), "application/json");
   });
 
+  // SIGINT / SIGTERM are blocked in every thread and taken synchronously by one waiter thread,
+  // which stops the server outside any signal handler.
+  sigset_t stop_signals;
+  sigemptyset(&stop_signals);
+  sigaddset(&stop_signals, SIGINT);
+  sigaddset(&stop_signals, SIGTERM);
+  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+
   int port = config.port;
   if (port == 0) {
     port = server.bind_to_any_port(config.host);
@@ -42,13 +61,26 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     spdlog::error("cannot bind {}:{}", config.host, config.port);
     return 1;
   }
-  if (!port_file.empty()) std::ofstream(port_file) << port << '\n';
-  g_server = &server;
-  std::signal(SIGINT, handle_signal);
-  std::signal(SIGTERM, handle_signal);
+  std::atomic<bool> finished{false};
+  std::thread waiter([&] {
+    int signal_number = 0;
+    sigwait(&stop_signals, &signal_number);
+    if (finished) return;
+    spdlog::info("signal {} received, stopping", signal_number);
+    // A signal that arrives before the accept loop runs must still stop it.
+    while (!server.is_running() && !finished) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
+    server.stop();
+  });
+  if (!port_file.empty() && !write_port_file(port_file, port)) {
+    spdlog::error("cannot write the port file {}", port_file);
+  }
   spdlog::info("slosh {} listening on http://{}:{}", kVersion, config.host, port);
   const bool ok = server.listen_after_bind();
-  g_server = nullptr;
+  finished = true;
+  pthread_kill(waiter.native_handle(), SIGTERM);  // wakes sigwait if no signal came
+  waiter.join();
   spdlog::info("slosh stopped");
   return ok ? 0 : 1;
 }

@@ -3,8 +3,11 @@
 #include <CLI/CLI.hpp>
 
 #include <iostream>
+#include <optional>
+#include <string>
 
 #include "cli_commands.hpp"
+#include "config.hpp"
 #include "http_server.hpp"
 #include "version.hpp"
 
@@ -13,13 +16,20 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", std::string("slosh ") + slosh::kVersion);
   app.require_subcommand(1);
 
-  slosh::service::ServerConfig server;
+  // Precedence: embedded defaults < --config file < SLOSH_* environment < flags.
+  const slosh::service::ServerConfig defaults;
+  std::string config_path;
+  std::optional<std::string> host;
+  std::optional<int> port;
   std::string port_file;
   auto* serve = app.add_subcommand("serve", "Run the HTTP/JSON service");
-  serve->add_option("--host", server.host, "Bind address")->capture_default_str();
-  serve->add_option("--port", server.port, "TCP port (0 = any free port)")
-      ->check(CLI::Range(0, 65535))
-      ->capture_default_str();
+  serve->add_option("--config", config_path, "JSON config file (see config/slosh.json)");
+  serve->add_option("--host", host, "Bind address [default " + defaults.host + "; env SLOSH_HOST]");
+  serve
+      ->add_option("--port", port,
+                   "TCP port, 0 = any free port [default " + std::to_string(defaults.port) +
+                       "; env SLOSH_PORT]")
+      ->check(CLI::Range(0, 65535));
   serve->add_option("--port-file", port_file, "Write the bound port to this file");
 
   std::string request = "-";
@@ -33,7 +43,19 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
-  if (*serve) return slosh::service::run_server(server, port_file);
+  if (*serve) {
+    slosh::service::ServerConfig server = defaults;
+    try {
+      if (!config_path.empty()) slosh::service::apply_config_file(config_path, server);
+      slosh::service::apply_environment(slosh::service::slosh_environment(), server);
+    } catch (const std::exception& e) {
+      std::cerr << "slosh serve: " << e.what() << '\n';
+      return slosh::service::kExitInvalidInput;
+    }
+    if (host) server.host = *host;
+    if (port) server.port = *port;
+    return slosh::service::run_server(server, port_file);
+  }
   if (*simulate) return slosh::service::run_simulate_command(request);
   return slosh::service::kExitInvalidInput;
 }

@@ -27,6 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/error.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh {
@@ -189,8 +190,8 @@ TEST(CliSimulate, ThesisFormatMatchesReferenceAndInProcessApi) {
   EXPECT_EQ(out["prediction"], in_process["prediction"]);
   EXPECT_EQ(out["kinematics"], in_process["kinematics"]);
   EXPECT_EQ(out["model"], in_process["model"]);
-  // Same document, byte for byte (the CLI prints dump(2) and a newline).
-  EXPECT_EQ(r.out, in_process.dump(2) + "\n");
+  // Same document, byte for byte (the CLI prints api::dump_json(.., 2) and a newline).
+  EXPECT_EQ(r.out, api::dump_json(in_process, 2) + "\n");
   // The numbers are real predictions, not placeholders.
   EXPECT_GT(out["prediction"]["nonlinear"]["eta_rest_mm"].get<double>(), 0.0);
   EXPECT_GT(out["prediction"]["linear"]["eta_motion_mm"].get<double>(), 0.0);
@@ -244,24 +245,100 @@ TEST(CliSimulate, MissingRequestFileExits2NamingThePath) {
   EXPECT_EQ(err["error"]["message"], json("cannot read request file '" + path + "'"));
 }
 
-// An overflowing number escapes parse_json_body as nlohmann out_of_range: today the CLI reports
-// an internal error and exits 1. Enable when fixed.
-TEST(CliSimulate, DISABLED_NumberOverflowIsMalformedJson) {
+// An overflowing number (nlohmann out_of_range, not parse_error) is malformed JSON too.
+TEST(CliSimulate, NumberOverflowIsMalformedJson) {
   const RunResult r = run_slosh({"simulate", "--request", "-"}, "{\"rest_time_s\": 1e400}");
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(parse_or_fail(r.err)["error"]["code"], json("malformed_json"));
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(parse_or_fail(r.err), json::parse(R"({"error": {
+      "code": "malformed_json",
+      "message": "the body is not valid JSON: number overflow parsing '1e400'",
+      "field": null}})"));
 }
 
-// A long non-ASCII value is truncated inside a UTF-8 sequence; printing the envelope throws and
-// the CLI aborts (SIGABRT). Enable when fixed.
-TEST(CliSimulate, DISABLED_LongNonAsciiValueGivesAnEnvelope) {
+// A long non-ASCII value is cut on a UTF-8 boundary: the envelope is valid JSON and UTF-8.
+TEST(CliSimulate, LongNonAsciiValueGivesAnEnvelope) {
   json body = thesis_request();
   std::string name = "a";
   for (int i = 0; i < 40; ++i) name += "\xc3\xa9";  // U+00E9
   body["format"]["fluid"] = name;
   const RunResult r = simulate_file(body);
   EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(parse_or_fail(r.err)["error"]["field"], json("format.fluid"));
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const json err = parse_or_fail(r.err);
+  EXPECT_EQ(err["error"]["field"], json("format.fluid"));
+  // "a" and 27 whole U+00E9 (57 bytes with the opening quote would split the 28th).
+  std::string kept = "a";
+  for (int i = 0; i < 27; ++i) kept += "\xc3\xa9";
+  EXPECT_EQ(err["error"]["message"],
+            json("format.fluid = \"" + kept +
+                 "... is not in the catalogue; allowed: water, ethanol, isopropanol, "
+                 "glycerol_water_50, milk, olive_oil, sunflower_oil, light_syrup, or "
+                 "{\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}"));
+}
+
+// Invalid UTF-8 in the body: the parser's message quotes the raw byte; the CLI still prints a
+// valid JSON envelope (the byte replaced by U+FFFD) and exits 2.
+TEST(CliSimulate, InvalidUtf8BodyGivesAValidEnvelope) {
+  const RunResult r = run_slosh({"simulate", "--request", "-"}, "{\"format\": \"\xff\"}");
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(r.err.find('\xff'), std::string::npos);
+  const json err = parse_or_fail(r.err);
+  ASSERT_TRUE(err.contains("error")) << r.err;
+  EXPECT_EQ(err["error"]["code"], json("malformed_json"));
+  EXPECT_TRUE(err["error"]["field"].is_null());
+}
+
+TEST(CliSimulate, TooManySamplesExits2) {
+  json body = thesis_request();
+  body["format"]["motion_time_s"] = 10;
+  body["rest_time_s"] = 10;
+  body["sample_period_s"] = 1e-4;
+  const RunResult r = simulate_file(body);
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  EXPECT_EQ(parse_or_fail(r.err), json::parse(R"({"error": {
+      "code": "invalid_value",
+      "message": "sample_period_s = 0.0001 s gives 200001 samples over 20 s; at most 200000 are returned: use >= 0.0001000005 s",
+      "field": "sample_period_s"}})"));
+}
+
+TEST(CliSimulate, CustomFluidNameIsEchoed) {
+  for (const std::string name : {"glycerine 85 %",
+                                 "eau sucr\xc3\xa9"
+                                 "e"}) {
+    json body = thesis_request();
+    body["format"]["fluid"]["name"] = name;
+    const RunResult r = simulate_file(body);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json out = parse_or_fail(r.out);
+    EXPECT_EQ(out["format"]["fluid"], json::parse(R"({"name": ")" + name + R"(",
+        "density_kg_m3": 1000, "viscosity_pa_s": 0.001})"));
+  }
+  const RunResult plain = simulate_file(thesis_request());
+  ASSERT_EQ(plain.exit_code, 0) << plain.err;
+  EXPECT_EQ(parse_or_fail(plain.out)["format"]["fluid"]["name"], json("custom"));
+
+  json empty = thesis_request();
+  empty["format"]["fluid"]["name"] = "";
+  const RunResult rejected = simulate_file(empty);
+  EXPECT_EQ(rejected.exit_code, 2);
+  EXPECT_EQ(parse_or_fail(rejected.err), json::parse(R"({"error": {
+      "code": "invalid_value",
+      "message": "format.fluid.name must be a text of 1 to 64 characters, got \"\"",
+      "field": "format.fluid.name"}})"));
+}
+
+TEST(CliSimulate, NullOptionsGiveTheDefaultOutput) {
+  json body = thesis_request();
+  body["options"] = nullptr;
+  const RunResult with_null = simulate_file(body);
+  const RunResult without = simulate_file(thesis_request());
+  ASSERT_EQ(with_null.exit_code, 0) << with_null.err;
+  ASSERT_EQ(without.exit_code, 0) << without.err;
+  EXPECT_EQ(with_null.out, without.out);
+  EXPECT_EQ(parse_or_fail(with_null.out)["model"]["damping"], json("thesis"));
 }
 
 struct LawCase {
@@ -320,6 +397,15 @@ TEST(CliSimulate, SamplePeriodGivesTheSeries) {
   EXPECT_EQ(series["s"][0].get<double>(), 0.0);
   EXPECT_NEAR(series["s"][kSamples - 1].get<double>(), 0.8, 1e-12);  // metres, at rest
   EXPECT_NEAR(series["v"][kSamples - 1].get<double>(), 0.0, 1e-12);
+  EXPECT_EQ(series["units"], json::parse(R"({"t_s": "s", "a": "m/s^2", "v": "m/s", "s": "m",
+      "eta_linear_mm": "mm", "eta_nonlinear_mm": "mm"})"));
+  // Every series member has its unit, and only those.
+  EXPECT_EQ(series.size(), 7u);
+  for (const auto& [name, values] : series.items()) {
+    if (name != "units") {
+      EXPECT_TRUE(series["units"].contains(name)) << name;
+    }
+  }
 
   // Without sample_period_s there is no series.
   const RunResult plain = simulate_file(thesis_request());

@@ -82,9 +82,9 @@ TEST(LinearResponse, HarmonicPiecesMatchRk4) {
   const LinearResponse exact(model, law, 0.8);
   const double T = 0.7, s = 0.5;
   const auto a = [&](double t) {
-    return t <= 0.0 || t >= T ? 0.0
-                              : 2.0 * std::numbers::pi * s / (T * T) *
-                                    std::sin(2.0 * std::numbers::pi * t / T);
+    return t <= 0.0 || t >= T
+               ? 0.0
+               : 2.0 * std::numbers::pi * s / (T * T) * std::sin(2.0 * std::numbers::pi * t / T);
   };
   const ReferenceEta ref = reference_eta(model, a, 1.5, 2e-6);
   for (double t : {0.1, 0.35, 0.7, 0.9, 1.23, 1.5}) {
@@ -105,9 +105,9 @@ TEST(LinearResponse, UndampedResonantHarmonicMatchesRk4) {
   const MotionLaw law = make_cycloidal_law(s, T);
   const LinearResponse exact(model, law, 0.5);
   const auto a = [&](double t) {
-    return t <= 0.0 || t >= T ? 0.0
-                              : 2.0 * std::numbers::pi * s / (T * T) *
-                                    std::sin(2.0 * std::numbers::pi * t / T);
+    return t <= 0.0 || t >= T
+               ? 0.0
+               : 2.0 * std::numbers::pi * s / (T * T) * std::sin(2.0 * std::numbers::pi * t / T);
   };
   const ReferenceEta ref = reference_eta(model, a, T + 0.5, 1e-6);
   for (double t : {0.05, T / 2, T, T + 0.25, T + 0.5}) {

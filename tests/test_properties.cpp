@@ -106,10 +106,10 @@ TEST(Properties, SpectrumAndGradientAgreeWithIndependentComputations) {
         up[i] += h;
         down[i] -= h;
         const long double s = c.format.stroke, wl = w;
-        const auto fd = static_cast<double>(
-            (std::norm(seven_segment_spectrum<long double>(up, s, wl)) -
-             std::norm(seven_segment_spectrum<long double>(down, s, wl))) /
-            (2 * h));
+        const auto fd =
+            static_cast<double>((std::norm(seven_segment_spectrum<long double>(up, s, wl)) -
+                                 std::norm(seven_segment_spectrum<long double>(down, s, wl))) /
+                                (2 * h));
         EXPECT_NEAR(g.gradient[i], fd, 1e-7 * gmax + 1e-12 * scale * scale) << k << " " << i;
       }
     }

@@ -59,9 +59,8 @@ TEST(SevenSegment, SampledLawMatchesTheReferenceEverywhere) {
     }();
     worst_v = std::max(worst_v, std::abs(k.velocity - test::simpson_piecewise(a, upto, 4)));
     worst_s = std::max(
-        worst_s,
-        std::abs(k.position - test::simpson_piecewise([&](double x) { return a(x) * (t - x); },
-                                                      upto, 4)));
+        worst_s, std::abs(k.position - test::simpson_piecewise(
+                                           [&](double x) { return a(x) * (t - x); }, upto, 4)));
   }
   EXPECT_LT(worst_a, 1e-12);
   EXPECT_LT(worst_v, 1e-12);

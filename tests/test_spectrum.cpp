@@ -18,8 +18,8 @@ const Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
 std::complex<double> quadrature_spectrum(const SevenSegmentLaw& law, double w) {
   const test::TrapezoidAcceleration a{law.durations(), law.A(), law.B()};
   // Simpson on every segment; 4000 intervals keep (w h)^4 below 1e-12 for w <= 200 rad/s.
-  return test::simpson_piecewise(
-      [&](double t) { return a(t) * std::polar(1.0, -w * t); }, a.knots(), 4000);
+  return test::simpson_piecewise([&](double t) { return a(t) * std::polar(1.0, -w * t); },
+                                 a.knots(), 4000);
 }
 
 TEST(Spectrum, ClosedFormMatchesQuadratureOnBothBranches) {

@@ -267,12 +267,64 @@ TEST(ValidationValid, ClosedBoundsAcceptTheExactLimits) {
   EXPECT_TRUE(Accepts(seven_segment_request(json::array({0.25, 0, 0.25, 0, 0.25, 0, 0.25}))));
 }
 
+TEST(ValidationValid, NullOptionsTakeTheDefaults) {
+  json body = seven_segment_request(valid_durations());
+  body["options"] = nullptr;
+  const SimulateRequest r = accepted(body);
+  EXPECT_EQ(r.options.model.modes, 3);
+  EXPECT_EQ(r.options.model.alpha, 0.58);
+  EXPECT_EQ(r.options.model.damping, DampingCorrelation::kThesis);
+  EXPECT_EQ(r.min_ramp, 0.05);
+  // The default min_ramp_s still applies to the ramps.
+  json short_ramp = seven_segment_request(json::array({0.04, 0.16, 0.1, 0.3, 0.1, 0.2, 0.1}));
+  short_ramp["options"] = nullptr;
+  EXPECT_TRUE(Rejects(short_ramp, "law.durations_s[0]",
+                      "law.durations_s[0] = 0.04 is out of range: allowed 0.05 to 1 s (segment 1 "
+                      "is a jerk ramp: >= options.min_ramp_s)"));
+}
+
+// Samples at 0, dt, ..., T + rest (both ends): floor((T + rest) / dt) + 1 <= 200000.
 TEST(ValidationValid, SampleCountAtTheLimitIsAccepted) {
-  // 10 s + 10 s at 0.1 ms = 200 000 samples (the limit is inclusive).
+  // Exactly representable: dt = 2^-13 s, T + rest = 199999 dt -> 200000 samples.
+  json exact = with("/format/motion_time_s", 10);
+  exact["sample_period_s"] = 1.0 / 8192.0;
+  exact["rest_time_s"] = (199999.0 - 81920.0) / 8192.0;  // 14.4139404296875 s
+  EXPECT_TRUE(Accepts(exact));
+  // Decimal: 10 s + 9.9999 s at 0.1 ms is 199999 periods (the quotient is not exact in binary).
+  json decimal = with("/format/motion_time_s", 10);
+  decimal["rest_time_s"] = 9.9999;
+  decimal["sample_period_s"] = 1e-4;
+  EXPECT_TRUE(Accepts(decimal));
+}
+
+TEST(ValidationValid, SampleCountAtTheLimitIsWhatSimulateReturns) {
   json body = with("/format/motion_time_s", 10);
-  body["rest_time_s"] = 10;
-  body["sample_period_s"] = 1e-4;
-  EXPECT_TRUE(Accepts(body));
+  body["sample_period_s"] = 1.0 / 8192.0;
+  body["rest_time_s"] = (199999.0 - 81920.0) / 8192.0;
+  ASSERT_TRUE(Accepts(body));
+  const json out = run_simulate(parse_simulate_request(body));
+  ASSERT_TRUE(out.contains("series"));
+  EXPECT_EQ(out["series"]["t_s"].size(), 200000u);
+  EXPECT_DOUBLE_EQ(out["series"]["t_s"].back().get<double>(), 199999.0 / 8192.0);
+}
+
+TEST(ValidationValid, CustomFluidNameIsEchoed) {
+  const SimulateRequest r = accepted(with("/format/fluid/name", "honey 1:1"));
+  EXPECT_EQ(r.format.fluid.name, "honey 1:1");
+  EXPECT_EQ(r.format.fluid.density, 1000.0);
+  EXPECT_EQ(format_json(r.format)["fluid"]["name"], json("honey 1:1"));
+  // Without a name (or with null) the fluid is "custom".
+  const SimulateRequest plain = accepted(base_request());
+  EXPECT_EQ(format_json(plain.format)["fluid"]["name"], json("custom"));
+  EXPECT_EQ(accepted(with("/format/fluid/name", nullptr)).format.fluid.name, "custom");
+  // 1 and 64 characters are the limits.
+  EXPECT_EQ(accepted(with("/format/fluid/name", "x")).format.fluid.name, "x");
+  const std::string longest(64, 'n');
+  EXPECT_EQ(accepted(with("/format/fluid/name", longest)).format.fluid.name, longest);
+  // Non-ASCII text is kept intact (32 x U+00E9 = 64 bytes).
+  std::string accents;
+  for (int i = 0; i < 32; ++i) accents += "\xc3\xa9";
+  EXPECT_EQ(accepted(with("/format/fluid/name", accents)).format.fluid.name, accents);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -287,7 +339,7 @@ TEST(ValidationBody, MalformedJsonIs400) {
     EXPECT_EQ(e.status(), 400);
     EXPECT_EQ(e.field(), "");
     EXPECT_STREQ(e.what(),
-                 "the body is not valid JSON: [json.exception.parse_error.101] parse error at "
+                 "the body is not valid JSON: parse error at "
                  "line 1, column 2: syntax error while parsing object key - unexpected end of "
                  "input; expected string literal");
     const json envelope = error_envelope(e);
@@ -315,15 +367,38 @@ TEST(ValidationBody, WellFormedJsonParses) {
   EXPECT_EQ(parsed, base_request());
 }
 
-// A number that overflows a double is a malformed body, but nlohmann reports it as out_of_range
-// (not parse_error), so parse_json_body lets it escape as an internal error. Enable when fixed.
-TEST(ValidationBody, DISABLED_NumberOverflowIsMalformedJson) {
+// A number that overflows a double (nlohmann out_of_range 406, not a parse_error) is a malformed
+// body too.
+TEST(ValidationBody, NumberOverflowIsMalformedJson) {
+  for (const char* number : {"1e400", "-1e400"}) {
+    try {
+      (void)parse_json_body(std::string("{\"rest_time_s\": ") + number + "}");
+      ADD_FAILURE() << "accepted " << number;
+    } catch (const ApiError& e) {
+      EXPECT_EQ(e.code(), ErrorCode::kMalformedJson);
+      EXPECT_EQ(e.status(), 400);
+      EXPECT_EQ(e.field(), "");
+      EXPECT_EQ(std::string(e.what()), std::string("the body is not valid JSON: number "
+                                                   "overflow parsing '") +
+                                           number + "'");
+    }
+  }
+}
+
+// Invalid UTF-8 in the body is malformed; the parser's message quotes the raw byte, and the
+// envelope still serialises with dump_json (the byte becomes U+FFFD).
+TEST(ValidationBody, InvalidUtf8IsMalformedJsonAndTheEnvelopeSerialises) {
   try {
-    (void)parse_json_body("{\"rest_time_s\": 1e400}");
+    (void)parse_json_body("{\"format\": \"\xff\"}");
     FAIL() << "accepted";
   } catch (const ApiError& e) {
     EXPECT_EQ(e.code(), ErrorCode::kMalformedJson);
-    EXPECT_EQ(e.status(), 400);
+    const std::string text = dump_json(error_envelope(e));
+    EXPECT_EQ(text.rfind("{\"error\":{\"code\":\"malformed_json\"", 0), 0u) << text;
+    EXPECT_EQ(text.find('\xff'), std::string::npos);
+    const json back = json::parse(text);  // valid UTF-8
+    EXPECT_EQ(back["error"]["message"].get<std::string>().rfind("the body is not valid JSON: ", 0),
+              0u);
   }
 }
 
@@ -344,7 +419,9 @@ TEST(ValidationBody, UnknownTopLevelField) {
 }
 
 TEST(ValidationBody, FormatRequiredAndObject) {
-  EXPECT_TRUE(Rejects(without("/format"), "format", "format is required"));
+  EXPECT_TRUE(Rejects(without("/format"), "format",
+                      "format is required: {\"container\", \"fill_height_mm\", \"fluid\", "
+                      "\"stroke_mm\", \"motion_time_s\"}"));
   EXPECT_TRUE(Rejects(with("/format", 3), "format", "format must be a JSON object, got 3"));
   EXPECT_TRUE(
       Rejects(with("/format", nullptr), "format", "format must be a JSON object, got null"));
@@ -363,7 +440,10 @@ TEST(ValidationFormat, UnknownFieldTypo) {
 
 TEST(ValidationFormat, Container) {
   EXPECT_TRUE(Rejects(without("/format/container"), "format.container",
-                      "format.container is required: {\"radius_mm\", \"height_mm\"}"));
+                      "format.container is required: {\"radius_mm\"} and optionally "
+                      "\"height_mm\""));
+  EXPECT_TRUE(Rejects(with("/format/container", nullptr), "format.container",
+                      "format.container must be a JSON object, got null"));
   EXPECT_TRUE(Rejects(with("/format/container", "big"), "format.container",
                       "format.container must be a JSON object, got \"big\""));
   EXPECT_TRUE(Rejects(with("/format/container", json::array({48.5, 150})), "format.container",
@@ -458,26 +538,26 @@ TEST(ValidationFormat, MotionTime) {
 TEST(ValidationFluid, Missing) {
   EXPECT_TRUE(Rejects(without("/format/fluid"), "format.fluid",
                       std::string("format.fluid is required: a catalogue name (") + kCatalogue +
-                          ") or {\"density_kg_m3\", \"viscosity_pa_s\"}"));
+                          ") or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}"));
 }
 
 TEST(ValidationFluid, UnknownName) {
   EXPECT_TRUE(Rejects(with("/format/fluid", "mercury"), "format.fluid",
                       std::string("format.fluid = \"mercury\" is not in the catalogue; allowed: ") +
-                          kCatalogue + ", or {\"density_kg_m3\", \"viscosity_pa_s\"}"));
+                          kCatalogue + ", or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}"));
   // Names are exact and lower case.
   EXPECT_TRUE(Rejects(with("/format/fluid", "Water"), "format.fluid",
                       std::string("format.fluid = \"Water\" is not in the catalogue; allowed: ") +
-                          kCatalogue + ", or {\"density_kg_m3\", \"viscosity_pa_s\"}"));
+                          kCatalogue + ", or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}"));
 }
 
 TEST(ValidationFluid, WrongType) {
   EXPECT_TRUE(Rejects(with("/format/fluid", 5), "format.fluid",
                       std::string("format.fluid must be a catalogue name (") + kCatalogue +
-                          ") or {\"density_kg_m3\", \"viscosity_pa_s\"}, got 5"));
+                          ") or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}, got 5"));
   EXPECT_TRUE(Rejects(with("/format/fluid", nullptr), "format.fluid",
                       std::string("format.fluid must be a catalogue name (") + kCatalogue +
-                          ") or {\"density_kg_m3\", \"viscosity_pa_s\"}, got null"));
+                          ") or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}, got null"));
 }
 
 TEST(ValidationFluid, CustomFluidFields) {
@@ -504,6 +584,31 @@ TEST(ValidationFluid, CustomFluidFields) {
                       "and <= 10 Pa·s"));
 }
 
+TEST(ValidationFluid, CustomFluidName) {
+  const std::string f = "format.fluid.name";
+  const std::string head = f + " must be a text of 1 to 64 characters, got ";
+  EXPECT_TRUE(Rejects(with("/format/fluid/name", ""), f, head + "\"\""));
+  EXPECT_TRUE(Rejects(with("/format/fluid/name", 5), f, head + "5"));
+  EXPECT_TRUE(Rejects(with("/format/fluid/name", false), f, head + "false"));
+  EXPECT_TRUE(Rejects(with("/format/fluid/name", json::array({"water"})), f, head + "[\"water\"]"));
+  EXPECT_TRUE(
+      Rejects(with("/format/fluid/name", {{"en", "water"}}), f, head + "{\"en\":\"water\"}"));
+  // 65 characters; the value is shown cut to 57 bytes and "...".
+  EXPECT_TRUE(Rejects(with("/format/fluid/name", std::string(65, 'n')), f,
+                      head + "\"" + std::string(56, 'n') + "..."));
+  // The name is checked before the numbers.
+  EXPECT_TRUE(Rejects(with("/format/fluid", {{"name", ""}}), f, head + "\"\""));
+}
+
+// The limit is documented in characters but counted in bytes: 64 x U+00E9 (128 bytes) is
+// rejected with "must be a text of 1 to 64 characters". Enable when the length is counted in
+// characters (code points).
+TEST(ValidationFluid, CustomFluidNameLimitCountsCharacters) {
+  std::string accents;
+  for (int i = 0; i < 64; ++i) accents += "\xc3\xa9";  // U+00E9
+  EXPECT_TRUE(Accepts(with("/format/fluid/name", accents)));
+}
+
 TEST(ValidationFluid, CustomFluidTypo) {
   EXPECT_TRUE(Rejects(with("/format/fluid", {{"density_kg_m3", 1000}, {"viscosity", 0.001}}),
                       "format.fluid.viscosity",
@@ -525,13 +630,21 @@ TEST(ValidationOptions, ObjectAndTypo) {
 TEST(ValidationOptions, Modes) {
   const std::string f = "options.modes";
   EXPECT_TRUE(Rejects(with("/options", {{"modes", 0}}), f,
-                      f + " = 0 is out of range: allowed an integer 1 to 5"));
+                      f + " = 0 is out of range: allowed an integer from 1 to 5"));
   EXPECT_TRUE(Rejects(with("/options", {{"modes", 6}}), f,
-                      f + " = 6 is out of range: allowed an integer 1 to 5"));
+                      f + " = 6 is out of range: allowed an integer from 1 to 5"));
+  EXPECT_TRUE(Rejects(with("/options", {{"modes", -1}}), f,
+                      f + " = -1 is out of range: allowed an integer from 1 to 5"));
+  EXPECT_TRUE(Rejects(with("/options", {{"modes", 1e10}}), f,
+                      f + " = 1e+10 is out of range: allowed an integer from 1 to 5"));
   EXPECT_TRUE(Rejects(with("/options", {{"modes", 2.5}}), f,
-                      f + " = 2.5 is out of range: allowed an integer 1 to 5"));
+                      f + " = 2.5 is not an integer: allowed an integer from 1 to 5"));
+  EXPECT_TRUE(Rejects(with("/options", {{"modes", 0.5}}), f,
+                      f + " = 0.5 is not an integer: allowed an integer from 1 to 5"));
   EXPECT_TRUE(Rejects(with("/options", {{"modes", "3"}}), f,
-                      f + " must be a number, got \"3\"; allowed an integer 1 to 5"));
+                      f + " must be an integer from 1 to 5, got \"3\""));
+  EXPECT_TRUE(Rejects(with("/options", {{"modes", true}}), f,
+                      f + " must be an integer from 1 to 5, got true"));
 }
 
 TEST(ValidationOptions, Alpha) {
@@ -546,14 +659,16 @@ TEST(ValidationOptions, Alpha) {
 
 TEST(ValidationOptions, DampingName) {
   const std::string tail =
-      " is not allowed: one of \"thesis\", \"paper\", \"eq227\", \"eq228\" or {\"zeta\": value in "
-      ">= 0 and < 0.5}";
+      " is not allowed: one of \"thesis\", \"paper\", \"eq227\", \"eq228\" or {\"zeta\": z} with "
+      "0 <= z < 0.5";
   EXPECT_TRUE(Rejects(with("/options", {{"damping", "thesys"}}), "options.damping",
                       "options.damping = \"thesys\"" + tail));
   EXPECT_TRUE(Rejects(with("/options", {{"damping", "explicit"}}), "options.damping",
                       "options.damping = \"explicit\"" + tail));
   EXPECT_TRUE(Rejects(with("/options", {{"damping", 0.005}}), "options.damping",
                       "options.damping = 0.005" + tail));
+  EXPECT_TRUE(Rejects(with("/options", {{"damping", json::array({0.005})}}), "options.damping",
+                      "options.damping = [0.005]" + tail));
 }
 
 TEST(ValidationOptions, ExplicitZeta) {
@@ -573,14 +688,19 @@ TEST(ValidationOptions, ExplicitZeta) {
 TEST(ValidationOptions, MinRampDependsOnTheMotionTime) {
   const std::string f = "options.min_ramp_s";
   EXPECT_TRUE(Rejects(with("/options", {{"min_ramp_s", 0.0005}}), f,
-                      f + " = 0.0005 is out of range: allowed 0.001 to 0.25 s"));
+                      f + " = 0.0005 is out of range: allowed 0.001 to 0.25 s (the upper bound is "
+                          "format.motion_time_s / 4: four ramps must fit)"));
   EXPECT_TRUE(Rejects(with("/options", {{"min_ramp_s", 0.3}}), f,
-                      f + " = 0.3 is out of range: allowed 0.001 to 0.25 s"));
+                      f + " = 0.3 is out of range: allowed 0.001 to 0.25 s (the upper bound is "
+                          "format.motion_time_s / 4: four ramps must fit)"));
   json body = with("/options", {{"min_ramp_s", 0.6}});
   body["format"]["motion_time_s"] = 2;
-  EXPECT_TRUE(Rejects(body, f, f + " = 0.6 is out of range: allowed 0.001 to 0.5 s"));
+  EXPECT_TRUE(Rejects(body, f,
+                      f + " = 0.6 is out of range: allowed 0.001 to 0.5 s (the upper bound is "
+                          "format.motion_time_s / 4: four ramps must fit)"));
   EXPECT_TRUE(Rejects(with("/options", {{"min_ramp_s", "0.05"}}), f,
-                      f + " must be a number, got \"0.05\"; allowed 0.001 to 0.25 s"));
+                      f + " must be a number, got \"0.05\"; allowed 0.001 to 0.25 s (the upper "
+                          "bound is format.motion_time_s / 4: four ramps must fit)"));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -633,31 +753,37 @@ TEST(ValidationDurations, MissingOrWrongShape) {
 TEST(ValidationDurations, ElementsMustBeNumbers) {
   EXPECT_TRUE(Rejects(seven_segment_request(json::array({"a", 0.15, 0.1, 0.3, 0.1, 0.15, 0.1})),
                       "law.durations_s[0]",
-                      "law.durations_s[0] must be a number, got \"a\"; allowed 0.05 to 1 s "
-                      "(segment 1 is a jerk ramp: >= min_ramp_s)"));
+                      "law.durations_s[0] must be a number, got \"a\"; allowed 0.05 to 1 s"));
   EXPECT_TRUE(Rejects(seven_segment_request(json::array({0.1, "x", 0.1, 0.3, 0.1, 0.15, 0.1})),
                       "law.durations_s[1]",
                       "law.durations_s[1] must be a number, got \"x\"; allowed 0 to 1 s"));
   EXPECT_TRUE(Rejects(seven_segment_request(json::array({0.1, 0.15, nullptr, 0.3, 0.1, 0.15, 0.1})),
                       "law.durations_s[2]",
-                      "law.durations_s[2] is required: a number, allowed 0.05 to 1 s (segment 3 "
-                      "is a jerk ramp: >= min_ramp_s)"));
+                      "law.durations_s[2] is required: a number, allowed 0.05 to 1 s"));
+  EXPECT_TRUE(Rejects(seven_segment_request(json::array({0.1, 0.15, 0.1, 0.3, 0.1, 0.15, true})),
+                      "law.durations_s[6]",
+                      "law.durations_s[6] must be a number, got true; allowed 0.05 to 1 s"));
 }
 
 TEST(ValidationDurations, RampsBelowTheMinimumRamp) {
   EXPECT_TRUE(Rejects(seven_segment_request(json::array({0.04, 0.16, 0.1, 0.3, 0.1, 0.2, 0.1})),
                       "law.durations_s[0]",
                       "law.durations_s[0] = 0.04 is out of range: allowed 0.05 to 1 s (segment 1 "
-                      "is a jerk ramp: >= min_ramp_s)"));
+                      "is a jerk ramp: >= options.min_ramp_s)"));
   EXPECT_TRUE(Rejects(seven_segment_request(json::array({0.1, 0.2, 0.1, 0.3, 0.1, 0.16, 0.04})),
                       "law.durations_s[6]",
                       "law.durations_s[6] = 0.04 is out of range: allowed 0.05 to 1 s (segment 7 "
-                      "is a jerk ramp: >= min_ramp_s)"));
+                      "is a jerk ramp: >= options.min_ramp_s)"));
   json body = seven_segment_request(json::array({0.1, 0.15, 0.1, 0.3, 0.08, 0.17, 0.1}));
   body["options"] = {{"min_ramp_s", 0.09}};
   EXPECT_TRUE(Rejects(body, "law.durations_s[4]",
                       "law.durations_s[4] = 0.08 is out of range: allowed 0.09 to 1 s (segment 5 "
-                      "is a jerk ramp: >= min_ramp_s)"));
+                      "is a jerk ramp: >= options.min_ramp_s)"));
+  // Negative ramps are below the minimum too.
+  EXPECT_TRUE(Rejects(seven_segment_request(json::array({0.1, 0.2, -0.1, 0.3, 0.1, 0.2, 0.2})),
+                      "law.durations_s[2]",
+                      "law.durations_s[2] = -0.1 is out of range: allowed 0.05 to 1 s (segment 3 "
+                      "is a jerk ramp: >= options.min_ramp_s)"));
   // A smaller min_ramp_s admits the same ramp.
   body["options"]["min_ramp_s"] = 0.08;
   EXPECT_TRUE(Accepts(body));
@@ -666,8 +792,7 @@ TEST(ValidationDurations, RampsBelowTheMinimumRamp) {
 TEST(ValidationDurations, RampLongerThanTheMotion) {
   EXPECT_TRUE(Rejects(seven_segment_request(json::array({1.5, 0.15, 0.1, 0.3, 0.1, 0.15, 0.1})),
                       "law.durations_s[0]",
-                      "law.durations_s[0] = 1.5 is out of range: allowed 0.05 to 1 s (segment 1 "
-                      "is a jerk ramp: >= min_ramp_s)"));
+                      "law.durations_s[0] = 1.5 is out of range: allowed 0.05 to 1 s"));
 }
 
 TEST(ValidationDurations, NegativePlateau) {
@@ -680,18 +805,37 @@ TEST(ValidationDurations, SumMustEqualTheMotionTime) {
   EXPECT_TRUE(
       Rejects(seven_segment_request(json::array({0.125, 0.125, 0.125, 0.125, 0.125, 0.125, 0.125})),
               "law.durations_s",
-              "law.durations_s sum to 0.875 s but format.motion_time_s = 1.0 s: they must "
+              "law.durations_s sum to 0.875 s but format.motion_time_s = 1 s: they must "
               "be equal (tolerance 1e-6 s)"));
   EXPECT_TRUE(
       Rejects(seven_segment_request(json::array({0.25, 0.25, 0.25, 0.25, 0.25, 0.25, 0.25})),
               "law.durations_s",
-              "law.durations_s sum to 1.75 s but format.motion_time_s = 1.0 s: they must "
+              "law.durations_s sum to 1.75 s but format.motion_time_s = 1 s: they must "
               "be equal (tolerance 1e-6 s)"));
-  // Just outside the tolerance.
-  const std::optional<ApiError> e =
-      rejection(seven_segment_request(json::array({0.1, 0.15, 0.1, 0.3, 0.1, 0.15, 0.100002})));
-  ASSERT_TRUE(e.has_value());
-  EXPECT_EQ(e->field(), "law.durations_s");
+  // Just outside the tolerance: 10 significant digits show the difference.
+  EXPECT_TRUE(
+      Rejects(seven_segment_request(json::array({0.1, 0.15, 0.1, 0.3, 0.1, 0.15, 0.1000015})),
+              "law.durations_s",
+              "law.durations_s sum to 1.0000015 s but format.motion_time_s = 1 s: they must be "
+              "equal (tolerance 1e-6 s)"));
+  json body = seven_segment_request(json::array({0.3, 0.2, 0.3, 0.4, 0.3, 0.2, 0.3}));
+  body["format"]["motion_time_s"] = 1.9999;
+  EXPECT_TRUE(Rejects(body, "law.durations_s",
+                      "law.durations_s sum to 2 s but format.motion_time_s = 1.9999 s: they must "
+                      "be equal (tolerance 1e-6 s)"));
+}
+
+TEST(ValidationFields, NumberTextHasTenSignificantDigits) {
+  EXPECT_EQ(number_text(1.0), "1");
+  EXPECT_EQ(number_text(0.875), "0.875");
+  EXPECT_EQ(number_text(-3.0), "-3");
+  EXPECT_EQ(number_text(1.0000015), "1.0000015");
+  EXPECT_EQ(number_text(1.0 / 3.0), "0.3333333333");
+  EXPECT_EQ(number_text(123456789.26), "123456789.3");
+  EXPECT_EQ(number_text(1e-4), "0.0001");
+  EXPECT_EQ(number_text(5e-5), "5e-05");
+  EXPECT_EQ(number_text(1e10), "1e+10");
+  EXPECT_EQ(number_text(std::numeric_limits<double>::infinity()), "inf");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -720,8 +864,34 @@ TEST(ValidationSeries, TooManySamples) {
   body["rest_time_s"] = 15;
   body["sample_period_s"] = 1e-4;
   EXPECT_TRUE(Rejects(body, "sample_period_s",
-                      "sample_period_s = 0.0001 gives 250000 samples over 25.0 s; at most 200000 "
-                      "are returned: use >= 0.000125 s"));
+                      "sample_period_s = 0.0001 s gives 250001 samples over 25 s; at most 200000 "
+                      "are returned: use >= 0.000125000625 s"));
+}
+
+TEST(ValidationSeries, OneSampleOverTheLimitIsRejected) {
+  // 10 s + 10 s at 0.1 ms: 200000 periods, 200001 samples with both ends.
+  json decimal = with("/format/motion_time_s", 10);
+  decimal["rest_time_s"] = 10;
+  decimal["sample_period_s"] = 1e-4;
+  EXPECT_TRUE(Rejects(decimal, "sample_period_s",
+                      "sample_period_s = 0.0001 s gives 200001 samples over 20 s; at most 200000 "
+                      "are returned: use >= 0.0001000005 s"));
+  // Exactly representable: T + rest = 200000 dt with dt = 2^-13 s.
+  json exact = with("/format/motion_time_s", 10);
+  exact["sample_period_s"] = 1.0 / 8192.0;
+  exact["rest_time_s"] = (200000.0 - 81920.0) / 8192.0;  // 14.4140625 s
+  const std::optional<ApiError> e = rejection(exact);
+  ASSERT_TRUE(e.has_value());
+  EXPECT_EQ(e->field(), "sample_period_s");
+  EXPECT_EQ(std::string(e->what()).rfind("sample_period_s = 0.0001220703125 s gives 200001 "
+                                         "samples over 24.4140625 s; at most 200000 are returned",
+                                         0),
+            0u)
+      << e->what();
+  // The suggested period is accepted.
+  json suggested = decimal;
+  suggested["sample_period_s"] = 0.0001000005;
+  EXPECT_TRUE(Accepts(suggested));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -762,14 +932,43 @@ TEST(ValidationEnvelope, StatusAndNameOfEveryCode) {
   }
 }
 
-// A long non-ASCII value is cut by show() in the middle of a UTF-8 sequence; the envelope then
-// cannot be serialised (nlohmann type_error 316) and `slosh simulate` aborts. Enable when fixed.
-TEST(ValidationEnvelope, DISABLED_LongNonAsciiValueStillSerialises) {
-  std::string name = "a";
-  for (int i = 0; i < 40; ++i) name += "\xc3\xa9";  // U+00E9
-  const std::optional<ApiError> e = rejection(with("/format/fluid", name));
-  ASSERT_TRUE(e.has_value());
-  EXPECT_NO_THROW((void)error_envelope(*e).dump());
+// show() cuts long values to 57 bytes + "..." on a UTF-8 boundary, so the envelope stays valid
+// UTF-8 (the strict dump() would throw type_error 316 otherwise).
+TEST(ValidationEnvelope, LongNonAsciiValueStillSerialises) {
+  const std::string tail = std::string(" is not in the catalogue; allowed: ") + kCatalogue +
+                           ", or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}";
+  std::string e_acute = "a";  // "a" + 40 x U+00E9: byte 57 is the 2nd byte of the 28th
+  for (int i = 0; i < 40; ++i) e_acute += "\xc3\xa9";
+  std::string euro;  // 30 x U+20AC (3 bytes): byte 57 is the 3rd byte of the 19th
+  for (int i = 0; i < 30; ++i) euro += "\xe2\x82\xac";
+  std::string smile;  // 20 x U+1F600 (4 bytes): byte 57 starts the 15th, no step back
+  for (int i = 0; i < 20; ++i) smile += "\xf0\x9f\x98\x80";
+  const std::pair<std::string, std::string> cases[] = {
+      {e_acute, e_acute.substr(0, 1 + 2 * 27)},
+      {euro, euro.substr(0, 3 * 18)},
+      {smile, smile.substr(0, 4 * 14)},
+  };
+  for (const auto& [value, kept] : cases) {
+    const std::optional<ApiError> e = rejection(with("/format/fluid", value));
+    ASSERT_TRUE(e.has_value());
+    EXPECT_EQ(std::string(e->what()), "format.fluid = \"" + kept + "..." + tail);
+    EXPECT_NO_THROW((void)error_envelope(*e).dump());
+    EXPECT_EQ(dump_json(error_envelope(*e)), error_envelope(*e).dump());
+  }
+}
+
+TEST(ValidationEnvelope, ShortValuesAreShownWhole) {
+  EXPECT_EQ(show(json("abc")), "\"abc\"");
+  const std::string sixty = "\"" + std::string(58, 'x') + "\"";  // exactly 60 bytes
+  EXPECT_EQ(show(json(std::string(58, 'x'))), sixty);
+  EXPECT_EQ(show(json(std::string(59, 'x'))), "\"" + std::string(56, 'x') + "...");
+}
+
+TEST(ValidationEnvelope, DumpJsonReplacesInvalidUtf8) {
+  const json value{{"k", std::string("a\xff b")}};
+  EXPECT_THROW((void)value.dump(), json::type_error);
+  EXPECT_EQ(dump_json(value), "{\"k\":\"a\xef\xbf\xbd b\"}");
+  EXPECT_EQ(dump_json(json{{"k", 1}}, 2), "{\n  \"k\": 1\n}");
 }
 
 }  // namespace

@@ -42,6 +42,10 @@ std::string to_string(ErrorCode code) {
   return "internal";
 }
 
+std::string dump_json(const nlohmann::json& value, int indent) {
+  return value.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
 nlohmann::json error_envelope(const ApiError& error) {
   nlohmann::json e{{"code", to_string(error.code())}, {"message", error.what()}};
   e["field"] = error.field().empty() ? nlohmann::json(nullptr) : nlohmann::json(error.field());

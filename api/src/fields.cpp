@@ -10,19 +10,19 @@ namespace slosh::api {
 
 namespace {
 
-std::string number_text(double v) {
-  std::ostringstream os;
-  os.precision(10);
-  os << v;
-  return os.str();
-}
-
 const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
   auto it = object.find(std::string(key));
   return it == object.end() ? nullptr : &*it;
 }
 
 }  // namespace
+
+std::string number_text(double v) {
+  std::ostringstream os;
+  os.precision(10);
+  os << v;
+  return os.str();
+}
 
 bool Range::contains(double v) const {
   const bool lo_ok = lo_open ? v > lo : v >= lo;
@@ -48,9 +48,12 @@ std::string join_path(std::string_view parent, std::string_view key) {
 }
 
 std::string show(const nlohmann::json& value) {
-  std::string s = value.dump();
-  if (s.size() > 60) s = s.substr(0, 57) + "...";
-  return s;
+  std::string s = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  if (s.size() <= 60) return s;
+  // Cut at a UTF-8 character boundary so the message stays valid UTF-8.
+  std::size_t cut = 57;
+  while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
+  return s.substr(0, cut) + "...";
 }
 
 void invalid(const std::string& path, const std::string& message) {
@@ -105,13 +108,14 @@ int optional_integer(const nlohmann::json& object, const std::string& path, std:
   const std::string field = join_path(path, key);
   const nlohmann::json* v = member(object, key);
   if (v == nullptr || v->is_null()) return fallback;
-  const std::string allowed =
-      "allowed an integer " + std::to_string(lo) + " to " + std::to_string(hi);
-  if (!v->is_number())
-    invalid(field, field + " must be a number, got " + show(*v) + "; " + allowed);
+  const std::string allowed = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
+  if (!v->is_number()) invalid(field, field + " must be " + allowed + ", got " + show(*v));
   const double x = v->get<double>();
-  if (x != std::floor(x) || x < lo || x > hi) {
-    invalid(field, field + " = " + number_text(x) + " is out of range: " + allowed);
+  if (x != std::floor(x)) {
+    invalid(field, field + " = " + number_text(x) + " is not an integer: allowed " + allowed);
+  }
+  if (x < lo || x > hi) {
+    invalid(field, field + " = " + number_text(x) + " is out of range: allowed " + allowed);
   }
   return static_cast<int>(x);
 }

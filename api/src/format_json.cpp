@@ -16,22 +16,39 @@ std::string catalogue_names() {
   return names;
 }
 
+// Number of characters (code points) of a valid UTF-8 text.
+std::size_t utf8_length(const std::string& text) {
+  std::size_t n = 0;
+  for (unsigned char c : text) n += (c & 0xC0) != 0x80 ? 1 : 0;
+  return n;
+}
+
 }  // namespace
 
 Fluid parse_fluid(const nlohmann::json& fluid, const std::string& path) {
   if (fluid.is_string()) {
     const auto name = fluid.get<std::string>();
     if (auto f = find_fluid(name)) return *f;
-    invalid(path, path + " = " + show(fluid) + " is not in the catalogue; allowed: " +
-                      catalogue_names() + ", or {\"density_kg_m3\", \"viscosity_pa_s\"}");
+    invalid(path, path + " = " + show(fluid) +
+                      " is not in the catalogue; allowed: " + catalogue_names() +
+                      ", or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}");
   }
   if (!fluid.is_object()) {
     invalid(path, path + " must be a catalogue name (" + catalogue_names() +
-                      ") or {\"density_kg_m3\", \"viscosity_pa_s\"}, got " + show(fluid));
+                      ") or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}, got " +
+                      show(fluid));
   }
   reject_unknown_fields(fluid, path, {"density_kg_m3", "viscosity_pa_s", "name"});
   Fluid f;
   f.name = "custom";
+  if (auto name = fluid.find("name"); name != fluid.end() && !name->is_null()) {
+    const std::string npath = join_path(path, "name");
+    if (!name->is_string() || name->get<std::string>().empty() ||
+        utf8_length(name->get<std::string>()) > 64) {
+      invalid(npath, npath + " must be a text of 1 to 64 characters, got " + show(*name));
+    }
+    f.name = name->get<std::string>();
+  }
   f.density = required_number(fluid, path, "density_kg_m3", ranges::kDensity);
   f.viscosity = required_number(fluid, path, "viscosity_pa_s", ranges::kViscosity);
   f.source = "given by the caller";
@@ -44,7 +61,8 @@ Format parse_format(const nlohmann::json& format, const std::string& path) {
                         {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"});
   const std::string cpath = join_path(path, "container");
   auto it = format.find("container");
-  if (it == format.end()) invalid(cpath, cpath + " is required: {\"radius_mm\", \"height_mm\"}");
+  if (it == format.end())
+    invalid(cpath, cpath + " is required: {\"radius_mm\"} and optionally \"height_mm\"");
   require_object(*it, cpath);
   reject_unknown_fields(*it, cpath, {"radius_mm", "height_mm"});
   Format f;
@@ -59,7 +77,7 @@ Format parse_format(const nlohmann::json& format, const std::string& path) {
   auto fl = format.find("fluid");
   if (fl == format.end()) {
     invalid(fpath, fpath + " is required: a catalogue name (" + catalogue_names() +
-                       ") or {\"density_kg_m3\", \"viscosity_pa_s\"}");
+                       ") or {\"density_kg_m3\", \"viscosity_pa_s\", \"name\"?}");
   }
   f.fluid = parse_fluid(*fl, fpath);
   f.stroke = required_number(format, path, "stroke_mm", ranges::kStrokeMm) * 1e-3;
@@ -94,8 +112,7 @@ void parse_model_options(const nlohmann::json& options, const std::string& path,
   }
   invalid(dpath, dpath + " = " + show(*it) +
                      " is not allowed: one of \"thesis\", \"paper\", \"eq227\", \"eq228\" or "
-                     "{\"zeta\": value in " +
-                     ranges::kZeta.describe() + "}");
+                     "{\"zeta\": z} with 0 <= z < 0.5");
 }
 
 nlohmann::json format_json(const Format& f) {

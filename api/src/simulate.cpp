@@ -51,15 +51,17 @@ Durations parse_durations(const nlohmann::json& law, const std::string& path, do
     } catch (const ApiError& e) {
       std::string msg = e.what();
       msg.replace(0, 1, join_path(path, name));  // "v ..." -> "law.durations_s[i] ..."
-      if (is_ramp) msg += " (segment " + std::to_string(i + 1) + " is a jerk ramp: >= min_ramp_s)";
+      const nlohmann::json& value = (*it)[i];
+      if (is_ramp && value.is_number() && value.get<double>() < min_ramp) {
+        msg += " (segment " + std::to_string(i + 1) + " is a jerk ramp: >= options.min_ramp_s)";
+      }
       invalid(join_path(path, name), msg);
     }
     sum += d[i];
   }
   if (std::abs(sum - motion_time) > kDurationSumToleranceS) {
-    invalid(dpath, dpath + " sum to " + nlohmann::json(sum).dump() +
-                       " s but format.motion_time_s = " + nlohmann::json(motion_time).dump() +
-                       " s: they must be equal (tolerance 1e-6 s)");
+    invalid(dpath, dpath + " sum to " + number_text(sum) + " s but format.motion_time_s = " +
+                       number_text(motion_time) + " s: they must be equal (tolerance 1e-6 s)");
   }
   // Rescale the tiny residual so the law ends exactly at T.
   for (double& x : d) x *= motion_time / sum;
@@ -87,9 +89,14 @@ std::string to_string(LawType type) {
 nlohmann::json parse_json_body(std::string_view body) {
   try {
     return nlohmann::json::parse(body);
-  } catch (const nlohmann::json::parse_error& e) {
-    throw ApiError(ErrorCode::kMalformedJson, "",
-                   std::string("the body is not valid JSON: ") + e.what());
+  } catch (const nlohmann::json::exception& e) {  // parse errors and number overflow
+    // Drop nlohmann's "[json.exception.parse_error.101] " prefix: the rest is the useful part.
+    std::string detail = e.what();
+    if (const auto end = detail.find("] ");
+        detail.rfind("[json.exception.", 0) == 0 && end != std::string::npos) {
+      detail.erase(0, end + 2);
+    }
+    throw ApiError(ErrorCode::kMalformedJson, "", "the body is not valid JSON: " + detail);
   }
 }
 
@@ -97,15 +104,25 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "law", "rest_time_s", "sample_period_s", "options"});
   SimulateRequest r;
-  if (!body.contains("format")) invalid("format", "format is required");
+  if (!body.contains("format")) {
+    invalid("format",
+            "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\", "
+            "\"motion_time_s\"}");
+  }
   r.format = parse_format(body["format"], "format");
 
   nlohmann::json options = body.value("options", nlohmann::json::object());
+  if (options.is_null()) options = nlohmann::json::object();
   require_object(options, "options");
   reject_unknown_fields(options, "options", {"modes", "damping", "alpha", "min_ramp_s"});
   parse_model_options(options, "options", r.options.model);
   const Range min_ramp_range{ranges::kMinRampS.lo, r.format.motion_time / 4.0, "s"};
-  r.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp_range, kDefaultMinRamp);
+  try {
+    r.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp_range, kDefaultMinRamp);
+  } catch (const ApiError& e) {
+    invalid(e.field(), std::string(e.what()) +
+                           " (the upper bound is format.motion_time_s / 4: four ramps must fit)");
+  }
 
   if (!body.contains("law"))
     invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
@@ -129,13 +146,14 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   if (body.contains("sample_period_s") && !body["sample_period_s"].is_null()) {
     const double dt = required_number(body, "", "sample_period_s", ranges::kSamplePeriodS);
     const double span = r.format.motion_time + r.options.rest_time;
-    if (span / dt > ranges::kMaxSeriesSamples) {
+    // Samples at 0, dt, ..., both ends included (same count as core::simulate).
+    const auto samples = static_cast<long long>(std::floor(span / dt + 1e-9)) + 1;
+    if (samples > ranges::kMaxSeriesSamples) {
       invalid("sample_period_s",
-              "sample_period_s = " + nlohmann::json(dt).dump() + " gives " +
-                  std::to_string(static_cast<long long>(span / dt)) + " samples over " +
-                  nlohmann::json(span).dump() + " s; at most " +
+              "sample_period_s = " + number_text(dt) + " s gives " + std::to_string(samples) +
+                  " samples over " + number_text(span) + " s; at most " +
                   std::to_string(ranges::kMaxSeriesSamples) + " are returned: use >= " +
-                  nlohmann::json(span / ranges::kMaxSeriesSamples).dump() + " s");
+                  number_text(span / (ranges::kMaxSeriesSamples - 1)) + " s");
     }
     r.options.sample_period = dt;
   }
@@ -210,7 +228,14 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
                      {"v", r.series->v},
                      {"s", r.series->s},
                      {"eta_linear_mm", mm(r.series->eta_linear)},
-                     {"eta_nonlinear_mm", mm(r.series->eta_nonlinear)}};
+                     {"eta_nonlinear_mm", mm(r.series->eta_nonlinear)},
+                     {"units",
+                      {{"t_s", "s"},
+                       {"a", "m/s^2"},
+                       {"v", "m/s"},
+                       {"s", "m"},
+                       {"eta_linear_mm", "mm"},
+                       {"eta_nonlinear_mm", "mm"}}}};
   }
   out["warnings"] = r.warnings;
   return out;

@@ -3,6 +3,7 @@
 #include <cmath>
 
 #include "dual.hpp"
+#include "sincos.hpp"
 
 namespace slosh {
 
@@ -38,6 +39,12 @@ Complex<T> expj(T phase) {
   return {std::cos(phase), -std::sin(phase)};  // exp(-j phase)
 }
 
+template <>
+Complex<double> expj(double phase) {
+  const detail::SinCos sc = detail::fast_sincos(phase);
+  return {sc.cos, -sc.sin};
+}
+
 }  // namespace
 
 template <typename T>
@@ -49,8 +56,8 @@ std::complex<T> seven_segment_spectrum(const std::array<T, kSegments>& d, T stro
   const std::array<T, kSegments> J{lv.A / d[0],  T(0), -lv.A / d[2], T(0),
                                    -lv.B / d[4], T(0), lv.B / d[6]};
   if (std::abs(omega) * t[kSegments] >= T(1)) {
-    Complex<T> sum(0);
-    for (std::size_t k = 0; k < kSegments; k += 2) {
+    Complex<T> sum = J[0] * (Complex<T>(1) - expj(omega * t[1]));  // t_0 = 0
+    for (std::size_t k = 2; k < kSegments; k += 2) {
       sum += J[k] * (expj(omega * t[k]) - expj(omega * t[k + 1]));
     }
     return -sum / (omega * omega);
@@ -97,15 +104,16 @@ SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
   std::complex<double> X(0.0);
   std::array<std::complex<double>, kSegments> dX{};
   // dE_k/d dT_i = -j omega E_k for every switch time t_k that includes dT_i (k > i).
-  const std::complex<double> mj_omega(0.0, -omega);
+  std::array<std::complex<double>, kSegments + 1> dE;
+  for (std::size_t k = 0; k <= kSegments; ++k) dE[k] = {omega * E[k].imag(), -omega * E[k].real()};
   for (std::size_t r = 0; r < 4; ++r) {
     const std::size_t k = 2 * r;
     const std::complex<double> diff = E[k] - E[k + 1];
     X += J[r].v * diff;
     for (std::size_t i = 0; i < kSegments; ++i) {
       std::complex<double> d_diff = 0.0;
-      if (k > i) d_diff += mj_omega * E[k];
-      if (k + 1 > i) d_diff -= mj_omega * E[k + 1];
+      if (k > i) d_diff += dE[k];
+      if (k + 1 > i) d_diff -= dE[k + 1];
       dX[i] += J[r].d[i] * diff + J[r].v * d_diff;
     }
   }

@@ -39,4 +39,7 @@ class ApiError : public std::runtime_error {
 /// {"error": {"code": "invalid_value", "message": "...", "field": "format.radius_mm"}}
 [[nodiscard]] nlohmann::json error_envelope(const ApiError& error);
 
+/// JSON text of a response; never throws on invalid UTF-8 (replaced by U+FFFD).
+[[nodiscard]] std::string dump_json(const nlohmann::json& value, int indent = -1);
+
 }  // namespace slosh::api

@@ -25,7 +25,10 @@ struct Range {
 /// "a.b" + "c" -> "a.b.c"
 [[nodiscard]] std::string join_path(std::string_view parent, std::string_view key);
 
-/// Compact JSON text of a value for messages.
+/// A number as messages print it (10 significant digits, no trailing zeros).
+[[nodiscard]] std::string number_text(double v);
+
+/// Compact JSON text of a value for messages, cut to 60 bytes on a UTF-8 boundary.
 [[nodiscard]] std::string show(const nlohmann::json& value);
 
 /// Throws ApiError(kInvalidValue) unless `object` is a JSON object.

@@ -1,0 +1,82 @@
+// Core numerics on the thesis format (R = 48.5 mm, h = 82 mm, water, s = 800 mm, T = 1 s).
+
+#include <benchmark/benchmark.h>
+
+#include "slosh/core/response.hpp"
+#include "slosh/core/simulation.hpp"
+#include "slosh/core/spectrum.hpp"
+
+namespace {
+
+slosh::Format thesis_format() {
+  slosh::Format f;
+  f.container.radius = 0.0485;
+  f.fill_height = 0.082;
+  f.fluid = slosh::Fluid{"custom", 1000.0, 1.0e-3, "thesis"};
+  f.stroke = 0.8;
+  f.motion_time = 1.0;
+  return f;
+}
+
+const slosh::Durations kDurations{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
+
+void BM_Spectrum(benchmark::State& state) {
+  const double w1 = slosh::natural_frequency(0.0485, 0.082, 1);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::seven_segment_spectrum<double>(kDurations, 0.8, w1));
+  }
+}
+BENCHMARK(BM_Spectrum);
+
+void BM_SpectrumPowerGradient(benchmark::State& state) {
+  const double w1 = slosh::natural_frequency(0.0485, 0.082, 1);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::spectrum_power_gradient(kDurations, 0.8, w1));
+  }
+}
+BENCHMARK(BM_SpectrumPowerGradient);
+
+void BM_SevenSegmentLaw(benchmark::State& state) {
+  for (auto _ : state) benchmark::DoNotOptimize(slosh::SevenSegmentLaw(kDurations, 0.8));
+}
+BENCHMARK(BM_SevenSegmentLaw);
+
+void BM_LinearResponseBuild(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  for (auto _ : state) benchmark::DoNotOptimize(slosh::LinearResponse(model, law.law(), 1.0));
+}
+BENCHMARK(BM_LinearResponseBuild);
+
+void BM_LinearResponsePeaks(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  for (auto _ : state) {
+    const slosh::LinearResponse r(model, law.law(), 1.0);
+    benchmark::DoNotOptimize(r.peaks());
+  }
+}
+BENCHMARK(BM_LinearResponsePeaks)->Unit(benchmark::kMicrosecond);
+
+void BM_NonlinearResponsePeaks(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  for (auto _ : state) {
+    const slosh::NonlinearResponse r(model, law.law(), 1.0);
+    benchmark::DoNotOptimize(r.peaks());
+  }
+}
+BENCHMARK(BM_NonlinearResponsePeaks)->Unit(benchmark::kMicrosecond);
+
+void BM_Simulate(benchmark::State& state) {
+  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  const slosh::SimulationOptions options;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::simulate(thesis_format(), law.law(), options));
+  }
+}
+BENCHMARK(BM_Simulate)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

@@ -1,0 +1,73 @@
+// Service configuration: file and environment layers, with exact error texts.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <stdexcept>
+#include <string>
+
+#include "config.hpp"
+
+namespace slosh::service {
+namespace {
+
+std::string write_temp(const std::string& text) {
+  const std::string path = ::testing::TempDir() + "slosh_config_test.json";
+  std::ofstream(path) << text;
+  return path;
+}
+
+std::string error_of(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const std::runtime_error& e) {
+    return e.what();
+  }
+  return "no error";
+}
+
+TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
+  ServerConfig from_file;
+  from_file.host = "x";
+  from_file.port = 1;
+  apply_config_file(std::string(SLOSH_SOURCE_DIR) + "/config/slosh.json", from_file);
+  const ServerConfig defaults;
+  EXPECT_EQ(from_file.host, defaults.host);
+  EXPECT_EQ(from_file.port, defaults.port);
+}
+
+TEST(Config, EnvironmentOverridesTheFile) {
+  ServerConfig c;
+  apply_config_file(write_temp(R"({"host": "0.0.0.0", "port": 9000})"), c);
+  EXPECT_EQ(c.host, "0.0.0.0");
+  EXPECT_EQ(c.port, 9000);
+  apply_environment({{"SLOSH_PORT", "9100"}}, c);
+  EXPECT_EQ(c.host, "0.0.0.0");
+  EXPECT_EQ(c.port, 9100);
+  apply_environment({{"SLOSH_HOST", "::1"}, {"SLOSH_PORT", ""}}, c);
+  EXPECT_EQ(c.host, "::1");
+  EXPECT_EQ(c.port, 9100);
+}
+
+TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
+  ServerConfig c;
+  const std::string path = write_temp(R"({"port": 70000})");
+  EXPECT_EQ(error_of([&] { apply_config_file(path, c); }),
+            path + ": port = 70000 is not a TCP port: allowed 0 to 65535");
+  const std::string typo = write_temp(R"({"prot": 80})");
+  EXPECT_EQ(error_of([&] { apply_config_file(typo, c); }),
+            typo + ": prot is not a known setting; allowed: host, port");
+  const std::string text_port = write_temp(R"({"port": "80"})");
+  EXPECT_EQ(error_of([&] { apply_config_file(text_port, c); }),
+            text_port + ": port = \"80\" is not a TCP port: allowed 0 to 65535");
+  EXPECT_EQ(error_of([&] { apply_environment({{"SLOSH_PORT", "80x"}}, c); }),
+            "SLOSH_PORT = 80x is not a TCP port: allowed 0 to 65535");
+  EXPECT_EQ(error_of([&] { apply_config_file("/nonexistent/slosh.json", c); }),
+            "cannot read config file '/nonexistent/slosh.json'");
+  EXPECT_EQ(c.port, 8080);  // nothing applied by the failed layers
+}
+
+}  // namespace
+}  // namespace slosh::service
