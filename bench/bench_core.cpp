@@ -8,22 +8,13 @@
 
 namespace {
 
-slosh::Format thesis_format() {
-  slosh::Format f;
-  f.container.radius = 0.0485;
-  f.fill_height = 0.082;
-  f.fluid = slosh::Fluid{"custom", 1000.0, 1.0e-3, "thesis"};
-  f.stroke = 0.8;
-  f.motion_time = 1.0;
-  return f;
-}
-
-const slosh::Durations kDurations{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
+// An asymmetric admissible set of durations summing to 1 s.
+const slosh::Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
 
 void BM_Spectrum(benchmark::State& state) {
   const double w1 = slosh::natural_frequency(0.0485, 0.082, 1);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(slosh::seven_segment_spectrum<double>(kDurations, 0.8, w1));
+    benchmark::DoNotOptimize(slosh::seven_segment_spectrum<double>(kAsymmetric, 0.8, w1));
   }
 }
 BENCHMARK(BM_Spectrum);
@@ -31,26 +22,26 @@ BENCHMARK(BM_Spectrum);
 void BM_SpectrumPowerGradient(benchmark::State& state) {
   const double w1 = slosh::natural_frequency(0.0485, 0.082, 1);
   for (auto _ : state) {
-    benchmark::DoNotOptimize(slosh::spectrum_power_gradient(kDurations, 0.8, w1));
+    benchmark::DoNotOptimize(slosh::spectrum_power_gradient(kAsymmetric, 0.8, w1));
   }
 }
 BENCHMARK(BM_SpectrumPowerGradient);
 
 void BM_SevenSegmentLaw(benchmark::State& state) {
-  for (auto _ : state) benchmark::DoNotOptimize(slosh::SevenSegmentLaw(kDurations, 0.8));
+  for (auto _ : state) benchmark::DoNotOptimize(slosh::SevenSegmentLaw(kAsymmetric, 0.8));
 }
 BENCHMARK(BM_SevenSegmentLaw);
 
 void BM_LinearResponseBuild(benchmark::State& state) {
-  const slosh::SloshingModel model = slosh::make_sloshing_model(thesis_format(), {});
-  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
   for (auto _ : state) benchmark::DoNotOptimize(slosh::LinearResponse(model, law.law(), 1.0));
 }
 BENCHMARK(BM_LinearResponseBuild);
 
 void BM_LinearResponsePeaks(benchmark::State& state) {
-  const slosh::SloshingModel model = slosh::make_sloshing_model(thesis_format(), {});
-  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
   for (auto _ : state) {
     const slosh::LinearResponse r(model, law.law(), 1.0);
     benchmark::DoNotOptimize(r.peaks());
@@ -59,8 +50,8 @@ void BM_LinearResponsePeaks(benchmark::State& state) {
 BENCHMARK(BM_LinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 
 void BM_NonlinearResponsePeaks(benchmark::State& state) {
-  const slosh::SloshingModel model = slosh::make_sloshing_model(thesis_format(), {});
-  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
   for (auto _ : state) {
     const slosh::NonlinearResponse r(model, law.law(), 1.0);
     benchmark::DoNotOptimize(r.peaks());
@@ -69,10 +60,10 @@ void BM_NonlinearResponsePeaks(benchmark::State& state) {
 BENCHMARK(BM_NonlinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 
 void BM_Simulate(benchmark::State& state) {
-  const slosh::SevenSegmentLaw law(kDurations, 0.8);
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
   const slosh::SimulationOptions options;
   for (auto _ : state) {
-    benchmark::DoNotOptimize(slosh::simulate(thesis_format(), law.law(), options));
+    benchmark::DoNotOptimize(slosh::simulate(slosh::thesis_format(), law.law(), options));
   }
 }
 BENCHMARK(BM_Simulate)->Unit(benchmark::kMicrosecond);

@@ -15,8 +15,7 @@ void apply_config_file(const std::string& path, ServerConfig& config);
 
 /// Applies SLOSH_HOST and SLOSH_PORT from `environment` (name -> value) over `config`; throws
 /// std::runtime_error on an invalid value.
-void apply_environment(const std::map<std::string, std::string>& environment,
-                       ServerConfig& config);
+void apply_environment(const std::map<std::string, std::string>& environment, ServerConfig& config);
 
 /// The SLOSH_* variables of the process environment.
 [[nodiscard]] std::map<std::string, std::string> slosh_environment();

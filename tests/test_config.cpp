@@ -62,7 +62,9 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   const std::string text_port = write_temp(R"({"port": "80"})");
   EXPECT_EQ(error_of([&] { apply_config_file(text_port, c); }),
             text_port + ": port = \"80\" is not a TCP port: allowed 0 to 65535");
-  EXPECT_EQ(error_of([&] { apply_environment({{"SLOSH_PORT", "80x"}}, c); }),
+  EXPECT_EQ(error_of([&] {
+              apply_environment({{"SLOSH_PORT", "80x"}}, c);
+            }),
             "SLOSH_PORT = 80x is not a TCP port: allowed 0 to 65535");
   EXPECT_EQ(error_of([&] { apply_config_file("/nonexistent/slosh.json", c); }),
             "cannot read config file '/nonexistent/slosh.json'");

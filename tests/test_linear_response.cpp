@@ -8,20 +8,11 @@
 
 #include "slosh/core/response.hpp"
 #include "slosh/core/seven_segment.hpp"
+#include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
 namespace {
-
-Format thesis_format() {
-  Format f;
-  f.container.radius = 0.0485;
-  f.fill_height = 0.082;
-  f.fluid = Fluid{"custom", 1000.0, 1.0e-3, "thesis"};
-  return f;
-}
-
-const Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
 
 // Reference eta(t) on a grid: every mode integrated by RK4 with step h from rest.
 struct ReferenceEta {
@@ -51,7 +42,7 @@ TEST(LinearResponse, SevenSegmentMatchesFineStepRk4) {
   ModelOptions options;
   options.modes = 3;
   const SloshingModel model = make_sloshing_model(thesis_format(), options);
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   const test::TrapezoidAcceleration a{law.durations(), law.A(), law.B()};
   const LinearResponse exact(model, law.law(), 1.0);
   const double h = 2e-6;  // the reference grid; compare on its nodes only
@@ -117,7 +108,7 @@ TEST(LinearResponse, UndampedResonantHarmonicMatchesRk4) {
 
 TEST(LinearResponse, PeaksAreTheMaximaOfTheContinuousResponse) {
   const SloshingModel model = make_sloshing_model(thesis_format(), {});
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   const LinearResponse r(model, law.law(), 1.0);
   const SloshPeaks p = r.peaks();
   // Dense independent scan at 10 us.

@@ -25,6 +25,10 @@ const LawCase kCases[] = {
     {"modified_trapezoid", make_modified_trapezoid_law, 4.888},
 };
 
+void PrintTo(const LawCase& c, std::ostream* os) {
+  *os << c.name;
+}
+
 class ComparisonLaws : public ::testing::TestWithParam<LawCase> {};
 
 TEST_P(ComparisonLaws, RestToRestWithTheStroke) {

@@ -7,27 +7,19 @@
 
 #include "slosh/core/response.hpp"
 #include "slosh/core/seven_segment.hpp"
+#include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
 namespace {
 
-Format thesis_format() {
-  Format f;
-  f.container.radius = 0.0485;
-  f.fill_height = 0.082;
-  f.fluid = Fluid{"custom", 1000.0, 1.0e-3, "thesis"};
-  return f;
-}
-
-const Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
 constexpr double kXi1 = 1.841184;
 
 TEST(NonlinearResponse, TinyExcitationReducesToTheOneModeLinearModel) {
   ModelOptions options;
   options.modes = 1;
   const SloshingModel model = make_sloshing_model(thesis_format(), options);
-  const SevenSegmentLaw law(kAsymmetric, 1e-6);  // a micrometre stroke: x / R ~ 1e-6
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 1e-6);  // a micrometre stroke: x / R ~ 1e-6
   const LinearResponse linear(model, law.law(), 1.0);
   const NonlinearResponse nonlinear(model, law.law(), 1.0);
   const double x_scale = linear.peaks().motion.value / model.eta_gain[0];
@@ -75,7 +67,7 @@ void expect_accurate(const Format& format, const MotionLaw& law, double rest) {
 
 TEST(NonlinearResponse, MatchesAFineIndependentRk4OnTheThesisFormat) {
   expect_accurate(thesis_format(), SevenSegmentLaw(uniform_durations(1.0), 0.8).law(), 1.0);
-  expect_accurate(thesis_format(), SevenSegmentLaw(kAsymmetric, 0.8).law(), 1.0);
+  expect_accurate(thesis_format(), SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(), 1.0);
 }
 
 TEST(NonlinearResponse, MatchesAFineIndependentRk4OnHarshLaws) {
@@ -88,7 +80,7 @@ TEST(NonlinearResponse, MatchesAFineIndependentRk4OnHarshLaws) {
 
 TEST(NonlinearResponse, HermiteDenseOutputIsContinuousAndSmooth) {
   const SloshingModel model = make_sloshing_model(thesis_format(), {});
-  const NonlinearResponse r(model, SevenSegmentLaw(kAsymmetric, 0.8).law(), 1.0);
+  const NonlinearResponse r(model, SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(), 1.0);
   // Rate of the dense output agrees with the derivative of its position.
   for (double t : {0.1234, 0.5001, 0.987, 1.4321}) {
     const double d = 1e-6;

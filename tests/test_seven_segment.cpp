@@ -5,12 +5,11 @@
 #include <stdexcept>
 
 #include "slosh/core/seven_segment.hpp"
+#include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
 namespace {
-
-const Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};  // sums to 1.0
 
 test::TrapezoidAcceleration reference_of(const SevenSegmentLaw& law) {
   return {law.durations(), law.A(), law.B()};
@@ -29,7 +28,7 @@ TEST(SevenSegment, UniformThesisLawByHand) {
 
 TEST(SevenSegment, LevelsReachTheStrokeWithZeroFinalVelocity) {
   const double s = 0.8;
-  const SevenSegmentLaw law(kAsymmetric, s);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, s);
   const auto a = reference_of(law);
   const auto knots = a.knots();
   // v(T) = int a dt and s(T) = int a(t) (T - t) dt, Simpson per segment (exact for these degrees).
@@ -43,7 +42,7 @@ TEST(SevenSegment, LevelsReachTheStrokeWithZeroFinalVelocity) {
 }
 
 TEST(SevenSegment, SampledLawMatchesTheReferenceEverywhere) {
-  const SevenSegmentLaw law(kAsymmetric, 0.5);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.5);
   const auto a = reference_of(law);
   double worst_a = 0.0, worst_v = 0.0, worst_s = 0.0;
   for (int i = 0; i <= 1000; ++i) {
@@ -68,26 +67,26 @@ TEST(SevenSegment, SampledLawMatchesTheReferenceEverywhere) {
 }
 
 TEST(SevenSegment, JerkIntegralIsTheSumOverRamps) {
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   const auto j = law.jerks();
   double expected = 0.0;
-  for (int i = 0; i < 7; i += 2) expected += j[i] * j[i] * kAsymmetric[i];
+  for (int i = 0; i < 7; i += 2) expected += j[i] * j[i] * test::kAsymmetricDurations[i];
   EXPECT_NEAR(law.jerk_integral(), expected, 1e-9 * expected);
-  EXPECT_NEAR(j[0], law.A() / kAsymmetric[0], 1e-12);
-  EXPECT_NEAR(j[2], -law.A() / kAsymmetric[2], 1e-12);
-  EXPECT_NEAR(j[4], -law.B() / kAsymmetric[4], 1e-12);
-  EXPECT_NEAR(j[6], law.B() / kAsymmetric[6], 1e-12);
+  EXPECT_NEAR(j[0], law.A() / test::kAsymmetricDurations[0], 1e-12);
+  EXPECT_NEAR(j[2], -law.A() / test::kAsymmetricDurations[2], 1e-12);
+  EXPECT_NEAR(j[4], -law.B() / test::kAsymmetricDurations[4], 1e-12);
+  EXPECT_NEAR(j[6], law.B() / test::kAsymmetricDurations[6], 1e-12);
   EXPECT_EQ(j[1], 0.0);
   EXPECT_EQ(j[3], 0.0);
 }
 
 TEST(SevenSegment, SwitchTimesAreCumulativeSums) {
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   const auto t = law.switch_times();
   EXPECT_EQ(t[0], 0.0);
   double sum = 0.0;
   for (int i = 0; i < 7; ++i) {
-    sum += kAsymmetric[i];
+    sum += test::kAsymmetricDurations[i];
     EXPECT_NEAR(t[i + 1], sum, 1e-15);
   }
   const auto b = law.law().breakpoints();
@@ -105,26 +104,26 @@ TEST(SevenSegment, ZeroPlateausAreAllowed) {
 TEST(SevenSegment, AdmissibilityMessages) {
   AdmissibilityRules rules;
   rules.motion_time = 1.0;
-  EXPECT_FALSE(check_admissible(kAsymmetric, rules).has_value());
+  EXPECT_FALSE(check_admissible(test::kAsymmetricDurations, rules).has_value());
 
-  Durations d = kAsymmetric;
+  Durations d = test::kAsymmetricDurations;
   d[2] = 0.04;
   d[3] += 0.02;
   EXPECT_EQ(check_admissible(d, rules).value(),
             "durations_s[2] = 0.04 s is below the minimum ramp duration 0.05 s");
 
-  d = kAsymmetric;
+  d = test::kAsymmetricDurations;
   d[5] = -0.01;
   d[6] += 0.01;
   EXPECT_EQ(check_admissible(d, rules).value(),
             "durations_s[5] = -0.01 s is negative: plateaus must be >= 0 s");
 
-  d = kAsymmetric;
+  d = test::kAsymmetricDurations;
   d[3] += 0.1;
   EXPECT_EQ(check_admissible(d, rules).value(),
             "durations_s sum to 1.1 s but the motion time is 1 s (tolerance 1e-09 s)");
 
-  d = kAsymmetric;
+  d = test::kAsymmetricDurations;
   d[1] = std::nan("");
   EXPECT_EQ(check_admissible(d, rules).value(), "durations_s[1] is not a finite number");
 }
@@ -138,9 +137,9 @@ TEST(SevenSegment, DegenerateDurationsThrow) {
 
 TEST(SevenSegment, LongDoubleLevelsAgree) {
   std::array<long double, 7> dl{};
-  for (int i = 0; i < 7; ++i) dl[i] = kAsymmetric[i];
+  for (int i = 0; i < 7; ++i) dl[i] = test::kAsymmetricDurations[i];
   const auto l = plateau_levels<long double>(dl, 0.8L);
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   EXPECT_NEAR(static_cast<double>(l.A), law.A(), 1e-13);
   EXPECT_NEAR(static_cast<double>(l.B), law.B(), 1e-13);
 }

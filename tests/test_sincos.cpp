@@ -38,8 +38,8 @@ TEST(FastSinCos, WithinTwoUlpOnRandomArguments) {
 }
 
 TEST(FastSinCos, QuadrantsAndSpecialArguments) {
-  for (double x : {0.0, -0.0, 1e-300, 0.5, 1.5707963267948966, 3.141592653589793,
-                   4.71238898038469, 6.283185307179586, -2.356194490192345, 123456.789}) {
+  for (double x : {0.0, -0.0, 1e-300, 0.5, 1.5707963267948966, 3.141592653589793, 4.71238898038469,
+                   6.283185307179586, -2.356194490192345, 123456.789}) {
     const detail::SinCos sc = detail::fast_sincos(x);
     EXPECT_NEAR(sc.sin, static_cast<double>(std::sin(static_cast<long double>(x))), 4e-16) << x;
     EXPECT_NEAR(sc.cos, static_cast<double>(std::cos(static_cast<long double>(x))), 4e-16) << x;

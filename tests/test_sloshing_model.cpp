@@ -8,18 +8,12 @@
 #include "slosh/core/fluid.hpp"
 #include "slosh/core/sloshing_model.hpp"
 
+#include "support/fixtures.hpp"
+
 namespace slosh {
 namespace {
 
 // The thesis container: R = 48.5 mm, h = 82 mm, water with rho = 1000, mu = 1.0e-3.
-Format thesis_format() {
-  Format f;
-  f.container.radius = 0.0485;
-  f.fill_height = 0.082;
-  f.fluid = Fluid{"custom", 1000.0, 1.0e-3, "thesis"};
-  return f;
-}
-
 TEST(SloshingModel, ThesisReferenceValues) {
   ModelOptions options;
   const SloshingModel m = make_sloshing_model(thesis_format(), options);

@@ -8,12 +8,11 @@
 #include <numbers>
 
 #include "slosh/core/spectrum.hpp"
+#include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
 namespace {
-
-const Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
 
 std::complex<double> quadrature_spectrum(const SevenSegmentLaw& law, double w) {
   const test::TrapezoidAcceleration a{law.durations(), law.A(), law.B()};
@@ -23,7 +22,7 @@ std::complex<double> quadrature_spectrum(const SevenSegmentLaw& law, double w) {
 }
 
 TEST(Spectrum, ClosedFormMatchesQuadratureOnBothBranches) {
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   // w T < 1 uses the per-segment form, w T >= 1 the jerk-jump form.
   for (double w : {1e-3, 0.05, 0.4, 0.999, 1.0, 3.0, 19.26, 41.55, 120.0, 200.0}) {
     const std::complex<double> closed = acceleration_spectrum(law, w);
@@ -34,7 +33,7 @@ TEST(Spectrum, ClosedFormMatchesQuadratureOnBothBranches) {
 }
 
 TEST(Spectrum, ClosedFormMatchesTheGeneralLawQuadrature) {
-  const SevenSegmentLaw law(kAsymmetric, 0.6);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.6);
   for (double w : {0.7, 10.0, 19.26, 75.0}) {
     const std::complex<double> closed = acceleration_spectrum(law, w);
     const std::complex<double> gauss = acceleration_spectrum(law.law(), w);
@@ -43,7 +42,7 @@ TEST(Spectrum, ClosedFormMatchesTheGeneralLawQuadrature) {
 }
 
 TEST(Spectrum, ZeroAtZeroFrequencyForRestToRest) {
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   EXPECT_LT(std::abs(acceleration_spectrum(law, 0.0)), 1e-12);
   // |X(w)| = w s + O(w^2): vanishes linearly.
   EXPECT_NEAR(std::abs(acceleration_spectrum(law, 1e-9)), 0.8e-9, 1e-15);
@@ -51,14 +50,14 @@ TEST(Spectrum, ZeroAtZeroFrequencyForRestToRest) {
 
 TEST(Spectrum, LowFrequencyLimitIsJOmegaTimesTheStroke) {
   // X(w) ~ int a dt - j w int a t dt = j w s, since int a = v(T) = 0 and int a t dt = -s.
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   const double w = 1e-4;
   const std::complex<double> X = acceleration_spectrum(law, w);
   EXPECT_NEAR(X.imag() / w, 0.8, 1e-6);
 }
 
 TEST(Spectrum, FftOfTheSampledLawMatchesWithEq450Normalisation) {
-  const SevenSegmentLaw law(kAsymmetric, 0.8);
+  const SevenSegmentLaw law(test::kAsymmetricDurations, 0.8);
   const double T = 1.0;
   const int n = 1 << 14;
   const double dt = T / n;
@@ -77,10 +76,10 @@ TEST(Spectrum, FftOfTheSampledLawMatchesWithEq450Normalisation) {
 
 TEST(Spectrum, LongDoubleInstantiationAgrees) {
   std::array<long double, 7> dl{};
-  for (int i = 0; i < 7; ++i) dl[i] = kAsymmetric[i];
+  for (int i = 0; i < 7; ++i) dl[i] = test::kAsymmetricDurations[i];
   for (double w : {0.3, 19.26, 90.0}) {
     const auto xl = seven_segment_spectrum<long double>(dl, 0.8L, static_cast<long double>(w));
-    const auto xd = seven_segment_spectrum<double>(kAsymmetric, 0.8, w);
+    const auto xd = seven_segment_spectrum<double>(test::kAsymmetricDurations, 0.8, w);
     EXPECT_NEAR(static_cast<double>(xl.real()), xd.real(), 1e-12);
     EXPECT_NEAR(static_cast<double>(xl.imag()), xd.imag(), 1e-12);
   }
@@ -92,11 +91,13 @@ long double power_ld(std::array<long double, 7> d, long double w) {
 
 TEST(SpectrumGradient, MatchesHighPrecisionCentralDifferences) {
   for (double w : {1.5, 19.26, 32.84, 70.0}) {
-    const SpectrumPowerGradient g = spectrum_power_gradient(kAsymmetric, 0.8, w);
-    EXPECT_NEAR(g.power, std::norm(acceleration_spectrum(SevenSegmentLaw(kAsymmetric, 0.8), w)),
-                1e-14 * (1.0 + g.power));
+    const SpectrumPowerGradient g = spectrum_power_gradient(test::kAsymmetricDurations, 0.8, w);
+    EXPECT_NEAR(
+        g.power,
+        std::norm(acceleration_spectrum(SevenSegmentLaw(test::kAsymmetricDurations, 0.8), w)),
+        1e-14 * (1.0 + g.power));
     std::array<long double, 7> dl{};
-    for (int i = 0; i < 7; ++i) dl[i] = kAsymmetric[i];
+    for (int i = 0; i < 7; ++i) dl[i] = test::kAsymmetricDurations[i];
     const long double h = 1e-7L;
     double scale = 0.0;
     for (double gi : g.gradient) scale = std::max(scale, std::abs(gi));

@@ -20,22 +20,22 @@ struct SinCos {
 inline SinCos fast_sincos(double x) {
   if (!(std::abs(x) < kFastSinCosLimit)) return {std::sin(x), std::cos(x)};
   constexpr double kTwoOverPi = 6.36619772367581382433e-01;
-  constexpr double kPio2Part1 = 1.57079632673412561417e+00;   // first 33 bits of pi/2
-  constexpr double kPio2Part2 = 6.07710050630396597660e-11;   // next 33 bits
-  constexpr double kPio2Part3 = 2.02226624879595063154e-21;   // pi/2 - part1 - part2
+  constexpr double kPio2Part1 = 1.57079632673412561417e+00;  // first 33 bits of pi/2
+  constexpr double kPio2Part2 = 6.07710050630396597660e-11;  // next 33 bits
+  constexpr double kPio2Part3 = 2.02226624879595063154e-21;  // pi/2 - part1 - part2
   // Round to nearest by the 1.5 * 2^52 shift (exact for |x| < 1e6, no libm call).
   constexpr double kShift = 6755399441055744.0;
   const double n = (x * kTwoOverPi + kShift) - kShift;
   const double r = ((x - n * kPio2Part1) - n * kPio2Part2) - n * kPio2Part3;
   const double z = r * r;
   // fdlibm __kernel_sin / __kernel_cos coefficients.
-  const double s = r + r * z *
-                           (-1.66666666666666324348e-01 +
-                            z * (8.33333333332248946124e-03 +
-                                 z * (-1.98412698298579493134e-04 +
-                                      z * (2.75573137070700676789e-06 +
-                                           z * (-2.50507602534068634195e-08 +
-                                                z * 1.58969099521155010221e-10)))));
+  const double s =
+      r + r * z *
+              (-1.66666666666666324348e-01 +
+               z * (8.33333333332248946124e-03 +
+                    z * (-1.98412698298579493134e-04 +
+                         z * (2.75573137070700676789e-06 + z * (-2.50507602534068634195e-08 +
+                                                                z * 1.58969099521155010221e-10)))));
   const double c_poly =
       z * z *
       (4.16666666666666019037e-02 +

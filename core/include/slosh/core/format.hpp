@@ -22,4 +22,16 @@ struct Format {
   double motion_time{1.0};  ///< T [s]
 };
 
+/// The thesis bench format (thesis ch. 5, SPEC §2 reference values): R = 48.5 mm, h = 82 mm,
+/// water with rho = 1000 kg/m^3 and mu = 1.0e-3 Pa·s, s = 800 mm, T = 1 s.
+[[nodiscard]] inline Format thesis_format() {
+  Format f;
+  f.container.radius = 0.0485;
+  f.fill_height = 0.082;
+  f.fluid = Fluid{"thesis_water", 1000.0, 1.0e-3, "thesis sec. 2 (rounded water properties)"};
+  f.stroke = 0.8;
+  f.motion_time = 1.0;
+  return f;
+}
+
 }  // namespace slosh
