@@ -1,0 +1,80 @@
+#pragma once
+// One small interface over the two nonlinear-programming solvers of the planner (NLopt SLSQP and
+// Ipopt). Each library is wrapped in exactly one source file and its status is translated into
+// SolveStatus here; nothing else in the product includes a solver header.
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace slosh {
+
+/// Outcome of a solve, shared by every solver and strategy.
+enum class SolveStatus {
+  kOptimal,     ///< converged to the requested tolerance, constraints satisfied
+  kAcceptable,  ///< converged to a looser tolerance (or stalled on round-off), constraints satisfied
+  kInfeasible,  ///< the constraints could not be satisfied
+  kTimeLimit,   ///< the time budget ran out; x is the last iterate
+  kFailed,      ///< anything else (numerical failure, invalid problem)
+};
+
+[[nodiscard]] std::string to_string(SolveStatus status);
+
+/// min f(x)  s.t.  lower <= x <= upper,  a_k . x = b_k (linear equalities),  g_j(x) <= 0.
+/// Derivatives are exact (given by the caller); the solvers never difference.
+struct NlpProblem {
+  struct LinearEquality {
+    std::vector<double> a;  ///< coefficients, size n
+    double b{};             ///< right-hand side
+  };
+  std::vector<double> lower;  ///< size n
+  std::vector<double> upper;  ///< size n
+  /// f(x); writes the gradient to `grad` (size n) when it is not null.
+  std::function<double(const double* x, double* grad)> objective;
+  std::vector<LinearEquality> equalities;
+  /// Number of nonlinear inequalities g(x) <= 0.
+  int inequality_count{0};
+  /// Writes g(x) (size m) and, when `jacobian` is not null, dg/dx row-major (m x n).
+  std::function<void(const double* x, double* g, double* jacobian)> inequalities;
+
+  [[nodiscard]] int size() const { return static_cast<int>(lower.size()); }
+};
+
+/// Solver settings with safe defaults.
+struct NlpOptions {
+  /// Relative tolerance on the objective / optimality error [-]. Default 1e-10.
+  double tolerance{1e-10};
+  /// Allowed constraint violation [units of the constraints]. Default 1e-9.
+  double constraint_tolerance{1e-9};
+  /// Iteration (NLopt: evaluation) limit. Default 1000.
+  int max_iterations{1000};
+  /// Wall-clock budget [s]; <= 0 means none. Default 1 s.
+  double time_limit{1.0};
+};
+
+/// Result of one solve.
+struct NlpResult {
+  SolveStatus status{SolveStatus::kFailed};
+  std::vector<double> x;        ///< final (best admissible when time-limited) point
+  double objective{};           ///< f(x)
+  double max_violation{};       ///< largest bound / equality / inequality violation at x
+  int evaluations{};            ///< objective evaluations
+  std::string message;          ///< the solver's own words, for the report
+
+  [[nodiscard]] bool usable() const {
+    return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;
+  }
+};
+
+/// Largest violation of the bounds and constraints of `problem` at x.
+[[nodiscard]] double max_violation(const NlpProblem& problem, const std::vector<double>& x);
+
+/// NLopt's SLSQP (sequential quadratic programming with BFGS), from x0.
+[[nodiscard]] NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>& x0,
+                                         const NlpOptions& options);
+
+/// Ipopt (interior point, limited-memory BFGS Hessian), from x0.
+[[nodiscard]] NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>& x0,
+                                         const NlpOptions& options);
+
+}  // namespace slosh
