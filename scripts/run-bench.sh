@@ -5,5 +5,6 @@ build_dir=${1:-build}
 for b in "$build_dir"/bench/bench_*; do
   [ -x "$b" ] || continue
   echo "== $(basename "$b")"
-  "$b" --benchmark_min_time=0.2 "${@:2}"
+  "$b" --benchmark_min_time=0.2 --benchmark_repetitions=5 --benchmark_report_aggregates_only=true \
+    "${@:2}"
 done

@@ -146,3 +146,27 @@ TEST(LinearResponse, StartsAtRestAndDecaysAtTheDampingRate) {
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+TEST(PeakFinder, FlatStretchesNeedNoRefinement) {
+  int calls = 0;
+  const Peak p = find_max(
+      [&](double t) {
+        ++calls;
+        return t < 0.5 ? 1.0 : 1.0 - (t - 0.5);
+      },
+      0.0, 1.0, 1e-3);
+  EXPECT_EQ(p.value, 1.0);
+  EXPECT_LE(p.time, 0.5);
+  EXPECT_LT(calls, 1100);
+  // A narrow peak between samples is still refined to its true top.
+  const Peak q = find_max([](double t) { return std::exp(-std::pow((t - 0.5123) / 0.002, 2)); },
+                          0.0, 1.0, 1e-3);
+  EXPECT_NEAR(q.time, 0.5123, 1e-8);
+  EXPECT_NEAR(q.value, 1.0, 1e-14);
+}
+
+}  // namespace
+}  // namespace slosh

@@ -17,7 +17,9 @@ struct SolverCase {
   Solver solve;
 };
 
-void PrintTo(const SolverCase& c, std::ostream* os) { *os << c.name; }
+void PrintTo(const SolverCase& c, std::ostream* os) {
+  *os << c.name;
+}
 
 class NlpSolvers : public ::testing::TestWithParam<SolverCase> {};
 

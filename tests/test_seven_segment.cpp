@@ -133,6 +133,9 @@ TEST(SevenSegment, DegenerateDurationsThrow) {
                std::invalid_argument);
   EXPECT_THROW(SevenSegmentLaw(Durations{0.1, -0.1, 0.1, 0.1, 0.1, 0.1, 0.1}, 1.0),
                std::invalid_argument);
+  // Finite A but an overflowing jerk A / 1e-320.
+  EXPECT_THROW(SevenSegmentLaw(Durations{1e-320, 0.5, 1e-320, 0.0, 1e-320, 0.5, 1e-320}, 1.0),
+               std::invalid_argument);
 }
 
 TEST(SevenSegment, LongDoubleLevelsAgree) {

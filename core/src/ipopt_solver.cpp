@@ -21,8 +21,11 @@ using Ipopt::Number;
 class Adapter : public Ipopt::TNLP {
  public:
   Adapter(const NlpProblem& problem, const std::vector<double>& x0)
-      : problem_(problem), x0_(x0), n_(problem.size()),
-        e_(static_cast<int>(problem.equalities.size())), m_(e_ + problem.inequality_count) {}
+      : problem_(problem),
+        x0_(x0),
+        n_(problem.size()),
+        e_(static_cast<int>(problem.equalities.size())),
+        m_(e_ + problem.inequality_count) {}
 
   bool get_nlp_info(Index& n, Index& m, Index& nnz_jac_g, Index& nnz_h_lag,
                     IndexStyleEnum& index_style) override {

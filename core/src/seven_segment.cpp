@@ -89,6 +89,12 @@ SevenSegmentLaw::SevenSegmentLaw(const Durations& durations, double stroke)
   }
   levels_ = {lv.A, lv.B, lv.v_peak};
   const auto J = jerks();
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (!std::isfinite(J[i])) {
+      throw std::invalid_argument("seven-segment law: durations_s[" + std::to_string(i) +
+                                  "] gives an infinite jerk");
+    }
+  }
   const std::array<double, kSegments> a_start{0.0, lv.A, lv.A, 0.0, 0.0, -lv.B, -lv.B};
   std::vector<LawPiece> pieces;
   double t = 0.0;

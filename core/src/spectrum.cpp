@@ -55,7 +55,9 @@ std::complex<T> seven_segment_spectrum(const std::array<T, kSegments>& d, T stro
   for (std::size_t i = 0; i < kSegments; ++i) t[i + 1] = t[i] + d[i];
   const std::array<T, kSegments> J{lv.A / d[0],  T(0), -lv.A / d[2], T(0),
                                    -lv.B / d[4], T(0), lv.B / d[6]};
-  if (std::abs(omega) * t[kSegments] >= T(1)) {
+  // The jerk-jump form divides by omega^2: its round-off grows as (omega T)^-2 times the jerk,
+  // so below omega T = 8 the per-segment form is used (both agree to ~1e-15 there).
+  if (std::abs(omega) * t[kSegments] >= T(8)) {
     Complex<T> sum = J[0] * (Complex<T>(1) - expj(omega * t[1]));  // t_0 = 0
     for (std::size_t k = 2; k < kSegments; k += 2) {
       sum += J[k] * (expj(omega * t[k]) - expj(omega * t[k + 1]));

@@ -12,7 +12,8 @@ namespace slosh {
 /// Outcome of a solve, shared by every solver and strategy.
 enum class SolveStatus {
   kOptimal,     ///< converged to the requested tolerance, constraints satisfied
-  kAcceptable,  ///< converged to a looser tolerance (or stalled on round-off), constraints satisfied
+  kAcceptable,  ///< converged to a looser tolerance (or stalled on round-off), constraints
+                ///< satisfied
   kInfeasible,  ///< the constraints could not be satisfied
   kTimeLimit,   ///< the time budget ran out; x is the last iterate
   kFailed,      ///< anything else (numerical failure, invalid problem)
@@ -55,11 +56,11 @@ struct NlpOptions {
 /// Result of one solve.
 struct NlpResult {
   SolveStatus status{SolveStatus::kFailed};
-  std::vector<double> x;        ///< final (best admissible when time-limited) point
-  double objective{};           ///< f(x)
-  double max_violation{};       ///< largest bound / equality / inequality violation at x
-  int evaluations{};            ///< objective evaluations
-  std::string message;          ///< the solver's own words, for the report
+  std::vector<double> x;   ///< final (best admissible when time-limited) point
+  double objective{};      ///< f(x)
+  double max_violation{};  ///< largest bound / equality / inequality violation at x
+  int evaluations{};       ///< objective evaluations
+  std::string message;     ///< the solver's own words, for the report
 
   [[nodiscard]] bool usable() const {
     return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;

@@ -62,6 +62,13 @@ Peak find_max(const F& f, double a, double b, double step, double refine_fractio
     const bool left_ok = i == 0 || values[i] >= values[i - 1];
     const bool right_ok = i == n || values[i] >= values[i + 1];
     if (!left_ok || !right_ok) continue;
+    // On a flat stretch nothing can be gained by refining: the sample is the maximum there.
+    const bool flat =
+        (i == 0 || values[i] == values[i - 1]) && (i == n || values[i] == values[i + 1]);
+    if (flat) {
+      if (values[i] > best.value) best = {values[i], a + h * static_cast<double>(i)};
+      continue;
+    }
     const double lo = a + h * static_cast<double>(i == 0 ? 0 : i - 1);
     const double hi = i == n ? b : a + h * static_cast<double>(std::min(i + 1, n));
     Peak p = refine_max(f, lo, hi);

@@ -79,9 +79,9 @@ class NonlinearResponse {
   NonlinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time,
                     const NonlinearOptions& options = {});
 
-  /// eta(t) = K xbar(t) [m].
+  /// eta(t) = K xbar(t) [m], for 0 <= t <= end of the rest window (the state is held beyond).
   [[nodiscard]] double eta(double t) const;
-  /// xbar and its rate at t.
+  /// xbar and its rate at t (held at the last computed state beyond the rest window).
   [[nodiscard]] ModeState state(double t) const;
   [[nodiscard]] SloshPeaks peaks() const;
   [[nodiscard]] std::size_t steps() const { return time_.size() - 1; }

@@ -11,9 +11,9 @@ namespace slosh {
 
 /// Closed-form X_a(omega) of the 7-segment law with durations d and stroke s.
 ///
-/// For omega T >= 1 it uses the jerk-jump form obtained by integrating by parts twice
+/// For omega T >= 8 it uses the jerk-jump form obtained by integrating by parts twice
 /// (a(0) = a(T) = 0):  X = -(1/omega^2) sum_k (J_{k+1} - J_k) exp(-j omega t_k),
-/// for omega T < 1 the per-segment form of SPEC §4 written with the well-conditioned
+/// for omega T < 8 the per-segment form of SPEC §4 written with the well-conditioned
 /// phi1(z) = (1 - e^{-z})/z and phi2(z) = (1 - (1 + z) e^{-z})/z^2 (series for small |z|).
 /// Instantiated for double and long double (the latter for high-precision checks).
 template <typename T>
