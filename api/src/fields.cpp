@@ -80,8 +80,11 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& path
 
 double required_number(const nlohmann::json& object, const std::string& path, std::string_view key,
                        const Range& range) {
-  const std::string field = join_path(path, key);
-  const nlohmann::json* v = member(object, key);
+  return checked_number(member(object, key), join_path(path, key), range);
+}
+
+double checked_number(const nlohmann::json* v, const std::string& field, const Range& range,
+                      std::string_view below_range_hint) {
   if (v == nullptr || v->is_null()) {
     invalid(field, field + " is required: a number, allowed " + range.describe());
   }
@@ -90,8 +93,10 @@ double required_number(const nlohmann::json& object, const std::string& path, st
   }
   const double x = v->get<double>();
   if (!std::isfinite(x) || !range.contains(x)) {
-    invalid(field,
-            field + " = " + number_text(x) + " is out of range: allowed " + range.describe());
+    std::string message =
+        field + " = " + number_text(x) + " is out of range: allowed " + range.describe();
+    if (x < range.lo) message += below_range_hint;
+    invalid(field, message);
   }
   return x;
 }

@@ -1,6 +1,7 @@
 #include "slosh/api/simulate.hpp"
 
 #include <cmath>
+#include <optional>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
@@ -44,19 +45,11 @@ Durations parse_durations(const nlohmann::json& law, const std::string& path, do
   double sum = 0.0;
   for (std::size_t i = 0; i < kSegments; ++i) {
     const bool is_ramp = i % 2 == 0;
-    nlohmann::json holder{{"v", (*it)[i]}};
-    const std::string name = "durations_s[" + std::to_string(i) + "]";
-    try {
-      d[i] = required_number(holder, "", "v", is_ramp ? ramp : plateau);
-    } catch (const ApiError& e) {
-      std::string msg = e.what();
-      msg.replace(0, 1, join_path(path, name));  // "v ..." -> "law.durations_s[i] ..."
-      const nlohmann::json& value = (*it)[i];
-      if (is_ramp && value.is_number() && value.get<double>() < min_ramp) {
-        msg += " (segment " + std::to_string(i + 1) + " is a jerk ramp: >= options.min_ramp_s)";
-      }
-      invalid(join_path(path, name), msg);
-    }
+    const std::string field = dpath + "[" + std::to_string(i) + "]";
+    const std::string hint =
+        is_ramp ? " (segment " + std::to_string(i + 1) + " is a jerk ramp: >= options.min_ramp_s)"
+                : "";
+    d[i] = checked_number(&(*it)[i], field, is_ramp ? ramp : plateau, hint);
     sum += d[i];
   }
   if (std::abs(sum - motion_time) > kDurationSumToleranceS) {
@@ -160,14 +153,26 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   return r;
 }
 
+namespace {
+
+// The 7-segment law of a request, when its law is one.
+std::optional<SevenSegmentLaw> seven_segment_law(const SimulateRequest& r) {
+  if (r.law_type == LawType::kSevenSegment) return SevenSegmentLaw(*r.durations, r.format.stroke);
+  if (r.law_type == LawType::kSevenSegmentUniform) {
+    return SevenSegmentLaw(uniform_durations(r.format.motion_time), r.format.stroke);
+  }
+  return std::nullopt;
+}
+
+}  // namespace
+
 MotionLaw build_law(const SimulateRequest& r) {
   const double s = r.format.stroke;
   const double T = r.format.motion_time;
   switch (r.law_type) {
     case LawType::kSevenSegment:
-      return SevenSegmentLaw(*r.durations, s).law();
     case LawType::kSevenSegmentUniform:
-      return SevenSegmentLaw(uniform_durations(T), s).law();
+      return seven_segment_law(r)->law();
     case LawType::kPoly5:
       return make_poly5_law(s, T);
     case LawType::kModifiedTrapezoid:
@@ -189,7 +194,8 @@ nlohmann::json prediction_json(const SimulationResult& r) {
 }
 
 nlohmann::json run_simulate(const SimulateRequest& request) {
-  const MotionLaw law = build_law(request);
+  const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
+  const MotionLaw law = seven ? seven->law() : build_law(request);
   const SimulationResult r = simulate(request.format, law, request.options);
   nlohmann::json out;
   nlohmann::json law_json{{"type", to_string(request.law_type)},
@@ -200,17 +206,14 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
                      {"a_min", r.kinematics.a_peak_negative},
                      {"v_peak", r.kinematics.v_peak},
                      {"j_peak", r.kinematics.j_peak}};
-  if (request.law_type == LawType::kSevenSegment ||
-      request.law_type == LawType::kSevenSegmentUniform) {
-    const SevenSegmentLaw seven(
-        request.durations ? *request.durations : uniform_durations(request.format.motion_time),
-        request.format.stroke);
-    law_json["durations_s"] = seven.durations();
-    law_json["switch_times_s"] = seven.switch_times();
-    law_json["jerks_m_s3"] = seven.jerks();
-    kin["a_max"] = seven.A();
-    kin["a_min"] = seven.B();
-    kin["v_peak"] = seven.v_peak();
+  if (seven) {
+    law_json["durations_s"] = seven->durations();
+    law_json["switch_times_s"] = seven->switch_times();
+    law_json["jerks_m_s3"] = seven->jerks();
+    // The plateau levels exactly (SPEC §7), not the sampled summary.
+    kin["a_max"] = seven->A();
+    kin["a_min"] = seven->B();
+    kin["v_peak"] = seven->v_peak();
   }
   out["format"] = format_json(request.format);
   out["law"] = law_json;

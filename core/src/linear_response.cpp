@@ -6,6 +6,16 @@
 
 namespace slosh {
 
+double LinearModePiece::position(double tau) const {
+  double x = r[0] + tau * (r[1] + tau * (r[2] + tau * r[3]));
+  if (W != 0.0) {
+    const double c = std::cos(W * tau);
+    const double sn = std::sin(W * tau);
+    x += P * c + Q * sn + tau * (U * c + V * sn);
+  }
+  return x + std::exp(-sigma * tau) * (c1 * std::cos(wd * tau) + c2 * std::sin(wd * tau));
+}
+
 ModeState LinearModePiece::at(double tau) const {
   ModeState s;
   s.x = r[0] + tau * (r[1] + tau * (r[2] + tau * r[3]));
@@ -82,21 +92,24 @@ LinearResponse::LinearResponse(const SloshingModel& model, const MotionLaw& law,
   peak_step_ = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / w_max / kSamplesPerPeriod);
 }
 
+std::size_t LinearResponse::piece_index(double t) const {
+  const auto it = std::upper_bound(piece_begin_.begin(), piece_begin_.end(), t);
+  return static_cast<std::size_t>(it - piece_begin_.begin()) - 1;
+}
+
 ModeState LinearResponse::mode_state(int mode, double t) const {
   if (t <= 0.0) return {};
-  auto it = std::upper_bound(piece_begin_.begin(), piece_begin_.end(), t);
-  const std::size_t k = static_cast<std::size_t>(it - piece_begin_.begin()) - 1;
+  const std::size_t k = piece_index(t);
   return coefficients_[k * gains_.size() + static_cast<std::size_t>(mode)].at(t - piece_begin_[k]);
 }
 
 double LinearResponse::eta(double t) const {
   if (t <= 0.0) return 0.0;
-  auto it = std::upper_bound(piece_begin_.begin(), piece_begin_.end(), t);
-  const std::size_t k = static_cast<std::size_t>(it - piece_begin_.begin()) - 1;
+  const std::size_t k = piece_index(t);
   const double tau = t - piece_begin_[k];
   double eta = 0.0;
   for (std::size_t m = 0; m < gains_.size(); ++m) {
-    eta += gains_[m] * coefficients_[k * gains_.size() + m].at(tau).x;
+    eta += gains_[m] * coefficients_[k * gains_.size() + m].position(tau);
   }
   return eta;
 }

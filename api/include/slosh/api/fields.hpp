@@ -42,6 +42,11 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& path
 [[nodiscard]] double required_number(const nlohmann::json& object, const std::string& path,
                                      std::string_view key, const Range& range);
 
+/// The number `value` (null when absent) named `field` within `range`; `below_range_hint` is
+/// appended to the message when the value is below the range.
+[[nodiscard]] double checked_number(const nlohmann::json* value, const std::string& field,
+                                    const Range& range, std::string_view below_range_hint = {});
+
 /// An optional number within `range`; `fallback` when absent.
 [[nodiscard]] double optional_number(const nlohmann::json& object, const std::string& path,
                                      std::string_view key, const Range& range, double fallback);

@@ -34,6 +34,8 @@ struct LinearModePiece {
   double c1{}, c2{};
   double sigma{}, wd{};
   [[nodiscard]] ModeState at(double tau) const;
+  /// x alone (the peak search's hot path).
+  [[nodiscard]] double position(double tau) const;
 };
 
 /// Linear model solved exactly: on every law piece the forcing -a(t) is a cubic plus one harmonic,
@@ -54,6 +56,8 @@ class LinearResponse {
   [[nodiscard]] double end_time() const { return end_time_; }
 
  private:
+  [[nodiscard]] std::size_t piece_index(double t) const;  // piece holding t > 0
+
   std::vector<double> gains_;
   std::vector<double> piece_begin_;            // start time of every piece (law pieces + rest)
   std::vector<LinearModePiece> coefficients_;  // [piece * modes + mode]
