@@ -13,6 +13,7 @@ packages=(
   libcpp-httplib-dev                               # HTTP server/client (service)
   libspdlog-dev                                    # structured logs (service)
   libsqlite3-dev                                   # persistent plan cache (service)
+  libssl-dev                                       # SHA-256 of recipe keys (api)
   libcli11-dev                                     # command-line parsing (service)
   libgtest-dev libgmock-dev                        # unit and integration tests
   libbenchmark-dev                                 # Google Benchmark targets

@@ -5,6 +5,7 @@
 
 #include "io.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
@@ -26,18 +27,26 @@ int print_json_or_error(Body&& body) {
   }
 }
 
+nlohmann::json read_request(const std::string& request_path) {
+  std::string text;
+  try {
+    text = read_request_text(request_path);
+  } catch (const std::exception& e) {
+    throw api::ApiError(api::ErrorCode::kInvalidValue, "--request", e.what());
+  }
+  return api::parse_json_body(text);
+}
+
 }  // namespace
 
 int run_simulate_command(const std::string& request_path) {
-  return print_json_or_error([&] {
-    std::string text;
-    try {
-      text = read_request_text(request_path);
-    } catch (const std::exception& e) {
-      throw api::ApiError(api::ErrorCode::kInvalidValue, "--request", e.what());
-    }
-    return api::run_simulate(api::parse_simulate_request(api::parse_json_body(text)));
-  });
+  return print_json_or_error(
+      [&] { return api::run_simulate(api::parse_simulate_request(read_request(request_path))); });
+}
+
+int run_plan_command(const std::string& request_path) {
+  return print_json_or_error(
+      [&] { return api::run_plan(api::parse_plan_request(read_request(request_path))); });
 }
 
 }  // namespace slosh::service

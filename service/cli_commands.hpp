@@ -12,4 +12,8 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitInvalidInput = 2 };
 /// prints the error envelope on stderr and returns kExitInvalidInput.
 int run_simulate_command(const std::string& request_path);
 
+/// `slosh plan --request FILE|-`: prints the plan response on stdout (exit 0 whatever the plan's
+/// status, which the JSON carries); invalid input as for simulate.
+int run_plan_command(const std::string& request_path);
+
 }  // namespace slosh::service

@@ -1,4 +1,4 @@
-// `slosh`: the command-line entry point (serve, simulate).
+// `slosh`: the command-line entry point (serve, plan, simulate).
 
 #include <CLI/CLI.hpp>
 
@@ -38,6 +38,11 @@ int main(int argc, char** argv) {
   simulate->add_option("--request", request, "Request JSON file, or - for stdin")
       ->capture_default_str();
 
+  auto* plan = app.add_subcommand(
+      "plan", "Plan the 7-segment law of a format (JSON in, the /v1/plans response out)");
+  plan->add_option("--request", request, "Request JSON file, or - for stdin")
+      ->capture_default_str();
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -57,5 +62,6 @@ int main(int argc, char** argv) {
     return slosh::service::run_server(server, port_file);
   }
   if (*simulate) return slosh::service::run_simulate_command(request);
+  if (*plan) return slosh::service::run_plan_command(request);
   return slosh::service::kExitInvalidInput;
 }

@@ -39,6 +39,22 @@ struct Dual {
     for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] * b.v + a.v * b.d[i];
     return r;
   }
+  // Mixed forms with a plain double: half the work of promoting the double to a Dual.
+  friend Dual operator+(const Dual& a, double b) {
+    Dual r = a;
+    r.v += b;
+    return r;
+  }
+  friend Dual operator+(double a, const Dual& b) { return b + a; }
+  friend Dual operator-(const Dual& a, double b) { return a + (-b); }
+  friend Dual operator-(double a, const Dual& b) { return -b + a; }
+  friend Dual operator*(const Dual& a, double b) {
+    Dual r(a.v * b);
+    for (std::size_t i = 0; i < N; ++i) r.d[i] = a.d[i] * b;
+    return r;
+  }
+  friend Dual operator*(double a, const Dual& b) { return b * a; }
+  friend Dual operator/(const Dual& a, double b) { return a * (1.0 / b); }
   friend Dual operator/(const Dual& a, const Dual& b) {
     const double inv = 1.0 / b.v;
     Dual r(a.v * inv);

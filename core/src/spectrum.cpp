@@ -84,12 +84,9 @@ std::complex<double> acceleration_spectrum(const SevenSegmentLaw& law, double om
   return seven_segment_spectrum(law.durations(), law.stroke(), omega);
 }
 
-SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke, double omega) {
-  SpectrumPowerGradient out{};
-  if (omega == 0.0) {
-    out.gradient.fill(0.0);
-    return out;
-  }
+SpectrumGradient spectrum_gradient(const Durations& d, double stroke, double omega) {
+  SpectrumGradient out{};
+  if (omega == 0.0) return out;
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
   const auto lv = plateau_levels(dd, Dual7(stroke));
@@ -104,7 +101,7 @@ SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
   }
   const double scale = -1.0 / (omega * omega);
   std::complex<double> X(0.0);
-  std::array<std::complex<double>, kSegments> dX{};
+  auto& dX = out.dX;
   // dE_k/d dT_i = -j omega E_k for every switch time t_k that includes dT_i (k > i).
   std::array<std::complex<double>, kSegments + 1> dE;
   for (std::size_t k = 0; k <= kSegments; ++k) dE[k] = {omega * E[k].imag(), -omega * E[k].real()};
@@ -119,11 +116,18 @@ SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
       dX[i] += J[r].d[i] * diff + J[r].v * d_diff;
     }
   }
-  X *= scale;
-  out.X = X;
-  out.power = std::norm(X);
+  out.X = X * scale;
+  for (auto& g : dX) g *= scale;
+  return out;
+}
+
+SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke, double omega) {
+  const SpectrumGradient sg = spectrum_gradient(d, stroke, omega);
+  SpectrumPowerGradient out{};
+  out.X = sg.X;
+  out.power = std::norm(sg.X);
   for (std::size_t i = 0; i < kSegments; ++i) {
-    out.gradient[i] = 2.0 * scale * (X.real() * dX[i].real() + X.imag() * dX[i].imag());
+    out.gradient[i] = 2.0 * (sg.X.real() * sg.dX[i].real() + sg.X.imag() * sg.dX[i].imag());
   }
   return out;
 }

@@ -36,6 +36,14 @@ struct SpectrumPowerGradient {
 [[nodiscard]] SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
                                                             double omega);
 
+/// X_a(omega) and its exact derivatives dX/d dT_i (same method and accuracy as
+/// spectrum_power_gradient; the notch strategy constrains Re X and Im X separately).
+struct SpectrumGradient {
+  std::complex<double> X;                              ///< X_a(omega) [m/s]
+  std::array<std::complex<double>, kSegments> dX{};  ///< dX / d dT_i [m/s^2]
+};
+[[nodiscard]] SpectrumGradient spectrum_gradient(const Durations& d, double stroke, double omega);
+
 /// X_a(omega) of any piecewise law by composite 8-point Gauss-Legendre quadrature, with enough
 /// sub-intervals that every one spans less than one radian of the integrand's oscillation
 /// (relative error near machine precision).

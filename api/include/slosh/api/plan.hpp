@@ -1,0 +1,40 @@
+#pragma once
+// POST /v1/plans and `slosh plan`: a format + strategy + options -> the plan of SPEC §6-§7.
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/core/planner.hpp"
+
+namespace slosh::api {
+
+/// A validated plan request.
+struct PlanRequest {
+  Format format;
+  Strategy strategy{Strategy::kAuto};
+  PlanOptions options;
+  /// When set, the response carries time series of the planned law at this period [s].
+  std::optional<double> sample_period;
+};
+
+/// Validates a parsed plan request; throws ApiError(kInvalidValue) naming the field, the value
+/// and the allowed range.
+[[nodiscard]] PlanRequest parse_plan_request(const nlohmann::json& body);
+
+/// The recipe key: hex SHA-256 (first 32 digits) of the canonical JSON of the normalised request
+/// (SI values of the format and every option with its default filled in; names, units, field
+/// order and the time budget do not enter). Identical recipes share one key.
+[[nodiscard]] std::string recipe_key(const PlanRequest& request);
+
+/// The canonical JSON the key is computed from.
+[[nodiscard]] nlohmann::json canonical_recipe(const PlanRequest& request);
+
+/// Runs a validated request and renders the plan response of SPEC §7.
+[[nodiscard]] nlohmann::json run_plan(const PlanRequest& request);
+
+/// Renders a plan result (used by run_plan and by the service's cache).
+[[nodiscard]] nlohmann::json plan_json(const PlanRequest& request, const PlanResult& result);
+
+}  // namespace slosh::api

@@ -1,0 +1,351 @@
+#include "slosh/api/plan.hpp"
+
+#include <openssl/evp.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/simulate.hpp"
+#include "slosh/core/spectrum.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+/// Version of the planner's numerics; part of every recipe key, bumped when results change.
+constexpr const char* kPlannerVersion = "plan-v1";
+/// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
+constexpr double kSpectrumMaxF1 = 5.0;
+constexpr int kSpectrumPoints = 512;
+
+const Range kPNotch{0.0, 1.0, "", true, true};
+const Range kWeight{0.0, 1e6, ""};
+const Range kBand{0.0, 1.0, "", true, true};
+const Range kTolRel{0.0, 10.0, "", true};
+const Range kEtaMm{0.0, 10000.0, "mm", true};
+const Range kRestTime{0.0, 60.0, "s", true};
+const Range kAMax{0.0, 1000.0, "m/s^2", true};
+const Range kVMax{0.0, 100.0, "m/s", true};
+const Range kJMax{0.0, 1e6, "m/s^3", true};
+const Range kTimeLimit{0.0, 600.0, "s", true};
+constexpr int kMaxBandPoints = 2001;
+
+const char* kStrategies = "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "
+                          "\"time_domain\", \"auto\"";
+
+const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
+  auto it = object.find(key);
+  return it == object.end() || it->is_null() ? nullptr : &*it;
+}
+
+template <std::size_t N>
+std::array<double, N> number_array(const nlohmann::json& object, const std::string& path,
+                                   std::string_view key, const Range& range,
+                                   std::array<double, N> fallback) {
+  const nlohmann::json* value = member(object, key);
+  if (value == nullptr) return fallback;
+  const std::string field = join_path(path, key);
+  if (!value->is_array() || value->size() != N) {
+    invalid(field, field + " must be an array of " + std::to_string(N) + " numbers, got " +
+                       show(*value));
+  }
+  std::array<double, N> out{};
+  for (std::size_t i = 0; i < N; ++i) {
+    out[i] = checked_number(&(*value)[i], field + "[" + std::to_string(i) + "]", range);
+  }
+  return out;
+}
+
+std::string choice(const nlohmann::json& object, const std::string& path, std::string_view key,
+                   const std::vector<std::string>& allowed, const std::string& fallback) {
+  const nlohmann::json* value = member(object, key);
+  if (value == nullptr) return fallback;
+  if (value->is_string()) {
+    const auto text = value->get<std::string>();
+    for (const auto& a : allowed) {
+      if (a == text) return text;
+    }
+  }
+  std::string list;
+  for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
+  const std::string field = join_path(path, key);
+  invalid(field, field + " = " + show(*value) + " is not allowed: one of " + list);
+}
+
+void parse_limits(const nlohmann::json& options, MachineLimits& limits) {
+  const nlohmann::json* value = member(options, "limits");
+  if (value == nullptr) return;
+  require_object(*value, "options.limits");
+  reject_unknown_fields(*value, "options.limits", {"a_max", "v_max", "j_max"});
+  auto one = [&](std::string_view key, const Range& range) -> std::optional<double> {
+    const nlohmann::json* v = member(*value, key);
+    if (v == nullptr) return std::nullopt;
+    return checked_number(v, join_path("options.limits", key), range);
+  };
+  limits.a_max = one("a_max", kAMax);
+  limits.v_max = one("v_max", kVMax);
+  limits.j_max = one("j_max", kJMax);
+}
+
+nlohmann::json peaks_json(const SloshPeaks& p) {
+  return {{"eta_motion_mm", p.motion.value * 1e3},
+          {"eta_rest_mm", p.rest.value * 1e3},
+          {"t_motion_s", p.motion.time},
+          {"t_rest_s", p.rest.time}};
+}
+
+nlohmann::json prediction(const LawPrediction& p) {
+  return {{"nonlinear", peaks_json(p.nonlinear)}, {"linear", peaks_json(p.linear)}};
+}
+
+double reduction(double baseline, double value) {
+  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
+}
+
+std::string to_hex(const unsigned char* data, std::size_t n) {
+  static const char* digits = "0123456789abcdef";
+  std::string out;
+  for (std::size_t i = 0; i < n; ++i) {
+    out += digits[data[i] >> 4];
+    out += digits[data[i] & 15];
+  }
+  return out;
+}
+
+}  // namespace
+
+PlanRequest parse_plan_request(const nlohmann::json& body) {
+  require_object(body, "");
+  reject_unknown_fields(body, "", {"format", "strategy", "options", "sample_period_s"});
+  PlanRequest r;
+  if (!body.contains("format")) {
+    invalid("format",
+            "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\", "
+            "\"motion_time_s\"}");
+  }
+  r.format = parse_format(body["format"], "format");
+  if (const nlohmann::json* s = member(body, "strategy")) {
+    std::optional<Strategy> strategy;
+    if (s->is_string()) strategy = parse_strategy(s->get<std::string>());
+    if (!strategy) {
+      invalid("strategy", "strategy = " + show(*s) + " is not allowed: one of " + kStrategies);
+    }
+    r.strategy = *strategy;
+  }
+
+  nlohmann::json options = body.value("options", nlohmann::json::object());
+  if (options.is_null()) options = nlohmann::json::object();
+  require_object(options, "options");
+  reject_unknown_fields(
+      options, "options",
+      {"p_notch", "weights", "band", "n_band", "tol_rel", "eta_rest_max_mm", "eta_motion_max_mm",
+       "objective", "rest_time_s", "min_ramp_s", "fix_constant_velocity_zero", "plateau_min_s",
+       "limits", "damping", "alpha", "modes", "solver", "time_limit_s"});
+  PlanOptions& o = r.options;
+  const double T = r.format.motion_time;
+  parse_model_options(options, "options", o.model);
+  o.p_notch = optional_number(options, "options", "p_notch", kPNotch, o.p_notch);
+  o.weights = number_array<3>(options, "options", "weights", kWeight, o.weights);
+  if (o.weights[0] + o.weights[1] + o.weights[2] <= 0.0) {
+    invalid("options.weights", "options.weights = [0, 0, 0]: at least one weight must be > 0");
+  }
+  o.band = optional_number(options, "options", "band", kBand, o.band);
+  o.n_band = optional_integer(options, "options", "n_band", 1, kMaxBandPoints, o.n_band);
+  o.tol_rel = optional_number(options, "options", "tol_rel", kTolRel, o.tol_rel);
+  o.eta_rest_max =
+      optional_number(options, "options", "eta_rest_max_mm", kEtaMm, o.eta_rest_max * 1e3) * 1e-3;
+  if (const nlohmann::json* v = member(options, "eta_motion_max_mm")) {
+    o.eta_motion_max = checked_number(v, "options.eta_motion_max_mm", kEtaMm) * 1e-3;
+  }
+  o.objective = choice(options, "options", "objective", {"motion", "rest"}, "motion") == "rest"
+                    ? TimeDomainObjective::kRest
+                    : TimeDomainObjective::kMotion;
+  o.rest_time = optional_number(options, "options", "rest_time_s", kRestTime, o.rest_time);
+  const Range min_ramp{ranges::kMinRampS.lo, T / 4.0, "s"};
+  try {
+    o.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp, o.min_ramp);
+  } catch (const ApiError& e) {
+    invalid(e.field(), std::string(e.what()) +
+                           " (the upper bound is format.motion_time_s / 4: four ramps must fit)");
+  }
+  o.fix_constant_velocity_zero = optional_bool(options, "options", "fix_constant_velocity_zero",
+                                               o.fix_constant_velocity_zero);
+  o.plateau_min = number_array<2>(options, "options", "plateau_min_s", Range{0.0, T, "s"},
+                                  o.plateau_min);
+  parse_limits(options, o.limits);
+  const std::string solver =
+      choice(options, "options", "solver", {"auto", "nlopt", "ipopt"}, "auto");
+  o.solver = solver == "nlopt"   ? SolverChoice::kNlopt
+             : solver == "ipopt" ? SolverChoice::kIpopt
+                                 : SolverChoice::kAuto;
+  o.time_limit = optional_number(options, "options", "time_limit_s", kTimeLimit, o.time_limit);
+  // Relations between options (e.g. ramps + plateau minimums longer than T).
+  std::string error;
+  if (!o.is_valid(r.format, &error)) invalid("options", "options." + error);
+
+  if (const nlohmann::json* v = member(body, "sample_period_s")) {
+    const double dt = checked_number(v, "sample_period_s", ranges::kSamplePeriodS);
+    const double span = T + o.rest_time;
+    const auto samples = static_cast<long long>(std::floor(span / dt + 1e-9)) + 1;
+    if (samples > ranges::kMaxSeriesSamples) {
+      invalid("sample_period_s",
+              "sample_period_s = " + number_text(dt) + " s gives " + std::to_string(samples) +
+                  " samples; at most " + std::to_string(ranges::kMaxSeriesSamples) +
+                  " are returned: use >= " +
+                  number_text(span / (ranges::kMaxSeriesSamples - 1)) + " s");
+    }
+    r.sample_period = dt;
+  }
+  return r;
+}
+
+nlohmann::json canonical_recipe(const PlanRequest& r) {
+  const Format& f = r.format;
+  const PlanOptions& o = r.options;
+  auto optional = [](const std::optional<double>& v) {
+    return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
+  };
+  nlohmann::json damping = to_string(o.model.damping);
+  if (o.model.damping == DampingCorrelation::kExplicit) damping = o.model.explicit_zeta;
+  return {{"version", kPlannerVersion},
+          {"format",
+           {{"radius_m", f.container.radius},
+            {"height_m", optional(f.container.height)},
+            {"fill_height_m", f.fill_height},
+            {"density_kg_m3", f.fluid.density},
+            {"viscosity_pa_s", f.fluid.viscosity},
+            {"stroke_m", f.stroke},
+            {"motion_time_s", f.motion_time}}},
+          {"strategy", to_string(r.strategy)},
+          {"options",
+           {{"p_notch", o.p_notch},
+            {"weights", o.weights},
+            {"band", o.band},
+            {"n_band", o.n_band},
+            {"tol_rel", o.tol_rel},
+            {"eta_rest_max_m", o.eta_rest_max},
+            {"eta_motion_max_m", optional(o.eta_motion_max)},
+            {"objective", o.objective == TimeDomainObjective::kRest ? "rest" : "motion"},
+            {"rest_time_s", o.rest_time},
+            {"min_ramp_s", o.min_ramp},
+            {"fix_constant_velocity_zero", o.fix_constant_velocity_zero},
+            {"plateau_min_s", o.plateau_min},
+            {"a_max", optional(o.limits.a_max)},
+            {"v_max", optional(o.limits.v_max)},
+            {"j_max", optional(o.limits.j_max)},
+            {"damping", damping},
+            {"alpha", o.model.alpha},
+            {"modes", o.model.modes},
+            {"solver", to_string(o.solver)}}}};
+}
+
+std::string recipe_key(const PlanRequest& request) {
+  const std::string text = canonical_recipe(request).dump();
+  unsigned char digest[EVP_MAX_MD_SIZE];
+  unsigned int length = 0;
+  if (EVP_Digest(text.data(), text.size(), digest, &length, EVP_sha256(), nullptr) != 1) {
+    throw std::runtime_error("SHA-256 of the recipe failed");
+  }
+  return to_hex(digest, 16);
+}
+
+nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
+  const Format& f = request.format;
+  const double T = f.motion_time;
+  const SevenSegmentLaw law(r.durations, f.stroke);
+  nlohmann::json pct = nlohmann::json::array();
+  for (double d : r.durations) pct.push_back(100.0 * d / T);
+  double j_peak = 0.0;
+  for (double j : law.jerks()) j_peak = std::max(j_peak, std::abs(j));
+
+  // Amplitude spectrum |X_a| of the plan and of the uniform law, 0 .. 5 f1.
+  const double f1 = r.model.omega1() / (2.0 * std::numbers::pi);
+  const Durations uniform = uniform_durations(T);
+  std::vector<double> f_hz(kSpectrumPoints), amp(kSpectrumPoints), amp_base(kSpectrumPoints);
+  for (int k = 0; k < kSpectrumPoints; ++k) {
+    const double fk = kSpectrumMaxF1 * f1 * k / (kSpectrumPoints - 1);
+    const double w = 2.0 * std::numbers::pi * fk;
+    f_hz[k] = fk;
+    amp[k] = std::abs(seven_segment_spectrum(r.durations, f.stroke, w));
+    amp_base[k] = std::abs(seven_segment_spectrum(uniform, f.stroke, w));
+  }
+  nlohmann::json f_modes = nlohmann::json::array();
+  for (double w : r.model.omega) f_modes.push_back(w / (2.0 * std::numbers::pi));
+  nlohmann::json markers{{"f1_hz", f1},
+                         {"band_hz",
+                          {r.band_omega[0] / (2.0 * std::numbers::pi),
+                           r.band_omega[1] / (2.0 * std::numbers::pi)}},
+                         {"f_modes_hz", f_modes}};
+  if (r.strategy == Strategy::kMultiNotch) {
+    const double p = request.options.p_notch;
+    markers["notch_hz"] = {(1.0 - p) * f1, f1, (1.0 + p) * f1};
+  }
+
+  nlohmann::json out;
+  out["key"] = recipe_key(request);
+  out["cached"] = false;
+  out["strategy"] = to_string(r.strategy);
+  out["status"] = to_string(r.status);
+  out["message"] = r.message;
+  out["durations_s"] = r.durations;
+  out["durations_pct"] = pct;
+  out["switch_times_s"] = law.switch_times();
+  out["kinematics"] = {{"a_max", r.A},     {"a_min", r.B}, {"v_peak", law.v_peak()},
+                       {"j_peak", j_peak}, {"jerks_m_s3", law.jerks()}};
+  out["model"] = model_json(r.model, request.options.model);
+  out["prediction"] = prediction(r.prediction);
+  out["baseline"] = prediction(r.baseline);
+  out["baseline"]["durations_s"] = uniform;
+  out["reduction_pct"] = {
+      {"motion", reduction(r.baseline.nonlinear.motion.value, r.prediction.nonlinear.motion.value)},
+      {"rest", reduction(r.baseline.nonlinear.rest.value, r.prediction.nonlinear.rest.value)},
+      {"linear",
+       {{"motion", reduction(r.baseline.linear.motion.value, r.prediction.linear.motion.value)},
+        {"rest", reduction(r.baseline.linear.rest.value, r.prediction.linear.rest.value)}}}};
+  out["spectrum"] = {{"f_hz", f_hz},
+                     {"amplitude", amp},
+                     {"baseline_amplitude", amp_base},
+                     {"units", {{"f_hz", "Hz"}, {"amplitude", "m/s (|X_a|)"}}},
+                     {"markers", markers}};
+  out["solver"] = {{"name", r.solver.name},
+                   {"iterations", r.solver.iterations},
+                   {"starts", r.solver.starts},
+                   {"objective", r.solver.objective},
+                   {"solve_ms", r.solver.solve_ms}};
+  if (!r.candidates.empty()) {
+    nlohmann::json list = nlohmann::json::array();
+    for (const PlanCandidate& c : r.candidates) {
+      list.push_back({{"strategy", to_string(c.strategy)},
+                      {"status", to_string(c.status)},
+                      {"durations_s", c.durations},
+                      {"prediction", prediction(c.prediction)},
+                      {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
+                                          c.prediction.kinematics.a_peak_negative)},
+                      {"chosen", c.chosen}});
+    }
+    out["candidates"] = list;
+  }
+  out["format"] = format_json(f);
+  out["rest_time_s"] = request.options.rest_time;
+  out["warnings"] = r.warnings;
+  if (request.sample_period) {
+    SimulateRequest s;
+    s.format = f;
+    s.law_type = LawType::kSevenSegment;
+    s.durations = r.durations;
+    s.options.model = request.options.model;
+    s.options.rest_time = request.options.rest_time;
+    s.options.sample_period = request.sample_period;
+    out["series"] = run_simulate(s)["series"];
+  }
+  return out;
+}
+
+nlohmann::json run_plan(const PlanRequest& request) {
+  return plan_json(request, plan(request.format, request.strategy, request.options));
+}
+
+}  // namespace slosh::api

@@ -1,0 +1,152 @@
+#pragma once
+// The planner: a format, a strategy and options in, the optimised 7-segment law with its verified
+// sloshing predictions out (SPEC §5-§6). Pure numerics: no JSON, no logging.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "slosh/core/format.hpp"
+#include "slosh/core/nlp_solver.hpp"
+#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/simulation.hpp"
+#include "slosh/core/sloshing_model.hpp"
+
+namespace slosh {
+
+/// What the caller optimises (SPEC §5).
+enum class Strategy {
+  kBaseline,     ///< uniform durations T/7, no optimisation
+  kNotch,        ///< |X(w1)|^2 -> 0; among the zeros, the least jerk integral
+  kMultiNotch,   ///< b1 |X(w-)|^2 + b2 |X(w1)|^2 + b3 |X(w+)|^2, w+- = (1 +- p) w1
+  kMinJerkBand,  ///< min int j^2 dt s.t. |X(w_k)| <= tol_rel |X_uniform(w1)| on a band around w1
+  kTimeDomain,   ///< min eta_motion (or eta_rest) of the nonlinear model, constraint on the other
+  kAuto,         ///< run the others, verify each, pick by SPEC §5's rule
+};
+
+[[nodiscard]] std::string to_string(Strategy strategy);
+/// Strategy from its API name ("baseline", "notch", ...); nullopt when unknown.
+[[nodiscard]] std::optional<Strategy> parse_strategy(std::string_view name);
+
+/// Objective of the time-domain strategy.
+enum class TimeDomainObjective {
+  kMotion,  ///< minimise eta_motion subject to eta_rest <= eta_rest_max (thesis sec. 3.4.3)
+  kRest,    ///< minimise eta_rest subject to eta_motion <= eta_motion_max
+};
+
+/// Which NLP solver runs a strategy.
+enum class SolverChoice {
+  kAuto,   ///< the measured best per strategy (NLopt SLSQP everywhere, see planner.cpp)
+  kNlopt,  ///< NLopt SLSQP
+  kIpopt,  ///< Ipopt, interior point with limited-memory BFGS
+};
+
+[[nodiscard]] std::string to_string(SolverChoice solver);
+
+/// Machine limits; an unset limit is not enforced.
+struct MachineLimits {
+  std::optional<double> a_max;  ///< peak |acceleration| = max(A, B) [m/s^2]
+  std::optional<double> v_max;  ///< peak velocity [m/s]
+  std::optional<double> j_max;  ///< peak |jerk| over the four ramps [m/s^3]
+};
+
+/// Options of plan(). Defaults are the thesis' settings (SPEC §5).
+struct PlanOptions {
+  /// Sloshing model: modes of the linear model, damping correlation, alpha.
+  ModelOptions model;
+  /// Relative offset p of the side notches of multi_notch, w+- = (1 +- p) w1 [-]. Default 0.15.
+  double p_notch{0.15};
+  /// Weights b1, b2, b3 of multi_notch on |X(w-)|^2, |X(w1)|^2, |X(w+)|^2 [-]. Default 1, 1, 1.
+  std::array<double, 3> weights{1.0, 1.0, 1.0};
+  /// Half width of the min_jerk_band band relative to w1 [-]: [(1 - band) w1, (1 + band) w1].
+  /// Default 0.15.
+  double band{0.15};
+  /// Number of evenly spaced band frequencies the min_jerk_band constraint starts from [-]. The
+  /// planner adds points where a 16x finer check finds the band exceeded. Default 51.
+  int n_band{51};
+  /// Band tolerance relative to the uniform law's |X(w1)| [-]. Default 0.2.
+  double tol_rel{0.2};
+  /// Largest eta_rest of time_domain with objective kMotion [m]. Default 3 mm.
+  double eta_rest_max{0.003};
+  /// Largest eta_motion of time_domain with objective kRest [m]. Default: the uniform law's
+  /// nonlinear eta_motion (never slosh more during the move than the baseline).
+  std::optional<double> eta_motion_max;
+  /// Objective of time_domain. Default kMotion.
+  TimeDomainObjective objective{TimeDomainObjective::kMotion};
+  /// Rest window after the motion [s]. Default 1 s.
+  double rest_time{kDefaultRestTime};
+  /// Minimum duration of the ramps 1, 3, 5, 7 [s]. Default 0.05 s.
+  double min_ramp{kDefaultMinRamp};
+  /// Force the constant-velocity segment 4 to zero (thesis campaign). Default false.
+  bool fix_constant_velocity_zero{false};
+  /// Lower bounds on the plateau durations dT2 and dT6 [s]. Default 0, 0.
+  std::array<double, 2> plateau_min{0.0, 0.0};
+  /// Machine limits. Default none.
+  MachineLimits limits;
+  /// Solver. Default kAuto.
+  SolverChoice solver{SolverChoice::kAuto};
+  /// Wall-clock budget of the whole plan [s]. When it runs out the best admissible point found so
+  /// far is returned with status kTimeLimit. Default 5 s.
+  double time_limit{5.0};
+
+  /// Checks the options against the format; on failure writes a message naming the option, its
+  /// value and the allowed range, and returns false.
+  [[nodiscard]] bool is_valid(const Format& format, std::string* error) const;
+};
+
+/// Solver figures of a plan.
+struct SolverReport {
+  std::string name;      ///< "nlopt-slsqp", "ipopt" or "none"
+  int iterations{};      ///< objective evaluations over all starts and phases
+  int starts{};          ///< starts solved
+  double objective{};    ///< objective of the returned point, in the strategy's scaled units
+  double solve_ms{};     ///< wall-clock time of the optimisation [ms]
+};
+
+/// Verified predictions of one law (dense accurate simulation, SPEC §2).
+struct LawPrediction {
+  SloshPeaks linear;
+  SloshPeaks nonlinear;
+  KinematicSummary kinematics;
+};
+
+/// One strategy's result inside an `auto` plan.
+struct PlanCandidate {
+  Strategy strategy{};
+  SolveStatus status{};
+  Durations durations{};
+  LawPrediction prediction;
+  bool chosen{false};
+};
+
+/// Everything plan() returns. The durations are always admissible (SPEC §3).
+struct PlanResult {
+  Strategy strategy{};  ///< the requested strategy
+  SolveStatus status{SolveStatus::kFailed};
+  /// One or two sentences a line engineer can act on.
+  std::string message;
+  Durations durations{};
+  double A{};       ///< positive plateau [m/s^2]
+  double B{};       ///< negative plateau magnitude [m/s^2]
+  SloshingModel model;
+  LawPrediction prediction;  ///< of the returned law
+  LawPrediction baseline;    ///< of the uniform law
+  /// The band of min_jerk_band (also reported for the other strategies as w1 +- band) [rad/s].
+  std::array<double, 2> band_omega{};
+  SolverReport solver;
+  std::vector<std::string> warnings;
+  std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
+
+  /// True when the durations can be run: optimal, acceptable, or time-limited (best admissible).
+  [[nodiscard]] bool usable() const {
+    return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
+           status == SolveStatus::kTimeLimit;
+  }
+};
+
+/// Plans a law for `format`. The format and options are assumed valid (PlanOptions::is_valid).
+[[nodiscard]] PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options);
+
+}  // namespace slosh

@@ -1,0 +1,69 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include "strategies.hpp"
+
+namespace slosh::detail {
+
+namespace {
+
+// Measured on the thesis format (bench_core, BM_Strategy_*): on these small dense problems
+// (7-8 variables, up to ~80 constraints) NLopt's SLSQP converges in 10-40 evaluations per start
+// and 20-80 us, while Ipopt with an L-BFGS Hessian needs 3-10x more evaluations and pays ~1 ms of
+// set-up per solve. SLSQP is therefore the default of every strategy; Ipopt stays selectable
+// ("solver": "ipopt") and is tested on the same problems.
+SolverChoice effective(const StrategyContext& c) {
+  return c.options.solver == SolverChoice::kIpopt ? SolverChoice::kIpopt : SolverChoice::kNlopt;
+}
+
+}  // namespace
+
+std::string solver_name(const StrategyContext& context) {
+  return effective(context) == SolverChoice::kIpopt ? "ipopt" : "nlopt-slsqp";
+}
+
+std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts) {
+  std::vector<std::vector<double>> out;
+  out.reserve(starts.size());
+  for (const auto& d : starts) out.emplace_back(d.begin(), d.end());
+  return out;
+}
+
+MultiStartResult multi_start(const NlpProblem& problem,
+                             const std::vector<std::vector<double>>& starts,
+                             const StrategyContext& context, const NlpOptions& options) {
+  MultiStartResult out;
+  const double feasible_tol = 10.0 * options.constraint_tolerance;
+  bool have = false;
+  for (const auto& x0 : starts) {
+    const double remaining = context.deadline.remaining();
+    if (remaining <= 0.0) {
+      out.timed_out = true;
+      break;
+    }
+    NlpOptions o = options;
+    o.time_limit = remaining;
+    NlpResult r = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)
+                                                               : solve_with_nlopt(problem, x0, o);
+    ++out.starts;
+    out.evaluations += r.evaluations;
+    if (r.status == SolveStatus::kTimeLimit) out.timed_out = true;
+    if (!std::isfinite(r.objective)) continue;
+    const bool feasible = r.max_violation <= feasible_tol;
+    const bool better =
+        !have || (feasible && !out.feasible) ||
+        (feasible == out.feasible &&
+         (feasible ? r.objective < out.best.objective : r.max_violation < out.best.max_violation));
+    if (better) {
+      out.best = std::move(r);
+      out.feasible = feasible;
+      have = true;
+    }
+    if (out.timed_out) break;
+  }
+  if (!have) out.best.status = out.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+  return out;
+}
+
+}  // namespace slosh::detail

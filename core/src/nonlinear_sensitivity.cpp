@@ -1,0 +1,195 @@
+#include "nonlinear_sensitivity.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace slosh::detail {
+
+namespace {
+
+// xbar'' of eq. 2.35 (the same expression as nonlinear_acceleration, any scalar type).
+template <typename S>
+S rhs(const SloshingModel& m, const S& x, const S& v, const S& a) {
+  const double w = m.omega1();
+  const double c2 = m.C * m.C;
+  const S c2x2 = c2 * x * x;
+  const S num = 2.0 * w * m.zeta * v * (1.0 + c2x2) + c2 * x * v * v +
+                w * w * x * (1.0 + m.alpha * x * x) + a / m.radius;
+  return -num / (1.0 + c2x2);
+}
+
+// Cubic Hermite of x on one interval at theta in [0, 1], any scalar type.
+template <typename S>
+S hermite(const S& x0, const S& v0, const S& x1, const S& v1, const S& H, const S& s) {
+  const S one(1.0);
+  const S h00 = (one + 2.0 * s) * (one - s) * (one - s);
+  const S h10 = s * (one - s) * (one - s);
+  const S h01 = s * s * (3.0 - 2.0 * s);
+  const S h11 = s * s * (s - one);
+  return h00 * x0 + h10 * H * v0 + h01 * x1 + h11 * H * v1;
+}
+
+}  // namespace
+
+NonlinearSensitivity::NonlinearSensitivity(const SloshingModel& model, double stroke,
+                                           double rest_time, const NonlinearOptions& options)
+    : model_(model), stroke_(stroke), rest_time_(rest_time) {
+  const double period = 2.0 * std::numbers::pi / model.omega1();
+  h_max_ = std::min(options.max_step, period / options.steps_per_period);
+}
+
+void NonlinearSensitivity::compute(const double* d) {
+  std::array<Dual7, kSegments> dd;
+  for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
+  const auto lv = plateau_levels(dd, Dual7(stroke_));
+  tv_.clear();
+  t_.clear();
+  x_.clear();
+  v_.clear();
+  Dual7 t(0.0), x(0.0), v(0.0);
+  tv_.push_back(0.0);
+  t_.push_back(t);
+  x_.push_back(x);
+  v_.push_back(v);
+  // Acceleration on segment k at the fraction f of it: ramps interpolate linearly (exact for the
+  // constant-jerk law), plateaus hold A or -B.
+  auto accel = [&](std::size_t k, double f) -> Dual7 {
+    switch (k) {
+      case 0:
+        return lv.A * f;
+      case 1:
+        return lv.A;
+      case 2:
+        return lv.A * (1.0 - f);
+      case 4:
+        return -(lv.B * f);
+      case 5:
+        return -lv.B;
+      case 6:
+        return -(lv.B * (1.0 - f));
+      default:
+        return Dual7(0.0);
+    }
+  };
+  auto step = [&](const Dual7& h, const Dual7& a0, const Dual7& a_mid, const Dual7& a1) {
+    const Dual7 half_h = 0.5 * h;
+    const Dual7 k1x = v;
+    const Dual7 k1v = rhs(model_, x, v, a0);
+    const Dual7 k2x = v + half_h * k1v;
+    const Dual7 k2v = rhs(model_, x + half_h * k1x, k2x, a_mid);
+    const Dual7 k3x = v + half_h * k2v;
+    const Dual7 k3v = rhs(model_, x + half_h * k2x, k3x, a_mid);
+    const Dual7 k4x = v + h * k3v;
+    const Dual7 k4v = rhs(model_, x + h * k3x, k4x, a1);
+    const Dual7 sixth_h = h * (1.0 / 6.0);
+    x = x + sixth_h * (k1x + 2.0 * (k2x + k3x) + k4x);
+    v = v + sixth_h * (k1v + 2.0 * (k2v + k3v) + k4v);
+  };
+  for (std::size_t k = 0; k < kSegments; ++k) {
+    // A segment of zero length still takes one (empty) step so that its derivatives (the flow
+    // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
+    const auto n = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(d[k] / h_max_)));
+    const Dual7 h = dd[k] * (1.0 / static_cast<double>(n));
+    const Dual7 t_begin = t;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double f0 = static_cast<double>(j) / static_cast<double>(n);
+      const double fm = (static_cast<double>(j) + 0.5) / static_cast<double>(n);
+      const double f1 = static_cast<double>(j + 1) / static_cast<double>(n);
+      step(h, accel(k, f0), accel(k, fm), accel(k, f1));
+      t = j + 1 == n ? t_begin + dd[k] : t_begin + h * static_cast<double>(j + 1);
+      tv_.push_back(t.v);
+      t_.push_back(t);
+      x_.push_back(x);
+      v_.push_back(v);
+    }
+  }
+  motion_time_ = t.v;
+  const auto n_rest = static_cast<std::size_t>(std::ceil(rest_time_ / h_max_));
+  const double h_rest = rest_time_ / static_cast<double>(n_rest);
+  const Dual7 t_end = t;
+  for (std::size_t j = 0; j < n_rest; ++j) {
+    step(Dual7(h_rest), Dual7(0.0), Dual7(0.0), Dual7(0.0));
+    t = j + 1 == n_rest ? t_end + rest_time_ : t_end + h_rest * static_cast<double>(j + 1);
+    tv_.push_back(t.v);
+    t_.push_back(t);
+    x_.push_back(x);
+    v_.push_back(v);
+  }
+}
+
+void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<double>* values,
+                                      std::vector<std::array<double, kSegments>>* gradients) const {
+  values->resize(t.size());
+  if (gradients != nullptr) gradients->resize(t.size());
+  std::size_t i = 0;
+  for (std::size_t k = 0; k < t.size(); ++k) {
+    const double tk = std::clamp(t[k], tv_.front(), tv_.back());
+    while (i + 2 < tv_.size() && (tv_[i + 1] < tk || tv_[i + 1] <= tv_[i])) ++i;
+    const Dual7 H = t_[i + 1] - t_[i];
+    const Dual7 s = H.v > 0.0 ? (Dual7(tk) - t_[i]) / H : Dual7(1.0);
+    Dual7 xs = hermite(x_[i], v_[i], x_[i + 1], v_[i + 1], H, s);
+    if (xs.v < 0.0) xs = -xs;
+    (*values)[k] = model_.K * xs.v;
+    if (gradients != nullptr) {
+      for (std::size_t j = 0; j < kSegments; ++j) (*gradients)[k][j] = model_.K * xs.d[j];
+    }
+  }
+}
+
+WindowPeak NonlinearSensitivity::window_peak(double t_begin, double t_end) const {
+  t_begin = std::max(t_begin, tv_.front());
+  t_end = std::min(t_end, tv_.back());
+  // First interval holding t_begin.
+  auto it = std::upper_bound(tv_.begin(), tv_.end(), t_begin);
+  std::size_t i = it == tv_.begin() ? 0 : static_cast<std::size_t>(it - tv_.begin()) - 1;
+  double best = -1.0;
+  double best_time = t_begin;
+  std::size_t best_interval = i;
+  for (; i + 1 < tv_.size() && tv_[i] <= t_end; ++i) {
+    const double H = tv_[i + 1] - tv_[i];
+    if (H <= 0.0) continue;
+    const double s_lo = std::max(0.0, (t_begin - tv_[i]) / H);
+    const double s_hi = std::min(1.0, (t_end - tv_[i]) / H);
+    if (s_lo > s_hi) continue;
+    const double x0 = x_[i].v, v0 = H * v_[i].v, x1 = x_[i + 1].v, v1 = H * v_[i + 1].v;
+    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3; candidates: the ends and the roots of p'.
+    const double c1 = v0;
+    const double c2 = -3.0 * x0 - 2.0 * v0 + 3.0 * x1 - v1;
+    const double c3 = 2.0 * x0 + v0 - 2.0 * x1 + v1;
+    auto value = [&](double s) { return std::abs(x0 + s * (c1 + s * (c2 + s * c3))); };
+    std::array<double, 4> cand{s_lo, s_hi, -1.0, -1.0};
+    const double qa = 3.0 * c3, qb = 2.0 * c2, qc = c1;
+    if (std::abs(qa) > 1e-300) {
+      const double disc = qb * qb - 4.0 * qa * qc;
+      if (disc >= 0.0) {
+        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
+        cand[2] = q / qa;
+        if (q != 0.0) cand[3] = qc / q;
+      }
+    } else if (std::abs(qb) > 1e-300) {
+      cand[2] = -qc / qb;
+    }
+    for (double s : cand) {
+      if (s < s_lo || s > s_hi) continue;
+      const double val = value(s);
+      if (val > best) {
+        best = val;
+        best_time = tv_[i] + s * H;
+        best_interval = i;
+      }
+    }
+  }
+  WindowPeak out;
+  const std::size_t j = best_interval;
+  const Dual7 H = t_[j + 1] - t_[j];
+  const Dual7 s = (Dual7(best_time) - t_[j]) / H;
+  Dual7 xs = hermite(x_[j], v_[j], x_[j + 1], v_[j + 1], H, s);
+  if (xs.v < 0.0) xs = -xs;
+  out.value = model_.K * xs.v;
+  out.time = best_time;
+  for (std::size_t k = 0; k < kSegments; ++k) out.gradient[k] = model_.K * xs.d[k];
+  return out;
+}
+
+}  // namespace slosh::detail

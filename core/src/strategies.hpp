@@ -1,0 +1,89 @@
+#pragma once
+// The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
+
+#include <chrono>
+#include <string>
+#include <vector>
+
+#include "duration_space.hpp"
+#include "slosh/core/planner.hpp"
+
+namespace slosh::detail {
+
+/// Wall-clock deadline of a plan.
+class Deadline {
+ public:
+  explicit Deadline(double seconds)
+      : end_(std::chrono::steady_clock::now() +
+             std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                 std::chrono::duration<double>(seconds))) {}
+  [[nodiscard]] double remaining() const {
+    return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
+  }
+  [[nodiscard]] bool expired() const { return remaining() <= 0.0; }
+
+ private:
+  std::chrono::steady_clock::time_point end_;
+};
+
+/// What every strategy needs: the problem data, the references its objectives are scaled by, and
+/// the deadline.
+struct StrategyContext {
+  const Format& format;
+  const PlanOptions& options;
+  const SloshingModel& model;
+  DurationSpace space;
+  const Deadline& deadline;
+  double x_ref{};        ///< |X_uniform(w1)| [m/s]
+  double jerk_ref{};     ///< jerk integral of the uniform law [m^2/s^5]
+  double eta_ref{};      ///< nonlinear eta_motion of the uniform law [m]
+  double eta_motion_max{};  ///< time_domain kRest bound [m] (option or eta_ref)
+};
+
+/// Outcome of one strategy, before verification.
+struct StrategyOutcome {
+  SolveStatus status{SolveStatus::kFailed};
+  Durations durations{};
+  double objective{};
+  int evaluations{};
+  int starts{};
+  std::string solver;  ///< solver name for the report
+  std::string detail;  ///< a sentence about the result (notch depth, best reachable value, ...)
+};
+
+/// Best point over several starts: the feasible one with the lowest objective (ties: the earlier
+/// start), or the least infeasible when none is feasible.
+struct MultiStartResult {
+  NlpResult best;
+  bool feasible{false};
+  bool timed_out{false};
+  int evaluations{};
+  int starts{};
+};
+
+[[nodiscard]] MultiStartResult multi_start(const NlpProblem& problem,
+                                           const std::vector<std::vector<double>>& starts,
+                                           const StrategyContext& context,
+                                           const NlpOptions& options);
+
+/// Name of the solver a context uses ("nlopt-slsqp" or "ipopt").
+[[nodiscard]] std::string solver_name(const StrategyContext& context);
+
+[[nodiscard]] StrategyOutcome solve_notch(const StrategyContext& context);
+[[nodiscard]] StrategyOutcome solve_multi_notch(const StrategyContext& context);
+[[nodiscard]] StrategyOutcome solve_min_jerk_band(const StrategyContext& context);
+/// `seeds` are extra starts (the spectral optima), tried after the uniform law.
+[[nodiscard]] StrategyOutcome solve_time_domain(const StrategyContext& context,
+                                                const std::vector<Durations>& seeds);
+
+/// When the machine limits alone cannot be met, a sentence naming the first unreachable limit and
+/// the least value reachable; empty when the limits are jointly reachable.
+[[nodiscard]] std::string explain_limits(const StrategyContext& context);
+
+/// Band frequencies of min_jerk_band [rad/s].
+[[nodiscard]] std::vector<double> band_frequencies(double omega1, double band, int count);
+
+/// Starts as solver vectors.
+[[nodiscard]] std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts);
+
+}  // namespace slosh::detail

@@ -1,0 +1,28 @@
+#pragma once
+// Number formatting for the human messages of the core (internal).
+
+#include <cstdio>
+#include <string>
+
+namespace slosh::detail {
+
+/// v with `digits` decimals ("0.650").
+inline std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+/// v with 3 significant digits ("7.93", "0.0123").
+inline std::string sig3(double v) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+/// A fraction as a percentage with 3 significant digits ("12.5 %").
+inline std::string percent(double fraction) {
+  return sig3(100.0 * fraction) + " %";
+}
+
+}  // namespace slosh::detail
