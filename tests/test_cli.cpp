@@ -160,6 +160,7 @@ TEST(CliBasics, HelpListsTheSubcommands) {
   EXPECT_EQ(r.exit_code, 0) << r.err;
   EXPECT_NE(r.out.find("serve"), std::string::npos) << r.out;
   EXPECT_NE(r.out.find("simulate"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("plan"), std::string::npos) << r.out;
 }
 
 TEST(CliBasics, MissingSubcommandIsInvalidInput) {
@@ -411,6 +412,93 @@ TEST(CliSimulate, SamplePeriodGivesTheSeries) {
   const RunResult plain = simulate_file(thesis_request());
   ASSERT_EQ(plain.exit_code, 0) << plain.err;
   EXPECT_FALSE(parse_or_fail(plain.out).contains("series"));
+}
+
+// ---------------------------------------------------------------------------------------------
+
+/// A plan request on the thesis format.
+json plan_request(const std::string& strategy) {
+  json body = json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5},
+               "fill_height_mm": 82,
+               "fluid": {"density_kg_m3": 1000, "viscosity_pa_s": 0.001},
+               "stroke_mm": 800, "motion_time_s": 1.0}
+  })");
+  body["strategy"] = strategy;
+  return body;
+}
+
+RunResult plan_file(const json& body) {
+  const TempDir dir;
+  write_file(dir / "request.json", body.dump());
+  return run_slosh({"plan", "--request", (dir / "request.json").string()});
+}
+
+TEST(CliPlan, PredictionsAreThoseOfSimulatingThePlannedLaw) {
+  const RunResult r = plan_file(plan_request("min_jerk_band"));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_TRUE(r.err.empty()) << r.err;
+  const json out = parse_or_fail(r.out);
+  ASSERT_EQ(out["status"], "optimal") << out["message"];
+  // `slosh simulate` on the returned durations and on the uniform law gives the plan's numbers.
+  json sim = thesis_request();
+  sim["law"] = {{"type", "seven_segment"}, {"durations_s", out["durations_s"]}};
+  const RunResult planned = simulate_file(sim);
+  ASSERT_EQ(planned.exit_code, 0) << planned.err;
+  const json p = parse_or_fail(planned.out);
+  for (const char* model : {"linear", "nonlinear"}) {
+    for (const char* peak : {"eta_motion_mm", "eta_rest_mm"}) {
+      EXPECT_NEAR(out["prediction"][model][peak].get<double>(),
+                  p["prediction"][model][peak].get<double>(), 1e-9)
+          << model << " " << peak;
+    }
+  }
+  const json b = parse_or_fail(simulate_file(thesis_request()).out);
+  EXPECT_NEAR(out["baseline"]["nonlinear"]["eta_rest_mm"].get<double>(),
+              b["prediction"]["nonlinear"]["eta_rest_mm"].get<double>(), 1e-9);
+  EXPECT_LT(out["prediction"]["nonlinear"]["eta_rest_mm"].get<double>(),
+            0.5 * b["prediction"]["nonlinear"]["eta_rest_mm"].get<double>());
+}
+
+TEST(CliPlan, StdinAndFileGiveTheSamePlan) {
+  const json body = plan_request("multi_notch");
+  json a = parse_or_fail(plan_file(body).out);
+  const RunResult r = run_slosh({"plan", "--request", "-"}, body.dump());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  json b = parse_or_fail(r.out);
+  a["solver"].erase("solve_ms");
+  b["solver"].erase("solve_ms");
+  EXPECT_EQ(a, b);  // deterministic: every number identical
+}
+
+TEST(CliPlan, InvalidStrategyExits2WithEnvelope) {
+  const RunResult r = plan_file(plan_request("fastest"));
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_TRUE(r.out.empty()) << r.out;
+  const json err = parse_or_fail(r.err);
+  EXPECT_EQ(err["error"]["code"], "invalid_value");
+  EXPECT_EQ(err["error"]["field"], "strategy");
+  EXPECT_EQ(err["error"]["message"],
+            "strategy = \"fastest\" is not allowed: one of \"baseline\", \"notch\", "
+            "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"auto\"");
+}
+
+TEST(CliPlan, UnreachableConstraintIsAPlanWithStatusInfeasible) {
+  json body = plan_request("time_domain");
+  body["format"]["motion_time_s"] = 0.5;
+  body["options"] = {{"eta_rest_max_mm", 0.1}};
+  const RunResult r = plan_file(body);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json out = parse_or_fail(r.out);
+  EXPECT_EQ(out["status"], "infeasible");
+  const std::string message = out["message"];
+  EXPECT_NE(message.find("eta_rest <= 0.1 mm is not reachable in 0.5 s: the best is"),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find("lengthen the motion or relax the limit"), std::string::npos) << message;
+  double sum = 0.0;
+  for (const auto& d : out["durations_s"]) sum += d.get<double>();
+  EXPECT_NEAR(sum, 0.5, 1e-12);
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -73,6 +73,7 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
     opt.set_xtol_rel(options.tolerance);
     opt.set_maxeval(options.max_iterations);
     if (options.time_limit > 0.0) opt.set_maxtime(options.time_limit);
+    if (options.stop_value) opt.set_stopval(*options.stop_value);
     for (unsigned i = 0; i < n; ++i) {
       out.x[i] = std::clamp(out.x[i], problem.lower[i], problem.upper[i]);
     }

@@ -30,6 +30,24 @@ S hermite(const S& x0, const S& v0, const S& x1, const S& v1, const S& H, const 
   return h00 * x0 + h10 * H * v0 + h01 * x1 + h11 * H * v1;
 }
 
+// One classical RK4 step of (x, v) with the container acceleration at the start, middle and end.
+template <typename S>
+void rk4_step(const SloshingModel& m, S& x, S& v, const S& h, const S& a0, const S& a_mid,
+              const S& a1) {
+  const S half_h = 0.5 * h;
+  const S k1x = v;
+  const S k1v = rhs(m, x, v, a0);
+  const S k2x = v + half_h * k1v;
+  const S k2v = rhs(m, x + half_h * k1x, k2x, a_mid);
+  const S k3x = v + half_h * k2v;
+  const S k3v = rhs(m, x + half_h * k2x, k3x, a_mid);
+  const S k4x = v + h * k3v;
+  const S k4v = rhs(m, x + h * k3x, k4x, a1);
+  const S sixth_h = h * (1.0 / 6.0);
+  x = x + sixth_h * (k1x + 2.0 * (k2x + k3x) + k4x);
+  v = v + sixth_h * (k1v + 2.0 * (k2v + k3v) + k4v);
+}
+
 }  // namespace
 
 NonlinearSensitivity::NonlinearSensitivity(const SloshingModel& model, double stroke,
@@ -72,20 +90,6 @@ void NonlinearSensitivity::compute(const double* d) {
         return Dual7(0.0);
     }
   };
-  auto step = [&](const Dual7& h, const Dual7& a0, const Dual7& a_mid, const Dual7& a1) {
-    const Dual7 half_h = 0.5 * h;
-    const Dual7 k1x = v;
-    const Dual7 k1v = rhs(model_, x, v, a0);
-    const Dual7 k2x = v + half_h * k1v;
-    const Dual7 k2v = rhs(model_, x + half_h * k1x, k2x, a_mid);
-    const Dual7 k3x = v + half_h * k2v;
-    const Dual7 k3v = rhs(model_, x + half_h * k2x, k3x, a_mid);
-    const Dual7 k4x = v + h * k3v;
-    const Dual7 k4v = rhs(model_, x + h * k3x, k4x, a1);
-    const Dual7 sixth_h = h * (1.0 / 6.0);
-    x = x + sixth_h * (k1x + 2.0 * (k2x + k3x) + k4x);
-    v = v + sixth_h * (k1v + 2.0 * (k2v + k3v) + k4v);
-  };
   for (std::size_t k = 0; k < kSegments; ++k) {
     // A segment of zero length still takes one (empty) step so that its derivatives (the flow
     // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
@@ -96,7 +100,7 @@ void NonlinearSensitivity::compute(const double* d) {
       const double f0 = static_cast<double>(j) / static_cast<double>(n);
       const double fm = (static_cast<double>(j) + 0.5) / static_cast<double>(n);
       const double f1 = static_cast<double>(j + 1) / static_cast<double>(n);
-      step(h, accel(k, f0), accel(k, fm), accel(k, f1));
+      rk4_step(model_, x, v, h, accel(k, f0), accel(k, fm), accel(k, f1));
       t = j + 1 == n ? t_begin + dd[k] : t_begin + h * static_cast<double>(j + 1);
       tv_.push_back(t.v);
       t_.push_back(t);
@@ -107,14 +111,26 @@ void NonlinearSensitivity::compute(const double* d) {
   motion_time_ = t.v;
   const auto n_rest = static_cast<std::size_t>(std::ceil(rest_time_ / h_max_));
   const double h_rest = rest_time_ / static_cast<double>(n_rest);
+  // The rest window has no forcing: its states depend on the durations only through the state
+  // at T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter
+  // of the work of carrying all 7 directions).
   const Dual7 t_end = t;
+  const Dual7 x_end = x, v_end = v;
+  using Dual2 = Dual<2>;
+  Dual2 xr = Dual2::variable(x.v, 0), vr = Dual2::variable(v.v, 1);
+  const Dual2 zero(0.0);
+  auto chain = [&](const Dual2& r) {
+    Dual7 out(r.v);
+    for (std::size_t i = 0; i < kSegments; ++i) out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
+    return out;
+  };
   for (std::size_t j = 0; j < n_rest; ++j) {
-    step(Dual7(h_rest), Dual7(0.0), Dual7(0.0), Dual7(0.0));
+    rk4_step(model_, xr, vr, Dual2(h_rest), zero, zero, zero);
     t = j + 1 == n_rest ? t_end + rest_time_ : t_end + h_rest * static_cast<double>(j + 1);
     tv_.push_back(t.v);
     t_.push_back(t);
-    x_.push_back(x);
-    v_.push_back(v);
+    x_.push_back(chain(xr));
+    v_.push_back(chain(vr));
   }
 }
 

@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <memory>
 
 #include "slosh/core/spectrum.hpp"
 #include "strategies.hpp"
@@ -15,16 +16,20 @@ namespace {
 /// Depth of an exact notch: |Re X|, |Im X| <= kNotchDepth |X_uniform(w1)| [-] (-120 dB).
 constexpr double kNotchDepth{1e-6};
 /// Random starts of the spectral strategies (after the uniform law and 4 symmetric families).
-constexpr int kSpectralRandomStarts{7};
+constexpr int kSpectralRandomStarts{5};
 /// Refinement of the band check after a min_jerk_band solve: points per solver interval.
 constexpr int kBandCheckRefinement{16};
 /// Exchange rounds of min_jerk_band (points added where the fine check finds a violation).
 constexpr int kBandExchangeRounds{4};
+/// Points inside the band limit from which min_jerk_band minimises the jerk [-].
+constexpr int kBandFeasibleStarts{1};
+/// Relative excess of |X| over tol_rel |X_uniform(w1)| the fine check accepts [-].
+constexpr double kBandTolerance{1e-6};
 
 NlpOptions spectral_options() {
   NlpOptions o;
   o.tolerance = 1e-10;
-  o.constraint_tolerance = 1e-10;
+  o.constraint_tolerance = 1e-9;  // constraints are relative to their bounds
   o.max_iterations = 400;
   return o;
 }
@@ -191,9 +196,10 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   const double w1 = c.model.omega1();
   const PlanOptions& opt = c.options;
   std::vector<double> omegas = band_frequencies(w1, opt.band, opt.n_band);
-  const double tol2 = opt.tol_rel * opt.tol_rel;
+  const double tol = opt.tol_rel;
   const double stroke = c.format.stroke;
-  const double scale = 1.0 / (c.x_ref * c.x_ref);
+  // Band constraints relative to their bound: |X(w_k)|^2 / (tol x_ref)^2 - 1 <= 0.
+  const double scale = 1.0 / (c.x_ref * c.x_ref * tol * tol);
   const std::vector<double> fine =
       band_frequencies(w1, opt.band, (opt.n_band - 1) * kBandCheckRefinement + 1);
   auto band_ratio = [&](const Durations& d, std::size_t* worst) {
@@ -207,91 +213,134 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     }
     return r;
   };
-
-  std::vector<std::vector<double>> starts = as_vectors(c.space.starts(kSpectralRandomStarts));
+  // g_k = |X(w_k)|^2 scale - z (epigraph, phase 1) or - 1 (phase 2).
+  auto band_rows = [stroke, scale](std::vector<double> w, bool epigraph) {
+    auto powers = std::make_shared<std::vector<SpectrumPowerGradient>>();
+    const int n = kSegments + (epigraph ? 1 : 0);
+    return [w = std::move(w), stroke, scale, epigraph, n, powers](const double* x, double* g,
+                                                                   double* jac) {
+      Durations d;
+      std::copy(x, x + kSegments, d.begin());
+      spectrum_power_gradients(d, stroke, w, powers.get());
+      for (std::size_t k = 0; k < w.size(); ++k) {
+        const auto& pg = (*powers)[k];
+        g[k] = pg.power * scale - (epigraph ? x[kSegments] : 1.0);
+        if (jac != nullptr) {
+          for (std::size_t i = 0; i < kSegments; ++i) jac[k * n + i] = pg.gradient[i] * scale;
+          if (epigraph) jac[k * n + kSegments] = -1.0;
+        }
+      }
+    };
+  };
+  const int m0 = static_cast<int>(omegas.size());
   StrategyOutcome o;
-  int evaluations = 0, solved = 0;
+  o.solver = solver_name(c);
+
+  // Phase 1, from every start: min z s.t. the band powers <= z (feasible from anywhere, unlike
+  // the band constraint itself, on which SLSQP stalls from most infeasible starts). It stops at
+  // the first point inside the band limit; its minimum is the best band reachable.
+  NlpProblem p1 = c.space.problem(1);
+  p1.objective = [](const double* x, double* grad) {
+    if (grad != nullptr) {
+      std::fill(grad, grad + kSegments, 0.0);
+      grad[kSegments] = 1.0;
+    }
+    return x[kSegments];
+  };
+  add_limits(p1, c, m0, band_rows(omegas, true));
+  std::vector<std::vector<double>> phase2_starts;
+  // Phase 1a, cheap: the band energy on 5 points (unconstrained but for the limits) from each
+  // start, until kBandFeasibleStarts points inside the band limit are found.
+  {
+    NlpProblem pe = c.space.problem();
+    const std::vector<double> probe = band_frequencies(w1, opt.band, 5);
+    const std::vector<double> ones(probe.size(), 1.0);
+    pe.objective = [&c, probe, ones](const double* x, double* grad) {
+      return weighted_power(x, grad, c, probe, ones);
+    };
+    add_limits(pe, c, 0, nullptr);
+    for (const Durations& start : c.space.starts(kSpectralRandomStarts)) {
+      const MultiStartResult r =
+          multi_start(pe, {std::vector<double>(start.begin(), start.end())}, c, spectral_options());
+      o.evaluations += r.evaluations;
+      o.starts += r.starts;
+      if (r.timed_out) break;
+      if (!r.feasible || r.best.x.empty()) continue;
+      if (band_ratio(c.space.polish(r.best.x.data()), nullptr) <= tol) {
+        phase2_starts.push_back(r.best.x);
+        if (static_cast<int>(phase2_starts.size()) == kBandFeasibleStarts) break;
+      }
+    }
+  }
+  // Phase 1b, when 1a found nothing: min z s.t. the band powers <= z (feasible from anywhere,
+  // unlike the band constraint itself, on which SLSQP stalls from most infeasible starts). It
+  // stops at the first point inside the band limit; its minimum is the best band reachable.
+  MultiStartResult best_band;
+  NlpOptions o1 = spectral_options();
+  o1.stop_value = 0.5;  // half the band limit in power: well inside
+  bool have_band = false;
+  for (const Durations& start : c.space.starts(kSpectralRandomStarts)) {
+    if (!phase2_starts.empty()) break;
+    std::vector<double> x(start.begin(), start.end());
+    x.push_back(std::pow(band_ratio(start, nullptr) / tol, 2) * 1.01);
+    const MultiStartResult r = multi_start(p1, {x}, c, o1);
+    o.evaluations += r.evaluations;
+    o.starts += r.starts;
+    if (r.timed_out) break;
+    if (!r.feasible || r.best.x.empty()) continue;
+    if (!have_band || r.best.objective < best_band.best.objective) {
+      best_band = r;
+      have_band = true;
+    }
+    if (r.best.objective <= 1.0) phase2_starts.emplace_back(r.best.x.begin(), r.best.x.end() - 1);
+  }
+  if (phase2_starts.empty()) {
+    if (c.deadline.expired() || !have_band) {
+      o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+      o.durations = c.space.starts(0).front();
+      return o;
+    }
+    // Not reachable: polish the best band to its minimum and report it.
+    o1.stop_value.reset();
+    const MultiStartResult r = multi_start(p1, {best_band.best.x}, c, o1);
+    o.evaluations += r.evaluations;
+    o.starts += r.starts;
+    const MultiStartResult& b = r.feasible ? r : best_band;
+    o.status = SolveStatus::kInfeasible;
+    o.durations = c.space.polish(b.best.x.data());
+    o.objective = b.best.objective;
+    o.detail = "the band limit |X| <= " + percent(tol) +
+               " of the uniform law's |X(f1)| is not reachable in " +
+               sig3(c.format.motion_time) + " s: the best is " +
+               percent(band_ratio(o.durations, nullptr)) +
+               "; raise tol_rel, narrow the band or lengthen the motion";
+    return o;
+  }
+
+  // Phase 2: min jerk integral inside the band limit, from the phase-1 points; the constraint is
+  // semi-infinite, so the band is checked 16x finer than the solver saw it and the worst
+  // frequency is added for a re-solve from the current point until the check passes.
+  std::vector<std::vector<double>> starts = phase2_starts;
   for (int round = 0; round < kBandExchangeRounds; ++round) {
     NlpProblem p = c.space.problem();
     p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
-    const int m = static_cast<int>(omegas.size());
-    add_limits(p, c, m, [omegas, stroke, scale, tol2](const double* x, double* g, double* jac) {
-      Durations d;
-      std::copy(x, x + kSegments, d.begin());
-      for (std::size_t k = 0; k < omegas.size(); ++k) {
-        const auto pg = spectrum_power_gradient(d, stroke, omegas[k]);
-        g[k] = pg.power * scale - tol2;
-        if (jac != nullptr) {
-          for (std::size_t i = 0; i < kSegments; ++i) {
-            jac[k * kSegments + i] = pg.gradient[i] * scale;
-          }
-        }
-      }
-    });
+    add_limits(p, c, static_cast<int>(omegas.size()), band_rows(omegas, false));
     const MultiStartResult r = multi_start(p, starts, c, spectral_options());
-    evaluations += r.evaluations;
-    solved += r.starts;
+    const int evaluations = o.evaluations + r.evaluations;
+    const int solved = o.starts + r.starts;
     o = outcome_from(r, c);
-    if (o.status == SolveStatus::kInfeasible || o.status == SolveStatus::kTimeLimit ||
-        o.status == SolveStatus::kFailed) {
-      break;
-    }
-    // Semi-infinite constraint: check the band 16x finer than the solver saw it; where it is
-    // exceeded, add the worst frequency and re-solve from the current point.
+    o.evaluations = evaluations;
+    o.starts = solved;
+    if (o.status != SolveStatus::kOptimal && o.status != SolveStatus::kAcceptable) break;
     std::size_t worst = 0;
     const double ratio = band_ratio(o.durations, &worst);
-    if (ratio <= opt.tol_rel * (1.0 + 1e-9)) break;
+    if (ratio <= tol * (1.0 + kBandTolerance)) break;
     omegas.push_back(fine[worst]);
     starts = {std::vector<double>(o.durations.begin(), o.durations.end())};
   }
-  o.evaluations = evaluations;
-  o.starts = solved;
-  if (o.status == SolveStatus::kInfeasible) {
-    // The best reachable band: min z s.t. |X(w_k)|^2 / x_ref^2 <= z.
-    NlpProblem p = c.space.problem(1);
-    p.objective = [](const double* x, double* grad) {
-      if (grad != nullptr) {
-        std::fill(grad, grad + kSegments, 0.0);
-        grad[kSegments] = 1.0;
-      }
-      return x[kSegments];
-    };
-    const int m = static_cast<int>(omegas.size());
-    add_limits(p, c, m, [omegas, stroke, scale](const double* x, double* g, double* jac) {
-      Durations d;
-      std::copy(x, x + kSegments, d.begin());
-      for (std::size_t k = 0; k < omegas.size(); ++k) {
-        const auto pg = spectrum_power_gradient(d, stroke, omegas[k]);
-        g[k] = pg.power * scale - x[kSegments];
-        if (jac != nullptr) {
-          for (std::size_t i = 0; i < kSegments; ++i) {
-            jac[k * (kSegments + 1) + i] = pg.gradient[i] * scale;
-          }
-          jac[k * (kSegments + 1) + kSegments] = -1.0;
-        }
-      }
-    });
-    std::vector<std::vector<double>> s = as_vectors(c.space.starts(kSpectralRandomStarts));
-    for (auto& x : s) {
-      Durations d;
-      std::copy(x.begin(), x.end(), d.begin());
-      const double r = band_ratio(d, nullptr);
-      x.push_back(r * r);
-    }
-    const MultiStartResult best = multi_start(p, s, c, spectral_options());
-    o.evaluations += best.evaluations;
-    o.starts += best.starts;
-    if (!best.best.x.empty() && best.feasible) {
-      o.durations = c.space.polish(best.best.x.data());
-      o.detail = "the band limit |X| <= " + percent(opt.tol_rel) +
-                 " of the uniform law's |X(f1)| is not reachable in " +
-                 sig3(c.format.motion_time) + " s: the best is " +
-                 percent(band_ratio(o.durations, nullptr)) +
-                 "; raise tol_rel, narrow the band or lengthen the motion";
-    }
-  } else if (o.status != SolveStatus::kFailed) {
+  if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
     o.detail = "|X| <= " + percent(band_ratio(o.durations, nullptr)) +
-               " of the uniform law's |X(f1)| over the whole band (limit " + percent(opt.tol_rel) +
+               " of the uniform law's |X(f1)| over the whole band (limit " + percent(tol) +
                "), jerk integral " + percent(o.objective) + " of the uniform law's";
   }
   return o;

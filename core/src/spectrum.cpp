@@ -84,45 +84,54 @@ std::complex<double> acceleration_spectrum(const SevenSegmentLaw& law, double om
   return seven_segment_spectrum(law.durations(), law.stroke(), omega);
 }
 
-SpectrumGradient spectrum_gradient(const Durations& d, double stroke, double omega) {
-  SpectrumGradient out{};
-  if (omega == 0.0) return out;
+namespace {
+
+// The jerks of the four ramps with their derivatives, and the switch times, of one set of
+// durations: what every frequency of a gradient evaluation shares.
+struct JerkForm {
+  std::array<Dual7, 4> J;
+  std::array<double, kSegments + 1> t{};
+};
+
+JerkForm jerk_form(const Durations& d, double stroke) {
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
   const auto lv = plateau_levels(dd, Dual7(stroke));
-  // Only the four ramps carry jerk: (segment index, jerk).
-  const std::array<Dual7, 4> J{lv.A / dd[0], -lv.A / dd[2], -lv.B / dd[4], lv.B / dd[6]};
-  std::array<double, kSegments + 1> t{};
+  JerkForm f{{lv.A / dd[0], -lv.A / dd[2], -lv.B / dd[4], lv.B / dd[6]}, {}};
+  for (std::size_t i = 0; i < kSegments; ++i) f.t[i + 1] = f.t[i] + d[i];
+  return f;
+}
+
+SpectrumGradient gradient_at(const JerkForm& f, double omega) {
+  SpectrumGradient out{};
+  if (omega == 0.0) return out;
+  // X = -(1/omega^2) sum_k w_k E_k with E_k = exp(-j omega t_k), w_{2r} = J_r, w_{2r+1} = -J_r.
   std::array<std::complex<double>, kSegments + 1> E;
   E[0] = 1.0;
-  for (std::size_t i = 0; i < kSegments; ++i) {
-    t[i + 1] = t[i] + d[i];
-    E[i + 1] = expj(omega * t[i + 1]);
-  }
-  const double scale = -1.0 / (omega * omega);
+  for (std::size_t i = 1; i <= kSegments; ++i) E[i] = expj(omega * f.t[i]);
+  std::array<std::complex<double>, 4> diff;
   std::complex<double> X(0.0);
-  auto& dX = out.dX;
-  // dE_k/d dT_i = -j omega E_k for every switch time t_k that includes dT_i (k > i).
-  std::array<std::complex<double>, kSegments + 1> dE;
-  for (std::size_t k = 0; k <= kSegments; ++k) dE[k] = {omega * E[k].imag(), -omega * E[k].real()};
   for (std::size_t r = 0; r < 4; ++r) {
-    const std::size_t k = 2 * r;
-    const std::complex<double> diff = E[k] - E[k + 1];
-    X += J[r].v * diff;
-    for (std::size_t i = 0; i < kSegments; ++i) {
-      std::complex<double> d_diff = 0.0;
-      if (k > i) d_diff += dE[k];
-      if (k + 1 > i) d_diff -= dE[k + 1];
-      dX[i] += J[r].d[i] * diff + J[r].v * d_diff;
-    }
+    diff[r] = E[2 * r] - E[2 * r + 1];
+    X += f.J[r].v * diff[r];
+  }
+  // dX/d dT_i = sum_r dJ_r/d dT_i diff_r + sum_{k > i} w_k dE_k/d dT_i, dE_k/d dT_i = -j omega E_k
+  // for t_k that includes dT_i (k > i): the second sum is a suffix sum over k.
+  const double scale = -1.0 / (omega * omega);
+  std::complex<double> suffix(0.0);
+  for (std::size_t i = kSegments; i-- > 0;) {
+    const std::size_t k = i + 1;
+    const double w = (k % 2 == 0 ? 1.0 : -1.0) * f.J[k / 2].v;
+    suffix += w * std::complex<double>(omega * E[k].imag(), -omega * E[k].real());
+    std::complex<double> g = suffix;
+    for (std::size_t r = 0; r < 4; ++r) g += f.J[r].d[i] * diff[r];
+    out.dX[i] = g * scale;
   }
   out.X = X * scale;
-  for (auto& g : dX) g *= scale;
   return out;
 }
 
-SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke, double omega) {
-  const SpectrumGradient sg = spectrum_gradient(d, stroke, omega);
+SpectrumPowerGradient power_of(const SpectrumGradient& sg) {
   SpectrumPowerGradient out{};
   out.X = sg.X;
   out.power = std::norm(sg.X);
@@ -130,6 +139,24 @@ SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
     out.gradient[i] = 2.0 * (sg.X.real() * sg.dX[i].real() + sg.X.imag() * sg.dX[i].imag());
   }
   return out;
+}
+
+}  // namespace
+
+SpectrumGradient spectrum_gradient(const Durations& d, double stroke, double omega) {
+  if (omega == 0.0) return {};
+  return gradient_at(jerk_form(d, stroke), omega);
+}
+
+void spectrum_power_gradients(const Durations& d, double stroke, const std::vector<double>& omegas,
+                              std::vector<SpectrumPowerGradient>* out) {
+  const JerkForm f = jerk_form(d, stroke);
+  out->resize(omegas.size());
+  for (std::size_t k = 0; k < omegas.size(); ++k) (*out)[k] = power_of(gradient_at(f, omegas[k]));
+}
+
+SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke, double omega) {
+  return power_of(spectrum_gradient(d, stroke, omega));
 }
 
 std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega) {

@@ -4,6 +4,7 @@
 // SolveStatus here; nothing else in the product includes a solver header.
 
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,9 @@ struct NlpOptions {
   int max_iterations{1000};
   /// Wall-clock budget [s]; <= 0 means none. Default 1 s.
   double time_limit{1.0};
+  /// Stop as soon as a feasible point with f <= stop_value is found (NLopt only; Ipopt solves
+  /// to optimality). Default: none.
+  std::optional<double> stop_value;
 };
 
 /// Result of one solve.

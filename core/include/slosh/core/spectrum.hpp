@@ -3,6 +3,7 @@
 
 #include <array>
 #include <complex>
+#include <vector>
 
 #include "slosh/core/motion_law.hpp"
 #include "slosh/core/seven_segment.hpp"
@@ -35,6 +36,11 @@ struct SpectrumPowerGradient {
 };
 [[nodiscard]] SpectrumPowerGradient spectrum_power_gradient(const Durations& d, double stroke,
                                                             double omega);
+
+/// spectrum_power_gradient at several frequencies, sharing A, B and their derivatives (the band
+/// constraints of min_jerk_band). Writes one entry per frequency to `out`.
+void spectrum_power_gradients(const Durations& d, double stroke, const std::vector<double>& omegas,
+                              std::vector<SpectrumPowerGradient>* out);
 
 /// X_a(omega) and its exact derivatives dX/d dT_i (same method and accuracy as
 /// spectrum_power_gradient; the notch strategy constrains Re X and Im X separately).

@@ -1,0 +1,93 @@
+// The strategies on the thesis format (R = 48.5 mm, h = 82 mm, water, s = 800 mm, T = 1 s).
+// BM_Optimise_*: the optimisation alone, all starts included (the SPEC §8 targets);
+// BM_Plan_*: the whole plan() call, i.e. plus the dense verification of the plan and of the
+// uniform baseline with both models (about 0.5 ms) and, for time_domain, its spectral seeds.
+
+#include <benchmark/benchmark.h>
+
+#include "slosh/core/planner.hpp"
+#include "slosh/core/spectrum.hpp"
+#include "strategies.hpp"
+
+namespace {
+
+using slosh::PlanOptions;
+using slosh::Strategy;
+
+// The context plan() builds, for calling one strategy directly.
+struct Setup {
+  slosh::Format format = slosh::thesis_format();
+  PlanOptions options;
+  slosh::SloshingModel model = slosh::make_sloshing_model(format, options.model);
+  slosh::detail::Deadline deadline{60.0};
+  slosh::detail::StrategyContext context{format, options, model,
+                                         slosh::detail::DurationSpace(format, options), deadline};
+  explicit Setup(slosh::SolverChoice solver = slosh::SolverChoice::kAuto) {
+    options.solver = solver;
+    const auto uniform = slosh::uniform_durations(format.motion_time);
+    context.x_ref = std::abs(slosh::seven_segment_spectrum(uniform, 0.8, model.omega1()));
+    context.jerk_ref = slosh::SevenSegmentLaw(uniform, 0.8).jerk_integral();
+    const slosh::SevenSegmentLaw law(uniform, 0.8);
+    context.eta_ref = slosh::NonlinearResponse(model, law.law(), 1.0).peaks().motion.value;
+    context.eta_motion_max = context.eta_ref;
+  }
+};
+
+template <typename F>
+void run(benchmark::State& state, F solve) {
+  double objective = 0.0;
+  int evaluations = 0;
+  for (auto _ : state) {
+    const slosh::detail::StrategyOutcome o = solve();
+    objective = o.objective;
+    evaluations = o.evaluations;
+    benchmark::DoNotOptimize(o);
+  }
+  state.counters["objective"] = objective;
+  state.counters["evaluations"] = evaluations;
+}
+
+void BM_Optimise_Notch(benchmark::State& state) {
+  Setup s(static_cast<slosh::SolverChoice>(state.range(0)));
+  run(state, [&] { return slosh::detail::solve_notch(s.context); });
+}
+void BM_Optimise_MultiNotch(benchmark::State& state) {
+  Setup s(static_cast<slosh::SolverChoice>(state.range(0)));
+  run(state, [&] { return slosh::detail::solve_multi_notch(s.context); });
+}
+void BM_Optimise_MinJerkBand(benchmark::State& state) {
+  Setup s(static_cast<slosh::SolverChoice>(state.range(0)));
+  run(state, [&] { return slosh::detail::solve_min_jerk_band(s.context); });
+}
+void BM_Optimise_TimeDomain(benchmark::State& state) {
+  Setup s(static_cast<slosh::SolverChoice>(state.range(0)));
+  // Seeds: the spectral optima, as plan() passes them.
+  std::vector<slosh::Durations> seeds{slosh::detail::solve_notch(s.context).durations,
+                                      slosh::detail::solve_multi_notch(s.context).durations,
+                                      slosh::detail::solve_min_jerk_band(s.context).durations};
+  run(state, [&] { return slosh::detail::solve_time_domain(s.context, seeds); });
+}
+// Arg 1 = NLopt SLSQP (the default), 2 = Ipopt.
+BENCHMARK(BM_Optimise_Notch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Optimise_MultiNotch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Optimise_MinJerkBand)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_Optimise_TimeDomain)->Arg(1)->Unit(benchmark::kMillisecond);
+
+void BM_Plan(benchmark::State& state) {
+  const auto strategy = static_cast<Strategy>(state.range(0));
+  const slosh::Format format = slosh::thesis_format();
+  const PlanOptions options;
+  double rest = 0.0;
+  for (auto _ : state) {
+    const slosh::PlanResult r = slosh::plan(format, strategy, options);
+    rest = r.prediction.nonlinear.rest.value;
+    benchmark::DoNotOptimize(r);
+  }
+  state.SetLabel(slosh::to_string(strategy));
+  state.counters["eta_rest_mm"] = rest * 1e3;
+}
+BENCHMARK(BM_Plan)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

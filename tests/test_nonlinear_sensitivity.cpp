@@ -1,0 +1,279 @@
+// The dual-number integrator of the time-domain strategy (core/src/nonlinear_sensitivity): its
+// exact gradients against central finite differences of the same function, its values against
+// the double integrator NonlinearResponse (same grid), and its peaks against an independent
+// fine-step RK4 of eq. 2.35 re-typed from SPEC §2.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "nonlinear_sensitivity.hpp"
+#include "slosh/core/format.hpp"
+#include "slosh/core/response.hpp"
+#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/sloshing_model.hpp"
+#include "support/fixtures.hpp"
+#include "support/reference_integrators.hpp"
+
+namespace slosh {
+namespace {
+
+using detail::NonlinearSensitivity;
+using detail::WindowPeak;
+
+constexpr double kStroke{0.8};
+constexpr double kMotionTime{1.0};
+constexpr double kRest{1.0};
+
+SloshingModel thesis_model() {
+  return make_sloshing_model(thesis_format(), {});
+}
+
+// Largest step of the integrators: min(1 ms, period_1 / 100) (NonlinearOptions defaults).
+double max_step(const SloshingModel& model) {
+  return std::min(1e-3, 2.0 * std::numbers::pi / model.omega1() / 100.0);
+}
+
+// True when d / h is at least `margin` away from an integer: a finite-difference step far below
+// margin * h then keeps the step count ceil(d / h) of the segment (no jump).
+bool away_from_step_multiples(const Durations& d, double h, double margin) {
+  for (double di : d) {
+    const double r = di / h;
+    const double frac = r - std::floor(r);
+    if (frac < margin || frac > 1.0 - margin) return false;
+  }
+  return true;
+}
+
+// Admissible durations summing to T, ramps >= 0.05 s, from a fixed-seed generator (the uniform
+// variates are built from the raw 32-bit outputs of mt19937, fully specified by the standard).
+std::vector<Durations> random_durations(int count, double h) {
+  std::mt19937 rng(20251123u);
+  auto uniform = [&rng] { return static_cast<double>(rng()) / 4294967296.0; };
+  std::vector<Durations> out;
+  while (static_cast<int>(out.size()) < count) {
+    Durations w{};
+    double total = 0.0;
+    for (double& wi : w) {
+      wi = 0.15 + uniform();
+      total += wi;
+    }
+    const double room = kMotionTime - 4.0 * kDefaultMinRamp;
+    Durations d{};
+    double sum = 0.0;
+    for (std::size_t i = 0; i + 1 < kSegments; ++i) {
+      d[i] = (i % 2 == 0 ? kDefaultMinRamp : 0.0) + room * w[i] / total;
+      sum += d[i];
+    }
+    d[kSegments - 1] = kMotionTime - sum;
+    if (check_admissible(d, {kMotionTime, kDefaultMinRamp, 1e-12})) continue;
+    if (!away_from_step_multiples(d, h, 0.02)) continue;
+    out.push_back(d);
+  }
+  return out;
+}
+
+double window_value(NonlinearSensitivity& s, const Durations& d, double a, double b) {
+  s.compute(d.data());
+  return s.window_peak(a, b).value;
+}
+
+double eta_value(NonlinearSensitivity& s, const Durations& d, double t) {
+  s.compute(d.data());
+  std::vector<double> v;
+  s.abs_eta_at({t}, &v, nullptr);
+  return v.front();
+}
+
+// Central difference of f along every duration with step h (the same function the sensitivity
+// differentiates, evaluated in double; truncation O(h^2), round-off ~1e-16 |f| / h).
+template <typename F>
+std::array<double, kSegments> central_difference(const F& f, const Durations& d, double h) {
+  std::array<double, kSegments> g{};
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    Durations up = d, down = d;
+    up[i] += h;
+    down[i] -= h;
+    g[i] = (f(up) - f(down)) / (2.0 * h);
+  }
+  return g;
+}
+
+double max_abs(const std::array<double, kSegments>& g) {
+  double m = 0.0;
+  for (double gi : g) m = std::max(m, std::abs(gi));
+  return m;
+}
+
+constexpr double kFdStep{1e-7};            // [s]
+constexpr double kGradientTolerance{1e-5};  // relative to the largest gradient component
+
+TEST(NonlinearSensitivity, RandomDurationsAvoidStepCountJumps) {
+  // The finite-difference tests below rely on this: every segment is >= 2 % of a step away from
+  // a multiple of the step, far more than the 1e-7 s difference step (1e-4 of a 1 ms step).
+  const SloshingModel model = thesis_model();
+  const double h = max_step(model);
+  EXPECT_DOUBLE_EQ(h, 1e-3);  // thesis format: period 0.33 s, so the 1 ms cap applies
+  for (const Durations& d : random_durations(6, h)) {
+    EXPECT_FALSE(check_admissible(d, {kMotionTime, kDefaultMinRamp, 1e-12}).has_value());
+    EXPECT_TRUE(away_from_step_multiples(d, h, 0.02));
+    EXPECT_TRUE(away_from_step_multiples(d, h, 100.0 * kFdStep / h));
+  }
+}
+
+TEST(NonlinearSensitivity, WindowPeakGradientMatchesCentralDifferences) {
+  const SloshingModel model = thesis_model();
+  NonlinearSensitivity sens(model, kStroke, kRest);
+  NonlinearSensitivity probe(model, kStroke, kRest);
+  const std::array<std::array<double, 2>, 3> windows{
+      {{0.0, kMotionTime}, {kMotionTime, kMotionTime + kRest}, {0.3, 0.7}}};
+  for (const Durations& d : random_durations(6, max_step(model))) {
+    sens.compute(d.data());
+    for (const auto& [a, b] : windows) {
+      const WindowPeak peak = sens.window_peak(a, b);
+      ASSERT_GT(peak.value, 1e-4) << "window [" << a << ", " << b << "]";
+      const auto fd = central_difference(
+          [&](const Durations& x) { return window_value(probe, x, a, b); }, d, kFdStep);
+      const double scale = max_abs(fd);
+      ASSERT_GT(scale, 1e-4);
+      for (std::size_t i = 0; i < kSegments; ++i) {
+        EXPECT_NEAR(peak.gradient[i], fd[i], kGradientTolerance * scale)
+            << "window [" << a << ", " << b << "], direction " << i << ", d = {" << d[0] << ", "
+            << d[1] << ", " << d[2] << ", " << d[3] << ", " << d[4] << ", " << d[5] << ", "
+            << d[6] << "}";
+      }
+    }
+  }
+}
+
+TEST(NonlinearSensitivity, AbsEtaGradientMatchesCentralDifferences) {
+  const SloshingModel model = thesis_model();
+  NonlinearSensitivity sens(model, kStroke, kRest);
+  NonlinearSensitivity probe(model, kStroke, kRest);
+  // Off the integration grid, in the motion and in the rest window.
+  std::vector<double> times;
+  for (int k = 0; k < 24; ++k) times.push_back(0.0371 + 0.0789 * k);
+  int checked = 0;
+  for (const Durations& d : random_durations(4, max_step(model))) {
+    sens.compute(d.data());
+    std::vector<double> values;
+    std::vector<std::array<double, kSegments>> gradients;
+    sens.abs_eta_at(times, &values, &gradients);
+    ASSERT_EQ(values.size(), times.size());
+    ASSERT_EQ(gradients.size(), times.size());
+    const double peak = *std::max_element(values.begin(), values.end());
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      // |eta| has a kink where eta crosses zero: compare only where it is well away from zero.
+      if (values[k] < 0.05 * peak) continue;
+      const double t = times[k];
+      const auto fd = central_difference(
+          [&](const Durations& x) { return eta_value(probe, x, t); }, d, kFdStep);
+      const double scale = max_abs(fd);
+      for (std::size_t i = 0; i < kSegments; ++i) {
+        EXPECT_NEAR(gradients[k][i], fd[i], kGradientTolerance * scale)
+            << "t = " << t << ", direction " << i;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GT(checked, 40);
+}
+
+TEST(NonlinearSensitivity, ValuesMatchNonlinearResponseOnTheSameGrid) {
+  const SloshingModel model = thesis_model();
+  NonlinearSensitivity sens(model, kStroke, kRest);
+  std::vector<Durations> cases = random_durations(3, max_step(model));
+  cases.push_back(uniform_durations(kMotionTime));
+  cases.push_back(test::kAsymmetricDurations);
+  // Zero cruise and zero plateaus: the sensitivity takes an empty step on each, the double
+  // integrator skips the segment; the values must still agree.
+  cases.push_back(Durations{0.2, 0.0, 0.15, 0.0, 0.3, 0.0, 0.35});
+  for (const Durations& d : cases) {
+    const SevenSegmentLaw law(d, kStroke);
+    const NonlinearResponse response(model, law.law(), kRest);
+    sens.compute(d.data());
+    EXPECT_DOUBLE_EQ(sens.motion_time(), law.motion_time());
+    const SloshPeaks p = response.peaks();
+    const double T = law.motion_time();
+    const WindowPeak motion = sens.window_peak(0.0, T);
+    const WindowPeak rest = sens.window_peak(T, T + kRest);
+    // Both locate the maximum of the same Hermite interpolant (exact roots here, golden section
+    // to 1e-10 s there).
+    EXPECT_NEAR(motion.value, p.motion.value, 1e-9 * p.motion.value);
+    EXPECT_NEAR(rest.value, p.rest.value, 1e-9 * p.rest.value);
+    EXPECT_NEAR(motion.time, p.motion.time, 1e-6);
+    EXPECT_NEAR(rest.time, p.rest.time, 1e-6);
+    // Point values of the dense output.
+    std::vector<double> times;
+    for (int k = 0; k < 400; ++k) times.push_back(0.00123 + 0.004987 * k);
+    std::vector<double> values;
+    sens.abs_eta_at(times, &values, nullptr);
+    const double scale = std::max(p.motion.value, p.rest.value);
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      EXPECT_NEAR(values[k], std::abs(response.eta(times[k])), 1e-12 * scale)
+          << "t = " << times[k];
+    }
+  }
+}
+
+// eq. 2.35 re-typed from SPEC §2 (not the core's nonlinear_acceleration).
+double reference_xbar_dd(const SloshingModel& m, double x, double v, double a) {
+  const double w = m.omega[0], z = m.zeta, C = m.C, alpha = m.alpha;
+  return -(2.0 * w * z * (v + C * C * x * x * v) + C * C * x * v * v +
+           w * w * x * (1.0 + alpha * x * x) + a / m.radius) /
+         (1.0 + C * C * x * x);
+}
+
+// Largest |K x| of the reference trajectory over [a, b], refined by the parabola through the
+// best sample and its neighbours (the sample spacing alone would cost ~(w dt)^2 / 8 = 5e-7).
+double reference_peak(const test::Rk4Trajectory& r, double K, double a, double b) {
+  std::size_t best = 0;
+  double best_value = -1.0;
+  for (std::size_t i = 0; i < r.t.size(); ++i) {
+    if (r.t[i] < a || r.t[i] > b) continue;
+    if (std::abs(r.x[i]) > best_value) {
+      best_value = std::abs(r.x[i]);
+      best = i;
+    }
+  }
+  if (best == 0 || best + 1 >= r.t.size() || r.t[best - 1] < a || r.t[best + 1] > b) {
+    return K * best_value;
+  }
+  const double y0 = std::abs(r.x[best - 1]), y1 = best_value, y2 = std::abs(r.x[best + 1]);
+  const double denom = y0 - 2.0 * y1 + y2;
+  if (denom >= 0.0) return K * y1;
+  return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
+}
+
+TEST(NonlinearSensitivity, PeaksMatchAnIndependentTenTimesFinerRk4) {
+  const SloshingModel model = thesis_model();
+  const double h = max_step(model);
+  NonlinearSensitivity sens(model, kStroke, kRest);
+  std::vector<Durations> cases = random_durations(2, h);
+  cases.push_back(test::kAsymmetricDurations);
+  for (const Durations& d : cases) {
+    const SevenSegmentLaw law(d, kStroke);
+    const test::TrapezoidAcceleration acc{d, law.A(), law.B()};
+    const double T = law.motion_time();
+    const test::Rk4Trajectory ref = test::rk4_solve(
+        [&](double t, double x, double v) { return reference_xbar_dd(model, x, v, acc(t)); },
+        T + kRest, h / 10.0);
+    sens.compute(d.data());
+    const double motion = sens.window_peak(0.0, T).value;
+    const double rest = sens.window_peak(T, T + kRest).value;
+    const double ref_motion = reference_peak(ref, model.K, 0.0, T);
+    const double ref_rest = reference_peak(ref, model.K, T, T + kRest);
+    EXPECT_GT(ref_motion, 5e-3);
+    EXPECT_NEAR(motion, ref_motion, 1e-6 * ref_motion);
+    EXPECT_NEAR(rest, ref_rest, 1e-6 * std::max(ref_rest, ref_motion));
+  }
+}
+
+}  // namespace
+}  // namespace slosh
