@@ -222,13 +222,13 @@ TEST(PlanResponse, MultiNotchCarriesTheContractWithConsistentNumbers) {
   for (int k : {0, 37, 102, 300, 511}) {
     const double w = 2.0 * std::numbers::pi * sp["f_hz"][k].get<double>();
     const auto X = test::simpson_piecewise(
-        [&](double t) { return acc(t) * std::exp(std::complex<double>(0.0, -w * t)); },
-        acc.knots(), 2000);
+        [&](double t) { return acc(t) * std::exp(std::complex<double>(0.0, -w * t)); }, acc.knots(),
+        2000);
     EXPECT_NEAR(sp["amplitude"][k].get<double>(), std::abs(X), 1e-9) << k;
   }
   // The multi_notch amplitudes at the three notches are far below the baseline's.
-  const double x1_base = std::abs(seven_segment_spectrum(uniform_durations(1.0), 0.8,
-                                                         2.0 * std::numbers::pi * f1));
+  const double x1_base =
+      std::abs(seven_segment_spectrum(uniform_durations(1.0), 0.8, 2.0 * std::numbers::pi * f1));
   for (double fn : {0.85 * f1, f1, 1.15 * f1}) {
     const double x = std::abs(seven_segment_spectrum(d, 0.8, 2.0 * std::numbers::pi * fn));
     EXPECT_LT(x, 0.05 * x1_base) << fn;

@@ -33,8 +33,9 @@ const Range kJMax{0.0, 1e6, "m/s^3", true};
 const Range kTimeLimit{0.0, 600.0, "s", true};
 constexpr int kMaxBandPoints = 2001;
 
-const char* kStrategies = "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "
-                          "\"time_domain\", \"auto\"";
+const char* kStrategies =
+    "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "
+    "\"time_domain\", \"auto\"";
 
 const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
   auto it = object.find(key);
@@ -49,8 +50,8 @@ std::array<double, N> number_array(const nlohmann::json& object, const std::stri
   if (value == nullptr) return fallback;
   const std::string field = join_path(path, key);
   if (!value->is_array() || value->size() != N) {
-    invalid(field, field + " must be an array of " + std::to_string(N) + " numbers, got " +
-                       show(*value));
+    invalid(field,
+            field + " must be an array of " + std::to_string(N) + " numbers, got " + show(*value));
   }
   std::array<double, N> out{};
   for (std::size_t i = 0; i < N; ++i) {
@@ -171,10 +172,10 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
     invalid(e.field(), std::string(e.what()) +
                            " (the upper bound is format.motion_time_s / 4: four ramps must fit)");
   }
-  o.fix_constant_velocity_zero = optional_bool(options, "options", "fix_constant_velocity_zero",
-                                               o.fix_constant_velocity_zero);
-  o.plateau_min = number_array<2>(options, "options", "plateau_min_s", Range{0.0, T, "s"},
-                                  o.plateau_min);
+  o.fix_constant_velocity_zero =
+      optional_bool(options, "options", "fix_constant_velocity_zero", o.fix_constant_velocity_zero);
+  o.plateau_min =
+      number_array<2>(options, "options", "plateau_min_s", Range{0.0, T, "s"}, o.plateau_min);
   parse_limits(options, o.limits);
   const std::string solver =
       choice(options, "options", "solver", {"auto", "nlopt", "ipopt"}, "auto");
@@ -194,8 +195,8 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
       invalid("sample_period_s",
               "sample_period_s = " + number_text(dt) + " s gives " + std::to_string(samples) +
                   " samples; at most " + std::to_string(ranges::kMaxSeriesSamples) +
-                  " are returned: use >= " +
-                  number_text(span / (ranges::kMaxSeriesSamples - 1)) + " s");
+                  " are returned: use >= " + number_text(span / (ranges::kMaxSeriesSamples - 1)) +
+                  " s");
     }
     r.sample_period = dt;
   }
@@ -274,11 +275,11 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   }
   nlohmann::json f_modes = nlohmann::json::array();
   for (double w : r.model.omega) f_modes.push_back(w / (2.0 * std::numbers::pi));
-  nlohmann::json markers{{"f1_hz", f1},
-                         {"band_hz",
-                          {r.band_omega[0] / (2.0 * std::numbers::pi),
-                           r.band_omega[1] / (2.0 * std::numbers::pi)}},
-                         {"f_modes_hz", f_modes}};
+  nlohmann::json markers{
+      {"f1_hz", f1},
+      {"band_hz",
+       {r.band_omega[0] / (2.0 * std::numbers::pi), r.band_omega[1] / (2.0 * std::numbers::pi)}},
+      {"f_modes_hz", f_modes}};
   if (r.strategy == Strategy::kMultiNotch) {
     const double p = request.options.p_notch;
     markers["notch_hz"] = {(1.0 - p) * f1, f1, (1.0 + p) * f1};
@@ -293,8 +294,11 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["durations_s"] = r.durations;
   out["durations_pct"] = pct;
   out["switch_times_s"] = law.switch_times();
-  out["kinematics"] = {{"a_max", r.A},     {"a_min", r.B}, {"v_peak", law.v_peak()},
-                       {"j_peak", j_peak}, {"jerks_m_s3", law.jerks()}};
+  out["kinematics"] = {{"a_max", r.A},
+                       {"a_min", r.B},
+                       {"v_peak", law.v_peak()},
+                       {"j_peak", j_peak},
+                       {"jerks_m_s3", law.jerks()}};
   out["model"] = model_json(r.model, request.options.model);
   out["prediction"] = prediction(r.prediction);
   out["baseline"] = prediction(r.baseline);

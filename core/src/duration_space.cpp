@@ -10,7 +10,7 @@ namespace slosh::detail {
 namespace {
 
 constexpr std::uint64_t kStartSeed{20251123};  // fixed: the same request gives the same starts
-constexpr double kBoundSnap{1e-12};             // [s]
+constexpr double kBoundSnap{1e-12};            // [s]
 
 std::array<Dual7, kSegments> variables(const double* d) {
   std::array<Dual7, kSegments> dd;
@@ -98,10 +98,9 @@ std::vector<Durations> DurationSpace::starts(int random_count) const {
   out.push_back(uniform_inside ? uniform : from_weights(Durations{1, 1, 1, 1, 1, 1, 1}));
   // Symmetric families (ramp, plateau, ramp, cruise, ramp, plateau, ramp): short ramps with
   // long plateaus, long ramps without plateaus, and balanced shapes with and without cruise.
-  const std::array<Durations, 4> families{Durations{1, 3, 1, 1, 1, 3, 1},
-                                          Durations{3, 0.2, 3, 1, 3, 0.2, 3},
-                                          Durations{2, 1, 2, 4, 2, 1, 2},
-                                          Durations{1, 1, 1, 0.2, 1, 1, 1}};
+  const std::array<Durations, 4> families{
+      Durations{1, 3, 1, 1, 1, 3, 1}, Durations{3, 0.2, 3, 1, 3, 0.2, 3},
+      Durations{2, 1, 2, 4, 2, 1, 2}, Durations{1, 1, 1, 0.2, 1, 1, 1}};
   for (const auto& w : families) out.push_back(from_weights(w));
   std::mt19937_64 rng(kStartSeed);
   std::uniform_real_distribution<double> u(1e-12, 1.0);

@@ -45,7 +45,7 @@ MultiStartResult multi_start(const NlpProblem& problem,
     NlpOptions o = options;
     o.time_limit = remaining;
     NlpResult r = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)
-                                                               : solve_with_nlopt(problem, x0, o);
+                                                             : solve_with_nlopt(problem, x0, o);
     ++out.starts;
     out.evaluations += r.evaluations;
     if (r.status == SolveStatus::kTimeLimit) out.timed_out = true;

@@ -121,7 +121,8 @@ void NonlinearSensitivity::compute(const double* d) {
   const Dual2 zero(0.0);
   auto chain = [&](const Dual2& r) {
     Dual7 out(r.v);
-    for (std::size_t i = 0; i < kSegments; ++i) out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
+    for (std::size_t i = 0; i < kSegments; ++i)
+      out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
     return out;
   };
   for (std::size_t j = 0; j < n_rest; ++j) {

@@ -44,7 +44,7 @@ class NonlinearSensitivity {
   double rest_time_;
   double h_max_;
   double motion_time_{};
-  std::vector<double> tv_;          // node times (values) for the search
+  std::vector<double> tv_;        // node times (values) for the search
   std::vector<Dual7> t_, x_, v_;  // node times, xbar, xbar' with derivatives
 };
 

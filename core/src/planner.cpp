@@ -134,7 +134,8 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
   }
   if (!(rest_time > 0.0)) return fail("rest_time_s = " + sig3(rest_time) + " s must be > 0");
   const std::pair<const std::optional<double>*, const char*> lims[] = {
-      {&limits.a_max, "limits.a_max"}, {&limits.v_max, "limits.v_max"},
+      {&limits.a_max, "limits.a_max"},
+      {&limits.v_max, "limits.v_max"},
       {&limits.j_max, "limits.j_max"}};
   for (const auto& [value, name] : lims) {
     if (*value && !(**value > 0.0 && std::isfinite(**value))) {
@@ -320,7 +321,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     bool have = false;
     for (std::size_t k = 0; k < r.candidates.size(); ++k) {
       const auto& cand = r.candidates[k];
-      if (!eligible(cand) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      if (!eligible(cand) ||
+          cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
         continue;
       }
       if (!have) {
@@ -329,7 +331,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
         continue;
       }
       const auto& cur = r.candidates[chosen];
-      const double a = cand.prediction.nonlinear.rest.value, b = cur.prediction.nonlinear.rest.value;
+      const double a = cand.prediction.nonlinear.rest.value,
+                   b = cur.prediction.nonlinear.rest.value;
       const double peak_a = std::max(cand.prediction.kinematics.a_peak_positive,
                                      cand.prediction.kinematics.a_peak_negative);
       const double peak_b = std::max(cur.prediction.kinematics.a_peak_positive,
@@ -376,9 +379,9 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       break;
     case SolveStatus::kInfeasible: {
       const std::string limits = c.space.limit_count() > 0 ? detail::explain_limits(c) : "";
-      message = !limits.empty() ? limits
-                                : (!detail_text.empty() ? detail_text
-                                                        : "the constraints cannot be met");
+      message = !limits.empty()
+                    ? limits
+                    : (!detail_text.empty() ? detail_text : "the constraints cannot be met");
       detail_text.clear();
       message += "; the durations returned are the least infeasible found, not a solution";
       break;
@@ -401,8 +404,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (strategy == Strategy::kTimeDomain && r.usable()) {
     // The constraint re-verified on the dense accurate simulation.
     const bool motion = options.objective == TimeDomainObjective::kMotion;
-    const double verified = motion ? r.prediction.nonlinear.rest.value
-                                   : r.prediction.nonlinear.motion.value;
+    const double verified =
+        motion ? r.prediction.nonlinear.rest.value : r.prediction.nonlinear.motion.value;
     const double bound = motion ? options.eta_rest_max : c.eta_motion_max;
     if (verified > bound * (1.0 + 1e-6)) {
       r.warnings.push_back("verification: the dense simulation gives " +

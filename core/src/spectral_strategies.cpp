@@ -42,7 +42,7 @@ void add_limits(NlpProblem& p, const StrategyContext& c, int first,
   p.inequality_count = first + limits;
   const DurationSpace* space = &c.space;
   p.inequalities = [head = std::move(head), first, limits, n, space](const double* x, double* g,
-                                                                      double* jac) {
+                                                                     double* jac) {
     if (first > 0) head(x, g, jac);
     if (limits > 0) {
       double* jrow = jac == nullptr ? nullptr : jac + static_cast<std::ptrdiff_t>(first) * n;
@@ -59,6 +59,12 @@ StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c
   o.solver = solver_name(c);
   if (m.best.x.empty()) {
     o.status = m.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+    o.durations = c.space.starts(0).front();
+    return o;
+  }
+  if (!m.feasible && m.timed_out) {
+    // Out of time before any feasible point: the best admissible point is the first start.
+    o.status = SolveStatus::kTimeLimit;
     o.durations = c.space.starts(0).front();
     return o;
   }
@@ -155,9 +161,10 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
       multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c, spectral_options());
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
-    o.detail = "exact notch at f1 (|X(w1)| <= 1e-6 of the uniform law's), the one with the least "
-               "jerk integral among the zeros (" +
-               percent(o.objective) + " of the uniform law's)";
+    o.detail =
+        "exact notch at f1 (|X(w1)| <= 1e-6 of the uniform law's), the one with the least "
+        "jerk integral among the zeros (" +
+        percent(o.objective) + " of the uniform law's)";
     return o;
   }
   // No zero reachable within the bounds and limits: the deepest notch instead.
@@ -166,9 +173,10 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
   deepest.starts += m.starts;
   StrategyOutcome o = outcome_from(deepest, c);
   if (o.status != SolveStatus::kInfeasible) {
-    o.detail = "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
-               "notch leaves |X(w1)| at " +
-               percent(std::sqrt(o.objective)) + " of the uniform law's";
+    o.detail =
+        "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
+        "notch leaves |X(w1)| at " +
+        percent(std::sqrt(o.objective)) + " of the uniform law's";
   }
   return o;
 }
@@ -218,7 +226,7 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     auto powers = std::make_shared<std::vector<SpectrumPowerGradient>>();
     const int n = kSegments + (epigraph ? 1 : 0);
     return [w = std::move(w), stroke, scale, epigraph, n, powers](const double* x, double* g,
-                                                                   double* jac) {
+                                                                  double* jac) {
       Durations d;
       std::copy(x, x + kSegments, d.begin());
       spectrum_power_gradients(d, stroke, w, powers.get());
@@ -310,9 +318,8 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     o.durations = c.space.polish(b.best.x.data());
     o.objective = b.best.objective;
     o.detail = "the band limit |X| <= " + percent(tol) +
-               " of the uniform law's |X(f1)| is not reachable in " +
-               sig3(c.format.motion_time) + " s: the best is " +
-               percent(band_ratio(o.durations, nullptr)) +
+               " of the uniform law's |X(f1)| is not reachable in " + sig3(c.format.motion_time) +
+               " s: the best is " + percent(band_ratio(o.durations, nullptr)) +
                "; raise tol_rel, narrow the band or lengthen the motion";
     return o;
   }

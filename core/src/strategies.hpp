@@ -34,9 +34,9 @@ struct StrategyContext {
   const SloshingModel& model;
   DurationSpace space;
   const Deadline& deadline;
-  double x_ref{};        ///< |X_uniform(w1)| [m/s]
-  double jerk_ref{};     ///< jerk integral of the uniform law [m^2/s^5]
-  double eta_ref{};      ///< nonlinear eta_motion of the uniform law [m]
+  double x_ref{};           ///< |X_uniform(w1)| [m/s]
+  double jerk_ref{};        ///< jerk integral of the uniform law [m^2/s^5]
+  double eta_ref{};         ///< nonlinear eta_motion of the uniform law [m]
   double eta_motion_max{};  ///< time_domain kRest bound [m] (option or eta_ref)
 };
 

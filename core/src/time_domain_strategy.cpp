@@ -26,8 +26,8 @@ constexpr double kDenseTolerance{1e-7};
 
 NlpOptions time_domain_options() {
   NlpOptions o;
-  o.tolerance = 1e-9;              // of eta / eta_ref: far below a micrometre
-  o.constraint_tolerance = 1e-9;   // ditto
+  o.tolerance = 1e-9;             // of eta / eta_ref: far below a micrometre
+  o.constraint_tolerance = 1e-9;  // ditto
   o.max_iterations = 400;
   return o;
 }
@@ -211,6 +211,11 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
   o.starts = m.starts;
   if (m.best.x.empty()) {
     o.status = m.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+    o.durations = starts.front();
+    return o;
+  }
+  if (!m.feasible && m.timed_out) {
+    o.status = SolveStatus::kTimeLimit;
     o.durations = starts.front();
     return o;
   }

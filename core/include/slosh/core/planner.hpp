@@ -98,11 +98,11 @@ struct PlanOptions {
 
 /// Solver figures of a plan.
 struct SolverReport {
-  std::string name;      ///< "nlopt-slsqp", "ipopt" or "none"
-  int iterations{};      ///< objective evaluations over all starts and phases
-  int starts{};          ///< starts solved
-  double objective{};    ///< objective of the returned point, in the strategy's scaled units
-  double solve_ms{};     ///< wall-clock time of the optimisation [ms]
+  std::string name;    ///< "nlopt-slsqp", "ipopt" or "none"
+  int iterations{};    ///< objective evaluations over all starts and phases
+  int starts{};        ///< starts solved
+  double objective{};  ///< objective of the returned point, in the strategy's scaled units
+  double solve_ms{};   ///< wall-clock time of the optimisation [ms]
 };
 
 /// Verified predictions of one law (dense accurate simulation, SPEC §2).
@@ -128,8 +128,8 @@ struct PlanResult {
   /// One or two sentences a line engineer can act on.
   std::string message;
   Durations durations{};
-  double A{};       ///< positive plateau [m/s^2]
-  double B{};       ///< negative plateau magnitude [m/s^2]
+  double A{};  ///< positive plateau [m/s^2]
+  double B{};  ///< negative plateau magnitude [m/s^2]
   SloshingModel model;
   LawPrediction prediction;  ///< of the returned law
   LawPrediction baseline;    ///< of the uniform law

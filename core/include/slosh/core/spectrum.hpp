@@ -45,7 +45,7 @@ void spectrum_power_gradients(const Durations& d, double stroke, const std::vect
 /// X_a(omega) and its exact derivatives dX/d dT_i (same method and accuracy as
 /// spectrum_power_gradient; the notch strategy constrains Re X and Im X separately).
 struct SpectrumGradient {
-  std::complex<double> X;                              ///< X_a(omega) [m/s]
+  std::complex<double> X;                            ///< X_a(omega) [m/s]
   std::array<std::complex<double>, kSegments> dX{};  ///< dX / d dT_i [m/s^2]
 };
 [[nodiscard]] SpectrumGradient spectrum_gradient(const Durations& d, double stroke, double omega);
