@@ -34,7 +34,11 @@ MultiStartResult multi_start(const NlpProblem& problem,
                              const std::vector<std::vector<double>>& starts,
                              const StrategyContext& context, const NlpOptions& options) {
   MultiStartResult out;
-  const double feasible_tol = 10.0 * options.constraint_tolerance;
+  // Ipopt relaxes bounds and equalities by ~1e-8 (bound_relax_factor); the durations are polished
+  // onto the exact admissible set afterwards, so that much is not an infeasibility.
+  const double feasible_tol = effective(context) == SolverChoice::kIpopt
+                                  ? std::max(1e-7, 10.0 * options.constraint_tolerance)
+                                  : 10.0 * options.constraint_tolerance;
   bool have = false;
   for (const auto& x0 : starts) {
     const double remaining = context.deadline.remaining();

@@ -24,7 +24,7 @@ NonlinearResponse::NonlinearResponse(const SloshingModel& model, const MotionLaw
 
   std::size_t total = 1;
   for (const LawPiece& p : pieces) {
-    total += static_cast<std::size_t>(std::ceil(p.duration() / h_max));
+    total += step_count(p.duration(), h_max);
   }
   time_.reserve(total);
   x_.reserve(total);
@@ -40,7 +40,7 @@ NonlinearResponse::NonlinearResponse(const SloshingModel& model, const MotionLaw
   for (const LawPiece& p : pieces) {
     const double L = p.duration();
     if (L <= 0.0) continue;
-    const auto n = static_cast<std::size_t>(std::ceil(L / h_max));
+    const auto n = step_count(L, h_max, 1);
     const double h = L / static_cast<double>(n);
     auto accel = [&](double tau) { return p.at(tau).acceleration; };
     double a0 = accel(0.0);

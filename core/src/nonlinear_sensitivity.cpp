@@ -93,7 +93,7 @@ void NonlinearSensitivity::compute(const double* d) {
   for (std::size_t k = 0; k < kSegments; ++k) {
     // A segment of zero length still takes one (empty) step so that its derivatives (the flow
     // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
-    const auto n = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(d[k] / h_max_)));
+    const auto n = step_count(d[k], h_max_, 1);
     const Dual7 h = dd[k] * (1.0 / static_cast<double>(n));
     const Dual7 t_begin = t;
     for (std::size_t j = 0; j < n; ++j) {
@@ -109,7 +109,7 @@ void NonlinearSensitivity::compute(const double* d) {
     }
   }
   motion_time_ = t.v;
-  const auto n_rest = static_cast<std::size_t>(std::ceil(rest_time_ / h_max_));
+  const auto n_rest = step_count(rest_time_, h_max_, 1);
   const double h_rest = rest_time_ / static_cast<double>(n_rest);
   // The rest window has no forcing: its states depend on the durations only through the state
   // at T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter

@@ -392,9 +392,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       break;
   }
   if (!detail_text.empty()) message += ": " + detail_text;
-  if (strategy != Strategy::kBaseline || true) {
-    message += ". " + summary_sentence(r.prediction, r.baseline);
-  }
+  message += ". " + summary_sentence(r.prediction, r.baseline);
   r.message = message;
 
   r.warnings = validity_warnings(
@@ -410,8 +408,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     if (verified > bound * (1.0 + 1e-6)) {
       r.warnings.push_back("verification: the dense simulation gives " +
                            std::string(motion ? "eta_rest " : "eta_motion ") +
-                           sig3(verified * 1e3) + " mm, above the bound " + sig3(bound * 1e3) +
-                           " mm");
+                           detail::fixed(verified * 1e3, 6) + " mm, above the bound " +
+                           detail::fixed(bound * 1e3, 6) + " mm");
     }
   }
   return r;

@@ -4,6 +4,7 @@
 // over the motion window [0, T] and the rest window (T, T + rest_time].
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "slosh/core/motion_law.hpp"
@@ -99,6 +100,13 @@ class NonlinearResponse {
   double end_time_{};
   double peak_step_{};
 };
+
+/// RK4 steps for a stretch of length L with steps <= h_max: ceil(L / h_max), ignoring a
+/// round-off excess of 1e-9 step (0.17 s / 1 ms is 170.00000000000003), at least `at_least`.
+[[nodiscard]] inline std::size_t step_count(double length, double h_max, std::size_t at_least = 0) {
+  const auto n = static_cast<std::size_t>(std::ceil(length / h_max - 1e-9));
+  return n < at_least ? at_least : n;
+}
 
 /// Right-hand side of eq. 2.35 solved for xbar'' given xbar, xbar' and the container
 /// acceleration a [m/s^2].
