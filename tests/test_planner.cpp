@@ -194,6 +194,28 @@ TEST_P(PlannerConstraints, TimeDomainHoldsTheRestBoundOnAnIndependentDenseSimula
   EXPECT_NEAR(r.prediction.nonlinear.motion.value, p.motion.value, 1e-12);
 }
 
+TEST(Planner, TimeDomainRestObjectiveHoldsTheMotionBoundAndBeatsTheMotionObjectiveAtRest) {
+  const Format f = make_format(0.8, 1.0);
+  PlanOptions o;
+  o.objective = TimeDomainObjective::kRest;
+  o.eta_motion_max = 0.030;
+  const PlanResult r = plan(f, Strategy::kTimeDomain, o);
+  ASSERT_TRUE(converged(r.status)) << describe(r);
+  const SloshingModel model = make_sloshing_model(f, o.model);
+  const SloshPeaks p =
+      NonlinearResponse(model, SevenSegmentLaw(r.durations, f.stroke).law(), o.rest_time).peaks();
+  EXPECT_LE(p.motion.value, 0.030 * (1.0 + 1e-6)) << describe(r);
+  // Minimising eta_rest must do at least as well at rest as bounding it at 3 mm.
+  EXPECT_LT(p.rest.value, 0.003) << describe(r);
+  // The default bound is the uniform law's eta_motion: never worse than the baseline.
+  PlanOptions d;
+  d.objective = TimeDomainObjective::kRest;
+  const PlanResult rd = plan(f, Strategy::kTimeDomain, d);
+  ASSERT_TRUE(converged(rd.status)) << describe(rd);
+  EXPECT_LE(rd.prediction.nonlinear.motion.value,
+            rd.baseline.nonlinear.motion.value * (1.0 + 1e-6));
+}
+
 TEST_P(PlannerConstraints, NotchIsExactByClosedFormAndByQuadrature) {
   const Format f = make_format(GetParam());
   const PlanOptions o;
