@@ -91,13 +91,6 @@ void parse_limits(const nlohmann::json& options, MachineLimits& limits) {
   limits.j_max = one("j_max", kJMax);
 }
 
-nlohmann::json peaks_json(const SloshPeaks& p) {
-  return {{"eta_motion_mm", p.motion.value * 1e3},
-          {"eta_rest_mm", p.rest.value * 1e3},
-          {"t_motion_s", p.motion.time},
-          {"t_rest_s", p.rest.time}};
-}
-
 nlohmann::json prediction(const LawPrediction& p) {
   return {{"nonlinear", peaks_json(p.nonlinear)}, {"linear", peaks_json(p.linear)}};
 }
@@ -187,19 +180,7 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
   std::string error;
   if (!o.is_valid(r.format, &error)) invalid("options", "options." + error);
 
-  if (const nlohmann::json* v = member(body, "sample_period_s")) {
-    const double dt = checked_number(v, "sample_period_s", ranges::kSamplePeriodS);
-    const double span = T + o.rest_time;
-    const auto samples = static_cast<long long>(std::floor(span / dt + 1e-9)) + 1;
-    if (samples > ranges::kMaxSeriesSamples) {
-      invalid("sample_period_s",
-              "sample_period_s = " + number_text(dt) + " s gives " + std::to_string(samples) +
-                  " samples; at most " + std::to_string(ranges::kMaxSeriesSamples) +
-                  " are returned: use >= " + number_text(span / (ranges::kMaxSeriesSamples - 1)) +
-                  " s");
-    }
-    r.sample_period = dt;
-  }
+  r.sample_period = parse_sample_period(body, T + o.rest_time);
   return r;
 }
 

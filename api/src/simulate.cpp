@@ -136,20 +136,7 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
 
   r.options.rest_time =
       optional_number(body, "", "rest_time_s", ranges::kRestTimeS, kDefaultRestTime);
-  if (body.contains("sample_period_s") && !body["sample_period_s"].is_null()) {
-    const double dt = required_number(body, "", "sample_period_s", ranges::kSamplePeriodS);
-    const double span = r.format.motion_time + r.options.rest_time;
-    // Samples at 0, dt, ..., both ends included (same count as core::simulate).
-    const auto samples = static_cast<long long>(std::floor(span / dt + 1e-9)) + 1;
-    if (samples > ranges::kMaxSeriesSamples) {
-      invalid("sample_period_s",
-              "sample_period_s = " + number_text(dt) + " s gives " + std::to_string(samples) +
-                  " samples over " + number_text(span) + " s; at most " +
-                  std::to_string(ranges::kMaxSeriesSamples) + " are returned: use >= " +
-                  number_text(span / (ranges::kMaxSeriesSamples - 1)) + " s");
-    }
-    r.options.sample_period = dt;
-  }
+  r.options.sample_period = parse_sample_period(body, r.format.motion_time + r.options.rest_time);
   return r;
 }
 
@@ -183,14 +170,30 @@ MotionLaw build_law(const SimulateRequest& r) {
   return {};
 }
 
+std::optional<double> parse_sample_period(const nlohmann::json& body, double span) {
+  if (!body.contains("sample_period_s") || body["sample_period_s"].is_null()) return std::nullopt;
+  const double dt = required_number(body, "", "sample_period_s", ranges::kSamplePeriodS);
+  // Samples at 0, dt, ..., both ends included (same count as core::simulate).
+  const auto samples = static_cast<long long>(std::floor(span / dt + 1e-9)) + 1;
+  if (samples > ranges::kMaxSeriesSamples) {
+    invalid("sample_period_s", "sample_period_s = " + number_text(dt) + " s gives " +
+                                   std::to_string(samples) + " samples over " + number_text(span) +
+                                   " s; at most " + std::to_string(ranges::kMaxSeriesSamples) +
+                                   " are returned: use >= " +
+                                   number_text(span / (ranges::kMaxSeriesSamples - 1)) + " s");
+  }
+  return dt;
+}
+
+nlohmann::json peaks_json(const SloshPeaks& p) {
+  return {{"eta_motion_mm", p.motion.value * 1e3},
+          {"eta_rest_mm", p.rest.value * 1e3},
+          {"t_motion_s", p.motion.time},
+          {"t_rest_s", p.rest.time}};
+}
+
 nlohmann::json prediction_json(const SimulationResult& r) {
-  auto peaks = [](const SloshPeaks& p) {
-    return nlohmann::json{{"eta_motion_mm", p.motion.value * 1e3},
-                          {"eta_rest_mm", p.rest.value * 1e3},
-                          {"t_motion_s", p.motion.time},
-                          {"t_rest_s", p.rest.time}};
-  };
-  return {{"nonlinear", peaks(r.nonlinear)}, {"linear", peaks(r.linear)}};
+  return {{"nonlinear", peaks_json(r.nonlinear)}, {"linear", peaks_json(r.linear)}};
 }
 
 nlohmann::json run_simulate(const SimulateRequest& request) {

@@ -71,6 +71,16 @@ NlpProblem DurationSpace::problem(int extra, double extra_upper) const {
   sum.a.resize(kSegments + static_cast<std::size_t>(extra), 0.0);
   sum.b = motion_time;
   p.equalities.push_back(sum);
+  if (extra > 0) {
+    const std::size_t n = p.lower.size();
+    p.objective = [n](const double* x, double* grad) {
+      if (grad != nullptr) {
+        std::fill(grad, grad + n, 0.0);
+        grad[kSegments] = 1.0;
+      }
+      return x[kSegments];
+    };
+  }
   return p;
 }
 

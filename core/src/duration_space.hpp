@@ -29,7 +29,8 @@ struct DurationSpace {
   void limit_constraints(const double* d, double* g, double* jac, int stride) const;
 
   /// An NlpProblem over `extra` variables after the 7 durations (bounds [0, extra_upper]) with
-  /// the bounds and the sum equality set; objective and inequalities left to the caller.
+  /// the bounds and the sum equality set; inequalities left to the caller. With extra > 0 the
+  /// objective is the first extra variable (epigraph form: min z s.t. g(x) <= z), else unset.
   [[nodiscard]] NlpProblem problem(int extra = 0, double extra_upper = 1e6) const;
 
   /// Deterministic starts: the uniform law (when inside the bounds), symmetric families and

@@ -169,13 +169,6 @@ std::string explain_limits(const StrategyContext& c) {
   for (const Quantity& q : quantities) {
     if (!q.limit) continue;
     NlpProblem p = c.space.problem(1);
-    p.objective = [](const double* x, double* grad) {
-      if (grad != nullptr) {
-        std::fill(grad, grad + kSegments, 0.0);
-        grad[kSegments] = 1.0;
-      }
-      return x[kSegments];
-    };
     p.inequality_count = q.rows;
     const int first = q.first, rows = q.rows;
     p.inequalities = [space, total, first, rows](const double* x, double* g, double* jac) {

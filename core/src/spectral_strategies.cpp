@@ -270,13 +270,6 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   // the band constraint itself, on which SLSQP stalls from most infeasible starts). It stops at
   // the first point inside the band limit; its minimum is the best band reachable.
   NlpProblem p1 = c.space.problem(1, 1e20);  // z is (|X| / (tol x_ref))^2: large for small tol
-  p1.objective = [](const double* x, double* grad) {
-    if (grad != nullptr) {
-      std::fill(grad, grad + kSegments, 0.0);
-      grad[kSegments] = 1.0;
-    }
-    return x[kSegments];
-  };
   add_limits(p1, c, m0, band_rows(omegas, true));
   std::vector<std::vector<double>> phase2_starts;
   // Phase 1a, cheap: the band energy on 5 points (unconstrained but for the limits) from each

@@ -100,13 +100,6 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
   }
   const int n = kSegments + 1;
   NlpProblem p = c.space.problem(1);
-  p.objective = [](const double* x, double* grad) {
-    if (grad != nullptr) {
-      std::fill(grad, grad + kSegments, 0.0);
-      grad[kSegments] = 1.0;
-    }
-    return x[kSegments];
-  };
   const double scaled_bound = bound ? *bound / c.eta_ref : 0.0;
   const int m = static_cast<int>(rows.size());
   const int limits = c.space.limit_count();

@@ -37,6 +37,13 @@ struct SimulateRequest {
 /// {"law", "kinematics", "model", "prediction", "series"?, "warnings"}.
 [[nodiscard]] nlohmann::json run_simulate(const SimulateRequest& request);
 
+/// Optional top-level "sample_period_s" of a request whose series spans `span` seconds; throws
+/// ApiError naming the field when out of range or when it would give too many samples.
+[[nodiscard]] std::optional<double> parse_sample_period(const nlohmann::json& body, double span);
+
+/// {"eta_motion_mm", "eta_rest_mm", "t_motion_s", "t_rest_s"} of one model's peaks.
+[[nodiscard]] nlohmann::json peaks_json(const SloshPeaks& peaks);
+
 /// Kinematics and prediction blocks shared with plans.
 [[nodiscard]] nlohmann::json prediction_json(const SimulationResult& result);
 
