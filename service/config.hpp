@@ -9,12 +9,16 @@
 
 namespace slosh::service {
 
-/// Reads a JSON config file ({"host": "...", "port": 8080}) over `config`; throws
-/// std::runtime_error naming the file, the key, the value and the allowed values.
+/// Reads a JSON config file (keys: host, port, workers, queue, cache, cache_entries,
+/// solve_budget_s, max_body_bytes, batch_max, http_threads; config/slosh.json lists the defaults)
+/// over `config`, all or nothing; throws std::runtime_error naming the file, the key, the value
+/// and the allowed values.
 void apply_config_file(const std::string& path, ServerConfig& config);
 
-/// Applies SLOSH_HOST and SLOSH_PORT from `environment` (name -> value) over `config`; throws
-/// std::runtime_error on an invalid value.
+/// Applies SLOSH_HOST, SLOSH_PORT, SLOSH_WORKERS, SLOSH_QUEUE, SLOSH_CACHE, SLOSH_CACHE_ENTRIES,
+/// SLOSH_SOLVE_BUDGET_S, SLOSH_MAX_BODY_BYTES, SLOSH_BATCH_MAX, SLOSH_HTTP_THREADS from
+/// `environment` (name -> value; empty values ignored) over `config`; throws std::runtime_error
+/// on an invalid value.
 void apply_environment(const std::map<std::string, std::string>& environment, ServerConfig& config);
 
 /// The SLOSH_* variables of the process environment.

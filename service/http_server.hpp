@@ -3,16 +3,13 @@
 
 #include <string>
 
+#include "server_config.hpp"
+
 namespace slosh::service {
 
-/// Server settings (defaults are the embedded defaults of `make run`).
-struct ServerConfig {
-  std::string host{"127.0.0.1"};  ///< bind address
-  int port{8080};                 ///< TCP port; 0 picks a free one
-};
-
 /// Runs the server until SIGINT/SIGTERM; returns the process exit code. When `port_file` is not
-/// empty, the bound port is written there once the server listens (used by tests).
+/// empty, the bound port is written there once the server listens (used by tests). On a signal
+/// it stops accepting, finishes the requests and solves in flight, then returns 0.
 int run_server(const ServerConfig& config, const std::string& port_file = "");
 
 }  // namespace slosh::service

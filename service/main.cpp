@@ -31,6 +31,20 @@ int main(int argc, char** argv) {
                        "; env SLOSH_PORT]")
       ->check(CLI::Range(0, 65535));
   serve->add_option("--port-file", port_file, "Write the bound port to this file");
+  std::optional<std::size_t> workers, queue;
+  std::optional<std::string> cache;
+  serve
+      ->add_option("--workers", workers,
+                   "Solve workers, 0 = the cores [default 0; env SLOSH_WORKERS]")
+      ->check(CLI::Range(0, 1024));
+  serve
+      ->add_option("--queue", queue,
+                   "Solves that may wait; beyond, 503 [default " + std::to_string(defaults.queue) +
+                       "; env SLOSH_QUEUE]")
+      ->check(CLI::Range(1, 100000));
+  serve->add_option("--cache", cache,
+                    "SQLite file of the plan cache, \"\" = memory only [default " +
+                        defaults.cache_path + "; env SLOSH_CACHE]");
 
   std::string request = "-";
   auto* simulate = app.add_subcommand(
@@ -59,6 +73,9 @@ int main(int argc, char** argv) {
     }
     if (host) server.host = *host;
     if (port) server.port = *port;
+    if (workers) server.workers = *workers;
+    if (queue) server.queue = *queue;
+    if (cache) server.cache_path = *cache;
     return slosh::service::run_server(server, port_file);
   }
   if (*simulate) return slosh::service::run_simulate_command(request);

@@ -36,6 +36,14 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   const ServerConfig defaults;
   EXPECT_EQ(from_file.host, defaults.host);
   EXPECT_EQ(from_file.port, defaults.port);
+  EXPECT_EQ(from_file.workers, defaults.workers);
+  EXPECT_EQ(from_file.queue, defaults.queue);
+  EXPECT_EQ(from_file.cache_path, defaults.cache_path);
+  EXPECT_EQ(from_file.cache_entries, defaults.cache_entries);
+  EXPECT_EQ(from_file.solve_budget_s, defaults.solve_budget_s);
+  EXPECT_EQ(from_file.max_body_bytes, defaults.max_body_bytes);
+  EXPECT_EQ(from_file.batch_max, defaults.batch_max);
+  EXPECT_EQ(from_file.http_threads, defaults.http_threads);
 }
 
 TEST(Config, EnvironmentOverridesTheFile) {
@@ -49,6 +57,11 @@ TEST(Config, EnvironmentOverridesTheFile) {
   apply_environment({{"SLOSH_HOST", "::1"}, {"SLOSH_PORT", ""}}, c);
   EXPECT_EQ(c.host, "::1");
   EXPECT_EQ(c.port, 9100);
+  apply_config_file(write_temp(R"({"workers": 3, "queue": 5, "cache": ""})"), c);
+  apply_environment({{"SLOSH_QUEUE", "7"}, {"SLOSH_CACHE", "/tmp/p.sqlite"}}, c);
+  EXPECT_EQ(c.workers, 3u);
+  EXPECT_EQ(c.queue, 7u);
+  EXPECT_EQ(c.cache_path, "/tmp/p.sqlite");
 }
 
 TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
@@ -58,7 +71,15 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
             path + ": port = 70000 is not a TCP port: allowed 0 to 65535");
   const std::string typo = write_temp(R"({"prot": 80})");
   EXPECT_EQ(error_of([&] { apply_config_file(typo, c); }),
-            typo + ": prot is not a known setting; allowed: host, port");
+            typo + ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
+                   "cache_entries, solve_budget_s, max_body_bytes, batch_max, http_threads");
+  const std::string queue = write_temp(R"({"queue": 0})");
+  EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
+            queue + ": queue = 0 is not a queue size: allowed 1 to 100000");
+  EXPECT_EQ(error_of([&] {
+              apply_environment({{"SLOSH_SOLVE_BUDGET_S", "0"}}, c);
+            }),
+            "SLOSH_SOLVE_BUDGET_S = 0 is not a duration: allowed > 0.0 and <= 600.0 s");
   const std::string text_port = write_temp(R"({"port": "80"})");
   EXPECT_EQ(error_of([&] { apply_config_file(text_port, c); }),
             text_port + ": port = \"80\" is not a TCP port: allowed 0 to 65535");
@@ -69,6 +90,7 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   EXPECT_EQ(error_of([&] { apply_config_file("/nonexistent/slosh.json", c); }),
             "cannot read config file '/nonexistent/slosh.json'");
   EXPECT_EQ(c.port, 8080);  // nothing applied by the failed layers
+  EXPECT_EQ(c.queue, 64u);
 }
 
 }  // namespace

@@ -1,0 +1,755 @@
+#include "slosh/api/openapi.hpp"
+
+#include <string_view>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/simulate.hpp"
+#include "slosh/core/fluid.hpp"
+#include "slosh/core/planner.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using nlohmann::json;
+
+// Ranges of the plan options. plan.cpp keeps its own copies private; tests/test_openapi.cpp
+// checks every bound below against parse_plan_request at the boundary.
+const Range kPNotch{0.0, 1.0, "", true, true};
+const Range kWeight{0.0, 1e6, ""};
+const Range kBand{0.0, 1.0, "", true, true};
+const Range kTolRel{0.0, 10.0, "", true};
+const Range kEtaMm{0.0, 10000.0, "mm", true};
+const Range kPlanRestTime{0.0, 60.0, "s", true};
+const Range kAMax{0.0, 1000.0, "m/s^2", true};
+const Range kVMax{0.0, 100.0, "m/s", true};
+const Range kJMax{0.0, 1e6, "m/s^3", true};
+const Range kTimeLimit{0.0, 600.0, "s", true};
+constexpr int kMaxBandPoints = 2001;
+
+json ref(std::string_view name) {
+  return {{"$ref", "#/components/schemas/" + std::string(name)}};
+}
+
+json response_ref(std::string_view name) {
+  return {{"$ref", "#/components/responses/" + std::string(name)}};
+}
+
+/// A number constrained to `range` (OpenAPI 3.0 boolean exclusiveMinimum/exclusiveMaximum).
+json number_in(const Range& range, const std::string& description) {
+  json s{{"type", "number"}, {"minimum", range.lo}, {"maximum", range.hi}};
+  if (range.lo_open) s["exclusiveMinimum"] = true;
+  if (range.hi_open) s["exclusiveMaximum"] = true;
+  std::string text = description;
+  if (!range.unit.empty()) text += " [" + std::string(range.unit) + "]";
+  text += ". Allowed: " + range.describe() + ".";
+  s["description"] = text;
+  return s;
+}
+
+json number(const std::string& description) {
+  return {{"type", "number"}, {"description", description}};
+}
+
+json integer(const std::string& description) {
+  return {{"type", "integer"}, {"description", description}};
+}
+
+json text(const std::string& description) {
+  return {{"type", "string"}, {"description", description}};
+}
+
+json boolean(const std::string& description) {
+  return {{"type", "boolean"}, {"description", description}};
+}
+
+json numbers(const std::string& description) {
+  return {{"type", "array"}, {"items", {{"type", "number"}}}, {"description", description}};
+}
+
+json fixed_numbers(int n, const std::string& description) {
+  json s = numbers(description);
+  s["minItems"] = n;
+  s["maxItems"] = n;
+  return s;
+}
+
+json strings(const std::string& description) {
+  return {{"type", "array"}, {"items", {{"type", "string"}}}, {"description", description}};
+}
+
+/// An object with the given properties; `closed` marks request objects (unknown members are
+/// rejected with 422).
+json object(json properties, std::vector<std::string> required, const std::string& description,
+            bool closed) {
+  json s{{"type", "object"}, {"properties", std::move(properties)}};
+  if (!required.empty()) s["required"] = std::move(required);
+  if (closed) s["additionalProperties"] = false;
+  if (!description.empty()) s["description"] = description;
+  return s;
+}
+
+json with_default(json schema, json value) {
+  schema["default"] = std::move(value);
+  return schema;
+}
+
+json string_enum(std::vector<std::string> values, const std::string& description) {
+  return {{"type", "string"}, {"enum", std::move(values)}, {"description", description}};
+}
+
+// ---- enumerations, taken from the code that parses or prints them --------------------------
+
+std::vector<std::string> strategy_names() {
+  std::vector<std::string> out;
+  for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
+                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kAuto}) {
+    out.push_back(to_string(s));
+  }
+  return out;
+}
+
+std::vector<std::string> status_names() {
+  std::vector<std::string> out;
+  for (SolveStatus s : {SolveStatus::kOptimal, SolveStatus::kAcceptable, SolveStatus::kInfeasible,
+                        SolveStatus::kTimeLimit, SolveStatus::kFailed}) {
+    out.push_back(to_string(s));
+  }
+  return out;
+}
+
+std::vector<std::string> fluid_names() {
+  std::vector<std::string> out;
+  for (const Fluid& f : fluid_catalogue()) out.push_back(f.name);
+  return out;
+}
+
+std::vector<std::string> damping_names(bool with_explicit) {
+  std::vector<std::string> out;
+  for (auto c : {DampingCorrelation::kThesis, DampingCorrelation::kPaper,
+                 DampingCorrelation::kEq227, DampingCorrelation::kEq228}) {
+    out.push_back(to_string(c));
+  }
+  if (with_explicit) out.push_back(to_string(DampingCorrelation::kExplicit));
+  return out;
+}
+
+std::vector<std::string> law_names() {
+  std::vector<std::string> out;
+  for (LawType t : {LawType::kSevenSegment, LawType::kSevenSegmentUniform, LawType::kPoly5,
+                    LawType::kModifiedTrapezoid, LawType::kCycloidal}) {
+    out.push_back(to_string(t));
+  }
+  return out;
+}
+
+std::vector<std::string> error_codes() {
+  std::vector<std::string> out;
+  for (ErrorCode c : {ErrorCode::kMalformedJson, ErrorCode::kInvalidValue, ErrorCode::kNotFound,
+                      ErrorCode::kPayloadTooLarge, ErrorCode::kOverloaded, ErrorCode::kTimeout,
+                      ErrorCode::kInternal}) {
+    out.push_back(to_string(c));
+  }
+  return out;
+}
+
+std::vector<std::string> solver_names() {
+  std::vector<std::string> out;
+  for (SolverChoice s : {SolverChoice::kAuto, SolverChoice::kNlopt, SolverChoice::kIpopt}) {
+    out.push_back(to_string(s));
+  }
+  return out;
+}
+
+// ---- request schemas ------------------------------------------------------------------------
+
+void add_format_schemas(json& s) {
+  json height = number_in(ranges::kContainerHeightMm,
+                          "Container height (optional; used for the spill warning). Must exceed "
+                          "fill_height_mm");
+  s["Container"] = object(
+      {{"radius_mm", number_in(ranges::kRadiusMm, "Inner radius R of the cylindrical container")},
+       {"height_mm", height}},
+      {"radius_mm"}, "Cylindrical container.", true);
+  s["FluidName"] =
+      string_enum(fluid_names(), "A fluid of the catalogue (GET /v1/fluids; properties at 20 °C).");
+  s["CustomFluid"] = object(
+      {{"density_kg_m3", number_in(ranges::kDensity, "Density rho")},
+       {"viscosity_pa_s", number_in(ranges::kViscosity, "Dynamic viscosity mu")},
+       {"name",
+        {{"type", "string"},
+         {"minLength", 1},
+         {"maxLength", 64},
+         {"description", "Label echoed back (default \"custom\"); 1 to 64 characters."}}}},
+      {"density_kg_m3", "viscosity_pa_s"}, "A Newtonian liquid given by its properties.", true);
+  s["Fluid"] = {{"oneOf", {ref("FluidName"), ref("CustomFluid")}},
+                {"description", "A catalogue name or {density_kg_m3, viscosity_pa_s, name?}."}};
+  s["Format"] =
+      object({{"container", ref("Container")},
+              {"fill_height_mm", number_in(ranges::kFillHeightMm, "Fill height h of the liquid")},
+              {"fluid", ref("Fluid")},
+              {"stroke_mm", number_in(ranges::kStrokeMm, "Stroke s of the rest-to-rest motion")},
+              {"motion_time_s", number_in(ranges::kMotionTimeS, "Motion time T")}},
+             {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"},
+             "One format: container, liquid and move. The JSON surface speaks mm and s.", true);
+}
+
+void add_model_option_schemas(json& s) {
+  s["DampingName"] = string_enum(damping_names(false),
+                                 "Damping correlation: thesis (eq. 2.26, default), paper (JDSMC "
+                                 "2022 eq. 2), eq227, eq228.");
+  s["ExplicitDamping"] = object(
+      {{"zeta",
+        number_in(ranges::kZeta, "Damping ratio zeta, e.g. measured by logarithmic decrement")}},
+      {"zeta"}, "A measured damping ratio.", true);
+  s["Damping"] = {{"oneOf", {ref("DampingName"), ref("ExplicitDamping")}},
+                  {"default", to_string(DampingCorrelation::kThesis)},
+                  {"description", "A correlation name or {\"zeta\": z}."}};
+}
+
+json model_option_properties() {
+  const ModelOptions defaults;
+  return {{"modes", with_default({{"type", "integer"},
+                                  {"minimum", 1},
+                                  {"maximum", static_cast<int>(kMaxModes)},
+                                  {"description", "Radial modes of the linear model."}},
+                                 defaults.modes)},
+          {"damping", ref("Damping")},
+          {"alpha", with_default(number_in(ranges::kAlpha,
+                                           "Nonlinear stiffening coefficient alpha (eq. 2.35)"),
+                                 defaults.alpha)}};
+}
+
+json min_ramp_schema() {
+  // The upper bound depends on the format (T / 4); the schema states the largest possible one.
+  return {{"type", "number"},
+          {"minimum", ranges::kMinRampS.lo},
+          {"maximum", ranges::kMotionTimeS.hi / 4.0},
+          {"default", kDefaultMinRamp},
+          {"description", "Minimum duration of the jerk ramps 1, 3, 5, 7 [s]. Allowed: " +
+                              number_text(ranges::kMinRampS.lo) +
+                              " s to format.motion_time_s / 4 (four ramps must fit)."}};
+}
+
+void add_plan_request_schemas(json& s) {
+  const PlanOptions d;
+  s["Strategy"] = with_default(
+      string_enum(strategy_names(),
+                  "What the planner optimises (SPEC §5): baseline (uniform T/7), notch, "
+                  "multi_notch, min_jerk_band, time_domain, auto (runs the others and picks)."),
+      to_string(Strategy::kAuto));
+  s["MachineLimits"] = object({{"a_max", number_in(kAMax, "Peak |acceleration| max(A, B)")},
+                               {"v_max", number_in(kVMax, "Peak velocity")},
+                               {"j_max", number_in(kJMax, "Peak |jerk| over the four ramps")}},
+                              {}, "Machine limits; an absent limit is not enforced.", true);
+
+  json p = model_option_properties();
+  p["p_notch"] =
+      with_default(number_in(kPNotch, "multi_notch: side notches at (1 ± p) omega_1"), d.p_notch);
+  json weights =
+      fixed_numbers(3,
+                    "multi_notch: weights b1, b2, b3 of |X(w-)|², |X(w1)|², |X(w+)|²; at "
+                    "least one > 0.");
+  weights["items"] = number_in(kWeight, "Weight");
+  p["weights"] = with_default(weights, d.weights);
+  p["band"] = with_default(
+      number_in(kBand, "min_jerk_band: half width of the band [(1 - band) w1, (1 + band) w1]"),
+      d.band);
+  p["n_band"] = with_default({{"type", "integer"},
+                              {"minimum", 1},
+                              {"maximum", kMaxBandPoints},
+                              {"description", "min_jerk_band: evenly spaced band frequencies."}},
+                             d.n_band);
+  p["tol_rel"] = with_default(
+      number_in(kTolRel, "min_jerk_band: band limit relative to the uniform law's |X(w1)|"),
+      d.tol_rel);
+  p["eta_rest_max_mm"] = with_default(
+      number_in(kEtaMm, "time_domain (objective motion): largest residual wave eta_rest"),
+      d.eta_rest_max * 1e3);
+  p["eta_motion_max_mm"] = number_in(
+      kEtaMm,
+      "time_domain (objective rest): largest eta_motion; default the uniform law's nonlinear "
+      "eta_motion");
+  p["objective"] = with_default(
+      string_enum({"motion", "rest"},
+                  "time_domain: minimise eta_motion subject to eta_rest <= eta_rest_max_mm "
+                  "(motion) or eta_rest subject to eta_motion <= eta_motion_max_mm (rest)."),
+      "motion");
+  p["rest_time_s"] =
+      with_default(number_in(kPlanRestTime, "Rest window after the motion"), d.rest_time);
+  p["min_ramp_s"] = min_ramp_schema();
+  p["fix_constant_velocity_zero"] =
+      with_default(boolean("Force the constant-velocity segment 4 to zero (thesis campaign)."),
+                   d.fix_constant_velocity_zero);
+  json plateau = fixed_numbers(
+      2,
+      "Lower bounds on the plateau durations dT2 and dT6 [s], each 0 to format.motion_time_s; "
+      "4 min_ramp_s + both must not exceed format.motion_time_s.");
+  plateau["items"] = {{"type", "number"}, {"minimum", 0.0}, {"maximum", ranges::kMotionTimeS.hi}};
+  p["plateau_min_s"] = with_default(plateau, d.plateau_min);
+  p["limits"] = ref("MachineLimits");
+  p["solver"] = with_default(
+      string_enum(solver_names(), "NLP solver: auto (NLopt SLSQP, measured best), nlopt, ipopt."),
+      to_string(d.solver));
+  p["time_limit_s"] = with_default(
+      number_in(kTimeLimit,
+                "Wall-clock budget of the whole plan; on expiry the best admissible point is "
+                "returned with status time_limit. The service defaults it to, and caps it at, "
+                "its solve budget (setting solve_budget_s, default 10 s); the CLI default is 5 s"),
+      d.time_limit);
+  s["PlanOptions"] = object(
+      p, {},
+      "Every member is optional (null counts as absent) and defaults to the seed value of SPEC "
+      "§5; each violation is a 422 naming the field, the value and the range.",
+      true);
+
+  json sample =
+      number_in(ranges::kSamplePeriodS,
+                "Adds the time series of the law at this sampling period; at most " +
+                    std::to_string(ranges::kMaxSeriesSamples) + " samples over motion + rest");
+  s["PlanRequest"] = object({{"format", ref("Format")},
+                             {"strategy", ref("Strategy")},
+                             {"options", ref("PlanOptions")},
+                             {"sample_period_s", sample}},
+                            {"format"}, "One format + strategy + options.", true);
+  s["PlanRequest"]["example"] = json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
+               "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
+    "strategy": "multi_notch",
+    "options": {"p_notch": 0.15, "weights": [1, 1, 1], "band": 0.15, "n_band": 51,
+                "tol_rel": 0.2, "eta_rest_max_mm": 3, "objective": "motion",
+                "rest_time_s": 1.0, "min_ramp_s": 0.05, "fix_constant_velocity_zero": false,
+                "plateau_min_s": [0, 0], "limits": {"a_max": 10, "v_max": 3, "j_max": 250},
+                "damping": "thesis", "alpha": 0.58, "modes": 3, "solver": "auto",
+                "time_limit_s": 5}})");
+
+  json requests{{"type", "array"},
+                {"items", ref("PlanRequest")},
+                {"minItems", 1},
+                {"maxItems", kOpenApiBatchMax},
+                {"description", "1 to batch_max plan requests (server setting, default " +
+                                    std::to_string(kOpenApiBatchMax) + ")."}};
+  s["BatchRequest"] =
+      object({{"requests", requests}}, {"requests"}, "Many recipes, planned in parallel.", true);
+}
+
+void add_simulate_request_schemas(json& s) {
+  json durations = fixed_numbers(
+      7,
+      "seven_segment only: the 7 durations [s]; sum = format.motion_time_s within 1e-6 s, ramps "
+      "1, 3, 5, 7 >= options.min_ramp_s, plateaus >= 0.");
+  durations["items"] = {{"type", "number"}, {"minimum", 0.0}};
+  s["LawType"] = string_enum(law_names(),
+                             "seven_segment (with durations_s), seven_segment_uniform (T/7 each, "
+                             "the thesis baseline), poly5, modified_trapezoid, cycloidal.");
+  s["LawSpec"] = object({{"type", ref("LawType")}, {"durations_s", durations}}, {"type"},
+                        "The motion law to simulate.", true);
+  json options = model_option_properties();
+  options["min_ramp_s"] = min_ramp_schema();
+  s["SimulateOptions"] = object(options, {}, "Model options; every member optional.", true);
+  s["SimulateRequest"] = object(
+      {{"format", ref("Format")},
+       {"law", ref("LawSpec")},
+       {"rest_time_s", with_default(number_in(ranges::kRestTimeS, "Rest window after the motion"),
+                                    kDefaultRestTime)},
+       {"sample_period_s",
+        number_in(ranges::kSamplePeriodS, "Adds the time series at this sampling period; at most " +
+                                              std::to_string(ranges::kMaxSeriesSamples) +
+                                              " samples over motion + rest")},
+       {"options", ref("SimulateOptions")}},
+      {"format", "law"}, "Any supported law on a format.", true);
+  s["SimulateRequest"]["example"] = json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
+               "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
+    "law": {"type": "seven_segment", "durations_s": [0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27]},
+    "rest_time_s": 1.0, "sample_period_s": 0.001,
+    "options": {"modes": 3, "damping": "thesis", "alpha": 0.58, "min_ramp_s": 0.05}})");
+}
+
+// ---- response schemas ----------------------------------------------------------------------
+
+void add_shared_response_schemas(json& s) {
+  s["ResolvedFluid"] = object({{"name", text("Catalogue name, the caller's name or \"custom\".")},
+                               {"density_kg_m3", number("Density [kg/m^3].")},
+                               {"viscosity_pa_s", number("Dynamic viscosity [Pa·s].")}},
+                              {"name", "density_kg_m3", "viscosity_pa_s"}, "", false);
+  s["FormatEcho"] =
+      object({{"container",
+               object({{"radius_mm", number("[mm]")}, {"height_mm", number("[mm], when given")}},
+                      {"radius_mm"}, "", false)},
+              {"fill_height_mm", number("[mm]")},
+              {"fluid", ref("ResolvedFluid")},
+              {"stroke_mm", number("[mm]")},
+              {"motion_time_s", number("[s]")}},
+             {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"},
+             "The format in user units, with the resolved fluid.", false);
+  s["Kinematics"] = object(
+      {{"a_max", number("Positive plateau level A [m/s^2].")},
+       {"a_min", number("Negative plateau level B (magnitude, positive) [m/s^2].")},
+       {"v_peak", number("Peak velocity [m/s].")},
+       {"j_peak", number("Peak |jerk| [m/s^3].")},
+       {"jerks_m_s3",
+        fixed_numbers(7, "Plans: the jerk of each of the 7 segments, 0 on the plateaus [m/s^3].")}},
+      {"a_max", "a_min", "v_peak", "j_peak"},
+      "Peaks of the law. For non-7-segment laws a_max and a_min are the sampled peaks.", false);
+  s["Model"] = object(
+      {{"omega_rad_s", numbers("Natural circular frequencies omega_n [rad/s].")},
+       {"f_hz", numbers("Natural frequencies f_n [Hz].")},
+       {"zeta", number("Damping ratio [-].")},
+       {"damping", string_enum(damping_names(true), "Correlation used (explicit = given zeta).")},
+       {"C", number("C = xi_1 tanh(xi_1 h/R) = omega_1² R / g [-].")},
+       {"alpha", number("Nonlinear stiffening [-].")},
+       {"K_mm", number("Nonlinear height gain K [mm].")},
+       {"sloshing_mass_kg", numbers("Sloshing masses m_n [kg].")},
+       {"fluid_mass_kg", number("Fluid mass [kg].")},
+       {"eta_gain", numbers("Linear wall-height gains per mode [-].")}},
+      {"omega_rad_s", "f_hz", "zeta", "damping", "C", "alpha", "K_mm", "sloshing_mass_kg",
+       "fluid_mass_kg", "eta_gain"},
+      "Sloshing model parameters of the format.", false);
+  s["Peaks"] =
+      object({{"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm].")},
+              {"eta_rest_mm", number("Peak |eta| in the rest window (residual wave) [mm].")},
+              {"t_motion_s", number("Time of the motion peak [s].")},
+              {"t_rest_s", number("Time of the rest peak [s].")}},
+             {"eta_motion_mm", "eta_rest_mm", "t_motion_s", "t_rest_s"},
+             "Wave-height peaks of one model.", false);
+  s["Prediction"] =
+      object({{"nonlinear", ref("Peaks")}, {"linear", ref("Peaks")}}, {"nonlinear", "linear"},
+             "Predictions of the dense accurate simulation of both models.", false);
+  json units{{"type", "object"},
+             {"additionalProperties", {{"type", "string"}}},
+             {"description", "Unit of each series."}};
+  s["Series"] = object({{"t_s", numbers("Time [s].")},
+                        {"a", numbers("Acceleration [m/s^2].")},
+                        {"v", numbers("Velocity [m/s].")},
+                        {"s", numbers("Position [m].")},
+                        {"eta_linear_mm", numbers("Wave height, linear model [mm].")},
+                        {"eta_nonlinear_mm", numbers("Wave height, nonlinear model [mm].")},
+                        {"units", units}},
+                       {"t_s", "a", "v", "s", "eta_linear_mm", "eta_nonlinear_mm", "units"},
+                       "Time series (both ends included) when sample_period_s is given.", false);
+}
+
+void add_plan_response_schemas(json& s) {
+  json baseline_props{{"nonlinear", ref("Peaks")},
+                      {"linear", ref("Peaks")},
+                      {"durations_s", fixed_numbers(7, "The uniform durations T/7 [s].")}};
+  s["Baseline"] =
+      object(baseline_props, {"nonlinear", "linear", "durations_s"},
+             "Predictions of the uniform law (the reference of the reductions).", false);
+  json reduction_pair{{"motion", number("[%]")}, {"rest", number("[%]")}};
+  s["Reduction"] =
+      object({{"motion", number("eta_motion reduction vs the baseline, nonlinear model [%].")},
+              {"rest", number("eta_rest reduction vs the baseline, nonlinear model [%].")},
+              {"linear",
+               object(reduction_pair, {"motion", "rest"}, "The same on the linear model.", false)}},
+             {"motion", "rest", "linear"}, "100 (1 - plan / baseline).", false);
+  json markers =
+      object({{"f1_hz", number("First natural frequency [Hz].")},
+              {"band_hz", fixed_numbers(2, "Band edges (1 ± band) f1 [Hz].")},
+              {"f_modes_hz", numbers("Natural frequencies of the modes [Hz].")},
+              {"notch_hz", fixed_numbers(3, "multi_notch only: (1 - p) f1, f1, (1 + p) f1 [Hz].")}},
+             {"f1_hz", "band_hz", "f_modes_hz"}, "", false);
+  json spectrum_units{{"type", "object"},
+                      {"additionalProperties", {{"type", "string"}}},
+                      {"description", "Units of f_hz and amplitude."}};
+  s["Spectrum"] = object({{"f_hz", numbers("512 frequencies from 0 to 5 f1 [Hz].")},
+                          {"amplitude", numbers("|X_a| of the plan [m/s].")},
+                          {"baseline_amplitude", numbers("|X_a| of the uniform law [m/s].")},
+                          {"units", spectrum_units},
+                          {"markers", markers}},
+                         {"f_hz", "amplitude", "baseline_amplitude", "units", "markers"},
+                         "Acceleration amplitude spectrum.", false);
+  s["SolverReport"] = object(
+      {{"name", text("\"nlopt-slsqp\", \"ipopt\" or \"none\".")},
+       {"iterations", integer("Objective evaluations over all starts and phases.")},
+       {"starts", integer("Starts solved.")},
+       {"objective", number("Objective of the returned point, in the strategy's scaled units.")},
+       {"solve_ms", number("Wall-clock time of the whole plan [ms].")}},
+      {"name", "iterations", "starts", "objective", "solve_ms"}, "", false);
+  s["SolveStatus"] = string_enum(status_names(), "Outcome of the solve.");
+  s["Candidate"] = object({{"strategy", ref("Strategy")},
+                           {"status", ref("SolveStatus")},
+                           {"durations_s", fixed_numbers(7, "[s]")},
+                           {"prediction", ref("Prediction")},
+                           {"a_peak", number("Peak |acceleration| [m/s^2].")},
+                           {"chosen", boolean("The candidate auto returned.")}},
+                          {"strategy", "status", "durations_s", "prediction", "a_peak", "chosen"},
+                          "One strategy's result inside an auto plan.", false);
+  s["PlanResponse"] = object(
+      {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe.")},
+       {"cached", boolean("True when served from the plan cache.")},
+       {"strategy", ref("Strategy")},
+       {"status", ref("SolveStatus")},
+       {"message", text("What happened and what the law does, actionable by a line engineer.")},
+       {"durations_s", fixed_numbers(7, "The 7 durations [s] (always admissible).")},
+       {"durations_pct", fixed_numbers(7, "The durations in % of T.")},
+       {"switch_times_s", fixed_numbers(8, "Segment boundaries from 0 to T [s].")},
+       {"kinematics", ref("Kinematics")},
+       {"model", ref("Model")},
+       {"prediction", ref("Prediction")},
+       {"baseline", ref("Baseline")},
+       {"reduction_pct", ref("Reduction")},
+       {"spectrum", ref("Spectrum")},
+       {"solver", ref("SolverReport")},
+       {"candidates",
+        {{"type", "array"},
+         {"items", ref("Candidate")},
+         {"description", "auto only: every strategy's result."}}},
+       {"format", ref("FormatEcho")},
+       {"rest_time_s", number("Rest window [s].")},
+       {"warnings", strings("Validity limits of the models reached by this plan.")},
+       {"series", ref("Series")}},
+      {"key", "cached", "strategy", "status", "message", "durations_s", "durations_pct",
+       "switch_times_s", "kinematics", "model", "prediction", "baseline", "reduction_pct",
+       "spectrum", "solver", "format", "rest_time_s", "warnings"},
+      "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
+
+  json ok =
+      object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},
+             {"index", "plan"}, "A planned recipe.", false);
+  json failed = object(
+      {{"index", integer("Position in the request array.")}, {"error", ref("Error")}},
+      {"index", "error"}, "A recipe that failed; field paths start with requests[index].", false);
+  s["BatchResult"] = {{"oneOf", {ok, failed}}};
+  s["BatchResponse"] = object({{"results", {{"type", "array"}, {"items", ref("BatchResult")}}}},
+                              {"results"}, "One result per request, in request order.", false);
+}
+
+void add_simulate_response_schemas(json& s) {
+  s["LawEcho"] = object(
+      {{"type", ref("LawType")},
+       {"duration_s", number("Motion time [s].")},
+       {"stroke_mm", number("Stroke [mm].")},
+       {"breakpoints_s", numbers("Breakpoints of the piecewise law [s].")},
+       {"durations_s", fixed_numbers(7, "7-segment laws: durations [s].")},
+       {"switch_times_s", fixed_numbers(8, "7-segment laws: switch times [s].")},
+       {"jerks_m_s3",
+        fixed_numbers(7, "7-segment laws: jerk of each segment, 0 on the plateaus [m/s^3].")}},
+      {"type", "duration_s", "stroke_mm", "breakpoints_s"}, "The simulated law.", false);
+  s["SimulateResponse"] =
+      object({{"format", ref("FormatEcho")},
+              {"law", ref("LawEcho")},
+              {"kinematics", ref("Kinematics")},
+              {"model", ref("Model")},
+              {"prediction", ref("Prediction")},
+              {"rest_time_s", number("Rest window [s].")},
+              {"series", ref("Series")},
+              {"warnings", strings("Validity limits of the models reached by this law.")}},
+             {"format", "law", "kinematics", "model", "prediction", "rest_time_s", "warnings"},
+             "Wave-height response of the law (also what `slosh simulate` prints).", false);
+}
+
+void add_service_schemas(json& s) {
+  s["Error"] = object(
+      {{"code", string_enum(error_codes(), "Error class.")},
+       {"message", text("What is wrong: for invalid values the field, the value and the allowed "
+                        "range.")},
+       {"field",
+        {{"type", "string"},
+         {"nullable", true},
+         {"description", "JSON path of the offending field, or null."}}}},
+      {"code", "message", "field"}, "", false);
+  s["ErrorEnvelope"] =
+      object({{"error", ref("Error")}}, {"error"}, "The one error body of every endpoint.", false);
+  s["CatalogueFluid"] = object({{"name", text("Catalogue name.")},
+                                {"density_kg_m3", number("[kg/m^3]")},
+                                {"viscosity_pa_s", number("[Pa·s]")},
+                                {"source", text("Where the figures come from.")}},
+                               {"name", "density_kg_m3", "viscosity_pa_s", "source"}, "", false);
+  s["FluidsResponse"] = object({{"fluids", {{"type", "array"}, {"items", ref("CatalogueFluid")}}},
+                                {"temperature_c", number("Temperature of the properties [°C].")}},
+                               {"fluids", "temperature_c"}, "The fluid catalogue.", false);
+  s["Health"] = object({{"status", string_enum({"ok"}, "Always ok while the process serves.")},
+                        {"version", text("Service version.")}},
+                       {"status", "version"}, "", false);
+  s["Readiness"] = object(
+      {{"status", string_enum({"ready", "stopping"}, "ready, or stopping during shutdown.")},
+       {"workers", integer("Solve workers.")},
+       {"queue_depth", integer("Solves waiting for a worker.")},
+       {"cache", object({{"persistent", boolean("The persistent store is in use.")},
+                         {"memory_entries", integer("Plans in the in-memory LRU.")},
+                         {"storage_error", text("Why the persistent store is unavailable.")}},
+                        {"persistent", "memory_entries"}, "", false)}},
+      {"status", "workers", "queue_depth", "cache"}, "", false);
+}
+
+// ---- responses and paths --------------------------------------------------------------------
+
+json error_response(const std::string& description) {
+  return {{"description", description},
+          {"content", {{"application/json", {{"schema", ref("ErrorEnvelope")}}}}}};
+}
+
+json json_response(const std::string& description, json schema) {
+  return {{"description", description},
+          {"content", {{"application/json", {{"schema", std::move(schema)}}}}}};
+}
+
+json responses_component() {
+  json overloaded = error_response(
+      "Overloaded: the solve queue is full (or the service is shutting down); retry later.");
+  overloaded["headers"] = {
+      {"Retry-After",
+       {{"description", "Seconds to wait before retrying."}, {"schema", {{"type", "integer"}}}}}};
+  return {{"BadRequest", error_response("Malformed JSON (code malformed_json).")},
+          {"NotFound", error_response("Not found (code not_found).")},
+          {"PayloadTooLarge", error_response("The body exceeds the server's max_body_bytes (code "
+                                             "payload_too_large).")},
+          {"InvalidValue",
+           error_response("A field is missing, of the wrong type, out of range or unknown (code "
+                          "invalid_value); the message names the field, the value and the "
+                          "allowed range.")},
+          {"Overloaded", overloaded},
+          {"Timeout", error_response("The plan did not finish within its budget plus the "
+                                     "queueing grace (code timeout).")},
+          {"Internal", error_response("Internal error (code internal).")},
+          {"NotModified", {{"description", "The plan matches If-None-Match."}}}};
+}
+
+json json_body(std::string_view schema) {
+  return {{"required", true}, {"content", {{"application/json", {{"schema", ref(schema)}}}}}};
+}
+
+json plan_ok() {
+  json ok = json_response("The plan.", ref("PlanResponse"));
+  ok["headers"] = {
+      {"ETag", {{"description", "The recipe key in quotes."}, {"schema", {{"type", "string"}}}}}};
+  return ok;
+}
+
+json if_none_match() {
+  return {{"name", "If-None-Match"},
+          {"in", "header"},
+          {"required", false},
+          {"schema", {{"type", "string"}}},
+          {"description", "An ETag of a plan: 304 when it matches the cached plan."}};
+}
+
+json paths() {
+  json p;
+  p["/v1/plans"]["post"] = {
+      {"operationId", "createPlan"},
+      {"tags", {"plans"}},
+      {"summary", "Plan one format (idempotent: identical recipes share one key and cache entry)"},
+      {"parameters", {if_none_match()}},
+      {"requestBody", json_body("PlanRequest")},
+      {"responses",
+       {{"200", plan_ok()},
+        {"304", response_ref("NotModified")},
+        {"400", response_ref("BadRequest")},
+        {"413", response_ref("PayloadTooLarge")},
+        {"422", response_ref("InvalidValue")},
+        {"500", response_ref("Internal")},
+        {"503", response_ref("Overloaded")},
+        {"504", response_ref("Timeout")}}}};
+  p["/v1/plans/{key}"]["get"] = {
+      {"operationId", "getPlan"},
+      {"tags", {"plans"}},
+      {"summary", "A cached plan by its recipe key"},
+      {"parameters",
+       {{{"name", "key"},
+         {"in", "path"},
+         {"required", true},
+         {"schema", {{"type", "string"}}},
+         {"description", "Recipe key (32 hex digits) of a plan returned earlier."}},
+        if_none_match()}},
+      {"responses",
+       {{"200", plan_ok()},
+        {"304", response_ref("NotModified")},
+        {"404", response_ref("NotFound")},
+        {"500", response_ref("Internal")}}}};
+  p["/v1/plans/batch"]["post"] = {
+      {"operationId", "createPlans"},
+      {"tags", {"plans"}},
+      {"summary", "Plan many formats in parallel (recipe-table precompute)"},
+      {"description",
+       "Each result carries either the plan or the error of its request; a batch waits for room "
+       "in the solve queue instead of answering 503."},
+      {"requestBody", json_body("BatchRequest")},
+      {"responses",
+       {{"200", json_response("One result per request, in order.", ref("BatchResponse"))},
+        {"400", response_ref("BadRequest")},
+        {"413", response_ref("PayloadTooLarge")},
+        {"422", response_ref("InvalidValue")},
+        {"500", response_ref("Internal")}}}};
+  p["/v1/simulate"]["post"] = {{"operationId", "simulate"},
+                               {"tags", {"simulation"}},
+                               {"summary", "Wave-height response and peaks of any supported law"},
+                               {"requestBody", json_body("SimulateRequest")},
+                               {"responses",
+                                {{"200", json_response("The response.", ref("SimulateResponse"))},
+                                 {"400", response_ref("BadRequest")},
+                                 {"413", response_ref("PayloadTooLarge")},
+                                 {"422", response_ref("InvalidValue")},
+                                 {"500", response_ref("Internal")}}}};
+  p["/v1/fluids"]["get"] = {{"operationId", "listFluids"},
+                            {"tags", {"catalogue"}},
+                            {"summary", "The fluid catalogue"},
+                            {"responses",
+                             {{"200", json_response("The catalogue.", ref("FluidsResponse"))},
+                              {"500", response_ref("Internal")}}}};
+  p["/v1/openapi.json"]["get"] = {
+      {"operationId", "openapi"},
+      {"tags", {"catalogue"}},
+      {"summary", "This document"},
+      {"responses",
+       {{"200", json_response("OpenAPI 3.0.3 document.", {{"type", "object"}})},
+        {"500", response_ref("Internal")}}}};
+  p["/healthz"]["get"] = {{"operationId", "health"},
+                          {"tags", {"operations"}},
+                          {"summary", "Liveness"},
+                          {"responses",
+                           {{"200", json_response("The process serves.", ref("Health"))},
+                            {"500", response_ref("Internal")}}}};
+  p["/readyz"]["get"] = {
+      {"operationId", "ready"},
+      {"tags", {"operations"}},
+      {"summary", "Readiness: accepts new solves"},
+      {"responses",
+       {{"200", json_response("Ready.", ref("Readiness"))},
+        {"503", json_response("Not ready (shutting down).", ref("Readiness"))}}}};
+  p["/metrics"]["get"] = {
+      {"operationId", "metrics"},
+      {"tags", {"operations"}},
+      {"summary", "Prometheus metrics"},
+      {"responses",
+       {{"200",
+         {{"description", "Prometheus text exposition format 0.0.4."},
+          {"content", {{"text/plain", {{"schema", {{"type", "string"}}}}}}}}}}}};
+  return p;
+}
+
+}  // namespace
+
+json openapi_document(const std::string& version) {
+  json schemas = json::object();
+  add_format_schemas(schemas);
+  add_model_option_schemas(schemas);
+  add_plan_request_schemas(schemas);
+  add_simulate_request_schemas(schemas);
+  add_shared_response_schemas(schemas);
+  add_plan_response_schemas(schemas);
+  add_simulate_response_schemas(schemas);
+  add_service_schemas(schemas);
+  return {{"openapi", "3.0.3"},
+          {"info",
+           {{"title", "slosh planner"},
+            {"version", version},
+            {"description",
+             "Plans anti-sloshing 7-segment motion laws for packaging machines and predicts the "
+             "wave height of any supported law (SPEC §7). Units: mm and s on the surface, SI "
+             "elsewhere as named. Request objects reject unknown members (422); every error is the "
+             "ErrorEnvelope."}}},
+          {"tags",
+           {{{"name", "plans"}, {"description", "Planning and the recipe cache."}},
+            {{"name", "simulation"}, {"description", "Response of a given law."}},
+            {{"name", "catalogue"}, {"description", "Reference data and this document."}},
+            {{"name", "operations"}, {"description", "Health, readiness and metrics."}}}},
+          {"paths", paths()},
+          {"components", {{"schemas", schemas}, {"responses", responses_component()}}}};
+}
+
+}  // namespace slosh::api

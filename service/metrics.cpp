@@ -1,0 +1,67 @@
+#include "metrics.hpp"
+
+#include <sstream>
+
+namespace slosh::service {
+
+void Metrics::count_request(const std::string& route, int status) {
+  std::lock_guard lock(mutex_);
+  ++requests_[{route, status}];
+}
+
+void Metrics::observe_solve(const std::string& strategy, double seconds) {
+  std::lock_guard lock(mutex_);
+  Histogram& h = solves_[strategy];
+  for (std::size_t i = 0; i < kSolveBuckets.size(); ++i) {
+    if (seconds <= kSolveBuckets[i]) ++h.buckets[i];
+  }
+  ++h.count;
+  h.sum += seconds;
+}
+
+void Metrics::count_cache(bool hit) {
+  std::lock_guard lock(mutex_);
+  ++(hit ? cache_hits_ : cache_misses_);
+}
+
+std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
+                            std::size_t workers) const {
+  std::lock_guard lock(mutex_);
+  std::ostringstream out;
+  out << "# HELP slosh_http_requests_total HTTP requests by route and status.\n"
+      << "# TYPE slosh_http_requests_total counter\n";
+  for (const auto& [key, n] : requests_) {
+    out << "slosh_http_requests_total{route=\"" << key.first << "\",status=\"" << key.second
+        << "\"} " << n << '\n';
+  }
+  out << "# HELP slosh_solve_seconds Wall-clock time of plan solves by strategy.\n"
+      << "# TYPE slosh_solve_seconds histogram\n";
+  for (const auto& [strategy, h] : solves_) {
+    for (std::size_t i = 0; i < kSolveBuckets.size(); ++i) {
+      out << "slosh_solve_seconds_bucket{strategy=\"" << strategy << "\",le=\"" << kSolveBuckets[i]
+          << "\"} " << h.buckets[i] << '\n';
+    }
+    out << "slosh_solve_seconds_bucket{strategy=\"" << strategy << "\",le=\"+Inf\"} " << h.count
+        << '\n'
+        << "slosh_solve_seconds_sum{strategy=\"" << strategy << "\"} " << h.sum << '\n'
+        << "slosh_solve_seconds_count{strategy=\"" << strategy << "\"} " << h.count << '\n';
+  }
+  out << "# HELP slosh_cache_hits_total Plan requests answered from the cache.\n"
+      << "# TYPE slosh_cache_hits_total counter\n"
+      << "slosh_cache_hits_total " << cache_hits_ << '\n'
+      << "# HELP slosh_cache_misses_total Plan requests that needed a solve.\n"
+      << "# TYPE slosh_cache_misses_total counter\n"
+      << "slosh_cache_misses_total " << cache_misses_ << '\n'
+      << "# HELP slosh_queue_depth Solves waiting for a worker.\n"
+      << "# TYPE slosh_queue_depth gauge\n"
+      << "slosh_queue_depth " << queue_depth << '\n'
+      << "# HELP slosh_busy_workers Workers running a solve.\n"
+      << "# TYPE slosh_busy_workers gauge\n"
+      << "slosh_busy_workers " << busy_workers << '\n'
+      << "# HELP slosh_workers Size of the worker pool.\n"
+      << "# TYPE slosh_workers gauge\n"
+      << "slosh_workers " << workers << '\n';
+  return out.str();
+}
+
+}  // namespace slosh::service

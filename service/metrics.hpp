@@ -1,0 +1,40 @@
+#pragma once
+// Service metrics in the Prometheus text exposition format (GET /metrics).
+
+#include <array>
+#include <cstdint>
+#include <map>
+#include <mutex>
+#include <string>
+#include <utility>
+
+namespace slosh::service {
+
+class Metrics {
+ public:
+  /// Upper bounds of the solve-time histogram buckets [s].
+  static constexpr std::array<double, 10> kSolveBuckets{0.001, 0.002, 0.005, 0.01, 0.02,
+                                                        0.05,  0.1,   0.2,   0.5,  1.0};
+
+  void count_request(const std::string& route, int status);
+  void observe_solve(const std::string& strategy, double seconds);
+  void count_cache(bool hit);
+
+  /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller.
+  [[nodiscard]] std::string render(std::size_t queue_depth, std::size_t busy_workers,
+                                   std::size_t workers) const;
+
+ private:
+  struct Histogram {
+    std::array<std::uint64_t, kSolveBuckets.size()> buckets{};
+    std::uint64_t count{};
+    double sum{};
+  };
+  mutable std::mutex mutex_;
+  std::map<std::pair<std::string, int>, std::uint64_t> requests_;
+  std::map<std::string, Histogram> solves_;
+  std::uint64_t cache_hits_{};
+  std::uint64_t cache_misses_{};
+};
+
+}  // namespace slosh::service

@@ -1,0 +1,233 @@
+#include "plan_cache.hpp"
+
+#include <sqlite3.h>
+
+#include <chrono>
+#include <climits>
+#include <string_view>
+
+namespace slosh::service {
+namespace {
+
+constexpr std::string_view kSchema =
+    "CREATE TABLE IF NOT EXISTS plans("
+    "key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL)";
+constexpr std::string_view kSelect = "SELECT body FROM plans WHERE key = ?1";
+constexpr std::string_view kUpsert =
+    "INSERT OR REPLACE INTO plans(key, body, created_unix) VALUES(?1, ?2, ?3)";
+
+/// SQLite's message for the last failure on `db` (also when the handle is null: out of memory).
+std::string message_of(sqlite3* db) {
+  return db == nullptr ? std::string("out of memory") : std::string(sqlite3_errmsg(db));
+}
+
+/// Runs `sql` and returns the first column of its first row ("" when no row); sets `error` on
+/// failure.
+std::string query_text(sqlite3* db, std::string_view sql, std::string& error) {
+  sqlite3_stmt* stmt = nullptr;
+  std::string result;
+  if (sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &stmt, nullptr) !=
+      SQLITE_OK) {
+    error = message_of(db);
+    return result;
+  }
+  int rc = sqlite3_step(stmt);
+  while (rc == SQLITE_ROW) {
+    if (result.empty() && sqlite3_column_type(stmt, 0) != SQLITE_NULL) {
+      result = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0));
+    }
+    rc = sqlite3_step(stmt);
+  }
+  if (rc != SQLITE_DONE) error = message_of(db);
+  sqlite3_finalize(stmt);
+  return result;
+}
+
+bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
+  return sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
+                            stmt, nullptr) == SQLITE_OK;
+}
+
+std::int64_t now_unix() {
+  return std::chrono::duration_cast<std::chrono::seconds>(
+             std::chrono::system_clock::now().time_since_epoch())
+      .count();
+}
+
+}  // namespace
+
+PlanCache::PlanCache(CacheConfig config) : config_(std::move(config)) {
+  if (!config_.path.empty()) open_store();
+}
+
+PlanCache::~PlanCache() {
+  close_store();
+}
+
+void PlanCache::open_store() {
+  std::string error;
+  const int rc =
+      sqlite3_open_v2(config_.path.c_str(), &db_,
+                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
+  if (rc != SQLITE_OK) {
+    error = message_of(db_);
+  } else {
+    sqlite3_busy_timeout(db_, config_.busy_timeout_ms);
+    // A file of garbage opens fine; the first statement reports "file is not a database".
+    const std::string mode = query_text(db_, "PRAGMA journal_mode=WAL", error);
+    if (error.empty() && mode != "wal") {
+      error = "journal_mode is '" + mode + "', WAL could not be enabled";
+    }
+    if (error.empty()) query_text(db_, "PRAGMA synchronous=NORMAL", error);
+    if (error.empty()) query_text(db_, kSchema, error);
+    if (error.empty() && sqlite3_db_readonly(db_, "main") == 1) {
+      error = "the file is read-only";
+    }
+    if (error.empty() && (!prepare(db_, kSelect, &select_) || !prepare(db_, kUpsert, &upsert_))) {
+      error = message_of(db_);
+    }
+  }
+  if (!error.empty()) {
+    close_store();
+    set_error("plan cache store '" + config_.path + "' is unavailable (" + error +
+              "); serving from memory only");
+    return;
+  }
+  const std::lock_guard lock(error_mutex_);
+  persistent_ = true;
+}
+
+void PlanCache::close_store() {
+  sqlite3_finalize(select_);
+  sqlite3_finalize(upsert_);
+  sqlite3_close_v2(db_);  // also releases a handle whose open failed
+  select_ = nullptr;
+  upsert_ = nullptr;
+  db_ = nullptr;
+  const std::lock_guard lock(error_mutex_);
+  persistent_ = false;
+}
+
+void PlanCache::set_error(std::string message) {
+  const std::lock_guard lock(error_mutex_);
+  storage_error_ = std::move(message);
+}
+
+void PlanCache::clear_error() {
+  const std::lock_guard lock(error_mutex_);
+  storage_error_.clear();
+}
+
+void PlanCache::remember_locked(const std::string& key, const std::string& value) {
+  if (config_.memory_entries == 0) return;
+  if (const auto it = index_.find(key); it != index_.end()) {
+    it->second->second = value;
+    lru_.splice(lru_.begin(), lru_, it->second);
+    return;
+  }
+  lru_.emplace_front(key, value);
+  index_.emplace(key, lru_.begin());
+  while (lru_.size() > config_.memory_entries) {
+    index_.erase(lru_.back().first);
+    lru_.pop_back();
+  }
+}
+
+std::optional<std::string> PlanCache::get(const std::string& key) {
+  {
+    const std::lock_guard memory(memory_mutex_);
+    if (const auto it = index_.find(key); it != index_.end()) {
+      lru_.splice(lru_.begin(), lru_, it->second);
+      ++hits_;
+      return it->second->second;
+    }
+  }
+  // Not in memory: ask the store. Puts hold store_mutex_ across their memory and disk updates, so
+  // what is read here is the latest value of the key.
+  std::optional<std::string> value;
+  const std::lock_guard store(store_mutex_);
+  if (db_ != nullptr) {
+    if (key.size() > static_cast<std::size_t>(INT_MAX) ||
+        sqlite3_bind_text(select_, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC) !=
+            SQLITE_OK) {
+      set_error("plan cache store '" + config_.path + "': reading a plan failed (" +
+                message_of(db_) + ")");
+    } else {
+      const int rc = sqlite3_step(select_);
+      if (rc == SQLITE_ROW) {
+        const auto* text = static_cast<const char*>(sqlite3_column_blob(select_, 0));
+        const int bytes = sqlite3_column_bytes(select_, 0);
+        value.emplace(text == nullptr ? "" : std::string(text, static_cast<std::size_t>(bytes)));
+      } else if (rc != SQLITE_DONE) {
+        set_error("plan cache store '" + config_.path + "': reading a plan failed (" +
+                  message_of(db_) + ")");
+      }
+    }
+    sqlite3_reset(select_);
+    sqlite3_clear_bindings(select_);
+  }
+  const std::lock_guard memory(memory_mutex_);
+  if (value) {
+    remember_locked(key, *value);
+    ++hits_;
+  } else {
+    ++misses_;
+  }
+  return value;
+}
+
+void PlanCache::put(const std::string& key, const std::string& value) {
+  const std::lock_guard store(store_mutex_);
+  {
+    const std::lock_guard memory(memory_mutex_);
+    remember_locked(key, value);
+  }
+  if (db_ == nullptr) return;
+  int rc = SQLITE_TOOBIG;
+  if (key.size() <= static_cast<std::size_t>(INT_MAX) &&
+      value.size() <= static_cast<std::size_t>(INT_MAX)) {
+    rc = sqlite3_bind_text(upsert_, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC);
+    if (rc == SQLITE_OK) {
+      rc = sqlite3_bind_text(upsert_, 2, value.data(), static_cast<int>(value.size()),
+                             SQLITE_STATIC);
+    }
+    if (rc == SQLITE_OK) rc = sqlite3_bind_int64(upsert_, 3, now_unix());
+    if (rc == SQLITE_OK) rc = sqlite3_step(upsert_);
+  }
+  const std::string message =
+      rc == SQLITE_TOOBIG ? std::string(sqlite3_errstr(rc)) : message_of(db_);
+  sqlite3_reset(upsert_);
+  sqlite3_clear_bindings(upsert_);
+  if (rc == SQLITE_DONE) {
+    clear_error();
+  } else {
+    set_error("plan cache store '" + config_.path + "': writing a plan failed (" + message +
+              "); it is kept in memory only");
+  }
+}
+
+PlanCache::Stats PlanCache::stats() const {
+  Stats s;
+  {
+    const std::lock_guard memory(memory_mutex_);
+    s.hits = hits_;
+    s.misses = misses_;
+    s.memory_entries = lru_.size();
+  }
+  const std::lock_guard lock(error_mutex_);
+  s.persistent = persistent_;
+  s.storage_error = storage_error_;
+  return s;
+}
+
+std::string PlanCache::storage_error() const {
+  const std::lock_guard lock(error_mutex_);
+  return storage_error_;
+}
+
+bool PlanCache::in_memory(const std::string& key) const {
+  const std::lock_guard memory(memory_mutex_);
+  return index_.contains(key);
+}
+
+}  // namespace slosh::service

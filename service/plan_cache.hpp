@@ -1,0 +1,110 @@
+#pragma once
+// The per-recipe plan cache: an in-memory LRU tier in front of a persistent SQLite store.
+//
+// Values are opaque text (the rendered plan JSON) keyed by the recipe key (a hex string). A plan
+// is a pure function of its recipe, so the value of a key never changes meaning: the cache never
+// expires entries, only evicts them from memory (they stay on disk).
+
+#include <cstddef>
+#include <cstdint>
+#include <list>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <utility>
+
+struct sqlite3;
+struct sqlite3_stmt;
+
+namespace slosh::service {
+
+/// Settings of the plan cache.
+struct CacheConfig {
+  /// SQLite file; empty = memory only. Default empty.
+  std::string path;
+  /// LRU capacity of the memory tier (entries); 0 = no memory tier. Default 10000.
+  std::size_t memory_entries{10000};
+  /// How long a write waits for a lock held by another connection to the file [ms]. Default 5000.
+  int busy_timeout_ms{5000};
+};
+
+/// In-memory LRU in front of a persistent SQLite store (WAL mode, one file). Thread-safe.
+/// Values are opaque text (the rendered plan JSON), keyed by the recipe key (hex string).
+///
+/// The store is one table `plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER
+/// NOT NULL)` in a file opened in WAL mode with synchronous=NORMAL: committed entries survive a
+/// restart and a process crash (a power loss may drop the last few). Every put is written through
+/// at once (one transaction each). A store that cannot be opened or written never makes the cache
+/// throw: the failure is recorded in storage_error() and the cache keeps answering from memory.
+///
+/// Locking: the LRU tier has its own short lock (no I/O under it); SQLite I/O runs under a second
+/// lock, so readers of memory-resident entries never wait for the disk.
+class PlanCache {
+ public:
+  /// Opens (creating when missing) the store at `config.path`, unless the path is empty. Never
+  /// throws on a storage failure: see storage_error().
+  explicit PlanCache(CacheConfig config);
+  /// Closes the store (the WAL is checkpointed into the file by SQLite).
+  ~PlanCache();
+  PlanCache(const PlanCache&) = delete;
+  PlanCache& operator=(const PlanCache&) = delete;
+
+  /// The value of `key`: from memory, else from SQLite (then promoted into memory); nullopt when
+  /// absent. A read failure of the store counts as absent and is recorded in storage_error().
+  [[nodiscard]] std::optional<std::string> get(const std::string& key);
+  /// Stores in memory and (write-through) in SQLite, replacing any previous value. Never throws on
+  /// a storage failure: records it in storage_error() (cleared again by a later successful write).
+  void put(const std::string& key, const std::string& value);
+
+  /// Counters and state of the cache.
+  struct Stats {
+    std::uint64_t hits{};          ///< gets answered from memory or SQLite
+    std::uint64_t misses{};        ///< gets answered nullopt
+    std::size_t memory_entries{};  ///< entries in the memory tier now
+    bool persistent{};             ///< a SQLite store is open (false: memory only)
+    std::string storage_error;     ///< as storage_error()
+  };
+  [[nodiscard]] Stats stats() const;
+
+  /// Empty while the persistent store works (or none is configured); else a sentence naming the
+  /// file and the SQLite error (the cache then keeps answering from memory).
+  [[nodiscard]] std::string storage_error() const;
+
+  /// Whether `key` is in the memory tier, without touching its recency (diagnostics and tests).
+  [[nodiscard]] bool in_memory(const std::string& key) const;
+
+  [[nodiscard]] const CacheConfig& config() const { return config_; }
+
+ private:
+  using Entry = std::pair<std::string, std::string>;  // key, value
+
+  void open_store();
+  void close_store();
+  void set_error(std::string message);
+  void clear_error();
+  /// Inserts or refreshes `key` as most recent, evicting the least recent beyond capacity.
+  void remember_locked(const std::string& key, const std::string& value);
+
+  const CacheConfig config_;
+
+  // Memory tier: most recent first.
+  mutable std::mutex memory_mutex_;
+  std::list<Entry> lru_;
+  std::unordered_map<std::string, std::list<Entry>::iterator> index_;
+  std::uint64_t hits_{};
+  std::uint64_t misses_{};
+
+  // Persistent tier. Lock order: store_mutex_ before memory_mutex_ (never the reverse).
+  std::mutex store_mutex_;
+  sqlite3* db_{nullptr};
+  sqlite3_stmt* select_{nullptr};
+  sqlite3_stmt* upsert_{nullptr};
+
+  // State reported by stats() and storage_error(), readable while the store is busy.
+  mutable std::mutex error_mutex_;
+  std::string storage_error_;
+  bool persistent_{false};
+};
+
+}  // namespace slosh::service

@@ -1,0 +1,336 @@
+#include "plan_service.hpp"
+
+#include <chrono>
+#include <exception>
+#include <thread>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/openapi.hpp"
+#include "slosh/api/plan.hpp"
+#include "slosh/api/simulate.hpp"
+#include "version.hpp"
+
+namespace slosh::service {
+
+namespace {
+
+using nlohmann::json;
+
+/// Extra wait beyond a plan's own budget before a request gives up with 504 [s]: the solve may
+/// have queued behind others.
+constexpr double kQueueGrace = 30.0;
+/// Seconds a client is told to wait after a 503.
+constexpr int kRetryAfterSeconds = 1;
+
+Reply from_api_error(const api::ApiError& e) {
+  Reply r;
+  r.status = e.status();
+  r.body = api::dump_json(api::error_envelope(e));
+  return r;
+}
+
+std::string etag(const std::string& key) { return "\"" + key + "\""; }
+
+// The cached form of a rendered plan: "cached": false becomes true (the first occurrence is the
+// top-level member: dump() sorts keys and no nested object carries one).
+std::string as_cached(std::string body) {
+  static const std::string from = "\"cached\":false";
+  if (const auto at = body.find(from); at != std::string::npos) {
+    body.replace(at, from.size(), "\"cached\":true");
+  }
+  return body;
+}
+
+// Plans worth keeping: a time-limited or failed one depends on the load, not on the recipe.
+bool cacheable(const json& plan) {
+  const std::string status = plan.value("status", "");
+  return status == "optimal" || status == "acceptable" || status == "infeasible";
+}
+
+// A plan request with the server's budget applied: the default when the request gives none, a 422
+// when it asks for more than the server allows.
+api::PlanRequest parse_with_budget(const json& body, double budget) {
+  api::PlanRequest request = api::parse_plan_request(body);
+  const json* options = body.contains("options") && body["options"].is_object() ? &body["options"]
+                                                                                 : nullptr;
+  if (options == nullptr || !options->contains("time_limit_s") ||
+      (*options)["time_limit_s"].is_null()) {
+    request.options.time_limit = budget;
+  } else if (request.options.time_limit > budget) {
+    throw api::ApiError(api::ErrorCode::kInvalidValue, "options.time_limit_s",
+                        "options.time_limit_s = " + api::number_text(request.options.time_limit) +
+                            " is out of range: this server allows at most " +
+                            api::number_text(budget) + " s");
+  }
+  return request;
+}
+
+template <typename F>
+Reply guarded(F&& body) {
+  try {
+    return body();
+  } catch (const api::ApiError& e) {
+    return from_api_error(e);
+  } catch (const std::exception& e) {
+    return PlanService::error_reply(500, "internal", e.what());
+  }
+}
+
+}  // namespace
+
+PlanService::PlanService(const ServerConfig& config)
+    : config_(config),
+      cache_(CacheConfig{config.cache_path, config.cache_entries}),
+      pool_(config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency())
+                                : config.workers,
+            config.queue) {}
+
+PlanService::~PlanService() = default;
+
+Reply PlanService::error_reply(int status, const std::string& code, const std::string& message,
+                               const std::string& field) {
+  Reply r;
+  r.status = status;
+  json e{{"code", code}, {"message", message}};
+  e["field"] = field.empty() ? json(nullptr) : json(field);
+  r.body = api::dump_json(json{{"error", e}});
+  return r;
+}
+
+Reply PlanService::plan_reply(const std::string& key, const std::string& body, bool cached,
+                              const std::string& if_none_match) const {
+  Reply r;
+  r.cache_hit = cached;
+  r.headers.emplace_back("ETag", etag(key));
+  if (cached && if_none_match == etag(key)) {
+    r.status = 304;
+    return r;
+  }
+  r.body = cached ? as_cached(body) : body;
+  return r;
+}
+
+std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& key,
+                                                            const std::string& strategy,
+                                                            std::function<std::string()> run,
+                                                            bool wait_for_room, bool* refused) {
+  *refused = false;
+  std::lock_guard lock(inflight_mutex_);
+  if (auto it = inflight_.find(key); it != inflight_.end()) return it->second;
+  auto promise = std::make_shared<std::promise<Outcome>>();
+  std::shared_future<Outcome> future = promise->get_future().share();
+  auto task = [this, key, strategy, run = std::move(run), promise] {
+    Outcome outcome;
+    const auto started = std::chrono::steady_clock::now();
+    try {
+      outcome.body = run();
+      const json plan = json::parse(outcome.body);
+      if (cacheable(plan)) cache_.put(key, outcome.body);
+    } catch (const api::ApiError& e) {
+      outcome = {e.status(), api::dump_json(api::error_envelope(e))};
+    } catch (const std::exception& e) {
+      outcome = {500, error_reply(500, "internal", e.what()).body};
+    }
+    metrics_.observe_solve(
+        strategy, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+    {
+      std::lock_guard done(inflight_mutex_);
+      inflight_.erase(key);
+    }
+    promise->set_value(std::move(outcome));
+  };
+  if (!ready_) {
+    *refused = true;
+    return {};
+  }
+  const bool queued = wait_for_room ? pool_.submit_wait(task) : pool_.try_submit(task);
+  if (!queued) {
+    *refused = true;
+    return {};
+  }
+  inflight_.emplace(key, future);
+  return future;
+}
+
+Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match) {
+  return guarded([&] {
+    const json body = api::parse_json_body(text);
+    const api::PlanRequest request = parse_with_budget(body, config_.solve_budget_s);
+    const std::string key = api::recipe_key(request);
+    if (auto hit = cache_.get(key)) {
+      metrics_.count_cache(true);
+      return plan_reply(key, *hit, true, if_none_match);
+    }
+    metrics_.count_cache(false);
+    bool refused = false;
+    auto future = solve(
+        key, to_string(request.strategy),
+        [request] { return api::dump_json(api::run_plan(request)); }, false, &refused);
+    if (refused) {
+      Reply r = error_reply(503, "overloaded",
+                            ready_ ? "all " + std::to_string(pool_.workers()) +
+                                         " workers are busy and the queue of " +
+                                         std::to_string(pool_.capacity()) +
+                                         " solves is full; retry after " +
+                                         std::to_string(kRetryAfterSeconds) + " s"
+                                   : "the service is shutting down");
+      r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+      return r;
+    }
+    const auto wait = std::chrono::duration<double>(request.options.time_limit + kQueueGrace);
+    if (future.wait_for(wait) != std::future_status::ready) {
+      return error_reply(504, "timeout",
+                         "the plan did not finish within its budget of " +
+                             api::number_text(request.options.time_limit) + " s plus " +
+                             api::number_text(kQueueGrace) + " s of queueing");
+    }
+    const Outcome& outcome = future.get();
+    if (outcome.status != 200) {
+      Reply r;
+      r.status = outcome.status;
+      r.body = outcome.body;
+      return r;
+    }
+    return plan_reply(key, outcome.body, false, if_none_match);
+  });
+}
+
+Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match) {
+  return guarded([&] {
+    if (auto hit = cache_.get(key)) {
+      metrics_.count_cache(true);
+      return plan_reply(key, *hit, true, if_none_match);
+    }
+    metrics_.count_cache(false);
+    return error_reply(404, "not_found",
+                       "no plan with key '" + key.substr(0, 64) +
+                           "': POST the recipe to /v1/plans first",
+                       "key");
+  });
+}
+
+Reply PlanService::post_batch(const std::string& text) {
+  return guarded([&] {
+    const json body = api::parse_json_body(text);
+    if (!body.is_object()) {
+      throw api::ApiError(api::ErrorCode::kInvalidValue, "",
+                          "the body must be an object {\"requests\": [plan requests]}");
+    }
+    api::reject_unknown_fields(body, "", {"requests"});
+    const auto it = body.find("requests");
+    if (it == body.end() || !it->is_array() || it->empty() ||
+        it->size() > config_.batch_max) {
+      throw api::ApiError(api::ErrorCode::kInvalidValue, "requests",
+                          "requests must be an array of 1 to " +
+                              std::to_string(config_.batch_max) + " plan requests, got " +
+                              (it == body.end() ? std::string("nothing") : api::show(*it)));
+    }
+    const std::size_t n = it->size();
+    // Each result is a rendered plan or an error object (the envelope's inner "error").
+    struct Item {
+      bool error{false};
+      std::string json;
+    };
+    std::vector<Item> items(n);
+    std::vector<std::shared_future<Outcome>> pending(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      try {
+        const api::PlanRequest request = parse_with_budget((*it)[i], config_.solve_budget_s);
+        const std::string key = api::recipe_key(request);
+        if (auto hit = cache_.get(key)) {
+          metrics_.count_cache(true);
+          items[i] = {false, as_cached(*hit)};
+          continue;
+        }
+        metrics_.count_cache(false);
+        bool refused = false;
+        pending[i] = solve(
+            key, to_string(request.strategy),
+            [request] { return api::dump_json(api::run_plan(request)); }, true, &refused);
+        if (refused) {
+          items[i] = {true, json{{"code", "overloaded"},
+                                 {"message", "the service is shutting down"},
+                                 {"field", nullptr}}
+                                .dump()};
+        }
+      } catch (const api::ApiError& e) {
+        // Field paths inside the batch: requests[i].format....
+        json env = api::error_envelope(e)["error"];
+        const std::string prefix = "requests[" + std::to_string(i) + "]";
+        env["field"] = e.field().empty() ? prefix : prefix + "." + e.field();
+        items[i] = {true, api::dump_json(env)};
+      }
+    }
+    std::string out = "{\"results\":[";
+    for (std::size_t i = 0; i < n; ++i) {
+      if (pending[i].valid()) {
+        const Outcome& o = pending[i].get();
+        items[i] = o.status == 200 ? Item{false, o.body}
+                                   : Item{true, api::dump_json(json::parse(o.body)["error"])};
+      }
+      if (i > 0) out += ',';
+      out += "{\"index\":" + std::to_string(i) + (items[i].error ? ",\"error\":" : ",\"plan\":");
+      out += items[i].json;
+      out += '}';
+    }
+    out += "]}";
+    Reply r;
+    r.body = std::move(out);
+    return r;
+  });
+}
+
+Reply PlanService::post_simulate(const std::string& text) {
+  return guarded([&] {
+    Reply r;
+    r.body = api::dump_json(
+        api::run_simulate(api::parse_simulate_request(api::parse_json_body(text))));
+    return r;
+  });
+}
+
+Reply PlanService::fluids() const {
+  Reply r;
+  r.body = api::dump_json(api::fluids_json());
+  return r;
+}
+
+Reply PlanService::openapi() const {
+  Reply r;
+  r.body = api::dump_json(api::openapi_document(kVersion));
+  return r;
+}
+
+Reply PlanService::health() const {
+  Reply r;
+  r.body = json{{"status", "ok"}, {"version", kVersion}}.dump();
+  return r;
+}
+
+Reply PlanService::ready() const {
+  Reply r;
+  const auto stats = cache_.stats();
+  json body{{"status", ready_ ? "ready" : "stopping"},
+            {"workers", pool_.workers()},
+            {"queue_depth", pool_.queue_depth()},
+            {"cache", {{"persistent", stats.persistent}, {"memory_entries", stats.memory_entries}}}};
+  if (!stats.storage_error.empty()) body["cache"]["storage_error"] = stats.storage_error;
+  r.status = ready_ ? 200 : 503;
+  r.body = api::dump_json(body);
+  return r;
+}
+
+Reply PlanService::metrics_text() const {
+  Reply r;
+  r.content_type = "text/plain; version=0.0.4";
+  r.body = metrics_.render(pool_.queue_depth(), pool_.busy(), pool_.workers());
+  return r;
+}
+
+void PlanService::begin_shutdown() {
+  ready_ = false;
+  pool_.stop_accepting();
+}
+
+}  // namespace slosh::service

@@ -1,0 +1,30 @@
+#pragma once
+// Settings of `slosh serve` (embedded defaults = `make run`; config/slosh.json lists them).
+
+#include <cstddef>
+#include <string>
+
+namespace slosh::service {
+
+struct ServerConfig {
+  std::string host{"127.0.0.1"};  ///< bind address
+  int port{8080};                 ///< TCP port; 0 picks a free one
+  /// Solve workers; 0 = the number of cores. Default 0.
+  std::size_t workers{0};
+  /// Solves that may wait for a worker; beyond, POST /v1/plans answers 503. Default 64.
+  std::size_t queue{64};
+  /// SQLite file of the plan cache; empty = memory only. Default "slosh-plans.sqlite".
+  std::string cache_path{"slosh-plans.sqlite"};
+  /// Plans kept in memory in front of SQLite. Default 10000.
+  std::size_t cache_entries{10000};
+  /// Default and largest per-plan solve budget [s] (options.time_limit_s). Default 10 s.
+  double solve_budget_s{10.0};
+  /// Largest request body [bytes]; larger ones get 413. Default 1 MiB.
+  std::size_t max_body_bytes{1u << 20};
+  /// Largest number of recipes in one POST /v1/plans/batch. Default 1000.
+  std::size_t batch_max{1000};
+  /// HTTP connection threads. Default 8.
+  std::size_t http_threads{8};
+};
+
+}  // namespace slosh::service

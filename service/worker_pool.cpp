@@ -1,0 +1,82 @@
+#include "worker_pool.hpp"
+
+#include <algorithm>
+
+namespace slosh::service {
+
+WorkerPool::WorkerPool(std::size_t workers, std::size_t queue_capacity)
+    : capacity_(std::max<std::size_t>(1, queue_capacity)) {
+  workers = std::max<std::size_t>(1, workers);
+  threads_.reserve(workers);
+  for (std::size_t i = 0; i < workers; ++i) threads_.emplace_back([this] { run(); });
+}
+
+WorkerPool::~WorkerPool() {
+  {
+    std::lock_guard lock(mutex_);
+    accepting_ = false;
+    stopping_ = true;
+  }
+  has_task_.notify_all();
+  has_room_.notify_all();
+  for (std::thread& t : threads_) t.join();
+}
+
+bool WorkerPool::try_submit(std::function<void()> task) {
+  {
+    std::lock_guard lock(mutex_);
+    if (!accepting_ || queue_.size() >= capacity_) return false;
+    queue_.push_back(std::move(task));
+  }
+  has_task_.notify_one();
+  return true;
+}
+
+bool WorkerPool::submit_wait(std::function<void()> task) {
+  {
+    std::unique_lock lock(mutex_);
+    has_room_.wait(lock, [this] { return !accepting_ || queue_.size() < capacity_; });
+    if (!accepting_) return false;
+    queue_.push_back(std::move(task));
+  }
+  has_task_.notify_one();
+  return true;
+}
+
+void WorkerPool::stop_accepting() {
+  {
+    std::lock_guard lock(mutex_);
+    accepting_ = false;
+  }
+  has_room_.notify_all();
+}
+
+std::size_t WorkerPool::queue_depth() const {
+  std::lock_guard lock(mutex_);
+  return queue_.size();
+}
+
+std::size_t WorkerPool::busy() const {
+  std::lock_guard lock(mutex_);
+  return busy_;
+}
+
+void WorkerPool::run() {
+  for (;;) {
+    std::function<void()> task;
+    {
+      std::unique_lock lock(mutex_);
+      has_task_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stopping and drained
+      task = std::move(queue_.front());
+      queue_.pop_front();
+      ++busy_;
+    }
+    has_room_.notify_one();
+    task();  // tasks catch their own exceptions (PlanService wraps every one)
+    std::lock_guard lock(mutex_);
+    --busy_;
+  }
+}
+
+}  // namespace slosh::service

@@ -1,0 +1,50 @@
+#pragma once
+// A fixed set of worker threads behind a bounded queue: the service's solves run here, so a burst
+// of requests waits in a queue of known size (or is refused) instead of spawning work unbounded.
+
+#include <condition_variable>
+#include <cstddef>
+#include <deque>
+#include <functional>
+#include <mutex>
+#include <thread>
+#include <vector>
+
+namespace slosh::service {
+
+class WorkerPool {
+ public:
+  /// Starts `workers` threads (>= 1) with room for `queue_capacity` waiting tasks (>= 1).
+  WorkerPool(std::size_t workers, std::size_t queue_capacity);
+  /// Finishes every queued and running task, then joins the threads.
+  ~WorkerPool();
+  WorkerPool(const WorkerPool&) = delete;
+  WorkerPool& operator=(const WorkerPool&) = delete;
+
+  /// Queues `task` unless the queue is full or the pool is stopping; false then.
+  [[nodiscard]] bool try_submit(std::function<void()> task);
+  /// Queues `task`, waiting for room; false when the pool is stopping.
+  [[nodiscard]] bool submit_wait(std::function<void()> task);
+  /// Stops accepting tasks; queued and running ones still finish.
+  void stop_accepting();
+
+  [[nodiscard]] std::size_t queue_depth() const;  ///< tasks waiting
+  [[nodiscard]] std::size_t busy() const;         ///< tasks running
+  [[nodiscard]] std::size_t workers() const { return threads_.size(); }
+  [[nodiscard]] std::size_t capacity() const { return capacity_; }
+
+ private:
+  void run();
+
+  mutable std::mutex mutex_;
+  std::condition_variable has_task_;
+  std::condition_variable has_room_;
+  std::deque<std::function<void()>> queue_;
+  std::vector<std::thread> threads_;
+  std::size_t capacity_;
+  std::size_t busy_{0};
+  bool accepting_{true};
+  bool stopping_{false};
+};
+
+}  // namespace slosh::service

@@ -1,0 +1,291 @@
+// The plan cache: memory LRU tier, SQLite persistence (WAL), failure handling and threads. Every
+// test uses real SQLite files in a private temporary directory.
+
+#include <gtest/gtest.h>
+#include <sqlite3.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <random>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "plan_cache.hpp"
+
+namespace slosh::service {
+namespace {
+
+class PlanCacheTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    std::string pattern = ::testing::TempDir() + "slosh_plan_cache_XXXXXX";
+    ASSERT_NE(::mkdtemp(pattern.data()), nullptr);
+    dir_ = pattern;
+  }
+  void TearDown() override {
+    std::error_code ignored;
+    std::filesystem::remove_all(dir_, ignored);
+  }
+  [[nodiscard]] std::string file(const std::string& name) const { return (dir_ / name).string(); }
+
+  std::filesystem::path dir_;
+};
+
+/// Runs `sql` on `path` through a connection of the test's own; the first column of the first row.
+std::string query(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  std::string result = "<error>";
+  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
+    sqlite3_stmt* stmt = nullptr;
+    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
+        sqlite3_step(stmt) == SQLITE_ROW) {
+      result = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0));
+    }
+    sqlite3_finalize(stmt);
+  }
+  sqlite3_close(db);
+  return result;
+}
+
+TEST_F(PlanCacheTest, HitAfterPutAndMissForUnknownKey) {
+  PlanCache cache({.path = file("plans.sqlite")});
+  EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+  EXPECT_EQ(cache.get("ab12"), std::nullopt);
+  cache.put("ab12", R"({"plan": 1})");
+  EXPECT_EQ(cache.get("ab12"), R"({"plan": 1})");
+  EXPECT_EQ(cache.get("cd34"), std::nullopt);
+  cache.put("ab12", R"({"plan": 2})");  // replaces
+  EXPECT_EQ(cache.get("ab12"), R"({"plan": 2})");
+  const PlanCache::Stats s = cache.stats();
+  EXPECT_EQ(s.hits, 2U);
+  EXPECT_EQ(s.misses, 2U);
+  EXPECT_EQ(s.memory_entries, 1U);
+  EXPECT_TRUE(s.persistent);
+  EXPECT_TRUE(s.storage_error.empty());
+}
+
+TEST_F(PlanCacheTest, EntriesSurviveARestart) {
+  const std::string path = file("plans.sqlite");
+  {
+    PlanCache first({.path = path});
+    first.put("k1", "v1");
+    first.put("k2", "v2");
+  }
+  PlanCache second({.path = path});
+  EXPECT_FALSE(second.in_memory("k1"));
+  EXPECT_EQ(second.get("k1"), "v1");  // from SQLite, then promoted
+  EXPECT_TRUE(second.in_memory("k1"));
+  EXPECT_EQ(second.get("k2"), "v2");
+  EXPECT_EQ(second.get("k3"), std::nullopt);
+  EXPECT_EQ(second.stats().hits, 2U);
+  EXPECT_EQ(second.stats().misses, 1U);
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "2");
+  EXPECT_EQ(query(path, "SELECT body FROM plans WHERE key = 'k2'"), "v2");
+  // created_unix is a plausible Unix time (after 2020-01-01).
+  EXPECT_GT(std::stoll(query(path, "SELECT min(created_unix) FROM plans")), 1577836800LL);
+}
+
+TEST_F(PlanCacheTest, EntriesSurviveAProcessThatDiesWithoutClosing) {
+  const std::string path = file("plans.sqlite");
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) {
+    auto* cache = new PlanCache({.path = path});  // never destroyed: no close, no checkpoint
+    cache->put("crash", "survived");
+    ::_exit(0);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_TRUE(std::filesystem::exists(path + "-wal"));  // the entry lives in the WAL
+  PlanCache cache({.path = path});
+  EXPECT_EQ(cache.get("crash"), "survived");
+}
+
+TEST_F(PlanCacheTest, WalModeIsSet) {
+  const std::string path = file("plans.sqlite");
+  PlanCache cache({.path = path});
+  cache.put("k", "v");
+  EXPECT_EQ(query(path, "PRAGMA journal_mode"), "wal");
+}
+
+TEST_F(PlanCacheTest, LeastRecentlyUsedIsEvictedFirst) {
+  PlanCache memory({.path = "", .memory_entries = 2});
+  memory.put("a", "1");
+  memory.put("b", "2");
+  EXPECT_EQ(memory.get("a"), "1");  // a is now the most recent: b goes first
+  memory.put("c", "3");
+  EXPECT_EQ(memory.stats().memory_entries, 2U);
+  EXPECT_EQ(memory.get("b"), std::nullopt);
+  EXPECT_EQ(memory.get("a"), "1");
+  EXPECT_EQ(memory.get("c"), "3");
+  memory.put("d", "4");  // evicts a (c was read after a)
+  EXPECT_EQ(memory.get("a"), std::nullopt);
+  EXPECT_EQ(memory.get("c"), "3");
+  EXPECT_EQ(memory.get("d"), "4");
+}
+
+TEST_F(PlanCacheTest, EvictedEntriesComeBackFromSqlite) {
+  PlanCache cache({.path = file("plans.sqlite"), .memory_entries = 2});
+  cache.put("a", "1");
+  cache.put("b", "2");
+  EXPECT_EQ(cache.get("a"), "1");
+  cache.put("c", "3");
+  EXPECT_TRUE(cache.in_memory("a"));
+  EXPECT_FALSE(cache.in_memory("b"));
+  EXPECT_TRUE(cache.in_memory("c"));
+  EXPECT_EQ(cache.get("b"), "2");  // from SQLite, promoted; evicts a (least recent)
+  EXPECT_TRUE(cache.in_memory("b"));
+  EXPECT_FALSE(cache.in_memory("a"));
+  EXPECT_TRUE(cache.in_memory("c"));
+  EXPECT_EQ(cache.get("a"), "1");
+  EXPECT_EQ(cache.stats().memory_entries, 2U);
+  EXPECT_EQ(cache.stats().hits, 3U);
+  EXPECT_EQ(cache.stats().misses, 0U);
+}
+
+TEST_F(PlanCacheTest, ZeroCapacityServesEverythingFromSqlite) {
+  PlanCache cache({.path = file("plans.sqlite"), .memory_entries = 0});
+  cache.put("a", "1");
+  EXPECT_FALSE(cache.in_memory("a"));
+  EXPECT_EQ(cache.get("a"), "1");
+  EXPECT_EQ(cache.stats().memory_entries, 0U);
+}
+
+TEST_F(PlanCacheTest, MemoryOnlyModeNeverPersists) {
+  {
+    PlanCache cache(CacheConfig{});
+    EXPECT_FALSE(cache.stats().persistent);
+    EXPECT_TRUE(cache.storage_error().empty());
+    cache.put("k", "v");
+    EXPECT_EQ(cache.get("k"), "v");
+  }
+  EXPECT_TRUE(std::filesystem::is_empty(dir_));
+  PlanCache again(CacheConfig{});
+  EXPECT_EQ(again.get("k"), std::nullopt);
+}
+
+/// get/put keep working from memory; storage_error names the path.
+void expect_memory_fallback(PlanCache& cache, const std::string& path) {
+  const std::string error = cache.storage_error();
+  EXPECT_NE(error.find("'" + path + "'"), std::string::npos) << error;
+  EXPECT_FALSE(cache.stats().persistent);
+  EXPECT_EQ(cache.stats().storage_error, error);
+  EXPECT_EQ(cache.get("k"), std::nullopt);
+  cache.put("k", "v");
+  EXPECT_EQ(cache.get("k"), "v");
+  EXPECT_EQ(cache.storage_error(), error);
+}
+
+TEST_F(PlanCacheTest, CorruptFileFallsBackToMemory) {
+  const std::string path = file("garbage.sqlite");
+  {
+    std::mt19937 random(42);
+    std::ofstream out(path, std::ios::binary);
+    for (int i = 0; i < 8192; ++i) out.put(static_cast<char>(random() & 0xFF));
+  }
+  PlanCache cache({.path = path});
+  expect_memory_fallback(cache, path);
+  EXPECT_NE(cache.storage_error().find("file is not a database"), std::string::npos)
+      << cache.storage_error();
+  EXPECT_EQ(std::filesystem::file_size(path), 8192U);  // left untouched
+}
+
+TEST_F(PlanCacheTest, UnwritablePathFallsBackToMemory) {
+  const std::string missing_dir = file("no_such_dir") + "/x.sqlite";
+  PlanCache in_missing_dir({.path = missing_dir});
+  expect_memory_fallback(in_missing_dir, missing_dir);
+  EXPECT_NE(in_missing_dir.storage_error().find("unable to open database file"), std::string::npos)
+      << in_missing_dir.storage_error();
+
+  PlanCache absolute({.path = "/nonexistent_dir/x.sqlite"});
+  expect_memory_fallback(absolute, "/nonexistent_dir/x.sqlite");
+
+  // A directory is not a file, whoever runs the test (root ignores permission bits).
+  PlanCache on_directory({.path = dir_.string()});
+  expect_memory_fallback(on_directory, dir_.string());
+}
+
+TEST_F(PlanCacheTest, FailedWriteIsReportedAndLaterWritesRecover) {
+  const std::string path = file("plans.sqlite");
+  PlanCache cache({.path = path, .busy_timeout_ms = 20});
+  cache.put("before", "1");
+  // Another connection holds the write lock: the cache's write times out with SQLITE_BUSY.
+  sqlite3* other = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &other), SQLITE_OK);
+  ASSERT_EQ(sqlite3_exec(other, "BEGIN IMMEDIATE", nullptr, nullptr, nullptr), SQLITE_OK);
+  cache.put("during", "2");
+  const std::string error = cache.storage_error();
+  EXPECT_NE(error.find("'" + path + "'"), std::string::npos) << error;
+  EXPECT_NE(error.find("database is locked"), std::string::npos) << error;
+  EXPECT_TRUE(cache.stats().persistent);
+  EXPECT_EQ(cache.get("during"), "2");  // still served from memory
+  ASSERT_EQ(sqlite3_exec(other, "COMMIT", nullptr, nullptr, nullptr), SQLITE_OK);
+  sqlite3_close(other);
+  cache.put("after", "3");
+  EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "2");  // before, after
+}
+
+TEST_F(PlanCacheTest, ConcurrentPutAndGetLoseNothing) {
+  const std::string path = file("plans.sqlite");
+  constexpr int kThreads = 8;
+  constexpr int kOps = 500;
+  const auto key = [](int t, int i) { return std::to_string(t) + "-" + std::to_string(i); };
+  const auto value = [](int t, int i) { return "plan " + std::to_string(t * 100000 + i); };
+  {
+    // A small memory tier so that gets also go to SQLite while others write.
+    PlanCache cache({.path = path, .memory_entries = 64});
+    std::vector<std::thread> threads;
+    std::vector<int> wrong(kThreads, 0);
+    for (int t = 0; t < kThreads; ++t) {
+      threads.emplace_back([&, t] {
+        for (int i = 0; i < kOps; ++i) {
+          cache.put(key(t, i), value(t, i));
+          if (cache.get(key(t, i)) != value(t, i)) ++wrong[t];
+          const int j = i / 2;  // an older entry, likely evicted from memory
+          if (cache.get(key(t, j)) != value(t, j)) ++wrong[t];
+          (void)cache.get(key((t + 1) % kThreads, i));  // another thread's, maybe not there yet
+        }
+      });
+    }
+    for (auto& th : threads) th.join();
+    for (int t = 0; t < kThreads; ++t) EXPECT_EQ(wrong[t], 0) << "thread " << t;
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+    const PlanCache::Stats s = cache.stats();
+    EXPECT_EQ(s.hits + s.misses, 3U * kThreads * kOps);
+    EXPECT_GE(s.hits, 2U * kThreads * kOps);
+    EXPECT_LE(s.memory_entries, 64U);
+  }
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), std::to_string(kThreads * kOps));
+  PlanCache reopened({.path = path});
+  for (int t = 0; t < kThreads; ++t) {
+    for (int i = 0; i < kOps; ++i) ASSERT_EQ(reopened.get(key(t, i)), value(t, i));
+  }
+}
+
+TEST_F(PlanCacheTest, LargeTextRoundTripsExactly) {
+  const std::string path = file("plans.sqlite");
+  std::string big;
+  const std::string piece =
+      "{\"q\": \"it's \\\"quoted\\\"\", \"u\": \"ĥéłłø 水 🌊\", \"n\": \"a\\nb\"}\n";
+  while (big.size() < (1U << 20)) big += piece;
+  {
+    PlanCache cache({.path = path});
+    cache.put("big", big);
+    EXPECT_EQ(cache.get("big"), big);
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+  }
+  PlanCache reopened({.path = path});
+  const std::optional<std::string> back = reopened.get("big");
+  ASSERT_TRUE(back.has_value());
+  EXPECT_EQ(back->size(), big.size());
+  EXPECT_TRUE(*back == big);
+}
+
+}  // namespace
+}  // namespace slosh::service
