@@ -75,8 +75,8 @@ const std::vector<Setting>& settings() {
        [](const std::string&, const std::string& text, ServerConfig& c) { c.cache_path = text; }},
       {"cache_entries", "SLOSH_CACHE_ENTRIES",
        [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.cache_entries = static_cast<std::size_t>(
-             parse_integer(where, text, 1, 10000000, "an entry count"));
+         c.cache_entries =
+             static_cast<std::size_t>(parse_integer(where, text, 1, 10000000, "an entry count"));
        }},
       {"solve_budget_s", "SLOSH_SOLVE_BUDGET_S",
        [](const std::string& where, const std::string& text, ServerConfig& c) {

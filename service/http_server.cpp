@@ -65,7 +65,8 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   server.set_payload_max_length(config.max_body_bytes);
   server.set_read_timeout(10, 0);
   server.set_write_timeout(10, 0);
-  server.set_keep_alive_max_count(10000);
+  server.set_keep_alive_max_count(100000);
+  server.set_tcp_nodelay(true);  // no 40 ms Nagle + delayed-ACK stall between header and body
 
   // Every handler goes through here: one metrics label per route, exceptions become the envelope.
   auto route = [&service](std::string label, auto handler) {
@@ -97,8 +98,8 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
               }));
   server.Get("/v1/fluids",
              route("/v1/fluids", [&](const httplib::Request&) { return service.fluids(); }));
-  server.Get("/v1/openapi.json", route("/v1/openapi.json",
-                                       [&](const httplib::Request&) { return service.openapi(); }));
+  server.Get("/v1/openapi.json",
+             route("/v1/openapi.json", [&](const httplib::Request&) { return service.openapi(); }));
   server.Get("/healthz",
              route("/healthz", [&](const httplib::Request&) { return service.health(); }));
   server.Get("/readyz", route("/readyz", [&](const httplib::Request&) { return service.ready(); }));
@@ -107,30 +108,30 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
 
   // Errors the framework answers itself (unknown route, body too large, bad request line) get the
   // same envelope.
-  const httplib::Server::HandlerWithResponse on_error = [&service, &config](
-                                                         const httplib::Request& req,
-                                                         httplib::Response& res) {
-    if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
-    Reply reply;
-    switch (res.status) {
-      case 404:
-        reply = PlanService::error_reply(404, "not_found",
-                                         "no endpoint " + req.method + " " + req.path.substr(0, 80) +
-                                             "; see /v1/openapi.json");
-        break;
-      case 413:
-        reply = PlanService::error_reply(413, "payload_too_large",
-                                         "the body is larger than the limit of " +
-                                             std::to_string(config.max_body_bytes) + " bytes");
-        break;
-      default:
-        reply = PlanService::error_reply(res.status, res.status < 500 ? "malformed_json" : "internal",
-                                         "HTTP " + std::to_string(res.status));
-    }
-    send(reply, res);
-    service.metrics().count_request("other", res.status);
-    return httplib::Server::HandlerResponse::Handled;
-  };
+  const httplib::Server::HandlerWithResponse on_error =
+      [&service, &config](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+        Reply reply;
+        switch (res.status) {
+          case 404:
+            reply = PlanService::error_reply(404, "not_found",
+                                             "no endpoint " + req.method + " " +
+                                                 req.path.substr(0, 80) + "; see /v1/openapi.json");
+            break;
+          case 413:
+            reply = PlanService::error_reply(413, "payload_too_large",
+                                             "the body is larger than the limit of " +
+                                                 std::to_string(config.max_body_bytes) + " bytes");
+            break;
+          default:
+            reply = PlanService::error_reply(res.status,
+                                             res.status < 500 ? "malformed_json" : "internal",
+                                             "HTTP " + std::to_string(res.status));
+        }
+        send(reply, res);
+        service.metrics().count_request("other", res.status);
+        return httplib::Server::HandlerResponse::Handled;
+      };
   server.set_error_handler(on_error);
   server.set_exception_handler(
       [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
@@ -156,7 +157,6 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                  res.get_header_value("X-Request-Id"), req.method, req.path, res.status,
                  res.get_header_value("X-Cache"), ms, res.body.size());
   });
-
 
   int port = config.port;
   if (port == 0) {

@@ -30,7 +30,9 @@ Reply from_api_error(const api::ApiError& e) {
   return r;
 }
 
-std::string etag(const std::string& key) { return "\"" + key + "\""; }
+std::string etag(const std::string& key) {
+  return "\"" + key + "\"";
+}
 
 // The cached form of a rendered plan: "cached": false becomes true (the first occurrence is the
 // top-level member: dump() sorts keys and no nested object carries one).
@@ -52,8 +54,8 @@ bool cacheable(const json& plan) {
 // when it asks for more than the server allows.
 api::PlanRequest parse_with_budget(const json& body, double budget) {
   api::PlanRequest request = api::parse_plan_request(body);
-  const json* options = body.contains("options") && body["options"].is_object() ? &body["options"]
-                                                                                 : nullptr;
+  const json* options =
+      body.contains("options") && body["options"].is_object() ? &body["options"] : nullptr;
   if (options == nullptr || !options->contains("time_limit_s") ||
       (*options)["time_limit_s"].is_null()) {
     request.options.time_limit = budget;
@@ -82,9 +84,9 @@ Reply guarded(F&& body) {
 PlanService::PlanService(const ServerConfig& config)
     : config_(config),
       cache_(CacheConfig{config.cache_path, config.cache_entries}),
-      pool_(config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency())
-                                : config.workers,
-            config.queue) {}
+      pool_(
+          config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
+          config.queue) {}
 
 PlanService::~PlanService() = default;
 
@@ -133,7 +135,8 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       outcome = {500, error_reply(500, "internal", e.what()).body};
     }
     metrics_.observe_solve(
-        strategy, std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+        strategy,
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     {
       std::lock_guard done(inflight_mutex_);
       inflight_.erase(key);
@@ -168,13 +171,12 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
         key, to_string(request.strategy),
         [request] { return api::dump_json(api::run_plan(request)); }, false, &refused);
     if (refused) {
-      Reply r = error_reply(503, "overloaded",
-                            ready_ ? "all " + std::to_string(pool_.workers()) +
-                                         " workers are busy and the queue of " +
-                                         std::to_string(pool_.capacity()) +
-                                         " solves is full; retry after " +
-                                         std::to_string(kRetryAfterSeconds) + " s"
-                                   : "the service is shutting down");
+      Reply r = error_reply(
+          503, "overloaded",
+          ready_ ? "all " + std::to_string(pool_.workers()) +
+                       " workers are busy and the queue of " + std::to_string(pool_.capacity()) +
+                       " solves is full; retry after " + std::to_string(kRetryAfterSeconds) + " s"
+                 : "the service is shutting down");
       r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
       return r;
     }
@@ -203,10 +205,9 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return plan_reply(key, *hit, true, if_none_match);
     }
     metrics_.count_cache(false);
-    return error_reply(404, "not_found",
-                       "no plan with key '" + key.substr(0, 64) +
-                           "': POST the recipe to /v1/plans first",
-                       "key");
+    return error_reply(
+        404, "not_found",
+        "no plan with key '" + key.substr(0, 64) + "': POST the recipe to /v1/plans first", "key");
   });
 }
 
@@ -219,11 +220,10 @@ Reply PlanService::post_batch(const std::string& text) {
     }
     api::reject_unknown_fields(body, "", {"requests"});
     const auto it = body.find("requests");
-    if (it == body.end() || !it->is_array() || it->empty() ||
-        it->size() > config_.batch_max) {
+    if (it == body.end() || !it->is_array() || it->empty() || it->size() > config_.batch_max) {
       throw api::ApiError(api::ErrorCode::kInvalidValue, "requests",
-                          "requests must be an array of 1 to " +
-                              std::to_string(config_.batch_max) + " plan requests, got " +
+                          "requests must be an array of 1 to " + std::to_string(config_.batch_max) +
+                              " plan requests, got " +
                               (it == body.end() ? std::string("nothing") : api::show(*it)));
     }
     const std::size_t n = it->size();
@@ -284,8 +284,8 @@ Reply PlanService::post_batch(const std::string& text) {
 Reply PlanService::post_simulate(const std::string& text) {
   return guarded([&] {
     Reply r;
-    r.body = api::dump_json(
-        api::run_simulate(api::parse_simulate_request(api::parse_json_body(text))));
+    r.body =
+        api::dump_json(api::run_simulate(api::parse_simulate_request(api::parse_json_body(text))));
     return r;
   });
 }
@@ -311,10 +311,11 @@ Reply PlanService::health() const {
 Reply PlanService::ready() const {
   Reply r;
   const auto stats = cache_.stats();
-  json body{{"status", ready_ ? "ready" : "stopping"},
-            {"workers", pool_.workers()},
-            {"queue_depth", pool_.queue_depth()},
-            {"cache", {{"persistent", stats.persistent}, {"memory_entries", stats.memory_entries}}}};
+  json body{
+      {"status", ready_ ? "ready" : "stopping"},
+      {"workers", pool_.workers()},
+      {"queue_depth", pool_.queue_depth()},
+      {"cache", {{"persistent", stats.persistent}, {"memory_entries", stats.memory_entries}}}};
   if (!stats.storage_error.empty()) body["cache"]["storage_error"] = stats.storage_error;
   r.status = ready_ ? 200 : 503;
   r.body = api::dump_json(body);

@@ -429,15 +429,13 @@ TEST(CliPlan, UnreachableConstraintIsAPlanWithStatusInfeasible) {
 
 // ---------------------------------------------------------------------------------------------
 
-
 TEST(CliServe, HealthEndpointsAndGracefulSigterm) {
   const TempDir dir;
   const fs::path port_file = dir / "port";
   write_file(dir / "stdin", "");
-  Child child(
-      spawn({"serve", "--host", "127.0.0.1", "--port", "0", "--port-file", port_file.string(),
-             "--cache", (dir / "plans.sqlite").string()},
-            dir / "stdin", dir / "stdout", dir / "stderr"));
+  Child child(spawn({"serve", "--host", "127.0.0.1", "--port", "0", "--port-file",
+                     port_file.string(), "--cache", (dir / "plans.sqlite").string()},
+                    dir / "stdin", dir / "stdout", dir / "stderr"));
   ASSERT_GT(child.pid(), 0);
   const int port = wait_for_port(port_file, child, std::chrono::seconds(10));
   ASSERT_GT(port, 0) << "no port file; stderr:\n"

@@ -71,8 +71,9 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
             path + ": port = 70000 is not a TCP port: allowed 0 to 65535");
   const std::string typo = write_temp(R"({"prot": 80})");
   EXPECT_EQ(error_of([&] { apply_config_file(typo, c); }),
-            typo + ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
-                   "cache_entries, solve_budget_s, max_body_bytes, batch_max, http_threads");
+            typo +
+                ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
+                "cache_entries, solve_budget_s, max_body_bytes, batch_max, http_threads");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");

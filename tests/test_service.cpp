@@ -37,9 +37,15 @@ class Server {
  public:
   explicit Server(std::vector<std::string> extra = {}, const TempDir* shared_dir = nullptr)
       : dir_(shared_dir != nullptr ? *shared_dir : own_dir_) {
-    std::vector<std::string> args{"serve",       "--host", "127.0.0.1", "--port",
-                                  "0",           "--port-file", port_file().string(),
-                                  "--cache",     cache_file().string()};
+    std::vector<std::string> args{"serve",
+                                  "--host",
+                                  "127.0.0.1",
+                                  "--port",
+                                  "0",
+                                  "--port-file",
+                                  port_file().string(),
+                                  "--cache",
+                                  cache_file().string()};
     args.insert(args.end(), extra.begin(), extra.end());
     write_file(dir_ / "stdin", "");
     child_ = std::make_unique<Child>(
@@ -50,7 +56,9 @@ class Server {
   [[nodiscard]] int port() const { return port_; }
   [[nodiscard]] std::filesystem::path cache_file() const { return dir_ / "plans.sqlite"; }
   [[nodiscard]] std::filesystem::path port_file() const { return dir_ / "port"; }
-  [[nodiscard]] std::string log() const { return read_file(dir_ / "stdout") + read_file(dir_ / "stderr"); }
+  [[nodiscard]] std::string log() const {
+    return read_file(dir_ / "stdout") + read_file(dir_ / "stderr");
+  }
   [[nodiscard]] httplib::Client client() const {
     httplib::Client c("127.0.0.1", port_);
     c.set_connection_timeout(5, 0);
@@ -142,7 +150,8 @@ TEST(Service, PlanIsSolvedThenServedFromTheCacheWithAnETag) {
   // One structured log line per request, with its id, route, status and cache outcome.
   ASSERT_EQ(server.stop(), 0);
   EXPECT_TRUE(std::regex_search(
-      server.log(), std::regex(R"(request id=\d+ method=POST path=/v1/plans status=200 cache=hit)")))
+      server.log(),
+      std::regex(R"(request id=\d+ method=POST path=/v1/plans status=200 cache=hit)")))
       << server.log();
 }
 
@@ -192,8 +201,8 @@ TEST(Service, EveryErrorClassHasTheEnvelope) {
     EXPECT_EQ(e["error"]["field"], field) << r->body;
     EXPECT_FALSE(e["error"]["message"].get<std::string>().empty());
   };
-  expect_error(client.Post("/v1/plans", "{\"format\": ", "application/json"), 400,
-               "malformed_json", nullptr);
+  expect_error(client.Post("/v1/plans", "{\"format\": ", "application/json"), 400, "malformed_json",
+               nullptr);
   json bad = plan_body("notch");
   bad["format"]["stroke_mm"] = -5;
   expect_error(client.Post("/v1/plans", bad.dump(), "application/json"), 422, "invalid_value",
@@ -237,6 +246,24 @@ TEST(Service, CacheSurvivesARestartOnTheSameSqliteFile) {
   EXPECT_EQ(again, first);
 }
 
+TEST(Service, ACorruptCacheFileIsReportedAndTheServiceAnswersFromMemory) {
+  TempDir dir;
+  write_file(dir / "plans.sqlite", std::string(4096, 'x'));  // not a database
+  Server server({}, &dir);
+  ASSERT_GT(server.port(), 0) << server.log();
+  auto client = server.client();
+  const json ready = parse(client.Get("/readyz")->body);
+  EXPECT_EQ(ready["cache"]["persistent"], false);
+  EXPECT_NE(ready["cache"]["storage_error"].get<std::string>().find("plans.sqlite"),
+            std::string::npos);
+  const std::string body = plan_body("notch").dump();
+  EXPECT_EQ(parse(client.Post("/v1/plans", body, "application/json")->body)["cached"], false);
+  EXPECT_EQ(parse(client.Post("/v1/plans", body, "application/json")->body)["cached"], true);
+  EXPECT_EQ(read_file(dir / "plans.sqlite"), std::string(4096, 'x'));  // left untouched
+  ASSERT_EQ(server.stop(), 0);
+  EXPECT_NE(server.log().find("answering from memory only"), std::string::npos) << server.log();
+}
+
 TEST(Service, IdenticalConcurrentRequestsAreSolvedOnce) {
   Server server({"--workers", "2"});
   ASSERT_GT(server.port(), 0) << server.log();
@@ -267,8 +294,8 @@ TEST(Service, AFullQueueAnswers503WithRetryAfter) {
   for (int i = 0; i < 6; ++i) {
     replies.push_back(std::async(std::launch::async, [&, i] {
       auto client = server.client();
-      const auto r = client.Post("/v1/plans", plan_body("auto", 800 + i, 0.9).dump(),
-                                 "application/json");
+      const auto r =
+          client.Post("/v1/plans", plan_body("auto", 800 + i, 0.9).dump(), "application/json");
       if (!r) return std::pair<int, std::string>{-1, ""};
       const std::string retry = r->get_header_value("Retry-After");
       return std::pair<int, std::string>{r->status, r->status == 503 ? retry + " " + r->body : ""};
@@ -323,7 +350,8 @@ TEST(Service, BatchSolvesEachRecipeAndReportsErrorsPerItem) {
   // The batch filled the cache: the single request is now a hit.
   const auto hit = server.client().Post("/v1/plans", plan_body("notch").dump(), "application/json");
   EXPECT_EQ(parse(hit->body)["cached"], true);
-  const auto empty = server.client().Post("/v1/plans/batch", R"({"requests": []})", "application/json");
+  const auto empty =
+      server.client().Post("/v1/plans/batch", R"({"requests": []})", "application/json");
   EXPECT_EQ(empty->status, 422);
 }
 

@@ -58,7 +58,7 @@ inline void write_file(const fs::path& path, const std::string& text) {
 /// Starts the binary with `args`; stdin from `stdin_path` (or /dev/null), stdout and stderr to
 /// the given files. Returns the child's pid.
 inline pid_t spawn(const std::vector<std::string>& args, const fs::path& stdin_path,
-            const fs::path& stdout_path, const fs::path& stderr_path) {
+                   const fs::path& stdout_path, const fs::path& stderr_path) {
   std::vector<std::string> storage{SLOSH_BINARY};
   storage.insert(storage.end(), args.begin(), args.end());
   std::vector<char*> argv;
@@ -93,7 +93,8 @@ struct RunResult {
 };
 
 /// Runs the binary to completion with `stdin_text` on its standard input.
-inline RunResult run_slosh(const std::vector<std::string>& args, const std::string& stdin_text = "") {
+inline RunResult run_slosh(const std::vector<std::string>& args,
+                           const std::string& stdin_text = "") {
   const TempDir dir;
   write_file(dir / "stdin", stdin_text);
   const pid_t pid = spawn(args, dir / "stdin", dir / "stdout", dir / "stderr");
@@ -106,7 +107,6 @@ inline RunResult run_slosh(const std::vector<std::string>& args, const std::stri
   r.err = read_file(dir / "stderr");
   return r;
 }
-
 
 /// A child process killed (SIGKILL) and reaped on scope exit unless already reaped.
 class Child {
