@@ -82,6 +82,10 @@ const std::vector<Setting>& settings() {
        [](const std::string& where, const std::string& text, ServerConfig& c) {
          c.solve_budget_s = parse_seconds(where, text, 0.0, 600.0);
        }},
+      {"queue_wait_s", "SLOSH_QUEUE_WAIT_S",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.queue_wait_s = parse_seconds(where, text, 0.0, 3600.0);
+       }},
       {"max_body_bytes", "SLOSH_MAX_BODY_BYTES",
        [](const std::string& where, const std::string& text, ServerConfig& c) {
          c.max_body_bytes = static_cast<std::size_t>(

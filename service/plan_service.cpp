@@ -17,9 +17,6 @@ namespace {
 
 using nlohmann::json;
 
-/// Extra wait beyond a plan's own budget before a request gives up with 504 [s]: the solve may
-/// have queued behind others.
-constexpr double kQueueGrace = 30.0;
 /// Seconds a client is told to wait after a 503.
 constexpr int kRetryAfterSeconds = 1;
 
@@ -180,12 +177,13 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
       r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
       return r;
     }
-    const auto wait = std::chrono::duration<double>(request.options.time_limit + kQueueGrace);
+    const auto wait =
+        std::chrono::duration<double>(request.options.time_limit + config_.queue_wait_s);
     if (future.wait_for(wait) != std::future_status::ready) {
       return error_reply(504, "timeout",
                          "the plan did not finish within its budget of " +
                              api::number_text(request.options.time_limit) + " s plus " +
-                             api::number_text(kQueueGrace) + " s of queueing");
+                             api::number_text(config_.queue_wait_s) + " s of queueing");
     }
     const Outcome& outcome = future.get();
     if (outcome.status != 200) {

@@ -19,6 +19,9 @@ struct ServerConfig {
   std::size_t cache_entries{10000};
   /// Default and largest per-plan solve budget [s] (options.time_limit_s). Default 10 s.
   double solve_budget_s{10.0};
+  /// How long a plan request waits beyond its budget (queued behind other solves) before it
+  /// answers 504 [s]. Default 30 s.
+  double queue_wait_s{30.0};
   /// Largest request body [bytes]; larger ones get 413. Default 1 MiB.
   std::size_t max_body_bytes{1u << 20};
   /// Largest number of recipes in one POST /v1/plans/batch. Default 1000.

@@ -41,6 +41,7 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.cache_path, defaults.cache_path);
   EXPECT_EQ(from_file.cache_entries, defaults.cache_entries);
   EXPECT_EQ(from_file.solve_budget_s, defaults.solve_budget_s);
+  EXPECT_EQ(from_file.queue_wait_s, defaults.queue_wait_s);
   EXPECT_EQ(from_file.max_body_bytes, defaults.max_body_bytes);
   EXPECT_EQ(from_file.batch_max, defaults.batch_max);
   EXPECT_EQ(from_file.http_threads, defaults.http_threads);
@@ -73,7 +74,8 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   EXPECT_EQ(error_of([&] { apply_config_file(typo, c); }),
             typo +
                 ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
-                "cache_entries, solve_budget_s, max_body_bytes, batch_max, http_threads");
+                "cache_entries, solve_budget_s, queue_wait_s, max_body_bytes, batch_max, "
+                "http_threads");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");

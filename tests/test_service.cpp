@@ -316,6 +316,28 @@ TEST(Service, AFullQueueAnswers503WithRetryAfter) {
   EXPECT_EQ(ok + refused, 6);
 }
 
+TEST(Service, ARequestQueuedPastItsWaitAnswers504) {
+  TempDir dir;
+  write_file(dir / "config.json", R"({"workers": 1, "queue": 8, "queue_wait_s": 0.001})");
+  Server server({"--config", (dir / "config.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  // One slow solve occupies the only worker; the next request waits behind it past its budget
+  // (0.001 s) plus the allowed queue wait (0.001 s).
+  json slow = plan_body("auto", 800, 0.9);
+  slow["options"] = {{"rest_time_s", 5}};
+  auto first = std::async(std::launch::async, [&] {
+    return server.client().Post("/v1/plans", slow.dump(), "application/json");
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  json quick = plan_body("notch");
+  quick["options"] = {{"time_limit_s", 0.001}};
+  const auto r = server.client().Post("/v1/plans", quick.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 504) << r->body;
+  EXPECT_EQ(parse(r->body)["error"]["code"], "timeout");
+  EXPECT_EQ(first.get()->status, 200);
+}
+
 TEST(Service, SigtermFinishesTheSolveInFlight) {
   Server server;
   ASSERT_GT(server.port(), 0) << server.log();
