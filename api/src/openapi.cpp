@@ -5,6 +5,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/fluid.hpp"
 #include "slosh/core/planner.hpp"
@@ -15,19 +16,9 @@ namespace {
 
 using nlohmann::json;
 
-// Ranges of the plan options. plan.cpp keeps its own copies private; tests/test_openapi.cpp
-// checks every bound below against parse_plan_request at the boundary.
-const Range kPNotch{0.0, 1.0, "", true, true};
-const Range kWeight{0.0, 1e6, ""};
-const Range kBand{0.0, 1.0, "", true, true};
-const Range kTolRel{0.0, 10.0, "", true};
-const Range kEtaMm{0.0, 10000.0, "mm", true};
-const Range kPlanRestTime{0.0, 60.0, "s", true};
-const Range kAMax{0.0, 1000.0, "m/s^2", true};
-const Range kVMax{0.0, 100.0, "m/s", true};
-const Range kJMax{0.0, 1e6, "m/s^3", true};
-const Range kTimeLimit{0.0, 600.0, "s", true};
-constexpr int kMaxBandPoints = 2001;
+// The plan options' ranges are those the parser uses (plan.hpp).
+using namespace plan_ranges;  // NOLINT
+const Range& kPlanRestTime = plan_ranges::kRestTime;
 
 json ref(std::string_view name) {
   return {{"$ref", "#/components/schemas/" + std::string(name)}};

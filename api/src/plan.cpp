@@ -21,17 +21,7 @@ constexpr const char* kPlannerVersion = "plan-v1";
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
 
-const Range kPNotch{0.0, 1.0, "", true, true};
-const Range kWeight{0.0, 1e6, ""};
-const Range kBand{0.0, 1.0, "", true, true};
-const Range kTolRel{0.0, 10.0, "", true};
-const Range kEtaMm{0.0, 10000.0, "mm", true};
-const Range kRestTime{0.0, 60.0, "s", true};
-const Range kAMax{0.0, 1000.0, "m/s^2", true};
-const Range kVMax{0.0, 100.0, "m/s", true};
-const Range kJMax{0.0, 1e6, "m/s^3", true};
-const Range kTimeLimit{0.0, 600.0, "s", true};
-constexpr int kMaxBandPoints = 2001;
+using namespace plan_ranges;  // NOLINT: the option ranges of plan.hpp
 
 const char* kStrategies =
     "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "

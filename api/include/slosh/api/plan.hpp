@@ -6,9 +6,26 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/fields.hpp"
 #include "slosh/core/planner.hpp"
 
 namespace slosh::api {
+
+/// Allowed ranges of the plan options (user units), shared by the parser and the OpenAPI
+/// document. min_ramp_s (0.001 to T/4) and plateau_min_s (0 to T) depend on the format.
+namespace plan_ranges {
+inline const Range kPNotch{0.0, 1.0, "", true, true};
+inline const Range kWeight{0.0, 1e6, ""};
+inline const Range kBand{0.0, 1.0, "", true, true};
+inline const Range kTolRel{0.0, 10.0, "", true};
+inline const Range kEtaMm{0.0, 10000.0, "mm", true};
+inline const Range kRestTime{0.0, 60.0, "s", true};
+inline const Range kAMax{0.0, 1000.0, "m/s^2", true};
+inline const Range kVMax{0.0, 100.0, "m/s", true};
+inline const Range kJMax{0.0, 1e6, "m/s^3", true};
+inline const Range kTimeLimit{0.0, 600.0, "s", true};
+constexpr int kMaxBandPoints = 2001;
+}  // namespace plan_ranges
 
 /// A validated plan request.
 struct PlanRequest {
