@@ -70,4 +70,33 @@ MultiStartResult multi_start(const NlpProblem& problem,
   return out;
 }
 
+StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c) {
+  StrategyOutcome o;
+  o.evaluations = m.evaluations;
+  o.starts = m.starts;
+  o.solver = solver_name(c);
+  if (m.best.x.empty()) {
+    o.status = m.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+    o.durations = c.space.starts(0).front();
+    return o;
+  }
+  if (!m.feasible && m.timed_out) {
+    // Out of time before any feasible point: the best admissible point is the first start.
+    o.status = SolveStatus::kTimeLimit;
+    o.durations = c.space.starts(0).front();
+    return o;
+  }
+  o.durations = c.space.polish(m.best.x.data());
+  o.objective = m.best.objective;
+  if (!m.feasible) {
+    o.status = SolveStatus::kInfeasible;
+  } else if (m.timed_out) {
+    o.status = SolveStatus::kTimeLimit;
+  } else {
+    o.status = m.best.status == SolveStatus::kAcceptable ? SolveStatus::kAcceptable
+                                                         : SolveStatus::kOptimal;
+  }
+  return o;
+}
+
 }  // namespace slosh::detail

@@ -4,14 +4,12 @@
 
 #include "slosh/core/response.hpp"
 
+#include "nonlinear_scheme.hpp"
+
 namespace slosh {
 
 double nonlinear_acceleration(const SloshingModel& m, double x, double v, double a) {
-  const double w = m.omega1();
-  const double c2x2 = m.C * m.C * x * x;
-  const double rhs = 2.0 * w * m.zeta * v * (1.0 + c2x2) + m.C * m.C * x * v * v +
-                     w * w * x * (1.0 + m.alpha * x * x) + a / m.radius;
-  return -rhs / (1.0 + c2x2);
+  return detail::nonlinear_rhs(m, x, v, a);
 }
 
 NonlinearResponse::NonlinearResponse(const SloshingModel& model, const MotionLaw& law,
@@ -48,16 +46,7 @@ NonlinearResponse::NonlinearResponse(const SloshingModel& model, const MotionLaw
       const double tau = h * static_cast<double>(i);
       const double a_mid = accel(tau + 0.5 * h);
       const double a1 = accel(tau + h);
-      const double k1x = v;
-      const double k1v = nonlinear_acceleration(model, x, v, a0);
-      const double k2x = v + 0.5 * h * k1v;
-      const double k2v = nonlinear_acceleration(model, x + 0.5 * h * k1x, k2x, a_mid);
-      const double k3x = v + 0.5 * h * k2v;
-      const double k3v = nonlinear_acceleration(model, x + 0.5 * h * k2x, k3x, a_mid);
-      const double k4x = v + h * k3v;
-      const double k4v = nonlinear_acceleration(model, x + h * k3x, k4x, a1);
-      x += h / 6.0 * (k1x + 2.0 * k2x + 2.0 * k3x + k4x);
-      v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
+      detail::rk4_step(model, x, v, h, a0, a_mid, a1);
       time_.push_back(i + 1 == n ? p.t_end : p.t_begin + tau + h);
       x_.push_back(x);
       v_.push_back(v);
@@ -76,16 +65,18 @@ ModeState NonlinearResponse::state(double t) const {
   const double h = time_[i + 1] - time_[i];
   const double s = (t - time_[i]) / h;
   // Cubic Hermite on (x, v) for the position and on (v, acc) for the rate.
-  const double h00 = (1.0 + 2.0 * s) * (1.0 - s) * (1.0 - s);
-  const double h10 = s * (1.0 - s) * (1.0 - s);
-  const double h01 = s * s * (3.0 - 2.0 * s);
-  const double h11 = s * s * (s - 1.0);
-  return {h00 * x_[i] + h10 * h * v_[i] + h01 * x_[i + 1] + h11 * h * v_[i + 1],
-          h00 * v_[i] + h10 * h * acc_[i] + h01 * v_[i + 1] + h11 * h * acc_[i + 1]};
+  return {detail::hermite(x_[i], v_[i], x_[i + 1], v_[i + 1], h, s),
+          detail::hermite(v_[i], acc_[i], v_[i + 1], acc_[i + 1], h, s)};
 }
 
 double NonlinearResponse::eta(double t) const {
-  return K_ * state(t).x;
+  // Position only: the peak search's hot path.
+  if (t <= 0.0) return 0.0;
+  if (t >= time_.back()) return K_ * x_.back();
+  auto it = std::upper_bound(time_.begin(), time_.end(), t);
+  const std::size_t i = static_cast<std::size_t>(it - time_.begin()) - 1;
+  const double h = time_[i + 1] - time_[i];
+  return K_ * detail::hermite(x_[i], v_[i], x_[i + 1], v_[i + 1], h, (t - time_[i]) / h);
 }
 
 SloshPeaks NonlinearResponse::peaks() const {

@@ -52,35 +52,6 @@ void add_limits(NlpProblem& p, const StrategyContext& c, int first,
   };
 }
 
-StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c) {
-  StrategyOutcome o;
-  o.evaluations = m.evaluations;
-  o.starts = m.starts;
-  o.solver = solver_name(c);
-  if (m.best.x.empty()) {
-    o.status = m.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
-    o.durations = c.space.starts(0).front();
-    return o;
-  }
-  if (!m.feasible && m.timed_out) {
-    // Out of time before any feasible point: the best admissible point is the first start.
-    o.status = SolveStatus::kTimeLimit;
-    o.durations = c.space.starts(0).front();
-    return o;
-  }
-  o.durations = c.space.polish(m.best.x.data());
-  o.objective = m.best.objective;
-  if (!m.feasible) {
-    o.status = SolveStatus::kInfeasible;
-  } else if (m.timed_out) {
-    o.status = SolveStatus::kTimeLimit;
-  } else {
-    o.status = m.best.status == SolveStatus::kAcceptable ? SolveStatus::kAcceptable
-                                                         : SolveStatus::kOptimal;
-  }
-  return o;
-}
-
 // sum_i w_i |X(omega_i)|^2 / x_ref^2 and its gradient.
 double weighted_power(const double* x, double* grad, const StrategyContext& c,
                       const std::vector<double>& omegas, const std::vector<double>& weights) {

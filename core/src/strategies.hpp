@@ -66,6 +66,11 @@ struct MultiStartResult {
                                            const StrategyContext& context,
                                            const NlpOptions& options);
 
+/// The outcome of a multi-start: polished best point and translated status (time_limit with the
+/// first start when time ran out before any feasible point; infeasible when none was feasible).
+[[nodiscard]] StrategyOutcome outcome_from(const MultiStartResult& m,
+                                           const StrategyContext& context);
+
 /// Name of the solver a context uses ("nlopt-slsqp" or "ipopt").
 [[nodiscard]] std::string solver_name(const StrategyContext& context);
 

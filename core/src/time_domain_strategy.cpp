@@ -217,33 +217,13 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
   }
   double excess = 0.0;
   const MultiStartResult m = solve_phase(c, motion, bound, starts, &excess);
-  StrategyOutcome o;
-  o.solver = solver_name(c);
-  o.evaluations = m.evaluations;
-  o.starts = m.starts;
-  if (m.best.x.empty()) {
-    o.status = m.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
-    o.durations = starts.front();
-    return o;
+  StrategyOutcome o = outcome_from(m, c);
+  if (o.status == SolveStatus::kOptimal && excess > kDenseTolerance) {
+    o.status = SolveStatus::kAcceptable;
+    o.detail = std::string(motion ? "eta_rest" : "eta_motion") +
+               " bound met on the dense response to within " + sig3(excess * 1e2) + " %";
   }
-  if (!m.feasible && m.timed_out) {
-    o.status = SolveStatus::kTimeLimit;
-    o.durations = starts.front();
-    return o;
-  }
-  o.durations = c.space.polish(m.best.x.data());
-  o.objective = m.best.objective;
-  if (m.feasible) {
-    o.status = m.timed_out ? SolveStatus::kTimeLimit
-                           : (m.best.status == SolveStatus::kAcceptable ? SolveStatus::kAcceptable
-                                                                        : SolveStatus::kOptimal);
-    if (excess > kDenseTolerance && o.status == SolveStatus::kOptimal) {
-      o.status = SolveStatus::kAcceptable;
-      o.detail = std::string(motion ? "eta_rest" : "eta_motion") +
-                 " bound met on the dense response to within " + sig3(excess * 1e2) + " %";
-    }
-    return o;
-  }
+  if (o.status != SolveStatus::kInfeasible) return o;
   // Not reachable: the best the other phase can do alone, reported and returned.
   double unused = 0.0;
   const MultiStartResult best = solve_phase(c, !motion, std::nullopt, starts, &unused);
