@@ -111,20 +111,19 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
 }
 
 std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& key,
-                                                            const std::string& strategy,
-                                                            std::function<std::string()> run,
+                                                            const api::PlanRequest& request,
                                                             bool wait_for_room, bool* refused) {
   *refused = false;
   std::lock_guard lock(inflight_mutex_);
   if (auto it = inflight_.find(key); it != inflight_.end()) return it->second;
   auto promise = std::make_shared<std::promise<Outcome>>();
   std::shared_future<Outcome> future = promise->get_future().share();
-  auto task = [this, key, strategy, run = std::move(run), promise] {
+  auto task = [this, key, request, promise] {
     Outcome outcome;
     const auto started = std::chrono::steady_clock::now();
     try {
-      outcome.body = run();
-      const json plan = json::parse(outcome.body);
+      const json plan = api::run_plan(request);
+      outcome.body = api::dump_json(plan);
       if (cacheable(plan)) cache_.put(key, outcome.body);
     } catch (const api::ApiError& e) {
       outcome = {e.status(), api::dump_json(api::error_envelope(e))};
@@ -132,7 +131,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       outcome = {500, error_reply(500, "internal", e.what()).body};
     }
     metrics_.observe_solve(
-        strategy,
+        to_string(request.strategy),
         std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     {
       std::lock_guard done(inflight_mutex_);
@@ -164,9 +163,7 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     }
     metrics_.count_cache(false);
     bool refused = false;
-    auto future = solve(
-        key, to_string(request.strategy),
-        [request] { return api::dump_json(api::run_plan(request)); }, false, &refused);
+    auto future = solve(key, request, false, &refused);
     if (refused) {
       Reply r = error_reply(
           503, "overloaded",
@@ -243,9 +240,7 @@ Reply PlanService::post_batch(const std::string& text) {
         }
         metrics_.count_cache(false);
         bool refused = false;
-        pending[i] = solve(
-            key, to_string(request.strategy),
-            [request] { return api::dump_json(api::run_plan(request)); }, true, &refused);
+        pending[i] = solve(key, request, true, &refused);
         if (refused) {
           items[i] = {true, json{{"code", "overloaded"},
                                  {"message", "the service is shutting down"},

@@ -13,6 +13,7 @@
 #include "metrics.hpp"
 #include "plan_cache.hpp"
 #include "server_config.hpp"
+#include "slosh/api/plan.hpp"
 #include "worker_pool.hpp"
 
 namespace slosh::service {
@@ -59,9 +60,8 @@ class PlanService {
   };
   // The rendered plan of `key`: from a running solve of the same recipe, or a new solve queued
   // on the pool (`wait_for_room`: block for a queue slot instead of answering 503).
-  std::shared_future<Outcome> solve(const std::string& key, const std::string& strategy,
-                                    std::function<std::string()> run, bool wait_for_room,
-                                    bool* refused);
+  std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
+                                    bool wait_for_room, bool* refused);
   Reply plan_reply(const std::string& key, const std::string& body, bool cached,
                    const std::string& if_none_match) const;
 

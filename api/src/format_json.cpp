@@ -85,6 +85,15 @@ Format parse_format(const nlohmann::json& format, const std::string& path) {
   return f;
 }
 
+Format parse_request_format(const nlohmann::json& body) {
+  if (!body.contains("format")) {
+    invalid("format",
+            "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\", "
+            "\"motion_time_s\"}");
+  }
+  return parse_format(body["format"], "format");
+}
+
 void parse_model_options(const nlohmann::json& options, const std::string& path,
                          ModelOptions& model) {
   model.modes = optional_integer(options, path, "modes", 1, static_cast<int>(kMaxModes), 3);

@@ -105,12 +105,7 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "strategy", "options", "sample_period_s"});
   PlanRequest r;
-  if (!body.contains("format")) {
-    invalid("format",
-            "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\", "
-            "\"motion_time_s\"}");
-  }
-  r.format = parse_format(body["format"], "format");
+  r.format = parse_request_format(body);
   if (const nlohmann::json* s = member(body, "strategy")) {
     std::optional<Strategy> strategy;
     if (s->is_string()) strategy = parse_strategy(s->get<std::string>());

@@ -97,12 +97,7 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "law", "rest_time_s", "sample_period_s", "options"});
   SimulateRequest r;
-  if (!body.contains("format")) {
-    invalid("format",
-            "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\", "
-            "\"motion_time_s\"}");
-  }
-  r.format = parse_format(body["format"], "format");
+  r.format = parse_request_format(body);
 
   nlohmann::json options = body.value("options", nlohmann::json::object());
   if (options.is_null()) options = nlohmann::json::object();

@@ -31,6 +31,9 @@ constexpr int kMaxSeriesSamples{200000};
 /// Parses and validates `format` (radius, height, fill, fluid, stroke, motion time).
 [[nodiscard]] Format parse_format(const nlohmann::json& format, const std::string& path = "format");
 
+/// The required top-level "format" of a request body (plan and simulate).
+[[nodiscard]] Format parse_request_format(const nlohmann::json& body);
+
 /// Parses `fluid`: a catalogue name or {"density_kg_m3", "viscosity_pa_s"}.
 [[nodiscard]] Fluid parse_fluid(const nlohmann::json& fluid, const std::string& path);
 
