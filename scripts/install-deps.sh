@@ -15,6 +15,7 @@ packages=(
   libsqlite3-dev                                   # persistent plan cache (service)
   libssl-dev                                       # SHA-256 of recipe keys (api)
   libcli11-dev                                     # command-line parsing (service)
+  libcsv-dev                                       # CSV recipe/plan tables (service)
   libgtest-dev libgmock-dev                        # unit and integration tests
   libbenchmark-dev                                 # Google Benchmark targets
   clang-format                                     # formatting check

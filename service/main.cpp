@@ -1,4 +1,4 @@
-// `slosh`: the command-line entry point (serve, plan, simulate).
+// `slosh`: the command-line entry point (serve, plan, simulate, batch, export).
 
 #include <CLI/CLI.hpp>
 
@@ -6,8 +6,10 @@
 #include <optional>
 #include <string>
 
+#include "batch_command.hpp"
 #include "cli_commands.hpp"
 #include "config.hpp"
+#include "export_command.hpp"
 #include "http_server.hpp"
 #include "version.hpp"
 
@@ -57,28 +59,100 @@ int main(int argc, char** argv) {
   plan->add_option("--request", request, "Request JSON file, or - for stdin")
       ->capture_default_str();
 
+  slosh::service::BatchCommandOptions batch_options;
+  std::string batch_progress = "auto";
+  auto* batch = app.add_subcommand(
+      "batch", "Plan a recipe table (CSV or JSON lines in, a plan table as CSV or JSON out)");
+  batch->add_option("--in", batch_options.in, "Recipe table file, or - for stdin")
+      ->capture_default_str();
+  batch->add_option("--out", batch_options.out, "Plan table file, or - for stdout")
+      ->capture_default_str();
+  batch
+      ->add_option("--in-format", batch_options.in_format,
+                   "Recipe table format (auto: from the extension .csv/.jsonl/.ndjson/.json)")
+      ->check(CLI::IsMember({"auto", "csv", "jsonl", "json"}))
+      ->capture_default_str();
+  batch
+      ->add_option("--out-format", batch_options.out_format,
+                   "Plan table format (auto: from the extension; csv for -)")
+      ->check(CLI::IsMember({"auto", "csv", "jsonl", "json"}))
+      ->capture_default_str();
+  batch->add_option("--config", config_path, "JSON config file (workers, cache, solve budget)");
+  batch
+      ->add_option("--workers", workers,
+                   "Parallel solves, 0 = the cores [default 0; env SLOSH_WORKERS]")
+      ->check(CLI::Range(0, 1024));
+  batch->add_option("--cache", cache,
+                    "SQLite plan cache shared with `slosh serve`, \"\" = none [default " +
+                        defaults.cache_path + "; env SLOSH_CACHE]");
+  batch->add_option(
+      "--server", batch_options.server,
+      "Send the table to a running service (http://host:port) instead of solving here");
+  batch->add_option("--chunk", batch_options.chunk, "Recipes per request in --server mode")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  batch
+      ->add_option("--progress", batch_progress,
+                   "Progress bar on stderr: auto (when stderr is a terminal), always, never")
+      ->check(CLI::IsMember({"auto", "always", "never"}))
+      ->capture_default_str();
+  batch->add_flag("--full", batch_options.full, "JSON output: add the whole plan to each row");
+
+  slosh::service::ExportCommandOptions export_options;
+  auto* export_cmd = app.add_subcommand(
+      "export", "Cam table (t, position, velocity, acceleration, jerk) of a plan or a law as CSV");
+  export_cmd
+      ->add_option("--request", export_options.request,
+                   "Plan request (solved or read from the cache) or simulate request with \"law\"; "
+                   "- for stdin")
+      ->capture_default_str();
+  export_cmd->add_option("--out", export_options.out, "Cam table CSV file, or - for stdout")
+      ->required();
+  export_cmd->add_option("--period-ms", export_options.period_ms, "Controller cycle [ms]")
+      ->capture_default_str();
+  export_cmd->add_option("--segments", export_options.segments,
+                         "Also write the 7-segment table (durations, jerks, A, B) to this CSV");
+  export_cmd->add_option("--config", config_path, "JSON config file (cache, solve budget)");
+  export_cmd->add_option("--cache", cache,
+                         "SQLite plan cache shared with `slosh serve`, \"\" = none [default " +
+                             defaults.cache_path + "; env SLOSH_CACHE]");
+
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
-  if (*serve) {
-    slosh::service::ServerConfig server = defaults;
+  slosh::service::ServerConfig server = defaults;
+  if (*serve || *batch || *export_cmd) {
     try {
       if (!config_path.empty()) slosh::service::apply_config_file(config_path, server);
       slosh::service::apply_environment(slosh::service::slosh_environment(), server);
     } catch (const std::exception& e) {
-      std::cerr << "slosh serve: " << e.what() << '\n';
+      std::cerr << "slosh " << app.get_subcommands().front()->get_name() << ": " << e.what()
+                << '\n';
       return slosh::service::kExitInvalidInput;
     }
+    if (workers) server.workers = *workers;
+    if (cache) server.cache_path = *cache;
+  }
+  if (*serve) {
     if (host) server.host = *host;
     if (port) server.port = *port;
-    if (workers) server.workers = *workers;
     if (queue) server.queue = *queue;
-    if (cache) server.cache_path = *cache;
     return slosh::service::run_server(server, port_file);
   }
   if (*simulate) return slosh::service::run_simulate_command(request);
   if (*plan) return slosh::service::run_plan_command(request);
+  if (*batch) {
+    batch_options.config = server;
+    batch_options.progress = batch_progress == "always"  ? slosh::service::ProgressMode::kAlways
+                             : batch_progress == "never" ? slosh::service::ProgressMode::kNever
+                                                         : slosh::service::ProgressMode::kAuto;
+    return slosh::service::run_batch_command(batch_options);
+  }
+  if (*export_cmd) {
+    export_options.config = server;
+    return slosh::service::run_export_command(export_options);
+  }
   return slosh::service::kExitInvalidInput;
 }

@@ -206,9 +206,66 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
   });
 }
 
+std::size_t PendingBatch::finished() const {
+  std::size_t n = 0;
+  for (const auto& p : pending_) {
+    if (!p.valid() || p.wait_for(std::chrono::seconds(0)) == std::future_status::ready) ++n;
+  }
+  return n;
+}
+
+bool PendingBatch::wait_for(std::size_t i, std::chrono::milliseconds timeout) const {
+  return !pending_[i].valid() || pending_[i].wait_for(timeout) == std::future_status::ready;
+}
+
+BatchResult PendingBatch::get(std::size_t i) const {
+  if (!pending_[i].valid()) return results_[i];
+  const SolveOutcome& o = pending_[i].get();
+  BatchResult r;
+  if (o.status == 200) {
+    r.plan = o.body;
+  } else {
+    r.error = json::parse(o.body)["error"];
+  }
+  return r;
+}
+
+PendingBatch PlanService::start_batch(const std::vector<json>& requests) {
+  PendingBatch batch;
+  const std::size_t n = requests.size();
+  batch.results_.resize(n);
+  batch.pending_.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    BatchResult& result = batch.results_[i];
+    try {
+      const api::PlanRequest request = parse_with_budget(requests[i], config_.solve_budget_s);
+      const std::string key = api::recipe_key(request);
+      if (auto hit = cache_.get(key)) {
+        metrics_.count_cache(true);
+        result.plan = as_cached(std::move(*hit));
+        result.cached = true;
+        continue;
+      }
+      metrics_.count_cache(false);
+      bool refused = false;
+      batch.pending_[i] = solve(key, request, true, &refused);
+      if (refused) {
+        result.error = {{"code", "overloaded"},
+                        {"message", "the service is shutting down"},
+                        {"field", nullptr}};
+      }
+    } catch (const api::ApiError& e) {
+      result.error = api::error_envelope(e)["error"];
+    } catch (const std::exception& e) {
+      result.error = {{"code", "internal"}, {"message", e.what()}, {"field", nullptr}};
+    }
+  }
+  return batch;
+}
+
 Reply PlanService::post_batch(const std::string& text) {
   return guarded([&] {
-    const json body = api::parse_json_body(text);
+    json body = api::parse_json_body(text);
     if (!body.is_object()) {
       throw api::ApiError(api::ErrorCode::kInvalidValue, "",
                           "the body must be an object {\"requests\": [plan requests]}");
@@ -221,50 +278,24 @@ Reply PlanService::post_batch(const std::string& text) {
                               " plan requests, got " +
                               (it == body.end() ? std::string("nothing") : api::show(*it)));
     }
-    const std::size_t n = it->size();
-    // Each result is a rendered plan or an error object (the envelope's inner "error").
-    struct Item {
-      bool error{false};
-      std::string json;
-    };
-    std::vector<Item> items(n);
-    std::vector<std::shared_future<Outcome>> pending(n);
-    for (std::size_t i = 0; i < n; ++i) {
-      try {
-        const api::PlanRequest request = parse_with_budget((*it)[i], config_.solve_budget_s);
-        const std::string key = api::recipe_key(request);
-        if (auto hit = cache_.get(key)) {
-          metrics_.count_cache(true);
-          items[i] = {false, as_cached(*hit)};
-          continue;
-        }
-        metrics_.count_cache(false);
-        bool refused = false;
-        pending[i] = solve(key, request, true, &refused);
-        if (refused) {
-          items[i] = {true, json{{"code", "overloaded"},
-                                 {"message", "the service is shutting down"},
-                                 {"field", nullptr}}
-                                .dump()};
-        }
-      } catch (const api::ApiError& e) {
-        // Field paths inside the batch: requests[i].format....
-        json env = api::error_envelope(e)["error"];
-        const std::string prefix = "requests[" + std::to_string(i) + "]";
-        env["field"] = e.field().empty() ? prefix : prefix + "." + e.field();
-        items[i] = {true, api::dump_json(env)};
-      }
-    }
+    const std::vector<json> requests = std::move(*it).get<std::vector<json>>();
+    const PendingBatch batch = start_batch(requests);
     std::string out = "{\"results\":[";
-    for (std::size_t i = 0; i < n; ++i) {
-      if (pending[i].valid()) {
-        const Outcome& o = pending[i].get();
-        items[i] = o.status == 200 ? Item{false, o.body}
-                                   : Item{true, api::dump_json(json::parse(o.body)["error"])};
-      }
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      BatchResult item = batch.get(i);
       if (i > 0) out += ',';
-      out += "{\"index\":" + std::to_string(i) + (items[i].error ? ",\"error\":" : ",\"plan\":");
-      out += items[i].json;
+      out += "{\"index\":" + std::to_string(i);
+      if (item.ok()) {
+        out += ",\"plan\":" + item.plan;
+      } else {
+        // Field paths inside the batch: requests[i].format....
+        const std::string prefix = "requests[" + std::to_string(i) + "]";
+        const json& field = item.error["field"];
+        item.error["field"] = field.is_string() && !field.get<std::string>().empty()
+                                  ? prefix + "." + field.get<std::string>()
+                                  : prefix;
+        out += ",\"error\":" + api::dump_json(item.error);
+      }
       out += '}';
     }
     out += "]}";

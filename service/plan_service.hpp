@@ -3,6 +3,7 @@
 // render. Every method returns a Reply and never throws (errors become the JSON envelope).
 
 #include <atomic>
+#include <chrono>
 #include <future>
 #include <mutex>
 #include <string>
@@ -27,6 +28,38 @@ struct Reply {
   bool cache_hit{false};
 };
 
+/// What a solve produced: 200 with the rendered plan, or an error status with its envelope.
+struct SolveOutcome {
+  int status{200};
+  std::string body;
+};
+
+/// One item of a batch: a rendered plan, or the error object {"code", "message", "field"} of the
+/// item (field paths relative to the item's request).
+struct BatchResult {
+  std::string plan;      ///< rendered plan JSON; empty when `error` is set
+  nlohmann::json error;  ///< null unless the item failed
+  bool cached{false};    ///< the plan came from the cache
+  [[nodiscard]] bool ok() const { return error.is_null(); }
+};
+
+/// The items of a batch in request order while their solves run on the pool.
+class PendingBatch {
+ public:
+  [[nodiscard]] std::size_t size() const { return results_.size(); }
+  /// Items finished now (cache hits, invalid items and finished solves).
+  [[nodiscard]] std::size_t finished() const;
+  /// Waits up to `timeout` for item `i`; true when it is finished.
+  [[nodiscard]] bool wait_for(std::size_t i, std::chrono::milliseconds timeout) const;
+  /// Waits for item `i` and returns it.
+  [[nodiscard]] BatchResult get(std::size_t i) const;
+
+ private:
+  friend class PlanService;
+  std::vector<BatchResult> results_;
+  std::vector<std::shared_future<SolveOutcome>> pending_;  // invalid where results_ is final
+};
+
 class PlanService {
  public:
   explicit PlanService(const ServerConfig& config);
@@ -36,6 +69,9 @@ class PlanService {
   Reply post_plan(const std::string& body, const std::string& if_none_match);
   Reply get_plan(const std::string& key, const std::string& if_none_match);
   Reply post_batch(const std::string& body);
+  /// Starts a batch of parsed plan requests: cache hits and invalid items finish at once, the
+  /// others are queued on the pool (waiting for queue room) with single-flight per recipe.
+  PendingBatch start_batch(const std::vector<nlohmann::json>& requests);
   Reply post_simulate(const std::string& body);
   Reply fluids() const;
   Reply openapi() const;
@@ -54,10 +90,7 @@ class PlanService {
                            const std::string& field = "");
 
  private:
-  struct Outcome {
-    int status{200};
-    std::string body;
-  };
+  using Outcome = SolveOutcome;
   // The rendered plan of `key`: from a running solve of the same recipe, or a new solve queued
   // on the pool (`wait_for_room`: block for a queue slot instead of answering 503).
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,

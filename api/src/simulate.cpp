@@ -135,9 +135,6 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   return r;
 }
 
-namespace {
-
-// The 7-segment law of a request, when its law is one.
 std::optional<SevenSegmentLaw> seven_segment_law(const SimulateRequest& r) {
   if (r.law_type == LawType::kSevenSegment) return SevenSegmentLaw(*r.durations, r.format.stroke);
   if (r.law_type == LawType::kSevenSegmentUniform) {
@@ -145,8 +142,6 @@ std::optional<SevenSegmentLaw> seven_segment_law(const SimulateRequest& r) {
   }
   return std::nullopt;
 }
-
-}  // namespace
 
 MotionLaw build_law(const SimulateRequest& r) {
   const double s = r.format.stroke;

@@ -30,6 +30,9 @@ struct SimulateRequest {
 /// Validates a parsed simulate request; throws ApiError(kInvalidValue) naming the field.
 [[nodiscard]] SimulateRequest parse_simulate_request(const nlohmann::json& body);
 
+/// The 7-segment law of a validated request, when its law is one (durations or uniform).
+[[nodiscard]] std::optional<SevenSegmentLaw> seven_segment_law(const SimulateRequest& request);
+
 /// Builds the law of a validated request.
 [[nodiscard]] MotionLaw build_law(const SimulateRequest& request);
 

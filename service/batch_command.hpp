@@ -1,0 +1,41 @@
+#pragma once
+// `slosh batch`: a recipe table in, a plan table out (locally on a worker pool, or through a
+// running service's POST /v1/plans/batch).
+
+#include <cstddef>
+#include <string>
+
+#include "progress_bar.hpp"
+#include "server_config.hpp"
+
+namespace slosh::service {
+
+/// Exit code of a batch whose table was processed but some rows could not be planned.
+constexpr int kExitSomeRowsFailed = 3;
+
+struct BatchCommandOptions {
+  /// Recipe table path, "-" = stdin. Default "-".
+  std::string in{"-"};
+  /// Plan table path, "-" = stdout. A file is written as "<out>.partial" and renamed when the
+  /// table is complete. Default "-".
+  std::string out{"-"};
+  /// auto (from the extension; CSV for "-") | csv | jsonl | json.
+  std::string in_format{"auto"};
+  std::string out_format{"auto"};
+  /// Local solving: workers (0 = the cores), cache file, memory entries, solve budget.
+  ServerConfig config;
+  /// Base URL of a running service (http://host:port); empty = solve locally.
+  std::string server;
+  /// Recipes per POST /v1/plans/batch in server mode (<= the server's batch_max). Default 64.
+  std::size_t chunk{64};
+  ProgressMode progress{ProgressMode::kAuto};
+  /// Adds the whole plan to each JSON row.
+  bool full{false};
+};
+
+/// Runs the batch; returns 0 when every row was planned, kExitSomeRowsFailed when some rows
+/// carry an error (the table is still complete), kExitInvalidInput for an unreadable table or bad
+/// options, kExitFailure when the run stopped (server unreachable, output not writable).
+int run_batch_command(const BatchCommandOptions& options);
+
+}  // namespace slosh::service

@@ -1,0 +1,40 @@
+#pragma once
+// `slosh export`: the cam table of a law at the controller cycle, and the 7-segment table a
+// jerk-limited profile block is fed with.
+
+#include <string>
+#include <vector>
+
+#include "server_config.hpp"
+#include "slosh/core/cam_table.hpp"
+#include "slosh/core/seven_segment.hpp"
+
+namespace slosh::service {
+
+struct ExportCommandOptions {
+  /// A plan request (the /v1/plans body: the plan is solved, or read from the cache) or a law
+  /// request (the /v1/simulate body with "law"); "-" = stdin. Default "-".
+  std::string request{"-"};
+  /// Cam table CSV path, "-" = stdout. Required.
+  std::string out;
+  /// Controller cycle [ms]. Default 1.
+  double period_ms{1.0};
+  /// 7-segment table CSV path; empty = not written.
+  std::string segments;
+  /// Cache file, solve budget (plan requests only).
+  ServerConfig config;
+};
+
+/// Writes the cam table (and the segment table); prints a JSON summary on stdout when the cam
+/// table goes to a file. Exit codes as `slosh plan`.
+int run_export_command(const ExportCommandOptions& options);
+
+/// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line
+/// per sample, 12 significant digits.
+[[nodiscard]] std::string cam_table_csv(const std::vector<CamSample>& samples);
+
+/// 7-segment table CSV: header `segment,t_start_s,t_end_s,duration_s,jerk_mm_s3,a_start_mm_s2,
+/// a_end_mm_s2,v_start_mm_s,v_end_mm_s,s_start_mm,s_end_mm`, one line per segment.
+[[nodiscard]] std::string segment_table_csv(const SevenSegmentLaw& law);
+
+}  // namespace slosh::service

@@ -1,0 +1,47 @@
+#include "http_client.hpp"
+
+#include <httplib.h>
+
+#include <regex>
+
+namespace slosh::service {
+
+struct HttpClient::Impl {
+  explicit Impl(const std::string& scheme_host_port) : client(scheme_host_port) {}
+  httplib::Client client;
+};
+
+HttpClient::HttpClient(const std::string& base_url, std::chrono::seconds timeout)
+    : base_url_(base_url) {
+  static const std::regex url(
+      R"(^http://([A-Za-z0-9.\-]+|\[[0-9A-Fa-f:.]+\])(:[0-9]{1,5})?(/.*)?$)");
+  std::smatch m;
+  if (!std::regex_match(base_url, m, url)) {
+    throw std::invalid_argument("--server " + base_url +
+                                " is not a URL of the form http://host[:port][/prefix]");
+  }
+  prefix_ = m[3].str();
+  while (!prefix_.empty() && prefix_.back() == '/') prefix_.pop_back();
+  impl_ = std::make_unique<Impl>("http://" + m[1].str() + m[2].str());
+  impl_->client.set_connection_timeout(timeout);
+  impl_->client.set_read_timeout(timeout);
+  impl_->client.set_write_timeout(timeout);
+  impl_->client.set_keep_alive(true);
+}
+
+HttpClient::~HttpClient() = default;
+
+HttpReply HttpClient::post_json(const std::string& path, const std::string& body) {
+  const httplib::Result result = impl_->client.Post(prefix_ + path, body, "application/json");
+  if (!result) {
+    throw HttpError("cannot reach " + base_url_ + " (" + httplib::to_string(result.error()) +
+                    " error): is `slosh serve` running there?");
+  }
+  HttpReply reply;
+  reply.status = result->status;
+  reply.body = result->body;
+  reply.retry_after = result->get_header_value("Retry-After");
+  return reply;
+}
+
+}  // namespace slosh::service

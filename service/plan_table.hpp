@@ -1,0 +1,39 @@
+#pragma once
+// Plan tables written by `slosh batch`: one row per recipe, in input order, as CSV (one column
+// per figure, units in the names), JSON lines or a JSON array.
+
+#include <ostream>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "plan_service.hpp"
+#include "recipe_table.hpp"
+
+namespace slosh::service {
+
+/// The table row of one recipe: {"row", "recipe_id", "status", "key", "cached", "strategy",
+/// "message", "durations_s", "kinematics", "f1_hz", "prediction", "baseline", "reduction_pct",
+/// "solve_ms"} of its plan, or {"row", "recipe_id", "status": "error", "message", "error",
+/// "error_field"} when the recipe could not be planned. `full` adds the whole plan as "plan".
+[[nodiscard]] nlohmann::json plan_row(const RecipeRow& recipe, const BatchResult& result,
+                                      bool full);
+
+/// The CSV header of plan tables (comma-separated column names).
+[[nodiscard]] std::string plan_table_header();
+
+/// Streams plan rows to `out` in the chosen format; rows are flushed as they are written.
+class PlanTableWriter {
+ public:
+  PlanTableWriter(std::ostream& out, TableFormat format);
+  void write(const nlohmann::json& row);
+  /// Closes the table (the JSON array's bracket); call once after the last row.
+  void finish();
+
+ private:
+  std::ostream& out_;
+  TableFormat format_;
+  std::size_t rows_{0};
+};
+
+}  // namespace slosh::service

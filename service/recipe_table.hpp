@@ -1,0 +1,59 @@
+#pragma once
+// Recipe tables for `slosh batch`: CSV (one recipe per row, named columns) or JSON (one plan
+// request per line, or an array) -> one plan request per recipe.
+//
+// CSV columns (header row, any order; an empty cell means "the default"):
+//   required  recipe_id, radius_mm, fill_height_mm, stroke_mm, motion_time_s, strategy, and
+//             fluid (a catalogue name) or density_kg_m3 + viscosity_pa_s (a custom fluid)
+//   optional  container_height_mm, every plan option by its JSON name (p_notch, weights, band,
+//             n_band, tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s,
+//             min_ramp_s, fix_constant_velocity_zero, plateau_min_s, damping, alpha, modes,
+//             solver, time_limit_s) and the limits a_max, v_max, j_max.
+// List cells (weights, plateau_min_s) separate numbers by ';' (or spaces); damping is a name or
+// a number (the explicit zeta); booleans are true/false, yes/no or 1/0.
+
+#include <cstddef>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+namespace slosh::service {
+
+/// File formats of recipe and plan tables.
+enum class TableFormat { kCsv, kJsonLines, kJson };
+
+[[nodiscard]] std::string to_string(TableFormat format);
+
+/// The format named by `name` ("csv", "jsonl", "json"), or, when `name` is "auto", the one of the
+/// path's extension (.csv; .jsonl or .ndjson; .json), CSV for "-". Throws TableError otherwise.
+[[nodiscard]] TableFormat table_format(const std::string& name, const std::string& path);
+
+/// A problem with the table as a whole (unreadable, bad header): nothing is planned.
+class TableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// One recipe of a table.
+struct RecipeRow {
+  std::size_t row{};       ///< 1-based recipe number (the CSV header is not counted)
+  std::string recipe_id;   ///< as given (may be empty)
+  nlohmann::json request;  ///< the plan request (null when `error` is set)
+  nlohmann::json error;    ///< {"code", "message", "field"} when the row cannot be read
+  bool csv{false};         ///< read from CSV: error fields are reported as column names
+};
+
+/// Reads a whole table. Row-level problems (a non-numeric cell, a wrong cell count, a line that
+/// is not JSON) become the row's `error`; table-level ones throw TableError.
+[[nodiscard]] std::vector<RecipeRow> read_recipe_table(const std::string& text, TableFormat format);
+
+/// The CSV column a request field path ("format.container.radius_mm", "options.weights[1]")
+/// comes from; the path itself when no column maps to it.
+[[nodiscard]] std::string column_of_field(const std::string& field);
+
+/// The accepted CSV column names, comma-separated (for messages and --help).
+[[nodiscard]] std::string recipe_columns();
+
+}  // namespace slosh::service
