@@ -177,16 +177,20 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
   }
 }
 
+std::string count(std::size_t n, const std::string& noun) {
+  return std::to_string(n) + " " + noun + (n == 1 ? "" : "s");
+}
+
 std::string summary(const RowSink& sink, double seconds, const std::string& out) {
-  std::string text = "slosh batch: " + std::to_string(sink.written()) + " recipes, " +
+  std::string text = "slosh batch: " + count(sink.written(), "recipe") + ", " +
                      std::to_string(sink.written() - sink.failed_rows().size()) + " planned (" +
                      std::to_string(sink.cached()) + " from cache";
-  for (const auto& [status, count] : sink.statuses()) {
-    if (status != "error") text += ", " + std::to_string(count) + " " + status;
+  for (const auto& [status, n] : sink.statuses()) {
+    if (status != "error") text += ", " + std::to_string(n) + " " + status;
   }
-  char timing[64];
-  std::snprintf(timing, sizeof timing, "), %zu errors, %.1f s", sink.failed_rows().size(), seconds);
-  text += timing;
+  char timing[32];
+  std::snprintf(timing, sizeof timing, ", %.1f s", seconds);
+  text += "), " + count(sink.failed_rows().size(), "error") + timing;
   if (out != "-") text += " -> " + out;
   return text;
 }
@@ -216,6 +220,9 @@ int run_batch_command(const BatchCommandOptions& options) {
       throw TableError("cannot read the recipe table '" + options.in + "'");
     }
     rows = read_recipe_table(text, in_format);
+    if (options.full && out_format == TableFormat::kCsv) {
+      throw TableError("--full adds the whole plan to JSON rows: use a .json or .jsonl output");
+    }
     if (!options.server.empty() && options.chunk == 0) {
       throw TableError("--chunk must be at least 1");
     }
@@ -268,8 +275,9 @@ int run_batch_command(const BatchCommandOptions& options) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (draw || !sink.failed_rows().empty()) std::cerr << summary(sink, seconds, options.out) << '\n';
   if (!sink.failed_rows().empty()) {
-    std::cerr << "slosh batch: rows " << failed_rows_text(sink.failed_rows())
-              << " could not be planned: see their message\n";
+    std::cerr << "slosh batch: " << (sink.failed_rows().size() == 1 ? "row " : "rows ")
+              << failed_rows_text(sink.failed_rows())
+              << " could not be planned: see the message of the row\n";
     return kExitSomeRowsFailed;
   }
   return kExitOk;

@@ -170,6 +170,18 @@ int run_export_command(const ExportCommandOptions& options) {
   } catch (const std::exception& e) {
     return fail(kExitFailure, api::ApiError(api::ErrorCode::kInternal, "", e.what()));
   }
+  if (source.about.value("source", "") == "plan") {
+    const std::string status = source.about.value("status", "");
+    if (status != "optimal" && status != "acceptable" && !options.allow_infeasible) {
+      return fail(
+          kExitFailure,
+          api::ApiError(api::ErrorCode::kInternal, "",
+                        "the plan is " + status + ", its law misses the requested limits: " +
+                            source.about.value("message", std::string()) +
+                            ". Not exported; pass --allow-infeasible to export the best "
+                            "reachable law anyway"));
+    }
+  }
   if (!options.segments.empty() && !source.seven) {
     return fail(kExitInvalidInput,
                 api::ApiError(api::ErrorCode::kInvalidValue, "--segments",
@@ -201,7 +213,11 @@ int run_export_command(const ExportCommandOptions& options) {
   } catch (const std::exception& e) {
     return fail(kExitFailure, api::ApiError(api::ErrorCode::kInternal, "--out", e.what()));
   }
-  if (options.out == "-") return kExitOk;
+  if (options.out == "-") {
+    for (const json& w : warnings)
+      std::cerr << "slosh export: warning: " << w.get<std::string>() << '\n';
+    return kExitOk;
+  }
 
   json summary = source.about;
   summary["cam_table"] = options.out;

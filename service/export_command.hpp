@@ -21,12 +21,17 @@ struct ExportCommandOptions {
   double period_ms{1.0};
   /// 7-segment table CSV path; empty = not written.
   std::string segments;
+  /// Export a plan whose status is infeasible or time_limit (the best reachable law, which
+  /// misses the requested limits); refused otherwise (exit 1). Default false.
+  bool allow_infeasible{false};
   /// Cache file, solve budget (plan requests only).
   ServerConfig config;
 };
 
 /// Writes the cam table (and the segment table); prints a JSON summary on stdout when the cam
-/// table goes to a file. Exit codes as `slosh plan`.
+/// table goes to a file, the warnings on stderr otherwise. Exit 0, 2 on invalid input (envelope
+/// on stderr), 1 when the plan has no durations or is infeasible / time-limited without
+/// allow_infeasible.
 int run_export_command(const ExportCommandOptions& options);
 
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line

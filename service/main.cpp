@@ -112,6 +112,8 @@ int main(int argc, char** argv) {
       ->capture_default_str();
   export_cmd->add_option("--segments", export_options.segments,
                          "Also write the 7-segment table (durations, jerks, A, B) to this CSV");
+  export_cmd->add_flag("--allow-infeasible", export_options.allow_infeasible,
+                       "Export an infeasible or time-limited plan (its best reachable law) too");
   export_cmd->add_option("--config", config_path, "JSON config file (cache, solve budget)");
   export_cmd->add_option("--cache", cache,
                          "SQLite plan cache shared with `slosh serve`, \"\" = none [default " +

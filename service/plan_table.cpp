@@ -77,9 +77,13 @@ json plan_row(const RecipeRow& recipe, const BatchResult& result, bool full) {
     json error = result.error;
     const json& field = error["field"];
     std::string where = field.is_string() ? field.get<std::string>() : "";
-    if (recipe.csv && !where.empty()) where = column_of_field(where);
+    json message = member_or_null(error, "message");
+    if (recipe.csv && !where.empty()) {
+      if (message.is_string()) message = in_column_terms(where, message.get<std::string>());
+      where = column_of_field(where);
+    }
     row["status"] = "error";
-    row["message"] = member_or_null(error, "message");
+    row["message"] = std::move(message);
     row["error"] = std::move(error);
     row["error_field"] = where.empty() ? json(nullptr) : json(where);
     return row;

@@ -221,6 +221,10 @@ std::vector<RecipeRow> read_csv(std::string_view text) {
         "recipe table: missing column \"fluid\" (or both density_kg_m3 and viscosity_pa_s)");
   }
 
+  const auto id_column = static_cast<std::size_t>(
+      std::find_if(columns.begin(), columns.end(),
+                   [](const InputColumn* c) { return c->kind == CellKind::kId; }) -
+      columns.begin());
   std::vector<RecipeRow> rows;
   rows.reserve(records.size() - 1);
   for (std::size_t r = 1; r < records.size(); ++r) {
@@ -228,7 +232,7 @@ std::vector<RecipeRow> read_csv(std::string_view text) {
     RecipeRow row;
     row.row = r;
     row.csv = true;
-    if (!cells.empty()) row.recipe_id = cells.front();
+    if (id_column < cells.size()) row.recipe_id = cells[id_column];
     if (cells.size() != header.size()) {
       row.error = row_error("row " + std::to_string(r) + " has " + std::to_string(cells.size()) +
                                 " cells, the header has " + std::to_string(header.size()),
@@ -238,23 +242,24 @@ std::vector<RecipeRow> read_csv(std::string_view text) {
     }
     json request = json::object();
     try {
-      bool named_fluid = false;
-      bool custom_fluid = false;
+      std::string named_fluid;   // "fluid = ..." when given
+      std::string custom_fluid;  // "density_kg_m3 = ..." when given
       for (std::size_t c = 0; c < cells.size(); ++c) {
         if (cells[c].empty()) continue;
-        named_fluid = named_fluid || columns[c]->name == "fluid";
-        custom_fluid = custom_fluid || columns[c]->pointer.starts_with("/format/fluid/");
+        const std::string given = std::string(columns[c]->name) + " = " + quote_text(cells[c]);
+        if (columns[c]->name == "fluid") named_fluid = given;
+        if (columns[c]->pointer.starts_with("/format/fluid/") && custom_fluid.empty()) {
+          custom_fluid = given;
+        }
       }
-      if (named_fluid && custom_fluid) {
-        throw CellError{"fluid", "give either fluid or density_kg_m3 and viscosity_pa_s, not both"};
+      if (!named_fluid.empty() && !custom_fluid.empty()) {
+        throw CellError{"fluid", named_fluid + " and " + custom_fluid +
+                                     ": give either fluid or density_kg_m3 and viscosity_pa_s, "
+                                     "not both"};
       }
       for (std::size_t c = 0; c < cells.size(); ++c) {
         const InputColumn& column = *columns[c];
-        if (column.kind == CellKind::kId) {
-          row.recipe_id = cells[c];
-          continue;
-        }
-        if (cells[c].empty()) continue;  // the default
+        if (column.kind == CellKind::kId || cells[c].empty()) continue;  // empty: the default
         const json::json_pointer pointer{std::string(column.pointer)};
         request[pointer] = cell_value(column, cells[c]);
       }
@@ -283,11 +288,13 @@ RecipeRow json_row(std::size_t number, json value) {
 std::vector<RecipeRow> read_json_lines(std::string_view text) {
   std::vector<RecipeRow> rows;
   std::size_t at = 0;
+  std::size_t line_number = 0;
   while (at < text.size()) {
     std::size_t end = text.find('\n', at);
     if (end == std::string_view::npos) end = text.size();
     const std::string_view line = text.substr(at, end - at);
     at = end + 1;
+    ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
     const std::size_t number = rows.size() + 1;
     try {
@@ -296,7 +303,7 @@ std::vector<RecipeRow> read_json_lines(std::string_view text) {
       RecipeRow row;
       row.row = number;
       row.error = api::error_envelope(e)["error"];
-      row.error["message"] = "line " + std::to_string(number) + ": " + e.what();
+      row.error["message"] = "line " + std::to_string(line_number) + ": " + e.what();
       rows.push_back(std::move(row));
     }
   }
@@ -373,7 +380,10 @@ std::vector<RecipeRow> read_recipe_table(const std::string& text, TableFormat fo
   return {};
 }
 
-std::string column_of_field(const std::string& field) {
+namespace {
+
+// The column whose request path is the longest prefix of `field` (nullptr when none).
+const InputColumn* column_for(const std::string& field) {
   const InputColumn* best = nullptr;
   std::size_t best_length = 0;
   for (const InputColumn& column : kColumns) {
@@ -387,7 +397,22 @@ std::string column_of_field(const std::string& field) {
       best_length = path.size();
     }
   }
-  return best == nullptr ? field : std::string(best->name);
+  return best;
+}
+
+}  // namespace
+
+std::string column_of_field(const std::string& field) {
+  const InputColumn* column = column_for(field);
+  return column == nullptr ? field : std::string(column->name);
+}
+
+std::string in_column_terms(const std::string& field, const std::string& message) {
+  const InputColumn* column = column_for(field);
+  if (column == nullptr) return message;
+  const std::string path = dotted(column->pointer);
+  if (message.rfind(path, 0) != 0) return message;
+  return std::string(column->name) + message.substr(path.size());
 }
 
 std::string recipe_columns() {

@@ -10,7 +10,9 @@
 //             min_ramp_s, fix_constant_velocity_zero, plateau_min_s, damping, alpha, modes,
 //             solver, time_limit_s) and the limits a_max, v_max, j_max.
 // List cells (weights, plateau_min_s) separate numbers by ';' (or spaces); damping is a name or
-// a number (the explicit zeta); booleans are true/false, yes/no or 1/0.
+// a number (the explicit zeta); booleans are true/false, yes/no or 1/0. Cells follow RFC 4180
+// (quotes, doubled quotes, line breaks inside quotes) except that spaces around unquoted cells
+// are trimmed (libcsv's default); quote a cell to keep them.
 
 #include <cstddef>
 #include <stdexcept>
@@ -52,6 +54,10 @@ struct RecipeRow {
 /// The CSV column a request field path ("format.container.radius_mm", "options.weights[1]")
 /// comes from; the path itself when no column maps to it.
 [[nodiscard]] std::string column_of_field(const std::string& field);
+
+/// `message` with a leading request path replaced by its column ("format.container.radius_mm =
+/// -3 is out of range ..." -> "radius_mm = -3 is out of range ...").
+[[nodiscard]] std::string in_column_terms(const std::string& field, const std::string& message);
 
 /// The accepted CSV column names, comma-separated (for messages and --help).
 [[nodiscard]] std::string recipe_columns();

@@ -2,20 +2,31 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 #include <string>
 
 namespace slosh {
 
+namespace {
+
+std::string seconds(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%g s", v);
+  return buffer;
+}
+
+}  // namespace
+
 std::size_t cam_cycles(double motion_time, double period) {
   if (!(period >= kCamMinPeriod) || !std::isfinite(period)) {
-    throw std::invalid_argument("cam table period " + std::to_string(period) +
-                                " s is below the minimum " + std::to_string(kCamMinPeriod) + " s");
+    throw std::invalid_argument("cam table period " + seconds(period) + " is below the minimum " +
+                                seconds(kCamMinPeriod));
   }
   const double cycles = std::ceil((motion_time - kCamTimeTolerance) / period);
   if (!(cycles + 1.0 <= static_cast<double>(kCamMaxSamples))) {
-    throw std::invalid_argument("a cam table of " + std::to_string(motion_time) + " s every " +
-                                std::to_string(period) + " s has more than " +
+    throw std::invalid_argument("a cam table of " + seconds(motion_time) + " every " +
+                                seconds(period) + " has more than " +
                                 std::to_string(kCamMaxSamples) + " samples");
   }
   return static_cast<std::size_t>(std::max(0.0, cycles));
@@ -36,14 +47,22 @@ std::vector<CamSample> sample_cam_table(const MotionLaw& law, double stroke, dou
     // On a switch time (up to rounding of k * period), evaluate exactly there: MotionLaw::at is
     // right-continuous, so the jerk is the one of the segment that starts.
     double t_eval = t;
-    const auto next = std::lower_bound(switches.begin(), switches.end(), t);
-    if (next != switches.end() && *next - t <= kCamTimeTolerance) t_eval = *next;
-    if (next != switches.begin() && t - *std::prev(next) <= kCamTimeTolerance) {
-      t_eval = *std::prev(next);
+    // The latest switch time within the tolerance (a plateau shorter than the tolerance is
+    // skipped: its successor is what the motion does during the cycle).
+    const auto after = std::upper_bound(switches.begin(), switches.end(), t + kCamTimeTolerance);
+    if (after != switches.begin() && t - *std::prev(after) <= kCamTimeTolerance) {
+      t_eval = *std::prev(after);
     }
-    // At t = 0 the law starts (MotionLaw::at returns the rest state before and at 0).
-    const KinematicState s =
-        t_eval <= 0.0 && !law.pieces().empty() ? law.pieces().front().at(0.0) : law.at(t_eval);
+    KinematicState s = law.at(t_eval);
+    if (t_eval <= 0.0) {
+      // The law starts at 0 (MotionLaw::at returns the rest state there): its first real piece.
+      for (const LawPiece& p : law.pieces()) {
+        if (p.duration() > kCamTimeTolerance) {
+          s = p.at(0.0);
+          break;
+        }
+      }
+    }
     table.push_back({t, s.position, s.velocity, s.acceleration, s.jerk});
   }
   return table;
