@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
 #include <numbers>
 #include <random>
+#include <vector>
 
 #include "slosh/core/filtered_laws.hpp"
 #include "slosh/core/format.hpp"
@@ -179,6 +182,97 @@ TEST(FirChain, RestToRestWithASpectralZeroAtTheDampedPeriod) {
     EXPECT_LT(std::abs(acceleration_spectrum(chain.law, w)), 1e-10 * reference);
     if (chain.durations) {
       EXPECT_LT(std::abs(seven_segment_spectrum(*chain.durations, 0.8, w)), 1e-10 * reference);
+    }
+  }
+}
+
+// F_IIR of eq. 8 / eq. 9 in controllable canonical form, integrated by RK4 at Ts / 400 with the
+// input interpolated linearly between its samples (what a first-order hold feeds the filter).
+std::vector<double> continuous_iir(IirOrder order, double w, double zeta, double tau, double Ts,
+                                   const std::vector<double>& u, std::size_t n_out) {
+  const int n = order == IirOrder::kSecond ? 2 : 3;
+  std::array<double, 3> den{};  // s^n + den[n-1] s^(n-1) + ... + den[0]
+  std::array<double, 3> num{};  // strictly proper numerator coefficients
+  double direct = 0.0;
+  if (n == 2) {
+    den = {tau * tau, 2.0 * tau, 0.0};
+    const double g = tau * tau / (w * w);
+    direct = g;
+    num = {g * (w * w - tau * tau), g * (2.0 * zeta * w - 2.0 * tau), 0.0};
+  } else {
+    den = {tau * tau * tau, 3.0 * tau * tau, 3.0 * tau};
+    const double g = tau * tau * tau / (w * w);
+    num = {g * w * w, g * 2.0 * zeta * w, g};
+  }
+  auto input = [&](double t) {
+    const double k = t / Ts;
+    const auto i = static_cast<long>(std::floor(k));
+    if (i < 0) return u.front();
+    if (i + 1 >= static_cast<long>(u.size())) return u.back();
+    const double f = k - static_cast<double>(i);
+    return (1.0 - f) * u[static_cast<std::size_t>(i)] + f * u[static_cast<std::size_t>(i + 1)];
+  };
+  using State = std::array<double, 3>;
+  auto rhs = [&](double t, const State& x) {
+    State d{};
+    for (int i = 0; i + 1 < n; ++i)
+      d[static_cast<std::size_t>(i)] = x[static_cast<std::size_t>(i + 1)];
+    double last = input(t);
+    for (int i = 0; i < n; ++i)
+      last -= den[static_cast<std::size_t>(i)] * x[static_cast<std::size_t>(i)];
+    d[static_cast<std::size_t>(n - 1)] = last;
+    return d;
+  };
+  // Start at rest on u(0): the state whose output is u(0) with zero derivatives.
+  State x{};
+  x[0] = u.front() / den[0];
+  std::vector<double> y(n_out);
+  const int sub = 400;
+  const double h = Ts / sub;
+  double t = 0.0;
+  for (std::size_t k = 0; k < n_out; ++k) {
+    double out = direct * input(t);
+    for (int i = 0; i < n; ++i)
+      out += num[static_cast<std::size_t>(i)] * x[static_cast<std::size_t>(i)];
+    y[k] = out;
+    for (int s = 0; s < sub; ++s) {
+      auto add = [](const State& a, const State& b, double c) {
+        return State{a[0] + c * b[0], a[1] + c * b[1], a[2] + c * b[2]};
+      };
+      const State k1 = rhs(t, x);
+      const State k2 = rhs(t + h / 2, add(x, k1, h / 2));
+      const State k3 = rhs(t + h / 2, add(x, k2, h / 2));
+      const State k4 = rhs(t + h, add(x, k3, h));
+      for (std::size_t i = 0; i < 3; ++i) x[i] += h / 6 * (k1[i] + 2 * k2[i] + 2 * k3[i] + k4[i]);
+      t += h;
+    }
+    t = static_cast<double>(k + 1) * Ts;
+  }
+  return y;
+}
+
+TEST(Iir, DifferenceEquationsMatchTheContinuousFilterOnAFirstOrderHoldInput) {
+  const double w = 19.35, zeta = 0.0046;
+  for (IirOrder order : {IirOrder::kSecond, IirOrder::kThird}) {
+    for (double tau : {40.0, 50.0, 100.0}) {
+      for (double Ts : {1e-3, 5e-4}) {
+        const MotionLaw base = make_poly5_law(0.8, 0.8);
+        std::vector<double> u;
+        for (int k = 0; k * Ts <= 0.8 + 1e-12; ++k) u.push_back(base.at(k * Ts).position);
+        const std::size_t n_out = u.size() + static_cast<std::size_t>(0.4 / Ts);
+        const IirFilter f = make_iir_filter(order, w, zeta, tau, Ts);
+        long double dc_num = 0.0, dc_den = 1.0;
+        for (long double b : f.b) dc_num += b;
+        for (long double a : f.a) dc_den += a;
+        EXPECT_NEAR(static_cast<double>(dc_num / dc_den), 1.0, 1e-11) << "DC gain";
+        const std::vector<double> y = apply_iir(f, u, n_out);
+        const std::vector<double> ref = continuous_iir(order, w, zeta, tau, Ts, u, n_out);
+        double worst = 0.0;
+        for (std::size_t k = 0; k < n_out; ++k) worst = std::max(worst, std::abs(y[k] - ref[k]));
+        EXPECT_LT(worst, 1e-9) << "order " << static_cast<int>(order) << " tau " << tau << " Ts "
+                               << Ts;
+        EXPECT_NEAR(y.back(), 0.8, 1e-6);
+      }
     }
   }
 }

@@ -208,3 +208,83 @@ FirChain make_fir_chain(double stroke, double t1, double t2, double t3) {
 }
 
 }  // namespace slosh
+
+namespace slosh {
+
+IirFilter make_iir_filter(IirOrder order, double omega, double zeta, double tau,
+                          double sample_period) {
+  if (!(omega > 0.0) || !(zeta >= 0.0 && zeta < 1.0) || !(tau > 0.0) || !(sample_period > 0.0)) {
+    throw std::invalid_argument(
+        "make_iir_filter: omega, tau and the sample period must be > 0, zeta in [0, 1)");
+  }
+  // Long double: the coefficients are O(1e2) terms that cancel down to a DC gain of 1 over
+  // (1 - e^(-tau Ts))^3 ~ 1e-5; in double that leaves ~1e-9 of the stroke.
+  using R = long double;
+  const R w = omega;
+  const R Ts = sample_period;
+  const R zeta_l = zeta;
+  const R tau_l = tau;
+  const R e1 = std::exp(-tau_l * Ts);
+  const R e2 = e1 * e1;
+  IirFilter f;
+  f.order = order;
+  f.tau = tau;
+  f.sample_period = sample_period;
+  if (order == IirOrder::kSecond) {
+    const R Q = (tau_l / w) * (tau_l / w) / Ts;
+    const R A = R(2) * (zeta_l * w * tau_l - w * w) / (tau_l * tau_l * tau_l);
+    const R B = (w / tau_l) * (w / tau_l);
+    const R C = -A;
+    const R D = (tau_l * tau_l - R(2) * zeta_l * w * tau_l + w * w) / (tau_l * tau_l);
+    f.a = {-R(2) * e1, e2};
+    f.b = {Q * (A + C), Q * ((-R(2) * A - C + D * Ts) * e1 - A + B * Ts - R(2) * C),
+           Q * (A * e2 + (R(2) * A - R(2) * B * Ts + R(2) * C - R(2) * D * Ts) * e1 + C),
+           Q * ((-A + B * Ts) * e2 + (-C + D * Ts) * e1)};
+  } else {
+    const R e3 = e2 * e1;
+    // The paper prints Q = tau^3 / (omega^2 T_s) * 1 / T_s; the extra 1/T_s makes the DC gain
+    // 1/T_s instead of 1 (checked against the
+    // continuous filter in tests): Q = tau^3 / (omega^2 T_s).
+    const R Q = tau_l * tau_l * tau_l / (w * w * Ts);
+    const R A = (R(2) * zeta_l * w * tau_l - R(3) * w * w) / (tau_l * tau_l * tau_l * tau_l);
+    const R B = w * w / (tau_l * tau_l * tau_l);
+    const R C = -A;
+    const R D = -R(2) * (zeta_l * w * tau_l - w * w) / (tau_l * tau_l * tau_l);
+    const R Db = D * Ts * e1;
+    const R E = (tau_l * tau_l - R(2) * zeta_l * w * tau_l + w * w) / (tau_l * tau_l);
+    const R Eb = E * Ts * Ts / R(2) * e1;
+    f.a = {-R(3) * e1, R(3) * e2, -e3};
+    f.b = {Q * (A + C), Q * ((-R(3) * A - R(2) * C) * e1 - A - R(2) * C + Db + Eb + B * Ts),
+           Q * ((R(3) * A + C) * e2 + (R(3) * A - R(3) * B * Ts + R(4) * C - Db + Eb) * e1 + C -
+                R(2) * Db - R(2) * Eb),
+           Q * (-A * e3 + (-R(3) * A + R(3) * B * Ts - R(2) * C) * e2 +
+                (-R(2) * C + R(2) * Db - R(2) * Eb) * e1 + Db + Eb),
+           Q * ((A - B * Ts) * e3 + C * e2 + (-Db + Eb) * e1)};
+  }
+  return f;
+}
+
+std::vector<double> apply_iir(const IirFilter& f, const std::vector<double>& u,
+                              std::size_t output_length) {
+  if (u.empty()) return std::vector<double>(output_length, 0.0);
+  auto input = [&](long k) {
+    if (k < 0) return u.front();
+    if (k >= static_cast<long>(u.size())) return u.back();
+    return u[static_cast<std::size_t>(k)];
+  };
+  // Before 0 the filter rests at the input's initial value (DC gain 1).
+  std::vector<long double> y(output_length);
+  auto output = [&](long k) {
+    return k < 0 ? static_cast<long double>(u.front()) : y[static_cast<std::size_t>(k)];
+  };
+  for (std::size_t n = 0; n < output_length; ++n) {
+    const long k = static_cast<long>(n);
+    long double v = 0.0;
+    for (std::size_t i = 0; i < f.a.size(); ++i) v -= f.a[i] * output(k - 1 - static_cast<long>(i));
+    for (std::size_t i = 0; i < f.b.size(); ++i) v += f.b[i] * input(k + 1 - static_cast<long>(i));
+    y[n] = v;
+  }
+  return {y.begin(), y.end()};
+}
+
+}  // namespace slosh

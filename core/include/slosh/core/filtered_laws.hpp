@@ -74,3 +74,33 @@ struct FirChain {
 [[nodiscard]] FirChain make_fir_chain(double stroke, double t1, double t2, double t3);
 
 }  // namespace slosh
+
+namespace slosh {
+
+/// Order of the IIR anti-sloshing filter (paper eq. 8: critically damped 2nd order target,
+/// eq. 9: 3rd order).
+enum class IirOrder { kSecond = 2, kThird = 3 };
+
+/// Default pole tau of the IIR filter [1/s] (paper sec. 4: 40 to 100 works for ~1 s laws).
+constexpr double kDefaultIirTau{50.0};
+
+/// The FOH difference equation of F_IIR (paper eq. 10-12):
+///   y(k) = -sum_i a_i y(k - i) + b_0 u(k + 1) + sum_{i >= 1} b_i u(k + 1 - i).
+struct IirFilter {
+  IirOrder order{IirOrder::kSecond};
+  double tau{kDefaultIirTau};  ///< [1/s]
+  double sample_period{1e-3};  ///< T_s [s]
+  std::vector<long double> a;  ///< a_1 .. a_n (long double: see make_iir_filter)
+  std::vector<long double> b;  ///< b_0 .. b_{n+1}
+};
+
+/// Coefficients of eq. 11 (second order) or eq. 12 (third order) for a mode (omega, zeta).
+[[nodiscard]] IirFilter make_iir_filter(IirOrder order, double omega, double zeta, double tau,
+                                        double sample_period);
+
+/// Runs the difference equation on samples u(0..N-1) (u(k) = u(0) before 0 and u(N-1) after the
+/// end: the input rests at both ends) and returns `output_length` samples.
+[[nodiscard]] std::vector<double> apply_iir(const IirFilter& filter, const std::vector<double>& u,
+                                            std::size_t output_length);
+
+}  // namespace slosh
