@@ -1,0 +1,106 @@
+#pragma once
+// Anti-sloshing laws of a prescribed duration by filtering (Guagliumi et al., JDSMC 2022,
+// seeds/002 sec. 3.1, 3.4, 4): input shapers convolved with a base law, and the chain of three
+// rectangular FIR filters on a step. Both results are exact piecewise laws (MotionLaw), so the
+// spectrum, the exact linear response and the nonlinear model apply to them unchanged.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slosh/core/motion_law.hpp"
+#include "slosh/core/seven_segment.hpp"
+
+namespace slosh {
+
+/// Input shaper families (paper sec. 3.1).
+enum class ShaperType { kZV, kZVD, kZVDD, kEI };
+
+[[nodiscard]] std::string to_string(ShaperType type);
+
+/// Default residual vibration V of the EI shaper [-] (5 %).
+constexpr double kDefaultEiResidual{0.05};
+
+/// One impulse of a shaper.
+struct Impulse {
+  double time{};       ///< t_j [s]
+  double amplitude{};  ///< A_j [-]
+};
+
+/// A train of impulses with unit sum.
+struct InputShaper {
+  ShaperType type{ShaperType::kZV};
+  std::vector<Impulse> impulses;
+  /// The delay it adds: the time of the last impulse [s].
+  [[nodiscard]] double delay() const { return impulses.empty() ? 0.0 : impulses.back().time; }
+};
+
+/// The damped period T_d = 2 pi / (omega sqrt(1 - zeta^2)) (paper eq. 5) [s].
+[[nodiscard]] double damped_period(double omega, double zeta);
+
+/// The shaper of `type` for a mode (omega [rad/s], zeta [-]): impulses at t_j = T_d j / 2 (eq. 6),
+/// K = exp(-zeta pi / sqrt(1 - zeta^2)) (eq. 5), amplitudes
+///   ZV   [1, K] / (1 + K)
+///   ZVD  [1, 2K, K^2] / (1 + K)^2
+///   ZVDD [1, 3K, 3K^2, K^3] / (1 + K)^3
+///   EI   [p, q K, p K^2] with p (1 + K^2) + q K = 1 and (2p - q) K^2 = V: the one-hump EI shaper
+///        (undamped amplitudes (1+V)/4, (1-V)/2, (1+V)/4) with the same damping compensation as the
+///        ZV family, leaving exactly the residual V at omega.
+/// Throws std::invalid_argument for omega <= 0, zeta outside [0, 1) or V outside [0, 1).
+[[nodiscard]] InputShaper make_shaper(ShaperType type, double omega, double zeta,
+                                      double residual = kDefaultEiResidual);
+
+/// Residual vibration of a mode after the impulse train, relative to a single unit impulse
+/// (paper sec. 3.1: Z_n divided by omega / sqrt(1 - zeta^2)) [-].
+[[nodiscard]] double shaper_residual(const InputShaper& shaper, double omega, double zeta);
+
+/// The convolution sum_j A_j base(t - t_j) as an exact piecewise law (duration: the base's plus
+/// the shaper's delay). Throws std::invalid_argument when overlapping pieces carry harmonic terms
+/// of different frequencies (a piece holds one harmonic).
+[[nodiscard]] MotionLaw convolve(const MotionLaw& base, const InputShaper& shaper);
+
+/// The chain of three rectangular FIR filters of durations T1, T2, T3 (eq. 13) applied to a step
+/// of `stroke`: jerk = stroke / (T1 T2 T3) * sum over subsets S of {T1, T2, T3} of
+/// (-1)^|S| H(t - sum S). Duration T1 + T2 + T3.
+struct FirChain {
+  double t1{}, t2{}, t3{};  ///< [s]
+  MotionLaw law;
+  /// The seven durations when conditions (14) hold (T1 >= T2 + T3, T2 >= T3):
+  /// [T3, T2 - T3, T3, T1 - T2 - T3, T3, T2 - T3, T3].
+  std::optional<Durations> durations;
+};
+
+/// Throws std::invalid_argument unless every T_i > 0.
+[[nodiscard]] FirChain make_fir_chain(double stroke, double t1, double t2, double t3);
+
+}  // namespace slosh
+
+namespace slosh {
+
+/// Order of the IIR anti-sloshing filter (paper eq. 8: critically damped 2nd order target,
+/// eq. 9: 3rd order).
+enum class IirOrder { kSecond = 2, kThird = 3 };
+
+/// Default pole tau of the IIR filter [1/s] (paper sec. 4: 40 to 100 works for ~1 s laws).
+constexpr double kDefaultIirTau{50.0};
+
+/// The FOH difference equation of F_IIR (paper eq. 10-12):
+///   y(k) = -sum_i a_i y(k - i) + b_0 u(k + 1) + sum_{i >= 1} b_i u(k + 1 - i).
+struct IirFilter {
+  IirOrder order{IirOrder::kSecond};
+  double tau{kDefaultIirTau};  ///< [1/s]
+  double sample_period{1e-3};  ///< T_s [s]
+  std::vector<long double> a;  ///< a_1 .. a_n (long double: see make_iir_filter)
+  std::vector<long double> b;  ///< b_0 .. b_{n+1}
+};
+
+/// Coefficients of eq. 11 (second order) or eq. 12 (third order) for a mode (omega, zeta).
+[[nodiscard]] IirFilter make_iir_filter(IirOrder order, double omega, double zeta, double tau,
+                                        double sample_period);
+
+/// Runs the difference equation on samples u(0..N-1) (u(k) = u(0) before 0 and u(N-1) after the
+/// end: the input rests at both ends) and returns `output_length` samples.
+[[nodiscard]] std::vector<double> apply_iir(const IirFilter& filter, const std::vector<double>& u,
+                                            std::size_t output_length);
+
+}  // namespace slosh
