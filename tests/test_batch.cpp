@@ -35,6 +35,7 @@
 
 #include "slosh/api/plan.hpp"
 #include "support/process.hpp"
+#include "support/server.hpp"
 
 extern char** environ;
 
@@ -47,6 +48,7 @@ using test::Child;
 using test::read_file;
 using test::run_slosh;
 using test::RunResult;
+using test::Server;
 using test::TempDir;
 using test::write_file;
 
@@ -440,35 +442,6 @@ void expect_row_matches_plan(const OutRow& row, const json& plan, const std::str
   EXPECT_DOUBLE_EQ(row.number("reduction_rest_pct"), plan["reduction_pct"]["rest"].get<double>());
   EXPECT_GT(row.number("solve_ms"), 0.0);
 }
-
-/// A running `slosh serve --port 0 --cache ""` on loopback.
-class Server {
- public:
-  Server() {
-    write_file(dir_ / "stdin", "");
-    child_ = std::make_unique<Child>(
-        test::spawn({"serve", "--host", "127.0.0.1", "--port", "0", "--port-file",
-                     (dir_ / "port").string(), "--cache", ""},
-                    dir_ / "stdin", dir_ / "stdout", dir_ / "stderr"));
-    port_ = test::wait_for_port(dir_ / "port", *child_, std::chrono::seconds(10));
-  }
-  [[nodiscard]] int port() const { return port_; }
-  [[nodiscard]] std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
-  [[nodiscard]] std::string log() const {
-    return read_file(dir_ / "stdout") + read_file(dir_ / "stderr");
-  }
-  [[nodiscard]] httplib::Client client() const {
-    httplib::Client c("127.0.0.1", port_);
-    c.set_connection_timeout(5, 0);
-    c.set_read_timeout(60, 0);
-    return c;
-  }
-
- private:
-  TempDir dir_;
-  std::unique_ptr<Child> child_;
-  int port_{0};
-};
 
 /// SELECT key FROM plans of a cache file, opened read-only.
 std::multiset<std::string> cached_keys(const fs::path& path) {

@@ -22,6 +22,7 @@
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
 #include "support/process.hpp"
+#include "support/server.hpp"
 
 namespace slosh {
 namespace {
@@ -29,55 +30,9 @@ namespace {
 using nlohmann::json;
 using test::Child;
 using test::read_file;
+using test::Server;
 using test::TempDir;
 using test::write_file;
-
-/// A running `slosh serve` with its own directory (cache file, port file, logs).
-class Server {
- public:
-  explicit Server(std::vector<std::string> extra = {}, const TempDir* shared_dir = nullptr)
-      : dir_(shared_dir != nullptr ? *shared_dir : own_dir_) {
-    std::vector<std::string> args{"serve",
-                                  "--host",
-                                  "127.0.0.1",
-                                  "--port",
-                                  "0",
-                                  "--port-file",
-                                  port_file().string(),
-                                  "--cache",
-                                  cache_file().string()};
-    args.insert(args.end(), extra.begin(), extra.end());
-    write_file(dir_ / "stdin", "");
-    child_ = std::make_unique<Child>(
-        test::spawn(args, dir_ / "stdin", dir_ / "stdout", dir_ / "stderr"));
-    std::filesystem::remove(port_file());
-    port_ = test::wait_for_port(port_file(), *child_, std::chrono::seconds(10));
-  }
-  [[nodiscard]] int port() const { return port_; }
-  [[nodiscard]] std::filesystem::path cache_file() const { return dir_ / "plans.sqlite"; }
-  [[nodiscard]] std::filesystem::path port_file() const { return dir_ / "port"; }
-  [[nodiscard]] std::string log() const {
-    return read_file(dir_ / "stdout") + read_file(dir_ / "stderr");
-  }
-  [[nodiscard]] httplib::Client client() const {
-    httplib::Client c("127.0.0.1", port_);
-    c.set_connection_timeout(5, 0);
-    c.set_read_timeout(60, 0);
-    return c;
-  }
-  Child& child() { return *child_; }
-  /// SIGTERM and the exit code (nullopt when still running after 20 s).
-  std::optional<int> stop() {
-    ::kill(child_->pid(), SIGTERM);
-    return child_->wait_for(std::chrono::seconds(20));
-  }
-
- private:
-  TempDir own_dir_;
-  const TempDir& dir_;
-  std::unique_ptr<Child> child_;
-  int port_{0};
-};
 
 json plan_body(const std::string& strategy, double stroke_mm = 800, double time_s = 1.0) {
   json body = json::parse(R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},

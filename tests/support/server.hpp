@@ -1,0 +1,66 @@
+#pragma once
+// A real `slosh serve` on a free loopback port for the service and CLI tests.
+
+#include <httplib.h>
+#include <signal.h>
+
+#include <chrono>
+#include <filesystem>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "support/process.hpp"
+
+namespace slosh::test {
+
+/// A running `slosh serve` with its own directory (cache file, port file, logs).
+class Server {
+ public:
+  explicit Server(std::vector<std::string> extra = {}, const TempDir* shared_dir = nullptr)
+      : dir_(shared_dir != nullptr ? *shared_dir : own_dir_) {
+    std::vector<std::string> args{"serve",
+                                  "--host",
+                                  "127.0.0.1",
+                                  "--port",
+                                  "0",
+                                  "--port-file",
+                                  port_file().string(),
+                                  "--cache",
+                                  cache_file().string()};
+    args.insert(args.end(), extra.begin(), extra.end());
+    write_file(dir_ / "stdin", "");
+    child_ = std::make_unique<Child>(
+        test::spawn(args, dir_ / "stdin", dir_ / "stdout", dir_ / "stderr"));
+    std::filesystem::remove(port_file());
+    port_ = test::wait_for_port(port_file(), *child_, std::chrono::seconds(10));
+  }
+  [[nodiscard]] int port() const { return port_; }
+  [[nodiscard]] std::string url() const { return "http://127.0.0.1:" + std::to_string(port_); }
+  [[nodiscard]] std::filesystem::path cache_file() const { return dir_ / "plans.sqlite"; }
+  [[nodiscard]] std::filesystem::path port_file() const { return dir_ / "port"; }
+  [[nodiscard]] std::string log() const {
+    return read_file(dir_ / "stdout") + read_file(dir_ / "stderr");
+  }
+  [[nodiscard]] httplib::Client client() const {
+    httplib::Client c("127.0.0.1", port_);
+    c.set_connection_timeout(5, 0);
+    c.set_read_timeout(60, 0);
+    return c;
+  }
+  Child& child() { return *child_; }
+  /// SIGTERM and the exit code (nullopt when still running after 20 s).
+  std::optional<int> stop() {
+    ::kill(child_->pid(), SIGTERM);
+    return child_->wait_for(std::chrono::seconds(20));
+  }
+
+ private:
+  TempDir own_dir_;
+  const TempDir& dir_;
+  std::unique_ptr<Child> child_;
+  int port_{0};
+};
+
+}  // namespace slosh::test
