@@ -129,8 +129,7 @@ json post_chunk(HttpClient& client, const json& requests) {
 }
 
 void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& options,
-                RowSink& sink, ProgressBar& bar) {
-  HttpClient client(options.server, kServerTimeout);
+                HttpClient& client, RowSink& sink, ProgressBar& bar) {
   for (std::size_t begin = 0; begin < rows.size(); begin += options.chunk) {
     const std::size_t end = std::min(rows.size(), begin + options.chunk);
     json requests = json::array();
@@ -210,6 +209,7 @@ int run_batch_command(const BatchCommandOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   std::vector<RecipeRow> rows;
   TableFormat out_format{};
+  std::unique_ptr<HttpClient> client;
   try {
     const TableFormat in_format = table_format(options.in_format, options.in);
     out_format = table_format(options.out_format, options.out);
@@ -226,7 +226,9 @@ int run_batch_command(const BatchCommandOptions& options) {
     if (!options.server.empty() && options.chunk == 0) {
       throw TableError("--chunk must be at least 1");
     }
-    if (!options.server.empty()) (void)HttpClient(options.server, kServerTimeout);  // URL check
+    if (!options.server.empty()) {
+      client = std::make_unique<HttpClient>(options.server, kServerTimeout);  // checks the URL
+    }
   } catch (const std::exception& e) {
     std::cerr << "slosh batch: " << e.what() << '\n';
     return kExitInvalidInput;
@@ -252,7 +254,7 @@ int run_batch_command(const BatchCommandOptions& options) {
     if (options.server.empty()) {
       run_local(rows, options.config, sink, bar);
     } else {
-      run_remote(rows, options, sink, bar);
+      run_remote(rows, options, *client, sink, bar);
     }
     writer.finish();
   } catch (const std::exception& e) {

@@ -66,12 +66,8 @@ bool ProgressBar::due() const {
 }
 
 void ProgressBar::update(std::size_t done) {
-  if (!enabled_ || done == last_done_) return;
+  if (!enabled_ || done == last_done_ || (done != total_ && !due())) return;
   const auto now = std::chrono::steady_clock::now();
-  if (done != total_ && last_done_ != static_cast<std::size_t>(-1) &&
-      now - last_draw_ < kRedrawInterval) {
-    return;
-  }
   std::string text = render(done, std::chrono::duration<double>(now - start_).count());
   const std::size_t shown = text.size();
   if (text.size() < width_) text.append(width_ - text.size(), ' ');  // erase a longer last line

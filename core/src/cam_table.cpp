@@ -45,7 +45,7 @@ std::vector<CamSample> sample_cam_table(const MotionLaw& law, double stroke, dou
       continue;
     }
     // On a switch time (up to rounding of k * period), evaluate exactly there: MotionLaw::at is
-    // right-continuous, so the jerk is the one of the segment that starts.
+    // right-continuous, so the jerk is the one of the segment that starts (also at t = 0).
     double t_eval = t;
     // The latest switch time within the tolerance (a plateau shorter than the tolerance is
     // skipped: its successor is what the motion does during the cycle).
@@ -53,16 +53,7 @@ std::vector<CamSample> sample_cam_table(const MotionLaw& law, double stroke, dou
     if (after != switches.begin() && t - *std::prev(after) <= kCamTimeTolerance) {
       t_eval = *std::prev(after);
     }
-    KinematicState s = law.at(t_eval);
-    if (t_eval <= 0.0) {
-      // The law starts at 0 (MotionLaw::at returns the rest state there): its first real piece.
-      for (const LawPiece& p : law.pieces()) {
-        if (p.duration() > kCamTimeTolerance) {
-          s = p.at(0.0);
-          break;
-        }
-      }
-    }
+    const KinematicState s = law.at(t_eval);
     table.push_back({t, s.position, s.velocity, s.acceleration, s.jerk});
   }
   return table;

@@ -60,7 +60,7 @@ std::vector<double> MotionLaw::breakpoints() const {
 }
 
 KinematicState MotionLaw::at(double t) const {
-  if (pieces_.empty() || t <= 0.0) return {};
+  if (pieces_.empty() || t < 0.0) return {};
   if (t >= duration()) {
     const LawPiece& last = pieces_.back();
     KinematicState end = last.at(last.duration());

@@ -58,7 +58,8 @@ class MotionLaw {
   [[nodiscard]] double stroke() const;
   /// Times where the law changes expression: 0, every piece end.
   [[nodiscard]] std::vector<double> breakpoints() const;
-  /// State at any t (t < 0: rest at 0; t > duration: rest at the stroke).
+  /// State at any t, right-continuous (t < 0: rest at 0; t >= duration: rest at the stroke; at a
+  /// piece boundary, including 0, the piece that starts there).
   [[nodiscard]] KinematicState at(double t) const;
   /// Peaks of acceleration, velocity and jerk (exact per piece for polynomial pieces, sampled
   /// densely with local refinement for harmonic pieces).
