@@ -228,7 +228,7 @@ TEST_P(PlannerConstraints, NotchIsExactByClosedFormAndByQuadrature) {
   EXPECT_LE(closed, 2e-6) << describe(r);
   // Gauss-Legendre quadrature of the built law, independent of the closed form.
   const SevenSegmentLaw law(r.durations, f.stroke);
-  const double quadrature = std::abs(acceleration_spectrum(law.law(), w1)) / x_ref;
+  const double quadrature = std::abs(acceleration_spectrum_quadrature(law.law(), w1)) / x_ref;
   EXPECT_LE(quadrature, 1e-5) << describe(r);
   EXPECT_NEAR(quadrature, closed, 1e-9);
 }

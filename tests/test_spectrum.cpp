@@ -36,7 +36,7 @@ TEST(Spectrum, ClosedFormMatchesTheGeneralLawQuadrature) {
   const SevenSegmentLaw law(test::kAsymmetricDurations, 0.6);
   for (double w : {0.7, 10.0, 19.26, 75.0}) {
     const std::complex<double> closed = acceleration_spectrum(law, w);
-    const std::complex<double> gauss = acceleration_spectrum(law.law(), w);
+    const std::complex<double> gauss = acceleration_spectrum_quadrature(law.law(), w);
     EXPECT_LT(std::abs(closed - gauss), 1e-13 * (1.0 + std::abs(closed))) << "w = " << w;
   }
 }
@@ -132,8 +132,52 @@ TEST(Spectrum, BothFormsAgreeAroundTheSwitch) {
   const SevenSegmentLaw law(d, 0.3);
   for (double w : {0.99999, 1.0, 7.99, 8.0, 8.01}) {
     const std::complex<double> closed = acceleration_spectrum(law, w);
-    const std::complex<double> reference = acceleration_spectrum(law.law(), w);
+    const std::complex<double> reference = acceleration_spectrum_quadrature(law.law(), w);
     EXPECT_LT(std::abs(closed - reference), 2e-14 * std::abs(reference)) << "w = " << w;
+  }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// The piecewise closed form on laws of every piece kind (cubic, harmonic, linear, many short
+// pieces) against Simpson on the sampled acceleration and against Gauss-Legendre.
+TEST(Spectrum, PiecewiseClosedFormMatchesQuadratureOnGeneralLaws) {
+  std::vector<LawPiece> ramps;  // 400 short linear pieces (like a sampled IIR law)
+  const double h = 2.5e-3;
+  auto sample = [](int k) { return 4.0 * std::sin(0.0157 * k) + std::cos(0.05 * k) - 1.0; };
+  for (int k = 0; k < 400; ++k) {
+    LawPiece p;
+    p.t_begin = k * h;
+    p.t_end = (k + 1) * h;
+    p.poly = {sample(k), (sample(k + 1) - sample(k)) / h, 0.0, 0.0};
+    ramps.push_back(p);
+  }
+  const MotionLaw laws[] = {make_poly5_law(0.8, 1.0), make_modified_trapezoid_law(0.8, 1.0),
+                            make_cycloidal_law(0.5, 0.7),
+                            SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(),
+                            MotionLaw("ramps", ramps)};
+  for (const MotionLaw& law : laws) {
+    for (double w : {0.0, 1e-3, 0.7, 5.0, 19.3, 60.0, 150.0, 400.0}) {
+      const std::complex<double> closed = acceleration_spectrum(law, w);
+      const std::complex<double> gauss = acceleration_spectrum_quadrature(law, w);
+      std::complex<double> simpson(0.0);
+      for (const LawPiece& p : law.pieces()) {
+        // Each piece on its own (the law is discontinuous at its end); (w h)^4 / 180 < 1e-14.
+        const int n = 2 * static_cast<int>(std::ceil(p.duration() * (w + 60.0) * 200.0));
+        simpson += test::simpson(
+            [&](double tau) {
+              return p.at(tau).acceleration * std::polar(1.0, -w * (p.t_begin + tau));
+            },
+            0.0, p.duration(), n);
+      }
+      const double scale = 1e-3 + std::abs(gauss);
+      EXPECT_LT(std::abs(closed - gauss), 1e-12 * scale) << law.name() << " w = " << w;
+      EXPECT_LT(std::abs(closed - simpson), 1e-9 * scale) << law.name() << " w = " << w;
+    }
   }
 }
 
