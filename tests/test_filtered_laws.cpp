@@ -277,5 +277,63 @@ TEST(Iir, DifferenceEquationsMatchTheContinuousFilterOnAFirstOrderHoldInput) {
   }
 }
 
+// The IIR law of a prescribed duration: exactly T long, filtered part within one sample of T,
+// rest-to-rest exactly, a small correction, and mode 1 left nearly still after the motion.
+TEST(IirLaw, PrescribedDurationRestToRestAndLittleResidual) {
+  const Format f = thesis_format();
+  ModelOptions o;
+  o.modes = 1;
+  const SloshingModel m = make_sloshing_model(f, o);
+  for (BaseLaw base_type :
+       {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid, BaseLaw::kSevenSegmentUniform}) {
+    for (IirOrder order : {IirOrder::kSecond, IirOrder::kThird}) {
+      for (double T : {0.8, 1.0, 1.2345}) {
+        const double Ts = 1e-3;
+        const IirFilter filter = make_iir_filter(order, m.omega1(), m.zeta, 50.0, Ts);
+        auto base = [&](double d) { return make_base_law(base_type, f.stroke, d); };
+        const IirLaw law = make_iir_law(base, filter, f.stroke, T);
+        const std::string what = to_string(base_type) + " order " +
+                                 std::to_string(static_cast<int>(order)) + " T " +
+                                 std::to_string(T);
+        ASSERT_TRUE(law.fits) << what;
+        EXPECT_EQ(law.law.duration(), T) << what;
+        EXPECT_LE(law.filtered_duration, T + 1e-12) << what;
+        EXPECT_GT(law.filtered_duration, T - Ts - 1e-12) << what;
+        EXPECT_NEAR(law.base_duration + law.delay, law.filtered_duration, 1e-12) << what;
+        // The paper's figure: ~0.19 s at tau = 50 on a 1 s law.
+        EXPECT_GT(law.delay, 0.08) << what;
+        EXPECT_LT(law.delay, 0.35) << what;
+        const KinematicState end = law.law.pieces().back().at(law.law.pieces().back().duration());
+        EXPECT_NEAR(end.position, f.stroke, 1e-12) << what;
+        EXPECT_NEAR(end.velocity, 0.0, 1e-12) << what;
+        EXPECT_LT(law.correction, 1e-3) << what;
+        ASSERT_EQ(law.knots.size(), law.acceleration.size());
+        EXPECT_EQ(law.knots.front(), 0.0);
+        EXPECT_EQ(law.knots.back(), T);
+        // The hold interpolates the knots.
+        for (std::size_t k = 0; k < law.knots.size(); k += 97) {
+          EXPECT_NEAR(law.law.at(law.knots[k]).acceleration, law.acceleration[k], 1e-9);
+        }
+        // Mode 1 is driven like a critically damped system: the residual is a small part of the
+        // base law's of the same duration.
+        const LinearResponse filtered(m, law.law, 2.0);
+        const LinearResponse plain(m, base(T), 2.0);
+        EXPECT_LT(free_amplitude(filtered, m, T), 0.03 * free_amplitude(plain, m, T)) << what;
+      }
+    }
+  }
+}
+
+TEST(IirLaw, DoesNotFitWhenTheDelayExceedsTheMotionTime) {
+  const Format f = thesis_format();
+  const SloshingModel m = make_sloshing_model(f, ModelOptions{});
+  const IirFilter filter = make_iir_filter(IirOrder::kThird, m.omega1(), m.zeta, 5.0, 1e-3);
+  const IirLaw law =
+      make_iir_law([&](double d) { return make_poly5_law(f.stroke, d); }, filter, f.stroke, 0.5);
+  EXPECT_FALSE(law.fits);
+  EXPECT_GT(law.delay, 0.5);
+  EXPECT_TRUE(law.law.pieces().empty());
+}
+
 }  // namespace
 }  // namespace slosh

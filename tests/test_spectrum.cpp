@@ -156,10 +156,9 @@ TEST(Spectrum, PiecewiseClosedFormMatchesQuadratureOnGeneralLaws) {
     p.poly = {sample(k), (sample(k + 1) - sample(k)) / h, 0.0, 0.0};
     ramps.push_back(p);
   }
-  const MotionLaw laws[] = {make_poly5_law(0.8, 1.0), make_modified_trapezoid_law(0.8, 1.0),
-                            make_cycloidal_law(0.5, 0.7),
-                            SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(),
-                            MotionLaw("ramps", ramps)};
+  const MotionLaw laws[] = {
+      make_poly5_law(0.8, 1.0), make_modified_trapezoid_law(0.8, 1.0), make_cycloidal_law(0.5, 0.7),
+      SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(), MotionLaw("ramps", ramps)};
   for (const MotionLaw& law : laws) {
     for (double w : {0.0, 1e-3, 0.7, 5.0, 19.3, 60.0, 150.0, 400.0}) {
       const std::complex<double> closed = acceleration_spectrum(law, w);

@@ -9,6 +9,30 @@
 
 namespace slosh {
 
+std::string to_string(BaseLaw base) {
+  switch (base) {
+    case BaseLaw::kSevenSegmentUniform:
+      return "seven_segment_uniform";
+    case BaseLaw::kPoly5:
+      return "poly5";
+    case BaseLaw::kModifiedTrapezoid:
+      return "modified_trapezoid";
+  }
+  return "poly5";
+}
+
+MotionLaw make_base_law(BaseLaw base, double stroke, double duration) {
+  switch (base) {
+    case BaseLaw::kSevenSegmentUniform:
+      return SevenSegmentLaw(uniform_durations(duration), stroke).law();
+    case BaseLaw::kPoly5:
+      return make_poly5_law(stroke, duration);
+    case BaseLaw::kModifiedTrapezoid:
+      return make_modified_trapezoid_law(stroke, duration);
+  }
+  return make_poly5_law(stroke, duration);
+}
+
 namespace {
 
 /// Breakpoints closer than this are one [s].
@@ -285,6 +309,124 @@ std::vector<double> apply_iir(const IirFilter& f, const std::vector<double>& u,
     y[n] = v;
   }
   return {y.begin(), y.end()};
+}
+
+}  // namespace slosh
+
+namespace slosh {
+
+namespace {
+
+/// One filter pass: the output samples up to one past the last above the tail tolerance.
+std::vector<double> filtered_samples(const MotionLaw& base, const IirFilter& f) {
+  const double Ts = f.sample_period;
+  const auto n = static_cast<std::size_t>(std::ceil(base.duration() / Ts - 1e-9)) + 1;
+  std::vector<double> u(n);
+  for (std::size_t k = 0; k < n; ++k) u[k] = base.at(static_cast<double>(k) * Ts).acceleration;
+  u.back() = 0.0;  // at rest from the end of the base law on
+  // The tail decays as t^2 e^(-tau t) at worst: 60 / tau is far below any tolerance.
+  const auto tail = static_cast<std::size_t>(std::ceil(60.0 / (f.tau * Ts)));
+  std::vector<double> y = apply_iir(f, u, n + tail);
+  double peak = 0.0;
+  for (double v : y) peak = std::max(peak, std::abs(v));
+  std::size_t last = 0;
+  for (std::size_t k = 0; k < y.size(); ++k) {
+    if (std::abs(y[k]) > kIirTailTolerance * peak) last = k;
+  }
+  y.resize(last + 2);
+  y.back() = 0.0;
+  return y;
+}
+
+}  // namespace
+
+IirLaw make_iir_law(const std::function<MotionLaw(double)>& base, const IirFilter& filter,
+                    double stroke, double T) {
+  const double Ts = filter.sample_period;
+  IirLaw out;
+  auto duration_of = [Ts](const std::vector<double>& y) {
+    return static_cast<double>(y.size() - 1) * Ts;
+  };
+  // Delay compensation (paper sec. 4): base duration T - Delta T until the filtered law ends in
+  // (T - T_s, T]; keep the longest pass that fits when the sample grid makes it oscillate.
+  double base_duration = T;
+  std::vector<double> best;
+  double best_base = 0.0, best_delay = 0.0;
+  for (int pass = 0; pass < kIirMaxIterations; ++pass) {
+    std::vector<double> y = filtered_samples(base(base_duration), filter);
+    ++out.iterations;
+    const double Tf = duration_of(y);
+    const double delay = Tf - base_duration;
+    if (pass == 0) out.delay = delay;
+    if (Tf <= T + 1e-9 * T && (best.empty() || Tf > duration_of(best))) {
+      best_base = base_duration;
+      best_delay = delay;
+      best = std::move(y);
+      if (duration_of(best) > T - Ts + 1e-9 * T) break;
+    }
+    base_duration = T - delay;
+    if (!(base_duration > 0.0)) break;
+  }
+  if (best.empty()) return out;  // the delay leaves no time for the base law
+
+  out.fits = true;
+  out.base_duration = best_base;
+  out.delay = best_delay;
+  out.filtered_duration = duration_of(best);
+  std::vector<double>& t = out.knots;
+  std::vector<double>& a = out.acceleration;
+  for (std::size_t k = 0; k < best.size(); ++k) {
+    t.push_back(static_cast<double>(k) * Ts);
+    a.push_back(best[k]);
+  }
+  if (t.back() < T - 1e-12 * T) {
+    t.push_back(T);
+    a.push_back(0.0);
+  } else {
+    t.back() = T;
+  }
+  // Exact rest-to-rest: scale the samples by (c0 + c1 t/T) so that the hat-function integrals
+  // give v(T) = 0 and s(T) = stroke. w_v = int Lambda_k, w_s = int (T - t) Lambda_k.
+  const std::size_t m = t.size();
+  double V0 = 0.0, V1 = 0.0, P0 = 0.0, P1 = 0.0, peak = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    double wv = 0.0, wt = 0.0;
+    if (k > 0) {
+      const double h = t[k] - t[k - 1];
+      wv += 0.5 * h;
+      wt += h * (0.5 * t[k] - h / 6.0);
+    }
+    if (k + 1 < m) {
+      const double h = t[k + 1] - t[k];
+      wv += 0.5 * h;
+      wt += h * (0.5 * t[k] + h / 6.0);
+    }
+    const double ws = T * wv - wt;
+    V0 += wv * a[k];
+    V1 += wv * a[k] * t[k] / T;
+    P0 += ws * a[k];
+    P1 += ws * a[k] * t[k] / T;
+    peak = std::max(peak, std::abs(a[k]));
+  }
+  const double det = V0 * P1 - V1 * P0;
+  const double c0 = -V1 * stroke / det;
+  const double c1 = V0 * stroke / det;
+  double correction = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double corrected = a[k] * (c0 + c1 * t[k] / T);
+    correction = std::max(correction, std::abs(corrected - a[k]));
+    a[k] = corrected;
+  }
+  out.correction = peak > 0.0 ? correction / peak : 0.0;
+  std::vector<LawPiece> pieces(m - 1);
+  for (std::size_t k = 0; k + 1 < m; ++k) {
+    LawPiece& p = pieces[k];
+    p.t_begin = t[k];
+    p.t_end = t[k + 1];
+    p.poly = {a[k], (a[k + 1] - a[k]) / (t[k + 1] - t[k]), 0.0, 0.0};
+  }
+  out.law = MotionLaw("iir", std::move(pieces));
+  return out;
 }
 
 }  // namespace slosh

@@ -4,6 +4,8 @@
 // rectangular FIR filters on a step. Both results are exact piecewise laws (MotionLaw), so the
 // spectrum, the exact linear response and the nonlinear model apply to them unchanged.
 
+#include <cstddef>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,6 +14,15 @@
 #include "slosh/core/seven_segment.hpp"
 
 namespace slosh {
+
+/// Base laws the filters act on (paper sec. 4: poly5 and the modified trapezoid; the uniform
+/// 7-segment law is the product's baseline).
+enum class BaseLaw { kSevenSegmentUniform, kPoly5, kModifiedTrapezoid };
+
+[[nodiscard]] std::string to_string(BaseLaw base);
+
+/// The base law of `stroke` [m] over `duration` [s].
+[[nodiscard]] MotionLaw make_base_law(BaseLaw base, double stroke, double duration);
 
 /// Input shaper families (paper sec. 3.1).
 enum class ShaperType { kZV, kZVD, kZVDD, kEI };
@@ -102,5 +113,44 @@ struct IirFilter {
 /// end: the input rests at both ends) and returns `output_length` samples.
 [[nodiscard]] std::vector<double> apply_iir(const IirFilter& filter, const std::vector<double>& u,
                                             std::size_t output_length);
+
+}  // namespace slosh
+
+namespace slosh {
+
+/// Default sample period of the IIR law [s] (a 1 ms controller cycle, as in the paper).
+constexpr double kDefaultIirSamplePeriod{1e-3};
+/// The filtered law ends one sample after the last sample whose |acceleration| exceeds this
+/// fraction of its peak [-] (the e^(-tau t) tail below it is cut; with tau = 50 this gives the
+/// ~0.19 s delay the paper reports on a 1 s poly5 law).
+constexpr double kIirTailTolerance{1e-3};
+/// Most base-duration updates of the delay compensation.
+constexpr int kIirMaxIterations{30};
+
+/// An IIR-filtered law of a prescribed duration (paper sec. 4).
+struct IirLaw {
+  /// False when the filter's delay leaves no time for the base law (the delay >= T): `law` is
+  /// empty and `delay` is the delay measured on the base law of duration T.
+  bool fits{false};
+  /// Acceleration linear between the samples k T_s (first-order hold, as the difference equation
+  /// assumes), then at rest up to exactly the prescribed duration; rest-to-rest exactly.
+  MotionLaw law;
+  std::vector<double> knots;         ///< sample times, and T when the last sample falls short [s]
+  std::vector<double> acceleration;  ///< acceleration at the knots [m/s^2]
+  double base_duration{};            ///< duration of the base law that was filtered [s]
+  double delay{};                    ///< filtered duration minus base duration, last pass [s]
+  double filtered_duration{};        ///< filtered duration before padding to T [s]
+  int iterations{};                  ///< filter passes
+  /// Largest rest-to-rest correction relative to the peak acceleration [-]: the samples are
+  /// scaled by (c0 + c1 t / T) so the piecewise-linear law ends at rest exactly at the stroke
+  /// (it absorbs the cut tail and the hold's O(T_s^2) integration error).
+  double correction{};
+};
+
+/// Filters `base(duration)` (acceleration samples at k T_s) with `filter`, re-planning the base
+/// duration T - Delta T until the filtered law ends within one sample before `motion_time`, and
+/// pads it with rest to exactly `motion_time`. `stroke` is the base laws' stroke [m].
+[[nodiscard]] IirLaw make_iir_law(const std::function<MotionLaw(double)>& base,
+                                  const IirFilter& filter, double stroke, double motion_time);
 
 }  // namespace slosh
