@@ -406,7 +406,8 @@ TEST(CliPlan, InvalidStrategyExits2WithEnvelope) {
   EXPECT_EQ(err["error"]["field"], "strategy");
   EXPECT_EQ(err["error"]["message"],
             "strategy = \"fastest\" is not allowed: one of \"baseline\", \"notch\", "
-            "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"auto\"");
+            "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"fir_chain\", \"shaper\", "
+            "\"iir\", \"auto\"");
 }
 
 TEST(CliPlan, UnreachableConstraintIsAPlanWithStatusInfeasible) {

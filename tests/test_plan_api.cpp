@@ -50,7 +50,8 @@ TEST(PlanValidation, UnknownStrategyListsTheAllowedOnes) {
   EXPECT_EQ(e.field(), "strategy");
   EXPECT_STREQ(e.what(),
                "strategy = \"multinotch\" is not allowed: one of \"baseline\", \"notch\", "
-               "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"auto\"");
+               "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"fir_chain\", \"shaper\", "
+            "\"iir\", \"auto\"");
 }
 
 TEST(PlanValidation, UnknownOptionIsRejected) {
@@ -260,12 +261,13 @@ TEST(PlanResponse, SamplePeriodAddsTheSeriesOfThePlannedLaw) {
 TEST(PlanResponse, AutoListsItsCandidates) {
   const json out = run_plan(parse_plan_request(thesis_plan("auto")));
   ASSERT_TRUE(out.contains("candidates"));
-  ASSERT_EQ(out["candidates"].size(), 5u);
+  ASSERT_EQ(out["candidates"].size(), 7u);
   int chosen = 0;
   for (const auto& c : out["candidates"]) {
     if (c["chosen"].get<bool>()) {
       ++chosen;
       EXPECT_EQ(c["durations_s"], out["durations_s"]);
+      EXPECT_EQ(c["law_type"], out["law"]["type"]);
     }
   }
   EXPECT_EQ(chosen, 1);

@@ -27,7 +27,7 @@ constexpr const char* kCatalogue =
     "water, ethanol, isopropanol, glycerol_water_50, milk, olive_oil, sunflower_oil, light_syrup";
 constexpr const char* kLawTypes =
     "\"seven_segment\", \"seven_segment_uniform\", \"poly5\", \"modified_trapezoid\", "
-    "\"cycloidal\"";
+    "\"cycloidal\", \"piecewise_linear\", \"piecewise\"";
 
 /// The thesis format (R = 48.5 mm, h = 82 mm, water 1000 kg/m^3 and 1 mPa s, 800 mm in 1 s).
 json base_request() {

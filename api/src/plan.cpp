@@ -8,6 +8,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/law_json.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/spectrum.hpp"
 
@@ -16,7 +17,7 @@ namespace slosh::api {
 namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
-constexpr const char* kPlannerVersion = "plan-v1";
+constexpr const char* kPlannerVersion = "plan-v2";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
@@ -25,7 +26,7 @@ using namespace plan_ranges;  // NOLINT: the option ranges of plan.hpp
 
 const char* kStrategies =
     "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "
-    "\"time_domain\", \"auto\"";
+    "\"time_domain\", \"fir_chain\", \"shaper\", \"iir\", \"auto\"";
 
 const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
   auto it = object.find(key);
@@ -89,6 +90,49 @@ double reduction(double baseline, double value) {
   return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
 }
 
+nlohmann::json design_json(const FilterDesign& design) {
+  struct Visitor {
+    nlohmann::json operator()(const FirChainDesign& d) const {
+      return {{"method", "fir_chain"},
+              {"t1_s", d.t1},
+              {"t2_s", d.t2},
+              {"t3_s", d.t3},
+              {"conditions_14", d.trapezoidal}};
+    }
+    nlohmann::json operator()(const ShaperDesign& d) const {
+      nlohmann::json impulses = nlohmann::json::array();
+      for (const Impulse& i : d.shaper.impulses) {
+        impulses.push_back({{"t_s", i.time}, {"amplitude", i.amplitude}});
+      }
+      return {{"method", "shaper"},
+              {"shaper", to_string(d.shaper.type)},
+              {"base", to_string(d.base)},
+              {"base_duration_s", d.base_duration},
+              {"delay_s", d.shaper.delay()},
+              {"impulses", impulses},
+              {"residual_at_f1", d.residual}};
+    }
+    nlohmann::json operator()(const IirDesign& d) const {
+      nlohmann::json a = nlohmann::json::array(), b = nlohmann::json::array();
+      for (long double v : d.filter.a) a.push_back(static_cast<double>(v));
+      for (long double v : d.filter.b) b.push_back(static_cast<double>(v));
+      return {{"method", "iir"},
+              {"order", static_cast<int>(d.filter.order)},
+              {"tau", d.filter.tau},
+              {"sample_period_s", d.filter.sample_period},
+              {"base", to_string(d.base)},
+              {"base_duration_s", d.base_duration},
+              {"delay_s", d.delay},
+              {"filtered_duration_s", d.filtered_duration},
+              {"iterations", d.iterations},
+              {"correction_pct", 100.0 * d.correction},
+              {"a", a},
+              {"b", b}};
+    }
+  };
+  return std::visit(Visitor{}, design);
+}
+
 std::string to_hex(const unsigned char* data, std::size_t n) {
   static const char* digits = "0123456789abcdef";
   std::string out;
@@ -122,7 +166,8 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
       options, "options",
       {"p_notch", "weights", "band", "n_band", "tol_rel", "eta_rest_max_mm", "eta_motion_max_mm",
        "objective", "rest_time_s", "min_ramp_s", "fix_constant_velocity_zero", "plateau_min_s",
-       "limits", "damping", "alpha", "modes", "solver", "time_limit_s"});
+       "limits", "damping", "alpha", "modes", "solver", "time_limit_s", "base", "shaper",
+       "residual", "iir_order", "iir_tau", "iir_sample_period_s"});
   PlanOptions& o = r.options;
   const double T = r.format.motion_time;
   parse_model_options(options, "options", o.model);
@@ -161,6 +206,31 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
              : solver == "ipopt" ? SolverChoice::kIpopt
                                  : SolverChoice::kAuto;
   o.time_limit = optional_number(options, "options", "time_limit_s", kTimeLimit, o.time_limit);
+  const std::string base = choice(options, "options", "base",
+                                  {"poly5", "modified_trapezoid", "seven_segment_uniform"},
+                                  to_string(o.base));
+  for (BaseLaw b : {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid, BaseLaw::kSevenSegmentUniform}) {
+    if (to_string(b) == base) o.base = b;
+  }
+  const std::string shaper =
+      choice(options, "options", "shaper", {"zv", "zvd", "zvdd", "ei"}, to_string(o.shaper));
+  for (ShaperType t : {ShaperType::kZV, ShaperType::kZVD, ShaperType::kZVDD, ShaperType::kEI}) {
+    if (to_string(t) == shaper) o.shaper = t;
+  }
+  o.residual = optional_number(options, "options", "residual", kResidual, o.residual);
+  o.iir_order = static_cast<IirOrder>(optional_integer(options, "options", "iir_order", 2, 3,
+                                                       static_cast<int>(o.iir_order)));
+  o.iir_tau = optional_number(options, "options", "iir_tau", kIirTau, o.iir_tau);
+  const Range iir_period{kIirSamplePeriod.lo, std::min(kIirSamplePeriod.hi, T / kIirMinSamples),
+                         "s"};
+  try {
+    o.iir_sample_period = optional_number(options, "options", "iir_sample_period_s", iir_period,
+                                          o.iir_sample_period);
+  } catch (const ApiError& e) {
+    invalid(e.field(), std::string(e.what()) +
+                           " (the upper bound is min(0.01 s, format.motion_time_s / " +
+                           std::to_string(kIirMinSamples) + "))");
+  }
   // Relations between options (e.g. ramps + plateau minimums longer than T).
   std::string error;
   if (!o.is_valid(r.format, &error)) invalid("options", "options." + error);
@@ -206,7 +276,13 @@ nlohmann::json canonical_recipe(const PlanRequest& r) {
             {"damping", damping},
             {"alpha", o.model.alpha},
             {"modes", o.model.modes},
-            {"solver", to_string(o.solver)}}}};
+            {"solver", to_string(o.solver)},
+            {"base", to_string(o.base)},
+            {"shaper", to_string(o.shaper)},
+            {"residual", o.residual},
+            {"iir_order", static_cast<int>(o.iir_order)},
+            {"iir_tau", o.iir_tau},
+            {"iir_sample_period_s", o.iir_sample_period}}}};
 }
 
 std::string recipe_key(const PlanRequest& request) {
@@ -222,13 +298,12 @@ std::string recipe_key(const PlanRequest& request) {
 nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   const Format& f = request.format;
   const double T = f.motion_time;
-  const SevenSegmentLaw law(r.durations, f.stroke);
-  nlohmann::json pct = nlohmann::json::array();
-  for (double d : r.durations) pct.push_back(100.0 * d / T);
-  double j_peak = 0.0;
-  for (double j : law.jerks()) j_peak = std::max(j_peak, std::abs(j));
+  const std::optional<SevenSegmentLaw> seven =
+      r.durations ? std::optional<SevenSegmentLaw>(SevenSegmentLaw(*r.durations, f.stroke))
+                  : std::nullopt;
 
-  // Amplitude spectrum |X_a| of the plan and of the uniform law, 0 .. 5 f1.
+  // Amplitude spectrum |X_a| of the plan and of the uniform law, 0 .. 5 f1: closed form for the
+  // 7-segment laws, piece by piece for the general ones.
   const double f1 = r.model.omega1() / (2.0 * std::numbers::pi);
   const Durations uniform = uniform_durations(T);
   std::vector<double> f_hz(kSpectrumPoints), amp(kSpectrumPoints), amp_base(kSpectrumPoints);
@@ -236,7 +311,8 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
     const double fk = kSpectrumMaxF1 * f1 * k / (kSpectrumPoints - 1);
     const double w = 2.0 * std::numbers::pi * fk;
     f_hz[k] = fk;
-    amp[k] = std::abs(seven_segment_spectrum(r.durations, f.stroke, w));
+    amp[k] = std::abs(seven ? seven_segment_spectrum(*r.durations, f.stroke, w)
+                            : acceleration_spectrum(r.law, w));
     amp_base[k] = std::abs(seven_segment_spectrum(uniform, f.stroke, w));
   }
   nlohmann::json f_modes = nlohmann::json::array();
@@ -257,14 +333,33 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["strategy"] = to_string(r.strategy);
   out["status"] = to_string(r.status);
   out["message"] = r.message;
-  out["durations_s"] = r.durations;
-  out["durations_pct"] = pct;
-  out["switch_times_s"] = law.switch_times();
-  out["kinematics"] = {{"a_max", r.A},
-                       {"a_min", r.B},
-                       {"v_peak", law.v_peak()},
-                       {"j_peak", j_peak},
-                       {"jerks_m_s3", law.jerks()}};
+  if (seven) {
+    nlohmann::json pct = nlohmann::json::array();
+    for (double d : *r.durations) pct.push_back(100.0 * d / T);
+    double j_peak = 0.0;
+    for (double j : seven->jerks()) j_peak = std::max(j_peak, std::abs(j));
+    out["durations_s"] = *r.durations;
+    out["durations_pct"] = pct;
+    out["switch_times_s"] = seven->switch_times();
+    out["kinematics"] = {{"a_max", r.A},
+                         {"a_min", r.B},
+                         {"v_peak", seven->v_peak()},
+                         {"j_peak", j_peak},
+                         {"jerks_m_s3", seven->jerks()}};
+  } else {
+    // A general law (SPEC §7 keeps the fields; they are null): its shape is in `law`.
+    out["durations_s"] = nullptr;
+    out["durations_pct"] = nullptr;
+    out["switch_times_s"] = nullptr;
+    const KinematicSummary& k = r.prediction.kinematics;
+    out["kinematics"] = {{"a_max", r.A},
+                         {"a_min", r.B},
+                         {"v_peak", k.v_peak},
+                         {"j_peak", k.j_peak},
+                         {"jerks_m_s3", nullptr}};
+  }
+  out["law"] = law_json(r.law, r.durations);
+  if (r.design) out["design"] = design_json(*r.design);
   out["model"] = model_json(r.model, request.options.model);
   out["prediction"] = prediction(r.prediction);
   out["baseline"] = prediction(r.baseline);
@@ -290,7 +385,8 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
     for (const PlanCandidate& c : r.candidates) {
       list.push_back({{"strategy", to_string(c.strategy)},
                       {"status", to_string(c.status)},
-                      {"durations_s", c.durations},
+                      {"durations_s", c.durations ? nlohmann::json(*c.durations) : nullptr},
+                      {"law_type", law_json(c.law, c.durations)["type"]},
                       {"prediction", prediction(c.prediction)},
                       {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
                                           c.prediction.kinematics.a_peak_negative)},
@@ -304,8 +400,9 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   if (request.sample_period) {
     SimulateRequest s;
     s.format = f;
-    s.law_type = LawType::kSevenSegment;
+    s.law_type = r.durations ? LawType::kSevenSegment : LawType::kPiecewise;
     s.durations = r.durations;
+    s.law = r.law;
     s.options.model = request.options.model;
     s.options.rest_time = request.options.rest_time;
     s.options.sample_period = request.sample_period;

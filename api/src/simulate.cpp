@@ -9,76 +9,6 @@
 
 namespace slosh::api {
 
-namespace {
-
-constexpr double kDurationSumToleranceS = 1e-6;
-
-LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
-  const std::string tpath = join_path(path, "type");
-  const std::string allowed =
-      "\"seven_segment\", \"seven_segment_uniform\", \"poly5\", \"modified_trapezoid\", "
-      "\"cycloidal\"";
-  auto it = law.find("type");
-  if (it == law.end()) invalid(tpath, tpath + " is required: one of " + allowed);
-  if (it->is_string()) {
-    const auto name = it->get<std::string>();
-    for (auto t : {LawType::kSevenSegment, LawType::kSevenSegmentUniform, LawType::kPoly5,
-                   LawType::kModifiedTrapezoid, LawType::kCycloidal}) {
-      if (name == to_string(t)) return t;
-    }
-  }
-  invalid(tpath, tpath + " = " + show(*it) + " is not allowed: one of " + allowed);
-}
-
-Durations parse_durations(const nlohmann::json& law, const std::string& path, double motion_time,
-                          double min_ramp) {
-  const std::string dpath = join_path(path, "durations_s");
-  auto it = law.find("durations_s");
-  if (it == law.end() || !it->is_array() || it->size() != kSegments) {
-    invalid(dpath, dpath +
-                       " must be an array of 7 durations in s (sum = format.motion_time_s), got " +
-                       (it == law.end() ? std::string("nothing") : show(*it)));
-  }
-  Durations d{};
-  const Range ramp{min_ramp, motion_time, "s"};
-  const Range plateau{0.0, motion_time, "s"};
-  double sum = 0.0;
-  for (std::size_t i = 0; i < kSegments; ++i) {
-    const bool is_ramp = i % 2 == 0;
-    const std::string field = dpath + "[" + std::to_string(i) + "]";
-    const std::string hint =
-        is_ramp ? " (segment " + std::to_string(i + 1) + " is a jerk ramp: >= options.min_ramp_s)"
-                : "";
-    d[i] = checked_number(&(*it)[i], field, is_ramp ? ramp : plateau, hint);
-    sum += d[i];
-  }
-  if (std::abs(sum - motion_time) > kDurationSumToleranceS) {
-    invalid(dpath, dpath + " sum to " + number_text(sum) + " s but format.motion_time_s = " +
-                       number_text(motion_time) + " s: they must be equal (tolerance 1e-6 s)");
-  }
-  // Rescale the tiny residual so the law ends exactly at T.
-  for (double& x : d) x *= motion_time / sum;
-  return d;
-}
-
-}  // namespace
-
-std::string to_string(LawType type) {
-  switch (type) {
-    case LawType::kSevenSegment:
-      return "seven_segment";
-    case LawType::kSevenSegmentUniform:
-      return "seven_segment_uniform";
-    case LawType::kPoly5:
-      return "poly5";
-    case LawType::kModifiedTrapezoid:
-      return "modified_trapezoid";
-    case LawType::kCycloidal:
-      return "cycloidal";
-  }
-  return "unknown";
-}
-
 nlohmann::json parse_json_body(std::string_view body) {
   try {
     return nlohmann::json::parse(body);
@@ -112,22 +42,13 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
                            " (the upper bound is format.motion_time_s / 4: four ramps must fit)");
   }
 
-  if (!body.contains("law"))
+  if (!body.contains("law")) {
     invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
-  const nlohmann::json& law = body["law"];
-  require_object(law, "law");
-  reject_unknown_fields(law, "law", {"type", "durations_s"});
-  r.law_type = parse_law_type(law, "law");
-  if (r.law_type == LawType::kSevenSegment) {
-    r.durations = parse_durations(law, "law", r.format.motion_time, r.min_ramp);
-    try {
-      (void)SevenSegmentLaw(*r.durations, r.format.stroke);
-    } catch (const std::invalid_argument& e) {
-      invalid("law.durations_s", std::string("law.durations_s: ") + e.what());
-    }
-  } else if (law.contains("durations_s")) {
-    invalid("law.durations_s", "law.durations_s is only allowed with law.type \"seven_segment\"");
   }
+  ParsedLaw law = parse_law(body["law"], "law", r.format, r.min_ramp);
+  r.law_type = law.type;
+  r.durations = law.durations;
+  r.law = std::move(law.law);
 
   r.options.rest_time =
       optional_number(body, "", "rest_time_s", ranges::kRestTimeS, kDefaultRestTime);
@@ -141,23 +62,6 @@ std::optional<SevenSegmentLaw> seven_segment_law(const SimulateRequest& r) {
     return SevenSegmentLaw(uniform_durations(r.format.motion_time), r.format.stroke);
   }
   return std::nullopt;
-}
-
-MotionLaw build_law(const SimulateRequest& r) {
-  const double s = r.format.stroke;
-  const double T = r.format.motion_time;
-  switch (r.law_type) {
-    case LawType::kSevenSegment:
-    case LawType::kSevenSegmentUniform:
-      return seven_segment_law(r)->law();
-    case LawType::kPoly5:
-      return make_poly5_law(s, T);
-    case LawType::kModifiedTrapezoid:
-      return make_modified_trapezoid_law(s, T);
-    case LawType::kCycloidal:
-      return make_cycloidal_law(s, T);
-  }
-  return {};
 }
 
 std::optional<double> parse_sample_period(const nlohmann::json& body, double span) {
@@ -188,7 +92,7 @@ nlohmann::json prediction_json(const SimulationResult& r) {
 
 nlohmann::json run_simulate(const SimulateRequest& request) {
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
-  const MotionLaw law = seven ? seven->law() : build_law(request);
+  const MotionLaw& law = seven ? seven->law() : request.law;
   const SimulationResult r = simulate(request.format, law, request.options);
   nlohmann::json out;
   nlohmann::json law_json{{"type", to_string(request.law_type)},

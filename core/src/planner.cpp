@@ -19,13 +19,11 @@ constexpr double kAutoTieTolerance{1e-6};
 /// `auto` keeps candidates whose eta_motion is within this factor of the best one (SPEC §5).
 constexpr double kAutoMotionSlack{1.05};
 
-LawPrediction predict(const SloshingModel& model, const Durations& d, double stroke,
-                      double rest_time) {
-  const SevenSegmentLaw law(d, stroke);
+LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double rest_time) {
   LawPrediction p;
-  p.kinematics = law.law().summary();
-  p.linear = LinearResponse(model, law.law(), rest_time).peaks();
-  p.nonlinear = NonlinearResponse(model, law.law(), rest_time).peaks();
+  p.kinematics = law.summary();
+  p.linear = LinearResponse(model, law, rest_time).peaks();
+  p.nonlinear = NonlinearResponse(model, law, rest_time).peaks();
   return p;
 }
 
@@ -61,6 +59,12 @@ std::string to_string(Strategy strategy) {
       return "min_jerk_band";
     case Strategy::kTimeDomain:
       return "time_domain";
+    case Strategy::kFirChain:
+      return "fir_chain";
+    case Strategy::kShaper:
+      return "shaper";
+    case Strategy::kIir:
+      return "iir";
     case Strategy::kAuto:
       return "auto";
   }
@@ -69,10 +73,16 @@ std::string to_string(Strategy strategy) {
 
 std::optional<Strategy> parse_strategy(std::string_view name) {
   for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
-                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kAuto}) {
+                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
+                     Strategy::kShaper, Strategy::kIir, Strategy::kAuto}) {
     if (to_string(s) == name) return s;
   }
   return std::nullopt;
+}
+
+bool is_filter_strategy(Strategy strategy) {
+  return strategy == Strategy::kFirChain || strategy == Strategy::kShaper ||
+         strategy == Strategy::kIir;
 }
 
 std::string to_string(SolverChoice solver) {
@@ -143,6 +153,17 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
     }
   }
   if (!(time_limit > 0.0)) return fail("time_limit_s = " + sig3(time_limit) + " s must be > 0");
+  if (!(residual >= 0.0 && residual < 1.0)) {
+    return fail("residual = " + sig3(residual) + " must be >= 0 and < 1");
+  }
+  if (!(iir_tau > 0.0) || !std::isfinite(iir_tau)) {
+    return fail("iir_tau = " + sig3(iir_tau) + " 1/s must be finite and > 0");
+  }
+  if (!(iir_sample_period > 0.0 && iir_sample_period <= T / kIirMinSamples)) {
+    return fail("iir_sample_period_s = " + sig3(iir_sample_period) + " s must be > 0 and <= T / " +
+                std::to_string(kIirMinSamples) + " = " +
+                sig3(T / kIirMinSamples) + " s");
+  }
   return true;
 }
 
@@ -231,7 +252,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   const double w1 = r.model.omega1();
   r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
   const Durations uniform = uniform_durations(format.motion_time);
-  r.baseline = predict(r.model, uniform, format.stroke, options.rest_time);
+  r.baseline =
+      predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
 
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
@@ -240,65 +262,107 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   c.eta_ref = r.baseline.nonlinear.motion.value;
   c.eta_motion_max = options.eta_motion_max.value_or(c.eta_ref);
 
-  auto finish = [&](const detail::StrategyOutcome& o) {
-    r.status = o.status;
-    r.durations = o.durations;
-    r.solver.name = o.solver;
-    r.solver.iterations = o.evaluations;
-    r.solver.starts = o.starts;
-    r.solver.objective = o.objective;
+  // Every strategy's outcome in one shape: the optimisers' durations become their law.
+  struct Outcome {
+    SolveStatus status{SolveStatus::kFailed};
+    std::optional<Durations> durations;
+    MotionLaw law;
+    std::optional<FilterDesign> design;
+    std::string detail;
+    detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
+  };
+  auto from_solver = [&](detail::StrategyOutcome o) {
+    Outcome out;
+    out.status = o.status;
+    if (o.status == SolveStatus::kFailed) o.durations = uniform;
+    out.durations = o.durations;
+    out.law = SevenSegmentLaw(o.durations, format.stroke).law();
+    out.detail = o.detail;
+    out.solver = std::move(o);
+    return out;
+  };
+  auto from_filter = [&](detail::FilterOutcome o) {
+    Outcome out;
+    out.status = o.status;
+    out.durations = o.durations;
+    out.law = std::move(o.law);
+    out.design = std::move(o.design);
+    out.detail = std::move(o.detail);
+    out.solver.solver = "none";
+    return out;
   };
 
-  auto run = [&](Strategy s, const std::vector<Durations>& seeds) -> detail::StrategyOutcome {
+  auto run = [&](Strategy s, const std::vector<Durations>& seeds) -> Outcome {
     switch (s) {
       case Strategy::kNotch:
-        return detail::solve_notch(c);
+        return from_solver(detail::solve_notch(c));
       case Strategy::kMultiNotch:
-        return detail::solve_multi_notch(c);
+        return from_solver(detail::solve_multi_notch(c));
       case Strategy::kMinJerkBand:
-        return detail::solve_min_jerk_band(c);
+        return from_solver(detail::solve_min_jerk_band(c));
       case Strategy::kTimeDomain:
-        return detail::solve_time_domain(c, seeds);
+        return from_solver(detail::solve_time_domain(c, seeds));
+      case Strategy::kFirChain:
+        return from_filter(detail::design_fir_chain(c));
+      case Strategy::kShaper:
+        return from_filter(detail::design_shaper(c));
+      case Strategy::kIir:
+        return from_filter(detail::design_iir(c));
       default: {
         detail::StrategyOutcome o;
         o.status = SolveStatus::kOptimal;
         o.durations = uniform;
         o.solver = "none";
-        return o;
+        return from_solver(o);
       }
     }
   };
   // The spectral optima seed the time-domain starts (SPEC §5).
-  auto spectral_seeds = [&](std::vector<detail::StrategyOutcome>* outcomes) {
+  auto spectral_seeds = [&](std::vector<Outcome>* outcomes) {
     std::vector<Durations> seeds;
     for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
-      detail::StrategyOutcome o = run(s, {});
+      Outcome o = run(s, {});
       if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
-        seeds.push_back(o.durations);
+        seeds.push_back(*o.durations);
       }
       if (outcomes != nullptr) outcomes->push_back(std::move(o));
     }
     return seeds;
   };
+  auto finish = [&](Outcome& o) {
+    r.status = o.status;
+    r.durations = o.durations;
+    r.law = std::move(o.law);
+    r.design = std::move(o.design);
+    r.solver.name = o.solver.solver;
+    r.solver.iterations = o.solver.evaluations;
+    r.solver.starts = o.solver.starts;
+    r.solver.objective = o.solver.objective;
+  };
 
   std::string detail_text;
+  Strategy result_strategy = strategy;  // the strategy whose law is returned
   if (strategy == Strategy::kAuto) {
-    std::vector<detail::StrategyOutcome> outcomes;
+    std::vector<Outcome> outcomes;
     outcomes.push_back(run(Strategy::kBaseline, {}));
-    const std::vector<Durations> seeds = spectral_seeds(&outcomes);
+    std::vector<Durations> seeds = spectral_seeds(&outcomes);
     outcomes.push_back(run(Strategy::kTimeDomain, seeds));
-    const Strategy order[] = {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
-                              Strategy::kMinJerkBand, Strategy::kTimeDomain};
+    outcomes.push_back(run(Strategy::kFirChain, {}));
+    outcomes.push_back(run(Strategy::kShaper, {}));
+    const Strategy order[] = {Strategy::kBaseline,    Strategy::kNotch,      Strategy::kMultiNotch,
+                              Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
+                              Strategy::kShaper};
     int evaluations = 0, starts = 0;
     for (std::size_t k = 0; k < outcomes.size(); ++k) {
       PlanCandidate cand;
       cand.strategy = order[k];
       cand.status = outcomes[k].status;
       cand.durations = outcomes[k].durations;
-      cand.prediction = predict(r.model, cand.durations, format.stroke, options.rest_time);
-      r.candidates.push_back(cand);
-      evaluations += outcomes[k].evaluations;
-      starts += outcomes[k].starts;
+      cand.law = outcomes[k].law;
+      cand.prediction = predict(r.model, cand.law, options.rest_time);
+      r.candidates.push_back(std::move(cand));
+      evaluations += outcomes[k].solver.evaluations;
+      starts += outcomes[k].solver.starts;
     }
     // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best
     // (ties: lower peak acceleration); infeasible or failed candidates do not compete.
@@ -336,30 +400,37 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       }
     }
     r.candidates[chosen].chosen = true;
-    detail::StrategyOutcome o = outcomes[chosen];
-    o.evaluations = evaluations;
-    o.starts = starts;
-    finish(o);
-    r.prediction = r.candidates[chosen].prediction;
+    result_strategy = order[chosen];
+    Outcome& o = outcomes[chosen];
+    o.solver.evaluations = evaluations;
+    o.solver.starts = starts;
     detail_text = "auto chose " + to_string(order[chosen]) +
                   " (lowest eta_rest among the candidates within 5 % of the best eta_motion)";
-    if (!outcomes[chosen].detail.empty()) detail_text += "; " + outcomes[chosen].detail;
+    if (!o.detail.empty()) detail_text += "; " + o.detail;
+    finish(o);
+    r.prediction = r.candidates[chosen].prediction;
   } else {
     std::vector<Durations> seeds;
     if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(nullptr);
-    const detail::StrategyOutcome o = run(strategy, seeds);
-    finish(o);
+    Outcome o = run(strategy, seeds);
     detail_text = o.detail;
-    r.prediction = predict(r.model, r.durations, format.stroke, options.rest_time);
+    finish(o);
+    r.prediction = predict(r.model, r.law, options.rest_time);
   }
 
-  const SevenSegmentLaw law(r.durations, format.stroke);
-  r.A = law.A();
-  r.B = law.B();
+  if (r.durations) {
+    const SevenSegmentLaw law(*r.durations, format.stroke);
+    r.A = law.A();
+    r.B = law.B();
+  } else {
+    r.A = r.prediction.kinematics.a_peak_positive;
+    r.B = r.prediction.kinematics.a_peak_negative;
+  }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
 
   // The message: what happened, then what the law does.
+  const bool filtered = is_filter_strategy(result_strategy);
   std::string message;
   switch (r.status) {
     case SolveStatus::kOptimal:
@@ -371,6 +442,12 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                 " s ran out; returning the best admissible point found";
       break;
     case SolveStatus::kInfeasible: {
+      if (filtered) {
+        // The design says what it built and which constraint it misses.
+        message = detail_text;
+        detail_text.clear();
+        break;
+      }
       const std::string limits = c.space.limit_count() > 0 ? detail::explain_limits(c) : "";
       message = !limits.empty()
                     ? limits
@@ -381,13 +458,11 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     }
     case SolveStatus::kFailed:
       message = "the solver failed; the durations returned are the uniform law";
-      r.durations = uniform;
       break;
   }
   if (!detail_text.empty()) message += ": " + detail_text;
   message += ". " + summary_sentence(r.prediction, r.baseline);
   r.message = message;
-
   r.warnings = validity_warnings(
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),

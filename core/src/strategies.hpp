@@ -2,6 +2,7 @@
 // The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
 
 #include <chrono>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -80,6 +81,21 @@ struct MultiStartResult {
 /// `seeds` are extra starts (the spectral optima), tried after the uniform law.
 [[nodiscard]] StrategyOutcome solve_time_domain(const StrategyContext& context,
                                                 const std::vector<Durations>& seeds);
+
+/// Outcome of a filtering strategy (closed form, no solver): kOptimal when the law meets every
+/// limit and option that applies to it, kInfeasible otherwise (the law is still returned, or the
+/// uniform law when none exists).
+struct FilterOutcome {
+  SolveStatus status{SolveStatus::kFailed};
+  MotionLaw law;
+  std::optional<Durations> durations;
+  std::optional<FilterDesign> design;
+  std::string detail;  ///< how the law was built, or why it does not meet the constraints
+};
+
+[[nodiscard]] FilterOutcome design_fir_chain(const StrategyContext& context);
+[[nodiscard]] FilterOutcome design_shaper(const StrategyContext& context);
+[[nodiscard]] FilterOutcome design_iir(const StrategyContext& context);
 
 /// When the machine limits alone cannot be met, a sentence naming the first unreachable limit and
 /// the least value reachable; empty when the limits are jointly reachable.

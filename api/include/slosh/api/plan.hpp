@@ -24,6 +24,10 @@ inline const Range kAMax{0.0, 1000.0, "m/s^2", true};
 inline const Range kVMax{0.0, 100.0, "m/s", true};
 inline const Range kJMax{0.0, 1e6, "m/s^3", true};
 inline const Range kTimeLimit{0.0, 600.0, "s", true};
+inline const Range kResidual{0.0, 1.0, "", false, true};
+inline const Range kIirTau{1.0, 1000.0, "1/s"};
+/// iir_sample_period_s: also <= format.motion_time_s / kIirMinSamples.
+inline const Range kIirSamplePeriod{1e-4, 0.01, "s"};
 constexpr int kMaxBandPoints = 2001;
 }  // namespace plan_ranges
 

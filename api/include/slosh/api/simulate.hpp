@@ -7,19 +7,18 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/law_json.hpp"
 #include "slosh/core/seven_segment.hpp"
 #include "slosh/core/simulation.hpp"
 
 namespace slosh::api {
-
-/// Law types accepted by simulate.
-enum class LawType { kSevenSegment, kSevenSegmentUniform, kPoly5, kModifiedTrapezoid, kCycloidal };
 
 /// A validated simulate request.
 struct SimulateRequest {
   Format format;
   LawType law_type{LawType::kSevenSegment};
   std::optional<Durations> durations;  ///< for kSevenSegment
+  MotionLaw law;                       ///< the law, whatever its type
   SimulationOptions options;
   double min_ramp{kDefaultMinRamp};
 };
@@ -33,8 +32,10 @@ struct SimulateRequest {
 /// The 7-segment law of a validated request, when its law is one (durations or uniform).
 [[nodiscard]] std::optional<SevenSegmentLaw> seven_segment_law(const SimulateRequest& request);
 
-/// Builds the law of a validated request.
-[[nodiscard]] MotionLaw build_law(const SimulateRequest& request);
+/// The law of a validated request.
+[[nodiscard]] inline const MotionLaw& build_law(const SimulateRequest& request) {
+  return request.law;
+}
 
 /// Runs a validated request and renders the response
 /// {"law", "kinematics", "model", "prediction", "series"?, "warnings"}.
@@ -49,7 +50,5 @@ struct SimulateRequest {
 
 /// Kinematics and prediction blocks shared with plans.
 [[nodiscard]] nlohmann::json prediction_json(const SimulationResult& result);
-
-[[nodiscard]] std::string to_string(LawType type);
 
 }  // namespace slosh::api

@@ -124,6 +124,8 @@ constexpr double kDefaultIirSamplePeriod{1e-3};
 /// fraction of its peak [-] (the e^(-tau t) tail below it is cut; with tau = 50 this gives the
 /// ~0.19 s delay the paper reports on a 1 s poly5 law).
 constexpr double kIirTailTolerance{1e-3};
+/// The IIR law needs at least this many samples over the motion (T_s <= T / 20).
+constexpr int kIirMinSamples{20};
 /// Most base-duration updates of the delay compensation.
 constexpr int kIirMaxIterations{30};
 

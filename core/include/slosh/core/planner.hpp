@@ -1,13 +1,16 @@
 #pragma once
-// The planner: a format, a strategy and options in, the optimised 7-segment law with its verified
-// sloshing predictions out (SPEC §5-§6). Pure numerics: no JSON, no logging.
+// The planner: a format, a strategy and options in, the optimised 7-segment law (or a filtered law
+// of the JDSMC paper) with its verified sloshing predictions out (SPEC §5-§6). Pure numerics: no
+// JSON, no logging.
 
 #include <array>
 #include <optional>
 #include <string>
 #include <string_view>
+#include <variant>
 #include <vector>
 
+#include "slosh/core/filtered_laws.hpp"
 #include "slosh/core/format.hpp"
 #include "slosh/core/nlp_solver.hpp"
 #include "slosh/core/seven_segment.hpp"
@@ -23,7 +26,10 @@ enum class Strategy {
   kMultiNotch,   ///< b1 |X(w-)|^2 + b2 |X(w1)|^2 + b3 |X(w+)|^2, w+- = (1 +- p) w1
   kMinJerkBand,  ///< min int j^2 dt s.t. |X(w_k)| <= tol_rel |X_uniform(w1)| on a band around w1
   kTimeDomain,   ///< min eta_motion (or eta_rest) of the nonlinear model, constraint on the other
-  kAuto,         ///< run the others, verify each, pick by SPEC §5's rule
+  kFirChain,     ///< three rectangular FIR filters on a step, T3 = damped period (JDSMC sec. 3.4)
+  kShaper,       ///< base law of duration T - delay convolved with an input shaper (sec. 3.1, 4)
+  kIir,          ///< base law through the IIR filter of eq. 8/9, delay compensated (sec. 3.3, 4)
+  kAuto,         ///< run the others (not iir), verify each, pick by SPEC §5's rule
 };
 
 [[nodiscard]] std::string to_string(Strategy strategy);
@@ -90,6 +96,21 @@ struct PlanOptions {
   /// Wall-clock budget of the whole plan [s]. When it runs out the best admissible point found so
   /// far is returned with status kTimeLimit. Default 5 s.
   double time_limit{5.0};
+  /// Base law of shaper and iir, planned over T minus the filter's delay. Default poly5 (the
+  /// paper's recommendation for shaping, sec. 7).
+  BaseLaw base{BaseLaw::kPoly5};
+  /// Shaper family of `shaper`. Default ZV (the least acceleration for a prescribed time).
+  ShaperType shaper{ShaperType::kZV};
+  /// Residual vibration V the EI shaper admits at omega1 [-]. Default 0.05.
+  double residual{kDefaultEiResidual};
+  /// Order of the IIR filter of `iir`. Default third (no initial peak, paper sec. 3.3).
+  IirOrder iir_order{IirOrder::kThird};
+  /// Pole tau of the IIR filter [1/s]: larger is shorter delay and a law closer to the inversion
+  /// of the model. Default 50.
+  double iir_tau{kDefaultIirTau};
+  /// Sample period of the IIR law (the controller cycle the difference equation runs at) [s].
+  /// Default 1 ms.
+  double iir_sample_period{kDefaultIirSamplePeriod};
 
   /// Checks the options against the format; on failure writes a message naming the option, its
   /// value and the allowed range, and returns false.
@@ -112,11 +133,39 @@ struct LawPrediction {
   KinematicSummary kinematics;
 };
 
+/// How a filtering strategy built its law (the figures an engineer checks against the paper).
+struct FirChainDesign {
+  double t1{}, t2{}, t3{};   ///< filter durations [s], T3 = damped period of mode 1
+  bool trapezoidal{false};   ///< conditions (14) hold: the law is the 7-segment law
+};
+struct ShaperDesign {
+  BaseLaw base{};
+  InputShaper shaper;        ///< impulse times [s] and amplitudes
+  double base_duration{};    ///< T - delay [s]
+  double residual{};         ///< residual vibration of mode 1 after the impulses [-]
+};
+struct IirDesign {
+  BaseLaw base{};
+  IirFilter filter;          ///< order, tau, sample period and coefficients
+  double base_duration{};    ///< [s]
+  double delay{};            ///< the filter's delay on the last pass [s]
+  double filtered_duration{};  ///< [s], within one sample of T
+  int iterations{};          ///< filter passes of the delay compensation
+  double correction{};       ///< rest-to-rest correction relative to the peak acceleration [-]
+};
+using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
+
+/// True for the strategies that build a law by filtering instead of optimising 7 durations.
+[[nodiscard]] bool is_filter_strategy(Strategy strategy);
+
 /// One strategy's result inside an `auto` plan.
 struct PlanCandidate {
   Strategy strategy{};
   SolveStatus status{};
-  Durations durations{};
+  /// The seven durations when the law is a 7-segment law [s].
+  std::optional<Durations> durations;
+  /// The law itself (for every candidate).
+  MotionLaw law;
   LawPrediction prediction;
   bool chosen{false};
 };
@@ -127,9 +176,16 @@ struct PlanResult {
   SolveStatus status{SolveStatus::kFailed};
   /// One or two sentences a line engineer can act on.
   std::string message;
-  Durations durations{};
-  double A{};  ///< positive plateau [m/s^2]
-  double B{};  ///< negative plateau magnitude [m/s^2]
+  /// The seven durations when the planned law is a 7-segment law (every optimising strategy, and
+  /// fir_chain when conditions (14) hold) [s]; empty for the general laws of shaper, iir and
+  /// fir_chain otherwise.
+  std::optional<Durations> durations;
+  /// The planned law, whatever its kind.
+  MotionLaw law;
+  /// How the filtering strategies built the law; empty for the optimising ones.
+  std::optional<FilterDesign> design;
+  double A{};  ///< positive plateau (general laws: peak acceleration) [m/s^2]
+  double B{};  ///< negative plateau magnitude (general laws: peak deceleration) [m/s^2]
   SloshingModel model;
   LawPrediction prediction;  ///< of the returned law
   LawPrediction baseline;    ///< of the uniform law
@@ -139,7 +195,7 @@ struct PlanResult {
   std::vector<std::string> warnings;
   std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
 
-  /// True when the durations can be run: optimal, acceptable, or time-limited (best admissible).
+  /// True when the law can be run: optimal, acceptable, or time-limited (best admissible).
   [[nodiscard]] bool usable() const {
     return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
            status == SolveStatus::kTimeLimit;
