@@ -292,9 +292,10 @@ TEST(OpenApiDocument, EveryRefResolvesAndEverySchemaIsUsed) {
 TEST(OpenApiSchemas, StrategyEnumIsExactlyWhatTheParserAccepts) {
   const json& names = schema("Strategy").at("enum");
   const std::set<std::string> expected{"baseline",      "notch",       "multi_notch",
-                                       "min_jerk_band", "time_domain", "auto"};
+                                       "min_jerk_band", "time_domain", "fir_chain",
+                                       "shaper",        "iir",         "auto"};
   EXPECT_EQ(names.get<std::set<std::string>>(), expected);
-  EXPECT_EQ(names.size(), 6u);
+  EXPECT_EQ(names.size(), 9u);
   for (const auto& n : names) {
     const auto parsed = parse_strategy(n.get<std::string>());
     ASSERT_TRUE(parsed.has_value()) << n;
@@ -481,6 +482,12 @@ TEST(OpenApiSchemas, PlanOptionDefaultsAreTheParserDefaults) {
   EXPECT_EQ(p["alpha"]["default"].get<double>(), o.model.alpha);
   EXPECT_EQ(deref(p["damping"])["default"], to_string(o.model.damping));
   EXPECT_FALSE(o.limits.a_max || o.limits.v_max || o.limits.j_max);
+  EXPECT_EQ(p["base"]["default"], to_string(o.base));
+  EXPECT_EQ(p["shaper"]["default"], to_string(o.shaper));
+  EXPECT_EQ(p["residual"]["default"].get<double>(), o.residual);
+  EXPECT_EQ(p["iir_order"]["default"].get<int>(), static_cast<int>(o.iir_order));
+  EXPECT_EQ(p["iir_tau"]["default"].get<double>(), o.iir_tau);
+  EXPECT_EQ(p["iir_sample_period_s"]["default"].get<double>(), o.iir_sample_period);
   EXPECT_EQ(r.strategy, Strategy::kNotch);
   EXPECT_EQ(parse_plan_request(json{{"format", thesis_format()}}).strategy,
             parse_strategy(schema("Strategy")["default"].get<std::string>()));
@@ -501,6 +508,20 @@ TEST(OpenApiResponses, PlanResponsesFitThePlanResponseSchema) {
   ASSERT_TRUE(automatic.contains("candidates"));
   const auto auto_errors = validation_errors("PlanResponse", automatic);
   EXPECT_TRUE(auto_errors.empty()) << joined(auto_errors);
+
+  // The filtering strategies: a 7-segment law (fir_chain on a long motion), piecewise_linear
+  // (iir, fir_chain without (14)) and piecewise (shaper on poly5) laws, with their design.
+  for (const auto& [strategy, T] : std::vector<std::pair<std::string, double>>{
+           {"fir_chain", 1.0}, {"fir_chain", 1.5}, {"shaper", 1.0}, {"iir", 1.0}}) {
+    json request = thesis_plan(strategy);
+    request["format"]["motion_time_s"] = T;
+    const json plan = run_plan(parse_plan_request(request));
+    const auto filter_errors = validation_errors("PlanResponse", plan);
+    EXPECT_TRUE(filter_errors.empty()) << strategy << ": " << joined(filter_errors);
+    EXPECT_TRUE(plan.contains("design")) << strategy;
+    const auto law_errors = validation_errors("LawSpec", plan["law"]);
+    EXPECT_TRUE(law_errors.empty()) << strategy << ": " << joined(law_errors);
+  }
 
   // A batch result wraps either a plan or an error.
   const json batch{{"results",

@@ -51,7 +51,7 @@ TEST(PlanValidation, UnknownStrategyListsTheAllowedOnes) {
   EXPECT_STREQ(e.what(),
                "strategy = \"multinotch\" is not allowed: one of \"baseline\", \"notch\", "
                "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"fir_chain\", \"shaper\", "
-            "\"iir\", \"auto\"");
+               "\"iir\", \"auto\"");
 }
 
 TEST(PlanValidation, UnknownOptionIsRejected) {

@@ -189,7 +189,8 @@ TEST_P(PlannerConstraints, TimeDomainHoldsTheRestBoundOnAnIndependentDenseSimula
   ASSERT_TRUE(converged(r.status)) << describe(r);
   const SloshingModel model = make_sloshing_model(f, o.model);
   const SloshPeaks p =
-      NonlinearResponse(model, SevenSegmentLaw((*r.durations), f.stroke).law(), o.rest_time).peaks();
+      NonlinearResponse(model, SevenSegmentLaw((*r.durations), f.stroke).law(), o.rest_time)
+          .peaks();
   const SloshPeaks uniform =
       NonlinearResponse(model, SevenSegmentLaw(uniform_durations(f.motion_time), f.stroke).law(),
                         o.rest_time)
@@ -212,7 +213,8 @@ TEST(Planner, TimeDomainRestObjectiveHoldsTheMotionBoundAndBeatsTheMotionObjecti
   ASSERT_TRUE(converged(r.status)) << describe(r);
   const SloshingModel model = make_sloshing_model(f, o.model);
   const SloshPeaks p =
-      NonlinearResponse(model, SevenSegmentLaw((*r.durations), f.stroke).law(), o.rest_time).peaks();
+      NonlinearResponse(model, SevenSegmentLaw((*r.durations), f.stroke).law(), o.rest_time)
+          .peaks();
   EXPECT_LE(p.motion.value, 0.030 * (1.0 + 1e-6)) << describe(r);
   // Minimising eta_rest must do at least as well at rest as bounding it at 3 mm.
   EXPECT_LT(p.rest.value, 0.003) << describe(r);
@@ -347,9 +349,10 @@ TEST(Planner, UnreachableRestBoundIsReportedInfeasible) {
   EXPECT_TRUE(Contains(r.message, "not reachable"));
   expect_admissible(r, f);
   // Not a solution indeed: the dense simulation is far above the bound.
-  const SloshPeaks p = NonlinearResponse(make_sloshing_model(f, o.model),
-                                         SevenSegmentLaw((*r.durations), f.stroke).law(), o.rest_time)
-                           .peaks();
+  const SloshPeaks p =
+      NonlinearResponse(make_sloshing_model(f, o.model),
+                        SevenSegmentLaw((*r.durations), f.stroke).law(), o.rest_time)
+          .peaks();
   EXPECT_GT(p.rest.value, 10.0 * o.eta_rest_max);
 }
 

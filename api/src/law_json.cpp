@@ -18,9 +18,9 @@ const Range kAcceleration{-1e4, 1e4, "m/s^2"};
 const Range kCoefficient{-1e12, 1e12, ""};
 const Range kHarmonicOmega{0.0, 1e5, "rad/s"};
 
-constexpr LawType kAllTypes[] = {LawType::kSevenSegment,      LawType::kSevenSegmentUniform,
-                                 LawType::kPoly5,             LawType::kModifiedTrapezoid,
-                                 LawType::kCycloidal,         LawType::kPiecewiseLinear,
+constexpr LawType kAllTypes[] = {LawType::kSevenSegment, LawType::kSevenSegmentUniform,
+                                 LawType::kPoly5,        LawType::kModifiedTrapezoid,
+                                 LawType::kCycloidal,    LawType::kPiecewiseLinear,
                                  LawType::kPiecewise};
 
 LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
@@ -136,15 +136,16 @@ MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, do
     reject_unknown_fields(item, at, {"t_begin_s", "t_end_s", "a_poly", "harmonic"});
     LawPiece& p = pieces[k];
     const double expected = k == 0 ? 0.0 : pieces[k - 1].t_end;
-    p.t_begin = required_number(item, at, "t_begin_s",
-                                Range{expected - kPieceGapTolerance,
-                                      expected + kPieceGapTolerance, "s"});
+    p.t_begin =
+        required_number(item, at, "t_begin_s",
+                        Range{expected - kPieceGapTolerance, expected + kPieceGapTolerance, "s"});
     p.t_begin = expected;  // snapped: the pieces are contiguous
     p.t_end = required_number(item, at, "t_end_s", Range{p.t_begin, motion_time + 1.0, "s", true});
     const std::string cpath = join_path(at, "a_poly");
     auto c = item.find("a_poly");
     if (c == item.end() || !c->is_array() || c->empty() || c->size() > 4) {
-      invalid(cpath, cpath + " must be an array of 1 to 4 coefficients c0..c3 (m/s^2 ... m/s^5), got " +
+      invalid(cpath, cpath +
+                         " must be an array of 1 to 4 coefficients c0..c3 (m/s^2 ... m/s^5), got " +
                          (c == item.end() ? std::string("nothing") : show(*c)));
     }
     for (std::size_t i = 0; i < c->size(); ++i) {
@@ -227,8 +228,8 @@ ParsedLaw parse_law(const nlohmann::json& law, const std::string& path, const Fo
       const bool known = key == "durations_s" || key == "breakpoints_s" ||
                          key == "acceleration_m_s2" || key == "pieces";
       if (key == "durations_s") {
-        invalid(field, field + " is only allowed with " + join_path(path, "type") +
-                           " \"seven_segment\"");
+        invalid(field,
+                field + " is only allowed with " + join_path(path, "type") + " \"seven_segment\"");
       }
       if (known) {
         invalid(field, field + " is not allowed with " + join_path(path, "type") + " \"" +

@@ -82,6 +82,11 @@ json object(json properties, std::vector<std::string> required, const std::strin
   return s;
 }
 
+json nullable(json schema) {
+  schema["nullable"] = true;
+  return schema;
+}
+
 json with_default(json schema, json value) {
   schema["default"] = std::move(value);
   return schema;
@@ -96,7 +101,8 @@ json string_enum(std::vector<std::string> values, const std::string& description
 std::vector<std::string> strategy_names() {
   std::vector<std::string> out;
   for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
-                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kAuto}) {
+                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
+                     Strategy::kShaper, Strategy::kIir, Strategy::kAuto}) {
     out.push_back(to_string(s));
   }
   return out;
@@ -130,7 +136,8 @@ std::vector<std::string> damping_names(bool with_explicit) {
 std::vector<std::string> law_names() {
   std::vector<std::string> out;
   for (LawType t : {LawType::kSevenSegment, LawType::kSevenSegmentUniform, LawType::kPoly5,
-                    LawType::kModifiedTrapezoid, LawType::kCycloidal}) {
+                    LawType::kModifiedTrapezoid, LawType::kCycloidal, LawType::kPiecewiseLinear,
+                    LawType::kPiecewise}) {
     out.push_back(to_string(t));
   }
   return out;
@@ -229,7 +236,10 @@ void add_plan_request_schemas(json& s) {
   s["Strategy"] = with_default(
       string_enum(strategy_names(),
                   "What the planner optimises (SPEC §5): baseline (uniform T/7), notch, "
-                  "multi_notch, min_jerk_band, time_domain, auto (runs the others and picks)."),
+                  "multi_notch, min_jerk_band, time_domain; or how it filters (JDSMC 2022): "
+                  "fir_chain (three rectangular FIR filters, a 7-segment law when conditions "
+                  "(14) hold), shaper (base law convolved with an input shaper), iir (base law "
+                  "through the IIR filter); auto (runs all but iir and picks)."),
       to_string(Strategy::kAuto));
   s["MachineLimits"] = object({{"a_max", number_in(kAMax, "Peak |acceleration| max(A, B)")},
                                {"v_max", number_in(kVMax, "Peak velocity")},
@@ -290,6 +300,34 @@ void add_plan_request_schemas(json& s) {
                 "returned with status time_limit. The service defaults it to, and caps it at, "
                 "its solve budget (setting solve_budget_s, default 10 s); the CLI default is 5 s"),
       d.time_limit);
+  p["base"] = with_default(
+      string_enum({"poly5", "modified_trapezoid", "seven_segment_uniform"},
+                  "shaper and iir: the base law, planned over T minus the filter's delay."),
+      to_string(d.base));
+  p["shaper"] = with_default(
+      string_enum({"zv", "zvd", "zvdd", "ei"},
+                  "shaper: the input shaper on mode 1 (ZV: 1/2 damped period of delay, ZVD: 1, "
+                  "ZVDD: 3/2, EI: 1 with the residual below)."),
+      to_string(d.shaper));
+  p["residual"] = with_default(
+      number_in(kResidual, "shaper ei: residual vibration V admitted at omega_1 (0.05 = 5 %)"),
+      d.residual);
+  p["iir_order"] = with_default({{"type", "integer"},
+                                 {"minimum", 2},
+                                 {"maximum", 3},
+                                 {"description",
+                                  "iir: order of the critically damped target (2: eq. 8, 11; 3: "
+                                  "eq. 9, 12, no initial peak)."}},
+                                static_cast<int>(d.iir_order));
+  p["iir_tau"] = with_default(
+      number_in(kIirTau, "iir: pole tau of the target (s + tau)^n; larger is less delay"),
+      d.iir_tau);
+  p["iir_sample_period_s"] = with_default(
+      number_in(kIirSamplePeriod,
+                "iir: sample period of the difference equation and of the returned law (the "
+                "controller cycle); also <= format.motion_time_s / " +
+                    std::to_string(kIirMinSamples)),
+      d.iir_sample_period);
   s["PlanOptions"] = object(
       p, {},
       "Every member is optional (null counts as absent) and defaults to the seed value of SPEC "
@@ -332,11 +370,50 @@ void add_simulate_request_schemas(json& s) {
       "seven_segment only: the 7 durations [s]; sum = format.motion_time_s within 1e-6 s, ramps "
       "1, 3, 5, 7 >= options.min_ramp_s, plateaus >= 0.");
   durations["items"] = {{"type", "number"}, {"minimum", 0.0}};
-  s["LawType"] = string_enum(law_names(),
-                             "seven_segment (with durations_s), seven_segment_uniform (T/7 each, "
-                             "the thesis baseline), poly5, modified_trapezoid, cycloidal.");
-  s["LawSpec"] = object({{"type", ref("LawType")}, {"durations_s", durations}}, {"type"},
-                        "The motion law to simulate.", true);
+  s["LawType"] = string_enum(
+      law_names(),
+      "seven_segment (with durations_s), seven_segment_uniform (T/7 each, the thesis baseline), "
+      "poly5, modified_trapezoid, cycloidal, piecewise_linear (with breakpoints_s and "
+      "acceleration_m_s2), piecewise (with pieces).");
+  json breakpoints = numbers(
+      "piecewise_linear only: breakpoint times [s], from 0, strictly increasing, the last = "
+      "format.motion_time_s within 1e-6 s; at most " +
+      std::to_string(kMaxLawPieces + 1) + ".");
+  breakpoints["minItems"] = 2;
+  json accelerations = numbers(
+      "piecewise_linear only: acceleration at each breakpoint, linear in between [m/s^2]. The "
+      "law must end at rest (|v| <= 1e-6 m/s) at the stroke (within 0.001 mm).");
+  accelerations["minItems"] = 2;
+  json a_poly = numbers(
+      "Acceleration polynomial c0..c3 in tau = t - t_begin_s: c0 + c1 tau + c2 tau² + c3 tau³ "
+      "[m/s², m/s³, m/s⁴, m/s⁵]; 1 to 4 coefficients.");
+  a_poly["minItems"] = 1;
+  a_poly["maxItems"] = 4;
+  s["LawPiece"] = object(
+      {{"t_begin_s", number("Start [s]: 0, then the previous piece's t_end_s (within 1e-9 s).")},
+       {"t_end_s", number("End [s], after t_begin_s; the last = format.motion_time_s.")},
+       {"a_poly", a_poly},
+       {"harmonic",
+        object({{"cos", number("Amplitude of cos(omega tau) [m/s^2].")},
+                {"sin", number("Amplitude of sin(omega tau) [m/s^2].")},
+                {"omega_rad_s", number("omega [rad/s].")}},
+               {"cos", "sin", "omega_rad_s"}, "Harmonic term added to the polynomial.", true)}},
+      {"t_begin_s", "t_end_s", "a_poly"}, "One piece of a piecewise law.", true);
+  json pieces{{"type", "array"},
+              {"items", ref("LawPiece")},
+              {"minItems", 1},
+              {"description",
+               "piecewise only: contiguous pieces from 0 to format.motion_time_s; the law must "
+               "end at rest at the stroke."}};
+  s["LawSpec"] = object({{"type", ref("LawType")},
+                         {"durations_s", durations},
+                         {"breakpoints_s", breakpoints},
+                         {"acceleration_m_s2", accelerations},
+                         {"pieces", pieces}},
+                        {"type"},
+                        "A motion law: what simulate and export accept and what a plan returns "
+                        "as `law`.",
+                        true);
   json options = model_option_properties();
   options["min_ramp_s"] = min_ramp_schema();
   s["SimulateOptions"] = object(options, {}, "Model options; every member optional.", true);
@@ -382,9 +459,12 @@ void add_shared_response_schemas(json& s) {
        {"v_peak", number("Peak velocity [m/s].")},
        {"j_peak", number("Peak |jerk| [m/s^3].")},
        {"jerks_m_s3",
-        fixed_numbers(7, "Plans: the jerk of each of the 7 segments, 0 on the plateaus [m/s^3].")}},
+        nullable(fixed_numbers(7,
+                               "Plans: the jerk of each of the 7 segments, 0 on the plateaus "
+                               "[m/s^3]; null for a general law."))}},
       {"a_max", "a_min", "v_peak", "j_peak"},
-      "Peaks of the law. For non-7-segment laws a_max and a_min are the sampled peaks.", false);
+      "Peaks of the law. For non-7-segment laws a_max and a_min are the peaks of a(t) and -a(t).",
+      false);
   s["Model"] = object(
       {{"omega_rad_s", numbers("Natural circular frequencies omega_n [rad/s].")},
        {"f_hz", numbers("Natural frequencies f_n [Hz].")},
@@ -461,23 +541,31 @@ void add_plan_response_schemas(json& s) {
        {"solve_ms", number("Wall-clock time of the whole plan [ms].")}},
       {"name", "iterations", "starts", "objective", "solve_ms"}, "", false);
   s["SolveStatus"] = string_enum(status_names(), "Outcome of the solve.");
-  s["Candidate"] = object({{"strategy", ref("Strategy")},
-                           {"status", ref("SolveStatus")},
-                           {"durations_s", fixed_numbers(7, "[s]")},
-                           {"prediction", ref("Prediction")},
-                           {"a_peak", number("Peak |acceleration| [m/s^2].")},
-                           {"chosen", boolean("The candidate auto returned.")}},
-                          {"strategy", "status", "durations_s", "prediction", "a_peak", "chosen"},
-                          "One strategy's result inside an auto plan.", false);
+  s["Candidate"] =
+      object({{"strategy", ref("Strategy")},
+              {"status", ref("SolveStatus")},
+              {"durations_s", nullable(fixed_numbers(7, "[s]; null for a general law"))},
+              {"law_type", ref("LawType")},
+              {"prediction", ref("Prediction")},
+              {"a_peak", number("Peak |acceleration| [m/s^2].")},
+              {"chosen", boolean("The candidate auto returned.")}},
+             {"strategy", "status", "durations_s", "law_type", "prediction", "a_peak", "chosen"},
+             "One strategy's result inside an auto plan.", false);
   s["PlanResponse"] = object(
       {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe.")},
        {"cached", boolean("True when served from the plan cache.")},
        {"strategy", ref("Strategy")},
        {"status", ref("SolveStatus")},
        {"message", text("What happened and what the law does, actionable by a line engineer.")},
-       {"durations_s", fixed_numbers(7, "The 7 durations [s] (always admissible).")},
-       {"durations_pct", fixed_numbers(7, "The durations in % of T.")},
-       {"switch_times_s", fixed_numbers(8, "Segment boundaries from 0 to T [s].")},
+       {"durations_s",
+        nullable(fixed_numbers(7,
+                               "The 7 durations [s] (always admissible); null when the law is "
+                               "not a 7-segment law (shaper, iir, fir_chain without (14))."))},
+       {"durations_pct", nullable(fixed_numbers(7, "The durations in % of T; null likewise."))},
+       {"switch_times_s",
+        nullable(fixed_numbers(8, "Segment boundaries from 0 to T [s]; null likewise."))},
+       {"law", ref("LawSpec")},
+       {"design", ref("FilterDesign")},
        {"kinematics", ref("Kinematics")},
        {"model", ref("Model")},
        {"prediction", ref("Prediction")},
@@ -494,9 +582,39 @@ void add_plan_response_schemas(json& s) {
        {"warnings", strings("Validity limits of the models reached by this plan.")},
        {"series", ref("Series")}},
       {"key", "cached", "strategy", "status", "message", "durations_s", "durations_pct",
-       "switch_times_s", "kinematics", "model", "prediction", "baseline", "reduction_pct",
+       "switch_times_s", "law", "kinematics", "model", "prediction", "baseline", "reduction_pct",
        "spectrum", "solver", "format", "rest_time_s", "warnings"},
       "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
+
+  s["FilterDesign"] = object(
+      {{"method", string_enum({"fir_chain", "shaper", "iir"}, "The filtering strategy.")},
+       {"t1_s", number("fir_chain: T1 [s].")},
+       {"t2_s", number("fir_chain: T2 [s].")},
+       {"t3_s", number("fir_chain: T3 = damped period of mode 1 [s].")},
+       {"conditions_14", boolean("fir_chain: T1 >= T2 + T3 and T2 >= T3 (a 7-segment law).")},
+       {"shaper", text("shaper: zv, zvd, zvdd or ei.")},
+       {"impulses",
+        {{"type", "array"},
+         {"items", object({{"t_s", number("[s]")}, {"amplitude", number("[-]")}},
+                          {"t_s", "amplitude"}, "", false)},
+         {"description", "shaper: the impulse train (amplitudes sum to 1)."}}},
+       {"residual_at_f1", number("shaper: residual vibration of mode 1 after the train [-].")},
+       {"base", text("shaper, iir: the base law.")},
+       {"base_duration_s", number("shaper, iir: duration of the base law, T - delay [s].")},
+       {"delay_s", number("shaper, iir: delay the filter adds [s].")},
+       {"order", integer("iir: 2 or 3.")},
+       {"tau", number("iir: tau [1/s].")},
+       {"sample_period_s", number("iir: sample period [s].")},
+       {"filtered_duration_s",
+        number("iir: end of the filtered law before the rest padding, within one sample of T "
+               "[s].")},
+       {"iterations", integer("iir: filter passes of the delay compensation.")},
+       {"correction_pct",
+        number("iir: the rest-to-rest correction, largest change relative to the peak "
+               "acceleration [%].")},
+       {"a", numbers("iir: a_1..a_n of the difference equation.")},
+       {"b", numbers("iir: b_0..b_(n+1) of the difference equation.")}},
+      {"method"}, "How fir_chain, shaper or iir built the law (absent for the optimisers).", false);
 
   json ok =
       object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},

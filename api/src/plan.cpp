@@ -104,12 +104,9 @@ nlohmann::json design_json(const FilterDesign& design) {
       for (const Impulse& i : d.shaper.impulses) {
         impulses.push_back({{"t_s", i.time}, {"amplitude", i.amplitude}});
       }
-      return {{"method", "shaper"},
-              {"shaper", to_string(d.shaper.type)},
-              {"base", to_string(d.base)},
-              {"base_duration_s", d.base_duration},
-              {"delay_s", d.shaper.delay()},
-              {"impulses", impulses},
+      return {{"method", "shaper"},          {"shaper", to_string(d.shaper.type)},
+              {"base", to_string(d.base)},   {"base_duration_s", d.base_duration},
+              {"delay_s", d.shaper.delay()}, {"impulses", impulses},
               {"residual_at_f1", d.residual}};
     }
     nlohmann::json operator()(const IirDesign& d) const {
@@ -162,12 +159,31 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
   nlohmann::json options = body.value("options", nlohmann::json::object());
   if (options.is_null()) options = nlohmann::json::object();
   require_object(options, "options");
-  reject_unknown_fields(
-      options, "options",
-      {"p_notch", "weights", "band", "n_band", "tol_rel", "eta_rest_max_mm", "eta_motion_max_mm",
-       "objective", "rest_time_s", "min_ramp_s", "fix_constant_velocity_zero", "plateau_min_s",
-       "limits", "damping", "alpha", "modes", "solver", "time_limit_s", "base", "shaper",
-       "residual", "iir_order", "iir_tau", "iir_sample_period_s"});
+  reject_unknown_fields(options, "options",
+                        {"p_notch",
+                         "weights",
+                         "band",
+                         "n_band",
+                         "tol_rel",
+                         "eta_rest_max_mm",
+                         "eta_motion_max_mm",
+                         "objective",
+                         "rest_time_s",
+                         "min_ramp_s",
+                         "fix_constant_velocity_zero",
+                         "plateau_min_s",
+                         "limits",
+                         "damping",
+                         "alpha",
+                         "modes",
+                         "solver",
+                         "time_limit_s",
+                         "base",
+                         "shaper",
+                         "residual",
+                         "iir_order",
+                         "iir_tau",
+                         "iir_sample_period_s"});
   PlanOptions& o = r.options;
   const double T = r.format.motion_time;
   parse_model_options(options, "options", o.model);
@@ -206,9 +222,9 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
              : solver == "ipopt" ? SolverChoice::kIpopt
                                  : SolverChoice::kAuto;
   o.time_limit = optional_number(options, "options", "time_limit_s", kTimeLimit, o.time_limit);
-  const std::string base = choice(options, "options", "base",
-                                  {"poly5", "modified_trapezoid", "seven_segment_uniform"},
-                                  to_string(o.base));
+  const std::string base =
+      choice(options, "options", "base", {"poly5", "modified_trapezoid", "seven_segment_uniform"},
+             to_string(o.base));
   for (BaseLaw b : {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid, BaseLaw::kSevenSegmentUniform}) {
     if (to_string(b) == base) o.base = b;
   }
@@ -218,14 +234,14 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
     if (to_string(t) == shaper) o.shaper = t;
   }
   o.residual = optional_number(options, "options", "residual", kResidual, o.residual);
-  o.iir_order = static_cast<IirOrder>(optional_integer(options, "options", "iir_order", 2, 3,
-                                                       static_cast<int>(o.iir_order)));
+  o.iir_order = static_cast<IirOrder>(
+      optional_integer(options, "options", "iir_order", 2, 3, static_cast<int>(o.iir_order)));
   o.iir_tau = optional_number(options, "options", "iir_tau", kIirTau, o.iir_tau);
   const Range iir_period{kIirSamplePeriod.lo, std::min(kIirSamplePeriod.hi, T / kIirMinSamples),
                          "s"};
   try {
-    o.iir_sample_period = optional_number(options, "options", "iir_sample_period_s", iir_period,
-                                          o.iir_sample_period);
+    o.iir_sample_period =
+        optional_number(options, "options", "iir_sample_period_s", iir_period, o.iir_sample_period);
   } catch (const ApiError& e) {
     invalid(e.field(), std::string(e.what()) +
                            " (the upper bound is min(0.01 s, format.motion_time_s / " +

@@ -58,7 +58,9 @@ void check_limits(const StrategyContext& c, FilterOutcome* o) {
   o->detail += "; " + violation + ": lengthen the motion or raise the limit";
 }
 
-std::string ms(double seconds) { return sig3(seconds * 1e3) + " ms"; }
+std::string ms(double seconds) {
+  return sig3(seconds * 1e3) + " ms";
+}
 
 }  // namespace
 
@@ -66,8 +68,9 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
   const double S = c.format.stroke, T = c.format.motion_time;
   const double T3 = damped_period(c.model.omega1(), c.model.zeta);
   if (!(T > T3)) {
-    FilterOutcome o = no_law(c, "fir_chain needs T > T3: the damped period of mode 1 is T3 = " +
-                                    sig3(T3) + " s, not shorter than T = " + sig3(T) + " s");
+    FilterOutcome o =
+        no_law(c, "fir_chain needs T > T3: the damped period of mode 1 is T3 = " + sig3(T3) +
+                      " s, not shorter than T = " + sig3(T) + " s");
     o.design = FirChainDesign{0.0, 0.0, T3, false};
     return o;
   }
@@ -108,8 +111,8 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
   const Durations& d = *o.durations;
   std::string broken;
   if (T3 < c.options.min_ramp * (1.0 - kLimitSlack)) {
-    broken = "its ramps T3 = " + sig3(T3) + " s are shorter than min_ramp_s = " +
-             sig3(c.options.min_ramp) + " s";
+    broken = "its ramps T3 = " + sig3(T3) +
+             " s are shorter than min_ramp_s = " + sig3(c.options.min_ramp) + " s";
   } else if (d[1] < c.options.plateau_min[0] * (1.0 - kLimitSlack) ||
              d[5] < c.options.plateau_min[1] * (1.0 - kLimitSlack)) {
     broken = "its plateaus T2 - T3 = " + sig3(d[1]) + " s are shorter than plateau_min_s = [" +
@@ -158,10 +161,11 @@ FilterOutcome design_iir(const StrategyContext& c) {
   const IirLaw law = make_iir_law(
       [&](double duration) { return make_base_law(opt.base, S, duration); }, filter, S, T);
   const std::string name = "order-" + std::to_string(static_cast<int>(opt.iir_order)) +
-                           " IIR filter (tau = " + sig3(opt.iir_tau) + " 1/s, T_s = " +
-                           ms(opt.iir_sample_period) + ")";
-  IirDesign design{opt.base, filter, law.base_duration, law.delay, law.filtered_duration,
-                   law.iterations, law.correction};
+                           " IIR filter (tau = " + sig3(opt.iir_tau) +
+                           " 1/s, T_s = " + ms(opt.iir_sample_period) + ")";
+  IirDesign design{
+      opt.base,       filter,        law.base_duration, law.delay, law.filtered_duration,
+      law.iterations, law.correction};
   if (!law.fits) {
     FilterOutcome o = no_law(c, "the " + name + " delays a " + to_string(opt.base) + " law by " +
                                     sig3(law.delay) + " s, not less than T = " + sig3(T) +

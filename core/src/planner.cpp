@@ -161,8 +161,7 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
   }
   if (!(iir_sample_period > 0.0 && iir_sample_period <= T / kIirMinSamples)) {
     return fail("iir_sample_period_s = " + sig3(iir_sample_period) + " s must be > 0 and <= T / " +
-                std::to_string(kIirMinSamples) + " = " +
-                sig3(T / kIirMinSamples) + " s");
+                std::to_string(kIirMinSamples) + " = " + sig3(T / kIirMinSamples) + " s");
   }
   return true;
 }
@@ -252,8 +251,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   const double w1 = r.model.omega1();
   r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
   const Durations uniform = uniform_durations(format.motion_time);
-  r.baseline =
-      predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
+  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
 
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};

@@ -135,23 +135,23 @@ struct LawPrediction {
 
 /// How a filtering strategy built its law (the figures an engineer checks against the paper).
 struct FirChainDesign {
-  double t1{}, t2{}, t3{};   ///< filter durations [s], T3 = damped period of mode 1
-  bool trapezoidal{false};   ///< conditions (14) hold: the law is the 7-segment law
+  double t1{}, t2{}, t3{};  ///< filter durations [s], T3 = damped period of mode 1
+  bool trapezoidal{false};  ///< conditions (14) hold: the law is the 7-segment law
 };
 struct ShaperDesign {
   BaseLaw base{};
-  InputShaper shaper;        ///< impulse times [s] and amplitudes
-  double base_duration{};    ///< T - delay [s]
-  double residual{};         ///< residual vibration of mode 1 after the impulses [-]
+  InputShaper shaper;      ///< impulse times [s] and amplitudes
+  double base_duration{};  ///< T - delay [s]
+  double residual{};       ///< residual vibration of mode 1 after the impulses [-]
 };
 struct IirDesign {
   BaseLaw base{};
-  IirFilter filter;          ///< order, tau, sample period and coefficients
-  double base_duration{};    ///< [s]
-  double delay{};            ///< the filter's delay on the last pass [s]
+  IirFilter filter;            ///< order, tau, sample period and coefficients
+  double base_duration{};      ///< [s]
+  double delay{};              ///< the filter's delay on the last pass [s]
   double filtered_duration{};  ///< [s], within one sample of T
-  int iterations{};          ///< filter passes of the delay compensation
-  double correction{};       ///< rest-to-rest correction relative to the peak acceleration [-]
+  int iterations{};            ///< filter passes of the delay compensation
+  double correction{};         ///< rest-to-rest correction relative to the peak acceleration [-]
 };
 using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 
