@@ -91,18 +91,18 @@ ExportSource source_of(const std::string& text, const ServerConfig& config) {
         error["field"].is_string() ? error["field"].get<std::string>() : "",
         error.value("message", std::string("the plan failed")));
   }
-  if (!plan["durations_s"].is_array()) {
-    throw std::runtime_error("the plan has no admissible durations (status " +
-                             plan.value("status", std::string("?")) +
-                             "): " + plan.value("message", std::string()));
-  }
-  source.seven.emplace(plan["durations_s"].get<Durations>(), request.format.stroke);
-  source.law = source.seven->law();
+  // The plan's law in the simulate form: 7-segment durations or a general law (shaper, iir,
+  // fir_chain without conditions 14), validated like a simulate request's.
+  const api::ParsedLaw law =
+      api::parse_law(plan.at("law"), "law", request.format, request.options.min_ramp);
+  if (law.durations) source.seven.emplace(*law.durations, request.format.stroke);
+  source.law = law.law;
   source.stroke = request.format.stroke;
   source.about = {{"source", "plan"},
                   {"key", plan["key"]},
                   {"cached", plan["cached"]},
                   {"status", plan["status"]},
+                  {"law", api::to_string(law.type)},
                   {"message", plan["message"]}};
   return source;
 }

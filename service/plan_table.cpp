@@ -26,6 +26,7 @@ constexpr std::array kOutputColumns{
     OutputColumn{"key", "/key"},
     OutputColumn{"cached", "/cached"},
     OutputColumn{"strategy", "/strategy"},
+    OutputColumn{"law_type", "/law_type"},
     OutputColumn{"T1_s", "/durations_s/0"},
     OutputColumn{"T2_s", "/durations_s/1"},
     OutputColumn{"T3_s", "/durations_s/2"},
@@ -94,6 +95,7 @@ json plan_row(const RecipeRow& recipe, const BatchResult& result, bool full) {
   row["cached"] = result.cached;
   row["strategy"] = member_or_null(plan, "strategy");
   row["message"] = member_or_null(plan, "message");
+  row["law_type"] = plan.contains("law") ? member_or_null(plan["law"], "type") : json();
   row["durations_s"] = member_or_null(plan, "durations_s");
   row["kinematics"] = member_or_null(plan, "kinematics");
   const json f_hz = plan.contains("model") ? member_or_null(plan["model"], "f_hz") : json();

@@ -60,6 +60,12 @@ constexpr std::array kColumns{
     InputColumn{"modes", "/options/modes", CellKind::kNumber},
     InputColumn{"solver", "/options/solver", CellKind::kText},
     InputColumn{"time_limit_s", "/options/time_limit_s", CellKind::kNumber},
+    InputColumn{"base", "/options/base", CellKind::kText},
+    InputColumn{"shaper", "/options/shaper", CellKind::kText},
+    InputColumn{"residual", "/options/residual", CellKind::kNumber},
+    InputColumn{"iir_order", "/options/iir_order", CellKind::kNumber},
+    InputColumn{"iir_tau", "/options/iir_tau", CellKind::kNumber},
+    InputColumn{"iir_sample_period_s", "/options/iir_sample_period_s", CellKind::kNumber},
 };
 
 constexpr std::array<std::string_view, 6> kRequired{"recipe_id", "radius_mm",     "fill_height_mm",

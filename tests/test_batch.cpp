@@ -129,6 +129,7 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "key",
                                             "cached",
                                             "strategy",
+                                            "law_type",
                                             "T1_s",
                                             "T2_s",
                                             "T3_s",
@@ -152,8 +153,8 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "solve_ms",
                                             "message",
                                             "error_field"};
-const std::set<std::string> kTextColumns{"recipe_id", "status",  "key",
-                                         "strategy",  "message", "error_field"};
+const std::set<std::string> kTextColumns{"recipe_id", "status",  "key",        "strategy",
+                                         "law_type",  "message", "error_field"};
 
 /// One row of a plan table by column name.
 struct OutRow {
@@ -520,7 +521,8 @@ TEST_F(BatchTable, EveryRowInInputOrderErrorsNamedGoodRowsEqualTheJsonPlan) {
       EXPECT_EQ(row.text("error_field"), recipe.error_field);
       EXPECT_NE(row.text("message").find(recipe.message_has), std::string::npos)
           << row.text("message");
-      for (const char* empty : {"key", "cached", "strategy", "T1_s", "A_m_s2", "solve_ms"}) {
+      for (const char* empty :
+           {"key", "cached", "strategy", "law_type", "T1_s", "A_m_s2", "solve_ms"}) {
         EXPECT_EQ(row.text(empty), "") << empty;
       }
       continue;
@@ -938,7 +940,7 @@ TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
       "viscosity_pa_s, stroke_mm, motion_time_s, strategy, p_notch, weights, band, n_band, "
       "tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s, min_ramp_s, "
       "fix_constant_velocity_zero, plateau_min_s, a_max, v_max, j_max, damping, alpha, modes, "
-      "solver, time_limit_s";
+      "solver, time_limit_s, base, shaper, residual, iir_order, iir_tau, iir_sample_period_s";
   const std::vector<TableErrorCase> cases{
       {"unknown column",
        "recipe_id,radius,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"

@@ -146,9 +146,12 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   FilterOutcome o;
   o.law = convolve(make_base_law(opt.base, S, Tb), shaper);
   o.design = ShaperDesign{opt.base, shaper, Tb, residual};
+  // Below 1e-9 the residual is round-off: the ZV family cancels mode 1 exactly.
+  const std::string residual_text =
+      residual < 1e-9 ? "no residual at f1" : "residual " + percent(residual) + " at f1";
   o.detail = name + " (" + std::to_string(shaper.impulses.size()) + " impulses over " +
-             ms(shaper.delay()) + ", residual " + percent(residual) + " at f1) on a " +
-             to_string(opt.base) + " base law of " + sig3(Tb) + " s";
+             ms(shaper.delay()) + ", " + residual_text + ") on a " + to_string(opt.base) +
+             " base law of " + sig3(Tb) + " s";
   check_limits(c, &o);
   return o;
 }
