@@ -86,7 +86,41 @@ void BM_Plan(benchmark::State& state) {
   state.SetLabel(slosh::to_string(strategy));
   state.counters["eta_rest_mm"] = rest * 1e3;
 }
-BENCHMARK(BM_Plan)->DenseRange(0, 5)->Unit(benchmark::kMillisecond);
+// 0 baseline, 1 notch, 2 multi_notch, 3 min_jerk_band, 4 time_domain, 5 fir_chain, 6 shaper,
+// 7 iir, 8 auto.
+BENCHMARK(BM_Plan)->DenseRange(0, 8)->Unit(benchmark::kMillisecond);
+
+// The filtering designs alone (closed forms; no verification).
+void BM_Design(benchmark::State& state) {
+  Setup s;
+  const auto strategy = static_cast<Strategy>(state.range(0));
+  for (auto _ : state) {
+    slosh::detail::FilterOutcome o =
+        strategy == Strategy::kFirChain ? slosh::detail::design_fir_chain(s.context)
+        : strategy == Strategy::kShaper ? slosh::detail::design_shaper(s.context)
+                                        : slosh::detail::design_iir(s.context);
+    benchmark::DoNotOptimize(o);
+  }
+  state.SetLabel(slosh::to_string(strategy));
+}
+BENCHMARK(BM_Design)
+    ->Arg(static_cast<int>(Strategy::kFirChain))
+    ->Arg(static_cast<int>(Strategy::kShaper))
+    ->Arg(static_cast<int>(Strategy::kIir))
+    ->Unit(benchmark::kMicrosecond);
+
+// X_a(omega) of a general law at one frequency: the shaped poly5 law (a few cubic pieces) and
+// the IIR law (1000 linear pieces); the plan response evaluates 512 of them.
+void BM_GeneralLawSpectrum(benchmark::State& state) {
+  Setup s;
+  const slosh::MotionLaw law = state.range(0) == 0 ? slosh::detail::design_shaper(s.context).law
+                                                   : slosh::detail::design_iir(s.context).law;
+  const double w = s.model.omega1();
+  for (auto _ : state) benchmark::DoNotOptimize(slosh::acceleration_spectrum(law, w));
+  state.SetLabel(state.range(0) == 0 ? "shaper" : "iir");
+  state.counters["pieces"] = static_cast<double>(law.pieces().size());
+}
+BENCHMARK(BM_GeneralLawSpectrum)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -184,11 +184,27 @@ std::array<std::complex<double>, 4> psi(double theta) {
 }  // namespace
 
 std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega) {
+  // Sampled laws (IIR) have ~1000 pieces of one length: psi and the phase step are shared, and
+  // exp(-j w t_begin) advances by one product per piece (recomputed every 64 against drift).
+  constexpr int kPhaseRefresh = 64;
   std::complex<double> sum(0.0);
+  double last_length = -1.0;
+  std::array<std::complex<double>, 4> q{};
+  std::complex<double> step(1.0), phase(1.0);
+  double next_begin = -1.0;
+  int since_refresh = kPhaseRefresh;
   for (const LawPiece& p : law.pieces()) {
     const double L = p.duration();
     if (L <= 0.0) continue;
-    const auto q = psi(omega * L);
+    if (L != last_length) {
+      q = psi(omega * L);
+      step = expj(omega * L);
+      last_length = L;
+    }
+    if (p.t_begin != next_begin || since_refresh >= kPhaseRefresh) {
+      phase = expj(omega * p.t_begin);
+      since_refresh = 0;
+    }
     std::complex<double> piece(0.0);
     double Ln = L;
     for (std::size_t n = 0; n < 4; ++n, Ln *= L) piece += p.poly[n] * Ln * q[n];
@@ -199,7 +215,10 @@ std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega) {
       const std::complex<double> minus(0.5 * p.harmonic_cos, 0.5 * p.harmonic_sin);
       piece += L * (plus * psi((omega - W) * L)[0] + minus * psi((omega + W) * L)[0]);
     }
-    sum += expj(omega * p.t_begin) * piece;
+    sum += phase * piece;
+    phase *= step;
+    next_begin = p.t_end;
+    ++since_refresh;
   }
   return sum;
 }
