@@ -611,8 +611,8 @@ PlanResult expect_auto_rule(const Format& f) {
 }
 
 TEST(Planner, AutoPicksTheLowestRestAmongTheCandidatesNearTheBestMotion) {
-  // Thesis format: only time_domain is within 5 % of the best eta_motion (its own, 26.7 mm;
-  // multi_notch 28.6 mm); observed pick time_domain.
+  // Thesis format: the ZV-shaped poly5 law has the best eta_motion (25.6 mm; time_domain 26.7 mm,
+  // outside the 5 % window); observed pick shaper.
   const PlanResult r = expect_auto_rule(thesis_format());
   EXPECT_EQ(r.candidates.size(), 7u);
 }
