@@ -11,6 +11,8 @@
 #include "io.hpp"
 #include "plan_service.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/law_json.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
 
@@ -92,9 +94,11 @@ ExportSource source_of(const std::string& text, const ServerConfig& config) {
         error.value("message", std::string("the plan failed")));
   }
   // The plan's law in the simulate form: 7-segment durations or a general law (shaper, iir,
-  // fir_chain without conditions 14), validated like a simulate request's.
+  // fir_chain without conditions 14), validated like a simulate request's — ramps only above the
+  // 1 ms floor: an infeasible fir_chain law's ramps (T3) may be shorter than min_ramp_s, and
+  // --allow-infeasible exports it as it is.
   const api::ParsedLaw law =
-      api::parse_law(plan.at("law"), "law", request.format, request.options.min_ramp);
+      api::parse_law(plan.at("law"), "law", request.format, api::ranges::kMinRampS.lo);
   if (law.durations) source.seven.emplace(*law.durations, request.format.stroke);
   source.law = law.law;
   source.stroke = request.format.stroke;
