@@ -266,6 +266,21 @@ TEST(IirStrategy, InfeasibleWhenTheDelayExceedsTheMotionTime) {
   EXPECT_TRUE(Contains(r.message, "raise tau or lengthen the motion"));
 }
 
+TEST(IirStrategy, RefusesMoreSamplesThanItPlans) {
+  // 30 s at 1 ms: 30 000 samples > 20 000; the same at 2 ms plans.
+  const Format f = with_time(30.0);
+  const PlanResult r = plan(f, Strategy::kIir, PlanOptions{});
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible);
+  EXPECT_TRUE(Contains(r.message,
+                       "iir_sample_period_s = 1 ms gives 30000 samples over T = 30 s, more than "
+                       "the 20000 the iir strategy plans: use iir_sample_period_s >= 1.5 ms"));
+  PlanOptions o;
+  o.iir_sample_period = 2e-3;
+  const PlanResult coarse = plan(f, Strategy::kIir, o);
+  EXPECT_EQ(coarse.status, SolveStatus::kOptimal) << coarse.message;
+  EXPECT_EQ(coarse.law.duration(), 30.0);
+}
+
 TEST(FilterStrategies, OptionsAreValidatedWithTheirRanges) {
   const Format f = thesis_format();
   std::string error;

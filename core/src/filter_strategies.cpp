@@ -159,6 +159,14 @@ FilterOutcome design_shaper(const StrategyContext& c) {
 FilterOutcome design_iir(const StrategyContext& c) {
   const PlanOptions& opt = c.options;
   const double S = c.format.stroke, T = c.format.motion_time;
+  if (T / opt.iir_sample_period > kIirMaxSamples) {
+    const auto samples = static_cast<long long>(std::ceil(T / opt.iir_sample_period - 1e-9));
+    return no_law(
+        c, "iir_sample_period_s = " + ms(opt.iir_sample_period) + " gives " +
+               std::to_string(samples) + " samples over T = " + sig3(T) + " s, more than the " +
+               std::to_string(kIirMaxSamples) +
+               " the iir strategy plans: use iir_sample_period_s >= " + ms(T / kIirMaxSamples));
+  }
   const IirFilter filter = make_iir_filter(opt.iir_order, c.model.omega1(), c.model.zeta,
                                            opt.iir_tau, opt.iir_sample_period);
   const IirLaw law = make_iir_law(

@@ -126,6 +126,9 @@ constexpr double kDefaultIirSamplePeriod{1e-3};
 constexpr double kIirTailTolerance{1e-3};
 /// The IIR law needs at least this many samples over the motion (T_s <= T / 20).
 constexpr int kIirMinSamples{20};
+/// The iir strategy samples at most this many over the motion (bounds its time and the size of
+/// the returned law: T_s >= T / 20000).
+constexpr int kIirMaxSamples{20000};
 /// Most base-duration updates of the delay compensation.
 constexpr int kIirMaxIterations{30};
 
