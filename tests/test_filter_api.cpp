@@ -805,13 +805,11 @@ TEST(FilterRoundTrip, ThePlannedLawSimulatesToThePlansPrediction) {
   }
 }
 
-// KNOWN BUG (api/src/law_json.cpp: kAcceleration = +-1e4 m/s^2 in parse_piecewise_linear and
-// parse_piecewise): a plan on a valid format with default options returns status "optimal" and a
-// law whose samples exceed 1e4 m/s^2, so simulate (and `slosh export` of the same plan request)
-// reject the plan's own law with "law.acceleration_m_s2[16] = 10252.03856 is out of range: allowed
-// -10000 to 10000 m/s^2" - a field the caller never wrote. law_json.hpp promises that "any planned
-// law can be re-checked or exported unchanged".
-TEST(FilterRoundTrip, KnownBug_EveryOptimalPlanLawIsAcceptedBySimulate) {
+// Regression (found by this suite): a plan on a valid but violent format (2 m in 0.3 s) returned
+// an optimal iir law with samples above the 1e4 m/s^2 simulate then accepted, so simulate and
+// export rejected the plan's own law. Every planned law stays within kMaxLawAcceleration, the
+// bound simulate accepts.
+TEST(FilterRoundTrip, EveryOptimalPlanLawIsAcceptedBySimulate) {
   json body = plan_body("iir", 0.3);
   body["format"]["container"] = {{"radius_mm", 150}, {"height_mm", 150}};
   body["format"]["fill_height_mm"] = 100;
@@ -1020,7 +1018,7 @@ TEST(SimulateLawValidation, PiecewiseLinearErrors) {
                       "law.acceleration_m_s2 has 2 values but law.breakpoints_s has 3: one "
                       "acceleration per breakpoint"));
   EXPECT_TRUE(Rejects(simulate_body(linear_law({0.1, 0.5, 1.0}, {0, 1, 0})), "law.breakpoints_s[0]",
-                      "law.breakpoints_s[0] = 0.1 is out of range: allowed 0 to 0 s"));
+                      "law.breakpoints_s[0] = 0.1 must be 0: the law starts at t = 0"));
   EXPECT_TRUE(Rejects(simulate_body(linear_law({0, 0.9}, {0, 0})), "law.breakpoints_s[1]",
                       "law.breakpoints_s[1] = 0.9 s must equal format.motion_time_s = 1 s "
                       "(tolerance 1e-6 s): the law ends there"));
@@ -1060,11 +1058,9 @@ TEST(SimulateLawValidation, PiecewiseLinearErrors) {
                       "law.pieces is not allowed with law.type \"piecewise_linear\""));
 }
 
-// KNOWN BUG (api/src/law_json.cpp parse_piecewise_linear: Range{lo, motion_time + 1.0, ...}):
-// the range a breakpoint message states runs up to T + 1 s ("allowed > 0.5 and <= 2 s" for
-// T = 1 s) although no breakpoint may pass the motion time (they increase strictly to T); and a
-// breakpoint beyond T is accepted until a later one is blamed for it.
-TEST(SimulateLawValidation, KnownBug_BreakpointRangeEndsAtTheMotionTime) {
+// Regression (found by this suite): the range a breakpoint message stated ran up to T + 1 s,
+// and a breakpoint beyond T was accepted until a later one was blamed for it.
+TEST(SimulateLawValidation, BreakpointRangeEndsAtTheMotionTime) {
   try {
     (void)parse_simulate_request(simulate_body(linear_law({0, 0.5, 0.5, 1.0}, {0, 1, 1, 0})));
     ADD_FAILURE() << "non-increasing breakpoints accepted";
@@ -1142,10 +1138,10 @@ TEST(FilterInfeasible, ShaperLongerThanTheMotion) {
   const double delay = 1.5 * damped_period(plan);  // 4 impulses, Td / 2 apart
   ASSERT_GT(delay, T);
   EXPECT_NEAR(plan["design"]["delay_s"].get<double>(), delay, 1e-12);
-  EXPECT_NE(
-      plan["message"].get<std::string>().find("the zvdd shaper delays the law by " + g3(delay) +
-                                              " s, not less than T = " + g3(T) + " s"),
-      std::string::npos)
+  EXPECT_NE(plan["message"].get<std::string>().find(
+                "the zvdd shaper delays the law by " + g3(delay) + " s of T = " + g3(T) +
+                " s, leaving less than the 1 ms a base law needs"),
+            std::string::npos)
       << plan["message"];
   expect_uniform_law(plan, T);
 }
@@ -1156,10 +1152,11 @@ TEST(FilterInfeasible, IirDelayLongerThanTheMotion) {
   EXPECT_EQ(plan["status"], "infeasible");
   const double delay = plan["design"]["delay_s"].get<double>();
   EXPECT_GT(delay, T);
-  EXPECT_NE(plan["message"].get<std::string>().find(
-                "the order-3 IIR filter (tau = 1 1/s, T_s = 1 ms) delays a poly5 law by " +
-                g3(delay) + " s, not less than T = " + g3(T) + " s"),
-            std::string::npos)
+  EXPECT_NE(
+      plan["message"].get<std::string>().find(
+          "the order-3 IIR filter (tau = 1 1/s, T_s = 1 ms) delays a poly5 law by " + g3(delay) +
+          " s of T = " + g3(T) + " s, leaving less than the 1 ms a base law needs"),
+      std::string::npos)
       << plan["message"];
   expect_uniform_law(plan, T);
 }

@@ -224,7 +224,7 @@ TEST(ShaperStrategy, InfeasibleWhenTheDelayLeavesNoTime) {
   const PlanResult r = plan(f, Strategy::kShaper, o);
   EXPECT_EQ(r.status, SolveStatus::kInfeasible);
   EXPECT_TRUE(Contains(r.message, "the zvdd shaper delays the law by"));
-  EXPECT_TRUE(Contains(r.message, "not less than T = 0.45 s"));
+  EXPECT_TRUE(Contains(r.message, " s of T = 0.45 s, leaving less than the 1 ms a base law needs"));
   EXPECT_EQ(r.durations, uniform_durations(0.45));
 }
 

@@ -5,6 +5,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/core/filtered_laws.hpp"
 
 namespace slosh::api {
 
@@ -13,10 +14,11 @@ namespace {
 constexpr double kDurationSumToleranceS = 1e-6;
 /// Consecutive pieces must meet within this [s] (they are snapped together).
 constexpr double kPieceGapTolerance = 1e-9;
-/// Acceleration values and polynomial coefficients of a general law (m/s^2 per s^n).
-const Range kAcceleration{-1e4, 1e4, "m/s^2"};
-const Range kCoefficient{-1e12, 1e12, ""};
-const Range kHarmonicOmega{0.0, 1e5, "rad/s"};
+/// Acceleration values (the bound every planned law keeps, kMaxLawAcceleration) and polynomial
+/// coefficients of a general law (m/s^2 per s^n: merely finite).
+const Range kAcceleration{-kMaxLawAcceleration, kMaxLawAcceleration, "m/s^2"};
+const Range kCoefficient{-1e30, 1e30, ""};
+const Range kHarmonicOmega{0.0, 1e9, "rad/s"};
 
 constexpr LawType kAllTypes[] = {LawType::kSevenSegment, LawType::kSevenSegmentUniform,
                                  LawType::kPoly5,        LawType::kModifiedTrapezoid,
@@ -105,14 +107,21 @@ MotionLaw parse_piecewise_linear(const nlohmann::json& law, const std::string& p
   }
   const std::size_t n = b.size();
   std::vector<double> t(n), acc(n);
+  const double end = motion_time + kLawEndTolerance;
   for (std::size_t k = 0; k < n; ++k) {
     const std::string field = bpath + "[" + std::to_string(k) + "]";
-    const double lo = k == 0 ? 0.0 : t[k - 1];
-    t[k] = checked_number(&b[k], field,
-                          k == 0 ? Range{0.0, 0.0, "s"} : Range{lo, motion_time + 1.0, "s", true});
+    if (k == 0) {
+      if (!b[0].is_number() || b[0].get<double>() != 0.0) {
+        invalid(field, field + " = " + show(b[0]) + " must be 0: the law starts at t = 0");
+      }
+      t[0] = 0.0;
+    } else {
+      // The last one is the motion time; every one is strictly after the previous one.
+      if (k + 1 == n && b[k].is_number()) check_end(b[k].get<double>(), field, motion_time);
+      t[k] = checked_number(&b[k], field, Range{t[k - 1], end, "s", true});
+    }
     acc[k] = checked_number(&a[k], apath + "[" + std::to_string(k) + "]", kAcceleration);
   }
-  check_end(t.back(), bpath + "[" + std::to_string(n - 1) + "]", motion_time);
   std::vector<LawPiece> pieces(n - 1);
   for (std::size_t k = 0; k + 1 < n; ++k) {
     LawPiece& p = pieces[k];
@@ -140,7 +149,8 @@ MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, do
         required_number(item, at, "t_begin_s",
                         Range{expected - kPieceGapTolerance, expected + kPieceGapTolerance, "s"});
     p.t_begin = expected;  // snapped: the pieces are contiguous
-    p.t_end = required_number(item, at, "t_end_s", Range{p.t_begin, motion_time + 1.0, "s", true});
+    p.t_end = required_number(item, at, "t_end_s",
+                              Range{p.t_begin, motion_time + kLawEndTolerance, "s", true});
     const std::string cpath = join_path(at, "a_poly");
     auto c = item.find("a_poly");
     if (c == item.end() || !c->is_array() || c->empty() || c->size() > 4) {

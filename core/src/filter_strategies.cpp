@@ -47,6 +47,15 @@ FilterOutcome no_law(const StrategyContext& c, std::string why) {
   return o;
 }
 
+/// When the law is beyond any machine (|a| > kMaxLawAcceleration), the sentence saying so.
+std::string beyond_any_machine(const MotionLaw& law) {
+  const KinematicSummary k = law.summary();
+  const double a = std::max(k.a_peak_positive, k.a_peak_negative);
+  if (a <= kMaxLawAcceleration) return {};
+  return "the law would reach " + sig3(a) + " m/s^2, beyond the " + sig3(kMaxLawAcceleration) +
+         " m/s^2 any law may have";
+}
+
 /// Marks the outcome infeasible when the law exceeds a limit.
 void check_limits(const StrategyContext& c, FilterOutcome* o) {
   const std::string violation = limit_violation(c.options.limits, o->law);
@@ -105,6 +114,11 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     o.detail += ": conditions (14) need T >= 4 T3 = " + sig3(4.0 * T3) + " s (T = " + sig3(T) +
                 " s), so the law is not a 7-segment law (acceleration ramps without plateaus)";
   }
+  if (std::string why = beyond_any_machine(o.law); !why.empty()) {
+    FilterOutcome none = no_law(c, "fir_chain with " + o.detail + ": " + why);
+    none.design = o.design;
+    return none;
+  }
   check_limits(c, &o);
   if (o.status != SolveStatus::kOptimal || !o.durations) return o;
   // The 7-segment options that constrain its durations.
@@ -135,16 +149,23 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   const double Tb = T - shaper.delay();
   const std::string name = to_string(opt.shaper) + " shaper";
   const double residual = shaper_residual(shaper, c.model.omega1(), c.model.zeta);
-  if (!(Tb > 0.0)) {
+  if (!(Tb >= kMinBaseDuration)) {
     FilterOutcome o = no_law(c, "the " + name + " delays the law by " + sig3(shaper.delay()) +
-                                    " s, not less than T = " + sig3(T) +
-                                    " s: no time is left for the base law; use a shorter shaper "
-                                    "(zv) or lengthen the motion");
-    o.design = ShaperDesign{opt.base, shaper, Tb, residual};
+                                    " s of T = " + sig3(T) +
+                                    " s, leaving less than the 1 ms a base law needs; use a "
+                                    "shorter shaper (zv) or lengthen the motion");
+    o.design = ShaperDesign{opt.base, shaper, 0.0, residual};
     return o;
   }
   FilterOutcome o;
   o.law = convolve(make_base_law(opt.base, S, Tb), shaper);
+  if (std::string why = beyond_any_machine(o.law); !why.empty()) {
+    FilterOutcome none =
+        no_law(c, "the " + name + " leaves " + sig3(Tb) + " s for the base law: " + why +
+                      "; use a shorter shaper (zv) or lengthen the motion");
+    none.design = ShaperDesign{opt.base, shaper, Tb, residual};
+    return none;
+  }
   o.design = ShaperDesign{opt.base, shaper, Tb, residual};
   // Below 1e-9 the residual is round-off: the ZV family cancels mode 1 exactly.
   const std::string residual_text =
@@ -179,10 +200,17 @@ FilterOutcome design_iir(const StrategyContext& c) {
       law.iterations, law.correction};
   if (!law.fits) {
     FilterOutcome o = no_law(c, "the " + name + " delays a " + to_string(opt.base) + " law by " +
-                                    sig3(law.delay) + " s, not less than T = " + sig3(T) +
-                                    " s; raise tau or lengthen the motion");
+                                    sig3(law.delay) + " s of T = " + sig3(T) +
+                                    " s, leaving less than the 1 ms a base law needs; raise tau "
+                                    "or lengthen the motion");
     o.design = design;
     return o;
+  }
+  if (std::string why = beyond_any_machine(law.law); !why.empty()) {
+    FilterOutcome none =
+        no_law(c, "the " + name + ": " + why + "; raise tau or lengthen the motion");
+    none.design = design;
+    return none;
   }
   FilterOutcome o;
   o.law = law.law;

@@ -365,14 +365,14 @@ IirLaw make_iir_law(const std::function<MotionLaw(double)>& base, const IirFilte
       if (duration_of(best) > T - Ts + 1e-9 * T) break;
     }
     base_duration = T - delay;
-    if (!(base_duration > 0.0)) break;
+    if (!(base_duration >= kMinBaseDuration)) break;
   }
   if (best.empty()) return out;  // the delay leaves no time for the base law
 
   out.fits = true;
   out.base_duration = best_base;
   out.delay = best_delay;
-  out.filtered_duration = duration_of(best);
+  out.filtered_duration = std::min(duration_of(best), T);  // T within round-off
   std::vector<double>& t = out.knots;
   std::vector<double>& a = out.acceleration;
   for (std::size_t k = 0; k < best.size(); ++k) {

@@ -34,6 +34,7 @@ double reduction(double baseline, double value) {
 std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
   auto change = [](double base, double v) {
     const double r = reduction(base, v);
+    if (std::abs(r) < 5e-4) return std::string("0 %");  // below the 3 digits shown
     std::string text(r >= 0.0 ? "-" : "+");
     text.append(sig3(std::abs(r)));
     text.append(" %");

@@ -124,6 +124,12 @@ constexpr double kDefaultIirSamplePeriod{1e-3};
 /// fraction of its peak [-] (the e^(-tau t) tail below it is cut; with tau = 50 this gives the
 /// ~0.19 s delay the paper reports on a 1 s poly5 law).
 constexpr double kIirTailTolerance{1e-3};
+/// Largest |acceleration| a filtered law may have [m/s^2] (1e5 g: far beyond any machine, the
+/// bound simulate accepts for general laws, so every planned law can be re-simulated).
+constexpr double kMaxLawAcceleration{1e6};
+/// Shortest base law a shaper or the IIR filter may leave room for [s] (the 1 ms ramp floor).
+constexpr double kMinBaseDuration{1e-3};
+
 /// The IIR law needs at least this many samples over the motion (T_s <= T / 20).
 constexpr int kIirMinSamples{20};
 /// The iir strategy samples at most this many over the motion (bounds its time and the size of
@@ -134,8 +140,8 @@ constexpr int kIirMaxIterations{30};
 
 /// An IIR-filtered law of a prescribed duration (paper sec. 4).
 struct IirLaw {
-  /// False when the filter's delay leaves no time for the base law (the delay >= T): `law` is
-  /// empty and `delay` is the delay measured on the base law of duration T.
+  /// False when the filter's delay leaves no time for the base law (less than kMinBaseDuration):
+  /// `law` is empty and `delay` is the delay measured on the base law of duration T.
   bool fits{false};
   /// Acceleration linear between the samples k T_s (first-order hold, as the difference equation
   /// assumes), then at rest up to exactly the prescribed duration; rest-to-rest exactly.
