@@ -12,7 +12,7 @@
 //  - infeasible designs say why and return the uniform law;
 //  - the real binary: `slosh plan`, `slosh export` of a general law, `slosh batch` with the new
 //    option columns.
-// Tests marked KNOWN BUG fail on the current product code; see the comment on each.
+// Tests marked "Regression" guard two bugs this suite found (fixed).
 
 #include <httplib.h>
 
@@ -1025,7 +1025,7 @@ TEST(SimulateLawValidation, PiecewiseLinearErrors) {
   EXPECT_TRUE(Rejects(simulate_body(linear_law({0, 0.5, 1.1}, {0, 0, 0})), "law.breakpoints_s[2]",
                       "law.breakpoints_s[2] = 1.1 s must equal format.motion_time_s = 1 s "
                       "(tolerance 1e-6 s): the law ends there"));
-  // Non-increasing: the field and the lower bound (the upper bound: see the KNOWN BUG below).
+  // Non-increasing: the field and the lower bound (the upper bound: the regression test below).
   try {
     (void)parse_simulate_request(simulate_body(linear_law({0, 0.5, 0.5, 1.0}, {0, 1, 1, 0})));
     ADD_FAILURE() << "non-increasing breakpoints accepted";
