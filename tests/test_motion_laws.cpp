@@ -5,6 +5,8 @@
 
 #include <cmath>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "slosh/core/motion_law.hpp"
 #include "slosh/core/seven_segment.hpp"
@@ -101,6 +103,49 @@ TEST(MotionLaw, ScaledMultipliesEverything) {
   for (double t : {0.1, 0.4, 0.9}) {
     EXPECT_NEAR(half.at(t).position, 0.5 * law.at(t).position, 1e-15);
     EXPECT_NEAR(half.at(t).jerk, 0.5 * law.at(t).jerk, 1e-12);
+  }
+}
+
+// The summary of a law of many linear pieces (the exact per-piece path) against a dense scan with
+// the velocity integrated by the trapezoid rule, on seeded random sample laws.
+TEST(MotionLawSummary, LinearPiecesAgreeWithADenseScan) {
+  std::mt19937 rng(7);
+  std::normal_distribution<double> value(0.0, 3.0);
+  for (int trial = 0; trial < 20; ++trial) {
+    const int n = 50 + trial * 10;
+    const double h = 1.0 / n;
+    std::vector<double> a(static_cast<std::size_t>(n) + 1);
+    for (double& x : a) x = value(rng);
+    std::vector<LawPiece> pieces(static_cast<std::size_t>(n));
+    for (int k = 0; k < n; ++k) {
+      LawPiece& p = pieces[static_cast<std::size_t>(k)];
+      p.t_begin = k * h;
+      p.t_end = (k + 1) * h;
+      p.poly = {a[k], (a[k + 1] - a[k]) / h, 0.0, 0.0};
+    }
+    const MotionLaw law("samples", pieces);
+    const KinematicSummary got = law.summary();
+    double a_pos = 0.0, a_neg = 0.0, v_peak = 0.0, j_peak = 0.0, v = 0.0;
+    const int m = 400;  // sub-steps per piece
+    for (int k = 0; k < n; ++k) {
+      j_peak = std::max(j_peak, std::abs(a[k + 1] - a[k]) / h);
+      for (int i = 0; i < m; ++i) {
+        const double u0 = static_cast<double>(i) / m, u1 = static_cast<double>(i + 1) / m;
+        const double x0 = a[k] + u0 * (a[k + 1] - a[k]), x1 = a[k] + u1 * (a[k + 1] - a[k]);
+        v += 0.5 * (x0 + x1) * h / m;  // exact for a linear integrand
+        a_pos = std::max(a_pos, x1);
+        a_neg = std::max(a_neg, -x1);
+        v_peak = std::max(v_peak, std::abs(v));
+      }
+    }
+    a_pos = std::max(a_pos, a[0]);
+    a_neg = std::max(a_neg, -a[0]);
+    EXPECT_NEAR(got.a_peak_positive, a_pos, 1e-12) << trial;
+    EXPECT_NEAR(got.a_peak_negative, a_neg, 1e-12) << trial;
+    EXPECT_NEAR(got.j_peak, j_peak, 1e-9 * j_peak) << trial;
+    // The scan misses the true extremum by at most |a| dt / 2 between its samples.
+    EXPECT_GE(got.v_peak, v_peak - 1e-12) << trial;
+    EXPECT_LE(got.v_peak, v_peak + 10.0 * h / m) << trial;
   }
 }
 

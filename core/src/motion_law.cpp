@@ -77,6 +77,22 @@ KinematicSummary MotionLaw::summary() const {
   for (const LawPiece& p : pieces_) {
     const double L = p.duration();
     if (L <= 0.0) continue;
+    const bool harmonic =
+        p.harmonic_omega != 0.0 && (p.harmonic_cos != 0.0 || p.harmonic_sin != 0.0);
+    if (!harmonic && p.poly[2] == 0.0 && p.poly[3] == 0.0) {
+      // Linear acceleration (7-segment, FIR-chain, sampled laws): a at the ends, constant jerk,
+      // |v| at the ends and where a crosses zero — exact, and cheap for laws of many pieces.
+      const KinematicState begin = p.at(0.0), end = p.at(L);
+      s.a_peak_positive = std::max({s.a_peak_positive, begin.acceleration, end.acceleration});
+      s.a_peak_negative = std::max({s.a_peak_negative, -begin.acceleration, -end.acceleration});
+      s.j_peak = std::max(s.j_peak, std::abs(p.poly[1]));
+      s.v_peak = std::max({s.v_peak, std::abs(begin.velocity), std::abs(end.velocity)});
+      if (p.poly[1] != 0.0) {
+        const double root = -p.poly[0] / p.poly[1];
+        if (root > 0.0 && root < L) s.v_peak = std::max(s.v_peak, std::abs(p.at(root).velocity));
+      }
+      continue;
+    }
     // Polynomial pieces are at most cubic in a; harmonic ones oscillate at most a few times, so
     // 64 samples with local refinement locate every extremum.
     const double step = L / 64.0;
