@@ -36,6 +36,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
+#include "support/plan_errors.hpp"
 #include "support/process.hpp"
 #include "support/reference_integrators.hpp"
 #include "support/server.hpp"
@@ -828,16 +829,6 @@ TEST(FilterRoundTrip, EveryOptimalPlanLawIsAcceptedBySimulate) {
 // ---------------------------------------------------------------------------------------------
 // Validation of the new plan options.
 
-ApiError plan_error(const json& body) {
-  try {
-    (void)parse_plan_request(body);
-  } catch (const ApiError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "accepted: " << body.dump();
-  return ApiError(ErrorCode::kInternal, "", "");
-}
-
 TEST(FilterOptionValidation, OutOfRangeAndWrongTypeNameFieldValueAndRange) {
   struct Case {
     const char* key;
@@ -872,7 +863,7 @@ TEST(FilterOptionValidation, OutOfRangeAndWrongTypeNameFieldValueAndRange) {
     SCOPED_TRACE(std::string(c.key) + " = " + c.value.dump());
     json body = plan_body("iir", c.T);
     body["options"][c.key] = c.value;
-    const ApiError e = plan_error(body);
+    const ApiError e = test::plan_parse_error(body);
     EXPECT_EQ(e.code(), ErrorCode::kInvalidValue);
     EXPECT_EQ(e.status(), 422);
     EXPECT_EQ(e.field(), std::string("options.") + c.key);
@@ -881,7 +872,7 @@ TEST(FilterOptionValidation, OutOfRangeAndWrongTypeNameFieldValueAndRange) {
   // The sample period: at most min(0.01 s, T / 20).
   {
     json body = plan_body("iir", 0.1, {{"min_ramp_s", 0.02}, {"iir_sample_period_s", 0.006}});
-    const ApiError e = plan_error(body);
+    const ApiError e = test::plan_parse_error(body);
     EXPECT_EQ(e.field(), "options.iir_sample_period_s");
     EXPECT_EQ(std::string(e.what()),
               std::string("options.iir_sample_period_s = 0.006 is out of range: allowed 0.0001 "
@@ -890,7 +881,7 @@ TEST(FilterOptionValidation, OutOfRangeAndWrongTypeNameFieldValueAndRange) {
   }
   {
     json body = plan_body("iir", 1.0, {{"iir_sample_period_s", 0.02}});
-    const ApiError e = plan_error(body);
+    const ApiError e = test::plan_parse_error(body);
     EXPECT_EQ(e.field(), "options.iir_sample_period_s");
     EXPECT_EQ(std::string(e.what()),
               std::string("options.iir_sample_period_s = 0.02 is out of range: allowed 0.0001 to "
@@ -899,7 +890,7 @@ TEST(FilterOptionValidation, OutOfRangeAndWrongTypeNameFieldValueAndRange) {
   }
   {
     json body = plan_body("iir", 1.0, {{"iir_sample_period_s", 5e-5}});
-    const ApiError e = plan_error(body);
+    const ApiError e = test::plan_parse_error(body);
     EXPECT_EQ(e.field(), "options.iir_sample_period_s");
     EXPECT_EQ(std::string(e.what()),
               std::string("options.iir_sample_period_s = 5e-05 is out of range: allowed 0.0001 to "

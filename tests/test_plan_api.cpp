@@ -15,6 +15,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/core/spectrum.hpp"
+#include "support/plan_errors.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh::api {
@@ -33,19 +34,8 @@ json thesis_plan(const std::string& strategy) {
   return body;
 }
 
-/// The error of parsing `body`; fails the test when it parses.
-ApiError parse_error(const json& body) {
-  try {
-    (void)parse_plan_request(body);
-  } catch (const ApiError& e) {
-    return e;
-  }
-  ADD_FAILURE() << "accepted: " << body.dump();
-  return ApiError(ErrorCode::kInternal, "", "");
-}
-
 TEST(PlanValidation, UnknownStrategyListsTheAllowedOnes) {
-  const ApiError e = parse_error(thesis_plan("multinotch"));
+  const ApiError e = test::plan_parse_error(thesis_plan("multinotch"));
   EXPECT_EQ(e.status(), 422);
   EXPECT_EQ(e.field(), "strategy");
   EXPECT_STREQ(e.what(),
@@ -57,7 +47,7 @@ TEST(PlanValidation, UnknownStrategyListsTheAllowedOnes) {
 TEST(PlanValidation, UnknownOptionIsRejected) {
   json body = thesis_plan("notch");
   body["options"]["pnotch"] = 0.1;
-  const ApiError e = parse_error(body);
+  const ApiError e = test::plan_parse_error(body);
   EXPECT_EQ(e.field(), "options.pnotch");
   EXPECT_NE(std::string(e.what()).find("options.pnotch"), std::string::npos) << e.what();
 }
@@ -90,7 +80,7 @@ TEST(PlanValidation, OutOfRangeOptionsNameFieldValueAndRange) {
   for (const Case& c : cases) {
     json body = thesis_plan("notch");
     body["options"][c.key] = c.value;
-    const ApiError e = parse_error(body);
+    const ApiError e = test::plan_parse_error(body);
     EXPECT_EQ(e.status(), 422) << c.key;
     EXPECT_EQ(e.field(), c.field) << c.key;
     if (c.message != nullptr) {
@@ -103,18 +93,18 @@ TEST(PlanValidation, OutOfRangeOptionsNameFieldValueAndRange) {
 TEST(PlanValidation, LimitsMustBePositive) {
   json body = thesis_plan("notch");
   body["options"]["limits"] = {{"a_max", -10}};
-  const ApiError e = parse_error(body);
+  const ApiError e = test::plan_parse_error(body);
   EXPECT_EQ(e.field(), "options.limits.a_max");
   EXPECT_STREQ(e.what(),
                "options.limits.a_max = -10 is out of range: allowed > 0 and <= 1000 m/s^2");
   body["options"]["limits"] = {{"jmax", 10}};
-  EXPECT_EQ(parse_error(body).field(), "options.limits.jmax");
+  EXPECT_EQ(test::plan_parse_error(body).field(), "options.limits.jmax");
 }
 
 TEST(PlanValidation, MinRampAboveAQuarterOfTheMotionTime) {
   json body = thesis_plan("notch");
   body["options"]["min_ramp_s"] = 0.3;
-  const ApiError e = parse_error(body);
+  const ApiError e = test::plan_parse_error(body);
   EXPECT_EQ(e.field(), "options.min_ramp_s");
   EXPECT_STREQ(e.what(),
                "options.min_ramp_s = 0.3 is out of range: allowed 0.001 to 0.25 s (the upper "
@@ -125,7 +115,7 @@ TEST(PlanValidation, RampsAndPlateauMinimumsLongerThanTheMotion) {
   json body = thesis_plan("notch");
   body["options"]["min_ramp_s"] = 0.2;
   body["options"]["plateau_min_s"] = {0.15, 0.1};
-  const ApiError e = parse_error(body);
+  const ApiError e = test::plan_parse_error(body);
   EXPECT_EQ(e.field(), "options");
   EXPECT_STREQ(e.what(),
                "options.min_ramp_s = 0.2 s and plateau_min_s = [0.15, 0.1] s need 4 ramps + 2 "

@@ -282,8 +282,8 @@ ParsedLaw parse_law(const nlohmann::json& law, const std::string& path, const Fo
   return out;
 }
 
-nlohmann::json law_json(const MotionLaw& law, const std::optional<Durations>& durations) {
-  if (durations) return {{"type", to_string(LawType::kSevenSegment)}, {"durations_s", *durations}};
+LawType law_type_of(const MotionLaw& law, const std::optional<Durations>& durations) {
+  if (durations) return LawType::kSevenSegment;
   const auto& pieces = law.pieces();
   double peak = 0.0;
   for (const LawPiece& p : pieces) peak = std::max(peak, std::abs(p.poly[0]));
@@ -297,7 +297,16 @@ nlohmann::json law_json(const MotionLaw& law, const std::optional<Durations>& du
       linear = std::abs(end - pieces[k + 1].poly[0]) <= 1e-12 * (1.0 + peak);
     }
   }
-  if (linear) {
+  return linear ? LawType::kPiecewiseLinear : LawType::kPiecewise;
+}
+
+nlohmann::json law_json(const MotionLaw& law, const std::optional<Durations>& durations) {
+  const LawType type = law_type_of(law, durations);
+  if (type == LawType::kSevenSegment) {
+    return {{"type", to_string(type)}, {"durations_s", *durations}};
+  }
+  const auto& pieces = law.pieces();
+  if (type == LawType::kPiecewiseLinear) {
     std::vector<double> t{0.0}, a{pieces.empty() ? 0.0 : pieces.front().poly[0]};
     for (const LawPiece& p : pieces) {
       t.push_back(p.t_end);

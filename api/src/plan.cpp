@@ -402,7 +402,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
       list.push_back({{"strategy", to_string(c.strategy)},
                       {"status", to_string(c.status)},
                       {"durations_s", c.durations ? nlohmann::json(*c.durations) : nullptr},
-                      {"law_type", law_json(c.law, c.durations)["type"]},
+                      {"law_type", to_string(law_type_of(c.law, c.durations))},
                       {"prediction", prediction(c.prediction)},
                       {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
                                           c.prediction.kinematics.a_peak_negative)},
@@ -416,7 +416,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   if (request.sample_period) {
     SimulateRequest s;
     s.format = f;
-    s.law_type = r.durations ? LawType::kSevenSegment : LawType::kPiecewise;
+    s.law_type = law_type_of(r.law, r.durations);
     s.durations = r.durations;
     s.law = r.law;
     s.options.model = request.options.model;

@@ -16,8 +16,7 @@ namespace {
 constexpr double kLimitSlack{1e-9};
 
 /// The first machine limit the law exceeds, as a sentence; empty when it meets them all.
-std::string limit_violation(const MachineLimits& lim, const MotionLaw& law) {
-  const KinematicSummary k = law.summary();
+std::string limit_violation(const MachineLimits& lim, const KinematicSummary& k) {
   const double a = std::max(k.a_peak_positive, k.a_peak_negative);
   const struct {
     const char* name;
@@ -48,17 +47,16 @@ FilterOutcome no_law(const StrategyContext& c, std::string why) {
 }
 
 /// When the law is beyond any machine (|a| > kMaxLawAcceleration), the sentence saying so.
-std::string beyond_any_machine(const MotionLaw& law) {
-  const KinematicSummary k = law.summary();
+std::string beyond_any_machine(const KinematicSummary& k) {
   const double a = std::max(k.a_peak_positive, k.a_peak_negative);
   if (a <= kMaxLawAcceleration) return {};
   return "the law would reach " + sig3(a) + " m/s^2, beyond the " + sig3(kMaxLawAcceleration) +
          " m/s^2 any law may have";
 }
 
-/// Marks the outcome infeasible when the law exceeds a limit.
-void check_limits(const StrategyContext& c, FilterOutcome* o) {
-  const std::string violation = limit_violation(c.options.limits, o->law);
+/// Marks the outcome infeasible when the law (whose peaks are `k`) exceeds a limit.
+void check_limits(const StrategyContext& c, const KinematicSummary& k, FilterOutcome* o) {
+  const std::string violation = limit_violation(c.options.limits, k);
   if (violation.empty()) {
     o->status = SolveStatus::kOptimal;
     return;
@@ -114,12 +112,13 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     o.detail += ": conditions (14) need T >= 4 T3 = " + sig3(4.0 * T3) + " s (T = " + sig3(T) +
                 " s), so the law is not a 7-segment law (acceleration ramps without plateaus)";
   }
-  if (std::string why = beyond_any_machine(o.law); !why.empty()) {
+  const KinematicSummary peaks = o.law.summary();
+  if (std::string why = beyond_any_machine(peaks); !why.empty()) {
     FilterOutcome none = no_law(c, "fir_chain with " + o.detail + ": " + why);
     none.design = o.design;
     return none;
   }
-  check_limits(c, &o);
+  check_limits(c, peaks, &o);
   if (o.status != SolveStatus::kOptimal || !o.durations) return o;
   // The 7-segment options that constrain its durations.
   const Durations& d = *o.durations;
@@ -159,7 +158,8 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   }
   FilterOutcome o;
   o.law = convolve(make_base_law(opt.base, S, Tb), shaper);
-  if (std::string why = beyond_any_machine(o.law); !why.empty()) {
+  const KinematicSummary peaks = o.law.summary();
+  if (std::string why = beyond_any_machine(peaks); !why.empty()) {
     FilterOutcome none =
         no_law(c, "the " + name + " leaves " + sig3(Tb) + " s for the base law: " + why +
                       "; use a shorter shaper (zv) or lengthen the motion");
@@ -173,7 +173,7 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   o.detail = name + " (" + std::to_string(shaper.impulses.size()) + " impulses over " +
              ms(shaper.delay()) + ", " + residual_text + ") on a " + to_string(opt.base) +
              " base law of " + sig3(Tb) + " s";
-  check_limits(c, &o);
+  check_limits(c, peaks, &o);
   return o;
 }
 
@@ -206,7 +206,8 @@ FilterOutcome design_iir(const StrategyContext& c) {
     o.design = design;
     return o;
   }
-  if (std::string why = beyond_any_machine(law.law); !why.empty()) {
+  const KinematicSummary peaks = law.law.summary();
+  if (std::string why = beyond_any_machine(peaks); !why.empty()) {
     FilterOutcome none =
         no_law(c, "the " + name + ": " + why + "; raise tau or lengthen the motion");
     none.design = design;
@@ -219,7 +220,7 @@ FilterOutcome design_iir(const StrategyContext& c) {
              " s (delay " + sig3(law.delay) + " s after " + std::to_string(law.iterations) +
              " passes; rest-to-rest correction " + percent(law.correction) +
              " of the peak acceleration)";
-  check_limits(c, &o);
+  check_limits(c, peaks, &o);
   return o;
 }
 

@@ -373,8 +373,8 @@ IirLaw make_iir_law(const std::function<MotionLaw(double)>& base, const IirFilte
   out.base_duration = best_base;
   out.delay = best_delay;
   out.filtered_duration = std::min(duration_of(best), T);  // T within round-off
-  std::vector<double>& t = out.knots;
-  std::vector<double>& a = out.acceleration;
+  // Knots: the sample times, then T when the last sample falls short of it.
+  std::vector<double> t, a;
   for (std::size_t k = 0; k < best.size(); ++k) {
     t.push_back(static_cast<double>(k) * Ts);
     a.push_back(best[k]);

@@ -56,8 +56,11 @@ struct ParsedLaw {
 [[nodiscard]] ParsedLaw parse_law(const nlohmann::json& law, const std::string& path,
                                   const Format& format, double min_ramp);
 
-/// The `law` object of a law: seven_segment when `durations` are given, else piecewise_linear
-/// when the acceleration is continuous and linear on every piece, else piecewise.
+/// The JSON type of a law: seven_segment when `durations` are given, else piecewise_linear when
+/// the acceleration is continuous and linear on every piece, else piecewise.
+[[nodiscard]] LawType law_type_of(const MotionLaw& law, const std::optional<Durations>& durations);
+
+/// The `law` object of a law, of type law_type_of(law, durations).
 [[nodiscard]] nlohmann::json law_json(const MotionLaw& law,
                                       const std::optional<Durations>& durations);
 

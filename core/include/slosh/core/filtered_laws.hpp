@@ -146,12 +146,10 @@ struct IirLaw {
   /// Acceleration linear between the samples k T_s (first-order hold, as the difference equation
   /// assumes), then at rest up to exactly the prescribed duration; rest-to-rest exactly.
   MotionLaw law;
-  std::vector<double> knots;         ///< sample times, and T when the last sample falls short [s]
-  std::vector<double> acceleration;  ///< acceleration at the knots [m/s^2]
-  double base_duration{};            ///< duration of the base law that was filtered [s]
-  double delay{};                    ///< filtered duration minus base duration, last pass [s]
-  double filtered_duration{};        ///< filtered duration before padding to T [s]
-  int iterations{};                  ///< filter passes
+  double base_duration{};      ///< duration of the base law that was filtered [s]
+  double delay{};              ///< filtered duration minus base duration, last pass [s]
+  double filtered_duration{};  ///< filtered duration before padding to T [s]
+  int iterations{};            ///< filter passes
   /// Largest rest-to-rest correction relative to the peak acceleration [-]: the samples are
   /// scaled by (c0 + c1 t / T) so the piecewise-linear law ends at rest exactly at the stroke
   /// (it absorbs the cut tail and the hold's O(T_s^2) integration error).
