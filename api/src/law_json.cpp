@@ -20,20 +20,15 @@ const Range kAcceleration{-kMaxLawAcceleration, kMaxLawAcceleration, "m/s^2"};
 const Range kCoefficient{-1e30, 1e30, ""};
 const Range kHarmonicOmega{0.0, 1e9, "rad/s"};
 
-constexpr LawType kAllTypes[] = {LawType::kSevenSegment, LawType::kSevenSegmentUniform,
-                                 LawType::kPoly5,        LawType::kModifiedTrapezoid,
-                                 LawType::kCycloidal,    LawType::kPiecewiseLinear,
-                                 LawType::kPiecewise};
-
 LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
   const std::string tpath = join_path(path, "type");
   std::string allowed;
-  for (LawType t : kAllTypes) allowed += (allowed.empty() ? "\"" : ", \"") + to_string(t) + "\"";
+  for (LawType t : kLawTypes) allowed += (allowed.empty() ? "\"" : ", \"") + to_string(t) + "\"";
   auto it = law.find("type");
   if (it == law.end()) invalid(tpath, tpath + " is required: one of " + allowed);
   if (it->is_string()) {
     const auto name = it->get<std::string>();
-    for (LawType t : kAllTypes) {
+    for (LawType t : kLawTypes) {
       if (name == to_string(t)) return t;
     }
   }

@@ -133,13 +133,11 @@ std::vector<std::string> damping_names(bool with_explicit) {
   return out;
 }
 
-std::vector<std::string> law_names() {
+/// The names of every value of an enumeration list (to_string of each).
+template <typename E, std::size_t N>
+std::vector<std::string> names_of(const E (&values)[N]) {
   std::vector<std::string> out;
-  for (LawType t : {LawType::kSevenSegment, LawType::kSevenSegmentUniform, LawType::kPoly5,
-                    LawType::kModifiedTrapezoid, LawType::kCycloidal, LawType::kPiecewiseLinear,
-                    LawType::kPiecewise}) {
-    out.push_back(to_string(t));
-  }
+  for (E v : values) out.push_back(to_string(v));
   return out;
 }
 
@@ -301,11 +299,11 @@ void add_plan_request_schemas(json& s) {
                 "its solve budget (setting solve_budget_s, default 10 s); the CLI default is 5 s"),
       d.time_limit);
   p["base"] = with_default(
-      string_enum({"poly5", "modified_trapezoid", "seven_segment_uniform"},
+      string_enum(names_of(kBaseLaws),
                   "shaper and iir: the base law, planned over T minus the filter's delay."),
       to_string(d.base));
   p["shaper"] = with_default(
-      string_enum({"zv", "zvd", "zvdd", "ei"},
+      string_enum(names_of(kShaperTypes),
                   "shaper: the input shaper on mode 1 (ZV: 1/2 damped period of delay, ZVD: 1, "
                   "ZVDD: 3/2, EI: 1 with the residual below)."),
       to_string(d.shaper));
@@ -371,7 +369,7 @@ void add_simulate_request_schemas(json& s) {
       "1, 3, 5, 7 >= options.min_ramp_s, plateaus >= 0.");
   durations["items"] = {{"type", "number"}, {"minimum", 0.0}};
   s["LawType"] = string_enum(
-      law_names(),
+      names_of(kLawTypes),
       "seven_segment (with durations_s), seven_segment_uniform (T/7 each, the thesis baseline), "
       "poly5, modified_trapezoid, cycloidal, piecewise_linear (with breakpoints_s and "
       "acceleration_m_s2), piecewise (with pieces).");

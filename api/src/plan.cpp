@@ -67,6 +67,19 @@ std::string choice(const nlohmann::json& object, const std::string& path, std::s
   invalid(field, field + " = " + show(*value) + " is not allowed: one of " + list);
 }
 
+/// An option naming one of `values` (by to_string); `fallback` when absent.
+template <typename E, std::size_t N>
+E enum_choice(const nlohmann::json& options, std::string_view key, const E (&values)[N],
+              E fallback) {
+  std::vector<std::string> names;
+  for (E v : values) names.push_back(to_string(v));
+  const std::string name = choice(options, "options", key, names, to_string(fallback));
+  for (E v : values) {
+    if (to_string(v) == name) return v;
+  }
+  return fallback;
+}
+
 void parse_limits(const nlohmann::json& options, MachineLimits& limits) {
   const nlohmann::json* value = member(options, "limits");
   if (value == nullptr) return;
@@ -222,17 +235,8 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
              : solver == "ipopt" ? SolverChoice::kIpopt
                                  : SolverChoice::kAuto;
   o.time_limit = optional_number(options, "options", "time_limit_s", kTimeLimit, o.time_limit);
-  const std::string base =
-      choice(options, "options", "base", {"poly5", "modified_trapezoid", "seven_segment_uniform"},
-             to_string(o.base));
-  for (BaseLaw b : {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid, BaseLaw::kSevenSegmentUniform}) {
-    if (to_string(b) == base) o.base = b;
-  }
-  const std::string shaper =
-      choice(options, "options", "shaper", {"zv", "zvd", "zvdd", "ei"}, to_string(o.shaper));
-  for (ShaperType t : {ShaperType::kZV, ShaperType::kZVD, ShaperType::kZVDD, ShaperType::kEI}) {
-    if (to_string(t) == shaper) o.shaper = t;
-  }
+  o.base = enum_choice(options, "base", kBaseLaws, o.base);
+  o.shaper = enum_choice(options, "shaper", kShaperTypes, o.shaper);
   o.residual = optional_number(options, "options", "residual", kResidual, o.residual);
   o.iir_order = static_cast<IirOrder>(
       optional_integer(options, "options", "iir_order", 2, 3, static_cast<int>(o.iir_order)));

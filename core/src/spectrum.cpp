@@ -225,29 +225,4 @@ std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega) {
   return sum;
 }
 
-std::complex<double> acceleration_spectrum_quadrature(const MotionLaw& law, double omega) {
-  static constexpr std::array<double, 8> kNodes{
-      -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
-      0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
-  static constexpr std::array<double, 8> kWeights{
-      0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
-      0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
-  std::complex<double> sum(0.0);
-  for (const LawPiece& p : law.pieces()) {
-    const double L = p.duration();
-    if (L <= 0.0) continue;
-    const double rate = std::abs(omega) + std::abs(p.harmonic_omega) + 1.0 / L;
-    const int n = static_cast<int>(std::ceil(rate * L));
-    const double h = L / n;
-    for (int s = 0; s < n; ++s) {
-      const double mid = (s + 0.5) * h;
-      for (std::size_t q = 0; q < kNodes.size(); ++q) {
-        const double tau = mid + 0.5 * h * kNodes[q];
-        sum += 0.5 * h * kWeights[q] * p.at(tau).acceleration * expj(omega * (p.t_begin + tau));
-      }
-    }
-  }
-  return sum;
-}
-
 }  // namespace slosh

@@ -59,6 +59,32 @@ Rk4Trajectory rk4_solve(const std::function<double(double, double, double)>& f, 
   return r;
 }
 
+std::complex<double> gauss_legendre_spectrum(const std::function<double(double)>& a,
+                                             const std::vector<double>& knots, double omega,
+                                             double rate) {
+  static constexpr std::array<double, 8> kNodes{
+      -0.9602898564975363, -0.7966664774136267, -0.5255324099163290, -0.1834346424956498,
+      0.1834346424956498,  0.5255324099163290,  0.7966664774136267,  0.9602898564975363};
+  static constexpr std::array<double, 8> kWeights{
+      0.1012285362903763, 0.2223810344533745, 0.3137066458778873, 0.3626837833783620,
+      0.3626837833783620, 0.3137066458778873, 0.2223810344533745, 0.1012285362903763};
+  std::complex<double> sum(0.0);
+  for (std::size_t k = 0; k + 1 < knots.size(); ++k) {
+    const double L = knots[k + 1] - knots[k];
+    if (L <= 0.0) continue;
+    const int n = static_cast<int>(std::ceil((std::abs(omega) + rate + 1.0 / L) * L));
+    const double h = L / n;
+    for (int s = 0; s < n; ++s) {
+      const double mid = knots[k] + (s + 0.5) * h;
+      for (std::size_t q = 0; q < kNodes.size(); ++q) {
+        const double t = mid + 0.5 * h * kNodes[q];
+        sum += 0.5 * h * kWeights[q] * a(t) * std::polar(1.0, -omega * t);
+      }
+    }
+  }
+  return sum;
+}
+
 std::complex<double> dft_bin(const std::vector<double>& samples, double dt, double w) {
   std::complex<double> sum{};
   for (std::size_t n = 0; n < samples.size(); ++n) {

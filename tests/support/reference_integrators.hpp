@@ -40,6 +40,14 @@ auto simpson_piecewise(const F& f, const Knots& knots, int n) -> decltype(f(0.0)
   return total;
 }
 
+/// int a(t) e^{-j omega t} dt over consecutive knot intervals by composite 8-point
+/// Gauss-Legendre, with enough sub-intervals that each spans less than one radian of the
+/// integrand's oscillation (`rate` [rad/s]: the fastest oscillation of a itself, 0 for a
+/// piecewise polynomial); nodes are interior, so a may jump at the knots.
+[[nodiscard]] std::complex<double> gauss_legendre_spectrum(const std::function<double(double)>& a,
+                                                           const std::vector<double>& knots,
+                                                           double omega, double rate = 0.0);
+
 /// Fixed-step classical RK4 of x'' = f(t, x, x') from x = x' = 0 over [0, t_end].
 struct Rk4Trajectory {
   std::vector<double> t, x, v;

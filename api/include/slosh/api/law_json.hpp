@@ -33,6 +33,12 @@ enum class LawType {
   kPiecewise,
 };
 
+/// Every law type, in the order the API lists them.
+constexpr LawType kLawTypes[] = {LawType::kSevenSegment, LawType::kSevenSegmentUniform,
+                                 LawType::kPoly5,        LawType::kModifiedTrapezoid,
+                                 LawType::kCycloidal,    LawType::kPiecewiseLinear,
+                                 LawType::kPiecewise};
+
 [[nodiscard]] std::string to_string(LawType type);
 
 /// Most pieces (or breakpoints) a general law may have.

@@ -19,6 +19,10 @@ namespace slosh {
 /// 7-segment law is the product's baseline).
 enum class BaseLaw { kSevenSegmentUniform, kPoly5, kModifiedTrapezoid };
 
+/// Every base law, in the order the API lists them.
+constexpr BaseLaw kBaseLaws[] = {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid,
+                                 BaseLaw::kSevenSegmentUniform};
+
 [[nodiscard]] std::string to_string(BaseLaw base);
 
 /// The base law of `stroke` [m] over `duration` [s].
@@ -26,6 +30,10 @@ enum class BaseLaw { kSevenSegmentUniform, kPoly5, kModifiedTrapezoid };
 
 /// Input shaper families (paper sec. 3.1).
 enum class ShaperType { kZV, kZVD, kZVDD, kEI };
+
+/// Every shaper family.
+constexpr ShaperType kShaperTypes[] = {ShaperType::kZV, ShaperType::kZVD, ShaperType::kZVDD,
+                                       ShaperType::kEI};
 
 [[nodiscard]] std::string to_string(ShaperType type);
 

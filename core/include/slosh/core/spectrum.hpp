@@ -55,12 +55,6 @@ struct SpectrumGradient {
 /// harmonic terms shifted by +-W.
 [[nodiscard]] std::complex<double> acceleration_spectrum(const MotionLaw& law, double omega);
 
-/// The same by composite 8-point Gauss-Legendre quadrature, with enough sub-intervals that every
-/// one spans less than one radian of the integrand's oscillation (relative error near machine
-/// precision): the independent reference of the closed forms, ~20x slower.
-[[nodiscard]] std::complex<double> acceleration_spectrum_quadrature(const MotionLaw& law,
-                                                                    double omega);
-
 /// FFT-normalised single-sided amplitude A_fft = (2/T)|X_a| (thesis eq. 4.50) [m/s^2].
 [[nodiscard]] inline double fft_amplitude(std::complex<double> X, double motion_time) {
   return 2.0 / motion_time * std::abs(X);
