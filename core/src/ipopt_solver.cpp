@@ -4,8 +4,10 @@
 #include <coin/IpTNLP.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <limits>
+#include <mutex>
 
 #include "slosh/core/nlp_solver.hpp"
 
@@ -20,8 +22,12 @@ using Ipopt::Number;
 // The Jacobian is stored dense.
 class Adapter : public Ipopt::TNLP {
  public:
-  Adapter(const NlpProblem& problem, const std::vector<double>& x0)
-      : problem_(problem),
+  using Clock = std::chrono::steady_clock;
+
+  Adapter(const NlpProblem& problem, const std::vector<double>& x0,
+          std::optional<Clock::time_point> deadline)
+      : deadline_(deadline),
+        problem_(problem),
         x0_(x0),
         n_(problem.size()),
         e_(static_cast<int>(problem.equalities.size())),
@@ -111,9 +117,22 @@ class Adapter : public Ipopt::TNLP {
     objective_ = obj_value;
   }
 
+  // Called once per iteration: the wall-clock budget (Ipopt's own max_cpu_time counts CPU time).
+  bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
+                             Number, Number, Number, Index, const Ipopt::IpoptData*,
+                             Ipopt::IpoptCalculatedQuantities*) override {
+    if (deadline_ && Clock::now() >= *deadline_) {
+      out_of_time_ = true;
+      return false;
+    }
+    return true;
+  }
+
   std::vector<double> x_final_;
   double objective_{};
   int evaluations_{0};
+  bool out_of_time_{false};
+  std::optional<Clock::time_point> deadline_;
 
  private:
   const NlpProblem& problem_;
@@ -131,11 +150,17 @@ SolveStatus translate(Ipopt::ApplicationReturnStatus status) {
     case Ipopt::Infeasible_Problem_Detected:
       return SolveStatus::kInfeasible;
     case Ipopt::Maximum_CpuTime_Exceeded:
+    case Ipopt::User_Requested_Stop:  // only the wall-clock budget of intermediate_callback stops
       return SolveStatus::kTimeLimit;
     default:
       return SolveStatus::kFailed;
   }
 }
+
+// Debian's Ipopt factorises with sequential MUMPS, whose Fortran state is process-global and not
+// thread-safe: two solves at once corrupt it and abort the process. Every Ipopt solve in the
+// process holds this lock from the application's creation to its destruction.
+std::timed_mutex ipopt_mutex;
 
 }  // namespace
 
@@ -143,7 +168,21 @@ NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>&
                            const NlpOptions& options) {
   NlpResult out;
   out.x = x0;
-  Ipopt::SmartPtr<Adapter> adapter = new Adapter(problem, x0);
+  std::optional<Adapter::Clock::time_point> deadline;
+  if (options.time_limit > 0.0) {
+    deadline = Adapter::Clock::now() + std::chrono::duration_cast<Adapter::Clock::duration>(
+                                           std::chrono::duration<double>(options.time_limit));
+  }
+  // Waiting for another Ipopt solve counts against this one's budget.
+  std::unique_lock<std::timed_mutex> lock(ipopt_mutex, std::defer_lock);
+  if (deadline ? !lock.try_lock_until(*deadline) : (lock.lock(), false)) {
+    out.status = SolveStatus::kTimeLimit;
+    out.objective = problem.objective(out.x.data(), nullptr);
+    out.max_violation = max_violation(problem, out.x);
+    out.message = "ipopt: the time budget ran out waiting for another Ipopt solve";
+    return out;
+  }
+  Ipopt::SmartPtr<Adapter> adapter = new Adapter(problem, x0, deadline);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");  // no banner
@@ -151,7 +190,6 @@ NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>&
   app->Options()->SetNumericValue("tol", options.tolerance);
   app->Options()->SetNumericValue("constr_viol_tol", options.constraint_tolerance);
   app->Options()->SetIntegerValue("max_iter", options.max_iterations);
-  if (options.time_limit > 0.0) app->Options()->SetNumericValue("max_cpu_time", options.time_limit);
   const Ipopt::ApplicationReturnStatus init = app->Initialize();
   if (init != Ipopt::Solve_Succeeded) {
     out.message = "ipopt: initialisation failed";
