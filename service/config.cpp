@@ -99,7 +99,33 @@ const std::vector<Setting>& settings() {
       {"http_threads", "SLOSH_HTTP_THREADS",
        [](const std::string& where, const std::string& text, ServerConfig& c) {
          c.http_threads =
-             static_cast<std::size_t>(parse_integer(where, text, 1, 1024, "a thread count"));
+             static_cast<std::size_t>(parse_integer(where, text, 1, 4096, "a thread count"));
+       }},
+      {"read_timeout_s", "SLOSH_READ_TIMEOUT_S",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.read_timeout_s = parse_seconds(where, text, 0.0, 600.0);
+       }},
+      {"write_timeout_s", "SLOSH_WRITE_TIMEOUT_S",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.write_timeout_s = parse_seconds(where, text, 0.0, 600.0);
+       }},
+      {"keep_alive_timeout_s", "SLOSH_KEEP_ALIVE_TIMEOUT_S",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.keep_alive_timeout_s = parse_seconds(where, text, 0.0, 600.0);
+       }},
+      {"request_timeout_s", "SLOSH_REQUEST_TIMEOUT_S",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.request_timeout_s = parse_seconds(where, text, 0.0, 3600.0);
+       }},
+      {"cache_memory_bytes", "SLOSH_CACHE_MEMORY_BYTES",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.cache_memory_bytes = static_cast<std::size_t>(
+             parse_integer(where, text, 1 << 20, 1LL << 40, "a size in bytes"));
+       }},
+      {"cache_store_bytes", "SLOSH_CACHE_STORE_BYTES",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.cache_store_bytes = static_cast<std::size_t>(
+             parse_integer(where, text, 0, 1LL << 50, "a size in bytes (0 = unbounded)"));
        }},
   };
   return all;

@@ -3,15 +3,25 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include <netinet/in.h>
 #include <pthread.h>
+#include <sys/socket.h>
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <fstream>
+#include <functional>
+#include <memory>
+#include <regex>
 #include <thread>
+#include <vector>
 
+#include "connection_pool.hpp"
+#include "connection_reaper.hpp"
 #include "plan_service.hpp"
 #include "version.hpp"
 
@@ -38,8 +48,88 @@ std::atomic<std::uint64_t> request_counter{0};
 void send(const Reply& reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
-  res.set_header("X-Cache", reply.cache_hit ? "hit" : "miss");
   if (!reply.body.empty()) res.set_content(reply.body, reply.content_type);
+}
+
+std::string peer_of(const httplib::Request& req) {
+  return req.remote_addr + ":" + std::to_string(req.remote_port);
+}
+
+// An incoming X-Request-Id is kept when it is a short token of visible ASCII (it is logged and
+// echoed); otherwise the service numbers the request itself.
+std::string request_id(const httplib::Request& req) {
+  std::string id = req.get_header_value("X-Request-Id");
+  const bool usable = !id.empty() && id.size() <= 128 &&
+                      std::all_of(id.begin(), id.end(), [](char c) { return c > ' ' && c < 127; });
+  return usable ? id : std::to_string(++request_counter);
+}
+
+// Media types a body may declare: JSON, or none at all.
+bool json_content_type(const std::string& value) {
+  if (value.empty()) return true;
+  std::string type = value.substr(0, value.find(';'));
+  type.erase(std::remove_if(type.begin(), type.end(), [](char c) { return c == ' ' || c == '\t'; }),
+             type.end());
+  std::transform(type.begin(), type.end(), type.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  return type == "application/json" ||
+         (type.starts_with("application/") && type.ends_with("+json"));
+}
+
+// One endpoint: its path pattern and the methods it answers (for 405 with Allow).
+struct Endpoint {
+  std::regex pattern;
+  std::vector<std::string> methods;
+};
+
+std::string allow_header(const std::vector<std::string>& methods) {
+  std::string allow;
+  for (const std::string& m : methods) allow += (allow.empty() ? "" : ", ") + m;
+  return allow;
+}
+
+// The error code of a status the HTTP library answers itself.
+std::string framework_code(int status) {
+  switch (status) {
+    case 400:
+      return "bad_request";
+    case 404:
+      return "not_found";
+    case 405:
+      return "method_not_allowed";
+    case 408:
+      return "request_timeout";
+    case 413:
+      return "payload_too_large";
+    case 414:
+      return "uri_too_long";
+    case 415:
+      return "unsupported_media_type";
+    case 416:
+      return "range_not_satisfiable";
+    case 431:
+      return "headers_too_large";
+    default:
+      return status < 500 ? "bad_request" : "internal";
+  }
+}
+
+std::string framework_message(int status) {
+  switch (status) {
+    case 400:
+      return "the request is not valid HTTP (request line, method or headers)";
+    case 414:
+      return "the request line is longer than the limit of 8192 bytes";
+    case 416:
+      return "the Range header is not valid; this service answers whole bodies only";
+    default:
+      return "HTTP " + std::to_string(status);
+  }
+}
+
+timeval to_timeval(double seconds) {
+  const double whole = std::floor(seconds);
+  return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
 }
 
 }  // namespace
@@ -59,14 +149,26 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     spdlog::error("plan cache: {}; answering from memory only", error);
   }
   httplib::Server server;
-  server.new_task_queue = [n = config.http_threads] {
-    return new httplib::ThreadPool(std::max<std::size_t>(1, n));
-  };
-  server.set_payload_max_length(config.max_body_bytes);
-  server.set_read_timeout(10, 0);
-  server.set_write_timeout(10, 0);
+  server.new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
+  // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
+  // for chunked bodies.
+  const timeval read_timeout = to_timeval(config.read_timeout_s);
+  const timeval write_timeout = to_timeval(config.write_timeout_s);
+  server.set_read_timeout(read_timeout.tv_sec, read_timeout.tv_usec);
+  server.set_write_timeout(write_timeout.tv_sec, write_timeout.tv_usec);
+  server.set_keep_alive_timeout(
+      std::max<time_t>(1, static_cast<time_t>(std::lround(config.keep_alive_timeout_s))));
   server.set_keep_alive_max_count(100000);
   server.set_tcp_nodelay(true);  // no 40 ms Nagle + delayed-ACK stall between header and body
+  // The library's default options add SO_REUSEPORT, which lets a second instance bind the same
+  // port and take half of the connections: only SO_REUSEADDR here, so that second bind fails.
+  server.set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+
+  std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
+  std::vector<Endpoint> endpoints;
 
   // Every handler goes through here: one metrics label per route, exceptions become the envelope.
   auto route = [&service](std::string label, auto handler) {
@@ -84,52 +186,124 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
       service.metrics().count_request(label, reply.status);
     };
   };
-  server.Post("/v1/plans", route("/v1/plans", [&](const httplib::Request& req) {
-                return service.post_plan(req.body, req.get_header_value("If-None-Match"));
-              }));
-  server.Post("/v1/plans/batch", route("/v1/plans/batch", [&](const httplib::Request& req) {
-                return service.post_batch(req.body);
-              }));
-  server.Get(R"(/v1/plans/([^/]+))", route("/v1/plans/{key}", [&](const httplib::Request& req) {
-               return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));
-             }));
-  server.Post("/v1/simulate", route("/v1/simulate", [&](const httplib::Request& req) {
-                return service.post_simulate(req.body);
-              }));
-  server.Get("/v1/fluids",
-             route("/v1/fluids", [&](const httplib::Request&) { return service.fluids(); }));
-  server.Get("/v1/openapi.json",
-             route("/v1/openapi.json", [&](const httplib::Request&) { return service.openapi(); }));
-  server.Get("/healthz",
-             route("/healthz", [&](const httplib::Request&) { return service.health(); }));
-  server.Get("/readyz", route("/readyz", [&](const httplib::Request&) { return service.ready(); }));
-  server.Get("/metrics",
-             route("/metrics", [&](const httplib::Request&) { return service.metrics_text(); }));
+  // POST bodies are read here, not by the library: the body limit holds for every transfer
+  // encoding (a chunked body is cut off at the limit), a body must arrive within the request
+  // timeout, and a body that declares itself as something other than JSON is refused as such.
+  auto with_body = [&service, &config](
+                       std::string label,
+                       std::function<Reply(const httplib::Request&, const std::string&)> handler) {
+    return [&service, &config, label, handler](const httplib::Request& req, httplib::Response& res,
+                                               const httplib::ContentReader& reader) {
+      Reply reply;
+      const std::string type = req.get_header_value("Content-Type");
+      if (!json_content_type(type)) {
+        reply = PlanService::error_reply(
+            415, "unsupported_media_type",
+            "the body is declared as '" + type.substr(0, 80) +
+                "'; send the JSON request with Content-Type: application/json");
+        // Drain nothing: the connection is closed instead of reading a body of another kind.
+        reader([](const char*, std::size_t) { return false; });
+        res.set_header("Connection", "close");
+      } else {
+        std::string body;
+        bool too_large = false;
+        bool too_slow = false;
+        const auto deadline = std::chrono::steady_clock::now() +
+                              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                  std::chrono::duration<double>(config.request_timeout_s));
+        const bool complete = reader([&](const char* data, std::size_t length) {
+          if (body.size() + length > config.max_body_bytes) return !(too_large = true);
+          if (std::chrono::steady_clock::now() > deadline) return !(too_slow = true);
+          body.append(data, length);
+          return true;
+        });
+        if (too_large) {
+          reply = PlanService::error_reply(413, "payload_too_large",
+                                           "the body is larger than the limit of " +
+                                               std::to_string(config.max_body_bytes) + " bytes");
+        } else if (too_slow) {
+          reply = PlanService::error_reply(
+              408, "request_timeout",
+              "the body did not arrive within " + std::to_string(config.request_timeout_s) + " s");
+        } else if (!complete) {
+          reply = PlanService::error_reply(400, "bad_request",
+                                           "the body could not be read (connection closed or "
+                                           "invalid chunked encoding)");
+        }
+        if (reply.status != 200) {
+          res.set_header("Connection", "close");
+        } else {
+          try {
+            reply = handler(req, body);
+          } catch (const std::exception& e) {
+            reply = PlanService::error_reply(500, "internal", e.what());
+          } catch (...) {
+            reply = PlanService::error_reply(500, "internal", "unknown error");
+          }
+        }
+      }
+      send(reply, res);
+      service.metrics().count_request(label, reply.status);
+    };
+  };
+  auto get = [&](const std::string& pattern, std::string label, auto handler) {
+    server.Get(pattern, route(std::move(label), handler));
+    endpoints.push_back({std::regex(pattern), {"GET", "HEAD"}});
+  };
+  auto post = [&](const std::string& pattern, std::string label, auto handler) {
+    server.Post(pattern, httplib::Server::HandlerWithContentReader(with_body(label, handler)));
+    endpoints.push_back({std::regex(pattern), {"POST"}});
+  };
+  post("/v1/plans", "/v1/plans", [&](const httplib::Request& req, const std::string& body) {
+    return service.post_plan(body, req.get_header_value("If-None-Match"));
+  });
+  post("/v1/plans/batch", "/v1/plans/batch",
+       [&](const httplib::Request&, const std::string& body) { return service.post_batch(body); });
+  get(R"(/v1/plans/([^/]+))", "/v1/plans/{key}", [&](const httplib::Request& req) {
+    return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));
+  });
+  post("/v1/simulate", "/v1/simulate", [&](const httplib::Request&, const std::string& body) {
+    return service.post_simulate(body);
+  });
+  get("/v1/fluids", "/v1/fluids", [&](const httplib::Request&) { return service.fluids(); });
+  get("/v1/openapi.json", "/v1/openapi.json",
+      [&](const httplib::Request&) { return service.openapi(); });
+  get("/healthz", "/healthz", [&](const httplib::Request&) { return service.health(); });
+  get("/readyz", "/readyz", [&](const httplib::Request&) { return service.ready(); });
+  get("/metrics", "/metrics", [&](const httplib::Request&) { return service.metrics_text(); });
 
-  // Errors the framework answers itself (unknown route, body too large, bad request line) get the
-  // same envelope.
+  // Errors the framework answers itself (unknown route, wrong method, bad request line, bad
+  // Range) get the same envelope.
   const httplib::Server::HandlerWithResponse on_error =
-      [&service, &config](const httplib::Request& req, httplib::Response& res) {
+      [&service, &endpoints](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+        // This service answers whole bodies: a Range of the request never cuts the envelope.
+        const_cast<httplib::Request&>(req).ranges.clear();
         Reply reply;
-        switch (res.status) {
-          case 404:
+        if (res.status == 404) {
+          std::vector<std::string> allowed;
+          for (const Endpoint& e : endpoints) {
+            if (std::regex_match(req.path, e.pattern)) {
+              allowed.insert(allowed.end(), e.methods.begin(), e.methods.end());
+            }
+          }
+          if (!allowed.empty()) {
+            reply = PlanService::error_reply(405, "method_not_allowed",
+                                             req.method.substr(0, 16) + " is not allowed on " +
+                                                 req.path.substr(0, 80) +
+                                                 "; allowed: " + allow_header(allowed));
+            reply.headers.emplace_back("Allow", allow_header(allowed));
+          } else {
             reply = PlanService::error_reply(404, "not_found",
-                                             "no endpoint " + req.method + " " +
+                                             "no endpoint " + req.method.substr(0, 16) + " " +
                                                  req.path.substr(0, 80) + "; see /v1/openapi.json");
-            break;
-          case 413:
-            reply = PlanService::error_reply(413, "payload_too_large",
-                                             "the body is larger than the limit of " +
-                                                 std::to_string(config.max_body_bytes) + " bytes");
-            break;
-          default:
-            reply = PlanService::error_reply(res.status,
-                                             res.status < 500 ? "malformed_json" : "internal",
-                                             "HTTP " + std::to_string(res.status));
+          }
+        } else {
+          reply = PlanService::error_reply(res.status, framework_code(res.status),
+                                           framework_message(res.status));
         }
         send(reply, res);
-        service.metrics().count_request("other", res.status);
+        service.metrics().count_request("other", reply.status);
         return httplib::Server::HandlerResponse::Handled;
       };
   server.set_error_handler(on_error);
@@ -144,18 +318,24 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
         }
         send(PlanService::error_reply(500, "internal", what), res);
       });
-  server.set_pre_routing_handler([](const httplib::Request&, httplib::Response& res) {
+  server.set_pre_routing_handler([&reaper](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
-    res.set_header("X-Request-Id", std::to_string(++request_counter));
+    // Whole bodies only: the library would otherwise cut answers to a Range header.
+    const_cast<httplib::Request&>(req).ranges.clear();
+    res.set_header("X-Request-Id", request_id(req));
+    if (reaper) reaper->begin_request(peer_of(req));
     return httplib::Server::HandlerResponse::Unhandled;
   });
-  server.set_logger([](const httplib::Request& req, const httplib::Response& res) {
+  server.set_logger([&reaper](const httplib::Request& req, const httplib::Response& res) {
+    if (reaper) reaper->end_request(peer_of(req));
     const double ms =
         std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - request_start)
             .count();
     spdlog::info("request id={} method={} path={} status={} cache={} ms={:.3f} bytes={}",
-                 res.get_header_value("X-Request-Id"), req.method, req.path, res.status,
-                 res.get_header_value("X-Cache"), ms, res.body.size());
+                 res.get_header_value("X-Request-Id"), req.method.substr(0, 16),
+                 req.path.substr(0, 200), res.status,
+                 res.has_header("X-Cache") ? res.get_header_value("X-Cache") : "-", ms,
+                 res.body.size());
   });
 
   int port = config.port;
@@ -165,9 +345,14 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     port = -1;
   }
   if (port < 0) {
-    spdlog::error("cannot bind {}:{}", config.host, config.port);
+    spdlog::error("cannot bind {}:{} (is another slosh or another service using the port?)",
+                  config.host, config.port);
     return 1;
   }
+  reaper = std::make_unique<ConnectionReaper>(
+      port,
+      std::chrono::duration_cast<ConnectionReaper::Clock::duration>(
+          std::chrono::duration<double>(config.keep_alive_timeout_s + config.request_timeout_s)));
   std::atomic<bool> finished{false};
   std::thread waiter([&] {
     int signal_number = 0;
@@ -180,18 +365,21 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     while (!server.is_running() && !finished) {
       std::this_thread::sleep_for(std::chrono::milliseconds(1));
     }
-    server.stop();  // closes the listener; the HTTP pool finishes its requests before it returns
+    server.stop();             // closes the listener; requests being answered finish
+    reaper->close_idle_now();  // idle and trickling connections are closed, not waited for
   });
   if (!port_file.empty() && !write_port_file(port_file, port)) {
     spdlog::error("cannot write the port file {}", port_file);
   }
-  spdlog::info("slosh {} listening on http://{}:{} (workers {}, queue {}, cache {})", kVersion,
-               config.host, port, config.workers, config.queue,
-               config.cache_path.empty() ? "memory" : config.cache_path);
+  spdlog::info(
+      "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {})",
+      kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
+      config.cache_path.empty() ? "memory" : config.cache_path);
   const bool ok = server.listen_after_bind();
   finished = true;
   pthread_kill(waiter.native_handle(), SIGTERM);  // wakes sigwait if no signal came
   waiter.join();
+  reaper.reset();
   spdlog::info("slosh stopped");
   return ok ? 0 : 1;
 }

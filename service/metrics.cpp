@@ -19,6 +19,11 @@ void Metrics::observe_solve(const std::string& strategy, double seconds) {
   h.sum += seconds;
 }
 
+void Metrics::count_singleflight_join() {
+  std::lock_guard lock(mutex_);
+  ++singleflight_joins_;
+}
+
 void Metrics::count_cache(bool hit) {
   std::lock_guard lock(mutex_);
   ++(hit ? cache_hits_ : cache_misses_);
@@ -52,6 +57,10 @@ std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
       << "# HELP slosh_cache_misses_total Plan requests that needed a solve.\n"
       << "# TYPE slosh_cache_misses_total counter\n"
       << "slosh_cache_misses_total " << cache_misses_ << '\n'
+      << "# HELP slosh_singleflight_joins_total Plan requests that waited for the running solve "
+         "of the same recipe.\n"
+      << "# TYPE slosh_singleflight_joins_total counter\n"
+      << "slosh_singleflight_joins_total " << singleflight_joins_ << '\n'
       << "# HELP slosh_queue_depth Solves waiting for a worker.\n"
       << "# TYPE slosh_queue_depth gauge\n"
       << "slosh_queue_depth " << queue_depth << '\n'

@@ -18,7 +18,10 @@ class Metrics {
 
   void count_request(const std::string& route, int status);
   void observe_solve(const std::string& strategy, double seconds);
+  /// A plan request answered from the cache (hit) or by a new solve (miss).
   void count_cache(bool hit);
+  /// A plan request that waited for the running solve of the same recipe (single flight).
+  void count_singleflight_join();
 
   /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller.
   [[nodiscard]] std::string render(std::size_t queue_depth, std::size_t busy_workers,
@@ -35,6 +38,7 @@ class Metrics {
   std::map<std::string, Histogram> solves_;
   std::uint64_t cache_hits_{};
   std::uint64_t cache_misses_{};
+  std::uint64_t singleflight_joins_{};
 };
 
 }  // namespace slosh::service

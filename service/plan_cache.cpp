@@ -1,5 +1,6 @@
 #include "plan_cache.hpp"
 
+#include <spdlog/spdlog.h>
 #include <sqlite3.h>
 
 #include <chrono>
@@ -86,6 +87,10 @@ void PlanCache::open_store() {
     if (error.empty() && (!prepare(db_, kSelect, &select_) || !prepare(db_, kUpsert, &upsert_))) {
       error = message_of(db_);
     }
+    if (error.empty()) {
+      store_bytes_ = std::stoull(
+          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM plans", error));
+    }
   }
   if (!error.empty()) {
     close_store();
@@ -110,26 +115,50 @@ void PlanCache::close_store() {
 
 void PlanCache::set_error(std::string message) {
   const std::lock_guard lock(error_mutex_);
+  if (message != storage_error_) spdlog::error("{}", message);  // once per distinct failure
   storage_error_ = std::move(message);
 }
 
 void PlanCache::clear_error() {
   const std::lock_guard lock(error_mutex_);
+  if (!storage_error_.empty()) spdlog::info("plan cache store '{}' works again", config_.path);
   storage_error_.clear();
 }
 
 void PlanCache::remember_locked(const std::string& key, const std::string& value) {
-  if (config_.memory_entries == 0) return;
+  const std::size_t bytes = key.size() + value.size();
   if (const auto it = index_.find(key); it != index_.end()) {
-    it->second->second = value;
-    lru_.splice(lru_.begin(), lru_, it->second);
-    return;
+    memory_bytes_ -= it->second->first.size() + it->second->second.size();
+    lru_.erase(it->second);
+    index_.erase(it);
   }
+  if (config_.memory_entries == 0 || bytes > config_.memory_bytes) return;
   lru_.emplace_front(key, value);
   index_.emplace(key, lru_.begin());
-  while (lru_.size() > config_.memory_entries) {
+  memory_bytes_ += bytes;
+  while (lru_.size() > config_.memory_entries || memory_bytes_ > config_.memory_bytes) {
+    memory_bytes_ -= lru_.back().first.size() + lru_.back().second.size();
     index_.erase(lru_.back().first);
     lru_.pop_back();
+  }
+}
+
+void PlanCache::prune_store_locked() {
+  std::string error;
+  const std::size_t target = config_.store_bytes / 10 * 9;
+  while (error.empty() && store_bytes_ > target) {
+    // The oldest tenth of the rows (at least one) per round, then the size as SQLite counts it.
+    query_text(db_,
+               "DELETE FROM plans WHERE rowid IN (SELECT rowid FROM plans ORDER BY created_unix, "
+               "rowid LIMIT MAX(1, (SELECT COUNT(*) FROM plans) / 10))",
+               error);
+    if (error.empty()) {
+      store_bytes_ = std::stoull(
+          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM plans", error));
+    }
+  }
+  if (!error.empty()) {
+    set_error("plan cache store '" + config_.path + "': pruning old plans failed (" + error + ")");
   }
 }
 
@@ -200,6 +229,8 @@ void PlanCache::put(const std::string& key, const std::string& value) {
   sqlite3_clear_bindings(upsert_);
   if (rc == SQLITE_DONE) {
     clear_error();
+    store_bytes_ += value.size();
+    if (config_.store_bytes > 0 && store_bytes_ > config_.store_bytes) prune_store_locked();
   } else {
     set_error("plan cache store '" + config_.path + "': writing a plan failed (" + message +
               "); it is kept in memory only");
@@ -213,7 +244,9 @@ PlanCache::Stats PlanCache::stats() const {
     s.hits = hits_;
     s.misses = misses_;
     s.memory_entries = lru_.size();
+    s.memory_bytes = memory_bytes_;
   }
+  s.store_bytes = store_bytes_;
   const std::lock_guard lock(error_mutex_);
   s.persistent = persistent_;
   s.storage_error = storage_error_;

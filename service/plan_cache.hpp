@@ -5,6 +5,7 @@
 // is a pure function of its recipe, so the value of a key never changes meaning: the cache never
 // expires entries, only evicts them from memory (they stay on disk).
 
+#include <atomic>
 #include <cstddef>
 #include <cstdint>
 #include <list>
@@ -25,6 +26,13 @@ struct CacheConfig {
   std::string path;
   /// LRU capacity of the memory tier (entries); 0 = no memory tier. Default 10000.
   std::size_t memory_entries{10000};
+  /// LRU capacity of the memory tier [bytes of keys and values]; the least recent plans are
+  /// evicted beyond it (a plan larger than this is kept on disk only). Default 256 MiB.
+  std::size_t memory_bytes{std::size_t{256} << 20};
+  /// Largest size of the plans in the SQLite store [bytes of values]; beyond it the oldest plans
+  /// are deleted down to 90 % of it (freed pages are reused, so the file stays near this size).
+  /// 0 = unbounded. Default 1 GiB.
+  std::size_t store_bytes{std::size_t{1} << 30};
   /// How long a write waits for a lock held by another connection to the file [ms]. Default 5000.
   int busy_timeout_ms{5000};
 };
@@ -62,6 +70,8 @@ class PlanCache {
     std::uint64_t hits{};          ///< gets answered from memory or SQLite
     std::uint64_t misses{};        ///< gets answered nullopt
     std::size_t memory_entries{};  ///< entries in the memory tier now
+    std::size_t memory_bytes{};    ///< bytes of keys and values in the memory tier now
+    std::size_t store_bytes{};     ///< bytes of plans in the store (approximate between prunes)
     bool persistent{};             ///< a SQLite store is open (false: memory only)
     std::string storage_error;     ///< as storage_error()
   };
@@ -82,6 +92,9 @@ class PlanCache {
   void open_store();
   void close_store();
   void set_error(std::string message);
+  // Deletes the oldest plans of the store until they hold at most 90 % of store_bytes (under
+  // store_mutex_).
+  void prune_store_locked();
   void clear_error();
   /// Inserts or refreshes `key` as most recent, evicting the least recent beyond capacity.
   void remember_locked(const std::string& key, const std::string& value);
@@ -92,6 +105,7 @@ class PlanCache {
   mutable std::mutex memory_mutex_;
   std::list<Entry> lru_;
   std::unordered_map<std::string, std::list<Entry>::iterator> index_;
+  std::size_t memory_bytes_{};
   std::uint64_t hits_{};
   std::uint64_t misses_{};
 
@@ -100,6 +114,8 @@ class PlanCache {
   sqlite3* db_{nullptr};
   sqlite3_stmt* select_{nullptr};
   sqlite3_stmt* upsert_{nullptr};
+  // SUM of the plans' sizes, counted up by puts between prunes (written under store_mutex_).
+  std::atomic<std::size_t> store_bytes_{0};
 
   // State reported by stats() and storage_error(), readable while the store is busy.
   mutable std::mutex error_mutex_;

@@ -1,8 +1,12 @@
 #include "plan_service.hpp"
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 #include <exception>
+#include <optional>
 #include <thread>
+#include <utility>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
@@ -19,6 +23,8 @@ using nlohmann::json;
 
 /// Seconds a client is told to wait after a 503.
 constexpr int kRetryAfterSeconds = 1;
+/// /readyz turns 503 when the pool has work but finished nothing for max(this, 3 solve budgets).
+constexpr double kMinStallSeconds = 30.0;
 
 Reply from_api_error(const api::ApiError& e) {
   Reply r;
@@ -73,6 +79,8 @@ Reply guarded(F&& body) {
     return from_api_error(e);
   } catch (const std::exception& e) {
     return PlanService::error_reply(500, "internal", e.what());
+  } catch (...) {
+    return PlanService::error_reply(500, "internal", "unknown error");
   }
 }
 
@@ -80,7 +88,10 @@ Reply guarded(F&& body) {
 
 PlanService::PlanService(const ServerConfig& config)
     : config_(config),
-      cache_(CacheConfig{config.cache_path, config.cache_entries}),
+      cache_(CacheConfig{.path = config.cache_path,
+                         .memory_entries = config.cache_entries,
+                         .memory_bytes = config.cache_memory_bytes,
+                         .store_bytes = config.cache_store_bytes}),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
           config.queue) {}
@@ -98,15 +109,27 @@ Reply PlanService::error_reply(int status, const std::string& code, const std::s
 }
 
 Reply PlanService::plan_reply(const std::string& key, const std::string& body, bool cached,
-                              const std::string& if_none_match) const {
+                              const std::string& if_none_match,
+                              const std::optional<api::PlanRequest>& request,
+                              std::optional<double> sample_period) const {
   Reply r;
-  r.cache_hit = cached;
-  r.headers.emplace_back("ETag", etag(key));
-  if (cached && if_none_match == etag(key)) {
+  // The ETag names the body: the same plan with series of another period is another body.
+  const std::string tag =
+      sample_period ? etag(key + ";series=" + api::number_text(*sample_period)) : etag(key);
+  r.headers.emplace_back("ETag", tag);
+  r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
+  if (cached && if_none_match == tag) {
     r.status = 304;
     return r;
   }
   r.body = cached ? as_cached(body) : body;
+  if (sample_period && request) {
+    json plan = json::parse(r.body);
+    api::PlanRequest with_series = *request;
+    with_series.sample_period = sample_period;
+    api::add_series(with_series, plan);
+    r.body = api::dump_json(plan);
+  }
   return r;
 }
 
@@ -114,10 +137,23 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
                                                             const api::PlanRequest& request,
                                                             bool wait_for_room, bool* refused) {
   *refused = false;
-  std::lock_guard lock(inflight_mutex_);
-  if (auto it = inflight_.find(key); it != inflight_.end()) return it->second;
   auto promise = std::make_shared<std::promise<Outcome>>();
   std::shared_future<Outcome> future = promise->get_future().share();
+  {
+    // Single flight: a request for a recipe already being solved waits for that solve. The lock
+    // covers only the map, never the queueing below (workers take it to finish their task).
+    std::lock_guard lock(inflight_mutex_);
+    if (auto it = inflight_.find(key); it != inflight_.end()) {
+      metrics_.count_singleflight_join();
+      return it->second;
+    }
+    if (!ready_) {
+      *refused = true;
+      return {};
+    }
+    inflight_.emplace(key, future);
+  }
+  metrics_.count_cache(false);
   auto task = [this, key, request, promise] {
     Outcome outcome;
     const auto started = std::chrono::steady_clock::now();
@@ -129,6 +165,8 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       outcome = {e.status(), api::dump_json(api::error_envelope(e))};
     } catch (const std::exception& e) {
       outcome = {500, error_reply(500, "internal", e.what()).body};
+    } catch (...) {
+      outcome = {500, error_reply(500, "internal", "the solve failed with an unknown error").body};
     }
     metrics_.observe_solve(
         to_string(request.strategy),
@@ -139,41 +177,46 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     }
     promise->set_value(std::move(outcome));
   };
-  if (!ready_) {
-    *refused = true;
-    return {};
-  }
   const bool queued = wait_for_room ? pool_.submit_wait(task) : pool_.try_submit(task);
   if (!queued) {
+    // Whoever joined this solve meanwhile gets the refusal too (never a future that hangs).
+    {
+      std::lock_guard lock(inflight_mutex_);
+      inflight_.erase(key);
+    }
+    promise->set_value(Outcome{503, overloaded_reply().body});
     *refused = true;
     return {};
   }
-  inflight_.emplace(key, future);
   return future;
+}
+
+Reply PlanService::overloaded_reply() const {
+  Reply r = error_reply(
+      503, "overloaded",
+      ready_ ? "all " + std::to_string(pool_.workers()) + " workers are busy and the queue of " +
+                   std::to_string(pool_.capacity()) + " solves is full; retry after " +
+                   std::to_string(kRetryAfterSeconds) + " s"
+             : "the service is shutting down");
+  r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+  return r;
 }
 
 Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match) {
   return guarded([&] {
     const json body = api::parse_json_body(text);
-    const api::PlanRequest request = parse_with_budget(body, config_.solve_budget_s);
+    api::PlanRequest request = parse_with_budget(body, config_.solve_budget_s);
     const std::string key = api::recipe_key(request);
+    // The plan is cached per recipe; the series are rendered per request (they are not part of
+    // the recipe, and a cached plan must answer whatever period this request asks for).
+    const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
-      return plan_reply(key, *hit, true, if_none_match);
+      return plan_reply(key, *hit, true, if_none_match, request, sample_period);
     }
-    metrics_.count_cache(false);
     bool refused = false;
     auto future = solve(key, request, false, &refused);
-    if (refused) {
-      Reply r = error_reply(
-          503, "overloaded",
-          ready_ ? "all " + std::to_string(pool_.workers()) +
-                       " workers are busy and the queue of " + std::to_string(pool_.capacity()) +
-                       " solves is full; retry after " + std::to_string(kRetryAfterSeconds) + " s"
-                 : "the service is shutting down");
-      r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
-      return r;
-    }
+    if (refused) return overloaded_reply();
     const auto wait =
         std::chrono::duration<double>(request.options.time_limit + config_.queue_wait_s);
     if (future.wait_for(wait) != std::future_status::ready) {
@@ -184,12 +227,12 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     }
     const Outcome& outcome = future.get();
     if (outcome.status != 200) {
-      Reply r;
+      Reply r = outcome.status == 503 ? overloaded_reply() : Reply{};
       r.status = outcome.status;
       r.body = outcome.body;
       return r;
     }
-    return plan_reply(key, outcome.body, false, if_none_match);
+    return plan_reply(key, outcome.body, false, if_none_match, request, sample_period);
   });
 }
 
@@ -197,9 +240,8 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
   return guarded([&] {
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
-      return plan_reply(key, *hit, true, if_none_match);
+      return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt);
     }
-    metrics_.count_cache(false);
     return error_reply(
         404, "not_found",
         "no plan with key '" + key.substr(0, 64) + "': POST the recipe to /v1/plans first", "key");
@@ -239,6 +281,12 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests) {
     BatchResult& result = batch.results_[i];
     try {
       const api::PlanRequest request = parse_with_budget(requests[i], config_.solve_budget_s);
+      if (request.sample_period) {
+        // A batch answers with plans; a thousand series would be gigabytes.
+        throw api::ApiError(api::ErrorCode::kInvalidValue, "sample_period_s",
+                            "sample_period_s is not allowed in a batch (plans only): ask POST "
+                            "/v1/plans or /v1/simulate for the series of one law");
+      }
       const std::string key = api::recipe_key(request);
       if (auto hit = cache_.get(key)) {
         metrics_.count_cache(true);
@@ -246,14 +294,9 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests) {
         result.cached = true;
         continue;
       }
-      metrics_.count_cache(false);
       bool refused = false;
       batch.pending_[i] = solve(key, request, true, &refused);
-      if (refused) {
-        result.error = {{"code", "overloaded"},
-                        {"message", "the service is shutting down"},
-                        {"field", nullptr}};
-      }
+      if (refused) result.error = json::parse(overloaded_reply().body)["error"];
     } catch (const api::ApiError& e) {
       result.error = api::error_envelope(e)["error"];
     } catch (const std::exception& e) {
@@ -278,7 +321,9 @@ Reply PlanService::post_batch(const std::string& text) {
                               " plan requests, got " +
                               (it == body.end() ? std::string("nothing") : api::show(*it)));
     }
-    const std::vector<json> requests = std::move(*it).get<std::vector<json>>();
+    std::vector<json> requests;
+    requests.reserve(it->size());
+    for (json& request : *it) requests.push_back(std::move(request));
     const PendingBatch batch = start_batch(requests);
     std::string out = "{\"results\":[";
     for (std::size_t i = 0; i < batch.size(); ++i) {
@@ -335,13 +380,33 @@ Reply PlanService::health() const {
 Reply PlanService::ready() const {
   Reply r;
   const auto stats = cache_.stats();
-  json body{
-      {"status", ready_ ? "ready" : "stopping"},
-      {"workers", pool_.workers()},
-      {"queue_depth", pool_.queue_depth()},
-      {"cache", {{"persistent", stats.persistent}, {"memory_entries", stats.memory_entries}}}};
+  const double stalled = std::chrono::duration<double>(pool_.stalled_for()).count();
+  const double stall_limit = std::max(kMinStallSeconds, 3.0 * config_.solve_budget_s);
+  std::string status = "ready";
+  json body{{"workers", pool_.workers()},
+            {"busy_workers", pool_.busy()},
+            {"queue_depth", pool_.queue_depth()},
+            {"cache",
+             {{"persistent", stats.persistent},
+              {"memory_entries", stats.memory_entries},
+              {"memory_bytes", stats.memory_bytes}}}};
+  if (!ready_) {
+    status = "stopping";
+  } else if (stalled > stall_limit) {
+    // Every solve has a budget: a pool with work that finished nothing for 3 budgets is wedged.
+    status = "stalled";
+    body["reason"] = "no solve has finished for " + api::number_text(std::round(stalled)) +
+                     " s (the limit is " + api::number_text(stall_limit) + " s) with " +
+                     std::to_string(pool_.busy()) + " running and " +
+                     std::to_string(pool_.queue_depth()) + " queued";
+  } else if (!stats.storage_error.empty()) {
+    // Plans are still answered (from memory), but they are not kept across a restart.
+    status = "degraded";
+    body["reason"] = stats.storage_error;
+  }
   if (!stats.storage_error.empty()) body["cache"]["storage_error"] = stats.storage_error;
-  r.status = ready_ ? 200 : 503;
+  body["status"] = status;
+  r.status = status == "ready" ? 200 : 503;
   r.body = api::dump_json(body);
   return r;
 }

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <future>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
@@ -25,7 +26,6 @@ struct Reply {
   std::string body;
   std::string content_type{"application/json"};
   std::vector<std::pair<std::string, std::string>> headers;
-  bool cache_hit{false};
 };
 
 /// What a solve produced: 200 with the rendered plan, or an error status with its envelope.
@@ -83,6 +83,8 @@ class PlanService {
   void begin_shutdown();
 
   Metrics& metrics() { return metrics_; }
+  /// Solve workers running (the configured count, or the cores for 0).
+  [[nodiscard]] std::size_t workers() const { return pool_.workers(); }
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
 
   /// The envelope reply of an error status with a message (and optional field).
@@ -95,8 +97,13 @@ class PlanService {
   // on the pool (`wait_for_room`: block for a queue slot instead of answering 503).
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
                                     bool wait_for_room, bool* refused);
+  // The reply of a rendered plan: 304 when `if_none_match` names it, the series of
+  // `sample_period` added when set.
   Reply plan_reply(const std::string& key, const std::string& body, bool cached,
-                   const std::string& if_none_match) const;
+                   const std::string& if_none_match, const std::optional<api::PlanRequest>& request,
+                   std::optional<double> sample_period) const;
+  // 503 with Retry-After: the queue is full, or the service is shutting down.
+  Reply overloaded_reply() const;
 
   ServerConfig config_;
   Metrics metrics_;

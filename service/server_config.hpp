@@ -26,8 +26,22 @@ struct ServerConfig {
   std::size_t max_body_bytes{1u << 20};
   /// Largest number of recipes in one POST /v1/plans/batch. Default 1000.
   std::size_t batch_max{1000};
-  /// HTTP connection threads. Default 8.
-  std::size_t http_threads{8};
+  /// Most HTTP connection threads, started as connections arrive; each open connection (also an
+  /// idle keep-alive one) holds one. Default 256.
+  std::size_t http_threads{256};
+  /// Longest wait for the next bytes of a request, and for a blocked write to drain [s]. Default 5.
+  double read_timeout_s{5.0};
+  double write_timeout_s{5.0};
+  /// An idle keep-alive connection is closed after this [s]. Default 5.
+  double keep_alive_timeout_s{5.0};
+  /// A connection must deliver a whole request (line, headers and body) within this of
+  /// connecting or of its previous answer, beyond the keep-alive wait; else it is closed [s].
+  /// Bounds slow ("trickling") clients, which per-read timeouts do not. Default 10.
+  double request_timeout_s{10.0};
+  /// Plan cache bounds: bytes of the memory tier (default 256 MiB) and of the plans in the SQLite
+  /// store, pruned oldest first beyond it (default 1 GiB; 0 = unbounded).
+  std::size_t cache_memory_bytes{std::size_t{256} << 20};
+  std::size_t cache_store_bytes{std::size_t{1} << 30};
 };
 
 }  // namespace slosh::service

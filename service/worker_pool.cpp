@@ -26,6 +26,7 @@ bool WorkerPool::try_submit(std::function<void()> task) {
   {
     std::lock_guard lock(mutex_);
     if (!accepting_ || queue_.size() >= capacity_) return false;
+    if (queue_.empty() && busy_ == 0) last_progress_ = std::chrono::steady_clock::now();
     queue_.push_back(std::move(task));
   }
   has_task_.notify_one();
@@ -37,6 +38,7 @@ bool WorkerPool::submit_wait(std::function<void()> task) {
     std::unique_lock lock(mutex_);
     has_room_.wait(lock, [this] { return !accepting_ || queue_.size() < capacity_; });
     if (!accepting_) return false;
+    if (queue_.empty() && busy_ == 0) last_progress_ = std::chrono::steady_clock::now();
     queue_.push_back(std::move(task));
   }
   has_task_.notify_one();
@@ -73,10 +75,28 @@ void WorkerPool::run() {
       ++busy_;
     }
     has_room_.notify_one();
-    task();  // tasks catch their own exceptions (PlanService wraps every one)
+    bool failed = false;
+    try {
+      task();  // tasks catch their own exceptions; this keeps the worker alive if one does not
+    } catch (...) {
+      failed = true;
+    }
     std::lock_guard lock(mutex_);
     --busy_;
+    if (failed) ++task_errors_;
+    last_progress_ = std::chrono::steady_clock::now();
   }
+}
+
+std::chrono::steady_clock::duration WorkerPool::stalled_for() const {
+  std::lock_guard lock(mutex_);
+  if (queue_.empty() && busy_ == 0) return std::chrono::steady_clock::duration::zero();
+  return std::chrono::steady_clock::now() - last_progress_;
+}
+
+std::uint64_t WorkerPool::task_errors() const {
+  std::lock_guard lock(mutex_);
+  return task_errors_;
 }
 
 }  // namespace slosh::service

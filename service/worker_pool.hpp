@@ -2,8 +2,10 @@
 // A fixed set of worker threads behind a bounded queue: the service's solves run here, so a burst
 // of requests waits in a queue of known size (or is refused) instead of spawning work unbounded.
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
+#include <cstdint>
 #include <deque>
 #include <functional>
 #include <mutex>
@@ -30,6 +32,11 @@ class WorkerPool {
 
   [[nodiscard]] std::size_t queue_depth() const;  ///< tasks waiting
   [[nodiscard]] std::size_t busy() const;         ///< tasks running
+  /// How long the pool has had work (queued or running) without finishing a task; zero while it
+  /// is idle or has just finished one. A pool that makes no progress shows a growing figure.
+  [[nodiscard]] std::chrono::steady_clock::duration stalled_for() const;
+  /// Tasks that threw (they are contained: the worker carries on).
+  [[nodiscard]] std::uint64_t task_errors() const;
   [[nodiscard]] std::size_t workers() const { return threads_.size(); }
   [[nodiscard]] std::size_t capacity() const { return capacity_; }
 
@@ -43,6 +50,9 @@ class WorkerPool {
   std::vector<std::thread> threads_;
   std::size_t capacity_;
   std::size_t busy_{0};
+  std::uint64_t task_errors_{0};
+  // Last time a task finished, or work arrived at an idle pool.
+  std::chrono::steady_clock::time_point last_progress_{std::chrono::steady_clock::now()};
   bool accepting_{true};
   bool stopping_{false};
 };

@@ -227,7 +227,7 @@ TEST(CliSimulate, TooManySamplesExits2) {
   EXPECT_TRUE(r.out.empty()) << r.out;
   EXPECT_EQ(parse_or_fail(r.err), json::parse(R"({"error": {
       "code": "invalid_value",
-      "message": "sample_period_s = 0.0001 s gives 200001 samples over 20 s; at most 200000 are returned: use >= 0.0001000005 s",
+      "message": "sample_period_s = 0.0001 s gives 200001 samples over 20 s; at most 50000 are returned: use >= 0.0004000080002 s",
       "field": "sample_period_s"}})"));
 }
 

@@ -283,29 +283,29 @@ TEST(ValidationValid, NullOptionsTakeTheDefaults) {
                       "is a jerk ramp: >= options.min_ramp_s)"));
 }
 
-// Samples at 0, dt, ..., T + rest (both ends): floor((T + rest) / dt) + 1 <= 200000.
+// Samples at 0, dt, ..., T + rest (both ends): floor((T + rest) / dt) + 1 <= 50000.
 TEST(ValidationValid, SampleCountAtTheLimitIsAccepted) {
-  // Exactly representable: dt = 2^-13 s, T + rest = 199999 dt -> 200000 samples.
+  // Exactly representable: dt = 2^-10 s, T + rest = 49999 dt -> 50000 samples.
   json exact = with("/format/motion_time_s", 10);
-  exact["sample_period_s"] = 1.0 / 8192.0;
-  exact["rest_time_s"] = (199999.0 - 81920.0) / 8192.0;  // 14.4139404296875 s
+  exact["sample_period_s"] = 1.0 / 1024.0;
+  exact["rest_time_s"] = (49999.0 - 10240.0) / 1024.0;  // 38.8271484375 s
   EXPECT_TRUE(Accepts(exact));
-  // Decimal: 10 s + 9.9999 s at 0.1 ms is 199999 periods (the quotient is not exact in binary).
+  // Decimal: 10 s + 39.999 s at 1 ms is 49999 periods (the quotient is not exact in binary).
   json decimal = with("/format/motion_time_s", 10);
-  decimal["rest_time_s"] = 9.9999;
-  decimal["sample_period_s"] = 1e-4;
+  decimal["rest_time_s"] = 39.999;
+  decimal["sample_period_s"] = 1e-3;
   EXPECT_TRUE(Accepts(decimal));
 }
 
 TEST(ValidationValid, SampleCountAtTheLimitIsWhatSimulateReturns) {
   json body = with("/format/motion_time_s", 10);
-  body["sample_period_s"] = 1.0 / 8192.0;
-  body["rest_time_s"] = (199999.0 - 81920.0) / 8192.0;
+  body["sample_period_s"] = 1.0 / 1024.0;
+  body["rest_time_s"] = (49999.0 - 10240.0) / 1024.0;
   ASSERT_TRUE(Accepts(body));
   const json out = run_simulate(parse_simulate_request(body));
   ASSERT_TRUE(out.contains("series"));
-  EXPECT_EQ(out["series"]["t_s"].size(), 200000u);
-  EXPECT_DOUBLE_EQ(out["series"]["t_s"].back().get<double>(), 199999.0 / 8192.0);
+  EXPECT_EQ(out["series"]["t_s"].size(), 50000u);
+  EXPECT_DOUBLE_EQ(out["series"]["t_s"].back().get<double>(), 49999.0 / 1024.0);
 }
 
 TEST(ValidationValid, CustomFluidNameIsEchoed) {
@@ -482,15 +482,18 @@ TEST(ValidationFormat, Radius) {
 TEST(ValidationFormat, FillHeight) {
   const std::string f = "format.fill_height_mm";
   EXPECT_TRUE(Rejects(without("/format/fill_height_mm"), f,
-                      f + " is required: a number, allowed > 0 and <= 5000 mm"));
+                      f + " is required: a number, allowed 1 to 5000 mm"));
   EXPECT_TRUE(Rejects(with("/format/fill_height_mm", false), f,
-                      f + " must be a number, got false; allowed > 0 and <= 5000 mm"));
+                      f + " must be a number, got false; allowed 1 to 5000 mm"));
   EXPECT_TRUE(Rejects(with("/format/fill_height_mm", 0), f,
-                      f + " = 0 is out of range: allowed > 0 and <= 5000 mm"));
+                      f + " = 0 is out of range: allowed 1 to 5000 mm"));
   EXPECT_TRUE(Rejects(with("/format/fill_height_mm", -1), f,
-                      f + " = -1 is out of range: allowed > 0 and <= 5000 mm"));
+                      f + " = -1 is out of range: allowed 1 to 5000 mm"));
   EXPECT_TRUE(Rejects(with("/format/fill_height_mm", 5000.5), f,
-                      f + " = 5000.5 is out of range: allowed > 0 and <= 5000 mm"));
+                      f + " = 5000.5 is out of range: allowed 1 to 5000 mm"));
+  // Issue 14: a film of 0.07 mm gave null predictions.
+  EXPECT_TRUE(Rejects(with("/format/fill_height_mm", 0.07), f,
+                      f + " = 0.07 is out of range: allowed 1 to 5000 mm"));
 }
 
 TEST(ValidationFormat, ContainerHeightMustExceedFillHeight) {
@@ -511,13 +514,16 @@ TEST(ValidationFormat, ContainerHeightMustExceedFillHeight) {
 TEST(ValidationFormat, Stroke) {
   const std::string f = "format.stroke_mm";
   EXPECT_TRUE(Rejects(without("/format/stroke_mm"), f,
-                      f + " is required: a number, allowed > 0 and <= 100000 mm"));
+                      f + " is required: a number, allowed 0.01 to 100000 mm"));
   EXPECT_TRUE(Rejects(with("/format/stroke_mm", json::array({800})), f,
-                      f + " must be a number, got [800]; allowed > 0 and <= 100000 mm"));
+                      f + " must be a number, got [800]; allowed 0.01 to 100000 mm"));
   EXPECT_TRUE(Rejects(with("/format/stroke_mm", 0), f,
-                      f + " = 0 is out of range: allowed > 0 and <= 100000 mm"));
+                      f + " = 0 is out of range: allowed 0.01 to 100000 mm"));
   EXPECT_TRUE(Rejects(with("/format/stroke_mm", 100000.5), f,
-                      f + " = 100000.5 is out of range: allowed > 0 and <= 100000 mm"));
+                      f + " = 100000.5 is out of range: allowed 0.01 to 100000 mm"));
+  // Issue 14: the smallest denormal stroke gave a 500.
+  EXPECT_TRUE(Rejects(with("/format/stroke_mm", 5e-324), f,
+                      f + " = 4.940656458e-324 is out of range: allowed 0.01 to 100000 mm"));
 }
 
 TEST(ValidationFormat, MotionTime) {
@@ -864,33 +870,33 @@ TEST(ValidationSeries, TooManySamples) {
   body["rest_time_s"] = 15;
   body["sample_period_s"] = 1e-4;
   EXPECT_TRUE(Rejects(body, "sample_period_s",
-                      "sample_period_s = 0.0001 s gives 250001 samples over 25 s; at most 200000 "
-                      "are returned: use >= 0.000125000625 s"));
+                      "sample_period_s = 0.0001 s gives 250001 samples over 25 s; at most 50000 "
+                      "are returned: use >= 0.0005000100002 s"));
 }
 
 TEST(ValidationSeries, OneSampleOverTheLimitIsRejected) {
-  // 10 s + 10 s at 0.1 ms: 200000 periods, 200001 samples with both ends.
+  // 10 s + 40 s at 1 ms: 50000 periods, 50001 samples with both ends.
   json decimal = with("/format/motion_time_s", 10);
-  decimal["rest_time_s"] = 10;
-  decimal["sample_period_s"] = 1e-4;
+  decimal["rest_time_s"] = 40;
+  decimal["sample_period_s"] = 1e-3;
   EXPECT_TRUE(Rejects(decimal, "sample_period_s",
-                      "sample_period_s = 0.0001 s gives 200001 samples over 20 s; at most 200000 "
-                      "are returned: use >= 0.0001000005 s"));
-  // Exactly representable: T + rest = 200000 dt with dt = 2^-13 s.
+                      "sample_period_s = 0.001 s gives 50001 samples over 50 s; at most 50000 "
+                      "are returned: use >= 0.00100002 s"));
+  // Exactly representable: T + rest = 50000 dt with dt = 2^-10 s.
   json exact = with("/format/motion_time_s", 10);
-  exact["sample_period_s"] = 1.0 / 8192.0;
-  exact["rest_time_s"] = (200000.0 - 81920.0) / 8192.0;  // 14.4140625 s
+  exact["sample_period_s"] = 1.0 / 1024.0;
+  exact["rest_time_s"] = (50000.0 - 10240.0) / 1024.0;  // 38.828125 s
   const std::optional<ApiError> e = rejection(exact);
   ASSERT_TRUE(e.has_value());
   EXPECT_EQ(e->field(), "sample_period_s");
-  EXPECT_EQ(std::string(e->what()).rfind("sample_period_s = 0.0001220703125 s gives 200001 "
-                                         "samples over 24.4140625 s; at most 200000 are returned",
+  EXPECT_EQ(std::string(e->what()).rfind("sample_period_s = 0.0009765625 s gives 50001 "
+                                         "samples over 48.828125 s; at most 50000 are returned",
                                          0),
             0u)
       << e->what();
   // The suggested period is accepted.
   json suggested = decimal;
-  suggested["sample_period_s"] = 0.0001000005;
+  suggested["sample_period_s"] = 0.00100002;
   EXPECT_TRUE(Accepts(suggested));
 }
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <sstream>
+#include <utility>
+#include <vector>
 
 #include "slosh/api/error.hpp"
 
@@ -47,13 +49,97 @@ std::string join_path(std::string_view parent, std::string_view key) {
   return std::string(parent) + "." + std::string(key);
 }
 
+namespace {
+
+constexpr std::size_t kPreviewChars = 60;
+
+// Appends the JSON text of `value` to `out`, stopping once `out` holds more than kPreviewChars:
+// an untrusted value is never dumped whole (its size and nesting are the sender's choice).
+void preview(const nlohmann::json& value, std::string& out) {
+  if (out.size() > kPreviewChars) return;
+  if (value.is_array()) {
+    out += '[';
+    bool first = true;
+    for (const auto& item : value) {
+      if (out.size() > kPreviewChars) return;
+      if (!first) out += ',';
+      first = false;
+      preview(item, out);
+    }
+    out += ']';
+  } else if (value.is_object()) {
+    out += '{';
+    bool first = true;
+    for (const auto& [key, item] : value.items()) {
+      if (out.size() > kPreviewChars) return;
+      if (!first) out += ',';
+      first = false;
+      out += nlohmann::json(key).dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+      out += ':';
+      preview(item, out);
+    }
+    out += '}';
+  } else {
+    out += value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  }
+}
+
+}  // namespace
+
 std::string show(const nlohmann::json& value) {
-  std::string s = value.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-  if (s.size() <= 60) return s;
+  std::string s;
+  preview(value, s);
+  if (s.size() <= kPreviewChars) return s;
   // Cut at a UTF-8 character boundary so the message stays valid UTF-8.
   std::size_t cut = 57;
   while (cut > 0 && (static_cast<unsigned char>(s[cut]) & 0xC0) == 0x80) --cut;
   return s.substr(0, cut) + "...";
+}
+
+namespace {
+
+// Whether every number of `value` is finite: depth-first with an explicit stack (no recursion).
+bool all_finite(const nlohmann::json& value) {
+  std::vector<const nlohmann::json*> stack{&value};
+  while (!stack.empty()) {
+    const nlohmann::json* v = stack.back();
+    stack.pop_back();
+    if (v->is_number_float()) {
+      if (!std::isfinite(v->get<double>())) return false;
+    } else if (v->is_structured()) {
+      for (const auto& item : *v) stack.push_back(&item);
+    }
+  }
+  return true;
+}
+
+// The path of the first non-finite number (a second, slower walk once one is known to exist; the
+// responses it walks are the service's own, a few levels deep).
+std::string first_non_finite(const nlohmann::json& value, const std::string& path) {
+  if (value.is_number_float())
+    return std::isfinite(value.get<double>()) ? "" : path.empty() ? "(root)" : path;
+  if (value.is_array()) {
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      std::string at = first_non_finite(value[i], path + "[" + std::to_string(i) + "]");
+      if (!at.empty()) return at;
+    }
+  } else if (value.is_object()) {
+    for (const auto& [key, item] : value.items()) {
+      std::string at = first_non_finite(item, join_path(path, key));
+      if (!at.empty()) return at;
+    }
+  }
+  return "";
+}
+
+}  // namespace
+
+void require_finite(const nlohmann::json& value) {
+  if (all_finite(value)) return;
+  const std::string path = first_non_finite(value, "");
+  throw ApiError(
+      ErrorCode::kInternal, "",
+      "the response would carry a non-finite number at '" + path + "'; please report the request");
 }
 
 void invalid(const std::string& path, const std::string& message) {

@@ -19,6 +19,7 @@ constexpr double kPieceGapTolerance = 1e-9;
 const Range kAcceleration{-kMaxLawAcceleration, kMaxLawAcceleration, "m/s^2"};
 const Range kCoefficient{-1e30, 1e30, ""};
 const Range kHarmonicOmega{0.0, 1e9, "rad/s"};
+constexpr double kMinHarmonicOmega{1e-3};  // rad/s, when not 0
 
 LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
   const std::string tpath = join_path(path, "type");
@@ -163,6 +164,13 @@ MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, do
       p.harmonic_cos = required_number(*h, hpath, "cos", kAcceleration);
       p.harmonic_sin = required_number(*h, hpath, "sin", kAcceleration);
       p.harmonic_omega = required_number(*h, hpath, "omega_rad_s", kHarmonicOmega);
+      // The harmonic integrates to cos/omega^2: a vanishing omega overflows the kinematics.
+      if (p.harmonic_omega != 0.0 && p.harmonic_omega < kMinHarmonicOmega) {
+        const std::string opath = join_path(hpath, "omega_rad_s");
+        invalid(opath, opath + " = " + number_text(p.harmonic_omega) +
+                           " is out of range: allowed 0 (no harmonic) or " +
+                           number_text(kMinHarmonicOmega) + " to 1e+09 rad/s");
+      }
     }
   }
   check_end(pieces.back().t_end, ppath + "[" + std::to_string(pieces.size() - 1) + "].t_end_s",
@@ -174,8 +182,9 @@ MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, do
 void check_rest_to_rest(const MotionLaw& law, const std::string& field, double stroke) {
   const LawPiece& last = law.pieces().back();
   const KinematicState end = last.at(last.duration());
-  if (std::abs(end.velocity) > kRestVelocityTolerance ||
-      std::abs(end.position - stroke) > kRestPositionTolerance) {
+  // Written so that NaN fails.
+  if (!(std::abs(end.velocity) <= kRestVelocityTolerance) ||
+      !(std::abs(end.position - stroke) <= kRestPositionTolerance)) {
     invalid(field, field + " integrates to a final velocity of " + number_text(end.velocity) +
                        " m/s and a final position of " + number_text(end.position * 1e3) +
                        " mm: a law must end at rest (|v| <= 1e-6 m/s) at format.stroke_mm = " +

@@ -417,22 +417,31 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["format"] = format_json(f);
   out["rest_time_s"] = request.options.rest_time;
   out["warnings"] = r.warnings;
-  if (request.sample_period) {
-    SimulateRequest s;
-    s.format = f;
-    s.law_type = law_type_of(r.law, r.durations);
-    s.durations = r.durations;
-    s.law = r.law;
-    s.options.model = request.options.model;
-    s.options.rest_time = request.options.rest_time;
-    s.options.sample_period = request.sample_period;
-    out["series"] = run_simulate(s)["series"];
-  }
+  require_finite(out);
   return out;
 }
 
+void add_series(const PlanRequest& request, nlohmann::json& plan) {
+  if (!request.sample_period) return;
+  const auto law = plan.find("law");
+  if (law == plan.end() || law->is_null()) return;  // a design without a law has no series
+  // The plan's law in exactly the form simulate accepts (its ramps were checked by the planner).
+  ParsedLaw parsed = parse_law(*law, "law", request.format, ranges::kMinRampS.lo);
+  SimulateRequest s;
+  s.format = request.format;
+  s.law_type = parsed.type;
+  s.durations = parsed.durations;
+  s.law = std::move(parsed.law);
+  s.options.model = request.options.model;
+  s.options.rest_time = request.options.rest_time;
+  s.options.sample_period = request.sample_period;
+  plan["series"] = run_simulate(s)["series"];
+}
+
 nlohmann::json run_plan(const PlanRequest& request) {
-  return plan_json(request, plan(request.format, request.strategy, request.options));
+  nlohmann::json out = plan_json(request, plan(request.format, request.strategy, request.options));
+  add_series(request, out);
+  return out;
 }
 
 }  // namespace slosh::api

@@ -1,5 +1,6 @@
 #include "slosh/api/simulate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -9,7 +10,46 @@
 
 namespace slosh::api {
 
+namespace {
+
+// The deepest nesting of arrays and objects in `text`, counted without recursion, or a value above
+// kMaxJsonDepth as soon as that is exceeded.
+int nesting_depth(std::string_view text) {
+  int depth = 0;
+  int deepest = 0;
+  bool in_string = false;
+  bool escaped = false;
+  for (const char c : text) {
+    if (in_string) {
+      if (escaped) {
+        escaped = false;
+      } else if (c == '\\') {
+        escaped = true;
+      } else if (c == '"') {
+        in_string = false;
+      }
+    } else if (c == '"') {
+      in_string = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > kMaxJsonDepth) return deepest;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
+}
+
+}  // namespace
+
 nlohmann::json parse_json_body(std::string_view body) {
+  // Deep nesting would overflow the stack of every recursive walk of the value (dump, copy,
+  // comparison): bounded before the parser builds anything.
+  if (nesting_depth(body) > kMaxJsonDepth) {
+    throw ApiError(ErrorCode::kMalformedJson, "",
+                   "the body nests arrays and objects deeper than the limit of " +
+                       std::to_string(kMaxJsonDepth) + " levels");
+  }
   try {
     return nlohmann::json::parse(body);
   } catch (const nlohmann::json::exception& e) {  // parse errors and number overflow
@@ -138,6 +178,7 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
                        {"eta_nonlinear_mm", "mm"}}}};
   }
   out["warnings"] = r.warnings;
+  require_finite(out);
   return out;
 }
 

@@ -31,6 +31,11 @@ struct Range {
 /// Compact JSON text of a value for messages, cut to 60 bytes on a UTF-8 boundary.
 [[nodiscard]] std::string show(const nlohmann::json& value);
 
+/// Throws ApiError(kInternal) naming the first member path of `value` that holds a NaN or an
+/// infinity (JSON has no such numbers: they would go out as null). The last guard of every
+/// response the service renders.
+void require_finite(const nlohmann::json& value);
+
 /// Throws ApiError(kInvalidValue) unless `object` is a JSON object.
 void require_object(const nlohmann::json& object, const std::string& path);
 

@@ -15,8 +15,10 @@ namespace slosh::api {
 namespace ranges {
 inline const Range kRadiusMm{1.0, 2000.0, "mm"};
 inline const Range kContainerHeightMm{0.0, 10000.0, "mm", true};
-inline const Range kFillHeightMm{0.0, 5000.0, "mm", true};
-inline const Range kStrokeMm{0.0, 100000.0, "mm", true};
+// Lower bounds that keep the model physical and its numbers finite: a film under 1 mm and a
+// stroke under 0.01 mm are not formats a line runs.
+inline const Range kFillHeightMm{1.0, 5000.0, "mm"};
+inline const Range kStrokeMm{0.01, 100000.0, "mm"};
 inline const Range kMotionTimeS{0.05, 60.0, "s"};
 inline const Range kDensity{100.0, 20000.0, "kg/m^3"};
 inline const Range kViscosity{0.0, 10.0, "Pa·s", true};
@@ -25,7 +27,9 @@ inline const Range kAlpha{0.0, 2.0, ""};
 inline const Range kRestTimeS{0.0, 60.0, "s"};
 inline const Range kSamplePeriodS{1e-4, 1.0, "s"};
 inline const Range kMinRampS{1e-3, 1.0, "s"};
-constexpr int kMaxSeriesSamples{200000};
+/// Most samples a series returns (both ends included): 50 s at the controller's 1 ms cycle, about
+/// 6 MB of JSON.
+constexpr int kMaxSeriesSamples{50000};
 }  // namespace ranges
 
 /// Parses and validates `format` (radius, height, fill, fluid, stroke, motion time).

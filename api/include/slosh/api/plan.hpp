@@ -52,10 +52,16 @@ struct PlanRequest {
 /// The canonical JSON the key is computed from.
 [[nodiscard]] nlohmann::json canonical_recipe(const PlanRequest& request);
 
-/// Runs a validated request and renders the plan response of SPEC §7.
+/// Runs a validated request and renders the plan response of SPEC §7 (with the series when the
+/// request asks for them).
 [[nodiscard]] nlohmann::json run_plan(const PlanRequest& request);
 
-/// Renders a plan result (used by run_plan and by the service's cache).
+/// Renders a plan result without series: what the service caches, whatever series the request
+/// asks for.
 [[nodiscard]] nlohmann::json plan_json(const PlanRequest& request, const PlanResult& result);
+
+/// Adds the "series" of the plan's law at request.sample_period (nothing when the request asks
+/// for none or the plan has no law). A plan from plan_json of the same recipe.
+void add_series(const PlanRequest& request, nlohmann::json& plan);
 
 }  // namespace slosh::api

@@ -23,7 +23,11 @@ struct SimulateRequest {
   double min_ramp{kDefaultMinRamp};
 };
 
-/// Parses the request body text; throws ApiError (400 malformed JSON, 422 invalid value).
+/// Deepest nesting of arrays and objects a request body may have (a SPEC request nests 4 deep).
+constexpr int kMaxJsonDepth{64};
+
+/// Parses the request body text; throws ApiError (400 malformed JSON, also when nested deeper than
+/// kMaxJsonDepth, 422 invalid value).
 [[nodiscard]] nlohmann::json parse_json_body(std::string_view body);
 
 /// Validates a parsed simulate request; throws ApiError(kInvalidValue) naming the field.
