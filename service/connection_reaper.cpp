@@ -5,6 +5,8 @@
 #include <sys/socket.h>
 #include <sys/stat.h>
 
+#include <spdlog/spdlog.h>
+
 #include <cstdlib>
 #include <optional>
 #include <set>
@@ -135,6 +137,10 @@ void ConnectionReaper::scan() {
     if (connection_peer(fd, port_) != peer) continue;
     ::shutdown(fd, SHUT_RDWR);  // the library's blocked read returns and it closes the socket
     it->second.shut = true;
+    if (!closing_all_) {
+      spdlog::warn("{}: no complete request within {} s: connection closed", peer,
+                   std::chrono::duration<double>(deadline_).count());
+    }
     ++closed_;
   }
   for (auto it = answered_.begin(); it != answered_.end();) {

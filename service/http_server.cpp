@@ -76,6 +76,15 @@ bool json_content_type(const std::string& value) {
          (type.starts_with("application/") && type.ends_with("+json"));
 }
 
+// The methods of HTTP (RFC 9110); the library answers others with a bare 400.
+bool known_method(const std::string& method) {
+  for (const char* m :
+       {"GET", "HEAD", "POST", "PUT", "DELETE", "CONNECT", "OPTIONS", "TRACE", "PATCH"}) {
+    if (method == m) return true;
+  }
+  return false;
+}
+
 // One endpoint: its path pattern and the methods it answers (for 405 with Allow).
 struct Endpoint {
   std::regex pattern;
@@ -132,6 +141,15 @@ timeval to_timeval(double seconds) {
   return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
 }
 
+// The HTTP library with access to its listening socket.
+class ListeningServer : public httplib::Server {
+ public:
+  /// The library listens with a backlog of 5: a burst of more simultaneous connections than that
+  /// loses SYNs and stalls those clients for a second or more. Listening again with the system's
+  /// maximum only raises the backlog (Linux).
+  bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
+};
+
 }  // namespace
 
 int run_server(const ServerConfig& config, const std::string& port_file) {
@@ -148,7 +166,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   if (const std::string error = service.cache().storage_error(); !error.empty()) {
     spdlog::error("plan cache: {}; answering from memory only", error);
   }
-  httplib::Server server;
+  ListeningServer server;
   server.new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
   // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
   // for chunked bodies.
@@ -298,10 +316,15 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                                              "no endpoint " + req.method.substr(0, 16) + " " +
                                                  req.path.substr(0, 80) + "; see /v1/openapi.json");
           }
+        } else if (res.status == 400 && !req.method.empty() && !known_method(req.method)) {
+          reply = PlanService::error_reply(501, "not_implemented",
+                                           "the method " + req.method.substr(0, 16) +
+                                               " is not implemented; see /v1/openapi.json");
         } else {
           reply = PlanService::error_reply(res.status, framework_code(res.status),
                                            framework_message(res.status));
         }
+        if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
         send(reply, res);
         service.metrics().count_request("other", reply.status);
         return httplib::Server::HandlerResponse::Handled;
@@ -349,6 +372,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                   config.host, config.port);
     return 1;
   }
+  if (!server.raise_backlog()) spdlog::warn("cannot raise the listen backlog: bursts may stall");
   reaper = std::make_unique<ConnectionReaper>(
       port,
       std::chrono::duration_cast<ConnectionReaper::Clock::duration>(

@@ -287,5 +287,54 @@ TEST_F(PlanCacheTest, LargeTextRoundTripsExactly) {
   EXPECT_TRUE(*back == big);
 }
 
+/// Issue 14: the memory tier is bounded in bytes, not only in entries (40 series-laden plans
+/// took 978 MiB); the least recent plans go first, and a plan larger than the bound stays on disk.
+TEST_F(PlanCacheTest, MemoryTierIsBoundedInBytes) {
+  CacheConfig config{.path = file("bytes.sqlite"), .memory_entries = 1000, .memory_bytes = 10000};
+  PlanCache cache(config);
+  const std::string value(1000 - 2, 'v');  // 2-character keys: 1000 bytes an entry
+  for (int i = 0; i < 25; ++i) cache.put(std::to_string(10 + i), value);
+  const PlanCache::Stats s = cache.stats();
+  EXPECT_EQ(s.memory_entries, 10u);
+  EXPECT_EQ(s.memory_bytes, 10000u);
+  EXPECT_TRUE(cache.in_memory("34"));
+  EXPECT_FALSE(cache.in_memory("24"));
+  // Evicted plans are still answered from disk.
+  EXPECT_EQ(cache.get("10"), value);
+  // Too large for the memory tier: on disk only, and the rest of the tier is kept.
+  cache.put("big", std::string(20000, 'b'));
+  EXPECT_FALSE(cache.in_memory("big"));
+  EXPECT_EQ(cache.get("big")->size(), 20000u);
+  EXPECT_LE(cache.stats().memory_bytes, 10000u);
+  // Replacing a value accounts for the old one.
+  cache.put("10", "short");
+  EXPECT_LE(cache.stats().memory_bytes, 10000u);
+  EXPECT_EQ(cache.get("10"), "short");
+}
+
+/// Issue 14: the SQLite table is bounded (40 series-laden plans took 600 MiB): beyond
+/// store_bytes the oldest plans are deleted down to 90 % of it.
+TEST_F(PlanCacheTest, StoreIsPrunedOldestFirst) {
+  const std::string path = file("pruned.sqlite");
+  {
+    CacheConfig config{.path = path, .memory_entries = 0, .store_bytes = 100000};
+    PlanCache cache(config);
+    for (int i = 0; i < 50; ++i) cache.put("k" + std::to_string(100 + i), std::string(5000, 'p'));
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+    EXPECT_LE(cache.stats().store_bytes, 100000u);
+  }
+  // Measured by SQLite itself, in another connection.
+  EXPECT_LE(std::stoll(query(path, "SELECT SUM(LENGTH(body)) FROM plans")), 100000);
+  EXPECT_GE(std::stoll(query(path, "SELECT COUNT(*) FROM plans")), 10);
+  EXPECT_EQ(query(path, "SELECT COUNT(*) FROM plans WHERE key = 'k149'"), "1");  // newest kept
+  EXPECT_EQ(query(path, "SELECT COUNT(*) FROM plans WHERE key = 'k100'"), "0");  // oldest gone
+  // A reopened store counts what it holds and keeps pruning.
+  CacheConfig config{.path = path, .memory_entries = 0, .store_bytes = 100000};
+  PlanCache reopened(config);
+  EXPECT_GT(reopened.stats().store_bytes, 50000u);
+  for (int i = 0; i < 20; ++i) reopened.put("n" + std::to_string(i), std::string(5000, 'q'));
+  EXPECT_LE(std::stoll(query(path, "SELECT SUM(LENGTH(body)) FROM plans")), 100000);
+}
+
 }  // namespace
 }  // namespace slosh::service

@@ -1,0 +1,535 @@
+// Issue 14 (SPEC §7 "Hardening"): what an attacker or an unlucky client did to `slosh serve`,
+// each replayed against the real server on loopback. Every test here failed (hung, crashed or
+// answered wrongly) before the fix it names.
+
+#include <arpa/inet.h>
+#include <httplib.h>
+#include <netinet/in.h>
+#include <signal.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <fstream>
+#include <future>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/process.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using test::read_file;
+using test::Server;
+using test::TempDir;
+using test::write_file;
+using Clock = std::chrono::steady_clock;
+
+json plan_body(const std::string& strategy, double stroke_mm = 800) {
+  json body = json::parse(R"({"format": {"container": {"radius_mm": 48.5},
+      "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0}})");
+  body["strategy"] = strategy;
+  body["format"]["stroke_mm"] = stroke_mm;
+  return body;
+}
+
+json parse(const std::string& text) {
+  try {
+    return json::parse(text);
+  } catch (const json::exception&) {
+    ADD_FAILURE() << "not JSON: " << text.substr(0, 300);
+  }
+  return json::object();
+}
+
+/// A raw TCP connection to the server (for what an HTTP client library will not send).
+class Raw {
+ public:
+  explicit Raw(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
+    sockaddr_in a{};
+    a.sin_family = AF_INET;
+    a.sin_port = htons(static_cast<std::uint16_t>(port));
+    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
+    timeval tv{10, 0};
+    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
+  }
+  ~Raw() { ::close(fd_); }
+  Raw(const Raw&) = delete;
+  Raw& operator=(const Raw&) = delete;
+  [[nodiscard]] bool connected() const { return connected_; }
+  /// false once the server has closed the connection.
+  bool send(const std::string& data) {
+    return ::send(fd_, data.data(), data.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(data.size());
+  }
+  /// Everything until the server closes or goes quiet for 10 s.
+  std::string read_all() {
+    std::string out;
+    char buf[4096];
+    for (;;) {
+      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+      if (n <= 0) return out;
+      out.append(buf, static_cast<std::size_t>(n));
+    }
+  }
+
+ private:
+  int fd_;
+  bool connected_{false};
+};
+
+long rss_kib(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmRSS:", 0) == 0) return std::stol(line.substr(6));
+  }
+  return -1;
+}
+
+httplib::Result post(httplib::Client& c, const std::string& path, const json& body) {
+  return c.Post(path.c_str(), body.dump(), "application/json");
+}
+
+// Item 1: a batch with more uncached items than workers + queue used to deadlock the service
+// (the batch held the single-flight lock while waiting for queue room, which finishing tasks
+// need), and every later solve and /healthz with it.
+TEST(Hardening, BatchLargerThanTheQueueCompletesAndTheServiceStaysUp) {
+  Server server({"--workers", "2", "--queue", "4"});
+  httplib::Client c = server.client();
+  c.set_read_timeout(120, 0);
+  json batch{{"requests", json::array()}};
+  for (int i = 0; i < 30; ++i) batch["requests"].push_back(plan_body("multi_notch", 300 + i));
+  const auto r = post(c, "/v1/plans/batch", batch);
+  ASSERT_TRUE(r) << httplib::to_string(r.error());
+  ASSERT_EQ(r->status, 200) << r->body.substr(0, 300);
+  const json out = parse(r->body);
+  ASSERT_EQ(out["results"].size(), 30u);
+  for (const json& item : out["results"]) EXPECT_TRUE(item.contains("plan")) << item.dump();
+  // A new solve and the health check still answer.
+  const auto single = post(c, "/v1/plans", plan_body("multi_notch", 999));
+  ASSERT_TRUE(single);
+  EXPECT_EQ(single->status, 200);
+  const auto health = c.Get("/healthz");
+  ASSERT_TRUE(health);
+  EXPECT_EQ(health->status, 200);
+}
+
+// Item 2: concurrent Ipopt solves corrupted MUMPS' global state and killed the process.
+TEST(Hardening, ConcurrentIpoptPlansAndAnIpoptBatchDoNotCrash) {
+  Server server({"--workers", "4"});
+  std::vector<std::future<int>> plans;
+  for (int i = 0; i < 4; ++i) {
+    plans.push_back(std::async(std::launch::async, [&server, i] {
+      httplib::Client c = server.client();
+      json body = plan_body("multi_notch", 600 + i);
+      body["options"] = {{"solver", "ipopt"}};
+      const auto r = post(c, "/v1/plans", body);
+      return r ? r->status : -1;
+    }));
+  }
+  json batch{{"requests", json::array()}};
+  for (int i = 0; i < 4; ++i) {
+    json body = plan_body("min_jerk_band", 700 + i);
+    body["options"] = {{"solver", "ipopt"}};
+    batch["requests"].push_back(body);
+  }
+  httplib::Client c = server.client();
+  const auto r = post(c, "/v1/plans/batch", batch);
+  for (auto& p : plans) EXPECT_EQ(p.get(), 200);
+  ASSERT_TRUE(r) << httplib::to_string(r.error());
+  EXPECT_EQ(r->status, 200);
+  for (const json& item : parse(r->body)["results"]) {
+    EXPECT_TRUE(item.contains("plan")) << item.dump().substr(0, 300);
+  }
+  EXPECT_FALSE(server.child().wait_for(std::chrono::milliseconds(0)).has_value())
+      << "the server exited:\n"
+      << server.log();
+}
+
+// Item 3: 70 000 nested arrays (131 kB) overflowed the stack of the service and of the CLI.
+TEST(Hardening, DeepNestingIsA400NotACrash) {
+  const std::string deep = std::string(70000, '[') + std::string(70000, ']');
+  const std::string expected =
+      R"({"error":{"code":"malformed_json","field":null,"message":"the body nests arrays and objects deeper than the limit of 64 levels"}})";
+  Server server;
+  httplib::Client c = server.client();
+  for (const char* path : {"/v1/plans", "/v1/simulate", "/v1/plans/batch"}) {
+    const auto r = c.Post(path, deep, "application/json");
+    ASSERT_TRUE(r) << path << ": " << httplib::to_string(r.error());
+    EXPECT_EQ(r->status, 400) << path;
+    EXPECT_EQ(r->body, expected) << path;
+  }
+  // Inside a batch item and inside a field: the same limit on the whole body.
+  const std::string in_batch = R"({"requests": [)" + deep + "]}";
+  const auto b = c.Post("/v1/plans/batch", in_batch, "application/json");
+  ASSERT_TRUE(b);
+  EXPECT_EQ(b->status, 400);
+  // 64 levels are fine (the parser and the message preview both handle them).
+  json nested = json::array();
+  for (int i = 0; i < 61; ++i) nested = json::array({nested});  // 2 + 62 levels
+  json body = plan_body("baseline");
+  body["format"]["fluid"] = nested;
+  const auto ok = post(c, "/v1/plans", body);
+  ASSERT_TRUE(ok);
+  EXPECT_EQ(ok->status, 422);
+  EXPECT_EQ(parse(ok->body)["error"]["field"], "format.fluid");
+
+  const test::RunResult cli = test::run_slosh({"plan", "--request", "-"}, deep);
+  EXPECT_EQ(cli.exit_code, 2) << cli.err;
+  EXPECT_EQ(parse(cli.err), parse(expected));
+}
+
+// Item 4: a chunked body was read whole whatever its size (878 MiB of RSS for a 32 MiB one).
+TEST(Hardening, ChunkedBodiesHoldTheBodyLimit) {
+  Server server({"--workers", "1"});
+  const long before = rss_kib(server.child().pid());
+  Raw raw(server.port());
+  ASSERT_TRUE(raw.connected());
+  raw.send(
+      "POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+      "Transfer-Encoding: chunked\r\n\r\n");
+  const std::string chunk = "10000\r\n" + std::string(0x10000, ' ') + "\r\n";
+  std::size_t sent = 0;
+  while (sent < (std::size_t{16} << 20) && raw.send(chunk)) sent += 0x10000;
+  const std::string answer = raw.read_all();
+  EXPECT_EQ(answer.rfind("HTTP/1.1 413", 0), 0u) << answer.substr(0, 200);
+  EXPECT_NE(answer.find(R"("message":"the body is larger than the limit of 1048576 bytes")"),
+            std::string::npos)
+      << answer;
+  const long after = rss_kib(server.child().pid());
+  EXPECT_LT(after - before, 64 * 1024) << "RSS grew from " << before << " to " << after << " KiB";
+}
+
+// Item 4: a 9 000-byte JSON sent with curl's default form type got a 413 that blamed the 1 MiB
+// limit (the HTTP library's own 8 KiB cap of form bodies).
+TEST(Hardening, FormBodiesGetA415NamingJson) {
+  Server server;
+  httplib::Client c = server.client();
+  json body = plan_body("baseline");
+  body["padding"] = std::string(9000, 'x');
+  const auto r = c.Post("/v1/plans", body.dump(), "application/x-www-form-urlencoded");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 415);
+  EXPECT_EQ(parse(r->body)["error"]["message"],
+            "the body is declared as 'application/x-www-form-urlencoded'; send the JSON request "
+            "with Content-Type: application/json");
+  // JSON with a charset, a +json type and no type at all are read.
+  for (const char* type : {"application/json; charset=utf-8", "application/problem+json"}) {
+    const auto ok = c.Post("/v1/plans", plan_body("baseline").dump(), type);
+    ASSERT_TRUE(ok);
+    EXPECT_EQ(ok->status, 200) << type << ": " << ok->body.substr(0, 200);
+  }
+  Raw raw(server.port());
+  const std::string untyped = plan_body("baseline").dump();
+  raw.send("POST /v1/plans HTTP/1.1\r\nHost: x\r\nConnection: close\r\nContent-Length: " +
+           std::to_string(untyped.size()) + "\r\n\r\n" + untyped);
+  const std::string answer = raw.read_all();
+  EXPECT_EQ(answer.rfind("HTTP/1.1 200", 0), 0u) << answer.substr(0, 300);
+}
+
+// A client that trickles one header byte every second.
+void trickle(int port, const std::atomic<bool>& stop) {
+  Raw raw(port);
+  const std::string line = "GET /healthz HTTP/1.1\r\nHost: x\r\nX-Slow: " + std::string(1000, 'a');
+  for (char ch : line) {
+    if (stop || !raw.send(std::string(1, ch))) return;
+    for (int i = 0; i < 10 && !stop; ++i)
+      std::this_thread::sleep_for(std::chrono::milliseconds(100));
+  }
+}
+
+// Item 5: 8 trickling or idle connections (= the 8 HTTP threads) made /healthz time out; 4
+// trickling clients delayed SIGTERM beyond 40 s.
+TEST(Hardening, SlowAndIdleClientsStarveNobodyAndShutdownIsBounded) {
+  const TempDir dir;
+  write_file(dir / "fast.json", R"({"request_timeout_s": 3, "keep_alive_timeout_s": 2})");
+  Server server({"--config", (dir / "fast.json").string()});
+  std::atomic<bool> stop{false};
+  std::vector<std::thread> tricklers;
+  for (int i = 0; i < 64; ++i) tricklers.emplace_back(trickle, server.port(), std::cref(stop));
+  std::vector<std::unique_ptr<httplib::Client>> idle;
+  for (int i = 0; i < 16; ++i) {
+    idle.push_back(std::make_unique<httplib::Client>("127.0.0.1", server.port()));
+    idle.back()->set_keep_alive(true);
+    ASSERT_TRUE(idle.back()->Get("/healthz"));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  httplib::Client probe = server.client();
+  probe.set_read_timeout(2, 0);
+  for (int i = 0; i < 5; ++i) {
+    const auto r = probe.Get("/healthz");
+    ASSERT_TRUE(r) << "attempt " << i << ": " << httplib::to_string(r.error());
+    EXPECT_EQ(r->status, 200);
+  }
+  // 32 concurrent clients on a cached plan are all served.
+  ASSERT_TRUE(post(probe, "/v1/plans", plan_body("baseline")));
+  std::vector<std::future<int>> clients;
+  for (int i = 0; i < 32; ++i) {
+    clients.push_back(std::async(std::launch::async, [&server] {
+      httplib::Client c = server.client();
+      c.set_read_timeout(2, 0);
+      int ok = 0;
+      for (int k = 0; k < 20; ++k) {
+        const auto r = post(c, "/v1/plans", plan_body("baseline"));
+        ok += r && r->status == 200 ? 1 : 0;
+        if (!r || r->status != 200) {
+          ADD_FAILURE() << "request " << k << ": "
+                        << (r ? std::to_string(r->status) + " " + r->body.substr(0, 200)
+                              : httplib::to_string(r.error()));
+        }
+      }
+      return ok;
+    }));
+  }
+  for (auto& f : clients) EXPECT_EQ(f.get(), 20) << server.log().substr(0, 3000);
+  // The trickling connections are closed by the request timeout (2 s keep-alive + 3 s).
+  std::this_thread::sleep_for(std::chrono::seconds(6));
+  EXPECT_NE(server.log().find("no complete request within 5 s: connection closed"),
+            std::string::npos)
+      << server.log().substr(0, 2000);
+  // SIGTERM with trickling clients connected: a bounded shutdown.
+  std::atomic<bool> stop_late{false};
+  std::vector<std::thread> late;
+  for (int i = 0; i < 4; ++i) late.emplace_back(trickle, server.port(), std::cref(stop_late));
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto t0 = Clock::now();
+  const std::optional<int> code = server.stop();
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  stop = true;
+  stop_late = true;
+  for (auto& t : tricklers) t.join();
+  for (auto& t : late) t.join();
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0);
+  EXPECT_LT(seconds, 10.0);
+}
+
+// Item 6: a 232-byte request returned 15 MB of series and cached them in memory and SQLite.
+TEST(Hardening, SeriesAreCappedAndNeverCached) {
+  Server server;
+  httplib::Client c = server.client();
+  json body = plan_body("baseline");
+  body["options"] = {{"rest_time_s", 30}};
+  body["sample_period_s"] = 1e-4;
+  const auto r = post(c, "/v1/plans", body);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 422);
+  EXPECT_EQ(parse(r->body)["error"]["field"], "sample_period_s");
+  // The largest series allowed is returned, and the cache holds the plan without it.
+  body["options"]["rest_time_s"] = 3.9;  // 4.9 s at 0.1 ms: 49 001 samples
+  const auto big = post(c, "/v1/plans", body);
+  ASSERT_TRUE(big);
+  ASSERT_EQ(big->status, 200);
+  EXPECT_EQ(parse(big->body)["series"]["t_s"].size(), 49001u);
+  const std::string key = parse(big->body)["key"];
+  const auto cached = c.Get(("/v1/plans/" + key).c_str());
+  ASSERT_TRUE(cached);
+  EXPECT_FALSE(parse(cached->body).contains("series"));
+  EXPECT_LT(cached->body.size(), big->body.size() / 20);
+}
+
+// Item 7: the same recipe with sample_period_s 0.05, none, 0.001 returned the first caller's 41
+// samples each time, under one ETag.
+TEST(Hardening, TheCachedAnswerIsWhatThisRequestAskedFor) {
+  Server server;
+  httplib::Client c = server.client();
+  std::vector<std::string> etags;
+  for (const json& period : {json(0.05), json(nullptr), json(0.001), json(0.05)}) {
+    json body = plan_body("multi_notch");
+    body["sample_period_s"] = period;
+    const auto r = post(c, "/v1/plans", body);
+    ASSERT_TRUE(r);
+    ASSERT_EQ(r->status, 200);
+    const json plan = parse(r->body);
+    if (period.is_null()) {
+      EXPECT_FALSE(plan.contains("series"));
+    } else {
+      const double dt = period.get<double>();
+      ASSERT_TRUE(plan.contains("series"));
+      EXPECT_EQ(plan["series"]["t_s"].size(), static_cast<std::size_t>(2.0 / dt + 1.5));
+      EXPECT_DOUBLE_EQ(plan["series"]["t_s"][1].get<double>(), dt);
+    }
+    etags.push_back(r->get_header_value("ETag"));
+  }
+  EXPECT_NE(etags[0], etags[1]);
+  EXPECT_NE(etags[1], etags[2]);
+  EXPECT_NE(etags[0], etags[2]);
+  EXPECT_EQ(etags[0], etags[3]);
+  // A conditional request with the ETag of another body is answered in full.
+  httplib::Headers inm{{"If-None-Match", etags[1]}};
+  json with_series = plan_body("multi_notch");
+  with_series["sample_period_s"] = 0.05;
+  const auto r = c.Post("/v1/plans", inm, with_series.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 200);
+  httplib::Headers same{{"If-None-Match", etags[0]}};
+  const auto not_modified = c.Post("/v1/plans", same, with_series.dump(), "application/json");
+  ASSERT_TRUE(not_modified);
+  EXPECT_EQ(not_modified->status, 304);
+}
+
+// Item 8 (the request side): in-range-looking input that gave a 500 or null numbers.
+TEST(Hardening, DegenerateNumbersAreRejectedNamingTheField) {
+  Server server;
+  httplib::Client c = server.client();
+  json stroke = plan_body("baseline");
+  stroke["format"]["stroke_mm"] = 5e-324;
+  const auto r = post(c, "/v1/plans", stroke);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 422);
+  EXPECT_EQ(parse(r->body)["error"]["field"], "format.stroke_mm");
+  json fill = plan_body("baseline");
+  fill["format"]["fill_height_mm"] = 0.05;
+  const auto f = post(c, "/v1/plans", fill);
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->status, 422);
+  EXPECT_EQ(parse(f->body)["error"]["field"], "format.fill_height_mm");
+  // A harmonic of 1e-200 rad/s integrates to NaN: it passed the rest check and gave null series.
+  json sim = json::parse(R"({"format": {"container": {"radius_mm": 48.5}, "fill_height_mm": 82,
+      "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
+      "law": {"type": "piecewise", "pieces": [{"t_begin_s": 0, "t_end_s": 1, "a_poly": [0],
+              "harmonic": {"cos": 0, "sin": 1, "omega_rad_s": 1e-200}}]},
+      "sample_period_s": 0.01})");
+  const auto s = post(c, "/v1/simulate", sim);
+  ASSERT_TRUE(s);
+  EXPECT_EQ(s->status, 422);
+  EXPECT_EQ(parse(s->body)["error"]["message"],
+            "law.pieces[0].harmonic.omega_rad_s = 1e-200 is out of range: allowed 0 (no "
+            "harmonic) or 0.001 to 1e+09 rad/s");
+}
+
+// Item 9: a second instance on a busy port started silently and took half of the connections.
+TEST(Hardening, ASecondServerOnABusyPortFailsToStart) {
+  Server first;
+  const TempDir dir;
+  const test::RunResult second =
+      test::run_slosh({"serve", "--host", "127.0.0.1", "--port", std::to_string(first.port()),
+                       "--cache", (dir / "other.sqlite").string()});
+  EXPECT_EQ(second.exit_code, 1);
+  EXPECT_NE((second.out + second.err).find("cannot bind 127.0.0.1:" + std::to_string(first.port())),
+            std::string::npos)
+      << second.out << second.err;
+}
+
+// Item 10: framework answers in the envelope with their own codes; 405 with Allow; the caller's
+// request id kept; X-Cache only where a cache was asked.
+TEST(Hardening, FrameworkAnswersAreHonest) {
+  Server server;
+  httplib::Client c = server.client();
+  const auto get_plans = c.Get("/v1/plans");
+  ASSERT_TRUE(get_plans);
+  EXPECT_EQ(get_plans->status, 405);
+  EXPECT_EQ(get_plans->get_header_value("Allow"), "POST");
+  EXPECT_EQ(parse(get_plans->body)["error"]["code"], "method_not_allowed");
+  const auto post_health = c.Post("/healthz", "{}", "application/json");
+  ASSERT_TRUE(post_health);
+  EXPECT_EQ(post_health->status, 405);
+  EXPECT_EQ(post_health->get_header_value("Allow"), "GET, HEAD");
+  const auto missing = c.Get("/nowhere");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+  EXPECT_EQ(parse(missing->body)["error"]["code"], "not_found");
+
+  const auto long_uri = c.Get(("/" + std::string(9000, 'a')).c_str());
+  ASSERT_TRUE(long_uri);
+  EXPECT_EQ(long_uri->status, 414);
+  EXPECT_EQ(parse(long_uri->body)["error"]["code"], "uri_too_long");
+
+  Raw raw(server.port());
+  raw.send("FOO /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+  const std::string foo = raw.read_all();
+  EXPECT_EQ(foo.rfind("HTTP/1.1 501", 0), 0u) << foo;
+  EXPECT_NE(foo.find(R"("code":"not_implemented")"), std::string::npos) << foo;
+
+  const auto bad_range = c.Get("/healthz", {{"Range", "bytes=zzz"}});
+  ASSERT_TRUE(bad_range);
+  EXPECT_EQ(bad_range->status, 416);
+  EXPECT_EQ(parse(bad_range->body)["error"]["code"], "range_not_satisfiable");
+  const auto range = c.Get("/healthz", {{"Range", "bytes=100000-"}});
+  ASSERT_TRUE(range);
+  EXPECT_EQ(range->status, 200);  // whole bodies only
+  EXPECT_EQ(parse(range->body)["status"], "ok");
+
+  const auto id = c.Get("/healthz", {{"X-Request-Id", "line-7/hmi-42"}});
+  ASSERT_TRUE(id);
+  EXPECT_EQ(id->get_header_value("X-Request-Id"), "line-7/hmi-42");
+  const auto generated = c.Get("/healthz", {{"X-Request-Id", std::string(300, 'x')}});
+  ASSERT_TRUE(generated);
+  EXPECT_FALSE(generated->get_header_value("X-Request-Id").empty());
+  EXPECT_NE(generated->get_header_value("X-Request-Id"), std::string(300, 'x'));
+
+  for (const char* path : {"/healthz", "/metrics", "/readyz", "/v1/fluids"}) {
+    const auto r = c.Get(path);
+    ASSERT_TRUE(r);
+    EXPECT_FALSE(r->has_header("X-Cache")) << path;
+  }
+}
+
+// Item 10: cache misses counted 404s of GET /v1/plans/{key} and single-flight joiners.
+TEST(Hardening, CacheMissesCountSolvesOnly) {
+  Server server({"--workers", "2"});
+  httplib::Client c = server.client();
+  ASSERT_TRUE(c.Get("/v1/plans/0123456789abcdef0123456789abcdef"));
+  std::vector<std::future<int>> same;
+  for (int i = 0; i < 6; ++i) {
+    same.push_back(std::async(std::launch::async, [&server] {
+      httplib::Client k = server.client();
+      const auto r = post(k, "/v1/plans", plan_body("time_domain", 777));
+      return r ? r->status : -1;
+    }));
+  }
+  for (auto& f : same) EXPECT_EQ(f.get(), 200);
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  const std::string& text = metrics->body;
+  auto value = [&text](const std::string& name) {
+    const auto at = text.find("\n" + name + " ");
+    return at == std::string::npos ? -1.0 : std::stod(text.substr(at + name.size() + 2));
+  };
+  EXPECT_EQ(value("slosh_cache_misses_total"), 1.0);
+  EXPECT_EQ(value("slosh_cache_hits_total") + value("slosh_singleflight_joins_total"), 5.0);
+}
+
+// Item 10: the start-up line reported "workers 0" (the setting) while /readyz said 2.
+TEST(Hardening, TheLogNamesTheWorkersThatRun) {
+  Server server;
+  httplib::Client c = server.client();
+  const auto ready = c.Get("/readyz");
+  ASSERT_TRUE(ready);
+  const int workers = parse(ready->body)["workers"];
+  EXPECT_GE(workers, 1);
+  EXPECT_NE(server.log().find("(workers " + std::to_string(workers) + ","), std::string::npos)
+      << server.log();
+}
+
+// Item 10: a plan store that cannot be written is logged and turns /readyz to 503 (the service
+// still answers, from memory).
+TEST(Hardening, AnUnwritableStoreIsLoggedAndNotReady) {
+  const TempDir dir;
+  write_file(dir / "plans.sqlite", std::string(4096, 'x'));  // the fixture's cache file
+  Server server({}, &dir);
+  httplib::Client c = server.client();
+  const auto ready = c.Get("/readyz");
+  ASSERT_TRUE(ready);
+  EXPECT_EQ(ready->status, 503);
+  const json body = parse(ready->body);
+  EXPECT_EQ(body["status"], "degraded");
+  EXPECT_NE(body["reason"].get<std::string>().find("file is not a database"), std::string::npos);
+  const auto plan = post(c, "/v1/plans", plan_body("baseline"));
+  ASSERT_TRUE(plan);
+  EXPECT_EQ(plan->status, 200);
+  EXPECT_NE(server.log().find("file is not a database"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace slosh
