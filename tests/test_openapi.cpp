@@ -215,10 +215,10 @@ TEST(OpenApiDocument, DescribesEveryEndpointWithItsStatuses) {
     std::vector<std::string> statuses;
   };
   const std::vector<Endpoint> endpoints = {
-      {"/v1/plans", "post", {"200", "400", "413", "422", "503", "504"}},
+      {"/v1/plans", "post", {"200", "400", "408", "413", "415", "422", "503", "504"}},
       {"/v1/plans/{key}", "get", {"200", "404"}},
-      {"/v1/plans/batch", "post", {"200", "400", "413", "422"}},
-      {"/v1/simulate", "post", {"200", "400", "413", "422"}},
+      {"/v1/plans/batch", "post", {"200", "400", "408", "413", "415", "422"}},
+      {"/v1/simulate", "post", {"200", "400", "408", "413", "415", "422"}},
       {"/v1/fluids", "get", {"200"}},
       {"/v1/openapi.json", "get", {"200"}},
       {"/healthz", "get", {"200"}},

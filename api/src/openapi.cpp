@@ -673,11 +673,17 @@ void add_service_schemas(json& s) {
                         {"version", text("Service version.")}},
                        {"status", "version"}, "", false);
   s["Readiness"] = object(
-      {{"status", string_enum({"ready", "stopping"}, "ready, or stopping during shutdown.")},
+      {{"status", string_enum({"ready", "stopping", "stalled", "degraded"},
+                              "ready (200); stopping during shutdown, stalled when the solve pool "
+                              "has work but finished nothing for max(30 s, 3 solve budgets), "
+                              "degraded when the plan store cannot be written (503).")},
+       {"reason", text("Why the service is stalled or degraded.")},
        {"workers", integer("Solve workers.")},
+       {"busy_workers", integer("Workers running a solve.")},
        {"queue_depth", integer("Solves waiting for a worker.")},
        {"cache", object({{"persistent", boolean("The persistent store is in use.")},
                          {"memory_entries", integer("Plans in the in-memory LRU.")},
+                         {"memory_bytes", integer("Bytes of keys and plans in the LRU.")},
                          {"storage_error", text("Why the persistent store is unavailable.")}},
                         {"persistent", "memory_entries"}, "", false)}},
       {"status", "workers", "queue_depth", "cache"}, "", false);
@@ -701,7 +707,14 @@ json responses_component() {
   overloaded["headers"] = {
       {"Retry-After",
        {{"description", "Seconds to wait before retrying."}, {"schema", {{"type", "integer"}}}}}};
-  return {{"BadRequest", error_response("Malformed JSON (code malformed_json).")},
+  return {{"BadRequest", error_response("Malformed JSON, also nested deeper than 64 levels (code "
+                                        "malformed_json), or not HTTP (code bad_request).")},
+          {"UnsupportedMediaType",
+           error_response("The body is declared as something other than JSON (code "
+                          "unsupported_media_type): send Content-Type: application/json.")},
+          {"RequestTimeout",
+           error_response("The body did not arrive within the server's request_timeout_s (code "
+                          "request_timeout).")},
           {"NotFound", error_response("Not found (code not_found).")},
           {"PayloadTooLarge", error_response("The body exceeds the server's max_body_bytes (code "
                                              "payload_too_large).")},
@@ -747,7 +760,9 @@ json paths() {
        {{"200", plan_ok()},
         {"304", response_ref("NotModified")},
         {"400", response_ref("BadRequest")},
+        {"408", response_ref("RequestTimeout")},
         {"413", response_ref("PayloadTooLarge")},
+        {"415", response_ref("UnsupportedMediaType")},
         {"422", response_ref("InvalidValue")},
         {"500", response_ref("Internal")},
         {"503", response_ref("Overloaded")},
@@ -779,7 +794,9 @@ json paths() {
       {"responses",
        {{"200", json_response("One result per request, in order.", ref("BatchResponse"))},
         {"400", response_ref("BadRequest")},
+        {"408", response_ref("RequestTimeout")},
         {"413", response_ref("PayloadTooLarge")},
+        {"415", response_ref("UnsupportedMediaType")},
         {"422", response_ref("InvalidValue")},
         {"500", response_ref("Internal")}}}};
   p["/v1/simulate"]["post"] = {{"operationId", "simulate"},
@@ -789,7 +806,9 @@ json paths() {
                                {"responses",
                                 {{"200", json_response("The response.", ref("SimulateResponse"))},
                                  {"400", response_ref("BadRequest")},
+                                 {"408", response_ref("RequestTimeout")},
                                  {"413", response_ref("PayloadTooLarge")},
+                                 {"415", response_ref("UnsupportedMediaType")},
                                  {"422", response_ref("InvalidValue")},
                                  {"500", response_ref("Internal")}}}};
   p["/v1/fluids"]["get"] = {{"operationId", "listFluids"},
@@ -817,7 +836,10 @@ json paths() {
       {"summary", "Readiness: accepts new solves"},
       {"responses",
        {{"200", json_response("Ready.", ref("Readiness"))},
-        {"503", json_response("Not ready (shutting down).", ref("Readiness"))}}}};
+        {"503", json_response("Not ready: status stopping (shutting down), stalled (the solve pool "
+                              "finishes nothing) or degraded (the plan store cannot be written; "
+                              "plans are answered from memory), with a reason.",
+                              ref("Readiness"))}}}};
   p["/metrics"]["get"] = {
       {"operationId", "metrics"},
       {"tags", {"operations"}},
