@@ -412,13 +412,17 @@ TEST(Hardening, DegenerateNumbersAreRejectedNamingTheField) {
 TEST(Hardening, ASecondServerOnABusyPortFailsToStart) {
   Server first;
   const TempDir dir;
-  const test::RunResult second =
-      test::run_slosh({"serve", "--host", "127.0.0.1", "--port", std::to_string(first.port()),
-                       "--cache", (dir / "other.sqlite").string()});
-  EXPECT_EQ(second.exit_code, 1);
-  EXPECT_NE((second.out + second.err).find("cannot bind 127.0.0.1:" + std::to_string(first.port())),
-            std::string::npos)
-      << second.out << second.err;
+  write_file(dir / "stdin", "");
+  test::Child second(
+      test::spawn({"serve", "--host", "127.0.0.1", "--port", std::to_string(first.port()),
+                   "--cache", (dir / "other.sqlite").string()},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  const std::optional<int> code = second.wait_for(std::chrono::seconds(10));
+  ASSERT_TRUE(code.has_value()) << "the second server started on a busy port";
+  EXPECT_EQ(*code, 1);
+  const std::string log = read_file(dir / "stdout") + read_file(dir / "stderr");
+  EXPECT_NE(log.find("cannot bind 127.0.0.1:" + std::to_string(first.port())), std::string::npos)
+      << log;
 }
 
 // Item 10: framework answers in the envelope with their own codes; 405 with Allow; the caller's
