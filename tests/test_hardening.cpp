@@ -21,6 +21,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/error.hpp"
+#include "slosh/api/simulate.hpp"
 #include "support/process.hpp"
 #include "support/server.hpp"
 
@@ -533,6 +535,38 @@ TEST(Hardening, AnUnwritableStoreIsLoggedAndNotReady) {
   ASSERT_TRUE(plan);
   EXPECT_EQ(plan->status, 200);
   EXPECT_NE(server.log().find("file is not a database"), std::string::npos);
+}
+
+// Found by the fuzzer: a NUL in an unknown key cut the message short (what() is a C string).
+TEST(Hardening, ANulInAKeyIsQuotedNotTruncating) {
+  try {
+    (void)api::parse_simulate_request(api::parse_json_body(R"({"\u0000":1})"));
+    ADD_FAILURE() << "accepted";
+  } catch (const api::ApiError& e) {
+    EXPECT_EQ(std::string(e.what()),
+              "\\u0000 is not a known field; allowed here: format, law, rest_time_s, "
+              "sample_period_s, options");
+    EXPECT_EQ(e.field(), std::string(1, '\0'));
+  }
+}
+
+// Found by the fuzzer: breakpoints 5e-324 s apart made the slope infinite and the law NaN.
+TEST(Hardening, BreakpointsAtLeastOneNanosecondApart) {
+  const json body = json::parse(R"({"format": {"container": {"radius_mm": 48.5},
+      "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1},
+      "law": {"type": "piecewise_linear", "breakpoints_s": [0, 5e-324, 1e-323, 1],
+              "acceleration_m_s2": [0, 1, 0, 0]}})");
+  try {
+    (void)api::parse_simulate_request(body);
+    ADD_FAILURE() << "accepted";
+  } catch (const api::ApiError& e) {
+    EXPECT_EQ(e.field(), "law.breakpoints_s[1]");
+    EXPECT_EQ(std::string(e.what()).rfind("law.breakpoints_s[1] = 4.940656458e-324 is out of "
+                                          "range: allowed 1e-09 to ",
+                                          0),
+              0u)
+        << e.what();
+  }
 }
 
 }  // namespace

@@ -20,6 +20,9 @@ const Range kAcceleration{-kMaxLawAcceleration, kMaxLawAcceleration, "m/s^2"};
 const Range kCoefficient{-1e30, 1e30, ""};
 const Range kHarmonicOmega{0.0, 1e9, "rad/s"};
 constexpr double kMinHarmonicOmega{1e-3};  // rad/s, when not 0
+// Shortest piece [s]: the slope between two breakpoints is their difference over it (a
+// subnormal duration made it infinite).
+constexpr double kMinPieceDuration{1e-9};
 
 LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
   const std::string tpath = join_path(path, "type");
@@ -114,7 +117,7 @@ MotionLaw parse_piecewise_linear(const nlohmann::json& law, const std::string& p
     } else {
       // The last one is the motion time; every one is strictly after the previous one.
       if (k + 1 == n && b[k].is_number()) check_end(b[k].get<double>(), field, motion_time);
-      t[k] = checked_number(&b[k], field, Range{t[k - 1], end, "s", true});
+      t[k] = checked_number(&b[k], field, Range{t[k - 1] + kMinPieceDuration, end, "s"});
     }
     acc[k] = checked_number(&a[k], apath + "[" + std::to_string(k) + "]", kAcceleration);
   }
@@ -145,8 +148,9 @@ MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, do
         required_number(item, at, "t_begin_s",
                         Range{expected - kPieceGapTolerance, expected + kPieceGapTolerance, "s"});
     p.t_begin = expected;  // snapped: the pieces are contiguous
-    p.t_end = required_number(item, at, "t_end_s",
-                              Range{p.t_begin, motion_time + kLawEndTolerance, "s", true});
+    p.t_end =
+        required_number(item, at, "t_end_s",
+                        Range{p.t_begin + kMinPieceDuration, motion_time + kLawEndTolerance, "s"});
     const std::string cpath = join_path(at, "a_poly");
     auto c = item.find("a_poly");
     if (c == item.end() || !c->is_array() || c->empty() || c->size() > 4) {

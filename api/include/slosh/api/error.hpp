@@ -26,12 +26,27 @@ enum class ErrorCode {
 class ApiError : public std::runtime_error {
  public:
   ApiError(ErrorCode code, std::string field, const std::string& message)
-      : std::runtime_error(message), code_(code), field_(std::move(field)) {}
+      : std::runtime_error(printable(message)), code_(code), field_(std::move(field)) {}
   [[nodiscard]] ErrorCode code() const { return code_; }
   [[nodiscard]] const std::string& field() const { return field_; }
   [[nodiscard]] int status() const { return http_status(code_); }
 
  private:
+  // what() is a C string: a NUL quoted from the request (e.g. in an unknown key) would cut the
+  // message short, so it is written as \u0000.
+  static std::string printable(const std::string& message) {
+    std::string out;
+    out.reserve(message.size());
+    for (const char c : message) {
+      if (c == '\0') {
+        out += "\\u0000";
+      } else {
+        out += c;
+      }
+    }
+    return out;
+  }
+
   ErrorCode code_;
   std::string field_;
 };
