@@ -16,6 +16,7 @@
 #include <fstream>
 #include <functional>
 #include <memory>
+#include <optional>
 #include <regex>
 #include <thread>
 #include <vector>
@@ -23,6 +24,7 @@
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
 #include "plan_service.hpp"
+#include "slosh/api/fields.hpp"
 #include "version.hpp"
 
 namespace slosh::service {
@@ -136,6 +138,63 @@ std::string framework_message(int status) {
   }
 }
 
+// A handler's reply, with every exception turned into the 500 envelope.
+template <typename Handler>
+Reply guarded(Handler&& handler) {
+  try {
+    return handler();
+  } catch (const std::exception& e) {
+    return PlanService::error_reply(500, "internal", e.what());
+  } catch (...) {
+    return PlanService::error_reply(500, "internal", "unknown error");
+  }
+}
+
+// The body of a POST, read here rather than by the library: the body limit holds for every
+// transfer encoding (a chunked body is cut off at the limit, where the library reads it whole), it
+// must arrive within the request timeout, and a body declared as something other than JSON is
+// refused as such. nullopt with `error` set when the body is refused.
+std::optional<std::string> read_body(const httplib::Request& req,
+                                     const httplib::ContentReader& reader,
+                                     const ServerConfig& config, Reply& error) {
+  const std::string type = req.get_header_value("Content-Type");
+  if (!json_content_type(type)) {
+    error = PlanService::error_reply(
+        415, "unsupported_media_type",
+        "the body is declared as '" + type.substr(0, 80) +
+            "'; send the JSON request with Content-Type: application/json");
+    return std::nullopt;
+  }
+  std::string body;
+  bool too_large = false;
+  bool too_slow = false;
+  const auto deadline = std::chrono::steady_clock::now() +
+                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                            std::chrono::duration<double>(config.request_timeout_s));
+  const bool complete = reader([&](const char* data, std::size_t length) {
+    too_large = body.size() + length > config.max_body_bytes;
+    too_slow = std::chrono::steady_clock::now() > deadline;
+    if (too_large || too_slow) return false;
+    body.append(data, length);
+    return true;
+  });
+  if (too_large) {
+    error = PlanService::error_reply(
+        413, "payload_too_large",
+        "the body is larger than the limit of " + std::to_string(config.max_body_bytes) + " bytes");
+  } else if (too_slow) {
+    error = PlanService::error_reply(
+        408, "request_timeout",
+        "the body did not arrive within " + api::number_text(config.request_timeout_s) + " s");
+  } else if (!complete) {
+    error = PlanService::error_reply(
+        400, "bad_request", "the body could not be read (connection closed or invalid chunks)");
+  } else {
+    return body;
+  }
+  return std::nullopt;
+}
+
 timeval to_timeval(double seconds) {
   const double whole = std::floor(seconds);
   return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
@@ -192,73 +251,22 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   auto route = [&service](std::string label, auto handler) {
     return [&service, label = std::move(label), handler](const httplib::Request& req,
                                                          httplib::Response& res) {
-      Reply reply;
-      try {
-        reply = handler(req);
-      } catch (const std::exception& e) {
-        reply = PlanService::error_reply(500, "internal", e.what());
-      } catch (...) {
-        reply = PlanService::error_reply(500, "internal", "unknown error");
-      }
+      const Reply reply = guarded([&] { return handler(req); });
       send(reply, res);
       service.metrics().count_request(label, reply.status);
     };
   };
-  // POST bodies are read here, not by the library: the body limit holds for every transfer
-  // encoding (a chunked body is cut off at the limit), a body must arrive within the request
-  // timeout, and a body that declares itself as something other than JSON is refused as such.
+  // POST handlers read their bodies themselves (read_body).
   auto with_body = [&service, &config](
                        std::string label,
                        std::function<Reply(const httplib::Request&, const std::string&)> handler) {
     return [&service, &config, label, handler](const httplib::Request& req, httplib::Response& res,
                                                const httplib::ContentReader& reader) {
       Reply reply;
-      const std::string type = req.get_header_value("Content-Type");
-      if (!json_content_type(type)) {
-        reply = PlanService::error_reply(
-            415, "unsupported_media_type",
-            "the body is declared as '" + type.substr(0, 80) +
-                "'; send the JSON request with Content-Type: application/json");
-        // Drain nothing: the connection is closed instead of reading a body of another kind.
-        reader([](const char*, std::size_t) { return false; });
-        res.set_header("Connection", "close");
+      if (const std::optional<std::string> body = read_body(req, reader, config, reply)) {
+        reply = guarded([&] { return handler(req, *body); });
       } else {
-        std::string body;
-        bool too_large = false;
-        bool too_slow = false;
-        const auto deadline = std::chrono::steady_clock::now() +
-                              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                                  std::chrono::duration<double>(config.request_timeout_s));
-        const bool complete = reader([&](const char* data, std::size_t length) {
-          if (body.size() + length > config.max_body_bytes) return !(too_large = true);
-          if (std::chrono::steady_clock::now() > deadline) return !(too_slow = true);
-          body.append(data, length);
-          return true;
-        });
-        if (too_large) {
-          reply = PlanService::error_reply(413, "payload_too_large",
-                                           "the body is larger than the limit of " +
-                                               std::to_string(config.max_body_bytes) + " bytes");
-        } else if (too_slow) {
-          reply = PlanService::error_reply(
-              408, "request_timeout",
-              "the body did not arrive within " + std::to_string(config.request_timeout_s) + " s");
-        } else if (!complete) {
-          reply = PlanService::error_reply(400, "bad_request",
-                                           "the body could not be read (connection closed or "
-                                           "invalid chunked encoding)");
-        }
-        if (reply.status != 200) {
-          res.set_header("Connection", "close");
-        } else {
-          try {
-            reply = handler(req, body);
-          } catch (const std::exception& e) {
-            reply = PlanService::error_reply(500, "internal", e.what());
-          } catch (...) {
-            reply = PlanService::error_reply(500, "internal", "unknown error");
-          }
-        }
+        res.set_header("Connection", "close");  // the rest of the body is not read
       }
       send(reply, res);
       service.metrics().count_request(label, reply.status);
