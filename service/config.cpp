@@ -96,6 +96,11 @@ const std::vector<Setting>& settings() {
          c.batch_max =
              static_cast<std::size_t>(parse_integer(where, text, 1, 100000, "a batch size"));
        }},
+      {"max_response_bytes", "SLOSH_MAX_RESPONSE_BYTES",
+       [](const std::string& where, const std::string& text, ServerConfig& c) {
+         c.max_response_bytes = static_cast<std::size_t>(
+             parse_integer(where, text, 1 << 20, 1LL << 40, "a response size in bytes"));
+       }},
       {"http_threads", "SLOSH_HTTP_THREADS",
        [](const std::string& where, const std::string& text, ServerConfig& c) {
          c.http_threads =

@@ -103,7 +103,7 @@ void ConnectionReaper::watch() {
   }
 }
 
-void ConnectionReaper::scan() {
+std::map<int, std::string> ConnectionReaper::connections() const {
   std::map<int, std::string> live;
   if (DIR* dir = opendir("/proc/self/fd")) {
     while (const dirent* entry = readdir(dir)) {
@@ -116,6 +116,21 @@ void ConnectionReaper::scan() {
     }
     closedir(dir);
   }
+  return live;
+}
+
+bool ConnectionReaper::closed_by_peer(const std::string& peer) const {
+  for (const auto& [fd, name] : connections()) {
+    if (name != peer) continue;
+    char byte = 0;
+    // 0: the peer sent its FIN (nothing more will come); -1 with EAGAIN: still connected.
+    return ::recv(fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) == 0;
+  }
+  return true;  // its socket is gone
+}
+
+void ConnectionReaper::scan() {
+  const std::map<int, std::string> live = connections();
   const Clock::time_point now = Clock::now();
   std::lock_guard lock(mutex_);
   for (auto it = connections_.begin(); it != connections_.end();) {

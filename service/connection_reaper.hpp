@@ -33,6 +33,9 @@ class ConnectionReaper {
   void begin_request(const std::string& peer);
   /// The answer to `peer` was written: its next request is due within the deadline.
   void end_request(const std::string& peer);
+  /// Whether the client `peer` has closed its side of the connection (or the connection is gone):
+  /// work queued for it can stop. One listing of the process's descriptors.
+  [[nodiscard]] bool closed_by_peer(const std::string& peer) const;
   /// From now on every connection that is not being answered is closed at once (shutdown).
   void close_idle_now();
 
@@ -47,6 +50,8 @@ class ConnectionReaper {
   };
   void watch();
   void scan();
+  // Every TCP connection of the process accepted on port_: descriptor -> peer.
+  [[nodiscard]] std::map<int, std::string> connections() const;
 
   const int port_;
   const Clock::duration deadline_;

@@ -3,6 +3,7 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
+#include <malloc.h>
 #include <netinet/in.h>
 #include <pthread.h>
 #include <sys/socket.h>
@@ -44,7 +45,8 @@ bool write_port_file(const std::string& path, int port) {
 }
 
 // Per-request bookkeeping between the pre-routing hook and the logger (same thread).
-thread_local std::chrono::steady_clock::time_point request_start;
+// Unset for what the library answers before routing (a malformed request line or header).
+thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 std::atomic<std::uint64_t> request_counter{0};
 
 void send(const Reply& reply, httplib::Response& res) {
@@ -78,10 +80,9 @@ bool json_content_type(const std::string& value) {
          (type.starts_with("application/") && type.ends_with("+json"));
 }
 
-// The methods of HTTP (RFC 9110); the library answers others with a bare 400.
+// The methods the HTTP library routes; it answers any other with a bare 400.
 bool known_method(const std::string& method) {
-  for (const char* m :
-       {"GET", "HEAD", "POST", "PUT", "DELETE", "CONNECT", "OPTIONS", "TRACE", "PATCH"}) {
+  for (const char* m : {"GET", "HEAD", "POST", "PUT", "DELETE", "OPTIONS", "PATCH"}) {
     if (method == m) return true;
   }
   return false;
@@ -166,6 +167,12 @@ std::optional<std::string> read_body(const httplib::Request& req,
     return std::nullopt;
   }
   std::string body;
+  // A request has a body only with Content-Length or chunked transfer coding (RFC 9112 6.3); the
+  // library would otherwise read "until the connection closes" and hold the thread.
+  if (!req.has_header("Content-Length") &&
+      req.get_header_value("Transfer-Encoding").find("chunked") == std::string::npos) {
+    return body;
+  }
   bool too_large = false;
   bool too_slow = false;
   const auto deadline = std::chrono::steady_clock::now() +
@@ -220,6 +227,9 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   sigaddset(&stop_signals, SIGINT);
   sigaddset(&stop_signals, SIGTERM);
   pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
+  // At most 4 malloc arenas (glibc's default is 8 per core, and up to 256 connection threads each
+  // grabbing one fragments the heap); freed memory is trimmed by the signal waiter.
+  mallopt(M_ARENA_MAX, 4);
 
   PlanService service(config);
   if (const std::string error = service.cache().storage_error(); !error.empty()) {
@@ -262,12 +272,16 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                        std::function<Reply(const httplib::Request&, const std::string&)> handler) {
     return [&service, &config, label, handler](const httplib::Request& req, httplib::Response& res,
                                                const httplib::ContentReader& reader) {
-      Reply reply;
-      if (const std::optional<std::string> body = read_body(req, reader, config, reply)) {
-        reply = guarded([&] { return handler(req, *body); });
-      } else {
-        res.set_header("Connection", "close");  // the rest of the body is not read
-      }
+      bool refused = false;
+      const Reply reply = guarded([&] {
+        Reply error;
+        if (const std::optional<std::string> body = read_body(req, reader, config, error)) {
+          return handler(req, *body);
+        }
+        refused = true;
+        return error;
+      });
+      if (refused) res.set_header("Connection", "close");  // the rest of the body is not read
       send(reply, res);
       service.metrics().count_request(label, reply.status);
     };
@@ -284,7 +298,19 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     return service.post_plan(body, req.get_header_value("If-None-Match"));
   });
   post("/v1/plans/batch", "/v1/plans/batch",
-       [&](const httplib::Request&, const std::string& body) { return service.post_batch(body); });
+       [&](const httplib::Request& req, const std::string& body) {
+         // A client that hangs up gets no more solves queued (checked at most every 0.2 s).
+         auto next_check = std::chrono::steady_clock::now();
+         bool gone = false;
+         const std::string peer = peer_of(req);
+         return service.post_batch(body, [&]() {
+           if (!gone && reaper && std::chrono::steady_clock::now() >= next_check) {
+             gone = reaper->closed_by_peer(peer);
+             next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+           }
+           return gone;
+         });
+       });
   get(R"(/v1/plans/([^/]+))", "/v1/plans/{key}", [&](const httplib::Request& req) {
     return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));
   });
@@ -301,7 +327,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   // Errors the framework answers itself (unknown route, wrong method, bad request line, bad
   // Range) get the same envelope.
   const httplib::Server::HandlerWithResponse on_error =
-      [&service, &endpoints](const httplib::Request& req, httplib::Response& res) {
+      [&service, &endpoints, &config](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
         // This service answers whole bodies: a Range of the request never cuts the envelope.
         const_cast<httplib::Request&>(req).ranges.clear();
@@ -324,6 +350,15 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                                              "no endpoint " + req.method.substr(0, 16) + " " +
                                                  req.path.substr(0, 80) + "; see /v1/openapi.json");
           }
+        } else if (res.status == 413) {
+          reply = PlanService::error_reply(413, "payload_too_large",
+                                           "the body is larger than the limit of " +
+                                               std::to_string(config.max_body_bytes) + " bytes");
+        } else if (res.status == 415) {
+          reply = PlanService::error_reply(
+              415, "unsupported_media_type",
+              "the body is declared as '" + req.get_header_value("Content-Type").substr(0, 80) +
+                  "'; send the JSON request with Content-Type: application/json");
         } else if (res.status == 400 && !req.method.empty() && !known_method(req.method)) {
           reply = PlanService::error_reply(501, "not_implemented",
                                            "the method " + req.method.substr(0, 16) +
@@ -338,6 +373,21 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
         return httplib::Server::HandlerResponse::Handled;
       };
   server.set_error_handler(on_error);
+  // "Expect: 100-continue": a body that would be refused is refused before it is sent.
+  server.set_expect_100_continue_handler(
+      [&config](const httplib::Request& req, httplib::Response& res) {
+        const std::string length = req.get_header_value("Content-Length");
+        const bool digits = !length.empty() && length.size() <= 18 &&
+                            length.find_first_not_of("0123456789") == std::string::npos;
+        if (!json_content_type(req.get_header_value("Content-Type"))) {
+          res.status = 415;
+        } else if (!length.empty() && (!digits || std::stoull(length) > config.max_body_bytes)) {
+          res.status = 413;
+        } else {
+          res.status = 100;
+        }
+        return res.status;
+      });
   server.set_exception_handler(
       [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
         std::string what = "unknown error";
@@ -359,10 +409,13 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   });
   server.set_logger([&reaper](const httplib::Request& req, const httplib::Response& res) {
     if (reaper) reaper->end_request(peer_of(req));
-    const double ms =
-        std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - request_start)
-            .count();
-    spdlog::info("request id={} method={} path={} status={} cache={} ms={:.3f} bytes={}",
+    const std::string ms =
+        request_start ? fmt::format("{:.3f}", std::chrono::duration<double, std::milli>(
+                                                  std::chrono::steady_clock::now() - *request_start)
+                                                  .count())
+                      : "-";
+    request_start.reset();
+    spdlog::info("request id={} method={} path={} status={} cache={} ms={} bytes={}",
                  res.get_header_value("X-Request-Id"), req.method.substr(0, 16),
                  req.path.substr(0, 200), res.status,
                  res.has_header("X-Cache") ? res.get_header_value("X-Cache") : "-", ms,
@@ -387,8 +440,14 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
           std::chrono::duration<double>(config.keep_alive_timeout_s + config.request_timeout_s)));
   std::atomic<bool> finished{false};
   std::thread waiter([&] {
-    int signal_number = 0;
-    sigwait(&stop_signals, &signal_number);
+    int signal_number = -1;
+    while (signal_number < 0) {
+      // While waiting, give freed memory back to the system every few seconds: a large batch
+      // response or series leaves glibc's arenas holding hundreds of MB otherwise.
+      const timespec period{5, 0};
+      signal_number = sigtimedwait(&stop_signals, nullptr, &period);
+      if (signal_number < 0) malloc_trim(0);
+    }
     if (finished) return;
     spdlog::info("signal {} received: finishing the requests in flight, then stopping",
                  signal_number);

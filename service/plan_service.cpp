@@ -37,6 +37,23 @@ std::string etag(const std::string& key) {
   return "\"" + key + "\"";
 }
 
+// Whether an If-None-Match header names `tag`: "*", or a list of tags compared weakly (RFC 9110
+// 13.1.2: W/"x" matches "x").
+bool etag_matches(const std::string& header, const std::string& tag) {
+  std::size_t at = 0;
+  while (at < header.size()) {
+    std::size_t end = header.find(',', at);
+    if (end == std::string::npos) end = header.size();
+    std::string item = header.substr(at, end - at);
+    item.erase(0, item.find_first_not_of(" \t"));
+    item.erase(item.find_last_not_of(" \t") + 1);
+    if (item.rfind("W/", 0) == 0) item.erase(0, 2);
+    if (item == "*" || item == tag) return true;
+    at = end + 1;
+  }
+  return false;
+}
+
 // The cached form of a rendered plan: "cached": false becomes true (the first occurrence is the
 // top-level member: dump() sorts keys and no nested object carries one).
 std::string as_cached(std::string body) {
@@ -118,7 +135,7 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
       sample_period ? etag(key + ";series=" + api::number_text(*sample_period)) : etag(key);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
-  if (cached && if_none_match == tag) {
+  if (cached && etag_matches(if_none_match, tag)) {
     r.status = 304;
     return r;
   }
@@ -139,51 +156,61 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
   *refused = false;
   auto promise = std::make_shared<std::promise<Outcome>>();
   std::shared_future<Outcome> future = promise->get_future().share();
+  const double budget = request.options.time_limit;
+  std::uint64_t flight = 0;
   {
-    // Single flight: a request for a recipe already being solved waits for that solve. The lock
-    // covers only the map, never the queueing below (workers take it to finish their task).
+    // Single flight: a request for a recipe already being solved with at least its budget waits
+    // for that solve (a larger budget is another answer: it solves on its own). The lock covers
+    // only the map, never the queueing below (workers take it to finish their task).
     std::lock_guard lock(inflight_mutex_);
-    if (auto it = inflight_.find(key); it != inflight_.end()) {
+    if (auto it = inflight_.find(key); it != inflight_.end() && it->second.budget >= budget) {
       metrics_.count_singleflight_join();
-      return it->second;
+      return it->second.future;
     }
     if (!ready_) {
       *refused = true;
       return {};
     }
-    inflight_.emplace(key, future);
+    flight = ++flights_;
+    inflight_[key] = Flight{future, budget, flight};
   }
+  auto forget = [this, key, flight] {
+    std::lock_guard lock(inflight_mutex_);
+    if (auto it = inflight_.find(key); it != inflight_.end() && it->second.id == flight) {
+      inflight_.erase(it);
+    }
+  };
   metrics_.count_cache(false);
-  auto task = [this, key, request, promise] {
+  auto task = [this, key, request, promise, forget] {
     Outcome outcome;
     const auto started = std::chrono::steady_clock::now();
-    try {
-      const json plan = api::run_plan(request);
-      outcome.body = api::dump_json(plan);
-      if (cacheable(plan)) cache_.put(key, outcome.body);
-    } catch (const api::ApiError& e) {
-      outcome = {e.status(), api::dump_json(api::error_envelope(e))};
-    } catch (const std::exception& e) {
-      outcome = {500, error_reply(500, "internal", e.what()).body};
-    } catch (...) {
-      outcome = {500, error_reply(500, "internal", "the solve failed with an unknown error").body};
+    if (!ready_) {
+      // Shutting down: what is still queued is answered at once, only running solves finish.
+      outcome = {503, overloaded_reply().body};
+    } else {
+      try {
+        const json plan = api::run_plan(request);
+        outcome.body = api::dump_json(plan);
+        if (cacheable(plan)) cache_.put(key, outcome.body);
+      } catch (const api::ApiError& e) {
+        outcome = {e.status(), api::dump_json(api::error_envelope(e))};
+      } catch (const std::exception& e) {
+        outcome = {500, error_reply(500, "internal", e.what()).body};
+      } catch (...) {
+        outcome = {500,
+                   error_reply(500, "internal", "the solve failed with an unknown error").body};
+      }
+      metrics_.observe_solve(
+          to_string(request.strategy),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     }
-    metrics_.observe_solve(
-        to_string(request.strategy),
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-    {
-      std::lock_guard done(inflight_mutex_);
-      inflight_.erase(key);
-    }
+    forget();
     promise->set_value(std::move(outcome));
   };
   const bool queued = wait_for_room ? pool_.submit_wait(task) : pool_.try_submit(task);
   if (!queued) {
     // Whoever joined this solve meanwhile gets the refusal too (never a future that hangs).
-    {
-      std::lock_guard lock(inflight_mutex_);
-      inflight_.erase(key);
-    }
+    forget();
     promise->set_value(Outcome{503, overloaded_reply().body});
     *refused = true;
     return {};
@@ -238,6 +265,12 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
 
 Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match) {
   return guarded([&] {
+    if (key == "batch") {  // the path of POST /v1/plans/batch, not a key
+      Reply r = error_reply(405, "method_not_allowed",
+                            "GET is not allowed on /v1/plans/batch; allowed: POST");
+      r.headers.emplace_back("Allow", "POST");
+      return r;
+    }
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
       return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt);
@@ -272,11 +305,13 @@ BatchResult PendingBatch::get(std::size_t i) const {
   return r;
 }
 
-PendingBatch PlanService::start_batch(const std::vector<json>& requests) {
+PendingBatch PlanService::start_batch(const std::vector<json>& requests,
+                                      const std::function<bool()>& abandoned) {
   PendingBatch batch;
   const std::size_t n = requests.size();
   batch.results_.resize(n);
   batch.pending_.resize(n);
+  bool gone = false;
   for (std::size_t i = 0; i < n; ++i) {
     BatchResult& result = batch.results_[i];
     try {
@@ -294,6 +329,14 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests) {
         result.cached = true;
         continue;
       }
+      // A client that went away gets no more solves queued for it (the queued ones still run).
+      gone = gone || (abandoned && abandoned());
+      if (gone) {
+        result.error = {{"code", "cancelled"},
+                        {"message", "not solved: the client closed the connection"},
+                        {"field", nullptr}};
+        continue;
+      }
       bool refused = false;
       batch.pending_[i] = solve(key, request, true, &refused);
       if (refused) result.error = json::parse(overloaded_reply().body)["error"];
@@ -306,7 +349,7 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests) {
   return batch;
 }
 
-Reply PlanService::post_batch(const std::string& text) {
+Reply PlanService::post_batch(const std::string& text, const std::function<bool()>& abandoned) {
   return guarded([&] {
     json body = api::parse_json_body(text);
     if (!body.is_object()) {
@@ -324,10 +367,18 @@ Reply PlanService::post_batch(const std::string& text) {
     std::vector<json> requests;
     requests.reserve(it->size());
     for (json& request : *it) requests.push_back(std::move(request));
-    const PendingBatch batch = start_batch(requests);
+    const PendingBatch batch = start_batch(requests, abandoned);
     std::string out = "{\"results\":[";
     for (std::size_t i = 0; i < batch.size(); ++i) {
       BatchResult item = batch.get(i);
+      if (out.size() + item.plan.size() > config_.max_response_bytes) {
+        // The plans are solved and cached: smaller batches get them from the cache.
+        throw api::ApiError(api::ErrorCode::kInvalidValue, "requests",
+                            "the plans of this batch exceed the response limit of " +
+                                std::to_string(config_.max_response_bytes) + " bytes at requests[" +
+                                std::to_string(i) +
+                                "]; the plans are cached: send fewer requests per batch");
+      }
       if (i > 0) out += ',';
       out += "{\"index\":" + std::to_string(i);
       if (item.ok()) {
@@ -400,13 +451,15 @@ Reply PlanService::ready() const {
                      std::to_string(pool_.busy()) + " running and " +
                      std::to_string(pool_.queue_depth()) + " queued";
   } else if (!stats.storage_error.empty()) {
-    // Plans are still answered (from memory), but they are not kept across a restart.
+    // Still ready: plans are answered correctly (from memory), they are only not kept across a
+    // restart. Taking the replica out of rotation would stop a line that one replica serves; the
+    // failure is logged, said here and in slosh_cache_store_ok for alerting.
     status = "degraded";
     body["reason"] = stats.storage_error;
   }
   if (!stats.storage_error.empty()) body["cache"]["storage_error"] = stats.storage_error;
   body["status"] = status;
-  r.status = status == "ready" ? 200 : 503;
+  r.status = status == "ready" || status == "degraded" ? 200 : 503;
   r.body = api::dump_json(body);
   return r;
 }
@@ -415,6 +468,12 @@ Reply PlanService::metrics_text() const {
   Reply r;
   r.content_type = "text/plain; version=0.0.4";
   r.body = metrics_.render(pool_.queue_depth(), pool_.busy(), pool_.workers());
+  const auto stats = cache_.stats();
+  r.body +=
+      "# HELP slosh_cache_store_ok 0 while the plan store cannot be opened or written, else 1.\n"
+      "# TYPE slosh_cache_store_ok gauge\n"
+      "slosh_cache_store_ok " +
+      std::string(stats.storage_error.empty() ? "1" : "0") + "\n";
   return r;
 }
 

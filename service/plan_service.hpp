@@ -4,6 +4,8 @@
 
 #include <atomic>
 #include <chrono>
+#include <cstdint>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -68,10 +70,13 @@ class PlanService {
 
   Reply post_plan(const std::string& body, const std::string& if_none_match);
   Reply get_plan(const std::string& key, const std::string& if_none_match);
-  Reply post_batch(const std::string& body);
+  /// `abandoned` (optional) tells whether the client has gone away: no further solves are queued
+  /// for it then.
+  Reply post_batch(const std::string& body, const std::function<bool()>& abandoned = {});
   /// Starts a batch of parsed plan requests: cache hits and invalid items finish at once, the
   /// others are queued on the pool (waiting for queue room) with single-flight per recipe.
-  PendingBatch start_batch(const std::vector<nlohmann::json>& requests);
+  PendingBatch start_batch(const std::vector<nlohmann::json>& requests,
+                           const std::function<bool()>& abandoned = {});
   Reply post_simulate(const std::string& body);
   Reply fluids() const;
   Reply openapi() const;
@@ -108,8 +113,16 @@ class PlanService {
   ServerConfig config_;
   Metrics metrics_;
   PlanCache cache_;
+  // A running solve of a recipe: its result, its time budget [s], and its number (so that only
+  // this solve removes its own entry).
+  struct Flight {
+    std::shared_future<Outcome> future;
+    double budget{};
+    std::uint64_t id{};
+  };
   std::mutex inflight_mutex_;
-  std::unordered_map<std::string, std::shared_future<Outcome>> inflight_;
+  std::unordered_map<std::string, Flight> inflight_;
+  std::uint64_t flights_{0};
   std::atomic<bool> ready_{true};
   WorkerPool pool_;  // last: destroyed first, finishing the solves that use the members above
 };

@@ -26,6 +26,9 @@ struct ServerConfig {
   std::size_t max_body_bytes{1u << 20};
   /// Largest number of recipes in one POST /v1/plans/batch. Default 1000.
   std::size_t batch_max{1000};
+  /// Largest batch response [bytes]; beyond it the batch answers 422 (its plans stay cached).
+  /// Default 64 MiB.
+  std::size_t max_response_bytes{std::size_t{64} << 20};
   /// Most HTTP connection threads, started as connections arrive; each open connection (also an
   /// idle keep-alive one) holds one. Default 256.
   std::size_t http_threads{256};

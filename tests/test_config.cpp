@@ -75,7 +75,8 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
             typo +
                 ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
                 "cache_entries, solve_budget_s, queue_wait_s, max_body_bytes, batch_max, "
-                "http_threads, read_timeout_s, write_timeout_s, keep_alive_timeout_s, "
+                "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
+                "keep_alive_timeout_s, "
                 "request_timeout_s, cache_memory_bytes, cache_store_bytes");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),

@@ -518,18 +518,21 @@ TEST(Hardening, TheLogNamesTheWorkersThatRun) {
       << server.log();
 }
 
-// Item 10: a plan store that cannot be written is logged and turns /readyz to 503 (the service
-// still answers, from memory).
-TEST(Hardening, AnUnwritableStoreIsLoggedAndNotReady) {
+// Item 10: a plan store that cannot be written is logged and said in /readyz ("degraded", still
+// 200: the service answers correctly, from memory) and in a metric to alert on.
+TEST(Hardening, AnUnwritableStoreIsLoggedAndSaidInReadyz) {
   const TempDir dir;
   write_file(dir / "plans.sqlite", std::string(4096, 'x'));  // the fixture's cache file
   Server server({}, &dir);
   httplib::Client c = server.client();
   const auto ready = c.Get("/readyz");
   ASSERT_TRUE(ready);
-  EXPECT_EQ(ready->status, 503);
+  EXPECT_EQ(ready->status, 200);
   const json body = parse(ready->body);
   EXPECT_EQ(body["status"], "degraded");
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_NE(metrics->body.find("\nslosh_cache_store_ok 0\n"), std::string::npos);
   EXPECT_NE(body["reason"].get<std::string>().find("file is not a database"), std::string::npos);
   const auto plan = post(c, "/v1/plans", plan_body("baseline"));
   ASSERT_TRUE(plan);
@@ -567,6 +570,189 @@ TEST(Hardening, BreakpointsAtLeastOneNanosecondApart) {
               0u)
         << e.what();
   }
+}
+
+// Hostile review: a POST without Content-Length held a thread for the read timeout (the library
+// read "until close") before a 400.
+TEST(Hardening, APostWithoutALengthHasAnEmptyBody) {
+  Server server;
+  Raw raw(server.port());
+  const auto t0 = Clock::now();
+  raw.send(
+      "POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+      "Connection: close\r\n\r\n");
+  const std::string answer = raw.read_all();
+  EXPECT_LT(std::chrono::duration<double>(Clock::now() - t0).count(), 2.0);
+  EXPECT_EQ(answer.rfind("HTTP/1.1 400", 0), 0u) << answer;
+  EXPECT_NE(answer.find(R"("code":"malformed_json")"), std::string::npos) << answer;
+}
+
+// Hostile review: multipart bodies gave 500 bad_function_call (uncounted in the metrics);
+// "Expect: 100-continue" with an oversized length got "100 Continue".
+TEST(Hardening, MultipartAndOversizedExpectationsAreRefusedUpFront) {
+  Server server;
+  httplib::Client c = server.client();
+  const httplib::MultipartFormDataItems items{{"x", plan_body("baseline").dump(), "x.json", ""}};
+  const auto r = c.Post("/v1/plans", items);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 415);
+  EXPECT_EQ(parse(r->body)["error"]["code"], "unsupported_media_type");
+  Raw raw(server.port());
+  raw.send(
+      "POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+      "Content-Length: 5000000\r\nExpect: 100-continue\r\n\r\n");
+  const std::string answer = raw.read_all();
+  EXPECT_EQ(answer.rfind("HTTP/1.1 413", 0), 0u) << answer.substr(0, 200);
+  EXPECT_NE(answer.find("the body is larger than the limit of 1048576 bytes"), std::string::npos);
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_NE(metrics->body.find(R"(slosh_http_requests_total{route="/v1/plans",status="415"} 1)"),
+            std::string::npos)
+      << metrics->body;
+}
+
+// Hostile review: GET /v1/plans/batch looked up a plan "batch"; TRACE got a 400; a weak or "*"
+// If-None-Match was not honoured.
+TEST(Hardening, MoreHonestFrameworkAnswers) {
+  Server server;
+  httplib::Client c = server.client();
+  const auto batch = c.Get("/v1/plans/batch");
+  ASSERT_TRUE(batch);
+  EXPECT_EQ(batch->status, 405);
+  EXPECT_EQ(batch->get_header_value("Allow"), "POST");
+  Raw raw(server.port());
+  raw.send("TRACE /healthz HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n");
+  const std::string trace = raw.read_all();
+  EXPECT_EQ(trace.rfind("HTTP/1.1 501", 0), 0u) << trace;
+  const auto first = post(c, "/v1/plans", plan_body("baseline"));
+  ASSERT_TRUE(first);
+  const std::string tag = first->get_header_value("ETag");
+  for (const std::string& inm : {"W/" + tag, std::string("*"), "\"other\", " + tag}) {
+    const auto r = c.Post("/v1/plans", {{"If-None-Match", inm}}, plan_body("baseline").dump(),
+                          "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 304) << inm;
+  }
+}
+
+// Hostile review: a cached plan echoed the first client's fluid name to the next one.
+TEST(Hardening, ACachedPlanEchoesThisRequestsFluidName) {
+  Server server;
+  httplib::Client c = server.client();
+  json secret = plan_body("baseline");
+  secret["format"]["fluid"] = {
+      {"density_kg_m3", 1000}, {"viscosity_pa_s", 0.001}, {"name", "Customer X syrup"}};
+  json plain = plan_body("baseline");
+  plain["format"]["fluid"] = {{"density_kg_m3", 1000}, {"viscosity_pa_s", 0.001}};
+  const auto a = post(c, "/v1/plans", secret);
+  const auto b = post(c, "/v1/plans", plain);
+  ASSERT_TRUE(a && b);
+  EXPECT_EQ(parse(a->body)["format"]["fluid"]["name"], "Customer X syrup");
+  EXPECT_EQ(parse(b->body)["format"]["fluid"]["name"], "custom");
+  EXPECT_NE(parse(a->body)["key"], parse(b->body)["key"]);
+}
+
+// Hostile review: a request with a larger budget joined a running solve of the same recipe with
+// a smaller one and got its time_limit answer.
+TEST(Hardening, ALargerBudgetDoesNotJoinASmallerOne) {
+  Server server({"--workers", "2"});
+  json hurried = plan_body("multi_notch", 613);
+  hurried["options"] = {{"solver", "ipopt"}, {"time_limit_s", 0.3}};
+  json patient = hurried;
+  patient["options"]["time_limit_s"] = 10;
+  auto first = std::async(std::launch::async, [&] {
+    httplib::Client c = server.client();
+    return post(c, "/v1/plans", hurried);
+  });
+  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  httplib::Client c = server.client();
+  const auto second = post(c, "/v1/plans", patient);
+  ASSERT_TRUE(second);
+  EXPECT_NE(parse(second->body)["status"], "time_limit") << second->body.substr(0, 300);
+  ASSERT_TRUE(first.get());
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_NE(metrics->body.find("\nslosh_singleflight_joins_total 0\n"), std::string::npos);
+}
+
+// Hostile review: a batch whose client hung up went on queueing all its solves, and every other
+// client got 503 meanwhile.
+TEST(Hardening, AnAbandonedBatchStopsQueueing) {
+  Server server({"--workers", "1", "--queue", "2"});
+  json batch{{"requests", json::array()}};
+  for (int i = 0; i < 200; ++i) batch["requests"].push_back(plan_body("time_domain", 300 + i));
+  const std::string text = batch.dump();
+  {
+    Raw raw(server.port());
+    raw.send(
+        "POST /v1/plans/batch HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+        "Content-Length: " +
+        std::to_string(text.size()) + "\r\n\r\n" + text);
+    std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  }  // the client hangs up
+  httplib::Client c = server.client();
+  int status = 0;
+  for (int attempt = 0; attempt < 40 && status != 200; ++attempt) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(250));
+    const auto r = post(c, "/v1/plans", plan_body("baseline", 999));
+    status = r ? r->status : -1;
+  }
+  EXPECT_EQ(status, 200) << "still refused 10 s after the batch's client left";
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  const std::string& m = metrics->body;
+  const std::string line = "slosh_solve_seconds_count{strategy=\"time_domain\"} ";
+  const auto at = m.find(line);
+  ASSERT_NE(at, std::string::npos);
+  EXPECT_LT(std::stoi(m.substr(at + line.size())), 100);
+}
+
+// Hostile review: 1 000 copies of a large cached plan in a 189 kB batch made a 657 MB response.
+TEST(Hardening, BatchResponsesAreBounded) {
+  const TempDir dir;
+  write_file(dir / "small.json", R"({"max_response_bytes": 1048576})");
+  Server server({"--config", (dir / "small.json").string()});
+  httplib::Client c = server.client();
+  json batch{{"requests", json::array()}};
+  for (int i = 0; i < 200; ++i) batch["requests"].push_back(plan_body("baseline"));
+  const auto r = post(c, "/v1/plans/batch", batch);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 422);
+  const json e = parse(r->body)["error"];
+  EXPECT_EQ(e["field"], "requests");
+  EXPECT_NE(e["message"].get<std::string>().find(
+                "exceed the response limit of 1048576 bytes at requests["),
+            std::string::npos)
+      << e;
+  batch["requests"] = json::array({plan_body("baseline"), plan_body("baseline")});
+  const auto small = post(c, "/v1/plans/batch", batch);
+  ASSERT_TRUE(small);
+  EXPECT_EQ(small->status, 200);
+}
+
+// Hostile review: at SIGTERM every queued solve still ran (28 s with 6 Ipopt plans queued).
+TEST(Hardening, ShutdownAnswersQueuedSolvesInsteadOfRunningThem) {
+  Server server({"--workers", "1", "--queue", "8"});
+  std::vector<std::future<int>> plans;
+  for (int i = 0; i < 6; ++i) {
+    plans.push_back(std::async(std::launch::async, [&server, i] {
+      httplib::Client c = server.client();
+      json body = plan_body("multi_notch", 640 + i);
+      body["options"] = {{"solver", "ipopt"}};
+      const auto r = post(c, "/v1/plans", body);
+      return r ? r->status : -1;
+    }));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  const auto t0 = Clock::now();
+  const std::optional<int> code = server.stop();
+  const double seconds = std::chrono::duration<double>(Clock::now() - t0).count();
+  int refused = 0;
+  for (auto& p : plans) refused += p.get() == 503 ? 1 : 0;
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0);
+  EXPECT_GE(refused, 3);
+  EXPECT_LT(seconds, 8.0);
 }
 
 }  // namespace

@@ -274,6 +274,9 @@ nlohmann::json canonical_recipe(const PlanRequest& r) {
             {"fill_height_m", f.fill_height},
             {"density_kg_m3", f.fluid.density},
             {"viscosity_pa_s", f.fluid.viscosity},
+            // The plan echoes the fluid's name: two names are two answers (a cached plan never
+            // shows one client's fluid name to another).
+            {"fluid_name", f.fluid.name},
             {"stroke_m", f.stroke},
             {"motion_time_s", f.motion_time}}},
           {"strategy", to_string(r.strategy)},
