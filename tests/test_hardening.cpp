@@ -755,5 +755,23 @@ TEST(Hardening, ShutdownAnswersQueuedSolvesInsteadOfRunningThem) {
   EXPECT_LT(seconds, 8.0);
 }
 
+// Found by the fuzzer: 100 m in 50 ms on a 1 mm container makes the nonlinear model diverge;
+// the NaN became a 500 (the finite guard) instead of an answer the caller can act on.
+TEST(Hardening, ADivergingModelIsA422NamingTheLaw) {
+  const json body = json::parse(R"({"format": {"container": {"radius_mm": 1},
+      "fill_height_mm": 82, "fluid": "water", "stroke_mm": 100000, "motion_time_s": 0.05},
+      "law": {"type": "seven_segment_uniform"}, "options": {"alpha": 2}})");
+  try {
+    (void)api::run_simulate(api::parse_simulate_request(body));
+    ADD_FAILURE() << "answered";
+  } catch (const api::ApiError& e) {
+    EXPECT_EQ(e.status(), 422);
+    EXPECT_EQ(e.field(), "law");
+    EXPECT_EQ(std::string(e.what()),
+              "the nonlinear sloshing model diverges for this law on this format (peak |a| = "
+              "245000 m/s^2): the motion is outside what the model describes");
+  }
+}
+
 }  // namespace
 }  // namespace slosh

@@ -134,6 +134,17 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
   const SimulationResult r = simulate(request.format, law, request.options);
+  for (const auto& [model, peaks] : {std::pair{"nonlinear", &r.nonlinear}, {"linear", &r.linear}}) {
+    if (!std::isfinite(peaks->motion.value) || !std::isfinite(peaks->rest.value)) {
+      // Outside what the model describes (e.g. hundreds of g on a 1 mm container): no numbers
+      // to return, and the caller must know why.
+      invalid("law", std::string("the ") + model +
+                         " sloshing model diverges for this law on this format (peak |a| = " +
+                         number_text(
+                             std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative)) +
+                         " m/s^2): the motion is outside what the model describes");
+    }
+  }
   nlohmann::json out;
   nlohmann::json law_json{{"type", to_string(request.law_type)},
                           {"duration_s", law.duration()},
