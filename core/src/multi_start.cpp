@@ -93,8 +93,10 @@ StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c
   } else if (m.timed_out) {
     o.status = SolveStatus::kTimeLimit;
   } else {
-    o.status = m.best.status == SolveStatus::kAcceptable ? SolveStatus::kAcceptable
-                                                         : SolveStatus::kOptimal;
+    // Optimal only when the solver converged; a feasible point it stopped at otherwise (round-off,
+    // the iteration limit) meets the constraints without a certificate of optimality.
+    o.status =
+        m.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal : SolveStatus::kAcceptable;
   }
   return o;
 }
