@@ -21,6 +21,21 @@ constexpr int kSpectralRandomStarts{5};
 constexpr int kBandCheckRefinement{16};
 /// Exchange rounds of min_jerk_band (points added where the fine check finds a violation).
 constexpr int kBandExchangeRounds{6};
+/// Constraint violation (relative to the bounds) up to which a solver point is judged by the
+/// verification rather than discarded [-].
+constexpr double kSolverSlack{1e-6};
+/// Random starts of min_jerk_band's screening (after the uniform law and 4 symmetric families).
+constexpr int kBandRandomStarts{12};
+/// Band frequencies of min_jerk_band's screening solves (at most n_band) [-].
+constexpr int kScreenPoints{13};
+/// Evaluations of one screening solve at most, and its relative tolerance [-].
+constexpr int kScreenEvaluations{80};
+constexpr double kScreenTolerance{1e-7};
+/// Screened points min_jerk_band finishes on the n_band frequencies, and tries at most [-].
+constexpr std::size_t kRefinedStarts{2};
+constexpr std::size_t kRefineAttempts{5};
+/// The uniform law and the four symmetric families lead DurationSpace::starts [-].
+constexpr std::size_t kSymmetricStarts{5};
 /// Intervals of the band check grid at least (the solver's n_band - 1 when larger) [-].
 constexpr int kBandCheckIntervals{50};
 
@@ -247,6 +262,9 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   };
   const std::vector<double> base_omegas = band_frequencies(w1, opt.band, opt.n_band);
   const std::vector<Durations> starts = c.space.starts(kSpectralRandomStarts);
+  // The screening tries more random points than the other phases: the band-constrained optimum
+  // is often asymmetric and reached from few starts.
+  const std::vector<Durations> screen_starts = c.space.starts(kBandRandomStarts);
 
   // Phase J: min int j^2 dt s.t. the band on n_band points, from `x0`; the constraint is
   // semi-infinite, so the band is then checked on the fine grid and its worst frequency added for
@@ -258,6 +276,13 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     Durations d{};
     double ratio{INFINITY};  // largest |X| / X_ref on the fine grid
     bool met{false};         // ratio <= tol (1 + kBandTolerance), limits held by the solver
+  };
+  auto limits_met = [&](const Durations& d) {
+    const int m = c.space.limit_count();
+    if (m == 0) return true;
+    std::vector<double> g(static_cast<std::size_t>(m));
+    c.space.limit_constraints(d.data(), g.data(), nullptr, kSegments);
+    return *std::max_element(g.begin(), g.end()) <= kBandTolerance;
   };
   auto solve_jerk = [&](const std::vector<std::vector<double>>& x0) {
     std::vector<double> omegas = base_omegas;
@@ -282,12 +307,14 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
         }
       }
       count(r);
-      if (!r.feasible || r.best.x.empty()) break;
+      // SLSQP may stop a hair outside a constraint (4e-8 of the bound): far inside what the
+      // verification tolerates, so the point is judged by the verification, not by the solver.
+      if (r.best.x.empty() || r.best.max_violation > kSolverSlack) break;
       Local here;
       here.d = c.space.polish(r.best.x.data());
       const BandPeak worst = band_peak(here.d, stroke, fine);
       here.ratio = worst.value / c.x_ref;
-      here.met = here.ratio <= tol * (1.0 + kBandTolerance);
+      here.met = here.ratio <= tol * (1.0 + kBandTolerance) && limits_met(here.d);
       here.r = std::move(r);
       const bool timed_out = here.r.timed_out;
       const double excess = here.ratio / tol - 1.0;
@@ -321,7 +348,7 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
       here.d = c.space.polish(r.best.x.data());
       const BandPeak worst = band_peak(here.d, stroke, fine);
       here.ratio = worst.value / c.x_ref;
-      here.met = r.feasible && here.ratio <= tol * (1.0 + kBandTolerance);
+      here.met = here.ratio <= tol * (1.0 + kBandTolerance) && limits_met(here.d);
       const double sampled = std::sqrt(std::max(r.best.x[kSegments], 0.0));
       const bool timed_out = r.timed_out;
       here.r = std::move(r);
@@ -335,9 +362,84 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     return best;
   };
 
-  // From every start: SLSQP on the band constraint itself (scaled by X_ref it is well
-  // conditioned), the best two feasible points then finished by the exchange.
-  Local jerk = solve_jerk(as_vectors(starts));
+  // Phase 0: the least jerk integral without the band (the limits only; nearly convex, so the
+  // symmetric starts suffice). When it meets the band, the band is inactive and it is the optimum.
+  std::vector<std::vector<double>> jerk_starts = as_vectors(screen_starts);
+  {
+    NlpProblem p = c.space.problem();
+    p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
+    add_limits(p, c, 0, nullptr);
+    const std::vector<std::vector<double>> symmetric(jerk_starts.begin(),
+                                                     jerk_starts.begin() + kSymmetricStarts);
+    const MultiStartResult free = multi_start(p, symmetric, c, spectral_options());
+    count(free);
+    if (free.feasible && !free.best.x.empty()) {
+      Local here;
+      here.d = c.space.polish(free.best.x.data());
+      here.ratio = ratio(here.d);
+      if (here.ratio <= tol * (1.0 + kBandTolerance) && !free.timed_out) {
+        o.durations = here.d;
+        o.objective = jerk_objective(here.d.data(), nullptr, c);
+        o.status = free.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
+                                                             : SolveStatus::kAcceptable;
+        o.detail = "|X| <= " + percent(here.ratio) + " of X_ref over the whole band (limit " +
+                   percent(tol) + ", not binding), jerk integral " + percent(o.objective) +
+                   " of the uniform law's";
+        return o;
+      }
+      jerk_starts.insert(jerk_starts.begin(), free.best.x);
+    }
+  }
+  // Phase J from the band-free optimum and every start: SLSQP on the band constraint itself
+  // (scaled by X_ref it is well conditioned), screened on kScreenPoints band frequencies from
+  // every start, then the best kRefinedStarts screened points solved on the n_band points with
+  // the exchange on the fine grid.
+  std::vector<std::vector<double>> refine_from;
+  {
+    NlpProblem p = c.space.problem();
+    p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
+    const std::vector<double> coarse =
+        band_frequencies(w1, opt.band, std::min(opt.n_band, kScreenPoints));
+    add_limits(p, c, static_cast<int>(coarse.size()), band_rows(coarse, false));
+    std::vector<std::pair<double, std::vector<double>>> screened;
+    NlpOptions screen = spectral_options();
+    screen.max_iterations = kScreenEvaluations;  // a ranking: the best are finished below
+    screen.tolerance = kScreenTolerance;
+    for (const auto& x0 : jerk_starts) {
+      const MultiStartResult r = multi_start(p, {x0}, c, screen);
+      count(r);
+      if (r.timed_out) break;
+      if (!r.best.x.empty() && r.best.max_violation <= kSolverSlack) {
+        screened.emplace_back(r.best.objective, r.best.x);
+      }
+    }
+    std::stable_sort(screened.begin(), screened.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    // Distinct points only (many starts land on the same screened optimum).
+    for (const auto& [f, x] : screened) {
+      const bool seen = std::any_of(refine_from.begin(), refine_from.end(), [&](const auto& y) {
+        for (std::size_t i = 0; i < kSegments; ++i) {
+          if (std::abs(x[i] - y[i]) > 1e-6 * c.format.motion_time) return false;
+        }
+        return true;
+      });
+      if (!seen) refine_from.push_back(x);
+    }
+  }
+  // The best screened points in order until kRefinedStarts of them meet the band (at most
+  // kRefineAttempts tries: a screened point far outside the full band may not come back).
+  Local jerk;
+  int met = 0;
+  for (std::size_t k = 0; k < refine_from.size() && k < kRefineAttempts; ++k) {
+    if (met == static_cast<int>(kRefinedStarts) || c.deadline.expired()) break;
+    Local here = solve_jerk({refine_from[k]});
+    if (here.met) ++met;
+    const bool better =
+        (here.met && !jerk.met) ||
+        (here.met == jerk.met &&
+         (here.met ? here.r.best.objective < jerk.r.best.objective : here.ratio < jerk.ratio));
+    if (better) jerk = std::move(here);
+  }
   if (!jerk.met && !c.deadline.expired()) {
     // The band is not reachable from the starts by phase J: the least infeasible point of the
     // band excess, from every start. When it meets the band after all, phase J runs from it.
@@ -365,14 +467,7 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   }
   o.durations = jerk.d;
   o.objective = jerk_objective(jerk.d.data(), nullptr, c);
-  const double limits_excess = [&] {
-    const int m = c.space.limit_count();
-    if (m == 0) return 0.0;
-    std::vector<double> g(static_cast<std::size_t>(m));
-    c.space.limit_constraints(jerk.d.data(), g.data(), nullptr, kSegments);
-    return *std::max_element(g.begin(), g.end());
-  }();
-  if (jerk.met && limits_excess <= 1e-6) {
+  if (jerk.met && limits_met(jerk.d)) {
     o.status = jerk.r.timed_out                              ? SolveStatus::kTimeLimit
                : jerk.r.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
                                                              : SolveStatus::kAcceptable;
