@@ -365,9 +365,14 @@ TEST(PlanHonesty, Issue15Case7PlanValidatesItsOwnInputs) {
   PlanOptions zero_modes;
   zero_modes.model.modes = 0;
   expect_invalid(good, zero_modes, "modes = 0");
-  // A valid request is not refused.
+  // A valid request is not refused; an infinite budget is no budget (not an overflow).
   const PlanResult ok = plan(good, Strategy::kNotch, {});
   EXPECT_FALSE(ok.invalid_input);
+  PlanOptions unlimited;
+  unlimited.time_limit = inf;
+  const PlanResult no_budget = plan(good, Strategy::kMultiNotch, unlimited);
+  EXPECT_FALSE(no_budget.invalid_input) << describe(no_budget);
+  EXPECT_TRUE(converged(no_budget.status)) << describe(no_budget);
   EXPECT_TRUE(plan_input_error(good, {}).empty());
 }
 

@@ -27,15 +27,13 @@ constexpr double kSolverSlack{1e-6};
 /// Random starts of min_jerk_band's screening (after the uniform law and 4 symmetric families).
 constexpr int kBandRandomStarts{12};
 /// Band frequencies of min_jerk_band's screening solves (at most n_band) [-].
-constexpr int kScreenPoints{13};
+constexpr int kScreenPoints{11};
 /// Evaluations of one screening solve at most, and its relative tolerance [-].
 constexpr int kScreenEvaluations{80};
 constexpr double kScreenTolerance{1e-7};
 /// Screened points min_jerk_band finishes on the n_band frequencies, and tries at most [-].
 constexpr std::size_t kRefinedStarts{2};
 constexpr std::size_t kRefineAttempts{5};
-/// The uniform law and the four symmetric families lead DurationSpace::starts [-].
-constexpr std::size_t kSymmetricStarts{5};
 /// Intervals of the band check grid at least (the solver's n_band - 1 when larger) [-].
 constexpr int kBandCheckIntervals{50};
 
@@ -363,15 +361,13 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   };
 
   // Phase 0: the least jerk integral without the band (the limits only; nearly convex, so the
-  // symmetric starts suffice). When it meets the band, the band is inactive and it is the optimum.
+  // uniform start suffices). When it meets the band, the band is inactive and it is the optimum.
   std::vector<std::vector<double>> jerk_starts = as_vectors(screen_starts);
   {
     NlpProblem p = c.space.problem();
     p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
     add_limits(p, c, 0, nullptr);
-    const std::vector<std::vector<double>> symmetric(jerk_starts.begin(),
-                                                     jerk_starts.begin() + kSymmetricStarts);
-    const MultiStartResult free = multi_start(p, symmetric, c, spectral_options());
+    const MultiStartResult free = multi_start(p, {jerk_starts.front()}, c, spectral_options());
     count(free);
     if (free.feasible && !free.best.x.empty()) {
       Local here;

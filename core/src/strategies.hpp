@@ -1,6 +1,7 @@
 #pragma once
 // The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -12,12 +13,14 @@
 namespace slosh::detail {
 
 /// Wall-clock deadline of a plan.
+inline constexpr double kLongestBudget{365.0 * 24.0 * 3600.0};  // [s]
 class Deadline {
  public:
+  /// `seconds` beyond a year (or infinite) is a year: the clock's integer count cannot hold more.
   explicit Deadline(double seconds)
       : end_(std::chrono::steady_clock::now() +
              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                 std::chrono::duration<double>(seconds))) {}
+                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))) {}
   [[nodiscard]] double remaining() const {
     return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
   }
