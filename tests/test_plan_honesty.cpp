@@ -323,8 +323,12 @@ void expect_invalid(const Format& f, const PlanOptions& o, const std::string& na
   EXPECT_FALSE(r.usable());
   EXPECT_TRUE(Contains(r.message, "invalid input"));
   EXPECT_TRUE(Contains(r.message, names));
-  EXPECT_FALSE(r.durations.has_value());
   EXPECT_TRUE(std::isfinite(r.A) && std::isfinite(r.B));
+  EXPECT_TRUE(std::isfinite(r.prediction.nonlinear.rest.value));
+  for (double w : r.model.omega) EXPECT_TRUE(std::isfinite(w));
+  if (r.durations) {
+    EXPECT_EQ(*r.durations, uniform_durations(f.motion_time));  // nothing planned
+  }
   for (Strategy s : {Strategy::kAuto, Strategy::kTimeDomain, Strategy::kShaper, Strategy::kIir}) {
     ASSERT_NO_THROW((void)plan(f, s, o)) << to_string(s);
     EXPECT_TRUE(plan(f, s, o).invalid_input) << to_string(s);
@@ -365,6 +369,22 @@ TEST(PlanHonesty, Issue15Case7PlanValidatesItsOwnInputs) {
   PlanOptions zero_modes;
   zero_modes.model.modes = 0;
   expect_invalid(good, zero_modes, "modes = 0");
+  // Values the API's ranges let through (stroke and fill > 0 mm) but the planner refuses: the
+  // result still carries a finite model and the uniform law, so it can be rendered.
+  for (double tiny : {1e-303, 1e-12}) {
+    Format tiny_stroke_api = good;
+    tiny_stroke_api.stroke = tiny;
+    Format tiny_fill_api = good;
+    tiny_fill_api.fill_height = tiny;
+    for (const Format& f : {tiny_stroke_api, tiny_fill_api}) {
+      const PlanResult r = plan(f, Strategy::kMultiNotch, {});
+      EXPECT_TRUE(r.invalid_input) << describe(r);
+      ASSERT_FALSE(r.model.omega.empty()) << describe(r);
+      EXPECT_TRUE(std::isfinite(r.model.omega1()) && r.model.omega1() > 0.0);
+      ASSERT_TRUE(r.durations.has_value()) << describe(r);
+      EXPECT_NEAR(r.law.duration(), f.motion_time, 1e-12);
+    }
+  }
   // A valid request is not refused; an infinite budget is no budget (not an overflow).
   const PlanResult ok = plan(good, Strategy::kNotch, {});
   EXPECT_FALSE(ok.invalid_input);

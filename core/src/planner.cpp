@@ -385,6 +385,9 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   const auto started = std::chrono::steady_clock::now();
   PlanResult r;
   r.strategy = strategy;
+  // The invalid-input result: nothing planned, but what can be built from the valid parts (the
+  // model, the uniform law) is filled in when finite, so a renderer that expects them does not
+  // meet empty or non-finite fields; predictions stay zero.
   auto refuse = [&](const std::string& why) {
     PlanResult invalid;
     invalid.strategy = strategy;
@@ -392,6 +395,30 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     invalid.invalid_input = true;
     invalid.message = "invalid input: " + why + "; nothing was planned";
     invalid.solver.name = "none";
+    const Format& f = format;
+    const ModelOptions& m = options.model;
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
+        std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
+        m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
+        std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
+      const SloshingModel model = make_sloshing_model(f, m);
+      const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
+                          std::isfinite(model.K) &&
+                          std::all_of(model.omega.begin(), model.omega.end(), positive);
+      if (finite) invalid.model = model;
+    }
+    if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
+        f.stroke <= kMaxPlanLength) {
+      const Durations uniform = uniform_durations(f.motion_time);
+      const SevenSegmentLaw law(uniform, f.stroke);
+      if (std::isfinite(law.A()) && std::isfinite(law.B())) {
+        invalid.durations = uniform;
+        invalid.law = law.law();
+        invalid.A = law.A();
+        invalid.B = law.B();
+      }
+    }
     return invalid;
   };
   if (std::string why = plan_input_error(format, options); !why.empty()) return refuse(why);

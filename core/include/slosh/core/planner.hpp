@@ -190,7 +190,8 @@ struct PlanResult {
   Strategy strategy{};  ///< the requested strategy
   SolveStatus status{SolveStatus::kFailed};
   /// True when plan() refused its inputs (plan_input_error): status kFailed, the message names
-  /// the input, and nothing was planned (no durations, an empty law, zero figures).
+  /// the input, and nothing was planned: zero predictions; the model and the uniform law (as
+  /// durations and law) only when they can be built finite from the valid inputs.
   bool invalid_input{false};
   /// One or two sentences a line engineer can act on.
   std::string message;
