@@ -261,12 +261,22 @@ TEST(PlanProperties, SeededRandomFormatsKeepEveryPromise) {
         }
       }
     }
-    // The independent 24-start reference on min_jerk_band and multi_notch.
+    // The independent 24-start reference on min_jerk_band and multi_notch. The reference meets
+    // the band on its 101 solver frequencies; on the continuous band it may exceed it a little,
+    // so the planner (whose verification allows 1e-6) must be usable when the reference meets
+    // the continuous band to 1e-6, and otherwise no worse than the reference's band maximum.
     const test::ReferenceOptimum band = test::reference_min_jerk_band(sp, 24);
     const PlanResult mjb = plan(f, Strategy::kMinJerkBand, o);
-    if (band.feasible && band_ratio(band.durations) <= o.tol_rel * (1.0 + 1e-3)) {
-      EXPECT_TRUE(usable_status(mjb.status))
-          << where << ": the reference meets the band (jerk " << band.objective << ")";
+    const double mjb_ratio = band_ratio(as_array(*mjb.durations));
+    const double ref_ratio = band.feasible ? band_ratio(band.durations) : 0.0;
+    if (band.feasible && ref_ratio <= o.tol_rel * (1.0 + 1e-3)) {
+      if (ref_ratio <= o.tol_rel * (1.0 + 1e-6)) {
+        EXPECT_TRUE(usable_status(mjb.status))
+            << where << ": the reference meets the band (jerk " << band.objective << ")";
+      } else if (!usable_status(mjb.status)) {
+        EXPECT_LE(mjb_ratio, ref_ratio * (1.0 + 1e-6))
+            << where << ": the reference nearly meets the band (" << ref_ratio << ")";
+      }
       if (usable_status(mjb.status)) {
         test::SevenDurations u;
         u.fill(f.motion_time / 7.0);

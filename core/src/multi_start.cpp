@@ -65,6 +65,8 @@ MultiStartResult multi_start(const NlpProblem& problem,
       have = true;
     }
     if (out.timed_out) break;
+    // The caller's "good enough": a feasible point at or below stop_value ends the multi-start.
+    if (out.feasible && options.stop_value && out.best.objective <= *options.stop_value) break;
   }
   if (!have) out.best.status = out.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
   return out;
