@@ -409,8 +409,31 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     NlpOptions screen = spectral_options();
     screen.max_iterations = kScreenEvaluations;  // a ranking: the best are finished below
     screen.tolerance = kScreenTolerance;
+    std::vector<std::vector<double>> unfinished;  // stopped by the cap outside the band
     for (const auto& x0 : jerk_starts) {
       const MultiStartResult r = multi_start(p, {x0}, c, screen);
+      count(r);
+      if (r.timed_out) break;
+      if (r.best.x.empty()) continue;
+      if (r.best.max_violation <= kSolverSlack) {
+        screened.emplace_back(r.best.objective, r.best.x);
+      } else {
+        // SLSQP also stops outside the constraints (its objective stalls while infeasible):
+        // finished below when nothing better turns up.
+        unfinished.push_back(r.best.x);
+      }
+    }
+    // Hard formats (few starts reach the band): the solves that stopped outside it continue from
+    // where they stopped, without the cap and with a fresh Hessian.
+    double best_screened = INFINITY;
+    for (const auto& [f, x] : screened) best_screened = std::min(best_screened, f);
+    for (const auto& x0 : unfinished) {
+      // Worth finishing: too few screened points, or a lower jerk than the best of them.
+      if (screened.size() >= kRefinedStarts &&
+          !(jerk_objective(x0.data(), nullptr, c) < best_screened)) {
+        continue;
+      }
+      const MultiStartResult r = multi_start(p, {x0}, c, spectral_options());
       count(r);
       if (r.timed_out) break;
       if (!r.best.x.empty() && r.best.max_violation <= kSolverSlack) {
