@@ -470,7 +470,16 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   if (!jerk.met && !c.deadline.expired()) {
     // The band is not reachable from the starts by phase J: the least infeasible point of the
     // band excess, from every start. When it meets the band after all, phase J runs from it.
-    Local least = solve_excess(starts);
+    // The starts, then the points phase J got closest with: its best and the screened points.
+    std::vector<Durations> excess_starts = screen_starts;
+    auto add_start = [&](const Durations& d) {
+      if (std::find(excess_starts.begin(), excess_starts.end(), d) == excess_starts.end()) {
+        excess_starts.push_back(d);
+      }
+    };
+    if (jerk.ratio < INFINITY) add_start(jerk.d);
+    for (const auto& x : refine_from) add_start(c.space.polish(x.data()));
+    Local least = solve_excess(excess_starts);
     // Never worse than a start.
     for (const Durations& d : starts) {
       const double rs = ratio(d);
