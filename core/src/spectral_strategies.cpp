@@ -19,7 +19,7 @@ constexpr double kNotchDepth{1e-6};
 constexpr int kSpectralRandomStarts{5};
 /// Random starts of multi_notch (after the uniform law and 4 symmetric families): its objective
 /// has many basins on short moves (a 24-start reference found optima 4x lower than 10 starts).
-constexpr int kMultiNotchRandomStarts{19};
+constexpr int kMultiNotchRandomStarts{8};
 /// A weighted spectral power (relative to X_ref^2) this low is an exact zero [-].
 constexpr double kExactZero{1e-14};
 /// Refinement of the band check after a min_jerk_band solve: points per solver interval.
