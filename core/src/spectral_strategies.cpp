@@ -29,6 +29,8 @@ constexpr int kBandExchangeRounds{6};
 /// Constraint violation (relative to the bounds) up to which a solver point is judged by the
 /// verification rather than discarded [-].
 constexpr double kSolverSlack{1e-6};
+/// The same inside the exchange rounds, whose points the fine check judges anyway [-].
+constexpr double kExchangeSlack{1e-3};
 /// Random starts of min_jerk_band's screening (after the uniform law and 4 symmetric families).
 constexpr int kBandRandomStarts{12};
 /// Band frequencies of min_jerk_band's screening solves (at most n_band) [-].
@@ -315,7 +317,7 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
       count(r);
       // SLSQP may stop a hair outside a constraint (4e-8 of the bound): far inside what the
       // verification tolerates, so the point is judged by the verification, not by the solver.
-      if (r.best.x.empty() || r.best.max_violation > kSolverSlack) break;
+      if (r.best.x.empty() || r.best.max_violation > kExchangeSlack) break;
       Local here;
       here.d = c.space.polish(r.best.x.data());
       const BandPeak worst = band_peak(here.d, stroke, fine);
