@@ -25,11 +25,9 @@ struct Setup {
   explicit Setup(slosh::SolverChoice solver = slosh::SolverChoice::kAuto) {
     options.solver = solver;
     const auto uniform = slosh::uniform_durations(format.motion_time);
-    context.x_ref = std::abs(slosh::seven_segment_spectrum(uniform, 0.8, model.omega1()));
-    context.jerk_ref = slosh::SevenSegmentLaw(uniform, 0.8).jerk_integral();
     const slosh::SevenSegmentLaw law(uniform, 0.8);
-    context.eta_ref = slosh::NonlinearResponse(model, law.law(), 1.0).peaks().motion.value;
-    context.eta_motion_max = context.eta_ref;
+    slosh::detail::set_references(
+        context, slosh::NonlinearResponse(model, law.law(), 1.0).peaks().motion.value);
   }
 };
 

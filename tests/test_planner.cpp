@@ -25,6 +25,7 @@
 #include "slosh/core/sloshing_model.hpp"
 #include "slosh/core/spectrum.hpp"
 #include "support/reference_integrators.hpp"
+#include "support/reference_optimum.hpp"
 
 namespace slosh {
 namespace {
@@ -81,9 +82,21 @@ double omega1(const Format& f, const PlanOptions& o = {}) {
   return make_sloshing_model(f, o.model).omega1();
 }
 
-// |X_uniform(w1)|: the reference every spectral tolerance is relative to [m/s].
-double uniform_reference(const Format& f, double w1) {
-  return std::abs(seven_segment_spectrum(uniform_durations(f.motion_time), f.stroke, w1));
+// X_ref, the uniform law's largest |X| over the band [(1 - band) w1, (1 + band) w1]: the
+// reference every spectral tolerance is relative to (SPEC §5 "Reference levels"), computed by the
+// tests' own code [m/s].
+double uniform_reference(const Format& f, double w1, double band = PlanOptions{}.band) {
+  test::SevenDurations u;
+  u.fill(f.motion_time / 7.0);
+  return test::reference_band_max(u, f.stroke, (1.0 - band) * w1, (1.0 + band) * w1);
+}
+
+// The largest |X| of durations d over the band relative to X_ref.
+double band_ratio(const Durations& d, const Format& f, double w1, double band = 0.15) {
+  test::SevenDurations a;
+  std::copy(d.begin(), d.end(), a.begin());
+  return test::reference_band_max(a, f.stroke, (1.0 - band) * w1, (1.0 + band) * w1) /
+         uniform_reference(f, w1, band);
 }
 
 bool converged(SolveStatus s) {
@@ -185,7 +198,7 @@ TEST_P(PlannerConstraints, MinJerkBandHoldsTheBandOnATenTimesFinerGrid) {
     }
   }
   EXPECT_LE(worst, o.tol_rel * (1.0 + 1e-6))
-      << "max |X|/|X_uniform(w1)| = " << worst << " at w/w1 = " << worst_omega / w1 << " (excess "
+      << "max |X|/X_ref = " << worst << " at w/w1 = " << worst_omega / w1 << " (excess "
       << worst / o.tol_rel - 1.0 << " relative); " << describe(r);
   // The band constraint is active: a min-jerk solution does not leave room on the table.
   EXPECT_GT(worst, 0.99 * o.tol_rel);
@@ -366,9 +379,8 @@ TEST(Planner, UnreachableRestBoundIsReportedInfeasible) {
 }
 
 TEST(Planner, UnreachableBandToleranceIsReportedInfeasible) {
-  // Observed: the best band reachable in 0.5 s is 112 % of |X_uniform(w1)|. With tol_rel 0.002
-  // it is reported infeasible; with 0.001 (the case) the plan reports kFailed, see the
-  // report.
+  // The band is not reachable in 0.5 s at these tolerances: reported infeasible with the least
+  // infeasible law (min-max of the band excess), whose band maximum is above the limit.
   const Format f = make_format(0.8, 0.5);
   for (double tol : {0.002, 0.001}) {
     PlanOptions o;
@@ -379,9 +391,9 @@ TEST(Planner, UnreachableBandToleranceIsReportedInfeasible) {
     EXPECT_TRUE(Contains(r.message, "not reachable")) << "tol_rel " << tol;
     expect_admissible(r, f);
     const double w1 = omega1(f, o);
-    EXPECT_GT(
-        std::abs(seven_segment_spectrum((*r.durations), f.stroke, w1)) / uniform_reference(f, w1),
-        o.tol_rel);
+    EXPECT_GT(band_ratio(*r.durations, f, w1), o.tol_rel);
+    EXPECT_LE(band_ratio(*r.durations, f, w1), 1.0);  // no worse than the uniform law
+    EXPECT_TRUE(Contains(r.message, "of X_ref on the band is not reachable in 0.5 s: the best is"));
   }
 }
 
@@ -445,8 +457,7 @@ TEST(Planner, AccelerationVelocityAndJerkLimitsAreRespected) {
   for (Strategy s : kOptimising) {
     PlanOptions o;
     o.limits = lim;
-    // The default band (20 % of |X_uniform(w1)|) is not reachable under these limits (best
-    // 43.7 %, reported infeasible); 50 % is.
+    // The default band (20 % of X_ref) may not be reachable under these limits; 50 % is.
     if (s == Strategy::kMinJerkBand) o.tol_rel = 0.5;
     const PlanResult r = plan(f, s, o);
     EXPECT_TRUE(converged(r.status)) << describe(r);
@@ -658,6 +669,9 @@ TEST(Planner, IpoptMultiNotchIsUsableAndAsGoodAsNlopt) {
   nl.solver = SolverChoice::kNlopt;
   PlanOptions ip;
   ip.solver = SolverChoice::kIpopt;
+  // Ipopt takes ~2 s here in a Release build and several times more under a sanitizer: a budget
+  // that is not the default 5 s, so the test checks the solver and not the machine's speed.
+  ip.time_limit = 600.0;
   const PlanResult a = plan(f, Strategy::kMultiNotch, nl);
   const PlanResult b = plan(f, Strategy::kMultiNotch, ip);
   ASSERT_TRUE(converged(a.status)) << describe(a);

@@ -262,7 +262,9 @@ void add_plan_request_schemas(json& s) {
                               {"description", "min_jerk_band: evenly spaced band frequencies."}},
                              d.n_band);
   p["tol_rel"] = with_default(
-      number_in(kTolRel, "min_jerk_band: band limit relative to the uniform law's |X(w1)|"),
+      number_in(kTolRel,
+                "min_jerk_band: band limit relative to X_ref, the uniform law's largest |X| on "
+                "the band"),
       d.tol_rel);
   p["eta_rest_max_mm"] = with_default(
       number_in(kEtaMm, "time_domain (objective motion): largest residual wave eta_rest"),

@@ -69,10 +69,21 @@ std::string ms(double seconds) {
   return sig3(seconds * 1e3) + " ms";
 }
 
+/// For a mode 1 that does not oscillate (zeta >= 1: critically or over-damped), the sentence
+/// saying why `method` has no law; empty otherwise.
+std::string over_damped(const StrategyContext& c, const std::string& method) {
+  if (c.model.zeta < 1.0) return {};
+  return method + " cancels the oscillation of mode 1, but with zeta = " + sig3(c.model.zeta) +
+         " (>= 1: " + (c.model.zeta == 1.0 ? "critically" : "over") +
+         "-damped, a viscous liquid) mode 1 does not oscillate: there is nothing to cancel and "
+         "the design is undefined; use baseline, notch, multi_notch or time_domain instead";
+}
+
 }  // namespace
 
 FilterOutcome design_fir_chain(const StrategyContext& c) {
   const double S = c.format.stroke, T = c.format.motion_time;
+  if (std::string why = over_damped(c, "fir_chain"); !why.empty()) return no_law(c, why);
   const double T3 = damped_period(c.model.omega1(), c.model.zeta);
   if (!(T > T3)) {
     FilterOutcome o =
@@ -144,6 +155,9 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
 FilterOutcome design_shaper(const StrategyContext& c) {
   const PlanOptions& opt = c.options;
   const double S = c.format.stroke, T = c.format.motion_time;
+  if (std::string why = over_damped(c, "the " + to_string(opt.shaper) + " shaper"); !why.empty()) {
+    return no_law(c, why);
+  }
   const InputShaper shaper = make_shaper(opt.shaper, c.model.omega1(), c.model.zeta, opt.residual);
   const double Tb = T - shaper.delay();
   const std::string name = to_string(opt.shaper) + " shaper";
@@ -180,6 +194,7 @@ FilterOutcome design_shaper(const StrategyContext& c) {
 FilterOutcome design_iir(const StrategyContext& c) {
   const PlanOptions& opt = c.options;
   const double S = c.format.stroke, T = c.format.motion_time;
+  if (std::string why = over_damped(c, "the IIR filter"); !why.empty()) return no_law(c, why);
   if (T / opt.iir_sample_period > kIirMaxSamples) {
     const auto samples = static_cast<long long>(std::ceil(T / opt.iir_sample_period - 1e-9));
     return no_law(

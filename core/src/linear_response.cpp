@@ -6,6 +6,37 @@
 
 namespace slosh {
 
+namespace {
+
+// exp(-sigma tau) (c1 C(tau) + c2 S(tau)) and its derivative, with C, S = cos, sin (under-damped),
+// cosh, sinh (over-damped; as two decaying exponentials, so nothing overflows) or 1, tau.
+ModeState homogeneous(const LinearModePiece& p, double tau) {
+  switch (p.damping) {
+    case LinearModePiece::Damping::kUnder: {
+      const double e = std::exp(-p.sigma * tau);
+      const double c = std::cos(p.wd * tau);
+      const double sn = std::sin(p.wd * tau);
+      return {e * (p.c1 * c + p.c2 * sn),
+              e * ((-p.sigma * p.c1 + p.wd * p.c2) * c + (-p.sigma * p.c2 - p.wd * p.c1) * sn)};
+    }
+    case LinearModePiece::Damping::kCritical: {
+      const double e = std::exp(-p.sigma * tau);
+      return {e * (p.c1 + p.c2 * tau), e * (p.c2 - p.sigma * (p.c1 + p.c2 * tau))};
+    }
+    case LinearModePiece::Damping::kOver: {
+      const double slow = p.slow;  // sigma - wd
+      const double fast = p.sigma + p.wd;
+      const double e1 = std::exp(-slow * tau), e2 = std::exp(-fast * tau);
+      const double ec = 0.5 * (e1 + e2), es = 0.5 * (e1 - e2);
+      const double dec = 0.5 * (-slow * e1 - fast * e2), des = 0.5 * (-slow * e1 + fast * e2);
+      return {p.c1 * ec + p.c2 * es, p.c1 * dec + p.c2 * des};
+    }
+  }
+  return {};
+}
+
+}  // namespace
+
 double LinearModePiece::position(double tau) const {
   double x = r[0] + tau * (r[1] + tau * (r[2] + tau * r[3]));
   if (W != 0.0) {
@@ -13,6 +44,7 @@ double LinearModePiece::position(double tau) const {
     const double sn = std::sin(W * tau);
     x += P * c + Q * sn + tau * (U * c + V * sn);
   }
+  if (damping != Damping::kUnder) return x + homogeneous(*this, tau).x;
   return x + std::exp(-sigma * tau) * (c1 * std::cos(wd * tau) + c2 * std::sin(wd * tau));
 }
 
@@ -26,11 +58,9 @@ ModeState LinearModePiece::at(double tau) const {
     s.x += P * c + Q * sn + tau * (U * c + V * sn);
     s.x_dot += W * (-P * sn + Q * c) + (U * c + V * sn) + tau * W * (-U * sn + V * c);
   }
-  const double e = std::exp(-sigma * tau);
-  const double c = std::cos(wd * tau);
-  const double sn = std::sin(wd * tau);
-  s.x += e * (c1 * c + c2 * sn);
-  s.x_dot += e * ((-sigma * c1 + wd * c2) * c + (-sigma * c2 - wd * c1) * sn);
+  const ModeState h = homogeneous(*this, tau);
+  s.x += h.x;
+  s.x_dot += h.x_dot;
   return s;
 }
 
@@ -78,7 +108,17 @@ LinearResponse::LinearResponse(const SloshingModel& model, const MotionLaw& law,
         }
       }
       c.sigma = z * w;
-      c.wd = w * std::sqrt(1.0 - z * z);
+      if (z < 1.0) {
+        c.damping = LinearModePiece::Damping::kUnder;
+        c.wd = w * std::sqrt(1.0 - z * z);
+      } else if (z == 1.0) {
+        c.damping = LinearModePiece::Damping::kCritical;
+        c.wd = 1.0;
+      } else {
+        c.damping = LinearModePiece::Damping::kOver;
+        c.wd = w * std::sqrt((z - 1.0) * (z + 1.0));
+        c.slow = w2 / (c.sigma + c.wd);  // sigma - wd without cancellation
+      }
       // Homogeneous part matches the state at the piece start.
       LinearModePiece particular = c;
       particular.c1 = particular.c2 = 0.0;

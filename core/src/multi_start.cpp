@@ -65,6 +65,8 @@ MultiStartResult multi_start(const NlpProblem& problem,
       have = true;
     }
     if (out.timed_out) break;
+    // The caller's "good enough": a feasible point at or below stop_value ends the multi-start.
+    if (out.feasible && options.stop_value && out.best.objective <= *options.stop_value) break;
   }
   if (!have) out.best.status = out.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
   return out;
@@ -93,8 +95,10 @@ StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c
   } else if (m.timed_out) {
     o.status = SolveStatus::kTimeLimit;
   } else {
-    o.status = m.best.status == SolveStatus::kAcceptable ? SolveStatus::kAcceptable
-                                                         : SolveStatus::kOptimal;
+    // Optimal only when the solver converged; a feasible point it stopped at otherwise (round-off,
+    // the iteration limit) meets the constraints without a certificate of optimality.
+    o.status =
+        m.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal : SolveStatus::kAcceptable;
   }
   return o;
 }

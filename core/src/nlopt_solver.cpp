@@ -86,7 +86,9 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
         out.status = SolveStatus::kOptimal;
         break;
       case nlopt::MAXEVAL_REACHED:
-        out.status = SolveStatus::kAcceptable;
+        // Not converged: the point is kept (the caller judges its feasibility), the status says
+        // the solver did not finish.
+        out.status = SolveStatus::kFailed;
         break;
       case nlopt::MAXTIME_REACHED:
         out.status = SolveStatus::kTimeLimit;
@@ -94,7 +96,8 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
       default:
         out.status = SolveStatus::kFailed;
     }
-    out.message = std::string("nlopt SLSQP: result code ") + std::to_string(static_cast<int>(r));
+    out.message = std::string("nlopt SLSQP: result code ") + std::to_string(static_cast<int>(r)) +
+                  (r == nlopt::MAXEVAL_REACHED ? " (evaluation limit reached)" : "");
   } catch (const nlopt::roundoff_limited&) {
     out.status = SolveStatus::kAcceptable;
     out.message = "nlopt SLSQP: stopped by round-off";

@@ -46,7 +46,87 @@ std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
          change(b.nonlinear.rest.value, p.nonlinear.rest.value) + ")";
 }
 
+/// A law is worse than the uniform baseline on a figure when it is above it by more than this
+/// fraction and by more than kWorseAbsolute (SPEC §5 "Honest status").
+constexpr double kWorseRelative{0.05};
+constexpr double kWorseAbsolute{0.5e-3};  // [m]
+
+/// The `worse_than_baseline` warning naming the figures, or empty.
+std::string worse_than_baseline(const LawPrediction& p, const LawPrediction& b) {
+  std::string figures;
+  auto check = [&](double value, double base, const char* what) {
+    if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
+      if (!figures.empty()) figures += ", ";
+      figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
+    }
+  };
+  check(p.nonlinear.motion.value, b.nonlinear.motion.value, "eta_motion (nonlinear)");
+  check(p.nonlinear.rest.value, b.nonlinear.rest.value, "eta_rest (nonlinear)");
+  check(p.linear.motion.value, b.linear.motion.value, "eta_motion (linear)");
+  check(p.linear.rest.value, b.linear.rest.value, "eta_rest (linear)");
+  if (figures.empty()) return {};
+  return "worse_than_baseline: " + figures +
+         " for the uniform law (more than 5 % and 0.5 mm above it); the uniform law (strategy "
+         "baseline) sloshes less there";
+}
+
+bool finite_prediction(const LawPrediction& p) {
+  const double values[] = {p.linear.motion.value,       p.linear.rest.value,
+                           p.nonlinear.motion.value,    p.nonlinear.rest.value,
+                           p.kinematics.v_peak,         p.kinematics.a_peak_positive,
+                           p.kinematics.a_peak_negative};
+  return std::all_of(std::begin(values), std::end(values),
+                     [](double v) { return std::isfinite(v); });
+}
+
 }  // namespace
+
+std::string plan_input_error(const Format& f, const PlanOptions& options) {
+  auto bad = [](double v, double lo, double hi) {
+    return !(std::isfinite(v) && v >= lo && v <= hi);
+  };
+  const double R = f.container.radius;
+  if (bad(R, kMinPlanRadius, kMaxPlanLength)) {
+    return "container radius " + sig3(R) + " m must be finite and in [" + sig3(kMinPlanRadius) +
+           ", " + sig3(kMaxPlanLength) + "] m";
+  }
+  if (f.container.height && !(std::isfinite(*f.container.height) && *f.container.height > 0.0)) {
+    return "container height " + sig3(*f.container.height) + " m must be finite and > 0";
+  }
+  if (bad(f.fill_height, kMinPlanLength, kMaxPlanLength)) {
+    return "fill height " + sig3(f.fill_height) + " m must be finite and in [" +
+           sig3(kMinPlanLength) + ", " + sig3(kMaxPlanLength) + "] m";
+  }
+  if (bad(f.fluid.density, 1.0, 1e5)) {
+    return "fluid density " + sig3(f.fluid.density) + " kg/m^3 must be finite and in [1, 1e5]";
+  }
+  if (bad(f.fluid.viscosity, 0.0, 1e6)) {
+    return "fluid viscosity " + sig3(f.fluid.viscosity) + " Pa·s must be finite and in [0, 1e6]";
+  }
+  if (bad(f.stroke, kMinPlanLength, kMaxPlanLength)) {
+    return "stroke " + sig3(f.stroke) + " m must be finite and in [" + sig3(kMinPlanLength) + ", " +
+           sig3(kMaxPlanLength) + "] m";
+  }
+  if (bad(f.motion_time, kMinPlanTime, kMaxPlanTime)) {
+    return "motion time " + sig3(f.motion_time) + " s must be finite and in [" +
+           sig3(kMinPlanTime) + ", " + sig3(kMaxPlanTime) + "] s";
+  }
+  const ModelOptions& m = options.model;
+  if (m.modes < 1 || m.modes > static_cast<int>(kMaxModes)) {
+    return "modes = " + std::to_string(m.modes) + " must be in [1, " + std::to_string(kMaxModes) +
+           "]";
+  }
+  if (!(std::isfinite(m.alpha) && m.alpha >= 0.0)) {
+    return "alpha = " + sig3(m.alpha) + " must be finite and >= 0";
+  }
+  if (m.damping == DampingCorrelation::kExplicit &&
+      !(std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0)) {
+    return "zeta = " + sig3(m.explicit_zeta) + " must be finite and >= 0";
+  }
+  std::string error;
+  if (!options.is_valid(f, &error)) return error;
+  return {};
+}
 
 std::string to_string(Strategy strategy) {
   switch (strategy) {
@@ -117,7 +197,7 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
                 sig3((T - plateau_min[0] - plateau_min[1]) / 4.0) + " s");
   }
   for (int i = 0; i < 2; ++i) {
-    if (!(plateau_min[i] >= 0.0)) {
+    if (!(plateau_min[i] >= 0.0) || !std::isfinite(plateau_min[i])) {
       return fail("plateau_min_s[" + std::to_string(i) + "] = " + sig3(plateau_min[i]) +
                   " s must be >= 0");
     }
@@ -135,15 +215,23 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
     return fail("p_notch = " + sig3(p_notch) + " must be > 0 and < 1");
   }
   if (!(band > 0.0 && band < 1.0)) return fail("band = " + sig3(band) + " must be > 0 and < 1");
-  if (n_band < 1) return fail("n_band = " + std::to_string(n_band) + " must be >= 1");
-  if (!(tol_rel > 0.0)) return fail("tol_rel = " + sig3(tol_rel) + " must be > 0");
-  if (!(eta_rest_max > 0.0)) {
+  if (n_band < 1 || n_band > kMaxBandPoints) {
+    return fail("n_band = " + std::to_string(n_band) + " must be in [1, " +
+                std::to_string(kMaxBandPoints) + "]");
+  }
+  if (!(tol_rel > 0.0) || !std::isfinite(tol_rel)) {
+    return fail("tol_rel = " + sig3(tol_rel) + " must be finite and > 0");
+  }
+  if (!(eta_rest_max > 0.0) || !std::isfinite(eta_rest_max)) {
     return fail("eta_rest_max_mm = " + sig3(eta_rest_max * 1e3) + " mm must be > 0");
   }
-  if (eta_motion_max && !(*eta_motion_max > 0.0)) {
+  if (eta_motion_max && (!(*eta_motion_max > 0.0) || !std::isfinite(*eta_motion_max))) {
     return fail("eta_motion_max_mm = " + sig3(*eta_motion_max * 1e3) + " mm must be > 0");
   }
-  if (!(rest_time > 0.0)) return fail("rest_time_s = " + sig3(rest_time) + " s must be > 0");
+  if (!(rest_time > 0.0 && rest_time <= kMaxPlanTime)) {
+    return fail("rest_time_s = " + sig3(rest_time) + " s must be > 0 and <= " + sig3(kMaxPlanTime) +
+                " s");
+  }
   const std::pair<const std::optional<double>*, const char*> lims[] = {
       {&limits.a_max, "limits.a_max"},
       {&limits.v_max, "limits.v_max"},
@@ -153,7 +241,8 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
       return fail(std::string(name) + " = " + sig3(**value) + " must be finite and > 0");
     }
   }
-  if (!(time_limit > 0.0)) return fail("time_limit_s = " + sig3(time_limit) + " s must be > 0");
+  if (!(time_limit > 0.0) || std::isnan(time_limit))
+    return fail("time_limit_s = " + sig3(time_limit) + " s must be > 0");
   if (!(residual >= 0.0 && residual < 1.0)) {
     return fail("residual = " + sig3(residual) + " must be >= 0 and < 1");
   }
@@ -241,25 +330,120 @@ std::string explain_limits(const StrategyContext& c) {
   return {};
 }
 
+void set_references(StrategyContext& c, double eta_ref) {
+  const Durations uniform = uniform_durations(c.format.motion_time);
+  const double w1 = c.model.omega1();
+  c.x_ref = band_peak(uniform, c.format.stroke, band_check_grid(w1, c.options)).value;
+  c.jerk_ref = SevenSegmentLaw(uniform, c.format.stroke).jerk_integral();
+  c.eta_ref = eta_ref;
+  c.eta_motion_max = c.options.eta_motion_max.value_or(eta_ref);
+}
+
+std::string violated_constraint(const StrategyContext& c, Strategy strategy, const Durations& d,
+                                const SloshPeaks& verified) {
+  constexpr double kSlack = 1e-6;  // relative round-off of the verification
+  const MachineLimits& lim = c.options.limits;
+  const SevenSegmentLaw law(d, c.format.stroke);
+  double jerk = 0.0;
+  for (double j : law.jerks()) jerk = std::max(jerk, std::abs(j));
+  const struct {
+    const char* name;
+    const char* what;
+    const char* unit;
+    std::optional<double> limit;
+    double value;
+  } checks[] = {{"a_max", "acceleration", "m/s^2", lim.a_max, std::max(law.A(), law.B())},
+                {"v_max", "velocity", "m/s", lim.v_max, law.v_peak()},
+                {"j_max", "jerk", "m/s^3", lim.j_max, jerk}};
+  for (const auto& k : checks) {
+    if (k.limit && k.value > *k.limit * (1.0 + kSlack)) {
+      return std::string("the law's peak ") + k.what + " " + sig3(k.value) + " " + k.unit +
+             " exceeds limits." + k.name + " = " + sig3(*k.limit) + " " + k.unit;
+    }
+  }
+  if (strategy == Strategy::kMinJerkBand) {
+    const double ratio =
+        band_peak(d, c.format.stroke, band_check_grid(c.model.omega1(), c.options)).value / c.x_ref;
+    if (ratio > c.options.tol_rel * (1.0 + kBandTolerance)) return band_limit_sentence(c, ratio);
+  }
+  if (strategy == Strategy::kTimeDomain) {
+    const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+    const double value = motion ? verified.rest.value : verified.motion.value;
+    const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
+    if (value > bound * (1.0 + kSlack)) {
+      return std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
+             " mm is not reachable in " + sig3(c.format.motion_time) + " s: the best is " +
+             sig3(value * 1e3) + " mm; lengthen the motion or relax the limit";
+    }
+  }
+  return {};
+}
+
 }  // namespace detail
 
 PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
-  const detail::Deadline deadline(options.time_limit);
   PlanResult r;
   r.strategy = strategy;
+  // The invalid-input result: nothing planned, but what can be built from the valid parts (the
+  // model, the uniform law) is filled in when finite, so a renderer that expects them does not
+  // meet empty or non-finite fields; predictions stay zero.
+  auto refuse = [&](const std::string& why) {
+    PlanResult invalid;
+    invalid.strategy = strategy;
+    invalid.status = SolveStatus::kFailed;
+    invalid.invalid_input = true;
+    invalid.message = "invalid input: " + why + "; nothing was planned";
+    invalid.solver.name = "none";
+    const Format& f = format;
+    const ModelOptions& m = options.model;
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
+        std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
+        m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
+        std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
+      const SloshingModel model = make_sloshing_model(f, m);
+      const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
+                          std::isfinite(model.K) &&
+                          std::all_of(model.omega.begin(), model.omega.end(), positive);
+      if (finite) invalid.model = model;
+    }
+    if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
+        f.stroke <= kMaxPlanLength) {
+      const Durations uniform = uniform_durations(f.motion_time);
+      const SevenSegmentLaw law(uniform, f.stroke);
+      if (std::isfinite(law.A()) && std::isfinite(law.B())) {
+        invalid.durations = uniform;
+        invalid.law = law.law();
+        invalid.A = law.A();
+        invalid.B = law.B();
+      }
+    }
+    return invalid;
+  };
+  if (std::string why = plan_input_error(format, options); !why.empty()) return refuse(why);
+  const detail::Deadline deadline(options.time_limit);
   r.model = make_sloshing_model(format, options.model);
   const double w1 = r.model.omega1();
+  if (!(std::isfinite(w1) && w1 > 0.0 && std::isfinite(r.model.zeta) && r.model.zeta >= 0.0 &&
+        std::isfinite(r.model.K))) {
+    return refuse("the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
+                  " rad/s, zeta = " + sig3(r.model.zeta) + ")");
+  }
   r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
   const Durations uniform = uniform_durations(format.motion_time);
   r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
+  if (!finite_prediction(r.baseline)) {
+    return refuse("the uniform law's predicted sloshing is not finite for this format");
+  }
 
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
-  c.x_ref = std::abs(seven_segment_spectrum(uniform, format.stroke, w1));
-  c.jerk_ref = SevenSegmentLaw(uniform, format.stroke).jerk_integral();
-  c.eta_ref = r.baseline.nonlinear.motion.value;
-  c.eta_motion_max = options.eta_motion_max.value_or(c.eta_ref);
+  detail::set_references(c, r.baseline.nonlinear.motion.value);
+  if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
+    return refuse("the uniform law's reference levels are not finite and positive (X_ref = " +
+                  sig3(c.x_ref) + " m/s)");
+  }
 
   // Every strategy's outcome in one shape: the optimisers' durations become their law.
   struct Outcome {
@@ -316,6 +500,29 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       }
     }
   };
+  // SPEC §5 "Honest status": the status follows the verification of the returned law. An
+  // optimiser's law that meets every constraint is never infeasible; one that violates a
+  // constraint is never optimal or acceptable (filter designs are only ever downgraded: their
+  // "infeasible" also means "this method has no law here").
+  auto verify = [&](Strategy s, Outcome& o, const LawPrediction& p) {
+    if (!o.durations || s == Strategy::kBaseline) return;
+    const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
+    const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
+    if (!violation.empty() && usable) {
+      o.status = SolveStatus::kInfeasible;
+      if (o.detail.empty() || is_filter_strategy(s)) {
+        o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
+      } else {
+        o.detail = violation;
+      }
+    } else if (violation.empty() && o.status == SolveStatus::kInfeasible &&
+               !is_filter_strategy(s)) {
+      o.status = SolveStatus::kAcceptable;
+      o.detail =
+          "the law meets every constraint on the verification, though its objective was "
+          "not minimised";
+    }
+  };
   // The spectral optima seed the time-domain starts (SPEC §5).
   auto spectral_seeds = [&](std::vector<Outcome>* outcomes) {
     std::vector<Durations> seeds;
@@ -340,6 +547,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   };
 
   std::string detail_text;
+  std::string worse;                    // the worse_than_baseline warning of the returned law
   Strategy result_strategy = strategy;  // the strategy whose law is returned
   if (strategy == Strategy::kAuto) {
     std::vector<Outcome> outcomes;
@@ -352,33 +560,45 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                               Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
                               Strategy::kShaper};
     int evaluations = 0, starts = 0;
+    std::vector<std::string> worse_of;
     for (std::size_t k = 0; k < outcomes.size(); ++k) {
       PlanCandidate cand;
       cand.strategy = order[k];
-      cand.status = outcomes[k].status;
-      cand.durations = outcomes[k].durations;
       cand.law = outcomes[k].law;
       cand.prediction = predict(r.model, cand.law, options.rest_time);
+      verify(order[k], outcomes[k], cand.prediction);
+      cand.status = outcomes[k].status;
+      cand.durations = outcomes[k].durations;
+      worse_of.push_back(worse_than_baseline(cand.prediction, r.baseline));
       r.candidates.push_back(std::move(cand));
       evaluations += outcomes[k].solver.evaluations;
       starts += outcomes[k].solver.starts;
     }
     // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best
-    // (ties: lower peak acceleration); infeasible or failed candidates do not compete.
-    auto eligible = [](const PlanCandidate& k) {
+    // (ties: lower peak acceleration); infeasible or failed candidates do not compete, nor do
+    // those worse than the uniform law while one that is not remains (the baseline never is).
+    auto usable = [](const PlanCandidate& k) {
       return k.status == SolveStatus::kOptimal || k.status == SolveStatus::kAcceptable ||
              k.status == SolveStatus::kTimeLimit;
     };
+    bool any_not_worse = false;
+    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+      any_not_worse = any_not_worse || (usable(r.candidates[k]) && worse_of[k].empty());
+    }
+    auto eligible = [&](std::size_t k) {
+      return usable(r.candidates[k]) && (!any_not_worse || worse_of[k].empty());
+    };
     double best_motion = INFINITY;
-    for (const auto& k : r.candidates) {
-      if (eligible(k)) best_motion = std::min(best_motion, k.prediction.nonlinear.motion.value);
+    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+      if (eligible(k)) {
+        best_motion = std::min(best_motion, r.candidates[k].prediction.nonlinear.motion.value);
+      }
     }
     std::size_t chosen = 0;
     bool have = false;
     for (std::size_t k = 0; k < r.candidates.size(); ++k) {
       const auto& cand = r.candidates[k];
-      if (!eligible(cand) ||
-          cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
         continue;
       }
       if (!have) {
@@ -404,17 +624,22 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     o.solver.evaluations = evaluations;
     o.solver.starts = starts;
     detail_text = "auto chose " + to_string(order[chosen]) +
-                  " (lowest eta_rest among the candidates within 5 % of the best eta_motion)";
+                  " (lowest eta_rest among the candidates within 5 % of the best eta_motion, "
+                  "none worse than the uniform law)";
     if (!o.detail.empty()) detail_text += "; " + o.detail;
+    worse = worse_of[chosen];
     finish(o);
     r.prediction = r.candidates[chosen].prediction;
   } else {
     std::vector<Durations> seeds;
     if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(nullptr);
     Outcome o = run(strategy, seeds);
+    const LawPrediction p = predict(r.model, o.law, options.rest_time);
+    verify(strategy, o, p);
     detail_text = o.detail;
     finish(o);
-    r.prediction = predict(r.model, r.law, options.rest_time);
+    r.prediction = p;
+    worse = worse_than_baseline(r.prediction, r.baseline);
   }
 
   if (r.durations) {
@@ -427,6 +652,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
 
   // The message: what happened, then what the law does.
   const bool filtered = is_filter_strategy(result_strategy);
@@ -447,10 +673,19 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
         detail_text.clear();
         break;
       }
-      const std::string limits = c.space.limit_count() > 0 ? detail::explain_limits(c) : "";
-      message = !limits.empty()
-                    ? limits
-                    : (!detail_text.empty() ? detail_text : "the constraints cannot be met");
+      // The machine limits first when they alone cannot hold; otherwise the strategy's own
+      // sentence (constraint, limit, best value reached).
+      std::string limits;
+      if (c.space.limit_count() > 0 && r.durations &&
+          !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
+               .empty()) {
+        limits = detail::explain_limits(c);
+      }
+      message = !limits.empty() ? limits : detail_text;
+      if (message.empty() && r.durations) {
+        message =
+            detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
+      }
       detail_text.clear();
       message += "; the durations returned are the least infeasible found, not a solution";
       break;
@@ -466,19 +701,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
       r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value);
-  if (strategy == Strategy::kTimeDomain && r.usable()) {
-    // The constraint re-verified on the dense accurate simulation.
-    const bool motion = options.objective == TimeDomainObjective::kMotion;
-    const double verified =
-        motion ? r.prediction.nonlinear.rest.value : r.prediction.nonlinear.motion.value;
-    const double bound = motion ? options.eta_rest_max : c.eta_motion_max;
-    if (verified > bound * (1.0 + 1e-6)) {
-      r.warnings.push_back("verification: the dense simulation gives " +
-                           std::string(motion ? "eta_rest " : "eta_motion ") +
-                           detail::fixed(verified * 1e3, 6) + " mm, above the bound " +
-                           detail::fixed(bound * 1e3, 6) + " mm");
-    }
-  }
+  if (!worse.empty()) r.warnings.push_back(worse);
   return r;
 }
 

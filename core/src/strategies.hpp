@@ -1,6 +1,7 @@
 #pragma once
 // The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
 
+#include <algorithm>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -12,12 +13,14 @@
 namespace slosh::detail {
 
 /// Wall-clock deadline of a plan.
+inline constexpr double kLongestBudget{365.0 * 24.0 * 3600.0};  // [s]
 class Deadline {
  public:
+  /// `seconds` beyond a year (or infinite) is a year: the clock's integer count cannot hold more.
   explicit Deadline(double seconds)
       : end_(std::chrono::steady_clock::now() +
              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                 std::chrono::duration<double>(seconds))) {}
+                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))) {}
   [[nodiscard]] double remaining() const {
     return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
   }
@@ -35,7 +38,9 @@ struct StrategyContext {
   const SloshingModel& model;
   DurationSpace space;
   const Deadline& deadline;
-  double x_ref{};           ///< |X_uniform(w1)| [m/s]
+  /// X_ref: the uniform law's largest |X| over the band [(1 - band) w1, (1 + band) w1] (SPEC §5
+  /// "Reference levels"; |X_uniform(w1)| alone collapses near the uniform law's zeros) [m/s].
+  double x_ref{};
   double jerk_ref{};        ///< jerk integral of the uniform law [m^2/s^5]
   double eta_ref{};         ///< nonlinear eta_motion of the uniform law [m]
   double eta_motion_max{};  ///< time_domain kRest bound [m] (option or eta_ref)
@@ -103,6 +108,36 @@ struct FilterOutcome {
 
 /// Band frequencies of min_jerk_band [rad/s].
 [[nodiscard]] std::vector<double> band_frequencies(double omega1, double band, int count);
+
+/// The largest |X| of a 7-segment law over the continuous band: on `grid` (sorted), then by
+/// golden section around every local maximum of it.
+struct BandPeak {
+  double value{};  ///< |X| [m/s]
+  double omega{};  ///< where [rad/s]
+};
+[[nodiscard]] BandPeak band_peak(const Durations& d, double stroke,
+                                 const std::vector<double>& grid);
+
+/// Relative excess of the band maximum over tol_rel X_ref that still meets the band [-].
+inline constexpr double kBandTolerance{1e-6};
+
+/// "|X| <= 20 % of X_ref on the band is not reachable in 1.04 s: the best is 34 % ...".
+[[nodiscard]] std::string band_limit_sentence(const StrategyContext& context, double best_ratio);
+
+/// The grid band_peak checks min_jerk_band's band on (and X_ref is taken on).
+[[nodiscard]] std::vector<double> band_check_grid(double omega1, const PlanOptions& options);
+
+/// Sets the context's reference levels (x_ref, jerk_ref, eta_ref, eta_motion_max); eta_ref is
+/// the uniform law's nonlinear eta_motion, given by the caller (it has simulated that law).
+void set_references(StrategyContext& context, double eta_ref);
+
+/// The constraint of the context's strategy the 7-segment law `d` violates, judged on the
+/// verification of SPEC §2 (machine limits; the band of min_jerk_band on band_check_grid; the
+/// eta bound of time_domain on the dense nonlinear response, whose peaks are `verified`): a
+/// sentence naming the constraint, its limit and the value reached; empty when every constraint
+/// holds.
+[[nodiscard]] std::string violated_constraint(const StrategyContext& context, Strategy strategy,
+                                              const Durations& d, const SloshPeaks& verified);
 
 /// Starts as solver vectors.
 [[nodiscard]] std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts);

@@ -7,6 +7,7 @@
 #include <numbers>
 
 #include "nonlinear_sensitivity.hpp"
+#include "slosh/core/response.hpp"
 #include "strategies.hpp"
 #include "text.hpp"
 
@@ -215,29 +216,83 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
   for (const Durations& d : seeds) {
     if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
   }
-  double excess = 0.0;
-  const MultiStartResult m = solve_phase(c, motion, bound, starts, &excess);
-  StrategyOutcome o = outcome_from(m, c);
-  if (o.status == SolveStatus::kOptimal && excess > kDenseTolerance) {
-    o.status = SolveStatus::kAcceptable;
-    o.detail = std::string(motion ? "eta_rest" : "eta_motion") +
-               " bound met on the dense response to within " + sig3(excess * 1e2) + " %";
-  }
+  // The bounded phase (dense excess within kDenseTolerance counts as met).
+  auto bounded = [&](const std::vector<Durations>& from, StrategyOutcome* out) {
+    double excess = 0.0;
+    const MultiStartResult m = solve_phase(c, motion, bound, from, &excess);
+    const int evaluations = out->evaluations + m.evaluations;
+    const int solved = out->starts + m.starts;
+    *out = outcome_from(m, c);
+    out->evaluations = evaluations;
+    out->starts = solved;
+    if ((out->status == SolveStatus::kOptimal || out->status == SolveStatus::kAcceptable) &&
+        excess > kDenseTolerance) {
+      // The exchange rounds ran out before the dense check passed: not met.
+      out->status = SolveStatus::kInfeasible;
+    }
+  };
+  StrategyOutcome o;
+  bounded(starts, &o);
   if (o.status != SolveStatus::kInfeasible) return o;
-  // Not reachable: the best the other phase can do alone, reported and returned.
+  // Least infeasible phase: the constrained quantity alone minimised from the same starts (the
+  // min of eta_rest, or of eta_motion for objective kRest). When it meets the bound, the bounded
+  // phase runs again from it (a feasible start); failing that, it is itself a law that meets the
+  // bound.
   double unused = 0.0;
   const MultiStartResult best = solve_phase(c, !motion, std::nullopt, starts, &unused);
-  o.evaluations += best.evaluations;
-  o.starts += best.starts;
-  o.status = SolveStatus::kInfeasible;
-  if (!best.best.x.empty() && best.feasible) {
-    o.durations = c.space.polish(best.best.x.data());
-    const std::string what = motion ? "eta_rest" : "eta_motion";
-    o.detail = what + " <= " + sig3(bound * 1e3) + " mm is not reachable in " +
-               sig3(c.format.motion_time) + " s: the best is " +
-               sig3(best.best.objective * c.eta_ref * 1e3) +
-               " mm; lengthen the motion or relax the limit";
+  const int evaluations = o.evaluations + best.evaluations;
+  const int solved = o.starts + best.starts;
+  const Durations infeasible_point = o.durations;
+  o.evaluations = evaluations;
+  o.starts = solved;
+  if (best.best.x.empty() || !best.feasible) {
+    o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
+    o.detail = "the machine limits leave no admissible law";
+    return o;
   }
+  const Durations least = c.space.polish(best.best.x.data());
+  // The dense value of the constrained quantity at a point, and the best of the starts.
+  const SloshingModel& model = c.model;
+  auto dense = [&](const Durations& d) {
+    const SloshPeaks p =
+        NonlinearResponse(model, SevenSegmentLaw(d, c.format.stroke).law(), c.options.rest_time)
+            .peaks();
+    return motion ? p.rest.value : p.motion.value;
+  };
+  Durations chosen = least;
+  double reached = dense(least);
+  std::vector<Durations> others = starts;
+  others.push_back(infeasible_point);
+  for (const Durations& d : others) {
+    const double v = dense(d);
+    if (v < reached) {
+      reached = v;
+      chosen = d;
+    }
+  }
+  if (reached <= bound * (1.0 + kDenseTolerance)) {
+    StrategyOutcome again;
+    again.evaluations = o.evaluations;
+    again.starts = o.starts;
+    bounded({chosen}, &again);
+    if (again.status != SolveStatus::kInfeasible) return again;
+    o.evaluations = again.evaluations;
+    o.starts = again.starts;
+    // The least infeasible point meets the bound: a law that keeps the promise, though its
+    // objective is not minimised.
+    o.status = SolveStatus::kAcceptable;
+    o.durations = chosen;
+    o.objective = best.best.objective;
+    o.detail = std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
+               " mm met (" + sig3(reached * 1e3) + " mm), but the " +
+               (motion ? "eta_motion" : "eta_rest") + " objective was not minimised";
+    return o;
+  }
+  o.status = SolveStatus::kInfeasible;
+  o.durations = chosen;
+  o.detail = std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
+             " mm is not reachable in " + sig3(c.format.motion_time) + " s: the best is " +
+             sig3(reached * 1e3) + " mm; lengthen the motion or relax the limit";
   return o;
 }
 

@@ -13,11 +13,13 @@ namespace slosh {
 /// Outcome of a solve, shared by every solver and strategy.
 enum class SolveStatus {
   kOptimal,     ///< converged to the requested tolerance, constraints satisfied
-  kAcceptable,  ///< converged to a looser tolerance (or stalled on round-off), constraints
-                ///< satisfied
+  kAcceptable,  ///< constraints satisfied, optimality not certified to the requested tolerance
+                ///< (Ipopt's acceptable level, a stall on round-off; for a plan also a law that
+                ///< meets its constraints but whose objective was not minimised)
   kInfeasible,  ///< the constraints could not be satisfied
   kTimeLimit,   ///< the time budget ran out; x is the last iterate
-  kFailed,      ///< anything else (numerical failure, invalid problem)
+  kFailed,      ///< anything else (numerical failure, the iteration limit before convergence,
+                ///< invalid problem or input); x may still be a usable point
 };
 
 [[nodiscard]] std::string to_string(SolveStatus status);

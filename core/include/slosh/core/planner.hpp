@@ -24,7 +24,7 @@ enum class Strategy {
   kBaseline,     ///< uniform durations T/7, no optimisation
   kNotch,        ///< |X(w1)|^2 -> 0; among the zeros, the least jerk integral
   kMultiNotch,   ///< b1 |X(w-)|^2 + b2 |X(w1)|^2 + b3 |X(w+)|^2, w+- = (1 +- p) w1
-  kMinJerkBand,  ///< min int j^2 dt s.t. |X(w_k)| <= tol_rel |X_uniform(w1)| on a band around w1
+  kMinJerkBand,  ///< min int j^2 dt s.t. |X(w)| <= tol_rel X_ref on the band around w1
   kTimeDomain,   ///< min eta_motion (or eta_rest) of the nonlinear model, constraint on the other
   kFirChain,     ///< three rectangular FIR filters on a step, T3 = damped period (JDSMC sec. 3.4)
   kShaper,       ///< base law of duration T - delay convolved with an input shaper (sec. 3.1, 4)
@@ -72,7 +72,8 @@ struct PlanOptions {
   /// Number of evenly spaced band frequencies the min_jerk_band constraint starts from [-]. The
   /// planner adds points where a 16x finer check finds the band exceeded. Default 51.
   int n_band{51};
-  /// Band tolerance relative to the uniform law's |X(w1)| [-]. Default 0.2.
+  /// Band tolerance relative to X_ref, the uniform law's largest |X| over the band (SPEC §5
+  /// "Reference levels") [-]. Default 0.2.
   double tol_rel{0.2};
   /// Largest eta_rest of time_domain with objective kMotion [m]. Default 3 mm.
   double eta_rest_max{0.003};
@@ -93,8 +94,9 @@ struct PlanOptions {
   MachineLimits limits;
   /// Solver. Default kAuto.
   SolverChoice solver{SolverChoice::kAuto};
-  /// Wall-clock budget of the whole plan [s]. When it runs out the best admissible point found so
-  /// far is returned with status kTimeLimit. Default 5 s.
+  /// Wall-clock budget of the whole plan [s], for both solvers (Ipopt's through its intermediate
+  /// callback, not CPU time). When it runs out the best admissible point found so far is
+  /// returned with status kTimeLimit. Default 5 s.
   double time_limit{5.0};
   /// Base law of shaper and iir, planned over T minus the filter's delay. Default poly5 (the
   /// paper's recommendation for shaping, sec. 7).
@@ -116,6 +118,19 @@ struct PlanOptions {
   /// value and the allowed range, and returns false.
   [[nodiscard]] bool is_valid(const Format& format, std::string* error) const;
 };
+
+/// Largest n_band plan() accepts [-].
+inline constexpr int kMaxBandPoints{2001};
+/// Ranges plan() accepts (wider than the API's; beyond them it returns an invalid-input result).
+inline constexpr double kMinPlanRadius{1e-4};  ///< [m]
+inline constexpr double kMinPlanLength{1e-9};  ///< fill height and stroke [m]
+inline constexpr double kMaxPlanLength{1e3};   ///< radius, fill height and stroke [m]
+inline constexpr double kMinPlanTime{1e-3};    ///< motion time [s]
+inline constexpr double kMaxPlanTime{3600.0};  ///< motion time and rest window [s]
+
+/// Why plan() would refuse `format` and `options` (a sentence naming the value and its allowed
+/// range), or empty when they are valid. Includes PlanOptions::is_valid.
+[[nodiscard]] std::string plan_input_error(const Format& format, const PlanOptions& options);
 
 /// Solver figures of a plan.
 struct SolverReport {
@@ -174,6 +189,10 @@ struct PlanCandidate {
 struct PlanResult {
   Strategy strategy{};  ///< the requested strategy
   SolveStatus status{SolveStatus::kFailed};
+  /// True when plan() refused its inputs (plan_input_error): status kFailed, the message names
+  /// the input, and nothing was planned: zero predictions; the model and the uniform law (as
+  /// durations and law) only when they can be built finite from the valid inputs.
+  bool invalid_input{false};
   /// One or two sentences a line engineer can act on.
   std::string message;
   /// The seven durations when the planned law is a 7-segment law (every optimising strategy, and
@@ -202,7 +221,14 @@ struct PlanResult {
   }
 };
 
-/// Plans a law for `format`. The format and options are assumed valid (PlanOptions::is_valid).
+/// Plans a law for `format`. Invalid inputs (plan_input_error) give an invalid-input result,
+/// never a throw or a non-finite number. Status rules (SPEC §5 "Honest status"): kOptimal and
+/// kAcceptable only when the returned law meets every constraint of the strategy on the
+/// verification (machine limits, the band of min_jerk_band on a fine grid, the eta bound of
+/// time_domain on the dense nonlinear response), kInfeasible only when it does not, with the
+/// least infeasible law found and a message naming the constraint, its limit and the best value
+/// reached. A law more than 5 % and 0.5 mm above the uniform law on any eta carries the warning
+/// `worse_than_baseline: ...`.
 [[nodiscard]] PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options);
 
 }  // namespace slosh

@@ -33,7 +33,12 @@ struct LinearModePiece {
   std::array<double, 4> r{};
   double P{}, Q{}, U{}, V{}, W{};
   double c1{}, c2{};
+  /// sigma = zeta w; wd = w sqrt(1 - zeta^2) under-damped, w sqrt(zeta^2 - 1) over-damped, 1
+  /// critically damped (the homogeneous part is then exp(-sigma tau) (c1 cosh + c2 sinh), resp.
+  /// exp(-sigma tau) (c1 + c2 tau)).
   double sigma{}, wd{};
+  double slow{};  ///< over-damped: the slow decay rate sigma - wd
+  enum class Damping : unsigned char { kUnder, kCritical, kOver } damping{Damping::kUnder};
   [[nodiscard]] ModeState at(double tau) const;
   /// x alone (the peak search's hot path).
   [[nodiscard]] double position(double tau) const;
