@@ -455,5 +455,30 @@ TEST(PlanHonesty, Issue14OverDampedModeGivesInfeasibleFilterDesignsNotAThrow) {
             to_string(SolveStatus::kInfeasible));
 }
 
+// Hostile review: the uniform law was "optimal" whatever the options asked (limits, min_ramp_s),
+// and auto returned it as such: a law that breaks the options is never optimal.
+TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
+  const Format f = format_mm(48.5, 82, 800, 1.0);  // uniform: A 4.9 m/s^2, v 1.4 m/s, ramps T/7
+  PlanOptions o;
+  o.min_ramp = 0.2;
+  const PlanResult ramps = plan(f, Strategy::kBaseline, o);
+  EXPECT_EQ(ramps.status, SolveStatus::kInfeasible) << describe(ramps);
+  EXPECT_TRUE(Contains(ramps.message, "min_ramp_s = 0.2 s")) << ramps.message;
+  PlanOptions fast;
+  fast.limits.v_max = 1.0;
+  const PlanResult baseline = plan(f, Strategy::kBaseline, fast);
+  EXPECT_EQ(baseline.status, SolveStatus::kInfeasible) << describe(baseline);
+  EXPECT_TRUE(Contains(baseline.message, "limits.v_max = 1 m/s")) << baseline.message;
+  // auto does not pick it: its law meets v_max, and the candidates list says why.
+  const PlanResult chosen = plan(f, Strategy::kAuto, fast);
+  ASSERT_TRUE(converged(chosen.status)) << describe(chosen);
+  EXPECT_NE(chosen.strategy, Strategy::kBaseline);
+  ASSERT_TRUE(chosen.durations.has_value());
+  EXPECT_LE(SevenSegmentLaw(*chosen.durations, f.stroke).v_peak(), 1.0 * (1 + 1e-6));
+  for (const PlanCandidate& c : chosen.candidates) {
+    if (c.strategy == Strategy::kBaseline) EXPECT_EQ(c.status, SolveStatus::kInfeasible);
+  }
+}
+
 }  // namespace
 }  // namespace slosh

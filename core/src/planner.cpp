@@ -341,7 +341,28 @@ void set_references(StrategyContext& c, double eta_ref) {
 
 std::string violated_constraint(const StrategyContext& c, Strategy strategy, const Durations& d,
                                 const SloshPeaks& verified) {
-  constexpr double kSlack = 1e-6;  // relative round-off of the verification
+  constexpr double kSlack = 1e-6;          // relative round-off of the verification
+  constexpr double kDurationSlack = 1e-9;  // s
+  // The admissibility rules of the options (the optimisers hold them by their bounds; the uniform
+  // law does not).
+  for (int i : {0, 2, 4, 6}) {
+    if (d[i] < c.options.min_ramp - kDurationSlack) {
+      return "the law's ramp " + std::to_string(i + 1) + " lasts " + sig3(d[i]) +
+             " s, less than min_ramp_s = " + sig3(c.options.min_ramp) + " s";
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    const int i = k == 0 ? 1 : 5;
+    if (d[i] < c.options.plateau_min[k] - kDurationSlack) {
+      return "the law's plateau " + std::to_string(i + 1) + " lasts " + sig3(d[i]) +
+             " s, less than plateau_min_s[" + std::to_string(k) +
+             "] = " + sig3(c.options.plateau_min[k]) + " s";
+    }
+  }
+  if (c.options.fix_constant_velocity_zero && d[3] > kDurationSlack) {
+    return "the law cruises for " + sig3(d[3]) +
+           " s although fix_constant_velocity_zero asks for no constant-velocity segment";
+  }
   const MachineLimits& lim = c.options.limits;
   const SevenSegmentLaw law(d, c.format.stroke);
   double jerk = 0.0;
@@ -505,12 +526,14 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   // constraint is never optimal or acceptable (filter designs are only ever downgraded: their
   // "infeasible" also means "this method has no law here").
   auto verify = [&](Strategy s, Outcome& o, const LawPrediction& p) {
-    if (!o.durations || s == Strategy::kBaseline) return;
+    if (!o.durations) return;
     const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
     const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
     if (!violation.empty() && usable) {
       o.status = SolveStatus::kInfeasible;
-      if (o.detail.empty() || is_filter_strategy(s)) {
+      if (s == Strategy::kBaseline) {
+        o.detail = "the uniform law does not meet the options: " + violation;
+      } else if (o.detail.empty() || is_filter_strategy(s)) {
         o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
       } else {
         o.detail = violation;
@@ -623,9 +646,15 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     Outcome& o = outcomes[chosen];
     o.solver.evaluations = evaluations;
     o.solver.starts = starts;
-    detail_text = "auto chose " + to_string(order[chosen]) +
-                  " (lowest eta_rest among the candidates within 5 % of the best eta_motion, "
-                  "none worse than the uniform law)";
+    if (!have) {
+      detail_text = "no candidate meets every constraint; auto returns the uniform law";
+    } else {
+      detail_text = "auto chose " + to_string(order[chosen]) +
+                    " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+                    (any_not_worse ? std::string("none worse than the uniform law)")
+                                   : std::string("all worse than the uniform law, which does not "
+                                                 "meet the options)"));
+    }
     if (!o.detail.empty()) detail_text += "; " + o.detail;
     worse = worse_of[chosen];
     finish(o);
@@ -676,7 +705,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       // The machine limits first when they alone cannot hold; otherwise the strategy's own
       // sentence (constraint, limit, best value reached).
       std::string limits;
-      if (c.space.limit_count() > 0 && r.durations &&
+      // (The uniform law is not searched: its own sentence says which option it breaks.)
+      if (result_strategy != Strategy::kBaseline && c.space.limit_count() > 0 && r.durations &&
           !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
                .empty()) {
         limits = detail::explain_limits(c);
@@ -687,7 +717,10 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
             detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
       }
       detail_text.clear();
-      message += "; the durations returned are the least infeasible found, not a solution";
+      message += result_strategy == Strategy::kBaseline
+                     ? "; the durations returned are the uniform law, not a solution: plan with "
+                       "a strategy that holds the options"
+                     : "; the durations returned are the least infeasible found, not a solution";
       break;
     }
     case SolveStatus::kFailed:
