@@ -773,5 +773,23 @@ TEST(Hardening, ADivergingModelIsA422NamingTheLaw) {
   }
 }
 
+// A plan the planner refuses as input (here: the uniform law already drives the nonlinear model
+// out of its range) is a 422 naming the format, not a 200 "failed" with zero predictions.
+TEST(Hardening, APlanOfAnInvalidFormatIsA422) {
+  Server server;
+  httplib::Client c = server.client();
+  const json body = json::parse(R"({"format": {"container": {"radius_mm": 1},
+      "fill_height_mm": 82, "fluid": "water", "stroke_mm": 100000, "motion_time_s": 0.05},
+      "strategy": "baseline", "options": {"alpha": 2, "min_ramp_s": 0.005}})");
+  const auto r = post(c, "/v1/plans", body);
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 422);
+  const json e = parse(r->body)["error"];
+  EXPECT_EQ(e["field"], "format");
+  EXPECT_EQ(e["message"],
+            "invalid input: the uniform law's predicted sloshing is not finite for this format; "
+            "nothing was planned");
+}
+
 }  // namespace
 }  // namespace slosh

@@ -442,7 +442,13 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
 }
 
 nlohmann::json run_plan(const PlanRequest& request) {
-  nlohmann::json out = plan_json(request, plan(request.format, request.strategy, request.options));
+  const PlanResult result = plan(request.format, request.strategy, request.options);
+  if (result.invalid_input) {
+    // The request passed the API's ranges but not the planner's own checks (e.g. a format whose
+    // uniform law already drives the model out of its range): a 422, not a plan of zeros.
+    throw ApiError(ErrorCode::kInvalidValue, "format", result.message);
+  }
+  nlohmann::json out = plan_json(request, result);
   add_series(request, out);
   return out;
 }
