@@ -480,5 +480,28 @@ TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
   }
 }
 
+// Hostile review: one reachable limit made time_domain and min_jerk_band blame "the machine
+// limits are each reachable but not together" (a zero-objective feasibility solve stopped at its
+// infeasible start), and the limit the returned law breaks went unsaid.
+TEST(PlanHonesty, AReachableLimitIsNotBlamedAndABrokenOneIsNamed) {
+  const Format f = format_mm(48.5, 82, 800, 1.0);
+  PlanOptions o;
+  o.limits.a_max = 3.6;  // reachable: notch meets it (least A for 800 mm in 1 s: 3.56 m/s^2)
+  const PlanResult notch = plan(f, Strategy::kNotch, o);
+  ASSERT_TRUE(notch.durations.has_value());
+  const SevenSegmentLaw notch_law(*notch.durations, f.stroke);
+  EXPECT_LE(std::max(notch_law.A(), notch_law.B()), 3.6 * (1 + 1e-6)) << describe(notch);
+  for (Strategy s : {Strategy::kTimeDomain, Strategy::kMinJerkBand}) {
+    const PlanResult r = plan(f, s, o);
+    EXPECT_FALSE(Contains(r.message, "not together")) << describe(r);
+    ASSERT_TRUE(r.durations.has_value());
+    const SevenSegmentLaw law(*r.durations, f.stroke);
+    if (std::max(law.A(), law.B()) > 3.6 * (1 + 1e-6)) {
+      EXPECT_EQ(r.status, SolveStatus::kInfeasible) << describe(r);
+      EXPECT_TRUE(Contains(r.message, "exceeds limits.a_max = 3.6 m/s^2")) << describe(r);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace slosh

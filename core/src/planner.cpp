@@ -258,10 +258,41 @@ bool PlanOptions::is_valid(const Format& format, std::string* error) const {
 
 namespace detail {
 
+MultiStartResult least_limit_scale(const StrategyContext& c, int first, int rows) {
+  // min z s.t. quantity_r / limit_r <= z for the rows [first, first + rows) of limit_constraints
+  // (g = quantity / limit - 1); z <= 1: those limits are reachable together.
+  const int total = c.space.limit_count();
+  const DurationSpace* space = &c.space;
+  NlpProblem p = c.space.problem(1);
+  p.inequality_count = rows;
+  p.inequalities = [space, total, first, rows](const double* x, double* g, double* jac) {
+    std::vector<double> all(static_cast<std::size_t>(total));
+    std::vector<double> all_jac(static_cast<std::size_t>(total) * (kSegments + 1), 0.0);
+    space->limit_constraints(x, all.data(), jac ? all_jac.data() : nullptr, kSegments + 1);
+    for (int r = 0; r < rows; ++r) {
+      g[r] = all[static_cast<std::size_t>(first + r)] + 1.0 - x[kSegments];
+      if (jac != nullptr) {
+        for (std::size_t i = 0; i < kSegments; ++i) {
+          jac[r * (kSegments + 1) + i] = all_jac[(first + r) * (kSegments + 1) + i];
+        }
+        jac[r * (kSegments + 1) + kSegments] = -1.0;
+      }
+    }
+  };
+  auto starts = as_vectors(c.space.starts(4));
+  for (auto& x : starts) {
+    std::vector<double> g(static_cast<std::size_t>(total));
+    space->limit_constraints(x.data(), g.data(), nullptr, kSegments + 1);
+    double z = 0.0;
+    for (int r = 0; r < rows; ++r) z = std::max(z, g[static_cast<std::size_t>(first + r)] + 1.0);
+    x.push_back(z);
+  }
+  return multi_start(p, starts, c, NlpOptions{});
+}
+
 std::string explain_limits(const StrategyContext& c) {
   const MachineLimits& lim = c.space.limits;
   const double s = c.format.stroke, T = c.format.motion_time;
-  // The least reachable value of each limited quantity alone: min z s.t. quantity / limit <= z.
   struct Quantity {
     const char* name;
     const char* unit;
@@ -274,36 +305,11 @@ std::string explain_limits(const StrategyContext& c) {
   const Quantity quantities[] = {{"a_max", "m/s^2", lim.a_max, a_rows, 0},
                                  {"v_max", "m/s", lim.v_max, v_rows, a_rows},
                                  {"j_max", "m/s^3", lim.j_max, lim.j_max ? 4 : 0, a_rows + v_rows}};
-  const int total = c.space.limit_count();
-  const DurationSpace* space = &c.space;
+  int limited = 0;
   for (const Quantity& q : quantities) {
     if (!q.limit) continue;
-    NlpProblem p = c.space.problem(1);
-    p.inequality_count = q.rows;
-    const int first = q.first, rows = q.rows;
-    p.inequalities = [space, total, first, rows](const double* x, double* g, double* jac) {
-      std::vector<double> all(static_cast<std::size_t>(total));
-      std::vector<double> all_jac(static_cast<std::size_t>(total) * (kSegments + 1), 0.0);
-      space->limit_constraints(x, all.data(), jac ? all_jac.data() : nullptr, kSegments + 1);
-      for (int r = 0; r < rows; ++r) {
-        g[r] = all[static_cast<std::size_t>(first + r)] + 1.0 - x[kSegments];
-        if (jac != nullptr) {
-          for (std::size_t i = 0; i < kSegments; ++i) {
-            jac[r * (kSegments + 1) + i] = all_jac[(first + r) * (kSegments + 1) + i];
-          }
-          jac[r * (kSegments + 1) + kSegments] = -1.0;
-        }
-      }
-    };
-    auto starts = as_vectors(c.space.starts(4));
-    for (auto& x : starts) {
-      std::vector<double> g(static_cast<std::size_t>(total));
-      space->limit_constraints(x.data(), g.data(), nullptr, kSegments + 1);
-      double z = 0.0;
-      for (int r = 0; r < rows; ++r) z = std::max(z, g[static_cast<std::size_t>(first + r)] + 1.0);
-      x.push_back(z);
-    }
-    const MultiStartResult m = multi_start(p, starts, c, NlpOptions{});
+    ++limited;
+    const MultiStartResult m = least_limit_scale(c, q.first, q.rows);
     if (m.feasible && m.best.objective > 1.0 + 1e-6) {
       return std::string(q.name) + " = " + sig3(*q.limit) + " " + q.unit +
              " is not reachable: " + sig3(s * 1e3) + " mm in " + sig3(T) +
@@ -312,20 +318,16 @@ std::string explain_limits(const StrategyContext& c) {
              q.name;
     }
   }
-  // Each limit alone is reachable: check them together from the strategy-free problem.
-  NlpProblem p = c.space.problem();
-  p.objective = [](const double*, double* grad) {
-    if (grad != nullptr) std::fill(grad, grad + kSegments, 0.0);
-    return 0.0;
-  };
-  p.inequality_count = total;
-  p.inequalities = [space](const double* x, double* g, double* jac) {
-    space->limit_constraints(x, g, jac, kSegments);
-  };
-  const MultiStartResult m = multi_start(p, as_vectors(c.space.starts(4)), c, NlpOptions{});
-  if (!m.feasible) {
-    return "the machine limits are each reachable but not together for " + sig3(s * 1e3) +
-           " mm in " + sig3(T) + " s; raise one of them or lengthen the motion";
+  // Each limit alone is reachable: together, by the same scale over every row (a zero objective
+  // let the solver stop at its infeasible start).
+  if (limited > 1) {
+    const MultiStartResult m = least_limit_scale(c, 0, c.space.limit_count());
+    if (m.feasible && m.best.objective > 1.0 + 1e-6) {
+      return "the machine limits are each reachable but not together for " + sig3(s * 1e3) +
+             " mm in " + sig3(T) + " s (together they are exceeded by " +
+             sig3(100.0 * (m.best.objective - 1.0)) +
+             " % at best); raise one of them or lengthen the motion";
+    }
   }
   return {};
 }
@@ -715,6 +717,12 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       if (message.empty() && r.durations) {
         message =
             detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
+      } else if (limits.empty() && r.durations && result_strategy != Strategy::kBaseline) {
+        // The strategy's own constraint is named; a machine limit the returned law breaks too
+        // (although the limits are reachable) must not go unsaid.
+        const std::string also = detail::violated_constraint(c, Strategy::kBaseline, *r.durations,
+                                                             r.prediction.nonlinear);
+        if (!also.empty()) message += "; moreover " + also;
       }
       detail_text.clear();
       message += result_strategy == Strategy::kBaseline

@@ -106,6 +106,12 @@ struct FilterOutcome {
 /// the least value reachable; empty when the limits are jointly reachable.
 [[nodiscard]] std::string explain_limits(const StrategyContext& context);
 
+/// min z s.t. every quantity of the limit rows [first, first + rows) is <= z times its limit,
+/// from the space's starts: best.objective <= 1 when those limits hold together (best.x then
+/// meets them).
+[[nodiscard]] MultiStartResult least_limit_scale(const StrategyContext& context, int first,
+                                                 int rows);
+
 /// Band frequencies of min_jerk_band [rad/s].
 [[nodiscard]] std::vector<double> band_frequencies(double omega1, double band, int count);
 
