@@ -4,6 +4,7 @@
 // belongs. Expensive valid requests (long windows, many pieces, long series) are only parsed so
 // that an iteration stays in the millisecond range.
 
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -27,6 +28,19 @@ bool cheap(const slosh::api::SimulateRequest& r) {
   return !r.options.sample_period || window / *r.options.sample_period <= kCheapSamples;
 }
 
+// Known bug (fuzz/regressions/simulate_request/piecewise_linear_subnormal_pieces_nan_law.json):
+// a general law whose pieces are so short that its slopes or states overflow is accepted, because
+// the rest-to-rest check compares NaN (always false), and simulates to NaN (null in the JSON).
+bool law_overflows(const slosh::MotionLaw& law) {
+  for (const slosh::LawPiece& p : law.pieces()) {
+    for (const double c : p.poly) {
+      if (!std::isfinite(c)) return true;
+    }
+    if (!std::isfinite(p.velocity_begin) || !std::isfinite(p.position_begin)) return true;
+  }
+  return false;
+}
+
 }  // namespace
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
@@ -36,6 +50,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   try {
     const api::SimulateRequest request = api::parse_simulate_request(api::parse_json_body(text));
     if (!cheap(request)) return 0;
+    if (fuzz::known_bug(law_overflows(request.law))) return 0;
     const nlohmann::json response = api::run_simulate(request);
     fuzz::require(fuzz::all_finite(response), "a simulate response has only finite numbers");
     (void)api::dump_json(response);
