@@ -13,6 +13,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <string>
 #include <string_view>
 
@@ -102,6 +103,49 @@ inline bool known_bug(bool reported) {
 #else
   return reported;
 #endif
+}
+
+/// Known bugs (fuzz/regressions/simulate_request/shallow_fill_overdamped_nan.json and
+/// subnormal_fill_degenerate_model_nan.json): on a very shallow fill (h/R -> 0, accepted with a
+/// warning) the damping correlation gives zeta >= 1 and the exact linear response
+/// (core/src/linear_response.cpp: wd = w sqrt(1 - zeta^2)) is NaN; when h underflows to 0 the
+/// model itself is 0/0 (omega 0, masses and zeta NaN), and with omega_1 ~ 1e-137 rad/s the linear
+/// response is NaN even for an explicit zeta. Both show as null in the JSON. True when
+/// `response` (a simulate response) reports such a model.
+inline bool degenerate_model(const nlohmann::json& response) {
+  const auto model = response.find("model");
+  if (model == response.end() || !model->is_object()) return false;
+  const nlohmann::json& zeta = (*model)["zeta"];
+  const nlohmann::json& omega = (*model)["omega_rad_s"];
+  if (!zeta.is_number() || zeta.get<double>() >= 1.0) return true;
+  // omega_1 -> 0 as h -> 0 (1e-137 rad/s at h = 1e-273 mm): the closed forms overflow.
+  return !omega.is_array() || omega.empty() || !omega[0].is_number() ||
+         !(omega[0].get<double>() >= 1e-3);
+}
+
+/// Known bug (fuzz/regressions/simulate_request/violent_move_nonlinear_diverges_nan.json): on a
+/// violent in-range move (e.g. 100 m in 0.05 s in a 1 mm radius, alpha 2) the nonlinear model's
+/// integration diverges (eta 1e54 mm, then inf and NaN: null in the JSON, eta_motion 0). True when
+/// the nonlinear prediction or series of `response` is not finite, or beyond 1e9 mm.
+inline bool nonlinear_diverged(const nlohmann::json& response) {
+  const auto prediction = response.find("prediction");
+  if (prediction == response.end() || !prediction->contains("nonlinear")) return false;
+  for (const char* key : {"eta_motion_mm", "eta_rest_mm"}) {
+    const nlohmann::json& eta = (*prediction)["nonlinear"][key];
+    if (!eta.is_number() || !(std::abs(eta.get<double>()) < 1e9)) return true;
+  }
+  // The peaks skip NaN samples (comparisons with NaN are false): the series shows them.
+  const auto series = response.find("series");
+  return series != response.end() && series->contains("eta_nonlinear_mm") &&
+         !all_finite((*series)["eta_nonlinear_mm"]);
+}
+
+/// Known bug (fuzz/regressions/simulate_request/subnormal_stroke_uniform_law_500.json): a stroke
+/// so small (stroke_mm = 1e-321, in range) that the 7-segment plateau levels underflow to 0 makes
+/// SevenSegmentLaw throw std::invalid_argument, which api::parse_law does not catch for
+/// "seven_segment_uniform": the service answers 500. True for that exception.
+inline bool underflowing_stroke(const std::exception& e) {
+  return std::string_view(e.what()).starts_with("seven-segment law: durations give A = 0");
 }
 
 /// What a service does with an ApiError: render the one envelope. It must be valid JSON text with

@@ -13,7 +13,7 @@ seconds=${2:?usage: scripts/fuzz.sh BUILD_DIR SECONDS [TARGET...]}
 shift 2
 targets=("$@")
 if [ ${#targets[@]} -eq 0 ]; then
-  targets=(plan_request simulate_request batch_body recipe_csv recipe_jsonl)
+  targets=(plan_request simulate_request simulate_values batch_body recipe_csv recipe_jsonl)
 fi
 timeout_s=${FUZZ_TIMEOUT:-10}
 rss_mb=${FUZZ_RSS_MB:-2048}
