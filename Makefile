@@ -5,8 +5,21 @@ HOST ?= 127.0.0.1
 PORT ?= 8080
 SLOSH_WERROR ?= OFF
 CMAKE_FLAGS ?=
+# Sanitizer and fuzzing builds (README "Fuzzing and sanitizers").
+ASAN_DIR ?= build-asan
+FUZZ_DIR ?= build-fuzz
+FUZZ_SECONDS ?= 60
+FUZZ_SMOKE_SECONDS ?= 30
+FUZZ_TARGETS ?=
+ASAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer \
+              -fno-sanitize-recover=undefined,float-cast-overflow
+# Leaks of third-party libraries only (Ipopt/MUMPS/gfortran): tests/sanitizers/lsan.supp.
+SANITIZER_ENV := ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1 \
+                 LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp:print_suppressions=0 \
+                 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: all deps configure build run test bench format format-check clean
+.PHONY: all deps configure build run test bench format format-check clean test-asan fuzz-build \
+        fuzz fuzz-smoke
 
 all: build
 
@@ -29,6 +42,31 @@ test: build
 
 bench: build
 	@bash scripts/run-bench.sh $(BUILD_DIR)
+
+# The unit tests (and the corpus replays) under AddressSanitizer + UndefinedBehaviorSanitizer.
+$(ASAN_DIR)/build.ninja:
+	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" -DCMAKE_CXX_FLAGS="$(ASAN_FLAGS)" \
+	  -DCMAKE_EXE_LINKER_FLAGS="$(ASAN_FLAGS)" -DSLOSH_BUILD_BENCHMARKS=OFF -DSLOSH_WERROR=OFF
+
+test-asan: deps $(ASAN_DIR)/build.ninja
+	$(SANITIZER_ENV) cmake --build $(ASAN_DIR) -j $(JOBS)
+	@$(SANITIZER_ENV) bash scripts/run-tests.sh $(ASAN_DIR)
+
+# libFuzzer targets (clang): fuzz/, scripts/fuzz.sh. Reproducers land in fuzz-artifacts/<target>/.
+$(FUZZ_DIR)/build.ninja:
+	cmake -S . -B $(FUZZ_DIR) -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DSLOSH_BUILD_FUZZERS=ON -DSLOSH_BUILD_TESTS=OFF \
+	  -DSLOSH_BUILD_BENCHMARKS=OFF -DSLOSH_WERROR=OFF
+
+fuzz-build: deps $(FUZZ_DIR)/build.ninja
+	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzzers
+
+fuzz: fuzz-build
+	@bash scripts/fuzz.sh $(FUZZ_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+fuzz-smoke: fuzz-build
+	@bash scripts/fuzz.sh $(FUZZ_DIR) $(FUZZ_SMOKE_SECONDS) $(FUZZ_TARGETS)
 
 format:
 	@git ls-files '*.cpp' '*.hpp' | xargs clang-format -i

@@ -19,6 +19,7 @@ packages=(
   libgtest-dev libgmock-dev                        # unit and integration tests
   libbenchmark-dev                                 # Google Benchmark targets
   clang-format                                     # formatting check
+  clang libclang-rt-14-dev llvm                    # fuzzers: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
   curl wrk                                         # loopback load script
 )
 
