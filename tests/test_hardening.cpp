@@ -150,7 +150,9 @@ TEST(Hardening, ConcurrentIpoptPlansAndAnIpoptBatchDoNotCrash) {
   for (auto& p : plans) EXPECT_EQ(p.get(), 200);
   ASSERT_TRUE(r) << httplib::to_string(r.error());
   EXPECT_EQ(r->status, 200);
-  for (const json& item : parse(r->body)["results"]) {
+  const json results =
+      parse(r->body)["results"];  // (a temporary's member would dangle in the loop)
+  for (const json& item : results) {
     EXPECT_TRUE(item.contains("plan")) << item.dump().substr(0, 300);
   }
   EXPECT_FALSE(server.child().wait_for(std::chrono::milliseconds(0)).has_value())

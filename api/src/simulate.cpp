@@ -134,8 +134,16 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
   const SimulationResult r = simulate(request.format, law, request.options);
+  auto finite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
+  };
   for (const auto& [model, peaks] : {std::pair{"nonlinear", &r.nonlinear}, {"linear", &r.linear}}) {
-    if (!std::isfinite(peaks->motion.value) || !std::isfinite(peaks->rest.value)) {
+    // The peak search skips NaN samples: the series shows them too.
+    const bool series_finite =
+        !r.series ||
+        finite(model == std::string("nonlinear") ? r.series->eta_nonlinear : r.series->eta_linear);
+    if (!std::isfinite(peaks->motion.value) || !std::isfinite(peaks->rest.value) ||
+        !series_finite) {
       // Outside what the model describes (e.g. hundreds of g on a 1 mm container): no numbers
       // to return, and the caller must know why.
       invalid("law", std::string("the ") + model +

@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "slosh/core/response.hpp"
@@ -81,8 +82,15 @@ double NonlinearResponse::eta(double t) const {
 
 SloshPeaks NonlinearResponse::peaks() const {
   auto abs_eta = [this](double t) { return std::abs(eta(t)); };
-  return {find_max(abs_eta, 0.0, motion_time_, peak_step_),
-          find_max(abs_eta, motion_time_, end_time_, peak_step_)};
+  SloshPeaks p{find_max(abs_eta, 0.0, motion_time_, peak_step_),
+               find_max(abs_eta, motion_time_, end_time_, peak_step_)};
+  // A diverged integration stays non-finite to its end, and the scan skips NaN samples (they
+  // compare false): the peaks say so instead of showing the values before the divergence.
+  if (!std::isfinite(eta(end_time_))) {
+    p.motion.value = std::numeric_limits<double>::quiet_NaN();
+    p.rest.value = std::numeric_limits<double>::quiet_NaN();
+  }
+  return p;
 }
 
 }  // namespace slosh
