@@ -142,8 +142,9 @@ def memory(port, pid):
     peak = before
     for i in range(20):
         body = {"format": dict(FORMAT, stroke_mm=800 + i), "strategy": "baseline",
-                "rest_time_s": 3.9, "sample_period_s": 1e-4}
+                "options": {"rest_time_s": 3.9}, "sample_period_s": 1e-4}
         status, data = post(port, "/v1/plans", body)
+        assert status == 200, data[:300]
         peak = max(peak, rss_mib(pid))
     s = socket.create_connection(("127.0.0.1", port))
     s.sendall(b"POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
