@@ -476,7 +476,9 @@ TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
   ASSERT_TRUE(chosen.durations.has_value());
   EXPECT_LE(SevenSegmentLaw(*chosen.durations, f.stroke).v_peak(), 1.0 * (1 + 1e-6));
   for (const PlanCandidate& c : chosen.candidates) {
-    if (c.strategy == Strategy::kBaseline) EXPECT_EQ(c.status, SolveStatus::kInfeasible);
+    if (c.strategy == Strategy::kBaseline) {
+      EXPECT_EQ(c.status, SolveStatus::kInfeasible);
+    }
   }
 }
 
