@@ -445,7 +445,8 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
     std::stable_sort(screened.begin(), screened.end(),
                      [](const auto& a, const auto& b) { return a.first < b.first; });
     // Distinct points only (many starts land on the same screened optimum).
-    for (const auto& [f, x] : screened) {
+    for (const auto& point : screened) {
+      const auto& x = point.second;  // (clang 14 cannot capture a structured binding)
       const bool seen = std::any_of(refine_from.begin(), refine_from.end(), [&](const auto& y) {
         for (std::size_t i = 0; i < kSegments; ++i) {
           if (std::abs(x[i] - y[i]) > 1e-6 * c.format.motion_time) return false;
