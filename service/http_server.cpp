@@ -155,15 +155,25 @@ Reply guarded(Handler&& handler) {
 // transfer encoding (a chunked body is cut off at the limit, where the library reads it whole), it
 // must arrive within the request timeout, and a body declared as something other than JSON is
 // refused as such. nullopt with `error` set when the body is refused.
+// 413 naming the body limit, and 415 naming the declared type (read_body, "Expect: 100-continue").
+Reply too_large_reply(const ServerConfig& config) {
+  return PlanService::error_reply(
+      413, "payload_too_large",
+      "the body is larger than the limit of " + std::to_string(config.max_body_bytes) + " bytes");
+}
+
+Reply not_json_reply(const httplib::Request& req) {
+  return PlanService::error_reply(
+      415, "unsupported_media_type",
+      "the body is declared as '" + req.get_header_value("Content-Type").substr(0, 80) +
+          "'; send the JSON request with Content-Type: application/json");
+}
+
 std::optional<std::string> read_body(const httplib::Request& req,
                                      const httplib::ContentReader& reader,
                                      const ServerConfig& config, Reply& error) {
-  const std::string type = req.get_header_value("Content-Type");
-  if (!json_content_type(type)) {
-    error = PlanService::error_reply(
-        415, "unsupported_media_type",
-        "the body is declared as '" + type.substr(0, 80) +
-            "'; send the JSON request with Content-Type: application/json");
+  if (!json_content_type(req.get_header_value("Content-Type"))) {
+    error = not_json_reply(req);
     return std::nullopt;
   }
   std::string body;
@@ -186,9 +196,7 @@ std::optional<std::string> read_body(const httplib::Request& req,
     return true;
   });
   if (too_large) {
-    error = PlanService::error_reply(
-        413, "payload_too_large",
-        "the body is larger than the limit of " + std::to_string(config.max_body_bytes) + " bytes");
+    error = too_large_reply(config);
   } else if (too_slow) {
     error = PlanService::error_reply(
         408, "request_timeout",
@@ -351,14 +359,9 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                                                  req.path.substr(0, 80) + "; see /v1/openapi.json");
           }
         } else if (res.status == 413) {
-          reply = PlanService::error_reply(413, "payload_too_large",
-                                           "the body is larger than the limit of " +
-                                               std::to_string(config.max_body_bytes) + " bytes");
+          reply = too_large_reply(config);
         } else if (res.status == 415) {
-          reply = PlanService::error_reply(
-              415, "unsupported_media_type",
-              "the body is declared as '" + req.get_header_value("Content-Type").substr(0, 80) +
-                  "'; send the JSON request with Content-Type: application/json");
+          reply = not_json_reply(req);
         } else if (res.status == 400 && !req.method.empty() && !known_method(req.method)) {
           reply = PlanService::error_reply(501, "not_implemented",
                                            "the method " + req.method.substr(0, 16) +

@@ -10,31 +10,30 @@
 
 namespace slosh::detail {
 
-namespace {
-
-/// Relative slack of the limit checks (round-off of the closed forms) [-].
-constexpr double kLimitSlack{1e-9};
-
-/// The first machine limit the law exceeds, as a sentence; empty when it meets them all.
-std::string limit_violation(const MachineLimits& lim, const KinematicSummary& k) {
-  const double a = std::max(k.a_peak_positive, k.a_peak_negative);
+std::string limit_violation(const MachineLimits& lim, double a_peak, double v_peak, double j_peak,
+                            double slack) {
   const struct {
     const char* name;
     const char* what;
     const char* unit;
     std::optional<double> limit;
     double value;
-  } checks[] = {{"a_max", "acceleration", "m/s^2", lim.a_max, a},
-                {"v_max", "velocity", "m/s", lim.v_max, k.v_peak},
-                {"j_max", "jerk", "m/s^3", lim.j_max, k.j_peak}};
-  for (const auto& c : checks) {
-    if (c.limit && c.value > *c.limit * (1.0 + kLimitSlack)) {
-      return std::string("the law's peak ") + c.what + " " + sig3(c.value) + " " + c.unit +
-             " exceeds limits." + c.name + " = " + sig3(*c.limit) + " " + c.unit;
+  } checks[] = {{"a_max", "acceleration", "m/s^2", lim.a_max, a_peak},
+                {"v_max", "velocity", "m/s", lim.v_max, v_peak},
+                {"j_max", "jerk", "m/s^3", lim.j_max, j_peak}};
+  for (const auto& k : checks) {
+    if (k.limit && k.value > *k.limit * (1.0 + slack)) {
+      return std::string("the law's peak ") + k.what + " " + sig3(k.value) + " " + k.unit +
+             " exceeds limits." + k.name + " = " + sig3(*k.limit) + " " + k.unit;
     }
   }
   return {};
 }
+
+namespace {
+
+/// Relative slack of the limit checks (round-off of the closed forms) [-].
+constexpr double kLimitSlack{1e-9};
 
 /// The uniform 7-segment law, returned when a method has no law for the format.
 FilterOutcome no_law(const StrategyContext& c, std::string why) {
@@ -56,7 +55,9 @@ std::string beyond_any_machine(const KinematicSummary& k) {
 
 /// Marks the outcome infeasible when the law (whose peaks are `k`) exceeds a limit.
 void check_limits(const StrategyContext& c, const KinematicSummary& k, FilterOutcome* o) {
-  const std::string violation = limit_violation(c.options.limits, k);
+  const std::string violation =
+      limit_violation(c.options.limits, std::max(k.a_peak_positive, k.a_peak_negative), k.v_peak,
+                      k.j_peak, kLimitSlack);
   if (violation.empty()) {
     o->status = SolveStatus::kOptimal;
     return;

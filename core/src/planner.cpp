@@ -365,24 +365,13 @@ std::string violated_constraint(const StrategyContext& c, Strategy strategy, con
     return "the law cruises for " + sig3(d[3]) +
            " s although fix_constant_velocity_zero asks for no constant-velocity segment";
   }
-  const MachineLimits& lim = c.options.limits;
   const SevenSegmentLaw law(d, c.format.stroke);
   double jerk = 0.0;
   for (double j : law.jerks()) jerk = std::max(jerk, std::abs(j));
-  const struct {
-    const char* name;
-    const char* what;
-    const char* unit;
-    std::optional<double> limit;
-    double value;
-  } checks[] = {{"a_max", "acceleration", "m/s^2", lim.a_max, std::max(law.A(), law.B())},
-                {"v_max", "velocity", "m/s", lim.v_max, law.v_peak()},
-                {"j_max", "jerk", "m/s^3", lim.j_max, jerk}};
-  for (const auto& k : checks) {
-    if (k.limit && k.value > *k.limit * (1.0 + kSlack)) {
-      return std::string("the law's peak ") + k.what + " " + sig3(k.value) + " " + k.unit +
-             " exceeds limits." + k.name + " = " + sig3(*k.limit) + " " + k.unit;
-    }
+  if (std::string limit =
+          limit_violation(c.options.limits, std::max(law.A(), law.B()), law.v_peak(), jerk, kSlack);
+      !limit.empty()) {
+    return limit;
   }
   if (strategy == Strategy::kMinJerkBand) {
     const double ratio =

@@ -106,6 +106,11 @@ struct FilterOutcome {
 /// the least value reachable; empty when the limits are jointly reachable.
 [[nodiscard]] std::string explain_limits(const StrategyContext& context);
 
+/// The first machine limit that the peaks exceed by more than `slack` (relative), as a sentence
+/// ("the law's peak velocity 1.4 m/s exceeds limits.v_max = 1 m/s"); empty when all hold.
+[[nodiscard]] std::string limit_violation(const MachineLimits& limits, double a_peak, double v_peak,
+                                          double j_peak, double slack);
+
 /// min z s.t. every quantity of the limit rows [first, first + rows) is <= z times its limit,
 /// from the space's starts: best.objective <= 1 when those limits hold together (best.x then
 /// meets them).
