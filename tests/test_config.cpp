@@ -2,6 +2,9 @@
 
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
+#include <atomic>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -14,7 +17,10 @@ namespace slosh::service {
 namespace {
 
 std::string write_temp(const std::string& text) {
-  const std::string path = ::testing::TempDir() + "slosh_config_test.json";
+  // One file per call and per process: ctest runs the Config tests in parallel.
+  static std::atomic<int> counter{0};
+  const std::string path = ::testing::TempDir() + "slosh_config_test_" +
+                           std::to_string(::getpid()) + "_" + std::to_string(counter++) + ".json";
   std::ofstream(path) << text;
   return path;
 }
