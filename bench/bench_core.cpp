@@ -2,9 +2,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "slosh/core/response.hpp"
-#include "slosh/core/simulation.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/response/simulation.hpp"
+#include "slosh/core/response/spectrum.hpp"
 
 namespace {
 

@@ -5,9 +5,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "slosh/core/planner.hpp"
-#include "slosh/core/spectrum.hpp"
-#include "strategies.hpp"
+#include "slosh/core/strategy/planner.hpp"
+#include "slosh/core/response/spectrum.hpp"
+#include "strategy/strategies.hpp"
 
 namespace {
 

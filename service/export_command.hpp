@@ -6,8 +6,8 @@
 #include <vector>
 
 #include "server_config.hpp"
-#include "slosh/core/cam_table.hpp"
-#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/law/cam_table.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 
 namespace slosh::service {
 

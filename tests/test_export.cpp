@@ -18,9 +18,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "slosh/core/cam_table.hpp"
-#include "slosh/core/motion_law.hpp"
-#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/law/cam_table.hpp"
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 #include "support/fixtures.hpp"
 #include "support/process.hpp"
 

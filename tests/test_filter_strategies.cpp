@@ -9,10 +9,10 @@
 #include <random>
 #include <string>
 
-#include "slosh/core/filtered_laws.hpp"
-#include "slosh/core/planner.hpp"
-#include "slosh/core/response.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/law/filtered_laws.hpp"
+#include "slosh/core/strategy/planner.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/response/spectrum.hpp"
 
 namespace slosh {
 namespace {

@@ -12,11 +12,11 @@
 #include <random>
 #include <vector>
 
-#include "slosh/core/filtered_laws.hpp"
-#include "slosh/core/format.hpp"
-#include "slosh/core/response.hpp"
-#include "slosh/core/sloshing_model.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/law/filtered_laws.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/spectrum.hpp"
 
 namespace slosh {
 namespace {

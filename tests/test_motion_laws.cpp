@@ -8,8 +8,8 @@
 #include <random>
 #include <vector>
 
-#include "slosh/core/motion_law.hpp"
-#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {

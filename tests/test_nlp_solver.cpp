@@ -5,7 +5,7 @@
 #include <chrono>
 #include <cmath>
 
-#include "slosh/core/nlp_solver.hpp"
+#include "slosh/core/solve/nlp_solver.hpp"
 
 namespace slosh {
 namespace {

@@ -13,11 +13,11 @@
 #include <random>
 #include <vector>
 
-#include "nonlinear_sensitivity.hpp"
-#include "slosh/core/format.hpp"
-#include "slosh/core/response.hpp"
-#include "slosh/core/seven_segment.hpp"
-#include "slosh/core/sloshing_model.hpp"
+#include "response/nonlinear_sensitivity.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
 #include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 

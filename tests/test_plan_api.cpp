@@ -14,7 +14,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/plan.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/response/spectrum.hpp"
 #include "support/plan_errors.hpp"
 #include "support/reference_integrators.hpp"
 

@@ -10,13 +10,13 @@
 #include <string>
 #include <vector>
 
-#include "slosh/core/fluid.hpp"
-#include "slosh/core/format.hpp"
-#include "slosh/core/nlp_solver.hpp"
-#include "slosh/core/planner.hpp"
-#include "slosh/core/response.hpp"
-#include "slosh/core/seven_segment.hpp"
-#include "slosh/core/sloshing_model.hpp"
+#include "slosh/core/model/fluid.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/solve/nlp_solver.hpp"
+#include "slosh/core/strategy/planner.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
 #include "support/reference_optimum.hpp"
 
 namespace slosh {

@@ -17,13 +17,13 @@
 #include <tuple>
 #include <vector>
 
-#include "slosh/core/format.hpp"
-#include "slosh/core/nlp_solver.hpp"
-#include "slosh/core/planner.hpp"
-#include "slosh/core/response.hpp"
-#include "slosh/core/seven_segment.hpp"
-#include "slosh/core/sloshing_model.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/solve/nlp_solver.hpp"
+#include "slosh/core/strategy/planner.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/spectrum.hpp"
 #include "support/reference_integrators.hpp"
 #include "support/reference_optimum.hpp"
 

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <random>
 
-#include "slosh/core/response.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/response/spectrum.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {

@@ -4,7 +4,7 @@
 
 #include <stdexcept>
 
-#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 #include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 

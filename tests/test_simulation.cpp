@@ -3,7 +3,7 @@
 
 #include <gtest/gtest.h>
 
-#include "slosh/core/simulation.hpp"
+#include "slosh/core/response/simulation.hpp"
 #include "support/fixtures.hpp"
 
 namespace slosh {

@@ -6,7 +6,7 @@
 #include <limits>
 #include <random>
 
-#include "sincos.hpp"
+#include "response/sincos.hpp"
 
 namespace slosh {
 namespace {

@@ -5,8 +5,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "slosh/core/fluid.hpp"
-#include "slosh/core/sloshing_model.hpp"
+#include "slosh/core/model/fluid.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
 
 #include "support/fixtures.hpp"
 

@@ -7,7 +7,7 @@
 #include <complex>
 #include <numbers>
 
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/response/spectrum.hpp"
 #include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 

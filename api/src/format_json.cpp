@@ -4,7 +4,7 @@
 #include <numbers>
 
 #include "slosh/api/error.hpp"
-#include "slosh/core/fluid.hpp"
+#include "slosh/core/model/fluid.hpp"
 
 namespace slosh::api {
 

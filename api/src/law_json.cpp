@@ -5,7 +5,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
-#include "slosh/core/filtered_laws.hpp"
+#include "slosh/core/law/filtered_laws.hpp"
 
 namespace slosh::api {
 

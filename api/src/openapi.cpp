@@ -7,8 +7,8 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
-#include "slosh/core/fluid.hpp"
-#include "slosh/core/planner.hpp"
+#include "slosh/core/model/fluid.hpp"
+#include "slosh/core/strategy/planner.hpp"
 
 namespace slosh::api {
 

@@ -10,7 +10,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
 #include "slosh/api/simulate.hpp"
-#include "slosh/core/spectrum.hpp"
+#include "slosh/core/response/spectrum.hpp"
 
 namespace slosh::api {
 

@@ -1,7 +1,7 @@
 #pragma once
 // Shared inputs of the numerics tests.
 
-#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 
 namespace slosh::test {
 

@@ -6,8 +6,8 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/fields.hpp"
-#include "slosh/core/format.hpp"
-#include "slosh/core/sloshing_model.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
 
 namespace slosh::api {
 

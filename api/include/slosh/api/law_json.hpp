@@ -16,9 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
-#include "slosh/core/format.hpp"
-#include "slosh/core/motion_law.hpp"
-#include "slosh/core/seven_segment.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 
 namespace slosh::api {
 

@@ -7,7 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/fields.hpp"
-#include "slosh/core/planner.hpp"
+#include "slosh/core/strategy/planner.hpp"
 
 namespace slosh::api {
 

@@ -8,8 +8,8 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/law_json.hpp"
-#include "slosh/core/seven_segment.hpp"
-#include "slosh/core/simulation.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/response/simulation.hpp"
 
 namespace slosh::api {
 

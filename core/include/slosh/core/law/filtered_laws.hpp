@@ -1,0 +1,173 @@
+#pragma once
+// Anti-sloshing laws of a prescribed duration by filtering (Guagliumi et al., JDSMC 2022,
+// seeds/002 sec. 3.1, 3.4, 4): input shapers convolved with a base law, and the chain of three
+// rectangular FIR filters on a step. Both results are exact piecewise laws (MotionLaw), so the
+// spectrum, the exact linear response and the nonlinear model apply to them unchanged.
+
+#include <cstddef>
+#include <functional>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+
+namespace slosh {
+
+/// Base laws the filters act on (paper sec. 4: poly5 and the modified trapezoid; the uniform
+/// 7-segment law is the product's baseline).
+enum class BaseLaw { kSevenSegmentUniform, kPoly5, kModifiedTrapezoid };
+
+/// Every base law, in the order the API lists them.
+constexpr BaseLaw kBaseLaws[] = {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid,
+                                 BaseLaw::kSevenSegmentUniform};
+
+[[nodiscard]] std::string to_string(BaseLaw base);
+
+/// The base law of `stroke` [m] over `duration` [s].
+[[nodiscard]] MotionLaw make_base_law(BaseLaw base, double stroke, double duration);
+
+/// Input shaper families (paper sec. 3.1).
+enum class ShaperType { kZV, kZVD, kZVDD, kEI };
+
+/// Every shaper family.
+constexpr ShaperType kShaperTypes[] = {ShaperType::kZV, ShaperType::kZVD, ShaperType::kZVDD,
+                                       ShaperType::kEI};
+
+[[nodiscard]] std::string to_string(ShaperType type);
+
+/// Default residual vibration V of the EI shaper [-] (5 %).
+constexpr double kDefaultEiResidual{0.05};
+
+/// One impulse of a shaper.
+struct Impulse {
+  double time{};       ///< t_j [s]
+  double amplitude{};  ///< A_j [-]
+};
+
+/// A train of impulses with unit sum.
+struct InputShaper {
+  ShaperType type{ShaperType::kZV};
+  std::vector<Impulse> impulses;
+  /// The delay it adds: the time of the last impulse [s].
+  [[nodiscard]] double delay() const { return impulses.empty() ? 0.0 : impulses.back().time; }
+};
+
+/// The damped period T_d = 2 pi / (omega sqrt(1 - zeta^2)) (paper eq. 5) [s].
+[[nodiscard]] double damped_period(double omega, double zeta);
+
+/// The shaper of `type` for a mode (omega [rad/s], zeta [-]): impulses at t_j = T_d j / 2 (eq. 6),
+/// K = exp(-zeta pi / sqrt(1 - zeta^2)) (eq. 5), amplitudes
+///   ZV   [1, K] / (1 + K)
+///   ZVD  [1, 2K, K^2] / (1 + K)^2
+///   ZVDD [1, 3K, 3K^2, K^3] / (1 + K)^3
+///   EI   [p, q K, p K^2] with p (1 + K^2) + q K = 1 and (2p - q) K^2 = V: the one-hump EI shaper
+///        (undamped amplitudes (1+V)/4, (1-V)/2, (1+V)/4) with the same damping compensation as the
+///        ZV family, leaving exactly the residual V at omega.
+/// Throws std::invalid_argument for omega <= 0, zeta outside [0, 1) or V outside [0, 1).
+[[nodiscard]] InputShaper make_shaper(ShaperType type, double omega, double zeta,
+                                      double residual = kDefaultEiResidual);
+
+/// Residual vibration of a mode after the impulse train, relative to a single unit impulse
+/// (paper sec. 3.1: Z_n divided by omega / sqrt(1 - zeta^2)) [-].
+[[nodiscard]] double shaper_residual(const InputShaper& shaper, double omega, double zeta);
+
+/// The convolution sum_j A_j base(t - t_j) as an exact piecewise law (duration: the base's plus
+/// the shaper's delay). Throws std::invalid_argument when overlapping pieces carry harmonic terms
+/// of different frequencies (a piece holds one harmonic).
+[[nodiscard]] MotionLaw convolve(const MotionLaw& base, const InputShaper& shaper);
+
+/// The chain of three rectangular FIR filters of durations T1, T2, T3 (eq. 13) applied to a step
+/// of `stroke`: jerk = stroke / (T1 T2 T3) * sum over subsets S of {T1, T2, T3} of
+/// (-1)^|S| H(t - sum S). Duration T1 + T2 + T3.
+struct FirChain {
+  double t1{}, t2{}, t3{};  ///< [s]
+  MotionLaw law;
+  /// The seven durations when conditions (14) hold (T1 >= T2 + T3, T2 >= T3):
+  /// [T3, T2 - T3, T3, T1 - T2 - T3, T3, T2 - T3, T3].
+  std::optional<Durations> durations;
+};
+
+/// Throws std::invalid_argument unless every T_i > 0.
+[[nodiscard]] FirChain make_fir_chain(double stroke, double t1, double t2, double t3);
+
+}  // namespace slosh
+
+namespace slosh {
+
+/// Order of the IIR anti-sloshing filter (paper eq. 8: critically damped 2nd order target,
+/// eq. 9: 3rd order).
+enum class IirOrder { kSecond = 2, kThird = 3 };
+
+/// Default pole tau of the IIR filter [1/s] (paper sec. 4: 40 to 100 works for ~1 s laws).
+constexpr double kDefaultIirTau{50.0};
+
+/// The FOH difference equation of F_IIR (paper eq. 10-12):
+///   y(k) = -sum_i a_i y(k - i) + b_0 u(k + 1) + sum_{i >= 1} b_i u(k + 1 - i).
+struct IirFilter {
+  IirOrder order{IirOrder::kSecond};
+  double tau{kDefaultIirTau};  ///< [1/s]
+  double sample_period{1e-3};  ///< T_s [s]
+  std::vector<long double> a;  ///< a_1 .. a_n (long double: see make_iir_filter)
+  std::vector<long double> b;  ///< b_0 .. b_{n+1}
+};
+
+/// Coefficients of eq. 11 (second order) or eq. 12 (third order) for a mode (omega, zeta).
+[[nodiscard]] IirFilter make_iir_filter(IirOrder order, double omega, double zeta, double tau,
+                                        double sample_period);
+
+/// Runs the difference equation on samples u(0..N-1) (u(k) = u(0) before 0 and u(N-1) after the
+/// end: the input rests at both ends) and returns `output_length` samples.
+[[nodiscard]] std::vector<double> apply_iir(const IirFilter& filter, const std::vector<double>& u,
+                                            std::size_t output_length);
+
+}  // namespace slosh
+
+namespace slosh {
+
+/// Default sample period of the IIR law [s] (a 1 ms controller cycle, as in the paper).
+constexpr double kDefaultIirSamplePeriod{1e-3};
+/// The filtered law ends one sample after the last sample whose |acceleration| exceeds this
+/// fraction of its peak [-] (the e^(-tau t) tail below it is cut; with tau = 50 this gives the
+/// ~0.19 s delay the paper reports on a 1 s poly5 law).
+constexpr double kIirTailTolerance{1e-3};
+/// Largest |acceleration| a filtered law may have [m/s^2] (1e5 g: far beyond any machine, the
+/// bound simulate accepts for general laws, so every planned law can be re-simulated).
+constexpr double kMaxLawAcceleration{1e6};
+/// Shortest base law a shaper or the IIR filter may leave room for [s] (the 1 ms ramp floor).
+constexpr double kMinBaseDuration{1e-3};
+
+/// The IIR law needs at least this many samples over the motion (T_s <= T / 20).
+constexpr int kIirMinSamples{20};
+/// The iir strategy samples at most this many over the motion (bounds its time and the size of
+/// the returned law: T_s >= T / 20000).
+constexpr int kIirMaxSamples{20000};
+/// Most base-duration updates of the delay compensation.
+constexpr int kIirMaxIterations{30};
+
+/// An IIR-filtered law of a prescribed duration (paper sec. 4).
+struct IirLaw {
+  /// False when the filter's delay leaves no time for the base law (less than kMinBaseDuration):
+  /// `law` is empty and `delay` is the delay measured on the base law of duration T.
+  bool fits{false};
+  /// Acceleration linear between the samples k T_s (first-order hold, as the difference equation
+  /// assumes), then at rest up to exactly the prescribed duration; rest-to-rest exactly.
+  MotionLaw law;
+  double base_duration{};      ///< duration of the base law that was filtered [s]
+  double delay{};              ///< filtered duration minus base duration, last pass [s]
+  double filtered_duration{};  ///< filtered duration before padding to T [s]
+  int iterations{};            ///< filter passes
+  /// Largest rest-to-rest correction relative to the peak acceleration [-]: the samples are
+  /// scaled by (c0 + c1 t / T) so the piecewise-linear law ends at rest exactly at the stroke
+  /// (it absorbs the cut tail and the hold's O(T_s^2) integration error).
+  double correction{};
+};
+
+/// Filters `base(duration)` (acceleration samples at k T_s) with `filter`, re-planning the base
+/// duration T - Delta T until the filtered law ends within one sample before `motion_time`, and
+/// pads it with rest to exactly `motion_time`. `stroke` is the base laws' stroke [m].
+[[nodiscard]] IirLaw make_iir_law(const std::function<MotionLaw(double)>& base,
+                                  const IirFilter& filter, double stroke, double motion_time);
+
+}  // namespace slosh

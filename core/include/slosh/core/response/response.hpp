@@ -1,0 +1,121 @@
+#pragma once
+// Sloshing responses to a motion law: the exact multi-mode linear model and the nonlinear
+// fundamental-mode model (thesis eq. 2.22/2.24 and 2.35/2.36; SPEC §2). Both start at rest, run
+// over the motion window [0, T] and the rest window (T, T + rest_time].
+
+#include <array>
+#include <cmath>
+#include <vector>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/response/peak_finder.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+
+namespace slosh {
+
+/// Peak wall heights of a response.
+struct SloshPeaks {
+  Peak motion;  ///< max |eta| on [0, T]: value [m], time [s]
+  Peak rest;    ///< max |eta| on (T, T + rest_time]: value [m], time [s]
+};
+
+/// State of one mode.
+struct ModeState {
+  double x{};      ///< displacement [m] (linear) or xbar [-] (nonlinear)
+  double x_dot{};  ///< its rate
+};
+
+/// Closed-form response of one linear mode on one law piece, tau = t - t_begin:
+/// x = sum r_k tau^k + P cos(W tau) + Q sin(W tau) + tau (U cos(W tau) + V sin(W tau))
+///   + exp(-sigma tau) (c1 cos(wd tau) + c2 sin(wd tau)).
+/// U, V are only non-zero for an undamped mode forced exactly at its natural frequency.
+struct LinearModePiece {
+  std::array<double, 4> r{};
+  double P{}, Q{}, U{}, V{}, W{};
+  double c1{}, c2{};
+  /// sigma = zeta w; wd = w sqrt(1 - zeta^2) under-damped, w sqrt(zeta^2 - 1) over-damped, 1
+  /// critically damped (the homogeneous part is then exp(-sigma tau) (c1 cosh + c2 sinh), resp.
+  /// exp(-sigma tau) (c1 + c2 tau)).
+  double sigma{}, wd{};
+  double slow{};  ///< over-damped: the slow decay rate sigma - wd
+  enum class Damping : unsigned char { kUnder, kCritical, kOver } damping{Damping::kUnder};
+  [[nodiscard]] ModeState at(double tau) const;
+  /// x alone (the peak search's hot path).
+  [[nodiscard]] double position(double tau) const;
+};
+
+/// Linear model solved exactly: on every law piece the forcing -a(t) is a cubic plus one harmonic,
+/// so each mode's response is a particular solution plus the damped homogeneous one, in closed
+/// form (no time stepping). The response is continuous and can be evaluated at any t.
+class LinearResponse {
+ public:
+  LinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time);
+
+  /// Wall sloshing height eta(t) = sum_n eta_gain_n x_n(t) [m].
+  [[nodiscard]] double eta(double t) const;
+  /// State of mode n (0-based) at t.
+  [[nodiscard]] ModeState mode_state(int mode, double t) const;
+  /// Peaks of |eta| located on the continuous response (samples at <= 1 ms and <= 1/64 of the
+  /// fastest period, each candidate refined by golden section to 1e-10 s).
+  [[nodiscard]] SloshPeaks peaks() const;
+  [[nodiscard]] double motion_time() const { return motion_time_; }
+  [[nodiscard]] double end_time() const { return end_time_; }
+
+ private:
+  [[nodiscard]] std::size_t piece_index(double t) const;  // piece holding t > 0
+
+  std::vector<double> gains_;
+  std::vector<double> piece_begin_;            // start time of every piece (law pieces + rest)
+  std::vector<LinearModePiece> coefficients_;  // [piece * modes + mode]
+  double motion_time_{};
+  double end_time_{};
+  double peak_step_{};
+};
+
+/// Options of the nonlinear integration.
+struct NonlinearOptions {
+  /// Largest RK4 step [s]. The actual step is min(max_step, period_1 / steps_per_period),
+  /// shrunk so that every law breakpoint is a step boundary. Default 1 ms (SPEC §2).
+  double max_step{kMaxPeakStep};
+  /// Minimum steps per period of mode 1 [-]. Default 100 (error on eta << 0.1 % of the peak).
+  double steps_per_period{100.0};
+};
+
+/// Nonlinear fundamental-mode model (eq. 2.35) integrated with classical RK4 on a breakpoint-
+/// aligned grid; between steps the response is the cubic Hermite interpolant of the states and
+/// their derivatives, so peaks are located on a continuous curve.
+class NonlinearResponse {
+ public:
+  NonlinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time,
+                    const NonlinearOptions& options = {});
+
+  /// eta(t) = K xbar(t) [m], for 0 <= t <= end of the rest window (the state is held beyond).
+  [[nodiscard]] double eta(double t) const;
+  /// xbar and its rate at t (held at the last computed state beyond the rest window).
+  [[nodiscard]] ModeState state(double t) const;
+  [[nodiscard]] SloshPeaks peaks() const;
+  [[nodiscard]] std::size_t steps() const { return time_.size() - 1; }
+  [[nodiscard]] double motion_time() const { return motion_time_; }
+
+ private:
+  std::vector<double> time_;
+  std::vector<double> x_, v_, acc_;  // xbar, xbar', xbar'' at each grid time
+  double K_{};
+  double motion_time_{};
+  double end_time_{};
+  double peak_step_{};
+};
+
+/// RK4 steps for a stretch of length L with steps <= h_max: ceil(L / h_max), ignoring a
+/// round-off excess of 1e-9 step (0.17 s / 1 ms is 170.00000000000003), at least `at_least`.
+[[nodiscard]] inline std::size_t step_count(double length, double h_max, std::size_t at_least = 0) {
+  const auto n = static_cast<std::size_t>(std::ceil(length / h_max - 1e-9));
+  return n < at_least ? at_least : n;
+}
+
+/// Right-hand side of eq. 2.35 solved for xbar'' given xbar, xbar' and the container
+/// acceleration a [m/s^2].
+[[nodiscard]] double nonlinear_acceleration(const SloshingModel& model, double x, double v,
+                                            double a);
+
+}  // namespace slosh

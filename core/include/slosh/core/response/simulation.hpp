@@ -1,0 +1,55 @@
+#pragma once
+// One-call simulation of a law on a format: model, kinematics, both responses, warnings.
+
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+
+namespace slosh {
+
+/// Options of simulate().
+struct SimulationOptions {
+  ModelOptions model;
+  /// Length of the rest window after the motion [s]. Default 1 s.
+  double rest_time{kDefaultRestTime};
+  /// When set, time series are sampled at this period [s] over [0, T + rest_time].
+  std::optional<double> sample_period;
+  NonlinearOptions nonlinear;
+};
+
+/// Sampled time series (SI: s, m/s^2, m/s, m, m).
+struct TimeSeries {
+  std::vector<double> t, a, v, s, eta_linear, eta_nonlinear;
+};
+
+/// Everything a simulation reports.
+struct SimulationResult {
+  SloshingModel model;
+  KinematicSummary kinematics;
+  SloshPeaks linear;
+  SloshPeaks nonlinear;
+  std::optional<TimeSeries> series;
+  std::vector<std::string> warnings;
+};
+
+/// Validity thresholds of SPEC §2 (warnings, not errors).
+constexpr double kLinearModelMaxAcceleration{10.0};  ///< [m/s^2], JDSMC sec. 5/7
+constexpr double kMinModelledRadius{0.015};          ///< [m], surface tension below
+constexpr double kMinFillRatio{0.3};                 ///< h/R below: shallow-liquid regime
+
+/// Validity warnings of SPEC §2 for a format, a law's peak |a| and predicted eta_motion values.
+[[nodiscard]] std::vector<std::string> validity_warnings(const Format& format,
+                                                         double peak_abs_acceleration,
+                                                         double eta_motion_linear,
+                                                         double eta_motion_nonlinear);
+
+/// Simulates `law` on `format`. Inputs are assumed validated.
+[[nodiscard]] SimulationResult simulate(const Format& format, const MotionLaw& law,
+                                        const SimulationOptions& options);
+
+}  // namespace slosh

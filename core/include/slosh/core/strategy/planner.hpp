@@ -1,0 +1,234 @@
+#pragma once
+// The planner: a format, a strategy and options in, the optimised 7-segment law (or a filtered law
+// of the JDSMC paper) with its verified sloshing predictions out (SPEC §5-§6). Pure numerics: no
+// JSON, no logging.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <variant>
+#include <vector>
+
+#include "slosh/core/law/filtered_laws.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/solve/nlp_solver.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/response/simulation.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+
+namespace slosh {
+
+/// What the caller optimises (SPEC §5).
+enum class Strategy {
+  kBaseline,     ///< uniform durations T/7, no optimisation
+  kNotch,        ///< |X(w1)|^2 -> 0; among the zeros, the least jerk integral
+  kMultiNotch,   ///< b1 |X(w-)|^2 + b2 |X(w1)|^2 + b3 |X(w+)|^2, w+- = (1 +- p) w1
+  kMinJerkBand,  ///< min int j^2 dt s.t. |X(w)| <= tol_rel X_ref on the band around w1
+  kTimeDomain,   ///< min eta_motion (or eta_rest) of the nonlinear model, constraint on the other
+  kFirChain,     ///< three rectangular FIR filters on a step, T3 = damped period (JDSMC sec. 3.4)
+  kShaper,       ///< base law of duration T - delay convolved with an input shaper (sec. 3.1, 4)
+  kIir,          ///< base law through the IIR filter of eq. 8/9, delay compensated (sec. 3.3, 4)
+  kAuto,         ///< run the others (not iir), verify each, pick by SPEC §5's rule
+};
+
+[[nodiscard]] std::string to_string(Strategy strategy);
+/// Strategy from its API name ("baseline", "notch", ...); nullopt when unknown.
+[[nodiscard]] std::optional<Strategy> parse_strategy(std::string_view name);
+
+/// Objective of the time-domain strategy.
+enum class TimeDomainObjective {
+  kMotion,  ///< minimise eta_motion subject to eta_rest <= eta_rest_max (thesis sec. 3.4.3)
+  kRest,    ///< minimise eta_rest subject to eta_motion <= eta_motion_max
+};
+
+/// Which NLP solver runs a strategy.
+enum class SolverChoice {
+  kAuto,   ///< the measured best per strategy (NLopt SLSQP everywhere, see planner.cpp)
+  kNlopt,  ///< NLopt SLSQP
+  kIpopt,  ///< Ipopt, interior point with limited-memory BFGS
+};
+
+[[nodiscard]] std::string to_string(SolverChoice solver);
+
+/// Machine limits; an unset limit is not enforced.
+struct MachineLimits {
+  std::optional<double> a_max;  ///< peak |acceleration| = max(A, B) [m/s^2]
+  std::optional<double> v_max;  ///< peak velocity [m/s]
+  std::optional<double> j_max;  ///< peak |jerk| over the four ramps [m/s^3]
+};
+
+/// Options of plan(). Defaults are the thesis' settings (SPEC §5).
+struct PlanOptions {
+  /// Sloshing model: modes of the linear model, damping correlation, alpha.
+  ModelOptions model;
+  /// Relative offset p of the side notches of multi_notch, w+- = (1 +- p) w1 [-]. Default 0.15.
+  double p_notch{0.15};
+  /// Weights b1, b2, b3 of multi_notch on |X(w-)|^2, |X(w1)|^2, |X(w+)|^2 [-]. Default 1, 1, 1.
+  std::array<double, 3> weights{1.0, 1.0, 1.0};
+  /// Half width of the min_jerk_band band relative to w1 [-]: [(1 - band) w1, (1 + band) w1].
+  /// Default 0.15.
+  double band{0.15};
+  /// Number of evenly spaced band frequencies the min_jerk_band constraint starts from [-]. The
+  /// planner adds points where a 16x finer check finds the band exceeded. Default 51.
+  int n_band{51};
+  /// Band tolerance relative to X_ref, the uniform law's largest |X| over the band (SPEC §5
+  /// "Reference levels") [-]. Default 0.2.
+  double tol_rel{0.2};
+  /// Largest eta_rest of time_domain with objective kMotion [m]. Default 3 mm.
+  double eta_rest_max{0.003};
+  /// Largest eta_motion of time_domain with objective kRest [m]. Default: the uniform law's
+  /// nonlinear eta_motion (never slosh more during the move than the baseline).
+  std::optional<double> eta_motion_max;
+  /// Objective of time_domain. Default kMotion.
+  TimeDomainObjective objective{TimeDomainObjective::kMotion};
+  /// Rest window after the motion [s]. Default 1 s.
+  double rest_time{kDefaultRestTime};
+  /// Minimum duration of the ramps 1, 3, 5, 7 [s]. Default 0.05 s.
+  double min_ramp{kDefaultMinRamp};
+  /// Force the constant-velocity segment 4 to zero (thesis campaign). Default false.
+  bool fix_constant_velocity_zero{false};
+  /// Lower bounds on the plateau durations dT2 and dT6 [s]. Default 0, 0.
+  std::array<double, 2> plateau_min{0.0, 0.0};
+  /// Machine limits. Default none.
+  MachineLimits limits;
+  /// Solver. Default kAuto.
+  SolverChoice solver{SolverChoice::kAuto};
+  /// Wall-clock budget of the whole plan [s], for both solvers (Ipopt's through its intermediate
+  /// callback, not CPU time). When it runs out the best admissible point found so far is
+  /// returned with status kTimeLimit. Default 5 s.
+  double time_limit{5.0};
+  /// Base law of shaper and iir, planned over T minus the filter's delay. Default poly5 (the
+  /// paper's recommendation for shaping, sec. 7).
+  BaseLaw base{BaseLaw::kPoly5};
+  /// Shaper family of `shaper`. Default ZV (the least acceleration for a prescribed time).
+  ShaperType shaper{ShaperType::kZV};
+  /// Residual vibration V the EI shaper admits at omega1 [-]. Default 0.05.
+  double residual{kDefaultEiResidual};
+  /// Order of the IIR filter of `iir`. Default third (no initial peak, paper sec. 3.3).
+  IirOrder iir_order{IirOrder::kThird};
+  /// Pole tau of the IIR filter [1/s]: larger is shorter delay and a law closer to the inversion
+  /// of the model. Default 50.
+  double iir_tau{kDefaultIirTau};
+  /// Sample period of the IIR law (the controller cycle the difference equation runs at) [s].
+  /// Default 1 ms.
+  double iir_sample_period{kDefaultIirSamplePeriod};
+
+  /// Checks the options against the format; on failure writes a message naming the option, its
+  /// value and the allowed range, and returns false.
+  [[nodiscard]] bool is_valid(const Format& format, std::string* error) const;
+};
+
+/// Largest n_band plan() accepts [-].
+inline constexpr int kMaxBandPoints{2001};
+/// Ranges plan() accepts (wider than the API's; beyond them it returns an invalid-input result).
+inline constexpr double kMinPlanRadius{1e-4};  ///< [m]
+inline constexpr double kMinPlanLength{1e-9};  ///< fill height and stroke [m]
+inline constexpr double kMaxPlanLength{1e3};   ///< radius, fill height and stroke [m]
+inline constexpr double kMinPlanTime{1e-3};    ///< motion time [s]
+inline constexpr double kMaxPlanTime{3600.0};  ///< motion time and rest window [s]
+
+/// Why plan() would refuse `format` and `options` (a sentence naming the value and its allowed
+/// range), or empty when they are valid. Includes PlanOptions::is_valid.
+[[nodiscard]] std::string plan_input_error(const Format& format, const PlanOptions& options);
+
+/// Solver figures of a plan.
+struct SolverReport {
+  std::string name;    ///< "nlopt-slsqp", "ipopt" or "none"
+  int iterations{};    ///< objective evaluations over all starts and phases
+  int starts{};        ///< starts solved
+  double objective{};  ///< objective of the returned point, in the strategy's scaled units
+  double solve_ms{};   ///< wall-clock time of the optimisation [ms]
+};
+
+/// Verified predictions of one law (dense accurate simulation, SPEC §2).
+struct LawPrediction {
+  SloshPeaks linear;
+  SloshPeaks nonlinear;
+  KinematicSummary kinematics;
+};
+
+/// How a filtering strategy built its law (the figures an engineer checks against the paper).
+struct FirChainDesign {
+  double t1{}, t2{}, t3{};  ///< filter durations [s], T3 = damped period of mode 1
+  bool trapezoidal{false};  ///< conditions (14) hold: the law is the 7-segment law
+};
+struct ShaperDesign {
+  BaseLaw base{};
+  InputShaper shaper;      ///< impulse times [s] and amplitudes
+  double base_duration{};  ///< T - delay [s]
+  double residual{};       ///< residual vibration of mode 1 after the impulses [-]
+};
+struct IirDesign {
+  BaseLaw base{};
+  IirFilter filter;            ///< order, tau, sample period and coefficients
+  double base_duration{};      ///< [s]
+  double delay{};              ///< the filter's delay on the last pass [s]
+  double filtered_duration{};  ///< [s], within one sample of T
+  int iterations{};            ///< filter passes of the delay compensation
+  double correction{};         ///< rest-to-rest correction relative to the peak acceleration [-]
+};
+using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
+
+/// True for the strategies that build a law by filtering instead of optimising 7 durations.
+[[nodiscard]] bool is_filter_strategy(Strategy strategy);
+
+/// One strategy's result inside an `auto` plan.
+struct PlanCandidate {
+  Strategy strategy{};
+  SolveStatus status{};
+  /// The seven durations when the law is a 7-segment law [s].
+  std::optional<Durations> durations;
+  /// The law itself (for every candidate).
+  MotionLaw law;
+  LawPrediction prediction;
+  bool chosen{false};
+};
+
+/// Everything plan() returns. The durations are always admissible (SPEC §3).
+struct PlanResult {
+  Strategy strategy{};  ///< the requested strategy
+  SolveStatus status{SolveStatus::kFailed};
+  /// True when plan() refused its inputs (plan_input_error): status kFailed, the message names
+  /// the input, and nothing was planned: zero predictions; the model and the uniform law (as
+  /// durations and law) only when they can be built finite from the valid inputs.
+  bool invalid_input{false};
+  /// One or two sentences a line engineer can act on.
+  std::string message;
+  /// The seven durations when the planned law is a 7-segment law (every optimising strategy, and
+  /// fir_chain when conditions (14) hold) [s]; empty for the general laws of shaper, iir and
+  /// fir_chain otherwise.
+  std::optional<Durations> durations;
+  /// The planned law, whatever its kind.
+  MotionLaw law;
+  /// How the filtering strategies built the law; empty for the optimising ones.
+  std::optional<FilterDesign> design;
+  double A{};  ///< positive plateau (general laws: peak acceleration) [m/s^2]
+  double B{};  ///< negative plateau magnitude (general laws: peak deceleration) [m/s^2]
+  SloshingModel model;
+  LawPrediction prediction;  ///< of the returned law
+  LawPrediction baseline;    ///< of the uniform law
+  /// The band of min_jerk_band (also reported for the other strategies as w1 +- band) [rad/s].
+  std::array<double, 2> band_omega{};
+  SolverReport solver;
+  std::vector<std::string> warnings;
+  std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
+
+  /// True when the law can be run: optimal, acceptable, or time-limited (best admissible).
+  [[nodiscard]] bool usable() const {
+    return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
+           status == SolveStatus::kTimeLimit;
+  }
+};
+
+/// Plans a law for `format`. Invalid inputs (plan_input_error) give an invalid-input result,
+/// never a throw or a non-finite number. Status rules (SPEC §5 "Honest status"): kOptimal and
+/// kAcceptable only when the returned law meets every constraint of the strategy on the
+/// verification (machine limits, the band of min_jerk_band on a fine grid, the eta bound of
+/// time_domain on the dense nonlinear response), kInfeasible only when it does not, with the
+/// least infeasible law found and a message naming the constraint, its limit and the best value
+/// reached. A law more than 5 % and 0.5 mm above the uniform law on any eta carries the warning
+/// `worse_than_baseline: ...`.
+[[nodiscard]] PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options);
+
+}  // namespace slosh

@@ -1,0 +1,140 @@
+#include "slosh/core/law/seven_segment.hpp"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+#include "solve/dual.hpp"
+
+namespace slosh {
+
+namespace {
+
+std::string format_seconds(double v) {
+  std::ostringstream os;
+  os.precision(6);
+  os << v;
+  return os.str();
+}
+
+bool is_ramp(std::size_t i) {
+  return i % 2 == 0;
+}
+
+}  // namespace
+
+std::optional<std::string> check_admissible(const Durations& d, const AdmissibilityRules& rules) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (!std::isfinite(d[i])) {
+      return "durations_s[" + std::to_string(i) + "] is not a finite number";
+    }
+    if (is_ramp(i) && d[i] < rules.min_ramp) {
+      return "durations_s[" + std::to_string(i) + "] = " + format_seconds(d[i]) +
+             " s is below the minimum ramp duration " + format_seconds(rules.min_ramp) + " s";
+    }
+    if (!is_ramp(i) && d[i] < 0.0) {
+      return "durations_s[" + std::to_string(i) + "] = " + format_seconds(d[i]) +
+             " s is negative: plateaus must be >= 0 s";
+    }
+    sum += d[i];
+  }
+  if (std::abs(sum - rules.motion_time) > rules.sum_tolerance) {
+    return "durations_s sum to " + format_seconds(sum) + " s but the motion time is " +
+           format_seconds(rules.motion_time) + " s (tolerance " +
+           format_seconds(rules.sum_tolerance) + " s)";
+  }
+  return std::nullopt;
+}
+
+template <typename T>
+PlateauLevelsT<T> plateau_levels(const std::array<T, kSegments>& d, T stroke) {
+  const T t1 = d[0];
+  const T t2 = t1 + d[1];
+  const T t4 = t2 + d[2] + d[3];
+  const T t5 = t4 + d[4];
+  const T t6 = t5 + d[5];
+  const T half(0.5);
+  const T third = T(1.0) / T(3.0);
+  const T sixth = T(1.0) / T(6.0);
+  // Areas and first moments of the unit positive lobe (segments 1-3) and negative lobe (5-7).
+  const T area_p = half * d[0] + d[1] + half * d[2];
+  const T moment_p =
+      third * d[0] * d[0] + half * d[1] * (t1 + t2) + half * t2 * d[2] + sixth * d[2] * d[2];
+  const T area_n = half * d[4] + d[5] + half * d[6];
+  const T moment_n = half * t4 * d[4] + third * d[4] * d[4] + half * d[5] * (t5 + t6) +
+                     half * t6 * d[6] + sixth * d[6] * d[6];
+  const T v = stroke / (moment_n / area_n - moment_p / area_p);
+  return {v / area_p, v / area_n, v};
+}
+
+template PlateauLevelsT<double> plateau_levels(const std::array<double, kSegments>&, double);
+template PlateauLevelsT<long double> plateau_levels(const std::array<long double, kSegments>&,
+                                                    long double);
+template PlateauLevelsT<Dual7> plateau_levels(const std::array<Dual7, kSegments>&, Dual7);
+
+SevenSegmentLaw::SevenSegmentLaw(const Durations& durations, double stroke)
+    : durations_(durations), stroke_(stroke) {
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (!std::isfinite(durations[i]) || durations[i] < 0.0 || (is_ramp(i) && durations[i] <= 0.0)) {
+      throw std::invalid_argument("seven-segment law: durations_s[" + std::to_string(i) +
+                                  "] = " + format_seconds(durations[i]) +
+                                  " s is not allowed (ramps > 0, plateaus >= 0)");
+    }
+  }
+  const auto lv = plateau_levels(durations, stroke);
+  if (!std::isfinite(lv.A) || !std::isfinite(lv.B) || lv.A <= 0.0 || lv.B <= 0.0) {
+    throw std::invalid_argument("seven-segment law: durations give A = " + format_seconds(lv.A) +
+                                ", B = " + format_seconds(lv.B) + " (must be finite and > 0)");
+  }
+  levels_ = {lv.A, lv.B, lv.v_peak};
+  const auto J = jerks();
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (!std::isfinite(J[i])) {
+      throw std::invalid_argument("seven-segment law: durations_s[" + std::to_string(i) +
+                                  "] gives an infinite jerk");
+    }
+  }
+  const std::array<double, kSegments> a_start{0.0, lv.A, lv.A, 0.0, 0.0, -lv.B, -lv.B};
+  std::vector<LawPiece> pieces;
+  double t = 0.0;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (durations[i] > 0.0) {
+      LawPiece p{t, t + durations[i]};
+      p.poly = {a_start[i], J[i], 0.0, 0.0};
+      pieces.push_back(p);
+    }
+    t += durations[i];
+  }
+  law_ = MotionLaw("seven_segment", std::move(pieces));
+}
+
+std::array<double, kSegments + 1> SevenSegmentLaw::switch_times() const {
+  std::array<double, kSegments + 1> t{};
+  for (std::size_t i = 0; i < kSegments; ++i) t[i + 1] = t[i] + durations_[i];
+  return t;
+}
+
+double SevenSegmentLaw::motion_time() const {
+  return switch_times().back();
+}
+
+std::array<double, kSegments> SevenSegmentLaw::jerks() const {
+  const auto& d = durations_;
+  return {levels_.A / d[0], 0.0, -levels_.A / d[2], 0.0, -levels_.B / d[4], 0.0, levels_.B / d[6]};
+}
+
+double SevenSegmentLaw::jerk_integral() const {
+  const auto J = jerks();
+  double sum = 0.0;
+  for (std::size_t i = 0; i < kSegments; ++i) sum += J[i] * J[i] * durations_[i];
+  return sum;
+}
+
+Durations uniform_durations(double motion_time) {
+  Durations d;
+  d.fill(motion_time / static_cast<double>(kSegments));
+  return d;
+}
+
+}  // namespace slosh

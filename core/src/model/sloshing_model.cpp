@@ -1,0 +1,84 @@
+#include "slosh/core/model/sloshing_model.hpp"
+
+#include <cmath>
+#include <numbers>
+
+namespace slosh {
+
+namespace {
+
+double reynolds_one(const Format& f) {
+  const double R = f.container.radius;
+  return f.fluid.kinematic_viscosity() / std::sqrt(kGravity * R * R * R);
+}
+
+}  // namespace
+
+double damping_ratio(const Format& format, DampingCorrelation correlation) {
+  const double hr = format.fill_height / format.container.radius;
+  const double root_re = std::sqrt(reynolds_one(format));
+  const double bracket =
+      1.0 + 0.318 / std::sinh(1.84 * hr) * (1.0 + (1.0 - hr) / std::cosh(1.84 * hr));
+  switch (correlation) {
+    case DampingCorrelation::kThesis:
+      return 0.79 * root_re * bracket;
+    case DampingCorrelation::kPaper:
+      return 0.92 * root_re * bracket;
+    case DampingCorrelation::kEq227:
+      return 0.83 * root_re * std::tanh(1.84 * hr) *
+             (1.0 + 2.0 * (1.0 - hr) / std::cosh(3.68 * hr));
+    case DampingCorrelation::kEq228:
+      return 2.89 / std::numbers::pi * root_re * bracket;
+    case DampingCorrelation::kExplicit:
+      break;
+  }
+  return std::nan("");
+}
+
+double natural_frequency(double radius, double fill_height, int n) {
+  const double xi = kBesselRoots.at(static_cast<std::size_t>(n - 1));
+  return std::sqrt(kGravity * xi / radius * std::tanh(xi * fill_height / radius));
+}
+
+SloshingModel make_sloshing_model(const Format& format, const ModelOptions& options) {
+  SloshingModel m;
+  const double R = format.container.radius;
+  const double h = format.fill_height;
+  m.radius = R;
+  m.fill_height = h;
+  m.density = format.fluid.density;
+  m.fluid_mass = std::numbers::pi * R * R * h * m.density;
+  m.zeta = options.damping == DampingCorrelation::kExplicit
+               ? options.explicit_zeta
+               : damping_ratio(format, options.damping);
+  m.alpha = options.alpha;
+  for (int n = 1; n <= options.modes; ++n) {
+    const double xi = kBesselRoots.at(static_cast<std::size_t>(n - 1));
+    const double th = std::tanh(xi * h / R);
+    m.omega.push_back(natural_frequency(R, h, n));
+    m.mass.push_back(m.fluid_mass * 2.0 * R * th / (xi * h * (xi * xi - 1.0)));
+    m.eta_gain.push_back(8.0 * th / (xi * (xi * xi - 1.0)));
+  }
+  const double xi1 = kBesselRoots[0];
+  m.C = xi1 * std::tanh(xi1 * h / R);
+  m.K = 2.0 * R * m.C / (xi1 * xi1 - 1.0);
+  return m;
+}
+
+std::string to_string(DampingCorrelation correlation) {
+  switch (correlation) {
+    case DampingCorrelation::kThesis:
+      return "thesis";
+    case DampingCorrelation::kPaper:
+      return "paper";
+    case DampingCorrelation::kEq227:
+      return "eq227";
+    case DampingCorrelation::kEq228:
+      return "eq228";
+    case DampingCorrelation::kExplicit:
+      return "explicit";
+  }
+  return "unknown";
+}
+
+}  // namespace slosh

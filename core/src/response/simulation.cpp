@@ -1,0 +1,83 @@
+#include "slosh/core/response/simulation.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+
+namespace slosh {
+
+namespace {
+
+std::string fixed(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
+  return buf;
+}
+
+}  // namespace
+
+std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
+                                           double eta_motion_linear, double eta_motion_nonlinear) {
+  std::vector<std::string> w;
+  const double R = format.container.radius;
+  const double h = format.fill_height;
+  if (peak_abs_acceleration > kLinearModelMaxAcceleration) {
+    w.push_back("peak |acceleration| " + fixed(peak_abs_acceleration, 2) + " m/s^2 exceeds " +
+                fixed(kLinearModelMaxAcceleration, 0) +
+                " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); "
+                "rely on the nonlinear prediction");
+  }
+  if (R < kMinModelledRadius) {
+    w.push_back("radius " + fixed(R * 1e3, 1) + " mm is below " +
+                fixed(kMinModelledRadius * 1e3, 0) +
+                " mm: surface tension matters and is not modelled");
+  }
+  if (h / R < kMinFillRatio) {
+    w.push_back("fill ratio h/R = " + fixed(h / R, 3) + " is below " + fixed(kMinFillRatio, 1) +
+                ": shallow-liquid regime, not modelled");
+  }
+  if (format.container.height) {
+    const double free_board = *format.container.height - h;
+    const double eta = std::max(eta_motion_linear, eta_motion_nonlinear);
+    if (eta > free_board) {
+      w.push_back("predicted sloshing height during the motion " + fixed(eta * 1e3, 1) +
+                  " mm exceeds the free board " + fixed(free_board * 1e3, 1) +
+                  " mm (container height - fill height): liquid will spill");
+    }
+  }
+  return w;
+}
+
+SimulationResult simulate(const Format& format, const MotionLaw& law,
+                          const SimulationOptions& options) {
+  SimulationResult r;
+  r.model = make_sloshing_model(format, options.model);
+  r.kinematics = law.summary();
+  const LinearResponse linear(r.model, law, options.rest_time);
+  const NonlinearResponse nonlinear(r.model, law, options.rest_time, options.nonlinear);
+  r.linear = linear.peaks();
+  r.nonlinear = nonlinear.peaks();
+  r.warnings = validity_warnings(
+      format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
+      r.linear.motion.value, r.nonlinear.motion.value);
+  if (options.sample_period) {
+    const double dt = *options.sample_period;
+    const double end = law.duration() + options.rest_time;
+    const auto n = static_cast<std::size_t>(std::floor(end / dt + 1e-9));
+    TimeSeries s;
+    for (std::size_t i = 0; i <= n; ++i) {
+      const double t = std::min(end, dt * static_cast<double>(i));
+      const KinematicState k = law.at(t);
+      s.t.push_back(t);
+      s.a.push_back(k.acceleration);
+      s.v.push_back(k.velocity);
+      s.s.push_back(k.position);
+      s.eta_linear.push_back(linear.eta(t));
+      s.eta_nonlinear.push_back(nonlinear.eta(t));
+    }
+    r.series = std::move(s);
+  }
+  return r;
+}
+
+}  // namespace slosh

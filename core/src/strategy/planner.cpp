@@ -1,0 +1,738 @@
+#include "slosh/core/strategy/planner.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "slosh/core/response/spectrum.hpp"
+#include "strategy/strategies.hpp"
+#include "text.hpp"
+
+namespace slosh {
+
+namespace {
+
+using detail::sig3;
+
+/// Tie tolerance of the `auto` rule on eta_rest (relative) [-].
+constexpr double kAutoTieTolerance{1e-6};
+/// `auto` keeps candidates whose eta_motion is within this factor of the best one (SPEC §5).
+constexpr double kAutoMotionSlack{1.05};
+
+LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double rest_time) {
+  LawPrediction p;
+  p.kinematics = law.summary();
+  p.linear = LinearResponse(model, law, rest_time).peaks();
+  p.nonlinear = NonlinearResponse(model, law, rest_time).peaks();
+  return p;
+}
+
+double reduction(double baseline, double value) {
+  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
+}
+
+std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
+  auto change = [](double base, double v) {
+    const double r = reduction(base, v);
+    if (std::abs(r) < 5e-4) return std::string("0 %");  // below the 3 digits shown
+    std::string text(r >= 0.0 ? "-" : "+");
+    text.append(sig3(std::abs(r)));
+    text.append(" %");
+    return text;
+  };
+  return "nonlinear model: eta_motion " + sig3(p.nonlinear.motion.value * 1e3) + " mm (" +
+         change(b.nonlinear.motion.value, p.nonlinear.motion.value) + " vs the uniform law), " +
+         "eta_rest " + sig3(p.nonlinear.rest.value * 1e3) + " mm (" +
+         change(b.nonlinear.rest.value, p.nonlinear.rest.value) + ")";
+}
+
+/// A law is worse than the uniform baseline on a figure when it is above it by more than this
+/// fraction and by more than kWorseAbsolute (SPEC §5 "Honest status").
+constexpr double kWorseRelative{0.05};
+constexpr double kWorseAbsolute{0.5e-3};  // [m]
+
+/// The `worse_than_baseline` warning naming the figures, or empty.
+std::string worse_than_baseline(const LawPrediction& p, const LawPrediction& b) {
+  std::string figures;
+  auto check = [&](double value, double base, const char* what) {
+    if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
+      if (!figures.empty()) figures += ", ";
+      figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
+    }
+  };
+  check(p.nonlinear.motion.value, b.nonlinear.motion.value, "eta_motion (nonlinear)");
+  check(p.nonlinear.rest.value, b.nonlinear.rest.value, "eta_rest (nonlinear)");
+  check(p.linear.motion.value, b.linear.motion.value, "eta_motion (linear)");
+  check(p.linear.rest.value, b.linear.rest.value, "eta_rest (linear)");
+  if (figures.empty()) return {};
+  return "worse_than_baseline: " + figures +
+         " for the uniform law (more than 5 % and 0.5 mm above it); the uniform law (strategy "
+         "baseline) sloshes less there";
+}
+
+bool finite_prediction(const LawPrediction& p) {
+  const double values[] = {p.linear.motion.value,       p.linear.rest.value,
+                           p.nonlinear.motion.value,    p.nonlinear.rest.value,
+                           p.kinematics.v_peak,         p.kinematics.a_peak_positive,
+                           p.kinematics.a_peak_negative};
+  return std::all_of(std::begin(values), std::end(values),
+                     [](double v) { return std::isfinite(v); });
+}
+
+}  // namespace
+
+std::string plan_input_error(const Format& f, const PlanOptions& options) {
+  auto bad = [](double v, double lo, double hi) {
+    return !(std::isfinite(v) && v >= lo && v <= hi);
+  };
+  const double R = f.container.radius;
+  if (bad(R, kMinPlanRadius, kMaxPlanLength)) {
+    return "container radius " + sig3(R) + " m must be finite and in [" + sig3(kMinPlanRadius) +
+           ", " + sig3(kMaxPlanLength) + "] m";
+  }
+  if (f.container.height && !(std::isfinite(*f.container.height) && *f.container.height > 0.0)) {
+    return "container height " + sig3(*f.container.height) + " m must be finite and > 0";
+  }
+  if (bad(f.fill_height, kMinPlanLength, kMaxPlanLength)) {
+    return "fill height " + sig3(f.fill_height) + " m must be finite and in [" +
+           sig3(kMinPlanLength) + ", " + sig3(kMaxPlanLength) + "] m";
+  }
+  if (bad(f.fluid.density, 1.0, 1e5)) {
+    return "fluid density " + sig3(f.fluid.density) + " kg/m^3 must be finite and in [1, 1e5]";
+  }
+  if (bad(f.fluid.viscosity, 0.0, 1e6)) {
+    return "fluid viscosity " + sig3(f.fluid.viscosity) + " Pa·s must be finite and in [0, 1e6]";
+  }
+  if (bad(f.stroke, kMinPlanLength, kMaxPlanLength)) {
+    return "stroke " + sig3(f.stroke) + " m must be finite and in [" + sig3(kMinPlanLength) + ", " +
+           sig3(kMaxPlanLength) + "] m";
+  }
+  if (bad(f.motion_time, kMinPlanTime, kMaxPlanTime)) {
+    return "motion time " + sig3(f.motion_time) + " s must be finite and in [" +
+           sig3(kMinPlanTime) + ", " + sig3(kMaxPlanTime) + "] s";
+  }
+  const ModelOptions& m = options.model;
+  if (m.modes < 1 || m.modes > static_cast<int>(kMaxModes)) {
+    return "modes = " + std::to_string(m.modes) + " must be in [1, " + std::to_string(kMaxModes) +
+           "]";
+  }
+  if (!(std::isfinite(m.alpha) && m.alpha >= 0.0)) {
+    return "alpha = " + sig3(m.alpha) + " must be finite and >= 0";
+  }
+  if (m.damping == DampingCorrelation::kExplicit &&
+      !(std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0)) {
+    return "zeta = " + sig3(m.explicit_zeta) + " must be finite and >= 0";
+  }
+  std::string error;
+  if (!options.is_valid(f, &error)) return error;
+  return {};
+}
+
+std::string to_string(Strategy strategy) {
+  switch (strategy) {
+    case Strategy::kBaseline:
+      return "baseline";
+    case Strategy::kNotch:
+      return "notch";
+    case Strategy::kMultiNotch:
+      return "multi_notch";
+    case Strategy::kMinJerkBand:
+      return "min_jerk_band";
+    case Strategy::kTimeDomain:
+      return "time_domain";
+    case Strategy::kFirChain:
+      return "fir_chain";
+    case Strategy::kShaper:
+      return "shaper";
+    case Strategy::kIir:
+      return "iir";
+    case Strategy::kAuto:
+      return "auto";
+  }
+  return "baseline";
+}
+
+std::optional<Strategy> parse_strategy(std::string_view name) {
+  for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
+                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
+                     Strategy::kShaper, Strategy::kIir, Strategy::kAuto}) {
+    if (to_string(s) == name) return s;
+  }
+  return std::nullopt;
+}
+
+bool is_filter_strategy(Strategy strategy) {
+  return strategy == Strategy::kFirChain || strategy == Strategy::kShaper ||
+         strategy == Strategy::kIir;
+}
+
+std::string to_string(SolverChoice solver) {
+  switch (solver) {
+    case SolverChoice::kAuto:
+      return "auto";
+    case SolverChoice::kNlopt:
+      return "nlopt";
+    case SolverChoice::kIpopt:
+      return "ipopt";
+  }
+  return "auto";
+}
+
+bool PlanOptions::is_valid(const Format& format, std::string* error) const {
+  auto fail = [error](std::string message) {
+    if (error != nullptr) *error = std::move(message);
+    return false;
+  };
+  const double T = format.motion_time;
+  if (!(min_ramp > 0.0) || !std::isfinite(min_ramp)) {
+    return fail("min_ramp_s = " + sig3(min_ramp) + " s must be > 0");
+  }
+  const double floor_sum = 4.0 * min_ramp + plateau_min[0] + plateau_min[1];
+  if (floor_sum > T) {
+    return fail("min_ramp_s = " + sig3(min_ramp) + " s and plateau_min_s = [" +
+                sig3(plateau_min[0]) + ", " + sig3(plateau_min[1]) +
+                "] s need 4 ramps + 2 plateaus = " + sig3(floor_sum) +
+                " s, more than the motion time " + sig3(T) +
+                " s: allowed min_ramp_s <= (T - plateau minimums) / 4 = " +
+                sig3((T - plateau_min[0] - plateau_min[1]) / 4.0) + " s");
+  }
+  for (int i = 0; i < 2; ++i) {
+    if (!(plateau_min[i] >= 0.0) || !std::isfinite(plateau_min[i])) {
+      return fail("plateau_min_s[" + std::to_string(i) + "] = " + sig3(plateau_min[i]) +
+                  " s must be >= 0");
+    }
+  }
+  double weight_sum = 0.0;
+  for (int i = 0; i < 3; ++i) {
+    if (!(weights[i] >= 0.0) || !std::isfinite(weights[i])) {
+      return fail("weights[" + std::to_string(i) + "] = " + sig3(weights[i]) +
+                  " must be finite and >= 0");
+    }
+    weight_sum += weights[i];
+  }
+  if (weight_sum <= 0.0) return fail("weights = [0, 0, 0]: at least one weight must be > 0");
+  if (!(p_notch > 0.0 && p_notch < 1.0)) {
+    return fail("p_notch = " + sig3(p_notch) + " must be > 0 and < 1");
+  }
+  if (!(band > 0.0 && band < 1.0)) return fail("band = " + sig3(band) + " must be > 0 and < 1");
+  if (n_band < 1 || n_band > kMaxBandPoints) {
+    return fail("n_band = " + std::to_string(n_band) + " must be in [1, " +
+                std::to_string(kMaxBandPoints) + "]");
+  }
+  if (!(tol_rel > 0.0) || !std::isfinite(tol_rel)) {
+    return fail("tol_rel = " + sig3(tol_rel) + " must be finite and > 0");
+  }
+  if (!(eta_rest_max > 0.0) || !std::isfinite(eta_rest_max)) {
+    return fail("eta_rest_max_mm = " + sig3(eta_rest_max * 1e3) + " mm must be > 0");
+  }
+  if (eta_motion_max && (!(*eta_motion_max > 0.0) || !std::isfinite(*eta_motion_max))) {
+    return fail("eta_motion_max_mm = " + sig3(*eta_motion_max * 1e3) + " mm must be > 0");
+  }
+  if (!(rest_time > 0.0 && rest_time <= kMaxPlanTime)) {
+    return fail("rest_time_s = " + sig3(rest_time) + " s must be > 0 and <= " + sig3(kMaxPlanTime) +
+                " s");
+  }
+  const std::pair<const std::optional<double>*, const char*> lims[] = {
+      {&limits.a_max, "limits.a_max"},
+      {&limits.v_max, "limits.v_max"},
+      {&limits.j_max, "limits.j_max"}};
+  for (const auto& [value, name] : lims) {
+    if (*value && !(**value > 0.0 && std::isfinite(**value))) {
+      return fail(std::string(name) + " = " + sig3(**value) + " must be finite and > 0");
+    }
+  }
+  if (!(time_limit > 0.0) || std::isnan(time_limit))
+    return fail("time_limit_s = " + sig3(time_limit) + " s must be > 0");
+  if (!(residual >= 0.0 && residual < 1.0)) {
+    return fail("residual = " + sig3(residual) + " must be >= 0 and < 1");
+  }
+  if (!(iir_tau > 0.0) || !std::isfinite(iir_tau)) {
+    return fail("iir_tau = " + sig3(iir_tau) + " 1/s must be finite and > 0");
+  }
+  if (!(iir_sample_period > 0.0 && iir_sample_period <= T / kIirMinSamples)) {
+    return fail("iir_sample_period_s = " + sig3(iir_sample_period) + " s must be > 0 and <= T / " +
+                std::to_string(kIirMinSamples) + " = " + sig3(T / kIirMinSamples) + " s");
+  }
+  return true;
+}
+
+namespace detail {
+
+MultiStartResult least_limit_scale(const StrategyContext& c, int first, int rows) {
+  // min z s.t. quantity_r / limit_r <= z for the rows [first, first + rows) of limit_constraints
+  // (g = quantity / limit - 1); z <= 1: those limits are reachable together.
+  const int total = c.space.limit_count();
+  const DurationSpace* space = &c.space;
+  NlpProblem p = c.space.problem(1);
+  p.inequality_count = rows;
+  p.inequalities = [space, total, first, rows](const double* x, double* g, double* jac) {
+    std::vector<double> all(static_cast<std::size_t>(total));
+    std::vector<double> all_jac(static_cast<std::size_t>(total) * (kSegments + 1), 0.0);
+    space->limit_constraints(x, all.data(), jac ? all_jac.data() : nullptr, kSegments + 1);
+    for (int r = 0; r < rows; ++r) {
+      g[r] = all[static_cast<std::size_t>(first + r)] + 1.0 - x[kSegments];
+      if (jac != nullptr) {
+        for (std::size_t i = 0; i < kSegments; ++i) {
+          jac[r * (kSegments + 1) + i] = all_jac[(first + r) * (kSegments + 1) + i];
+        }
+        jac[r * (kSegments + 1) + kSegments] = -1.0;
+      }
+    }
+  };
+  auto starts = as_vectors(c.space.starts(4));
+  for (auto& x : starts) {
+    std::vector<double> g(static_cast<std::size_t>(total));
+    space->limit_constraints(x.data(), g.data(), nullptr, kSegments + 1);
+    double z = 0.0;
+    for (int r = 0; r < rows; ++r) z = std::max(z, g[static_cast<std::size_t>(first + r)] + 1.0);
+    x.push_back(z);
+  }
+  return multi_start(p, starts, c, NlpOptions{});
+}
+
+std::string explain_limits(const StrategyContext& c) {
+  const MachineLimits& lim = c.space.limits;
+  const double s = c.format.stroke, T = c.format.motion_time;
+  struct Quantity {
+    const char* name;
+    const char* unit;
+    std::optional<double> limit;
+    int rows;
+    int first;  // first row in limit_constraints
+  };
+  const int a_rows = lim.a_max ? 2 : 0;
+  const int v_rows = lim.v_max ? 1 : 0;
+  const Quantity quantities[] = {{"a_max", "m/s^2", lim.a_max, a_rows, 0},
+                                 {"v_max", "m/s", lim.v_max, v_rows, a_rows},
+                                 {"j_max", "m/s^3", lim.j_max, lim.j_max ? 4 : 0, a_rows + v_rows}};
+  int limited = 0;
+  for (const Quantity& q : quantities) {
+    if (!q.limit) continue;
+    ++limited;
+    const MultiStartResult m = least_limit_scale(c, q.first, q.rows);
+    if (m.feasible && m.best.objective > 1.0 + 1e-6) {
+      return std::string(q.name) + " = " + sig3(*q.limit) + " " + q.unit +
+             " is not reachable: " + sig3(s * 1e3) + " mm in " + sig3(T) +
+             " s with ramps >= " + sig3(c.options.min_ramp) + " s needs at least " +
+             sig3(m.best.objective * *q.limit) + " " + q.unit + "; lengthen the motion or raise " +
+             q.name;
+    }
+  }
+  // Each limit alone is reachable: together, by the same scale over every row (a zero objective
+  // let the solver stop at its infeasible start).
+  if (limited > 1) {
+    const MultiStartResult m = least_limit_scale(c, 0, c.space.limit_count());
+    if (m.feasible && m.best.objective > 1.0 + 1e-6) {
+      return "the machine limits are each reachable but not together for " + sig3(s * 1e3) +
+             " mm in " + sig3(T) + " s (together they are exceeded by " +
+             sig3(100.0 * (m.best.objective - 1.0)) +
+             " % at best); raise one of them or lengthen the motion";
+    }
+  }
+  return {};
+}
+
+void set_references(StrategyContext& c, double eta_ref) {
+  const Durations uniform = uniform_durations(c.format.motion_time);
+  const double w1 = c.model.omega1();
+  c.x_ref = band_peak(uniform, c.format.stroke, band_check_grid(w1, c.options)).value;
+  c.jerk_ref = SevenSegmentLaw(uniform, c.format.stroke).jerk_integral();
+  c.eta_ref = eta_ref;
+  c.eta_motion_max = c.options.eta_motion_max.value_or(eta_ref);
+}
+
+std::string violated_constraint(const StrategyContext& c, Strategy strategy, const Durations& d,
+                                const SloshPeaks& verified) {
+  constexpr double kSlack = 1e-6;          // relative round-off of the verification
+  constexpr double kDurationSlack = 1e-9;  // s
+  // The admissibility rules of the options (the optimisers hold them by their bounds; the uniform
+  // law does not).
+  for (int i : {0, 2, 4, 6}) {
+    if (d[i] < c.options.min_ramp - kDurationSlack) {
+      return "the law's ramp " + std::to_string(i + 1) + " lasts " + sig3(d[i]) +
+             " s, less than min_ramp_s = " + sig3(c.options.min_ramp) + " s";
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    const int i = k == 0 ? 1 : 5;
+    if (d[i] < c.options.plateau_min[k] - kDurationSlack) {
+      return "the law's plateau " + std::to_string(i + 1) + " lasts " + sig3(d[i]) +
+             " s, less than plateau_min_s[" + std::to_string(k) +
+             "] = " + sig3(c.options.plateau_min[k]) + " s";
+    }
+  }
+  if (c.options.fix_constant_velocity_zero && d[3] > kDurationSlack) {
+    return "the law cruises for " + sig3(d[3]) +
+           " s although fix_constant_velocity_zero asks for no constant-velocity segment";
+  }
+  const SevenSegmentLaw law(d, c.format.stroke);
+  double jerk = 0.0;
+  for (double j : law.jerks()) jerk = std::max(jerk, std::abs(j));
+  if (std::string limit =
+          limit_violation(c.options.limits, std::max(law.A(), law.B()), law.v_peak(), jerk, kSlack);
+      !limit.empty()) {
+    return limit;
+  }
+  if (strategy == Strategy::kMinJerkBand) {
+    const double ratio =
+        band_peak(d, c.format.stroke, band_check_grid(c.model.omega1(), c.options)).value / c.x_ref;
+    if (ratio > c.options.tol_rel * (1.0 + kBandTolerance)) return band_limit_sentence(c, ratio);
+  }
+  if (strategy == Strategy::kTimeDomain) {
+    const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+    const double value = motion ? verified.rest.value : verified.motion.value;
+    const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
+    if (value > bound * (1.0 + kSlack)) {
+      return std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
+             " mm is not reachable in " + sig3(c.format.motion_time) + " s: the best is " +
+             sig3(value * 1e3) + " mm; lengthen the motion or relax the limit";
+    }
+  }
+  return {};
+}
+
+}  // namespace detail
+
+PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  PlanResult r;
+  r.strategy = strategy;
+  // The invalid-input result: nothing planned, but what can be built from the valid parts (the
+  // model, the uniform law) is filled in when finite, so a renderer that expects them does not
+  // meet empty or non-finite fields; predictions stay zero.
+  auto refuse = [&](const std::string& why) {
+    PlanResult invalid;
+    invalid.strategy = strategy;
+    invalid.status = SolveStatus::kFailed;
+    invalid.invalid_input = true;
+    invalid.message = "invalid input: " + why + "; nothing was planned";
+    invalid.solver.name = "none";
+    const Format& f = format;
+    const ModelOptions& m = options.model;
+    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+    if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
+        std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
+        m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
+        std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
+      const SloshingModel model = make_sloshing_model(f, m);
+      const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
+                          std::isfinite(model.K) &&
+                          std::all_of(model.omega.begin(), model.omega.end(), positive);
+      if (finite) invalid.model = model;
+    }
+    if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
+        f.stroke <= kMaxPlanLength) {
+      const Durations uniform = uniform_durations(f.motion_time);
+      const SevenSegmentLaw law(uniform, f.stroke);
+      if (std::isfinite(law.A()) && std::isfinite(law.B())) {
+        invalid.durations = uniform;
+        invalid.law = law.law();
+        invalid.A = law.A();
+        invalid.B = law.B();
+      }
+    }
+    return invalid;
+  };
+  if (std::string why = plan_input_error(format, options); !why.empty()) return refuse(why);
+  const detail::Deadline deadline(options.time_limit);
+  r.model = make_sloshing_model(format, options.model);
+  const double w1 = r.model.omega1();
+  if (!(std::isfinite(w1) && w1 > 0.0 && std::isfinite(r.model.zeta) && r.model.zeta >= 0.0 &&
+        std::isfinite(r.model.K))) {
+    return refuse("the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
+                  " rad/s, zeta = " + sig3(r.model.zeta) + ")");
+  }
+  r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
+  const Durations uniform = uniform_durations(format.motion_time);
+  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
+  if (!finite_prediction(r.baseline)) {
+    return refuse("the uniform law's predicted sloshing is not finite for this format");
+  }
+
+  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
+                            deadline};
+  detail::set_references(c, r.baseline.nonlinear.motion.value);
+  if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
+    return refuse("the uniform law's reference levels are not finite and positive (X_ref = " +
+                  sig3(c.x_ref) + " m/s)");
+  }
+
+  // Every strategy's outcome in one shape: the optimisers' durations become their law.
+  struct Outcome {
+    SolveStatus status{SolveStatus::kFailed};
+    std::optional<Durations> durations;
+    MotionLaw law;
+    std::optional<FilterDesign> design;
+    std::string detail;
+    detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
+  };
+  auto from_solver = [&](detail::StrategyOutcome o) {
+    Outcome out;
+    out.status = o.status;
+    if (o.status == SolveStatus::kFailed) o.durations = uniform;
+    out.durations = o.durations;
+    out.law = SevenSegmentLaw(o.durations, format.stroke).law();
+    out.detail = o.detail;
+    out.solver = std::move(o);
+    return out;
+  };
+  auto from_filter = [&](detail::FilterOutcome o) {
+    Outcome out;
+    out.status = o.status;
+    out.durations = o.durations;
+    out.law = std::move(o.law);
+    out.design = std::move(o.design);
+    out.detail = std::move(o.detail);
+    out.solver.solver = "none";
+    return out;
+  };
+
+  auto run = [&](Strategy s, const std::vector<Durations>& seeds) -> Outcome {
+    switch (s) {
+      case Strategy::kNotch:
+        return from_solver(detail::solve_notch(c));
+      case Strategy::kMultiNotch:
+        return from_solver(detail::solve_multi_notch(c));
+      case Strategy::kMinJerkBand:
+        return from_solver(detail::solve_min_jerk_band(c));
+      case Strategy::kTimeDomain:
+        return from_solver(detail::solve_time_domain(c, seeds));
+      case Strategy::kFirChain:
+        return from_filter(detail::design_fir_chain(c));
+      case Strategy::kShaper:
+        return from_filter(detail::design_shaper(c));
+      case Strategy::kIir:
+        return from_filter(detail::design_iir(c));
+      default: {
+        detail::StrategyOutcome o;
+        o.status = SolveStatus::kOptimal;
+        o.durations = uniform;
+        o.solver = "none";
+        return from_solver(o);
+      }
+    }
+  };
+  // SPEC §5 "Honest status": the status follows the verification of the returned law. An
+  // optimiser's law that meets every constraint is never infeasible; one that violates a
+  // constraint is never optimal or acceptable (filter designs are only ever downgraded: their
+  // "infeasible" also means "this method has no law here").
+  auto verify = [&](Strategy s, Outcome& o, const LawPrediction& p) {
+    if (!o.durations) return;
+    const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
+    const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
+    if (!violation.empty() && usable) {
+      o.status = SolveStatus::kInfeasible;
+      if (s == Strategy::kBaseline) {
+        o.detail = "the uniform law does not meet the options: " + violation;
+      } else if (o.detail.empty() || is_filter_strategy(s)) {
+        o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
+      } else {
+        o.detail = violation;
+      }
+    } else if (violation.empty() && o.status == SolveStatus::kInfeasible &&
+               !is_filter_strategy(s)) {
+      o.status = SolveStatus::kAcceptable;
+      o.detail =
+          "the law meets every constraint on the verification, though its objective was "
+          "not minimised";
+    }
+  };
+  // The spectral optima seed the time-domain starts (SPEC §5).
+  auto spectral_seeds = [&](std::vector<Outcome>* outcomes) {
+    std::vector<Durations> seeds;
+    for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+      Outcome o = run(s, {});
+      if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
+        seeds.push_back(*o.durations);
+      }
+      if (outcomes != nullptr) outcomes->push_back(std::move(o));
+    }
+    return seeds;
+  };
+  auto finish = [&](Outcome& o) {
+    r.status = o.status;
+    r.durations = o.durations;
+    r.law = std::move(o.law);
+    r.design = std::move(o.design);
+    r.solver.name = o.solver.solver;
+    r.solver.iterations = o.solver.evaluations;
+    r.solver.starts = o.solver.starts;
+    r.solver.objective = o.solver.objective;
+  };
+
+  std::string detail_text;
+  std::string worse;                    // the worse_than_baseline warning of the returned law
+  Strategy result_strategy = strategy;  // the strategy whose law is returned
+  if (strategy == Strategy::kAuto) {
+    std::vector<Outcome> outcomes;
+    outcomes.push_back(run(Strategy::kBaseline, {}));
+    std::vector<Durations> seeds = spectral_seeds(&outcomes);
+    outcomes.push_back(run(Strategy::kTimeDomain, seeds));
+    outcomes.push_back(run(Strategy::kFirChain, {}));
+    outcomes.push_back(run(Strategy::kShaper, {}));
+    const Strategy order[] = {Strategy::kBaseline,    Strategy::kNotch,      Strategy::kMultiNotch,
+                              Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
+                              Strategy::kShaper};
+    int evaluations = 0, starts = 0;
+    std::vector<std::string> worse_of;
+    for (std::size_t k = 0; k < outcomes.size(); ++k) {
+      PlanCandidate cand;
+      cand.strategy = order[k];
+      cand.law = outcomes[k].law;
+      cand.prediction = predict(r.model, cand.law, options.rest_time);
+      verify(order[k], outcomes[k], cand.prediction);
+      cand.status = outcomes[k].status;
+      cand.durations = outcomes[k].durations;
+      worse_of.push_back(worse_than_baseline(cand.prediction, r.baseline));
+      r.candidates.push_back(std::move(cand));
+      evaluations += outcomes[k].solver.evaluations;
+      starts += outcomes[k].solver.starts;
+    }
+    // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best
+    // (ties: lower peak acceleration); infeasible or failed candidates do not compete, nor do
+    // those worse than the uniform law while one that is not remains (the baseline never is).
+    auto usable = [](const PlanCandidate& k) {
+      return k.status == SolveStatus::kOptimal || k.status == SolveStatus::kAcceptable ||
+             k.status == SolveStatus::kTimeLimit;
+    };
+    bool any_not_worse = false;
+    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+      any_not_worse = any_not_worse || (usable(r.candidates[k]) && worse_of[k].empty());
+    }
+    auto eligible = [&](std::size_t k) {
+      return usable(r.candidates[k]) && (!any_not_worse || worse_of[k].empty());
+    };
+    double best_motion = INFINITY;
+    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+      if (eligible(k)) {
+        best_motion = std::min(best_motion, r.candidates[k].prediction.nonlinear.motion.value);
+      }
+    }
+    std::size_t chosen = 0;
+    bool have = false;
+    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
+      const auto& cand = r.candidates[k];
+      if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+        continue;
+      }
+      if (!have) {
+        chosen = k;
+        have = true;
+        continue;
+      }
+      const auto& cur = r.candidates[chosen];
+      const double a = cand.prediction.nonlinear.rest.value,
+                   b = cur.prediction.nonlinear.rest.value;
+      const double peak_a = std::max(cand.prediction.kinematics.a_peak_positive,
+                                     cand.prediction.kinematics.a_peak_negative);
+      const double peak_b = std::max(cur.prediction.kinematics.a_peak_positive,
+                                     cur.prediction.kinematics.a_peak_negative);
+      if (a < b * (1.0 - kAutoTieTolerance) ||
+          (std::abs(a - b) <= kAutoTieTolerance * b && peak_a < peak_b)) {
+        chosen = k;
+      }
+    }
+    r.candidates[chosen].chosen = true;
+    result_strategy = order[chosen];
+    Outcome& o = outcomes[chosen];
+    o.solver.evaluations = evaluations;
+    o.solver.starts = starts;
+    if (!have) {
+      detail_text = "no candidate meets every constraint; auto returns the uniform law";
+    } else {
+      detail_text = "auto chose " + to_string(order[chosen]) +
+                    " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+                    (any_not_worse ? std::string("none worse than the uniform law)")
+                                   : std::string("all worse than the uniform law, which does not "
+                                                 "meet the options)"));
+    }
+    if (!o.detail.empty()) detail_text += "; " + o.detail;
+    worse = worse_of[chosen];
+    finish(o);
+    r.prediction = r.candidates[chosen].prediction;
+  } else {
+    std::vector<Durations> seeds;
+    if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(nullptr);
+    Outcome o = run(strategy, seeds);
+    const LawPrediction p = predict(r.model, o.law, options.rest_time);
+    verify(strategy, o, p);
+    detail_text = o.detail;
+    finish(o);
+    r.prediction = p;
+    worse = worse_than_baseline(r.prediction, r.baseline);
+  }
+
+  if (r.durations) {
+    const SevenSegmentLaw law(*r.durations, format.stroke);
+    r.A = law.A();
+    r.B = law.B();
+  } else {
+    r.A = r.prediction.kinematics.a_peak_positive;
+    r.B = r.prediction.kinematics.a_peak_negative;
+  }
+  r.solver.solve_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
+
+  // The message: what happened, then what the law does.
+  const bool filtered = is_filter_strategy(result_strategy);
+  std::string message;
+  switch (r.status) {
+    case SolveStatus::kOptimal:
+    case SolveStatus::kAcceptable:
+      message = to_string(strategy) + " " + to_string(r.status);
+      break;
+    case SolveStatus::kTimeLimit:
+      message = "the time budget of " + sig3(options.time_limit) +
+                " s ran out; returning the best admissible point found";
+      break;
+    case SolveStatus::kInfeasible: {
+      if (filtered) {
+        // The design says what it built and which constraint it misses.
+        message = detail_text;
+        detail_text.clear();
+        break;
+      }
+      // The machine limits first when they alone cannot hold; otherwise the strategy's own
+      // sentence (constraint, limit, best value reached).
+      std::string limits;
+      // (The uniform law is not searched: its own sentence says which option it breaks.)
+      if (result_strategy != Strategy::kBaseline && c.space.limit_count() > 0 && r.durations &&
+          !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
+               .empty()) {
+        limits = detail::explain_limits(c);
+      }
+      message = !limits.empty() ? limits : detail_text;
+      if (message.empty() && r.durations) {
+        message =
+            detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
+      } else if (limits.empty() && r.durations && result_strategy != Strategy::kBaseline) {
+        // The strategy's own constraint is named; a machine limit the returned law breaks too
+        // (although the limits are reachable) must not go unsaid.
+        const std::string also = detail::violated_constraint(c, Strategy::kBaseline, *r.durations,
+                                                             r.prediction.nonlinear);
+        if (!also.empty()) message += "; moreover " + also;
+      }
+      detail_text.clear();
+      message += result_strategy == Strategy::kBaseline
+                     ? "; the durations returned are the uniform law, not a solution: plan with "
+                       "a strategy that holds the options"
+                     : "; the durations returned are the least infeasible found, not a solution";
+      break;
+    }
+    case SolveStatus::kFailed:
+      message = "the solver failed; the durations returned are the uniform law";
+      break;
+  }
+  if (!detail_text.empty()) message += ": " + detail_text;
+  message += ". " + summary_sentence(r.prediction, r.baseline);
+  r.message = message;
+  r.warnings = validity_warnings(
+      format,
+      std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
+      r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value);
+  if (!worse.empty()) r.warnings.push_back(worse);
+  return r;
+}
+
+}  // namespace slosh

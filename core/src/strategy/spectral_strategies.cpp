@@ -1,0 +1,527 @@
+// notch, multi_notch and min_jerk_band: objectives and constraints on the closed-form spectrum
+// with its exact gradient (SPEC §4-§5).
+
+#include <algorithm>
+#include <cmath>
+#include <memory>
+
+#include "slosh/core/response/spectrum.hpp"
+#include "strategy/strategies.hpp"
+#include "text.hpp"
+
+namespace slosh::detail {
+
+namespace {
+
+/// Depth of an exact notch: |Re X|, |Im X| <= kNotchDepth X_ref [-] (-120 dB).
+constexpr double kNotchDepth{1e-6};
+/// Random starts of the spectral strategies (after the uniform law and 4 symmetric families).
+constexpr int kSpectralRandomStarts{5};
+/// Random starts of multi_notch (after the uniform law and 4 symmetric families): its objective
+/// has many basins on short moves (a 24-start reference found optima 4x lower than 10 starts).
+constexpr int kMultiNotchRandomStarts{8};
+/// A weighted spectral power (relative to X_ref^2) this low is an exact zero [-].
+constexpr double kExactZero{1e-14};
+/// Refinement of the band check after a min_jerk_band solve: points per solver interval.
+constexpr int kBandCheckRefinement{16};
+/// Exchange rounds of min_jerk_band (points added where the fine check finds a violation).
+constexpr int kBandExchangeRounds{6};
+/// Constraint violation (relative to the bounds) up to which a solver point is judged by the
+/// verification rather than discarded [-].
+constexpr double kSolverSlack{1e-6};
+/// The same inside the exchange rounds, whose points the fine check judges anyway [-].
+constexpr double kExchangeSlack{1e-3};
+/// Random starts of min_jerk_band's screening (after the uniform law and 4 symmetric families).
+constexpr int kBandRandomStarts{12};
+/// Band frequencies of min_jerk_band's screening solves (at most n_band) [-].
+constexpr int kScreenPoints{11};
+/// Evaluations of one screening solve at most, and its relative tolerance [-].
+constexpr int kScreenEvaluations{80};
+constexpr double kScreenTolerance{1e-7};
+/// Screened points min_jerk_band finishes on the n_band frequencies, and tries at most [-].
+constexpr std::size_t kRefinedStarts{2};
+constexpr std::size_t kRefineAttempts{5};
+/// Intervals of the band check grid at least (the solver's n_band - 1 when larger) [-].
+constexpr int kBandCheckIntervals{50};
+
+NlpOptions spectral_options() {
+  NlpOptions o;
+  o.tolerance = 1e-10;
+  o.constraint_tolerance = 1e-9;  // constraints are relative to their bounds
+  o.max_iterations = 400;
+  return o;
+}
+
+// Appends the limit inequalities after `first` rows of a problem over 7 + extra variables.
+void add_limits(NlpProblem& p, const StrategyContext& c, int first,
+                std::function<void(const double*, double*, double*)> head) {
+  const int limits = c.space.limit_count();
+  const int n = p.size();
+  p.inequality_count = first + limits;
+  const DurationSpace* space = &c.space;
+  p.inequalities = [head = std::move(head), first, limits, n, space](const double* x, double* g,
+                                                                     double* jac) {
+    if (first > 0) head(x, g, jac);
+    if (limits > 0) {
+      double* jrow = jac == nullptr ? nullptr : jac + static_cast<std::ptrdiff_t>(first) * n;
+      if (jrow != nullptr) std::fill(jrow, jrow + static_cast<std::ptrdiff_t>(limits) * n, 0.0);
+      space->limit_constraints(x, g + first, jrow, n);
+    }
+  };
+}
+
+// sum_i w_i |X(omega_i)|^2 / X_ref^2 and its gradient.
+double weighted_power(const double* x, double* grad, const StrategyContext& c,
+                      const std::vector<double>& omegas, const std::vector<double>& weights) {
+  Durations d;
+  std::copy(x, x + kSegments, d.begin());
+  const double scale = 1.0 / (c.x_ref * c.x_ref);
+  double f = 0.0;
+  if (grad != nullptr) std::fill(grad, grad + kSegments, 0.0);
+  for (std::size_t k = 0; k < omegas.size(); ++k) {
+    if (weights[k] == 0.0) continue;
+    const auto pg = spectrum_power_gradient(d, c.format.stroke, omegas[k]);
+    f += weights[k] * scale * pg.power;
+    if (grad != nullptr) {
+      for (std::size_t i = 0; i < kSegments; ++i) grad[i] += weights[k] * scale * pg.gradient[i];
+    }
+  }
+  return f;
+}
+
+// Minimise a weighted spectral power over the starts (limits as constraints).
+MultiStartResult minimise_power(const StrategyContext& c, const std::vector<double>& omegas,
+                                const std::vector<double>& weights,
+                                int random_starts = kSpectralRandomStarts) {
+  NlpProblem p = c.space.problem();
+  p.objective = [&c, omegas, weights](const double* x, double* grad) {
+    return weighted_power(x, grad, c, omegas, weights);
+  };
+  add_limits(p, c, 0, nullptr);
+  NlpOptions options = spectral_options();
+  options.stop_value = kExactZero;  // nothing is below an exact zero: the other starts can go
+  return multi_start(p, as_vectors(c.space.starts(random_starts)), c, options);
+}
+
+double jerk_objective(const double* x, double* grad, const StrategyContext& c) {
+  const double f = jerk_integral(x, c.format.stroke, grad) / c.jerk_ref;
+  if (grad != nullptr) {
+    for (std::size_t i = 0; i < kSegments; ++i) grad[i] /= c.jerk_ref;
+  }
+  return f;
+}
+
+}  // namespace
+
+std::vector<double> band_frequencies(double omega1, double band, int count) {
+  std::vector<double> w(static_cast<std::size_t>(count));
+  const double lo = (1.0 - band) * omega1;
+  const double hi = (1.0 + band) * omega1;
+  for (int k = 0; k < count; ++k) {
+    w[static_cast<std::size_t>(k)] = count == 1 ? omega1 : lo + (hi - lo) * k / (count - 1);
+  }
+  return w;
+}
+
+BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>& grid) {
+  auto f = [&](double w) { return std::abs(seven_segment_spectrum(d, stroke, w)); };
+  std::vector<double> v(grid.size());
+  for (std::size_t k = 0; k < grid.size(); ++k) v[k] = f(grid[k]);
+  BandPeak best{v[0], grid[0]};
+  for (std::size_t k = 0; k < grid.size(); ++k) {
+    if (v[k] > best.value) best = {v[k], grid[k]};
+    const bool interior_max = k > 0 && k + 1 < grid.size() && v[k] >= v[k - 1] && v[k] >= v[k + 1];
+    if (!interior_max) continue;
+    double a = grid[k - 1], b = grid[k + 1];
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = f(x1), f2 = f(x2);
+    for (int it = 0; it < 60 && b - a > 1e-12 * grid[k]; ++it) {
+      if (f1 > f2) {
+        b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = f(x1);
+      } else {
+        a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = f(x2);
+      }
+    }
+    if (std::max(f1, f2) > best.value) best = f1 > f2 ? BandPeak{f1, x1} : BandPeak{f2, x2};
+  }
+  return best;
+}
+
+std::vector<double> band_check_grid(double omega1, const PlanOptions& options) {
+  return band_frequencies(
+      omega1, options.band,
+      std::max(options.n_band - 1, kBandCheckIntervals) * kBandCheckRefinement + 1);
+}
+
+std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {
+  return "|X| <= " + percent(c.options.tol_rel) + " of X_ref on the band is not reachable in " +
+         sig3(c.format.motion_time) + " s: the best is " + percent(best_ratio) +
+         " (X_ref = the uniform law's largest |X| on the band); raise tol_rel, narrow the band or "
+         "lengthen the motion";
+}
+
+StrategyOutcome solve_notch(const StrategyContext& c) {
+  const double w1 = c.model.omega1();
+  // Among the exact zeros of X(w1) (a 4-dimensional manifold of the 6 free durations), the one
+  // with the least jerk integral: min int j^2 dt s.t. |Re X|, |Im X| <= kNotchDepth x_ref.
+  NlpProblem p = c.space.problem();
+  p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
+  const double stroke = c.format.stroke;
+  const double inv = 1.0 / c.x_ref;
+  add_limits(p, c, 4, [stroke, w1, inv](const double* x, double* g, double* jac) {
+    Durations d;
+    std::copy(x, x + kSegments, d.begin());
+    const SpectrumGradient sg = spectrum_gradient(d, stroke, w1);
+    const double re = sg.X.real() * inv, im = sg.X.imag() * inv;
+    g[0] = re - kNotchDepth;
+    g[1] = -re - kNotchDepth;
+    g[2] = im - kNotchDepth;
+    g[3] = -im - kNotchDepth;
+    if (jac != nullptr) {
+      for (std::size_t i = 0; i < kSegments; ++i) {
+        jac[0 * kSegments + i] = sg.dX[i].real() * inv;
+        jac[1 * kSegments + i] = -sg.dX[i].real() * inv;
+        jac[2 * kSegments + i] = sg.dX[i].imag() * inv;
+        jac[3 * kSegments + i] = -sg.dX[i].imag() * inv;
+      }
+    }
+  });
+  MultiStartResult m =
+      multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c, spectral_options());
+  if (m.feasible) {
+    StrategyOutcome o = outcome_from(m, c);
+    o.detail =
+        "exact notch at f1 (|X(w1)| <= 1e-6 of X_ref), the one with the least "
+        "jerk integral among the zeros (" +
+        percent(o.objective) + " of the uniform law's)";
+    return o;
+  }
+  // No zero reachable within the bounds and limits: the deepest notch instead.
+  MultiStartResult deepest = minimise_power(c, {w1}, {1.0});
+  deepest.evaluations += m.evaluations;
+  deepest.starts += m.starts;
+  StrategyOutcome o = outcome_from(deepest, c);
+  if (o.status != SolveStatus::kInfeasible) {
+    o.detail =
+        "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
+        "notch leaves |X(w1)| at " +
+        percent(std::sqrt(o.objective)) + " of X_ref";
+  }
+  return o;
+}
+
+StrategyOutcome solve_multi_notch(const StrategyContext& c) {
+  const double w1 = c.model.omega1();
+  const double p_notch = c.options.p_notch;
+  const std::vector<double> omegas{(1.0 - p_notch) * w1, w1, (1.0 + p_notch) * w1};
+  const std::vector<double> weights(c.options.weights.begin(), c.options.weights.end());
+  const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts);
+  StrategyOutcome o = outcome_from(m, c);
+  if (o.status != SolveStatus::kInfeasible) {
+    Durations d = o.durations;
+    std::string parts;
+    for (double w : omegas) {
+      if (!parts.empty()) parts += ", ";
+      parts += percent(std::abs(seven_segment_spectrum(d, c.format.stroke, w)) / c.x_ref);
+    }
+    o.detail = "|X| at (1-p) f1, f1, (1+p) f1 = " + parts + " of X_ref";
+  }
+  return o;
+}
+
+StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
+  const double w1 = c.model.omega1();
+  const PlanOptions& opt = c.options;
+  const double tol = opt.tol_rel;
+  const double stroke = c.format.stroke;
+  // Band rows relative to their bound: |X(w_k)|^2 / (tol X_ref)^2 - 1 <= 0 (phase J), or
+  // <= z (phase E, epigraph).
+  const double scale = 1.0 / (c.x_ref * c.x_ref * tol * tol);
+  const std::vector<double> fine = band_check_grid(w1, opt);
+  auto ratio = [&](const Durations& d) { return band_peak(d, stroke, fine).value / c.x_ref; };
+  // Phase E's z is (|X| / X_ref)^2: of order 1 like the durations' gradients, which SLSQP needs
+  // (in units of the tolerance it stalls on small tol_rel).
+  const double scale_e = 1.0 / (c.x_ref * c.x_ref);
+  auto band_rows = [stroke, scale, scale_e](std::vector<double> w, bool epigraph,
+                                            double limit = 1.0) {
+    auto powers = std::make_shared<std::vector<SpectrumPowerGradient>>();
+    const double row_scale = epigraph ? scale_e : scale;
+    const int n = kSegments + (epigraph ? 1 : 0);
+    return [w = std::move(w), stroke, scale = row_scale, epigraph, limit, n, powers](
+               const double* x, double* g, double* jac) {
+      Durations d;
+      std::copy(x, x + kSegments, d.begin());
+      spectrum_power_gradients(d, stroke, w, powers.get());
+      for (std::size_t k = 0; k < w.size(); ++k) {
+        const auto& pg = (*powers)[k];
+        g[k] = pg.power * scale - (epigraph ? x[kSegments] : limit);
+        if (jac != nullptr) {
+          for (std::size_t i = 0; i < kSegments; ++i) jac[k * n + i] = pg.gradient[i] * scale;
+          if (epigraph) jac[k * n + kSegments] = -1.0;
+        }
+      }
+    };
+  };
+  StrategyOutcome o;
+  o.solver = solver_name(c);
+  auto count = [&o](const MultiStartResult& r) {
+    o.evaluations += r.evaluations;
+    o.starts += r.starts;
+  };
+  const std::vector<double> base_omegas = band_frequencies(w1, opt.band, opt.n_band);
+  const std::vector<Durations> starts = c.space.starts(kSpectralRandomStarts);
+  // The screening tries more random points than the other phases: the band-constrained optimum
+  // is often asymmetric and reached from few starts.
+  const std::vector<Durations> screen_starts = c.space.starts(kBandRandomStarts);
+
+  // Phase J: min int j^2 dt s.t. the band on n_band points, from `x0`; the constraint is
+  // semi-infinite, so the band is then checked on the fine grid and its worst frequency added for
+  // a re-solve from the current point until the check passes. Between the solver's frequencies
+  // the maximum moves with the durations, so from the second round on the bound is tightened by
+  // twice the excess still found.
+  struct Local {
+    MultiStartResult r;
+    Durations d{};
+    double ratio{INFINITY};  // largest |X| / X_ref on the fine grid
+    bool met{false};         // ratio <= tol (1 + kBandTolerance), limits held by the solver
+  };
+  auto limits_met = [&](const Durations& d) {
+    const int m = c.space.limit_count();
+    if (m == 0) return true;
+    std::vector<double> g(static_cast<std::size_t>(m));
+    c.space.limit_constraints(d.data(), g.data(), nullptr, kSegments);
+    return *std::max_element(g.begin(), g.end()) <= kBandTolerance;
+  };
+  auto solve_jerk = [&](const std::vector<std::vector<double>>& x0) {
+    std::vector<double> omegas = base_omegas;
+    std::vector<std::vector<double>> from = x0;
+    double margin = 0.0;
+    Local best;
+    for (int round = 0; round < kBandExchangeRounds; ++round) {
+      NlpProblem p = c.space.problem();
+      p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
+      const double limit = (1.0 - margin) * (1.0 - margin);
+      add_limits(p, c, static_cast<int>(omegas.size()), band_rows(omegas, false, limit));
+      MultiStartResult r = multi_start(p, from, c, spectral_options());
+      // SLSQP sometimes stops short of the optimum (line search on round-off); one restart from
+      // where it stopped finishes the job.
+      if (r.feasible && !r.timed_out) {
+        MultiStartResult again = multi_start(p, {r.best.x}, c, spectral_options());
+        count(again);
+        if (again.feasible && again.best.objective < r.best.objective) {
+          again.evaluations = r.evaluations;
+          again.starts = r.starts;
+          r = std::move(again);
+        }
+      }
+      count(r);
+      // SLSQP may stop a hair outside a constraint (4e-8 of the bound): far inside what the
+      // verification tolerates, so the point is judged by the verification, not by the solver.
+      if (r.best.x.empty() || r.best.max_violation > kExchangeSlack) break;
+      Local here;
+      here.d = c.space.polish(r.best.x.data());
+      const BandPeak worst = band_peak(here.d, stroke, fine);
+      here.ratio = worst.value / c.x_ref;
+      here.met = here.ratio <= tol * (1.0 + kBandTolerance) && limits_met(here.d);
+      here.r = std::move(r);
+      const bool timed_out = here.r.timed_out;
+      const double excess = here.ratio / tol - 1.0;
+      best = std::move(here);
+      if (best.met || timed_out) break;
+      omegas.push_back(worst.omega);
+      if (round >= 1) margin += 2.0 * excess;
+      from = {best.r.best.x};
+    }
+    return best;
+  };
+  // Phase E (least infeasible): min z s.t. |X(w_k)|^2 / (tol X_ref)^2 <= z on the band, the
+  // min-max of the band excess, with the same exchange on the fine grid.
+  auto solve_excess = [&](const std::vector<Durations>& x0) {
+    std::vector<double> omegas = base_omegas;
+    NlpOptions options = spectral_options();
+    Local best;
+    std::vector<std::vector<double>> from;
+    for (const Durations& d : x0) {
+      std::vector<double> x(d.begin(), d.end());
+      x.push_back(std::pow(ratio(d), 2) * 1.01);
+      from.push_back(std::move(x));
+    }
+    for (int round = 0; round < kBandExchangeRounds; ++round) {
+      NlpProblem p = c.space.problem(1, 1e6);
+      add_limits(p, c, static_cast<int>(omegas.size()), band_rows(omegas, true));
+      MultiStartResult r = multi_start(p, from, c, options);
+      count(r);
+      if (r.best.x.empty()) break;
+      Local here;
+      here.d = c.space.polish(r.best.x.data());
+      const BandPeak worst = band_peak(here.d, stroke, fine);
+      here.ratio = worst.value / c.x_ref;
+      here.met = here.ratio <= tol * (1.0 + kBandTolerance) && limits_met(here.d);
+      const double sampled = std::sqrt(std::max(r.best.x[kSegments], 0.0));
+      const bool timed_out = r.timed_out;
+      here.r = std::move(r);
+      if (here.ratio < best.ratio || (here.r.feasible && !best.r.feasible)) best = here;
+      if (timed_out || here.ratio <= sampled * (1.0 + kBandTolerance)) break;
+      omegas.push_back(worst.omega);
+      std::vector<double> x = here.r.best.x;
+      x[kSegments] = std::pow(here.ratio, 2) * 1.01;
+      from = {std::move(x)};
+    }
+    return best;
+  };
+
+  // Phase 0: the least jerk integral without the band (the limits only; nearly convex, so the
+  // uniform start suffices). When it meets the band, the band is inactive and it is the optimum.
+  std::vector<std::vector<double>> jerk_starts = as_vectors(screen_starts);
+  {
+    NlpProblem p = c.space.problem();
+    p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
+    add_limits(p, c, 0, nullptr);
+    const MultiStartResult free = multi_start(p, {jerk_starts.front()}, c, spectral_options());
+    count(free);
+    if (free.feasible && !free.best.x.empty()) {
+      Local here;
+      here.d = c.space.polish(free.best.x.data());
+      here.ratio = ratio(here.d);
+      if (here.ratio <= tol * (1.0 + kBandTolerance) && !free.timed_out) {
+        o.durations = here.d;
+        o.objective = jerk_objective(here.d.data(), nullptr, c);
+        o.status = free.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
+                                                             : SolveStatus::kAcceptable;
+        o.detail = "|X| <= " + percent(here.ratio) + " of X_ref over the whole band (limit " +
+                   percent(tol) + ", not binding), jerk integral " + percent(o.objective) +
+                   " of the uniform law's";
+        return o;
+      }
+      jerk_starts.insert(jerk_starts.begin(), free.best.x);
+    }
+  }
+  // Phase J from the band-free optimum and every start: SLSQP on the band constraint itself
+  // (scaled by X_ref it is well conditioned), screened on kScreenPoints band frequencies from
+  // every start, then the best kRefinedStarts screened points solved on the n_band points with
+  // the exchange on the fine grid.
+  std::vector<std::vector<double>> refine_from;
+  {
+    NlpProblem p = c.space.problem();
+    p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
+    const std::vector<double> coarse =
+        band_frequencies(w1, opt.band, std::min(opt.n_band, kScreenPoints));
+    add_limits(p, c, static_cast<int>(coarse.size()), band_rows(coarse, false));
+    std::vector<std::pair<double, std::vector<double>>> screened;
+    NlpOptions screen = spectral_options();
+    screen.max_iterations = kScreenEvaluations;  // a ranking: the best are finished below
+    screen.tolerance = kScreenTolerance;
+    std::vector<std::vector<double>> unfinished;  // stopped by the cap outside the band
+    for (const auto& x0 : jerk_starts) {
+      const MultiStartResult r = multi_start(p, {x0}, c, screen);
+      count(r);
+      if (r.timed_out) break;
+      if (r.best.x.empty()) continue;
+      if (r.best.max_violation <= kSolverSlack) {
+        screened.emplace_back(r.best.objective, r.best.x);
+      } else {
+        // SLSQP also stops outside the constraints (its objective stalls while infeasible):
+        // finished below when nothing better turns up.
+        unfinished.push_back(r.best.x);
+      }
+    }
+    // Hard formats (few starts reach the band): the solves that stopped outside it continue from
+    // where they stopped, without the cap and with a fresh Hessian.
+    double best_screened = INFINITY;
+    for (const auto& [f, x] : screened) best_screened = std::min(best_screened, f);
+    for (const auto& x0 : unfinished) {
+      // Worth finishing: too few screened points, or a lower jerk than the best of them.
+      if (screened.size() >= kRefinedStarts &&
+          !(jerk_objective(x0.data(), nullptr, c) < best_screened)) {
+        continue;
+      }
+      const MultiStartResult r = multi_start(p, {x0}, c, spectral_options());
+      count(r);
+      if (r.timed_out) break;
+      if (!r.best.x.empty() && r.best.max_violation <= kSolverSlack) {
+        screened.emplace_back(r.best.objective, r.best.x);
+      }
+    }
+    std::stable_sort(screened.begin(), screened.end(),
+                     [](const auto& a, const auto& b) { return a.first < b.first; });
+    // Distinct points only (many starts land on the same screened optimum).
+    for (const auto& point : screened) {
+      const auto& x = point.second;  // (clang 14 cannot capture a structured binding)
+      const bool seen = std::any_of(refine_from.begin(), refine_from.end(), [&](const auto& y) {
+        for (std::size_t i = 0; i < kSegments; ++i) {
+          if (std::abs(x[i] - y[i]) > 1e-6 * c.format.motion_time) return false;
+        }
+        return true;
+      });
+      if (!seen) refine_from.push_back(x);
+    }
+  }
+  // The best screened points in order until kRefinedStarts of them meet the band (at most
+  // kRefineAttempts tries: a screened point far outside the full band may not come back).
+  Local jerk;
+  int met = 0;
+  for (std::size_t k = 0; k < refine_from.size() && k < kRefineAttempts; ++k) {
+    if (met == static_cast<int>(kRefinedStarts) || c.deadline.expired()) break;
+    Local here = solve_jerk({refine_from[k]});
+    if (here.met) ++met;
+    const bool better =
+        (here.met && !jerk.met) ||
+        (here.met == jerk.met &&
+         (here.met ? here.r.best.objective < jerk.r.best.objective : here.ratio < jerk.ratio));
+    if (better) jerk = std::move(here);
+  }
+  if (!jerk.met && !c.deadline.expired()) {
+    // The band is not reachable from the starts by phase J: the least infeasible point of the
+    // band excess, from every start. When it meets the band after all, phase J runs from it.
+    // The starts, then the points phase J got closest with: its best and the screened points.
+    std::vector<Durations> excess_starts = screen_starts;
+    auto add_start = [&](const Durations& d) {
+      if (std::find(excess_starts.begin(), excess_starts.end(), d) == excess_starts.end()) {
+        excess_starts.push_back(d);
+      }
+    };
+    if (jerk.ratio < INFINITY) add_start(jerk.d);
+    for (const auto& x : refine_from) add_start(c.space.polish(x.data()));
+    Local least = solve_excess(excess_starts);
+    // Never worse than a start.
+    for (const Durations& d : starts) {
+      const double rs = ratio(d);
+      if (rs < least.ratio) {
+        least.ratio = rs;
+        least.d = d;
+        least.met = false;
+      }
+    }
+    if (least.met) {
+      Local from_least = solve_jerk({std::vector<double>(least.d.begin(), least.d.end())});
+      jerk = from_least.met ? std::move(from_least) : std::move(least);
+    } else if (!jerk.r.feasible || least.ratio < jerk.ratio) {
+      jerk = std::move(least);
+    }
+  }
+  if (jerk.r.best.x.empty() && jerk.ratio == INFINITY) {
+    o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+    o.durations = starts.front();
+    return o;
+  }
+  o.durations = jerk.d;
+  o.objective = jerk_objective(jerk.d.data(), nullptr, c);
+  if (jerk.met && limits_met(jerk.d)) {
+    o.status = jerk.r.timed_out                              ? SolveStatus::kTimeLimit
+               : jerk.r.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
+                                                             : SolveStatus::kAcceptable;
+    o.detail = "|X| <= " + percent(jerk.ratio) + " of X_ref over the whole band (limit " +
+               percent(tol) + "), jerk integral " + percent(o.objective) + " of the uniform law's";
+    return o;
+  }
+  if (c.deadline.expired()) {
+    o.status = SolveStatus::kTimeLimit;
+    o.durations = starts.front();
+    return o;
+  }
+  o.status = SolveStatus::kInfeasible;
+  o.detail = band_limit_sentence(c, jerk.ratio);
+  return o;
+}
+
+}  // namespace slosh::detail

@@ -1,0 +1,156 @@
+#pragma once
+// The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
+
+#include <algorithm>
+#include <chrono>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "solve/duration_space.hpp"
+#include "slosh/core/strategy/planner.hpp"
+
+namespace slosh::detail {
+
+/// Wall-clock deadline of a plan.
+inline constexpr double kLongestBudget{365.0 * 24.0 * 3600.0};  // [s]
+class Deadline {
+ public:
+  /// `seconds` beyond a year (or infinite) is a year: the clock's integer count cannot hold more.
+  explicit Deadline(double seconds)
+      : end_(std::chrono::steady_clock::now() +
+             std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))) {}
+  [[nodiscard]] double remaining() const {
+    return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
+  }
+  [[nodiscard]] bool expired() const { return remaining() <= 0.0; }
+
+ private:
+  std::chrono::steady_clock::time_point end_;
+};
+
+/// What every strategy needs: the problem data, the references its objectives are scaled by, and
+/// the deadline.
+struct StrategyContext {
+  const Format& format;
+  const PlanOptions& options;
+  const SloshingModel& model;
+  DurationSpace space;
+  const Deadline& deadline;
+  /// X_ref: the uniform law's largest |X| over the band [(1 - band) w1, (1 + band) w1] (SPEC §5
+  /// "Reference levels"; |X_uniform(w1)| alone collapses near the uniform law's zeros) [m/s].
+  double x_ref{};
+  double jerk_ref{};        ///< jerk integral of the uniform law [m^2/s^5]
+  double eta_ref{};         ///< nonlinear eta_motion of the uniform law [m]
+  double eta_motion_max{};  ///< time_domain kRest bound [m] (option or eta_ref)
+};
+
+/// Outcome of one strategy, before verification.
+struct StrategyOutcome {
+  SolveStatus status{SolveStatus::kFailed};
+  Durations durations{};
+  double objective{};
+  int evaluations{};
+  int starts{};
+  std::string solver;  ///< solver name for the report
+  std::string detail;  ///< a sentence about the result (notch depth, best reachable value, ...)
+};
+
+/// Best point over several starts: the feasible one with the lowest objective (ties: the earlier
+/// start), or the least infeasible when none is feasible.
+struct MultiStartResult {
+  NlpResult best;
+  bool feasible{false};
+  bool timed_out{false};
+  int evaluations{};
+  int starts{};
+};
+
+[[nodiscard]] MultiStartResult multi_start(const NlpProblem& problem,
+                                           const std::vector<std::vector<double>>& starts,
+                                           const StrategyContext& context,
+                                           const NlpOptions& options);
+
+/// The outcome of a multi-start: polished best point and translated status (time_limit with the
+/// first start when time ran out before any feasible point; infeasible when none was feasible).
+[[nodiscard]] StrategyOutcome outcome_from(const MultiStartResult& m,
+                                           const StrategyContext& context);
+
+/// Name of the solver a context uses ("nlopt-slsqp" or "ipopt").
+[[nodiscard]] std::string solver_name(const StrategyContext& context);
+
+[[nodiscard]] StrategyOutcome solve_notch(const StrategyContext& context);
+[[nodiscard]] StrategyOutcome solve_multi_notch(const StrategyContext& context);
+[[nodiscard]] StrategyOutcome solve_min_jerk_band(const StrategyContext& context);
+/// `seeds` are extra starts (the spectral optima), tried after the uniform law.
+[[nodiscard]] StrategyOutcome solve_time_domain(const StrategyContext& context,
+                                                const std::vector<Durations>& seeds);
+
+/// Outcome of a filtering strategy (closed form, no solver): kOptimal when the law meets every
+/// limit and option that applies to it, kInfeasible otherwise (the law is still returned, or the
+/// uniform law when none exists).
+struct FilterOutcome {
+  SolveStatus status{SolveStatus::kFailed};
+  MotionLaw law;
+  std::optional<Durations> durations;
+  std::optional<FilterDesign> design;
+  std::string detail;  ///< how the law was built, or why it does not meet the constraints
+};
+
+[[nodiscard]] FilterOutcome design_fir_chain(const StrategyContext& context);
+[[nodiscard]] FilterOutcome design_shaper(const StrategyContext& context);
+[[nodiscard]] FilterOutcome design_iir(const StrategyContext& context);
+
+/// When the machine limits alone cannot be met, a sentence naming the first unreachable limit and
+/// the least value reachable; empty when the limits are jointly reachable.
+[[nodiscard]] std::string explain_limits(const StrategyContext& context);
+
+/// The first machine limit that the peaks exceed by more than `slack` (relative), as a sentence
+/// ("the law's peak velocity 1.4 m/s exceeds limits.v_max = 1 m/s"); empty when all hold.
+[[nodiscard]] std::string limit_violation(const MachineLimits& limits, double a_peak, double v_peak,
+                                          double j_peak, double slack);
+
+/// min z s.t. every quantity of the limit rows [first, first + rows) is <= z times its limit,
+/// from the space's starts: best.objective <= 1 when those limits hold together (best.x then
+/// meets them).
+[[nodiscard]] MultiStartResult least_limit_scale(const StrategyContext& context, int first,
+                                                 int rows);
+
+/// Band frequencies of min_jerk_band [rad/s].
+[[nodiscard]] std::vector<double> band_frequencies(double omega1, double band, int count);
+
+/// The largest |X| of a 7-segment law over the continuous band: on `grid` (sorted), then by
+/// golden section around every local maximum of it.
+struct BandPeak {
+  double value{};  ///< |X| [m/s]
+  double omega{};  ///< where [rad/s]
+};
+[[nodiscard]] BandPeak band_peak(const Durations& d, double stroke,
+                                 const std::vector<double>& grid);
+
+/// Relative excess of the band maximum over tol_rel X_ref that still meets the band [-].
+inline constexpr double kBandTolerance{1e-6};
+
+/// "|X| <= 20 % of X_ref on the band is not reachable in 1.04 s: the best is 34 % ...".
+[[nodiscard]] std::string band_limit_sentence(const StrategyContext& context, double best_ratio);
+
+/// The grid band_peak checks min_jerk_band's band on (and X_ref is taken on).
+[[nodiscard]] std::vector<double> band_check_grid(double omega1, const PlanOptions& options);
+
+/// Sets the context's reference levels (x_ref, jerk_ref, eta_ref, eta_motion_max); eta_ref is
+/// the uniform law's nonlinear eta_motion, given by the caller (it has simulated that law).
+void set_references(StrategyContext& context, double eta_ref);
+
+/// The constraint of the context's strategy the 7-segment law `d` violates, judged on the
+/// verification of SPEC §2 (machine limits; the band of min_jerk_band on band_check_grid; the
+/// eta bound of time_domain on the dense nonlinear response, whose peaks are `verified`): a
+/// sentence naming the constraint, its limit and the value reached; empty when every constraint
+/// holds.
+[[nodiscard]] std::string violated_constraint(const StrategyContext& context, Strategy strategy,
+                                              const Durations& d, const SloshPeaks& verified);
+
+/// Starts as solver vectors.
+[[nodiscard]] std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts);
+
+}  // namespace slosh::detail
