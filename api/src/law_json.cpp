@@ -27,12 +27,13 @@ constexpr double kMinPieceDuration{1e-9};
 LawType parse_law_type(const nlohmann::json& law, const std::string& path) {
   const std::string tpath = join_path(path, "type");
   std::string allowed;
-  for (LawType t : kLawTypes) allowed += (allowed.empty() ? "\"" : ", \"") + to_string(t) + "\"";
+  for (LawType t : enum_values<LawType>())
+    allowed += (allowed.empty() ? "\"" : ", \"") + to_string(t) + "\"";
   auto it = law.find("type");
   if (it == law.end()) invalid(tpath, tpath + " is required: one of " + allowed);
   if (it->is_string()) {
     const auto name = it->get<std::string>();
-    for (LawType t : kLawTypes) {
+    for (LawType t : enum_values<LawType>()) {
       if (name == to_string(t)) return t;
     }
   }
@@ -197,26 +198,6 @@ void check_rest_to_rest(const MotionLaw& law, const std::string& field, double s
 }
 
 }  // namespace
-
-std::string to_string(LawType type) {
-  switch (type) {
-    case LawType::kSevenSegment:
-      return "seven_segment";
-    case LawType::kSevenSegmentUniform:
-      return "seven_segment_uniform";
-    case LawType::kPoly5:
-      return "poly5";
-    case LawType::kModifiedTrapezoid:
-      return "modified_trapezoid";
-    case LawType::kCycloidal:
-      return "cycloidal";
-    case LawType::kPiecewiseLinear:
-      return "piecewise_linear";
-    case LawType::kPiecewise:
-      return "piecewise";
-  }
-  return "unknown";
-}
 
 ParsedLaw parse_law(const nlohmann::json& law, const std::string& path, const Format& format,
                     double min_ramp) {

@@ -301,11 +301,11 @@ void add_plan_request_schemas(json& s) {
                 "its solve budget (setting solve_budget_s, default 10 s); the CLI default is 5 s"),
       d.time_limit);
   p["base"] = with_default(
-      string_enum(names_of(kBaseLaws),
+      string_enum(enum_names<BaseLaw>(),
                   "shaper and iir: the base law, planned over T minus the filter's delay."),
       to_string(d.base));
   p["shaper"] = with_default(
-      string_enum(names_of(kShaperTypes),
+      string_enum(enum_names<ShaperType>(),
                   "shaper: the input shaper on mode 1 (ZV: 1/2 damped period of delay, ZVD: 1, "
                   "ZVDD: 3/2, EI: 1 with the residual below)."),
       to_string(d.shaper));
@@ -371,7 +371,7 @@ void add_simulate_request_schemas(json& s) {
       "1, 3, 5, 7 >= options.min_ramp_s, plateaus >= 0.");
   durations["items"] = {{"type", "number"}, {"minimum", 0.0}};
   s["LawType"] = string_enum(
-      names_of(kLawTypes),
+      enum_names<LawType>(),
       "seven_segment (with durations_s), seven_segment_uniform (T/7 each, the thesis baseline), "
       "poly5, modified_trapezoid, cycloidal, piecewise_linear (with breakpoints_s and "
       "acceleration_m_s2), piecewise (with pieces).");

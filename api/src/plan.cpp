@@ -67,17 +67,12 @@ std::string choice(const nlohmann::json& object, const std::string& path, std::s
   invalid(field, field + " = " + show(*value) + " is not allowed: one of " + list);
 }
 
-/// An option naming one of `values` (by to_string); `fallback` when absent.
-template <typename E, std::size_t N>
-E enum_choice(const nlohmann::json& options, std::string_view key, const E (&values)[N],
-              E fallback) {
-  std::vector<std::string> names;
-  for (E v : values) names.push_back(to_string(v));
-  const std::string name = choice(options, "options", key, names, to_string(fallback));
-  for (E v : values) {
-    if (to_string(v) == name) return v;
-  }
-  return fallback;
+/// An option naming a value of E (its EnumNames table); `fallback` when absent.
+template <typename E>
+E enum_choice(const nlohmann::json& options, std::string_view key, E fallback) {
+  const std::string name =
+      choice(options, "options", key, enum_names<E>(), std::string(name_of(fallback)));
+  return enum_from_name<E>(name).value_or(fallback);
 }
 
 void parse_limits(const nlohmann::json& options, MachineLimits& limits) {
@@ -235,8 +230,8 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
              : solver == "ipopt" ? SolverChoice::kIpopt
                                  : SolverChoice::kAuto;
   o.time_limit = optional_number(options, "options", "time_limit_s", kTimeLimit, o.time_limit);
-  o.base = enum_choice(options, "base", kBaseLaws, o.base);
-  o.shaper = enum_choice(options, "shaper", kShaperTypes, o.shaper);
+  o.base = enum_choice(options, "base", o.base);
+  o.shaper = enum_choice(options, "shaper", o.shaper);
   o.residual = optional_number(options, "options", "residual", kResidual, o.residual);
   o.iir_order = static_cast<IirOrder>(
       optional_integer(options, "options", "iir_order", 2, 3, static_cast<int>(o.iir_order)));

@@ -9,18 +9,6 @@
 
 namespace slosh {
 
-std::string to_string(BaseLaw base) {
-  switch (base) {
-    case BaseLaw::kSevenSegmentUniform:
-      return "seven_segment_uniform";
-    case BaseLaw::kPoly5:
-      return "poly5";
-    case BaseLaw::kModifiedTrapezoid:
-      return "modified_trapezoid";
-  }
-  return "poly5";
-}
-
 MotionLaw make_base_law(BaseLaw base, double stroke, double duration) {
   switch (base) {
     case BaseLaw::kSevenSegmentUniform:
@@ -83,20 +71,6 @@ std::vector<double> merged(std::vector<double> times) {
 }
 
 }  // namespace
-
-std::string to_string(ShaperType type) {
-  switch (type) {
-    case ShaperType::kZV:
-      return "zv";
-    case ShaperType::kZVD:
-      return "zvd";
-    case ShaperType::kZVDD:
-      return "zvdd";
-    case ShaperType::kEI:
-      return "ei";
-  }
-  return "zv";
-}
 
 double damped_period(double omega, double zeta) {
   return 2.0 * std::numbers::pi / (omega * std::sqrt(1.0 - zeta * zeta));

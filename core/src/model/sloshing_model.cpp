@@ -65,20 +65,4 @@ SloshingModel make_sloshing_model(const Format& format, const ModelOptions& opti
   return m;
 }
 
-std::string to_string(DampingCorrelation correlation) {
-  switch (correlation) {
-    case DampingCorrelation::kThesis:
-      return "thesis";
-    case DampingCorrelation::kPaper:
-      return "paper";
-    case DampingCorrelation::kEq227:
-      return "eq227";
-    case DampingCorrelation::kEq228:
-      return "eq228";
-    case DampingCorrelation::kExplicit:
-      return "explicit";
-  }
-  return "unknown";
-}
-
 }  // namespace slosh

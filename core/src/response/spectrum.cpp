@@ -2,8 +2,8 @@
 
 #include <cmath>
 
-#include "solve/dual.hpp"
 #include "response/sincos.hpp"
+#include "solve/dual.hpp"
 
 namespace slosh {
 

@@ -5,22 +5,6 @@
 
 namespace slosh {
 
-std::string to_string(SolveStatus status) {
-  switch (status) {
-    case SolveStatus::kOptimal:
-      return "optimal";
-    case SolveStatus::kAcceptable:
-      return "acceptable";
-    case SolveStatus::kInfeasible:
-      return "infeasible";
-    case SolveStatus::kTimeLimit:
-      return "time_limit";
-    case SolveStatus::kFailed:
-      return "failed";
-  }
-  return "failed";
-}
-
 double max_violation(const NlpProblem& problem, const std::vector<double>& x) {
   double worst = 0.0;
   const int n = problem.size();

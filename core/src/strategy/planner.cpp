@@ -128,54 +128,9 @@ std::string plan_input_error(const Format& f, const PlanOptions& options) {
   return {};
 }
 
-std::string to_string(Strategy strategy) {
-  switch (strategy) {
-    case Strategy::kBaseline:
-      return "baseline";
-    case Strategy::kNotch:
-      return "notch";
-    case Strategy::kMultiNotch:
-      return "multi_notch";
-    case Strategy::kMinJerkBand:
-      return "min_jerk_band";
-    case Strategy::kTimeDomain:
-      return "time_domain";
-    case Strategy::kFirChain:
-      return "fir_chain";
-    case Strategy::kShaper:
-      return "shaper";
-    case Strategy::kIir:
-      return "iir";
-    case Strategy::kAuto:
-      return "auto";
-  }
-  return "baseline";
-}
-
-std::optional<Strategy> parse_strategy(std::string_view name) {
-  for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
-                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
-                     Strategy::kShaper, Strategy::kIir, Strategy::kAuto}) {
-    if (to_string(s) == name) return s;
-  }
-  return std::nullopt;
-}
-
 bool is_filter_strategy(Strategy strategy) {
   return strategy == Strategy::kFirChain || strategy == Strategy::kShaper ||
          strategy == Strategy::kIir;
-}
-
-std::string to_string(SolverChoice solver) {
-  switch (solver) {
-    case SolverChoice::kAuto:
-      return "auto";
-    case SolverChoice::kNlopt:
-      return "nlopt";
-    case SolverChoice::kIpopt:
-      return "ipopt";
-  }
-  return "auto";
 }
 
 bool PlanOptions::is_valid(const Format& format, std::string* error) const {

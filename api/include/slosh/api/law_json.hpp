@@ -16,9 +16,10 @@
 
 #include <nlohmann/json.hpp>
 
-#include "slosh/core/model/format.hpp"
+#include "slosh/core/enum_names.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/format.hpp"
 
 namespace slosh::api {
 
@@ -33,13 +34,27 @@ enum class LawType {
   kPiecewise,
 };
 
-/// Every law type, in the order the API lists them.
-constexpr LawType kLawTypes[] = {LawType::kSevenSegment, LawType::kSevenSegmentUniform,
-                                 LawType::kPoly5,        LawType::kModifiedTrapezoid,
-                                 LawType::kCycloidal,    LawType::kPiecewiseLinear,
-                                 LawType::kPiecewise};
+}  // namespace slosh::api
 
-[[nodiscard]] std::string to_string(LawType type);
+template <>
+struct slosh::EnumNames<slosh::api::LawType> {
+  using E = slosh::api::LawType;
+  static constexpr std::array<EnumName<E>, 7> table{{
+      {E::kSevenSegment, "seven_segment"},
+      {E::kSevenSegmentUniform, "seven_segment_uniform"},
+      {E::kPoly5, "poly5"},
+      {E::kModifiedTrapezoid, "modified_trapezoid"},
+      {E::kCycloidal, "cycloidal"},
+      {E::kPiecewiseLinear, "piecewise_linear"},
+      {E::kPiecewise, "piecewise"},
+  }};
+};
+
+namespace slosh::api {
+
+[[nodiscard]] inline std::string to_string(LawType type) {
+  return std::string(name_of(type));
+}
 
 /// Most pieces (or breakpoints) a general law may have.
 constexpr int kMaxLawPieces{200000};

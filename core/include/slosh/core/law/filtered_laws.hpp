@@ -9,6 +9,7 @@
 #include <optional>
 #include <string>
 #include <vector>
+#include "slosh/core/enum_names.hpp"
 
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/law/seven_segment.hpp"
@@ -19,11 +20,17 @@ namespace slosh {
 /// 7-segment law is the product's baseline).
 enum class BaseLaw { kSevenSegmentUniform, kPoly5, kModifiedTrapezoid };
 
-/// Every base law, in the order the API lists them.
-constexpr BaseLaw kBaseLaws[] = {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid,
-                                 BaseLaw::kSevenSegmentUniform};
-
-[[nodiscard]] std::string to_string(BaseLaw base);
+template <>
+struct EnumNames<BaseLaw> {
+  static constexpr std::array<EnumName<BaseLaw>, 3> table{{
+      {BaseLaw::kPoly5, "poly5"},
+      {BaseLaw::kModifiedTrapezoid, "modified_trapezoid"},
+      {BaseLaw::kSevenSegmentUniform, "seven_segment_uniform"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(BaseLaw value) {
+  return std::string(name_of(value));
+}
 
 /// The base law of `stroke` [m] over `duration` [s].
 [[nodiscard]] MotionLaw make_base_law(BaseLaw base, double stroke, double duration);
@@ -31,11 +38,18 @@ constexpr BaseLaw kBaseLaws[] = {BaseLaw::kPoly5, BaseLaw::kModifiedTrapezoid,
 /// Input shaper families (paper sec. 3.1).
 enum class ShaperType { kZV, kZVD, kZVDD, kEI };
 
-/// Every shaper family.
-constexpr ShaperType kShaperTypes[] = {ShaperType::kZV, ShaperType::kZVD, ShaperType::kZVDD,
-                                       ShaperType::kEI};
-
-[[nodiscard]] std::string to_string(ShaperType type);
+template <>
+struct EnumNames<ShaperType> {
+  static constexpr std::array<EnumName<ShaperType>, 4> table{{
+      {ShaperType::kZV, "zv"},
+      {ShaperType::kZVD, "zvd"},
+      {ShaperType::kZVDD, "zvdd"},
+      {ShaperType::kEI, "ei"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(ShaperType value) {
+  return std::string(name_of(value));
+}
 
 /// Default residual vibration V of the EI shaper [-] (5 %).
 constexpr double kDefaultEiResidual{0.05};

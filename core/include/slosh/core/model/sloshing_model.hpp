@@ -4,6 +4,7 @@
 #include <optional>
 #include <string>
 #include <vector>
+#include "slosh/core/enum_names.hpp"
 
 #include "slosh/core/constants.hpp"
 #include "slosh/core/model/format.hpp"
@@ -60,6 +61,18 @@ struct SloshingModel {
 
 /// Human name of a correlation as used on the API ("thesis", "paper", "eq227", "eq228",
 /// "explicit").
-[[nodiscard]] std::string to_string(DampingCorrelation correlation);
+template <>
+struct EnumNames<DampingCorrelation> {
+  static constexpr std::array<EnumName<DampingCorrelation>, 5> table{{
+      {DampingCorrelation::kThesis, "thesis"},
+      {DampingCorrelation::kPaper, "paper"},
+      {DampingCorrelation::kEq227, "eq227"},
+      {DampingCorrelation::kEq228, "eq228"},
+      {DampingCorrelation::kExplicit, "explicit"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(DampingCorrelation value) {
+  return std::string(name_of(value));
+}
 
 }  // namespace slosh

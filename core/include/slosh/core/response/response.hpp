@@ -8,8 +8,8 @@
 #include <vector>
 
 #include "slosh/core/law/motion_law.hpp"
-#include "slosh/core/response/peak_finder.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/peak_finder.hpp"
 
 namespace slosh {
 

@@ -5,10 +5,10 @@
 #include <string>
 #include <vector>
 
-#include "slosh/core/model/format.hpp"
 #include "slosh/core/law/motion_law.hpp"
-#include "slosh/core/response/response.hpp"
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
 
 namespace slosh {
 

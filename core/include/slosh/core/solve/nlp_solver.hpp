@@ -7,6 +7,7 @@
 #include <optional>
 #include <string>
 #include <vector>
+#include "slosh/core/enum_names.hpp"
 
 namespace slosh {
 
@@ -22,7 +23,19 @@ enum class SolveStatus {
                 ///< invalid problem or input); x may still be a usable point
 };
 
-[[nodiscard]] std::string to_string(SolveStatus status);
+template <>
+struct EnumNames<SolveStatus> {
+  static constexpr std::array<EnumName<SolveStatus>, 5> table{{
+      {SolveStatus::kOptimal, "optimal"},
+      {SolveStatus::kAcceptable, "acceptable"},
+      {SolveStatus::kInfeasible, "infeasible"},
+      {SolveStatus::kTimeLimit, "time_limit"},
+      {SolveStatus::kFailed, "failed"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(SolveStatus value) {
+  return std::string(name_of(value));
+}
 
 /// min f(x)  s.t.  lower <= x <= upper,  a_k . x = b_k (linear equalities),  g_j(x) <= 0.
 /// Derivatives are exact (given by the caller); the solvers never difference.

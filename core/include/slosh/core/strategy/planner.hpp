@@ -9,13 +9,14 @@
 #include <string_view>
 #include <variant>
 #include <vector>
+#include "slosh/core/enum_names.hpp"
 
 #include "slosh/core/law/filtered_laws.hpp"
-#include "slosh/core/model/format.hpp"
-#include "slosh/core/solve/nlp_solver.hpp"
 #include "slosh/core/law/seven_segment.hpp"
-#include "slosh/core/response/simulation.hpp"
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/simulation.hpp"
+#include "slosh/core/solve/nlp_solver.hpp"
 
 namespace slosh {
 
@@ -32,15 +33,43 @@ enum class Strategy {
   kAuto,         ///< run the others (not iir), verify each, pick by SPEC §5's rule
 };
 
-[[nodiscard]] std::string to_string(Strategy strategy);
+template <>
+struct EnumNames<Strategy> {
+  static constexpr std::array<EnumName<Strategy>, 9> table{{
+      {Strategy::kBaseline, "baseline"},
+      {Strategy::kNotch, "notch"},
+      {Strategy::kMultiNotch, "multi_notch"},
+      {Strategy::kMinJerkBand, "min_jerk_band"},
+      {Strategy::kTimeDomain, "time_domain"},
+      {Strategy::kFirChain, "fir_chain"},
+      {Strategy::kShaper, "shaper"},
+      {Strategy::kIir, "iir"},
+      {Strategy::kAuto, "auto"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(Strategy value) {
+  return std::string(name_of(value));
+}
 /// Strategy from its API name ("baseline", "notch", ...); nullopt when unknown.
-[[nodiscard]] std::optional<Strategy> parse_strategy(std::string_view name);
+[[nodiscard]] inline std::optional<Strategy> parse_strategy(std::string_view name) {
+  return enum_from_name<Strategy>(name);
+}
 
 /// Objective of the time-domain strategy.
 enum class TimeDomainObjective {
   kMotion,  ///< minimise eta_motion subject to eta_rest <= eta_rest_max (thesis sec. 3.4.3)
   kRest,    ///< minimise eta_rest subject to eta_motion <= eta_motion_max
 };
+template <>
+struct EnumNames<TimeDomainObjective> {
+  static constexpr std::array<EnumName<TimeDomainObjective>, 2> table{{
+      {TimeDomainObjective::kMotion, "motion"},
+      {TimeDomainObjective::kRest, "rest"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(TimeDomainObjective value) {
+  return std::string(name_of(value));
+}
 
 /// Which NLP solver runs a strategy.
 enum class SolverChoice {
@@ -49,7 +78,17 @@ enum class SolverChoice {
   kIpopt,  ///< Ipopt, interior point with limited-memory BFGS
 };
 
-[[nodiscard]] std::string to_string(SolverChoice solver);
+template <>
+struct EnumNames<SolverChoice> {
+  static constexpr std::array<EnumName<SolverChoice>, 3> table{{
+      {SolverChoice::kAuto, "auto"},
+      {SolverChoice::kNlopt, "nlopt"},
+      {SolverChoice::kIpopt, "ipopt"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(SolverChoice value) {
+  return std::string(name_of(value));
+}
 
 /// Machine limits; an unset limit is not enforced.
 struct MachineLimits {
