@@ -26,6 +26,7 @@
 #include "connection_reaper.hpp"
 #include "plan_service.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/routes.hpp"
 #include "version.hpp"
 
 namespace slosh::service {
@@ -100,32 +101,6 @@ std::string allow_header(const std::vector<std::string>& methods) {
   return allow;
 }
 
-// The error code of a status the HTTP library answers itself.
-std::string framework_code(int status) {
-  switch (status) {
-    case 400:
-      return "bad_request";
-    case 404:
-      return "not_found";
-    case 405:
-      return "method_not_allowed";
-    case 408:
-      return "request_timeout";
-    case 413:
-      return "payload_too_large";
-    case 414:
-      return "uri_too_long";
-    case 415:
-      return "unsupported_media_type";
-    case 416:
-      return "range_not_satisfiable";
-    case 431:
-      return "headers_too_large";
-    default:
-      return status < 500 ? "bad_request" : "internal";
-  }
-}
-
 std::string framework_message(int status) {
   switch (status) {
     case 400:
@@ -145,9 +120,9 @@ Reply guarded(Handler&& handler) {
   try {
     return handler();
   } catch (const std::exception& e) {
-    return PlanService::error_reply(500, "internal", e.what());
+    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
   } catch (...) {
-    return PlanService::error_reply(500, "internal", "unknown error");
+    return PlanService::error_reply(api::ErrorCode::kInternal, "unknown error");
   }
 }
 
@@ -158,13 +133,13 @@ Reply guarded(Handler&& handler) {
 // 413 naming the body limit, and 415 naming the declared type (read_body, "Expect: 100-continue").
 Reply too_large_reply(const ServerConfig& config) {
   return PlanService::error_reply(
-      413, "payload_too_large",
+      api::ErrorCode::kPayloadTooLarge,
       "the body is larger than the limit of " + std::to_string(config.max_body_bytes) + " bytes");
 }
 
 Reply not_json_reply(const httplib::Request& req) {
   return PlanService::error_reply(
-      415, "unsupported_media_type",
+      api::ErrorCode::kUnsupportedMediaType,
       "the body is declared as '" + req.get_header_value("Content-Type").substr(0, 80) +
           "'; send the JSON request with Content-Type: application/json");
 }
@@ -199,11 +174,12 @@ std::optional<std::string> read_body(const httplib::Request& req,
     error = too_large_reply(config);
   } else if (too_slow) {
     error = PlanService::error_reply(
-        408, "request_timeout",
+        api::ErrorCode::kRequestTimeout,
         "the body did not arrive within " + api::number_text(config.request_timeout_s) + " s");
   } else if (!complete) {
     error = PlanService::error_reply(
-        400, "bad_request", "the body could not be read (connection closed or invalid chunks)");
+        api::ErrorCode::kBadRequest,
+        "the body could not be read (connection closed or invalid chunks)");
   } else {
     return body;
   }
@@ -224,26 +200,17 @@ class ListeningServer : public httplib::Server {
   bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
 };
 
-}  // namespace
+// Everything a running server holds; the routes and hooks refer to it.
+struct Runtime {
+  const ServerConfig& config;
+  PlanService& service;
+  ListeningServer& server;
+  std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
+  std::vector<Endpoint> endpoints;
+};
 
-int run_server(const ServerConfig& config, const std::string& port_file) {
-  // SIGINT / SIGTERM are blocked in every thread (so first, before any thread is started: the
-  // worker pool inherits the mask) and taken synchronously by one waiter thread, which stops the
-  // server outside any signal handler.
-  sigset_t stop_signals;
-  sigemptyset(&stop_signals);
-  sigaddset(&stop_signals, SIGINT);
-  sigaddset(&stop_signals, SIGTERM);
-  pthread_sigmask(SIG_BLOCK, &stop_signals, nullptr);
-  // At most 4 malloc arenas (glibc's default is 8 per core, and up to 256 connection threads each
-  // grabbing one fragments the heap); freed memory is trimmed by the signal waiter.
-  mallopt(M_ARENA_MAX, 4);
-
-  PlanService service(config);
-  if (const std::string error = service.cache().storage_error(); !error.empty()) {
-    spdlog::error("plan cache: {}; answering from memory only", error);
-  }
-  ListeningServer server;
+// The HTTP library's threads, timeouts and socket options.
+void configure_transport(ListeningServer& server, const ServerConfig& config) {
   server.new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
   // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
   // for chunked bodies.
@@ -261,137 +228,172 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     const int yes = 1;
     setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
   });
+}
 
-  std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
-  std::vector<Endpoint> endpoints;
+// The handler of one operation: the request (and its body for POST) to a reply.
+using Handler = std::function<Reply(const httplib::Request&, const std::string& body)>;
 
-  // Every handler goes through here: one metrics label per route, exceptions become the envelope.
-  auto route = [&service](std::string label, auto handler) {
-    return [&service, label = std::move(label), handler](const httplib::Request& req,
-                                                         httplib::Response& res) {
-      const Reply reply = guarded([&] { return handler(req); });
-      send(reply, res);
-      service.metrics().count_request(label, reply.status);
-    };
-  };
-  // POST handlers read their bodies themselves (read_body).
-  auto with_body = [&service, &config](
-                       std::string label,
-                       std::function<Reply(const httplib::Request&, const std::string&)> handler) {
-    return [&service, &config, label, handler](const httplib::Request& req, httplib::Response& res,
-                                               const httplib::ContentReader& reader) {
-      bool refused = false;
-      const Reply reply = guarded([&] {
-        Reply error;
-        if (const std::optional<std::string> body = read_body(req, reader, config, error)) {
-          return handler(req, *body);
-        }
-        refused = true;
-        return error;
-      });
-      if (refused) res.set_header("Connection", "close");  // the rest of the body is not read
-      send(reply, res);
-      service.metrics().count_request(label, reply.status);
-    };
-  };
-  auto get = [&](const std::string& pattern, std::string label, auto handler) {
-    server.Get(pattern, route(std::move(label), handler));
-    endpoints.push_back({std::regex(pattern), {"GET", "HEAD"}});
-  };
-  auto post = [&](const std::string& pattern, std::string label, auto handler) {
-    server.Post(pattern, httplib::Server::HandlerWithContentReader(with_body(label, handler)));
-    endpoints.push_back({std::regex(pattern), {"POST"}});
-  };
-  post("/v1/plans", "/v1/plans", [&](const httplib::Request& req, const std::string& body) {
-    return service.post_plan(body, req.get_header_value("If-None-Match"));
-  });
-  post("/v1/plans/batch", "/v1/plans/batch",
-       [&](const httplib::Request& req, const std::string& body) {
-         // A client that hangs up gets no more solves queued (checked at most every 0.2 s).
-         auto next_check = std::chrono::steady_clock::now();
-         bool gone = false;
-         const std::string peer = peer_of(req);
-         return service.post_batch(body, [&]() {
-           if (!gone && reaper && std::chrono::steady_clock::now() >= next_check) {
-             gone = reaper->closed_by_peer(peer);
-             next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
-           }
-           return gone;
-         });
-       });
-  get(R"(/v1/plans/([^/]+))", "/v1/plans/{key}", [&](const httplib::Request& req) {
-    return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));
-  });
-  post("/v1/simulate", "/v1/simulate", [&](const httplib::Request&, const std::string& body) {
-    return service.post_simulate(body);
-  });
-  get("/v1/fluids", "/v1/fluids", [&](const httplib::Request&) { return service.fluids(); });
-  get("/v1/openapi.json", "/v1/openapi.json",
-      [&](const httplib::Request&) { return service.openapi(); });
-  get("/healthz", "/healthz", [&](const httplib::Request&) { return service.health(); });
-  get("/readyz", "/readyz", [&](const httplib::Request&) { return service.ready(); });
-  get("/metrics", "/metrics", [&](const httplib::Request&) { return service.metrics_text(); });
+Handler handler_of(api::Operation operation, Runtime& rt) {
+  PlanService& service = rt.service;
+  switch (operation) {
+    case api::Operation::kPlan:
+      return [&service](const httplib::Request& req, const std::string& body) {
+        return service.post_plan(body, req.get_header_value("If-None-Match"));
+      };
+    case api::Operation::kPlanBatch:
+      return [&rt](const httplib::Request& req, const std::string& body) {
+        // A client that hangs up gets no more solves queued (checked at most every 0.2 s).
+        auto next_check = std::chrono::steady_clock::now();
+        bool gone = false;
+        const std::string peer = peer_of(req);
+        return rt.service.post_batch(body, [&]() {
+          if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
+            gone = rt.reaper->closed_by_peer(peer);
+            next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+          }
+          return gone;
+        });
+      };
+    case api::Operation::kGetPlan:
+      return [&service](const httplib::Request& req, const std::string&) {
+        return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));
+      };
+    case api::Operation::kSimulate:
+      return [&service](const httplib::Request&, const std::string& body) {
+        return service.post_simulate(body);
+      };
+    case api::Operation::kFluids:
+      return [&service](const httplib::Request&, const std::string&) { return service.fluids(); };
+    case api::Operation::kOpenapi:
+      return [&service](const httplib::Request&, const std::string&) { return service.openapi(); };
+    case api::Operation::kHealth:
+      return [&service](const httplib::Request&, const std::string&) { return service.health(); };
+    case api::Operation::kReady:
+      return [&service](const httplib::Request&, const std::string&) { return service.ready(); };
+    case api::Operation::kMetrics:
+      return [&service](const httplib::Request&, const std::string&) {
+        return service.metrics_text();
+      };
+  }
+  throw std::logic_error("an operation without a handler");
+}
 
-  // Errors the framework answers itself (unknown route, wrong method, bad request line, bad
-  // Range) get the same envelope.
-  const httplib::Server::HandlerWithResponse on_error =
-      [&service, &endpoints, &config](const httplib::Request& req, httplib::Response& res) {
+// "/v1/plans/{key}" -> "/v1/plans/([^/]+)"
+std::string path_pattern(std::string_view path) {
+  std::string out;
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    if (path[i] == '{') {
+      out += "([^/]+)";
+      i = path.find('}', i);
+    } else {
+      out += path[i];
+    }
+  }
+  return out;
+}
+
+// Every route of api::routes(): one metrics label per route (its path), exceptions become the
+// envelope, POST handlers read their bodies themselves (read_body).
+void register_routes(Runtime& rt) {
+  for (const api::Route& route : api::routes()) {
+    const std::string pattern = path_pattern(route.path);
+    std::string label(route.path);
+    Handler handler = handler_of(route.operation, rt);
+    if (route.method == "GET") {
+      rt.server.Get(pattern,
+                    [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
+                      const Reply reply = guarded([&] { return handler(req, std::string()); });
+                      send(reply, res);
+                      rt.service.metrics().count_request(label, reply.status);
+                    });
+      rt.endpoints.push_back({std::regex(pattern), {"GET", "HEAD"}});
+      continue;
+    }
+    rt.server.Post(pattern,
+                   httplib::Server::HandlerWithContentReader(
+                       [&rt, label, handler](const httplib::Request& req, httplib::Response& res,
+                                             const httplib::ContentReader& reader) {
+                         bool refused = false;
+                         const Reply reply = guarded([&] {
+                           Reply error;
+                           if (const auto body = read_body(req, reader, rt.config, error)) {
+                             return handler(req, *body);
+                           }
+                           refused = true;
+                           return error;
+                         });
+                         // The rest of a refused body is not read.
+                         if (refused) res.set_header("Connection", "close");
+                         send(reply, res);
+                         rt.service.metrics().count_request(label, reply.status);
+                       }));
+    rt.endpoints.push_back({std::regex(pattern), {"POST"}});
+  }
+}
+
+// 404 or 405 (with Allow) for a path the routes do not answer with this method.
+Reply unrouted_reply(const httplib::Request& req, const std::vector<Endpoint>& endpoints) {
+  std::vector<std::string> allowed;
+  for (const Endpoint& e : endpoints) {
+    if (std::regex_match(req.path, e.pattern)) {
+      allowed.insert(allowed.end(), e.methods.begin(), e.methods.end());
+    }
+  }
+  if (allowed.empty()) {
+    return PlanService::error_reply(api::ErrorCode::kNotFound,
+                                    "no endpoint " + req.method.substr(0, 16) + " " +
+                                        req.path.substr(0, 80) + "; see /v1/openapi.json");
+  }
+  Reply reply =
+      PlanService::error_reply(api::ErrorCode::kMethodNotAllowed,
+                               req.method.substr(0, 16) + " is not allowed on " +
+                                   req.path.substr(0, 80) + "; allowed: " + allow_header(allowed));
+  reply.headers.emplace_back("Allow", allow_header(allowed));
+  return reply;
+}
+
+// The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
+// request line, bad Range).
+Reply framework_reply(const httplib::Request& req, int status, const Runtime& rt) {
+  if (status == 404) return unrouted_reply(req, rt.endpoints);
+  if (status == 413) return too_large_reply(rt.config);
+  if (status == 415) return not_json_reply(req);
+  if (status == 400 && !req.method.empty() && !known_method(req.method)) {
+    return PlanService::error_reply(
+        api::ErrorCode::kNotImplemented,
+        "the method " + req.method.substr(0, 16) + " is not implemented; see /v1/openapi.json");
+  }
+  return PlanService::error_reply(api::error_code_of_status(status), framework_message(status));
+}
+
+// "Expect: 100-continue": a body that would be refused is refused before it is sent.
+int expect_continue_status(const httplib::Request& req, const ServerConfig& config) {
+  const std::string length = req.get_header_value("Content-Length");
+  const bool digits = !length.empty() && length.size() <= 18 &&
+                      length.find_first_not_of("0123456789") == std::string::npos;
+  if (!json_content_type(req.get_header_value("Content-Type"))) return 415;
+  if (!length.empty() && (!digits || std::stoull(length) > config.max_body_bytes)) return 413;
+  return 100;
+}
+
+void install_error_handlers(Runtime& rt) {
+  rt.server.set_error_handler(httplib::Server::HandlerWithResponse(
+      [&rt](const httplib::Request& req, httplib::Response& res) {
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
         // This service answers whole bodies: a Range of the request never cuts the envelope.
         const_cast<httplib::Request&>(req).ranges.clear();
-        Reply reply;
-        if (res.status == 404) {
-          std::vector<std::string> allowed;
-          for (const Endpoint& e : endpoints) {
-            if (std::regex_match(req.path, e.pattern)) {
-              allowed.insert(allowed.end(), e.methods.begin(), e.methods.end());
-            }
-          }
-          if (!allowed.empty()) {
-            reply = PlanService::error_reply(405, "method_not_allowed",
-                                             req.method.substr(0, 16) + " is not allowed on " +
-                                                 req.path.substr(0, 80) +
-                                                 "; allowed: " + allow_header(allowed));
-            reply.headers.emplace_back("Allow", allow_header(allowed));
-          } else {
-            reply = PlanService::error_reply(404, "not_found",
-                                             "no endpoint " + req.method.substr(0, 16) + " " +
-                                                 req.path.substr(0, 80) + "; see /v1/openapi.json");
-          }
-        } else if (res.status == 413) {
-          reply = too_large_reply(config);
-        } else if (res.status == 415) {
-          reply = not_json_reply(req);
-        } else if (res.status == 400 && !req.method.empty() && !known_method(req.method)) {
-          reply = PlanService::error_reply(501, "not_implemented",
-                                           "the method " + req.method.substr(0, 16) +
-                                               " is not implemented; see /v1/openapi.json");
-        } else {
-          reply = PlanService::error_reply(res.status, framework_code(res.status),
-                                           framework_message(res.status));
-        }
+        const Reply reply = framework_reply(req, res.status, rt);
         if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
         send(reply, res);
-        service.metrics().count_request("other", reply.status);
+        rt.service.metrics().count_request("other", reply.status);
         return httplib::Server::HandlerResponse::Handled;
-      };
-  server.set_error_handler(on_error);
-  // "Expect: 100-continue": a body that would be refused is refused before it is sent.
-  server.set_expect_100_continue_handler(
-      [&config](const httplib::Request& req, httplib::Response& res) {
-        const std::string length = req.get_header_value("Content-Length");
-        const bool digits = !length.empty() && length.size() <= 18 &&
-                            length.find_first_not_of("0123456789") == std::string::npos;
-        if (!json_content_type(req.get_header_value("Content-Type"))) {
-          res.status = 415;
-        } else if (!length.empty() && (!digits || std::stoull(length) > config.max_body_bytes)) {
-          res.status = 413;
-        } else {
-          res.status = 100;
-        }
+      }));
+  rt.server.set_expect_100_continue_handler(
+      [&rt](const httplib::Request& req, httplib::Response& res) {
+        res.status = expect_continue_status(req, rt.config);
         return res.status;
       });
-  server.set_exception_handler(
+  rt.server.set_exception_handler(
       [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
         std::string what = "unknown error";
         try {
@@ -400,18 +402,22 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
           what = e.what();
         } catch (...) {
         }
-        send(PlanService::error_reply(500, "internal", what), res);
+        send(PlanService::error_reply(api::ErrorCode::kInternal, what), res);
       });
-  server.set_pre_routing_handler([&reaper](const httplib::Request& req, httplib::Response& res) {
+}
+
+// Request ids, the reaper's bookkeeping and one log line per request.
+void install_request_hooks(Runtime& rt) {
+  rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
     res.set_header("X-Request-Id", request_id(req));
-    if (reaper) reaper->begin_request(peer_of(req));
+    if (rt.reaper) rt.reaper->begin_request(peer_of(req));
     return httplib::Server::HandlerResponse::Unhandled;
   });
-  server.set_logger([&reaper](const httplib::Request& req, const httplib::Response& res) {
-    if (reaper) reaper->end_request(peer_of(req));
+  rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
+    if (rt.reaper) rt.reaper->end_request(peer_of(req));
     const std::string ms =
         request_start ? fmt::format("{:.3f}", std::chrono::duration<double, std::milli>(
                                                   std::chrono::steady_clock::now() - *request_start)
@@ -424,44 +430,103 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
                  res.has_header("X-Cache") ? res.get_header_value("X-Cache") : "-", ms,
                  res.body.size());
   });
+}
 
-  int port = config.port;
-  if (port == 0) {
-    port = server.bind_to_any_port(config.host);
-  } else if (!server.bind_to_port(config.host, port)) {
-    port = -1;
-  }
+// The bound port (config.port, or the one the system chose for 0); -1 when binding failed.
+int bind_port(ListeningServer& server, const ServerConfig& config) {
+  const int port = config.port == 0 ? server.bind_to_any_port(config.host)
+                   : server.bind_to_port(config.host, config.port) ? config.port
+                                                                   : -1;
   if (port < 0) {
     spdlog::error("cannot bind {}:{} (is another slosh or another service using the port?)",
                   config.host, config.port);
-    return 1;
+  } else if (!server.raise_backlog()) {
+    spdlog::warn("cannot raise the listen backlog: bursts may stall");
   }
-  if (!server.raise_backlog()) spdlog::warn("cannot raise the listen backlog: bursts may stall");
-  reaper = std::make_unique<ConnectionReaper>(
+  return port;
+}
+
+// SIGINT / SIGTERM, blocked in every thread from construction on (so first, before any thread is
+// started: the worker pool inherits the mask) and taken synchronously by one waiter thread, which
+// runs `on_stop` outside any signal handler. The destructor wakes and joins the waiter.
+class StopSignals {
+ public:
+  StopSignals() {
+    sigemptyset(&signals_);
+    sigaddset(&signals_, SIGINT);
+    sigaddset(&signals_, SIGTERM);
+    pthread_sigmask(SIG_BLOCK, &signals_, nullptr);
+  }
+  StopSignals(const StopSignals&) = delete;
+  StopSignals& operator=(const StopSignals&) = delete;
+  ~StopSignals() { join(); }
+
+  /// Ends the waiter (idempotent): after this no stop runs.
+  void join() {
+    if (!waiter_.joinable()) return;
+    finished_ = true;
+    pthread_kill(waiter_.native_handle(), SIGTERM);  // wakes the wait if no signal came
+    waiter_.join();
+  }
+
+  void start(std::function<void(int)> on_stop) {
+    waiter_ = std::thread([this, on_stop = std::move(on_stop)] {
+      int signal_number = -1;
+      while (signal_number < 0) {
+        // While waiting, give freed memory back to the system every few seconds: a large batch
+        // response or series leaves glibc's arenas holding hundreds of MB otherwise.
+        const timespec period{5, 0};
+        signal_number = sigtimedwait(&signals_, nullptr, &period);
+        if (signal_number < 0) malloc_trim(0);
+      }
+      if (!finished_) on_stop(signal_number);
+    });
+  }
+  [[nodiscard]] bool finished() const { return finished_; }
+
+ private:
+  sigset_t signals_{};
+  std::atomic<bool> finished_{false};
+  std::thread waiter_;
+};
+
+// Stops the server on a signal: what is queued is refused, requests being answered finish.
+void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) {
+  spdlog::info("signal {} received: finishing the requests in flight, then stopping",
+               signal_number);
+  rt.service.begin_shutdown();
+  // A signal that arrives before the accept loop runs must still stop it.
+  while (!rt.server.is_running() && !signals.finished()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  rt.server.stop();             // closes the listener; requests being answered finish
+  rt.reaper->close_idle_now();  // idle and trickling connections are closed, not waited for
+}
+
+}  // namespace
+
+int run_server(const ServerConfig& config, const std::string& port_file) {
+  StopSignals signals;
+  // At most 4 malloc arenas (glibc's default is 8 per core, and up to 256 connection threads each
+  // grabbing one fragments the heap); freed memory is trimmed by the signal waiter.
+  mallopt(M_ARENA_MAX, 4);
+  PlanService service(config);
+  if (const std::string error = service.cache().storage_error(); !error.empty()) {
+    spdlog::error("plan cache: {}; answering from memory only", error);
+  }
+  ListeningServer server;
+  Runtime rt{config, service, server, nullptr, {}};
+  configure_transport(server, config);
+  register_routes(rt);
+  install_error_handlers(rt);
+  install_request_hooks(rt);
+  const int port = bind_port(server, config);
+  if (port < 0) return 1;
+  rt.reaper = std::make_unique<ConnectionReaper>(
       port,
       std::chrono::duration_cast<ConnectionReaper::Clock::duration>(
           std::chrono::duration<double>(config.keep_alive_timeout_s + config.request_timeout_s)));
-  std::atomic<bool> finished{false};
-  std::thread waiter([&] {
-    int signal_number = -1;
-    while (signal_number < 0) {
-      // While waiting, give freed memory back to the system every few seconds: a large batch
-      // response or series leaves glibc's arenas holding hundreds of MB otherwise.
-      const timespec period{5, 0};
-      signal_number = sigtimedwait(&stop_signals, nullptr, &period);
-      if (signal_number < 0) malloc_trim(0);
-    }
-    if (finished) return;
-    spdlog::info("signal {} received: finishing the requests in flight, then stopping",
-                 signal_number);
-    service.begin_shutdown();
-    // A signal that arrives before the accept loop runs must still stop it.
-    while (!server.is_running() && !finished) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(1));
-    }
-    server.stop();             // closes the listener; requests being answered finish
-    reaper->close_idle_now();  // idle and trickling connections are closed, not waited for
-  });
+  signals.start([&rt, &signals](int signal_number) { stop_on_signal(rt, signals, signal_number); });
   if (!port_file.empty() && !write_port_file(port_file, port)) {
     spdlog::error("cannot write the port file {}", port_file);
   }
@@ -470,10 +535,8 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
       kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
       config.cache_path.empty() ? "memory" : config.cache_path);
   const bool ok = server.listen_after_bind();
-  finished = true;
-  pthread_kill(waiter.native_handle(), SIGTERM);  // wakes sigwait if no signal came
-  waiter.join();
-  reaper.reset();
+  signals.join();
+  rt.reaper.reset();
   spdlog::info("slosh stopped");
   return ok ? 0 : 1;
 }

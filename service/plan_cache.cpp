@@ -13,6 +13,10 @@ namespace {
 constexpr std::string_view kSchema =
     "CREATE TABLE IF NOT EXISTS plans("
     "key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL)";
+/// Layout of the stored bodies (PRAGMA user_version): 2 = api::StoredPlan bodies, without the
+/// per-reply `cached` member. Rows of another layout are dropped when the store opens (a cache:
+/// they are solved again on demand).
+constexpr std::string_view kLayoutVersion = "2";
 constexpr std::string_view kSelect = "SELECT body FROM plans WHERE key = ?1";
 constexpr std::string_view kUpsert =
     "INSERT OR REPLACE INTO plans(key, body, created_unix) VALUES(?1, ?2, ?3)";
@@ -83,6 +87,13 @@ void PlanCache::open_store() {
     if (error.empty()) query_text(db_, kSchema, error);
     if (error.empty() && sqlite3_db_readonly(db_, "main") == 1) {
       error = "the file is read-only";
+    }
+    if (error.empty() && query_text(db_, "PRAGMA user_version", error) != kLayoutVersion &&
+        error.empty()) {
+      query_text(db_, "DELETE FROM plans", error);
+      if (error.empty()) {
+        query_text(db_, "PRAGMA user_version = " + std::string(kLayoutVersion), error);
+      }
     }
     if (error.empty() && (!prepare(db_, kSelect, &select_) || !prepare(db_, kUpsert, &upsert_))) {
       error = message_of(db_);

@@ -12,6 +12,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_reply.hpp"
 #include "slosh/api/simulate.hpp"
 #include "version.hpp"
 
@@ -29,7 +30,7 @@ constexpr double kMinStallSeconds = 30.0;
 Reply from_api_error(const api::ApiError& e) {
   Reply r;
   r.status = e.status();
-  r.body = api::dump_json(api::error_envelope(e));
+  r.body = api::error_body(e);
   return r;
 }
 
@@ -52,22 +53,6 @@ bool etag_matches(const std::string& header, const std::string& tag) {
     at = end + 1;
   }
   return false;
-}
-
-// The cached form of a rendered plan: "cached": false becomes true (the first occurrence is the
-// top-level member: dump() sorts keys and no nested object carries one).
-std::string as_cached(std::string body) {
-  static const std::string from = "\"cached\":false";
-  if (const auto at = body.find(from); at != std::string::npos) {
-    body.replace(at, from.size(), "\"cached\":true");
-  }
-  return body;
-}
-
-// Plans worth keeping: a time-limited or failed one depends on the load, not on the recipe.
-bool cacheable(const json& plan) {
-  const std::string status = plan.value("status", "");
-  return status == "optimal" || status == "acceptable" || status == "infeasible";
 }
 
 // A plan request with the server's budget applied: the default when the request gives none, a 422
@@ -95,9 +80,9 @@ Reply guarded(F&& body) {
   } catch (const api::ApiError& e) {
     return from_api_error(e);
   } catch (const std::exception& e) {
-    return PlanService::error_reply(500, "internal", e.what());
+    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
   } catch (...) {
-    return PlanService::error_reply(500, "internal", "unknown error");
+    return PlanService::error_reply(api::ErrorCode::kInternal, "unknown error");
   }
 }
 
@@ -115,13 +100,11 @@ PlanService::PlanService(const ServerConfig& config)
 
 PlanService::~PlanService() = default;
 
-Reply PlanService::error_reply(int status, const std::string& code, const std::string& message,
+Reply PlanService::error_reply(api::ErrorCode code, const std::string& message,
                                const std::string& field) {
   Reply r;
-  r.status = status;
-  json e{{"code", code}, {"message", message}};
-  e["field"] = field.empty() ? json(nullptr) : json(field);
-  r.body = api::dump_json(json{{"error", e}});
+  r.status = api::http_status(code);
+  r.body = api::error_body(code, message, field);
   return r;
 }
 
@@ -139,14 +122,7 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
     r.status = 304;
     return r;
   }
-  r.body = cached ? as_cached(body) : body;
-  if (sample_period && request) {
-    json plan = json::parse(r.body);
-    api::PlanRequest with_series = *request;
-    with_series.sample_period = sample_period;
-    api::add_series(with_series, plan);
-    r.body = api::dump_json(plan);
-  }
+  r.body = api::render_plan_reply(body, cached, request ? &*request : nullptr, sample_period);
   return r;
 }
 
@@ -189,16 +165,17 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       outcome = {503, overloaded_reply().body};
     } else {
       try {
-        const json plan = api::run_plan(request);
-        outcome.body = api::dump_json(plan);
-        if (cacheable(plan)) cache_.put(key, outcome.body);
+        api::StoredPlan plan = api::solve_for_storing(request);
+        if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
+        outcome.body = std::move(plan.body);
       } catch (const api::ApiError& e) {
-        outcome = {e.status(), api::dump_json(api::error_envelope(e))};
+        outcome = {e.status(), api::error_body(e)};
       } catch (const std::exception& e) {
-        outcome = {500, error_reply(500, "internal", e.what()).body};
+        outcome = {500, error_reply(api::ErrorCode::kInternal, e.what()).body};
       } catch (...) {
-        outcome = {500,
-                   error_reply(500, "internal", "the solve failed with an unknown error").body};
+        outcome = {
+            500,
+            error_reply(api::ErrorCode::kInternal, "the solve failed with an unknown error").body};
       }
       metrics_.observe_solve(
           to_string(request.strategy),
@@ -220,7 +197,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
 
 Reply PlanService::overloaded_reply() const {
   Reply r = error_reply(
-      503, "overloaded",
+      api::ErrorCode::kOverloaded,
       ready_ ? "all " + std::to_string(pool_.workers()) + " workers are busy and the queue of " +
                    std::to_string(pool_.capacity()) + " solves is full; retry after " +
                    std::to_string(kRetryAfterSeconds) + " s"
@@ -247,7 +224,7 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     const auto wait =
         std::chrono::duration<double>(request.options.time_limit + config_.queue_wait_s);
     if (future.wait_for(wait) != std::future_status::ready) {
-      return error_reply(504, "timeout",
+      return error_reply(api::ErrorCode::kTimeout,
                          "the plan did not finish within its budget of " +
                              api::number_text(request.options.time_limit) + " s plus " +
                              api::number_text(config_.queue_wait_s) + " s of queueing");
@@ -266,7 +243,7 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
 Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match) {
   return guarded([&] {
     if (key == "batch") {  // the path of POST /v1/plans/batch, not a key
-      Reply r = error_reply(405, "method_not_allowed",
+      Reply r = error_reply(api::ErrorCode::kMethodNotAllowed,
                             "GET is not allowed on /v1/plans/batch; allowed: POST");
       r.headers.emplace_back("Allow", "POST");
       return r;
@@ -276,7 +253,7 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt);
     }
     return error_reply(
-        404, "not_found",
+        api::ErrorCode::kNotFound,
         "no plan with key '" + key.substr(0, 64) + "': POST the recipe to /v1/plans first", "key");
   });
 }
@@ -298,7 +275,7 @@ BatchResult PendingBatch::get(std::size_t i) const {
   const SolveOutcome& o = pending_[i].get();
   BatchResult r;
   if (o.status == 200) {
-    r.plan = o.body;
+    r.plan = api::render_plan_reply(o.body, false);
   } else {
     r.error = json::parse(o.body)["error"];
   }
@@ -325,7 +302,7 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
       const std::string key = api::recipe_key(request);
       if (auto hit = cache_.get(key)) {
         metrics_.count_cache(true);
-        result.plan = as_cached(std::move(*hit));
+        result.plan = api::render_plan_reply(*hit, true);
         result.cached = true;
         continue;
       }

@@ -17,6 +17,7 @@
 #include "metrics.hpp"
 #include "plan_cache.hpp"
 #include "server_config.hpp"
+#include "slosh/api/error.hpp"
 #include "slosh/api/plan.hpp"
 #include "worker_pool.hpp"
 
@@ -33,7 +34,7 @@ struct Reply {
 /// What a solve produced: 200 with the rendered plan, or an error status with its envelope.
 struct SolveOutcome {
   int status{200};
-  std::string body;
+  std::string body;  ///< 200: the api::StoredPlan body; otherwise the error envelope
 };
 
 /// One item of a batch: a rendered plan, or the error object {"code", "message", "field"} of the
@@ -93,7 +94,7 @@ class PlanService {
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
 
   /// The envelope reply of an error status with a message (and optional field).
-  static Reply error_reply(int status, const std::string& code, const std::string& message,
+  static Reply error_reply(api::ErrorCode code, const std::string& message,
                            const std::string& field = "");
 
  private:

@@ -2,44 +2,30 @@
 
 namespace slosh::api {
 
-int http_status(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kMalformedJson:
-      return 400;
-    case ErrorCode::kInvalidValue:
-      return 422;
-    case ErrorCode::kNotFound:
-      return 404;
-    case ErrorCode::kPayloadTooLarge:
-      return 413;
-    case ErrorCode::kOverloaded:
-      return 503;
-    case ErrorCode::kTimeout:
-      return 504;
-    case ErrorCode::kInternal:
-      return 500;
+namespace {
+
+const ErrorCodeInfo& info(ErrorCode code) {
+  for (const ErrorCodeInfo& row : kErrorCodes) {
+    if (row.code == code) return row;
   }
-  return 500;
+  return kErrorCodes.back();  // unreachable: every code has a row (test_service_errors)
+}
+
+}  // namespace
+
+int http_status(ErrorCode code) {
+  return info(code).status;
 }
 
 std::string to_string(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kMalformedJson:
-      return "malformed_json";
-    case ErrorCode::kInvalidValue:
-      return "invalid_value";
-    case ErrorCode::kNotFound:
-      return "not_found";
-    case ErrorCode::kPayloadTooLarge:
-      return "payload_too_large";
-    case ErrorCode::kOverloaded:
-      return "overloaded";
-    case ErrorCode::kTimeout:
-      return "timeout";
-    case ErrorCode::kInternal:
-      return "internal";
+  return std::string(info(code).name);
+}
+
+ErrorCode error_code_of_status(int status) {
+  for (const ErrorCodeInfo& row : kErrorCodes) {
+    if (row.status == status) return row.code;
   }
-  return "internal";
+  return status < 500 ? ErrorCode::kBadRequest : ErrorCode::kInternal;
 }
 
 std::string dump_json(const nlohmann::json& value, int indent) {
@@ -50,6 +36,14 @@ nlohmann::json error_envelope(const ApiError& error) {
   nlohmann::json e{{"code", to_string(error.code())}, {"message", error.what()}};
   e["field"] = error.field().empty() ? nlohmann::json(nullptr) : nlohmann::json(error.field());
   return {{"error", e}};
+}
+
+std::string error_body(ErrorCode code, const std::string& message, const std::string& field) {
+  return error_body(ApiError(code, field, message));
+}
+
+std::string error_body(const ApiError& error) {
+  return dump_json(error_envelope(error));
 }
 
 }  // namespace slosh::api

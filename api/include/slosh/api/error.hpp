@@ -1,26 +1,67 @@
 #pragma once
 // The one error type of the API surface, rendered as {"error": {"code", "message", "field"}}.
 
+#include <array>
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
 namespace slosh::api {
 
-/// Error classes and their HTTP status.
+/// Error classes of the API surface; each has one name and one HTTP status (kErrorCodes).
 enum class ErrorCode {
-  kMalformedJson,    ///< 400: the body is not JSON
-  kInvalidValue,     ///< 422: a field is missing, of the wrong type or out of range
-  kNotFound,         ///< 404
-  kPayloadTooLarge,  ///< 413
-  kOverloaded,       ///< 503
-  kTimeout,          ///< 504
-  kInternal,         ///< 500
+  kMalformedJson,         ///< 400: the body is not JSON
+  kBadRequest,            ///< 400: the request is not a valid HTTP request for this service
+  kInvalidValue,          ///< 422: a field is missing, of the wrong type or out of range
+  kNotFound,              ///< 404
+  kMethodNotAllowed,      ///< 405
+  kRequestTimeout,        ///< 408: the request was not received in time
+  kPayloadTooLarge,       ///< 413
+  kUriTooLong,            ///< 414
+  kUnsupportedMediaType,  ///< 415
+  kRangeNotSatisfiable,   ///< 416
+  kHeadersTooLarge,       ///< 431
+  kCancelled,             ///< 499: not done because the client went away (batch items)
+  kInternal,              ///< 500
+  kNotImplemented,        ///< 501: an HTTP method the service does not know
+  kOverloaded,            ///< 503
+  kTimeout,               ///< 504
 };
+
+/// One row of the error table: the code, its name in the JSON envelope, its HTTP status.
+struct ErrorCodeInfo {
+  ErrorCode code;
+  std::string_view name;
+  int status;
+};
+
+inline constexpr std::array<ErrorCodeInfo, 16> kErrorCodes{{
+    {ErrorCode::kBadRequest, "bad_request", 400},
+    {ErrorCode::kMalformedJson, "malformed_json", 400},
+    {ErrorCode::kInvalidValue, "invalid_value", 422},
+    {ErrorCode::kNotFound, "not_found", 404},
+    {ErrorCode::kMethodNotAllowed, "method_not_allowed", 405},
+    {ErrorCode::kRequestTimeout, "request_timeout", 408},
+    {ErrorCode::kPayloadTooLarge, "payload_too_large", 413},
+    {ErrorCode::kUriTooLong, "uri_too_long", 414},
+    {ErrorCode::kUnsupportedMediaType, "unsupported_media_type", 415},
+    {ErrorCode::kRangeNotSatisfiable, "range_not_satisfiable", 416},
+    {ErrorCode::kHeadersTooLarge, "headers_too_large", 431},
+    {ErrorCode::kCancelled, "cancelled", 499},
+    {ErrorCode::kInternal, "internal", 500},
+    {ErrorCode::kNotImplemented, "not_implemented", 501},
+    {ErrorCode::kOverloaded, "overloaded", 503},
+    {ErrorCode::kTimeout, "timeout", 504},
+}};
 
 [[nodiscard]] int http_status(ErrorCode code);
 [[nodiscard]] std::string to_string(ErrorCode code);
+/// The code of an HTTP error status the service answers without a handler (the HTTP library's
+/// own 400, 404, 408, 413, ...): the first code with that status; kBadRequest for another 4xx,
+/// kInternal for a 5xx.
+[[nodiscard]] ErrorCode error_code_of_status(int status);
 
 /// Thrown by parsing and validation; carries the JSON path of the offending field.
 class ApiError : public std::runtime_error {
@@ -53,6 +94,12 @@ class ApiError : public std::runtime_error {
 
 /// {"error": {"code": "invalid_value", "message": "...", "field": "format.radius_mm"}}
 [[nodiscard]] nlohmann::json error_envelope(const ApiError& error);
+
+/// The envelope of `code` as JSON text; `field` empty renders as null.
+[[nodiscard]] std::string error_body(ErrorCode code, const std::string& message,
+                                     const std::string& field = {});
+/// The envelope of `error` as JSON text.
+[[nodiscard]] std::string error_body(const ApiError& error);
 
 /// JSON text of a response; never throws on invalid UTF-8 (replaced by U+FFFD).
 [[nodiscard]] std::string dump_json(const nlohmann::json& value, int indent = -1);

@@ -1,0 +1,34 @@
+#pragma once
+// A plan as the service keeps and serves it: rendered once per recipe (StoredPlan), and per reply
+// with the members that depend on the request (`cached`, `series`).
+
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "slosh/api/plan.hpp"
+#include "slosh/core/solve/nlp_solver.hpp"
+
+namespace slosh::api {
+
+/// A rendered plan without the per-reply members `cached` and `series`.
+struct StoredPlan {
+  SolveStatus status{SolveStatus::kFailed};
+  std::string body;  ///< the plan's JSON object as text
+};
+
+/// Whether a plan with this status is worth keeping: optimal, acceptable and infeasible answers
+/// depend only on the recipe; a time-limited or failed one depends on the load.
+[[nodiscard]] bool is_cacheable(SolveStatus status);
+
+/// Plans a validated request (its series are not rendered) for storing; throws ApiError when the
+/// planner refuses the inputs (as run_plan).
+[[nodiscard]] StoredPlan solve_for_storing(const PlanRequest& request);
+
+/// The reply body of a stored plan: `cached` set, and when `sample_period` is given, the series of
+/// the plan's law at that period (`request` is the plan's recipe; required with a period).
+[[nodiscard]] std::string render_plan_reply(std::string_view stored_body, bool cached,
+                                            const PlanRequest* request = nullptr,
+                                            std::optional<double> sample_period = std::nullopt);
+
+}  // namespace slosh::api

@@ -1,0 +1,33 @@
+#pragma once
+// Every route of the service, listed once: the HTTP server registers them and the OpenAPI
+// document describes them from this table.
+
+#include <span>
+#include <string_view>
+
+namespace slosh::api {
+
+enum class Operation {
+  kPlan,
+  kPlanBatch,
+  kGetPlan,
+  kSimulate,
+  kFluids,
+  kOpenapi,
+  kHealth,
+  kReady,
+  kMetrics
+};
+
+struct Route {
+  std::string_view method;  ///< "GET" or "POST"
+  std::string_view path;    ///< OpenAPI path, e.g. "/v1/plans/{key}"
+  Operation operation;
+  std::string_view operation_id;  ///< OpenAPI operationId
+  std::string_view summary;       ///< one line
+};
+
+/// Every route of the service, in the order the OpenAPI document lists them.
+[[nodiscard]] std::span<const Route> routes();
+
+}  // namespace slosh::api

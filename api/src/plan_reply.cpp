@@ -1,0 +1,40 @@
+#include "slosh/api/plan_reply.hpp"
+
+#include "slosh/api/error.hpp"
+
+namespace slosh::api {
+
+bool is_cacheable(SolveStatus status) {
+  return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
+         status == SolveStatus::kInfeasible;
+}
+
+StoredPlan solve_for_storing(const PlanRequest& request) {
+  PlanRequest without_series = request;
+  without_series.sample_period.reset();
+  const PlanResult result = plan(request.format, request.strategy, request.options);
+  if (result.invalid_input) {
+    // The request passed the API's ranges but not the planner's own checks.
+    throw ApiError(ErrorCode::kInvalidValue, "format", result.message);
+  }
+  nlohmann::json out = plan_json(without_series, result);
+  out.erase("cached");
+  return {result.status, dump_json(out)};
+}
+
+std::string render_plan_reply(std::string_view stored_body, bool cached, const PlanRequest* request,
+                              std::optional<double> sample_period) {
+  const std::string flag = cached ? "true" : "false";
+  if (!sample_period || request == nullptr) {
+    // A stored body is a non-empty JSON object: the flag becomes its first member.
+    return "{\"cached\":" + flag + "," + std::string(stored_body.substr(1));
+  }
+  nlohmann::json plan = nlohmann::json::parse(stored_body);
+  plan["cached"] = cached;
+  PlanRequest with_series = *request;
+  with_series.sample_period = sample_period;
+  add_series(with_series, plan);
+  return dump_json(plan);
+}
+
+}  // namespace slosh::api
