@@ -6,11 +6,13 @@
 #include <fstream>
 #include <iostream>
 #include <optional>
+#include <variant>
 
 #include "cli_commands.hpp"
 #include "io.hpp"
 #include "plan_service.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/export_summary.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
 #include "slosh/api/plan.hpp"
@@ -66,20 +68,21 @@ struct ExportSource {
   MotionLaw law;
   std::optional<SevenSegmentLaw> seven;
   double stroke{};
-  json about;  // key/status/message of a plan, or the law type
+  std::string law_type;                   // api::LawType name
+  std::optional<api::ExportedPlan> plan;  // empty for a law request
 };
 
-ExportSource source_of(const std::string& text, const ServerConfig& config) {
-  const json body = api::parse_json_body(text);
+ExportSource law_source(const json& body) {
+  const api::SimulateRequest request = api::parse_simulate_request(body);
   ExportSource source;
-  if (body.is_object() && body.contains("law")) {
-    const api::SimulateRequest request = api::parse_simulate_request(body);
-    source.seven = api::seven_segment_law(request);
-    source.law = source.seven ? source.seven->law() : api::build_law(request);
-    source.stroke = request.format.stroke;
-    source.about = {{"source", "law"}, {"law", api::to_string(request.law_type)}};
-    return source;
-  }
+  source.seven = api::seven_segment_law(request);
+  source.law = source.seven ? source.seven->law() : api::build_law(request);
+  source.stroke = request.format.stroke;
+  source.law_type = api::to_string(request.law_type);
+  return source;
+}
+
+ExportSource plan_source(const json& body, const std::string& text, const ServerConfig& config) {
   const api::PlanRequest request = api::parse_plan_request(body);
   ServerConfig one = config;
   one.workers = 1;
@@ -99,16 +102,22 @@ ExportSource source_of(const std::string& text, const ServerConfig& config) {
   // --allow-infeasible exports it as it is.
   const api::ParsedLaw law =
       api::parse_law(plan.at("law"), "law", request.format, api::ranges::kMinRampS.lo);
+  ExportSource source;
   if (law.durations) source.seven.emplace(*law.durations, request.format.stroke);
   source.law = law.law;
   source.stroke = request.format.stroke;
-  source.about = {{"source", "plan"},
-                  {"key", plan["key"]},
-                  {"cached", plan["cached"]},
-                  {"status", plan["status"]},
-                  {"law", api::to_string(law.type)},
-                  {"message", plan["message"]}};
+  source.law_type = api::to_string(law.type);
+  source.plan = api::ExportedPlan{plan.value("key", std::string()), plan.value("cached", false),
+                                  enum_from_name<SolveStatus>(plan.value("status", std::string()))
+                                      .value_or(SolveStatus::kFailed),
+                                  plan.value("message", std::string())};
   return source;
+}
+
+ExportSource source_of(const std::string& text, const ServerConfig& config) {
+  const json body = api::parse_json_body(text);
+  if (body.is_object() && body.contains("law")) return law_source(body);
+  return plan_source(body, text, config);
 }
 
 void write_text(const std::string& path, const std::string& text) {
@@ -148,19 +157,33 @@ std::string segment_table_csv(const SevenSegmentLaw& law) {
   return out;
 }
 
-int run_export_command(const ExportCommandOptions& options) {
-  auto fail = [](int code, const api::ApiError& e) {
-    std::cerr << api::dump_json(api::error_envelope(e), 2) << '\n';
-    return code;
-  };
-  if (!(options.period_ms >= kMinPeriodMs && options.period_ms <= kMaxPeriodMs)) {
-    return fail(kExitInvalidInput,
-                api::ApiError(api::ErrorCode::kInvalidValue, "--period-ms",
-                              "--period-ms = " + api::number_text(options.period_ms) +
-                                  " is out of range [" + api::number_text(kMinPeriodMs) + ", " +
-                                  api::number_text(kMaxPeriodMs) + "] ms"));
-  }
-  ExportSource source;
+namespace {
+
+// What a failed export prints (the envelope on stderr) and its exit code.
+struct ExportFailure {
+  int exit_code;
+  api::ApiError error;
+};
+
+int report(const ExportFailure& f) {
+  std::cerr << api::dump_json(api::error_envelope(f.error), 2) << '\n';
+  return f.exit_code;
+}
+
+ExportFailure invalid(std::string field, const std::string& message) {
+  return {kExitInvalidInput,
+          api::ApiError(api::ErrorCode::kInvalidValue, std::move(field), message)};
+}
+
+std::optional<ExportFailure> check_period(double period_ms) {
+  if (period_ms >= kMinPeriodMs && period_ms <= kMaxPeriodMs) return std::nullopt;
+  return invalid("--period-ms", "--period-ms = " + api::number_text(period_ms) +
+                                    " is out of range [" + api::number_text(kMinPeriodMs) + ", " +
+                                    api::number_text(kMaxPeriodMs) + "] ms");
+}
+
+// The law of the request (a plan is solved or read from the cache).
+std::variant<ExportSource, ExportFailure> load_source(const ExportCommandOptions& options) {
   try {
     std::string text;
     try {
@@ -168,88 +191,88 @@ int run_export_command(const ExportCommandOptions& options) {
     } catch (const std::exception& e) {
       throw api::ApiError(api::ErrorCode::kInvalidValue, "--request", e.what());
     }
-    source = source_of(text, options.config);
+    return source_of(text, options.config);
   } catch (const api::ApiError& e) {
-    return fail(e.status() < 500 ? kExitInvalidInput : kExitFailure, e);
+    return ExportFailure{e.status() < 500 ? kExitInvalidInput : kExitFailure, e};
   } catch (const std::exception& e) {
-    return fail(kExitFailure, api::ApiError(api::ErrorCode::kInternal, "", e.what()));
+    return ExportFailure{kExitFailure, api::ApiError(api::ErrorCode::kInternal, "", e.what())};
   }
-  if (source.about.value("source", "") == "plan") {
-    const std::string status = source.about.value("status", "");
-    if (status != "optimal" && status != "acceptable" && !options.allow_infeasible) {
-      return fail(
-          kExitFailure,
-          api::ApiError(api::ErrorCode::kInternal, "",
-                        "the plan is " + status + ", its law misses the requested limits: " +
-                            source.about.value("message", std::string()) +
-                            ". Not exported; pass --allow-infeasible to export the best "
-                            "reachable law anyway"));
-    }
+}
+
+// An infeasible or time-limited plan only with --allow-infeasible; a segment table only of a
+// 7-segment law.
+std::optional<ExportFailure> check_exportable(const ExportSource& source,
+                                              const ExportCommandOptions& options) {
+  if (source.plan && !options.allow_infeasible && source.plan->status != SolveStatus::kOptimal &&
+      source.plan->status != SolveStatus::kAcceptable) {
+    return ExportFailure{
+        kExitFailure,
+        api::ApiError(api::ErrorCode::kInternal, "",
+                      "the plan is " + to_string(source.plan->status) +
+                          ", its law misses the requested limits: " + source.plan->message +
+                          ". Not exported; pass --allow-infeasible to export the best "
+                          "reachable law anyway")};
   }
   if (!options.segments.empty() && !source.seven) {
-    return fail(kExitInvalidInput,
-                api::ApiError(api::ErrorCode::kInvalidValue, "--segments",
-                              "--segments: the law " + source.about.value("law", std::string()) +
-                                  " is not a 7-segment law; it has no segment table"));
+    return invalid("--segments", "--segments: the law " + source.law_type +
+                                     " is not a 7-segment law; it has no segment table");
   }
-  const double period = options.period_ms * 1e-3;
+  return std::nullopt;
+}
+
+api::ExportSummary summary_of(const ExportSource& source, const ExportCommandOptions& options,
+                              const std::vector<CamSample>& samples) {
+  api::ExportSummary s;
+  s.law_type = source.law_type;
+  s.plan = source.plan;
+  s.cam_table = options.out;
+  s.period = options.period_ms * 1e-3;
+  s.samples = samples.size();
+  s.motion_time = source.law.duration();
+  s.end_time = samples.back().t;
+  s.stroke = source.stroke;
+  s.seven = source.seven;
+  if (source.seven) s.segment_table = options.segments;
+  if (s.end_time - s.motion_time > kCamTimeTolerance) {
+    s.warnings.push_back("the motion time " + api::number_text(s.motion_time) +
+                         " s is not a multiple of the " + api::number_text(options.period_ms) +
+                         " ms cycle: the law ends " +
+                         api::number_text((s.end_time - s.motion_time) * 1e3) +
+                         " ms before the last sample, which holds the stroke");
+  }
+  return s;
+}
+
+}  // namespace
+
+int run_export_command(const ExportCommandOptions& options) {
+  if (auto failure = check_period(options.period_ms)) return report(*failure);
+  auto loaded = load_source(options);
+  if (auto* failure = std::get_if<ExportFailure>(&loaded)) return report(*failure);
+  const ExportSource& source = std::get<ExportSource>(loaded);
+  if (auto failure = check_exportable(source, options)) return report(*failure);
   std::vector<CamSample> samples;
   try {
-    samples = sample_cam_table(source.law, source.stroke, period);
+    samples = sample_cam_table(source.law, source.stroke, options.period_ms * 1e-3);
   } catch (const std::invalid_argument& e) {
-    return fail(kExitInvalidInput,
-                api::ApiError(api::ErrorCode::kInvalidValue, "--period-ms", e.what()));
+    return report(invalid("--period-ms", e.what()));
   }
-  const double T = source.law.duration();
-  json warnings = json::array();
-  const double end_time = samples.back().t;
-  if (end_time - T > kCamTimeTolerance) {
-    warnings.push_back("the motion time " + api::number_text(T) + " s is not a multiple of the " +
-                       api::number_text(options.period_ms) + " ms cycle: the law ends " +
-                       api::number_text((end_time - T) * 1e3) +
-                       " ms before the last sample, which holds the stroke");
-  }
+  const api::ExportSummary summary = summary_of(source, options, samples);
   try {
     write_text(options.out, cam_table_csv(samples));
     if (source.seven && !options.segments.empty()) {
       write_text(options.segments, segment_table_csv(*source.seven));
     }
   } catch (const std::exception& e) {
-    return fail(kExitFailure, api::ApiError(api::ErrorCode::kInternal, "--out", e.what()));
+    return report({kExitFailure, api::ApiError(api::ErrorCode::kInternal, "--out", e.what())});
   }
   if (options.out == "-") {
-    for (const json& w : warnings)
-      std::cerr << "slosh export: warning: " << w.get<std::string>() << '\n';
+    for (const std::string& w : summary.warnings) {
+      std::cerr << "slosh export: warning: " << w << '\n';
+    }
     return kExitOk;
   }
-
-  json summary = source.about;
-  summary["cam_table"] = options.out;
-  summary["period_s"] = period;
-  summary["samples"] = samples.size();
-  summary["motion_time_s"] = T;
-  summary["end_time_s"] = end_time;
-  summary["stroke_mm"] = source.stroke * 1e3;
-  if (source.seven) {
-    const SevenSegmentLaw& law = *source.seven;
-    json segments = json::array();
-    for (const SegmentRow& r : segment_rows(law)) {
-      segments.push_back({{"segment", r.segment},
-                          {"t_start_s", r.t_start},
-                          {"duration_s", law.durations()[static_cast<std::size_t>(r.segment - 1)]},
-                          {"jerk_mm_s3", r.jerk * 1e3},
-                          {"a_start_mm_s2", r.a_start * 1e3},
-                          {"a_end_mm_s2", r.a_end * 1e3}});
-    }
-    summary["durations_s"] = law.durations();
-    summary["A_mm_s2"] = law.A() * 1e3;
-    summary["B_mm_s2"] = law.B() * 1e3;
-    summary["v_peak_mm_s"] = law.v_peak() * 1e3;
-    summary["segments"] = std::move(segments);
-    if (!options.segments.empty()) summary["segment_table"] = options.segments;
-  }
-  summary["warnings"] = std::move(warnings);
-  std::cout << api::dump_json(summary, 2) << '\n';
+  std::cout << api::export_summary_json(summary) << '\n';
   return kExitOk;
 }
 
