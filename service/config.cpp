@@ -2,22 +2,16 @@
 
 #include <cstdlib>
 #include <fstream>
-#include <functional>
 #include <limits>
 #include <nlohmann/json.hpp>
 #include <stdexcept>
+#include <string_view>
+#include <variant>
 #include <vector>
 
 namespace slosh::service {
 
 namespace {
-
-// One setting: its config-file key, its environment variable, and how to read it from text.
-struct Setting {
-  const char* key;
-  const char* env;
-  std::function<void(const std::string& where, const std::string& text, ServerConfig&)> apply;
-};
 
 long long parse_integer(const std::string& where, const std::string& text, long long lo,
                         long long hi, const std::string& what) {
@@ -51,87 +45,65 @@ double parse_seconds(const std::string& where, const std::string& text, double l
   return v;
 }
 
+// One setting, declared once: its config-file key, its environment variable, the field it sets
+// and the values it accepts (integers: lo to hi; durations: > lo and <= hi seconds; text: any,
+// non-empty unless `empty_ok`).
+struct Setting {
+  const char* key;
+  const char* env;
+  std::variant<std::string ServerConfig::*, int ServerConfig::*, std::size_t ServerConfig::*,
+               double ServerConfig::*>
+      field;
+  long long lo{0};
+  long long hi{0};
+  const char* what{""};  // "a TCP port", ...; for text: whether "" is allowed ("empty_ok")
+
+  [[nodiscard]] bool is_text() const {
+    return std::holds_alternative<std::string ServerConfig::*>(field);
+  }
+
+  void apply(const std::string& where, const std::string& text, ServerConfig& c) const {
+    if (const auto* text_field = std::get_if<std::string ServerConfig::*>(&field)) {
+      if (text.empty() && std::string_view(what) != "empty_ok") {
+        throw std::runtime_error(where + " must be a non-empty text");
+      }
+      c.*(*text_field) = text;
+    } else if (const auto* int_field = std::get_if<int ServerConfig::*>(&field)) {
+      c.*(*int_field) = static_cast<int>(parse_integer(where, text, lo, hi, what));
+    } else if (const auto* size_field = std::get_if<std::size_t ServerConfig::*>(&field)) {
+      c.*(*size_field) = static_cast<std::size_t>(parse_integer(where, text, lo, hi, what));
+    } else {
+      c.*std::get<double ServerConfig::*>(field) =
+          parse_seconds(where, text, static_cast<double>(lo), static_cast<double>(hi));
+    }
+  }
+};
+
+using C = ServerConfig;
 const std::vector<Setting>& settings() {
   static const std::vector<Setting> all{
-      {"host", "SLOSH_HOST",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         if (text.empty()) throw std::runtime_error(where + " must be a non-empty text");
-         c.host = text;
-       }},
-      {"port", "SLOSH_PORT",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.port = static_cast<int>(parse_integer(where, text, 0, 65535, "a TCP port"));
-       }},
-      {"workers", "SLOSH_WORKERS",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.workers = static_cast<std::size_t>(
-             parse_integer(where, text, 0, 1024, "a worker count (0 = the cores)"));
-       }},
-      {"queue", "SLOSH_QUEUE",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.queue = static_cast<std::size_t>(parse_integer(where, text, 1, 100000, "a queue size"));
-       }},
-      {"cache", "SLOSH_CACHE",
-       [](const std::string&, const std::string& text, ServerConfig& c) { c.cache_path = text; }},
-      {"cache_entries", "SLOSH_CACHE_ENTRIES",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.cache_entries =
-             static_cast<std::size_t>(parse_integer(where, text, 1, 10000000, "an entry count"));
-       }},
-      {"solve_budget_s", "SLOSH_SOLVE_BUDGET_S",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.solve_budget_s = parse_seconds(where, text, 0.0, 600.0);
-       }},
-      {"queue_wait_s", "SLOSH_QUEUE_WAIT_S",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.queue_wait_s = parse_seconds(where, text, 0.0, 3600.0);
-       }},
-      {"max_body_bytes", "SLOSH_MAX_BODY_BYTES",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.max_body_bytes = static_cast<std::size_t>(
-             parse_integer(where, text, 1024, 1LL << 30, "a body size in bytes"));
-       }},
-      {"batch_max", "SLOSH_BATCH_MAX",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.batch_max =
-             static_cast<std::size_t>(parse_integer(where, text, 1, 100000, "a batch size"));
-       }},
-      {"max_response_bytes", "SLOSH_MAX_RESPONSE_BYTES",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.max_response_bytes = static_cast<std::size_t>(
-             parse_integer(where, text, 1 << 20, 1LL << 40, "a response size in bytes"));
-       }},
-      {"http_threads", "SLOSH_HTTP_THREADS",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.http_threads =
-             static_cast<std::size_t>(parse_integer(where, text, 1, 4096, "a thread count"));
-       }},
-      {"read_timeout_s", "SLOSH_READ_TIMEOUT_S",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.read_timeout_s = parse_seconds(where, text, 0.0, 600.0);
-       }},
-      {"write_timeout_s", "SLOSH_WRITE_TIMEOUT_S",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.write_timeout_s = parse_seconds(where, text, 0.0, 600.0);
-       }},
-      {"keep_alive_timeout_s", "SLOSH_KEEP_ALIVE_TIMEOUT_S",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.keep_alive_timeout_s = parse_seconds(where, text, 0.0, 600.0);
-       }},
-      {"request_timeout_s", "SLOSH_REQUEST_TIMEOUT_S",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.request_timeout_s = parse_seconds(where, text, 0.0, 3600.0);
-       }},
-      {"cache_memory_bytes", "SLOSH_CACHE_MEMORY_BYTES",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.cache_memory_bytes = static_cast<std::size_t>(
-             parse_integer(where, text, 1 << 20, 1LL << 40, "a size in bytes"));
-       }},
-      {"cache_store_bytes", "SLOSH_CACHE_STORE_BYTES",
-       [](const std::string& where, const std::string& text, ServerConfig& c) {
-         c.cache_store_bytes = static_cast<std::size_t>(
-             parse_integer(where, text, 0, 1LL << 50, "a size in bytes (0 = unbounded)"));
-       }},
+      {"host", "SLOSH_HOST", &C::host},
+      {"port", "SLOSH_PORT", &C::port, 0, 65535, "a TCP port"},
+      {"workers", "SLOSH_WORKERS", &C::workers, 0, 1024, "a worker count (0 = the cores)"},
+      {"queue", "SLOSH_QUEUE", &C::queue, 1, 100000, "a queue size"},
+      {"cache", "SLOSH_CACHE", &C::cache_path, 0, 0, "empty_ok"},
+      {"cache_entries", "SLOSH_CACHE_ENTRIES", &C::cache_entries, 1, 10000000, "an entry count"},
+      {"solve_budget_s", "SLOSH_SOLVE_BUDGET_S", &C::solve_budget_s, 0, 600},
+      {"queue_wait_s", "SLOSH_QUEUE_WAIT_S", &C::queue_wait_s, 0, 3600},
+      {"max_body_bytes", "SLOSH_MAX_BODY_BYTES", &C::max_body_bytes, 1024, 1LL << 30,
+       "a body size in bytes"},
+      {"batch_max", "SLOSH_BATCH_MAX", &C::batch_max, 1, 100000, "a batch size"},
+      {"max_response_bytes", "SLOSH_MAX_RESPONSE_BYTES", &C::max_response_bytes, 1 << 20, 1LL << 40,
+       "a response size in bytes"},
+      {"http_threads", "SLOSH_HTTP_THREADS", &C::http_threads, 1, 4096, "a thread count"},
+      {"read_timeout_s", "SLOSH_READ_TIMEOUT_S", &C::read_timeout_s, 0, 600},
+      {"write_timeout_s", "SLOSH_WRITE_TIMEOUT_S", &C::write_timeout_s, 0, 600},
+      {"keep_alive_timeout_s", "SLOSH_KEEP_ALIVE_TIMEOUT_S", &C::keep_alive_timeout_s, 0, 600},
+      {"request_timeout_s", "SLOSH_REQUEST_TIMEOUT_S", &C::request_timeout_s, 0, 3600},
+      {"cache_memory_bytes", "SLOSH_CACHE_MEMORY_BYTES", &C::cache_memory_bytes, 1 << 20, 1LL << 40,
+       "a size in bytes"},
+      {"cache_store_bytes", "SLOSH_CACHE_STORE_BYTES", &C::cache_store_bytes, 0, 1LL << 50,
+       "a size in bytes (0 = unbounded)"},
   };
   return all;
 }
@@ -164,7 +136,7 @@ void apply_config_file(const std::string& path, ServerConfig& config) {
     if (setting == nullptr) {
       throw std::runtime_error(where + " is not a known setting; allowed: " + known_keys());
     }
-    const bool text_setting = key == "host" || key == "cache";
+    const bool text_setting = setting->is_text();
     if (text_setting != value.is_string() || (!text_setting && !value.is_number())) {
       // Numbers must be JSON numbers (a quoted "80" is rejected with the value shown).
       setting->apply(where, value.dump(), updated);
