@@ -60,13 +60,13 @@ inline void run_recipe_table(const std::uint8_t* data, std::size_t size,
   for (std::size_t i = 0; i < rows.size(); ++i) {
     service::BatchResult result;
     if (slot[i] == rows.size()) {
-      result.error = rows[i].error;
+      result.error = api::error_from_json(rows[i].error);
     } else {
       require(batch.wait_for(slot[i], std::chrono::milliseconds(0)), "nothing was queued");
       result = batch.get(slot[i]);
     }
     require(!result.ok(), "a shut-down service plans nothing");
-    const std::string code = result.error.value("code", "");
+    const std::string code = api::to_string(result.error->code());
     require(code == "invalid_value" || code == "malformed_json" || code == "overloaded",
             "a recipe fails as invalid_value or malformed_json (or is refused), never internal");
     const nlohmann::json row = service::plan_row(rows[i], result, false);

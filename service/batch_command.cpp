@@ -64,7 +64,7 @@ class RowSink {
 
 BatchResult row_error_result(const RecipeRow& row) {
   BatchResult r;
-  r.error = row.error;
+  r.error = api::error_from_json(row.error);
   return r;
 }
 
@@ -154,18 +154,17 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
           result.plan = api::dump_json(item["plan"]);
           result.cached = item["plan"].value("cached", false);
         } else {
-          result.error = item.value("error", json{{"code", "internal"},
-                                                  {"message", "the service sent no result"},
-                                                  {"field", nullptr}});
+          const api::ApiError error = api::error_from_json(
+              item.value("error", json{{"code", "internal"},
+                                       {"message", "the service sent no result"},
+                                       {"field", nullptr}}));
           // The service prefixes fields with requests[k]; the row's own path is wanted.
-          if (result.error["field"].is_string()) {
-            std::string field = result.error["field"].get<std::string>();
-            const std::size_t dot = field.find("].");
-            field = field.rfind("requests[", 0) == 0
-                        ? (dot == std::string::npos ? "" : field.substr(dot + 2))
-                        : field;
-            result.error["field"] = field.empty() ? json(nullptr) : json(field);
-          }
+          std::string field = error.field();
+          const std::size_t dot = field.find("].");
+          field = field.rfind("requests[", 0) == 0
+                      ? (dot == std::string::npos ? "" : field.substr(dot + 2))
+                      : field;
+          result.error = api::ApiError(error.code(), field, error.what());
         }
         sink.write(rows[i], result);
       } else {

@@ -13,6 +13,7 @@
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_reply.hpp"
+#include "slosh/api/service_bodies.hpp"
 #include "slosh/api/simulate.hpp"
 #include "version.hpp"
 
@@ -31,6 +32,9 @@ Reply from_api_error(const api::ApiError& e) {
   Reply r;
   r.status = e.status();
   r.body = api::error_body(e);
+  if (e.code() == api::ErrorCode::kOverloaded) {
+    r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+  }
   return r;
 }
 
@@ -53,24 +57,6 @@ bool etag_matches(const std::string& header, const std::string& tag) {
     at = end + 1;
   }
   return false;
-}
-
-// A plan request with the server's budget applied: the default when the request gives none, a 422
-// when it asks for more than the server allows.
-api::PlanRequest parse_with_budget(const json& body, double budget) {
-  api::PlanRequest request = api::parse_plan_request(body);
-  const json* options =
-      body.contains("options") && body["options"].is_object() ? &body["options"] : nullptr;
-  if (options == nullptr || !options->contains("time_limit_s") ||
-      (*options)["time_limit_s"].is_null()) {
-    request.options.time_limit = budget;
-  } else if (request.options.time_limit > budget) {
-    throw api::ApiError(api::ErrorCode::kInvalidValue, "options.time_limit_s",
-                        "options.time_limit_s = " + api::number_text(request.options.time_limit) +
-                            " is out of range: this server allows at most " +
-                            api::number_text(budget) + " s");
-  }
-  return request;
 }
 
 template <typename F>
@@ -162,20 +148,19 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     const auto started = std::chrono::steady_clock::now();
     if (!ready_) {
       // Shutting down: what is still queued is answered at once, only running solves finish.
-      outcome = {503, overloaded_reply().body};
+      outcome.error = overloaded_error();
     } else {
       try {
         api::StoredPlan plan = api::solve_for_storing(request);
         if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
-        outcome.body = std::move(plan.body);
+        outcome.plan = std::move(plan.body);
       } catch (const api::ApiError& e) {
-        outcome = {e.status(), api::error_body(e)};
+        outcome.error = e;
       } catch (const std::exception& e) {
-        outcome = {500, error_reply(api::ErrorCode::kInternal, e.what()).body};
+        outcome.error = api::ApiError(api::ErrorCode::kInternal, "", e.what());
       } catch (...) {
-        outcome = {
-            500,
-            error_reply(api::ErrorCode::kInternal, "the solve failed with an unknown error").body};
+        outcome.error =
+            api::ApiError(api::ErrorCode::kInternal, "", "the solve failed with an unknown error");
       }
       metrics_.observe_solve(
           to_string(request.strategy),
@@ -188,28 +173,29 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
   if (!queued) {
     // Whoever joined this solve meanwhile gets the refusal too (never a future that hangs).
     forget();
-    promise->set_value(Outcome{503, overloaded_reply().body});
+    promise->set_value(Outcome{{}, overloaded_error()});
     *refused = true;
     return {};
   }
   return future;
 }
 
-Reply PlanService::overloaded_reply() const {
-  Reply r = error_reply(
-      api::ErrorCode::kOverloaded,
+api::ApiError PlanService::overloaded_error() const {
+  return api::ApiError(
+      api::ErrorCode::kOverloaded, "",
       ready_ ? "all " + std::to_string(pool_.workers()) + " workers are busy and the queue of " +
                    std::to_string(pool_.capacity()) + " solves is full; retry after " +
                    std::to_string(kRetryAfterSeconds) + " s"
              : "the service is shutting down");
-  r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
-  return r;
+}
+
+Reply PlanService::overloaded_reply() const {
+  return from_api_error(overloaded_error());
 }
 
 Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match) {
   return guarded([&] {
-    const json body = api::parse_json_body(text);
-    api::PlanRequest request = parse_with_budget(body, config_.solve_budget_s);
+    api::PlanRequest request = api::parse_plan_text(text, config_.solve_budget_s);
     const std::string key = api::recipe_key(request);
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
@@ -230,13 +216,8 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
                              api::number_text(config_.queue_wait_s) + " s of queueing");
     }
     const Outcome& outcome = future.get();
-    if (outcome.status != 200) {
-      Reply r = outcome.status == 503 ? overloaded_reply() : Reply{};
-      r.status = outcome.status;
-      r.body = outcome.body;
-      return r;
-    }
-    return plan_reply(key, outcome.body, false, if_none_match, request, sample_period);
+    if (outcome.error) return from_api_error(*outcome.error);
+    return plan_reply(key, outcome.plan, false, if_none_match, request, sample_period);
   });
 }
 
@@ -274,10 +255,10 @@ BatchResult PendingBatch::get(std::size_t i) const {
   if (!pending_[i].valid()) return results_[i];
   const SolveOutcome& o = pending_[i].get();
   BatchResult r;
-  if (o.status == 200) {
-    r.plan = api::render_plan_reply(o.body, false);
+  if (o.error) {
+    r.error = o.error;
   } else {
-    r.error = json::parse(o.body)["error"];
+    r.plan = api::render_plan_reply(o.plan, false);
   }
   return r;
 }
@@ -292,13 +273,7 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
   for (std::size_t i = 0; i < n; ++i) {
     BatchResult& result = batch.results_[i];
     try {
-      const api::PlanRequest request = parse_with_budget(requests[i], config_.solve_budget_s);
-      if (request.sample_period) {
-        // A batch answers with plans; a thousand series would be gigabytes.
-        throw api::ApiError(api::ErrorCode::kInvalidValue, "sample_period_s",
-                            "sample_period_s is not allowed in a batch (plans only): ask POST "
-                            "/v1/plans or /v1/simulate for the series of one law");
-      }
+      const api::PlanRequest request = api::parse_batch_item(requests[i], config_.solve_budget_s);
       const std::string key = api::recipe_key(request);
       if (auto hit = cache_.get(key)) {
         metrics_.count_cache(true);
@@ -309,18 +284,17 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
       // A client that went away gets no more solves queued for it (the queued ones still run).
       gone = gone || (abandoned && abandoned());
       if (gone) {
-        result.error = {{"code", "cancelled"},
-                        {"message", "not solved: the client closed the connection"},
-                        {"field", nullptr}};
+        result.error = api::ApiError(api::ErrorCode::kCancelled, "",
+                                     "not solved: the client closed the connection");
         continue;
       }
       bool refused = false;
       batch.pending_[i] = solve(key, request, true, &refused);
-      if (refused) result.error = json::parse(overloaded_reply().body)["error"];
+      if (refused) result.error = overloaded_error();
     } catch (const api::ApiError& e) {
-      result.error = api::error_envelope(e)["error"];
+      result.error = e;
     } catch (const std::exception& e) {
-      result.error = {{"code", "internal"}, {"message", e.what()}, {"field", nullptr}};
+      result.error = api::ApiError(api::ErrorCode::kInternal, "", e.what());
     }
   }
   return batch;
@@ -328,52 +302,19 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
 
 Reply PlanService::post_batch(const std::string& text, const std::function<bool()>& abandoned) {
   return guarded([&] {
-    json body = api::parse_json_body(text);
-    if (!body.is_object()) {
-      throw api::ApiError(api::ErrorCode::kInvalidValue, "",
-                          "the body must be an object {\"requests\": [plan requests]}");
-    }
-    api::reject_unknown_fields(body, "", {"requests"});
-    const auto it = body.find("requests");
-    if (it == body.end() || !it->is_array() || it->empty() || it->size() > config_.batch_max) {
-      throw api::ApiError(api::ErrorCode::kInvalidValue, "requests",
-                          "requests must be an array of 1 to " + std::to_string(config_.batch_max) +
-                              " plan requests, got " +
-                              (it == body.end() ? std::string("nothing") : api::show(*it)));
-    }
-    std::vector<json> requests;
-    requests.reserve(it->size());
-    for (json& request : *it) requests.push_back(std::move(request));
-    const PendingBatch batch = start_batch(requests, abandoned);
-    std::string out = "{\"results\":[";
+    const PendingBatch batch =
+        start_batch(api::parse_batch_text(text, config_.batch_max), abandoned);
+    api::BatchReplyWriter writer(config_.max_response_bytes);
     for (std::size_t i = 0; i < batch.size(); ++i) {
-      BatchResult item = batch.get(i);
-      if (out.size() + item.plan.size() > config_.max_response_bytes) {
-        // The plans are solved and cached: smaller batches get them from the cache.
-        throw api::ApiError(api::ErrorCode::kInvalidValue, "requests",
-                            "the plans of this batch exceed the response limit of " +
-                                std::to_string(config_.max_response_bytes) + " bytes at requests[" +
-                                std::to_string(i) +
-                                "]; the plans are cached: send fewer requests per batch");
-      }
-      if (i > 0) out += ',';
-      out += "{\"index\":" + std::to_string(i);
+      const BatchResult item = batch.get(i);
       if (item.ok()) {
-        out += ",\"plan\":" + item.plan;
+        writer.add_plan(i, item.plan);
       } else {
-        // Field paths inside the batch: requests[i].format....
-        const std::string prefix = "requests[" + std::to_string(i) + "]";
-        const json& field = item.error["field"];
-        item.error["field"] = field.is_string() && !field.get<std::string>().empty()
-                                  ? prefix + "." + field.get<std::string>()
-                                  : prefix;
-        out += ",\"error\":" + api::dump_json(item.error);
+        writer.add_error(i, *item.error);
       }
-      out += '}';
     }
-    out += "]}";
     Reply r;
-    r.body = std::move(out);
+    r.body = writer.finish();
     return r;
   });
 }
@@ -401,43 +342,42 @@ Reply PlanService::openapi() const {
 
 Reply PlanService::health() const {
   Reply r;
-  r.body = json{{"status", "ok"}, {"version", kVersion}}.dump();
+  r.body = api::health_body(kVersion);
   return r;
 }
 
 Reply PlanService::ready() const {
-  Reply r;
   const auto stats = cache_.stats();
   const double stalled = std::chrono::duration<double>(pool_.stalled_for()).count();
   const double stall_limit = std::max(kMinStallSeconds, 3.0 * config_.solve_budget_s);
-  std::string status = "ready";
-  json body{{"workers", pool_.workers()},
-            {"busy_workers", pool_.busy()},
-            {"queue_depth", pool_.queue_depth()},
-            {"cache",
-             {{"persistent", stats.persistent},
-              {"memory_entries", stats.memory_entries},
-              {"memory_bytes", stats.memory_bytes}}}};
+  api::ReadyReport report{.status = "ready",
+                          .reason = {},
+                          .workers = pool_.workers(),
+                          .busy_workers = pool_.busy(),
+                          .queue_depth = pool_.queue_depth(),
+                          .cache_persistent = stats.persistent,
+                          .cache_memory_entries = stats.memory_entries,
+                          .cache_memory_bytes = stats.memory_bytes,
+                          .cache_storage_error = stats.storage_error};
   if (!ready_) {
-    status = "stopping";
+    report.status = "stopping";
   } else if (stalled > stall_limit) {
     // Every solve has a budget: a pool with work that finished nothing for 3 budgets is wedged.
-    status = "stalled";
-    body["reason"] = "no solve has finished for " + api::number_text(std::round(stalled)) +
-                     " s (the limit is " + api::number_text(stall_limit) + " s) with " +
-                     std::to_string(pool_.busy()) + " running and " +
-                     std::to_string(pool_.queue_depth()) + " queued";
+    report.status = "stalled";
+    report.reason = "no solve has finished for " + api::number_text(std::round(stalled)) +
+                    " s (the limit is " + api::number_text(stall_limit) + " s) with " +
+                    std::to_string(report.busy_workers) + " running and " +
+                    std::to_string(report.queue_depth) + " queued";
   } else if (!stats.storage_error.empty()) {
     // Still ready: plans are answered correctly (from memory), they are only not kept across a
     // restart. Taking the replica out of rotation would stop a line that one replica serves; the
     // failure is logged, said here and in slosh_cache_store_ok for alerting.
-    status = "degraded";
-    body["reason"] = stats.storage_error;
+    report.status = "degraded";
+    report.reason = stats.storage_error;
   }
-  if (!stats.storage_error.empty()) body["cache"]["storage_error"] = stats.storage_error;
-  body["status"] = status;
-  r.status = status == "ready" || status == "degraded" ? 200 : 503;
-  r.body = api::dump_json(body);
+  Reply r;
+  r.status = report.status == "ready" || report.status == "degraded" ? 200 : 503;
+  r.body = api::ready_body(report);
   return r;
 }
 

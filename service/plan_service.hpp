@@ -31,19 +31,19 @@ struct Reply {
   std::vector<std::pair<std::string, std::string>> headers;
 };
 
-/// What a solve produced: 200 with the rendered plan, or an error status with its envelope.
+/// What a solve produced: the stored plan (api::StoredPlan body), or the error.
 struct SolveOutcome {
-  int status{200};
-  std::string body;  ///< 200: the api::StoredPlan body; otherwise the error envelope
+  std::string plan;
+  std::optional<api::ApiError> error;
 };
 
-/// One item of a batch: a rendered plan, or the error object {"code", "message", "field"} of the
-/// item (field paths relative to the item's request).
+/// One item of a batch: a rendered plan, or the error of the item (field paths relative to the
+/// item's request).
 struct BatchResult {
-  std::string plan;      ///< rendered plan JSON; empty when `error` is set
-  nlohmann::json error;  ///< null unless the item failed
-  bool cached{false};    ///< the plan came from the cache
-  [[nodiscard]] bool ok() const { return error.is_null(); }
+  std::string plan;                    ///< rendered plan JSON; empty when `error` is set
+  std::optional<api::ApiError> error;  ///< set when the item failed
+  bool cached{false};                  ///< the plan came from the cache
+  [[nodiscard]] bool ok() const { return !error; }
 };
 
 /// The items of a batch in request order while their solves run on the pool.
@@ -109,6 +109,7 @@ class PlanService {
                    const std::string& if_none_match, const std::optional<api::PlanRequest>& request,
                    std::optional<double> sample_period) const;
   // 503 with Retry-After: the queue is full, or the service is shutting down.
+  api::ApiError overloaded_error() const;
   Reply overloaded_reply() const;
 
   ServerConfig config_;

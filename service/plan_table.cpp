@@ -75,7 +75,7 @@ void write_cell(std::ostream& out, const json& value) {
 json plan_row(const RecipeRow& recipe, const BatchResult& result, bool full) {
   json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}};
   if (!result.ok()) {
-    json error = result.error;
+    json error = api::error_envelope(*result.error)["error"];
     const json& field = error["field"];
     std::string where = field.is_string() ? field.get<std::string>() : "";
     json message = member_or_null(error, "message");

@@ -42,6 +42,25 @@ std::string error_body(ErrorCode code, const std::string& message, const std::st
   return error_body(ApiError(code, field, message));
 }
 
+ApiError error_from_json(const nlohmann::json& error) {
+  ErrorCode code = ErrorCode::kInternal;
+  std::string field;
+  std::string message = "an error without a message";
+  if (error.is_object()) {
+    const auto c = error.find("code");
+    if (c != error.end() && c->is_string()) {
+      for (const ErrorCodeInfo& row : kErrorCodes) {
+        if (row.name == c->get<std::string>()) code = row.code;
+      }
+    }
+    const auto f = error.find("field");
+    if (f != error.end() && f->is_string()) field = f->get<std::string>();
+    const auto m = error.find("message");
+    if (m != error.end() && m->is_string()) message = m->get<std::string>();
+  }
+  return ApiError(code, field, message);
+}
+
 std::string error_body(const ApiError& error) {
   return dump_json(error_envelope(error));
 }

@@ -101,6 +101,10 @@ class ApiError : public std::runtime_error {
 /// The envelope of `error` as JSON text.
 [[nodiscard]] std::string error_body(const ApiError& error);
 
+/// The error an envelope's {"code", "message", "field"} object describes (an unknown code is
+/// kInternal; a missing message says so).
+[[nodiscard]] ApiError error_from_json(const nlohmann::json& error);
+
 /// JSON text of a response; never throws on invalid UTF-8 (replaced by U+FFFD).
 [[nodiscard]] std::string dump_json(const nlohmann::json& value, int indent = -1);
 

@@ -1,0 +1,70 @@
+#pragma once
+// The request and response bodies of the service's endpoints that are not plans or simulations:
+// the plan request with the server's budget, the batch body, the batch response, /healthz and
+// /readyz. The service moves bytes; the JSON is read and written here.
+
+#include <cstddef>
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/plan.hpp"
+
+namespace slosh::api {
+
+/// A plan request with the server's budget applied: options.time_limit_s defaults to `budget`;
+/// more than `budget` is a 422 naming the field.
+[[nodiscard]] PlanRequest parse_plan_with_budget(const nlohmann::json& body, double budget);
+
+/// The same from the body text (400 when it is not JSON).
+[[nodiscard]] PlanRequest parse_plan_text(std::string_view text, double budget);
+
+/// The plan requests of a POST /v1/plans/batch body {"requests": [...]} (1 to `batch_max`),
+/// unparsed: each item is validated on its own (parse_batch_item), so one bad item fails alone.
+[[nodiscard]] std::vector<nlohmann::json> parse_batch_text(std::string_view text,
+                                                           std::size_t batch_max);
+
+/// One batch item: a plan request with the budget, and no series (a batch answers with plans).
+[[nodiscard]] PlanRequest parse_batch_item(const nlohmann::json& item, double budget);
+
+/// The batch response {"results": [{"index": i, "plan": {...}} | {"index": i, "error": {...}}]},
+/// written item by item; a response that would exceed `max_bytes` is refused with a 422 (the
+/// plans are cached: smaller batches get them).
+class BatchReplyWriter {
+ public:
+  explicit BatchReplyWriter(std::size_t max_bytes) : max_bytes_(max_bytes) {}
+  /// Item i: a rendered plan reply.
+  void add_plan(std::size_t index, const std::string& plan);
+  /// Item i: an error (its field path is prefixed with requests[i]).
+  void add_error(std::size_t index, const ApiError& error);
+  /// The whole response text.
+  [[nodiscard]] std::string finish();
+
+ private:
+  void open_item(std::size_t index, std::size_t extra_bytes);
+  std::size_t max_bytes_;
+  std::string out_{"{\"results\":["};
+  std::size_t items_{0};
+};
+
+/// GET /healthz.
+[[nodiscard]] std::string health_body(std::string_view version);
+
+/// What GET /readyz reports.
+struct ReadyReport {
+  std::string status;  ///< ready, degraded, stalled or stopping
+  std::string reason;  ///< why not ready; empty when ready
+  std::size_t workers{}, busy_workers{}, queue_depth{};
+  bool cache_persistent{false};
+  std::size_t cache_memory_entries{}, cache_memory_bytes{};
+  std::string cache_storage_error;  ///< empty when the store works
+};
+
+/// GET /readyz.
+[[nodiscard]] std::string ready_body(const ReadyReport& report);
+
+}  // namespace slosh::api

@@ -1,0 +1,107 @@
+#include "slosh/api/service_bodies.hpp"
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/simulate.hpp"
+
+namespace slosh::api {
+
+PlanRequest parse_plan_with_budget(const nlohmann::json& body, double budget) {
+  PlanRequest request = parse_plan_request(body);
+  const nlohmann::json* options =
+      body.contains("options") && body["options"].is_object() ? &body["options"] : nullptr;
+  if (options == nullptr || !options->contains("time_limit_s") ||
+      (*options)["time_limit_s"].is_null()) {
+    request.options.time_limit = budget;
+  } else if (request.options.time_limit > budget) {
+    throw ApiError(ErrorCode::kInvalidValue, "options.time_limit_s",
+                   "options.time_limit_s = " + number_text(request.options.time_limit) +
+                       " is out of range: this server allows at most " + number_text(budget) +
+                       " s");
+  }
+  return request;
+}
+
+PlanRequest parse_plan_text(std::string_view text, double budget) {
+  return parse_plan_with_budget(parse_json_body(text), budget);
+}
+
+std::vector<nlohmann::json> parse_batch_text(std::string_view text, std::size_t batch_max) {
+  nlohmann::json body = parse_json_body(text);
+  if (!body.is_object()) {
+    throw ApiError(ErrorCode::kInvalidValue, "",
+                   "the body must be an object {\"requests\": [plan requests]}");
+  }
+  reject_unknown_fields(body, "", {"requests"});
+  const auto it = body.find("requests");
+  if (it == body.end() || !it->is_array() || it->empty() || it->size() > batch_max) {
+    throw ApiError(ErrorCode::kInvalidValue, "requests",
+                   "requests must be an array of 1 to " + std::to_string(batch_max) +
+                       " plan requests, got " +
+                       (it == body.end() ? std::string("nothing") : show(*it)));
+  }
+  std::vector<nlohmann::json> requests;
+  requests.reserve(it->size());
+  for (nlohmann::json& request : *it) requests.push_back(std::move(request));
+  return requests;
+}
+
+PlanRequest parse_batch_item(const nlohmann::json& item, double budget) {
+  PlanRequest request = parse_plan_with_budget(item, budget);
+  if (request.sample_period) {
+    // A batch answers with plans; a thousand series would be gigabytes.
+    throw ApiError(ErrorCode::kInvalidValue, "sample_period_s",
+                   "sample_period_s is not allowed in a batch (plans only): ask POST "
+                   "/v1/plans or /v1/simulate for the series of one law");
+  }
+  return request;
+}
+
+void BatchReplyWriter::open_item(std::size_t index, std::size_t extra_bytes) {
+  if (out_.size() + extra_bytes > max_bytes_) {
+    throw ApiError(ErrorCode::kInvalidValue, "requests",
+                   "the plans of this batch exceed the response limit of " +
+                       std::to_string(max_bytes_) + " bytes at requests[" + std::to_string(index) +
+                       "]; the plans are cached: send fewer requests per batch");
+  }
+  if (items_++ > 0) out_ += ',';
+  out_ += "{\"index\":" + std::to_string(index);
+}
+
+void BatchReplyWriter::add_plan(std::size_t index, const std::string& plan) {
+  open_item(index, plan.size());
+  out_ += ",\"plan\":" + plan + '}';
+}
+
+void BatchReplyWriter::add_error(std::size_t index, const ApiError& error) {
+  open_item(index, 0);
+  // Field paths inside the batch: requests[i].format....
+  const std::string prefix = "requests[" + std::to_string(index) + "]";
+  const ApiError inside(error.code(), error.field().empty() ? prefix : prefix + "." + error.field(),
+                        error.what());
+  out_ += ",\"error\":" + dump_json(error_envelope(inside)["error"]) + '}';
+}
+
+std::string BatchReplyWriter::finish() {
+  return out_ + "]}";
+}
+
+std::string health_body(std::string_view version) {
+  return nlohmann::json{{"status", "ok"}, {"version", version}}.dump();
+}
+
+std::string ready_body(const ReadyReport& r) {
+  nlohmann::json body{{"workers", r.workers},
+                      {"busy_workers", r.busy_workers},
+                      {"queue_depth", r.queue_depth},
+                      {"cache",
+                       {{"persistent", r.cache_persistent},
+                        {"memory_entries", r.cache_memory_entries},
+                        {"memory_bytes", r.cache_memory_bytes}}}};
+  if (!r.reason.empty()) body["reason"] = r.reason;
+  if (!r.cache_storage_error.empty()) body["cache"]["storage_error"] = r.cache_storage_error;
+  body["status"] = r.status;
+  return dump_json(body);
+}
+
+}  // namespace slosh::api
