@@ -337,4 +337,33 @@ TEST_F(PlanCacheTest, StoreIsPrunedOldestFirst) {
 }
 
 }  // namespace
+/// Runs `sql` (statements without results) on `path` through a connection of the test's own.
+void execute(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  char* message = nullptr;
+  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message);
+  const std::string error = message == nullptr ? "" : message;
+  sqlite3_free(message);
+  sqlite3_close(db);
+  ASSERT_EQ(rc, SQLITE_OK) << error;
+}
+
+TEST_F(PlanCacheTest, RowsOfAnotherBodyLayoutAreDroppedWhenTheStoreOpens) {
+  // A store written before the bodies lost their per-reply "cached" member (user_version 0).
+  const std::string path = file("old.sqlite");
+  execute(path,
+          "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO plans VALUES('old', '{\"cached\":false,\"key\":\"old\"}', 1)");
+  {
+    PlanCache cache({.path = path});
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+    EXPECT_EQ(cache.get("old"), std::nullopt);
+    cache.put("new", "{\"key\":\"new\"}");
+  }
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "2");
+  PlanCache reopened({.path = path});  // the current layout is kept across restarts
+  EXPECT_EQ(reopened.get("new"), "{\"key\":\"new\"}");
+}
+
 }  // namespace slosh::service
