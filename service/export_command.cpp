@@ -16,6 +16,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_law.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
@@ -83,34 +84,24 @@ ExportSource law_source(const json& body) {
 }
 
 ExportSource plan_source(const json& body, const std::string& text, const ServerConfig& config) {
-  const api::PlanRequest request = api::parse_plan_request(body);
+  (void)api::parse_plan_request(body);  // a plan request: errors name its fields
   ServerConfig one = config;
   one.workers = 1;
   PlanService service(one);
   const Reply reply = service.post_plan(text, "");
-  const json plan = json::parse(reply.body);
   if (reply.status != 200) {
-    const json& error = plan["error"];
+    const api::ApiError error = api::error_from_json(json::parse(reply.body)["error"]);
     throw api::ApiError(
         reply.status < 500 ? api::ErrorCode::kInvalidValue : api::ErrorCode::kInternal,
-        error["field"].is_string() ? error["field"].get<std::string>() : "",
-        error.value("message", std::string("the plan failed")));
+        error.field(), error.what());
   }
-  // The plan's law in the simulate form: 7-segment durations or a general law (shaper, iir,
-  // fir_chain without conditions 14), validated like a simulate request's — ramps only above the
-  // 1 ms floor: an infeasible fir_chain law's ramps (T3) may be shorter than min_ramp_s, and
-  // --allow-infeasible exports it as it is.
-  const api::ParsedLaw law =
-      api::parse_law(plan.at("law"), "law", request.format, api::ranges::kMinRampS.lo);
+  api::PlanLaw plan = api::plan_law(reply.body);
   ExportSource source;
-  if (law.durations) source.seven.emplace(*law.durations, request.format.stroke);
-  source.law = law.law;
-  source.stroke = request.format.stroke;
-  source.law_type = api::to_string(law.type);
-  source.plan = api::ExportedPlan{plan.value("key", std::string()), plan.value("cached", false),
-                                  enum_from_name<SolveStatus>(plan.value("status", std::string()))
-                                      .value_or(SolveStatus::kFailed),
-                                  plan.value("message", std::string())};
+  source.seven = plan.seven;
+  source.law = plan.law;
+  source.stroke = plan.stroke;
+  source.law_type = api::to_string(plan.type);
+  source.plan = api::ExportedPlan{plan.key, plan.cached, plan.status, plan.message};
   return source;
 }
 
@@ -203,15 +194,13 @@ std::variant<ExportSource, ExportFailure> load_source(const ExportCommandOptions
 // 7-segment law.
 std::optional<ExportFailure> check_exportable(const ExportSource& source,
                                               const ExportCommandOptions& options) {
-  if (source.plan && !options.allow_infeasible && source.plan->status != SolveStatus::kOptimal &&
-      source.plan->status != SolveStatus::kAcceptable) {
-    return ExportFailure{
-        kExitFailure,
-        api::ApiError(api::ErrorCode::kInternal, "",
-                      "the plan is " + to_string(source.plan->status) +
-                          ", its law misses the requested limits: " + source.plan->message +
-                          ". Not exported; pass --allow-infeasible to export the best "
-                          "reachable law anyway")};
+  if (source.plan && !options.allow_infeasible && !api::exportable(source.plan->status)) {
+    api::PlanLaw plan;
+    plan.status = source.plan->status;
+    plan.message = source.plan->message;
+    return ExportFailure{kExitFailure,
+                         api::ApiError(api::ErrorCode::kInternal, "",
+                                       api::not_exportable_message(plan, "pass --allow-infeasible"))};
   }
   if (!options.segments.empty() && !source.seven) {
     return invalid("--segments", "--segments: the law " + source.law_type +

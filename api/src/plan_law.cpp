@@ -1,0 +1,42 @@
+#include "slosh/api/plan_law.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/simulate.hpp"
+
+namespace slosh::api {
+
+PlanLaw plan_law(std::string_view plan_text) {
+  const nlohmann::json plan = parse_json_body(plan_text);
+  if (!plan.is_object() || !plan.contains("law") || !plan.contains("format")) {
+    throw ApiError(ErrorCode::kInternal, "", "the plan has no law to export");
+  }
+  const Format format = parse_format(plan["format"]);
+  const ParsedLaw law = parse_law(plan["law"], "law", format, ranges::kMinRampS.lo);
+  PlanLaw out;
+  out.key = plan.value("key", std::string());
+  out.cached = plan.value("cached", false);
+  out.status =
+      enum_from_name<SolveStatus>(plan.value("status", std::string())).value_or(SolveStatus::kFailed);
+  out.message = plan.value("message", std::string());
+  out.type = law.type;
+  out.law = law.law;
+  if (law.durations) out.seven.emplace(*law.durations, format.stroke);
+  out.stroke = format.stroke;
+  return out;
+}
+
+bool exportable(SolveStatus status) {
+  return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;
+}
+
+std::string not_exportable_message(const PlanLaw& plan, std::string_view how_to_force) {
+  return "the plan is " + to_string(plan.status) +
+         ", its law misses the requested limits: " + plan.message + ". Not exported; " +
+         std::string(how_to_force) + " to export the best reachable law anyway";
+}
+
+}  // namespace slosh::api

@@ -1,0 +1,293 @@
+// The page of `slosh serve`: a format form, one plan or every candidate of `auto`, the plots of the
+// selected plan against the uniform law, downloads, and the URL as the shareable state. Every URL
+// is relative, so the page also works behind a reverse proxy at a sub-path.
+
+import { PLOTS, markersPlugin } from './plots.js';
+
+Chart.register(markersPlugin);
+
+const $ = (id) => document.getElementById(id);
+
+// Form inputs and their URL parameter names.
+const PARAMS = {
+  radius: 'r', height: 'h', fill: 'fill', fluid: 'fluid', density: 'rho', viscosity: 'mu',
+  stroke: 'stroke', time: 'T', strategy: 'strategy', a_max: 'a_max', v_max: 'v_max',
+  j_max: 'j_max', eta_rest_max: 'eta_rest', rest_time: 'rest', p_notch: 'p_notch', band: 'band',
+  tol_rel: 'tol_rel', min_ramp: 'min_ramp', shaper: 'shaper', base: 'base', time_limit: 'budget',
+};
+// Options: input id -> [path inside options, is a number].
+const OPTIONS = {
+  a_max: ['limits.a_max', true], v_max: ['limits.v_max', true], j_max: ['limits.j_max', true],
+  eta_rest_max: ['eta_rest_max_mm', true], rest_time: ['rest_time_s', true], p_notch: ['p_notch', true],
+  band: ['band', true], tol_rel: ['tol_rel', true], min_ramp: ['min_ramp_s', true],
+  shaper: ['shaper', false], base: ['base', false], time_limit: ['time_limit_s', true],
+};
+
+const state = { request: null, plans: {}, selected: null, charts: [] };
+window.sloshPage = state;  // for the browser test and the curious
+
+function number(id) {
+  const text = $(id).value.trim();
+  return text === '' ? undefined : Number(text);
+}
+
+function buildRequest(strategy) {
+  const container = { radius_mm: number('radius') };
+  if (number('height') !== undefined) container.height_mm = number('height');
+  const fluid = $('fluid').value === 'custom'
+    ? { density_kg_m3: number('density'), viscosity_pa_s: number('viscosity') }
+    : $('fluid').value;
+  const options = {};
+  for (const [id, [path, numeric]] of Object.entries(OPTIONS)) {
+    const raw = $(id).value.trim();
+    if (raw === '') continue;
+    const keys = path.split('.');
+    let at = options;
+    for (const k of keys.slice(0, -1)) at = at[k] = at[k] || {};
+    at[keys[keys.length - 1]] = numeric ? Number(raw) : raw;
+  }
+  return {
+    format: {
+      container, fill_height_mm: number('fill'), fluid,
+      stroke_mm: number('stroke'), motion_time_s: number('time'),
+    },
+    strategy,
+    options,
+  };
+}
+
+function clearErrors() {
+  for (const el of document.querySelectorAll('.field-error, .form-error')) el.textContent = '';
+  for (const el of document.querySelectorAll('[aria-invalid]')) el.removeAttribute('aria-invalid');
+}
+
+// The API's error at the field its error.field names (the longest matching path), else at the form.
+function showError(error) {
+  const field = error.field || '';
+  let best = null;
+  for (const el of document.querySelectorAll('[data-field]')) {
+    const f = el.dataset.field;
+    if ((field === f || field.startsWith(f + '.') || field.startsWith(f + '[')) &&
+        (!best || f.length > best.dataset.field.length)) best = el;
+  }
+  if (best) {
+    best.setAttribute('aria-invalid', 'true');
+    $(best.id + '-error').textContent = error.message;
+    if (best.closest('details')) best.closest('details').open = true;
+    if (best.closest('#custom-fluid')) $('custom-fluid').hidden = false;
+    best.focus();
+  } else {
+    $('form-error').textContent = error.message;
+  }
+  $('status-line').textContent = `The service refused the request (${error.code}).`;
+}
+
+async function postJson(path, body) {
+  const res = await fetch(path, {
+    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
+  });
+  const json = await res.json();
+  if (!res.ok) throw Object.assign(new Error(json.error.message), { api: json.error });
+  return json;
+}
+
+async function getJson(path) {
+  const res = await fetch(path);
+  const json = await res.json();
+  if (!res.ok) throw Object.assign(new Error(json.error.message), { api: json.error });
+  return json;
+}
+
+function fmt(v, digits = 2) {
+  return typeof v === 'number' && isFinite(v) ? v.toFixed(digits) : '—';
+}
+
+function rowOf(plan, chosen) {
+  const p = plan.prediction, r = plan.reduction_pct, k = plan.kinematics;
+  return [
+    plan.strategy, plan.status, plan.law.type,
+    fmt(p.nonlinear.eta_motion_mm), fmt(p.nonlinear.eta_rest_mm),
+    fmt(p.linear.eta_motion_mm), fmt(p.linear.eta_rest_mm),
+    fmt(r.motion, 1), fmt(r.rest, 1), fmt(k.a_max, 3), fmt(k.a_min, 3), fmt(k.j_peak, 1),
+    (plan.warnings || []).join('; '),
+  ].map((text, i) => ({ text, chosen: chosen && i === 0 }));
+}
+
+function renderTable(plans, chosenStrategy) {
+  const body = $('candidates').querySelector('tbody');
+  body.replaceChildren();
+  for (const plan of plans) {
+    const tr = document.createElement('tr');
+    tr.dataset.strategy = plan.strategy;
+    tr.tabIndex = 0;
+    if (plan.strategy === chosenStrategy) tr.classList.add('chosen');
+    for (const cell of rowOf(plan)) {
+      const td = document.createElement('td');
+      td.textContent = cell.text;
+      tr.appendChild(td);
+    }
+    const select = () => selectPlan(plan.strategy);
+    tr.addEventListener('click', select);
+    tr.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); select(); } });
+    body.appendChild(tr);
+  }
+  $('candidates').hidden = false;
+}
+
+// The series of a law on the plan's format and model (POST v1/simulate).
+function simulateRequest(plan, law) {
+  const m = plan.model;
+  const T = plan.format.motion_time_s;
+  return {
+    format: plan.format,
+    law,
+    rest_time_s: plan.rest_time_s,
+    options: { damping: m.damping === 'explicit' ? m.zeta : m.damping, alpha: m.alpha, modes: m.f_hz.length, min_ramp_s: 0.001 },
+    sample_period_s: (T + plan.rest_time_s) / 2000,
+  };
+}
+
+async function selectPlan(strategy) {
+  const plan = state.plans[strategy];
+  state.selected = strategy;
+  for (const tr of $('candidates').querySelectorAll('tbody tr')) {
+    tr.classList.toggle('selected', tr.dataset.strategy === strategy);
+  }
+  $('status-line').textContent = `${plan.strategy}: ${plan.status}. ${plan.message}`;
+  $('download-json').href = URL.createObjectURL(new Blob([JSON.stringify(plan, null, 2)], { type: 'application/json' }));
+  $('download-json').download = `plan-${plan.key}.json`;
+  updateCamLink();
+  $('downloads').hidden = false;
+  const [series, base] = await Promise.all([
+    postJson('v1/simulate', simulateRequest(plan, plan.law)),
+    postJson('v1/simulate', simulateRequest(plan, { type: 'seven_segment_uniform' })),
+  ]);
+  renderPlots({ plan, request: state.request, series: series.series, base: base.series, format: plan.format });
+  document.body.dataset.ready = strategy;  // the browser test waits for this
+}
+
+function updateCamLink() {
+  const plan = state.plans[state.selected];
+  if (!plan) return;
+  const period = $('cam-period').value || '1';
+  $('download-cam').href = `v1/plans/${plan.key}/cam.csv?period_ms=${encodeURIComponent(period)}`;
+  $('download-cam').download = `cam-${plan.key}-${period}ms.csv`;
+}
+
+function renderPlots(context) {
+  for (const chart of state.charts) chart.destroy();
+  state.charts = [];
+  const holder = $('plots');
+  holder.replaceChildren();
+  for (const plot of PLOTS) {
+    const box = document.createElement('div');
+    box.className = 'plot';
+    const title = document.createElement('h2');
+    title.textContent = plot.title;
+    const png = document.createElement('a');
+    png.textContent = 'PNG';
+    png.href = '#';
+    png.download = `${plot.id}.png`;
+    title.appendChild(png);
+    const wrap = document.createElement('div');
+    wrap.style.height = '260px';
+    const canvas = document.createElement('canvas');
+    canvas.id = `plot-${plot.id}`;
+    canvas.setAttribute('role', 'img');
+    canvas.setAttribute('aria-label', plot.title);
+    wrap.appendChild(canvas);
+    box.append(title, wrap);
+    holder.appendChild(box);
+    const chart = new Chart(canvas, plot.build(context));
+    png.addEventListener('click', () => { png.href = chart.toBase64Image('image/png', 1); });
+    state.charts.push(chart);
+  }
+}
+
+function writeUrl(extra) {
+  const q = new URLSearchParams();
+  for (const [id, key] of Object.entries(PARAMS)) {
+    const v = $(id).value.trim();
+    if (v !== '') q.set(key, v);
+  }
+  for (const [k, v] of Object.entries(extra || {})) q.set(k, v);
+  history.replaceState(null, '', `?${q.toString()}`);
+  $('share-link').href = location.href;
+}
+
+function readUrl() {
+  const q = new URLSearchParams(location.search);
+  let any = false;
+  for (const [id, key] of Object.entries(PARAMS)) {
+    if (q.has(key)) { $(id).value = q.get(key); any = true; }
+  }
+  $('custom-fluid').hidden = $('fluid').value !== 'custom';
+  return { any, compare: q.get('compare') === '1', key: q.get('key') };
+}
+
+async function run(compare) {
+  clearErrors();
+  const strategy = compare ? 'auto' : $('strategy').value;
+  state.request = buildRequest(strategy);
+  state.plans = {};
+  delete document.body.dataset.ready;
+  writeUrl(compare ? { compare: '1' } : {});
+  $('status-line').textContent = compare ? 'Planning every strategy…' : `Planning ${strategy}…`;
+  try {
+    const first = await postJson('v1/plans', state.request);
+    if (!compare) {
+      state.plans[first.strategy] = first;
+      renderTable([first], first.strategy);
+      return selectPlan(first.strategy);
+    }
+    // Every candidate of auto as a plan of its own (its kinematics, warnings and law in full).
+    const names = first.candidates.map((c) => c.strategy);
+    const chosen = (first.candidates.find((c) => c.chosen) || {}).strategy;
+    const plans = await Promise.all(names.map((s) => postJson('v1/plans', { ...state.request, strategy: s })));
+    for (const p of plans) state.plans[p.strategy] = p;
+    renderTable(plans, chosen);
+    return selectPlan(chosen || names[0]);
+  } catch (e) {
+    if (e.api) showError(e.api); else $('form-error').textContent = String(e);
+  }
+}
+
+async function openKey(key) {
+  try {
+    const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`);
+    state.request = { format: plan.format, strategy: plan.strategy, options: {} };
+    state.plans = { [plan.strategy]: plan };
+    renderTable([plan], plan.strategy);
+    await selectPlan(plan.strategy);
+  } catch (e) {
+    $('form-error').textContent = e.api ? e.api.message : String(e);
+  }
+}
+
+async function loadFluids() {
+  try {
+    const { fluids } = await getJson('v1/fluids');
+    const select = $('fluid');
+    const current = select.value;
+    select.replaceChildren();
+    for (const f of fluids) select.add(new Option(`${f.name} (${f.density_kg_m3} kg/m³)`, f.name));
+    select.add(new Option('custom…', 'custom'));
+    select.value = current;
+  } catch (e) {
+    $('form-error').textContent = `The fluid catalogue could not be loaded: ${e.message}`;
+  }
+}
+
+async function main() {
+  await loadFluids();
+  $('fluid').addEventListener('change', () => { $('custom-fluid').hidden = $('fluid').value !== 'custom'; });
+  $('format-form').addEventListener('submit', (e) => { e.preventDefault(); run(false); });
+  $('compare-button').addEventListener('click', () => run(true));
+  $('cam-period').addEventListener('input', updateCamLink);
+  const url = readUrl();
+  document.body.dataset.loaded = '1';
+  if (url.key) return openKey(url.key);
+  if (url.any) return run(url.compare);
+}
+
+main();

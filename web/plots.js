@@ -1,0 +1,140 @@
+// The plots of a plan: one entry per plot in PLOTS (adding a plot = one entry). Each build()
+// returns a Chart.js configuration from the context {plan, request, series, base, format}.
+
+const COLORS = { plan: '#0b63c5', base: '#8c959f', linear: '#d4731c', baseLinear: '#e3b58a', jerk: '#7a3db8' };
+
+// Shaded x ranges, vertical and horizontal marker lines: options.plugins.markers =
+// {shade: [{from, to, color, label}], vlines: [{x, label, color}], hlines: [{y, label, color}]}.
+export const markersPlugin = {
+  id: 'markers',
+  beforeDatasetsDraw(chart, _args, opts) {
+    const { ctx, chartArea: area, scales: { x, y } } = chart;
+    if (!opts || !area) return;
+    ctx.save();
+    for (const s of opts.shade || []) {
+      const x0 = Math.max(area.left, x.getPixelForValue(s.from));
+      const x1 = Math.min(area.right, x.getPixelForValue(s.to));
+      ctx.fillStyle = s.color || 'rgba(11, 99, 197, 0.08)';
+      ctx.fillRect(x0, area.top, Math.max(0, x1 - x0), area.bottom - area.top);
+      if (s.label) { ctx.fillStyle = '#5b6570'; ctx.fillText(s.label, x0 + 4, area.top + 12); }
+    }
+    ctx.setLineDash([5, 4]);
+    for (const v of opts.vlines || []) {
+      const px = x.getPixelForValue(v.x);
+      if (px < area.left || px > area.right) continue;
+      ctx.strokeStyle = v.color || '#444';
+      ctx.beginPath(); ctx.moveTo(px, area.top); ctx.lineTo(px, area.bottom); ctx.stroke();
+      ctx.fillStyle = v.color || '#444'; ctx.fillText(v.label || '', px + 3, area.top + 24);
+    }
+    for (const h of opts.hlines || []) {
+      const py = y.getPixelForValue(h.y);
+      if (py < area.top || py > area.bottom) continue;
+      ctx.strokeStyle = h.color || '#b3261e';
+      ctx.beginPath(); ctx.moveTo(area.left, py); ctx.lineTo(area.right, py); ctx.stroke();
+      ctx.fillStyle = h.color || '#b3261e'; ctx.fillText(h.label || '', area.left + 4, py - 4);
+    }
+    ctx.restore();
+  },
+};
+
+function points(xs, ys, scale = 1) {
+  const out = new Array(xs.length);
+  for (let i = 0; i < xs.length; i++) out[i] = { x: xs[i], y: ys[i] * scale };
+  return out;
+}
+
+// Jerk of the sampled acceleration (central differences; for display only: the law's jerk is
+// piecewise constant and the API reports its peak exactly).
+function jerk(t, a) {
+  const out = new Array(t.length);
+  for (let i = 0; i < t.length; i++) {
+    const i0 = Math.max(0, i - 1), i1 = Math.min(t.length - 1, i + 1);
+    out[i] = { x: t[i], y: (a[i1] - a[i0]) / (t[i1] - t[i0]) };
+  }
+  return out;
+}
+
+function line(label, data, color, extra = {}) {
+  return { label, data, borderColor: color, backgroundColor: color, borderWidth: 1.5, pointRadius: 0, ...extra };
+}
+
+function timeChart(datasets, yTitle, markers, y2Title) {
+  const scales = {
+    x: { type: 'linear', title: { display: true, text: 't [s]' } },
+    y: { title: { display: true, text: yTitle } },
+  };
+  if (y2Title) scales.y2 = { position: 'right', grid: { drawOnChartArea: false }, title: { display: true, text: y2Title } };
+  return {
+    type: 'line',
+    data: { datasets },
+    options: {
+      animation: false, parsing: false, normalized: true, responsive: true, maintainAspectRatio: false,
+      interaction: { mode: 'nearest', intersect: false },
+      scales, plugins: { markers: markers || {}, legend: { labels: { boxWidth: 12 } } },
+    },
+  };
+}
+
+export const PLOTS = [
+  {
+    id: 'acceleration',
+    title: 'Acceleration and jerk',
+    build: ({ series, base }) => timeChart([
+      line('a plan [m/s²]', points(series.t_s, series.a), COLORS.plan),
+      line('a uniform [m/s²]', points(base.t_s, base.a), COLORS.base),
+      line('jerk plan [m/s³]', jerk(series.t_s, series.a), COLORS.jerk, { yAxisID: 'y2', borderWidth: 1 }),
+    ], 'a [m/s²]', {}, 'j [m/s³]'),
+  },
+  {
+    id: 'velocity',
+    title: 'Velocity and position',
+    build: ({ series, base }) => timeChart([
+      line('v plan [m/s]', points(series.t_s, series.v), COLORS.plan),
+      line('v uniform [m/s]', points(base.t_s, base.v), COLORS.base),
+      line('s plan [mm]', points(series.t_s, series.s, 1e3), COLORS.linear, { yAxisID: 'y2' }),
+    ], 'v [m/s]', {}, 's [mm]'),
+  },
+  {
+    id: 'eta',
+    title: 'Wave height η(t) at the wall',
+    build: ({ plan, series, base, format }) => {
+      const T = format.motion_time_s;
+      const markers = { shade: [{ from: T, to: T + plan.rest_time_s, label: 'rest window' }], hlines: [] };
+      const height = format.container && format.container.height_mm;
+      if (height) {
+        const board = height - format.fill_height_mm;
+        markers.hlines.push({ y: board, label: `free board ${board.toFixed(1)} mm` });
+        markers.hlines.push({ y: -board, label: '' });
+      }
+      return timeChart([
+        line('η nonlinear plan', points(series.t_s, series.eta_nonlinear_mm), COLORS.plan),
+        line('η linear plan', points(series.t_s, series.eta_linear_mm), COLORS.linear),
+        line('η nonlinear uniform', points(base.t_s, base.eta_nonlinear_mm), COLORS.base),
+        line('η linear uniform', points(base.t_s, base.eta_linear_mm), COLORS.baseLinear),
+      ], 'η [mm]', markers);
+    },
+  },
+  {
+    id: 'spectrum',
+    title: 'Acceleration spectrum |X(f)|',
+    build: ({ plan, request }) => {
+      const s = plan.spectrum;
+      const m = s.markers;
+      const markers = {
+        shade: [{ from: m.band_hz[0], to: m.band_hz[1], label: 'band' }],
+        vlines: m.f_modes_hz.map((f, i) => ({ x: f, label: `f${i + 1}`, color: i === 0 ? '#b3261e' : '#444' })),
+      };
+      if (plan.strategy === 'multi_notch') {
+        const p = (request.options && request.options.p_notch) || 0.15;
+        markers.vlines.push({ x: (1 - p) * m.f1_hz, label: 'notch', color: '#7a3db8' });
+        markers.vlines.push({ x: (1 + p) * m.f1_hz, label: 'notch', color: '#7a3db8' });
+      }
+      const config = timeChart([
+        line('|X| plan', points(s.f_hz, s.amplitude), COLORS.plan),
+        line('|X| uniform', points(s.f_hz, s.baseline_amplitude), COLORS.base),
+      ], '|X_a| [m/s]', markers);
+      config.options.scales.x.title.text = 'f [Hz]';
+      return config;
+    },
+  },
+];
