@@ -23,23 +23,7 @@ int http_status(ErrorCode code) {
 }
 
 std::string to_string(ErrorCode code) {
-  switch (code) {
-    case ErrorCode::kMalformedJson:
-      return "malformed_json";
-    case ErrorCode::kInvalidValue:
-      return "invalid_value";
-    case ErrorCode::kNotFound:
-      return "not_found";
-    case ErrorCode::kPayloadTooLarge:
-      return "payload_too_large";
-    case ErrorCode::kOverloaded:
-      return "overloaded";
-    case ErrorCode::kTimeout:
-      return "timeout";
-    case ErrorCode::kInternal:
-      return "internal";
-  }
-  return "internal";
+  return std::string(name_of(code));
 }
 
 std::string dump_json(const nlohmann::json& value, int indent) {

@@ -98,20 +98,21 @@ void parse_model_options(const nlohmann::json& options, const std::string& path,
                          ModelOptions& model) {
   model.modes = optional_integer(options, path, "modes", 1, static_cast<int>(kMaxModes), 3);
   model.alpha = optional_number(options, path, "alpha", ranges::kAlpha, kDefaultAlpha);
+  parse_damping(options, path, model);
+}
+
+void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model) {
   const std::string dpath = join_path(path, "damping");
-  auto it = options.find("damping");
-  if (it == options.end() || it->is_null()) {
+  const nlohmann::json* it = given_member(options, "damping");
+  if (it == nullptr) {
     model.damping = DampingCorrelation::kThesis;
     return;
   }
   if (it->is_string()) {
-    const auto name = it->get<std::string>();
-    for (auto c : {DampingCorrelation::kThesis, DampingCorrelation::kPaper,
-                   DampingCorrelation::kEq227, DampingCorrelation::kEq228}) {
-      if (name == to_string(c)) {
-        model.damping = c;
-        return;
-      }
+    const auto name = enum_from_name<DampingCorrelation>(it->get<std::string>());
+    if (name && *name != DampingCorrelation::kExplicit) {
+      model.damping = *name;
+      return;
     }
   } else if (it->is_object()) {
     reject_unknown_fields(*it, dpath, {"zeta"});

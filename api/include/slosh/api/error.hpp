@@ -6,6 +6,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/core/enum_names.hpp"
+
 namespace slosh::api {
 
 /// Error classes and their HTTP status.
@@ -18,6 +20,26 @@ enum class ErrorCode {
   kTimeout,          ///< 504
   kInternal,         ///< 500
 };
+
+}  // namespace slosh::api
+
+namespace slosh {
+/// The "code" of an error envelope.
+template <>
+struct EnumNames<api::ErrorCode> {
+  static constexpr std::array<EnumName<api::ErrorCode>, 7> table{{
+      {api::ErrorCode::kMalformedJson, "malformed_json"},
+      {api::ErrorCode::kInvalidValue, "invalid_value"},
+      {api::ErrorCode::kNotFound, "not_found"},
+      {api::ErrorCode::kPayloadTooLarge, "payload_too_large"},
+      {api::ErrorCode::kOverloaded, "overloaded"},
+      {api::ErrorCode::kTimeout, "timeout"},
+      {api::ErrorCode::kInternal, "internal"},
+  }};
+};
+}  // namespace slosh
+
+namespace slosh::api {
 
 [[nodiscard]] int http_status(ErrorCode code);
 [[nodiscard]] std::string to_string(ErrorCode code);

@@ -1,0 +1,31 @@
+#include "slosh/api/routes.hpp"
+
+#include <array>
+
+namespace slosh::api {
+
+namespace {
+
+constexpr std::array kRoutes{
+    Route{"POST", "/v1/plans", Operation::kPlan, "createPlan",
+          "Plan one format (idempotent: identical recipes share one key and cache entry)"},
+    Route{"POST", "/v1/plans/batch", Operation::kPlanBatch, "createPlans",
+          "Plan many formats in parallel (recipe-table precompute)"},
+    Route{"GET", "/v1/plans/{key}", Operation::kGetPlan, "getPlan",
+          "A cached plan by its recipe key"},
+    Route{"POST", "/v1/simulate", Operation::kSimulate, "simulate",
+          "Wave-height response and peaks of any supported law"},
+    Route{"GET", "/v1/fluids", Operation::kFluids, "listFluids", "The fluid catalogue"},
+    Route{"GET", "/v1/openapi.json", Operation::kOpenapi, "openapi", "This document"},
+    Route{"GET", "/healthz", Operation::kHealth, "health", "Liveness"},
+    Route{"GET", "/readyz", Operation::kReady, "ready", "Readiness: accepts new solves"},
+    Route{"GET", "/metrics", Operation::kMetrics, "metrics", "Prometheus metrics"},
+};
+
+}  // namespace
+
+std::span<const Route> routes() {
+  return kRoutes;
+}
+
+}  // namespace slosh::api
