@@ -144,6 +144,12 @@ void require_finite(const nlohmann::json& value) {
       "the response would carry a non-finite number at '" + path + "'; please report the request");
 }
 
+std::string quoted_names(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& name : names) list += (list.empty() ? "\"" : ", \"") + name + "\"";
+  return list;
+}
+
 void invalid(const std::string& path, const std::string& message) {
   throw ApiError(ErrorCode::kInvalidValue, path, message);
 }

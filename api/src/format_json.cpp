@@ -120,9 +120,10 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
     model.explicit_zeta = required_number(*it, dpath, "zeta", ranges::kZeta);
     return;
   }
-  invalid(dpath, dpath + " = " + show(*it) +
-                     " is not allowed: one of \"thesis\", \"paper\", \"eq227\", \"eq228\" or "
-                     "{\"zeta\": z} with 0 <= z < 0.5");
+  std::vector<std::string> names = enum_names<DampingCorrelation>();
+  std::erase(names, name_of(DampingCorrelation::kExplicit));  // given as {"zeta": z}
+  invalid(dpath, dpath + " = " + show(*it) + " is not allowed: one of " + quoted_names(names) +
+                     " or {\"zeta\": z} with 0 <= z < 0.5");
 }
 
 nlohmann::json format_json(const Format& f) {

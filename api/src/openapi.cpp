@@ -370,7 +370,8 @@ void add_shared_response_schemas(json& s) {
                        "Time series (both ends included) when sample_period_s is given.", false);
 }
 
-void add_plan_response_schemas(json& s) {
+/// The blocks of a plan response: baseline, reductions, spectrum, solver, candidates.
+void add_plan_block_schemas(json& s) {
   json baseline_props{{"nonlinear", ref("Peaks")},
                       {"linear", ref("Peaks")},
                       {"durations_s", fixed_numbers(7, "The uniform durations T/7 [s].")}};
@@ -418,6 +419,57 @@ void add_plan_response_schemas(json& s) {
               {"chosen", boolean("The candidate auto returned.")}},
              {"strategy", "status", "durations_s", "law_type", "prediction", "a_peak", "chosen"},
              "One strategy's result inside an auto plan.", false);
+}
+
+/// How fir_chain, shaper or iir built their law.
+void add_filter_design_schema(json& s) {
+  s["FilterDesign"] = object(
+      {{"method", string_enum({"fir_chain", "shaper", "iir"}, "The filtering strategy.")},
+       {"t1_s", number("fir_chain: T1 [s].")},
+       {"t2_s", number("fir_chain: T2 [s].")},
+       {"t3_s", number("fir_chain: T3 = damped period of mode 1 [s].")},
+       {"conditions_14", boolean("fir_chain: T1 >= T2 + T3 and T2 >= T3 (a 7-segment law).")},
+       {"shaper", text("shaper: zv, zvd, zvdd or ei.")},
+       {"impulses",
+        {{"type", "array"},
+         {"items", object({{"t_s", number("[s]")}, {"amplitude", number("[-]")}},
+                          {"t_s", "amplitude"}, "", false)},
+         {"description", "shaper: the impulse train (amplitudes sum to 1)."}}},
+       {"residual_at_f1", number("shaper: residual vibration of mode 1 after the train [-].")},
+       {"base", text("shaper, iir: the base law.")},
+       {"base_duration_s", number("shaper, iir: duration of the base law, T - delay [s].")},
+       {"delay_s", number("shaper, iir: delay the filter adds [s].")},
+       {"order", integer("iir: 2 or 3.")},
+       {"tau", number("iir: tau [1/s].")},
+       {"sample_period_s", number("iir: sample period [s].")},
+       {"filtered_duration_s",
+        number("iir: end of the filtered law before the rest padding, within one sample of T "
+               "[s].")},
+       {"iterations", integer("iir: filter passes of the delay compensation.")},
+       {"correction_pct",
+        number("iir: the rest-to-rest correction, largest change relative to the peak "
+               "acceleration [%].")},
+       {"a", numbers("iir: a_1..a_n of the difference equation.")},
+       {"b", numbers("iir: b_0..b_(n+1) of the difference equation.")}},
+      {"method"}, "How fir_chain, shaper or iir built the law (absent for the optimisers).", false);
+}
+
+/// The results of POST /v1/plans/batch.
+void add_batch_response_schemas(json& s) {
+  json ok =
+      object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},
+             {"index", "plan"}, "A planned recipe.", false);
+  json failed = object(
+      {{"index", integer("Position in the request array.")}, {"error", ref("Error")}},
+      {"index", "error"}, "A recipe that failed; field paths start with requests[index].", false);
+  s["BatchResult"] = {{"oneOf", {ok, failed}}};
+  s["BatchResponse"] = object({{"results", {{"type", "array"}, {"items", ref("BatchResult")}}}},
+                              {"results"}, "One result per request, in request order.", false);
+}
+
+void add_plan_response_schemas(json& s) {
+  add_plan_block_schemas(s);
+  add_filter_design_schema(s);
   s["PlanResponse"] = object(
       {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe.")},
        {"cached", boolean("True when served from the plan cache.")},
@@ -452,46 +504,7 @@ void add_plan_response_schemas(json& s) {
        "switch_times_s", "law", "kinematics", "model", "prediction", "baseline", "reduction_pct",
        "spectrum", "solver", "format", "rest_time_s", "warnings"},
       "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
-
-  s["FilterDesign"] = object(
-      {{"method", string_enum({"fir_chain", "shaper", "iir"}, "The filtering strategy.")},
-       {"t1_s", number("fir_chain: T1 [s].")},
-       {"t2_s", number("fir_chain: T2 [s].")},
-       {"t3_s", number("fir_chain: T3 = damped period of mode 1 [s].")},
-       {"conditions_14", boolean("fir_chain: T1 >= T2 + T3 and T2 >= T3 (a 7-segment law).")},
-       {"shaper", text("shaper: zv, zvd, zvdd or ei.")},
-       {"impulses",
-        {{"type", "array"},
-         {"items", object({{"t_s", number("[s]")}, {"amplitude", number("[-]")}},
-                          {"t_s", "amplitude"}, "", false)},
-         {"description", "shaper: the impulse train (amplitudes sum to 1)."}}},
-       {"residual_at_f1", number("shaper: residual vibration of mode 1 after the train [-].")},
-       {"base", text("shaper, iir: the base law.")},
-       {"base_duration_s", number("shaper, iir: duration of the base law, T - delay [s].")},
-       {"delay_s", number("shaper, iir: delay the filter adds [s].")},
-       {"order", integer("iir: 2 or 3.")},
-       {"tau", number("iir: tau [1/s].")},
-       {"sample_period_s", number("iir: sample period [s].")},
-       {"filtered_duration_s",
-        number("iir: end of the filtered law before the rest padding, within one sample of T "
-               "[s].")},
-       {"iterations", integer("iir: filter passes of the delay compensation.")},
-       {"correction_pct",
-        number("iir: the rest-to-rest correction, largest change relative to the peak "
-               "acceleration [%].")},
-       {"a", numbers("iir: a_1..a_n of the difference equation.")},
-       {"b", numbers("iir: b_0..b_(n+1) of the difference equation.")}},
-      {"method"}, "How fir_chain, shaper or iir built the law (absent for the optimisers).", false);
-
-  json ok =
-      object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},
-             {"index", "plan"}, "A planned recipe.", false);
-  json failed = object(
-      {{"index", integer("Position in the request array.")}, {"error", ref("Error")}},
-      {"index", "error"}, "A recipe that failed; field paths start with requests[index].", false);
-  s["BatchResult"] = {{"oneOf", {ok, failed}}};
-  s["BatchResponse"] = object({{"results", {{"type", "array"}, {"items", ref("BatchResult")}}}},
-                              {"results"}, "One result per request, in request order.", false);
+  add_batch_response_schemas(s);
 }
 
 void add_simulate_response_schemas(json& s) {

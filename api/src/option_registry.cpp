@@ -37,10 +37,8 @@ std::string choice(const json& object, const std::string& path, std::string_view
     const auto text = value.get<std::string>();
     if (std::find(allowed.begin(), allowed.end(), text) != allowed.end()) return text;
   }
-  std::string list;
-  for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
   const std::string field = join_path(path, key);
-  invalid(field, field + " = " + show(value) + " is not allowed: one of " + list);
+  invalid(field, field + " = " + show(value) + " is not allowed: one of " + quoted_names(allowed));
 }
 
 json damping_value(const json& object, const std::string& path) {

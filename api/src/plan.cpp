@@ -25,17 +25,14 @@ constexpr int kSpectrumPoints = 512;
 
 using namespace plan_ranges;  // NOLINT: the option ranges of plan.hpp
 
-const char* kStrategies =
-    "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "
-    "\"time_domain\", \"fir_chain\", \"shaper\", \"iir\", \"auto\"";
-
 Strategy parse_request_strategy(const nlohmann::json& body) {
   const nlohmann::json* s = given_member(body, "strategy");
   if (s == nullptr) return Strategy::kAuto;
   std::optional<Strategy> strategy;
   if (s->is_string()) strategy = parse_strategy(s->get<std::string>());
   if (!strategy) {
-    invalid("strategy", "strategy = " + show(*s) + " is not allowed: one of " + kStrategies);
+    invalid("strategy", "strategy = " + show(*s) + " is not allowed: one of " +
+                            quoted_names(enum_names<Strategy>()));
   }
   return *strategy;
 }

@@ -72,6 +72,9 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& path
 [[nodiscard]] bool optional_bool(const nlohmann::json& object, const std::string& path,
                                  std::string_view key, bool fallback);
 
+/// "\"a\", \"b\", \"c\"": the names a message offers.
+[[nodiscard]] std::string quoted_names(const std::vector<std::string>& names);
+
 /// Throws ApiError(kInvalidValue) for `path` with `message`.
 [[noreturn]] void invalid(const std::string& path, const std::string& message);
 
