@@ -2,7 +2,6 @@
 
 #include <csv.h>
 
-#include <array>
 #include <string_view>
 #include <vector>
 

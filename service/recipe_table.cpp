@@ -3,17 +3,12 @@
 #include <csv.h>
 
 #include <algorithm>
-#include <array>
 #include <cctype>
-#include <charconv>
-#include <cmath>
-#include <optional>
 #include <string_view>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/recipe_row.hpp"
-#include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
 
@@ -65,7 +60,7 @@ api::RecipeHeader read_header(const std::vector<std::string>& names,
                               const api::OptionRegistry& registry) {
   try {
     return api::RecipeHeader(names, registry);
-  } catch (const api::RecipeHeaderError& e) {
+  } catch (const api::RecipeTableError& e) {
     throw TableError(e.what());
   }
 }
@@ -103,16 +98,12 @@ std::vector<RecipeRow> read_csv(std::string_view text, const api::OptionRegistry
   return rows;
 }
 
-RecipeRow json_row(std::size_t number, json value) {
+RecipeRow json_row(std::size_t number, api::JsonRecipe recipe) {
   RecipeRow row;
   row.row = number;
-  if (value.is_object()) {
-    if (const auto id = value.find("recipe_id"); id != value.end()) {
-      row.recipe_id = id->is_string() ? id->get<std::string>() : id->dump();
-      value.erase(id);
-    }
-  }
-  row.request = std::move(value);
+  row.recipe_id = std::move(recipe.recipe_id);
+  row.request = std::move(recipe.request);
+  row.error = std::move(recipe.error);
   return row;
 }
 
@@ -127,37 +118,22 @@ std::vector<RecipeRow> read_json_lines(std::string_view text) {
     at = end + 1;
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
-    const std::size_t number = rows.size() + 1;
-    try {
-      rows.push_back(json_row(number, api::parse_json_body(line)));
-    } catch (const api::ApiError& e) {
-      RecipeRow row;
-      row.row = number;
-      row.error = api::error_envelope(e)["error"];
-      row.error["message"] = "line " + std::to_string(line_number) + ": " + e.what();
-      rows.push_back(std::move(row));
-    }
+    rows.push_back(json_row(rows.size() + 1, api::json_line_recipe(line, line_number)));
   }
   return rows;
 }
 
 std::vector<RecipeRow> read_json(std::string_view text) {
-  json document;
+  std::vector<api::JsonRecipe> recipes;
   try {
-    document = api::parse_json_body(text);
-  } catch (const api::ApiError& e) {
-    throw TableError(std::string("recipe table: ") + e.what());
-  }
-  if (document.is_object() && document.contains("requests")) document = document["requests"];
-  if (!document.is_array()) {
-    throw TableError(
-        "recipe table: a .json table is an array of plan requests or {\"requests\": [...]}");
+    recipes = api::json_document_recipes(text);
+  } catch (const api::RecipeTableError& e) {
+    throw TableError(e.what());
   }
   std::vector<RecipeRow> rows;
-  rows.reserve(document.size());
-  for (std::size_t i = 0; i < document.size(); ++i) {
-    rows.push_back(json_row(i + 1, std::move(document[i])));
-  }
+  rows.reserve(recipes.size());
+  for (api::JsonRecipe& recipe : recipes)
+    rows.push_back(json_row(rows.size() + 1, std::move(recipe)));
   return rows;
 }
 

@@ -10,6 +10,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/simulate.hpp"
 
 namespace slosh::api {
 
@@ -176,13 +177,13 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
     const auto it = std::find_if(known.begin(), known.end(),
                                  [&](const RecipeColumn& k) { return k.name == names[c]; });
     if (it == known.end()) {
-      throw RecipeHeaderError("recipe table: unknown column " + quote_text(names[c]) + " (column " +
-                              std::to_string(c + 1) +
-                              " of the header); allowed: " + comma_list(known));
+      throw RecipeTableError("recipe table: unknown column " + quote_text(names[c]) + " (column " +
+                             std::to_string(c + 1) +
+                             " of the header); allowed: " + comma_list(known));
     }
     if (std::any_of(columns_.begin(), columns_.end(),
                     [&](const RecipeColumn& k) { return k.name == it->name; })) {
-      throw RecipeHeaderError("recipe table: column " + quote_text(names[c]) + " appears twice");
+      throw RecipeTableError("recipe table: column " + quote_text(names[c]) + " appears twice");
     }
     if (it->kind == CellKind::kId) id_index_ = c;
     columns_.push_back(*it);
@@ -193,13 +194,13 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
   };
   for (std::string_view name : kRequired) {
     if (!has(name)) {
-      throw RecipeHeaderError("recipe table: missing column " + quote_text(name) + "; required: " +
-                              "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
-                              "viscosity_pa_s), stroke_mm, motion_time_s, strategy");
+      throw RecipeTableError("recipe table: missing column " + quote_text(name) + "; required: " +
+                             "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
+                             "viscosity_pa_s), stroke_mm, motion_time_s, strategy");
     }
   }
   if (!has("fluid") && !(has("density_kg_m3") && has("viscosity_pa_s"))) {
-    throw RecipeHeaderError(
+    throw RecipeTableError(
         "recipe table: missing column \"fluid\" (or both density_kg_m3 and viscosity_pa_s)");
   }
 }
@@ -227,6 +228,51 @@ json RecipeHeader::request(const std::vector<std::string>& cells) const {
     request[json::json_pointer(column.pointer)] = cell_value(column, cells[c]);
   }
   return request;
+}
+
+namespace {
+
+JsonRecipe json_recipe(json value) {
+  JsonRecipe recipe;
+  if (value.is_object()) {
+    if (const auto id = value.find("recipe_id"); id != value.end()) {
+      recipe.recipe_id = id->is_string() ? id->get<std::string>() : id->dump();
+      value.erase(id);
+    }
+  }
+  recipe.request = std::move(value);
+  return recipe;
+}
+
+}  // namespace
+
+JsonRecipe json_line_recipe(std::string_view line, std::size_t line_number) {
+  try {
+    return json_recipe(parse_json_body(line));
+  } catch (const ApiError& e) {
+    JsonRecipe recipe;
+    recipe.error = error_envelope(e)["error"];
+    recipe.error["message"] = "line " + std::to_string(line_number) + ": " + e.what();
+    return recipe;
+  }
+}
+
+std::vector<JsonRecipe> json_document_recipes(std::string_view text) {
+  json document;
+  try {
+    document = parse_json_body(text);
+  } catch (const ApiError& e) {
+    throw RecipeTableError(std::string("recipe table: ") + e.what());
+  }
+  if (document.is_object() && document.contains("requests")) document = document["requests"];
+  if (!document.is_array()) {
+    throw RecipeTableError(
+        "recipe table: a .json table is an array of plan requests or {\"requests\": [...]}");
+  }
+  std::vector<JsonRecipe> recipes;
+  recipes.reserve(document.size());
+  for (json& value : document) recipes.push_back(json_recipe(std::move(value)));
+  return recipes;
 }
 
 json row_error(const std::string& message, const std::string& field) {

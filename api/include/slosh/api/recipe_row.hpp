@@ -45,8 +45,9 @@ struct RecipeColumn {
 [[nodiscard]] std::string recipe_column_names(
     const OptionRegistry& registry = plan_option_registry());
 
-/// A header that cannot be read (unknown, repeated or missing columns): nothing is planned.
-class RecipeHeaderError : public std::runtime_error {
+/// A table that cannot be read as a whole (a CSV header with unknown, repeated or missing columns;
+/// a .json document that is not a list of requests): nothing is planned.
+class RecipeTableError : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
 };
@@ -60,7 +61,7 @@ struct CellError {
 /// The columns of one CSV recipe table, from its header row.
 class RecipeHeader {
  public:
-  /// Throws RecipeHeaderError for an unknown or repeated column or a missing required one.
+  /// Throws RecipeTableError for an unknown or repeated column or a missing required one.
   explicit RecipeHeader(const std::vector<std::string>& names,
                         const OptionRegistry& registry = plan_option_registry());
 
@@ -76,6 +77,21 @@ class RecipeHeader {
   std::vector<RecipeColumn> columns_;
   std::size_t id_index_{0};
 };
+
+/// A recipe of a JSON table: its recipe_id (taken out of the request) and the request, or the
+/// error of a line that is not JSON.
+struct JsonRecipe {
+  std::string recipe_id;
+  nlohmann::json request;
+  nlohmann::json error;  ///< {"code", "message", "field"}; null when the line was read
+};
+
+/// One line of a JSON-lines table; `line_number` (1-based) prefixes the message of its error.
+[[nodiscard]] JsonRecipe json_line_recipe(std::string_view line, std::size_t line_number);
+
+/// The recipes of a .json table: an array of plan requests or {"requests": [...]}. Throws
+/// RecipeTableError.
+[[nodiscard]] std::vector<JsonRecipe> json_document_recipes(std::string_view text);
 
 /// {"code": "invalid_value", "message", "field"} of a row that cannot be read.
 [[nodiscard]] nlohmann::json row_error(const std::string& message, const std::string& field);
