@@ -213,8 +213,20 @@ TEST(OptionRegistry, DefaultsOfTheSchemasAreThoseOfPlanOptions) {
   EXPECT_EQ(p["limits"]["$ref"], "#/components/schemas/MachineLimits");
 }
 
-// ---- routes
-// --------------------------------------------------------------------------------------
+TEST(OptionRegistry, EveryOptionIsDocumentedAndACsvColumn) {
+  const json doc = openapi_document("test");
+  const json& schemas = doc["components"]["schemas"];
+  const std::string columns = recipe_column_names();
+  for (const OptionSpec& o : plan_option_registry().options()) {
+    const std::string schema =
+        o.group.empty() ? "PlanOptions"
+                        : std::string(plan_option_registry().group(o.group)->schema_name);
+    EXPECT_TRUE(schemas[schema]["properties"].contains(std::string(o.name))) << o.name;
+    EXPECT_NE(columns.find(", " + std::string(o.name)), std::string::npos) << o.name;
+  }
+}
+
+// ---- routes ------------------------------------------------------------------------------------
 
 TEST(Routes, EveryRouteIsAnOpenApiOperation) {
   const json paths = openapi_document("test")["paths"];
