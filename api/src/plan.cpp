@@ -23,8 +23,6 @@ constexpr const char* kPlannerVersion = "plan-v2";
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
 
-using namespace plan_ranges;  // NOLINT: the option ranges of plan.hpp
-
 Strategy parse_request_strategy(const nlohmann::json& body) {
   const nlohmann::json* s = given_member(body, "strategy");
   if (s == nullptr) return Strategy::kAuto;
