@@ -126,8 +126,12 @@ nlohmann::json peaks_json(const SloshPeaks& p) {
           {"t_rest_s", p.rest.time}};
 }
 
+nlohmann::json prediction_json(const SloshPeaks& nonlinear, const SloshPeaks& linear) {
+  return {{"nonlinear", peaks_json(nonlinear)}, {"linear", peaks_json(linear)}};
+}
+
 nlohmann::json prediction_json(const SimulationResult& r) {
-  return {{"nonlinear", peaks_json(r.nonlinear)}, {"linear", peaks_json(r.linear)}};
+  return prediction_json(r.nonlinear, r.linear);
 }
 
 nlohmann::json run_simulate(const SimulateRequest& request) {
