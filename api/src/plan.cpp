@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
@@ -247,8 +248,10 @@ PlanRequest parse_plan_request(const nlohmann::json& body) {
                            std::to_string(kIirMinSamples) + "))");
   }
   // Relations between options (e.g. ramps + plateau minimums longer than T).
-  std::string error;
-  if (!o.is_valid(r.format, &error)) invalid("options", "options." + error);
+  InvalidInput error;
+  if (!o.is_valid(r.format, &error)) {
+    invalid("options", "options." + input_sentence(error, r.format, o));
+  }
 
   r.sample_period = parse_sample_period(body, T + o.rest_time);
   return r;
@@ -441,7 +444,8 @@ nlohmann::json run_plan(const PlanRequest& request) {
   if (result.invalid_input) {
     // The request passed the API's ranges but not the planner's own checks (e.g. a format whose
     // uniform law already drives the model out of its range): a 422, not a plan of zeros.
-    throw ApiError(ErrorCode::kInvalidValue, "format", result.message);
+    throw ApiError(ErrorCode::kInvalidValue, "format",
+                   plan_refusal(*result.invalid_input, request.format, request.options));
   }
   nlohmann::json out = plan_json(request, result);
   add_series(request, out);

@@ -81,51 +81,25 @@ bool finite_prediction(const LawPrediction& p) {
 
 }  // namespace
 
-std::string plan_input_error(const Format& f, const PlanOptions& options) {
-  auto bad = [](double v, double lo, double hi) {
-    return !(std::isfinite(v) && v >= lo && v <= hi);
+std::optional<InvalidInput> validate_plan_input(const Format& f, const PlanOptions& options) {
+  const InputBounds length = closed_range(kMinPlanLength, kMaxPlanLength);
+  const std::pair<PlanInput, std::pair<double, InputBounds>> quantities[] = {
+      {PlanInput::kContainerRadius,
+       {f.container.radius, closed_range(kMinPlanRadius, kMaxPlanLength)}},
+      {PlanInput::kContainerHeight, {f.container.height.value_or(1.0), positive()}},
+      {PlanInput::kFillHeight, {f.fill_height, length}},
+      {PlanInput::kFluidDensity, {f.fluid.density, closed_range(1.0, 1e5)}},
+      {PlanInput::kFluidViscosity, {f.fluid.viscosity, closed_range(0.0, 1e6)}},
+      {PlanInput::kStroke, {f.stroke, length}},
+      {PlanInput::kMotionTime, {f.motion_time, closed_range(kMinPlanTime, kMaxPlanTime)}},
   };
-  const double R = f.container.radius;
-  if (bad(R, kMinPlanRadius, kMaxPlanLength)) {
-    return "container radius " + sig3(R) + " m must be finite and in [" + sig3(kMinPlanRadius) +
-           ", " + sig3(kMaxPlanLength) + "] m";
+  for (const auto& [input, check] : quantities) {
+    if (!check.second.contains(check.first)) {
+      return out_of_range(input, -1, check.first, check.second);
+    }
   }
-  if (f.container.height && !(std::isfinite(*f.container.height) && *f.container.height > 0.0)) {
-    return "container height " + sig3(*f.container.height) + " m must be finite and > 0";
-  }
-  if (bad(f.fill_height, kMinPlanLength, kMaxPlanLength)) {
-    return "fill height " + sig3(f.fill_height) + " m must be finite and in [" +
-           sig3(kMinPlanLength) + ", " + sig3(kMaxPlanLength) + "] m";
-  }
-  if (bad(f.fluid.density, 1.0, 1e5)) {
-    return "fluid density " + sig3(f.fluid.density) + " kg/m^3 must be finite and in [1, 1e5]";
-  }
-  if (bad(f.fluid.viscosity, 0.0, 1e6)) {
-    return "fluid viscosity " + sig3(f.fluid.viscosity) + " Pa·s must be finite and in [0, 1e6]";
-  }
-  if (bad(f.stroke, kMinPlanLength, kMaxPlanLength)) {
-    return "stroke " + sig3(f.stroke) + " m must be finite and in [" + sig3(kMinPlanLength) + ", " +
-           sig3(kMaxPlanLength) + "] m";
-  }
-  if (bad(f.motion_time, kMinPlanTime, kMaxPlanTime)) {
-    return "motion time " + sig3(f.motion_time) + " s must be finite and in [" +
-           sig3(kMinPlanTime) + ", " + sig3(kMaxPlanTime) + "] s";
-  }
-  const ModelOptions& m = options.model;
-  if (m.modes < 1 || m.modes > static_cast<int>(kMaxModes)) {
-    return "modes = " + std::to_string(m.modes) + " must be in [1, " + std::to_string(kMaxModes) +
-           "]";
-  }
-  if (!(std::isfinite(m.alpha) && m.alpha >= 0.0)) {
-    return "alpha = " + sig3(m.alpha) + " must be finite and >= 0";
-  }
-  if (m.damping == DampingCorrelation::kExplicit &&
-      !(std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0)) {
-    return "zeta = " + sig3(m.explicit_zeta) + " must be finite and >= 0";
-  }
-  std::string error;
-  if (!options.is_valid(f, &error)) return error;
-  return {};
+  if (auto model = validate_model_options(options.model)) return model;
+  return options.validate(f);
 }
 
 bool is_filter_strategy(Strategy strategy) {
@@ -133,82 +107,92 @@ bool is_filter_strategy(Strategy strategy) {
          strategy == Strategy::kIir;
 }
 
-bool PlanOptions::is_valid(const Format& format, std::string* error) const {
-  auto fail = [error](std::string message) {
-    if (error != nullptr) *error = std::move(message);
-    return false;
-  };
-  const double T = format.motion_time;
-  if (!(min_ramp > 0.0) || !std::isfinite(min_ramp)) {
-    return fail("min_ramp_s = " + sig3(min_ramp) + " s must be > 0");
-  }
-  const double floor_sum = 4.0 * min_ramp + plateau_min[0] + plateau_min[1];
-  if (floor_sum > T) {
-    return fail("min_ramp_s = " + sig3(min_ramp) + " s and plateau_min_s = [" +
-                sig3(plateau_min[0]) + ", " + sig3(plateau_min[1]) +
-                "] s need 4 ramps + 2 plateaus = " + sig3(floor_sum) +
-                " s, more than the motion time " + sig3(T) +
-                " s: allowed min_ramp_s <= (T - plateau minimums) / 4 = " +
-                sig3((T - plateau_min[0] - plateau_min[1]) / 4.0) + " s");
-  }
+namespace {
+
+/// The relation 4 min_ramp + plateau minimums <= T, or nullopt when it holds (NaN floors pass:
+/// their own checks refuse them).
+std::optional<InvalidInput> ramps_and_plateaus(const PlanOptions& o, double T) {
+  const double floor_sum = 4.0 * o.min_ramp + o.plateau_min[0] + o.plateau_min[1];
+  if (!(floor_sum > T)) return std::nullopt;
+  const InputBounds bounds{-INFINITY, T, false, false};
+  return refused(PlanInput::kRampsAndPlateaus, floor_sum, bounds,
+                 "min_ramp = " + sig3(o.min_ramp) + " s and plateau_min = [" +
+                     sig3(o.plateau_min[0]) + ", " + sig3(o.plateau_min[1]) +
+                     "] s need 4 ramps + 2 plateaus = " + sig3(floor_sum) +
+                     " s, more than the motion_time " + sig3(T) +
+                     " s: allowed min_ramp <= (motion_time - plateau minimums) / 4 = " +
+                     sig3((T - o.plateau_min[0] - o.plateau_min[1]) / 4.0) + " s");
+}
+
+/// The arrays: plateau_min[i] >= 0, weights[i] >= 0 and their sum > 0.
+std::optional<InvalidInput> validate_arrays(const PlanOptions& o) {
   for (int i = 0; i < 2; ++i) {
-    if (!(plateau_min[i] >= 0.0) || !std::isfinite(plateau_min[i])) {
-      return fail("plateau_min_s[" + std::to_string(i) + "] = " + sig3(plateau_min[i]) +
-                  " s must be >= 0");
+    if (!non_negative().contains(o.plateau_min[i])) {
+      return out_of_range(PlanInput::kPlateauMin, i, o.plateau_min[i], non_negative());
     }
   }
   double weight_sum = 0.0;
   for (int i = 0; i < 3; ++i) {
-    if (!(weights[i] >= 0.0) || !std::isfinite(weights[i])) {
-      return fail("weights[" + std::to_string(i) + "] = " + sig3(weights[i]) +
-                  " must be finite and >= 0");
+    if (!non_negative().contains(o.weights[i])) {
+      return out_of_range(PlanInput::kWeights, i, o.weights[i], non_negative());
     }
-    weight_sum += weights[i];
+    weight_sum += o.weights[i];
   }
-  if (weight_sum <= 0.0) return fail("weights = [0, 0, 0]: at least one weight must be > 0");
-  if (!(p_notch > 0.0 && p_notch < 1.0)) {
-    return fail("p_notch = " + sig3(p_notch) + " must be > 0 and < 1");
+  if (weight_sum <= 0.0) {
+    return refused(PlanInput::kWeights, weight_sum, positive(),
+                   "weights = [0, 0, 0]: at least one weight must be > 0");
   }
-  if (!(band > 0.0 && band < 1.0)) return fail("band = " + sig3(band) + " must be > 0 and < 1");
-  if (n_band < 1 || n_band > kMaxBandPoints) {
-    return fail("n_band = " + std::to_string(n_band) + " must be in [1, " +
-                std::to_string(kMaxBandPoints) + "]");
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
+  const double T = format.motion_time;
+  if (!positive().contains(min_ramp)) {
+    return out_of_range(PlanInput::kMinRamp, -1, min_ramp, positive());
   }
-  if (!(tol_rel > 0.0) || !std::isfinite(tol_rel)) {
-    return fail("tol_rel = " + sig3(tol_rel) + " must be finite and > 0");
-  }
-  if (!(eta_rest_max > 0.0) || !std::isfinite(eta_rest_max)) {
-    return fail("eta_rest_max_mm = " + sig3(eta_rest_max * 1e3) + " mm must be > 0");
-  }
-  if (eta_motion_max && (!(*eta_motion_max > 0.0) || !std::isfinite(*eta_motion_max))) {
-    return fail("eta_motion_max_mm = " + sig3(*eta_motion_max * 1e3) + " mm must be > 0");
-  }
-  if (!(rest_time > 0.0 && rest_time <= kMaxPlanTime)) {
-    return fail("rest_time_s = " + sig3(rest_time) + " s must be > 0 and <= " + sig3(kMaxPlanTime) +
-                " s");
-  }
-  const std::pair<const std::optional<double>*, const char*> lims[] = {
-      {&limits.a_max, "limits.a_max"},
-      {&limits.v_max, "limits.v_max"},
-      {&limits.j_max, "limits.j_max"}};
-  for (const auto& [value, name] : lims) {
-    if (*value && !(**value > 0.0 && std::isfinite(**value))) {
-      return fail(std::string(name) + " = " + sig3(**value) + " must be finite and > 0");
+  if (auto relation = ramps_and_plateaus(*this, T)) return relation;
+  if (auto arrays = validate_arrays(*this)) return arrays;
+  const std::pair<PlanInput, std::pair<double, InputBounds>> scalars[] = {
+      {PlanInput::kPNotch, {p_notch, open_range(0.0, 1.0)}},
+      {PlanInput::kBand, {band, open_range(0.0, 1.0)}},
+      {PlanInput::kNBand, {n_band, closed_range(1.0, kMaxBandPoints)}},
+      {PlanInput::kTolRel, {tol_rel, positive()}},
+      {PlanInput::kEtaRestMax, {eta_rest_max, positive()}},
+      {PlanInput::kEtaMotionMax, {eta_motion_max.value_or(1.0), positive()}},
+      {PlanInput::kRestTime, {rest_time, {0.0, kMaxPlanTime, true, false}}},
+      {PlanInput::kAMax, {limits.a_max.value_or(1.0), positive()}},
+      {PlanInput::kVMax, {limits.v_max.value_or(1.0), positive()}},
+      {PlanInput::kJMax, {limits.j_max.value_or(1.0), positive()}},
+  };
+  for (const auto& [input, check] : scalars) {
+    if (!check.second.contains(check.first)) {
+      return out_of_range(input, -1, check.first, check.second);
     }
   }
-  if (!(time_limit > 0.0) || std::isnan(time_limit))
-    return fail("time_limit_s = " + sig3(time_limit) + " s must be > 0");
-  if (!(residual >= 0.0 && residual < 1.0)) {
-    return fail("residual = " + sig3(residual) + " must be >= 0 and < 1");
+  // An infinite budget is no budget.
+  if (!(time_limit > 0.0) || std::isnan(time_limit)) {
+    return refused(PlanInput::kTimeLimit, time_limit, positive(),
+                   "time_limit = " + sig3(time_limit) + " s must be > 0");
   }
-  if (!(iir_tau > 0.0) || !std::isfinite(iir_tau)) {
-    return fail("iir_tau = " + sig3(iir_tau) + " 1/s must be finite and > 0");
+  const std::pair<PlanInput, std::pair<double, InputBounds>> filters[] = {
+      {PlanInput::kResidual, {residual, {0.0, 1.0, false, true}}},
+      {PlanInput::kIirTau, {iir_tau, positive()}},
+      {PlanInput::kIirSamplePeriod, {iir_sample_period, {0.0, T / kIirMinSamples, true, false}}},
+  };
+  for (const auto& [input, check] : filters) {
+    if (!check.second.contains(check.first)) {
+      return out_of_range(input, -1, check.first, check.second);
+    }
   }
-  if (!(iir_sample_period > 0.0 && iir_sample_period <= T / kIirMinSamples)) {
-    return fail("iir_sample_period_s = " + sig3(iir_sample_period) + " s must be > 0 and <= T / " +
-                std::to_string(kIirMinSamples) + " = " + sig3(T / kIirMinSamples) + " s");
-  }
-  return true;
+  return std::nullopt;
+}
+
+bool PlanOptions::is_valid(const Format& format, InvalidInput* error) const {
+  std::optional<InvalidInput> invalid = validate(format);
+  if (invalid && error != nullptr) *error = std::move(*invalid);
+  return !invalid;
 }
 
 namespace detail {
@@ -355,12 +339,12 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   // The invalid-input result: nothing planned, but what can be built from the valid parts (the
   // model, the uniform law) is filled in when finite, so a renderer that expects them does not
   // meet empty or non-finite fields; predictions stay zero.
-  auto refuse = [&](const std::string& why) {
+  auto refuse = [&](InvalidInput why) {
     PlanResult invalid;
     invalid.strategy = strategy;
     invalid.status = SolveStatus::kFailed;
-    invalid.invalid_input = true;
-    invalid.message = "invalid input: " + why + "; nothing was planned";
+    invalid.message = "invalid input: " + why.message + "; nothing was planned";
+    invalid.invalid_input = std::move(why);
     invalid.solver.name = "none";
     const Format& f = format;
     const ModelOptions& m = options.model;
@@ -388,28 +372,35 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     }
     return invalid;
   };
-  if (std::string why = plan_input_error(format, options); !why.empty()) return refuse(why);
+  if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
+    return refuse(std::move(*why));
+  }
   const detail::Deadline deadline(options.time_limit);
   r.model = make_sloshing_model(format, options.model);
   const double w1 = r.model.omega1();
   if (!(std::isfinite(w1) && w1 > 0.0 && std::isfinite(r.model.zeta) && r.model.zeta >= 0.0 &&
         std::isfinite(r.model.K))) {
-    return refuse("the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
-                  " rad/s, zeta = " + sig3(r.model.zeta) + ")");
+    return refuse(refused(PlanInput::kSloshingModel, w1, positive(),
+                          "the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
+                              " rad/s, zeta = " + sig3(r.model.zeta) + ")"));
   }
   r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
   const Durations uniform = uniform_durations(format.motion_time);
   r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
   if (!finite_prediction(r.baseline)) {
-    return refuse("the uniform law's predicted sloshing is not finite for this format");
+    return refuse(refused(PlanInput::kUniformResponse, r.baseline.nonlinear.motion.value,
+                          non_negative(),
+                          "the uniform law's predicted sloshing is not finite for this format"));
   }
 
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
   detail::set_references(c, r.baseline.nonlinear.motion.value);
   if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
-    return refuse("the uniform law's reference levels are not finite and positive (X_ref = " +
-                  sig3(c.x_ref) + " m/s)");
+    return refuse(refused(
+        PlanInput::kReferenceLevels, c.x_ref, positive(),
+        "the uniform law's reference levels are not finite and positive (X_ref = " + sig3(c.x_ref) +
+            " m/s)"));
   }
 
   // Every strategy's outcome in one shape: the optimisers' durations become their law.
