@@ -27,13 +27,9 @@ LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double r
   return p;
 }
 
-double reduction(double baseline, double value) {
-  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
-}
-
 std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
   auto change = [](double base, double v) {
-    const double r = reduction(base, v);
+    const double r = reduction_percent(base, v);
     if (std::abs(r) < 5e-4) return std::string("0 %");  // below the 3 digits shown
     std::string text(r >= 0.0 ? "-" : "+");
     text.append(sig3(std::abs(r)));
@@ -100,6 +96,10 @@ std::optional<InvalidInput> validate_plan_input(const Format& f, const PlanOptio
   }
   if (auto model = validate_model_options(options.model)) return model;
   return options.validate(f);
+}
+
+double reduction_percent(double baseline, double value) {
+  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
 }
 
 bool is_filter_strategy(Strategy strategy) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <memory>
 
+#include "slosh/core/response/peak_finder.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -41,6 +42,9 @@ constexpr double kScreenTolerance{1e-7};
 /// Screened points min_jerk_band finishes on the n_band frequencies, and tries at most [-].
 constexpr std::size_t kRefinedStarts{2};
 constexpr std::size_t kRefineAttempts{5};
+/// Golden-section refinement of a band maximum: relative bracket width and iterations at most.
+constexpr double kBandPeakTolerance{1e-12};
+constexpr int kBandPeakIterations{60};
 /// Intervals of the band check grid at least (the solver's n_band - 1 when larger) [-].
 constexpr int kBandCheckIntervals{50};
 
@@ -132,17 +136,9 @@ BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>&
     if (v[k] > best.value) best = {v[k], grid[k]};
     const bool interior_max = k > 0 && k + 1 < grid.size() && v[k] >= v[k - 1] && v[k] >= v[k + 1];
     if (!interior_max) continue;
-    double a = grid[k - 1], b = grid[k + 1];
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = f(x1), f2 = f(x2);
-    for (int it = 0; it < 60 && b - a > 1e-12 * grid[k]; ++it) {
-      if (f1 > f2) {
-        b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = f(x1);
-      } else {
-        a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = f(x2);
-      }
-    }
-    if (std::max(f1, f2) > best.value) best = f1 > f2 ? BandPeak{f1, x1} : BandPeak{f2, x2};
+    const Peak p =
+        refine_max(f, grid[k - 1], grid[k + 1], kBandPeakTolerance * grid[k], kBandPeakIterations);
+    if (p.value > best.value) best = {p.value, p.time};
   }
   return best;
 }

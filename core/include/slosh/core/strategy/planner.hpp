@@ -216,6 +216,10 @@ struct IirDesign {
 };
 using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 
+/// Reduction of `value` relative to `baseline`, 100 (1 - value / baseline) [%]; 0 when the
+/// baseline is not positive (the figure the plan's message and the API's reductions report).
+[[nodiscard]] double reduction_percent(double baseline, double value);
+
 /// True for the strategies that build a law by filtering instead of optimising 7 durations.
 [[nodiscard]] bool is_filter_strategy(Strategy strategy);
 
