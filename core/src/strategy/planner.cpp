@@ -332,282 +332,353 @@ std::string violated_constraint(const StrategyContext& c, Strategy strategy, con
 
 }  // namespace detail
 
-PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
-  PlanResult r;
-  r.strategy = strategy;
-  // The invalid-input result: nothing planned, but what can be built from the valid parts (the
-  // model, the uniform law) is filled in when finite, so a renderer that expects them does not
-  // meet empty or non-finite fields; predictions stay zero.
-  auto refuse = [&](InvalidInput why) {
-    PlanResult invalid;
-    invalid.strategy = strategy;
-    invalid.status = SolveStatus::kFailed;
-    invalid.message = "invalid input: " + why.message + "; nothing was planned";
-    invalid.invalid_input = std::move(why);
-    invalid.solver.name = "none";
-    const Format& f = format;
-    const ModelOptions& m = options.model;
-    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
-        std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
-        m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
-        std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
-      const SloshingModel model = make_sloshing_model(f, m);
-      const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
-                          std::isfinite(model.K) &&
-                          std::all_of(model.omega.begin(), model.omega.end(), positive);
-      if (finite) invalid.model = model;
-    }
-    if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
-        f.stroke <= kMaxPlanLength) {
-      const Durations uniform = uniform_durations(f.motion_time);
-      const SevenSegmentLaw law(uniform, f.stroke);
-      if (std::isfinite(law.A()) && std::isfinite(law.B())) {
-        invalid.durations = uniform;
-        invalid.law = law.law();
-        invalid.A = law.A();
-        invalid.B = law.B();
-      }
-    }
-    return invalid;
-  };
-  if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
-    return refuse(std::move(*why));
-  }
-  const detail::Deadline deadline(options.time_limit);
-  r.model = make_sloshing_model(format, options.model);
-  const double w1 = r.model.omega1();
-  if (!(std::isfinite(w1) && w1 > 0.0 && std::isfinite(r.model.zeta) && r.model.zeta >= 0.0 &&
-        std::isfinite(r.model.K))) {
-    return refuse(refused(PlanInput::kSloshingModel, w1, positive(),
-                          "the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
-                              " rad/s, zeta = " + sig3(r.model.zeta) + ")"));
-  }
-  r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
-  const Durations uniform = uniform_durations(format.motion_time);
-  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
-  if (!finite_prediction(r.baseline)) {
-    return refuse(refused(PlanInput::kUniformResponse, r.baseline.nonlinear.motion.value,
-                          non_negative(),
-                          "the uniform law's predicted sloshing is not finite for this format"));
-  }
+namespace {
 
-  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
-                            deadline};
-  detail::set_references(c, r.baseline.nonlinear.motion.value);
-  if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
-    return refuse(refused(
-        PlanInput::kReferenceLevels, c.x_ref, positive(),
-        "the uniform law's reference levels are not finite and positive (X_ref = " + sig3(c.x_ref) +
-            " m/s)"));
+/// The invalid-input result: nothing planned, but what can be built from the valid parts (the
+/// model, the uniform law) is filled in when finite, so a renderer that expects them does not
+/// meet empty or non-finite fields; predictions stay zero.
+PlanResult refusal(const Format& f, Strategy strategy, const PlanOptions& options,
+                   InvalidInput why) {
+  PlanResult invalid;
+  invalid.strategy = strategy;
+  invalid.status = SolveStatus::kFailed;
+  invalid.message = "invalid input: " + why.message + "; nothing was planned";
+  invalid.invalid_input = std::move(why);
+  invalid.solver.name = "none";
+  const ModelOptions& m = options.model;
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
+      std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
+      m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
+      std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
+    const SloshingModel model = make_sloshing_model(f, m);
+    const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
+                        std::isfinite(model.K) &&
+                        std::all_of(model.omega.begin(), model.omega.end(), positive);
+    if (finite) invalid.model = model;
   }
+  if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
+      f.stroke <= kMaxPlanLength) {
+    const Durations uniform = uniform_durations(f.motion_time);
+    const SevenSegmentLaw law(uniform, f.stroke);
+    if (std::isfinite(law.A()) && std::isfinite(law.B())) {
+      invalid.durations = uniform;
+      invalid.law = law.law();
+      invalid.A = law.A();
+      invalid.B = law.B();
+    }
+  }
+  return invalid;
+}
 
-  // Every strategy's outcome in one shape: the optimisers' durations become their law.
-  struct Outcome {
-    SolveStatus status{SolveStatus::kFailed};
-    std::optional<Durations> durations;
-    MotionLaw law;
-    std::optional<FilterDesign> design;
-    std::string detail;
-    detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
-  };
-  auto from_solver = [&](detail::StrategyOutcome o) {
-    Outcome out;
-    out.status = o.status;
-    if (o.status == SolveStatus::kFailed) o.durations = uniform;
-    out.durations = o.durations;
-    out.law = SevenSegmentLaw(o.durations, format.stroke).law();
-    out.detail = o.detail;
-    out.solver = std::move(o);
-    return out;
-  };
-  auto from_filter = [&](detail::FilterOutcome o) {
-    Outcome out;
-    out.status = o.status;
-    out.durations = o.durations;
-    out.law = std::move(o.law);
-    out.design = std::move(o.design);
-    out.detail = std::move(o.detail);
-    out.solver.solver = "none";
-    return out;
-  };
+/// The refusal of a model that is not finite for valid inputs, or nullopt.
+std::optional<InvalidInput> model_refusal(const SloshingModel& model) {
+  const double w1 = model.omega1();
+  if (std::isfinite(w1) && w1 > 0.0 && std::isfinite(model.zeta) && model.zeta >= 0.0 &&
+      std::isfinite(model.K)) {
+    return std::nullopt;
+  }
+  return refused(PlanInput::kSloshingModel, w1, positive(),
+                 "the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
+                     " rad/s, zeta = " + sig3(model.zeta) + ")");
+}
 
-  auto run = [&](Strategy s, const std::vector<Durations>& seeds) -> Outcome {
-    switch (s) {
-      case Strategy::kNotch:
-        return from_solver(detail::solve_notch(c));
-      case Strategy::kMultiNotch:
-        return from_solver(detail::solve_multi_notch(c));
-      case Strategy::kMinJerkBand:
-        return from_solver(detail::solve_min_jerk_band(c));
-      case Strategy::kTimeDomain:
-        return from_solver(detail::solve_time_domain(c, seeds));
-      case Strategy::kFirChain:
-        return from_filter(detail::design_fir_chain(c));
-      case Strategy::kShaper:
-        return from_filter(detail::design_shaper(c));
-      case Strategy::kIir:
-        return from_filter(detail::design_iir(c));
-      default: {
-        detail::StrategyOutcome o;
-        o.status = SolveStatus::kOptimal;
-        o.durations = uniform;
-        o.solver = "none";
-        return from_solver(o);
-      }
-    }
-  };
-  // SPEC §5 "Honest status": the status follows the verification of the returned law. An
-  // optimiser's law that meets every constraint is never infeasible; one that violates a
-  // constraint is never optimal or acceptable (filter designs are only ever downgraded: their
-  // "infeasible" also means "this method has no law here").
-  auto verify = [&](Strategy s, Outcome& o, const LawPrediction& p) {
-    if (!o.durations) return;
-    const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
-    const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
-    if (!violation.empty() && usable) {
-      o.status = SolveStatus::kInfeasible;
-      if (s == Strategy::kBaseline) {
-        o.detail = "the uniform law does not meet the options: " + violation;
-      } else if (o.detail.empty() || is_filter_strategy(s)) {
-        o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
-      } else {
-        o.detail = violation;
-      }
-    } else if (violation.empty() && o.status == SolveStatus::kInfeasible &&
-               !is_filter_strategy(s)) {
-      o.status = SolveStatus::kAcceptable;
-      o.detail =
-          "the law meets every constraint on the verification, though its objective was "
-          "not minimised";
-    }
-  };
-  // The spectral optima seed the time-domain starts (SPEC §5).
-  auto spectral_seeds = [&](std::vector<Outcome>* outcomes) {
-    std::vector<Durations> seeds;
-    for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
-      Outcome o = run(s, {});
-      if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
-        seeds.push_back(*o.durations);
-      }
-      if (outcomes != nullptr) outcomes->push_back(std::move(o));
-    }
-    return seeds;
-  };
-  auto finish = [&](Outcome& o) {
-    r.status = o.status;
-    r.durations = o.durations;
-    r.law = std::move(o.law);
-    r.design = std::move(o.design);
-    r.solver.name = o.solver.solver;
-    r.solver.iterations = o.solver.evaluations;
-    r.solver.starts = o.solver.starts;
-    r.solver.objective = o.solver.objective;
-  };
+/// One strategy's outcome in one shape (the optimisers' durations become their law), carrying
+/// the strategy that produced it.
+struct Outcome {
+  Strategy strategy{};
+  SolveStatus status{SolveStatus::kFailed};
+  std::optional<Durations> durations;
+  MotionLaw law;
+  std::optional<FilterDesign> design;
+  std::string detail;
+  detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
+};
 
-  std::string detail_text;
-  std::string worse;                    // the worse_than_baseline warning of the returned law
-  Strategy result_strategy = strategy;  // the strategy whose law is returned
-  if (strategy == Strategy::kAuto) {
-    std::vector<Outcome> outcomes;
-    outcomes.push_back(run(Strategy::kBaseline, {}));
-    std::vector<Durations> seeds = spectral_seeds(&outcomes);
-    outcomes.push_back(run(Strategy::kTimeDomain, seeds));
-    outcomes.push_back(run(Strategy::kFirChain, {}));
-    outcomes.push_back(run(Strategy::kShaper, {}));
-    const Strategy order[] = {Strategy::kBaseline,    Strategy::kNotch,      Strategy::kMultiNotch,
-                              Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
-                              Strategy::kShaper};
-    int evaluations = 0, starts = 0;
-    std::vector<std::string> worse_of;
-    for (std::size_t k = 0; k < outcomes.size(); ++k) {
-      PlanCandidate cand;
-      cand.strategy = order[k];
-      cand.law = outcomes[k].law;
-      cand.prediction = predict(r.model, cand.law, options.rest_time);
-      verify(order[k], outcomes[k], cand.prediction);
-      cand.status = outcomes[k].status;
-      cand.durations = outcomes[k].durations;
-      worse_of.push_back(worse_than_baseline(cand.prediction, r.baseline));
-      r.candidates.push_back(std::move(cand));
-      evaluations += outcomes[k].solver.evaluations;
-      starts += outcomes[k].solver.starts;
+Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::StrategyOutcome o) {
+  Outcome out;
+  out.strategy = s;
+  out.status = o.status;
+  if (o.status == SolveStatus::kFailed) o.durations = uniform_durations(c.format.motion_time);
+  out.durations = o.durations;
+  out.law = SevenSegmentLaw(o.durations, c.format.stroke).law();
+  out.detail = o.detail;
+  out.solver = std::move(o);
+  return out;
+}
+
+Outcome from_filter(Strategy s, detail::FilterOutcome o) {
+  Outcome out;
+  out.strategy = s;
+  out.status = o.status;
+  out.durations = o.durations;
+  out.law = std::move(o.law);
+  out.design = std::move(o.design);
+  out.detail = std::move(o.detail);
+  out.solver.solver = "none";
+  return out;
+}
+
+/// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
+Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
+                     const std::vector<Durations>& seeds) {
+  switch (s) {
+    case Strategy::kNotch:
+      return from_solver(c, s, detail::solve_notch(c));
+    case Strategy::kMultiNotch:
+      return from_solver(c, s, detail::solve_multi_notch(c));
+    case Strategy::kMinJerkBand:
+      return from_solver(c, s, detail::solve_min_jerk_band(c));
+    case Strategy::kTimeDomain:
+      return from_solver(c, s, detail::solve_time_domain(c, seeds));
+    case Strategy::kFirChain:
+      return from_filter(s, detail::design_fir_chain(c));
+    case Strategy::kShaper:
+      return from_filter(s, detail::design_shaper(c));
+    case Strategy::kIir:
+      return from_filter(s, detail::design_iir(c));
+    default: {
+      detail::StrategyOutcome o;
+      o.status = SolveStatus::kOptimal;
+      o.durations = uniform_durations(c.format.motion_time);
+      o.solver = "none";
+      return from_solver(c, s, o);
     }
-    // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best
-    // (ties: lower peak acceleration); infeasible or failed candidates do not compete, nor do
-    // those worse than the uniform law while one that is not remains (the baseline never is).
-    auto usable = [](const PlanCandidate& k) {
-      return k.status == SolveStatus::kOptimal || k.status == SolveStatus::kAcceptable ||
-             k.status == SolveStatus::kTimeLimit;
-    };
-    bool any_not_worse = false;
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      any_not_worse = any_not_worse || (usable(r.candidates[k]) && worse_of[k].empty());
-    }
-    auto eligible = [&](std::size_t k) {
-      return usable(r.candidates[k]) && (!any_not_worse || worse_of[k].empty());
-    };
-    double best_motion = INFINITY;
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      if (eligible(k)) {
-        best_motion = std::min(best_motion, r.candidates[k].prediction.nonlinear.motion.value);
-      }
-    }
-    std::size_t chosen = 0;
-    bool have = false;
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      const auto& cand = r.candidates[k];
-      if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
-        continue;
-      }
-      if (!have) {
-        chosen = k;
-        have = true;
-        continue;
-      }
-      const auto& cur = r.candidates[chosen];
-      const double a = cand.prediction.nonlinear.rest.value,
-                   b = cur.prediction.nonlinear.rest.value;
-      const double peak_a = std::max(cand.prediction.kinematics.a_peak_positive,
-                                     cand.prediction.kinematics.a_peak_negative);
-      const double peak_b = std::max(cur.prediction.kinematics.a_peak_positive,
-                                     cur.prediction.kinematics.a_peak_negative);
-      if (a < b * (1.0 - kAutoTieTolerance) ||
-          (std::abs(a - b) <= kAutoTieTolerance * b && peak_a < peak_b)) {
-        chosen = k;
-      }
-    }
-    r.candidates[chosen].chosen = true;
-    result_strategy = order[chosen];
-    Outcome& o = outcomes[chosen];
-    o.solver.evaluations = evaluations;
-    o.solver.starts = starts;
-    if (!have) {
-      detail_text = "no candidate meets every constraint; auto returns the uniform law";
+  }
+}
+
+/// SPEC §5 "Honest status": the status follows the verification of the returned law. An
+/// optimiser's law that meets every constraint is never infeasible; one that violates a
+/// constraint is never optimal or acceptable (filter designs are only ever downgraded: their
+/// "infeasible" also means "this method has no law here").
+void verify(const detail::StrategyContext& c, Outcome& o, const LawPrediction& p) {
+  if (!o.durations) return;
+  const Strategy s = o.strategy;
+  const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
+  const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
+  if (!violation.empty() && usable) {
+    o.status = SolveStatus::kInfeasible;
+    if (s == Strategy::kBaseline) {
+      o.detail = "the uniform law does not meet the options: " + violation;
+    } else if (o.detail.empty() || is_filter_strategy(s)) {
+      o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
     } else {
-      detail_text = "auto chose " + to_string(order[chosen]) +
-                    " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
-                    (any_not_worse ? std::string("none worse than the uniform law)")
-                                   : std::string("all worse than the uniform law, which does not "
-                                                 "meet the options)"));
+      o.detail = violation;
     }
-    if (!o.detail.empty()) detail_text += "; " + o.detail;
-    worse = worse_of[chosen];
-    finish(o);
-    r.prediction = r.candidates[chosen].prediction;
-  } else {
-    std::vector<Durations> seeds;
-    if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(nullptr);
-    Outcome o = run(strategy, seeds);
-    const LawPrediction p = predict(r.model, o.law, options.rest_time);
-    verify(strategy, o, p);
-    detail_text = o.detail;
-    finish(o);
-    r.prediction = p;
-    worse = worse_than_baseline(r.prediction, r.baseline);
+  } else if (violation.empty() && o.status == SolveStatus::kInfeasible && !is_filter_strategy(s)) {
+    o.status = SolveStatus::kAcceptable;
+    o.detail =
+        "the law meets every constraint on the verification, though its objective was "
+        "not minimised";
   }
+}
 
+/// The spectral optima, which seed the time-domain starts (SPEC §5); their outcomes are appended
+/// to `outcomes` when not null.
+std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
+                                      std::vector<Outcome>* outcomes) {
+  std::vector<Durations> seeds;
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+    Outcome o = run_strategy(c, s, {});
+    if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
+      seeds.push_back(*o.durations);
+    }
+    if (outcomes != nullptr) outcomes->push_back(std::move(o));
+  }
+  return seeds;
+}
+
+/// The law plan() returns: its outcome (solver figures summed over the candidates for kAuto), its
+/// verified prediction, the sentence about how it was obtained, and its worse_than_baseline
+/// warning (or empty).
+struct Selection {
+  Outcome outcome;
+  LawPrediction prediction;
+  std::string detail;
+  std::string worse;
+};
+
+Selection run_single(const detail::StrategyContext& c, Strategy strategy,
+                     const LawPrediction& baseline) {
+  std::vector<Durations> seeds;
+  if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(c, nullptr);
+  Selection s;
+  s.outcome = run_strategy(c, strategy, seeds);
+  s.prediction = predict(c.model, s.outcome.law, c.options.rest_time);
+  verify(c, s.outcome, s.prediction);
+  s.detail = s.outcome.detail;
+  s.worse = worse_than_baseline(s.prediction, baseline);
+  return s;
+}
+
+bool usable_status(SolveStatus status) {
+  return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
+         status == SolveStatus::kTimeLimit;
+}
+
+}  // namespace
+
+AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
+                       const std::vector<bool>& worse_than_baseline) {
+  // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best (ties:
+  // lower peak acceleration); infeasible or failed candidates do not compete, nor do those worse
+  // than the uniform law while one that is not remains (the baseline never is).
+  AutoChoice choice;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    choice.any_not_worse =
+        choice.any_not_worse || (usable_status(candidates[k].status) && !worse_than_baseline[k]);
+  }
+  auto eligible = [&](std::size_t k) {
+    return usable_status(candidates[k].status) &&
+           (!choice.any_not_worse || !worse_than_baseline[k]);
+  };
+  double best_motion = INFINITY;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (eligible(k)) {
+      best_motion = std::min(best_motion, candidates[k].prediction.nonlinear.motion.value);
+    }
+  }
+  auto peak = [](const PlanCandidate& k) {
+    return std::max(k.prediction.kinematics.a_peak_positive,
+                    k.prediction.kinematics.a_peak_negative);
+  };
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const auto& cand = candidates[k];
+    if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      continue;
+    }
+    if (!choice.eligible) {
+      choice.index = k;
+      choice.eligible = true;
+      continue;
+    }
+    const auto& cur = candidates[choice.index];
+    const double a = cand.prediction.nonlinear.rest.value, b = cur.prediction.nonlinear.rest.value;
+    if (a < b * (1.0 - kAutoTieTolerance) ||
+        (std::abs(a - b) <= kAutoTieTolerance * b && peak(cand) < peak(cur))) {
+      choice.index = k;
+    }
+  }
+  return choice;
+}
+
+namespace {
+
+/// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
+Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseline,
+                   std::vector<PlanCandidate>& candidates) {
+  std::vector<Outcome> outcomes;
+  outcomes.push_back(run_strategy(c, Strategy::kBaseline, {}));
+  const std::vector<Durations> seeds = spectral_seeds(c, &outcomes);
+  outcomes.push_back(run_strategy(c, Strategy::kTimeDomain, seeds));
+  outcomes.push_back(run_strategy(c, Strategy::kFirChain, {}));
+  outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
+  int evaluations = 0, starts = 0;
+  std::vector<std::string> worse_of;
+  std::vector<bool> worse;
+  for (Outcome& o : outcomes) {
+    PlanCandidate cand;
+    cand.strategy = o.strategy;
+    cand.law = o.law;
+    cand.prediction = predict(c.model, cand.law, c.options.rest_time);
+    verify(c, o, cand.prediction);
+    cand.status = o.status;
+    cand.durations = o.durations;
+    worse_of.push_back(worse_than_baseline(cand.prediction, baseline));
+    worse.push_back(!worse_of.back().empty());
+    candidates.push_back(std::move(cand));
+    evaluations += o.solver.evaluations;
+    starts += o.solver.starts;
+  }
+  const AutoChoice choice = choose_auto(candidates, worse);
+  candidates[choice.index].chosen = true;
+  Selection s;
+  s.outcome = std::move(outcomes[choice.index]);
+  s.outcome.solver.evaluations = evaluations;
+  s.outcome.solver.starts = starts;
+  if (!choice.eligible) {
+    s.detail = "no candidate meets every constraint; auto returns the uniform law";
+  } else {
+    s.detail = "auto chose " + to_string(s.outcome.strategy) +
+               " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+               (choice.any_not_worse ? std::string("none worse than the uniform law)")
+                                     : std::string("all worse than the uniform law, which does "
+                                                   "not meet the options)"));
+  }
+  if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
+  s.worse = worse_of[choice.index];
+  s.prediction = candidates[choice.index].prediction;
+  return s;
+}
+
+/// The sentence of an infeasible optimised law: the machine limits first when they alone cannot
+/// hold; otherwise the strategy's own sentence (constraint, limit, best value reached).
+std::string infeasible_sentence(const detail::StrategyContext& c, const PlanResult& r,
+                                Strategy result_strategy, const std::string& detail_text) {
+  std::string limits;
+  // (The uniform law is not searched: its own sentence says which option it breaks.)
+  if (result_strategy != Strategy::kBaseline && c.space.limit_count() > 0 && r.durations &&
+      !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
+           .empty()) {
+    limits = detail::explain_limits(c);
+  }
+  std::string message = !limits.empty() ? limits : detail_text;
+  if (message.empty() && r.durations) {
+    message = detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
+  } else if (limits.empty() && r.durations && result_strategy != Strategy::kBaseline) {
+    // The strategy's own constraint is named; a machine limit the returned law breaks too
+    // (although the limits are reachable) must not go unsaid.
+    const std::string also =
+        detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear);
+    if (!also.empty()) message += "; moreover " + also;
+  }
+  message += result_strategy == Strategy::kBaseline
+                 ? "; the durations returned are the uniform law, not a solution: plan with "
+                   "a strategy that holds the options"
+                 : "; the durations returned are the least infeasible found, not a solution";
+  return message;
+}
+
+/// The message (Ceres' BriefReport): what happened, then what the law does.
+std::string brief_report(const detail::StrategyContext& c, const PlanResult& r,
+                         Strategy result_strategy, std::string detail_text) {
+  std::string message;
+  switch (r.status) {
+    case SolveStatus::kOptimal:
+    case SolveStatus::kAcceptable:
+      message = to_string(r.strategy) + " " + to_string(r.status);
+      break;
+    case SolveStatus::kTimeLimit:
+      message = "the time budget of " + sig3(c.options.time_limit) +
+                " s ran out; returning the best admissible point found";
+      break;
+    case SolveStatus::kInfeasible:
+      // A filter design says what it built and which constraint it misses.
+      message = is_filter_strategy(result_strategy)
+                    ? detail_text
+                    : infeasible_sentence(c, r, result_strategy, detail_text);
+      detail_text.clear();
+      break;
+    case SolveStatus::kFailed:
+      message = "the solver failed; the durations returned are the uniform law";
+      break;
+  }
+  if (!detail_text.empty()) message += ": " + detail_text;
+  return message + ". " + summary_sentence(r.prediction, r.baseline);
+}
+
+/// Fills the result from the selected law.
+void take_selection(PlanResult& r, Selection& s, const Format& format) {
+  Outcome& o = s.outcome;
+  r.status = o.status;
+  r.durations = o.durations;
+  r.law = std::move(o.law);
+  r.design = std::move(o.design);
+  r.solver.name = o.solver.solver;
+  r.solver.iterations = o.solver.evaluations;
+  r.solver.starts = o.solver.starts;
+  r.solver.objective = o.solver.objective;
+  r.prediction = s.prediction;
   if (r.durations) {
     const SevenSegmentLaw law(*r.durations, format.stroke);
     r.A = law.A();
@@ -616,68 +687,56 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     r.A = r.prediction.kinematics.a_peak_positive;
     r.B = r.prediction.kinematics.a_peak_negative;
   }
+  if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
+}
+
+}  // namespace
+
+PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
+    return refusal(format, strategy, options, std::move(*why));
+  }
+  const detail::Deadline deadline(options.time_limit);
+  PlanResult r;
+  r.strategy = strategy;
+  r.model = make_sloshing_model(format, options.model);
+  if (std::optional<InvalidInput> why = model_refusal(r.model)) {
+    return refusal(format, strategy, options, std::move(*why));
+  }
+  const double w1 = r.model.omega1();
+  r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
+  const Durations uniform = uniform_durations(format.motion_time);
+  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
+  if (!finite_prediction(r.baseline)) {
+    return refusal(
+        format, strategy, options,
+        refused(PlanInput::kUniformResponse, r.baseline.nonlinear.motion.value, non_negative(),
+                "the uniform law's predicted sloshing is not finite for this format"));
+  }
+  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
+                            deadline};
+  detail::set_references(c, r.baseline.nonlinear.motion.value);
+  if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
+    return refusal(
+        format, strategy, options,
+        refused(PlanInput::kReferenceLevels, c.x_ref, positive(),
+                "the uniform law's reference levels are not finite and positive (X_ref = " +
+                    sig3(c.x_ref) + " m/s)"));
+  }
+
+  Selection s = strategy == Strategy::kAuto ? run_auto(c, r.baseline, r.candidates)
+                                            : run_single(c, strategy, r.baseline);
+  const Strategy result_strategy = s.outcome.strategy;
+  take_selection(r, s, format);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-  if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
-
-  // The message: what happened, then what the law does.
-  const bool filtered = is_filter_strategy(result_strategy);
-  std::string message;
-  switch (r.status) {
-    case SolveStatus::kOptimal:
-    case SolveStatus::kAcceptable:
-      message = to_string(strategy) + " " + to_string(r.status);
-      break;
-    case SolveStatus::kTimeLimit:
-      message = "the time budget of " + sig3(options.time_limit) +
-                " s ran out; returning the best admissible point found";
-      break;
-    case SolveStatus::kInfeasible: {
-      if (filtered) {
-        // The design says what it built and which constraint it misses.
-        message = detail_text;
-        detail_text.clear();
-        break;
-      }
-      // The machine limits first when they alone cannot hold; otherwise the strategy's own
-      // sentence (constraint, limit, best value reached).
-      std::string limits;
-      // (The uniform law is not searched: its own sentence says which option it breaks.)
-      if (result_strategy != Strategy::kBaseline && c.space.limit_count() > 0 && r.durations &&
-          !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
-               .empty()) {
-        limits = detail::explain_limits(c);
-      }
-      message = !limits.empty() ? limits : detail_text;
-      if (message.empty() && r.durations) {
-        message =
-            detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
-      } else if (limits.empty() && r.durations && result_strategy != Strategy::kBaseline) {
-        // The strategy's own constraint is named; a machine limit the returned law breaks too
-        // (although the limits are reachable) must not go unsaid.
-        const std::string also = detail::violated_constraint(c, Strategy::kBaseline, *r.durations,
-                                                             r.prediction.nonlinear);
-        if (!also.empty()) message += "; moreover " + also;
-      }
-      detail_text.clear();
-      message += result_strategy == Strategy::kBaseline
-                     ? "; the durations returned are the uniform law, not a solution: plan with "
-                       "a strategy that holds the options"
-                     : "; the durations returned are the least infeasible found, not a solution";
-      break;
-    }
-    case SolveStatus::kFailed:
-      message = "the solver failed; the durations returned are the uniform law";
-      break;
-  }
-  if (!detail_text.empty()) message += ": " + detail_text;
-  message += ". " + summary_sentence(r.prediction, r.baseline);
-  r.message = message;
+  r.message = brief_report(c, r, result_strategy, std::move(s.detail));
   r.warnings = validity_warnings(
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
       r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value);
-  if (!worse.empty()) r.warnings.push_back(worse);
+  if (!s.worse.empty()) r.warnings.push_back(s.worse);
   return r;
 }
 

@@ -235,6 +235,23 @@ struct PlanCandidate {
   bool chosen{false};
 };
 
+/// kAuto's pick among its verified candidates (SPEC §5).
+struct AutoChoice {
+  /// The chosen candidate; 0 (the first, the uniform law) when none is eligible.
+  std::size_t index{0};
+  /// Some candidate was usable (optimal, acceptable or time-limited) and competed.
+  bool eligible{false};
+  /// Some usable candidate is not worse than the uniform law (then the worse ones do not compete).
+  bool any_not_worse{false};
+};
+
+/// SPEC §5's rule, pure: among the usable candidates (not worse than the uniform law while one
+/// that is not remains; `worse_than_baseline[k]` flags candidate k), those whose nonlinear
+/// eta_motion is within 5 % of the best compete; the lowest eta_rest wins (relative ties of 1e-6:
+/// the lower peak acceleration, then the earlier candidate).
+[[nodiscard]] AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
+                                     const std::vector<bool>& worse_than_baseline);
+
 /// Everything plan() returns. The durations are always admissible (SPEC §3).
 struct PlanResult {
   Strategy strategy{};  ///< the requested strategy
