@@ -202,3 +202,48 @@ TEST(CoreValidation, TheApiWordsARefusalAsItAlwaysHas) {
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+PlanCandidate candidate(SolveStatus status, double eta_motion, double eta_rest, double a_peak) {
+  PlanCandidate c;
+  c.status = status;
+  c.prediction.nonlinear.motion.value = eta_motion;
+  c.prediction.nonlinear.rest.value = eta_rest;
+  c.prediction.kinematics.a_peak_positive = a_peak;
+  c.prediction.kinematics.a_peak_negative = a_peak;
+  return c;
+}
+
+// choose_auto is a pure function of the verified candidates (SPEC §5's rule).
+TEST(ChooseAuto, LowestRestAmongTheMotionsWithinFivePercentOfTheBest) {
+  const std::vector<PlanCandidate> c{
+      candidate(SolveStatus::kOptimal, 0.010, 0.004, 4.0),    // baseline
+      candidate(SolveStatus::kOptimal, 0.0050, 0.0020, 5.0),  // best motion
+      candidate(SolveStatus::kOptimal, 0.0052, 0.0010, 6.0),  // within 5 %, least rest
+      candidate(SolveStatus::kOptimal, 0.0060, 0.0001, 3.0),  // outside 5 %
+      candidate(SolveStatus::kInfeasible, 0.001, 0.0, 1.0),   // does not compete
+  };
+  const AutoChoice choice = choose_auto(c, {false, false, false, false, false});
+  EXPECT_TRUE(choice.eligible);
+  EXPECT_TRUE(choice.any_not_worse);
+  EXPECT_EQ(choice.index, 2u);
+}
+
+TEST(ChooseAuto, TiesGoToTheLowerPeakAccelerationAndWorseCandidatesWait) {
+  const std::vector<PlanCandidate> tie{
+      candidate(SolveStatus::kOptimal, 0.005, 0.001, 5.0),
+      candidate(SolveStatus::kAcceptable, 0.005, 0.001 * (1.0 + 1e-9), 4.0),
+  };
+  EXPECT_EQ(choose_auto(tie, {false, false}).index, 1u);
+  // A worse-than-baseline candidate does not compete while one that is not remains.
+  EXPECT_EQ(choose_auto(tie, {false, true}).index, 0u);
+  const AutoChoice none =
+      choose_auto({candidate(SolveStatus::kFailed, 0.0, 0.0, 0.0)}, std::vector<bool>{false});
+  EXPECT_FALSE(none.eligible);
+  EXPECT_EQ(none.index, 0u);
+}
+
+}  // namespace
+}  // namespace slosh

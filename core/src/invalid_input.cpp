@@ -128,4 +128,11 @@ InvalidInput refused(PlanInput input, double value, const InputBounds& bounds,
   return e;
 }
 
+std::optional<InvalidInput> first_out_of_range(std::initializer_list<BoundedValue> values) {
+  for (const BoundedValue& v : values) {
+    if (!v.bounds.contains(v.value)) return out_of_range(v.input, -1, v.value, v.bounds);
+  }
+  return std::nullopt;
+}
+
 }  // namespace slosh

@@ -43,19 +43,16 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
 
 std::optional<InvalidInput> validate_simulation_input(const Format& f, const MotionLaw& law,
                                                       const SimulationOptions& options) {
-  const std::pair<PlanInput, std::pair<double, InputBounds>> quantities[] = {
-      {PlanInput::kContainerRadius, {f.container.radius, positive()}},
-      {PlanInput::kContainerHeight, {f.container.height.value_or(1.0), positive()}},
-      {PlanInput::kFillHeight, {f.fill_height, positive()}},
-      {PlanInput::kFluidDensity, {f.fluid.density, positive()}},
-      {PlanInput::kFluidViscosity, {f.fluid.viscosity, non_negative()}},
-      {PlanInput::kStroke, {f.stroke, non_negative()}},
-      {PlanInput::kMotionTime, {f.motion_time, positive()}},
-  };
-  for (const auto& [input, check] : quantities) {
-    if (!check.second.contains(check.first)) {
-      return out_of_range(input, -1, check.first, check.second);
-    }
+  if (auto bad = first_out_of_range({
+          {PlanInput::kContainerRadius, f.container.radius, positive()},
+          {PlanInput::kContainerHeight, f.container.height.value_or(1.0), positive()},
+          {PlanInput::kFillHeight, f.fill_height, positive()},
+          {PlanInput::kFluidDensity, f.fluid.density, positive()},
+          {PlanInput::kFluidViscosity, f.fluid.viscosity, non_negative()},
+          {PlanInput::kStroke, f.stroke, non_negative()},
+          {PlanInput::kMotionTime, f.motion_time, positive()},
+      })) {
+    return bad;
   }
   if (auto model = validate_model_options(options.model)) return model;
   if (law.pieces().empty()) {

@@ -79,20 +79,17 @@ bool finite_prediction(const LawPrediction& p) {
 
 std::optional<InvalidInput> validate_plan_input(const Format& f, const PlanOptions& options) {
   const InputBounds length = closed_range(kMinPlanLength, kMaxPlanLength);
-  const std::pair<PlanInput, std::pair<double, InputBounds>> quantities[] = {
-      {PlanInput::kContainerRadius,
-       {f.container.radius, closed_range(kMinPlanRadius, kMaxPlanLength)}},
-      {PlanInput::kContainerHeight, {f.container.height.value_or(1.0), positive()}},
-      {PlanInput::kFillHeight, {f.fill_height, length}},
-      {PlanInput::kFluidDensity, {f.fluid.density, closed_range(1.0, 1e5)}},
-      {PlanInput::kFluidViscosity, {f.fluid.viscosity, closed_range(0.0, 1e6)}},
-      {PlanInput::kStroke, {f.stroke, length}},
-      {PlanInput::kMotionTime, {f.motion_time, closed_range(kMinPlanTime, kMaxPlanTime)}},
-  };
-  for (const auto& [input, check] : quantities) {
-    if (!check.second.contains(check.first)) {
-      return out_of_range(input, -1, check.first, check.second);
-    }
+  if (auto bad = first_out_of_range({
+          {PlanInput::kContainerRadius, f.container.radius,
+           closed_range(kMinPlanRadius, kMaxPlanLength)},
+          {PlanInput::kContainerHeight, f.container.height.value_or(1.0), positive()},
+          {PlanInput::kFillHeight, f.fill_height, length},
+          {PlanInput::kFluidDensity, f.fluid.density, closed_range(1.0, 1e5)},
+          {PlanInput::kFluidViscosity, f.fluid.viscosity, closed_range(0.0, 1e6)},
+          {PlanInput::kStroke, f.stroke, length},
+          {PlanInput::kMotionTime, f.motion_time, closed_range(kMinPlanTime, kMaxPlanTime)},
+      })) {
+    return bad;
   }
   if (auto model = validate_model_options(options.model)) return model;
   return options.validate(f);
@@ -154,37 +151,31 @@ std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
   }
   if (auto relation = ramps_and_plateaus(*this, T)) return relation;
   if (auto arrays = validate_arrays(*this)) return arrays;
-  const std::pair<PlanInput, std::pair<double, InputBounds>> scalars[] = {
-      {PlanInput::kPNotch, {p_notch, open_range(0.0, 1.0)}},
-      {PlanInput::kBand, {band, open_range(0.0, 1.0)}},
-      {PlanInput::kNBand, {n_band, closed_range(1.0, kMaxBandPoints)}},
-      {PlanInput::kTolRel, {tol_rel, positive()}},
-      {PlanInput::kEtaRestMax, {eta_rest_max, positive()}},
-      {PlanInput::kEtaMotionMax, {eta_motion_max.value_or(1.0), positive()}},
-      {PlanInput::kRestTime, {rest_time, {0.0, kMaxPlanTime, true, false}}},
-      {PlanInput::kAMax, {limits.a_max.value_or(1.0), positive()}},
-      {PlanInput::kVMax, {limits.v_max.value_or(1.0), positive()}},
-      {PlanInput::kJMax, {limits.j_max.value_or(1.0), positive()}},
-  };
-  for (const auto& [input, check] : scalars) {
-    if (!check.second.contains(check.first)) {
-      return out_of_range(input, -1, check.first, check.second);
-    }
+  if (auto bad = first_out_of_range({
+          {PlanInput::kPNotch, p_notch, open_range(0.0, 1.0)},
+          {PlanInput::kBand, band, open_range(0.0, 1.0)},
+          {PlanInput::kNBand, static_cast<double>(n_band), closed_range(1.0, kMaxBandPoints)},
+          {PlanInput::kTolRel, tol_rel, positive()},
+          {PlanInput::kEtaRestMax, eta_rest_max, positive()},
+          {PlanInput::kEtaMotionMax, eta_motion_max.value_or(1.0), positive()},
+          {PlanInput::kRestTime, rest_time, {0.0, kMaxPlanTime, true, false}},
+          {PlanInput::kAMax, limits.a_max.value_or(1.0), positive()},
+          {PlanInput::kVMax, limits.v_max.value_or(1.0), positive()},
+          {PlanInput::kJMax, limits.j_max.value_or(1.0), positive()},
+      })) {
+    return bad;
   }
   // An infinite budget is no budget.
   if (!(time_limit > 0.0) || std::isnan(time_limit)) {
     return refused(PlanInput::kTimeLimit, time_limit, positive(),
                    "time_limit = " + sig3(time_limit) + " s must be > 0");
   }
-  const std::pair<PlanInput, std::pair<double, InputBounds>> filters[] = {
-      {PlanInput::kResidual, {residual, {0.0, 1.0, false, true}}},
-      {PlanInput::kIirTau, {iir_tau, positive()}},
-      {PlanInput::kIirSamplePeriod, {iir_sample_period, {0.0, T / kIirMinSamples, true, false}}},
-  };
-  for (const auto& [input, check] : filters) {
-    if (!check.second.contains(check.first)) {
-      return out_of_range(input, -1, check.first, check.second);
-    }
+  if (auto bad = first_out_of_range({
+          {PlanInput::kResidual, residual, {0.0, 1.0, false, true}},
+          {PlanInput::kIirTau, iir_tau, positive()},
+          {PlanInput::kIirSamplePeriod, iir_sample_period, {0.0, T / kIirMinSamples, true, false}},
+      })) {
+    return bad;
   }
   return std::nullopt;
 }

@@ -5,7 +5,9 @@
 // (api/core_input.hpp); the core never names an API field.
 
 #include <array>
+#include <initializer_list>
 #include <limits>
+#include <optional>
 #include <string>
 #include <string_view>
 
@@ -133,6 +135,18 @@ struct InvalidInput {
 /// core's sentence, `value` and `bounds` what it compares.
 [[nodiscard]] InvalidInput refused(PlanInput input, double value, const InputBounds& bounds,
                                    std::string message);
+
+/// One checked quantity: an input, its value and what it may be.
+struct BoundedValue {
+  PlanInput input{};
+  double value{};
+  InputBounds bounds;
+};
+
+/// The refusal (out_of_range) of the first value outside its bounds, in order; nullopt when all
+/// hold.
+[[nodiscard]] std::optional<InvalidInput> first_out_of_range(
+    std::initializer_list<BoundedValue> values);
 
 /// Bounds shorthands: (0, inf), [0, inf), [lo, hi], (lo, hi).
 [[nodiscard]] inline InputBounds positive() {
