@@ -5,6 +5,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
@@ -115,8 +116,10 @@ PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry&
   PlanOptions& o = r.options;
   registry.parse(options, r.format, o);
   // Relations between options (e.g. ramps + plateau minimums longer than T).
-  std::string error;
-  if (!o.is_valid(r.format, &error)) invalid("options", "options." + error);
+  InvalidInput error;
+  if (!o.is_valid(r.format, &error)) {
+    invalid("options", "options." + input_sentence(error, r.format, o));
+  }
 
   r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);
   return r;
@@ -292,13 +295,19 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
   plan["series"] = run_simulate(s)["series"];
 }
 
-nlohmann::json run_plan(const PlanRequest& request) {
-  const PlanResult result = plan(request.format, request.strategy, request.options);
+PlanResult plan_request(const PlanRequest& request) {
+  PlanResult result = plan(request.format, request.strategy, request.options);
   if (result.invalid_input) {
     // The request passed the API's ranges but not the planner's own checks (e.g. a format whose
     // uniform law already drives the model out of its range): a 422, not a plan of zeros.
-    throw ApiError(ErrorCode::kInvalidValue, "format", result.message);
+    throw ApiError(ErrorCode::kInvalidValue, "format",
+                   plan_refusal(*result.invalid_input, request.format, request.options));
   }
+  return result;
+}
+
+nlohmann::json run_plan(const PlanRequest& request) {
+  const PlanResult result = plan_request(request);
   nlohmann::json out = plan_json(request, result);
   add_series(request, out);
   return out;

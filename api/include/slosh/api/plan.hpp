@@ -58,6 +58,10 @@ struct PlanRequest {
 [[nodiscard]] nlohmann::json canonical_recipe(
     const PlanRequest& request, const OptionRegistry& registry = plan_option_registry());
 
+/// Plans a validated request; throws ApiError(kInvalidValue, "format") when the planner refuses
+/// inputs that passed the API's ranges.
+[[nodiscard]] PlanResult plan_request(const PlanRequest& request);
+
 /// Runs a validated request and renders the plan response of SPEC §7 (with the series when the
 /// request asks for them).
 [[nodiscard]] nlohmann::json run_plan(const PlanRequest& request);
