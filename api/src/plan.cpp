@@ -48,11 +48,6 @@ nlohmann::json prediction_json(const LawPrediction& p) {
   return api::prediction_json(p.nonlinear, p.linear);
 }
 
-/// 100 (1 - value / baseline) [%]; 0 for a zero baseline.
-double reduction_pct(double baseline, double value) {
-  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
-}
-
 nlohmann::json design_json(const FilterDesign& design) {
   struct Visitor {
     nlohmann::json operator()(const FirChainDesign& d) const {
@@ -224,8 +219,8 @@ void add_kinematics(const PlanRequest& request, const PlanResult& r, nlohmann::j
 
 nlohmann::json reduction_json(const LawPrediction& baseline, const LawPrediction& plan) {
   auto pair = [](const SloshPeaks& base, const SloshPeaks& p) {
-    return nlohmann::json{{"motion", reduction_pct(base.motion.value, p.motion.value)},
-                          {"rest", reduction_pct(base.rest.value, p.rest.value)}};
+    return nlohmann::json{{"motion", reduction_percent(base.motion.value, p.motion.value)},
+                          {"rest", reduction_percent(base.rest.value, p.rest.value)}};
   };
   nlohmann::json out = pair(baseline.nonlinear, plan.nonlinear);
   out["linear"] = pair(baseline.linear, plan.linear);
