@@ -5,10 +5,8 @@
 // CSV columns (header row, any order; an empty cell means "the default"):
 //   required  recipe_id, radius_mm, fill_height_mm, stroke_mm, motion_time_s, strategy, and
 //             fluid (a catalogue name) or density_kg_m3 + viscosity_pa_s (a custom fluid)
-//   optional  container_height_mm, every plan option by its JSON name (p_notch, weights, band,
-//             n_band, tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s,
-//             min_ramp_s, fix_constant_velocity_zero, plateau_min_s, damping, alpha, modes,
-//             solver, time_limit_s) and the limits a_max, v_max, j_max.
+//   optional  container_height_mm, every plan option of the option registry by its JSON name
+//             (slosh/api/option_registry.hpp) and the limits by theirs: a_max, v_max, j_max.
 // List cells (weights, plateau_min_s) separate numbers by ';' (or spaces); damping is a name or
 // a number (the explicit zeta); booleans are true/false, yes/no or 1/0. Cells follow RFC 4180
 // (quotes, doubled quotes, line breaks inside quotes) except that spaces around unquoted cells
@@ -21,10 +19,28 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/option_registry.hpp"
+#include "slosh/core/enum_names.hpp"
+
 namespace slosh::service {
 
 /// File formats of recipe and plan tables.
 enum class TableFormat { kCsv, kJsonLines, kJson };
+
+}  // namespace slosh::service
+
+namespace slosh {
+template <>
+struct EnumNames<service::TableFormat> {
+  static constexpr std::array<EnumName<service::TableFormat>, 3> table{{
+      {service::TableFormat::kCsv, "csv"},
+      {service::TableFormat::kJsonLines, "jsonl"},
+      {service::TableFormat::kJson, "json"},
+  }};
+};
+}  // namespace slosh
+
+namespace slosh::service {
 
 [[nodiscard]] std::string to_string(TableFormat format);
 
@@ -48,8 +64,11 @@ struct RecipeRow {
 };
 
 /// Reads a whole table. Row-level problems (a non-numeric cell, a wrong cell count, a line that
-/// is not JSON) become the row's `error`; table-level ones throw TableError.
-[[nodiscard]] std::vector<RecipeRow> read_recipe_table(const std::string& text, TableFormat format);
+/// is not JSON) become the row's `error`; table-level ones throw TableError. The CSV columns and
+/// cells are api's (slosh/api/recipe_row.hpp); their options come from `registry`.
+[[nodiscard]] std::vector<RecipeRow> read_recipe_table(
+    const std::string& text, TableFormat format,
+    const api::OptionRegistry& registry = api::plan_option_registry());
 
 /// The CSV column a request field path ("format.container.radius_mm", "options.weights[1]")
 /// comes from; the path itself when no column maps to it.

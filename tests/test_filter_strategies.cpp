@@ -10,9 +10,9 @@
 #include <string>
 
 #include "slosh/core/law/filtered_laws.hpp"
-#include "slosh/core/strategy/planner.hpp"
 #include "slosh/core/response/response.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/strategy/planner.hpp"
 
 namespace slosh {
 namespace {
@@ -283,19 +283,19 @@ TEST(IirStrategy, RefusesMoreSamplesThanItPlans) {
 
 TEST(FilterStrategies, OptionsAreValidatedWithTheirRanges) {
   const Format f = thesis_format();
-  std::string error;
+  InvalidInput error;
   PlanOptions o;
   o.residual = 1.0;
   EXPECT_FALSE(o.is_valid(f, &error));
-  EXPECT_EQ(error, "residual = 1 must be >= 0 and < 1");
+  EXPECT_EQ(error.message, "residual = 1 must be finite and in [0, 1)");
   o = PlanOptions{};
   o.iir_tau = 0.0;
   EXPECT_FALSE(o.is_valid(f, &error));
-  EXPECT_EQ(error, "iir_tau = 0 1/s must be finite and > 0");
+  EXPECT_EQ(error.message, "iir_tau = 0 1/s must be finite and > 0 1/s");
   o = PlanOptions{};
   o.iir_sample_period = 0.06;
   EXPECT_FALSE(o.is_valid(f, &error));
-  EXPECT_EQ(error, "iir_sample_period_s = 0.06 s must be > 0 and <= T / 20 = 0.05 s");
+  EXPECT_EQ(error.message, "iir_sample_period = 0.06 s must be finite and in (0, 0.05] s");
 }
 
 // Property: on seeded random formats every filtering law is exactly T long and rest-to-rest,

@@ -17,26 +17,21 @@
 #include <tuple>
 #include <vector>
 
+#include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
 #include "slosh/core/strategy/planner.hpp"
-#include "slosh/core/response/response.hpp"
-#include "slosh/core/law/seven_segment.hpp"
-#include "slosh/core/model/sloshing_model.hpp"
-#include "slosh/core/response/spectrum.hpp"
+#include "support/law_quadrature.hpp"
 #include "support/reference_integrators.hpp"
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
 namespace {
 
-// Gauss-Legendre X_a(omega) of a law from its sampled acceleration (tests/support).
-std::complex<double> quadrature_of(const MotionLaw& law, double omega) {
-  double rate = 0.0;
-  for (const LawPiece& p : law.pieces()) rate = std::max(rate, std::abs(p.harmonic_omega));
-  return test::gauss_legendre_spectrum([&](double t) { return law.at(t).acceleration; },
-                                       law.breakpoints(), omega, rate);
-}
+using test::quadrature_of;
 
 // gtest-only substring check with both strings in the failure message.
 ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
@@ -696,13 +691,14 @@ TEST(PlanOptionsValidation, RejectsFloorsLongerThanTheMotionNamingMinRamp) {
   PlanOptions o;
   o.min_ramp = 0.2;
   o.plateau_min = {0.1, 0.12};  // 4 x 0.2 + 0.22 = 1.02 s > 1 s
-  std::string error;
+  InvalidInput error;
   EXPECT_FALSE(o.is_valid(f, &error));
-  EXPECT_TRUE(Contains(error, "min_ramp_s = 0.2 s"));
-  EXPECT_TRUE(Contains(error, "plateau_min_s = [0.1, 0.12] s"));
-  EXPECT_TRUE(Contains(error, "1.02 s"));
-  EXPECT_TRUE(Contains(error, "motion time 1 s"));
-  EXPECT_TRUE(Contains(error, "min_ramp_s <= (T - plateau minimums) / 4 = 0.195 s"));
+  EXPECT_TRUE(Contains(error.message, "min_ramp = 0.2 s"));
+  EXPECT_TRUE(Contains(error.message, "plateau_min = [0.1, 0.12] s"));
+  EXPECT_TRUE(Contains(error.message, "1.02 s"));
+  EXPECT_TRUE(Contains(error.message, "motion_time 1 s"));
+  EXPECT_TRUE(
+      Contains(error.message, "min_ramp <= (motion_time - plateau minimums) / 4 = 0.195 s"));
   // Exactly filling the motion time is allowed (4 x 0.25 = 1 s).
   PlanOptions full;
   full.min_ramp = 0.25;
@@ -710,31 +706,32 @@ TEST(PlanOptionsValidation, RejectsFloorsLongerThanTheMotionNamingMinRamp) {
   PlanOptions over;
   over.min_ramp = 0.26;
   EXPECT_FALSE(over.is_valid(f, &error));
-  EXPECT_TRUE(Contains(error, "min_ramp_s = 0.26 s"));
+  EXPECT_TRUE(Contains(error.message, "min_ramp = 0.26 s"));
 }
 
 TEST(PlanOptionsValidation, RejectsZeroWeightsAndAFullWidthNotch) {
   const Format f = thesis_format();
-  std::string error;
+  InvalidInput error;
   PlanOptions zero;
   zero.weights = {0.0, 0.0, 0.0};
   EXPECT_FALSE(zero.is_valid(f, &error));
-  EXPECT_TRUE(Contains(error, "weights = [0, 0, 0]"));
-  EXPECT_TRUE(Contains(error, "at least one weight must be > 0"));
+  EXPECT_TRUE(Contains(error.message, "weights = [0, 0, 0]"));
+  EXPECT_TRUE(Contains(error.message, "at least one weight must be > 0"));
   PlanOptions one_weight;
   one_weight.weights = {0.0, 1.0, 0.0};
   EXPECT_TRUE(one_weight.is_valid(f, &error));
   PlanOptions p1;
   p1.p_notch = 1.0;
   EXPECT_FALSE(p1.is_valid(f, &error));
-  EXPECT_TRUE(Contains(error, "p_notch = 1"));
-  EXPECT_TRUE(Contains(error, "must be > 0 and < 1"));
+  EXPECT_TRUE(Contains(error.message, "p_notch = 1"));
+  EXPECT_TRUE(Contains(error.message, "must be finite and in (0, 1)"));
 }
 
 TEST(PlanOptionsValidation, DefaultsAreValidAndLeaveTheErrorUntouched) {
-  std::string error = "untouched";
+  InvalidInput error;
+  error.message = "untouched";
   EXPECT_TRUE(PlanOptions{}.is_valid(thesis_format(), &error));
-  EXPECT_EQ(error, "untouched");
+  EXPECT_EQ(error.message, "untouched");
   EXPECT_TRUE(PlanOptions{}.is_valid(thesis_format(), nullptr));
 }
 

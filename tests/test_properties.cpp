@@ -8,18 +8,13 @@
 
 #include "slosh/core/response/response.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "support/law_quadrature.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
 namespace {
 
-// Gauss-Legendre X_a(omega) of a law from its sampled acceleration (tests/support).
-std::complex<double> quadrature_of(const MotionLaw& law, double omega) {
-  double rate = 0.0;
-  for (const LawPiece& p : law.pieces()) rate = std::max(rate, std::abs(p.harmonic_omega));
-  return test::gauss_legendre_spectrum([&](double t) { return law.at(t).acceleration; },
-                                       law.breakpoints(), omega, rate);
-}
+using test::quadrature_of;
 
 struct RandomCase {
   Format format;

@@ -9,18 +9,13 @@
 
 #include "slosh/core/response/spectrum.hpp"
 #include "support/fixtures.hpp"
+#include "support/law_quadrature.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
 namespace {
 
-// Gauss-Legendre X_a(omega) of a law from its sampled acceleration (tests/support).
-std::complex<double> quadrature_of(const MotionLaw& law, double omega) {
-  double rate = 0.0;
-  for (const LawPiece& p : law.pieces()) rate = std::max(rate, std::abs(p.harmonic_omega));
-  return test::gauss_legendre_spectrum([&](double t) { return law.at(t).acceleration; },
-                                       law.breakpoints(), omega, rate);
-}
+using test::quadrature_of;
 
 std::complex<double> quadrature_spectrum(const SevenSegmentLaw& law, double w) {
   const test::TrapezoidAcceleration a{law.durations(), law.A(), law.B()};

@@ -10,14 +10,16 @@
 
 namespace slosh::api {
 
-namespace {
-
-const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
-  auto it = object.find(std::string(key));
+const nlohmann::json* find_member(const nlohmann::json& object, std::string_view key) {
+  if (!object.is_object()) return nullptr;
+  auto it = object.find(key);
   return it == object.end() ? nullptr : &*it;
 }
 
-}  // namespace
+const nlohmann::json* given_member(const nlohmann::json& object, std::string_view key) {
+  const nlohmann::json* value = find_member(object, key);
+  return value == nullptr || value->is_null() ? nullptr : value;
+}
 
 std::string number_text(double v) {
   std::ostringstream os;
@@ -142,6 +144,12 @@ void require_finite(const nlohmann::json& value) {
       "the response would carry a non-finite number at '" + path + "'; please report the request");
 }
 
+std::string quoted_names(const std::vector<std::string>& names) {
+  std::string list;
+  for (const auto& name : names) list += (list.empty() ? "\"" : ", \"") + name + "\"";
+  return list;
+}
+
 void invalid(const std::string& path, const std::string& message) {
   throw ApiError(ErrorCode::kInvalidValue, path, message);
 }
@@ -166,7 +174,7 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& path
 
 double required_number(const nlohmann::json& object, const std::string& path, std::string_view key,
                        const Range& range) {
-  return checked_number(member(object, key), join_path(path, key), range);
+  return checked_number(find_member(object, key), join_path(path, key), range);
 }
 
 double checked_number(const nlohmann::json* v, const std::string& field, const Range& range,
@@ -189,16 +197,16 @@ double checked_number(const nlohmann::json* v, const std::string& field, const R
 
 double optional_number(const nlohmann::json& object, const std::string& path, std::string_view key,
                        const Range& range, double fallback) {
-  const nlohmann::json* v = member(object, key);
-  if (v == nullptr || v->is_null()) return fallback;
+  const nlohmann::json* v = given_member(object, key);
+  if (v == nullptr) return fallback;
   return required_number(object, path, key, range);
 }
 
 int optional_integer(const nlohmann::json& object, const std::string& path, std::string_view key,
                      int lo, int hi, int fallback) {
   const std::string field = join_path(path, key);
-  const nlohmann::json* v = member(object, key);
-  if (v == nullptr || v->is_null()) return fallback;
+  const nlohmann::json* v = given_member(object, key);
+  if (v == nullptr) return fallback;
   const std::string allowed = "an integer from " + std::to_string(lo) + " to " + std::to_string(hi);
   if (!v->is_number()) invalid(field, field + " must be " + allowed + ", got " + show(*v));
   const double x = v->get<double>();
@@ -213,8 +221,8 @@ int optional_integer(const nlohmann::json& object, const std::string& path, std:
 
 bool optional_bool(const nlohmann::json& object, const std::string& path, std::string_view key,
                    bool fallback) {
-  const nlohmann::json* v = member(object, key);
-  if (v == nullptr || v->is_null()) return fallback;
+  const nlohmann::json* v = given_member(object, key);
+  if (v == nullptr) return fallback;
   if (!v->is_boolean()) {
     const std::string field = join_path(path, key);
     invalid(field, field + " must be true or false, got " + show(*v));

@@ -98,20 +98,21 @@ void parse_model_options(const nlohmann::json& options, const std::string& path,
                          ModelOptions& model) {
   model.modes = optional_integer(options, path, "modes", 1, static_cast<int>(kMaxModes), 3);
   model.alpha = optional_number(options, path, "alpha", ranges::kAlpha, kDefaultAlpha);
+  parse_damping(options, path, model);
+}
+
+void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model) {
   const std::string dpath = join_path(path, "damping");
-  auto it = options.find("damping");
-  if (it == options.end() || it->is_null()) {
+  const nlohmann::json* it = given_member(options, "damping");
+  if (it == nullptr) {
     model.damping = DampingCorrelation::kThesis;
     return;
   }
   if (it->is_string()) {
-    const auto name = it->get<std::string>();
-    for (auto c : {DampingCorrelation::kThesis, DampingCorrelation::kPaper,
-                   DampingCorrelation::kEq227, DampingCorrelation::kEq228}) {
-      if (name == to_string(c)) {
-        model.damping = c;
-        return;
-      }
+    const auto name = enum_from_name<DampingCorrelation>(it->get<std::string>());
+    if (name && *name != DampingCorrelation::kExplicit) {
+      model.damping = *name;
+      return;
     }
   } else if (it->is_object()) {
     reject_unknown_fields(*it, dpath, {"zeta"});
@@ -119,9 +120,10 @@ void parse_model_options(const nlohmann::json& options, const std::string& path,
     model.explicit_zeta = required_number(*it, dpath, "zeta", ranges::kZeta);
     return;
   }
-  invalid(dpath, dpath + " = " + show(*it) +
-                     " is not allowed: one of \"thesis\", \"paper\", \"eq227\", \"eq228\" or "
-                     "{\"zeta\": z} with 0 <= z < 0.5");
+  std::vector<std::string> names = enum_names<DampingCorrelation>();
+  std::erase(names, name_of(DampingCorrelation::kExplicit));  // given as {"zeta": z}
+  invalid(dpath, dpath + " = " + show(*it) + " is not allowed: one of " + quoted_names(names) +
+                     " or {\"zeta\": z} with 0 <= z < 0.5");
 }
 
 nlohmann::json format_json(const Format& f) {

@@ -122,14 +122,7 @@ MotionLaw parse_piecewise_linear(const nlohmann::json& law, const std::string& p
     }
     acc[k] = checked_number(&a[k], apath + "[" + std::to_string(k) + "]", kAcceleration);
   }
-  std::vector<LawPiece> pieces(n - 1);
-  for (std::size_t k = 0; k + 1 < n; ++k) {
-    LawPiece& p = pieces[k];
-    p.t_begin = t[k];
-    p.t_end = t[k + 1];
-    p.poly = {acc[k], (acc[k + 1] - acc[k]) / (t[k + 1] - t[k]), 0.0, 0.0};
-  }
-  return MotionLaw("piecewise_linear", std::move(pieces));
+  return piecewise_linear_law("piecewise_linear", t, acc);
 }
 
 MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, double motion_time) {

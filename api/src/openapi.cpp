@@ -5,7 +5,9 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/routes.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/model/fluid.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -15,10 +17,6 @@ namespace slosh::api {
 namespace {
 
 using nlohmann::json;
-
-// The plan options' ranges are those the parser uses (plan.hpp).
-using namespace plan_ranges;  // NOLINT
-const Range& kPlanRestTime = plan_ranges::kRestTime;
 
 json ref(std::string_view name) {
   return {{"$ref", "#/components/schemas/" + std::string(name)}};
@@ -96,26 +94,7 @@ json string_enum(std::vector<std::string> values, const std::string& description
   return {{"type", "string"}, {"enum", std::move(values)}, {"description", description}};
 }
 
-// ---- enumerations, taken from the code that parses or prints them --------------------------
-
-std::vector<std::string> strategy_names() {
-  std::vector<std::string> out;
-  for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch,
-                     Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
-                     Strategy::kShaper, Strategy::kIir, Strategy::kAuto}) {
-    out.push_back(to_string(s));
-  }
-  return out;
-}
-
-std::vector<std::string> status_names() {
-  std::vector<std::string> out;
-  for (SolveStatus s : {SolveStatus::kOptimal, SolveStatus::kAcceptable, SolveStatus::kInfeasible,
-                        SolveStatus::kTimeLimit, SolveStatus::kFailed}) {
-    out.push_back(to_string(s));
-  }
-  return out;
-}
+// ---- enumerations, from their name tables ---------------------------------------------------
 
 std::vector<std::string> fluid_names() {
   std::vector<std::string> out;
@@ -123,38 +102,11 @@ std::vector<std::string> fluid_names() {
   return out;
 }
 
+/// The damping correlations a request may name (explicit is given as {"zeta": z}).
 std::vector<std::string> damping_names(bool with_explicit) {
   std::vector<std::string> out;
-  for (auto c : {DampingCorrelation::kThesis, DampingCorrelation::kPaper,
-                 DampingCorrelation::kEq227, DampingCorrelation::kEq228}) {
-    out.push_back(to_string(c));
-  }
-  if (with_explicit) out.push_back(to_string(DampingCorrelation::kExplicit));
-  return out;
-}
-
-/// The names of every value of an enumeration list (to_string of each).
-template <typename E, std::size_t N>
-std::vector<std::string> names_of(const E (&values)[N]) {
-  std::vector<std::string> out;
-  for (E v : values) out.push_back(to_string(v));
-  return out;
-}
-
-std::vector<std::string> error_codes() {
-  std::vector<std::string> out;
-  for (ErrorCode c : {ErrorCode::kMalformedJson, ErrorCode::kInvalidValue, ErrorCode::kNotFound,
-                      ErrorCode::kPayloadTooLarge, ErrorCode::kOverloaded, ErrorCode::kTimeout,
-                      ErrorCode::kInternal}) {
-    out.push_back(to_string(c));
-  }
-  return out;
-}
-
-std::vector<std::string> solver_names() {
-  std::vector<std::string> out;
-  for (SolverChoice s : {SolverChoice::kAuto, SolverChoice::kNlopt, SolverChoice::kIpopt}) {
-    out.push_back(to_string(s));
+  for (DampingCorrelation c : enum_values<DampingCorrelation>()) {
+    if (with_explicit || c != DampingCorrelation::kExplicit) out.emplace_back(name_of(c));
   }
   return out;
 }
@@ -205,134 +157,48 @@ void add_model_option_schemas(json& s) {
                   {"description", "A correlation name or {\"zeta\": z}."}};
 }
 
-json model_option_properties() {
-  const ModelOptions defaults;
-  return {{"modes", with_default({{"type", "integer"},
-                                  {"minimum", 1},
-                                  {"maximum", static_cast<int>(kMaxModes)},
-                                  {"description", "Radial modes of the linear model."}},
-                                 defaults.modes)},
-          {"damping", ref("Damping")},
-          {"alpha", with_default(number_in(ranges::kAlpha,
-                                           "Nonlinear stiffening coefficient alpha (eq. 2.35)"),
-                                 defaults.alpha)}};
+/// The schemas of the named options of the registry.
+json option_properties(const OptionRegistry& registry,
+                       std::initializer_list<std::string_view> names) {
+  json p = json::object();
+  for (std::string_view name : names) p[std::string(name)] = option_schema(*registry.find(name));
+  return p;
 }
 
-json min_ramp_schema() {
-  // The upper bound depends on the format (T / 4); the schema states the largest possible one.
-  return {{"type", "number"},
-          {"minimum", ranges::kMinRampS.lo},
-          {"maximum", ranges::kMotionTimeS.hi / 4.0},
-          {"default", kDefaultMinRamp},
-          {"description", "Minimum duration of the jerk ramps 1, 3, 5, 7 [s]. Allowed: " +
-                              number_text(ranges::kMinRampS.lo) +
-                              " s to format.motion_time_s / 4 (four ramps must fit)."}};
+/// PlanOptions and the objects of its groups (MachineLimits), from the registry.
+void add_plan_option_schemas(json& s, const OptionRegistry& registry) {
+  json p = json::object();
+  for (const OptionSpec& o : registry.options()) {
+    if (o.group.empty()) {
+      p[std::string(o.name)] = option_schema(o);
+    } else {
+      p[std::string(o.group)] = ref(registry.group(o.group)->schema_name);
+    }
+  }
+  s["PlanOptions"] = object(
+      p, {},
+      "Every member is optional (null counts as absent) and defaults to the seed value of SPEC "
+      "§5; each violation is a 422 naming the field, the value and the range.",
+      true);
+  for (const OptionGroup& g : registry.groups()) {
+    json members = json::object();
+    for (const OptionSpec& o : registry.options()) {
+      if (o.group == g.name) members[std::string(o.name)] = option_schema(o);
+    }
+    s[std::string(g.schema_name)] = object(members, {}, g.doc, true);
+  }
 }
 
-void add_plan_request_schemas(json& s) {
-  const PlanOptions d;
+void add_plan_request_schemas(json& s, const OptionRegistry& registry) {
   s["Strategy"] = with_default(
-      string_enum(strategy_names(),
+      string_enum(enum_names<Strategy>(),
                   "What the planner optimises (SPEC §5): baseline (uniform T/7), notch, "
                   "multi_notch, min_jerk_band, time_domain; or how it filters (JDSMC 2022): "
                   "fir_chain (three rectangular FIR filters, a 7-segment law when conditions "
                   "(14) hold), shaper (base law convolved with an input shaper), iir (base law "
                   "through the IIR filter); auto (runs all but iir and picks)."),
       to_string(Strategy::kAuto));
-  s["MachineLimits"] = object({{"a_max", number_in(kAMax, "Peak |acceleration| max(A, B)")},
-                               {"v_max", number_in(kVMax, "Peak velocity")},
-                               {"j_max", number_in(kJMax, "Peak |jerk| over the four ramps")}},
-                              {}, "Machine limits; an absent limit is not enforced.", true);
-
-  json p = model_option_properties();
-  p["p_notch"] =
-      with_default(number_in(kPNotch, "multi_notch: side notches at (1 ± p) omega_1"), d.p_notch);
-  json weights =
-      fixed_numbers(3,
-                    "multi_notch: weights b1, b2, b3 of |X(w-)|², |X(w1)|², |X(w+)|²; at "
-                    "least one > 0.");
-  weights["items"] = number_in(kWeight, "Weight");
-  p["weights"] = with_default(weights, d.weights);
-  p["band"] = with_default(
-      number_in(kBand, "min_jerk_band: half width of the band [(1 - band) w1, (1 + band) w1]"),
-      d.band);
-  p["n_band"] = with_default({{"type", "integer"},
-                              {"minimum", 1},
-                              {"maximum", kMaxBandPoints},
-                              {"description", "min_jerk_band: evenly spaced band frequencies."}},
-                             d.n_band);
-  p["tol_rel"] = with_default(
-      number_in(kTolRel,
-                "min_jerk_band: band limit relative to X_ref, the uniform law's largest |X| on "
-                "the band"),
-      d.tol_rel);
-  p["eta_rest_max_mm"] = with_default(
-      number_in(kEtaMm, "time_domain (objective motion): largest residual wave eta_rest"),
-      d.eta_rest_max * 1e3);
-  p["eta_motion_max_mm"] = number_in(
-      kEtaMm,
-      "time_domain (objective rest): largest eta_motion; default the uniform law's nonlinear "
-      "eta_motion");
-  p["objective"] = with_default(
-      string_enum({"motion", "rest"},
-                  "time_domain: minimise eta_motion subject to eta_rest <= eta_rest_max_mm "
-                  "(motion) or eta_rest subject to eta_motion <= eta_motion_max_mm (rest)."),
-      "motion");
-  p["rest_time_s"] =
-      with_default(number_in(kPlanRestTime, "Rest window after the motion"), d.rest_time);
-  p["min_ramp_s"] = min_ramp_schema();
-  p["fix_constant_velocity_zero"] =
-      with_default(boolean("Force the constant-velocity segment 4 to zero (thesis campaign)."),
-                   d.fix_constant_velocity_zero);
-  json plateau = fixed_numbers(
-      2,
-      "Lower bounds on the plateau durations dT2 and dT6 [s], each 0 to format.motion_time_s; "
-      "4 min_ramp_s + both must not exceed format.motion_time_s.");
-  plateau["items"] = {{"type", "number"}, {"minimum", 0.0}, {"maximum", ranges::kMotionTimeS.hi}};
-  p["plateau_min_s"] = with_default(plateau, d.plateau_min);
-  p["limits"] = ref("MachineLimits");
-  p["solver"] = with_default(
-      string_enum(solver_names(), "NLP solver: auto (NLopt SLSQP, measured best), nlopt, ipopt."),
-      to_string(d.solver));
-  p["time_limit_s"] = with_default(
-      number_in(kTimeLimit,
-                "Wall-clock budget of the whole plan; on expiry the best admissible point is "
-                "returned with status time_limit. The service defaults it to, and caps it at, "
-                "its solve budget (setting solve_budget_s, default 10 s); the CLI default is 5 s"),
-      d.time_limit);
-  p["base"] = with_default(
-      string_enum(enum_names<BaseLaw>(),
-                  "shaper and iir: the base law, planned over T minus the filter's delay."),
-      to_string(d.base));
-  p["shaper"] = with_default(
-      string_enum(enum_names<ShaperType>(),
-                  "shaper: the input shaper on mode 1 (ZV: 1/2 damped period of delay, ZVD: 1, "
-                  "ZVDD: 3/2, EI: 1 with the residual below)."),
-      to_string(d.shaper));
-  p["residual"] = with_default(
-      number_in(kResidual, "shaper ei: residual vibration V admitted at omega_1 (0.05 = 5 %)"),
-      d.residual);
-  p["iir_order"] = with_default({{"type", "integer"},
-                                 {"minimum", 2},
-                                 {"maximum", 3},
-                                 {"description",
-                                  "iir: order of the critically damped target (2: eq. 8, 11; 3: "
-                                  "eq. 9, 12, no initial peak)."}},
-                                static_cast<int>(d.iir_order));
-  p["iir_tau"] = with_default(
-      number_in(kIirTau, "iir: pole tau of the target (s + tau)^n; larger is less delay"),
-      d.iir_tau);
-  p["iir_sample_period_s"] = with_default(
-      number_in(kIirSamplePeriod,
-                "iir: sample period of the difference equation and of the returned law (the "
-                "controller cycle); also <= format.motion_time_s / " +
-                    std::to_string(kIirMinSamples)),
-      d.iir_sample_period);
-  s["PlanOptions"] = object(
-      p, {},
-      "Every member is optional (null counts as absent) and defaults to the seed value of SPEC "
-      "§5; each violation is a 422 naming the field, the value and the range.",
-      true);
+  add_plan_option_schemas(s, registry);
 
   json sample =
       number_in(ranges::kSamplePeriodS,
@@ -414,8 +280,9 @@ void add_simulate_request_schemas(json& s) {
                         "A motion law: what simulate and export accept and what a plan returns "
                         "as `law`.",
                         true);
-  json options = model_option_properties();
-  options["min_ramp_s"] = min_ramp_schema();
+  // Simulate reads the model options and min_ramp_s as plan does.
+  json options =
+      option_properties(plan_option_registry(), {"modes", "damping", "alpha", "min_ramp_s"});
   s["SimulateOptions"] = object(options, {}, "Model options; every member optional.", true);
   s["SimulateRequest"] = object(
       {{"format", ref("Format")},
@@ -503,7 +370,8 @@ void add_shared_response_schemas(json& s) {
                        "Time series (both ends included) when sample_period_s is given.", false);
 }
 
-void add_plan_response_schemas(json& s) {
+/// The blocks of a plan response: baseline, reductions, spectrum, solver, candidates.
+void add_plan_block_schemas(json& s) {
   json baseline_props{{"nonlinear", ref("Peaks")},
                       {"linear", ref("Peaks")},
                       {"durations_s", fixed_numbers(7, "The uniform durations T/7 [s].")}};
@@ -540,7 +408,7 @@ void add_plan_response_schemas(json& s) {
        {"objective", number("Objective of the returned point, in the strategy's scaled units.")},
        {"solve_ms", number("Wall-clock time of the whole plan [ms].")}},
       {"name", "iterations", "starts", "objective", "solve_ms"}, "", false);
-  s["SolveStatus"] = string_enum(status_names(), "Outcome of the solve.");
+  s["SolveStatus"] = string_enum(enum_names<SolveStatus>(), "Outcome of the solve.");
   s["Candidate"] =
       object({{"strategy", ref("Strategy")},
               {"status", ref("SolveStatus")},
@@ -551,6 +419,57 @@ void add_plan_response_schemas(json& s) {
               {"chosen", boolean("The candidate auto returned.")}},
              {"strategy", "status", "durations_s", "law_type", "prediction", "a_peak", "chosen"},
              "One strategy's result inside an auto plan.", false);
+}
+
+/// How fir_chain, shaper or iir built their law.
+void add_filter_design_schema(json& s) {
+  s["FilterDesign"] = object(
+      {{"method", string_enum({"fir_chain", "shaper", "iir"}, "The filtering strategy.")},
+       {"t1_s", number("fir_chain: T1 [s].")},
+       {"t2_s", number("fir_chain: T2 [s].")},
+       {"t3_s", number("fir_chain: T3 = damped period of mode 1 [s].")},
+       {"conditions_14", boolean("fir_chain: T1 >= T2 + T3 and T2 >= T3 (a 7-segment law).")},
+       {"shaper", text("shaper: zv, zvd, zvdd or ei.")},
+       {"impulses",
+        {{"type", "array"},
+         {"items", object({{"t_s", number("[s]")}, {"amplitude", number("[-]")}},
+                          {"t_s", "amplitude"}, "", false)},
+         {"description", "shaper: the impulse train (amplitudes sum to 1)."}}},
+       {"residual_at_f1", number("shaper: residual vibration of mode 1 after the train [-].")},
+       {"base", text("shaper, iir: the base law.")},
+       {"base_duration_s", number("shaper, iir: duration of the base law, T - delay [s].")},
+       {"delay_s", number("shaper, iir: delay the filter adds [s].")},
+       {"order", integer("iir: 2 or 3.")},
+       {"tau", number("iir: tau [1/s].")},
+       {"sample_period_s", number("iir: sample period [s].")},
+       {"filtered_duration_s",
+        number("iir: end of the filtered law before the rest padding, within one sample of T "
+               "[s].")},
+       {"iterations", integer("iir: filter passes of the delay compensation.")},
+       {"correction_pct",
+        number("iir: the rest-to-rest correction, largest change relative to the peak "
+               "acceleration [%].")},
+       {"a", numbers("iir: a_1..a_n of the difference equation.")},
+       {"b", numbers("iir: b_0..b_(n+1) of the difference equation.")}},
+      {"method"}, "How fir_chain, shaper or iir built the law (absent for the optimisers).", false);
+}
+
+/// The results of POST /v1/plans/batch.
+void add_batch_response_schemas(json& s) {
+  json ok =
+      object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},
+             {"index", "plan"}, "A planned recipe.", false);
+  json failed = object(
+      {{"index", integer("Position in the request array.")}, {"error", ref("Error")}},
+      {"index", "error"}, "A recipe that failed; field paths start with requests[index].", false);
+  s["BatchResult"] = {{"oneOf", {ok, failed}}};
+  s["BatchResponse"] = object({{"results", {{"type", "array"}, {"items", ref("BatchResult")}}}},
+                              {"results"}, "One result per request, in request order.", false);
+}
+
+void add_plan_response_schemas(json& s) {
+  add_plan_block_schemas(s);
+  add_filter_design_schema(s);
   s["PlanResponse"] = object(
       {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe.")},
        {"cached", boolean("True when served from the plan cache.")},
@@ -585,46 +504,7 @@ void add_plan_response_schemas(json& s) {
        "switch_times_s", "law", "kinematics", "model", "prediction", "baseline", "reduction_pct",
        "spectrum", "solver", "format", "rest_time_s", "warnings"},
       "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
-
-  s["FilterDesign"] = object(
-      {{"method", string_enum({"fir_chain", "shaper", "iir"}, "The filtering strategy.")},
-       {"t1_s", number("fir_chain: T1 [s].")},
-       {"t2_s", number("fir_chain: T2 [s].")},
-       {"t3_s", number("fir_chain: T3 = damped period of mode 1 [s].")},
-       {"conditions_14", boolean("fir_chain: T1 >= T2 + T3 and T2 >= T3 (a 7-segment law).")},
-       {"shaper", text("shaper: zv, zvd, zvdd or ei.")},
-       {"impulses",
-        {{"type", "array"},
-         {"items", object({{"t_s", number("[s]")}, {"amplitude", number("[-]")}},
-                          {"t_s", "amplitude"}, "", false)},
-         {"description", "shaper: the impulse train (amplitudes sum to 1)."}}},
-       {"residual_at_f1", number("shaper: residual vibration of mode 1 after the train [-].")},
-       {"base", text("shaper, iir: the base law.")},
-       {"base_duration_s", number("shaper, iir: duration of the base law, T - delay [s].")},
-       {"delay_s", number("shaper, iir: delay the filter adds [s].")},
-       {"order", integer("iir: 2 or 3.")},
-       {"tau", number("iir: tau [1/s].")},
-       {"sample_period_s", number("iir: sample period [s].")},
-       {"filtered_duration_s",
-        number("iir: end of the filtered law before the rest padding, within one sample of T "
-               "[s].")},
-       {"iterations", integer("iir: filter passes of the delay compensation.")},
-       {"correction_pct",
-        number("iir: the rest-to-rest correction, largest change relative to the peak "
-               "acceleration [%].")},
-       {"a", numbers("iir: a_1..a_n of the difference equation.")},
-       {"b", numbers("iir: b_0..b_(n+1) of the difference equation.")}},
-      {"method"}, "How fir_chain, shaper or iir built the law (absent for the optimisers).", false);
-
-  json ok =
-      object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},
-             {"index", "plan"}, "A planned recipe.", false);
-  json failed = object(
-      {{"index", integer("Position in the request array.")}, {"error", ref("Error")}},
-      {"index", "error"}, "A recipe that failed; field paths start with requests[index].", false);
-  s["BatchResult"] = {{"oneOf", {ok, failed}}};
-  s["BatchResponse"] = object({{"results", {{"type", "array"}, {"items", ref("BatchResult")}}}},
-                              {"results"}, "One result per request, in request order.", false);
+  add_batch_response_schemas(s);
 }
 
 void add_simulate_response_schemas(json& s) {
@@ -653,7 +533,7 @@ void add_simulate_response_schemas(json& s) {
 
 void add_service_schemas(json& s) {
   s["Error"] = object(
-      {{"code", string_enum(error_codes(), "Error class.")},
+      {{"code", string_enum(enum_names<ErrorCode>(), "Error class.")},
        {"message", text("What is wrong: for invalid values the field, the value and the allowed "
                         "range.")},
        {"field",
@@ -750,116 +630,148 @@ json if_none_match() {
           {"description", "An ETag of a plan: 304 when it matches the cached plan."}};
 }
 
+// The component response of each error status an operation can answer.
+std::string_view status_component(int status) {
+  switch (status) {
+    case 304:
+      return "NotModified";
+    case 400:
+      return "BadRequest";
+    case 404:
+      return "NotFound";
+    case 408:
+      return "RequestTimeout";
+    case 413:
+      return "PayloadTooLarge";
+    case 415:
+      return "UnsupportedMediaType";
+    case 422:
+      return "InvalidValue";
+    case 503:
+      return "Overloaded";
+    case 504:
+      return "Timeout";
+    default:
+      return "Internal";
+  }
+}
+
+/// `responses` plus a reference to the component response of each of `statuses`.
+json with_statuses(json responses, std::initializer_list<int> statuses) {
+  for (int status : statuses) {
+    responses[std::to_string(status)] = response_ref(status_component(status));
+  }
+  return responses;
+}
+
+/// The statuses of every operation with a JSON request body.
+constexpr std::initializer_list<int> kBodyStatuses{400, 408, 413, 415, 422, 500};
+
+json plan_operation(const Route& route) {
+  switch (route.operation) {
+    case Operation::kPlan:
+      return {{"tags", {"plans"}},
+              {"parameters", {if_none_match()}},
+              {"requestBody", json_body("PlanRequest")},
+              {"responses",
+               with_statuses(with_statuses({{"200", plan_ok()}}, kBodyStatuses), {304, 503, 504})}};
+    case Operation::kGetPlan:
+      return {{"tags", {"plans"}},
+              {"parameters",
+               {{{"name", "key"},
+                 {"in", "path"},
+                 {"required", true},
+                 {"schema", {{"type", "string"}}},
+                 {"description", "Recipe key (32 hex digits) of a plan returned earlier."}},
+                if_none_match()}},
+              {"responses", with_statuses({{"200", plan_ok()}}, {304, 404, 500})}};
+    case Operation::kPlanBatch:
+      return {
+          {"tags", {"plans"}},
+          {"description",
+           "Each result carries either the plan or the error of its request; a batch waits "
+           "for room in the solve queue instead of answering 503."},
+          {"requestBody", json_body("BatchRequest")},
+          {"responses", with_statuses({{"200", json_response("One result per request, in order.",
+                                                             ref("BatchResponse"))}},
+                                      kBodyStatuses)}};
+    default:
+      return {{"tags", {"simulation"}},
+              {"requestBody", json_body("SimulateRequest")},
+              {"responses",
+               with_statuses({{"200", json_response("The response.", ref("SimulateResponse"))}},
+                             kBodyStatuses)}};
+  }
+}
+
+json read_operation(const Route& route) {
+  switch (route.operation) {
+    case Operation::kFluids:
+      return {{"tags", {"catalogue"}},
+              {"responses",
+               with_statuses({{"200", json_response("The catalogue.", ref("FluidsResponse"))}},
+                             {500})}};
+    case Operation::kOpenapi:
+      return {
+          {"tags", {"catalogue"}},
+          {"responses",
+           with_statuses({{"200", json_response("OpenAPI 3.0.3 document.", {{"type", "object"}})}},
+                         {500})}};
+    case Operation::kHealth:
+      return {
+          {"tags", {"operations"}},
+          {"responses",
+           with_statuses({{"200", json_response("The process serves.", ref("Health"))}}, {500})}};
+    case Operation::kReady:
+      return {
+          {"tags", {"operations"}},
+          {"responses",
+           {{"200", json_response("Ready.", ref("Readiness"))},
+            {"503", json_response("Not ready: status stopping (shutting down), stalled (the solve "
+                                  "pool finishes nothing) or degraded (the plan store cannot be "
+                                  "written; plans are answered from memory), with a reason.",
+                                  ref("Readiness"))}}}};
+    default:
+      return {{"tags", {"operations"}},
+              {"responses",
+               {{"200",
+                 {{"description", "Prometheus text exposition format 0.0.4."},
+                  {"content", {{"text/plain", {{"schema", {{"type", "string"}}}}}}}}}}}};
+  }
+}
+
+/// Request and response details of one route's operation.
+json operation(const Route& route) {
+  switch (route.operation) {
+    case Operation::kPlan:
+    case Operation::kGetPlan:
+    case Operation::kPlanBatch:
+    case Operation::kSimulate:
+      return plan_operation(route);
+    default:
+      return read_operation(route);
+  }
+}
+
 json paths() {
-  json p;
-  p["/v1/plans"]["post"] = {
-      {"operationId", "createPlan"},
-      {"tags", {"plans"}},
-      {"summary", "Plan one format (idempotent: identical recipes share one key and cache entry)"},
-      {"parameters", {if_none_match()}},
-      {"requestBody", json_body("PlanRequest")},
-      {"responses",
-       {{"200", plan_ok()},
-        {"304", response_ref("NotModified")},
-        {"400", response_ref("BadRequest")},
-        {"408", response_ref("RequestTimeout")},
-        {"413", response_ref("PayloadTooLarge")},
-        {"415", response_ref("UnsupportedMediaType")},
-        {"422", response_ref("InvalidValue")},
-        {"500", response_ref("Internal")},
-        {"503", response_ref("Overloaded")},
-        {"504", response_ref("Timeout")}}}};
-  p["/v1/plans/{key}"]["get"] = {
-      {"operationId", "getPlan"},
-      {"tags", {"plans"}},
-      {"summary", "A cached plan by its recipe key"},
-      {"parameters",
-       {{{"name", "key"},
-         {"in", "path"},
-         {"required", true},
-         {"schema", {{"type", "string"}}},
-         {"description", "Recipe key (32 hex digits) of a plan returned earlier."}},
-        if_none_match()}},
-      {"responses",
-       {{"200", plan_ok()},
-        {"304", response_ref("NotModified")},
-        {"404", response_ref("NotFound")},
-        {"500", response_ref("Internal")}}}};
-  p["/v1/plans/batch"]["post"] = {
-      {"operationId", "createPlans"},
-      {"tags", {"plans"}},
-      {"summary", "Plan many formats in parallel (recipe-table precompute)"},
-      {"description",
-       "Each result carries either the plan or the error of its request; a batch waits for room "
-       "in the solve queue instead of answering 503."},
-      {"requestBody", json_body("BatchRequest")},
-      {"responses",
-       {{"200", json_response("One result per request, in order.", ref("BatchResponse"))},
-        {"400", response_ref("BadRequest")},
-        {"408", response_ref("RequestTimeout")},
-        {"413", response_ref("PayloadTooLarge")},
-        {"415", response_ref("UnsupportedMediaType")},
-        {"422", response_ref("InvalidValue")},
-        {"500", response_ref("Internal")}}}};
-  p["/v1/simulate"]["post"] = {{"operationId", "simulate"},
-                               {"tags", {"simulation"}},
-                               {"summary", "Wave-height response and peaks of any supported law"},
-                               {"requestBody", json_body("SimulateRequest")},
-                               {"responses",
-                                {{"200", json_response("The response.", ref("SimulateResponse"))},
-                                 {"400", response_ref("BadRequest")},
-                                 {"408", response_ref("RequestTimeout")},
-                                 {"413", response_ref("PayloadTooLarge")},
-                                 {"415", response_ref("UnsupportedMediaType")},
-                                 {"422", response_ref("InvalidValue")},
-                                 {"500", response_ref("Internal")}}}};
-  p["/v1/fluids"]["get"] = {{"operationId", "listFluids"},
-                            {"tags", {"catalogue"}},
-                            {"summary", "The fluid catalogue"},
-                            {"responses",
-                             {{"200", json_response("The catalogue.", ref("FluidsResponse"))},
-                              {"500", response_ref("Internal")}}}};
-  p["/v1/openapi.json"]["get"] = {
-      {"operationId", "openapi"},
-      {"tags", {"catalogue"}},
-      {"summary", "This document"},
-      {"responses",
-       {{"200", json_response("OpenAPI 3.0.3 document.", {{"type", "object"}})},
-        {"500", response_ref("Internal")}}}};
-  p["/healthz"]["get"] = {{"operationId", "health"},
-                          {"tags", {"operations"}},
-                          {"summary", "Liveness"},
-                          {"responses",
-                           {{"200", json_response("The process serves.", ref("Health"))},
-                            {"500", response_ref("Internal")}}}};
-  p["/readyz"]["get"] = {
-      {"operationId", "ready"},
-      {"tags", {"operations"}},
-      {"summary", "Readiness: accepts new solves"},
-      {"responses",
-       {{"200", json_response("Ready.", ref("Readiness"))},
-        {"503", json_response("Not ready: status stopping (shutting down), stalled (the solve pool "
-                              "finishes nothing) or degraded (the plan store cannot be written; "
-                              "plans are answered from memory), with a reason.",
-                              ref("Readiness"))}}}};
-  p["/metrics"]["get"] = {
-      {"operationId", "metrics"},
-      {"tags", {"operations"}},
-      {"summary", "Prometheus metrics"},
-      {"responses",
-       {{"200",
-         {{"description", "Prometheus text exposition format 0.0.4."},
-          {"content", {{"text/plain", {{"schema", {{"type", "string"}}}}}}}}}}}};
+  json p = json::object();
+  for (const Route& route : routes()) {
+    json op = operation(route);
+    op["operationId"] = route.operation_id;
+    op["summary"] = route.summary;
+    const std::string method = route.method == "POST" ? "post" : "get";
+    p[std::string(route.path)][method] = std::move(op);
+  }
   return p;
 }
 
 }  // namespace
 
-json openapi_document(const std::string& version) {
+json openapi_document(const std::string& version, const OptionRegistry& registry) {
   json schemas = json::object();
   add_format_schemas(schemas);
   add_model_option_schemas(schemas);
-  add_plan_request_schemas(schemas);
+  add_plan_request_schemas(schemas, registry);
   add_simulate_request_schemas(schemas);
   add_shared_response_schemas(schemas);
   add_plan_response_schemas(schemas);

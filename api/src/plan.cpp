@@ -5,10 +5,12 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
+#include "slosh/api/option_registry.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/response/spectrum.hpp"
 
@@ -22,80 +24,28 @@ constexpr const char* kPlannerVersion = "plan-v2";
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
 
-using namespace plan_ranges;  // NOLINT: the option ranges of plan.hpp
-
-const char* kStrategies =
-    "\"baseline\", \"notch\", \"multi_notch\", \"min_jerk_band\", "
-    "\"time_domain\", \"fir_chain\", \"shaper\", \"iir\", \"auto\"";
-
-const nlohmann::json* member(const nlohmann::json& object, std::string_view key) {
-  auto it = object.find(key);
-  return it == object.end() || it->is_null() ? nullptr : &*it;
-}
-
-template <std::size_t N>
-std::array<double, N> number_array(const nlohmann::json& object, const std::string& path,
-                                   std::string_view key, const Range& range,
-                                   std::array<double, N> fallback) {
-  const nlohmann::json* value = member(object, key);
-  if (value == nullptr) return fallback;
-  const std::string field = join_path(path, key);
-  if (!value->is_array() || value->size() != N) {
-    invalid(field,
-            field + " must be an array of " + std::to_string(N) + " numbers, got " + show(*value));
+Strategy parse_request_strategy(const nlohmann::json& body) {
+  const nlohmann::json* s = given_member(body, "strategy");
+  if (s == nullptr) return Strategy::kAuto;
+  std::optional<Strategy> strategy;
+  if (s->is_string()) strategy = parse_strategy(s->get<std::string>());
+  if (!strategy) {
+    invalid("strategy", "strategy = " + show(*s) + " is not allowed: one of " +
+                            quoted_names(enum_names<Strategy>()));
   }
-  std::array<double, N> out{};
-  for (std::size_t i = 0; i < N; ++i) {
-    out[i] = checked_number(&(*value)[i], field + "[" + std::to_string(i) + "]", range);
-  }
-  return out;
+  return *strategy;
 }
 
-std::string choice(const nlohmann::json& object, const std::string& path, std::string_view key,
-                   const std::vector<std::string>& allowed, const std::string& fallback) {
-  const nlohmann::json* value = member(object, key);
-  if (value == nullptr) return fallback;
-  if (value->is_string()) {
-    const auto text = value->get<std::string>();
-    for (const auto& a : allowed) {
-      if (a == text) return text;
-    }
-  }
-  std::string list;
-  for (const auto& a : allowed) list += (list.empty() ? "\"" : ", \"") + a + "\"";
-  const std::string field = join_path(path, key);
-  invalid(field, field + " = " + show(*value) + " is not allowed: one of " + list);
+/// The "options" object of a request (an empty one when absent or null).
+nlohmann::json request_options(const nlohmann::json& body) {
+  nlohmann::json options = body.value("options", nlohmann::json::object());
+  if (options.is_null()) options = nlohmann::json::object();
+  require_object(options, "options");
+  return options;
 }
 
-/// An option naming a value of E (its EnumNames table); `fallback` when absent.
-template <typename E>
-E enum_choice(const nlohmann::json& options, std::string_view key, E fallback) {
-  const std::string name =
-      choice(options, "options", key, enum_names<E>(), std::string(name_of(fallback)));
-  return enum_from_name<E>(name).value_or(fallback);
-}
-
-void parse_limits(const nlohmann::json& options, MachineLimits& limits) {
-  const nlohmann::json* value = member(options, "limits");
-  if (value == nullptr) return;
-  require_object(*value, "options.limits");
-  reject_unknown_fields(*value, "options.limits", {"a_max", "v_max", "j_max"});
-  auto one = [&](std::string_view key, const Range& range) -> std::optional<double> {
-    const nlohmann::json* v = member(*value, key);
-    if (v == nullptr) return std::nullopt;
-    return checked_number(v, join_path("options.limits", key), range);
-  };
-  limits.a_max = one("a_max", kAMax);
-  limits.v_max = one("v_max", kVMax);
-  limits.j_max = one("j_max", kJMax);
-}
-
-nlohmann::json prediction(const LawPrediction& p) {
-  return {{"nonlinear", peaks_json(p.nonlinear)}, {"linear", peaks_json(p.linear)}};
-}
-
-double reduction(double baseline, double value) {
-  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
+nlohmann::json prediction_json(const LawPrediction& p) {
+  return api::prediction_json(p.nonlinear, p.linear);
 }
 
 nlohmann::json design_json(const FilterDesign& design) {
@@ -150,118 +100,31 @@ std::string to_hex(const unsigned char* data, std::size_t n) {
 
 }  // namespace
 
-PlanRequest parse_plan_request(const nlohmann::json& body) {
+PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry& registry) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "strategy", "options", "sample_period_s"});
   PlanRequest r;
   r.format = parse_request_format(body);
-  if (const nlohmann::json* s = member(body, "strategy")) {
-    std::optional<Strategy> strategy;
-    if (s->is_string()) strategy = parse_strategy(s->get<std::string>());
-    if (!strategy) {
-      invalid("strategy", "strategy = " + show(*s) + " is not allowed: one of " + kStrategies);
-    }
-    r.strategy = *strategy;
-  }
-
-  nlohmann::json options = body.value("options", nlohmann::json::object());
-  if (options.is_null()) options = nlohmann::json::object();
-  require_object(options, "options");
-  reject_unknown_fields(options, "options",
-                        {"p_notch",
-                         "weights",
-                         "band",
-                         "n_band",
-                         "tol_rel",
-                         "eta_rest_max_mm",
-                         "eta_motion_max_mm",
-                         "objective",
-                         "rest_time_s",
-                         "min_ramp_s",
-                         "fix_constant_velocity_zero",
-                         "plateau_min_s",
-                         "limits",
-                         "damping",
-                         "alpha",
-                         "modes",
-                         "solver",
-                         "time_limit_s",
-                         "base",
-                         "shaper",
-                         "residual",
-                         "iir_order",
-                         "iir_tau",
-                         "iir_sample_period_s"});
+  r.strategy = parse_request_strategy(body);
+  const nlohmann::json options = request_options(body);
+  reject_unknown_fields(options, "options", registry.option_keys());
   PlanOptions& o = r.options;
-  const double T = r.format.motion_time;
-  parse_model_options(options, "options", o.model);
-  o.p_notch = optional_number(options, "options", "p_notch", kPNotch, o.p_notch);
-  o.weights = number_array<3>(options, "options", "weights", kWeight, o.weights);
-  if (o.weights[0] + o.weights[1] + o.weights[2] <= 0.0) {
-    invalid("options.weights", "options.weights = [0, 0, 0]: at least one weight must be > 0");
-  }
-  o.band = optional_number(options, "options", "band", kBand, o.band);
-  o.n_band = optional_integer(options, "options", "n_band", 1, kMaxBandPoints, o.n_band);
-  o.tol_rel = optional_number(options, "options", "tol_rel", kTolRel, o.tol_rel);
-  o.eta_rest_max =
-      optional_number(options, "options", "eta_rest_max_mm", kEtaMm, o.eta_rest_max * 1e3) * 1e-3;
-  if (const nlohmann::json* v = member(options, "eta_motion_max_mm")) {
-    o.eta_motion_max = checked_number(v, "options.eta_motion_max_mm", kEtaMm) * 1e-3;
-  }
-  o.objective = choice(options, "options", "objective", {"motion", "rest"}, "motion") == "rest"
-                    ? TimeDomainObjective::kRest
-                    : TimeDomainObjective::kMotion;
-  o.rest_time = optional_number(options, "options", "rest_time_s", kRestTime, o.rest_time);
-  const Range min_ramp{ranges::kMinRampS.lo, T / 4.0, "s"};
-  try {
-    o.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp, o.min_ramp);
-  } catch (const ApiError& e) {
-    invalid(e.field(), std::string(e.what()) +
-                           " (the upper bound is format.motion_time_s / 4: four ramps must fit)");
-  }
-  o.fix_constant_velocity_zero =
-      optional_bool(options, "options", "fix_constant_velocity_zero", o.fix_constant_velocity_zero);
-  o.plateau_min =
-      number_array<2>(options, "options", "plateau_min_s", Range{0.0, T, "s"}, o.plateau_min);
-  parse_limits(options, o.limits);
-  const std::string solver =
-      choice(options, "options", "solver", {"auto", "nlopt", "ipopt"}, "auto");
-  o.solver = solver == "nlopt"   ? SolverChoice::kNlopt
-             : solver == "ipopt" ? SolverChoice::kIpopt
-                                 : SolverChoice::kAuto;
-  o.time_limit = optional_number(options, "options", "time_limit_s", kTimeLimit, o.time_limit);
-  o.base = enum_choice(options, "base", o.base);
-  o.shaper = enum_choice(options, "shaper", o.shaper);
-  o.residual = optional_number(options, "options", "residual", kResidual, o.residual);
-  o.iir_order = static_cast<IirOrder>(
-      optional_integer(options, "options", "iir_order", 2, 3, static_cast<int>(o.iir_order)));
-  o.iir_tau = optional_number(options, "options", "iir_tau", kIirTau, o.iir_tau);
-  const Range iir_period{kIirSamplePeriod.lo, std::min(kIirSamplePeriod.hi, T / kIirMinSamples),
-                         "s"};
-  try {
-    o.iir_sample_period =
-        optional_number(options, "options", "iir_sample_period_s", iir_period, o.iir_sample_period);
-  } catch (const ApiError& e) {
-    invalid(e.field(), std::string(e.what()) +
-                           " (the upper bound is min(0.01 s, format.motion_time_s / " +
-                           std::to_string(kIirMinSamples) + "))");
-  }
+  registry.parse(options, r.format, o);
   // Relations between options (e.g. ramps + plateau minimums longer than T).
-  std::string error;
-  if (!o.is_valid(r.format, &error)) invalid("options", "options." + error);
+  InvalidInput error;
+  if (!o.is_valid(r.format, &error)) {
+    invalid("options", "options." + input_sentence(error, r.format, o));
+  }
 
-  r.sample_period = parse_sample_period(body, T + o.rest_time);
+  r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);
   return r;
 }
 
-nlohmann::json canonical_recipe(const PlanRequest& r) {
+nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& registry) {
   const Format& f = r.format;
-  const PlanOptions& o = r.options;
   auto optional = [](const std::optional<double>& v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
   };
-  nlohmann::json damping = to_string(o.model.damping);
-  if (o.model.damping == DampingCorrelation::kExplicit) damping = o.model.explicit_zeta;
   return {{"version", kPlannerVersion},
           {"format",
            {{"radius_m", f.container.radius},
@@ -275,36 +138,11 @@ nlohmann::json canonical_recipe(const PlanRequest& r) {
             {"stroke_m", f.stroke},
             {"motion_time_s", f.motion_time}}},
           {"strategy", to_string(r.strategy)},
-          {"options",
-           {{"p_notch", o.p_notch},
-            {"weights", o.weights},
-            {"band", o.band},
-            {"n_band", o.n_band},
-            {"tol_rel", o.tol_rel},
-            {"eta_rest_max_m", o.eta_rest_max},
-            {"eta_motion_max_m", optional(o.eta_motion_max)},
-            {"objective", o.objective == TimeDomainObjective::kRest ? "rest" : "motion"},
-            {"rest_time_s", o.rest_time},
-            {"min_ramp_s", o.min_ramp},
-            {"fix_constant_velocity_zero", o.fix_constant_velocity_zero},
-            {"plateau_min_s", o.plateau_min},
-            {"a_max", optional(o.limits.a_max)},
-            {"v_max", optional(o.limits.v_max)},
-            {"j_max", optional(o.limits.j_max)},
-            {"damping", damping},
-            {"alpha", o.model.alpha},
-            {"modes", o.model.modes},
-            {"solver", to_string(o.solver)},
-            {"base", to_string(o.base)},
-            {"shaper", to_string(o.shaper)},
-            {"residual", o.residual},
-            {"iir_order", static_cast<int>(o.iir_order)},
-            {"iir_tau", o.iir_tau},
-            {"iir_sample_period_s", o.iir_sample_period}}}};
+          {"options", registry.recipe(r.options)}};
 }
 
-std::string recipe_key(const PlanRequest& request) {
-  const std::string text = canonical_recipe(request).dump();
+std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry) {
+  const std::string text = canonical_recipe(request, registry).dump();
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int length = 0;
   if (EVP_Digest(text.data(), text.size(), digest, &length, EVP_sha256(), nullptr) != 1) {
@@ -313,24 +151,21 @@ std::string recipe_key(const PlanRequest& request) {
   return to_hex(digest, 16);
 }
 
-nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
-  const Format& f = request.format;
-  const double T = f.motion_time;
-  const std::optional<SevenSegmentLaw> seven =
-      r.durations ? std::optional<SevenSegmentLaw>(SevenSegmentLaw(*r.durations, f.stroke))
-                  : std::nullopt;
+namespace {
 
-  // Amplitude spectrum |X_a| of the plan and of the uniform law, 0 .. 5 f1: closed form for the
-  // 7-segment laws, piece by piece for the general ones.
+/// Amplitude spectrum |X_a| of the plan and of the uniform law, 0 .. 5 f1: closed form for the
+/// 7-segment laws, piece by piece for the general ones.
+nlohmann::json spectrum_json(const PlanRequest& request, const PlanResult& r) {
+  const Format& f = request.format;
   const double f1 = r.model.omega1() / (2.0 * std::numbers::pi);
-  const Durations uniform = uniform_durations(T);
+  const Durations uniform = uniform_durations(f.motion_time);
   std::vector<double> f_hz(kSpectrumPoints), amp(kSpectrumPoints), amp_base(kSpectrumPoints);
   for (int k = 0; k < kSpectrumPoints; ++k) {
     const double fk = kSpectrumMaxF1 * f1 * k / (kSpectrumPoints - 1);
     const double w = 2.0 * std::numbers::pi * fk;
     f_hz[k] = fk;
-    amp[k] = std::abs(seven ? seven_segment_spectrum(*r.durations, f.stroke, w)
-                            : acceleration_spectrum(r.law, w));
+    amp[k] = std::abs(r.durations ? seven_segment_spectrum(*r.durations, f.stroke, w)
+                                  : acceleration_spectrum(r.law, w));
     amp_base[k] = std::abs(seven_segment_spectrum(uniform, f.stroke, w));
   }
   nlohmann::json f_modes = nlohmann::json::array();
@@ -344,75 +179,94 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
     const double p = request.options.p_notch;
     markers["notch_hz"] = {(1.0 - p) * f1, f1, (1.0 + p) * f1};
   }
+  return {{"f_hz", f_hz},
+          {"amplitude", amp},
+          {"baseline_amplitude", amp_base},
+          {"units", {{"f_hz", "Hz"}, {"amplitude", "m/s (|X_a|)"}}},
+          {"markers", markers}};
+}
 
+/// durations_s, durations_pct, switch_times_s and kinematics: of the 7-segment law, or null
+/// (SPEC §7 keeps the fields) with the general law's peaks.
+void add_kinematics(const PlanRequest& request, const PlanResult& r, nlohmann::json& out) {
+  const double T = request.format.motion_time;
+  if (r.durations) {
+    const SevenSegmentLaw seven(*r.durations, request.format.stroke);
+    nlohmann::json pct = nlohmann::json::array();
+    for (double d : *r.durations) pct.push_back(100.0 * d / T);
+    double j_peak = 0.0;
+    for (double j : seven.jerks()) j_peak = std::max(j_peak, std::abs(j));
+    out["durations_s"] = *r.durations;
+    out["durations_pct"] = pct;
+    out["switch_times_s"] = seven.switch_times();
+    out["kinematics"] = {{"a_max", r.A},
+                         {"a_min", r.B},
+                         {"v_peak", seven.v_peak()},
+                         {"j_peak", j_peak},
+                         {"jerks_m_s3", seven.jerks()}};
+    return;
+  }
+  out["durations_s"] = nullptr;
+  out["durations_pct"] = nullptr;
+  out["switch_times_s"] = nullptr;
+  const KinematicSummary& k = r.prediction.kinematics;
+  out["kinematics"] = {{"a_max", r.A},
+                       {"a_min", r.B},
+                       {"v_peak", k.v_peak},
+                       {"j_peak", k.j_peak},
+                       {"jerks_m_s3", nullptr}};
+}
+
+nlohmann::json reduction_json(const LawPrediction& baseline, const LawPrediction& plan) {
+  auto pair = [](const SloshPeaks& base, const SloshPeaks& p) {
+    return nlohmann::json{{"motion", reduction_percent(base.motion.value, p.motion.value)},
+                          {"rest", reduction_percent(base.rest.value, p.rest.value)}};
+  };
+  nlohmann::json out = pair(baseline.nonlinear, plan.nonlinear);
+  out["linear"] = pair(baseline.linear, plan.linear);
+  return out;
+}
+
+nlohmann::json candidates_json(const std::vector<PlanCandidate>& candidates) {
+  nlohmann::json list = nlohmann::json::array();
+  for (const PlanCandidate& c : candidates) {
+    list.push_back({{"strategy", to_string(c.strategy)},
+                    {"status", to_string(c.status)},
+                    {"durations_s", c.durations ? nlohmann::json(*c.durations) : nullptr},
+                    {"law_type", to_string(law_type_of(c.law, c.durations))},
+                    {"prediction", prediction_json(c.prediction)},
+                    {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
+                                        c.prediction.kinematics.a_peak_negative)},
+                    {"chosen", c.chosen}});
+  }
+  return list;
+}
+
+}  // namespace
+
+nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   nlohmann::json out;
   out["key"] = recipe_key(request);
   out["cached"] = false;
   out["strategy"] = to_string(r.strategy);
   out["status"] = to_string(r.status);
   out["message"] = r.message;
-  if (seven) {
-    nlohmann::json pct = nlohmann::json::array();
-    for (double d : *r.durations) pct.push_back(100.0 * d / T);
-    double j_peak = 0.0;
-    for (double j : seven->jerks()) j_peak = std::max(j_peak, std::abs(j));
-    out["durations_s"] = *r.durations;
-    out["durations_pct"] = pct;
-    out["switch_times_s"] = seven->switch_times();
-    out["kinematics"] = {{"a_max", r.A},
-                         {"a_min", r.B},
-                         {"v_peak", seven->v_peak()},
-                         {"j_peak", j_peak},
-                         {"jerks_m_s3", seven->jerks()}};
-  } else {
-    // A general law (SPEC §7 keeps the fields; they are null): its shape is in `law`.
-    out["durations_s"] = nullptr;
-    out["durations_pct"] = nullptr;
-    out["switch_times_s"] = nullptr;
-    const KinematicSummary& k = r.prediction.kinematics;
-    out["kinematics"] = {{"a_max", r.A},
-                         {"a_min", r.B},
-                         {"v_peak", k.v_peak},
-                         {"j_peak", k.j_peak},
-                         {"jerks_m_s3", nullptr}};
-  }
+  add_kinematics(request, r, out);
   out["law"] = law_json(r.law, r.durations);
   if (r.design) out["design"] = design_json(*r.design);
   out["model"] = model_json(r.model, request.options.model);
-  out["prediction"] = prediction(r.prediction);
-  out["baseline"] = prediction(r.baseline);
-  out["baseline"]["durations_s"] = uniform;
-  out["reduction_pct"] = {
-      {"motion", reduction(r.baseline.nonlinear.motion.value, r.prediction.nonlinear.motion.value)},
-      {"rest", reduction(r.baseline.nonlinear.rest.value, r.prediction.nonlinear.rest.value)},
-      {"linear",
-       {{"motion", reduction(r.baseline.linear.motion.value, r.prediction.linear.motion.value)},
-        {"rest", reduction(r.baseline.linear.rest.value, r.prediction.linear.rest.value)}}}};
-  out["spectrum"] = {{"f_hz", f_hz},
-                     {"amplitude", amp},
-                     {"baseline_amplitude", amp_base},
-                     {"units", {{"f_hz", "Hz"}, {"amplitude", "m/s (|X_a|)"}}},
-                     {"markers", markers}};
+  out["prediction"] = prediction_json(r.prediction);
+  out["baseline"] = prediction_json(r.baseline);
+  out["baseline"]["durations_s"] = uniform_durations(request.format.motion_time);
+  out["reduction_pct"] = reduction_json(r.baseline, r.prediction);
+  out["spectrum"] = spectrum_json(request, r);
   out["solver"] = {{"name", r.solver.name},
                    {"iterations", r.solver.iterations},
                    {"starts", r.solver.starts},
                    {"objective", r.solver.objective},
                    {"solve_ms", r.solver.solve_ms}};
-  if (!r.candidates.empty()) {
-    nlohmann::json list = nlohmann::json::array();
-    for (const PlanCandidate& c : r.candidates) {
-      list.push_back({{"strategy", to_string(c.strategy)},
-                      {"status", to_string(c.status)},
-                      {"durations_s", c.durations ? nlohmann::json(*c.durations) : nullptr},
-                      {"law_type", to_string(law_type_of(c.law, c.durations))},
-                      {"prediction", prediction(c.prediction)},
-                      {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
-                                          c.prediction.kinematics.a_peak_negative)},
-                      {"chosen", c.chosen}});
-    }
-    out["candidates"] = list;
-  }
-  out["format"] = format_json(f);
+  if (!r.candidates.empty()) out["candidates"] = candidates_json(r.candidates);
+  out["format"] = format_json(request.format);
   out["rest_time_s"] = request.options.rest_time;
   out["warnings"] = r.warnings;
   require_finite(out);
@@ -436,13 +290,19 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
   plan["series"] = run_simulate(s)["series"];
 }
 
-nlohmann::json run_plan(const PlanRequest& request) {
-  const PlanResult result = plan(request.format, request.strategy, request.options);
+PlanResult plan_request(const PlanRequest& request) {
+  PlanResult result = plan(request.format, request.strategy, request.options);
   if (result.invalid_input) {
     // The request passed the API's ranges but not the planner's own checks (e.g. a format whose
     // uniform law already drives the model out of its range): a 422, not a plan of zeros.
-    throw ApiError(ErrorCode::kInvalidValue, "format", result.message);
+    throw ApiError(ErrorCode::kInvalidValue, "format",
+                   plan_refusal(*result.invalid_input, request.format, request.options));
   }
+  return result;
+}
+
+nlohmann::json run_plan(const PlanRequest& request) {
+  const PlanResult result = plan_request(request);
   nlohmann::json out = plan_json(request, result);
   add_series(request, out);
   return out;

@@ -12,11 +12,7 @@ bool is_cacheable(SolveStatus status) {
 StoredPlan solve_for_storing(const PlanRequest& request) {
   PlanRequest without_series = request;
   without_series.sample_period.reset();
-  const PlanResult result = plan(request.format, request.strategy, request.options);
-  if (result.invalid_input) {
-    // The request passed the API's ranges but not the planner's own checks.
-    throw ApiError(ErrorCode::kInvalidValue, "format", result.message);
-  }
+  const PlanResult result = plan_request(request);
   nlohmann::json out = plan_json(without_series, result);
   out.erase("cached");
   return {result.status, dump_json(out)};

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <optional>
 
+#include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
@@ -126,14 +127,22 @@ nlohmann::json peaks_json(const SloshPeaks& p) {
           {"t_rest_s", p.rest.time}};
 }
 
+nlohmann::json prediction_json(const SloshPeaks& nonlinear, const SloshPeaks& linear) {
+  return {{"nonlinear", peaks_json(nonlinear)}, {"linear", peaks_json(linear)}};
+}
+
 nlohmann::json prediction_json(const SimulationResult& r) {
-  return {{"nonlinear", peaks_json(r.nonlinear)}, {"linear", peaks_json(r.linear)}};
+  return prediction_json(r.nonlinear, r.linear);
 }
 
 nlohmann::json run_simulate(const SimulateRequest& request) {
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
   const SimulationResult r = simulate(request.format, law, request.options);
+  if (r.invalid_input) {
+    invalid(std::string(api_field_path(r.invalid_input->input, Endpoint::kSimulate)),
+            simulate_refusal(*r.invalid_input));
+  }
   auto finite = [](const std::vector<double>& v) {
     return std::all_of(v.begin(), v.end(), [](double x) { return std::isfinite(x); });
   };

@@ -314,53 +314,51 @@ std::vector<double> filtered_samples(const MotionLaw& base, const IirFilter& f) 
 
 }  // namespace
 
-IirLaw make_iir_law(const std::function<MotionLaw(double)>& base, const IirFilter& filter,
-                    double stroke, double T) {
+namespace {
+
+/// The delay compensation's best pass: the filtered samples of the longest filtered law that fits
+/// in T, with the base duration and delay it came from.
+struct CompensatedPass {
+  std::vector<double> samples;  ///< empty when no pass fits
+  double base_duration{};
+  double delay{};
+  double first_delay{};  ///< the delay measured on the base law of duration T
+  int iterations{};
+};
+
+/// Delay compensation (paper sec. 4): base duration T - Delta T until the filtered law ends in
+/// (T - T_s, T]; keeps the longest pass that fits when the sample grid makes it oscillate.
+CompensatedPass compensate_delay(const std::function<MotionLaw(double)>& base,
+                                 const IirFilter& filter, double T) {
   const double Ts = filter.sample_period;
-  IirLaw out;
   auto duration_of = [Ts](const std::vector<double>& y) {
     return static_cast<double>(y.size() - 1) * Ts;
   };
-  // Delay compensation (paper sec. 4): base duration T - Delta T until the filtered law ends in
-  // (T - T_s, T]; keep the longest pass that fits when the sample grid makes it oscillate.
+  CompensatedPass best;
   double base_duration = T;
-  std::vector<double> best;
-  double best_base = 0.0, best_delay = 0.0;
   for (int pass = 0; pass < kIirMaxIterations; ++pass) {
     std::vector<double> y = filtered_samples(base(base_duration), filter);
-    ++out.iterations;
+    ++best.iterations;
     const double Tf = duration_of(y);
     const double delay = Tf - base_duration;
-    if (pass == 0) out.delay = delay;
-    if (Tf <= T + 1e-9 * T && (best.empty() || Tf > duration_of(best))) {
-      best_base = base_duration;
-      best_delay = delay;
-      best = std::move(y);
-      if (duration_of(best) > T - Ts + 1e-9 * T) break;
+    if (pass == 0) best.first_delay = delay;
+    if (Tf <= T + 1e-9 * T && (best.samples.empty() || Tf > duration_of(best.samples))) {
+      best.base_duration = base_duration;
+      best.delay = delay;
+      best.samples = std::move(y);
+      if (duration_of(best.samples) > T - Ts + 1e-9 * T) break;
     }
     base_duration = T - delay;
     if (!(base_duration >= kMinBaseDuration)) break;
   }
-  if (best.empty()) return out;  // the delay leaves no time for the base law
+  return best;
+}
 
-  out.fits = true;
-  out.base_duration = best_base;
-  out.delay = best_delay;
-  out.filtered_duration = std::min(duration_of(best), T);  // T within round-off
-  // Knots: the sample times, then T when the last sample falls short of it.
-  std::vector<double> t, a;
-  for (std::size_t k = 0; k < best.size(); ++k) {
-    t.push_back(static_cast<double>(k) * Ts);
-    a.push_back(best[k]);
-  }
-  if (t.back() < T - 1e-12 * T) {
-    t.push_back(T);
-    a.push_back(0.0);
-  } else {
-    t.back() = T;
-  }
-  // Exact rest-to-rest: scale the samples by (c0 + c1 t/T) so that the hat-function integrals
-  // give v(T) = 0 and s(T) = stroke. w_v = int Lambda_k, w_s = int (T - t) Lambda_k.
+/// Exact rest-to-rest: scales the knot accelerations `a` by (c0 + c1 t/T) so that the
+/// hat-function integrals give v(T) = 0 and s(T) = stroke (w_v = int Lambda_k, w_s = int (T - t)
+/// Lambda_k); returns the largest correction relative to the peak acceleration [-].
+double correct_rest_to_rest(const std::vector<double>& t, std::vector<double>& a, double stroke,
+                            double T) {
   const std::size_t m = t.size();
   double V0 = 0.0, V1 = 0.0, P0 = 0.0, P1 = 0.0, peak = 0.0;
   for (std::size_t k = 0; k < m; ++k) {
@@ -391,15 +389,39 @@ IirLaw make_iir_law(const std::function<MotionLaw(double)>& base, const IirFilte
     correction = std::max(correction, std::abs(corrected - a[k]));
     a[k] = corrected;
   }
-  out.correction = peak > 0.0 ? correction / peak : 0.0;
-  std::vector<LawPiece> pieces(m - 1);
-  for (std::size_t k = 0; k + 1 < m; ++k) {
-    LawPiece& p = pieces[k];
-    p.t_begin = t[k];
-    p.t_end = t[k + 1];
-    p.poly = {a[k], (a[k + 1] - a[k]) / (t[k + 1] - t[k]), 0.0, 0.0};
+  return peak > 0.0 ? correction / peak : 0.0;
+}
+
+}  // namespace
+
+IirLaw make_iir_law(const std::function<MotionLaw(double)>& base, const IirFilter& filter,
+                    double stroke, double T) {
+  const double Ts = filter.sample_period;
+  IirLaw out;
+  CompensatedPass best = compensate_delay(base, filter, T);
+  out.iterations = best.iterations;
+  out.delay = best.first_delay;
+  if (best.samples.empty()) return out;  // the delay leaves no time for the base law
+
+  out.fits = true;
+  out.base_duration = best.base_duration;
+  out.delay = best.delay;
+  out.filtered_duration =
+      std::min(static_cast<double>(best.samples.size() - 1) * Ts, T);  // T within round-off
+  // Knots: the sample times, then T when the last sample falls short of it.
+  std::vector<double> t, a;
+  for (std::size_t k = 0; k < best.samples.size(); ++k) {
+    t.push_back(static_cast<double>(k) * Ts);
+    a.push_back(best.samples[k]);
   }
-  out.law = MotionLaw("iir", std::move(pieces));
+  if (t.back() < T - 1e-12 * T) {
+    t.push_back(T);
+    a.push_back(0.0);
+  } else {
+    t.back() = T;
+  }
+  out.correction = correct_rest_to_rest(t, a, stroke, T);
+  out.law = piecewise_linear_law("iir", t, a);
   return out;
 }
 

@@ -157,4 +157,16 @@ MotionLaw make_modified_trapezoid_law(double stroke, double motion_time) {
   return unit.scaled(stroke / unit.stroke());
 }
 
+MotionLaw piecewise_linear_law(std::string name, const std::vector<double>& t,
+                               const std::vector<double>& a) {
+  std::vector<LawPiece> pieces(t.size() - 1);
+  for (std::size_t k = 0; k + 1 < t.size(); ++k) {
+    LawPiece& p = pieces[k];
+    p.t_begin = t[k];
+    p.t_end = t[k + 1];
+    p.poly = {a[k], (a[k + 1] - a[k]) / (t[k + 1] - t[k]), 0.0, 0.0};
+  }
+  return MotionLaw(std::move(name), std::move(pieces));
+}
+
 }  // namespace slosh

@@ -65,4 +65,18 @@ SloshingModel make_sloshing_model(const Format& format, const ModelOptions& opti
   return m;
 }
 
+std::optional<InvalidInput> validate_model_options(const ModelOptions& m) {
+  if (m.modes < 1 || m.modes > static_cast<int>(kMaxModes)) {
+    return out_of_range(PlanInput::kModes, -1, m.modes,
+                        closed_range(1.0, static_cast<double>(kMaxModes)));
+  }
+  if (!non_negative().contains(m.alpha)) {
+    return out_of_range(PlanInput::kAlpha, -1, m.alpha, non_negative());
+  }
+  if (m.damping == DampingCorrelation::kExplicit && !non_negative().contains(m.explicit_zeta)) {
+    return out_of_range(PlanInput::kZeta, -1, m.explicit_zeta, non_negative());
+  }
+  return std::nullopt;
+}
+
 }  // namespace slosh

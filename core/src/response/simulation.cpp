@@ -2,19 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
+
+#include "text.hpp"
 
 namespace slosh {
 
-namespace {
-
-std::string fixed(double v, int digits) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.*f", digits, v);
-  return buf;
-}
-
-}  // namespace
+using detail::fixed;
 
 std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
                                            double eta_motion_linear, double eta_motion_nonlinear) {
@@ -48,9 +41,47 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
   return w;
 }
 
+std::optional<InvalidInput> validate_simulation_input(const Format& f, const MotionLaw& law,
+                                                      const SimulationOptions& options) {
+  if (auto bad = first_out_of_range({
+          {PlanInput::kContainerRadius, f.container.radius, positive()},
+          {PlanInput::kContainerHeight, f.container.height.value_or(1.0), positive()},
+          {PlanInput::kFillHeight, f.fill_height, positive()},
+          {PlanInput::kFluidDensity, f.fluid.density, positive()},
+          {PlanInput::kFluidViscosity, f.fluid.viscosity, non_negative()},
+          {PlanInput::kStroke, f.stroke, non_negative()},
+          {PlanInput::kMotionTime, f.motion_time, positive()},
+      })) {
+    return bad;
+  }
+  if (auto model = validate_model_options(options.model)) return model;
+  if (law.pieces().empty()) {
+    return refused(PlanInput::kLaw, 0.0, positive(), "law has no pieces: nothing to simulate");
+  }
+  if (const double duration = law.duration(); !positive().contains(duration)) {
+    return refused(PlanInput::kLaw, duration, positive(),
+                   "law duration = " + detail::sig3(duration) + " s must be finite and > 0 s");
+  }
+  if (const double stroke = law.stroke(); !std::isfinite(stroke)) {
+    return refused(PlanInput::kLaw, stroke, {},
+                   "law stroke = " + detail::sig3(stroke) + " m must be finite");
+  }
+  if (!non_negative().contains(options.rest_time)) {
+    return out_of_range(PlanInput::kRestTime, -1, options.rest_time, non_negative());
+  }
+  if (options.sample_period && !positive().contains(*options.sample_period)) {
+    return out_of_range(PlanInput::kSamplePeriod, -1, *options.sample_period, positive());
+  }
+  return std::nullopt;
+}
+
 SimulationResult simulate(const Format& format, const MotionLaw& law,
                           const SimulationOptions& options) {
   SimulationResult r;
+  if (std::optional<InvalidInput> invalid = validate_simulation_input(format, law, options)) {
+    r.invalid_input = std::move(invalid);
+    return r;
+  }
   r.model = make_sloshing_model(format, options.model);
   r.kinematics = law.summary();
   const LinearResponse linear(r.model, law, options.rest_time);

@@ -27,13 +27,9 @@ LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double r
   return p;
 }
 
-double reduction(double baseline, double value) {
-  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
-}
-
 std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
   auto change = [](double base, double v) {
-    const double r = reduction(base, v);
+    const double r = reduction_percent(base, v);
     if (std::abs(r) < 5e-4) return std::string("0 %");  // below the 3 digits shown
     std::string text(r >= 0.0 ? "-" : "+");
     text.append(sig3(std::abs(r)));
@@ -81,51 +77,26 @@ bool finite_prediction(const LawPrediction& p) {
 
 }  // namespace
 
-std::string plan_input_error(const Format& f, const PlanOptions& options) {
-  auto bad = [](double v, double lo, double hi) {
-    return !(std::isfinite(v) && v >= lo && v <= hi);
-  };
-  const double R = f.container.radius;
-  if (bad(R, kMinPlanRadius, kMaxPlanLength)) {
-    return "container radius " + sig3(R) + " m must be finite and in [" + sig3(kMinPlanRadius) +
-           ", " + sig3(kMaxPlanLength) + "] m";
+std::optional<InvalidInput> validate_plan_input(const Format& f, const PlanOptions& options) {
+  const InputBounds length = closed_range(kMinPlanLength, kMaxPlanLength);
+  if (auto bad = first_out_of_range({
+          {PlanInput::kContainerRadius, f.container.radius,
+           closed_range(kMinPlanRadius, kMaxPlanLength)},
+          {PlanInput::kContainerHeight, f.container.height.value_or(1.0), positive()},
+          {PlanInput::kFillHeight, f.fill_height, length},
+          {PlanInput::kFluidDensity, f.fluid.density, closed_range(1.0, 1e5)},
+          {PlanInput::kFluidViscosity, f.fluid.viscosity, closed_range(0.0, 1e6)},
+          {PlanInput::kStroke, f.stroke, length},
+          {PlanInput::kMotionTime, f.motion_time, closed_range(kMinPlanTime, kMaxPlanTime)},
+      })) {
+    return bad;
   }
-  if (f.container.height && !(std::isfinite(*f.container.height) && *f.container.height > 0.0)) {
-    return "container height " + sig3(*f.container.height) + " m must be finite and > 0";
-  }
-  if (bad(f.fill_height, kMinPlanLength, kMaxPlanLength)) {
-    return "fill height " + sig3(f.fill_height) + " m must be finite and in [" +
-           sig3(kMinPlanLength) + ", " + sig3(kMaxPlanLength) + "] m";
-  }
-  if (bad(f.fluid.density, 1.0, 1e5)) {
-    return "fluid density " + sig3(f.fluid.density) + " kg/m^3 must be finite and in [1, 1e5]";
-  }
-  if (bad(f.fluid.viscosity, 0.0, 1e6)) {
-    return "fluid viscosity " + sig3(f.fluid.viscosity) + " Pa·s must be finite and in [0, 1e6]";
-  }
-  if (bad(f.stroke, kMinPlanLength, kMaxPlanLength)) {
-    return "stroke " + sig3(f.stroke) + " m must be finite and in [" + sig3(kMinPlanLength) + ", " +
-           sig3(kMaxPlanLength) + "] m";
-  }
-  if (bad(f.motion_time, kMinPlanTime, kMaxPlanTime)) {
-    return "motion time " + sig3(f.motion_time) + " s must be finite and in [" +
-           sig3(kMinPlanTime) + ", " + sig3(kMaxPlanTime) + "] s";
-  }
-  const ModelOptions& m = options.model;
-  if (m.modes < 1 || m.modes > static_cast<int>(kMaxModes)) {
-    return "modes = " + std::to_string(m.modes) + " must be in [1, " + std::to_string(kMaxModes) +
-           "]";
-  }
-  if (!(std::isfinite(m.alpha) && m.alpha >= 0.0)) {
-    return "alpha = " + sig3(m.alpha) + " must be finite and >= 0";
-  }
-  if (m.damping == DampingCorrelation::kExplicit &&
-      !(std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0)) {
-    return "zeta = " + sig3(m.explicit_zeta) + " must be finite and >= 0";
-  }
-  std::string error;
-  if (!options.is_valid(f, &error)) return error;
-  return {};
+  if (auto model = validate_model_options(options.model)) return model;
+  return options.validate(f);
+}
+
+double reduction_percent(double baseline, double value) {
+  return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
 }
 
 bool is_filter_strategy(Strategy strategy) {
@@ -133,82 +104,86 @@ bool is_filter_strategy(Strategy strategy) {
          strategy == Strategy::kIir;
 }
 
-bool PlanOptions::is_valid(const Format& format, std::string* error) const {
-  auto fail = [error](std::string message) {
-    if (error != nullptr) *error = std::move(message);
-    return false;
-  };
-  const double T = format.motion_time;
-  if (!(min_ramp > 0.0) || !std::isfinite(min_ramp)) {
-    return fail("min_ramp_s = " + sig3(min_ramp) + " s must be > 0");
-  }
-  const double floor_sum = 4.0 * min_ramp + plateau_min[0] + plateau_min[1];
-  if (floor_sum > T) {
-    return fail("min_ramp_s = " + sig3(min_ramp) + " s and plateau_min_s = [" +
-                sig3(plateau_min[0]) + ", " + sig3(plateau_min[1]) +
-                "] s need 4 ramps + 2 plateaus = " + sig3(floor_sum) +
-                " s, more than the motion time " + sig3(T) +
-                " s: allowed min_ramp_s <= (T - plateau minimums) / 4 = " +
-                sig3((T - plateau_min[0] - plateau_min[1]) / 4.0) + " s");
-  }
+namespace {
+
+/// The relation 4 min_ramp + plateau minimums <= T, or nullopt when it holds (NaN floors pass:
+/// their own checks refuse them).
+std::optional<InvalidInput> ramps_and_plateaus(const PlanOptions& o, double T) {
+  const double floor_sum = 4.0 * o.min_ramp + o.plateau_min[0] + o.plateau_min[1];
+  if (!(floor_sum > T)) return std::nullopt;
+  const InputBounds bounds{-INFINITY, T, false, false};
+  return refused(PlanInput::kRampsAndPlateaus, floor_sum, bounds,
+                 "min_ramp = " + sig3(o.min_ramp) + " s and plateau_min = [" +
+                     sig3(o.plateau_min[0]) + ", " + sig3(o.plateau_min[1]) +
+                     "] s need 4 ramps + 2 plateaus = " + sig3(floor_sum) +
+                     " s, more than the motion_time " + sig3(T) +
+                     " s: allowed min_ramp <= (motion_time - plateau minimums) / 4 = " +
+                     sig3((T - o.plateau_min[0] - o.plateau_min[1]) / 4.0) + " s");
+}
+
+/// The arrays: plateau_min[i] >= 0, weights[i] >= 0 and their sum > 0.
+std::optional<InvalidInput> validate_arrays(const PlanOptions& o) {
   for (int i = 0; i < 2; ++i) {
-    if (!(plateau_min[i] >= 0.0) || !std::isfinite(plateau_min[i])) {
-      return fail("plateau_min_s[" + std::to_string(i) + "] = " + sig3(plateau_min[i]) +
-                  " s must be >= 0");
+    if (!non_negative().contains(o.plateau_min[i])) {
+      return out_of_range(PlanInput::kPlateauMin, i, o.plateau_min[i], non_negative());
     }
   }
   double weight_sum = 0.0;
   for (int i = 0; i < 3; ++i) {
-    if (!(weights[i] >= 0.0) || !std::isfinite(weights[i])) {
-      return fail("weights[" + std::to_string(i) + "] = " + sig3(weights[i]) +
-                  " must be finite and >= 0");
+    if (!non_negative().contains(o.weights[i])) {
+      return out_of_range(PlanInput::kWeights, i, o.weights[i], non_negative());
     }
-    weight_sum += weights[i];
+    weight_sum += o.weights[i];
   }
-  if (weight_sum <= 0.0) return fail("weights = [0, 0, 0]: at least one weight must be > 0");
-  if (!(p_notch > 0.0 && p_notch < 1.0)) {
-    return fail("p_notch = " + sig3(p_notch) + " must be > 0 and < 1");
+  if (weight_sum <= 0.0) {
+    return refused(PlanInput::kWeights, weight_sum, positive(),
+                   "weights = [0, 0, 0]: at least one weight must be > 0");
   }
-  if (!(band > 0.0 && band < 1.0)) return fail("band = " + sig3(band) + " must be > 0 and < 1");
-  if (n_band < 1 || n_band > kMaxBandPoints) {
-    return fail("n_band = " + std::to_string(n_band) + " must be in [1, " +
-                std::to_string(kMaxBandPoints) + "]");
+  return std::nullopt;
+}
+
+}  // namespace
+
+std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
+  const double T = format.motion_time;
+  if (!positive().contains(min_ramp)) {
+    return out_of_range(PlanInput::kMinRamp, -1, min_ramp, positive());
   }
-  if (!(tol_rel > 0.0) || !std::isfinite(tol_rel)) {
-    return fail("tol_rel = " + sig3(tol_rel) + " must be finite and > 0");
+  if (auto relation = ramps_and_plateaus(*this, T)) return relation;
+  if (auto arrays = validate_arrays(*this)) return arrays;
+  if (auto bad = first_out_of_range({
+          {PlanInput::kPNotch, p_notch, open_range(0.0, 1.0)},
+          {PlanInput::kBand, band, open_range(0.0, 1.0)},
+          {PlanInput::kNBand, static_cast<double>(n_band), closed_range(1.0, kMaxBandPoints)},
+          {PlanInput::kTolRel, tol_rel, positive()},
+          {PlanInput::kEtaRestMax, eta_rest_max, positive()},
+          {PlanInput::kEtaMotionMax, eta_motion_max.value_or(1.0), positive()},
+          {PlanInput::kRestTime, rest_time, {0.0, kMaxPlanTime, true, false}},
+          {PlanInput::kAMax, limits.a_max.value_or(1.0), positive()},
+          {PlanInput::kVMax, limits.v_max.value_or(1.0), positive()},
+          {PlanInput::kJMax, limits.j_max.value_or(1.0), positive()},
+      })) {
+    return bad;
   }
-  if (!(eta_rest_max > 0.0) || !std::isfinite(eta_rest_max)) {
-    return fail("eta_rest_max_mm = " + sig3(eta_rest_max * 1e3) + " mm must be > 0");
+  // An infinite budget is no budget.
+  if (!(time_limit > 0.0) || std::isnan(time_limit)) {
+    return refused(PlanInput::kTimeLimit, time_limit, positive(),
+                   "time_limit = " + sig3(time_limit) + " s must be > 0");
   }
-  if (eta_motion_max && (!(*eta_motion_max > 0.0) || !std::isfinite(*eta_motion_max))) {
-    return fail("eta_motion_max_mm = " + sig3(*eta_motion_max * 1e3) + " mm must be > 0");
+  if (auto bad = first_out_of_range({
+          {PlanInput::kResidual, residual, {0.0, 1.0, false, true}},
+          {PlanInput::kIirTau, iir_tau, positive()},
+          {PlanInput::kIirSamplePeriod, iir_sample_period, {0.0, T / kIirMinSamples, true, false}},
+      })) {
+    return bad;
   }
-  if (!(rest_time > 0.0 && rest_time <= kMaxPlanTime)) {
-    return fail("rest_time_s = " + sig3(rest_time) + " s must be > 0 and <= " + sig3(kMaxPlanTime) +
-                " s");
-  }
-  const std::pair<const std::optional<double>*, const char*> lims[] = {
-      {&limits.a_max, "limits.a_max"},
-      {&limits.v_max, "limits.v_max"},
-      {&limits.j_max, "limits.j_max"}};
-  for (const auto& [value, name] : lims) {
-    if (*value && !(**value > 0.0 && std::isfinite(**value))) {
-      return fail(std::string(name) + " = " + sig3(**value) + " must be finite and > 0");
-    }
-  }
-  if (!(time_limit > 0.0) || std::isnan(time_limit))
-    return fail("time_limit_s = " + sig3(time_limit) + " s must be > 0");
-  if (!(residual >= 0.0 && residual < 1.0)) {
-    return fail("residual = " + sig3(residual) + " must be >= 0 and < 1");
-  }
-  if (!(iir_tau > 0.0) || !std::isfinite(iir_tau)) {
-    return fail("iir_tau = " + sig3(iir_tau) + " 1/s must be finite and > 0");
-  }
-  if (!(iir_sample_period > 0.0 && iir_sample_period <= T / kIirMinSamples)) {
-    return fail("iir_sample_period_s = " + sig3(iir_sample_period) + " s must be > 0 and <= T / " +
-                std::to_string(kIirMinSamples) + " = " + sig3(T / kIirMinSamples) + " s");
-  }
-  return true;
+  return std::nullopt;
+}
+
+bool PlanOptions::is_valid(const Format& format, InvalidInput* error) const {
+  std::optional<InvalidInput> invalid = validate(format);
+  if (invalid && error != nullptr) *error = std::move(*invalid);
+  return !invalid;
 }
 
 namespace detail {
@@ -348,275 +323,353 @@ std::string violated_constraint(const StrategyContext& c, Strategy strategy, con
 
 }  // namespace detail
 
-PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
-  PlanResult r;
-  r.strategy = strategy;
-  // The invalid-input result: nothing planned, but what can be built from the valid parts (the
-  // model, the uniform law) is filled in when finite, so a renderer that expects them does not
-  // meet empty or non-finite fields; predictions stay zero.
-  auto refuse = [&](const std::string& why) {
-    PlanResult invalid;
-    invalid.strategy = strategy;
-    invalid.status = SolveStatus::kFailed;
-    invalid.invalid_input = true;
-    invalid.message = "invalid input: " + why + "; nothing was planned";
-    invalid.solver.name = "none";
-    const Format& f = format;
-    const ModelOptions& m = options.model;
-    auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
-    if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
-        std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
-        m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
-        std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
-      const SloshingModel model = make_sloshing_model(f, m);
-      const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
-                          std::isfinite(model.K) &&
-                          std::all_of(model.omega.begin(), model.omega.end(), positive);
-      if (finite) invalid.model = model;
-    }
-    if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
-        f.stroke <= kMaxPlanLength) {
-      const Durations uniform = uniform_durations(f.motion_time);
-      const SevenSegmentLaw law(uniform, f.stroke);
-      if (std::isfinite(law.A()) && std::isfinite(law.B())) {
-        invalid.durations = uniform;
-        invalid.law = law.law();
-        invalid.A = law.A();
-        invalid.B = law.B();
-      }
-    }
-    return invalid;
-  };
-  if (std::string why = plan_input_error(format, options); !why.empty()) return refuse(why);
-  const detail::Deadline deadline(options.time_limit);
-  r.model = make_sloshing_model(format, options.model);
-  const double w1 = r.model.omega1();
-  if (!(std::isfinite(w1) && w1 > 0.0 && std::isfinite(r.model.zeta) && r.model.zeta >= 0.0 &&
-        std::isfinite(r.model.K))) {
-    return refuse("the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
-                  " rad/s, zeta = " + sig3(r.model.zeta) + ")");
+namespace {
+
+/// The invalid-input result: nothing planned, but what can be built from the valid parts (the
+/// model, the uniform law) is filled in when finite, so a renderer that expects them does not
+/// meet empty or non-finite fields; predictions stay zero.
+PlanResult refusal(const Format& f, Strategy strategy, const PlanOptions& options,
+                   InvalidInput why) {
+  PlanResult invalid;
+  invalid.strategy = strategy;
+  invalid.status = SolveStatus::kFailed;
+  invalid.message = "invalid input: " + why.message + "; nothing was planned";
+  invalid.invalid_input = std::move(why);
+  invalid.solver.name = "none";
+  const ModelOptions& m = options.model;
+  auto positive = [](double v) { return std::isfinite(v) && v > 0.0; };
+  if (positive(f.container.radius) && positive(f.fill_height) && positive(f.fluid.density) &&
+      std::isfinite(f.fluid.viscosity) && f.fluid.viscosity >= 0.0 && m.modes >= 1 &&
+      m.modes <= static_cast<int>(kMaxModes) && std::isfinite(m.alpha) &&
+      std::isfinite(m.explicit_zeta) && m.explicit_zeta >= 0.0) {
+    const SloshingModel model = make_sloshing_model(f, m);
+    const bool finite = std::isfinite(model.zeta) && std::isfinite(model.C) &&
+                        std::isfinite(model.K) &&
+                        std::all_of(model.omega.begin(), model.omega.end(), positive);
+    if (finite) invalid.model = model;
   }
-  r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
-  const Durations uniform = uniform_durations(format.motion_time);
-  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
-  if (!finite_prediction(r.baseline)) {
-    return refuse("the uniform law's predicted sloshing is not finite for this format");
+  if (positive(f.motion_time) && f.motion_time <= kMaxPlanTime && positive(f.stroke) &&
+      f.stroke <= kMaxPlanLength) {
+    const Durations uniform = uniform_durations(f.motion_time);
+    const SevenSegmentLaw law(uniform, f.stroke);
+    if (std::isfinite(law.A()) && std::isfinite(law.B())) {
+      invalid.durations = uniform;
+      invalid.law = law.law();
+      invalid.A = law.A();
+      invalid.B = law.B();
+    }
   }
+  return invalid;
+}
 
-  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
-                            deadline};
-  detail::set_references(c, r.baseline.nonlinear.motion.value);
-  if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
-    return refuse("the uniform law's reference levels are not finite and positive (X_ref = " +
-                  sig3(c.x_ref) + " m/s)");
+/// The refusal of a model that is not finite for valid inputs, or nullopt.
+std::optional<InvalidInput> model_refusal(const SloshingModel& model) {
+  const double w1 = model.omega1();
+  if (std::isfinite(w1) && w1 > 0.0 && std::isfinite(model.zeta) && model.zeta >= 0.0 &&
+      std::isfinite(model.K)) {
+    return std::nullopt;
   }
+  return refused(PlanInput::kSloshingModel, w1, positive(),
+                 "the sloshing model of this format is not finite (omega1 = " + sig3(w1) +
+                     " rad/s, zeta = " + sig3(model.zeta) + ")");
+}
 
-  // Every strategy's outcome in one shape: the optimisers' durations become their law.
-  struct Outcome {
-    SolveStatus status{SolveStatus::kFailed};
-    std::optional<Durations> durations;
-    MotionLaw law;
-    std::optional<FilterDesign> design;
-    std::string detail;
-    detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
-  };
-  auto from_solver = [&](detail::StrategyOutcome o) {
-    Outcome out;
-    out.status = o.status;
-    if (o.status == SolveStatus::kFailed) o.durations = uniform;
-    out.durations = o.durations;
-    out.law = SevenSegmentLaw(o.durations, format.stroke).law();
-    out.detail = o.detail;
-    out.solver = std::move(o);
-    return out;
-  };
-  auto from_filter = [&](detail::FilterOutcome o) {
-    Outcome out;
-    out.status = o.status;
-    out.durations = o.durations;
-    out.law = std::move(o.law);
-    out.design = std::move(o.design);
-    out.detail = std::move(o.detail);
-    out.solver.solver = "none";
-    return out;
-  };
+/// One strategy's outcome in one shape (the optimisers' durations become their law), carrying
+/// the strategy that produced it.
+struct Outcome {
+  Strategy strategy{};
+  SolveStatus status{SolveStatus::kFailed};
+  std::optional<Durations> durations;
+  MotionLaw law;
+  std::optional<FilterDesign> design;
+  std::string detail;
+  detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
+};
 
-  auto run = [&](Strategy s, const std::vector<Durations>& seeds) -> Outcome {
-    switch (s) {
-      case Strategy::kNotch:
-        return from_solver(detail::solve_notch(c));
-      case Strategy::kMultiNotch:
-        return from_solver(detail::solve_multi_notch(c));
-      case Strategy::kMinJerkBand:
-        return from_solver(detail::solve_min_jerk_band(c));
-      case Strategy::kTimeDomain:
-        return from_solver(detail::solve_time_domain(c, seeds));
-      case Strategy::kFirChain:
-        return from_filter(detail::design_fir_chain(c));
-      case Strategy::kShaper:
-        return from_filter(detail::design_shaper(c));
-      case Strategy::kIir:
-        return from_filter(detail::design_iir(c));
-      default: {
-        detail::StrategyOutcome o;
-        o.status = SolveStatus::kOptimal;
-        o.durations = uniform;
-        o.solver = "none";
-        return from_solver(o);
-      }
-    }
-  };
-  // SPEC §5 "Honest status": the status follows the verification of the returned law. An
-  // optimiser's law that meets every constraint is never infeasible; one that violates a
-  // constraint is never optimal or acceptable (filter designs are only ever downgraded: their
-  // "infeasible" also means "this method has no law here").
-  auto verify = [&](Strategy s, Outcome& o, const LawPrediction& p) {
-    if (!o.durations) return;
-    const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
-    const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
-    if (!violation.empty() && usable) {
-      o.status = SolveStatus::kInfeasible;
-      if (s == Strategy::kBaseline) {
-        o.detail = "the uniform law does not meet the options: " + violation;
-      } else if (o.detail.empty() || is_filter_strategy(s)) {
-        o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
-      } else {
-        o.detail = violation;
-      }
-    } else if (violation.empty() && o.status == SolveStatus::kInfeasible &&
-               !is_filter_strategy(s)) {
-      o.status = SolveStatus::kAcceptable;
-      o.detail =
-          "the law meets every constraint on the verification, though its objective was "
-          "not minimised";
-    }
-  };
-  // The spectral optima seed the time-domain starts (SPEC §5).
-  auto spectral_seeds = [&](std::vector<Outcome>* outcomes) {
-    std::vector<Durations> seeds;
-    for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
-      Outcome o = run(s, {});
-      if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
-        seeds.push_back(*o.durations);
-      }
-      if (outcomes != nullptr) outcomes->push_back(std::move(o));
-    }
-    return seeds;
-  };
-  auto finish = [&](Outcome& o) {
-    r.status = o.status;
-    r.durations = o.durations;
-    r.law = std::move(o.law);
-    r.design = std::move(o.design);
-    r.solver.name = o.solver.solver;
-    r.solver.iterations = o.solver.evaluations;
-    r.solver.starts = o.solver.starts;
-    r.solver.objective = o.solver.objective;
-  };
+Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::StrategyOutcome o) {
+  Outcome out;
+  out.strategy = s;
+  out.status = o.status;
+  if (o.status == SolveStatus::kFailed) o.durations = uniform_durations(c.format.motion_time);
+  out.durations = o.durations;
+  out.law = SevenSegmentLaw(o.durations, c.format.stroke).law();
+  out.detail = o.detail;
+  out.solver = std::move(o);
+  return out;
+}
 
-  std::string detail_text;
-  std::string worse;                    // the worse_than_baseline warning of the returned law
-  Strategy result_strategy = strategy;  // the strategy whose law is returned
-  if (strategy == Strategy::kAuto) {
-    std::vector<Outcome> outcomes;
-    outcomes.push_back(run(Strategy::kBaseline, {}));
-    std::vector<Durations> seeds = spectral_seeds(&outcomes);
-    outcomes.push_back(run(Strategy::kTimeDomain, seeds));
-    outcomes.push_back(run(Strategy::kFirChain, {}));
-    outcomes.push_back(run(Strategy::kShaper, {}));
-    const Strategy order[] = {Strategy::kBaseline,    Strategy::kNotch,      Strategy::kMultiNotch,
-                              Strategy::kMinJerkBand, Strategy::kTimeDomain, Strategy::kFirChain,
-                              Strategy::kShaper};
-    int evaluations = 0, starts = 0;
-    std::vector<std::string> worse_of;
-    for (std::size_t k = 0; k < outcomes.size(); ++k) {
-      PlanCandidate cand;
-      cand.strategy = order[k];
-      cand.law = outcomes[k].law;
-      cand.prediction = predict(r.model, cand.law, options.rest_time);
-      verify(order[k], outcomes[k], cand.prediction);
-      cand.status = outcomes[k].status;
-      cand.durations = outcomes[k].durations;
-      worse_of.push_back(worse_than_baseline(cand.prediction, r.baseline));
-      r.candidates.push_back(std::move(cand));
-      evaluations += outcomes[k].solver.evaluations;
-      starts += outcomes[k].solver.starts;
+Outcome from_filter(Strategy s, detail::FilterOutcome o) {
+  Outcome out;
+  out.strategy = s;
+  out.status = o.status;
+  out.durations = o.durations;
+  out.law = std::move(o.law);
+  out.design = std::move(o.design);
+  out.detail = std::move(o.detail);
+  out.solver.solver = "none";
+  return out;
+}
+
+/// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
+Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
+                     const std::vector<Durations>& seeds) {
+  switch (s) {
+    case Strategy::kNotch:
+      return from_solver(c, s, detail::solve_notch(c));
+    case Strategy::kMultiNotch:
+      return from_solver(c, s, detail::solve_multi_notch(c));
+    case Strategy::kMinJerkBand:
+      return from_solver(c, s, detail::solve_min_jerk_band(c));
+    case Strategy::kTimeDomain:
+      return from_solver(c, s, detail::solve_time_domain(c, seeds));
+    case Strategy::kFirChain:
+      return from_filter(s, detail::design_fir_chain(c));
+    case Strategy::kShaper:
+      return from_filter(s, detail::design_shaper(c));
+    case Strategy::kIir:
+      return from_filter(s, detail::design_iir(c));
+    default: {
+      detail::StrategyOutcome o;
+      o.status = SolveStatus::kOptimal;
+      o.durations = uniform_durations(c.format.motion_time);
+      o.solver = "none";
+      return from_solver(c, s, o);
     }
-    // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best
-    // (ties: lower peak acceleration); infeasible or failed candidates do not compete, nor do
-    // those worse than the uniform law while one that is not remains (the baseline never is).
-    auto usable = [](const PlanCandidate& k) {
-      return k.status == SolveStatus::kOptimal || k.status == SolveStatus::kAcceptable ||
-             k.status == SolveStatus::kTimeLimit;
-    };
-    bool any_not_worse = false;
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      any_not_worse = any_not_worse || (usable(r.candidates[k]) && worse_of[k].empty());
-    }
-    auto eligible = [&](std::size_t k) {
-      return usable(r.candidates[k]) && (!any_not_worse || worse_of[k].empty());
-    };
-    double best_motion = INFINITY;
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      if (eligible(k)) {
-        best_motion = std::min(best_motion, r.candidates[k].prediction.nonlinear.motion.value);
-      }
-    }
-    std::size_t chosen = 0;
-    bool have = false;
-    for (std::size_t k = 0; k < r.candidates.size(); ++k) {
-      const auto& cand = r.candidates[k];
-      if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
-        continue;
-      }
-      if (!have) {
-        chosen = k;
-        have = true;
-        continue;
-      }
-      const auto& cur = r.candidates[chosen];
-      const double a = cand.prediction.nonlinear.rest.value,
-                   b = cur.prediction.nonlinear.rest.value;
-      const double peak_a = std::max(cand.prediction.kinematics.a_peak_positive,
-                                     cand.prediction.kinematics.a_peak_negative);
-      const double peak_b = std::max(cur.prediction.kinematics.a_peak_positive,
-                                     cur.prediction.kinematics.a_peak_negative);
-      if (a < b * (1.0 - kAutoTieTolerance) ||
-          (std::abs(a - b) <= kAutoTieTolerance * b && peak_a < peak_b)) {
-        chosen = k;
-      }
-    }
-    r.candidates[chosen].chosen = true;
-    result_strategy = order[chosen];
-    Outcome& o = outcomes[chosen];
-    o.solver.evaluations = evaluations;
-    o.solver.starts = starts;
-    if (!have) {
-      detail_text = "no candidate meets every constraint; auto returns the uniform law";
+  }
+}
+
+/// SPEC §5 "Honest status": the status follows the verification of the returned law. An
+/// optimiser's law that meets every constraint is never infeasible; one that violates a
+/// constraint is never optimal or acceptable (filter designs are only ever downgraded: their
+/// "infeasible" also means "this method has no law here").
+void verify(const detail::StrategyContext& c, Outcome& o, const LawPrediction& p) {
+  if (!o.durations) return;
+  const Strategy s = o.strategy;
+  const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
+  const bool usable = o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
+  if (!violation.empty() && usable) {
+    o.status = SolveStatus::kInfeasible;
+    if (s == Strategy::kBaseline) {
+      o.detail = "the uniform law does not meet the options: " + violation;
+    } else if (o.detail.empty() || is_filter_strategy(s)) {
+      o.detail = (o.detail.empty() ? "" : o.detail + "; ") + violation;
     } else {
-      detail_text = "auto chose " + to_string(order[chosen]) +
-                    " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
-                    (any_not_worse ? std::string("none worse than the uniform law)")
-                                   : std::string("all worse than the uniform law, which does not "
-                                                 "meet the options)"));
+      o.detail = violation;
     }
-    if (!o.detail.empty()) detail_text += "; " + o.detail;
-    worse = worse_of[chosen];
-    finish(o);
-    r.prediction = r.candidates[chosen].prediction;
-  } else {
-    std::vector<Durations> seeds;
-    if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(nullptr);
-    Outcome o = run(strategy, seeds);
-    const LawPrediction p = predict(r.model, o.law, options.rest_time);
-    verify(strategy, o, p);
-    detail_text = o.detail;
-    finish(o);
-    r.prediction = p;
-    worse = worse_than_baseline(r.prediction, r.baseline);
+  } else if (violation.empty() && o.status == SolveStatus::kInfeasible && !is_filter_strategy(s)) {
+    o.status = SolveStatus::kAcceptable;
+    o.detail =
+        "the law meets every constraint on the verification, though its objective was "
+        "not minimised";
   }
+}
 
+/// The spectral optima, which seed the time-domain starts (SPEC §5); their outcomes are appended
+/// to `outcomes` when not null.
+std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
+                                      std::vector<Outcome>* outcomes) {
+  std::vector<Durations> seeds;
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+    Outcome o = run_strategy(c, s, {});
+    if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
+      seeds.push_back(*o.durations);
+    }
+    if (outcomes != nullptr) outcomes->push_back(std::move(o));
+  }
+  return seeds;
+}
+
+/// The law plan() returns: its outcome (solver figures summed over the candidates for kAuto), its
+/// verified prediction, the sentence about how it was obtained, and its worse_than_baseline
+/// warning (or empty).
+struct Selection {
+  Outcome outcome;
+  LawPrediction prediction;
+  std::string detail;
+  std::string worse;
+};
+
+Selection run_single(const detail::StrategyContext& c, Strategy strategy,
+                     const LawPrediction& baseline) {
+  std::vector<Durations> seeds;
+  if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(c, nullptr);
+  Selection s;
+  s.outcome = run_strategy(c, strategy, seeds);
+  s.prediction = predict(c.model, s.outcome.law, c.options.rest_time);
+  verify(c, s.outcome, s.prediction);
+  s.detail = s.outcome.detail;
+  s.worse = worse_than_baseline(s.prediction, baseline);
+  return s;
+}
+
+bool usable_status(SolveStatus status) {
+  return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
+         status == SolveStatus::kTimeLimit;
+}
+
+}  // namespace
+
+AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
+                       const std::vector<bool>& worse_than_baseline) {
+  // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best (ties:
+  // lower peak acceleration); infeasible or failed candidates do not compete, nor do those worse
+  // than the uniform law while one that is not remains (the baseline never is).
+  AutoChoice choice;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    choice.any_not_worse =
+        choice.any_not_worse || (usable_status(candidates[k].status) && !worse_than_baseline[k]);
+  }
+  auto eligible = [&](std::size_t k) {
+    return usable_status(candidates[k].status) &&
+           (!choice.any_not_worse || !worse_than_baseline[k]);
+  };
+  double best_motion = INFINITY;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (eligible(k)) {
+      best_motion = std::min(best_motion, candidates[k].prediction.nonlinear.motion.value);
+    }
+  }
+  auto peak = [](const PlanCandidate& k) {
+    return std::max(k.prediction.kinematics.a_peak_positive,
+                    k.prediction.kinematics.a_peak_negative);
+  };
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const auto& cand = candidates[k];
+    if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      continue;
+    }
+    if (!choice.eligible) {
+      choice.index = k;
+      choice.eligible = true;
+      continue;
+    }
+    const auto& cur = candidates[choice.index];
+    const double a = cand.prediction.nonlinear.rest.value, b = cur.prediction.nonlinear.rest.value;
+    if (a < b * (1.0 - kAutoTieTolerance) ||
+        (std::abs(a - b) <= kAutoTieTolerance * b && peak(cand) < peak(cur))) {
+      choice.index = k;
+    }
+  }
+  return choice;
+}
+
+namespace {
+
+/// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
+Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseline,
+                   std::vector<PlanCandidate>& candidates) {
+  std::vector<Outcome> outcomes;
+  outcomes.push_back(run_strategy(c, Strategy::kBaseline, {}));
+  const std::vector<Durations> seeds = spectral_seeds(c, &outcomes);
+  outcomes.push_back(run_strategy(c, Strategy::kTimeDomain, seeds));
+  outcomes.push_back(run_strategy(c, Strategy::kFirChain, {}));
+  outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
+  int evaluations = 0, starts = 0;
+  std::vector<std::string> worse_of;
+  std::vector<bool> worse;
+  for (Outcome& o : outcomes) {
+    PlanCandidate cand;
+    cand.strategy = o.strategy;
+    cand.law = o.law;
+    cand.prediction = predict(c.model, cand.law, c.options.rest_time);
+    verify(c, o, cand.prediction);
+    cand.status = o.status;
+    cand.durations = o.durations;
+    worse_of.push_back(worse_than_baseline(cand.prediction, baseline));
+    worse.push_back(!worse_of.back().empty());
+    candidates.push_back(std::move(cand));
+    evaluations += o.solver.evaluations;
+    starts += o.solver.starts;
+  }
+  const AutoChoice choice = choose_auto(candidates, worse);
+  candidates[choice.index].chosen = true;
+  Selection s;
+  s.outcome = std::move(outcomes[choice.index]);
+  s.outcome.solver.evaluations = evaluations;
+  s.outcome.solver.starts = starts;
+  if (!choice.eligible) {
+    s.detail = "no candidate meets every constraint; auto returns the uniform law";
+  } else {
+    s.detail = "auto chose " + to_string(s.outcome.strategy) +
+               " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+               (choice.any_not_worse ? std::string("none worse than the uniform law)")
+                                     : std::string("all worse than the uniform law, which does "
+                                                   "not meet the options)"));
+  }
+  if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
+  s.worse = worse_of[choice.index];
+  s.prediction = candidates[choice.index].prediction;
+  return s;
+}
+
+/// The sentence of an infeasible optimised law: the machine limits first when they alone cannot
+/// hold; otherwise the strategy's own sentence (constraint, limit, best value reached).
+std::string infeasible_sentence(const detail::StrategyContext& c, const PlanResult& r,
+                                Strategy result_strategy, const std::string& detail_text) {
+  std::string limits;
+  // (The uniform law is not searched: its own sentence says which option it breaks.)
+  if (result_strategy != Strategy::kBaseline && c.space.limit_count() > 0 && r.durations &&
+      !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
+           .empty()) {
+    limits = detail::explain_limits(c);
+  }
+  std::string message = !limits.empty() ? limits : detail_text;
+  if (message.empty() && r.durations) {
+    message = detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
+  } else if (limits.empty() && r.durations && result_strategy != Strategy::kBaseline) {
+    // The strategy's own constraint is named; a machine limit the returned law breaks too
+    // (although the limits are reachable) must not go unsaid.
+    const std::string also =
+        detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear);
+    if (!also.empty()) message += "; moreover " + also;
+  }
+  message += result_strategy == Strategy::kBaseline
+                 ? "; the durations returned are the uniform law, not a solution: plan with "
+                   "a strategy that holds the options"
+                 : "; the durations returned are the least infeasible found, not a solution";
+  return message;
+}
+
+/// The message (Ceres' BriefReport): what happened, then what the law does.
+std::string brief_report(const detail::StrategyContext& c, const PlanResult& r,
+                         Strategy result_strategy, std::string detail_text) {
+  std::string message;
+  switch (r.status) {
+    case SolveStatus::kOptimal:
+    case SolveStatus::kAcceptable:
+      message = to_string(r.strategy) + " " + to_string(r.status);
+      break;
+    case SolveStatus::kTimeLimit:
+      message = "the time budget of " + sig3(c.options.time_limit) +
+                " s ran out; returning the best admissible point found";
+      break;
+    case SolveStatus::kInfeasible:
+      // A filter design says what it built and which constraint it misses.
+      message = is_filter_strategy(result_strategy)
+                    ? detail_text
+                    : infeasible_sentence(c, r, result_strategy, detail_text);
+      detail_text.clear();
+      break;
+    case SolveStatus::kFailed:
+      message = "the solver failed; the durations returned are the uniform law";
+      break;
+  }
+  if (!detail_text.empty()) message += ": " + detail_text;
+  return message + ". " + summary_sentence(r.prediction, r.baseline);
+}
+
+/// Fills the result from the selected law.
+void take_selection(PlanResult& r, Selection& s, const Format& format) {
+  Outcome& o = s.outcome;
+  r.status = o.status;
+  r.durations = o.durations;
+  r.law = std::move(o.law);
+  r.design = std::move(o.design);
+  r.solver.name = o.solver.solver;
+  r.solver.iterations = o.solver.evaluations;
+  r.solver.starts = o.solver.starts;
+  r.solver.objective = o.solver.objective;
+  r.prediction = s.prediction;
   if (r.durations) {
     const SevenSegmentLaw law(*r.durations, format.stroke);
     r.A = law.A();
@@ -625,68 +678,56 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
     r.A = r.prediction.kinematics.a_peak_positive;
     r.B = r.prediction.kinematics.a_peak_negative;
   }
+  if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
+}
+
+}  // namespace
+
+PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
+    return refusal(format, strategy, options, std::move(*why));
+  }
+  const detail::Deadline deadline(options.time_limit);
+  PlanResult r;
+  r.strategy = strategy;
+  r.model = make_sloshing_model(format, options.model);
+  if (std::optional<InvalidInput> why = model_refusal(r.model)) {
+    return refusal(format, strategy, options, std::move(*why));
+  }
+  const double w1 = r.model.omega1();
+  r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
+  const Durations uniform = uniform_durations(format.motion_time);
+  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
+  if (!finite_prediction(r.baseline)) {
+    return refusal(
+        format, strategy, options,
+        refused(PlanInput::kUniformResponse, r.baseline.nonlinear.motion.value, non_negative(),
+                "the uniform law's predicted sloshing is not finite for this format"));
+  }
+  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
+                            deadline};
+  detail::set_references(c, r.baseline.nonlinear.motion.value);
+  if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
+    return refusal(
+        format, strategy, options,
+        refused(PlanInput::kReferenceLevels, c.x_ref, positive(),
+                "the uniform law's reference levels are not finite and positive (X_ref = " +
+                    sig3(c.x_ref) + " m/s)"));
+  }
+
+  Selection s = strategy == Strategy::kAuto ? run_auto(c, r.baseline, r.candidates)
+                                            : run_single(c, strategy, r.baseline);
+  const Strategy result_strategy = s.outcome.strategy;
+  take_selection(r, s, format);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-  if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
-
-  // The message: what happened, then what the law does.
-  const bool filtered = is_filter_strategy(result_strategy);
-  std::string message;
-  switch (r.status) {
-    case SolveStatus::kOptimal:
-    case SolveStatus::kAcceptable:
-      message = to_string(strategy) + " " + to_string(r.status);
-      break;
-    case SolveStatus::kTimeLimit:
-      message = "the time budget of " + sig3(options.time_limit) +
-                " s ran out; returning the best admissible point found";
-      break;
-    case SolveStatus::kInfeasible: {
-      if (filtered) {
-        // The design says what it built and which constraint it misses.
-        message = detail_text;
-        detail_text.clear();
-        break;
-      }
-      // The machine limits first when they alone cannot hold; otherwise the strategy's own
-      // sentence (constraint, limit, best value reached).
-      std::string limits;
-      // (The uniform law is not searched: its own sentence says which option it breaks.)
-      if (result_strategy != Strategy::kBaseline && c.space.limit_count() > 0 && r.durations &&
-          !detail::violated_constraint(c, Strategy::kBaseline, *r.durations, r.prediction.nonlinear)
-               .empty()) {
-        limits = detail::explain_limits(c);
-      }
-      message = !limits.empty() ? limits : detail_text;
-      if (message.empty() && r.durations) {
-        message =
-            detail::violated_constraint(c, result_strategy, *r.durations, r.prediction.nonlinear);
-      } else if (limits.empty() && r.durations && result_strategy != Strategy::kBaseline) {
-        // The strategy's own constraint is named; a machine limit the returned law breaks too
-        // (although the limits are reachable) must not go unsaid.
-        const std::string also = detail::violated_constraint(c, Strategy::kBaseline, *r.durations,
-                                                             r.prediction.nonlinear);
-        if (!also.empty()) message += "; moreover " + also;
-      }
-      detail_text.clear();
-      message += result_strategy == Strategy::kBaseline
-                     ? "; the durations returned are the uniform law, not a solution: plan with "
-                       "a strategy that holds the options"
-                     : "; the durations returned are the least infeasible found, not a solution";
-      break;
-    }
-    case SolveStatus::kFailed:
-      message = "the solver failed; the durations returned are the uniform law";
-      break;
-  }
-  if (!detail_text.empty()) message += ": " + detail_text;
-  message += ". " + summary_sentence(r.prediction, r.baseline);
-  r.message = message;
+  r.message = brief_report(c, r, result_strategy, std::move(s.detail));
   r.warnings = validity_warnings(
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
       r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value);
-  if (!worse.empty()) r.warnings.push_back(worse);
+  if (!s.worse.empty()) r.warnings.push_back(s.worse);
   return r;
 }
 

@@ -3,8 +3,9 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
+#include <functional>
 
+#include "slosh/core/response/peak_finder.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -41,6 +42,9 @@ constexpr double kScreenTolerance{1e-7};
 /// Screened points min_jerk_band finishes on the n_band frequencies, and tries at most [-].
 constexpr std::size_t kRefinedStarts{2};
 constexpr std::size_t kRefineAttempts{5};
+/// Golden-section refinement of a band maximum: relative bracket width and iterations at most.
+constexpr double kBandPeakTolerance{1e-12};
+constexpr int kBandPeakIterations{60};
 /// Intervals of the band check grid at least (the solver's n_band - 1 when larger) [-].
 constexpr int kBandCheckIntervals{50};
 
@@ -132,17 +136,9 @@ BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>&
     if (v[k] > best.value) best = {v[k], grid[k]};
     const bool interior_max = k > 0 && k + 1 < grid.size() && v[k] >= v[k - 1] && v[k] >= v[k + 1];
     if (!interior_max) continue;
-    double a = grid[k - 1], b = grid[k + 1];
-    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
-    double x1 = b - g * (b - a), x2 = a + g * (b - a), f1 = f(x1), f2 = f(x2);
-    for (int it = 0; it < 60 && b - a > 1e-12 * grid[k]; ++it) {
-      if (f1 > f2) {
-        b = x2, x2 = x1, f2 = f1, x1 = b - g * (b - a), f1 = f(x1);
-      } else {
-        a = x1, x1 = x2, f1 = f2, x2 = a + g * (b - a), f2 = f(x2);
-      }
-    }
-    if (std::max(f1, f2) > best.value) best = f1 > f2 ? BandPeak{f1, x1} : BandPeak{f2, x2};
+    const Peak p =
+        refine_max(f, grid[k - 1], grid[k + 1], kBandPeakTolerance * grid[k], kBandPeakIterations);
+    if (p.value > best.value) best = {p.value, p.time};
   }
   return best;
 }
@@ -229,240 +225,298 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c) {
   return o;
 }
 
-StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
-  const double w1 = c.model.omega1();
-  const PlanOptions& opt = c.options;
-  const double tol = opt.tol_rel;
-  const double stroke = c.format.stroke;
-  // Band rows relative to their bound: |X(w_k)|^2 / (tol X_ref)^2 - 1 <= 0 (phase J), or
-  // <= z (phase E, epigraph).
-  const double scale = 1.0 / (c.x_ref * c.x_ref * tol * tol);
-  const std::vector<double> fine = band_check_grid(w1, opt);
-  auto ratio = [&](const Durations& d) { return band_peak(d, stroke, fine).value / c.x_ref; };
-  // Phase E's z is (|X| / X_ref)^2: of order 1 like the durations' gradients, which SLSQP needs
-  // (in units of the tolerance it stalls on small tol_rel).
-  const double scale_e = 1.0 / (c.x_ref * c.x_ref);
-  auto band_rows = [stroke, scale, scale_e](std::vector<double> w, bool epigraph,
-                                            double limit = 1.0) {
-    auto powers = std::make_shared<std::vector<SpectrumPowerGradient>>();
-    const double row_scale = epigraph ? scale_e : scale;
-    const int n = kSegments + (epigraph ? 1 : 0);
-    return [w = std::move(w), stroke, scale = row_scale, epigraph, limit, n, powers](
-               const double* x, double* g, double* jac) {
-      Durations d;
-      std::copy(x, x + kSegments, d.begin());
-      spectrum_power_gradients(d, stroke, w, powers.get());
-      for (std::size_t k = 0; k < w.size(); ++k) {
-        const auto& pg = (*powers)[k];
-        g[k] = pg.power * scale - (epigraph ? x[kSegments] : limit);
-        if (jac != nullptr) {
-          for (std::size_t i = 0; i < kSegments; ++i) jac[k * n + i] = pg.gradient[i] * scale;
-          if (epigraph) jac[k * n + kSegments] = -1.0;
-        }
-      }
+namespace {
+
+/// Scratch of the band rows: |X|^2 and its gradient at the rows' frequencies, refilled at every
+/// evaluation. Owned by the caller beside the rows' data (as Pinocchio passes Data beside Model)
+/// and outliving every problem that evaluates into it; the solves run one at a time.
+struct BandWorkspace {
+  std::vector<SpectrumPowerGradient> powers;
+};
+
+/// Band rows relative to their bound: |X(w_k)|^2 scale - limit <= 0 (phase J), or
+/// |X(w_k)|^2 scale - z <= 0 (phase E, epigraph: z is the last variable).
+struct BandRows {
+  std::vector<double> omegas;  ///< [rad/s]
+  double stroke{};             ///< [m]
+  double scale{};              ///< 1 / (tol X_ref)^2 (phase J) or 1 / X_ref^2 (phase E)
+  bool epigraph{false};
+  double limit{1.0};  ///< phase J's bound on the scaled rows
+};
+
+void evaluate_band_rows(const BandRows& rows, BandWorkspace& ws, const double* x, double* g,
+                        double* jac) {
+  const int n = kSegments + (rows.epigraph ? 1 : 0);
+  Durations d;
+  std::copy(x, x + kSegments, d.begin());
+  spectrum_power_gradients(d, rows.stroke, rows.omegas, &ws.powers);
+  for (std::size_t k = 0; k < rows.omegas.size(); ++k) {
+    const auto& pg = ws.powers[k];
+    g[k] = pg.power * rows.scale - (rows.epigraph ? x[kSegments] : rows.limit);
+    if (jac != nullptr) {
+      for (std::size_t i = 0; i < kSegments; ++i) jac[k * n + i] = pg.gradient[i] * rows.scale;
+      if (rows.epigraph) jac[k * n + kSegments] = -1.0;
+    }
+  }
+}
+
+/// What min_jerk_band's phases share: the problem data, the fine check grid, the starts, the
+/// rows' workspace and the outcome whose evaluations and starts they add to.
+struct BandSearch {
+  const StrategyContext& c;
+  double w1{};      ///< [rad/s]
+  double tol{};     ///< tol_rel [-]
+  double stroke{};  ///< [m]
+  /// Phase J's rows: |X(w_k)|^2 / (tol X_ref)^2 - 1 <= 0.
+  double scale{};
+  /// Phase E's z is (|X| / X_ref)^2: of order 1 like the durations' gradients, which SLSQP needs
+  /// (in units of the tolerance it stalls on small tol_rel).
+  double scale_e{};
+  std::vector<double> fine;         ///< band_check_grid
+  std::vector<double> base_omegas;  ///< the n_band solver frequencies
+  std::vector<Durations> starts;
+  /// The screening tries more random points than the other phases: the band-constrained optimum
+  /// is often asymmetric and reached from few starts.
+  std::vector<Durations> screen_starts;
+  BandWorkspace& workspace;
+  StrategyOutcome& out;
+
+  void count(const MultiStartResult& r) {
+    out.evaluations += r.evaluations;
+    out.starts += r.starts;
+  }
+  /// The problem's inequalities: the band rows on `omegas`, then the limits.
+  std::function<void(const double*, double*, double*)> rows(std::vector<double> omegas,
+                                                            bool epigraph, double limit = 1.0) {
+    BandRows r{std::move(omegas), stroke, epigraph ? scale_e : scale, epigraph, limit};
+    BandWorkspace* ws = &workspace;
+    return [r = std::move(r), ws](const double* x, double* g, double* jac) {
+      evaluate_band_rows(r, *ws, x, g, jac);
     };
-  };
-  StrategyOutcome o;
-  o.solver = solver_name(c);
-  auto count = [&o](const MultiStartResult& r) {
-    o.evaluations += r.evaluations;
-    o.starts += r.starts;
-  };
-  const std::vector<double> base_omegas = band_frequencies(w1, opt.band, opt.n_band);
-  const std::vector<Durations> starts = c.space.starts(kSpectralRandomStarts);
-  // The screening tries more random points than the other phases: the band-constrained optimum
-  // is often asymmetric and reached from few starts.
-  const std::vector<Durations> screen_starts = c.space.starts(kBandRandomStarts);
-
-  // Phase J: min int j^2 dt s.t. the band on n_band points, from `x0`; the constraint is
-  // semi-infinite, so the band is then checked on the fine grid and its worst frequency added for
-  // a re-solve from the current point until the check passes. Between the solver's frequencies
-  // the maximum moves with the durations, so from the second round on the bound is tightened by
-  // twice the excess still found.
-  struct Local {
-    MultiStartResult r;
-    Durations d{};
-    double ratio{INFINITY};  // largest |X| / X_ref on the fine grid
-    bool met{false};         // ratio <= tol (1 + kBandTolerance), limits held by the solver
-  };
-  auto limits_met = [&](const Durations& d) {
-    const int m = c.space.limit_count();
-    if (m == 0) return true;
-    std::vector<double> g(static_cast<std::size_t>(m));
-    c.space.limit_constraints(d.data(), g.data(), nullptr, kSegments);
-    return *std::max_element(g.begin(), g.end()) <= kBandTolerance;
-  };
-  auto solve_jerk = [&](const std::vector<std::vector<double>>& x0) {
-    std::vector<double> omegas = base_omegas;
-    std::vector<std::vector<double>> from = x0;
-    double margin = 0.0;
-    Local best;
-    for (int round = 0; round < kBandExchangeRounds; ++round) {
-      NlpProblem p = c.space.problem();
-      p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
-      const double limit = (1.0 - margin) * (1.0 - margin);
-      add_limits(p, c, static_cast<int>(omegas.size()), band_rows(omegas, false, limit));
-      MultiStartResult r = multi_start(p, from, c, spectral_options());
-      // SLSQP sometimes stops short of the optimum (line search on round-off); one restart from
-      // where it stopped finishes the job.
-      if (r.feasible && !r.timed_out) {
-        MultiStartResult again = multi_start(p, {r.best.x}, c, spectral_options());
-        count(again);
-        if (again.feasible && again.best.objective < r.best.objective) {
-          again.evaluations = r.evaluations;
-          again.starts = r.starts;
-          r = std::move(again);
-        }
-      }
-      count(r);
-      // SLSQP may stop a hair outside a constraint (4e-8 of the bound): far inside what the
-      // verification tolerates, so the point is judged by the verification, not by the solver.
-      if (r.best.x.empty() || r.best.max_violation > kExchangeSlack) break;
-      Local here;
-      here.d = c.space.polish(r.best.x.data());
-      const BandPeak worst = band_peak(here.d, stroke, fine);
-      here.ratio = worst.value / c.x_ref;
-      here.met = here.ratio <= tol * (1.0 + kBandTolerance) && limits_met(here.d);
-      here.r = std::move(r);
-      const bool timed_out = here.r.timed_out;
-      const double excess = here.ratio / tol - 1.0;
-      best = std::move(here);
-      if (best.met || timed_out) break;
-      omegas.push_back(worst.omega);
-      if (round >= 1) margin += 2.0 * excess;
-      from = {best.r.best.x};
-    }
-    return best;
-  };
-  // Phase E (least infeasible): min z s.t. |X(w_k)|^2 / (tol X_ref)^2 <= z on the band, the
-  // min-max of the band excess, with the same exchange on the fine grid.
-  auto solve_excess = [&](const std::vector<Durations>& x0) {
-    std::vector<double> omegas = base_omegas;
-    NlpOptions options = spectral_options();
-    Local best;
-    std::vector<std::vector<double>> from;
-    for (const Durations& d : x0) {
-      std::vector<double> x(d.begin(), d.end());
-      x.push_back(std::pow(ratio(d), 2) * 1.01);
-      from.push_back(std::move(x));
-    }
-    for (int round = 0; round < kBandExchangeRounds; ++round) {
-      NlpProblem p = c.space.problem(1, 1e6);
-      add_limits(p, c, static_cast<int>(omegas.size()), band_rows(omegas, true));
-      MultiStartResult r = multi_start(p, from, c, options);
-      count(r);
-      if (r.best.x.empty()) break;
-      Local here;
-      here.d = c.space.polish(r.best.x.data());
-      const BandPeak worst = band_peak(here.d, stroke, fine);
-      here.ratio = worst.value / c.x_ref;
-      here.met = here.ratio <= tol * (1.0 + kBandTolerance) && limits_met(here.d);
-      const double sampled = std::sqrt(std::max(r.best.x[kSegments], 0.0));
-      const bool timed_out = r.timed_out;
-      here.r = std::move(r);
-      if (here.ratio < best.ratio || (here.r.feasible && !best.r.feasible)) best = here;
-      if (timed_out || here.ratio <= sampled * (1.0 + kBandTolerance)) break;
-      omegas.push_back(worst.omega);
-      std::vector<double> x = here.r.best.x;
-      x[kSegments] = std::pow(here.ratio, 2) * 1.01;
-      from = {std::move(x)};
-    }
-    return best;
-  };
-
-  // Phase 0: the least jerk integral without the band (the limits only; nearly convex, so the
-  // uniform start suffices). When it meets the band, the band is inactive and it is the optimum.
-  std::vector<std::vector<double>> jerk_starts = as_vectors(screen_starts);
-  {
+  }
+  /// min int j^2 dt over the durations (limits and rows added by the caller).
+  [[nodiscard]] NlpProblem jerk_problem() const {
     NlpProblem p = c.space.problem();
-    p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
-    add_limits(p, c, 0, nullptr);
-    const MultiStartResult free = multi_start(p, {jerk_starts.front()}, c, spectral_options());
-    count(free);
-    if (free.feasible && !free.best.x.empty()) {
-      Local here;
-      here.d = c.space.polish(free.best.x.data());
-      here.ratio = ratio(here.d);
-      if (here.ratio <= tol * (1.0 + kBandTolerance) && !free.timed_out) {
-        o.durations = here.d;
-        o.objective = jerk_objective(here.d.data(), nullptr, c);
-        o.status = free.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
-                                                             : SolveStatus::kAcceptable;
-        o.detail = "|X| <= " + percent(here.ratio) + " of X_ref over the whole band (limit " +
-                   percent(tol) + ", not binding), jerk integral " + percent(o.objective) +
-                   " of the uniform law's";
-        return o;
+    const StrategyContext* ctx = &c;
+    p.objective = [ctx](const double* x, double* grad) { return jerk_objective(x, grad, *ctx); };
+    return p;
+  }
+};
+
+/// A point of a phase, checked on the fine grid.
+struct BandPoint {
+  MultiStartResult r;
+  Durations d{};
+  double ratio{INFINITY};  // largest |X| / X_ref on the fine grid
+  bool met{false};         // ratio <= tol (1 + kBandTolerance), limits held by the solver
+};
+
+bool limits_met(const StrategyContext& c, const Durations& d) {
+  const int m = c.space.limit_count();
+  if (m == 0) return true;
+  std::vector<double> g(static_cast<std::size_t>(m));
+  c.space.limit_constraints(d.data(), g.data(), nullptr, kSegments);
+  return *std::max_element(g.begin(), g.end()) <= kBandTolerance;
+}
+
+double band_ratio(const BandSearch& s, const Durations& d) {
+  return band_peak(d, s.stroke, s.fine).value / s.c.x_ref;
+}
+
+/// The band checker: the polished solver point `x` on the fine grid (band_peak refines every
+/// local maximum with refine_max); returns the point and writes the worst frequency.
+BandPoint check_band(const BandSearch& s, const std::vector<double>& x, double* worst_omega) {
+  BandPoint here;
+  here.d = s.c.space.polish(x.data());
+  const BandPeak worst = band_peak(here.d, s.stroke, s.fine);
+  here.ratio = worst.value / s.c.x_ref;
+  here.met = here.ratio <= s.tol * (1.0 + kBandTolerance) && limits_met(s.c, here.d);
+  *worst_omega = worst.omega;
+  return here;
+}
+
+/// Phase J: min int j^2 dt s.t. the band on n_band points, from `x0`; the constraint is
+/// semi-infinite, so the band is then checked on the fine grid and its worst frequency added for
+/// a re-solve from the current point until the check passes (exchange rounds). Between the
+/// solver's frequencies the maximum moves with the durations, so from the second round on the
+/// bound is tightened by twice the excess still found.
+BandPoint solve_jerk(BandSearch& s, const std::vector<std::vector<double>>& x0) {
+  std::vector<double> omegas = s.base_omegas;
+  std::vector<std::vector<double>> from = x0;
+  double margin = 0.0;
+  BandPoint best;
+  for (int round = 0; round < kBandExchangeRounds; ++round) {
+    NlpProblem p = s.jerk_problem();
+    const double limit = (1.0 - margin) * (1.0 - margin);
+    add_limits(p, s.c, static_cast<int>(omegas.size()), s.rows(omegas, false, limit));
+    MultiStartResult r = multi_start(p, from, s.c, spectral_options());
+    // SLSQP sometimes stops short of the optimum (line search on round-off); one restart from
+    // where it stopped finishes the job.
+    if (r.feasible && !r.timed_out) {
+      MultiStartResult again = multi_start(p, {r.best.x}, s.c, spectral_options());
+      s.count(again);
+      if (again.feasible && again.best.objective < r.best.objective) {
+        again.evaluations = r.evaluations;
+        again.starts = r.starts;
+        r = std::move(again);
       }
-      jerk_starts.insert(jerk_starts.begin(), free.best.x);
+    }
+    s.count(r);
+    // SLSQP may stop a hair outside a constraint (4e-8 of the bound): far inside what the
+    // verification tolerates, so the point is judged by the verification, not by the solver.
+    if (r.best.x.empty() || r.best.max_violation > kExchangeSlack) break;
+    double worst_omega = 0.0;
+    BandPoint here = check_band(s, r.best.x, &worst_omega);
+    here.r = std::move(r);
+    const bool timed_out = here.r.timed_out;
+    const double excess = here.ratio / s.tol - 1.0;
+    best = std::move(here);
+    if (best.met || timed_out) break;
+    omegas.push_back(worst_omega);
+    if (round >= 1) margin += 2.0 * excess;
+    from = {best.r.best.x};
+  }
+  return best;
+}
+
+/// Phase E (least infeasible): min z s.t. |X(w_k)|^2 / X_ref^2 <= z on the band, the min-max of
+/// the band excess, with the same exchange on the fine grid.
+BandPoint solve_excess(BandSearch& s, const std::vector<Durations>& x0) {
+  std::vector<double> omegas = s.base_omegas;
+  const NlpOptions options = spectral_options();
+  BandPoint best;
+  std::vector<std::vector<double>> from;
+  for (const Durations& d : x0) {
+    std::vector<double> x(d.begin(), d.end());
+    x.push_back(std::pow(band_ratio(s, d), 2) * 1.01);
+    from.push_back(std::move(x));
+  }
+  for (int round = 0; round < kBandExchangeRounds; ++round) {
+    NlpProblem p = s.c.space.problem(1, 1e6);
+    add_limits(p, s.c, static_cast<int>(omegas.size()), s.rows(omegas, true));
+    MultiStartResult r = multi_start(p, from, s.c, options);
+    s.count(r);
+    if (r.best.x.empty()) break;
+    double worst_omega = 0.0;
+    BandPoint here = check_band(s, r.best.x, &worst_omega);
+    const double sampled = std::sqrt(std::max(r.best.x[kSegments], 0.0));
+    const bool timed_out = r.timed_out;
+    here.r = std::move(r);
+    if (here.ratio < best.ratio || (here.r.feasible && !best.r.feasible)) best = here;
+    if (timed_out || here.ratio <= sampled * (1.0 + kBandTolerance)) break;
+    omegas.push_back(worst_omega);
+    std::vector<double> x = here.r.best.x;
+    x[kSegments] = std::pow(here.ratio, 2) * 1.01;
+    from = {std::move(x)};
+  }
+  return best;
+}
+
+/// Phase 0: the least jerk integral without the band (the limits only; nearly convex, so the
+/// uniform start suffices). True when it meets the band: the band is inactive, it is the optimum
+/// and `s.out` holds it. Otherwise its point, when any, is put first in `jerk_starts`.
+bool band_free_optimum(BandSearch& s, std::vector<std::vector<double>>& jerk_starts) {
+  NlpProblem p = s.jerk_problem();
+  add_limits(p, s.c, 0, nullptr);
+  const MultiStartResult free = multi_start(p, {jerk_starts.front()}, s.c, spectral_options());
+  s.count(free);
+  if (!free.feasible || free.best.x.empty()) return false;
+  const Durations d = s.c.space.polish(free.best.x.data());
+  const double ratio = band_ratio(s, d);
+  if (ratio <= s.tol * (1.0 + kBandTolerance) && !free.timed_out) {
+    StrategyOutcome& o = s.out;
+    o.durations = d;
+    o.objective = jerk_objective(d.data(), nullptr, s.c);
+    o.status = free.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
+                                                         : SolveStatus::kAcceptable;
+    o.detail = "|X| <= " + percent(ratio) + " of X_ref over the whole band (limit " +
+               percent(s.tol) + ", not binding), jerk integral " + percent(o.objective) +
+               " of the uniform law's";
+    return true;
+  }
+  jerk_starts.insert(jerk_starts.begin(), free.best.x);
+  return false;
+}
+
+/// The screening solves on kScreenPoints band frequencies from every start, capped: the
+/// feasible points (objective, x), and those the cap stopped outside the band in `unfinished`.
+std::vector<std::pair<double, std::vector<double>>> screen_starts(
+    BandSearch& s, const NlpProblem& p, const std::vector<std::vector<double>>& jerk_starts,
+    std::vector<std::vector<double>>* unfinished) {
+  std::vector<std::pair<double, std::vector<double>>> screened;
+  NlpOptions capped = spectral_options();
+  capped.max_iterations = kScreenEvaluations;  // a ranking: the best are finished below
+  capped.tolerance = kScreenTolerance;
+  for (const auto& x0 : jerk_starts) {
+    const MultiStartResult r = multi_start(p, {x0}, s.c, capped);
+    s.count(r);
+    if (r.timed_out) break;
+    if (r.best.x.empty()) continue;
+    if (r.best.max_violation <= kSolverSlack) {
+      screened.emplace_back(r.best.objective, r.best.x);
+    } else {
+      // SLSQP also stops outside the constraints (its objective stalls while infeasible):
+      // finished below when nothing better turns up.
+      unfinished->push_back(r.best.x);
     }
   }
-  // Phase J from the band-free optimum and every start: SLSQP on the band constraint itself
-  // (scaled by X_ref it is well conditioned), screened on kScreenPoints band frequencies from
-  // every start, then the best kRefinedStarts screened points solved on the n_band points with
-  // the exchange on the fine grid.
+  return screened;
+}
+
+/// Phase J's screening: SLSQP on the band constraint itself (scaled by X_ref it is well
+/// conditioned) on kScreenPoints band frequencies from every start; the distinct screened points,
+/// best first.
+std::vector<std::vector<double>> screen(BandSearch& s,
+                                        const std::vector<std::vector<double>>& jerk_starts) {
+  NlpProblem p = s.jerk_problem();
+  const std::vector<double> coarse =
+      band_frequencies(s.w1, s.c.options.band, std::min(s.c.options.n_band, kScreenPoints));
+  add_limits(p, s.c, static_cast<int>(coarse.size()), s.rows(coarse, false));
+  std::vector<std::vector<double>> unfinished;  // stopped by the cap outside the band
+  auto screened = screen_starts(s, p, jerk_starts, &unfinished);
+  // Hard formats (few starts reach the band): the solves that stopped outside it continue from
+  // where they stopped, without the cap and with a fresh Hessian.
+  double best_screened = INFINITY;
+  for (const auto& [f, x] : screened) best_screened = std::min(best_screened, f);
+  for (const auto& x0 : unfinished) {
+    // Worth finishing: too few screened points, or a lower jerk than the best of them.
+    if (screened.size() >= kRefinedStarts &&
+        !(jerk_objective(x0.data(), nullptr, s.c) < best_screened)) {
+      continue;
+    }
+    const MultiStartResult r = multi_start(p, {x0}, s.c, spectral_options());
+    s.count(r);
+    if (r.timed_out) break;
+    if (!r.best.x.empty() && r.best.max_violation <= kSolverSlack) {
+      screened.emplace_back(r.best.objective, r.best.x);
+    }
+  }
+  std::stable_sort(screened.begin(), screened.end(),
+                   [](const auto& a, const auto& b) { return a.first < b.first; });
+  // Distinct points only (many starts land on the same screened optimum).
   std::vector<std::vector<double>> refine_from;
-  {
-    NlpProblem p = c.space.problem();
-    p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
-    const std::vector<double> coarse =
-        band_frequencies(w1, opt.band, std::min(opt.n_band, kScreenPoints));
-    add_limits(p, c, static_cast<int>(coarse.size()), band_rows(coarse, false));
-    std::vector<std::pair<double, std::vector<double>>> screened;
-    NlpOptions screen = spectral_options();
-    screen.max_iterations = kScreenEvaluations;  // a ranking: the best are finished below
-    screen.tolerance = kScreenTolerance;
-    std::vector<std::vector<double>> unfinished;  // stopped by the cap outside the band
-    for (const auto& x0 : jerk_starts) {
-      const MultiStartResult r = multi_start(p, {x0}, c, screen);
-      count(r);
-      if (r.timed_out) break;
-      if (r.best.x.empty()) continue;
-      if (r.best.max_violation <= kSolverSlack) {
-        screened.emplace_back(r.best.objective, r.best.x);
-      } else {
-        // SLSQP also stops outside the constraints (its objective stalls while infeasible):
-        // finished below when nothing better turns up.
-        unfinished.push_back(r.best.x);
+  for (const auto& point : screened) {
+    const auto& x = point.second;  // (clang 14 cannot capture a structured binding)
+    const bool seen = std::any_of(refine_from.begin(), refine_from.end(), [&](const auto& y) {
+      for (std::size_t i = 0; i < kSegments; ++i) {
+        if (std::abs(x[i] - y[i]) > 1e-6 * s.c.format.motion_time) return false;
       }
-    }
-    // Hard formats (few starts reach the band): the solves that stopped outside it continue from
-    // where they stopped, without the cap and with a fresh Hessian.
-    double best_screened = INFINITY;
-    for (const auto& [f, x] : screened) best_screened = std::min(best_screened, f);
-    for (const auto& x0 : unfinished) {
-      // Worth finishing: too few screened points, or a lower jerk than the best of them.
-      if (screened.size() >= kRefinedStarts &&
-          !(jerk_objective(x0.data(), nullptr, c) < best_screened)) {
-        continue;
-      }
-      const MultiStartResult r = multi_start(p, {x0}, c, spectral_options());
-      count(r);
-      if (r.timed_out) break;
-      if (!r.best.x.empty() && r.best.max_violation <= kSolverSlack) {
-        screened.emplace_back(r.best.objective, r.best.x);
-      }
-    }
-    std::stable_sort(screened.begin(), screened.end(),
-                     [](const auto& a, const auto& b) { return a.first < b.first; });
-    // Distinct points only (many starts land on the same screened optimum).
-    for (const auto& point : screened) {
-      const auto& x = point.second;  // (clang 14 cannot capture a structured binding)
-      const bool seen = std::any_of(refine_from.begin(), refine_from.end(), [&](const auto& y) {
-        for (std::size_t i = 0; i < kSegments; ++i) {
-          if (std::abs(x[i] - y[i]) > 1e-6 * c.format.motion_time) return false;
-        }
-        return true;
-      });
-      if (!seen) refine_from.push_back(x);
-    }
+      return true;
+    });
+    if (!seen) refine_from.push_back(x);
   }
-  // The best screened points in order until kRefinedStarts of them meet the band (at most
-  // kRefineAttempts tries: a screened point far outside the full band may not come back).
-  Local jerk;
+  return refine_from;
+}
+
+/// The best screened points in order until kRefinedStarts of them meet the band (at most
+/// kRefineAttempts tries: a screened point far outside the full band may not come back), each
+/// solved on the n_band points with the exchange on the fine grid.
+BandPoint refine(BandSearch& s, const std::vector<std::vector<double>>& refine_from) {
+  BandPoint jerk;
   int met = 0;
   for (std::size_t k = 0; k < refine_from.size() && k < kRefineAttempts; ++k) {
-    if (met == static_cast<int>(kRefinedStarts) || c.deadline.expired()) break;
-    Local here = solve_jerk({refine_from[k]});
+    if (met == static_cast<int>(kRefinedStarts) || s.c.deadline.expired()) break;
+    BandPoint here = solve_jerk(s, {refine_from[k]});
     if (here.met) ++met;
     const bool better =
         (here.met && !jerk.met) ||
@@ -470,57 +524,97 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
          (here.met ? here.r.best.objective < jerk.r.best.objective : here.ratio < jerk.ratio));
     if (better) jerk = std::move(here);
   }
-  if (!jerk.met && !c.deadline.expired()) {
-    // The band is not reachable from the starts by phase J: the least infeasible point of the
-    // band excess, from every start. When it meets the band after all, phase J runs from it.
-    // The starts, then the points phase J got closest with: its best and the screened points.
-    std::vector<Durations> excess_starts = screen_starts;
-    auto add_start = [&](const Durations& d) {
-      if (std::find(excess_starts.begin(), excess_starts.end(), d) == excess_starts.end()) {
-        excess_starts.push_back(d);
-      }
-    };
-    if (jerk.ratio < INFINITY) add_start(jerk.d);
-    for (const auto& x : refine_from) add_start(c.space.polish(x.data()));
-    Local least = solve_excess(excess_starts);
-    // Never worse than a start.
-    for (const Durations& d : starts) {
-      const double rs = ratio(d);
-      if (rs < least.ratio) {
-        least.ratio = rs;
-        least.d = d;
-        least.met = false;
-      }
+  return jerk;
+}
+
+/// The band is not reachable from the starts by phase J: the least infeasible point of the band
+/// excess, from the starts, then the points phase J got closest with (its best and the screened
+/// points). When it meets the band after all, phase J runs from it.
+void fall_back_to_least_excess(BandSearch& s, const std::vector<std::vector<double>>& refine_from,
+                               BandPoint& jerk) {
+  std::vector<Durations> excess_starts = s.screen_starts;
+  auto add_start = [&](const Durations& d) {
+    if (std::find(excess_starts.begin(), excess_starts.end(), d) == excess_starts.end()) {
+      excess_starts.push_back(d);
     }
-    if (least.met) {
-      Local from_least = solve_jerk({std::vector<double>(least.d.begin(), least.d.end())});
-      jerk = from_least.met ? std::move(from_least) : std::move(least);
-    } else if (!jerk.r.feasible || least.ratio < jerk.ratio) {
-      jerk = std::move(least);
+  };
+  if (jerk.ratio < INFINITY) add_start(jerk.d);
+  for (const auto& x : refine_from) add_start(s.c.space.polish(x.data()));
+  BandPoint least = solve_excess(s, excess_starts);
+  // Never worse than a start.
+  for (const Durations& d : s.starts) {
+    const double rs = band_ratio(s, d);
+    if (rs < least.ratio) {
+      least.ratio = rs;
+      least.d = d;
+      least.met = false;
     }
   }
+  if (least.met) {
+    BandPoint from_least = solve_jerk(s, {std::vector<double>(least.d.begin(), least.d.end())});
+    jerk = from_least.met ? std::move(from_least) : std::move(least);
+  } else if (!jerk.r.feasible || least.ratio < jerk.ratio) {
+    jerk = std::move(least);
+  }
+}
+
+/// The outcome of the best point found.
+void finish_band(BandSearch& s, const BandPoint& jerk) {
+  StrategyOutcome& o = s.out;
+  const StrategyContext& c = s.c;
   if (jerk.r.best.x.empty() && jerk.ratio == INFINITY) {
     o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
-    o.durations = starts.front();
-    return o;
+    o.durations = s.starts.front();
+    return;
   }
   o.durations = jerk.d;
   o.objective = jerk_objective(jerk.d.data(), nullptr, c);
-  if (jerk.met && limits_met(jerk.d)) {
+  if (jerk.met && limits_met(c, jerk.d)) {
     o.status = jerk.r.timed_out                              ? SolveStatus::kTimeLimit
                : jerk.r.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal
                                                              : SolveStatus::kAcceptable;
     o.detail = "|X| <= " + percent(jerk.ratio) + " of X_ref over the whole band (limit " +
-               percent(tol) + "), jerk integral " + percent(o.objective) + " of the uniform law's";
-    return o;
+               percent(s.tol) + "), jerk integral " + percent(o.objective) +
+               " of the uniform law's";
+    return;
   }
   if (c.deadline.expired()) {
     o.status = SolveStatus::kTimeLimit;
-    o.durations = starts.front();
-    return o;
+    o.durations = s.starts.front();
+    return;
   }
   o.status = SolveStatus::kInfeasible;
   o.detail = band_limit_sentence(c, jerk.ratio);
+}
+
+}  // namespace
+
+StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
+  StrategyOutcome o;
+  o.solver = solver_name(c);
+  BandWorkspace workspace;
+  const double w1 = c.model.omega1();
+  const double tol = c.options.tol_rel;
+  BandSearch s{c,
+               w1,
+               tol,
+               c.format.stroke,
+               1.0 / (c.x_ref * c.x_ref * tol * tol),
+               1.0 / (c.x_ref * c.x_ref),
+               band_check_grid(w1, c.options),
+               band_frequencies(w1, c.options.band, c.options.n_band),
+               c.space.starts(kSpectralRandomStarts),
+               c.space.starts(kBandRandomStarts),
+               workspace,
+               o};
+  std::vector<std::vector<double>> jerk_starts = as_vectors(s.screen_starts);
+  if (band_free_optimum(s, jerk_starts)) return o;
+  // Phase J from the band-free optimum and every start: screened, then the best screened points
+  // solved on the n_band points with the exchange on the fine grid.
+  const std::vector<std::vector<double>> refine_from = screen(s, jerk_starts);
+  BandPoint jerk = refine(s, refine_from);
+  if (!jerk.met && !c.deadline.expired()) fall_back_to_least_excess(s, refine_from, jerk);
+  finish_band(s, jerk);
   return o;
 }
 

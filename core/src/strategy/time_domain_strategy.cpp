@@ -3,7 +3,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <memory>
 #include <numbers>
 
 #include "response/nonlinear_sensitivity.hpp"
@@ -50,51 +49,42 @@ struct Samples {
 };
 
 // |eta| at the samples for the last evaluated durations, shared by the objective and constraint
-// callbacks of one problem (the solvers call both at the same point).
-class Workspace {
- public:
-  Workspace(const StrategyContext& c, Samples samples)
-      : sens_(c.model, c.format.stroke, c.options.rest_time),
-        eta_ref_(c.eta_ref),
-        samples_(std::move(samples)) {}
+// callbacks of one problem (the solvers call both at the same point): the explicit scratch of
+// the time-domain problems, owned by solve_phase beside the samples (as Pinocchio passes Data
+// beside Model) and outliving every problem that evaluates into it.
+struct TimeDomainWorkspace {
+  explicit TimeDomainWorkspace(const StrategyContext& c)
+      : sensitivity(c.model, c.format.stroke, c.options.rest_time) {}
 
-  [[nodiscard]] const Samples& samples() const { return samples_; }
-  [[nodiscard]] const std::vector<double>& values() const { return values_; }
-  [[nodiscard]] const std::vector<std::array<double, kSegments>>& gradients() const {
-    return gradients_;
-  }
-
-  // Evaluates at x (scaled by eta_ref) unless x is the last point.
-  void at(const double* x) {
-    if (valid_ && std::equal(x, x + kSegments, last_.begin())) return;
-    sens_.compute(x);
-    sens_.abs_eta_at(samples_.t, &values_, &gradients_);
-    for (double& v : values_) v /= eta_ref_;
-    for (auto& g : gradients_) {
-      for (double& gi : g) gi /= eta_ref_;
-    }
-    std::copy(x, x + kSegments, last_.begin());
-    valid_ = true;
-  }
-
-  NonlinearSensitivity& sensitivity() { return sens_; }
-
- private:
-  NonlinearSensitivity sens_;
-  double eta_ref_;
-  Samples samples_;
-  std::vector<double> values_;
-  std::vector<std::array<double, kSegments>> gradients_;
-  std::array<double, kSegments> last_{};
-  bool valid_{false};
+  NonlinearSensitivity sensitivity;
+  std::vector<double> values;  ///< |eta(t_k)| / eta_ref
+  std::vector<std::array<double, kSegments>> gradients;
+  std::array<double, kSegments> last{};  ///< the durations values and gradients are of
+  bool valid{false};                     ///< false: values and gradients are stale
 };
+
+// Evaluates |eta| / eta_ref and its gradient at the samples for the durations x into `ws`,
+// unless x is the last point evaluated.
+void evaluate_samples(TimeDomainWorkspace& ws, const Samples& samples, double eta_ref,
+                      const double* x) {
+  if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
+  ws.sensitivity.compute(x);
+  ws.sensitivity.abs_eta_at(samples.t, &ws.values, &ws.gradients);
+  for (double& v : ws.values) v /= eta_ref;
+  for (auto& g : ws.gradients) {
+    for (double& gi : g) gi /= eta_ref;
+  }
+  std::copy(x, x + kSegments, ws.last.begin());
+  ws.valid = true;
+}
 
 // min z s.t. |eta(t_k)| / eta_ref <= z at the samples of the minimised phase and
 // |eta(t_k)| / eta_ref <= bound / eta_ref at those of the other phase (none without a bound).
+// The problem evaluates into `ws` and reads `samples`: both must outlive the solve.
 MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
                                 std::optional<double> bound, const Samples& samples,
-                                const std::vector<Durations>& starts) {
-  auto ws = std::make_shared<Workspace>(c, samples);
+                                const std::vector<Durations>& starts, TimeDomainWorkspace& ws) {
+  ws.valid = false;               // the samples may have changed since the last evaluation
   std::vector<std::size_t> rows;  // samples that carry a constraint
   for (std::size_t k = 0; k < samples.t.size(); ++k) {
     if (static_cast<bool>(samples.motion[k]) == minimise_motion || bound) rows.push_back(k);
@@ -106,12 +96,15 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
   const int limits = c.space.limit_count();
   p.inequality_count = m + limits;
   const DurationSpace* space = &c.space;
-  p.inequalities = [ws, rows, minimise_motion, scaled_bound, m, limits, n, space](
-                       const double* x, double* g, double* jac) {
-    ws->at(x);
-    const auto& values = ws->values();
-    const auto& grads = ws->gradients();
-    const auto& motion = ws->samples().motion;
+  TimeDomainWorkspace* work = &ws;
+  const Samples* sampled = &samples;
+  const double eta_ref = c.eta_ref;
+  p.inequalities = [work, sampled, eta_ref, rows, minimise_motion, scaled_bound, m, limits, n,
+                    space](const double* x, double* g, double* jac) {
+    evaluate_samples(*work, *sampled, eta_ref, x);
+    const auto& values = work->values;
+    const auto& grads = work->gradients;
+    const auto& motion = sampled->motion;
     for (int r = 0; r < m; ++r) {
       const std::size_t k = rows[static_cast<std::size_t>(r)];
       const bool free = static_cast<bool>(motion[k]) == minimise_motion;
@@ -130,12 +123,10 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
   };
   std::vector<std::vector<double>> x0 = as_vectors(starts);
   for (auto& x : x0) {
-    ws->at(x.data());
+    evaluate_samples(ws, samples, eta_ref, x.data());
     double z = 0.0;
     for (std::size_t k = 0; k < samples.t.size(); ++k) {
-      if (static_cast<bool>(samples.motion[k]) == minimise_motion) {
-        z = std::max(z, ws->values()[k]);
-      }
+      if (static_cast<bool>(samples.motion[k]) == minimise_motion) z = std::max(z, ws.values[k]);
     }
     x.push_back(z);
   }
@@ -164,10 +155,11 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   MultiStartResult total;
   double margin = 0.0;
   *bound_excess = 0.0;
+  TimeDomainWorkspace ws(c);
   for (int round = 0; round < kExchangeRounds; ++round) {
     std::optional<double> solver_bound;
     if (bound) solver_bound = *bound * (1.0 - margin);
-    MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts);
+    MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws);
     r.evaluations += total.evaluations;
     r.starts += total.starts;
     total = std::move(r);
@@ -207,6 +199,87 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   return total;
 }
 
+// The bounded phase from `from` into `out`, adding to its counts (dense excess within
+// kDenseTolerance counts as met).
+void run_bounded(const StrategyContext& c, bool motion, double bound,
+                 const std::vector<Durations>& from, StrategyOutcome* out) {
+  double excess = 0.0;
+  const MultiStartResult m = solve_phase(c, motion, bound, from, &excess);
+  const int evaluations = out->evaluations + m.evaluations;
+  const int solved = out->starts + m.starts;
+  *out = outcome_from(m, c);
+  out->evaluations = evaluations;
+  out->starts = solved;
+  if ((out->status == SolveStatus::kOptimal || out->status == SolveStatus::kAcceptable) &&
+      excess > kDenseTolerance) {
+    // The exchange rounds ran out before the dense check passed: not met.
+    out->status = SolveStatus::kInfeasible;
+  }
+}
+
+// The dense value of the constrained quantity (eta_rest for objective kMotion) at d [m].
+double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
+  const SloshPeaks p =
+      NonlinearResponse(c.model, SevenSegmentLaw(d, c.format.stroke).law(), c.options.rest_time)
+          .peaks();
+  return motion ? p.rest.value : p.motion.value;
+}
+
+// Least infeasible phase after the bounded phase `o` was infeasible: the constrained quantity
+// alone minimised from the same starts (the min of eta_rest, or of eta_motion for objective
+// kRest). When it meets the bound, the bounded phase runs again from it (a feasible start);
+// failing that, it is itself a law that meets the bound.
+StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double bound,
+                                 const std::vector<Durations>& starts, StrategyOutcome o) {
+  double unused = 0.0;
+  const MultiStartResult best = solve_phase(c, !motion, std::nullopt, starts, &unused);
+  const Durations infeasible_point = o.durations;
+  o.evaluations += best.evaluations;
+  o.starts += best.starts;
+  if (best.best.x.empty() || !best.feasible) {
+    o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
+    o.detail = "the machine limits leave no admissible law";
+    return o;
+  }
+  // The minimiser's point, or a start or the bounded phase's point when one is better.
+  Durations chosen = c.space.polish(best.best.x.data());
+  double reached = constrained_value(c, motion, chosen);
+  std::vector<Durations> others = starts;
+  others.push_back(infeasible_point);
+  for (const Durations& d : others) {
+    const double v = constrained_value(c, motion, d);
+    if (v < reached) {
+      reached = v;
+      chosen = d;
+    }
+  }
+  const std::string bounded_name = motion ? "eta_rest" : "eta_motion";
+  if (reached <= bound * (1.0 + kDenseTolerance)) {
+    StrategyOutcome again;
+    again.evaluations = o.evaluations;
+    again.starts = o.starts;
+    run_bounded(c, motion, bound, {chosen}, &again);
+    if (again.status != SolveStatus::kInfeasible) return again;
+    o.evaluations = again.evaluations;
+    o.starts = again.starts;
+    // The least infeasible point meets the bound: a law that keeps the promise, though its
+    // objective is not minimised.
+    o.status = SolveStatus::kAcceptable;
+    o.durations = chosen;
+    o.objective = best.best.objective;
+    o.detail = bounded_name + " <= " + sig3(bound * 1e3) + " mm met (" + sig3(reached * 1e3) +
+               " mm), but the " + (motion ? "eta_motion" : "eta_rest") +
+               " objective was not minimised";
+    return o;
+  }
+  o.status = SolveStatus::kInfeasible;
+  o.durations = chosen;
+  o.detail = bounded_name + " <= " + sig3(bound * 1e3) + " mm is not reachable in " +
+             sig3(c.format.motion_time) + " s: the best is " + sig3(reached * 1e3) +
+             " mm; lengthen the motion or relax the limit";
+  return o;
+}
+
 }  // namespace
 
 StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
@@ -216,84 +289,10 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
   for (const Durations& d : seeds) {
     if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
   }
-  // The bounded phase (dense excess within kDenseTolerance counts as met).
-  auto bounded = [&](const std::vector<Durations>& from, StrategyOutcome* out) {
-    double excess = 0.0;
-    const MultiStartResult m = solve_phase(c, motion, bound, from, &excess);
-    const int evaluations = out->evaluations + m.evaluations;
-    const int solved = out->starts + m.starts;
-    *out = outcome_from(m, c);
-    out->evaluations = evaluations;
-    out->starts = solved;
-    if ((out->status == SolveStatus::kOptimal || out->status == SolveStatus::kAcceptable) &&
-        excess > kDenseTolerance) {
-      // The exchange rounds ran out before the dense check passed: not met.
-      out->status = SolveStatus::kInfeasible;
-    }
-  };
   StrategyOutcome o;
-  bounded(starts, &o);
+  run_bounded(c, motion, bound, starts, &o);
   if (o.status != SolveStatus::kInfeasible) return o;
-  // Least infeasible phase: the constrained quantity alone minimised from the same starts (the
-  // min of eta_rest, or of eta_motion for objective kRest). When it meets the bound, the bounded
-  // phase runs again from it (a feasible start); failing that, it is itself a law that meets the
-  // bound.
-  double unused = 0.0;
-  const MultiStartResult best = solve_phase(c, !motion, std::nullopt, starts, &unused);
-  const int evaluations = o.evaluations + best.evaluations;
-  const int solved = o.starts + best.starts;
-  const Durations infeasible_point = o.durations;
-  o.evaluations = evaluations;
-  o.starts = solved;
-  if (best.best.x.empty() || !best.feasible) {
-    o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
-    o.detail = "the machine limits leave no admissible law";
-    return o;
-  }
-  const Durations least = c.space.polish(best.best.x.data());
-  // The dense value of the constrained quantity at a point, and the best of the starts.
-  const SloshingModel& model = c.model;
-  auto dense = [&](const Durations& d) {
-    const SloshPeaks p =
-        NonlinearResponse(model, SevenSegmentLaw(d, c.format.stroke).law(), c.options.rest_time)
-            .peaks();
-    return motion ? p.rest.value : p.motion.value;
-  };
-  Durations chosen = least;
-  double reached = dense(least);
-  std::vector<Durations> others = starts;
-  others.push_back(infeasible_point);
-  for (const Durations& d : others) {
-    const double v = dense(d);
-    if (v < reached) {
-      reached = v;
-      chosen = d;
-    }
-  }
-  if (reached <= bound * (1.0 + kDenseTolerance)) {
-    StrategyOutcome again;
-    again.evaluations = o.evaluations;
-    again.starts = o.starts;
-    bounded({chosen}, &again);
-    if (again.status != SolveStatus::kInfeasible) return again;
-    o.evaluations = again.evaluations;
-    o.starts = again.starts;
-    // The least infeasible point meets the bound: a law that keeps the promise, though its
-    // objective is not minimised.
-    o.status = SolveStatus::kAcceptable;
-    o.durations = chosen;
-    o.objective = best.best.objective;
-    o.detail = std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
-               " mm met (" + sig3(reached * 1e3) + " mm), but the " +
-               (motion ? "eta_motion" : "eta_rest") + " objective was not minimised";
-    return o;
-  }
-  o.status = SolveStatus::kInfeasible;
-  o.durations = chosen;
-  o.detail = std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
-             " mm is not reachable in " + sig3(c.format.motion_time) + " s: the best is " +
-             sig3(reached * 1e3) + " mm; lengthen the motion or relax the limit";
-  return o;
+  return least_infeasible(c, motion, bound, starts, std::move(o));
 }
 
 }  // namespace slosh::detail

@@ -8,6 +8,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/core/enum_names.hpp"
+
 namespace slosh::api {
 
 /// Error classes of the API surface; each has one name and one HTTP status (kErrorCodes).
@@ -55,6 +57,23 @@ inline constexpr std::array<ErrorCodeInfo, 16> kErrorCodes{{
     {ErrorCode::kOverloaded, "overloaded", 503},
     {ErrorCode::kTimeout, "timeout", 504},
 }};
+
+}  // namespace slosh::api
+
+namespace slosh {
+/// The "code" of an error envelope: the names of kErrorCodes.
+template <>
+struct EnumNames<api::ErrorCode> {
+  static constexpr std::array<EnumName<api::ErrorCode>, api::kErrorCodes.size()> table = [] {
+    std::array<EnumName<api::ErrorCode>, api::kErrorCodes.size()> t{};
+    for (std::size_t i = 0; i < t.size(); ++i)
+      t[i] = {api::kErrorCodes[i].code, api::kErrorCodes[i].name};
+    return t;
+  }();
+};
+}  // namespace slosh
+
+namespace slosh::api {
 
 [[nodiscard]] int http_status(ErrorCode code);
 [[nodiscard]] std::string to_string(ErrorCode code);

@@ -22,6 +22,14 @@ struct Range {
   [[nodiscard]] std::string describe() const;  ///< "1 to 2000 mm", "> 0 and <= 5000 mm"
 };
 
+/// The member `key` of `object`, or nullptr when absent; a null member is returned as it is.
+[[nodiscard]] const nlohmann::json* find_member(const nlohmann::json& object, std::string_view key);
+
+/// The member `key` of `object`, or nullptr when absent or null: null counts as absent (the
+/// request convention for optional members).
+[[nodiscard]] const nlohmann::json* given_member(const nlohmann::json& object,
+                                                 std::string_view key);
+
 /// "a.b" + "c" -> "a.b.c"
 [[nodiscard]] std::string join_path(std::string_view parent, std::string_view key);
 
@@ -63,6 +71,9 @@ void reject_unknown_fields(const nlohmann::json& object, const std::string& path
 /// An optional boolean.
 [[nodiscard]] bool optional_bool(const nlohmann::json& object, const std::string& path,
                                  std::string_view key, bool fallback);
+
+/// "\"a\", \"b\", \"c\"": the names a message offers.
+[[nodiscard]] std::string quoted_names(const std::vector<std::string>& names);
 
 /// Throws ApiError(kInvalidValue) for `path` with `message`.
 [[noreturn]] void invalid(const std::string& path, const std::string& message);

@@ -45,6 +45,9 @@ constexpr int kMaxSeriesSamples{50000};
 void parse_model_options(const nlohmann::json& options, const std::string& path,
                          ModelOptions& model);
 
+/// Parses options.damping (a correlation name or {"zeta": z}; thesis when absent) into `model`.
+void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model);
+
 /// The format echoed back in user units.
 [[nodiscard]] nlohmann::json format_json(const Format& format);
 

@@ -5,6 +5,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/option_registry.hpp"
+
 namespace slosh::api {
 
 /// Largest number of plan requests of one POST /v1/plans/batch the document advertises (the
@@ -14,6 +16,8 @@ inline constexpr int kOpenApiBatchMax{1000};
 /// The whole API as an OpenAPI 3.0.3 document: every endpoint, request and response schema with
 /// the ranges and defaults the parsers enforce, the error envelope and its codes. `version` is
 /// the service version reported in `info.version`.
-[[nodiscard]] nlohmann::json openapi_document(const std::string& version);
+/// The plan option schemas come from `registry`.
+[[nodiscard]] nlohmann::json openapi_document(
+    const std::string& version, const OptionRegistry& registry = plan_option_registry());
 
 }  // namespace slosh::api

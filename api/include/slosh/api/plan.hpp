@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/fields.hpp"
+#include "slosh/api/option_registry.hpp"
 #include "slosh/core/strategy/planner.hpp"
 
 namespace slosh::api {
@@ -42,15 +43,24 @@ struct PlanRequest {
 
 /// Validates a parsed plan request; throws ApiError(kInvalidValue) naming the field, the value
 /// and the allowed range.
-[[nodiscard]] PlanRequest parse_plan_request(const nlohmann::json& body);
+/// The options come from `registry` (the built-in one unless a test extends it).
+[[nodiscard]] PlanRequest parse_plan_request(
+    const nlohmann::json& body, const OptionRegistry& registry = plan_option_registry());
 
 /// The recipe key: hex SHA-256 (first 32 digits) of the canonical JSON of the normalised request
 /// (SI values of the format and every option with its default filled in; names, units, field
 /// order and the time budget do not enter). Identical recipes share one key.
-[[nodiscard]] std::string recipe_key(const PlanRequest& request);
+[[nodiscard]] std::string recipe_key(const PlanRequest& request,
+                                     const OptionRegistry& registry = plan_option_registry());
 
 /// The canonical JSON the key is computed from.
-[[nodiscard]] nlohmann::json canonical_recipe(const PlanRequest& request);
+/// Its "options" are the registry's recipe() of the options.
+[[nodiscard]] nlohmann::json canonical_recipe(
+    const PlanRequest& request, const OptionRegistry& registry = plan_option_registry());
+
+/// Plans a validated request; throws ApiError(kInvalidValue, "format") when the planner refuses
+/// inputs that passed the API's ranges.
+[[nodiscard]] PlanResult plan_request(const PlanRequest& request);
 
 /// Runs a validated request and renders the plan response of SPEC §7 (with the series when the
 /// request asks for them).

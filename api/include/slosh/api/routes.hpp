@@ -1,12 +1,13 @@
 #pragma once
-// Every route of the service, listed once: the HTTP server registers them and the OpenAPI
-// document describes them from this table.
+// Every HTTP route of the service, listed once: the server registers its handlers from this list
+// and the OpenAPI document's `paths` iterate it.
 
 #include <span>
 #include <string_view>
 
 namespace slosh::api {
 
+/// What a route does (one per route).
 enum class Operation {
   kPlan,
   kPlanBatch,
@@ -20,11 +21,11 @@ enum class Operation {
 };
 
 struct Route {
-  std::string_view method;  ///< "GET" or "POST"
-  std::string_view path;    ///< OpenAPI path, e.g. "/v1/plans/{key}"
+  std::string_view method;  // "GET" or "POST"
+  std::string_view path;    // OpenAPI path, e.g. "/v1/plans/{key}"
   Operation operation;
-  std::string_view operation_id;  ///< OpenAPI operationId
-  std::string_view summary;       ///< one line
+  std::string_view operation_id;  // OpenAPI operationId
+  std::string_view summary;       // one line
 };
 
 /// Every route of the service, in the order the OpenAPI document lists them.

@@ -52,7 +52,10 @@ constexpr int kMaxJsonDepth{64};
 /// {"eta_motion_mm", "eta_rest_mm", "t_motion_s", "t_rest_s"} of one model's peaks.
 [[nodiscard]] nlohmann::json peaks_json(const SloshPeaks& peaks);
 
-/// Kinematics and prediction blocks shared with plans.
+/// {"nonlinear", "linear"} peaks: the prediction block of simulations, plans and candidates.
+[[nodiscard]] nlohmann::json prediction_json(const SloshPeaks& nonlinear, const SloshPeaks& linear);
+
+/// The prediction block of a simulation.
 [[nodiscard]] nlohmann::json prediction_json(const SimulationResult& result);
 
 }  // namespace slosh::api

@@ -79,4 +79,10 @@ class MotionLaw {
 /// Modified trapezoid: sinusoidal blends, 1/8 splits (C_a = 4.888).
 [[nodiscard]] MotionLaw make_modified_trapezoid_law(double stroke, double motion_time);
 
+/// The law whose acceleration is linear between the knots (t[k], a[k]) (first-order hold):
+/// piece k spans [t[k], t[k+1]] with a(t[k]) = a[k] and slope (a[k+1] - a[k]) / (t[k+1] - t[k]).
+/// `t` increasing [s], `a` [m/s^2], the same size (at least 2).
+[[nodiscard]] MotionLaw piecewise_linear_law(std::string name, const std::vector<double>& t,
+                                             const std::vector<double>& a);
+
 }  // namespace slosh

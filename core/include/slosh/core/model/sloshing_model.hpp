@@ -7,6 +7,7 @@
 #include "slosh/core/enum_names.hpp"
 
 #include "slosh/core/constants.hpp"
+#include "slosh/core/invalid_input.hpp"
 #include "slosh/core/model/format.hpp"
 
 namespace slosh {
@@ -58,6 +59,10 @@ struct SloshingModel {
 
 /// Builds the model parameters. Inputs are assumed validated (see api/validation).
 [[nodiscard]] SloshingModel make_sloshing_model(const Format& format, const ModelOptions& options);
+
+/// The first model option outside what the model accepts (modes in [1, kMaxModes], alpha >= 0,
+/// explicit zeta >= 0, all finite), or nullopt.
+[[nodiscard]] std::optional<InvalidInput> validate_model_options(const ModelOptions& options);
 
 /// Human name of a correlation as used on the API ("thesis", "paper", "eq227", "eq228",
 /// "explicit").

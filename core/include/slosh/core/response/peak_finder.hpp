@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 #include "slosh/core/constants.hpp"
@@ -15,15 +16,18 @@ struct Peak {
   double time{};   ///< [s]
 };
 
-/// Golden-section refinement of a maximum of f bracketed in [a, b].
+/// Golden-section refinement of a maximum of f bracketed in [a, b], until the bracket is at most
+/// `tolerance` wide or after `max_iterations` shrinks. `time` of the result is the abscissa,
+/// whatever its unit.
 template <typename F>
-Peak refine_max(const F& f, double a, double b, double tolerance = kPeakTimeTolerance) {
+Peak refine_max(const F& f, double a, double b, double tolerance = kPeakTimeTolerance,
+                int max_iterations = std::numeric_limits<int>::max()) {
   constexpr double kInvPhi = 0.6180339887498949;
   double x1 = b - kInvPhi * (b - a);
   double x2 = a + kInvPhi * (b - a);
   double f1 = f(x1);
   double f2 = f(x2);
-  while (b - a > tolerance) {
+  for (int it = 0; it < max_iterations && b - a > tolerance; ++it) {
     if (f1 < f2) {
       a = x1;
       x1 = x2;

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "slosh/core/invalid_input.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
@@ -35,6 +36,8 @@ struct SimulationResult {
   SloshPeaks nonlinear;
   std::optional<TimeSeries> series;
   std::vector<std::string> warnings;
+  /// Set when simulate() refused its inputs (validate_simulation_input); nothing else is filled.
+  std::optional<InvalidInput> invalid_input;
 };
 
 /// Validity thresholds of SPEC §2 (warnings, not errors).
@@ -48,7 +51,16 @@ constexpr double kMinFillRatio{0.3};                 ///< h/R below: shallow-liq
                                                          double eta_motion_linear,
                                                          double eta_motion_nonlinear);
 
-/// Simulates `law` on `format`. Inputs are assumed validated.
+/// The first input simulate() refuses, or nullopt: the format (radius, fill height, density
+/// finite and > 0; viscosity, stroke finite and >= 0; motion time and the container height when
+/// set finite and > 0), the model options (validate_model_options), the law (at least one piece,
+/// finite duration > 0 and finite stroke), the rest window (finite, >= 0) and the sample period
+/// when set (finite, > 0).
+[[nodiscard]] std::optional<InvalidInput> validate_simulation_input(
+    const Format& format, const MotionLaw& law, const SimulationOptions& options);
+
+/// Simulates `law` on `format`. Invalid inputs (validate_simulation_input) give a result with
+/// only `invalid_input` set, never a throw or a non-finite number.
 [[nodiscard]] SimulationResult simulate(const Format& format, const MotionLaw& law,
                                         const SimulationOptions& options);
 

@@ -10,6 +10,7 @@
 #include <variant>
 #include <vector>
 #include "slosh/core/enum_names.hpp"
+#include "slosh/core/invalid_input.hpp"
 
 #include "slosh/core/law/filtered_laws.hpp"
 #include "slosh/core/law/seven_segment.hpp"
@@ -153,9 +154,13 @@ struct PlanOptions {
   /// Default 1 ms.
   double iir_sample_period{kDefaultIirSamplePeriod};
 
-  /// Checks the options against the format; on failure writes a message naming the option, its
-  /// value and the allowed range, and returns false.
-  [[nodiscard]] bool is_valid(const Format& format, std::string* error) const;
+  /// The first option outside its allowed set for `format` (in the order the members are
+  /// declared, the relation 4 min_ramp + plateau minimums <= T right after min_ramp), naming the
+  /// option, its value and the allowed set in core names and SI units; nullopt when all hold.
+  [[nodiscard]] std::optional<InvalidInput> validate(const Format& format) const;
+  /// validate() as a bool (Ceres' Options::IsValid): on failure writes the refusal to `error`
+  /// (when not null) and returns false; on success leaves `error` untouched.
+  [[nodiscard]] bool is_valid(const Format& format, InvalidInput* error) const;
 };
 
 /// Largest n_band plan() accepts [-].
@@ -167,9 +172,11 @@ inline constexpr double kMaxPlanLength{1e3};   ///< radius, fill height and stro
 inline constexpr double kMinPlanTime{1e-3};    ///< motion time [s]
 inline constexpr double kMaxPlanTime{3600.0};  ///< motion time and rest window [s]
 
-/// Why plan() would refuse `format` and `options` (a sentence naming the value and its allowed
-/// range), or empty when they are valid. Includes PlanOptions::is_valid.
-[[nodiscard]] std::string plan_input_error(const Format& format, const PlanOptions& options);
+/// Why plan() would refuse `format` and `options` before building anything: the first format
+/// quantity outside the planner's ranges above, then validate_model_options, then
+/// PlanOptions::validate; nullopt when they are valid.
+[[nodiscard]] std::optional<InvalidInput> validate_plan_input(const Format& format,
+                                                              const PlanOptions& options);
 
 /// Solver figures of a plan.
 struct SolverReport {
@@ -209,6 +216,10 @@ struct IirDesign {
 };
 using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 
+/// Reduction of `value` relative to `baseline`, 100 (1 - value / baseline) [%]; 0 when the
+/// baseline is not positive (the figure the plan's message and the API's reductions report).
+[[nodiscard]] double reduction_percent(double baseline, double value);
+
 /// True for the strategies that build a law by filtering instead of optimising 7 durations.
 [[nodiscard]] bool is_filter_strategy(Strategy strategy);
 
@@ -224,14 +235,32 @@ struct PlanCandidate {
   bool chosen{false};
 };
 
+/// kAuto's pick among its verified candidates (SPEC §5).
+struct AutoChoice {
+  /// The chosen candidate; 0 (the first, the uniform law) when none is eligible.
+  std::size_t index{0};
+  /// Some candidate was usable (optimal, acceptable or time-limited) and competed.
+  bool eligible{false};
+  /// Some usable candidate is not worse than the uniform law (then the worse ones do not compete).
+  bool any_not_worse{false};
+};
+
+/// SPEC §5's rule, pure: among the usable candidates (not worse than the uniform law while one
+/// that is not remains; `worse_than_baseline[k]` flags candidate k), those whose nonlinear
+/// eta_motion is within 5 % of the best compete; the lowest eta_rest wins (relative ties of 1e-6:
+/// the lower peak acceleration, then the earlier candidate).
+[[nodiscard]] AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
+                                     const std::vector<bool>& worse_than_baseline);
+
 /// Everything plan() returns. The durations are always admissible (SPEC §3).
 struct PlanResult {
   Strategy strategy{};  ///< the requested strategy
   SolveStatus status{SolveStatus::kFailed};
-  /// True when plan() refused its inputs (plan_input_error): status kFailed, the message names
-  /// the input, and nothing was planned: zero predictions; the model and the uniform law (as
+  /// Set when plan() refused its inputs (validate_plan_input, or a model or uniform law that is
+  /// not finite for them): status kFailed, the message is "invalid input: <its message>; nothing
+  /// was planned", and nothing was planned: zero predictions; the model and the uniform law (as
   /// durations and law) only when they can be built finite from the valid inputs.
-  bool invalid_input{false};
+  std::optional<InvalidInput> invalid_input;
   /// One or two sentences a line engineer can act on.
   std::string message;
   /// The seven durations when the planned law is a 7-segment law (every optimising strategy, and
@@ -260,7 +289,7 @@ struct PlanResult {
   }
 };
 
-/// Plans a law for `format`. Invalid inputs (plan_input_error) give an invalid-input result,
+/// Plans a law for `format`. Invalid inputs (validate_plan_input) give an invalid-input result,
 /// never a throw or a non-finite number. Status rules (SPEC §5 "Honest status"): kOptimal and
 /// kAcceptable only when the returned law meets every constraint of the strategy on the
 /// verification (machine limits, the band of min_jerk_band on a fine grid, the eta bound of

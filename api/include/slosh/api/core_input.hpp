@@ -1,0 +1,37 @@
+#pragma once
+// The one mapping from the core's inputs (PlanInput, core names, SI) to the request's fields and
+// the API's wording of a refusal (field names, mm, the texts the API has always returned).
+
+#include <string>
+#include <string_view>
+
+#include "slosh/core/invalid_input.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/strategy/planner.hpp"
+
+namespace slosh::api {
+
+/// The request an input is read from: where it sits differs (rest_time_s is top level in a
+/// simulate request, under options in a plan request).
+enum class Endpoint { kPlan, kSimulate };
+
+/// The request field of `input`, e.g. kMinRamp -> "options.min_ramp_s", kAMax ->
+/// "options.limits.a_max", kContainerRadius -> "format.container.radius_mm"; the derived inputs
+/// (model, uniform response, reference levels) are "format", the relation of the ramp and plateau
+/// floors is "options".
+[[nodiscard]] std::string_view api_field_path(PlanInput input, Endpoint endpoint = Endpoint::kPlan);
+
+/// The API's sentence for a refused input, as the API words it (its field names, mm for eta).
+/// `format` and `options` are the request's (the relation of the floors quotes them).
+[[nodiscard]] std::string input_sentence(const InvalidInput& invalid, const Format& format,
+                                         const PlanOptions& options);
+
+/// The message of a plan the planner refused: "invalid input: <sentence>; nothing was planned".
+[[nodiscard]] std::string plan_refusal(const InvalidInput& invalid, const Format& format,
+                                       const PlanOptions& options);
+
+/// The message of a simulation the core refused: "<field> is refused by the simulation: <core
+/// sentence>".
+[[nodiscard]] std::string simulate_refusal(const InvalidInput& invalid);
+
+}  // namespace slosh::api

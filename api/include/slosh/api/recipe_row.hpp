@@ -1,0 +1,129 @@
+#pragma once
+// Recipe and plan tables (`slosh batch`), the JSON side: the cells of a CSV recipe row -> its plan
+// request, a rendered plan -> the figures of its table row. The service only moves bytes (reads
+// CSV/JSON text, writes cells).
+//
+// CSV input columns: recipe_id, the format's (radius_mm, container_height_mm, fill_height_mm,
+// fluid or density_kg_m3 + viscosity_pa_s, stroke_mm, motion_time_s), strategy, then every plan
+// option of the registry by its JSON name (the limits by theirs: a_max, v_max, j_max).
+
+#include <cstddef>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/option_registry.hpp"
+
+namespace slosh::api {
+
+/// How a CSV cell is read.
+enum class CellKind {
+  kId,          ///< recipe_id: not part of the request
+  kText,        ///< as written
+  kNumber,      ///< a number (integral values stay integers)
+  kBool,        ///< true/false, yes/no, 1/0
+  kNumberList,  ///< numbers separated by ';', ',' or spaces
+  kDamping,     ///< a number (the explicit zeta) or a correlation name
+};
+
+/// One input column of CSV recipe tables.
+struct RecipeColumn {
+  std::string name;
+  std::string pointer;  ///< JSON pointer into the plan request ("" for recipe_id)
+  CellKind kind{CellKind::kText};
+};
+
+/// Every input column: recipe_id, the format's, strategy, then one per option of `registry`.
+[[nodiscard]] std::vector<RecipeColumn> recipe_columns(
+    const OptionRegistry& registry = plan_option_registry());
+
+/// The input column names, comma-separated (for messages and --help).
+[[nodiscard]] std::string recipe_column_names(
+    const OptionRegistry& registry = plan_option_registry());
+
+/// A table that cannot be read as a whole (a CSV header with unknown, repeated or missing columns;
+/// a .json document that is not a list of requests): nothing is planned.
+class RecipeTableError : public std::runtime_error {
+ public:
+  using std::runtime_error::runtime_error;
+};
+
+/// A cell that cannot be read: names the column, the text and what is expected.
+struct CellError {
+  std::string column;
+  std::string message;
+};
+
+/// The columns of one CSV recipe table, from its header row.
+class RecipeHeader {
+ public:
+  /// Throws RecipeTableError for an unknown or repeated column or a missing required one.
+  explicit RecipeHeader(const std::vector<std::string>& names,
+                        const OptionRegistry& registry = plan_option_registry());
+
+  [[nodiscard]] std::size_t size() const { return columns_.size(); }
+  /// Index of the recipe_id column.
+  [[nodiscard]] std::size_t id_index() const { return id_index_; }
+
+  /// The plan request of a row of size() cells (an empty cell means "the default"); throws
+  /// CellError.
+  [[nodiscard]] nlohmann::json request(const std::vector<std::string>& cells) const;
+
+ private:
+  std::vector<RecipeColumn> columns_;
+  std::size_t id_index_{0};
+};
+
+/// A recipe of a JSON table: its recipe_id (taken out of the request) and the request, or the
+/// error of a line that is not JSON.
+struct JsonRecipe {
+  std::string recipe_id;
+  nlohmann::json request;
+  nlohmann::json error;  ///< {"code", "message", "field"}; null when the line was read
+};
+
+/// One line of a JSON-lines table; `line_number` (1-based) prefixes the message of its error.
+[[nodiscard]] JsonRecipe json_line_recipe(std::string_view line, std::size_t line_number);
+
+/// The recipes of a .json table: an array of plan requests or {"requests": [...]}. Throws
+/// RecipeTableError.
+[[nodiscard]] std::vector<JsonRecipe> json_document_recipes(std::string_view text);
+
+/// {"code": "invalid_value", "message", "field"} of a row that cannot be read.
+[[nodiscard]] nlohmann::json row_error(const std::string& message, const std::string& field);
+
+/// The CSV column a request field path ("format.container.radius_mm", "options.weights[1]")
+/// comes from; the path itself when no column maps to it.
+[[nodiscard]] std::string column_of_field(const std::string& field,
+                                          const OptionRegistry& registry = plan_option_registry());
+
+/// `message` with a leading request path replaced by its column ("format.container.radius_mm =
+/// -3 is out of range ..." -> "radius_mm = -3 is out of range ...").
+[[nodiscard]] std::string in_column_terms(const std::string& field, const std::string& message,
+                                          const OptionRegistry& registry = plan_option_registry());
+
+/// One output column of CSV plan tables: a JSON pointer into the row of plan_row_figures.
+struct PlanColumn {
+  std::string_view name;
+  std::string_view pointer;
+};
+
+/// Every output column, in order.
+[[nodiscard]] std::span<const PlanColumn> plan_columns();
+
+/// The output column names, comma-separated (the CSV header of plan tables).
+[[nodiscard]] std::string plan_column_names();
+
+/// The figures of a rendered plan a table row shows: status, key, strategy, message, law_type,
+/// durations_s, kinematics, f1_hz, prediction, baseline, reduction_pct, solve_ms.
+[[nodiscard]] nlohmann::json plan_row_figures(const nlohmann::json& plan);
+
+/// The row of a recipe that failed: status "error", message, error and error_field; `csv` rows
+/// name the column instead of the request path.
+[[nodiscard]] nlohmann::json error_row_figures(const nlohmann::json& error, bool csv);
+
+}  // namespace slosh::api

@@ -1,0 +1,528 @@
+#include "slosh/api/option_registry.hpp"
+
+#include <algorithm>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/plan.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using nlohmann::json;
+using namespace plan_ranges;  // NOLINT: the option ranges of plan.hpp
+
+// ---- reading one value -----------------------------------------------------------------------
+
+json number_array(const json& object, const std::string& path, std::string_view key,
+                  const Range& range, std::size_t n) {
+  const json& value = *given_member(object, key);
+  const std::string field = join_path(path, key);
+  if (!value.is_array() || value.size() != n) {
+    invalid(field,
+            field + " must be an array of " + std::to_string(n) + " numbers, got " + show(value));
+  }
+  json out = json::array();
+  for (std::size_t i = 0; i < n; ++i) {
+    out.push_back(checked_number(&value[i], field + "[" + std::to_string(i) + "]", range));
+  }
+  return out;
+}
+
+std::string choice(const json& object, const std::string& path, std::string_view key,
+                   const std::vector<std::string>& allowed) {
+  const json& value = *given_member(object, key);
+  if (value.is_string()) {
+    const auto text = value.get<std::string>();
+    if (std::find(allowed.begin(), allowed.end(), text) != allowed.end()) return text;
+  }
+  const std::string field = join_path(path, key);
+  invalid(field, field + " = " + show(value) + " is not allowed: one of " + quoted_names(allowed));
+}
+
+json damping_value(const json& object, const std::string& path) {
+  ModelOptions model;
+  parse_damping(object, path, model);
+  if (model.damping == DampingCorrelation::kExplicit) return model.explicit_zeta;
+  return name_of(model.damping);
+}
+
+// User units -> SI.
+json to_si(const OptionSpec& option, json value) {
+  if (option.scale == 1.0) return value;
+  if (value.is_array()) {
+    for (json& item : value) item = item.get<double>() * option.scale;
+    return value;
+  }
+  return value.is_number() ? json(value.get<double>() * option.scale) : value;
+}
+
+// SI -> user units (the OpenAPI defaults).
+json to_user(const OptionSpec& option, json value) {
+  if (option.scale == 1.0 || !value.is_number()) return value;
+  return value.get<double>() / option.scale;
+}
+
+// ---- the built-in options --------------------------------------------------------------------
+
+template <class T>
+using Field = T& (*)(PlanOptions&);
+
+// Reads through a field accessor of a const PlanOptions (the accessor only selects the member).
+template <class T>
+const T& read(const PlanOptions& options, Field<T> field) {
+  return field(const_cast<PlanOptions&>(options));  // NOLINT: read only
+}
+
+OptionSpec spec(std::string_view name, OptionKind kind, std::string doc) {
+  OptionSpec s;
+  s.name = name;
+  s.recipe_name = name;
+  s.kind = kind;
+  s.doc = std::move(doc);
+  return s;
+}
+
+template <class T>
+OptionSpec plain(std::string_view name, OptionKind kind, const Range& range, Field<T> field,
+                 std::string doc) {
+  OptionSpec s = spec(name, kind, std::move(doc));
+  s.range = range;
+  s.get = [field](const PlanOptions& o) { return json(read(o, field)); };
+  s.set = [field](PlanOptions& o, const json& v) { field(o) = v.get<T>(); };
+  return s;
+}
+
+OptionSpec number(std::string_view name, const Range& range, Field<double> field, std::string doc) {
+  return plain(name, OptionKind::kNumber, range, field, std::move(doc));
+}
+
+OptionSpec integer(std::string_view name, int lo, int hi, Field<int> field, std::string doc) {
+  return plain(name, OptionKind::kInteger, Range{double(lo), double(hi), ""}, field,
+               std::move(doc));
+}
+
+OptionSpec nullable_number(std::string_view name, const Range& range,
+                           Field<std::optional<double>> field, std::string doc) {
+  OptionSpec s = spec(name, OptionKind::kOptionalNumber, std::move(doc));
+  s.range = range;
+  s.get = [field](const PlanOptions& o) {
+    const std::optional<double>& v = read(o, field);
+    return v ? json(*v) : json(nullptr);
+  };
+  s.set = [field](PlanOptions& o, const json& v) { field(o) = v.get<double>(); };
+  return s;
+}
+
+template <std::size_t N>
+OptionSpec array(std::string_view name, const Range& range, Field<std::array<double, N>> field,
+                 std::string doc) {
+  OptionSpec s = plain(name, OptionKind::kNumberArray, range, field, std::move(doc));
+  s.size = N;
+  return s;
+}
+
+template <class E>
+OptionSpec enumeration(std::string_view name, Field<E> field, std::string doc) {
+  OptionSpec s = spec(name, OptionKind::kEnum, std::move(doc));
+  s.names = enum_names<E>();
+  s.get = [field](const PlanOptions& o) { return json(name_of(read(o, field))); };
+  s.set = [field](PlanOptions& o, const json& v) {
+    field(o) = enum_from_name<E>(v.get<std::string>()).value_or(field(o));
+  };
+  return s;
+}
+
+OptionSpec damping() {
+  OptionSpec s = spec("damping", OptionKind::kDamping,
+                      "Damping correlation (thesis, paper, eq227, eq228) or a measured zeta");
+  s.range = ranges::kZeta;
+  s.get = [](const PlanOptions& o) {
+    if (o.model.damping == DampingCorrelation::kExplicit) return json(o.model.explicit_zeta);
+    return json(name_of(o.model.damping));
+  };
+  s.set = [](PlanOptions& o, const json& v) {
+    if (v.is_number()) {
+      o.model.damping = DampingCorrelation::kExplicit;
+      o.model.explicit_zeta = v.get<double>();
+    } else {
+      o.model.damping = enum_from_name<DampingCorrelation>(v.get<std::string>()).value();
+    }
+  };
+  return s;
+}
+
+void check_weights(const json& weights) {
+  double sum = 0.0;
+  for (const json& w : weights) sum += w.get<double>();
+  if (sum <= 0.0) {
+    invalid("options.weights", "options.weights = [0, 0, 0]: at least one weight must be > 0");
+  }
+}
+
+OptionSpec in_mm(OptionSpec s, std::string_view recipe_name) {
+  s.scale = 1e-3;
+  s.recipe_name = recipe_name;
+  return s;
+}
+
+OptionSpec in_group(OptionSpec s, std::string_view group) {
+  s.group = group;
+  return s;
+}
+
+// The time budget: how long to search, not what to plan (same recipe, same key).
+OptionSpec not_keyed(OptionSpec s) {
+  s.recipe_name = {};
+  return s;
+}
+
+OptionSpec ranked(OptionSpec s, int rank) {
+  s.parse_rank = rank;
+  return s;
+}
+
+OptionSpec min_ramp() {
+  OptionSpec s = number(
+      "min_ramp_s", Range{ranges::kMinRampS.lo, ranges::kMotionTimeS.hi / 4.0, "s"},
+      [](PlanOptions& o) -> double& { return o.min_ramp; },
+      "Minimum duration of the jerk ramps 1, 3, 5, 7");
+  s.range_for = [](const Format& f) {
+    return Range{ranges::kMinRampS.lo, f.motion_time / 4.0, "s"};
+  };
+  s.message_note = " (the upper bound is format.motion_time_s / 4: four ramps must fit)";
+  s.allowed_text =
+      number_text(ranges::kMinRampS.lo) + " s to format.motion_time_s / 4 (four ramps must fit)";
+  return s;
+}
+
+OptionSpec plateau_min() {
+  OptionSpec s = array<2>(
+      "plateau_min_s", Range{0.0, ranges::kMotionTimeS.hi, "s"},
+      [](PlanOptions& o) -> std::array<double, 2>& { return o.plateau_min; },
+      "Lower bounds on the plateau durations dT2 and dT6 [s], each 0 to format.motion_time_s; "
+      "4 min_ramp_s + both must not exceed format.motion_time_s.");
+  s.range_for = [](const Format& f) { return Range{0.0, f.motion_time, "s"}; };
+  return s;
+}
+
+OptionSpec iir_sample_period() {
+  OptionSpec s = number(
+      "iir_sample_period_s", kIirSamplePeriod,
+      [](PlanOptions& o) -> double& { return o.iir_sample_period; },
+      "iir: sample period of the difference equation and of the returned law "
+      "(the controller cycle); also <= format.motion_time_s / " +
+          std::to_string(kIirMinSamples));
+  s.range_for = [](const Format& f) {
+    return Range{kIirSamplePeriod.lo, std::min(kIirSamplePeriod.hi, f.motion_time / kIirMinSamples),
+                 "s"};
+  };
+  s.message_note = " (the upper bound is min(0.01 s, format.motion_time_s / " +
+                   std::to_string(kIirMinSamples) + "))";
+  return s;
+}
+
+OptionSpec iir_order() {
+  OptionSpec s = spec("iir_order", OptionKind::kInteger,
+                      "iir: order of the critically damped target (2: eq. 8, 11; 3: eq. 9, 12, no "
+                      "initial peak).");
+  s.range = Range{2.0, 3.0, ""};
+  s.get = [](const PlanOptions& o) { return json(static_cast<int>(o.iir_order)); };
+  s.set = [](PlanOptions& o, const json& v) { o.iir_order = static_cast<IirOrder>(v.get<int>()); };
+  return s;
+}
+
+std::vector<OptionSpec> multi_notch_and_band_options() {
+  OptionSpec weights = array<3>(
+      "weights", kWeight, [](PlanOptions& o) -> std::array<double, 3>& { return o.weights; },
+      "multi_notch: weights b1, b2, b3 of |X(w-)|², |X(w1)|², |X(w+)|²; at least one > 0.");
+  weights.item_doc = "Weight";
+  weights.check = check_weights;
+  return {
+      number(
+          "p_notch", kPNotch, [](PlanOptions& o) -> double& { return o.p_notch; },
+          "multi_notch: side notches at (1 ± p) omega_1"),
+      weights,
+      number(
+          "band", kBand, [](PlanOptions& o) -> double& { return o.band; },
+          "min_jerk_band: half width of the band [(1 - band) w1, (1 + band) w1]"),
+      integer(
+          "n_band", 1, kMaxBandPoints, [](PlanOptions& o) -> int& { return o.n_band; },
+          "min_jerk_band: evenly spaced band frequencies."),
+      number(
+          "tol_rel", kTolRel, [](PlanOptions& o) -> double& { return o.tol_rel; },
+          "min_jerk_band: band limit relative to X_ref, the uniform law's largest |X| on the "
+          "band"),
+  };
+}
+
+std::vector<OptionSpec> time_domain_options() {
+  return {
+      in_mm(number(
+                "eta_rest_max_mm", kEtaMm, [](PlanOptions& o) -> double& { return o.eta_rest_max; },
+                "time_domain (objective motion): largest residual wave eta_rest"),
+            "eta_rest_max_m"),
+      in_mm(nullable_number(
+                "eta_motion_max_mm", kEtaMm,
+                [](PlanOptions& o) -> std::optional<double>& { return o.eta_motion_max; },
+                "time_domain (objective rest): largest eta_motion; default the "
+                "uniform law's nonlinear eta_motion"),
+            "eta_motion_max_m"),
+      enumeration<TimeDomainObjective>(
+          "objective", [](PlanOptions& o) -> TimeDomainObjective& { return o.objective; },
+          "time_domain: minimise eta_motion subject to eta_rest <= eta_rest_max_mm (motion) or "
+          "eta_rest subject to eta_motion <= eta_motion_max_mm (rest)."),
+  };
+}
+
+std::vector<OptionSpec> law_shape_options() {
+  return {
+      number(
+          "rest_time_s", kRestTime, [](PlanOptions& o) -> double& { return o.rest_time; },
+          "Rest window after the motion"),
+      min_ramp(),
+      plain<bool>(
+          "fix_constant_velocity_zero", OptionKind::kBool, Range{0.0, 0.0, ""},
+          [](PlanOptions& o) -> bool& { return o.fix_constant_velocity_zero; },
+          "Force the constant-velocity segment 4 to zero (thesis campaign)."),
+      plateau_min(),
+      in_group(nullable_number(
+                   "a_max", kAMax,
+                   [](PlanOptions& o) -> std::optional<double>& { return o.limits.a_max; },
+                   "Peak |acceleration| max(A, B)"),
+               "limits"),
+      in_group(nullable_number(
+                   "v_max", kVMax,
+                   [](PlanOptions& o) -> std::optional<double>& { return o.limits.v_max; },
+                   "Peak velocity"),
+               "limits"),
+      in_group(nullable_number(
+                   "j_max", kJMax,
+                   [](PlanOptions& o) -> std::optional<double>& { return o.limits.j_max; },
+                   "Peak |jerk| over the four ramps"),
+               "limits"),
+  };
+}
+
+std::vector<OptionSpec> model_and_solver_options() {
+  return {
+      ranked(damping(), -1),
+      ranked(number(
+                 "alpha", ranges::kAlpha, [](PlanOptions& o) -> double& { return o.model.alpha; },
+                 "Nonlinear stiffening coefficient alpha (eq. 2.35)"),
+             -2),
+      ranked(integer(
+                 "modes", 1, static_cast<int>(kMaxModes),
+                 [](PlanOptions& o) -> int& { return o.model.modes; },
+                 "Radial modes of the linear model."),
+             -3),
+      enumeration<SolverChoice>(
+          "solver", [](PlanOptions& o) -> SolverChoice& { return o.solver; },
+          "NLP solver: auto (NLopt SLSQP, measured best), nlopt, ipopt."),
+      not_keyed(number(
+          "time_limit_s", kTimeLimit, [](PlanOptions& o) -> double& { return o.time_limit; },
+          "Wall-clock budget of the whole plan; on expiry the best admissible point is "
+          "returned with status time_limit. The service defaults it to, and caps it at, its "
+          "solve budget (setting solve_budget_s, default 10 s); the CLI default is 5 s")),
+  };
+}
+
+std::vector<OptionSpec> filter_options() {
+  return {
+      enumeration<BaseLaw>(
+          "base", [](PlanOptions& o) -> BaseLaw& { return o.base; },
+          "shaper and iir: the base law, planned over T minus the filter's delay."),
+      enumeration<ShaperType>(
+          "shaper", [](PlanOptions& o) -> ShaperType& { return o.shaper; },
+          "shaper: the input shaper on mode 1 (ZV: 1/2 damped period of "
+          "delay, ZVD: 1, ZVDD: 3/2, EI: 1 with the residual below)."),
+      number(
+          "residual", kResidual, [](PlanOptions& o) -> double& { return o.residual; },
+          "shaper ei: residual vibration V admitted at omega_1 (0.05 = 5 %)"),
+      iir_order(),
+      number(
+          "iir_tau", kIirTau, [](PlanOptions& o) -> double& { return o.iir_tau; },
+          "iir: pole tau of the target (s + tau)^n; larger is less delay"),
+      iir_sample_period(),
+  };
+}
+
+OptionRegistry built_in_registry() {
+  std::vector<OptionSpec> options;
+  for (auto part : {multi_notch_and_band_options(), time_domain_options(), law_shape_options(),
+                    model_and_solver_options(), filter_options()}) {
+    for (OptionSpec& o : part) options.push_back(std::move(o));
+  }
+  return OptionRegistry(
+      std::move(options),
+      {OptionGroup{"limits", "MachineLimits", "Machine limits; an absent limit is not enforced."}});
+}
+
+// ---- OpenAPI ---------------------------------------------------------------------------------
+
+json number_schema(const Range& range, const std::string& doc, const std::string& allowed_text) {
+  json s{{"type", "number"}, {"minimum", range.lo}, {"maximum", range.hi}};
+  if (range.lo_open) s["exclusiveMinimum"] = true;
+  if (range.hi_open) s["exclusiveMaximum"] = true;
+  std::string text = doc;
+  if (!range.unit.empty()) text += " [" + std::string(range.unit) + "]";
+  text += ". Allowed: " + (allowed_text.empty() ? range.describe() : allowed_text) + ".";
+  s["description"] = text;
+  return s;
+}
+
+json array_schema(const OptionSpec& option) {
+  json items =
+      option.item_doc.empty()
+          ? json{{"type", "number"}, {"minimum", option.range.lo}, {"maximum", option.range.hi}}
+          : number_schema(option.range, option.item_doc, "");
+  const auto n = static_cast<int>(option.size);
+  return {{"type", "array"},
+          {"items", items},
+          {"minItems", n},
+          {"maxItems", n},
+          {"description", option.doc}};
+}
+
+json kind_schema(const OptionSpec& option) {
+  switch (option.kind) {
+    case OptionKind::kNumber:
+    case OptionKind::kOptionalNumber:
+      return number_schema(option.range, option.doc, option.allowed_text);
+    case OptionKind::kInteger:
+      return {{"type", "integer"},
+              {"minimum", static_cast<int>(option.range.lo)},
+              {"maximum", static_cast<int>(option.range.hi)},
+              {"description", option.doc}};
+    case OptionKind::kBool:
+      return {{"type", "boolean"}, {"description", option.doc}};
+    case OptionKind::kEnum:
+      return {{"type", "string"}, {"enum", option.names}, {"description", option.doc}};
+    case OptionKind::kNumberArray:
+      return array_schema(option);
+    case OptionKind::kDamping:
+      return {{"$ref", "#/components/schemas/Damping"}};
+  }
+  return json::object();
+}
+
+}  // namespace
+
+// ---- OptionRegistry ----------------------------------------------------------------------------
+
+OptionRegistry::OptionRegistry(std::vector<OptionSpec> options, std::vector<OptionGroup> groups)
+    : options_(std::move(options)), groups_(std::move(groups)) {}
+
+void OptionRegistry::add(OptionSpec option) {
+  options_.push_back(std::move(option));
+}
+
+const OptionSpec* OptionRegistry::find(std::string_view name) const {
+  const auto it = std::find_if(options_.begin(), options_.end(),
+                               [&](const OptionSpec& o) { return o.name == name; });
+  return it == options_.end() ? nullptr : &*it;
+}
+
+const OptionGroup* OptionRegistry::group(std::string_view name) const {
+  const auto it = std::find_if(groups_.begin(), groups_.end(),
+                               [&](const OptionGroup& g) { return g.name == name; });
+  return it == groups_.end() ? nullptr : &*it;
+}
+
+std::vector<std::string_view> OptionRegistry::option_keys() const {
+  std::vector<std::string_view> keys;
+  for (const OptionSpec& o : options_) {
+    const std::string_view key = o.group.empty() ? o.name : o.group;
+    if (std::find(keys.begin(), keys.end(), key) == keys.end()) keys.push_back(key);
+  }
+  return keys;
+}
+
+std::vector<std::string_view> OptionRegistry::group_keys(std::string_view group_name) const {
+  std::vector<std::string_view> keys;
+  for (const OptionSpec& o : options_) {
+    if (o.group == group_name) keys.push_back(o.name);
+  }
+  return keys;
+}
+
+void OptionRegistry::parse(const json& object, const Format& format, PlanOptions& out) const {
+  std::vector<const OptionSpec*> order;
+  for (const OptionSpec& o : options_) order.push_back(&o);
+  std::stable_sort(order.begin(), order.end(), [](const OptionSpec* a, const OptionSpec* b) {
+    return a->parse_rank < b->parse_rank;
+  });
+  std::vector<std::string_view> checked_groups;
+  for (const OptionSpec* o : order) {
+    const json* container = &object;
+    std::string path = "options";
+    if (!o->group.empty()) {
+      container = given_member(object, o->group);
+      if (container == nullptr) continue;
+      path = join_path(path, o->group);
+      if (std::find(checked_groups.begin(), checked_groups.end(), o->group) ==
+          checked_groups.end()) {
+        require_object(*container, path);
+        reject_unknown_fields(*container, path, group_keys(o->group));
+        checked_groups.push_back(o->group);
+      }
+    }
+    const Range range = o->range_for ? o->range_for(format) : o->range;
+    std::optional<json> value;
+    try {
+      value = parse_option(*o, *container, path, range);
+      if (value && o->check) o->check(*value);
+    } catch (const ApiError& e) {
+      if (o->message_note.empty()) throw;
+      invalid(e.field(), std::string(e.what()) + o->message_note);
+    }
+    if (value) o->set(out, to_si(*o, std::move(*value)));
+  }
+}
+
+json OptionRegistry::recipe(const PlanOptions& options) const {
+  json out = json::object();
+  for (const OptionSpec& o : options_) {
+    if (!o.recipe_name.empty()) out[std::string(o.recipe_name)] = o.get(options);
+  }
+  return out;
+}
+
+const OptionRegistry& plan_option_registry() {
+  static const OptionRegistry registry = built_in_registry();
+  return registry;
+}
+
+std::optional<json> parse_option(const OptionSpec& option, const json& options,
+                                 const std::string& path, const Range& range) {
+  const json* value = given_member(options, option.name);
+  if (value == nullptr) return std::nullopt;
+  switch (option.kind) {
+    case OptionKind::kNumber:
+    case OptionKind::kOptionalNumber:
+      return checked_number(value, join_path(path, option.name), range);
+    case OptionKind::kInteger:
+      return api::optional_integer(options, path, option.name, static_cast<int>(range.lo),
+                                   static_cast<int>(range.hi), 0);
+    case OptionKind::kBool:
+      return optional_bool(options, path, option.name, false);
+    case OptionKind::kEnum:
+      return choice(options, path, option.name, option.names);
+    case OptionKind::kNumberArray:
+      return number_array(options, path, option.name, range, option.size);
+    case OptionKind::kDamping:
+      return damping_value(options, path);
+  }
+  return std::nullopt;
+}
+
+json option_schema(const OptionSpec& option) {
+  json s = kind_schema(option);
+  if (option.kind == OptionKind::kDamping || !option.get) return s;
+  json fallback = option.get(PlanOptions{});
+  if (!fallback.is_null()) s["default"] = to_user(option, std::move(fallback));
+  return s;
+}
+
+}  // namespace slosh::api

@@ -1,0 +1,390 @@
+#include "slosh/api/recipe_row.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cctype>
+#include <charconv>
+#include <cmath>
+#include <cstdint>
+#include <optional>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/simulate.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using nlohmann::json;
+
+/// The columns before the options: recipe_id, the format, the strategy.
+const std::array kRequestColumns{
+    RecipeColumn{"recipe_id", "", CellKind::kId},
+    RecipeColumn{"radius_mm", "/format/container/radius_mm", CellKind::kNumber},
+    RecipeColumn{"container_height_mm", "/format/container/height_mm", CellKind::kNumber},
+    RecipeColumn{"fill_height_mm", "/format/fill_height_mm", CellKind::kNumber},
+    RecipeColumn{"fluid", "/format/fluid", CellKind::kText},
+    RecipeColumn{"density_kg_m3", "/format/fluid/density_kg_m3", CellKind::kNumber},
+    RecipeColumn{"viscosity_pa_s", "/format/fluid/viscosity_pa_s", CellKind::kNumber},
+    RecipeColumn{"stroke_mm", "/format/stroke_mm", CellKind::kNumber},
+    RecipeColumn{"motion_time_s", "/format/motion_time_s", CellKind::kNumber},
+    RecipeColumn{"strategy", "/strategy", CellKind::kText},
+};
+
+constexpr std::array<std::string_view, 6> kRequired{"recipe_id", "radius_mm",     "fill_height_mm",
+                                                    "stroke_mm", "motion_time_s", "strategy"};
+
+CellKind cell_kind(OptionKind kind) {
+  switch (kind) {
+    case OptionKind::kNumber:
+    case OptionKind::kOptionalNumber:
+    case OptionKind::kInteger:
+      return CellKind::kNumber;
+    case OptionKind::kBool:
+      return CellKind::kBool;
+    case OptionKind::kEnum:
+      return CellKind::kText;
+    case OptionKind::kNumberArray:
+      return CellKind::kNumberList;
+    case OptionKind::kDamping:
+      return CellKind::kDamping;
+  }
+  return CellKind::kText;
+}
+
+template <class Names>
+std::string comma_list(const Names& items) {
+  std::string out;
+  for (const auto& item : items) {
+    if (!out.empty()) out += ", ";
+    out += item.name;
+  }
+  return out;
+}
+
+std::string quote_text(std::string_view text) {
+  return show(json(std::string(text)));
+}
+
+// "/format/container/radius_mm" -> "format.container.radius_mm"
+std::string dotted(std::string_view pointer) {
+  std::string out(pointer.substr(pointer.empty() ? 0 : 1));
+  std::replace(out.begin(), out.end(), '/', '.');
+  return out;
+}
+
+std::optional<json> parse_number(std::string_view text) {
+  double value = 0.0;
+  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (ec != std::errc() || end != text.data() + text.size() || !std::isfinite(value)) {
+    return std::nullopt;
+  }
+  // Integral values stay integers (n_band, modes).
+  if (value == std::trunc(value) && std::abs(value) < 9.0e15) {
+    return json(static_cast<std::int64_t>(value));
+  }
+  return json(value);
+}
+
+json bool_cell(const std::string& name, std::string_view text) {
+  std::string lower(text);
+  std::transform(lower.begin(), lower.end(), lower.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (lower == "true" || lower == "yes" || lower == "1") return true;
+  if (lower == "false" || lower == "no" || lower == "0") return false;
+  throw CellError{
+      name, name + " = " + quote_text(text) + " is not a boolean: true, false, yes, no, 1 or 0"};
+}
+
+json number_list_cell(const std::string& name, std::string_view text) {
+  json list = json::array();
+  std::size_t at = 0;
+  while (at < text.size()) {
+    const std::size_t end = text.find_first_of("; \t,", at);
+    const std::string_view item = text.substr(at, end == std::string_view::npos ? end : end - at);
+    if (!item.empty()) {
+      auto v = parse_number(item);
+      if (!v) {
+        throw CellError{
+            name, name + " = " + quote_text(text) + " is not a list of numbers separated by ';'"};
+      }
+      list.push_back(*v);
+    }
+    if (end == std::string_view::npos) break;
+    at = end + 1;
+  }
+  return list;
+}
+
+json cell_value(const RecipeColumn& column, std::string_view text) {
+  switch (column.kind) {
+    case CellKind::kId:
+    case CellKind::kText:
+      return std::string(text);
+    case CellKind::kNumber:
+      if (auto v = parse_number(text)) return *v;
+      throw CellError{column.name, column.name + " = " + quote_text(text) + " is not a number"};
+    case CellKind::kDamping:
+      if (auto v = parse_number(text)) return json{{"zeta", *v}};
+      return std::string(text);
+    case CellKind::kBool:
+      return bool_cell(column.name, text);
+    case CellKind::kNumberList:
+      return number_list_cell(column.name, text);
+  }
+  return nullptr;
+}
+
+// The column whose request path is the longest prefix of `field` (none when no column maps).
+std::optional<RecipeColumn> column_for(const std::string& field, const OptionRegistry& registry) {
+  std::optional<RecipeColumn> best;
+  std::size_t best_length = 0;
+  for (RecipeColumn& column : recipe_columns(registry)) {
+    if (column.pointer.empty()) continue;
+    const std::string path = dotted(column.pointer);
+    const bool prefix =
+        field.rfind(path, 0) == 0 &&
+        (field.size() == path.size() || field[path.size()] == '.' || field[path.size()] == '[');
+    if (prefix && path.size() > best_length) {
+      best = std::move(column);
+      best_length = path.size();
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+std::vector<RecipeColumn> recipe_columns(const OptionRegistry& registry) {
+  std::vector<RecipeColumn> columns(kRequestColumns.begin(), kRequestColumns.end());
+  for (const OptionSpec& o : registry.options()) {
+    std::string pointer = "/options/";
+    if (!o.group.empty()) pointer += std::string(o.group) + "/";
+    columns.push_back(
+        RecipeColumn{std::string(o.name), pointer + std::string(o.name), cell_kind(o.kind)});
+  }
+  return columns;
+}
+
+std::string recipe_column_names(const OptionRegistry& registry) {
+  return comma_list(recipe_columns(registry));
+}
+
+RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRegistry& registry) {
+  const std::vector<RecipeColumn> known = recipe_columns(registry);
+  for (std::size_t c = 0; c < names.size(); ++c) {
+    const auto it = std::find_if(known.begin(), known.end(),
+                                 [&](const RecipeColumn& k) { return k.name == names[c]; });
+    if (it == known.end()) {
+      throw RecipeTableError("recipe table: unknown column " + quote_text(names[c]) + " (column " +
+                             std::to_string(c + 1) +
+                             " of the header); allowed: " + comma_list(known));
+    }
+    if (std::any_of(columns_.begin(), columns_.end(),
+                    [&](const RecipeColumn& k) { return k.name == it->name; })) {
+      throw RecipeTableError("recipe table: column " + quote_text(names[c]) + " appears twice");
+    }
+    if (it->kind == CellKind::kId) id_index_ = c;
+    columns_.push_back(*it);
+  }
+  auto has = [&](std::string_view name) {
+    return std::any_of(columns_.begin(), columns_.end(),
+                       [&](const RecipeColumn& k) { return k.name == name; });
+  };
+  for (std::string_view name : kRequired) {
+    if (!has(name)) {
+      throw RecipeTableError("recipe table: missing column " + quote_text(name) + "; required: " +
+                             "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
+                             "viscosity_pa_s), stroke_mm, motion_time_s, strategy");
+    }
+  }
+  if (!has("fluid") && !(has("density_kg_m3") && has("viscosity_pa_s"))) {
+    throw RecipeTableError(
+        "recipe table: missing column \"fluid\" (or both density_kg_m3 and viscosity_pa_s)");
+  }
+}
+
+json RecipeHeader::request(const std::vector<std::string>& cells) const {
+  std::string named_fluid;   // "fluid = ..." when given
+  std::string custom_fluid;  // "density_kg_m3 = ..." when given
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    if (cells[c].empty()) continue;
+    const std::string given = columns_[c].name + " = " + quote_text(cells[c]);
+    if (columns_[c].name == "fluid") named_fluid = given;
+    if (columns_[c].pointer.starts_with("/format/fluid/") && custom_fluid.empty()) {
+      custom_fluid = given;
+    }
+  }
+  if (!named_fluid.empty() && !custom_fluid.empty()) {
+    throw CellError{"fluid", named_fluid + " and " + custom_fluid +
+                                 ": give either fluid or density_kg_m3 and viscosity_pa_s, "
+                                 "not both"};
+  }
+  json request = json::object();
+  for (std::size_t c = 0; c < cells.size(); ++c) {
+    const RecipeColumn& column = columns_[c];
+    if (column.kind == CellKind::kId || cells[c].empty()) continue;  // empty: the default
+    request[json::json_pointer(column.pointer)] = cell_value(column, cells[c]);
+  }
+  return request;
+}
+
+namespace {
+
+JsonRecipe json_recipe(json value) {
+  JsonRecipe recipe;
+  if (value.is_object()) {
+    if (const auto id = value.find("recipe_id"); id != value.end()) {
+      recipe.recipe_id = id->is_string() ? id->get<std::string>() : id->dump();
+      value.erase(id);
+    }
+  }
+  recipe.request = std::move(value);
+  return recipe;
+}
+
+}  // namespace
+
+JsonRecipe json_line_recipe(std::string_view line, std::size_t line_number) {
+  try {
+    return json_recipe(parse_json_body(line));
+  } catch (const ApiError& e) {
+    JsonRecipe recipe;
+    recipe.error = error_envelope(e)["error"];
+    recipe.error["message"] = "line " + std::to_string(line_number) + ": " + e.what();
+    return recipe;
+  }
+}
+
+std::vector<JsonRecipe> json_document_recipes(std::string_view text) {
+  json document;
+  try {
+    document = parse_json_body(text);
+  } catch (const ApiError& e) {
+    throw RecipeTableError(std::string("recipe table: ") + e.what());
+  }
+  if (document.is_object() && document.contains("requests")) document = document["requests"];
+  if (!document.is_array()) {
+    throw RecipeTableError(
+        "recipe table: a .json table is an array of plan requests or {\"requests\": [...]}");
+  }
+  std::vector<JsonRecipe> recipes;
+  recipes.reserve(document.size());
+  for (json& value : document) recipes.push_back(json_recipe(std::move(value)));
+  return recipes;
+}
+
+json row_error(const std::string& message, const std::string& field) {
+  return {{"code", to_string(ErrorCode::kInvalidValue)},
+          {"message", message},
+          {"field", field.empty() ? json(nullptr) : json(field)}};
+}
+
+std::string column_of_field(const std::string& field, const OptionRegistry& registry) {
+  const std::optional<RecipeColumn> column = column_for(field, registry);
+  return column ? column->name : field;
+}
+
+std::string in_column_terms(const std::string& field, const std::string& message,
+                            const OptionRegistry& registry) {
+  const std::optional<RecipeColumn> column = column_for(field, registry);
+  if (!column) return message;
+  const std::string path = dotted(column->pointer);
+  if (message.rfind(path, 0) != 0) return message;
+  return column->name + message.substr(path.size());
+}
+
+// ---- plan tables -------------------------------------------------------------------------------
+
+namespace {
+
+constexpr std::array kPlanColumns{
+    PlanColumn{"row", "/row"},
+    PlanColumn{"recipe_id", "/recipe_id"},
+    PlanColumn{"status", "/status"},
+    PlanColumn{"key", "/key"},
+    PlanColumn{"cached", "/cached"},
+    PlanColumn{"strategy", "/strategy"},
+    PlanColumn{"law_type", "/law_type"},
+    PlanColumn{"T1_s", "/durations_s/0"},
+    PlanColumn{"T2_s", "/durations_s/1"},
+    PlanColumn{"T3_s", "/durations_s/2"},
+    PlanColumn{"T4_s", "/durations_s/3"},
+    PlanColumn{"T5_s", "/durations_s/4"},
+    PlanColumn{"T6_s", "/durations_s/5"},
+    PlanColumn{"T7_s", "/durations_s/6"},
+    PlanColumn{"A_m_s2", "/kinematics/a_max"},
+    PlanColumn{"B_m_s2", "/kinematics/a_min"},
+    PlanColumn{"v_peak_m_s", "/kinematics/v_peak"},
+    PlanColumn{"j_peak_m_s3", "/kinematics/j_peak"},
+    PlanColumn{"f1_hz", "/f1_hz"},
+    PlanColumn{"eta_motion_nonlinear_mm", "/prediction/nonlinear/eta_motion_mm"},
+    PlanColumn{"eta_rest_nonlinear_mm", "/prediction/nonlinear/eta_rest_mm"},
+    PlanColumn{"eta_motion_linear_mm", "/prediction/linear/eta_motion_mm"},
+    PlanColumn{"eta_rest_linear_mm", "/prediction/linear/eta_rest_mm"},
+    PlanColumn{"baseline_eta_motion_nonlinear_mm", "/baseline/nonlinear/eta_motion_mm"},
+    PlanColumn{"baseline_eta_rest_nonlinear_mm", "/baseline/nonlinear/eta_rest_mm"},
+    PlanColumn{"reduction_motion_pct", "/reduction_pct/motion"},
+    PlanColumn{"reduction_rest_pct", "/reduction_pct/rest"},
+    PlanColumn{"solve_ms", "/solve_ms"},
+    PlanColumn{"message", "/message"},
+    PlanColumn{"error_field", "/error_field"},
+};
+
+/// object[key], null when absent (or when `object` is not an object).
+json value_or_null(const json& object, std::string_view key) {
+  const json* value = find_member(object, key);
+  return value == nullptr ? json(nullptr) : *value;
+}
+
+/// object[outer][inner], null when either is absent.
+json nested_or_null(const json& object, std::string_view outer, std::string_view inner) {
+  const json* value = find_member(object, outer);
+  return value == nullptr ? json(nullptr) : value_or_null(*value, inner);
+}
+
+}  // namespace
+
+std::span<const PlanColumn> plan_columns() {
+  return kPlanColumns;
+}
+
+std::string plan_column_names() {
+  std::string out;
+  for (const PlanColumn& column : kPlanColumns) {
+    if (!out.empty()) out += ',';
+    out += column.name;
+  }
+  return out;
+}
+
+json plan_row_figures(const json& plan) {
+  json row = json::object();
+  for (std::string_view key : {"status", "key", "strategy", "message", "durations_s", "kinematics",
+                               "prediction", "baseline", "reduction_pct"}) {
+    row[std::string(key)] = value_or_null(plan, key);
+  }
+  row["law_type"] = nested_or_null(plan, "law", "type");
+  const json f_hz = nested_or_null(plan, "model", "f_hz");
+  row["f1_hz"] = f_hz.is_array() && !f_hz.empty() ? f_hz[0] : json(nullptr);
+  row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
+  return row;
+}
+
+json error_row_figures(const json& failure, bool csv) {
+  json error = failure;
+  const json field = error["field"];  // the row's error always names its field, null when none
+  std::string where = field.is_string() ? field.get<std::string>() : "";
+  json message = value_or_null(error, "message");
+  if (csv && !where.empty()) {
+    if (message.is_string()) message = in_column_terms(where, message.get<std::string>());
+    where = column_of_field(where);
+  }
+  return {{"status", "error"},
+          {"message", std::move(message)},
+          {"error", std::move(error)},
+          {"error_field", where.empty() ? json(nullptr) : json(where)}};
+}
+
+}  // namespace slosh::api

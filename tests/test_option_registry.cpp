@@ -1,0 +1,252 @@
+// The option registry (issue 16): one entry per plan option drives the parser, the recipe key,
+// the OpenAPI document and the CSV recipe columns. A fake option added to a copy of the registry
+// must be parsed, keyed, documented and read from a CSV column without any other change; the
+// recipe keys of the built-in options are pinned to the values computed before the registry
+// (a changed key would invalidate every cached plan).
+
+#include <gtest/gtest.h>
+
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "recipe_table.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/openapi.hpp"
+#include "slosh/api/option_registry.hpp"
+#include "slosh/api/plan.hpp"
+#include "slosh/api/recipe_row.hpp"
+#include "slosh/api/routes.hpp"
+
+namespace slosh::api {
+namespace {
+
+using nlohmann::json;
+
+const char* kFormat =
+    R"({"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
+        "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0})";
+
+json request(const std::string& rest = "") {
+  return json::parse(std::string(R"({"format": )") + kFormat + rest + "}");
+}
+
+// Keys computed with the code before the registry (commit 3f8474d): identical requests must keep
+// identical keys.
+TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
+  EXPECT_EQ(recipe_key(parse_plan_request(request())), "f098b13c72055b01903ca239a4515e35");
+  EXPECT_EQ(recipe_key(parse_plan_request(request(R"(, "strategy": "multi_notch")"))),
+            "86972d7b59d529d9aafa377772f76d04");
+  EXPECT_EQ(recipe_key(parse_plan_request(request(R"(, "options": {"damping": {"zeta": 0.1}})"))),
+            "01139b04b663793ef2aa04a47debed93");
+  EXPECT_EQ(recipe_key(parse_plan_request(request(R"(, "options": {"limits": {"a_max": 10}})"))),
+            "07ed8e801d09a6064faadec32bd8bd63");
+  EXPECT_EQ(recipe_key(parse_plan_request(request(
+                R"(, "sample_period_s": 0.001, "options": {"p_notch": 0.2, "weights": [1, 2, 3],
+                "band": 0.1, "n_band": 31, "tol_rel": 0.3, "eta_rest_max_mm": 2.5,
+                "eta_motion_max_mm": 7, "objective": "rest", "rest_time_s": 2, "min_ramp_s": 0.04,
+                "fix_constant_velocity_zero": true, "plateau_min_s": [0.01, 0.02],
+                "limits": {"a_max": 10, "v_max": 3, "j_max": 250}, "damping": "paper",
+                "alpha": 0.5, "modes": 2, "solver": "ipopt", "time_limit_s": 3,
+                "base": "modified_trapezoid", "shaper": "ei", "residual": 0.1, "iir_order": 2,
+                "iir_tau": 40, "iir_sample_period_s": 0.002})"))),
+            "00321acefa725b5d58986e22b0a24af4");
+  EXPECT_EQ(recipe_key(parse_plan_request(json::parse(
+                R"({"format": {"container": {"radius_mm": 30}, "fill_height_mm": 40,
+                "fluid": {"density_kg_m3": 1100, "viscosity_pa_s": 0.002, "name": "syrup"},
+                "stroke_mm": 250.5, "motion_time_s": 0.7}, "strategy": "time_domain",
+                "options": {"objective": "rest", "eta_motion_max_mm": 4.5,
+                "limits": {"j_max": 300}}})"))),
+            "1b45bc81a20eb1fa4f1f451e4b6d3159");
+}
+
+TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {
+  const OptionRegistry& registry = plan_option_registry();
+  const std::vector<std::string_view> keys = registry.option_keys();
+  const std::vector<std::string_view> expected{"p_notch",
+                                               "weights",
+                                               "band",
+                                               "n_band",
+                                               "tol_rel",
+                                               "eta_rest_max_mm",
+                                               "eta_motion_max_mm",
+                                               "objective",
+                                               "rest_time_s",
+                                               "min_ramp_s",
+                                               "fix_constant_velocity_zero",
+                                               "plateau_min_s",
+                                               "limits",
+                                               "damping",
+                                               "alpha",
+                                               "modes",
+                                               "solver",
+                                               "time_limit_s",
+                                               "base",
+                                               "shaper",
+                                               "residual",
+                                               "iir_order",
+                                               "iir_tau",
+                                               "iir_sample_period_s"};
+  EXPECT_EQ(keys, expected);
+  EXPECT_EQ(registry.group_keys("limits"),
+            (std::vector<std::string_view>{"a_max", "v_max", "j_max"}));
+  std::set<std::string_view> recipe_names;
+  for (const OptionSpec& o : registry.options()) {
+    if (o.name == "time_limit_s") {
+      EXPECT_TRUE(o.recipe_name.empty());  // the budget is not part of the recipe
+    } else {
+      EXPECT_TRUE(recipe_names.insert(o.recipe_name).second) << o.recipe_name;
+    }
+    EXPECT_TRUE(o.get && o.set) << o.name;
+    EXPECT_FALSE(o.doc.empty()) << o.name;
+  }
+}
+
+// ---- a fake option: one registry entry, nothing else -------------------------------------------
+
+struct Sink {
+  std::optional<double> value;  // SI (m)
+};
+
+OptionRegistry with_fake_option(Sink& sink) {
+  OptionRegistry registry = plan_option_registry();
+  OptionSpec fake;
+  fake.name = "fake_gap_mm";
+  fake.recipe_name = "fake_gap_m";
+  fake.kind = OptionKind::kOptionalNumber;
+  fake.range = Range{0.0, 50.0, "mm", true};
+  fake.scale = 1e-3;
+  fake.doc = "Fake option of the registry test: a gap";
+  fake.get = [&sink](const PlanOptions&) { return sink.value ? json(*sink.value) : json(); };
+  fake.set = [&sink](PlanOptions&, const json& v) { sink.value = v.get<double>(); };
+  registry.add(fake);
+  return registry;
+}
+
+TEST(OptionRegistry, AFakeOptionIsParsedWithTheStandardMessages) {
+  Sink sink;
+  const OptionRegistry registry = with_fake_option(sink);
+  (void)parse_plan_request(request(R"(, "options": {"fake_gap_mm": 12.5})"), registry);
+  ASSERT_TRUE(sink.value.has_value());
+  EXPECT_DOUBLE_EQ(*sink.value, 0.0125);
+
+  try {
+    (void)parse_plan_request(request(R"(, "options": {"fake_gap_mm": 80})"), registry);
+    FAIL() << "out of range accepted";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field(), "options.fake_gap_mm");
+    EXPECT_STREQ(e.what(), "options.fake_gap_mm = 80 is out of range: allowed > 0 and <= 50 mm");
+  }
+  // The built-in registry does not know it: the standard unknown-field message.
+  try {
+    (void)parse_plan_request(request(R"(, "options": {"fake_gap_mm": 12.5})"));
+    FAIL() << "unknown option accepted";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field(), "options.fake_gap_mm");
+    EXPECT_NE(std::string(e.what()).find("is not a known field; allowed here: p_notch, weights"),
+              std::string::npos)
+        << e.what();
+  }
+}
+
+TEST(OptionRegistry, AFakeOptionIsKeyed) {
+  Sink sink;
+  const OptionRegistry registry = with_fake_option(sink);
+  const PlanRequest a = parse_plan_request(request(R"(, "options": {"fake_gap_mm": 5})"), registry);
+  const json recipe = canonical_recipe(a, registry);
+  EXPECT_EQ(recipe["options"]["fake_gap_m"], 0.005);
+  const std::string key_a = recipe_key(a, registry);
+  const PlanRequest b = parse_plan_request(request(R"(, "options": {"fake_gap_mm": 6})"), registry);
+  EXPECT_NE(recipe_key(b, registry), key_a);
+  sink.value = 0.005;
+  EXPECT_EQ(recipe_key(b, registry), key_a);
+}
+
+TEST(OptionRegistry, AFakeOptionIsDocumented) {
+  Sink sink;
+  const json doc = openapi_document("test", with_fake_option(sink));
+  const json& s = doc["components"]["schemas"]["PlanOptions"]["properties"]["fake_gap_mm"];
+  EXPECT_EQ(s["type"], "number");
+  EXPECT_EQ(s["minimum"], 0.0);
+  EXPECT_EQ(s["maximum"], 50.0);
+  EXPECT_EQ(s["exclusiveMinimum"], true);
+  EXPECT_FALSE(s.contains("default"));  // unset by default
+  EXPECT_EQ(s["description"],
+            "Fake option of the registry test: a gap [mm]. Allowed: > 0 and <= 50 mm.");
+  EXPECT_FALSE(
+      openapi_document("test")["components"]["schemas"]["PlanOptions"]["properties"].contains(
+          "fake_gap_mm"));
+}
+
+TEST(OptionRegistry, AFakeOptionIsACsvColumn) {
+  Sink sink;
+  const OptionRegistry registry = with_fake_option(sink);
+  EXPECT_NE(recipe_column_names(registry).find(", fake_gap_mm"), std::string::npos);
+  const std::string table =
+      "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy,fake_gap_mm\n"
+      "a,48.5,82,water,800,1,auto,7.5\n"
+      "b,48.5,82,water,800,1,auto,wide\n";
+  const auto rows = service::read_recipe_table(table, service::TableFormat::kCsv, registry);
+  ASSERT_EQ(rows.size(), 2u);
+  ASSERT_TRUE(rows[0].error.is_null()) << rows[0].error;
+  EXPECT_EQ(rows[0].request["options"]["fake_gap_mm"], 7.5);
+  (void)parse_plan_request(rows[0].request, registry);
+  EXPECT_DOUBLE_EQ(sink.value.value(), 0.0075);
+  EXPECT_EQ(rows[1].error["field"], "fake_gap_mm");
+  EXPECT_EQ(rows[1].error["message"], "fake_gap_mm = \"wide\" is not a number");
+  EXPECT_EQ(column_of_field("options.fake_gap_mm", registry), "fake_gap_mm");
+  // The built-in registry has no such column.
+  EXPECT_THROW((void)service::read_recipe_table(table, service::TableFormat::kCsv),
+               service::TableError);
+}
+
+TEST(OptionRegistry, DefaultsOfTheSchemasAreThoseOfPlanOptions) {
+  const json doc = openapi_document("test");
+  const json& p = doc["components"]["schemas"]["PlanOptions"]["properties"];
+  const PlanOptions d;
+  EXPECT_EQ(p["p_notch"]["default"], d.p_notch);
+  EXPECT_EQ(p["eta_rest_max_mm"]["default"], d.eta_rest_max * 1e3);
+  EXPECT_EQ(p["iir_order"]["default"], static_cast<int>(d.iir_order));
+  EXPECT_EQ(p["objective"]["default"], "motion");
+  EXPECT_EQ(p["limits"]["$ref"], "#/components/schemas/MachineLimits");
+}
+
+TEST(OptionRegistry, EveryOptionIsDocumentedAndACsvColumn) {
+  const json doc = openapi_document("test");
+  const json& schemas = doc["components"]["schemas"];
+  const std::string columns = recipe_column_names();
+  for (const OptionSpec& o : plan_option_registry().options()) {
+    const std::string schema =
+        o.group.empty() ? "PlanOptions"
+                        : std::string(plan_option_registry().group(o.group)->schema_name);
+    EXPECT_TRUE(schemas[schema]["properties"].contains(std::string(o.name))) << o.name;
+    EXPECT_NE(columns.find(", " + std::string(o.name)), std::string::npos) << o.name;
+  }
+}
+
+// ---- routes ------------------------------------------------------------------------------------
+
+TEST(Routes, EveryRouteIsAnOpenApiOperation) {
+  const json paths = openapi_document("test")["paths"];
+  std::size_t operations = 0;
+  for (const auto& [path, methods] : paths.items()) operations += methods.size();
+  EXPECT_EQ(routes().size(), operations);
+  EXPECT_EQ(routes().size(), 9u);
+  std::set<Operation> seen;
+  for (const Route& r : routes()) {
+    const std::string method = r.method == "POST" ? "post" : "get";
+    ASSERT_TRUE(paths.contains(std::string(r.path))) << r.path;
+    const json& op = paths[std::string(r.path)][method];
+    EXPECT_EQ(op["operationId"], r.operation_id);
+    EXPECT_EQ(op["summary"], r.summary);
+    EXPECT_TRUE(seen.insert(r.operation).second);
+  }
+  EXPECT_EQ(routes().front().path, "/v1/plans");
+  EXPECT_EQ(routes()[2].path, "/v1/plans/{key}");
+  EXPECT_EQ(routes()[2].method, "GET");
+}
+
+}  // namespace
+}  // namespace slosh::api
