@@ -21,6 +21,8 @@ packages=(
   clang-format                                     # formatting check
   clang libclang-rt-14-dev llvm                    # fuzzers: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
   curl wrk                                         # loopback load script
+  libjs-chart.js                                   # Chart.js 3.9 for the web page (embedded)
+  chromium chromium-driver python3-selenium        # the web page's browser test
 )
 
 missing=()

@@ -167,10 +167,12 @@ ExportFailure invalid(std::string field, const std::string& message) {
 }
 
 std::optional<ExportFailure> check_period(double period_ms) {
-  if (period_ms >= kMinPeriodMs && period_ms <= kMaxPeriodMs) return std::nullopt;
-  return invalid("--period-ms", "--period-ms = " + api::number_text(period_ms) +
-                                    " is out of range [" + api::number_text(kMinPeriodMs) + ", " +
-                                    api::number_text(kMaxPeriodMs) + "] ms");
+  try {
+    check_period_ms(period_ms, "--period-ms");
+  } catch (const api::ApiError& e) {
+    return ExportFailure{kExitInvalidInput, e};
+  }
+  return std::nullopt;
 }
 
 // The law of the request (a plan is solved or read from the cache).
@@ -198,9 +200,9 @@ std::optional<ExportFailure> check_exportable(const ExportSource& source,
     api::PlanLaw plan;
     plan.status = source.plan->status;
     plan.message = source.plan->message;
-    return ExportFailure{kExitFailure,
-                         api::ApiError(api::ErrorCode::kInternal, "",
-                                       api::not_exportable_message(plan, "pass --allow-infeasible"))};
+    return ExportFailure{
+        kExitFailure, api::ApiError(api::ErrorCode::kInternal, "",
+                                    api::not_exportable_message(plan, "pass --allow-infeasible"))};
   }
   if (!options.segments.empty() && !source.seven) {
     return invalid("--segments", "--segments: the law " + source.law_type +
@@ -233,6 +235,29 @@ api::ExportSummary summary_of(const ExportSource& source, const ExportCommandOpt
 }
 
 }  // namespace
+
+void check_period_ms(double period_ms, const std::string& field) {
+  if (period_ms >= kMinPeriodMs && period_ms <= kMaxPeriodMs) return;
+  throw api::ApiError(api::ErrorCode::kInvalidValue, field,
+                      field + " = " + api::number_text(period_ms) + " is out of range [" +
+                          api::number_text(kMinPeriodMs) + ", " + api::number_text(kMaxPeriodMs) +
+                          "] ms");
+}
+
+std::string plan_cam_table_csv(const std::string& plan_text, double period_ms,
+                               bool allow_infeasible) {
+  check_period_ms(period_ms, "period_ms");
+  const api::PlanLaw plan = api::plan_law(plan_text);
+  if (!allow_infeasible && !api::exportable(plan.status)) {
+    throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
+                        api::not_exportable_message(plan, "add allow_infeasible=true"));
+  }
+  try {
+    return cam_table_csv(sample_cam_table(plan.law, plan.stroke, period_ms * 1e-3));
+  } catch (const std::invalid_argument& e) {
+    throw api::ApiError(api::ErrorCode::kInvalidValue, "period_ms", e.what());
+  }
+}
 
 int run_export_command(const ExportCommandOptions& options) {
   if (auto failure = check_period(options.period_ms)) return report(*failure);

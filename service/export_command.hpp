@@ -34,6 +34,15 @@ struct ExportCommandOptions {
 /// allow_infeasible.
 int run_export_command(const ExportCommandOptions& options);
 
+/// Throws ApiError(kInvalidValue, field) unless the controller cycle is in the allowed range.
+void check_period_ms(double period_ms, const std::string& field);
+
+/// The cam table CSV of a rendered plan at `period_ms` (GET /v1/plans/{key}/cam.csv): the same
+/// bytes as `slosh export --period-ms`. Throws ApiError naming period_ms, or allow_infeasible for
+/// an infeasible or time-limited plan when `allow_infeasible` is false.
+[[nodiscard]] std::string plan_cam_table_csv(const std::string& plan_text, double period_ms,
+                                             bool allow_infeasible);
+
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line
 /// per sample, 12 significant digits.
 [[nodiscard]] std::string cam_table_csv(const std::vector<CamSample>& samples);

@@ -270,6 +270,19 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&service](const httplib::Request&, const std::string&) { return service.health(); };
     case api::Operation::kReady:
       return [&service](const httplib::Request&, const std::string&) { return service.ready(); };
+    case api::Operation::kCamTable:
+      return [&service](const httplib::Request& req, const std::string&) {
+        return service.cam_table(req.matches[1], req.get_param_value("period_ms"),
+                                 req.get_param_value("allow_infeasible"));
+      };
+    case api::Operation::kPage:
+      return [&service](const httplib::Request& req, const std::string&) {
+        return service.web_asset("", req.get_header_value("If-None-Match"));
+      };
+    case api::Operation::kAsset:
+      return [&service](const httplib::Request& req, const std::string&) {
+        return service.web_asset(req.matches[1], req.get_header_value("If-None-Match"));
+      };
     case api::Operation::kMetrics:
       return [&service](const httplib::Request&, const std::string&) {
         return service.metrics_text();

@@ -8,6 +8,7 @@
 #include <thread>
 #include <utility>
 
+#include "export_command.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/openapi.hpp"
@@ -16,6 +17,7 @@
 #include "slosh/api/service_bodies.hpp"
 #include "slosh/api/simulate.hpp"
 #include "version.hpp"
+#include "web_assets.hpp"
 
 namespace slosh::service {
 
@@ -324,6 +326,67 @@ Reply PlanService::post_simulate(const std::string& text) {
     Reply r;
     r.body =
         api::dump_json(api::run_simulate(api::parse_simulate_request(api::parse_json_body(text))));
+    return r;
+  });
+}
+
+Reply PlanService::web_asset(const std::string& name, const std::string& if_none_match) const {
+  const WebAsset* asset = find_web_asset(name.empty() ? "index.html" : name);
+  if (asset == nullptr) {
+    return error_reply(api::ErrorCode::kNotFound,
+                       "no asset '" + name.substr(0, 64) + "' of the web page", "name");
+  }
+  Reply r;
+  const std::string tag(asset->etag);
+  r.headers.emplace_back("ETag", tag);
+  // Revalidated on every use (a 304 is a few bytes): a new binary's page is never mixed with an
+  // older cached script.
+  r.headers.emplace_back("Cache-Control", "no-cache");
+  if (etag_matches(if_none_match, tag)) {
+    r.status = 304;
+    return r;
+  }
+  r.content_type = std::string(asset->content_type);
+  r.body = std::string(asset->body);
+  return r;
+}
+
+Reply PlanService::cam_table(const std::string& key, const std::string& period_ms,
+                             const std::string& allow_infeasible) {
+  return guarded([&] {
+    double period = 1.0;
+    if (!period_ms.empty()) {
+      std::size_t used = 0;
+      try {
+        period = std::stod(period_ms, &used);
+      } catch (const std::exception&) {
+        used = 0;
+      }
+      if (used != period_ms.size() || !std::isfinite(period)) {
+        throw api::ApiError(api::ErrorCode::kInvalidValue, "period_ms",
+                            "period_ms = " + period_ms.substr(0, 32) + " is not a number [ms]");
+      }
+    }
+    if (!allow_infeasible.empty() && allow_infeasible != "true" && allow_infeasible != "false") {
+      throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
+                          "allow_infeasible = " + allow_infeasible.substr(0, 32) +
+                              " is not allowed: one of \"true\", \"false\"");
+    }
+    const auto hit = cache_.get(key);
+    if (!hit) {
+      return error_reply(
+          api::ErrorCode::kNotFound,
+          "no plan with key '" + key.substr(0, 64) + "': POST the recipe to /v1/plans first",
+          "key");
+    }
+    metrics_.count_cache(true);
+    Reply r;
+    r.content_type = "text/csv; charset=utf-8";
+    r.body =
+        plan_cam_table_csv(api::render_plan_reply(*hit, true), period, allow_infeasible == "true");
+    r.headers.emplace_back("Content-Disposition", "attachment; filename=\"cam-" +
+                                                      key.substr(0, 64) + "-" +
+                                                      api::number_text(period) + "ms.csv\"");
     return r;
   });
 }

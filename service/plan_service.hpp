@@ -80,6 +80,12 @@ class PlanService {
                            const std::function<bool()>& abandoned = {});
   Reply post_simulate(const std::string& body);
   Reply fluids() const;
+  /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
+  /// `if_none_match` names the ETag, 404 for an unknown name.
+  Reply web_asset(const std::string& name, const std::string& if_none_match) const;
+  /// The cam table CSV of the cached plan `key` at `period_ms` (the query text; empty = 1 ms).
+  Reply cam_table(const std::string& key, const std::string& period_ms,
+                  const std::string& allow_infeasible);
   Reply openapi() const;
   Reply health() const;
   Reply ready() const;

@@ -106,12 +106,18 @@ export const PLOTS = [
         markers.hlines.push({ y: board, label: `free board ${board.toFixed(1)} mm` });
         markers.hlines.push({ y: -board, label: '' });
       }
-      return timeChart([
+      const config = timeChart([
         line('η nonlinear plan', points(series.t_s, series.eta_nonlinear_mm), COLORS.plan),
         line('η linear plan', points(series.t_s, series.eta_linear_mm), COLORS.linear),
         line('η nonlinear uniform', points(base.t_s, base.eta_nonlinear_mm), COLORS.base),
         line('η linear uniform', points(base.t_s, base.eta_linear_mm), COLORS.baseLinear),
       ], 'η [mm]', markers);
+      if (height) {  // the free board stays in view
+        const board = height - format.fill_height_mm;
+        config.options.scales.y.suggestedMax = 1.05 * board;
+        config.options.scales.y.suggestedMin = -1.05 * board;
+      }
+      return config;
     },
   },
   {

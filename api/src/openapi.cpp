@@ -731,6 +731,39 @@ json read_operation(const Route& route) {
                                   "pool finishes nothing) or degraded (the plan store cannot be "
                                   "written; plans are answered from memory), with a reason.",
                                   ref("Readiness"))}}}};
+    case Operation::kCamTable:
+      return {
+          {"tags", {"plans"}},
+          {"parameters",
+           {{{"name", "key"},
+             {"in", "path"},
+             {"required", true},
+             {"schema", {{"type", "string"}}},
+             {"description", "Recipe key of a cached plan."}},
+            {{"name", "period_ms"},
+             {"in", "query"},
+             {"required", false},
+             {"schema", {{"type", "number"}, {"default", 1}}},
+             {"description", "Controller cycle [ms], as `slosh export --period-ms`."}},
+            {{"name", "allow_infeasible"},
+             {"in", "query"},
+             {"required", false},
+             {"schema", {{"type", "boolean"}, {"default", false}}},
+             {"description", "Export the law of an infeasible plan too."}}}},
+          {"responses",
+           with_statuses(
+               {{"200",
+                 {{"description", "t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3"},
+                  {"content", {{"text/csv", {{"schema", {{"type", "string"}}}}}}}}}},
+               {404, 422, 500})}};
+    case Operation::kPage:
+    case Operation::kAsset:
+      return {{"tags", {"page"}},
+              {"responses",
+               {{"200",
+                 {{"description", "HTML, CSS or JavaScript, with an ETag (304 on If-None-Match)."},
+                  {"content", {{"text/html", {{"schema", {{"type", "string"}}}}}}}}},
+                {"404", response_ref("NotFound")}}}};
     default:
       return {{"tags", {"operations"}},
               {"responses",
@@ -748,6 +781,10 @@ json operation(const Route& route) {
     case Operation::kPlanBatch:
     case Operation::kSimulate:
       return plan_operation(route);
+    case Operation::kCamTable:
+    case Operation::kPage:
+    case Operation::kAsset:
+      return read_operation(route);
     default:
       return read_operation(route);
   }
@@ -790,7 +827,8 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
            {{{"name", "plans"}, {"description", "Planning and the recipe cache."}},
             {{"name", "simulation"}, {"description", "Response of a given law."}},
             {{"name", "catalogue"}, {"description", "Reference data and this document."}},
-            {{"name", "operations"}, {"description", "Health, readiness and metrics."}}}},
+            {{"name", "operations"}, {"description", "Health, readiness and metrics."}},
+            {{"name", "page"}, {"description", "The web page served at / (SPEC §12)."}}}},
           {"paths", paths()},
           {"components", {{"schemas", schemas}, {"responses", responses_component()}}}};
 }

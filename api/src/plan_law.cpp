@@ -19,8 +19,8 @@ PlanLaw plan_law(std::string_view plan_text) {
   PlanLaw out;
   out.key = plan.value("key", std::string());
   out.cached = plan.value("cached", false);
-  out.status =
-      enum_from_name<SolveStatus>(plan.value("status", std::string())).value_or(SolveStatus::kFailed);
+  out.status = enum_from_name<SolveStatus>(plan.value("status", std::string()))
+                   .value_or(SolveStatus::kFailed);
   out.message = plan.value("message", std::string());
   out.type = law.type;
   out.law = law.law;

@@ -34,6 +34,7 @@ struct PlanLaw {
 [[nodiscard]] bool exportable(SolveStatus status);
 
 /// The refusal of a plan that is not exportable, naming its status and message.
-[[nodiscard]] std::string not_exportable_message(const PlanLaw& plan, std::string_view how_to_force);
+[[nodiscard]] std::string not_exportable_message(const PlanLaw& plan,
+                                                 std::string_view how_to_force);
 
 }  // namespace slosh::api

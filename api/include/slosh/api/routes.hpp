@@ -17,7 +17,10 @@ enum class Operation {
   kOpenapi,
   kHealth,
   kReady,
-  kMetrics
+  kMetrics,
+  kCamTable,
+  kPage,
+  kAsset
 };
 
 struct Route {

@@ -1,0 +1,320 @@
+#!/usr/bin/python3
+"""The web page of `slosh serve` in a real headless Chromium (SPEC §12).
+
+Starts the real binary on a free loopback port (and, for the sub-path check, a small reverse
+proxy in front of it), drives the page with Selenium and checks it against the API's own JSON:
+the candidate table equals the plans' figures, every chart holds the API's point counts, an
+invalid radius shows the API's message at the radius field, a shared URL reproduces the view,
+the cam-table download equals `slosh export`'s file, and every input has a label.
+
+usage: test_page.py --slosh build/slosh --artifacts build/browser
+"""
+
+import argparse
+import http.client
+import http.server
+import json
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+import urllib.request
+
+from selenium import webdriver
+from selenium.webdriver.chrome.service import Service
+from selenium.webdriver.common.by import By
+from selenium.webdriver.support.ui import Select
+
+THESIS = {"radius": "48.5", "height": "150", "fill": "82", "stroke": "800", "time": "1"}
+FAILURES = []
+
+
+def check(condition, what):
+    if not condition:
+        FAILURES.append(what)
+        print("FAIL:", what, flush=True)
+
+
+def start_server(slosh, workdir):
+    port_file = os.path.join(workdir, "port")
+    log = open(os.path.join(workdir, "serve.log"), "w")
+    proc = subprocess.Popen(
+        [slosh, "serve", "--host", "127.0.0.1", "--port", "0", "--port-file", port_file,
+         "--cache", os.path.join(workdir, "plans.sqlite"), "--workers", "2"],
+        stdout=log, stderr=subprocess.STDOUT)
+    for _ in range(200):
+        if os.path.exists(port_file):
+            text = open(port_file).read().strip()
+            if text:
+                return proc, int(text)
+        if proc.poll() is not None:
+            raise RuntimeError("slosh serve exited: " + open(log.name).read())
+        time.sleep(0.05)
+    raise RuntimeError("slosh serve did not report its port")
+
+
+def api(port, method, path, body=None):
+    conn = http.client.HTTPConnection("127.0.0.1", port, timeout=60)
+    data = None if body is None else json.dumps(body)
+    conn.request(method, path, data, {"Content-Type": "application/json"})
+    res = conn.getresponse()
+    raw = res.read()
+    return res.status, raw
+
+
+def api_json(port, method, path, body=None):
+    status, raw = api(port, method, path, body)
+    return status, json.loads(raw)
+
+
+class SubPathProxy(http.server.ThreadingHTTPServer):
+    """Forwards /slosh/<rest> to the service's /<rest> (a reverse proxy at a sub-path)."""
+
+    def __init__(self, backend_port):
+        self.backend_port = backend_port
+        super().__init__(("127.0.0.1", 0), ProxyHandler)
+
+
+class ProxyHandler(http.server.BaseHTTPRequestHandler):
+    def log_message(self, *args):
+        pass
+
+    def forward(self):
+        if not self.path.startswith("/slosh/"):
+            self.send_error(404, "outside the sub-path")
+            return
+        length = int(self.headers.get("Content-Length") or 0)
+        body = self.rfile.read(length) if length else None
+        conn = http.client.HTTPConnection("127.0.0.1", self.server.backend_port, timeout=60)
+        headers = {k: v for k, v in self.headers.items() if k.lower() in ("content-type", "if-none-match")}
+        conn.request(self.command, self.path[len("/slosh"):], body, headers)
+        res = conn.getresponse()
+        data = res.read()
+        self.send_response(res.status)
+        for k, v in res.getheaders():
+            if k.lower() not in ("content-length", "connection", "keep-alive", "transfer-encoding"):
+                self.send_header(k, v)
+        self.send_header("Content-Length", str(len(data)))
+        self.end_headers()
+        self.wfile.write(data)
+
+    do_GET = forward
+    do_POST = forward
+
+
+def browser():
+    options = webdriver.ChromeOptions()
+    for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
+                "--window-size=1280,800"):
+        options.add_argument(arg)
+    options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    return webdriver.Chrome(service=Service(shutil.which("chromedriver") or "/usr/bin/chromedriver"),
+                            options=options)
+
+
+def wait_for(driver, script, timeout=60.0):
+    end = time.time() + timeout
+    while time.time() < end:
+        value = driver.execute_script(script)
+        if value:
+            return value
+        time.sleep(0.05)
+    raise RuntimeError("timed out waiting for: " + script)
+
+
+def fill_format(driver, values, strategy):
+    for field, value in values.items():
+        el = driver.find_element(By.ID, field)
+        el.clear()
+        el.send_keys(value)
+    Select(driver.find_element(By.ID, "fluid")).select_by_value("water")
+    Select(driver.find_element(By.ID, "strategy")).select_by_value(strategy)
+
+
+def request_of(values, strategy):
+    return {"format": {"container": {"radius_mm": float(values["radius"]), "height_mm": float(values["height"])},
+                       "fill_height_mm": float(values["fill"]), "fluid": "water",
+                       "stroke_mm": float(values["stroke"]), "motion_time_s": float(values["time"])},
+            "strategy": strategy, "options": {}}
+
+
+def fmt(value, digits=2):
+    return "—" if value is None else f"{value:.{digits}f}"
+
+
+def expected_row(plan):
+    p, r, k = plan["prediction"], plan["reduction_pct"], plan["kinematics"]
+    return [plan["strategy"], plan["status"], plan["law"]["type"],
+            fmt(p["nonlinear"]["eta_motion_mm"]), fmt(p["nonlinear"]["eta_rest_mm"]),
+            fmt(p["linear"]["eta_motion_mm"]), fmt(p["linear"]["eta_rest_mm"]),
+            fmt(r["motion"], 1), fmt(r["rest"], 1), fmt(k["a_max"], 3), fmt(k["a_min"], 3),
+            fmt(k["j_peak"], 1), "; ".join(plan.get("warnings", []))]
+
+
+def table_rows(driver):
+    return driver.execute_script(
+        "return [...document.querySelectorAll('#candidates tbody tr')].map(tr => "
+        "({strategy: tr.dataset.strategy, chosen: tr.classList.contains('chosen'), "
+        "cells: [...tr.children].map(td => td.textContent)}))")
+
+
+def chart_counts(driver):
+    return driver.execute_script(
+        "return window.sloshPage.charts.map(c => ({id: c.canvas.id, "
+        "counts: c.data.datasets.map(d => d.data.length)}))")
+
+
+def check_single_plan(driver, port):
+    fill_format(driver, THESIS, "multi_notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch'")
+    status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "multi_notch"))
+    check(status == 200, f"the API plans the thesis format ({status})")
+    rows = table_rows(driver)
+    check(len(rows) == 1 and rows[0]["cells"] == expected_row(plan),
+          f"the table equals the API's plan: {rows} vs {expected_row(plan)}")
+    series_len = len(json.loads(api(port, "POST", "/v1/simulate", {
+        "format": plan["format"], "law": plan["law"], "rest_time_s": plan["rest_time_s"],
+        "options": {"damping": plan["model"]["damping"], "alpha": plan["model"]["alpha"],
+                    "modes": len(plan["model"]["f_hz"]), "min_ramp_s": 0.001},
+        "sample_period_s": (plan["format"]["motion_time_s"] + plan["rest_time_s"]) / 2000})[1])["series"]["t_s"])
+    counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
+    check(counts.get("plot-acceleration") == [series_len] * 3, f"acceleration chart points {counts}")
+    check(counts.get("plot-velocity") == [series_len] * 3, f"velocity chart points {counts}")
+    check(counts.get("plot-eta") == [series_len] * 4, f"eta chart points {counts}")
+    spectrum = len(plan["spectrum"]["f_hz"])
+    check(counts.get("plot-spectrum") == [spectrum, spectrum], f"spectrum chart points {counts}")
+    return plan
+
+
+def check_compare_all(driver, port, screenshot):
+    driver.find_element(By.ID, "compare-button").click()
+    wait_for(driver, "return document.body.dataset.ready && window.sloshPage.request.strategy === 'auto'"
+                     " && document.querySelectorAll('#candidates tbody tr').length > 1")
+    status, auto = api_json(port, "POST", "/v1/plans", request_of(THESIS, "auto"))
+    check(status == 200, "the API plans auto")
+    rows = table_rows(driver)
+    names = [c["strategy"] for c in auto["candidates"]]
+    check([r["strategy"] for r in rows] == names, f"one row per candidate of auto: {rows} vs {names}")
+    chosen = [c["strategy"] for c in auto["candidates"] if c["chosen"]]
+    check([r["strategy"] for r in rows if r["chosen"]] == chosen, f"the chosen row is highlighted ({chosen})")
+    for row in rows:
+        _, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, row["strategy"]))
+        check(row["cells"] == expected_row(plan), f"row {row['strategy']} equals its plan")
+    driver.set_window_size(1280, 2300)
+    driver.save_screenshot(screenshot)
+    driver.set_window_size(1280, 800)
+    # Selecting another row plots that candidate.
+    other = next(r["strategy"] for r in rows if not r["chosen"])
+    driver.find_element(By.CSS_SELECTOR, f"#candidates tr[data-strategy='{other}']").click()
+    wait_for(driver, f"return document.body.dataset.ready === '{other}'")
+    check(all(sum(c["counts"]) > 0 for c in chart_counts(driver)), "the selected candidate is plotted")
+
+
+def check_invalid_radius(driver, port):
+    bad = dict(THESIS, radius="-5")
+    fill_format(driver, bad, "notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.getElementById('radius-error').textContent.length > 0", 20)
+    status, error = api_json(port, "POST", "/v1/plans", request_of(bad, "notch"))
+    check(status == 422 and error["error"]["field"] == "format.container.radius_mm",
+          f"the API refuses the radius: {error}")
+    shown = driver.find_element(By.ID, "radius-error").text
+    check(shown == error["error"]["message"], f"the radius field shows the API's message: {shown!r}")
+    check(driver.find_element(By.ID, "radius").get_attribute("aria-invalid") == "true",
+          "the radius input is marked invalid")
+
+
+def check_shared_url(driver, plan):
+    fill_format(driver, THESIS, "multi_notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch'")
+    link = driver.find_element(By.ID, "share-link").get_attribute("href")
+    fresh = browser()
+    try:
+        fresh.get(link)
+        wait_for(fresh, "return document.body.dataset.ready === 'multi_notch'")
+        check(table_rows(fresh)[0]["cells"] == expected_row(plan), "the shared URL reproduces the table")
+        check(chart_counts(fresh) == chart_counts(driver), "the shared URL reproduces the charts")
+    finally:
+        fresh.quit()
+
+
+def check_cam_download(driver, slosh, workdir):
+    cam_period = driver.find_element(By.ID, "cam-period")
+    cam_period.clear()
+    cam_period.send_keys("2")
+    href = driver.find_element(By.ID, "download-cam").get_attribute("href")
+    downloaded = urllib.request.urlopen(href, timeout=60).read()
+    request = os.path.join(workdir, "thesis.json")
+    with open(request, "w") as f:
+        json.dump(request_of(THESIS, "multi_notch"), f)
+    out = os.path.join(workdir, "cam.csv")
+    done = subprocess.run([slosh, "export", "--request", request, "--out", out, "--period-ms", "2",
+                           "--cache", ""], capture_output=True, text=True)
+    check(done.returncode == 0, f"slosh export ran: {done.stderr}")
+    check(downloaded == open(out, "rb").read(), "the cam-table download equals slosh export's file")
+    check(downloaded.startswith(b"t_s,position_mm"), "the download is the cam table")
+
+
+def check_labels(driver):
+    unlabeled = driver.execute_script(
+        "return [...document.querySelectorAll('input, select')].filter(e => "
+        "!document.querySelector(`label[for='${e.id}']`)).map(e => e.id || e.name)")
+    check(unlabeled == [], f"every input has a label: {unlabeled}")
+
+
+def check_sub_path(port):
+    proxy = SubPathProxy(port)
+    thread = threading.Thread(target=proxy.serve_forever, daemon=True)
+    thread.start()
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{proxy.server_address[1]}/slosh/?r=48.5&h=150&fill=82&fluid=water"
+                   "&stroke=800&T=1&strategy=notch")
+        wait_for(driver, "return document.body.dataset.ready === 'notch'")
+        check(len(table_rows(driver)) == 1, "behind a proxy at /slosh/ the page plans")
+    finally:
+        driver.quit()
+        proxy.shutdown()
+
+
+def main():
+    parser = argparse.ArgumentParser()
+    parser.add_argument("--slosh", required=True)
+    parser.add_argument("--artifacts", required=True)
+    args = parser.parse_args()
+    os.makedirs(args.artifacts, exist_ok=True)
+    workdir = tempfile.mkdtemp(prefix="slosh-browser-")
+    server, port = start_server(args.slosh, workdir)
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/")
+        wait_for(driver, "return document.body.dataset.loaded === '1'")
+        check_labels(driver)
+        plan = check_single_plan(driver, port)
+        check_cam_download(driver, args.slosh, workdir)
+        check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
+        check_invalid_radius(driver, port)
+        check_shared_url(driver, plan)
+        check_sub_path(port)
+        severe = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"
+                  and "422" not in e["message"]]
+        check(severe == [], f"no errors in the browser console: {severe}")
+    finally:
+        driver.quit()
+        server.terminate()
+        server.wait(timeout=30)
+        shutil.rmtree(workdir, ignore_errors=True)
+    if FAILURES:
+        print(f"{len(FAILURES)} check(s) failed")
+        return 1
+    print("browser page: all checks passed; screenshot in", os.path.join(args.artifacts, "page.png"))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,147 @@
+// The web page's server side against a real `slosh serve`: the embedded assets are the files of
+// web/ (with ETag, Cache-Control and 304), and GET /v1/plans/{key}/cam.csv is `slosh export`'s
+// file, with the exact error texts of its parameters. The page itself is tested in a real
+// browser (tests/browser/test_page.py, ctest browser.page).
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "support/process.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+
+const char* const kThesis = R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},
+    "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
+    "strategy": "multi_notch"})";
+
+std::string source_file(const std::string& relative) {
+  return test::read_file(std::filesystem::path(SLOSH_SOURCE_DIR) / relative);
+}
+
+TEST(WebPage, TheAssetsAreTheFilesOfWebWithETagsAndRevalidation) {
+  test::Server server({"--workers", "1"});
+  httplib::Client client = server.client();
+  const struct {
+    const char* path;
+    const char* file;
+    const char* type;
+  } assets[] = {{"/", "web/index.html", "text/html; charset=utf-8"},
+                {"/assets/app.js", "web/app.js", "text/javascript; charset=utf-8"},
+                {"/assets/plots.js", "web/plots.js", "text/javascript; charset=utf-8"},
+                {"/assets/style.css", "web/style.css", "text/css; charset=utf-8"}};
+  for (const auto& a : assets) {
+    const auto res = client.Get(a.path);
+    ASSERT_TRUE(res) << a.path;
+    EXPECT_EQ(res->status, 200) << a.path;
+    EXPECT_EQ(res->body, source_file(a.file)) << a.path;
+    EXPECT_EQ(res->get_header_value("Content-Type"), a.type) << a.path;
+    EXPECT_EQ(res->get_header_value("Cache-Control"), "no-cache") << a.path;
+    const std::string tag = res->get_header_value("ETag");
+    ASSERT_EQ(tag.size(), 66u) << a.path;  // the quoted SHA-256
+    const auto again = client.Get(a.path, {{"If-None-Match", tag}});
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 304) << a.path;
+    EXPECT_TRUE(again->body.empty());
+  }
+  const auto chart = client.Get("/assets/chart.min.js");
+  ASSERT_TRUE(chart);
+  EXPECT_EQ(chart->status, 200);
+  EXPECT_NE(chart->body.find("Chart.js v3.9.1"), std::string::npos);
+  const auto missing = client.Get("/assets/nope.js");
+  ASSERT_TRUE(missing);
+  EXPECT_EQ(missing->status, 404);
+  EXPECT_EQ(json::parse(missing->body),
+            json::parse(R"({"error": {"code": "not_found", "field": "name",
+                                      "message": "no asset 'nope.js' of the web page"}})"));
+}
+
+TEST(WebPage, TheCamTableDownloadIsTheFileOfSloshExport) {
+  test::Server server({"--workers", "1"});
+  httplib::Client client = server.client();
+  const auto planned = client.Post("/v1/plans", kThesis, "application/json");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->status, 200) << planned->body;
+  const std::string key = json::parse(planned->body)["key"];
+  const test::TempDir dir;
+  test::write_file(dir / "request.json", kThesis);
+  for (const char* period : {"1", "2.5"}) {
+    const auto res = client.Get("/v1/plans/" + key + "/cam.csv?period_ms=" + period);
+    ASSERT_TRUE(res);
+    ASSERT_EQ(res->status, 200) << res->body;
+    EXPECT_EQ(res->get_header_value("Content-Type"), "text/csv; charset=utf-8");
+    EXPECT_EQ(res->get_header_value("Content-Disposition"),
+              "attachment; filename=\"cam-" + key + "-" + period + "ms.csv\"");
+    const test::RunResult exported =
+        test::run_slosh({"export", "--request", (dir / "request.json").string(), "--out",
+                         (dir / "cam.csv").string(), "--period-ms", period, "--cache", ""});
+    ASSERT_EQ(exported.exit_code, 0) << exported.err;
+    EXPECT_EQ(res->body, test::read_file(dir / "cam.csv")) << period;
+  }
+  const auto by_default = client.Get("/v1/plans/" + key + "/cam.csv");
+  ASSERT_TRUE(by_default);
+  EXPECT_EQ(by_default->body, client.Get("/v1/plans/" + key + "/cam.csv?period_ms=1")->body);
+}
+
+TEST(WebPage, CamTableParametersAreRefusedByName) {
+  test::Server server({"--workers", "1"});
+  httplib::Client client = server.client();
+  const std::string key =
+      json::parse(client.Post("/v1/plans", kThesis, "application/json")->body)["key"];
+  auto error_of = [&](const std::string& query) {
+    const auto res = client.Get("/v1/plans/" + key + "/cam.csv" + query);
+    EXPECT_TRUE(res);
+    EXPECT_EQ(res->status, 422) << query;
+    return json::parse(res->body)["error"];
+  };
+  EXPECT_EQ(error_of("?period_ms=0"), json::parse(R"({"code": "invalid_value", "field": "period_ms",
+                "message": "period_ms = 0 is out of range [0.01, 1000] ms"})"));
+  EXPECT_EQ(error_of("?period_ms=abc"),
+            json::parse(R"({"code": "invalid_value", "field": "period_ms",
+                "message": "period_ms = abc is not a number [ms]"})"));
+  EXPECT_EQ(error_of("?allow_infeasible=yes"),
+            json::parse(R"({"code": "invalid_value", "field": "allow_infeasible",
+                "message": "allow_infeasible = yes is not allowed: one of \"true\", \"false\""})"));
+  const auto unknown = client.Get("/v1/plans/0123456789abcdef/cam.csv");
+  ASSERT_TRUE(unknown);
+  EXPECT_EQ(unknown->status, 404);
+  EXPECT_EQ(json::parse(unknown->body)["error"]["field"], "key");
+}
+
+TEST(WebPage, AnInfeasiblePlanIsExportedOnlyWhenAskedFor) {
+  test::Server server({"--workers", "1"});
+  httplib::Client client = server.client();
+  json request = json::parse(kThesis);
+  request["strategy"] = "fir_chain";
+  request["options"] = {{"limits", {{"a_max", 7}}}};  // the chain needs more: infeasible
+  const auto planned = client.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(planned);
+  const json plan = json::parse(planned->body);
+  ASSERT_EQ(plan["status"], "infeasible") << planned->body;
+  const std::string path = "/v1/plans/" + plan["key"].get<std::string>() + "/cam.csv";
+  const auto refused = client.Get(path);
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 422);
+  const json error = json::parse(refused->body)["error"];
+  EXPECT_EQ(error["field"], "allow_infeasible");
+  EXPECT_EQ(error["message"], "the plan is infeasible, its law misses the requested limits: " +
+                                  plan["message"].get<std::string>() +
+                                  ". Not exported; add allow_infeasible=true to export the best "
+                                  "reachable law anyway");
+  const auto forced = client.Get(path + "?allow_infeasible=true");
+  ASSERT_TRUE(forced);
+  EXPECT_EQ(forced->status, 200);
+  EXPECT_EQ(forced->body.rfind("t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3\n", 0),
+            0u);
+}
+
+}  // namespace
+}  // namespace slosh
