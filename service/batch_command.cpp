@@ -16,6 +16,7 @@
 #include "plan_table.hpp"
 #include "recipe_table.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/service_bodies.hpp"
 
 namespace slosh::service {
 
@@ -101,8 +102,9 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
 }
 
 // POSTs one chunk, retrying 503 answers after their Retry-After.
-json post_chunk(HttpClient& client, const json& requests) {
-  const std::string body = api::dump_json(json{{"requests", requests}});
+std::vector<api::BatchItemReply> post_chunk(HttpClient& client,
+                                            const std::vector<nlohmann::json>& requests) {
+  const std::string body = api::batch_body_text(requests);
   for (int attempt = 0;; ++attempt) {
     HttpReply reply;
     try {
@@ -116,15 +118,15 @@ json post_chunk(HttpClient& client, const json& requests) {
       std::this_thread::sleep_for(std::chrono::seconds(wait));
       continue;
     }
-    json parsed = json::parse(reply.body, nullptr, false);
-    if (reply.status != 200 || parsed.is_discarded() || !parsed.contains("results")) {
+    auto results = reply.status == 200 ? api::parse_batch_reply(reply.body) : std::nullopt;
+    if (!results) {
       std::string message = "HTTP " + std::to_string(reply.status);
-      if (!parsed.is_discarded() && parsed.contains("error")) {
-        message += ": " + parsed["error"].value("message", "");
+      if (const std::string m = api::envelope_message(reply.body); !m.empty()) {
+        message += ": " + m;
       }
       throw BatchAbort(client.base_url() + "/v1/plans/batch answered " + message);
     }
-    return std::move(parsed["results"]);
+    return std::move(*results);
   }
 }
 
@@ -132,7 +134,7 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
                 HttpClient& client, RowSink& sink, ProgressBar& bar) {
   for (std::size_t begin = 0; begin < rows.size(); begin += options.chunk) {
     const std::size_t end = std::min(rows.size(), begin + options.chunk);
-    json requests = json::array();
+    std::vector<nlohmann::json> requests;
     std::vector<std::size_t> sent;
     for (std::size_t i = begin; i < end; ++i) {
       if (rows[i].error.is_null()) {
@@ -140,7 +142,8 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
         sent.push_back(i);
       }
     }
-    const json results = requests.empty() ? json::array() : post_chunk(client, requests);
+    const std::vector<api::BatchItemReply> results =
+        requests.empty() ? std::vector<api::BatchItemReply>{} : post_chunk(client, requests);
     if (results.size() != sent.size()) {
       throw BatchAbort("the service answered " + std::to_string(results.size()) + " results for " +
                        std::to_string(sent.size()) + " requests");
@@ -148,24 +151,11 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
     std::size_t next = 0;
     for (std::size_t i = begin; i < end; ++i) {
       if (next < sent.size() && sent[next] == i) {
-        const json& item = results[next++];
+        const api::BatchItemReply& item = results[next++];
         BatchResult result;
-        if (item.contains("plan")) {
-          result.plan = api::dump_json(item["plan"]);
-          result.cached = item["plan"].value("cached", false);
-        } else {
-          const api::ApiError error = api::error_from_json(
-              item.value("error", json{{"code", "internal"},
-                                       {"message", "the service sent no result"},
-                                       {"field", nullptr}}));
-          // The service prefixes fields with requests[k]; the row's own path is wanted.
-          std::string field = error.field();
-          const std::size_t dot = field.find("].");
-          field = field.rfind("requests[", 0) == 0
-                      ? (dot == std::string::npos ? "" : field.substr(dot + 2))
-                      : field;
-          result.error = api::ApiError(error.code(), field, error.what());
-        }
+        result.plan = item.plan;
+        result.cached = item.cached;
+        result.error = item.error;
         sink.write(rows[i], result);
       } else {
         sink.write(rows[i], row_error_result(rows[i]));

@@ -90,7 +90,7 @@ ExportSource plan_source(const json& body, const std::string& text, const Server
   PlanService service(one);
   const Reply reply = service.post_plan(text, "");
   if (reply.status != 200) {
-    const api::ApiError error = api::error_from_json(json::parse(reply.body)["error"]);
+    const api::ApiError error = api::error_from_text(reply.body);
     throw api::ApiError(
         reply.status < 500 ? api::ErrorCode::kInvalidValue : api::ErrorCode::kInternal,
         error.field(), error.what());

@@ -61,6 +61,14 @@ ApiError error_from_json(const nlohmann::json& error) {
   return ApiError(code, field, message);
 }
 
+ApiError error_from_text(std::string_view envelope) {
+  const nlohmann::json parsed = nlohmann::json::parse(envelope, nullptr, false);
+  if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("error")) {
+    return ApiError(ErrorCode::kInternal, "", "an answer that is not an error envelope");
+  }
+  return error_from_json(parsed["error"]);
+}
+
 std::string error_body(const ApiError& error) {
   return dump_json(error_envelope(error));
 }

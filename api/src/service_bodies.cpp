@@ -86,6 +86,49 @@ std::string BatchReplyWriter::finish() {
   return out_ + "]}";
 }
 
+std::string batch_body_text(const std::vector<nlohmann::json>& requests) {
+  return dump_json(nlohmann::json{{"requests", requests}});
+}
+
+std::optional<std::vector<BatchItemReply>> parse_batch_reply(std::string_view text) {
+  const nlohmann::json parsed = nlohmann::json::parse(text, nullptr, false);
+  if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("results") ||
+      !parsed["results"].is_array()) {
+    return std::nullopt;
+  }
+  std::vector<BatchItemReply> items;
+  for (const nlohmann::json& item : parsed["results"]) {
+    BatchItemReply reply;
+    if (item.is_object() && item.contains("plan")) {
+      reply.plan = dump_json(item["plan"]);
+      reply.cached = item["plan"].is_object() && item["plan"].value("cached", false);
+    } else {
+      const ApiError error = error_from_json(
+          item.is_object() && item.contains("error")
+              ? item["error"]
+              : nlohmann::json{{"code", "internal"}, {"message", "the service sent no result"}});
+      // The service prefixes fields with requests[k]; the row's own path is wanted.
+      std::string field = error.field();
+      const std::size_t dot = field.find("].");
+      if (field.rfind("requests[", 0) == 0) {
+        field = dot == std::string::npos ? "" : field.substr(dot + 2);
+      }
+      reply.error = ApiError(error.code(), field, error.what());
+    }
+    items.push_back(std::move(reply));
+  }
+  return items;
+}
+
+std::string envelope_message(std::string_view text) {
+  const nlohmann::json parsed = nlohmann::json::parse(text, nullptr, false);
+  if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("error") ||
+      !parsed["error"].is_object()) {
+    return {};
+  }
+  return parsed["error"].value("message", std::string());
+}
+
 std::string health_body(std::string_view version) {
   return nlohmann::json{{"status", "ok"}, {"version", version}}.dump();
 }

@@ -136,8 +136,8 @@ BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>&
     if (v[k] > best.value) best = {v[k], grid[k]};
     const bool interior_max = k > 0 && k + 1 < grid.size() && v[k] >= v[k - 1] && v[k] >= v[k + 1];
     if (!interior_max) continue;
-    const Peak p =
-        refine_max(f, grid[k - 1], grid[k + 1], kBandPeakTolerance * grid[k], kBandPeakIterations);
+    const Peak p = refine_max(f, grid[k - 1], grid[k + 1], kBandPeakTolerance * grid[k],
+                              kBandPeakIterations, TieRule::kDiscardLower);
     if (p.value > best.value) best = {p.value, p.time};
   }
   return best;

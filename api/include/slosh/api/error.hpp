@@ -123,6 +123,8 @@ class ApiError : public std::runtime_error {
 /// The error an envelope's {"code", "message", "field"} object describes (an unknown code is
 /// kInternal; a missing message says so).
 [[nodiscard]] ApiError error_from_json(const nlohmann::json& error);
+/// The same from the text of an envelope {"error": {...}} (kInternal when it is not one).
+[[nodiscard]] ApiError error_from_text(std::string_view envelope);
 
 /// JSON text of a response; never throws on invalid UTF-8 (replaced by U+FFFD).
 [[nodiscard]] std::string dump_json(const nlohmann::json& value, int indent = -1);

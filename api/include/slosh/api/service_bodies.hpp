@@ -51,6 +51,23 @@ class BatchReplyWriter {
   std::size_t items_{0};
 };
 
+/// The body of POST /v1/plans/batch for `requests` (the client side: `slosh batch --server`).
+[[nodiscard]] std::string batch_body_text(const std::vector<nlohmann::json>& requests);
+
+/// One result of a batch response, read back by the client: the plan as JSON text, or its error
+/// with the field path relative to the item's own request (the requests[i]. prefix removed).
+struct BatchItemReply {
+  std::string plan;
+  bool cached{false};
+  std::optional<ApiError> error;
+};
+
+/// The results of a batch response; nullopt when `text` is not {"results": [...]}.
+[[nodiscard]] std::optional<std::vector<BatchItemReply>> parse_batch_reply(std::string_view text);
+
+/// The message of an error envelope (empty when `text` is not one).
+[[nodiscard]] std::string envelope_message(std::string_view text);
+
 /// GET /healthz.
 [[nodiscard]] std::string health_body(std::string_view version);
 

@@ -19,16 +19,24 @@ struct Peak {
 /// Golden-section refinement of a maximum of f bracketed in [a, b], until the bracket is at most
 /// `tolerance` wide or after `max_iterations` shrinks. `time` of the result is the abscissa,
 /// whatever its unit.
+/// Which end a golden-section step drops when its two probes are equal (the maximum lies between
+/// them either way; the rule only decides which of two equal peaks is found).
+enum class TieRule {
+  kDiscardUpper,  ///< keep [a, x2] (the peak finder of the responses)
+  kDiscardLower,  ///< keep [x1, b] (the band maximum of the spectral strategies)
+};
+
 template <typename F>
 Peak refine_max(const F& f, double a, double b, double tolerance = kPeakTimeTolerance,
-                int max_iterations = std::numeric_limits<int>::max()) {
+                int max_iterations = std::numeric_limits<int>::max(),
+                TieRule tie = TieRule::kDiscardUpper) {
   constexpr double kInvPhi = 0.6180339887498949;
   double x1 = b - kInvPhi * (b - a);
   double x2 = a + kInvPhi * (b - a);
   double f1 = f(x1);
   double f2 = f(x2);
   for (int it = 0; it < max_iterations && b - a > tolerance; ++it) {
-    if (f1 < f2) {
+    if (tie == TieRule::kDiscardLower ? !(f1 > f2) : f1 < f2) {
       a = x1;
       x1 = x2;
       f1 = f2;
