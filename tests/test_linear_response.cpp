@@ -150,6 +150,23 @@ TEST(LinearResponse, StartsAtRestAndDecaysAtTheDampingRate) {
 namespace slosh {
 namespace {
 
+TEST(PeakFinder, TheTieRuleDecidesWhichOfTwoEqualPeaksIsFound) {
+  // Two equal plateaus, [0.1, 0.3] and [0.7, 0.9], and zero between: the first golden-section
+  // probes (0.382, 0.618) are both 0, and only the tie rule picks the side (the band maximum of
+  // the spectral strategies drops the lower end, as it always did; the responses' peak finder the
+  // upper one).
+  auto f = [](double x) { return (x >= 0.1 && x <= 0.3) || (x >= 0.7 && x <= 0.9) ? 1.0 : 0.0; };
+  const Peak lower = refine_max(f, 0.0, 1.0, 1e-9, 200, TieRule::kDiscardUpper);
+  const Peak upper = refine_max(f, 0.0, 1.0, 1e-9, 200, TieRule::kDiscardLower);
+  EXPECT_EQ(lower.value, 1.0);
+  EXPECT_EQ(upper.value, 1.0);
+  EXPECT_GE(lower.time, 0.1);
+  EXPECT_LE(lower.time, 0.3);
+  EXPECT_GE(upper.time, 0.7);
+  EXPECT_LE(upper.time, 0.9);
+  EXPECT_EQ(refine_max(f, 0.0, 1.0, 1e-9, 200).time, lower.time);  // the default rule
+}
+
 TEST(PeakFinder, FlatStretchesNeedNoRefinement) {
   int calls = 0;
   const Peak p = find_max(
