@@ -248,6 +248,17 @@ std::string plan_cam_table_csv(const std::string& plan_text, double period_ms,
                                bool allow_infeasible) {
   check_period_ms(period_ms, "period_ms");
   const api::PlanLaw plan = api::plan_law(plan_text);
+  // The whole table is built in memory: at most kMaxServedCamRows rows per request.
+  const double duration = plan.law.duration();
+  const double shortest_ms = 1e3 * duration / static_cast<double>(kMaxServedCamRows - 2);
+  if (duration / (period_ms * 1e-3) > static_cast<double>(kMaxServedCamRows - 2)) {
+    throw api::ApiError(
+        api::ErrorCode::kInvalidValue, "period_ms",
+        "period_ms = " + api::number_text(period_ms) + " gives more than " +
+            std::to_string(kMaxServedCamRows) + " rows over the " + api::number_text(duration) +
+            " s motion: allowed >= " + api::number_text(std::ceil(shortest_ms * 1e3) / 1e3) +
+            " ms here (slosh export writes longer tables)");
+  }
   if (!allow_infeasible && !api::exportable(plan.status)) {
     throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                         api::not_exportable_message(plan, "add allow_infeasible=true"));

@@ -2,6 +2,7 @@
 // `slosh export`: the cam table of a law at the controller cycle, and the 7-segment table a
 // jerk-limited profile block is fed with.
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -37,9 +38,14 @@ int run_export_command(const ExportCommandOptions& options);
 /// Throws ApiError(kInvalidValue, field) unless the controller cycle is in the allowed range.
 void check_period_ms(double period_ms, const std::string& field);
 
+/// Most rows GET /v1/plans/{key}/cam.csv serves (about 12 MB of CSV); `slosh export` has no
+/// such bound.
+inline constexpr std::size_t kMaxServedCamRows{200000};
+
 /// The cam table CSV of a rendered plan at `period_ms` (GET /v1/plans/{key}/cam.csv): the same
-/// bytes as `slosh export --period-ms`. Throws ApiError naming period_ms, or allow_infeasible for
-/// an infeasible or time-limited plan when `allow_infeasible` is false.
+/// bytes as `slosh export --period-ms`; more than kMaxServedCamRows rows is refused (period_ms).
+/// Throws ApiError naming period_ms, or allow_infeasible for an infeasible or time-limited plan
+/// when `allow_infeasible` is false.
 [[nodiscard]] std::string plan_cam_table_csv(const std::string& plan_text, double period_ms,
                                              bool allow_infeasible);
 

@@ -342,6 +342,8 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
   // Revalidated on every use (a 304 is a few bytes): a new binary's page is never mixed with an
   // older cached script.
   r.headers.emplace_back("Cache-Control", "no-cache");
+  r.headers.emplace_back("X-Content-Type-Options", "nosniff");
+  r.headers.emplace_back("Content-Security-Policy", "frame-ancestors 'none'");
   if (etag_matches(if_none_match, tag)) {
     r.status = 304;
     return r;

@@ -116,6 +116,38 @@ TEST(WebPage, CamTableParametersAreRefusedByName) {
   EXPECT_EQ(json::parse(unknown->body)["error"]["field"], "key");
 }
 
+TEST(WebPage, ACamTableOfMoreThanTheServedRowsIsRefusedNotBuilt) {
+  // 60 s at 0.01 ms would be 6 000 001 rows (355 MB built in memory per request).
+  test::Server server({"--workers", "1"});
+  httplib::Client client = server.client();
+  json request = json::parse(kThesis);
+  request["strategy"] = "baseline";
+  request["format"]["motion_time_s"] = 60;
+  const auto planned = client.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(planned);
+  const std::string key = json::parse(planned->body)["key"];
+  const auto refused = client.Get("/v1/plans/" + key + "/cam.csv?period_ms=0.01");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 422);
+  // 60 s / 199 998 intervals = 0.30000300003 ms, rounded up to the microsecond.
+  EXPECT_EQ(json::parse(refused->body)["error"],
+            json::parse(R"j({"code": "invalid_value", "field": "period_ms",
+                "message": "period_ms = 0.01 gives more than 200000 rows over the 60 s motion: allowed >= 0.301 ms here (slosh export writes longer tables)"
+})j"));
+  const auto served = client.Get("/v1/plans/" + key + "/cam.csv?period_ms=0.301");
+  ASSERT_TRUE(served);
+  EXPECT_EQ(served->status, 200);
+  std::size_t rows = 0;
+  for (const char c : served->body) rows += c == '\n' ? 1 : 0;
+  EXPECT_LE(rows, 200000u + 1u);  // with the header
+  EXPECT_GT(rows, 199000u);
+  EXPECT_EQ(served->get_header_value("X-Content-Type-Options"), "");  // only the page's assets
+  const auto page = client.Get("/");
+  ASSERT_TRUE(page);
+  EXPECT_EQ(page->get_header_value("X-Content-Type-Options"), "nosniff");
+  EXPECT_EQ(page->get_header_value("Content-Security-Policy"), "frame-ancestors 'none'");
+}
+
 TEST(WebPage, AnInfeasiblePlanIsExportedOnlyWhenAskedFor) {
   test::Server server({"--workers", "1"});
   httplib::Client client = server.client();

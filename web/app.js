@@ -14,13 +14,20 @@ const PARAMS = {
   stroke: 'stroke', time: 'T', strategy: 'strategy', a_max: 'a_max', v_max: 'v_max',
   j_max: 'j_max', eta_rest_max: 'eta_rest', rest_time: 'rest', p_notch: 'p_notch', band: 'band',
   tol_rel: 'tol_rel', min_ramp: 'min_ramp', shaper: 'shaper', base: 'base', time_limit: 'budget',
+  n_band: 'n_band', objective: 'objective', eta_motion_max: 'eta_motion', residual: 'residual',
+  iir_order: 'iir_order', iir_tau: 'iir_tau', iir_period: 'iir_period', solver: 'solver',
 };
+// Parameters that only mean something for a custom fluid.
+const CUSTOM_FLUID_PARAMS = new Set(['density', 'viscosity']);
 // Options: input id -> [path inside options, is a number].
 const OPTIONS = {
   a_max: ['limits.a_max', true], v_max: ['limits.v_max', true], j_max: ['limits.j_max', true],
   eta_rest_max: ['eta_rest_max_mm', true], rest_time: ['rest_time_s', true], p_notch: ['p_notch', true],
   band: ['band', true], tol_rel: ['tol_rel', true], min_ramp: ['min_ramp_s', true],
   shaper: ['shaper', false], base: ['base', false], time_limit: ['time_limit_s', true],
+  n_band: ['n_band', true], objective: ['objective', false], eta_motion_max: ['eta_motion_max_mm', true],
+  residual: ['residual', true], iir_order: ['iir_order', true], iir_tau: ['iir_tau', true],
+  iir_period: ['iir_sample_period_s', true], solver: ['solver', false],
 };
 
 const state = { request: null, plans: {}, selected: null, charts: [] };
@@ -149,6 +156,7 @@ function simulateRequest(plan, law) {
 
 async function selectPlan(strategy) {
   const plan = state.plans[strategy];
+  if (!plan) return;  // a row of a view that has been replaced
   state.selected = strategy;
   for (const tr of $('candidates').querySelectorAll('tbody tr')) {
     tr.classList.toggle('selected', tr.dataset.strategy === strategy);
@@ -158,27 +166,62 @@ async function selectPlan(strategy) {
   $('download-json').download = `plan-${plan.key}.json`;
   updateCamLink();
   $('downloads').hidden = false;
-  const [series, base] = await Promise.all([
-    postJson('v1/simulate', simulateRequest(plan, plan.law)),
-    postJson('v1/simulate', simulateRequest(plan, { type: 'seven_segment_uniform' })),
-  ]);
+  let series, base;
+  try {
+    [series, base] = await Promise.all([
+      postJson('v1/simulate', simulateRequest(plan, plan.law)),
+      postJson('v1/simulate', simulateRequest(plan, { type: 'seven_segment_uniform' })),
+    ]);
+  } catch (e) {
+    clearPlots();
+    $('form-error').textContent = `The plots could not be computed: ${e.api ? e.api.message : e.message}`;
+    return;
+  }
+  if (state.selected !== strategy) return;  // another row was chosen meanwhile
   renderPlots({ plan, request: state.request, series: series.series, base: base.series, format: plan.format });
   document.body.dataset.ready = strategy;  // the browser test waits for this
 }
 
+// The cam table of a cached plan: optimal and acceptable plans directly, an infeasible one only as
+// its best reachable law (said so); time-limited and failed plans are not cached (no link).
 function updateCamLink() {
   const plan = state.plans[state.selected];
   if (!plan) return;
   const period = $('cam-period').value || '1';
-  $('download-cam').href = `v1/plans/${plan.key}/cam.csv?period_ms=${encodeURIComponent(period)}`;
-  $('download-cam').download = `cam-${plan.key}-${period}ms.csv`;
+  const link = $('download-cam');
+  const cached = ['optimal', 'acceptable', 'infeasible'].includes(plan.status);
+  link.hidden = !cached;
+  $('cam-period').disabled = !cached;
+  if (!cached) {
+    $('cam-note').textContent = `No cam table: a ${plan.status} plan is not kept by the service; plan it with a larger time budget or use slosh export.`;
+    return;
+  }
+  const force = plan.status === 'infeasible' ? '&allow_infeasible=true' : '';
+  link.href = `v1/plans/${plan.key}/cam.csv?period_ms=${encodeURIComponent(period)}${force}`;
+  link.download = `cam-${plan.key}-${period}ms.csv`;
+  link.textContent = force ? 'Cam table CSV (infeasible plan: its best reachable law)' : 'Cam table CSV';
+  $('cam-note').textContent = '';
+}
+
+function clearPlots() {
+  for (const chart of state.charts) chart.destroy();
+  state.charts = [];
+  $('plots').replaceChildren();
+}
+
+// Nothing of a previous view stays on screen once a new request starts.
+function clearResults() {
+  clearPlots();
+  state.plans = {};
+  state.selected = null;
+  $('candidates').querySelector('tbody').replaceChildren();
+  $('candidates').hidden = true;
+  $('downloads').hidden = true;
 }
 
 function renderPlots(context) {
-  for (const chart of state.charts) chart.destroy();
-  state.charts = [];
+  clearPlots();
   const holder = $('plots');
-  holder.replaceChildren();
   for (const plot of PLOTS) {
     const box = document.createElement('div');
     box.className = 'plot';
@@ -207,6 +250,7 @@ function renderPlots(context) {
 function writeUrl(extra) {
   const q = new URLSearchParams();
   for (const [id, key] of Object.entries(PARAMS)) {
+    if (CUSTOM_FLUID_PARAMS.has(id) && $('fluid').value !== 'custom') continue;
     const v = $(id).value.trim();
     if (v !== '') q.set(key, v);
   }
@@ -215,21 +259,48 @@ function writeUrl(extra) {
   $('share-link').href = location.href;
 }
 
+// The form from the URL; a value the form cannot hold (an unknown fluid or strategy, text in a
+// number field) is named in the form error instead of being dropped.
 function readUrl() {
   const q = new URLSearchParams(location.search);
   let any = false;
+  const refused = [];
   for (const [id, key] of Object.entries(PARAMS)) {
-    if (q.has(key)) { $(id).value = q.get(key); any = true; }
+    if (!q.has(key)) continue;
+    const wanted = q.get(key);
+    $(id).value = wanted;
+    if ($(id).value !== wanted) refused.push(`${key}=${wanted.slice(0, 40)}`);
+    any = true;
   }
   $('custom-fluid').hidden = $('fluid').value !== 'custom';
+  if (refused.length) {
+    $('form-error').textContent = `The link holds values this form cannot take: ${refused.join(', ')}. Check the form and plan again.`;
+    return { any: false, compare: false, key: q.get('key') };
+  }
   return { any, compare: q.get('compare') === '1', key: q.get('key') };
+}
+
+// The form from a plan opened by its key (its format; the options are not part of a plan).
+function fillFormFromPlan(plan) {
+  const f = plan.format;
+  $('radius').value = f.container.radius_mm;
+  $('height').value = f.container.height_mm ?? '';
+  $('fill').value = f.fill_height_mm;
+  $('stroke').value = f.stroke_mm;
+  $('time').value = f.motion_time_s;
+  const known = [...$('fluid').options].some((o) => o.value === f.fluid.name);
+  $('fluid').value = known ? f.fluid.name : 'custom';
+  $('density').value = f.fluid.density_kg_m3;
+  $('viscosity').value = f.fluid.viscosity_pa_s;
+  $('custom-fluid').hidden = $('fluid').value !== 'custom';
+  if ([...$('strategy').options].some((o) => o.value === plan.strategy)) $('strategy').value = plan.strategy;
 }
 
 async function run(compare) {
   clearErrors();
   const strategy = compare ? 'auto' : $('strategy').value;
   state.request = buildRequest(strategy);
-  state.plans = {};
+  clearResults();
   delete document.body.dataset.ready;
   writeUrl(compare ? { compare: '1' } : {});
   $('status-line').textContent = compare ? 'Planning every strategy…' : `Planning ${strategy}…`;
@@ -255,8 +326,11 @@ async function run(compare) {
 async function openKey(key) {
   try {
     const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`);
+    fillFormFromPlan(plan);
     state.request = { format: plan.format, strategy: plan.strategy, options: {} };
     state.plans = { [plan.strategy]: plan };
+    history.replaceState(null, '', `?key=${encodeURIComponent(plan.key)}`);
+    $('share-link').href = location.href;
     renderTable([plan], plan.strategy);
     await selectPlan(plan.strategy);
   } catch (e) {

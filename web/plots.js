@@ -123,17 +123,15 @@ export const PLOTS = [
   {
     id: 'spectrum',
     title: 'Acceleration spectrum |X(f)|',
-    build: ({ plan, request }) => {
+    build: ({ plan }) => {
       const s = plan.spectrum;
       const m = s.markers;
       const markers = {
         shade: [{ from: m.band_hz[0], to: m.band_hz[1], label: 'band' }],
         vlines: m.f_modes_hz.map((f, i) => ({ x: f, label: `f${i + 1}`, color: i === 0 ? '#b3261e' : '#444' })),
       };
-      if (plan.strategy === 'multi_notch') {
-        const p = (request.options && request.options.p_notch) || 0.15;
-        markers.vlines.push({ x: (1 - p) * m.f1_hz, label: 'notch', color: '#7a3db8' });
-        markers.vlines.push({ x: (1 + p) * m.f1_hz, label: 'notch', color: '#7a3db8' });
+      for (const f of m.notch_hz || []) {  // multi_notch: (1 - p) f1, f1, (1 + p) f1
+        if (f !== m.f1_hz) markers.vlines.push({ x: f, label: 'notch', color: '#7a3db8' });
       }
       const config = timeChart([
         line('|X| plan', points(s.f_hz, s.amplitude), COLORS.plan),

@@ -226,6 +226,10 @@ def check_invalid_radius(driver, port):
     check(shown == error["error"]["message"], f"the radius field shows the API's message: {shown!r}")
     check(driver.find_element(By.ID, "radius").get_attribute("aria-invalid") == "true",
           "the radius input is marked invalid")
+    # Nothing of the previous view stays under the refused request.
+    check(not driver.find_element(By.ID, "candidates").is_displayed(), "the old table is gone")
+    check(chart_counts(driver) == [], "the old charts are gone")
+    check(not driver.find_element(By.ID, "downloads").is_displayed(), "the old downloads are gone")
 
 
 def check_shared_url(driver, plan):
@@ -258,6 +262,47 @@ def check_cam_download(driver, slosh, workdir):
     check(done.returncode == 0, f"slosh export ran: {done.stderr}")
     check(downloaded == open(out, "rb").read(), "the cam-table download equals slosh export's file")
     check(downloaded.startswith(b"t_s,position_mm"), "the download is the cam table")
+
+
+def check_infeasible_cam_link(driver, port):
+    values = dict(THESIS)
+    fill_format(driver, values, "notch")
+    driver.find_element(By.ID, "a_max").send_keys("1")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'notch'")
+    driver.find_element(By.ID, "a_max").clear()
+    link = driver.find_element(By.ID, "download-cam")
+    href = link.get_attribute("href")
+    check("allow_infeasible=true" in href and "infeasible" in link.text,
+          f"an infeasible plan's cam link says what it exports: {link.text} {href}")
+    check(urllib.request.urlopen(href, timeout=60).status == 200, "the infeasible plan's cam table downloads")
+
+
+def check_key_view(port, plan):
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+        wait_for(driver, f"return document.body.dataset.ready === '{plan['strategy']}'")
+        check(driver.find_element(By.ID, "radius").get_attribute("value") == "48.5"
+              and driver.find_element(By.ID, "stroke").get_attribute("value") == "800",
+              "a plan opened by key fills the form with its format")
+        check(driver.find_element(By.ID, "share-link").get_attribute("href").endswith(f"?key={plan['key']}"),
+              "the link of a key view is the key")
+        check(table_rows(driver)[0]["cells"] == expected_row(plan), "the key view shows the plan")
+    finally:
+        driver.quit()
+
+
+def check_bad_link(port):
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?r=48.5&h=150&fill=82&fluid=mercury&stroke=800&T=1&strategy=notch")
+        wait_for(driver, "return document.body.dataset.loaded === '1'")
+        error = driver.find_element(By.ID, "form-error").text
+        check("fluid=mercury" in error, f"a link with an unknown fluid says so: {error!r}")
+        check(table_rows(driver) == [], "a link the form cannot hold plans nothing")
+    finally:
+        driver.quit()
 
 
 def check_labels(driver):
@@ -295,11 +340,15 @@ def main():
         driver.get(f"http://127.0.0.1:{port}/")
         wait_for(driver, "return document.body.dataset.loaded === '1'")
         check_labels(driver)
+        check(not driver.find_element(By.ID, "downloads").is_displayed(), "no downloads before a plan")
         plan = check_single_plan(driver, port)
         check_cam_download(driver, args.slosh, workdir)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
         check_invalid_radius(driver, port)
         check_shared_url(driver, plan)
+        check_infeasible_cam_link(driver, port)
+        check_key_view(port, plan)
+        check_bad_link(port)
         check_sub_path(port)
         severe = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"
                   and "422" not in e["message"]]
