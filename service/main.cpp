@@ -1,4 +1,4 @@
-// `slosh`: the command-line entry point (serve, plan, simulate, batch, export).
+// `slosh`: the command-line entry point (serve, plan, simulate, min-time, batch, export).
 
 #include <CLI/CLI.hpp>
 
@@ -165,6 +165,9 @@ int main(int argc, char** argv) {
       "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
   auto* plan = add_request_command(
       app, a, "plan", "Plan the 7-segment law of a format (JSON in, the /v1/plans response out)");
+  auto* min_time = add_request_command(
+      app, a, "min-time",
+      "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");
   auto* batch = add_batch(app, a);
   auto* export_cmd = add_export(app, a);
   try {
@@ -174,6 +177,7 @@ int main(int argc, char** argv) {
   }
   if (*simulate) return slosh::service::run_simulate_command(a.request);
   if (*plan) return slosh::service::run_plan_command(a.request);
+  if (*min_time) return slosh::service::run_min_time_command(a.request);
   const std::optional<ServerConfig> server =
       layered_config(a, app.get_subcommands().front()->get_name());
   if (!server) return slosh::service::kExitInvalidInput;
