@@ -28,11 +28,12 @@ double accel_time(double v, double a, double j) {
 }
 
 /// T rounded up to the 1 ms grid (a value already on it, up to round-off, stays).
+/// (Divided, not multiplied, by the grid count: 955 / 1000 is the double nearest 0.955.)
 double ceil_to_grid(double t) {
-  return std::ceil(t / kMinTimeResolution - 1e-9) * kMinTimeResolution;
+  return std::ceil(t / kMinTimeResolution - 1e-9) / std::round(1.0 / kMinTimeResolution);
 }
 double round_to_grid(double t) {
-  return std::round(t / kMinTimeResolution) * kMinTimeResolution;
+  return std::round(t / kMinTimeResolution) / std::round(1.0 / kMinTimeResolution);
 }
 
 std::string mm(double metres) {
