@@ -105,6 +105,13 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
       ->check(CLI::IsMember({"auto", "always", "never"}))
       ->capture_default_str();
   batch->add_flag("--full", a.batch.full, "JSON output: add the whole plan to each row");
+  batch
+      ->add_option("--mode", a.batch.mode,
+                   "plan: a plan per recipe; min_time: each strategy's minimum motion time per "
+                   "recipe (motion_time_s = the upper end of the search; T_min per strategy, "
+                   "winner, gain)")
+      ->check(CLI::IsMember({"plan", "min_time"}))
+      ->capture_default_str();
   return batch;
 }
 

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -212,6 +213,58 @@ TEST(MinTimeApi, CliPrintsTheResponseFromAFileAndStdinAndRefusesBadInput) {
             json::parse(R"j({"error": {"code": "invalid_value", "field": "format.motion_time_s",
               "message": "format.motion_time_s is not part of a min-time request: the search finds the motion time; bound it with motion_time_max_s (default 5 s)"}})j"));
   EXPECT_TRUE(bad.out.empty());
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
+  const test::TempDir dir;
+  test::write_file(dir / "recipes.csv",
+                   "recipe_id,radius_mm,container_height_mm,fill_height_mm,fluid,stroke_mm,"
+                   "motion_time_s,strategy,eta_rest_max_mm\n"
+                   "thesis,48.5,150,82,water,800,2,,3\n"
+                   "bad,48.5,150,82,water,-5,1.5,,\n");
+  const RunResult r =
+      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--out",
+                 (dir / "out.jsonl").string(), "--workers", "2"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_EQ(r.err, "slosh batch: row 2 could not be searched: see the message of the row\n");
+  std::vector<json> rows;
+  std::istringstream lines(test::read_file(dir / "out.jsonl"));
+  for (std::string line; std::getline(lines, line);) rows.push_back(json::parse(line));
+  ASSERT_EQ(rows.size(), 2u);
+  // The good row equals the in-process search of the equivalent min-time request.
+  const json reference = in_process(json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
+               "fluid": "water", "stroke_mm": 800},
+    "motion_time_max_s": 2, "eta_rest_max_mm": 3})"));
+  const json& good = rows[0];
+  EXPECT_EQ(good["status"], "ok");
+  EXPECT_EQ(good["recipe_id"], "thesis");
+  EXPECT_EQ(good["key"], reference["key"]);
+  ASSERT_EQ(reference["strategies"].size(), 7u);
+  for (const json& s : reference["strategies"]) {
+    EXPECT_EQ(good["t_min_" + s["strategy"].get<std::string>() + "_s"], s["t_min_s"])
+        << s["strategy"];
+  }
+  EXPECT_EQ(good["winner"], reference["headline"]["winner"]);
+  EXPECT_EQ(good["gain_pct"], reference["headline"]["gain_pct"]);
+  EXPECT_EQ(good["gain_cycles_per_min"], reference["headline"]["gain_cycles_per_min"]);
+  const json& bad = rows[1];
+  EXPECT_EQ(bad["status"], "error");
+  EXPECT_EQ(bad["message"], "stroke_mm = -5 is out of range: allowed 0.01 to 100000 mm");
+  EXPECT_EQ(bad["error_field"], "stroke_mm");
+
+  const RunResult server =
+      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--server",
+                 "http://127.0.0.1:1"});
+  EXPECT_EQ(server.exit_code, 2);
+  EXPECT_EQ(server.err,
+            "slosh batch: --mode min_time searches locally: --server is not supported\n");
 }
 
 }  // namespace

@@ -298,6 +298,26 @@ json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResul
   return out;
 }
 
+json min_time_body_from_recipe(const json& plan_request) {
+  if (!plan_request.is_object()) return plan_request;  // the parser names the problem
+  json body = plan_request;
+  body.erase("strategy");
+  if (body.contains("format") && body["format"].is_object() &&
+      body["format"].contains("motion_time_s")) {
+    body["motion_time_max_s"] = body["format"]["motion_time_s"];
+    body["format"].erase("motion_time_s");
+  }
+  if (body.contains("options") && body["options"].is_object()) {
+    for (const char* limit : {"eta_rest_max_mm", "eta_motion_max_mm"}) {
+      if (body["options"].contains(limit)) {
+        body[limit] = body["options"][limit];
+        body["options"].erase(limit);
+      }
+    }
+  }
+  return body;
+}
+
 json run_min_time(const MinTimeRequest& request) {
   std::vector<MinTimeResult> results;
   for (Strategy s : request.strategies) {

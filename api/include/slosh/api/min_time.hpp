@@ -50,6 +50,12 @@ struct MinTimeRequest {
                                            const std::vector<MinTimeResult>& results,
                                            const std::string& key);
 
+/// The min-time request of a recipe-table row (`slosh batch --mode min_time`): its plan request
+/// with format.motion_time_s as motion_time_max_s, options.eta_rest_max_mm and
+/// options.eta_motion_max_mm as the search's limits, and no strategy (every strategy but iir is
+/// searched); everything else as written, to be validated by parse_min_time_request.
+[[nodiscard]] nlohmann::json min_time_body_from_recipe(const nlohmann::json& plan_request);
+
 /// Runs every strategy of a validated request one after the other and renders the response.
 [[nodiscard]] nlohmann::json run_min_time(const MinTimeRequest& request);
 
