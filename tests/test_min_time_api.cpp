@@ -193,6 +193,19 @@ TEST(MinTimeApi, RealServerAnswersAsTheApiCachesAndRefusesBadInput) {
   EXPECT_EQ(budget->status, 422);
 }
 
+TEST(MinTimeApi, FullQueueAnswers503WithRetryAfter) {
+  // One worker and room for one queued search: seven strategies cannot all be queued.
+  test::Server server({"--workers", "1", "--queue", "1"});
+  auto client = server.client();
+  json body = thesis_request();
+  body.erase("strategies");  // every strategy but iir: seven tasks
+  const auto r = client.Post("/v1/min-time", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 503) << r->body;
+  EXPECT_EQ(r->get_header_value("Retry-After"), "1");
+  EXPECT_EQ(json::parse(r->body)["error"]["code"], "overloaded");
+}
+
 TEST(MinTimeApi, CliPrintsTheResponseFromAFileAndStdinAndRefusesBadInput) {
   const test::TempDir dir;
   json body = thesis_request();

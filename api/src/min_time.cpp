@@ -136,7 +136,7 @@ MinTimeRequest parse_min_time_request(const json& body, double budget) {
   reject_unknown_fields(body, "",
                         {"format", "motion_time_max_s", "eta_motion_max_mm", "free_board_margin_mm",
                          "eta_rest_max_mm", "limit_model", "strategies", "scan_step_s", "max_plans",
-                         "curve_factor", "options"});
+                         "curve_factor", "refine_excess", "options"});
   if (!body.contains("format")) {
     invalid("format",
             "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\"}");
