@@ -5,8 +5,9 @@
 
 #include <benchmark/benchmark.h>
 
-#include "slosh/core/strategy/planner.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/strategy/min_time.hpp"
+#include "slosh/core/strategy/planner.hpp"
 #include "strategy/strategies.hpp"
 
 namespace {
@@ -121,5 +122,26 @@ void BM_GeneralLawSpectrum(benchmark::State& state) {
 BENCHMARK(BM_GeneralLawSpectrum)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
+
+// The whole minimum-time search of one strategy (SPEC §8/§9) on the thesis format: R 48.5 mm,
+// fill 82 mm, height 150 mm (eta_motion <= the free board, 68 mm, as in issue 18), water, stroke
+// 800 mm, eta_rest <= 3 mm on the nonlinear model; counters: plans solved and T_min.
+void BM_MinTime(benchmark::State& state) {
+  slosh::Format f = slosh::thesis_format();
+  f.container.height = 0.150;
+  const auto strategy = static_cast<slosh::Strategy>(state.range(0));
+  slosh::MinTimeOptions o;
+  o.free_board_margin = 0.0;
+  o.plan.time_limit = 60.0;
+  slosh::MinTimeResult r;
+  for (auto _ : state) {
+    r = slosh::min_time(f, strategy, o);
+    benchmark::DoNotOptimize(r.t_min);
+  }
+  state.SetLabel(slosh::to_string(strategy) + " " + slosh::to_string(r.status));
+  state.counters["plans"] = r.plans;
+  state.counters["t_min_ms"] = r.t_min ? *r.t_min * 1e3 : -1.0;
+}
+BENCHMARK(BM_MinTime)->DenseRange(0, 6)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -1,8 +1,10 @@
 #include "batch_command.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <fstream>
+#include <future>
 #include <iostream>
 #include <map>
 #include <memory>
@@ -17,6 +19,9 @@
 #include "recipe_table.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/service_bodies.hpp"
+#include "slosh/api/min_time.hpp"
+#include "slosh/api/recipe_row.hpp"
+#include "worker_pool.hpp"
 
 namespace slosh::service {
 
@@ -192,6 +197,168 @@ std::string failed_rows_text(const std::vector<std::size_t>& rows) {
   return text;
 }
 
+// ---- min_time mode ---------------------------------------------------------------------------
+
+/// An RFC 4180 cell: text quoted when it holds a comma, a quote or a line break.
+std::string csv_cell(const json& v) {
+  if (v.is_null()) return "";
+  if (!v.is_string()) return api::dump_json(v);
+  const std::string text = v.get<std::string>();
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+/// The min_time table's columns (CSV header and JSON members, in order).
+std::vector<std::string> min_time_columns() {
+  std::vector<std::string> c{"row", "recipe_id", "status", "key"};
+  for (Strategy s : api::default_min_time_strategies()) c.push_back("t_min_" + to_string(s) + "_s");
+  for (const char* name : {"winner", "winner_t_min_s", "baseline_t_min_s", "gain_pct",
+                           "gain_cycles_per_min", "message", "error_field"}) {
+    c.emplace_back(name);
+  }
+  return c;
+}
+
+/// Writes the min_time rows in the table format.
+class MinTimeWriter {
+ public:
+  MinTimeWriter(std::ostream& out, TableFormat format) : out_(out), format_(format) {
+    if (format_ == TableFormat::kCsv) {
+      std::string header;
+      for (const std::string& c : min_time_columns()) header += (header.empty() ? "" : ",") + c;
+      out_ << header << '\n';
+    } else if (format_ == TableFormat::kJson) {
+      out_ << '[';
+    }
+  }
+  void write(const json& row) {
+    if (format_ == TableFormat::kCsv) {
+      std::string line;
+      bool first = true;
+      for (const std::string& c : min_time_columns()) {
+        line += (first ? "" : ",") + csv_cell(row.value(c, json(nullptr)));
+        first = false;
+      }
+      out_ << line << '\n';
+    } else if (format_ == TableFormat::kJson) {
+      out_ << (rows_ == 0 ? "\n" : ",\n") << api::dump_json(row);
+    } else {
+      out_ << api::dump_json(row) << '\n';
+    }
+    ++rows_;
+    out_.flush();
+  }
+  void finish() {
+    if (format_ == TableFormat::kJson) out_ << (rows_ == 0 ? "]\n" : "\n]\n");
+    out_.flush();
+  }
+
+ private:
+  std::ostream& out_;
+  TableFormat format_;
+  std::size_t rows_{0};
+};
+
+json min_time_error_row(const RecipeRow& recipe, const api::ApiError& e) {
+  json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}, {"status", "error"}};
+  std::string field = e.field();
+  std::string message = e.what();
+  if (recipe.csv) {  // name the CSV column, as plan tables do
+    message = api::in_column_terms(field, message);
+    field = field == "motion_time_max_s" ? "motion_time_s" : api::column_of_field(field);
+  }
+  row["message"] = message;
+  row["error_field"] = field.empty() ? json(nullptr) : json(field);
+  return row;
+}
+
+/// Searches every row's strategies on a pool of `config.workers` (one task per row and strategy)
+/// and writes the rows in input order; returns the 1-based numbers of the rows in error.
+std::vector<std::size_t> run_min_time_table(const std::vector<RecipeRow>& rows,
+                                            const ServerConfig& config, MinTimeWriter& writer) {
+  struct Job {
+    std::optional<api::MinTimeRequest> request;
+    std::optional<api::ApiError> error;
+    std::vector<MinTimeResult> results;
+    std::vector<std::future<void>> done;
+  };
+  std::vector<Job> jobs(rows.size());
+  const std::size_t workers =
+      config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers;
+  WorkerPool pool(workers, 1024);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    Job& job = jobs[i];
+    if (!rows[i].error.is_null()) {
+      job.error = api::error_from_json(rows[i].error);
+      continue;
+    }
+    try {
+      job.request = api::parse_min_time_request(api::min_time_body_from_recipe(rows[i].request),
+                                                config.solve_budget_s);
+    } catch (const api::ApiError& e) {
+      job.error = e;
+      continue;
+    }
+    job.results.resize(job.request->strategies.size());
+    for (std::size_t k = 0; k < job.results.size(); ++k) {
+      auto promise = std::make_shared<std::promise<void>>();
+      job.done.push_back(promise->get_future());
+      const api::MinTimeRequest* request = &*job.request;
+      MinTimeResult* slot = &job.results[k];
+      if (!pool.submit_wait([request, slot, k, promise] {
+            *slot = min_time(request->format, request->strategies[k], request->options);
+            promise->set_value();
+          })) {
+        throw BatchAbort("the worker pool refused a search");
+      }
+    }
+  }
+  std::vector<std::size_t> failed;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    Job& job = jobs[i];
+    for (auto& f : job.done) f.wait();
+    if (!job.error) {
+      for (const MinTimeResult& r : job.results) {
+        if (r.invalid_input) {
+          job.error =
+              api::ApiError(api::ErrorCode::kInvalidValue, "format",
+                            "invalid input: " + r.invalid_input->message + "; nothing was planned");
+        }
+      }
+    }
+    if (job.error) {
+      failed.push_back(rows[i].row);
+      writer.write(min_time_error_row(rows[i], *job.error));
+      continue;
+    }
+    const json body =
+        api::min_time_json(*job.request, job.results, api::min_time_key(*job.request));
+    json row{{"row", rows[i].row},
+             {"recipe_id", rows[i].recipe_id},
+             {"status", "ok"},
+             {"key", body["key"]}};
+    std::string message;
+    for (const json& s : body["strategies"]) {
+      row["t_min_" + s["strategy"].get<std::string>() + "_s"] = s["t_min_s"];
+      if (s["status"] != "optimal") {
+        message += (message.empty() ? "" : "; ") + s["strategy"].get<std::string>() + ": " +
+                   s["status"].get<std::string>();
+      }
+    }
+    const json& h = body["headline"];
+    row["winner"] = h["winner"];
+    row["winner_t_min_s"] = h["t_min_s"];
+    row["baseline_t_min_s"] = h["baseline_t_min_s"];
+    row["gain_pct"] = h["gain_pct"];
+    row["gain_cycles_per_min"] = h["gain_cycles_per_min"];
+    row["message"] = message.empty() ? json(nullptr) : json(message);
+    writer.write(row);
+  }
+  return failed;
+}
+
 }  // namespace
 
 int run_batch_command(const BatchCommandOptions& options) {
@@ -223,6 +390,16 @@ int run_batch_command(const BatchCommandOptions& options) {
     return kExitInvalidInput;
   }
 
+  if (options.mode == "min_time") {
+    if (!options.server.empty()) {
+      std::cerr << "slosh batch: --mode min_time searches locally: --server is not supported\n";
+      return kExitInvalidInput;
+    }
+    if (options.full) {
+      std::cerr << "slosh batch: --full is for plan tables, not --mode min_time\n";
+      return kExitInvalidInput;
+    }
+  }
   const bool to_stdout = options.out == "-";
   const std::string partial = options.out + ".partial";
   std::ofstream file;
@@ -234,6 +411,32 @@ int run_batch_command(const BatchCommandOptions& options) {
     }
   }
   std::ostream& out = to_stdout ? std::cout : file;
+  if (options.mode == "min_time") {
+    std::vector<std::size_t> failed;
+    try {
+      MinTimeWriter writer(out, out_format);
+      failed = run_min_time_table(rows, options.config, writer);
+      writer.finish();
+    } catch (const std::exception& e) {
+      std::cerr << "slosh batch: stopped: " << e.what() << '\n';
+      return kExitFailure;
+    }
+    if (!to_stdout) {
+      file.close();
+      if (!file || std::rename(partial.c_str(), options.out.c_str()) != 0) {
+        std::cerr << "slosh batch: cannot write '" << options.out << "' (the table is in "
+                  << partial << ")\n";
+        return kExitFailure;
+      }
+    }
+    if (!failed.empty()) {
+      std::cerr << "slosh batch: " << (failed.size() == 1 ? "row " : "rows ")
+                << failed_rows_text(failed)
+                << " could not be searched: see the message of the row\n";
+      return kExitSomeRowsFailed;
+    }
+    return kExitOk;
+  }
   PlanTableWriter writer(out, out_format);
   RowSink sink(writer, options.full);
   const bool draw = progress_enabled(options.progress);

@@ -31,6 +31,9 @@ struct BatchCommandOptions {
   ProgressMode progress{ProgressMode::kAuto};
   /// Adds the whole plan to each JSON row.
   bool full{false};
+  /// "plan" (a plan per recipe) or "min_time" (each strategy's minimum motion time per recipe,
+  /// SPEC §9: motion_time_s is the upper end of the search; local only). Default "plan".
+  std::string mode{"plan"};
 };
 
 /// Runs the batch; returns 0 when every row was planned, kExitSomeRowsFailed when some rows

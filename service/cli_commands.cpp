@@ -5,6 +5,7 @@
 
 #include "io.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
 
@@ -47,6 +48,15 @@ int run_simulate_command(const std::string& request_path) {
 int run_plan_command(const std::string& request_path) {
   return print_json_or_error(
       [&] { return api::run_plan(api::parse_plan_request(read_request(request_path))); });
+}
+
+int run_min_time_command(const std::string& request_path) {
+  return print_json_or_error([&] {
+    // No server budget here: options.time_limit_s (per strategy) may be up to its 600 s maximum,
+    // which is also its default (the searches end long before).
+    return api::run_min_time(
+        api::parse_min_time_request(read_request(request_path), api::plan_ranges::kTimeLimit.hi));
+  });
 }
 
 }  // namespace slosh::service

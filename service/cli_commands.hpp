@@ -16,4 +16,8 @@ int run_simulate_command(const std::string& request_path);
 /// status, which the JSON carries); invalid input as for simulate.
 int run_plan_command(const std::string& request_path);
 
+/// `slosh min-time --request FILE|-`: prints the min-time response (SPEC §9) on stdout, every
+/// strategy searched in turn (exit 0 whatever their status); invalid input as for simulate.
+int run_min_time_command(const std::string& request_path);
+
 }  // namespace slosh::service

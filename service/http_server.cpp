@@ -254,6 +254,10 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
           return gone;
         });
       };
+    case api::Operation::kMinTime:
+      return [&service](const httplib::Request& req, const std::string& body) {
+        return service.post_min_time(body, req.get_header_value("If-None-Match"));
+      };
     case api::Operation::kGetPlan:
       return [&service](const httplib::Request& req, const std::string&) {
         return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));

@@ -1,4 +1,4 @@
-// `slosh`: the command-line entry point (serve, plan, simulate, batch, export).
+// `slosh`: the command-line entry point (serve, plan, simulate, min-time, batch, export).
 
 #include <CLI/CLI.hpp>
 
@@ -105,6 +105,13 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
       ->check(CLI::IsMember({"auto", "always", "never"}))
       ->capture_default_str();
   batch->add_flag("--full", a.batch.full, "JSON output: add the whole plan to each row");
+  batch
+      ->add_option("--mode", a.batch.mode,
+                   "plan: a plan per recipe; min_time: each strategy's minimum motion time per "
+                   "recipe (motion_time_s = the upper end of the search; T_min per strategy, "
+                   "winner, gain)")
+      ->check(CLI::IsMember({"plan", "min_time"}))
+      ->capture_default_str();
   return batch;
 }
 
@@ -165,6 +172,9 @@ int main(int argc, char** argv) {
       "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
   auto* plan = add_request_command(
       app, a, "plan", "Plan the 7-segment law of a format (JSON in, the /v1/plans response out)");
+  auto* min_time = add_request_command(
+      app, a, "min-time",
+      "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");
   auto* batch = add_batch(app, a);
   auto* export_cmd = add_export(app, a);
   try {
@@ -174,6 +184,7 @@ int main(int argc, char** argv) {
   }
   if (*simulate) return slosh::service::run_simulate_command(a.request);
   if (*plan) return slosh::service::run_plan_command(a.request);
+  if (*min_time) return slosh::service::run_min_time_command(a.request);
   const std::optional<ServerConfig> server =
       layered_config(a, app.get_subcommands().front()->get_name());
   if (!server) return slosh::service::kExitInvalidInput;

@@ -4,13 +4,17 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <future>
+#include <memory>
 #include <optional>
 #include <thread>
 #include <utility>
 
 #include "export_command.hpp"
+#include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/min_time.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_reply.hpp"
@@ -82,6 +86,10 @@ PlanService::PlanService(const ServerConfig& config)
                          .memory_entries = config.cache_entries,
                          .memory_bytes = config.cache_memory_bytes,
                          .store_bytes = config.cache_store_bytes}),
+      min_time_cache_(CacheConfig{.path = "",
+                                  .memory_entries = config.cache_entries,
+                                  .memory_bytes = config.cache_memory_bytes,
+                                  .store_bytes = 0}),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
           config.queue) {}
@@ -220,6 +228,91 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     const Outcome& outcome = future.get();
     if (outcome.error) return from_api_error(*outcome.error);
     return plan_reply(key, outcome.plan, false, if_none_match, request, sample_period);
+  });
+}
+
+Reply PlanService::post_min_time(const std::string& text, const std::string& if_none_match) {
+  return guarded([&] {
+    const api::MinTimeRequest request =
+        api::parse_min_time_request(api::parse_json_body(text), config_.solve_budget_s);
+    const std::string key = api::min_time_key(request);
+    auto answer = [&](std::string body, bool cached) {
+      Reply r;
+      r.headers.emplace_back("ETag", etag(key));
+      r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
+      if (cached && etag_matches(if_none_match, etag(key))) {
+        r.status = 304;
+        return r;
+      }
+      if (cached) {
+        json out = json::parse(body);
+        out["cached"] = true;
+        body = api::dump_json(out);
+      }
+      r.body = std::move(body);
+      return r;
+    };
+    if (auto hit = min_time_cache_.get(key)) {
+      metrics_.count_cache(true);
+      return answer(*hit, true);
+    }
+    if (!ready_) return overloaded_reply();
+    metrics_.count_cache(false);
+    // One task per strategy; each writes its own slot.
+    const std::size_t n = request.strategies.size();
+    auto results = std::make_shared<std::vector<MinTimeResult>>(n);
+    std::vector<std::future<void>> done;
+    for (std::size_t i = 0; i < n; ++i) {
+      auto promise = std::make_shared<std::promise<void>>();
+      done.push_back(promise->get_future());
+      auto task = [this, request, results, i, promise] {
+        const auto started = std::chrono::steady_clock::now();
+        if (!ready_) {
+          (*results)[i].status = SolveStatus::kTimeLimit;
+          (*results)[i].message = "the service is shutting down";
+        } else {
+          try {
+            (*results)[i] = min_time(request.format, request.strategies[i], request.options);
+          } catch (...) {
+            (*results)[i].status = SolveStatus::kFailed;
+            (*results)[i].message = "the search failed";
+          }
+        }
+        metrics_.observe_solve(
+            "min_time:" + to_string(request.strategies[i]),
+            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+        promise->set_value();
+      };
+      if (!pool_.try_submit(task)) {
+        // The queued ones still run (their results are dropped); this request is refused.
+        return overloaded_reply();
+      }
+    }
+    const auto deadline =
+        std::chrono::steady_clock::now() +
+        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+            std::chrono::duration<double>(request.options.plan.time_limit + config_.queue_wait_s));
+    for (auto& f : done) {
+      if (f.wait_until(deadline) != std::future_status::ready) {
+        return error_reply(api::ErrorCode::kTimeout,
+                           "the min-time search did not finish within its budget of " +
+                               api::number_text(request.options.plan.time_limit) + " s plus " +
+                               api::number_text(config_.queue_wait_s) + " s of queueing");
+      }
+    }
+    for (const MinTimeResult& r : *results) {
+      if (r.invalid_input) {
+        throw api::ApiError(
+            api::ErrorCode::kInvalidValue, "format",
+            api::plan_refusal(*r.invalid_input, request.format, request.options.plan));
+      }
+    }
+    std::string body = api::dump_json(api::min_time_json(request, *results, key));
+    const bool cacheable = std::all_of(results->begin(), results->end(), [](const auto& r) {
+      return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kInfeasible;
+    });
+    if (cacheable) min_time_cache_.put(key, body);
+    return answer(std::move(body), false);
   });
 }
 

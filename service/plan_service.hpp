@@ -79,6 +79,11 @@ class PlanService {
   PendingBatch start_batch(const std::vector<nlohmann::json>& requests,
                            const std::function<bool()>& abandoned = {});
   Reply post_simulate(const std::string& body);
+  /// POST /v1/min-time (SPEC §9): each strategy's search is one task on the worker pool (so the
+  /// strategies run in parallel), within options.time_limit_s per search; 503 when the queue has
+  /// no room for them, 504 when they have not finished their budget plus queue_wait_s after.
+  /// Answers are cached in memory per request key when every search ended optimal or infeasible.
+  Reply post_min_time(const std::string& body, const std::string& if_none_match);
   Reply fluids() const;
   /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
   /// `if_none_match` names the ETag, 404 for an unknown name.
@@ -121,6 +126,8 @@ class PlanService {
   ServerConfig config_;
   Metrics metrics_;
   PlanCache cache_;
+  // Min-time answers by request key (memory only: the plan store holds plans).
+  PlanCache min_time_cache_;
   // A running solve of a recipe: its result, its time budget [s], and its number (so that only
   // this solve removes its own entry).
   struct Flight {

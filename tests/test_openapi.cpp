@@ -19,6 +19,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/min_time.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
@@ -594,7 +595,7 @@ TEST(OpenApiResponses, ErrorEnvelopeFluidsAndExamplesFitTheirSchemas) {
   }
   EXPECT_EQ(documented, codes);
   EXPECT_EQ(statuses, (std::set<int>{400, 404, 405, 408, 413, 414, 415, 416, 422, 431, 499, 500,
-                                      501, 503, 504}));
+                                     501, 503, 504}));
 
   const auto fluid_errors = validation_errors("FluidsResponse", fluids_json());
   EXPECT_TRUE(fluid_errors.empty()) << joined(fluid_errors);
@@ -613,6 +614,58 @@ TEST(OpenApiResponses, ErrorEnvelopeFluidsAndExamplesFitTheirSchemas) {
   typo["format"]["container"]["radius"] = 48.5;
   EXPECT_FALSE(validation_errors("PlanRequest", typo).empty());
   EXPECT_THROW((void)parse_plan_request(typo), ApiError);
+}
+
+}  // namespace
+}  // namespace slosh::api
+
+namespace slosh::api {
+namespace {
+
+TEST(OpenApiResponses, MinTimeResponsesFitTheMinTimeResponseSchema) {
+  // A feasible search (with its plan) and an infeasible one (the best point and its plan).
+  json body{{"format",
+             {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+              {"fill_height_mm", 82},
+              {"fluid", "water"},
+              {"stroke_mm", 800}}},
+            {"strategies", {"shaper", "baseline"}},
+            {"motion_time_max_s", 1.0},
+            {"eta_rest_max_mm", 0.5}};
+  const json out = run_min_time(parse_min_time_request(body, 10.0));
+  expect_top_level_keys("MinTimeResponse", out);
+  const auto errors = validation_errors("MinTimeResponse", out);
+  EXPECT_TRUE(errors.empty()) << joined(errors);
+  ASSERT_EQ(out["strategies"].size(), 2u);
+  for (const json& s : out["strategies"]) {
+    expect_top_level_keys("MinTimeStrategyResult", s);
+    ASSERT_TRUE(s["plan"].is_object()) << s["strategy"];
+    const auto plan_errors = validation_errors("PlanResponse", s["plan"]);
+    EXPECT_TRUE(plan_errors.empty()) << joined(plan_errors);
+  }
+  EXPECT_EQ(out["strategies"][1]["status"], "infeasible");  // uniform law, eta_rest <= 0.5 mm
+  EXPECT_TRUE(out["strategies"][1]["best"].is_object());
+  // The request schema is closed and lists exactly what the parser accepts at the top level.
+  const json& request = schema("MinTimeRequest");
+  EXPECT_EQ(request["additionalProperties"], false);
+  json probe = body;
+  probe["zzz"] = 1;
+  std::string allowed;
+  try {
+    (void)parse_min_time_request(probe, 10.0);
+  } catch (const ApiError& e) {
+    allowed = e.what();
+  }
+  const std::string prefix = "zzz is not a known field; allowed here: ";
+  ASSERT_EQ(allowed.rfind(prefix, 0), 0u) << allowed;
+  std::set<std::string> parser, documented;
+  std::string list = allowed.substr(prefix.size()) + ", ";
+  for (std::size_t at = 0, comma; (comma = list.find(", ", at)) != std::string::npos;
+       at = comma + 2) {
+    parser.insert(list.substr(at, comma - at));
+  }
+  for (const auto& [key, value] : request["properties"].items()) documented.insert(key);
+  EXPECT_EQ(parser, documented);
 }
 
 }  // namespace

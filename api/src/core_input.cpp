@@ -174,6 +174,18 @@ std::string_view api_field_path(PlanInput input, Endpoint endpoint) {
       return "law";
     case PlanInput::kSamplePeriod:
       return "sample_period_s";
+    case PlanInput::kMotionTimeMax:
+      return "motion_time_max_s";
+    case PlanInput::kFreeBoardMargin:
+      return "free_board_margin_mm";
+    case PlanInput::kScanStep:
+      return "scan_step_s";
+    case PlanInput::kMaxPlans:
+      return "max_plans";
+    case PlanInput::kCurveFactor:
+      return "curve_factor";
+    case PlanInput::kRefineExcess:
+      return "refine_excess";
   }
   return "";
 }

@@ -5,6 +5,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/min_time.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/routes.hpp"
@@ -656,6 +657,126 @@ std::string_view status_component(int status) {
   }
 }
 
+/// The request and response of POST /v1/min-time (SPEC §9).
+void add_min_time_schemas(json& s, const OptionRegistry& registry) {
+  namespace mr = min_time_ranges;
+  json format = s["Format"];
+  format["properties"].erase("motion_time_s");
+  format["required"] = {"container", "fill_height_mm", "fluid", "stroke_mm"};
+  format["description"] =
+      "The format without motion_time_s: the search finds it (giving it is a 422).";
+  s["MinTimeFormat"] = format;
+  json options = s["PlanOptions"];
+  options["properties"].erase("eta_rest_max_mm");
+  options["properties"].erase("eta_motion_max_mm");
+  options["description"] =
+      "The plan options every plan of the search runs with (machine limits in limits); "
+      "time_limit_s is the budget of each strategy's search. eta_rest_max_mm and "
+      "eta_motion_max_mm are set by the search (top-level members).";
+  s["MinTimeOptions"] = options;
+  std::vector<std::string> strategies;
+  for (Strategy st : enum_values<Strategy>()) {
+    if (st != Strategy::kAuto) strategies.push_back(to_string(st));
+  }
+  json strategy_list{{"type", "array"},
+                     {"items", string_enum(strategies, "A strategy to search.")},
+                     {"minItems", 1},
+                     {"maxItems", strategies.size()},
+                     {"uniqueItems", true},
+                     {"description", "The strategies to search; default every strategy but iir."}};
+  json max_plans{{"type", "integer"},
+                 {"minimum", mr::kMaxPlansLo},
+                 {"maximum", mr::kMaxPlansHi},
+                 {"default", MinTimeOptions{}.max_plans},
+                 {"description", "Most plans one strategy's search solves."}};
+  s["MinTimeRequest"] = object(
+      {{"format", ref("MinTimeFormat")},
+       {"motion_time_max_s", with_default(number_in(mr::kMotionTimeMax, "Upper end of the search"),
+                                          kDefaultMotionTimeMax)},
+       {"eta_motion_max_mm",
+        number_in(mr::kEtaMm,
+                  "Largest eta_motion; default the free board height_mm - fill_height_mm - "
+                  "free_board_margin_mm (required without height_mm)")},
+       {"free_board_margin_mm",
+        with_default(number_in(mr::kMarginMm, "Margin below the free board"),
+                     kDefaultFreeBoardMargin * 1e3)},
+       {"eta_rest_max_mm",
+        with_default(number_in(mr::kEtaMm, "Largest eta_rest over the rest window"), 3.0)},
+       {"limit_model", with_default(string_enum(enum_names<LimitModel>(),
+                                                "The model the eta limits apply to (both: the "
+                                                "larger of the two)."),
+                                    to_string(LimitModel::kNonlinear))},
+       {"strategies", strategy_list},
+       {"scan_step_s", with_default(number_in(mr::kScanStep, "Step of the coarse scan"),
+                                    MinTimeOptions{}.scan_step)},
+       {"max_plans", max_plans},
+       {"curve_factor",
+        with_default(number_in(mr::kCurveFactor, "The curve reaches this factor times T_min"),
+                     MinTimeOptions{}.curve_factor)},
+       {"refine_excess",
+        with_default(number_in(mr::kRefineExcess,
+                               "A scanned local minimum of max(eta / limit) at or below this is "
+                               "refined by golden-section search"),
+                     MinTimeOptions{}.refine_excess)},
+       {"options", ref("MinTimeOptions")}},
+      {"format"}, "A format without motion time, the limits and the strategies to search.", true);
+  json nullable_number = {{"type", "number"}, {"nullable", true}};
+  json eta_pair =
+      object({{"eta_motion_mm", numbers("[mm]")}, {"eta_rest_mm", numbers("[mm]")}}, {}, "", false);
+  json curve =
+      object({{"t_s", numbers("Every planned T, ascending [s].")},
+              {"feasible", {{"type", "array"}, {"items", {{"type", "boolean"}}}}},
+              {"plan_status", strings("Status of the plan at each T.")},
+              {"nonlinear", eta_pair},
+              {"linear", eta_pair}},
+             {}, "The eta curve over T (every planned T, with its verified peaks).", false);
+  json best = object(
+      {{"t_s", number("[s]")}, {"eta_motion_mm", number("[mm]")}, {"eta_rest_mm", number("[mm]")}},
+      {}, "The least excess reached (infeasible searches).", false);
+  best["nullable"] = true;
+  json plan = ref("PlanResponse");
+  s["MinTimeStrategyResult"] = object(
+      {{"strategy", text("Strategy searched.")},
+       {"status", text("optimal (T_min found), infeasible (no T up to motion_time_max met the "
+                       "limits; best), time_limit (budget ran out; t_min_s is the best bound so "
+                       "far), failed.")},
+       {"message", text("What happened, for a line engineer.")},
+       {"t_min_s", nullable_number},
+       {"infeasible_below_s", nullable_number},
+       {"feasible_above",
+        {{"type", "boolean"},
+         {"nullable", true},
+         {"description", "Every planned T above t_min_s was feasible."}}},
+       {"kinematic_lower_bound_s", number("Closed-form jerk-limited minimum time [s].")},
+       {"scan_start_s", number("First T scanned [s].")},
+       {"plans", integer("plan() calls of the search.")},
+       {"search_ms", number("Wall-clock time of the search [ms].")},
+       {"best", best},
+       {"plan", {{"allOf", {plan}}, {"nullable", true}}},
+       {"curve", curve}},
+      {"strategy", "status", "message", "t_min_s", "plan", "curve"}, "One strategy's search.",
+      false);
+  s["MinTimeResponse"] = object(
+      {{"key", text("Request key (32 hex digits).")},
+       {"cached", boolean("Answered from the cache.")},
+       {"format", {{"type", "object"}}},
+       {"motion_time_max_s", number("[s]")},
+       {"limits", {{"type", "object"}}},
+       {"kinematic_lower_bound_s", number("[s]")},
+       {"strategies", {{"type", "array"}, {"items", ref("MinTimeStrategyResult")}}},
+       {"headline",
+        object({{"winner", {{"type", "string"}, {"nullable", true}}},
+                {"t_min_s", nullable_number},
+                {"cycles_per_min", nullable_number},
+                {"baseline_t_min_s", nullable_number},
+                {"baseline_cycles_per_min", nullable_number},
+                {"gain_pct", nullable_number},
+                {"gain_cycles_per_min", nullable_number}},
+               {}, "The winner and its gain over the uniform law (motion time only).", false)}},
+      {"key", "cached", "strategies", "headline"}, "Minimum motion time per strategy.", false);
+  (void)registry;
+}
+
 /// `responses` plus a reference to the component response of each of `statuses`.
 json with_statuses(json responses, std::initializer_list<int> statuses) {
   for (int status : statuses) {
@@ -695,6 +816,15 @@ json plan_operation(const Route& route) {
           {"responses", with_statuses({{"200", json_response("One result per request, in order.",
                                                              ref("BatchResponse"))}},
                                       kBodyStatuses)}};
+    case Operation::kMinTime:
+      return {{"tags", {"plans"}},
+              {"parameters", {if_none_match()}},
+              {"requestBody", json_body("MinTimeRequest")},
+              {"responses",
+               with_statuses(with_statuses({{"200", json_response("Each strategy's search.",
+                                                                  ref("MinTimeResponse"))}},
+                                           kBodyStatuses),
+                             {304, 503, 504})}};
     default:
       return {{"tags", {"simulation"}},
               {"requestBody", json_body("SimulateRequest")},
@@ -780,6 +910,7 @@ json operation(const Route& route) {
     case Operation::kGetPlan:
     case Operation::kPlanBatch:
     case Operation::kSimulate:
+    case Operation::kMinTime:
       return plan_operation(route);
     case Operation::kCamTable:
     case Operation::kPage:
@@ -814,6 +945,7 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
   add_plan_response_schemas(schemas);
   add_simulate_response_schemas(schemas);
   add_service_schemas(schemas);
+  add_min_time_schemas(schemas, registry);
   return {{"openapi", "3.0.3"},
           {"info",
            {{"title", "slosh planner"},

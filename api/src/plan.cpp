@@ -142,7 +142,10 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
 }
 
 std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry) {
-  const std::string text = canonical_recipe(request, registry).dump();
+  return sha256_key(canonical_recipe(request, registry).dump());
+}
+
+std::string sha256_key(const std::string& text) {
   unsigned char digest[EVP_MAX_MD_SIZE];
   unsigned int length = 0;
   if (EVP_Digest(text.data(), text.size(), digest, &length, EVP_sha256(), nullptr) != 1) {

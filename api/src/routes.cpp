@@ -13,6 +13,8 @@ constexpr std::array kRoutes{
           "Plan many formats in parallel (recipe-table precompute)"},
     Route{"GET", "/v1/plans/{key}", Operation::kGetPlan, "getPlan",
           "A cached plan by its recipe key"},
+    Route{"POST", "/v1/min-time", Operation::kMinTime, "minTime",
+          "Minimum motion time of a format per strategy (SPEC §9)"},
     Route{"POST", "/v1/simulate", Operation::kSimulate, "simulate",
           "Wave-height response and peaks of any supported law"},
     Route{"GET", "/v1/fluids", Operation::kFluids, "listFluids", "The fluid catalogue"},

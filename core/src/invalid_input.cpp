@@ -38,7 +38,7 @@ std::string allowed_text(const InputBounds& b, std::string_view unit, bool integ
 }
 
 bool integer_input(PlanInput input) {
-  return input == PlanInput::kModes || input == PlanInput::kNBand;
+  return input == PlanInput::kModes || input == PlanInput::kNBand || input == PlanInput::kMaxPlans;
 }
 
 }  // namespace
@@ -52,6 +52,7 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kEtaRestMax:
     case PlanInput::kEtaMotionMax:
     case PlanInput::kUniformResponse:
+    case PlanInput::kFreeBoardMargin:
       return "m";
     case PlanInput::kFluidDensity:
       return "kg/m^3";
@@ -66,6 +67,8 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kIirSamplePeriod:
     case PlanInput::kLaw:
     case PlanInput::kSamplePeriod:
+    case PlanInput::kMotionTimeMax:
+    case PlanInput::kScanStep:
       return "s";
     case PlanInput::kAMax:
       return "m/s^2";
@@ -87,6 +90,9 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kNBand:
     case PlanInput::kTolRel:
     case PlanInput::kResidual:
+    case PlanInput::kMaxPlans:
+    case PlanInput::kCurveFactor:
+    case PlanInput::kRefineExcess:
       return "";
   }
   return "";

@@ -53,6 +53,10 @@ struct PlanRequest {
 [[nodiscard]] std::string recipe_key(const PlanRequest& request,
                                      const OptionRegistry& registry = plan_option_registry());
 
+/// First 32 hex digits of the SHA-256 of `text`: the key of a canonical JSON text (recipe_key,
+/// min_time_key).
+[[nodiscard]] std::string sha256_key(const std::string& text);
+
 /// The canonical JSON the key is computed from.
 /// Its "options" are the registry's recipe() of the options.
 [[nodiscard]] nlohmann::json canonical_recipe(

@@ -11,6 +11,7 @@ namespace slosh::api {
 enum class Operation {
   kPlan,
   kPlanBatch,
+  kMinTime,
   kGetPlan,
   kSimulate,
   kFluids,

@@ -50,11 +50,17 @@ enum class PlanInput {
   kReferenceLevels,   ///< X_ref and the uniform jerk integral (finite, > 0) [m/s]
   kLaw,               ///< simulate()'s law: pieces, finite duration and stroke [s]
   kSamplePeriod,      ///< SimulationOptions::sample_period [s]
+  kMotionTimeMax,     ///< MinTimeOptions::motion_time_max [s]
+  kFreeBoardMargin,   ///< MinTimeOptions::free_board_margin [m]
+  kScanStep,          ///< MinTimeOptions::scan_step [s]
+  kMaxPlans,          ///< MinTimeOptions::max_plans [-]
+  kCurveFactor,       ///< MinTimeOptions::curve_factor [-]
+  kRefineExcess,      ///< MinTimeOptions::refine_excess [-]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 33> table{{
+  static constexpr std::array<EnumName<PlanInput>, 39> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -88,6 +94,12 @@ struct EnumNames<PlanInput> {
       {PlanInput::kReferenceLevels, "reference_levels"},
       {PlanInput::kLaw, "law"},
       {PlanInput::kSamplePeriod, "sample_period"},
+      {PlanInput::kMotionTimeMax, "motion_time_max"},
+      {PlanInput::kFreeBoardMargin, "free_board_margin"},
+      {PlanInput::kScanStep, "scan_step"},
+      {PlanInput::kMaxPlans, "max_plans"},
+      {PlanInput::kCurveFactor, "curve_factor"},
+      {PlanInput::kRefineExcess, "refine_excess"},
   }};
 };
 

@@ -1,0 +1,334 @@
+#include "slosh/api/min_time.hpp"
+
+#include <algorithm>
+
+#include "slosh/api/core_input.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/option_registry.hpp"
+#include "slosh/api/plan.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using nlohmann::json;
+namespace mr = min_time_ranges;
+
+/// Version of the search; part of every min-time key, bumped when results change.
+constexpr const char* kMinTimeVersion = "min-time-v1";
+
+/// Members of a min-time request's format (a plan's format without motion_time_s).
+const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",
+                                                   "stroke_mm"};
+
+/// Plan options the search sets itself: given at the top level of the request instead.
+bool set_by_search(std::string_view option) {
+  return option == "eta_rest_max_mm" || option == "eta_motion_max_mm";
+}
+
+std::vector<Strategy> parse_strategies(const json& body) {
+  const json* list = given_member(body, "strategies");
+  if (list == nullptr) return default_min_time_strategies();
+  std::vector<std::string> allowed;
+  for (Strategy s : enum_values<Strategy>()) {
+    if (s != Strategy::kAuto) allowed.push_back(to_string(s));
+  }
+  if (!list->is_array() || list->empty() || list->size() > allowed.size()) {
+    invalid("strategies", "strategies must be an array of 1 to " + std::to_string(allowed.size()) +
+                              " distinct names (" + quoted_names(allowed) + "), got " +
+                              show(*list));
+  }
+  std::vector<Strategy> out;
+  for (std::size_t i = 0; i < list->size(); ++i) {
+    const json& item = (*list)[i];
+    const std::string field = "strategies[" + std::to_string(i) + "]";
+    std::optional<Strategy> s;
+    if (item.is_string()) s = parse_strategy(item.get<std::string>());
+    if (!s || *s == Strategy::kAuto) {
+      invalid(field,
+              field + " = " + show(item) + " is not allowed: one of " + quoted_names(allowed) +
+                  (s ? " (auto is not searched: the response compares the strategies)" : ""));
+    }
+    if (std::find(out.begin(), out.end(), *s) != out.end()) {
+      invalid(field, field + " = " + show(item) + " is listed twice");
+    }
+    out.push_back(*s);
+  }
+  return out;
+}
+
+json optional_json(const std::optional<double>& v) {
+  return v ? json(*v) : json(nullptr);
+}
+
+json curve_json(const MinTimeResult& r) {
+  json t = json::array(), feasible = json::array(), status = json::array();
+  json nl_motion = json::array(), nl_rest = json::array();
+  json lin_motion = json::array(), lin_rest = json::array();
+  for (const MinTimePoint& p : r.curve) {
+    t.push_back(p.motion_time);
+    feasible.push_back(p.feasible);
+    status.push_back(to_string(p.plan_status));
+    nl_motion.push_back(p.prediction.nonlinear.motion.value * 1e3);
+    nl_rest.push_back(p.prediction.nonlinear.rest.value * 1e3);
+    lin_motion.push_back(p.prediction.linear.motion.value * 1e3);
+    lin_rest.push_back(p.prediction.linear.rest.value * 1e3);
+  }
+  return {{"t_s", t},
+          {"feasible", feasible},
+          {"plan_status", status},
+          {"nonlinear", {{"eta_motion_mm", nl_motion}, {"eta_rest_mm", nl_rest}}},
+          {"linear", {{"eta_motion_mm", lin_motion}, {"eta_rest_mm", lin_rest}}}};
+}
+
+/// The plan request a search's plan answers (its key is the key POST /v1/plans gives it).
+PlanRequest plan_request_at(const MinTimeRequest& request, const MinTimeResult& r, double T) {
+  PlanRequest p;
+  p.format = request.format;
+  p.format.motion_time = T;
+  p.strategy = r.strategy;
+  p.options = request.options.plan;
+  p.options.eta_rest_max = r.eta_rest_max;
+  p.options.eta_motion_max = r.eta_motion_max;
+  return p;
+}
+
+json strategy_json(const MinTimeRequest& request, const MinTimeResult& r) {
+  json out{{"strategy", to_string(r.strategy)},
+           {"status", to_string(r.status)},
+           {"message", r.message},
+           {"t_min_s", optional_json(r.t_min)},
+           {"infeasible_below_s", optional_json(r.infeasible_below)},
+           {"feasible_above", r.t_min ? json(r.feasible_above) : json(nullptr)},
+           {"kinematic_lower_bound_s", r.kinematic_bound},
+           {"scan_start_s", r.scan_start},
+           {"plans", r.plans},
+           {"search_ms", r.search_ms}};
+  if (r.best) {
+    out["best"] = {{"t_s", r.best->motion_time},
+                   {"eta_motion_mm", r.best->eta_motion * 1e3},
+                   {"eta_rest_mm", r.best->eta_rest * 1e3}};
+  } else {
+    out["best"] = nullptr;
+  }
+  if (r.plan) {
+    out["plan"] = plan_json(plan_request_at(request, r, r.plan->law.duration()), *r.plan);
+  } else {
+    out["plan"] = nullptr;
+  }
+  out["curve"] = curve_json(r);
+  return out;
+}
+
+}  // namespace
+
+std::vector<Strategy> default_min_time_strategies() {
+  std::vector<Strategy> out;
+  for (Strategy s : enum_values<Strategy>()) {
+    if (s != Strategy::kAuto && s != Strategy::kIir) out.push_back(s);
+  }
+  return out;
+}
+
+MinTimeRequest parse_min_time_request(const json& body, double budget) {
+  require_object(body, "");
+  reject_unknown_fields(body, "",
+                        {"format", "motion_time_max_s", "eta_motion_max_mm", "free_board_margin_mm",
+                         "eta_rest_max_mm", "limit_model", "strategies", "scan_step_s", "max_plans",
+                         "curve_factor", "refine_excess", "options"});
+  if (!body.contains("format")) {
+    invalid("format",
+            "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\"}");
+  }
+  const json& format = body["format"];
+  require_object(format, "format");
+  if (format.contains("motion_time_s")) {
+    invalid("format.motion_time_s",
+            "format.motion_time_s is not part of a min-time request: the search finds the motion "
+            "time; bound it with motion_time_max_s (default 5 s)");
+  }
+  reject_unknown_fields(format, "format", kFormatMembers);
+  MinTimeRequest r;
+  MinTimeOptions& o = r.options;
+  o.motion_time_max =
+      optional_number(body, "", "motion_time_max_s", mr::kMotionTimeMax, kDefaultMotionTimeMax);
+  json with_time = format;
+  with_time["motion_time_s"] = o.motion_time_max;
+  r.format = parse_format(with_time, "format");
+
+  o.free_board_margin = optional_number(body, "", "free_board_margin_mm", mr::kMarginMm,
+                                        kDefaultFreeBoardMargin * 1e3) *
+                        1e-3;
+  if (const json* eta = given_member(body, "eta_motion_max_mm")) {
+    o.eta_motion_max = checked_number(eta, "eta_motion_max_mm", mr::kEtaMm) * 1e-3;
+  } else if (!r.format.container.height) {
+    invalid("eta_motion_max_mm",
+            "eta_motion_max_mm is required when format.container.height_mm is not given (its "
+            "default is the free board: height_mm - fill_height_mm - free_board_margin_mm)");
+  } else {
+    const double free_board_mm = (*r.format.container.height - r.format.fill_height) * 1e3;
+    if (o.free_board_margin * 1e3 >= free_board_mm) {
+      invalid("free_board_margin_mm",
+              "free_board_margin_mm = " + number_text(o.free_board_margin * 1e3) +
+                  " leaves no eta_motion_max: the free board (height_mm - fill_height_mm) is " +
+                  number_text(free_board_mm) + " mm; allowed below it, or give eta_motion_max_mm");
+    }
+  }
+  o.eta_rest_max = optional_number(body, "", "eta_rest_max_mm", mr::kEtaMm, 3.0) * 1e-3;
+  if (const json* model = given_member(body, "limit_model")) {
+    std::optional<LimitModel> m;
+    if (model->is_string()) m = enum_from_name<LimitModel>(model->get<std::string>());
+    if (!m) {
+      invalid("limit_model", "limit_model = " + show(*model) + " is not allowed: one of " +
+                                 quoted_names(enum_names<LimitModel>()));
+    }
+    o.model = *m;
+  }
+  r.strategies = parse_strategies(body);
+  o.scan_step = optional_number(body, "", "scan_step_s", mr::kScanStep, o.scan_step);
+  o.max_plans =
+      optional_integer(body, "", "max_plans", mr::kMaxPlansLo, mr::kMaxPlansHi, o.max_plans);
+  o.curve_factor = optional_number(body, "", "curve_factor", mr::kCurveFactor, o.curve_factor);
+  o.refine_excess = optional_number(body, "", "refine_excess", mr::kRefineExcess, o.refine_excess);
+
+  // The plan options, as a plan request reads them (at T = motion_time_max for the ranges that
+  // depend on T), but for the limits the search sets itself.
+  json options = body.value("options", json::object());
+  if (options.is_null()) options = json::object();
+  require_object(options, "options");
+  const OptionRegistry& registry = plan_option_registry();
+  for (const auto& [key, value] : options.items()) {
+    if (set_by_search(key)) {
+      invalid("options." + key, "options." + key +
+                                    " is not an option of a min-time request: give the limit as " +
+                                    key + " at the top level");
+    }
+  }
+  std::vector<std::string_view> allowed;
+  for (std::string_view key : registry.option_keys()) {
+    if (!set_by_search(key)) allowed.push_back(key);
+  }
+  reject_unknown_fields(options, "options", allowed);
+  registry.parse(options, r.format, o.plan);
+  InvalidInput error;
+  if (!o.plan.is_valid(r.format, &error)) {
+    invalid("options", "options." + input_sentence(error, r.format, o.plan));
+  }
+  if (given_member(options, "time_limit_s") == nullptr) {
+    o.plan.time_limit = budget;
+  } else if (o.plan.time_limit > budget) {
+    invalid("options.time_limit_s", "options.time_limit_s = " + number_text(o.plan.time_limit) +
+                                        " is out of range: this server allows at most " +
+                                        number_text(budget) + " s");
+  }
+  if (auto e = o.validate(r.format)) {
+    invalid(std::string(api_field_path(e->input)), e->message);
+  }
+  return r;
+}
+
+std::string min_time_key(const MinTimeRequest& request) {
+  PlanRequest at_max;
+  at_max.format = request.format;
+  at_max.strategy = Strategy::kBaseline;
+  at_max.options = request.options.plan;
+  json recipe = canonical_recipe(at_max);
+  recipe["format"].erase("motion_time_s");
+  recipe.erase("strategy");
+  const MinTimeOptions& o = request.options;
+  json strategies = json::array();
+  for (Strategy s : request.strategies) strategies.push_back(to_string(s));
+  recipe["min_time"] = {{"version", kMinTimeVersion},
+                        {"motion_time_max_s", o.motion_time_max},
+                        {"eta_motion_max_m", *o.eta_motion_limit(request.format)},
+                        {"eta_rest_max_m", o.eta_rest_max},
+                        {"limit_model", to_string(o.model)},
+                        {"strategies", strategies},
+                        {"scan_step_s", o.scan_step},
+                        {"max_plans", o.max_plans},
+                        {"curve_factor", o.curve_factor},
+                        {"refine_excess", o.refine_excess}};
+  return sha256_key(recipe.dump());
+}
+
+json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResult>& results,
+                   const std::string& key) {
+  const MinTimeOptions& o = request.options;
+  json out;
+  out["key"] = key;
+  out["cached"] = false;
+  json format = format_json(request.format);
+  format.erase("motion_time_s");
+  out["format"] = format;
+  out["motion_time_max_s"] = o.motion_time_max;
+  const MachineLimits& m = o.plan.limits;
+  out["limits"] = {{"eta_motion_max_mm", *o.eta_motion_limit(request.format) * 1e3},
+                   {"eta_rest_max_mm", o.eta_rest_max * 1e3},
+                   {"model", to_string(o.model)},
+                   {"rest_time_s", o.plan.rest_time},
+                   {"a_max", optional_json(m.a_max)},
+                   {"v_max", optional_json(m.v_max)},
+                   {"j_max", optional_json(m.j_max)}};
+  out["kinematic_lower_bound_s"] = kinematic_lower_bound(request.format.stroke, m);
+  json list = json::array();
+  for (const MinTimeResult& r : results) list.push_back(strategy_json(request, r));
+  out["strategies"] = list;
+  const MinTimeSummary s = summarize_min_time(results);
+  json headline{{"winner", nullptr},
+                {"t_min_s", nullptr},
+                {"cycles_per_min", nullptr},
+                {"baseline_t_min_s", nullptr},
+                {"baseline_cycles_per_min", nullptr},
+                {"gain_pct", optional_json(s.gain_pct)},
+                {"gain_cycles_per_min", optional_json(s.gain_cycles_per_min)}};
+  if (s.winner) {
+    const double t = *results[*s.winner].t_min;
+    headline["winner"] = to_string(results[*s.winner].strategy);
+    headline["t_min_s"] = t;
+    headline["cycles_per_min"] = 60.0 / t;
+  }
+  if (s.baseline) {
+    const double t = *results[*s.baseline].t_min;
+    headline["baseline_t_min_s"] = t;
+    headline["baseline_cycles_per_min"] = 60.0 / t;
+  }
+  out["headline"] = headline;
+  require_finite(out);
+  return out;
+}
+
+json min_time_body_from_recipe(const json& plan_request) {
+  if (!plan_request.is_object()) return plan_request;  // the parser names the problem
+  json body = plan_request;
+  body.erase("strategy");
+  if (body.contains("format") && body["format"].is_object() &&
+      body["format"].contains("motion_time_s")) {
+    body["motion_time_max_s"] = body["format"]["motion_time_s"];
+    body["format"].erase("motion_time_s");
+  }
+  if (body.contains("options") && body["options"].is_object()) {
+    for (const char* limit : {"eta_rest_max_mm", "eta_motion_max_mm"}) {
+      if (body["options"].contains(limit)) {
+        body[limit] = body["options"][limit];
+        body["options"].erase(limit);
+      }
+    }
+  }
+  return body;
+}
+
+json run_min_time(const MinTimeRequest& request) {
+  std::vector<MinTimeResult> results;
+  for (Strategy s : request.strategies) {
+    results.push_back(min_time(request.format, s, request.options));
+    if (results.back().invalid_input) {
+      throw ApiError(
+          ErrorCode::kInvalidValue, "format",
+          plan_refusal(*results.back().invalid_input, request.format, request.options.plan));
+    }
+  }
+  return min_time_json(request, results, min_time_key(request));
+}
+
+}  // namespace slosh::api

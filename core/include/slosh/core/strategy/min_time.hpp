@@ -1,0 +1,162 @@
+#pragma once
+// Minimum motion time (SPEC §9): the shortest motion time T, on a 1 ms grid, at which a strategy's
+// verified plan meets the sloshing limits (eta_motion, eta_rest) and the machine limits. Pure
+// numerics: no JSON, no logging. Every candidate T is judged on what plan() returns for it (its
+// status and its predictions on the dense accurate simulation), never on an optimiser's grid.
+
+#include <array>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "slosh/core/enum_names.hpp"
+#include "slosh/core/invalid_input.hpp"
+#include "slosh/core/strategy/planner.hpp"
+
+namespace slosh {
+
+/// Which model the sloshing limits of the search apply to.
+enum class LimitModel {
+  kNonlinear,  ///< the nonlinear fundamental-mode model (the one the thesis validated)
+  kLinear,     ///< the multi-mode linear model
+  kBoth,       ///< the larger of the two predictions
+};
+
+template <>
+struct EnumNames<LimitModel> {
+  static constexpr std::array<EnumName<LimitModel>, 3> table{{
+      {LimitModel::kNonlinear, "nonlinear"},
+      {LimitModel::kLinear, "linear"},
+      {LimitModel::kBoth, "both"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(LimitModel value) {
+  return std::string(name_of(value));
+}
+
+/// Default upper end of the search [s].
+inline constexpr double kDefaultMotionTimeMax{5.0};
+/// Default margin kept below the free board when eta_motion_max is not given [m].
+inline constexpr double kDefaultFreeBoardMargin{0.005};
+/// Grid of T_min [s].
+inline constexpr double kMinTimeResolution{1e-3};
+
+/// Options of min_time(). Defaults are SPEC §9's.
+struct MinTimeOptions {
+  /// The options every plan of the search runs with: the strategy's options, the machine limits
+  /// (plan.limits), the rest window. plan.eta_rest_max is overwritten by eta_rest_max below (so
+  /// time_domain plans for the search's limit); plan.time_limit is the wall-clock budget of the
+  /// whole search of one strategy [s] (default 5 s); each plan gets what remains of it.
+  PlanOptions plan;
+  /// Upper end of the search [s]: no T above it is tried. Default 5 s; (0, 3600].
+  double motion_time_max{kDefaultMotionTimeMax};
+  /// Largest eta_motion [m]. Default: the free board, container height - fill height -
+  /// free_board_margin; required when the container height is not given. (0, 10] m.
+  std::optional<double> eta_motion_max;
+  /// Margin below the free board for the default eta_motion_max [m]. Default 5 mm; [0, 10] m.
+  double free_board_margin{kDefaultFreeBoardMargin};
+  /// Largest eta_rest over the rest window (plan.rest_time) [m]. Default 3 mm; (0, 10] m.
+  double eta_rest_max{0.003};
+  /// The model the two eta limits apply to. Default kNonlinear.
+  LimitModel model{LimitModel::kNonlinear};
+  /// Step of the coarse scan up from the lower bound [s]. Default 40 ms; [1 ms, 1 s].
+  double scan_step{0.04};
+  /// A scanned local minimum of the excess (max of eta / its limit over both limits) at or below
+  /// this is refined by a golden-section search on the 1 ms grid between its two neighbours,
+  /// until a feasible T is found or the bracket is 2 ms [-]. Default 2; [1, 1000].
+  double refine_excess{2.0};
+  /// Most plans solved by one strategy's search (scan, bisection and curve) [-]. Default 40;
+  /// [3, 10000]. When it runs out before T_min is bracketed to 1 ms the result is kTimeLimit
+  /// (with the best bound so far); after that, the curve above T_min is only shorter.
+  int max_plans{40};
+  /// The curve of eta over T reaches this factor times T_min [-]. Default 1.5; [1, 10].
+  double curve_factor{1.5};
+
+  /// eta_motion_max, or its default from the free board; nullopt when neither is available.
+  [[nodiscard]] std::optional<double> eta_motion_limit(const Format& format) const;
+  /// The first option outside its allowed set for `format` (motion_time ignored: the plan
+  /// options are checked at motion_time_max), naming the option, its value and the allowed set
+  /// in core names and SI units; nullopt when all hold.
+  [[nodiscard]] std::optional<InvalidInput> validate(const Format& format) const;
+};
+
+/// Closed-form minimum time of a rest-to-rest move of `stroke` [m] under symmetric limits on
+/// |acceleration| `a_max` [m/s^2], |velocity| `v_max` [m/s] and |jerk| `j_max` [m/s^3] (an unset
+/// limit is unbounded): the time-optimal jerk-limited (7-segment, "double S") profile. 0 when no
+/// limit is set. Every law the planner can return obeys the same limits, so no plan exists below
+/// it [s].
+[[nodiscard]] double kinematic_lower_bound(double stroke, const MachineLimits& limits);
+
+/// One T the search planned, with the verified predictions of its plan.
+struct MinTimePoint {
+  double motion_time{};  ///< T [s]
+  SolveStatus plan_status{SolveStatus::kFailed};
+  bool feasible{false};      ///< the plan is optimal/acceptable and meets both eta limits
+  LawPrediction prediction;  ///< of the plan's law (zero when the plan refused its inputs)
+  double eta_motion{};       ///< eta_motion on the limit model [m]
+  double eta_rest{};         ///< eta_rest on the limit model [m]
+  /// max(eta_motion / eta_motion_max, eta_rest / eta_rest_max) [-]; infinity for a plan that
+  /// refused its inputs. Feasible points have <= 1.
+  double excess{};
+};
+
+/// One strategy's search.
+struct MinTimeResult {
+  Strategy strategy{};
+  /// kOptimal: T_min found (t_min; the plan at T_min). kInfeasible: no T from the lower bound to
+  /// motion_time_max met the limits (best: the least excess reached, with its plan). kTimeLimit:
+  /// the budget ran out; t_min, when set, is the best bound so far (a feasible T; the true T_min
+  /// is at or below it). kFailed: invalid input (invalid_input) or a plan that failed.
+  SolveStatus status{SolveStatus::kFailed};
+  std::optional<InvalidInput> invalid_input;
+  std::string message;
+  /// The limits the search applied [m].
+  double eta_motion_max{};
+  double eta_rest_max{};
+  /// kinematic_lower_bound of the stroke and machine limits [s].
+  double kinematic_bound{};
+  /// First T scanned: the kinematic bound raised to the durations' admissibility (4 min_ramp +
+  /// plateau minimums) and rounded up to the 1 ms grid [s].
+  double scan_start{};
+  /// The smallest feasible T found on the 1 ms grid [s] (see status).
+  std::optional<double> t_min;
+  /// The largest T planned below t_min that was infeasible (t_min - 1 ms after the bisection) or
+  /// the scan start when t_min is the scan start [s].
+  std::optional<double> infeasible_below;
+  /// Every T planned above t_min was feasible (false: the feasible set is not an interval there,
+  /// e.g. the residual wave of the uniform law has zeros). Only meaningful with t_min.
+  bool feasible_above{false};
+  /// The plan at t_min; for kInfeasible the plan of the best point reached.
+  std::optional<PlanResult> plan;
+  /// kInfeasible: the point of least excess reached.
+  std::optional<MinTimePoint> best;
+  /// Every planned T, ascending (the eta curve over T for plots; includes the bisection points).
+  std::vector<MinTimePoint> curve;
+  int plans{};         ///< plan() calls
+  double search_ms{};  ///< wall-clock time of the search [ms]
+};
+
+/// Searches the minimum motion time of `strategy` (not kAuto) for `format` (its motion_time is
+/// ignored): lower bound from the stroke and the machine limits, a coarse scan up in steps of
+/// scan_step, bisection to 1 ms between the last infeasible and the first feasible scanned T, then
+/// the scan continued up to curve_factor T_min for the curve and feasible_above. Deterministic.
+/// plan() offers no warm start, so every T is planned from the planner's own starts.
+[[nodiscard]] MinTimeResult min_time(const Format& format, Strategy strategy,
+                                     const MinTimeOptions& options);
+
+/// The headline over several strategies' searches.
+struct MinTimeSummary {
+  /// Index of the strategy with the least t_min among the kOptimal results (ties: the first);
+  /// nullopt when none found one.
+  std::optional<std::size_t> winner;
+  /// The uniform law's (baseline) result index when it was searched and found a T_min.
+  std::optional<std::size_t> baseline;
+  /// 100 (T_baseline - T_winner) / T_baseline [%], when both exist.
+  std::optional<double> gain_pct;
+  /// 60 / T_winner - 60 / T_baseline: motions per minute gained (motion time only) [1/min].
+  std::optional<double> gain_cycles_per_min;
+};
+
+[[nodiscard]] MinTimeSummary summarize_min_time(const std::vector<MinTimeResult>& results);
+
+}  // namespace slosh

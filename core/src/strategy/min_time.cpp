@@ -1,0 +1,419 @@
+#include "slosh/core/strategy/min_time.hpp"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+
+#include "text.hpp"
+
+namespace slosh {
+
+namespace {
+
+using detail::sig3;
+using Clock = std::chrono::steady_clock;
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+/// Relative tolerance of the eta limits, the planner's own (SPEC §5: constraints to 1e-6).
+constexpr double kLimitTolerance{1e-6};
+
+/// Time to accelerate from rest to `v` and have zero acceleration again, under |a| <= a and
+/// |j| <= j (either may be infinite) [s].
+double accel_time(double v, double a, double j) {
+  if (std::isinf(a) && std::isinf(j)) return 0.0;
+  if (std::isinf(j)) return v / a;
+  if (std::isinf(a)) return 2.0 * std::sqrt(v / j);
+  return v >= a * a / j ? v / a + a / j : 2.0 * std::sqrt(v / j);
+}
+
+/// T rounded up to the 1 ms grid (a value already on it, up to round-off, stays).
+/// (Divided, not multiplied, by the grid count: 955 / 1000 is the double nearest 0.955.)
+double ceil_to_grid(double t) {
+  return std::ceil(t / kMinTimeResolution - 1e-9) / std::round(1.0 / kMinTimeResolution);
+}
+double round_to_grid(double t) {
+  return std::round(t / kMinTimeResolution) / std::round(1.0 / kMinTimeResolution);
+}
+
+std::string mm(double metres) {
+  return sig3(metres * 1e3) + " mm";
+}
+/// A time on the 1 ms grid ("0.683 s"); other times with 3 significant digits.
+std::string sec(double seconds) {
+  const double ms = seconds * 1e3;
+  if (std::abs(ms - std::round(ms)) < 1e-6 && seconds < 100.0) {
+    return detail::fixed(seconds, 3) + " s";
+  }
+  return sig3(seconds) + " s";
+}
+
+/// "eta_motion <= 63 mm and eta_rest <= 3 mm (nonlinear model)"
+std::string limits_text(const MinTimeResult& r, LimitModel model) {
+  return "eta_motion <= " + mm(r.eta_motion_max) + " and eta_rest <= " + mm(r.eta_rest_max) + " (" +
+         (model == LimitModel::kBoth ? std::string("both models") : to_string(model) + " model") +
+         ")";
+}
+
+/// Why a point is infeasible, for messages.
+std::string why_not(const MinTimePoint& p, const MinTimeResult& r) {
+  if (std::isinf(p.excess)) return "the planner refused the format at this time";
+  std::string text;
+  if (p.eta_motion > r.eta_motion_max * (1.0 + kLimitTolerance)) {
+    text = "eta_motion " + mm(p.eta_motion);
+  }
+  if (p.eta_rest > r.eta_rest_max * (1.0 + kLimitTolerance)) {
+    text += (text.empty() ? "" : ", ") + std::string("eta_rest ") + mm(p.eta_rest);
+  }
+  if (p.plan_status != SolveStatus::kOptimal && p.plan_status != SolveStatus::kAcceptable) {
+    text += (text.empty() ? "" : "; ") + std::string("plan ") + to_string(p.plan_status);
+  }
+  return text;
+}
+
+class Search {
+ public:
+  Search(const Format& format, Strategy strategy, const MinTimeOptions& options,
+         MinTimeResult& result)
+      : format_(format),
+        strategy_(strategy),
+        options_(options),
+        result_(result),
+        deadline_(Clock::now() + std::chrono::duration_cast<Clock::duration>(
+                                     std::chrono::duration<double>(options.plan.time_limit))) {}
+
+  /// Plans T; nullopt when the budget (time or max_plans) ran out before or during the plan.
+  std::optional<MinTimePoint> evaluate(double T) {
+    const double remaining = std::chrono::duration<double>(deadline_ - Clock::now()).count();
+    if (remaining <= 0.0 || result_.plans >= options_.max_plans) return std::nullopt;
+    Format f = format_;
+    f.motion_time = T;
+    PlanOptions o = options_.plan;
+    o.eta_rest_max = result_.eta_rest_max;
+    o.eta_motion_max = result_.eta_motion_max;
+    o.time_limit = remaining;
+    PlanResult plan_result = plan(f, strategy_, o);
+    ++result_.plans;
+    if (plan_result.status == SolveStatus::kTimeLimit) return std::nullopt;
+    MinTimePoint p;
+    p.motion_time = T;
+    p.plan_status = plan_result.status;
+    p.prediction = plan_result.prediction;
+    const SloshPeaks& nl = plan_result.prediction.nonlinear;
+    const SloshPeaks& lin = plan_result.prediction.linear;
+    switch (options_.model) {
+      case LimitModel::kNonlinear:
+        p.eta_motion = nl.motion.value;
+        p.eta_rest = nl.rest.value;
+        break;
+      case LimitModel::kLinear:
+        p.eta_motion = lin.motion.value;
+        p.eta_rest = lin.rest.value;
+        break;
+      case LimitModel::kBoth:
+        p.eta_motion = std::max(nl.motion.value, lin.motion.value);
+        p.eta_rest = std::max(nl.rest.value, lin.rest.value);
+        break;
+    }
+    const bool refused = plan_result.invalid_input.has_value() ||
+                         plan_result.status == SolveStatus::kFailed ||
+                         !std::isfinite(p.eta_motion) || !std::isfinite(p.eta_rest);
+    p.excess = refused ? kInf
+                       : std::max(p.eta_motion / result_.eta_motion_max,
+                                  p.eta_rest / result_.eta_rest_max);
+    const bool usable = plan_result.status == SolveStatus::kOptimal ||
+                        plan_result.status == SolveStatus::kAcceptable;
+    p.feasible = !refused && usable && p.excess <= 1.0 + kLimitTolerance;
+    result_.curve.push_back(p);
+    if (p.feasible) {
+      if (!result_.t_min || T < *result_.t_min) {
+        result_.t_min = T;
+        result_.plan = std::move(plan_result);
+      }
+    } else if (!result_.t_min && !refused && (!result_.best || p.excess < result_.best->excess)) {
+      result_.best = p;
+      result_.plan = std::move(plan_result);
+    }
+    return p;
+  }
+
+ private:
+  const Format& format_;
+  Strategy strategy_;
+  const MinTimeOptions& options_;
+  MinTimeResult& result_;
+  Clock::time_point deadline_;
+};
+
+}  // namespace
+
+double kinematic_lower_bound(double stroke, const MachineLimits& limits) {
+  const double a = limits.a_max.value_or(kInf);
+  const double v = limits.v_max.value_or(kInf);
+  const double j = limits.j_max.value_or(kInf);
+  if (std::isinf(a) && std::isinf(v) && std::isinf(j)) return 0.0;
+  if (std::isfinite(v)) {
+    // Cruise at v when accelerating to v and back fits in the stroke.
+    const double ta = accel_time(v, a, j);
+    if (v * ta <= stroke) return ta + stroke / v;
+  }
+  // No cruise: the peak velocity vp solves vp * accel_time(vp) = stroke.
+  if (std::isinf(j)) return 2.0 * std::sqrt(stroke / a);
+  const double jerk_only = 4.0 * std::cbrt(stroke / (2.0 * j));
+  if (std::isinf(a)) return jerk_only;
+  if (stroke < 2.0 * a * a * a / (j * j)) return jerk_only;  // a_max not reached
+  const double vp = 0.5 * (-a * a / j + std::sqrt(a * a * a * a / (j * j) + 4.0 * stroke * a));
+  return 2.0 * (vp / a + a / j);
+}
+
+std::optional<double> MinTimeOptions::eta_motion_limit(const Format& format) const {
+  if (eta_motion_max) return eta_motion_max;
+  if (format.container.height) {
+    return *format.container.height - format.fill_height - free_board_margin;
+  }
+  return std::nullopt;
+}
+
+std::optional<InvalidInput> MinTimeOptions::validate(const Format& format) const {
+  if (auto e = first_out_of_range({
+          {PlanInput::kMotionTimeMax, motion_time_max, {0.0, kMaxPlanTime, true, false}},
+          {PlanInput::kFreeBoardMargin, free_board_margin, closed_range(0.0, 10.0)},
+          {PlanInput::kEtaRestMax, eta_rest_max, {0.0, 10.0, true, false}},
+          {PlanInput::kScanStep, scan_step, closed_range(kMinTimeResolution, 1.0)},
+          {PlanInput::kMaxPlans, static_cast<double>(max_plans), closed_range(3.0, 10000.0)},
+          {PlanInput::kCurveFactor, curve_factor, closed_range(1.0, 10.0)},
+          {PlanInput::kRefineExcess, refine_excess, closed_range(1.0, 1000.0)},
+      })) {
+    return e;
+  }
+  const std::optional<double> eta_motion = eta_motion_limit(format);
+  if (!eta_motion) {
+    return refused(PlanInput::kEtaMotionMax, std::numeric_limits<double>::quiet_NaN(),
+                   {0.0, 10.0, true, false},
+                   "eta_motion_max is required when the container height is not given (its "
+                   "default is the free board, container height - fill height - margin)");
+  }
+  if (!InputBounds{0.0, 10.0, true, false}.contains(*eta_motion)) {
+    if (eta_motion_max) {
+      return out_of_range(PlanInput::kEtaMotionMax, -1, *eta_motion, {0.0, 10.0, true, false});
+    }
+    return refused(PlanInput::kFreeBoardMargin, free_board_margin,
+                   {0.0, *format.container.height - format.fill_height, false, true},
+                   "the free board " + mm(*format.container.height - format.fill_height) +
+                       " minus free_board_margin " + mm(free_board_margin) +
+                       " leaves no eta_motion_max > 0");
+  }
+  Format at_max = format;
+  at_max.motion_time = motion_time_max;
+  return validate_plan_input(at_max, plan);
+}
+
+MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOptions& options) {
+  const auto started = Clock::now();
+  MinTimeResult r;
+  r.strategy = strategy;
+  auto finish = [&]() -> MinTimeResult {
+    std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
+      return a.motion_time < b.motion_time;
+    });
+    r.search_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
+    return std::move(r);
+  };
+  if (strategy == Strategy::kAuto) {
+    r.invalid_input = refused(PlanInput::kMotionTime, std::numeric_limits<double>::quiet_NaN(), {},
+                              "auto is not searched: name the strategies to compare");
+    r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
+    return finish();
+  }
+  if (auto e = options.validate(format)) {
+    r.invalid_input = std::move(e);
+    r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
+    return finish();
+  }
+  r.eta_motion_max = *options.eta_motion_limit(format);
+  r.eta_rest_max = options.eta_rest_max;
+  r.kinematic_bound = kinematic_lower_bound(format.stroke, options.plan.limits);
+  const double admissible =
+      4.0 * options.plan.min_ramp + options.plan.plateau_min[0] + options.plan.plateau_min[1];
+  r.scan_start = ceil_to_grid(std::max({r.kinematic_bound, admissible, kMinPlanTime}));
+  const double t_max = options.motion_time_max;
+  const std::string limits = limits_text(r, options.model);
+  if (r.scan_start > t_max + 1e-12) {
+    r.status = SolveStatus::kInfeasible;
+    r.message = "no motion time up to motion_time_max " + sec(t_max) + " is possible: the stroke " +
+                mm(format.stroke) + " needs at least " + sec(r.scan_start) +
+                " (machine limits and ramps >= min_ramp); raise " +
+                "motion_time_max_s or the machine limits";
+    return finish();
+  }
+
+  Search search(format, strategy, options, r);
+  auto out_of_budget = [&](const std::string& where) {
+    r.status = SolveStatus::kTimeLimit;
+    r.message = "the search budget (time_limit_s " + sec(options.plan.time_limit) + ", max_plans " +
+                std::to_string(options.max_plans) + ") ran out " + where;
+    if (r.t_min) {
+      r.message += "; the best bound so far is T_min <= " + sec(*r.t_min);
+    } else {
+      r.best.reset();
+      r.message += " before a motion time met " + limits;
+    }
+  };
+
+  // 1. Coarse scan up from the lower bound until the first feasible T. A scanned local minimum
+  // of the excess within refine_excess of the limits is refined by golden-section search on the
+  // 1 ms grid (the residual wave has zeros narrower than the scan step).
+  const double step = options.scan_step;
+  double last_infeasible = -1.0;
+  double first_feasible = -1.0;
+  std::vector<MinTimePoint> scanned;
+  auto found = [&](const MinTimePoint& p) {
+    first_feasible = p.motion_time;
+    last_infeasible = -1.0;
+    for (const MinTimePoint& q : r.curve) {
+      if (q.motion_time < p.motion_time) last_infeasible = std::max(last_infeasible, q.motion_time);
+    }
+  };
+  for (int k = 0;; ++k) {
+    double T = round_to_grid(r.scan_start + k * step);
+    if (T > t_max) T = t_max;
+    if (k > 0 && T <= scanned.back().motion_time) break;  // t_max reached
+    const std::optional<MinTimePoint> p = search.evaluate(T);
+    if (!p) {
+      out_of_budget("during the scan at T = " + sec(T));
+      return finish();
+    }
+    if (p->feasible) {
+      found(*p);
+      break;
+    }
+    scanned.push_back(*p);
+    const std::size_t n = scanned.size();
+    if (n >= 3 && scanned[n - 2].excess < scanned[n - 3].excess &&
+        scanned[n - 2].excess < scanned[n - 1].excess &&
+        scanned[n - 2].excess <= options.refine_excess) {
+      // Golden-section search for the least excess in (T_{n-3}, T_{n-1}).
+      constexpr double kGolden = 0.6180339887498949;
+      double a = scanned[n - 3].motion_time, b = scanned[n - 1].motion_time;
+      std::optional<MinTimePoint> hit;
+      std::optional<MinTimePoint> c_point = scanned[n - 2];
+      double c = c_point->motion_time;
+      while (b - a > 2.5 * kMinTimeResolution && !hit) {
+        // Probe inside the larger of [a, c] and [c, b].
+        const bool left = c - a > b - c;
+        double d =
+            round_to_grid(left ? c - (1.0 - kGolden) * (c - a) : c + (1.0 - kGolden) * (b - c));
+        if (d <= a || d >= b || d == c) break;
+        const std::optional<MinTimePoint> q = search.evaluate(d);
+        if (!q) {
+          out_of_budget("while refining the scan near T = " + sec(c));
+          return finish();
+        }
+        if (q->feasible) {
+          hit = q;
+          break;
+        }
+        if (q->excess < c_point->excess) {
+          (left ? b : a) = c;
+          c = d;
+          c_point = q;
+        } else {
+          (left ? a : b) = d;
+        }
+      }
+      if (hit) {
+        found(*hit);
+        break;
+      }
+    }
+    last_infeasible = T;
+    if (T >= t_max) break;
+  }
+  if (first_feasible < 0.0) {
+    r.status = SolveStatus::kInfeasible;
+    std::string message = "no motion time from " + sec(r.scan_start) + " to " + sec(t_max) +
+                          " (scanned every " + sec(step) + ") meets " + limits + " with " +
+                          to_string(strategy);
+    if (r.best) {
+      message += ": the best reached is eta_motion " + mm(r.best->eta_motion) + ", eta_rest " +
+                 mm(r.best->eta_rest) + " at T = " + sec(r.best->motion_time);
+    }
+    r.message = message + "; relax the limits, raise motion_time_max_s or try another strategy";
+    return finish();
+  }
+
+  // 2. Bisection to 1 ms between the last infeasible and the first feasible scanned T.
+  if (last_infeasible >= 0.0) {
+    double lo = last_infeasible, hi = first_feasible;
+    while (hi - lo > 1.5 * kMinTimeResolution) {
+      const double mid = round_to_grid(0.5 * (lo + hi));
+      const std::optional<MinTimePoint> p = search.evaluate(mid);
+      if (!p) {
+        out_of_budget("during the bisection between " + sec(lo) + " and " + sec(hi));
+        r.infeasible_below = lo;
+        return finish();
+      }
+      (p->feasible ? hi : lo) = mid;
+    }
+    r.infeasible_below = lo;
+  } else {
+    r.infeasible_below = r.scan_start;
+  }
+  const double t_min = *r.t_min;
+
+  // 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (at least
+  // 4 points when the budget allows): feasible_above is judged on every T planned above T_min.
+  const double curve_end = std::min(t_max, options.curve_factor * t_min);
+  const int curve_points =
+      std::max(1, std::min(4, static_cast<int>(std::floor((curve_end - first_feasible) / step))));
+  for (int k = 1; k <= curve_points; ++k) {
+    const double T =
+        round_to_grid(first_feasible + (curve_end - first_feasible) * k / curve_points);
+    if (T <= first_feasible || T > t_max) break;
+    if (!search.evaluate(T)) break;  // the curve is shorter; T_min stands
+  }
+  r.feasible_above = true;
+  const MinTimePoint* first_bad = nullptr;
+  for (const MinTimePoint& p : r.curve) {
+    if (p.motion_time > t_min && !p.feasible) {
+      if (first_bad == nullptr || p.motion_time < first_bad->motion_time) first_bad = &p;
+      r.feasible_above = false;
+    }
+  }
+  r.status = SolveStatus::kOptimal;
+  r.message = "T_min = " + sec(t_min) + ": the shortest motion time on the 1 ms grid whose " +
+              "verified " + to_string(strategy) + " plan meets " + limits;
+  if (*r.infeasible_below < t_min) {
+    for (const MinTimePoint& p : r.curve) {
+      if (p.motion_time == *r.infeasible_below) {
+        r.message += "; " + sec(p.motion_time) + " does not (" + why_not(p, r) + ")";
+      }
+    }
+  } else {
+    r.message += "; it is the lower bound of the machine limits and ramps";
+  }
+  if (first_bad != nullptr) {
+    r.message += "; feasibility is not monotone: T = " + sec(first_bad->motion_time) +
+                 " above it fails (" + why_not(*first_bad, r) + ")";
+  }
+  return finish();
+}
+
+MinTimeSummary summarize_min_time(const std::vector<MinTimeResult>& results) {
+  MinTimeSummary s;
+  for (std::size_t i = 0; i < results.size(); ++i) {
+    const MinTimeResult& r = results[i];
+    if (r.status != SolveStatus::kOptimal || !r.t_min) continue;
+    if (r.strategy == Strategy::kBaseline && !s.baseline) s.baseline = i;
+    if (!s.winner || *r.t_min < *results[*s.winner].t_min) s.winner = i;
+  }
+  if (s.winner && s.baseline) {
+    const double tw = *results[*s.winner].t_min;
+    const double tb = *results[*s.baseline].t_min;
+    s.gain_pct = 100.0 * (tb - tw) / tb;
+    s.gain_cycles_per_min = 60.0 / tw - 60.0 / tb;
+  }
+  return s;
+}
+
+}  // namespace slosh

@@ -1,0 +1,273 @@
+// Minimum motion time (issue 18, SPEC §9): the core search checked by planning at and below
+// T_min, against a brute-force 1 ms scan, an analytic toy, and the kinematic lower bound against
+// an independent numeric minimisation over symmetric 7-segment profiles.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+#include <vector>
+
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/strategy/min_time.hpp"
+#include "slosh/core/strategy/planner.hpp"
+
+namespace slosh {
+namespace {
+
+/// The thesis container with its 150 mm height: free board 68 mm, eta_rest <= 3 mm (issue 18).
+Format thesis_container() {
+  Format f = thesis_format();
+  f.container.height = 0.150;
+  return f;
+}
+
+MinTimeOptions issue_options() {
+  MinTimeOptions o;
+  o.free_board_margin = 0.0;  // eta_motion <= the free board, 68 mm
+  o.eta_rest_max = 0.003;
+  o.plan.time_limit = 30.0;
+  return o;
+}
+
+/// Feasibility of T judged independently: a fresh plan() and its verified nonlinear predictions.
+bool feasible_at(const Format& format, Strategy strategy, const MinTimeOptions& o, double T) {
+  Format f = format;
+  f.motion_time = T;
+  PlanOptions po = o.plan;
+  po.eta_rest_max = o.eta_rest_max;
+  po.eta_motion_max = *o.eta_motion_limit(format);
+  po.time_limit = 30.0;
+  const PlanResult r = plan(f, strategy, po);
+  const bool usable = r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable;
+  return usable &&
+         r.prediction.nonlinear.motion.value <= *o.eta_motion_limit(format) * (1.0 + 1e-6) &&
+         r.prediction.nonlinear.rest.value <= o.eta_rest_max * (1.0 + 1e-6);
+}
+
+// --- the kinematic lower bound -----------------------------------------------------------------
+
+/// Peak acceleration, velocity and jerk of the symmetric 7-segment profile with ramps r,
+/// plateaus p and cruise c over `stroke`, written out here: J r (r + p) (2r + p + c) = stroke.
+struct Peaks {
+  double a, v, j;
+};
+Peaks symmetric_peaks(double stroke, double r, double p, double c) {
+  const double J = stroke / (r * (r + p) * (2.0 * r + p + c));
+  return {J * r, J * r * (r + p), J};
+}
+
+/// Some symmetric profile of total time T meets the limits (grid over r and p, the rest cruise).
+bool some_profile_fits(double stroke, double T, double a, double v, double j) {
+  constexpr int n = 400;
+  for (int ir = 1; ir <= n; ++ir) {
+    const double r = 0.25 * T * ir / n;
+    const double p_max = 0.5 * (T - 4.0 * r);
+    for (int ip = 0; ip <= n; ++ip) {
+      const double p = p_max * ip / n;
+      const double c = std::max(0.0, T - 4.0 * r - 2.0 * p);
+      const Peaks k = symmetric_peaks(stroke, r, p, c);
+      if (k.a <= a && k.v <= v && k.j <= j) return true;
+    }
+  }
+  return false;
+}
+
+/// The least T some symmetric profile fits, by bisection on the grid test above.
+double numeric_min_time(double stroke, double a, double v, double j) {
+  double lo = 1e-3, hi = 100.0;
+  for (int i = 0; i < 40; ++i) {
+    const double mid = 0.5 * (lo + hi);
+    (some_profile_fits(stroke, mid, a, v, j) ? hi : lo) = mid;
+  }
+  return hi;
+}
+
+TEST(MinTime, KinematicLowerBoundMatchesANumericMinimumOverSymmetricProfiles) {
+  constexpr double inf = std::numeric_limits<double>::infinity();
+  struct Case {
+    double s, a, v, j;
+  };
+  const Case cases[] = {
+      {0.8, 10.0, 3.0, 250.0},   // a and v reached, cruise
+      {0.8, 10.0, 1.0, 250.0},   // long cruise
+      {0.8, 10.0, inf, 250.0},   // a reached, no v limit
+      {0.05, 10.0, 3.0, 250.0},  // short stroke: neither a nor v reached
+      {0.8, 5.0, inf, inf},      // a alone: bang-bang
+      {0.8, inf, inf, 100.0},    // j alone
+      {0.8, inf, 1.5, inf},      // v alone: s / v
+      {0.8, 20.0, 1.2, inf},     // a and v
+      {0.3, inf, 0.8, 40.0},     // v and j
+  };
+  for (const Case& c : cases) {
+    MachineLimits limits;
+    if (std::isfinite(c.a)) limits.a_max = c.a;
+    if (std::isfinite(c.v)) limits.v_max = c.v;
+    if (std::isfinite(c.j)) limits.j_max = c.j;
+    const double closed = kinematic_lower_bound(c.s, limits);
+    const double numeric = numeric_min_time(c.s, c.a, c.v, c.j);
+    SCOPED_TRACE(testing::Message() << "s " << c.s << " a " << c.a << " v " << c.v << " j " << c.j
+                                    << ": closed " << closed << " numeric " << numeric);
+    // No profile fits below the closed form; the grid reaches it to its resolution.
+    EXPECT_GE(numeric, closed * (1.0 - 1e-9));
+    EXPECT_LE(numeric, closed * 1.01);
+  }
+  EXPECT_EQ(kinematic_lower_bound(0.8, MachineLimits{}), 0.0);
+  // Textbook case: a = 10, v = 1, j = 250: T = s / v + v / a + a / j = 0.8 + 0.1 + 0.04.
+  EXPECT_NEAR(kinematic_lower_bound(0.8, {10.0, 1.0, 250.0}), 0.94, 1e-12);
+}
+
+// --- the search ------------------------------------------------------------------------------
+
+TEST(MinTime, AnalyticToyUniformLawUnderAnAccelerationLimit) {
+  // Sloshing limits out of reach, a_max = 5 m/s^2: the uniform law's peak acceleration is
+  // 49 s / (8 T^2), monotone in T, so T_min = sqrt(49 s / (8 a_max)) rounded up to the 1 ms grid.
+  Format f = thesis_container();
+  MinTimeOptions o = issue_options();
+  o.eta_motion_max = 5.0;
+  o.eta_rest_max = 5.0;
+  o.plan.limits.a_max = 5.0;
+  const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  const double expected = std::ceil(std::sqrt(49.0 * 0.8 / (8.0 * 5.0)) * 1000.0) / 1000.0;
+  EXPECT_NEAR(*r.t_min, expected, 1e-9);
+  EXPECT_TRUE(r.feasible_above);
+  EXPECT_NEAR(*r.infeasible_below, expected - 1e-3, 1e-9);
+  EXPECT_NEAR(r.kinematic_bound, 2.0 * std::sqrt(0.8 / 5.0), 1e-12);  // bang-bang
+  EXPECT_LE(r.plans, 30);
+}
+
+TEST(MinTime, UniformLawMatchesABruteForceScanAtOneMillisecond) {
+  const Format f = thesis_container();
+  const MinTimeOptions o = issue_options();
+  const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  ASSERT_TRUE(r.t_min);
+  EXPECT_LE(r.plans, 30);
+  // Every ms from the scan start: the first feasible T is T_min.
+  double brute = -1.0;
+  for (int ms = static_cast<int>(std::lround(r.scan_start * 1000.0)); ms <= 5000; ++ms) {
+    if (feasible_at(f, Strategy::kBaseline, o, ms * 1e-3)) {
+      brute = ms * 1e-3;
+      break;
+    }
+  }
+  EXPECT_NEAR(*r.t_min, brute, 1e-9) << r.message;
+}
+
+TEST(MinTime, EveryStrategyOnTheThesisContainerIsFeasibleAtTMinAndNotOneMillisecondBelow) {
+  const Format f = thesis_container();
+  const MinTimeOptions o = issue_options();
+  for (Strategy s :
+       {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand,
+        Strategy::kTimeDomain, Strategy::kFirChain, Strategy::kShaper}) {
+    SCOPED_TRACE(to_string(s));
+    const MinTimeResult r = min_time(f, s, o);
+    ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+    EXPECT_LE(r.plans, o.max_plans);
+    const double t = *r.t_min;
+    EXPECT_NEAR(t * 1000.0, std::round(t * 1000.0), 1e-6);  // on the 1 ms grid
+    EXPECT_GE(t, r.kinematic_bound);
+    EXPECT_TRUE(feasible_at(f, s, o, t)) << r.message;
+    ASSERT_TRUE(r.plan);
+    EXPECT_NEAR(r.plan->law.duration(), t, 1e-9);
+    if (*r.infeasible_below < t) {
+      EXPECT_NEAR(*r.infeasible_below, t - 1e-3, 1e-9);
+      EXPECT_FALSE(feasible_at(f, s, o, t - 1e-3)) << r.message;
+    }
+    // The curve: ascending, from the scan start, past T_min; feasible_above is what it says.
+    ASSERT_FALSE(r.curve.empty());
+    EXPECT_NEAR(r.curve.front().motion_time, r.scan_start, 1e-12);
+    bool all_above = true;
+    for (std::size_t k = 0; k < r.curve.size(); ++k) {
+      if (k > 0) {
+        EXPECT_LT(r.curve[k - 1].motion_time, r.curve[k].motion_time);
+      }
+      if (r.curve[k].motion_time > t && !r.curve[k].feasible) all_above = false;
+      if (r.curve[k].motion_time < t) {
+        EXPECT_FALSE(r.curve[k].feasible);
+      }
+    }
+    EXPECT_EQ(r.feasible_above, all_above);
+    EXPECT_NEAR(r.curve.back().motion_time, std::round(1.5 * t * 1000.0) / 1000.0, 1.5e-3);
+  }
+}
+
+TEST(MinTime, UnreachableLimitIsInfeasibleWithTheBestReached) {
+  const Format f = thesis_container();
+  MinTimeOptions o = issue_options();
+  o.eta_rest_max = 1e-6;  // 0.001 mm of residual wave: the uniform law never gets there
+  o.motion_time_max = 1.5;
+  o.scan_step = 0.1;
+  const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+  EXPECT_FALSE(r.t_min);
+  ASSERT_TRUE(r.best);
+  ASSERT_TRUE(r.plan);
+  double least = std::numeric_limits<double>::infinity();
+  for (const MinTimePoint& p : r.curve) least = std::min(least, p.excess);
+  EXPECT_EQ(r.best->excess, least);
+  EXPECT_NEAR(r.plan->law.duration(), r.best->motion_time, 1e-12);
+  EXPECT_NEAR(r.curve.back().motion_time, 1.5, 1e-12);
+  EXPECT_NE(r.message.find("the best reached is"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("T = " + std::string(r.best->motion_time == 1.5 ? "1.5" : "")),
+            std::string::npos);
+}
+
+TEST(MinTime, MachineLimitsAboveTheSearchRangeAreInfeasibleWithoutPlanning) {
+  const Format f = thesis_container();
+  MinTimeOptions o = issue_options();
+  o.plan.limits.a_max = 0.1;  // 800 mm needs 2 sqrt(0.8 / 0.1) = 5.66 s
+  const MinTimeResult r = min_time(f, Strategy::kShaper, o);
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible);
+  EXPECT_EQ(r.plans, 0);
+  EXPECT_NE(r.message.find("needs at least 5.657 s"), std::string::npos) << r.message;
+}
+
+TEST(MinTime, BudgetGivesTimeLimitWithTheBestBoundSoFar) {
+  const Format f = thesis_container();
+  MinTimeOptions o = issue_options();
+  o.max_plans = 3;
+  const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  EXPECT_EQ(r.status, SolveStatus::kTimeLimit);
+  EXPECT_EQ(r.plans, 3);
+  EXPECT_NE(r.message.find("ran out"), std::string::npos) << r.message;
+}
+
+TEST(MinTime, InvalidOptionsAreRefused) {
+  Format f = thesis_format();  // no container height
+  MinTimeOptions o;
+  MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_TRUE(r.invalid_input);
+  EXPECT_EQ(r.invalid_input->input, PlanInput::kEtaMotionMax);
+  EXPECT_EQ(r.status, SolveStatus::kFailed);
+  o.eta_motion_max = 0.05;
+  o.scan_step = 0.0;
+  r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_TRUE(r.invalid_input);
+  EXPECT_EQ(r.invalid_input->input, PlanInput::kScanStep);
+  o.scan_step = 0.04;
+  r = min_time(f, Strategy::kAuto, o);
+  EXPECT_TRUE(r.invalid_input);
+}
+
+TEST(MinTime, SummaryNamesTheWinnerAndTheGainOverTheUniformLaw) {
+  std::vector<MinTimeResult> results(3);
+  results[0].strategy = Strategy::kBaseline;
+  results[0].status = SolveStatus::kOptimal;
+  results[0].t_min = 1.2;
+  results[1].strategy = Strategy::kShaper;
+  results[1].status = SolveStatus::kOptimal;
+  results[1].t_min = 0.8;
+  results[2].strategy = Strategy::kNotch;
+  results[2].status = SolveStatus::kInfeasible;
+  const MinTimeSummary s = summarize_min_time(results);
+  ASSERT_TRUE(s.winner);
+  EXPECT_EQ(*s.winner, 1u);
+  EXPECT_NEAR(*s.gain_pct, 100.0 * 0.4 / 1.2, 1e-12);
+  EXPECT_NEAR(*s.gain_cycles_per_min, 75.0 - 50.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace slosh

@@ -1,0 +1,284 @@
+// POST /v1/min-time against a real `slosh serve` and `slosh min-time` as a real process (issue 18):
+// the JSON equals the in-process API, the cache, and the exact texts of bad input.
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/min_time.hpp"
+#include "support/process.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using test::run_slosh;
+using test::RunResult;
+
+json thesis_request() {
+  return json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
+               "fluid": {"density_kg_m3": 1000, "viscosity_pa_s": 0.001, "name": "thesis_water"},
+               "stroke_mm": 800},
+    "free_board_margin_mm": 0, "eta_rest_max_mm": 3,
+    "strategies": ["baseline", "shaper"]
+  })");
+}
+
+/// The response without its wall-clock figures (search_ms, solve_ms), which differ run to run.
+json without_timings(json j) {
+  if (j.is_object()) {
+    j.erase("search_ms");
+    j.erase("solve_ms");
+    for (auto& [key, value] : j.items()) value = without_timings(value);
+  } else if (j.is_array()) {
+    for (auto& value : j) value = without_timings(value);
+  }
+  return j;
+}
+
+json in_process(const json& body) {
+  return api::run_min_time(api::parse_min_time_request(body, 600.0));
+}
+
+/// (field, message) of the 422 the parser gives `body`.
+std::pair<std::string, std::string> refusal(const json& body) {
+  try {
+    (void)api::parse_min_time_request(body, 10.0);
+  } catch (const api::ApiError& e) {
+    return {e.field(), e.what()};
+  }
+  return {"", "accepted"};
+}
+
+TEST(MinTimeApi, ResponseCarriesEachStrategyAndTheHeadline) {
+  const json r = in_process(thesis_request());
+  ASSERT_EQ(r["strategies"].size(), 2u);
+  const json& base = r["strategies"][0];
+  const json& shaper = r["strategies"][1];
+  EXPECT_EQ(base["strategy"], "baseline");
+  EXPECT_EQ(base["status"], "optimal");
+  EXPECT_EQ(shaper["status"], "optimal");
+  // The plan at T_min is the plan of that motion time, and the curve is the planned T's.
+  const double t = shaper["t_min_s"];
+  EXPECT_NEAR(shaper["plan"]["format"]["motion_time_s"].get<double>(), t, 1e-12);
+  EXPECT_EQ(shaper["plan"]["strategy"], "shaper");
+  EXPECT_EQ(shaper["curve"]["t_s"].size(), shaper["plans"].get<std::size_t>());
+  EXPECT_NEAR(r["limits"]["eta_motion_max_mm"].get<double>(), 68.0, 1e-9);
+  const double tb = base["t_min_s"];
+  const std::string winner = t < tb ? "shaper" : "baseline";
+  EXPECT_EQ(r["headline"]["winner"], winner);
+  EXPECT_NEAR(r["headline"]["gain_pct"].get<double>(), 100.0 * (tb - std::min(t, tb)) / tb, 1e-9);
+  EXPECT_NEAR(r["headline"]["gain_cycles_per_min"].get<double>(),
+              60.0 / std::min(t, tb) - 60.0 / tb, 1e-9);
+  EXPECT_FALSE(r.contains("format") && r["format"].contains("motion_time_s"));
+}
+
+TEST(MinTimeApi, KeyIgnoresSpellingAndBudgetButNotTheLimits) {
+  json a = thesis_request();
+  json b = thesis_request();
+  b["options"] = {{"time_limit_s", 3}};
+  b["eta_rest_max_mm"] = 3.0;
+  EXPECT_EQ(api::min_time_key(api::parse_min_time_request(a, 10.0)),
+            api::min_time_key(api::parse_min_time_request(b, 10.0)));
+  b["eta_rest_max_mm"] = 2.5;
+  EXPECT_NE(api::min_time_key(api::parse_min_time_request(a, 10.0)),
+            api::min_time_key(api::parse_min_time_request(b, 10.0)));
+}
+
+TEST(MinTimeApi, BadInputIsRefusedNamingFieldValueAndRange) {
+  struct Case {
+    json patch;  // merged into the thesis request
+    std::string field, message;
+  };
+  const std::vector<Case> cases{
+      {{{"format", {{"motion_time_s", 1.0}}}},
+       "format.motion_time_s",
+       "format.motion_time_s is not part of a min-time request: the search finds the motion "
+       "time; bound it with motion_time_max_s (default 5 s)"},
+      {{{"strategies", {"auto"}}},
+       "strategies[0]",
+       "strategies[0] = \"auto\" is not allowed: one of \"baseline\", \"notch\", "
+       "\"multi_notch\", \"min_jerk_band\", \"time_domain\", \"fir_chain\", \"shaper\", \"iir\" "
+       "(auto is not searched: the response compares the strategies)"},
+      {{{"strategies", {"shaper", "shaper"}}},
+       "strategies[1]",
+       "strategies[1] = \"shaper\" is listed twice"},
+      {{{"eta_rest_max_mm", -1}},
+       "eta_rest_max_mm",
+       "eta_rest_max_mm = -1 is out of range: allowed > 0 and <= 10000 mm"},
+      {{{"motion_time_max_s", 100}},
+       "motion_time_max_s",
+       "motion_time_max_s = 100 is out of range: allowed 0.05 to 60 s"},
+      {{{"free_board_margin_mm", 70}},
+       "free_board_margin_mm",
+       "free_board_margin_mm = 70 leaves no eta_motion_max: the free board (height_mm - "
+       "fill_height_mm) is 68 mm; allowed below it, or give eta_motion_max_mm"},
+      {{{"limit_model", "quadratic"}},
+       "limit_model",
+       "limit_model = \"quadratic\" is not allowed: one of \"nonlinear\", \"linear\", \"both\""},
+      {{{"max_plans", 2}},
+       "max_plans",
+       "max_plans = 2 is out of range: allowed an integer from 3 to 1000"},
+      {{{"options", {{"eta_rest_max_mm", 2}}}},
+       "options.eta_rest_max_mm",
+       "options.eta_rest_max_mm is not an option of a min-time request: give the limit as "
+       "eta_rest_max_mm at the top level"},
+      {{{"options", {{"time_limit_s", 20}}}},
+       "options.time_limit_s",
+       "options.time_limit_s = 20 is out of range: this server allows at most 10 s"},
+      {{{"options", {{"limits", {{"a_max", 0}}}}}},
+       "options.limits.a_max",
+       "options.limits.a_max = 0 is out of range: allowed > 0 and <= 1000 m/s^2"},
+  };
+  for (const Case& c : cases) {
+    json body = thesis_request();
+    body.merge_patch(c.patch);
+    SCOPED_TRACE(c.patch.dump());
+    const auto [field, message] = refusal(body);
+    EXPECT_EQ(field, c.field);
+    EXPECT_EQ(message, c.message);
+  }
+  json no_height = thesis_request();
+  no_height["format"]["container"].erase("height_mm");
+  EXPECT_EQ(refusal(no_height).second,
+            "eta_motion_max_mm is required when format.container.height_mm is not given (its "
+            "default is the free board: height_mm - fill_height_mm - free_board_margin_mm)");
+  no_height["eta_motion_max_mm"] = 40;
+  EXPECT_EQ(refusal(no_height).second, "accepted");
+}
+
+TEST(MinTimeApi, RealServerAnswersAsTheApiCachesAndRefusesBadInput) {
+  test::Server server;
+  auto client = server.client();
+  const json body = thesis_request();
+  const auto first = client.Post("/v1/min-time", body.dump(), "application/json");
+  ASSERT_TRUE(first) << httplib::to_string(first.error()) << "\n" << server.log();
+  ASSERT_EQ(first->status, 200) << first->body;
+  EXPECT_EQ(first->get_header_value("X-Cache"), "miss");
+  const json j = json::parse(first->body);
+  EXPECT_EQ(without_timings(j), without_timings(in_process(body)));
+  const auto second = client.Post("/v1/min-time", body.dump(), "application/json");
+  ASSERT_TRUE(second);
+  EXPECT_EQ(second->get_header_value("X-Cache"), "hit");
+  json cached = json::parse(second->body);
+  EXPECT_TRUE(cached["cached"].get<bool>());
+  cached["cached"] = false;
+  EXPECT_EQ(cached, j);
+  httplib::Headers tag{{"If-None-Match", first->get_header_value("ETag")}};
+  const auto not_modified = client.Post("/v1/min-time", tag, body.dump(), "application/json");
+  ASSERT_TRUE(not_modified);
+  EXPECT_EQ(not_modified->status, 304);
+
+  json bad = body;
+  bad["eta_rest_max_mm"] = 0;
+  const auto refused = client.Post("/v1/min-time", bad.dump(), "application/json");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 422);
+  EXPECT_EQ(json::parse(refused->body),
+            json::parse(R"({"error": {"code": "invalid_value", "field": "eta_rest_max_mm",
+              "message": "eta_rest_max_mm = 0 is out of range: allowed > 0 and <= 10000 mm"}})"));
+  const auto budget = client.Post(
+      "/v1/min-time", json::parse(R"({"format": {}, "options": {"time_limit_s": 11}})").dump(),
+      "application/json");
+  ASSERT_TRUE(budget);
+  EXPECT_EQ(budget->status, 422);
+}
+
+TEST(MinTimeApi, FullQueueAnswers503WithRetryAfter) {
+  // One worker and room for one queued search: seven strategies cannot all be queued.
+  test::Server server({"--workers", "1", "--queue", "1"});
+  auto client = server.client();
+  json body = thesis_request();
+  body.erase("strategies");  // every strategy but iir: seven tasks
+  const auto r = client.Post("/v1/min-time", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 503) << r->body;
+  EXPECT_EQ(r->get_header_value("Retry-After"), "1");
+  EXPECT_EQ(json::parse(r->body)["error"]["code"], "overloaded");
+}
+
+TEST(MinTimeApi, CliPrintsTheResponseFromAFileAndStdinAndRefusesBadInput) {
+  const test::TempDir dir;
+  json body = thesis_request();
+  body["strategies"] = {"shaper"};
+  test::write_file(dir / "request.json", body.dump());
+  const RunResult from_file = run_slosh({"min-time", "--request", (dir / "request.json").string()});
+  ASSERT_EQ(from_file.exit_code, 0) << from_file.err;
+  const json j = json::parse(from_file.out);
+  EXPECT_EQ(without_timings(j), without_timings(in_process(body)));
+  const RunResult from_stdin = run_slosh({"min-time", "--request", "-"}, body.dump());
+  ASSERT_EQ(from_stdin.exit_code, 0) << from_stdin.err;
+  EXPECT_EQ(without_timings(json::parse(from_stdin.out)), without_timings(j));
+
+  body["format"]["motion_time_s"] = 1.0;
+  const RunResult bad = run_slosh({"min-time", "--request", "-"}, body.dump());
+  EXPECT_EQ(bad.exit_code, 2);
+  EXPECT_EQ(json::parse(bad.err),
+            json::parse(R"j({"error": {"code": "invalid_value", "field": "format.motion_time_s",
+              "message": "format.motion_time_s is not part of a min-time request: the search finds the motion time; bound it with motion_time_max_s (default 5 s)"}})j"));
+  EXPECT_TRUE(bad.out.empty());
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
+  const test::TempDir dir;
+  test::write_file(dir / "recipes.csv",
+                   "recipe_id,radius_mm,container_height_mm,fill_height_mm,fluid,stroke_mm,"
+                   "motion_time_s,strategy,eta_rest_max_mm\n"
+                   "thesis,48.5,150,82,water,800,2,,3\n"
+                   "bad,48.5,150,82,water,-5,1.5,,\n");
+  const RunResult r =
+      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--out",
+                 (dir / "out.jsonl").string(), "--workers", "2"});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  EXPECT_EQ(r.err, "slosh batch: row 2 could not be searched: see the message of the row\n");
+  std::vector<json> rows;
+  std::istringstream lines(test::read_file(dir / "out.jsonl"));
+  for (std::string line; std::getline(lines, line);) rows.push_back(json::parse(line));
+  ASSERT_EQ(rows.size(), 2u);
+  // The good row equals the in-process search of the equivalent min-time request.
+  const json reference = in_process(json::parse(R"({
+    "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
+               "fluid": "water", "stroke_mm": 800},
+    "motion_time_max_s": 2, "eta_rest_max_mm": 3})"));
+  const json& good = rows[0];
+  EXPECT_EQ(good["status"], "ok");
+  EXPECT_EQ(good["recipe_id"], "thesis");
+  EXPECT_EQ(good["key"], reference["key"]);
+  ASSERT_EQ(reference["strategies"].size(), 7u);
+  for (const json& s : reference["strategies"]) {
+    EXPECT_EQ(good["t_min_" + s["strategy"].get<std::string>() + "_s"], s["t_min_s"])
+        << s["strategy"];
+  }
+  EXPECT_EQ(good["winner"], reference["headline"]["winner"]);
+  EXPECT_EQ(good["gain_pct"], reference["headline"]["gain_pct"]);
+  EXPECT_EQ(good["gain_cycles_per_min"], reference["headline"]["gain_cycles_per_min"]);
+  const json& bad = rows[1];
+  EXPECT_EQ(bad["status"], "error");
+  EXPECT_EQ(bad["message"], "stroke_mm = -5 is out of range: allowed 0.01 to 100000 mm");
+  EXPECT_EQ(bad["error_field"], "stroke_mm");
+
+  const RunResult server =
+      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--server",
+                 "http://127.0.0.1:1"});
+  EXPECT_EQ(server.exit_code, 2);
+  EXPECT_EQ(server.err,
+            "slosh batch: --mode min_time searches locally: --server is not supported\n");
+}
+
+}  // namespace
+}  // namespace slosh
