@@ -18,9 +18,9 @@
 #include "plan_table.hpp"
 #include "recipe_table.hpp"
 #include "slosh/api/error.hpp"
-#include "slosh/api/service_bodies.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/recipe_row.hpp"
+#include "slosh/api/service_bodies.hpp"
 #include "worker_pool.hpp"
 
 namespace slosh::service {
@@ -276,56 +276,58 @@ json min_time_error_row(const RecipeRow& recipe, const api::ApiError& e) {
 
 /// Searches every row's strategies on a pool of `config.workers` (one task per row and strategy)
 /// and writes the rows in input order; returns the 1-based numbers of the rows in error.
+struct MinTimeJob {
+  std::optional<api::MinTimeRequest> request;
+  std::optional<api::ApiError> error;
+  std::vector<MinTimeResult> results;
+  std::vector<std::future<void>> done;
+};
+
+// Parses a row's min-time request and queues one search per strategy (waiting for queue room).
+void submit_min_time_row(const RecipeRow& row, const ServerConfig& config, WorkerPool& pool,
+                         MinTimeJob& job) {
+  if (!row.error.is_null()) {
+    job.error = api::error_from_json(row.error);
+    return;
+  }
+  try {
+    job.request = api::parse_min_time_request(api::min_time_body_from_recipe(row.request),
+                                              config.solve_budget_s);
+  } catch (const api::ApiError& e) {
+    job.error = e;
+    return;
+  }
+  job.results.resize(job.request->strategies.size());
+  for (std::size_t k = 0; k < job.results.size(); ++k) {
+    auto promise = std::make_shared<std::promise<void>>();
+    job.done.push_back(promise->get_future());
+    const api::MinTimeRequest* request = &*job.request;
+    MinTimeResult* slot = &job.results[k];
+    if (!pool.submit_wait([request, slot, k, promise] {
+          *slot = min_time(request->format, request->strategies[k], request->options);
+          promise->set_value();
+        })) {
+      throw BatchAbort("the worker pool refused a search");
+    }
+  }
+}
+
 std::vector<std::size_t> run_min_time_table(const std::vector<RecipeRow>& rows,
                                             const ServerConfig& config, MinTimeWriter& writer) {
-  struct Job {
-    std::optional<api::MinTimeRequest> request;
-    std::optional<api::ApiError> error;
-    std::vector<MinTimeResult> results;
-    std::vector<std::future<void>> done;
-  };
-  std::vector<Job> jobs(rows.size());
+  std::vector<MinTimeJob> jobs(rows.size());
   const std::size_t workers =
       config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers;
   WorkerPool pool(workers, 1024);
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    Job& job = jobs[i];
-    if (!rows[i].error.is_null()) {
-      job.error = api::error_from_json(rows[i].error);
-      continue;
-    }
-    try {
-      job.request = api::parse_min_time_request(api::min_time_body_from_recipe(rows[i].request),
-                                                config.solve_budget_s);
-    } catch (const api::ApiError& e) {
-      job.error = e;
-      continue;
-    }
-    job.results.resize(job.request->strategies.size());
-    for (std::size_t k = 0; k < job.results.size(); ++k) {
-      auto promise = std::make_shared<std::promise<void>>();
-      job.done.push_back(promise->get_future());
-      const api::MinTimeRequest* request = &*job.request;
-      MinTimeResult* slot = &job.results[k];
-      if (!pool.submit_wait([request, slot, k, promise] {
-            *slot = min_time(request->format, request->strategies[k], request->options);
-            promise->set_value();
-          })) {
-        throw BatchAbort("the worker pool refused a search");
-      }
-    }
-  }
+  for (std::size_t i = 0; i < rows.size(); ++i) submit_min_time_row(rows[i], config, pool, jobs[i]);
   std::vector<std::size_t> failed;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    Job& job = jobs[i];
+    MinTimeJob& job = jobs[i];
     for (auto& f : job.done) f.wait();
-    if (!job.error) {
-      for (const MinTimeResult& r : job.results) {
-        if (r.invalid_input) {
-          job.error =
-              api::ApiError(api::ErrorCode::kInvalidValue, "format",
-                            "invalid input: " + r.invalid_input->message + "; nothing was planned");
-        }
+    for (const MinTimeResult& r : job.results) {
+      if (!job.error && r.invalid_input) {
+        job.error =
+            api::ApiError(api::ErrorCode::kInvalidValue, "format",
+                          "invalid input: " + r.invalid_input->message + "; nothing was planned");
       }
     }
     if (job.error) {
@@ -333,27 +335,8 @@ std::vector<std::size_t> run_min_time_table(const std::vector<RecipeRow>& rows,
       writer.write(min_time_error_row(rows[i], *job.error));
       continue;
     }
-    const json body =
-        api::min_time_json(*job.request, job.results, api::min_time_key(*job.request));
-    json row{{"row", rows[i].row},
-             {"recipe_id", rows[i].recipe_id},
-             {"status", "ok"},
-             {"key", body["key"]}};
-    std::string message;
-    for (const json& s : body["strategies"]) {
-      row["t_min_" + s["strategy"].get<std::string>() + "_s"] = s["t_min_s"];
-      if (s["status"] != "optimal") {
-        message += (message.empty() ? "" : "; ") + s["strategy"].get<std::string>() + ": " +
-                   s["status"].get<std::string>();
-      }
-    }
-    const json& h = body["headline"];
-    row["winner"] = h["winner"];
-    row["winner_t_min_s"] = h["t_min_s"];
-    row["baseline_t_min_s"] = h["baseline_t_min_s"];
-    row["gain_pct"] = h["gain_pct"];
-    row["gain_cycles_per_min"] = h["gain_cycles_per_min"];
-    row["message"] = message.empty() ? json(nullptr) : json(message);
+    json row{{"row", rows[i].row}, {"recipe_id", rows[i].recipe_id}, {"status", "ok"}};
+    row.update(api::min_time_row_figures(*job.request, job.results));
     writer.write(row);
   }
   return failed;
@@ -361,110 +344,122 @@ std::vector<std::size_t> run_min_time_table(const std::vector<RecipeRow>& rows,
 
 }  // namespace
 
-int run_batch_command(const BatchCommandOptions& options) {
-  const auto started = std::chrono::steady_clock::now();
+namespace {
+
+// The recipe table and where its plans go; an exit code after a message when they are unusable.
+struct BatchInput {
   std::vector<RecipeRow> rows;
   TableFormat out_format{};
   std::unique_ptr<HttpClient> client;
+};
+
+std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInput& in) {
   try {
     const TableFormat in_format = table_format(options.in_format, options.in);
-    out_format = table_format(options.out_format, options.out);
+    in.out_format = table_format(options.out_format, options.out);
     std::string text;
     try {
       text = read_request_text(options.in);
     } catch (const std::exception&) {
       throw TableError("cannot read the recipe table '" + options.in + "'");
     }
-    rows = read_recipe_table(text, in_format);
-    if (options.full && out_format == TableFormat::kCsv) {
+    in.rows = read_recipe_table(text, in_format);
+    if (options.full && in.out_format == TableFormat::kCsv) {
       throw TableError("--full adds the whole plan to JSON rows: use a .json or .jsonl output");
     }
     if (!options.server.empty() && options.chunk == 0) {
       throw TableError("--chunk must be at least 1");
     }
     if (!options.server.empty()) {
-      client = std::make_unique<HttpClient>(options.server, kServerTimeout);  // checks the URL
+      in.client = std::make_unique<HttpClient>(options.server, kServerTimeout);  // checks the URL
     }
   } catch (const std::exception& e) {
     std::cerr << "slosh batch: " << e.what() << '\n';
     return kExitInvalidInput;
   }
+  if (options.mode == "min_time" && !options.server.empty()) {
+    std::cerr << "slosh batch: --mode min_time searches locally: --server is not supported\n";
+    return kExitInvalidInput;
+  }
+  if (options.mode == "min_time" && options.full) {
+    std::cerr << "slosh batch: --full is for plan tables, not --mode min_time\n";
+    return kExitInvalidInput;
+  }
+  return std::nullopt;
+}
 
-  if (options.mode == "min_time") {
-    if (!options.server.empty()) {
-      std::cerr << "slosh batch: --mode min_time searches locally: --server is not supported\n";
-      return kExitInvalidInput;
-    }
-    if (options.full) {
-      std::cerr << "slosh batch: --full is for plan tables, not --mode min_time\n";
-      return kExitInvalidInput;
-    }
+// The output table: written to <out>.partial and renamed when complete (stdout for "-").
+class BatchOutput {
+ public:
+  explicit BatchOutput(const std::string& out) : out_(out), partial_(out + ".partial") {
+    if (!to_stdout()) file_.open(partial_, std::ios::binary | std::ios::trunc);
   }
-  const bool to_stdout = options.out == "-";
-  const std::string partial = options.out + ".partial";
-  std::ofstream file;
-  if (!to_stdout) {
-    file.open(partial, std::ios::binary | std::ios::trunc);
-    if (!file) {
-      std::cerr << "slosh batch: cannot write '" << partial << "'\n";
-      return kExitFailure;
+  [[nodiscard]] bool to_stdout() const { return out_ == "-"; }
+  [[nodiscard]] bool opened() const { return to_stdout() || static_cast<bool>(file_); }
+  [[nodiscard]] const std::string& partial() const { return partial_; }
+  std::ostream& stream() { return to_stdout() ? std::cout : file_; }
+  /// Closes and renames the partial file; false (after a message) when it cannot.
+  bool commit() {
+    if (to_stdout()) return true;
+    file_.close();
+    if (!file_ || std::rename(partial_.c_str(), out_.c_str()) != 0) {
+      std::cerr << "slosh batch: cannot write '" << out_ << "' (the table is in " << partial_
+                << ")\n";
+      return false;
     }
+    return true;
   }
-  std::ostream& out = to_stdout ? std::cout : file;
-  if (options.mode == "min_time") {
-    std::vector<std::size_t> failed;
-    try {
-      MinTimeWriter writer(out, out_format);
-      failed = run_min_time_table(rows, options.config, writer);
-      writer.finish();
-    } catch (const std::exception& e) {
-      std::cerr << "slosh batch: stopped: " << e.what() << '\n';
-      return kExitFailure;
-    }
-    if (!to_stdout) {
-      file.close();
-      if (!file || std::rename(partial.c_str(), options.out.c_str()) != 0) {
-        std::cerr << "slosh batch: cannot write '" << options.out << "' (the table is in "
-                  << partial << ")\n";
-        return kExitFailure;
-      }
-    }
-    if (!failed.empty()) {
-      std::cerr << "slosh batch: " << (failed.size() == 1 ? "row " : "rows ")
-                << failed_rows_text(failed)
-                << " could not be searched: see the message of the row\n";
-      return kExitSomeRowsFailed;
-    }
-    return kExitOk;
+
+ private:
+  std::string out_;
+  std::string partial_;
+  std::ofstream file_;
+};
+
+int run_min_time_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutput& output) {
+  std::vector<std::size_t> failed;
+  try {
+    MinTimeWriter writer(output.stream(), in.out_format);
+    failed = run_min_time_table(in.rows, options.config, writer);
+    writer.finish();
+  } catch (const std::exception& e) {
+    std::cerr << "slosh batch: stopped: " << e.what() << '\n';
+    return kExitFailure;
   }
-  PlanTableWriter writer(out, out_format);
+  if (!output.commit()) return kExitFailure;
+  if (!failed.empty()) {
+    std::cerr << "slosh batch: " << (failed.size() == 1 ? "row " : "rows ")
+              << failed_rows_text(failed) << " could not be searched: see the message of the row\n";
+    return kExitSomeRowsFailed;
+  }
+  return kExitOk;
+}
+
+int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutput& output,
+                  std::chrono::steady_clock::time_point started) {
+  PlanTableWriter writer(output.stream(), in.out_format);
   RowSink sink(writer, options.full);
   const bool draw = progress_enabled(options.progress);
-  ProgressBar bar(std::cerr, rows.size(), draw);
+  ProgressBar bar(std::cerr, in.rows.size(), draw);
   bar.update(0);
   try {
     if (options.server.empty()) {
-      run_local(rows, options.config, sink, bar);
+      run_local(in.rows, options.config, sink, bar);
     } else {
-      run_remote(rows, options, *client, sink, bar);
+      run_remote(in.rows, options, *in.client, sink, bar);
     }
     writer.finish();
   } catch (const std::exception& e) {
     bar.finish();
-    std::cerr << "slosh batch: stopped after " << sink.written() << " of " << rows.size()
+    std::cerr << "slosh batch: stopped after " << sink.written() << " of " << in.rows.size()
               << " recipes: " << e.what() << '\n';
-    if (!to_stdout) std::cerr << "slosh batch: the rows written so far are in " << partial << '\n';
+    if (!output.to_stdout()) {
+      std::cerr << "slosh batch: the rows written so far are in " << output.partial() << '\n';
+    }
     return kExitFailure;
   }
   bar.finish();
-  if (!to_stdout) {
-    file.close();
-    if (!file || std::rename(partial.c_str(), options.out.c_str()) != 0) {
-      std::cerr << "slosh batch: cannot write '" << options.out << "' (the table is in " << partial
-                << ")\n";
-      return kExitFailure;
-    }
-  }
+  if (!output.commit()) return kExitFailure;
   const double seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
   if (draw || !sink.failed_rows().empty()) std::cerr << summary(sink, seconds, options.out) << '\n';
@@ -475,6 +470,21 @@ int run_batch_command(const BatchCommandOptions& options) {
     return kExitSomeRowsFailed;
   }
   return kExitOk;
+}
+
+}  // namespace
+
+int run_batch_command(const BatchCommandOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  BatchInput in;
+  if (auto exit_code = read_batch_input(options, in)) return *exit_code;
+  BatchOutput output(options.out);
+  if (!output.opened()) {
+    std::cerr << "slosh batch: cannot write '" << output.partial() << "'\n";
+    return kExitFailure;
+  }
+  return options.mode == "min_time" ? run_min_time_mode(options, in, output)
+                                    : run_plan_mode(options, in, output, started);
 }
 
 }  // namespace slosh::service

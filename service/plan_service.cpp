@@ -231,12 +231,59 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
   });
 }
 
+std::optional<Reply> PlanService::run_min_time_searches(const api::MinTimeRequest& request,
+                                                        std::vector<MinTimeResult>& results) {
+  // One task per strategy; each writes its own slot.
+  const std::size_t n = request.strategies.size();
+  auto slots = std::make_shared<std::vector<MinTimeResult>>(n);
+  std::vector<std::future<void>> done;
+  for (std::size_t i = 0; i < n; ++i) {
+    auto promise = std::make_shared<std::promise<void>>();
+    done.push_back(promise->get_future());
+    auto task = [this, request, slots, i, promise] {
+      const auto started = std::chrono::steady_clock::now();
+      MinTimeResult& slot = (*slots)[i];
+      if (!ready_) {
+        slot.status = SolveStatus::kTimeLimit;
+        slot.message = "the service is shutting down";
+      } else {
+        try {
+          slot = min_time(request.format, request.strategies[i], request.options);
+        } catch (...) {
+          slot.status = SolveStatus::kFailed;
+          slot.message = "the search failed";
+        }
+      }
+      metrics_.observe_solve(
+          "min_time:" + to_string(request.strategies[i]),
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+      promise->set_value();
+    };
+    // Refused: the queued ones still run (their results are dropped).
+    if (!pool_.try_submit(task)) return overloaded_reply();
+  }
+  const auto deadline =
+      std::chrono::steady_clock::now() +
+      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+          std::chrono::duration<double>(request.options.plan.time_limit + config_.queue_wait_s));
+  for (auto& f : done) {
+    if (f.wait_until(deadline) != std::future_status::ready) {
+      return error_reply(api::ErrorCode::kTimeout,
+                         "the min-time search did not finish within its budget of " +
+                             api::number_text(request.options.plan.time_limit) + " s plus " +
+                             api::number_text(config_.queue_wait_s) + " s of queueing");
+    }
+  }
+  results = std::move(*slots);
+  return std::nullopt;
+}
+
 Reply PlanService::post_min_time(const std::string& text, const std::string& if_none_match) {
   return guarded([&] {
     const api::MinTimeRequest request =
         api::parse_min_time_request(api::parse_json_body(text), config_.solve_budget_s);
     const std::string key = api::min_time_key(request);
-    auto answer = [&](std::string body, bool cached) {
+    auto answer = [&](const std::string& stored, bool cached) {
       Reply r;
       r.headers.emplace_back("ETag", etag(key));
       r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
@@ -244,12 +291,7 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
         r.status = 304;
         return r;
       }
-      if (cached) {
-        json out = json::parse(body);
-        out["cached"] = true;
-        body = api::dump_json(out);
-      }
-      r.body = std::move(body);
+      r.body = api::render_min_time_reply(stored, cached);
       return r;
     };
     if (auto hit = min_time_cache_.get(key)) {
@@ -258,61 +300,12 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
     }
     if (!ready_) return overloaded_reply();
     metrics_.count_cache(false);
-    // One task per strategy; each writes its own slot.
-    const std::size_t n = request.strategies.size();
-    auto results = std::make_shared<std::vector<MinTimeResult>>(n);
-    std::vector<std::future<void>> done;
-    for (std::size_t i = 0; i < n; ++i) {
-      auto promise = std::make_shared<std::promise<void>>();
-      done.push_back(promise->get_future());
-      auto task = [this, request, results, i, promise] {
-        const auto started = std::chrono::steady_clock::now();
-        if (!ready_) {
-          (*results)[i].status = SolveStatus::kTimeLimit;
-          (*results)[i].message = "the service is shutting down";
-        } else {
-          try {
-            (*results)[i] = min_time(request.format, request.strategies[i], request.options);
-          } catch (...) {
-            (*results)[i].status = SolveStatus::kFailed;
-            (*results)[i].message = "the search failed";
-          }
-        }
-        metrics_.observe_solve(
-            "min_time:" + to_string(request.strategies[i]),
-            std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-        promise->set_value();
-      };
-      if (!pool_.try_submit(task)) {
-        // The queued ones still run (their results are dropped); this request is refused.
-        return overloaded_reply();
-      }
-    }
-    const auto deadline =
-        std::chrono::steady_clock::now() +
-        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-            std::chrono::duration<double>(request.options.plan.time_limit + config_.queue_wait_s));
-    for (auto& f : done) {
-      if (f.wait_until(deadline) != std::future_status::ready) {
-        return error_reply(api::ErrorCode::kTimeout,
-                           "the min-time search did not finish within its budget of " +
-                               api::number_text(request.options.plan.time_limit) + " s plus " +
-                               api::number_text(config_.queue_wait_s) + " s of queueing");
-      }
-    }
-    for (const MinTimeResult& r : *results) {
-      if (r.invalid_input) {
-        throw api::ApiError(
-            api::ErrorCode::kInvalidValue, "format",
-            api::plan_refusal(*r.invalid_input, request.format, request.options.plan));
-      }
-    }
-    std::string body = api::dump_json(api::min_time_json(request, *results, key));
-    const bool cacheable = std::all_of(results->begin(), results->end(), [](const auto& r) {
-      return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kInfeasible;
-    });
-    if (cacheable) min_time_cache_.put(key, body);
-    return answer(std::move(body), false);
+    std::vector<MinTimeResult> results;
+    if (auto refused = run_min_time_searches(request, results)) return *refused;
+    api::check_min_time_inputs(request, results);
+    const std::string stored = api::stored_min_time(request, results, key);
+    if (api::is_min_time_cacheable(results)) min_time_cache_.put(key, stored);
+    return answer(stored, false);
   });
 }
 

@@ -18,6 +18,7 @@
 #include "plan_cache.hpp"
 #include "server_config.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
 #include "worker_pool.hpp"
 
@@ -121,6 +122,10 @@ class PlanService {
                    std::optional<double> sample_period) const;
   // 503 with Retry-After: the queue is full, or the service is shutting down.
   api::ApiError overloaded_error() const;
+  // Runs one pool task per strategy of `request` into `results`; the refusal (503) or timeout
+  // (504) reply when they could not all run.
+  std::optional<Reply> run_min_time_searches(const api::MinTimeRequest& request,
+                                             std::vector<MinTimeResult>& results);
   Reply overloaded_reply() const;
 
   ServerConfig config_;

@@ -107,85 +107,62 @@ std::string option_sentence(const InvalidInput& e, const Format& format, const P
 
 }  // namespace
 
+namespace {
+
+struct FieldOfInput {
+  PlanInput input;
+  std::string_view path;
+};
+
+// The request field of each core input (plan requests; simulate differs only for the rest window).
+constexpr FieldOfInput kFieldOfInput[] = {
+    {PlanInput::kContainerRadius, "format.container.radius_mm"},
+    {PlanInput::kContainerHeight, "format.container.height_mm"},
+    {PlanInput::kFillHeight, "format.fill_height_mm"},
+    {PlanInput::kFluidDensity, "format.fluid.density_kg_m3"},
+    {PlanInput::kFluidViscosity, "format.fluid.viscosity_pa_s"},
+    {PlanInput::kStroke, "format.stroke_mm"},
+    {PlanInput::kMotionTime, "format.motion_time_s"},
+    {PlanInput::kModes, "options.modes"},
+    {PlanInput::kAlpha, "options.alpha"},
+    {PlanInput::kZeta, "options.damping.zeta"},
+    {PlanInput::kMinRamp, "options.min_ramp_s"},
+    {PlanInput::kRampsAndPlateaus, "options"},
+    {PlanInput::kPlateauMin, "options.plateau_min_s"},
+    {PlanInput::kWeights, "options.weights"},
+    {PlanInput::kPNotch, "options.p_notch"},
+    {PlanInput::kBand, "options.band"},
+    {PlanInput::kNBand, "options.n_band"},
+    {PlanInput::kTolRel, "options.tol_rel"},
+    {PlanInput::kEtaRestMax, "options.eta_rest_max_mm"},
+    {PlanInput::kEtaMotionMax, "options.eta_motion_max_mm"},
+    {PlanInput::kRestTime, "options.rest_time_s"},
+    {PlanInput::kAMax, "options.limits.a_max"},
+    {PlanInput::kVMax, "options.limits.v_max"},
+    {PlanInput::kJMax, "options.limits.j_max"},
+    {PlanInput::kTimeLimit, "options.time_limit_s"},
+    {PlanInput::kResidual, "options.residual"},
+    {PlanInput::kIirTau, "options.iir_tau"},
+    {PlanInput::kIirSamplePeriod, "options.iir_sample_period_s"},
+    {PlanInput::kSloshingModel, "format"},
+    {PlanInput::kUniformResponse, "format"},
+    {PlanInput::kReferenceLevels, "format"},
+    {PlanInput::kLaw, "law"},
+    {PlanInput::kSamplePeriod, "sample_period_s"},
+    {PlanInput::kMotionTimeMax, "motion_time_max_s"},
+    {PlanInput::kFreeBoardMargin, "free_board_margin_mm"},
+    {PlanInput::kScanStep, "scan_step_s"},
+    {PlanInput::kMaxPlans, "max_plans"},
+    {PlanInput::kCurveFactor, "curve_factor"},
+    {PlanInput::kRefineExcess, "refine_excess"},
+};
+
+}  // namespace
+
 std::string_view api_field_path(PlanInput input, Endpoint endpoint) {
-  const bool plan = endpoint == Endpoint::kPlan;
-  switch (input) {
-    case PlanInput::kContainerRadius:
-      return "format.container.radius_mm";
-    case PlanInput::kContainerHeight:
-      return "format.container.height_mm";
-    case PlanInput::kFillHeight:
-      return "format.fill_height_mm";
-    case PlanInput::kFluidDensity:
-      return "format.fluid.density_kg_m3";
-    case PlanInput::kFluidViscosity:
-      return "format.fluid.viscosity_pa_s";
-    case PlanInput::kStroke:
-      return "format.stroke_mm";
-    case PlanInput::kMotionTime:
-      return "format.motion_time_s";
-    case PlanInput::kModes:
-      return "options.modes";
-    case PlanInput::kAlpha:
-      return "options.alpha";
-    case PlanInput::kZeta:
-      return "options.damping.zeta";
-    case PlanInput::kMinRamp:
-      return "options.min_ramp_s";
-    case PlanInput::kRampsAndPlateaus:
-      return "options";
-    case PlanInput::kPlateauMin:
-      return "options.plateau_min_s";
-    case PlanInput::kWeights:
-      return "options.weights";
-    case PlanInput::kPNotch:
-      return "options.p_notch";
-    case PlanInput::kBand:
-      return "options.band";
-    case PlanInput::kNBand:
-      return "options.n_band";
-    case PlanInput::kTolRel:
-      return "options.tol_rel";
-    case PlanInput::kEtaRestMax:
-      return "options.eta_rest_max_mm";
-    case PlanInput::kEtaMotionMax:
-      return "options.eta_motion_max_mm";
-    case PlanInput::kRestTime:
-      return plan ? "options.rest_time_s" : "rest_time_s";
-    case PlanInput::kAMax:
-      return "options.limits.a_max";
-    case PlanInput::kVMax:
-      return "options.limits.v_max";
-    case PlanInput::kJMax:
-      return "options.limits.j_max";
-    case PlanInput::kTimeLimit:
-      return "options.time_limit_s";
-    case PlanInput::kResidual:
-      return "options.residual";
-    case PlanInput::kIirTau:
-      return "options.iir_tau";
-    case PlanInput::kIirSamplePeriod:
-      return "options.iir_sample_period_s";
-    case PlanInput::kSloshingModel:
-    case PlanInput::kUniformResponse:
-    case PlanInput::kReferenceLevels:
-      return "format";
-    case PlanInput::kLaw:
-      return "law";
-    case PlanInput::kSamplePeriod:
-      return "sample_period_s";
-    case PlanInput::kMotionTimeMax:
-      return "motion_time_max_s";
-    case PlanInput::kFreeBoardMargin:
-      return "free_board_margin_mm";
-    case PlanInput::kScanStep:
-      return "scan_step_s";
-    case PlanInput::kMaxPlans:
-      return "max_plans";
-    case PlanInput::kCurveFactor:
-      return "curve_factor";
-    case PlanInput::kRefineExcess:
-      return "refine_excess";
+  if (input == PlanInput::kRestTime && endpoint != Endpoint::kPlan) return "rest_time_s";
+  for (const FieldOfInput& row : kFieldOfInput) {
+    if (row.input == input) return row.path;
   }
   return "";
 }

@@ -131,12 +131,10 @@ std::vector<Strategy> default_min_time_strategies() {
   return out;
 }
 
-MinTimeRequest parse_min_time_request(const json& body, double budget) {
-  require_object(body, "");
-  reject_unknown_fields(body, "",
-                        {"format", "motion_time_max_s", "eta_motion_max_mm", "free_board_margin_mm",
-                         "eta_rest_max_mm", "limit_model", "strategies", "scan_step_s", "max_plans",
-                         "curve_factor", "refine_excess", "options"});
+namespace {
+
+// The format without motion time (the search finds it), parsed at motion_time_max.
+Format parse_min_time_format(const json& body, double motion_time_max) {
   if (!body.contains("format")) {
     invalid("format",
             "format is required: {\"container\", \"fill_height_mm\", \"fluid\", \"stroke_mm\"}");
@@ -149,25 +147,24 @@ MinTimeRequest parse_min_time_request(const json& body, double budget) {
             "time; bound it with motion_time_max_s (default 5 s)");
   }
   reject_unknown_fields(format, "format", kFormatMembers);
-  MinTimeRequest r;
-  MinTimeOptions& o = r.options;
-  o.motion_time_max =
-      optional_number(body, "", "motion_time_max_s", mr::kMotionTimeMax, kDefaultMotionTimeMax);
   json with_time = format;
-  with_time["motion_time_s"] = o.motion_time_max;
-  r.format = parse_format(with_time, "format");
+  with_time["motion_time_s"] = motion_time_max;
+  return parse_format(with_time, "format");
+}
 
+// eta_motion_max_mm: given, or the free board minus the margin (then the height is required).
+void parse_sloshing_limits(const json& body, const Format& format, MinTimeOptions& o) {
   o.free_board_margin = optional_number(body, "", "free_board_margin_mm", mr::kMarginMm,
                                         kDefaultFreeBoardMargin * 1e3) *
                         1e-3;
   if (const json* eta = given_member(body, "eta_motion_max_mm")) {
     o.eta_motion_max = checked_number(eta, "eta_motion_max_mm", mr::kEtaMm) * 1e-3;
-  } else if (!r.format.container.height) {
+  } else if (!format.container.height) {
     invalid("eta_motion_max_mm",
             "eta_motion_max_mm is required when format.container.height_mm is not given (its "
             "default is the free board: height_mm - fill_height_mm - free_board_margin_mm)");
   } else {
-    const double free_board_mm = (*r.format.container.height - r.format.fill_height) * 1e3;
+    const double free_board_mm = (*format.container.height - format.fill_height) * 1e3;
     if (o.free_board_margin * 1e3 >= free_board_mm) {
       invalid("free_board_margin_mm",
               "free_board_margin_mm = " + number_text(o.free_board_margin * 1e3) +
@@ -185,15 +182,12 @@ MinTimeRequest parse_min_time_request(const json& body, double budget) {
     }
     o.model = *m;
   }
-  r.strategies = parse_strategies(body);
-  o.scan_step = optional_number(body, "", "scan_step_s", mr::kScanStep, o.scan_step);
-  o.max_plans =
-      optional_integer(body, "", "max_plans", mr::kMaxPlansLo, mr::kMaxPlansHi, o.max_plans);
-  o.curve_factor = optional_number(body, "", "curve_factor", mr::kCurveFactor, o.curve_factor);
-  o.refine_excess = optional_number(body, "", "refine_excess", mr::kRefineExcess, o.refine_excess);
+}
 
-  // The plan options, as a plan request reads them (at T = motion_time_max for the ranges that
-  // depend on T), but for the limits the search sets itself.
+// The plan options, as a plan request reads them (at T = motion_time_max for the ranges that
+// depend on T), but for the limits the search sets itself; the server's budget applies.
+void parse_min_time_plan_options(const json& body, const Format& format, double budget,
+                                 PlanOptions& plan) {
   json options = body.value("options", json::object());
   if (options.is_null()) options = json::object();
   require_object(options, "options");
@@ -210,18 +204,41 @@ MinTimeRequest parse_min_time_request(const json& body, double budget) {
     if (!set_by_search(key)) allowed.push_back(key);
   }
   reject_unknown_fields(options, "options", allowed);
-  registry.parse(options, r.format, o.plan);
+  registry.parse(options, format, plan);
   InvalidInput error;
-  if (!o.plan.is_valid(r.format, &error)) {
-    invalid("options", "options." + input_sentence(error, r.format, o.plan));
+  if (!plan.is_valid(format, &error)) {
+    invalid("options", "options." + input_sentence(error, format, plan));
   }
   if (given_member(options, "time_limit_s") == nullptr) {
-    o.plan.time_limit = budget;
-  } else if (o.plan.time_limit > budget) {
-    invalid("options.time_limit_s", "options.time_limit_s = " + number_text(o.plan.time_limit) +
+    plan.time_limit = budget;
+  } else if (plan.time_limit > budget) {
+    invalid("options.time_limit_s", "options.time_limit_s = " + number_text(plan.time_limit) +
                                         " is out of range: this server allows at most " +
                                         number_text(budget) + " s");
   }
+}
+
+}  // namespace
+
+MinTimeRequest parse_min_time_request(const json& body, double budget) {
+  require_object(body, "");
+  reject_unknown_fields(body, "",
+                        {"format", "motion_time_max_s", "eta_motion_max_mm", "free_board_margin_mm",
+                         "eta_rest_max_mm", "limit_model", "strategies", "scan_step_s", "max_plans",
+                         "curve_factor", "refine_excess", "options"});
+  MinTimeRequest r;
+  MinTimeOptions& o = r.options;
+  o.motion_time_max =
+      optional_number(body, "", "motion_time_max_s", mr::kMotionTimeMax, kDefaultMotionTimeMax);
+  r.format = parse_min_time_format(body, o.motion_time_max);
+  parse_sloshing_limits(body, r.format, o);
+  r.strategies = parse_strategies(body);
+  o.scan_step = optional_number(body, "", "scan_step_s", mr::kScanStep, o.scan_step);
+  o.max_plans =
+      optional_integer(body, "", "max_plans", mr::kMaxPlansLo, mr::kMaxPlansHi, o.max_plans);
+  o.curve_factor = optional_number(body, "", "curve_factor", mr::kCurveFactor, o.curve_factor);
+  o.refine_excess = optional_number(body, "", "refine_excess", mr::kRefineExcess, o.refine_excess);
+  parse_min_time_plan_options(body, r.format, budget, o.plan);
   if (auto e = o.validate(r.format)) {
     invalid(std::string(api_field_path(e->input)), e->message);
   }
@@ -316,6 +333,57 @@ json min_time_body_from_recipe(const json& plan_request) {
     }
   }
   return body;
+}
+
+json min_time_row_figures(const MinTimeRequest& request,
+                          const std::vector<MinTimeResult>& results) {
+  const json body = min_time_json(request, results, min_time_key(request));
+  json row{{"key", body["key"]}};
+  std::string message;
+  for (const json& s : body["strategies"]) {
+    row["t_min_" + s["strategy"].get<std::string>() + "_s"] = s["t_min_s"];
+    if (s["status"] != "optimal") {
+      message += (message.empty() ? "" : "; ") + s["strategy"].get<std::string>() + ": " +
+                 s["status"].get<std::string>();
+    }
+  }
+  const json& h = body["headline"];
+  row["winner"] = h["winner"];
+  row["winner_t_min_s"] = h["t_min_s"];
+  row["baseline_t_min_s"] = h["baseline_t_min_s"];
+  row["gain_pct"] = h["gain_pct"];
+  row["gain_cycles_per_min"] = h["gain_cycles_per_min"];
+  row["message"] = message.empty() ? json(nullptr) : json(message);
+  return row;
+}
+
+void check_min_time_inputs(const MinTimeRequest& request,
+                           const std::vector<MinTimeResult>& results) {
+  for (const MinTimeResult& r : results) {
+    if (r.invalid_input) {
+      throw ApiError(ErrorCode::kInvalidValue, "format",
+                     plan_refusal(*r.invalid_input, request.format, request.options.plan));
+    }
+  }
+}
+
+bool is_min_time_cacheable(const std::vector<MinTimeResult>& results) {
+  return std::all_of(results.begin(), results.end(), [](const MinTimeResult& r) {
+    return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kInfeasible;
+  });
+}
+
+std::string stored_min_time(const MinTimeRequest& request,
+                            const std::vector<MinTimeResult>& results, const std::string& key) {
+  json out = min_time_json(request, results, key);
+  out.erase("cached");
+  return dump_json(out);
+}
+
+std::string render_min_time_reply(std::string_view stored, bool cached) {
+  // A stored answer is a non-empty JSON object: the flag becomes its first member.
+  return std::string("{\"cached\":") + (cached ? "true" : "false") + "," +
+         std::string(stored.substr(1));
 }
 
 json run_min_time(const MinTimeRequest& request) {

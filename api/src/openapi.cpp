@@ -657,8 +657,8 @@ std::string_view status_component(int status) {
   }
 }
 
-/// The request and response of POST /v1/min-time (SPEC §9).
-void add_min_time_schemas(json& s, const OptionRegistry& registry) {
+/// The request of POST /v1/min-time (SPEC §9).
+void add_min_time_request_schemas(json& s) {
   namespace mr = min_time_ranges;
   json format = s["Format"];
   format["properties"].erase("motion_time_s");
@@ -720,6 +720,10 @@ void add_min_time_schemas(json& s, const OptionRegistry& registry) {
                      MinTimeOptions{}.refine_excess)},
        {"options", ref("MinTimeOptions")}},
       {"format"}, "A format without motion time, the limits and the strategies to search.", true);
+}
+
+/// The response of POST /v1/min-time (SPEC §9).
+void add_min_time_response_schemas(json& s) {
   json nullable_number = {{"type", "number"}, {"nullable", true}};
   json eta_pair =
       object({{"eta_motion_mm", numbers("[mm]")}, {"eta_rest_mm", numbers("[mm]")}}, {}, "", false);
@@ -774,7 +778,12 @@ void add_min_time_schemas(json& s, const OptionRegistry& registry) {
                 {"gain_cycles_per_min", nullable_number}},
                {}, "The winner and its gain over the uniform law (motion time only).", false)}},
       {"key", "cached", "strategies", "headline"}, "Minimum motion time per strategy.", false);
-  (void)registry;
+}
+
+/// The request and response of POST /v1/min-time (SPEC §9).
+void add_min_time_schemas(json& s) {
+  add_min_time_request_schemas(s);
+  add_min_time_response_schemas(s);
 }
 
 /// `responses` plus a reference to the component response of each of `statuses`.
@@ -945,7 +954,7 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
   add_plan_response_schemas(schemas);
   add_simulate_response_schemas(schemas);
   add_service_schemas(schemas);
-  add_min_time_schemas(schemas, registry);
+  add_min_time_schemas(schemas);
   return {{"openapi", "3.0.3"},
           {"info",
            {{"title", "slosh planner"},

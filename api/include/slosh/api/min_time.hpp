@@ -56,6 +56,28 @@ struct MinTimeRequest {
 /// searched); everything else as written, to be validated by parse_min_time_request.
 [[nodiscard]] nlohmann::json min_time_body_from_recipe(const nlohmann::json& plan_request);
 
+/// The figures of a searched request in a recipe table (`slosh batch --mode min_time`): key,
+/// t_min_<strategy>_s, winner, winner_t_min_s, baseline_t_min_s, gain_pct, gain_cycles_per_min,
+/// and message (the strategies whose search was not optimal; null when every one was).
+[[nodiscard]] nlohmann::json min_time_row_figures(const MinTimeRequest& request,
+                                                  const std::vector<MinTimeResult>& results);
+
+/// Throws ApiError(kInvalidValue, "format") when a strategy's search refused its inputs.
+void check_min_time_inputs(const MinTimeRequest& request,
+                           const std::vector<MinTimeResult>& results);
+
+/// Whether a min-time answer depends only on its request (every search optimal or infeasible; a
+/// time-limited one depends on the load).
+[[nodiscard]] bool is_min_time_cacheable(const std::vector<MinTimeResult>& results);
+
+/// The response as the service keeps it: without the per-reply member `cached`.
+[[nodiscard]] std::string stored_min_time(const MinTimeRequest& request,
+                                          const std::vector<MinTimeResult>& results,
+                                          const std::string& key);
+
+/// The reply body of a stored min-time answer, with `cached` set.
+[[nodiscard]] std::string render_min_time_reply(std::string_view stored, bool cached);
+
 /// Runs every strategy of a validated request one after the other and renders the response.
 [[nodiscard]] nlohmann::json run_min_time(const MinTimeRequest& request);
 
