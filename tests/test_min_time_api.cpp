@@ -241,9 +241,12 @@ TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
                    "motion_time_s,strategy,eta_rest_max_mm\n"
                    "thesis,48.5,150,82,water,800,2,,3\n"
                    "bad,48.5,150,82,water,-5,1.5,,\n");
-  const RunResult r =
-      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--out",
-                 (dir / "out.jsonl").string(), "--workers", "2"});
+  // The budget of the in-process reference: the searches finish on a slow (sanitizer) build too,
+  // so both sides compare finished searches.
+  test::write_file(dir / "slosh.json", R"({"solve_budget_s": 600})");
+  const RunResult r = run_slosh(
+      {"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--out",
+       (dir / "out.jsonl").string(), "--workers", "2", "--config", (dir / "slosh.json").string()});
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_EQ(r.err, "slosh batch: row 2 could not be searched: see the message of the row\n");
   std::vector<json> rows;
