@@ -18,8 +18,8 @@
 #include "fuzz_support.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/simulate.hpp"
-#include "slosh/core/model/fluid.hpp"
 #include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/fluid.hpp"
 
 namespace {
 

@@ -14,8 +14,8 @@
 
 #include "slosh/core/law/filtered_laws.hpp"
 #include "slosh/core/model/format.hpp"
-#include "slosh/core/response/response.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
 #include "slosh/core/response/spectrum.hpp"
 
 namespace slosh {

@@ -6,8 +6,8 @@
 #include <cmath>
 #include <numbers>
 
-#include "slosh/core/response/response.hpp"
 #include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/response/response.hpp"
 #include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 

@@ -5,8 +5,8 @@
 
 #include <cmath>
 
-#include "slosh/core/response/response.hpp"
 #include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/response/response.hpp"
 #include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 

@@ -14,10 +14,10 @@
 #include <vector>
 
 #include "response/nonlinear_sensitivity.hpp"
-#include "slosh/core/model/format.hpp"
-#include "slosh/core/response/response.hpp"
 #include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
 #include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 

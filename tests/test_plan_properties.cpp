@@ -18,11 +18,11 @@
 #include <string>
 #include <vector>
 
-#include "slosh/core/model/format.hpp"
-#include "slosh/core/strategy/planner.hpp"
-#include "slosh/core/response/response.hpp"
 #include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/strategy/planner.hpp"
 #include "support/reference_optimum.hpp"
 
 namespace slosh {

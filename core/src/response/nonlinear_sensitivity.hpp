@@ -7,10 +7,10 @@
 #include <array>
 #include <vector>
 
-#include "solve/dual.hpp"
-#include "slosh/core/response/response.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
+#include "solve/dual.hpp"
 
 namespace slosh::detail {
 

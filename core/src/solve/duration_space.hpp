@@ -6,9 +6,9 @@
 #include <random>
 #include <vector>
 
+#include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
 #include "slosh/core/strategy/planner.hpp"
-#include "slosh/core/law/seven_segment.hpp"
 
 namespace slosh::detail {
 

@@ -208,47 +208,30 @@ std::optional<InvalidInput> MinTimeOptions::validate(const Format& format) const
   return validate_plan_input(at_max, plan);
 }
 
-MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOptions& options) {
-  const auto started = Clock::now();
-  MinTimeResult r;
-  r.strategy = strategy;
-  auto finish = [&]() -> MinTimeResult {
-    std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
-      return a.motion_time < b.motion_time;
-    });
-    r.search_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
-    return std::move(r);
-  };
-  if (strategy == Strategy::kAuto) {
-    r.invalid_input = refused(PlanInput::kMotionTime, std::numeric_limits<double>::quiet_NaN(), {},
-                              "auto is not searched: name the strategies to compare");
-    r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
-    return finish();
-  }
-  if (auto e = options.validate(format)) {
-    r.invalid_input = std::move(e);
-    r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
-    return finish();
-  }
-  r.eta_motion_max = *options.eta_motion_limit(format);
-  r.eta_rest_max = options.eta_rest_max;
-  r.kinematic_bound = kinematic_lower_bound(format.stroke, options.plan.limits);
-  const double admissible =
-      4.0 * options.plan.min_ramp + options.plan.plateau_min[0] + options.plan.plateau_min[1];
-  r.scan_start = ceil_to_grid(std::max({r.kinematic_bound, admissible, kMinPlanTime}));
-  const double t_max = options.motion_time_max;
-  const std::string limits = limits_text(r, options.model);
-  if (r.scan_start > t_max + 1e-12) {
-    r.status = SolveStatus::kInfeasible;
-    r.message = "no motion time up to motion_time_max " + sec(t_max) + " is possible: the stroke " +
-                mm(format.stroke) + " needs at least " + sec(r.scan_start) +
-                " (machine limits and ramps >= min_ramp); raise " +
-                "motion_time_max_s or the machine limits";
-    return finish();
-  }
+namespace {
 
-  Search search(format, strategy, options, r);
-  auto out_of_budget = [&](const std::string& where) {
+// One strategy's search in progress: the options, the limits' sentence, the planner and the
+// points of the coarse scan.
+struct SearchRun {
+  const Format& format;
+  Strategy strategy;
+  const MinTimeOptions& options;
+  MinTimeResult& r;
+  std::string limits;
+  Search search;
+  double last_infeasible{-1.0};
+  double first_feasible{-1.0};
+  std::vector<MinTimePoint> scanned;
+
+  SearchRun(const Format& f, Strategy s, const MinTimeOptions& o, MinTimeResult& result)
+      : format(f),
+        strategy(s),
+        options(o),
+        r(result),
+        limits(limits_text(result, o.model)),
+        search(f, s, o, result) {}
+
+  void out_of_budget(const std::string& where) {
     r.status = SolveStatus::kTimeLimit;
     r.message = "the search budget (time_limit_s " + sec(options.plan.time_limit) + ", max_plans " +
                 std::to_string(options.max_plans) + ") ran out " + where;
@@ -258,119 +241,171 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
       r.best.reset();
       r.message += " before a motion time met " + limits;
     }
-  };
+  }
 
-  // 1. Coarse scan up from the lower bound until the first feasible T. A scanned local minimum
-  // of the excess within refine_excess of the limits is refined by golden-section search on the
-  // 1 ms grid (the residual wave has zeros narrower than the scan step).
-  const double step = options.scan_step;
-  double last_infeasible = -1.0;
-  double first_feasible = -1.0;
-  std::vector<MinTimePoint> scanned;
-  auto found = [&](const MinTimePoint& p) {
+  void found(const MinTimePoint& p) {
     first_feasible = p.motion_time;
     last_infeasible = -1.0;
     for (const MinTimePoint& q : r.curve) {
       if (q.motion_time < p.motion_time) last_infeasible = std::max(last_infeasible, q.motion_time);
     }
-  };
-  for (int k = 0;; ++k) {
-    double T = round_to_grid(r.scan_start + k * step);
-    if (T > t_max) T = t_max;
-    if (k > 0 && T <= scanned.back().motion_time) break;  // t_max reached
-    const std::optional<MinTimePoint> p = search.evaluate(T);
-    if (!p) {
-      out_of_budget("during the scan at T = " + sec(T));
-      return finish();
+  }
+};
+
+// The refusals and the bounds before any plan; false when the result is final.
+bool prepare_search(const Format& format, Strategy strategy, const MinTimeOptions& options,
+                    MinTimeResult& r) {
+  if (strategy == Strategy::kAuto) {
+    r.invalid_input = refused(PlanInput::kMotionTime, std::numeric_limits<double>::quiet_NaN(), {},
+                              "auto is not searched: name the strategies to compare");
+    r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
+    return false;
+  }
+  if (auto e = options.validate(format)) {
+    r.invalid_input = std::move(e);
+    r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
+    return false;
+  }
+  r.eta_motion_max = *options.eta_motion_limit(format);
+  r.eta_rest_max = options.eta_rest_max;
+  r.kinematic_bound = kinematic_lower_bound(format.stroke, options.plan.limits);
+  const double admissible =
+      4.0 * options.plan.min_ramp + options.plan.plateau_min[0] + options.plan.plateau_min[1];
+  r.scan_start = ceil_to_grid(std::max({r.kinematic_bound, admissible, kMinPlanTime}));
+  const double t_max = options.motion_time_max;
+  if (r.scan_start > t_max + 1e-12) {
+    r.status = SolveStatus::kInfeasible;
+    r.message = "no motion time up to motion_time_max " + sec(t_max) + " is possible: the stroke " +
+                mm(format.stroke) + " needs at least " + sec(r.scan_start) +
+                " (machine limits and ramps >= min_ramp); raise " +
+                "motion_time_max_s or the machine limits";
+    return false;
+  }
+  return true;
+}
+
+// Golden-section search for the least excess between the last three scanned points; false when
+// the budget ran out. `hit` is set to the first feasible T found.
+bool refine_near_miss(SearchRun& run, std::optional<MinTimePoint>& hit) {
+  const std::vector<MinTimePoint>& scanned = run.scanned;
+  const std::size_t n = scanned.size();
+  constexpr double kGolden = 0.6180339887498949;
+  double a = scanned[n - 3].motion_time, b = scanned[n - 1].motion_time;
+  std::optional<MinTimePoint> c_point = scanned[n - 2];
+  double c = c_point->motion_time;
+  while (b - a > 2.5 * kMinTimeResolution && !hit) {
+    // Probe inside the larger of [a, c] and [c, b].
+    const bool left = c - a > b - c;
+    double d = round_to_grid(left ? c - (1.0 - kGolden) * (c - a) : c + (1.0 - kGolden) * (b - c));
+    if (d <= a || d >= b || d == c) break;
+    const std::optional<MinTimePoint> q = run.search.evaluate(d);
+    if (!q) {
+      run.out_of_budget("while refining the scan near T = " + sec(c));
+      return false;
     }
-    if (p->feasible) {
-      found(*p);
+    if (q->feasible) {
+      hit = q;
       break;
     }
-    scanned.push_back(*p);
-    const std::size_t n = scanned.size();
-    if (n >= 3 && scanned[n - 2].excess < scanned[n - 3].excess &&
-        scanned[n - 2].excess < scanned[n - 1].excess &&
-        scanned[n - 2].excess <= options.refine_excess) {
-      // Golden-section search for the least excess in (T_{n-3}, T_{n-1}).
-      constexpr double kGolden = 0.6180339887498949;
-      double a = scanned[n - 3].motion_time, b = scanned[n - 1].motion_time;
+    if (q->excess < c_point->excess) {
+      (left ? b : a) = c;
+      c = d;
+      c_point = q;
+    } else {
+      (left ? a : b) = d;
+    }
+  }
+  return true;
+}
+
+// 1. Coarse scan up from the lower bound until the first feasible T. A scanned local minimum of
+// the excess within refine_excess of the limits is refined by golden-section search on the 1 ms
+// grid (the residual wave has zeros narrower than the scan step). False when the budget ran out.
+bool coarse_scan(SearchRun& run) {
+  const double step = run.options.scan_step;
+  const double t_max = run.options.motion_time_max;
+  for (int k = 0;; ++k) {
+    double T = round_to_grid(run.r.scan_start + k * step);
+    if (T > t_max) T = t_max;
+    if (k > 0 && T <= run.scanned.back().motion_time) break;  // t_max reached
+    const std::optional<MinTimePoint> p = run.search.evaluate(T);
+    if (!p) {
+      run.out_of_budget("during the scan at T = " + sec(T));
+      return false;
+    }
+    if (p->feasible) {
+      run.found(*p);
+      break;
+    }
+    run.scanned.push_back(*p);
+    const std::size_t n = run.scanned.size();
+    if (n >= 3 && run.scanned[n - 2].excess < run.scanned[n - 3].excess &&
+        run.scanned[n - 2].excess < run.scanned[n - 1].excess &&
+        run.scanned[n - 2].excess <= run.options.refine_excess) {
       std::optional<MinTimePoint> hit;
-      std::optional<MinTimePoint> c_point = scanned[n - 2];
-      double c = c_point->motion_time;
-      while (b - a > 2.5 * kMinTimeResolution && !hit) {
-        // Probe inside the larger of [a, c] and [c, b].
-        const bool left = c - a > b - c;
-        double d =
-            round_to_grid(left ? c - (1.0 - kGolden) * (c - a) : c + (1.0 - kGolden) * (b - c));
-        if (d <= a || d >= b || d == c) break;
-        const std::optional<MinTimePoint> q = search.evaluate(d);
-        if (!q) {
-          out_of_budget("while refining the scan near T = " + sec(c));
-          return finish();
-        }
-        if (q->feasible) {
-          hit = q;
-          break;
-        }
-        if (q->excess < c_point->excess) {
-          (left ? b : a) = c;
-          c = d;
-          c_point = q;
-        } else {
-          (left ? a : b) = d;
-        }
-      }
+      if (!refine_near_miss(run, hit)) return false;
       if (hit) {
-        found(*hit);
+        run.found(*hit);
         break;
       }
     }
-    last_infeasible = T;
+    run.last_infeasible = T;
     if (T >= t_max) break;
   }
-  if (first_feasible < 0.0) {
-    r.status = SolveStatus::kInfeasible;
-    std::string message = "no motion time from " + sec(r.scan_start) + " to " + sec(t_max) +
-                          " (scanned every " + sec(step) + ") meets " + limits + " with " +
-                          to_string(strategy);
-    if (r.best) {
-      message += ": the best reached is eta_motion " + mm(r.best->eta_motion) + ", eta_rest " +
-                 mm(r.best->eta_rest) + " at T = " + sec(r.best->motion_time);
-    }
-    r.message = message + "; relax the limits, raise motion_time_max_s or try another strategy";
-    return finish();
-  }
+  return true;
+}
 
-  // 2. Bisection to 1 ms between the last infeasible and the first feasible scanned T.
-  if (last_infeasible >= 0.0) {
-    double lo = last_infeasible, hi = first_feasible;
-    while (hi - lo > 1.5 * kMinTimeResolution) {
-      const double mid = round_to_grid(0.5 * (lo + hi));
-      const std::optional<MinTimePoint> p = search.evaluate(mid);
-      if (!p) {
-        out_of_budget("during the bisection between " + sec(lo) + " and " + sec(hi));
-        r.infeasible_below = lo;
-        return finish();
-      }
-      (p->feasible ? hi : lo) = mid;
-    }
-    r.infeasible_below = lo;
-  } else {
-    r.infeasible_below = r.scan_start;
+void report_infeasible(SearchRun& run) {
+  MinTimeResult& r = run.r;
+  r.status = SolveStatus::kInfeasible;
+  std::string message = "no motion time from " + sec(r.scan_start) + " to " +
+                        sec(run.options.motion_time_max) + " (scanned every " +
+                        sec(run.options.scan_step) + ") meets " + run.limits + " with " +
+                        to_string(run.strategy);
+  if (r.best) {
+    message += ": the best reached is eta_motion " + mm(r.best->eta_motion) + ", eta_rest " +
+               mm(r.best->eta_rest) + " at T = " + sec(r.best->motion_time);
   }
+  r.message = message + "; relax the limits, raise motion_time_max_s or try another strategy";
+}
+
+// 2. Bisection to 1 ms between the last infeasible and the first feasible scanned T; false when
+// the budget ran out.
+bool bisect(SearchRun& run) {
+  if (run.last_infeasible < 0.0) {
+    run.r.infeasible_below = run.r.scan_start;
+    return true;
+  }
+  double lo = run.last_infeasible, hi = run.first_feasible;
+  while (hi - lo > 1.5 * kMinTimeResolution) {
+    const double mid = round_to_grid(0.5 * (lo + hi));
+    const std::optional<MinTimePoint> p = run.search.evaluate(mid);
+    if (!p) {
+      run.out_of_budget("during the bisection between " + sec(lo) + " and " + sec(hi));
+      run.r.infeasible_below = lo;
+      return false;
+    }
+    (p->feasible ? hi : lo) = mid;
+  }
+  run.r.infeasible_below = lo;
+  return true;
+}
+
+// 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (at least 4
+// points when the budget allows): feasible_above is judged on every T planned above T_min.
+void extend_curve_and_report(SearchRun& run) {
+  MinTimeResult& r = run.r;
   const double t_min = *r.t_min;
-
-  // 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (at least
-  // 4 points when the budget allows): feasible_above is judged on every T planned above T_min.
-  const double curve_end = std::min(t_max, options.curve_factor * t_min);
+  const double t_max = run.options.motion_time_max;
+  const double curve_end = std::min(t_max, run.options.curve_factor * t_min);
   const int curve_points =
-      std::max(1, std::min(4, static_cast<int>(std::floor((curve_end - first_feasible) / step))));
+      std::max(1, std::min(4, static_cast<int>(std::floor((curve_end - run.first_feasible) /
+                                                          run.options.scan_step))));
   for (int k = 1; k <= curve_points; ++k) {
     const double T =
-        round_to_grid(first_feasible + (curve_end - first_feasible) * k / curve_points);
-    if (T <= first_feasible || T > t_max) break;
-    if (!search.evaluate(T)) break;  // the curve is shorter; T_min stands
+        round_to_grid(run.first_feasible + (curve_end - run.first_feasible) * k / curve_points);
+    if (T <= run.first_feasible || T > t_max) break;
+    if (!run.search.evaluate(T)) break;  // the curve is shorter; T_min stands
   }
   r.feasible_above = true;
   const MinTimePoint* first_bad = nullptr;
@@ -382,7 +417,7 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
   }
   r.status = SolveStatus::kOptimal;
   r.message = "T_min = " + sec(t_min) + ": the shortest motion time on the 1 ms grid whose " +
-              "verified " + to_string(strategy) + " plan meets " + limits;
+              "verified " + to_string(run.strategy) + " plan meets " + run.limits;
   if (*r.infeasible_below < t_min) {
     for (const MinTimePoint& p : r.curve) {
       if (p.motion_time == *r.infeasible_below) {
@@ -396,6 +431,30 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
     r.message += "; feasibility is not monotone: T = " + sec(first_bad->motion_time) +
                  " above it fails (" + why_not(*first_bad, r) + ")";
   }
+}
+
+}  // namespace
+
+MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOptions& options) {
+  const auto started = Clock::now();
+  MinTimeResult r;
+  r.strategy = strategy;
+  auto finish = [&]() -> MinTimeResult {
+    std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
+      return a.motion_time < b.motion_time;
+    });
+    r.search_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
+    return std::move(r);
+  };
+  if (!prepare_search(format, strategy, options, r)) return finish();
+  SearchRun run(format, strategy, options, r);
+  if (!coarse_scan(run)) return finish();
+  if (run.first_feasible < 0.0) {
+    report_infeasible(run);
+    return finish();
+  }
+  if (!bisect(run)) return finish();
+  extend_curve_and_report(run);
   return finish();
 }
 

@@ -7,8 +7,8 @@
 #include <string>
 #include <vector>
 
-#include "solve/duration_space.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "solve/duration_space.hpp"
 
 namespace slosh::detail {
 
