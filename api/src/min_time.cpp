@@ -1,5 +1,7 @@
 #include "slosh/api/min_time.hpp"
 
+#include "slosh/api/plan_reply.hpp"
+
 #include <algorithm>
 
 #include "slosh/api/core_input.hpp"
@@ -381,20 +383,14 @@ std::string stored_min_time(const MinTimeRequest& request,
 }
 
 std::string render_min_time_reply(std::string_view stored, bool cached) {
-  // A stored answer is a non-empty JSON object: the flag becomes its first member.
-  return std::string("{\"cached\":") + (cached ? "true" : "false") + "," +
-         std::string(stored.substr(1));
+  return with_cached_flag(stored, cached);
 }
 
 json run_min_time(const MinTimeRequest& request) {
   std::vector<MinTimeResult> results;
   for (Strategy s : request.strategies) {
     results.push_back(min_time(request.format, s, request.options));
-    if (results.back().invalid_input) {
-      throw ApiError(
-          ErrorCode::kInvalidValue, "format",
-          plan_refusal(*results.back().invalid_input, request.format, request.options.plan));
-    }
+    check_min_time_inputs(request, results);  // stop at the first refused input
   }
   return min_time_json(request, results, min_time_key(request));
 }

@@ -18,13 +18,14 @@ StoredPlan solve_for_storing(const PlanRequest& request) {
   return {result.status, dump_json(out)};
 }
 
+std::string with_cached_flag(std::string_view stored, bool cached) {
+  return std::string("{\"cached\":") + (cached ? "true" : "false") + "," +
+         std::string(stored.substr(1));
+}
+
 std::string render_plan_reply(std::string_view stored_body, bool cached, const PlanRequest* request,
                               std::optional<double> sample_period) {
-  const std::string flag = cached ? "true" : "false";
-  if (!sample_period || request == nullptr) {
-    // A stored body is a non-empty JSON object: the flag becomes its first member.
-    return "{\"cached\":" + flag + "," + std::string(stored_body.substr(1));
-  }
+  if (!sample_period || request == nullptr) return with_cached_flag(stored_body, cached);
   nlohmann::json plan = nlohmann::json::parse(stored_body);
   plan["cached"] = cached;
   PlanRequest with_series = *request;

@@ -25,6 +25,9 @@ struct StoredPlan {
 /// planner refuses the inputs (as run_plan).
 [[nodiscard]] StoredPlan solve_for_storing(const PlanRequest& request);
 
+/// A stored answer (a non-empty JSON object without `cached`) with `cached` as its first member.
+[[nodiscard]] std::string with_cached_flag(std::string_view stored, bool cached);
+
 /// The reply body of a stored plan: `cached` set, and when `sample_period` is given, the series of
 /// the plan's law at that period (`request` is the plan's recipe; required with a period).
 [[nodiscard]] std::string render_plan_reply(std::string_view stored_body, bool cached,
