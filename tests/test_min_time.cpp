@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -31,11 +32,14 @@ MinTimeOptions issue_options() {
   return o;
 }
 
-/// Feasibility of T judged independently: a fresh plan() and its verified nonlinear predictions.
-bool feasible_at(const Format& format, Strategy strategy, const MinTimeOptions& o, double T) {
+/// Feasibility of T judged independently: a fresh plan() (from `warm_start` when given) and its
+/// verified nonlinear predictions.
+bool feasible_at(const Format& format, Strategy strategy, const MinTimeOptions& o, double T,
+                 const std::optional<Durations>& warm_start = std::nullopt) {
   Format f = format;
   f.motion_time = T;
   PlanOptions po = o.plan;
+  po.warm_start = warm_start;
   po.eta_rest_max = o.eta_rest_max;
   po.eta_motion_max = *o.eta_motion_limit(format);
   po.time_limit = 30.0;
@@ -138,6 +142,13 @@ TEST(MinTime, AnalyticToyUniformLawUnderAnAccelerationLimit) {
   EXPECT_LE(r.plans, 30);
 }
 
+const MinTimePoint* point_at(const MinTimeResult& r, double T) {
+  for (const MinTimePoint& p : r.curve) {
+    if (std::abs(p.motion_time - T) < 1e-9) return &p;
+  }
+  return nullptr;
+}
+
 TEST(MinTime, UniformLawMatchesABruteForceScanAtOneMillisecond) {
   const Format f = thesis_container();
   const MinTimeOptions o = issue_options();
@@ -169,12 +180,20 @@ TEST(MinTime, EveryStrategyOnTheThesisContainerIsFeasibleAtTMinAndNotOneMillisec
     const double t = *r.t_min;
     EXPECT_NEAR(t * 1000.0, std::round(t * 1000.0), 1e-6);  // on the 1 ms grid
     EXPECT_GE(t, r.kinematic_bound);
-    EXPECT_TRUE(feasible_at(f, s, o, t)) << r.message;
+    // Each planned T is reproduced by plan() from the warm start the search recorded for it.
+    const MinTimePoint* at = point_at(r, t);
+    ASSERT_NE(at, nullptr);
+    EXPECT_EQ(at->warm_start.has_value(), s != Strategy::kBaseline && s != Strategy::kFirChain &&
+                                              s != Strategy::kShaper);
+    EXPECT_TRUE(feasible_at(f, s, o, t, at->warm_start)) << r.message;
     ASSERT_TRUE(r.plan);
     EXPECT_NEAR(r.plan->law.duration(), t, 1e-9);
     if (*r.infeasible_below < t) {
       EXPECT_NEAR(*r.infeasible_below, t - 1e-3, 1e-9);
-      EXPECT_FALSE(feasible_at(f, s, o, t - 1e-3)) << r.message;
+      const MinTimePoint* below = point_at(r, t - 1e-3);
+      ASSERT_NE(below, nullptr);
+      EXPECT_FALSE(below->feasible);
+      EXPECT_FALSE(feasible_at(f, s, o, t - 1e-3, below->warm_start)) << r.message;
     }
     // The curve: ascending, from the scan start, past T_min; feasible_above is what it says.
     ASSERT_FALSE(r.curve.empty());
@@ -267,6 +286,92 @@ TEST(MinTime, SummaryNamesTheWinnerAndTheGainOverTheUniformLaw) {
   EXPECT_EQ(*s.winner, 1u);
   EXPECT_NEAR(*s.gain_pct, 100.0 * 0.4 / 1.2, 1e-12);
   EXPECT_NEAR(*s.gain_cycles_per_min, 75.0 - 50.0, 1e-12);
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// --- warm starts (PlanOptions::warm_start) ------------------------------------------------------
+
+TEST(PlanWarmStart, InvalidWarmStartsAreRefusedNamingTheElement) {
+  Format f = thesis_format();
+  f.motion_time = 0.9;
+  PlanOptions o;
+  o.warm_start = Durations{0.1, 0.1, 0.1, -0.2, 0.1, 0.1, 0.1};
+  PlanResult r = plan(f, Strategy::kNotch, o);
+  ASSERT_TRUE(r.invalid_input);
+  EXPECT_EQ(r.invalid_input->input, PlanInput::kWarmStart);
+  EXPECT_EQ(r.invalid_input->index, 3);
+  o.warm_start = Durations{0.1, 0.1, 0.1, std::nan(""), 0.1, 0.1, 0.1};
+  r = plan(f, Strategy::kTimeDomain, o);
+  ASSERT_TRUE(r.invalid_input);
+  EXPECT_EQ(r.invalid_input->index, 3);
+  o.warm_start = Durations{};
+  r = plan(f, Strategy::kMultiNotch, o);
+  ASSERT_TRUE(r.invalid_input);
+  EXPECT_EQ(r.invalid_input->index, -1);
+  EXPECT_EQ(r.invalid_input->message, "warm_start sums to 0 s: it must be finite and > 0");
+}
+
+TEST(PlanWarmStart, AFreshOptimumAsWarmStartIsKeptAndAnotherTIsScaledOntoTheBounds) {
+  Format f = thesis_format();
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand,
+                     Strategy::kTimeDomain}) {
+    SCOPED_TRACE(to_string(s));
+    f.motion_time = 0.9;
+    PlanOptions o;
+    const PlanResult fresh = plan(f, s, o);
+    ASSERT_EQ(fresh.status, SolveStatus::kOptimal) << fresh.message;
+    o.warm_start = fresh.durations;
+    const PlanResult again = plan(f, s, o);
+    ASSERT_TRUE(again.status == SolveStatus::kOptimal || again.status == SolveStatus::kAcceptable)
+        << again.message;
+    // Continuation from the optimum: no worse (two starts, the warm one and the uniform law).
+    EXPECT_LE(again.solver.objective,
+              fresh.solver.objective + 1e-6 * std::max(1.0, std::abs(fresh.solver.objective)));
+    EXPECT_LE(again.solver.starts, fresh.solver.starts);
+    // The same durations at 0.95 s: scaled, inside the bounds, summing to T to the last bits.
+    f.motion_time = 0.95;
+    const PlanResult moved = plan(f, s, o);
+    ASSERT_TRUE(moved.durations);
+    double sum = 0.0;
+    for (std::size_t i = 0; i < kSegments; ++i) {
+      sum += (*moved.durations)[i];
+      if (i % 2 == 0) {
+        EXPECT_GE((*moved.durations)[i], o.min_ramp);
+      }
+    }
+    EXPECT_NEAR(sum, 0.95, 1e-15);
+    EXPECT_TRUE(moved.status == SolveStatus::kOptimal || moved.status == SolveStatus::kAcceptable)
+        << moved.message;
+  }
+}
+
+TEST(MinTime, EveryPlannedPointIsReproducedFromItsRecordedWarmStart) {
+  Format f = thesis_container();
+  const MinTimeOptions o = issue_options();
+  const MinTimeResult r = min_time(f, Strategy::kMultiNotch, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  ASSERT_FALSE(r.curve.front().warm_start);  // the first T: the planner's own starts
+  int warm = 0;
+  for (const MinTimePoint& p : r.curve) {
+    Format at = f;
+    at.motion_time = p.motion_time;
+    PlanOptions po = o.plan;
+    po.eta_rest_max = o.eta_rest_max;
+    po.eta_motion_max = *o.eta_motion_limit(f);
+    po.warm_start = p.warm_start;
+    const PlanResult again = plan(at, Strategy::kMultiNotch, po);
+    ASSERT_TRUE(again.durations);
+    ASSERT_TRUE(p.durations);
+    EXPECT_EQ(*again.durations, *p.durations) << "T = " << p.motion_time;
+    EXPECT_EQ(again.prediction.nonlinear.rest.value, p.prediction.nonlinear.rest.value);
+    warm += p.warm_start ? 1 : 0;
+  }
+  EXPECT_EQ(warm, static_cast<int>(r.curve.size()) - 1);
 }
 
 }  // namespace

@@ -100,6 +100,9 @@ std::string option_sentence(const InvalidInput& e, const Format& format, const P
     case PlanInput::kIirSamplePeriod:
       return "iir_sample_period_s = " + v + " s must be > 0 and <= T / " +
              std::to_string(kIirMinSamples) + " = " + sig3(e.bounds.hi) + " s";
+    case PlanInput::kWarmStart:
+      if (e.index < 0) return "warm_start_s sums to " + v + " s: it must be > 0";
+      return element("warm_start_s", e) + " s must be finite and >= 0";
     default:
       return format_sentence(e);
   }
@@ -155,6 +158,7 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kMaxPlans, "max_plans"},
     {PlanInput::kCurveFactor, "curve_factor"},
     {PlanInput::kRefineExcess, "refine_excess"},
+    {PlanInput::kWarmStart, "options.warm_start_s"},
 };
 
 }  // namespace

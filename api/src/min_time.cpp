@@ -18,7 +18,7 @@ using nlohmann::json;
 namespace mr = min_time_ranges;
 
 /// Version of the search; part of every min-time key, bumped when results change.
-constexpr const char* kMinTimeVersion = "min-time-v1";
+constexpr const char* kMinTimeVersion = "min-time-v2";  // v2: warm starts, regula falsi
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",
@@ -93,6 +93,9 @@ PlanRequest plan_request_at(const MinTimeRequest& request, const MinTimeResult& 
   p.options = request.options.plan;
   p.options.eta_rest_max = r.eta_rest_max;
   p.options.eta_motion_max = r.eta_motion_max;
+  for (const MinTimePoint& point : r.curve) {
+    if (point.motion_time == T) p.options.warm_start = point.warm_start;
+  }
   return p;
 }
 
@@ -115,7 +118,12 @@ json strategy_json(const MinTimeRequest& request, const MinTimeResult& r) {
     out["best"] = nullptr;
   }
   if (r.plan) {
-    out["plan"] = plan_json(plan_request_at(request, r, r.plan->law.duration()), *r.plan);
+    const double T = r.t_min ? *r.t_min : r.best ? r.best->motion_time : r.plan->law.duration();
+    const PlanRequest at = plan_request_at(request, r, T);
+    out["plan"] = plan_json(at, *r.plan);
+    // The durations it was warm-started from (part of its key); null: the planner's own starts.
+    out["plan"]["warm_start_s"] =
+        at.options.warm_start ? json(*at.options.warm_start) : json(nullptr);
   } else {
     out["plan"] = nullptr;
   }

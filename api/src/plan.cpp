@@ -125,6 +125,9 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
   auto optional = [](const std::optional<double>& v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
   };
+  nlohmann::json options = registry.recipe(r.options);
+  // A warm start (min-time searches) is part of the answer; absent, the keys stay as they were.
+  if (r.options.warm_start) options["warm_start_s"] = *r.options.warm_start;
   return {{"version", kPlannerVersion},
           {"format",
            {{"radius_m", f.container.radius},
@@ -138,7 +141,7 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
             {"stroke_m", f.stroke},
             {"motion_time_s", f.motion_time}}},
           {"strategy", to_string(r.strategy)},
-          {"options", registry.recipe(r.options)}};
+          {"options", std::move(options)}};
 }
 
 std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry) {

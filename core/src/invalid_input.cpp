@@ -69,6 +69,7 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kSamplePeriod:
     case PlanInput::kMotionTimeMax:
     case PlanInput::kScanStep:
+    case PlanInput::kWarmStart:
       return "s";
     case PlanInput::kAMax:
       return "m/s^2";

@@ -21,7 +21,10 @@ std::array<Dual7, kSegments> variables(const double* d) {
 }  // namespace
 
 DurationSpace::DurationSpace(const Format& format, const PlanOptions& options)
-    : motion_time(format.motion_time), stroke(format.stroke), limits(options.limits) {
+    : motion_time(format.motion_time),
+      stroke(format.stroke),
+      limits(options.limits),
+      warm_start(options.warm_start) {
   const double T = format.motion_time;
   lower = {options.min_ramp, options.plateau_min[0], options.min_ramp, 0.0,
            options.min_ramp, options.plateau_min[1], options.min_ramp};
@@ -105,7 +108,17 @@ std::vector<Durations> DurationSpace::starts(int random_count) const {
   for (std::size_t i = 0; i < kSegments; ++i) {
     uniform_inside = uniform_inside && uniform[i] >= lower[i] && uniform[i] <= upper[i];
   }
-  out.push_back(uniform_inside ? uniform : from_weights(Durations{1, 1, 1, 1, 1, 1, 1}));
+  const Durations first = uniform_inside ? uniform : from_weights(Durations{1, 1, 1, 1, 1, 1, 1});
+  if (warm_start) {
+    double sum = 0.0;
+    for (double d : *warm_start) sum += d;
+    Durations scaled;
+    for (std::size_t i = 0; i < kSegments; ++i) scaled[i] = (*warm_start)[i] * motion_time / sum;
+    out.push_back(polish(scaled.data()));
+    if (out.front() != first) out.push_back(first);
+    return out;
+  }
+  out.push_back(first);
   // Symmetric families (ramp, plateau, ramp, cruise, ramp, plateau, ramp): short ramps with
   // long plateaus, long ramps without plateaus, and balanced shapes with and without cruise.
   const std::array<Durations, 4> families{

@@ -3,6 +3,7 @@
 // machine limits as smooth inequalities, the jerk integral, deterministic starts and the final
 // polish onto the exact admissible set (internal to the core).
 
+#include <optional>
 #include <random>
 #include <vector>
 
@@ -19,6 +20,8 @@ struct DurationSpace {
   double motion_time{};
   double stroke{};
   MachineLimits limits;
+  /// PlanOptions::warm_start, when given: starts() is it (mapped) and the uniform law.
+  std::optional<Durations> warm_start;
 
   DurationSpace(const Format& format, const PlanOptions& options);
 
@@ -35,6 +38,7 @@ struct DurationSpace {
 
   /// Deterministic starts: the uniform law (when inside the bounds), symmetric families and
   /// `random_count` points of a seeded Dirichlet spread, all inside the bounds and summing to T.
+  /// With a warm start: that start scaled to T and polished, then the uniform law (no others).
   [[nodiscard]] std::vector<Durations> starts(int random_count) const;
 
   /// Maps a solver point onto the exact admissible set (bounds hold, the sum equals T to the

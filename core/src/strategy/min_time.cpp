@@ -71,6 +71,12 @@ std::string why_not(const MinTimePoint& p, const MinTimeResult& r) {
   return text;
 }
 
+/// The strategies that optimise the 7 durations (and so take a warm start).
+bool takes_warm_start(Strategy s) {
+  return s == Strategy::kNotch || s == Strategy::kMultiNotch || s == Strategy::kMinJerkBand ||
+         s == Strategy::kTimeDomain;
+}
+
 class Search {
  public:
   Search(const Format& format, Strategy strategy, const MinTimeOptions& options,
@@ -83,7 +89,38 @@ class Search {
                                      std::chrono::duration<double>(options.plan.time_limit))) {}
 
   /// Plans T; nullopt when the budget (time or max_plans) ran out before or during the plan.
+  /// Plans T, warm-started from a neighbour (see warm_start_for). A warm-started plan that
+  /// misses its own constraints (status not optimal or acceptable) next to a feasible neighbour
+  /// is planned again from the planner's own starts, and the better of the two is kept
+  /// (continuation can lose a branch that a fresh multi-start finds). Nullopt when the budget (time
+  /// or max_plans) ran out before or during a plan.
   std::optional<MinTimePoint> evaluate(double T) {
+    const std::optional<Neighbour> from = warm_start_for(T);
+    std::optional<Planned> point = plan_at(T, from ? from->durations : std::optional<Durations>{});
+    if (!point) return std::nullopt;
+    const SolveStatus status = point->point.plan_status;
+    const bool plan_missed = status != SolveStatus::kOptimal && status != SolveStatus::kAcceptable;
+    if (from && from->feasible && plan_missed) {
+      std::optional<Planned> fresh = plan_at(T, std::nullopt);
+      if (!fresh) return std::nullopt;
+      const bool better = fresh->point.feasible || fresh->point.excess < point->point.excess;
+      if (better) point = std::move(fresh);
+    }
+    return record(std::move(*point));
+  }
+
+ private:
+  struct Planned {
+    MinTimePoint point;
+    PlanResult plan;
+  };
+  struct Neighbour {
+    Durations durations;
+    bool feasible{false};
+  };
+
+  /// One plan() of T; nullopt when the budget ran out before or during it.
+  std::optional<Planned> plan_at(double T, const std::optional<Durations>& warm_start) {
     const double remaining = std::chrono::duration<double>(deadline_ - Clock::now()).count();
     if (remaining <= 0.0 || result_.plans >= options_.max_plans) return std::nullopt;
     Format f = format_;
@@ -92,11 +129,15 @@ class Search {
     o.eta_rest_max = result_.eta_rest_max;
     o.eta_motion_max = result_.eta_motion_max;
     o.time_limit = remaining;
-    PlanResult plan_result = plan(f, strategy_, o);
+    o.warm_start = warm_start;
+    Planned out{MinTimePoint{}, plan(f, strategy_, o)};
     ++result_.plans;
-    if (plan_result.status == SolveStatus::kTimeLimit) return std::nullopt;
-    MinTimePoint p;
+    if (out.plan.status == SolveStatus::kTimeLimit) return std::nullopt;
+    MinTimePoint& p = out.point;
+    const PlanResult& plan_result = out.plan;
     p.motion_time = T;
+    p.warm_start = warm_start;
+    p.durations = plan_result.durations;
     p.plan_status = plan_result.status;
     p.prediction = plan_result.prediction;
     const SloshPeaks& nl = plan_result.prediction.nonlinear;
@@ -124,20 +165,44 @@ class Search {
     const bool usable = plan_result.status == SolveStatus::kOptimal ||
                         plan_result.status == SolveStatus::kAcceptable;
     p.feasible = !refused && usable && p.excess <= 1.0 + kLimitTolerance;
+    return out;
+  }
+
+  /// Adds a planned point to the curve, T_min and the best point.
+  MinTimePoint record(Planned planned) {
+    const MinTimePoint& p = planned.point;
     result_.curve.push_back(p);
     if (p.feasible) {
-      if (!result_.t_min || T < *result_.t_min) {
-        result_.t_min = T;
-        result_.plan = std::move(plan_result);
+      if (!result_.t_min || p.motion_time < *result_.t_min) {
+        result_.t_min = p.motion_time;
+        result_.plan = std::move(planned.plan);
       }
-    } else if (!result_.t_min && !refused && (!result_.best || p.excess < result_.best->excess)) {
+    } else if (!result_.t_min && std::isfinite(p.excess) &&
+               (!result_.best || p.excess < result_.best->excess)) {
       result_.best = p;
-      result_.plan = std::move(plan_result);
+      result_.plan = std::move(planned.plan);
     }
     return p;
   }
 
- private:
+  /// The nearest planned T below and above T with 7-segment durations, the one of lower excess
+  /// (ties: below); nullopt for the first T and for the strategies that do not optimise
+  /// durations.
+  [[nodiscard]] std::optional<Neighbour> warm_start_for(double T) const {
+    if (!takes_warm_start(strategy_)) return std::nullopt;
+    const MinTimePoint* below = nullptr;
+    const MinTimePoint* above = nullptr;
+    for (const MinTimePoint& q : result_.curve) {
+      if (!q.durations || std::isinf(q.excess)) continue;
+      if (q.motion_time < T && (below == nullptr || q.motion_time > below->motion_time)) below = &q;
+      if (q.motion_time > T && (above == nullptr || q.motion_time < above->motion_time)) above = &q;
+    }
+    const MinTimePoint* from = below;
+    if (from == nullptr || (above != nullptr && above->excess < from->excess)) from = above;
+    if (from == nullptr) return std::nullopt;
+    return Neighbour{*from->durations, from->feasible};
+  }
+
   const Format& format_;
   Strategy strategy_;
   const MinTimeOptions& options_;
@@ -369,23 +434,71 @@ void report_infeasible(SearchRun& run) {
   r.message = message + "; relax the limits, raise motion_time_max_s or try another strategy";
 }
 
-// 2. Bisection to 1 ms between the last infeasible and the first feasible scanned T; false when
-// the budget ran out.
+// The planned point at T (nullptr when T was not planned).
+const MinTimePoint* point_at(const MinTimeResult& r, double T) {
+  for (const MinTimePoint& p : r.curve) {
+    if (p.motion_time == T) return &p;
+  }
+  return nullptr;
+}
+
+// The next T to plan strictly inside (lo, hi) on the 1 ms grid. Regula falsi (Illinois): where
+// the line through the ratio to its limit of the quantity that lo violates most (eta_motion or
+// eta_rest), at lo (> 1) and at hi, crosses 1, the ratios' distances to 1 scaled by `scale_lo` and
+// `scale_hi` (halved while the other end keeps moving). Those ratios are smooth near a crossing,
+// while the excess saturates at 1 where time_domain holds eta_rest on its limit. The midpoint
+// when `bisect` is set or the ratios do not bracket 1.
+double next_bracket_point(const MinTimeResult& r, double lo, double hi, double scale_lo,
+                          double scale_hi, bool bisect) {
+  double t = 0.5 * (lo + hi);
+  const MinTimePoint* a = point_at(r, lo);
+  const MinTimePoint* b = point_at(r, hi);
+  if (!bisect && a != nullptr && b != nullptr && std::isfinite(a->excess) &&
+      std::isfinite(b->excess)) {
+    const bool motion = a->eta_motion / r.eta_motion_max >= a->eta_rest / r.eta_rest_max;
+    const double limit = motion ? r.eta_motion_max : r.eta_rest_max;
+    const double f_lo = scale_lo * ((motion ? a->eta_motion : a->eta_rest) / limit - 1.0);
+    const double f_hi = scale_hi * ((motion ? b->eta_motion : b->eta_rest) / limit - 1.0);
+    if (f_lo > 0.0 && f_hi <= 0.0) t = lo + (hi - lo) * f_lo / (f_lo - f_hi);
+  }
+  t = round_to_grid(t);
+  return std::clamp(t, round_to_grid(lo + kMinTimeResolution),
+                    round_to_grid(hi - kMinTimeResolution));
+}
+
+// 2. Bracketing to 1 ms between the last infeasible and the first feasible scanned T: regula
+// falsi (Illinois), with a bisection step after two steps in a row that did not halve the
+// bracket; false when the budget ran out.
 bool bisect(SearchRun& run) {
   if (run.last_infeasible < 0.0) {
     run.r.infeasible_below = run.r.scan_start;
     return true;
   }
   double lo = run.last_infeasible, hi = run.first_feasible;
+  double scale_lo = 1.0, scale_hi = 1.0;
+  int moved = 0;  // +1: hi moved last, -1: lo moved last
+  int slow = 0;   // steps in a row that did not halve the bracket
   while (hi - lo > 1.5 * kMinTimeResolution) {
-    const double mid = round_to_grid(0.5 * (lo + hi));
-    const std::optional<MinTimePoint> p = run.search.evaluate(mid);
+    const double width = hi - lo;
+    const double t = next_bracket_point(run.r, lo, hi, scale_lo, scale_hi, slow >= 2);
+    const std::optional<MinTimePoint> p = run.search.evaluate(t);
     if (!p) {
       run.out_of_budget("during the bisection between " + sec(lo) + " and " + sec(hi));
       run.r.infeasible_below = lo;
       return false;
     }
-    (p->feasible ? hi : lo) = mid;
+    if (p->feasible) {
+      hi = t;
+      scale_hi = 1.0;
+      if (moved == 1) scale_lo *= 0.5;
+      moved = 1;
+    } else {
+      lo = t;
+      scale_lo = 1.0;
+      if (moved == -1) scale_hi *= 0.5;
+      moved = -1;
+    }
+    slow = hi - lo <= 0.5 * width + 1e-12 ? 0 : slow + 1;
   }
   run.r.infeasible_below = lo;
   return true;
@@ -399,7 +512,7 @@ void extend_curve_and_report(SearchRun& run) {
   const double t_max = run.options.motion_time_max;
   const double curve_end = std::min(t_max, run.options.curve_factor * t_min);
   const int curve_points =
-      std::max(1, std::min(4, static_cast<int>(std::floor((curve_end - run.first_feasible) /
+      std::max(1, std::min(3, static_cast<int>(std::floor((curve_end - run.first_feasible) /
                                                           run.options.scan_step))));
   for (int k = 1; k <= curve_points; ++k) {
     const double T =

@@ -139,6 +139,18 @@ std::optional<InvalidInput> validate_arrays(const PlanOptions& o) {
     return refused(PlanInput::kWeights, weight_sum, positive(),
                    "weights = [0, 0, 0]: at least one weight must be > 0");
   }
+  if (!o.warm_start) return std::nullopt;
+  double warm_sum = 0.0;
+  for (int i = 0; i < static_cast<int>(kSegments); ++i) {
+    const double d = (*o.warm_start)[static_cast<std::size_t>(i)];
+    if (!non_negative().contains(d))
+      return out_of_range(PlanInput::kWarmStart, i, d, non_negative());
+    warm_sum += d;
+  }
+  if (!(warm_sum > 0.0) || !std::isfinite(warm_sum)) {
+    return refused(PlanInput::kWarmStart, warm_sum, positive(),
+                   "warm_start sums to " + sig3(warm_sum) + " s: it must be finite and > 0");
+  }
   return std::nullopt;
 }
 
@@ -492,7 +504,10 @@ struct Selection {
 Selection run_single(const detail::StrategyContext& c, Strategy strategy,
                      const LawPrediction& baseline) {
   std::vector<Durations> seeds;
-  if (strategy == Strategy::kTimeDomain) seeds = spectral_seeds(c, nullptr);
+  // A warm start replaces the multi-start, the spectral seeds included (continuation).
+  if (strategy == Strategy::kTimeDomain && !c.options.warm_start) {
+    seeds = spectral_seeds(c, nullptr);
+  }
   Selection s;
   s.outcome = run_strategy(c, strategy, seeds);
   s.prediction = predict(c.model, s.outcome.law, c.options.rest_time);

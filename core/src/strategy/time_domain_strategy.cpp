@@ -285,7 +285,9 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
 StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
-  std::vector<Durations> starts{c.space.starts(0).front()};
+  // The uniform law; with a warm start, the warm start and then the uniform law.
+  std::vector<Durations> starts = c.space.starts(0);
+  if (!c.space.warm_start) starts.resize(1);
   for (const Durations& d : seeds) {
     if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
   }

@@ -56,11 +56,12 @@ enum class PlanInput {
   kMaxPlans,          ///< MinTimeOptions::max_plans [-]
   kCurveFactor,       ///< MinTimeOptions::curve_factor [-]
   kRefineExcess,      ///< MinTimeOptions::refine_excess [-]
+  kWarmStart,         ///< PlanOptions::warm_start[index]; index -1: their sum [s]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 39> table{{
+  static constexpr std::array<EnumName<PlanInput>, 40> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -100,6 +101,7 @@ struct EnumNames<PlanInput> {
       {PlanInput::kMaxPlans, "max_plans"},
       {PlanInput::kCurveFactor, "curve_factor"},
       {PlanInput::kRefineExcess, "refine_excess"},
+      {PlanInput::kWarmStart, "warm_start"},
   }};
 };
 

@@ -98,6 +98,12 @@ struct MinTimePoint {
   /// max(eta_motion / eta_motion_max, eta_rest / eta_rest_max) [-]; infinity for a plan that
   /// refused its inputs. Feasible points have <= 1.
   double excess{};
+  /// The PlanOptions::warm_start this T was planned with (the durations of a neighbouring
+  /// point; see min_time()); nullopt: planned from the planner's own starts. plan() of the format
+  /// at motion_time with the search's plan options and this warm start returns the same plan.
+  std::optional<Durations> warm_start;
+  /// The plan's seven durations, when its law is a 7-segment law [s].
+  std::optional<Durations> durations;
 };
 
 /// One strategy's search.
@@ -138,9 +144,12 @@ struct MinTimeResult {
 
 /// Searches the minimum motion time of `strategy` (not kAuto) for `format` (its motion_time is
 /// ignored): lower bound from the stroke and the machine limits, a coarse scan up in steps of
-/// scan_step, bisection to 1 ms between the last infeasible and the first feasible scanned T, then
-/// the scan continued up to curve_factor T_min for the curve and feasible_above. Deterministic.
-/// plan() offers no warm start, so every T is planned from the planner's own starts.
+/// scan_step, a bracketing search (regula falsi on the excess, safeguarded by bisection) to 1 ms
+/// between the last infeasible and the first feasible scanned T, then the scan continued up to
+/// curve_factor T_min for the curve and feasible_above. Deterministic.
+/// Warm starts (the optimising strategies): the first T is planned from the planner's own
+/// starts; every later T from the durations of a planned neighbour (the nearest planned T below
+/// and above it, the one of lower excess; ties: below), recorded in its MinTimePoint.
 [[nodiscard]] MinTimeResult min_time(const Format& format, Strategy strategy,
                                      const MinTimeOptions& options);
 

@@ -153,6 +153,13 @@ struct PlanOptions {
   /// Sample period of the IIR law (the controller cycle the difference equation runs at) [s].
   /// Default 1 ms.
   double iir_sample_period{kDefaultIirSamplePeriod};
+  /// Warm start: the 7 durations of a neighbouring plan [s], e.g. at another motion time (each
+  /// finite and >= 0, their sum > 0; scaled to the motion time, then mapped into the bounds).
+  /// When set, notch, multi_notch, min_jerk_band and time_domain start from it and from the
+  /// uniform law only, instead of their deterministic multi-start, and time_domain takes no
+  /// spectral seeds: continuation, as the min-time search plans neighbouring T (SPEC §9). Such a
+  /// plan is only as global as its start. The other strategies ignore it. Default none.
+  std::optional<Durations> warm_start;
 
   /// The first option outside its allowed set for `format` (in the order the members are
   /// declared, the relation 4 min_ramp + plateau minimums <= T right after min_ramp), naming the
