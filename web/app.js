@@ -1,6 +1,7 @@
 // The page of `slosh serve`: a format form, one plan or every candidate of `auto`, the plots of the
-// selected plan against the uniform law, downloads, and the URL as the shareable state. Every URL
-// is relative, so the page also works behind a reverse proxy at a sub-path.
+// selected plan against the uniform law, the minimum motion time of the strategies ("How fast can
+// it go?", POST v1/min-time) with η over T, downloads, and the URL as the shareable state. Every
+// URL is relative, so the page also works behind a reverse proxy at a sub-path.
 
 import { PLOTS, markersPlugin } from './plots.js';
 
@@ -16,6 +17,7 @@ const PARAMS = {
   tol_rel: 'tol_rel', min_ramp: 'min_ramp', shaper: 'shaper', base: 'base', time_limit: 'budget',
   n_band: 'n_band', objective: 'objective', eta_motion_max: 'eta_motion', residual: 'residual',
   iir_order: 'iir_order', iir_tau: 'iir_tau', iir_period: 'iir_period', solver: 'solver',
+  t_max: 't_max', margin: 'margin', limit_model: 'limit_model',
 };
 // Parameters that only mean something for a custom fluid.
 const CUSTOM_FLUID_PARAMS = new Set(['density', 'viscosity']);
@@ -30,7 +32,17 @@ const OPTIONS = {
   iir_period: ['iir_sample_period_s', true], solver: ['solver', false],
 };
 
-const state = { request: null, plans: {}, selected: null, charts: [] };
+// A min-time request takes the η limits at its top level, not in its options: the fields of its
+// errors -> the data-field of the input that holds them.
+const MIN_TIME_FIELDS = {
+  eta_motion_max_mm: 'options.eta_motion_max_mm', eta_rest_max_mm: 'options.eta_rest_max_mm',
+  strategies: 'strategy',
+};
+
+const state = {
+  request: null, plans: {}, selected: null, charts: [], ticket: 0,
+  minTimeRequest: null, minTime: null, minTimeCharts: [],
+};
 window.sloshPage = state;  // for the browser test and the curious
 
 function number(id) {
@@ -63,14 +75,38 @@ function buildRequest(strategy) {
   };
 }
 
+// The min-time request of the form: its format without the motion time, the η limits and the
+// search's own inputs at the top level, the other options as for a plan, and the strategy chosen
+// (none for auto: the service then searches every strategy but iir).
+function buildMinTimeRequest() {
+  const plan = buildRequest($('strategy').value);
+  const { motion_time_s: _, ...format } = plan.format;
+  const { eta_motion_max_mm: etaMotion, eta_rest_max_mm: etaRest, ...options } = plan.options;
+  const request = { format };
+  if (number('t_max') !== undefined) request.motion_time_max_s = number('t_max');
+  if (etaMotion !== undefined) request.eta_motion_max_mm = etaMotion;
+  if (number('margin') !== undefined) request.free_board_margin_mm = number('margin');
+  if (etaRest !== undefined) request.eta_rest_max_mm = etaRest;
+  if ($('limit_model').value) request.limit_model = $('limit_model').value;
+  if (plan.strategy !== 'auto') request.strategies = [plan.strategy];
+  request.options = options;
+  return request;
+}
+
 function clearErrors() {
   for (const el of document.querySelectorAll('.field-error, .form-error')) el.textContent = '';
   for (const el of document.querySelectorAll('[aria-invalid]')) el.removeAttribute('aria-invalid');
 }
 
 // The API's error at the field its error.field names (the longest matching path), else at the form.
-function showError(error) {
-  const field = error.field || '';
+// aliases maps the fields of a request that differ from the inputs' data-field (min-time).
+function showError(error, aliases = {}) {
+  let field = error.field || '';
+  for (const [from, to] of Object.entries(aliases)) {
+    if (field === from || field.startsWith(from + '.') || field.startsWith(from + '[')) {
+      field = to + field.slice(from.length);
+    }
+  }
   let best = null;
   for (const el of document.querySelectorAll('[data-field]')) {
     const f = el.dataset.field;
@@ -184,14 +220,20 @@ async function selectPlan(strategy) {
 
 // The cam table of a cached plan: optimal and acceptable plans directly, an infeasible one only as
 // its best reachable law (said so); time-limited and failed plans are not cached (no link).
+// A plan of the min-time view is not kept either (the service keeps the min-time answer only).
 function updateCamLink() {
   const plan = state.plans[state.selected];
   if (!plan) return;
   const period = $('cam-period').value || '1';
   const link = $('download-cam');
-  const cached = ['optimal', 'acceptable', 'infeasible'].includes(plan.status);
+  const fromMinTime = state.minTime !== null;
+  const cached = !fromMinTime && ['optimal', 'acceptable', 'infeasible'].includes(plan.status);
   link.hidden = !cached;
   $('cam-period').disabled = !cached;
+  if (fromMinTime) {
+    $('cam-note').textContent = `No cam table: a plan of the min-time search is not kept by the service; plan ${plan.strategy} at T = ${plan.format.motion_time_s.toFixed(3)} s (Plan) for its cam table.`;
+    return;
+  }
   if (!cached) {
     $('cam-note').textContent = `No cam table: a ${plan.status} plan is not kept by the service; plan it with a larger time budget or use slosh export.`;
     return;
@@ -209,9 +251,21 @@ function clearPlots() {
   $('plots').replaceChildren();
 }
 
+function clearMinTime() {
+  for (const chart of state.minTimeCharts) chart.destroy();
+  state.minTimeCharts = [];
+  $('min-time-plots').replaceChildren();
+  $('min-time-table').querySelector('tbody').replaceChildren();
+  $('min-time-headline').textContent = '';
+  $('min-time').hidden = true;
+  state.minTime = null;
+  state.minTimeRequest = null;
+}
+
 // Nothing of a previous view stays on screen once a new request starts.
 function clearResults() {
   clearPlots();
+  clearMinTime();
   state.plans = {};
   state.selected = null;
   $('candidates').querySelector('tbody').replaceChildren();
@@ -219,10 +273,11 @@ function clearResults() {
   $('downloads').hidden = true;
 }
 
-function renderPlots(context) {
-  clearPlots();
-  const holder = $('plots');
-  for (const plot of PLOTS) {
+// The plots of one view ('plan' or 'min-time') into its holder; returns the charts.
+function renderPlots(context, view = 'plan', holder = $('plots')) {
+  if (view === 'plan') clearPlots();
+  const charts = [];
+  for (const plot of PLOTS.filter((p) => p.view === view)) {
     const box = document.createElement('div');
     box.className = 'plot';
     const title = document.createElement('h2');
@@ -243,8 +298,10 @@ function renderPlots(context) {
     holder.appendChild(box);
     const chart = new Chart(canvas, plot.build(context));
     png.addEventListener('click', () => { png.href = chart.toBase64Image('image/png', 1); });
-    state.charts.push(chart);
+    charts.push(chart);
   }
+  if (view === 'plan') state.charts = charts;
+  return charts;
 }
 
 function writeUrl(extra) {
@@ -275,9 +332,9 @@ function readUrl() {
   $('custom-fluid').hidden = $('fluid').value !== 'custom';
   if (refused.length) {
     $('form-error').textContent = `The link holds values this form cannot take: ${refused.join(', ')}. Check the form and plan again.`;
-    return { any: false, compare: false, key: q.get('key') };
+    return { any: false, compare: false, minTime: false, key: q.get('key') };
   }
-  return { any, compare: q.get('compare') === '1', key: q.get('key') };
+  return { any, compare: q.get('compare') === '1', minTime: q.get('mintime') === '1', key: q.get('key') };
 }
 
 // The form from a plan opened by its key (its format; the options are not part of a plan).
@@ -299,6 +356,7 @@ function fillFormFromPlan(plan) {
 async function run(compare) {
   clearErrors();
   const strategy = compare ? 'auto' : $('strategy').value;
+  const ticket = ++state.ticket;
   state.request = buildRequest(strategy);
   clearResults();
   delete document.body.dataset.ready;
@@ -306,6 +364,7 @@ async function run(compare) {
   $('status-line').textContent = compare ? 'Planning every strategy…' : `Planning ${strategy}…`;
   try {
     const first = await postJson('v1/plans', state.request);
+    if (ticket !== state.ticket) return;  // a newer request replaced this view
     if (!compare) {
       state.plans[first.strategy] = first;
       renderTable([first], first.strategy);
@@ -315,11 +374,118 @@ async function run(compare) {
     const names = first.candidates.map((c) => c.strategy);
     const chosen = (first.candidates.find((c) => c.chosen) || {}).strategy;
     const plans = await Promise.all(names.map((s) => postJson('v1/plans', { ...state.request, strategy: s })));
+    if (ticket !== state.ticket) return;
     for (const p of plans) state.plans[p.strategy] = p;
     renderTable(plans, chosen);
     return selectPlan(chosen || names[0]);
   } catch (e) {
+    if (ticket !== state.ticket) return;
     if (e.api) showError(e.api); else $('form-error').textContent = String(e);
+  }
+}
+
+// The η of a min-time curve point at the strategy's T_min, on the model the limits apply to.
+function etaAtTMin(s, quantity, model) {
+  const i = s.t_min_s === null ? -1 : s.curve.t_s.indexOf(s.t_min_s);
+  if (i < 0) return undefined;
+  const nl = s.curve.nonlinear[quantity][i], lin = s.curve.linear[quantity][i];
+  return model === 'linear' ? lin : model === 'both' ? Math.max(nl, lin) : nl;
+}
+
+function minTimeRow(s, model) {
+  const feasibleAbove = s.feasible_above === null ? '—' : s.feasible_above ? 'yes' : 'no';
+  return [
+    s.strategy, s.status, fmt(s.t_min_s, 3), fmt(s.t_min_s === null ? null : 60 / s.t_min_s, 1),
+    feasibleAbove, fmt(etaAtTMin(s, 'eta_motion_mm', model)), fmt(etaAtTMin(s, 'eta_rest_mm', model)),
+    String(s.plans),
+  ];
+}
+
+function signed(v, digits) {
+  return (v >= 0 ? '+' : '') + v.toFixed(digits);
+}
+
+// The answer in one sentence: the winner, its T_min and its gain over the uniform law.
+function minTimeHeadline(m) {
+  const h = m.headline;
+  if (!h.winner) return `No strategy meets the limits with a motion time up to ${m.motion_time_max_s} s.`;
+  let text = `Fastest: ${h.winner}, T_min ${h.t_min_s.toFixed(3)} s (${h.cycles_per_min.toFixed(1)} cycles/min)`;
+  if (h.gain_pct !== null) {
+    text += `: ${signed(h.gain_pct, 1)} % (${signed(h.gain_cycles_per_min, 1)} cycles/min) vs the uniform law` +
+      ` (baseline, T_min ${h.baseline_t_min_s.toFixed(3)} s, ${h.baseline_cycles_per_min.toFixed(1)} cycles/min).`;
+  } else if (m.strategies.some((s) => s.strategy === 'baseline')) {
+    text += '; the uniform law (baseline) meets the limits nowhere in the search: no gain to give.';
+  } else {
+    text += '; the uniform law (baseline) was not searched: no gain to give.';
+  }
+  return text;
+}
+
+function renderMinTime(m) {
+  const model = m.limits.model;
+  const body = $('min-time-table').querySelector('tbody');
+  body.replaceChildren();
+  for (const s of m.strategies) {
+    const tr = document.createElement('tr');
+    tr.dataset.strategy = s.strategy;
+    tr.tabIndex = 0;
+    tr.title = s.message;
+    if (s.strategy === m.headline.winner) tr.classList.add('winner');
+    for (const text of minTimeRow(s, model)) {
+      const td = document.createElement('td');
+      td.textContent = text;
+      tr.appendChild(td);
+    }
+    const select = () => selectMinTimePlan(s.strategy);
+    tr.addEventListener('click', select);
+    tr.addEventListener('keydown', (e) => { if (e.key === 'Enter' || e.key === ' ') { e.preventDefault(); select(); } });
+    body.appendChild(tr);
+  }
+  $('min-time-headline').textContent = minTimeHeadline(m);
+  const l = m.limits;
+  const scanStart = Math.min(...m.strategies.map((s) => s.scan_start_s));
+  $('status-line').textContent = `Limits: η motion ≤ ${l.eta_motion_max_mm.toFixed(1)} mm, η rest ≤ ` +
+    `${l.eta_rest_max_mm.toFixed(1)} mm over ${l.rest_time_s} s (${model} model); T searched from ` +
+    `${scanStart.toFixed(3)} s (kinematic bound ${m.kinematic_lower_bound_s.toFixed(3)} s) up to ` +
+    `${m.motion_time_max_s} s on a 1 ms grid.`;
+  $('min-time').hidden = false;
+  state.minTimeCharts = renderPlots({ minTime: m }, 'min-time', $('min-time-plots'));
+}
+
+// A row of the min-time table: its plan at T_min (the response holds it whole) in the plan view.
+function selectMinTimePlan(strategy) {
+  const s = state.minTime && state.minTime.strategies.find((x) => x.strategy === strategy);
+  if (!s || !s.plan) return;
+  for (const tr of $('min-time-table').querySelectorAll('tbody tr')) {
+    tr.classList.toggle('selected', tr.dataset.strategy === strategy);
+  }
+  state.plans = { [strategy]: s.plan };
+  state.request = null;
+  renderTable([s.plan], strategy);
+  return selectPlan(strategy);
+}
+
+async function runMinTime() {
+  clearErrors();
+  const ticket = ++state.ticket;
+  const request = buildMinTimeRequest();
+  state.request = null;
+  clearResults();
+  delete document.body.dataset.ready;
+  delete document.body.dataset.minTime;
+  writeUrl({ mintime: '1' });
+  const which = request.strategies ? request.strategies[0] : 'every strategy but iir';
+  $('status-line').textContent = `Searching the shortest motion time of ${which}…`;
+  try {
+    const response = await postJson('v1/min-time', request);
+    if (ticket !== state.ticket) return;  // a newer request replaced this view
+    state.minTimeRequest = request;
+    state.minTime = response;
+    renderMinTime(response);
+    document.body.dataset.minTime = 'ready';  // the browser test waits for this
+  } catch (e) {
+    if (ticket !== state.ticket) return;
+    if (e.api) showError(e.api, MIN_TIME_FIELDS); else $('form-error').textContent = String(e);
   }
 }
 
@@ -357,11 +523,12 @@ async function main() {
   $('fluid').addEventListener('change', () => { $('custom-fluid').hidden = $('fluid').value !== 'custom'; });
   $('format-form').addEventListener('submit', (e) => { e.preventDefault(); run(false); });
   $('compare-button').addEventListener('click', () => run(true));
+  $('min-time-button').addEventListener('click', runMinTime);
   $('cam-period').addEventListener('input', updateCamLink);
   const url = readUrl();
   document.body.dataset.loaded = '1';
   if (url.key) return openKey(url.key);
-  if (url.any) return run(url.compare);
+  if (url.any) return url.minTime ? runMinTime() : run(url.compare);
 }
 
 main();

@@ -1,5 +1,7 @@
-// The plots of a plan: one entry per plot in PLOTS (adding a plot = one entry). Each build()
-// returns a Chart.js configuration from the context {plan, request, series, base, format}.
+// The plots of the page: one entry per plot in PLOTS (adding a plot = one entry). Each entry
+// belongs to a view: 'plan' entries build a Chart.js configuration from the context {plan,
+// request, series, base, format}, 'min-time' entries from {minTime} (the POST v1/min-time
+// response).
 
 const COLORS = { plan: '#0b63c5', base: '#8c959f', linear: '#d4731c', baseLinear: '#e3b58a', jerk: '#7a3db8' };
 
@@ -75,9 +77,74 @@ function timeChart(datasets, yTitle, markers, y2Title) {
   };
 }
 
+// One colour per strategy in the min-time view.
+const STRATEGY_COLORS = {
+  baseline: '#8c959f', notch: '#d4731c', multi_notch: '#0b63c5', min_jerk_band: '#1a7f37',
+  time_domain: '#b3261e', fir_chain: '#7a3db8', shaper: '#bf8700', iir: '#1b7c83',
+};
+
+// η of a min-time curve point on the model the limits apply to ('both' = the larger of the two).
+function etaOnLimitModel(curve, quantity, i, model) {
+  const nl = curve.nonlinear[quantity][i], lin = curve.linear[quantity][i];
+  if (model === 'linear') return lin;
+  return model === 'both' ? Math.max(nl, lin) : nl;
+}
+
+// Labels of a logarithmic axis at 1, 2 and 5 times a power of ten, in as few digits as they need.
+function logTick(value) {
+  const mantissa = value / 10 ** Math.floor(Math.log10(value) + 1e-9);
+  return [1, 2, 5].some((k) => Math.abs(mantissa - k) < 1e-6) ? String(Number(value.toPrecision(3))) : '';
+}
+
+// η_motion or η_rest over T: one dataset per strategy with one point per planned T (infeasible T
+// drawn as crosses, T_min as a large diamond), the limit as a horizontal line and the winner's
+// T_min as a vertical one. The y axis is logarithmic: η spans decades over T.
+function etaOverT(minTime, quantity, limit, what) {
+  const model = minTime.limits.model;
+  const datasets = minTime.strategies.map((s) => {
+    const c = s.curve;
+    const color = STRATEGY_COLORS[s.strategy] || '#444';
+    const atMin = (i) => s.t_min_s !== null && c.t_s[i] === s.t_min_s;
+    const data = c.t_s.map((t, i) => ({ x: t, y: Math.max(1e-3, etaOnLimitModel(c, quantity, i, model)) }));
+    const tMin = s.t_min_s === null ? 'none' : `${s.t_min_s.toFixed(3)} s`;
+    return line(`${s.strategy} (T_min ${tMin})`, data, color, {
+      strategy: s.strategy, borderWidth: 1,
+      pointStyle: c.t_s.map((_, i) => (atMin(i) ? 'rectRot' : c.feasible[i] ? 'circle' : 'crossRot')),
+      pointRadius: c.t_s.map((_, i) => (atMin(i) ? 6 : c.feasible[i] ? 2.5 : 4)),
+      pointBorderWidth: 1.5,
+    });
+  });
+  const markers = { hlines: [{ y: limit, label: `${what} limit ${limit.toFixed(1)} mm (${model})` }], vlines: [] };
+  const h = minTime.headline;
+  if (h.winner) markers.vlines.push({ x: h.t_min_s, label: `T_min ${h.winner} ${h.t_min_s.toFixed(3)} s`, color: '#1b1f24' });
+  const config = timeChart(datasets, `${what} [mm] (${model} model)`, markers);
+  config.options.scales.x.title.text = 'motion time T [s]';
+  config.options.scales.y.type = 'logarithmic';
+  // The axis starts just below the lowest point or limit (not at the power of ten below it).
+  const lowest = Math.min(limit, ...datasets.flatMap((d) => d.data.map((p) => p.y)));
+  config.options.scales.y.min = 0.8 * lowest;
+  config.options.scales.y.ticks = { callback: logTick };
+  config.options.interaction = { mode: 'nearest', intersect: true };
+  config.options.plugins.legend.labels.usePointStyle = false;
+  return config;
+}
+
 export const PLOTS = [
   {
+    id: 'min-time-motion',
+    view: 'min-time',
+    title: 'η motion over the motion time T (crosses: infeasible T, diamond: T_min)',
+    build: ({ minTime }) => etaOverT(minTime, 'eta_motion_mm', minTime.limits.eta_motion_max_mm, 'η motion'),
+  },
+  {
+    id: 'min-time-rest',
+    view: 'min-time',
+    title: 'η rest over the motion time T (crosses: infeasible T, diamond: T_min)',
+    build: ({ minTime }) => etaOverT(minTime, 'eta_rest_mm', minTime.limits.eta_rest_max_mm, 'η rest'),
+  },
+  {
     id: 'acceleration',
+    view: 'plan',
     title: 'Acceleration and jerk',
     build: ({ series, base }) => timeChart([
       line('a plan [m/s²]', points(series.t_s, series.a), COLORS.plan),
@@ -87,6 +154,7 @@ export const PLOTS = [
   },
   {
     id: 'velocity',
+    view: 'plan',
     title: 'Velocity and position',
     build: ({ series, base }) => timeChart([
       line('v plan [m/s]', points(series.t_s, series.v), COLORS.plan),
@@ -96,6 +164,7 @@ export const PLOTS = [
   },
   {
     id: 'eta',
+    view: 'plan',
     title: 'Wave height η(t) at the wall',
     build: ({ plan, series, base, format }) => {
       const T = format.motion_time_s;
@@ -122,6 +191,7 @@ export const PLOTS = [
   },
   {
     id: 'spectrum',
+    view: 'plan',
     title: 'Acceleration spectrum |X(f)|',
     build: ({ plan }) => {
       const s = plan.spectrum;

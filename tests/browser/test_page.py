@@ -5,7 +5,10 @@ Starts the real binary on a free loopback port (and, for the sub-path check, a s
 proxy in front of it), drives the page with Selenium and checks it against the API's own JSON:
 the candidate table equals the plans' figures, every chart holds the API's point counts, an
 invalid radius shows the API's message at the radius field, a shared URL reproduces the view,
-the cam-table download equals `slosh export`'s file, and every input has a label.
+the cam-table download equals `slosh export`'s file, and every input has a label. "How fast can
+it go?" (POST /v1/min-time): the table and headline equal the API's answer, the η-over-T charts
+hold the API's curves, a row loads its plan at T_min, a shared link reproduces a search, and the
+API's errors land at the fields they name.
 
 usage: test_page.py --slosh build/slosh --artifacts build/browser
 """
@@ -214,6 +217,147 @@ def check_compare_all(driver, port, screenshot):
     check(all(sum(c["counts"]) > 0 for c in chart_counts(driver)), "the selected candidate is plotted")
 
 
+def min_time_request_of(values, strategies=None):
+    body = {"format": request_of(dict(values, height=values["height"] or "0"), "baseline")["format"]}
+    del body["format"]["motion_time_s"]
+    if not values["height"]:
+        del body["format"]["container"]["height_mm"]
+    if strategies:
+        body["strategies"] = strategies
+    body["options"] = {}
+    return body
+
+
+def eta_at_t_min(s, quantity, model):
+    if s["t_min_s"] is None or s["t_min_s"] not in s["curve"]["t_s"]:
+        return None
+    i = s["curve"]["t_s"].index(s["t_min_s"])
+    nl, lin = s["curve"]["nonlinear"][quantity][i], s["curve"]["linear"][quantity][i]
+    return lin if model == "linear" else max(nl, lin) if model == "both" else nl
+
+
+def expected_min_time_row(s, model):
+    above = "—" if s["feasible_above"] is None else "yes" if s["feasible_above"] else "no"
+    return [s["strategy"], s["status"], fmt(s["t_min_s"], 3),
+            fmt(None if s["t_min_s"] is None else 60 / s["t_min_s"], 1), above,
+            fmt(eta_at_t_min(s, "eta_motion_mm", model)), fmt(eta_at_t_min(s, "eta_rest_mm", model)),
+            str(s["plans"])]
+
+
+def expected_headline(m):
+    h = m["headline"]
+    if h["winner"] is None:
+        return f"No strategy meets the limits with a motion time up to {m['motion_time_max_s']:g} s."
+    text = f"Fastest: {h['winner']}, T_min {h['t_min_s']:.3f} s ({h['cycles_per_min']:.1f} cycles/min)"
+    if h["gain_pct"] is not None:
+        text += (f": {h['gain_pct']:+.1f} % ({h['gain_cycles_per_min']:+.1f} cycles/min) vs the uniform law"
+                 f" (baseline, T_min {h['baseline_t_min_s']:.3f} s, {h['baseline_cycles_per_min']:.1f} cycles/min).")
+    elif any(s["strategy"] == "baseline" for s in m["strategies"]):
+        text += "; the uniform law (baseline) meets the limits nowhere in the search: no gain to give."
+    else:
+        text += "; the uniform law (baseline) was not searched: no gain to give."
+    return text
+
+
+def min_time_rows(driver):
+    return driver.execute_script(
+        "return [...document.querySelectorAll('#min-time-table tbody tr')].map(tr => "
+        "({strategy: tr.dataset.strategy, winner: tr.classList.contains('winner'), "
+        "weight: getComputedStyle(tr).fontWeight, cells: [...tr.children].map(td => td.textContent)}))")
+
+
+def min_time_charts(driver):
+    return driver.execute_script(
+        "return window.sloshPage.minTimeCharts.map(c => ({id: c.canvas.id, "
+        "curves: Object.fromEntries(c.data.datasets.map(d => [d.strategy, d.data.length])), "
+        "hlines: c.options.plugins.markers.hlines.map(h => h.y), "
+        "vlines: c.options.plugins.markers.vlines.map(v => v.x)}))")
+
+
+def check_min_time_view(driver, m, what):
+    """The min-time table, headline and charts of the page equal the API's answer m."""
+    check(driver.execute_script("return window.sloshPage.minTime.key") == m["key"],
+          f"{what}: the page asked the API's request (same key)")
+    rows = min_time_rows(driver)
+    model = m["limits"]["model"]
+    expected = [expected_min_time_row(s, model) for s in m["strategies"]]
+    check([r["cells"] for r in rows] == expected, f"{what}: the min-time table equals the API: {rows} vs {expected}")
+    winner = m["headline"]["winner"]
+    check([r["strategy"] for r in rows if r["winner"]] == ([winner] if winner else []),
+          f"{what}: the winner's row is marked ({winner})")
+    check(all((r["weight"] == "700") == r["winner"] for r in rows), f"{what}: only the winner is bold: {rows}")
+    headline = driver.find_element(By.ID, "min-time-headline").text
+    check(headline == expected_headline(m), f"{what}: headline {headline!r} vs {expected_headline(m)!r}")
+    charts = {c["id"]: c for c in min_time_charts(driver)}
+    curves = {s["strategy"]: len(s["curve"]["t_s"]) for s in m["strategies"]}
+    limits = {"plot-min-time-motion": m["limits"]["eta_motion_max_mm"],
+              "plot-min-time-rest": m["limits"]["eta_rest_max_mm"]}
+    check(sorted(charts) == sorted(limits), f"{what}: the two η-over-T charts: {sorted(charts)}")
+    for chart_id, limit in limits.items():
+        c = charts.get(chart_id, {})
+        check(c.get("curves") == curves, f"{what}: {chart_id} holds the API's curves: {c} vs {curves}")
+        check(c.get("hlines") == [limit], f"{what}: {chart_id} draws the limit {limit}: {c}")
+        check(c.get("vlines") == ([m["headline"]["t_min_s"]] if winner else []), f"{what}: {chart_id} marks T_min")
+
+
+def check_min_time(driver, port, screenshot):
+    fill_format(driver, THESIS, "auto")
+    driver.find_element(By.ID, "min-time-button").click()
+    wait_for(driver, "return document.body.dataset.minTime === 'ready'", 120)
+    status, m = api_json(port, "POST", "/v1/min-time", min_time_request_of(THESIS))
+    check(status == 200 and len(m["strategies"]) == 7, f"the API searches every strategy but iir ({status})")
+    check_min_time_view(driver, m, "auto")
+    check(m["headline"]["gain_pct"] is not None, "the thesis format has a gain over the uniform law")
+    check("mintime=1" in driver.current_url, f"the URL holds the min-time view: {driver.current_url}")
+    driver.set_window_size(1280, 1260)
+    driver.execute_script("window.scrollTo(0, 0)")
+    driver.find_element(By.ID, "results").screenshot(screenshot)  # the min-time view
+    driver.set_window_size(1280, 800)
+    # A row loads its plan at T_min (the response's own plan) into the plan view.
+    row = next(s for s in m["strategies"] if s["strategy"] == "shaper")
+    driver.find_element(By.CSS_SELECTOR, "#min-time-table tr[data-strategy='shaper']").click()
+    wait_for(driver, "return document.body.dataset.ready === 'shaper'")
+    check(table_rows(driver)[0]["cells"] == expected_row(row["plan"]), "the row's plan at T_min is in the plan view")
+    check(abs(row["plan"]["format"]["motion_time_s"] - row["t_min_s"]) < 1e-9, "the plan is at T_min")
+    counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
+    check(len(counts) == 4 and all(sum(v) > 0 for v in counts.values()), f"the plan at T_min is plotted: {counts}")
+    check(len(min_time_charts(driver)) == 2, "the min-time charts stay beside the plan")
+    # A shared min-time link of one strategy reproduces its search.
+    driver.get(f"http://127.0.0.1:{port}/?r=48.5&h=150&fill=82&fluid=water&stroke=800&T=1"
+               "&strategy=fir_chain&mintime=1")
+    wait_for(driver, "return document.body.dataset.minTime === 'ready'")
+    status, one = api_json(port, "POST", "/v1/min-time", min_time_request_of(THESIS, ["fir_chain"]))
+    check(status == 200, f"the API searches fir_chain ({status})")
+    check_min_time_view(driver, one, "fir_chain link")
+
+
+def check_min_time_errors(driver, port):
+    # Without a container height the min-time search needs eta_motion_max_mm (an advanced input).
+    no_height = dict(THESIS, height="")
+    fill_format(driver, no_height, "fir_chain")
+    driver.find_element(By.ID, "min-time-button").click()
+    wait_for(driver, "return document.getElementById('eta_motion_max-error').textContent.length > 0", 20)
+    status, error = api_json(port, "POST", "/v1/min-time", min_time_request_of(no_height, ["fir_chain"]))
+    check(status == 422 and error["error"]["field"] == "eta_motion_max_mm", f"the API needs eta_motion_max_mm: {error}")
+    shown = driver.find_element(By.ID, "eta_motion_max-error").text
+    check(shown == error["error"]["message"], f"the η motion limit field shows the API's message: {shown!r}")
+    check(driver.find_element(By.ID, "eta_motion_max").get_attribute("aria-invalid") == "true",
+          "the η motion limit input is marked invalid")
+    check(not driver.find_element(By.ID, "min-time").is_displayed(), "no min-time view under a refused request")
+    check(driver.execute_script("return window.sloshPage.minTimeCharts.length") == 0, "no min-time charts")
+    # The search's own bound has its own input.
+    fill_format(driver, THESIS, "fir_chain")
+    driver.find_element(By.ID, "t_max").send_keys("100")
+    driver.find_element(By.ID, "min-time-button").click()
+    wait_for(driver, "return document.getElementById('t_max-error').textContent.length > 0", 20)
+    body = dict(min_time_request_of(THESIS, ["fir_chain"]), motion_time_max_s=100)
+    status, error = api_json(port, "POST", "/v1/min-time", body)
+    check(status == 422 and error["error"]["field"] == "motion_time_max_s", f"the API refuses the bound: {error}")
+    check(driver.find_element(By.ID, "t_max-error").text == error["error"]["message"],
+          "the search bound field shows the API's message")
+    driver.find_element(By.ID, "t_max").clear()
+
+
 def check_invalid_radius(driver, port):
     bad = dict(THESIS, radius="-5")
     fill_format(driver, bad, "notch")
@@ -344,6 +488,8 @@ def main():
         plan = check_single_plan(driver, port)
         check_cam_download(driver, args.slosh, workdir)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
+        check_min_time(driver, port, os.path.join(args.artifacts, "min-time.png"))
+        check_min_time_errors(driver, port)
         check_invalid_radius(driver, port)
         check_shared_url(driver, plan)
         check_infeasible_cam_link(driver, port)
@@ -361,7 +507,8 @@ def main():
     if FAILURES:
         print(f"{len(FAILURES)} check(s) failed")
         return 1
-    print("browser page: all checks passed; screenshot in", os.path.join(args.artifacts, "page.png"))
+    print("browser page: all checks passed; screenshots in", os.path.join(args.artifacts, "page.png"), "and",
+          os.path.join(args.artifacts, "min-time.png"))
     return 0
 
 
