@@ -482,6 +482,11 @@ void add_plan_response_schemas(json& s) {
                                "The 7 durations [s] (always admissible); null when the law is "
                                "not a 7-segment law (shaper, iir, fir_chain without (14))."))},
        {"durations_pct", nullable(fixed_numbers(7, "The durations in % of T; null likewise."))},
+       {"warm_start_s",
+        nullable(fixed_numbers(7,
+                               "Only in the plans of a min-time answer: the durations of the "
+                               "neighbouring T this plan was warm-started from [s] (part of its "
+                               "key); null when it was planned from the planner's own starts."))},
        {"switch_times_s",
         nullable(fixed_numbers(8, "Segment boundaries from 0 to T [s]; null likewise."))},
        {"law", ref("LawSpec")},
