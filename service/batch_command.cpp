@@ -266,78 +266,123 @@ json min_time_error_row(const RecipeRow& recipe, const api::ApiError& e) {
   std::string field = e.field();
   std::string message = e.what();
   if (recipe.csv) {  // name the CSV column, as plan tables do
-    message = api::in_column_terms(field, message);
-    field = field == "motion_time_max_s" ? "motion_time_s" : api::column_of_field(field);
+    constexpr std::string_view kMax = "motion_time_max_s";  // the motion_time_s column's value
+    if (field == kMax) {
+      if (message.rfind(kMax, 0) == 0) message.replace(0, kMax.size(), "motion_time_s");
+      field = "motion_time_s";
+    } else {
+      message = api::in_column_terms(field, message);
+      field = api::column_of_field(field);
+    }
   }
   row["message"] = message;
   row["error_field"] = field.empty() ? json(nullptr) : json(field);
   return row;
 }
 
-/// Searches every row's strategies on a pool of `config.workers` (one task per row and strategy)
-/// and writes the rows in input order; returns the 1-based numbers of the rows in error.
+/// A min-time row on its way: its answer from the cache or a search, or the row's error.
 struct MinTimeJob {
-  std::optional<api::MinTimeRequest> request;
   std::optional<api::ApiError> error;
-  std::vector<MinTimeResult> results;
-  std::vector<std::future<void>> done;
+  PendingMinTime pending;
 };
 
-// Parses a row's min-time request and queues one search per strategy (waiting for queue room).
-void submit_min_time_row(const RecipeRow& row, const ServerConfig& config, WorkerPool& pool,
-                         MinTimeJob& job) {
+// Parses a row's min-time request and starts it on `service`: from the plan store, joined to the
+// search of an identical earlier row, or queued (waiting for queue room).
+MinTimeJob start_min_time_row(const RecipeRow& row, double budget, PlanService& service) {
+  MinTimeJob job;
   if (!row.error.is_null()) {
     job.error = api::error_from_json(row.error);
-    return;
+    return job;
   }
   try {
-    job.request = api::parse_min_time_request(api::min_time_body_from_recipe(row.request),
-                                              config.solve_budget_s);
+    job.pending = service.start_min_time(
+        api::parse_min_time_request(api::min_time_body_from_recipe(row.request), budget), true);
   } catch (const api::ApiError& e) {
     job.error = e;
-    return;
   }
-  job.results.resize(job.request->strategies.size());
-  for (std::size_t k = 0; k < job.results.size(); ++k) {
-    auto promise = std::make_shared<std::promise<void>>();
-    job.done.push_back(promise->get_future());
-    const api::MinTimeRequest* request = &*job.request;
-    MinTimeResult* slot = &job.results[k];
-    if (!pool.submit_wait([request, slot, k, promise] {
-          *slot = min_time(request->format, request->strategies[k], request->options);
-          promise->set_value();
-        })) {
-      throw BatchAbort("the worker pool refused a search");
+  return job;
+}
+
+// Writes the row of an answer (a stored or replied min-time response) or of its error; false for
+// an error row.
+bool write_min_time_row(const RecipeRow& recipe, const SolveOutcome& outcome,
+                        MinTimeWriter& writer) {
+  if (outcome.error) {
+    writer.write(min_time_error_row(recipe, *outcome.error));
+    return false;
+  }
+  json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}, {"status", "ok"}};
+  row.update(api::min_time_row_figures(outcome.body));
+  writer.write(row);
+  return true;
+}
+
+// Searches every row on a local PlanService (the cache file of `config`, `config.workers`, one
+// task per row and strategy) and writes the rows in input order; the 1-based numbers of the rows
+// in error.
+std::vector<std::size_t> run_min_time_local(const std::vector<RecipeRow>& rows, ServerConfig config,
+                                            MinTimeWriter& writer) {
+  config.queue = 1024;
+  PlanService service(config);
+  if (const std::string e = service.min_time_cache().storage_error(); !e.empty()) {
+    std::cerr << "slosh batch: warning: " << e << '\n';
+  }
+  std::vector<MinTimeJob> jobs;
+  jobs.reserve(rows.size());
+  for (const RecipeRow& row : rows) {
+    jobs.push_back(start_min_time_row(row, config.solve_budget_s, service));
+  }
+  std::vector<std::size_t> failed;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const MinTimeJob& job = jobs[i];
+    const SolveOutcome outcome = job.error            ? SolveOutcome{{}, job.error}
+                                 : job.pending.cached ? SolveOutcome{*job.pending.cached, {}}
+                                                      : job.pending.search.get();
+    if (!write_min_time_row(rows[i], outcome, writer)) failed.push_back(rows[i].row);
+  }
+  return failed;
+}
+
+// POSTs one row's min-time request, retrying 503 answers after their Retry-After: the answer, or
+// the error the service answered; BatchAbort when it answered no envelope.
+SolveOutcome post_min_time_row(HttpClient& client, const std::string& body) {
+  for (int attempt = 0;; ++attempt) {
+    HttpReply reply;
+    try {
+      reply = client.post_json("/v1/min-time", body);
+    } catch (const HttpError& e) {
+      throw BatchAbort(e.what());
     }
+    if (reply.status == 503 && attempt < kServerRetries) {
+      const int wait =
+          reply.retry_after.empty() ? 1 : std::max(1, std::atoi(reply.retry_after.c_str()));
+      std::this_thread::sleep_for(std::chrono::seconds(wait));
+      continue;
+    }
+    if (reply.status == 200) return SolveOutcome{std::move(reply.body), std::nullopt};
+    if (api::envelope_message(reply.body).empty()) {
+      throw BatchAbort(client.base_url() + "/v1/min-time answered HTTP " +
+                       std::to_string(reply.status));
+    }
+    return SolveOutcome{{}, api::error_from_text(reply.body)};
   }
 }
 
-std::vector<std::size_t> run_min_time_table(const std::vector<RecipeRow>& rows,
-                                            const ServerConfig& config, MinTimeWriter& writer) {
-  std::vector<MinTimeJob> jobs(rows.size());
-  const std::size_t workers =
-      config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers;
-  WorkerPool pool(workers, 1024);
-  for (std::size_t i = 0; i < rows.size(); ++i) submit_min_time_row(rows[i], config, pool, jobs[i]);
+// POSTs every readable row to the service's /v1/min-time, one after the other (each request's
+// strategies run in parallel on the service's pool), and writes the rows as they return.
+std::vector<std::size_t> run_min_time_remote(const std::vector<RecipeRow>& rows, HttpClient& client,
+                                             MinTimeWriter& writer) {
   std::vector<std::size_t> failed;
-  for (std::size_t i = 0; i < rows.size(); ++i) {
-    MinTimeJob& job = jobs[i];
-    for (auto& f : job.done) f.wait();
-    for (const MinTimeResult& r : job.results) {
-      if (!job.error && r.invalid_input) {
-        job.error =
-            api::ApiError(api::ErrorCode::kInvalidValue, "format",
-                          "invalid input: " + r.invalid_input->message + "; nothing was planned");
-      }
+  for (const RecipeRow& row : rows) {
+    const SolveOutcome outcome =
+        row.error.is_null()
+            ? post_min_time_row(client, api::dump_json(api::min_time_body_from_recipe(row.request)))
+            : SolveOutcome{{}, api::error_from_json(row.error)};
+    try {
+      if (!write_min_time_row(row, outcome, writer)) failed.push_back(row.row);
+    } catch (const std::invalid_argument& e) {
+      throw BatchAbort(client.base_url() + "/v1/min-time: " + e.what());
     }
-    if (job.error) {
-      failed.push_back(rows[i].row);
-      writer.write(min_time_error_row(rows[i], *job.error));
-      continue;
-    }
-    json row{{"row", rows[i].row}, {"recipe_id", rows[i].recipe_id}, {"status", "ok"}};
-    row.update(api::min_time_row_figures(*job.request, job.results));
-    writer.write(row);
   }
   return failed;
 }
@@ -375,10 +420,6 @@ std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInp
     }
   } catch (const std::exception& e) {
     std::cerr << "slosh batch: " << e.what() << '\n';
-    return kExitInvalidInput;
-  }
-  if (options.mode == "min_time" && !options.server.empty()) {
-    std::cerr << "slosh batch: --mode min_time searches locally: --server is not supported\n";
     return kExitInvalidInput;
   }
   if (options.mode == "min_time" && options.full) {
@@ -420,7 +461,8 @@ int run_min_time_mode(const BatchCommandOptions& options, BatchInput& in, BatchO
   std::vector<std::size_t> failed;
   try {
     MinTimeWriter writer(output.stream(), in.out_format);
-    failed = run_min_time_table(in.rows, options.config, writer);
+    failed = in.client ? run_min_time_remote(in.rows, *in.client, writer)
+                       : run_min_time_local(in.rows, options.config, writer);
     writer.finish();
   } catch (const std::exception& e) {
     std::cerr << "slosh batch: stopped: " << e.what() << '\n';

@@ -1,6 +1,7 @@
 #pragma once
 // `slosh batch`: a recipe table in, a plan table out (locally on a worker pool, or through a
-// running service's POST /v1/plans/batch).
+// running service's POST /v1/plans/batch); or a table of minimum motion times (locally, or
+// through POST /v1/min-time).
 
 #include <cstddef>
 #include <string>
@@ -24,15 +25,18 @@ struct BatchCommandOptions {
   std::string out_format{"auto"};
   /// Local solving: workers (0 = the cores), cache file, memory entries, solve budget.
   ServerConfig config;
-  /// Base URL of a running service (http://host:port); empty = solve locally.
+  /// Base URL of a running service (http://host:port); empty = solve locally. min_time mode POSTs
+  /// each row to its /v1/min-time.
   std::string server;
-  /// Recipes per POST /v1/plans/batch in server mode (<= the server's batch_max). Default 64.
+  /// Recipes per POST /v1/plans/batch in server mode (<= the server's batch_max; plan mode).
+  /// Default 64.
   std::size_t chunk{64};
   ProgressMode progress{ProgressMode::kAuto};
   /// Adds the whole plan to each JSON row.
   bool full{false};
   /// "plan" (a plan per recipe) or "min_time" (each strategy's minimum motion time per recipe,
-  /// SPEC §9: motion_time_s is the upper end of the search; local only). Default "plan".
+  /// SPEC §9: motion_time_s is the upper end of the search; locally with the min-time answers of
+  /// the cache file, or through --server). Default "plan".
   std::string mode{"plan"};
 };
 

@@ -104,6 +104,8 @@ const std::vector<Setting>& settings() {
        "a size in bytes"},
       {"cache_store_bytes", "SLOSH_CACHE_STORE_BYTES", &C::cache_store_bytes, 0, 1LL << 50,
        "a size in bytes (0 = unbounded)"},
+      {"cache_min_time_store_bytes", "SLOSH_CACHE_MIN_TIME_STORE_BYTES",
+       &C::cache_min_time_store_bytes, 0, 1LL << 50, "a size in bytes (0 = unbounded)"},
   };
   return all;
 }

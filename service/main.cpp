@@ -96,7 +96,10 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
   batch->add_option(
       "--server", a.batch.server,
       "Send the table to a running service (http://host:port) instead of solving here");
-  batch->add_option("--chunk", a.batch.chunk, "Recipes per request in --server mode")
+  batch
+      ->add_option(
+          "--chunk", a.batch.chunk,
+          "Recipes per request in --server mode (plan mode; min_time sends one recipe a request)")
       ->check(CLI::Range(1, 100000))
       ->capture_default_str();
   batch

@@ -24,6 +24,16 @@ void Metrics::count_singleflight_join() {
   ++singleflight_joins_;
 }
 
+void Metrics::count_min_time_search() {
+  std::lock_guard lock(mutex_);
+  ++min_time_searches_;
+}
+
+void Metrics::count_min_time_join() {
+  std::lock_guard lock(mutex_);
+  ++min_time_joins_;
+}
+
 void Metrics::count_cache(bool hit) {
   std::lock_guard lock(mutex_);
   ++(hit ? cache_hits_ : cache_misses_);
@@ -61,6 +71,14 @@ std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
          "of the same recipe.\n"
       << "# TYPE slosh_singleflight_joins_total counter\n"
       << "slosh_singleflight_joins_total " << singleflight_joins_ << '\n'
+      << "# HELP slosh_min_time_searches_total Min-time requests that started a search (one pool "
+         "task per strategy).\n"
+      << "# TYPE slosh_min_time_searches_total counter\n"
+      << "slosh_min_time_searches_total " << min_time_searches_ << '\n'
+      << "# HELP slosh_min_time_joins_total Min-time requests that waited for the running search "
+         "of the same request.\n"
+      << "# TYPE slosh_min_time_joins_total counter\n"
+      << "slosh_min_time_joins_total " << min_time_joins_ << '\n'
       << "# HELP slosh_queue_depth Solves waiting for a worker.\n"
       << "# TYPE slosh_queue_depth gauge\n"
       << "slosh_queue_depth " << queue_depth << '\n'

@@ -22,6 +22,10 @@ class Metrics {
   void count_cache(bool hit);
   /// A plan request that waited for the running solve of the same recipe (single flight).
   void count_singleflight_join();
+  /// A min-time request that started a search (its strategies queued on the pool).
+  void count_min_time_search();
+  /// A min-time request that waited for the running search of the same key (single flight).
+  void count_min_time_join();
 
   /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller.
   [[nodiscard]] std::string render(std::size_t queue_depth, std::size_t busy_workers,
@@ -39,6 +43,8 @@ class Metrics {
   std::uint64_t cache_hits_{};
   std::uint64_t cache_misses_{};
   std::uint64_t singleflight_joins_{};
+  std::uint64_t min_time_searches_{};
+  std::uint64_t min_time_joins_{};
 };
 
 }  // namespace slosh::service

@@ -10,16 +10,18 @@
 namespace slosh::service {
 namespace {
 
+/// Both tables of the layout, whichever cache opens the file first.
 constexpr std::string_view kSchema =
     "CREATE TABLE IF NOT EXISTS plans("
+    "key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL);"
+    "CREATE TABLE IF NOT EXISTS min_times("
     "key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL)";
-/// Layout of the stored bodies (PRAGMA user_version): 2 = api::StoredPlan bodies, without the
-/// per-reply `cached` member. Rows of another layout are dropped when the store opens (a cache:
-/// they are solved again on demand).
-constexpr std::string_view kLayoutVersion = "2";
-constexpr std::string_view kSelect = "SELECT body FROM plans WHERE key = ?1";
-constexpr std::string_view kUpsert =
-    "INSERT OR REPLACE INTO plans(key, body, created_unix) VALUES(?1, ?2, ?3)";
+/// The layout whose plans are kept when the file is brought to kStoreLayoutVersion.
+constexpr std::string_view kPlansOnlyLayout = "2";
+
+std::string table_name(CacheTable table) {
+  return table == CacheTable::kMinTime ? "min_times" : "plans";
+}
 
 /// SQLite's message for the last failure on `db` (also when the handle is null: out of memory).
 std::string message_of(sqlite3* db) {
@@ -48,6 +50,36 @@ std::string query_text(sqlite3* db, std::string_view sql, std::string& error) {
   return result;
 }
 
+/// Runs `sql` (statements without results); sets `error` on failure.
+void execute(sqlite3* db, std::string_view sql, std::string& error) {
+  char* message = nullptr;
+  if (sqlite3_exec(db, std::string(sql).c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
+    error = message == nullptr ? message_of(db) : std::string(message);
+  }
+  sqlite3_free(message);
+}
+
+/// Brings the file to kStoreLayoutVersion in one write transaction (so two connections opening it
+/// at once migrate it once): creates the tables; a layout-2 file keeps its plans, any other layout
+/// is emptied. Sets `error` on failure.
+void migrate_layout(sqlite3* db, std::string& error) {
+  execute(db, "BEGIN IMMEDIATE", error);
+  if (!error.empty()) return;
+  execute(db, kSchema, error);
+  const std::string current = std::to_string(kStoreLayoutVersion);
+  const std::string found = error.empty() ? query_text(db, "PRAGMA user_version", error) : "";
+  if (error.empty() && found != current) {
+    if (found != kPlansOnlyLayout) execute(db, "DELETE FROM plans", error);
+    if (error.empty()) execute(db, "DELETE FROM min_times", error);
+    if (error.empty()) execute(db, "PRAGMA user_version = " + current, error);
+  }
+  if (error.empty()) execute(db, "COMMIT", error);
+  if (!error.empty()) {
+    std::string ignored;  // the failure that caused the rollback is the one to report
+    execute(db, "ROLLBACK", ignored);
+  }
+}
+
 bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
   return sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
                             stmt, nullptr) == SQLITE_OK;
@@ -61,7 +93,10 @@ std::int64_t now_unix() {
 
 }  // namespace
 
-PlanCache::PlanCache(CacheConfig config) : config_(std::move(config)) {
+PlanCache::PlanCache(CacheConfig config)
+    : config_(std::move(config)),
+      table_(table_name(config_.table)),
+      noun_(config_.table == CacheTable::kMinTime ? "a min-time answer" : "a plan") {
   if (!config_.path.empty()) open_store();
 }
 
@@ -84,23 +119,21 @@ void PlanCache::open_store() {
       error = "journal_mode is '" + mode + "', WAL could not be enabled";
     }
     if (error.empty()) query_text(db_, "PRAGMA synchronous=NORMAL", error);
-    if (error.empty()) query_text(db_, kSchema, error);
     if (error.empty() && sqlite3_db_readonly(db_, "main") == 1) {
       error = "the file is read-only";
     }
-    if (error.empty() && query_text(db_, "PRAGMA user_version", error) != kLayoutVersion &&
-        error.empty()) {
-      query_text(db_, "DELETE FROM plans", error);
-      if (error.empty()) {
-        query_text(db_, "PRAGMA user_version = " + std::string(kLayoutVersion), error);
-      }
-    }
-    if (error.empty() && (!prepare(db_, kSelect, &select_) || !prepare(db_, kUpsert, &upsert_))) {
+    if (error.empty()) migrate_layout(db_, error);
+    if (error.empty() &&
+        (!prepare(db_, "SELECT body FROM " + table_ + " WHERE key = ?1", &select_) ||
+         !prepare(
+             db_,
+             "INSERT OR REPLACE INTO " + table_ + "(key, body, created_unix) VALUES(?1, ?2, ?3)",
+             &upsert_))) {
       error = message_of(db_);
     }
     if (error.empty()) {
       store_bytes_ = std::stoull(
-          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM plans", error));
+          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM " + table_, error));
     }
   }
   if (!error.empty()) {
@@ -160,16 +193,19 @@ void PlanCache::prune_store_locked() {
   while (error.empty() && store_bytes_ > target) {
     // The oldest tenth of the rows (at least one) per round, then the size as SQLite counts it.
     query_text(db_,
-               "DELETE FROM plans WHERE rowid IN (SELECT rowid FROM plans ORDER BY created_unix, "
-               "rowid LIMIT MAX(1, (SELECT COUNT(*) FROM plans) / 10))",
+               "DELETE FROM " + table_ + " WHERE rowid IN (SELECT rowid FROM " + table_ +
+                   " ORDER BY created_unix, rowid LIMIT MAX(1, (SELECT COUNT(*) FROM " + table_ +
+                   ") / 10))",
                error);
     if (error.empty()) {
       store_bytes_ = std::stoull(
-          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM plans", error));
+          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM " + table_, error));
     }
   }
   if (!error.empty()) {
-    set_error("plan cache store '" + config_.path + "': pruning old plans failed (" + error + ")");
+    set_error("plan cache store '" + config_.path + "': pruning old " +
+              (config_.table == CacheTable::kMinTime ? "min-time answers" : "plans") + " failed (" +
+              error + ")");
   }
 }
 
@@ -190,7 +226,7 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
     if (key.size() > static_cast<std::size_t>(INT_MAX) ||
         sqlite3_bind_text(select_, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC) !=
             SQLITE_OK) {
-      set_error("plan cache store '" + config_.path + "': reading a plan failed (" +
+      set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
                 message_of(db_) + ")");
     } else {
       const int rc = sqlite3_step(select_);
@@ -199,7 +235,7 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
         const int bytes = sqlite3_column_bytes(select_, 0);
         value.emplace(text == nullptr ? "" : std::string(text, static_cast<std::size_t>(bytes)));
       } else if (rc != SQLITE_DONE) {
-        set_error("plan cache store '" + config_.path + "': reading a plan failed (" +
+        set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
                   message_of(db_) + ")");
       }
     }
@@ -243,7 +279,7 @@ void PlanCache::put(const std::string& key, const std::string& value) {
     store_bytes_ += value.size();
     if (config_.store_bytes > 0 && store_bytes_ > config_.store_bytes) prune_store_locked();
   } else {
-    set_error("plan cache store '" + config_.path + "': writing a plan failed (" + message +
+    set_error("plan cache store '" + config_.path + "': writing " + noun_ + " failed (" + message +
               "); it is kept in memory only");
   }
 }

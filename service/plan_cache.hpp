@@ -1,9 +1,10 @@
 #pragma once
 // The per-recipe plan cache: an in-memory LRU tier in front of a persistent SQLite store.
 //
-// Values are opaque text (the rendered plan JSON) keyed by the recipe key (a hex string). A plan
-// is a pure function of its recipe, so the value of a key never changes meaning: the cache never
-// expires entries, only evicts them from memory (they stay on disk).
+// Values are opaque text (the rendered plan JSON, or a min-time answer) keyed by the request key
+// (a hex string). An answer is a pure function of its request, so the value of a key never
+// changes meaning: the cache never expires entries, only evicts them from memory (they stay on
+// disk).
 
 #include <atomic>
 #include <cstddef>
@@ -20,6 +21,20 @@ struct sqlite3_stmt;
 
 namespace slosh::service {
 
+/// Layout of the store file (PRAGMA user_version): 2 = table `plans` of api::StoredPlan bodies
+/// (without the per-reply `cached` member); 3 = the same and table `min_times` of stored min-time
+/// answers. Opening a layout-2 file keeps its plans and adds `min_times`; a file of any other
+/// layout (older, or written by a newer slosh) is emptied (a cache: answers are computed again on
+/// demand).
+constexpr int kStoreLayoutVersion = 3;
+
+/// The tables of the store file: each cache instance reads and writes one of them, so a key of
+/// one kind is never answered from the other.
+enum class CacheTable {
+  kPlans,    ///< `plans`: api::StoredPlan bodies by recipe key
+  kMinTime,  ///< `min_times`: stored min-time answers (api::stored_min_time) by min-time key
+};
+
 /// Settings of the plan cache.
 struct CacheConfig {
   /// SQLite file; empty = memory only. Default empty.
@@ -35,16 +50,21 @@ struct CacheConfig {
   std::size_t store_bytes{std::size_t{1} << 30};
   /// How long a write waits for a lock held by another connection to the file [ms]. Default 5000.
   int busy_timeout_ms{5000};
+  /// The table of the store this cache uses (store_bytes bounds that table). Default plans.
+  CacheTable table{CacheTable::kPlans};
 };
 
 /// In-memory LRU in front of a persistent SQLite store (WAL mode, one file). Thread-safe.
 /// Values are opaque text (the rendered plan JSON), keyed by the recipe key (hex string).
 ///
-/// The store is one table `plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER
-/// NOT NULL)` in a file opened in WAL mode with synchronous=NORMAL: committed entries survive a
-/// restart and a process crash (a power loss may drop the last few). Every put is written through
-/// at once (one transaction each). A store that cannot be opened or written never makes the cache
-/// throw: the failure is recorded in storage_error() and the cache keeps answering from memory.
+/// The store file holds two tables of the same shape, `plans` and `min_times` (key TEXT PRIMARY
+/// KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL); a cache uses the one of
+/// `config.table` (two caches on one file are two connections). The file is opened in WAL mode
+/// with synchronous=NORMAL: committed entries survive a restart and a process crash (a power loss
+/// may drop the last few). Its layout is versioned (PRAGMA user_version, kStoreLayoutVersion).
+/// Every put is written through at once (one transaction each). A store that cannot be opened or
+/// written never makes the cache throw: the failure is recorded in storage_error() and the cache
+/// keeps answering from memory.
 ///
 /// Locking: the LRU tier has its own short lock (no I/O under it); SQLite I/O runs under a second
 /// lock, so readers of memory-resident entries never wait for the disk.
@@ -100,6 +120,8 @@ class PlanCache {
   void remember_locked(const std::string& key, const std::string& value);
 
   const CacheConfig config_;
+  const std::string table_;  // "plans" or "min_times"
+  const std::string noun_;   // "a plan" or "a min-time answer" (messages)
 
   // Memory tier: most recent first.
   mutable std::mutex memory_mutex_;

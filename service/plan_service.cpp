@@ -65,6 +65,21 @@ bool etag_matches(const std::string& header, const std::string& tag) {
   return false;
 }
 
+// The reply of a stored min-time answer: ETag = the key (one body per key), 304 for a cached
+// answer whose ETag `if_none_match` names.
+Reply min_time_reply(const std::string& key, const std::string& stored, bool cached,
+                     const std::string& if_none_match) {
+  Reply r;
+  r.headers.emplace_back("ETag", etag(key));
+  r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
+  if (cached && etag_matches(if_none_match, etag(key))) {
+    r.status = 304;
+    return r;
+  }
+  r.body = api::render_min_time_reply(stored, cached);
+  return r;
+}
+
 template <typename F>
 Reply guarded(F&& body) {
   try {
@@ -86,10 +101,11 @@ PlanService::PlanService(const ServerConfig& config)
                          .memory_entries = config.cache_entries,
                          .memory_bytes = config.cache_memory_bytes,
                          .store_bytes = config.cache_store_bytes}),
-      min_time_cache_(CacheConfig{.path = "",
+      min_time_cache_(CacheConfig{.path = config.cache_path,
                                   .memory_entries = config.cache_entries,
                                   .memory_bytes = config.cache_memory_bytes,
-                                  .store_bytes = 0}),
+                                  .store_bytes = config.cache_min_time_store_bytes,
+                                  .table = CacheTable::kMinTime}),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
           config.queue) {}
@@ -146,12 +162,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     flight = ++flights_;
     inflight_[key] = Flight{future, budget, flight};
   }
-  auto forget = [this, key, flight] {
-    std::lock_guard lock(inflight_mutex_);
-    if (auto it = inflight_.find(key); it != inflight_.end() && it->second.id == flight) {
-      inflight_.erase(it);
-    }
-  };
+  auto forget = [this, key, flight] { forget_flight(inflight_, key, flight); };
   metrics_.count_cache(false);
   auto task = [this, key, request, promise, forget] {
     Outcome outcome;
@@ -163,7 +174,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       try {
         api::StoredPlan plan = api::solve_for_storing(request);
         if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
-        outcome.plan = std::move(plan.body);
+        outcome.body = std::move(plan.body);
       } catch (const api::ApiError& e) {
         outcome.error = e;
       } catch (const std::exception& e) {
@@ -227,85 +238,159 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     }
     const Outcome& outcome = future.get();
     if (outcome.error) return from_api_error(*outcome.error);
-    return plan_reply(key, outcome.plan, false, if_none_match, request, sample_period);
+    return plan_reply(key, outcome.body, false, if_none_match, request, sample_period);
   });
 }
 
-std::optional<Reply> PlanService::run_min_time_searches(const api::MinTimeRequest& request,
-                                                        std::vector<MinTimeResult>& results) {
-  // One task per strategy; each writes its own slot.
-  const std::size_t n = request.strategies.size();
-  auto slots = std::make_shared<std::vector<MinTimeResult>>(n);
-  std::vector<std::future<void>> done;
-  for (std::size_t i = 0; i < n; ++i) {
-    auto promise = std::make_shared<std::promise<void>>();
-    done.push_back(promise->get_future());
-    auto task = [this, request, slots, i, promise] {
-      const auto started = std::chrono::steady_clock::now();
-      MinTimeResult& slot = (*slots)[i];
-      if (!ready_) {
-        slot.status = SolveStatus::kTimeLimit;
-        slot.message = "the service is shutting down";
-      } else {
-        try {
-          slot = min_time(request.format, request.strategies[i], request.options);
-        } catch (...) {
-          slot.status = SolveStatus::kFailed;
-          slot.message = "the search failed";
-        }
-      }
-      metrics_.observe_solve(
-          "min_time:" + to_string(request.strategies[i]),
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
-      promise->set_value();
-    };
-    // Refused: the queued ones still run (their results are dropped).
-    if (!pool_.try_submit(task)) return overloaded_reply();
+// A min-time search in flight: the request, one result slot per strategy, and the promise kept
+// by the last task to finish.
+struct PlanService::MinTimeSearch {
+  api::MinTimeRequest request;
+  std::string key;
+  std::uint64_t flight{};
+  std::vector<MinTimeResult> results;
+  // Tasks not finished, plus one held by the queueing thread until it has queued them all.
+  std::atomic<std::size_t> remaining{0};
+  // A task could not be queued: the 503 is published and the queued tasks skip their strategy.
+  std::atomic<bool> refused{false};
+  std::promise<Outcome> promise;
+};
+
+void PlanService::forget_flight(std::unordered_map<std::string, Flight>& flights,
+                                const std::string& key, std::uint64_t id) {
+  const std::lock_guard lock(inflight_mutex_);
+  if (auto it = flights.find(key); it != flights.end() && it->second.id == id) flights.erase(it);
+}
+
+PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, bool wait_for_room) {
+  PendingMinTime pending;
+  pending.key = api::min_time_key(request);
+  if (auto hit = min_time_cache_.get(pending.key)) {
+    metrics_.count_cache(true);
+    pending.cached = std::move(hit);
+    return pending;
   }
-  const auto deadline =
-      std::chrono::steady_clock::now() +
-      std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-          std::chrono::duration<double>(request.options.plan.time_limit + config_.queue_wait_s));
-  for (auto& f : done) {
-    if (f.wait_until(deadline) != std::future_status::ready) {
-      return error_reply(api::ErrorCode::kTimeout,
-                         "the min-time search did not finish within its budget of " +
-                             api::number_text(request.options.plan.time_limit) + " s plus " +
-                             api::number_text(config_.queue_wait_s) + " s of queueing");
+  auto search = std::make_shared<MinTimeSearch>();
+  pending.search = search->promise.get_future().share();
+  const double budget = request.options.plan.time_limit;
+  {
+    // Single flight, as for plans: a request joins a running search of its key that has at least
+    // its budget (a larger budget may find more). The lock covers only the map.
+    const std::lock_guard lock(inflight_mutex_);
+    if (auto it = min_time_inflight_.find(pending.key);
+        it != min_time_inflight_.end() && it->second.budget >= budget) {
+      metrics_.count_min_time_join();
+      pending.search = it->second.future;
+      return pending;
+    }
+    if (ready_) {
+      search->flight = ++flights_;
+      min_time_inflight_[pending.key] = Flight{pending.search, budget, search->flight};
     }
   }
-  results = std::move(*slots);
-  return std::nullopt;
+  if (search->flight == 0) {  // shutting down
+    search->promise.set_value(Outcome{{}, overloaded_error()});
+    return pending;
+  }
+  // A search of this key may have finished (cached, then forgotten) since the lookup above.
+  if (auto hit = min_time_cache_.get(pending.key)) {
+    forget_flight(min_time_inflight_, pending.key, search->flight);
+    search->promise.set_value(Outcome{*hit, std::nullopt});  // for whoever joined meanwhile
+    metrics_.count_cache(true);
+    pending.cached = std::move(hit);
+    pending.search = {};
+    return pending;
+  }
+  search->request = request;
+  search->key = pending.key;
+  search->results.resize(request.strategies.size());
+  queue_min_time_tasks(search, wait_for_room);
+  return pending;
+}
+
+void PlanService::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& search,
+                                       bool wait_for_room) {
+  const std::size_t n = search->results.size();
+  search->remaining = n + 1;
+  for (std::size_t i = 0; i < n; ++i) {
+    auto task = [this, search, i] { run_min_time_task(search, i); };
+    const bool queued = wait_for_room ? pool_.submit_wait(task) : pool_.try_submit(task);
+    if (!queued) {
+      // Whoever joined this search gets the refusal too (never a future that hangs), and a new
+      // request starts afresh; the i tasks already queued skip their strategy.
+      search->refused = true;
+      forget_flight(min_time_inflight_, search->key, search->flight);
+      search->promise.set_value(Outcome{{}, overloaded_error()});
+      search->remaining -= n - i + 1;
+      return;
+    }
+  }
+  metrics_.count_min_time_search();
+  metrics_.count_cache(false);
+  if (search->remaining.fetch_sub(1) == 1) finish_min_time(*search);
+}
+
+void PlanService::run_min_time_task(const std::shared_ptr<MinTimeSearch>& search, std::size_t i) {
+  if (!search->refused) {
+    const api::MinTimeRequest& request = search->request;
+    MinTimeResult& slot = search->results[i];
+    const auto started = std::chrono::steady_clock::now();
+    if (!ready_) {
+      slot.status = SolveStatus::kTimeLimit;
+      slot.message = "the service is shutting down";
+    } else {
+      try {
+        slot = min_time(request.format, request.strategies[i], request.options);
+      } catch (...) {
+        slot.status = SolveStatus::kFailed;
+        slot.message = "the search failed";
+      }
+    }
+    metrics_.observe_solve(
+        "min_time:" + to_string(request.strategies[i]),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  }
+  if (search->remaining.fetch_sub(1) == 1) finish_min_time(*search);
+}
+
+void PlanService::finish_min_time(MinTimeSearch& search) {
+  if (search.refused) return;  // its refusal has been published
+  Outcome outcome;
+  try {
+    api::check_min_time_inputs(search.request, search.results);
+    outcome.body = api::stored_min_time(search.request, search.results, search.key);
+    // Cached before the flight is forgotten: a new request finds one or the other.
+    if (api::is_min_time_cacheable(search.results)) min_time_cache_.put(search.key, outcome.body);
+  } catch (const api::ApiError& e) {
+    outcome.error = e;
+  } catch (const std::exception& e) {
+    outcome.error = api::ApiError(api::ErrorCode::kInternal, "", e.what());
+  } catch (...) {
+    outcome.error = api::ApiError(api::ErrorCode::kInternal, "",
+                                  "the min-time answer failed with an unknown error");
+  }
+  forget_flight(min_time_inflight_, search.key, search.flight);
+  search.promise.set_value(std::move(outcome));
 }
 
 Reply PlanService::post_min_time(const std::string& text, const std::string& if_none_match) {
   return guarded([&] {
     const api::MinTimeRequest request =
         api::parse_min_time_request(api::parse_json_body(text), config_.solve_budget_s);
-    const std::string key = api::min_time_key(request);
-    auto answer = [&](const std::string& stored, bool cached) {
-      Reply r;
-      r.headers.emplace_back("ETag", etag(key));
-      r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
-      if (cached && etag_matches(if_none_match, etag(key))) {
-        r.status = 304;
-        return r;
-      }
-      r.body = api::render_min_time_reply(stored, cached);
-      return r;
-    };
-    if (auto hit = min_time_cache_.get(key)) {
-      metrics_.count_cache(true);
-      return answer(*hit, true);
+    const PendingMinTime pending = start_min_time(request, false);
+    if (pending.cached) return min_time_reply(pending.key, *pending.cached, true, if_none_match);
+    const auto wait =
+        std::chrono::duration<double>(request.options.plan.time_limit + config_.queue_wait_s);
+    if (pending.search.wait_for(wait) != std::future_status::ready) {
+      return error_reply(api::ErrorCode::kTimeout,
+                         "the min-time search did not finish within its budget of " +
+                             api::number_text(request.options.plan.time_limit) + " s plus " +
+                             api::number_text(config_.queue_wait_s) + " s of queueing");
     }
-    if (!ready_) return overloaded_reply();
-    metrics_.count_cache(false);
-    std::vector<MinTimeResult> results;
-    if (auto refused = run_min_time_searches(request, results)) return *refused;
-    api::check_min_time_inputs(request, results);
-    const std::string stored = api::stored_min_time(request, results, key);
-    if (api::is_min_time_cacheable(results)) min_time_cache_.put(key, stored);
-    return answer(stored, false);
+    const Outcome& outcome = pending.search.get();
+    if (outcome.error) return from_api_error(*outcome.error);
+    // A request that joined another's search answers as that one did: a miss, the same body.
+    return min_time_reply(pending.key, outcome.body, false, if_none_match);
   });
 }
 
@@ -346,7 +431,7 @@ BatchResult PendingBatch::get(std::size_t i) const {
   if (o.error) {
     r.error = o.error;
   } else {
-    r.plan = api::render_plan_reply(o.plan, false);
+    r.plan = api::render_plan_reply(o.body, false);
   }
   return r;
 }
@@ -497,8 +582,14 @@ Reply PlanService::health() const {
   return r;
 }
 
+std::string PlanService::store_error() const {
+  std::string error = cache_.storage_error();
+  return error.empty() ? min_time_cache_.storage_error() : error;
+}
+
 Reply PlanService::ready() const {
   const auto stats = cache_.stats();
+  const std::string storage_error = store_error();
   const double stalled = std::chrono::duration<double>(pool_.stalled_for()).count();
   const double stall_limit = std::max(kMinStallSeconds, 3.0 * config_.solve_budget_s);
   api::ReadyReport report{.status = "ready",
@@ -509,7 +600,7 @@ Reply PlanService::ready() const {
                           .cache_persistent = stats.persistent,
                           .cache_memory_entries = stats.memory_entries,
                           .cache_memory_bytes = stats.memory_bytes,
-                          .cache_storage_error = stats.storage_error};
+                          .cache_storage_error = storage_error};
   if (!ready_) {
     report.status = "stopping";
   } else if (stalled > stall_limit) {
@@ -519,12 +610,12 @@ Reply PlanService::ready() const {
                     " s (the limit is " + api::number_text(stall_limit) + " s) with " +
                     std::to_string(report.busy_workers) + " running and " +
                     std::to_string(report.queue_depth) + " queued";
-  } else if (!stats.storage_error.empty()) {
-    // Still ready: plans are answered correctly (from memory), they are only not kept across a
-    // restart. Taking the replica out of rotation would stop a line that one replica serves; the
-    // failure is logged, said here and in slosh_cache_store_ok for alerting.
+  } else if (!storage_error.empty()) {
+    // Still ready: plans (and min-time answers) are answered correctly (from memory), they are
+    // only not kept across a restart. Taking the replica out of rotation would stop a line that
+    // one replica serves; the failure is logged, said here and in slosh_cache_store_ok.
     report.status = "degraded";
-    report.reason = stats.storage_error;
+    report.reason = storage_error;
   }
   Reply r;
   r.status = report.status == "ready" || report.status == "degraded" ? 200 : 503;
@@ -536,12 +627,11 @@ Reply PlanService::metrics_text() const {
   Reply r;
   r.content_type = "text/plain; version=0.0.4";
   r.body = metrics_.render(pool_.queue_depth(), pool_.busy(), pool_.workers());
-  const auto stats = cache_.stats();
   r.body +=
       "# HELP slosh_cache_store_ok 0 while the plan store cannot be opened or written, else 1.\n"
       "# TYPE slosh_cache_store_ok gauge\n"
       "slosh_cache_store_ok " +
-      std::string(stats.storage_error.empty() ? "1" : "0") + "\n";
+      std::string(store_error().empty() ? "1" : "0") + "\n";
   return r;
 }
 

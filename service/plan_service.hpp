@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <functional>
 #include <future>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -32,10 +33,21 @@ struct Reply {
   std::vector<std::pair<std::string, std::string>> headers;
 };
 
-/// What a solve produced: the stored plan (api::StoredPlan body), or the error.
+/// What a solve or a min-time search produced: the stored body (an api::StoredPlan body, or a
+/// stored min-time answer), or the error.
 struct SolveOutcome {
-  std::string plan;
+  std::string body;
   std::optional<api::ApiError> error;
+};
+
+/// A min-time request on its way (PlanService::start_min_time): answered from the cache at once,
+/// or the future of its search (a new one, or the running search of the same key it joined).
+struct PendingMinTime {
+  std::string key;
+  /// The stored answer when it came from the cache (then `search` is invalid).
+  std::optional<std::string> cached;
+  /// The search's outcome otherwise; already ready with a 503 error when it could not be queued.
+  std::shared_future<SolveOutcome> search;
 };
 
 /// One item of a batch: a rendered plan, or the error of the item (field paths relative to the
@@ -83,8 +95,16 @@ class PlanService {
   /// POST /v1/min-time (SPEC §9): each strategy's search is one task on the worker pool (so the
   /// strategies run in parallel), within options.time_limit_s per search; 503 when the queue has
   /// no room for them, 504 when they have not finished their budget plus queue_wait_s after.
-  /// Answers are cached in memory per request key when every search ended optimal or infeasible.
+  /// Answers are cached per request key (memory, and the store's min_times table) when every
+  /// search ended optimal or infeasible. Identical concurrent requests share one search (see
+  /// start_min_time); those that waited for another's search answer as it did (cached: false).
   Reply post_min_time(const std::string& body, const std::string& if_none_match);
+  /// Starts a validated min-time request: the cached answer, or the running search of the same
+  /// key (single flight, when that search has at least this request's budget), or a new search
+  /// of one pool task per strategy (`wait_for_room`: wait for queue slots instead of refusing
+  /// with 503). The last task to finish assembles, caches and publishes the answer, so nobody
+  /// waits on a worker and no lock is held while searching or queueing.
+  PendingMinTime start_min_time(const api::MinTimeRequest& request, bool wait_for_room);
   Reply fluids() const;
   /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
   /// `if_none_match` names the ETag, 404 for an unknown name.
@@ -104,6 +124,7 @@ class PlanService {
   /// Solve workers running (the configured count, or the cores for 0).
   [[nodiscard]] std::size_t workers() const { return pool_.workers(); }
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
+  [[nodiscard]] const PlanCache& min_time_cache() const { return min_time_cache_; }
 
   /// The envelope reply of an error status with a message (and optional field).
   static Reply error_reply(api::ErrorCode code, const std::string& message,
@@ -111,6 +132,13 @@ class PlanService {
 
  private:
   using Outcome = SolveOutcome;
+  // A running solve of a recipe or search of a min-time request: its result, its time budget [s],
+  // and its number (so that only this solve removes its own entry).
+  struct Flight {
+    std::shared_future<Outcome> future;
+    double budget{};
+    std::uint64_t id{};
+  };
   // The rendered plan of `key`: from a running solve of the same recipe, or a new solve queued
   // on the pool (`wait_for_room`: block for a queue slot instead of answering 503).
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
@@ -122,26 +150,30 @@ class PlanService {
                    std::optional<double> sample_period) const;
   // 503 with Retry-After: the queue is full, or the service is shutting down.
   api::ApiError overloaded_error() const;
-  // Runs one pool task per strategy of `request` into `results`; the refusal (503) or timeout
-  // (504) reply when they could not all run.
-  std::optional<Reply> run_min_time_searches(const api::MinTimeRequest& request,
-                                             std::vector<MinTimeResult>& results);
+  struct MinTimeSearch;
+  // Queues one task per strategy of `search`; on a refusal publishes the 503 at once (the tasks
+  // already queued then skip their strategy).
+  void queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& search, bool wait_for_room);
+  // Runs strategy `i` of `search`; the last task to finish calls finish_min_time.
+  void run_min_time_task(const std::shared_ptr<MinTimeSearch>& search, std::size_t i);
+  // Assembles the answer of a finished search, caches it, forgets the flight, publishes it.
+  void finish_min_time(MinTimeSearch& search);
+  // Removes the flight `id` of `key` from `flights` (if it is still that one).
+  void forget_flight(std::unordered_map<std::string, Flight>& flights, const std::string& key,
+                     std::uint64_t id);
   Reply overloaded_reply() const;
+  // The plan store's failure (either table's), empty while it works.
+  [[nodiscard]] std::string store_error() const;
 
   ServerConfig config_;
   Metrics metrics_;
   PlanCache cache_;
-  // Min-time answers by request key (memory only: the plan store holds plans).
+  // Min-time answers by request key: the same store file, its own table (min_times).
   PlanCache min_time_cache_;
-  // A running solve of a recipe: its result, its time budget [s], and its number (so that only
-  // this solve removes its own entry).
-  struct Flight {
-    std::shared_future<Outcome> future;
-    double budget{};
-    std::uint64_t id{};
-  };
+  // Guards both maps and the counter; held only to look up, add or remove an entry.
   std::mutex inflight_mutex_;
   std::unordered_map<std::string, Flight> inflight_;
+  std::unordered_map<std::string, Flight> min_time_inflight_;
   std::uint64_t flights_{0};
   std::atomic<bool> ready_{true};
   WorkerPool pool_;  // last: destroyed first, finishing the solves that use the members above

@@ -45,6 +45,9 @@ struct ServerConfig {
   /// store, pruned oldest first beyond it (default 1 GiB; 0 = unbounded).
   std::size_t cache_memory_bytes{std::size_t{256} << 20};
   std::size_t cache_store_bytes{std::size_t{1} << 30};
+  /// Bound of the min-time answers in the same SQLite file (their own table), pruned oldest first
+  /// beyond it [bytes]. Default 256 MiB; 0 = unbounded.
+  std::size_t cache_min_time_store_bytes{std::size_t{256} << 20};
 };
 
 }  // namespace slosh::service

@@ -244,9 +244,10 @@ TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
   // The budget of the in-process reference: the searches finish on a slow (sanitizer) build too,
   // so both sides compare finished searches.
   test::write_file(dir / "slosh.json", R"({"solve_budget_s": 600})");
-  const RunResult r = run_slosh(
-      {"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--out",
-       (dir / "out.jsonl").string(), "--workers", "2", "--config", (dir / "slosh.json").string()});
+  const RunResult r =
+      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--out",
+                 (dir / "out.jsonl").string(), "--workers", "2", "--config",
+                 (dir / "slosh.json").string(), "--cache", (dir / "plans.sqlite").string()});
   EXPECT_EQ(r.exit_code, 3) << r.err;
   EXPECT_EQ(r.err, "slosh batch: row 2 could not be searched: see the message of the row\n");
   std::vector<json> rows;
@@ -274,13 +275,6 @@ TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
   EXPECT_EQ(bad["status"], "error");
   EXPECT_EQ(bad["message"], "stroke_mm = -5 is out of range: allowed 0.01 to 100000 mm");
   EXPECT_EQ(bad["error_field"], "stroke_mm");
-
-  const RunResult server =
-      run_slosh({"batch", "--mode", "min_time", "--in", (dir / "recipes.csv").string(), "--server",
-                 "http://127.0.0.1:1"});
-  EXPECT_EQ(server.exit_code, 2);
-  EXPECT_EQ(server.err,
-            "slosh batch: --mode min_time searches locally: --server is not supported\n");
 }
 
 }  // namespace

@@ -361,9 +361,87 @@ TEST_F(PlanCacheTest, RowsOfAnotherBodyLayoutAreDroppedWhenTheStoreOpens) {
     EXPECT_EQ(cache.get("old"), std::nullopt);
     cache.put("new", "{\"key\":\"new\"}");
   }
-  EXPECT_EQ(query(path, "PRAGMA user_version"), "2");
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "3");
   PlanCache reopened({.path = path});  // the current layout is kept across restarts
   EXPECT_EQ(reopened.get("new"), "{\"key\":\"new\"}");
+}
+
+TEST_F(PlanCacheTest, PlansAndMinTimeAnswersLiveInTheirOwnTablesOfOneFile) {
+  const std::string path = file("store.sqlite");
+  {
+    PlanCache plans({.path = path});
+    PlanCache min_times({.path = path, .table = CacheTable::kMinTime});
+    ASSERT_TRUE(plans.storage_error().empty()) << plans.storage_error();
+    ASSERT_TRUE(min_times.storage_error().empty()) << min_times.storage_error();
+    plans.put("plan-key", "{\"plan\":1}");
+    min_times.put("min-time-key", "{\"min_time\":1}");
+    EXPECT_EQ(plans.get("min-time-key"), std::nullopt);
+    EXPECT_EQ(min_times.get("plan-key"), std::nullopt);
+  }
+  EXPECT_EQ(query(path, "SELECT key FROM plans"), "plan-key");
+  EXPECT_EQ(query(path, "SELECT key FROM min_times"), "min-time-key");
+  // Restarted with empty memory tiers: each answers its own keys from disk, and only those.
+  PlanCache plans({.path = path});
+  PlanCache min_times({.path = path, .table = CacheTable::kMinTime});
+  EXPECT_EQ(plans.get("plan-key"), "{\"plan\":1}");
+  EXPECT_EQ(min_times.get("min-time-key"), "{\"min_time\":1}");
+  EXPECT_EQ(plans.get("min-time-key"), std::nullopt);
+  EXPECT_EQ(min_times.get("plan-key"), std::nullopt);
+}
+
+TEST_F(PlanCacheTest, ALayoutTwoStoreKeepsItsPlansAndGainsTheMinTimeTable) {
+  // A store of the previous slosh (user_version 2: plans only), plus a min_times table left by a
+  // rollback from a later slosh: not part of layout 2, so its rows are dropped.
+  const std::string path = file("v2.sqlite");
+  execute(path,
+          "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO plans VALUES('kept', '{\"key\":\"kept\"}', 1);"
+          "CREATE TABLE min_times(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO min_times VALUES('stray', '{}', 1); PRAGMA user_version = 2");
+  {
+    PlanCache min_times({.path = path, .table = CacheTable::kMinTime});  // opens it first
+    EXPECT_TRUE(min_times.storage_error().empty()) << min_times.storage_error();
+    EXPECT_EQ(min_times.get("stray"), std::nullopt);
+    min_times.put("answer", "{\"key\":\"answer\"}");
+    PlanCache plans({.path = path});
+    EXPECT_EQ(plans.get("kept"), "{\"key\":\"kept\"}");
+  }
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "3");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "1");
+  PlanCache reopened({.path = path, .table = CacheTable::kMinTime});  // layout 3 is kept
+  EXPECT_EQ(reopened.get("answer"), "{\"key\":\"answer\"}");
+}
+
+TEST_F(PlanCacheTest, AStoreOfAnUnknownLayoutIsEmptiedInBothTables) {
+  // Written by a later slosh (user_version 4): neither table's rows can be read with confidence.
+  const std::string path = file("v4.sqlite");
+  execute(path,
+          "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO plans VALUES('p', '{}', 1);"
+          "CREATE TABLE min_times(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO min_times VALUES('m', '{}', 1); PRAGMA user_version = 4");
+  PlanCache plans({.path = path});
+  EXPECT_TRUE(plans.storage_error().empty()) << plans.storage_error();
+  EXPECT_EQ(plans.get("p"), std::nullopt);
+  EXPECT_EQ(query(path, "SELECT count(*) FROM min_times"), "0");
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "3");
+}
+
+TEST_F(PlanCacheTest, TheMinTimeTableIsPrunedWithinItsOwnBound) {
+  const std::string path = file("bounded.sqlite");
+  PlanCache plans({.path = path, .store_bytes = 0});
+  PlanCache min_times({.path = path, .store_bytes = 10000, .table = CacheTable::kMinTime});
+  const std::string body(1000, 'x');
+  for (int i = 0; i < 5; ++i) plans.put("plan" + std::to_string(i), body);
+  for (int i = 0; i < 30; ++i) min_times.put("answer" + std::to_string(i), body);
+  EXPECT_TRUE(min_times.storage_error().empty()) << min_times.storage_error();
+  const long long kept = std::stoll(query(path, "SELECT SUM(LENGTH(body)) FROM min_times"));
+  EXPECT_LE(kept, 10000);
+  EXPECT_GE(kept, 5000);
+  EXPECT_LE(min_times.stats().store_bytes, 10000u);
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "5");  // the other table is untouched
+  EXPECT_EQ(query(path, "SELECT count(*) FROM min_times WHERE key = 'answer29'"), "1");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM min_times WHERE key = 'answer0'"), "0");
 }
 
 }  // namespace slosh::service

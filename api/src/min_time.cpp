@@ -3,6 +3,7 @@
 #include "slosh/api/plan_reply.hpp"
 
 #include <algorithm>
+#include <stdexcept>
 
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
@@ -345,26 +346,32 @@ json min_time_body_from_recipe(const json& plan_request) {
   return body;
 }
 
-json min_time_row_figures(const MinTimeRequest& request,
-                          const std::vector<MinTimeResult>& results) {
-  const json body = min_time_json(request, results, min_time_key(request));
-  json row{{"key", body["key"]}};
-  std::string message;
-  for (const json& s : body["strategies"]) {
-    row["t_min_" + s["strategy"].get<std::string>() + "_s"] = s["t_min_s"];
-    if (s["status"] != "optimal") {
-      message += (message.empty() ? "" : "; ") + s["strategy"].get<std::string>() + ": " +
-                 s["status"].get<std::string>();
+json min_time_row_figures(std::string_view answer) {
+  json body;
+  try {
+    body = json::parse(answer);
+    json row{{"key", body.at("key")}};
+    std::string message;
+    for (const json& s : body.at("strategies")) {
+      const std::string strategy = s.at("strategy").get<std::string>();
+      row["t_min_" + strategy + "_s"] = s.at("t_min_s");
+      if (s.at("status") != "optimal") {
+        message +=
+            (message.empty() ? "" : "; ") + strategy + ": " + s.at("status").get<std::string>();
+      }
     }
+    const json& h = body.at("headline");
+    row["winner"] = h.at("winner");
+    row["winner_t_min_s"] = h.at("t_min_s");
+    row["baseline_t_min_s"] = h.at("baseline_t_min_s");
+    row["gain_pct"] = h.at("gain_pct");
+    row["gain_cycles_per_min"] = h.at("gain_cycles_per_min");
+    row["message"] = message.empty() ? json(nullptr) : json(message);
+    return row;
+  } catch (const json::exception& e) {
+    throw std::invalid_argument(std::string("the min-time answer is not a min-time response (") +
+                                e.what() + ")");
   }
-  const json& h = body["headline"];
-  row["winner"] = h["winner"];
-  row["winner_t_min_s"] = h["t_min_s"];
-  row["baseline_t_min_s"] = h["baseline_t_min_s"];
-  row["gain_pct"] = h["gain_pct"];
-  row["gain_cycles_per_min"] = h["gain_cycles_per_min"];
-  row["message"] = message.empty() ? json(nullptr) : json(message);
-  return row;
 }
 
 void check_min_time_inputs(const MinTimeRequest& request,

@@ -3,6 +3,7 @@
 // limits and the strategies to try -> each strategy's minimum motion time (SPEC §9).
 
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -56,11 +57,13 @@ struct MinTimeRequest {
 /// searched); everything else as written, to be validated by parse_min_time_request.
 [[nodiscard]] nlohmann::json min_time_body_from_recipe(const nlohmann::json& plan_request);
 
-/// The figures of a searched request in a recipe table (`slosh batch --mode min_time`): key,
+/// The figures of a min-time answer in a recipe table (`slosh batch --mode min_time`): key,
 /// t_min_<strategy>_s, winner, winner_t_min_s, baseline_t_min_s, gain_pct, gain_cycles_per_min,
 /// and message (the strategies whose search was not optimal; null when every one was).
-[[nodiscard]] nlohmann::json min_time_row_figures(const MinTimeRequest& request,
-                                                  const std::vector<MinTimeResult>& results);
+/// `answer` is a response body of POST /v1/min-time or a stored answer (stored_min_time), so a
+/// local and a remote batch derive their rows alike; throws std::invalid_argument when it is not
+/// one.
+[[nodiscard]] nlohmann::json min_time_row_figures(std::string_view answer);
 
 /// Throws ApiError(kInvalidValue, "format") when a strategy's search refused its inputs.
 void check_min_time_inputs(const MinTimeRequest& request,
