@@ -335,6 +335,7 @@ void PlanService::run_min_time_task(const std::shared_ptr<MinTimeSearch>& search
     const api::MinTimeRequest& request = search->request;
     MinTimeResult& slot = search->results[i];
     const auto started = std::chrono::steady_clock::now();
+    slot.strategy = request.strategies[i];
     if (!ready_) {
       slot.status = SolveStatus::kTimeLimit;
       slot.message = "the service is shutting down";
@@ -342,6 +343,8 @@ void PlanService::run_min_time_task(const std::shared_ptr<MinTimeSearch>& search
       try {
         slot = min_time(request.format, request.strategies[i], request.options);
       } catch (...) {
+        slot = MinTimeResult{};
+        slot.strategy = request.strategies[i];
         slot.status = SolveStatus::kFailed;
         slot.message = "the search failed";
       }

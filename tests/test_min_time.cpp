@@ -183,12 +183,12 @@ TEST(MinTime, EveryStrategyOnTheThesisContainerIsFeasibleAtTMinAndNotOneMillisec
     // Each planned T is reproduced by plan() from the warm start the search recorded for it.
     const MinTimePoint* at = point_at(r, t);
     ASSERT_NE(at, nullptr);
-    EXPECT_EQ(at->warm_start.has_value(), s != Strategy::kBaseline && s != Strategy::kFirChain &&
-                                              s != Strategy::kShaper);
+    EXPECT_EQ(at->warm_start.has_value(),
+              s != Strategy::kBaseline && s != Strategy::kFirChain && s != Strategy::kShaper);
     EXPECT_TRUE(feasible_at(f, s, o, t, at->warm_start)) << r.message;
     ASSERT_TRUE(r.plan);
     EXPECT_NEAR(r.plan->law.duration(), t, 1e-9);
-    if (*r.infeasible_below < t) {
+    if (r.infeasible_below) {
       EXPECT_NEAR(*r.infeasible_below, t - 1e-3, 1e-9);
       const MinTimePoint* below = point_at(r, t - 1e-3);
       ASSERT_NE(below, nullptr);
@@ -318,8 +318,8 @@ TEST(PlanWarmStart, InvalidWarmStartsAreRefusedNamingTheElement) {
 
 TEST(PlanWarmStart, AFreshOptimumAsWarmStartIsKeptAndAnotherTIsScaledOntoTheBounds) {
   Format f = thesis_format();
-  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand,
-                     Strategy::kTimeDomain}) {
+  for (Strategy s :
+       {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand, Strategy::kTimeDomain}) {
     SCOPED_TRACE(to_string(s));
     f.motion_time = 0.9;
     PlanOptions o;
@@ -372,6 +372,43 @@ TEST(MinTime, EveryPlannedPointIsReproducedFromItsRecordedWarmStart) {
     warm += p.warm_start ? 1 : 0;
   }
   EXPECT_EQ(warm, static_cast<int>(r.curve.size()) - 1);
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review: T_min at the scan start claimed the scan start as infeasible_below, and a
+// 100 m stroke (in range) put non-finite eta into the curve (a 500 over HTTP).
+TEST(MinTime, TMinAtTheScanStartHasNothingInfeasibleBelow) {
+  Format f = thesis_container();
+  f.stroke = 1e-5;
+  const MinTimeResult r = min_time(f, Strategy::kShaper, issue_options());
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  EXPECT_NEAR(*r.t_min, r.scan_start, 1e-12);
+  EXPECT_FALSE(r.infeasible_below);
+  EXPECT_NE(r.message.find("it is the lower bound of the machine limits and ramps"),
+            std::string::npos)
+      << r.message;
+}
+
+TEST(MinTime, PlansWithoutFinitePredictionsStayOffTheCurve) {
+  Format f = thesis_container();
+  f.stroke = 100.0;
+  MinTimeOptions o = issue_options();
+  o.max_plans = 12;
+  const MinTimeResult r = min_time(f, Strategy::kShaper, o);
+  EXPECT_GT(r.plans, 0);
+  for (const MinTimePoint& p : r.curve) {
+    EXPECT_TRUE(std::isfinite(p.eta_motion) && std::isfinite(p.eta_rest)) << p.motion_time;
+    EXPECT_TRUE(std::isfinite(p.prediction.linear.motion.value) &&
+                std::isfinite(p.prediction.nonlinear.motion.value) &&
+                std::isfinite(p.prediction.linear.rest.value) &&
+                std::isfinite(p.prediction.nonlinear.rest.value))
+        << p.motion_time;
+  }
 }
 
 }  // namespace

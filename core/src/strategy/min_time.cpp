@@ -171,7 +171,8 @@ class Search {
   /// Adds a planned point to the curve, T_min and the best point.
   MinTimePoint record(Planned planned) {
     const MinTimePoint& p = planned.point;
-    result_.curve.push_back(p);
+    // A plan without finite predictions (refused inputs, a diverging model) has nothing to plot.
+    if (!std::isinf(p.excess)) result_.curve.push_back(p);
     if (p.feasible) {
       if (!result_.t_min || p.motion_time < *result_.t_min) {
         result_.t_min = p.motion_time;
@@ -470,10 +471,7 @@ double next_bracket_point(const MinTimeResult& r, double lo, double hi, double s
 // falsi (Illinois), with a bisection step after two steps in a row that did not halve the
 // bracket; false when the budget ran out.
 bool bisect(SearchRun& run) {
-  if (run.last_infeasible < 0.0) {
-    run.r.infeasible_below = run.r.scan_start;
-    return true;
-  }
+  if (run.last_infeasible < 0.0) return true;  // T_min is the scan start: nothing below
   double lo = run.last_infeasible, hi = run.first_feasible;
   double scale_lo = 1.0, scale_hi = 1.0;
   int moved = 0;  // +1: hi moved last, -1: lo moved last
@@ -531,7 +529,7 @@ void extend_curve_and_report(SearchRun& run) {
   r.status = SolveStatus::kOptimal;
   r.message = "T_min = " + sec(t_min) + ": the shortest motion time on the 1 ms grid whose " +
               "verified " + to_string(run.strategy) + " plan meets " + run.limits;
-  if (*r.infeasible_below < t_min) {
+  if (r.infeasible_below) {
     for (const MinTimePoint& p : r.curve) {
       if (p.motion_time == *r.infeasible_below) {
         r.message += "; " + sec(p.motion_time) + " does not (" + why_not(p, r) + ")";

@@ -126,8 +126,8 @@ struct MinTimeResult {
   double scan_start{};
   /// The smallest feasible T found on the 1 ms grid [s] (see status).
   std::optional<double> t_min;
-  /// The largest T planned below t_min that was infeasible (t_min - 1 ms after the bisection) or
-  /// the scan start when t_min is the scan start [s].
+  /// The largest T planned below t_min that was infeasible (t_min - 1 ms after the bracketing);
+  /// nullopt when t_min is the scan start (nothing below it was planned) [s].
   std::optional<double> infeasible_below;
   /// Every T planned above t_min was feasible (false: the feasible set is not an interval there,
   /// e.g. the residual wave of the uniform law has zeros). Only meaningful with t_min.
@@ -136,7 +136,9 @@ struct MinTimeResult {
   std::optional<PlanResult> plan;
   /// kInfeasible: the point of least excess reached.
   std::optional<MinTimePoint> best;
-  /// Every planned T, ascending (the eta curve over T for plots; includes the bisection points).
+  /// Every planned T with finite predictions, ascending (the eta curve over T for plots;
+  /// includes the bracketing points; a plan that refused its inputs or whose model diverged has
+  /// no point here, though it counts in `plans`).
   std::vector<MinTimePoint> curve;
   int plans{};         ///< plan() calls
   double search_ms{};  ///< wall-clock time of the search [ms]
