@@ -106,33 +106,37 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   }
 }
 
-// POSTs one chunk, retrying 503 answers after their Retry-After.
-std::vector<api::BatchItemReply> post_chunk(HttpClient& client,
-                                            const std::vector<nlohmann::json>& requests) {
-  const std::string body = api::batch_body_text(requests);
+// POSTs `body` to `path`, retrying 503 answers after their Retry-After (kServerRetries times);
+// BatchAbort when the service cannot be reached.
+HttpReply post_retrying_503(HttpClient& client, const std::string& path, const std::string& body) {
   for (int attempt = 0;; ++attempt) {
     HttpReply reply;
     try {
-      reply = client.post_json("/v1/plans/batch", body);
+      reply = client.post_json(path, body);
     } catch (const HttpError& e) {
       throw BatchAbort(e.what());
     }
-    if (reply.status == 503 && attempt < kServerRetries) {
-      const int wait =
-          reply.retry_after.empty() ? 1 : std::max(1, std::atoi(reply.retry_after.c_str()));
-      std::this_thread::sleep_for(std::chrono::seconds(wait));
-      continue;
-    }
-    auto results = reply.status == 200 ? api::parse_batch_reply(reply.body) : std::nullopt;
-    if (!results) {
-      std::string message = "HTTP " + std::to_string(reply.status);
-      if (const std::string m = api::envelope_message(reply.body); !m.empty()) {
-        message += ": " + m;
-      }
-      throw BatchAbort(client.base_url() + "/v1/plans/batch answered " + message);
-    }
-    return std::move(*results);
+    if (reply.status != 503 || attempt >= kServerRetries) return reply;
+    const int wait =
+        reply.retry_after.empty() ? 1 : std::max(1, std::atoi(reply.retry_after.c_str()));
+    std::this_thread::sleep_for(std::chrono::seconds(wait));
   }
+}
+
+// POSTs one chunk, retrying 503 answers after their Retry-After.
+std::vector<api::BatchItemReply> post_chunk(HttpClient& client,
+                                            const std::vector<nlohmann::json>& requests) {
+  const HttpReply reply =
+      post_retrying_503(client, "/v1/plans/batch", api::batch_body_text(requests));
+  auto results = reply.status == 200 ? api::parse_batch_reply(reply.body) : std::nullopt;
+  if (!results) {
+    std::string message = "HTTP " + std::to_string(reply.status);
+    if (const std::string m = api::envelope_message(reply.body); !m.empty()) {
+      message += ": " + m;
+    }
+    throw BatchAbort(client.base_url() + "/v1/plans/batch answered " + message);
+  }
+  return std::move(*results);
 }
 
 void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& options,
@@ -346,26 +350,13 @@ std::vector<std::size_t> run_min_time_local(const std::vector<RecipeRow>& rows, 
 // POSTs one row's min-time request, retrying 503 answers after their Retry-After: the answer, or
 // the error the service answered; BatchAbort when it answered no envelope.
 SolveOutcome post_min_time_row(HttpClient& client, const std::string& body) {
-  for (int attempt = 0;; ++attempt) {
-    HttpReply reply;
-    try {
-      reply = client.post_json("/v1/min-time", body);
-    } catch (const HttpError& e) {
-      throw BatchAbort(e.what());
-    }
-    if (reply.status == 503 && attempt < kServerRetries) {
-      const int wait =
-          reply.retry_after.empty() ? 1 : std::max(1, std::atoi(reply.retry_after.c_str()));
-      std::this_thread::sleep_for(std::chrono::seconds(wait));
-      continue;
-    }
-    if (reply.status == 200) return SolveOutcome{std::move(reply.body), std::nullopt};
-    if (api::envelope_message(reply.body).empty()) {
-      throw BatchAbort(client.base_url() + "/v1/min-time answered HTTP " +
-                       std::to_string(reply.status));
-    }
-    return SolveOutcome{{}, api::error_from_text(reply.body)};
+  HttpReply reply = post_retrying_503(client, "/v1/min-time", body);
+  if (reply.status == 200) return SolveOutcome{std::move(reply.body), std::nullopt};
+  if (api::envelope_message(reply.body).empty()) {
+    throw BatchAbort(client.base_url() + "/v1/min-time answered HTTP " +
+                     std::to_string(reply.status));
   }
+  return SolveOutcome{{}, api::error_from_text(reply.body)};
 }
 
 // POSTs every readable row to the service's /v1/min-time, one after the other (each request's

@@ -21,6 +21,7 @@
 
 #include "support/process.hpp"
 #include "support/server.hpp"
+#include "support/sqlite_query.hpp"
 
 namespace slosh {
 namespace {
@@ -43,35 +44,14 @@ json cheap_request() {
   })");
 }
 
-/// The value of a Prometheus sample line `name value`; -1 when absent.
-double metric(const std::string& text, const std::string& series) {
-  const std::string line = "\n" + series + " ";
-  const auto at = text.find(line);
-  if (at == std::string::npos) return -1.0;
-  return std::stod(text.substr(at + line.size()));
-}
+using test::metric;
 
 double server_metric(const Server& server, const std::string& series) {
   const auto r = server.client().Get("/metrics");
   return r ? metric(r->body, series) : -2.0;
 }
 
-/// The first column of the first row of `sql` on the SQLite file `path` (read-only connection).
-std::string query(const std::string& path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  std::string result = "<error>";
-  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
-    sqlite3_stmt* stmt = nullptr;
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
-        sqlite3_step(stmt) == SQLITE_ROW) {
-      const auto* text = sqlite3_column_text(stmt, 0);
-      result = text == nullptr ? "" : reinterpret_cast<const char*>(text);
-    }
-    sqlite3_finalize(stmt);
-  }
-  sqlite3_close(db);
-  return result;
-}
+using test::query;
 
 /// `body` with its leading `{"cached":true,` turned into `{"cached":false,` (the only member a
 /// cached reply may differ in).

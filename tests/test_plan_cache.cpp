@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "plan_cache.hpp"
+#include "support/sqlite_query.hpp"
 
 namespace slosh::service {
 namespace {
@@ -35,21 +36,7 @@ class PlanCacheTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-/// Runs `sql` on `path` through a connection of the test's own; the first column of the first row.
-std::string query(const std::string& path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  std::string result = "<error>";
-  if (sqlite3_open_v2(path.c_str(), &db, SQLITE_OPEN_READONLY, nullptr) == SQLITE_OK) {
-    sqlite3_stmt* stmt = nullptr;
-    if (sqlite3_prepare_v2(db, sql.c_str(), -1, &stmt, nullptr) == SQLITE_OK &&
-        sqlite3_step(stmt) == SQLITE_ROW) {
-      result = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0));
-    }
-    sqlite3_finalize(stmt);
-  }
-  sqlite3_close(db);
-  return result;
-}
+using test::query;
 
 TEST_F(PlanCacheTest, HitAfterPutAndMissForUnknownKey) {
   PlanCache cache({.path = file("plans.sqlite")});

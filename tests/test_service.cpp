@@ -52,13 +52,7 @@ json parse(const std::string& text) {
   return json::object();
 }
 
-/// The value of a Prometheus sample line `name{labels} value`; -1 when absent.
-double metric(const std::string& text, const std::string& series) {
-  const std::string line = "\n" + series + " ";  // a sample line, not a # HELP line
-  const auto at = text.find(line);
-  if (at == std::string::npos) return -1.0;
-  return std::stod(text.substr(at + line.size()));
-}
+using test::metric;
 
 TEST(Service, PlanIsSolvedThenServedFromTheCacheWithAnETag) {
   Server server;

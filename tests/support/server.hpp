@@ -15,6 +15,14 @@
 
 namespace slosh::test {
 
+/// The value of a Prometheus sample line `name{labels} value` in a /metrics text; -1 when absent.
+inline double metric(const std::string& text, const std::string& series) {
+  const std::string line = "\n" + series + " ";  // a sample line, not a # HELP line
+  const auto at = text.find(line);
+  if (at == std::string::npos) return -1.0;
+  return std::stod(text.substr(at + line.size()));
+}
+
 /// A running `slosh serve` with its own directory (cache file, port file, logs).
 class Server {
  public:

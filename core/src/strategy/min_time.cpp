@@ -55,9 +55,8 @@ std::string limits_text(const MinTimeResult& r, LimitModel model) {
          ")";
 }
 
-/// Why a point is infeasible, for messages.
+/// Why a point of the curve (finite predictions) is infeasible, for messages.
 std::string why_not(const MinTimePoint& p, const MinTimeResult& r) {
-  if (std::isinf(p.excess)) return "the planner refused the format at this time";
   std::string text;
   if (p.eta_motion > r.eta_motion_max * (1.0 + kLimitTolerance)) {
     text = "eta_motion " + mm(p.eta_motion);
@@ -194,7 +193,7 @@ class Search {
     const MinTimePoint* below = nullptr;
     const MinTimePoint* above = nullptr;
     for (const MinTimePoint& q : result_.curve) {
-      if (!q.durations || std::isinf(q.excess)) continue;
+      if (!q.durations) continue;  // the curve holds finite predictions only
       if (q.motion_time < T && (below == nullptr || q.motion_time > below->motion_time)) below = &q;
       if (q.motion_time > T && (above == nullptr || q.motion_time < above->motion_time)) above = &q;
     }
