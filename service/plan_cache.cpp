@@ -3,6 +3,9 @@
 #include <spdlog/spdlog.h>
 #include <sqlite3.h>
 
+#include "slosh/api/plan.hpp"
+
+#include <array>
 #include <chrono>
 #include <climits>
 #include <string_view>
@@ -10,12 +13,15 @@
 namespace slosh::service {
 namespace {
 
-/// Both tables of the layout, whichever cache opens the file first.
+/// Both tables of the layout, whichever cache opens the file first. `digest` is
+/// api::sha256_key(body): SQLite checks its pages' structure, not their content, so a row whose
+/// bytes changed on disk is only caught by its digest.
 constexpr std::string_view kSchema =
-    "CREATE TABLE IF NOT EXISTS plans("
-    "key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL);"
-    "CREATE TABLE IF NOT EXISTS min_times("
-    "key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL)";
+    "CREATE TABLE IF NOT EXISTS plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, "
+    "created_unix INTEGER NOT NULL, digest TEXT NOT NULL DEFAULT '');"
+    "CREATE TABLE IF NOT EXISTS min_times(key TEXT PRIMARY KEY, body TEXT NOT NULL, "
+    "created_unix INTEGER NOT NULL, digest TEXT NOT NULL DEFAULT '')";
+constexpr std::array<std::string_view, 2> kTables{"plans", "min_times"};
 /// The layout whose plans are kept when the file is brought to kStoreLayoutVersion.
 constexpr std::string_view kPlansOnlyLayout = "2";
 
@@ -59,9 +65,40 @@ void execute(sqlite3* db, std::string_view sql, std::string& error) {
   sqlite3_free(message);
 }
 
+bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
+  return sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
+                            stmt, nullptr) == SQLITE_OK;
+}
+
+/// Writes the digest of every row of `table` (the plans a layout-2 file keeps). Sets `error`.
+void fill_digests(sqlite3* db, std::string_view table, std::string& error) {
+  sqlite3_stmt* select = nullptr;
+  sqlite3_stmt* update = nullptr;
+  const std::string name(table);
+  if (!prepare(db, "SELECT rowid, body FROM " + name, &select) ||
+      !prepare(db, "UPDATE " + name + " SET digest = ?1 WHERE rowid = ?2", &update)) {
+    error = message_of(db);
+  }
+  int rc = error.empty() ? sqlite3_step(select) : SQLITE_DONE;
+  for (; rc == SQLITE_ROW; rc = sqlite3_step(select)) {
+    const auto* text = static_cast<const char*>(sqlite3_column_blob(select, 1));
+    const std::string body(text == nullptr ? "" : text,
+                           static_cast<std::size_t>(sqlite3_column_bytes(select, 1)));
+    const std::string digest = api::sha256_key(body);
+    sqlite3_bind_text(update, 1, digest.c_str(), -1, SQLITE_TRANSIENT);
+    sqlite3_bind_int64(update, 2, sqlite3_column_int64(select, 0));
+    const int written = sqlite3_step(update);
+    sqlite3_reset(update);
+    if (written != SQLITE_DONE) break;
+  }
+  if (error.empty() && rc != SQLITE_DONE) error = message_of(db);
+  sqlite3_finalize(select);
+  sqlite3_finalize(update);
+}
+
 /// Brings the file to kStoreLayoutVersion in one write transaction (so two connections opening it
-/// at once migrate it once): creates the tables; a layout-2 file keeps its plans, any other layout
-/// is emptied. Sets `error` on failure.
+/// at once migrate it once): creates the tables and their digest column; a layout-2 file keeps its
+/// plans (their digests written), any other layout is emptied. Sets `error` on failure.
 void migrate_layout(sqlite3* db, std::string& error) {
   execute(db, "BEGIN IMMEDIATE", error);
   if (!error.empty()) return;
@@ -69,7 +106,17 @@ void migrate_layout(sqlite3* db, std::string& error) {
   const std::string current = std::to_string(kStoreLayoutVersion);
   const std::string found = error.empty() ? query_text(db, "PRAGMA user_version", error) : "";
   if (error.empty() && found != current) {
-    if (found != kPlansOnlyLayout) execute(db, "DELETE FROM plans", error);
+    for (std::string_view table : kTables) {
+      const std::string name(table);
+      if (error.empty() &&
+          query_text(db,
+                     "SELECT COUNT(*) FROM pragma_table_info('" + name + "') WHERE name = 'digest'",
+                     error) == "0") {
+        execute(db, "ALTER TABLE " + name + " ADD COLUMN digest TEXT NOT NULL DEFAULT ''", error);
+      }
+    }
+    if (error.empty() && found != kPlansOnlyLayout) execute(db, "DELETE FROM plans", error);
+    if (error.empty() && found == kPlansOnlyLayout) fill_digests(db, "plans", error);
     if (error.empty()) execute(db, "DELETE FROM min_times", error);
     if (error.empty()) execute(db, "PRAGMA user_version = " + current, error);
   }
@@ -78,11 +125,6 @@ void migrate_layout(sqlite3* db, std::string& error) {
     std::string ignored;  // the failure that caused the rollback is the one to report
     execute(db, "ROLLBACK", ignored);
   }
-}
-
-bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
-  return sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
-                            stmt, nullptr) == SQLITE_OK;
 }
 
 std::int64_t now_unix() {
@@ -124,11 +166,11 @@ void PlanCache::open_store() {
     }
     if (error.empty()) migrate_layout(db_, error);
     if (error.empty() &&
-        (!prepare(db_, "SELECT body FROM " + table_ + " WHERE key = ?1", &select_) ||
-         !prepare(
-             db_,
-             "INSERT OR REPLACE INTO " + table_ + "(key, body, created_unix) VALUES(?1, ?2, ?3)",
-             &upsert_))) {
+        (!prepare(db_, "SELECT body, digest FROM " + table_ + " WHERE key = ?1", &select_) ||
+         !prepare(db_,
+                  "INSERT OR REPLACE INTO " + table_ +
+                      "(key, body, created_unix, digest) VALUES(?1, ?2, ?3, ?4)",
+                  &upsert_))) {
       error = message_of(db_);
     }
     if (error.empty()) {
@@ -187,6 +229,22 @@ void PlanCache::remember_locked(const std::string& key, const std::string& value
   }
 }
 
+void PlanCache::drop_corrupt_locked(const std::string& key) {
+  std::string error;
+  sqlite3_stmt* remove = nullptr;
+  if (prepare(db_, "DELETE FROM " + table_ + " WHERE key = ?1", &remove)) {
+    sqlite3_bind_text(remove, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC);
+    if (sqlite3_step(remove) != SQLITE_DONE) error = message_of(db_);
+  } else {
+    error = message_of(db_);
+  }
+  sqlite3_finalize(remove);
+  set_error("plan cache store '" + config_.path + "': the stored bytes of " + noun_ + " (key '" +
+            key.substr(0, 64) + "') do not match their digest" +
+            (error.empty() ? "; the row was dropped and is computed again"
+                           : "; dropping the row failed (" + error + ")"));
+}
+
 void PlanCache::prune_store_locked() {
   std::string error;
   const std::size_t target = config_.store_bytes / 10 * 9;
@@ -221,6 +279,7 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
   // Not in memory: ask the store. Puts hold store_mutex_ across their memory and disk updates, so
   // what is read here is the latest value of the key.
   std::optional<std::string> value;
+  bool corrupt = false;
   const std::lock_guard store(store_mutex_);
   if (db_ != nullptr) {
     if (key.size() > static_cast<std::size_t>(INT_MAX) ||
@@ -234,6 +293,11 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
         const auto* text = static_cast<const char*>(sqlite3_column_blob(select_, 0));
         const int bytes = sqlite3_column_bytes(select_, 0);
         value.emplace(text == nullptr ? "" : std::string(text, static_cast<std::size_t>(bytes)));
+        const auto* digest = reinterpret_cast<const char*>(sqlite3_column_text(select_, 1));
+        if (digest == nullptr || api::sha256_key(*value) != digest) {
+          value.reset();
+          corrupt = true;
+        }
       } else if (rc != SQLITE_DONE) {
         set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
                   message_of(db_) + ")");
@@ -241,6 +305,7 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
     }
     sqlite3_reset(select_);
     sqlite3_clear_bindings(select_);
+    if (corrupt) drop_corrupt_locked(key);
   }
   const std::lock_guard memory(memory_mutex_);
   if (value) {
@@ -268,6 +333,8 @@ void PlanCache::put(const std::string& key, const std::string& value) {
                              SQLITE_STATIC);
     }
     if (rc == SQLITE_OK) rc = sqlite3_bind_int64(upsert_, 3, now_unix());
+    const std::string digest = api::sha256_key(value);
+    if (rc == SQLITE_OK) rc = sqlite3_bind_text(upsert_, 4, digest.c_str(), -1, SQLITE_TRANSIENT);
     if (rc == SQLITE_OK) rc = sqlite3_step(upsert_);
   }
   const std::string message =

@@ -22,8 +22,9 @@ struct sqlite3_stmt;
 namespace slosh::service {
 
 /// Layout of the store file (PRAGMA user_version): 2 = table `plans` of api::StoredPlan bodies
-/// (without the per-reply `cached` member); 3 = the same and table `min_times` of stored min-time
-/// answers. Opening a layout-2 file keeps its plans and adds `min_times`; a file of any other
+/// (without the per-reply `cached` member); 3 = the same with a digest per row, and table
+/// `min_times` of stored min-time answers. Opening a layout-2 file keeps its plans (their digests
+/// written) and adds `min_times`; a file of any other
 /// layout (older, or written by a newer slosh) is emptied (a cache: answers are computed again on
 /// demand).
 constexpr int kStoreLayoutVersion = 3;
@@ -58,13 +59,15 @@ struct CacheConfig {
 /// Values are opaque text (the rendered plan JSON), keyed by the recipe key (hex string).
 ///
 /// The store file holds two tables of the same shape, `plans` and `min_times` (key TEXT PRIMARY
-/// KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL); a cache uses the one of
-/// `config.table` (two caches on one file are two connections). The file is opened in WAL mode
-/// with synchronous=NORMAL: committed entries survive a restart and a process crash (a power loss
-/// may drop the last few). Its layout is versioned (PRAGMA user_version, kStoreLayoutVersion).
-/// Every put is written through at once (one transaction each). A store that cannot be opened or
-/// written never makes the cache throw: the failure is recorded in storage_error() and the cache
-/// keeps answering from memory.
+/// KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL, digest TEXT NOT NULL: the
+/// api::sha256_key of the body); a cache uses the one of `config.table` (two caches on one file
+/// are two connections). A row whose body no longer matches its digest (bytes changed on disk) is
+/// never served: get() answers absent, deletes the row and records the failure. The file is opened
+/// in WAL mode with synchronous=NORMAL: committed entries survive a restart and a process crash (a
+/// power loss may drop the last few). Its layout is versioned (PRAGMA user_version,
+/// kStoreLayoutVersion). Every put is written through at once (one transaction each). A store that
+/// cannot be opened or written never makes the cache throw: the failure is recorded in
+/// storage_error() and the cache keeps answering from memory.
 ///
 /// Locking: the LRU tier has its own short lock (no I/O under it); SQLite I/O runs under a second
 /// lock, so readers of memory-resident entries never wait for the disk.
@@ -115,6 +118,9 @@ class PlanCache {
   // Deletes the oldest plans of the store until they hold at most 90 % of store_bytes (under
   // store_mutex_).
   void prune_store_locked();
+  // Deletes the row of `key`, whose body does not match its digest, and records the failure
+  // (under store_mutex_): the caller answers a miss, so the answer is computed and stored again.
+  void drop_corrupt_locked(const std::string& key);
   void clear_error();
   /// Inserts or refreshes `key` as most recent, evicting the least recent beyond capacity.
   void remember_locked(const std::string& key, const std::string& value);

@@ -253,6 +253,8 @@ struct PlanService::MinTimeSearch {
   std::atomic<std::size_t> remaining{0};
   // A task could not be queued: the 503 is published and the queued tasks skip their strategy.
   std::atomic<bool> refused{false};
+  // A task was still queued when shutdown began: the search answers 503, as queued plan solves do.
+  std::atomic<bool> shut_down{false};
   std::promise<Outcome> promise;
 };
 
@@ -337,8 +339,8 @@ void PlanService::run_min_time_task(const std::shared_ptr<MinTimeSearch>& search
     const auto started = std::chrono::steady_clock::now();
     slot.strategy = request.strategies[i];
     if (!ready_) {
-      slot.status = SolveStatus::kTimeLimit;
-      slot.message = "the service is shutting down";
+      // Shutting down: what is still queued is answered at once, only running searches finish.
+      search->shut_down = true;
     } else {
       try {
         slot = min_time(request.format, request.strategies[i], request.options);
@@ -360,6 +362,7 @@ void PlanService::finish_min_time(MinTimeSearch& search) {
   if (search.refused) return;  // its refusal has been published
   Outcome outcome;
   try {
+    if (search.shut_down) throw overloaded_error();
     api::check_min_time_inputs(search.request, search.results);
     outcome.body = api::stored_min_time(search.request, search.results, search.key);
     // Cached before the flight is forgotten: a new request finds one or the other.

@@ -176,6 +176,7 @@ TEST(MinTime, EveryStrategyOnTheThesisContainerIsFeasibleAtTMinAndNotOneMillisec
     SCOPED_TRACE(to_string(s));
     const MinTimeResult r = min_time(f, s, o);
     ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+    EXPECT_FALSE(r.best);  // only infeasible searches report their least excess
     EXPECT_LE(r.plans, o.max_plans);
     const double t = *r.t_min;
     EXPECT_NEAR(t * 1000.0, std::round(t * 1000.0), 1e-6);  // on the 1 ms grid
@@ -409,6 +410,28 @@ TEST(MinTime, PlansWithoutFinitePredictionsStayOffTheCurve) {
                 std::isfinite(p.prediction.nonlinear.rest.value))
         << p.motion_time;
   }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review: motion_time_max_s 0.05 s (in range) was refused as "min_ramp and plateau_min
+// need 0.2 s, more than the motion time", naming "options", which the caller had not given.
+TEST(MinTime, ASearchRangeShorterThanTheRampsIsInfeasibleNamingTheTimeTheyNeed) {
+  const Format f = thesis_container();
+  MinTimeOptions o = issue_options();
+  o.motion_time_max = 0.05;
+  EXPECT_FALSE(o.validate(f));
+  const MinTimeResult r = min_time(f, Strategy::kNotch, o);
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible);
+  EXPECT_EQ(r.plans, 0);
+  EXPECT_EQ(r.message,
+            "no motion time up to motion_time_max 0.050 s is possible: the stroke 800 mm needs at "
+            "least 0.200 s (machine limits and ramps >= min_ramp); raise motion_time_max_s or the "
+            "machine limits");
 }
 
 }  // namespace

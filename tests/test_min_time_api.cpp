@@ -279,3 +279,54 @@ TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review: an in-range motion_time_max_s shorter than the ramps was a 422 on "options".
+TEST(MinTimeApi, ASearchRangeShorterThanTheRampsIsAnInfeasibleAnswerNotA422) {
+  nlohmann::json body = thesis_request();
+  body["motion_time_max_s"] = 0.05;
+  const nlohmann::json r = in_process(body);
+  ASSERT_EQ(r["strategies"].size(), 2u);
+  for (const auto& s : r["strategies"]) {
+    EXPECT_EQ(s["status"], "infeasible");
+    EXPECT_EQ(s["plans"], 0);
+    EXPECT_NE(s["message"].get<std::string>().find("needs at least 0.200 s"), std::string::npos);
+  }
+  // A plan option that is wrong at every T is still refused naming it.
+  body["options"] = {{"plateau_min_s", {-1, 0}}};
+  try {
+    (void)api::parse_min_time_request(body, 10.0);
+    ADD_FAILURE() << "no error";
+  } catch (const api::ApiError& e) {
+    EXPECT_EQ(e.field(), "options.plateau_min_s[0]");
+  }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review: the default free board came out as 67.99999999999999 mm (metres subtracted),
+// so it did not share the key of the same explicit limit.
+TEST(MinTimeApi, TheDefaultFreeBoardIsTheExplicitLimitInMillimetres) {
+  nlohmann::json by_default = thesis_request();
+  by_default["free_board_margin_mm"] = 0;
+  by_default.erase("eta_motion_max_mm");
+  nlohmann::json explicit_limit = by_default;
+  explicit_limit.erase("free_board_margin_mm");
+  explicit_limit["eta_motion_max_mm"] = 150 - 82;
+  const api::MinTimeRequest a = api::parse_min_time_request(by_default, 10.0);
+  const api::MinTimeRequest b = api::parse_min_time_request(explicit_limit, 10.0);
+  EXPECT_EQ(*a.options.eta_motion_limit(a.format), 68e-3);
+  EXPECT_EQ(api::min_time_key(a), api::min_time_key(b));
+  by_default["free_board_margin_mm"] = 5;  // 150 - 82 - 5
+  const api::MinTimeRequest c = api::parse_min_time_request(by_default, 10.0);
+  EXPECT_EQ(*c.options.eta_motion_limit(c.format), 63e-3);
+}
+
+}  // namespace
+}  // namespace slosh

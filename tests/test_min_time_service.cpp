@@ -4,7 +4,7 @@
 // and through --server, row by row equal. Real SQLite files, real processes, loopback only.
 
 #include <httplib.h>
-#include <sqlite3.h>
+#include <signal.h>
 
 #include <gtest/gtest.h>
 
@@ -379,6 +379,42 @@ TEST(MinTimeService, BatchStopsWhenTheServerIsUnreachable) {
   EXPECT_EQ(r.exit_code, 1) << r.err;
   EXPECT_EQ(r.err.rfind("slosh batch: stopped: ", 0), 0u) << r.err;
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review: a search still queued when shutdown began answered 200 with every strategy
+// "baseline" / time_limit. Queued work answers 503 at once, as queued plan solves do.
+TEST(MinTimeService, ASearchStillQueuedAtShutdownAnswers503) {
+  test::Server server({"--workers", "1"});
+  ASSERT_GT(server.port(), 0) << server.log();
+  nlohmann::json slow = cheap_request();
+  slow["strategies"] = {"time_domain"};  // about a second on the one worker
+  nlohmann::json queued = cheap_request();
+  queued["strategies"] = {"baseline"};
+  auto post = [&](const nlohmann::json& body) {
+    return std::async(std::launch::async, [&server, text = body.dump()] {
+      const auto r = server.client().Post("/v1/min-time", text, "application/json");
+      return r ? std::make_pair(r->status, r->body) : std::make_pair(-1, std::string());
+    });
+  };
+  auto first = post(slow);
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  auto second = post(queued);
+  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  ::kill(server.child().pid(), SIGTERM);
+  const auto [status, body] = second.get();
+  EXPECT_EQ(status, 503) << body;
+  const auto error = nlohmann::json::parse(body, nullptr, false);
+  ASSERT_TRUE(error.is_object()) << body;
+  EXPECT_EQ(error["error"]["code"], "overloaded");
+  EXPECT_EQ(error["error"]["message"], "the service is shutting down");
+  EXPECT_EQ(first.get().first, 200);  // the running search finishes
+  EXPECT_EQ(server.child().wait_for(std::chrono::seconds(20)), 0) << server.log();
 }
 
 }  // namespace

@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "plan_cache.hpp"
+#include "support/process.hpp"
 #include "support/sqlite_query.hpp"
 
 namespace slosh::service {
@@ -431,4 +432,43 @@ TEST_F(PlanCacheTest, TheMinTimeTableIsPrunedWithinItsOwnBound) {
   EXPECT_EQ(query(path, "SELECT count(*) FROM min_times WHERE key = 'answer0'"), "0");
 }
 
+}  // namespace slosh::service
+
+namespace slosh::service {
+namespace {
+
+// Hostile review: bytes changed inside the file (its header intact) were served as a cached
+// answer. SQLite checks the pages' structure, not their content: the digest of each row does.
+TEST_F(PlanCacheTest, ARowWhoseBytesChangedOnDiskIsDroppedNotServed) {
+  const std::string body = "{\"marker\":\"" + std::string(200, 'm') + "\"}";
+  for (CacheTable table : {CacheTable::kPlans, CacheTable::kMinTime}) {
+    SCOPED_TRACE(table == CacheTable::kPlans ? "plans" : "min_times");
+    const std::string path = file(table == CacheTable::kPlans ? "p.sqlite" : "m.sqlite");
+    {
+      PlanCache cache({.path = path, .table = table});
+      cache.put("k", body);
+      cache.put("intact", "{\"other\":1}");
+    }  // closed: the WAL is checkpointed into the file
+    std::string bytes = test::read_file(path);
+    const auto at = bytes.find(std::string(200, 'm'));
+    ASSERT_NE(at, std::string::npos);
+    bytes[at + 100] = 'X';  // same length: only the digest can tell
+    test::write_file(path, bytes);
+    PlanCache cache({.path = path, .table = table});
+    EXPECT_EQ(cache.get("k"), std::nullopt);
+    EXPECT_NE(cache.storage_error().find("do not match their digest; the row was dropped"),
+              std::string::npos)
+        << cache.storage_error();
+    EXPECT_EQ(cache.get("intact"), "{\"other\":1}");
+    EXPECT_EQ(
+        query(path, std::string("SELECT count(*) FROM ") +
+                        (table == CacheTable::kPlans ? "plans" : "min_times") + " WHERE key = 'k'"),
+        "0");
+    cache.put("k", body);  // computed again: stored and served, and the store is well again
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+    EXPECT_EQ(cache.get("k"), body);
+  }
+}
+
+}  // namespace
 }  // namespace slosh::service

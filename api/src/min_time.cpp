@@ -165,9 +165,9 @@ Format parse_min_time_format(const json& body, double motion_time_max) {
 
 // eta_motion_max_mm: given, or the free board minus the margin (then the height is required).
 void parse_sloshing_limits(const json& body, const Format& format, MinTimeOptions& o) {
-  o.free_board_margin = optional_number(body, "", "free_board_margin_mm", mr::kMarginMm,
-                                        kDefaultFreeBoardMargin * 1e3) *
-                        1e-3;
+  const double margin_mm = optional_number(body, "", "free_board_margin_mm", mr::kMarginMm,
+                                           kDefaultFreeBoardMargin * 1e3);
+  o.free_board_margin = margin_mm * 1e-3;
   if (const json* eta = given_member(body, "eta_motion_max_mm")) {
     o.eta_motion_max = checked_number(eta, "eta_motion_max_mm", mr::kEtaMm) * 1e-3;
   } else if (!format.container.height) {
@@ -175,13 +175,18 @@ void parse_sloshing_limits(const json& body, const Format& format, MinTimeOption
             "eta_motion_max_mm is required when format.container.height_mm is not given (its "
             "default is the free board: height_mm - fill_height_mm - free_board_margin_mm)");
   } else {
-    const double free_board_mm = (*format.container.height - format.fill_height) * 1e3;
-    if (o.free_board_margin * 1e3 >= free_board_mm) {
+    // In the request's millimetres (validated by parse_min_time_format): 150 - 82 - 0 is 68 mm,
+    // the limit an explicit eta_motion_max_mm = 68 gives, where metres leave 67.99999999999999.
+    const json& f = body.at("format");
+    const double free_board_mm =
+        f.at("container").at("height_mm").get<double>() - f.at("fill_height_mm").get<double>();
+    if (margin_mm >= free_board_mm) {
       invalid("free_board_margin_mm",
-              "free_board_margin_mm = " + number_text(o.free_board_margin * 1e3) +
+              "free_board_margin_mm = " + number_text(margin_mm) +
                   " leaves no eta_motion_max: the free board (height_mm - fill_height_mm) is " +
                   number_text(free_board_mm) + " mm; allowed below it, or give eta_motion_max_mm");
     }
+    o.eta_motion_max = (free_board_mm - margin_mm) * 1e-3;
   }
   o.eta_rest_max = optional_number(body, "", "eta_rest_max_mm", mr::kEtaMm, 3.0) * 1e-3;
   if (const json* model = given_member(body, "limit_model")) {
@@ -216,9 +221,11 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
   }
   reject_unknown_fields(options, "options", allowed);
   registry.parse(options, format, plan);
+  Format at = format;  // the plan options hold at the longest T planned (see plan_validation_time)
+  at.motion_time = plan_validation_time(format.motion_time, plan);
   InvalidInput error;
-  if (!plan.is_valid(format, &error)) {
-    invalid("options", "options." + input_sentence(error, format, plan));
+  if (!plan.is_valid(at, &error)) {
+    invalid("options", "options." + input_sentence(error, at, plan));
   }
   if (given_member(options, "time_limit_s") == nullptr) {
     plan.time_limit = budget;

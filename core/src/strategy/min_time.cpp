@@ -212,6 +212,10 @@ class Search {
 
 }  // namespace
 
+double plan_validation_time(double motion_time_max, const PlanOptions& plan) {
+  return std::max(motion_time_max, 4.0 * plan.min_ramp + plan.plateau_min[0] + plan.plateau_min[1]);
+}
+
 double kinematic_lower_bound(double stroke, const MachineLimits& limits) {
   const double a = limits.a_max.value_or(kInf);
   const double v = limits.v_max.value_or(kInf);
@@ -269,7 +273,7 @@ std::optional<InvalidInput> MinTimeOptions::validate(const Format& format) const
                        " leaves no eta_motion_max > 0");
   }
   Format at_max = format;
-  at_max.motion_time = motion_time_max;
+  at_max.motion_time = plan_validation_time(motion_time_max, plan);
   return validate_plan_input(at_max, plan);
 }
 
@@ -526,6 +530,7 @@ void extend_curve_and_report(SearchRun& run) {
     }
   }
   r.status = SolveStatus::kOptimal;
+  r.best.reset();  // the least excess is the infeasible searches' answer
   r.message = "T_min = " + sec(t_min) + ": the shortest motion time on the 1 ms grid whose " +
               "verified " + to_string(run.strategy) + " plan meets " + run.limits;
   if (r.infeasible_below) {

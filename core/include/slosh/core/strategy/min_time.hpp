@@ -80,6 +80,12 @@ struct MinTimeOptions {
   [[nodiscard]] std::optional<InvalidInput> validate(const Format& format) const;
 };
 
+/// The motion time the plan options of a search are validated at [s]: motion_time_max, or what
+/// the ramps and plateau minimums of `plan` need (4 min_ramp + plateau minimums) when that is
+/// longer. A search range shorter than the ramps is no invalid option but an empty search
+/// (min_time() answers kInfeasible, naming the time they need).
+[[nodiscard]] double plan_validation_time(double motion_time_max, const PlanOptions& plan);
+
 /// Closed-form minimum time of a rest-to-rest move of `stroke` [m] under symmetric limits on
 /// |acceleration| `a_max` [m/s^2], |velocity| `v_max` [m/s] and |jerk| `j_max` [m/s^3] (an unset
 /// limit is unbounded): the time-optimal jerk-limited (7-segment, "double S") profile. 0 when no
