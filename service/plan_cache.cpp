@@ -4,6 +4,7 @@
 #include <sqlite3.h>
 
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_reply.hpp"
 
 #include <array>
 #include <chrono>
@@ -65,26 +66,41 @@ void execute(sqlite3* db, std::string_view sql, std::string& error) {
   sqlite3_free(message);
 }
 
+/// The digest of a row: of its key and its body, so that neither can change on disk unnoticed.
+std::string row_digest(std::string_view key, std::string_view body) {
+  std::string text;
+  text.reserve(key.size() + 1 + body.size());
+  text.append(key).push_back('\n');
+  text.append(body);
+  return api::sha256_key(text);
+}
+
 bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
   return sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
                             stmt, nullptr) == SQLITE_OK;
 }
 
-/// Writes the digest of every row of `table` (the plans a layout-2 file keeps). Sets `error`.
+/// Writes the digest of every row of `table` that is a stored answer of its key (the plans a
+/// layout-2 file keeps; a row it cannot vouch for, e.g. damaged before the upgrade, keeps the
+/// empty digest, which no row matches: its first read drops it). Sets `error`.
 void fill_digests(sqlite3* db, std::string_view table, std::string& error) {
   sqlite3_stmt* select = nullptr;
   sqlite3_stmt* update = nullptr;
   const std::string name(table);
-  if (!prepare(db, "SELECT rowid, body FROM " + name, &select) ||
+  if (!prepare(db, "SELECT rowid, key, body FROM " + name, &select) ||
       !prepare(db, "UPDATE " + name + " SET digest = ?1 WHERE rowid = ?2", &update)) {
     error = message_of(db);
   }
   int rc = error.empty() ? sqlite3_step(select) : SQLITE_DONE;
   for (; rc == SQLITE_ROW; rc = sqlite3_step(select)) {
-    const auto* text = static_cast<const char*>(sqlite3_column_blob(select, 1));
-    const std::string body(text == nullptr ? "" : text,
-                           static_cast<std::size_t>(sqlite3_column_bytes(select, 1)));
-    const std::string digest = api::sha256_key(body);
+    const auto* key = static_cast<const char*>(sqlite3_column_blob(select, 1));
+    const auto* text = static_cast<const char*>(sqlite3_column_blob(select, 2));
+    const std::string_view key_text(key == nullptr ? "" : key,
+                                    static_cast<std::size_t>(sqlite3_column_bytes(select, 1)));
+    const std::string_view body(text == nullptr ? "" : text,
+                                static_cast<std::size_t>(sqlite3_column_bytes(select, 2)));
+    if (!api::is_stored_answer(key_text, body)) continue;
+    const std::string digest = row_digest(key_text, body);
     sqlite3_bind_text(update, 1, digest.c_str(), -1, SQLITE_TRANSIENT);
     sqlite3_bind_int64(update, 2, sqlite3_column_int64(select, 0));
     const int written = sqlite3_step(update);
@@ -104,17 +120,19 @@ void migrate_layout(sqlite3* db, std::string& error) {
   if (!error.empty()) return;
   execute(db, kSchema, error);
   const std::string current = std::to_string(kStoreLayoutVersion);
-  const std::string found = error.empty() ? query_text(db, "PRAGMA user_version", error) : "";
-  if (error.empty() && found != current) {
-    for (std::string_view table : kTables) {
-      const std::string name(table);
-      if (error.empty() &&
-          query_text(db,
-                     "SELECT COUNT(*) FROM pragma_table_info('" + name + "') WHERE name = 'digest'",
-                     error) == "0") {
-        execute(db, "ALTER TABLE " + name + " ADD COLUMN digest TEXT NOT NULL DEFAULT ''", error);
-      }
+  std::string found = error.empty() ? query_text(db, "PRAGMA user_version", error) : "";
+  for (std::string_view table : kTables) {
+    const std::string name(table);
+    if (error.empty() &&
+        query_text(db,
+                   "SELECT COUNT(*) FROM pragma_table_info('" + name + "') WHERE name = 'digest'",
+                   error) == "0") {
+      execute(db, "ALTER TABLE " + name + " ADD COLUMN digest TEXT NOT NULL DEFAULT ''", error);
+      // A file that says layout 3 but has no digests is of no layout this slosh knows: emptied.
+      if (found == current) found = "unknown";
     }
+  }
+  if (error.empty() && found != current) {
     if (error.empty() && found != kPlansOnlyLayout) execute(db, "DELETE FROM plans", error);
     if (error.empty() && found == kPlansOnlyLayout) fill_digests(db, "plans", error);
     if (error.empty()) execute(db, "DELETE FROM min_times", error);
@@ -294,7 +312,7 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
         const int bytes = sqlite3_column_bytes(select_, 0);
         value.emplace(text == nullptr ? "" : std::string(text, static_cast<std::size_t>(bytes)));
         const auto* digest = reinterpret_cast<const char*>(sqlite3_column_text(select_, 1));
-        if (digest == nullptr || api::sha256_key(*value) != digest) {
+        if (digest == nullptr || row_digest(key, *value) != digest) {
           value.reset();
           corrupt = true;
         }
@@ -333,7 +351,7 @@ void PlanCache::put(const std::string& key, const std::string& value) {
                              SQLITE_STATIC);
     }
     if (rc == SQLITE_OK) rc = sqlite3_bind_int64(upsert_, 3, now_unix());
-    const std::string digest = api::sha256_key(value);
+    const std::string digest = row_digest(key, value);
     if (rc == SQLITE_OK) rc = sqlite3_bind_text(upsert_, 4, digest.c_str(), -1, SQLITE_TRANSIENT);
     if (rc == SQLITE_OK) rc = sqlite3_step(upsert_);
   }

@@ -23,10 +23,10 @@ namespace slosh::service {
 
 /// Layout of the store file (PRAGMA user_version): 2 = table `plans` of api::StoredPlan bodies
 /// (without the per-reply `cached` member); 3 = the same with a digest per row, and table
-/// `min_times` of stored min-time answers. Opening a layout-2 file keeps its plans (their digests
-/// written) and adds `min_times`; a file of any other
-/// layout (older, or written by a newer slosh) is emptied (a cache: answers are computed again on
-/// demand).
+/// `min_times` of stored min-time answers. Opening a layout-2 file keeps its plans that are stored
+/// answers of their keys (their digests written; the others are dropped) and adds `min_times`; a
+/// file of any other layout (older, or written by a newer slosh) is emptied (a cache: answers are
+/// computed again on demand).
 constexpr int kStoreLayoutVersion = 3;
 
 /// The tables of the store file: each cache instance reads and writes one of them, so a key of
@@ -60,11 +60,11 @@ struct CacheConfig {
 ///
 /// The store file holds two tables of the same shape, `plans` and `min_times` (key TEXT PRIMARY
 /// KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL, digest TEXT NOT NULL: the
-/// api::sha256_key of the body); a cache uses the one of `config.table` (two caches on one file
-/// are two connections). A row whose body no longer matches its digest (bytes changed on disk) is
-/// never served: get() answers absent, deletes the row and records the failure. The file is opened
-/// in WAL mode with synchronous=NORMAL: committed entries survive a restart and a process crash (a
-/// power loss may drop the last few). Its layout is versioned (PRAGMA user_version,
+/// api::sha256_key of the key and the body); a cache uses the one of `config.table` (two caches on
+/// one file are two connections). A row whose body no longer matches its digest (bytes changed on
+/// disk) is never served: get() answers absent, deletes the row and records the failure. The file
+/// is opened in WAL mode with synchronous=NORMAL: committed entries survive a restart and a process
+/// crash (a power loss may drop the last few). Its layout is versioned (PRAGMA user_version,
 /// kStoreLayoutVersion). Every put is written through at once (one transaction each). A store that
 /// cannot be opened or written never makes the cache throw: the failure is recorded in
 /// storage_error() and the cache keeps answering from memory.

@@ -436,3 +436,27 @@ TEST(MinTime, ASearchRangeShorterThanTheRampsIsInfeasibleNamingTheTimeTheyNeed) 
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile re-test: a 100 m stroke in 0.22 s (in range) gave a plan whose nonlinear prediction had
+// diverged, and POST /v1/plans answered 500. plan() refuses such a law, naming why.
+TEST(PlanDivergence, ALawTheModelsCannotFollowIsRefusedNotPredicted) {
+  Format f = thesis_format();
+  f.stroke = 100.0;
+  f.motion_time = 0.22;
+  const PlanResult r = plan(f, Strategy::kShaper, PlanOptions{});
+  ASSERT_TRUE(r.invalid_input);
+  EXPECT_EQ(r.invalid_input->input, PlanInput::kLawResponse);
+  EXPECT_EQ(r.status, SolveStatus::kFailed);
+  EXPECT_NE(r.message.find("the sloshing models diverge for the planned shaper law"),
+            std::string::npos)
+      << r.message;
+  // A law the models follow is planned as before.
+  f.motion_time = 5.0;
+  EXPECT_FALSE(plan(f, Strategy::kShaper, PlanOptions{}).invalid_input);
+}
+
+}  // namespace
+}  // namespace slosh

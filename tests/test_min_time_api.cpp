@@ -330,3 +330,55 @@ TEST(MinTimeApi, TheDefaultFreeBoardIsTheExplicitLimitInMillimetres) {
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile re-test: explicit ramp options were checked at motion_time_max_s (a 422 citing
+// format.motion_time_s), non-integer free boards missed the explicit limit's key, and a 100 m
+// stroke with limit_model linear still put the diverged nonlinear model into the curve (a 500).
+TEST(MinTimeApi, ExplicitRampsLongerThanTheSearchRangeAreAnInfeasibleAnswer) {
+  nlohmann::json body = thesis_request();
+  body["motion_time_max_s"] = 1;
+  body["options"] = {{"plateau_min_s", {2, 0}}};
+  for (const auto& s : in_process(body)["strategies"]) {
+    EXPECT_EQ(s["status"], "infeasible");
+    EXPECT_NE(s["message"].get<std::string>().find("needs at least 2.200 s"), std::string::npos)
+        << s["message"];
+  }
+  body["motion_time_max_s"] = 0.1;
+  body["options"] = {{"min_ramp_s", 0.05}};
+  for (const auto& s : in_process(body)["strategies"]) {
+    EXPECT_NE(s["message"].get<std::string>().find("needs at least 0.200 s"), std::string::npos)
+        << s["message"];
+  }
+}
+
+TEST(MinTimeApi, ADefaultFreeBoardWithRoundOffSharesTheExplicitLimitsKey) {
+  nlohmann::json by_default = thesis_request();
+  by_default["format"]["container"]["height_mm"] = 150.3;
+  by_default["format"]["fill_height_mm"] = 82.1;
+  by_default["free_board_margin_mm"] = 5.7;
+  by_default.erase("eta_motion_max_mm");
+  nlohmann::json explicit_limit = by_default;
+  explicit_limit.erase("free_board_margin_mm");
+  explicit_limit["eta_motion_max_mm"] = 62.5;
+  const api::MinTimeRequest a = api::parse_min_time_request(by_default, 10.0);
+  const api::MinTimeRequest b = api::parse_min_time_request(explicit_limit, 10.0);
+  EXPECT_EQ(*a.options.eta_motion_limit(a.format), *b.options.eta_motion_limit(b.format));
+  EXPECT_EQ(api::min_time_key(a), api::min_time_key(b));
+}
+
+TEST(MinTimeApi, ADivergingModelLeavesNoNonFiniteNumberWhateverTheLimitModel) {
+  nlohmann::json body = thesis_request();
+  body["format"]["stroke_mm"] = 100000;
+  body["limit_model"] = "linear";
+  body["motion_time_max_s"] = 0.5;
+  body["strategies"] = {"shaper"};
+  const nlohmann::json r = in_process(body);  // rendering throws on a non-finite number
+  const auto& s = r["strategies"][0];
+  EXPECT_LT(s["curve"]["t_s"].size(), s["plans"].get<std::size_t>());
+}
+
+}  // namespace
+}  // namespace slosh

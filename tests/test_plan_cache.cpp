@@ -472,3 +472,59 @@ TEST_F(PlanCacheTest, ARowWhoseBytesChangedOnDiskIsDroppedNotServed) {
 
 }  // namespace
 }  // namespace slosh::service
+
+namespace slosh::service {
+namespace {
+
+// Hostile re-test: the digest covered the body only, so a row whose key bytes changed answered
+// another recipe; a layout-2 file's damaged rows got digests; a layout-3 file without digests
+// left the store unusable.
+TEST_F(PlanCacheTest, ARowWhoseKeyChangedOnDiskAnswersNoOtherKey) {
+  const std::string path = file("store.sqlite");
+  {
+    PlanCache cache({.path = path});
+    cache.put("k12", "{\"key\":\"k12\",\"T\":1.2}");
+  }
+  execute(path, "UPDATE plans SET key = 'k13' WHERE key = 'k12'");
+  PlanCache cache({.path = path});
+  EXPECT_EQ(cache.get("k13"), std::nullopt);
+  EXPECT_NE(cache.storage_error().find("(key 'k13') do not match their digest"), std::string::npos)
+      << cache.storage_error();
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "0");
+}
+
+TEST_F(PlanCacheTest, ALayoutTwoStoreKeepsOnlyTheRowsThatAreAnswersOfTheirKeys) {
+  const std::string path = file("v2.sqlite");
+  execute(path,
+          "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO plans VALUES('good', '{\"key\":\"good\"}', 1);"
+          "INSERT INTO plans VALUES('cut', '{\"key\":\"cut\",\"dur', 1);"
+          "INSERT INTO plans VALUES('text', 'not json', 1);"
+          "INSERT INTO plans VALUES('other', '{\"key\":\"good\"}', 1); PRAGMA user_version = 2");
+  PlanCache cache({.path = path});
+  EXPECT_EQ(cache.get("good"), "{\"key\":\"good\"}");
+  for (const char* key : {"cut", "text", "other"}) {
+    EXPECT_EQ(cache.get(key), std::nullopt) << key;
+  }
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "1");
+}
+
+TEST_F(PlanCacheTest, ALayoutThreeFileWithoutDigestsIsEmptiedAndUsable) {
+  const std::string path = file("v3.sqlite");
+  execute(path,
+          "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
+          "NOT NULL); INSERT INTO plans VALUES('old', '{\"key\":\"old\"}', 1);"
+          "PRAGMA user_version = 3");
+  {
+    PlanCache cache({.path = path});
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+    EXPECT_EQ(cache.get("old"), std::nullopt);
+    cache.put("new", "{\"key\":\"new\"}");
+    EXPECT_TRUE(cache.storage_error().empty()) << cache.storage_error();
+  }
+  PlanCache reopened({.path = path, .memory_entries = 0});
+  EXPECT_EQ(reopened.get("new"), "{\"key\":\"new\"}");
+}
+
+}  // namespace
+}  // namespace slosh::service

@@ -149,6 +149,7 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kIirSamplePeriod, "options.iir_sample_period_s"},
     {PlanInput::kSloshingModel, "format"},
     {PlanInput::kUniformResponse, "format"},
+    {PlanInput::kLawResponse, "format"},
     {PlanInput::kReferenceLevels, "format"},
     {PlanInput::kLaw, "law"},
     {PlanInput::kSamplePeriod, "sample_period_s"},

@@ -3,6 +3,7 @@
 #include "slosh/api/plan_reply.hpp"
 
 #include <algorithm>
+#include <cmath>
 #include <stdexcept>
 
 #include "slosh/api/core_input.hpp"
@@ -186,7 +187,9 @@ void parse_sloshing_limits(const json& body, const Format& format, MinTimeOption
                   " leaves no eta_motion_max: the free board (height_mm - fill_height_mm) is " +
                   number_text(free_board_mm) + " mm; allowed below it, or give eta_motion_max_mm");
     }
-    o.eta_motion_max = (free_board_mm - margin_mm) * 1e-3;
+    // Rounded to 1e-9 mm, so the round-off of the subtraction (150.3 - 82.1 - 5.7 =
+    // 62.500000000000014) leaves the limit, and the key, of the same explicit value.
+    o.eta_motion_max = std::round((free_board_mm - margin_mm) * 1e9) / 1e9 * 1e-3;
   }
   o.eta_rest_max = optional_number(body, "", "eta_rest_max_mm", mr::kEtaMm, 3.0) * 1e-3;
   if (const json* model = given_member(body, "limit_model")) {
@@ -220,7 +223,11 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
     if (!set_by_search(key)) allowed.push_back(key);
   }
   reject_unknown_fields(options, "options", allowed);
-  registry.parse(options, format, plan);
+  // Ranges that depend on T (min_ramp_s <= T / 4, plateau_min_s <= T) at the longest T the API
+  // allows: ramps too long for motion_time_max_s make an empty search, answered infeasible.
+  Format widest = format;
+  widest.motion_time = mr::kMotionTimeMax.hi;
+  registry.parse(options, widest, plan);
   Format at = format;  // the plan options hold at the longest T planned (see plan_validation_time)
   at.motion_time = plan_validation_time(format.motion_time, plan);
   InvalidInput error;

@@ -18,6 +18,13 @@ StoredPlan solve_for_storing(const PlanRequest& request) {
   return {result.status, dump_json(out)};
 }
 
+bool is_stored_answer(std::string_view key, std::string_view body) {
+  const nlohmann::json answer = nlohmann::json::parse(body, nullptr, false);
+  if (!answer.is_object()) return false;
+  const auto it = answer.find("key");
+  return it != answer.end() && it->is_string() && it->get<std::string>() == key;
+}
+
 std::string with_cached_flag(std::string_view stored, bool cached) {
   return std::string("{\"cached\":") + (cached ? "true" : "false") + "," +
          std::string(stored.substr(1));

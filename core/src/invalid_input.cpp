@@ -52,6 +52,7 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kEtaRestMax:
     case PlanInput::kEtaMotionMax:
     case PlanInput::kUniformResponse:
+    case PlanInput::kLawResponse:
     case PlanInput::kFreeBoardMargin:
       return "m";
     case PlanInput::kFluidDensity:

@@ -735,6 +735,18 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                                             : run_single(c, strategy, r.baseline);
   const Strategy result_strategy = s.outcome.strategy;
   take_selection(r, s, format);
+  if (!finite_prediction(r.prediction)) {
+    // A law the models cannot follow (hundreds of g on a short move): no numbers to promise.
+    const double a_peak =
+        std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative);
+    return refusal(
+        format, strategy, options,
+        refused(PlanInput::kLawResponse, a_peak, non_negative(),
+                "the sloshing models diverge for the planned " + to_string(result_strategy) +
+                    " law on this format (peak |a| = " + sig3(a_peak) +
+                    " m/s^2): the motion is outside what they describe; lengthen "
+                    "the motion time"));
+  }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));

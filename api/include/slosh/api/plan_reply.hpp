@@ -25,6 +25,10 @@ struct StoredPlan {
 /// planner refuses the inputs (as run_plan).
 [[nodiscard]] StoredPlan solve_for_storing(const PlanRequest& request);
 
+/// Whether `body` is a stored answer of `key` (a plan or a min-time answer): a JSON object whose
+/// `key` member is `key`. The plan store checks rows it cannot vouch for with it.
+[[nodiscard]] bool is_stored_answer(std::string_view key, std::string_view body);
+
 /// A stored answer (a non-empty JSON object without `cached`) with `cached` as its first member.
 [[nodiscard]] std::string with_cached_flag(std::string_view stored, bool cached);
 

@@ -57,11 +57,12 @@ enum class PlanInput {
   kCurveFactor,       ///< MinTimeOptions::curve_factor [-]
   kRefineExcess,      ///< MinTimeOptions::refine_excess [-]
   kWarmStart,         ///< PlanOptions::warm_start[index]; index -1: their sum [s]
+  kLawResponse,       ///< the planned law's predicted sloshing (finite: the models describe it) [m]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 40> table{{
+  static constexpr std::array<EnumName<PlanInput>, 41> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -102,6 +103,7 @@ struct EnumNames<PlanInput> {
       {PlanInput::kCurveFactor, "curve_factor"},
       {PlanInput::kRefineExcess, "refine_excess"},
       {PlanInput::kWarmStart, "warm_start"},
+      {PlanInput::kLawResponse, "law_response"},
   }};
 };
 
