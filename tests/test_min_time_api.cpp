@@ -341,14 +341,16 @@ TEST(MinTimeApi, ExplicitRampsLongerThanTheSearchRangeAreAnInfeasibleAnswer) {
   nlohmann::json body = thesis_request();
   body["motion_time_max_s"] = 1;
   body["options"] = {{"plateau_min_s", {2, 0}}};
-  for (const auto& s : in_process(body)["strategies"]) {
+  const nlohmann::json plateaus = in_process(body);  // kept: the loop refers into it
+  for (const auto& s : plateaus["strategies"]) {
     EXPECT_EQ(s["status"], "infeasible");
     EXPECT_NE(s["message"].get<std::string>().find("needs at least 2.200 s"), std::string::npos)
         << s["message"];
   }
   body["motion_time_max_s"] = 0.1;
   body["options"] = {{"min_ramp_s", 0.05}};
-  for (const auto& s : in_process(body)["strategies"]) {
+  const nlohmann::json ramps = in_process(body);
+  for (const auto& s : ramps["strategies"]) {
     EXPECT_NE(s["message"].get<std::string>().find("needs at least 0.200 s"), std::string::npos)
         << s["message"];
   }
