@@ -939,7 +939,9 @@ TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
       "recipe_id, radius_mm, container_height_mm, fill_height_mm, fluid, density_kg_m3, "
       "viscosity_pa_s, stroke_mm, motion_time_s, strategy, p_notch, weights, band, n_band, "
       "tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s, min_ramp_s, "
-      "fix_constant_velocity_zero, plateau_min_s, a_max, v_max, j_max, damping, alpha, modes, "
+      "fix_constant_velocity_zero, plateau_min_s, a_max, v_max, j_max, drive_profile, damping, "
+      "alpha, "
+      "modes, "
       "solver, time_limit_s, base, shaper, residual, iir_order, iir_tau, iir_sample_period_s";
   const std::vector<TableErrorCase> cases{
       {"unknown column",

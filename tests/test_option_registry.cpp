@@ -78,6 +78,7 @@ TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {
                                                "fix_constant_velocity_zero",
                                                "plateau_min_s",
                                                "limits",
+                                               "drive_profile",
                                                "damping",
                                                "alpha",
                                                "modes",

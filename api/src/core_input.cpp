@@ -160,6 +160,7 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kCurveFactor, "curve_factor"},
     {PlanInput::kRefineExcess, "refine_excess"},
     {PlanInput::kWarmStart, "options.warm_start_s"},
+    {PlanInput::kDriveProfile, "options.drive_profile"},
 };
 
 }  // namespace

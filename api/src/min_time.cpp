@@ -245,6 +245,32 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
 
 }  // namespace
 
+namespace {
+
+// Under drive_profile move_absolute the default list leaves out the strategies whose laws are
+// not 7-segment laws; a list that names one is refused at its place.
+void fit_strategies_to_drive(const json& body, DriveProfile profile,
+                             std::vector<Strategy>& strategies) {
+  const bool listed = given_member(body, "strategies") != nullptr;
+  for (std::size_t i = 0; i < strategies.size();) {
+    const auto why = drive_profile_refusal(strategies[i], profile);
+    if (!why) {
+      ++i;
+      continue;
+    }
+    if (listed) {
+      const std::string field = "strategies[" + std::to_string(i) + "]";
+      invalid(field, field + " = \"" + to_string(strategies[i]) +
+                         "\" is not allowed with options.drive_profile = move_absolute: its law "
+                         "is not a 7-segment law (allowed: baseline, notch, multi_notch, "
+                         "min_jerk_band, time_domain, fir_chain)");
+    }
+    strategies.erase(strategies.begin() + static_cast<std::ptrdiff_t>(i));
+  }
+}
+
+}  // namespace
+
 MinTimeRequest parse_min_time_request(const json& body, double budget) {
   require_object(body, "");
   reject_unknown_fields(body, "",
@@ -264,6 +290,7 @@ MinTimeRequest parse_min_time_request(const json& body, double budget) {
   o.curve_factor = optional_number(body, "", "curve_factor", mr::kCurveFactor, o.curve_factor);
   o.refine_excess = optional_number(body, "", "refine_excess", mr::kRefineExcess, o.refine_excess);
   parse_min_time_plan_options(body, r.format, budget, o.plan);
+  fit_strategies_to_drive(body, o.plan.drive_profile, r.strategies);
   if (auto e = o.validate(r.format)) {
     invalid(std::string(api_field_path(e->input)), e->message);
   }

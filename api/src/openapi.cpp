@@ -468,6 +468,20 @@ void add_batch_response_schemas(json& s) {
                               {"results"}, "One result per request, in request order.", false);
 }
 
+void add_move_absolute_schema(json& s) {
+  s["MoveAbsolute"] = object(
+      {{"distance_mm", number("Distance: the stroke [mm].")},
+       {"velocity_mm_s", number("Velocity: the law's peak velocity [mm/s].")},
+       {"acceleration_mm_s2", number("Acceleration: A [mm/s^2].")},
+       {"deceleration_mm_s2", number("Deceleration: B [mm/s^2].")},
+       {"jerk_mm_s3", number("Jerk: the one jerk of the four ramps [mm/s^3].")}},
+      {"distance_mm", "velocity_mm_s", "acceleration_mm_s2", "deceleration_mm_s2", "jerk_mm_s3"},
+      "Only with options.drive_profile move_absolute, when the law is a one-jerk 7-segment law: "
+      "the inputs of a PLCopen MC_MoveAbsolute block (jerk-limited) whose profile is the planned "
+      "law.",
+      false);
+}
+
 void add_plan_response_schemas(json& s) {
   add_plan_block_schemas(s);
   add_filter_design_schema(s);
@@ -505,12 +519,14 @@ void add_plan_response_schemas(json& s) {
        {"format", ref("FormatEcho")},
        {"rest_time_s", number("Rest window [s].")},
        {"warnings", strings("Validity limits of the models reached by this plan.")},
+       {"move_absolute", ref("MoveAbsolute")},
        {"series", ref("Series")}},
       {"key", "cached", "strategy", "status", "message", "durations_s", "durations_pct",
        "switch_times_s", "law", "kinematics", "model", "prediction", "baseline", "reduction_pct",
        "spectrum", "solver", "format", "rest_time_s", "warnings"},
       "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
   add_batch_response_schemas(s);
+  add_move_absolute_schema(s);
 }
 
 void add_simulate_response_schemas(json& s) {

@@ -276,6 +276,18 @@ std::vector<OptionSpec> time_domain_options() {
   };
 }
 
+OptionSpec drive_profile() {
+  OptionSpec s = enumeration<DriveProfile>(
+      "drive_profile", [](PlanOptions& o) -> DriveProfile& { return o.drive_profile; },
+      "What the drive runs: free (any 7-segment law, four ramp jerks of their own; a cam table "
+      "runs it) or move_absolute (one jerk for the four ramps: what a PLCopen MC_MoveAbsolute "
+      "block with a jerk limit runs; the optimisers search that family and the plan carries "
+      "move_absolute: distance, velocity, acceleration, deceleration and jerk in mm units; "
+      "shaper and iir are refused).");
+  s.keyed_when_set = true;
+  return s;
+}
+
 std::vector<OptionSpec> law_shape_options() {
   return {
       number(
@@ -302,6 +314,7 @@ std::vector<OptionSpec> law_shape_options() {
                    [](PlanOptions& o) -> std::optional<double>& { return o.limits.j_max; },
                    "Peak |jerk| over the four ramps"),
                "limits"),
+      drive_profile(),
   };
 }
 
@@ -483,8 +496,12 @@ void OptionRegistry::parse(const json& object, const Format& format, PlanOptions
 
 json OptionRegistry::recipe(const PlanOptions& options) const {
   json out = json::object();
+  const PlanOptions defaults;
   for (const OptionSpec& o : options_) {
-    if (!o.recipe_name.empty()) out[std::string(o.recipe_name)] = o.get(options);
+    if (o.recipe_name.empty()) continue;
+    nlohmann::json value = o.get(options);
+    if (o.keyed_when_set && value == o.get(defaults)) continue;
+    out[std::string(o.recipe_name)] = std::move(value);
   }
   return out;
 }

@@ -113,7 +113,11 @@ PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry&
   // Relations between options (e.g. ramps + plateau minimums longer than T).
   InvalidInput error;
   if (!o.is_valid(r.format, &error)) {
-    invalid("options", "options." + input_sentence(error, r.format, o));
+    invalid(error.input == PlanInput::kDriveProfile ? "options.drive_profile" : "options",
+            "options." + input_sentence(error, r.format, o));
+  }
+  if (std::optional<InvalidInput> why = drive_profile_refusal(r.strategy, o.drive_profile)) {
+    invalid("options.drive_profile", "options." + why->message);
   }
 
   r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);
@@ -233,6 +237,15 @@ nlohmann::json reduction_json(const LawPrediction& baseline, const LawPrediction
   return out;
 }
 
+/// The MC_MoveAbsolute inputs in the units a PLC axis in millimetres takes.
+nlohmann::json move_absolute_json(const MoveAbsoluteProfile& m) {
+  return {{"distance_mm", m.distance * 1e3},
+          {"velocity_mm_s", m.velocity * 1e3},
+          {"acceleration_mm_s2", m.acceleration * 1e3},
+          {"deceleration_mm_s2", m.deceleration * 1e3},
+          {"jerk_mm_s3", m.jerk * 1e3}};
+}
+
 nlohmann::json candidates_json(const std::vector<PlanCandidate>& candidates) {
   nlohmann::json list = nlohmann::json::array();
   for (const PlanCandidate& c : candidates) {
@@ -272,6 +285,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
                    {"objective", r.solver.objective},
                    {"solve_ms", r.solver.solve_ms}};
   if (!r.candidates.empty()) out["candidates"] = candidates_json(r.candidates);
+  if (r.move_absolute) out["move_absolute"] = move_absolute_json(*r.move_absolute);
   out["format"] = format_json(request.format);
   out["rest_time_s"] = request.options.rest_time;
   out["warnings"] = r.warnings;

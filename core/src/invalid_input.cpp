@@ -71,6 +71,7 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kMotionTimeMax:
     case PlanInput::kScanStep:
     case PlanInput::kWarmStart:
+    case PlanInput::kDriveProfile:
       return "s";
     case PlanInput::kAMax:
       return "m/s^2";

@@ -199,8 +199,11 @@ FirChain make_fir_chain(double stroke, double t1, double t2, double t3) {
   }
   FirChain chain{t1, t2, t3, MotionLaw("fir_chain", std::move(pieces)), std::nullopt};
   if (t1 >= t2 + t3 - kBreakpointTolerance && t2 >= t3 - kBreakpointTolerance) {
-    chain.durations = Durations{t3, std::max(0.0, t2 - t3), t3, std::max(0.0, t1 - t2 - t3),
-                                t3, std::max(0.0, t2 - t3), t3};
+    // The chain lasts t1 + t2 + t3; a plateau or cruise shorter than 1 ns is exactly 0.
+    chain.durations =
+        clean_durations(Durations{t3, std::max(0.0, t2 - t3), t3, std::max(0.0, t1 - t2 - t3), t3,
+                                  std::max(0.0, t2 - t3), t3},
+                        t1 + t2 + t3);
   }
   return chain;
 }

@@ -1,5 +1,6 @@
 #include "slosh/core/law/seven_segment.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -22,6 +23,50 @@ bool is_ramp(std::size_t i) {
 }
 
 }  // namespace
+
+namespace {
+
+double left_to_right_sum(const Durations& d) {
+  double sum = 0.0;
+  for (double x : d) sum += x;
+  return sum;
+}
+
+}  // namespace
+
+void close_sum(Durations& d, double motion_time, std::size_t into) {
+  // The rounded residual first (one step unless a later addition rounds), then single ulps: the
+  // left-to-right sum is monotone in d[into], so stepping towards T reaches it or steps over it
+  // by rounding; then the other segments, longest first, in the same way.
+  std::array<std::size_t, kSegments> order{};
+  for (std::size_t i = 0; i < kSegments; ++i) order[i] = i;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return (a == into) > (b == into) || ((a == into) == (b == into) && d[a] > d[b]);
+  });
+  for (std::size_t i : order) {
+    if (d[i] == 0.0) continue;
+    for (int step = 0; step < 4; ++step) {
+      const double residual = motion_time - left_to_right_sum(d);
+      if (residual == 0.0) return;
+      d[i] += residual;
+    }
+    for (int step = 0; step < 64; ++step) {
+      const double residual = motion_time - left_to_right_sum(d);
+      if (residual == 0.0) return;
+      d[i] = std::nextafter(d[i], residual > 0.0 ? INFINITY : -INFINITY);
+    }
+  }
+}
+
+Durations clean_durations(Durations d, double motion_time) {
+  std::size_t longest = 0;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (std::abs(d[i]) < kZeroDuration) d[i] = 0.0;
+    if (d[i] > d[longest]) longest = i;
+  }
+  close_sum(d, motion_time, longest);
+  return d;
+}
 
 std::optional<std::string> check_admissible(const Durations& d, const AdmissibilityRules& rules) {
   double sum = 0.0;
@@ -134,6 +179,8 @@ double SevenSegmentLaw::jerk_integral() const {
 Durations uniform_durations(double motion_time) {
   Durations d;
   d.fill(motion_time / static_cast<double>(kSegments));
+  // The cruise takes the ulps that make the sum T (the lobes stay mirror images).
+  close_sum(d, motion_time, 3);
   return d;
 }
 

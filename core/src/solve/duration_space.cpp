@@ -10,7 +10,7 @@ namespace slosh::detail {
 namespace {
 
 constexpr std::uint64_t kStartSeed{20251123};  // fixed: the same request gives the same starts
-constexpr double kBoundSnap{1e-12};            // [s]
+constexpr double kBoundSnap{kZeroDuration};    // [s]
 
 std::array<Dual7, kSegments> variables(const double* d) {
   std::array<Dual7, kSegments> dd;
@@ -30,6 +30,9 @@ DurationSpace::DurationSpace(const Format& format, const PlanOptions& options)
            options.min_ramp, options.plateau_min[1], options.min_ramp};
   upper.fill(T);
   if (options.fix_constant_velocity_zero) upper[3] = 0.0;
+  if (options.drive_profile == DriveProfile::kMoveAbsolute) {
+    one_jerk.emplace(T, options.min_ramp, upper[3], options.plateau_min);
+  }
 }
 
 int DurationSpace::limit_count() const {
@@ -102,6 +105,18 @@ Durations DurationSpace::from_weights(const Durations& w) const {
 }
 
 std::vector<Durations> DurationSpace::starts(int random_count) const {
+  std::vector<Durations> out = general_starts(random_count);
+  if (!one_jerk) return out;
+  // In the family: each start restated there, duplicates dropped (the order is kept).
+  std::vector<Durations> family;
+  for (const Durations& d : out) {
+    const Durations p = polish(d.data());
+    if (std::find(family.begin(), family.end(), p) == family.end()) family.push_back(p);
+  }
+  return family;
+}
+
+std::vector<Durations> DurationSpace::general_starts(int random_count) const {
   std::vector<Durations> out;
   const Durations uniform = uniform_durations(motion_time);
   bool uniform_inside = true;
@@ -137,23 +152,29 @@ std::vector<Durations> DurationSpace::starts(int random_count) const {
 
 Durations DurationSpace::polish(const double* x) const {
   Durations d;
+  if (one_jerk) {
+    const OneJerkChart::Point p = one_jerk->repair(one_jerk->coordinates(x));
+    d = one_jerk->durations(p.data(), nullptr);
+  } else {
+    std::copy(x, x + kSegments, d.begin());
+  }
   double sum = 0.0;
   for (std::size_t i = 0; i < kSegments; ++i) {
-    d[i] = std::clamp(x[i], lower[i], upper[i]);
+    d[i] = std::clamp(d[i], lower[i], upper[i]);
     // Solver round-off next to a bound (1e-18 s plateaus) lands on the bound.
     if (d[i] - lower[i] < kBoundSnap) d[i] = lower[i];
     if (upper[i] - d[i] < kBoundSnap) d[i] = upper[i];
     sum += d[i];
   }
-  // Spread the residual over the segments that can take it, largest room first, twice so the
-  // round-off of the first pass is absorbed as well.
+  // Spread the residual over the segments that can take it, twice so the round-off of the first
+  // pass is absorbed as well; a segment on its lower bound (a zero plateau) takes none of it.
   for (int pass = 0; pass < 2; ++pass) {
     double residual = motion_time - sum;
     if (residual == 0.0) break;
     double room_total = 0.0;
     Durations room{};
     for (std::size_t i = 0; i < kSegments; ++i) {
-      room[i] = residual > 0.0 ? upper[i] - d[i] : d[i] - lower[i];
+      room[i] = residual > 0.0 ? (d[i] > lower[i] ? upper[i] - d[i] : 0.0) : d[i] - lower[i];
       room_total += room[i];
     }
     if (room_total <= 0.0) break;
@@ -163,15 +184,12 @@ Durations DurationSpace::polish(const double* x) const {
       sum += d[i];
     }
   }
-  // The last ulp: put it on the segment with the most room.
-  const double residual = motion_time - sum;
-  if (residual != 0.0) {
-    std::size_t best = 0;
-    for (std::size_t i = 1; i < kSegments; ++i) {
-      if (d[i] - lower[i] > d[best] - lower[best]) best = i;
-    }
-    d[best] += residual;
+  // The last ulps: on the segment with the most room above its bound.
+  std::size_t best = 0;
+  for (std::size_t i = 1; i < kSegments; ++i) {
+    if (d[i] - lower[i] > d[best] - lower[best]) best = i;
   }
+  close_sum(d, motion_time, best);
   return d;
 }
 

@@ -10,6 +10,7 @@
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "solve/one_jerk_chart.hpp"
 
 namespace slosh::detail {
 
@@ -22,6 +23,9 @@ struct DurationSpace {
   MachineLimits limits;
   /// PlanOptions::warm_start, when given: starts() is it (mapped) and the uniform law.
   std::optional<Durations> warm_start;
+  /// PlanOptions::drive_profile kMoveAbsolute: the one-jerk family's coordinates. multi_start()
+  /// then solves every problem in them, and polish() and starts() land in the family.
+  std::optional<OneJerkChart> one_jerk;
 
   DurationSpace(const Format& format, const PlanOptions& options);
 
@@ -40,9 +44,13 @@ struct DurationSpace {
   /// `random_count` points of a seeded Dirichlet spread, all inside the bounds and summing to T.
   /// With a warm start: that start scaled to T and polished, then the uniform law (no others).
   [[nodiscard]] std::vector<Durations> starts(int random_count) const;
+  /// starts() before the one-jerk family restates them.
+  [[nodiscard]] std::vector<Durations> general_starts(int random_count) const;
 
   /// Maps a solver point onto the exact admissible set (bounds hold, the sum equals T to the
-  /// last bits): the residual of the sum is spread over the segments with room.
+  /// last bit, a segment within kZeroDuration of its bound is on it): the residual of the sum is
+  /// spread over the segments with room. In the one-jerk family the point is first restated in
+  /// its coordinates (repaired into their bounds), so the result is in the family.
   [[nodiscard]] Durations polish(const double* x) const;
 
   /// The point with free-weight fractions w (>= 0) of the room above the lower bounds.

@@ -30,9 +30,11 @@ std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts
   return out;
 }
 
-MultiStartResult multi_start(const NlpProblem& problem,
-                             const std::vector<std::vector<double>>& starts,
-                             const StrategyContext& context, const NlpOptions& options) {
+namespace {
+
+MultiStartResult solve_starts(const NlpProblem& problem,
+                              const std::vector<std::vector<double>>& starts,
+                              const StrategyContext& context, const NlpOptions& options) {
   MultiStartResult out;
   // Ipopt relaxes bounds and equalities by ~1e-8 (bound_relax_factor); the durations are polished
   // onto the exact admissible set afterwards, so that much is not an infeasibility.
@@ -69,6 +71,22 @@ MultiStartResult multi_start(const NlpProblem& problem,
     if (out.feasible && options.stop_value && out.best.objective <= *options.stop_value) break;
   }
   if (!have) out.best.status = out.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
+  return out;
+}
+
+}  // namespace
+
+MultiStartResult multi_start(const NlpProblem& problem,
+                             const std::vector<std::vector<double>>& starts,
+                             const StrategyContext& context, const NlpOptions& options) {
+  const std::optional<OneJerkChart>& chart = context.space.one_jerk;
+  if (!chart) return solve_starts(problem, starts, context, options);
+  // The one-jerk family: solved in its coordinates, the best point restated as durations.
+  std::vector<std::vector<double>> reduced;
+  reduced.reserve(starts.size());
+  for (const auto& x0 : starts) reduced.push_back(chart->restrict(x0));
+  MultiStartResult out = solve_starts(chart->reduce(problem), reduced, context, options);
+  if (!out.best.x.empty()) out.best.x = chart->lift(out.best.x);
   return out;
 }
 

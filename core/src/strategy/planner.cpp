@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "slosh/core/response/spectrum.hpp"
+#include "solve/one_jerk_chart.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
 
@@ -99,6 +100,17 @@ double reduction_percent(double baseline, double value) {
   return baseline > 0.0 ? 100.0 * (1.0 - value / baseline) : 0.0;
 }
 
+std::optional<InvalidInput> drive_profile_refusal(Strategy strategy, DriveProfile profile) {
+  if (profile != DriveProfile::kMoveAbsolute ||
+      (strategy != Strategy::kShaper && strategy != Strategy::kIir)) {
+    return std::nullopt;
+  }
+  return refused(PlanInput::kDriveProfile, NAN, InputBounds{},
+                 "drive_profile = move_absolute needs a 7-segment law, and " + to_string(strategy) +
+                     " builds a general law: plan with baseline, notch, multi_notch, "
+                     "min_jerk_band, time_domain, fir_chain or auto");
+}
+
 bool is_filter_strategy(Strategy strategy) {
   return strategy == Strategy::kFirChain || strategy == Strategy::kShaper ||
          strategy == Strategy::kIir;
@@ -119,6 +131,19 @@ std::optional<InvalidInput> ramps_and_plateaus(const PlanOptions& o, double T) {
                      " s, more than the motion_time " + sig3(T) +
                      " s: allowed min_ramp <= (motion_time - plateau minimums) / 4 = " +
                      sig3((T - o.plateau_min[0] - o.plateau_min[1]) / 4.0) + " s");
+}
+
+/// With drive_profile kMoveAbsolute: some one-jerk law meets the ramp and plateau minimums.
+std::optional<InvalidInput> one_jerk_family(const PlanOptions& o, double T) {
+  if (o.drive_profile != DriveProfile::kMoveAbsolute) return std::nullopt;
+  const detail::OneJerkChart chart(T, o.min_ramp, o.fix_constant_velocity_zero ? 0.0 : T,
+                                   o.plateau_min);
+  if (chart.anchor) return std::nullopt;
+  return refused(PlanInput::kDriveProfile, T, InputBounds{},
+                 "drive_profile = move_absolute: no one-jerk law of " + sig3(T) +
+                     " s has ramps >= min_ramp = " + sig3(o.min_ramp) +
+                     " s and plateaus >= plateau_min = [" + sig3(o.plateau_min[0]) + ", " +
+                     sig3(o.plateau_min[1]) + "] s; lower the plateau minimums");
 }
 
 /// The arrays: plateau_min[i] >= 0, weights[i] >= 0 and their sum > 0.
@@ -163,6 +188,7 @@ std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
   }
   if (auto relation = ramps_and_plateaus(*this, T)) return relation;
   if (auto arrays = validate_arrays(*this)) return arrays;
+  if (auto family = one_jerk_family(*this, T)) return family;
   if (auto bad = first_out_of_range({
           {PlanInput::kPNotch, p_notch, open_range(0.0, 1.0)},
           {PlanInput::kBand, band, open_range(0.0, 1.0)},
@@ -455,6 +481,17 @@ Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
 /// constraint is never optimal or acceptable (filter designs are only ever downgraded: their
 /// "infeasible" also means "this method has no law here").
 void verify(const detail::StrategyContext& c, Outcome& o, const LawPrediction& p) {
+  const bool usable_before =
+      o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable;
+  if (c.options.drive_profile == DriveProfile::kMoveAbsolute && usable_before &&
+      (!o.durations || !move_absolute_profile(*o.durations, c.format.stroke))) {
+    o.status = SolveStatus::kInfeasible;
+    o.detail = (o.detail.empty() ? "" : o.detail + "; ") +
+               std::string(
+                   "the law is not a one-jerk 7-segment law, so a MC_MoveAbsolute block "
+                   "cannot run it (drive_profile move_absolute)");
+    return;
+  }
   if (!o.durations) return;
   const Strategy s = o.strategy;
   const std::string violation = detail::violated_constraint(c, s, *o.durations, p.nonlinear);
@@ -578,7 +615,10 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   const std::vector<Durations> seeds = spectral_seeds(c, &outcomes);
   outcomes.push_back(run_strategy(c, Strategy::kTimeDomain, seeds));
   outcomes.push_back(run_strategy(c, Strategy::kFirChain, {}));
-  outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
+  // The shaper's law is a general law: no candidate for a MC_MoveAbsolute block.
+  if (c.options.drive_profile != DriveProfile::kMoveAbsolute) {
+    outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
+  }
   int evaluations = 0, starts = 0;
   std::vector<std::string> worse_of;
   std::vector<bool> worse;
@@ -696,11 +736,20 @@ void take_selection(PlanResult& r, Selection& s, const Format& format) {
   if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
 }
 
+/// PlanResult::move_absolute of a one-jerk law under drive_profile kMoveAbsolute.
+void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format& format) {
+  if (options.drive_profile != DriveProfile::kMoveAbsolute || !r.durations) return;
+  r.move_absolute = move_absolute_profile(*r.durations, format.stroke);
+}
+
 }  // namespace
 
 PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
+    return refusal(format, strategy, options, std::move(*why));
+  }
+  if (std::optional<InvalidInput> why = drive_profile_refusal(strategy, options.drive_profile)) {
     return refusal(format, strategy, options, std::move(*why));
   }
   const detail::Deadline deadline(options.time_limit);
@@ -735,6 +784,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                                             : run_single(c, strategy, r.baseline);
   const Strategy result_strategy = s.outcome.strategy;
   take_selection(r, s, format);
+  take_move_absolute(r, options, format);
   if (!finite_prediction(r.prediction)) {
     // A law the models cannot follow (hundreds of g on a short move): no numbers to promise.
     const double a_peak =

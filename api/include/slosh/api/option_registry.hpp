@@ -62,6 +62,9 @@ struct OptionSpec {
   /// Parse rank: lower first, then registry order. The model options (modes, alpha, damping)
   /// are read first, as simulate reads them, so a request's first error stays the same.
   int parse_rank{0};
+  /// Keyed only when its value differs from the default: an option added after plans were keyed
+  /// (drive_profile) leaves the keys of the requests without it as they were.
+  bool keyed_when_set{false};
 };
 
 /// An object of "options" holding several options ("limits").
@@ -95,7 +98,8 @@ class OptionRegistry {
   /// members keep their value). Messages name the field, the value and the allowed range.
   void parse(const nlohmann::json& json_options, const Format& format, PlanOptions& options) const;
 
-  /// {recipe_name: SI value} of every keyed option: the "options" of the canonical recipe.
+  /// {recipe_name: SI value} of every keyed option (those keyed_when_set only when they differ
+  /// from their default): the "options" of the canonical recipe.
   [[nodiscard]] nlohmann::json recipe(const PlanOptions& options) const;
 
  private:

@@ -25,6 +25,9 @@ constexpr double kDefaultMinRamp{0.05};
 /// Tolerance on sum(durations) == T [s].
 constexpr double kDurationSumTolerance{1e-9};
 
+/// Resolution of a planned duration [s]: a segment shorter than 1 ns is exactly 0 (SPEC §11).
+constexpr double kZeroDuration{1e-9};
+
 /// Default nonlinear stiffening coefficient alpha [-] (thesis eq. 2.35).
 constexpr double kDefaultAlpha{0.58};
 

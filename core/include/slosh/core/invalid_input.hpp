@@ -58,11 +58,12 @@ enum class PlanInput {
   kRefineExcess,      ///< MinTimeOptions::refine_excess [-]
   kWarmStart,         ///< PlanOptions::warm_start[index]; index -1: their sum [s]
   kLawResponse,       ///< the planned law's predicted sloshing (finite: the models describe it) [m]
+  kDriveProfile,      ///< PlanOptions::drive_profile with the strategy and the bounds; value: T [s]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 41> table{{
+  static constexpr std::array<EnumName<PlanInput>, 42> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -104,6 +105,7 @@ struct EnumNames<PlanInput> {
       {PlanInput::kRefineExcess, "refine_excess"},
       {PlanInput::kWarmStart, "warm_start"},
       {PlanInput::kLawResponse, "law_response"},
+      {PlanInput::kDriveProfile, "drive_profile"},
   }};
 };
 

@@ -30,6 +30,15 @@ struct AdmissibilityRules {
 [[nodiscard]] std::optional<std::string> check_admissible(const Durations& d,
                                                           const AdmissibilityRules& rules);
 
+/// The durations with every segment shorter than kZeroDuration set to exactly 0 and the sum equal
+/// to `motion_time` to the last bit (summed left to right; the difference goes to the longest
+/// segment). For durations that already sum to T within round-off (SPEC §11).
+[[nodiscard]] Durations clean_durations(Durations d, double motion_time);
+
+/// Puts the difference between `motion_time` and the left-to-right sum of `d` on segment `into`
+/// until the sum is `motion_time` to the last bit (at most a few ulps move).
+void close_sum(Durations& d, double motion_time, std::size_t into);
+
 /// A, B and the peak velocity of a set of durations for a stroke.
 struct PlateauLevels {
   double A{};       ///< positive plateau [m/s^2]
@@ -74,7 +83,8 @@ class SevenSegmentLaw {
   MotionLaw law_;
 };
 
-/// Uniform durations T/7 (the thesis baseline).
+/// Uniform durations T/7 (the thesis baseline); the cruise dT4 carries the last ulps that make the
+/// left-to-right sum T exactly.
 [[nodiscard]] Durations uniform_durations(double motion_time);
 
 }  // namespace slosh

@@ -13,6 +13,7 @@
 #include "slosh/core/invalid_input.hpp"
 
 #include "slosh/core/law/filtered_laws.hpp"
+#include "slosh/core/law/move_absolute.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
@@ -91,6 +92,23 @@ struct EnumNames<SolverChoice> {
   return std::string(name_of(value));
 }
 
+/// What the drive runs (SPEC §11).
+enum class DriveProfile {
+  kFree,          ///< any 7-segment law: four ramp jerks of their own (a cam table runs it)
+  kMoveAbsolute,  ///< one jerk J for the four ramps, dT1 = dT3 = A / J, dT5 = dT7 = B / J: what a
+                  ///< PLCopen MC_MoveAbsolute block with a jerk limit runs
+};
+template <>
+struct EnumNames<DriveProfile> {
+  static constexpr std::array<EnumName<DriveProfile>, 2> table{{
+      {DriveProfile::kFree, "free"},
+      {DriveProfile::kMoveAbsolute, "move_absolute"},
+  }};
+};
+[[nodiscard]] inline std::string to_string(DriveProfile value) {
+  return std::string(name_of(value));
+}
+
 /// Machine limits; an unset limit is not enforced.
 struct MachineLimits {
   std::optional<double> a_max;  ///< peak |acceleration| = max(A, B) [m/s^2]
@@ -132,6 +150,12 @@ struct PlanOptions {
   std::array<double, 2> plateau_min{0.0, 0.0};
   /// Machine limits. Default none.
   MachineLimits limits;
+  /// The law family. kMoveAbsolute: notch, multi_notch, min_jerk_band and time_domain optimise in
+  /// the one-jerk family's own coordinates (ramp ta, ramp tb, cruise; exact gradients by the chain
+  /// rule), the plan carries PlanResult::move_absolute, fir_chain holds only when its law is a
+  /// one-jerk 7-segment law, and shaper and iir are refused (their laws are not 7-segment laws);
+  /// auto runs the strategies that hold. Default kFree.
+  DriveProfile drive_profile{DriveProfile::kFree};
   /// Solver. Default kAuto.
   SolverChoice solver{SolverChoice::kAuto};
   /// Wall-clock budget of the whole plan [s], for both solvers (Ipopt's through its intermediate
@@ -227,6 +251,11 @@ using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 /// baseline is not positive (the figure the plan's message and the API's reductions report).
 [[nodiscard]] double reduction_percent(double baseline, double value);
 
+/// Why `strategy` cannot plan under `profile` (shaper and iir under kMoveAbsolute: their laws are
+/// not 7-segment laws), as an invalid input kDriveProfile; nullopt when it can.
+[[nodiscard]] std::optional<InvalidInput> drive_profile_refusal(Strategy strategy,
+                                                                DriveProfile profile);
+
 /// True for the strategies that build a law by filtering instead of optimising 7 durations.
 [[nodiscard]] bool is_filter_strategy(Strategy strategy);
 
@@ -288,6 +317,9 @@ struct PlanResult {
   SolverReport solver;
   std::vector<std::string> warnings;
   std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
+  /// With PlanOptions::drive_profile kMoveAbsolute, the MC_MoveAbsolute numbers of the law (set
+  /// whenever the returned law is a one-jerk 7-segment law).
+  std::optional<MoveAbsoluteProfile> move_absolute;
 
   /// True when the law can be run: optimal, acceptable, or time-limited (best admissible).
   [[nodiscard]] bool usable() const {
