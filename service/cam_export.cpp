@@ -69,12 +69,13 @@ api::ApiError master_error(const MasterAxisRefusal& r, const MasterAxis& axis,
                              ": allowed >= " + api::number_text(rounded_up(r.bounds.lo)) +
                              " master units" + std::string(rows_hint));
   }
+  const std::string verdict = std::isfinite(r.value) ? " is out of range" : " is not finite";
   if (std::isfinite(r.bounds.lo) && std::isfinite(r.bounds.hi)) {
-    return invalid(name, head + " is out of range " + r.allowed() +
+    return invalid(name, head + verdict + " " + r.allowed() +
                              " master units (0 <= " + names.master_start + " < " +
                              names.master_end + " <= " + names.master_period + ")");
   }
-  return invalid(name, head + " is out of range: allowed " + r.allowed() + " master units");
+  return invalid(name, head + verdict + ": allowed " + r.allowed() + " master units");
 }
 
 // A master-axis table: period, start and end all given, or none of them (nor the step).
