@@ -25,10 +25,6 @@ namespace {
 
 using nlohmann::json;
 
-/// Shortest and longest controller cycle accepted by --period-ms [ms].
-constexpr double kMinPeriodMs = kCamMinPeriod * 1e3;
-constexpr double kMaxPeriodMs = 1000.0;
-
 // 12 significant digits; never "-0".
 std::string cell(double v) {
   char buffer[32];
@@ -70,6 +66,7 @@ struct ExportSource {
   std::optional<SevenSegmentLaw> seven;
   double stroke{};
   std::string law_type;                   // api::LawType name
+  std::string strategy;                   // the plan's strategy; empty for a law request
   std::optional<api::ExportedPlan> plan;  // empty for a law request
 };
 
@@ -101,6 +98,7 @@ ExportSource plan_source(const json& body, const std::string& text, const Server
   source.law = plan.law;
   source.stroke = plan.stroke;
   source.law_type = api::to_string(plan.type);
+  source.strategy = plan.strategy;
   source.plan = api::ExportedPlan{plan.key, plan.cached, plan.status, plan.message};
   return source;
 }
@@ -123,16 +121,6 @@ void write_text(const std::string& path, const std::string& text) {
 }
 
 }  // namespace
-
-std::string cam_table_csv(const std::vector<CamSample>& samples) {
-  std::string out = "t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3\n";
-  out.reserve(out.size() + samples.size() * 64);
-  for (const CamSample& s : samples) {
-    out += cell(s.t) + ',' + cell(s.position * 1e3) + ',' + cell(s.velocity * 1e3) + ',' +
-           cell(s.acceleration * 1e3) + ',' + cell(s.jerk * 1e3) + '\n';
-  }
-  return out;
-}
 
 std::string segment_table_csv(const SevenSegmentLaw& law) {
   std::string out =
@@ -166,13 +154,13 @@ ExportFailure invalid(std::string field, const std::string& message) {
           api::ApiError(api::ErrorCode::kInvalidValue, std::move(field), message)};
 }
 
-std::optional<ExportFailure> check_period(double period_ms) {
+// The validated cam table options of the command line.
+std::variant<CamTableSpec, ExportFailure> cam_spec(const CamOptions& options) {
   try {
-    check_period_ms(period_ms, "--period-ms");
+    return resolve_cam_options(options, cli_option_names(), kCamMaxSamples, "");
   } catch (const api::ApiError& e) {
     return ExportFailure{kExitInvalidInput, e};
   }
-  return std::nullopt;
 }
 
 // The law of the request (a plan is solved or read from the cache).
@@ -212,46 +200,46 @@ std::optional<ExportFailure> check_exportable(const ExportSource& source,
 }
 
 api::ExportSummary summary_of(const ExportSource& source, const ExportCommandOptions& options,
-                              const std::vector<CamSample>& samples) {
+                              const CamTableSpec& spec, const CamTable& table) {
   api::ExportSummary s;
   s.law_type = source.law_type;
   s.plan = source.plan;
   s.cam_table = options.out;
-  s.period = options.period_ms * 1e-3;
-  s.samples = samples.size();
+  s.file_format = spec.format == CamFileFormat::kSt ? "st" : "csv";
+  s.period = table.period;
+  s.master = table.axis;
+  s.samples = table.rows();
   s.motion_time = source.law.duration();
-  s.end_time = samples.back().t;
+  s.end_time = table.axis ? 0.0 : table.time.back().t;
   s.stroke = source.stroke;
   s.seven = source.seven;
   if (source.seven) s.segment_table = options.segments;
-  if (s.end_time - s.motion_time > kCamTimeTolerance) {
-    s.warnings.push_back("the motion time " + api::number_text(s.motion_time) +
-                         " s is not a multiple of the " + api::number_text(options.period_ms) +
-                         " ms cycle: the law ends " +
-                         api::number_text((s.end_time - s.motion_time) * 1e3) +
-                         " ms before the last sample, which holds the stroke");
-  }
+  s.warnings = cam_warnings(table);
   return s;
+}
+
+CamSource cam_source(const ExportSource& source) {
+  CamSource c;
+  c.law_type = source.law_type;
+  c.strategy = source.strategy;
+  c.key = source.plan ? source.plan->key : "";
+  c.stroke = source.stroke;
+  c.motion_time = source.law.duration();
+  return c;
 }
 
 }  // namespace
 
-void check_period_ms(double period_ms, const std::string& field) {
-  if (period_ms >= kMinPeriodMs && period_ms <= kMaxPeriodMs) return;
-  throw api::ApiError(api::ErrorCode::kInvalidValue, field,
-                      field + " = " + api::number_text(period_ms) + " is out of range [" +
-                          api::number_text(kMinPeriodMs) + ", " + api::number_text(kMaxPeriodMs) +
-                          "] ms");
-}
-
-std::string plan_cam_table_csv(const std::string& plan_text, double period_ms,
-                               bool allow_infeasible) {
-  check_period_ms(period_ms, "period_ms");
+std::string plan_cam_file(const std::string& plan_text, const CamOptions& options,
+                          bool allow_infeasible) {
+  const CamTableSpec spec = resolve_cam_options(options, query_option_names(), kMaxServedCamRows,
+                                                " here (slosh export writes longer tables)");
   const api::PlanLaw plan = api::plan_law(plan_text);
   // The whole table is built in memory: at most kMaxServedCamRows rows per request.
   const double duration = plan.law.duration();
+  const double period_ms = spec.period_ms;
   const double shortest_ms = 1e3 * duration / static_cast<double>(kMaxServedCamRows - 2);
-  if (duration / (period_ms * 1e-3) > static_cast<double>(kMaxServedCamRows - 2)) {
+  if (!spec.master && duration / (period_ms * 1e-3) > static_cast<double>(kMaxServedCamRows - 2)) {
     throw api::ApiError(
         api::ErrorCode::kInvalidValue, "period_ms",
         "period_ms = " + api::number_text(period_ms) + " gives more than " +
@@ -263,28 +251,40 @@ std::string plan_cam_table_csv(const std::string& plan_text, double period_ms,
     throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                         api::not_exportable_message(plan, "add allow_infeasible=true"));
   }
+  CamTable table;
   try {
-    return cam_table_csv(sample_cam_table(plan.law, plan.stroke, period_ms * 1e-3));
+    table = sample_cam(plan.law, plan.stroke, spec);
   } catch (const std::invalid_argument& e) {
-    throw api::ApiError(api::ErrorCode::kInvalidValue, "period_ms", e.what());
+    throw api::ApiError(api::ErrorCode::kInvalidValue, spec.master ? "master_step" : "period_ms",
+                        e.what());
   }
+  CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};
+  return cam_file(table, source, spec);
 }
 
 int run_export_command(const ExportCommandOptions& options) {
-  if (auto failure = check_period(options.period_ms)) return report(*failure);
+  auto resolved = cam_spec(options.cam);
+  if (auto* failure = std::get_if<ExportFailure>(&resolved)) return report(*failure);
+  const CamTableSpec& spec = std::get<CamTableSpec>(resolved);
   auto loaded = load_source(options);
   if (auto* failure = std::get_if<ExportFailure>(&loaded)) return report(*failure);
   const ExportSource& source = std::get<ExportSource>(loaded);
   if (auto failure = check_exportable(source, options)) return report(*failure);
-  std::vector<CamSample> samples;
+  CamTable table;
+  std::string file;
   try {
-    samples = sample_cam_table(source.law, source.stroke, options.period_ms * 1e-3);
+    table = sample_cam(source.law, source.stroke, spec);
   } catch (const std::invalid_argument& e) {
-    return report(invalid("--period-ms", e.what()));
+    return report(invalid(spec.master ? "--master-step" : "--period-ms", e.what()));
   }
-  const api::ExportSummary summary = summary_of(source, options, samples);
   try {
-    write_text(options.out, cam_table_csv(samples));
+    file = cam_file(table, cam_source(source), spec);
+  } catch (const std::exception& e) {
+    return report({kExitFailure, api::ApiError(api::ErrorCode::kInternal, "", e.what())});
+  }
+  const api::ExportSummary summary = summary_of(source, options, spec, table);
+  try {
+    write_text(options.out, file);
     if (source.seven && !options.segments.empty()) {
       write_text(options.segments, segment_table_csv(*source.seven));
     }

@@ -275,10 +275,18 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
     case api::Operation::kReady:
       return [&service](const httplib::Request&, const std::string&) { return service.ready(); };
     case api::Operation::kCamTable:
-      return [&service](const httplib::Request& req, const std::string&) {
-        return service.cam_table(req.matches[1], req.get_param_value("period_ms"),
+    case api::Operation::kCamTableSt: {
+      const CamFileFormat format =
+          operation == api::Operation::kCamTableSt ? CamFileFormat::kSt : CamFileFormat::kCsv;
+      return [&service, format](const httplib::Request& req, const std::string&) {
+        const CamQuery query{
+            req.get_param_value("period_ms"),    req.get_param_value("master_period"),
+            req.get_param_value("master_start"), req.get_param_value("master_end"),
+            req.get_param_value("master_step"),  req.get_param_value("st_name")};
+        return service.cam_table(req.matches[1], format, query,
                                  req.get_param_value("allow_infeasible"));
       };
+    }
     case api::Operation::kPage:
       return [&service](const httplib::Request& req, const std::string&) {
         return service.web_asset("", req.get_header_value("If-None-Match"));

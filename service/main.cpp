@@ -31,6 +31,7 @@ struct CliArgs {
   slosh::service::BatchCommandOptions batch;
   std::string batch_progress = "auto";
   slosh::service::ExportCommandOptions export_options;
+  std::string export_format = "csv";
 };
 
 std::string cache_help(const CliArgs& a, const std::string& what) {
@@ -118,18 +119,46 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
   return batch;
 }
 
+// The cam table options of `slosh export` (CamOptions in cam_export.hpp).
+void add_cam_options(CLI::App& export_cmd, CliArgs& a) {
+  auto& c = a.export_options.cam;
+  export_cmd
+      .add_option("--format", a.export_format,
+                  "Cam table file: csv, or st (IEC 61131-3 structured text: a TYPE of a cam "
+                  "point and a VAR_GLOBAL CONSTANT array of the rows)")
+      ->check(CLI::IsMember({"csv", "st"}))
+      ->capture_default_str();
+  export_cmd.add_option("--period-ms", c.period_ms,
+                        "Time-based table: controller cycle [ms], in [0.01, 1000] [default 1]");
+  export_cmd.add_option("--master-period", c.master_period,
+                        "Master-axis table instead: length of the master cycle [master units, "
+                        "e.g. 360 degrees], > 0; the table covers [0, period]: 0 before the "
+                        "start, the law from start to end at constant master speed, the stroke "
+                        "after the end");
+  export_cmd.add_option("--master-start", c.master_start,
+                        "Master position where the motion starts, 0 <= start < end");
+  export_cmd.add_option("--master-end", c.master_end,
+                        "Master position where the motion ends at the stroke, end <= period");
+  export_cmd.add_option("--master-step", c.master_step,
+                        "Master distance between rows, > 0 [default period / 360]; rows are "
+                        "added at start, end and period when they are off the grid");
+  export_cmd.add_option("--st-name", c.st_name,
+                        "--format st: identifier of the ARRAY constant [default SLOSH_CAM]");
+}
+
 CLI::App* add_export(CLI::App& app, CliArgs& a) {
   auto& o = a.export_options;
   auto* export_cmd = app.add_subcommand(
-      "export", "Cam table (t, position, velocity, acceleration, jerk) of a plan or a law as CSV");
+      "export",
+      "Cam table of a plan or a law (time-based: t, position, velocity, acceleration, jerk; or "
+      "on a master axis) as CSV or IEC 61131-3 structured text");
   export_cmd
       ->add_option("--request", o.request,
                    "Plan request (solved or read from the cache) or simulate request with \"law\"; "
                    "- for stdin")
       ->capture_default_str();
-  export_cmd->add_option("--out", o.out, "Cam table CSV file, or - for stdout")->required();
-  export_cmd->add_option("--period-ms", o.period_ms, "Controller cycle [ms]")
-      ->capture_default_str();
+  export_cmd->add_option("--out", o.out, "Cam table file (CSV or ST), or - for stdout")->required();
+  add_cam_options(*export_cmd, a);
   export_cmd->add_option("--segments", o.segments,
                          "Also write the 7-segment table (durations, jerks, A, B) to this CSV");
   export_cmd->add_flag("--allow-infeasible", o.allow_infeasible,
@@ -205,6 +234,8 @@ int main(int argc, char** argv) {
   }
   if (*export_cmd) {
     a.export_options.config = *server;
+    a.export_options.cam.format = a.export_format == "st" ? slosh::service::CamFileFormat::kSt
+                                                          : slosh::service::CamFileFormat::kCsv;
     return slosh::service::run_export_command(a.export_options);
   }
   return slosh::service::kExitInvalidInput;

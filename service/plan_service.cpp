@@ -530,22 +530,10 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
   return r;
 }
 
-Reply PlanService::cam_table(const std::string& key, const std::string& period_ms,
+Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const CamQuery& query,
                              const std::string& allow_infeasible) {
   return guarded([&] {
-    double period = 1.0;
-    if (!period_ms.empty()) {
-      std::size_t used = 0;
-      try {
-        period = std::stod(period_ms, &used);
-      } catch (const std::exception&) {
-        used = 0;
-      }
-      if (used != period_ms.size() || !std::isfinite(period)) {
-        throw api::ApiError(api::ErrorCode::kInvalidValue, "period_ms",
-                            "period_ms = " + period_ms.substr(0, 32) + " is not a number [ms]");
-      }
-    }
+    const CamOptions options = parse_cam_query(query, format);
     if (!allow_infeasible.empty() && allow_infeasible != "true" && allow_infeasible != "false") {
       throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                           "allow_infeasible = " + allow_infeasible.substr(0, 32) +
@@ -559,13 +547,17 @@ Reply PlanService::cam_table(const std::string& key, const std::string& period_m
           "key");
     }
     metrics_.count_cache(true);
+    const bool st = format == CamFileFormat::kSt;
     Reply r;
-    r.content_type = "text/csv; charset=utf-8";
-    r.body =
-        plan_cam_table_csv(api::render_plan_reply(*hit, true), period, allow_infeasible == "true");
+    r.content_type = st ? "text/plain; charset=utf-8" : "text/csv; charset=utf-8";
+    r.body = plan_cam_file(api::render_plan_reply(*hit, true), options, allow_infeasible == "true");
+    const std::string table =
+        options.master_period
+            ? "master"
+            : api::number_text(options.period_ms.value_or(kDefaultPeriodMs)) + "ms";
     r.headers.emplace_back("Content-Disposition", "attachment; filename=\"cam-" +
-                                                      key.substr(0, 64) + "-" +
-                                                      api::number_text(period) + "ms.csv\"");
+                                                      key.substr(0, 64) + "-" + table +
+                                                      (st ? ".st\"" : ".csv\""));
     return r;
   });
 }

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "cam_export.hpp"
 #include "metrics.hpp"
 #include "plan_cache.hpp"
 #include "server_config.hpp"
@@ -109,8 +110,10 @@ class PlanService {
   /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
   /// `if_none_match` names the ETag, 404 for an unknown name.
   Reply web_asset(const std::string& name, const std::string& if_none_match) const;
-  /// The cam table CSV of the cached plan `key` at `period_ms` (the query text; empty = 1 ms).
-  Reply cam_table(const std::string& key, const std::string& period_ms,
+  /// The cam table file of the cached plan `key` (GET /v1/plans/{key}/cam.csv, cam.st): `query`
+  /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis),
+  /// `allow_infeasible` "true", "false" or empty. 404 for an unknown key, 422 naming a parameter.
+  Reply cam_table(const std::string& key, CamFileFormat format, const CamQuery& query,
                   const std::string& allow_infeasible);
   Reply openapi() const;
   Reply health() const;

@@ -37,10 +37,22 @@ std::string export_summary_json(const ExportSummary& s) {
     out = {{"source", "law"}, {"law", s.law_type}};
   }
   out["cam_table"] = s.cam_table;
-  out["period_s"] = s.period;
+  out["file_format"] = s.file_format;
+  out["table"] = s.master ? "master" : "time";
+  if (s.master) {
+    const MasterAxis& m = *s.master;
+    out["master"] = {{"period", m.period},
+                     {"start", m.start},
+                     {"end", m.end},
+                     {"step", m.step},
+                     {"speed_per_s", (m.end - m.start) / s.motion_time},
+                     {"equidistant", master_grid_is_equidistant(m)}};
+  } else {
+    out["period_s"] = s.period;
+  }
   out["samples"] = s.samples;
   out["motion_time_s"] = s.motion_time;
-  out["end_time_s"] = s.end_time;
+  if (!s.master) out["end_time_s"] = s.end_time;
   out["stroke_mm"] = s.stroke * 1e3;
   if (s.seven) {
     const SevenSegmentLaw& law = *s.seven;

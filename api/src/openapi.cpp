@@ -864,6 +864,78 @@ json plan_operation(const Route& route) {
   }
 }
 
+/// A query parameter of the cam table routes.
+json query_parameter(const char* name, json schema, const char* description) {
+  return {{"name", name},
+          {"in", "query"},
+          {"required", false},
+          {"schema", std::move(schema)},
+          {"description", description}};
+}
+
+/// The parameters of GET /v1/plans/{key}/cam.csv and cam.st (`st`: with st_name).
+json cam_table_parameters(bool st) {
+  const json master_units = {{"type", "number"}};
+  json p = json::array(
+      {{{"name", "key"},
+        {"in", "path"},
+        {"required", true},
+        {"schema", {{"type", "string"}}},
+        {"description", "Recipe key of a cached plan."}},
+       query_parameter("period_ms",
+                       {{"type", "number"}, {"minimum", 0.01}, {"maximum", 1000}, {"default", 1}},
+                       "Time-based table: controller cycle [ms], as `slosh export --period-ms`. "
+                       "Not with the master_* parameters."),
+       query_parameter("master_period",
+                       {{"type", "number"}, {"exclusiveMinimum", true}, {"minimum", 0}},
+                       "Master-axis table: length of the master cycle [master units, e.g. 360 "
+                       "degrees]. master_period, master_start and master_end come together; the "
+                       "table covers [0, master_period]: 0 mm before master_start, the law from "
+                       "master_start to master_end at the constant master speed (master_end - "
+                       "master_start) / T, the stroke from master_end on."),
+       query_parameter("master_start", master_units,
+                       "Master position where the motion starts: 0 <= master_start < "
+                       "master_end [master units]."),
+       query_parameter("master_end", master_units,
+                       "Master position where the motion ends at the stroke: master_start < "
+                       "master_end <= master_period [master units]."),
+       query_parameter("master_step",
+                       {{"type", "number"}, {"exclusiveMinimum", true}, {"minimum", 0}},
+                       "Master distance between rows [master units]; default master_period / "
+                       "360. Rows are added at master_start, master_end and master_period when "
+                       "they are off the step grid; at most 200000 rows."),
+       query_parameter("allow_infeasible", {{"type", "boolean"}, {"default", false}},
+                       "Export the law of an infeasible plan too.")});
+  if (st) {
+    p.push_back(query_parameter(
+        "st_name", {{"type", "string"}, {"default", "SLOSH_CAM"}, {"maxLength", 64}},
+        "Identifier of the ARRAY constant (an IEC 61131-3 identifier, not a keyword)."));
+  }
+  return p;
+}
+
+/// GET /v1/plans/{key}/cam.csv (`st` false) and cam.st.
+json cam_table_operation(bool st) {
+  const char* csv_columns =
+      "Time-based: t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3 (the last row, "
+      "at or after the motion time, holds the stroke). Master-axis: "
+      "master,position_mm,velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3 "
+      "(slave derivatives per master unit).";
+  const char* st_text =
+      "IEC 61131-3 structured text: a comment header (format, strategy, recipe key, slosh "
+      "version, law), TYPE SLOSH_CAM_POINT (time-based) or SLOSH_MASTER_CAM_POINT (master-axis), "
+      "a STRUCT of LREAL members named as the CSV columns, and VAR_GLOBAL CONSTANT <st_name> : "
+      "ARRAY[0..N-1] OF that type := [(...), ...]; END_VAR.";
+  const char* type = st ? "text/plain" : "text/csv";
+  return {
+      {"tags", {"plans"}},
+      {"parameters", cam_table_parameters(st)},
+      {"responses", with_statuses({{"200",
+                                    {{"description", st ? st_text : csv_columns},
+                                     {"content", {{type, {{"schema", {{"type", "string"}}}}}}}}}},
+                                  {404, 422, 500})}};
+}
+
 json read_operation(const Route& route) {
   switch (route.operation) {
     case Operation::kFluids:
@@ -892,30 +964,8 @@ json read_operation(const Route& route) {
                                   "written; plans are answered from memory), with a reason.",
                                   ref("Readiness"))}}}};
     case Operation::kCamTable:
-      return {
-          {"tags", {"plans"}},
-          {"parameters",
-           {{{"name", "key"},
-             {"in", "path"},
-             {"required", true},
-             {"schema", {{"type", "string"}}},
-             {"description", "Recipe key of a cached plan."}},
-            {{"name", "period_ms"},
-             {"in", "query"},
-             {"required", false},
-             {"schema", {{"type", "number"}, {"default", 1}}},
-             {"description", "Controller cycle [ms], as `slosh export --period-ms`."}},
-            {{"name", "allow_infeasible"},
-             {"in", "query"},
-             {"required", false},
-             {"schema", {{"type", "boolean"}, {"default", false}}},
-             {"description", "Export the law of an infeasible plan too."}}}},
-          {"responses",
-           with_statuses(
-               {{"200",
-                 {{"description", "t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3"},
-                  {"content", {{"text/csv", {{"schema", {{"type", "string"}}}}}}}}}},
-               {404, 422, 500})}};
+    case Operation::kCamTableSt:
+      return cam_table_operation(route.operation == Operation::kCamTableSt);
     case Operation::kPage:
     case Operation::kAsset:
       return {{"tags", {"page"}},
@@ -943,6 +993,7 @@ json operation(const Route& route) {
     case Operation::kMinTime:
       return plan_operation(route);
     case Operation::kCamTable:
+    case Operation::kCamTableSt:
     case Operation::kPage:
     case Operation::kAsset:
       return read_operation(route);

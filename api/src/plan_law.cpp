@@ -18,6 +18,7 @@ PlanLaw plan_law(std::string_view plan_text) {
   const ParsedLaw law = parse_law(plan["law"], "law", format, ranges::kMinRampS.lo);
   PlanLaw out;
   out.key = plan.value("key", std::string());
+  out.strategy = plan.value("strategy", std::string());
   out.cached = plan.value("cached", false);
   out.status = enum_from_name<SolveStatus>(plan.value("status", std::string()))
                    .value_or(SolveStatus::kFailed);

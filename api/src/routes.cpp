@@ -23,7 +23,11 @@ constexpr std::array kRoutes{
     Route{"GET", "/readyz", Operation::kReady, "ready", "Readiness: accepts new solves"},
     Route{"GET", "/metrics", Operation::kMetrics, "metrics", "Prometheus metrics"},
     Route{"GET", "/v1/plans/{key}/cam.csv", Operation::kCamTable, "getCamTable",
-          "Cam table CSV of a cached plan at a controller period (what `slosh export` writes)"},
+          "Cam table CSV of a cached plan, time-based at a controller period or on a master axis "
+          "(what `slosh export` writes)"},
+    Route{"GET", "/v1/plans/{key}/cam.st", Operation::kCamTableSt, "getCamTableSt",
+          "Cam table of a cached plan as IEC 61131-3 structured text (what `slosh export --format "
+          "st` writes)"},
     Route{"GET", "/", Operation::kPage, "page", "The web page: plan a format and see the plan"},
     Route{"GET", "/assets/{name}", Operation::kAsset, "asset",
           "Scripts and styles of the web page (embedded in the binary)"},

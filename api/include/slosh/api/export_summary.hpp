@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "slosh/core/law/cam_table.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
 
@@ -25,10 +26,12 @@ struct ExportSummary {
   std::string law_type;                  ///< LawType name
   std::optional<ExportedPlan> plan;      ///< empty when a law request was exported
   std::string cam_table;                 ///< path of the cam table
-  double period{};                       ///< controller cycle [s]
+  std::string file_format{"csv"};        ///< how the cam table is written: "csv" or "st"
+  double period{};                       ///< controller cycle [s] (time-based table)
+  std::optional<MasterAxis> master;      ///< the master axis of a master-axis table
   std::size_t samples{};                 ///< rows of the cam table
   double motion_time{};                  ///< [s]
-  double end_time{};                     ///< time of the last sample [s]
+  double end_time{};                     ///< time of the last sample [s] (time-based table)
   double stroke{};                       ///< [m]
   std::optional<SevenSegmentLaw> seven;  ///< the 7-segment law, when the law is one
   std::string segment_table;             ///< path of the segment table; empty when not written
@@ -36,8 +39,10 @@ struct ExportSummary {
 };
 
 /// The summary as JSON text (2-space indented): source, key, cached, status, message (plans),
-/// law, cam_table, period_s, samples, motion_time_s, end_time_s, stroke_mm, and for 7-segment
-/// laws durations_s, A_mm_s2, B_mm_s2, v_peak_mm_s, segments (and segment_table), warnings.
+/// law, cam_table, file_format, table ("time" or "master"), period_s (time) or master {period,
+/// start, end, step, speed_per_s, equidistant} (master), samples, motion_time_s, end_time_s
+/// (time), stroke_mm, and for 7-segment laws durations_s, A_mm_s2, B_mm_s2, v_peak_mm_s, segments
+/// (and segment_table), warnings.
 [[nodiscard]] std::string export_summary_json(const ExportSummary& summary);
 
 }  // namespace slosh::api

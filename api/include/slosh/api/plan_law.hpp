@@ -15,6 +15,7 @@ namespace slosh::api {
 /// A plan's law with what an export reports of the plan.
 struct PlanLaw {
   std::string key;
+  std::string strategy;  ///< the plan's strategy name (empty when the text has none)
   bool cached{false};
   SolveStatus status{SolveStatus::kFailed};
   std::string message;

@@ -20,6 +20,7 @@ enum class Operation {
   kReady,
   kMetrics,
   kCamTable,
+  kCamTableSt,
   kPage,
   kAsset
 };
