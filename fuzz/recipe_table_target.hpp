@@ -69,7 +69,7 @@ inline void run_recipe_table(const std::uint8_t* data, std::size_t size,
     const std::string code = api::to_string(result.error->code());
     require(code == "invalid_value" || code == "malformed_json" || code == "overloaded",
             "a recipe fails as invalid_value or malformed_json (or is refused), never internal");
-    const nlohmann::json row = service::plan_row(rows[i], result, false);
+    const nlohmann::json row = service::plan_row(rows[i], result, std::nullopt);
     require(row["status"] == "error" && row["message"].is_string(), "an error row has a message");
     csv_writer.write(row);
     jsonl_writer.write(row);

@@ -19,6 +19,7 @@
 #include "recipe_table.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/api/recipe_row.hpp"
 #include "slosh/api/service_bodies.hpp"
 #include "worker_pool.hpp"
@@ -44,9 +45,10 @@ struct BatchAbort : std::runtime_error {
 /// Writes rows in input order and keeps the counts of the summary.
 class RowSink {
  public:
-  RowSink(PlanTableWriter& writer, bool full) : writer_(writer), full_(full) {}
+  RowSink(PlanTableWriter& writer, std::optional<api::PlanView> view)
+      : writer_(writer), view_(view) {}
   void write(const RecipeRow& recipe, const BatchResult& result) {
-    const json row = plan_row(recipe, result, full_);
+    const json row = plan_row(recipe, result, view_);
     const std::string status = row["status"].get<std::string>();
     ++statuses_[status];
     if (status == "error") failed_rows_.push_back(recipe.row);
@@ -61,7 +63,7 @@ class RowSink {
 
  private:
   PlanTableWriter& writer_;
-  bool full_;
+  std::optional<api::PlanView> view_;
   std::size_t written_{0};
   std::size_t cached_{0};
   std::vector<std::size_t> failed_rows_;
@@ -382,10 +384,29 @@ std::vector<std::size_t> run_min_time_remote(const std::vector<RecipeRow>& rows,
 
 namespace {
 
+// The view of the plan each JSON row carries: --view, or full with --full (both: the same view);
+// nullopt for none. Throws TableError for an unknown view or two different ones.
+std::optional<api::PlanView> row_plan_view(const BatchCommandOptions& options) {
+  std::optional<api::PlanView> view;
+  if (options.view) {
+    try {
+      view = api::parse_plan_view(*options.view);
+    } catch (const api::ApiError& e) {
+      throw TableError(std::string("--") + e.what());
+    }
+  }
+  if (options.full && view && *view != api::PlanView::kFull) {
+    throw TableError("--full adds the whole plan but --view " + *options.view +
+                     " the compact one: give one of them");
+  }
+  return options.full ? std::optional(api::PlanView::kFull) : view;
+}
+
 // The recipe table and where its plans go; an exit code after a message when they are unusable.
 struct BatchInput {
   std::vector<RecipeRow> rows;
   TableFormat out_format{};
+  std::optional<api::PlanView> view;  // of the plan added to each JSON row (--full, --view)
   std::unique_ptr<HttpClient> client;
 };
 
@@ -400,8 +421,11 @@ std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInp
       throw TableError("cannot read the recipe table '" + options.in + "'");
     }
     in.rows = read_recipe_table(text, in_format);
-    if (options.full && in.out_format == TableFormat::kCsv) {
-      throw TableError("--full adds the whole plan to JSON rows: use a .json or .jsonl output");
+    in.view = row_plan_view(options);
+    if (in.view && in.out_format == TableFormat::kCsv) {
+      throw TableError(
+          std::string(options.full ? "--full adds the whole plan" : "--view adds the plan") +
+          " to JSON rows: use a .json or .jsonl output");
     }
     if (!options.server.empty() && options.chunk == 0) {
       throw TableError("--chunk must be at least 1");
@@ -413,8 +437,9 @@ std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInp
     std::cerr << "slosh batch: " << e.what() << '\n';
     return kExitInvalidInput;
   }
-  if (options.mode == "min_time" && options.full) {
-    std::cerr << "slosh batch: --full is for plan tables, not --mode min_time\n";
+  if (options.mode == "min_time" && in.view) {
+    std::cerr << "slosh batch: " << (options.full ? "--full" : "--view")
+              << " is for plan tables, not --mode min_time\n";
     return kExitInvalidInput;
   }
   return std::nullopt;
@@ -471,7 +496,7 @@ int run_min_time_mode(const BatchCommandOptions& options, BatchInput& in, BatchO
 int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutput& output,
                   std::chrono::steady_clock::time_point started) {
   PlanTableWriter writer(output.stream(), in.out_format);
-  RowSink sink(writer, options.full);
+  RowSink sink(writer, in.view);
   const bool draw = progress_enabled(options.progress);
   ProgressBar bar(std::cerr, in.rows.size(), draw);
   bar.update(0);

@@ -4,6 +4,7 @@
 // through POST /v1/min-time).
 
 #include <cstddef>
+#include <optional>
 #include <string>
 
 #include "progress_bar.hpp"
@@ -32,8 +33,11 @@ struct BatchCommandOptions {
   /// Default 64.
   std::size_t chunk{64};
   ProgressMode progress{ProgressMode::kAuto};
-  /// Adds the whole plan to each JSON row.
+  /// Adds the whole plan to each JSON row (as view "full").
   bool full{false};
+  /// Adds the plan to each JSON row in this view: "full" or "compact" (api::parse_plan_view);
+  /// nullopt = none (unless `full`).
+  std::optional<std::string> view;
   /// "plan" (a plan per recipe) or "min_time" (each strategy's minimum motion time per recipe,
   /// SPEC §9: motion_time_s is the upper end of the search; locally with the min-time answers of
   /// the cache file, or through --server). Default "plan".

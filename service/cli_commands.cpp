@@ -7,6 +7,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
@@ -45,9 +46,14 @@ int run_simulate_command(const std::string& request_path) {
       [&] { return api::run_simulate(api::parse_simulate_request(read_request(request_path))); });
 }
 
-int run_plan_command(const std::string& request_path) {
-  return print_json_or_error(
-      [&] { return api::run_plan(api::parse_plan_request(read_request(request_path))); });
+int run_plan_command(const std::string& request_path, const std::optional<std::string>& view) {
+  return print_json_or_error([&] {
+    const api::PlanView v = view ? api::parse_plan_view(*view) : api::PlanView::kFull;
+    const api::PlanRequest request = api::parse_plan_request(read_request(request_path));
+    api::require_no_series(v, request.sample_period);
+    const nlohmann::json plan = api::run_plan(request);
+    return v == api::PlanView::kCompact ? api::compact_plan(plan) : plan;
+  });
 }
 
 int run_min_time_command(const std::string& request_path) {

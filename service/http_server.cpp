@@ -233,12 +233,20 @@ void configure_transport(ListeningServer& server, const ServerConfig& config) {
 // The handler of one operation: the request (and its body for POST) to a reply.
 using Handler = std::function<Reply(const httplib::Request&, const std::string& body)>;
 
+// Every value of the query parameter `view` (the plan endpoints' view), in order.
+std::vector<std::string> view_values(const httplib::Request& req) {
+  std::vector<std::string> values;
+  const std::size_t n = req.get_param_value_count("view");
+  for (std::size_t i = 0; i < n; ++i) values.push_back(req.get_param_value("view", i));
+  return values;
+}
+
 Handler handler_of(api::Operation operation, Runtime& rt) {
   PlanService& service = rt.service;
   switch (operation) {
     case api::Operation::kPlan:
       return [&service](const httplib::Request& req, const std::string& body) {
-        return service.post_plan(body, req.get_header_value("If-None-Match"));
+        return service.post_plan(body, req.get_header_value("If-None-Match"), view_values(req));
       };
     case api::Operation::kPlanBatch:
       return [&rt](const httplib::Request& req, const std::string& body) {
@@ -246,13 +254,16 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
         auto next_check = std::chrono::steady_clock::now();
         bool gone = false;
         const std::string peer = peer_of(req);
-        return rt.service.post_batch(body, [&]() {
-          if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
-            gone = rt.reaper->closed_by_peer(peer);
-            next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
-          }
-          return gone;
-        });
+        return rt.service.post_batch(
+            body,
+            [&]() {
+              if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
+                gone = rt.reaper->closed_by_peer(peer);
+                next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
+              }
+              return gone;
+            },
+            view_values(req));
       };
     case api::Operation::kMinTime:
       return [&service](const httplib::Request& req, const std::string& body) {
@@ -260,7 +271,8 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       };
     case api::Operation::kGetPlan:
       return [&service](const httplib::Request& req, const std::string&) {
-        return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"));
+        return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"),
+                                view_values(req));
       };
     case api::Operation::kSimulate:
       return [&service](const httplib::Request&, const std::string& body) {

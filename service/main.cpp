@@ -28,6 +28,7 @@ struct CliArgs {
   std::optional<std::size_t> workers, queue;
   std::optional<std::string> cache;
   std::string request = "-";
+  std::optional<std::string> view;  // slosh plan --view
   slosh::service::BatchCommandOptions batch;
   std::string batch_progress = "auto";
   slosh::service::ExportCommandOptions export_options;
@@ -109,6 +110,9 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
       ->check(CLI::IsMember({"auto", "always", "never"}))
       ->capture_default_str();
   batch->add_flag("--full", a.batch.full, "JSON output: add the whole plan to each row");
+  batch->add_option("--view", a.batch.view,
+                    "JSON output: add the plan to each row in this view: full (as --full) or "
+                    "compact (as ?view=compact)");
   batch
       ->add_option("--mode", a.batch.mode,
                    "plan: a plan per recipe; min_time: each strategy's minimum motion time per "
@@ -204,6 +208,9 @@ int main(int argc, char** argv) {
       "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
   auto* plan = add_request_command(
       app, a, "plan", "Plan the 7-segment law of a format (JSON in, the /v1/plans response out)");
+  plan->add_option("--view", a.view,
+                   "full (default): the whole plan; compact: key, status, strategy, law, "
+                   "kinematics, predictions, warnings and version (as ?view=compact)");
   auto* min_time = add_request_command(
       app, a, "min-time",
       "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");
@@ -215,7 +222,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
   if (*simulate) return slosh::service::run_simulate_command(a.request);
-  if (*plan) return slosh::service::run_plan_command(a.request);
+  if (*plan) return slosh::service::run_plan_command(a.request, a.view);
   if (*min_time) return slosh::service::run_min_time_command(a.request);
   const std::optional<ServerConfig> server =
       layered_config(a, app.get_subcommands().front()->get_name());

@@ -4,7 +4,6 @@
 #include <sqlite3.h>
 
 #include "slosh/api/plan.hpp"
-#include "slosh/api/plan_reply.hpp"
 
 #include <array>
 #include <chrono>
@@ -14,17 +13,19 @@
 namespace slosh::service {
 namespace {
 
-/// Both tables of the layout, whichever cache opens the file first. `digest` is
-/// api::sha256_key(body): SQLite checks its pages' structure, not their content, so a row whose
-/// bytes changed on disk is only caught by its digest.
+/// Both tables of the layout, whichever cache opens the file first. `digest` is row_digest of the
+/// key, the version and the body: SQLite checks its pages' structure, not their content, so a row
+/// whose bytes changed on disk is only caught by its digest.
 constexpr std::string_view kSchema =
     "CREATE TABLE IF NOT EXISTS plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, "
-    "created_unix INTEGER NOT NULL, digest TEXT NOT NULL DEFAULT '');"
+    "created_unix INTEGER NOT NULL, digest TEXT NOT NULL DEFAULT '', "
+    "version TEXT NOT NULL DEFAULT '');"
     "CREATE TABLE IF NOT EXISTS min_times(key TEXT PRIMARY KEY, body TEXT NOT NULL, "
-    "created_unix INTEGER NOT NULL, digest TEXT NOT NULL DEFAULT '')";
+    "created_unix INTEGER NOT NULL, digest TEXT NOT NULL DEFAULT '', "
+    "version TEXT NOT NULL DEFAULT '')";
 constexpr std::array<std::string_view, 2> kTables{"plans", "min_times"};
-/// The layout whose plans are kept when the file is brought to kStoreLayoutVersion.
-constexpr std::string_view kPlansOnlyLayout = "2";
+/// The columns that layouts before kStoreLayoutVersion lack (digest: layout 2; version: 2 and 3).
+constexpr std::array<std::string_view, 2> kAddedColumns{"digest", "version"};
 
 std::string table_name(CacheTable table) {
   return table == CacheTable::kMinTime ? "min_times" : "plans";
@@ -66,11 +67,13 @@ void execute(sqlite3* db, std::string_view sql, std::string& error) {
   sqlite3_free(message);
 }
 
-/// The digest of a row: of its key and its body, so that neither can change on disk unnoticed.
-std::string row_digest(std::string_view key, std::string_view body) {
+/// The digest of a row: of its key, its version and its body, so that none of them can change on
+/// disk unnoticed.
+std::string row_digest(std::string_view key, std::string_view version, std::string_view body) {
   std::string text;
-  text.reserve(key.size() + 1 + body.size());
+  text.reserve(key.size() + version.size() + 2 + body.size());
   text.append(key).push_back('\n');
+  text.append(version).push_back('\n');
   text.append(body);
   return api::sha256_key(text);
 }
@@ -80,41 +83,10 @@ bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
                             stmt, nullptr) == SQLITE_OK;
 }
 
-/// Writes the digest of every row of `table` that is a stored answer of its key (the plans a
-/// layout-2 file keeps; a row it cannot vouch for, e.g. damaged before the upgrade, keeps the
-/// empty digest, which no row matches: its first read drops it). Sets `error`.
-void fill_digests(sqlite3* db, std::string_view table, std::string& error) {
-  sqlite3_stmt* select = nullptr;
-  sqlite3_stmt* update = nullptr;
-  const std::string name(table);
-  if (!prepare(db, "SELECT rowid, key, body FROM " + name, &select) ||
-      !prepare(db, "UPDATE " + name + " SET digest = ?1 WHERE rowid = ?2", &update)) {
-    error = message_of(db);
-  }
-  int rc = error.empty() ? sqlite3_step(select) : SQLITE_DONE;
-  for (; rc == SQLITE_ROW; rc = sqlite3_step(select)) {
-    const auto* key = static_cast<const char*>(sqlite3_column_blob(select, 1));
-    const auto* text = static_cast<const char*>(sqlite3_column_blob(select, 2));
-    const std::string_view key_text(key == nullptr ? "" : key,
-                                    static_cast<std::size_t>(sqlite3_column_bytes(select, 1)));
-    const std::string_view body(text == nullptr ? "" : text,
-                                static_cast<std::size_t>(sqlite3_column_bytes(select, 2)));
-    if (!api::is_stored_answer(key_text, body)) continue;
-    const std::string digest = row_digest(key_text, body);
-    sqlite3_bind_text(update, 1, digest.c_str(), -1, SQLITE_TRANSIENT);
-    sqlite3_bind_int64(update, 2, sqlite3_column_int64(select, 0));
-    const int written = sqlite3_step(update);
-    sqlite3_reset(update);
-    if (written != SQLITE_DONE) break;
-  }
-  if (error.empty() && rc != SQLITE_DONE) error = message_of(db);
-  sqlite3_finalize(select);
-  sqlite3_finalize(update);
-}
-
 /// Brings the file to kStoreLayoutVersion in one write transaction (so two connections opening it
-/// at once migrate it once): creates the tables and their digest column; a layout-2 file keeps its
-/// plans (their digests written), any other layout is emptied. Sets `error` on failure.
+/// at once migrate it once): creates the tables and the columns they lack; a file of any other
+/// layout is emptied (layouts 2 and 3 recorded no version: their answers are an older planner's).
+/// Sets `error` on failure.
 void migrate_layout(sqlite3* db, std::string& error) {
   execute(db, "BEGIN IMMEDIATE", error);
   if (!error.empty()) return;
@@ -122,20 +94,24 @@ void migrate_layout(sqlite3* db, std::string& error) {
   const std::string current = std::to_string(kStoreLayoutVersion);
   std::string found = error.empty() ? query_text(db, "PRAGMA user_version", error) : "";
   for (std::string_view table : kTables) {
-    const std::string name(table);
-    if (error.empty() &&
-        query_text(db,
-                   "SELECT COUNT(*) FROM pragma_table_info('" + name + "') WHERE name = 'digest'",
-                   error) == "0") {
-      execute(db, "ALTER TABLE " + name + " ADD COLUMN digest TEXT NOT NULL DEFAULT ''", error);
-      // A file that says layout 3 but has no digests is of no layout this slosh knows: emptied.
-      if (found == current) found = "unknown";
+    for (std::string_view column : kAddedColumns) {
+      const std::string name(table);
+      const std::string col(column);
+      if (error.empty() && query_text(db,
+                                      "SELECT COUNT(*) FROM pragma_table_info('" + name +
+                                          "') WHERE name = '" + col + "'",
+                                      error) == "0") {
+        execute(db, "ALTER TABLE " + name + " ADD COLUMN " + col + " TEXT NOT NULL DEFAULT ''",
+                error);
+        // A file that says this layout but lacks its columns is of no layout this slosh knows.
+        if (found == current) found = "unknown";
+      }
     }
   }
   if (error.empty() && found != current) {
-    if (error.empty() && found != kPlansOnlyLayout) execute(db, "DELETE FROM plans", error);
-    if (error.empty() && found == kPlansOnlyLayout) fill_digests(db, "plans", error);
-    if (error.empty()) execute(db, "DELETE FROM min_times", error);
+    for (std::string_view table : kTables) {
+      if (error.empty()) execute(db, "DELETE FROM " + std::string(table), error);
+    }
     if (error.empty()) execute(db, "PRAGMA user_version = " + current, error);
   }
   if (error.empty()) execute(db, "COMMIT", error);
@@ -184,10 +160,11 @@ void PlanCache::open_store() {
     }
     if (error.empty()) migrate_layout(db_, error);
     if (error.empty() &&
-        (!prepare(db_, "SELECT body, digest FROM " + table_ + " WHERE key = ?1", &select_) ||
+        (!prepare(db_, "SELECT body, digest, version FROM " + table_ + " WHERE key = ?1",
+                  &select_) ||
          !prepare(db_,
                   "INSERT OR REPLACE INTO " + table_ +
-                      "(key, body, created_unix, digest) VALUES(?1, ?2, ?3, ?4)",
+                      "(key, body, created_unix, digest, version) VALUES(?1, ?2, ?3, ?4, ?5)",
                   &upsert_))) {
       error = message_of(db_);
     }
@@ -312,9 +289,15 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
         const int bytes = sqlite3_column_bytes(select_, 0);
         value.emplace(text == nullptr ? "" : std::string(text, static_cast<std::size_t>(bytes)));
         const auto* digest = reinterpret_cast<const char*>(sqlite3_column_text(select_, 1));
-        if (digest == nullptr || row_digest(key, *value) != digest) {
+        const auto* version = static_cast<const char*>(sqlite3_column_blob(select_, 2));
+        const std::string_view row_version(
+            version == nullptr ? "" : version,
+            static_cast<std::size_t>(sqlite3_column_bytes(select_, 2)));
+        if (digest == nullptr || row_digest(key, row_version, *value) != digest) {
           value.reset();
           corrupt = true;
+        } else if (row_version != config_.version) {
+          value.reset();  // another slosh's answer: never served (its key is not ours either)
         }
       } else if (rc != SQLITE_DONE) {
         set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
@@ -351,8 +334,12 @@ void PlanCache::put(const std::string& key, const std::string& value) {
                              SQLITE_STATIC);
     }
     if (rc == SQLITE_OK) rc = sqlite3_bind_int64(upsert_, 3, now_unix());
-    const std::string digest = row_digest(key, value);
+    const std::string digest = row_digest(key, config_.version, value);
     if (rc == SQLITE_OK) rc = sqlite3_bind_text(upsert_, 4, digest.c_str(), -1, SQLITE_TRANSIENT);
+    if (rc == SQLITE_OK) {
+      rc = sqlite3_bind_text(upsert_, 5, config_.version.data(),
+                             static_cast<int>(config_.version.size()), SQLITE_STATIC);
+    }
     if (rc == SQLITE_OK) rc = sqlite3_step(upsert_);
   }
   const std::string message =

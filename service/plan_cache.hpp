@@ -16,6 +16,8 @@
 #include <unordered_map>
 #include <utility>
 
+#include "version.hpp"
+
 struct sqlite3;
 struct sqlite3_stmt;
 
@@ -23,11 +25,12 @@ namespace slosh::service {
 
 /// Layout of the store file (PRAGMA user_version): 2 = table `plans` of api::StoredPlan bodies
 /// (without the per-reply `cached` member); 3 = the same with a digest per row, and table
-/// `min_times` of stored min-time answers. Opening a layout-2 file keeps its plans that are stored
-/// answers of their keys (their digests written; the others are dropped) and adds `min_times`; a
-/// file of any other layout (older, or written by a newer slosh) is emptied (a cache: answers are
-/// computed again on demand).
-constexpr int kStoreLayoutVersion = 3;
+/// `min_times` of stored min-time answers; 4 = the same with the slosh version that wrote each row
+/// (column `version`, covered by the digest). Opening a file of layout 2 or 3 empties it: its
+/// answers were made by a slosh that recorded no version (an older planner, whose answers are
+/// never served) and their keys hold no version. A file of any other layout (older, or written by
+/// a newer slosh) is emptied too (a cache: answers are computed again on demand).
+constexpr int kStoreLayoutVersion = 4;
 
 /// The tables of the store file: each cache instance reads and writes one of them, so a key of
 /// one kind is never answered from the other.
@@ -53,6 +56,9 @@ struct CacheConfig {
   int busy_timeout_ms{5000};
   /// The table of the store this cache uses (store_bytes bounds that table). Default plans.
   CacheTable table{CacheTable::kPlans};
+  /// The slosh version whose answers this cache writes and serves: a row of another version is
+  /// never served (it stays in the file for that version until pruned). Default slosh::kVersion.
+  std::string version{kVersion};
 };
 
 /// In-memory LRU in front of a persistent SQLite store (WAL mode, one file). Thread-safe.
@@ -60,9 +66,11 @@ struct CacheConfig {
 ///
 /// The store file holds two tables of the same shape, `plans` and `min_times` (key TEXT PRIMARY
 /// KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL, digest TEXT NOT NULL: the
-/// api::sha256_key of the key and the body); a cache uses the one of `config.table` (two caches on
-/// one file are two connections). A row whose body no longer matches its digest (bytes changed on
-/// disk) is never served: get() answers absent, deletes the row and records the failure. The file
+/// api::sha256_key of the key, the version and the body, version TEXT NOT NULL: the slosh version
+/// that wrote the row); a cache uses the one of `config.table` (two caches on one file are two
+/// connections). A row whose key, version or body no longer matches its digest (bytes changed on
+/// disk) is never served: get() answers absent, deletes the row and records the failure. A row of
+/// another version than `config.version` is never served either (get() answers absent). The file
 /// is opened in WAL mode with synchronous=NORMAL: committed entries survive a restart and a process
 /// crash (a power loss may drop the last few). Its layout is versioned (PRAGMA user_version,
 /// kStoreLayoutVersion). Every put is written through at once (one transaction each). A store that

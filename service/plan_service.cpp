@@ -123,18 +123,21 @@ Reply PlanService::error_reply(api::ErrorCode code, const std::string& message,
 Reply PlanService::plan_reply(const std::string& key, const std::string& body, bool cached,
                               const std::string& if_none_match,
                               const std::optional<api::PlanRequest>& request,
-                              std::optional<double> sample_period) const {
+                              std::optional<double> sample_period, api::PlanView view) const {
   Reply r;
-  // The ETag names the body: the same plan with series of another period is another body.
-  const std::string tag =
-      sample_period ? etag(key + ";series=" + api::number_text(*sample_period)) : etag(key);
+  // The ETag names the body: the same plan with series of another period, or in the compact view,
+  // is another body.
+  const std::string tag = view == api::PlanView::kCompact ? etag(key + ";view=compact")
+                          : sample_period
+                              ? etag(key + ";series=" + api::number_text(*sample_period))
+                              : etag(key);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
   if (cached && etag_matches(if_none_match, tag)) {
     r.status = 304;
     return r;
   }
-  r.body = api::render_plan_reply(body, cached, request ? &*request : nullptr, sample_period);
+  r.body = api::render_plan_reply(body, cached, request ? &*request : nullptr, sample_period, view);
   return r;
 }
 
@@ -214,16 +217,19 @@ Reply PlanService::overloaded_reply() const {
   return from_api_error(overloaded_error());
 }
 
-Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match) {
+Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match,
+                             const std::vector<std::string>& view_query) {
   return guarded([&] {
+    const api::PlanView view = api::parse_view_query(view_query);
     api::PlanRequest request = api::parse_plan_text(text, config_.solve_budget_s);
+    api::require_no_series(view, request.sample_period);
     const std::string key = api::recipe_key(request);
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
-      return plan_reply(key, *hit, true, if_none_match, request, sample_period);
+      return plan_reply(key, *hit, true, if_none_match, request, sample_period, view);
     }
     bool refused = false;
     auto future = solve(key, request, false, &refused);
@@ -238,7 +244,7 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     }
     const Outcome& outcome = future.get();
     if (outcome.error) return from_api_error(*outcome.error);
-    return plan_reply(key, outcome.body, false, if_none_match, request, sample_period);
+    return plan_reply(key, outcome.body, false, if_none_match, request, sample_period, view);
   });
 }
 
@@ -400,7 +406,8 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
   });
 }
 
-Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match) {
+Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match,
+                            const std::vector<std::string>& view_query) {
   return guarded([&] {
     if (key == "batch") {  // the path of POST /v1/plans/batch, not a key
       Reply r = error_reply(api::ErrorCode::kMethodNotAllowed,
@@ -408,9 +415,10 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       r.headers.emplace_back("Allow", "POST");
       return r;
     }
+    const api::PlanView view = api::parse_view_query(view_query);
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
-      return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt);
+      return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view);
     }
     return error_reply(
         api::ErrorCode::kNotFound,
@@ -479,15 +487,18 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
   return batch;
 }
 
-Reply PlanService::post_batch(const std::string& text, const std::function<bool()>& abandoned) {
+Reply PlanService::post_batch(const std::string& text, const std::function<bool()>& abandoned,
+                              const std::vector<std::string>& view_query) {
   return guarded([&] {
-    const PendingBatch batch =
-        start_batch(api::parse_batch_text(text, config_.batch_max), abandoned);
+    const api::BatchBody body = api::parse_batch_body(text, config_.batch_max);
+    const api::PlanView view = api::batch_view(view_query, body.view);
+    const PendingBatch batch = start_batch(body.requests, abandoned);
     api::BatchReplyWriter writer(config_.max_response_bytes);
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const BatchResult item = batch.get(i);
       if (item.ok()) {
-        writer.add_plan(i, item.plan);
+        writer.add_plan(
+            i, view == api::PlanView::kCompact ? api::compact_plan_text(item.plan) : item.plan);
       } else {
         writer.add_error(i, *item.error);
       }

@@ -22,6 +22,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "worker_pool.hpp"
 
 namespace slosh::service {
@@ -83,11 +84,16 @@ class PlanService {
   /// Finishes queued and running solves.
   ~PlanService();
 
-  Reply post_plan(const std::string& body, const std::string& if_none_match);
-  Reply get_plan(const std::string& key, const std::string& if_none_match);
+  /// `view`: the values of the request's `view` query parameter (api::parse_view_query; none =
+  /// the full plan). The view changes neither the key nor the cache entry, only the reply.
+  Reply post_plan(const std::string& body, const std::string& if_none_match,
+                  const std::vector<std::string>& view = {});
+  Reply get_plan(const std::string& key, const std::string& if_none_match,
+                 const std::vector<std::string>& view = {});
   /// `abandoned` (optional) tells whether the client has gone away: no further solves are queued
-  /// for it then.
-  Reply post_batch(const std::string& body, const std::function<bool()>& abandoned = {});
+  /// for it then. `view`: the query's view values (api::batch_view, with the body's "view").
+  Reply post_batch(const std::string& body, const std::function<bool()>& abandoned = {},
+                   const std::vector<std::string>& view = {});
   /// Starts a batch of parsed plan requests: cache hits and invalid items finish at once, the
   /// others are queued on the pool (waiting for queue room) with single-flight per recipe.
   PendingBatch start_batch(const std::vector<nlohmann::json>& requests,
@@ -147,10 +153,11 @@ class PlanService {
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
                                     bool wait_for_room, bool* refused);
   // The reply of a rendered plan: 304 when `if_none_match` names it, the series of
-  // `sample_period` added when set.
+  // `sample_period` added when set, in `view`.
   Reply plan_reply(const std::string& key, const std::string& body, bool cached,
                    const std::string& if_none_match, const std::optional<api::PlanRequest>& request,
-                   std::optional<double> sample_period) const;
+                   std::optional<double> sample_period,
+                   api::PlanView view = api::PlanView::kFull) const;
   // 503 with Retry-After: the queue is full, or the service is shutting down.
   api::ApiError overloaded_error() const;
   struct MinTimeSearch;

@@ -29,7 +29,8 @@ void write_cell(std::ostream& out, const json& value) {
 
 }  // namespace
 
-json plan_row(const RecipeRow& recipe, const BatchResult& result, bool full) {
+json plan_row(const RecipeRow& recipe, const BatchResult& result,
+              std::optional<api::PlanView> view) {
   json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}};
   if (!result.ok()) {
     row.update(api::error_row_figures(api::error_envelope(*result.error)["error"], recipe.csv));
@@ -38,7 +39,7 @@ json plan_row(const RecipeRow& recipe, const BatchResult& result, bool full) {
   const json plan = json::parse(result.plan);
   row.update(api::plan_row_figures(plan));
   row["cached"] = result.cached;
-  if (full) row["plan"] = plan;
+  if (view) row["plan"] = *view == api::PlanView::kCompact ? api::compact_plan(plan) : plan;
   return row;
 }
 

@@ -2,6 +2,7 @@
 // Plan tables written by `slosh batch`: one row per recipe, in input order, as CSV (one column
 // per figure, units in the names), JSON lines or a JSON array.
 
+#include <optional>
 #include <ostream>
 #include <string>
 
@@ -9,15 +10,17 @@
 
 #include "plan_service.hpp"
 #include "recipe_table.hpp"
+#include "slosh/api/plan_view.hpp"
 
 namespace slosh::service {
 
 /// The table row of one recipe: {"row", "recipe_id", "status", "key", "cached", "strategy",
 /// "message", "durations_s", "kinematics", "f1_hz", "prediction", "baseline", "reduction_pct",
 /// "solve_ms"} of its plan, or {"row", "recipe_id", "status": "error", "message", "error",
-/// "error_field"} when the recipe could not be planned. `full` adds the whole plan as "plan".
+/// "error_field"} when the recipe could not be planned. `plan` adds the plan as "plan" in that
+/// view (the whole plan, or api::compact_plan of it).
 [[nodiscard]] nlohmann::json plan_row(const RecipeRow& recipe, const BatchResult& result,
-                                      bool full);
+                                      std::optional<api::PlanView> plan);
 
 /// The CSV header of plan tables (comma-separated column names).
 [[nodiscard]] std::string plan_table_header();

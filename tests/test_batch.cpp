@@ -152,9 +152,10 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "reduction_rest_pct",
                                             "solve_ms",
                                             "message",
-                                            "error_field"};
-const std::set<std::string> kTextColumns{"recipe_id", "status",  "key",        "strategy",
-                                         "law_type",  "message", "error_field"};
+                                            "error_field",
+                                            "version"};
+const std::set<std::string> kTextColumns{"recipe_id", "status",  "key",         "strategy",
+                                         "law_type",  "message", "error_field", "version"};
 
 /// One row of a plan table by column name.
 struct OutRow {
@@ -522,7 +523,7 @@ TEST_F(BatchTable, EveryRowInInputOrderErrorsNamedGoodRowsEqualTheJsonPlan) {
       EXPECT_NE(row.text("message").find(recipe.message_has), std::string::npos)
           << row.text("message");
       for (const char* empty :
-           {"key", "cached", "strategy", "law_type", "T1_s", "A_m_s2", "solve_ms"}) {
+           {"key", "cached", "strategy", "law_type", "T1_s", "A_m_s2", "solve_ms", "version"}) {
         EXPECT_EQ(row.text(empty), "") << empty;
       }
       continue;
@@ -531,6 +532,9 @@ TEST_F(BatchTable, EveryRowInInputOrderErrorsNamedGoodRowsEqualTheJsonPlan) {
     expect_row_matches_plan(row, plan, recipe.id());
     EXPECT_EQ(row.text("key"), api::recipe_key(api::parse_plan_request(request_of(recipe))));
     EXPECT_EQ(row.text("cached"), "false");
+    // The table records which slosh planned it (issue 19).
+    EXPECT_EQ(row.text("version"), plan["version"].get<std::string>());
+    EXPECT_EQ(row.text("version"), slosh::kVersion);
     double sum = 0.0;
     for (int k = 1; k <= 7; ++k) sum += row.number("T" + std::to_string(k) + "_s");
     EXPECT_NEAR(sum, to_double(recipe.cell("motion_time_s")), 1e-9);

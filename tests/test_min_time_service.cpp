@@ -107,7 +107,7 @@ TEST(MinTimeService, AnswerSurvivesARestartInItsOwnTableByteForByte) {
     ASSERT_EQ(server.stop(), 0) << server.log();
   }
   const std::string file = (dir / "plans.sqlite").string();
-  EXPECT_EQ(query(file, "PRAGMA user_version"), "3");
+  EXPECT_EQ(query(file, "PRAGMA user_version"), "4");
   EXPECT_EQ(query(file, "SELECT count(*) FROM min_times WHERE key = '" + key + "'"), "1");
   EXPECT_EQ(query(file, "SELECT count(*) FROM plans"), "0");
 

@@ -22,6 +22,7 @@
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/model/fluid.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -255,8 +256,26 @@ TEST(OpenApiDocument, DescribesEveryEndpointWithItsStatuses) {
     return paths[path][method]["responses"]["200"]["content"]["application/json"]["schema"]["$ref"];
   };
   EXPECT_EQ(body_ref("/v1/plans", "post"), "#/components/schemas/PlanRequest");
-  EXPECT_EQ(ok_ref("/v1/plans", "post"), "#/components/schemas/PlanResponse");
-  EXPECT_EQ(ok_ref("/v1/plans/{key}", "get"), "#/components/schemas/PlanResponse");
+  // The plan endpoints answer the plan in the view of ?view= (issue 19).
+  const json either_view = json::parse(R"({"oneOf": [{"$ref": "#/components/schemas/PlanResponse"},
+                                        {"$ref": "#/components/schemas/CompactPlan"}]})");
+  auto ok_schema = [&](const char* path, const char* method) {
+    return paths[path][method]["responses"]["200"]["content"]["application/json"]["schema"];
+  };
+  EXPECT_EQ(ok_schema("/v1/plans", "post"), either_view);
+  EXPECT_EQ(ok_schema("/v1/plans/{key}", "get"), either_view);
+  for (const auto& [path, method] : std::vector<std::pair<const char*, const char*>>{
+           {"/v1/plans", "post"}, {"/v1/plans/{key}", "get"}, {"/v1/plans/batch", "post"}}) {
+    bool has_view = false;
+    for (const auto& p : paths[path][method]["parameters"]) {
+      if (p["name"] != "view") continue;
+      has_view = p["in"] == "query" && p["required"] == false;
+      EXPECT_EQ(p["schema"]["enum"], json({"full", "compact"})) << path;
+      EXPECT_EQ(p["schema"]["default"], "full") << path;
+    }
+    EXPECT_TRUE(has_view) << path;
+  }
+  EXPECT_EQ(schema("BatchRequest")["properties"]["view"]["enum"], json({"full", "compact"}));
   EXPECT_EQ(body_ref("/v1/plans/batch", "post"), "#/components/schemas/BatchRequest");
   EXPECT_EQ(ok_ref("/v1/plans/batch", "post"), "#/components/schemas/BatchResponse");
   EXPECT_EQ(body_ref("/v1/simulate", "post"), "#/components/schemas/SimulateRequest");
@@ -540,6 +559,37 @@ TEST(OpenApiResponses, PlanResponsesFitThePlanResponseSchema) {
   broken["prediction"]["linear"]["eta_rest_mm"] = "3";
   EXPECT_EQ(validation_errors("PlanResponse", broken).size(), 3u)
       << joined(validation_errors("PlanResponse", broken));
+}
+
+// Issue 19: the compact view of real plans (a 7-segment law with warnings, a general law) fits
+// CompactPlan with no undocumented member, and a batch result tells the two views apart (oneOf).
+TEST(OpenApiResponses, CompactPlansFitTheCompactPlanSchema) {
+  json request = thesis_plan("multi_notch");
+  request["format"]["container"]["height_mm"] = 100;  // free board 18 mm: a warning
+  const json multi = run_plan(parse_plan_request(request));
+  ASSERT_FALSE(multi["warnings"].empty());
+  json shaper_request = thesis_plan("shaper");
+  const json shaper = run_plan(parse_plan_request(shaper_request));
+  ASSERT_NE(shaper["law"]["type"], "seven_segment");
+  for (const json* plan : {&multi, &shaper}) {
+    const json compact = compact_plan(*plan);
+    expect_top_level_keys("CompactPlan", compact);
+    const auto errors = validation_errors("CompactPlan", compact);
+    EXPECT_TRUE(errors.empty()) << joined(errors);
+    // The views do not pass for each other.
+    EXPECT_FALSE(validation_errors("PlanResponse", compact).empty());
+    EXPECT_FALSE(validation_errors("CompactPlan", *plan).empty());
+  }
+  const json batch{
+      {"results",
+       {{{"index", 0}, {"plan", compact_plan(multi)}}, {{"index", 1}, {"plan", multi}}}}};
+  const auto batch_errors = validation_errors("BatchResponse", batch);
+  EXPECT_TRUE(batch_errors.empty()) << joined(batch_errors);
+  // Every plan states its version.
+  EXPECT_EQ(multi["version"], kVersion);
+  EXPECT_TRUE(std::find(schema("PlanResponse")["required"].begin(),
+                        schema("PlanResponse")["required"].end(),
+                        "version") != schema("PlanResponse")["required"].end());
 }
 
 TEST(OpenApiResponses, SimulateResponsesFitTheSimulateResponseSchema) {

@@ -33,17 +33,28 @@ json request(const std::string& rest = "") {
   return json::parse(std::string(R"({"format": )") + kFormat + rest + "}");
 }
 
-// Keys computed with the code before the registry (commit 3f8474d): identical requests must keep
-// identical keys.
+// The recipe part of the keys, computed with the code before the registry (commit 3f8474d):
+// identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
+// slosh version added (issue 19): the digest of the canonical recipe without "slosh_version" is
+// still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
+// kVersion.
+std::string key_before_versions(const json& request) {
+  json recipe = canonical_recipe(parse_plan_request(request));
+  EXPECT_EQ(recipe.at("slosh_version"), kVersion);
+  EXPECT_EQ(recipe_key(parse_plan_request(request)), sha256_key(recipe.dump()));
+  recipe.erase("slosh_version");
+  return sha256_key(recipe.dump());
+}
+
 TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
-  EXPECT_EQ(recipe_key(parse_plan_request(request())), "f098b13c72055b01903ca239a4515e35");
-  EXPECT_EQ(recipe_key(parse_plan_request(request(R"(, "strategy": "multi_notch")"))),
+  EXPECT_EQ(key_before_versions(request()), "f098b13c72055b01903ca239a4515e35");
+  EXPECT_EQ(key_before_versions(request(R"(, "strategy": "multi_notch")")),
             "86972d7b59d529d9aafa377772f76d04");
-  EXPECT_EQ(recipe_key(parse_plan_request(request(R"(, "options": {"damping": {"zeta": 0.1}})"))),
+  EXPECT_EQ(key_before_versions(request(R"(, "options": {"damping": {"zeta": 0.1}})")),
             "01139b04b663793ef2aa04a47debed93");
-  EXPECT_EQ(recipe_key(parse_plan_request(request(R"(, "options": {"limits": {"a_max": 10}})"))),
+  EXPECT_EQ(key_before_versions(request(R"(, "options": {"limits": {"a_max": 10}})")),
             "07ed8e801d09a6064faadec32bd8bd63");
-  EXPECT_EQ(recipe_key(parse_plan_request(request(
+  EXPECT_EQ(key_before_versions(request(
                 R"(, "sample_period_s": 0.001, "options": {"p_notch": 0.2, "weights": [1, 2, 3],
                 "band": 0.1, "n_band": 31, "tol_rel": 0.3, "eta_rest_max_mm": 2.5,
                 "eta_motion_max_mm": 7, "objective": "rest", "rest_time_s": 2, "min_ramp_s": 0.04,
@@ -51,14 +62,14 @@ TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
                 "limits": {"a_max": 10, "v_max": 3, "j_max": 250}, "damping": "paper",
                 "alpha": 0.5, "modes": 2, "solver": "ipopt", "time_limit_s": 3,
                 "base": "modified_trapezoid", "shaper": "ei", "residual": 0.1, "iir_order": 2,
-                "iir_tau": 40, "iir_sample_period_s": 0.002})"))),
+                "iir_tau": 40, "iir_sample_period_s": 0.002})")),
             "00321acefa725b5d58986e22b0a24af4");
-  EXPECT_EQ(recipe_key(parse_plan_request(json::parse(
+  EXPECT_EQ(key_before_versions(json::parse(
                 R"({"format": {"container": {"radius_mm": 30}, "fill_height_mm": 40,
                 "fluid": {"density_kg_m3": 1100, "viscosity_pa_s": 0.002, "name": "syrup"},
                 "stroke_mm": 250.5, "motion_time_s": 0.7}, "strategy": "time_domain",
                 "options": {"objective": "rest", "eta_motion_max_mm": 4.5,
-                "limits": {"j_max": 300}}})"))),
+                "limits": {"j_max": 300}}})")),
             "1b45bc81a20eb1fa4f1f451e4b6d3159");
 }
 

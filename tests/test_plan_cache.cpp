@@ -349,7 +349,7 @@ TEST_F(PlanCacheTest, RowsOfAnotherBodyLayoutAreDroppedWhenTheStoreOpens) {
     EXPECT_EQ(cache.get("old"), std::nullopt);
     cache.put("new", "{\"key\":\"new\"}");
   }
-  EXPECT_EQ(query(path, "PRAGMA user_version"), "3");
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "4");
   PlanCache reopened({.path = path});  // the current layout is kept across restarts
   EXPECT_EQ(reopened.get("new"), "{\"key\":\"new\"}");
 }
@@ -377,13 +377,13 @@ TEST_F(PlanCacheTest, PlansAndMinTimeAnswersLiveInTheirOwnTablesOfOneFile) {
   EXPECT_EQ(min_times.get("plan-key"), std::nullopt);
 }
 
-TEST_F(PlanCacheTest, ALayoutTwoStoreKeepsItsPlansAndGainsTheMinTimeTable) {
-  // A store of the previous slosh (user_version 2: plans only), plus a min_times table left by a
-  // rollback from a later slosh: not part of layout 2, so its rows are dropped.
+TEST_F(PlanCacheTest, ALayoutTwoStoreIsEmptiedAndGainsTheVersionedTables) {
+  // A store of an older slosh (user_version 2: plans only, no versions), plus a min_times table
+  // left by a rollback from a later slosh: none of its rows says which planner made it.
   const std::string path = file("v2.sqlite");
   execute(path,
           "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
-          "NOT NULL); INSERT INTO plans VALUES('kept', '{\"key\":\"kept\"}', 1);"
+          "NOT NULL); INSERT INTO plans VALUES('old', '{\"key\":\"old\"}', 1);"
           "CREATE TABLE min_times(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
           "NOT NULL); INSERT INTO min_times VALUES('stray', '{}', 1); PRAGMA user_version = 2");
   {
@@ -392,27 +392,28 @@ TEST_F(PlanCacheTest, ALayoutTwoStoreKeepsItsPlansAndGainsTheMinTimeTable) {
     EXPECT_EQ(min_times.get("stray"), std::nullopt);
     min_times.put("answer", "{\"key\":\"answer\"}");
     PlanCache plans({.path = path});
-    EXPECT_EQ(plans.get("kept"), "{\"key\":\"kept\"}");
+    EXPECT_EQ(plans.get("old"), std::nullopt);
   }
-  EXPECT_EQ(query(path, "PRAGMA user_version"), "3");
-  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "1");
-  PlanCache reopened({.path = path, .table = CacheTable::kMinTime});  // layout 3 is kept
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "4");
+  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "0");
+  EXPECT_EQ(query(path, "SELECT version FROM min_times WHERE key = 'answer'"), kVersion);
+  PlanCache reopened({.path = path, .table = CacheTable::kMinTime});  // layout 4 is kept
   EXPECT_EQ(reopened.get("answer"), "{\"key\":\"answer\"}");
 }
 
 TEST_F(PlanCacheTest, AStoreOfAnUnknownLayoutIsEmptiedInBothTables) {
-  // Written by a later slosh (user_version 4): neither table's rows can be read with confidence.
-  const std::string path = file("v4.sqlite");
+  // Written by a later slosh (user_version 5): neither table's rows can be read with confidence.
+  const std::string path = file("v5.sqlite");
   execute(path,
           "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
           "NOT NULL); INSERT INTO plans VALUES('p', '{}', 1);"
           "CREATE TABLE min_times(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
-          "NOT NULL); INSERT INTO min_times VALUES('m', '{}', 1); PRAGMA user_version = 4");
+          "NOT NULL); INSERT INTO min_times VALUES('m', '{}', 1); PRAGMA user_version = 5");
   PlanCache plans({.path = path});
   EXPECT_TRUE(plans.storage_error().empty()) << plans.storage_error();
   EXPECT_EQ(plans.get("p"), std::nullopt);
   EXPECT_EQ(query(path, "SELECT count(*) FROM min_times"), "0");
-  EXPECT_EQ(query(path, "PRAGMA user_version"), "3");
+  EXPECT_EQ(query(path, "PRAGMA user_version"), "4");
 }
 
 TEST_F(PlanCacheTest, TheMinTimeTableIsPrunedWithinItsOwnBound) {
@@ -491,22 +492,6 @@ TEST_F(PlanCacheTest, ARowWhoseKeyChangedOnDiskAnswersNoOtherKey) {
   EXPECT_NE(cache.storage_error().find("(key 'k13') do not match their digest"), std::string::npos)
       << cache.storage_error();
   EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "0");
-}
-
-TEST_F(PlanCacheTest, ALayoutTwoStoreKeepsOnlyTheRowsThatAreAnswersOfTheirKeys) {
-  const std::string path = file("v2.sqlite");
-  execute(path,
-          "CREATE TABLE plans(key TEXT PRIMARY KEY, body TEXT NOT NULL, created_unix INTEGER "
-          "NOT NULL); INSERT INTO plans VALUES('good', '{\"key\":\"good\"}', 1);"
-          "INSERT INTO plans VALUES('cut', '{\"key\":\"cut\",\"dur', 1);"
-          "INSERT INTO plans VALUES('text', 'not json', 1);"
-          "INSERT INTO plans VALUES('other', '{\"key\":\"good\"}', 1); PRAGMA user_version = 2");
-  PlanCache cache({.path = path});
-  EXPECT_EQ(cache.get("good"), "{\"key\":\"good\"}");
-  for (const char* key : {"cut", "text", "other"}) {
-    EXPECT_EQ(cache.get(key), std::nullopt) << key;
-  }
-  EXPECT_EQ(query(path, "SELECT count(*) FROM plans"), "1");
 }
 
 TEST_F(PlanCacheTest, ALayoutThreeFileWithoutDigestsIsEmptiedAndUsable) {

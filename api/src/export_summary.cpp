@@ -3,6 +3,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
 
 namespace slosh::api {
 
@@ -53,7 +54,7 @@ std::string export_summary_json(const ExportSummary& s) {
   out["samples"] = s.samples;
   out["motion_time_s"] = s.motion_time;
   if (!s.master) out["end_time_s"] = s.end_time;
-  out["stroke_mm"] = s.stroke * 1e3;
+  out["stroke_mm"] = mm_of(s.stroke);
   if (s.seven) {
     const SevenSegmentLaw& law = *s.seven;
     out["durations_s"] = law.durations();

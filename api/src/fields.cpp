@@ -1,7 +1,10 @@
 #include "slosh/api/fields.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <limits>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -26,6 +29,33 @@ std::string number_text(double v) {
   os.precision(10);
   os << v;
   return os.str();
+}
+
+double mm_of(double metres) {
+  const double mm = metres * 1e3;
+  if (!std::isfinite(mm)) return mm;
+  // The shortest decimal near the product that converts back (a length typed with up to 15
+  // significant digits is found at its own digits).
+  constexpr int kMaxDigits = 17;
+  std::array<char, 40> text{};
+  for (int digits = 1; digits <= kMaxDigits; ++digits) {
+    const auto printed = std::to_chars(text.data(), text.data() + text.size(), mm,
+                                       std::chars_format::general, digits);
+    double candidate = 0.0;
+    std::from_chars(text.data(), printed.ptr, candidate);
+    if (candidate * 1e-3 == metres) return candidate;
+  }
+  // The product may miss every preimage by an ulp or two: the nearest double that converts back.
+  constexpr int kNeighbourUlps = 4;
+  double below = mm;
+  double above = mm;
+  for (int step = 0; step < kNeighbourUlps; ++step) {
+    below = std::nextafter(below, -std::numeric_limits<double>::infinity());
+    above = std::nextafter(above, std::numeric_limits<double>::infinity());
+    if (below * 1e-3 == metres) return below;
+    if (above * 1e-3 == metres) return above;
+  }
+  return mm;  // a computed length no millimetre value converts to
 }
 
 bool Range::contains(double v) const {

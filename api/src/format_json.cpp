@@ -127,15 +127,16 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
 }
 
 nlohmann::json format_json(const Format& f) {
-  nlohmann::json container{{"radius_mm", f.container.radius * 1e3}};
-  if (f.container.height) container["height_mm"] = *f.container.height * 1e3;
+  // The lengths as the request gave them (mm_of undoes parse_format's mm * 1e-3 exactly).
+  nlohmann::json container{{"radius_mm", mm_of(f.container.radius)}};
+  if (f.container.height) container["height_mm"] = mm_of(*f.container.height);
   return {{"container", container},
-          {"fill_height_mm", f.fill_height * 1e3},
+          {"fill_height_mm", mm_of(f.fill_height)},
           {"fluid",
            {{"name", f.fluid.name},
             {"density_kg_m3", f.fluid.density},
             {"viscosity_pa_s", f.fluid.viscosity}}},
-          {"stroke_mm", f.stroke * 1e3},
+          {"stroke_mm", mm_of(f.stroke)},
           {"motion_time_s", f.motion_time}};
 }
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
@@ -12,6 +13,9 @@ namespace slosh::api {
 namespace {
 
 constexpr double kDurationSumToleranceS = 1e-6;
+/// The rounding of summing 7 durations: at most a few ulps of T (bound with margin).
+constexpr double kSumRoundingUlps = 16.0;
+constexpr double kEpsilon = std::numeric_limits<double>::epsilon();
 /// Consecutive pieces must meet within this [s] (they are snapped together).
 constexpr double kPieceGapTolerance = 1e-9;
 /// Acceleration values (the bound every planned law keeps, kMaxLawAcceleration) and polynomial
@@ -79,8 +83,13 @@ Durations parse_durations(const nlohmann::json& law, const std::string& path, do
     invalid(dpath, dpath + " sum to " + number_text(sum) + " s but format.motion_time_s = " +
                        number_text(motion_time) + " s: they must be equal (tolerance 1e-6 s)");
   }
-  // Rescale the tiny residual so the law ends exactly at T.
-  for (double& x : d) x *= motion_time / sum;
+  // A residual beyond rounding (up to the tolerance) is spread over the segments so that the law
+  // ends at T. Durations whose sum is T but for the rounding of the additions (0.076 + 0.196 + ...
+  // in doubles) are kept as given: scaling them by T / sum would only add noise to the caller's
+  // numbers (0.076 -> 0.07599999999999998) and end the law no closer to T.
+  if (std::abs(sum - motion_time) > kSumRoundingUlps * kEpsilon * motion_time) {
+    for (double& x : d) x *= motion_time / sum;
+  }
   return d;
 }
 

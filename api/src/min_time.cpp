@@ -297,12 +297,12 @@ MinTimeRequest parse_min_time_request(const json& body, double budget) {
   return r;
 }
 
-std::string min_time_key(const MinTimeRequest& request) {
+std::string min_time_key(const MinTimeRequest& request, std::string_view version) {
   PlanRequest at_max;
   at_max.format = request.format;
   at_max.strategy = Strategy::kBaseline;
   at_max.options = request.options.plan;
-  json recipe = canonical_recipe(at_max);
+  json recipe = canonical_recipe(at_max, plan_option_registry(), version);
   recipe["format"].erase("motion_time_s");
   recipe.erase("strategy");
   const MinTimeOptions& o = request.options;
@@ -327,13 +327,14 @@ json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResul
   json out;
   out["key"] = key;
   out["cached"] = false;
+  out["version"] = kVersion;
   json format = format_json(request.format);
   format.erase("motion_time_s");
   out["format"] = format;
   out["motion_time_max_s"] = o.motion_time_max;
   const MachineLimits& m = o.plan.limits;
-  out["limits"] = {{"eta_motion_max_mm", *o.eta_motion_limit(request.format) * 1e3},
-                   {"eta_rest_max_mm", o.eta_rest_max * 1e3},
+  out["limits"] = {{"eta_motion_max_mm", mm_of(*o.eta_motion_limit(request.format))},
+                   {"eta_rest_max_mm", mm_of(o.eta_rest_max)},
                    {"model", to_string(o.model)},
                    {"rest_time_s", o.plan.rest_time},
                    {"a_max", optional_json(m.a_max)},

@@ -8,6 +8,7 @@
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/api/routes.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/model/fluid.hpp"
@@ -227,8 +228,12 @@ void add_plan_request_schemas(json& s, const OptionRegistry& registry) {
                 {"maxItems", kOpenApiBatchMax},
                 {"description", "1 to batch_max plan requests (server setting, default " +
                                     std::to_string(kOpenApiBatchMax) + ")."}};
-  s["BatchRequest"] =
-      object({{"requests", requests}}, {"requests"}, "Many recipes, planned in parallel.", true);
+  s["BatchRequest"] = object({{"requests", requests},
+                              {"view", with_default(string_enum(plan_view_names(),
+                                                                "The view of every plan of the "
+                                                                "results (as ?view=)."),
+                                                    "full")}},
+                             {"requests"}, "Many recipes, planned in parallel.", true);
 }
 
 void add_simulate_request_schemas(json& s) {
@@ -455,11 +460,53 @@ void add_filter_design_schema(json& s) {
       {"method"}, "How fir_chain, shaper or iir built the law (absent for the optimisers).", false);
 }
 
+/// A plan in either view: the full PlanResponse or the CompactPlan (view=compact).
+json any_plan() {
+  return {{"oneOf", {ref("PlanResponse"), ref("CompactPlan")}}};
+}
+
+/// The compact plan (SPEC §11, api::compact_plan): what a controller needs, under 1 kB for a
+/// 7-segment law.
+void add_compact_plan_schemas(json& s) {
+  json law = s["LawSpec"];
+  law.erase("additionalProperties");
+  law.erase("example");
+  law["properties"]["stroke_mm"] = number("The stroke the law moves (format.stroke_mm) [mm].");
+  law["properties"]["motion_time_s"] = number("The time the law lasts (format.motion_time_s) [s].");
+  law["required"] = {"type", "stroke_mm", "motion_time_s"};
+  law["description"] = "The plan's law (a 7-segment law: its 7 durations) with the move it makes.";
+  s["CompactLaw"] = law;
+  const json eta{{"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm].")},
+                 {"eta_rest_mm", number("Peak |eta| in the rest window [mm].")}};
+  const json peaks = object(eta, {"eta_motion_mm", "eta_rest_mm"}, "", false);
+  s["CompactPlan"] = object(
+      {{"view", string_enum({"compact"}, "Always compact: the view of this plan.")},
+       {"key", text("Recipe key, as in the full plan (GET /v1/plans/{key} answers it).")},
+       {"cached", boolean("True when served from the plan cache.")},
+       {"version", text("The slosh version that made the plan.")},
+       {"strategy", ref("Strategy")},
+       {"status", ref("SolveStatus")},
+       {"law", ref("CompactLaw")},
+       {"kinematics", object({{"a_max", number("Positive plateau level A [m/s^2].")},
+                              {"a_min", number("Negative plateau level B (magnitude) [m/s^2].")},
+                              {"v_peak", number("Peak velocity [m/s].")},
+                              {"j_peak", number("Peak |jerk| [m/s^3].")}},
+                             {"a_max", "a_min", "v_peak", "j_peak"}, "Peaks of the law.", false)},
+       {"prediction", object({{"nonlinear", peaks}, {"linear", peaks}}, {"nonlinear", "linear"},
+                             "Predicted peaks of both models.", false)},
+       {"warnings", strings("The finding of each of the full plan's warnings (its text up to the "
+                            "first \": \"; the full plan has the explanation).")}},
+      {"view", "key", "cached", "version", "strategy", "status", "law", "kinematics", "prediction",
+       "warnings"},
+      "The compact plan (?view=compact): what a controller needs, under 1 kB for a 7-segment "
+      "law. The message is not in it: the full plan of the same key has it.",
+      false);
+}
+
 /// The results of POST /v1/plans/batch.
 void add_batch_response_schemas(json& s) {
-  json ok =
-      object({{"index", integer("Position in the request array.")}, {"plan", ref("PlanResponse")}},
-             {"index", "plan"}, "A planned recipe.", false);
+  json ok = object({{"index", integer("Position in the request array.")}, {"plan", any_plan()}},
+                   {"index", "plan"}, "A planned recipe (in the batch's view).", false);
   json failed = object(
       {{"index", integer("Position in the request array.")}, {"error", ref("Error")}},
       {"index", "error"}, "A recipe that failed; field paths start with requests[index].", false);
@@ -486,8 +533,10 @@ void add_plan_response_schemas(json& s) {
   add_plan_block_schemas(s);
   add_filter_design_schema(s);
   s["PlanResponse"] = object(
-      {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe.")},
+      {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe "
+                    "and the slosh version.")},
        {"cached", boolean("True when served from the plan cache.")},
+       {"version", text("The slosh version that made the plan (as GET /healthz says).")},
        {"strategy", ref("Strategy")},
        {"status", ref("SolveStatus")},
        {"message", text("What happened and what the law does, actionable by a line engineer.")},
@@ -521,10 +570,12 @@ void add_plan_response_schemas(json& s) {
        {"warnings", strings("Validity limits of the models reached by this plan.")},
        {"move_absolute", ref("MoveAbsolute")},
        {"series", ref("Series")}},
-      {"key", "cached", "strategy", "status", "message", "durations_s", "durations_pct",
-       "switch_times_s", "law", "kinematics", "model", "prediction", "baseline", "reduction_pct",
-       "spectrum", "solver", "format", "rest_time_s", "warnings"},
+      {"key",        "cached",      "version",       "strategy",       "status",
+       "message",    "durations_s", "durations_pct", "switch_times_s", "law",
+       "kinematics", "model",       "prediction",    "baseline",       "reduction_pct",
+       "spectrum",   "solver",      "format",        "rest_time_s",    "warnings"},
       "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
+  add_compact_plan_schemas(s);
   add_batch_response_schemas(s);
   add_move_absolute_schema(s);
 }
@@ -638,10 +689,27 @@ json json_body(std::string_view schema) {
 }
 
 json plan_ok() {
-  json ok = json_response("The plan.", ref("PlanResponse"));
-  ok["headers"] = {
-      {"ETag", {{"description", "The recipe key in quotes."}, {"schema", {{"type", "string"}}}}}};
+  json ok = json_response(
+      "The plan, in the view of ?view= (full: PlanResponse, compact: "
+      "CompactPlan).",
+      any_plan());
+  ok["headers"] = {{"ETag",
+                    {{"description",
+                      "The recipe key in quotes (with ;view=compact for the "
+                      "compact view, ;series=<period> with series)."},
+                     {"schema", {{"type", "string"}}}}}};
   return ok;
+}
+
+/// The `view` query parameter of the plan endpoints.
+json view_parameter() {
+  return {{"name", "view"},
+          {"in", "query"},
+          {"required", false},
+          {"schema", {{"type", "string"}, {"enum", plan_view_names()}, {"default", "full"}}},
+          {"description",
+           "full: the whole plan; compact: the compact plan (CompactPlan). The view changes "
+           "neither the recipe key nor the cached plan. Any other value is a 422 naming view."}};
 }
 
 json if_none_match() {
@@ -784,6 +852,7 @@ void add_min_time_response_schemas(json& s) {
   s["MinTimeResponse"] = object(
       {{"key", text("Request key (32 hex digits).")},
        {"cached", boolean("Answered from the cache.")},
+       {"version", text("The slosh version that searched.")},
        {"format", {{"type", "object"}}},
        {"motion_time_max_s", number("[s]")},
        {"limits", {{"type", "object"}}},
@@ -798,7 +867,8 @@ void add_min_time_response_schemas(json& s) {
                 {"gain_pct", nullable_number},
                 {"gain_cycles_per_min", nullable_number}},
                {}, "The winner and its gain over the uniform law (motion time only).", false)}},
-      {"key", "cached", "strategies", "headline"}, "Minimum motion time per strategy.", false);
+      {"key", "cached", "version", "strategies", "headline"}, "Minimum motion time per strategy.",
+      false);
 }
 
 /// The request and response of POST /v1/min-time (SPEC §9).
@@ -822,7 +892,7 @@ json plan_operation(const Route& route) {
   switch (route.operation) {
     case Operation::kPlan:
       return {{"tags", {"plans"}},
-              {"parameters", {if_none_match()}},
+              {"parameters", {view_parameter(), if_none_match()}},
               {"requestBody", json_body("PlanRequest")},
               {"responses",
                with_statuses(with_statuses({{"200", plan_ok()}}, kBodyStatuses), {304, 503, 504})}};
@@ -834,6 +904,7 @@ json plan_operation(const Route& route) {
                  {"required", true},
                  {"schema", {{"type", "string"}}},
                  {"description", "Recipe key (32 hex digits) of a plan returned earlier."}},
+                view_parameter(),
                 if_none_match()}},
               {"responses", with_statuses({{"200", plan_ok()}}, {304, 404, 500})}};
     case Operation::kPlanBatch:
@@ -841,7 +912,9 @@ json plan_operation(const Route& route) {
           {"tags", {"plans"}},
           {"description",
            "Each result carries either the plan or the error of its request; a batch waits "
-           "for room in the solve queue instead of answering 503."},
+           "for room in the solve queue instead of answering 503. The view of the plans is "
+           "?view= or the body's view (both given: the same)."},
+          {"parameters", {view_parameter()}},
           {"requestBody", json_body("BatchRequest")},
           {"responses", with_statuses({{"200", json_response("One result per request, in order.",
                                                              ref("BatchResponse"))}},

@@ -124,7 +124,8 @@ PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry&
   return r;
 }
 
-nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& registry) {
+nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& registry,
+                                std::string_view version) {
   const Format& f = r.format;
   auto optional = [](const std::optional<double>& v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
@@ -132,7 +133,10 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
   nlohmann::json options = registry.recipe(r.options);
   // A warm start (min-time searches) is part of the answer; absent, the keys stay as they were.
   if (r.options.warm_start) options["warm_start_s"] = *r.options.warm_start;
+  // "version" names the numerics (bumped with them, as before the slosh version was part of the
+  // key); "slosh_version" the release that plans: an upgrade never answers with an older plan.
   return {{"version", kPlannerVersion},
+          {"slosh_version", version},
           {"format",
            {{"radius_m", f.container.radius},
             {"height_m", optional(f.container.height)},
@@ -148,8 +152,9 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
           {"options", std::move(options)}};
 }
 
-std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry) {
-  return sha256_key(canonical_recipe(request, registry).dump());
+std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry,
+                       std::string_view version) {
+  return sha256_key(canonical_recipe(request, registry, version).dump());
 }
 
 std::string sha256_key(const std::string& text) {
@@ -267,6 +272,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   nlohmann::json out;
   out["key"] = recipe_key(request);
   out["cached"] = false;
+  out["version"] = kVersion;
   out["strategy"] = to_string(r.strategy);
   out["status"] = to_string(r.status);
   out["message"] = r.message;

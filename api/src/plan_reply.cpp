@@ -18,20 +18,14 @@ StoredPlan solve_for_storing(const PlanRequest& request) {
   return {result.status, dump_json(out)};
 }
 
-bool is_stored_answer(std::string_view key, std::string_view body) {
-  const nlohmann::json answer = nlohmann::json::parse(body, nullptr, false);
-  if (!answer.is_object()) return false;
-  const auto it = answer.find("key");
-  return it != answer.end() && it->is_string() && it->get<std::string>() == key;
-}
-
 std::string with_cached_flag(std::string_view stored, bool cached) {
   return std::string("{\"cached\":") + (cached ? "true" : "false") + "," +
          std::string(stored.substr(1));
 }
 
 std::string render_plan_reply(std::string_view stored_body, bool cached, const PlanRequest* request,
-                              std::optional<double> sample_period) {
+                              std::optional<double> sample_period, PlanView view) {
+  if (view == PlanView::kCompact) return compact_plan_text(with_cached_flag(stored_body, cached));
   if (!sample_period || request == nullptr) return with_cached_flag(stored_body, cached);
   nlohmann::json plan = nlohmann::json::parse(stored_body);
   plan["cached"] = cached;

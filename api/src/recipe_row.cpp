@@ -330,6 +330,7 @@ constexpr std::array kPlanColumns{
     PlanColumn{"solve_ms", "/solve_ms"},
     PlanColumn{"message", "/message"},
     PlanColumn{"error_field", "/error_field"},
+    PlanColumn{"version", "/version"},
 };
 
 /// object[key], null when absent (or when `object` is not an object).
@@ -361,8 +362,8 @@ std::string plan_column_names() {
 
 json plan_row_figures(const json& plan) {
   json row = json::object();
-  for (std::string_view key : {"status", "key", "strategy", "message", "durations_s", "kinematics",
-                               "prediction", "baseline", "reduction_pct"}) {
+  for (std::string_view key : {"status", "key", "version", "strategy", "message", "durations_s",
+                               "kinematics", "prediction", "baseline", "reduction_pct"}) {
     row[std::string(key)] = value_or_null(plan, key);
   }
   row["law_type"] = nested_or_null(plan, "law", "type");

@@ -26,13 +26,13 @@ PlanRequest parse_plan_text(std::string_view text, double budget) {
   return parse_plan_with_budget(parse_json_body(text), budget);
 }
 
-std::vector<nlohmann::json> parse_batch_text(std::string_view text, std::size_t batch_max) {
+BatchBody parse_batch_body(std::string_view text, std::size_t batch_max) {
   nlohmann::json body = parse_json_body(text);
   if (!body.is_object()) {
     throw ApiError(ErrorCode::kInvalidValue, "",
                    "the body must be an object {\"requests\": [plan requests]}");
   }
-  reject_unknown_fields(body, "", {"requests"});
+  reject_unknown_fields(body, "", {"requests", "view"});
   const auto it = body.find("requests");
   if (it == body.end() || !it->is_array() || it->empty() || it->size() > batch_max) {
     throw ApiError(ErrorCode::kInvalidValue, "requests",
@@ -40,10 +40,15 @@ std::vector<nlohmann::json> parse_batch_text(std::string_view text, std::size_t 
                        " plan requests, got " +
                        (it == body.end() ? std::string("nothing") : show(*it)));
   }
-  std::vector<nlohmann::json> requests;
-  requests.reserve(it->size());
-  for (nlohmann::json& request : *it) requests.push_back(std::move(request));
-  return requests;
+  BatchBody out;
+  out.requests.reserve(it->size());
+  for (nlohmann::json& request : *it) out.requests.push_back(std::move(request));
+  if (const nlohmann::json* view = given_member(body, "view")) out.view = *view;
+  return out;
+}
+
+std::vector<nlohmann::json> parse_batch_text(std::string_view text, std::size_t batch_max) {
+  return parse_batch_body(text, batch_max).requests;
 }
 
 PlanRequest parse_batch_item(const nlohmann::json& item, double budget) {

@@ -135,6 +135,24 @@ nlohmann::json prediction_json(const SimulationResult& r) {
   return prediction_json(r.nonlinear, r.linear);
 }
 
+namespace {
+
+/// The simulated law's type, duration, stroke and breakpoints. A law the service builds from the
+/// format (every type but the general ones) lasts format.motion_time_s and moves format.stroke_mm
+/// by construction: those echo as given, not as the sum of its pieces (1.0, not
+/// 0.9999999999999998). A general law's end and stroke are its own (its last breakpoint as given,
+/// the integral of its acceleration).
+nlohmann::json law_echo(const SimulateRequest& request, const MotionLaw& law) {
+  const bool general =
+      request.law_type == LawType::kPiecewiseLinear || request.law_type == LawType::kPiecewise;
+  return {{"type", to_string(request.law_type)},
+          {"duration_s", general ? law.duration() : request.format.motion_time},
+          {"stroke_mm", general ? law.stroke() * 1e3 : mm_of(request.format.stroke)},
+          {"breakpoints_s", law.breakpoints()}};
+}
+
+}  // namespace
+
 nlohmann::json run_simulate(const SimulateRequest& request) {
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
@@ -163,10 +181,7 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
     }
   }
   nlohmann::json out;
-  nlohmann::json law_json{{"type", to_string(request.law_type)},
-                          {"duration_s", law.duration()},
-                          {"stroke_mm", law.stroke() * 1e3},
-                          {"breakpoints_s", law.breakpoints()}};
+  nlohmann::json law_json = law_echo(request, law);
   nlohmann::json kin{{"a_max", r.kinematics.a_peak_positive},
                      {"a_min", r.kinematics.a_peak_negative},
                      {"v_peak", r.kinematics.v_peak},

@@ -36,6 +36,13 @@ struct Range {
 /// A number as messages print it (10 significant digits, no trailing zeros).
 [[nodiscard]] std::string number_text(double v);
 
+/// Millimetres of a length that the API received in millimetres and keeps in metres (read as
+/// mm * 1e-3): the shortest decimal whose conversion gives `metres` back. A length given as 51 mm
+/// echoes as 51, not as metres * 1e3 = 51.00000000000001; the echo is exact (read again, it is
+/// `metres`), so it is the number of every request of the same recipe. A value that no millimetre
+/// value converts to (a computed length), and a non-finite one, is returned as metres * 1e3.
+[[nodiscard]] double mm_of(double metres);
+
 /// Compact JSON text of a value for messages, cut to 60 bytes on a UTF-8 boundary.
 [[nodiscard]] std::string show(const nlohmann::json& value);
 

@@ -10,6 +10,7 @@
 
 #include "slosh/api/fields.hpp"
 #include "slosh/core/strategy/min_time.hpp"
+#include "slosh/version.hpp"
 
 namespace slosh::api {
 
@@ -42,8 +43,10 @@ struct MinTimeRequest {
 [[nodiscard]] MinTimeRequest parse_min_time_request(const nlohmann::json& body, double budget);
 
 /// The cache key: first 32 hex digits of the SHA-256 of the canonical JSON of the normalised
-/// request (SI values, defaults filled in, the time budget left out).
-[[nodiscard]] std::string min_time_key(const MinTimeRequest& request);
+/// request (SI values, defaults filled in, the time budget left out) and of the slosh version that
+/// searches (`version`, as recipe_key).
+[[nodiscard]] std::string min_time_key(const MinTimeRequest& request,
+                                       std::string_view version = kVersion);
 
 /// The response body of a request whose strategies have been searched (results in request
 /// order): each strategy's T_min, status, message, plan at T_min, curve; the headline.

@@ -3,12 +3,14 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/fields.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "slosh/version.hpp"
 
 namespace slosh::api {
 
@@ -49,18 +51,23 @@ struct PlanRequest {
 
 /// The recipe key: hex SHA-256 (first 32 digits) of the canonical JSON of the normalised request
 /// (SI values of the format and every option with its default filled in; names, units, field
-/// order and the time budget do not enter). Identical recipes share one key.
+/// order and the time budget do not enter) and of the slosh version that plans it (`version`,
+/// slosh::kVersion unless a test asks for another): identical recipes share one key, and a plan
+/// of another version never answers it.
 [[nodiscard]] std::string recipe_key(const PlanRequest& request,
-                                     const OptionRegistry& registry = plan_option_registry());
+                                     const OptionRegistry& registry = plan_option_registry(),
+                                     std::string_view version = kVersion);
 
 /// First 32 hex digits of the SHA-256 of `text`: the key of a canonical JSON text (recipe_key,
 /// min_time_key).
 [[nodiscard]] std::string sha256_key(const std::string& text);
 
-/// The canonical JSON the key is computed from.
-/// Its "options" are the registry's recipe() of the options.
+/// The canonical JSON the key is computed from: "format" (SI), "strategy", "options" (the
+/// registry's recipe() of the options), "version" (of the planner's numerics) and
+/// "slosh_version" (`version`).
 [[nodiscard]] nlohmann::json canonical_recipe(
-    const PlanRequest& request, const OptionRegistry& registry = plan_option_registry());
+    const PlanRequest& request, const OptionRegistry& registry = plan_option_registry(),
+    std::string_view version = kVersion);
 
 /// Plans a validated request; throws ApiError(kInvalidValue, "format") when the planner refuses
 /// inputs that passed the API's ranges.

@@ -7,6 +7,7 @@
 #include <string_view>
 
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
 
 namespace slosh::api {
@@ -25,17 +26,15 @@ struct StoredPlan {
 /// planner refuses the inputs (as run_plan).
 [[nodiscard]] StoredPlan solve_for_storing(const PlanRequest& request);
 
-/// Whether `body` is a stored answer of `key` (a plan or a min-time answer): a JSON object whose
-/// `key` member is `key`. The plan store checks rows it cannot vouch for with it.
-[[nodiscard]] bool is_stored_answer(std::string_view key, std::string_view body);
-
 /// A stored answer (a non-empty JSON object without `cached`) with `cached` as its first member.
 [[nodiscard]] std::string with_cached_flag(std::string_view stored, bool cached);
 
 /// The reply body of a stored plan: `cached` set, and when `sample_period` is given, the series of
-/// the plan's law at that period (`request` is the plan's recipe; required with a period).
+/// the plan's law at that period (`request` is the plan's recipe; required with a period); in the
+/// compact view (`view`), the compact plan of it (no series: see require_no_series).
 [[nodiscard]] std::string render_plan_reply(std::string_view stored_body, bool cached,
                                             const PlanRequest* request = nullptr,
-                                            std::optional<double> sample_period = std::nullopt);
+                                            std::optional<double> sample_period = std::nullopt,
+                                            PlanView view = PlanView::kFull);
 
 }  // namespace slosh::api

@@ -118,8 +118,8 @@ struct PlanColumn {
 /// The output column names, comma-separated (the CSV header of plan tables).
 [[nodiscard]] std::string plan_column_names();
 
-/// The figures of a rendered plan a table row shows: status, key, strategy, message, law_type,
-/// durations_s, kinematics, f1_hz, prediction, baseline, reduction_pct, solve_ms.
+/// The figures of a rendered plan a table row shows: status, key, version, strategy, message,
+/// law_type, durations_s, kinematics, f1_hz, prediction, baseline, reduction_pct, solve_ms.
 [[nodiscard]] nlohmann::json plan_row_figures(const nlohmann::json& plan);
 
 /// The row of a recipe that failed: status "error", message, error and error_field; `csv` rows

@@ -23,8 +23,19 @@ namespace slosh::api {
 /// The same from the body text (400 when it is not JSON).
 [[nodiscard]] PlanRequest parse_plan_text(std::string_view text, double budget);
 
-/// The plan requests of a POST /v1/plans/batch body {"requests": [...]} (1 to `batch_max`),
-/// unparsed: each item is validated on its own (parse_batch_item), so one bad item fails alone.
+/// A POST /v1/plans/batch body {"requests": [...], "view"?: "full" | "compact"}.
+struct BatchBody {
+  /// The plan requests (1 to batch_max), unparsed: each item is validated on its own
+  /// (parse_batch_item), so one bad item fails alone.
+  std::vector<nlohmann::json> requests;
+  /// The "view" member as given (nullopt when absent or null); see batch_view.
+  std::optional<nlohmann::json> view;
+};
+
+/// Reads a batch body (400 when it is not JSON, 422 when it is not of that shape).
+[[nodiscard]] BatchBody parse_batch_body(std::string_view text, std::size_t batch_max);
+
+/// The plan requests of a batch body (parse_batch_body's requests).
 [[nodiscard]] std::vector<nlohmann::json> parse_batch_text(std::string_view text,
                                                            std::size_t batch_max);
 

@@ -1,0 +1,104 @@
+#include "slosh/api/plan_view.hpp"
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using nlohmann::json;
+
+constexpr std::string_view kField = "view";
+
+[[noreturn]] void not_a_view(const json& value) {
+  invalid(std::string(kField), std::string(kField) + " = " + show(value) +
+                                   " is not allowed: one of " + quoted_names(plan_view_names()));
+}
+
+/// The two figures of one model's peaks.
+json compact_peaks(const json& peaks) {
+  return {{"eta_motion_mm", peaks.at("eta_motion_mm")}, {"eta_rest_mm", peaks.at("eta_rest_mm")}};
+}
+
+}  // namespace
+
+std::vector<std::string> plan_view_names() {
+  return {"full", "compact"};
+}
+
+PlanView parse_plan_view(std::string_view value) {
+  if (value == "full") return PlanView::kFull;
+  if (value == "compact") return PlanView::kCompact;
+  not_a_view(json(std::string(value)));
+}
+
+PlanView parse_view_query(const std::vector<std::string>& values) {
+  if (values.empty()) return PlanView::kFull;
+  if (values.size() > 1) {
+    invalid(std::string(kField),
+            std::string(kField) + " is given " + std::to_string(values.size()) +
+                " times in the query: give it once, one of " + quoted_names(plan_view_names()));
+  }
+  return parse_plan_view(values.front());
+}
+
+PlanView batch_view(const std::vector<std::string>& query_values,
+                    const std::optional<json>& body_view) {
+  const PlanView query = parse_view_query(query_values);
+  if (!body_view) return query;
+  if (!body_view->is_string()) not_a_view(*body_view);
+  const PlanView body = parse_plan_view(body_view->get<std::string>());
+  if (!query_values.empty() && body != query) {
+    invalid(std::string(kField), "view is " + show(json(query_values.front())) +
+                                     " in the query but " + show(*body_view) +
+                                     " in the body: give one view");
+  }
+  return body;
+}
+
+void require_no_series(PlanView view, const std::optional<double>& sample_period) {
+  if (view == PlanView::kCompact && sample_period) {
+    invalid("sample_period_s",
+            "sample_period_s is not allowed with view \"compact\" (a compact plan carries no "
+            "series): ask the full view for the series");
+  }
+}
+
+std::string warning_finding(const std::string& warning) {
+  return warning.substr(0, warning.find(": "));
+}
+
+json compact_plan(const json& plan) {
+  json out;
+  out["view"] = "compact";
+  for (const char* member : {"key", "cached", "version", "strategy", "status"}) {
+    out[member] = plan.at(member);
+  }
+  json law = plan.at("law");
+  if (law.is_object()) {
+    const json& format = plan.at("format");
+    law["stroke_mm"] = format.at("stroke_mm");
+    law["motion_time_s"] = format.at("motion_time_s");
+  }
+  out["law"] = std::move(law);
+  const json& k = plan.at("kinematics");
+  out["kinematics"] = {{"a_max", k.at("a_max")},
+                       {"a_min", k.at("a_min")},
+                       {"v_peak", k.at("v_peak")},
+                       {"j_peak", k.at("j_peak")}};
+  const json& p = plan.at("prediction");
+  out["prediction"] = {{"nonlinear", compact_peaks(p.at("nonlinear"))},
+                       {"linear", compact_peaks(p.at("linear"))}};
+  json findings = json::array();
+  for (const json& w : plan.at("warnings"))
+    findings.push_back(warning_finding(w.get<std::string>()));
+  out["warnings"] = std::move(findings);
+  return out;
+}
+
+std::string compact_plan_text(std::string_view plan) {
+  return dump_json(compact_plan(json::parse(plan)));
+}
+
+}  // namespace slosh::api

@@ -1,0 +1,3 @@
+#pragma once
+// The slosh version: generated for api/ (slosh/version.hpp), which the service links.
+#include "slosh/version.hpp"

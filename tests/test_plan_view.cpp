@@ -1,0 +1,384 @@
+// Issue 19: the compact plan (`?view=compact`, `"view": "compact"` in a batch, `--view compact`):
+// what a controller needs, under 1 kB for every strategy that returns a 7-segment law, also for
+// infeasible plans with long messages and every warning; its figures are the full plan's; the view
+// changes neither the key nor the cache entry; unknown views are a 422 naming "view". Checked on
+// PlanService, on a real server and on the real binary.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "plan_service.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
+#include "slosh/version.hpp"
+#include "support/process.hpp"
+#include "support/server.hpp"
+#include "support/sqlite_query.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+
+json thesis(const std::string& strategy, double motion_time = 1.0) {
+  json r = json::parse(R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},
+                                       "fill_height_mm": 82, "fluid": "water",
+                                       "stroke_mm": 800, "motion_time_s": 1.0}})");
+  r["strategy"] = strategy;
+  r["format"]["motion_time_s"] = motion_time;
+  return r;
+}
+
+/// A small, shallow, over-filled container moved far and fast with an unreachable a_max and
+/// tight eta limits: infeasible, with a long message and all five warnings of a plan.
+json extreme(const std::string& strategy) {
+  json r = json::parse(R"({"format": {"container": {"radius_mm": 10, "height_mm": 12},
+                                       "fill_height_mm": 2.5, "fluid": "water",
+                                       "stroke_mm": 900, "motion_time_s": 0.3},
+                           "options": {"eta_rest_max_mm": 0.001, "eta_motion_max_mm": 0.01,
+                                       "limits": {"a_max": 30}}})");
+  r["strategy"] = strategy;
+  return r;
+}
+
+/// `plan` with its `cached` flag set to `cached`.
+json with_cached(json plan, bool cached) {
+  plan["cached"] = cached;
+  return plan;
+}
+
+/// The error envelope's error of a reply.
+json error_of(const service::Reply& reply) {
+  return json::parse(reply.body).at("error");
+}
+
+/// Checks `compact` against the full `plan` it was made from and the request's format.
+void expect_compact_of(const json& compact, const json& plan, const json& request) {
+  const std::set<std::string> members{"view",   "key", "cached",     "version",    "strategy",
+                                      "status", "law", "kinematics", "prediction", "warnings"};
+  std::set<std::string> got;
+  for (const auto& [name, value] : compact.items()) got.insert(name);
+  EXPECT_EQ(got, members);
+  EXPECT_EQ(compact["view"], "compact");
+  for (const char* same : {"key", "cached", "version", "strategy", "status"}) {
+    EXPECT_EQ(compact[same], plan[same]) << same;
+  }
+  EXPECT_EQ(compact["version"], kVersion);
+  EXPECT_EQ(compact["law"]["type"], plan["law"]["type"]);
+  EXPECT_EQ(compact["law"]["durations_s"], plan["durations_s"]);
+  // The move as the request gave it.
+  EXPECT_EQ(compact["law"]["stroke_mm"].get<double>(),
+            request["format"]["stroke_mm"].get<double>());
+  EXPECT_EQ(compact["law"]["motion_time_s"].get<double>(),
+            request["format"]["motion_time_s"].get<double>());
+  for (const char* k : {"a_max", "a_min", "v_peak", "j_peak"}) {
+    EXPECT_EQ(compact["kinematics"][k], plan["kinematics"][k]) << k;
+  }
+  EXPECT_EQ(compact["kinematics"].size(), 4u);
+  for (const char* model : {"nonlinear", "linear"}) {
+    for (const char* eta : {"eta_motion_mm", "eta_rest_mm"}) {
+      EXPECT_EQ(compact["prediction"][model][eta], plan["prediction"][model][eta]) << eta;
+    }
+    EXPECT_EQ(compact["prediction"][model].size(), 2u);
+  }
+  // Each warning's finding: the full sentence up to its first ": ".
+  ASSERT_EQ(compact["warnings"].size(), plan["warnings"].size());
+  for (std::size_t i = 0; i < plan["warnings"].size(); ++i) {
+    const std::string full = plan["warnings"][i];
+    const std::string finding = compact["warnings"][i];
+    EXPECT_FALSE(finding.empty());
+    EXPECT_TRUE(full == finding || full.rfind(finding + ": ", 0) == 0) << full << " | " << finding;
+    EXPECT_EQ(finding.find(": "), std::string::npos) << finding;
+  }
+}
+
+TEST(CompactPlan, IsUnder1kBForEveryStrategyWithASevenSegmentLaw) {
+  struct Case {
+    json request;
+    bool extreme;
+  };
+  std::vector<Case> cases;
+  for (const char* s :
+       {"baseline", "notch", "multi_notch", "min_jerk_band", "time_domain", "auto"}) {
+    cases.push_back({thesis(s), false});
+    cases.push_back({extreme(s), true});
+  }
+  // fir_chain gives a 7-segment law when the motion is long enough for conditions (14).
+  cases.push_back({thesis("fir_chain", 1.5), false});
+  std::set<std::string> seven_segment;
+  std::size_t longest = 0;
+  std::size_t long_infeasible = 0;
+  for (Case& c : cases) {
+    const std::string strategy = c.request["strategy"];
+    SCOPED_TRACE(strategy + (c.extreme ? " (extreme)" : ""));
+    json plan = api::run_plan(api::parse_plan_request(c.request));
+    plan["cached"] = true;  // the longer spelling of the flag
+    // auto returns a 7-segment law when it chooses one of the optimisers.
+    if (strategy == "auto" && plan["law"]["type"] != "seven_segment") continue;
+    ASSERT_EQ(plan["law"]["type"], "seven_segment");
+    seven_segment.insert(strategy);
+    const json compact = api::compact_plan(plan);
+    expect_compact_of(compact, plan, c.request);
+    const std::string text = api::dump_json(compact);
+    EXPECT_LT(text.size(), api::kCompactPlanMaxBytes) << text;
+    EXPECT_EQ(api::compact_plan_text(api::dump_json(plan)), text);
+    longest = std::max(longest, text.size());
+    if (c.extreme) {
+      // What makes these the hard cases: a long message and every warning a plan can carry.
+      EXPECT_NE(plan["status"], "optimal");
+      EXPECT_GT(plan["message"].get<std::string>().size(), 250u);
+      EXPECT_GE(plan["warnings"].size(), 4u);
+      long_infeasible += plan["status"] == "infeasible" ? 1 : 0;
+    }
+  }
+  EXPECT_GE(seven_segment.size(), 6u);  // every optimiser, the baseline and fir_chain (+ auto)
+  EXPECT_GE(long_infeasible, 4u);
+  std::printf("longest compact plan: %zu bytes\n", longest);
+}
+
+TEST(CompactPlan, AGeneralLawKeepsItsPiecesWithTheMove) {
+  const json request = thesis("iir");
+  const json plan = api::run_plan(api::parse_plan_request(request));
+  ASSERT_NE(plan["law"]["type"], "seven_segment");
+  const json compact = api::compact_plan(plan);
+  EXPECT_EQ(compact["law"]["type"], plan["law"]["type"]);
+  EXPECT_EQ(compact["law"]["breakpoints_s"], plan["law"]["breakpoints_s"]);
+  EXPECT_EQ(compact["law"]["stroke_mm"], 800.0);
+  EXPECT_EQ(compact["law"]["motion_time_s"], 1.0);
+}
+
+TEST(CompactPlan, UnknownViewsAreRefusedNamingTheFieldTheValueAndTheAllowedSet) {
+  const auto expect_invalid = [](auto&& call, const std::string& message) {
+    try {
+      call();
+      ADD_FAILURE() << "accepted";
+    } catch (const api::ApiError& e) {
+      EXPECT_EQ(e.status(), 422);
+      EXPECT_EQ(e.field(), "view");
+      EXPECT_EQ(std::string(e.what()), message);
+    }
+  };
+  expect_invalid([] { (void)api::parse_plan_view("Compact"); },
+                 R"(view = "Compact" is not allowed: one of "full", "compact")");
+  expect_invalid([] { (void)api::parse_plan_view(""); },
+                 R"(view = "" is not allowed: one of "full", "compact")");
+  expect_invalid(
+      [] {
+        (void)api::parse_view_query({"compact", "compact"});
+      },
+      R"(view is given 2 times in the query: give it once, one of "full", "compact")");
+  expect_invalid([] { (void)api::batch_view({}, json(3)); },
+                 R"(view = 3 is not allowed: one of "full", "compact")");
+  expect_invalid([] { (void)api::batch_view({"full"}, json("compact")); },
+                 R"(view is "full" in the query but "compact" in the body: give one view)");
+  EXPECT_EQ(api::parse_view_query({}), api::PlanView::kFull);
+  EXPECT_EQ(api::parse_view_query({"full"}), api::PlanView::kFull);
+  EXPECT_EQ(api::batch_view({}, json("compact")), api::PlanView::kCompact);
+  EXPECT_EQ(api::batch_view({"compact"}, json("compact")), api::PlanView::kCompact);
+  EXPECT_EQ(api::batch_view({"compact"}, std::nullopt), api::PlanView::kCompact);
+}
+
+class CompactService : public ::testing::Test {
+ protected:
+  CompactService() {
+    service::ServerConfig config;
+    config.cache_path = (dir_ / "plans.sqlite").string();
+    config.workers = 2;
+    service_ = std::make_unique<service::PlanService>(config);
+  }
+  [[nodiscard]] std::string store() const { return (dir_ / "plans.sqlite").string(); }
+  test::TempDir dir_;
+  std::unique_ptr<service::PlanService> service_;
+};
+
+TEST_F(CompactService, TheViewChangesNeitherTheKeyNorTheCacheEntry) {
+  const std::string body = thesis("notch").dump();
+  const service::Reply first = service_->post_plan(body, "", {"compact"});
+  ASSERT_EQ(first.status, 200) << first.body;
+  const json compact = json::parse(first.body);
+  EXPECT_EQ(compact["view"], "compact");
+  EXPECT_EQ(compact["cached"], false);
+  const std::string key = compact["key"];
+  EXPECT_EQ(key, api::recipe_key(api::parse_plan_request(thesis("notch"))));
+  // One row, holding the full plan (the compact view is rendered from it).
+  EXPECT_EQ(test::query(store(), "SELECT count(*) FROM plans"), "1");
+  EXPECT_EQ(test::query(store(), "SELECT count(*) FROM plans WHERE key = '" + key +
+                                     "' AND body LIKE '%\"spectrum\"%'"),
+            "1");
+  // The full view of the same recipe comes from that entry.
+  const service::Reply full = service_->post_plan(body, "");
+  ASSERT_EQ(full.status, 200);
+  const json plan = json::parse(full.body);
+  EXPECT_EQ(plan["cached"], true);
+  EXPECT_EQ(plan["key"], key);
+  expect_compact_of(compact, with_cached(plan, false), thesis("notch"));
+  // GET in either view.
+  const service::Reply got = service_->get_plan(key, "", {"compact"});
+  ASSERT_EQ(got.status, 200);
+  EXPECT_EQ(json::parse(got.body), api::compact_plan(plan));
+  // The ETag names the view: 304 only for the compact body's tag.
+  std::string tag;
+  for (const auto& [name, value] : got.headers) {
+    if (name == "ETag") tag = value;
+  }
+  EXPECT_EQ(tag, "\"" + key + ";view=compact\"");
+  EXPECT_EQ(service_->get_plan(key, tag, {"compact"}).status, 304);
+  EXPECT_EQ(service_->get_plan(key, "\"" + key + "\"", {"compact"}).status, 200);
+  EXPECT_EQ(service_->get_plan(key, tag).status, 200);
+  EXPECT_EQ(test::query(store(), "SELECT count(*) FROM plans"), "1");
+}
+
+TEST_F(CompactService, RefusesSeriesAndUnknownViewsBeforeSolving) {
+  json with_series = thesis("notch");
+  with_series["sample_period_s"] = 0.01;
+  const service::Reply series = service_->post_plan(with_series.dump(), "", {"compact"});
+  EXPECT_EQ(series.status, 422);
+  EXPECT_EQ(error_of(series)["field"], "sample_period_s");
+  EXPECT_EQ(error_of(series)["message"],
+            "sample_period_s is not allowed with view \"compact\" (a compact plan carries no "
+            "series): ask the full view for the series");
+  const service::Reply bogus = service_->post_plan(thesis("notch").dump(), "", {"tiny"});
+  EXPECT_EQ(bogus.status, 422);
+  EXPECT_EQ(error_of(bogus)["field"], "view");
+  EXPECT_EQ(error_of(bogus)["message"],
+            R"(view = "tiny" is not allowed: one of "full", "compact")");
+  EXPECT_EQ(service_->get_plan("0123", "", {"tiny"}).status, 422);
+  EXPECT_EQ(test::query(store(), "SELECT count(*) FROM plans"), "0");  // nothing was solved
+}
+
+TEST_F(CompactService, ABatchAnswersInTheViewOfItsBodyOrQuery) {
+  const json requests = json::array({thesis("notch"), thesis("baseline")});
+  const auto plans_of = [](const service::Reply& r) {
+    const json body = json::parse(r.body);
+    std::vector<json> out;
+    for (const json& item : body.at("results")) out.push_back(item.at("plan"));
+    return out;
+  };
+  const service::Reply by_body =
+      service_->post_batch(json{{"requests", requests}, {"view", "compact"}}.dump());
+  ASSERT_EQ(by_body.status, 200) << by_body.body;
+  const service::Reply by_query =
+      service_->post_batch(json{{"requests", requests}}.dump(), {}, {"compact"});
+  ASSERT_EQ(by_query.status, 200) << by_query.body;
+  const service::Reply full = service_->post_batch(json{{"requests", requests}}.dump());
+  ASSERT_EQ(full.status, 200) << full.body;
+  const std::vector<json> compact = plans_of(by_body);
+  const std::vector<json> queried = plans_of(by_query);
+  const std::vector<json> plans = plans_of(full);
+  ASSERT_EQ(compact.size(), 2u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(compact[i]["view"], "compact");
+    EXPECT_EQ(queried[i], with_cached(compact[i], true));
+    EXPECT_EQ(api::compact_plan(plans[i]), queried[i]);
+    EXPECT_LT(api::dump_json(compact[i]).size(), api::kCompactPlanMaxBytes);
+    EXPECT_FALSE(plans[i].contains("view"));
+  }
+  const service::Reply clash =
+      service_->post_batch(json{{"requests", requests}, {"view", "compact"}}.dump(), {}, {"full"});
+  EXPECT_EQ(clash.status, 422);
+  EXPECT_EQ(error_of(clash)["field"], "view");
+  const service::Reply unknown =
+      service_->post_batch(json{{"requests", requests}, {"view", "short"}}.dump());
+  EXPECT_EQ(unknown.status, 422);
+  EXPECT_EQ(error_of(unknown)["message"],
+            R"(view = "short" is not allowed: one of "full", "compact")");
+}
+
+// Through HTTP: the query parameter as a client sends it.
+TEST(CompactPlanServer, TheQueryParameterSelectsTheView) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  httplib::Client client = server.client();
+  const auto compact =
+      client.Post("/v1/plans?view=compact", thesis("notch").dump(), "application/json");
+  ASSERT_TRUE(compact);
+  ASSERT_EQ(compact->status, 200) << compact->body;
+  EXPECT_LT(compact->body.size(), api::kCompactPlanMaxBytes);
+  const json c = json::parse(compact->body);
+  EXPECT_EQ(c["view"], "compact");
+  const auto full = client.Get("/v1/plans/" + c["key"].get<std::string>());
+  ASSERT_TRUE(full);
+  ASSERT_EQ(full->status, 200);
+  EXPECT_EQ(api::compact_plan(json::parse(full->body)),
+            with_cached(c, true));  // the same figures, from the cache
+  const auto got = client.Get("/v1/plans/" + c["key"].get<std::string>() + "?view=compact");
+  ASSERT_TRUE(got);
+  EXPECT_EQ(json::parse(got->body), with_cached(c, true));
+  const auto bogus = client.Post("/v1/plans?view=big", thesis("notch").dump(), "application/json");
+  ASSERT_TRUE(bogus);
+  EXPECT_EQ(bogus->status, 422);
+  EXPECT_EQ(json::parse(bogus->body)["error"]["field"], "view");
+  const auto twice =
+      client.Post("/v1/plans?view=compact&view=full", thesis("notch").dump(), "application/json");
+  ASSERT_TRUE(twice);
+  EXPECT_EQ(twice->status, 422);
+  const auto batch = client.Post("/v1/plans/batch?view=compact",
+                                 json{{"requests", {thesis("notch")}}}.dump(), "application/json");
+  ASSERT_TRUE(batch);
+  ASSERT_EQ(batch->status, 200) << batch->body;
+  EXPECT_EQ(json::parse(batch->body)["results"][0]["plan"], with_cached(c, true));
+}
+
+TEST(CompactPlanCli, PlanAndBatchPrintTheCompactView) {
+  const std::string request = thesis("notch").dump();
+  const test::RunResult full = test::run_slosh({"plan", "--request", "-"}, request);
+  ASSERT_EQ(full.exit_code, 0) << full.err;
+  const test::RunResult compact =
+      test::run_slosh({"plan", "--request", "-", "--view", "compact"}, request);
+  ASSERT_EQ(compact.exit_code, 0) << compact.err;
+  const json c = json::parse(compact.out);
+  EXPECT_EQ(c, api::compact_plan(json::parse(full.out)));
+  expect_compact_of(c, json::parse(full.out), thesis("notch"));
+  const test::RunResult bogus =
+      test::run_slosh({"plan", "--request", "-", "--view", "mini"}, request);
+  EXPECT_EQ(bogus.exit_code, 2);
+  EXPECT_TRUE(bogus.out.empty());
+  EXPECT_EQ(json::parse(bogus.err)["error"]["field"], "view");
+  EXPECT_EQ(json::parse(bogus.err)["error"]["message"],
+            R"(view = "mini" is not allowed: one of "full", "compact")");
+
+  const test::TempDir dir;
+  test::write_file(dir / "in.csv",
+                   "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
+                   "a,48.5,82,water,800,1.0,notch\nb,-3,82,water,800,1.0,notch\n");
+  const std::string in = (dir / "in.csv").string();
+  const std::string out = (dir / "out.jsonl").string();
+  const test::RunResult batch =
+      test::run_slosh({"batch", "--in", in, "--out", out, "--cache", "", "--view", "compact"});
+  EXPECT_EQ(batch.exit_code, 3) << batch.err;  // row b is invalid
+  const std::string rows = test::read_file(out);
+  const json good = json::parse(rows.substr(0, rows.find('\n')));
+  ASSERT_TRUE(good.contains("plan")) << good;
+  EXPECT_EQ(good["plan"]["view"], "compact");
+  EXPECT_EQ(good["plan"]["key"], good["key"]);
+  EXPECT_LT(api::dump_json(good["plan"]).size(), api::kCompactPlanMaxBytes);
+  EXPECT_EQ(good["version"], kVersion);
+
+  const test::RunResult csv =
+      test::run_slosh({"batch", "--in", in, "--out", (dir / "out.csv").string(), "--cache", "",
+                       "--view", "compact"});
+  EXPECT_EQ(csv.exit_code, 2);
+  EXPECT_EQ(csv.err,
+            "slosh batch: --view adds the plan to JSON rows: use a .json or .jsonl output\n");
+  const test::RunResult both = test::run_slosh(
+      {"batch", "--in", in, "--out", out, "--cache", "", "--full", "--view", "compact"});
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_EQ(both.err,
+            "slosh batch: --full adds the whole plan but --view compact the compact one: give one "
+            "of them\n");
+  const test::RunResult unknown =
+      test::run_slosh({"batch", "--in", in, "--out", out, "--cache", "", "--view", "x"});
+  EXPECT_EQ(unknown.exit_code, 2);
+  EXPECT_EQ(unknown.err,
+            "slosh batch: --view = \"x\" is not allowed: one of \"full\", \"compact\"\n");
+}
+
+}  // namespace
+}  // namespace slosh
