@@ -18,6 +18,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/core/law/move_absolute.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
@@ -470,6 +471,10 @@ TEST(MoveAbsoluteApi, ThePlanCarriesTheBlockInMillimetres) {
               1e-9 * m["jerk_mm_s3"].get<double>());
   const json free = api::run_plan(api::parse_plan_request(request("multi_notch")));
   EXPECT_FALSE(free.contains("move_absolute"));
+  // The compact view keeps the block, under 1 kB.
+  const json compact = api::compact_plan(plan);
+  EXPECT_EQ(compact["move_absolute"], m);
+  EXPECT_LT(compact.dump().size(), 1024u);
 }
 
 TEST(MoveAbsoluteApi, TheKeyChangesOnlyWithMoveAbsolute) {

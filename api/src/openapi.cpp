@@ -495,7 +495,8 @@ void add_compact_plan_schemas(json& s) {
        {"prediction", object({{"nonlinear", peaks}, {"linear", peaks}}, {"nonlinear", "linear"},
                              "Predicted peaks of both models.", false)},
        {"warnings", strings("The finding of each of the full plan's warnings (its text up to the "
-                            "first \": \"; the full plan has the explanation).")}},
+                            "first \": \"; the full plan has the explanation).")},
+       {"move_absolute", ref("MoveAbsolute")}},
       {"view", "key", "cached", "version", "strategy", "status", "law", "kinematics", "prediction",
        "warnings"},
       "The compact plan (?view=compact): what a controller needs, under 1 kB for a 7-segment "

@@ -94,6 +94,8 @@ json compact_plan(const json& plan) {
   for (const json& w : plan.at("warnings"))
     findings.push_back(warning_finding(w.get<std::string>()));
   out["warnings"] = std::move(findings);
+  // The MC_MoveAbsolute inputs are what a drive needs of a one-jerk plan.
+  if (const auto m = plan.find("move_absolute"); m != plan.end()) out["move_absolute"] = *m;
   return out;
 }
 
