@@ -280,5 +280,21 @@ TEST(MasterCamTable, EachMemberIsRefusedWithItsRange) {
                std::invalid_argument);
 }
 
+// Hostile review: a master span of 1e-300 made the derivatives per master unit inf and nan.
+TEST(MasterCamTable, ASpanTooShortForFiniteDerivativesIsRefusedAtTheEnd) {
+  MasterAxis axis;
+  axis.period = 1e-300;
+  axis.start = 0.0;
+  axis.end = 1e-300;
+  axis.step = 1e-301;
+  const auto refusal = check_master_axis(axis);
+  ASSERT_TRUE(refusal.has_value());
+  EXPECT_EQ(refusal->input, MasterAxisInput::kEnd);
+  axis = MasterAxis{};
+  axis.start = 30.0;
+  axis.end = 30.0 + 2e-6;
+  EXPECT_FALSE(check_master_axis(axis).has_value());
+}
+
 }  // namespace
 }  // namespace slosh

@@ -22,6 +22,7 @@
 #include "slosh/core/law/move_absolute.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/response/response.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "solve/one_jerk_chart.hpp"
 #include "support/plan_errors.hpp"
@@ -531,6 +532,40 @@ TEST(MoveAbsoluteApi, MinTimeLeavesOutOrRefusesTheGeneralLaws) {
               "move_absolute: its law is not a 7-segment law (allowed: baseline, notch, "
               "multi_notch, min_jerk_band, time_domain, fir_chain)");
   }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review: time_domain under move_absolute allocated without bound (17 GB) when its
+// constraint could not be met: the solver's last point had a plateau of -1e-12 s, lifted as it
+// was, and the sensitivity integration asked for ~2^64 steps on it.
+TEST(MoveAbsoluteHardening, AnUnreachableTimeDomainConstraintIsAnInfeasibleOneJerkPlan) {
+  Format f = thesis_format();
+  f.stroke = 0.8;
+  f.motion_time = 0.5;
+  PlanOptions o;
+  o.drive_profile = DriveProfile::kMoveAbsolute;
+  const PlanResult short_move = plan(f, Strategy::kTimeDomain, o);
+  EXPECT_EQ(short_move.status, SolveStatus::kInfeasible) << short_move.message;
+  EXPECT_TRUE(short_move.move_absolute.has_value());
+  f.motion_time = 1.0;
+  o.limits.v_max = 0.5;
+  for (Strategy s : {Strategy::kTimeDomain, Strategy::kAuto}) {
+    const PlanResult r = plan(f, s, o);
+    EXPECT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+    ASSERT_TRUE(r.durations.has_value());
+    for (double d : *r.durations) EXPECT_GE(d, 0.0);
+  }
+}
+
+TEST(MoveAbsoluteHardening, ANegativeOrNanLengthTakesNoStep) {
+  EXPECT_EQ(step_count(-1e-12, 1e-3, 1), 1u);
+  EXPECT_EQ(step_count(std::nan(""), 1e-3, 0), 0u);
+  EXPECT_EQ(step_count(0.0105, 1e-3, 1), 11u);
 }
 
 }  // namespace

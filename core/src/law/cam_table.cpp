@@ -125,6 +125,12 @@ std::optional<MasterAxisRefusal> check_master_axis(const MasterAxis& axis, std::
     return master_refusal(MasterAxisInput::kStart, axis.start, start);
   const InputBounds end{axis.start, axis.period, true, false};
   if (!end.contains(axis.end)) return master_refusal(MasterAxisInput::kEnd, axis.end, end);
+  // A shorter motion span makes the derivatives per master unit (v / w, a / w^2, j / w^3)
+  // overflow to inf (hostile review: a period of 1e-300 gave nan and inf cells).
+  if (axis.end - axis.start < kMinMasterSpan) {
+    return master_refusal(MasterAxisInput::kEnd, axis.end,
+                          InputBounds{axis.start + kMinMasterSpan, axis.period, false, false});
+  }
   if (!positive().contains(axis.step)) {
     return master_refusal(MasterAxisInput::kStep, axis.step, positive());
   }

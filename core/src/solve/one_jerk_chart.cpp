@@ -88,7 +88,11 @@ OneJerkChart::Point OneJerkChart::repair(Point p) const {
 }
 
 std::vector<double> OneJerkChart::lift(const std::vector<double>& reduced) const {
-  const Durations d = durations(reduced.data(), nullptr);
+  Durations d = durations(reduced.data(), nullptr);
+  // As the reduced problem's functions see it: a plateau of a point the solver left slightly
+  // infeasible is 0, never negative (polish() then restores the sum).
+  d[1] = std::max(d[1], 0.0);
+  d[5] = std::max(d[5], 0.0);
   std::vector<double> full(d.begin(), d.end());
   full.insert(full.end(), reduced.begin() + kDimension, reduced.end());
   return full;

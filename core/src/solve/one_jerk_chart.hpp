@@ -50,7 +50,8 @@ struct OneJerkChart {
   /// every gradient is the exact chain rule through durations(). Throws std::logic_error when
   /// `full` has an equality other than the sum.
   [[nodiscard]] NlpProblem reduce(const NlpProblem& full) const;
-  /// A point of reduce(full) as a point of full: 7 durations, then the extra variables.
+  /// A point of reduce(full) as a point of full: 7 durations (a negative plateau, which only a
+  /// point the solver left infeasible has, held at 0), then the extra variables.
   [[nodiscard]] std::vector<double> lift(const std::vector<double>& reduced) const;
   /// A point of full as a point of reduce(full).
   [[nodiscard]] std::vector<double> restrict(const std::vector<double>& full) const;

@@ -22,6 +22,10 @@ constexpr double kCamTimeTolerance{1e-12};
 /// Shortest controller cycle a cam table is sampled at [s].
 constexpr double kCamMinPeriod{1e-5};
 
+/// Shortest motion span master_end - master_start of a master-axis table [master units]: the
+/// derivatives per master unit stay finite.
+constexpr double kMinMasterSpan{1e-6};
+
 /// Most samples in one cam table (10 million: 2.8 h at 1 ms).
 constexpr std::size_t kCamMaxSamples{10'000'000};
 

@@ -109,6 +109,9 @@ class NonlinearResponse {
 /// RK4 steps for a stretch of length L with steps <= h_max: ceil(L / h_max), ignoring a
 /// round-off excess of 1e-9 step (0.17 s / 1 ms is 170.00000000000003), at least `at_least`.
 [[nodiscard]] inline std::size_t step_count(double length, double h_max, std::size_t at_least = 0) {
+  // A length that is not positive (or NaN) takes no step: converting a negative count to size_t
+  // would ask for ~2^64 steps.
+  if (!(length > 0.0)) return at_least;
   const auto n = static_cast<std::size_t>(std::ceil(length / h_max - 1e-9));
   return n < at_least ? at_least : n;
 }
