@@ -568,5 +568,23 @@ TEST(MoveAbsoluteHardening, ANegativeOrNanLengthTakesNoStep) {
   EXPECT_EQ(step_count(0.0105, 1e-3, 1), 11u);
 }
 
+// Hostile review: this fir_chain law summed 1 ulp below T (its durations were closed on
+// T1 + T2 + T3, not on the format's T).
+TEST(MoveAbsoluteHardening, AFirChainLawSumsToTheFormatsMotionTime) {
+  Format f = thesis_format();
+  f.container.radius = 0.16868;
+  f.fill_height = 0.17551;
+  f.stroke = 0.045065;
+  f.motion_time = 6.556997843737203;
+  PlanOptions o;
+  o.drive_profile = DriveProfile::kMoveAbsolute;
+  o.fix_constant_velocity_zero = true;
+  const PlanResult r = plan(f, Strategy::kFirChain, o);
+  ASSERT_TRUE(r.durations.has_value()) << r.message;
+  double sum = 0.0;
+  for (double d : *r.durations) sum += d;
+  EXPECT_EQ(sum, f.motion_time);
+}
+
 }  // namespace
 }  // namespace slosh

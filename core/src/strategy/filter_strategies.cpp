@@ -116,7 +116,8 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
   o.detail = "T3 = " + sig3(T3) + " s (the damped period of mode 1), T1 = " + sig3(T1) +
              " s, T2 = " + sig3(T2) + " s" + choice;
   if (chain.durations) {
-    o.durations = chain.durations;
+    // T1 + T2 + T3 is the motion time only to round-off: the sum is closed on T itself.
+    o.durations = clean_durations(*chain.durations, c.format.motion_time);
     o.law = SevenSegmentLaw(*o.durations, S).law();
     o.detail += ": conditions (14) hold, a 7-segment law";
   } else {
