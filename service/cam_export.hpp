@@ -24,9 +24,8 @@ enum class CamFileFormat {
   kSt,   ///< IEC 61131-3 structured text (cam_table_st)
 };
 
-/// The names of the cam table options as the caller gave them: CLI flags ("--master-start") or
-/// query parameters ("master_start"). They are the `field` and the subject of every refusal.
-struct CamOptionNames {
+/// One text per cam table option.
+struct CamOptionTexts {
   std::string period_ms;
   std::string master_period;
   std::string master_start;
@@ -34,6 +33,10 @@ struct CamOptionNames {
   std::string master_step;
   std::string st_name;
 };
+
+/// The names of the cam table options as the caller gave them: CLI flags ("--master-start") or
+/// query parameters ("master_start"). They are the `field` and the subject of every refusal.
+using CamOptionNames = CamOptionTexts;
 
 /// "--period-ms", "--master-period", "--master-start", "--master-end", "--master-step",
 /// "--st-name".
@@ -86,14 +89,7 @@ struct CamTableSpec {
 
 /// The cam table query parameters of GET /v1/plans/{key}/cam.csv and cam.st as received (an
 /// empty text = not given).
-struct CamQuery {
-  std::string period_ms;
-  std::string master_period;
-  std::string master_start;
-  std::string master_end;
-  std::string master_step;
-  std::string st_name;
-};
+using CamQuery = CamOptionTexts;
 
 /// The options of a query: the numbers read whole (ApiError naming the parameter, "master_start
 /// = abc is not a number [master units]", when one is not a finite number); `format` from the

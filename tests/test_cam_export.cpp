@@ -27,6 +27,7 @@
 #include "slosh/api/openapi.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "support/process.hpp"
+#include "support/reference_seven_segment.hpp"
 #include "support/server.hpp"
 #include "version.hpp"
 
@@ -42,62 +43,9 @@ using test::TempDir;
 using test::write_file;
 
 // ---------------------------------------------------------------------------------------------
-// A 7-segment law rebuilt from its durations: with unit peak velocity the plateaus are
-// A = 1 / (d1/2 + d2 + d3/2), B = 1 / (d5/2 + d6 + d7/2); the position reached is integrated with
-// cubic Taylor steps (exact for a constant jerk) and every level scaled to the stroke.
-
-struct State {
-  double s{}, v{}, a{}, j{};
-};
-
-class Reference7 {
- public:
-  Reference7(const Durations& d, double stroke) : d_(d), stroke_(stroke) {
-    const double A1 = 1.0 / (d[0] / 2 + d[1] + d[2] / 2);
-    const double B1 = 1.0 / (d[4] / 2 + d[5] + d[6] / 2);
-    const double reached = integrate(A1, B1);
-    integrate(A1 * stroke / reached, B1 * stroke / reached);
-    for (std::size_t i = 0; i < 7; ++i) t_[i + 1] = t_[i] + d[i];
-  }
-  [[nodiscard]] double T() const { return t_[7]; }
-  [[nodiscard]] double v_peak() const { return start_[3].v; }
-  [[nodiscard]] double a_peak() const { return std::max(start_[1].a, -start_[5].a); }
-  [[nodiscard]] double j_peak() const {
-    double m = 0.0;
-    for (const State& s : start_) m = std::max(m, std::abs(s.j));
-    return m;
-  }
-  /// The state at t in [0, T): the last segment of positive duration starting at or before t.
-  [[nodiscard]] State at(double t) const {
-    std::size_t seg = 0;
-    for (std::size_t i = 0; i < 7; ++i) {
-      if (d_[i] > 0.0 && t_[i] <= t + 1e-12) seg = i;
-    }
-    const State& b = start_[seg];
-    const double h = std::max(0.0, t - t_[seg]);
-    return {b.s + b.v * h + b.a * h * h / 2 + b.j * h * h * h / 6, b.v + b.a * h + b.j * h * h / 2,
-            b.a + b.j * h, b.j};
-  }
-
- private:
-  double integrate(double A, double B) {
-    const std::array<double, 7> jerk{A / d_[0], 0.0, -A / d_[2], 0.0, -B / d_[4], 0.0, B / d_[6]};
-    const std::array<double, 7> a0{0.0, A, A, 0.0, 0.0, -B, -B};
-    double s = 0.0, v = 0.0;
-    for (std::size_t i = 0; i < 7; ++i) {
-      const double h = d_[i];
-      start_[i] = {s, v, a0[i], jerk[i]};
-      s += v * h + a0[i] * h * h / 2 + jerk[i] * h * h * h / 6;
-      v += a0[i] * h + jerk[i] * h * h / 2;
-    }
-    return s;
-  }
-
-  Durations d_;
-  double stroke_;
-  std::array<double, 8> t_{};
-  std::array<State, 7> start_{};
-};
+// The reference law: tests/support/reference_seven_segment.hpp.
+using Reference7 = test::ReferenceSevenSegment;
+using State = test::LawState;
 
 // ---------------------------------------------------------------------------------------------
 // A small IEC 61131-3 grammar check of what `slosh export --format st` writes:
@@ -378,7 +326,7 @@ void expect_master_rows(const std::vector<std::vector<double>>& rows, const Refe
     EXPECT_NEAR(r[1], s.s * 1e3, rel * stroke_mm) << theta;
     EXPECT_NEAR(r[2] * w, s.v * 1e3, rel * ref.v_peak() * 1e3) << theta;
     EXPECT_NEAR(r[3] * w * w, s.a * 1e3, rel * ref.a_peak() * 1e3) << theta;
-    EXPECT_NEAR(r[4] * w * w * w, s.j * 1e3, rel * ref.j_peak() * 1e3) << theta;
+    EXPECT_NEAR(r[4] * w * w * w, s.j * 1e3, rel * ref.max_jerk() * 1e3) << theta;
   }
 }
 
@@ -491,7 +439,7 @@ TEST_F(ExportMaster, CsvFollowsThePlannedLawThroughTheMasterSpeed) {
   EXPECT_LT(rows[209][1], 800.0);
   EXPECT_GT(rows[31][1], 0.0);
   EXPECT_EQ(rows[30][1], 0.0);
-  EXPECT_NEAR(rows[30][4] * std::pow(180.0, 3), ref.at(0.0).j * 1e3, 1e-11 * ref.j_peak() * 1e3);
+  EXPECT_NEAR(rows[30][4] * std::pow(180.0, 3), ref.at(0.0).j * 1e3, 1e-11 * ref.max_jerk() * 1e3);
   const json summary = json::parse(csv_run_.out);
   EXPECT_EQ(summary["table"], "master");
   EXPECT_EQ(summary["file_format"], "csv");

@@ -325,17 +325,7 @@ TEST_F(PlanCacheTest, StoreIsPrunedOldestFirst) {
 }
 
 }  // namespace
-/// Runs `sql` (statements without results) on `path` through a connection of the test's own.
-void execute(const std::string& path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  char* message = nullptr;
-  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message);
-  const std::string error = message == nullptr ? "" : message;
-  sqlite3_free(message);
-  sqlite3_close(db);
-  ASSERT_EQ(rc, SQLITE_OK) << error;
-}
+using test::execute;
 
 TEST_F(PlanCacheTest, RowsOfAnotherBodyLayoutAreDroppedWhenTheStoreOpens) {
   // A store written before the bodies lost their per-reply "cached" member (user_version 0).

@@ -62,17 +62,7 @@ std::string project_version() {
   return std::regex_search(cmake, m, declared) ? m[1].str() : "<none>";
 }
 
-/// Runs `sql` on the SQLite file `path` (a write connection of the test's own).
-void execute(const std::string& path, const std::string& sql) {
-  sqlite3* db = nullptr;
-  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
-  char* message = nullptr;
-  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message);
-  const std::string error = message == nullptr ? "" : message;
-  sqlite3_free(message);
-  sqlite3_close(db);
-  ASSERT_EQ(rc, SQLITE_OK) << error;
-}
+using test::execute;
 
 // ---- the keys -------------------------------------------------------------------------------
 

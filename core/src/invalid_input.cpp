@@ -25,16 +25,9 @@ std::string with_unit(std::string text, std::string_view unit) {
 }
 
 std::string allowed_text(const InputBounds& b, std::string_view unit, bool integer) {
-  const bool has_lo = std::isfinite(b.lo);
-  const bool has_hi = std::isfinite(b.hi);
-  if (has_lo && has_hi) {
-    return with_unit(std::string("in ") + (b.lo_open ? "(" : "[") + number(b.lo, integer) + ", " +
-                         number(b.hi, integer) + (b.hi_open ? ")" : "]"),
-                     unit);
-  }
-  if (has_lo) return with_unit((b.lo_open ? "> " : ">= ") + number(b.lo, integer), unit);
-  if (has_hi) return with_unit((b.hi_open ? "< " : "<= ") + number(b.hi, integer), unit);
-  return "finite";
+  const std::string text = bounds_text(b, [integer](double v) { return number(v, integer); });
+  if (!std::isfinite(b.lo) && !std::isfinite(b.hi)) return text;
+  return with_unit((std::isfinite(b.lo) && std::isfinite(b.hi) ? "in " : "") + text, unit);
 }
 
 bool integer_input(PlanInput input) {
@@ -106,6 +99,18 @@ bool InputBounds::contains(double value) const {
   const bool above = lo_open ? value > lo : value >= lo;
   const bool below = hi_open ? value < hi : value <= hi;
   return above && below;
+}
+
+std::string bounds_text(const InputBounds& b, const std::function<std::string(double)>& number) {
+  const bool has_lo = std::isfinite(b.lo);
+  const bool has_hi = std::isfinite(b.hi);
+  if (has_lo && has_hi) {
+    return std::string(b.lo_open ? "(" : "[") + number(b.lo) + ", " + number(b.hi) +
+           (b.hi_open ? ")" : "]");
+  }
+  if (has_lo) return (b.lo_open ? "> " : ">= ") + number(b.lo);
+  if (has_hi) return (b.hi_open ? "< " : "<= ") + number(b.hi);
+  return "finite";
 }
 
 std::string InvalidInput::allowed() const {

@@ -13,11 +13,16 @@ inline std::string fixed(double v, int digits) {
   return buf;
 }
 
+/// v with `digits` significant digits ("%g" style: "7.93", "0.0123", "3.600001081e-05").
+inline std::string significant(double v, int digits) {
+  char buf[64];
+  std::snprintf(buf, sizeof buf, "%.*g", digits, v);
+  return buf;
+}
+
 /// v with 3 significant digits ("7.93", "0.0123").
 inline std::string sig3(double v) {
-  char buf[64];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
+  return significant(v, 3);
 }
 
 /// A fraction as a percentage with 3 significant digits ("12.5 %").

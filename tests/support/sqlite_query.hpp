@@ -1,7 +1,8 @@
 #pragma once
-// Reads a SQLite file through a connection of the test's own (read-only), beside the code under
-// test: the store tests check what is on disk, not what the cache says.
+// Reads and writes a SQLite file through a connection of the test's own, beside the code under
+// test: the store tests check what is on disk, not what the cache says, and damage it there.
 
+#include <gtest/gtest.h>
 #include <sqlite3.h>
 
 #include <string>
@@ -24,6 +25,19 @@ inline std::string query(const std::string& path, const std::string& sql) {
   }
   sqlite3_close(db);
   return result;
+}
+
+/// Runs `sql` (statements without results) on the SQLite file `path` through a write connection
+/// of the test's own; fails the test when it cannot.
+inline void execute(const std::string& path, const std::string& sql) {
+  sqlite3* db = nullptr;
+  ASSERT_EQ(sqlite3_open(path.c_str(), &db), SQLITE_OK);
+  char* message = nullptr;
+  const int rc = sqlite3_exec(db, sql.c_str(), nullptr, nullptr, &message);
+  const std::string error = message == nullptr ? "" : message;
+  sqlite3_free(message);
+  sqlite3_close(db);
+  ASSERT_EQ(rc, SQLITE_OK) << error;
 }
 
 }  // namespace slosh::test

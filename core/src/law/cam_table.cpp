@@ -2,20 +2,19 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+
+#include "text.hpp"
 
 namespace slosh {
 
 namespace {
 
 std::string seconds(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%g s", v);
-  return buffer;
+  return detail::significant(v, 6) + " s";
 }
 
 // The state of `law` (duration T, switch times `switches`) at a sample time t in [0, T): on a
@@ -71,9 +70,7 @@ namespace {
 
 // 10 significant digits (the API's number_text).
 std::string master_number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.10g", v);
-  return buffer;
+  return detail::significant(v, 10);
 }
 
 std::string_view master_input_name(MasterAxisInput input) {
@@ -106,14 +103,7 @@ bool near_grid(double grid_point, double x, double step) {
 }  // namespace
 
 std::string MasterAxisRefusal::allowed() const {
-  const bool has_lo = std::isfinite(bounds.lo);
-  const bool has_hi = std::isfinite(bounds.hi);
-  if (has_lo && has_hi) {
-    return std::string(bounds.lo_open ? "(" : "[") + master_number(bounds.lo) + ", " +
-           master_number(bounds.hi) + (bounds.hi_open ? ")" : "]");
-  }
-  if (has_hi) return (bounds.hi_open ? "< " : "<= ") + master_number(bounds.hi);
-  return (bounds.lo_open ? "> " : ">= ") + master_number(bounds.lo);
+  return bounds_text(bounds, master_number);
 }
 
 std::optional<MasterAxisRefusal> check_master_axis(const MasterAxis& axis, std::size_t max_rows) {

@@ -105,15 +105,15 @@ Durations DurationSpace::from_weights(const Durations& w) const {
 }
 
 std::vector<Durations> DurationSpace::starts(int random_count) const {
-  std::vector<Durations> out = general_starts(random_count);
-  if (!one_jerk) return out;
-  // In the family: each start restated there, duplicates dropped (the order is kept).
-  std::vector<Durations> family;
-  for (const Durations& d : out) {
-    const Durations p = polish(d.data());
-    if (std::find(family.begin(), family.end(), p) == family.end()) family.push_back(p);
+  const std::vector<Durations> all = general_starts(random_count);
+  if (!one_jerk) return all;
+  // In the family (from_weights and the warm start went through polish(), which restates a point
+  // there; the uniform law is in it) distinct starts can coincide: each is kept once, in order.
+  std::vector<Durations> distinct;
+  for (const Durations& d : all) {
+    if (std::find(distinct.begin(), distinct.end(), d) == distinct.end()) distinct.push_back(d);
   }
-  return family;
+  return distinct;
 }
 
 std::vector<Durations> DurationSpace::general_starts(int random_count) const {

@@ -44,7 +44,7 @@ struct DurationSpace {
   /// `random_count` points of a seeded Dirichlet spread, all inside the bounds and summing to T.
   /// With a warm start: that start scaled to T and polished, then the uniform law (no others).
   [[nodiscard]] std::vector<Durations> starts(int random_count) const;
-  /// starts() before the one-jerk family restates them.
+  /// starts() with the duplicates the one-jerk family's projection can make.
   [[nodiscard]] std::vector<Durations> general_starts(int random_count) const;
 
   /// Maps a solver point onto the exact admissible set (bounds hold, the sum equals T to the

@@ -87,15 +87,27 @@ OneJerkChart::Point OneJerkChart::repair(Point p) const {
   return at(feasible);
 }
 
+std::vector<double> OneJerkChart::evaluation_point(const double* p, std::size_t n, double* jac,
+                                                   double* charted_jac, Durations* charted) const {
+  std::vector<double> x(n);
+  const Durations d = durations(p, jac);
+  if (charted != nullptr) *charted = d;
+  if (charted_jac != nullptr && jac != nullptr) {
+    std::copy(jac, jac + kSegments * kDimension, charted_jac);
+  }
+  std::copy(d.begin(), d.end(), x.begin());
+  for (std::size_t i : {std::size_t{1}, std::size_t{5}}) {
+    if (x[i] >= 0.0) continue;
+    x[i] = 0.0;
+    if (jac != nullptr) std::fill(jac + i * kDimension, jac + (i + 1) * kDimension, 0.0);
+  }
+  std::copy(p + kDimension, p + kDimension + (n - kSegments), x.begin() + kSegments);
+  return x;
+}
+
 std::vector<double> OneJerkChart::lift(const std::vector<double>& reduced) const {
-  Durations d = durations(reduced.data(), nullptr);
-  // As the reduced problem's functions see it: a plateau of a point the solver left slightly
-  // infeasible is 0, never negative (polish() then restores the sum).
-  d[1] = std::max(d[1], 0.0);
-  d[5] = std::max(d[5], 0.0);
-  std::vector<double> full(d.begin(), d.end());
-  full.insert(full.end(), reduced.begin() + kDimension, reduced.end());
-  return full;
+  return evaluation_point(reduced.data(), reduced.size() - kDimension + kSegments, nullptr, nullptr,
+                          nullptr);
 }
 
 std::vector<double> OneJerkChart::restrict(const std::vector<double>& full) const {
@@ -121,24 +133,6 @@ NlpProblem OneJerkChart::reduce(const NlpProblem& full) const {
   q.lower.insert(q.lower.end(), full.lower.begin() + kSegments, full.lower.end());
   q.upper.insert(q.upper.end(), full.upper.begin() + kSegments, full.upper.end());
   const OneJerkChart chart = *this;
-  // x = lift(p) and the 7 x 3 Jacobian of its durations. Outside the family's admissible set (a
-  // plateau below 0, which only the solver's trial points reach) that plateau is held at 0 with a
-  // zero Jacobian row, so the functions of `full` only ever see durations >= 0 (a negative one
-  // makes the time-domain response meaningless); the plateau rows below, on the durations as
-  // charted, push the solver back.
-  auto lifted = [chart, n](const double* p, double* jac, Durations* charted) {
-    std::vector<double> x(n);
-    const Durations d = chart.durations(p, jac);
-    if (charted != nullptr) *charted = d;
-    std::copy(d.begin(), d.end(), x.begin());
-    for (std::size_t i : {std::size_t{1}, std::size_t{5}}) {
-      if (x[i] >= 0.0) continue;
-      x[i] = 0.0;
-      if (jac != nullptr) std::fill(jac + i * kDimension, jac + (i + 1) * kDimension, 0.0);
-    }
-    std::copy(p + kDimension, p + kDimension + (n - kSegments), x.begin() + kSegments);
-    return x;
-  };
   // Row r of a full Jacobian (or gradient) `gx` through the chain rule into `out`.
   auto chain = [n, nr](const double* gx, const double* jac, double* out) {
     for (int k = 0; k < kDimension; ++k) {
@@ -148,9 +142,10 @@ NlpProblem OneJerkChart::reduce(const NlpProblem& full) const {
     }
     for (std::size_t j = kDimension; j < nr; ++j) out[j] = gx[kSegments + j - kDimension];
   };
-  q.objective = [f = full.objective, lifted, chain, n](const double* p, double* grad) {
+  q.objective = [f = full.objective, chart, chain, n](const double* p, double* grad) {
     double jac[kSegments * kDimension];
-    const std::vector<double> x = lifted(p, grad != nullptr ? jac : nullptr, nullptr);
+    const std::vector<double> x =
+        chart.evaluation_point(p, n, grad != nullptr ? jac : nullptr, nullptr, nullptr);
     if (grad == nullptr) return f(x.data(), nullptr);
     std::vector<double> gx(n);
     const double value = f(x.data(), gx.data());
@@ -159,11 +154,12 @@ NlpProblem OneJerkChart::reduce(const NlpProblem& full) const {
   };
   const int m = full.inequality_count;
   q.inequality_count = m + 2;
-  q.inequalities = [g_full = full.inequalities, lifted, chain, m, n, nr, chart](
-                       const double* p, double* g, double* jac_out) {
+  q.inequalities = [g_full = full.inequalities, chain, m, n, nr, chart](const double* p, double* g,
+                                                                        double* jac_out) {
     double jac[kSegments * kDimension];
+    double charted_jac[kSegments * kDimension];
     Durations d{};
-    const std::vector<double> x = lifted(p, jac, &d);
+    const std::vector<double> x = chart.evaluation_point(p, n, jac, charted_jac, &d);
     std::vector<double> jx(jac_out != nullptr ? static_cast<std::size_t>(m) * n : 0);
     if (m > 0) g_full(x.data(), g, jac_out != nullptr ? jx.data() : nullptr);
     const double T = chart.motion_time;
@@ -171,13 +167,11 @@ NlpProblem OneJerkChart::reduce(const NlpProblem& full) const {
     g[m + 1] = (chart.plateau_min[1] - d[5]) / T;
     if (jac_out == nullptr) return;
     for (int r = 0; r < m; ++r) chain(jx.data() + r * n, jac, jac_out + r * nr);
-    double charted[kSegments * kDimension];
-    (void)chart.durations(p, charted);
     for (int r = 0; r < 2; ++r) {
       double* row = jac_out + (m + r) * nr;
       std::fill(row, row + nr, 0.0);
       for (int k = 0; k < kDimension; ++k) {
-        row[k] = -charted[(r == 0 ? 1 : 5) * kDimension + k] / T;
+        row[k] = -charted_jac[(r == 0 ? 1 : 5) * kDimension + k] / T;
       }
     }
   };

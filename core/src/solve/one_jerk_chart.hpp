@@ -50,8 +50,16 @@ struct OneJerkChart {
   /// every gradient is the exact chain rule through durations(). Throws std::logic_error when
   /// `full` has an equality other than the sum.
   [[nodiscard]] NlpProblem reduce(const NlpProblem& full) const;
-  /// A point of reduce(full) as a point of full: 7 durations (a negative plateau, which only a
-  /// point the solver left infeasible has, held at 0), then the extra variables.
+  /// The point of the full problem (n variables) that reduce()'s functions evaluate at p: the 7
+  /// durations, then p's extra variables. Outside the family's admissible set (a plateau below 0,
+  /// which only the solver's trial points and an infeasible last point reach) that plateau is held
+  /// at 0 with a zero row in `jac`, so the functions of the full problem only ever see durations
+  /// >= 0 (a negative one makes the time-domain response meaningless); the plateau rows, on the
+  /// durations as charted, push the solver back. `jac` (7 x 3, may be null) gets the Jacobian of
+  /// the evaluated durations, `charted_jac` and `charted` (may be null) those as charted.
+  [[nodiscard]] std::vector<double> evaluation_point(const double* p, std::size_t n, double* jac,
+                                                     double* charted_jac, Durations* charted) const;
+  /// A point of reduce(full) as a point of full: evaluation_point() of it.
   [[nodiscard]] std::vector<double> lift(const std::vector<double>& reduced) const;
   /// A point of full as a point of reduce(full).
   [[nodiscard]] std::vector<double> restrict(const std::vector<double>& full) const;

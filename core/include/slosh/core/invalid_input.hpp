@@ -5,6 +5,7 @@
 // (api/core_input.hpp); the core never names an API field.
 
 #include <array>
+#include <functional>
 #include <initializer_list>
 #include <limits>
 #include <optional>
@@ -124,6 +125,11 @@ struct InputBounds {
   /// True when `value` is finite and in the set.
   [[nodiscard]] bool contains(double value) const;
 };
+
+/// The set as text with `number` writing its ends, without unit: "[0, 360)", "(30, 360]", "> 0",
+/// "<= 1"; "finite" when both ends are infinite.
+[[nodiscard]] std::string bounds_text(const InputBounds& bounds,
+                                      const std::function<std::string(double)>& number);
 
 /// Why the core refuses an input: which input, which element, its value and the allowed set.
 struct InvalidInput {
