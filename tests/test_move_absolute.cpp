@@ -572,5 +572,42 @@ TEST(MoveAbsoluteHardening, AFirChainLawSumsToTheFormatsMotionTime) {
   EXPECT_EQ(sum, 6.556997843737203);
 }
 
+// Hostile re-test: a plateau polish snapped to its bound moved the ramps by nanoseconds (jerks
+// 4e-9 apart), and the relative 1e-9 test called the law not one-jerk: infeasible, no block.
+TEST(MoveAbsoluteHardening, ANanosecondSnapKeepsTheLawOneJerk) {
+  const json body = json::parse(R"({"format": {"container": {"radius_mm": 5.966403523070259},
+      "fill_height_mm": 770.9887538414052, "fluid": {"density_kg_m3": 900, "viscosity_pa_s": 0.5},
+      "stroke_mm": 13.507115074351734, "motion_time_s": 1.388822285782039},
+      "strategy": "time_domain", "options": {"drive_profile": "move_absolute",
+      "limits": {"a_max": 2.1890943716699565, "v_max": 0.6332089439274653}}})");
+  const json plan = api::run_plan(api::parse_plan_request(body));
+  EXPECT_EQ(plan["status"], "optimal") << plan["message"];
+  ASSERT_TRUE(plan.contains("move_absolute"));
+  const json& m = plan["move_absolute"];
+  const Profile profile = plcopen_profile(
+      m["distance_mm"].get<double>() * 1e-3, m["velocity_mm_s"].get<double>() * 1e-3,
+      m["acceleration_mm_s2"].get<double>() * 1e-3, m["deceleration_mm_s2"].get<double>() * 1e-3,
+      m["jerk_mm_s3"].get<double>() * 1e-3);
+  for (std::size_t i = 0; i < 7; ++i) {
+    EXPECT_NEAR(profile[i].duration, plan["durations_s"][i].get<double>(), 1e-6) << i;
+  }
+}
+
+// Hostile re-test: auto on a format where the models diverge for the optimisers' laws but not
+// for the chosen one answered 500 (a non-finite candidate prediction in the response).
+TEST(AutoHardening, CandidatesTheModelsCannotFollowAreLeftOutAndNamed) {
+  const json body = json::parse(R"({"format": {"container": {"radius_mm": 5}, "fill_height_mm": 6,
+      "fluid": "water", "stroke_mm": 5000, "motion_time_s": 0.05}, "strategy": "auto",
+      "options": {"min_ramp_s": 0.0125, "limits": {"a_max": 0.001}}})");
+  const json plan = api::run_plan(api::parse_plan_request(body));
+  EXPECT_NE(plan["message"].get<std::string>().find(
+                "left out, the sloshing models diverge for their laws: "),
+            std::string::npos)
+      << plan["message"];
+  for (const json& c : plan["candidates"]) {
+    EXPECT_TRUE(std::isfinite(c["prediction"]["nonlinear"]["eta_motion_mm"].get<double>()));
+  }
+}
+
 }  // namespace
 }  // namespace slosh

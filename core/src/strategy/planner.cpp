@@ -622,24 +622,31 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   int evaluations = 0, starts = 0;
   std::vector<std::string> worse_of;
   std::vector<bool> worse;
+  std::vector<Outcome> kept;  // the outcomes of `candidates`, index for index
+  std::string diverged;       // the candidates the models cannot follow, left out
   for (Outcome& o : outcomes) {
+    evaluations += o.solver.evaluations;
+    starts += o.solver.starts;
     PlanCandidate cand;
     cand.strategy = o.strategy;
     cand.law = o.law;
     cand.prediction = predict(c.model, cand.law, c.options.rest_time);
+    if (!finite_prediction(cand.prediction)) {
+      diverged += (diverged.empty() ? "" : ", ") + to_string(o.strategy);
+      continue;
+    }
     verify(c, o, cand.prediction);
     cand.status = o.status;
     cand.durations = o.durations;
     worse_of.push_back(worse_than_baseline(cand.prediction, baseline));
     worse.push_back(!worse_of.back().empty());
     candidates.push_back(std::move(cand));
-    evaluations += o.solver.evaluations;
-    starts += o.solver.starts;
+    kept.push_back(std::move(o));
   }
   const AutoChoice choice = choose_auto(candidates, worse);
   candidates[choice.index].chosen = true;
   Selection s;
-  s.outcome = std::move(outcomes[choice.index]);
+  s.outcome = std::move(kept[choice.index]);
   s.outcome.solver.evaluations = evaluations;
   s.outcome.solver.starts = starts;
   if (!choice.eligible) {
@@ -650,6 +657,9 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
                (choice.any_not_worse ? std::string("none worse than the uniform law)")
                                      : std::string("all worse than the uniform law, which does "
                                                    "not meet the options)"));
+  }
+  if (!diverged.empty()) {
+    s.detail += "; left out, the sloshing models diverge for their laws: " + diverged;
   }
   if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
   s.worse = worse_of[choice.index];

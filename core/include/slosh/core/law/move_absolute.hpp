@@ -8,9 +8,10 @@
 
 namespace slosh {
 
-/// Relative spread of the four ramp jerks up to which a 7-segment law is one-jerk [-]: the chart
-/// of the family keeps them equal to round-off; 1e-9 leaves room for polish's last ulps.
-inline constexpr double kOneJerkTolerance{1e-9};
+/// How far each ramp may be from the ramp the one jerk gives (A / J, B / J) for a 7-segment law to
+/// be one-jerk [s]: the chart of the family keeps them equal to round-off, and polish's snap of a
+/// plateau within 1 ns of its bound moves them by nanoseconds; 10 ns is 1 % of SPEC §11's 1 µs.
+inline constexpr double kOneJerkRampTolerance{1e-8};
 
 /// What a jerk-limited point-to-point block needs to run a one-jerk 7-segment law (SI units).
 /// Its time-optimal profile under these limits is the law: ramps of velocity / acceleration, an
@@ -24,9 +25,9 @@ struct MoveAbsoluteProfile {
   double jerk{};          ///< J = A / dT1 = B / dT5 [m/s^3]
 };
 
-/// The profile of a 7-segment law whose four ramp jerks agree within kOneJerkTolerance
-/// (dT1 = dT3 and dT5 = dT7 and A / dT1 = B / dT5); nullopt otherwise, or when the law does not
-/// build (non-finite A or B).
+/// The profile of a 7-segment law whose four ramps are those of one jerk J, each within
+/// kOneJerkRampTolerance (dT1 = dT3 = A / J, dT5 = dT7 = B / J, J the mean of the four ramp
+/// jerks); nullopt otherwise, or when A or B is not finite and positive.
 [[nodiscard]] std::optional<MoveAbsoluteProfile> move_absolute_profile(const Durations& d,
                                                                        double stroke);
 
