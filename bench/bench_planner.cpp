@@ -27,6 +27,7 @@ struct Setup {
     options.solver = solver;
     const auto uniform = slosh::uniform_durations(format.motion_time);
     const slosh::SevenSegmentLaw law(uniform, 0.8);
+    slosh::detail::set_design(context);
     slosh::detail::set_references(
         context, slosh::NonlinearResponse(model, law.law(), 1.0).peaks().motion.value);
   }
@@ -88,6 +89,37 @@ void BM_Plan(benchmark::State& state) {
 // 0 baseline, 1 notch, 2 multi_notch, 3 min_jerk_band, 4 time_domain, 5 fir_chain, 6 shaper,
 // 7 iir, 8 auto.
 BENCHMARK(BM_Plan)->DenseRange(0, 8)->Unit(benchmark::kMillisecond);
+
+// The robustness report of SPEC §10 alone (21 frequency errors in +-10 %, both models, the
+// delta = 0 point simulated too) for the law of each strategy on the thesis format.
+void BM_RobustnessReport(benchmark::State& state) {
+  const auto strategy = static_cast<Strategy>(state.range(0));
+  const slosh::Format format = slosh::thesis_format();
+  PlanOptions options;
+  options.robustness = false;
+  const slosh::PlanResult r = slosh::plan(format, strategy, options);
+  slosh::RobustnessSweep sweep;
+  sweep.zeta = r.model.zeta;
+  sweep.eta_rest_max = options.eta_rest_max;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::robustness_report(r.model, r.law, sweep));
+  }
+  state.SetLabel(slosh::to_string(strategy));
+}
+BENCHMARK(BM_RobustnessReport)->Arg(0)->Arg(4)->Arg(6)->Unit(benchmark::kMillisecond);
+
+// A robust plan: time_domain over +-5 % and +-10 % of omega (5 sample models, verified on the
+// 21-point grid), and auto judged by the worst case over +-5 %.
+void BM_RobustPlan(benchmark::State& state) {
+  const auto strategy = static_cast<Strategy>(state.range(0));
+  PlanOptions options;
+  options.uncertainty.omega_error = static_cast<double>(state.range(1)) / 100.0;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::plan(slosh::thesis_format(), strategy, options));
+  }
+  state.SetLabel(slosh::to_string(strategy) + " +-" + std::to_string(state.range(1)) + " %");
+}
+BENCHMARK(BM_RobustPlan)->Args({4, 5})->Args({4, 10})->Args({8, 5})->Unit(benchmark::kMillisecond);
 
 // The filtering designs alone (closed forms; no verification).
 void BM_Design(benchmark::State& state) {

@@ -461,9 +461,19 @@ TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
   const Format f = format_mm(48.5, 82, 800, 1.0);  // uniform: A 4.9 m/s^2, v 1.4 m/s, ramps T/7
   PlanOptions o;
   o.min_ramp = 0.2;
+  // The uniform law's ramps of T/7 break min_ramp: baseline returns the admissible law with every
+  // segment at its minimum plus an equal share of the rest (SPEC §5: never durations that break
+  // the admissibility rules), and says why.
   const PlanResult ramps = plan(f, Strategy::kBaseline, o);
-  EXPECT_EQ(ramps.status, SolveStatus::kInfeasible) << describe(ramps);
-  EXPECT_TRUE(Contains(ramps.message, "min_ramp_s = 0.2 s")) << ramps.message;
+  EXPECT_EQ(ramps.status, SolveStatus::kOptimal) << describe(ramps);
+  EXPECT_TRUE(Contains(ramps.message,
+                       "the uniform law breaks the options (the law's ramp 1 lasts "
+                       "0.143 s, less than min_ramp_s = 0.2 s)"))
+      << ramps.message;
+  ASSERT_TRUE(ramps.durations);
+  const double share = (1.0 - 4 * 0.2) / 7.0;
+  for (int i : {0, 2, 4, 6}) EXPECT_NEAR((*ramps.durations)[i], 0.2 + share, 1e-15);
+  for (int i : {1, 3, 5}) EXPECT_NEAR((*ramps.durations)[i], share, 1e-15);
   PlanOptions fast;
   fast.limits.v_max = 1.0;
   const PlanResult baseline = plan(f, Strategy::kBaseline, fast);
@@ -503,6 +513,41 @@ TEST(PlanHonesty, AReachableLimitIsNotBlamedAndABrokenOneIsNamed) {
       EXPECT_TRUE(Contains(r.message, "exceeds limits.a_max = 3.6 m/s^2")) << describe(r);
     }
   }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review of issue 19 (F8): a fir_chain law whose ramps or plateaus break the options was
+// returned with those durations (flagged infeasible); SPEC §5 says never. It is now returned as a
+// law without a 7-segment table.
+TEST(PlanHonesty, AFirChainLawThatBreaksTheRampMinimumCarriesNoDurations) {
+  const Format f = format_mm(48.5, 82, 800, 2.0);  // T3 = damped period ~0.32 s
+  PlanOptions o;
+  o.min_ramp = 0.4;
+  const PlanResult r = plan(f, Strategy::kFirChain, o);
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible) << describe(r);
+  EXPECT_FALSE(r.durations.has_value()) << describe(r);
+  EXPECT_TRUE(Contains(r.message, "are shorter than min_ramp_s = 0.4 s")) << r.message;
+  EXPECT_GT(r.law.duration(), 0.0);
+}
+
+// Hostile review of issue 19: a plateau minimum below 1 ns gave a 2e-10 s plateau, which the
+// 1 ns rule then zeroed: such a minimum cannot be held and is refused.
+TEST(PlanHonesty, APlateauMinimumBelowOneNanosecondIsRefused) {
+  PlanOptions o;
+  o.plateau_min = {0.0, 2e-10};
+  const std::optional<InvalidInput> e = o.validate(format_mm(48.5, 82, 800, 1.0));
+  ASSERT_TRUE(e);
+  EXPECT_EQ(e->input, PlanInput::kPlateauMin);
+  EXPECT_EQ(e->index, 1);
+  EXPECT_EQ(e->message,
+            "plateau_min[1] = 2e-10 s must be 0 or >= 1e-09 s: durations below 1 ns are exactly 0");
+  o.plateau_min = {0.0, 1e-9};
+  EXPECT_FALSE(o.validate(format_mm(48.5, 82, 800, 1.0)));
 }
 
 }  // namespace

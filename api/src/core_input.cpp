@@ -69,6 +69,10 @@ std::string option_sentence(const InvalidInput& e, const Format& format, const P
              sig3((T - o.plateau_min[0] - o.plateau_min[1]) / 4.0) + " s";
     }
     case PlanInput::kPlateauMin:
+      if (e.bounds.lo > 0.0) {
+        return element("plateau_min_s", e) +
+               " s must be 0 or >= 1e-09 s: durations below 1 ns are exactly 0";
+      }
       return element("plateau_min_s", e) + " s must be >= 0";
     case PlanInput::kWeights:
       if (e.index < 0) return "weights = [0, 0, 0]: at least one weight must be > 0";
@@ -161,6 +165,10 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kRefineExcess, "refine_excess"},
     {PlanInput::kWarmStart, "options.warm_start_s"},
     {PlanInput::kDriveProfile, "options.drive_profile"},
+    {PlanInput::kOmegaError, "options.uncertainty.omega_error_pct"},
+    {PlanInput::kFillHeightRange, "options.uncertainty.fill_height_mm"},
+    {PlanInput::kViscosityRange, "options.uncertainty.viscosity_pa_s"},
+    {PlanInput::kUncertaintySamples, "options.uncertainty.sample_points"},
 };
 
 }  // namespace

@@ -31,7 +31,8 @@ std::string allowed_text(const InputBounds& b, std::string_view unit, bool integ
 }
 
 bool integer_input(PlanInput input) {
-  return input == PlanInput::kModes || input == PlanInput::kNBand || input == PlanInput::kMaxPlans;
+  return input == PlanInput::kModes || input == PlanInput::kNBand ||
+         input == PlanInput::kMaxPlans || input == PlanInput::kUncertaintySamples;
 }
 
 }  // namespace
@@ -47,10 +48,12 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kUniformResponse:
     case PlanInput::kLawResponse:
     case PlanInput::kFreeBoardMargin:
+    case PlanInput::kFillHeightRange:
       return "m";
     case PlanInput::kFluidDensity:
       return "kg/m^3";
     case PlanInput::kFluidViscosity:
+    case PlanInput::kViscosityRange:
       return "Pa s";
     case PlanInput::kMotionTime:
     case PlanInput::kMinRamp:
@@ -89,6 +92,8 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kMaxPlans:
     case PlanInput::kCurveFactor:
     case PlanInput::kRefineExcess:
+    case PlanInput::kOmegaError:
+    case PlanInput::kUncertaintySamples:
       return "";
   }
   return "";

@@ -73,9 +73,10 @@ std::string ms(double seconds) {
 /// For a mode 1 that does not oscillate (zeta >= 1: critically or over-damped), the sentence
 /// saying why `method` has no law; empty otherwise.
 std::string over_damped(const StrategyContext& c, const std::string& method) {
-  if (c.model.zeta < 1.0) return {};
-  return method + " cancels the oscillation of mode 1, but with zeta = " + sig3(c.model.zeta) +
-         " (>= 1: " + (c.model.zeta == 1.0 ? "critically" : "over") +
+  if (c.design_model.zeta < 1.0) return {};
+  return method +
+         " cancels the oscillation of mode 1, but with zeta = " + sig3(c.design_model.zeta) +
+         " (>= 1: " + (c.design_model.zeta == 1.0 ? "critically" : "over") +
          "-damped, a viscous liquid) mode 1 does not oscillate: there is nothing to cancel and "
          "the design is undefined; use baseline, notch, multi_notch or time_domain instead";
 }
@@ -85,7 +86,7 @@ std::string over_damped(const StrategyContext& c, const std::string& method) {
 FilterOutcome design_fir_chain(const StrategyContext& c) {
   const double S = c.format.stroke, T = c.format.motion_time;
   if (std::string why = over_damped(c, "fir_chain"); !why.empty()) return no_law(c, why);
-  const double T3 = damped_period(c.model.omega1(), c.model.zeta);
+  const double T3 = damped_period(c.design_model.omega1(), c.design_model.zeta);
   if (!(T > T3)) {
     FilterOutcome o =
         no_law(c, "fir_chain needs T > T3: the damped period of mode 1 is T3 = " + sig3(T3) +
@@ -148,8 +149,10 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
              " s but fix_constant_velocity_zero is set";
   }
   if (!broken.empty()) {
+    // SPEC §5: no durations that break the admissibility rules; the law is still reported.
     o.status = SolveStatus::kInfeasible;
     o.detail += "; " + broken;
+    o.durations.reset();
   }
   return o;
 }
@@ -160,10 +163,11 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   if (std::string why = over_damped(c, "the " + to_string(opt.shaper) + " shaper"); !why.empty()) {
     return no_law(c, why);
   }
-  const InputShaper shaper = make_shaper(opt.shaper, c.model.omega1(), c.model.zeta, opt.residual);
+  const InputShaper shaper =
+      make_shaper(opt.shaper, c.design_model.omega1(), c.design_model.zeta, opt.residual);
   const double Tb = T - shaper.delay();
   const std::string name = to_string(opt.shaper) + " shaper";
-  const double residual = shaper_residual(shaper, c.model.omega1(), c.model.zeta);
+  const double residual = shaper_residual(shaper, c.design_model.omega1(), c.design_model.zeta);
   if (!(Tb >= kMinBaseDuration)) {
     FilterOutcome o = no_law(c, "the " + name + " delays the law by " + sig3(shaper.delay()) +
                                     " s of T = " + sig3(T) +
@@ -205,8 +209,8 @@ FilterOutcome design_iir(const StrategyContext& c) {
                std::to_string(kIirMaxSamples) +
                " the iir strategy plans: use iir_sample_period_s >= " + ms(T / kIirMaxSamples));
   }
-  const IirFilter filter = make_iir_filter(opt.iir_order, c.model.omega1(), c.model.zeta,
-                                           opt.iir_tau, opt.iir_sample_period);
+  const IirFilter filter = make_iir_filter(opt.iir_order, c.design_model.omega1(),
+                                           c.design_model.zeta, opt.iir_tau, opt.iir_sample_period);
   const IirLaw law = make_iir_law(
       [&](double duration) { return make_base_law(opt.base, S, duration); }, filter, S, T);
   const std::string name = "order-" + std::to_string(static_cast<int>(opt.iir_order)) +

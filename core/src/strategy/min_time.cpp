@@ -129,6 +129,7 @@ class Search {
     o.eta_motion_max = result_.eta_motion_max;
     o.time_limit = remaining;
     o.warm_start = warm_start;
+    o.robustness = false;  // the report is made once, for the returned plan (min_time())
     Planned out{MinTimePoint{}, plan(f, strategy_, o)};
     ++result_.plans;
     if (out.plan.status == SolveStatus::kTimeLimit) return std::nullopt;
@@ -139,8 +140,10 @@ class Search {
     p.durations = plan_result.durations;
     p.plan_status = plan_result.status;
     p.prediction = plan_result.prediction;
-    const SloshPeaks& nl = plan_result.prediction.nonlinear;
-    const SloshPeaks& lin = plan_result.prediction.linear;
+    // A robust plan is judged by its worst case over the uncertainty range.
+    const LawPrediction& judged = plan_result.worst_case.value_or(plan_result.prediction);
+    const SloshPeaks& nl = judged.nonlinear;
+    const SloshPeaks& lin = judged.linear;
     switch (options_.model) {
       case LimitModel::kNonlinear:
         p.eta_motion = nl.motion.value;
@@ -559,6 +562,14 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
     std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
       return a.motion_time < b.motion_time;
     });
+    if (r.plan && options.plan.robustness && !r.plan->invalid_input) {
+      Format at = format;
+      at.motion_time = r.plan->law.duration();
+      PlanOptions judged = options.plan;
+      judged.eta_rest_max = r.eta_rest_max;
+      judged.eta_motion_max = r.eta_motion_max;
+      r.plan->robustness = robustness_of(at, judged, *r.plan);
+    }
     r.search_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
     return std::move(r);
   };

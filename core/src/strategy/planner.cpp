@@ -28,6 +28,22 @@ LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double r
   return p;
 }
 
+/// The largest of each verified eta over `models` (the kinematics are the law's).
+LawPrediction worst_prediction(const std::vector<SloshingModel>& models, const MotionLaw& law,
+                               double rest_time) {
+  LawPrediction worst;
+  worst.kinematics = law.summary();
+  auto raise = [](SloshPeaks& w, const SloshPeaks& p) {
+    if (p.motion.value > w.motion.value || std::isnan(p.motion.value)) w.motion = p.motion;
+    if (p.rest.value > w.rest.value || std::isnan(p.rest.value)) w.rest = p.rest;
+  };
+  for (const SloshingModel& m : models) {
+    raise(worst.linear, LinearResponse(m, law, rest_time).peaks());
+    raise(worst.nonlinear, NonlinearResponse(m, law, rest_time).peaks());
+  }
+  return worst;
+}
+
 std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
   auto change = [](double base, double v) {
     const double r = reduction_percent(base, v);
@@ -152,6 +168,15 @@ std::optional<InvalidInput> validate_arrays(const PlanOptions& o) {
     if (!non_negative().contains(o.plateau_min[i])) {
       return out_of_range(PlanInput::kPlateauMin, i, o.plateau_min[i], non_negative());
     }
+    // A duration below kZeroDuration is 0 (SPEC §11): such a minimum could not be held.
+    if (o.plateau_min[i] > 0.0 && o.plateau_min[i] < kZeroDuration) {
+      InvalidInput e =
+          refused(PlanInput::kPlateauMin, o.plateau_min[i], InputBounds{kZeroDuration, INFINITY},
+                  "plateau_min[" + std::to_string(i) + "] = " + sig3(o.plateau_min[i]) +
+                      " s must be 0 or >= 1e-09 s: durations below 1 ns are exactly 0");
+      e.index = i;
+      return e;
+    }
   }
   double weight_sum = 0.0;
   for (int i = 0; i < 3; ++i) {
@@ -215,6 +240,17 @@ std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
       })) {
     return bad;
   }
+  if (auto bad = validate_uncertainty(format, model, uncertainty)) return bad;
+  if (uncertainty.active()) {
+    const double widened =
+        detail::widened_band(band, uncertainty_range(format, model, uncertainty));
+    if (!(widened < 1.0)) {
+      return refused(PlanInput::kBand, band, open_range(0.0, 1.0),
+                     "band = " + sig3(band) + " widened to cover the uncertainty range is " +
+                         sig3(widened) +
+                         ": its lower edge reaches 0 Hz; narrow the band or the range");
+    }
+  }
   return std::nullopt;
 }
 
@@ -225,6 +261,10 @@ bool PlanOptions::is_valid(const Format& format, InvalidInput* error) const {
 }
 
 namespace detail {
+
+double widened_band(double band, const UncertaintyRange& r) {
+  return (0.5 * (r.scale_hi - r.scale_lo) + band * r.scale_hi) / r.scale_mid();
+}
 
 MultiStartResult least_limit_scale(const StrategyContext& c, int first, int rows) {
   // min z s.t. quantity_r / limit_r <= z for the rows [first, first + rows) of limit_constraints
@@ -300,10 +340,29 @@ std::string explain_limits(const StrategyContext& c) {
   return {};
 }
 
+void set_design(StrategyContext& c) {
+  const PlanOptions& o = c.options;
+  c.band = o.band;
+  c.p_notch = o.p_notch;
+  c.design_model = c.model;
+  c.sample_models = {c.model};
+  c.check_models = {c.model};
+  if (!o.uncertainty.active()) return;
+  c.range = uncertainty_range(c.format, o.model, o.uncertainty);
+  const UncertaintyRange& r = *c.range;
+  const double mid = r.scale_mid();
+  c.design_model = scaled_model(c.model, mid, r.zeta_mid());
+  c.sample_models = sample_models(c.model, r, o.uncertainty.sample_points);
+  c.check_models = sample_models(c.model, r, kRobustnessPoints);
+  // The band around the middle reaches (1 + band) scale_hi (and beyond (1 - band) scale_lo).
+  c.band = widened_band(o.band, r);
+  // Side notches at the ends of the range when it is wider than +-p_notch.
+  c.p_notch = std::max(o.p_notch, (r.scale_hi - r.scale_lo) / (r.scale_hi + r.scale_lo));
+}
+
 void set_references(StrategyContext& c, double eta_ref) {
   const Durations uniform = uniform_durations(c.format.motion_time);
-  const double w1 = c.model.omega1();
-  c.x_ref = band_peak(uniform, c.format.stroke, band_check_grid(w1, c.options)).value;
+  c.x_ref = band_peak(uniform, c.format.stroke, band_check_grid(c)).value;
   c.jerk_ref = SevenSegmentLaw(uniform, c.format.stroke).jerk_integral();
   c.eta_ref = eta_ref;
   c.eta_motion_max = c.options.eta_motion_max.value_or(eta_ref);
@@ -342,8 +401,7 @@ std::string violated_constraint(const StrategyContext& c, Strategy strategy, con
     return limit;
   }
   if (strategy == Strategy::kMinJerkBand) {
-    const double ratio =
-        band_peak(d, c.format.stroke, band_check_grid(c.model.omega1(), c.options)).value / c.x_ref;
+    const double ratio = band_peak(d, c.format.stroke, band_check_grid(c)).value / c.x_ref;
     if (ratio > c.options.tol_rel * (1.0 + kBandTolerance)) return band_limit_sentence(c, ratio);
   }
   if (strategy == Strategy::kTimeDomain) {
@@ -448,6 +506,28 @@ Outcome from_filter(Strategy s, detail::FilterOutcome o) {
   return out;
 }
 
+/// baseline: the uniform law, or, when the options' bounds exclude it (min_ramp above T/7,
+/// plateau minimums, no cruise), every segment at its lower bound plus an equal share of the
+/// remaining time (SPEC §5: never durations that break the admissibility rules).
+detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) {
+  detail::StrategyOutcome o;
+  o.status = SolveStatus::kOptimal;
+  o.solver = "none";
+  o.durations = uniform_durations(c.format.motion_time);
+  const std::string broken =
+      detail::violated_constraint(c, Strategy::kBaseline, o.durations, SloshPeaks{});
+  bool inside = true;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    inside = inside && o.durations[i] >= c.space.lower[i] && o.durations[i] <= c.space.upper[i];
+  }
+  if (inside) return o;
+  o.durations = c.space.from_weights(Durations{1, 1, 1, 1, 1, 1, 1});
+  o.detail = "the uniform law breaks the options (" + broken +
+             "), so baseline returns every segment at its minimum plus an equal share of the "
+             "remaining time";
+  return o;
+}
+
 /// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
 Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
                      const std::vector<Durations>& seeds) {
@@ -466,13 +546,8 @@ Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
       return from_filter(s, detail::design_shaper(c));
     case Strategy::kIir:
       return from_filter(s, detail::design_iir(c));
-    default: {
-      detail::StrategyOutcome o;
-      o.status = SolveStatus::kOptimal;
-      o.durations = uniform_durations(c.format.motion_time);
-      o.solver = "none";
-      return from_solver(c, s, o);
-    }
+    default:
+      return from_solver(c, s, uniform_or_admissible(c));
   }
 }
 
@@ -534,6 +609,7 @@ std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
 struct Selection {
   Outcome outcome;
   LawPrediction prediction;
+  std::optional<LawPrediction> worst_case;  ///< over the sample models, when robust
   std::string detail;
   std::string worse;
 };
@@ -548,7 +624,10 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   Selection s;
   s.outcome = run_strategy(c, strategy, seeds);
   s.prediction = predict(c.model, s.outcome.law, c.options.rest_time);
-  verify(c, s.outcome, s.prediction);
+  if (c.robust()) {
+    s.worst_case = worst_prediction(c.check_models, s.outcome.law, c.options.rest_time);
+  }
+  verify(c, s.outcome, s.worst_case.value_or(s.prediction));
   s.detail = s.outcome.detail;
   s.worse = worse_than_baseline(s.prediction, baseline);
   return s;
@@ -575,10 +654,14 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
     return usable_status(candidates[k].status) &&
            (!choice.any_not_worse || !worse_than_baseline[k]);
   };
+  // With an uncertainty range the candidates are judged by their worst case over it.
+  auto judged = [](const PlanCandidate& k) -> const LawPrediction& {
+    return k.worst_case ? *k.worst_case : k.prediction;
+  };
   double best_motion = INFINITY;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     if (eligible(k)) {
-      best_motion = std::min(best_motion, candidates[k].prediction.nonlinear.motion.value);
+      best_motion = std::min(best_motion, judged(candidates[k]).nonlinear.motion.value);
     }
   }
   auto peak = [](const PlanCandidate& k) {
@@ -587,7 +670,7 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
   };
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const auto& cand = candidates[k];
-    if (!eligible(k) || cand.prediction.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+    if (!eligible(k) || judged(cand).nonlinear.motion.value > kAutoMotionSlack * best_motion) {
       continue;
     }
     if (!choice.eligible) {
@@ -596,7 +679,7 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
       continue;
     }
     const auto& cur = candidates[choice.index];
-    const double a = cand.prediction.nonlinear.rest.value, b = cur.prediction.nonlinear.rest.value;
+    const double a = judged(cand).nonlinear.rest.value, b = judged(cur).nonlinear.rest.value;
     if (a < b * (1.0 - kAutoTieTolerance) ||
         (std::abs(a - b) <= kAutoTieTolerance * b && peak(cand) < peak(cur))) {
       choice.index = k;
@@ -631,11 +714,15 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     cand.strategy = o.strategy;
     cand.law = o.law;
     cand.prediction = predict(c.model, cand.law, c.options.rest_time);
-    if (!finite_prediction(cand.prediction)) {
+    if (c.robust()) {
+      cand.worst_case = worst_prediction(c.check_models, cand.law, c.options.rest_time);
+    }
+    if (!finite_prediction(cand.prediction) ||
+        (cand.worst_case && !finite_prediction(*cand.worst_case))) {
       diverged += (diverged.empty() ? "" : ", ") + to_string(o.strategy);
       continue;
     }
-    verify(c, o, cand.prediction);
+    verify(c, o, cand.worst_case.value_or(cand.prediction));
     cand.status = o.status;
     cand.durations = o.durations;
     worse_of.push_back(worse_than_baseline(cand.prediction, baseline));
@@ -653,7 +740,8 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     s.detail = "no candidate meets every constraint; auto returns the uniform law";
   } else {
     s.detail = "auto chose " + to_string(s.outcome.strategy) +
-               " (lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+               (c.robust() ? " (judged by the worst case over the uncertainty range: " : " (") +
+               "lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
                (choice.any_not_worse ? std::string("none worse than the uniform law)")
                                      : std::string("all worse than the uniform law, which does "
                                                    "not meet the options)"));
@@ -664,6 +752,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
   s.worse = worse_of[choice.index];
   s.prediction = candidates[choice.index].prediction;
+  s.worst_case = candidates[choice.index].worst_case;
   return s;
 }
 
@@ -754,6 +843,23 @@ void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format&
 
 }  // namespace
 
+RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
+                               const PlanResult& r) {
+  RobustnessSweep sweep;
+  sweep.zeta = r.model.zeta;
+  if (options.uncertainty.active()) {
+    const UncertaintyRange range = uncertainty_range(format, options.model, options.uncertainty);
+    sweep.delta_lo = range.scale_lo - 1.0;
+    sweep.delta_hi = range.scale_hi - 1.0;
+    sweep.zeta = range.zeta_lo;
+  }
+  sweep.rest_time = options.rest_time;
+  sweep.eta_rest_max = options.eta_rest_max;
+  sweep.eta_motion_max = options.eta_motion_max;
+  return robustness_report(r.model, r.law, sweep,
+                           std::pair{r.prediction.linear, r.prediction.nonlinear});
+}
+
 PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
@@ -769,8 +875,6 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (std::optional<InvalidInput> why = model_refusal(r.model)) {
     return refusal(format, strategy, options, std::move(*why));
   }
-  const double w1 = r.model.omega1();
-  r.band_omega = {(1.0 - options.band) * w1, (1.0 + options.band) * w1};
   const Durations uniform = uniform_durations(format.motion_time);
   r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
   if (!finite_prediction(r.baseline)) {
@@ -781,6 +885,10 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   }
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
+  detail::set_design(c);
+  const double w_design = c.design_model.omega1();
+  r.band_omega = {(1.0 - c.band) * w_design, (1.0 + c.band) * w_design};
+  r.uncertainty = c.range;
   detail::set_references(c, r.baseline.nonlinear.motion.value);
   if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
     return refusal(
@@ -807,6 +915,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                     " m/s^2): the motion is outside what they describe; lengthen "
                     "the motion time"));
   }
+  r.worst_case = s.worst_case;
+  if (options.robustness) r.robustness = robustness_of(format, options, r);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));

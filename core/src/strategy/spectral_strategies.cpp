@@ -143,10 +143,10 @@ BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>&
   return best;
 }
 
-std::vector<double> band_check_grid(double omega1, const PlanOptions& options) {
+std::vector<double> band_check_grid(const StrategyContext& c) {
   return band_frequencies(
-      omega1, options.band,
-      std::max(options.n_band - 1, kBandCheckIntervals) * kBandCheckRefinement + 1);
+      c.design_model.omega1(), c.band,
+      std::max(c.options.n_band - 1, kBandCheckIntervals) * kBandCheckRefinement + 1);
 }
 
 std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {
@@ -157,7 +157,7 @@ std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {
 }
 
 StrategyOutcome solve_notch(const StrategyContext& c) {
-  const double w1 = c.model.omega1();
+  const double w1 = c.design_model.omega1();
   // Among the exact zeros of X(w1) (a 4-dimensional manifold of the 6 free durations), the one
   // with the least jerk integral: min int j^2 dt s.t. |Re X|, |Im X| <= kNotchDepth x_ref.
   NlpProblem p = c.space.problem();
@@ -207,8 +207,8 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
 }
 
 StrategyOutcome solve_multi_notch(const StrategyContext& c) {
-  const double w1 = c.model.omega1();
-  const double p_notch = c.options.p_notch;
+  const double w1 = c.design_model.omega1();
+  const double p_notch = c.p_notch;
   const std::vector<double> omegas{(1.0 - p_notch) * w1, w1, (1.0 + p_notch) * w1};
   const std::vector<double> weights(c.options.weights.begin(), c.options.weights.end());
   const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts);
@@ -470,7 +470,7 @@ std::vector<std::vector<double>> screen(BandSearch& s,
                                         const std::vector<std::vector<double>>& jerk_starts) {
   NlpProblem p = s.jerk_problem();
   const std::vector<double> coarse =
-      band_frequencies(s.w1, s.c.options.band, std::min(s.c.options.n_band, kScreenPoints));
+      band_frequencies(s.w1, s.c.band, std::min(s.c.options.n_band, kScreenPoints));
   add_limits(p, s.c, static_cast<int>(coarse.size()), s.rows(coarse, false));
   std::vector<std::vector<double>> unfinished;  // stopped by the cap outside the band
   auto screened = screen_starts(s, p, jerk_starts, &unfinished);
@@ -593,7 +593,7 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
   StrategyOutcome o;
   o.solver = solver_name(c);
   BandWorkspace workspace;
-  const double w1 = c.model.omega1();
+  const double w1 = c.design_model.omega1();
   const double tol = c.options.tol_rel;
   BandSearch s{c,
                w1,
@@ -601,8 +601,8 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
                c.format.stroke,
                1.0 / (c.x_ref * c.x_ref * tol * tol),
                1.0 / (c.x_ref * c.x_ref),
-               band_check_grid(w1, c.options),
-               band_frequencies(w1, c.options.band, c.options.n_band),
+               band_check_grid(c),
+               band_frequencies(w1, c.band, c.options.n_band),
                c.space.starts(kSpectralRandomStarts),
                c.space.starts(kBandRandomStarts),
                workspace,

@@ -44,7 +44,36 @@ struct StrategyContext {
   double jerk_ref{};        ///< jerk integral of the uniform law [m^2/s^5]
   double eta_ref{};         ///< nonlinear eta_motion of the uniform law [m]
   double eta_motion_max{};  ///< time_domain kRest bound [m] (option or eta_ref)
+  /// The model the spectral strategies and the filters design at: the nominal model, or with an
+  /// active uncertainty the middle of its frequency and damping range.
+  SloshingModel design_model{};
+  /// The models time_domain's constraints hold at and auto judges by: the nominal model alone,
+  /// or sample_models() of the uncertainty range.
+  std::vector<SloshingModel> sample_models{};
+  /// The models a robust plan is verified at: kRobustnessPoints evenly over the uncertainty range
+  /// at its least damping (the robustness report's grid); the nominal model alone otherwise.
+  /// time_domain adds a model of it to its sample models where its bound is broken (exchange).
+  std::vector<SloshingModel> check_models{};
+  /// min_jerk_band's relative half band around design_model.omega1() [-] (the option, widened to
+  /// cover the uncertainty range).
+  double band{};
+  /// multi_notch's relative side-notch offset around design_model.omega1() [-] (the option, or
+  /// the uncertainty range's half width when wider).
+  double p_notch{};
+  /// The uncertainty's range when active.
+  std::optional<UncertaintyRange> range{};
+
+  /// True when the plan must hold over an uncertainty range.
+  [[nodiscard]] bool robust() const { return range.has_value(); }
 };
+
+/// Sets the context's design model, sample models, band and p_notch from its options (call once,
+/// after construction, before set_references).
+void set_design(StrategyContext& context);
+
+/// The relative half band around the middle of `range` that reaches (1 + band) scale_hi (and
+/// covers (1 - band) scale_lo) [-].
+[[nodiscard]] double widened_band(double band, const UncertaintyRange& range);
 
 /// Outcome of one strategy, before verification.
 struct StrategyOutcome {
@@ -135,8 +164,9 @@ inline constexpr double kBandTolerance{1e-6};
 /// "|X| <= 20 % of X_ref on the band is not reachable in 1.04 s: the best is 34 % ...".
 [[nodiscard]] std::string band_limit_sentence(const StrategyContext& context, double best_ratio);
 
-/// The grid band_peak checks min_jerk_band's band on (and X_ref is taken on).
-[[nodiscard]] std::vector<double> band_check_grid(double omega1, const PlanOptions& options);
+/// The grid band_peak checks min_jerk_band's band on (and X_ref is taken on): the context's band
+/// around its design frequency.
+[[nodiscard]] std::vector<double> band_check_grid(const StrategyContext& context);
 
 /// Sets the context's reference levels (x_ref, jerk_ref, eta_ref, eta_motion_max); eta_ref is
 /// the uniform law's nonlinear eta_motion, given by the caller (it has simulated that law).

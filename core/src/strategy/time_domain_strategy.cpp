@@ -21,6 +21,8 @@ constexpr double kSamplesPerPeriod{32.0};
 constexpr double kCheckWindowsPerPeriod{4.0};
 /// Exchange rounds: dense check, add the peak times that exceed their bound, re-solve.
 constexpr int kExchangeRounds{8};
+/// Exchange rounds of a robust plan, which also adds the frequencies that break the bound.
+constexpr int kRobustExchangeRounds{16};
 /// Relative excess over a bound the dense check tolerates [-].
 constexpr double kDenseTolerance{1e-7};
 /// Relative excess of a dense peak over the epigraph variable that adds a sample [-].
@@ -34,7 +36,8 @@ NlpOptions time_domain_options() {
   return o;
 }
 
-// Times at which |eta| is constrained, sorted; `motion[k]` tells the phase of t[k].
+// Times at which |eta| is constrained, sorted; `motion[k]` tells the phase of t[k]. One set per
+// model of the context's sample_models.
 struct Samples {
   std::vector<double> t;
   std::vector<char> motion;
@@ -47,116 +50,207 @@ struct Samples {
     motion.insert(motion.begin() + k, static_cast<char>(in_motion));
   }
 };
+using ModelSamples = std::vector<Samples>;
 
-// |eta| at the samples for the last evaluated durations, shared by the objective and constraint
-// callbacks of one problem (the solvers call both at the same point): the explicit scratch of
-// the time-domain problems, owned by solve_phase beside the samples (as Pinocchio passes Data
-// beside Model) and outliving every problem that evaluates into it.
+// |eta| at the samples of every model for the last evaluated durations, shared by the objective
+// and constraint callbacks of one problem (the solvers call both at the same point): the
+// explicit scratch of the time-domain problems, owned by solve_phase beside the samples (as
+// Pinocchio passes Data beside Model) and outliving every problem that evaluates into it.
 struct TimeDomainWorkspace {
-  explicit TimeDomainWorkspace(const StrategyContext& c)
-      : sensitivity(c.model, c.format.stroke, c.options.rest_time) {}
+  TimeDomainWorkspace(const StrategyContext& c, const std::vector<SloshingModel>& models) {
+    for (const SloshingModel& m : models) {
+      sensitivity.emplace_back(m, c.format.stroke, c.options.rest_time);
+    }
+    values.resize(models.size());
+    gradients.resize(models.size());
+  }
 
-  NonlinearSensitivity sensitivity;
-  std::vector<double> values;  ///< |eta(t_k)| / eta_ref
-  std::vector<std::array<double, kSegments>> gradients;
+  std::vector<NonlinearSensitivity> sensitivity;
+  std::vector<std::vector<double>> values;  ///< per model: |eta(t_k)| / eta_ref
+  std::vector<std::vector<std::array<double, kSegments>>> gradients;
   std::array<double, kSegments> last{};  ///< the durations values and gradients are of
   bool valid{false};                     ///< false: values and gradients are stale
 };
 
-// Evaluates |eta| / eta_ref and its gradient at the samples for the durations x into `ws`,
-// unless x is the last point evaluated.
-void evaluate_samples(TimeDomainWorkspace& ws, const Samples& samples, double eta_ref,
+// Evaluates |eta| / eta_ref and its gradient at the samples of every model for the durations x
+// into `ws`, unless x is the last point evaluated.
+void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, double eta_ref,
                       const double* x) {
   if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
-  ws.sensitivity.compute(x);
-  ws.sensitivity.abs_eta_at(samples.t, &ws.values, &ws.gradients);
-  for (double& v : ws.values) v /= eta_ref;
-  for (auto& g : ws.gradients) {
-    for (double& gi : g) gi /= eta_ref;
+  for (std::size_t m = 0; m < samples.size(); ++m) {
+    ws.sensitivity[m].compute(x);
+    ws.sensitivity[m].abs_eta_at(samples[m].t, &ws.values[m], &ws.gradients[m]);
+    for (double& v : ws.values[m]) v /= eta_ref;
+    for (auto& g : ws.gradients[m]) {
+      for (double& gi : g) gi /= eta_ref;
+    }
   }
   std::copy(x, x + kSegments, ws.last.begin());
   ws.valid = true;
 }
 
-// min z s.t. |eta(t_k)| / eta_ref <= z at the samples of the minimised phase and
-// |eta(t_k)| / eta_ref <= bound / eta_ref at those of the other phase (none without a bound).
-// The problem evaluates into `ws` and reads `samples`: both must outlive the solve.
+// A constrained sample: model m, sample k.
+struct SampleRow {
+  std::size_t m;
+  std::size_t k;
+};
+
+// min z s.t. |eta_m(t_k)| / eta_ref <= z at the samples of the minimised phase and
+// |eta_m(t_k)| / eta_ref <= bound / eta_ref at those of the other phase (none without a bound),
+// for every model m. The problem evaluates into `ws` and reads `samples`: both must outlive the
+// solve.
 MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
-                                std::optional<double> bound, const Samples& samples,
+                                std::optional<double> bound, const ModelSamples& samples,
                                 const std::vector<Durations>& starts, TimeDomainWorkspace& ws) {
-  ws.valid = false;               // the samples may have changed since the last evaluation
-  std::vector<std::size_t> rows;  // samples that carry a constraint
-  for (std::size_t k = 0; k < samples.t.size(); ++k) {
-    if (static_cast<bool>(samples.motion[k]) == minimise_motion || bound) rows.push_back(k);
+  ws.valid = false;             // the samples may have changed since the last evaluation
+  std::vector<SampleRow> rows;  // samples that carry a constraint
+  for (std::size_t m = 0; m < samples.size(); ++m) {
+    for (std::size_t k = 0; k < samples[m].t.size(); ++k) {
+      if (static_cast<bool>(samples[m].motion[k]) == minimise_motion || bound)
+        rows.push_back({m, k});
+    }
   }
   const int n = kSegments + 1;
   NlpProblem p = c.space.problem(1);
   const double scaled_bound = bound ? *bound / c.eta_ref : 0.0;
-  const int m = static_cast<int>(rows.size());
+  const int count = static_cast<int>(rows.size());
   const int limits = c.space.limit_count();
-  p.inequality_count = m + limits;
+  p.inequality_count = count + limits;
   const DurationSpace* space = &c.space;
   TimeDomainWorkspace* work = &ws;
-  const Samples* sampled = &samples;
+  const ModelSamples* sampled = &samples;
   const double eta_ref = c.eta_ref;
-  p.inequalities = [work, sampled, eta_ref, rows, minimise_motion, scaled_bound, m, limits, n,
+  p.inequalities = [work, sampled, eta_ref, rows, minimise_motion, scaled_bound, count, limits, n,
                     space](const double* x, double* g, double* jac) {
     evaluate_samples(*work, *sampled, eta_ref, x);
-    const auto& values = work->values;
-    const auto& grads = work->gradients;
-    const auto& motion = sampled->motion;
-    for (int r = 0; r < m; ++r) {
-      const std::size_t k = rows[static_cast<std::size_t>(r)];
-      const bool free = static_cast<bool>(motion[k]) == minimise_motion;
-      g[r] = values[k] - (free ? x[kSegments] : scaled_bound);
+    for (int r = 0; r < count; ++r) {
+      const SampleRow& row_of = rows[static_cast<std::size_t>(r)];
+      const bool free = static_cast<bool>((*sampled)[row_of.m].motion[row_of.k]) == minimise_motion;
+      g[r] = work->values[row_of.m][row_of.k] - (free ? x[kSegments] : scaled_bound);
       if (jac != nullptr) {
         double* row = jac + static_cast<std::ptrdiff_t>(r) * n;
-        std::copy(grads[k].begin(), grads[k].end(), row);
+        const auto& grad = work->gradients[row_of.m][row_of.k];
+        std::copy(grad.begin(), grad.end(), row);
         row[kSegments] = free ? -1.0 : 0.0;
       }
     }
     if (limits > 0) {
-      double* jrow = jac == nullptr ? nullptr : jac + static_cast<std::ptrdiff_t>(m) * n;
+      double* jrow = jac == nullptr ? nullptr : jac + static_cast<std::ptrdiff_t>(count) * n;
       if (jrow != nullptr) std::fill(jrow, jrow + static_cast<std::ptrdiff_t>(limits) * n, 0.0);
-      space->limit_constraints(x, g + m, jrow, n);
+      space->limit_constraints(x, g + count, jrow, n);
     }
   };
   std::vector<std::vector<double>> x0 = as_vectors(starts);
   for (auto& x : x0) {
     evaluate_samples(ws, samples, eta_ref, x.data());
     double z = 0.0;
-    for (std::size_t k = 0; k < samples.t.size(); ++k) {
-      if (static_cast<bool>(samples.motion[k]) == minimise_motion) z = std::max(z, ws.values[k]);
+    for (std::size_t m = 0; m < samples.size(); ++m) {
+      for (std::size_t k = 0; k < samples[m].t.size(); ++k) {
+        if (static_cast<bool>(samples[m].motion[k]) == minimise_motion) {
+          z = std::max(z, ws.values[m][k]);
+        }
+      }
     }
     x.push_back(z);
   }
   return multi_start(p, x0, c, time_domain_options());
 }
 
-// The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
-// dense accurate response is checked window by window, and every peak above its bound becomes a
-// new sample for the next solve (started from the current point).
-MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
-                             std::optional<double> bound, std::vector<Durations> starts,
-                             double* bound_excess) {
+// The starting samples: kSamplesPerPeriod per period of the model's mode 1 over the motion and
+// over the rest window.
+Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
-  const double period = 2.0 * std::numbers::pi / c.model.omega1();
+  const double period = 2.0 * std::numbers::pi / model.omega1();
   Samples samples;
   const int km = std::max(2, static_cast<int>(std::ceil(T / period * kSamplesPerPeriod)));
   const int kr = std::max(2, static_cast<int>(std::ceil(rest / period * kSamplesPerPeriod)));
   for (int k = 1; k <= km; ++k) samples.add(T * k / km, true);
   for (int k = 1; k <= kr; ++k) samples.add(T + rest * k / kr, false);
+  return samples;
+}
+
+// The dense check of the point x on one model: every window peak above its bound (or above the
+// epigraph value z for the minimised phase) becomes a sample. Returns whether one was added;
+// `excess` grows to the largest relative excess over the bound.
+bool check_dense(const StrategyContext& c, const SloshingModel& model, const double* x, double z,
+                 bool minimise_motion, std::optional<double> bound, Samples& samples,
+                 double& excess) {
+  const double T = c.format.motion_time;
+  const double rest = c.options.rest_time;
+  const double period = 2.0 * std::numbers::pi / model.omega1();
   const int kw = std::max(1, static_cast<int>(std::ceil(T / period * kCheckWindowsPerPeriod)));
   const int kwr = std::max(1, static_cast<int>(std::ceil(rest / period * kCheckWindowsPerPeriod)));
+  NonlinearSensitivity sens(model, c.format.stroke, rest);
+  sens.compute(x);
+  bool added = false;
+  for (int w = 0; w < kw + kwr; ++w) {
+    const bool in_motion = w < kw;
+    const bool free = in_motion == minimise_motion;
+    if (!free && !bound) continue;
+    const double a = in_motion ? T * w / kw : T + rest * (w - kw) / kwr;
+    const double b = in_motion ? T * (w + 1) / kw : T + rest * (w + 1 - kw) / kwr;
+    const WindowPeak peak = sens.window_peak(in_motion ? a : std::max(a, T + 1e-12), b);
+    if (free) {
+      // The objective's own peaks: sampled for accuracy (the reported eta is the dense one).
+      if (peak.value > z * (1.0 + kObjectiveTolerance)) {
+        samples.add(peak.time, peak.time <= T);
+        added = true;
+      }
+    } else if (peak.value > *bound * (1.0 + kDenseTolerance)) {
+      samples.add(peak.time, peak.time <= T);
+      added = true;
+      excess = std::max(excess, peak.value / *bound - 1.0);
+    }
+  }
+  return added;
+}
 
+// Robust plans: the check model (of the robustness grid over the uncertainty range) whose bounded
+// peak breaks the bound the most at x, appended to `models` (exchange in frequency, as the dense
+// check is in time). Returns whether one was added; `excess` grows to its relative excess.
+bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise_motion,
+                        double bound, std::vector<SloshingModel>& models, double& excess) {
+  if (!c.robust()) return false;
+  Durations d;
+  std::copy(x, x + kSegments, d.begin());
+  const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
+  double worst = bound * (1.0 + kDenseTolerance);
+  const SloshingModel* breaking = nullptr;
+  for (const SloshingModel& m : c.check_models) {
+    const SloshPeaks p = NonlinearResponse(m, law, c.options.rest_time).peaks();
+    const double value = minimise_motion ? p.rest.value : p.motion.value;
+    if (value > worst) {
+      worst = value;
+      breaking = &m;
+    }
+  }
+  if (breaking == nullptr) return false;
+  for (const SloshingModel& m : models) {
+    if (m.omega1() == breaking->omega1()) return false;  // already sampled: time exchange's job
+  }
+  models.push_back(*breaking);
+  excess = std::max(excess, worst / bound - 1.0);
+  return true;
+}
+
+// The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
+// dense accurate response of every sample model is checked window by window, and every peak
+// above its bound becomes a new sample for the next solve (started from the current point).
+MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
+                             std::optional<double> bound, std::vector<Durations> starts,
+                             double* bound_excess) {
+  std::vector<SloshingModel> models = c.sample_models;
+  ModelSamples samples;
+  for (const SloshingModel& m : models) samples.push_back(initial_samples(c, m));
   // Between samples the peaks move with the durations, so from the second round on the bound
   // given to the solver is tightened by twice the excess the dense check still finds.
   MultiStartResult total;
   double margin = 0.0;
   *bound_excess = 0.0;
-  TimeDomainWorkspace ws(c);
-  for (int round = 0; round < kExchangeRounds; ++round) {
+  const int rounds = c.robust() ? kRobustExchangeRounds : kExchangeRounds;
+  for (int round = 0; round < rounds; ++round) {
+    TimeDomainWorkspace ws(c, models);
     std::optional<double> solver_bound;
     if (bound) solver_bound = *bound * (1.0 - margin);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws);
@@ -164,30 +258,18 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     r.starts += total.starts;
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
-    // Dense check of the returned point.
-    NonlinearSensitivity sens(c.model, c.format.stroke, rest);
-    sens.compute(total.best.x.data());
     const double z = total.best.x[kSegments] * c.eta_ref;
     bool added = false;
     double excess = 0.0;
-    for (int w = 0; w < kw + kwr; ++w) {
-      const bool in_motion = w < kw;
-      const double a = in_motion ? T * w / kw : T + rest * (w - kw) / kwr;
-      const double b = in_motion ? T * (w + 1) / kw : T + rest * (w + 1 - kw) / kwr;
-      const WindowPeak peak = sens.window_peak(in_motion ? a : std::max(a, T + 1e-12), b);
-      const bool free = in_motion == minimise_motion;
-      if (!free && !bound) continue;
-      if (free) {
-        // The objective's own peaks: sampled for accuracy (the reported eta is the dense one).
-        if (peak.value > z * (1.0 + kObjectiveTolerance)) {
-          samples.add(peak.time, peak.time <= T);
-          added = true;
-        }
-      } else if (peak.value > *bound * (1.0 + kDenseTolerance)) {
-        samples.add(peak.time, peak.time <= T);
-        added = true;
-        excess = std::max(excess, peak.value / *bound - 1.0);
-      }
+    for (std::size_t m = 0; m < samples.size(); ++m) {
+      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, samples[m],
+                          excess) ||
+              added;
+    }
+    if (bound &&
+        add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess)) {
+      samples.push_back(initial_samples(c, models.back()));
+      added = true;
     }
     *bound_excess = excess;
     if (!added) break;
@@ -217,12 +299,16 @@ void run_bounded(const StrategyContext& c, bool motion, double bound,
   }
 }
 
-// The dense value of the constrained quantity (eta_rest for objective kMotion) at d [m].
+// The dense value of the constrained quantity (eta_rest for objective kMotion) at d, the largest
+// over the sample models [m].
 double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
-  const SloshPeaks p =
-      NonlinearResponse(c.model, SevenSegmentLaw(d, c.format.stroke).law(), c.options.rest_time)
-          .peaks();
-  return motion ? p.rest.value : p.motion.value;
+  const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
+  double value = 0.0;
+  for (const SloshingModel& m : c.check_models) {
+    const SloshPeaks p = NonlinearResponse(m, law, c.options.rest_time).peaks();
+    value = std::max(value, motion ? p.rest.value : p.motion.value);
+  }
+  return value;
 }
 
 // Least infeasible phase after the bounded phase `o` was infeasible: the constrained quantity

@@ -60,11 +60,15 @@ enum class PlanInput {
   kWarmStart,         ///< PlanOptions::warm_start[index]; index -1: their sum [s]
   kLawResponse,       ///< the planned law's predicted sloshing (finite: the models describe it) [m]
   kDriveProfile,      ///< PlanOptions::drive_profile with the strategy and the bounds; value: T [s]
+  kOmegaError,        ///< Uncertainty::omega_error [-]
+  kFillHeightRange,   ///< Uncertainty::fill_height[index] [m]; index -1: the pair
+  kViscosityRange,    ///< Uncertainty::viscosity[index] [Pa s]; index -1: the pair
+  kUncertaintySamples,  ///< Uncertainty::sample_points [-]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 42> table{{
+  static constexpr std::array<EnumName<PlanInput>, 46> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -107,6 +111,10 @@ struct EnumNames<PlanInput> {
       {PlanInput::kWarmStart, "warm_start"},
       {PlanInput::kLawResponse, "law_response"},
       {PlanInput::kDriveProfile, "drive_profile"},
+      {PlanInput::kOmegaError, "omega_error"},
+      {PlanInput::kFillHeightRange, "fill_height_range"},
+      {PlanInput::kViscosityRange, "viscosity_range"},
+      {PlanInput::kUncertaintySamples, "uncertainty_samples"},
   }};
 };
 

@@ -17,8 +17,10 @@
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/model/uncertainty.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
+#include "slosh/core/strategy/robustness.hpp"
 
 namespace slosh {
 
@@ -156,6 +158,17 @@ struct PlanOptions {
   /// one-jerk 7-segment law, and shaper and iir are refused (their laws are not 7-segment laws);
   /// auto runs the strategies that hold. Default kFree.
   DriveProfile drive_profile{DriveProfile::kFree};
+  /// The range the plan must hold over (SPEC §10). When active: time_domain minimises the worst
+  /// eta_motion over Uncertainty::sample_points models of the range (sample_models) subject to
+  /// its eta bound at every one; min_jerk_band's band is widened to [(1 - band) omega_lo,
+  /// (1 + band) omega_hi] (X_ref taken on it); notch and multi_notch are centred on the middle of
+  /// [omega_lo, omega_hi], multi_notch's side notches at least at its ends; fir_chain, shaper and
+  /// iir are designed at the middle frequency and damping of the range, and the shaper type (when
+  /// `shaper_for_range`) is the shortest whose residual stays <= `residual` over the range; auto
+  /// compares its candidates by their worst case over the sample models. Default: none.
+  Uncertainty uncertainty;
+  /// Attach PlanResult::robustness (the sweep of SPEC §10). Default true.
+  bool robustness{true};
   /// Solver. Default kAuto.
   SolverChoice solver{SolverChoice::kAuto};
   /// Wall-clock budget of the whole plan [s], for both solvers (Ipopt's through its intermediate
@@ -167,6 +180,9 @@ struct PlanOptions {
   BaseLaw base{BaseLaw::kPoly5};
   /// Shaper family of `shaper`. Default ZV (the least acceleration for a prescribed time).
   ShaperType shaper{ShaperType::kZV};
+  /// With an active uncertainty, `shaper` chooses the family for the range instead of using
+  /// `shaper` (the caller did not name one). Default true.
+  bool shaper_for_range{true};
   /// Residual vibration V the EI shaper admits at omega1 [-]. Default 0.05.
   double residual{kDefaultEiResidual};
   /// Order of the IIR filter of `iir`. Default third (no initial peak, paper sec. 3.3).
@@ -268,6 +284,8 @@ struct PlanCandidate {
   /// The law itself (for every candidate).
   MotionLaw law;
   LawPrediction prediction;
+  /// With an active uncertainty: the largest verified eta over the sample models.
+  std::optional<LawPrediction> worst_case;
   bool chosen{false};
 };
 
@@ -320,6 +338,14 @@ struct PlanResult {
   /// With PlanOptions::drive_profile kMoveAbsolute, the MC_MoveAbsolute numbers of the law (set
   /// whenever the returned law is a one-jerk 7-segment law).
   std::optional<MoveAbsoluteProfile> move_absolute;
+  /// With PlanOptions::uncertainty active: the omega_1 and zeta range it implies.
+  std::optional<UncertaintyRange> uncertainty;
+  /// With PlanOptions::robustness: the returned law swept over the frequency range (the
+  /// uncertainty's range at its least damping when active, else +-10 % at the nominal zeta).
+  std::optional<RobustnessReport> robustness;
+  /// With PlanOptions::uncertainty active: the returned law's largest verified eta over the
+  /// sample models (the figure robust designs and auto are judged by).
+  std::optional<LawPrediction> worst_case;
 
   /// True when the law can be run: optimal, acceptable, or time-limited (best admissible).
   [[nodiscard]] bool usable() const {
@@ -327,6 +353,13 @@ struct PlanResult {
            status == SolveStatus::kTimeLimit;
   }
 };
+
+/// The robustness report (SPEC §10) of a plan's law: swept over the uncertainty range of
+/// `options` at its least damping when active, else over +-10 % at the model's zeta; judged by
+/// options.eta_rest_max and, when given, options.eta_motion_max. plan() attaches it when
+/// options.robustness is set.
+[[nodiscard]] RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
+                                             const PlanResult& result);
 
 /// Plans a law for `format`. Invalid inputs (validate_plan_input) give an invalid-input result,
 /// never a throw or a non-finite number. Status rules (SPEC §5 "Honest status"): kOptimal and

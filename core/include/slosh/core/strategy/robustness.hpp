@@ -1,0 +1,72 @@
+#pragma once
+// How a law's sloshing changes when the tank's frequencies are not the model's (SPEC §10): the
+// law re-simulated with every mode frequency scaled by (1 + delta) on both models (exact linear
+// response, accurate nonlinear one), and the interval of delta around 0 where the limits hold.
+
+#include <optional>
+#include <vector>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/response.hpp"
+
+namespace slosh {
+
+/// Default half width of the sweep of a plan without uncertainty [-] (+-10 %).
+inline constexpr double kDefaultRobustnessSweep{0.10};
+/// Points of the sweep, both ends included [-].
+inline constexpr int kRobustnessPoints{21};
+/// Relative excess over a limit that still counts as met (the verification's round-off) [-].
+inline constexpr double kRobustnessSlack{1e-6};
+
+/// What robustness_report sweeps and judges.
+struct RobustnessSweep {
+  double delta_lo{-kDefaultRobustnessSweep};  ///< first delta [-], <= 0
+  double delta_hi{kDefaultRobustnessSweep};   ///< last delta [-], >= 0
+  int points{kRobustnessPoints};              ///< evenly from delta_lo to delta_hi, >= 2
+  double zeta{};                              ///< damping ratio at every point [-]
+  double rest_time{kDefaultRestTime};         ///< rest window [s]
+  double eta_rest_max{};                      ///< limit on eta_rest [m]
+  std::optional<double> eta_motion_max;       ///< limit on eta_motion when given [m]
+};
+
+/// One point of the sweep.
+struct RobustnessPoint {
+  double delta{};  ///< every mode frequency is omega_n (1 + delta) [-]
+  SloshPeaks linear;
+  SloshPeaks nonlinear;
+  bool holds_linear{false};     ///< the limits hold on the linear model
+  bool holds_nonlinear{false};  ///< the limits hold on the nonlinear model
+};
+
+/// The interval of delta around 0 over which the limits hold [-].
+struct DeltaInterval {
+  /// Ends [-]: where the margin (the largest eta / limit, minus 1) crosses 0, linearly
+  /// interpolated between the last point that holds and the first that does not; a sweep end
+  /// when every point up to it holds.
+  double lo{};
+  double hi{};
+  bool lo_is_sweep_end{false};  ///< lo is the sweep's first delta: the interval may extend
+  bool hi_is_sweep_end{false};  ///< hi is the sweep's last delta
+};
+
+struct RobustnessReport {
+  RobustnessSweep sweep;
+  /// Sorted by delta: the evenly spaced points, plus delta = 0 when the grid misses it.
+  std::vector<RobustnessPoint> points;
+  /// Where the limits hold around delta = 0; nullopt when they do not hold at 0.
+  std::optional<DeltaInterval> linear;
+  std::optional<DeltaInterval> nonlinear;
+  /// The largest eta over the sweep [m].
+  double worst_motion_linear{}, worst_rest_linear{};
+  double worst_motion_nonlinear{}, worst_rest_nonlinear{};
+};
+
+/// The sweep of `law` on `nominal` (every frequency of it scaled, zeta = sweep.zeta). When
+/// `at_zero` is given it is taken as the peaks at delta = 0 with the nominal zeta (the plan's own
+/// verified prediction) instead of simulating them again.
+[[nodiscard]] RobustnessReport robustness_report(
+    const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
+    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero = std::nullopt);
+
+}  // namespace slosh

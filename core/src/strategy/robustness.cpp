@@ -1,0 +1,98 @@
+#include "slosh/core/strategy/robustness.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "slosh/core/model/uncertainty.hpp"
+
+namespace slosh {
+
+namespace {
+
+/// |delta| below this is the nominal point [-].
+constexpr double kZeroDelta{1e-14};
+
+/// The largest eta / limit minus 1 of one model's peaks (<= kRobustnessSlack: the limits hold).
+double margin(const SloshPeaks& p, const RobustnessSweep& s) {
+  double m = p.rest.value / s.eta_rest_max - 1.0;
+  if (s.eta_motion_max) m = std::max(m, p.motion.value / *s.eta_motion_max - 1.0);
+  return std::isnan(m) ? INFINITY : m;
+}
+
+std::vector<double> sweep_deltas(const RobustnessSweep& s) {
+  std::vector<double> deltas;
+  const int n = std::max(2, s.points);
+  for (int k = 0; k < n; ++k) {
+    // Written as a weighted mean so a symmetric sweep hits 0 exactly at its middle.
+    const double w = static_cast<double>(k) / (n - 1);
+    double d = s.delta_lo * (1.0 - w) + s.delta_hi * w;
+    if (std::abs(d) < kZeroDelta) d = 0.0;
+    deltas.push_back(d);
+  }
+  if (std::find(deltas.begin(), deltas.end(), 0.0) == deltas.end()) {
+    deltas.insert(std::upper_bound(deltas.begin(), deltas.end(), 0.0), 0.0);
+  }
+  return deltas;
+}
+
+/// The interval around the point `zero` over which `margins` <= slack, its ends interpolated.
+std::optional<DeltaInterval> holding_interval(const std::vector<double>& deltas,
+                                              const std::vector<double>& margins,
+                                              std::size_t zero) {
+  if (margins[zero] > kRobustnessSlack) return std::nullopt;
+  auto edge = [&](std::size_t in, std::size_t out) {
+    const double m0 = margins[in], m1 = margins[out];
+    if (!std::isfinite(m1)) return deltas[in];
+    const double t = std::clamp((kRobustnessSlack - m0) / (m1 - m0), 0.0, 1.0);
+    return deltas[in] + t * (deltas[out] - deltas[in]);
+  };
+  DeltaInterval r;
+  std::size_t lo = zero;
+  while (lo > 0 && margins[lo - 1] <= kRobustnessSlack) --lo;
+  std::size_t hi = zero;
+  while (hi + 1 < deltas.size() && margins[hi + 1] <= kRobustnessSlack) ++hi;
+  r.lo_is_sweep_end = lo == 0;
+  r.hi_is_sweep_end = hi + 1 == deltas.size();
+  r.lo = r.lo_is_sweep_end ? deltas.front() : edge(lo, lo - 1);
+  r.hi = r.hi_is_sweep_end ? deltas.back() : edge(hi, hi + 1);
+  return r;
+}
+
+}  // namespace
+
+RobustnessReport robustness_report(
+    const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
+    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero) {
+  RobustnessReport r;
+  r.sweep = sweep;
+  const std::vector<double> deltas = sweep_deltas(sweep);
+  std::vector<double> lin_margin, nl_margin;
+  std::size_t zero = 0;
+  for (std::size_t k = 0; k < deltas.size(); ++k) {
+    RobustnessPoint p;
+    p.delta = deltas[k];
+    if (p.delta == 0.0) zero = k;
+    if (p.delta == 0.0 && at_zero && sweep.zeta == nominal.zeta) {
+      p.linear = at_zero->first;
+      p.nonlinear = at_zero->second;
+    } else {
+      const SloshingModel m = scaled_model(nominal, 1.0 + p.delta, sweep.zeta);
+      p.linear = LinearResponse(m, law, sweep.rest_time).peaks();
+      p.nonlinear = NonlinearResponse(m, law, sweep.rest_time).peaks();
+    }
+    lin_margin.push_back(margin(p.linear, sweep));
+    nl_margin.push_back(margin(p.nonlinear, sweep));
+    p.holds_linear = lin_margin.back() <= kRobustnessSlack;
+    p.holds_nonlinear = nl_margin.back() <= kRobustnessSlack;
+    r.worst_motion_linear = std::max(r.worst_motion_linear, p.linear.motion.value);
+    r.worst_rest_linear = std::max(r.worst_rest_linear, p.linear.rest.value);
+    r.worst_motion_nonlinear = std::max(r.worst_motion_nonlinear, p.nonlinear.motion.value);
+    r.worst_rest_nonlinear = std::max(r.worst_rest_nonlinear, p.nonlinear.rest.value);
+    r.points.push_back(p);
+  }
+  r.linear = holding_interval(deltas, lin_margin, zero);
+  r.nonlinear = holding_interval(deltas, nl_margin, zero);
+  return r;
+}
+
+}  // namespace slosh
