@@ -611,3 +611,44 @@ TEST(AutoHardening, CandidatesTheModelsCannotFollowAreLeftOutAndNamed) {
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review of issue 19 (F7): infeasible one-jerk plans under machine limits came without the
+// move_absolute block although their durations were in the family. Property over seeded random
+// formats with a_max and v_max: every plan with durations carries it, and its jerk reproduces the
+// four ramps.
+TEST(MoveAbsoluteHardening, EveryPlanWithDurationsUnderLimitsCarriesTheProfile) {
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> radius(0.03, 0.08), ratio(0.5, 2.0), stroke(0.3, 1.0),
+      time(0.5, 1.5), a_max(2.0, 8.0), v_max(0.8, 2.0);
+  int checked = 0;
+  for (int k = 0; k < 12; ++k) {
+    Format f;
+    f.container.radius = radius(rng);
+    f.fill_height = ratio(rng) * f.container.radius;
+    f.stroke = stroke(rng);
+    f.motion_time = time(rng);
+    PlanOptions o;
+    o.drive_profile = DriveProfile::kMoveAbsolute;
+    o.limits.a_max = a_max(rng);
+    o.limits.v_max = v_max(rng);
+    o.robustness = false;
+    for (Strategy s : {Strategy::kMultiNotch, Strategy::kNotch}) {
+      const PlanResult p = plan(f, s, o);
+      if (!p.durations) continue;
+      ASSERT_TRUE(p.move_absolute) << to_string(s) << " " << k << ": " << p.message;
+      const SevenSegmentLaw law(*p.durations, f.stroke);
+      for (int i : {0, 2, 4, 6}) {
+        const double j = std::abs(law.jerks()[static_cast<std::size_t>(i)]);
+        EXPECT_NEAR(j, p.move_absolute->jerk, 1e-6 * p.move_absolute->jerk) << k << " " << i;
+      }
+      ++checked;
+    }
+  }
+  EXPECT_GE(checked, 20);
+}
+
+}  // namespace
+}  // namespace slosh
