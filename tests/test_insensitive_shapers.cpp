@@ -355,7 +355,7 @@ double closed_form_width(ShaperType type, double V) {
 TEST(InsensitiveShapers, InsensitivityWidthsFollowTheFamilyOrder) {
   const double V = 0.05;
   // Two-digit widths quoted for V = 5 % (Singhose et al.); the closed forms above give
-  // ZV 0.0637, MZV 0.1028, ZVD 0.2871, EI 0.3994, two-hump 0.7245, three-hump 0.9638.
+  // ZV 0.0637, MZV 0.1035, ZVD 0.2871, EI 0.3994, two-hump 0.7245, three-hump 0.9638.
   const std::vector<std::pair<ShaperType, double>> quoted{{ShaperType::kZV, 0.06},
                                                           {ShaperType::kZVD, 0.29},
                                                           {ShaperType::kEI, 0.40},
