@@ -384,7 +384,8 @@ struct Impulse {
 };
 
 /// The shaper of `type` for (omega, zeta): t_j = j Td / 2 (eq. 6), K of eq. 5; ZV/ZVD/ZVDD
-/// binomial amplitudes; EI [p, q K, p K^2] with p (1 + K^2) + q K = 1, (2p - q) K^2 = V.
+/// binomial amplitudes; EI [p, q K, p K^2] with p (1 + K^2) + q K = 1, (2p - q) K^2 = V; MZV
+/// [1 - 1/sqrt2, sqrt2 - 1, 1 - 1/sqrt2] compensated by K^(3/4) per impulse at t_j = 3 j Td / 8.
 std::vector<Impulse> shaper_reference(const std::string& type, double w, double z, double V) {
   const double Td = 2.0 * kPi / (w * std::sqrt(1.0 - z * z));
   const double K = std::exp(-z * kPi / std::sqrt(1.0 - z * z));
@@ -395,6 +396,9 @@ std::vector<Impulse> shaper_reference(const std::string& type, double w, double 
     A = {1.0, 2 * K, K * K};
   } else if (type == "zvdd") {
     A = {1.0, 3 * K, 3 * K * K, K * K * K};
+  } else if (type == "mzv") {
+    const double a = 1.0 - 1.0 / std::sqrt(2.0), Km = std::pow(K, 0.75);
+    A = {a, (std::sqrt(2.0) - 1.0) * Km, a * Km * Km};
   } else {
     const double p = (1.0 + V / K) / ((1.0 + K) * (1.0 + K));
     const double q = 2.0 * p - V / (K * K);
@@ -404,7 +408,8 @@ std::vector<Impulse> shaper_reference(const std::string& type, double w, double 
   for (double x : A) sum += x;
   std::vector<Impulse> out;
   for (std::size_t j = 0; j < A.size(); ++j) {
-    out.push_back({Td / 2.0 * static_cast<double>(j), type == "ei" ? A[j] : A[j] / sum});
+    const double spacing = type == "mzv" ? 0.375 * Td : Td / 2.0;
+    out.push_back({spacing * static_cast<double>(j), type == "ei" ? A[j] : A[j] / sum});
   }
   return out;
 }
@@ -538,7 +543,7 @@ TEST(FirChainPlan, LongMotionIsTheSevenSegmentLawOfTheClosedForm) {
 TEST(ShaperPlan, EveryShaperOnEveryBaseIsTheConvolutionOfTheClosedForms) {
   const double T = 1.0;
   for (const char* base : {"poly5", "modified_trapezoid", "seven_segment_uniform"}) {
-    for (const char* type : {"zv", "zvd", "zvdd", "ei"}) {
+    for (const char* type : {"zv", "mzv", "zvd", "zvdd", "ei"}) {
       SCOPED_TRACE(std::string(type) + " on " + base);
       const json& plan = plan_of(plan_body("shaper", T, {{"shaper", type}, {"base", base}}));
       EXPECT_EQ(plan["status"], "optimal");
@@ -605,6 +610,45 @@ TEST(ShaperPlan, EiResidualFollowsTheOption) {
   }
   EXPECT_NEAR(d["residual_at_f1"].get<double>(), 0.12, 1e-12);
   EXPECT_NEAR(shaper_residual(ref, omega1(plan), zeta(plan)), 0.12, 1e-12);
+}
+
+TEST(ShaperPlan, MultiHumpShapersLeaveZeroOrVAtF1AndConvolveExactly) {
+  const double T = 1.2;
+  for (const auto& [type, V] : {std::pair<std::string, double>{"ei2", 0.05}, {"ei3", 0.1}}) {
+    SCOPED_TRACE(type);
+    const json& plan = plan_of(plan_body("shaper", T, {{"shaper", type}, {"residual", V}}));
+    EXPECT_EQ(plan["status"], "optimal");
+    const json& d = plan["design"];
+    EXPECT_EQ(d["shaper"], type);
+    ASSERT_EQ(d["impulses"].size(), type == "ei2" ? 4u : 5u);
+    std::vector<Impulse> got;
+    double sum = 0.0;
+    for (const json& i : d["impulses"]) {
+      got.push_back({i["t_s"].get<double>(), i["amplitude"].get<double>()});
+      EXPECT_GT(got.back().amplitude, 0.0);
+      if (got.size() > 1) {
+        EXPECT_GT(got.back().t, got[got.size() - 2].t);
+      }
+      sum += got.back().amplitude;
+    }
+    EXPECT_EQ(got.front().t, 0.0);
+    EXPECT_NEAR(sum, 1.0, 1e-14);
+    EXPECT_EQ(got.back().t, d["delay_s"].get<double>());
+    // ei2 cancels f1; ei3 has its middle hump, of height V, there.
+    const double at_f1 = shaper_residual(got, omega1(plan), zeta(plan));
+    EXPECT_NEAR(at_f1, type == "ei2" ? 0.0 : V, 1e-12);
+    EXPECT_NEAR(d["residual_at_f1"].get<double>(), at_f1, 1e-12);
+    const double Tb = d["base_duration_s"].get<double>();
+    const BaseLaw b("poly5", kStroke, Tb);
+    const JsonLaw law(plan["law"], kStroke);
+    for (int i = 0; i <= 300; ++i) {
+      const double t = T * i / 300.0;
+      double expected = 0.0;
+      for (const Impulse& imp : got) expected += imp.amplitude * b(t - imp.t);
+      EXPECT_NEAR(law.a(t), expected, 1e-9 * b.scale() / (Tb * Tb)) << t;
+    }
+    expect_law_consistent(plan, T);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -852,9 +896,11 @@ TEST(FilterOptionValidation, OutOfRangeAndWrongTypeNameFieldValueAndRange) {
       {"residual", 1, 1.0, "options.residual = 1 is out of range: allowed >= 0 and < 1"},
       {"residual", -0.01, 1.0, "options.residual = -0.01 is out of range: allowed >= 0 and < 1"},
       {"shaper", "zvx", 1.0,
-       "options.shaper = \"zvx\" is not allowed: one of \"zv\", \"zvd\", \"zvdd\", \"ei\""},
+       "options.shaper = \"zvx\" is not allowed: one of \"zv\", \"mzv\", \"zvd\", \"zvdd\", "
+       "\"ei\", \"ei2\", \"ei3\""},
       {"shaper", 2, 1.0,
-       "options.shaper = 2 is not allowed: one of \"zv\", \"zvd\", \"zvdd\", \"ei\""},
+       "options.shaper = 2 is not allowed: one of \"zv\", \"mzv\", \"zvd\", \"zvdd\", \"ei\", "
+       "\"ei2\", \"ei3\""},
       {"base", "cubic", 1.0,
        "options.base = \"cubic\" is not allowed: one of \"poly5\", \"modified_trapezoid\", "
        "\"seven_segment_uniform\""},

@@ -435,7 +435,7 @@ void add_filter_design_schema(json& s) {
        {"t2_s", number("fir_chain: T2 [s].")},
        {"t3_s", number("fir_chain: T3 = damped period of mode 1 [s].")},
        {"conditions_14", boolean("fir_chain: T1 >= T2 + T3 and T2 >= T3 (a 7-segment law).")},
-       {"shaper", text("shaper: zv, zvd, zvdd or ei.")},
+       {"shaper", text("shaper: zv, mzv, zvd, zvdd, ei, ei2 or ei3.")},
        {"impulses",
         {{"type", "array"},
          {"items", object({{"t_s", number("[s]")}, {"amplitude", number("[-]")}},

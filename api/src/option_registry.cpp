@@ -348,8 +348,12 @@ std::vector<OptionSpec> filter_options() {
           "shaper and iir: the base law, planned over T minus the filter's delay."),
       enumeration<ShaperType>(
           "shaper", [](PlanOptions& o) -> ShaperType& { return o.shaper; },
-          "shaper: the input shaper on mode 1 (ZV: 1/2 damped period of "
-          "delay, ZVD: 1, ZVDD: 3/2, EI: 1 with the residual below)."),
+          "shaper: the input shaper on mode 1, by delay in damped periods: zv 1/2, mzv 3/4, "
+          "zvd 1, zvdd 3/2, ei 1, ei2 ~3/2, ei3 ~2. zv, mzv, zvd and zvdd cancel omega_1 exactly; "
+          "ei, ei2 and ei3 keep the residual below `residual` (V, the height of their humps) over "
+          "a band around omega_1 that widens with the shaper: at V = 5 % without damping "
+          "omega / omega_1 in 0.968-1.032 (zv), 0.951-1.055 (mzv), 0.856-1.144 (zvd), "
+          "0.800-1.200 (ei), 0.638-1.362 (ei2), 0.518-1.482 (ei3)."),
       number(
           "residual", kResidual, [](PlanOptions& o) -> double& { return o.residual; },
           "shaper ei: residual vibration V admitted at omega_1 (0.05 = 5 %)"),

@@ -35,23 +35,29 @@ struct EnumNames<BaseLaw> {
 /// The base law of `stroke` [m] over `duration` [s].
 [[nodiscard]] MotionLaw make_base_law(BaseLaw base, double stroke, double duration);
 
-/// Input shaper families (paper sec. 3.1).
-enum class ShaperType { kZV, kZVD, kZVDD, kEI };
+/// Input shaper families: the paper's ZV, ZVD, ZVDD and EI (sec. 3.1), and the insensitive
+/// shapers of Singhose et al. for an uncertain frequency: MZV and the two- and three-hump EI.
+/// Values are appended (kMZV, kEI2, kEI3 after kEI); the API lists them in the table's order.
+enum class ShaperType { kZV, kZVD, kZVDD, kEI, kMZV, kEI2, kEI3 };
 
 template <>
 struct EnumNames<ShaperType> {
-  static constexpr std::array<EnumName<ShaperType>, 4> table{{
+  static constexpr std::array<EnumName<ShaperType>, 7> table{{
       {ShaperType::kZV, "zv"},
+      {ShaperType::kMZV, "mzv"},
       {ShaperType::kZVD, "zvd"},
       {ShaperType::kZVDD, "zvdd"},
       {ShaperType::kEI, "ei"},
+      {ShaperType::kEI2, "ei2"},
+      {ShaperType::kEI3, "ei3"},
   }};
 };
 [[nodiscard]] inline std::string to_string(ShaperType value) {
   return std::string(name_of(value));
 }
 
-/// Default residual vibration V of the EI shaper [-] (5 %).
+/// Default residual vibration V of the EI shapers (ei, ei2, ei3: the height of their humps) [-]
+/// (5 %).
 constexpr double kDefaultEiResidual{0.05};
 
 /// One impulse of a shaper.
@@ -64,6 +70,10 @@ struct Impulse {
 struct InputShaper {
   ShaperType type{ShaperType::kZV};
   std::vector<Impulse> impulses;
+  /// True when the impulses satisfy the design equations of `type` exactly at (omega, zeta)
+  /// (see make_shaper). False only for ei2 and ei3 when the damped hump design has no solution
+  /// (large zeta or V): the impulses are then the damping-compensated closed form.
+  bool exact_design{true};
   /// The delay it adds: the time of the last impulse [s].
   [[nodiscard]] double delay() const { return impulses.empty() ? 0.0 : impulses.back().time; }
 };
@@ -71,21 +81,58 @@ struct InputShaper {
 /// The damped period T_d = 2 pi / (omega sqrt(1 - zeta^2)) (paper eq. 5) [s].
 [[nodiscard]] double damped_period(double omega, double zeta);
 
-/// The shaper of `type` for a mode (omega [rad/s], zeta [-]): impulses at t_j = T_d j / 2 (eq. 6),
-/// K = exp(-zeta pi / sqrt(1 - zeta^2)) (eq. 5), amplitudes
+/// The shaper of `type` for a mode (omega [rad/s], zeta [-]); `residual` is V [-] (ei, ei2, ei3).
+/// K = exp(-zeta pi / sqrt(1 - zeta^2)) (eq. 5), T_d the damped period; amplitudes sum to 1.
+/// Impulses at t_j = T_d j / 2 (eq. 6) with amplitudes
 ///   ZV   [1, K] / (1 + K)
 ///   ZVD  [1, 2K, K^2] / (1 + K)^2
 ///   ZVDD [1, 3K, 3K^2, K^3] / (1 + K)^3
 ///   EI   [p, q K, p K^2] with p (1 + K^2) + q K = 1 and (2p - q) K^2 = V: the one-hump EI shaper
 ///        (undamped amplitudes (1+V)/4, (1-V)/2, (1+V)/4) with the same damping compensation as the
-///        ZV family, leaving exactly the residual V at omega.
+///        ZV family, leaving exactly the residual V at omega (with damping the hump's top moves off
+///        omega and tops V slightly: by 1.4e-4 V at zeta = 0.05, 6.7e-4 V at 0.1).
+/// MZV: three impulses at t_j = 3 T_d j / 8 (135 degrees of the damped oscillation apart),
+///   [a, b K_m, a K_m^2] / sum, a = 1 - 1/sqrt(2), b = sqrt(2) - 1, K_m = K^(3/4): no residual at
+///   omega for every zeta (undamped, also none at 5 omega / 3); delay 3/4 T_d, between ZV and ZVD.
+/// ei2, ei3: the two- and three-hump EI shapers (Singhose, Derezinski & Singer 1996; Singhose,
+///   Porter, Tuttle & Singer 1997): the residual stays <= V over a wide band around omega, touching
+///   V at its humps (zero slope there) and vanishing between them.
+///   ei2, 4 impulses: zero at omega and at one frequency below and one above it, humps of height V
+///     between them; undamped t_j = T j / 2 (T = 2 pi / omega), [a, 1/2 - a, 1/2 - a, a] with
+///     a = (3X^2 + 2X + 3V^2) / (16X), X = (V^2 (sqrt(1 - V^2) + 1))^(1/3).
+///   ei3, 5 impulses: humps of height V at omega and at one frequency below and one above it,
+///     zeros between and outside them; undamped t_j = T j / 2, [a1, a2, 1 - 2a1 - 2a2, a2, a1]
+///     with a1 = (1 + 3V + 2 sqrt(2V(V + 1))) / 16, a2 = (1 - V) / 4.
+///   With damping the same conditions (unit sum, every zero exact, every hump exactly V with zero
+///   slope, the middle one of ei3 at omega) are solved for the amplitudes and the impulse times by
+///   Newton's method (to 1e-12), continued in zeta from the undamped closed form (a few ms, up to
+///   ~35 ms near the limit below). The solution agrees with Singhose's damped fits for V = 5 %
+///   within their own accuracy (1.5e-3 in amplitude, 5e-3 T in time for zeta <= 0.05). It exists
+///   for zeta up to a limit that falls with V: V = 0.01: 0.61 (ei2), 0.46 (ei3); V = 0.05: 0.45,
+///   0.32; V = 0.2: 0.24, 0.13; V = 0.5: 0.06, 0.03; none for V <= 1e-4 (the continuation fails).
+///   Beyond it exact_design is false and the undamped closed form with the ZV family's damping
+///   compensation (a_j K^j / sum, t_j = T_d j / 2) is returned: it keeps ei2's zero at omega and
+///   its humps below V. V = 0 gives the limits, exactly: zvdd (ei2) and [1, 4, 6, 4, 1] / 16
+///   compensated like the ZV family (ei3).
 /// Throws std::invalid_argument for omega <= 0, zeta outside [0, 1) or V outside [0, 1).
 [[nodiscard]] InputShaper make_shaper(ShaperType type, double omega, double zeta,
                                       double residual = kDefaultEiResidual);
 
 /// Residual vibration of a mode after the impulse train, relative to a single unit impulse
-/// (paper sec. 3.1: Z_n divided by omega / sqrt(1 - zeta^2)) [-].
+/// (paper sec. 3.1: Z_n divided by omega / sqrt(1 - zeta^2)) [-]:
+/// |sum_j A_j exp((-zeta omega + i omega sqrt(1 - zeta^2)) (t_N - t_j))|.
 [[nodiscard]] double shaper_residual(const InputShaper& shaper, double omega, double zeta);
+
+/// The largest shaper_residual(shaper, w, zeta) over w in [omega_lo, omega_hi] [rad/s] [-]: what a
+/// mode whose frequency is only known to lie in that range may keep. The derivative of the squared
+/// residual is sampled at 256 points per period 2 pi / t_N of its fastest term (t_N the delay) and
+/// each sign change from + to - is bisected to the last bit, the ends included: exact to round-off
+/// (~1e-15) unless a maximum and a minimum lie within one sample step (1/256 of that period).
+/// Cost: (omega_hi - omega_lo) t_N 256 / (2 pi) evaluations of the residual and its slope.
+/// Throws std::invalid_argument for an empty shaper, zeta outside [0, 1), unless
+/// 0 <= omega_lo <= omega_hi (finite), and beyond 1e7 samples.
+[[nodiscard]] double max_residual_over(const InputShaper& shaper, double omega_lo, double omega_hi,
+                                       double zeta);
 
 /// The convolution sum_j A_j base(t - t_j) as an exact piecewise law (duration: the base's plus
 /// the shaper's delay). Throws std::invalid_argument when overlapping pieces carry harmonic terms
