@@ -8,6 +8,7 @@
 #include <cmath>
 #include <random>
 #include <string>
+#include <variant>
 #include <vector>
 
 #include "slosh/core/law/seven_segment.hpp"
@@ -237,6 +238,67 @@ TEST(RobustTimeDomain, HoldsEtaRestAtEveryPointOfPlusMinusFivePercentWhereTheNom
   // The price: the nominal eta_motion within 10 % of the nominal plan's.
   EXPECT_LT(r.prediction.nonlinear.motion.value, 1.10 * n.prediction.nonlinear.motion.value);
   EXPECT_NEAR(n.prediction.nonlinear.motion.value * 1e3, 26.7, 0.1);
+}
+
+TEST(RobustShaper, ChoosesTheShortestFamilyWhoseResidualStaysBelowVOverTheRange) {
+  const Format f = thesis_format();
+  for (double error : {0.05, 0.10, 0.25}) {
+    PlanOptions o;
+    o.uncertainty.omega_error = error;
+    const PlanResult p = plan(f, Strategy::kShaper, o);
+    ASSERT_TRUE(p.design && std::holds_alternative<ShaperDesign>(*p.design)) << p.message;
+    const ShaperDesign& d = std::get<ShaperDesign>(*p.design);
+    ASSERT_TRUE(p.uncertainty);
+    const double w_lo = p.uncertainty->omega_lo, w_hi = p.uncertainty->omega_hi;
+    const double w_mid = 0.5 * (w_lo + w_hi), z_mid = p.uncertainty->zeta_mid();
+    // Independently: the families by delay, each swept on 20 001 frequencies of the range.
+    std::optional<ShaperType> expected;
+    for (ShaperType t : {ShaperType::kZV, ShaperType::kMZV, ShaperType::kZVD, ShaperType::kEI,
+                         ShaperType::kZVDD, ShaperType::kEI2, ShaperType::kEI3}) {
+      const InputShaper s = make_shaper(t, w_mid, z_mid, o.residual);
+      double worst = 0.0;
+      for (int k = 0; k <= 20000; ++k) {
+        const double w = w_lo + (w_hi - w_lo) * k / 20000.0;
+        worst = std::max(worst, shaper_residual(s, w, p.uncertainty->zeta_lo));
+      }
+      if (worst <= o.residual * (1.0 + 1e-6)) {
+        expected = t;
+        break;
+      }
+    }
+    ASSERT_TRUE(expected) << error;
+    EXPECT_EQ(d.shaper.type, *expected) << error << ": " << p.message;
+    EXPECT_NEAR(d.shaper.delay(), make_shaper(*expected, w_mid, z_mid, o.residual).delay(), 1e-12);
+  }
+  // A family named by the caller is kept.
+  PlanOptions named;
+  named.uncertainty.omega_error = 0.10;
+  named.shaper_for_range = false;
+  const PlanResult zv = plan(f, Strategy::kShaper, named);
+  EXPECT_EQ(std::get<ShaperDesign>(*zv.design).shaper.type, ShaperType::kZV);
+}
+
+TEST(RobustSpectral, TheBandAndTheNotchesCoverTheRange) {
+  const Format f = thesis_format();
+  PlanOptions o;
+  o.uncertainty.omega_error = 0.10;
+  const PlanResult p = plan(f, Strategy::kMinJerkBand, o);
+  const double w1 = p.model.omega1();
+  // The band reaches (1 + band) of the highest omega_1 and at least (1 - band) of the lowest.
+  EXPECT_NEAR(p.band_omega[1], 1.15 * 1.10 * w1, 1e-9 * w1);
+  EXPECT_LE(p.band_omega[0], 0.85 * 0.90 * w1 * (1 + 1e-12));
+  // Widened, the band must hold on the range's frequencies with the nominal X_ref.
+  EXPECT_TRUE(p.usable()) << p.message;
+  PlanOptions wide;
+  wide.uncertainty.omega_error = 0.30;
+  const PlanResult mn = plan(f, Strategy::kMultiNotch, wide);
+  ASSERT_TRUE(mn.durations);
+  // Notches at the middle of the range and at its ends: |X| there is far below the uniform law's.
+  for (double s : {0.7, 1.0, 1.3}) {
+    const double x = std::abs(seven_segment_spectrum(*mn.durations, f.stroke, s * w1));
+    const double u = std::abs(seven_segment_spectrum(uniform_durations(1.0), f.stroke, s * w1));
+    EXPECT_LT(x, 0.05 * u + 1e-9) << s;
+  }
 }
 
 TEST(Uncertainty, RangesThatAreEmptyExcludeTheNominalOrLeaveTheBoundsAreRefused) {

@@ -3,7 +3,9 @@
 // apply to them.
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <numbers>
 
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -157,16 +159,59 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
   return o;
 }
 
+namespace {
+
+/// The shaper families in the order of their delay (ZV 1/2, MZV 3/4, ZVD and EI 1, ZVDD and
+/// 2-hump EI 3/2, 3-hump EI 2 damped periods), shortest first.
+constexpr std::array<ShaperType, 7> kShapersByDelay{
+    ShaperType::kZV,   ShaperType::kMZV, ShaperType::kZVD, ShaperType::kEI,
+    ShaperType::kZVDD, ShaperType::kEI2, ShaperType::kEI3,
+};
+
+/// The shaper `shaper` plans: the option, or with an uncertainty range (and no family named) the
+/// shortest family whose residual over [omega_lo, omega_hi] at the range's least damping stays
+/// <= the option `residual` V, designed at the middle of the range; when none does, the one of
+/// least worst residual. `choice` gets the sentence saying so (empty for the option).
+InputShaper shaper_for(const StrategyContext& c, std::string* choice) {
+  const PlanOptions& opt = c.options;
+  const double w = c.design_model.omega1(), z = c.design_model.zeta;
+  if (!c.robust() || !opt.shaper_for_range) return make_shaper(opt.shaper, w, z, opt.residual);
+  const UncertaintyRange& r = *c.range;
+  std::optional<InputShaper> best;
+  double best_worst = INFINITY;
+  for (ShaperType type : kShapersByDelay) {
+    InputShaper s = make_shaper(type, w, z, opt.residual);
+    const double worst = max_residual_over(s, r.omega_lo, r.omega_hi, r.zeta_lo);
+    if (worst < best_worst) {
+      best_worst = worst;
+      best = std::move(s);
+    }
+    if (worst <= opt.residual * (1.0 + 1e-9)) break;
+  }
+  const double f = 0.5 / std::numbers::pi;
+  *choice = "chosen for the range " + sig3(r.omega_lo * f) + "-" + sig3(r.omega_hi * f) + " Hz: " +
+            (best_worst <= opt.residual * (1.0 + 1e-9)
+                 ? "the shortest family whose residual stays <= " + percent(opt.residual)
+                 : "no family keeps the residual <= " + percent(opt.residual) +
+                       "; the least worst residual") +
+            " (" + percent(best_worst) + " at worst)";
+  return *best;
+}
+
+}  // namespace
+
 FilterOutcome design_shaper(const StrategyContext& c) {
   const PlanOptions& opt = c.options;
   const double S = c.format.stroke, T = c.format.motion_time;
-  if (std::string why = over_damped(c, "the " + to_string(opt.shaper) + " shaper"); !why.empty()) {
-    return no_law(c, why);
-  }
-  const InputShaper shaper =
-      make_shaper(opt.shaper, c.design_model.omega1(), c.design_model.zeta, opt.residual);
+  const std::string family = c.robust() && opt.shaper_for_range
+                                 ? "the shaper"
+                                 : "the " + to_string(opt.shaper) + " shaper";
+  if (std::string why = over_damped(c, family); !why.empty()) return no_law(c, why);
+  std::string choice;
+  const InputShaper shaper = shaper_for(c, &choice);
   const double Tb = T - shaper.delay();
-  const std::string name = to_string(opt.shaper) + " shaper";
+  const std::string name =
+      to_string(shaper.type) + " shaper" + (choice.empty() ? "" : " (" + choice + ")");
   const double residual = shaper_residual(shaper, c.design_model.omega1(), c.design_model.zeta);
   if (!(Tb >= kMinBaseDuration)) {
     FilterOutcome o = no_law(c, "the " + name + " delays the law by " + sig3(shaper.delay()) +

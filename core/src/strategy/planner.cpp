@@ -362,7 +362,11 @@ void set_design(StrategyContext& c) {
 
 void set_references(StrategyContext& c, double eta_ref) {
   const Durations uniform = uniform_durations(c.format.motion_time);
-  c.x_ref = band_peak(uniform, c.format.stroke, band_check_grid(c)).value;
+  // X_ref is the nominal band's (SPEC §5): a band widened for an uncertainty range keeps the
+  // nominal level as its limit instead of loosening with the wider band's larger maximum.
+  c.x_ref = band_peak(uniform, c.format.stroke,
+                      band_check_grid(c.model.omega1(), c.options.band, c.options.n_band))
+                .value;
   c.jerk_ref = SevenSegmentLaw(uniform, c.format.stroke).jerk_integral();
   c.eta_ref = eta_ref;
   c.eta_motion_max = c.options.eta_motion_max.value_or(eta_ref);

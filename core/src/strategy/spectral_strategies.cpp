@@ -143,10 +143,13 @@ BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>&
   return best;
 }
 
+std::vector<double> band_check_grid(double omega, double band, int n_band) {
+  return band_frequencies(omega, band,
+                          std::max(n_band - 1, kBandCheckIntervals) * kBandCheckRefinement + 1);
+}
+
 std::vector<double> band_check_grid(const StrategyContext& c) {
-  return band_frequencies(
-      c.design_model.omega1(), c.band,
-      std::max(c.options.n_band - 1, kBandCheckIntervals) * kBandCheckRefinement + 1);
+  return band_check_grid(c.design_model.omega1(), c.band, c.options.n_band);
 }
 
 std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {

@@ -167,6 +167,8 @@ inline constexpr double kBandTolerance{1e-6};
 /// The grid band_peak checks min_jerk_band's band on (and X_ref is taken on): the context's band
 /// around its design frequency.
 [[nodiscard]] std::vector<double> band_check_grid(const StrategyContext& context);
+/// The same grid for the band (1 -+ band) omega checked from n_band points.
+[[nodiscard]] std::vector<double> band_check_grid(double omega, double band, int n_band);
 
 /// Sets the context's reference levels (x_ref, jerk_ref, eta_ref, eta_motion_max); eta_ref is
 /// the uniform law's nonlinear eta_motion, given by the caller (it has simulated that law).
