@@ -87,13 +87,31 @@ struct CamTableSpec {
   std::string st_name{kDefaultStName};  ///< ST array identifier
 };
 
-/// The cam table query parameters of GET /v1/plans/{key}/cam.csv and cam.st as received (an
-/// empty text = not given).
-using CamQuery = CamOptionTexts;
+/// Every value of one query parameter, in order (none: the parameter was not given).
+using QueryValues = std::vector<std::string>;
 
-/// The options of a query: the numbers read whole (ApiError naming the parameter, "master_start
-/// = abc is not a number [master units]", when one is not a finite number); `format` from the
-/// route.
+/// The cam table query parameters of GET /v1/plans/{key}/cam.csv and cam.st as received.
+struct CamQuery {
+  QueryValues period_ms;
+  QueryValues master_period;
+  QueryValues master_start;
+  QueryValues master_end;
+  QueryValues master_step;
+  QueryValues st_name;
+  QueryValues allow_infeasible;
+};
+
+/// The one value of the query parameter `name`: nullopt when it is not given; throws
+/// ApiError(kInvalidValue, name) when it is given more than once ("master_period is given
+/// twice (360 and 720): give each query parameter once"; a repeated parameter is never
+/// resolved silently).
+[[nodiscard]] std::optional<std::string> single_query_value(const QueryValues& values,
+                                                            const std::string& name);
+
+/// The options of a query: each parameter given at most once (single_query_value), the numbers
+/// read whole as decimal numbers (`-`, digits, an optional fraction and exponent: no `+`, spaces,
+/// hex, inf or nan; ApiError naming the parameter, "master_start = 0x10 is not a decimal number
+/// [master units]"), an empty value refused like any other; `format` from the route.
 [[nodiscard]] CamOptions parse_cam_query(const CamQuery& query, CamFileFormat format);
 
 /// Validates `options` and fills the defaults. A master axis may have at most `max_rows` rows;
@@ -128,9 +146,11 @@ struct CamTable {
   [[nodiscard]] std::size_t rows() const { return axis ? master.size() : time.size(); }
 };
 
-/// Samples `law` as `spec` asks (time-based or master-axis). Throws std::invalid_argument as
-/// sample_cam_table / sample_master_cam_table do.
-[[nodiscard]] CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec);
+/// Samples `law` as `spec` asks (time-based or master-axis). Throws ApiError(kInvalidValue)
+/// naming the option (`names`) when sample_cam_table or sample_master_cam_table refuse: a master
+/// speed out of range names the master period.
+[[nodiscard]] CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec,
+                                  const CamOptionNames& names);
 
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line
 /// per sample, 12 significant digits.

@@ -242,7 +242,7 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
   if (!spec.master && duration / (period_ms * 1e-3) > static_cast<double>(kMaxServedCamRows - 2)) {
     throw api::ApiError(
         api::ErrorCode::kInvalidValue, "period_ms",
-        "period_ms = " + api::number_text(period_ms) + " gives more than " +
+        "period_ms = " + master_value_text(period_ms) + " gives more than " +
             std::to_string(kMaxServedCamRows) + " rows over the " + api::number_text(duration) +
             " s motion: allowed >= " + api::number_text(std::ceil(shortest_ms * 1e3) / 1e3) +
             " ms here (slosh export writes longer tables)");
@@ -251,13 +251,7 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
     throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                         api::not_exportable_message(plan, "add allow_infeasible=true"));
   }
-  CamTable table;
-  try {
-    table = sample_cam(plan.law, plan.stroke, spec);
-  } catch (const std::invalid_argument& e) {
-    throw api::ApiError(api::ErrorCode::kInvalidValue, spec.master ? "master_step" : "period_ms",
-                        e.what());
-  }
+  const CamTable table = sample_cam(plan.law, plan.stroke, spec, query_option_names());
   CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};
   return cam_file(table, source, spec);
 }
@@ -273,9 +267,9 @@ int run_export_command(const ExportCommandOptions& options) {
   CamTable table;
   std::string file;
   try {
-    table = sample_cam(source.law, source.stroke, spec);
-  } catch (const std::invalid_argument& e) {
-    return report(invalid(spec.master ? "--master-step" : "--period-ms", e.what()));
+    table = sample_cam(source.law, source.stroke, spec, cli_option_names());
+  } catch (const api::ApiError& e) {
+    return report({kExitInvalidInput, e});
   }
   try {
     file = cam_file(table, cam_source(source), spec);

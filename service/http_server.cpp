@@ -241,6 +241,28 @@ std::vector<std::string> view_values(const httplib::Request& req) {
   return values;
 }
 
+// Every value of the query parameter `name` in the request target, in order, repeats included
+// (none when it is not given). The library's parameters drop a repeated identical "name=value"
+// pair, so a repeat of the same value would go unnoticed there.
+std::vector<std::string> param_values(const httplib::Request& req, const char* name) {
+  std::vector<std::string> values;
+  const std::size_t query = req.target.find('?');
+  if (query == std::string::npos) return values;
+  const std::string text = req.target.substr(query + 1, req.target.find('#') - query - 1);
+  httplib::detail::split(
+      text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
+        const std::string pair(begin, end);
+        const std::size_t equals = pair.find('=');
+        if (httplib::detail::decode_url(pair.substr(0, equals), true) != name) {
+          return;
+        }
+        values.push_back(equals == std::string::npos
+                             ? std::string()
+                             : httplib::detail::decode_url(pair.substr(equals + 1), true));
+      });
+  return values;
+}
+
 Handler handler_of(api::Operation operation, Runtime& rt) {
   PlanService& service = rt.service;
   switch (operation) {
@@ -292,11 +314,11 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
           operation == api::Operation::kCamTableSt ? CamFileFormat::kSt : CamFileFormat::kCsv;
       return [&service, format](const httplib::Request& req, const std::string&) {
         const CamQuery query{
-            req.get_param_value("period_ms"),    req.get_param_value("master_period"),
-            req.get_param_value("master_start"), req.get_param_value("master_end"),
-            req.get_param_value("master_step"),  req.get_param_value("st_name")};
-        return service.cam_table(req.matches[1], format, query,
-                                 req.get_param_value("allow_infeasible"));
+            param_values(req, "period_ms"),       param_values(req, "master_period"),
+            param_values(req, "master_start"),    param_values(req, "master_end"),
+            param_values(req, "master_step"),     param_values(req, "st_name"),
+            param_values(req, "allow_infeasible")};
+        return service.cam_table(req.matches[1], format, query);
       };
     }
     case api::Operation::kPage:

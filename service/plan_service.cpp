@@ -541,14 +541,17 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
   return r;
 }
 
-Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const CamQuery& query,
-                             const std::string& allow_infeasible) {
+Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const CamQuery& query) {
   return guarded([&] {
     const CamOptions options = parse_cam_query(query, format);
-    if (!allow_infeasible.empty() && allow_infeasible != "true" && allow_infeasible != "false") {
-      throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
-                          "allow_infeasible = " + allow_infeasible.substr(0, 32) +
-                              " is not allowed: one of \"true\", \"false\"");
+    const std::string allow_infeasible =
+        single_query_value(query.allow_infeasible, "allow_infeasible").value_or("false");
+    if (allow_infeasible != "true" && allow_infeasible != "false") {
+      throw api::ApiError(
+          api::ErrorCode::kInvalidValue, "allow_infeasible",
+          "allow_infeasible = " +
+              (allow_infeasible.empty() ? "(empty)" : allow_infeasible.substr(0, 32)) +
+              " is not allowed: one of \"true\", \"false\"");
     }
     const auto hit = cache_.get(key);
     if (!hit) {

@@ -117,10 +117,10 @@ class PlanService {
   /// `if_none_match` names the ETag, 404 for an unknown name.
   Reply web_asset(const std::string& name, const std::string& if_none_match) const;
   /// The cam table file of the cached plan `key` (GET /v1/plans/{key}/cam.csv, cam.st): `query`
-  /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis),
-  /// `allow_infeasible` "true", "false" or empty. 404 for an unknown key, 422 naming a parameter.
-  Reply cam_table(const std::string& key, CamFileFormat format, const CamQuery& query,
-                  const std::string& allow_infeasible);
+  /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis;
+  /// allow_infeasible "true" or "false"; each parameter at most once). 404 for an unknown key,
+  /// 422 naming a parameter.
+  Reply cam_table(const std::string& key, CamFileFormat format, const CamQuery& query);
   Reply openapi() const;
   Reply health() const;
   Reply ready() const;
