@@ -29,11 +29,8 @@ api::ApiError invalid(const std::string& field, const std::string& message) {
   return api::ApiError(api::ErrorCode::kInvalidValue, field, message);
 }
 
-// 12 significant digits; never "-0".
 std::string cell(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.12g", v == 0.0 ? 0.0 : v);
-  return buffer;
+  return csv_number(v);
 }
 
 const std::string& option_name(MasterAxisInput input, const CamOptionNames& names) {
@@ -269,14 +266,16 @@ void check_st_name(const std::string& name, const std::string& field) {
   }
 }
 
-// The values of a row in the file's units: the slave columns in mm.
-std::array<double, 5> row_values(const CamSample& s) {
-  return {s.t, s.position * kMmPerM, s.velocity * kMmPerM, s.acceleration * kMmPerM,
-          s.jerk * kMmPerM};
+// The values of a row in the file's units: the slave columns in mm. A row at the stroke
+// (`stroke`, the position of the last row [m]) holds the stroke in mm as the request gave it
+// (api::mm_of: 800.123456789012, not 800.1234567890121).
+std::array<double, 5> row_values(const CamSample& s, double stroke) {
+  const double position = s.position == stroke ? api::mm_of(stroke) : s.position * kMmPerM;
+  return {s.t, position, s.velocity * kMmPerM, s.acceleration * kMmPerM, s.jerk * kMmPerM};
 }
-std::array<double, 5> row_values(const MasterCamSample& s) {
-  return {s.master, s.position * kMmPerM, s.velocity * kMmPerM, s.acceleration * kMmPerM,
-          s.jerk * kMmPerM};
+std::array<double, 5> row_values(const MasterCamSample& s, double stroke) {
+  const double position = s.position == stroke ? api::mm_of(stroke) : s.position * kMmPerM;
+  return {s.master, position, s.velocity * kMmPerM, s.acceleration * kMmPerM, s.jerk * kMmPerM};
 }
 
 // A member of the ST structure (and column of the CSV) with its comment.
@@ -307,8 +306,9 @@ std::string csv_of(const StColumns& columns, const std::vector<Sample>& samples)
   }
   out += '\n';
   out.reserve(out.size() + samples.size() * 64);
+  const double stroke = samples.empty() ? 0.0 : samples.back().position;
   for (const Sample& s : samples) {
-    const std::array<double, 5> v = row_values(s);
+    const std::array<double, 5> v = row_values(s, stroke);
     out += cell(v[0]) + ',' + cell(v[1]) + ',' + cell(v[2]) + ',' + cell(v[3]) + ',' + cell(v[4]) +
            '\n';
   }
@@ -402,8 +402,9 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
   out += "  END_STRUCT;\nEND_TYPE\n\nVAR_GLOBAL CONSTANT\n  " + name + " : ARRAY[0.." +
          std::to_string(samples.size() - 1) + "] OF " + std::string(type) + " := [\n";
   out.reserve(out.size() + samples.size() * 160);
+  const double stroke = samples.empty() ? 0.0 : samples.back().position;
   for (std::size_t k = 0; k < samples.size(); ++k) {
-    const std::array<double, 5> v = row_values(samples[k]);
+    const std::array<double, 5> v = row_values(samples[k], stroke);
     out += "    (";
     for (std::size_t i = 0; i < v.size(); ++i) {
       if (i > 0) out += ", ";
@@ -416,6 +417,13 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
 }
 
 }  // namespace
+
+std::string csv_number(double v) {
+  std::array<char, 32> buffer{};
+  const auto written =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v == 0.0 ? 0.0 : v);
+  return {buffer.data(), written.ptr};
+}
 
 const CamOptionNames& cli_option_names() {
   static const CamOptionNames names{"--period-ms",  "--master-period", "--master-start",

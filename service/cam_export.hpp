@@ -152,14 +152,19 @@ struct CamTable {
 [[nodiscard]] CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec,
                                   const CamOptionNames& names);
 
+/// `v` as a CSV cell: the shortest text that reads back as `v` exactly ("800", "0.1",
+/// "1.2345678901234567e-05"; std::to_chars), never "-0" (hostile review: 12 significant digits
+/// did not hold a stroke of many digits exactly in the last row).
+[[nodiscard]] std::string csv_number(double v);
+
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line
-/// per sample, 12 significant digits.
+/// per sample, each number csv_number.
 [[nodiscard]] std::string cam_table_csv(const std::vector<CamSample>& samples);
 
 /// Master-axis cam table CSV: header
 /// `master,position_mm,velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3` (master
 /// position in master units; slave position in mm and its first three derivatives per master
-/// unit), one line per row, 12 significant digits.
+/// unit), one line per row, each number csv_number.
 [[nodiscard]] std::string master_cam_table_csv(const std::vector<MasterCamSample>& samples);
 
 /// `v` as an IEC 61131-3 real literal with 15 significant digits (trailing zeros dropped), always

@@ -25,11 +25,8 @@ namespace {
 
 using nlohmann::json;
 
-// 12 significant digits; never "-0".
 std::string cell(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.12g", v == 0.0 ? 0.0 : v);
-  return buffer;
+  return csv_number(v);
 }
 
 struct SegmentRow {
