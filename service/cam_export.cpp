@@ -24,6 +24,16 @@ constexpr double kMmPerM = 1e3;
 /// Significant digits of an ST real literal: the most that every decimal keeps through an LREAL
 /// (IEEE double) and back, so k * period prints as 0.3, not 0.30000000000000004 [-].
 constexpr int kStRealDigits = 15;
+/// Longest CSV cell (shortest round trip of a double: "-2.2250738585072014e-308") [characters].
+constexpr std::size_t kMaxCsvCell = 24;
+/// Longest ST real literal (15 digits, sign, point, "E-308") [characters].
+constexpr std::size_t kMaxStLiteral = 22;
+/// Characters of an ST row besides its members ("    (", ")," and the line break), and of each
+/// member besides its name and literal (" := ", ", ") [characters].
+constexpr std::size_t kStRowOverhead = 8;
+constexpr std::size_t kStMemberOverhead = 6;
+/// Bound of the CSV header or of the ST comment header, TYPE and declaration [bytes].
+constexpr std::size_t kMaxCamHeaderBytes = 4096;
 
 api::ApiError invalid(const std::string& field, const std::string& message) {
   return api::ApiError(api::ErrorCode::kInvalidValue, field, message);
@@ -297,6 +307,14 @@ constexpr StColumns kMasterColumns{
      {"acceleration_mm_per_unit2", "d2 position / d master2 [mm/master unit^2]"},
      {"jerk_mm_per_unit3", "d3 position / d master3 [mm/master unit^3]"}}};
 
+// The longest text of a row in `format` with `columns` (a CSV line or an ST initialiser) [bytes].
+std::size_t row_text_bound(const StColumns& columns, CamFileFormat format) {
+  if (format == CamFileFormat::kCsv) return columns.size() * (kMaxCsvCell + 1);
+  std::size_t text = kStRowOverhead;
+  for (const StColumn& c : columns) text += c.name.size() + kStMemberOverhead + kMaxStLiteral;
+  return text;
+}
+
 template <typename Sample>
 std::string csv_of(const StColumns& columns, const std::vector<Sample>& samples) {
   std::string out;
@@ -305,7 +323,7 @@ std::string csv_of(const StColumns& columns, const std::vector<Sample>& samples)
     out += c.name;
   }
   out += '\n';
-  out.reserve(out.size() + samples.size() * 64);
+  out.reserve(out.size() + samples.size() * row_text_bound(columns, CamFileFormat::kCsv));
   const double stroke = samples.empty() ? 0.0 : samples.back().position;
   for (const Sample& s : samples) {
     const std::array<double, 5> v = row_values(s, stroke);
@@ -401,7 +419,7 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
   }
   out += "  END_STRUCT;\nEND_TYPE\n\nVAR_GLOBAL CONSTANT\n  " + name + " : ARRAY[0.." +
          std::to_string(samples.size() - 1) + "] OF " + std::string(type) + " := [\n";
-  out.reserve(out.size() + samples.size() * 160);
+  out.reserve(out.size() + samples.size() * row_text_bound(columns, CamFileFormat::kSt));
   const double stroke = samples.empty() ? 0.0 : samples.back().position;
   for (std::size_t k = 0; k < samples.size(); ++k) {
     const std::array<double, 5> v = row_values(samples[k], stroke);
@@ -523,6 +541,26 @@ CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spe
     throw invalid(spec.master ? names.master_step : names.period_ms, e.what());
   }
   return table;
+}
+
+std::size_t cam_rows(const CamTableSpec& spec, double motion_time, const CamOptionNames& names) {
+  if (spec.master) {
+    const MasterAxis& a = *spec.master;
+    return static_cast<std::size_t>(std::floor(a.period / a.step)) + 1 + kMasterExtraRows;
+  }
+  try {
+    return cam_cycles(motion_time, spec.period_ms * 1e-3) + 1;
+  } catch (const std::invalid_argument& e) {
+    throw invalid(names.period_ms, e.what());
+  }
+}
+
+std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows) {
+  const StColumns& columns = spec.master ? kMasterColumns : kTimeColumns;
+  // The sample, its master position and its text (the file is reserved whole: no regrowth).
+  const std::size_t per_row =
+      sizeof(MasterCamSample) + sizeof(double) + row_text_bound(columns, spec.format);
+  return rows * per_row + kMaxCamHeaderBytes;
 }
 
 std::string cam_table_csv(const std::vector<CamSample>& samples) {

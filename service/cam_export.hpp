@@ -152,6 +152,17 @@ struct CamTable {
 [[nodiscard]] CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec,
                                   const CamOptionNames& names);
 
+/// Rows of the table `spec` gives for a law of duration `motion_time` [s], as sample_cam samples
+/// it (a master axis: an upper bound, its grid points plus the start, end and period). Throws
+/// ApiError as sample_cam does for a time-based table of more than kCamMaxSamples rows.
+[[nodiscard]] std::size_t cam_rows(const CamTableSpec& spec, double motion_time,
+                                   const CamOptionNames& names);
+
+/// Upper bound of the bytes an export of `rows` rows holds at once: each row sampled (and its
+/// master position) and written in the format of `spec` with the longest numbers, and the
+/// header [bytes].
+[[nodiscard]] std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows);
+
 /// `v` as a CSV cell: the shortest text that reads back as `v` exactly ("800", "0.1",
 /// "1.2345678901234567e-05"; std::to_chars), never "-0" (hostile review: 12 significant digits
 /// did not hold a stroke of many digits exactly in the last row).

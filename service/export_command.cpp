@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <variant>
@@ -228,7 +229,7 @@ CamSource cam_source(const ExportSource& source) {
 }  // namespace
 
 std::string plan_cam_file(const std::string& plan_text, const CamOptions& options,
-                          bool allow_infeasible) {
+                          bool allow_infeasible, const std::function<void(std::size_t)>& admit) {
   const CamTableSpec spec = resolve_cam_options(options, query_option_names(), kMaxServedCamRows,
                                                 " here (slosh export writes longer tables)");
   const api::PlanLaw plan = api::plan_law(plan_text);
@@ -247,6 +248,9 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
   if (!allow_infeasible && !api::exportable(plan.status)) {
     throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                         api::not_exportable_message(plan, "add allow_infeasible=true"));
+  }
+  if (admit) {
+    admit(cam_export_bytes(spec, cam_rows(spec, duration, query_option_names())));
   }
   const CamTable table = sample_cam(plan.law, plan.stroke, spec, query_option_names());
   CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};

@@ -50,10 +50,26 @@ bool write_port_file(const std::string& path, int port) {
 thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 std::atomic<std::uint64_t> request_counter{0};
 
-void send(const Reply& reply, httplib::Response& res) {
+/// Bytes a held body hands to the library per write [bytes].
+constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
+
+void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
-  if (!reply.body.empty()) res.set_content(reply.body, reply.content_type);
+  if (reply.body.empty()) return;
+  if (!reply.hold) {
+    res.set_content(reply.body, reply.content_type);
+    return;
+  }
+  // The body (and what the reply holds, e.g. an export's share of the budget) lives until the
+  // library has written it or given up, and is not copied on the way.
+  auto body = std::make_shared<const std::string>(std::move(reply.body));
+  res.set_content_provider(body->size(), reply.content_type,
+                           [body, hold = std::move(reply.hold)](
+                               std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                             return sink.write(body->data() + offset,
+                                               std::min(length, kHeldBodyChunk));
+                           });
 }
 
 std::string peer_of(const httplib::Request& req) {
@@ -361,9 +377,10 @@ void register_routes(Runtime& rt) {
     if (route.method == "GET") {
       rt.server.Get(pattern,
                     [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                      const Reply reply = guarded([&] { return handler(req, std::string()); });
-                      send(reply, res);
-                      rt.service.metrics().count_request(label, reply.status);
+                      Reply reply = guarded([&] { return handler(req, std::string()); });
+                      const int status = reply.status;
+                      send(std::move(reply), res);
+                      rt.service.metrics().count_request(label, status);
                     });
       rt.endpoints.push_back({std::regex(pattern), {"GET", "HEAD"}});
       continue;
@@ -373,7 +390,7 @@ void register_routes(Runtime& rt) {
                        [&rt, label, handler](const httplib::Request& req, httplib::Response& res,
                                              const httplib::ContentReader& reader) {
                          bool refused = false;
-                         const Reply reply = guarded([&] {
+                         Reply reply = guarded([&] {
                            Reply error;
                            if (const auto body = read_body(req, reader, rt.config, error)) {
                              return handler(req, *body);
@@ -383,8 +400,9 @@ void register_routes(Runtime& rt) {
                          });
                          // The rest of a refused body is not read.
                          if (refused) res.set_header("Connection", "close");
-                         send(reply, res);
-                         rt.service.metrics().count_request(label, reply.status);
+                         const int status = reply.status;
+                         send(std::move(reply), res);
+                         rt.service.metrics().count_request(label, status);
                        }));
     rt.endpoints.push_back({std::regex(pattern), {"POST"}});
   }
@@ -487,7 +505,7 @@ void install_request_hooks(Runtime& rt) {
                  res.get_header_value("X-Request-Id"), req.method.substr(0, 16),
                  req.path.substr(0, 200), res.status,
                  res.has_header("X-Cache") ? res.get_header_value("X-Cache") : "-", ms,
-                 res.body.size());
+                 res.content_provider_ ? res.content_length_ : res.body.size());
   });
 }
 

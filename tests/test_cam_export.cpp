@@ -30,6 +30,7 @@
 #include "slosh/api/openapi.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "support/process.hpp"
+#include "support/raw_client.hpp"
 #include "support/reference_seven_segment.hpp"
 #include "support/server.hpp"
 #include "version.hpp"
@@ -1157,6 +1158,82 @@ TEST(CamCsv, TheLastRowHoldsAStrokeOfManyDigitsExactly) {
   }
 }
 
+// Hostile review: concurrent cam exports had no global memory bound (200 parallel requests for
+// 200 000-row tables reached more than 3 GB). Each export reserves an upper bound of its bytes
+// in cam_export_bytes until its response is written; one that does not fit is a 503 with
+// Retry-After. A client that does not read a large table holds its share until the server gives
+// up writing or the client goes away.
+TEST(CamExportBudget, ExportsBeyondTheBudgetAre503UntilTheExportsInFlightAreDone) {
+  const TempDir dir;
+  write_file(dir / "config.json", R"({"cam_export_bytes": 1048576, "write_timeout_s": 60})");
+  test::Server server({"--workers", "1", "--config", (dir / "config.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  httplib::Client client = server.client();
+  const auto planned = client.Post("/v1/plans", kThesis, "application/json");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->status, 200) << planned->body;
+  const std::string key = json::parse(planned->body)["key"];
+  const std::string small =
+      "/v1/plans/" + key + "/cam.csv?master_period=360&master_start=30&master_end=210";
+  auto gauge = [&](const std::string& series) {
+    const auto metrics = client.Get("/metrics");
+    return metrics ? test::metric(metrics->body, series) : -1.0;
+  };
+  auto wait_for_gauge = [&](const std::string& series, double value) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (gauge(series) != value && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return gauge(series);
+  };
+  auto concurrently = [&](int n) {
+    std::vector<std::future<httplib::Result>> replies;
+    for (int i = 0; i < n; ++i) {
+      replies.push_back(std::async(std::launch::async, [&] { return server.client().Get(small); }));
+    }
+    return replies;
+  };
+  EXPECT_EQ(gauge("slosh_cam_export_budget_bytes"), 1048576.0);
+  {
+    // A client asks for a 200 000-row ST table (about 40 MB, more than the whole budget, which it
+    // takes alone) and does not read it.
+    test::Raw holder(server.port());
+    ASSERT_TRUE(holder.connected());
+    ASSERT_TRUE(holder.send("GET /v1/plans/" + key +
+                            "/cam.st?master_period=360&master_start=30&master_end=210&"
+                            "master_step=0.001800027001 HTTP/1.1\r\nHost: x\r\n\r\n"));
+    ASSERT_EQ(wait_for_gauge("slosh_cam_export_bytes", 1048576.0), 1048576.0);
+    auto replies = concurrently(8);
+    for (auto& reply : replies) {
+      const httplib::Result res = reply.get();
+      ASSERT_TRUE(res);
+      EXPECT_EQ(res->status, 503);
+      EXPECT_EQ(res->get_header_value("Retry-After"), "1");
+      EXPECT_EQ(json::parse(res->body),
+                json::parse(R"({"error": {"code": "overloaded", "field": null, "message":
+                  "the cam exports in flight hold 1048576 of the 1048576 bytes allowed (cam_export_bytes); this table needs up to 67068: retry later"}})"));
+    }
+    EXPECT_EQ(gauge("slosh_cam_export_refusals_total"), 8.0);
+    const auto health = client.Get("/healthz");  // the rest of the service answers at once
+    ASSERT_TRUE(health);
+    EXPECT_EQ(health->status, 200);
+  }  // the holder hangs up: the server's write fails and the reservation is released
+  ASSERT_EQ(wait_for_gauge("slosh_cam_export_bytes", 0.0), 0.0);
+  // Eight small tables fit together (8 x 67068 bytes of 1 MiB).
+  const auto expected = client.Get(small);
+  ASSERT_TRUE(expected);
+  ASSERT_EQ(expected->status, 200);
+  auto replies = concurrently(8);
+  for (auto& reply : replies) {
+    const httplib::Result res = reply.get();
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200) << res->body.substr(0, 300);
+    EXPECT_EQ(res->body, expected->body);
+  }
+  EXPECT_EQ(wait_for_gauge("slosh_cam_export_bytes", 0.0), 0.0);
+  EXPECT_EQ(gauge("slosh_cam_export_refusals_total"), 8.0);
+}
+
 TEST(CamRoutesOpenApi, BothRoutesArePublishedWithTheirParameters) {
   const json doc = api::openapi_document("1.2.3");
   const json& paths = doc.at("paths");
@@ -1175,7 +1252,7 @@ TEST(CamRoutesOpenApi, BothRoutesArePublishedWithTheirParameters) {
     std::vector<std::string> expected = common;
     if (std::string(path).ends_with(".st")) expected.push_back("st_name");
     EXPECT_EQ(names, expected);
-    for (const char* status : {"200", "404", "422", "500"}) {
+    for (const char* status : {"200", "404", "422", "500", "503"}) {
       EXPECT_TRUE(op.at("responses").contains(status)) << status;
     }
     const std::string type = std::string(path).ends_with(".st") ? "text/plain" : "text/csv";

@@ -1018,7 +1018,7 @@ json cam_table_operation(bool st) {
       {"responses", with_statuses({{"200",
                                     {{"description", st ? st_text : csv_columns},
                                      {"content", {{type, {{"schema", {{"type", "string"}}}}}}}}}},
-                                  {404, 422, 500})}};
+                                  {404, 422, 500, 503})}};
 }
 
 json read_operation(const Route& route) {
