@@ -50,6 +50,9 @@ bool write_port_file(const std::string& path, int port) {
 thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 std::atomic<std::uint64_t> request_counter{0};
 
+/// Seconds a client is told to wait when its connection could not get a thread.
+constexpr int kThreadRetryAfterSeconds = 1;
+
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 
@@ -483,6 +486,16 @@ void install_error_handlers(Runtime& rt) {
       });
 }
 
+// 503 with Retry-After for a connection the connection pool could not start a thread for.
+Reply thread_refusal_reply() {
+  Reply reply = PlanService::error_reply(
+      api::ErrorCode::kOverloaded,
+      "the service cannot start a thread for this connection (the system refused one): retry "
+      "later");
+  reply.headers.emplace_back("Retry-After", std::to_string(kThreadRetryAfterSeconds));
+  return reply;
+}
+
 // Request ids, the reaper's bookkeeping and one log line per request.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
@@ -491,6 +504,14 @@ void install_request_hooks(Runtime& rt) {
     const_cast<httplib::Request&>(req).ranges.clear();
     res.set_header("X-Request-Id", request_id(req));
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
+    if (ConnectionPool::refusing()) {
+      // This connection got no thread of its own (the system refused one): 503, and the client
+      // is asked to close it.
+      send(thread_refusal_reply(), res);
+      res.set_header("Connection", "close");
+      rt.service.metrics().count_request("other", 503);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
   rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
@@ -611,7 +632,14 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
       "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {})",
       kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
       config.cache_path.empty() ? "memory" : config.cache_path);
-  const bool ok = server.listen_after_bind();
+  bool ok = false;
+  try {
+    ok = server.listen_after_bind();
+  } catch (const std::exception& e) {
+    // E.g. the connection pool's refusing thread could not be started (std::system_error).
+    spdlog::error("the server stopped: {}", e.what());
+    service.begin_shutdown();
+  }
   signals.join();
   rt.reaper.reset();
   spdlog::info("slosh stopped");
