@@ -24,16 +24,23 @@ constexpr double kMmPerM = 1e3;
 /// Significant digits of an ST real literal: the most that every decimal keeps through an LREAL
 /// (IEEE double) and back, so k * period prints as 0.3, not 0.30000000000000004 [-].
 constexpr int kStRealDigits = 15;
+/// Longest CSV cell (shortest round trip of a double: "-2.2250738585072014e-308") [characters].
+constexpr std::size_t kMaxCsvCell = 24;
+/// Longest ST real literal (15 digits, sign, point, "E-308") [characters].
+constexpr std::size_t kMaxStLiteral = 22;
+/// Characters of an ST row besides its members ("    (", ")," and the line break), and of each
+/// member besides its name and literal (" := ", ", ") [characters].
+constexpr std::size_t kStRowOverhead = 8;
+constexpr std::size_t kStMemberOverhead = 6;
+/// Bound of the CSV header or of the ST comment header, TYPE and declaration [bytes].
+constexpr std::size_t kMaxCamHeaderBytes = 4096;
 
 api::ApiError invalid(const std::string& field, const std::string& message) {
   return api::ApiError(api::ErrorCode::kInvalidValue, field, message);
 }
 
-// 12 significant digits; never "-0".
 std::string cell(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.12g", v == 0.0 ? 0.0 : v);
-  return buffer;
+  return csv_number(v);
 }
 
 const std::string& option_name(MasterAxisInput input, const CamOptionNames& names) {
@@ -57,25 +64,95 @@ double rounded_up(double v) {
   return std::ceil(up / unit) * unit;
 }
 
-// The refusal of a master axis, worded with the caller's option names.
+// The refusal of a master speed out of range, at the period.
+api::ApiError master_speed_error(const MasterAxisRefusal& r, const MasterAxis& axis,
+                                 const CamOptionNames& names, double motion_time) {
+  const double speed = *r.speed;
+  const std::string verdict = std::isfinite(speed) ? "out of range" : "not finite";
+  const std::string span = names.master_end + " - " + names.master_start;
+  return invalid(
+      names.master_period,
+      names.master_period + " = " + master_value_text(axis.period) + " makes the master speed (" +
+          span + ") / motion time = " + master_value_text(speed) + " master units/s over the " +
+          api::number_text(motion_time) + " s motion, which is " + verdict + ": allowed " +
+          r.allowed() + " master units/s, i.e. " + span + " in " +
+          bounds_text(
+              InputBounds{r.bounds.lo * motion_time, r.bounds.hi * motion_time, false, false},
+              [](double v) { return master_number_text(v); }) +
+          " master units");
+}
+
+// The refusal of a master axis, worded with the caller's option names. `motion_time` is the
+// law's duration for a speed refusal [s].
 api::ApiError master_error(const MasterAxisRefusal& r, const MasterAxis& axis,
                            const CamOptionNames& names, std::size_t max_rows,
-                           std::string_view rows_hint) {
+                           std::string_view rows_hint, double motion_time = 0.0) {
+  if (r.speed) return master_speed_error(r, axis, names, motion_time);
   const std::string& name = option_name(r.input, names);
-  const std::string head = name + " = " + api::number_text(r.value);
   if (r.too_many_rows) {
-    return invalid(name, head + " gives more than " + std::to_string(max_rows) +
-                             " rows over the master period " + api::number_text(axis.period) +
+    // The smallest step printed with 10 digits, rounded up: a step of that text is accepted.
+    return invalid(name, name + " = " + r.value_text() + " gives more than " +
+                             std::to_string(max_rows) + " rows over the master period " +
+                             master_value_text(axis.period) +
                              ": allowed >= " + api::number_text(rounded_up(r.bounds.lo)) +
                              " master units" + std::string(rows_hint));
   }
+  const std::string head = name + " = " + r.value_text();
   const std::string verdict = std::isfinite(r.value) ? " is out of range" : " is not finite";
   if (std::isfinite(r.bounds.lo) && std::isfinite(r.bounds.hi)) {
-    return invalid(name, head + verdict + " " + r.allowed() +
-                             " master units (0 <= " + names.master_start + " < " +
-                             names.master_end + " <= " + names.master_period + ")");
+    return invalid(name, head + verdict + " " + r.allowed() + " master units (0 <= " +
+                             names.master_start + " < " + names.master_end +
+                             " <= " + names.master_period + ", " + names.master_end + " - " +
+                             names.master_start + " >= " + api::number_text(kMinMasterSpan) + ")");
   }
   return invalid(name, head + verdict + ": allowed " + r.allowed() + " master units");
+}
+
+// Whether `text` is a decimal number as a person writes it: an optional "-", digits with an
+// optional fraction (or a fraction alone, ".5"), an optional exponent ("e-3", "E+5"). No "+"
+// sign, spaces, hex, inf or nan.
+bool decimal_number(std::string_view text) {
+  std::size_t at = text.starts_with('-') ? 1 : 0;
+  std::size_t digits = 0;
+  const auto skip_digits = [&] {
+    std::size_t n = 0;
+    while (at < text.size() && text[at] >= '0' && text[at] <= '9') ++at, ++n;
+    return n;
+  };
+  digits += skip_digits();
+  if (at < text.size() && text[at] == '.') {
+    ++at;
+    digits += skip_digits();
+  }
+  if (digits == 0) return false;
+  if (at < text.size() && (text[at] == 'e' || text[at] == 'E')) {
+    ++at;
+    if (at < text.size() && (text[at] == '+' || text[at] == '-')) ++at;
+    if (skip_digits() == 0) return false;
+  }
+  return at == text.size();
+}
+
+// A query parameter's number, read whole (decimal_number); a number beyond the range of a double
+// (1e400, 1e-400) is refused, never rounded to inf or 0. A denormal (4.9e-324) is a number.
+double query_number(const std::string& text, const std::string& name, std::string_view unit) {
+  const std::string shown = text.empty() ? "(empty)" : text.substr(0, 32);
+  const std::string tail = " [" + std::string(unit) + "]";
+  if (!decimal_number(text)) {
+    throw invalid(name, name + " = " + shown + " is not a decimal number" + tail);
+  }
+  double value = 0.0;
+  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
+  if (error == std::errc::result_out_of_range) {
+    throw invalid(name, name + " = " + shown +
+                            " is beyond the range of a double: a number is 0 or of a magnitude "
+                            "from 4.9e-324 to 1.8e+308" +
+                            tail);
+  }
+  if (error != std::errc() || end != text.data() + text.size()) {
+    throw invalid(name, name + " = " + shown + " is not a decimal number" + tail);
+  }
+  return value;
 }
 
 // A master-axis table: period, start and end all given, or none of them (nor the step).
@@ -96,106 +173,32 @@ std::optional<MasterAxis> master_axis_of(const CamOptions& o, const CamOptionNam
   return axis;
 }
 
-// The reserved words of IEC 61131-3 (keywords and elementary type names, upper case; every
-// "VAR_..." too) and the slosh structure types: not allowed as the array's identifier.
-constexpr std::array<std::string_view, 98> kStReserved{"ACTION",
-                                                       "AND",
-                                                       "ANY",
-                                                       "ARRAY",
-                                                       "AT",
-                                                       "BOOL",
-                                                       "BY",
-                                                       "BYTE",
-                                                       "CASE",
-                                                       "CHAR",
-                                                       "CLASS",
-                                                       "CONFIGURATION",
-                                                       "CONSTANT",
-                                                       "DATE",
-                                                       "DATE_AND_TIME",
-                                                       "DINT",
-                                                       "DO",
-                                                       "DT",
-                                                       "DWORD",
-                                                       "ELSE",
-                                                       "ELSIF",
-                                                       "EN",
-                                                       "END_ACTION",
-                                                       "END_CASE",
-                                                       "END_CLASS",
-                                                       "END_CONFIGURATION",
-                                                       "END_FOR",
-                                                       "END_FUNCTION",
-                                                       "END_FUNCTION_BLOCK",
-                                                       "END_IF",
-                                                       "END_INTERFACE",
-                                                       "END_METHOD",
-                                                       "END_PROGRAM",
-                                                       "END_REPEAT",
-                                                       "END_RESOURCE",
-                                                       "END_STEP",
-                                                       "END_STRUCT",
-                                                       "END_TRANSITION",
-                                                       "END_TYPE",
-                                                       "END_VAR",
-                                                       "END_WHILE",
-                                                       "ENO",
-                                                       "EXIT",
-                                                       "FALSE",
-                                                       "FOR",
-                                                       "FROM",
-                                                       "FUNCTION",
-                                                       "FUNCTION_BLOCK",
-                                                       "IF",
-                                                       "INITIAL_STEP",
-                                                       "INT",
-                                                       "INTERFACE",
-                                                       "LDATE",
-                                                       "LDT",
-                                                       "LINT",
-                                                       "LREAL",
-                                                       "LTIME",
-                                                       "LTOD",
-                                                       "LWORD",
-                                                       "METHOD",
-                                                       "MOD",
-                                                       "NOT",
-                                                       "NON_RETAIN",
-                                                       "OF",
-                                                       "ON",
-                                                       "OR",
-                                                       "PROGRAM",
-                                                       "REAL",
-                                                       "REF_TO",
-                                                       "REPEAT",
-                                                       "RESOURCE",
-                                                       "RETAIN",
-                                                       "RETURN",
-                                                       "SINT",
-                                                       "STEP",
-                                                       "STRING",
-                                                       "STRUCT",
-                                                       "TASK",
-                                                       "THEN",
-                                                       "TIME",
-                                                       "TIME_OF_DAY",
-                                                       "TO",
-                                                       "TOD",
-                                                       "TRANSITION",
-                                                       "TRUE",
-                                                       "TYPE",
-                                                       "UDINT",
-                                                       "UINT",
-                                                       "ULINT",
-                                                       "UNTIL",
-                                                       "USINT",
-                                                       "VAR",
-                                                       "WHILE",
-                                                       "WORD",
-                                                       "WSTRING",
-                                                       "XOR",
-                                                       kStTimePointType,
-                                                       kStMasterPointType};
+// Names an ST identifier may not take (IEC 61131-3 ed. 3, upper case; identifiers are not
+// case-sensitive), by why: each text is a list of names separated by spaces.
+constexpr std::string_view kStKeywords =
+    "ABSTRACT ACTION AND ARRAY AT BY CASE CLASS CONFIGURATION CONSTANT CONTINUE DO ELSE ELSIF EN "
+    "END_ACTION END_CASE END_CLASS END_CONFIGURATION END_FOR END_FUNCTION END_FUNCTION_BLOCK "
+    "END_IF END_INTERFACE END_METHOD END_NAMESPACE END_PROGRAM END_REPEAT END_RESOURCE END_STEP "
+    "END_STRUCT END_TRANSITION END_TYPE END_VAR END_WHILE ENO EXIT EXTENDS FALSE FINAL FOR FROM "
+    "FUNCTION FUNCTION_BLOCK F_EDGE IF IMPLEMENTS "
+    "INITIAL_STEP INTERFACE INTERNAL INTERVAL METHOD MOD NAMESPACE NON_RETAIN NOT NULL OF ON OR "
+    "OVERLAP OVERRIDE PRIORITY PRIVATE PROGRAM PROTECTED PUBLIC READ_ONLY READ_WRITE REF REF_TO "
+    "REPEAT RESOURCE RETAIN RETURN R_EDGE SINGLE STEP STRUCT SUPER TASK THEN THIS TO TRANSITION "
+    "TRUE TYPE UNTIL USING VAR WHILE WITH XOR";
+constexpr std::string_view kStTypes =
+    "ANY ANY_BIT ANY_CHAR ANY_CHARS ANY_DATE ANY_DERIVED ANY_DURATION ANY_ELEMENTARY ANY_INT "
+    "ANY_MAGNITUDE ANY_NUM ANY_REAL ANY_SIGNED ANY_STRING ANY_UNSIGNED BOOL BYTE CHAR DATE "
+    "DATE_AND_TIME DINT DT DWORD INT LDATE LDATE_AND_TIME LDT LINT LREAL "
+    "LTIME LTIME_OF_DAY LTOD LWORD REAL SINT STRING TIME TIME_OF_DAY TOD UDINT UINT ULINT USINT "
+    "WCHAR WORD WSTRING";
+constexpr std::string_view kStFunctionBlocks =
+    "CTD CTD_DINT CTD_INT CTD_LINT CTD_UDINT CTD_ULINT CTU CTU_DINT CTU_INT CTU_LINT CTU_UDINT "
+    "CTU_ULINT CTUD CTUD_DINT CTUD_INT CTUD_LINT CTUD_UDINT CTUD_ULINT F_TRIG RS R_TRIG SR TOF "
+    "TOF_LTIME TON TON_LTIME TP TP_LTIME";
+constexpr std::string_view kStFunctions =
+    "ABS ACOS ADD ADD_TIME ASIN ATAN ATAN2 CONCAT CONCAT_DATE_TOD COS DELETE DIV DIVTIME EQ EXP "
+    "EXPT FIND GE GT INSERT LE LEFT LEN LIMIT LN LOG LT MAX MID MIN MOVE MUL MULTIME MUX NE "
+    "REPLACE RIGHT ROL ROR SEL SHL SHR SIN SQRT SUB SUB_TIME TAN TRUNC";
 
 bool ascii_letter(char c) {
   return (c >= 'A' && c <= 'Z') || (c >= 'a' && c <= 'z');
@@ -225,8 +228,40 @@ std::string upper(std::string text) {
   return text;
 }
 
+// Whether the space-separated `names` hold `name`.
+bool listed(std::string_view names, std::string_view name) {
+  for (std::size_t at = 0; at < names.size();) {
+    const std::size_t end = std::min(names.find(' ', at), names.size());
+    if (names.substr(at, end - at) == name) return true;
+    at = end + 1;
+  }
+  return false;
+}
+
+// Why the upper-case identifier `key` is reserved in IEC 61131-3 or by slosh; empty when it is
+// not.
+std::string st_reserved_reason(const std::string& key) {
+  if (listed(kStKeywords, key) || key.starts_with("VAR_")) return "an IEC 61131-3 keyword";
+  if (listed(kStTypes, key)) return "an IEC 61131-3 elementary or generic data type";
+  if (listed(kStFunctionBlocks, key)) return "an IEC 61131-3 standard function block";
+  if (listed(kStFunctions, key)) return "an IEC 61131-3 standard function";
+  // Type conversions: <type>_TO_<type>, TO_<type>, TRUNC_<type>, BCD_TO_<type>, <type>_TO_BCD.
+  const std::size_t to = key.find("_TO_");
+  const auto type_or_bcd = [](std::string_view t) { return t == "BCD" || listed(kStTypes, t); };
+  if ((to != std::string::npos && type_or_bcd(key.substr(0, to)) &&
+       type_or_bcd(key.substr(to + 4))) ||
+      (key.starts_with("TO_") && listed(kStTypes, key.substr(3))) ||
+      (key.starts_with("TRUNC_") && listed(kStTypes, key.substr(6)))) {
+    return "an IEC 61131-3 standard type conversion function";
+  }
+  if (key == kStTimePointType || key == kStMasterPointType) {
+    return "the structure type every slosh export declares";
+  }
+  return "";
+}
+
 void check_st_name(const std::string& name, const std::string& field) {
-  const std::string shown = name.substr(0, kMaxStNameLength + 8);
+  const std::string shown = name.empty() ? "(empty)" : name.substr(0, kMaxStNameLength + 8);
   if (!st_identifier(name)) {
     throw invalid(field, field + " = " + shown +
                              " is not an IEC 61131-3 identifier: letters, digits and single "
@@ -235,21 +270,22 @@ void check_st_name(const std::string& name, const std::string& field) {
                              std::to_string(kMaxStNameLength) + " characters");
   }
   const std::string key = upper(name);
-  if (std::find(kStReserved.begin(), kStReserved.end(), key) != kStReserved.end() ||
-      key.starts_with("VAR_")) {
-    throw invalid(field, field + " = " + shown +
-                             " is reserved: an IEC 61131-3 keyword or type, or a slosh type name");
+  if (const std::string reason = st_reserved_reason(key); !reason.empty()) {
+    throw invalid(field, field + " = " + shown + " is reserved: " + key + " is " + reason +
+                             " (identifiers are not case-sensitive)");
   }
 }
 
-// The values of a row in the file's units: the slave columns in mm.
-std::array<double, 5> row_values(const CamSample& s) {
-  return {s.t, s.position * kMmPerM, s.velocity * kMmPerM, s.acceleration * kMmPerM,
-          s.jerk * kMmPerM};
+// The values of a row in the file's units: the slave columns in mm. A row at the stroke
+// (`stroke`, the position of the last row [m]) holds the stroke in mm as the request gave it
+// (api::mm_of: 800.123456789012, not 800.1234567890121).
+std::array<double, 5> row_values(const CamSample& s, double stroke) {
+  const double position = s.position == stroke ? api::mm_of(stroke) : s.position * kMmPerM;
+  return {s.t, position, s.velocity * kMmPerM, s.acceleration * kMmPerM, s.jerk * kMmPerM};
 }
-std::array<double, 5> row_values(const MasterCamSample& s) {
-  return {s.master, s.position * kMmPerM, s.velocity * kMmPerM, s.acceleration * kMmPerM,
-          s.jerk * kMmPerM};
+std::array<double, 5> row_values(const MasterCamSample& s, double stroke) {
+  const double position = s.position == stroke ? api::mm_of(stroke) : s.position * kMmPerM;
+  return {s.master, position, s.velocity * kMmPerM, s.acceleration * kMmPerM, s.jerk * kMmPerM};
 }
 
 // A member of the ST structure (and column of the CSV) with its comment.
@@ -271,6 +307,14 @@ constexpr StColumns kMasterColumns{
      {"acceleration_mm_per_unit2", "d2 position / d master2 [mm/master unit^2]"},
      {"jerk_mm_per_unit3", "d3 position / d master3 [mm/master unit^3]"}}};
 
+// The longest text of a row in `format` with `columns` (a CSV line or an ST initialiser) [bytes].
+std::size_t row_text_bound(const StColumns& columns, CamFileFormat format) {
+  if (format == CamFileFormat::kCsv) return columns.size() * (kMaxCsvCell + 1);
+  std::size_t text = kStRowOverhead;
+  for (const StColumn& c : columns) text += c.name.size() + kStMemberOverhead + kMaxStLiteral;
+  return text;
+}
+
 template <typename Sample>
 std::string csv_of(const StColumns& columns, const std::vector<Sample>& samples) {
   std::string out;
@@ -279,9 +323,10 @@ std::string csv_of(const StColumns& columns, const std::vector<Sample>& samples)
     out += c.name;
   }
   out += '\n';
-  out.reserve(out.size() + samples.size() * 64);
+  out.reserve(out.size() + samples.size() * row_text_bound(columns, CamFileFormat::kCsv));
+  const double stroke = samples.empty() ? 0.0 : samples.back().position;
   for (const Sample& s : samples) {
-    const std::array<double, 5> v = row_values(s);
+    const std::array<double, 5> v = row_values(s, stroke);
     out += cell(v[0]) + ',' + cell(v[1]) + ',' + cell(v[2]) + ',' + cell(v[3]) + ',' + cell(v[4]) +
            '\n';
   }
@@ -318,7 +363,7 @@ std::vector<std::string> off_grid(const MasterAxis& a) {
   const std::array<std::pair<const std::string*, double>, 3> anchors{
       {{&n.master_start, a.start}, {&n.master_end, a.end}, {&n.master_period, a.period}}};
   for (const auto& [name, value] : anchors) {
-    if (!on_master_grid(value, a.step)) off.push_back(*name + " " + api::number_text(value));
+    if (!on_master_grid(value, a.step)) off.push_back(*name + " " + master_value_text(value));
   }
   return off;
 }
@@ -374,9 +419,10 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
   }
   out += "  END_STRUCT;\nEND_TYPE\n\nVAR_GLOBAL CONSTANT\n  " + name + " : ARRAY[0.." +
          std::to_string(samples.size() - 1) + "] OF " + std::string(type) + " := [\n";
-  out.reserve(out.size() + samples.size() * 160);
+  out.reserve(out.size() + samples.size() * row_text_bound(columns, CamFileFormat::kSt));
+  const double stroke = samples.empty() ? 0.0 : samples.back().position;
   for (std::size_t k = 0; k < samples.size(); ++k) {
-    const std::array<double, 5> v = row_values(samples[k]);
+    const std::array<double, 5> v = row_values(samples[k], stroke);
     out += "    (";
     for (std::size_t i = 0; i < v.size(); ++i) {
       if (i > 0) out += ", ";
@@ -389,6 +435,13 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
 }
 
 }  // namespace
+
+std::string csv_number(double v) {
+  std::array<char, 32> buffer{};
+  const auto written =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v == 0.0 ? 0.0 : v);
+  return {buffer.data(), written.ptr};
+}
 
 const CamOptionNames& cli_option_names() {
   static const CamOptionNames names{"--period-ms",  "--master-period", "--master-start",
@@ -404,29 +457,33 @@ const CamOptionNames& query_option_names() {
 
 void check_period_ms(double period_ms, const std::string& field) {
   if (period_ms >= kMinPeriodMs && period_ms <= kMaxPeriodMs) return;
-  throw invalid(field, field + " = " + api::number_text(period_ms) + " is out of range [" +
+  throw invalid(field, field + " = " + master_value_text(period_ms) + " is out of range [" +
                            api::number_text(kMinPeriodMs) + ", " + api::number_text(kMaxPeriodMs) +
                            "] ms");
 }
 
+std::optional<std::string> single_query_value(const QueryValues& values, const std::string& name) {
+  if (values.empty()) return std::nullopt;
+  if (values.size() == 1) return values.front();
+  const std::string count = values.size() == 2 ? "twice" : std::to_string(values.size()) + " times";
+  std::string given;
+  for (std::size_t i = 0; i < values.size() && i < 3; ++i) {
+    if (i > 0) given += i + 1 == values.size() ? " and " : ", ";
+    given += values[i].substr(0, 32);
+  }
+  if (values.size() > 3) given += ", ...";
+  throw invalid(name,
+                name + " is given " + count + " (" + given + "): give each query parameter once");
+}
+
 CamOptions parse_cam_query(const CamQuery& query, CamFileFormat format) {
-  const auto number = [](const std::string& text, const std::string& name,
-                         std::string_view unit) -> std::optional<double> {
-    if (text.empty()) return std::nullopt;
-    double value = 0.0;
-    std::size_t used = 0;
-    try {
-      value = std::stod(text, &used);
-    } catch (const std::exception&) {
-      used = 0;
-    }
-    if (used != text.size() || !std::isfinite(value)) {
-      throw invalid(
-          name, name + " = " + text.substr(0, 32) + " is not a number [" + std::string(unit) + "]");
-    }
-    return value;
-  };
   const CamOptionNames& n = query_option_names();
+  const auto number = [](const QueryValues& values, const std::string& name,
+                         std::string_view unit) -> std::optional<double> {
+    const std::optional<std::string> text = single_query_value(values, name);
+    if (!text) return std::nullopt;
+    return query_number(*text, name, unit);
+  };
   CamOptions options;
   options.format = format;
   options.period_ms = number(query.period_ms, n.period_ms, "ms");
@@ -434,7 +491,7 @@ CamOptions parse_cam_query(const CamQuery& query, CamFileFormat format) {
   options.master_start = number(query.master_start, n.master_start, "master units");
   options.master_end = number(query.master_end, n.master_end, "master units");
   options.master_step = number(query.master_step, n.master_step, "master units");
-  if (!query.st_name.empty()) options.st_name = query.st_name;
+  options.st_name = single_query_value(query.st_name, n.st_name);  // "" is refused as a name
   return options;
 }
 
@@ -466,17 +523,44 @@ CamTableSpec resolve_cam_options(const CamOptions& options, const CamOptionNames
   return spec;
 }
 
-CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec) {
+CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec,
+                    const CamOptionNames& names) {
   CamTable table;
   table.motion_time = law.duration();
-  if (spec.master) {
-    table.axis = spec.master;
-    table.master = sample_master_cam_table(law, stroke, *spec.master);
-  } else {
-    table.period = spec.period_ms * 1e-3;
-    table.time = sample_cam_table(law, stroke, table.period);
+  try {
+    if (spec.master) {
+      table.axis = spec.master;
+      table.master = sample_master_cam_table(law, stroke, *spec.master);
+    } else {
+      table.period = spec.period_ms * 1e-3;
+      table.time = sample_cam_table(law, stroke, table.period);
+    }
+  } catch (const MasterAxisError& e) {
+    throw master_error(e.refusal(), *spec.master, names, kCamMaxSamples, "", table.motion_time);
+  } catch (const std::invalid_argument& e) {
+    throw invalid(spec.master ? names.master_step : names.period_ms, e.what());
   }
   return table;
+}
+
+std::size_t cam_rows(const CamTableSpec& spec, double motion_time, const CamOptionNames& names) {
+  if (spec.master) {
+    const MasterAxis& a = *spec.master;
+    return static_cast<std::size_t>(std::floor(a.period / a.step)) + 1 + kMasterExtraRows;
+  }
+  try {
+    return cam_cycles(motion_time, spec.period_ms * 1e-3) + 1;
+  } catch (const std::invalid_argument& e) {
+    throw invalid(names.period_ms, e.what());
+  }
+}
+
+std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows) {
+  const StColumns& columns = spec.master ? kMasterColumns : kTimeColumns;
+  // The sample, its master position and its text (the file is reserved whole: no regrowth).
+  const std::size_t per_row =
+      sizeof(MasterCamSample) + sizeof(double) + row_text_bound(columns, spec.format);
+  return rows * per_row + kMaxCamHeaderBytes;
 }
 
 std::string cam_table_csv(const std::vector<CamSample>& samples) {
@@ -525,7 +609,8 @@ std::vector<std::string> cam_warnings(const CamTable& table) {
     const std::vector<std::string> off = off_grid(*table.axis);
     if (!off.empty()) {
       warnings.push_back(joined(off) + (off.size() == 1 ? " is" : " are") + " not a multiple of " +
-                         cli_option_names().master_step + " " + api::number_text(table.axis->step) +
+                         cli_option_names().master_step + " " +
+                         master_value_text(table.axis->step) +
                          ": rows are added there, so the rows are not equidistant (load the "
                          "table as a non-equidistant cam)");
     }

@@ -87,13 +87,31 @@ struct CamTableSpec {
   std::string st_name{kDefaultStName};  ///< ST array identifier
 };
 
-/// The cam table query parameters of GET /v1/plans/{key}/cam.csv and cam.st as received (an
-/// empty text = not given).
-using CamQuery = CamOptionTexts;
+/// Every value of one query parameter, in order (none: the parameter was not given).
+using QueryValues = std::vector<std::string>;
 
-/// The options of a query: the numbers read whole (ApiError naming the parameter, "master_start
-/// = abc is not a number [master units]", when one is not a finite number); `format` from the
-/// route.
+/// The cam table query parameters of GET /v1/plans/{key}/cam.csv and cam.st as received.
+struct CamQuery {
+  QueryValues period_ms;
+  QueryValues master_period;
+  QueryValues master_start;
+  QueryValues master_end;
+  QueryValues master_step;
+  QueryValues st_name;
+  QueryValues allow_infeasible;
+};
+
+/// The one value of the query parameter `name`: nullopt when it is not given; throws
+/// ApiError(kInvalidValue, name) when it is given more than once ("master_period is given
+/// twice (360 and 720): give each query parameter once"; a repeated parameter is never
+/// resolved silently).
+[[nodiscard]] std::optional<std::string> single_query_value(const QueryValues& values,
+                                                            const std::string& name);
+
+/// The options of a query: each parameter given at most once (single_query_value), the numbers
+/// read whole as decimal numbers (`-`, digits, an optional fraction and exponent: no `+`, spaces,
+/// hex, inf or nan; ApiError naming the parameter, "master_start = 0x10 is not a decimal number
+/// [master units]"), an empty value refused like any other; `format` from the route.
 [[nodiscard]] CamOptions parse_cam_query(const CamQuery& query, CamFileFormat format);
 
 /// Validates `options` and fills the defaults. A master axis may have at most `max_rows` rows;
@@ -128,18 +146,36 @@ struct CamTable {
   [[nodiscard]] std::size_t rows() const { return axis ? master.size() : time.size(); }
 };
 
-/// Samples `law` as `spec` asks (time-based or master-axis). Throws std::invalid_argument as
-/// sample_cam_table / sample_master_cam_table do.
-[[nodiscard]] CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec);
+/// Samples `law` as `spec` asks (time-based or master-axis). Throws ApiError(kInvalidValue)
+/// naming the option (`names`) when sample_cam_table or sample_master_cam_table refuse: a master
+/// speed out of range names the master period.
+[[nodiscard]] CamTable sample_cam(const MotionLaw& law, double stroke, const CamTableSpec& spec,
+                                  const CamOptionNames& names);
+
+/// Rows of the table `spec` gives for a law of duration `motion_time` [s], as sample_cam samples
+/// it (a master axis: an upper bound, its grid points plus the start, end and period). Throws
+/// ApiError as sample_cam does for a time-based table of more than kCamMaxSamples rows.
+[[nodiscard]] std::size_t cam_rows(const CamTableSpec& spec, double motion_time,
+                                   const CamOptionNames& names);
+
+/// Upper bound of the bytes an export of `rows` rows holds at once: each row sampled (and its
+/// master position) and written in the format of `spec` with the longest numbers, and the
+/// header [bytes].
+[[nodiscard]] std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows);
+
+/// `v` as a CSV cell: the shortest text that reads back as `v` exactly ("800", "0.1",
+/// "1.2345678901234567e-05"; std::to_chars), never "-0" (hostile review: 12 significant digits
+/// did not hold a stroke of many digits exactly in the last row).
+[[nodiscard]] std::string csv_number(double v);
 
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line
-/// per sample, 12 significant digits.
+/// per sample, each number csv_number.
 [[nodiscard]] std::string cam_table_csv(const std::vector<CamSample>& samples);
 
 /// Master-axis cam table CSV: header
 /// `master,position_mm,velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3` (master
 /// position in master units; slave position in mm and its first three derivatives per master
-/// unit), one line per row, 12 significant digits.
+/// unit), one line per row, each number csv_number.
 [[nodiscard]] std::string master_cam_table_csv(const std::vector<MasterCamSample>& samples);
 
 /// `v` as an IEC 61131-3 real literal with 15 significant digits (trailing zeros dropped), always

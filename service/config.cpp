@@ -106,6 +106,8 @@ const std::vector<Setting>& settings() {
        "a size in bytes (0 = unbounded)"},
       {"cache_min_time_store_bytes", "SLOSH_CACHE_MIN_TIME_STORE_BYTES",
        &C::cache_min_time_store_bytes, 0, 1LL << 50, "a size in bytes (0 = unbounded)"},
+      {"cam_export_bytes", "SLOSH_CAM_EXPORT_BYTES", &C::cam_export_bytes, 1 << 20, 1LL << 40,
+       "a size in bytes"},
   };
   return all;
 }

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <cstdio>
 #include <fstream>
+#include <functional>
 #include <iostream>
 #include <optional>
 #include <variant>
@@ -25,11 +26,8 @@ namespace {
 
 using nlohmann::json;
 
-// 12 significant digits; never "-0".
 std::string cell(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.12g", v == 0.0 ? 0.0 : v);
-  return buffer;
+  return csv_number(v);
 }
 
 struct SegmentRow {
@@ -231,7 +229,7 @@ CamSource cam_source(const ExportSource& source) {
 }  // namespace
 
 std::string plan_cam_file(const std::string& plan_text, const CamOptions& options,
-                          bool allow_infeasible) {
+                          bool allow_infeasible, const std::function<void(std::size_t)>& admit) {
   const CamTableSpec spec = resolve_cam_options(options, query_option_names(), kMaxServedCamRows,
                                                 " here (slosh export writes longer tables)");
   const api::PlanLaw plan = api::plan_law(plan_text);
@@ -242,7 +240,7 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
   if (!spec.master && duration / (period_ms * 1e-3) > static_cast<double>(kMaxServedCamRows - 2)) {
     throw api::ApiError(
         api::ErrorCode::kInvalidValue, "period_ms",
-        "period_ms = " + api::number_text(period_ms) + " gives more than " +
+        "period_ms = " + master_value_text(period_ms) + " gives more than " +
             std::to_string(kMaxServedCamRows) + " rows over the " + api::number_text(duration) +
             " s motion: allowed >= " + api::number_text(std::ceil(shortest_ms * 1e3) / 1e3) +
             " ms here (slosh export writes longer tables)");
@@ -251,13 +249,10 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
     throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                         api::not_exportable_message(plan, "add allow_infeasible=true"));
   }
-  CamTable table;
-  try {
-    table = sample_cam(plan.law, plan.stroke, spec);
-  } catch (const std::invalid_argument& e) {
-    throw api::ApiError(api::ErrorCode::kInvalidValue, spec.master ? "master_step" : "period_ms",
-                        e.what());
+  if (admit) {
+    admit(cam_export_bytes(spec, cam_rows(spec, duration, query_option_names())));
   }
+  const CamTable table = sample_cam(plan.law, plan.stroke, spec, query_option_names());
   CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};
   return cam_file(table, source, spec);
 }
@@ -273,9 +268,9 @@ int run_export_command(const ExportCommandOptions& options) {
   CamTable table;
   std::string file;
   try {
-    table = sample_cam(source.law, source.stroke, spec);
-  } catch (const std::invalid_argument& e) {
-    return report(invalid(spec.master ? "--master-step" : "--period-ms", e.what()));
+    table = sample_cam(source.law, source.stroke, spec, cli_option_names());
+  } catch (const api::ApiError& e) {
+    return report({kExitInvalidInput, e});
   }
   try {
     file = cam_file(table, cam_source(source), spec);

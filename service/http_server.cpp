@@ -50,10 +50,29 @@ bool write_port_file(const std::string& path, int port) {
 thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 std::atomic<std::uint64_t> request_counter{0};
 
-void send(const Reply& reply, httplib::Response& res) {
+/// Seconds a client is told to wait when its connection could not get a thread.
+constexpr int kThreadRetryAfterSeconds = 1;
+
+/// Bytes a held body hands to the library per write [bytes].
+constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
+
+void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
-  if (!reply.body.empty()) res.set_content(reply.body, reply.content_type);
+  if (reply.body.empty()) return;
+  if (!reply.hold) {
+    res.set_content(reply.body, reply.content_type);
+    return;
+  }
+  // The body (and what the reply holds, e.g. an export's share of the budget) lives until the
+  // library has written it or given up, and is not copied on the way.
+  auto body = std::make_shared<const std::string>(std::move(reply.body));
+  res.set_content_provider(body->size(), reply.content_type,
+                           [body, hold = std::move(reply.hold)](
+                               std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                             return sink.write(body->data() + offset,
+                                               std::min(length, kHeldBodyChunk));
+                           });
 }
 
 std::string peer_of(const httplib::Request& req) {
@@ -241,6 +260,28 @@ std::vector<std::string> view_values(const httplib::Request& req) {
   return values;
 }
 
+// Every value of the query parameter `name` in the request target, in order, repeats included
+// (none when it is not given). The library's parameters drop a repeated identical "name=value"
+// pair, so a repeat of the same value would go unnoticed there.
+std::vector<std::string> param_values(const httplib::Request& req, const char* name) {
+  std::vector<std::string> values;
+  const std::size_t query = req.target.find('?');
+  if (query == std::string::npos) return values;
+  const std::string text = req.target.substr(query + 1, req.target.find('#') - query - 1);
+  httplib::detail::split(
+      text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
+        const std::string pair(begin, end);
+        const std::size_t equals = pair.find('=');
+        if (httplib::detail::decode_url(pair.substr(0, equals), true) != name) {
+          return;
+        }
+        values.push_back(equals == std::string::npos
+                             ? std::string()
+                             : httplib::detail::decode_url(pair.substr(equals + 1), true));
+      });
+  return values;
+}
+
 Handler handler_of(api::Operation operation, Runtime& rt) {
   PlanService& service = rt.service;
   switch (operation) {
@@ -292,11 +333,11 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
           operation == api::Operation::kCamTableSt ? CamFileFormat::kSt : CamFileFormat::kCsv;
       return [&service, format](const httplib::Request& req, const std::string&) {
         const CamQuery query{
-            req.get_param_value("period_ms"),    req.get_param_value("master_period"),
-            req.get_param_value("master_start"), req.get_param_value("master_end"),
-            req.get_param_value("master_step"),  req.get_param_value("st_name")};
-        return service.cam_table(req.matches[1], format, query,
-                                 req.get_param_value("allow_infeasible"));
+            param_values(req, "period_ms"),       param_values(req, "master_period"),
+            param_values(req, "master_start"),    param_values(req, "master_end"),
+            param_values(req, "master_step"),     param_values(req, "st_name"),
+            param_values(req, "allow_infeasible")};
+        return service.cam_table(req.matches[1], format, query);
       };
     }
     case api::Operation::kPage:
@@ -339,9 +380,10 @@ void register_routes(Runtime& rt) {
     if (route.method == "GET") {
       rt.server.Get(pattern,
                     [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                      const Reply reply = guarded([&] { return handler(req, std::string()); });
-                      send(reply, res);
-                      rt.service.metrics().count_request(label, reply.status);
+                      Reply reply = guarded([&] { return handler(req, std::string()); });
+                      const int status = reply.status;
+                      send(std::move(reply), res);
+                      rt.service.metrics().count_request(label, status);
                     });
       rt.endpoints.push_back({std::regex(pattern), {"GET", "HEAD"}});
       continue;
@@ -351,7 +393,7 @@ void register_routes(Runtime& rt) {
                        [&rt, label, handler](const httplib::Request& req, httplib::Response& res,
                                              const httplib::ContentReader& reader) {
                          bool refused = false;
-                         const Reply reply = guarded([&] {
+                         Reply reply = guarded([&] {
                            Reply error;
                            if (const auto body = read_body(req, reader, rt.config, error)) {
                              return handler(req, *body);
@@ -361,8 +403,9 @@ void register_routes(Runtime& rt) {
                          });
                          // The rest of a refused body is not read.
                          if (refused) res.set_header("Connection", "close");
-                         send(reply, res);
-                         rt.service.metrics().count_request(label, reply.status);
+                         const int status = reply.status;
+                         send(std::move(reply), res);
+                         rt.service.metrics().count_request(label, status);
                        }));
     rt.endpoints.push_back({std::regex(pattern), {"POST"}});
   }
@@ -443,6 +486,16 @@ void install_error_handlers(Runtime& rt) {
       });
 }
 
+// 503 with Retry-After for a connection the connection pool could not start a thread for.
+Reply thread_refusal_reply() {
+  Reply reply = PlanService::error_reply(
+      api::ErrorCode::kOverloaded,
+      "the service cannot start a thread for this connection (the system refused one): retry "
+      "later");
+  reply.headers.emplace_back("Retry-After", std::to_string(kThreadRetryAfterSeconds));
+  return reply;
+}
+
 // Request ids, the reaper's bookkeeping and one log line per request.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
@@ -451,6 +504,14 @@ void install_request_hooks(Runtime& rt) {
     const_cast<httplib::Request&>(req).ranges.clear();
     res.set_header("X-Request-Id", request_id(req));
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
+    if (ConnectionPool::refusing()) {
+      // This connection got no thread of its own (the system refused one): 503, and the client
+      // is asked to close it.
+      send(thread_refusal_reply(), res);
+      res.set_header("Connection", "close");
+      rt.service.metrics().count_request("other", 503);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     return httplib::Server::HandlerResponse::Unhandled;
   });
   rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
@@ -465,7 +526,7 @@ void install_request_hooks(Runtime& rt) {
                  res.get_header_value("X-Request-Id"), req.method.substr(0, 16),
                  req.path.substr(0, 200), res.status,
                  res.has_header("X-Cache") ? res.get_header_value("X-Cache") : "-", ms,
-                 res.body.size());
+                 res.content_provider_ ? res.content_length_ : res.body.size());
   });
 }
 
@@ -571,7 +632,14 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
       "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {})",
       kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
       config.cache_path.empty() ? "memory" : config.cache_path);
-  const bool ok = server.listen_after_bind();
+  bool ok = false;
+  try {
+    ok = server.listen_after_bind();
+  } catch (const std::exception& e) {
+    // E.g. the connection pool's refusing thread could not be started (std::system_error).
+    spdlog::error("the server stopped: {}", e.what());
+    service.begin_shutdown();
+  }
   signals.join();
   rt.reaper.reset();
   spdlog::info("slosh stopped");

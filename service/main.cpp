@@ -232,7 +232,12 @@ int main(int argc, char** argv) {
     if (a.host) s.host = *a.host;
     if (a.port) s.port = *a.port;
     if (a.queue) s.queue = *a.queue;
-    return slosh::service::run_server(s, a.port_file);
+    try {
+      return slosh::service::run_server(s, a.port_file);
+    } catch (const std::exception& e) {  // e.g. the system refused the worker threads
+      std::cerr << "slosh serve: cannot run: " << e.what() << '\n';
+      return 1;
+    }
   }
   if (*batch) {
     a.batch.config = *server;

@@ -34,6 +34,11 @@ void Metrics::count_min_time_join() {
   ++min_time_joins_;
 }
 
+void Metrics::count_export_refusal() {
+  std::lock_guard lock(mutex_);
+  ++export_refusals_;
+}
+
 void Metrics::count_cache(bool hit) {
   std::lock_guard lock(mutex_);
   ++(hit ? cache_hits_ : cache_misses_);
@@ -79,6 +84,10 @@ std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
          "of the same request.\n"
       << "# TYPE slosh_min_time_joins_total counter\n"
       << "slosh_min_time_joins_total " << min_time_joins_ << '\n'
+      << "# HELP slosh_cam_export_refusals_total Cam exports refused (503) because the exports "
+         "in flight left too little of cam_export_bytes.\n"
+      << "# TYPE slosh_cam_export_refusals_total counter\n"
+      << "slosh_cam_export_refusals_total " << export_refusals_ << '\n'
       << "# HELP slosh_queue_depth Solves waiting for a worker.\n"
       << "# TYPE slosh_queue_depth gauge\n"
       << "slosh_queue_depth " << queue_depth << '\n'

@@ -26,6 +26,8 @@ class Metrics {
   void count_min_time_search();
   /// A min-time request that waited for the running search of the same key (single flight).
   void count_min_time_join();
+  /// A cam export refused because the export budget had no room for it (503).
+  void count_export_refusal();
 
   /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller.
   [[nodiscard]] std::string render(std::size_t queue_depth, std::size_t busy_workers,
@@ -45,6 +47,7 @@ class Metrics {
   std::uint64_t singleflight_joins_{};
   std::uint64_t min_time_searches_{};
   std::uint64_t min_time_joins_{};
+  std::uint64_t export_refusals_{};
 };
 
 }  // namespace slosh::service

@@ -106,6 +106,7 @@ PlanService::PlanService(const ServerConfig& config)
                                   .memory_bytes = config.cache_memory_bytes,
                                   .store_bytes = config.cache_min_time_store_bytes,
                                   .table = CacheTable::kMinTime}),
+      export_budget_(config.cam_export_bytes),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
           config.queue) {}
@@ -541,14 +542,17 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
   return r;
 }
 
-Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const CamQuery& query,
-                             const std::string& allow_infeasible) {
+Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const CamQuery& query) {
   return guarded([&] {
     const CamOptions options = parse_cam_query(query, format);
-    if (!allow_infeasible.empty() && allow_infeasible != "true" && allow_infeasible != "false") {
-      throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
-                          "allow_infeasible = " + allow_infeasible.substr(0, 32) +
-                              " is not allowed: one of \"true\", \"false\"");
+    const std::string allow_infeasible =
+        single_query_value(query.allow_infeasible, "allow_infeasible").value_or("false");
+    if (allow_infeasible != "true" && allow_infeasible != "false") {
+      throw api::ApiError(
+          api::ErrorCode::kInvalidValue, "allow_infeasible",
+          "allow_infeasible = " +
+              (allow_infeasible.empty() ? "(empty)" : allow_infeasible.substr(0, 32)) +
+              " is not allowed: one of \"true\", \"false\"");
     }
     const auto hit = cache_.get(key);
     if (!hit) {
@@ -561,7 +565,8 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
     const bool st = format == CamFileFormat::kSt;
     Reply r;
     r.content_type = st ? "text/plain; charset=utf-8" : "text/csv; charset=utf-8";
-    r.body = plan_cam_file(api::render_plan_reply(*hit, true), options, allow_infeasible == "true");
+    r.body = plan_cam_file(api::render_plan_reply(*hit, true), options, allow_infeasible == "true",
+                           [&](std::size_t bytes) { r.hold = reserve_export(bytes); });
     const std::string table =
         options.master_period
             ? "master"
@@ -571,6 +576,17 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
                                                       (st ? ".st\"" : ".csv\""));
     return r;
   });
+}
+
+std::shared_ptr<const void> PlanService::reserve_export(std::size_t bytes) {
+  auto ticket = export_budget_.try_reserve(bytes);
+  if (ticket) return ticket;
+  metrics_.count_export_refusal();
+  throw api::ApiError(
+      api::ErrorCode::kOverloaded, "",
+      "the cam exports in flight hold " + std::to_string(export_budget_.in_flight()) + " of the " +
+          std::to_string(export_budget_.capacity()) + " bytes allowed (cam_export_bytes); this " +
+          "table needs up to " + std::to_string(bytes) + ": retry later");
 }
 
 Reply PlanService::fluids() const {
@@ -641,6 +657,18 @@ Reply PlanService::metrics_text() const {
       "# TYPE slosh_cache_store_ok gauge\n"
       "slosh_cache_store_ok " +
       std::string(store_error().empty() ? "1" : "0") + "\n";
+  r.body +=
+      "# HELP slosh_cam_export_bytes Bytes reserved by the cam exports in flight (until their "
+      "responses are written).\n"
+      "# TYPE slosh_cam_export_bytes gauge\n"
+      "slosh_cam_export_bytes " +
+      std::to_string(export_budget_.in_flight()) +
+      "\n"
+      "# HELP slosh_cam_export_budget_bytes The budget of the cam exports in flight "
+      "(cam_export_bytes).\n"
+      "# TYPE slosh_cam_export_budget_bytes gauge\n"
+      "slosh_cam_export_budget_bytes " +
+      std::to_string(export_budget_.capacity()) + "\n";
   return r;
 }
 

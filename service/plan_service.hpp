@@ -16,6 +16,7 @@
 #include <vector>
 
 #include "cam_export.hpp"
+#include "export_budget.hpp"
 #include "metrics.hpp"
 #include "plan_cache.hpp"
 #include "server_config.hpp"
@@ -33,6 +34,9 @@ struct Reply {
   std::string body;
   std::string content_type{"application/json"};
   std::vector<std::pair<std::string, std::string>> headers;
+  /// Kept alive until the body has been written to the client (a cam export's reservation of
+  /// the export budget); empty for most replies.
+  std::shared_ptr<const void> hold;
 };
 
 /// What a solve or a min-time search produced: the stored body (an api::StoredPlan body, or a
@@ -117,10 +121,11 @@ class PlanService {
   /// `if_none_match` names the ETag, 404 for an unknown name.
   Reply web_asset(const std::string& name, const std::string& if_none_match) const;
   /// The cam table file of the cached plan `key` (GET /v1/plans/{key}/cam.csv, cam.st): `query`
-  /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis),
-  /// `allow_infeasible` "true", "false" or empty. 404 for an unknown key, 422 naming a parameter.
-  Reply cam_table(const std::string& key, CamFileFormat format, const CamQuery& query,
-                  const std::string& allow_infeasible);
+  /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis;
+  /// allow_infeasible "true" or "false"; each parameter at most once). 404 for an unknown key,
+  /// 422 naming a parameter, 503 with Retry-After when the exports in flight leave too little of
+  /// the export budget (config cam_export_bytes); the reply holds its reservation until written.
+  Reply cam_table(const std::string& key, CamFileFormat format, const CamQuery& query);
   Reply openapi() const;
   Reply health() const;
   Reply ready() const;
@@ -172,6 +177,9 @@ class PlanService {
   void forget_flight(std::unordered_map<std::string, Flight>& flights, const std::string& key,
                      std::uint64_t id);
   Reply overloaded_reply() const;
+  // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
+  // Retry-After) when the exports in flight leave too little.
+  std::shared_ptr<const void> reserve_export(std::size_t bytes);
   // The plan store's failure (either table's), empty while it works.
   [[nodiscard]] std::string store_error() const;
 
@@ -186,6 +194,8 @@ class PlanService {
   std::unordered_map<std::string, Flight> min_time_inflight_;
   std::uint64_t flights_{0};
   std::atomic<bool> ready_{true};
+  // Memory of the cam exports in flight (config cam_export_bytes).
+  ExportBudget export_budget_;
   WorkerPool pool_;  // last: destroyed first, finishing the solves that use the members above
 };
 

@@ -48,6 +48,11 @@ struct ServerConfig {
   /// Bound of the min-time answers in the same SQLite file (their own table), pruned oldest first
   /// beyond it [bytes]. Default 256 MiB; 0 = unbounded.
   std::size_t cache_min_time_store_bytes{std::size_t{256} << 20};
+  /// Memory the cam exports in flight (GET /v1/plans/{key}/cam.csv and cam.st) may hold together:
+  /// each reserves an upper bound of its rows and file until its response is written; one that
+  /// does not fit answers 503 with Retry-After (one larger than the whole budget runs alone).
+  /// Default 256 MiB (at least 3 of the largest, 200 000-row, tables at once).
+  std::size_t cam_export_bytes{std::size_t{256} << 20};
 };
 
 }  // namespace slosh::service

@@ -8,10 +8,21 @@ WorkerPool::WorkerPool(std::size_t workers, std::size_t queue_capacity)
     : capacity_(std::max<std::size_t>(1, queue_capacity)) {
   workers = std::max<std::size_t>(1, workers);
   threads_.reserve(workers);
-  for (std::size_t i = 0; i < workers; ++i) threads_.emplace_back([this] { run(); });
+  try {
+    for (std::size_t i = 0; i < workers; ++i) threads_.emplace_back([this] { run(); });
+  } catch (...) {
+    // The system refused a thread (std::system_error): the started ones end before the
+    // exception leaves (a joinable std::thread destroyed would end the process).
+    stop_and_join();
+    throw;
+  }
 }
 
 WorkerPool::~WorkerPool() {
+  stop_and_join();
+}
+
+void WorkerPool::stop_and_join() {
   {
     std::lock_guard lock(mutex_);
     accepting_ = false;
@@ -20,6 +31,7 @@ WorkerPool::~WorkerPool() {
   has_task_.notify_all();
   has_room_.notify_all();
   for (std::thread& t : threads_) t.join();
+  threads_.clear();
 }
 
 bool WorkerPool::try_submit(std::function<void()> task) {

@@ -16,7 +16,8 @@ namespace slosh::service {
 
 class WorkerPool {
  public:
-  /// Starts `workers` threads (>= 1) with room for `queue_capacity` waiting tasks (>= 1).
+  /// Starts `workers` threads (>= 1) with room for `queue_capacity` waiting tasks (>= 1). Throws
+  /// std::system_error when the system refuses a thread (the started ones are joined first).
   WorkerPool(std::size_t workers, std::size_t queue_capacity);
   /// Finishes every queued and running task, then joins the threads.
   ~WorkerPool();
@@ -42,6 +43,8 @@ class WorkerPool {
 
  private:
   void run();
+  // Stops accepting, finishes every queued and running task, joins the threads.
+  void stop_and_join();
 
   mutable std::mutex mutex_;
   std::condition_variable has_task_;

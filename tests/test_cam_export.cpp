@@ -14,11 +14,14 @@
 #include <algorithm>
 #include <array>
 #include <charconv>
+#include <chrono>
 #include <cmath>
+#include <future>
 #include <random>
 #include <regex>
 #include <stdexcept>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -27,6 +30,7 @@
 #include "slosh/api/openapi.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "support/process.hpp"
+#include "support/raw_client.hpp"
 #include "support/reference_seven_segment.hpp"
 #include "support/server.hpp"
 #include "version.hpp"
@@ -578,7 +582,8 @@ TEST(ExportMasterCli, BadOptionsAreRefusedNamingTheOptionTheValueAndTheRange) {
   const TempDir dir;
   write_file(dir / "request.json", kThesis);
   const std::string relation =
-      " master units (0 <= --master-start < --master-end <= --master-period)";
+      " master units (0 <= --master-start < --master-end <= --master-period, --master-end - "
+      "--master-start >= 1e-06)";
   const std::string missing =
       " is missing: a master-axis table needs --master-period, --master-start and --master-end";
   struct Case {
@@ -589,10 +594,10 @@ TEST(ExportMasterCli, BadOptionsAreRefusedNamingTheOptionTheValueAndTheRange) {
   const std::vector<Case> cases{
       {{"--master-period", "0", "--master-start", "30", "--master-end", "210"},
        "--master-period",
-       "--master-period = 0 is out of range: allowed > 0 master units"},
+       "--master-period = 0 is out of range: allowed >= 1e-06 master units"},
       {{"--master-period", "nan", "--master-start", "30", "--master-end", "210"},
        "--master-period",
-       "--master-period = nan is not finite: allowed > 0 master units"},
+       "--master-period = nan is not finite: allowed >= 1e-06 master units"},
       {{"--master-period", "360", "--master-start", "-1", "--master-end", "210"},
        "--master-start",
        "--master-start = -1 is out of range [0, 360)" + relation},
@@ -635,11 +640,12 @@ TEST(ExportMasterCli, BadOptionsAreRefusedNamingTheOptionTheValueAndTheRange) {
        "characters"},
       {{"--format", "st", "--st-name", "end_var"},
        "--st-name",
-       "--st-name = end_var is reserved: an IEC 61131-3 keyword or type, or a slosh type name"},
+       "--st-name = end_var is reserved: END_VAR is an IEC 61131-3 keyword (identifiers are not "
+       "case-sensitive)"},
       {{"--format", "st", "--st-name", "slosh_cam_point"},
        "--st-name",
-       "--st-name = slosh_cam_point is reserved: an IEC 61131-3 keyword or type, or a slosh type "
-       "name"},
+       "--st-name = slosh_cam_point is reserved: SLOSH_CAM_POINT is the structure type every slosh "
+       "export declares (identifiers are not case-sensitive)"},
   };
   for (const Case& c : cases) {
     SCOPED_TRACE(c.message);
@@ -741,15 +747,17 @@ TEST_F(CamRoutes, QueryErrorsAre422NamingTheParameter) {
               json({{"code", "invalid_value"}, {"field", field}, {"message", message}}))
         << route;
   };
-  const std::string relation = " master units (0 <= master_start < master_end <= master_period)";
+  const std::string relation =
+      " master units (0 <= master_start < master_end <= master_period, master_end - master_start "
+      ">= 1e-06)";
   for (const char* route : {"cam.csv", "cam.st"}) {
     const std::string r = std::string(route) + "?";
     expect_error(r + "master_period=360&master_start=abc&master_end=210", "master_start",
-                 "master_start = abc is not a number [master units]");
+                 "master_start = abc is not a decimal number [master units]");
     expect_error(r + "master_period=360&master_start=30&master_end=210&master_step=1x",
-                 "master_step", "master_step = 1x is not a number [master units]");
+                 "master_step", "master_step = 1x is not a decimal number [master units]");
     expect_error(r + "master_period=-360&master_start=30&master_end=210", "master_period",
-                 "master_period = -360 is out of range: allowed > 0 master units");
+                 "master_period = -360 is out of range: allowed >= 1e-06 master units");
     expect_error(r + "master_period=360&master_start=30&master_end=361", "master_end",
                  "master_end = 361 is out of range (30, 360]" + relation);
     expect_error(r + "master_period=360&master_start=400&master_end=410", "master_start",
@@ -777,12 +785,453 @@ TEST_F(CamRoutes, QueryErrorsAre422NamingTheParameter) {
   expect_error("cam.csv?st_name=CAM", "st_name",
                "st_name applies to the structured-text format only");
   expect_error("cam.st?st_name=TYPE", "st_name",
-               "st_name = TYPE is reserved: an IEC 61131-3 keyword or type, or a slosh type name");
+               "st_name = TYPE is reserved: TYPE is an IEC 61131-3 keyword (identifiers are not "
+               "case-sensitive)");
   expect_error("cam.st?period_ms=0", "period_ms", "period_ms = 0 is out of range [0.01, 1000] ms");
   const auto unknown = client.Get("/v1/plans/0123456789abcdef/cam.st");
   ASSERT_TRUE(unknown);
   EXPECT_EQ(unknown->status, 404);
   EXPECT_EQ(json::parse(unknown->body)["error"]["field"], "key");
+}
+
+// Hostile review: the query numbers were read with std::stod (hex "0x10", "inf", "nan", a
+// leading "+" or space accepted; 4.9e-324 called "not a number"), a repeated parameter was
+// resolved silently (the first one won) and an empty st_name fell back to the default.
+TEST_F(CamRoutes, QueryNumbersAreDecimalNumbersAndEachParameterIsGivenOnce) {
+  httplib::Client client = server_->client();
+  auto error_of_get = [&](const std::string& route) {
+    const auto res = client.Get("/v1/plans/" + key_ + "/" + route);
+    EXPECT_TRUE(res);
+    if (!res) return json();
+    EXPECT_EQ(res->status, 422) << route << ": " << res->body;
+    return json::parse(res->body)["error"];
+  };
+  auto expect_error = [&](const std::string& route, const std::string& field,
+                          const std::string& message) {
+    EXPECT_EQ(error_of_get(route),
+              json({{"code", "invalid_value"}, {"field", field}, {"message", message}}))
+        << route;
+  };
+  const std::string axis = "master_start=30&master_end=210";
+  for (const char* route : {"cam.csv", "cam.st"}) {
+    const std::string r = std::string(route) + "?";
+    struct Case {
+      std::string query;  // URL-encoded
+      std::string shown;  // as the message quotes it
+    };
+    for (const Case& c : std::vector<Case>{{"0x10", "0x10"},
+                                           {"0X1p3", "0X1p3"},
+                                           {"inf", "inf"},
+                                           {"-infinity", "-infinity"},
+                                           {"nan", "nan"},
+                                           {"NaN", "NaN"},
+                                           {"%2B360", "+360"},
+                                           {"%20360", " 360"},
+                                           {"360%20", "360 "},
+                                           {"360.0.0", "360.0.0"},
+                                           {"1e", "1e"},
+                                           {".", "."},
+                                           {"-", "-"},
+                                           {"", "(empty)"}}) {
+      expect_error(r + "master_period=" + c.query + "&" + axis, "master_period",
+                   "master_period = " + c.shown + " is not a decimal number [master units]");
+    }
+    expect_error(r + "period_ms=0x10", "period_ms",
+                 "period_ms = 0x10 is not a decimal number [ms]");
+    expect_error(r + "master_period=360&master_start=30&master_end=210&master_step=inf",
+                 "master_step", "master_step = inf is not a decimal number [master units]");
+    expect_error(r + "master_period=1e400&" + axis, "master_period",
+                 "master_period = 1e400 is beyond the range of a double: a number is 0 or of a "
+                 "magnitude from 4.9e-324 to 1.8e+308 [master units]");
+    expect_error(r + "master_period=360&master_start=1e-400&master_end=210", "master_start",
+                 "master_start = 1e-400 is beyond the range of a double: a number is 0 or of a "
+                 "magnitude from 4.9e-324 to 1.8e+308 [master units]");
+    // Repeated parameters are refused, never resolved.
+    expect_error(r + "master_period=360&master_period=720&" + axis, "master_period",
+                 "master_period is given twice (360 and 720): give each query parameter once");
+    expect_error(r + "master_period=360&" + axis + "&master_end=210", "master_end",
+                 "master_end is given twice (210 and 210): give each query parameter once");
+    expect_error(r + "period_ms=1&period_ms=2&period_ms=3&period_ms=4", "period_ms",
+                 "period_ms is given 4 times (1, 2, 3, ...): give each query parameter once");
+    expect_error(r + "allow_infeasible=true&allow_infeasible=false", "allow_infeasible",
+                 "allow_infeasible is given twice (true and false): give each query parameter "
+                 "once");
+    expect_error(r + "allow_infeasible=", "allow_infeasible",
+                 "allow_infeasible = (empty) is not allowed: one of \"true\", \"false\"");
+  }
+  expect_error("cam.st?st_name=", "st_name",
+               "st_name = (empty) is not an IEC 61131-3 identifier: letters, digits and single "
+               "underscores, not starting with a digit nor ending with an underscore, at most 64 "
+               "characters");
+  expect_error("cam.st?st_name=A&st_name=B", "st_name",
+               "st_name is given twice (A and B): give each query parameter once");
+  // Decimal numbers as people write them are read, a denormal one too (it is a number: the
+  // start 4.9e-324 lies in [0, 360)); and a denormal period is refused for what it is.
+  for (const char* ok : {"master_period=360&master_start=30&master_end=210.0",
+                         "master_period=360.&master_start=.5e2&master_end=2.1E2",
+                         "master_period=360&master_start=-0&master_end=210",
+                         "master_period=360&master_start=4.9e-324&master_end=210"}) {
+    const auto res = client.Get("/v1/plans/" + key_ + "/cam.csv?" + ok);
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200) << ok << ": " << res->body.substr(0, 200);
+  }
+  const auto denormal =
+      client.Get("/v1/plans/" + key_ + "/cam.csv?master_period=360&master_start=4.9e-324&" +
+                 "master_end=210&master_step=30");
+  ASSERT_TRUE(denormal);
+  ASSERT_EQ(denormal->status, 200);
+  // The motion starts on its own row, written as the number it is.
+  EXPECT_NE(denormal->body.find("\n5e-324,0,0,0,"), std::string::npos) << denormal->body;
+  expect_error("cam.csv?master_period=4.9e-324&master_start=0&master_end=4.9e-324", "master_period",
+               "master_period = 5e-324 is out of range: allowed >= 1e-06 master units");
+}
+
+// Hostile review: st_name accepted the names of IEC 61131-3 standard function blocks and
+// functions (TON, CTU, R_TRIG, SIN, REAL_TO_INT, ...), which a PLC project already declares.
+TEST_F(CamRoutes, StNamesOfKeywordsTypesAndStandardBlocksAreRefusedWhateverTheirCase) {
+  httplib::Client client = server_->client();
+  const TempDir dir;
+  write_file(dir / "request.json", kThesis);
+  struct Case {
+    std::string name;
+    std::string reason;
+  };
+  const std::string keyword = "an IEC 61131-3 keyword";
+  const std::string type = "an IEC 61131-3 elementary or generic data type";
+  const std::string block = "an IEC 61131-3 standard function block";
+  const std::string function = "an IEC 61131-3 standard function";
+  const std::string conversion = "an IEC 61131-3 standard type conversion function";
+  const std::vector<Case> cases{
+      {"TON", block},
+      {"ton", block},
+      {"Tof", block},
+      {"TP", block},
+      {"CTU", block},
+      {"ctd", block},
+      {"CTUD", block},
+      {"R_Trig", block},
+      {"F_TRIG", block},
+      {"SR", block},
+      {"rs", block},
+      {"CTU_DINT", block},
+      {"END_VAR", keyword},
+      {"array", keyword},
+      {"Of", keyword},
+      {"STRUCT", keyword},
+      {"type", keyword},
+      {"VAR", keyword},
+      {"var_input", keyword},
+      {"IF", keyword},
+      {"then", keyword},
+      {"END_FUNCTION_BLOCK", keyword},
+      {"INT", type},
+      {"REAL", type},
+      {"lreal", type},
+      {"TIME", type},
+      {"Any_Num", type},
+      {"SIN", function},
+      {"limit", function},
+      {"MUX", function},
+      {"REAL_TO_INT", conversion},
+      {"to_dint", conversion},
+      {"TRUNC_INT", conversion},
+      {"BCD_TO_WORD", conversion},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.name);
+    std::string upper = c.name;
+    std::transform(upper.begin(), upper.end(), upper.begin(),
+                   [](unsigned char ch) { return static_cast<char>(std::toupper(ch)); });
+    const std::string why =
+        " is reserved: " + upper + " is " + c.reason + " (identifiers are not case-sensitive)";
+    const auto res = client.Get("/v1/plans/" + key_ + "/cam.st?st_name=" + c.name);
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 422);
+    EXPECT_EQ(json::parse(res->body)["error"], json({{"code", "invalid_value"},
+                                                     {"field", "st_name"},
+                                                     {"message", "st_name = " + c.name + why}}));
+    const RunResult r =
+        export_to(dir / "request.json", dir / "cam.st", {"--format", "st", "--st-name", c.name});
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(error_of(r), json({{"error",
+                                  {{"code", "invalid_value"},
+                                   {"field", "--st-name"},
+                                   {"message", "--st-name = " + c.name + why}}}}));
+  }
+  // Names that only contain one of them are fine.
+  for (const char* ok : {"TON_CAM", "MY_TYPE", "CAM_OF_LINE_2", "INTERVAL_CAM", "TIME_TO_GO"}) {
+    const auto res = client.Get("/v1/plans/" + key_ + "/cam.st?st_name=" + ok);
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200) << ok << ": " << res->body.substr(0, 300);
+  }
+}
+
+// Hostile review: a master period of 1e308 over a 0.5 s motion overflowed the master speed
+// (master_end - master_start) / T to inf: a table of zeros, "speed_per_s": null in the summary
+// and "inf" in the ST header. Refused at master_period, in the CLI and over HTTP alike.
+TEST_F(CamRoutes, AMasterSpeedThatIsNotAFiniteNumberIsRefusedAtTheMasterPeriod) {
+  httplib::Client client = server_->client();
+  json request = json::parse(kThesis);
+  request["format"]["motion_time_s"] = 0.5;
+  const auto planned = client.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->status, 200) << planned->body;
+  const std::string key = json::parse(planned->body)["key"];
+  const TempDir dir;
+  write_file(dir / "request.json", request.dump());
+  struct Case {
+    std::string period, end, step, speed, verdict;
+  };
+  const std::vector<Case> cases{
+      {"1e308", "1e308", "1e306", "inf", "not finite"},
+      {"1.7976931348623157e308", "1.7976931348623157e308", "1e306", "inf", "not finite"},
+      {"1e31", "1e30", "1e29", "2e+30", "out of range"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.period);
+    const std::string shown = c.period == "1e308"  ? "1e+308"
+                              : c.period == "1e31" ? "1e+31"
+                                                   : "1.7976931348623157e+308";
+    const std::string message = " = " + shown + " makes the master speed (%end - %start) / " +
+                                "motion time = " + c.speed + " master units/s over the 0.5 s " +
+                                "motion, which is " + c.verdict +
+                                ": allowed [1e-30, 1e+30] master units/s, i.e. %end - %start " +
+                                "in [5e-31, 5e+29] master units";
+    auto named = [&](const std::string& prefix, const std::string& end, const std::string& start) {
+      std::string text = prefix + message;
+      for (std::size_t at; (at = text.find("%end")) != std::string::npos;) {
+        text.replace(at, 4, end);
+      }
+      for (std::size_t at; (at = text.find("%start")) != std::string::npos;) {
+        text.replace(at, 6, start);
+      }
+      return text;
+    };
+    for (const char* route : {"cam.csv", "cam.st"}) {
+      const auto res = client.Get("/v1/plans/" + key + "/" + route + "?master_period=" + c.period +
+                                  "&master_start=0&master_end=" + c.end + "&master_step=" + c.step);
+      ASSERT_TRUE(res);
+      EXPECT_EQ(res->status, 422) << res->body.substr(0, 300);
+      EXPECT_EQ(json::parse(res->body)["error"],
+                json({{"code", "invalid_value"},
+                      {"field", "master_period"},
+                      {"message", named("master_period", "master_end", "master_start")}}));
+    }
+    for (const char* format : {"csv", "st"}) {
+      const RunResult r =
+          export_to(dir / "request.json", dir / "cam.out",
+                    {"--format", format, "--master-period", c.period, "--master-start", "0",
+                     "--master-end", c.end, "--master-step", c.step});
+      EXPECT_EQ(r.exit_code, 2) << r.out.substr(0, 300);
+      EXPECT_EQ(r.out, "");
+      EXPECT_EQ(
+          error_of(r),
+          json({{"error",
+                 {{"code", "invalid_value"},
+                  {"field", "--master-period"},
+                  {"message", named("--master-period", "--master-end", "--master-start")}}}}));
+      EXPECT_FALSE(fs::exists(dir / "cam.out"));
+    }
+  }
+  // At the fastest speed allowed (5e29 over 0.5 s), the summary's speed is a number.
+  const RunResult fast = export_to(dir / "request.json", dir / "cam.out",
+                                   {"--master-period", "5e29", "--master-start", "0",
+                                    "--master-end", "5e29", "--master-step", "5e27"});
+  ASSERT_EQ(fast.exit_code, 0) << fast.err;
+  EXPECT_EQ(json::parse(fast.out)["master"]["speed_per_s"], 1e30);
+}
+
+// Hostile review: odd master values gave refusals whose texts contradicted themselves: an empty
+// allowed range ("[360.0000005, 360]"), a value rounded onto its bound ("--master-end = 360 is
+// out of range (30, 360]" for 360.0000000001), and a bound that reads below the refused step.
+TEST(ExportMasterCli, OddValuesAreRefusedWithTheValueVisiblyOutsideANonEmptyRange) {
+  const TempDir dir;
+  write_file(dir / "request.json", kThesis);
+  const std::string relation =
+      " master units (0 <= --master-start < --master-end <= --master-period, --master-end - "
+      "--master-start >= 1e-06)";
+  struct Case {
+    std::vector<std::string> args;
+    std::string field;
+    std::string message;
+  };
+  const std::vector<Case> cases{
+      {{"--master-period", "360", "--master-start", "359.9999995", "--master-end", "360"},
+       "--master-start",
+       "--master-start = 359.9999995 is out of range [0, 359.999999]" + relation},
+      {{"--master-period", "360", "--master-start", "30", "--master-end", "360.0000000001"},
+       "--master-end",
+       "--master-end = 360.0000000001 is out of range (30, 360]" + relation},
+      {{"--master-period", "360", "--master-start", "30", "--master-end", "30.0000000001"},
+       "--master-end",
+       "--master-end = 30.0000000001 is out of range [30.000001, 360]" + relation},
+      {{"--master-period", "360", "--master-start", "359.99999900000006", "--master-end", "360"},
+       "--master-start",
+       "--master-start = 359.99999900000006 is out of range [0, 359.999999]" + relation},
+      {{"--master-period", "4.9e-324", "--master-start", "0", "--master-end", "4.9e-324"},
+       "--master-period",
+       "--master-period = 5e-324 is out of range: allowed >= 1e-06 master units"},
+      {{"--master-period", "1e-7", "--master-start", "0", "--master-end", "1e-7"},
+       "--master-period",
+       "--master-period = 1e-07 is out of range: allowed >= 1e-06 master units"},
+      {with(kMasterArgs, {"--master-step", "3.6000010800001e-05"}), "--master-step",
+       "--master-step = 3.6000010800001e-05 gives more than 10000000 rows over the master "
+       "period 360: allowed >= 3.600001081e-05 master units"},
+      {with(kMasterArgs, {"--period-ms", "2"}), "--period-ms",
+       "--period-ms applies to a time-based table: a master-axis table (--master-period) has a "
+       "row every --master-step"},
+      {{"--period-ms", "1000.0000000001"},
+       "--period-ms",
+       "--period-ms = 1000.0000000001 is out of range [0.01, 1000] ms"},
+      {{"--period-ms", "0.0099999999999"},
+       "--period-ms",
+       "--period-ms = 0.0099999999999 is out of range [0.01, 1000] ms"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.message);
+    const RunResult r = export_to(dir / "request.json", dir / "cam.out", c.args);
+    EXPECT_EQ(r.exit_code, 2) << r.err;
+    EXPECT_EQ(
+        error_of(r),
+        json({{"error", {{"code", "invalid_value"}, {"field", c.field}, {"message", c.message}}}}));
+    EXPECT_FALSE(fs::exists(dir / "cam.out"));
+  }
+  // A denormal start is a number in [0, 360): exported.
+  const RunResult denormal =
+      export_to(dir / "request.json", dir / "cam.out",
+                {"--master-period", "360", "--master-start", "4.9e-324", "--master-end", "210"});
+  EXPECT_EQ(denormal.exit_code, 0) << denormal.err;
+}
+
+// Hostile review: the CSV had 12 significant digits, so a stroke of more digits did not land in
+// the last row exactly. Every number is the shortest text that reads back as the value, and the
+// rows at the stroke hold it as the request gave it, in the CLI and over HTTP alike.
+TEST(CamCsv, TheLastRowHoldsAStrokeOfManyDigitsExactly) {
+  json request = json::parse(kThesis);
+  request["format"]["stroke_mm"] = 800.123456789012;
+  const test::Server server({"--workers", "1"});
+  httplib::Client client = server.client();
+  const auto planned = client.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->status, 200) << planned->body;
+  const std::string key = json::parse(planned->body)["key"];
+  const TempDir dir;
+  write_file(dir / "request.json", request.dump());
+  struct Case {
+    std::string query;
+    std::vector<std::string> args;
+  };
+  const std::vector<Case> cases{
+      {"", {}},
+      {"?period_ms=0.7", {"--period-ms", "0.7"}},
+      {"?master_period=360&master_start=30&master_end=210", kMasterArgs},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.query);
+    const auto res = client.Get("/v1/plans/" + key + "/cam.csv" + c.query);
+    ASSERT_TRUE(res);
+    ASSERT_EQ(res->status, 200) << res->body.substr(0, 300);
+    const RunResult r = export_to(dir / "request.json", dir / "cam.csv", c.args);
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const std::string file = read_file(dir / "cam.csv");
+    EXPECT_EQ(res->body, file);
+    std::string header;
+    const auto rows = csv_rows(file, header);
+    ASSERT_GT(rows.size(), 2u);
+    EXPECT_EQ(rows.back()[1], 800.123456789012);
+    const std::size_t last = file.rfind('\n', file.size() - 2);
+    const std::string line = file.substr(last + 1);
+    EXPECT_NE(line.find(",800.123456789012,0,0,0\n"), std::string::npos) << line;
+    // Every cell is the shortest text of its number (no digit more than it needs).
+    std::size_t checked = 0;
+    for (std::size_t at = file.find('\n') + 1; at < file.size() && checked < 4000;) {
+      const std::size_t end = file.find_first_of(",\n", at);
+      const std::string text = file.substr(at, end - at);
+      double v = 0.0;
+      std::from_chars(text.data(), text.data() + text.size(), v);
+      std::array<char, 32> shortest{};
+      const auto printed = std::to_chars(shortest.data(), shortest.data() + shortest.size(), v);
+      EXPECT_EQ(text, std::string(shortest.data(), printed.ptr));
+      at = end + 1;
+      ++checked;
+    }
+  }
+}
+
+// Hostile review: concurrent cam exports had no global memory bound (200 parallel requests for
+// 200 000-row tables reached more than 3 GB). Each export reserves an upper bound of its bytes
+// in cam_export_bytes until its response is written; one that does not fit is a 503 with
+// Retry-After. A client that does not read a large table holds its share until the server gives
+// up writing or the client goes away.
+TEST(CamExportBudget, ExportsBeyondTheBudgetAre503UntilTheExportsInFlightAreDone) {
+  const TempDir dir;
+  write_file(dir / "config.json", R"({"cam_export_bytes": 1048576, "write_timeout_s": 60})");
+  test::Server server({"--workers", "1", "--config", (dir / "config.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  httplib::Client client = server.client();
+  const auto planned = client.Post("/v1/plans", kThesis, "application/json");
+  ASSERT_TRUE(planned);
+  ASSERT_EQ(planned->status, 200) << planned->body;
+  const std::string key = json::parse(planned->body)["key"];
+  const std::string small =
+      "/v1/plans/" + key + "/cam.csv?master_period=360&master_start=30&master_end=210";
+  auto gauge = [&](const std::string& series) {
+    const auto metrics = client.Get("/metrics");
+    return metrics ? test::metric(metrics->body, series) : -1.0;
+  };
+  auto wait_for_gauge = [&](const std::string& series, double value) {
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(30);
+    while (gauge(series) != value && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    }
+    return gauge(series);
+  };
+  auto concurrently = [&](int n) {
+    std::vector<std::future<httplib::Result>> replies;
+    for (int i = 0; i < n; ++i) {
+      replies.push_back(std::async(std::launch::async, [&] { return server.client().Get(small); }));
+    }
+    return replies;
+  };
+  EXPECT_EQ(gauge("slosh_cam_export_budget_bytes"), 1048576.0);
+  {
+    // A client asks for a 200 000-row ST table (about 40 MB, more than the whole budget, which it
+    // takes alone) and does not read it.
+    test::Raw holder(server.port());
+    ASSERT_TRUE(holder.connected());
+    ASSERT_TRUE(holder.send("GET /v1/plans/" + key +
+                            "/cam.st?master_period=360&master_start=30&master_end=210&"
+                            "master_step=0.001800027001 HTTP/1.1\r\nHost: x\r\n\r\n"));
+    ASSERT_EQ(wait_for_gauge("slosh_cam_export_bytes", 1048576.0), 1048576.0);
+    auto replies = concurrently(8);
+    for (auto& reply : replies) {
+      const httplib::Result res = reply.get();
+      ASSERT_TRUE(res);
+      EXPECT_EQ(res->status, 503);
+      EXPECT_EQ(res->get_header_value("Retry-After"), "1");
+      EXPECT_EQ(json::parse(res->body),
+                json::parse(R"({"error": {"code": "overloaded", "field": null, "message":
+                  "the cam exports in flight hold 1048576 of the 1048576 bytes allowed (cam_export_bytes); this table needs up to 67068: retry later"}})"));
+    }
+    EXPECT_EQ(gauge("slosh_cam_export_refusals_total"), 8.0);
+    const auto health = client.Get("/healthz");  // the rest of the service answers at once
+    ASSERT_TRUE(health);
+    EXPECT_EQ(health->status, 200);
+  }  // the holder hangs up: the server's write fails and the reservation is released
+  ASSERT_EQ(wait_for_gauge("slosh_cam_export_bytes", 0.0), 0.0);
+  // Eight small tables fit together (8 x 67068 bytes of 1 MiB).
+  const auto expected = client.Get(small);
+  ASSERT_TRUE(expected);
+  ASSERT_EQ(expected->status, 200);
+  auto replies = concurrently(8);
+  for (auto& reply : replies) {
+    const httplib::Result res = reply.get();
+    ASSERT_TRUE(res);
+    EXPECT_EQ(res->status, 200) << res->body.substr(0, 300);
+    EXPECT_EQ(res->body, expected->body);
+  }
+  EXPECT_EQ(wait_for_gauge("slosh_cam_export_bytes", 0.0), 0.0);
+  EXPECT_EQ(gauge("slosh_cam_export_refusals_total"), 8.0);
 }
 
 TEST(CamRoutesOpenApi, BothRoutesArePublishedWithTheirParameters) {
@@ -803,7 +1252,7 @@ TEST(CamRoutesOpenApi, BothRoutesArePublishedWithTheirParameters) {
     std::vector<std::string> expected = common;
     if (std::string(path).ends_with(".st")) expected.push_back("st_name");
     EXPECT_EQ(names, expected);
-    for (const char* status : {"200", "404", "422", "500"}) {
+    for (const char* status : {"200", "404", "422", "500", "503"}) {
       EXPECT_TRUE(op.at("responses").contains(status)) << status;
     }
     const std::string type = std::string(path).ends_with(".st") ? "text/plain" : "text/csv";

@@ -53,6 +53,7 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.http_threads, defaults.http_threads);
   EXPECT_EQ(from_file.cache_store_bytes, defaults.cache_store_bytes);
   EXPECT_EQ(from_file.cache_min_time_store_bytes, defaults.cache_min_time_store_bytes);
+  EXPECT_EQ(from_file.cam_export_bytes, defaults.cam_export_bytes);
 }
 
 TEST(Config, EnvironmentOverridesTheFile) {
@@ -86,7 +87,7 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
                 "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
                 "keep_alive_timeout_s, "
                 "request_timeout_s, cache_memory_bytes, cache_store_bytes, "
-                "cache_min_time_store_bytes");
+                "cache_min_time_store_bytes, cam_export_bytes");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");

@@ -6,6 +6,7 @@
 #include <httplib.h>
 #include <netinet/in.h>
 #include <signal.h>
+#include <sys/resource.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -25,6 +26,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/simulate.hpp"
 #include "support/process.hpp"
+#include "support/raw_client.hpp"
 #include "support/server.hpp"
 
 namespace slosh {
@@ -54,41 +56,7 @@ json parse(const std::string& text) {
   return json::object();
 }
 
-/// A raw TCP connection to the server (for what an HTTP client library will not send).
-class Raw {
- public:
-  explicit Raw(int port) : fd_(::socket(AF_INET, SOCK_STREAM, 0)) {
-    sockaddr_in a{};
-    a.sin_family = AF_INET;
-    a.sin_port = htons(static_cast<std::uint16_t>(port));
-    a.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
-    connected_ = ::connect(fd_, reinterpret_cast<sockaddr*>(&a), sizeof a) == 0;
-    timeval tv{10, 0};
-    setsockopt(fd_, SOL_SOCKET, SO_RCVTIMEO, &tv, sizeof tv);
-  }
-  ~Raw() { ::close(fd_); }
-  Raw(const Raw&) = delete;
-  Raw& operator=(const Raw&) = delete;
-  [[nodiscard]] bool connected() const { return connected_; }
-  /// false once the server has closed the connection.
-  bool send(const std::string& data) {
-    return ::send(fd_, data.data(), data.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(data.size());
-  }
-  /// Everything until the server closes or goes quiet for 10 s.
-  std::string read_all() {
-    std::string out;
-    char buf[4096];
-    for (;;) {
-      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
-      if (n <= 0) return out;
-      out.append(buf, static_cast<std::size_t>(n));
-    }
-  }
-
- private:
-  int fd_;
-  bool connected_{false};
-};
+using test::Raw;
 
 long rss_kib(pid_t pid) {
   std::ifstream in("/proc/" + std::to_string(pid) + "/status");
@@ -805,6 +773,62 @@ TEST(Hardening, APlanOfAnInvalidFormatIsA422) {
   EXPECT_EQ(e["message"],
             "invalid input: the uniform law's predicted sloshing is not finite for this format; "
             "nothing was planned");
+}
+
+long vm_size_kib(pid_t pid) {
+  std::ifstream in("/proc/" + std::to_string(pid) + "/status");
+  std::string line;
+  while (std::getline(in, line)) {
+    if (line.rfind("VmSize:", 0) == 0) return std::stol(line.substr(7));
+  }
+  return -1;
+}
+
+// Hostile review: under `ulimit -v` the connection pool's std::thread threw std::system_error
+// out of the HTTP library's accept loop and std::terminate aborted the server. Here the running
+// server's address space is limited (prlimit, as `ulimit -v` would) to what it maps plus 4 MiB,
+// less than a thread's stack: each connection is answered 503 with Retry-After by the pool's
+// refusing thread, and once threads can be started again the server answers as before.
+TEST(Hardening, AConnectionThatGetsNoThreadIsAnswered503AndTheServerLivesOn) {
+  Server server({"--workers", "1"});
+  ASSERT_GT(server.port(), 0) << server.log();
+  const pid_t pid = server.child().pid();
+  rlimit stack{};
+  ASSERT_EQ(::prlimit(pid, RLIMIT_STACK, nullptr, &stack), 0);
+  constexpr rlim_t kHeadroom = rlim_t{4} << 20;
+  if (stack.rlim_cur != RLIM_INFINITY && stack.rlim_cur <= kHeadroom) {
+    GTEST_SKIP() << "thread stacks of " << stack.rlim_cur << " bytes fit in the headroom";
+  }
+  rlimit before{};
+  ASSERT_EQ(::prlimit(pid, RLIMIT_AS, nullptr, &before), 0);
+  const long vm = vm_size_kib(pid);
+  ASSERT_GT(vm, 0);
+  const rlimit tight{static_cast<rlim_t>(vm) * 1024 + kHeadroom, before.rlim_max};
+  ASSERT_EQ(::prlimit(pid, RLIMIT_AS, &tight, nullptr), 0);
+  for (int i = 0; i < 3; ++i) {
+    httplib::Client c = server.client();
+    const auto r = c.Get("/healthz");
+    ASSERT_TRUE(r) << httplib::to_string(r.error()) << "\n" << server.log();
+    EXPECT_EQ(r->status, 503);
+    EXPECT_EQ(r->get_header_value("Retry-After"), "1");
+    EXPECT_EQ(r->get_header_value("Connection"), "close");
+    EXPECT_EQ(parse(r->body),
+              json::parse(R"({"error": {"code": "overloaded", "field": null, "message":
+                "the service cannot start a thread for this connection (the system refused one): retry later"}})"));
+  }
+  ASSERT_EQ(::prlimit(pid, RLIMIT_AS, &before, nullptr), 0);
+  httplib::Client c = server.client();
+  const auto health = c.Get("/healthz");
+  ASSERT_TRUE(health) << server.log();
+  EXPECT_EQ(health->status, 200);
+  const auto metrics = c.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(
+      test::metric(metrics->body, "slosh_http_requests_total{route=\"other\",status=\"503\"}"),
+      3.0);
+  EXPECT_NE(server.log().find("cannot start a connection thread (0 running)"), std::string::npos)
+      << server.log();
+  EXPECT_EQ(server.stop(), 0) << server.log();
 }
 
 }  // namespace

@@ -228,10 +228,13 @@ TEST(MasterCamTable, EachMemberIsRefusedWithItsRange) {
     const char* allowed;
   };
   const std::vector<Case> cases{
-      {{0.0, 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {0.0, kInf, true, false}, "> 0"},
-      {{-360.0, 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {0.0, kInf, true, false}, "> 0"},
-      {{kInf, 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {0.0, kInf, true, false}, "> 0"},
-      {{std::nan(""), 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {0.0, kInf, true, false}, "> 0"},
+      {{0.0, 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {1e-6, kInf, false, false}, ">= 1e-06"},
+      {{-360.0, 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {1e-6, kInf, false, false}, ">= 1e-06"},
+      {{kInf, 0.0, 1.0, 1.0}, MasterAxisInput::kPeriod, {1e-6, kInf, false, false}, ">= 1e-06"},
+      {{std::nan(""), 0.0, 1.0, 1.0},
+       MasterAxisInput::kPeriod,
+       {1e-6, kInf, false, false},
+       ">= 1e-06"},
       {{360.0, -1.0, 210.0, 1.0}, MasterAxisInput::kStart, {0.0, 360.0, false, true}, "[0, 360)"},
       {{360.0, 360.0, 210.0, 1.0}, MasterAxisInput::kStart, {0.0, 360.0, false, true}, "[0, 360)"},
       {{360.0, 30.0, 30.0, 1.0}, MasterAxisInput::kEnd, {30.0, 360.0, true, false}, "(30, 360]"},
@@ -280,8 +283,10 @@ TEST(MasterCamTable, EachMemberIsRefusedWithItsRange) {
                std::invalid_argument);
 }
 
-// Hostile review: a master span of 1e-300 made the derivatives per master unit inf and nan.
-TEST(MasterCamTable, ASpanTooShortForFiniteDerivativesIsRefusedAtTheEnd) {
+// Hostile review: a master span of 1e-300 made the derivatives per master unit inf and nan. The
+// shortest span is also the shortest period (the refusal named the end with the empty range
+// "[1e-06, 1e-300]").
+TEST(MasterCamTable, ASpanTooShortForFiniteDerivativesIsRefused) {
   MasterAxis axis;
   axis.period = 1e-300;
   axis.start = 0.0;
@@ -289,11 +294,111 @@ TEST(MasterCamTable, ASpanTooShortForFiniteDerivativesIsRefusedAtTheEnd) {
   axis.step = 1e-301;
   const auto refusal = check_master_axis(axis);
   ASSERT_TRUE(refusal.has_value());
-  EXPECT_EQ(refusal->input, MasterAxisInput::kEnd);
+  EXPECT_EQ(refusal->input, MasterAxisInput::kPeriod);
+  EXPECT_EQ(refusal->message, "master period = 1e-300 must be finite and >= 1e-06 (master units)");
   axis = MasterAxis{};
   axis.start = 30.0;
   axis.end = 30.0 + 2e-6;
   EXPECT_FALSE(check_master_axis(axis).has_value());
+  axis.end = 30.0000000001;
+  const auto end = check_master_axis(axis);
+  ASSERT_TRUE(end.has_value());
+  EXPECT_EQ(end->input, MasterAxisInput::kEnd);
+  EXPECT_EQ(end->message,
+            "master end = 30.0000000001 must be finite and in [30.000001, 360] (master units)");
+}
+
+// Hostile review of the refusals' texts: an allowed set that is empty ("[360.0000005, 360]" for
+// a start 5e-7 before the period), values rounded onto their bounds ("master end = 360 is out of
+// range (30, 360]" for 360.0000000001) and a denormal called "not a number".
+TEST(MasterCamTable, EveryRefusalShowsAValueVisiblyOutsideANonEmptyRange) {
+  struct Case {
+    MasterAxis axis;
+    MasterAxisInput input;
+    std::string value;
+    std::string allowed;
+  };
+  const std::vector<Case> cases{
+      // A start too late for the shortest span: the start is refused with its own bound.
+      {{360.0, 359.9999995, 360.0, 1.0}, MasterAxisInput::kStart, "359.9999995", "[0, 359.999999]"},
+      {{1e-6, 5e-7, 1e-6, 1e-7}, MasterAxisInput::kStart, "5e-07", "[0, 0]"},
+      // Enough digits that the value lies visibly outside the range.
+      {{360.0, 30.0, 360.0000000001, 1.0}, MasterAxisInput::kEnd, "360.0000000001", "(30, 360]"},
+      {{360.0, 30.0, 30.000000999, 1.0}, MasterAxisInput::kEnd, "30.000000999", "[30.000001, 360]"},
+      {{360.0, 359.99999900000006, 360.0, 1.0},
+       MasterAxisInput::kStart,
+       "359.99999900000006",
+       "[0, 359.999999]"},
+      {{360.0, -4.9e-324, 210.0, 1.0}, MasterAxisInput::kStart, "-5e-324", "[0, 360)"},
+      // A denormal is a number: the period is refused for being below the shortest span.
+      {{4.9e-324, 0.0, 4.9e-324, 1.0}, MasterAxisInput::kPeriod, "5e-324", ">= 1e-06"},
+      // Between the smallest step (3.600001080000324e-05) and its 10-digit text.
+      {{360.0, 30.0, 210.0, 3.6000010800001e-05},
+       MasterAxisInput::kStep,
+       "3.6000010800001e-05",
+       ">= 3.6000010800003e-05"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.value + " " + c.allowed);
+    const auto refusal = check_master_axis(c.axis);
+    ASSERT_TRUE(refusal.has_value());
+    EXPECT_EQ(refusal->input, c.input);
+    EXPECT_EQ(refusal->value_text(), c.value);
+    EXPECT_EQ(refusal->allowed(), c.allowed);
+    // The set is not empty and, as its text reads, leaves the value out.
+    EXPECT_LE(refusal->bounds.lo, refusal->bounds.hi);
+    EXPECT_THROW((void)sample_master_cam_table(make_poly5_law(0.1, 1.0), 0.1, c.axis),
+                 MasterAxisError);
+  }
+  // A start 1 ulp below the latest one is allowed, and so is its end at the period.
+  MasterAxis last{360.0, 0.0, 360.0, 1.0};
+  last.start = std::nextafter(360.0 - kMinMasterSpan, 0.0);
+  EXPECT_FALSE(check_master_axis(last).has_value());
+}
+
+// Hostile review: a master period of 1e308 (end 1e308) over a 0.5 s law overflowed the master
+// speed to inf: a table of zeros, `speed_per_s: null` and "inf" in the ST header.
+TEST(MasterCamTable, AMasterSpeedThatIsNotAFiniteNumberIsRefusedAtThePeriod) {
+  const MotionLaw law = make_poly5_law(0.1, 0.5);
+  struct Case {
+    MasterAxis axis;
+    std::string speed;
+  };
+  const std::vector<Case> cases{
+      {{1e308, 0.0, 1e308, 1e306}, "inf"},
+      {{1.7e308, 0.0, 1.7e308, 1e306}, "inf"},
+      {{1e31, 0.0, 1e30, 1e29}, "2e+30"},
+  };
+  for (const Case& c : cases) {
+    SCOPED_TRACE(c.speed);
+    ASSERT_FALSE(check_master_axis(c.axis).has_value());  // the axis alone is fine
+    const auto refusal = check_master_speed(c.axis, law.duration());
+    ASSERT_TRUE(refusal.has_value());
+    EXPECT_EQ(refusal->input, MasterAxisInput::kPeriod);
+    EXPECT_EQ(refusal->value, c.axis.period);
+    ASSERT_TRUE(refusal->speed.has_value());
+    EXPECT_EQ(refusal->allowed(), "[1e-30, 1e+30]");
+    EXPECT_EQ(refusal->message,
+              "master speed (master end - master start) / motion time = " + c.speed +
+                  " master units/s (master period " + master_value_text(c.axis.period) +
+                  ", motion time 0.5 s) must be finite and in [1e-30, 1e+30] master units/s");
+    try {
+      (void)sample_master_cam_table(law, 0.1, c.axis);
+      ADD_FAILURE() << "not refused";
+    } catch (const MasterAxisError& e) {
+      EXPECT_EQ(e.refusal().input, MasterAxisInput::kPeriod);
+      EXPECT_TRUE(e.refusal().speed.has_value());
+    }
+  }
+  // Just inside: 5e29 over 0.5 s is 1e30 master units/s, and every cell is finite.
+  const MasterAxis fast{5e29, 0.0, 5e29, 5e27};
+  EXPECT_FALSE(check_master_speed(fast, 0.5).has_value());
+  for (const MasterCamSample& row : sample_master_cam_table(law, 0.1, fast)) {
+    for (const double v : {row.master, row.position, row.velocity, row.acceleration, row.jerk}) {
+      EXPECT_TRUE(std::isfinite(v));
+    }
+  }
+  EXPECT_TRUE(check_master_speed({1e-6, 0.0, 1e-6, 1e-8}, 1e25).has_value());  // too slow
 }
 
 }  // namespace

@@ -388,7 +388,9 @@ namespace slosh {
 namespace {
 
 // Hostile review: a search still queued when shutdown began answered 200 with every strategy
-// "baseline" / time_limit. Queued work answers 503 at once, as queued plan solves do.
+// "baseline" / time_limit. Queued work answers 503 at once, as queued plan solves do. The test
+// waits for what it needs to see in /metrics (the long search running, the second one queued)
+// instead of sleeping 150 ms, which raced SIGTERM under load.
 TEST(MinTimeService, ASearchStillQueuedAtShutdownAnswers503) {
   test::Server server({"--workers", "1"});
   ASSERT_GT(server.port(), 0) << server.log();
@@ -403,9 +405,14 @@ TEST(MinTimeService, ASearchStillQueuedAtShutdownAnswers503) {
     });
   };
   auto first = post(slow);
-  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  ASSERT_TRUE(wait_for_metrics(server, [](const std::string& m) {
+    return metric(m, "slosh_busy_workers") == 1 && metric(m, "slosh_queue_depth") == 0;
+  }));
   auto second = post(queued);
-  std::this_thread::sleep_for(std::chrono::milliseconds(150));
+  // One sample shows the long search still running and the second one still queued.
+  ASSERT_TRUE(wait_for_metrics(server, [](const std::string& m) {
+    return metric(m, "slosh_busy_workers") == 1 && metric(m, "slosh_queue_depth") == 1;
+  }));
   ::kill(server.child().pid(), SIGTERM);
   const auto [status, body] = second.get();
   EXPECT_EQ(status, 503) << body;

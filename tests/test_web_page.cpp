@@ -106,7 +106,7 @@ TEST(WebPage, CamTableParametersAreRefusedByName) {
                 "message": "period_ms = 0 is out of range [0.01, 1000] ms"})"));
   EXPECT_EQ(error_of("?period_ms=abc"),
             json::parse(R"({"code": "invalid_value", "field": "period_ms",
-                "message": "period_ms = abc is not a number [ms]"})"));
+                "message": "period_ms = abc is not a decimal number [ms]"})"));
   EXPECT_EQ(error_of("?allow_infeasible=yes"),
             json::parse(R"({"code": "invalid_value", "field": "allow_infeasible",
                 "message": "allow_infeasible = yes is not allowed: one of \"true\", \"false\""})"));

@@ -2,12 +2,20 @@
 
 #include <gtest/gtest.h>
 
+#include <sys/resource.h>
+
 #include <atomic>
 #include <chrono>
+#include <cstdlib>
+#include <fstream>
+#include <functional>
 #include <future>
 #include <stdexcept>
+#include <string>
+#include <system_error>
 #include <thread>
 
+#include "connection_pool.hpp"
 #include "worker_pool.hpp"
 
 namespace slosh::service {
@@ -55,6 +63,79 @@ TEST(WorkerPool, SubmitWaitQueuesMoreTasksThanTheQueueHolds) {
   }
   for (int i = 0; i < 5000 && ran < 50; ++i) std::this_thread::sleep_for(1ms);
   EXPECT_EQ(ran, 50);
+}
+
+// Hostile review: a std::system_error from starting a connection thread (e.g. under
+// `ulimit -v`) left ConnectionPool::enqueue, then the HTTP library's accept loop, and ended the
+// process. The connection goes to the refusing thread instead (its requests are answered 503).
+TEST(ConnectionPool, AThreadTheSystemRefusesSendsTheConnectionToTheRefusingThread) {
+  std::atomic<int> started{0};
+  std::atomic<bool> refuse{false};
+  ConnectionPool pool(4, [&](std::function<void()> body) {
+    if (refuse)
+      throw std::system_error(std::make_error_code(std::errc::resource_unavailable_try_again));
+    ++started;
+    return std::thread(std::move(body));
+  });
+  EXPECT_EQ(started, 1);  // the refusing thread
+  // The system refuses the connection's thread: the refusing thread runs the connection.
+  refuse = true;
+  std::promise<bool> first;
+  EXPECT_NO_THROW(pool.enqueue([&first] { first.set_value(ConnectionPool::refusing()); }));
+  auto refused = first.get_future();
+  ASSERT_EQ(refused.wait_for(10s), std::future_status::ready);
+  EXPECT_TRUE(refused.get());
+  EXPECT_EQ(pool.refused(), 1u);
+  EXPECT_EQ(pool.threads(), 0u);
+  // Threads can be started again: the next connection gets one of its own.
+  refuse = false;
+  std::promise<bool> second;
+  pool.enqueue([&second] { second.set_value(ConnectionPool::refusing()); });
+  auto served = second.get_future();
+  ASSERT_EQ(served.wait_for(10s), std::future_status::ready);
+  EXPECT_FALSE(served.get());
+  EXPECT_EQ(pool.refused(), 1u);
+  EXPECT_EQ(pool.threads(), 1u);
+  EXPECT_EQ(started, 2);
+  pool.shutdown();
+}
+
+// A pool whose refusing thread cannot be started does not start (the server reports it).
+TEST(ConnectionPool, NoRefusingThreadMeansNoPool) {
+  EXPECT_THROW(ConnectionPool(4,
+                              [](std::function<void()>) -> std::thread {
+                                throw std::system_error(std::make_error_code(
+                                    std::errc::resource_unavailable_try_again));
+                              }),
+               std::system_error);
+}
+
+// Worker threads the system refuses (here: the address space limited to what the process maps
+// plus 16 MiB, two thread stacks): the started ones are joined and the std::system_error
+// propagates, where destroying their joinable std::thread objects ended the process.
+// Starts 64 workers with the address space limited to what the process maps plus 16 MiB (two
+// thread stacks); exits 3 when the pool reports the refusal, 0 when it starts them all.
+[[noreturn]] void start_workers_in_a_tight_address_space() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  rlim_t mapped = 0;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmSize:", 0) == 0) mapped = std::stoull(line.substr(7)) * 1024;
+  }
+  rlimit limit{};
+  ::getrlimit(RLIMIT_AS, &limit);
+  const rlimit tight{mapped + (rlim_t{16} << 20), limit.rlim_max};
+  ::setrlimit(RLIMIT_AS, &tight);
+  try {
+    const WorkerPool pool(64, 4);
+  } catch (const std::system_error&) {
+    std::_Exit(3);
+  }
+  std::_Exit(0);
+}
+
+TEST(WorkerPoolDeathTest, AWorkerTheSystemRefusesIsAnErrorNotAnAbort) {
+  EXPECT_EXIT(start_workers_in_a_tight_address_space(), ::testing::ExitedWithCode(3), "");
 }
 
 }  // namespace

@@ -960,16 +960,16 @@ json cam_table_parameters(bool st) {
                        {{"type", "number"}, {"minimum", 0.01}, {"maximum", 1000}, {"default", 1}},
                        "Time-based table: controller cycle [ms], as `slosh export --period-ms`. "
                        "Not with the master_* parameters."),
-       query_parameter("master_period",
-                       {{"type", "number"}, {"exclusiveMinimum", true}, {"minimum", 0}},
+       query_parameter("master_period", {{"type", "number"}, {"minimum", 1e-6}},
                        "Master-axis table: length of the master cycle [master units, e.g. 360 "
                        "degrees]. master_period, master_start and master_end come together; the "
                        "table covers [0, master_period]: 0 mm before master_start, the law from "
                        "master_start to master_end at the constant master speed (master_end - "
-                       "master_start) / T, the stroke from master_end on."),
+                       "master_start) / T, the stroke from master_end on. A master speed outside "
+                       "[1e-30, 1e30] master units/s is a 422 naming master_period."),
        query_parameter("master_start", master_units,
                        "Master position where the motion starts: 0 <= master_start < "
-                       "master_end [master units]."),
+                       "master_end [master units], master_end - master_start >= 1e-6."),
        query_parameter("master_end", master_units,
                        "Master position where the motion ends at the stroke: master_start < "
                        "master_end <= master_period [master units]."),
@@ -982,8 +982,19 @@ json cam_table_parameters(bool st) {
                        "Export the law of an infeasible plan too.")});
   if (st) {
     p.push_back(query_parameter(
-        "st_name", {{"type", "string"}, {"default", "SLOSH_CAM"}, {"maxLength", 64}},
-        "Identifier of the ARRAY constant (an IEC 61131-3 identifier, not a keyword)."));
+        "st_name",
+        {{"type", "string"}, {"default", "SLOSH_CAM"}, {"minLength", 1}, {"maxLength", 64}},
+        "Identifier of the ARRAY constant: an IEC 61131-3 identifier that is not a keyword, a "
+        "data type, a standard function block (TON, CTU, R_TRIG, ...) or standard function, "
+        "compared without case."));
+  }
+  for (json& parameter : p) {
+    if (parameter["in"] != "query") continue;
+    std::string text = parameter["description"].get<std::string>();
+    if (parameter["schema"]["type"] == "number") {
+      text += " A decimal number (no hex, inf, nan, '+' or spaces).";
+    }
+    parameter["description"] = text + " At most once; an empty value is a 422.";
   }
   return p;
 }
@@ -1007,7 +1018,7 @@ json cam_table_operation(bool st) {
       {"responses", with_statuses({{"200",
                                     {{"description", st ? st_text : csv_columns},
                                      {"content", {{type, {{"schema", {{"type", "string"}}}}}}}}}},
-                                  {404, 422, 500})}};
+                                  {404, 422, 500, 503})}};
 }
 
 json read_operation(const Route& route) {

@@ -1,11 +1,15 @@
 #include "slosh/core/law/cam_table.hpp"
 
 #include <algorithm>
+#include <array>
+#include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 
 #include "text.hpp"
 
@@ -68,11 +72,6 @@ std::vector<CamSample> sample_cam_table(const MotionLaw& law, double stroke, dou
 
 namespace {
 
-// 10 significant digits (the API's number_text).
-std::string master_number(double v) {
-  return detail::significant(v, 10);
-}
-
 std::string_view master_input_name(MasterAxisInput input) {
   switch (input) {
     case MasterAxisInput::kPeriod:
@@ -87,10 +86,13 @@ std::string_view master_input_name(MasterAxisInput input) {
   return "master step";
 }
 
+// The refusal of `value` outside `bounds`, its digits set so that the value reads differently
+// from the bounds.
 MasterAxisRefusal master_refusal(MasterAxisInput input, double value, const InputBounds& bounds) {
-  MasterAxisRefusal r{input, value, bounds, false, {}};
+  MasterAxisRefusal r{input, value, bounds, false, std::nullopt, 10, {}};
+  r.digits = bounds_digits(value, bounds);
   const bool interval = std::isfinite(bounds.lo) && std::isfinite(bounds.hi);
-  r.message = std::string(master_input_name(input)) + " = " + master_number(value) +
+  r.message = std::string(master_input_name(input)) + " = " + r.value_text() +
               " must be finite and " + (interval ? "in " : "") + r.allowed() + " (master units)";
   return r;
 }
@@ -100,27 +102,85 @@ bool near_grid(double grid_point, double x, double step) {
   return std::abs(grid_point - x) <= kMasterGridTolerance * step;
 }
 
-}  // namespace
-
-std::string MasterAxisRefusal::allowed() const {
-  return bounds_text(bounds, master_number);
+// The largest start whose end can lie kMinMasterSpan after it and still within the period
+// (period >= kMinMasterSpan): start + kMinMasterSpan <= period, start < period.
+double latest_start(double period) {
+  double start = period - kMinMasterSpan;
+  while (start > 0.0 && start + kMinMasterSpan > period) {
+    start = std::nextafter(start, 0.0);
+  }
+  return start < period ? start : std::nextafter(period, 0.0);
 }
 
-std::optional<MasterAxisRefusal> check_master_axis(const MasterAxis& axis, std::size_t max_rows) {
-  if (!positive().contains(axis.period)) {
-    return master_refusal(MasterAxisInput::kPeriod, axis.period, positive());
-  }
+// The refusal of the start or the end of an axis whose period is valid; nullopt when both are
+// in range. Each allowed set is the plain one ("[0, 360)", "(30, 360]") unless the value lies
+// in it and only the shortest span refuses it: then the tighter set, which is never empty.
+std::optional<MasterAxisRefusal> check_start_and_end(const MasterAxis& axis) {
   const InputBounds start{0.0, axis.period, false, true};
-  if (!start.contains(axis.start))
+  if (!start.contains(axis.start)) {
     return master_refusal(MasterAxisInput::kStart, axis.start, start);
+  }
+  const double last = latest_start(axis.period);
+  if (axis.start > last) {
+    return master_refusal(MasterAxisInput::kStart, axis.start, closed_range(0.0, last));
+  }
   const InputBounds end{axis.start, axis.period, true, false};
   if (!end.contains(axis.end)) return master_refusal(MasterAxisInput::kEnd, axis.end, end);
   // A shorter motion span makes the derivatives per master unit (v / w, a / w^2, j / w^3)
   // overflow to inf (hostile review: a period of 1e-300 gave nan and inf cells).
-  if (axis.end - axis.start < kMinMasterSpan) {
-    return master_refusal(MasterAxisInput::kEnd, axis.end,
-                          InputBounds{axis.start + kMinMasterSpan, axis.period, false, false});
+  const double earliest_end = axis.start + kMinMasterSpan;  // <= period (latest_start)
+  if (axis.end < earliest_end) {
+    return master_refusal(MasterAxisInput::kEnd, axis.end, closed_range(earliest_end, axis.period));
   }
+  return std::nullopt;
+}
+
+}  // namespace
+
+MasterAxisError::MasterAxisError(MasterAxisRefusal refusal)
+    : std::invalid_argument(refusal.message), refusal_(std::move(refusal)) {}
+
+std::string master_number_text(double v, int digits) {
+  return detail::significant(v, digits);
+}
+
+std::string master_value_text(double v) {
+  if (!std::isfinite(v)) return std::isnan(v) ? "nan" : (v > 0.0 ? "inf" : "-inf");
+  std::array<char, 32> buffer{};
+  const auto written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
+  return {buffer.data(), written.ptr};
+}
+
+int bounds_digits(double value, const InputBounds& bounds) {
+  constexpr int kFirst = 10;
+  constexpr int kLast = std::numeric_limits<double>::max_digits10;
+  // A bound as the text of `digits` significant digits reads.
+  const auto printed = [](double bound, int digits) {
+    if (!std::isfinite(bound)) return bound;
+    return std::strtod(master_number_text(bound, digits).c_str(), nullptr);
+  };
+  for (int digits = kFirst; digits < kLast; ++digits) {
+    const InputBounds shown{printed(bounds.lo, digits), printed(bounds.hi, digits), bounds.lo_open,
+                            bounds.hi_open};
+    if (!shown.contains(value)) return digits;
+  }
+  return kLast;
+}
+
+std::string MasterAxisRefusal::allowed() const {
+  return bounds_text(bounds, [this](double v) { return master_number_text(v, digits); });
+}
+
+std::string MasterAxisRefusal::value_text() const {
+  return master_value_text(value);
+}
+
+std::optional<MasterAxisRefusal> check_master_axis(const MasterAxis& axis, std::size_t max_rows) {
+  const InputBounds period{kMinMasterSpan, std::numeric_limits<double>::infinity(), false, false};
+  if (!period.contains(axis.period)) {
+    return master_refusal(MasterAxisInput::kPeriod, axis.period, period);
+  }
+  if (auto refusal = check_start_and_end(axis)) return refusal;
   if (!positive().contains(axis.step)) {
     return master_refusal(MasterAxisInput::kStep, axis.step, positive());
   }
@@ -129,19 +189,31 @@ std::optional<MasterAxisRefusal> check_master_axis(const MasterAxis& axis, std::
   if (!(axis.period / axis.step <= grid_rows)) {
     const InputBounds rows{axis.period / grid_rows, std::numeric_limits<double>::infinity(), false,
                            false};
-    MasterAxisRefusal r{MasterAxisInput::kStep, axis.step, rows, true, {}};
-    r.message = "master step = " + master_number(axis.step) + " gives more than " +
-                std::to_string(max_rows) + " rows over the master period " +
-                master_number(axis.period) + ": it must be " + r.allowed() + " (master units)";
+    MasterAxisRefusal r{MasterAxisInput::kStep, axis.step, rows, true, std::nullopt, 10, {}};
+    r.digits = bounds_digits(axis.step, rows);
+    r.message = "master step = " + r.value_text() + " gives more than " + std::to_string(max_rows) +
+                " rows over the master period " + master_number_text(axis.period) +
+                ": it must be " + r.allowed() + " (master units)";
     return r;
   }
   return std::nullopt;
 }
 
+std::optional<MasterAxisRefusal> check_master_speed(const MasterAxis& axis, double motion_time) {
+  const double speed = (axis.end - axis.start) / motion_time;
+  const InputBounds speeds = closed_range(kMinMasterSpeed, kMaxMasterSpeed);
+  if (speeds.contains(speed)) return std::nullopt;
+  MasterAxisRefusal r{MasterAxisInput::kPeriod, axis.period, speeds, false, speed, 10, {}};
+  r.digits = bounds_digits(speed, speeds);
+  r.message =
+      "master speed (master end - master start) / motion time = " + master_value_text(speed) +
+      " master units/s (master period " + master_value_text(axis.period) + ", motion time " +
+      seconds(motion_time) + ") must be finite and in " + r.allowed() + " master units/s";
+  return r;
+}
+
 std::vector<double> master_positions(const MasterAxis& axis) {
-  if (const auto refusal = check_master_axis(axis)) {
-    throw std::invalid_argument(refusal->message);
-  }
+  if (auto refusal = check_master_axis(axis)) throw MasterAxisError(std::move(*refusal));
   // The anchors, increasing and distinct (start < end <= period).
   std::vector<double> anchors{axis.start, axis.end};
   if (axis.period > axis.end) anchors.push_back(axis.period);
@@ -183,6 +255,9 @@ std::vector<MasterCamSample> sample_master_cam_table(const MotionLaw& law, doubl
     throw std::invalid_argument("a master-axis cam table needs a law of positive duration, not " +
                                 seconds(T));
   }
+  // The axis first (its refusals name the member), then the speed through it.
+  if (auto refusal = check_master_axis(axis)) throw MasterAxisError(std::move(*refusal));
+  if (auto refusal = check_master_speed(axis, T)) throw MasterAxisError(std::move(*refusal));
   const std::vector<double> thetas = master_positions(axis);
   const std::vector<double> switches = law.breakpoints();
   const double speed = (axis.end - axis.start) / T;  // master units per second

@@ -8,6 +8,7 @@
 
 #include <cstddef>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
@@ -22,9 +23,17 @@ constexpr double kCamTimeTolerance{1e-12};
 /// Shortest controller cycle a cam table is sampled at [s].
 constexpr double kCamMinPeriod{1e-5};
 
-/// Shortest motion span master_end - master_start of a master-axis table [master units]: the
-/// derivatives per master unit stay finite.
+/// Shortest motion span master_end - master_start of a master-axis table, and so the shortest
+/// master period [master units]: the derivatives per master unit stay finite.
 constexpr double kMinMasterSpan{1e-6};
+
+/// Slowest and fastest master speed (master_end - master_start) / motion time of a master-axis
+/// table [master units/s]. The derivatives per master unit divide the law's by the speed, its
+/// square and its cube, which stay between 1e-90 and 1e90 here: every cell is a finite number
+/// (hostile review: a master period of 1e308 over 0.5 s overflowed the speed to inf and gave a
+/// table of zeros).
+constexpr double kMinMasterSpeed{1e-30};
+constexpr double kMaxMasterSpeed{1e30};
 
 /// Most samples in one cam table (10 million: 2.8 h at 1 ms).
 constexpr std::size_t kCamMaxSamples{10'000'000};
@@ -102,22 +111,61 @@ struct MasterAxisRefusal {
   /// The step is refused because the table would have more than the allowed rows (bounds.lo is
   /// then the smallest step allowed).
   bool too_many_rows{false};
+  /// The master speed (end - start) / motion time is refused (check_master_speed): the speed
+  /// [master units/s]; `input` is then kPeriod, `value` the period and `bounds` the allowed
+  /// speeds [master units/s].
+  std::optional<double> speed;
+  /// Significant digits of allowed(): bounds_digits(value, bounds).
+  int digits{10};
   /// One sentence in core names ("master end = 400 must be finite and in (30, 360]").
   std::string message;
 
-  /// The allowed set as text, 10 significant digits, no unit: "> 0", "[0, 360)", "(30, 360]",
-  /// ">= 3.6e-05".
+  /// The allowed set as text with `digits` significant digits, no unit: "> 0", "[0, 360)",
+  /// "(30, 360]", ">= 3.6e-05".
   [[nodiscard]] std::string allowed() const;
+  /// The refused value, shortest round trip (master_value_text).
+  [[nodiscard]] std::string value_text() const;
 };
 
-/// Checks, in order: period finite and > 0; start in [0, period); end in (start, period]; step
-/// finite and > 0 with at most `max_rows` rows (period / step <= max_rows - kMasterExtraRows).
-/// nullopt when the axis is valid. `max_rows` must exceed kMasterExtraRows.
+/// A master axis refused by sample_master_cam_table or master_positions, with the refusal.
+class MasterAxisError : public std::invalid_argument {
+ public:
+  explicit MasterAxisError(MasterAxisRefusal refusal);
+  [[nodiscard]] const MasterAxisRefusal& refusal() const noexcept { return refusal_; }
+
+ private:
+  MasterAxisRefusal refusal_;
+};
+
+/// `v` with `digits` significant digits ("%g" style: "360", "3.600001081e-05").
+[[nodiscard]] std::string master_number_text(double v, int digits = 10);
+
+/// `v` as the shortest text that reads back as `v` ("360", "360.0000000001", "1e-05", "5e-324",
+/// "inf", "nan").
+[[nodiscard]] std::string master_value_text(double v);
+
+/// The fewest significant digits from 10 to 17 with which `bounds`, as their texts read, still
+/// leave out `value` (a value outside `bounds`): "360.0000000001 is out of range (30, 360]",
+/// never "... [0, 359.999999]" for a value that reads 359.999999 (17 digits are exact).
+[[nodiscard]] int bounds_digits(double value, const InputBounds& bounds);
+
+/// Checks, in order: period finite and >= kMinMasterSpan; start in [0, period), and at most
+/// period - kMinMasterSpan (refused with that bound when it lies in between); end in
+/// (start, period], and at least start + kMinMasterSpan (refused with that bound when it lies
+/// in between); step finite and > 0 with at most `max_rows` rows (period / step <= max_rows -
+/// kMasterExtraRows). nullopt when the axis is valid. `max_rows` must exceed kMasterExtraRows.
+/// An allowed set is never empty.
 [[nodiscard]] std::optional<MasterAxisRefusal> check_master_axis(
     const MasterAxis& axis, std::size_t max_rows = kCamMaxSamples);
 
+/// Checks the master speed (end - start) / motion_time of a valid axis driving a law of
+/// duration `motion_time` (> 0, finite): in [kMinMasterSpeed, kMaxMasterSpeed], a finite
+/// number. The refusal names the period (input kPeriod, `speed` set). nullopt when it is.
+[[nodiscard]] std::optional<MasterAxisRefusal> check_master_speed(const MasterAxis& axis,
+                                                                  double motion_time);
+
 /// The master positions of the rows of a valid axis (see above), increasing, first 0, last the
-/// period. Throws std::invalid_argument when check_master_axis refuses the axis.
+/// period. Throws MasterAxisError when check_master_axis refuses the axis.
 [[nodiscard]] std::vector<double> master_positions(const MasterAxis& axis);
 
 /// True when the master position `x` lies on the grid k * step (within kMasterGridTolerance
@@ -129,8 +177,9 @@ struct MasterAxisRefusal {
 [[nodiscard]] bool master_grid_is_equidistant(const MasterAxis& axis);
 
 /// Samples `law` (rest to rest over [0, duration]) on the master axis; the rows at and after the
-/// end hold the position `stroke` exactly. Throws std::invalid_argument when check_master_axis
-/// refuses the axis (at most kCamMaxSamples rows) or the law has no positive finite duration.
+/// end hold the position `stroke` exactly. Throws MasterAxisError when check_master_axis (at
+/// most kCamMaxSamples rows) or check_master_speed refuses the axis, std::invalid_argument when
+/// the law has no positive finite duration.
 [[nodiscard]] std::vector<MasterCamSample> sample_master_cam_table(const MotionLaw& law,
                                                                    double stroke,
                                                                    const MasterAxis& axis);
