@@ -97,7 +97,9 @@ TEST(RobustnessReport, TheIntervalEndsLieBetweenTheLastPointThatHoldsAndTheFirst
     const bool inside = pt.delta >= in.lo && pt.delta <= in.hi;
     const bool holds = pt.nonlinear.rest.value <= o.eta_rest_max * (1.0 + kRobustnessSlack);
     EXPECT_EQ(pt.holds_nonlinear, holds) << pt.delta;
-    if (inside) EXPECT_TRUE(holds) << pt.delta;
+    if (inside) {
+      EXPECT_TRUE(holds) << pt.delta;
+    }
     // The first point beyond each end fails, and the end is within one step of it.
     if (k + 1 < r.points.size() && pt.delta <= in.hi && r.points[k + 1].delta > in.hi) {
       EXPECT_FALSE(r.points[k + 1].holds_nonlinear);
