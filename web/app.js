@@ -354,7 +354,8 @@ function readUrl() {
   return { any, compare: q.get('compare') === '1', minTime: q.get('mintime') === '1', key: q.get('key') };
 }
 
-// The form from a plan opened by its key (its format; the options are not part of a plan).
+// The form from a plan opened by its key (its format and uncertainty; the other options are not
+// part of a plan).
 function fillFormFromPlan(plan) {
   const f = plan.format;
   $('radius').value = f.container.radius_mm;
@@ -368,6 +369,11 @@ function fillFormFromPlan(plan) {
   $('viscosity').value = f.fluid.viscosity_pa_s;
   $('custom-fluid').hidden = $('fluid').value !== 'custom';
   if ([...$('strategy').options].some((o) => o.value === plan.strategy)) $('strategy').value = plan.strategy;
+  // The uncertainty the plan was made for (the plan echoes it).
+  const u = plan.uncertainty || {};
+  $('omega_error').value = u.omega_error_pct ? u.omega_error_pct : '';
+  [$('fill_min').value, $('fill_max').value] = u.fill_height_mm || ['', ''];
+  [$('visc_min').value, $('visc_max').value] = u.viscosity_pa_s || ['', ''];
 }
 
 async function run(compare) {

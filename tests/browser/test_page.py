@@ -229,8 +229,11 @@ UNCERTAINTY = {"omega_error": "5", "fill_min": "75", "fill_max": "90"}
 
 def check_uncertainty(driver, port):
     """Uncertainty inputs go into the URL and the request, the page plots the API's sweep of
-    them, and the API's refusal of a range lands at its input."""
+    them, a plan opened by its key fills them, and the API's refusal of a range lands at its
+    input."""
     fill_format(driver, THESIS, "multi_notch")
+    open_advanced = "document.querySelector('details').open = true"
+    driver.execute_script(open_advanced)
     for field, value in UNCERTAINTY.items():
         driver.find_element(By.ID, field).send_keys(value)
     driver.find_element(By.ID, "plan-button").click()
@@ -249,6 +252,12 @@ def check_uncertainty(driver, port):
     check(shown == plan["key"], f"the page shows the API's plan of the range: {shown} vs {plan['key']}")
     check(len(plan["robustness"]["points"]) == 22, "the sweep covers the range (21 points and delta = 0)")
     check_robustness_chart(driver, plan, "uncertainty")
+    # The plan opened by its key fills the uncertainty inputs from the plan's echo.
+    driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch'")
+    filled = {field: driver.find_element(By.ID, field).get_attribute("value") for field in UNCERTAINTY}
+    check(filled == UNCERTAINTY, f"the key view fills the uncertainty inputs: {filled}")
+    driver.execute_script(open_advanced)
     # An empty range: the API's message at the input of its minimum.
     for field, value in (("fill_min", "90"), ("fill_max", "70")):
         driver.find_element(By.ID, field).clear()

@@ -16,7 +16,8 @@ namespace slosh::api {
 
 enum class PlanView {
   kFull,     ///< "full": the whole plan (the default)
-  kCompact,  ///< "compact": key, status, strategy, law, kinematics, predictions, warnings, version
+  kCompact,  ///< "compact": key, status, strategy, law, kinematics, predictions, warnings, version,
+             ///< robustness (interval and worst eta)
 };
 
 /// "full", "compact".
