@@ -210,7 +210,8 @@ int main(int argc, char** argv) {
       app, a, "plan", "Plan the 7-segment law of a format (JSON in, the /v1/plans response out)");
   plan->add_option("--view", a.view,
                    "full (default): the whole plan; compact: key, status, strategy, law, "
-                   "kinematics, predictions, warnings and version (as ?view=compact)");
+                   "kinematics, predictions, warnings, version and the robustness interval and "
+                   "worst eta (as ?view=compact)");
   auto* min_time = add_request_command(
       app, a, "min-time",
       "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");

@@ -153,7 +153,10 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "solve_ms",
                                             "message",
                                             "error_field",
-                                            "version"};
+                                            "version",
+                                            "holds_from_pct",
+                                            "holds_to_pct",
+                                            "worst_eta_rest_mm"};
 const std::set<std::string> kTextColumns{"recipe_id", "status",  "key",         "strategy",
                                          "law_type",  "message", "error_field", "version"};
 
@@ -946,7 +949,9 @@ TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
       "fix_constant_velocity_zero, plateau_min_s, a_max, v_max, j_max, drive_profile, damping, "
       "alpha, "
       "modes, "
-      "solver, time_limit_s, base, shaper, residual, iir_order, iir_tau, iir_sample_period_s";
+      "solver, time_limit_s, base, shaper, residual, iir_order, iir_tau, iir_sample_period_s, "
+      "robustness, uncertainty_omega_error_pct, uncertainty_fill_height_mm, "
+      "uncertainty_viscosity_pa_s, uncertainty_sample_points";
   const std::vector<TableErrorCase> cases{
       {"unknown column",
        "recipe_id,radius,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"

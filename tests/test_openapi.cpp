@@ -592,6 +592,105 @@ TEST(OpenApiResponses, CompactPlansFitTheCompactPlanSchema) {
                         "version") != schema("PlanResponse")["required"].end());
 }
 
+// Issue 20: plans with an uncertainty range (uncertainty, worst_case, auto's candidates with
+// theirs), without the report (robustness false), and where the nonlinear model diverges over the
+// range (nulls in the report and the worst case) fit PlanResponse, their compact views
+// CompactPlan; the Uncertainty request object is closed and its bounds are the parser's.
+TEST(OpenApiResponses, RobustAndUncertainPlansFitThePlanResponseSchema) {
+  json robust = thesis_plan("auto");
+  robust["options"]["uncertainty"] = {{"omega_error_pct", 5}, {"fill_height_mm", {75, 90}}};
+  json off = thesis_plan("multi_notch");
+  off["options"]["robustness"] = false;
+  const json diverging = json::parse(R"({"format": {"container": {"radius_mm": 5},
+      "fill_height_mm": 6, "fluid": "water", "stroke_mm": 5000, "motion_time_s": 0.05},
+      "strategy": "fir_chain", "options": {"min_ramp_s": 0.0125, "limits": {"a_max": 0.001}}})");
+  for (const json* body : std::vector<const json*>{&robust, &off, &diverging}) {
+    const json plan = run_plan(parse_plan_request(*body));
+    SCOPED_TRACE(body->dump());
+    expect_top_level_keys("PlanResponse", plan);
+    const auto errors = validation_errors("PlanResponse", plan);
+    EXPECT_TRUE(errors.empty()) << joined(errors);
+    const auto compact_errors = validation_errors("CompactPlan", compact_plan(plan));
+    EXPECT_TRUE(compact_errors.empty()) << joined(compact_errors);
+    EXPECT_EQ(plan.contains("robustness"), body != &off);
+    EXPECT_EQ(plan.contains("uncertainty"), body == &robust);
+    if (body == &robust) {
+      for (const json& c : plan["candidates"]) EXPECT_TRUE(c.contains("worst_case"));
+    }
+    if (body == &diverging) {
+      EXPECT_TRUE(plan["robustness"]["worst"]["nonlinear"].is_null());
+    }
+  }
+}
+
+TEST(OpenApiSchemas, TheUncertaintyObjectIsClosedWithTheParsersBounds) {
+  const json& u = schema("Uncertainty");
+  EXPECT_EQ(u.at("additionalProperties"), false);
+  EXPECT_EQ(schema("PlanOptions")["properties"]["uncertainty"]["$ref"],
+            "#/components/schemas/Uncertainty");
+  EXPECT_EQ(schema("PlanOptions")["properties"]["robustness"]["type"], "boolean");
+  EXPECT_EQ(schema("PlanOptions")["properties"]["robustness"]["default"], true);
+  // Probed through the parser, without a container height (the widest fill heights).
+  json base = thesis_plan("notch");
+  base["format"]["container"].erase("height_mm");
+  struct Probe {
+    std::string field;
+    json schema;
+    std::function<json(double)> value;
+  };
+  const json& p = u["properties"];
+  const std::vector<Probe> probes{
+      {"omega_error_pct", p["omega_error_pct"], [](double v) { return json(v); }},
+      {"sample_points", p["sample_points"], [](double v) { return json(static_cast<int>(v)); }},
+      // Each end of a range alone moves, the other stays at the nominal value.
+      {"fill_height_mm[0]", p["fill_height_mm"]["items"],
+       [](double v) {
+         return json::array({v, 82});
+       }},
+      {"fill_height_mm[1]", p["fill_height_mm"]["items"],
+       [](double v) {
+         return json::array({82, v});
+       }},
+      {"viscosity_pa_s[0]", p["viscosity_pa_s"]["items"],
+       [](double v) {
+         return json::array({v, 0.0010016});
+       }},
+      {"viscosity_pa_s[1]", p["viscosity_pa_s"]["items"],
+       [](double v) {
+         return json::array({0.0010016, v});
+       }},
+  };
+  for (const Probe& probe : probes) {
+    SCOPED_TRACE(probe.field);
+    const std::string member = probe.field.substr(0, probe.field.find('['));
+    auto body_with = [&](double v) {
+      json b = base;
+      b["options"]["uncertainty"][member] = probe.value(v);
+      return b;
+    };
+    const bool integer = probe.schema.value("type", "") == "integer";
+    ASSERT_TRUE(probe.schema.contains("minimum") && probe.schema.contains("maximum"));
+    for (const char* bound : {"minimum", "maximum"}) {
+      const double at = probe.schema[bound].get<double>();
+      const double step = integer ? 1.0 : std::max(std::abs(at) * 1e-9, 1e-12);
+      const double beyond = std::string(bound) == "minimum" ? at - step : at + step;
+      // At the bound the value passes the item's range (a range may still be refused as a
+      // whole: a bound beyond the nominal value is the other end's business).
+      try {
+        (void)parse_plan_request(body_with(at));
+      } catch (const ApiError& e) {
+        EXPECT_NE(e.field(), "options.uncertainty." + probe.field) << e.what();
+      }
+      try {
+        (void)parse_plan_request(body_with(beyond));
+        ADD_FAILURE() << "accepted " << beyond;
+      } catch (const ApiError& e) {
+        EXPECT_EQ(e.field(), "options.uncertainty." + probe.field) << e.what();
+      }
+    }
+  }
+}
+
 TEST(OpenApiResponses, SimulateResponsesFitTheSimulateResponseSchema) {
   json body = schema("SimulateRequest")["example"];
   body["sample_period_s"] = 0.01;

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdio>
 #include <set>
 #include <string>
@@ -61,8 +62,9 @@ json error_of(const service::Reply& reply) {
 
 /// Checks `compact` against the full `plan` it was made from and the request's format.
 void expect_compact_of(const json& compact, const json& plan, const json& request) {
-  const std::set<std::string> members{"view",   "key", "cached",     "version",    "strategy",
-                                      "status", "law", "kinematics", "prediction", "warnings"};
+  std::set<std::string> members{"view",   "key", "cached",     "version",    "strategy",
+                                "status", "law", "kinematics", "prediction", "warnings"};
+  if (plan.contains("robustness")) members.insert("robustness");
   std::set<std::string> got;
   for (const auto& [name, value] : compact.items()) got.insert(name);
   EXPECT_EQ(got, members);
@@ -96,6 +98,25 @@ void expect_compact_of(const json& compact, const json& plan, const json& reques
     EXPECT_FALSE(finding.empty());
     EXPECT_TRUE(full == finding || full.rfind(finding + ": ", 0) == 0) << full << " | " << finding;
     EXPECT_EQ(finding.find(": "), std::string::npos) << finding;
+  }
+  // Issue 20: the nonlinear model's holding interval and worst eta, in hundredths.
+  if (plan.contains("robustness")) {
+    const auto hundredths = [](const json& v) {
+      return std::round(v.get<double>() * 100.0) / 100.0;
+    };
+    const json& full = plan["robustness"];
+    const json& r = compact["robustness"];
+    EXPECT_EQ(r.size(), 2u);
+    const json& holds = full["holds"]["nonlinear"];
+    if (holds.is_null()) {
+      EXPECT_TRUE(r["holds_pct"].is_null());
+    } else {
+      EXPECT_EQ(r["holds_pct"],
+                json::array({hundredths(holds["from_pct"]), hundredths(holds["to_pct"])}));
+    }
+    const json& worst = full["worst"]["nonlinear"];
+    EXPECT_EQ(r["worst_mm"],
+              json::array({hundredths(worst["eta_motion_mm"]), hundredths(worst["eta_rest_mm"])}));
   }
 }
 

@@ -1,7 +1,8 @@
 // The page of `slosh serve`: a format form, one plan or every candidate of `auto`, the plots of the
-// selected plan against the uniform law, the minimum motion time of the strategies ("How fast can
-// it go?", POST v1/min-time) with η over T, downloads, and the URL as the shareable state. Every
-// URL is relative, so the page also works behind a reverse proxy at a sub-path.
+// selected plan against the uniform law and its robustness over the frequency error, the minimum
+// motion time of the strategies ("How fast can it go?", POST v1/min-time) with η over T,
+// downloads, and the URL as the shareable state. Every URL is relative, so the page also works
+// behind a reverse proxy at a sub-path.
 
 import { PLOTS, markersPlugin } from './plots.js';
 
@@ -17,7 +18,8 @@ const PARAMS = {
   tol_rel: 'tol_rel', min_ramp: 'min_ramp', shaper: 'shaper', base: 'base', time_limit: 'budget',
   n_band: 'n_band', objective: 'objective', eta_motion_max: 'eta_motion', residual: 'residual',
   iir_order: 'iir_order', iir_tau: 'iir_tau', iir_period: 'iir_period', solver: 'solver',
-  t_max: 't_max', margin: 'margin', limit_model: 'limit_model',
+  t_max: 't_max', margin: 'margin', limit_model: 'limit_model', omega_error: 'omega_err',
+  fill_min: 'fill_lo', fill_max: 'fill_hi', visc_min: 'mu_lo', visc_max: 'mu_hi',
 };
 // Parameters that only mean something for a custom fluid.
 const CUSTOM_FLUID_PARAMS = new Set(['density', 'viscosity']);
@@ -30,6 +32,13 @@ const OPTIONS = {
   n_band: ['n_band', true], objective: ['objective', false], eta_motion_max: ['eta_motion_max_mm', true],
   residual: ['residual', true], iir_order: ['iir_order', true], iir_tau: ['iir_tau', true],
   iir_period: ['iir_sample_period_s', true], solver: ['solver', false],
+  omega_error: ['uncertainty.omega_error_pct', true],
+};
+// Ranges [min, max] of options, each from two inputs: given when either is (an empty end goes as
+// null, and the API names that end).
+const RANGES = {
+  'uncertainty.fill_height_mm': ['fill_min', 'fill_max'],
+  'uncertainty.viscosity_pa_s': ['visc_min', 'visc_max'],
 };
 
 // A min-time request takes the η limits at its top level, not in its options: the fields of its
@@ -50,6 +59,14 @@ function number(id) {
   return text === '' ? undefined : Number(text);
 }
 
+// options at a dotted path ("limits.a_max", "uncertainty.omega_error_pct").
+function setOption(options, path, value) {
+  const keys = path.split('.');
+  let at = options;
+  for (const k of keys.slice(0, -1)) at = at[k] = at[k] || {};
+  at[keys[keys.length - 1]] = value;
+}
+
 function buildRequest(strategy) {
   const container = { radius_mm: number('radius') };
   if (number('height') !== undefined) container.height_mm = number('height');
@@ -59,11 +76,11 @@ function buildRequest(strategy) {
   const options = {};
   for (const [id, [path, numeric]] of Object.entries(OPTIONS)) {
     const raw = $(id).value.trim();
-    if (raw === '') continue;
-    const keys = path.split('.');
-    let at = options;
-    for (const k of keys.slice(0, -1)) at = at[k] = at[k] || {};
-    at[keys[keys.length - 1]] = numeric ? Number(raw) : raw;
+    if (raw !== '') setOption(options, path, numeric ? Number(raw) : raw);
+  }
+  for (const [path, [lo, hi]] of Object.entries(RANGES)) {
+    if (number(lo) === undefined && number(hi) === undefined) continue;
+    setOption(options, path, [number(lo) ?? null, number(hi) ?? null]);
   }
   return {
     format: {
@@ -277,7 +294,7 @@ function clearResults() {
 function renderPlots(context, view = 'plan', holder = $('plots')) {
   if (view === 'plan') clearPlots();
   const charts = [];
-  for (const plot of PLOTS.filter((p) => p.view === view)) {
+  for (const plot of PLOTS.filter((p) => p.view === view && (!p.when || p.when(context)))) {
     const box = document.createElement('div');
     box.className = 'plot';
     const title = document.createElement('h2');
@@ -337,7 +354,8 @@ function readUrl() {
   return { any, compare: q.get('compare') === '1', minTime: q.get('mintime') === '1', key: q.get('key') };
 }
 
-// The form from a plan opened by its key (its format; the options are not part of a plan).
+// The form from a plan opened by its key (its format and uncertainty; the other options are not
+// part of a plan).
 function fillFormFromPlan(plan) {
   const f = plan.format;
   $('radius').value = f.container.radius_mm;
@@ -351,6 +369,11 @@ function fillFormFromPlan(plan) {
   $('viscosity').value = f.fluid.viscosity_pa_s;
   $('custom-fluid').hidden = $('fluid').value !== 'custom';
   if ([...$('strategy').options].some((o) => o.value === plan.strategy)) $('strategy').value = plan.strategy;
+  // The uncertainty the plan was made for (the plan echoes it).
+  const u = plan.uncertainty || {};
+  $('omega_error').value = u.omega_error_pct ? u.omega_error_pct : '';
+  [$('fill_min').value, $('fill_max').value] = u.fill_height_mm || ['', ''];
+  [$('visc_min').value, $('visc_max').value] = u.viscosity_pa_s || ['', ''];
 }
 
 async function run(compare) {

@@ -1,16 +1,17 @@
 // The plots of the page: one entry per plot in PLOTS (adding a plot = one entry). Each entry
 // belongs to a view: 'plan' entries build a Chart.js configuration from the context {plan,
 // request, series, base, format}, 'min-time' entries from {minTime} (the POST v1/min-time
-// response).
+// response); an entry with `when` is drawn only when when(context) holds.
 
 const COLORS = { plan: '#0b63c5', base: '#8c959f', linear: '#d4731c', baseLinear: '#e3b58a', jerk: '#7a3db8' };
 
 // Shaded x ranges, vertical and horizontal marker lines: options.plugins.markers =
-// {shade: [{from, to, color, label}], vlines: [{x, label, color}], hlines: [{y, label, color}]}.
+// {shade: [{from, to, color, label}], vlines: [{x, label, color}], hlines: [{y, label, color,
+// axis}]} (hlines on the y axis unless axis names another, e.g. 'y2').
 export const markersPlugin = {
   id: 'markers',
   beforeDatasetsDraw(chart, _args, opts) {
-    const { ctx, chartArea: area, scales: { x, y } } = chart;
+    const { ctx, chartArea: area, scales: { x } } = chart;
     if (!opts || !area) return;
     ctx.save();
     for (const s of opts.shade || []) {
@@ -29,7 +30,7 @@ export const markersPlugin = {
       ctx.fillStyle = v.color || '#444'; ctx.fillText(v.label || '', px + 3, area.top + 24);
     }
     for (const h of opts.hlines || []) {
-      const py = y.getPixelForValue(h.y);
+      const py = chart.scales[h.axis || 'y'].getPixelForValue(h.y);
       if (py < area.top || py > area.bottom) continue;
       ctx.strokeStyle = h.color || '#b3261e';
       ctx.beginPath(); ctx.moveTo(area.left, py); ctx.lineTo(area.right, py); ctx.stroke();
@@ -129,6 +130,47 @@ function etaOverT(minTime, quantity, limit, what) {
   return config;
 }
 
+// η_rest (left axis) and η_motion (right axis) of the plan's law with every mode frequency scaled
+// by (1 + δ), against δ in %: nonlinear solid, linear dashed; the limits as horizontal lines, the
+// nonlinear model's holding interval shaded. A point where a model diverged is a gap (null).
+function robustnessChart(plan) {
+  const r = plan.robustness;
+  const s = r.sweep;
+  const curve = (model, quantity) => r.points.map((p) => ({ x: p.delta_pct, y: p[model] ? p[model][quantity] : null }));
+  const dashed = { borderDash: [6, 4] };
+  const datasets = [
+    line('η rest nonlinear [mm]', curve('nonlinear', 'eta_rest_mm'), COLORS.plan, { pointRadius: 2 }),
+    line('η rest linear [mm]', curve('linear', 'eta_rest_mm'), COLORS.linear, { pointRadius: 2, ...dashed }),
+    line('η motion nonlinear [mm]', curve('nonlinear', 'eta_motion_mm'), COLORS.jerk, { yAxisID: 'y2', pointRadius: 2 }),
+    line('η motion linear [mm]', curve('linear', 'eta_motion_mm'), COLORS.baseLinear, { yAxisID: 'y2', pointRadius: 2, ...dashed }),
+  ];
+  const markers = {
+    hlines: [{ y: s.eta_rest_max_mm, label: `η rest limit ${s.eta_rest_max_mm} mm` }],
+    vlines: [{ x: 0, label: 'model f1', color: '#444' }],
+    shade: [],
+  };
+  if (s.eta_motion_max_mm !== null) {
+    markers.hlines.push({ y: s.eta_motion_max_mm, label: `η motion limit ${s.eta_motion_max_mm} mm`, axis: 'y2', color: '#7a3db8' });
+  }
+  const holds = r.holds.nonlinear;
+  if (holds) {
+    const open = (end) => (end ? ' (sweep end)' : '');
+    markers.shade.push({
+      from: holds.from_pct, to: holds.to_pct, color: 'rgba(26, 127, 55, 0.14)',
+      label: `limits hold (nonlinear): ${holds.from_pct.toFixed(2)}${open(holds.from_is_sweep_end)} to ` +
+        `${holds.to_pct.toFixed(2)}${open(holds.to_is_sweep_end)} %`,
+    });
+  }
+  const config = timeChart(datasets, 'η rest [mm]', markers, 'η motion [mm]');
+  config.options.scales.x.title.text = 'frequency error δ [%] (every mode frequency × (1 + δ))';
+  config.options.scales.x.min = s.delta_pct[0];
+  config.options.scales.x.max = s.delta_pct[1];
+  config.options.scales.y.suggestedMin = 0;
+  config.options.scales.y.suggestedMax = 1.2 * s.eta_rest_max_mm;
+  config.options.scales.y2.suggestedMin = 0;
+  return config;
+}
+
 export const PLOTS = [
   {
     id: 'min-time-motion',
@@ -210,5 +252,12 @@ export const PLOTS = [
       config.options.scales.x.title.text = 'f [Hz]';
       return config;
     },
+  },
+  {
+    id: 'robustness',
+    view: 'plan',
+    title: 'Robustness: η when the tank\'s frequencies are off by δ (solid nonlinear, dashed linear; shaded: the limits hold)',
+    when: ({ plan }) => Boolean(plan.robustness),  // absent with options.robustness false
+    build: ({ plan }) => robustnessChart(plan),
   },
 ];

@@ -1,6 +1,10 @@
 #include "slosh/api/core_input.hpp"
 
 #include <cstdio>
+#include <numbers>
+
+#include "slosh/api/fields.hpp"
+#include "slosh/core/model/uncertainty.hpp"
 
 namespace slosh::api {
 
@@ -54,8 +58,95 @@ std::string format_sentence(const InvalidInput& e) {
   }
 }
 
+// ---- options.uncertainty ---------------------------------------------------------------------
+
+/// A band the uncertainty range widens down to 0 Hz (the core refuses it as kBand with a band the
+/// API's own range admits).
+bool widened_band_refusal(const InvalidInput& e, const PlanOptions& o) {
+  return e.input == PlanInput::kBand && o.uncertainty.active() && e.value > 0.0 && e.value < 1.0;
+}
+
+/// "[70, 90] mm": a (min, max) pair in the request's units.
+std::string pair_text(const std::array<double, 2>& pair, const char* unit) {
+  return "[" + number_text(pair[0]) + ", " + number_text(pair[1]) + "] " + unit;
+}
+
+std::array<double, 2> in_mm(const std::array<double, 2>& metres) {
+  return {mm_of(metres[0]), mm_of(metres[1])};
+}
+
+/// The refusal of a (min, max) range given in the request's units: empty, without the nominal
+/// value, or (not reached through the API, which checks the items first) an item out of range.
+std::string pair_sentence(const char* member, const std::array<double, 2>& pair, double nominal,
+                          const char* unit, const char* what, const InvalidInput& e, double scale) {
+  const std::string head = std::string("uncertainty.") + member + " = " + pair_text(pair, unit);
+  if (pair[0] > pair[1]) return head + " is empty: the maximum must be >= the minimum";
+  if (nominal < pair[0] || nominal > pair[1]) {
+    return head + " must contain the nominal " + what + " " + number_text(nominal) + " " + unit;
+  }
+  return std::string("uncertainty.") + member + "[" + std::to_string(e.index) +
+         "] = " + sig3(e.value / scale) + " " + unit + " must be in [" + sig3(e.bounds.lo / scale) +
+         ", " + sig3(e.bounds.hi / scale) + "] " + unit;
+}
+
+/// The member of options.uncertainty that spreads omega_1 (the one a too-wide band is refused at).
+std::string spreading_member(const Uncertainty& u) {
+  if (u.omega_error > 0.0)
+    return "uncertainty.omega_error_pct = " + number_text(pct_of(u.omega_error)) + " %";
+  return "uncertainty.fill_height_mm = " +
+         pair_text(in_mm(u.fill_height.value_or(std::array<double, 2>{})), "mm");
+}
+
+/// The band widened to [f_lo - band f_hi, (1 + band) f_hi] over the range's f1 in [f_lo, f_hi]
+/// reaches 0 Hz: allowed band < f_lo / f_hi.
+std::string widened_band_sentence(const Format& format, const PlanOptions& o) {
+  const UncertaintyRange r = uncertainty_range(format, o.model, o.uncertainty);
+  const double f_lo = r.omega_lo / (2.0 * std::numbers::pi);
+  const double f_hi = r.omega_hi / (2.0 * std::numbers::pi);
+  return spreading_member(o.uncertainty) + " spreads f1 over " + sig3(f_lo) + " to " + sig3(f_hi) +
+         " Hz: options.band = " + number_text(o.band) +
+         " widened to cover it reaches 0 Hz at its lower edge (" + sig3(f_lo) + " - " +
+         number_text(o.band) + " x " + sig3(f_hi) + " = " + sig3(f_lo - o.band * f_hi) +
+         " Hz); allowed options.band < " + number_text(r.scale_lo / r.scale_hi) +
+         " with this range: narrow the band or the range";
+}
+
+/// The sentence of a refused member of options.uncertainty (or of the band it widens), nullopt
+/// for the other inputs.
+std::optional<std::string> uncertainty_sentence(const InvalidInput& e, const Format& format,
+                                                const PlanOptions& o) {
+  const Uncertainty& u = o.uncertainty;
+  const std::array<double, 2> none{};
+  switch (e.input) {
+    case PlanInput::kOmegaError:
+      return "uncertainty.omega_error_pct = " + number_text(pct_of(e.value)) +
+             " % must be in [0, " + number_text(pct_of(kMaxOmegaError)) + "] %";
+    case PlanInput::kFillHeightRange:
+      return pair_sentence("fill_height_mm", in_mm(u.fill_height.value_or(none)),
+                           mm_of(format.fill_height), "mm", "fill height", e, 1e-3);
+    case PlanInput::kViscosityRange:
+      if (o.model.damping == DampingCorrelation::kExplicit) {
+        return "uncertainty.viscosity_pa_s = " + pair_text(u.viscosity.value_or(none), "Pa·s") +
+               " is not allowed with an explicit damping (options.damping = {\"zeta\": " +
+               number_text(o.model.explicit_zeta) +
+               "}): a viscosity range acts through the damping correlation; give a correlation "
+               "(thesis, paper, eq227, eq228) or no viscosity range";
+      }
+      return pair_sentence("viscosity_pa_s", u.viscosity.value_or(none), format.fluid.viscosity,
+                           "Pa·s", "viscosity", e, 1.0);
+    case PlanInput::kUncertaintySamples:
+      return "uncertainty.sample_points = " + integer(e.value) + " must be in [" +
+             std::to_string(kMinUncertaintySamples) + ", " +
+             std::to_string(kMaxUncertaintySamples) + "]";
+    default:
+      if (widened_band_refusal(e, o)) return widened_band_sentence(format, o);
+      return std::nullopt;
+  }
+}
+
 /// The sentence of a plan option (without the "options." the parser puts in front).
 std::string option_sentence(const InvalidInput& e, const Format& format, const PlanOptions& o) {
+  if (std::optional<std::string> sentence = uncertainty_sentence(e, format, o)) return *sentence;
   const std::string v = sig3(e.value);
   switch (e.input) {
     case PlanInput::kMinRamp:
@@ -179,6 +270,23 @@ std::string_view api_field_path(PlanInput input, Endpoint endpoint) {
     if (row.input == input) return row.path;
   }
   return "";
+}
+
+std::string options_field(const InvalidInput& invalid, const PlanOptions& options) {
+  switch (invalid.input) {
+    case PlanInput::kDriveProfile:
+    case PlanInput::kOmegaError:
+    case PlanInput::kFillHeightRange:
+    case PlanInput::kViscosityRange:
+    case PlanInput::kUncertaintySamples:
+      return std::string(api_field_path(invalid.input));
+    default:
+      if (widened_band_refusal(invalid, options)) {
+        return options.uncertainty.omega_error > 0.0 ? "options.uncertainty.omega_error_pct"
+                                                     : "options.uncertainty.fill_height_mm";
+      }
+      return "options";
+  }
 }
 
 std::string input_sentence(const InvalidInput& invalid, const Format& format,

@@ -31,31 +31,44 @@ std::string number_text(double v) {
   return os.str();
 }
 
-double mm_of(double metres) {
-  const double mm = metres * 1e3;
-  if (!std::isfinite(mm)) return mm;
-  // The shortest decimal near the product that converts back (a length typed with up to 15
+namespace {
+
+/// The shortest decimal near `start` whose conversion (x * scale) gives `si` back; `start` when
+/// none is found (a computed value no user value converts to).
+double shortest_decimal(double start, double si, double scale) {
+  if (!std::isfinite(start)) return start;
+  // The shortest decimal near the product that converts back (a value typed with up to 15
   // significant digits is found at its own digits).
   constexpr int kMaxDigits = 17;
   std::array<char, 40> text{};
   for (int digits = 1; digits <= kMaxDigits; ++digits) {
-    const auto printed = std::to_chars(text.data(), text.data() + text.size(), mm,
+    const auto printed = std::to_chars(text.data(), text.data() + text.size(), start,
                                        std::chars_format::general, digits);
     double candidate = 0.0;
     std::from_chars(text.data(), printed.ptr, candidate);
-    if (candidate * 1e-3 == metres) return candidate;
+    if (candidate * scale == si) return candidate;
   }
   // The product may miss every preimage by an ulp or two: the nearest double that converts back.
   constexpr int kNeighbourUlps = 4;
-  double below = mm;
-  double above = mm;
+  double below = start;
+  double above = start;
   for (int step = 0; step < kNeighbourUlps; ++step) {
     below = std::nextafter(below, -std::numeric_limits<double>::infinity());
     above = std::nextafter(above, std::numeric_limits<double>::infinity());
-    if (below * 1e-3 == metres) return below;
-    if (above * 1e-3 == metres) return above;
+    if (below * scale == si) return below;
+    if (above * scale == si) return above;
   }
-  return mm;  // a computed length no millimetre value converts to
+  return start;
+}
+
+}  // namespace
+
+double mm_of(double metres) {
+  return shortest_decimal(metres * 1e3, metres, 1e-3);
+}
+
+double pct_of(double fraction) {
+  return shortest_decimal(fraction * 100.0, fraction, 0.01);
 }
 
 bool Range::contains(double v) const {

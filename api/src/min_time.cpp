@@ -232,7 +232,7 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
   at.motion_time = plan_validation_time(format.motion_time, plan);
   InvalidInput error;
   if (!plan.is_valid(at, &error)) {
-    invalid("options", "options." + input_sentence(error, at, plan));
+    invalid(options_field(error, plan), "options." + input_sentence(error, at, plan));
   }
   if (given_member(options, "time_limit_s") == nullptr) {
     plan.time_limit = budget;

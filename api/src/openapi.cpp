@@ -422,7 +422,8 @@ void add_plan_block_schemas(json& s) {
               {"law_type", ref("LawType")},
               {"prediction", ref("Prediction")},
               {"a_peak", number("Peak |acceleration| [m/s^2].")},
-              {"chosen", boolean("The candidate auto returned.")}},
+              {"chosen", boolean("The candidate auto returned.")},
+              {"worst_case", ref("WorstCase")}},
              {"strategy", "status", "durations_s", "law_type", "prediction", "a_peak", "chosen"},
              "One strategy's result inside an auto plan.", false);
 }
@@ -496,7 +497,8 @@ void add_compact_plan_schemas(json& s) {
                              "Predicted peaks of both models.", false)},
        {"warnings", strings("The finding of each of the full plan's warnings (its text up to the "
                             "first \": \"; the full plan has the explanation).")},
-       {"move_absolute", ref("MoveAbsolute")}},
+       {"move_absolute", ref("MoveAbsolute")},
+       {"robustness", ref("CompactRobustness")}},
       {"view", "key", "cached", "version", "strategy", "status", "law", "kinematics", "prediction",
        "warnings"},
       "The compact plan (?view=compact): what a controller needs, under 1 kB for a 7-segment "
@@ -530,8 +532,124 @@ void add_move_absolute_schema(json& s) {
       false);
 }
 
+/// The worst case over an uncertainty range (plans and auto's candidates).
+void add_worst_case_schema(json& s) {
+  json worst_peaks = nullable(s.at("Peaks"));
+  worst_peaks["description"] =
+      "The largest peaks of one model over the range, each with its time on the model where it "
+      "is largest; null when the model diverges somewhere in the range.";
+  s["WorstCase"] =
+      object({{"nonlinear", worst_peaks}, {"linear", worst_peaks}}, {"nonlinear", "linear"},
+             "Only with options.uncertainty: the law's largest verified eta over the models of the "
+             "range (21 evenly, at its least damping): what robust designs and auto are judged by.",
+             false);
+}
+
+/// The range of the model an options.uncertainty implies, and the robustness of a compact plan.
+void add_uncertainty_range_schemas(json& s) {
+  const auto range = [](const std::string& what) { return fixed_numbers(2, what + " [lo, hi]."); };
+  s["UncertaintyRange"] = object(
+      {{"omega_error_pct", number("options.uncertainty.omega_error_pct as given (0: none) [%].")},
+       {"fill_height_mm", nullable(fixed_numbers(2,
+                                                 "options.uncertainty.fill_height_mm as given, "
+                                                 "null when not given [mm]."))},
+       {"viscosity_pa_s", nullable(fixed_numbers(2,
+                                                 "options.uncertainty.viscosity_pa_s as given, "
+                                                 "null when not given [Pa·s]."))},
+       {"sample_points", integer("options.uncertainty.sample_points.")},
+       {"omega1_rad_s", range("omega_1 over the range [rad/s]")},
+       {"f1_hz", range("f1 over the range [Hz]")},
+       {"scale", range("Factor on every nominal mode frequency [-]")},
+       {"zeta", range("Damping ratio over the range [-]")}},
+      {"omega_error_pct", "fill_height_mm", "viscosity_pa_s", "sample_points", "omega1_rad_s",
+       "f1_hz", "scale", "zeta"},
+      "Only with options.uncertainty (omega_error_pct > 0 or a range): the range of the model it "
+      "implies, the one the plan was made to hold over.",
+      false);
+  s["CompactRobustness"] = object(
+      {{"holds_pct", nullable(fixed_numbers(2,
+                                            "robustness.holds.nonlinear: from_pct and to_pct "
+                                            "[%]; null when the limits do not hold at delta = "
+                                            "0."))},
+       {"worst_mm", nullable(fixed_numbers(2,
+                                           "robustness.worst.nonlinear: eta_motion_mm and "
+                                           "eta_rest_mm [mm]; null when it is null."))}},
+      {"holds_pct", "worst_mm"},
+      "The robustness of the full plan on the nonlinear model, rounded to hundredths (the compact "
+      "plan stays under 1 kB): where the limits hold and the worst eta over the sweep.",
+      false);
+}
+
+/// The robustness report of SPEC §10.
+void add_robustness_schema(json& s) {
+  const json eta_props{{"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm].")},
+                       {"eta_rest_mm", number("Peak |eta| in the rest window [mm].")}};
+  // Null where the model diverged (the nonlinear one can, far outside its validity).
+  const json eta = nullable(object(eta_props, {"eta_motion_mm", "eta_rest_mm"},
+                                   "The two peaks of one model; null where it diverged (the "
+                                   "nonlinear model can, far outside its validity).",
+                                   false));
+  const json worst_eta =
+      nullable(object(eta_props, {"eta_motion_mm", "eta_rest_mm"},
+                      "The largest peaks of one model over the sweep; null when it diverged at "
+                      "some point (no bound to give).",
+                      false));
+  json interval = nullable(object(
+      {{"from_pct", number("Lower end of delta [%]: where the margin crosses 0, linearly "
+                           "interpolated between the last point that holds and the first that "
+                           "does not; the sweep's first delta when every point down to it holds.")},
+       {"to_pct", number("Upper end of delta [%], likewise.")},
+       {"from_is_sweep_end", boolean("from_pct is the sweep's end: the interval may extend.")},
+       {"to_is_sweep_end", boolean("to_pct is the sweep's end: the interval may extend.")}},
+      {"from_pct", "to_pct", "from_is_sweep_end", "to_is_sweep_end"},
+      "The interval of delta around 0 where eta_rest <= eta_rest_max_mm (and eta_motion <= "
+      "eta_motion_max_mm when given) on one model; null when they do not hold at delta = 0.",
+      false));
+  json sweep = object(
+      {{"delta_pct", fixed_numbers(2,
+                                   "First and last delta of the sweep [%]: +-10 % by default, "
+                                   "the uncertainty's range of omega_1 when given.")},
+       {"points", integer("Points evenly from the first to the last delta, both included.")},
+       {"zeta", number("Damping ratio at every point (the least of the uncertainty's range).")},
+       {"rest_time_s", number("Rest window [s].")},
+       {"eta_rest_max_mm", number("The eta_rest limit judged [mm].")},
+       {"eta_motion_max_mm",
+        nullable(number("The eta_motion limit judged, null when none [mm]."))}},
+      {"delta_pct", "points", "zeta", "rest_time_s", "eta_rest_max_mm", "eta_motion_max_mm"},
+      "What was swept and judged.", false);
+  json point = object(
+      {{"delta_pct", number("Every mode frequency is omega_n (1 + delta) [%].")},
+       {"f1_hz", number("f1 (1 + delta) [Hz].")},
+       {"linear", eta},
+       {"nonlinear", eta},
+       {"holds_linear", boolean("The limits hold on the linear model (each eta / limit <= 1 + "
+                                "1e-6, the verification's round-off).")},
+       {"holds_nonlinear", boolean("The limits hold on the nonlinear model, likewise.")}},
+      {"delta_pct", "f1_hz", "linear", "nonlinear", "holds_linear", "holds_nonlinear"},
+      "The returned law re-simulated at one delta.", false);
+  s["Robustness"] = object(
+      {{"sweep", sweep},
+       {"points",
+        {{"type", "array"},
+         {"items", point},
+         {"description",
+          "Sorted by delta: the evenly spaced points, plus delta = 0 when "
+          "the grid misses it."}}},
+       {"holds", object({{"linear", interval}, {"nonlinear", interval}}, {"linear", "nonlinear"},
+                        "Where the limits hold around delta = 0.", false)},
+       {"worst", object({{"linear", worst_eta}, {"nonlinear", worst_eta}}, {"linear", "nonlinear"},
+                        "The largest eta over the sweep.", false)}},
+      {"sweep", "points", "holds", "worst"},
+      "SPEC §10 (absent with options.robustness false): the returned law with every mode "
+      "frequency scaled by (1 + delta) on both models, and where the limits hold.",
+      false);
+}
+
 void add_plan_response_schemas(json& s) {
   add_plan_block_schemas(s);
+  add_worst_case_schema(s);
+  add_robustness_schema(s);
+  add_uncertainty_range_schemas(s);
   add_filter_design_schema(s);
   s["PlanResponse"] = object(
       {{"key", text("Recipe key: first 32 hex digits of the SHA-256 of the normalised recipe "
@@ -570,6 +688,9 @@ void add_plan_response_schemas(json& s) {
        {"rest_time_s", number("Rest window [s].")},
        {"warnings", strings("Validity limits of the models reached by this plan.")},
        {"move_absolute", ref("MoveAbsolute")},
+       {"uncertainty", ref("UncertaintyRange")},
+       {"worst_case", ref("WorstCase")},
+       {"robustness", ref("Robustness")},
        {"series", ref("Series")}},
       {"key",        "cached",      "version",       "strategy",       "status",
        "message",    "durations_s", "durations_pct", "switch_times_s", "law",

@@ -123,6 +123,19 @@ OptionSpec array(std::string_view name, const Range& range, Field<std::array<dou
   return s;
 }
 
+OptionSpec optional_pair(std::string_view name, const Range& range,
+                         Field<std::optional<std::array<double, 2>>> field, std::string doc) {
+  OptionSpec s = spec(name, OptionKind::kNumberArray, std::move(doc));
+  s.range = range;
+  s.size = 2;
+  s.get = [field](const PlanOptions& o) {
+    const std::optional<std::array<double, 2>>& v = read(o, field);
+    return v ? json(*v) : json(nullptr);
+  };
+  s.set = [field](PlanOptions& o, const json& v) { field(o) = v.get<std::array<double, 2>>(); };
+  return s;
+}
+
 template <class E>
 OptionSpec enumeration(std::string_view name, Field<E> field, std::string doc) {
   OptionSpec s = spec(name, OptionKind::kEnum, std::move(doc));
@@ -341,22 +354,36 @@ std::vector<OptionSpec> model_and_solver_options() {
   };
 }
 
+// Naming the shaper chooses its family: with an uncertainty range, shaper then keeps it instead
+// of taking the shortest family that holds over the range.
+OptionSpec shaper() {
+  OptionSpec s = enumeration<ShaperType>(
+      "shaper", [](PlanOptions& o) -> ShaperType& { return o.shaper; },
+      "shaper: the input shaper on mode 1, by delay in damped periods: zv 1/2, mzv 3/4, "
+      "zvd 1, zvdd 3/2, ei 1, ei2 ~3/2, ei3 ~2. zv, mzv, zvd and zvdd cancel omega_1 exactly; "
+      "ei, ei2 and ei3 keep the residual below `residual` (V, the height of their humps) over "
+      "a band around omega_1 that widens with the shaper: at V = 5 % without damping "
+      "omega / omega_1 in 0.968-1.032 (zv), 0.951-1.055 (mzv), 0.856-1.144 (zvd), "
+      "0.800-1.200 (ei), 0.638-1.362 (ei2), 0.518-1.482 (ei3). Named, it is used as given "
+      "also under options.uncertainty; not named, shaper takes the shortest family whose "
+      "residual stays <= residual over the uncertainty range (zv without one).");
+  s.set = [](PlanOptions& o, const json& v) {
+    o.shaper = enum_from_name<ShaperType>(v.get<std::string>()).value_or(o.shaper);
+    o.shaper_for_range = false;
+  };
+  return s;
+}
+
 std::vector<OptionSpec> filter_options() {
   return {
       enumeration<BaseLaw>(
           "base", [](PlanOptions& o) -> BaseLaw& { return o.base; },
           "shaper and iir: the base law, planned over T minus the filter's delay."),
-      enumeration<ShaperType>(
-          "shaper", [](PlanOptions& o) -> ShaperType& { return o.shaper; },
-          "shaper: the input shaper on mode 1, by delay in damped periods: zv 1/2, mzv 3/4, "
-          "zvd 1, zvdd 3/2, ei 1, ei2 ~3/2, ei3 ~2. zv, mzv, zvd and zvdd cancel omega_1 exactly; "
-          "ei, ei2 and ei3 keep the residual below `residual` (V, the height of their humps) over "
-          "a band around omega_1 that widens with the shaper: at V = 5 % without damping "
-          "omega / omega_1 in 0.968-1.032 (zv), 0.951-1.055 (mzv), 0.856-1.144 (zvd), "
-          "0.800-1.200 (ei), 0.638-1.362 (ei2), 0.518-1.482 (ei3)."),
+      shaper(),
       number(
           "residual", kResidual, [](PlanOptions& o) -> double& { return o.residual; },
-          "shaper ei: residual vibration V admitted at omega_1 (0.05 = 5 %)"),
+          "shaper ei, ei2, ei3: V, the height of the residual humps around omega_1 (0.05 = 5 %); "
+          "under options.uncertainty also the residual a range-chosen shaper may keep"),
       iir_order(),
       number(
           "iir_tau", kIirTau, [](PlanOptions& o) -> double& { return o.iir_tau; },
@@ -365,15 +392,90 @@ std::vector<OptionSpec> filter_options() {
   };
 }
 
+OptionSpec robustness() {
+  OptionSpec s = plain<bool>(
+      "robustness", OptionKind::kBool, Range{0.0, 0.0, ""},
+      [](PlanOptions& o) -> bool& { return o.robustness; },
+      "Attach the robustness report (SPEC §10): the returned law re-simulated on both models "
+      "with every mode frequency scaled by (1 + delta), delta evenly over +-10 % (over the "
+      "uncertainty's range when given), and the interval of delta around 0 where "
+      "eta_rest_max_mm (and eta_motion_max_mm when given) hold. false leaves it out.");
+  s.keyed_when_set = true;
+  return s;
+}
+
+// A member of options.uncertainty: keyed only when given a value other than its default, so
+// the keys of the requests without it stay as they were.
+OptionSpec in_uncertainty(OptionSpec s, std::string_view recipe_name) {
+  s.group = "uncertainty";
+  s.recipe_name = recipe_name;
+  s.keyed_when_set = true;
+  return s;
+}
+
+/// The fill heights options.uncertainty.fill_height_mm allows for `format`: the format's own
+/// (1 to 5000 mm, below the container height when given).
+Range uncertainty_fill_range(const Format& format) {
+  const Range& fill = ranges::kFillHeightMm;
+  if (!format.container.height) return fill;
+  const double height_mm = mm_of(*format.container.height);
+  if (height_mm > fill.hi) return fill;
+  return Range{fill.lo, height_mm, fill.unit, false, true};
+}
+
+std::vector<OptionSpec> uncertainty_options() {
+  OptionSpec omega = number(
+      "omega_error_pct", kOmegaErrorPct,
+      [](PlanOptions& o) -> double& { return o.uncertainty.omega_error; },
+      "Relative error of every mode frequency the plan must hold over: omega_n (1 + delta), "
+      "|delta| <= omega_error_pct (0: none)");
+  omega.scale = 0.01;
+  OptionSpec fill = optional_pair(
+      "fill_height_mm", ranges::kFillHeightMm,
+      [](PlanOptions& o) -> std::optional<std::array<double, 2>>& {
+        return o.uncertainty.fill_height;
+      },
+      "Fill heights [min, max] the format may have [mm], mapped through the model to the "
+      "omega_1 (and zeta) range they imply: each 1 to 5000 mm and below "
+      "format.container.height_mm when given, min <= format.fill_height_mm <= max.");
+  fill.scale = 1e-3;
+  fill.range_for = uncertainty_fill_range;
+  OptionSpec viscosity = optional_pair(
+      "viscosity_pa_s", kViscosityRangePaS,
+      [](PlanOptions& o) -> std::optional<std::array<double, 2>>& {
+        return o.uncertainty.viscosity;
+      },
+      "Dynamic viscosities [min, max] the fluid may have [Pa·s], mapped through the damping "
+      "correlation to the zeta range: each 0 to 1e6, min <= the fluid's viscosity <= max; not "
+      "with an explicit zeta (options.damping {\"zeta\": z}).");
+  OptionSpec samples = integer(
+      "sample_points", kMinUncertaintySamples, kMaxUncertaintySamples,
+      [](PlanOptions& o) -> int& { return o.uncertainty.sample_points; },
+      "time_domain: models evenly over the frequency range (both ends included) whose worst "
+      "eta_motion it minimises with eta_rest <= eta_rest_max_mm at every one.");
+  samples.keyed_only_if = [](const PlanOptions& o) { return o.uncertainty.active(); };
+  return {in_uncertainty(std::move(omega), "omega_error"),
+          in_uncertainty(std::move(fill), "uncertainty_fill_height_m"),
+          in_uncertainty(std::move(viscosity), "uncertainty_viscosity_pa_s"),
+          in_uncertainty(std::move(samples), "uncertainty_sample_points")};
+}
+
 OptionRegistry built_in_registry() {
   std::vector<OptionSpec> options;
   for (auto part : {multi_notch_and_band_options(), time_domain_options(), law_shape_options(),
-                    model_and_solver_options(), filter_options()}) {
+                    model_and_solver_options(), filter_options(),
+                    std::vector<OptionSpec>{robustness()}, uncertainty_options()}) {
     for (OptionSpec& o : part) options.push_back(std::move(o));
   }
   return OptionRegistry(
       std::move(options),
-      {OptionGroup{"limits", "MachineLimits", "Machine limits; an absent limit is not enforced."}});
+      {OptionGroup{"limits", "MachineLimits", "Machine limits; an absent limit is not enforced."},
+       OptionGroup{"uncertainty", "Uncertainty",
+                   "What the model does not know exactly (SPEC §10); every member optional. "
+                   "With omega_error_pct > 0 or a range, the optimising strategies plan for the "
+                   "whole omega_1 (and zeta) range it implies, auto compares its candidates by "
+                   "their worst case, and the plan carries uncertainty and worst_case.",
+                   "uncertainty_"}});
 }
 
 // ---- OpenAPI ---------------------------------------------------------------------------------
@@ -505,6 +607,7 @@ json OptionRegistry::recipe(const PlanOptions& options) const {
     if (o.recipe_name.empty()) continue;
     nlohmann::json value = o.get(options);
     if (o.keyed_when_set && value == o.get(defaults)) continue;
+    if (o.keyed_only_if && !o.keyed_only_if(options)) continue;
     out[std::string(o.recipe_name)] = std::move(value);
   }
   return out;

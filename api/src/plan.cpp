@@ -11,6 +11,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
 #include "slosh/api/option_registry.hpp"
+#include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/response/spectrum.hpp"
 
@@ -46,6 +47,18 @@ nlohmann::json request_options(const nlohmann::json& body) {
 
 nlohmann::json prediction_json(const LawPrediction& p) {
   return api::prediction_json(p.nonlinear, p.linear);
+}
+
+/// The worst case over an uncertainty range: each model's peaks, null for a model that diverges
+/// somewhere in the range (the nonlinear one can, far outside its validity: no bound to give).
+nlohmann::json worst_case_json(const LawPrediction& p) {
+  auto model = [](const SloshPeaks& peaks) {
+    if (!std::isfinite(peaks.motion.value) || !std::isfinite(peaks.rest.value)) {
+      return nlohmann::json(nullptr);
+    }
+    return peaks_json(peaks);
+  };
+  return {{"nonlinear", model(p.nonlinear)}, {"linear", model(p.linear)}};
 }
 
 nlohmann::json design_json(const FilterDesign& design) {
@@ -113,8 +126,7 @@ PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry&
   // Relations between options (e.g. ramps + plateau minimums longer than T).
   InvalidInput error;
   if (!o.is_valid(r.format, &error)) {
-    invalid(error.input == PlanInput::kDriveProfile ? "options.drive_profile" : "options",
-            "options." + input_sentence(error, r.format, o));
+    invalid(options_field(error, o), "options." + input_sentence(error, r.format, o));
   }
   if (std::optional<InvalidInput> why = drive_profile_refusal(r.strategy, o.drive_profile)) {
     invalid("options.drive_profile", "options." + why->message);
@@ -133,6 +145,11 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
   nlohmann::json options = registry.recipe(r.options);
   // A warm start (min-time searches) is part of the answer; absent, the keys stay as they were.
   if (r.options.warm_start) options["warm_start_s"] = *r.options.warm_start;
+  // A shaper named under an uncertainty range is used as given (not the family for the range):
+  // another answer. Without a range naming the shaper changes nothing, nor the key.
+  if (r.options.uncertainty.active() && !r.options.shaper_for_range) {
+    options["shaper_for_range"] = false;
+  }
   // "version" names the numerics (bumped with them, as before the slosh version was part of the
   // key); "slosh_version" the release that plans: an upgrade never answers with an older plan.
   return {{"version", kPlannerVersion},
@@ -254,16 +271,27 @@ nlohmann::json move_absolute_json(const MoveAbsoluteProfile& m) {
 nlohmann::json candidates_json(const std::vector<PlanCandidate>& candidates) {
   nlohmann::json list = nlohmann::json::array();
   for (const PlanCandidate& c : candidates) {
-    list.push_back({{"strategy", to_string(c.strategy)},
-                    {"status", to_string(c.status)},
-                    {"durations_s", c.durations ? nlohmann::json(*c.durations) : nullptr},
-                    {"law_type", to_string(law_type_of(c.law, c.durations))},
-                    {"prediction", prediction_json(c.prediction)},
-                    {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
-                                        c.prediction.kinematics.a_peak_negative)},
-                    {"chosen", c.chosen}});
+    nlohmann::json item{{"strategy", to_string(c.strategy)},
+                        {"status", to_string(c.status)},
+                        {"durations_s", c.durations ? nlohmann::json(*c.durations) : nullptr},
+                        {"law_type", to_string(law_type_of(c.law, c.durations))},
+                        {"prediction", prediction_json(c.prediction)},
+                        {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
+                                            c.prediction.kinematics.a_peak_negative)},
+                        {"chosen", c.chosen}};
+    if (c.worst_case) item["worst_case"] = worst_case_json(*c.worst_case);
+    list.push_back(std::move(item));
   }
   return list;
+}
+
+/// The blocks of SPEC §10: the uncertainty range and the worst case over it (when the request
+/// gives one), the robustness report (unless the request opts out).
+void add_robustness(const PlanRequest& request, const PlanResult& r, nlohmann::json& out) {
+  if (r.uncertainty)
+    out["uncertainty"] = uncertainty_json(*r.uncertainty, request.options.uncertainty);
+  if (r.worst_case) out["worst_case"] = worst_case_json(*r.worst_case);
+  if (r.robustness) out["robustness"] = robustness_json(*r.robustness, r.model);
 }
 
 }  // namespace
@@ -292,6 +320,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
                    {"solve_ms", r.solver.solve_ms}};
   if (!r.candidates.empty()) out["candidates"] = candidates_json(r.candidates);
   if (r.move_absolute) out["move_absolute"] = move_absolute_json(*r.move_absolute);
+  add_robustness(request, r, out);
   out["format"] = format_json(request.format);
   out["rest_time_s"] = request.options.rest_time;
   out["warnings"] = r.warnings;

@@ -2,6 +2,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/robustness_json.hpp"
 
 namespace slosh::api {
 
@@ -96,6 +97,10 @@ json compact_plan(const json& plan) {
   out["warnings"] = std::move(findings);
   // The MC_MoveAbsolute inputs are what a drive needs of a one-jerk plan.
   if (const auto m = plan.find("move_absolute"); m != plan.end()) out["move_absolute"] = *m;
+  // How far the tank's frequencies may be off (SPEC §10): the interval and the worst case.
+  if (const auto r = plan.find("robustness"); r != plan.end()) {
+    out["robustness"] = compact_robustness(*r);
+  }
   return out;
 }
 

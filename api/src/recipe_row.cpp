@@ -10,6 +10,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::api {
@@ -160,9 +161,14 @@ std::vector<RecipeColumn> recipe_columns(const OptionRegistry& registry) {
   std::vector<RecipeColumn> columns(kRequestColumns.begin(), kRequestColumns.end());
   for (const OptionSpec& o : registry.options()) {
     std::string pointer = "/options/";
-    if (!o.group.empty()) pointer += std::string(o.group) + "/";
-    columns.push_back(
-        RecipeColumn{std::string(o.name), pointer + std::string(o.name), cell_kind(o.kind)});
+    std::string name(o.name);
+    if (!o.group.empty()) {
+      pointer += std::string(o.group) + "/";
+      if (const OptionGroup* group = registry.group(o.group)) {
+        name = std::string(group->column_prefix) + name;
+      }
+    }
+    columns.push_back(RecipeColumn{name, pointer + std::string(o.name), cell_kind(o.kind)});
   }
   return columns;
 }
@@ -331,6 +337,9 @@ constexpr std::array kPlanColumns{
     PlanColumn{"message", "/message"},
     PlanColumn{"error_field", "/error_field"},
     PlanColumn{"version", "/version"},
+    PlanColumn{"holds_from_pct", "/holds_from_pct"},
+    PlanColumn{"holds_to_pct", "/holds_to_pct"},
+    PlanColumn{"worst_eta_rest_mm", "/worst_eta_rest_mm"},
 };
 
 /// object[key], null when absent (or when `object` is not an object).
@@ -370,6 +379,7 @@ json plan_row_figures(const json& plan) {
   const json f_hz = nested_or_null(plan, "model", "f_hz");
   row["f1_hz"] = f_hz.is_array() && !f_hz.empty() ? f_hz[0] : json(nullptr);
   row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
+  row.update(robustness_row_figures(find_member(plan, "robustness")));
   return row;
 }
 

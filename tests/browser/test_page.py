@@ -5,7 +5,9 @@ Starts the real binary on a free loopback port (and, for the sub-path check, a s
 proxy in front of it), drives the page with Selenium and checks it against the API's own JSON:
 the candidate table equals the plans' figures, every chart holds the API's point counts, an
 invalid radius shows the API's message at the radius field, a shared URL reproduces the view,
-the cam-table download equals `slosh export`'s file, and every input has a label. "How fast can
+the cam-table download equals `slosh export`'s file, and every input has a label. The robustness
+chart holds the API's sweep (its points, limit and holding interval), uncertainty inputs go into
+the URL and the request, and a refused range is shown at its input. "How fast can
 it go?" (POST /v1/min-time): the table and headline equal the API's answer, the η-over-T charts
 hold the API's curves, a row loads its plan at T_min, a shared link reproduces a search, and the
 API's errors land at the fields they name.
@@ -193,7 +195,83 @@ def check_single_plan(driver, port):
     check(counts.get("plot-eta") == [series_len] * 4, f"eta chart points {counts}")
     spectrum = len(plan["spectrum"]["f_hz"])
     check(counts.get("plot-spectrum") == [spectrum, spectrum], f"spectrum chart points {counts}")
+    check_robustness_chart(driver, plan, "thesis multi_notch")
     return plan
+
+
+def robustness_markers(driver):
+    return driver.execute_script(
+        "const c = window.sloshPage.charts.find(c => c.canvas.id === 'plot-robustness');"
+        "if (!c) return null; const m = c.options.plugins.markers;"
+        "return {shade: m.shade.map(s => [s.from, s.to]), hlines: m.hlines.map(h => h.y),"
+        " x: c.data.datasets.map(d => d.data.map(p => p.x))}")
+
+
+def check_robustness_chart(driver, plan, what):
+    """The robustness chart holds the API's sweep: one point per robustness.points entry on each
+    of its four curves, at the API's deltas, the eta_rest limit as a line and the nonlinear
+    holding interval shaded."""
+    r = plan["robustness"]
+    n = len(r["points"])
+    counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
+    check(counts.get("plot-robustness") == [n] * 4, f"{what}: robustness chart points {counts} vs {n}")
+    markers = robustness_markers(driver) or {}
+    deltas = [p["delta_pct"] for p in r["points"]]
+    check(markers.get("x") == [deltas] * 4, f"{what}: the robustness chart is drawn over the API's deltas")
+    check(markers.get("hlines") == [r["sweep"]["eta_rest_max_mm"]], f"{what}: the eta_rest limit line {markers}")
+    holds = r["holds"]["nonlinear"]
+    expected = [] if holds is None else [[holds["from_pct"], holds["to_pct"]]]
+    check(markers.get("shade") == expected, f"{what}: the holding interval is shaded: {markers} vs {expected}")
+
+
+UNCERTAINTY = {"omega_error": "5", "fill_min": "75", "fill_max": "90"}
+
+
+def check_uncertainty(driver, port):
+    """Uncertainty inputs go into the URL and the request, the page plots the API's sweep of
+    them, a plan opened by its key fills them, and the API's refusal of a range lands at its
+    input."""
+    fill_format(driver, THESIS, "multi_notch")
+    open_advanced = "document.querySelector('details').open = true"
+    driver.execute_script(open_advanced)
+    for field, value in UNCERTAINTY.items():
+        driver.find_element(By.ID, field).send_keys(value)
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch'")
+    url = driver.current_url
+    check("omega_err=5" in url and "fill_lo=75" in url and "fill_hi=90" in url,
+          f"the URL holds the uncertainty: {url}")
+    sent = driver.execute_script("return window.sloshPage.request.options")
+    check(sent == {"uncertainty": {"omega_error_pct": 5, "fill_height_mm": [75, 90]}},
+          f"the request carries the uncertainty: {sent}")
+    body = request_of(THESIS, "multi_notch")
+    body["options"] = {"uncertainty": {"omega_error_pct": 5, "fill_height_mm": [75, 90]}}
+    status, plan = api_json(port, "POST", "/v1/plans", body)
+    check(status == 200 and "uncertainty" in plan, f"the API plans the range ({status})")
+    shown = driver.execute_script("return window.sloshPage.plans.multi_notch.key")
+    check(shown == plan["key"], f"the page shows the API's plan of the range: {shown} vs {plan['key']}")
+    check(len(plan["robustness"]["points"]) == 22, "the sweep covers the range (21 points and delta = 0)")
+    check_robustness_chart(driver, plan, "uncertainty")
+    # The plan opened by its key fills the uncertainty inputs from the plan's echo.
+    driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch'")
+    filled = {field: driver.find_element(By.ID, field).get_attribute("value") for field in UNCERTAINTY}
+    check(filled == UNCERTAINTY, f"the key view fills the uncertainty inputs: {filled}")
+    driver.execute_script(open_advanced)
+    # An empty range: the API's message at the input of its minimum.
+    for field, value in (("fill_min", "90"), ("fill_max", "70")):
+        driver.find_element(By.ID, field).clear()
+        driver.find_element(By.ID, field).send_keys(value)
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.getElementById('fill_min-error').textContent.length > 0", 20)
+    body["options"]["uncertainty"]["fill_height_mm"] = [90, 70]
+    status, error = api_json(port, "POST", "/v1/plans", body)
+    check(status == 422 and error["error"]["field"] == "options.uncertainty.fill_height_mm",
+          f"the API refuses the empty range: {error}")
+    check(driver.find_element(By.ID, "fill_min-error").text == error["error"]["message"],
+          "the fill height minimum shows the API's message")
+    for field in UNCERTAINTY:
+        driver.find_element(By.ID, field).clear()
 
 
 def check_compare_all(driver, port, screenshot):
@@ -323,7 +401,7 @@ def check_min_time(driver, port, screenshot):
     check(table_rows(driver)[0]["cells"] == expected_row(row["plan"]), "the row's plan at T_min is in the plan view")
     check(abs(row["plan"]["format"]["motion_time_s"] - row["t_min_s"]) < 1e-9, "the plan is at T_min")
     counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
-    check(len(counts) == 4 and all(sum(v) > 0 for v in counts.values()), f"the plan at T_min is plotted: {counts}")
+    check(len(counts) == 5 and all(sum(v) > 0 for v in counts.values()), f"the plan at T_min is plotted: {counts}")
     check(len(min_time_charts(driver)) == 2, "the min-time charts stay beside the plan")
     # A shared min-time link of one strategy reproduces its search.
     driver.get(f"http://127.0.0.1:{port}/?r=48.5&h=150&fill=82&fluid=water&stroke=800&T=1"
@@ -496,6 +574,7 @@ def main():
         check_invalid_radius(driver, port)
         check_shared_url(driver, plan)
         check_infeasible_cam_link(driver, port)
+        check_uncertainty(driver, port)
         check_key_view(port, plan)
         check_bad_link(port)
         check_sub_path(port)

@@ -734,6 +734,18 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
   }
+  if (candidates.empty()) {
+    // The models diverge for every candidate (over the uncertainty range, say): the uniform law
+    // goes back to plan(), whose finiteness check refuses it with the reason.
+    Selection none;
+    none.outcome = std::move(outcomes.front());
+    none.prediction = predict(c.model, none.outcome.law, c.options.rest_time);
+    if (c.robust()) {
+      none.worst_case = worst_prediction(c.check_models, none.outcome.law, c.options.rest_time);
+    }
+    none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
+    return none;
+  }
   const AutoChoice choice = choose_auto(candidates, worse);
   candidates[choice.index].chosen = true;
   Selection s;
@@ -920,6 +932,17 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                     "the motion time"));
   }
   r.worst_case = s.worst_case;
+  if (r.worst_case && !finite_prediction(*r.worst_case)) {
+    const double a_peak =
+        std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative);
+    return refusal(
+        format, strategy, options,
+        refused(PlanInput::kLawResponse, a_peak, non_negative(),
+                "the sloshing models diverge for the planned " + to_string(result_strategy) +
+                    " law somewhere in the uncertainty range (peak |a| = " + sig3(a_peak) +
+                    " m/s^2): the motion is outside what they describe; lengthen the "
+                    "motion time or narrow the range"));
+  }
   if (options.robustness) r.robustness = robustness_of(format, options, r);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();

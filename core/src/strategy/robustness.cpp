@@ -19,6 +19,11 @@ double margin(const SloshPeaks& p, const RobustnessSweep& s) {
   return std::isnan(m) ? INFINITY : m;
 }
 
+/// w = max(w, v), where a NaN (a model that diverged) sticks: the worst case is then unknown.
+void raise(double& w, double v) {
+  if (std::isnan(v) || v > w) w = v;
+}
+
 std::vector<double> sweep_deltas(const RobustnessSweep& s) {
   std::vector<double> deltas;
   const int n = std::max(2, s.points);
@@ -84,10 +89,10 @@ RobustnessReport robustness_report(
     nl_margin.push_back(margin(p.nonlinear, sweep));
     p.holds_linear = lin_margin.back() <= kRobustnessSlack;
     p.holds_nonlinear = nl_margin.back() <= kRobustnessSlack;
-    r.worst_motion_linear = std::max(r.worst_motion_linear, p.linear.motion.value);
-    r.worst_rest_linear = std::max(r.worst_rest_linear, p.linear.rest.value);
-    r.worst_motion_nonlinear = std::max(r.worst_motion_nonlinear, p.nonlinear.motion.value);
-    r.worst_rest_nonlinear = std::max(r.worst_rest_nonlinear, p.nonlinear.rest.value);
+    raise(r.worst_motion_linear, p.linear.motion.value);
+    raise(r.worst_rest_linear, p.linear.rest.value);
+    raise(r.worst_motion_nonlinear, p.nonlinear.motion.value);
+    raise(r.worst_rest_nonlinear, p.nonlinear.rest.value);
     r.points.push_back(p);
   }
   r.linear = holding_interval(deltas, lin_margin, zero);

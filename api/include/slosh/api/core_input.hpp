@@ -21,6 +21,12 @@ enum class Endpoint { kPlan, kSimulate };
 /// floors is "options".
 [[nodiscard]] std::string_view api_field_path(PlanInput input, Endpoint endpoint = Endpoint::kPlan);
 
+/// The request field of a plan option the core refused after the API's ranges passed: the
+/// option's own path where it has one (options.drive_profile, options.uncertainty.<member>; a
+/// band the uncertainty range widens to 0 Hz: the member that spreads omega_1), else "options"
+/// (a relation between options, e.g. ramps and plateau minimums longer than T).
+[[nodiscard]] std::string options_field(const InvalidInput& invalid, const PlanOptions& options);
+
 /// The API's sentence for a refused input, as the API words it (its field names, mm for eta).
 /// `format` and `options` are the request's (the relation of the floors quotes them).
 [[nodiscard]] std::string input_sentence(const InvalidInput& invalid, const Format& format,

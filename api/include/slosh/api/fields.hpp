@@ -43,6 +43,10 @@ struct Range {
 /// value converts to (a computed length), and a non-finite one, is returned as metres * 1e3.
 [[nodiscard]] double mm_of(double metres);
 
+/// Percent of a fraction that the API received in percent and keeps as a fraction (read as
+/// pct * 0.01), as mm_of does for millimetres: 5 % echoes as 5, not as 5.000000000000001.
+[[nodiscard]] double pct_of(double fraction);
+
 /// Compact JSON text of a value for messages, cut to 60 bytes on a UTF-8 boundary.
 [[nodiscard]] std::string show(const nlohmann::json& value);
 

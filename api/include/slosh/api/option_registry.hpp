@@ -65,13 +65,18 @@ struct OptionSpec {
   /// Keyed only when its value differs from the default: an option added after plans were keyed
   /// (drive_profile) leaves the keys of the requests without it as they were.
   bool keyed_when_set{false};
+  /// When set, keyed only when it returns true as well (sample_points: only with a range).
+  std::function<bool(const PlanOptions&)> keyed_only_if;
 };
 
-/// An object of "options" holding several options ("limits").
+/// An object of "options" holding several options ("limits", "uncertainty").
 struct OptionGroup {
   std::string_view name;         ///< "limits"
   std::string_view schema_name;  ///< OpenAPI component, "MachineLimits"
   std::string doc;
+  /// Put before its members' names in CSV recipe columns ("uncertainty_": its fill_height_mm
+  /// column is not the format's).
+  std::string_view column_prefix{};
 };
 
 /// The plan options in the order the API lists them (the allowed keys of "options", the CSV
@@ -99,7 +104,8 @@ class OptionRegistry {
   void parse(const nlohmann::json& json_options, const Format& format, PlanOptions& options) const;
 
   /// {recipe_name: SI value} of every keyed option (those keyed_when_set only when they differ
-  /// from their default): the "options" of the canonical recipe.
+  /// from their default, those with keyed_only_if only when it holds): the "options" of the
+  /// canonical recipe.
   [[nodiscard]] nlohmann::json recipe(const PlanOptions& options) const;
 
  private:

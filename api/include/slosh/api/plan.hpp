@@ -32,6 +32,9 @@ inline const Range kIirTau{1.0, 1000.0, "1/s"};
 /// iir_sample_period_s: also <= format.motion_time_s / kIirMinSamples.
 inline const Range kIirSamplePeriod{1e-4, 0.01, "s"};
 constexpr int kMaxBandPoints = 2001;
+/// options.uncertainty: the frequency error (SPEC §10, core kMaxOmegaError) and the viscosities.
+inline const Range kOmegaErrorPct{0.0, 50.0, "%"};
+inline const Range kViscosityRangePaS{0.0, 1e6, "Pa·s"};
 }  // namespace plan_ranges
 
 /// A validated plan request.

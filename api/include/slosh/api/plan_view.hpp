@@ -16,7 +16,8 @@ namespace slosh::api {
 
 enum class PlanView {
   kFull,     ///< "full": the whole plan (the default)
-  kCompact,  ///< "compact": key, status, strategy, law, kinematics, predictions, warnings, version
+  kCompact,  ///< "compact": key, status, strategy, law, kinematics, predictions, warnings, version,
+             ///< robustness (interval and worst eta)
 };
 
 /// "full", "compact".
@@ -52,6 +53,10 @@ constexpr std::size_t kCompactPlanMaxBytes{1024};
 ///   prediction  eta_motion_mm and eta_rest_mm of the nonlinear and the linear model
 ///   warnings    the finding of each warning (its text up to the first ": "; the explanation
 ///               after it is in the full plan)
+///   move_absolute  as in the plan, when it has one
+///   robustness  when the plan has a report, on the nonlinear model, in hundredths: holds_pct,
+///               the delta interval [%] where the limits hold (null when not at delta = 0), and
+///               worst_mm, the largest eta_motion and eta_rest over the sweep [mm]
 /// The message (prose that the status, predictions and warnings already carry in numbers) is not
 /// in it: the full plan of the same key has it. For a 7-segment law the compact plan is under
 /// kCompactPlanMaxBytes (17 numbers, five warnings at most); a general law (shaper, iir, fir_chain

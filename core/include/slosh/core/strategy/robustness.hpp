@@ -57,7 +57,7 @@ struct RobustnessReport {
   /// Where the limits hold around delta = 0; nullopt when they do not hold at 0.
   std::optional<DeltaInterval> linear;
   std::optional<DeltaInterval> nonlinear;
-  /// The largest eta over the sweep [m].
+  /// The largest eta over the sweep [m]; NaN when a model diverged at some point.
   double worst_motion_linear{}, worst_rest_linear{};
   double worst_motion_nonlinear{}, worst_rest_nonlinear{};
 };
