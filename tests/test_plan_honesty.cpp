@@ -552,3 +552,32 @@ TEST(PlanHonesty, APlateauMinimumBelowOneNanosecondIsRefused) {
 
 }  // namespace
 }  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// Hostile review of issue 20 (D3): with T < 7 min_ramp the baseline returns the nearest admissible
+// law, not T/7, and warned that it was worse than the baseline, i.e. than itself.
+TEST(PlanHonesty, TheBaselineIsNeverWorseThanTheBaseline) {
+  const Format f = format_mm(48.5, 82, 800, 0.3);  // 0.3 s < 7 x 0.05 s
+  for (Strategy s : {Strategy::kBaseline, Strategy::kAuto}) {
+    const PlanResult r = plan(f, s, PlanOptions{});
+    if (s == Strategy::kBaseline) {
+      ASSERT_TRUE(r.durations);
+      // Not T/7: the ramp minimum plus an equal share of the rest.
+      EXPECT_NEAR((*r.durations)[0], 0.05 + (0.3 - 4 * 0.05) / 7, 1e-15) << describe(r);
+    }
+    for (const std::string& w : r.warnings) {
+      if (r.durations && r.strategy == Strategy::kBaseline) {
+        EXPECT_EQ(w.find("worse_than_baseline"), std::string::npos) << w;
+      }
+    }
+  }
+  const PlanResult b = plan(f, Strategy::kBaseline, PlanOptions{});
+  for (const std::string& w : b.warnings) {
+    EXPECT_EQ(w.find("worse_than_baseline"), std::string::npos) << w;
+  }
+}
+
+}  // namespace
+}  // namespace slosh

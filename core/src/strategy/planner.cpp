@@ -633,7 +633,9 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   }
   verify(c, s.outcome, s.worst_case.value_or(s.prediction));
   s.detail = s.outcome.detail;
-  s.worse = worse_than_baseline(s.prediction, baseline);
+  // baseline is the reference itself (when the options exclude the uniform law, its nearest
+  // admissible law): it is never "worse than the baseline".
+  if (strategy != Strategy::kBaseline) s.worse = worse_than_baseline(s.prediction, baseline);
   return s;
 }
 
@@ -729,7 +731,9 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     verify(c, o, cand.worst_case.value_or(cand.prediction));
     cand.status = o.status;
     cand.durations = o.durations;
-    worse_of.push_back(worse_than_baseline(cand.prediction, baseline));
+    worse_of.push_back(o.strategy == Strategy::kBaseline
+                           ? std::string()
+                           : worse_than_baseline(cand.prediction, baseline));
     worse.push_back(!worse_of.back().empty());
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
