@@ -495,8 +495,10 @@ void add_compact_plan_schemas(json& s) {
                              {"a_max", "a_min", "v_peak", "j_peak"}, "Peaks of the law.", false)},
        {"prediction", object({{"nonlinear", peaks}, {"linear", peaks}}, {"nonlinear", "linear"},
                              "Predicted peaks of both models.", false)},
-       {"warnings", strings("The finding of each of the full plan's warnings (its text up to the "
-                            "first \": \"; the full plan has the explanation).")},
+       {"warnings", strings("A code per validity warning (linear_model_unreliable, "
+                            "surface_tension, shallow_fill, spill), else the warning's finding "
+                            "(its text up to the first \": \"); the full plan has the "
+                            "explanation.")},
        {"move_absolute", ref("MoveAbsolute")},
        {"robustness", ref("CompactRobustness")}},
       {"view", "key", "cached", "version", "strategy", "status", "law", "kinematics", "prediction",

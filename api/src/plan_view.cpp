@@ -66,7 +66,23 @@ void require_no_series(PlanView view, const std::optional<double>& sample_period
   }
 }
 
+/// The compact code of each validity warning (SPEC §2) by the start of its sentence; other
+/// warnings keep their finding (the text up to the first ": ").
+struct WarningCode {
+  std::string_view prefix;
+  std::string_view code;
+};
+constexpr WarningCode kWarningCodes[] = {
+    {"peak |acceleration| ", "linear_model_unreliable"},
+    {"radius ", "surface_tension"},
+    {"fill ratio ", "shallow_fill"},
+    {"predicted sloshing height during the motion ", "spill"},
+};
+
 std::string warning_finding(const std::string& warning) {
+  for (const WarningCode& c : kWarningCodes) {
+    if (warning.starts_with(c.prefix)) return std::string(c.code);
+  }
   return warning.substr(0, warning.find(": "));
 }
 
