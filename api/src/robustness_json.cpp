@@ -15,26 +15,15 @@ constexpr double kTwoPi = 2.0 * std::numbers::pi;
 
 /// The two peaks in mm; null when the model diverged (not finite: the nonlinear model can, on
 /// formats far outside its range, at some delta).
-json eta_pair(double motion, double rest) {
-  if (!std::isfinite(motion) || !std::isfinite(rest)) return nullptr;
-  return {{"eta_motion_mm", motion * 1e3}, {"eta_rest_mm", rest * 1e3}};
-}
-
 json eta_pair(const SloshPeaks& p) {
-  return eta_pair(p.motion.value, p.rest.value);
+  if (!std::isfinite(p.motion.value) || !std::isfinite(p.rest.value)) return nullptr;
+  return {{"eta_motion_mm", p.motion.value * 1e3}, {"eta_rest_mm", p.rest.value * 1e3}};
 }
 
-bool finite(const SloshPeaks& p) {
-  return std::isfinite(p.motion.value) && std::isfinite(p.rest.value);
-}
-
-/// The largest peaks of one model over the sweep; null when it diverged at some point (no bound).
+/// The largest peaks of one model over the sweep; null when it diverged at some point (the
+/// report's worst value is then NaN: no bound).
 json worst_json(const RobustnessReport& r, bool nonlinear) {
-  for (const RobustnessPoint& p : r.points) {
-    if (!finite(nonlinear ? p.nonlinear : p.linear)) return nullptr;
-  }
-  return nonlinear ? eta_pair(r.worst_motion_nonlinear, r.worst_rest_nonlinear)
-                   : eta_pair(r.worst_motion_linear, r.worst_rest_linear);
+  return eta_pair(nonlinear ? r.worst_nonlinear : r.worst_linear);
 }
 
 json interval_json(const std::optional<DeltaInterval>& d) {

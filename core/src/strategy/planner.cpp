@@ -28,20 +28,22 @@ LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double r
   return p;
 }
 
-/// The largest of each verified eta over `models` (the kinematics are the law's).
-LawPrediction worst_prediction(const std::vector<SloshingModel>& models, const MotionLaw& law,
-                               double rest_time) {
-  LawPrediction worst;
-  worst.kinematics = law.summary();
-  auto raise = [](SloshPeaks& w, const SloshPeaks& p) {
-    if (p.motion.value > w.motion.value || std::isnan(p.motion.value)) w.motion = p.motion;
-    if (p.rest.value > w.rest.value || std::isnan(p.rest.value)) w.rest = p.rest;
-  };
-  for (const SloshingModel& m : models) {
-    raise(worst.linear, LinearResponse(m, law, rest_time).peaks());
-    raise(worst.nonlinear, NonlinearResponse(m, law, rest_time).peaks());
+/// The sweep of SPEC §10 for `options`: over the uncertainty range at its least damping when
+/// active, else over +-10 % at `nominal_zeta`; judged by eta_rest_max (and eta_motion_max when
+/// given).
+RobustnessSweep sweep_for(const Format& format, const PlanOptions& options, double nominal_zeta) {
+  RobustnessSweep sweep;
+  sweep.zeta = nominal_zeta;
+  if (options.uncertainty.active()) {
+    const UncertaintyRange range = uncertainty_range(format, options.model, options.uncertainty);
+    sweep.delta_lo = range.scale_lo - 1.0;
+    sweep.delta_hi = range.scale_hi - 1.0;
+    sweep.zeta = range.zeta_lo;
   }
-  return worst;
+  sweep.rest_time = options.rest_time;
+  sweep.eta_rest_max = options.eta_rest_max;
+  sweep.eta_motion_max = options.eta_motion_max;
+  return sweep;
 }
 
 std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
@@ -353,7 +355,12 @@ void set_design(StrategyContext& c) {
   const double mid = r.scale_mid();
   c.design_model = scaled_model(c.model, mid, r.zeta_mid());
   c.sample_models = sample_models(c.model, r, o.uncertainty.sample_points);
-  c.check_models = sample_models(c.model, r, kRobustnessPoints);
+  // The robustness report's grid: the models a robust plan is verified at are its points.
+  c.sweep = sweep_for(c.format, o, c.model.zeta);
+  c.check_models.clear();
+  for (double delta : robustness_deltas(c.sweep)) {
+    c.check_models.push_back(scaled_model(c.model, 1.0 + delta, c.sweep.zeta));
+  }
   // The band around the middle reaches (1 + band) scale_hi (and beyond (1 - band) scale_lo).
   c.band = widened_band(o.band, r);
   // Side notches at the ends of the range when it is wider than +-p_notch.
@@ -607,13 +614,37 @@ std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
   return seeds;
 }
 
+/// With an uncertainty range, a law swept over it: the robustness report (the plan's, when it is
+/// the returned law) and the worst case it gives, which the law is verified and judged by.
+struct RangeJudgement {
+  RobustnessReport report;
+  LawPrediction worst;
+};
+
+std::optional<RangeJudgement> judge_over_range(const detail::StrategyContext& c,
+                                               const MotionLaw& law, const LawPrediction& nominal) {
+  if (!c.robust()) return std::nullopt;
+  RangeJudgement j{
+      robustness_report(c.model, law, c.sweep, std::pair{nominal.linear, nominal.nonlinear}), {}};
+  j.worst.kinematics = nominal.kinematics;
+  j.worst.linear = j.report.worst_linear;
+  j.worst.nonlinear = j.report.worst_nonlinear;
+  return j;
+}
+
+/// The prediction a law is verified and judged by: its worst case over the range, or its own.
+const LawPrediction& judged(const std::optional<RangeJudgement>& range,
+                            const LawPrediction& nominal) {
+  return range ? range->worst : nominal;
+}
+
 /// The law plan() returns: its outcome (solver figures summed over the candidates for kAuto), its
 /// verified prediction, the sentence about how it was obtained, and its worse_than_baseline
 /// warning (or empty).
 struct Selection {
   Outcome outcome;
   LawPrediction prediction;
-  std::optional<LawPrediction> worst_case;  ///< over the sample models, when robust
+  std::optional<RangeJudgement> range;  ///< over the uncertainty range, when robust
   std::string detail;
   std::string worse;
 };
@@ -628,10 +659,8 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   Selection s;
   s.outcome = run_strategy(c, strategy, seeds);
   s.prediction = predict(c.model, s.outcome.law, c.options.rest_time);
-  if (c.robust()) {
-    s.worst_case = worst_prediction(c.check_models, s.outcome.law, c.options.rest_time);
-  }
-  verify(c, s.outcome, s.worst_case.value_or(s.prediction));
+  s.range = judge_over_range(c, s.outcome.law, s.prediction);
+  verify(c, s.outcome, judged(s.range, s.prediction));
   s.detail = s.outcome.detail;
   // baseline is the reference itself (when the options exclude the uniform law, its nearest
   // admissible law): it is never "worse than the baseline".
@@ -712,7 +741,8 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   std::vector<std::string> worse_of;
   std::vector<bool> worse;
   std::vector<Outcome> kept;  // the outcomes of `candidates`, index for index
-  std::string diverged;       // the candidates the models cannot follow, left out
+  std::vector<std::optional<RangeJudgement>> ranges;  // and their sweeps over the range
+  std::string diverged;  // the candidates the models cannot follow, left out
   for (Outcome& o : outcomes) {
     evaluations += o.solver.evaluations;
     starts += o.solver.starts;
@@ -720,15 +750,13 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     cand.strategy = o.strategy;
     cand.law = o.law;
     cand.prediction = predict(c.model, cand.law, c.options.rest_time);
-    if (c.robust()) {
-      cand.worst_case = worst_prediction(c.check_models, cand.law, c.options.rest_time);
-    }
-    if (!finite_prediction(cand.prediction) ||
-        (cand.worst_case && !finite_prediction(*cand.worst_case))) {
+    std::optional<RangeJudgement> range = judge_over_range(c, cand.law, cand.prediction);
+    if (!finite_prediction(cand.prediction) || (range && !finite_prediction(range->worst))) {
       diverged += (diverged.empty() ? "" : ", ") + to_string(o.strategy);
       continue;
     }
-    verify(c, o, cand.worst_case.value_or(cand.prediction));
+    if (range) cand.worst_case = range->worst;
+    verify(c, o, judged(range, cand.prediction));
     cand.status = o.status;
     cand.durations = o.durations;
     worse_of.push_back(o.strategy == Strategy::kBaseline
@@ -737,6 +765,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     worse.push_back(!worse_of.back().empty());
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
+    ranges.push_back(std::move(range));
   }
   if (candidates.empty()) {
     // The models diverge for every candidate (over the uncertainty range, say): the uniform law
@@ -744,9 +773,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     Selection none;
     none.outcome = std::move(outcomes.front());
     none.prediction = predict(c.model, none.outcome.law, c.options.rest_time);
-    if (c.robust()) {
-      none.worst_case = worst_prediction(c.check_models, none.outcome.law, c.options.rest_time);
-    }
+    none.range = judge_over_range(c, none.outcome.law, none.prediction);
     none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
     return none;
   }
@@ -772,7 +799,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
   s.worse = worse_of[choice.index];
   s.prediction = candidates[choice.index].prediction;
-  s.worst_case = candidates[choice.index].worst_case;
+  s.range = std::move(ranges[choice.index]);
   return s;
 }
 
@@ -855,6 +882,19 @@ void take_selection(PlanResult& r, Selection& s, const Format& format) {
   if (!std::isfinite(r.solver.objective)) r.solver.objective = 0.0;
 }
 
+/// The refusal of a law the sloshing models cannot follow, at the nominal model or somewhere in
+/// the uncertainty range.
+InvalidInput diverging_law(const KinematicSummary& k, Strategy strategy, bool at_nominal) {
+  const double a_peak = std::max(k.a_peak_positive, k.a_peak_negative);
+  return refused(PlanInput::kLawResponse, a_peak, non_negative(),
+                 "the sloshing models diverge for the planned " + to_string(strategy) + " law " +
+                     (at_nominal ? "on this format" : "somewhere in the uncertainty range") +
+                     " (peak |a| = " + sig3(a_peak) +
+                     " m/s^2): the motion is outside what they describe; lengthen the motion "
+                     "time" +
+                     (at_nominal ? "" : " or narrow the range"));
+}
+
 /// PlanResult::move_absolute of a one-jerk law under drive_profile kMoveAbsolute.
 void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format& format) {
   if (options.drive_profile != DriveProfile::kMoveAbsolute || !r.durations) return;
@@ -865,18 +905,7 @@ void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format&
 
 RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
                                const PlanResult& r) {
-  RobustnessSweep sweep;
-  sweep.zeta = r.model.zeta;
-  if (options.uncertainty.active()) {
-    const UncertaintyRange range = uncertainty_range(format, options.model, options.uncertainty);
-    sweep.delta_lo = range.scale_lo - 1.0;
-    sweep.delta_hi = range.scale_hi - 1.0;
-    sweep.zeta = range.zeta_lo;
-  }
-  sweep.rest_time = options.rest_time;
-  sweep.eta_rest_max = options.eta_rest_max;
-  sweep.eta_motion_max = options.eta_motion_max;
-  return robustness_report(r.model, r.law, sweep,
+  return robustness_report(r.model, r.law, sweep_for(format, options, r.model.zeta),
                            std::pair{r.prediction.linear, r.prediction.nonlinear});
 }
 
@@ -923,31 +952,18 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   const Strategy result_strategy = s.outcome.strategy;
   take_selection(r, s, format);
   take_move_absolute(r, options, format);
-  if (!finite_prediction(r.prediction)) {
-    // A law the models cannot follow (hundreds of g on a short move): no numbers to promise.
-    const double a_peak =
-        std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative);
-    return refusal(
-        format, strategy, options,
-        refused(PlanInput::kLawResponse, a_peak, non_negative(),
-                "the sloshing models diverge for the planned " + to_string(result_strategy) +
-                    " law on this format (peak |a| = " + sig3(a_peak) +
-                    " m/s^2): the motion is outside what they describe; lengthen "
-                    "the motion time"));
+  // A law the models cannot follow (hundreds of g on a short move), at the nominal model or
+  // somewhere in the uncertainty range: no numbers to promise.
+  const bool nominal_diverges = !finite_prediction(r.prediction);
+  if (nominal_diverges || (s.range && !finite_prediction(s.range->worst))) {
+    return refusal(format, strategy, options,
+                   diverging_law(r.prediction.kinematics, result_strategy, nominal_diverges));
   }
-  r.worst_case = s.worst_case;
-  if (r.worst_case && !finite_prediction(*r.worst_case)) {
-    const double a_peak =
-        std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative);
-    return refusal(
-        format, strategy, options,
-        refused(PlanInput::kLawResponse, a_peak, non_negative(),
-                "the sloshing models diverge for the planned " + to_string(result_strategy) +
-                    " law somewhere in the uncertainty range (peak |a| = " + sig3(a_peak) +
-                    " m/s^2): the motion is outside what they describe; lengthen the "
-                    "motion time or narrow the range"));
+  if (s.range) r.worst_case = s.range->worst;
+  if (options.robustness) {
+    // A robust plan's law was swept over the range already: that sweep is its report.
+    r.robustness = s.range ? std::move(s.range->report) : robustness_of(format, options, r);
   }
-  if (options.robustness) r.robustness = robustness_of(format, options, r);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));

@@ -19,12 +19,21 @@ double margin(const SloshPeaks& p, const RobustnessSweep& s) {
   return std::isnan(m) ? INFINITY : m;
 }
 
-/// w = max(w, v), where a NaN (a model that diverged) sticks: the worst case is then unknown.
-void raise(double& w, double v) {
-  if (std::isnan(v) || v > w) w = v;
+/// w = max(w, p) by value, where a NaN (a model that diverged) sticks: the worst case is then
+/// unknown.
+void raise(Peak& w, const Peak& p) {
+  if (std::isnan(w.value)) return;
+  if (std::isnan(p.value) || p.value > w.value) w = p;
 }
 
-std::vector<double> sweep_deltas(const RobustnessSweep& s) {
+void raise(SloshPeaks& w, const SloshPeaks& p) {
+  raise(w.motion, p.motion);
+  raise(w.rest, p.rest);
+}
+
+}  // namespace
+
+std::vector<double> robustness_deltas(const RobustnessSweep& s) {
   std::vector<double> deltas;
   const int n = std::max(2, s.points);
   for (int k = 0; k < n; ++k) {
@@ -39,6 +48,8 @@ std::vector<double> sweep_deltas(const RobustnessSweep& s) {
   }
   return deltas;
 }
+
+namespace {
 
 /// The interval around the point `zero` over which `margins` <= slack, its ends interpolated.
 std::optional<DeltaInterval> holding_interval(const std::vector<double>& deltas,
@@ -70,7 +81,7 @@ RobustnessReport robustness_report(
     const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero) {
   RobustnessReport r;
   r.sweep = sweep;
-  const std::vector<double> deltas = sweep_deltas(sweep);
+  const std::vector<double> deltas = robustness_deltas(sweep);
   std::vector<double> lin_margin, nl_margin;
   std::size_t zero = 0;
   for (std::size_t k = 0; k < deltas.size(); ++k) {
@@ -89,10 +100,8 @@ RobustnessReport robustness_report(
     nl_margin.push_back(margin(p.nonlinear, sweep));
     p.holds_linear = lin_margin.back() <= kRobustnessSlack;
     p.holds_nonlinear = nl_margin.back() <= kRobustnessSlack;
-    raise(r.worst_motion_linear, p.linear.motion.value);
-    raise(r.worst_rest_linear, p.linear.rest.value);
-    raise(r.worst_motion_nonlinear, p.nonlinear.motion.value);
-    raise(r.worst_rest_nonlinear, p.nonlinear.rest.value);
+    raise(r.worst_linear, p.linear);
+    raise(r.worst_nonlinear, p.nonlinear);
     r.points.push_back(p);
   }
   r.linear = holding_interval(deltas, lin_margin, zero);

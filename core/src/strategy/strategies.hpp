@@ -50,8 +50,9 @@ struct StrategyContext {
   /// The models time_domain's constraints hold at and auto judges by: the nominal model alone,
   /// or sample_models() of the uncertainty range.
   std::vector<SloshingModel> sample_models{};
-  /// The models a robust plan is verified at: kRobustnessPoints evenly over the uncertainty range
-  /// at its least damping (the robustness report's grid); the nominal model alone otherwise.
+  /// The models a robust plan is verified at: the points of `sweep` (kRobustnessPoints evenly over
+  /// the uncertainty range at its least damping, the robustness report's grid); the nominal model
+  /// alone otherwise.
   /// time_domain adds a model of it to its sample models where its bound is broken (exchange).
   std::vector<SloshingModel> check_models{};
   /// min_jerk_band's relative half band around design_model.omega1() [-] (the option, widened to
@@ -62,6 +63,8 @@ struct StrategyContext {
   double p_notch{};
   /// The uncertainty's range when active.
   std::optional<UncertaintyRange> range{};
+  /// With a range: the robustness report's sweep over it (check_models are its points).
+  RobustnessSweep sweep{};
 
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }

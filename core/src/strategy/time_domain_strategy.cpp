@@ -249,8 +249,8 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   double margin = 0.0;
   *bound_excess = 0.0;
   const int rounds = c.robust() ? kRobustExchangeRounds : kExchangeRounds;
+  TimeDomainWorkspace ws(c, models);
   for (int round = 0; round < rounds; ++round) {
-    TimeDomainWorkspace ws(c, models);
     std::optional<double> solver_bound;
     if (bound) solver_bound = *bound * (1.0 - margin);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws);
@@ -269,6 +269,7 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     if (bound &&
         add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess)) {
       samples.push_back(initial_samples(c, models.back()));
+      ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
       added = true;
     }
     *bound_excess = excess;

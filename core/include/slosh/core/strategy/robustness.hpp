@@ -57,10 +57,15 @@ struct RobustnessReport {
   /// Where the limits hold around delta = 0; nullopt when they do not hold at 0.
   std::optional<DeltaInterval> linear;
   std::optional<DeltaInterval> nonlinear;
-  /// The largest eta over the sweep [m]; NaN when a model diverged at some point.
-  double worst_motion_linear{}, worst_rest_linear{};
-  double worst_motion_nonlinear{}, worst_rest_nonlinear{};
+  /// Each model's largest eta_motion and eta_rest over the sweep, with the time of each in its
+  /// point's response [m, s]; a NaN value when the model diverged at some point.
+  SloshPeaks worst_linear;
+  SloshPeaks worst_nonlinear;
 };
+
+/// The deltas a sweep evaluates, sorted: `points` evenly from delta_lo to delta_hi (a symmetric
+/// sweep hits 0 exactly), plus 0 when the grid misses it [-].
+[[nodiscard]] std::vector<double> robustness_deltas(const RobustnessSweep& sweep);
 
 /// The sweep of `law` on `nominal` (every frequency of it scaled, zeta = sweep.zeta). When
 /// `at_zero` is given it is taken as the peaks at delta = 0 with the nominal zeta (the plan's own
