@@ -6,6 +6,7 @@ set -euo pipefail
 
 packages=(
   build-essential cmake ninja-build pkg-config git # toolchain
+  ccache                                           # compiler cache (rebuilds, second clones)
   libeigen3-dev                                    # dense linear algebra (core)
   libnlopt-cxx-dev                                 # NLopt optimisers (core/optimize)
   coinor-libipopt-dev                              # Ipopt interior point (core/optimize)
