@@ -13,6 +13,7 @@
 //    out) and the widened band's lower edge f_lo - band f_hi.
 
 #include <httplib.h>
+#include <limits>
 
 #include <gtest/gtest.h>
 
@@ -420,6 +421,13 @@ std::vector<Refusal> refusals() {
        omega + " = 60 is out of range: allowed 0 to 50 %"},
       {with_uncertainty({{"omega_error_pct", -1}}), omega,
        omega + " = -1 is out of range: allowed 0 to 50 %"},
+      // 5e-324 % x 0.01 underflows to 0 ("none"): refused, with the smallest normal double / 0.01.
+      {with_uncertainty({{"omega_error_pct", 5e-324}}), omega,
+       omega + " = 4.940656458e-324 % is too small to be told from 0: give 0 or at least " +
+           g10(std::numeric_limits<double>::min() / 0.01) + " %"},
+      {with_uncertainty({{"omega_error_pct", 1e-310}}), omega,
+       omega + " = 1e-310 % is too small to be told from 0: give 0 or at least " +
+           g10(std::numeric_limits<double>::min() / 0.01) + " %"},
       {with_uncertainty({{"omega_error_pct", "5"}}), omega,
        omega + " must be a number, got \"5\"; allowed 0 to 50 %"},
       {with_uncertainty({{"fill_height_mm", 80}}), fill,

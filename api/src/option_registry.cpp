@@ -1,6 +1,8 @@
 #include "slosh/api/option_registry.hpp"
 
 #include <algorithm>
+#include <cmath>
+#include <limits>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
@@ -48,14 +50,29 @@ json damping_value(const json& object, const std::string& path) {
   return name_of(model.damping);
 }
 
+// `user` x option.scale; a non-zero value whose SI value is not a normal double (it underflows to
+// 0 or a denormal) is refused rather than read as 0 ("none").
+double si_of(const OptionSpec& option, double user, const std::string& field) {
+  const double si = user * option.scale;
+  if (user != 0.0 && !std::isnormal(si)) {
+    invalid(field, field + " = " + number_text(user) + " " + std::string(option.range.unit) +
+                       " is too small to be told from 0: give 0 or at least " +
+                       number_text(std::numeric_limits<double>::min() / option.scale) + " " +
+                       std::string(option.range.unit));
+  }
+  return si;
+}
+
 // User units -> SI.
-json to_si(const OptionSpec& option, json value) {
+json to_si(const OptionSpec& option, json value, const std::string& field) {
   if (option.scale == 1.0) return value;
   if (value.is_array()) {
-    for (json& item : value) item = item.get<double>() * option.scale;
+    for (std::size_t i = 0; i < value.size(); ++i) {
+      value[i] = si_of(option, value[i].get<double>(), field + "[" + std::to_string(i) + "]");
+    }
     return value;
   }
-  return value.is_number() ? json(value.get<double>() * option.scale) : value;
+  return value.is_number() ? json(si_of(option, value.get<double>(), field)) : value;
 }
 
 // SI -> user units (the OpenAPI defaults).
@@ -596,7 +613,7 @@ void OptionRegistry::parse(const json& object, const Format& format, PlanOptions
       if (o->message_note.empty()) throw;
       invalid(e.field(), std::string(e.what()) + o->message_note);
     }
-    if (value) o->set(out, to_si(*o, std::move(*value)));
+    if (value) o->set(out, to_si(*o, std::move(*value), join_path(path, o->name)));
   }
 }
 
