@@ -35,6 +35,7 @@
 
 #include "slosh/api/plan.hpp"
 #include "support/process.hpp"
+#include "support/rfc4180.hpp"
 #include "support/server.hpp"
 
 extern char** environ;
@@ -52,64 +53,9 @@ using test::Server;
 using test::TempDir;
 using test::write_file;
 
-// ---------------------------------------------------------------------------------------------
-// An RFC 4180 reader of our own (quoted cells, doubled quotes, line breaks inside quotes, CRLF),
-// strict: a quote inside an unquoted cell or an unterminated quote is an error.
-
-struct Cell {
-  std::string text;
-  bool quoted{false};
-};
-using Record = std::vector<Cell>;
-
-std::vector<Record> parse_rfc4180(const std::string& text) {
-  std::vector<Record> records;
-  Record record;
-  Cell cell;
-  bool in_quotes = false;
-  bool after_closing_quote = false;
-  auto end_cell = [&] {
-    record.push_back(cell);
-    cell = Cell{};
-    after_closing_quote = false;
-  };
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (in_quotes) {
-      if (c != '"') {
-        cell.text += c;
-      } else if (i + 1 < text.size() && text[i + 1] == '"') {
-        cell.text += '"';
-        ++i;
-      } else {
-        in_quotes = false;
-        after_closing_quote = true;
-      }
-      continue;
-    }
-    if (c == '"') {
-      if (!cell.text.empty() || cell.quoted) throw std::runtime_error("quote inside a cell");
-      cell.quoted = true;
-      in_quotes = true;
-    } else if (c == ',') {
-      end_cell();
-    } else if (c == '\n' || c == '\r') {
-      if (c == '\r' && i + 1 < text.size() && text[i + 1] == '\n') ++i;
-      end_cell();
-      records.push_back(std::move(record));
-      record.clear();
-    } else {
-      if (after_closing_quote) throw std::runtime_error("text after a closing quote");
-      cell.text += c;
-    }
-  }
-  if (in_quotes) throw std::runtime_error("unterminated quote");
-  if (!cell.text.empty() || cell.quoted || !record.empty()) {
-    end_cell();
-    records.push_back(std::move(record));
-  }
-  return records;
-}
+using test::Cell;
+using test::parse_rfc4180;
+using test::Record;
 
 /// Quotes a cell for our own CSV writer when RFC 4180 requires it.
 std::string csv_cell(const std::string& text) {

@@ -39,6 +39,7 @@
 #include "support/plan_errors.hpp"
 #include "support/process.hpp"
 #include "support/reference_integrators.hpp"
+#include "support/rfc4180.hpp"
 #include "support/server.hpp"
 
 namespace slosh::api {
@@ -1247,40 +1248,6 @@ TEST(FilterCli, PlanPrintsTheShaperPlan) {
   EXPECT_TRUE(out["durations_s"].is_null());
 }
 
-std::vector<std::vector<std::string>> read_csv_rows(const std::string& text) {
-  // RFC 4180 enough for the tables here: quoted cells may hold commas and doubled quotes.
-  std::vector<std::vector<std::string>> rows;
-  std::vector<std::string> row;
-  std::string cell;
-  bool quoted = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
-        cell += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cell += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      row.push_back(cell);
-      cell.clear();
-    } else if (c == '\n') {
-      row.push_back(cell);
-      cell.clear();
-      rows.push_back(row);
-      row.clear();
-    } else {
-      cell += c;
-    }
-  }
-  return rows;
-}
-
 TEST(FilterCli, ExportWritesTheCamTableOfTheShapedLaw) {
   const TempDir dir;
   const json body = plan_body("shaper", 1.0, {{"shaper", "zvd"}});
@@ -1295,7 +1262,7 @@ TEST(FilterCli, ExportWritesTheCamTableOfTheShapedLaw) {
   EXPECT_EQ(summary["samples"], 1001);
 
   const JsonLaw law(plan_of(body)["law"], kStroke);
-  const auto rows = read_csv_rows(read_file(dir / "cam.csv"));
+  const auto rows = test::csv_texts(read_file(dir / "cam.csv"));
   ASSERT_EQ(rows.size(), 1002u);
   EXPECT_EQ(rows[0], (std::vector<std::string>{"t_s", "position_mm", "velocity_mm_s",
                                                "acceleration_mm_s2", "jerk_mm_s3"}));
@@ -1371,7 +1338,7 @@ TEST(FilterCli, BatchPlansTheNewStrategiesWithTheirOptionColumns) {
   const RunResult r = run_slosh({"batch", "--in", (dir / "in.csv").string(), "--out",
                                  (dir / "out.csv").string(), "--cache", "", "--progress", "never"});
   EXPECT_EQ(r.exit_code, 3) << r.err;  // one row could not be planned
-  const auto rows = read_csv_rows(read_file(dir / "out.csv"));
+  const auto rows = test::csv_texts(read_file(dir / "out.csv"));
   ASSERT_EQ(rows.size(), 6u);
   std::map<std::string, std::size_t> col;
   for (std::size_t i = 0; i < rows[0].size(); ++i) col[rows[0][i]] = i;

@@ -33,6 +33,7 @@
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
 #include "support/process.hpp"
+#include "support/rfc4180.hpp"
 #include "support/server.hpp"
 
 namespace slosh {
@@ -642,40 +643,6 @@ TEST_F(RobustnessApi, TheCompactViewKeepsTheNonlinearIntervalAndWorstUnder1kB) {
   EXPECT_EQ(batch.body["results"][0]["plan"]["robustness"], expected);
 }
 
-/// The records of a CSV text (RFC 4180: quoted cells with doubled quotes).
-std::vector<std::vector<std::string>> csv_records(const std::string& text) {
-  std::vector<std::vector<std::string>> records(1);
-  std::string cell;
-  bool quoted = false;
-  for (std::size_t i = 0; i < text.size(); ++i) {
-    const char c = text[i];
-    if (quoted) {
-      if (c == '"' && i + 1 < text.size() && text[i + 1] == '"') {
-        cell += '"';
-        ++i;
-      } else if (c == '"') {
-        quoted = false;
-      } else {
-        cell += c;
-      }
-    } else if (c == '"') {
-      quoted = true;
-    } else if (c == ',') {
-      records.back().push_back(cell);
-      cell.clear();
-    } else if (c == '\n') {
-      records.back().push_back(cell);
-      cell.clear();
-      records.emplace_back();
-    } else if (c != '\r') {
-      cell += c;
-    }
-  }
-  if (!records.back().empty() || !cell.empty()) records.back().push_back(cell);
-  if (records.back().empty()) records.pop_back();
-  return records;
-}
-
 TEST_F(RobustnessApi, BatchRowsCarryTheIntervalAndReadTheUncertaintyColumns) {
   const test::TempDir dir;
   test::write_file(dir / "in.csv",
@@ -691,7 +658,7 @@ TEST_F(RobustnessApi, BatchRowsCarryTheIntervalAndReadTheUncertaintyColumns) {
       test::run_slosh({"batch", "--in", (dir / "in.csv").string(), "--out",
                        (dir / "out.csv").string(), "--cache", "", "--progress", "never"});
   ASSERT_EQ(run.exit_code, 3) << run.err;  // 3: some rows could not be planned
-  const auto records = csv_records(test::read_file(dir / "out.csv"));
+  const auto records = test::csv_texts(test::read_file(dir / "out.csv"));
   ASSERT_EQ(records.size(), 6u);
   const std::vector<std::string>& header = records[0];
   auto cell = [&](std::size_t row, const std::string& column) {
