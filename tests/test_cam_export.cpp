@@ -678,6 +678,22 @@ class CamRoutes : public ::testing::Test {
   }
   static void TearDownTestSuite() { server_.reset(); }
 
+  /// The error object of GET /v1/plans/{key}/`route`, which must answer 422.
+  static json error_of_get(const std::string& route) {
+    const auto res = server_->client().Get("/v1/plans/" + key_ + "/" + route);
+    EXPECT_TRUE(res);
+    if (!res) return json();
+    EXPECT_EQ(res->status, 422) << route << ": " << res->body;
+    return json::parse(res->body)["error"];
+  }
+  /// GET `route` answers 422 with exactly this field and message.
+  static void expect_error(const std::string& route, const std::string& field,
+                           const std::string& message) {
+    EXPECT_EQ(error_of_get(route),
+              json({{"code", "invalid_value"}, {"field", field}, {"message", message}}))
+        << route;
+  }
+
   static std::unique_ptr<test::Server> server_;
   static std::string key_;
 };
@@ -734,19 +750,6 @@ TEST_F(CamRoutes, MasterCsvAndStAreTheFilesOfSloshExport) {
 
 TEST_F(CamRoutes, QueryErrorsAre422NamingTheParameter) {
   httplib::Client client = server_->client();
-  auto error_of_get = [&](const std::string& route) {
-    const auto res = client.Get("/v1/plans/" + key_ + "/" + route);
-    EXPECT_TRUE(res);
-    if (!res) return json();
-    EXPECT_EQ(res->status, 422) << route << ": " << res->body;
-    return json::parse(res->body)["error"];
-  };
-  auto expect_error = [&](const std::string& route, const std::string& field,
-                          const std::string& message) {
-    EXPECT_EQ(error_of_get(route),
-              json({{"code", "invalid_value"}, {"field", field}, {"message", message}}))
-        << route;
-  };
   const std::string relation =
       " master units (0 <= master_start < master_end <= master_period, master_end - master_start "
       ">= 1e-06)";
@@ -799,19 +802,6 @@ TEST_F(CamRoutes, QueryErrorsAre422NamingTheParameter) {
 // resolved silently (the first one won) and an empty st_name fell back to the default.
 TEST_F(CamRoutes, QueryNumbersAreDecimalNumbersAndEachParameterIsGivenOnce) {
   httplib::Client client = server_->client();
-  auto error_of_get = [&](const std::string& route) {
-    const auto res = client.Get("/v1/plans/" + key_ + "/" + route);
-    EXPECT_TRUE(res);
-    if (!res) return json();
-    EXPECT_EQ(res->status, 422) << route << ": " << res->body;
-    return json::parse(res->body)["error"];
-  };
-  auto expect_error = [&](const std::string& route, const std::string& field,
-                          const std::string& message) {
-    EXPECT_EQ(error_of_get(route),
-              json({{"code", "invalid_value"}, {"field", field}, {"message", message}}))
-        << route;
-  };
   const std::string axis = "master_start=30&master_end=210";
   for (const char* route : {"cam.csv", "cam.st"}) {
     const std::string r = std::string(route) + "?";
