@@ -26,6 +26,7 @@
 #include "slosh/core/strategy/planner.hpp"
 #include "solve/one_jerk_chart.hpp"
 #include "support/plan_errors.hpp"
+#include "support/random_format.hpp"
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
@@ -621,15 +622,11 @@ namespace {
 // four ramps.
 TEST(MoveAbsoluteHardening, EveryPlanWithDurationsUnderLimitsCarriesTheProfile) {
   std::mt19937 rng(7);
-  std::uniform_real_distribution<double> radius(0.03, 0.08), ratio(0.5, 2.0), stroke(0.3, 1.0),
-      time(0.5, 1.5), a_max(2.0, 8.0), v_max(0.8, 2.0);
+  const test::FormatRanges ranges{0.03, 0.08, 0.5, 2.0, 0.3, 1.0, 0.5, 1.5};
+  std::uniform_real_distribution<double> a_max(2.0, 8.0), v_max(0.8, 2.0);
   int checked = 0;
   for (int k = 0; k < 12; ++k) {
-    Format f;
-    f.container.radius = radius(rng);
-    f.fill_height = ratio(rng) * f.container.radius;
-    f.stroke = stroke(rng);
-    f.motion_time = time(rng);
+    const Format f = test::random_format(rng, ranges);
     PlanOptions o;
     o.drive_profile = DriveProfile::kMoveAbsolute;
     o.limits.a_max = a_max(rng);

@@ -18,6 +18,7 @@
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "slosh/core/strategy/robustness.hpp"
+#include "support/random_format.hpp"
 
 namespace slosh {
 namespace {
@@ -48,14 +49,8 @@ Durations random_durations(std::mt19937& rng, double T) {
 
 TEST(RobustnessReport, EveryPointEqualsTheNominalModelOnTheTimeStretchedLaw) {
   std::mt19937 rng(2026);
-  std::uniform_real_distribution<double> radius(0.03, 0.1), ratio(0.4, 2.5), stroke(0.2, 1.0),
-      time(0.6, 1.6);
   for (int trial = 0; trial < 6; ++trial) {
-    Format f;
-    f.container.radius = radius(rng);
-    f.fill_height = ratio(rng) * f.container.radius;
-    f.stroke = stroke(rng);
-    f.motion_time = time(rng);
+    const Format f = test::random_format(rng);
     const Durations d = random_durations(rng, f.motion_time);
     const SloshingModel model = make_sloshing_model(f, ModelOptions{});
     RobustnessSweep sweep;
