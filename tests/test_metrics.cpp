@@ -139,7 +139,9 @@ TEST(Metrics, ProcessMetricsMatchProc) {
     const PromText m = scrape(client);
     matched =
         listed == fd_entries(fd_dir) && m.value("process_open_fds") == static_cast<double>(listed);
-    if (attempt == 4) EXPECT_EQ(m.value("process_open_fds"), static_cast<double>(listed));
+    if (attempt == 4) {
+      EXPECT_EQ(m.value("process_open_fds"), static_cast<double>(listed));
+    }
   }
   EXPECT_TRUE(matched);
   const PromText m = scrape(client);
