@@ -87,6 +87,8 @@ TEST(PromText, RefusesMalformedExpositions) {
 TEST(Metrics, CountsChangeExactlyAsRequestsAreMade) {
   Server server({"--workers", "1"});
   auto client = server.client();
+  // One keep-alive connection: each request is logged and observed before the next is read.
+  client.set_keep_alive(true);
   const PromText before = scrape(client);
   EXPECT_EQ(before.types.at("slosh_http_request_duration_seconds"), "histogram");
   EXPECT_EQ(before.types.at("slosh_plans_total"), "counter");
@@ -130,6 +132,8 @@ TEST(Metrics, CountsChangeExactlyAsRequestsAreMade) {
 TEST(Metrics, ProcessMetricsMatchProc) {
   Server server;
   auto client = server.client();
+  // One keep-alive connection: each request is logged and observed before the next is read.
+  client.set_keep_alive(true);
   const std::string fd_dir = "/proc/" + std::to_string(server.child().pid()) + "/fd";
   // The server's descriptors as the test lists them; a scrape between two equal listings must
   // report the same number (the test's one keep-alive connection is open throughout).
@@ -198,6 +202,8 @@ TEST(Metrics, PromtoolAcceptsTheExposition) {
   }
   Server server;
   auto client = server.client();
+  // One keep-alive connection: each request is logged and observed before the next is read.
+  client.set_keep_alive(true);
   ASSERT_TRUE(client.Post("/v1/plans", baseline_plan().dump(), "application/json"));
   const auto r = client.Get("/metrics");
   ASSERT_TRUE(r && r->status == 200);
