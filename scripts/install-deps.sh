@@ -22,6 +22,9 @@ packages=(
   clang-format                                     # formatting check
   clang libclang-rt-14-dev llvm                    # fuzzers: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
   curl wrk                                         # loopback load script
+  nginx-light                                      # reverse proxy of the replica tests (tests/support/proxy.hpp)
+  yamllint                                         # lint of deploy/compose.yaml and deploy/k8s (tests/deploy)
+  prometheus                                       # promtool check metrics (test Metrics.PromtoolAcceptsTheExposition)
   libjs-chart.js                                   # Chart.js 3.9 for the web page (embedded)
   chromium chromium-driver python3-selenium        # the web page's browser test
 )

@@ -1,5 +1,6 @@
 #include "config.hpp"
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <limits>
@@ -57,6 +58,7 @@ struct Setting {
   long long lo{0};
   long long hi{0};
   const char* what{""};  // "a TCP port", ...; for text: whether "" is allowed ("empty_ok")
+  std::vector<std::string> choices{};  // text: the allowed values (empty: any)
 
   [[nodiscard]] bool is_text() const {
     return std::holds_alternative<std::string ServerConfig::*>(field);
@@ -66,6 +68,11 @@ struct Setting {
     if (const auto* text_field = std::get_if<std::string ServerConfig::*>(&field)) {
       if (text.empty() && std::string_view(what) != "empty_ok") {
         throw std::runtime_error(where + " must be a non-empty text");
+      }
+      if (!choices.empty() && std::find(choices.begin(), choices.end(), text) == choices.end()) {
+        std::string allowed;
+        for (const std::string& v : choices) allowed += (allowed.empty() ? "" : ", ") + v;
+        throw std::runtime_error(where + " = " + text + " is not " + what + ": allowed " + allowed);
       }
       c.*(*text_field) = text;
     } else if (const auto* int_field = std::get_if<int ServerConfig::*>(&field)) {
@@ -108,6 +115,8 @@ const std::vector<Setting>& settings() {
        &C::cache_min_time_store_bytes, 0, 1LL << 50, "a size in bytes (0 = unbounded)"},
       {"cam_export_bytes", "SLOSH_CAM_EXPORT_BYTES", &C::cam_export_bytes, 1 << 20, 1LL << 40,
        "a size in bytes"},
+      {"log_format", "SLOSH_LOG_FORMAT", &C::log_format, 0, 0, "a log format", {"text", "json"}},
+      {"replica_id", "SLOSH_REPLICA_ID", &C::replica_id, 0, 0, "empty_ok"},
   };
   return all;
 }
@@ -160,6 +169,19 @@ void apply_environment(const std::map<std::string, std::string>& environment,
     }
   }
   config = updated;
+}
+
+void apply_setting(const std::string& key, const std::string& where, const std::string& text,
+                   ServerConfig& config) {
+  for (const Setting& s : settings()) {
+    if (key == s.key) {
+      ServerConfig updated = config;
+      s.apply(where, text, updated);
+      config = updated;
+      return;
+    }
+  }
+  throw std::logic_error("no setting " + key);
 }
 
 std::map<std::string, std::string> slosh_environment() {

@@ -21,6 +21,12 @@ void apply_config_file(const std::string& path, ServerConfig& config);
 /// on an invalid value.
 void apply_environment(const std::map<std::string, std::string>& environment, ServerConfig& config);
 
+/// Applies one setting given by its config-file `key` (e.g. from a command-line flag) with the same
+/// checks as the file and the environment; `where` names the source in the message (e.g.
+/// "--log-format"). Throws std::runtime_error on an invalid value.
+void apply_setting(const std::string& key, const std::string& where, const std::string& text,
+                   ServerConfig& config);
+
 /// The SLOSH_* variables of the process environment.
 [[nodiscard]] std::map<std::string, std::string> slosh_environment();
 

@@ -7,6 +7,7 @@
 #include <netinet/in.h>
 #include <pthread.h>
 #include <sys/socket.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <atomic>
@@ -24,6 +25,7 @@
 
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
+#include "log_format.hpp"
 #include "plan_service.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/routes.hpp"
@@ -48,6 +50,10 @@ bool write_port_file(const std::string& path, int port) {
 // Per-request bookkeeping between the pre-routing hook and the logger (same thread).
 // Unset for what the library answers before routing (a malformed request line or header).
 thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
+// The routes-table path that answered the request ("other" when none did), and what its reply
+// said about a plan (Reply::plan), for the latency histogram and the access log.
+thread_local std::string request_route;
+thread_local std::optional<PlanFacts> request_plan;
 std::atomic<std::uint64_t> request_counter{0};
 
 /// Seconds a client is told to wait when its connection could not get a thread.
@@ -226,6 +232,7 @@ struct Runtime {
   ListeningServer& server;
   std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
   std::vector<Endpoint> endpoints;
+  std::string replica;  // the X-Slosh-Replica header of every response
 };
 
 // The HTTP library's threads, timeouts and socket options.
@@ -381,6 +388,8 @@ void register_routes(Runtime& rt) {
       rt.server.Get(pattern,
                     [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
                       Reply reply = guarded([&] { return handler(req, std::string()); });
+                      request_route = label;
+                      request_plan = reply.plan;
                       const int status = reply.status;
                       send(std::move(reply), res);
                       rt.service.metrics().count_request(label, status);
@@ -403,6 +412,8 @@ void register_routes(Runtime& rt) {
                          });
                          // The rest of a refused body is not read.
                          if (refused) res.set_header("Connection", "close");
+                         request_route = label;
+                         request_plan = reply.plan;
                          const int status = reply.status;
                          send(std::move(reply), res);
                          rt.service.metrics().count_request(label, status);
@@ -465,6 +476,7 @@ void install_error_handlers(Runtime& rt) {
         const Reply reply = framework_reply(req, res.status, rt);
         if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
         send(reply, res);
+        request_route = "other";
         rt.service.metrics().count_request("other", reply.status);
         return httplib::Server::HandlerResponse::Handled;
       }));
@@ -503,6 +515,7 @@ void install_request_hooks(Runtime& rt) {
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
     res.set_header("X-Request-Id", request_id(req));
+    res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
     if (ConnectionPool::refusing()) {
       // This connection got no thread of its own (the system refused one): 503, and the client
@@ -516,17 +529,25 @@ void install_request_hooks(Runtime& rt) {
   });
   rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
     if (rt.reaper) rt.reaper->end_request(peer_of(req));
-    const std::string ms =
-        request_start ? fmt::format("{:.3f}", std::chrono::duration<double, std::milli>(
-                                                  std::chrono::steady_clock::now() - *request_start)
-                                                  .count())
-                      : "-";
+    AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
+                         .method = req.method.substr(0, 16),
+                         .route = request_route.empty() ? "other" : request_route,
+                         .path = req.path.substr(0, 200),
+                         .status = res.status,
+                         .ms = std::nullopt,
+                         .bytes = res.content_provider_ ? res.content_length_ : res.body.size(),
+                         .cache = res.get_header_value("X-Cache"),
+                         .plan = std::move(request_plan)};
+    if (request_start) {
+      const std::chrono::duration<double> took = std::chrono::steady_clock::now() - *request_start;
+      entry.ms = took.count() * 1e3;
+      rt.service.metrics().observe_http(
+          entry.route, known_method(req.method) ? req.method : "other", took.count());
+    }
     request_start.reset();
-    spdlog::info("request id={} method={} path={} status={} cache={} ms={} bytes={}",
-                 res.get_header_value("X-Request-Id"), req.method.substr(0, 16),
-                 req.path.substr(0, 200), res.status,
-                 res.has_header("X-Cache") ? res.get_header_value("X-Cache") : "-", ms,
-                 res.content_provider_ ? res.content_length_ : res.body.size());
+    request_route.clear();
+    request_plan.reset();
+    log_access(entry);
   });
 }
 
@@ -601,9 +622,18 @@ void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) 
   rt.reaper->close_idle_now();  // idle and trickling connections are closed, not waited for
 }
 
+// The configured replica id, or the host name.
+std::string replica_name(const ServerConfig& config) {
+  if (!config.replica_id.empty()) return config.replica_id;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) return "slosh";
+  return host;
+}
+
 }  // namespace
 
 int run_server(const ServerConfig& config, const std::string& port_file) {
+  use_log_format(config.log_format);
   StopSignals signals;
   // At most 4 malloc arenas (glibc's default is 8 per core, and up to 256 connection threads each
   // grabbing one fragments the heap); freed memory is trimmed by the signal waiter.
@@ -613,7 +643,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     spdlog::error("plan cache: {}; answering from memory only", error);
   }
   ListeningServer server;
-  Runtime rt{config, service, server, nullptr, {}};
+  Runtime rt{config, service, server, nullptr, {}, replica_name(config)};
   configure_transport(server, config);
   register_routes(rt);
   install_error_handlers(rt);
@@ -629,9 +659,10 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     spdlog::error("cannot write the port file {}", port_file);
   }
   spdlog::info(
-      "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {})",
+      "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {}, "
+      "replica {})",
       kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
-      config.cache_path.empty() ? "memory" : config.cache_path);
+      config.cache_path.empty() ? "memory" : config.cache_path, rt.replica);
   bool ok = false;
   try {
     ok = server.listen_after_bind();

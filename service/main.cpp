@@ -27,6 +27,7 @@ struct CliArgs {
   std::string port_file;
   std::optional<std::size_t> workers, queue;
   std::optional<std::string> cache;
+  std::optional<std::string> log_format, replica_id;  // slosh serve
   std::string request = "-";
   std::optional<std::string> view;  // slosh plan --view
   slosh::service::BatchCommandOptions batch;
@@ -61,6 +62,12 @@ CLI::App* add_serve(CLI::App& app, CliArgs& a) {
                        std::to_string(a.defaults.queue) + "; env SLOSH_QUEUE]")
       ->check(CLI::Range(1, 100000));
   serve->add_option("--cache", a.cache, cache_help(a, "SQLite file of the plan cache"));
+  serve->add_option("--log-format", a.log_format,
+                    "Log lines: text, or json (one JSON object per line) [default text; env "
+                    "SLOSH_LOG_FORMAT]");
+  serve->add_option("--replica-id", a.replica_id,
+                    "Name in the X-Slosh-Replica response header, \"\" = the host name [env "
+                    "SLOSH_REPLICA_ID]");
   return serve;
 }
 
@@ -233,6 +240,15 @@ int main(int argc, char** argv) {
     if (a.host) s.host = *a.host;
     if (a.port) s.port = *a.port;
     if (a.queue) s.queue = *a.queue;
+    try {
+      if (a.log_format)
+        slosh::service::apply_setting("log_format", "--log-format", *a.log_format, s);
+      if (a.replica_id)
+        slosh::service::apply_setting("replica_id", "--replica-id", *a.replica_id, s);
+    } catch (const std::exception& e) {
+      std::cerr << "slosh serve: " << e.what() << '\n';
+      return slosh::service::kExitInvalidInput;
+    }
     try {
       return slosh::service::run_server(s, a.port_file);
     } catch (const std::exception& e) {  // e.g. the system refused the worker threads

@@ -2,6 +2,9 @@
 
 #include <sstream>
 
+#include "process_metrics.hpp"
+#include "version.hpp"
+
 namespace slosh::service {
 
 void Metrics::count_request(const std::string& route, int status) {
@@ -37,6 +40,69 @@ void Metrics::count_min_time_join() {
 void Metrics::count_export_refusal() {
   std::lock_guard lock(mutex_);
   ++export_refusals_;
+}
+
+void Metrics::observe_http(const std::string& route, const std::string& method, double seconds) {
+  std::lock_guard lock(mutex_);
+  HttpHistogram& h = http_[{route, method}];
+  for (std::size_t i = 0; i < kHttpBuckets.size(); ++i) {
+    if (seconds <= kHttpBuckets[i]) ++h.buckets[i];
+  }
+  ++h.count;
+  h.sum += seconds;
+}
+
+void Metrics::count_plan(const std::string& strategy, const std::string& status) {
+  std::lock_guard lock(mutex_);
+  ++plans_[{strategy, status}];
+}
+
+namespace {
+
+// A label value with backslash, double quote and newline escaped (exposition format 0.0.4).
+std::string label(const std::string& value) {
+  std::string out;
+  for (const char c : value) {
+    if (c == '\\' || c == '"') out += '\\';
+    if (c == '\n') {
+      out += "\\n";
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+// The HTTP latency histogram, the plans served, the build info and the process metrics.
+void Metrics::render_more(std::ostringstream& out) const {
+  out << "# HELP slosh_http_request_duration_seconds Time from routing a request to its response "
+         "written, by route and method.\n"
+      << "# TYPE slosh_http_request_duration_seconds histogram\n";
+  for (const auto& [key, h] : http_) {
+    const std::string labels =
+        "route=\"" + label(key.first) + "\",method=\"" + label(key.second) + "\"";
+    for (std::size_t i = 0; i < kHttpBuckets.size(); ++i) {
+      out << "slosh_http_request_duration_seconds_bucket{" << labels << ",le=\"" << kHttpBuckets[i]
+          << "\"} " << h.buckets[i] << '\n';
+    }
+    out << "slosh_http_request_duration_seconds_bucket{" << labels << ",le=\"+Inf\"} " << h.count
+        << '\n'
+        << "slosh_http_request_duration_seconds_sum{" << labels << "} " << h.sum << '\n'
+        << "slosh_http_request_duration_seconds_count{" << labels << "} " << h.count << '\n';
+  }
+  out << "# HELP slosh_plans_total Plans served (solved for the request or from the cache) by "
+         "strategy and plan status.\n"
+      << "# TYPE slosh_plans_total counter\n";
+  for (const auto& [key, n] : plans_) {
+    out << "slosh_plans_total{strategy=\"" << label(key.first) << "\",status=\""
+        << label(key.second) << "\"} " << n << '\n';
+  }
+  out << "# HELP slosh_build_info The running slosh version (always 1).\n"
+      << "# TYPE slosh_build_info gauge\n"
+      << "slosh_build_info{version=\"" << label(kVersion) << "\"} 1\n"
+      << process_metrics_text();
 }
 
 void Metrics::count_cache(bool hit) {
@@ -97,6 +163,7 @@ std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
       << "# HELP slosh_workers Size of the worker pool.\n"
       << "# TYPE slosh_workers gauge\n"
       << "slosh_workers " << workers << '\n';
+  render_more(out);
   return out.str();
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <map>
 #include <mutex>
+#include <sstream>
 #include <string>
 #include <utility>
 
@@ -29,11 +30,24 @@ class Metrics {
   /// A cam export refused because the export budget had no room for it (503).
   void count_export_refusal();
 
-  /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller.
+  /// Upper bounds of the HTTP latency histogram buckets [s]: 1 ms to 60 s (a cached plan answers
+  /// in well under a millisecond, a solve takes up to its budget plus queueing).
+  static constexpr std::array<double, 15> kHttpBuckets{
+      0.001, 0.0025, 0.005, 0.01, 0.025, 0.05, 0.1, 0.25, 0.5, 1.0, 2.5, 5.0, 10.0, 30.0, 60.0};
+  /// One answered HTTP request: `route` is the routes-table path (or "other"), `method` a known
+  /// HTTP method (or "other"); `seconds` from the start of routing to the response written.
+  void observe_http(const std::string& route, const std::string& method, double seconds);
+  /// A plan served to a client (solved for it or from the cache): its strategy and status.
+  void count_plan(const std::string& strategy, const std::string& status);
+
+  /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller. It
+  /// ends with slosh_build_info and the process_* metrics (process_metrics.hpp).
   [[nodiscard]] std::string render(std::size_t queue_depth, std::size_t busy_workers,
                                    std::size_t workers) const;
 
  private:
+  // The metrics added for issue 21 (HTTP latency, plans, build info, process_*), under the lock.
+  void render_more(std::ostringstream& out) const;
   struct Histogram {
     std::array<std::uint64_t, kSolveBuckets.size()> buckets{};
     std::uint64_t count{};
@@ -42,6 +56,13 @@ class Metrics {
   mutable std::mutex mutex_;
   std::map<std::pair<std::string, int>, std::uint64_t> requests_;
   std::map<std::string, Histogram> solves_;
+  struct HttpHistogram {
+    std::array<std::uint64_t, kHttpBuckets.size()> buckets{};
+    std::uint64_t count{};
+    double sum{};
+  };
+  std::map<std::pair<std::string, std::string>, HttpHistogram> http_;
+  std::map<std::pair<std::string, std::string>, std::uint64_t> plans_;
   std::uint64_t cache_hits_{};
   std::uint64_t cache_misses_{};
   std::uint64_t singleflight_joins_{};

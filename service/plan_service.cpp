@@ -134,6 +134,7 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
                               : etag(key);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
+  r.plan = plan_facts_of(key, body, cached);
   if (cached && etag_matches(if_none_match, tag)) {
     r.status = 304;
     return r;
@@ -214,6 +215,11 @@ api::ApiError PlanService::overloaded_error() const {
              : "the service is shutting down");
 }
 
+Reply PlanService::counted(Reply reply) {
+  if (reply.plan) metrics_.count_plan(reply.plan->strategy, reply.plan->status);
+  return reply;
+}
+
 Reply PlanService::overloaded_reply() const {
   return from_api_error(overloaded_error());
 }
@@ -230,7 +236,7 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
-      return plan_reply(key, *hit, true, if_none_match, request, sample_period, view);
+      return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
     }
     bool refused = false;
     auto future = solve(key, request, false, &refused);
@@ -245,7 +251,8 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     }
     const Outcome& outcome = future.get();
     if (outcome.error) return from_api_error(*outcome.error);
-    return plan_reply(key, outcome.body, false, if_none_match, request, sample_period, view);
+    return counted(
+        plan_reply(key, outcome.body, false, if_none_match, request, sample_period, view));
   });
 }
 
@@ -419,7 +426,7 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
     const api::PlanView view = api::parse_view_query(view_query);
     if (auto hit = cache_.get(key)) {
       metrics_.count_cache(true);
-      return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view);
+      return counted(plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view));
     }
     return error_reply(
         api::ErrorCode::kNotFound,
@@ -498,6 +505,8 @@ Reply PlanService::post_batch(const std::string& text, const std::function<bool(
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const BatchResult item = batch.get(i);
       if (item.ok()) {
+        const PlanFacts facts = plan_facts_of("", item.plan, item.cached);
+        metrics_.count_plan(facts.strategy, facts.status);
         writer.add_plan(
             i, view == api::PlanView::kCompact ? api::compact_plan_text(item.plan) : item.plan);
       } else {

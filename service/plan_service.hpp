@@ -19,6 +19,7 @@
 #include "export_budget.hpp"
 #include "metrics.hpp"
 #include "plan_cache.hpp"
+#include "plan_facts.hpp"
 #include "server_config.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
@@ -37,6 +38,8 @@ struct Reply {
   /// Kept alive until the body has been written to the client (a cam export's reservation of
   /// the export budget); empty for most replies.
   std::shared_ptr<const void> hold;
+  /// Set when the reply carries a plan (POST /v1/plans, GET /v1/plans/{key}): for the access log.
+  std::optional<PlanFacts> plan;
 };
 
 /// What a solve or a min-time search produced: the stored body (an api::StoredPlan body, or a
@@ -177,6 +180,8 @@ class PlanService {
   void forget_flight(std::unordered_map<std::string, Flight>& flights, const std::string& key,
                      std::uint64_t id);
   Reply overloaded_reply() const;
+  // `reply` after counting its plan (if any) in slosh_plans_total.
+  Reply counted(Reply reply);
   // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
   // Retry-After) when the exports in flight leave too little.
   std::shared_ptr<const void> reserve_export(std::size_t bytes);

@@ -53,6 +53,13 @@ struct ServerConfig {
   /// does not fit answers 503 with Retry-After (one larger than the whole budget runs alone).
   /// Default 256 MiB (at least 3 of the largest, 200 000-row, tables at once).
   std::size_t cam_export_bytes{std::size_t{256} << 20};
+  /// Log format: "text" (one line per message) or "json" (one JSON object per line: time, level,
+  /// msg; the access log adds request_id, method, route, path, status, ms, bytes and, for a plan,
+  /// plan_key, strategy, plan_status, cached). Default "text".
+  std::string log_format{"text"};
+  /// This replica's name in the X-Slosh-Replica header of every response (which replica behind a
+  /// proxy answered); "" = the host name. Default "".
+  std::string replica_id;
 };
 
 }  // namespace slosh::service

@@ -54,6 +54,30 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.cache_store_bytes, defaults.cache_store_bytes);
   EXPECT_EQ(from_file.cache_min_time_store_bytes, defaults.cache_min_time_store_bytes);
   EXPECT_EQ(from_file.cam_export_bytes, defaults.cam_export_bytes);
+  EXPECT_EQ(from_file.log_format, defaults.log_format);
+  EXPECT_EQ(from_file.replica_id, defaults.replica_id);
+}
+
+TEST(Config, LogFormatIsTextOrJson) {
+  ServerConfig c;
+  apply_environment({{"SLOSH_LOG_FORMAT", "json"}, {"SLOSH_REPLICA_ID", "line-3"}}, c);
+  EXPECT_EQ(c.log_format, "json");
+  EXPECT_EQ(c.replica_id, "line-3");
+  apply_config_file(write_temp(R"({"log_format": "text"})"), c);
+  EXPECT_EQ(c.log_format, "text");
+  EXPECT_EQ(error_of([&] {
+              apply_environment({{"SLOSH_LOG_FORMAT", "xml"}}, c);
+            }),
+            "SLOSH_LOG_FORMAT = xml is not a log format: allowed text, json");
+  const std::string upper = write_temp(R"({"log_format": "JSON"})");
+  EXPECT_EQ(error_of([&] { apply_config_file(upper, c); }),
+            upper + ": log_format = JSON is not a log format: allowed text, json");
+  const std::string number = write_temp(R"({"log_format": 1})");
+  EXPECT_EQ(error_of([&] { apply_config_file(number, c); }),
+            number + ": log_format = 1 is not a log format: allowed text, json");
+  EXPECT_EQ(error_of([&] { apply_setting("log_format", "--log-format", "", c); }),
+            "--log-format must be a non-empty text");
+  EXPECT_EQ(c.log_format, "text");  // all or nothing
 }
 
 TEST(Config, EnvironmentOverridesTheFile) {
@@ -87,7 +111,7 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
                 "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
                 "keep_alive_timeout_s, "
                 "request_timeout_s, cache_memory_bytes, cache_store_bytes, "
-                "cache_min_time_store_bytes, cam_export_bytes");
+                "cache_min_time_store_bytes, cam_export_bytes, log_format, replica_id");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");
