@@ -631,7 +631,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   spdlog::info(
       "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {})",
       kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
-      config.cache_path.empty() ? "memory" : config.cache_path);
+      service.cache_description());
   bool ok = false;
   try {
     ok = server.listen_after_bind();

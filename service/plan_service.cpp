@@ -93,19 +93,52 @@ Reply guarded(F&& body) {
   }
 }
 
+std::shared_ptr<RedisClient> make_redis(const ServerConfig& config) {
+  const std::string url = redis_cache_url(config);
+  if (url.empty()) return nullptr;
+  return std::make_shared<RedisClient>(RedisOptions{
+      .url = parse_redis_url(url), .timeout = std::chrono::milliseconds(config.redis_timeout_ms)});
+}
+
+CacheConfig cache_config(const ServerConfig& config, std::shared_ptr<RedisClient> redis,
+                         CacheTable table) {
+  return CacheConfig{.path = local_cache_path(config),
+                     .memory_entries = config.cache_entries,
+                     .memory_bytes = config.cache_memory_bytes,
+                     .store_bytes = table == CacheTable::kMinTime
+                                        ? config.cache_min_time_store_bytes
+                                        : config.cache_store_bytes,
+                     .table = table,
+                     .redis = std::move(redis),
+                     .redis_ttl = std::chrono::seconds(config.cache_ttl_s)};
+}
+
+// Adds the shared level's state to `report`: Redis down makes a ready replica degraded (200: it
+// answers from its local levels), or not ready (503) when Redis is required.
+void add_redis_state(api::ReadyReport& report, RedisClient& redis, bool required, bool& unready) {
+  redis.probe();  // a replica without traffic finds its Redis again through its probes
+  const RedisClient::State state = redis.state();
+  report.redis_configured = true;
+  report.redis_url = redis.options().url.display();
+  report.redis_up = state.up;
+  report.redis_required = required;
+  report.redis_error = state.error;
+  if (state.up || (report.status != "ready" && report.status != "degraded")) return;
+  const std::string why = "redis " + report.redis_url + " is down (" + state.error + "); " +
+                          (required ? "redis_required is set, so this replica is not ready"
+                                    : "answering from the local cache levels");
+  report.reason = report.reason.empty() ? why : why + "; " + report.reason;
+  report.status = "degraded";
+  if (required) unready = true;
+}
+
 }  // namespace
 
 PlanService::PlanService(const ServerConfig& config)
     : config_(config),
-      cache_(CacheConfig{.path = config.cache_path,
-                         .memory_entries = config.cache_entries,
-                         .memory_bytes = config.cache_memory_bytes,
-                         .store_bytes = config.cache_store_bytes}),
-      min_time_cache_(CacheConfig{.path = config.cache_path,
-                                  .memory_entries = config.cache_entries,
-                                  .memory_bytes = config.cache_memory_bytes,
-                                  .store_bytes = config.cache_min_time_store_bytes,
-                                  .table = CacheTable::kMinTime}),
+      redis_(make_redis(config)),
+      cache_(cache_config(config, redis_, CacheTable::kPlans)),
+      min_time_cache_(cache_config(config, redis_, CacheTable::kMinTime)),
       export_budget_(config.cam_export_bytes),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
@@ -167,7 +200,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     inflight_[key] = Flight{future, budget, flight};
   }
   auto forget = [this, key, flight] { forget_flight(inflight_, key, flight); };
-  metrics_.count_cache(false);
+  metrics_.count_cache_miss();
   auto task = [this, key, request, promise, forget] {
     Outcome outcome;
     const auto started = std::chrono::steady_clock::now();
@@ -228,8 +261,9 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
-    if (auto hit = cache_.get(key)) {
-      metrics_.count_cache(true);
+    CacheLevel level{};
+    if (auto hit = cache_.get(key, &level)) {
+      metrics_.count_cache_hit(level);
       return plan_reply(key, *hit, true, if_none_match, request, sample_period, view);
     }
     bool refused = false;
@@ -274,8 +308,9 @@ void PlanService::forget_flight(std::unordered_map<std::string, Flight>& flights
 PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, bool wait_for_room) {
   PendingMinTime pending;
   pending.key = api::min_time_key(request);
-  if (auto hit = min_time_cache_.get(pending.key)) {
-    metrics_.count_cache(true);
+  CacheLevel level{};
+  if (auto hit = min_time_cache_.get(pending.key, &level)) {
+    metrics_.count_cache_hit(level);
     pending.cached = std::move(hit);
     return pending;
   }
@@ -302,10 +337,10 @@ PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, b
     return pending;
   }
   // A search of this key may have finished (cached, then forgotten) since the lookup above.
-  if (auto hit = min_time_cache_.get(pending.key)) {
+  if (auto hit = min_time_cache_.get(pending.key, &level)) {
     forget_flight(min_time_inflight_, pending.key, search->flight);
     search->promise.set_value(Outcome{*hit, std::nullopt});  // for whoever joined meanwhile
-    metrics_.count_cache(true);
+    metrics_.count_cache_hit(level);
     pending.cached = std::move(hit);
     pending.search = {};
     return pending;
@@ -335,7 +370,7 @@ void PlanService::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& sea
     }
   }
   metrics_.count_min_time_search();
-  metrics_.count_cache(false);
+  metrics_.count_cache_miss();
   if (search->remaining.fetch_sub(1) == 1) finish_min_time(*search);
 }
 
@@ -417,8 +452,9 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return r;
     }
     const api::PlanView view = api::parse_view_query(view_query);
-    if (auto hit = cache_.get(key)) {
-      metrics_.count_cache(true);
+    CacheLevel level{};
+    if (auto hit = cache_.get(key, &level)) {
+      metrics_.count_cache_hit(level);
       return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view);
     }
     return error_reply(
@@ -463,8 +499,9 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
     try {
       const api::PlanRequest request = api::parse_batch_item(requests[i], config_.solve_budget_s);
       const std::string key = api::recipe_key(request);
-      if (auto hit = cache_.get(key)) {
-        metrics_.count_cache(true);
+      CacheLevel level{};
+      if (auto hit = cache_.get(key, &level)) {
+        metrics_.count_cache_hit(level);
         result.plan = api::render_plan_reply(*hit, true);
         result.cached = true;
         continue;
@@ -554,14 +591,15 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
               (allow_infeasible.empty() ? "(empty)" : allow_infeasible.substr(0, 32)) +
               " is not allowed: one of \"true\", \"false\"");
     }
-    const auto hit = cache_.get(key);
+    CacheLevel level{};
+    const auto hit = cache_.get(key, &level);
     if (!hit) {
       return error_reply(
           api::ErrorCode::kNotFound,
           "no plan with key '" + key.substr(0, 64) + "': POST the recipe to /v1/plans first",
           "key");
     }
-    metrics_.count_cache(true);
+    metrics_.count_cache_hit(level);
     const bool st = format == CamFileFormat::kSt;
     Reply r;
     r.content_type = st ? "text/plain; charset=utf-8" : "text/csv; charset=utf-8";
@@ -642,8 +680,10 @@ Reply PlanService::ready() const {
     report.status = "degraded";
     report.reason = storage_error;
   }
+  bool unready = false;
+  if (redis_) add_redis_state(report, *redis_, config_.redis_required, unready);
   Reply r;
-  r.status = report.status == "ready" || report.status == "degraded" ? 200 : 503;
+  r.status = !unready && (report.status == "ready" || report.status == "degraded") ? 200 : 503;
   r.body = api::ready_body(report);
   return r;
 }
@@ -657,6 +697,14 @@ Reply PlanService::metrics_text() const {
       "# TYPE slosh_cache_store_ok gauge\n"
       "slosh_cache_store_ok " +
       std::string(store_error().empty() ? "1" : "0") + "\n";
+  if (redis_) {
+    r.body +=
+        "# HELP slosh_redis_up 1 while the shared cache's Redis answers, 0 while it is down or "
+        "slow (the replica answers from its local levels); absent without a Redis cache.\n"
+        "# TYPE slosh_redis_up gauge\n"
+        "slosh_redis_up " +
+        std::string(redis_->state().up ? "1" : "0") + "\n";
+  }
   r.body +=
       "# HELP slosh_cam_export_bytes Bytes reserved by the cam exports in flight (until their "
       "responses are written).\n"
@@ -670,6 +718,16 @@ Reply PlanService::metrics_text() const {
       "slosh_cam_export_budget_bytes " +
       std::to_string(export_budget_.capacity()) + "\n";
   return r;
+}
+
+std::string PlanService::cache_description() const {
+  std::string text = config_.cache_entries > 0 ? "memory" : "";
+  if (const std::string path = local_cache_path(config_); !path.empty()) {
+    text += (text.empty() ? "" : " + ") + std::string("sqlite ") + path;
+  }
+  if (redis_)
+    text += (text.empty() ? "" : " + ") + std::string("redis ") + redis_->options().url.display();
+  return text.empty() ? "none" : text;
 }
 
 void PlanService::begin_shutdown() {

@@ -19,6 +19,7 @@
 #include "export_budget.hpp"
 #include "metrics.hpp"
 #include "plan_cache.hpp"
+#include "redis_client.hpp"
 #include "server_config.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
@@ -139,6 +140,11 @@ class PlanService {
   [[nodiscard]] std::size_t workers() const { return pool_.workers(); }
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
   [[nodiscard]] const PlanCache& min_time_cache() const { return min_time_cache_; }
+  /// The client of the shared cache level; null without a Redis cache.
+  [[nodiscard]] const std::shared_ptr<RedisClient>& redis() const { return redis_; }
+  /// The cache levels in words for the start-up log, e.g. "memory + sqlite plans.sqlite + redis
+  /// redis://10.0.0.5:6379/0" (a password is never shown).
+  [[nodiscard]] std::string cache_description() const;
 
   /// The envelope reply of an error status with a message (and optional field).
   static Reply error_reply(api::ErrorCode code, const std::string& message,
@@ -185,6 +191,8 @@ class PlanService {
 
   ServerConfig config_;
   Metrics metrics_;
+  // The shared level of both caches (config cache = redis://...); null otherwise.
+  std::shared_ptr<RedisClient> redis_;
   PlanCache cache_;
   // Min-time answers by request key: the same store file, its own table (min_times).
   PlanCache min_time_cache_;
