@@ -117,6 +117,8 @@ class PlanCache {
   /// throws on a storage failure: records it in storage_error() (cleared again by a later
   /// successful write); a Redis failure is the client's state.
   void put(const std::string& key, const std::string& value);
+  /// Stores in memory and SQLite only (a value that came from the shared level).
+  void put_local(const std::string& key, const std::string& value) { write_local(key, value); }
 
   /// Counters and state of the cache.
   struct Stats {
@@ -142,6 +144,8 @@ class PlanCache {
   [[nodiscard]] bool in_memory(const std::string& key) const;
 
   [[nodiscard]] const CacheConfig& config() const { return config_; }
+  /// The shared level; null without Redis.
+  [[nodiscard]] RedisCache* shared() const { return shared_.get(); }
 
  private:
   using Entry = std::pair<std::string, std::string>;  // key, value

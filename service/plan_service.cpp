@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "export_command.hpp"
+#include "redis_cache.hpp"
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
@@ -132,6 +133,10 @@ void add_redis_state(api::ReadyReport& report, RedisClient& redis, bool required
   if (required) unready = true;
 }
 
+double seconds_since(std::chrono::steady_clock::time_point started) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+}
+
 }  // namespace
 
 PlanService::PlanService(const ServerConfig& config)
@@ -209,9 +214,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       outcome.error = overloaded_error();
     } else {
       try {
-        api::StoredPlan plan = api::solve_for_storing(request);
-        if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
-        outcome.body = std::move(plan.body);
+        solve_once_across_replicas(key, request, outcome, started);
       } catch (const api::ApiError& e) {
         outcome.error = e;
       } catch (const std::exception& e) {
@@ -220,9 +223,6 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
         outcome.error =
             api::ApiError(api::ErrorCode::kInternal, "", "the solve failed with an unknown error");
       }
-      metrics_.observe_solve(
-          to_string(request.strategy),
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     }
     forget();
     promise->set_value(std::move(outcome));
@@ -718,6 +718,36 @@ Reply PlanService::metrics_text() const {
       "slosh_cam_export_budget_bytes " +
       std::to_string(export_budget_.capacity()) + "\n";
   return r;
+}
+
+void PlanService::solve_once_across_replicas(const std::string& key,
+                                             const api::PlanRequest& request, Outcome& outcome,
+                                             std::chrono::steady_clock::time_point started) {
+  RedisCache* shared = cache_.shared();
+  std::string token;
+  if (shared != nullptr) {
+    // The lock outlives the solve's budget by a second; a replica that dies holding it delays the
+    // others by at most that, never forever.
+    const auto hold = std::chrono::milliseconds(
+        static_cast<long long>(std::ceil(request.options.time_limit * 1000.0)) + 1000);
+    if (auto body = shared->lock_or_wait(key, hold, token)) {
+      metrics_.count_singleflight_join();  // another replica's solve answered
+      cache_.put_local(key, *body);
+      outcome.body = std::move(*body);
+      return;
+    }
+  }
+  try {
+    api::StoredPlan plan = api::solve_for_storing(request);
+    if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
+    outcome.body = std::move(plan.body);
+  } catch (...) {
+    metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
+    if (shared != nullptr) shared->unlock(key, token);
+    throw;
+  }
+  metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
+  if (shared != nullptr) shared->unlock(key, token);
 }
 
 std::string PlanService::cache_description() const {

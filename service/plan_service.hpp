@@ -183,6 +183,11 @@ class PlanService {
   void forget_flight(std::unordered_map<std::string, Flight>& flights, const std::string& key,
                      std::uint64_t id);
   Reply overloaded_reply() const;
+  // Solves `request` into `outcome` and caches it, unless another replica sharing the Redis is
+  // solving the same key: then waits for its answer (RedisCache::lock_or_wait). Records the solve
+  // time since `started`. Throws what the solve throws.
+  void solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
+                                  Outcome& outcome, std::chrono::steady_clock::time_point started);
   // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
   // Retry-After) when the exports in flight leave too little.
   std::shared_ptr<const void> reserve_export(std::size_t bytes);

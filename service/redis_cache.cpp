@@ -2,7 +2,9 @@
 
 #include <spdlog/spdlog.h>
 
+#include <random>
 #include <string_view>
+#include <thread>
 
 #include "slosh/api/plan.hpp"
 
@@ -31,7 +33,10 @@ std::string redis_cache_value(const std::string& redis_key, const std::string& b
 
 RedisCache::RedisCache(std::shared_ptr<RedisClient> client, const std::string& version,
                        const std::string& table, std::chrono::seconds ttl)
-    : client_(std::move(client)), prefix_("slosh:v" + version + ":" + table + ":"), ttl_(ttl) {}
+    : client_(std::move(client)),
+      prefix_("slosh:v" + version + ":" + table + ":"),
+      lock_prefix_("slosh:v" + version + ":lock:" + table + ":"),
+      ttl_(ttl) {}
 
 std::optional<std::string> RedisCache::get(const std::string& key) {
   const std::string name = redis_key(key);
@@ -63,6 +68,39 @@ bool RedisCache::put(const std::string& key, const std::string& value) {
   }
   const auto reply = client_->command(args);
   return reply && !reply->is_error();
+}
+
+std::optional<std::string> RedisCache::lock_or_wait(const std::string& key,
+                                                    std::chrono::milliseconds hold,
+                                                    std::string& token) {
+  thread_local std::mt19937_64 random{std::random_device{}()};
+  const std::string candidate = std::to_string(random());
+  const std::string lock = lock_prefix_ + key;
+  const auto deadline = std::chrono::steady_clock::now() + hold;
+  token.clear();
+  while (true) {
+    const auto taken =
+        client_->command({"SET", lock, candidate, "NX", "PX", std::to_string(hold.count())});
+    if (!taken || taken->is_error()) return std::nullopt;  // Redis down: solve without a lock
+    if (taken->type == RedisReply::Type::kStatus) {
+      token = candidate;
+      // The holder before may have stored the value and released the lock since our lookup.
+      auto value = get(key);
+      if (value) unlock(key, token);
+      return value;
+    }
+    if (auto value = get(key)) return value;  // stored by the replica that holds the lock
+    if (std::chrono::steady_clock::now() > deadline) return std::nullopt;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
+void RedisCache::unlock(const std::string& key, const std::string& token) {
+  if (token.empty()) return;
+  (void)client_->command({"EVAL",
+                          "if redis.call('GET', KEYS[1]) == ARGV[1] then "
+                          "return redis.call('DEL', KEYS[1]) end return 0",
+                          "1", lock_prefix_ + key, token});
 }
 
 }  // namespace slosh::service

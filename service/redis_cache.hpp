@@ -32,6 +32,18 @@ class RedisCache {
   /// Stores `value` (with the TTL); false when Redis is down or slow.
   bool put(const std::string& key, const std::string& value);
 
+  /// Cross-replica single flight before a solve of `key`: takes the lock
+  /// slosh:v<version>:lock:<table>:<key> (SET NX PX `hold`: a lock whose replica died expires by
+  /// itself). While another replica holds it, polls every 20 ms for the value it writes (then
+  /// answers it) or for the lock to go (then takes it). Returns the value when another replica
+  /// stored it; else nullopt, and `token` names the lock taken ("" when none was: Redis down, or
+  /// still held after `hold`; the caller then solves without one).
+  [[nodiscard]] std::optional<std::string> lock_or_wait(const std::string& key,
+                                                        std::chrono::milliseconds hold,
+                                                        std::string& token);
+  /// Releases the lock of `key` if it is still `token`'s (never another replica's).
+  void unlock(const std::string& key, const std::string& token);
+
   /// The Redis key of `key`.
   [[nodiscard]] std::string redis_key(const std::string& key) const { return prefix_ + key; }
   /// Values rejected for a digest that did not match (since start).
@@ -41,6 +53,7 @@ class RedisCache {
  private:
   const std::shared_ptr<RedisClient> client_;
   const std::string prefix_;
+  const std::string lock_prefix_;
   const std::chrono::seconds ttl_;
   std::atomic<std::uint64_t> rejected_{0};
 };

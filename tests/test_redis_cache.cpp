@@ -5,7 +5,9 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
+#include <future>
 #include <memory>
 #include <string>
 #include <thread>
@@ -276,6 +278,54 @@ TEST(RedisCacheLevel, ReadinessIsDegradedWhileRedisIsDownAndRecovers) {
     std::this_thread::sleep_for(50ms);
   }
   EXPECT_EQ(required.ready().status, 200);
+}
+
+double solves(service::PlanService& service) {
+  return std::max(0.0, test::metric(service.metrics_text().body,
+                                    R"(slosh_solve_seconds_count{strategy="multi_notch"})"));
+}
+
+TEST(RedisCacheLevel, ConcurrentRequestsOnTwoReplicasSolveOnce) {
+  RedisServer redis;
+  service::PlanService a(service_config(redis));
+  service::PlanService b(service_config(redis));
+  for (int round = 0; round < 3; ++round) {
+    json body = plan_body();
+    body["format"]["stroke_mm"] = 600 + 10 * round;
+    const std::string text = body.dump();
+    auto on_a = std::async(std::launch::async, [&] { return a.post_plan(text, ""); });
+    auto on_b = std::async(std::launch::async, [&] { return b.post_plan(text, ""); });
+    const auto ra = on_a.get();
+    const auto rb = on_b.get();
+    ASSERT_EQ(ra.status, 200) << ra.body;
+    ASSERT_EQ(rb.status, 200) << rb.body;
+    EXPECT_EQ(json::parse(ra.body)["durations_s"], json::parse(rb.body)["durations_s"]);
+    // One solve per recipe in all: the other replica waited for it or found it stored.
+    EXPECT_EQ(solves(a) + solves(b), round + 1) << "round " << round;
+  }
+  // No lock is left behind.
+  const auto locks = a.redis()->command({"KEYS", "slosh:v*:lock:*"});
+  ASSERT_TRUE(locks);
+  EXPECT_TRUE(locks->elements.empty());
+}
+
+TEST(RedisCacheLevel, ALockOfADeadReplicaExpiresAndTheRecipeIsSolved) {
+  RedisServer redis;
+  service::PlanService service(service_config(redis));
+  const std::string text = plan_body().dump();
+  const std::string key = api::recipe_key(api::parse_plan_request(plan_body()));
+  const std::string lock = "slosh:v" + std::string(kVersion) + ":lock:plans:" + key;
+  // A replica that took the lock and died: the lock expires after its PX.
+  ASSERT_TRUE(service.redis()->command({"SET", lock, "dead-replica", "PX", "1500"}));
+  const auto reply = service.post_plan(text, "");
+  ASSERT_EQ(reply.status, 200) << reply.body;
+  EXPECT_EQ(json::parse(reply.body)["cached"], false);
+  EXPECT_EQ(solves(service), 1);
+  EXPECT_EQ(service.redis()->command({"EXISTS", lock})->integer, 0);
+  // Our own lock was released, never another's: a lock set by hand now stays.
+  ASSERT_TRUE(service.redis()->command({"SET", lock, "other", "PX", "60000"}));
+  EXPECT_EQ(service.post_plan(text, "").status, 200);  // a cache hit: no lock involved
+  EXPECT_EQ(service.redis()->command({"GET", lock})->text, "other");
 }
 
 }  // namespace
