@@ -14,6 +14,8 @@ packages=(
   libcpp-httplib-dev                               # HTTP server/client (service)
   libspdlog-dev                                    # structured logs (service)
   libsqlite3-dev                                   # persistent plan cache (service)
+  libhiredis-dev                                   # Redis client: shared plan cache, job store (service)
+  redis-server                                     # a real Redis for the replica tests (tests)
   libssl-dev                                       # SHA-256 of recipe keys (api)
   libcli11-dev                                     # command-line parsing (service)
   libcsv-dev                                       # CSV recipe/plan tables (service)

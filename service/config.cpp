@@ -10,6 +10,8 @@
 #include <variant>
 #include <vector>
 
+#include "redis_client.hpp"
+
 namespace slosh::service {
 
 namespace {
@@ -46,6 +48,12 @@ double parse_seconds(const std::string& where, const std::string& text, double l
   return v;
 }
 
+bool parse_bool(const std::string& where, const std::string& text) {
+  if (text == "true" || text == "1") return true;
+  if (text == "false" || text == "0") return false;
+  throw std::runtime_error(where + " = " + text + " is not a boolean: allowed true, false, 1, 0");
+}
+
 // One setting, declared once: its config-file key, its environment variable, the field it sets
 // and the values it accepts (integers: lo to hi; durations: > lo and <= hi seconds; text: any,
 // non-empty unless `empty_ok`).
@@ -53,7 +61,7 @@ struct Setting {
   const char* key;
   const char* env;
   std::variant<std::string ServerConfig::*, int ServerConfig::*, std::size_t ServerConfig::*,
-               double ServerConfig::*>
+               double ServerConfig::*, bool ServerConfig::*>
       field;
   long long lo{0};
   long long hi{0};
@@ -63,6 +71,7 @@ struct Setting {
   [[nodiscard]] bool is_text() const {
     return std::holds_alternative<std::string ServerConfig::*>(field);
   }
+  [[nodiscard]] bool is_bool() const { return std::holds_alternative<bool ServerConfig::*>(field); }
 
   void apply(const std::string& where, const std::string& text, ServerConfig& c) const {
     if (const auto* text_field = std::get_if<std::string ServerConfig::*>(&field)) {
@@ -74,7 +83,10 @@ struct Setting {
         for (const std::string& v : choices) allowed += (allowed.empty() ? "" : ", ") + v;
         throw std::runtime_error(where + " = " + text + " is not " + what + ": allowed " + allowed);
       }
+      if (*text_field == &ServerConfig::cache_path) check_cache(where, text);
       c.*(*text_field) = text;
+    } else if (const auto* bool_field = std::get_if<bool ServerConfig::*>(&field)) {
+      c.*(*bool_field) = parse_bool(where, text);
     } else if (const auto* int_field = std::get_if<int ServerConfig::*>(&field)) {
       c.*(*int_field) = static_cast<int>(parse_integer(where, text, lo, hi, what));
     } else if (const auto* size_field = std::get_if<std::size_t ServerConfig::*>(&field)) {
@@ -94,6 +106,12 @@ const std::vector<Setting>& settings() {
       {"workers", "SLOSH_WORKERS", &C::workers, 0, 1024, "a worker count (0 = the cores)"},
       {"queue", "SLOSH_QUEUE", &C::queue, 1, 100000, "a queue size"},
       {"cache", "SLOSH_CACHE", &C::cache_path, 0, 0, "empty_ok"},
+      {"cache_local", "SLOSH_CACHE_LOCAL", &C::cache_local, 0, 0, "empty_ok"},
+      {"cache_ttl_s", "SLOSH_CACHE_TTL_S", &C::cache_ttl_s, 0, 10LL * 365 * 86400,
+       "a time to live in seconds (0 = none)"},
+      {"redis_timeout_ms", "SLOSH_REDIS_TIMEOUT_MS", &C::redis_timeout_ms, 1, 60000,
+       "a timeout in milliseconds"},
+      {"redis_required", "SLOSH_REDIS_REQUIRED", &C::redis_required},
       {"cache_entries", "SLOSH_CACHE_ENTRIES", &C::cache_entries, 1, 10000000, "an entry count"},
       {"solve_budget_s", "SLOSH_SOLVE_BUDGET_S", &C::solve_budget_s, 0, 600},
       {"queue_wait_s", "SLOSH_QUEUE_WAIT_S", &C::queue_wait_s, 0, 3600},
@@ -129,6 +147,29 @@ std::string known_keys() {
 
 }  // namespace
 
+void check_cache(const std::string& where, const std::string& cache) {
+  if (is_redis_cache(cache)) {
+    try {
+      (void)parse_redis_url(cache);
+    } catch (const std::invalid_argument& e) {
+      throw std::runtime_error(where + " = " + e.what());
+    }
+  } else if (cache.find("://") != std::string::npos) {
+    throw std::runtime_error(where + " = " + cache +
+                             " is neither a SQLite file nor a Redis URL: the only URL scheme "
+                             "supported is redis://");
+  }
+}
+
+void check_cache_levels(const ServerConfig& config) {
+  if (!config.cache_local.empty() && !is_redis_cache(config.cache_path)) {
+    throw std::runtime_error("cache_local = " + config.cache_local +
+                             " needs a Redis cache (cache = redis://host:port/db), but cache = '" +
+                             config.cache_path +
+                             "': set the SQLite file as cache alone, or cache to a Redis URL");
+  }
+}
+
 void apply_config_file(const std::string& path, ServerConfig& config) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read config file '" + path + "'");
@@ -150,6 +191,14 @@ void apply_config_file(const std::string& path, ServerConfig& config) {
       throw std::runtime_error(where + " is not a known setting; allowed: " + known_keys());
     }
     const bool text_setting = setting->is_text();
+    if (setting->is_bool()) {
+      if (!value.is_boolean()) {
+        throw std::runtime_error(where + " = " + value.dump() +
+                                 " has the wrong type: allowed true or false");
+      }
+      setting->apply(where, value.dump(), updated);
+      continue;
+    }
     if (text_setting != value.is_string() || (!text_setting && !value.is_number())) {
       // Numbers must be JSON numbers (a quoted "80" is rejected with the value shown).
       setting->apply(where, value.dump(), updated);

@@ -26,6 +26,13 @@ void apply_environment(const std::map<std::string, std::string>& environment, Se
 /// "--log-format"). Throws std::runtime_error on an invalid value.
 void apply_setting(const std::string& key, const std::string& where, const std::string& text,
                    ServerConfig& config);
+/// Refuses a `cache` value (config key, env or flag, named by `where`) that is neither a SQLite
+/// file nor a valid Redis URL: throws std::runtime_error "<where> = <value> is not a Redis URL:
+/// ..." (parse_redis_url's reason) or "... is neither a SQLite file nor a Redis URL ...".
+void check_cache(const std::string& where, const std::string& cache);
+
+/// Refuses cache_local without a Redis cache (the layers combined; std::runtime_error).
+void check_cache_levels(const ServerConfig& config);
 
 /// The SLOSH_* variables of the process environment.
 [[nodiscard]] std::map<std::string, std::string> slosh_environment();

@@ -662,7 +662,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
       "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {}, "
       "replica {})",
       kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
-      config.cache_path.empty() ? "memory" : config.cache_path, rt.replica);
+      service.cache_description(), rt.replica);
   bool ok = false;
   try {
     ok = server.listen_after_bind();

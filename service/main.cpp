@@ -28,6 +28,9 @@ struct CliArgs {
   std::optional<std::size_t> workers, queue;
   std::optional<std::string> cache;
   std::optional<std::string> log_format, replica_id;  // slosh serve
+  std::optional<std::string> cache_local;
+  std::optional<std::size_t> cache_ttl_s, redis_timeout_ms;
+  bool redis_required{false};
   std::string request = "-";
   std::optional<std::string> view;  // slosh plan --view
   slosh::service::BatchCommandOptions batch;
@@ -39,6 +42,28 @@ struct CliArgs {
 std::string cache_help(const CliArgs& a, const std::string& what) {
   return what + ", \"\" = " + (what.starts_with("SQLite file") ? "memory only" : "none") +
          " [default " + a.defaults.cache_path + "; env SLOSH_CACHE]";
+}
+
+// The settings of the Redis shared cache level (ServerConfig documents them).
+void add_redis_options(CLI::App& serve, CliArgs& a) {
+  serve.add_option("--cache-local", a.cache_local,
+                   "With --cache redis://...: SQLite file of this replica's local level between "
+                   "memory and Redis (get: memory, SQLite, Redis, hits promoted to the faster "
+                   "levels; put: all) [default none: memory and Redis; env SLOSH_CACHE_LOCAL]");
+  serve
+      .add_option("--cache-ttl-s", a.cache_ttl_s,
+                  "Expiry of the plans written to Redis [s], 0 = none [default 0; env "
+                  "SLOSH_CACHE_TTL_S]")
+      ->check(CLI::Range(std::size_t{0}, std::size_t{10} * 365 * 86400));
+  serve
+      .add_option("--redis-timeout-ms", a.redis_timeout_ms,
+                  "Longest a Redis command may take, connecting included [ms]; beyond, the "
+                  "request goes on from the local levels [default 200; env "
+                  "SLOSH_REDIS_TIMEOUT_MS]")
+      ->check(CLI::Range(std::size_t{1}, std::size_t{60000}));
+  serve.add_flag("--redis-required", a.redis_required,
+                 "/readyz answers 503 while Redis is down (default: 200 with status degraded; "
+                 "env SLOSH_REDIS_REQUIRED=true)");
 }
 
 CLI::App* add_serve(CLI::App& app, CliArgs& a) {
@@ -61,13 +86,18 @@ CLI::App* add_serve(CLI::App& app, CliArgs& a) {
                    "Solves that may wait; beyond, 503 [default " +
                        std::to_string(a.defaults.queue) + "; env SLOSH_QUEUE]")
       ->check(CLI::Range(1, 100000));
-  serve->add_option("--cache", a.cache, cache_help(a, "SQLite file of the plan cache"));
+  serve->add_option("--cache", a.cache,
+                    cache_help(a,
+                               "SQLite file of the plan cache, or redis://host:port/db (or "
+                               "redis://:password@host:port/db): a Redis shared by several "
+                               "replicas behind the memory LRU"));
   serve->add_option("--log-format", a.log_format,
                     "Log lines: text, or json (one JSON object per line) [default text; env "
                     "SLOSH_LOG_FORMAT]");
   serve->add_option("--replica-id", a.replica_id,
                     "Name in the X-Slosh-Replica response header, \"\" = the host name [env "
                     "SLOSH_REPLICA_ID]");
+  add_redis_options(*serve, a);
   return serve;
 }
 
@@ -193,6 +223,17 @@ std::optional<ServerConfig> layered_config(const CliArgs& a, const std::string& 
   }
   if (a.workers) server.workers = *a.workers;
   if (a.cache) server.cache_path = *a.cache;
+  if (a.cache_local) server.cache_local = *a.cache_local;
+  if (a.cache_ttl_s) server.cache_ttl_s = *a.cache_ttl_s;
+  if (a.redis_timeout_ms) server.redis_timeout_ms = *a.redis_timeout_ms;
+  if (a.redis_required) server.redis_required = true;
+  try {
+    if (a.cache) slosh::service::check_cache("--cache", *a.cache);
+    slosh::service::check_cache_levels(server);
+  } catch (const std::exception& e) {
+    std::cerr << "slosh " << command << ": " << e.what() << '\n';
+    return std::nullopt;
+  }
   return server;
 }
 

@@ -105,9 +105,14 @@ void Metrics::render_more(std::ostringstream& out) const {
       << process_metrics_text();
 }
 
-void Metrics::count_cache(bool hit) {
+void Metrics::count_cache_hit(CacheLevel level) {
   std::lock_guard lock(mutex_);
-  ++(hit ? cache_hits_ : cache_misses_);
+  ++cache_hits_.at(static_cast<std::size_t>(level));
+}
+
+void Metrics::count_cache_miss() {
+  std::lock_guard lock(mutex_);
+  ++cache_misses_;
 }
 
 std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
@@ -132,10 +137,14 @@ std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
         << "slosh_solve_seconds_sum{strategy=\"" << strategy << "\"} " << h.sum << '\n'
         << "slosh_solve_seconds_count{strategy=\"" << strategy << "\"} " << h.count << '\n';
   }
-  out << "# HELP slosh_cache_hits_total Plan requests answered from the cache.\n"
-      << "# TYPE slosh_cache_hits_total counter\n"
-      << "slosh_cache_hits_total " << cache_hits_ << '\n'
-      << "# HELP slosh_cache_misses_total Plan requests that needed a solve.\n"
+  out << "# HELP slosh_cache_hits_total Plan and min-time requests answered from the cache, by "
+         "level: memory (this replica's LRU), sqlite (its local file), redis (the shared level).\n"
+      << "# TYPE slosh_cache_hits_total counter\n";
+  for (const CacheLevel level : {CacheLevel::kMemory, CacheLevel::kLocal, CacheLevel::kShared}) {
+    out << "slosh_cache_hits_total{level=\"" << level_name(level) << "\"} "
+        << cache_hits_.at(static_cast<std::size_t>(level)) << '\n';
+  }
+  out << "# HELP slosh_cache_misses_total Plan requests that needed a solve.\n"
       << "# TYPE slosh_cache_misses_total counter\n"
       << "slosh_cache_misses_total " << cache_misses_ << '\n'
       << "# HELP slosh_singleflight_joins_total Plan requests that waited for the running solve "

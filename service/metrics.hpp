@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "cache_level.hpp"
+
 namespace slosh::service {
 
 class Metrics {
@@ -19,8 +21,10 @@ class Metrics {
 
   void count_request(const std::string& route, int status);
   void observe_solve(const std::string& strategy, double seconds);
-  /// A plan request answered from the cache (hit) or by a new solve (miss).
-  void count_cache(bool hit);
+  /// A plan (or min-time) request answered from the cache level `level`.
+  void count_cache_hit(CacheLevel level);
+  /// A plan (or min-time) request that needed a new solve (or search).
+  void count_cache_miss();
   /// A plan request that waited for the running solve of the same recipe (single flight).
   void count_singleflight_join();
   /// A min-time request that started a search (its strategies queued on the pool).
@@ -63,7 +67,7 @@ class Metrics {
   };
   std::map<std::pair<std::string, std::string>, HttpHistogram> http_;
   std::map<std::pair<std::string, std::string>, std::uint64_t> plans_;
-  std::uint64_t cache_hits_{};
+  std::array<std::uint64_t, 3> cache_hits_{};  // by CacheLevel
   std::uint64_t cache_misses_{};
   std::uint64_t singleflight_joins_{};
   std::uint64_t min_time_searches_{};

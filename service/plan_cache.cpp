@@ -3,6 +3,7 @@
 #include <spdlog/spdlog.h>
 #include <sqlite3.h>
 
+#include "redis_cache.hpp"
 #include "slosh/api/plan.hpp"
 
 #include <array>
@@ -134,6 +135,10 @@ PlanCache::PlanCache(CacheConfig config)
       table_(table_name(config_.table)),
       noun_(config_.table == CacheTable::kMinTime ? "a min-time answer" : "a plan") {
   if (!config_.path.empty()) open_store();
+  if (config_.redis) {
+    shared_ =
+        std::make_unique<RedisCache>(config_.redis, config_.version, table_, config_.redis_ttl);
+  }
 }
 
 PlanCache::~PlanCache() {
@@ -262,17 +267,9 @@ void PlanCache::prune_store_locked() {
   }
 }
 
-std::optional<std::string> PlanCache::get(const std::string& key) {
-  {
-    const std::lock_guard memory(memory_mutex_);
-    if (const auto it = index_.find(key); it != index_.end()) {
-      lru_.splice(lru_.begin(), lru_, it->second);
-      ++hits_;
-      return it->second->second;
-    }
-  }
-  // Not in memory: ask the store. Puts hold store_mutex_ across their memory and disk updates, so
-  // what is read here is the latest value of the key.
+std::optional<std::string> PlanCache::read_store(const std::string& key) {
+  // Puts hold store_mutex_ across their memory and disk updates, so what is read here is the
+  // latest value of the key.
   std::optional<std::string> value;
   bool corrupt = false;
   const std::lock_guard store(store_mutex_);
@@ -308,10 +305,35 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
     sqlite3_clear_bindings(select_);
     if (corrupt) drop_corrupt_locked(key);
   }
+  return value;
+}
+
+std::optional<std::string> PlanCache::get(const std::string& key, CacheLevel* level) {
+  const auto hit = [&](CacheLevel where, std::uint64_t& counter) {
+    ++counter;
+    if (level != nullptr) *level = where;
+  };
+  {
+    const std::lock_guard memory(memory_mutex_);
+    if (const auto it = index_.find(key); it != index_.end()) {
+      lru_.splice(lru_.begin(), lru_, it->second);
+      hit(CacheLevel::kMemory, memory_hits_);
+      return it->second->second;
+    }
+  }
+  // Not in memory: ask the store, then the shared level (without holding a lock meanwhile).
+  std::optional<std::string> value = read_store(key);
+  if (value) {
+    const std::lock_guard memory(memory_mutex_);
+    remember_locked(key, *value);
+    hit(CacheLevel::kLocal, local_hits_);
+    return value;
+  }
+  if (shared_) value = shared_->get(key);
+  if (value) write_local(key, *value);  // promoted into SQLite and memory
   const std::lock_guard memory(memory_mutex_);
   if (value) {
-    remember_locked(key, *value);
-    ++hits_;
+    hit(CacheLevel::kShared, shared_hits_);
   } else {
     ++misses_;
   }
@@ -319,6 +341,11 @@ std::optional<std::string> PlanCache::get(const std::string& key) {
 }
 
 void PlanCache::put(const std::string& key, const std::string& value) {
+  write_local(key, value);
+  if (shared_) shared_->put(key, value);  // outside the locks: Redis may take its timeout
+}
+
+void PlanCache::write_local(const std::string& key, const std::string& value) {
   const std::lock_guard store(store_mutex_);
   {
     const std::lock_guard memory(memory_mutex_);
@@ -360,12 +387,16 @@ PlanCache::Stats PlanCache::stats() const {
   Stats s;
   {
     const std::lock_guard memory(memory_mutex_);
-    s.hits = hits_;
+    s.memory_hits = memory_hits_;
+    s.local_hits = local_hits_;
+    s.shared_hits = shared_hits_;
+    s.hits = memory_hits_ + local_hits_ + shared_hits_;
     s.misses = misses_;
     s.memory_entries = lru_.size();
     s.memory_bytes = memory_bytes_;
   }
   s.store_bytes = store_bytes_;
+  if (shared_) s.shared_rejected = shared_->rejected();
   const std::lock_guard lock(error_mutex_);
   s.persistent = persistent_;
   s.storage_error = storage_error_;

@@ -1,27 +1,34 @@
 #pragma once
-// The per-recipe plan cache: an in-memory LRU tier in front of a persistent SQLite store.
+// The per-recipe plan cache: an in-memory LRU tier in front of a persistent SQLite store, and
+// optionally a Redis shared by several replicas behind both (SPEC §13).
 //
 // Values are opaque text (the rendered plan JSON, or a min-time answer) keyed by the request key
 // (a hex string). An answer is a pure function of its request, so the value of a key never
 // changes meaning: the cache never expires entries, only evicts them from memory (they stay on
-// disk).
+// disk); values in Redis expire only when a TTL is configured.
 
 #include <atomic>
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <list>
+#include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
 #include <unordered_map>
 #include <utility>
 
+#include "cache_level.hpp"
 #include "version.hpp"
 
 struct sqlite3;
 struct sqlite3_stmt;
 
 namespace slosh::service {
+
+class RedisClient;
+class RedisCache;
 
 /// Layout of the store file (PRAGMA user_version): 2 = table `plans` of api::StoredPlan bodies
 /// (without the per-reply `cached` member); 3 = the same with a digest per row, and table
@@ -59,10 +66,22 @@ struct CacheConfig {
   /// The slosh version whose answers this cache writes and serves: a row of another version is
   /// never served (it stays in the file for that version until pruned). Default slosh::kVersion.
   std::string version{kVersion};
+  /// The shared level behind memory and SQLite (a Redis several replicas use); null = none.
+  /// Default none.
+  std::shared_ptr<RedisClient> redis{};
+  /// Expiry of the values this cache writes to Redis [s]; 0 = none (an answer never goes stale:
+  /// the version is part of its key). Default 0.
+  std::chrono::seconds redis_ttl{0};
 };
 
-/// In-memory LRU in front of a persistent SQLite store (WAL mode, one file). Thread-safe.
-/// Values are opaque text (the rendered plan JSON), keyed by the recipe key (hex string).
+/// In-memory LRU in front of a persistent SQLite store (WAL mode, one file), and optionally a
+/// shared Redis level behind both (config.redis, see RedisCache). Thread-safe. Values are opaque
+/// text (the rendered plan JSON), keyed by the recipe key (hex string).
+///
+/// Levels: get() asks memory, then SQLite, then Redis, and promotes a hit into the faster levels
+/// (a SQLite hit into memory; a Redis hit into SQLite and memory). put() writes through to all
+/// of them. Redis down or slow costs a get or put at most the client's timeout once, then nothing
+/// while the client backs off: the cache keeps answering from its local levels.
 ///
 /// The store file holds two tables of the same shape, `plans` and `min_times` (key TEXT PRIMARY
 /// KEY, body TEXT NOT NULL, created_unix INTEGER NOT NULL, digest TEXT NOT NULL: the
@@ -89,22 +108,31 @@ class PlanCache {
   PlanCache(const PlanCache&) = delete;
   PlanCache& operator=(const PlanCache&) = delete;
 
-  /// The value of `key`: from memory, else from SQLite (then promoted into memory); nullopt when
-  /// absent. A read failure of the store counts as absent and is recorded in storage_error().
-  [[nodiscard]] std::optional<std::string> get(const std::string& key);
-  /// Stores in memory and (write-through) in SQLite, replacing any previous value. Never throws on
-  /// a storage failure: records it in storage_error() (cleared again by a later successful write).
+  /// The value of `key`: from memory, else from SQLite (then promoted into memory), else from
+  /// Redis (then promoted into SQLite and memory); nullopt when absent. A read failure of the store
+  /// counts as absent and is recorded in storage_error(). `level` (optional) receives the level
+  /// of a hit.
+  [[nodiscard]] std::optional<std::string> get(const std::string& key, CacheLevel* level = nullptr);
+  /// Stores in memory and (write-through) in SQLite and Redis, replacing any previous value. Never
+  /// throws on a storage failure: records it in storage_error() (cleared again by a later
+  /// successful write); a Redis failure is the client's state.
   void put(const std::string& key, const std::string& value);
+  /// Stores in memory and SQLite only (a value that came from the shared level).
+  void put_local(const std::string& key, const std::string& value) { write_local(key, value); }
 
   /// Counters and state of the cache.
   struct Stats {
-    std::uint64_t hits{};          ///< gets answered from memory or SQLite
-    std::uint64_t misses{};        ///< gets answered nullopt
-    std::size_t memory_entries{};  ///< entries in the memory tier now
-    std::size_t memory_bytes{};    ///< bytes of keys and values in the memory tier now
-    std::size_t store_bytes{};     ///< bytes of plans in the store (approximate between prunes)
-    bool persistent{};             ///< a SQLite store is open (false: memory only)
-    std::string storage_error;     ///< as storage_error()
+    std::uint64_t hits{};             ///< gets answered from any level
+    std::uint64_t memory_hits{};      ///< ... from memory
+    std::uint64_t local_hits{};       ///< ... from SQLite
+    std::uint64_t shared_hits{};      ///< ... from Redis
+    std::uint64_t misses{};           ///< gets answered nullopt
+    std::uint64_t shared_rejected{};  ///< Redis values dropped for a bad digest
+    std::size_t memory_entries{};     ///< entries in the memory tier now
+    std::size_t memory_bytes{};       ///< bytes of keys and values in the memory tier now
+    std::size_t store_bytes{};        ///< bytes of plans in the store (approximate between prunes)
+    bool persistent{};                ///< a SQLite store is open (false: memory only)
+    std::string storage_error;        ///< as storage_error()
   };
   [[nodiscard]] Stats stats() const;
 
@@ -116,6 +144,8 @@ class PlanCache {
   [[nodiscard]] bool in_memory(const std::string& key) const;
 
   [[nodiscard]] const CacheConfig& config() const { return config_; }
+  /// The shared level; null without Redis.
+  [[nodiscard]] RedisCache* shared() const { return shared_.get(); }
 
  private:
   using Entry = std::pair<std::string, std::string>;  // key, value
@@ -130,6 +160,10 @@ class PlanCache {
   // (under store_mutex_): the caller answers a miss, so the answer is computed and stored again.
   void drop_corrupt_locked(const std::string& key);
   void clear_error();
+  // The value of `key` in SQLite (takes store_mutex_); drops a corrupt row.
+  std::optional<std::string> read_store(const std::string& key);
+  // Stores in memory and SQLite (takes store_mutex_).
+  void write_local(const std::string& key, const std::string& value);
   /// Inserts or refreshes `key` as most recent, evicting the least recent beyond capacity.
   void remember_locked(const std::string& key, const std::string& value);
 
@@ -142,7 +176,9 @@ class PlanCache {
   std::list<Entry> lru_;
   std::unordered_map<std::string, std::list<Entry>::iterator> index_;
   std::size_t memory_bytes_{};
-  std::uint64_t hits_{};
+  std::uint64_t memory_hits_{};
+  std::uint64_t local_hits_{};
+  std::uint64_t shared_hits_{};
   std::uint64_t misses_{};
 
   // Persistent tier. Lock order: store_mutex_ before memory_mutex_ (never the reverse).
@@ -152,6 +188,9 @@ class PlanCache {
   sqlite3_stmt* upsert_{nullptr};
   // SUM of the plans' sizes, counted up by puts between prunes (written under store_mutex_).
   std::atomic<std::size_t> store_bytes_{0};
+
+  // Shared level; null when none is configured.
+  std::unique_ptr<RedisCache> shared_;
 
   // State reported by stats() and storage_error(), readable while the store is busy.
   mutable std::mutex error_mutex_;

@@ -11,6 +11,7 @@
 #include <utility>
 
 #include "export_command.hpp"
+#include "redis_cache.hpp"
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
@@ -93,19 +94,56 @@ Reply guarded(F&& body) {
   }
 }
 
+std::shared_ptr<RedisClient> make_redis(const ServerConfig& config) {
+  const std::string url = redis_cache_url(config);
+  if (url.empty()) return nullptr;
+  return std::make_shared<RedisClient>(RedisOptions{
+      .url = parse_redis_url(url), .timeout = std::chrono::milliseconds(config.redis_timeout_ms)});
+}
+
+CacheConfig cache_config(const ServerConfig& config, std::shared_ptr<RedisClient> redis,
+                         CacheTable table) {
+  return CacheConfig{.path = local_cache_path(config),
+                     .memory_entries = config.cache_entries,
+                     .memory_bytes = config.cache_memory_bytes,
+                     .store_bytes = table == CacheTable::kMinTime
+                                        ? config.cache_min_time_store_bytes
+                                        : config.cache_store_bytes,
+                     .table = table,
+                     .redis = std::move(redis),
+                     .redis_ttl = std::chrono::seconds(config.cache_ttl_s)};
+}
+
+// Adds the shared level's state to `report`: Redis down makes a ready replica degraded (200: it
+// answers from its local levels), or not ready (503) when Redis is required.
+void add_redis_state(api::ReadyReport& report, RedisClient& redis, bool required, bool& unready) {
+  redis.probe();  // a replica without traffic finds its Redis again through its probes
+  const RedisClient::State state = redis.state();
+  report.redis_configured = true;
+  report.redis_url = redis.options().url.display();
+  report.redis_up = state.up;
+  report.redis_required = required;
+  report.redis_error = state.error;
+  if (state.up || (report.status != "ready" && report.status != "degraded")) return;
+  const std::string why = "redis " + report.redis_url + " is down (" + state.error + "); " +
+                          (required ? "redis_required is set, so this replica is not ready"
+                                    : "answering from the local cache levels");
+  report.reason = report.reason.empty() ? why : why + "; " + report.reason;
+  report.status = "degraded";
+  if (required) unready = true;
+}
+
+double seconds_since(std::chrono::steady_clock::time_point started) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
+}
+
 }  // namespace
 
 PlanService::PlanService(const ServerConfig& config)
     : config_(config),
-      cache_(CacheConfig{.path = config.cache_path,
-                         .memory_entries = config.cache_entries,
-                         .memory_bytes = config.cache_memory_bytes,
-                         .store_bytes = config.cache_store_bytes}),
-      min_time_cache_(CacheConfig{.path = config.cache_path,
-                                  .memory_entries = config.cache_entries,
-                                  .memory_bytes = config.cache_memory_bytes,
-                                  .store_bytes = config.cache_min_time_store_bytes,
-                                  .table = CacheTable::kMinTime}),
+      redis_(make_redis(config)),
+      cache_(cache_config(config, redis_, CacheTable::kPlans)),
+      min_time_cache_(cache_config(config, redis_, CacheTable::kMinTime)),
       export_budget_(config.cam_export_bytes),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
@@ -168,7 +206,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     inflight_[key] = Flight{future, budget, flight};
   }
   auto forget = [this, key, flight] { forget_flight(inflight_, key, flight); };
-  metrics_.count_cache(false);
+  metrics_.count_cache_miss();
   auto task = [this, key, request, promise, forget] {
     Outcome outcome;
     const auto started = std::chrono::steady_clock::now();
@@ -177,9 +215,7 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       outcome.error = overloaded_error();
     } else {
       try {
-        api::StoredPlan plan = api::solve_for_storing(request);
-        if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
-        outcome.body = std::move(plan.body);
+        solve_once_across_replicas(key, request, outcome, started);
       } catch (const api::ApiError& e) {
         outcome.error = e;
       } catch (const std::exception& e) {
@@ -188,9 +224,6 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
         outcome.error =
             api::ApiError(api::ErrorCode::kInternal, "", "the solve failed with an unknown error");
       }
-      metrics_.observe_solve(
-          to_string(request.strategy),
-          std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
     }
     forget();
     promise->set_value(std::move(outcome));
@@ -234,8 +267,9 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
-    if (auto hit = cache_.get(key)) {
-      metrics_.count_cache(true);
+    CacheLevel level{};
+    if (auto hit = cache_.get(key, &level)) {
+      metrics_.count_cache_hit(level);
       return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
     }
     bool refused = false;
@@ -281,8 +315,9 @@ void PlanService::forget_flight(std::unordered_map<std::string, Flight>& flights
 PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, bool wait_for_room) {
   PendingMinTime pending;
   pending.key = api::min_time_key(request);
-  if (auto hit = min_time_cache_.get(pending.key)) {
-    metrics_.count_cache(true);
+  CacheLevel level{};
+  if (auto hit = min_time_cache_.get(pending.key, &level)) {
+    metrics_.count_cache_hit(level);
     pending.cached = std::move(hit);
     return pending;
   }
@@ -309,10 +344,10 @@ PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, b
     return pending;
   }
   // A search of this key may have finished (cached, then forgotten) since the lookup above.
-  if (auto hit = min_time_cache_.get(pending.key)) {
+  if (auto hit = min_time_cache_.get(pending.key, &level)) {
     forget_flight(min_time_inflight_, pending.key, search->flight);
     search->promise.set_value(Outcome{*hit, std::nullopt});  // for whoever joined meanwhile
-    metrics_.count_cache(true);
+    metrics_.count_cache_hit(level);
     pending.cached = std::move(hit);
     pending.search = {};
     return pending;
@@ -342,7 +377,7 @@ void PlanService::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& sea
     }
   }
   metrics_.count_min_time_search();
-  metrics_.count_cache(false);
+  metrics_.count_cache_miss();
   if (search->remaining.fetch_sub(1) == 1) finish_min_time(*search);
 }
 
@@ -424,8 +459,9 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return r;
     }
     const api::PlanView view = api::parse_view_query(view_query);
-    if (auto hit = cache_.get(key)) {
-      metrics_.count_cache(true);
+    CacheLevel level{};
+    if (auto hit = cache_.get(key, &level)) {
+      metrics_.count_cache_hit(level);
       return counted(plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view));
     }
     return error_reply(
@@ -470,8 +506,9 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
     try {
       const api::PlanRequest request = api::parse_batch_item(requests[i], config_.solve_budget_s);
       const std::string key = api::recipe_key(request);
-      if (auto hit = cache_.get(key)) {
-        metrics_.count_cache(true);
+      CacheLevel level{};
+      if (auto hit = cache_.get(key, &level)) {
+        metrics_.count_cache_hit(level);
         result.plan = api::render_plan_reply(*hit, true);
         result.cached = true;
         continue;
@@ -563,14 +600,15 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
               (allow_infeasible.empty() ? "(empty)" : allow_infeasible.substr(0, 32)) +
               " is not allowed: one of \"true\", \"false\"");
     }
-    const auto hit = cache_.get(key);
+    CacheLevel level{};
+    const auto hit = cache_.get(key, &level);
     if (!hit) {
       return error_reply(
           api::ErrorCode::kNotFound,
           "no plan with key '" + key.substr(0, 64) + "': POST the recipe to /v1/plans first",
           "key");
     }
-    metrics_.count_cache(true);
+    metrics_.count_cache_hit(level);
     const bool st = format == CamFileFormat::kSt;
     Reply r;
     r.content_type = st ? "text/plain; charset=utf-8" : "text/csv; charset=utf-8";
@@ -651,8 +689,10 @@ Reply PlanService::ready() const {
     report.status = "degraded";
     report.reason = storage_error;
   }
+  bool unready = false;
+  if (redis_) add_redis_state(report, *redis_, config_.redis_required, unready);
   Reply r;
-  r.status = report.status == "ready" || report.status == "degraded" ? 200 : 503;
+  r.status = !unready && (report.status == "ready" || report.status == "degraded") ? 200 : 503;
   r.body = api::ready_body(report);
   return r;
 }
@@ -666,6 +706,14 @@ Reply PlanService::metrics_text() const {
       "# TYPE slosh_cache_store_ok gauge\n"
       "slosh_cache_store_ok " +
       std::string(store_error().empty() ? "1" : "0") + "\n";
+  if (redis_) {
+    r.body +=
+        "# HELP slosh_redis_up 1 while the shared cache's Redis answers, 0 while it is down or "
+        "slow (the replica answers from its local levels); absent without a Redis cache.\n"
+        "# TYPE slosh_redis_up gauge\n"
+        "slosh_redis_up " +
+        std::string(redis_->state().up ? "1" : "0") + "\n";
+  }
   r.body +=
       "# HELP slosh_cam_export_bytes Bytes reserved by the cam exports in flight (until their "
       "responses are written).\n"
@@ -679,6 +727,46 @@ Reply PlanService::metrics_text() const {
       "slosh_cam_export_budget_bytes " +
       std::to_string(export_budget_.capacity()) + "\n";
   return r;
+}
+
+void PlanService::solve_once_across_replicas(const std::string& key,
+                                             const api::PlanRequest& request, Outcome& outcome,
+                                             std::chrono::steady_clock::time_point started) {
+  RedisCache* shared = cache_.shared();
+  std::string token;
+  if (shared != nullptr) {
+    // The lock outlives the solve's budget by a second; a replica that dies holding it delays the
+    // others by at most that, never forever.
+    const auto hold = std::chrono::milliseconds(
+        static_cast<long long>(std::ceil(request.options.time_limit * 1000.0)) + 1000);
+    if (auto body = shared->lock_or_wait(key, hold, token)) {
+      metrics_.count_singleflight_join();  // another replica's solve answered
+      cache_.put_local(key, *body);
+      outcome.body = std::move(*body);
+      return;
+    }
+  }
+  try {
+    api::StoredPlan plan = api::solve_for_storing(request);
+    if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
+    outcome.body = std::move(plan.body);
+  } catch (...) {
+    metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
+    if (shared != nullptr) shared->unlock(key, token);
+    throw;
+  }
+  metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
+  if (shared != nullptr) shared->unlock(key, token);
+}
+
+std::string PlanService::cache_description() const {
+  std::string text = config_.cache_entries > 0 ? "memory" : "";
+  if (const std::string path = local_cache_path(config_); !path.empty()) {
+    text += (text.empty() ? "" : " + ") + std::string("sqlite ") + path;
+  }
+  if (redis_)
+    text += (text.empty() ? "" : " + ") + std::string("redis ") + redis_->options().url.display();
+  return text.empty() ? "none" : text;
 }
 
 void PlanService::begin_shutdown() {

@@ -20,6 +20,7 @@
 #include "metrics.hpp"
 #include "plan_cache.hpp"
 #include "plan_facts.hpp"
+#include "redis_client.hpp"
 #include "server_config.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
@@ -142,6 +143,11 @@ class PlanService {
   [[nodiscard]] std::size_t workers() const { return pool_.workers(); }
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
   [[nodiscard]] const PlanCache& min_time_cache() const { return min_time_cache_; }
+  /// The client of the shared cache level; null without a Redis cache.
+  [[nodiscard]] const std::shared_ptr<RedisClient>& redis() const { return redis_; }
+  /// The cache levels in words for the start-up log, e.g. "memory + sqlite plans.sqlite + redis
+  /// redis://10.0.0.5:6379/0" (a password is never shown).
+  [[nodiscard]] std::string cache_description() const;
 
   /// The envelope reply of an error status with a message (and optional field).
   static Reply error_reply(api::ErrorCode code, const std::string& message,
@@ -182,6 +188,11 @@ class PlanService {
   Reply overloaded_reply() const;
   // `reply` after counting its plan (if any) in slosh_plans_total.
   Reply counted(Reply reply);
+  // Solves `request` into `outcome` and caches it, unless another replica sharing the Redis is
+  // solving the same key: then waits for its answer (RedisCache::lock_or_wait). Records the solve
+  // time since `started`. Throws what the solve throws.
+  void solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
+                                  Outcome& outcome, std::chrono::steady_clock::time_point started);
   // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
   // Retry-After) when the exports in flight leave too little.
   std::shared_ptr<const void> reserve_export(std::size_t bytes);
@@ -190,6 +201,8 @@ class PlanService {
 
   ServerConfig config_;
   Metrics metrics_;
+  // The shared level of both caches (config cache = redis://...); null otherwise.
+  std::shared_ptr<RedisClient> redis_;
   PlanCache cache_;
   // Min-time answers by request key: the same store file, its own table (min_times).
   PlanCache min_time_cache_;

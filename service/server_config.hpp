@@ -13,8 +13,23 @@ struct ServerConfig {
   std::size_t workers{0};
   /// Solves that may wait for a worker; beyond, POST /v1/plans answers 503. Default 64.
   std::size_t queue{64};
-  /// SQLite file of the plan cache; empty = memory only. Default "slosh-plans.sqlite".
+  /// The plan cache behind the memory LRU: a SQLite file, or a Redis URL
+  /// (redis://host:port/db or redis://:password@host:port/db) shared by several replicas; empty =
+  /// memory only. Default "slosh-plans.sqlite". Config key `cache`, env SLOSH_CACHE, flag --cache.
   std::string cache_path{"slosh-plans.sqlite"};
+  /// With a Redis `cache`: a SQLite file used as this replica's local level between memory and
+  /// Redis (get: memory, SQLite, Redis, promoting hits into the faster levels; put: all three);
+  /// empty = memory and Redis only. Must stay empty when `cache` is a SQLite file. Default "".
+  std::string cache_local;
+  /// Expiry of the values written to Redis [s]; 0 = none. Default 0: an answer never goes stale
+  /// (the planner version is in its key); bound Redis with maxmemory and an LRU policy instead.
+  std::size_t cache_ttl_s{0};
+  /// Longest a Redis command may take, connecting included [ms]; beyond, the request goes on
+  /// from the local levels and Redis is retried after 1 s. Default 200.
+  std::size_t redis_timeout_ms{200};
+  /// Whether /readyz answers 503 (instead of 200 "degraded") while Redis is down. Default false:
+  /// a replica whose Redis is down still answers correctly from its local levels.
+  bool redis_required{false};
   /// Plans kept in memory in front of SQLite. Default 10000.
   std::size_t cache_entries{10000};
   /// Default and largest per-plan solve budget [s] (options.time_limit_s). Default 10 s.
@@ -61,5 +76,20 @@ struct ServerConfig {
   /// proxy answered); "" = the host name. Default "".
   std::string replica_id;
 };
+
+/// Whether `cache` (ServerConfig::cache_path) names a Redis server rather than a SQLite file.
+[[nodiscard]] inline bool is_redis_cache(const std::string& cache) {
+  return cache.starts_with("redis://");
+}
+
+/// The SQLite file of the plan cache ("" = none): `cache`, or `cache_local` with a Redis cache.
+[[nodiscard]] inline std::string local_cache_path(const ServerConfig& c) {
+  return is_redis_cache(c.cache_path) ? c.cache_local : c.cache_path;
+}
+
+/// The Redis URL of the plan cache's shared level ("" = none).
+[[nodiscard]] inline std::string redis_cache_url(const ServerConfig& c) {
+  return is_redis_cache(c.cache_path) ? c.cache_path : std::string();
+}
 
 }  // namespace slosh::service

@@ -56,6 +56,10 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.cam_export_bytes, defaults.cam_export_bytes);
   EXPECT_EQ(from_file.log_format, defaults.log_format);
   EXPECT_EQ(from_file.replica_id, defaults.replica_id);
+  EXPECT_EQ(from_file.cache_local, defaults.cache_local);
+  EXPECT_EQ(from_file.cache_ttl_s, defaults.cache_ttl_s);
+  EXPECT_EQ(from_file.redis_timeout_ms, defaults.redis_timeout_ms);
+  EXPECT_EQ(from_file.redis_required, defaults.redis_required);
 }
 
 TEST(Config, LogFormatIsTextOrJson) {
@@ -78,6 +82,30 @@ TEST(Config, LogFormatIsTextOrJson) {
   EXPECT_EQ(error_of([&] { apply_setting("log_format", "--log-format", "", c); }),
             "--log-format must be a non-empty text");
   EXPECT_EQ(c.log_format, "text");  // all or nothing
+}
+
+TEST(Config, RedisSettingsFromTheFileWithTheirTypes) {
+  ServerConfig c;
+  apply_config_file(write_temp(R"({"cache": "redis://:pw@10.0.0.5:6380/1", "cache_local":
+      "local.sqlite", "cache_ttl_s": 86400, "redis_timeout_ms": 250, "redis_required": true})"),
+                    c);
+  EXPECT_EQ(c.cache_path, "redis://:pw@10.0.0.5:6380/1");
+  EXPECT_EQ(c.cache_local, "local.sqlite");
+  EXPECT_EQ(c.cache_ttl_s, 86400u);
+  EXPECT_EQ(c.redis_timeout_ms, 250u);
+  EXPECT_TRUE(c.redis_required);
+  const std::string quoted = write_temp(R"({"redis_required": "true"})");
+  EXPECT_EQ(error_of([&] { apply_config_file(quoted, c); }),
+            quoted + ": redis_required = \"true\" has the wrong type: allowed true or false");
+  const std::string zero = write_temp(R"({"redis_timeout_ms": 0})");
+  EXPECT_EQ(error_of([&] { apply_config_file(zero, c); }),
+            zero + ": redis_timeout_ms = 0 is not a timeout in milliseconds: allowed 1 to 60000");
+  const std::string bad = write_temp(R"({"cache": "redis://10.0.0.5:6380/99"})");
+  EXPECT_EQ(error_of([&] { apply_config_file(bad, c); }),
+            bad +
+                ": cache = redis://10.0.0.5:6380/99 is not a Redis URL: the database '99' is not "
+                "a number from 0 to 15 (expected redis://host:port/db or "
+                "redis://:password@host:port/db)");
 }
 
 TEST(Config, EnvironmentOverridesTheFile) {
@@ -107,7 +135,8 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   EXPECT_EQ(error_of([&] { apply_config_file(typo, c); }),
             typo +
                 ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
-                "cache_entries, solve_budget_s, queue_wait_s, max_body_bytes, batch_max, "
+                "cache_local, cache_ttl_s, redis_timeout_ms, redis_required, cache_entries, "
+                "solve_budget_s, queue_wait_s, max_body_bytes, batch_max, "
                 "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
                 "keep_alive_timeout_s, "
                 "request_timeout_s, cache_memory_bytes, cache_store_bytes, "

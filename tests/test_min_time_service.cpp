@@ -157,7 +157,7 @@ TEST(MinTimeService, IdenticalConcurrentRequestsShareOneSearch) {
   EXPECT_GE(misses, 1);
   EXPECT_EQ(server_metric(server, "slosh_min_time_searches_total"), 1) << server.log();
   const double joins = server_metric(server, "slosh_min_time_joins_total");
-  const double hits = server_metric(server, "slosh_cache_hits_total");
+  const double hits = server_metric(server, R"(slosh_cache_hits_total{level="memory"})");
   // Every request but the searching one waited for its search (a miss) or came after it (a hit).
   EXPECT_EQ(joins, misses - 1);
   EXPECT_EQ(joins + hits, kClients - 1);

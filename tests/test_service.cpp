@@ -93,7 +93,7 @@ TEST(Service, PlanIsSolvedThenServedFromTheCacheWithAnETag) {
   const std::string metrics = client.Get("/metrics")->body;
   EXPECT_EQ(metric(metrics, R"(slosh_http_requests_total{route="/v1/plans",status="200"})"), 2);
   EXPECT_EQ(metric(metrics, R"(slosh_solve_seconds_count{strategy="multi_notch"})"), 1);
-  EXPECT_GE(metric(metrics, "slosh_cache_hits_total"), 2);
+  EXPECT_GE(metric(metrics, R"(slosh_cache_hits_total{level="memory"})"), 2);
   EXPECT_EQ(metric(metrics, "slosh_cache_misses_total"), 1);
   EXPECT_EQ(metric(metrics, "slosh_queue_depth"), 0);
   // One structured log line per request, with its id, route, status and cache outcome.

@@ -754,17 +754,28 @@ void add_service_schemas(json& s) {
   s["Readiness"] = object(
       {{"status", string_enum({"ready", "stopping", "stalled", "degraded"},
                               "ready (200); stopping during shutdown, stalled when the solve pool "
-                              "has work but finished nothing for max(30 s, 3 solve budgets), "
-                              "degraded when the plan store cannot be written (503).")},
+                              "has work but finished nothing for max(30 s, 3 solve budgets) "
+                              "(both 503); degraded (200, 503 with redis_required) when the plan "
+                              "store cannot be written or the shared Redis is down: plans are "
+                              "answered from the local levels.")},
        {"reason", text("Why the service is stalled or degraded.")},
        {"workers", integer("Solve workers.")},
        {"busy_workers", integer("Workers running a solve.")},
        {"queue_depth", integer("Solves waiting for a worker.")},
-       {"cache", object({{"persistent", boolean("The persistent store is in use.")},
-                         {"memory_entries", integer("Plans in the in-memory LRU.")},
-                         {"memory_bytes", integer("Bytes of keys and plans in the LRU.")},
-                         {"storage_error", text("Why the persistent store is unavailable.")}},
-                        {"persistent", "memory_entries"}, "", false)}},
+       {"cache",
+        object({{"persistent", boolean("The persistent store is in use.")},
+                {"memory_entries", integer("Plans in the in-memory LRU.")},
+                {"memory_bytes", integer("Bytes of keys and plans in the LRU.")},
+                {"storage_error", text("Why the persistent store is unavailable.")},
+                {"redis", object({{"url", text("The shared level (password hidden).")},
+                                  {"up", boolean("Redis answers within redis_timeout_ms.")},
+                                  {"required", boolean("redis_required: 503 while down.")},
+                                  {"error", text("The last failure while down.")}},
+                                 {"url", "up", "required"},
+                                 "The Redis shared by the replicas (cache = redis://...); "
+                                 "absent without one.",
+                                 false)}},
+               {"persistent", "memory_entries"}, "", false)}},
       {"status", "workers", "queue_depth", "cache"}, "", false);
 }
 
@@ -1168,8 +1179,8 @@ json read_operation(const Route& route) {
           {"responses",
            {{"200", json_response("Ready.", ref("Readiness"))},
             {"503", json_response("Not ready: status stopping (shutting down), stalled (the solve "
-                                  "pool finishes nothing) or degraded (the plan store cannot be "
-                                  "written; plans are answered from memory), with a reason.",
+                                  "pool finishes nothing), or degraded with redis_required set "
+                                  "(the shared Redis is down), with a reason.",
                                   ref("Readiness"))}}}};
     case Operation::kCamTable:
     case Operation::kCamTableSt:

@@ -148,6 +148,11 @@ std::string ready_body(const ReadyReport& r) {
                         {"memory_bytes", r.cache_memory_bytes}}}};
   if (!r.reason.empty()) body["reason"] = r.reason;
   if (!r.cache_storage_error.empty()) body["cache"]["storage_error"] = r.cache_storage_error;
+  if (r.redis_configured) {
+    nlohmann::json redis{{"url", r.redis_url}, {"up", r.redis_up}, {"required", r.redis_required}};
+    if (!r.redis_error.empty()) redis["error"] = r.redis_error;
+    body["cache"]["redis"] = redis;
+  }
   body["status"] = r.status;
   return dump_json(body);
 }

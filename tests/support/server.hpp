@@ -4,6 +4,7 @@
 #include <httplib.h>
 #include <signal.h>
 
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <memory>
@@ -28,15 +29,12 @@ class Server {
  public:
   explicit Server(std::vector<std::string> extra = {}, const TempDir* shared_dir = nullptr)
       : dir_(shared_dir != nullptr ? *shared_dir : own_dir_) {
-    std::vector<std::string> args{"serve",
-                                  "--host",
-                                  "127.0.0.1",
-                                  "--port",
-                                  "0",
-                                  "--port-file",
-                                  port_file().string(),
-                                  "--cache",
-                                  cache_file().string()};
+    std::vector<std::string> args{"serve", "--host",      "127.0.0.1",         "--port",
+                                  "0",     "--port-file", port_file().string()};
+    // The SQLite file of this directory, unless `extra` names the cache (e.g. a Redis URL).
+    if (std::find(extra.begin(), extra.end(), "--cache") == extra.end()) {
+      args.insert(args.end(), {"--cache", cache_file().string()});
+    }
     args.insert(args.end(), extra.begin(), extra.end());
     write_file(dir_ / "stdin", "");
     child_ = std::make_unique<Child>(

@@ -90,6 +90,12 @@ struct ReadyReport {
   bool cache_persistent{false};
   std::size_t cache_memory_entries{}, cache_memory_bytes{};
   std::string cache_storage_error;  ///< empty when the store works
+  /// The shared Redis level (config cache = redis://...): shown when configured.
+  bool redis_configured{false};
+  std::string redis_url{};  ///< as RedisUrl::display (no password)
+  bool redis_up{false};
+  bool redis_required{false};  ///< config redis_required: 503 while down
+  std::string redis_error{};   ///< the last failure while down
 };
 
 /// GET /readyz.

@@ -1,0 +1,102 @@
+// A cached plan served from each level of the plan cache (SPEC §13): the in-memory LRU, the local
+// SQLite file, and the shared Redis (a real redis-server on loopback, started here like the tests
+// do). Two views: PlanCache::get alone (the level's cost: lookup, transfer, digest check), and
+// PlanService::post_plan of a cached recipe (what POST /v1/plans costs without HTTP: parse, key,
+// lookup, render the reply).
+
+#include <benchmark/benchmark.h>
+
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "plan_cache.hpp"
+#include "plan_service.hpp"
+#include "redis_client.hpp"
+#include "support/redis_server.hpp"
+
+namespace {
+
+using slosh::service::CacheConfig;
+using slosh::service::PlanCache;
+using slosh::service::PlanService;
+using slosh::service::ServerConfig;
+
+slosh::test::RedisServer& redis() {
+  static slosh::test::RedisServer server;
+  return server;
+}
+
+std::shared_ptr<slosh::service::RedisClient> redis_client() {
+  return std::make_shared<slosh::service::RedisClient>(
+      slosh::service::RedisOptions{.url = slosh::service::parse_redis_url(redis().url())});
+}
+
+const std::string& plan_request() {
+  static const std::string body =
+      nlohmann::json::parse(R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},
+      "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
+      "strategy": "multi_notch"})")
+          .dump();
+  return body;
+}
+
+/// A real stored plan body (as the cache holds it): solved once.
+const std::string& stored_plan() {
+  static const std::string body = [] {
+    ServerConfig config;
+    config.cache_path = "";
+    config.workers = 1;
+    PlanService service(config);
+    const auto reply = service.post_plan(plan_request(), "");
+    return reply.body;
+  }();
+  return body;
+}
+
+std::string sqlite_file() {
+  return (std::filesystem::temp_directory_path() / "slosh_bench_cache.sqlite").string();
+}
+
+// range(0): 0 = memory, 1 = SQLite, 2 = Redis (the other levels off, so every get reaches it).
+void BM_CacheGet(benchmark::State& state) {
+  CacheConfig config;
+  const auto level = state.range(0);
+  if (level != 0) config.memory_entries = 0;
+  if (level == 1) config.path = sqlite_file();
+  if (level == 2) config.redis = redis_client();
+  PlanCache cache(config);
+  cache.put("bench-key", stored_plan());
+  for (auto _ : state) {
+    auto value = cache.get("bench-key");
+    if (!value) state.SkipWithError("miss");
+    benchmark::DoNotOptimize(value);
+  }
+  state.SetLabel(level == 0 ? "memory" : level == 1 ? "sqlite" : "redis");
+  state.counters["plan_bytes"] = static_cast<double>(stored_plan().size());
+  if (level == 1) std::filesystem::remove(sqlite_file());
+}
+BENCHMARK(BM_CacheGet)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+// POST /v1/plans of a cached recipe without HTTP: range(0) = 0 memory, 2 Redis (memory off).
+void BM_CachedPlanReply(benchmark::State& state) {
+  ServerConfig config;
+  config.workers = 1;
+  config.cache_path = state.range(0) == 2 ? redis().url() : "";
+  if (state.range(0) == 2) config.cache_entries = 0;
+  PlanService service(config);
+  (void)service.post_plan(plan_request(), "");  // solved and stored
+  for (auto _ : state) {
+    const auto reply = service.post_plan(plan_request(), "");
+    if (reply.body.find("\"cached\":true") == std::string::npos) state.SkipWithError("not cached");
+    benchmark::DoNotOptimize(reply);
+  }
+  state.SetLabel(state.range(0) == 2 ? "redis" : "memory");
+}
+BENCHMARK(BM_CachedPlanReply)->Arg(0)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

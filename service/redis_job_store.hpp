@@ -1,0 +1,49 @@
+#pragma once
+// The job store on Redis (SPEC §13): batch jobs whose state any replica can read.
+//
+// Keys of job <id> (under the prefix, default "slosh:jobs:"): <id>:record (a string: the
+// record), <id>:rows (a list: the result rows in item order), <id>:cancel (a string, present
+// once cancelling was asked). Every write sets the time to live of all three keys to `ttl`
+// again, so a job is kept `ttl` after its last write: a running job writes its progress and
+// stays, a finished job (or one whose replica died) expires `ttl` after its last record.
+
+#include <chrono>
+#include <memory>
+#include <string>
+
+#include "job_store.hpp"
+#include "redis_client.hpp"
+
+namespace slosh::service {
+
+class RedisJobStore final : public JobStore {
+ public:
+  /// `ttl`: how long a job is kept after its last write (> 0); `prefix`: the keys' prefix.
+  RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::seconds ttl,
+                std::string prefix = "slosh:jobs:");
+
+  bool put_record(const std::string& id, const std::string& record) override;
+  [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
+  bool append_rows(const std::string& id, const std::vector<std::string>& rows) override;
+  [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) override;
+  bool request_cancel(const std::string& id) override;
+  [[nodiscard]] bool cancel_requested(const std::string& id) override;
+  void remove(const std::string& id) override;
+
+  /// The Redis key of `part` (record, rows or cancel) of job `id`.
+  [[nodiscard]] std::string key(const std::string& id, const std::string& part) const {
+    return prefix_ + id + ":" + part;
+  }
+
+ private:
+  // Runs `commands` in MULTI ... EXEC with the TTL of the job's keys renewed; false on failure.
+  bool write(const std::string& id, std::vector<std::vector<std::string>> commands);
+
+  const std::shared_ptr<RedisClient> client_;
+  const std::string ttl_;  // seconds, as text
+  const std::string prefix_;
+};
+
+}  // namespace slosh::service

@@ -1,0 +1,108 @@
+// RedisJobStore (service/redis_job_store.hpp) against a real redis-server on loopback: records,
+// rows in item order with paging, the cancel flag, removal, the time to live of a job's keys,
+// two replicas' stores seeing the same jobs, and a Redis that is down.
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "job_store.hpp"
+#include "redis_client.hpp"
+#include "redis_job_store.hpp"
+#include "support/redis_server.hpp"
+
+namespace {
+
+using slosh::service::JobStore;
+using slosh::service::RedisClient;
+using slosh::service::RedisJobStore;
+using slosh::test::RedisServer;
+using namespace std::chrono_literals;
+using Rows = std::vector<std::string>;
+
+std::shared_ptr<RedisClient> client_of(const RedisServer& server) {
+  return std::make_shared<RedisClient>(slosh::service::RedisOptions{
+      .url = slosh::service::parse_redis_url(server.url()), .timeout = 200ms});
+}
+
+TEST(RedisJobStore, RecordsRowsAndCancelRoundTrip) {
+  const RedisServer redis;
+  RedisJobStore redis_store(client_of(redis), 3600s);
+  JobStore& store = redis_store;
+  EXPECT_FALSE(store.record("j1"));
+  EXPECT_FALSE(store.rows("j1", 0, 10));
+  ASSERT_TRUE(store.put_record("j1", R"({"state":"running","done":0})"));
+  EXPECT_EQ(store.record("j1"), R"({"state":"running","done":0})");
+  EXPECT_EQ(store.rows("j1", 0, 10), Rows{});
+  ASSERT_TRUE(store.append_rows("j1", {"r0", "r1,\"quoted\"", ""}));
+  ASSERT_TRUE(store.append_rows("j1", {}));
+  ASSERT_TRUE(store.append_rows("j1", {"r3", "r4"}));
+  ASSERT_TRUE(store.put_record("j1", R"({"state":"done","done":5})"));
+  EXPECT_EQ(store.record("j1"), R"({"state":"done","done":5})");
+  EXPECT_EQ(store.rows("j1", 0, 100), (Rows{"r0", "r1,\"quoted\"", "", "r3", "r4"}));
+  EXPECT_EQ(store.rows("j1", 1, 2), (Rows{"r1,\"quoted\"", ""}));
+  EXPECT_EQ(store.rows("j1", 4, 2), (Rows{"r4"}));
+  EXPECT_EQ(store.rows("j1", 5, 2), Rows{});
+  EXPECT_EQ(store.rows("j1", 0, 0), Rows{});
+  EXPECT_EQ(store.rows("j1", static_cast<std::size_t>(-1), static_cast<std::size_t>(-1)), Rows{});
+  EXPECT_FALSE(store.cancel_requested("j1"));
+  ASSERT_TRUE(store.request_cancel("j1"));
+  EXPECT_TRUE(store.cancel_requested("j1"));
+  EXPECT_FALSE(store.cancel_requested("j2"));
+  store.remove("j1");
+  EXPECT_FALSE(store.record("j1"));
+  EXPECT_FALSE(store.rows("j1", 0, 10));
+  EXPECT_FALSE(store.cancel_requested("j1"));
+}
+
+TEST(RedisJobStore, EveryWriteRenewsTheTtlOfTheJobsKeys) {
+  const RedisServer redis;
+  const auto client = client_of(redis);
+  RedisJobStore store(client, 120s);
+  ASSERT_TRUE(store.put_record("j", "r"));
+  ASSERT_TRUE(store.append_rows("j", {"a"}));
+  ASSERT_TRUE(store.request_cancel("j"));
+  for (const char* part : {"record", "rows", "cancel"}) {
+    EXPECT_EQ(store.key("j", part), std::string("slosh:jobs:j:") + part);
+    const long long ttl = client->command({"PTTL", store.key("j", part)})->integer;
+    EXPECT_GT(ttl, 110 * 1000) << part;
+    EXPECT_LE(ttl, 120 * 1000) << part;
+  }
+  // A shorter store's write (another replica configured with 30 s) renews all three to 30 s.
+  RedisJobStore other(client, 30s);
+  ASSERT_TRUE(other.put_record("j", "r2"));
+  for (const char* part : {"record", "rows", "cancel"}) {
+    EXPECT_LE(client->command({"PTTL", store.key("j", part)})->integer, 30 * 1000) << part;
+  }
+}
+
+TEST(RedisJobStore, TwoReplicasSeeTheSameJobs) {
+  const RedisServer redis;
+  RedisJobStore runner(client_of(redis), 3600s);
+  RedisJobStore reader(client_of(redis), 3600s);
+  ASSERT_TRUE(runner.put_record("shared", "running"));
+  ASSERT_TRUE(runner.append_rows("shared", {"row 0"}));
+  EXPECT_EQ(reader.record("shared"), "running");
+  EXPECT_EQ(reader.rows("shared", 0, 5), Rows{"row 0"});
+  ASSERT_TRUE(reader.request_cancel("shared"));  // DELETE through the other replica
+  EXPECT_TRUE(runner.cancel_requested("shared"));
+}
+
+TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
+  RedisServer redis;
+  RedisJobStore store(client_of(redis), 3600s);
+  ASSERT_TRUE(store.put_record("j", "r"));
+  redis.kill();
+  EXPECT_FALSE(store.put_record("j", "r2"));
+  EXPECT_FALSE(store.record("j"));
+  EXPECT_FALSE(store.append_rows("j", {"x"}));
+  EXPECT_FALSE(store.rows("j", 0, 1));
+  EXPECT_FALSE(store.request_cancel("j"));
+  EXPECT_FALSE(store.cancel_requested("j"));
+  EXPECT_NO_THROW(store.remove("j"));
+}
+
+}  // namespace
