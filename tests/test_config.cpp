@@ -54,6 +54,11 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.cache_store_bytes, defaults.cache_store_bytes);
   EXPECT_EQ(from_file.cache_min_time_store_bytes, defaults.cache_min_time_store_bytes);
   EXPECT_EQ(from_file.cam_export_bytes, defaults.cam_export_bytes);
+  EXPECT_EQ(from_file.batch_job_max, defaults.batch_job_max);
+  EXPECT_EQ(from_file.batch_jobs_max, defaults.batch_jobs_max);
+  EXPECT_EQ(from_file.batch_jobs_kept, defaults.batch_jobs_kept);
+  EXPECT_EQ(from_file.batch_job_ttl_s, defaults.batch_job_ttl_s);
+  EXPECT_EQ(from_file.batch_job_stale_s, defaults.batch_job_stale_s);
 }
 
 TEST(Config, EnvironmentOverridesTheFile) {
@@ -87,7 +92,8 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
                 "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
                 "keep_alive_timeout_s, "
                 "request_timeout_s, cache_memory_bytes, cache_store_bytes, "
-                "cache_min_time_store_bytes, cam_export_bytes");
+                "cache_min_time_store_bytes, cam_export_bytes, batch_job_max, batch_jobs_max, "
+                "batch_jobs_kept, batch_job_ttl_s, batch_job_stale_s");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");
