@@ -406,6 +406,9 @@ void BatchJobs::finish(Job& job, const std::string& state, const std::string& me
   job.status.message = message;
   job.status.finished_ms = unix_ms_now();
   write_record(job);
+  spdlog::info("batch job {} {}: {} of {} recipes ({} failed){}{}", job.status.id, state,
+               job.status.done, job.status.total, job.status.failed, message.empty() ? "" : ": ",
+               message);
 }
 
 void BatchJobs::run(Job& job) {

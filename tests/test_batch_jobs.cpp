@@ -399,6 +399,26 @@ TEST(BatchJobs, AnInteractivePlanOvertakesARunningJob) {
   c.Delete("/v1/batches/" + id);
 }
 
+// SIGTERM while a job runs: the service stops (exit 0) and the job ends as failed with a message
+// (logged; with a shared store, other replicas read it).
+TEST(BatchJobs, ShutdownEndsTheRunningJobAsFailed) {
+  Server server({"--workers", "1"});
+  auto c = server.client();
+  const std::string id = post_job(c, {{"requests", recipes(500, 5000)}}).at("id");
+  for (int i = 0; i < 1200; ++i) {
+    if (get_json(c, "/v1/batches/" + id).at("progress").at("done").get<int>() >= 1) break;
+    std::this_thread::sleep_for(20ms);
+  }
+  EXPECT_EQ(server.stop(), 0);
+  const std::string log = server.log();
+  EXPECT_TRUE(std::regex_search(
+      log, std::regex("batch job " + id +
+                      " failed: [0-9]+ of 500 recipes \\([0-9]+ failed\\): the service shut down "
+                      "after [0-9]+ of 500 recipes; POST the job again \\(the finished plans are "
+                      "cached\\)")))
+      << log;
+}
+
 TEST(BatchJobs, ARecordItsReplicaStoppedRewritingReadsAsFailed) {
   service::JobStatus status;
   status.id = "abc";
