@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <future>
@@ -48,11 +49,14 @@ class RowSink {
   RowSink(PlanTableWriter& writer, std::optional<api::PlanView> view)
       : writer_(writer), view_(view) {}
   void write(const RecipeRow& recipe, const BatchResult& result) {
-    const json row = plan_row(recipe, result, view_);
+    write_row(plan_row(recipe, result, view_));
+  }
+  /// Writes a row made elsewhere (a batch job's, from the service).
+  void write_row(const json& row) {
     const std::string status = row["status"].get<std::string>();
     ++statuses_[status];
-    if (status == "error") failed_rows_.push_back(recipe.row);
-    if (result.cached) ++cached_;
+    if (status == "error") failed_rows_.push_back(row["row"].get<std::size_t>());
+    if (row.value("cached", false)) ++cached_;
     ++written_;
     writer_.write(row);
   }
@@ -68,6 +72,16 @@ class RowSink {
   std::size_t cached_{0};
   std::vector<std::size_t> failed_rows_;
   std::map<std::string, std::size_t> statuses_;
+};
+
+// The recipe table and where its plans go; an exit code after a message when they are unusable.
+struct BatchInput {
+  std::string text;  // the table as read (sent to the service's batch jobs)
+  TableFormat in_format{};
+  std::vector<RecipeRow> rows;
+  TableFormat out_format{};
+  std::optional<api::PlanView> view;  // of the plan added to each JSON row (--full, --view)
+  std::unique_ptr<HttpClient> client;
 };
 
 BatchResult row_error_result(const RecipeRow& row) {
@@ -174,6 +188,121 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
     }
     bar.update(sink.written());
   }
+}
+
+// ---- server mode through a batch job (POST /v1/batches) --------------------------------------
+
+/// How often a batch job's progress is asked for.
+constexpr std::chrono::milliseconds kJobPollInterval{200};
+
+volatile std::sig_atomic_t interrupted = 0;
+extern "C" void on_interrupt(int) {
+  interrupted = 1;
+}
+
+/// SIGINT (Ctrl-C) sets `interrupted` while this lives; the previous handler comes back after.
+class InterruptFlag {
+ public:
+  InterruptFlag() : previous_(std::signal(SIGINT, on_interrupt)) { interrupted = 0; }
+  ~InterruptFlag() { std::signal(SIGINT, previous_); }
+  InterruptFlag(const InterruptFlag&) = delete;
+  InterruptFlag& operator=(const InterruptFlag&) = delete;
+
+ private:
+  void (*previous_)(int);
+};
+
+std::string reply_problem(const HttpClient& client, const std::string& path,
+                          const HttpReply& reply) {
+  std::string message = client.base_url() + path + " answered HTTP " + std::to_string(reply.status);
+  if (const std::string m = api::envelope_message(reply.body); !m.empty()) message += ": " + m;
+  return message;
+}
+
+/// A started batch job: DELETEd (cancelled) unless released, when the run stops on an error or
+/// an interrupt.
+class RemoteJob {
+ public:
+  RemoteJob(HttpClient& client, std::string id) : client_(client), id_(std::move(id)) {}
+  ~RemoteJob() {
+    if (id_.empty()) return;
+    try {
+      (void)client_.del(path());
+    } catch (const HttpError&) {  // the service is gone: nothing to cancel
+    }
+  }
+  RemoteJob(const RemoteJob&) = delete;
+  RemoteJob& operator=(const RemoteJob&) = delete;
+  [[nodiscard]] std::string path() const { return "/v1/batches/" + id_; }
+  [[nodiscard]] const std::string& id() const { return id_; }
+  void release() { id_.clear(); }
+
+ private:
+  HttpClient& client_;
+  std::string id_;
+};
+
+HttpReply get_or_abort(HttpClient& client, const std::string& path) {
+  try {
+    return client.get(path);
+  } catch (const HttpError& e) {
+    throw BatchAbort(e.what());
+  }
+}
+
+// Polls the job until it has finished, drawing its progress; BatchAbort unless it is done.
+void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
+  for (;;) {
+    if (interrupted) throw BatchAbort("interrupted: batch job " + job.id() + " cancelled");
+    const HttpReply reply = get_or_abort(client, job.path() + "?limit=1");
+    if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
+    const json record = json::parse(reply.body);
+    bar.update(record["progress"]["done"].get<std::size_t>());
+    const std::string state = record["state"].get<std::string>();
+    if (state == "done") return;
+    if (state == "cancelled" || state == "failed") {
+      throw BatchAbort("batch job " + job.id() + " " + state + ": " +
+                       record.value("message", std::string()));
+    }
+    std::this_thread::sleep_for(kJobPollInterval);
+  }
+}
+
+// Runs the table as a batch job of the service: POSTs the table's text (the service reads it as
+// this command does), polls the progress, downloads the rows (JSON lines) and writes them in the
+// output format. False when the service has no batch jobs (404, 405) or the table is larger
+// than its body limit (413): the caller falls back to POST /v1/plans/batch in chunks.
+bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, HttpClient& client,
+                    RowSink& sink, ProgressBar& bar) {
+  json body{{"table", in.text}, {"table_format", to_string(in.in_format)}, {"format", "jsonl"}};
+  if (in.view) body["view"] = options.full ? std::string("full") : *options.view;
+  const HttpReply posted = post_retrying_503(client, "/v1/batches", api::dump_json(body));
+  if (posted.status == 404 || posted.status == 405 || posted.status == 413) {
+    if (posted.status == 413) {
+      std::cerr << "slosh batch: the table is larger than the service's body limit: sending it in "
+                   "chunks of "
+                << options.chunk << " to /v1/plans/batch\n";
+    }
+    return false;
+  }
+  if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
+  const InterruptFlag interrupt;
+  RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
+  wait_for_job(client, job, bar);
+  const HttpReply rows = get_or_abort(client, job.path() + "/results.jsonl");
+  if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
+  job.release();  // done: nothing to cancel any more
+  std::size_t at = 0;
+  while (at < rows.body.size()) {
+    const std::size_t end = rows.body.find('\n', at);
+    sink.write_row(json::parse(rows.body.substr(at, end - at)));
+    at = end == std::string::npos ? rows.body.size() : end + 1;
+  }
+  if (sink.written() != in.rows.size()) {
+    throw BatchAbort("batch job " + job.id() + " answered " + std::to_string(sink.written()) +
+                     " rows for " + std::to_string(in.rows.size()) + " recipes");
+  }
+  return true;
 }
 
 std::string count(std::size_t n, const std::string& noun) {
@@ -402,25 +531,16 @@ std::optional<api::PlanView> row_plan_view(const BatchCommandOptions& options) {
   return options.full ? std::optional(api::PlanView::kFull) : view;
 }
 
-// The recipe table and where its plans go; an exit code after a message when they are unusable.
-struct BatchInput {
-  std::vector<RecipeRow> rows;
-  TableFormat out_format{};
-  std::optional<api::PlanView> view;  // of the plan added to each JSON row (--full, --view)
-  std::unique_ptr<HttpClient> client;
-};
-
 std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInput& in) {
   try {
-    const TableFormat in_format = table_format(options.in_format, options.in);
+    in.in_format = table_format(options.in_format, options.in);
     in.out_format = table_format(options.out_format, options.out);
-    std::string text;
     try {
-      text = read_request_text(options.in);
+      in.text = read_request_text(options.in);
     } catch (const std::exception&) {
       throw TableError("cannot read the recipe table '" + options.in + "'");
     }
-    in.rows = read_recipe_table(text, in_format);
+    in.rows = read_recipe_table(in.text, in.in_format);
     in.view = row_plan_view(options);
     if (in.view && in.out_format == TableFormat::kCsv) {
       throw TableError(
@@ -503,7 +623,7 @@ int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutpu
   try {
     if (options.server.empty()) {
       run_local(in.rows, options.config, sink, bar);
-    } else {
+    } else if (!run_job_remote(in, options, *in.client, sink, bar)) {
       run_remote(in.rows, options, *in.client, sink, bar);
     }
     writer.finish();

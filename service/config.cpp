@@ -135,6 +135,11 @@ const std::vector<Setting>& settings() {
        "a size in bytes"},
       {"log_format", "SLOSH_LOG_FORMAT", &C::log_format, 0, 0, "a log format", {"text", "json"}},
       {"replica_id", "SLOSH_REPLICA_ID", &C::replica_id, 0, 0, "empty_ok"},
+      {"batch_job_max", "SLOSH_BATCH_JOB_MAX", &C::batch_job_max, 1, 10000000, "a recipe count"},
+      {"batch_jobs_max", "SLOSH_BATCH_JOBS_MAX", &C::batch_jobs_max, 1, 10000, "a job count"},
+      {"batch_jobs_kept", "SLOSH_BATCH_JOBS_KEPT", &C::batch_jobs_kept, 1, 1000000, "a job count"},
+      {"batch_job_ttl_s", "SLOSH_BATCH_JOB_TTL_S", &C::batch_job_ttl_s, 1, 30 * 86400},
+      {"batch_job_stale_s", "SLOSH_BATCH_JOB_STALE_S", &C::batch_job_stale_s, 1, 86400},
   };
   return all;
 }

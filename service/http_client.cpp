@@ -31,17 +31,33 @@ HttpClient::HttpClient(const std::string& base_url, std::chrono::seconds timeout
 
 HttpClient::~HttpClient() = default;
 
-HttpReply HttpClient::post_json(const std::string& path, const std::string& body) {
-  const httplib::Result result = impl_->client.Post(prefix_ + path, body, "application/json");
+namespace {
+
+HttpReply reply_of(const httplib::Result& result, const std::string& base_url) {
   if (!result) {
-    throw HttpError("cannot reach " + base_url_ + " (" + httplib::to_string(result.error()) +
+    throw HttpError("cannot reach " + base_url + " (" + httplib::to_string(result.error()) +
                     " error): is `slosh serve` running there?");
   }
   HttpReply reply;
   reply.status = result->status;
   reply.body = result->body;
   reply.retry_after = result->get_header_value("Retry-After");
+  reply.location = result->get_header_value("Location");
   return reply;
+}
+
+}  // namespace
+
+HttpReply HttpClient::post_json(const std::string& path, const std::string& body) {
+  return reply_of(impl_->client.Post(prefix_ + path, body, "application/json"), base_url_);
+}
+
+HttpReply HttpClient::get(const std::string& path) {
+  return reply_of(impl_->client.Get(prefix_ + path), base_url_);
+}
+
+HttpReply HttpClient::del(const std::string& path) {
+  return reply_of(impl_->client.Delete(prefix_ + path), base_url_);
 }
 
 }  // namespace slosh::service

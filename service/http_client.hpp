@@ -13,6 +13,7 @@ struct HttpReply {
   int status{0};
   std::string body;
   std::string retry_after;  ///< the Retry-After header, empty when absent
+  std::string location;     ///< the Location header, empty when absent
 };
 
 /// Transport failures: unreachable server, connection reset, timeout.
@@ -34,6 +35,9 @@ class HttpClient {
   /// POSTs a JSON body to `path` (appended to the URL's prefix). Throws HttpError on a transport
   /// failure; HTTP error statuses are returned, not thrown.
   HttpReply post_json(const std::string& path, const std::string& body);
+  /// GET and DELETE `path`, as post_json.
+  HttpReply get(const std::string& path);
+  HttpReply del(const std::string& path);
 
   [[nodiscard]] const std::string& base_url() const { return base_url_; }
 

@@ -23,10 +23,13 @@
 #include <thread>
 #include <vector>
 
+#include "batch_jobs.hpp"
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
 #include "log_format.hpp"
+#include "memory_job_store.hpp"
 #include "plan_service.hpp"
+#include "redis_job_store.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/routes.hpp"
 #include "version.hpp"
@@ -118,6 +121,7 @@ bool known_method(const std::string& method) {
 struct Endpoint {
   std::regex pattern;
   std::vector<std::string> methods;
+  std::string source;  // the pattern's text
 };
 
 std::string allow_header(const std::vector<std::string>& methods) {
@@ -229,6 +233,7 @@ class ListeningServer : public httplib::Server {
 struct Runtime {
   const ServerConfig& config;
   PlanService& service;
+  BatchJobs& jobs;
   ListeningServer& server;
   std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
   std::vector<Endpoint> endpoints;
@@ -287,6 +292,55 @@ std::vector<std::string> param_values(const httplib::Request& req, const char* n
                              : httplib::detail::decode_url(pair.substr(equals + 1), true));
       });
   return values;
+}
+
+// The batch job routes (POST /v1/batches, GET and DELETE /v1/batches/{id}, the downloads).
+Handler job_handler_of(api::Operation operation, BatchJobs& jobs) {
+  switch (operation) {
+    case api::Operation::kCreateJob:
+      return [&jobs](const httplib::Request&, const std::string& body) { return jobs.post(body); };
+    case api::Operation::kGetJob:
+      return [&jobs](const httplib::Request& req, const std::string&) {
+        return jobs.get(req.matches[1],
+                        JobPageQuery{param_values(req, "offset"), param_values(req, "limit")});
+      };
+    case api::Operation::kCancelJob:
+      return [&jobs](const httplib::Request& req, const std::string&) {
+        return jobs.cancel(req.matches[1]);
+      };
+    case api::Operation::kJobResultsCsv:
+    case api::Operation::kJobResultsJsonl: {
+      const TableFormat format =
+          operation == api::Operation::kJobResultsCsv ? TableFormat::kCsv : TableFormat::kJsonLines;
+      return [&jobs, format](const httplib::Request& req, const std::string&) {
+        return jobs.results(req.matches[1], format);
+      };
+    }
+    default:
+      throw std::logic_error("not a batch job operation");
+  }
+}
+
+// The batch jobs' and the pool's priority figures for /metrics.
+std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
+  return "# HELP slosh_batch_jobs_active Batch jobs queued or running on this replica.\n"
+         "# TYPE slosh_batch_jobs_active gauge\n"
+         "slosh_batch_jobs_active " +
+         std::to_string(jobs.active()) +
+         "\n"
+         "# HELP slosh_pool_tasks_started_total Solve tasks started by priority (interactive: "
+         "plans and searches of requests; background: items of batch jobs).\n"
+         "# TYPE slosh_pool_tasks_started_total counter\n"
+         "slosh_pool_tasks_started_total{priority=\"interactive\"} " +
+         std::to_string(pool.started(TaskPriority::kInteractive)) +
+         "\n"
+         "slosh_pool_tasks_started_total{priority=\"background\"} " +
+         std::to_string(pool.started(TaskPriority::kBackground)) +
+         "\n"
+         "# HELP slosh_pool_background_queue_depth Batch job items waiting for a worker.\n"
+         "# TYPE slosh_pool_background_queue_depth gauge\n"
+         "slosh_pool_background_queue_depth " +
+         std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
 }
 
 Handler handler_of(api::Operation operation, Runtime& rt) {
@@ -356,9 +410,13 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
         return service.web_asset(req.matches[1], req.get_header_value("If-None-Match"));
       };
     case api::Operation::kMetrics:
-      return [&service](const httplib::Request&, const std::string&) {
-        return service.metrics_text();
+      return [&rt](const httplib::Request&, const std::string&) {
+        Reply reply = rt.service.metrics_text();
+        reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
+        return reply;
       };
+    default:
+      return job_handler_of(operation, rt.jobs);
   }
   throw std::logic_error("an operation without a handler");
 }
@@ -377,6 +435,17 @@ std::string path_pattern(std::string_view path) {
   return out;
 }
 
+// Records the methods a path pattern answers (one Endpoint per pattern, for 405's Allow).
+void add_methods(Runtime& rt, const std::string& pattern, const std::vector<std::string>& methods) {
+  for (Endpoint& e : rt.endpoints) {
+    if (e.source == pattern) {
+      e.methods.insert(e.methods.end(), methods.begin(), methods.end());
+      return;
+    }
+  }
+  rt.endpoints.push_back({std::regex(pattern), methods, pattern});
+}
+
 // Every route of api::routes(): one metrics label per route (its path), exceptions become the
 // envelope, POST handlers read their bodies themselves (read_body).
 void register_routes(Runtime& rt) {
@@ -384,6 +453,17 @@ void register_routes(Runtime& rt) {
     const std::string pattern = path_pattern(route.path);
     std::string label(route.path);
     Handler handler = handler_of(route.operation, rt);
+    if (route.method == "DELETE") {
+      rt.server.Delete(pattern,
+                       [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
+                         Reply reply = guarded([&] { return handler(req, std::string()); });
+                         const int status = reply.status;
+                         send(std::move(reply), res);
+                         rt.service.metrics().count_request(label, status);
+                       });
+      add_methods(rt, pattern, {"DELETE"});
+      continue;
+    }
     if (route.method == "GET") {
       rt.server.Get(pattern,
                     [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
@@ -394,7 +474,7 @@ void register_routes(Runtime& rt) {
                       send(std::move(reply), res);
                       rt.service.metrics().count_request(label, status);
                     });
-      rt.endpoints.push_back({std::regex(pattern), {"GET", "HEAD"}});
+      add_methods(rt, pattern, {"GET", "HEAD"});
       continue;
     }
     rt.server.Post(pattern,
@@ -418,7 +498,7 @@ void register_routes(Runtime& rt) {
                          send(std::move(reply), res);
                          rt.service.metrics().count_request(label, status);
                        }));
-    rt.endpoints.push_back({std::regex(pattern), {"POST"}});
+    add_methods(rt, pattern, {"POST"});
   }
 }
 
@@ -613,6 +693,7 @@ class StopSignals {
 void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) {
   spdlog::info("signal {} received: finishing the requests in flight, then stopping",
                signal_number);
+  rt.jobs.shutdown();  // running and queued batch jobs end as failed, with a message
   rt.service.begin_shutdown();
   // A signal that arrives before the accept loop runs must still stop it.
   while (!rt.server.is_running() && !signals.finished()) {
@@ -632,6 +713,25 @@ std::string replica_name(const ServerConfig& config) {
 
 }  // namespace
 
+// Where the batch jobs keep their state: this replica's memory, and with a Redis plan cache the
+// shared Redis too, so that any replica answers for any job (TieredJobStore: local first).
+struct JobStores {
+  MemoryJobStore local;
+  std::optional<RedisJobStore> redis;
+  std::optional<TieredJobStore> tiered;
+
+  JobStores(const ServerConfig& config, const PlanService& service)
+      : local(MemoryJobStoreLimits{.ttl_s = config.batch_job_ttl_s,
+                                   .max_jobs = config.batch_jobs_kept + config.batch_jobs_max}) {
+    if (!service.redis()) return;
+    redis.emplace(service.redis(), std::chrono::seconds(std::llround(config.batch_job_ttl_s)));
+    tiered.emplace(local, *redis);
+  }
+  JobStores(const JobStores&) = delete;
+  JobStores& operator=(const JobStores&) = delete;
+  JobStore& store() { return tiered ? static_cast<JobStore&>(*tiered) : local; }
+};
+
 int run_server(const ServerConfig& config, const std::string& port_file) {
   use_log_format(config.log_format);
   StopSignals signals;
@@ -642,8 +742,10 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   if (const std::string error = service.cache().storage_error(); !error.empty()) {
     spdlog::error("plan cache: {}; answering from memory only", error);
   }
+  JobStores job_stores(config, service);
+  BatchJobs jobs(service, job_stores.store());
   ListeningServer server;
-  Runtime rt{config, service, server, nullptr, {}, replica_name(config)};
+  Runtime rt{config, service, jobs, server, nullptr, {}, replica_name(config)};
   configure_transport(server, config);
   register_routes(rt);
   install_error_handlers(rt);

@@ -183,7 +183,8 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
 
 std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& key,
                                                             const api::PlanRequest& request,
-                                                            bool wait_for_room, bool* refused) {
+                                                            bool wait_for_room, bool* refused,
+                                                            TaskPriority priority) {
   *refused = false;
   auto promise = std::make_shared<std::promise<Outcome>>();
   std::shared_future<Outcome> future = promise->get_future().share();
@@ -228,7 +229,8 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     forget();
     promise->set_value(std::move(outcome));
   };
-  const bool queued = wait_for_room ? pool_.submit_wait(task) : pool_.try_submit(task);
+  const bool queued =
+      wait_for_room ? pool_.submit_wait(task, priority) : pool_.try_submit(task, priority);
   if (!queued) {
     // Whoever joined this solve meanwhile gets the refusal too (never a future that hangs).
     forget();
@@ -482,9 +484,10 @@ bool PendingBatch::wait_for(std::size_t i, std::chrono::milliseconds timeout) co
   return !pending_[i].valid() || pending_[i].wait_for(timeout) == std::future_status::ready;
 }
 
-BatchResult PendingBatch::get(std::size_t i) const {
-  if (!pending_[i].valid()) return results_[i];
-  const SolveOutcome& o = pending_[i].get();
+namespace {
+
+// The batch result of a finished solve.
+BatchResult batch_result(const SolveOutcome& o) {
   BatchResult r;
   if (o.error) {
     r.error = o.error;
@@ -492,6 +495,41 @@ BatchResult PendingBatch::get(std::size_t i) const {
     r.plan = api::render_plan_reply(o.body, false);
   }
   return r;
+}
+
+}  // namespace
+
+BatchResult PendingBatch::get(std::size_t i) const {
+  if (!pending_[i].valid()) return results_[i];
+  return batch_result(pending_[i].get());
+}
+
+BatchResult StartedItem::get() const {
+  return pending.valid() ? batch_result(pending.get()) : result;
+}
+
+StartedItem PlanService::start_batch_item(const json& item, TaskPriority priority) {
+  StartedItem started;
+  BatchResult& result = started.result;
+  try {
+    const api::PlanRequest request = api::parse_batch_item(item, config_.solve_budget_s);
+    const std::string key = api::recipe_key(request);
+    CacheLevel level{};
+    if (auto hit = cache_.get(key, &level)) {
+      metrics_.count_cache_hit(level);
+      result.plan = api::render_plan_reply(*hit, true);
+      result.cached = true;
+      return started;
+    }
+    bool refused = false;
+    started.pending = solve(key, request, true, &refused, priority);
+    if (refused) result.error = overloaded_error();
+  } catch (const api::ApiError& e) {
+    result.error = e;
+  } catch (const std::exception& e) {
+    result.error = api::ApiError(api::ErrorCode::kInternal, "", e.what());
+  }
+  return started;
 }
 
 PendingBatch PlanService::start_batch(const std::vector<json>& requests,
@@ -502,32 +540,29 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
   batch.pending_.resize(n);
   bool gone = false;
   for (std::size_t i = 0; i < n; ++i) {
-    BatchResult& result = batch.results_[i];
-    try {
-      const api::PlanRequest request = api::parse_batch_item(requests[i], config_.solve_budget_s);
-      const std::string key = api::recipe_key(request);
-      CacheLevel level{};
-      if (auto hit = cache_.get(key, &level)) {
-        metrics_.count_cache_hit(level);
-        result.plan = api::render_plan_reply(*hit, true);
-        result.cached = true;
-        continue;
+    // A client that went away gets no more solves queued for it (the queued ones still run);
+    // cache hits and invalid items are still answered.
+    gone = gone || (abandoned && abandoned());
+    if (gone) {
+      try {
+        const api::PlanRequest request = api::parse_batch_item(requests[i], config_.solve_budget_s);
+        CacheLevel level{};
+        if (auto hit = cache_.get(api::recipe_key(request), &level)) {
+          metrics_.count_cache_hit(level);
+          batch.results_[i].plan = api::render_plan_reply(*hit, true);
+          batch.results_[i].cached = true;
+        } else {
+          batch.results_[i].error = api::ApiError(api::ErrorCode::kCancelled, "",
+                                                  "not solved: the client closed the connection");
+        }
+      } catch (const api::ApiError& e) {
+        batch.results_[i].error = e;
       }
-      // A client that went away gets no more solves queued for it (the queued ones still run).
-      gone = gone || (abandoned && abandoned());
-      if (gone) {
-        result.error = api::ApiError(api::ErrorCode::kCancelled, "",
-                                     "not solved: the client closed the connection");
-        continue;
-      }
-      bool refused = false;
-      batch.pending_[i] = solve(key, request, true, &refused);
-      if (refused) result.error = overloaded_error();
-    } catch (const api::ApiError& e) {
-      result.error = e;
-    } catch (const std::exception& e) {
-      result.error = api::ApiError(api::ErrorCode::kInternal, "", e.what());
+      continue;
     }
+    StartedItem started = start_batch_item(requests[i]);
+    batch.results_[i] = std::move(started.result);
+    batch.pending_[i] = std::move(started.pending);
   }
   return batch;
 }

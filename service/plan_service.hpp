@@ -86,6 +86,15 @@ class PendingBatch {
   std::vector<std::shared_future<SolveOutcome>> pending_;  // invalid where results_ is final
 };
 
+/// One batch item on its way (PlanService::start_batch_item): finished now (a cache hit, an
+/// invalid request), or the future of its solve.
+struct StartedItem {
+  BatchResult result;                        ///< final when `pending` is invalid
+  std::shared_future<SolveOutcome> pending;  ///< the solve (new, or the running one joined)
+  /// The item's result once finished (waits for the solve).
+  [[nodiscard]] BatchResult get() const;
+};
+
 class PlanService {
  public:
   explicit PlanService(const ServerConfig& config);
@@ -106,6 +115,16 @@ class PlanService {
   /// others are queued on the pool (waiting for queue room) with single-flight per recipe.
   PendingBatch start_batch(const std::vector<nlohmann::json>& requests,
                            const std::function<bool()>& abandoned = {});
+  /// Starts one batch item: a cache hit or an invalid request finishes at once; otherwise its
+  /// solve is queued at `priority` (waiting for queue room), or joins a running solve of the same
+  /// recipe. Never throws: errors are the item's.
+  StartedItem start_batch_item(const nlohmann::json& request,
+                               TaskPriority priority = TaskPriority::kInteractive);
+  /// The solve pool (its counters are reported by the batch jobs and tests).
+  [[nodiscard]] const WorkerPool& pool() const { return pool_; }
+  [[nodiscard]] const ServerConfig& config() const { return config_; }
+  /// False once begin_shutdown has run.
+  [[nodiscard]] bool accepting() const { return ready_; }
   Reply post_simulate(const std::string& body);
   /// POST /v1/min-time (SPEC §9): each strategy's search is one task on the worker pool (so the
   /// strategies run in parallel), within options.time_limit_s per search; 503 when the queue has
@@ -165,7 +184,8 @@ class PlanService {
   // The rendered plan of `key`: from a running solve of the same recipe, or a new solve queued
   // on the pool (`wait_for_room`: block for a queue slot instead of answering 503).
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
-                                    bool wait_for_room, bool* refused);
+                                    bool wait_for_room, bool* refused,
+                                    TaskPriority priority = TaskPriority::kInteractive);
   // The reply of a rendered plan: 304 when `if_none_match` names it, the series of
   // `sample_period` added when set, in `view`.
   Reply plan_reply(const std::string& key, const std::string& body, bool cached,

@@ -75,6 +75,20 @@ struct ServerConfig {
   /// This replica's name in the X-Slosh-Replica header of every response (which replica behind a
   /// proxy answered); "" = the host name. Default "".
   std::string replica_id;
+  /// Batch jobs (POST /v1/batches): most recipes in one job (more: 422 naming batch_job_max).
+  /// Default 100000. The body limit max_body_bytes still holds (a CSV recipe row is ~100 bytes).
+  std::size_t batch_job_max{100000};
+  /// Most jobs queued or running on one replica (they run one after the other); beyond, POST
+  /// /v1/batches answers 503 with Retry-After. Default 8.
+  std::size_t batch_jobs_max{8};
+  /// Most finished jobs the in-memory job store keeps (their results included); beyond, the
+  /// least recently written go first. Default 100.
+  std::size_t batch_jobs_kept{100};
+  /// A finished job is forgotten this long after its last write [s]. Default 3600.
+  double batch_job_ttl_s{3600.0};
+  /// A queued or running job whose record its replica has not rewritten for this long reads as
+  /// failed ("the replica running it stopped"); the owner rewrites it every 0.5 s [s]. Default 30.
+  double batch_job_stale_s{30.0};
 };
 
 /// Whether `cache` (ServerConfig::cache_path) names a Redis server rather than a SQLite file.

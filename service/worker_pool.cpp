@@ -34,26 +34,26 @@ void WorkerPool::stop_and_join() {
   threads_.clear();
 }
 
-bool WorkerPool::try_submit(std::function<void()> task) {
-  {
-    std::lock_guard lock(mutex_);
-    if (!accepting_ || queue_.size() >= capacity_) return false;
-    if (queue_.empty() && busy_ == 0) last_progress_ = std::chrono::steady_clock::now();
-    queue_.push_back(std::move(task));
-  }
+void WorkerPool::push(std::unique_lock<std::mutex>& lock, std::function<void()> task,
+                      TaskPriority priority) {
+  if (idle()) last_progress_ = std::chrono::steady_clock::now();
+  queue_of(priority).push_back(std::move(task));
+  lock.unlock();
   has_task_.notify_one();
+}
+
+bool WorkerPool::try_submit(std::function<void()> task, TaskPriority priority) {
+  std::unique_lock lock(mutex_);
+  if (!accepting_ || queue_of(priority).size() >= capacity_) return false;
+  push(lock, std::move(task), priority);
   return true;
 }
 
-bool WorkerPool::submit_wait(std::function<void()> task) {
-  {
-    std::unique_lock lock(mutex_);
-    has_room_.wait(lock, [this] { return !accepting_ || queue_.size() < capacity_; });
-    if (!accepting_) return false;
-    if (queue_.empty() && busy_ == 0) last_progress_ = std::chrono::steady_clock::now();
-    queue_.push_back(std::move(task));
-  }
-  has_task_.notify_one();
+bool WorkerPool::submit_wait(std::function<void()> task, TaskPriority priority) {
+  std::unique_lock lock(mutex_);
+  has_room_.wait(lock, [&] { return !accepting_ || queue_of(priority).size() < capacity_; });
+  if (!accepting_) return false;
+  push(lock, std::move(task), priority);
   return true;
 }
 
@@ -67,7 +67,17 @@ void WorkerPool::stop_accepting() {
 
 std::size_t WorkerPool::queue_depth() const {
   std::lock_guard lock(mutex_);
-  return queue_.size();
+  return interactive_.size() + background_.size();
+}
+
+std::size_t WorkerPool::queue_depth(TaskPriority priority) const {
+  std::lock_guard lock(mutex_);
+  return priority == TaskPriority::kInteractive ? interactive_.size() : background_.size();
+}
+
+std::uint64_t WorkerPool::started(TaskPriority priority) const {
+  std::lock_guard lock(mutex_);
+  return priority == TaskPriority::kInteractive ? started_interactive_ : started_background_;
 }
 
 std::size_t WorkerPool::busy() const {
@@ -80,13 +90,18 @@ void WorkerPool::run() {
     std::function<void()> task;
     {
       std::unique_lock lock(mutex_);
-      has_task_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stopping and drained
-      task = std::move(queue_.front());
-      queue_.pop_front();
+      has_task_.wait(lock,
+                     [this] { return stopping_ || !interactive_.empty() || !background_.empty(); });
+      // Interactive first: a background task runs only when no interactive one waits.
+      const bool interactive = !interactive_.empty();
+      std::deque<std::function<void()>>& queue = interactive ? interactive_ : background_;
+      if (queue.empty()) return;  // stopping and drained
+      task = std::move(queue.front());
+      queue.pop_front();
+      ++(interactive ? started_interactive_ : started_background_);
       ++busy_;
     }
-    has_room_.notify_one();
+    has_room_.notify_all();  // waiters of either priority
     bool failed = false;
     try {
       task();  // tasks catch their own exceptions; this keeps the worker alive if one does not
@@ -102,7 +117,7 @@ void WorkerPool::run() {
 
 std::chrono::steady_clock::duration WorkerPool::stalled_for() const {
   std::lock_guard lock(mutex_);
-  if (queue_.empty() && busy_ == 0) return std::chrono::steady_clock::duration::zero();
+  if (idle()) return std::chrono::steady_clock::duration::zero();
   return std::chrono::steady_clock::now() - last_progress_;
 }
 

@@ -1,6 +1,11 @@
 #pragma once
 // A fixed set of worker threads behind a bounded queue: the service's solves run here, so a burst
 // of requests waits in a queue of known size (or is refused) instead of spawning work unbounded.
+//
+// Two priorities: a worker takes an interactive task (a plan an HMI waits for) whenever one is
+// queued, and a background task (an item of a batch job, POST /v1/batches) only when no
+// interactive task waits. Each priority has its own queue of `queue_capacity` tasks, so queued
+// background work never takes the room that answers interactive overload with 503.
 
 #include <chrono>
 #include <condition_variable>
@@ -14,6 +19,9 @@
 
 namespace slosh::service {
 
+/// Which queue a task waits in: interactive tasks always run before background ones.
+enum class TaskPriority { kInteractive, kBackground };
+
 class WorkerPool {
  public:
   /// Starts `workers` threads (>= 1) with room for `queue_capacity` waiting tasks (>= 1). Throws
@@ -24,15 +32,21 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  /// Queues `task` unless the queue is full or the pool is stopping; false then.
-  [[nodiscard]] bool try_submit(std::function<void()> task);
-  /// Queues `task`, waiting for room; false when the pool is stopping.
-  [[nodiscard]] bool submit_wait(std::function<void()> task);
+  /// Queues `task` unless its priority's queue is full or the pool is stopping; false then.
+  [[nodiscard]] bool try_submit(std::function<void()> task,
+                                TaskPriority priority = TaskPriority::kInteractive);
+  /// Queues `task`, waiting for room in its priority's queue; false when the pool is stopping.
+  [[nodiscard]] bool submit_wait(std::function<void()> task,
+                                 TaskPriority priority = TaskPriority::kInteractive);
   /// Stops accepting tasks; queued and running ones still finish.
   void stop_accepting();
 
-  [[nodiscard]] std::size_t queue_depth() const;  ///< tasks waiting
-  [[nodiscard]] std::size_t busy() const;         ///< tasks running
+  [[nodiscard]] std::size_t queue_depth() const;  ///< tasks waiting (both priorities)
+  /// Tasks of `priority` waiting.
+  [[nodiscard]] std::size_t queue_depth(TaskPriority priority) const;
+  /// Tasks of `priority` started since the pool began.
+  [[nodiscard]] std::uint64_t started(TaskPriority priority) const;
+  [[nodiscard]] std::size_t busy() const;  ///< tasks running
   /// How long the pool has had work (queued or running) without finishing a task; zero while it
   /// is idle or has just finished one. A pool that makes no progress shows a growing figure.
   [[nodiscard]] std::chrono::steady_clock::duration stalled_for() const;
@@ -43,13 +57,24 @@ class WorkerPool {
 
  private:
   void run();
+  // Queues `task` (the lock held, room checked) and wakes a worker.
+  void push(std::unique_lock<std::mutex>& lock, std::function<void()> task, TaskPriority priority);
+  std::deque<std::function<void()>>& queue_of(TaskPriority priority) {
+    return priority == TaskPriority::kInteractive ? interactive_ : background_;
+  }
+  [[nodiscard]] bool idle() const {
+    return interactive_.empty() && background_.empty() && busy_ == 0;
+  }
   // Stops accepting, finishes every queued and running task, joins the threads.
   void stop_and_join();
 
   mutable std::mutex mutex_;
   std::condition_variable has_task_;
   std::condition_variable has_room_;
-  std::deque<std::function<void()>> queue_;
+  std::deque<std::function<void()>> interactive_;
+  std::deque<std::function<void()>> background_;
+  std::uint64_t started_interactive_{0};
+  std::uint64_t started_background_{0};
   std::vector<std::thread> threads_;
   std::size_t capacity_;
   std::size_t busy_{0};

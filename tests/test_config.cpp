@@ -60,6 +60,11 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.cache_ttl_s, defaults.cache_ttl_s);
   EXPECT_EQ(from_file.redis_timeout_ms, defaults.redis_timeout_ms);
   EXPECT_EQ(from_file.redis_required, defaults.redis_required);
+  EXPECT_EQ(from_file.batch_job_max, defaults.batch_job_max);
+  EXPECT_EQ(from_file.batch_jobs_max, defaults.batch_jobs_max);
+  EXPECT_EQ(from_file.batch_jobs_kept, defaults.batch_jobs_kept);
+  EXPECT_EQ(from_file.batch_job_ttl_s, defaults.batch_job_ttl_s);
+  EXPECT_EQ(from_file.batch_job_stale_s, defaults.batch_job_stale_s);
 }
 
 TEST(Config, LogFormatIsTextOrJson) {
@@ -132,15 +137,17 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   EXPECT_EQ(error_of([&] { apply_config_file(path, c); }),
             path + ": port = 70000 is not a TCP port: allowed 0 to 65535");
   const std::string typo = write_temp(R"({"prot": 80})");
-  EXPECT_EQ(error_of([&] { apply_config_file(typo, c); }),
-            typo +
-                ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
-                "cache_local, cache_ttl_s, redis_timeout_ms, redis_required, cache_entries, "
-                "solve_budget_s, queue_wait_s, max_body_bytes, batch_max, "
-                "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
-                "keep_alive_timeout_s, "
-                "request_timeout_s, cache_memory_bytes, cache_store_bytes, "
-                "cache_min_time_store_bytes, cam_export_bytes, log_format, replica_id");
+  EXPECT_EQ(
+      error_of([&] { apply_config_file(typo, c); }),
+      typo +
+          ": prot is not a known setting; allowed: host, port, workers, queue, cache, "
+          "cache_local, cache_ttl_s, redis_timeout_ms, redis_required, cache_entries, "
+          "solve_budget_s, queue_wait_s, max_body_bytes, batch_max, "
+          "max_response_bytes, http_threads, read_timeout_s, write_timeout_s, "
+          "keep_alive_timeout_s, "
+          "request_timeout_s, cache_memory_bytes, cache_store_bytes, "
+          "cache_min_time_store_bytes, cam_export_bytes, log_format, replica_id, batch_job_max, "
+          "batch_jobs_max, batch_jobs_kept, batch_job_ttl_s, batch_job_stale_s");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");

@@ -226,6 +226,11 @@ TEST(OpenApiDocument, DescribesEveryEndpointWithItsStatuses) {
       {"/healthz", "get", {"200"}},
       {"/readyz", "get", {"200", "503"}},
       {"/metrics", "get", {"200"}},
+      {"/v1/batches", "post", {"202", "400", "413", "415", "422", "503"}},
+      {"/v1/batches/{id}", "get", {"200", "404", "422"}},
+      {"/v1/batches/{id}", "delete", {"200", "202", "404"}},
+      {"/v1/batches/{id}/results.csv", "get", {"200", "404", "409"}},
+      {"/v1/batches/{id}/results.jsonl", "get", {"200", "404", "409"}},
   };
   const json& paths = document().at("paths");
   std::set<std::string> operation_ids;
@@ -743,8 +748,8 @@ TEST(OpenApiResponses, ErrorEnvelopeFluidsAndExamplesFitTheirSchemas) {
     statuses.insert(row.status);
   }
   EXPECT_EQ(documented, codes);
-  EXPECT_EQ(statuses, (std::set<int>{400, 404, 405, 408, 413, 414, 415, 416, 422, 431, 499, 500,
-                                     501, 503, 504}));
+  EXPECT_EQ(statuses, (std::set<int>{400, 404, 405, 408, 409, 413, 414, 415, 416, 422, 431, 499,
+                                     500, 501, 503, 504}));
 
   const auto fluid_errors = validation_errors("FluidsResponse", fluids_json());
   EXPECT_TRUE(fluid_errors.empty()) << joined(fluid_errors);

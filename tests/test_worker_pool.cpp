@@ -10,10 +10,12 @@
 #include <fstream>
 #include <functional>
 #include <future>
+#include <mutex>
 #include <stdexcept>
 #include <string>
 #include <system_error>
 #include <thread>
+#include <vector>
 
 #include "connection_pool.hpp"
 #include "worker_pool.hpp"
@@ -63,6 +65,66 @@ TEST(WorkerPool, SubmitWaitQueuesMoreTasksThanTheQueueHolds) {
   }
   for (int i = 0; i < 5000 && ran < 50; ++i) std::this_thread::sleep_for(1ms);
   EXPECT_EQ(ran, 50);
+}
+
+// Issue 21: an interactive task queued behind background (batch job) tasks runs first. The one
+// worker is held by a latch while three background tasks and then one interactive task are
+// queued; once released, the order of the runs is recorded.
+TEST(WorkerPool, AnInteractiveTaskRunsBeforeQueuedBackgroundTasks) {
+  WorkerPool pool(1, 8);
+  std::promise<void> release;
+  std::shared_future<void> gate = release.get_future().share();
+  std::promise<void> holding;
+  ASSERT_TRUE(pool.try_submit([gate, &holding] {
+    holding.set_value();
+    gate.wait();
+  }));
+  holding.get_future().wait();  // the worker is busy: everything below waits in the queues
+  std::mutex m;
+  std::vector<std::string> order;
+  auto record = [&](std::string name) {
+    return [&, name] {
+      const std::lock_guard lock(m);
+      order.push_back(name);
+    };
+  };
+  for (const char* name : {"b1", "b2", "b3"}) {
+    ASSERT_TRUE(pool.try_submit(record(name), TaskPriority::kBackground));
+  }
+  ASSERT_TRUE(pool.try_submit(record("i1"), TaskPriority::kInteractive));
+  EXPECT_EQ(pool.queue_depth(TaskPriority::kBackground), 3u);
+  EXPECT_EQ(pool.queue_depth(TaskPriority::kInteractive), 1u);
+  EXPECT_EQ(pool.queue_depth(), 4u);
+  release.set_value();
+  for (int i = 0; i < 10000 && pool.started(TaskPriority::kBackground) < 3; ++i) {
+    std::this_thread::sleep_for(1ms);
+  }
+  for (int i = 0; i < 10000 && pool.busy() > 0; ++i) std::this_thread::sleep_for(1ms);
+  const std::lock_guard lock(m);
+  EXPECT_EQ(order, (std::vector<std::string>{"i1", "b1", "b2", "b3"}));
+  EXPECT_EQ(pool.started(TaskPriority::kInteractive), 2u);  // the latch task and i1
+  EXPECT_EQ(pool.started(TaskPriority::kBackground), 3u);
+}
+
+// Issue 21: background tasks have their own queue, so a full background queue leaves the
+// interactive room (and its 503) as it was: interactive overload is refused at the same depth.
+TEST(WorkerPool, BackgroundTasksDoNotTakeTheInteractiveQueueRoom) {
+  WorkerPool pool(1, 2);
+  std::promise<void> release;
+  std::shared_future<void> gate = release.get_future().share();
+  std::promise<void> holding;
+  ASSERT_TRUE(pool.try_submit([gate, &holding] {
+    holding.set_value();
+    gate.wait();
+  }));
+  holding.get_future().wait();
+  ASSERT_TRUE(pool.try_submit([] {}, TaskPriority::kBackground));
+  ASSERT_TRUE(pool.try_submit([] {}, TaskPriority::kBackground));
+  EXPECT_FALSE(pool.try_submit([] {}, TaskPriority::kBackground));  // its own queue is full
+  EXPECT_TRUE(pool.try_submit([] {}));
+  EXPECT_TRUE(pool.try_submit([] {}));
+  EXPECT_FALSE(pool.try_submit([] {}));  // the interactive queue holds 2: the 3rd is refused
+  release.set_value();
 }
 
 // Hostile review: a std::system_error from starting a connection thread (e.g. under

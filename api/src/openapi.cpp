@@ -813,6 +813,8 @@ json responses_component() {
                           "invalid_value); the message names the field, the value and the "
                           "allowed range.")},
           {"Overloaded", overloaded},
+          {"Conflict", error_response("The batch job is not finished yet (code conflict); poll "
+                                      "GET /v1/batches/{id}.")},
           {"Timeout", error_response("The plan did not finish within its budget plus the "
                                      "queueing grace (code timeout).")},
           {"Internal", error_response("Internal error (code internal).")},
@@ -864,6 +866,8 @@ std::string_view status_component(int status) {
       return "BadRequest";
     case 404:
       return "NotFound";
+    case 409:
+      return "Conflict";
     case 408:
       return "RequestTimeout";
     case 413:
@@ -1004,6 +1008,67 @@ void add_min_time_response_schemas(json& s) {
                {}, "The winner and its gain over the uniform law (motion time only).", false)}},
       {"key", "cached", "version", "strategies", "headline"}, "Minimum motion time per strategy.",
       false);
+}
+
+/// Batch jobs (POST /v1/batches, GET/DELETE /v1/batches/{id}; SPEC §13).
+void add_batch_job_schemas(json& s) {
+  json requests{{"type", "array"},
+                {"items", ref("PlanRequest")},
+                {"minItems", 1},
+                {"description",
+                 "1 to batch_job_max plan requests (server setting, default 100000); each may "
+                 "carry a \"recipe_id\" (kept in its row), as in a .json table of `slosh batch`."}};
+  s["BatchJobRequest"] = object(
+      {{"requests", requests},
+       {"table", text("Instead of requests: the text of a recipe table as `slosh batch --in` reads "
+                      "it (unreadable rows become error rows).")},
+       {"table_format",
+        with_default(string_enum({"csv", "jsonl", "json"}, "The format of table."), "csv")},
+       {"format", with_default(string_enum({"csv", "jsonl"},
+                                           "The download the record points to first; both "
+                                           "results.csv and results.jsonl are always served."),
+                               "csv")},
+       {"view", string_enum(plan_view_names(),
+                            "Adds the plan in this view to each JSON row (as `slosh batch "
+                            "--view`); absent: rows carry the figures only.")}},
+      {}, "A batch job: either requests or table.", true);
+  json progress = object({{"done", integer("Rows finished (planned or in error), in order.")},
+                          {"total", integer("Rows of the job.")},
+                          {"failed", integer("Rows in error among the done ones.")},
+                          {"rate_per_s", number("Rows per second since the job started.")},
+                          {"eta_s", nullable(number("Seconds left at that rate (null before "
+                                                    "the first row)."))}},
+                         {"done", "total", "failed", "rate_per_s", "eta_s"}, "", false);
+  json row = {{"type", "object"},
+              {"description", "A row of the plan table of `slosh batch` (JSON form)."}};
+  json results = object(
+      {{"offset", integer("The first row of this page (0-based).")},
+       {"limit", integer("Rows asked for (1 to 1000, default 100).")},
+       {"rows", {{"type", "array"}, {"items", row}}},
+       {"next_offset", nullable(integer("The offset of the next page; null after the last."))}},
+      {"offset", "limit", "rows", "next_offset"}, "A page of the results.", false);
+  json time = nullable(text("ISO 8601 UTC time; null until then."));
+  s["BatchJob"] = object(
+      {{"id", text("The job id (32 random hex digits).")},
+       {"state", string_enum({"queued", "running", "done", "cancelled", "failed"},
+                             "failed also when the replica running the job stopped.")},
+       {"format", string_enum({"csv", "jsonl"}, "The format asked for.")},
+       {"view", nullable(text("The view of the plans in the rows, or null."))},
+       {"progress", progress},
+       {"created_at", text("ISO 8601 UTC time.")},
+       {"started_at", time},
+       {"finished_at", time},
+       {"updated_at", text("Last write of the record by its replica (every 0.5 s while it runs).")},
+       {"updated_unix_ms", integer("updated_at in ms since the Unix epoch.")},
+       {"message", nullable(text("Why the job failed or was cancelled."))},
+       {"cancel_requested", boolean("A DELETE asked for the job to be cancelled.")},
+       {"deleted", boolean("Present (true) in the answer of the DELETE that forgot the job.")},
+       {"results_csv", text("Path of the CSV download.")},
+       {"results_jsonl", text("Path of the JSON lines download.")},
+       {"results", results}},
+      {"id", "state", "format", "progress", "created_at", "updated_at", "results_csv",
+       "results_jsonl"},
+      "A batch job; results only once it is done, cancelled or failed.", false);
 }
 
 /// The request and response of POST /v1/min-time (SPEC §9).
@@ -1202,6 +1267,66 @@ json read_operation(const Route& route) {
   }
 }
 
+/// The path parameter {id} of the batch job routes.
+json job_id_parameter() {
+  return {{"name", "id"},
+          {"in", "path"},
+          {"required", true},
+          {"schema", {{"type", "string"}}},
+          {"description", "Job id from POST /v1/batches."}};
+}
+
+json job_operation(const Route& route) {
+  const json job = ref("BatchJob");
+  switch (route.operation) {
+    case Operation::kCreateJob: {
+      json accepted = json_response("Accepted: the job is queued.", job);
+      accepted["headers"] = {
+          {"Location", {{"description", "/v1/batches/{id}"}, {"schema", {{"type", "string"}}}}}};
+      return {
+          {"tags", {"jobs"}},
+          {"requestBody", json_body("BatchJobRequest")},
+          {"responses", with_statuses({{"202", accepted}}, {400, 408, 413, 415, 422, 500, 503})}};
+    }
+    case Operation::kGetJob:
+      return {
+          {"tags", {"jobs"}},
+          {"parameters",
+           {job_id_parameter(),
+            query_parameter("offset", {{"type", "integer"}, {"minimum", 0}, {"default", 0}},
+                            "First row of the results page."),
+            query_parameter(
+                "limit", {{"type", "integer"}, {"minimum", 1}, {"maximum", 1000}, {"default", 100}},
+                "Rows of the results page.")}},
+          {"responses", with_statuses({{"200", json_response("The job.", job)}}, {404, 422, 500})}};
+    case Operation::kCancelJob:
+      return {{"tags", {"jobs"}},
+              {"parameters", {job_id_parameter()}},
+              {"responses",
+               with_statuses({{"200", json_response("The job was finished: it is forgotten "
+                                                    "(its last record, deleted: true).",
+                                                    job)},
+                              {"202", json_response("Cancellation asked (again on every DELETE "
+                                                    "until the job has stopped).",
+                                                    job)}},
+                             {404, 500})}};
+    default: {
+      const bool csv = route.operation == Operation::kJobResultsCsv;
+      return {{"tags", {"jobs"}},
+              {"parameters", {job_id_parameter()}},
+              {"responses",
+               with_statuses(
+                   {{"200",
+                     {{"description", csv ? "The plan table as `slosh batch` writes CSV."
+                                          : "The plan table as `slosh batch` writes JSON lines."},
+                      {"content",
+                       {{csv ? "text/csv" : "application/x-ndjson",
+                         {{"schema", {{"type", "string"}}}}}}}}}},
+                   {404, 409, 500})}};
+    }
+  }
+}
+
 /// Request and response details of one route's operation.
 json operation(const Route& route) {
   switch (route.operation) {
@@ -1211,11 +1336,12 @@ json operation(const Route& route) {
     case Operation::kSimulate:
     case Operation::kMinTime:
       return plan_operation(route);
-    case Operation::kCamTable:
-    case Operation::kCamTableSt:
-    case Operation::kPage:
-    case Operation::kAsset:
-      return read_operation(route);
+    case Operation::kCreateJob:
+    case Operation::kGetJob:
+    case Operation::kCancelJob:
+    case Operation::kJobResultsCsv:
+    case Operation::kJobResultsJsonl:
+      return job_operation(route);
     default:
       return read_operation(route);
   }
@@ -1227,7 +1353,9 @@ json paths() {
     json op = operation(route);
     op["operationId"] = route.operation_id;
     op["summary"] = route.summary;
-    const std::string method = route.method == "POST" ? "post" : "get";
+    const std::string method = route.method == "POST"     ? "post"
+                               : route.method == "DELETE" ? "delete"
+                                                          : "get";
     p[std::string(route.path)][method] = std::move(op);
   }
   return p;
@@ -1246,6 +1374,7 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
   add_simulate_response_schemas(schemas);
   add_service_schemas(schemas);
   add_min_time_schemas(schemas);
+  add_batch_job_schemas(schemas);
   return {{"openapi", "3.0.3"},
           {"info",
            {{"title", "slosh planner"},
@@ -1260,7 +1389,9 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
             {{"name", "simulation"}, {"description", "Response of a given law."}},
             {{"name", "catalogue"}, {"description", "Reference data and this document."}},
             {{"name", "operations"}, {"description", "Health, readiness and metrics."}},
-            {{"name", "page"}, {"description", "The web page served at / (SPEC §12)."}}}},
+            {{"name", "page"}, {"description", "The web page served at / (SPEC §12)."}},
+            {{"name", "jobs"},
+             {"description", "Batch jobs: long recipe tables as resources (SPEC §13)."}}}},
           {"paths", paths()},
           {"components", {{"schemas", schemas}, {"responses", responses_component()}}}};
 }

@@ -19,6 +19,7 @@ enum class ErrorCode {
   kInvalidValue,          ///< 422: a field is missing, of the wrong type or out of range
   kNotFound,              ///< 404
   kMethodNotAllowed,      ///< 405
+  kConflict,              ///< 409: the resource is not in a state for this (a batch job running)
   kRequestTimeout,        ///< 408: the request was not received in time
   kPayloadTooLarge,       ///< 413
   kUriTooLong,            ///< 414
@@ -39,12 +40,13 @@ struct ErrorCodeInfo {
   int status;
 };
 
-inline constexpr std::array<ErrorCodeInfo, 16> kErrorCodes{{
+inline constexpr std::array<ErrorCodeInfo, 17> kErrorCodes{{
     {ErrorCode::kBadRequest, "bad_request", 400},
     {ErrorCode::kMalformedJson, "malformed_json", 400},
     {ErrorCode::kInvalidValue, "invalid_value", 422},
     {ErrorCode::kNotFound, "not_found", 404},
     {ErrorCode::kMethodNotAllowed, "method_not_allowed", 405},
+    {ErrorCode::kConflict, "conflict", 409},
     {ErrorCode::kRequestTimeout, "request_timeout", 408},
     {ErrorCode::kPayloadTooLarge, "payload_too_large", 413},
     {ErrorCode::kUriTooLong, "uri_too_long", 414},

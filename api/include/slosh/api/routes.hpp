@@ -22,11 +22,16 @@ enum class Operation {
   kCamTable,
   kCamTableSt,
   kPage,
-  kAsset
+  kAsset,
+  kCreateJob,
+  kGetJob,
+  kCancelJob,
+  kJobResultsCsv,
+  kJobResultsJsonl
 };
 
 struct Route {
-  std::string_view method;  // "GET" or "POST"
+  std::string_view method;  // "GET", "POST" or "DELETE"
   std::string_view path;    // OpenAPI path, e.g. "/v1/plans/{key}"
   Operation operation;
   std::string_view operation_id;  // OpenAPI operationId

@@ -1,0 +1,467 @@
+#include "batch_jobs.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <random>
+#include <sstream>
+#include <utility>
+
+#include "batch_job_record.hpp"
+#include "cam_export.hpp"
+#include "plan_table.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/plan_view.hpp"
+#include "slosh/api/simulate.hpp"
+
+namespace slosh::service {
+
+namespace {
+
+using nlohmann::json;
+
+/// How often the runner stores rows and rewrites the record (the heartbeat), and polls the
+/// store's cancel flag, while a job runs.
+constexpr std::chrono::milliseconds kHeartbeat{500};
+/// Seconds a client is told to wait after a 503.
+constexpr int kRetryAfterSeconds = 1;
+
+[[noreturn]] void invalid(const std::string& field, const std::string& message) {
+  throw api::ApiError(api::ErrorCode::kInvalidValue, field, message);
+}
+
+// A job id: 128 random bits as 32 hex digits (not guessable from another job's id).
+std::string new_job_id() {
+  static std::mutex m;
+  static std::random_device device;
+  static std::mt19937_64 bits(
+      (static_cast<std::uint64_t>(device()) << 32U) ^ device() ^
+      static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()));
+  const std::lock_guard lock(m);
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string id;
+  for (int word = 0; word < 2; ++word) {
+    std::uint64_t v = bits();
+    for (int i = 0; i < 16; ++i, v >>= 4U) id += kHex[v & 0xFU];
+  }
+  return id;
+}
+
+// The body of POST /v1/batches.
+struct JobBody {
+  std::vector<RecipeRow> rows;
+  std::string format{"csv"};
+  std::optional<std::string> view;
+};
+
+std::vector<RecipeRow> table_rows(const json& body, std::size_t max) {
+  const json& text = body["table"];
+  if (!text.is_string())
+    invalid("table", "table must be the text of a recipe table, got " + api::show(text));
+  std::string format = "csv";
+  if (const json* f = api::given_member(body, "table_format")) {
+    format = f->is_string() ? f->get<std::string>() : api::show(*f);
+    if (format != "csv" && format != "jsonl" && format != "json") {
+      invalid("table_format", "table_format = " + api::show(*f) +
+                                  " is not allowed: one of \"csv\", \"jsonl\", \"json\"");
+    }
+  }
+  std::vector<RecipeRow> rows;
+  try {
+    rows = read_recipe_table(text.get<std::string>(), table_format(format, "-"));
+  } catch (const TableError& e) {
+    invalid("table", e.what());
+  }
+  if (rows.empty() || rows.size() > max) {
+    invalid("table", "the table has " + std::to_string(rows.size()) +
+                         " recipes: a job holds 1 to " + std::to_string(max) + " (batch_job_max)");
+  }
+  return rows;
+}
+
+std::vector<RecipeRow> request_rows(const json& requests, std::size_t max) {
+  if (!requests.is_array() || requests.empty() || requests.size() > max) {
+    invalid("requests", "requests must be an array of 1 to " + std::to_string(max) +
+                            " plan requests (batch_job_max), got " +
+                            (requests.is_array() ? std::to_string(requests.size()) + " requests"
+                                                 : api::show(requests)));
+  }
+  // Read as `slosh batch` reads a .json table: each item a plan request, with an optional
+  // "recipe_id" that the rows carry.
+  return read_recipe_table(api::dump_json(requests), TableFormat::kJson);
+}
+
+JobBody parse_job_body(const std::string& text, std::size_t max) {
+  const json body = api::parse_json_body(text);
+  if (!body.is_object()) {
+    invalid("",
+            "the body must be an object {\"requests\": [plan requests]} or {\"table\": "
+            "\"<recipe table>\", \"table_format\": \"csv\"}");
+  }
+  api::reject_unknown_fields(body, "", {"requests", "table", "table_format", "format", "view"});
+  const bool has_requests = body.contains("requests");
+  if (has_requests == body.contains("table")) {
+    invalid(has_requests ? "table" : "requests",
+            "give either requests (plan requests) or table (a recipe table's text), not " +
+                std::string(has_requests ? "both" : "neither"));
+  }
+  if (has_requests && body.contains("table_format")) {
+    invalid("table_format", "table_format goes with table, not with requests");
+  }
+  JobBody out;
+  out.rows = has_requests ? request_rows(body["requests"], max) : table_rows(body, max);
+  if (const json* f = api::given_member(body, "format")) {
+    if (*f != "csv" && *f != "jsonl") {
+      invalid("format", "format = " + api::show(*f) + " is not allowed: one of \"csv\", \"jsonl\"");
+    }
+    out.format = f->get<std::string>();
+  }
+  if (const json* v = api::given_member(body, "view")) {
+    (void)api::batch_view({}, *v);  // 422 naming view unless "full" or "compact"
+    out.view = v->get<std::string>();
+  }
+  return out;
+}
+
+// A whole number within [lo, hi] from a query parameter given at most once; `fallback` when absent.
+std::size_t query_count(const std::vector<std::string>& values, const std::string& name,
+                        std::size_t fallback, std::size_t lo, std::size_t hi) {
+  const std::optional<std::string> text = single_query_value(values, name);
+  if (!text) return fallback;
+  const bool digits = !text->empty() && text->size() <= 12 &&
+                      text->find_first_not_of("0123456789") == std::string::npos;
+  const std::size_t value = digits ? std::stoull(*text) : 0;
+  if (!digits || value < lo || value > hi) {
+    invalid(name, name + " = " + (text->empty() ? "(empty)" : text->substr(0, 32)) +
+                      " is not allowed: a whole number from " + std::to_string(lo) + " to " +
+                      std::to_string(hi));
+  }
+  return value;
+}
+
+Reply json_reply(int status, const json& body) {
+  Reply r;
+  r.status = status;
+  r.body = api::dump_json(body);
+  return r;
+}
+
+Reply not_found(const std::string& id, double ttl_s) {
+  return PlanService::error_reply(
+      api::ErrorCode::kNotFound,
+      "no batch job with id '" + id.substr(0, 64) +
+          "' (finished jobs are kept for batch_job_ttl_s = " + api::number_text(ttl_s) + " s)",
+      "id");
+}
+
+template <typename F>
+Reply guarded(F&& body) {
+  try {
+    return body();
+  } catch (const api::ApiError& e) {
+    Reply r;
+    r.status = e.status();
+    r.body = api::error_body(e);
+    return r;
+  } catch (const std::exception& e) {
+    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
+  }
+}
+
+}  // namespace
+
+struct BatchJobs::Job {
+  JobStatus status;
+  std::vector<RecipeRow> rows;
+  std::optional<api::PlanView> view;
+  std::atomic<bool> cancel{false};
+};
+
+BatchJobs::BatchJobs(PlanService& service, JobStore& store)
+    : service_(service), store_(store), runner_([this] { run_jobs(); }) {}
+
+BatchJobs::~BatchJobs() {
+  shutdown();
+  if (runner_.joinable()) runner_.join();
+}
+
+void BatchJobs::shutdown() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+}
+
+std::size_t BatchJobs::active() const {
+  const std::lock_guard lock(mutex_);
+  return active_.size();
+}
+
+bool BatchJobs::write_record(Job& job) {
+  return store_.put_record(job.status.id, api::dump_json(job_record(job.status, unix_ms_now())));
+}
+
+Reply BatchJobs::post(const std::string& text) {
+  return guarded([&] {
+    const ServerConfig& config = service_.config();
+    JobBody body = parse_job_body(text, config.batch_job_max);
+    auto job = std::make_shared<Job>();
+    job->status.id = new_job_id();
+    job->status.format = body.format;
+    job->status.view = body.view;
+    job->status.total = body.rows.size();
+    job->status.created_ms = unix_ms_now();
+    job->rows = std::move(body.rows);
+    if (body.view) job->view = api::parse_plan_view(*body.view);
+    Reply reply;
+    {
+      const std::lock_guard lock(mutex_);
+      if (stopping_ || !service_.accepting()) {
+        throw api::ApiError(api::ErrorCode::kOverloaded, "", "the service is shutting down");
+      }
+      if (active_.size() >= config.batch_jobs_max) {
+        Reply r = PlanService::error_reply(
+            api::ErrorCode::kOverloaded, std::to_string(active_.size()) +
+                                             " batch jobs are queued or running here, the limit " +
+                                             "(batch_jobs_max); retry after one has finished");
+        r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+        return r;
+      }
+      // Rendered before the runner can see the job (it owns the status from then on).
+      reply = json_reply(202, job_record(job->status, unix_ms_now()));
+      reply.headers.emplace_back("Location", "/v1/batches/" + job->status.id);
+      write_record(*job);
+      active_[job->status.id] = job;
+      queue_.push_back(job);
+    }
+    wake_.notify_all();
+    return reply;
+  });
+}
+
+Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
+  return guarded([&] {
+    const ServerConfig& config = service_.config();
+    const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
+    const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
+    const auto text = store_.record(id);
+    if (!text) return not_found(id, config.batch_job_ttl_s);
+    json record = json::parse(*text);
+    mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
+    if (is_final_state(record["state"].get<std::string>())) {
+      const std::size_t stored = record["progress"]["done"].get<std::size_t>();
+      json rows = json::array();
+      if (offset < stored) {
+        for (const std::string& row :
+             store_.rows(id, offset, limit).value_or(std::vector<std::string>{})) {
+          rows.push_back(json::parse(row));
+        }
+      }
+      const std::size_t next = offset + rows.size();
+      record["results"] = {{"offset", offset},
+                           {"limit", limit},
+                           {"rows", rows},
+                           {"next_offset", next < stored ? json(next) : json(nullptr)}};
+    }
+    return json_reply(200, record);
+  });
+}
+
+Reply BatchJobs::results(const std::string& id, TableFormat format) {
+  return guarded([&] {
+    const ServerConfig& config = service_.config();
+    const auto text = store_.record(id);
+    if (!text) return not_found(id, config.batch_job_ttl_s);
+    json record = json::parse(*text);
+    mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
+    const std::string state = record["state"].get<std::string>();
+    if (!is_final_state(state)) {
+      return PlanService::error_reply(
+          api::ErrorCode::kConflict,
+          "batch job " + id + " is " + state + " (" +
+              std::to_string(record["progress"]["done"].get<std::size_t>()) + " of " +
+              std::to_string(record["progress"]["total"].get<std::size_t>()) +
+              " recipes done): its results are ready when it is done; poll GET /v1/batches/" + id,
+          "id");
+    }
+    const std::size_t stored = record["progress"]["done"].get<std::size_t>();
+    std::ostringstream out;
+    PlanTableWriter writer(out, format);  // the `slosh batch` table writer
+    for (const std::string& row : store_.rows(id, 0, stored).value_or(std::vector<std::string>{})) {
+      writer.write(json::parse(row));
+    }
+    writer.finish();
+    Reply r;
+    const bool csv = format == TableFormat::kCsv;
+    r.content_type = csv ? "text/csv; charset=utf-8" : "application/x-ndjson";
+    r.body = out.str();
+    r.headers.emplace_back("Content-Disposition",
+                           "attachment; filename=\"batch-" + id + (csv ? ".csv\"" : ".jsonl\""));
+    return r;
+  });
+}
+
+Reply BatchJobs::cancel(const std::string& id) {
+  return guarded([&] {
+    const ServerConfig& config = service_.config();
+    const auto text = store_.record(id);
+    if (!text) return not_found(id, config.batch_job_ttl_s);
+    json record = json::parse(*text);
+    mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
+    if (is_final_state(record["state"].get<std::string>())) {
+      store_.remove(id);
+      record["deleted"] = true;
+      return json_reply(200, record);
+    }
+    store_.request_cancel(id);
+    {
+      const std::lock_guard lock(mutex_);
+      if (auto it = active_.find(id); it != active_.end()) it->second->cancel = true;
+    }
+    wake_.notify_all();
+    record["cancel_requested"] = true;
+    return json_reply(202, record);
+  });
+}
+
+void BatchJobs::run_jobs() {
+  for (;;) {
+    std::shared_ptr<Job> job;
+    {
+      std::unique_lock lock(mutex_);
+      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty()) return;  // stopping, nothing left
+      job = queue_.front();
+      queue_.pop_front();
+    }
+    try {
+      run(*job);
+    } catch (const std::exception& e) {
+      finish(*job, "failed", std::string("the job failed: ") + e.what());
+    }
+    const std::lock_guard lock(mutex_);
+    active_.erase(job->status.id);
+  }
+}
+
+bool BatchJobs::cancelled(Job& job, bool ask_store) {
+  // The store is asked at most once a heartbeat (it may be Redis); a DELETE on this replica sets
+  // the job's own flag at once.
+  if (!job.cancel && ask_store && store_.cancel_requested(job.status.id)) job.cancel = true;
+  job.status.cancel_requested = job.cancel;
+  return job.cancel;
+}
+
+bool BatchJobs::stopping() const {
+  const std::lock_guard lock(mutex_);
+  return stopping_;
+}
+
+std::size_t BatchJobs::fill_window(Job& job, std::size_t next, std::deque<StartedItem>& window) {
+  // At most `workers` of this job's solves are queued or running: the background queue stays
+  // short, so interactive plans (which workers take first) never wait behind the job's items.
+  const std::size_t max_in_flight = service_.workers();
+  auto in_flight = [&] {
+    return static_cast<std::size_t>(
+        std::count_if(window.begin(), window.end(), [](const StartedItem& s) {
+          return s.pending.valid() &&
+                 s.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+        }));
+  };
+  while (next < job.rows.size() && in_flight() < max_in_flight &&
+         window.size() < 4 * max_in_flight + 64) {
+    const RecipeRow& row = job.rows[next++];
+    if (!row.error.is_null()) {  // an unreadable row: its error is its result
+      StartedItem item;
+      item.result.error = api::error_from_json(row.error);
+      window.push_back(std::move(item));
+      continue;
+    }
+    window.push_back(service_.start_batch_item(row.request, TaskPriority::kBackground));
+  }
+  return next;
+}
+
+void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
+  if (!rows.empty() && !store_.append_rows(job.status.id, rows)) {
+    spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
+  }
+  rows.clear();
+  write_record(job);
+  // The queued jobs' heartbeat: they are alive, only waiting.
+  std::vector<std::shared_ptr<Job>> queued;
+  {
+    const std::lock_guard lock(mutex_);
+    queued.assign(queue_.begin(), queue_.end());
+  }
+  for (const auto& q : queued) write_record(*q);
+}
+
+void BatchJobs::finish(Job& job, const std::string& state, const std::string& message) {
+  job.status.state = state;
+  job.status.message = message;
+  job.status.finished_ms = unix_ms_now();
+  write_record(job);
+  spdlog::info("batch job {} {}: {} of {} recipes ({} failed){}{}", job.status.id, state,
+               job.status.done, job.status.total, job.status.failed, message.empty() ? "" : ": ",
+               message);
+}
+
+void BatchJobs::run(Job& job) {
+  JobStatus& s = job.status;
+  if (cancelled(job, true)) return finish(job, "cancelled", "cancelled before it started");
+  if (stopping()) {
+    return finish(job, "failed",
+                  "the service shut down before the job started; POST the job again");
+  }
+  s.state = "running";
+  s.started_ms = unix_ms_now();
+  write_record(job);
+  std::deque<StartedItem> window;
+  std::vector<std::string> rows;
+  std::size_t next = 0;
+  auto last_flush = std::chrono::steady_clock::now();
+  std::string stop_state;
+  bool heartbeat = false;
+  while (s.done < s.total) {
+    if (cancelled(job, heartbeat)) {
+      stop_state = "cancelled";
+      break;
+    }
+    if (stopping()) {
+      stop_state = "failed";
+      break;
+    }
+    next = fill_window(job, next, window);
+    const StartedItem& head = window.front();
+    if (!head.pending.valid() ||
+        head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
+      const json row = plan_row(job.rows[s.done], head.get(), job.view);
+      if (row["status"] == "error") ++s.failed;
+      rows.push_back(api::dump_json(row));
+      ++s.done;
+      window.pop_front();
+    }
+    heartbeat = std::chrono::steady_clock::now() - last_flush >= kHeartbeat;
+    if (heartbeat) {
+      flush(job, rows);
+      last_flush = std::chrono::steady_clock::now();
+    }
+  }
+  flush(job, rows);
+  const std::string progress =
+      std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
+  if (stop_state == "cancelled") return finish(job, "cancelled", "cancelled after " + progress);
+  if (stop_state == "failed") {
+    return finish(job, "failed",
+                  "the service shut down after " + progress +
+                      "; POST the job again (the finished plans are cached)");
+  }
+  finish(job, "done", "");
+}
+
+}  // namespace slosh::service

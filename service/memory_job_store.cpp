@@ -1,0 +1,169 @@
+#include "memory_job_store.hpp"
+
+#include <algorithm>
+#include <utility>
+
+namespace slosh::service {
+
+MemoryJobStore::MemoryJobStore(MemoryJobStoreLimits limits, std::function<Clock::time_point()> now)
+    : limits_(limits), now_(std::move(now)) {}
+
+void MemoryJobStore::expire(Clock::time_point now) {
+  const auto ttl =
+      std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limits_.ttl_s));
+  while (!by_age_.empty()) {
+    auto it = entries_.find(by_age_.front());
+    const bool too_many = entries_.size() > std::max<std::size_t>(1, limits_.max_jobs);
+    if (!too_many && now - it->second.written < ttl) break;
+    entries_.erase(it);
+    by_age_.pop_front();
+  }
+}
+
+MemoryJobStore::Entry* MemoryJobStore::find(const std::string& id) {
+  expire(now_());
+  auto it = entries_.find(id);
+  return it == entries_.end() ? nullptr : &it->second;
+}
+
+void MemoryJobStore::touch(Entry& entry, Clock::time_point now) {
+  entry.written = now;
+  by_age_.splice(by_age_.end(), by_age_, entry.age);
+}
+
+bool MemoryJobStore::put_record(const std::string& id, const std::string& record) {
+  const std::lock_guard lock(mutex_);
+  const Clock::time_point now = now_();
+  auto [it, added] = entries_.try_emplace(id);
+  if (added) it->second.age = by_age_.insert(by_age_.end(), id);
+  it->second.record = record;
+  touch(it->second, now);
+  expire(now);
+  return true;
+}
+
+std::optional<std::string> MemoryJobStore::record(const std::string& id) {
+  const std::lock_guard lock(mutex_);
+  const Entry* entry = find(id);
+  if (entry == nullptr) return std::nullopt;
+  return entry->record;
+}
+
+bool MemoryJobStore::append_rows(const std::string& id, const std::vector<std::string>& rows) {
+  const std::lock_guard lock(mutex_);
+  Entry* entry = find(id);
+  if (entry == nullptr) return false;  // rows follow the record: an unknown job takes none
+  entry->rows.insert(entry->rows.end(), rows.begin(), rows.end());
+  touch(*entry, now_());
+  return true;
+}
+
+std::optional<std::vector<std::string>> MemoryJobStore::rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) {
+  const std::lock_guard lock(mutex_);
+  const Entry* entry = find(id);
+  if (entry == nullptr) return std::nullopt;
+  const std::size_t begin = std::min(offset, entry->rows.size());
+  const std::size_t end = begin + std::min(count, entry->rows.size() - begin);
+  return std::vector<std::string>(entry->rows.begin() + static_cast<std::ptrdiff_t>(begin),
+                                  entry->rows.begin() + static_cast<std::ptrdiff_t>(end));
+}
+
+bool MemoryJobStore::request_cancel(const std::string& id) {
+  const std::lock_guard lock(mutex_);
+  Entry* entry = find(id);
+  if (entry == nullptr) return false;
+  entry->cancel = true;
+  return true;
+}
+
+bool MemoryJobStore::cancel_requested(const std::string& id) {
+  const std::lock_guard lock(mutex_);
+  const Entry* entry = find(id);
+  return entry != nullptr && entry->cancel;
+}
+
+void MemoryJobStore::remove(const std::string& id) {
+  const std::lock_guard lock(mutex_);
+  auto it = entries_.find(id);
+  if (it == entries_.end()) return;
+  by_age_.erase(it->second.age);
+  entries_.erase(it);
+}
+
+std::size_t MemoryJobStore::size() {
+  const std::lock_guard lock(mutex_);
+  expire(now_());
+  return entries_.size();
+}
+
+// ---- TieredJobStore ---------------------------------------------------------------------------
+
+namespace {
+/// Jobs whose row counts are kept before those the local store dropped are forgotten.
+constexpr std::size_t kMaxCountedJobs = 1024;
+}  // namespace
+
+bool TieredJobStore::put_record(const std::string& id, const std::string& record) {
+  const bool local = local_.put_record(id, record);
+  const bool shared = shared_.put_record(id, record);
+  return local || shared;
+}
+
+std::optional<std::string> TieredJobStore::record(const std::string& id) {
+  if (auto r = local_.record(id)) return r;
+  return shared_.record(id);
+}
+
+bool TieredJobStore::append_rows(const std::string& id, const std::vector<std::string>& rows) {
+  const std::lock_guard lock(mutex_);
+  if (counts_.size() > kMaxCountedJobs) {
+    // Forget the counts of jobs the local store has dropped (expired or removed).
+    std::erase_if(counts_, [this](const auto& entry) { return !local_.record(entry.first); });
+  }
+  RowCounts& counts = counts_[id];
+  const bool local = local_.append_rows(id, rows);
+  if (local) counts.local += rows.size();
+  // The shared store gets what it missed (from the local copy) before these rows.
+  std::vector<std::string> pending;
+  const std::size_t missed = counts.local - rows.size() - counts.shared;
+  if (local && missed > 0) {
+    if (auto earlier = local_.rows(id, counts.shared, missed)) pending = std::move(*earlier);
+  }
+  pending.insert(pending.end(), rows.begin(), rows.end());
+  const bool complete = !local || pending.size() == missed + rows.size();
+  if (complete && shared_.append_rows(id, pending)) {
+    counts.shared += pending.size();
+    return true;
+  }
+  return local;
+}
+
+std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) {
+  if (auto r = local_.rows(id, offset, count)) return r;
+  return shared_.rows(id, offset, count);
+}
+
+bool TieredJobStore::request_cancel(const std::string& id) {
+  const bool local = local_.request_cancel(id);
+  const bool shared = shared_.request_cancel(id);
+  return local || shared;
+}
+
+bool TieredJobStore::cancel_requested(const std::string& id) {
+  return local_.cancel_requested(id) || shared_.cancel_requested(id);
+}
+
+void TieredJobStore::remove(const std::string& id) {
+  {
+    const std::lock_guard lock(mutex_);
+    counts_.erase(id);
+  }
+  local_.remove(id);
+  shared_.remove(id);
+}
+
+}  // namespace slosh::service

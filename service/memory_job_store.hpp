@@ -1,0 +1,105 @@
+#pragma once
+// Job stores of one process (service/job_store.hpp): MemoryJobStore keeps jobs in memory, bounded
+// by age and count; TieredJobStore puts a local store in front of a shared one (Redis), so a
+// replica keeps its own jobs while the shared store is down and reads other replicas' jobs from it.
+
+#include <chrono>
+#include <cstddef>
+#include <functional>
+#include <list>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <unordered_map>
+#include <vector>
+
+#include "job_store.hpp"
+
+namespace slosh::service {
+
+/// Bounds of a MemoryJobStore.
+struct MemoryJobStoreLimits {
+  /// A job whose record was not written for this long is forgotten [s]. A job that runs rewrites
+  /// its record at least every second (its heartbeat), so only finished (or abandoned) jobs age.
+  /// Default 3600 s (config batch_job_ttl_s).
+  double ttl_s{3600.0};
+  /// Most jobs kept; beyond, the least recently written go first (finished jobs, as running ones
+  /// are rewritten every second). Default 128.
+  std::size_t max_jobs{128};
+};
+
+/// JobStore in memory, thread-safe. Writes never fail.
+class MemoryJobStore final : public JobStore {
+ public:
+  using Clock = std::chrono::steady_clock;
+  /// `now` is the clock (tests pass their own to age jobs without waiting).
+  explicit MemoryJobStore(MemoryJobStoreLimits limits = {},
+                          std::function<Clock::time_point()> now = Clock::now);
+
+  bool put_record(const std::string& id, const std::string& record) override;
+  [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
+  bool append_rows(const std::string& id, const std::vector<std::string>& rows) override;
+  [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) override;
+  bool request_cancel(const std::string& id) override;
+  [[nodiscard]] bool cancel_requested(const std::string& id) override;
+  void remove(const std::string& id) override;
+
+  /// Jobs held now (after expiry).
+  [[nodiscard]] std::size_t size();
+
+ private:
+  struct Entry {
+    std::string record;
+    std::vector<std::string> rows;
+    bool cancel{false};
+    Clock::time_point written;
+    std::list<std::string>::iterator age;  // position in by_age_
+  };
+  // Drops expired entries and the oldest beyond max_jobs; the lock is held.
+  void expire(Clock::time_point now);
+  // The entry of `id` or nullptr (expired entries dropped first); the lock is held.
+  Entry* find(const std::string& id);
+  // Marks `entry` written now (moves it to the young end).
+  void touch(Entry& entry, Clock::time_point now);
+
+  MemoryJobStoreLimits limits_;
+  std::function<Clock::time_point()> now_;
+  std::mutex mutex_;
+  std::unordered_map<std::string, Entry> entries_;
+  std::list<std::string> by_age_;  // ids, least recently written first
+};
+
+/// A local store in front of a shared one. Writes go to both; reads ask the local store first,
+/// then the shared one. A write succeeds when the local store took it. Rows the shared store
+/// missed while it was down are sent again (from the local copy) with the job's next rows, so
+/// the shared copy never has a gap.
+class TieredJobStore final : public JobStore {
+ public:
+  /// Both stores outlive this one.
+  TieredJobStore(JobStore& local, JobStore& shared) : local_(local), shared_(shared) {}
+
+  bool put_record(const std::string& id, const std::string& record) override;
+  [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
+  bool append_rows(const std::string& id, const std::vector<std::string>& rows) override;
+  [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) override;
+  bool request_cancel(const std::string& id) override;
+  [[nodiscard]] bool cancel_requested(const std::string& id) override;
+  void remove(const std::string& id) override;
+
+ private:
+  JobStore& local_;
+  JobStore& shared_;
+  std::mutex mutex_;
+  // Rows of each job written here: in total (the local store has them all) and in the shared one.
+  struct RowCounts {
+    std::size_t local{0};
+    std::size_t shared{0};
+  };
+  std::unordered_map<std::string, RowCounts> counts_;
+};
+
+}  // namespace slosh::service
