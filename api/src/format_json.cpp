@@ -101,6 +101,32 @@ void parse_model_options(const nlohmann::json& options, const std::string& path,
   parse_damping(options, path, model);
 }
 
+void parse_calibrated_model(const nlohmann::json& options, const std::string& path,
+                            ModelOptions& model) {
+  const nlohmann::json* m = given_member(options, "model");
+  if (m == nullptr) return;
+  const std::string mpath = join_path(path, "model");
+  require_object(*m, mpath);
+  reject_unknown_fields(*m, mpath, {"omega_scale", "zeta", "alpha", "height_gain"});
+  for (const auto& [member, top] :
+       {std::pair<std::string_view, std::string_view>{"alpha", "alpha"}, {"zeta", "damping"}}) {
+    if (given_member(*m, member) != nullptr && given_member(options, top) != nullptr) {
+      const std::string field = join_path(mpath, member);
+      invalid(field,
+              field + " and " + join_path(path, top) + " both set the model: give one of them");
+    }
+  }
+  model.omega_scale = optional_number(*m, mpath, "omega_scale", ranges::kModelScale, 1.0);
+  if (given_member(*m, "zeta") != nullptr) {
+    model.damping = DampingCorrelation::kExplicit;
+    model.explicit_zeta = required_number(*m, mpath, "zeta", ranges::kZeta);
+  }
+  if (given_member(*m, "alpha") != nullptr) {
+    model.alpha = required_number(*m, mpath, "alpha", ranges::kAlpha);
+  }
+  model.height_gain = optional_number(*m, mpath, "height_gain", ranges::kModelScale, 1.0);
+}
+
 void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model) {
   const std::string dpath = join_path(path, "damping");
   const nlohmann::json* it = given_member(options, "damping");
