@@ -128,6 +128,7 @@ struct Problem {
   std::vector<std::size_t> offset_move;  // move of each offset column
   std::vector<bool> free;                // per column (4 + offsets)
   std::vector<double> lower, upper;      // per column
+  std::function<bool()> stop;
 
   [[nodiscard]] std::vector<std::size_t> free_columns() const {
     std::vector<std::size_t> c;
@@ -189,6 +190,7 @@ detail::LeastSquaresOutcome fit(Problem& pb, int max_iterations) {
   };
   detail::LeastSquaresOptions options;
   options.max_iterations = max_iterations;
+  options.stop = pb.stop;
   detail::LeastSquaresOutcome out = detail::solve_bounded_least_squares(ls, x0, options);
   pb.set(cols, out.x);
   return out;
@@ -250,6 +252,7 @@ Problem make_problem(const Format& format, const ModelOptions& base,
   pb.model = base_model(format, base);
   pb.moves = &moves;
   pb.nonlinear = settings.nonlinear;
+  pb.stop = settings.stop;
   const Values own{1.0, pb.model.zeta, base.alpha, 1.0};
   for (std::size_t j = 0; j < kP; ++j) {
     const ParameterSetting& s = settings.parameters[j];
@@ -335,6 +338,7 @@ CalibrationResult calibrate(const Format& format, const ModelOptions& base,
     after = pb.run();
     J = select(after, cols);
     sigma = residual_sigma(after, cols.size());
+    if (ls.status == detail::LeastSquaresStatus::kStopped) break;
     std::string sentence;
     const auto held = unidentifiable(pb, cols, J, sigma, settings.identifiable_fraction, &sentence);
     if (!held) break;
@@ -367,10 +371,20 @@ CalibrationResult calibrate(const Format& format, const ModelOptions& base,
   }
   report(pb, before, after, cols, se, &out);
   out.sigma = sigma;
-  out.status = ls.status == detail::LeastSquaresStatus::kConverged ? CalibrationStatus::kConverged
-               : ls.status == detail::LeastSquaresStatus::kMaxIterations
-                   ? CalibrationStatus::kMaxIterations
-                   : CalibrationStatus::kFailed;
+  switch (ls.status) {
+    case detail::LeastSquaresStatus::kConverged:
+      out.status = CalibrationStatus::kConverged;
+      break;
+    case detail::LeastSquaresStatus::kMaxIterations:
+      out.status = CalibrationStatus::kMaxIterations;
+      break;
+    case detail::LeastSquaresStatus::kStopped:
+      out.status = CalibrationStatus::kTimeLimit;
+      break;
+    case detail::LeastSquaresStatus::kFailed:
+      out.status = CalibrationStatus::kFailed;
+      break;
+  }
   out.model = base;
   out.model.omega_scale = pb.value[0];
   out.model.damping = DampingCorrelation::kExplicit;

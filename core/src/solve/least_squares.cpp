@@ -17,6 +17,10 @@ LeastSquaresOutcome solve_bounded_least_squares(const BoundedLeastSquares& probl
   double mu = 1e-3;
   double nu = 2.0;
   for (out.iterations = 1; out.iterations <= options.max_iterations; ++out.iterations) {
+    if (options.stop && options.stop()) {
+      out.status = LeastSquaresStatus::kStopped;
+      return out;
+    }
     const Eigen::MatrixXd A = J.transpose() * J;
     const Eigen::VectorXd g = J.transpose() * r;
     const Eigen::VectorXd d = A.diagonal().cwiseMax(1e-300);

@@ -25,9 +25,10 @@ struct BoundedLeastSquares {
 struct LeastSquaresOptions {
   int max_iterations{100};  ///< accepted or rejected steps, at most
   double tolerance{1e-10};  ///< relative change of the cost or of x that ends the search
+  std::function<bool()> stop;  ///< polled before every step; true ends with kStopped
 };
 
-enum class LeastSquaresStatus { kConverged, kMaxIterations, kFailed };
+enum class LeastSquaresStatus { kConverged, kMaxIterations, kStopped, kFailed };
 
 struct LeastSquaresOutcome {
   Eigen::VectorXd x;  ///< the solution (within the bounds)

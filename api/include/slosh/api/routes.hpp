@@ -22,7 +22,9 @@ enum class Operation {
   kCamTable,
   kCamTableSt,
   kPage,
-  kAsset
+  kAsset,
+  kCreateCalibration,
+  kGetCalibration
 };
 
 struct Route {

@@ -5,6 +5,7 @@
 // identifiability check that refuses to report values the data cannot separate.
 
 #include <array>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -82,14 +83,17 @@ struct CalibrationSettings {
   /// A direction of the (bound-scaled) parameters is unidentifiable when its standard deviation
   /// exceeds this fraction of the bound box, or J^T J is singular in it to 1e-12 relative.
   double identifiable_fraction{0.25};
+  /// Polled between solver steps; true ends the fit with status kTimeLimit (unset: never).
+  std::function<bool()> stop;
 };
 
-enum class CalibrationStatus { kConverged, kMaxIterations, kFailed };
+enum class CalibrationStatus { kConverged, kMaxIterations, kTimeLimit, kFailed };
 template <>
 struct EnumNames<CalibrationStatus> {
-  static constexpr std::array<EnumName<CalibrationStatus>, 3> table{{
+  static constexpr std::array<EnumName<CalibrationStatus>, 4> table{{
       {CalibrationStatus::kConverged, "converged"},
       {CalibrationStatus::kMaxIterations, "max_iterations"},
+      {CalibrationStatus::kTimeLimit, "time_limit"},
       {CalibrationStatus::kFailed, "failed"},
   }};
 };
