@@ -39,7 +39,6 @@ class CalibrationStore {
 /// A request body with options.model given as a name replaced by that stored calibration's model
 /// object (unchanged when options.model is not a string). Throws api::ApiError: 422 for an
 /// invalid name, 404 for an unknown one, both naming options.model.
-[[nodiscard]] nlohmann::json resolve_model_name(nlohmann::json body,
-                                                const CalibrationStore& store);
+[[nodiscard]] nlohmann::json resolve_model_name(nlohmann::json body, const CalibrationStore& store);
 
 }  // namespace slosh::service

@@ -345,8 +345,8 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       };
     case api::Operation::kSimulate:
       return [&service, &rt](const httplib::Request&, const std::string& body) {
-        return with_models(rt, body,
-                           [&](const std::string& resolved) { return service.post_simulate(resolved); });
+        return with_models(
+            rt, body, [&](const std::string& resolved) { return service.post_simulate(resolved); });
       };
     case api::Operation::kFluids:
       return [&service](const httplib::Request&, const std::string&) { return service.fluids(); };

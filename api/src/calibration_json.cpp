@@ -43,8 +43,8 @@ std::vector<double> number_list(const json& object, const std::string& path, std
     invalid(field, field + " must be an array of numbers, got " + (v ? show(*v) : "nothing"));
   }
   if (v->size() < 2) {
-    invalid(field, field + " has " + std::to_string(v->size()) +
-                       " samples: a series needs at least 2");
+    invalid(field,
+            field + " has " + std::to_string(v->size()) + " samples: a series needs at least 2");
   }
   if (v->size() > kMaxSeriesSamples) {
     invalid(field, field + " has " + std::to_string(v->size()) + " samples: at most " +
@@ -105,11 +105,11 @@ MeasuredMove parse_move(const json& m, const std::string& path, const Format& fo
   MeasuredMove out;
   out.name = m.contains("name") && m["name"].is_string() ? m["name"].get<std::string>() : path;
   Format f = format;
-  f.motion_time = optional_number(m, path, "motion_time_s", ranges::kMotionTimeS,
-                                  format.motion_time);
+  f.motion_time =
+      optional_number(m, path, "motion_time_s", ranges::kMotionTimeS, format.motion_time);
   if (!m.contains("law")) {
-    invalid(join_path(path, "law"), join_path(path, "law") +
-                                        " is required: the law the bench ran, as simulate takes it");
+    invalid(join_path(path, "law"),
+            join_path(path, "law") + " is required: the law the bench ran, as simulate takes it");
   }
   out.law = parse_law(m["law"], join_path(path, "law"), f, kDefaultMinRamp).law;
   if (given_member(m, "series") != nullptr)
@@ -179,8 +179,8 @@ void validate_calibration_name(const std::string& name, const std::string& field
   bool ok = !name.empty() && name.size() <= kMaxCalibrationName &&
             std::isalnum(static_cast<unsigned char>(name.front())) != 0;
   for (const char c : name) {
-    ok = ok && (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '_' ||
-                c == '-');
+    ok = ok &&
+         (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '_' || c == '-');
   }
   if (!ok) {
     invalid(field, field + " = " + show(json(name)) +
@@ -200,7 +200,8 @@ CalibrationRequest parse_calibration_request(const json& body) {
   reject_unknown_fields(options, "options", {"modes", "damping", "alpha"});
   parse_model_options(options, "options", r.base);
   if (given_member(body, "name") != nullptr) {
-    if (!body["name"].is_string()) invalid("name", "name must be a string, got " + show(body["name"]));
+    if (!body["name"].is_string())
+      invalid("name", "name must be a string, got " + show(body["name"]));
     r.name = body["name"].get<std::string>();
     validate_calibration_name(*r.name, "name");
   }
@@ -250,9 +251,8 @@ json run_calibration(const CalibrationRequest& request) {
                      {"rms_before_mm", m.rms_before * 1e3},
                      {"rms_after_mm", m.rms_after * 1e3},
                      {"offset_s", m.offset ? json(*m.offset) : json(nullptr)},
-                     {"offset_standard_error_s", m.offset_standard_error
-                                                     ? json(*m.offset_standard_error)
-                                                     : json(nullptr)}});
+                     {"offset_standard_error_s",
+                      m.offset_standard_error ? json(*m.offset_standard_error) : json(nullptr)}});
   }
   out["moves"] = std::move(moves);
   out["identifiability"] = fit.identifiability;

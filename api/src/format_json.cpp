@@ -169,16 +169,22 @@ nlohmann::json format_json(const Format& f) {
 nlohmann::json model_json(const SloshingModel& m, const ModelOptions& options) {
   nlohmann::json f_hz = nlohmann::json::array();
   for (double w : m.omega) f_hz.push_back(w / (2.0 * std::numbers::pi));
-  return {{"omega_rad_s", m.omega},
-          {"f_hz", f_hz},
-          {"zeta", m.zeta},
-          {"damping", to_string(options.damping)},
-          {"C", m.C},
-          {"alpha", m.alpha},
-          {"K_mm", m.K * 1e3},
-          {"sloshing_mass_kg", m.mass},
-          {"fluid_mass_kg", m.fluid_mass},
-          {"eta_gain", m.eta_gain}};
+  nlohmann::json out = {{"omega_rad_s", m.omega},
+                        {"f_hz", f_hz},
+                        {"zeta", m.zeta},
+                        {"damping", to_string(options.damping)},
+                        {"C", m.C},
+                        {"alpha", m.alpha},
+                        {"K_mm", m.K * 1e3},
+                        {"sloshing_mass_kg", m.mass},
+                        {"fluid_mass_kg", m.fluid_mass},
+                        {"eta_gain", m.eta_gain}};
+  // A calibrated model (options.model, issue 23) says so; f_hz, K_mm and eta_gain include it.
+  if (options.omega_scale != 1.0 || options.height_gain != 1.0) {
+    out["calibration"] = {{"omega_scale", options.omega_scale},
+                          {"height_gain", options.height_gain}};
+  }
+  return out;
 }
 
 nlohmann::json fluids_json() {

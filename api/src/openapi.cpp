@@ -1194,18 +1194,21 @@ json read_operation(const Route& route) {
 
 /// POST /v1/calibrations and GET /v1/calibrations/{name} (issue 23).
 json calibration_operation(const Route& route) {
-  json ok = json_response("The fit: fitted values with standard errors, residuals before and "
-                          "after per move, identifiability notes and the model object that "
-                          "options.model accepts (stored under `name` when given).",
-                          ref("CalibrationResponse"));
+  json ok = json_response(
+      "The fit: fitted values with standard errors, residuals before and "
+      "after per move, identifiability notes and the model object that "
+      "options.model accepts (stored under `name` when given).",
+      ref("CalibrationResponse"));
   if (route.operation == Operation::kGetCalibration) {
-    return {{"tags", {"calibration"}},
-            {"parameters",
-             json::array({{{"name", "name"},
-                           {"in", "path"},
-                           {"required", true},
-                           {"schema", {{"type", "string"}, {"pattern", "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$"}}}}})},
-            {"responses", with_statuses({{"200", ok}}, {404, 422, 500})}};
+    return {
+        {"tags", {"calibration"}},
+        {"parameters",
+         json::array({{{"name", "name"},
+                       {"in", "path"},
+                       {"required", true},
+                       {"schema",
+                        {{"type", "string"}, {"pattern", "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$"}}}}})},
+        {"responses", with_statuses({{"200", ok}}, {404, 422, 500})}};
   }
   return {{"tags", {"calibration"}},
           {"requestBody",
@@ -1228,10 +1231,9 @@ void add_calibration_schemas(json& s) {
       "strictly increasing on the measurement clock; offset_s is the move start on that clock "
       "(estimated within +-max_offset_s when fit_offset).",
       true);
-  s["MeasuredPeaks"] = object({{"eta_motion_mm", number},
-                               {"eta_rest_mm", number},
-                               {"rest_window_s", number}},
-                              {}, "Measured peak heights; at least one of the two.", true);
+  s["MeasuredPeaks"] =
+      object({{"eta_motion_mm", number}, {"eta_rest_mm", number}, {"rest_window_s", number}}, {},
+             "Measured peak heights; at least one of the two.", true);
   s["MeasuredMove"] = object({{"name", {{"type", "string"}}},
                               {"motion_time_s", number},
                               {"law", ref("LawSpec")},
@@ -1241,11 +1243,9 @@ void add_calibration_schemas(json& s) {
                              "A move the bench ran (motion_time_s defaults to the format's; the "
                              "law must reach the format's stroke) and what was measured.",
                              true);
-  const json setting = object({{"fit", {{"type", "boolean"}}},
-                               {"initial", number},
-                               {"min", number},
-                               {"max", number}},
-                              {}, "Fitted or held, start value (prior) and bounds.", true);
+  const json setting = object(
+      {{"fit", {{"type", "boolean"}}}, {"initial", number}, {"min", number}, {"max", number}}, {},
+      "Fitted or held, start value (prior) and bounds.", true);
   s["CalibrationRequest"] = object(
       {{"format", ref("Format")},
        {"options", ref("SimulateOptions")},

@@ -23,8 +23,8 @@ struct BoundedLeastSquares {
 };
 
 struct LeastSquaresOptions {
-  int max_iterations{100};  ///< accepted or rejected steps, at most
-  double tolerance{1e-10};  ///< relative change of the cost or of x that ends the search
+  int max_iterations{100};     ///< accepted or rejected steps, at most
+  double tolerance{1e-10};     ///< relative change of the cost or of x that ends the search
   std::function<bool()> stop;  ///< polled before every step; true ends with kStopped
 };
 
