@@ -30,7 +30,14 @@ Reply guarded_reply(F&& body) {
 }  // namespace
 
 CalibrationService::CalibrationService(const ServerConfig& config, WorkerPool& pool)
-    : config_(config), pool_(pool), store_(calibration_store_path(config.cache_path)) {}
+    : config_(config), pool_(pool) {
+  try {
+    store_ = std::make_unique<CalibrationStore>(calibration_store_path(config.cache_path));
+  } catch (const std::exception& e) {
+    store_error_ = e.what();
+    store_ = std::make_unique<CalibrationStore>(":memory:");
+  }
+}
 
 Reply CalibrationService::post_calibration(const std::string& text) {
   return guarded_reply([&] {
@@ -62,7 +69,7 @@ Reply CalibrationService::post_calibration(const std::string& text) {
                                         api::number_text(config_.queue_wait_s) + " s of queueing");
     }
     const nlohmann::json fit = result.get();
-    if (request->name && !store_.put(*request->name, fit)) {
+    if (request->name && !store_->put(*request->name, fit)) {
       return PlanService::error_reply(api::ErrorCode::kInternal,
                                       "the calibration could not be stored", "name");
     }
@@ -75,7 +82,7 @@ Reply CalibrationService::post_calibration(const std::string& text) {
 Reply CalibrationService::get_calibration(const std::string& name) const {
   return guarded_reply([&] {
     api::validate_calibration_name(name, "name");
-    const std::optional<nlohmann::json> stored = store_.get(name);
+    const std::optional<nlohmann::json> stored = store_->get(name);
     if (!stored) {
       return PlanService::error_reply(api::ErrorCode::kNotFound,
                                       "no stored calibration '" + name + "'", "name");
@@ -94,7 +101,7 @@ std::string CalibrationService::resolve_model_names(const std::string& body) con
   if (options == nullptr || !options->is_object()) return body;
   const auto* model = api::given_member(*options, "model");
   if (model == nullptr || !model->is_string()) return body;
-  return api::dump_json(resolve_model_name(parsed, store_));
+  return api::dump_json(resolve_model_name(parsed, *store_));
 }
 
 }  // namespace slosh::service

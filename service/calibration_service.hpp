@@ -3,6 +3,7 @@
 // parse, fit on the solve pool within the solve budget, store under the request's name; and the
 // resolution of options.model = "<name>" in plan, simulate and min-time bodies.
 
+#include <memory>
 #include <string>
 
 #include "calibration_store.hpp"
@@ -14,7 +15,8 @@ namespace slosh::service {
 
 class CalibrationService {
  public:
-  /// Opens the store next to config.cache_path (calibration_store_path).
+  /// Opens the store next to config.cache_path (calibration_store_path); in memory when that
+  /// file cannot be opened (store_error() says why).
   CalibrationService(const ServerConfig& config, WorkerPool& pool);
 
   /// The fit as JSON (api::run_calibration), stored when the body has a "name"; 422 on bad input,
@@ -27,11 +29,14 @@ class CalibrationService {
   /// body names none); throws api::ApiError (422 bad name, 404 unknown name, both on
   /// options.model).
   [[nodiscard]] std::string resolve_model_names(const std::string& body) const;
+  /// Why the store is in memory instead of its file; empty when it is not.
+  [[nodiscard]] const std::string& store_error() const { return store_error_; }
 
  private:
   const ServerConfig& config_;
   WorkerPool& pool_;
-  CalibrationStore store_;
+  std::string store_error_;
+  std::unique_ptr<CalibrationStore> store_;
 };
 
 }  // namespace slosh::service

@@ -643,6 +643,10 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   }
   ListeningServer server;
   CalibrationService calibrations(config, service.worker_pool());
+  if (!calibrations.store_error().empty()) {
+    spdlog::error("calibration store: {}; calibrations are kept in memory only",
+                  calibrations.store_error());
+  }
   Runtime rt{config, service, server, nullptr, {}, &calibrations};
   configure_transport(server, config);
   register_routes(rt);
