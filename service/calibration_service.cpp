@@ -104,4 +104,27 @@ std::string CalibrationService::resolve_model_names(const std::string& body) con
   return api::dump_json(resolve_model_name(parsed, *store_));
 }
 
+std::string CalibrationService::resolve_batch_model_names(const std::string& body) const {
+  if (body.find("\"model\"") == std::string::npos) return body;
+  nlohmann::json parsed = nlohmann::json::parse(body, nullptr, false);
+  if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("requests") ||
+      !parsed["requests"].is_array()) {
+    return body;  // the endpoint reports the body itself
+  }
+  bool changed = false;
+  for (nlohmann::json& request : parsed["requests"]) {
+    const auto* options = request.is_object() ? api::given_member(request, "options") : nullptr;
+    if (options == nullptr || !options->is_object()) continue;
+    const auto* model = api::given_member(*options, "model");
+    if (model == nullptr || !model->is_string()) continue;
+    try {
+      request = resolve_model_name(request, *store_);
+      changed = true;
+    } catch (const api::ApiError&) {
+      // left as given: the item's own parse names options.model
+    }
+  }
+  return changed ? api::dump_json(parsed) : body;
+}
+
 }  // namespace slosh::service

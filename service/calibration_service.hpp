@@ -29,6 +29,10 @@ class CalibrationService {
   /// body names none); throws api::ApiError (422 bad name, 404 unknown name, both on
   /// options.model).
   [[nodiscard]] std::string resolve_model_names(const std::string& body) const;
+  /// A POST /v1/plans/batch body with the stored model put in for every request whose
+  /// options.model names a stored calibration (a request naming an invalid or unknown one is left
+  /// as it is: its own item answers 422 on options.model).
+  [[nodiscard]] std::string resolve_batch_model_names(const std::string& body) const;
   /// Why the store is in memory instead of its file; empty when it is not.
   [[nodiscard]] const std::string& store_error() const { return store_error_; }
 

@@ -322,7 +322,7 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
         bool gone = false;
         const std::string peer = peer_of(req);
         return rt.service.post_batch(
-            body,
+            rt.calibrations->resolve_batch_model_names(body),
             [&]() {
               if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
                 gone = rt.reaper->closed_by_peer(peer);

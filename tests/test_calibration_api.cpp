@@ -235,6 +235,14 @@ TEST(CalibrationService, StoredCalibrationPlansAsTheInlineModel) {
   EXPECT_EQ(by_name["key"], inline_model["key"]);
   EXPECT_EQ(by_name["law"], inline_model["law"]);
   EXPECT_NE(by_name["key"], plan(json::object())["key"]);
+  const json batch = {{"requests", json::array({plan_body({{"model", "bench-2026-11"}}),
+                                                plan_body({{"model", "nope"}})})}};
+  auto batched = client.Post("/v1/plans/batch", batch.dump(), "application/json");
+  ASSERT_TRUE(batched);
+  ASSERT_EQ(batched->status, 200) << batched->body;
+  const json items = json::parse(batched->body);
+  EXPECT_EQ(items["results"][0]["plan"]["key"], inline_model["key"]) << batched->body;
+  EXPECT_EQ(items["results"][1]["error"]["field"], "requests[1].options.model") << batched->body;
   auto unknown =
       client.Post("/v1/plans", plan_body({{"model", "nope"}}).dump(), "application/json");
   ASSERT_TRUE(unknown);
