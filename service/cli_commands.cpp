@@ -4,6 +4,7 @@
 #include <iostream>
 
 #include "io.hpp"
+#include "slosh/api/calibration_json.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
@@ -44,6 +45,12 @@ nlohmann::json read_request(const std::string& request_path) {
 int run_simulate_command(const std::string& request_path) {
   return print_json_or_error(
       [&] { return api::run_simulate(api::parse_simulate_request(read_request(request_path))); });
+}
+
+int run_calibrate_command(const std::string& request_path) {
+  return print_json_or_error([&] {
+    return api::run_calibration(api::parse_calibration_request(read_request(request_path)));
+  });
 }
 
 int run_plan_command(const std::string& request_path, const std::optional<std::string>& view) {

@@ -23,4 +23,8 @@ int run_plan_command(const std::string& request_path,
 /// strategy searched in turn (exit 0 whatever their status); invalid input as for simulate.
 int run_min_time_command(const std::string& request_path);
 
+/// `slosh calibrate --request FILE|-`: prints the POST /v1/calibrations response on stdout (the
+/// fit runs without a time budget; a "name" is echoed, not stored); invalid input as for simulate.
+int run_calibrate_command(const std::string& request_path);
+
 }  // namespace slosh::service

@@ -24,6 +24,7 @@
 #include <vector>
 
 #include "batch_jobs.hpp"
+#include "calibration_service.hpp"
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
 #include "log_format.hpp"
@@ -237,8 +238,22 @@ struct Runtime {
   ListeningServer& server;
   std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
   std::vector<Endpoint> endpoints;
-  std::string replica;  // the X-Slosh-Replica header of every response
+  std::string replica;                        // the X-Slosh-Replica header of every response
+  CalibrationService* calibrations{nullptr};  // POST/GET /v1/calibrations, options.model names
 };
+
+// `handle` of the body with options.model = "<name>" resolved to the stored model (issue 23).
+template <typename F>
+Reply with_models(const Runtime& rt, const std::string& body, F&& handle) {
+  try {
+    return handle(rt.calibrations->resolve_model_names(body));
+  } catch (const api::ApiError& e) {
+    Reply r;
+    r.status = e.status();
+    r.body = api::error_body(e);
+    return r;
+  }
+}
 
 // The HTTP library's threads, timeouts and socket options.
 void configure_transport(ListeningServer& server, const ServerConfig& config) {
@@ -347,8 +362,19 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
   PlanService& service = rt.service;
   switch (operation) {
     case api::Operation::kPlan:
-      return [&service](const httplib::Request& req, const std::string& body) {
-        return service.post_plan(body, req.get_header_value("If-None-Match"), view_values(req));
+      return [&service, &rt](const httplib::Request& req, const std::string& body) {
+        return with_models(rt, body, [&](const std::string& resolved) {
+          return service.post_plan(resolved, req.get_header_value("If-None-Match"),
+                                   view_values(req));
+        });
+      };
+    case api::Operation::kCreateCalibration:
+      return [&rt](const httplib::Request&, const std::string& body) {
+        return rt.calibrations->post_calibration(body);
+      };
+    case api::Operation::kGetCalibration:
+      return [&rt](const httplib::Request& req, const std::string&) {
+        return rt.calibrations->get_calibration(req.matches[1]);
       };
     case api::Operation::kPlanBatch:
       return [&rt](const httplib::Request& req, const std::string& body) {
@@ -357,7 +383,7 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
         bool gone = false;
         const std::string peer = peer_of(req);
         return rt.service.post_batch(
-            body,
+            rt.calibrations->resolve_batch_model_names(body),
             [&]() {
               if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
                 gone = rt.reaper->closed_by_peer(peer);
@@ -368,8 +394,10 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
             view_values(req));
       };
     case api::Operation::kMinTime:
-      return [&service](const httplib::Request& req, const std::string& body) {
-        return service.post_min_time(body, req.get_header_value("If-None-Match"));
+      return [&service, &rt](const httplib::Request& req, const std::string& body) {
+        return with_models(rt, body, [&](const std::string& resolved) {
+          return service.post_min_time(resolved, req.get_header_value("If-None-Match"));
+        });
       };
     case api::Operation::kGetPlan:
       return [&service](const httplib::Request& req, const std::string&) {
@@ -377,8 +405,9 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
                                 view_values(req));
       };
     case api::Operation::kSimulate:
-      return [&service](const httplib::Request&, const std::string& body) {
-        return service.post_simulate(body);
+      return [&service, &rt](const httplib::Request&, const std::string& body) {
+        return with_models(
+            rt, body, [&](const std::string& resolved) { return service.post_simulate(resolved); });
       };
     case api::Operation::kFluids:
       return [&service](const httplib::Request&, const std::string&) { return service.fluids(); };
@@ -745,7 +774,12 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   JobStores job_stores(config, service);
   BatchJobs jobs(service, job_stores.store());
   ListeningServer server;
-  Runtime rt{config, service, jobs, server, nullptr, {}, replica_name(config)};
+  CalibrationService calibrations(config, service.worker_pool());
+  if (!calibrations.store_error().empty()) {
+    spdlog::error("calibration store: {}; calibrations are kept in memory only",
+                  calibrations.store_error());
+  }
+  Runtime rt{config, service, jobs, server, nullptr, {}, replica_name(config), &calibrations};
   configure_transport(server, config);
   register_routes(rt);
   install_error_handlers(rt);

@@ -1,4 +1,5 @@
-// `slosh`: the command-line entry point (serve, plan, simulate, min-time, batch, export).
+// `slosh`: the command-line entry point (serve, plan, simulate, min-time, calibrate, batch,
+// export).
 
 #include <CLI/CLI.hpp>
 
@@ -263,6 +264,9 @@ int main(int argc, char** argv) {
   auto* min_time = add_request_command(
       app, a, "min-time",
       "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");
+  auto* calibrate = add_request_command(
+      app, a, "calibrate",
+      "Fit the model to bench measurements (JSON in, the /v1/calibrations response out)");
   auto* batch = add_batch(app, a);
   auto* export_cmd = add_export(app, a);
   try {
@@ -273,6 +277,7 @@ int main(int argc, char** argv) {
   if (*simulate) return slosh::service::run_simulate_command(a.request);
   if (*plan) return slosh::service::run_plan_command(a.request, a.view);
   if (*min_time) return slosh::service::run_min_time_command(a.request);
+  if (*calibrate) return slosh::service::run_calibrate_command(a.request);
   const std::optional<ServerConfig> server =
       layered_config(a, app.get_subcommands().front()->get_name());
   if (!server) return slosh::service::kExitInvalidInput;

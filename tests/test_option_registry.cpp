@@ -102,17 +102,22 @@ TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {
                                                "iir_tau",
                                                "iir_sample_period_s",
                                                "robustness",
-                                               "uncertainty"};
+                                               "uncertainty",
+                                               "model"};
   EXPECT_EQ(keys, expected);
   EXPECT_EQ(registry.group_keys("limits"),
             (std::vector<std::string_view>{"a_max", "v_max", "j_max"}));
   EXPECT_EQ(registry.group_keys("uncertainty"),
             (std::vector<std::string_view>{"omega_error_pct", "fill_height_mm", "viscosity_pa_s",
                                            "sample_points"}));
+  EXPECT_EQ(registry.group_keys("model"),
+            (std::vector<std::string_view>{"omega_scale", "zeta", "alpha", "height_gain"}));
   std::set<std::string_view> recipe_names;
   for (const OptionSpec& o : registry.options()) {
     if (o.name == "time_limit_s") {
       EXPECT_TRUE(o.recipe_name.empty());  // the budget is not part of the recipe
+    } else if (o.group == "model" && (o.name == "zeta" || o.name == "alpha")) {
+      EXPECT_TRUE(o.recipe_name.empty());  // keyed as options.damping and options.alpha
     } else {
       EXPECT_TRUE(recipe_names.insert(o.recipe_name).second) << o.recipe_name;
     }
@@ -239,9 +244,12 @@ TEST(OptionRegistry, EveryOptionIsDocumentedAndACsvColumn) {
         o.group.empty() ? "PlanOptions"
                         : std::string(plan_option_registry().group(o.group)->schema_name);
     EXPECT_TRUE(schemas[schema]["properties"].contains(std::string(o.name))) << o.name;
-    // The members of options.uncertainty are prefixed (fill_height_mm is also the format's).
-    const std::string column =
-        (o.group == "uncertainty" ? "uncertainty_" : "") + std::string(o.name);
+    // The members of options.uncertainty are prefixed (fill_height_mm is also the format's), and
+    // so are those of options.model (alpha is also an option of its own).
+    const std::string column = (o.group == "uncertainty" ? "uncertainty_"
+                                : o.group == "model"     ? "model_"
+                                                         : "") +
+                               std::string(o.name);
     EXPECT_NE(columns.find(", " + column), std::string::npos) << column;
   }
 }
@@ -253,8 +261,9 @@ TEST(Routes, EveryRouteIsAnOpenApiOperation) {
   std::size_t operations = 0;
   for (const auto& [path, methods] : paths.items()) operations += methods.size();
   EXPECT_EQ(routes().size(), operations);
-  // The API, min-time, the cam tables (CSV, ST), the page, assets, the batch jobs (5).
-  EXPECT_EQ(routes().size(), 19u);
+  // The API, min-time, the cam tables (CSV, ST), the page, assets, the batch jobs (5),
+  // calibrations (POST, GET).
+  EXPECT_EQ(routes().size(), 21u);
   std::set<Operation> seen;
   for (const Route& r : routes()) {
     const std::string method = r.method == "POST"     ? "post"

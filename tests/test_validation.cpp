@@ -630,7 +630,7 @@ TEST(ValidationOptions, ObjectAndTypo) {
       Rejects(with("/options", json::array()), "options", "options must be a JSON object, got []"));
   EXPECT_TRUE(Rejects(with("/options", {{"mode", 3}}), "options.mode",
                       "options.mode is not a known field; allowed here: modes, damping, alpha, "
-                      "min_ramp_s"));
+                      "model, min_ramp_s"));
 }
 
 TEST(ValidationOptions, Modes) {

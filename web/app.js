@@ -1,7 +1,7 @@
 // The page of `slosh serve`: a format form, one plan or every candidate of `auto`, the plots of the
 // selected plan against the uniform law and its robustness over the frequency error, the minimum
 // motion time of the strategies ("How fast can it go?", POST v1/min-time) with η over T,
-// downloads, and the URL as the shareable state. Every URL is relative, so the page also works
+// downloads, a measured η(t) overlaid on the predicted one, and the URL as the shareable state. Every URL is relative, so the page also works
 // behind a reverse proxy at a sub-path.
 
 import { PLOTS, markersPlugin } from './plots.js';
@@ -51,6 +51,7 @@ const MIN_TIME_FIELDS = {
 const state = {
   request: null, plans: {}, selected: null, charts: [], ticket: 0,
   minTimeRequest: null, minTime: null, minTimeCharts: [],
+  measured: null, plotContext: null,
 };
 window.sloshPage = state;  // for the browser test and the curious
 
@@ -194,17 +195,59 @@ function renderTable(plans, chosenStrategy) {
   $('candidates').hidden = false;
 }
 
-// The series of a law on the plan's format and model (POST v1/simulate).
+// The series of a law on the plan's format and model (POST v1/simulate); a calibrated model
+// (options.model) keeps its frequency scale and height gain.
 function simulateRequest(plan, law) {
   const m = plan.model;
   const T = plan.format.motion_time_s;
+  const options = { damping: m.damping === 'explicit' ? m.zeta : m.damping, alpha: m.alpha, modes: m.f_hz.length, min_ramp_s: 0.001 };
+  if (m.calibration) options.model = m.calibration;
   return {
     format: plan.format,
     law,
     rest_time_s: plan.rest_time_s,
-    options: { damping: m.damping === 'explicit' ? m.zeta : m.damping, alpha: m.alpha, modes: m.f_hz.length, min_ramp_s: 0.001 },
+    options,
     sample_period_s: (T + plan.rest_time_s) / 2000,
   };
+}
+
+// A measured wave height as CSV: one "t_s,eta_mm" pair a line, times increasing; a first line
+// that is not two numbers is a header. Throws an Error naming the line.
+function parseMeasuredCsv(text) {
+  const out = { t_s: [], eta_mm: [] };
+  const lines = text.split(/\r?\n/);
+  lines.forEach((raw, i) => {
+    const line = raw.trim();
+    if (line === '') return;
+    const cells = line.split(/[,;\t]/).map((c) => c.trim());
+    const t = Number(cells[0]), eta = Number(cells[1]);
+    if (cells.length < 2 || cells[0] === '' || cells[1] === '' || !Number.isFinite(t) || !Number.isFinite(eta)) {
+      if (i === 0) return;  // a header
+      throw new Error(`line ${i + 1}: "${line.slice(0, 40)}" is not two numbers t_s,eta_mm`);
+    }
+    const n = out.t_s.length;
+    if (n > 0 && !(t > out.t_s[n - 1])) {
+      throw new Error(`line ${i + 1}: t_s = ${t} is not after ${out.t_s[n - 1]}: times must increase`);
+    }
+    out.t_s.push(t);
+    out.eta_mm.push(eta);
+  });
+  if (out.t_s.length < 2) throw new Error(`${out.t_s.length} samples: at least 2 are needed`);
+  return out;
+}
+
+async function loadMeasured() {
+  const file = $('measured-csv').files[0];
+  if (!file) return;
+  try {
+    state.measured = parseMeasuredCsv(await file.text());
+    $('measured-note').textContent = `${file.name}: ${state.measured.t_s.length} samples overlaid on η(t)`;
+  } catch (e) {
+    state.measured = null;
+    $('measured-note').textContent = `${file.name} is not a series: ${e.message}`;
+  }
+  if (state.plotContext) renderPlots({ ...state.plotContext, measured: state.measured });
+  document.body.dataset.measured = state.measured ? String(state.measured.t_s.length) : 'invalid';
 }
 
 async function selectPlan(strategy) {
@@ -231,7 +274,8 @@ async function selectPlan(strategy) {
     return;
   }
   if (state.selected !== strategy) return;  // another row was chosen meanwhile
-  renderPlots({ plan, request: state.request, series: series.series, base: base.series, format: plan.format });
+  state.plotContext = { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
+  renderPlots({ ...state.plotContext, measured: state.measured });
   document.body.dataset.ready = strategy;  // the browser test waits for this
 }
 
@@ -548,6 +592,7 @@ async function main() {
   $('compare-button').addEventListener('click', () => run(true));
   $('min-time-button').addEventListener('click', runMinTime);
   $('cam-period').addEventListener('input', updateCamLink);
+  $('measured-csv').addEventListener('change', loadMeasured);
   const url = readUrl();
   document.body.dataset.loaded = '1';
   if (url.key) return openKey(url.key);

@@ -208,7 +208,7 @@ export const PLOTS = [
     id: 'eta',
     view: 'plan',
     title: 'Wave height η(t) at the wall',
-    build: ({ plan, series, base, format }) => {
+    build: ({ plan, series, base, format, measured }) => {
       const T = format.motion_time_s;
       const markers = { shade: [{ from: T, to: T + plan.rest_time_s, label: 'rest window' }], hlines: [] };
       const height = format.container && format.container.height_mm;
@@ -222,6 +222,9 @@ export const PLOTS = [
         line('η linear plan', points(series.t_s, series.eta_linear_mm), COLORS.linear),
         line('η nonlinear uniform', points(base.t_s, base.eta_nonlinear_mm), COLORS.base),
         line('η linear uniform', points(base.t_s, base.eta_linear_mm), COLORS.baseLinear),
+        // A measured series uploaded on the page (issue 23): points, not a line.
+        ...(measured ? [line('η measured', points(measured.t_s, measured.eta_mm), '#111',
+          { showLine: false, pointRadius: 1.5 })] : []),
       ], 'η [mm]', markers);
       if (height) {  // the free board stays in view
         const board = height - format.fill_height_mm;

@@ -257,6 +257,8 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kWarmStart, "options.warm_start_s"},
     {PlanInput::kDriveProfile, "options.drive_profile"},
     {PlanInput::kOmegaError, "options.uncertainty.omega_error_pct"},
+    {PlanInput::kOmegaScale, "options.model.omega_scale"},
+    {PlanInput::kHeightGain, "options.model.height_gain"},
     {PlanInput::kFillHeightRange, "options.uncertainty.fill_height_mm"},
     {PlanInput::kViscosityRange, "options.uncertainty.viscosity_pa_s"},
     {PlanInput::kUncertaintySamples, "options.uncertainty.sample_points"},

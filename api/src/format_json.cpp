@@ -101,6 +101,32 @@ void parse_model_options(const nlohmann::json& options, const std::string& path,
   parse_damping(options, path, model);
 }
 
+void parse_calibrated_model(const nlohmann::json& options, const std::string& path,
+                            ModelOptions& model) {
+  const nlohmann::json* m = given_member(options, "model");
+  if (m == nullptr) return;
+  const std::string mpath = join_path(path, "model");
+  require_object(*m, mpath);
+  reject_unknown_fields(*m, mpath, {"omega_scale", "zeta", "alpha", "height_gain"});
+  for (const auto& [member, top] :
+       {std::pair<std::string_view, std::string_view>{"alpha", "alpha"}, {"zeta", "damping"}}) {
+    if (given_member(*m, member) != nullptr && given_member(options, top) != nullptr) {
+      const std::string field = join_path(mpath, member);
+      invalid(field,
+              field + " and " + join_path(path, top) + " both set the model: give one of them");
+    }
+  }
+  model.omega_scale = optional_number(*m, mpath, "omega_scale", ranges::kModelScale, 1.0);
+  if (given_member(*m, "zeta") != nullptr) {
+    model.damping = DampingCorrelation::kExplicit;
+    model.explicit_zeta = required_number(*m, mpath, "zeta", ranges::kZeta);
+  }
+  if (given_member(*m, "alpha") != nullptr) {
+    model.alpha = required_number(*m, mpath, "alpha", ranges::kAlpha);
+  }
+  model.height_gain = optional_number(*m, mpath, "height_gain", ranges::kModelScale, 1.0);
+}
+
 void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model) {
   const std::string dpath = join_path(path, "damping");
   const nlohmann::json* it = given_member(options, "damping");
@@ -143,16 +169,22 @@ nlohmann::json format_json(const Format& f) {
 nlohmann::json model_json(const SloshingModel& m, const ModelOptions& options) {
   nlohmann::json f_hz = nlohmann::json::array();
   for (double w : m.omega) f_hz.push_back(w / (2.0 * std::numbers::pi));
-  return {{"omega_rad_s", m.omega},
-          {"f_hz", f_hz},
-          {"zeta", m.zeta},
-          {"damping", to_string(options.damping)},
-          {"C", m.C},
-          {"alpha", m.alpha},
-          {"K_mm", m.K * 1e3},
-          {"sloshing_mass_kg", m.mass},
-          {"fluid_mass_kg", m.fluid_mass},
-          {"eta_gain", m.eta_gain}};
+  nlohmann::json out = {{"omega_rad_s", m.omega},
+                        {"f_hz", f_hz},
+                        {"zeta", m.zeta},
+                        {"damping", to_string(options.damping)},
+                        {"C", m.C},
+                        {"alpha", m.alpha},
+                        {"K_mm", m.K * 1e3},
+                        {"sloshing_mass_kg", m.mass},
+                        {"fluid_mass_kg", m.fluid_mass},
+                        {"eta_gain", m.eta_gain}};
+  // A calibrated model (options.model, issue 23) says so; f_hz, K_mm and eta_gain include it.
+  if (options.omega_scale != 1.0 || options.height_gain != 1.0) {
+    out["calibration"] = {{"omega_scale", options.omega_scale},
+                          {"height_gain", options.height_gain}};
+  }
+  return out;
 }
 
 nlohmann::json fluids_json() {

@@ -289,6 +289,7 @@ void add_simulate_request_schemas(json& s) {
   // Simulate reads the model options and min_ramp_s as plan does.
   json options =
       option_properties(plan_option_registry(), {"modes", "damping", "alpha", "min_ramp_s"});
+  options["model"] = ref("CalibratedModel");
   s["SimulateOptions"] = object(options, {}, "Model options; every member optional.", true);
   s["SimulateRequest"] = object(
       {{"format", ref("Format")},
@@ -1327,9 +1328,91 @@ json job_operation(const Route& route) {
   }
 }
 
+/// POST /v1/calibrations and GET /v1/calibrations/{name} (issue 23).
+json calibration_operation(const Route& route) {
+  json ok = json_response(
+      "The fit: fitted values with standard errors, residuals before and "
+      "after per move, identifiability notes and the model object that "
+      "options.model accepts (stored under `name` when given).",
+      ref("CalibrationResponse"));
+  if (route.operation == Operation::kGetCalibration) {
+    return {
+        {"tags", {"calibration"}},
+        {"parameters",
+         json::array({{{"name", "name"},
+                       {"in", "path"},
+                       {"required", true},
+                       {"schema",
+                        {{"type", "string"}, {"pattern", "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$"}}}}})},
+        {"responses", with_statuses({{"200", ok}}, {404, 422, 500})}};
+  }
+  return {{"tags", {"calibration"}},
+          {"requestBody",
+           {{"required", true},
+            {"content", {{"application/json", {{"schema", ref("CalibrationRequest")}}}}}}},
+          {"responses", with_statuses({{"200", ok}}, {400, 413, 422, 500, 503, 504})}};
+}
+
+void add_calibration_schemas(json& s) {
+  const json number = {{"type", "number"}};
+  const json numbers = {{"type", "array"}, {"items", number}, {"minItems", 2}};
+  s["MeasuredSeries"] = object(
+      {{"t_s", numbers},
+       {"eta_mm", numbers},
+       {"offset_s", number},
+       {"fit_offset", {{"type", "boolean"}}},
+       {"max_offset_s", number}},
+      {"t_s", "eta_mm"},
+      "A measured wall height eta(t) (the sign of simulate's series), any sampling rate; t_s "
+      "strictly increasing on the measurement clock; offset_s is the move start on that clock "
+      "(estimated within +-max_offset_s when fit_offset).",
+      true);
+  s["MeasuredPeaks"] =
+      object({{"eta_motion_mm", number}, {"eta_rest_mm", number}, {"rest_window_s", number}}, {},
+             "Measured peak heights; at least one of the two.", true);
+  s["MeasuredMove"] = object({{"name", {{"type", "string"}}},
+                              {"motion_time_s", number},
+                              {"law", ref("LawSpec")},
+                              {"series", ref("MeasuredSeries")},
+                              {"peaks", ref("MeasuredPeaks")}},
+                             {"law"},
+                             "A move the bench ran (motion_time_s defaults to the format's; the "
+                             "law must reach the format's stroke) and what was measured.",
+                             true);
+  const json setting = object(
+      {{"fit", {{"type", "boolean"}}}, {"initial", number}, {"min", number}, {"max", number}}, {},
+      "Fitted or held, start value (prior) and bounds.", true);
+  s["CalibrationRequest"] = object(
+      {{"format", ref("Format")},
+       {"options", ref("SimulateOptions")},
+       {"moves", {{"type", "array"}, {"items", ref("MeasuredMove")}, {"minItems", 1}}},
+       {"fit", object({{"omega_scale", setting},
+                       {"zeta", setting},
+                       {"alpha", setting},
+                       {"height_gain", setting},
+                       {"max_iterations", {{"type", "integer"}, {"minimum", 1}, {"maximum", 500}}}},
+                      {}, "Which parameters are fitted, their priors and bounds.", true)},
+       {"name", {{"type", "string"}, {"pattern", "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$"}}}},
+      {"format", "moves"},
+      "Bench measurements to calibrate the nonlinear model on (bounded Levenberg-Marquardt with "
+      "exact gradients).",
+      true);
+  s["CalibrationResponse"] = {
+      {"type", "object"},
+      {"description",
+       "status (converged, max_iterations, time_limit, failed), iterations, sigma_mm, parameters "
+       "{name: {value, prior, standard_error (null unless fitted), state (fitted, fixed, "
+       "unidentifiable), at_bound}}, moves [{name, residuals, rms_before_mm, rms_after_mm, "
+       "offset_s, offset_standard_error_s}], identifiability [sentences], model (options.model), "
+       "name."}};
+}
+
 /// Request and response details of one route's operation.
 json operation(const Route& route) {
   switch (route.operation) {
+    case Operation::kCreateCalibration:
+    case Operation::kGetCalibration:
+      return calibration_operation(route);
     case Operation::kPlan:
     case Operation::kGetPlan:
     case Operation::kPlanBatch:
@@ -1375,6 +1458,7 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
   add_service_schemas(schemas);
   add_min_time_schemas(schemas);
   add_batch_job_schemas(schemas);
+  add_calibration_schemas(schemas);
   return {{"openapi", "3.0.3"},
           {"info",
            {{"title", "slosh planner"},
@@ -1387,6 +1471,8 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
           {"tags",
            {{{"name", "plans"}, {"description", "Planning and the recipe cache."}},
             {{"name", "simulation"}, {"description", "Response of a given law."}},
+            {{"name", "calibration"},
+             {"description", "Fitting the model to bench measurements (issue 23)."}},
             {{"name", "catalogue"}, {"description", "Reference data and this document."}},
             {{"name", "operations"}, {"description", "Health, readiness and metrics."}},
             {{"name", "page"}, {"description", "The web page served at / (SPEC §12)."}},

@@ -43,6 +43,20 @@ std::string choice(const json& object, const std::string& path, std::string_view
   invalid(field, field + " = " + show(value) + " is not allowed: one of " + quoted_names(allowed));
 }
 
+// options.model.alpha (zeta) and options.alpha (damping) set the same value: one of them only.
+void reject_model_conflicts(const json& options) {
+  const json* model = given_member(options, "model");
+  if (model == nullptr || !model->is_object()) return;
+  for (const auto& [member, top] :
+       {std::pair<std::string_view, std::string_view>{"alpha", "alpha"}, {"zeta", "damping"}}) {
+    if (given_member(*model, member) != nullptr && given_member(options, top) != nullptr) {
+      const std::string field = "options.model." + std::string(member);
+      invalid(field,
+              field + " and options." + std::string(top) + " both set the model: give one of them");
+    }
+  }
+}
+
 json damping_value(const json& object, const std::string& path) {
   ModelOptions model;
   parse_damping(object, path, model);
@@ -477,11 +491,54 @@ std::vector<OptionSpec> uncertainty_options() {
           in_uncertainty(std::move(samples), "uncertainty_sample_points")};
 }
 
+// A member of options.model (a calibrated model, issue 23). omega_scale and height_gain are keyed
+// only when they differ from 1, so the keys of requests without a model stay as they were;
+// model.alpha and model.zeta write the options alpha and damping write, and are keyed by them.
+OptionSpec in_model(OptionSpec s, std::string_view recipe_name) {
+  s.group = "model";
+  s.recipe_name = recipe_name;
+  s.keyed_when_set = true;
+  return s;
+}
+
+std::vector<OptionSpec> calibrated_model_options() {
+  OptionSpec zeta = spec("zeta", OptionKind::kOptionalNumber,
+                         "Calibrated damping ratio of the modes (POST /v1/calibrations); "
+                         "overrides options.damping");
+  zeta.range = ranges::kZeta;
+  zeta.get = [](const PlanOptions& o) {
+    return o.model.damping == DampingCorrelation::kExplicit ? json(o.model.explicit_zeta)
+                                                            : json(nullptr);
+  };
+  zeta.set = [](PlanOptions& o, const json& v) {
+    o.model.damping = DampingCorrelation::kExplicit;
+    o.model.explicit_zeta = v.get<double>();
+  };
+  return {
+      in_model(number(
+                   "omega_scale", ranges::kModelScale,
+                   [](PlanOptions& o) -> double& { return o.model.omega_scale; },
+                   "Calibrated scale of every natural frequency omega_n (1: eq. 2.14)"),
+               "model_omega_scale"),
+      in_model(std::move(zeta), ""),
+      in_model(number(
+                   "alpha", ranges::kAlpha, [](PlanOptions& o) -> double& { return o.model.alpha; },
+                   "Calibrated nonlinear stiffening alpha (eq. 2.35); overrides options.alpha"),
+               ""),
+      in_model(number(
+                   "height_gain", ranges::kModelScale,
+                   [](PlanOptions& o) -> double& { return o.model.height_gain; },
+                   "Calibrated gain on the predicted wall height, linear and nonlinear (1: none)"),
+               "model_height_gain"),
+  };
+}
+
 OptionRegistry built_in_registry() {
   std::vector<OptionSpec> options;
-  for (auto part : {multi_notch_and_band_options(), time_domain_options(), law_shape_options(),
-                    model_and_solver_options(), filter_options(),
-                    std::vector<OptionSpec>{robustness()}, uncertainty_options()}) {
+  for (auto part :
+       {multi_notch_and_band_options(), time_domain_options(), law_shape_options(),
+        model_and_solver_options(), filter_options(), std::vector<OptionSpec>{robustness()},
+        uncertainty_options(), calibrated_model_options()}) {
     for (OptionSpec& o : part) options.push_back(std::move(o));
   }
   return OptionRegistry(
@@ -492,7 +549,12 @@ OptionRegistry built_in_registry() {
                    "With omega_error_pct > 0 or a range, the optimising strategies plan for the "
                    "whole omega_1 (and zeta) range it implies, auto compares its candidates by "
                    "their worst case, and the plan carries uncertainty and worst_case.",
-                   "uncertainty_"}});
+                   "uncertainty_"},
+       OptionGroup{"model", "CalibratedModel",
+                   "A calibrated model (POST /v1/calibrations returns one): each member optional; "
+                   "zeta and alpha override options.damping and options.alpha (giving both is "
+                   "refused).",
+                   "model_"}});
 }
 
 // ---- OpenAPI ---------------------------------------------------------------------------------
@@ -584,6 +646,7 @@ std::vector<std::string_view> OptionRegistry::group_keys(std::string_view group_
 }
 
 void OptionRegistry::parse(const json& object, const Format& format, PlanOptions& out) const {
+  reject_model_conflicts(object);
   std::vector<const OptionSpec*> order;
   for (const OptionSpec& o : options_) order.push_back(&o);
   std::stable_sort(order.begin(), order.end(), [](const OptionSpec* a, const OptionSpec* b) {

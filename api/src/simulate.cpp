@@ -73,8 +73,9 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   nlohmann::json options = body.value("options", nlohmann::json::object());
   if (options.is_null()) options = nlohmann::json::object();
   require_object(options, "options");
-  reject_unknown_fields(options, "options", {"modes", "damping", "alpha", "min_ramp_s"});
+  reject_unknown_fields(options, "options", {"modes", "damping", "alpha", "model", "min_ramp_s"});
   parse_model_options(options, "options", r.options.model);
+  parse_calibrated_model(options, "options", r.options.model);
   const Range min_ramp_range{ranges::kMinRampS.lo, r.format.motion_time / 4.0, "s"};
   try {
     r.min_ramp = optional_number(options, "options", "min_ramp_s", min_ramp_range, kDefaultMinRamp);

@@ -94,6 +94,8 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kRefineExcess:
     case PlanInput::kOmegaError:
     case PlanInput::kUncertaintySamples:
+    case PlanInput::kOmegaScale:
+    case PlanInput::kHeightGain:
       return "";
   }
   return "";

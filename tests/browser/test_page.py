@@ -537,6 +537,35 @@ def check_labels(driver):
     check(unlabeled == [], f"every input has a label: {unlabeled}")
 
 
+def check_measured_overlay(driver, workdir):
+    """A measured eta(t) CSV uploaded after a plan is drawn as points on the eta plot (issue 23);
+    a series whose times do not increase is refused with the line named."""
+    path = os.path.join(workdir, "measured.csv")
+    samples = [(0.01 * i, round(5.0 * (i % 20) - 40.0, 3)) for i in range(150)]
+    with open(path, "w", encoding="utf-8") as f:
+        f.write("t_s,eta_mm\n" + "".join(f"{t:.2f},{e}\n" for t, e in samples))
+    driver.find_element(By.ID, "measured-csv").send_keys(path)
+    wait_for(driver, "return document.body.dataset.measured === '150'")
+    counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
+    eta = counts.get("plot-eta", [])
+    check(len(eta) == 5 and eta[4] == 150, f"the measured series is the 5th eta dataset: {counts}")
+    label, x, y = driver.execute_script(
+        "const c = window.sloshPage.charts.find(c => c.canvas.id === 'plot-eta');"
+        "const d = c.data.datasets[4]; return [d.label, d.data[3].x, d.data[3].y];")
+    check(label == "η measured" and abs(x - 0.03) < 1e-12 and y == samples[3][1],
+          f"measured point 3 is ({x}, {y}) labelled {label}")
+    bad = os.path.join(workdir, "bad.csv")
+    with open(bad, "w", encoding="utf-8") as f:
+        f.write("t_s,eta_mm\n0,1\n0,2\n")
+    driver.find_element(By.ID, "measured-csv").send_keys(bad)
+    wait_for(driver, "return document.body.dataset.measured === 'invalid'")
+    note = driver.find_element(By.ID, "measured-note").text
+    check(note == "bad.csv is not a series: line 3: t_s = 0 is not after 0: times must increase",
+          f"the refusal names the line: {note}")
+    counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
+    check(len(counts.get("plot-eta", [])) == 4, f"no overlay after a refused file: {counts}")
+
+
 def check_sub_path(port):
     proxy = SubPathProxy(port)
     thread = threading.Thread(target=proxy.serve_forever, daemon=True)
@@ -567,6 +596,7 @@ def main():
         check_labels(driver)
         check(not driver.find_element(By.ID, "downloads").is_displayed(), "no downloads before a plan")
         plan = check_single_plan(driver, port)
+        check_measured_overlay(driver, workdir)
         check_cam_download(driver, args.slosh, workdir)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
         check_min_time(driver, port, os.path.join(args.artifacts, "min-time.png"))

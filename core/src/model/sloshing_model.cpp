@@ -55,13 +55,13 @@ SloshingModel make_sloshing_model(const Format& format, const ModelOptions& opti
   for (int n = 1; n <= options.modes; ++n) {
     const double xi = kBesselRoots.at(static_cast<std::size_t>(n - 1));
     const double th = std::tanh(xi * h / R);
-    m.omega.push_back(natural_frequency(R, h, n));
+    m.omega.push_back(natural_frequency(R, h, n) * options.omega_scale);
     m.mass.push_back(m.fluid_mass * 2.0 * R * th / (xi * h * (xi * xi - 1.0)));
-    m.eta_gain.push_back(8.0 * th / (xi * (xi * xi - 1.0)));
+    m.eta_gain.push_back(8.0 * th / (xi * (xi * xi - 1.0)) * options.height_gain);
   }
   const double xi1 = kBesselRoots[0];
   m.C = xi1 * std::tanh(xi1 * h / R);
-  m.K = 2.0 * R * m.C / (xi1 * xi1 - 1.0);
+  m.K = 2.0 * R * m.C / (xi1 * xi1 - 1.0) * options.height_gain;
   return m;
 }
 
@@ -75,6 +75,12 @@ std::optional<InvalidInput> validate_model_options(const ModelOptions& m) {
   }
   if (m.damping == DampingCorrelation::kExplicit && !non_negative().contains(m.explicit_zeta)) {
     return out_of_range(PlanInput::kZeta, -1, m.explicit_zeta, non_negative());
+  }
+  if (!calibration_scale_range().contains(m.omega_scale)) {
+    return out_of_range(PlanInput::kOmegaScale, -1, m.omega_scale, calibration_scale_range());
+  }
+  if (!calibration_scale_range().contains(m.height_gain)) {
+    return out_of_range(PlanInput::kHeightGain, -1, m.height_gain, calibration_scale_range());
   }
   return std::nullopt;
 }

@@ -24,6 +24,8 @@ inline const Range kDensity{100.0, 20000.0, "kg/m^3"};
 inline const Range kViscosity{0.0, 10.0, "Pa·s", true};
 inline const Range kZeta{0.0, 0.5, "", false, true};
 inline const Range kAlpha{0.0, 2.0, ""};
+/// omega_scale and height_gain of a calibrated model (options.model): (0, 10].
+inline const Range kModelScale{0.0, 10.0, "", true, false};
 inline const Range kRestTimeS{0.0, 60.0, "s"};
 inline const Range kSamplePeriodS{1e-4, 1.0, "s"};
 inline const Range kMinRampS{1e-3, 1.0, "s"};
@@ -44,6 +46,12 @@ constexpr int kMaxSeriesSamples{50000};
 /// Parses the model members of an options object (modes, damping, alpha) into `options`.
 void parse_model_options(const nlohmann::json& options, const std::string& path,
                          ModelOptions& model);
+
+/// Reads options.model (a calibrated model: omega_scale, zeta, alpha, height_gain; each
+/// optional) into `model`, after parse_model_options; zeta and alpha override options.damping
+/// and options.alpha, and giving both is refused (422 naming options.model.<member>).
+void parse_calibrated_model(const nlohmann::json& options, const std::string& path,
+                            ModelOptions& model);
 
 /// Parses options.damping (a correlation name or {"zeta": z}; thesis when absent) into `model`.
 void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model);

@@ -27,7 +27,9 @@ enum class Operation {
   kGetJob,
   kCancelJob,
   kJobResultsCsv,
-  kJobResultsJsonl
+  kJobResultsJsonl,
+  kCreateCalibration,
+  kGetCalibration
 };
 
 struct Route {

@@ -64,11 +64,13 @@ enum class PlanInput {
   kFillHeightRange,   ///< Uncertainty::fill_height[index] [m]; index -1: the pair
   kViscosityRange,    ///< Uncertainty::viscosity[index] [Pa s]; index -1: the pair
   kUncertaintySamples,  ///< Uncertainty::sample_points [-]
+  kOmegaScale,          ///< ModelOptions::omega_scale [-]
+  kHeightGain,          ///< ModelOptions::height_gain [-]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 46> table{{
+  static constexpr std::array<EnumName<PlanInput>, 48> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -115,6 +117,8 @@ struct EnumNames<PlanInput> {
       {PlanInput::kFillHeightRange, "fill_height_range"},
       {PlanInput::kViscosityRange, "viscosity_range"},
       {PlanInput::kUncertaintySamples, "uncertainty_samples"},
+      {PlanInput::kOmegaScale, "omega_scale"},
+      {PlanInput::kHeightGain, "height_gain"},
   }};
 };
 
@@ -192,6 +196,10 @@ struct BoundedValue {
 }
 [[nodiscard]] inline InputBounds open_range(double lo, double hi) {
   return {lo, hi, true, true};
+}
+/// Allowed calibrated scales (omega_scale, height_gain): (0, 10].
+[[nodiscard]] inline InputBounds calibration_scale_range() {
+  return {0.0, 10.0, true, false};
 }
 
 }  // namespace slosh

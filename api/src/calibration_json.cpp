@@ -1,0 +1,264 @@
+#include "slosh/api/calibration_json.hpp"
+
+#include <cmath>
+#include <string>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/law_json.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using nlohmann::json;
+
+const Range kEtaMm{0.0, 10000.0, "mm", true, false};
+const Range kSampleEtaMm{-10000.0, 10000.0, "mm"};
+const Range kSampleTimeS{-3600.0, 3600.0, "s"};
+const Range kOffsetS{-3600.0, 3600.0, "s"};
+const Range kMaxOffsetS{0.0, 10.0, "s", true, false};
+const Range kRestWindowS{0.0, 60.0, "s", true, false};
+
+// The allowed range of each parameter's bounds: what options.model accepts.
+Range parameter_range(CalibrationParameter p) {
+  switch (p) {
+    case CalibrationParameter::kOmegaScale:
+    case CalibrationParameter::kHeightGain:
+      return ranges::kModelScale;
+    case CalibrationParameter::kZeta:
+      return ranges::kZeta;
+    case CalibrationParameter::kAlpha:
+      return ranges::kAlpha;
+  }
+  return ranges::kModelScale;
+}
+
+std::vector<double> number_list(const json& object, const std::string& path, std::string_view key,
+                                const Range& range) {
+  const std::string field = join_path(path, key);
+  const json* v = given_member(object, key);
+  if (v == nullptr || !v->is_array()) {
+    invalid(field, field + " must be an array of numbers, got " + (v ? show(*v) : "nothing"));
+  }
+  if (v->size() < 2) {
+    invalid(field,
+            field + " has " + std::to_string(v->size()) + " samples: a series needs at least 2");
+  }
+  if (v->size() > kMaxSeriesSamples) {
+    invalid(field, field + " has " + std::to_string(v->size()) + " samples: at most " +
+                       std::to_string(kMaxSeriesSamples));
+  }
+  std::vector<double> out;
+  out.reserve(v->size());
+  for (std::size_t i = 0; i < v->size(); ++i) {
+    out.push_back(checked_number(&(*v)[i], field + "[" + std::to_string(i) + "]", range));
+  }
+  return out;
+}
+
+MeasuredSeries parse_series(const json& s, const std::string& path) {
+  require_object(s, path);
+  reject_unknown_fields(s, path, {"t_s", "eta_mm", "offset_s", "fit_offset", "max_offset_s"});
+  MeasuredSeries out;
+  out.t = number_list(s, path, "t_s", kSampleTimeS);
+  for (std::size_t i = 1; i < out.t.size(); ++i) {
+    if (!(out.t[i] > out.t[i - 1])) {
+      const std::string field = join_path(path, "t_s") + "[" + std::to_string(i) + "]";
+      invalid(field, field + " = " + number_text(out.t[i]) + " is not after t_s[" +
+                         std::to_string(i - 1) + "] = " + number_text(out.t[i - 1]) +
+                         ": sample times must increase");
+    }
+  }
+  out.eta = number_list(s, path, "eta_mm", kSampleEtaMm);
+  if (out.eta.size() != out.t.size()) {
+    const std::string field = join_path(path, "eta_mm");
+    invalid(field, field + " has " + std::to_string(out.eta.size()) + " samples, t_s has " +
+                       std::to_string(out.t.size()) + ": one height per time");
+  }
+  for (double& e : out.eta) e *= 1e-3;
+  out.offset = optional_number(s, path, "offset_s", kOffsetS, 0.0);
+  out.fit_offset = optional_bool(s, path, "fit_offset", false);
+  out.max_offset = optional_number(s, path, "max_offset_s", kMaxOffsetS, 0.25);
+  return out;
+}
+
+MeasuredPeaks parse_peaks(const json& p, const std::string& path) {
+  require_object(p, path);
+  reject_unknown_fields(p, path, {"eta_motion_mm", "eta_rest_mm", "rest_window_s"});
+  MeasuredPeaks out;
+  if (given_member(p, "eta_motion_mm") != nullptr)
+    out.eta_motion = required_number(p, path, "eta_motion_mm", kEtaMm) * 1e-3;
+  if (given_member(p, "eta_rest_mm") != nullptr)
+    out.eta_rest = required_number(p, path, "eta_rest_mm", kEtaMm) * 1e-3;
+  if (!out.eta_motion && !out.eta_rest) {
+    invalid(path, path + " has neither eta_motion_mm nor eta_rest_mm: give at least one");
+  }
+  out.rest_window = optional_number(p, path, "rest_window_s", kRestWindowS, 1.0);
+  return out;
+}
+
+MeasuredMove parse_move(const json& m, const std::string& path, const Format& format) {
+  require_object(m, path);
+  reject_unknown_fields(m, path, {"name", "motion_time_s", "law", "series", "peaks"});
+  MeasuredMove out;
+  out.name = m.contains("name") && m["name"].is_string() ? m["name"].get<std::string>() : path;
+  Format f = format;
+  f.motion_time =
+      optional_number(m, path, "motion_time_s", ranges::kMotionTimeS, format.motion_time);
+  if (!m.contains("law")) {
+    invalid(join_path(path, "law"),
+            join_path(path, "law") + " is required: the law the bench ran, as simulate takes it");
+  }
+  out.law = parse_law(m["law"], join_path(path, "law"), f, kDefaultMinRamp).law;
+  if (given_member(m, "series") != nullptr)
+    out.series = parse_series(m["series"], join_path(path, "series"));
+  if (given_member(m, "peaks") != nullptr)
+    out.peaks = parse_peaks(m["peaks"], join_path(path, "peaks"));
+  if (!out.series && !out.peaks) {
+    invalid(path, path + " has neither series nor peaks: give what was measured");
+  }
+  return out;
+}
+
+ParameterSetting parse_setting(const json& fit, CalibrationParameter p, ParameterSetting s) {
+  const std::string name(name_of(p));
+  const json* v = given_member(fit, name);
+  if (v == nullptr) return s;
+  const std::string path = "fit." + name;
+  require_object(*v, path);
+  reject_unknown_fields(*v, path, {"fit", "initial", "min", "max"});
+  const Range range = parameter_range(p);
+  s.fit = optional_bool(*v, path, "fit", true);
+  s.lower = optional_number(*v, path, "min", range, s.lower);
+  s.upper = optional_number(*v, path, "max", range, s.upper);
+  if (!(s.lower < s.upper)) {
+    invalid(path + ".max", path + ".max = " + number_text(s.upper) + " must exceed " + path +
+                               ".min = " + number_text(s.lower));
+  }
+  if (given_member(*v, "initial") != nullptr) {
+    s.initial = required_number(*v, path, "initial", Range{s.lower, s.upper, ""});
+  }
+  return s;
+}
+
+void parse_fit(const json& body, CalibrationSettings& settings) {
+  const json* fit = given_member(body, "fit");
+  if (fit == nullptr) return;
+  require_object(*fit, "fit");
+  reject_unknown_fields(*fit, "fit",
+                        {"omega_scale", "zeta", "alpha", "height_gain", "max_iterations"});
+  for (std::size_t j = 0; j < kCalibrationParameters; ++j) {
+    settings.parameters[j] =
+        parse_setting(*fit, static_cast<CalibrationParameter>(j), settings.parameters[j]);
+  }
+  settings.max_iterations = optional_integer(*fit, "fit", "max_iterations", 1, 500, 60);
+}
+
+// A start value the caller left to the model must lie within the bounds given (no silent clamp).
+void check_priors(const CalibrationRequest& r) {
+  ModelOptions unit = r.base;
+  unit.omega_scale = 1.0;
+  unit.height_gain = 1.0;
+  const SloshingModel m = make_sloshing_model(r.format, unit);
+  const std::array<double, kCalibrationParameters> own{1.0, m.zeta, r.base.alpha, 1.0};
+  for (std::size_t j = 0; j < kCalibrationParameters; ++j) {
+    const ParameterSetting& s = r.settings.parameters[j];
+    if (s.initial || (own[j] >= s.lower && own[j] <= s.upper)) continue;
+    const std::string path = "fit." + std::string(name_of(static_cast<CalibrationParameter>(j)));
+    invalid(path, path + ": the model's own value " + number_text(own[j]) + " is outside [" +
+                      number_text(s.lower) + ", " + number_text(s.upper) + "]: widen min/max or " +
+                      "give " + path + ".initial");
+  }
+}
+
+}  // namespace
+
+void validate_calibration_name(const std::string& name, const std::string& field) {
+  bool ok = !name.empty() && name.size() <= kMaxCalibrationName &&
+            std::isalnum(static_cast<unsigned char>(name.front())) != 0;
+  for (const char c : name) {
+    ok = ok &&
+         (std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '.' || c == '_' || c == '-');
+  }
+  if (!ok) {
+    invalid(field, field + " = " + show(json(name)) +
+                       " is not a calibration name: 1 to 64 characters of A-Z a-z 0-9 . _ -, "
+                       "starting with a letter or digit");
+  }
+}
+
+CalibrationRequest parse_calibration_request(const json& body) {
+  require_object(body, "");
+  reject_unknown_fields(body, "", {"format", "options", "moves", "fit", "name"});
+  CalibrationRequest r;
+  r.format = parse_request_format(body);
+  json options = body.value("options", json::object());
+  if (options.is_null()) options = json::object();
+  require_object(options, "options");
+  reject_unknown_fields(options, "options", {"modes", "damping", "alpha"});
+  parse_model_options(options, "options", r.base);
+  if (given_member(body, "name") != nullptr) {
+    if (!body["name"].is_string())
+      invalid("name", "name must be a string, got " + show(body["name"]));
+    r.name = body["name"].get<std::string>();
+    validate_calibration_name(*r.name, "name");
+  }
+  const json* moves = given_member(body, "moves");
+  if (moves == nullptr || !moves->is_array() || moves->empty() ||
+      moves->size() > kMaxCalibrationMoves) {
+    invalid("moves", "moves must be an array of 1 to " + std::to_string(kMaxCalibrationMoves) +
+                         " measured moves, got " + (moves ? show(*moves) : "nothing"));
+  }
+  for (std::size_t i = 0; i < moves->size(); ++i) {
+    r.moves.push_back(parse_move((*moves)[i], "moves[" + std::to_string(i) + "]", r.format));
+  }
+  parse_fit(body, r.settings);
+  check_priors(r);
+  return r;
+}
+
+json calibrated_model_json(const ModelOptions& m) {
+  return {{"omega_scale", m.omega_scale},
+          {"zeta", m.explicit_zeta},
+          {"alpha", m.alpha},
+          {"height_gain", m.height_gain}};
+}
+
+json run_calibration(const CalibrationRequest& request) {
+  const CalibrationResult fit =
+      calibrate(request.format, request.base, request.moves, request.settings);
+  json out;
+  out["status"] = name_of(fit.status);
+  out["iterations"] = fit.iterations;
+  out["sigma_mm"] = fit.sigma * 1e3;
+  json parameters = json::object();
+  for (std::size_t j = 0; j < kCalibrationParameters; ++j) {
+    const FittedParameter& p = fit.parameters[j];
+    parameters[std::string(name_of(static_cast<CalibrationParameter>(j)))] = {
+        {"value", p.value},
+        {"prior", p.prior},
+        {"standard_error", p.standard_error ? json(*p.standard_error) : json(nullptr)},
+        {"state", name_of(p.state)},
+        {"at_bound", p.at_bound}};
+  }
+  out["parameters"] = std::move(parameters);
+  json moves = json::array();
+  for (const MoveFit& m : fit.moves) {
+    moves.push_back({{"name", m.name},
+                     {"residuals", m.residuals},
+                     {"rms_before_mm", m.rms_before * 1e3},
+                     {"rms_after_mm", m.rms_after * 1e3},
+                     {"offset_s", m.offset ? json(*m.offset) : json(nullptr)},
+                     {"offset_standard_error_s",
+                      m.offset_standard_error ? json(*m.offset_standard_error) : json(nullptr)}});
+  }
+  out["moves"] = std::move(moves);
+  out["identifiability"] = fit.identifiability;
+  out["model"] = calibrated_model_json(fit.model);
+  if (request.name) out["name"] = *request.name;
+  return out;
+}
+
+}  // namespace slosh::api
