@@ -13,8 +13,11 @@ struct ServerConfig {
   std::size_t workers{0};
   /// Solves that may wait for a worker; beyond, POST /v1/plans answers 503. Default 64.
   std::size_t queue{64};
-  /// SQLite file of the plan cache; empty = memory only. Default "slosh-plans.sqlite".
-  std::string cache_path{"slosh-plans.sqlite"};
+  /// SQLite file of the plan cache; empty = memory only. A leading ${XDG_STATE_HOME} stands for
+  /// the per-user state directory ($XDG_STATE_HOME, default ~/.local/state; state_dir.hpp), which
+  /// the commands create with mode 0700 when needed. Default
+  /// "${XDG_STATE_HOME}/slosh/plans.sqlite".
+  std::string cache_path{"${XDG_STATE_HOME}/slosh/plans.sqlite"};
   /// Plans kept in memory in front of SQLite. Default 10000.
   std::size_t cache_entries{10000};
   /// Default and largest per-plan solve budget [s] (options.time_limit_s). Default 10 s.
