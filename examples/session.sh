@@ -50,7 +50,8 @@ if curl -sf "$URL/healthz" >/dev/null 2>&1; then
     -d @examples/plan-800mm-0.9s.json | field key)
   echo "planned, key $KEY"
   curl -s "$URL/v1/plans/$KEY?view=compact" | field status cached
-  curl -s "$URL/v1/plans/$KEY/cam.csv?period_ms=1" | head -2
+  curl -s "$URL/v1/plans/$KEY/cam.csv?period_ms=1" -o "$out/cam-http.csv"
+  head -2 "$out/cam-http.csv"
 else
   echo "== no service at $URL (start one with make run): the HTTP part is skipped"
 fi

@@ -3,6 +3,7 @@
 // directory they run from. The real binary runs with HOME / XDG_STATE_HOME in a temporary
 // directory and its working directory elsewhere; the directory listings are the check.
 
+#include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
 
@@ -13,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "server_config.hpp"
 #include "state_dir.hpp"
 #include "support/process.hpp"
 

@@ -1,5 +1,5 @@
 #!/usr/bin/env python3
-"""Runs every shell command block of README.md as written (issue 22: "every README command
+"""Runs every shell command block of README.md (then of docs/*.md) as written (issue 22: "every README command
 copy-paste runnable from the repository root").
 
 A block is a fenced code block whose info string starts with `sh`. The words after `sh` mark it:
@@ -18,7 +18,7 @@ paths work and nothing is written into the source tree. HOME and XDG_STATE_HOME 
 scratch directory (the plan store lands there, not in the user's home). One server is started (on
 a free port, `--port 0 --port-file`) at the first `server` block and kept for the later ones, so
 a block may use a key an earlier one planned. Any non-zero exit fails the test, naming the block's
-line in README.md and showing its output.
+file and line and showing its output.
 """
 import argparse
 import os
@@ -92,14 +92,15 @@ def main():
     ap = argparse.ArgumentParser()
     ap.add_argument("--source", required=True, help="repository root (README.md, examples/)")
     ap.add_argument("--slosh", required=True, help="the built slosh binary")
-    ap.add_argument("--readme", default="README.md")
     args = ap.parse_args()
-    readme = open(os.path.join(args.source, args.readme), encoding="utf-8").read()
-    failures = []
-    if "../shared" in readme:
-        failures.append("README.md refers to ../shared: the repository must stand alone")
-    found = blocks(readme)
-    if not found:
+    failures, found = [], []
+    docs = sorted(f for f in os.listdir(os.path.join(args.source, "docs")) if f.endswith(".md"))
+    for name in ["README.md"] + ["docs/" + f for f in docs]:
+        text = open(os.path.join(args.source, name), encoding="utf-8").read()
+        if "../shared" in text:
+            failures.append(f"{name} refers to ../shared: the repository must stand alone")
+        found += [(f"{name}:{line}", marks, body) for line, marks, body in blocks(text)]
+    if not any(where.startswith("README.md:") for where, _, _ in found):
         failures.append("README.md has no ```sh block")
     scratch = scratch_tree(args.source, os.path.dirname(os.path.abspath(args.slosh)))
     home = os.path.join(scratch, ".home")
@@ -113,7 +114,7 @@ def main():
             unknown = [m for m in marks if m not in KNOWN]
             if "no-test" in marks or unknown:
                 why = "no-test" if "no-test" in marks else "needs " + ", ".join(unknown)
-                print(f"README.md:{line}: skipped ({why})")
+                print(f"{line}: skipped ({why})")
                 skipped += 1
                 continue
             block_env = dict(env)
@@ -125,10 +126,10 @@ def main():
             r = subprocess.run(["bash", "-euo", "pipefail", "-c", text], cwd=scratch,
                                env=block_env, capture_output=True, text=True, timeout=600)
             ran += 1
-            print(f"README.md:{line}: exit {r.returncode} in {time.time() - started:.1f} s"
+            print(f"{line}: exit {r.returncode} in {time.time() - started:.1f} s"
                   + (" (server)" if "server" in marks else ""))
             if r.returncode != 0:
-                failures.append(f"README.md:{line}: exit {r.returncode}\n--- block\n{text}"
+                failures.append(f"{line}: exit {r.returncode}\n--- block\n{text}"
                                 f"--- stdout\n{r.stdout[-3000:]}--- stderr\n{r.stderr[-3000:]}")
     finally:
         if server is not None:
