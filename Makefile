@@ -18,8 +18,8 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_chec
                  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp:print_suppressions=0 \
                  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: all deps configure build run test bench format format-check clean test-asan fuzz-build \
-        fuzz fuzz-smoke
+.PHONY: all deps configure build build-slosh run test bench format format-check clean test-asan \
+        fuzz-build fuzz fuzz-smoke
 
 all: build
 
@@ -31,16 +31,23 @@ $(BUILD_DIR)/build.ninja:
 
 configure: $(BUILD_DIR)/build.ninja
 
+# Everything: the binary, the unit tests, the fuzz-corpus replays and the benchmarks.
 build: deps configure
 	cmake --build $(BUILD_DIR) -j $(JOBS)
 
-run: build
+# Only what `slosh serve` needs (the libraries and the binary): the first `make run` does not wait
+# for the tests and benchmarks to compile.
+build-slosh: deps configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target slosh
+
+run: build-slosh
 	$(BUILD_DIR)/slosh serve --host $(HOST) --port $(PORT)
 
 test: build
 	@bash scripts/run-tests.sh $(BUILD_DIR)
 
-bench: build
+bench: deps configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target benchmarks
 	@bash scripts/run-bench.sh $(BUILD_DIR)
 
 # The unit tests (and the corpus replays) under AddressSanitizer + UndefinedBehaviorSanitizer.

@@ -3,6 +3,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 namespace slosh::service {
 
@@ -13,11 +14,37 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitInvalidInput = 2 };
 /// prints the error envelope on stderr and returns kExitInvalidInput.
 int run_simulate_command(const std::string& request_path);
 
-/// `slosh plan --request FILE|- [--view full|compact]`: prints the plan response on stdout (exit 0
-/// whatever the plan's status, which the JSON carries), in the view named by `view` (none = full;
-/// see api::compact_plan); invalid input (an unknown view too) as for simulate.
-int run_plan_command(const std::string& request_path,
-                     const std::optional<std::string>& view = std::nullopt);
+/// The format flags of `slosh plan` (a quick look without a request file): lengths in mm, the
+/// motion time in s, density kg/m^3, viscosity Pa s; unset = not given.
+struct QuickPlanFlags {
+  std::optional<double> radius_mm, fill_mm, height_mm, stroke_mm, time_s;
+  std::optional<std::string> fluid;                     ///< a catalogue name (slosh fluids)
+  std::optional<double> density_kg_m3, viscosity_pa_s;  ///< a custom fluid instead
+  std::optional<std::string> strategy;                  ///< default auto
+  /// The flags given, as typed ("--radius", ...), in the order of the help.
+  [[nodiscard]] std::vector<std::string> given() const;
+};
+
+/// Everything `slosh plan` takes.
+struct PlanCommandOptions {
+  std::string request_path{"-"};
+  bool request_given{false};  ///< --request was on the command line
+  QuickPlanFlags quick;
+  std::optional<std::string> view;  ///< full (default) or compact; JSON output only
+  std::optional<std::string>
+      format;  ///< text or json; default json with a request, text with flags
+};
+
+/// `slosh plan --request FILE|- [--view full|compact] [--format json|text]` or `slosh plan
+/// --radius R --fill H --fluid NAME --stroke S --time T [--height C] [--strategy NAME]`: prints
+/// the plan on stdout, as the /v1/plans response (json, the view named by `view`) or as a short
+/// summary (text, plan_text.hpp); exit 0 whatever the plan's status. Invalid input as for simulate
+/// (the envelope on stderr; with text output the message and the flag it came from); flags that
+/// conflict or are missing: a one-line message on stderr, exit 2.
+int run_plan_command(const PlanCommandOptions& options);
+
+/// `slosh fluids [--format text|json]`: the fluid catalogue (json: the GET /v1/fluids body).
+int run_fluids_command(const std::string& format);
 
 /// `slosh min-time --request FILE|-`: prints the min-time response (SPEC §9) on stdout, every
 /// strategy searched in turn (exit 0 whatever their status); invalid input as for simulate.

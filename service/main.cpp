@@ -12,6 +12,7 @@
 #include "config.hpp"
 #include "export_command.hpp"
 #include "http_server.hpp"
+#include "state_dir.hpp"
 #include "version.hpp"
 
 namespace {
@@ -33,7 +34,8 @@ struct CliArgs {
   std::optional<std::size_t> cache_ttl_s, redis_timeout_ms;
   bool redis_required{false};
   std::string request = "-";
-  std::optional<std::string> view;  // slosh plan --view
+  slosh::service::PlanCommandOptions plan;  // slosh plan (but --request)
+  std::string fluids_format = "text";
   slosh::service::BatchCommandOptions batch;
   std::string batch_progress = "auto";
   slosh::service::ExportCommandOptions export_options;
@@ -42,7 +44,8 @@ struct CliArgs {
 
 std::string cache_help(const CliArgs& a, const std::string& what) {
   return what + ", \"\" = " + (what.starts_with("SQLite file") ? "memory only" : "none") +
-         " [default " + a.defaults.cache_path + "; env SLOSH_CACHE]";
+         " [default " + a.defaults.cache_path +
+         ", XDG_STATE_HOME defaulting to ~/.local/state; env SLOSH_CACHE]";
 }
 
 // The settings of the Redis shared cache level (ServerConfig documents them).
@@ -108,6 +111,36 @@ CLI::App* add_request_command(CLI::App& app, CliArgs& a, const std::string& name
   command->add_option("--request", a.request, "Request JSON file, or - for stdin")
       ->capture_default_str();
   return command;
+}
+
+CLI::App* add_plan(CLI::App& app, CliArgs& a) {
+  auto* plan = add_request_command(
+      app, a, "plan",
+      "Plan the motion law of a format: the 7 durations of an optimised 7-segment law, or a "
+      "general law of the same time for the filtering strategies (fir_chain, shaper, iir; auto "
+      "may choose one). Request JSON in (--request) or the format as flags (--radius ...); the "
+      "/v1/plans response or a short text summary out");
+  auto& q = a.plan.quick;
+  plan->add_option("--radius", q.radius_mm, "Format flags: container radius [mm]");
+  plan->add_option("--fill", q.fill_mm, "Fill height [mm]");
+  plan->add_option("--height", q.height_mm, "Container height [mm] (optional; the free board)");
+  plan->add_option("--fluid", q.fluid, "Catalogue fluid (slosh fluids), e.g. water");
+  plan->add_option("--density", q.density_kg_m3, "Custom fluid instead: density [kg/m^3]");
+  plan->add_option("--viscosity", q.viscosity_pa_s, "Custom fluid: dynamic viscosity [Pa s]");
+  plan->add_option("--stroke", q.stroke_mm, "Stroke [mm]");
+  plan->add_option("--time", q.time_s, "Motion time [s]");
+  plan->add_option("--strategy", q.strategy,
+                   "baseline, notch, multi_notch, min_jerk_band, time_domain, fir_chain, shaper, "
+                   "iir or auto [default auto]");
+  plan->add_option("--format", a.plan.format,
+                   "json: the /v1/plans response; text: status, law, eta on both models, "
+                   "reductions, warnings [default: json with --request, text with format flags]")
+      ->check(CLI::IsMember({"text", "json"}));
+  plan->add_option("--view", a.plan.view,
+                   "JSON output: full (default): the whole plan; compact: key, status, strategy, "
+                   "law, kinematics, predictions, warnings, version and the robustness interval "
+                   "and worst eta (as ?view=compact)");
+  return plan;
 }
 
 CLI::App* add_batch(CLI::App& app, CliArgs& a) {
@@ -228,9 +261,15 @@ std::optional<ServerConfig> layered_config(const CliArgs& a, const std::string& 
   if (a.cache_ttl_s) server.cache_ttl_s = *a.cache_ttl_s;
   if (a.redis_timeout_ms) server.redis_timeout_ms = *a.redis_timeout_ms;
   if (a.redis_required) server.redis_required = true;
-  try {
+  // `batch --server` solves nothing here: it opens no plan store.
+  if (command == "batch" && !a.batch.server.empty()) return server;
+  try {  // ${XDG_STATE_HOME}/slosh/...: the per-user state directory, created on demand (0700)
     if (a.cache) slosh::service::check_cache("--cache", *a.cache);
     slosh::service::check_cache_levels(server);
+    const std::string configured = server.cache_path;
+    server.cache_path =
+        slosh::service::resolve_cache_path(configured, slosh::service::state_environment());
+    slosh::service::ensure_state_directory(configured, server.cache_path);
   } catch (const std::exception& e) {
     std::cerr << "slosh " << command << ": " << e.what() << '\n';
     return std::nullopt;
@@ -255,12 +294,11 @@ int main(int argc, char** argv) {
   auto* simulate = add_request_command(
       app, a, "simulate",
       "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
-  auto* plan = add_request_command(
-      app, a, "plan", "Plan the 7-segment law of a format (JSON in, the /v1/plans response out)");
-  plan->add_option("--view", a.view,
-                   "full (default): the whole plan; compact: key, status, strategy, law, "
-                   "kinematics, predictions, warnings, version and the robustness interval and "
-                   "worst eta (as ?view=compact)");
+  auto* plan = add_plan(app, a);
+  auto* fluids = app.add_subcommand("fluids", "List the fluid catalogue (names for --fluid)");
+  fluids->add_option("--format", a.fluids_format, "text (a table) or json (the /v1/fluids body)")
+      ->check(CLI::IsMember({"text", "json"}))
+      ->capture_default_str();
   auto* min_time = add_request_command(
       app, a, "min-time",
       "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");
@@ -275,7 +313,12 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
   if (*simulate) return slosh::service::run_simulate_command(a.request);
-  if (*plan) return slosh::service::run_plan_command(a.request, a.view);
+  if (*plan) {
+    a.plan.request_path = a.request;
+    a.plan.request_given = plan->get_option("--request")->count() > 0;
+    return slosh::service::run_plan_command(a.plan);
+  }
+  if (*fluids) return slosh::service::run_fluids_command(a.fluids_format);
   if (*min_time) return slosh::service::run_min_time_command(a.request);
   if (*calibrate) return slosh::service::run_calibrate_command(a.request);
   const std::optional<ServerConfig> server =

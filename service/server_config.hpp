@@ -15,8 +15,11 @@ struct ServerConfig {
   std::size_t queue{64};
   /// The plan cache behind the memory LRU: a SQLite file, or a Redis URL
   /// (redis://host:port/db or redis://:password@host:port/db) shared by several replicas; empty =
-  /// memory only. Default "slosh-plans.sqlite". Config key `cache`, env SLOSH_CACHE, flag --cache.
-  std::string cache_path{"slosh-plans.sqlite"};
+  /// memory only. A leading ${XDG_STATE_HOME} stands for the per-user state directory
+  /// ($XDG_STATE_HOME, default ~/.local/state; state_dir.hpp), which the commands create with mode
+  /// 0700 when needed. Default "${XDG_STATE_HOME}/slosh/plans.sqlite". Config key `cache`, env
+  /// SLOSH_CACHE, flag --cache.
+  std::string cache_path{"${XDG_STATE_HOME}/slosh/plans.sqlite"};
   /// With a Redis `cache`: a SQLite file used as this replica's local level between memory and
   /// Redis (get: memory, SQLite, Redis, promoting hits into the faster levels; put: all three);
   /// empty = memory and Redis only. Must stay empty when `cache` is a SQLite file. Default "".

@@ -1,6 +1,7 @@
-// The filtering strategies through the API (fir_chain, shaper, iir; JDSMC 2022, seeds/002 sec.
-// 3-4). Every number of a plan is checked against a computation written here from the paper or from
-// the plan's JSON `law` alone (nothing from slosh::core rebuilds the reference):
+// The filtering strategies through the API (fir_chain, shaper, iir; JDSMC 2022, [JDSMC] in
+// docs/models.md, sec. 3-4). Every number of a plan is checked against a computation written here
+// from the paper or from the plan's JSON `law` alone (nothing from slosh::core rebuilds the
+// reference):
 //  - the damped period T3 = 2 pi / (w1 sqrt(1 - zeta^2)), the FIR chain's durations, plateaus and
 //    its acceleration (eq. 13 integrated), the shaper impulses (eq. 5-6 and the documented EI
 //    amplitudes) and their residual (the Z_n formula of sec. 3.1), the IIR denominator (eq. 11-12)

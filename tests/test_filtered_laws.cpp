@@ -1,6 +1,7 @@
-// The JDSMC filtering laws (seeds/002 sec. 3.1, 3.4): shaper impulses against the paper's
-// formulas, their residual vibration on the exact linear model, the convolution against a direct
-// sum of shifted base laws, and the FIR chain against the 7-segment law and its spectrum zero.
+// The JDSMC filtering laws ([JDSMC] in docs/models.md, sec. 3.1, 3.4): shaper impulses against the
+// paper's formulas, their residual vibration on the exact linear model, the convolution against a
+// direct sum of shifted base laws, and the FIR chain against the 7-segment law and its spectrum
+// zero.
 
 #include <gtest/gtest.h>
 

@@ -41,8 +41,15 @@ TEST(ValidityWarnings, FreeBoardUsesTheLargerPrediction) {
   const auto w = validity_warnings(f, 5.0, 0.030, 0.0391);
   ASSERT_EQ(w.size(), 1u);
   EXPECT_EQ(w[0],
-            "predicted sloshing height during the motion 39.1 mm exceeds the free board 38.0 mm "
-            "(container height - fill height): liquid will spill");
+            "predicted sloshing height during the motion 39.1 mm (nonlinear model; linear model "
+            "30.0 mm) exceeds the free board 38.0 mm (container height - fill height): liquid "
+            "will spill");
+  const auto linear = validity_warnings(f, 5.0, 0.0773, 0.0582);
+  ASSERT_EQ(linear.size(), 1u);
+  EXPECT_EQ(linear[0],
+            "predicted sloshing height during the motion 77.3 mm (linear model; nonlinear model "
+            "58.2 mm) exceeds the free board 38.0 mm (container height - fill height): liquid "
+            "will spill");
 }
 
 TEST(Simulate, AgreesWithTheResponsesAndSamplesTheSeries) {

@@ -83,7 +83,8 @@ json curve_json(const MinTimeResult& r) {
           {"feasible", feasible},
           {"plan_status", status},
           {"nonlinear", {{"eta_motion_mm", nl_motion}, {"eta_rest_mm", nl_rest}}},
-          {"linear", {{"eta_motion_mm", lin_motion}, {"eta_rest_mm", lin_rest}}}};
+          {"linear", {{"eta_motion_mm", lin_motion}, {"eta_rest_mm", lin_rest}}},
+          {"units", {{"t_s", "s"}, {"eta_motion_mm", "mm"}, {"eta_rest_mm", "mm"}}}};
 }
 
 /// The plan request a search's plan answers (its key is the key POST /v1/plans gives it).

@@ -956,13 +956,17 @@ void add_min_time_response_schemas(json& s) {
   json nullable_number = {{"type", "number"}, {"nullable", true}};
   json eta_pair =
       object({{"eta_motion_mm", numbers("[mm]")}, {"eta_rest_mm", numbers("[mm]")}}, {}, "", false);
-  json curve =
-      object({{"t_s", numbers("Every planned T, ascending [s].")},
-              {"feasible", {{"type", "array"}, {"items", {{"type", "boolean"}}}}},
-              {"plan_status", strings("Status of the plan at each T.")},
-              {"nonlinear", eta_pair},
-              {"linear", eta_pair}},
-             {}, "The eta curve over T (every planned T, with its verified peaks).", false);
+  json curve = object(
+      {{"t_s", numbers("Every planned T, ascending [s].")},
+       {"feasible", {{"type", "array"}, {"items", {{"type", "boolean"}}}}},
+       {"plan_status", strings("Status of the plan at each T.")},
+       {"nonlinear", eta_pair},
+       {"linear", eta_pair},
+       {"units",
+        {{"type", "object"},
+         {"additionalProperties", {{"type", "string"}}},
+         {"description", "Unit of each series: t_s s, eta_motion_mm and eta_rest_mm mm."}}}},
+      {"t_s", "units"}, "The eta curve over T (every planned T, with its verified peaks).", false);
   json best = object(
       {{"t_s", number("[s]")}, {"eta_motion_mm", number("[mm]")}, {"eta_rest_mm", number("[mm]")}},
       {}, "The least excess reached (infeasible searches).", false);

@@ -31,10 +31,15 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
   }
   if (format.container.height) {
     const double free_board = *format.container.height - h;
-    const double eta = std::max(eta_motion_linear, eta_motion_nonlinear);
+    // The larger prediction decides; the sentence says which model gave it and the other's.
+    const bool linear_larger = eta_motion_linear > eta_motion_nonlinear;
+    const double eta = linear_larger ? eta_motion_linear : eta_motion_nonlinear;
+    const double other = linear_larger ? eta_motion_nonlinear : eta_motion_linear;
     if (eta > free_board) {
-      w.push_back("predicted sloshing height during the motion " + fixed(eta * 1e3, 1) +
-                  " mm exceeds the free board " + fixed(free_board * 1e3, 1) +
+      w.push_back("predicted sloshing height during the motion " + fixed(eta * 1e3, 1) + " mm (" +
+                  (linear_larger ? "linear" : "nonlinear") + " model; " +
+                  (linear_larger ? "nonlinear" : "linear") + " model " + fixed(other * 1e3, 1) +
+                  " mm) exceeds the free board " + fixed(free_board * 1e3, 1) +
                   " mm (container height - fill height): liquid will spill");
     }
   }

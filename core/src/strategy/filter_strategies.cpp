@@ -1,6 +1,6 @@
-// The JDSMC paper's filtering strategies (seeds/002 sec. 3.1, 3.3, 3.4, 4): closed-form laws of
-// the prescribed duration, checked against the machine limits and the 7-segment options that
-// apply to them.
+// The JDSMC paper's filtering strategies ([JDSMC] in docs/models.md, sec. 3.1, 3.3, 3.4, 4):
+// closed-form laws of the prescribed duration, checked against the machine limits and the 7-segment
+// options that apply to them.
 
 #include <algorithm>
 #include <array>

@@ -1,8 +1,9 @@
 #pragma once
 // Anti-sloshing laws of a prescribed duration by filtering (Guagliumi et al., JDSMC 2022,
-// seeds/002 sec. 3.1, 3.4, 4): input shapers convolved with a base law, and the chain of three
-// rectangular FIR filters on a step. Both results are exact piecewise laws (MotionLaw), so the
-// spectrum, the exact linear response and the nonlinear model apply to them unchanged.
+// [JDSMC] in docs/models.md, sec. 3.1, 3.4, 4): input shapers convolved with a base law, and the
+// chain of three rectangular FIR filters on a step. Both results are exact piecewise laws
+// (MotionLaw), so the spectrum, the exact linear response and the nonlinear model apply to them
+// unchanged.
 
 #include <cstddef>
 #include <functional>
