@@ -32,7 +32,7 @@ Reply guarded_reply(F&& body) {
 CalibrationService::CalibrationService(const ServerConfig& config, WorkerPool& pool)
     : config_(config), pool_(pool) {
   try {
-    store_ = std::make_unique<CalibrationStore>(calibration_store_path(config.cache_path));
+    store_ = std::make_unique<CalibrationStore>(calibration_store_path(local_cache_path(config)));
   } catch (const std::exception& e) {
     store_error_ = e.what();
     store_ = std::make_unique<CalibrationStore>(":memory:");

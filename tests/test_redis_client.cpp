@@ -130,7 +130,8 @@ TEST(RedisUrl, ConfigLayersRefuseABadCacheNamingTheLayer) {
   } catch (const std::runtime_error& e) {
     EXPECT_EQ(std::string(e.what()),
               "cache_local = local.sqlite needs a Redis cache (cache = redis://host:port/db), but "
-              "cache = 'slosh-plans.sqlite': set the SQLite file as cache alone, or cache to a "
+              "cache = '${XDG_STATE_HOME}/slosh/plans.sqlite': set the SQLite file as cache alone, "
+              "or cache to a "
               "Redis URL");
   }
   slosh::service::apply_environment({{"SLOSH_CACHE", "redis://127.0.0.1:6390/1"},
