@@ -4,13 +4,17 @@
 # tests/support/proxy.hpp does; the per-client limit_req/limit_conn dropped, since wrk is one
 # client), a plan solved once on each replica, then wrk POSTs that cached plan through the proxy,
 # and for comparison straight to one replica. Prints wrk's figures.
-# Usage: scripts/load-replicas.sh [slosh-binary] [seconds] [connections]
-# Needs: nginx (nginx-light), wrk, curl. Runs only on loopback; stops everything it started.
+# Usage: scripts/load-replicas.sh [slosh-binary] [seconds] [connections] [cache]
+#   cache: "" (default) = each replica's own memory cache; "redis" = a redis-server started here
+#   on a free loopback port (no persistence) that both replicas share (--cache redis://...).
+# Needs: nginx (nginx-light), wrk, curl (and redis-server for "redis"). Runs only on loopback;
+# stops everything it started.
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 slosh="${1:-$here/build/slosh}"
 seconds="${2:-10}"
 connections="${3:-32}"
+cache_mode="${4:-}"
 dir="$(mktemp -d)"
 pids=()
 cleanup() {
@@ -20,9 +24,22 @@ cleanup() {
 }
 trap cleanup EXIT
 
+free_port() {
+  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
+}
+cache=""
+if [ "$cache_mode" = redis ]; then
+  redis_port="$(free_port)"
+  redis-server --port "$redis_port" --bind 127.0.0.1 --save "" --appendonly no --dir "$dir" \
+    >"$dir/redis.log" 2>&1 &
+  pids+=("$!")
+  for _ in $(seq 100); do redis-cli -p "$redis_port" ping >/dev/null 2>&1 && break; sleep 0.1; done
+  cache="redis://127.0.0.1:$redis_port/0"
+fi
+
 ports=()
 for i in 1 2; do
-  "$slosh" serve --host 127.0.0.1 --port 0 --port-file "$dir/port$i" --cache "" --workers 1 \
+  "$slosh" serve --host 127.0.0.1 --port 0 --port-file "$dir/port$i" --cache "$cache" --workers 1 \
     --replica-id "load-$i" >"$dir/slosh$i.log" 2>&1 &
   pids+=("$!")
 done
@@ -31,7 +48,7 @@ for i in 1 2; do
   ports+=("$(cat "$dir/port$i")")
 done
 
-proxy_port="$(python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])')"
+proxy_port="$(free_port)"
 servers="server 127.0.0.1:${ports[0]} max_fails=1 fail_timeout=5s; server 127.0.0.1:${ports[1]} max_fails=1 fail_timeout=5s;"
 sed -e '/^\s*server slosh-[0-9]*:[0-9]*/d' \
     -e "s|keepalive 32;|$servers keepalive 32;|" \
@@ -60,7 +77,7 @@ wrk.headers["Content-Type"] = "application/json"
 wrk.body = [[$body]]
 LUA
 
-echo "== cached plan (notch, $bytes-byte answer), $connections connections, ${seconds}s, nproc $(nproc)"
+echo "== cached plan (notch, $bytes-byte answer), $connections connections, ${seconds}s, nproc $(nproc), cache ${cache:-memory}"
 echo "-- through nginx to 2 replicas (127.0.0.1:$proxy_port -> ${ports[*]})"
 wrk -t2 -c"$connections" -d"${seconds}s" -s "$dir/post.lua" "http://127.0.0.1:$proxy_port/v1/plans"
 echo "-- straight to one replica (127.0.0.1:${ports[0]})"

@@ -7,9 +7,12 @@ A block is a fenced code block whose info string starts with `sh`. The words aft
   ```sh            run it, no server needed
   ```sh server     run it with a `slosh serve` running; the block reads the service's address from
                    SLOSH_URL (README commands write `${SLOSH_URL:-http://127.0.0.1:8080}`)
+  ```sh redis      run it with a redis-server (started by this test on a free loopback port, no
+                   persistence) whose URL is in SLOSH_REDIS_URL, and SLOSH_URL pointing at a
+                   `slosh serve --cache $SLOSH_REDIS_URL` (another server than the `server` one)
   ```sh no-test    never run (e.g. `make run`, which does not return)
-  ```sh <other>    needs something this test does not start (e.g. `redis`, `nginx`): skipped,
-                   and listed as skipped
+  ```sh <other>    needs something this test does not start (e.g. `nginx`): skipped, and listed as
+                   skipped
 
 Blocks of other languages (json, text, console, ...) are not run. The blocks run in order, each in
 a fresh `bash -euo pipefail`, in one scratch directory laid out like the repository root: `build`
@@ -22,6 +25,7 @@ file and line and showing its output.
 """
 import argparse
 import os
+import socket
 import re
 import shutil
 import subprocess
@@ -29,7 +33,7 @@ import sys
 import tempfile
 import time
 
-KNOWN = {"server", "no-test"}
+KNOWN = {"server", "redis", "no-test"}
 
 
 def blocks(readme):
@@ -51,13 +55,49 @@ def blocks(readme):
     return out
 
 
-class Server:
-    def __init__(self, slosh, scratch, env):
-        self.port_file = os.path.join(scratch, ".port")
-        self.log = open(os.path.join(scratch, ".server.log"), "w")
+def free_port():
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+class Redis:
+    """A redis-server on a free loopback port, nothing persisted; its URL in self.url."""
+
+    def __init__(self, scratch):
+        port = free_port()
+        self.url = f"redis://127.0.0.1:{port}/0"
+        self.log = open(os.path.join(scratch, ".redis.log"), "w")
         self.proc = subprocess.Popen(
-            [slosh, "serve", "--port", "0", "--port-file", self.port_file, "--workers", "2"],
-            cwd=scratch, env=env, stdout=self.log, stderr=subprocess.STDOUT)
+            ["redis-server", "--port", str(port), "--bind", "127.0.0.1", "--save", "",
+             "--appendonly", "no", "--dir", scratch], stdout=self.log, stderr=subprocess.STDOUT)
+        deadline = time.time() + 10
+        while time.time() < deadline:
+            try:
+                with socket.create_connection(("127.0.0.1", port), timeout=0.2) as s:
+                    s.sendall(b"PING\r\n")
+                    if s.recv(16).startswith(b"+PONG"):
+                        return
+            except OSError:
+                pass
+            if self.proc.poll() is not None:
+                break
+            time.sleep(0.05)
+        raise RuntimeError("redis-server did not start")
+
+    def stop(self):
+        self.proc.kill()
+        self.proc.wait()
+        self.log.close()
+
+
+class Server:
+    def __init__(self, slosh, scratch, env, name="server", extra=()):
+        self.port_file = os.path.join(scratch, f".{name}.port")
+        self.log = open(os.path.join(scratch, f".{name}.log"), "w")
+        self.proc = subprocess.Popen(
+            [slosh, "serve", "--port", "0", "--port-file", self.port_file, "--workers", "2",
+             *extra], cwd=scratch, env=env, stdout=self.log, stderr=subprocess.STDOUT)
         deadline = time.time() + 30
         while time.time() < deadline:
             if os.path.exists(self.port_file):
@@ -107,7 +147,7 @@ def main():
     env = dict(os.environ, HOME=home, XDG_STATE_HOME=os.path.join(home, "state"))
     env.pop("SLOSH_URL", None)
     env.pop("SLOSH_CACHE", None)
-    server = None
+    server = redis = redis_server = None
     ran = skipped = 0
     try:
         for line, marks, text in found:
@@ -122,18 +162,26 @@ def main():
                 if server is None:
                     server = Server(os.path.abspath(args.slosh), scratch, env)
                 block_env["SLOSH_URL"] = server.url
+            if "redis" in marks:
+                if redis is None:
+                    redis = Redis(scratch)
+                    redis_server = Server(os.path.abspath(args.slosh), scratch, env, "redis-server",
+                                          ["--cache", redis.url])
+                block_env["SLOSH_REDIS_URL"] = redis.url
+                block_env["SLOSH_URL"] = redis_server.url
             started = time.time()
             r = subprocess.run(["bash", "-euo", "pipefail", "-c", text], cwd=scratch,
                                env=block_env, capture_output=True, text=True, timeout=600)
             ran += 1
             print(f"{line}: exit {r.returncode} in {time.time() - started:.1f} s"
-                  + (" (server)" if "server" in marks else ""))
+                  + "".join(f" ({m})" for m in marks))
             if r.returncode != 0:
                 failures.append(f"{line}: exit {r.returncode}\n--- block\n{text}"
                                 f"--- stdout\n{r.stdout[-3000:]}--- stderr\n{r.stderr[-3000:]}")
     finally:
-        if server is not None:
-            server.stop()
+        for running in (server, redis_server, redis):
+            if running is not None:
+                running.stop()
     leftovers = [f for f in os.listdir(scratch) if f.startswith("slosh-plans.sqlite")]
     if leftovers:
         failures.append("a command left a plan store in the working directory: " + ", ".join(leftovers))

@@ -1,0 +1,290 @@
+// The whole several-replica topology on loopback (issue 21, SPEC §13), every part real and started
+// by the test: a redis-server on a free port, two `slosh serve` replicas (build/slosh) sharing it
+// as their cache and job store (--cache redis://...), and nginx (deploy/nginx.conf, rewritten by
+// support/proxy.hpp) in front. A plan solved by one replica is a hit on the other; a batch job
+// started on one is read, downloaded and cancelled through the other; killing Redis mid-run leaves
+// both answering and degraded, and restarting it recovers without restarting them; an interactive
+// plan overtakes a running 1000-recipe job (pool counters, and a latency within a factor of the
+// same kind of plan on an idle cluster, never a fixed wall-clock threshold).
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <filesystem>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/proxy.hpp"
+#include "support/redis_server.hpp"
+#include "support/replicas.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+/// redis-server, two replicas sharing it (one solve worker each) and nginx in front.
+struct Cluster {
+  test::RedisServer redis;
+  test::ReplicaSet replicas{2, {"--cache", redis.url(), "--workers", "1"}, "line"};
+  test::NginxProxy proxy{replicas.ports(), true};
+};
+
+// A plan request of a distinct recipe per `i` (the motion time differs): never a hit of another i.
+json recipe(std::size_t i) {
+  return {{"format",
+           {{"container", {{"radius_mm", 48.5}}},
+            {"fill_height_mm", 82},
+            {"fluid", "water"},
+            {"stroke_mm", 800},
+            {"motion_time_s", 0.9 + 0.001 * static_cast<double>(i)}}},
+          {"strategy", "notch"}};
+}
+
+json recipes(std::size_t n, std::size_t first) {
+  json out = json::array();
+  for (std::size_t i = 0; i < n; ++i) out.push_back(recipe(first + i));
+  return out;
+}
+
+double metric_of(const test::Replica& replica, const std::string& series) {
+  auto c = replica.client();
+  const auto r = c.Get("/metrics");
+  return r ? test::metric(r->body, series) : -1.0;
+}
+
+json get_json(httplib::Client& c, const std::string& path) {
+  const auto r = c.Get(path);
+  EXPECT_TRUE(r && r->status == 200) << path << ": " << (r ? r->body : "no answer");
+  return r && r->status == 200 ? json::parse(r->body) : json();
+}
+
+/// POSTs a job; its id ("" on a failure, reported).
+std::string post_job(httplib::Client& c, const json& requests) {
+  const auto r = c.Post("/v1/batches", json{{"requests", requests}}.dump(), "application/json");
+  EXPECT_TRUE(r && r->status == 202) << (r ? r->body : "no answer");
+  return r && r->status == 202 ? json::parse(r->body).at("id").get<std::string>() : "";
+}
+
+/// Polls the job through `c` until it has finished; the last record.
+json wait_finished(httplib::Client& c, const std::string& id) {
+  json record;
+  for (int i = 0; i < 1200; ++i) {
+    record = get_json(c, "/v1/batches/" + id);
+    const std::string state = record.value("state", "");
+    if (state != "queued" && state != "running") break;
+    std::this_thread::sleep_for(50ms);
+  }
+  return record;
+}
+
+/// Polls the job through `c` until at least `done` rows are done; the last record.
+json wait_progress(httplib::Client& c, const std::string& id, int done) {
+  json record;
+  for (int i = 0; i < 1200; ++i) {
+    record = get_json(c, "/v1/batches/" + id);
+    if (record.is_null() || record.at("progress").at("done").get<int>() >= done) break;
+    std::this_thread::sleep_for(20ms);
+  }
+  return record;
+}
+
+/// Polls /readyz of `replica` until its status is `status` (at most 15 s); the last answer.
+std::pair<int, json> ready_until(const test::Replica& replica, const std::string& status) {
+  auto c = replica.client();
+  std::pair<int, json> last{-1, json()};
+  const auto deadline = std::chrono::steady_clock::now() + 15s;
+  do {
+    if (const auto r = c.Get("/readyz")) last = {r->status, json::parse(r->body)};
+    if (last.second.is_object() && last.second["status"] == status) break;
+    std::this_thread::sleep_for(50ms);
+  } while (std::chrono::steady_clock::now() < deadline);
+  return last;
+}
+
+std::size_t index_of(const std::string& replica_id) {
+  return replica_id == "line-1" ? 0 : 1;
+}
+
+TEST(Cluster, APlanSolvedThroughTheProxyIsAHitOnTheOtherReplica) {
+  Cluster cluster;
+  auto proxy = cluster.proxy.client();
+  const auto solved = proxy.Post("/v1/plans", recipe(1).dump(), "application/json");
+  ASSERT_TRUE(solved && solved->status == 200) << cluster.proxy.log();
+  EXPECT_EQ(json::parse(solved->body).at("cached"), false);
+  const std::string solver = solved->get_header_value("X-Slosh-Replica");
+  ASSERT_TRUE(solver == "line-1" || solver == "line-2") << solver;
+  test::Replica& other = cluster.replicas[1 - index_of(solver)];
+  auto direct = other.client();
+  const auto hit = direct.Post("/v1/plans", recipe(1).dump(), "application/json");
+  ASSERT_TRUE(hit && hit->status == 200);
+  EXPECT_EQ(hit->get_header_value("X-Slosh-Replica"), other.id());
+  EXPECT_EQ(hit->get_header_value("X-Cache"), "hit");
+  const json plan = json::parse(hit->body);
+  EXPECT_EQ(plan.at("cached"), true);
+  EXPECT_EQ(plan.at("key"), json::parse(solved->body).at("key"));
+  EXPECT_EQ(plan.at("law"), json::parse(solved->body).at("law"));
+  EXPECT_EQ(metric_of(other, R"(slosh_cache_hits_total{level="redis"})"), 1);
+  // The other replica solved nothing (absent or 0).
+  EXPECT_LE(metric_of(other, R"(slosh_pool_tasks_started_total{priority="interactive"})"), 0);
+}
+
+TEST(Cluster, ABatchJobStartedOnOneReplicaIsReadDownloadedAndCancelledThroughTheOther) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  // A small job, run on A, read through B: the same record, rows and CSV file.
+  const std::string id = post_job(a, recipes(20, 100));
+  ASSERT_FALSE(id.empty());
+  const json done = wait_finished(b, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 20);
+  EXPECT_EQ(done.at("progress").at("total"), 20);
+  const json on_a = get_json(a, "/v1/batches/" + id);
+  ASSERT_EQ(done.at("results").at("rows").size(), 20u);
+  EXPECT_EQ(done.at("results"), on_a.at("results"));
+  const auto csv_a = a.Get("/v1/batches/" + id + "/results.csv");
+  const auto csv_b = b.Get("/v1/batches/" + id + "/results.csv");
+  ASSERT_TRUE(csv_a && csv_b);
+  EXPECT_EQ(csv_b->status, 200);
+  EXPECT_EQ(csv_b->body, csv_a->body);
+  EXPECT_EQ(std::count(csv_b->body.begin(), csv_b->body.end(), '\n'), 21);
+  // B solved none of it (absent or 0).
+  EXPECT_LE(
+      metric_of(cluster.replicas[1], R"(slosh_pool_tasks_started_total{priority="background"})"),
+      0);
+
+  // A 1000-recipe job on A: B sees its progress move, and B's DELETE stops it on A.
+  const std::string big = post_job(a, recipes(1000, 2000));
+  ASSERT_FALSE(big.empty());
+  const json early = wait_progress(b, big, 1);
+  const json later = wait_progress(b, big, early.at("progress").at("done").get<int>() + 1);
+  ASSERT_EQ(later.at("state"), "running") << later;
+  EXPECT_GT(later.at("progress").at("done"), early.at("progress").at("done"));
+  EXPECT_EQ(later.at("progress").at("total"), 1000);
+  const auto deleted = b.Delete("/v1/batches/" + big);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  const json cancelled = wait_finished(a, big);
+  ASSERT_EQ(cancelled.at("state"), "cancelled") << cancelled;
+  const int rows = cancelled.at("progress").at("done").get<int>();
+  EXPECT_LT(rows, 1000);
+  EXPECT_EQ(cancelled.at("message"),
+            "cancelled after " + std::to_string(rows) + " of 1000 recipes");
+  EXPECT_EQ(wait_finished(b, big).at("state"), "cancelled");
+  EXPECT_EQ(metric_of(cluster.replicas[0], "slosh_batch_jobs_active"), 0);
+}
+
+TEST(Cluster, KillingRedisMidRunLeavesBothAnsweringDegradedAndARestartRecovers) {
+  Cluster cluster;
+  auto proxy = cluster.proxy.client();
+  auto a = cluster.replicas[0].client();
+  const std::string id = post_job(a, recipes(1000, 4000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  for (std::size_t i = 0; i < 4; ++i) {
+    const auto r = proxy.Post("/v1/plans", recipe(300 + i).dump(), "application/json");
+    ASSERT_TRUE(r && r->status == 200);
+  }
+
+  cluster.redis.kill();
+  for (std::size_t i = 0; i < 10; ++i) {  // plans keep coming through the proxy: all answered
+    const auto r = proxy.Post("/v1/plans", recipe(400 + i % 5).dump(), "application/json");
+    ASSERT_TRUE(r) << cluster.proxy.log();
+    EXPECT_EQ(r->status, 200) << r->body;
+  }
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto [status, body] = ready_until(cluster.replicas[i], "degraded");
+    EXPECT_EQ(status, 200) << body;
+    EXPECT_EQ(body["status"], "degraded") << body;
+    EXPECT_EQ(body["cache"]["redis"]["up"], false) << body;
+    EXPECT_EQ(metric_of(cluster.replicas[i], "slosh_redis_up"), 0);
+  }
+  const auto through = proxy.Get("/readyz");
+  ASSERT_TRUE(through);
+  EXPECT_EQ(through->status, 200);
+  // The replica running the job still answers for it (from its local level).
+  const json running = get_json(a, "/v1/batches/" + id);
+  EXPECT_TRUE(running.at("state") == "running" || running.at("state") == "done") << running;
+
+  cluster.redis.start();  // the same port, empty; the replicas are not restarted
+  for (std::size_t i = 0; i < 2; ++i) {
+    const auto [status, body] = ready_until(cluster.replicas[i], "ready");
+    EXPECT_EQ(status, 200);
+    EXPECT_EQ(body["status"], "ready") << body;
+    EXPECT_EQ(body["cache"]["redis"]["up"], true) << body;
+    EXPECT_TRUE(cluster.replicas[i].running());
+  }
+  // Shared again: solved on B, a hit on A.
+  auto b = cluster.replicas[1].client();
+  const auto solved = b.Post("/v1/plans", recipe(500).dump(), "application/json");
+  ASSERT_TRUE(solved && solved->status == 200);
+  EXPECT_EQ(json::parse(solved->body).at("cached"), false);
+  const auto hit = a.Post("/v1/plans", recipe(500).dump(), "application/json");
+  ASSERT_TRUE(hit && hit->status == 200);
+  EXPECT_EQ(json::parse(hit->body).at("cached"), true);
+  a.Delete("/v1/batches/" + id);
+}
+
+/// POSTs an uncached plan through the proxy; (seconds taken, the replica that answered).
+std::pair<double, std::string> timed_plan(httplib::Client& proxy, std::size_t i) {
+  const auto start = std::chrono::steady_clock::now();
+  const auto r = proxy.Post("/v1/plans", recipe(i).dump(), "application/json");
+  const double seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "no answer");
+  if (!r) return {seconds, ""};
+  EXPECT_EQ(r->get_header_value("X-Cache"), "miss");
+  return {seconds, r->get_header_value("X-Slosh-Replica")};
+}
+
+// With a 1000-recipe job on each replica, every interactive plan through the proxy lands on a
+// busy one: it goes through that replica's pool ahead of the job's items (at most the running
+// item, the window's queued one and one each side of the metric reads start meanwhile), and takes
+// at most 5 times + 1 s the slowest of the same kind of plan on the idle cluster.
+TEST(Cluster, AnInteractivePlanThroughTheProxyOvertakesRunningJobs) {
+  Cluster cluster;
+  auto proxy = cluster.proxy.client();
+  double idle = 0.0;
+  for (std::size_t i = 0; i < 4; ++i) idle = std::max(idle, timed_plan(proxy, 9000 + i).first);
+
+  std::vector<std::string> jobs;
+  for (std::size_t r = 0; r < 2; ++r) {
+    auto c = cluster.replicas[r].client();
+    jobs.push_back(post_job(c, recipes(1000, 10000 + 1000 * r)));
+    ASSERT_FALSE(jobs.back().empty());
+  }
+  for (std::size_t r = 0; r < 2; ++r) {
+    auto c = cluster.replicas[r].client();
+    wait_progress(c, jobs[r], 2);
+  }
+  const std::string background = R"(slosh_pool_tasks_started_total{priority="background"})";
+  for (std::size_t k = 0; k < 4; ++k) {
+    const double before[2] = {metric_of(cluster.replicas[0], background),
+                              metric_of(cluster.replicas[1], background)};
+    const auto [seconds, replica] = timed_plan(proxy, 9100 + k);
+    ASSERT_TRUE(replica == "line-1" || replica == "line-2") << replica;
+    const std::size_t r = index_of(replica);
+    const double after = metric_of(cluster.replicas[r], background);
+    EXPECT_LE(after - before[r], 4) << "k = " << k << " on " << replica;
+    EXPECT_LE(seconds, 5 * idle + 1.0) << "k = " << k << ", idle " << idle << " s";
+  }
+  for (std::size_t r = 0; r < 2; ++r) {
+    auto c = cluster.replicas[r].client();
+    const json record = get_json(c, "/v1/batches/" + jobs[r]);
+    EXPECT_EQ(record.at("state"), "running") << record;
+    EXPECT_LE(metric_of(cluster.replicas[r], "slosh_pool_background_queue_depth"), 1);
+    c.Delete("/v1/batches/" + jobs[r]);
+  }
+}
+
+}  // namespace
+}  // namespace slosh
