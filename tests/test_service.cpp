@@ -297,7 +297,15 @@ TEST(Service, SigtermFinishesTheSolveInFlight) {
     const auto r = client.Post("/v1/plans", slow.dump(), "application/json");
     return r ? r->status : -1;
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(30));
+  // SIGTERM once the solve runs (a fixed 30 ms raced the request's arrival on a loaded machine).
+  bool solving = false;
+  for (int i = 0; i < 1000 && !solving; ++i) {
+    const auto m = server.client().Get("/metrics");
+    solving = m && m->body.find("\nslosh_busy_workers 0\n") == std::string::npos &&
+              m->body.find("\nslosh_busy_workers ") != std::string::npos;
+    if (!solving) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(solving) << "the plan never reached a worker";
   ::kill(server.child().pid(), SIGTERM);
   EXPECT_EQ(reply.get(), 200);
   EXPECT_EQ(server.child().wait_for(std::chrono::seconds(20)), 0) << server.log();
