@@ -149,12 +149,60 @@ Reply json_reply(int status, const json& body) {
   return r;
 }
 
-Reply not_found(const std::string& id, double ttl_s) {
-  return PlanService::error_reply(
-      api::ErrorCode::kNotFound,
-      "no batch job with id '" + id.substr(0, 64) +
-          "' (finished jobs are kept for batch_job_ttl_s = " + api::number_text(ttl_s) + " s)",
-      "id");
+// The record of job `id`: 404 when no store knows it, 503 (unavailable) when the shared store
+// cannot be asked (the job may run on another replica) or its stored text is damaged.
+json load_record(JobStore& store, const std::string& id, double ttl_s) {
+  const auto text = store.record(id);
+  const std::string shown = id.substr(0, 64);
+  if (!text && !store.reachable()) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "batch job '" + shown +
+                            "' is not on this replica and the shared job store (Redis) cannot be "
+                            "reached now: retry later, or ask the replica that runs it");
+  }
+  if (!text) {
+    throw api::ApiError(
+        api::ErrorCode::kNotFound, "id",
+        "no batch job with id '" + shown +
+            "' (finished jobs are kept for batch_job_ttl_s = " + api::number_text(ttl_s) + " s)");
+  }
+  try {
+    json record = json::parse(*text);
+    (void)record.at("state").get<std::string>();
+    (void)record.at("progress").at("done").get<std::size_t>();
+    (void)record.at("progress").at("total").get<std::size_t>();
+    return record;
+  } catch (const json::exception&) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "the stored state of batch job '" + shown +
+                            "' is damaged (not a job record): POST the job again");
+  }
+}
+
+// Rows [offset, offset + count) of job `id`, all of them: fewer (the shared store lost some, e.g.
+// while Redis was down or flushed) or a row that is not a JSON object is a 503 (unavailable),
+// never a short table answered as complete.
+std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t offset,
+                            std::size_t count) {
+  const auto texts = store.rows(id, offset, count);
+  const std::string shown = id.substr(0, 64);
+  const std::size_t got = texts ? texts->size() : 0;
+  std::vector<json> rows;
+  try {
+    if (got == count) {
+      for (const std::string& text : *texts) {
+        rows.push_back(json::parse(text));
+        if (!rows.back().is_object()) break;
+      }
+    }
+  } catch (const json::exception&) {
+  }
+  if (rows.size() == count && (rows.empty() || rows.back().is_object())) return rows;
+  throw api::ApiError(
+      api::ErrorCode::kUnavailable, "id",
+      "the stored results of batch job '" + shown + "' are incomplete or damaged (" +
+          std::to_string(got) + " readable of rows " + std::to_string(offset + 1) + " to " +
+          std::to_string(offset + count) + "): ask the replica that ran it, or POST the job again");
 }
 
 template <typename F>
@@ -248,17 +296,14 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const ServerConfig& config = service_.config();
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
-    const auto text = store_.record(id);
-    if (!text) return not_found(id, config.batch_job_ttl_s);
-    json record = json::parse(*text);
+    json record = load_record(store_, id, config.batch_job_ttl_s);
     mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
     if (is_final_state(record["state"].get<std::string>())) {
       const std::size_t stored = record["progress"]["done"].get<std::size_t>();
       json rows = json::array();
       if (offset < stored) {
-        for (const std::string& row :
-             store_.rows(id, offset, limit).value_or(std::vector<std::string>{})) {
-          rows.push_back(json::parse(row));
+        for (json& row : load_rows(store_, id, offset, std::min(limit, stored - offset))) {
+          rows.push_back(std::move(row));
         }
       }
       const std::size_t next = offset + rows.size();
@@ -274,9 +319,7 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
 Reply BatchJobs::results(const std::string& id, TableFormat format) {
   return guarded([&] {
     const ServerConfig& config = service_.config();
-    const auto text = store_.record(id);
-    if (!text) return not_found(id, config.batch_job_ttl_s);
-    json record = json::parse(*text);
+    json record = load_record(store_, id, config.batch_job_ttl_s);
     mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
     const std::string state = record["state"].get<std::string>();
     if (!is_final_state(state)) {
@@ -291,9 +334,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format) {
     const std::size_t stored = record["progress"]["done"].get<std::size_t>();
     std::ostringstream out;
     PlanTableWriter writer(out, format);  // the `slosh batch` table writer
-    for (const std::string& row : store_.rows(id, 0, stored).value_or(std::vector<std::string>{})) {
-      writer.write(json::parse(row));
-    }
+    for (const json& row : load_rows(store_, id, 0, stored)) writer.write(row);
     writer.finish();
     Reply r;
     const bool csv = format == TableFormat::kCsv;
@@ -308,9 +349,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format) {
 Reply BatchJobs::cancel(const std::string& id) {
   return guarded([&] {
     const ServerConfig& config = service_.config();
-    const auto text = store_.record(id);
-    if (!text) return not_found(id, config.batch_job_ttl_s);
-    json record = json::parse(*text);
+    json record = load_record(store_, id, config.batch_job_ttl_s);
     mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
     if (is_final_state(record["state"].get<std::string>())) {
       store_.remove(id);

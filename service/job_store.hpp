@@ -39,6 +39,10 @@ class JobStore {
 
   /// Forgets job `id` (its record, rows and cancel flag).
   virtual void remove(const std::string& id) = 0;
+
+  /// False while the store, or the shared level of a tiered one, cannot be asked (Redis down):
+  /// a job it does not answer for may then run on another replica. Default true.
+  [[nodiscard]] virtual bool reachable() const { return true; }
 };
 
 }  // namespace slosh::service

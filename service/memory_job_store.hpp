@@ -89,6 +89,7 @@ class TieredJobStore final : public JobStore {
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
   void remove(const std::string& id) override;
+  [[nodiscard]] bool reachable() const override { return shared_.reachable(); }
 
  private:
   JobStore& local_;

@@ -90,6 +90,10 @@ std::optional<std::string> RedisCache::lock_or_wait(const std::string& key,
       return value;
     }
     if (auto value = get(key)) return value;  // stored by the replica that holds the lock
+    // Every slosh lock expires (PX): one without an expiry was not set by a replica and is not
+    // waited for (hostile review: a planted lock held every request of its recipe for 11 s).
+    const auto ttl = client_->command({"PTTL", lock});
+    if (!ttl || ttl->type != RedisReply::Type::kInteger || ttl->integer == -1) return std::nullopt;
     if (std::chrono::steady_clock::now() > deadline) return std::nullopt;
     std::this_thread::sleep_for(std::chrono::milliseconds(20));
   }

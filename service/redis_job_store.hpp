@@ -31,6 +31,8 @@ class RedisJobStore final : public JobStore {
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
   void remove(const std::string& id) override;
+  /// Whether the client believes Redis is up (its last command succeeded or backs off).
+  [[nodiscard]] bool reachable() const override { return client_->state().up; }
 
   /// The Redis key of `part` (record, rows or cancel) of job `id`.
   [[nodiscard]] std::string key(const std::string& id, const std::string& part) const {

@@ -216,6 +216,13 @@ TEST(CalibrationService, StoredCalibrationPlansAsTheInlineModel) {
   ASSERT_EQ(posted->status, 200) << posted->body;
   const json fit = json::parse(posted->body);
   EXPECT_EQ(fit["name"], "bench-2026-11");
+  // The fit ran below the plans (hostile review: fits at interactive priority starved them).
+  const auto metrics = client.Get("/metrics");
+  ASSERT_TRUE(metrics);
+  EXPECT_EQ(test::metric(metrics->body, R"(slosh_pool_tasks_started_total{priority="background"})"),
+            1);
+  EXPECT_EQ(
+      test::metric(metrics->body, R"(slosh_pool_tasks_started_total{priority="interactive"})"), 0);
   auto got = client.Get("/v1/calibrations/bench-2026-11");
   ASSERT_TRUE(got);
   ASSERT_EQ(got->status, 200);

@@ -13,6 +13,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdlib>
 #include <filesystem>
 #include <string>
 #include <thread>
@@ -20,6 +21,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/version.hpp"
 #include "support/proxy.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
@@ -284,6 +286,103 @@ TEST(Cluster, AnInteractivePlanThroughTheProxyOvertakesRunningJobs) {
     EXPECT_LE(metric_of(cluster.replicas[r], "slosh_pool_background_queue_depth"), 1);
     c.Delete("/v1/batches/" + jobs[r]);
   }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+/// Runs redis-cli against `redis` with `args` (each shell-quoted by the caller); its exit code.
+int redis_cli(const test::RedisServer& redis, const std::string& args) {
+  return std::system(
+      ("redis-cli -p " + std::to_string(redis.port()) + " " + args + " >/dev/null").c_str());
+}
+
+json error_of(const httplib::Result& r, int status) {
+  EXPECT_TRUE(r);
+  if (!r) return json();
+  EXPECT_EQ(r->status, status) << r->body;
+  return json::parse(r->body).at("error");
+}
+
+// Hostile review of issue 21: a FLUSHALL (or an outage) mid-job left the shared store with part of
+// the rows, and the other replica answered them as the complete results (45 of 80, 200); a damaged
+// row answered 500 with a parser message. Both are now 503 "unavailable" naming the job.
+TEST(ClusterHostile, ResultsTheSharedStoreLostOrDamagedAreRefusedNotTruncated) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  const std::string id = post_job(a, recipes(6, 5000));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+  ASSERT_EQ(get_json(b, "/v1/batches/" + id + "?limit=10").at("results").at("rows").size(), 6u);
+  // Two rows lost in the shared store: B reads the record (done 6) but not 6 rows.
+  ASSERT_EQ(redis_cli(cluster.redis, "ltrim slosh:jobs:" + id + ":rows 2 -1"), 0);
+  const std::string lost = "the stored results of batch job '" + id +
+                           "' are incomplete or damaged (4 readable of rows 1 to 6): ask the "
+                           "replica that ran it, or POST the job again";
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503),
+            json({{"code", "unavailable"}, {"field", "id"}, {"message", lost}}));
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503).at("message"), lost);
+  // The owner still has every row locally.
+  const auto own = a.Get("/v1/batches/" + id + "/results.csv");
+  ASSERT_TRUE(own && own->status == 200);
+  EXPECT_EQ(std::count(own->body.begin(), own->body.end(), '\n'), 7);
+  // A damaged record is a 503 too, never a 500.
+  ASSERT_EQ(redis_cli(cluster.redis, "set slosh:jobs:" + id + ":record 'garbage{'"), 0);
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503).at("message"),
+            "the stored state of batch job '" + id +
+                "' is damaged (not a job record): POST the job again");
+}
+
+// Hostile review: while Redis was down, a replica that does not run a job answered 404 for it
+// (and a DELETE was silently lost); it is a 503 now.
+TEST(ClusterHostile, AJobOfAnotherReplicaWhileRedisIsDownIsUnavailableNotUnknown) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  const std::string id = post_job(a, recipes(3, 6000));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+  cluster.redis.kill();
+  ASSERT_EQ(ready_until(cluster.replicas[1], "degraded").first, 200);
+  const std::string message = "batch job '" + id +
+                              "' is not on this replica and the shared job store (Redis) cannot "
+                              "be reached now: retry later, or ask the replica that runs it";
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503),
+            json({{"code", "unavailable"}, {"field", "id"}, {"message", message}}));
+  EXPECT_EQ(error_of(b.Delete("/v1/batches/" + id), 503).at("message"), message);
+  // The owner answers from its own store.
+  EXPECT_EQ(get_json(a, "/v1/batches/" + id).value("state", ""), "done");
+}
+
+// Hostile review: a lock key without expiry (not set by a replica: theirs always expire) held
+// every request of its recipe for the whole solve budget + 1 s.
+TEST(ClusterHostile, APlantedLockWithoutExpiryIsNotWaitedFor) {
+  test::RedisServer redis;
+  test::ReplicaSet replicas{1, {"--cache", redis.url(), "--workers", "1"}, "line"};
+  auto c = replicas[0].client();
+  const json request = recipe(7000);
+  const auto key_reply = c.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(key_reply && key_reply->status == 200);
+  const std::string key = json::parse(key_reply->body).at("key");
+  // Forget the plan everywhere, then plant a lock without expiry on its key.
+  replicas[0].kill(SIGKILL);
+  ASSERT_EQ(redis_cli(redis, "flushall"), 0);
+  ASSERT_EQ(
+      redis_cli(redis, "set slosh:v" + std::string(kVersion) + ":lock:plans:" + key + " planted"),
+      0);
+  replicas[0].start();
+  auto fresh = replicas[0].client();
+  // Solved at once: with the lock waited for, the answer would take the budget + 1 s = 11 s, and
+  // the client's 5 s read timeout would give up first (a notch plan takes milliseconds).
+  fresh.set_read_timeout(5, 0);
+  const auto solved = fresh.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(solved) << "no answer within 5 s: the planted lock was waited for";
+  EXPECT_EQ(solved->status, 200);
+  EXPECT_EQ(json::parse(solved->body).at("cached"), false);
 }
 
 }  // namespace

@@ -30,6 +30,7 @@ enum class ErrorCode {
   kInternal,              ///< 500
   kNotImplemented,        ///< 501: an HTTP method the service does not know
   kOverloaded,            ///< 503
+  kUnavailable,           ///< 503: a store the answer lives in cannot be read (shared job store)
   kTimeout,               ///< 504
 };
 
@@ -40,7 +41,7 @@ struct ErrorCodeInfo {
   int status;
 };
 
-inline constexpr std::array<ErrorCodeInfo, 17> kErrorCodes{{
+inline constexpr std::array<ErrorCodeInfo, 18> kErrorCodes{{
     {ErrorCode::kBadRequest, "bad_request", 400},
     {ErrorCode::kMalformedJson, "malformed_json", 400},
     {ErrorCode::kInvalidValue, "invalid_value", 422},
@@ -57,6 +58,7 @@ inline constexpr std::array<ErrorCodeInfo, 17> kErrorCodes{{
     {ErrorCode::kInternal, "internal", 500},
     {ErrorCode::kNotImplemented, "not_implemented", 501},
     {ErrorCode::kOverloaded, "overloaded", 503},
+    {ErrorCode::kUnavailable, "unavailable", 503},
     {ErrorCode::kTimeout, "timeout", 504},
 }};
 
