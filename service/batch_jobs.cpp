@@ -26,8 +26,6 @@ using nlohmann::json;
 /// How often the runner stores rows and rewrites the record (the heartbeat), and polls the
 /// store's cancel flag, while a job runs.
 constexpr std::chrono::milliseconds kHeartbeat{500};
-/// Seconds a client is told to wait after a 503.
-constexpr int kRetryAfterSeconds = 1;
 
 [[noreturn]] void invalid(const std::string& field, const std::string& message) {
   throw api::ApiError(api::ErrorCode::kInvalidValue, field, message);
@@ -205,20 +203,6 @@ std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t 
           std::to_string(offset + count) + "): ask the replica that ran it, or POST the job again");
 }
 
-template <typename F>
-Reply guarded(F&& body) {
-  try {
-    return body();
-  } catch (const api::ApiError& e) {
-    Reply r;
-    r.status = e.status();
-    r.body = api::error_body(e);
-    return r;
-  } catch (const std::exception& e) {
-    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
-  }
-}
-
 }  // namespace
 
 struct BatchJobs::Job {
@@ -254,7 +238,7 @@ bool BatchJobs::write_record(Job& job) {
 }
 
 Reply BatchJobs::post(const std::string& text) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     JobBody body = parse_job_body(text, config.batch_job_max);
     auto job = std::make_shared<Job>();
@@ -272,12 +256,10 @@ Reply BatchJobs::post(const std::string& text) {
         throw api::ApiError(api::ErrorCode::kOverloaded, "", "the service is shutting down");
       }
       if (active_.size() >= config.batch_jobs_max) {
-        Reply r = PlanService::error_reply(
-            api::ErrorCode::kOverloaded, std::to_string(active_.size()) +
-                                             " batch jobs are queued or running here, the limit " +
-                                             "(batch_jobs_max); retry after one has finished");
-        r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
-        return r;
+        throw api::ApiError(api::ErrorCode::kOverloaded, "",
+                            std::to_string(active_.size()) +
+                                " batch jobs are queued or running here, the limit " +
+                                "(batch_jobs_max); retry after one has finished");
       }
       // Rendered before the runner can see the job (it owns the status from then on).
       reply = json_reply(202, job_record(job->status, unix_ms_now()));
@@ -292,7 +274,7 @@ Reply BatchJobs::post(const std::string& text) {
 }
 
 Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
@@ -317,7 +299,7 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
 }
 
 Reply BatchJobs::results(const std::string& id, TableFormat format) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     json record = load_record(store_, id, config.batch_job_ttl_s);
     mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
@@ -347,7 +329,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format) {
 }
 
 Reply BatchJobs::cancel(const std::string& id) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     json record = load_record(store_, id, config.batch_job_ttl_s);
     mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);

@@ -11,23 +11,7 @@
 
 namespace slosh::service {
 
-namespace {
-
-template <typename F>
-Reply guarded_reply(F&& body) {
-  try {
-    return body();
-  } catch (const api::ApiError& e) {
-    Reply r;
-    r.status = e.status();
-    r.body = api::error_body(e);
-    return r;
-  } catch (const std::exception& e) {
-    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
-  }
-}
-
-}  // namespace
+namespace {}  // namespace
 
 CalibrationService::CalibrationService(const ServerConfig& config, WorkerPool& pool)
     : config_(config), pool_(pool) {

@@ -35,16 +35,6 @@ constexpr int kRetryAfterSeconds = 1;
 /// /readyz turns 503 when the pool has work but finished nothing for max(this, 3 solve budgets).
 constexpr double kMinStallSeconds = 30.0;
 
-Reply from_api_error(const api::ApiError& e) {
-  Reply r;
-  r.status = e.status();
-  r.body = api::error_body(e);
-  if (e.code() == api::ErrorCode::kOverloaded) {
-    r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
-  }
-  return r;
-}
-
 std::string etag(const std::string& key) {
   return "\"" + key + "\"";
 }
@@ -79,19 +69,6 @@ Reply min_time_reply(const std::string& key, const std::string& stored, bool cac
   }
   r.body = api::render_min_time_reply(stored, cached);
   return r;
-}
-
-template <typename F>
-Reply guarded(F&& body) {
-  try {
-    return body();
-  } catch (const api::ApiError& e) {
-    return from_api_error(e);
-  } catch (const std::exception& e) {
-    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
-  } catch (...) {
-    return PlanService::error_reply(api::ErrorCode::kInternal, "unknown error");
-  }
 }
 
 std::shared_ptr<RedisClient> make_redis(const ServerConfig& config) {
@@ -150,6 +127,20 @@ PlanService::PlanService(const ServerConfig& config)
           config.queue) {}
 
 PlanService::~PlanService() = default;
+
+Reply reply_of(const api::ApiError& error) {
+  Reply r;
+  r.status = error.status();
+  r.body = api::error_body(error);
+  if (error.code() == api::ErrorCode::kOverloaded) {
+    r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
+  }
+  return r;
+}
+
+Reply internal_error_reply(const char* what) {
+  return PlanService::error_reply(api::ErrorCode::kInternal, what);
+}
 
 Reply PlanService::error_reply(api::ErrorCode code, const std::string& message,
                                const std::string& field) {
@@ -256,12 +247,12 @@ Reply PlanService::counted(Reply reply) {
 }
 
 Reply PlanService::overloaded_reply() const {
-  return from_api_error(overloaded_error());
+  return reply_of(overloaded_error());
 }
 
 Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match,
                              const std::vector<std::string>& view_query) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const api::PlanView view = api::parse_view_query(view_query);
     api::PlanRequest request = api::parse_plan_text(text, config_.solve_budget_s);
     api::require_no_series(view, request.sample_period);
@@ -286,7 +277,7 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
                              api::number_text(config_.queue_wait_s) + " s of queueing");
     }
     const Outcome& outcome = future.get();
-    if (outcome.error) return from_api_error(*outcome.error);
+    if (outcome.error) return reply_of(*outcome.error);
     return counted(
         plan_reply(key, outcome.body, false, if_none_match, request, sample_period, view));
   });
@@ -431,7 +422,7 @@ void PlanService::finish_min_time(MinTimeSearch& search) {
 }
 
 Reply PlanService::post_min_time(const std::string& text, const std::string& if_none_match) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const api::MinTimeRequest request =
         api::parse_min_time_request(api::parse_json_body(text), config_.solve_budget_s);
     const PendingMinTime pending = start_min_time(request, false);
@@ -445,7 +436,7 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
                              api::number_text(config_.queue_wait_s) + " s of queueing");
     }
     const Outcome& outcome = pending.search.get();
-    if (outcome.error) return from_api_error(*outcome.error);
+    if (outcome.error) return reply_of(*outcome.error);
     // A request that joined another's search answers as that one did: a miss, the same body.
     return min_time_reply(pending.key, outcome.body, false, if_none_match);
   });
@@ -453,7 +444,7 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
 
 Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match,
                             const std::vector<std::string>& view_query) {
-  return guarded([&] {
+  return guarded_reply([&] {
     if (key == "batch") {  // the path of POST /v1/plans/batch, not a key
       Reply r = error_reply(api::ErrorCode::kMethodNotAllowed,
                             "GET is not allowed on /v1/plans/batch; allowed: POST");
@@ -569,7 +560,7 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
 
 Reply PlanService::post_batch(const std::string& text, const std::function<bool()>& abandoned,
                               const std::vector<std::string>& view_query) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const api::BatchBody body = api::parse_batch_body(text, config_.batch_max);
     const api::PlanView view = api::batch_view(view_query, body.view);
     const PendingBatch batch = start_batch(body.requests, abandoned);
@@ -592,7 +583,7 @@ Reply PlanService::post_batch(const std::string& text, const std::function<bool(
 }
 
 Reply PlanService::post_simulate(const std::string& text) {
-  return guarded([&] {
+  return guarded_reply([&] {
     Reply r;
     r.body =
         api::dump_json(api::run_simulate(api::parse_simulate_request(api::parse_json_body(text))));
@@ -624,7 +615,7 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
 }
 
 Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const CamQuery& query) {
-  return guarded([&] {
+  return guarded_reply([&] {
     const CamOptions options = parse_cam_query(query, format);
     const std::string allow_infeasible =
         single_query_value(query.allow_infeasible, "allow_infeasible").value_or("false");

@@ -95,6 +95,27 @@ struct StartedItem {
   [[nodiscard]] BatchResult get() const;
 };
 
+/// The reply of an API error: its status and envelope; 503 overloaded adds Retry-After.
+Reply reply_of(const api::ApiError& error);
+
+/// The reply of the 500 envelope for an exception that is not an api::ApiError.
+Reply internal_error_reply(const char* what);
+
+/// What `body` returns; an api::ApiError thrown by it becomes its reply (reply_of) and any other
+/// exception the 500 envelope, so that an endpoint never throws.
+template <typename F>
+Reply guarded_reply(F&& body) {
+  try {
+    return body();
+  } catch (const api::ApiError& e) {
+    return reply_of(e);
+  } catch (const std::exception& e) {
+    return internal_error_reply(e.what());
+  } catch (...) {
+    return internal_error_reply("unknown error");
+  }
+}
+
 class PlanService {
  public:
   explicit PlanService(const ServerConfig& config);
