@@ -121,6 +121,13 @@ TEST(QueryRule, CamTablesRefuseAParameterTheyDoNotTake) {
   ASSERT_TRUE(st);
   EXPECT_EQ(st->status, 422);
   EXPECT_EQ(error_of(st).at("message"), refusal("master_stp", "GET /v1/plans/{key}/cam.st"));
+  // A parameter of another route says which one takes it.
+  const auto view = client.Get("/v1/batches/no-such-job?view=compact");
+  ASSERT_TRUE(view);
+  EXPECT_EQ(view->status, 422);
+  EXPECT_EQ(error_of(view).at("message"),
+            "view is not a query parameter of GET /v1/batches/{id} (POST /v1/plans takes it); "
+            "allowed here: offset, limit");
   // Names are compared decoded: period%5Fms is period_ms.
   const auto encoded = client.Get(cam + ".csv?period%5Fms=2");
   ASSERT_TRUE(encoded);

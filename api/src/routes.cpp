@@ -135,10 +135,22 @@ void check_query_names(const Route& route, const std::vector<std::string>& names
           return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
         });
     const std::string shown = plain ? name : show(nlohmann::json(name));
-    invalid(name.substr(0, 64), shown + " is not a query parameter of " +
-                                    std::string(route.method) + " " + std::string(route.path) +
-                                    (list.empty() ? "; this route takes no query parameters"
-                                                  : "; allowed here: " + list));
+    // A parameter of another route (st_name of cam.st on cam.csv, view on a job): which one.
+    std::string elsewhere;
+    for (const Route& other : kRoutes) {
+      const auto takes = query_parameters(other.operation);
+      if (&other == &route || !takes ||
+          std::find(takes->begin(), takes->end(), name) == takes->end()) {
+        continue;
+      }
+      elsewhere = " (" + std::string(other.method) + " " + std::string(other.path) + " takes it)";
+      break;
+    }
+    invalid(
+        name.substr(0, 64),
+        shown + " is not a query parameter of " + std::string(route.method) + " " +
+            std::string(route.path) + elsewhere +
+            (list.empty() ? "; this route takes no query parameters" : "; allowed here: " + list));
   }
 }
 
