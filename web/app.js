@@ -52,9 +52,9 @@ const state = {
   request: null, plans: {}, selected: null, charts: [], ticket: 0,
   minTimeRequest: null, minTime: null, minTimeCharts: [],
   measured: null, plotContext: null,
-  // The fetches of the latest request of each kind ('view': plan, compare, min-time, key;
-  // 'plots': the series of the selected plan) and its ticket: a newer request aborts them, and an
-  // answer that arrives after all the same is dropped by its ticket.
+  // The fetches of the latest request of each kind ('view': plan, compare, min-time; 'plots': the
+  // series of the selected plan), and the plots' ticket: a newer request aborts them, and an
+  // answer that arrives all the same is dropped by its ticket (state.ticket for the view).
   aborts: {}, plotTicket: 0,
 };
 window.sloshPage = state;  // for the browser test and the curious
@@ -163,8 +163,8 @@ async function postJson(path, body, signal) {
   return json;
 }
 
-async function getJson(path, signal) {
-  const res = await fetch(path, { signal });
+async function getJson(path) {
+  const res = await fetch(path);
   const json = await res.json();
   if (!res.ok) throw Object.assign(new Error(json.error.message), { api: json.error });
   return json;
@@ -344,13 +344,13 @@ function updateCamLink() {
 // period input instead of being saved as the CSV file.
 async function downloadCam(event) {
   event.preventDefault();
-  const link = $('download-cam');
+  const { href, download: name } = $('download-cam');  // the plan and period of this click
   const period = $('cam-period');
   period.removeAttribute('aria-invalid');
   $('cam-period-error').textContent = '';
   $('cam-note').textContent = 'Preparing the cam table…';
   try {
-    const res = await fetch(link.href);
+    const res = await fetch(href);
     if (!res.ok) {
       const json = await res.json();
       period.setAttribute('aria-invalid', 'true');
@@ -360,12 +360,12 @@ async function downloadCam(event) {
     }
     const save = document.createElement('a');
     save.href = URL.createObjectURL(await res.blob());
-    save.download = link.download;
+    save.download = name;
     document.body.appendChild(save);
     save.click();
     save.remove();
     setTimeout(() => URL.revokeObjectURL(save.href), 60000);
-    $('cam-note').textContent = `Saved ${link.download}`;
+    $('cam-note').textContent = `Saved ${name}`;
   } catch (e) {
     $('cam-note').textContent = `The cam table could not be downloaded: ${e.message}`;
   }
