@@ -527,6 +527,11 @@ async function run(compare) {
     if (ticket !== state.ticket) return;
     for (const p of plans) state.plans[p.strategy] = p;
     renderTable(plans, chosen);
+    // Why auto did not return a row: its reason with the deciding figures, on hover.
+    for (const c of first.candidates) {
+      const tr = $('candidates').querySelector(`tbody tr[data-strategy="${c.strategy}"]`);
+      if (tr && c.reason_detail) tr.title = `auto did not choose it: ${c.reason_detail}`;
+    }
     return selectPlan(chosen || names[0]);
   } catch (e) {
     if (ticket !== state.ticket) return;

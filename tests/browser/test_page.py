@@ -288,6 +288,11 @@ def check_compare_all(driver, port, screenshot):
     check([r["strategy"] for r in rows] == names, f"one row per candidate of auto: {rows} vs {names}")
     chosen = [c["strategy"] for c in auto["candidates"] if c["chosen"]]
     check([r["strategy"] for r in rows if r["chosen"]] == chosen, f"the chosen row is highlighted ({chosen})")
+    titles = driver.execute_script(
+        "return [...document.querySelectorAll('#candidates tbody tr')].map(tr => tr.title)")
+    expected_titles = ["" if c["chosen"] else f"auto did not choose it: {c['reason_detail']}"
+                       for c in auto["candidates"]]
+    check(titles == expected_titles, f"each row says why auto did not choose it: {titles}")
     for row in rows:
         _, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, row["strategy"]))
         check(row["cells"] == expected_row(plan), f"row {row['strategy']} equals its plan")
