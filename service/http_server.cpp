@@ -664,6 +664,7 @@ void install_request_hooks(Runtime& rt) {
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
     if (auto slashed = encoded_slash_reply(req)) {
       send(std::move(*slashed), res);
+      res.set_header("Connection", "close");  // a body of the request is not read
       rt.service.metrics().count_request("other", res.status);
       return httplib::Server::HandlerResponse::Handled;
     }

@@ -201,6 +201,14 @@ TEST(EncodedSlash, IsPartOfTheSegmentNeverASeparator) {
   EXPECT_EQ(error_of(none).at("message"),
             "no endpoint GET /v1%2Ffluids: a '/' sent as %2F is part of a path segment; see "
             "/v1/openapi.json");
+  // A request with a body: refused before the body is read, and the connection is closed.
+  const auto posted = client.Post("/v1/plans%2Fbatch", "{\"requests\": []}", "application/json");
+  ASSERT_TRUE(posted);
+  EXPECT_EQ(posted->status, 404);
+  EXPECT_EQ(posted->get_header_value("Connection"), "close");
+  EXPECT_EQ(error_of(posted).at("message"),
+            "no endpoint POST /v1/plans%2Fbatch: a '/' sent as %2F is part of a path segment; see "
+            "/v1/openapi.json");
   // A key without an encoded '/' is routed as before.
   const auto plain = client.Get("/v1/plans/" + key);
   ASSERT_TRUE(plain);
