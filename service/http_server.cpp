@@ -309,6 +309,32 @@ std::vector<std::string> param_values(const httplib::Request& req, const char* n
   return values;
 }
 
+// The decoded name of every query parameter in the request target, in order, repeats included.
+std::vector<std::string> query_names(const httplib::Request& req) {
+  std::vector<std::string> names;
+  const std::size_t query = req.target.find('?');
+  if (query == std::string::npos) return names;
+  const std::string text = req.target.substr(query + 1, req.target.find('#') - query - 1);
+  httplib::detail::split(
+      text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
+        const std::string pair(begin, end);
+        names.push_back(httplib::detail::decode_url(pair.substr(0, pair.find('=')), true));
+      });
+  return names;
+}
+
+// The route's handler behind the one rule for query strings (api::check_query_names): a
+// parameter the route does not take is refused, never ignored.
+Handler with_query_rule(const api::Route& route, Handler handler) {
+  return
+      [&route, handler = std::move(handler)](const httplib::Request& req, const std::string& body) {
+        return guarded_reply([&] {
+          api::check_query_names(route, query_names(req));
+          return handler(req, body);
+        });
+      };
+}
+
 // The batch job routes (POST /v1/batches, GET and DELETE /v1/batches/{id}, the downloads).
 Handler job_handler_of(api::Operation operation, BatchJobs& jobs) {
   switch (operation) {
@@ -475,33 +501,35 @@ void add_methods(Runtime& rt, const std::string& pattern, const std::vector<std:
   rt.endpoints.push_back({std::regex(pattern), methods, pattern});
 }
 
+// The reply of a routed request, whatever its method: sent, counted under its route, and the
+// route (and plan) kept for the access log and the latency histogram the logger writes.
+void answer(Runtime& rt, const std::string& label, Reply reply, httplib::Response& res) {
+  request_route = label;
+  request_plan = reply.plan;
+  const int status = reply.status;
+  send(std::move(reply), res);
+  rt.service.metrics().count_request(label, status);
+}
+
 // Every route of api::routes(): one metrics label per route (its path), exceptions become the
 // envelope, POST handlers read their bodies themselves (read_body).
 void register_routes(Runtime& rt) {
   for (const api::Route& route : api::routes()) {
     const std::string pattern = path_pattern(route.path);
     std::string label(route.path);
-    Handler handler = handler_of(route.operation, rt);
+    Handler handler = with_query_rule(route, handler_of(route.operation, rt));
     if (route.method == "DELETE") {
-      rt.server.Delete(pattern,
-                       [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                         Reply reply = guarded([&] { return handler(req, std::string()); });
-                         const int status = reply.status;
-                         send(std::move(reply), res);
-                         rt.service.metrics().count_request(label, status);
-                       });
+      rt.server.Delete(
+          pattern, [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
+            answer(rt, label, guarded([&] { return handler(req, std::string()); }), res);
+          });
       add_methods(rt, pattern, {"DELETE"});
       continue;
     }
     if (route.method == "GET") {
       rt.server.Get(pattern,
                     [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                      Reply reply = guarded([&] { return handler(req, std::string()); });
-                      request_route = label;
-                      request_plan = reply.plan;
-                      const int status = reply.status;
-                      send(std::move(reply), res);
-                      rt.service.metrics().count_request(label, status);
+                      answer(rt, label, guarded([&] { return handler(req, std::string()); }), res);
                     });
       add_methods(rt, pattern, {"GET", "HEAD"});
       continue;
@@ -521,11 +549,7 @@ void register_routes(Runtime& rt) {
                          });
                          // The rest of a refused body is not read.
                          if (refused) res.set_header("Connection", "close");
-                         request_route = label;
-                         request_plan = reply.plan;
-                         const int status = reply.status;
-                         send(std::move(reply), res);
-                         rt.service.metrics().count_request(label, status);
+                         answer(rt, label, std::move(reply), res);
                        }));
     add_methods(rt, pattern, {"POST"});
   }
@@ -617,6 +641,18 @@ Reply thread_refusal_reply() {
   return reply;
 }
 
+// 404 for a path with a '/' sent as %2F (api::check_encoded_slashes); nullopt for any other. The
+// library decodes the path before routing: "/v1/plans/abc%2Fcam.csv" would reach abc's cam table.
+std::optional<Reply> encoded_slash_reply(const httplib::Request& req) {
+  try {
+    api::check_encoded_slashes(
+        req.method, std::string_view(req.target).substr(0, req.target.find_first_of("?#")));
+    return std::nullopt;
+  } catch (const api::ApiError& e) {
+    return reply_of(e);
+  }
+}
+
 // Request ids, the reaper's bookkeeping and one log line per request.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
@@ -626,6 +662,12 @@ void install_request_hooks(Runtime& rt) {
     res.set_header("X-Request-Id", request_id(req));
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
+    if (auto slashed = encoded_slash_reply(req)) {
+      send(std::move(*slashed), res);
+      res.set_header("Connection", "close");  // a body of the request is not read
+      rt.service.metrics().count_request("other", res.status);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (ConnectionPool::refusing()) {
       // This connection got no thread of its own (the system refused one): 503, and the client
       // is asked to close it.

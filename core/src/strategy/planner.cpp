@@ -746,6 +746,45 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
       choice.index = k;
     }
   }
+  // Why each other candidate lost, in the order the rule above excludes them, with the figures
+  // that decided it (a client can check the choice against the candidates' predictions).
+  const PlanCandidate& chosen = candidates[choice.index];
+  const std::string by_worst = chosen.worst_case ? " (worst case over the uncertainty range)" : "";
+  auto mm = [](double metres) { return sig3(metres * 1e3) + " mm"; };
+  choice.lost.assign(candidates.size(), CandidateLoss::kNone);
+  choice.lost_detail.assign(candidates.size(), std::string());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (k == choice.index) continue;
+    const PlanCandidate& cand = candidates[k];
+    const LawPrediction& p = judged(cand);
+    const LawPrediction& q = judged(chosen);
+    CandidateLoss& lost = choice.lost[k];
+    std::string& detail = choice.lost_detail[k];
+    if (!usable_status(cand.status)) {
+      lost = CandidateLoss::kNotUsable;
+      detail = "status " + to_string(cand.status) +
+               ": only optimal, acceptable and time_limit candidates compete";
+    } else if (!eligible(k)) {
+      lost = CandidateLoss::kWorseThanBaseline;
+      detail =
+          "worse than the uniform law (its worse_than_baseline warning) while a candidate that "
+          "is not competes";
+    } else if (p.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      lost = CandidateLoss::kMotionAboveBest;
+      detail = "eta_motion " + mm(p.nonlinear.motion.value) + by_worst +
+               " is more than 5 % above the best " + mm(best_motion);
+    } else if (std::abs(p.nonlinear.rest.value - q.nonlinear.rest.value) <=
+               kAutoTieTolerance * q.nonlinear.rest.value) {
+      lost = CandidateLoss::kTieOnRest;
+      detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " ties with the chosen " +
+               to_string(chosen.strategy) + " and its peak acceleration " + sig3(peak(cand)) +
+               " m/s^2 is not below " + sig3(peak(chosen)) + " m/s^2";
+    } else {
+      lost = CandidateLoss::kHigherRest;
+      detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " vs " +
+               mm(q.nonlinear.rest.value) + " of the chosen " + to_string(chosen.strategy);
+    }
+  }
   return choice;
 }
 
@@ -805,6 +844,11 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   }
   const AutoChoice choice = choose_auto(candidates, worse);
   candidates[choice.index].chosen = true;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    candidates[k].lost = choice.lost[k];
+    candidates[k].lost_detail = choice.lost_detail[k];
+    candidates[k].worse_than_baseline = worse_of[k];
+  }
   Selection s;
   s.outcome = std::move(kept[choice.index]);
   s.outcome.solver.evaluations = evaluations;
