@@ -4,6 +4,7 @@
 // request (the gateway must pass them on unchanged), and units from the UNECE codes packed by hand.
 const { describe, it, before, after } = require("node:test");
 const assert = require("node:assert/strict");
+const fs = require("fs");
 const net = require("net");
 const { StatusCodes, BrowseDirection, NodeClass } = require("node-opcua");
 const S = require("./support");
@@ -25,11 +26,18 @@ function diagnostics(result) {
   return result.inputArgumentDiagnosticInfos.map((d) => (d && d.additionalInfo) || null);
 }
 
+const scratchDirs = [];
+function scratch(prefix) {
+  const d = S.scratch(prefix);
+  scratchDirs.push(d);
+  return d;
+}
+
 describe("slosh-opcua against a real slosh serve", () => {
   let dir; let slosh; let gateway; let conn;
 
   before(async () => {
-    dir = S.scratch("slosh-opcua-");
+    dir = scratch("slosh-opcua-");
     slosh = await S.startSlosh(dir);
     gateway = await S.startGateway(dir, slosh.url);
     conn = await S.connect(gateway.endpoint);
@@ -39,6 +47,7 @@ describe("slosh-opcua against a real slosh serve", () => {
     if (conn) await conn.close();
     if (gateway) await gateway.stop();
     if (slosh) await slosh.stop();
+    for (const d of scratchDirs) fs.rmSync(d, { recursive: true, force: true });
   });
 
   it("browses Objects/Slosh: the methods, the health variables and the Products folder", async () => {
@@ -224,8 +233,8 @@ describe("slosh-opcua against a real slosh serve", () => {
 
   it("ServiceReady follows /readyz; a service that is down gives BadCommunicationError at once", async () => {
     assert.equal(await S.readValue(conn.session, "ns=1;s=Slosh.ServiceReady"), true);
-    const other = await S.startSlosh(S.scratch("slosh-opcua-down-"));
-    const gw = await S.startGateway(S.scratch("slosh-opcua-down-gw-"), other.url);
+    const other = await S.startSlosh(scratch("slosh-opcua-down-"));
+    const gw = await S.startGateway(scratch("slosh-opcua-down-gw-"), other.url);
     const c = await S.connect(gw.endpoint);
     try {
       await S.until("ServiceReady true", 10000, async () => (await S.readValue(c.session, "ns=1;s=Slosh.ServiceReady")) === true);
@@ -249,7 +258,7 @@ describe("slosh-opcua against a real slosh serve", () => {
     const sockets = [];
     silent.on("connection", (s) => sockets.push(s));
     await new Promise((r) => silent.listen(0, "127.0.0.1", r));
-    const gw = await S.startGateway(S.scratch("slosh-opcua-slow-"), `http://127.0.0.1:${silent.address().port}`, ["--timeout-s", "1"]);
+    const gw = await S.startGateway(scratch("slosh-opcua-slow-"), `http://127.0.0.1:${silent.address().port}`, ["--timeout-s", "1"]);
     const c = await S.connect(gw.endpoint);
     try {
       const t0 = Date.now();

@@ -7,7 +7,13 @@ const fs = require("fs");
 const http = require("http");
 const os = require("os");
 const path = require("path");
-const { OPCUAClient, MessageSecurityMode, SecurityPolicy, DataType, Variant, AttributeIds } = require("node-opcua");
+let opcua;
+try {
+  opcua = require("node-opcua");
+} catch (e) {
+  throw new Error(`node-opcua is not installed in opcua/node_modules (${e.message}): run scripts/install-deps.sh (npm ci in opcua/)`);
+}
+const { OPCUAClient, MessageSecurityMode, SecurityPolicy, DataType, Variant, AttributeIds } = opcua;
 
 const root = path.resolve(__dirname, "..", "..");
 const sloshBinary = process.env.SLOSH_BINARY || path.join(root, "build", "slosh");
