@@ -29,6 +29,10 @@ async function start(settings) {
   // pki/trusted/certs (docs/opcua.md): a secure channel is only as good as that decision.
   const serverCertificateManager = new OPCUACertificateManager({ rootFolder: pki, automaticallyAcceptUnknownCertificate: false });
   await serverCertificateManager.initialize();
+  // X.509 user tokens are not offered, but node-opcua keeps a user PKI anyway: inside the state
+  // directory, not in its default per-user config folder (a read-only root in the container).
+  const userCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(settings.stateDir, "user-pki"), automaticallyAcceptUnknownCertificate: false });
+  await userCertificateManager.initialize();
   const policies = [];
   const modes = [];
   if (settings.security.none) { policies.push(SecurityPolicy.None); modes.push(MessageSecurityMode.None); }
@@ -39,6 +43,7 @@ async function start(settings) {
     port: settings.port,
     ...(wildcard ? {} : { host: settings.host, hostname: settings.host }),
     serverCertificateManager,
+    userCertificateManager,
     certificateFile: path.join(pki, "own", "certs", "certificate.pem"),
     privateKeyFile: path.join(pki, "own", "private", "private_key.pem"),
     securityPolicies: policies,
