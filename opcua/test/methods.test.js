@@ -231,6 +231,28 @@ describe("slosh-opcua against a real slosh serve", () => {
     assert.equal(unknown.statusCode.value, StatusCodes.BadNotFound.value);
   });
 
+  it("slosh-opcua-client (the README's commands) calls, reads and browses", async () => {
+    const { execFile } = require("child_process");
+    const run = (args) => new Promise((resolve) => {
+      execFile(process.execPath, [require("path").join(S.root, "opcua", "slosh-opcua-client"), "--endpoint", gateway.endpoint, ...args],
+        { timeout: 30000 }, (err, stdout, stderr) => resolve({ code: err ? err.code : 0, stdout, stderr }));
+    });
+    const direct = await S.httpJson("POST", slosh.url + "/v1/plans", thesisRequest);
+    const ok = await run(["call", "PlanFormat", JSON.stringify({ RecipeId: "cli-1", RadiusMm: 48.5, ContainerHeightMm: 150, FillHeightMm: 82,
+      Fluid: "water", StrokeMm: 800, MotionTimeS: 1.0, Strategy: "multi_notch" })]);
+    assert.equal(ok.code, 0, ok.stderr);
+    const out = JSON.parse(ok.stdout);
+    assert.deepEqual(out.DurationsS, direct.body.durations_s);
+    assert.equal(out.Key, direct.body.key);
+    const read = await run(["read", "ns=1;s=Products.cli-1.LastPlan.DurationsS"]);
+    assert.deepEqual(JSON.parse(read.stdout), direct.body.durations_s);
+    const bad = await run(["call", "PlanFormat", JSON.stringify({ RadiusMm: -3, FillHeightMm: 82, Fluid: "water", StrokeMm: 800, MotionTimeS: 1.0 })]);
+    assert.equal(bad.code, 1);
+    assert.equal(bad.stderr.trim(), "BadInvalidArgument (0x80ab0000) (RadiusMm): format.container.radius_mm = -3 is out of range: allowed 1 to 2000 mm");
+    const browse = await run(["browse"]);
+    assert.match(browse.stdout, /^ {2}cli-1 {2}Object {2}ns=1;s=Products\.cli-1$/m);
+  });
+
   it("ServiceReady follows /readyz; a service that is down gives BadCommunicationError at once", async () => {
     assert.equal(await S.readValue(conn.session, "ns=1;s=Slosh.ServiceReady"), true);
     const other = await S.startSlosh(scratch("slosh-opcua-down-"));
