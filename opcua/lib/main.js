@@ -23,6 +23,9 @@ async function start(settings) {
   const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode } = require("node-opcua");
   const { ServiceClient } = require("./service_client");
   const { Gateway } = require("./gateway");
+  // The PKI holds the server's private key: everything the gateway creates is for its user only
+  // (node-opcua writes the key 0644 under the default umask).
+  process.umask(0o077);
   fs.mkdirSync(settings.stateDir, { recursive: true, mode: 0o700 });
   const pki = path.join(settings.stateDir, "pki");
   // Client certificates are not trusted until an operator moves them from pki/rejected/certs to
@@ -56,6 +59,10 @@ async function start(settings) {
     serverInfo: { applicationName: { text: "slosh OPC UA gateway", locale: "en" } },
   });
   await server.initialize();
+  // A key made by an earlier start under another umask is tightened too.
+  for (const [p, mode] of [[pki, 0o700], [path.join(pki, "own", "private"), 0o700], [path.join(pki, "own", "private", "private_key.pem"), 0o600]]) {
+    if (fs.existsSync(p)) fs.chmodSync(p, mode);
+  }
   const service = new ServiceClient(settings.service, settings.timeoutMs);
   const gateway = new Gateway(server, service, { pollMs: settings.pollMs, log });
   await server.start();

@@ -67,6 +67,9 @@ describe("slosh-opcua security", () => {
     const own = path.join(gateway.stateDir, "pki", "own", "certs", "certificate.pem");
     assert.ok(fs.existsSync(own), `${own} missing`);
     assert.match(fs.readFileSync(own, "utf8"), /^-----BEGIN CERTIFICATE-----/);
+    const key = path.join(gateway.stateDir, "pki", "own", "private", "private_key.pem");
+    assert.equal(fs.statSync(key).mode & 0o777, 0o600, "the private key is for the gateway's user only");
+    assert.equal(fs.statSync(path.join(gateway.stateDir, "pki")).mode & 0o777, 0o700);
     const { OPCUAClient } = require("node-opcua");
     const client = OPCUAClient.create({ endpointMustExist: false, connectionStrategy: { maxRetry: 0 } });
     await client.connect(gateway.endpoint);
