@@ -204,7 +204,15 @@ class Gateway {
         }
         // The row carries the figures only; the full plan (kept by the service under its key)
         // carries the format the recipe was planned with.
-        const plan = (await this.service.request("GET", `/v1/plans/${row.key}`)).body;
+        let plan;
+        try {
+          plan = (await this.service.request("GET", `/v1/plans/${row.key}`)).body;
+        } catch (err) {
+          // A plan the cache no longer holds (evicted, or a time_limit plan, which is never
+          // cached): the row's own figures, without the parameters.
+          if (!(err.kind === "http" && err.status === 404)) throw err;
+          plan = { ...row, format: {} };
+        }
         this.products.setPlan(rid, plan, planSummary(plan), "");
         planned += 1;
       }

@@ -84,7 +84,8 @@ class Products {
     let item = this.items.get(id);
     if (item) return item;
     const prefix = `Products.${id}`;
-    const node = this.namespace.addObject({ organizedBy: this.folder, browseName: id, nodeId: `s=${prefix}`,
+    // A qualified name object, not the string: node-opcua would read "2:cup" as namespace 2.
+    const node = this.namespace.addObject({ organizedBy: this.folder, browseName: { name: id, namespaceIndex: this.namespace.index }, nodeId: `s=${prefix}`,
       description: `Recipe ${id}` });
     const state = { Status: "", LastPlanned: null };
     const params = {};

@@ -194,7 +194,8 @@ describe("slosh-opcua against a real slosh serve", () => {
   it("a batch fills Products: PlanTable follows its job, ImportBatchJob imports a finished one", async () => {
     const table = "recipe_id,radius_mm,container_height_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
       + "tray-a,48.5,150,82,water,500,0.7,notch\n"
-      + "tray-bad,-3,150,82,water,500,0.7,notch\n";
+      + "tray-bad,-3,150,82,water,500,0.7,notch\n"
+      + "\"2:odd.id\",48.5,150,82,water,400,0.6,notch\n";
     const r = await S.callMethod(conn.session, "PlanTable", [["String", table], ["String", "csv"]]);
     assert.equal(r.statusCode.name, "Good");
     const job = r.outputArguments[0].value;
@@ -204,9 +205,11 @@ describe("slosh-opcua against a real slosh serve", () => {
     });
     const good = rows.find((x) => x.recipe_id === "tray-a");
     const bad = rows.find((x) => x.recipe_id === "tray-bad");
-    await S.until("Products/tray-bad", 10000, async () => {
-      try { return (await S.readValue(conn.session, "ns=1;s=Products.tray-bad.Status")) === "error"; } catch (e) { return false; }
+    // The import writes the rows in table order: the last row's product comes last.
+    await S.until("Products/2:odd.id", 10000, async () => {
+      try { return (await S.readValue(conn.session, "ns=1;s=Products.2:odd.id.Status")) !== ""; } catch (e) { return false; }
     });
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.tray-bad.Status"), "error");
     const base = "ns=1;s=Products.tray-a";
     assert.deepEqual([...await S.readValue(conn.session, `${base}.LastPlan.DurationsS`)], good.durations_s);
     assert.equal(await S.readValue(conn.session, `${base}.LastPlan.EtaRestNonlinearMm`), good.prediction.nonlinear.eta_rest_mm);
@@ -215,7 +218,10 @@ describe("slosh-opcua against a real slosh serve", () => {
     assert.equal(await S.readValue(conn.session, `${base}.Parameters.StrokeMm`), 500);
     assert.equal(await S.readValue(conn.session, `${base}.Parameters.MotionTimeS`), 0.7);
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.tray-bad.LastPlan.Message"), bad.error.message);
+    // A recipe id that looks like a qualified name ("2:…") keeps its text as the browse name.
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.2:odd.id.Parameters.StrokeMm"), 400);
     const products = await conn.session.browse("ns=1;s=Products");
+    assert.ok(products.references.some((x) => x.browseName.name === "2:odd.id" && x.browseName.namespaceIndex === 1));
     assert.ok(["tray-a", "tray-bad", "thesis-800"].every((n) => products.references.some((x) => x.browseName.name === n)));
 
     // A job submitted over HTTP (e.g. by slosh batch --server), imported once done.
@@ -225,7 +231,7 @@ describe("slosh-opcua against a real slosh serve", () => {
     await S.until("the second batch job", 30000, async () => (await S.httpJson("GET", `${slosh.url}/v1/batches/${id}`)).body.state === "done");
     const imp = await S.callMethod(conn.session, "ImportBatchJob", [["String", id]]);
     assert.equal(imp.statusCode.name, "Good");
-    assert.deepEqual(imp.outputArguments.map((v) => v.value), [1, 1]);
+    assert.deepEqual(imp.outputArguments.map((v) => v.value), [2, 1]);
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.cup-a.LastPlan.Key"), good.key);
     const unknown = await S.callMethod(conn.session, "ImportBatchJob", [["String", "0".repeat(32)]]);
     assert.equal(unknown.statusCode.value, StatusCodes.BadNotFound.value);
