@@ -5,6 +5,8 @@
 const http = require("http");
 const https = require("https");
 
+const MAX_ANSWER_BYTES = 64 * 1024 * 1024;
+
 class ServiceError extends Error {
   // kind: "unreachable" (no connection), "timeout" (no answer in time), "http" (an error answer),
   // "protocol" (an answer that is not the service's JSON). status: the HTTP status for "http".
@@ -57,7 +59,16 @@ class ServiceClient {
         },
       }, (res) => {
         const chunks = [];
-        res.on("data", (c) => chunks.push(c));
+        let size = 0;
+        res.on("data", (c) => {
+          size += c.length;
+          chunks.push(c);
+          // The largest answer the gateway asks for is a page of 1 000 batch rows (a few MB).
+          if (size > MAX_ANSWER_BYTES) {
+            finish(reject, new ServiceError("protocol", `the slosh service answered ${method} ${path} with more than ${MAX_ANSWER_BYTES} bytes`));
+            req.destroy();
+          }
+        });
         res.on("error", (e) => finish(reject, new ServiceError("unreachable", `the slosh service at ${this.base.origin} broke the answer: ${e.message}`)));
         res.on("end", () => {
           const text = Buffer.concat(chunks).toString("utf8");
