@@ -59,7 +59,6 @@ class Gateway {
     this.pollMs = options.pollMs;
     this.ready = false;
     this.lastError = "";
-    this.jobs = new Map();
     const addressSpace = server.engine.addressSpace;
     const namespace = addressSpace.getOwnNamespace();
     this.namespace = namespace;
@@ -171,11 +170,8 @@ class Gateway {
         else this.setError("PlanTable", `batch job ${id} ended ${body.state}: ${body.message || ""}`);
       } catch (err) {
         this.setError("PlanTable", `batch job ${id}: ${err.message}`);
-      } finally {
-        this.jobs.delete(id);
       }
     };
-    this.jobs.set(id, true);
     setTimeout(tick, 100).unref();
   }
 
