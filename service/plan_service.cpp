@@ -39,6 +39,15 @@ std::string etag(const std::string& key) {
   return "\"" + key + "\"";
 }
 
+// The ETag of a plan reply names the body: the same plan with series of another period, or in the
+// compact view, is another body. (The gzip coding of a body is the same representation: same tag.)
+std::string plan_etag(const std::string& key, api::PlanView view,
+                      const std::optional<double>& sample_period) {
+  return view == api::PlanView::kCompact ? etag(key + ";view=compact")
+         : sample_period                 ? etag(key + ";series=" + api::number_text(*sample_period))
+                                         : etag(key);
+}
+
 // Whether an If-None-Match header names `tag`: "*", or a list of tags compared weakly (RFC 9110
 // 13.1.2: W/"x" matches "x").
 bool etag_matches(const std::string& header, const std::string& tag) {
@@ -121,6 +130,9 @@ PlanService::PlanService(const ServerConfig& config)
       redis_(make_redis(config)),
       cache_(cache_config(config, redis_, CacheTable::kPlans)),
       min_time_cache_(cache_config(config, redis_, CacheTable::kMinTime)),
+      // A plan's views are about a quarter of its stored body: a quarter of the memory tier's
+      // bytes keeps those of as many plans.
+      rendered_(config.cache_entries, config.cache_memory_bytes / 4),
       export_budget_(config.cam_export_bytes),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
@@ -155,12 +167,7 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
                               const std::optional<api::PlanRequest>& request,
                               std::optional<double> sample_period, api::PlanView view) const {
   Reply r;
-  // The ETag names the body: the same plan with series of another period, or in the compact view,
-  // is another body.
-  const std::string tag = view == api::PlanView::kCompact ? etag(key + ";view=compact")
-                          : sample_period
-                              ? etag(key + ";series=" + api::number_text(*sample_period))
-                              : etag(key);
+  const std::string tag = plan_etag(key, view, sample_period);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
   r.plan = plan_facts_of(key, body, cached);
@@ -170,6 +177,38 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
   }
   r.body = api::render_plan_reply(body, cached, request ? &*request : nullptr, sample_period, view);
   return r;
+}
+
+std::optional<Reply> PlanService::rendered_reply(const std::string& key, const RenderedPlan& views,
+                                                 const std::string& if_none_match,
+                                                 api::PlanView view, bool gzip) const {
+  const bool compact = view == api::PlanView::kCompact;
+  if (!compact && !gzip) return std::nullopt;
+  Reply r;
+  const std::string tag = plan_etag(key, view, std::nullopt);
+  r.headers.emplace_back("ETag", tag);
+  r.headers.emplace_back("X-Cache", "hit");
+  r.plan = views.facts;
+  if (etag_matches(if_none_match, tag)) {
+    r.status = 304;
+    return r;
+  }
+  const std::string& coded = compact ? views.compact_gzip : views.full_gzip;
+  if (gzip && !coded.empty()) {
+    r.body = coded;
+    r.content_encoding = "gzip";
+  } else {
+    r.body = views.compact;
+  }
+  return r;
+}
+
+std::shared_ptr<const RenderedPlan> PlanService::views_of(const std::string& key,
+                                                          const std::string& stored) {
+  if (auto views = rendered_.get(key)) return views;
+  auto views = render_cached_plan(key, stored);
+  rendered_.put(key, views);
+  return views;
 }
 
 std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& key,
@@ -199,15 +238,16 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
   }
   auto forget = [this, key, flight] { forget_flight(inflight_, key, flight); };
   metrics_.count_cache_miss();
-  auto task = [this, key, request, promise, forget] {
+  auto task = [this, key, request, promise, forget, priority] {
     Outcome outcome;
+    bool stored = false;
     const auto started = std::chrono::steady_clock::now();
     if (!ready_) {
       // Shutting down: what is still queued is answered at once, only running solves finish.
       outcome.error = overloaded_error();
     } else {
       try {
-        solve_once_across_replicas(key, request, outcome, started);
+        stored = solve_once_across_replicas(key, request, outcome, started);
       } catch (const api::ApiError& e) {
         outcome.error = e;
       } catch (const std::exception& e) {
@@ -218,7 +258,19 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       }
     }
     forget();
+    // A client that asked for a plan interactively is likely to ask again (and for its compact
+    // view): its views are rendered now, after the answer is out. A batch's plans render at
+    // their first hit that needs them.
+    const std::string body =
+        stored && priority == TaskPriority::kInteractive ? outcome.body : std::string();
     promise->set_value(std::move(outcome));
+    if (!body.empty()) {
+      try {
+        rendered_.put(key, render_cached_plan(key, body));
+      } catch (const std::exception&) {
+        // The hit that needs the views renders them again (and answers the error then).
+      }
+    }
   };
   const bool queued =
       wait_for_room ? pool_.submit_wait(task, priority) : pool_.try_submit(task, priority);
@@ -251,7 +303,7 @@ Reply PlanService::overloaded_reply() const {
 }
 
 Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match,
-                             const std::vector<std::string>& view_query) {
+                             const std::vector<std::string>& view_query, bool gzip) {
   return guarded_reply([&] {
     const api::PlanView view = api::parse_view_query(view_query);
     api::PlanRequest request = api::parse_plan_text(text, config_.solve_budget_s);
@@ -260,9 +312,21 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
+    // The compact view and gzip bytes of a hit come rendered from memory: no copy or parse of the
+    // stored plan.
+    const bool rendered = !sample_period && (view == api::PlanView::kCompact || gzip);
+    if (rendered) {
+      if (auto views = rendered_.get(key)) {
+        metrics_.count_cache_hit(CacheLevel::kMemory);
+        return counted(*rendered_reply(key, *views, if_none_match, view, gzip));
+      }
+    }
     CacheLevel level{};
     if (auto hit = cache_.get(key, &level)) {
       metrics_.count_cache_hit(level);
+      if (rendered) {
+        return counted(*rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip));
+      }
       return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
     }
     bool refused = false;
@@ -443,7 +507,7 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
 }
 
 Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match,
-                            const std::vector<std::string>& view_query) {
+                            const std::vector<std::string>& view_query, bool gzip) {
   return guarded_reply([&] {
     if (key == "batch") {  // the path of POST /v1/plans/batch, not a key
       Reply r = error_reply(api::ErrorCode::kMethodNotAllowed,
@@ -452,9 +516,19 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return r;
     }
     const api::PlanView view = api::parse_view_query(view_query);
+    const bool rendered = view == api::PlanView::kCompact || gzip;
+    if (rendered) {
+      if (auto views = rendered_.get(key)) {
+        metrics_.count_cache_hit(CacheLevel::kMemory);
+        return counted(*rendered_reply(key, *views, if_none_match, view, gzip));
+      }
+    }
     CacheLevel level{};
     if (auto hit = cache_.get(key, &level)) {
       metrics_.count_cache_hit(level);
+      if (rendered) {
+        return counted(*rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip));
+      }
       return counted(plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view));
     }
     return error_reply(
@@ -755,7 +829,7 @@ Reply PlanService::metrics_text() const {
   return r;
 }
 
-void PlanService::solve_once_across_replicas(const std::string& key,
+bool PlanService::solve_once_across_replicas(const std::string& key,
                                              const api::PlanRequest& request, Outcome& outcome,
                                              std::chrono::steady_clock::time_point started) {
   RedisCache* shared = cache_.shared();
@@ -769,12 +843,14 @@ void PlanService::solve_once_across_replicas(const std::string& key,
       metrics_.count_singleflight_join();  // another replica's solve answered
       cache_.put_local(key, *body);
       outcome.body = std::move(*body);
-      return;
+      return true;
     }
   }
+  bool stored = false;
   try {
     api::StoredPlan plan = api::solve_for_storing(request);
-    if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
+    stored = api::is_cacheable(plan.status);
+    if (stored) cache_.put(key, plan.body);
     outcome.body = std::move(plan.body);
   } catch (...) {
     metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
@@ -783,6 +859,7 @@ void PlanService::solve_once_across_replicas(const std::string& key,
   }
   metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
   if (shared != nullptr) shared->unlock(key, token);
+  return stored;
 }
 
 std::string PlanService::cache_description() const {

@@ -21,6 +21,7 @@
 #include "plan_cache.hpp"
 #include "plan_facts.hpp"
 #include "redis_client.hpp"
+#include "rendered_plans.hpp"
 #include "server_config.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
@@ -35,6 +36,9 @@ struct Reply {
   int status{200};
   std::string body;
   std::string content_type{"application/json"};
+  /// "gzip" when `body` is already gzip-coded (a cached plan's stored coding); empty: `body` is
+  /// the identity coding (the HTTP layer may compress it for a client that accepts gzip).
+  std::string content_encoding;
   std::vector<std::pair<std::string, std::string>> headers;
   /// Kept alive until the body has been written to the client (a cam export's reservation of
   /// the export budget); empty for most replies.
@@ -124,10 +128,12 @@ class PlanService {
 
   /// `view`: the values of the request's `view` query parameter (api::parse_view_query; none =
   /// the full plan). The view changes neither the key nor the cache entry, only the reply.
+  /// `gzip`: the client accepts the gzip coding; a cache hit then answers the plan's stored gzip
+  /// bytes (Reply::content_encoding), compressed once when the plan was rendered.
   Reply post_plan(const std::string& body, const std::string& if_none_match,
-                  const std::vector<std::string>& view = {});
+                  const std::vector<std::string>& view = {}, bool gzip = false);
   Reply get_plan(const std::string& key, const std::string& if_none_match,
-                 const std::vector<std::string>& view = {});
+                 const std::vector<std::string>& view = {}, bool gzip = false);
   /// `abandoned` (optional) tells whether the client has gone away: no further solves are queued
   /// for it then. `view`: the query's view values (api::batch_view, with the body's "view").
   Reply post_batch(const std::string& body, const std::function<bool()>& abandoned = {},
@@ -215,6 +221,14 @@ class PlanService {
                    const std::string& if_none_match, const std::optional<api::PlanRequest>& request,
                    std::optional<double> sample_period,
                    api::PlanView view = api::PlanView::kFull) const;
+  // The reply of a cache hit of `key` from its rendered views, when they answer it (the compact
+  // view, or the full plan in gzip for a client that accepts it); nullopt for the plain full plan.
+  std::optional<Reply> rendered_reply(const std::string& key, const RenderedPlan& views,
+                                      const std::string& if_none_match, api::PlanView view,
+                                      bool gzip) const;
+  // The rendered views of the cached plan `key` whose stored body is `stored`: from memory, else
+  // rendered now and kept.
+  std::shared_ptr<const RenderedPlan> views_of(const std::string& key, const std::string& stored);
   // 503 with Retry-After: the queue is full, or the service is shutting down.
   api::ApiError overloaded_error() const;
   struct MinTimeSearch;
@@ -233,8 +247,8 @@ class PlanService {
   Reply counted(Reply reply);
   // Solves `request` into `outcome` and caches it, unless another replica sharing the Redis is
   // solving the same key: then waits for its answer (RedisCache::lock_or_wait). Records the solve
-  // time since `started`. Throws what the solve throws.
-  void solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
+  // time since `started`. True when the answer is in the cache now. Throws what the solve throws.
+  bool solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
                                   Outcome& outcome, std::chrono::steady_clock::time_point started);
   // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
   // Retry-After) when the exports in flight leave too little.
@@ -249,6 +263,9 @@ class PlanService {
   PlanCache cache_;
   // Min-time answers by request key: the same store file, its own table (min_times).
   PlanCache min_time_cache_;
+  // The compact view and gzip bytes of cached plans (see RenderedPlans): rendered after an
+  // interactive solve, or at the first hit that needs them.
+  RenderedPlans rendered_;
   // Guards both maps and the counter; held only to look up, add or remove an entry.
   std::mutex inflight_mutex_;
   std::unordered_map<std::string, Flight> inflight_;
