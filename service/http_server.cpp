@@ -387,6 +387,38 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
 }
 
+// Whether the client of `req` has closed its side of the connection: work nobody waits for is
+// stopped. Asked of the reaper at most every 100 ms (each answer lists the process's
+// descriptors); never true without the reaper.
+std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req) {
+  return [&rt, peer = peer_of(req), next = std::chrono::steady_clock::time_point{},
+          gone = false]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (!gone && rt.reaper && now >= next) {
+      gone = rt.reaper->closed_by_peer(peer);
+      next = now + std::chrono::milliseconds(100);
+    }
+    return gone;
+  };
+}
+
+// The solves stopped because their clients had gone, for /metrics.
+std::string cancelled_metrics(const PlanService& service, const CalibrationService& calibrations) {
+  return "# HELP slosh_solves_cancelled_total Solves stopped because every client waiting for "
+         "them had closed its connection (plans, min-time searches, calibration fits).
+         "
+         "# TYPE slosh_solves_cancelled_total counter
+         "
+         "slosh_solves_cancelled_total{kind=\"plan\"} " +
+         std::to_string(service.cancelled_plans()) +
+         "\n"
+         "slosh_solves_cancelled_total{kind=\"min_time\"} " +
+         std::to_string(service.cancelled_min_times()) +
+         "\n"
+         "slosh_solves_cancelled_total{kind=\"calibration\"} " +
+         std::to_string(calibrations.cancelled()) + "\n";
+}
+
 Handler handler_of(api::Operation operation, Runtime& rt) {
   PlanService& service = rt.service;
   switch (operation) {
@@ -394,12 +426,12 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&service, &rt](const httplib::Request& req, const std::string& body) {
         return with_models(rt, body, [&](const std::string& resolved) {
           return service.post_plan(resolved, req.get_header_value("If-None-Match"),
-                                   view_values(req), request_accepts_gzip);
+                                   view_values(req), request_accepts_gzip, client_gone(rt, req));
         });
       };
     case api::Operation::kCreateCalibration:
-      return [&rt](const httplib::Request&, const std::string& body) {
-        return rt.calibrations->post_calibration(body);
+      return [&rt](const httplib::Request& req, const std::string& body) {
+        return rt.calibrations->post_calibration(body, client_gone(rt, req));
       };
     case api::Operation::kGetCalibration:
       return [&rt](const httplib::Request& req, const std::string&) {
@@ -425,7 +457,8 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
     case api::Operation::kMinTime:
       return [&service, &rt](const httplib::Request& req, const std::string& body) {
         return with_models(rt, body, [&](const std::string& resolved) {
-          return service.post_min_time(resolved, req.get_header_value("If-None-Match"));
+          return service.post_min_time(resolved, req.get_header_value("If-None-Match"),
+                                       client_gone(rt, req));
         });
       };
     case api::Operation::kGetPlan:
@@ -471,6 +504,7 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&rt](const httplib::Request&, const std::string&) {
         Reply reply = rt.service.metrics_text();
         reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
+        reply.body += cancelled_metrics(rt.service, *rt.calibrations);
         return reply;
       };
     default:
