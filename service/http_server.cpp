@@ -405,10 +405,8 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
 // The solves stopped because their clients had gone, for /metrics.
 std::string cancelled_metrics(const PlanService& service, const CalibrationService& calibrations) {
   return "# HELP slosh_solves_cancelled_total Solves stopped because every client waiting for "
-         "them had closed its connection (plans, min-time searches, calibration fits).
-         "
-         "# TYPE slosh_solves_cancelled_total counter
-         "
+         "them had closed its connection (plans, min-time searches, calibration fits).\n"
+         "# TYPE slosh_solves_cancelled_total counter\n"
          "slosh_solves_cancelled_total{kind=\"plan\"} " +
          std::to_string(service.cancelled_plans()) +
          "\n"

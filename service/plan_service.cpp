@@ -947,7 +947,9 @@ bool PlanService::solve_once_across_replicas(const std::string& key,
   bool stored = false;
   try {
     api::StoredPlan plan = api::solve_for_storing(request);
-    stored = api::is_cacheable(plan.status);
+    // A solve stopped because nobody waits is cut short: never kept, whatever its status says.
+    const bool stopped = request.options.stop != nullptr && request.options.stop->load();
+    stored = api::is_cacheable(plan.status) && !stopped;
     if (stored) cache_.put(key, plan.body);
     outcome.body = std::move(plan.body);
   } catch (...) {
