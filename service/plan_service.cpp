@@ -239,6 +239,41 @@ std::optional<Reply> PlanService::rendered_reply(const std::string& key, const R
   return r;
 }
 
+std::optional<std::string> PlanService::remembered_key(const std::string& text) {
+  if (text.size() > kRequestKeyTextBytes) return std::nullopt;
+  const std::lock_guard lock(request_keys_mutex_);
+  const auto it = request_keys_.find(text);
+  if (it == request_keys_.end()) return std::nullopt;
+  return it->second;
+}
+
+void PlanService::remember_key(const std::string& text, const std::string& key) {
+  if (text.size() > kRequestKeyTextBytes) return;
+  const std::lock_guard lock(request_keys_mutex_);
+  if (request_keys_.size() >= kRequestKeys) request_keys_.clear();
+  request_keys_.emplace(text, key);
+}
+
+std::optional<Reply> PlanService::cached_plan_reply(const std::string& key,
+                                                    const std::string& if_none_match,
+                                                    api::PlanView view, bool gzip) {
+  // The compact view and gzip bytes of a hit come rendered from memory: no copy or parse of the
+  // stored plan.
+  const bool rendered = view == api::PlanView::kCompact || gzip;
+  if (rendered) {
+    if (auto views = rendered_.get(key)) {
+      metrics_.count_cache_hit(CacheLevel::kMemory);
+      return rendered_reply(key, *views, if_none_match, view, gzip);
+    }
+  }
+  CacheLevel level{};
+  auto hit = cache_.get(key, &level);
+  if (!hit) return std::nullopt;
+  metrics_.count_cache_hit(level);
+  if (rendered) return rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip);
+  return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view);
+}
+
 std::shared_ptr<const RenderedPlan> PlanService::views_of(const std::string& key,
                                                           const std::string& stored) {
   if (auto views = rendered_.get(key)) return views;
@@ -375,28 +410,29 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
                              const std::function<bool()>& abandoned) {
   return guarded_reply([&] {
     const api::PlanView view = api::parse_view_query(view_query);
+    // A request text seen before (without series) needs no parsing to be answered from the cache.
+    if (auto key = remembered_key(text)) {
+      if (auto reply = cached_plan_reply(*key, if_none_match, view, gzip)) {
+        return counted(std::move(*reply));
+      }
+    }
     api::PlanRequest request = api::parse_plan_text(text, config_.solve_budget_s);
     api::require_no_series(view, request.sample_period);
     const std::string key = api::recipe_key(request);
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
-    // The compact view and gzip bytes of a hit come rendered from memory: no copy or parse of the
-    // stored plan.
-    const bool rendered = !sample_period && (view == api::PlanView::kCompact || gzip);
-    if (rendered) {
-      if (auto views = rendered_.get(key)) {
-        metrics_.count_cache_hit(CacheLevel::kMemory);
-        return counted(*rendered_reply(key, *views, if_none_match, view, gzip));
+    if (!sample_period) {
+      if (auto reply = cached_plan_reply(key, if_none_match, view, gzip)) {
+        remember_key(text, key);
+        return counted(std::move(*reply));
       }
-    }
-    CacheLevel level{};
-    if (auto hit = cache_.get(key, &level)) {
-      metrics_.count_cache_hit(level);
-      if (rendered) {
-        return counted(*rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip));
+    } else {
+      CacheLevel level{};
+      if (auto hit = cache_.get(key, &level)) {
+        metrics_.count_cache_hit(level);
+        return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
       }
-      return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
     }
     bool refused = false;
     std::shared_ptr<FlightWaiters> waiters;
@@ -614,20 +650,8 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return r;
     }
     const api::PlanView view = api::parse_view_query(view_query);
-    const bool rendered = view == api::PlanView::kCompact || gzip;
-    if (rendered) {
-      if (auto views = rendered_.get(key)) {
-        metrics_.count_cache_hit(CacheLevel::kMemory);
-        return counted(*rendered_reply(key, *views, if_none_match, view, gzip));
-      }
-    }
-    CacheLevel level{};
-    if (auto hit = cache_.get(key, &level)) {
-      metrics_.count_cache_hit(level);
-      if (rendered) {
-        return counted(*rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip));
-      }
-      return counted(plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view));
+    if (auto reply = cached_plan_reply(key, if_none_match, view, gzip)) {
+      return counted(std::move(*reply));
     }
     return error_reply(
         api::ErrorCode::kNotFound,

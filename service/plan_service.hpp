@@ -263,6 +263,13 @@ class PlanService {
   std::optional<Reply> rendered_reply(const std::string& key, const RenderedPlan& views,
                                       const std::string& if_none_match, api::PlanView view,
                                       bool gzip) const;
+  // The recipe key remembered for the request text `text`; nullopt when not remembered.
+  std::optional<std::string> remembered_key(const std::string& text);
+  void remember_key(const std::string& text, const std::string& key);
+  // The reply of a hit of `key` in `view` (gzip-coded when `gzip`) when the plan is cached;
+  // nullopt otherwise. Counts the hit.
+  std::optional<Reply> cached_plan_reply(const std::string& key, const std::string& if_none_match,
+                                         api::PlanView view, bool gzip);
   // The rendered views of the cached plan `key` whose stored body is `stored`: from memory, else
   // rendered now and kept.
   std::shared_ptr<const RenderedPlan> views_of(const std::string& key, const std::string& stored);
@@ -303,6 +310,14 @@ class PlanService {
   // The compact view and gzip bytes of cached plans (see RenderedPlans): rendered after an
   // interactive solve, or at the first hit that needs them.
   RenderedPlans rendered_;
+  // The recipe key of each plan request text (without series) seen lately: a repeated request
+  // skips parsing, validation and hashing. A request's key is a pure function of its text (model
+  // names are resolved into the text before, the service's settings do not change), so an entry
+  // is never stale. Emptied whole when it reaches kRequestKeys entries.
+  static constexpr std::size_t kRequestKeys{4096};
+  static constexpr std::size_t kRequestKeyTextBytes{4096};  // longer texts are not remembered
+  std::mutex request_keys_mutex_;
+  std::unordered_map<std::string, std::string> request_keys_;
   // Guards both maps and the counter; held only to look up, add or remove an entry.
   std::mutex inflight_mutex_;
   std::unordered_map<std::string, Flight> inflight_;
