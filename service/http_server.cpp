@@ -373,7 +373,8 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          std::to_string(jobs.active()) +
          "\n"
          "# HELP slosh_pool_tasks_started_total Solve tasks started by priority (interactive: "
-         "plans and searches of requests; background: items of batch jobs).\n"
+         "plans of requests and batches; background: items of batch jobs, min-time searches' "
+         "strategies, calibration fits).\n"
          "# TYPE slosh_pool_tasks_started_total counter\n"
          "slosh_pool_tasks_started_total{priority=\"interactive\"} " +
          std::to_string(pool.started(TaskPriority::kInteractive)) +
@@ -381,7 +382,7 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          "slosh_pool_tasks_started_total{priority=\"background\"} " +
          std::to_string(pool.started(TaskPriority::kBackground)) +
          "\n"
-         "# HELP slosh_pool_background_queue_depth Batch job items waiting for a worker.\n"
+         "# HELP slosh_pool_background_queue_depth Background tasks waiting for a worker.\n"
          "# TYPE slosh_pool_background_queue_depth gauge\n"
          "slosh_pool_background_queue_depth " +
          std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
