@@ -58,13 +58,15 @@ bool wait_until(const std::function<bool()>& done, std::chrono::seconds limit = 
   return done();
 }
 
-// A min-time search of time_domain on a 1 ms scan up to 5 s with the most plans allowed (1 000):
-// a minute or more of work, far longer than a stop takes; only a stop ends it early.
+// A min-time search on a 1 ms scan up to 5 s with the most plans allowed (1 000) and an eta_motion
+// limit (0.01 mm) that no T meets: every one of the 1 000 plans is solved, seconds to a minute of
+// work however fast a plan is, far longer than a stop takes; only a stop ends it early.
 std::string endless_min_time(const std::string& strategy = "time_domain") {
   json body = json::parse(R"({
     "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
                "fluid": "water", "stroke_mm": 800},
-    "motion_time_max_s": 5, "eta_rest_max_mm": 3, "scan_step_s": 0.001, "max_plans": 1000,
+    "motion_time_max_s": 5, "eta_rest_max_mm": 3, "eta_motion_max_mm": 0.01,
+    "scan_step_s": 0.001, "max_plans": 1000,
     "options": {"time_limit_s": 500}})");
   body["strategies"] = json::array({strategy});
   return body.dump();
