@@ -15,6 +15,7 @@ packages=(
   coinor-libipopt-dev                              # Ipopt interior point (core/optimize)
   nlohmann-json3-dev                               # JSON (api)
   libcpp-httplib-dev                               # HTTP server/client (service)
+  zlib1g-dev                                       # gzip responses (service)
   libspdlog-dev                                    # structured logs (service)
   libsqlite3-dev                                   # persistent plan cache (service)
   libhiredis-dev                                   # Redis client: shared plan cache, job store (service)

@@ -27,6 +27,7 @@
 #include "calibration_service.hpp"
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
+#include "gzip.hpp"
 #include "log_format.hpp"
 #include "memory_job_store.hpp"
 #include "plan_service.hpp"
@@ -58,6 +59,9 @@ thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 // said about a plan (Reply::plan), for the latency histogram and the access log.
 thread_local std::string request_route;
 thread_local std::optional<PlanFacts> request_plan;
+// The request's Accept-Encoding accepts gzip (read, then removed from the request, by the
+// pre-routing hook: the service codes its bodies itself, see send).
+thread_local bool request_accepts_gzip = false;
 std::atomic<std::uint64_t> request_counter{0};
 
 /// Seconds a client is told to wait when its connection could not get a thread.
@@ -66,12 +70,37 @@ constexpr int kThreadRetryAfterSeconds = 1;
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 
+// Media types whose bodies are text worth compressing.
+bool compressible(const std::string& content_type) {
+  return content_type.starts_with("application/json") || content_type.starts_with("text/") ||
+         content_type.starts_with("application/javascript");
+}
+
+// Writes `reply` to `res`. Content coding is decided here, not by the HTTP library (which would
+// compress every body again per response, and pick brotli at its slowest setting for a browser):
+// a body already gzip-coded (a cached plan's stored bytes) is sent as it is; another text body of
+// at least kGzipMinBytes is compressed for a client that accepts gzip. Every reply whose coding
+// depends on Accept-Encoding says so (Vary), whether or not this client accepted it.
 void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
+  const bool varies =
+      !reply.content_encoding.empty() || reply.plan.has_value() ||
+      (!reply.hold && compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes);
+  if (varies) res.set_header("Vary", "Accept-Encoding");
   if (reply.body.empty()) return;
   if (!reply.hold) {
-    res.set_content(reply.body, reply.content_type);
+    if (reply.content_encoding.empty() && request_accepts_gzip &&
+        compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes) {
+      // Level 1: bodies coded per response are the uncached ones (a fresh plan, a batch, an
+      // export); its speed matters more than the last 10 % of size.
+      reply.body = gzip_compress(reply.body, 1);
+      reply.content_encoding = "gzip";
+    }
+    if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
+    // Moved, not copied (set_content copies): a full plan is 40 kB.
+    res.body = std::move(reply.body);
+    res.set_header("Content-Type", reply.content_type);
     return;
   }
   // The body (and what the reply holds, e.g. an export's share of the budget) lives until the
@@ -370,7 +399,8 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          std::to_string(jobs.active()) +
          "\n"
          "# HELP slosh_pool_tasks_started_total Solve tasks started by priority (interactive: "
-         "plans and searches of requests; background: items of batch jobs).\n"
+         "plans of requests and batches; background: items of batch jobs, min-time searches' "
+         "strategies, calibration fits).\n"
          "# TYPE slosh_pool_tasks_started_total counter\n"
          "slosh_pool_tasks_started_total{priority=\"interactive\"} " +
          std::to_string(pool.started(TaskPriority::kInteractive)) +
@@ -378,10 +408,40 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          "slosh_pool_tasks_started_total{priority=\"background\"} " +
          std::to_string(pool.started(TaskPriority::kBackground)) +
          "\n"
-         "# HELP slosh_pool_background_queue_depth Batch job items waiting for a worker.\n"
+         "# HELP slosh_pool_background_queue_depth Background tasks waiting for a worker.\n"
          "# TYPE slosh_pool_background_queue_depth gauge\n"
          "slosh_pool_background_queue_depth " +
          std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
+}
+
+// Whether the client of `req` has closed its side of the connection: work nobody waits for is
+// stopped. Asked of the reaper at most every 100 ms (each answer lists the process's
+// descriptors); never true without the reaper.
+std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req) {
+  return [&rt, peer = peer_of(req), next = std::chrono::steady_clock::time_point{},
+          gone = false]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (!gone && rt.reaper && now >= next) {
+      gone = rt.reaper->closed_by_peer(peer);
+      next = now + std::chrono::milliseconds(100);
+    }
+    return gone;
+  };
+}
+
+// The solves stopped because their clients had gone, for /metrics.
+std::string cancelled_metrics(const PlanService& service, const CalibrationService& calibrations) {
+  return "# HELP slosh_solves_cancelled_total Solves stopped because every client waiting for "
+         "them had closed its connection (plans, min-time searches, calibration fits).\n"
+         "# TYPE slosh_solves_cancelled_total counter\n"
+         "slosh_solves_cancelled_total{kind=\"plan\"} " +
+         std::to_string(service.cancelled_plans()) +
+         "\n"
+         "slosh_solves_cancelled_total{kind=\"min_time\"} " +
+         std::to_string(service.cancelled_min_times()) +
+         "\n"
+         "slosh_solves_cancelled_total{kind=\"calibration\"} " +
+         std::to_string(calibrations.cancelled()) + "\n";
 }
 
 Handler handler_of(api::Operation operation, Runtime& rt) {
@@ -391,12 +451,12 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&service, &rt](const httplib::Request& req, const std::string& body) {
         return with_models(rt, body, [&](const std::string& resolved) {
           return service.post_plan(resolved, req.get_header_value("If-None-Match"),
-                                   view_values(req));
+                                   view_values(req), request_accepts_gzip, client_gone(rt, req));
         });
       };
     case api::Operation::kCreateCalibration:
-      return [&rt](const httplib::Request&, const std::string& body) {
-        return rt.calibrations->post_calibration(body);
+      return [&rt](const httplib::Request& req, const std::string& body) {
+        return rt.calibrations->post_calibration(body, client_gone(rt, req));
       };
     case api::Operation::kGetCalibration:
       return [&rt](const httplib::Request& req, const std::string&) {
@@ -422,13 +482,14 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
     case api::Operation::kMinTime:
       return [&service, &rt](const httplib::Request& req, const std::string& body) {
         return with_models(rt, body, [&](const std::string& resolved) {
-          return service.post_min_time(resolved, req.get_header_value("If-None-Match"));
+          return service.post_min_time(resolved, req.get_header_value("If-None-Match"),
+                                       client_gone(rt, req));
         });
       };
     case api::Operation::kGetPlan:
       return [&service](const httplib::Request& req, const std::string&) {
         return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"),
-                                view_values(req));
+                                view_values(req), request_accepts_gzip);
       };
     case api::Operation::kSimulate:
       return [&service, &rt](const httplib::Request&, const std::string& body) {
@@ -468,6 +529,7 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&rt](const httplib::Request&, const std::string&) {
         Reply reply = rt.service.metrics_text();
         reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
+        reply.body += cancelled_metrics(rt.service, *rt.calibrations);
         return reply;
       };
     default:
@@ -659,6 +721,9 @@ void install_request_hooks(Runtime& rt) {
     request_start = std::chrono::steady_clock::now();
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
+    // The service codes its bodies itself (send): the library must not compress them again.
+    request_accepts_gzip = accepts_gzip(req.get_header_value("Accept-Encoding"));
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
     res.set_header("X-Request-Id", request_id(req));
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
@@ -698,6 +763,7 @@ void install_request_hooks(Runtime& rt) {
     request_start.reset();
     request_route.clear();
     request_plan.reset();
+    request_accepts_gzip = false;
     log_access(entry);
   });
 }

@@ -987,7 +987,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (std::optional<InvalidInput> why = drive_profile_refusal(strategy, options.drive_profile)) {
     return refusal(format, strategy, options, std::move(*why));
   }
-  const detail::Deadline deadline(options.time_limit);
+  const detail::Deadline deadline(options.time_limit, options.stop);
   PlanResult r;
   r.strategy = strategy;
   r.model = make_sloshing_model(format, options.model);

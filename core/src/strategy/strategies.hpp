@@ -2,6 +2,7 @@
 // The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -17,17 +18,21 @@ inline constexpr double kLongestBudget{365.0 * 24.0 * 3600.0};  // [s]
 class Deadline {
  public:
   /// `seconds` beyond a year (or infinite) is a year: the clock's integer count cannot hold more.
-  explicit Deadline(double seconds)
+  /// `stop` (PlanOptions::stop, may be null) set true ends the time at once.
+  explicit Deadline(double seconds, const std::atomic<bool>* stop = nullptr)
       : end_(std::chrono::steady_clock::now() +
              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))) {}
+                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))),
+        stop_(stop) {}
   [[nodiscard]] double remaining() const {
+    if (stop_ != nullptr && stop_->load(std::memory_order_relaxed)) return 0.0;
     return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
   }
   [[nodiscard]] bool expired() const { return remaining() <= 0.0; }
 
  private:
   std::chrono::steady_clock::time_point end_;
+  const std::atomic<bool>* stop_;
 };
 
 /// What every strategy needs: the problem data, the references its objectives are scaled by, and

@@ -4,6 +4,7 @@
 // JSON, no logging.
 
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -175,6 +176,10 @@ struct PlanOptions {
   /// callback, not CPU time). When it runs out the best admissible point found so far is
   /// returned with status kTimeLimit. Default 5 s.
   double time_limit{5.0};
+  /// The caller's cancellation flag (e.g. its client went away): once it reads true the plan ends
+  /// as when time_limit runs out (kTimeLimit with the best admissible point so far), checked
+  /// wherever the time limit is (between starts and phases). Must outlive the call. Default none.
+  const std::atomic<bool>* stop{nullptr};
   /// Base law of shaper and iir, planned over T minus the filter's delay. Default poly5 (the
   /// paper's recommendation for shaping, sec. 7).
   BaseLaw base{BaseLaw::kPoly5};
