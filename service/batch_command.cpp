@@ -250,11 +250,26 @@ HttpReply get_or_abort(HttpClient& client, const std::string& path) {
   }
 }
 
+// GETs `path`, retrying 503 answers (the shared job store of the replicas cannot answer now)
+// after their Retry-After, kServerRetries times; waits end early on Ctrl-C.
+HttpReply get_retrying_503(HttpClient& client, const std::string& path) {
+  for (int attempt = 0;; ++attempt) {
+    HttpReply reply = get_or_abort(client, path);
+    if (reply.status != 503 || attempt >= kServerRetries || interrupted) return reply;
+    const int wait =
+        reply.retry_after.empty() ? 1 : std::clamp(std::atoi(reply.retry_after.c_str()), 1, 30);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(wait);
+    while (!interrupted && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+}
+
 // Polls the job until it has finished, drawing its progress; BatchAbort unless it is done.
 void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
   for (;;) {
     if (interrupted) throw BatchAbort("interrupted: batch job " + job.id() + " cancelled");
-    const HttpReply reply = get_or_abort(client, job.path() + "?limit=1");
+    const HttpReply reply = get_retrying_503(client, job.path() + "?limit=1");
     if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
     const json record = json::parse(reply.body);
     bar.update(record["progress"]["done"].get<std::size_t>());
@@ -276,6 +291,10 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
                     RowSink& sink, ProgressBar& bar) {
   json body{{"table", in.text}, {"table_format", to_string(in.in_format)}, {"format", "jsonl"}};
   if (in.view) body["view"] = options.full ? std::string("full") : *options.view;
+  // Ctrl-C from here on only sets `interrupted`: a job the POST creates is then DELETEd as soon
+  // as its id is known (an interrupt during the POST must not kill the process with the job
+  // accepted and running on the server).
+  const InterruptFlag interrupt;
   const HttpReply posted = post_retrying_503(client, "/v1/batches", api::dump_json(body));
   if (posted.status == 404 || posted.status == 405 || posted.status == 413) {
     if (posted.status == 413) {
@@ -286,10 +305,9 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
     return false;
   }
   if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
-  const InterruptFlag interrupt;
   RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
   wait_for_job(client, job, bar);
-  const HttpReply rows = get_or_abort(client, job.path() + "/results.jsonl");
+  const HttpReply rows = get_retrying_503(client, job.path() + "/results.jsonl");
   if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
   job.release();  // done: nothing to cancel any more
   std::size_t at = 0;

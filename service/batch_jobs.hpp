@@ -79,6 +79,8 @@ class BatchJobs {
   // Ends `job` in `state` with `message`: its rows and final record stored.
   void finish(Job& job, const std::string& state, const std::string& message);
   bool write_record(Job& job);
+  // Marks a stale queued or running record failed, unless the job runs on this replica.
+  void mark_stale_unless_here(nlohmann::json& record, const std::string& id) const;
   // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).
   [[nodiscard]] bool cancelled(Job& job, bool ask_store);
   [[nodiscard]] bool stopping() const;
