@@ -9,9 +9,11 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <thread>
 #include <vector>
 
+#include "batch_job_record.hpp"
 #include "cli_commands.hpp"
 #include "http_client.hpp"
 #include "io.hpp"
@@ -283,6 +285,30 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
   }
 }
 
+// After a stop (Ctrl-C, a failed job): cancels the job, waits a bounded time for it to end and
+// writes the rows it finished to `sink`, so that the .partial table holds what the service did.
+// Best effort: any failure leaves the rows written so far.
+void save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
+  try {
+    (void)client.del(job.path());
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    for (;;) {
+      const HttpReply reply = client.get(job.path() + "?limit=1");
+      if (reply.status != 200) return;
+      if (is_final_state(json::parse(reply.body).at("state").get<std::string>())) break;
+      if (std::chrono::steady_clock::now() >= deadline) return;
+      std::this_thread::sleep_for(kJobPollInterval);
+    }
+    const HttpReply rows = client.get(job.path() + "/results.jsonl");
+    if (rows.status != 200) return;
+    std::istringstream lines(rows.body);
+    for (std::string line; std::getline(lines, line);) {
+      if (!line.empty()) sink.write_row(json::parse(line));
+    }
+  } catch (const std::exception&) {
+  }
+}
+
 // Runs the table as a batch job of the service: POSTs the table's text (the service reads it as
 // this command does), polls the progress, downloads the rows (JSON lines) and writes them in the
 // output format. False when the service has no batch jobs (404, 405) or the table is larger
@@ -306,7 +332,12 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
   }
   if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
   RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
-  wait_for_job(client, job, bar);
+  try {
+    wait_for_job(client, job, bar);
+  } catch (const BatchAbort&) {
+    save_finished_rows(client, job, sink);
+    throw;
+  }
   const HttpReply rows = get_retrying_503(client, job.path() + "/results.jsonl");
   if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
   job.release();  // done: nothing to cancel any more
@@ -646,7 +677,7 @@ int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutpu
     }
     writer.finish();
   } catch (const std::exception& e) {
-    bar.finish();
+    bar.stop(sink.written());
     std::cerr << "slosh batch: stopped after " << sink.written() << " of " << in.rows.size()
               << " recipes: " << e.what() << '\n';
     if (!output.to_stdout()) {

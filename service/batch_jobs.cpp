@@ -262,6 +262,22 @@ Reply BatchJobs::post(const std::string& text) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     JobBody body = parse_job_body(text, config.batch_job_max);
+    if (resolve_models_) {
+      for (RecipeRow& row : body.rows) {
+        const json* options =
+            row.request.is_object() ? api::given_member(row.request, "options") : nullptr;
+        const json* model = options != nullptr && options->is_object()
+                                ? api::given_member(*options, "model")
+                                : nullptr;
+        if (model == nullptr || !model->is_string()) continue;
+        try {
+          row.request = json::parse(resolve_models_(api::dump_json(row.request)));
+        } catch (const api::ApiError& e) {  // this recipe's row answers the error
+          row.error = api::error_envelope(e)["error"];
+          row.request = nullptr;
+        }
+      }
+    }
     auto job = std::make_shared<Job>();
     job->status.id = new_job_id();
     job->status.format = body.format;

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -61,6 +62,14 @@ class BatchJobs {
   /// record; then 404).
   Reply cancel(const std::string& id);
 
+  /// Puts the stored calibration in for every recipe whose options.model names one (as POST
+  /// /v1/plans does): `resolve` maps a plan request's text to the text with the model put in, and
+  /// throws api::ApiError for a bad or unknown name (that recipe's row is then its error). Set
+  /// before the first post(); without it a named model is left to the plan's own validation.
+  void resolve_models_with(std::function<std::string(const std::string&)> resolve) {
+    resolve_models_ = std::move(resolve);
+  }
+
   /// Refuses new jobs and ends the queued and running ones as failed; returns at once (the
   /// runner finishes writing their records).
   void shutdown();
@@ -92,6 +101,7 @@ class BatchJobs {
   std::deque<std::shared_ptr<Job>> queue_;                        // waiting to run, in order
   std::unordered_map<std::string, std::shared_ptr<Job>> active_;  // queued or running here
   bool stopping_{false};
+  std::function<std::string(const std::string&)> resolve_models_;
   std::thread runner_;  // last: started once the members above exist
 };
 

@@ -515,5 +515,48 @@ TEST(BatchJobsCli, InterruptCancelsTheRemoteJob) {
   EXPECT_NE(server.log().find("method=DELETE path=/v1/batches/"), std::string::npos);
 }
 
+// Interrupted once the service has finished some of the job's rows, the CLI cancels the job and
+// the .partial table holds those rows (1..k, in order), and the bar is not drawn as complete.
+TEST(BatchJobsCli, AnInterruptedRunKeepsTheRowsTheServiceFinishedInThePartialTable) {
+  const TempDir dir;
+  std::string table = "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n";
+  for (int i = 0; i < 300; ++i) {
+    table += "p" + std::to_string(i) + ",48.5,82,water,800," + std::to_string(3.0 + 0.001 * i) +
+             ",notch\n";
+  }
+  write_file(dir / "t.csv", table);
+  write_file(dir / "stdin", "");
+  Server server({"--workers", "1"});
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.csv").string(), "--out", (dir / "o.csv").string(),
+                   "--server", server.url(), "--progress", "always"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  // With one worker, the 5th item started means at least 3 rows are finished.
+  const std::string started = R"(slosh_pool_tasks_started_total{priority="background"})";
+  for (int i = 0; i < 3000 && metric_of(server, started) < 5; ++i) {
+    std::this_thread::sleep_for(10ms);
+  }
+  ASSERT_GE(metric_of(server, started), 5) << server.log();
+  ::kill(cli.pid(), SIGINT);
+  const auto code = cli.wait_for(60s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 1);
+  const std::string err = read_file(dir / "stderr");
+  std::istringstream partial(read_file(dir / "o.csv.partial"));
+  std::string line;
+  std::getline(partial, line);  // header
+  std::size_t rows = 0;
+  while (std::getline(partial, line)) {
+    ++rows;
+    EXPECT_EQ(line.rfind(std::to_string(rows) + ",\"p" + std::to_string(rows - 1) + "\",", 0), 0u)
+        << line;
+  }
+  EXPECT_GE(rows, 3u) << err;
+  EXPECT_NE(err.find("stopped after " + std::to_string(rows) + " of 300 recipes: interrupted"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(err.find("300/300"), std::string::npos) << err;
+}
+
 }  // namespace
 }  // namespace slosh
