@@ -404,6 +404,45 @@ TEST(ClusterHostile, RedisStallsDuringAJobNeverYieldAWrongTable) {
   }
 }
 
+// Right after a FLUSHALL, replica B does not know A's running job: it must answer 503 with
+// Retry-After (the replicas are publishing their jobs again), never 404, until A has republished
+// it; a DELETE sent then is either recorded (202, and A cancels the job) or refused 503, never
+// lost.
+TEST(ClusterHostile, AfterAFlushAJobOfAnotherReplicaIsUnavailableNotUnknownAndADeleteIsNotLost) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  const std::string id = post_job(a, recipes(400, 8000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  // Reads through B until A's republished record is seen: 200 or 503, never 404.
+  auto read_until_known = [&] {
+    const auto deadline = std::chrono::steady_clock::now() + 15s;
+    int status = 0;
+    do {
+      const auto r = b.Get("/v1/batches/" + id);
+      ASSERT_TRUE(r);
+      status = r->status;
+      if (status != 200) EXPECT_EQ(error_of(r, 503).at("code"), "unavailable");
+    } while (status != 200 && std::chrono::steady_clock::now() < deadline);
+    EXPECT_EQ(status, 200);
+  };
+  ASSERT_EQ(redis_cli(cluster.redis, "flushall"), 0);
+  read_until_known();
+  ASSERT_EQ(redis_cli(cluster.redis, "flushall"), 0);
+  const auto deadline = std::chrono::steady_clock::now() + 15s;
+  int status = 0;
+  do {
+    const auto r = b.Delete("/v1/batches/" + id);
+    ASSERT_TRUE(r);
+    status = r->status;
+    if (status != 202) EXPECT_EQ(error_of(r, 503).at("code"), "unavailable");
+  } while (status != 202 && std::chrono::steady_clock::now() < deadline);
+  ASSERT_EQ(status, 202);
+  const json record = wait_finished(a, id);
+  EXPECT_EQ(record.value("state", ""), "cancelled") << record.dump();
+}
+
 // Hostile review: a lock key without expiry (not set by a replica: theirs always expire) held
 // every request of its recipe for the whole solve budget + 1 s.
 TEST(ClusterHostile, APlantedLockWithoutExpiryIsNotWaitedFor) {
