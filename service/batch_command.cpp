@@ -194,6 +194,9 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
 
 // ---- server mode through a batch job (POST /v1/batches) --------------------------------------
 
+/// Deadline of each call about a started batch job (progress, cancel); the results download
+/// gets kServerTimeout again.
+constexpr std::chrono::seconds kJobCallTimeout{10};
 /// How often a batch job's progress is asked for.
 constexpr std::chrono::milliseconds kJobPollInterval{200};
 
@@ -331,6 +334,9 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
     return false;
   }
   if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
+  // A job's calls are short (a record, a cancel): a service that does not answer within this
+  // (a paused replica) stops the run instead of holding it, and Ctrl-C, for as long.
+  client.set_timeout(kJobCallTimeout);
   RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
   try {
     wait_for_job(client, job, bar);
@@ -338,13 +344,21 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
     save_finished_rows(client, job, sink);
     throw;
   }
+  client.set_timeout(kServerTimeout);
   const HttpReply rows = get_retrying_503(client, job.path() + "/results.jsonl");
+  client.set_timeout(kJobCallTimeout);
   if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
   job.release();  // done: nothing to cancel any more
   std::size_t at = 0;
   while (at < rows.body.size()) {
     const std::size_t end = rows.body.find('\n', at);
-    sink.write_row(json::parse(rows.body.substr(at, end - at)));
+    const json row = json::parse(rows.body.substr(at, end - at));
+    // Rows come in recipe order, each once: anything else is not the table of this run.
+    if (row.value("row", std::size_t{0}) != sink.written() + 1) {
+      throw BatchAbort("batch job " + job.id() + " answered row " + api::dump_json(row["row"]) +
+                       " where row " + std::to_string(sink.written() + 1) + " was due");
+    }
+    sink.write_row(row);
     at = end == std::string::npos ? rows.body.size() : end + 1;
   }
   if (sink.written() != in.rows.size()) {
