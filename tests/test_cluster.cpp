@@ -8,6 +8,7 @@
 // same kind of plan on an idle cluster, never a fixed wall-clock threshold).
 
 #include <httplib.h>
+#include <signal.h>
 
 #include <gtest/gtest.h>
 
@@ -441,6 +442,28 @@ TEST(ClusterHostile, AfterAFlushAJobOfAnotherReplicaIsUnavailableNotUnknownAndAD
   ASSERT_EQ(status, 202);
   const json record = wait_finished(a, id);
   EXPECT_EQ(record.value("state", ""), "cancelled") << record.dump();
+}
+
+// A replica paused (SIGSTOP) for longer than batch_job_stale_s read its own running job's old
+// record on resume and called it failed ("the replica running it stopped") while it kept running
+// it. Its own job is never judged stale, and a DELETE then cancels it.
+TEST(ClusterHostile, AReplicaPausedPastTheStaleTimeKeepsItsOwnJobRunningAndCancelsItOnDelete) {
+  ::setenv("SLOSH_BATCH_JOB_STALE_S", "1.5", 1);  // the replicas read it at start
+  Cluster cluster;
+  ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+  auto a = cluster.replicas[0].client();
+  const std::string id = post_job(a, recipes(300, 9000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(cluster.replicas[0].pid(), SIGSTOP);
+  std::this_thread::sleep_for(2500ms);  // the pause itself (the fault), past the stale time
+  ::kill(cluster.replicas[0].pid(), SIGCONT);
+  const json record = get_json(a, "/v1/batches/" + id);
+  EXPECT_EQ(record.value("state", ""), "running") << record.dump();
+  const auto deleted = a.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  EXPECT_EQ(wait_finished(a, id).value("state", ""), "cancelled");
 }
 
 // Hostile review: a lock key without expiry (not set by a replica: theirs always expire) held
