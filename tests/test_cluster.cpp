@@ -456,9 +456,13 @@ TEST(ClusterHostile, AReplicaPausedPastTheStaleTimeKeepsItsOwnJobRunningAndCance
   ASSERT_FALSE(id.empty());
   wait_progress(a, id, 2);
   ::kill(cluster.replicas[0].pid(), SIGSTOP);
+  // Redis paused too: on resume the runner's first writes wait out the Redis timeout, so the GET
+  // below reads the record as it was before the pause (what a slow heartbeat leaves).
+  cluster.redis.pause();
   std::this_thread::sleep_for(2500ms);  // the pause itself (the fault), past the stale time
   ::kill(cluster.replicas[0].pid(), SIGCONT);
   const json record = get_json(a, "/v1/batches/" + id);
+  cluster.redis.resume();
   EXPECT_EQ(record.value("state", ""), "running") << record.dump();
   const auto deleted = a.Delete("/v1/batches/" + id);
   ASSERT_TRUE(deleted);
