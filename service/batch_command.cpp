@@ -9,9 +9,11 @@
 #include <iostream>
 #include <map>
 #include <memory>
+#include <sstream>
 #include <thread>
 #include <vector>
 
+#include "batch_job_record.hpp"
 #include "cli_commands.hpp"
 #include "http_client.hpp"
 #include "io.hpp"
@@ -192,6 +194,9 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
 
 // ---- server mode through a batch job (POST /v1/batches) --------------------------------------
 
+/// Deadline of each call about a started batch job (progress, cancel); the results download
+/// gets kServerTimeout again.
+constexpr std::chrono::seconds kJobCallTimeout{10};
 /// How often a batch job's progress is asked for.
 constexpr std::chrono::milliseconds kJobPollInterval{200};
 
@@ -250,11 +255,26 @@ HttpReply get_or_abort(HttpClient& client, const std::string& path) {
   }
 }
 
+// GETs `path`, retrying 503 answers (the shared job store of the replicas cannot answer now)
+// after their Retry-After, kServerRetries times; waits end early on Ctrl-C.
+HttpReply get_retrying_503(HttpClient& client, const std::string& path) {
+  for (int attempt = 0;; ++attempt) {
+    HttpReply reply = get_or_abort(client, path);
+    if (reply.status != 503 || attempt >= kServerRetries || interrupted) return reply;
+    const int wait =
+        reply.retry_after.empty() ? 1 : std::clamp(std::atoi(reply.retry_after.c_str()), 1, 30);
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(wait);
+    while (!interrupted && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+  }
+}
+
 // Polls the job until it has finished, drawing its progress; BatchAbort unless it is done.
 void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
   for (;;) {
     if (interrupted) throw BatchAbort("interrupted: batch job " + job.id() + " cancelled");
-    const HttpReply reply = get_or_abort(client, job.path() + "?limit=1");
+    const HttpReply reply = get_retrying_503(client, job.path() + "?limit=1");
     if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
     const json record = json::parse(reply.body);
     bar.update(record["progress"]["done"].get<std::size_t>());
@@ -268,6 +288,30 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
   }
 }
 
+// After a stop (Ctrl-C, a failed job): cancels the job, waits a bounded time for it to end and
+// writes the rows it finished to `sink`, so that the .partial table holds what the service did.
+// Best effort: any failure leaves the rows written so far.
+void save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
+  try {
+    (void)client.del(job.path());
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
+    for (;;) {
+      const HttpReply reply = client.get(job.path() + "?limit=1");
+      if (reply.status != 200) return;
+      if (is_final_state(json::parse(reply.body).at("state").get<std::string>())) break;
+      if (std::chrono::steady_clock::now() >= deadline) return;
+      std::this_thread::sleep_for(kJobPollInterval);
+    }
+    const HttpReply rows = client.get(job.path() + "/results.jsonl");
+    if (rows.status != 200) return;
+    std::istringstream lines(rows.body);
+    for (std::string line; std::getline(lines, line);) {
+      if (!line.empty()) sink.write_row(json::parse(line));
+    }
+  } catch (const std::exception&) {
+  }
+}
+
 // Runs the table as a batch job of the service: POSTs the table's text (the service reads it as
 // this command does), polls the progress, downloads the rows (JSON lines) and writes them in the
 // output format. False when the service has no batch jobs (404, 405) or the table is larger
@@ -276,6 +320,10 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
                     RowSink& sink, ProgressBar& bar) {
   json body{{"table", in.text}, {"table_format", to_string(in.in_format)}, {"format", "jsonl"}};
   if (in.view) body["view"] = options.full ? std::string("full") : *options.view;
+  // Ctrl-C from here on only sets `interrupted`: a job the POST creates is then DELETEd as soon
+  // as its id is known (an interrupt during the POST must not kill the process with the job
+  // accepted and running on the server).
+  const InterruptFlag interrupt;
   const HttpReply posted = post_retrying_503(client, "/v1/batches", api::dump_json(body));
   if (posted.status == 404 || posted.status == 405 || posted.status == 413) {
     if (posted.status == 413) {
@@ -286,16 +334,31 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
     return false;
   }
   if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
-  const InterruptFlag interrupt;
+  // A job's calls are short (a record, a cancel): a service that does not answer within this
+  // (a paused replica) stops the run instead of holding it, and Ctrl-C, for as long.
+  client.set_timeout(kJobCallTimeout);
   RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
-  wait_for_job(client, job, bar);
-  const HttpReply rows = get_or_abort(client, job.path() + "/results.jsonl");
+  try {
+    wait_for_job(client, job, bar);
+  } catch (const BatchAbort&) {
+    save_finished_rows(client, job, sink);
+    throw;
+  }
+  client.set_timeout(kServerTimeout);
+  const HttpReply rows = get_retrying_503(client, job.path() + "/results.jsonl");
+  client.set_timeout(kJobCallTimeout);
   if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
   job.release();  // done: nothing to cancel any more
   std::size_t at = 0;
   while (at < rows.body.size()) {
     const std::size_t end = rows.body.find('\n', at);
-    sink.write_row(json::parse(rows.body.substr(at, end - at)));
+    const json row = json::parse(rows.body.substr(at, end - at));
+    // Rows come in recipe order, each once: anything else is not the table of this run.
+    if (row.value("row", std::size_t{0}) != sink.written() + 1) {
+      throw BatchAbort("batch job " + job.id() + " answered row " + api::dump_json(row["row"]) +
+                       " where row " + std::to_string(sink.written() + 1) + " was due");
+    }
+    sink.write_row(row);
     at = end == std::string::npos ? rows.body.size() : end + 1;
   }
   if (sink.written() != in.rows.size()) {
@@ -628,7 +691,7 @@ int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutpu
     }
     writer.finish();
   } catch (const std::exception& e) {
-    bar.finish();
+    bar.stop(sink.written());
     std::cerr << "slosh batch: stopped after " << sink.written() << " of " << in.rows.size()
               << " recipes: " << e.what() << '\n';
     if (!output.to_stdout()) {

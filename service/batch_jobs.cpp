@@ -158,11 +158,21 @@ json load_record(JobStore& store, const std::string& id, double ttl_s) {
                             "' is not on this replica and the shared job store (Redis) cannot be "
                             "reached now: retry later, or ask the replica that runs it");
   }
+  if (!text && store.recently_emptied()) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "batch job '" + shown +
+                            "' is not on this replica and the shared job store (Redis) was "
+                            "emptied or restarted a moment ago: the replicas are publishing their "
+                            "jobs again, retry later");
+  }
   if (!text) {
     throw api::ApiError(
         api::ErrorCode::kNotFound, "id",
         "no batch job with id '" + shown +
-            "' (finished jobs are kept for batch_job_ttl_s = " + api::number_text(ttl_s) + " s)");
+            "' is known to this service: it never existed, was deleted, was lost with a restart of "
+            "the replica that ran it (without a shared store), or expired (finished jobs are kept "
+            "for batch_job_ttl_s = " +
+            api::number_text(ttl_s) + " s)");
   }
   try {
     json record = json::parse(*text);
@@ -233,6 +243,17 @@ std::size_t BatchJobs::active() const {
   return active_.size();
 }
 
+void BatchJobs::mark_stale_unless_here(nlohmann::json& record, const std::string& id) const {
+  // A job this replica runs is alive whatever its record's age (the record may be old because
+  // this process was paused, or the shared store missed writes): only another replica's job
+  // whose owner stopped rewriting it is judged stale.
+  {
+    const std::lock_guard lock(mutex_);
+    if (active_.count(id) != 0) return;
+  }
+  mark_if_stale(record, unix_ms_now(), service_.config().batch_job_stale_s);
+}
+
 bool BatchJobs::write_record(Job& job) {
   return store_.put_record(job.status.id, api::dump_json(job_record(job.status, unix_ms_now())));
 }
@@ -241,6 +262,22 @@ Reply BatchJobs::post(const std::string& text) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     JobBody body = parse_job_body(text, config.batch_job_max);
+    if (resolve_models_) {
+      for (RecipeRow& row : body.rows) {
+        const json* options =
+            row.request.is_object() ? api::given_member(row.request, "options") : nullptr;
+        const json* model = options != nullptr && options->is_object()
+                                ? api::given_member(*options, "model")
+                                : nullptr;
+        if (model == nullptr || !model->is_string()) continue;
+        try {
+          row.request = json::parse(resolve_models_(api::dump_json(row.request)));
+        } catch (const api::ApiError& e) {  // this recipe's row answers the error
+          row.error = api::error_envelope(e)["error"];
+          row.request = nullptr;
+        }
+      }
+    }
     auto job = std::make_shared<Job>();
     job->status.id = new_job_id();
     job->status.format = body.format;
@@ -279,7 +316,7 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
     json record = load_record(store_, id, config.batch_job_ttl_s);
-    mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
+    mark_stale_unless_here(record, id);
     if (is_final_state(record["state"].get<std::string>())) {
       const std::size_t stored = record["progress"]["done"].get<std::size_t>();
       json rows = json::array();
@@ -302,7 +339,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     json record = load_record(store_, id, config.batch_job_ttl_s);
-    mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
+    mark_stale_unless_here(record, id);
     const std::string state = record["state"].get<std::string>();
     if (!is_final_state(state)) {
       return PlanService::error_reply(
@@ -332,16 +369,28 @@ Reply BatchJobs::cancel(const std::string& id) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     json record = load_record(store_, id, config.batch_job_ttl_s);
-    mark_if_stale(record, unix_ms_now(), config.batch_job_stale_s);
+    mark_stale_unless_here(record, id);
     if (is_final_state(record["state"].get<std::string>())) {
       store_.remove(id);
       record["deleted"] = true;
       return json_reply(200, record);
     }
-    store_.request_cancel(id);
+    const bool recorded = store_.request_cancel(id);
+    bool here = false;
     {
       const std::lock_guard lock(mutex_);
-      if (auto it = active_.find(id); it != active_.end()) it->second->cancel = true;
+      if (auto it = active_.find(id); it != active_.end()) {
+        it->second->cancel = true;
+        here = true;
+      }
+    }
+    if (!recorded && !here) {
+      // Another replica runs the job and only the shared store can tell it: a cancel that was
+      // not recorded must not be answered as accepted.
+      throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                          "batch job '" + id.substr(0, 64) +
+                              "' runs on another replica and its cancel could not be recorded in "
+                              "the shared job store (Redis): DELETE it again later");
     }
     wake_.notify_all();
     record["cancel_requested"] = true;
@@ -354,8 +403,15 @@ void BatchJobs::run_jobs() {
     std::shared_ptr<Job> job;
     {
       std::unique_lock lock(mutex_);
-      wake_.wait(lock, [this] { return stopping_ || !queue_.empty(); });
-      if (queue_.empty()) return;  // stopping, nothing left
+      // Idle, the runner still wakes every heartbeat to give the shared store what it missed
+      // (finished jobs' rows and records, or everything after it was emptied).
+      wake_.wait_for(lock, kHeartbeat, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty()) {
+        if (stopping_) return;  // stopping, nothing left
+        lock.unlock();
+        store_.resync();
+        continue;
+      }
       job = queue_.front();
       queue_.pop_front();
     }
@@ -408,10 +464,16 @@ std::size_t BatchJobs::fill_window(Job& job, std::size_t next, std::deque<Starte
 }
 
 void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
-  if (!rows.empty() && !store_.append_rows(job.status.id, rows)) {
-    spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
+  // The buffered rows are rows done - size ... done - 1; on a failed write they stay buffered and
+  // are written again (same indexes) at the next heartbeat.
+  if (!rows.empty()) {
+    if (store_.put_rows(job.status.id, job.status.done - rows.size(), rows)) {
+      rows.clear();
+    } else {
+      spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
+    }
   }
-  rows.clear();
+  store_.resync();
   write_record(job);
   // The queued jobs' heartbeat: they are alive, only waiting.
   std::vector<std::shared_ptr<Job>> queued;

@@ -16,6 +16,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <deque>
+#include <functional>
 #include <memory>
 #include <mutex>
 #include <string>
@@ -61,6 +62,14 @@ class BatchJobs {
   /// record; then 404).
   Reply cancel(const std::string& id);
 
+  /// Puts the stored calibration in for every recipe whose options.model names one (as POST
+  /// /v1/plans does): `resolve` maps a plan request's text to the text with the model put in, and
+  /// throws api::ApiError for a bad or unknown name (that recipe's row is then its error). Set
+  /// before the first post(); without it a named model is left to the plan's own validation.
+  void resolve_models_with(std::function<std::string(const std::string&)> resolve) {
+    resolve_models_ = std::move(resolve);
+  }
+
   /// Refuses new jobs and ends the queued and running ones as failed; returns at once (the
   /// runner finishes writing their records).
   void shutdown();
@@ -79,6 +88,8 @@ class BatchJobs {
   // Ends `job` in `state` with `message`: its rows and final record stored.
   void finish(Job& job, const std::string& state, const std::string& message);
   bool write_record(Job& job);
+  // Marks a stale queued or running record failed, unless the job runs on this replica.
+  void mark_stale_unless_here(nlohmann::json& record, const std::string& id) const;
   // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).
   [[nodiscard]] bool cancelled(Job& job, bool ask_store);
   [[nodiscard]] bool stopping() const;
@@ -90,6 +101,7 @@ class BatchJobs {
   std::deque<std::shared_ptr<Job>> queue_;                        // waiting to run, in order
   std::unordered_map<std::string, std::shared_ptr<Job>> active_;  // queued or running here
   bool stopping_{false};
+  std::function<std::string(const std::string&)> resolve_models_;
   std::thread runner_;  // last: started once the members above exist
 };
 

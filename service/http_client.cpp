@@ -23,10 +23,14 @@ HttpClient::HttpClient(const std::string& base_url, std::chrono::seconds timeout
   prefix_ = m[3].str();
   while (!prefix_.empty() && prefix_.back() == '/') prefix_.pop_back();
   impl_ = std::make_unique<Impl>("http://" + m[1].str() + m[2].str());
+  set_timeout(timeout);
+  impl_->client.set_keep_alive(true);
+}
+
+void HttpClient::set_timeout(std::chrono::seconds timeout) {
   impl_->client.set_connection_timeout(timeout);
   impl_->client.set_read_timeout(timeout);
   impl_->client.set_write_timeout(timeout);
-  impl_->client.set_keep_alive(true);
 }
 
 HttpClient::~HttpClient() = default;

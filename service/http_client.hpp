@@ -39,6 +39,9 @@ class HttpClient {
   HttpReply get(const std::string& path);
   HttpReply del(const std::string& path);
 
+  /// Bounds connecting and each read/write of the calls from now on.
+  void set_timeout(std::chrono::seconds timeout);
+
   [[nodiscard]] const std::string& base_url() const { return base_url_; }
 
  private:

@@ -883,6 +883,8 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   BatchJobs jobs(service, job_stores.store());
   ListeningServer server;
   CalibrationService calibrations(config, service.worker_pool());
+  jobs.resolve_models_with(
+      [&calibrations](const std::string& body) { return calibrations.resolve_model_names(body); });
   if (!calibrations.store_error().empty()) {
     spdlog::error("calibration store: {}; calibrations are kept in memory only",
                   calibrations.store_error());

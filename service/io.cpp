@@ -1,5 +1,6 @@
 #include "io.hpp"
 
+#include <filesystem>
 #include <fstream>
 #include <iostream>
 #include <sstream>
@@ -12,6 +13,12 @@ std::string read_request_text(const std::string& path) {
   if (path == "-") {
     buffer << std::cin.rdbuf();
     return buffer.str();
+  }
+  // An ifstream opens a directory on Linux and reads nothing: say what is wrong instead of
+  // letting the JSON parser report "unexpected end of input".
+  std::error_code ec;
+  if (std::filesystem::is_directory(path, ec)) {
+    throw std::runtime_error("cannot read request file '" + path + "': it is a directory");
   }
   std::ifstream in(path, std::ios::binary);
   if (!in) throw std::runtime_error("cannot read request file '" + path + "'");

@@ -23,11 +23,15 @@ class JobStore {
   /// The record of job `id`; nullopt when the store does not know it or cannot be read.
   [[nodiscard]] virtual std::optional<std::string> record(const std::string& id) = 0;
 
-  /// Appends result rows of job `id` after the ones already stored (rows arrive in item order).
-  /// False when the store could not be written.
-  virtual bool append_rows(const std::string& id, const std::vector<std::string>& rows) = 0;
-  /// Rows [offset, offset + count) of job `id` (fewer at the end); nullopt when the store does
-  /// not know the job or cannot be read.
+  /// Writes result rows `first`, `first` + 1, ... of job `id`. Rows are keyed by their index, so
+  /// writing a row again (a retried write whose first attempt did land) replaces it instead of
+  /// adding a duplicate, and a write that was lost leaves its indexes missing (never shifts the
+  /// later rows). False when the store could not be written or `first` would leave a gap.
+  virtual bool put_rows(const std::string& id, std::size_t first,
+                        const std::vector<std::string>& rows) = 0;
+  /// Rows [offset, offset + count) of job `id` in index order, stopping before the first index
+  /// the store does not hold (fewer at the end, or where a row is missing); nullopt when the
+  /// store does not know the job or cannot be read.
   [[nodiscard]] virtual std::optional<std::vector<std::string>> rows(const std::string& id,
                                                                      std::size_t offset,
                                                                      std::size_t count) = 0;
@@ -39,6 +43,21 @@ class JobStore {
 
   /// Forgets job `id` (its record, rows and cancel flag).
   virtual void remove(const std::string& id) = 0;
+
+  /// The jobs this store holds (a local store: the ones a replica republishes to a shared store
+  /// that lost them). Default none.
+  [[nodiscard]] virtual std::vector<std::string> ids() { return {}; }
+
+  /// A shared store: true once after each time it was emptied (FLUSHALL, a restart without
+  /// persistence) since this object last asked, so that the replica publishes its jobs again;
+  /// false otherwise or when it cannot be asked. Default false.
+  virtual bool emptied_since_last_check() { return false; }
+  /// Whether a job the store does not know may be one it lost in a recent emptying (the replicas
+  /// are still publishing theirs again): such a job is answered 503, not 404. Default false.
+  [[nodiscard]] virtual bool recently_emptied() { return false; }
+  /// Sends the shared level of a tiered store what it is missing: every job after it was emptied,
+  /// else the records and rows whose writes to it failed. Called at every heartbeat. Default no-op.
+  virtual void resync() {}
 
   /// False while the store, or the shared level of a tiered one, cannot be asked (Redis down):
   /// a job it does not answer for may then run on another replica. Default true.

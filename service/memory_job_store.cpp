@@ -49,11 +49,14 @@ std::optional<std::string> MemoryJobStore::record(const std::string& id) {
   return entry->record;
 }
 
-bool MemoryJobStore::append_rows(const std::string& id, const std::vector<std::string>& rows) {
+bool MemoryJobStore::put_rows(const std::string& id, std::size_t first,
+                              const std::vector<std::string>& rows) {
   const std::lock_guard lock(mutex_);
   Entry* entry = find(id);
   if (entry == nullptr) return false;  // rows follow the record: an unknown job takes none
-  entry->rows.insert(entry->rows.end(), rows.begin(), rows.end());
+  if (first > entry->rows.size()) return false;  // a gap: rows are kept contiguous here
+  if (entry->rows.size() < first + rows.size()) entry->rows.resize(first + rows.size());
+  std::copy(rows.begin(), rows.end(), entry->rows.begin() + static_cast<std::ptrdiff_t>(first));
   touch(*entry, now_());
   return true;
 }
@@ -92,6 +95,12 @@ void MemoryJobStore::remove(const std::string& id) {
   entries_.erase(it);
 }
 
+std::vector<std::string> MemoryJobStore::ids() {
+  const std::lock_guard lock(mutex_);
+  expire(now_());
+  return {by_age_.begin(), by_age_.end()};
+}
+
 std::size_t MemoryJobStore::size() {
   const std::lock_guard lock(mutex_);
   expire(now_());
@@ -108,7 +117,40 @@ constexpr std::size_t kMaxCountedJobs = 1024;
 bool TieredJobStore::put_record(const std::string& id, const std::string& record) {
   const bool local = local_.put_record(id, record);
   const bool shared = shared_.put_record(id, record);
+  if (local && !shared) {
+    const std::lock_guard lock(mutex_);
+    unsynced_.insert(id);
+  }
   return local || shared;
+}
+
+bool TieredJobStore::publish(const std::string& id) {
+  const auto record = local_.record(id);
+  if (!record) return true;  // dropped here: nothing to publish
+  RowCounts& counts = counts_[id];
+  const std::size_t from = std::min(counts.shared, counts.local);
+  const auto rows = local_.rows(id, from, counts.local - from);
+  if (!rows || rows->size() != counts.local - from) return true;  // the local copy is gone
+  if (!shared_.put_rows(id, from, *rows)) return false;
+  counts.shared = counts.local;
+  if (local_.cancel_requested(id) && !shared_.request_cancel(id)) return false;
+  return shared_.put_record(id, *record);
+}
+
+void TieredJobStore::resync() {
+  const bool emptied = shared_.emptied_since_last_check();
+  std::vector<std::string> ids;
+  if (emptied) ids = local_.ids();
+  const std::lock_guard lock(mutex_);
+  if (emptied) {
+    for (const std::string& id : ids) {
+      counts_[id].shared = 0;  // the shared store holds none of its rows any more
+      unsynced_.insert(id);
+    }
+  }
+  for (auto it = unsynced_.begin(); it != unsynced_.end();) {
+    it = publish(*it) ? unsynced_.erase(it) : std::next(it);
+  }
 }
 
 std::optional<std::string> TieredJobStore::record(const std::string& id) {
@@ -116,27 +158,30 @@ std::optional<std::string> TieredJobStore::record(const std::string& id) {
   return shared_.record(id);
 }
 
-bool TieredJobStore::append_rows(const std::string& id, const std::vector<std::string>& rows) {
+bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
+                              const std::vector<std::string>& rows) {
   const std::lock_guard lock(mutex_);
   if (counts_.size() > kMaxCountedJobs) {
     // Forget the counts of jobs the local store has dropped (expired or removed).
     std::erase_if(counts_, [this](const auto& entry) { return !local_.record(entry.first); });
   }
   RowCounts& counts = counts_[id];
-  const bool local = local_.append_rows(id, rows);
-  if (local) counts.local += rows.size();
-  // The shared store gets what it missed (from the local copy) before these rows.
+  const bool local = local_.put_rows(id, first, rows);
+  if (local) counts.local = std::max(counts.local, first + rows.size());
+  // The shared store gets what it missed (from the local copy) before these rows. A write that
+  // timed out may have landed: sending it again rewrites the same indexes (no duplicate).
+  const std::size_t from = std::min(counts.shared, first);
   std::vector<std::string> pending;
-  const std::size_t missed = counts.local - rows.size() - counts.shared;
-  if (local && missed > 0) {
-    if (auto earlier = local_.rows(id, counts.shared, missed)) pending = std::move(*earlier);
+  if (local && from < first) {
+    if (auto earlier = local_.rows(id, from, first - from)) pending = std::move(*earlier);
   }
+  const bool complete = !local || pending.size() == first - from;
   pending.insert(pending.end(), rows.begin(), rows.end());
-  const bool complete = !local || pending.size() == missed + rows.size();
-  if (complete && shared_.append_rows(id, pending)) {
-    counts.shared += pending.size();
+  if (complete && shared_.put_rows(id, local ? from : first, pending)) {
+    counts.shared = std::max(counts.shared, (local ? from : first) + pending.size());
     return true;
   }
+  if (local) unsynced_.insert(id);
   return local;
 }
 
@@ -161,6 +206,7 @@ void TieredJobStore::remove(const std::string& id) {
   {
     const std::lock_guard lock(mutex_);
     counts_.erase(id);
+    unsynced_.erase(id);
   }
   local_.remove(id);
   shared_.remove(id);

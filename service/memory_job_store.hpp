@@ -11,6 +11,7 @@
 #include <optional>
 #include <string>
 #include <unordered_map>
+#include <unordered_set>
 #include <vector>
 
 #include "job_store.hpp"
@@ -38,13 +39,16 @@ class MemoryJobStore final : public JobStore {
 
   bool put_record(const std::string& id, const std::string& record) override;
   [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
-  bool append_rows(const std::string& id, const std::vector<std::string>& rows) override;
+  bool put_rows(const std::string& id, std::size_t first,
+                const std::vector<std::string>& rows) override;
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) override;
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
   void remove(const std::string& id) override;
+
+  [[nodiscard]] std::vector<std::string> ids() override;
 
   /// Jobs held now (after expiry).
   [[nodiscard]] std::size_t size();
@@ -82,7 +86,8 @@ class TieredJobStore final : public JobStore {
 
   bool put_record(const std::string& id, const std::string& record) override;
   [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
-  bool append_rows(const std::string& id, const std::vector<std::string>& rows) override;
+  bool put_rows(const std::string& id, std::size_t first,
+                const std::vector<std::string>& rows) override;
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) override;
@@ -90,8 +95,14 @@ class TieredJobStore final : public JobStore {
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
   void remove(const std::string& id) override;
   [[nodiscard]] bool reachable() const override { return shared_.reachable(); }
+  [[nodiscard]] bool recently_emptied() override { return shared_.recently_emptied(); }
+  /// After the shared store was emptied, every local job is written to it again; else the jobs
+  /// whose record or rows it failed to take (a finished job has no later write to carry them).
+  void resync() override;
 
  private:
+  // Writes the local record and the rows the shared store misses of job `id`; the lock is held.
+  bool publish(const std::string& id);
   JobStore& local_;
   JobStore& shared_;
   std::mutex mutex_;
@@ -101,6 +112,7 @@ class TieredJobStore final : public JobStore {
     std::size_t shared{0};
   };
   std::unordered_map<std::string, RowCounts> counts_;
+  std::unordered_set<std::string> unsynced_;  // jobs a write to the shared store failed for
 };
 
 }  // namespace slosh::service

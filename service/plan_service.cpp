@@ -180,7 +180,8 @@ Reply reply_of(const api::ApiError& error) {
   Reply r;
   r.status = error.status();
   r.body = api::error_body(error);
-  if (error.code() == api::ErrorCode::kOverloaded) {
+  // Every 503 says when to retry: overloaded, and unavailable (the shared store cannot answer now).
+  if (error.code() == api::ErrorCode::kOverloaded || error.code() == api::ErrorCode::kUnavailable) {
     r.headers.emplace_back("Retry-After", std::to_string(kRetryAfterSeconds));
   }
   return r;

@@ -1,5 +1,7 @@
 #include "progress_bar.hpp"
 
+#include <algorithm>
+
 #include <unistd.h>
 
 #include <cmath>
@@ -81,6 +83,13 @@ void ProgressBar::finish() {
   if (!enabled_) return;
   last_done_ = static_cast<std::size_t>(-1);
   update(total_);
+  out_ << '\n' << std::flush;
+}
+
+void ProgressBar::stop(std::size_t done) {
+  if (!enabled_) return;
+  last_done_ = static_cast<std::size_t>(-1);
+  update(std::min(done, total_));
   out_ << '\n' << std::flush;
 }
 

@@ -25,6 +25,8 @@ class ProgressBar {
   [[nodiscard]] bool due() const;
   /// Draws the final state and ends the line.
   void finish();
+  /// Draws `done` (a run that stopped before the end: never shown as complete) and ends the line.
+  void stop(std::size_t done);
 
   /// The text of the bar for `done` items after `elapsed` seconds (no carriage return).
   [[nodiscard]] std::string render(std::size_t done, double elapsed) const;

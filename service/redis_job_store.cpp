@@ -1,8 +1,10 @@
 #include "redis_job_store.hpp"
 
 #include <algorithm>
-#include <limits>
+#include <random>
 #include <utility>
+
+#include "batch_job_record.hpp"
 
 namespace slosh::service {
 
@@ -36,29 +38,40 @@ std::optional<std::string> RedisJobStore::record(const std::string& id) {
   return reply->text;
 }
 
-bool RedisJobStore::append_rows(const std::string& id, const std::vector<std::string>& rows) {
+bool RedisJobStore::put_rows(const std::string& id, std::size_t first,
+                             const std::vector<std::string>& rows) {
   if (rows.empty()) return write(id, {});
-  std::vector<std::string> push{"RPUSH", key(id, "rows")};
-  push.insert(push.end(), rows.begin(), rows.end());
-  return write(id, {std::move(push)});
+  std::vector<std::string> set{"HSET", key(id, "rows")};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    set.push_back(std::to_string(first + i));
+    set.push_back(rows[i]);
+  }
+  return write(id, {std::move(set)});
 }
 
 std::optional<std::vector<std::string>> RedisJobStore::rows(const std::string& id,
                                                             std::size_t offset, std::size_t count) {
-  constexpr auto kMax = static_cast<std::size_t>(std::numeric_limits<long long>::max() / 2);
-  const std::size_t first = std::min(offset, kMax);
-  // LRANGE's stop is inclusive, and -1 would mean "to the end": count 0 asks for nothing.
-  const std::size_t last = count == 0 ? first : std::min(first + std::min(count, kMax) - 1, kMax);
-  const auto replies =
-      client_->pipeline({{"EXISTS", key(id, "record")},
-                         {"LRANGE", key(id, "rows"), std::to_string(first), std::to_string(last)}});
-  if (!replies || (*replies)[0].type != RedisReply::Type::kInteger || (*replies)[0].integer == 0 ||
-      (*replies)[1].type != RedisReply::Type::kArray) {
+  // The fields asked for are bounded by the rows the hash holds (HLEN, asked first), so a huge
+  // count costs no more than the job's rows.
+  const auto head = client_->pipeline({{"EXISTS", key(id, "record")}, {"HLEN", key(id, "rows")}});
+  if (!head || (*head)[0].type != RedisReply::Type::kInteger || (*head)[0].integer == 0 ||
+      (*head)[1].type != RedisReply::Type::kInteger) {
     return std::nullopt;
   }
+  const auto held = static_cast<std::size_t>(std::max<long long>(0, (*head)[1].integer));
   std::vector<std::string> out;
-  if (count == 0) return out;
-  for (const RedisReply& r : (*replies)[1].elements) out.push_back(r.text);
+  if (count == 0 || offset >= held) return out;
+  // Rows at indexes >= held cannot all be present when one below is missing; asking up to `held`
+  // past the offset is enough to find every row there is.
+  const std::size_t n = std::min(count, held);
+  std::vector<std::string> get{"HMGET", key(id, "rows")};
+  for (std::size_t i = 0; i < n; ++i) get.push_back(std::to_string(offset + i));
+  const auto reply = client_->command(get);
+  if (!reply || reply->type != RedisReply::Type::kArray) return std::nullopt;
+  for (const RedisReply& r : reply->elements) {
+    if (r.type != RedisReply::Type::kString) break;  // a missing index ends what is readable
+    out.push_back(r.text);
+  }
   return out;
 }
 
@@ -69,6 +82,39 @@ bool RedisJobStore::request_cancel(const std::string& id) {
 bool RedisJobStore::cancel_requested(const std::string& id) {
   const auto reply = client_->command({"EXISTS", key(id, "cancel")});
   return reply && reply->type == RedisReply::Type::kInteger && reply->integer > 0;
+}
+
+std::optional<std::string> RedisJobStore::generation(std::int64_t set_ms) {
+  const std::string key = prefix_ + "generation";
+  const auto current = client_->command({"GET", key});
+  if (!current) return std::nullopt;
+  if (current->type == RedisReply::Type::kString) return current->text;
+  static thread_local std::mt19937_64 bits{std::random_device{}()};
+  const std::string mark = std::to_string(bits()) + ":" + std::to_string(set_ms);
+  // NX: when two replicas find it missing at once, both then read the one that was set first.
+  const auto replies = client_->pipeline({{"SET", key, mark, "NX"}, {"GET", key}});
+  if (!replies || (*replies)[1].type != RedisReply::Type::kString) return std::nullopt;
+  return (*replies)[1].text;
+}
+
+bool RedisJobStore::emptied_since_last_check() {
+  const std::lock_guard lock(mutex_);
+  const bool first = seen_generation_.empty();
+  const auto mark = generation(first ? 0 : unix_ms_now());
+  if (!mark) return false;
+  const bool changed = !first && *mark != seen_generation_;
+  seen_generation_ = *mark;
+  return changed;
+}
+
+bool RedisJobStore::recently_emptied() {
+  const auto reply = client_->command({"GET", prefix_ + "generation"});
+  if (!reply) return false;  // unreachable: answered as such elsewhere
+  if (reply->type != RedisReply::Type::kString) return true;
+  const std::size_t colon = reply->text.rfind(':');
+  const std::int64_t set_ms =
+      colon == std::string::npos ? 0 : std::atoll(reply->text.c_str() + colon + 1);
+  return set_ms > 0 && unix_ms_now() - set_ms < kSettleMs;
 }
 
 void RedisJobStore::remove(const std::string& id) {

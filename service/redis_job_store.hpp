@@ -2,13 +2,17 @@
 // The job store on Redis (SPEC §13): batch jobs whose state any replica can read.
 //
 // Keys of job <id> (under the prefix, default "slosh:jobs:"): <id>:record (a string: the
-// record), <id>:rows (a list: the result rows in item order), <id>:cancel (a string, present
-// once cancelling was asked). Every write sets the time to live of all three keys to `ttl`
+// record), <id>:rows (a hash: field = the row's index, value = the row; HSET
+// is idempotent, so a write retried after a timeout cannot duplicate a row), <id>:cancel (a string,
+// present once cancelling was asked). Every write sets the time to live of all three keys to `ttl`
 // again, so a job is kept `ttl` after its last write: a running job writes its progress and
 // stays, a finished job (or one whose replica died) expires `ttl` after its last record.
 
 #include <chrono>
+#include <cstdint>
 #include <memory>
+#include <mutex>
+#include <optional>
 #include <string>
 
 #include "job_store.hpp"
@@ -24,13 +28,23 @@ class RedisJobStore final : public JobStore {
 
   bool put_record(const std::string& id, const std::string& record) override;
   [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
-  bool append_rows(const std::string& id, const std::vector<std::string>& rows) override;
+  bool put_rows(const std::string& id, std::size_t first,
+                const std::vector<std::string>& rows) override;
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) override;
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
   void remove(const std::string& id) override;
+  /// The generation mark (key <prefix>generation, "<token>:<unix ms set>") tells an emptied Redis
+  /// apart: missing, it is set again (unix ms 0 on this object's first look: a fresh Redis, not a
+  /// recent loss) and a new token means the store was emptied since the last look.
+  bool emptied_since_last_check() override;
+  /// The mark is missing or was set again less than kSettle ago.
+  [[nodiscard]] bool recently_emptied() override;
+  /// How long after an emptying a job the store does not know is answered as maybe lost (503): the
+  /// replicas republish their jobs at their next heartbeat (0.5 s).
+  static constexpr std::int64_t kSettleMs = 5000;
   /// Whether the client believes Redis is up (its last command succeeded or backs off).
   [[nodiscard]] bool reachable() const override { return client_->state().up; }
 
@@ -43,8 +57,13 @@ class RedisJobStore final : public JobStore {
   // Runs `commands` in MULTI ... EXEC with the TTL of the job's keys renewed; false on failure.
   bool write(const std::string& id, std::vector<std::vector<std::string>> commands);
 
+  // The mark now, set (with `set_ms`) when missing; nullopt when Redis cannot be asked.
+  std::optional<std::string> generation(std::int64_t set_ms);
+
   const std::shared_ptr<RedisClient> client_;
-  const std::string ttl_;  // seconds, as text
+  std::mutex mutex_;
+  std::string seen_generation_;  // the mark at the last look ("" before the first)
+  const std::string ttl_;        // seconds, as text
   const std::string prefix_;
 };
 

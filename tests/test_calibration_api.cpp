@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <cmath>
 #include <string>
+#include <thread>
 
 #include <httplib.h>
 #include <nlohmann/json.hpp>
@@ -255,6 +257,45 @@ TEST(CalibrationService, StoredCalibrationPlansAsTheInlineModel) {
   ASSERT_TRUE(unknown);
   EXPECT_EQ(unknown->status, 404);
   EXPECT_EQ(json::parse(unknown->body)["error"]["field"], "options.model");
+  server.stop();
+}
+
+// A batch job (POST /v1/batches) names a stored calibration as POST /v1/plans does: its row plans
+// with the stored model (the key of the inline model), an unknown name fails its own row only.
+TEST(CalibrationService, ABatchJobNamingAStoredCalibrationPlansWithIt) {
+  test::Server server;
+  httplib::Client client = server.client();
+  json body = calibration_body();
+  body["name"] = "bench-2026-11";
+  auto posted = client.Post("/v1/calibrations", body.dump(), "application/json");
+  ASSERT_TRUE(posted && posted->status == 200) << (posted ? posted->body : "");
+  const json fit = json::parse(posted->body);
+  auto inline_plan =
+      client.Post("/v1/plans", plan_body({{"model", fit["model"]}}).dump(), "application/json");
+  ASSERT_TRUE(inline_plan && inline_plan->status == 200);
+  const std::string key = json::parse(inline_plan->body)["key"].get<std::string>();
+  const json job = {{"requests", json::array({plan_body({{"model", "bench-2026-11"}}),
+                                              plan_body({{"model", "nope"}})})}};
+  auto started = client.Post("/v1/batches", job.dump(), "application/json");
+  ASSERT_TRUE(started);
+  ASSERT_EQ(started->status, 202) << started->body;
+  const std::string id = json::parse(started->body)["id"].get<std::string>();
+  json record;
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+  do {
+    auto r = client.Get("/v1/batches/" + id);
+    ASSERT_TRUE(r && r->status == 200);
+    record = json::parse(r->body);
+    if (record["state"] == "done") break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  } while (std::chrono::steady_clock::now() < deadline);
+  ASSERT_EQ(record["state"], "done") << record.dump();
+  const json& rows = record["results"]["rows"];
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_EQ(rows[0]["status"], "optimal") << rows[0].dump();
+  EXPECT_EQ(rows[0]["key"], key) << rows[0].dump();
+  EXPECT_EQ(rows[1]["status"], "error");
+  EXPECT_EQ(rows[1]["error_field"], "options.model") << rows[1].dump();
   server.stop();
 }
 

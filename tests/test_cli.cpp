@@ -147,6 +147,18 @@ TEST(CliSimulate, InvalidValueExits2WithEnvelopeOnStderr) {
       "field": "format.container.radius_mm"}})"));
 }
 
+TEST(CliSimulate, ADirectoryAsRequestIsNamedNotAParseError) {
+  const TempDir dir;
+  std::filesystem::create_directory(dir / "req");
+  const std::string path = (dir / "req").string();
+  const RunResult r = run_slosh({"simulate", "--request", path});
+  EXPECT_EQ(r.exit_code, 2);
+  const json err = parse_or_fail(r.err);
+  EXPECT_EQ(err["error"]["field"], json("--request"));
+  EXPECT_EQ(err["error"]["message"],
+            json("cannot read request file '" + path + "': it is a directory"));
+}
+
 TEST(CliSimulate, MalformedJsonExits2) {
   const RunResult r = run_slosh({"simulate", "--request", "-"}, "{\"format\": ");
   EXPECT_EQ(r.exit_code, 2);

@@ -8,6 +8,7 @@
 // same kind of plan on an idle cluster, never a fixed wall-clock threshold).
 
 #include <httplib.h>
+#include <signal.h>
 
 #include <gtest/gtest.h>
 
@@ -304,6 +305,10 @@ json error_of(const httplib::Result& r, int status) {
   EXPECT_TRUE(r);
   if (!r) return json();
   EXPECT_EQ(r->status, status) << r->body;
+  // Every 503 says when to retry.
+  if (status == 503) {
+    EXPECT_FALSE(r->get_header_value("Retry-After").empty()) << r->body;
+  }
   return json::parse(r->body).at("error");
 }
 
@@ -319,7 +324,7 @@ TEST(ClusterHostile, ResultsTheSharedStoreLostOrDamagedAreRefusedNotTruncated) {
   ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
   ASSERT_EQ(get_json(b, "/v1/batches/" + id + "?limit=10").at("results").at("rows").size(), 6u);
   // Two rows lost in the shared store: B reads the record (done 6) but not 6 rows.
-  ASSERT_EQ(redis_cli(cluster.redis, "ltrim slosh:jobs:" + id + ":rows 2 -1"), 0);
+  ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 4 5"), 0);
   const std::string lost = "the stored results of batch job '" + id +
                            "' are incomplete or damaged (4 readable of rows 1 to 6): ask the "
                            "replica that ran it, or POST the job again";
@@ -356,6 +361,113 @@ TEST(ClusterHostile, AJobOfAnotherReplicaWhileRedisIsDownIsUnavailableNotUnknown
   EXPECT_EQ(error_of(b.Delete("/v1/batches/" + id), 503).at("message"), message);
   // The owner answers from its own store.
   EXPECT_EQ(get_json(a, "/v1/batches/" + id).value("state", ""), "done");
+}
+
+// Redis paused (SIGSTOP) past the client's timeout and continued, several times while a job runs
+// on replica A: writes that timed out had landed and were sent again. B must answer the results
+// as the complete table (equal to A's own) or 503 with Retry-After, never with a row twice or
+// missing; its DELETE-free reads never see a wrong table.
+TEST(ClusterHostile, RedisStallsDuringAJobNeverYieldAWrongTable) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  b.set_read_timeout(30s);
+  for (int trial = 0; trial < 3; ++trial) {
+    const std::string id = post_job(a, recipes(40, 7000 + 100 * static_cast<std::size_t>(trial)));
+    ASSERT_FALSE(id.empty());
+    for (int stall = 0; stall < 3; ++stall) {
+      // Each stall starts once the job has progressed further: the writes it covers are rows.
+      wait_progress(a, id, 5 + 10 * stall);
+      cluster.redis.pause();
+      std::this_thread::sleep_for(
+          500ms);  // the stall itself (the fault), not a wait on the product
+      cluster.redis.resume();
+    }
+    ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+    const auto own = a.Get("/v1/batches/" + id + "/results.csv");
+    ASSERT_TRUE(own && own->status == 200);
+    EXPECT_EQ(std::count(own->body.begin(), own->body.end(), '\n'), 41);
+    // B's view of the record may lag (the owner's last writes timed out and are republished at
+    // its next heartbeat): 409 "running" until then.
+    auto other = b.Get("/v1/batches/" + id + "/results.csv");
+    const auto deadline = std::chrono::steady_clock::now() + 20s;
+    while (other && other->status == 409 && std::chrono::steady_clock::now() < deadline) {
+      std::this_thread::sleep_for(50ms);
+      other = b.Get("/v1/batches/" + id + "/results.csv");
+    }
+    ASSERT_TRUE(other);
+    std::cerr << "trial " << trial << ": B answered " << other->status << "\n";
+    if (other->status == 200) {
+      EXPECT_EQ(other->body, own->body) << "trial " << trial;
+    } else {
+      EXPECT_EQ(error_of(other, 503).at("code"), "unavailable") << "trial " << trial;
+    }
+  }
+}
+
+// Right after a FLUSHALL, replica B does not know A's running job: it must answer 503 with
+// Retry-After (the replicas are publishing their jobs again), never 404, until A has republished
+// it; a DELETE sent then is either recorded (202, and A cancels the job) or refused 503, never
+// lost.
+TEST(ClusterHostile, AfterAFlushAJobOfAnotherReplicaIsUnavailableNotUnknownAndADeleteIsNotLost) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  const std::string id = post_job(a, recipes(400, 8000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  // Reads through B until A's republished record is seen: 200 or 503, never 404.
+  auto read_until_known = [&] {
+    const auto deadline = std::chrono::steady_clock::now() + 15s;
+    int status = 0;
+    do {
+      const auto r = b.Get("/v1/batches/" + id);
+      ASSERT_TRUE(r);
+      status = r->status;
+      if (status != 200) EXPECT_EQ(error_of(r, 503).at("code"), "unavailable");
+    } while (status != 200 && std::chrono::steady_clock::now() < deadline);
+    EXPECT_EQ(status, 200);
+  };
+  ASSERT_EQ(redis_cli(cluster.redis, "flushall"), 0);
+  read_until_known();
+  ASSERT_EQ(redis_cli(cluster.redis, "flushall"), 0);
+  const auto deadline = std::chrono::steady_clock::now() + 15s;
+  int status = 0;
+  do {
+    const auto r = b.Delete("/v1/batches/" + id);
+    ASSERT_TRUE(r);
+    status = r->status;
+    if (status != 202) EXPECT_EQ(error_of(r, 503).at("code"), "unavailable");
+  } while (status != 202 && std::chrono::steady_clock::now() < deadline);
+  ASSERT_EQ(status, 202);
+  const json record = wait_finished(a, id);
+  EXPECT_EQ(record.value("state", ""), "cancelled") << record.dump();
+}
+
+// A replica paused (SIGSTOP) for longer than batch_job_stale_s read its own running job's old
+// record on resume and called it failed ("the replica running it stopped") while it kept running
+// it. Its own job is never judged stale, and a DELETE then cancels it.
+TEST(ClusterHostile, AReplicaPausedPastTheStaleTimeKeepsItsOwnJobRunningAndCancelsItOnDelete) {
+  ::setenv("SLOSH_BATCH_JOB_STALE_S", "1.5", 1);  // the replicas read it at start
+  Cluster cluster;
+  ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+  auto a = cluster.replicas[0].client();
+  const std::string id = post_job(a, recipes(300, 9000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(cluster.replicas[0].pid(), SIGSTOP);
+  // Redis paused too: on resume the runner's first writes wait out the Redis timeout, so the GET
+  // below reads the record as it was before the pause (what a slow heartbeat leaves).
+  cluster.redis.pause();
+  std::this_thread::sleep_for(2500ms);  // the pause itself (the fault), past the stale time
+  ::kill(cluster.replicas[0].pid(), SIGCONT);
+  const json record = get_json(a, "/v1/batches/" + id);
+  cluster.redis.resume();
+  EXPECT_EQ(record.value("state", ""), "running") << record.dump();
+  const auto deleted = a.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  EXPECT_EQ(wait_finished(a, id).value("state", ""), "cancelled");
 }
 
 // Hostile review: a lock key without expiry (not set by a replica: theirs always expire) held

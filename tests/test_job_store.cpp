@@ -28,13 +28,13 @@ TEST(MemoryJobStore, KeepsRecordsRowsInOrderAndTheCancelFlag) {
   MemoryJobStore store;
   EXPECT_EQ(store.record("a"), std::nullopt);
   EXPECT_EQ(store.rows("a", 0, 10), std::nullopt);
-  EXPECT_FALSE(store.append_rows("a", {"r"}));  // rows follow a record
+  EXPECT_FALSE(store.put_rows("a", 0, {"r"}));  // rows follow a record
   EXPECT_FALSE(store.request_cancel("a"));
   ASSERT_TRUE(store.put_record("a", "{1}"));
   ASSERT_TRUE(store.put_record("a", "{2}"));
   EXPECT_EQ(store.record("a"), "{2}");
-  ASSERT_TRUE(store.append_rows("a", {"r0", "r1"}));
-  ASSERT_TRUE(store.append_rows("a", {"r2"}));
+  ASSERT_TRUE(store.put_rows("a", 0, {"r0", "r1"}));
+  ASSERT_TRUE(store.put_rows("a", 2, {"r2"}));
   EXPECT_EQ(store.rows("a", 0, 10), (Rows{"r0", "r1", "r2"}));
   EXPECT_EQ(store.rows("a", 1, 1), (Rows{"r1"}));
   EXPECT_EQ(store.rows("a", 2, 5), (Rows{"r2"}));
@@ -58,7 +58,7 @@ TEST(MemoryJobStore, AJobNotWrittenForTheTtlIsForgottenAWrittenOneStays) {
   clock.now += 11s;                 // old: 61 s since its write; alive: 11 s
   EXPECT_EQ(store.record("old"), std::nullopt);
   EXPECT_EQ(store.record("alive"), "a2");
-  ASSERT_TRUE(store.append_rows("alive", {"r"}));  // appending rows is a write too
+  ASSERT_TRUE(store.put_rows("alive", 0, {"r"}));  // appending rows is a write too
   clock.now += 59s;
   EXPECT_EQ(store.rows("alive", 0, 1), (Rows{"r"}));
   clock.now += 2s;
@@ -94,8 +94,8 @@ class SwitchableStore final : public JobStore {
   std::optional<std::string> record(const std::string& id) override {
     return down ? std::nullopt : inner.record(id);
   }
-  bool append_rows(const std::string& id, const Rows& rows) override {
-    return !down && inner.append_rows(id, rows);
+  bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
+    return !down && inner.put_rows(id, first, rows);
   }
   std::optional<Rows> rows(const std::string& id, std::size_t offset, std::size_t count) override {
     return down ? std::nullopt : inner.rows(id, offset, count);
@@ -116,7 +116,7 @@ TEST(TieredJobStore, WritesBothReadsLocalFirstThenShared) {
   TieredJobStore a(local_a, shared);  // replica A
   TieredJobStore b(local_b, shared);  // replica B
   ASSERT_TRUE(a.put_record("job", "running"));
-  ASSERT_TRUE(a.append_rows("job", {"r0", "r1"}));
+  ASSERT_TRUE(a.put_rows("job", 0, {"r0", "r1"}));
   // B has no local copy: it reads A's job from the shared store.
   EXPECT_EQ(b.record("job"), "running");
   EXPECT_EQ(b.rows("job", 0, 10), (Rows{"r0", "r1"}));
@@ -135,11 +135,11 @@ TEST(TieredJobStore, AReplicaKeepsItsJobWhileTheSharedStoreIsDownAndCatchesItUpA
   SwitchableStore shared;
   TieredJobStore owner(local, shared);
   ASSERT_TRUE(owner.put_record("job", "v1"));
-  ASSERT_TRUE(owner.append_rows("job", {"r0"}));
+  ASSERT_TRUE(owner.put_rows("job", 0, {"r0"}));
   shared.down = true;
   // Writes still succeed (the local store took them) and reads answer from it.
   EXPECT_TRUE(owner.put_record("job", "v2"));
-  EXPECT_TRUE(owner.append_rows("job", {"r1", "r2"}));
+  EXPECT_TRUE(owner.put_rows("job", 1, {"r1", "r2"}));
   EXPECT_EQ(owner.record("job"), "v2");
   EXPECT_EQ(owner.rows("job", 0, 10), (Rows{"r0", "r1", "r2"}));
   EXPECT_TRUE(owner.request_cancel("job"));
@@ -147,13 +147,59 @@ TEST(TieredJobStore, AReplicaKeepsItsJobWhileTheSharedStoreIsDownAndCatchesItUpA
   shared.down = false;
   EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0"}));  // it missed r1, r2
   // The next rows carry the missed ones first: the shared copy has no gap.
-  ASSERT_TRUE(owner.append_rows("job", {"r3"}));
+  ASSERT_TRUE(owner.put_rows("job", 3, {"r3"}));
   EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
   ASSERT_TRUE(owner.put_record("job", "v3"));
   EXPECT_EQ(shared.inner.record("job"), "v3");
   owner.remove("job");
   EXPECT_EQ(owner.record("job"), std::nullopt);
   EXPECT_EQ(shared.inner.record("job"), std::nullopt);
+}
+
+// A shared store whose writes land but answer failure (Redis paused past the client's timeout,
+// then continued): the tiered store sends those rows again with the next ones, and the shared copy
+// holds each row once, in order.
+class LandsButFailsStore final : public JobStore {
+ public:
+  bool lie{false};
+  MemoryJobStore inner;
+  bool put_record(const std::string& id, const std::string& r) override {
+    return inner.put_record(id, r) && !lie;
+  }
+  std::optional<std::string> record(const std::string& id) override { return inner.record(id); }
+  bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
+    return inner.put_rows(id, first, rows) && !lie;
+  }
+  std::optional<Rows> rows(const std::string& id, std::size_t offset, std::size_t count) override {
+    return inner.rows(id, offset, count);
+  }
+  bool request_cancel(const std::string& id) override { return inner.request_cancel(id); }
+  bool cancel_requested(const std::string& id) override { return inner.cancel_requested(id); }
+  void remove(const std::string& id) override { inner.remove(id); }
+};
+
+TEST(TieredJobStore, AWriteThatLandedButReportedFailureIsNotDuplicatedWhenSentAgain) {
+  MemoryJobStore local;
+  LandsButFailsStore shared;
+  TieredJobStore owner(local, shared);
+  ASSERT_TRUE(owner.put_record("job", "v1"));
+  ASSERT_TRUE(owner.put_rows("job", 0, {"r0"}));
+  shared.lie = true;
+  ASSERT_TRUE(owner.put_rows("job", 1, {"r1", "r2"}));
+  shared.lie = false;
+  ASSERT_TRUE(owner.put_rows("job", 3, {"r3"}));
+  EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
+  EXPECT_EQ(owner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
+}
+
+TEST(MemoryJobStore, RowsAreKeyedByIndexAndAGapIsRefused) {
+  MemoryJobStore store;
+  ASSERT_TRUE(store.put_record("a", "x"));
+  ASSERT_TRUE(store.put_rows("a", 0, {"r0", "r1"}));
+  ASSERT_TRUE(store.put_rows("a", 1, {"r1", "r2"}));
+  EXPECT_EQ(store.rows("a", 0, 10), (Rows{"r0", "r1", "r2"}));
+  EXPECT_FALSE(store.put_rows("a", 4, {"r4"}));  // row 3 missing
+  EXPECT_EQ(store.rows("a", 0, 10), (Rows{"r0", "r1", "r2"}));
 }
 
 TEST(TieredJobStore, WithBothStoresDownWritesFailAndReadsFindNothing) {
@@ -163,7 +209,7 @@ TEST(TieredJobStore, WithBothStoresDownWritesFailAndReadsFindNothing) {
   local.down = true;
   shared.down = true;
   EXPECT_FALSE(store.put_record("job", "x"));
-  EXPECT_FALSE(store.append_rows("job", {"r"}));
+  EXPECT_FALSE(store.put_rows("job", 0, {"r"}));
   EXPECT_EQ(store.record("job"), std::nullopt);
   EXPECT_EQ(store.rows("job", 0, 1), std::nullopt);
   EXPECT_FALSE(store.request_cancel("job"));

@@ -37,9 +37,9 @@ TEST(RedisJobStore, RecordsRowsAndCancelRoundTrip) {
   ASSERT_TRUE(store.put_record("j1", R"({"state":"running","done":0})"));
   EXPECT_EQ(store.record("j1"), R"({"state":"running","done":0})");
   EXPECT_EQ(store.rows("j1", 0, 10), Rows{});
-  ASSERT_TRUE(store.append_rows("j1", {"r0", "r1,\"quoted\"", ""}));
-  ASSERT_TRUE(store.append_rows("j1", {}));
-  ASSERT_TRUE(store.append_rows("j1", {"r3", "r4"}));
+  ASSERT_TRUE(store.put_rows("j1", 0, {"r0", "r1,\"quoted\"", ""}));
+  ASSERT_TRUE(store.put_rows("j1", 3, {}));
+  ASSERT_TRUE(store.put_rows("j1", 3, {"r3", "r4"}));
   ASSERT_TRUE(store.put_record("j1", R"({"state":"done","done":5})"));
   EXPECT_EQ(store.record("j1"), R"({"state":"done","done":5})");
   EXPECT_EQ(store.rows("j1", 0, 100), (Rows{"r0", "r1,\"quoted\"", "", "r3", "r4"}));
@@ -58,12 +58,31 @@ TEST(RedisJobStore, RecordsRowsAndCancelRoundTrip) {
   EXPECT_FALSE(store.cancel_requested("j1"));
 }
 
+// A write that timed out in the client may still have landed in Redis; the owner writes the same
+// rows again. Keyed by index, the second write replaces them (an appended list held them twice),
+// and a write that never landed leaves its indexes missing: reading stops there.
+TEST(RedisJobStore, RowsAreKeyedByIndexSoARetriedWriteCannotDuplicateAndALostOneShowsAsAGap) {
+  const RedisServer redis;
+  RedisJobStore store(client_of(redis), 3600s);
+  ASSERT_TRUE(store.put_record("j", "running"));
+  ASSERT_TRUE(store.put_rows("j", 0, {"r0", "r1"}));
+  ASSERT_TRUE(store.put_rows("j", 0, {"r0", "r1"}));  // the retry of a write that landed
+  ASSERT_TRUE(store.put_rows("j", 1, {"r1", "r2"}));  // overlapping
+  EXPECT_EQ(store.rows("j", 0, 10), (Rows{"r0", "r1", "r2"}));
+  ASSERT_TRUE(store.put_rows("j", 4, {"r4", "r5"}));  // row 3 was lost
+  EXPECT_EQ(store.rows("j", 0, 10), (Rows{"r0", "r1", "r2"}));
+  EXPECT_EQ(store.rows("j", 4, 10), (Rows{"r4", "r5"}));
+  ASSERT_TRUE(store.put_rows("j", 3, {"r3"}));
+  EXPECT_EQ(store.rows("j", 0, 10), (Rows{"r0", "r1", "r2", "r3", "r4", "r5"}));
+  EXPECT_EQ(store.rows("j", 2, 3), (Rows{"r2", "r3", "r4"}));
+}
+
 TEST(RedisJobStore, EveryWriteRenewsTheTtlOfTheJobsKeys) {
   const RedisServer redis;
   const auto client = client_of(redis);
   RedisJobStore store(client, 120s);
   ASSERT_TRUE(store.put_record("j", "r"));
-  ASSERT_TRUE(store.append_rows("j", {"a"}));
+  ASSERT_TRUE(store.put_rows("j", 0, {"a"}));
   ASSERT_TRUE(store.request_cancel("j"));
   for (const char* part : {"record", "rows", "cancel"}) {
     EXPECT_EQ(store.key("j", part), std::string("slosh:jobs:j:") + part);
@@ -84,7 +103,7 @@ TEST(RedisJobStore, TwoReplicasSeeTheSameJobs) {
   RedisJobStore runner(client_of(redis), 3600s);
   RedisJobStore reader(client_of(redis), 3600s);
   ASSERT_TRUE(runner.put_record("shared", "running"));
-  ASSERT_TRUE(runner.append_rows("shared", {"row 0"}));
+  ASSERT_TRUE(runner.put_rows("shared", 0, {"row 0"}));
   EXPECT_EQ(reader.record("shared"), "running");
   EXPECT_EQ(reader.rows("shared", 0, 5), Rows{"row 0"});
   ASSERT_TRUE(reader.request_cancel("shared"));  // DELETE through the other replica
@@ -98,7 +117,7 @@ TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
   redis.kill();
   EXPECT_FALSE(store.put_record("j", "r2"));
   EXPECT_FALSE(store.record("j"));
-  EXPECT_FALSE(store.append_rows("j", {"x"}));
+  EXPECT_FALSE(store.put_rows("j", 0, {"x"}));
   EXPECT_FALSE(store.rows("j", 0, 1));
   EXPECT_FALSE(store.request_cancel("j"));
   EXPECT_FALSE(store.cancel_requested("j"));
