@@ -17,23 +17,6 @@ SolverChoice effective(const StrategyContext& c) {
   return c.options.solver == SolverChoice::kIpopt ? SolverChoice::kIpopt : SolverChoice::kNlopt;
 }
 
-// Two converged starts agree when their objectives are within this relative difference [-] ...
-constexpr double kAgreeObjective{1e-9};
-// ... and their points within this distance relative to the largest coordinate (max norm) [-]:
-// SLSQP stops at ftol 1e-10, which leaves the point accurate to about sqrt(1e-10).
-constexpr double kAgreePoint{1e-4};
-
-bool agree(const NlpResult& a, const NlpResult& b) {
-  const double scale = std::max({std::abs(a.objective), std::abs(b.objective), 1e-300});
-  if (std::abs(a.objective - b.objective) > kAgreeObjective * scale) return false;
-  double largest = 0.0, distance = 0.0;
-  for (std::size_t i = 0; i < a.x.size() && i < b.x.size(); ++i) {
-    largest = std::max({largest, std::abs(a.x[i]), std::abs(b.x[i])});
-    distance = std::max(distance, std::abs(a.x[i] - b.x[i]));
-  }
-  return a.x.size() == b.x.size() && distance <= kAgreePoint * largest;
-}
-
 }  // namespace
 
 std::string solver_name(const StrategyContext& context) {
@@ -51,8 +34,7 @@ namespace {
 
 MultiStartResult solve_starts(const NlpProblem& problem,
                               const std::vector<std::vector<double>>& starts,
-                              const StrategyContext& context, const NlpOptions& options,
-                              int agreeing_starts) {
+                              const StrategyContext& context, const NlpOptions& options) {
   MultiStartResult out;
   // Ipopt relaxes bounds and equalities by ~1e-8 (bound_relax_factor); the durations are polished
   // onto the exact admissible set afterwards, so that much is not an infeasibility.
@@ -60,9 +42,6 @@ MultiStartResult solve_starts(const NlpProblem& problem,
                                   ? std::max(1e-7, 10.0 * options.constraint_tolerance)
                                   : 10.0 * options.constraint_tolerance;
   bool have = false;
-  // Converged starts that agree with the best point (0 while it is not a converged feasible one).
-  int agreeing = 0;
-  const bool early = agreeing_starts > 0 && !context.options.all_starts;
   for (const auto& x0 : starts) {
     const double remaining = context.deadline.remaining();
     if (remaining <= 0.0) {
@@ -82,22 +61,14 @@ MultiStartResult solve_starts(const NlpProblem& problem,
         !have || (feasible && !out.feasible) ||
         (feasible == out.feasible &&
          (feasible ? r.objective < out.best.objective : r.max_violation < out.best.max_violation));
-    const bool converged = feasible && r.status == SolveStatus::kOptimal;
     if (better) {
-      // A better point that agrees with the previous best continues its count (a tie moved by
-      // round-off); otherwise the count restarts at this start.
-      const bool same = agreeing > 0 && converged && agree(r, out.best);
-      agreeing = converged ? (same ? agreeing + 1 : 1) : 0;
       out.best = std::move(r);
       out.feasible = feasible;
       have = true;
-    } else if (agreeing > 0 && converged && agree(r, out.best)) {
-      ++agreeing;
     }
     if (out.timed_out) break;
     // The caller's "good enough": a feasible point at or below stop_value ends the multi-start.
     if (out.feasible && options.stop_value && out.best.objective <= *options.stop_value) break;
-    if (early && agreeing >= agreeing_starts) break;
   }
   if (!have) out.best.status = out.timed_out ? SolveStatus::kTimeLimit : SolveStatus::kFailed;
   return out;
@@ -107,16 +78,14 @@ MultiStartResult solve_starts(const NlpProblem& problem,
 
 MultiStartResult multi_start(const NlpProblem& problem,
                              const std::vector<std::vector<double>>& starts,
-                             const StrategyContext& context, const NlpOptions& options,
-                             int agreeing_starts) {
+                             const StrategyContext& context, const NlpOptions& options) {
   const std::optional<OneJerkChart>& chart = context.space.one_jerk;
-  if (!chart) return solve_starts(problem, starts, context, options, agreeing_starts);
+  if (!chart) return solve_starts(problem, starts, context, options);
   // The one-jerk family: solved in its coordinates, the best point restated as durations.
   std::vector<std::vector<double>> reduced;
   reduced.reserve(starts.size());
   for (const auto& x0 : starts) reduced.push_back(chart->restrict(x0));
-  MultiStartResult out =
-      solve_starts(chart->reduce(problem), reduced, context, options, agreeing_starts);
+  MultiStartResult out = solve_starts(chart->reduce(problem), reduced, context, options);
   if (!out.best.x.empty()) out.best.x = chart->lift(out.best.x);
   return out;
 }

@@ -105,13 +105,10 @@ struct MultiStartResult {
   int starts{};
 };
 
-/// `agreeing_starts` > 0: the remaining starts are not solved once that many have converged to the
-/// best point found so far (objectives within 1e-9 relative, points within 1e-4 of the largest
-/// coordinate), unless PlanOptions::all_starts. 0 (the default) solves every start.
 [[nodiscard]] MultiStartResult multi_start(const NlpProblem& problem,
                                            const std::vector<std::vector<double>>& starts,
                                            const StrategyContext& context,
-                                           const NlpOptions& options, int agreeing_starts = 0);
+                                           const NlpOptions& options);
 
 /// The outcome of a multi-start: polished best point and translated status (time_limit with the
 /// first start when time ran out before any feasible point; infeasible when none was feasible).

@@ -22,11 +22,6 @@ constexpr double kSamplesPerPeriod{32.0};
 constexpr double kCheckWindowsPerPeriod{4.0};
 /// Exchange rounds: dense check, add the peak times that exceed their bound, re-solve.
 constexpr int kExchangeRounds{8};
-// Starts converged to the same best point after which the remaining starts are not solved: the
-// spectral seeds and the uniform law mostly end in one basin of the eta problem. Five: over 60
-// seeded formats no later start found a better one (EarlyAgreement compares with all starts);
-// with three, later starts did on the spectral strategies, which therefore solve every start.
-constexpr int kAgreeingStarts{5};
 /// Exchange rounds of a robust plan, which also adds the frequencies that break the bound.
 constexpr int kRobustExchangeRounds{16};
 /// Relative excess over a bound the dense check tolerates [-].
@@ -162,7 +157,7 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
     }
     x.push_back(z);
   }
-  return multi_start(p, x0, c, time_domain_options(), kAgreeingStarts);
+  return multi_start(p, x0, c, time_domain_options());
 }
 
 // The starting samples: kSamplesPerPeriod per period of the model's mode 1 over the motion and

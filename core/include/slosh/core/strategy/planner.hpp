@@ -200,11 +200,6 @@ struct PlanOptions {
   /// spectral seeds: continuation, as the min-time search plans neighbouring T (SPEC §9). Such a
   /// plan is only as global as its start. The other strategies ignore it. Default none.
   std::optional<Durations> warm_start;
-  /// Solve every start of the optimising strategies' multi-starts. By default a multi-start
-  /// stops once three starts have converged to the best point found so far (objectives within
-  /// 1e-9 relative, points within 1e-4 relative); true solves them all, as a reference for that
-  /// early stop (tests, benchmarks). Not part of the API. Default false.
-  bool all_starts{false};
 
   /// The first option outside its allowed set for `format` (in the order the members are
   /// declared, the relation 4 min_ramp + plateau minimums <= T right after min_ramp), naming the
