@@ -47,6 +47,16 @@ function checkRecipeId(id) {
   return null;
 }
 
+// The id's part of a product's node ids: "." separates the id from its children
+// (Products.<id>.LastPlan.Key), so a "." in the id is written %2E and a "%" %25. Ids "x" and
+// "x.Status" then get distinct node ids (Products.x.Status vs Products.x%2EStatus) and can never
+// collide; ids without "." or "%" keep their text unchanged.
+function nodeIdPart(id) {
+  return id.replace(/%/g, "%25").replace(/\./g, "%2E");
+}
+
+class ProductError extends Error {}
+
 class Products {
   constructor(namespace, parent) {
     this.namespace = namespace;
@@ -83,28 +93,39 @@ class Products {
   ensure(id) {
     let item = this.items.get(id);
     if (item) return item;
-    const prefix = `Products.${id}`;
-    // A qualified name object, not the string: node-opcua would read "2:cup" as namespace 2.
-    const node = this.namespace.addObject({ organizedBy: this.folder, browseName: { name: id, namespaceIndex: this.namespace.index }, nodeId: `s=${prefix}`,
-      description: `Recipe ${id}` });
-    const state = { Status: "", LastPlanned: null };
-    const params = {};
-    const plan = {};
-    this.namespace.addVariable({ componentOf: node, browseName: "Status", nodeId: `s=${prefix}.Status`, dataType: "String",
-      description: "Plan status of the last plan (optimal, acceptable, infeasible, time_limit, failed) or error",
-      minimumSamplingInterval: 100,
-      value: { get: () => new Variant({ dataType: DataType.String, value: state.Status }) } });
-    this.namespace.addVariable({ componentOf: node, browseName: "LastPlanned", nodeId: `s=${prefix}.LastPlanned`, dataType: "DateTime",
-      description: "When the gateway last received a plan (or an error) for this recipe (UTC)",
-      minimumSamplingInterval: 100,
-      value: { get: () => new Variant({ dataType: DataType.DateTime, value: state.LastPlanned }) } });
-    const paramsNode = this.namespace.addObject({ componentOf: node, browseName: "Parameters", nodeId: `s=${prefix}.Parameters`,
-      description: "The recipe's format, strategy and options" });
-    const planNode = this.namespace.addObject({ componentOf: node, browseName: "LastPlan", nodeId: `s=${prefix}.LastPlan`,
-      description: "The recipe's last plan" });
-    for (const v of parameterVars) this.variable(paramsNode, `${prefix}.Parameters`, params, v);
-    for (const v of planVars) this.variable(planNode, `${prefix}.LastPlan`, plan, v);
-    item = { node, state, params, plan };
+    const prefix = `Products.${nodeIdPart(id)}`;
+    // Built fully or not at all: a failure half way deletes what was added, so a later plan of
+    // the same id starts from nothing instead of failing on the leftovers.
+    let node = null;
+    try {
+      // A qualified name object, not the string: node-opcua would read "2:cup" as namespace 2.
+      node = this.namespace.addObject({ organizedBy: this.folder, browseName: { name: id, namespaceIndex: this.namespace.index }, nodeId: `s=${prefix}`,
+        description: `Recipe ${id}` });
+      const state = { Status: "", LastPlanned: null };
+      const params = {};
+      const plan = {};
+      this.namespace.addVariable({ componentOf: node, browseName: "Status", nodeId: `s=${prefix}.Status`, dataType: "String",
+        description: "Plan status of the last plan (optimal, acceptable, infeasible, time_limit, failed) or error",
+        minimumSamplingInterval: 100,
+        value: { get: () => new Variant({ dataType: DataType.String, value: state.Status }) } });
+      this.namespace.addVariable({ componentOf: node, browseName: "LastPlanned", nodeId: `s=${prefix}.LastPlanned`, dataType: "DateTime",
+        description: "When the gateway last received a plan (or an error) for this recipe (UTC)",
+        minimumSamplingInterval: 100,
+        value: { get: () => new Variant({ dataType: DataType.DateTime, value: state.LastPlanned }) } });
+      const paramsNode = this.namespace.addObject({ componentOf: node, browseName: "Parameters", nodeId: `s=${prefix}.Parameters`,
+        description: "The recipe's format, strategy and options" });
+      const planNode = this.namespace.addObject({ componentOf: node, browseName: "LastPlan", nodeId: `s=${prefix}.LastPlan`,
+        description: "The recipe's last plan" });
+      for (const v of parameterVars) this.variable(paramsNode, `${prefix}.Parameters`, params, v);
+      for (const v of planVars) this.variable(planNode, `${prefix}.LastPlan`, plan, v);
+      item = { node, state, params, plan };
+    } catch (err) {
+      if (node) {
+        try { this.namespace.addressSpace.deleteNode(node); } catch (e) { /* already partly gone */ }
+      }
+      // node-opcua's message carries a dump of the address space: only its first line.
+      throw new ProductError(`product ${JSON.stringify(id.slice(0, 60))} could not be created: ${String(err.message).split("\n")[0].slice(0, 200)}`);
+    }
     this.items.set(id, item);
     return item;
   }
@@ -131,4 +152,4 @@ class Products {
   }
 }
 
-module.exports = { Products, checkRecipeId, StatusCodes };
+module.exports = { Products, ProductError, checkRecipeId, nodeIdPart, StatusCodes };

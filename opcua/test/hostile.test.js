@@ -1,0 +1,152 @@
+"use strict";
+// What a hostile integrator tried: recipe ids that look like node id paths, a service (or a proxy in
+// front of it) answering 2xx/3xx with something that is not a plan, and JSON arguments nested too
+// deep. Real gateway and real `slosh serve` on loopback; the broken answers come from a small HTTP
+// server in this process.
+const { describe, it, before, after } = require("node:test");
+const assert = require("node:assert/strict");
+const fs = require("fs");
+const http = require("http");
+const { StatusCodes } = require("node-opcua");
+const S = require("./support");
+
+const thesis = { radius: 48.5, height: 150, fill: 82, fluid: "water", stroke: 800, time: 1.0, strategy: "multi_notch" };
+const OPTIONS_JSON = 13; // index of OptionsJson in PlanFormat's arguments
+
+const dirs = [];
+function scratch(prefix) {
+  const d = S.scratch(prefix);
+  dirs.push(d);
+  return d;
+}
+
+describe("slosh-opcua against hostile input", () => {
+  let slosh; let gateway; let conn;
+
+  before(async () => {
+    const dir = scratch("slosh-opcua-hostile-");
+    slosh = await S.startSlosh(dir);
+    gateway = await S.startGateway(dir, slosh.url);
+    conn = await S.connect(gateway.endpoint);
+  });
+
+  after(async () => {
+    if (conn) await conn.close();
+    if (gateway) await gateway.stop();
+    if (slosh) await slosh.stop();
+    for (const d of dirs) fs.rmSync(d, { recursive: true, force: true });
+  });
+
+  it("recipe ids with a dot never collide with another product's node ids, in either order", async () => {
+    for (const [first, second] of [["x", "x.Status"], ["y.LastPlan", "y"], ["z.Parameters.StrokeMm", "z"]]) {
+      for (const id of [first, second]) {
+        const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: id }));
+        assert.equal(r.statusCode.name, "Good", `${id} after ${first}: ${await S.readValue(conn.session, "ns=1;s=Slosh.LastError")}`);
+      }
+      // Planned again: the product is whole, not a leftover that fails every later plan.
+      const again = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: second }));
+      assert.equal(again.statusCode.name, "Good");
+    }
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.x.Status"), "optimal");
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.x%2EStatus.Status"), "optimal");
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.y%2ELastPlan.Parameters.StrokeMm"), 800);
+    const products = await conn.session.browse("ns=1;s=Products");
+    for (const n of ["x", "x.Status", "y", "y.LastPlan"]) assert.ok(products.references.some((p) => p.browseName.name === n), n);
+  });
+
+  it("an import goes on past a row it refuses and counts it failed with its message", async () => {
+    const row = (rid, stroke) => ({ recipe_id: rid, format: { container: { radius_mm: 48.5, height_mm: 150 }, fill_height_mm: 82, fluid: "water", stroke_mm: stroke, motion_time_s: 0.7 } });
+    const table = JSON.stringify([row("imp.a", 500), row("ctl\u0001x", 500), row("imp", 400)]);
+    const submitted = await S.httpJson("POST", `${slosh.url}/v1/batches`, { table, table_format: "json" });
+    assert.equal(submitted.status, 202, submitted.text);
+    const id = submitted.body.id;
+    await S.until("the batch job", 30000, async () => (await S.httpJson("GET", `${slosh.url}/v1/batches/${id}`)).body.state === "done");
+    const imp = await S.callMethod(conn.session, "ImportBatchJob", [["String", id]]);
+    assert.equal(imp.statusCode.name, "Good");
+    assert.deepEqual(imp.outputArguments.map((v) => v.value), [2, 1]);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.imp.Parameters.StrokeMm"), 400);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.imp%2Ea.Parameters.StrokeMm"), 500);
+    const lastError = await S.readValue(conn.session, "ns=1;s=Slosh.LastError");
+    assert.match(lastError, new RegExp(`ImportBatchJob: batch job ${id} row 2: RecipeId "ctl\\\\u0001x" contains a control character; the row is not imported$`));
+  });
+
+  it("JSON nested deeper than the service's 64 levels is refused on its own argument, before parsing", async () => {
+    for (const levels of [65, 5000]) {
+      const deep = "{\"a\":".repeat(levels) + "1" + "}".repeat(levels);
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, options: deep }));
+      assert.equal(r.statusCode.value, StatusCodes.BadInvalidArgument.value);
+      assert.equal(r.inputArgumentResults[OPTIONS_JSON].value, StatusCodes.BadInvalidArgument.value);
+      assert.equal(r.inputArgumentResults.filter((x) => x.value !== StatusCodes.Good.value).length, 1);
+      assert.equal(r.inputArgumentDiagnosticInfos[OPTIONS_JSON].additionalInfo, `OptionsJson nests ${levels} levels deep: allowed at most 64 levels`);
+    }
+    // 64 levels reach the service (its limit is inclusive): its answer, not the gateway's check.
+    const ok = "{\"a\":".repeat(63) + "1" + "}".repeat(63);
+    const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, options: ok }));
+    assert.doesNotMatch(r.inputArgumentDiagnosticInfos[OPTIONS_JSON].additionalInfo || "", /nests/);
+  });
+});
+
+describe("slosh-opcua against a service whose 2xx/3xx answer is not a plan", () => {
+  let server; let gateway; let conn; let answer;
+
+  before(async () => {
+    server = http.createServer((req, res) => {
+      if (req.url === "/readyz") {
+        res.writeHead(200, { "Content-Type": "application/json" });
+        res.end("{\"ready\":true}");
+        return;
+      }
+      req.resume();
+      req.on("end", () => {
+        res.writeHead(answer.status, answer.headers);
+        res.end(answer.body);
+      });
+    });
+    await new Promise((r) => server.listen(0, "127.0.0.1", r));
+    const dir = scratch("slosh-opcua-notplan-");
+    gateway = await S.startGateway(dir, `http://127.0.0.1:${server.address().port}`);
+    conn = await S.connect(gateway.endpoint);
+  });
+
+  after(async () => {
+    if (conn) await conn.close();
+    if (gateway) await gateway.stop();
+    if (server) server.close();
+  });
+
+  const json = { "Content-Type": "application/json" };
+  const cases = [
+    ["an HTML page", { status: 200, headers: { "Content-Type": "text/html" }, body: "<html>proxy login</html>" }, /not a plan: not a JSON object \(got text "<html>proxy login<\/html>"\)$/],
+    ["{}", { status: 200, headers: json, body: "{}" }, /not a plan: status is not a non-empty string \(got \{\}\)$/],
+    ["a 302 with no body", { status: 302, headers: { Location: "/elsewhere" }, body: "" }, /not a plan: not a JSON object \(got an empty body\)$/],
+    ["durations of the wrong type", { status: 200, headers: json, body: "{\"status\":\"optimal\",\"key\":\"k\",\"durations_s\":\"0.1\"}" }, /not a plan: durations_s is neither null nor an array of 7 numbers/],
+    ["6 durations", { status: 200, headers: json, body: "{\"status\":\"optimal\",\"key\":\"k\",\"durations_s\":[1,2,3,4,5,6]}" }, /durations_s is neither null nor an array of 7 numbers/],
+  ];
+  for (const [name, a, message] of cases) {
+    it(`PlanFormat: ${name} is BadCommunicationError naming the answer`, async () => {
+      answer = a;
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: "never" }));
+      assert.equal(r.statusCode.value, StatusCodes.BadCommunicationError.value);
+      assert.match(r.inputArgumentDiagnosticInfos[0].additionalInfo, /^the slosh service answered POST \/v1\/plans with a body that is not a plan: /);
+      assert.match(r.inputArgumentDiagnosticInfos[0].additionalInfo, message);
+    });
+  }
+
+  it("a general law (durations_s null) is a plan", async () => {
+    answer = { status: 200, headers: json, body: "{\"status\":\"optimal\",\"key\":\"k\",\"message\":\"m\",\"durations_s\":null}" };
+    const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs(thesis));
+    assert.equal(r.statusCode.name, "Good");
+    assert.deepEqual([...r.outputArguments[2].value], []);
+  });
+
+  it("PlanTable and ImportBatchJob: an answer that is not a batch job is BadCommunicationError", async () => {
+    answer = { status: 202, headers: json, body: "{}" };
+    const t = await S.callMethod(conn.session, "PlanTable", [["String", "recipe_id\n"], ["String", "csv"]]);
+    assert.equal(t.statusCode.value, StatusCodes.BadCommunicationError.value);
+    assert.match(t.inputArgumentDiagnosticInfos[0].additionalInfo, /POST \/v1\/batches with a body that is not a created batch job: id is not a batch job id/);
+    answer = { status: 200, headers: { "Content-Type": "text/html" }, body: "<p>hi</p>" };
+    const i = await S.callMethod(conn.session, "ImportBatchJob", [["String", "ab12"]]);
+    assert.equal(i.statusCode.value, StatusCodes.BadCommunicationError.value);
+    assert.match(i.inputArgumentDiagnosticInfos[0].additionalInfo, /GET \/v1\/batches\/\{id\} with a body that is not a batch job: not a JSON object/);
+  });
+});
