@@ -75,7 +75,10 @@ class Gateway {
     namespace.addVariable({ componentOf: this.root, browseName: "ServiceUrl", nodeId: "s=Slosh.ServiceUrl", dataType: "String",
       description: "The slosh HTTP service this gateway calls",
       value: { dataType: DataType.String, value: service.base.href } });
-    this.products = new Products(namespace, this.root);
+    this.products = new Products(namespace, this.root, {
+      maxProducts: options.maxProducts,
+      onEvict: (id) => this.setError("Products", `product ${JSON.stringify(id.slice(0, 60))} (planned longest ago) removed: --max-products ${options.maxProducts} reached`),
+    });
 
     this.method("PlanFormat", A.planArgs, A.planOutputs, "Plan one format (POST /v1/plans); with a RecipeId the plan is kept in Products", (v) => this.planFormat(v));
     this.method("MinTime", A.minTimeArgs, A.minTimeOutputs, "Shortest motion time of the format within the limits (POST /v1/min-time)", (v) => this.minTime(v));

@@ -64,7 +64,7 @@ async function start(settings) {
     if (fs.existsSync(p)) fs.chmodSync(p, mode);
   }
   const service = new ServiceClient(settings.service, settings.timeoutMs);
-  const gateway = new Gateway(server, service, { pollMs: settings.pollMs, log });
+  const gateway = new Gateway(server, service, { pollMs: settings.pollMs, maxProducts: settings.maxProducts, log });
   await server.start();
   const port = server.endpoints[0].port;
   await gateway.startPolling();

@@ -23,8 +23,11 @@ GetPlan, PlanTable, ImportBatchJob; the Products folder; ServiceReady and LastEr
   --state-dir DIR    where the PKI lives (default \${XDG_STATE_HOME:-~/.local/state}/slosh/opcua;
                      the server certificate is created in DIR/pki/own on first start;
                      SLOSH_OPCUA_STATE_DIR)
+  --max-products N   most products kept in the Products folder, 1 to 100000 (default 2000,
+                     ~200 kB each); beyond it the product planned longest ago is removed and
+                     LastError says so (SLOSH_OPCUA_MAX_PRODUCTS)
   --config FILE      JSON file with any of the keys service, port, host, timeout_s, poll_s,
-                     security, state_dir and users: [{"user": "...", "password": "..."}]
+                     security, state_dir, max_products and users: [{"user": "...", "password": "..."}]
                      (SLOSH_OPCUA_CONFIG)
   --port-file FILE   write the port once listening (for --port 0)
   --help             this text
@@ -36,7 +39,7 @@ class UsageError extends Error {}
 
 function parseArgs(argv) {
   const flags = {};
-  const known = new Set(["service", "port", "host", "timeout-s", "poll-s", "security", "state-dir", "config", "port-file"]);
+  const known = new Set(["service", "port", "host", "timeout-s", "poll-s", "security", "state-dir", "config", "port-file", "max-products"]);
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     if (a === "--help" || a === "-h") return { help: true };
@@ -80,7 +83,7 @@ function resolve(argv, env = process.env) {
     try { text = fs.readFileSync(configPath, "utf8"); } catch (e) { throw new UsageError(`--config ${configPath}: cannot read it: ${e.code || e.message}`); }
     try { config = JSON.parse(text); } catch (e) { throw new UsageError(`--config ${configPath}: not valid JSON: ${e.message}`); }
     if (config === null || typeof config !== "object" || Array.isArray(config)) throw new UsageError(`--config ${configPath}: a JSON object expected`);
-    const allowed = new Set(["service", "port", "host", "timeout_s", "poll_s", "security", "state_dir", "users"]);
+    const allowed = new Set(["service", "port", "host", "timeout_s", "poll_s", "security", "state_dir", "max_products", "users"]);
     for (const k of Object.keys(config)) if (!allowed.has(k)) throw new UsageError(`--config ${configPath}: unknown key ${JSON.stringify(k)}: allowed ${[...allowed].join(", ")}`);
   }
   const pick = (flag, envName, key, fallback) => {
@@ -101,6 +104,7 @@ function resolve(argv, env = process.env) {
   const [hostName, host] = pick("host", "SLOSH_OPCUA_HOST", "host", "");
   const [timeoutName, timeout] = pick("timeout-s", "SLOSH_OPCUA_TIMEOUT_S", "timeout_s", 30);
   const [pollName, poll] = pick("poll-s", "SLOSH_OPCUA_POLL_S", "poll_s", 2);
+  const [maxProductsName, maxProducts] = pick("max-products", "SLOSH_OPCUA_MAX_PRODUCTS", "max_products", 2000);
   const [securityName, security] = pick("security", "SLOSH_OPCUA_SECURITY", "security", "none,basic256sha256");
   const securityList = (Array.isArray(security) ? security : String(security).split(",")).map((s) => String(s).trim().toLowerCase());
   const policies = { none: false, basic256sha256: false };
@@ -139,6 +143,7 @@ function resolve(argv, env = process.env) {
     stateDir,
     users,
     portFile: f["port-file"],
+    maxProducts: numberSetting(maxProductsName, maxProducts, 1, 100000, true),
   };
 }
 

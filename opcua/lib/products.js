@@ -8,6 +8,9 @@ const { DataType, Variant, StatusCodes } = require("node-opcua");
 const { units } = require("./units");
 
 const MAX_RECIPE_ID = 128;
+// Each product is 59 nodes of the address space, ~200 kB of heap with node-opcua 2.160
+// (docs/opcua.md): the default 2 000 products stay near 400 MB.
+const DEFAULT_MAX_PRODUCTS = 2000;
 
 // Parameters: [browse name, type, unit, description, value from (plan, request options)].
 const parameterVars = [
@@ -57,9 +60,29 @@ function nodeIdPart(id) {
 
 class ProductError extends Error {}
 
+// Deletes node and everything it aggregates (components and properties, e.g. an analog item's
+// EngineeringUnits): node-opcua's deleteNode removes only the node itself, and the children left
+// in the namespace's index would keep their memory.
+function deleteTree(addressSpace, node) {
+  const pending = [node];
+  const all = [];
+  while (pending.length > 0) {
+    const n = pending.pop();
+    all.push(n);
+    for (const c of n.getAggregates()) pending.push(c);
+  }
+  for (let i = all.length - 1; i >= 0; i -= 1) {
+    try { addressSpace.deleteNode(all[i]); } catch (e) { /* already gone */ }
+  }
+}
+
 class Products {
-  constructor(namespace, parent) {
+  // maxProducts: the most products kept (--max-products); onEvict(id): told when the product that
+  // was planned longest ago leaves to make room for a new one.
+  constructor(namespace, parent, { maxProducts = DEFAULT_MAX_PRODUCTS, onEvict = () => {} } = {}) {
     this.namespace = namespace;
+    this.maxProducts = maxProducts;
+    this.onEvict = onEvict;
     this.folder = namespace.addObject({ organizedBy: parent, typeDefinition: "FolderType", browseName: "Products", nodeId: "s=Products",
       description: "One object per recipe id: its parameters and last plan (PackML products)" });
     this.items = new Map();
@@ -93,6 +116,13 @@ class Products {
   ensure(id) {
     let item = this.items.get(id);
     if (item) return item;
+    // Room for one more: the product planned longest ago goes (the Map is kept in planning order).
+    while (this.items.size >= this.maxProducts) {
+      const [oldest, old] = this.items.entries().next().value;
+      this.items.delete(oldest);
+      deleteTree(this.namespace.addressSpace, old.node);
+      this.onEvict(oldest);
+    }
     const prefix = `Products.${nodeIdPart(id)}`;
     // Built fully or not at all: a failure half way deletes what was added, so a later plan of
     // the same id starts from nothing instead of failing on the leftovers.
@@ -121,7 +151,7 @@ class Products {
       item = { node, state, params, plan };
     } catch (err) {
       if (node) {
-        try { this.namespace.addressSpace.deleteNode(node); } catch (e) { /* already partly gone */ }
+        deleteTree(this.namespace.addressSpace, node);
       }
       // node-opcua's message carries a dump of the address space: only its first line.
       throw new ProductError(`product ${JSON.stringify(id.slice(0, 60))} could not be created: ${String(err.message).split("\n")[0].slice(0, 200)}`);
@@ -130,9 +160,17 @@ class Products {
     return item;
   }
 
+  // The product of id, made the most recently planned one.
+  touch(id) {
+    const item = this.ensure(id);
+    this.items.delete(id);
+    this.items.set(id, item);
+    return item;
+  }
+
   // A full plan response for recipe id; options: the OptionsJson text it was planned with.
   setPlan(id, plan, summary, options) {
-    const item = this.ensure(id);
+    const item = this.touch(id);
     for (const [name, , , , get] of parameterVars) {
       let v;
       try { v = get(plan, options); } catch (e) { v = undefined; }
@@ -145,11 +183,11 @@ class Products {
 
   // A recipe whose plan failed (a batch row with an error): its last plan is kept, Status says error.
   setError(id, message) {
-    const item = this.ensure(id);
+    const item = this.touch(id);
     item.plan.Message = message;
     item.state.Status = "error";
     item.state.LastPlanned = new Date();
   }
 }
 
-module.exports = { Products, ProductError, checkRecipeId, nodeIdPart, StatusCodes };
+module.exports = { DEFAULT_MAX_PRODUCTS, Products, ProductError, checkRecipeId, nodeIdPart, StatusCodes };

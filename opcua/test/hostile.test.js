@@ -150,3 +150,37 @@ describe("slosh-opcua against a service whose 2xx/3xx answer is not a plan", () 
     assert.match(i.inputArgumentDiagnosticInfos[0].additionalInfo, /GET \/v1\/batches\/\{id\} with a body that is not a batch job: not a JSON object/);
   });
 });
+
+describe("slosh-opcua --max-products", () => {
+  let slosh; let gateway; let conn;
+
+  before(async () => {
+    const dir = scratch("slosh-opcua-max-");
+    slosh = await S.startSlosh(dir);
+    gateway = await S.startGateway(dir, slosh.url, ["--max-products", "2"]);
+    conn = await S.connect(gateway.endpoint);
+  });
+
+  after(async () => {
+    if (conn) await conn.close();
+    if (gateway) await gateway.stop();
+    if (slosh) await slosh.stop();
+  });
+
+  it("keeps at most N products: the one planned longest ago makes room, and LastError says so", async () => {
+    for (const id of ["m1", "m2", "m1", "m3"]) {
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: id }));
+      assert.equal(r.statusCode.name, "Good");
+    }
+    const products = await conn.session.browse("ns=1;s=Products");
+    assert.deepEqual(products.references.map((p) => p.browseName.name).sort(), ["m1", "m3"]);
+    const gone = await conn.session.read({ nodeId: "ns=1;s=Products.m2.Status", attributeId: 13 });
+    assert.equal(gone.statusCode.value, StatusCodes.BadNodeIdUnknown.value);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.m1.Status"), "optimal");
+    assert.match(await S.readValue(conn.session, "ns=1;s=Slosh.LastError"), /Products: product "m2" \(planned longest ago\) removed: --max-products 2 reached$/);
+    // Planned again, it comes back whole.
+    const again = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: "m2" }));
+    assert.equal(again.statusCode.name, "Good");
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.m2.Parameters.StrokeMm"), 800);
+  });
+});
