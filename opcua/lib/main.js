@@ -20,7 +20,7 @@ function sameSecret(a, b) {
 
 async function start(settings) {
   // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
-  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode } = require("node-opcua");
+  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
   const { ServiceClient } = require("./service_client");
   const { Gateway } = require("./gateway");
   // The PKI holds the server's private key: everything the gateway creates is for its user only
@@ -66,6 +66,14 @@ async function start(settings) {
   const service = new ServiceClient(settings.service, settings.timeoutMs);
   const gateway = new Gateway(server, service, { pollMs: settings.pollMs, maxProducts: settings.maxProducts, log });
   await server.start();
+  // node-opcua lists an X.509 user token policy on every endpoint whatever the options say (its
+  // server does not pass userTokenTypes on): the gateway accepts user names only, so only those
+  // (and Anonymous when no user is set) are offered.
+  for (const endpoint of server.endpoints) {
+    for (const d of endpoint.endpointDescriptions()) {
+      d.userIdentityTokens = (d.userIdentityTokens || []).filter((t) => t.tokenType !== UserTokenType.Certificate);
+    }
+  }
   const port = server.endpoints[0].port;
   await gateway.startPolling();
   if (settings.portFile) fs.writeFileSync(settings.portFile, `${port}\n`);
@@ -88,6 +96,7 @@ async function main(argv) {
     process.stdout.write(USAGE + "\n");
     return;
   }
+  for (const w of settings.warnings || []) log(`warning: ${w}`);
   let running;
   try {
     running = await start(settings);

@@ -47,7 +47,10 @@ function parseArgs(argv) {
     if (!m || !known.has(m[1])) throw new UsageError(`unknown argument ${JSON.stringify(a)} (see --help)`);
     let value = m[2];
     if (value === undefined) {
-      if (i + 1 >= argv.length) throw new UsageError(`--${m[1]} needs a value`);
+      if (i + 1 >= argv.length || argv[i + 1].startsWith("--")) {
+        if (m[1] === "service") throw new UsageError("--service needs a value: the service URL is missing (e.g. http://127.0.0.1:8080)");
+        throw new UsageError(`--${m[1]} needs a value`);
+      }
       value = argv[++i];
     }
     if (m[1] in flags) throw new UsageError(`--${m[1]} is given twice`);
@@ -57,6 +60,10 @@ function parseArgs(argv) {
 }
 
 function numberSetting(name, value, low, high, integer) {
+  // A config file says what it means in JSON: "80" (a string) is not the number 80.
+  if (name.startsWith("config ") && typeof value !== "number") {
+    throw new UsageError(`${name} = ${JSON.stringify(value)} is not a JSON number: allowed ${integer ? "an integer " : ""}${low} to ${high}`);
+  }
   const text = String(value).trim();
   const n = Number(text);
   if (text === "" || !Number.isFinite(n) || (integer && !Number.isInteger(n)) || n < low || n > high) {
@@ -98,7 +105,15 @@ function resolve(argv, env = process.env) {
   let url;
   try { url = new URL(String(service)); } catch (e) { url = null; }
   if (!url || !["http:", "https:"].includes(url.protocol) || !url.hostname) {
-    throw new UsageError(`${serviceName} = ${JSON.stringify(service)} is not a service URL: http://host:port expected`);
+    throw new UsageError(`${serviceName} = ${JSON.stringify(service)} is not a service URL: http://host[:port][/path] or https://… expected`);
+  }
+  // A user name and password in the URL would be shown by Slosh.ServiceUrl and the log, and the
+  // service takes none: refused rather than hidden.
+  if (url.username || url.password) {
+    throw new UsageError(`${serviceName} holds a user name or password (user:pass@): the slosh service takes no credentials in its URL; remove them`);
+  }
+  if (url.search || url.hash) {
+    throw new UsageError(`${serviceName} = ${JSON.stringify(url.origin + url.pathname + "?…")} has a query or fragment: http://host[:port][/path] expected`);
   }
   const [portName, port] = pick("port", "SLOSH_OPCUA_PORT", "port", 4840);
   const [hostName, host] = pick("host", "SLOSH_OPCUA_HOST", "host", "");
@@ -119,14 +134,23 @@ function resolve(argv, env = process.env) {
   const stateDir = stateDirSetting !== undefined ? path.resolve(String(stateDirSetting)) : defaultStateDir(env);
 
   const users = [];
+  const warnings = [];
   if (config.users !== undefined) {
     if (!Array.isArray(config.users)) throw new UsageError(`--config ${configPath}: users must be a list of {"user", "password"}`);
     config.users.forEach((u, i) => {
       if (!u || typeof u.user !== "string" || u.user === "" || typeof u.password !== "string" || u.password === "") {
         throw new UsageError(`--config ${configPath}: users[${i}] needs a non-empty "user" and "password"`);
       }
+      if (users.some((x) => x.user === u.user)) throw new UsageError(`--config ${configPath}: users[${i}]: user ${JSON.stringify(u.user)} is listed twice`);
       users.push({ user: u.user, password: u.password });
     });
+    // Passwords in a file others can read: the gateway starts, but says so.
+    try {
+      const mode = fs.statSync(configPath).mode;
+      if (config.users.length > 0 && (mode & 0o077) !== 0) {
+        warnings.push(`--config ${configPath} holds passwords and is readable by group or others (mode ${(mode & 0o777).toString(8)}): chmod 600 it`);
+      }
+    } catch (e) { /* read above; a race is harmless */ }
   }
   if (env.SLOSH_OPCUA_USER || env.SLOSH_OPCUA_PASSWORD) {
     if (!env.SLOSH_OPCUA_USER || !env.SLOSH_OPCUA_PASSWORD) throw new UsageError("SLOSH_OPCUA_USER and SLOSH_OPCUA_PASSWORD go together: set both or neither");
@@ -143,6 +167,7 @@ function resolve(argv, env = process.env) {
     stateDir,
     users,
     portFile: f["port-file"],
+    warnings,
     maxProducts: numberSetting(maxProductsName, maxProducts, 1, 100000, true),
   };
 }

@@ -70,6 +70,17 @@ describe("slosh-opcua against hostile input", () => {
     assert.match(lastError, new RegExp(`ImportBatchJob: batch job ${id} row 2: RecipeId "ctl\\\\u0001x" contains a control character; the row is not imported$`));
   });
 
+  it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
+    const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"line\",\"length_mm\":500}" }));
+    assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(motion.inputArgumentResults[10].value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion is not a known field; allowed here: container, fill_height_mm, fluid, stroke_mm, motion_time_s");
+    const rect = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, radius: 0, length: 100, width: 80 }));
+    assert.equal(rect.statusCode.value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(rect.inputArgumentResults[2].value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(rect.inputArgumentDiagnosticInfos[2].additionalInfo, "format.container.length_mm is not a known field; allowed here: radius_mm, height_mm");
+  });
+
   it("JSON nested deeper than the service's 64 levels is refused on its own argument, before parsing", async () => {
     for (const levels of [65, 5000]) {
       const deep = "{\"a\":".repeat(levels) + "1" + "}".repeat(levels);
@@ -182,5 +193,47 @@ describe("slosh-opcua --max-products", () => {
     const again = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: "m2" }));
     assert.equal(again.statusCode.name, "Good");
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.m2.Parameters.StrokeMm"), 800);
+  });
+});
+
+describe("slosh-opcua settings a hostile integrator tried", () => {
+  const { spawnSync } = require("child_process");
+  const path = require("path");
+  const script = path.join(S.root, "opcua", "slosh-opcua");
+  const run = (args, env = {}) => spawnSync(process.execPath, [script, ...args], { env: { ...process.env, HOME: scratch("slosh-opcua-set-"), ...env }, encoding: "utf8", timeout: 30000 });
+
+  it("refuses credentials, queries and a missing URL in --service with a message that says so", () => {
+    const cases = [
+      [["--service"], "slosh-opcua: --service needs a value: the service URL is missing (e.g. http://127.0.0.1:8080)\n"],
+      [["--service", "--port", "1"], "slosh-opcua: --service needs a value: the service URL is missing (e.g. http://127.0.0.1:8080)\n"],
+      [["--service", "http://op:secret@127.0.0.1:8080"], "slosh-opcua: --service holds a user name or password (user:pass@): the slosh service takes no credentials in its URL; remove them\n"],
+      [["--service", "http://127.0.0.1:8080/?a=1"], "slosh-opcua: --service = \"http://127.0.0.1:8080/?…\" has a query or fragment: http://host[:port][/path] expected\n"],
+    ];
+    for (const [args, message] of cases) {
+      const r = run(args);
+      assert.equal(r.status, 2, r.stderr);
+      assert.equal(r.stderr, message);
+      assert.doesNotMatch(r.stderr, /secret/);
+    }
+  });
+
+  it("refuses a config whose port is a string or that lists a user twice; warns of passwords others can read", () => {
+    const dir = scratch("slosh-opcua-cfg-");
+    const file = path.join(dir, "c.json");
+    fs.writeFileSync(file, JSON.stringify({ service: "http://127.0.0.1:1", port: "80" }));
+    let r = run(["--config", file]);
+    assert.equal(r.status, 2);
+    assert.equal(r.stderr, "slosh-opcua: config port = \"80\" is not a JSON number: allowed an integer 0 to 65535\n");
+    fs.writeFileSync(file, JSON.stringify({ service: "http://127.0.0.1:1", users: [{ user: "a", password: "b" }, { user: "a", password: "c" }] }));
+    r = run(["--config", file]);
+    assert.equal(r.status, 2);
+    assert.equal(r.stderr, `slosh-opcua: --config ${file}: users[1]: user "a" is listed twice\n`);
+    const { resolve } = require("../lib/options");
+    fs.writeFileSync(file, JSON.stringify({ service: "http://127.0.0.1:1", users: [{ user: "a", password: "b" }] }));
+    fs.chmodSync(file, 0o640);
+    assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings,
+      [`--config ${file} holds passwords and is readable by group or others (mode 640): chmod 600 it`]);
+    fs.chmodSync(file, 0o600);
+    assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings, []);
   });
 });
