@@ -249,7 +249,8 @@ class Gateway {
     const poll = async () => {
       let ready = false;
       try {
-        const { status, body } = await this.service.request("GET", "/readyz", undefined, { raw: true, timeoutMs: Math.min(this.service.timeoutMs, Math.max(this.pollMs, 1000)) });
+        const { status, body } = await this.service.request("GET", "/readyz", undefined, { raw: true, timeoutMs: Math.min(this.service.timeoutMs, Math.max(this.pollMs, 1000)),
+          boundName: "the readiness poll's bound: --poll-s, at least 1 s, at most --timeout-s" });
         ready = status === 200;
         if (!ready) this.setError("ServiceReady", `GET /readyz answered ${status}: ${typeof body === "object" ? JSON.stringify(body).slice(0, 200) : String(body).slice(0, 200)}`);
       } catch (err) {

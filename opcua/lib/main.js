@@ -36,6 +36,13 @@ async function start(settings) {
   // directory, not in its default per-user config folder (a read-only root in the container).
   const userCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(settings.stateDir, "user-pki"), automaticallyAcceptUnknownCertificate: false });
   await userCertificateManager.initialize();
+  // A key file that is not a key would fail deep in node-opcua with a message naming no file.
+  const keyFile = path.join(pki, "own", "private", "private_key.pem");
+  if (fs.existsSync(keyFile)) {
+    try { crypto.createPrivateKey(fs.readFileSync(keyFile)); } catch (e) {
+      throw new Error(`the private key ${keyFile} is not a readable PEM key (${e.message}): move it away to have a new one made, or restore it`);
+    }
+  }
   const policies = [];
   const modes = [];
   if (settings.security.none) { policies.push(SecurityPolicy.None); modes.push(MessageSecurityMode.None); }

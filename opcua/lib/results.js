@@ -13,6 +13,7 @@ function statusOf(err) {
   if (err instanceof ArgumentError) return err.invalidState ? StatusCodes.BadInvalidState : StatusCodes.BadInvalidArgument;
   if (err instanceof ServiceError) {
     if (err.kind === "timeout") return StatusCodes.BadTimeout;
+    if (err.kind === "shutdown") return StatusCodes.BadShutdown;
     if (err.kind === "unreachable" || err.kind === "protocol") return StatusCodes.BadCommunicationError;
     if (err.status === 400 || err.status === 413 || err.status === 422) return StatusCodes.BadInvalidArgument;
     if (err.status === 404) return StatusCodes.BadNotFound;

@@ -237,3 +237,68 @@ describe("slosh-opcua settings a hostile integrator tried", () => {
     assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings, []);
   });
 });
+
+describe("slosh-opcua messages that name the right cause", () => {
+  const net = require("net");
+  const path = require("path");
+  let silent; const sockets = [];
+
+  before(async () => {
+    silent = net.createServer((s) => sockets.push(s));
+    await new Promise((r) => silent.listen(0, "127.0.0.1", r));
+  });
+
+  after(() => {
+    sockets.forEach((s) => s.destroy());
+    silent.close();
+  });
+
+  it("a readiness poll that times out names the poll's bound, not --timeout-s alone", async () => {
+    const gw = await S.startGateway(scratch("slosh-opcua-pollto-"), `http://127.0.0.1:${silent.address().port}`, ["--timeout-s", "5"]);
+    const c = await S.connect(gw.endpoint);
+    try {
+      const last = await S.until("the poll's timeout in LastError", 15000, async () => {
+        const v = await S.readValue(c.session, "ns=1;s=Slosh.LastError");
+        return v.includes("did not answer") ? v : null;
+      });
+      assert.match(last, /ServiceReady: the slosh service at http:\/\/127\.0\.0\.1:\d+ did not answer GET \/readyz within 1 s \(the readiness poll's bound: --poll-s, at least 1 s, at most --timeout-s\)$/);
+    } finally {
+      await c.close();
+      await gw.stop();
+    }
+  });
+
+  it("a call pending when the gateway stops is answered BadShutdown, not blamed on the service", async () => {
+    // Ready, but a plan never comes: the call is pending for sure once the request arrived.
+    const hung = [];
+    const svc = http.createServer((req, res) => {
+      if (req.url === "/readyz") { res.writeHead(200, { "Content-Type": "application/json" }); res.end("{}"); return; }
+      hung.push(res);
+    });
+    await new Promise((r) => svc.listen(0, "127.0.0.1", r));
+    const gw = await S.startGateway(scratch("slosh-opcua-term-"), `http://127.0.0.1:${svc.address().port}`, ["--timeout-s", "20"]);
+    const c = await S.connect(gw.endpoint);
+    try {
+      const call = S.callMethod(c.session, "PlanFormat", S.planArgs(thesis));
+      await S.until("the call to reach the service", 5000, () => hung.length > 0);
+      gw.proc.kill("SIGTERM");
+      const r = await call;
+      assert.equal(r.statusCode.value, StatusCodes.BadShutdown.value);
+      assert.match(r.inputArgumentDiagnosticInfos[0].additionalInfo, /^the gateway is shutting down: POST \/v1\/plans was not answered; call again once it is back$/);
+    } finally {
+      await c.close().catch(() => {});
+      await gw.stop();
+      hung.forEach((r) => r.destroy());
+      svc.close();
+    }
+  });
+
+  it("a private key file that is not a key stops the start naming the file", async () => {
+    const dir = scratch("slosh-opcua-badkey-");
+    const keyDir = path.join(dir, "opcua-state", "pki", "own", "private");
+    fs.mkdirSync(keyDir, { recursive: true });
+    fs.writeFileSync(path.join(keyDir, "private_key.pem"), "not a key\n");
+    await assert.rejects(S.startGateway(dir, `http://127.0.0.1:${silent.address().port}`),
+      (e) => e.message.includes(`slosh-opcua: cannot start: the private key ${path.join(keyDir, "private_key.pem")} is not a readable PEM key`));
+  });
+});
