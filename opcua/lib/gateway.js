@@ -6,6 +6,7 @@ const { DataType, Variant, VariantArrayType, StatusCodes } = require("node-opcua
 const { units, none: NO_UNIT } = require("./units");
 const A = require("./arguments");
 const { buildPlanRequest, buildMinTimeRequest, planSummary, ArgumentError } = require("./requests");
+const { checkPlan, checkMinTime, checkJob, checkJobPage, checkJobCreated } = require("./answers");
 const { failureResult } = require("./results");
 const { Products, checkRecipeId } = require("./products");
 
@@ -74,7 +75,10 @@ class Gateway {
     namespace.addVariable({ componentOf: this.root, browseName: "ServiceUrl", nodeId: "s=Slosh.ServiceUrl", dataType: "String",
       description: "The slosh HTTP service this gateway calls",
       value: { dataType: DataType.String, value: service.base.href } });
-    this.products = new Products(namespace, this.root);
+    this.products = new Products(namespace, this.root, {
+      maxProducts: options.maxProducts,
+      onEvict: (id) => this.setError("Products", `product ${JSON.stringify(id.slice(0, 60))} (planned longest ago) removed: --max-products ${options.maxProducts} reached`),
+    });
 
     this.method("PlanFormat", A.planArgs, A.planOutputs, "Plan one format (POST /v1/plans); with a RecipeId the plan is kept in Products", (v) => this.planFormat(v));
     this.method("MinTime", A.minTimeArgs, A.minTimeOutputs, "Shortest motion time of the format within the limits (POST /v1/min-time)", (v) => this.minTime(v));
@@ -125,6 +129,7 @@ class Gateway {
       if (problem) throw new ArgumentError("RecipeId", problem);
     }
     const { body } = await this.service.request("POST", "/v1/plans", buildPlanRequest(v));
+    checkPlan(body, "POST", "/v1/plans");
     const summary = planSummary(body);
     if (id !== "") this.products.setPlan(id, body, summary, v.OptionsJson || "");
     return summary;
@@ -132,6 +137,7 @@ class Gateway {
 
   async minTime(v) {
     const { body } = await this.service.request("POST", "/v1/min-time", buildMinTimeRequest(v));
+    checkMinTime(body, "POST", "/v1/min-time");
     const h = body.headline || {};
     return {
       TMinS: typeof h.t_min_s === "number" ? h.t_min_s : NaN,
@@ -147,11 +153,13 @@ class Gateway {
       throw new ArgumentError("Key", `Key = ${JSON.stringify(key.slice(0, 60))} is not a recipe key: 32 lowercase hex digits expected`);
     }
     const { body } = await this.service.request("GET", `/v1/plans/${key}`);
+    checkPlan(body, "GET", "/v1/plans/{key}");
     return planSummary(body);
   }
 
   async planTable(v) {
     const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "" });
+    checkJobCreated(body, "POST", "/v1/batches");
     this.follow(body.id);
     return { JobId: body.id };
   }
@@ -162,6 +170,7 @@ class Gateway {
     const tick = async () => {
       try {
         const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?limit=1`);
+        checkJob(body, "GET", "/v1/batches/{id}");
         if (body.state === "queued" || body.state === "running") {
           setTimeout(tick, 250).unref();
           return;
@@ -181,6 +190,7 @@ class Gateway {
       throw new ArgumentError("JobId", `JobId = ${JSON.stringify(id.slice(0, 60))} is not a batch job id: hex digits expected`);
     }
     const record = (await this.service.request("GET", `/v1/batches/${id}?limit=1`)).body;
+    checkJob(record, "GET", "/v1/batches/{id}");
     if (record.state !== "done") {
       const p = record.progress || {};
       throw Object.assign(new ArgumentError("JobId", `batch job ${id} is ${record.state} (${p.done || 0} of ${p.total || 0} done): import it once it is done`), { invalidState: true });
@@ -189,28 +199,44 @@ class Gateway {
     let failed = 0;
     let offset = 0;
     for (;;) {
-      const page = (await this.service.request("GET", `/v1/batches/${id}?offset=${offset}&limit=1000`)).body.results;
+      const pageBody = (await this.service.request("GET", `/v1/batches/${id}?offset=${offset}&limit=1000`)).body;
+      checkJobPage(pageBody, "GET", "/v1/batches/{id}");
+      const page = pageBody.results;
       for (const row of page.rows) {
+        // One bad row (an id the gateway refuses, a plan that is gone or malformed) is counted as
+        // failed with its message and never stops the rows after it.
         const rid = row.recipe_id === undefined || row.recipe_id === null || row.recipe_id === "" ? `row-${row.row}` : String(row.recipe_id);
-        if (checkRecipeId(rid)) { failed += 1; continue; }
-        if (row.status === "error" || !row.key) {
-          this.products.setError(rid, row.error ? row.error.message : (row.message || "error"));
+        const refused = checkRecipeId(rid);
+        if (refused) {
           failed += 1;
+          this.setError("ImportBatchJob", `batch job ${id} row ${row.row}: ${refused}; the row is not imported`);
           continue;
         }
-        // The row carries the figures only; the full plan (kept by the service under its key)
-        // carries the format the recipe was planned with.
-        let plan;
         try {
-          plan = (await this.service.request("GET", `/v1/plans/${row.key}`)).body;
+          if (row.status === "error" || !row.key) {
+            this.products.setError(rid, row.error ? row.error.message : (row.message || "error"));
+            failed += 1;
+            continue;
+          }
+          // The row carries the figures only; the full plan (kept by the service under its key)
+          // carries the format the recipe was planned with.
+          let plan;
+          try {
+            plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`)).body;
+            checkPlan(plan, "GET", "/v1/plans/{key}");
+          } catch (err) {
+            // A plan the cache no longer holds (evicted, or a time_limit plan, which is never
+            // cached): the row's own figures, without the parameters.
+            if (!(err.kind === "http" && err.status === 404)) throw err;
+            plan = { ...row, format: {} };
+          }
+          this.products.setPlan(rid, plan, planSummary(plan), "");
+          planned += 1;
         } catch (err) {
-          // A plan the cache no longer holds (evicted, or a time_limit plan, which is never
-          // cached): the row's own figures, without the parameters.
-          if (!(err.kind === "http" && err.status === 404)) throw err;
-          plan = { ...row, format: {} };
+          if (err.kind === "timeout" || err.kind === "unreachable") throw err;
+          failed += 1;
+          this.setError("ImportBatchJob", `batch job ${id} row ${row.row} (${JSON.stringify(rid.slice(0, 60))}): ${String(err.message).split("\n")[0].slice(0, 200)}`);
         }
-        this.products.setPlan(rid, plan, planSummary(plan), "");
-        planned += 1;
       }
       if (page.next_offset === null || page.next_offset === undefined) break;
       offset = page.next_offset;
@@ -223,7 +249,8 @@ class Gateway {
     const poll = async () => {
       let ready = false;
       try {
-        const { status, body } = await this.service.request("GET", "/readyz", undefined, { raw: true, timeoutMs: Math.min(this.service.timeoutMs, Math.max(this.pollMs, 1000)) });
+        const { status, body } = await this.service.request("GET", "/readyz", undefined, { raw: true, timeoutMs: Math.min(this.service.timeoutMs, Math.max(this.pollMs, 1000)),
+          boundName: "the readiness poll's bound: --poll-s, at least 1 s, at most --timeout-s" });
         ready = status === 200;
         if (!ready) this.setError("ServiceReady", `GET /readyz answered ${status}: ${typeof body === "object" ? JSON.stringify(body).slice(0, 200) : String(body).slice(0, 200)}`);
       } catch (err) {

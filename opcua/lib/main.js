@@ -20,7 +20,7 @@ function sameSecret(a, b) {
 
 async function start(settings) {
   // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
-  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode } = require("node-opcua");
+  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
   const { ServiceClient } = require("./service_client");
   const { Gateway } = require("./gateway");
   // The PKI holds the server's private key: everything the gateway creates is for its user only
@@ -36,6 +36,13 @@ async function start(settings) {
   // directory, not in its default per-user config folder (a read-only root in the container).
   const userCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(settings.stateDir, "user-pki"), automaticallyAcceptUnknownCertificate: false });
   await userCertificateManager.initialize();
+  // A key file that is not a key would fail deep in node-opcua with a message naming no file.
+  const keyFile = path.join(pki, "own", "private", "private_key.pem");
+  if (fs.existsSync(keyFile)) {
+    try { crypto.createPrivateKey(fs.readFileSync(keyFile)); } catch (e) {
+      throw new Error(`the private key ${keyFile} is not a readable PEM key (${e.message}): move it away to have a new one made, or restore it`);
+    }
+  }
   const policies = [];
   const modes = [];
   if (settings.security.none) { policies.push(SecurityPolicy.None); modes.push(MessageSecurityMode.None); }
@@ -64,8 +71,16 @@ async function start(settings) {
     if (fs.existsSync(p)) fs.chmodSync(p, mode);
   }
   const service = new ServiceClient(settings.service, settings.timeoutMs);
-  const gateway = new Gateway(server, service, { pollMs: settings.pollMs, log });
+  const gateway = new Gateway(server, service, { pollMs: settings.pollMs, maxProducts: settings.maxProducts, log });
   await server.start();
+  // node-opcua lists an X.509 user token policy on every endpoint whatever the options say (its
+  // server does not pass userTokenTypes on): the gateway accepts user names only, so only those
+  // (and Anonymous when no user is set) are offered.
+  for (const endpoint of server.endpoints) {
+    for (const d of endpoint.endpointDescriptions()) {
+      d.userIdentityTokens = (d.userIdentityTokens || []).filter((t) => t.tokenType !== UserTokenType.Certificate);
+    }
+  }
   const port = server.endpoints[0].port;
   await gateway.startPolling();
   if (settings.portFile) fs.writeFileSync(settings.portFile, `${port}\n`);
@@ -88,6 +103,7 @@ async function main(argv) {
     process.stdout.write(USAGE + "\n");
     return;
   }
+  for (const w of settings.warnings || []) log(`warning: ${w}`);
   let running;
   try {
     running = await start(settings);

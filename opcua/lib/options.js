@@ -23,8 +23,11 @@ GetPlan, PlanTable, ImportBatchJob; the Products folder; ServiceReady and LastEr
   --state-dir DIR    where the PKI lives (default \${XDG_STATE_HOME:-~/.local/state}/slosh/opcua;
                      the server certificate is created in DIR/pki/own on first start;
                      SLOSH_OPCUA_STATE_DIR)
+  --max-products N   most products kept in the Products folder, 1 to 100000 (default 2000,
+                     ~200 kB each); beyond it the product planned longest ago is removed and
+                     LastError says so (SLOSH_OPCUA_MAX_PRODUCTS)
   --config FILE      JSON file with any of the keys service, port, host, timeout_s, poll_s,
-                     security, state_dir and users: [{"user": "...", "password": "..."}]
+                     security, state_dir, max_products and users: [{"user": "...", "password": "..."}]
                      (SLOSH_OPCUA_CONFIG)
   --port-file FILE   write the port once listening (for --port 0)
   --help             this text
@@ -36,7 +39,7 @@ class UsageError extends Error {}
 
 function parseArgs(argv) {
   const flags = {};
-  const known = new Set(["service", "port", "host", "timeout-s", "poll-s", "security", "state-dir", "config", "port-file"]);
+  const known = new Set(["service", "port", "host", "timeout-s", "poll-s", "security", "state-dir", "config", "port-file", "max-products"]);
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     if (a === "--help" || a === "-h") return { help: true };
@@ -44,7 +47,10 @@ function parseArgs(argv) {
     if (!m || !known.has(m[1])) throw new UsageError(`unknown argument ${JSON.stringify(a)} (see --help)`);
     let value = m[2];
     if (value === undefined) {
-      if (i + 1 >= argv.length) throw new UsageError(`--${m[1]} needs a value`);
+      if (i + 1 >= argv.length || argv[i + 1].startsWith("--")) {
+        if (m[1] === "service") throw new UsageError("--service needs a value: the service URL is missing (e.g. http://127.0.0.1:8080)");
+        throw new UsageError(`--${m[1]} needs a value`);
+      }
       value = argv[++i];
     }
     if (m[1] in flags) throw new UsageError(`--${m[1]} is given twice`);
@@ -54,6 +60,10 @@ function parseArgs(argv) {
 }
 
 function numberSetting(name, value, low, high, integer) {
+  // A config file says what it means in JSON: "80" (a string) is not the number 80.
+  if (name.startsWith("config ") && typeof value !== "number") {
+    throw new UsageError(`${name} = ${JSON.stringify(value)} is not a JSON number: allowed ${integer ? "an integer " : ""}${low} to ${high}`);
+  }
   const text = String(value).trim();
   const n = Number(text);
   if (text === "" || !Number.isFinite(n) || (integer && !Number.isInteger(n)) || n < low || n > high) {
@@ -80,7 +90,7 @@ function resolve(argv, env = process.env) {
     try { text = fs.readFileSync(configPath, "utf8"); } catch (e) { throw new UsageError(`--config ${configPath}: cannot read it: ${e.code || e.message}`); }
     try { config = JSON.parse(text); } catch (e) { throw new UsageError(`--config ${configPath}: not valid JSON: ${e.message}`); }
     if (config === null || typeof config !== "object" || Array.isArray(config)) throw new UsageError(`--config ${configPath}: a JSON object expected`);
-    const allowed = new Set(["service", "port", "host", "timeout_s", "poll_s", "security", "state_dir", "users"]);
+    const allowed = new Set(["service", "port", "host", "timeout_s", "poll_s", "security", "state_dir", "max_products", "users"]);
     for (const k of Object.keys(config)) if (!allowed.has(k)) throw new UsageError(`--config ${configPath}: unknown key ${JSON.stringify(k)}: allowed ${[...allowed].join(", ")}`);
   }
   const pick = (flag, envName, key, fallback) => {
@@ -95,12 +105,21 @@ function resolve(argv, env = process.env) {
   let url;
   try { url = new URL(String(service)); } catch (e) { url = null; }
   if (!url || !["http:", "https:"].includes(url.protocol) || !url.hostname) {
-    throw new UsageError(`${serviceName} = ${JSON.stringify(service)} is not a service URL: http://host:port expected`);
+    throw new UsageError(`${serviceName} = ${JSON.stringify(service)} is not a service URL: http://host[:port][/path] or https://… expected`);
+  }
+  // A user name and password in the URL would be shown by Slosh.ServiceUrl and the log, and the
+  // service takes none: refused rather than hidden.
+  if (url.username || url.password) {
+    throw new UsageError(`${serviceName} holds a user name or password (user:pass@): the slosh service takes no credentials in its URL; remove them`);
+  }
+  if (url.search || url.hash) {
+    throw new UsageError(`${serviceName} = ${JSON.stringify(url.origin + url.pathname + "?…")} has a query or fragment: http://host[:port][/path] expected`);
   }
   const [portName, port] = pick("port", "SLOSH_OPCUA_PORT", "port", 4840);
   const [hostName, host] = pick("host", "SLOSH_OPCUA_HOST", "host", "");
   const [timeoutName, timeout] = pick("timeout-s", "SLOSH_OPCUA_TIMEOUT_S", "timeout_s", 30);
   const [pollName, poll] = pick("poll-s", "SLOSH_OPCUA_POLL_S", "poll_s", 2);
+  const [maxProductsName, maxProducts] = pick("max-products", "SLOSH_OPCUA_MAX_PRODUCTS", "max_products", 2000);
   const [securityName, security] = pick("security", "SLOSH_OPCUA_SECURITY", "security", "none,basic256sha256");
   const securityList = (Array.isArray(security) ? security : String(security).split(",")).map((s) => String(s).trim().toLowerCase());
   const policies = { none: false, basic256sha256: false };
@@ -115,14 +134,23 @@ function resolve(argv, env = process.env) {
   const stateDir = stateDirSetting !== undefined ? path.resolve(String(stateDirSetting)) : defaultStateDir(env);
 
   const users = [];
+  const warnings = [];
   if (config.users !== undefined) {
     if (!Array.isArray(config.users)) throw new UsageError(`--config ${configPath}: users must be a list of {"user", "password"}`);
     config.users.forEach((u, i) => {
       if (!u || typeof u.user !== "string" || u.user === "" || typeof u.password !== "string" || u.password === "") {
         throw new UsageError(`--config ${configPath}: users[${i}] needs a non-empty "user" and "password"`);
       }
+      if (users.some((x) => x.user === u.user)) throw new UsageError(`--config ${configPath}: users[${i}]: user ${JSON.stringify(u.user)} is listed twice`);
       users.push({ user: u.user, password: u.password });
     });
+    // Passwords in a file others can read: the gateway starts, but says so.
+    try {
+      const mode = fs.statSync(configPath).mode;
+      if (config.users.length > 0 && (mode & 0o077) !== 0) {
+        warnings.push(`--config ${configPath} holds passwords and is readable by group or others (mode ${(mode & 0o777).toString(8)}): chmod 600 it`);
+      }
+    } catch (e) { /* read above; a race is harmless */ }
   }
   if (env.SLOSH_OPCUA_USER || env.SLOSH_OPCUA_PASSWORD) {
     if (!env.SLOSH_OPCUA_USER || !env.SLOSH_OPCUA_PASSWORD) throw new UsageError("SLOSH_OPCUA_USER and SLOSH_OPCUA_PASSWORD go together: set both or neither");
@@ -139,6 +167,8 @@ function resolve(argv, env = process.env) {
     stateDir,
     users,
     portFile: f["port-file"],
+    warnings,
+    maxProducts: numberSetting(maxProductsName, maxProducts, 1, 100000, true),
   };
 }
 

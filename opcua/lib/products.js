@@ -8,6 +8,9 @@ const { DataType, Variant, StatusCodes } = require("node-opcua");
 const { units } = require("./units");
 
 const MAX_RECIPE_ID = 128;
+// Each product is 59 nodes of the address space, ~200 kB of heap with node-opcua 2.160
+// (docs/opcua.md): the default 2 000 products stay near 400 MB.
+const DEFAULT_MAX_PRODUCTS = 2000;
 
 // Parameters: [browse name, type, unit, description, value from (plan, request options)].
 const parameterVars = [
@@ -47,9 +50,39 @@ function checkRecipeId(id) {
   return null;
 }
 
+// The id's part of a product's node ids: "." separates the id from its children
+// (Products.<id>.LastPlan.Key), so a "." in the id is written %2E and a "%" %25. Ids "x" and
+// "x.Status" then get distinct node ids (Products.x.Status vs Products.x%2EStatus) and can never
+// collide; ids without "." or "%" keep their text unchanged.
+function nodeIdPart(id) {
+  return id.replace(/%/g, "%25").replace(/\./g, "%2E");
+}
+
+class ProductError extends Error {}
+
+// Deletes node and everything it aggregates (components and properties, e.g. an analog item's
+// EngineeringUnits): node-opcua's deleteNode removes only the node itself, and the children left
+// in the namespace's index would keep their memory.
+function deleteTree(addressSpace, node) {
+  const pending = [node];
+  const all = [];
+  while (pending.length > 0) {
+    const n = pending.pop();
+    all.push(n);
+    for (const c of n.getAggregates()) pending.push(c);
+  }
+  for (let i = all.length - 1; i >= 0; i -= 1) {
+    try { addressSpace.deleteNode(all[i]); } catch (e) { /* already gone */ }
+  }
+}
+
 class Products {
-  constructor(namespace, parent) {
+  // maxProducts: the most products kept (--max-products); onEvict(id): told when the product that
+  // was planned longest ago leaves to make room for a new one.
+  constructor(namespace, parent, { maxProducts = DEFAULT_MAX_PRODUCTS, onEvict = () => {} } = {}) {
     this.namespace = namespace;
+    this.maxProducts = maxProducts;
+    this.onEvict = onEvict;
     this.folder = namespace.addObject({ organizedBy: parent, typeDefinition: "FolderType", browseName: "Products", nodeId: "s=Products",
       description: "One object per recipe id: its parameters and last plan (PackML products)" });
     this.items = new Map();
@@ -83,35 +116,61 @@ class Products {
   ensure(id) {
     let item = this.items.get(id);
     if (item) return item;
-    const prefix = `Products.${id}`;
-    // A qualified name object, not the string: node-opcua would read "2:cup" as namespace 2.
-    const node = this.namespace.addObject({ organizedBy: this.folder, browseName: { name: id, namespaceIndex: this.namespace.index }, nodeId: `s=${prefix}`,
-      description: `Recipe ${id}` });
-    const state = { Status: "", LastPlanned: null };
-    const params = {};
-    const plan = {};
-    this.namespace.addVariable({ componentOf: node, browseName: "Status", nodeId: `s=${prefix}.Status`, dataType: "String",
-      description: "Plan status of the last plan (optimal, acceptable, infeasible, time_limit, failed) or error",
-      minimumSamplingInterval: 100,
-      value: { get: () => new Variant({ dataType: DataType.String, value: state.Status }) } });
-    this.namespace.addVariable({ componentOf: node, browseName: "LastPlanned", nodeId: `s=${prefix}.LastPlanned`, dataType: "DateTime",
-      description: "When the gateway last received a plan (or an error) for this recipe (UTC)",
-      minimumSamplingInterval: 100,
-      value: { get: () => new Variant({ dataType: DataType.DateTime, value: state.LastPlanned }) } });
-    const paramsNode = this.namespace.addObject({ componentOf: node, browseName: "Parameters", nodeId: `s=${prefix}.Parameters`,
-      description: "The recipe's format, strategy and options" });
-    const planNode = this.namespace.addObject({ componentOf: node, browseName: "LastPlan", nodeId: `s=${prefix}.LastPlan`,
-      description: "The recipe's last plan" });
-    for (const v of parameterVars) this.variable(paramsNode, `${prefix}.Parameters`, params, v);
-    for (const v of planVars) this.variable(planNode, `${prefix}.LastPlan`, plan, v);
-    item = { node, state, params, plan };
+    // Room for one more: the product planned longest ago goes (the Map is kept in planning order).
+    while (this.items.size >= this.maxProducts) {
+      const [oldest, old] = this.items.entries().next().value;
+      this.items.delete(oldest);
+      deleteTree(this.namespace.addressSpace, old.node);
+      this.onEvict(oldest);
+    }
+    const prefix = `Products.${nodeIdPart(id)}`;
+    // Built fully or not at all: a failure half way deletes what was added, so a later plan of
+    // the same id starts from nothing instead of failing on the leftovers.
+    let node = null;
+    try {
+      // A qualified name object, not the string: node-opcua would read "2:cup" as namespace 2.
+      node = this.namespace.addObject({ organizedBy: this.folder, browseName: { name: id, namespaceIndex: this.namespace.index }, nodeId: `s=${prefix}`,
+        description: `Recipe ${id}` });
+      const state = { Status: "", LastPlanned: null };
+      const params = {};
+      const plan = {};
+      this.namespace.addVariable({ componentOf: node, browseName: "Status", nodeId: `s=${prefix}.Status`, dataType: "String",
+        description: "Plan status of the last plan (optimal, acceptable, infeasible, time_limit, failed) or error",
+        minimumSamplingInterval: 100,
+        value: { get: () => new Variant({ dataType: DataType.String, value: state.Status }) } });
+      this.namespace.addVariable({ componentOf: node, browseName: "LastPlanned", nodeId: `s=${prefix}.LastPlanned`, dataType: "DateTime",
+        description: "When the gateway last received a plan (or an error) for this recipe (UTC)",
+        minimumSamplingInterval: 100,
+        value: { get: () => new Variant({ dataType: DataType.DateTime, value: state.LastPlanned }) } });
+      const paramsNode = this.namespace.addObject({ componentOf: node, browseName: "Parameters", nodeId: `s=${prefix}.Parameters`,
+        description: "The recipe's format, strategy and options" });
+      const planNode = this.namespace.addObject({ componentOf: node, browseName: "LastPlan", nodeId: `s=${prefix}.LastPlan`,
+        description: "The recipe's last plan" });
+      for (const v of parameterVars) this.variable(paramsNode, `${prefix}.Parameters`, params, v);
+      for (const v of planVars) this.variable(planNode, `${prefix}.LastPlan`, plan, v);
+      item = { node, state, params, plan };
+    } catch (err) {
+      if (node) {
+        deleteTree(this.namespace.addressSpace, node);
+      }
+      // node-opcua's message carries a dump of the address space: only its first line.
+      throw new ProductError(`product ${JSON.stringify(id.slice(0, 60))} could not be created: ${String(err.message).split("\n")[0].slice(0, 200)}`);
+    }
+    this.items.set(id, item);
+    return item;
+  }
+
+  // The product of id, made the most recently planned one.
+  touch(id) {
+    const item = this.ensure(id);
+    this.items.delete(id);
     this.items.set(id, item);
     return item;
   }
 
   // A full plan response for recipe id; options: the OptionsJson text it was planned with.
   setPlan(id, plan, summary, options) {
-    const item = this.ensure(id);
+    const item = this.touch(id);
     for (const [name, , , , get] of parameterVars) {
       let v;
       try { v = get(plan, options); } catch (e) { v = undefined; }
@@ -124,11 +183,11 @@ class Products {
 
   // A recipe whose plan failed (a batch row with an error): its last plan is kept, Status says error.
   setError(id, message) {
-    const item = this.ensure(id);
+    const item = this.touch(id);
     item.plan.Message = message;
     item.state.Status = "error";
     item.state.LastPlanned = new Date();
   }
 }
 
-module.exports = { Products, checkRecipeId, StatusCodes };
+module.exports = { DEFAULT_MAX_PRODUCTS, Products, ProductError, checkRecipeId, nodeIdPart, StatusCodes };

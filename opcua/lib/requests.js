@@ -18,7 +18,44 @@ function number(v, name) {
   return v;
 }
 
+// The service's own bounds on a request (docs/api.md): nesting deeper than 64 is 400
+// malformed_json, a body over 1 MiB is 413. Checked here first so the refusal names the argument
+// that held the JSON, and so a deep text never reaches the recursive JSON.parse (5 000 levels
+// would overflow its stack).
+const MAX_JSON_DEPTH = 64;
+const MAX_JSON_BYTES = 1024 * 1024;
+
+// The deepest nesting of [ and { in text, outside strings: one pass, no recursion.
+function jsonDepth(text) {
+  let depth = 0;
+  let deepest = 0;
+  let inString = false;
+  for (let i = 0; i < text.length; i += 1) {
+    const c = text.charCodeAt(i);
+    if (inString) {
+      if (c === 92) i += 1; // backslash: skip the escaped character
+      else if (c === 34) inString = false;
+    } else if (c === 34) {
+      inString = true;
+    } else if (c === 123 || c === 91) {
+      depth += 1;
+      if (depth > deepest) deepest = depth;
+    } else if (c === 125 || c === 93) {
+      depth -= 1;
+    }
+  }
+  return deepest;
+}
+
 function jsonObject(text, name) {
+  const bytes = Buffer.byteLength(text, "utf8");
+  if (bytes > MAX_JSON_BYTES) {
+    throw new ArgumentError(name, `${name} is ${bytes} bytes long: allowed at most ${MAX_JSON_BYTES} bytes (the service's body limit)`);
+  }
+  const depth = jsonDepth(text);
+  if (depth > MAX_JSON_DEPTH) {
+    throw new ArgumentError(name, `${name} nests ${depth} levels deep: allowed at most ${MAX_JSON_DEPTH} levels`);
+  }
   let value;
   try {
     value = JSON.parse(text);
@@ -135,4 +172,4 @@ function planSummary(plan) {
   };
 }
 
-module.exports = { ArgumentError, buildFormat, buildPlanRequest, buildMinTimeRequest, planSummary };
+module.exports = { ArgumentError, jsonDepth, MAX_JSON_DEPTH, MAX_JSON_BYTES, buildFormat, buildPlanRequest, buildMinTimeRequest, planSummary };

@@ -7,11 +7,13 @@ const { StatusCodes, DiagnosticInfo } = require("node-opcua");
 const { ServiceError } = require("./service_client");
 const { ArgumentError } = require("./requests");
 const { argumentOfField } = require("./arguments");
+const { ProductError } = require("./products");
 
 function statusOf(err) {
   if (err instanceof ArgumentError) return err.invalidState ? StatusCodes.BadInvalidState : StatusCodes.BadInvalidArgument;
   if (err instanceof ServiceError) {
     if (err.kind === "timeout") return StatusCodes.BadTimeout;
+    if (err.kind === "shutdown") return StatusCodes.BadShutdown;
     if (err.kind === "unreachable" || err.kind === "protocol") return StatusCodes.BadCommunicationError;
     if (err.status === 400 || err.status === 413 || err.status === 422) return StatusCodes.BadInvalidArgument;
     if (err.status === 404) return StatusCodes.BadNotFound;
@@ -36,7 +38,10 @@ function argumentIndex(err, args) {
 function failureResult(err, args) {
   const statusCode = statusOf(err);
   const index = argumentIndex(err, args);
-  const message = err.message;
+  // Only the gateway's and the service's own messages travel whole; anything else (a fault of
+  // node-opcua or of the gateway) is cut to its first line, never a stack or an address-space dump.
+  const known = err instanceof ArgumentError || err instanceof ServiceError || err instanceof ProductError;
+  const message = known ? err.message : `internal error of the gateway: ${String(err && err.message).split("\n")[0].slice(0, 200)}`;
   const inputArgumentResults = args.map((_, i) => (i === index ? StatusCodes.BadInvalidArgument : StatusCodes.Good));
   const inputArgumentDiagnosticInfos = args.map((_, i) =>
     (index === -1 || i === index ? new DiagnosticInfo({ additionalInfo: message }) : new DiagnosticInfo({})));

@@ -25,6 +25,7 @@ class ServiceClient {
   constructor(base, timeoutMs) {
     this.base = new URL(base);
     this.timeoutMs = timeoutMs;
+    this.pending = new Set();
     // A new connection per call: a kept-alive socket that the service closed (a restart) would
     // fail the next call with ECONNRESET, which reads as a broken answer rather than "down". The
     // calls come at a line's format-change rate; the connection costs ~0.1 ms on loopback.
@@ -38,7 +39,9 @@ class ServiceClient {
 
   // Resolves {status, body (parsed JSON or text), headers}; rejects with a ServiceError for a
   // connection failure, a timeout, or (unless raw) any status >= 400.
-  request(method, path, body = undefined, { raw = false, timeoutMs = this.timeoutMs } = {}) {
+  // boundName: what sets timeoutMs, for the timeout's message.
+  request(method, path, body = undefined, { raw = false, timeoutMs = this.timeoutMs, boundName = "--timeout-s" } = {}) {
+    if (this.closing) return Promise.reject(new ServiceError("shutdown", "the gateway is shutting down: call again once it is back"));
     const target = this.url(path);
     const lib = target.protocol === "https:" ? https : http;
     const payload = body === undefined ? null : Buffer.from(JSON.stringify(body));
@@ -48,8 +51,16 @@ class ServiceClient {
         if (done) return;
         done = true;
         clearTimeout(timer);
+        this.pending.delete(abort);
         fn(value);
       };
+      // Called by close(): a call still waiting when the gateway stops is answered as such, not
+      // as a failure of the service.
+      const abort = () => {
+        finish(reject, new ServiceError("shutdown", `the gateway is shutting down: ${method} ${path} was not answered; call again once it is back`));
+        req.destroy();
+      };
+      this.pending.add(abort);
       const req = lib.request(target, {
         method,
         agent: this.agent,
@@ -87,7 +98,7 @@ class ServiceClient {
         });
       });
       const timer = setTimeout(() => {
-        finish(reject, new ServiceError("timeout", `the slosh service at ${this.base.origin} did not answer ${method} ${path} within ${timeoutMs / 1000} s (--timeout-s)`));
+        finish(reject, new ServiceError("timeout", `the slosh service at ${this.base.origin} did not answer ${method} ${path} within ${timeoutMs / 1000} s (${boundName})`));
         req.destroy();
       }, timeoutMs);
       req.on("error", (e) => finish(reject, new ServiceError("unreachable", `the slosh service at ${this.base.origin} is unreachable: ${e.code || e.message}`)));
@@ -97,6 +108,8 @@ class ServiceClient {
   }
 
   close() {
+    this.closing = true;
+    for (const abort of [...this.pending]) abort();
     this.agent.destroy();
   }
 }

@@ -207,7 +207,7 @@ describe("slosh-opcua against a real slosh serve", () => {
     const bad = rows.find((x) => x.recipe_id === "tray-bad");
     // The import writes the rows in table order: the last row's product comes last.
     await S.until("Products/2:odd.id", 10000, async () => {
-      try { return (await S.readValue(conn.session, "ns=1;s=Products.2:odd.id.Status")) !== ""; } catch (e) { return false; }
+      try { return (await S.readValue(conn.session, "ns=1;s=Products.2:odd%2Eid.Status")) !== ""; } catch (e) { return false; }
     });
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.tray-bad.Status"), "error");
     const base = "ns=1;s=Products.tray-a";
@@ -219,7 +219,7 @@ describe("slosh-opcua against a real slosh serve", () => {
     assert.equal(await S.readValue(conn.session, `${base}.Parameters.MotionTimeS`), 0.7);
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.tray-bad.LastPlan.Message"), bad.error.message);
     // A recipe id that looks like a qualified name ("2:…") keeps its text as the browse name.
-    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.2:odd.id.Parameters.StrokeMm"), 400);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.2:odd%2Eid.Parameters.StrokeMm"), 400);
     const products = await conn.session.browse("ns=1;s=Products");
     assert.ok(products.references.some((x) => x.browseName.name === "2:odd.id" && x.browseName.namespaceIndex === 1));
     assert.ok(["tray-a", "tray-bad", "thesis-800"].every((n) => products.references.some((x) => x.browseName.name === n)));

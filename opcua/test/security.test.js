@@ -27,7 +27,7 @@ describe("slosh-opcua command line", () => {
   it("refuses bad settings with a message naming the setting and the allowed values (exit 2)", () => {
     const cases = [
       [[], "slosh-opcua: --service URL is required (the slosh HTTP service, e.g. http://127.0.0.1:8080)"],
-      [["--service", "localhost:8080"], "slosh-opcua: --service = \"localhost:8080\" is not a service URL: http://host:port expected"],
+      [["--service", "localhost:8080"], "slosh-opcua: --service = \"localhost:8080\" is not a service URL: http://host[:port][/path] or https://… expected"],
       [["--service", "http://127.0.0.1:8080", "--port", "65536"], "slosh-opcua: --port = \"65536\" is out of range: allowed an integer 0 to 65535"],
       [["--service", "http://127.0.0.1:8080", "--timeout-s", "0"], "slosh-opcua: --timeout-s = \"0\" is out of range: allowed 0.1 to 600"],
       [["--service", "http://127.0.0.1:8080", "--security", "basic128"], "slosh-opcua: --security = \"basic128\": unknown policy \"basic128\": allowed none, basic256sha256"],
@@ -81,6 +81,8 @@ describe("slosh-opcua security", () => {
       const kinds = e.userIdentityTokens.map((t) => t.tokenType);
       assert.ok(!kinds.includes(UserTokenType.Anonymous), "a configured user turns anonymous sessions off");
       assert.ok(kinds.includes(UserTokenType.UserName));
+      // User names only, as documented: no X.509 user token policy on any endpoint.
+      assert.deepEqual([...new Set(kinds)], [UserTokenType.UserName], `${e.securityPolicyUri} offers ${kinds}`);
     }
   });
 

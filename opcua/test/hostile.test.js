@@ -1,0 +1,304 @@
+"use strict";
+// What a hostile integrator tried: recipe ids that look like node id paths, a service (or a proxy in
+// front of it) answering 2xx/3xx with something that is not a plan, and JSON arguments nested too
+// deep. Real gateway and real `slosh serve` on loopback; the broken answers come from a small HTTP
+// server in this process.
+const { describe, it, before, after } = require("node:test");
+const assert = require("node:assert/strict");
+const fs = require("fs");
+const http = require("http");
+const { StatusCodes } = require("node-opcua");
+const S = require("./support");
+
+const thesis = { radius: 48.5, height: 150, fill: 82, fluid: "water", stroke: 800, time: 1.0, strategy: "multi_notch" };
+const OPTIONS_JSON = 13; // index of OptionsJson in PlanFormat's arguments
+
+const dirs = [];
+function scratch(prefix) {
+  const d = S.scratch(prefix);
+  dirs.push(d);
+  return d;
+}
+
+describe("slosh-opcua against hostile input", () => {
+  let slosh; let gateway; let conn;
+
+  before(async () => {
+    const dir = scratch("slosh-opcua-hostile-");
+    slosh = await S.startSlosh(dir);
+    gateway = await S.startGateway(dir, slosh.url);
+    conn = await S.connect(gateway.endpoint);
+  });
+
+  after(async () => {
+    if (conn) await conn.close();
+    if (gateway) await gateway.stop();
+    if (slosh) await slosh.stop();
+    for (const d of dirs) fs.rmSync(d, { recursive: true, force: true });
+  });
+
+  it("recipe ids with a dot never collide with another product's node ids, in either order", async () => {
+    for (const [first, second] of [["x", "x.Status"], ["y.LastPlan", "y"], ["z.Parameters.StrokeMm", "z"]]) {
+      for (const id of [first, second]) {
+        const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: id }));
+        assert.equal(r.statusCode.name, "Good", `${id} after ${first}: ${await S.readValue(conn.session, "ns=1;s=Slosh.LastError")}`);
+      }
+      // Planned again: the product is whole, not a leftover that fails every later plan.
+      const again = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: second }));
+      assert.equal(again.statusCode.name, "Good");
+    }
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.x.Status"), "optimal");
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.x%2EStatus.Status"), "optimal");
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.y%2ELastPlan.Parameters.StrokeMm"), 800);
+    const products = await conn.session.browse("ns=1;s=Products");
+    for (const n of ["x", "x.Status", "y", "y.LastPlan"]) assert.ok(products.references.some((p) => p.browseName.name === n), n);
+  });
+
+  it("an import goes on past a row it refuses and counts it failed with its message", async () => {
+    const row = (rid, stroke) => ({ recipe_id: rid, format: { container: { radius_mm: 48.5, height_mm: 150 }, fill_height_mm: 82, fluid: "water", stroke_mm: stroke, motion_time_s: 0.7 } });
+    const table = JSON.stringify([row("imp.a", 500), row("ctl\u0001x", 500), row("imp", 400)]);
+    const submitted = await S.httpJson("POST", `${slosh.url}/v1/batches`, { table, table_format: "json" });
+    assert.equal(submitted.status, 202, submitted.text);
+    const id = submitted.body.id;
+    await S.until("the batch job", 30000, async () => (await S.httpJson("GET", `${slosh.url}/v1/batches/${id}`)).body.state === "done");
+    const imp = await S.callMethod(conn.session, "ImportBatchJob", [["String", id]]);
+    assert.equal(imp.statusCode.name, "Good");
+    assert.deepEqual(imp.outputArguments.map((v) => v.value), [2, 1]);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.imp.Parameters.StrokeMm"), 400);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.imp%2Ea.Parameters.StrokeMm"), 500);
+    const lastError = await S.readValue(conn.session, "ns=1;s=Slosh.LastError");
+    assert.match(lastError, new RegExp(`ImportBatchJob: batch job ${id} row 2: RecipeId "ctl\\\\u0001x" contains a control character; the row is not imported$`));
+  });
+
+  it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
+    const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"line\",\"length_mm\":500}" }));
+    assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(motion.inputArgumentResults[10].value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion is not a known field; allowed here: container, fill_height_mm, fluid, stroke_mm, motion_time_s");
+    const rect = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, radius: 0, length: 100, width: 80 }));
+    assert.equal(rect.statusCode.value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(rect.inputArgumentResults[2].value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(rect.inputArgumentDiagnosticInfos[2].additionalInfo, "format.container.length_mm is not a known field; allowed here: radius_mm, height_mm");
+  });
+
+  it("JSON nested deeper than the service's 64 levels is refused on its own argument, before parsing", async () => {
+    for (const levels of [65, 5000]) {
+      const deep = "{\"a\":".repeat(levels) + "1" + "}".repeat(levels);
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, options: deep }));
+      assert.equal(r.statusCode.value, StatusCodes.BadInvalidArgument.value);
+      assert.equal(r.inputArgumentResults[OPTIONS_JSON].value, StatusCodes.BadInvalidArgument.value);
+      assert.equal(r.inputArgumentResults.filter((x) => x.value !== StatusCodes.Good.value).length, 1);
+      assert.equal(r.inputArgumentDiagnosticInfos[OPTIONS_JSON].additionalInfo, `OptionsJson nests ${levels} levels deep: allowed at most 64 levels`);
+    }
+    // 64 levels reach the service (its limit is inclusive): its answer, not the gateway's check.
+    const ok = "{\"a\":".repeat(63) + "1" + "}".repeat(63);
+    const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, options: ok }));
+    assert.doesNotMatch(r.inputArgumentDiagnosticInfos[OPTIONS_JSON].additionalInfo || "", /nests/);
+  });
+});
+
+describe("slosh-opcua against a service whose 2xx/3xx answer is not a plan", () => {
+  let server; let gateway; let conn; let answer;
+
+  before(async () => {
+    server = http.createServer((req, res) => {
+      if (req.url === "/readyz") {
+        res.writeHead(200, { "Content-Type": "application/json" });
+        res.end("{\"ready\":true}");
+        return;
+      }
+      req.resume();
+      req.on("end", () => {
+        res.writeHead(answer.status, answer.headers);
+        res.end(answer.body);
+      });
+    });
+    await new Promise((r) => server.listen(0, "127.0.0.1", r));
+    const dir = scratch("slosh-opcua-notplan-");
+    gateway = await S.startGateway(dir, `http://127.0.0.1:${server.address().port}`);
+    conn = await S.connect(gateway.endpoint);
+  });
+
+  after(async () => {
+    if (conn) await conn.close();
+    if (gateway) await gateway.stop();
+    if (server) server.close();
+  });
+
+  const json = { "Content-Type": "application/json" };
+  const cases = [
+    ["an HTML page", { status: 200, headers: { "Content-Type": "text/html" }, body: "<html>proxy login</html>" }, /not a plan: not a JSON object \(got text "<html>proxy login<\/html>"\)$/],
+    ["{}", { status: 200, headers: json, body: "{}" }, /not a plan: status is not a non-empty string \(got \{\}\)$/],
+    ["a 302 with no body", { status: 302, headers: { Location: "/elsewhere" }, body: "" }, /not a plan: not a JSON object \(got an empty body\)$/],
+    ["durations of the wrong type", { status: 200, headers: json, body: "{\"status\":\"optimal\",\"key\":\"k\",\"durations_s\":\"0.1\"}" }, /not a plan: durations_s is neither null nor an array of 7 numbers/],
+    ["6 durations", { status: 200, headers: json, body: "{\"status\":\"optimal\",\"key\":\"k\",\"durations_s\":[1,2,3,4,5,6]}" }, /durations_s is neither null nor an array of 7 numbers/],
+  ];
+  for (const [name, a, message] of cases) {
+    it(`PlanFormat: ${name} is BadCommunicationError naming the answer`, async () => {
+      answer = a;
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: "never" }));
+      assert.equal(r.statusCode.value, StatusCodes.BadCommunicationError.value);
+      assert.match(r.inputArgumentDiagnosticInfos[0].additionalInfo, /^the slosh service answered POST \/v1\/plans with a body that is not a plan: /);
+      assert.match(r.inputArgumentDiagnosticInfos[0].additionalInfo, message);
+    });
+  }
+
+  it("a general law (durations_s null) is a plan", async () => {
+    answer = { status: 200, headers: json, body: "{\"status\":\"optimal\",\"key\":\"k\",\"message\":\"m\",\"durations_s\":null}" };
+    const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs(thesis));
+    assert.equal(r.statusCode.name, "Good");
+    assert.deepEqual([...r.outputArguments[2].value], []);
+  });
+
+  it("PlanTable and ImportBatchJob: an answer that is not a batch job is BadCommunicationError", async () => {
+    answer = { status: 202, headers: json, body: "{}" };
+    const t = await S.callMethod(conn.session, "PlanTable", [["String", "recipe_id\n"], ["String", "csv"]]);
+    assert.equal(t.statusCode.value, StatusCodes.BadCommunicationError.value);
+    assert.match(t.inputArgumentDiagnosticInfos[0].additionalInfo, /POST \/v1\/batches with a body that is not a created batch job: id is not a batch job id/);
+    answer = { status: 200, headers: { "Content-Type": "text/html" }, body: "<p>hi</p>" };
+    const i = await S.callMethod(conn.session, "ImportBatchJob", [["String", "ab12"]]);
+    assert.equal(i.statusCode.value, StatusCodes.BadCommunicationError.value);
+    assert.match(i.inputArgumentDiagnosticInfos[0].additionalInfo, /GET \/v1\/batches\/\{id\} with a body that is not a batch job: not a JSON object/);
+  });
+});
+
+describe("slosh-opcua --max-products", () => {
+  let slosh; let gateway; let conn;
+
+  before(async () => {
+    const dir = scratch("slosh-opcua-max-");
+    slosh = await S.startSlosh(dir);
+    gateway = await S.startGateway(dir, slosh.url, ["--max-products", "2"]);
+    conn = await S.connect(gateway.endpoint);
+  });
+
+  after(async () => {
+    if (conn) await conn.close();
+    if (gateway) await gateway.stop();
+    if (slosh) await slosh.stop();
+  });
+
+  it("keeps at most N products: the one planned longest ago makes room, and LastError says so", async () => {
+    for (const id of ["m1", "m2", "m1", "m3"]) {
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: id }));
+      assert.equal(r.statusCode.name, "Good");
+    }
+    const products = await conn.session.browse("ns=1;s=Products");
+    assert.deepEqual(products.references.map((p) => p.browseName.name).sort(), ["m1", "m3"]);
+    const gone = await conn.session.read({ nodeId: "ns=1;s=Products.m2.Status", attributeId: 13 });
+    assert.equal(gone.statusCode.value, StatusCodes.BadNodeIdUnknown.value);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.m1.Status"), "optimal");
+    assert.match(await S.readValue(conn.session, "ns=1;s=Slosh.LastError"), /Products: product "m2" \(planned longest ago\) removed: --max-products 2 reached$/);
+    // Planned again, it comes back whole.
+    const again = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: "m2" }));
+    assert.equal(again.statusCode.name, "Good");
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.m2.Parameters.StrokeMm"), 800);
+  });
+});
+
+describe("slosh-opcua settings a hostile integrator tried", () => {
+  const { spawnSync } = require("child_process");
+  const path = require("path");
+  const script = path.join(S.root, "opcua", "slosh-opcua");
+  const run = (args, env = {}) => spawnSync(process.execPath, [script, ...args], { env: { ...process.env, HOME: scratch("slosh-opcua-set-"), ...env }, encoding: "utf8", timeout: 30000 });
+
+  it("refuses credentials, queries and a missing URL in --service with a message that says so", () => {
+    const cases = [
+      [["--service"], "slosh-opcua: --service needs a value: the service URL is missing (e.g. http://127.0.0.1:8080)\n"],
+      [["--service", "--port", "1"], "slosh-opcua: --service needs a value: the service URL is missing (e.g. http://127.0.0.1:8080)\n"],
+      [["--service", "http://op:secret@127.0.0.1:8080"], "slosh-opcua: --service holds a user name or password (user:pass@): the slosh service takes no credentials in its URL; remove them\n"],
+      [["--service", "http://127.0.0.1:8080/?a=1"], "slosh-opcua: --service = \"http://127.0.0.1:8080/?…\" has a query or fragment: http://host[:port][/path] expected\n"],
+    ];
+    for (const [args, message] of cases) {
+      const r = run(args);
+      assert.equal(r.status, 2, r.stderr);
+      assert.equal(r.stderr, message);
+      assert.doesNotMatch(r.stderr, /secret/);
+    }
+  });
+
+  it("refuses a config whose port is a string or that lists a user twice; warns of passwords others can read", () => {
+    const dir = scratch("slosh-opcua-cfg-");
+    const file = path.join(dir, "c.json");
+    fs.writeFileSync(file, JSON.stringify({ service: "http://127.0.0.1:1", port: "80" }));
+    let r = run(["--config", file]);
+    assert.equal(r.status, 2);
+    assert.equal(r.stderr, "slosh-opcua: config port = \"80\" is not a JSON number: allowed an integer 0 to 65535\n");
+    fs.writeFileSync(file, JSON.stringify({ service: "http://127.0.0.1:1", users: [{ user: "a", password: "b" }, { user: "a", password: "c" }] }));
+    r = run(["--config", file]);
+    assert.equal(r.status, 2);
+    assert.equal(r.stderr, `slosh-opcua: --config ${file}: users[1]: user "a" is listed twice\n`);
+    const { resolve } = require("../lib/options");
+    fs.writeFileSync(file, JSON.stringify({ service: "http://127.0.0.1:1", users: [{ user: "a", password: "b" }] }));
+    fs.chmodSync(file, 0o640);
+    assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings,
+      [`--config ${file} holds passwords and is readable by group or others (mode 640): chmod 600 it`]);
+    fs.chmodSync(file, 0o600);
+    assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings, []);
+  });
+});
+
+describe("slosh-opcua messages that name the right cause", () => {
+  const net = require("net");
+  const path = require("path");
+  let silent; const sockets = [];
+
+  before(async () => {
+    silent = net.createServer((s) => sockets.push(s));
+    await new Promise((r) => silent.listen(0, "127.0.0.1", r));
+  });
+
+  after(() => {
+    sockets.forEach((s) => s.destroy());
+    silent.close();
+  });
+
+  it("a readiness poll that times out names the poll's bound, not --timeout-s alone", async () => {
+    const gw = await S.startGateway(scratch("slosh-opcua-pollto-"), `http://127.0.0.1:${silent.address().port}`, ["--timeout-s", "5"]);
+    const c = await S.connect(gw.endpoint);
+    try {
+      const last = await S.until("the poll's timeout in LastError", 15000, async () => {
+        const v = await S.readValue(c.session, "ns=1;s=Slosh.LastError");
+        return v.includes("did not answer") ? v : null;
+      });
+      assert.match(last, /ServiceReady: the slosh service at http:\/\/127\.0\.0\.1:\d+ did not answer GET \/readyz within 1 s \(the readiness poll's bound: --poll-s, at least 1 s, at most --timeout-s\)$/);
+    } finally {
+      await c.close();
+      await gw.stop();
+    }
+  });
+
+  it("a call pending when the gateway stops is answered BadShutdown, not blamed on the service", async () => {
+    // Ready, but a plan never comes: the call is pending for sure once the request arrived.
+    const hung = [];
+    const svc = http.createServer((req, res) => {
+      if (req.url === "/readyz") { res.writeHead(200, { "Content-Type": "application/json" }); res.end("{}"); return; }
+      hung.push(res);
+    });
+    await new Promise((r) => svc.listen(0, "127.0.0.1", r));
+    const gw = await S.startGateway(scratch("slosh-opcua-term-"), `http://127.0.0.1:${svc.address().port}`, ["--timeout-s", "20"]);
+    const c = await S.connect(gw.endpoint);
+    try {
+      const call = S.callMethod(c.session, "PlanFormat", S.planArgs(thesis));
+      await S.until("the call to reach the service", 5000, () => hung.length > 0);
+      gw.proc.kill("SIGTERM");
+      const r = await call;
+      assert.equal(r.statusCode.value, StatusCodes.BadShutdown.value);
+      assert.match(r.inputArgumentDiagnosticInfos[0].additionalInfo, /^the gateway is shutting down: POST \/v1\/plans was not answered; call again once it is back$/);
+    } finally {
+      await c.close().catch(() => {});
+      await gw.stop();
+      hung.forEach((r) => r.destroy());
+      svc.close();
+    }
+  });
+
+  it("a private key file that is not a key stops the start naming the file", async () => {
+    const dir = scratch("slosh-opcua-badkey-");
+    const keyDir = path.join(dir, "opcua-state", "pki", "own", "private");
+    fs.mkdirSync(keyDir, { recursive: true });
+    fs.writeFileSync(path.join(keyDir, "private_key.pem"), "not a key\n");
+    await assert.rejects(S.startGateway(dir, `http://127.0.0.1:${silent.address().port}`),
+      (e) => e.message.includes(`slosh-opcua: cannot start: the private key ${path.join(keyDir, "private_key.pem")} is not a readable PEM key`));
+  });
+});
