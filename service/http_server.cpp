@@ -715,6 +715,14 @@ std::optional<Reply> encoded_slash_reply(const httplib::Request& req) {
   }
 }
 
+// The path of the request line as the client sent it (percent escapes kept, query cut): the
+// decoded path would log "%2F" as a real '/' and "%0A" as a line break. The decoded path for a
+// request without a target.
+std::string path_as_sent(const httplib::Request& req) {
+  if (req.target.empty()) return req.path;
+  return req.target.substr(0, req.target.find_first_of("?#"));
+}
+
 // Request ids, the reaper's bookkeeping and one log line per request.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
@@ -748,7 +756,7 @@ void install_request_hooks(Runtime& rt) {
     AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
                          .method = req.method.substr(0, 16),
                          .route = request_route.empty() ? "other" : request_route,
-                         .path = req.path.substr(0, 200),
+                         .path = path_as_sent(req).substr(0, 200),
                          .status = res.status,
                          .ms = std::nullopt,
                          .bytes = res.content_provider_ ? res.content_length_ : res.body.size(),

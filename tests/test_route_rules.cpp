@@ -12,6 +12,7 @@
 
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/routes.hpp"
+#include "support/raw_client.hpp"
 #include "support/server.hpp"
 
 namespace slosh {
@@ -266,6 +267,51 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
                             std::regex_replace(route, std::regex("[{}]"), "\\$&") + "(\\s|$)");
     EXPECT_TRUE(std::regex_search(log, access)) << id << " in\n" << log;
   }
+}
+
+// The text log line of request `id` (empty when there is none), without spdlog's time and level.
+std::string access_line(const std::string& log, const std::string& id) {
+  const std::string start = "request id=" + id + " ";
+  const std::size_t at = log.find(start);
+  if (at == std::string::npos) return "";
+  return log.substr(at, log.find('\n', at) - at);
+}
+
+TEST(AccessLog, WritesThePathAsSentSoNoRequestForgesALine) {
+  Server server;
+  auto client = server.client();
+  client.set_keep_alive(true);
+  const std::string forged =
+      "/v1/plans/x%0D%0A%5B2026-11-26%2022%3A00%3A00.000%5D%20%5Binfo%5D%20request%20id%3D1%20"
+      "method%3DDELETE%20path%3D%2Fadmin%20status%3D200";
+  ASSERT_TRUE(client.Get(forged, {{"X-Request-Id", "forged-1"}}));
+  ASSERT_TRUE(client.Get("/v1/plans/a%2Fb", {{"X-Request-Id", "slash-2"}}));
+  ASSERT_TRUE(client.Get("/v1/plans/a%00b?view=full", {{"X-Request-Id", "nul-3"}}));
+  {
+    // Bytes no client library sends unescaped: non-ASCII, a control byte, a backslash.
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.connected());
+    ASSERT_TRUE(
+        raw.send("GET /caf\xc3\xa9\x01\\x HTTP/1.1\r\nHost: x\r\nX-Request-Id: raw-4\r\n"
+                 "Connection: close\r\n\r\n"));
+    raw.read_all();
+  }
+  ASSERT_EQ(server.stop(), 0);
+  const std::string log = server.log();
+  const std::regex tail(" cache=- ms=[0-9]+\\.[0-9]{3} bytes=[0-9]+ route=\\S+$");
+  const std::map<std::string, std::string> expected{
+      {"forged-1", "request id=forged-1 method=GET path=" + forged + " status=404"},
+      {"slash-2", "request id=slash-2 method=GET path=/v1/plans/a%2Fb status=404"},
+      {"nul-3", "request id=nul-3 method=GET path=/v1/plans/a%00b status=404"},
+      {"raw-4", "request id=raw-4 method=GET path=/caf\\xc3\\xa9\\x01\\x5cx status=404"}};
+  for (const auto& [id, head] : expected) {
+    const std::string line = access_line(log, id);
+    EXPECT_EQ(line.substr(0, head.size()), head) << log;
+    EXPECT_TRUE(std::regex_search(line.substr(std::min(head.size(), line.size())), tail)) << line;
+  }
+  // No line of the log was started by a request: each begins with spdlog's "[date time]".
+  EXPECT_EQ(log.find("[2026-11-26 22:00:00.000]"), std::string::npos);
+  EXPECT_EQ(log.find("path=/admin"), std::string::npos);
 }
 
 }  // namespace
