@@ -163,8 +163,8 @@ async function postJson(path, body, signal) {
   return json;
 }
 
-async function getJson(path) {
-  const res = await fetch(path);
+async function getJson(path, signal) {
+  const res = await fetch(path, { signal });
   const json = await res.json();
   if (!res.ok) throw Object.assign(new Error(json.error.message), { api: json.error });
   return json;
@@ -646,8 +646,13 @@ async function runMinTime() {
 }
 
 async function openKey(key) {
+  // A view request like run and runMinTime: a newer one aborts it, and a late answer is dropped
+  // (it would refill the form and the results over the newer plan).
+  const ticket = ++state.ticket;
+  const signal = freshSignal('view');
   try {
-    const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`);
+    const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`, signal);
+    if (ticket !== state.ticket) return;  // a newer request replaced this view
     fillFormFromPlan(plan);
     state.request = { format: plan.format, strategy: plan.strategy, options: {} };
     state.plans = { [plan.strategy]: plan };
@@ -656,6 +661,7 @@ async function openKey(key) {
     renderTable([plan], plan.strategy);
     await selectPlan(plan.strategy);
   } catch (e) {
+    if (ticket !== state.ticket) return;
     $('form-error').textContent = e.api ? e.api.message : String(e);
   }
 }

@@ -656,6 +656,72 @@ def check_late_answer(driver, port):
     driver.execute_script("window.fetch = window.__realFetch")
 
 
+# Holds the answer of GET v1/plans/<window.__heldKey> (installed before the page's own script runs,
+# so the page's opening of ?key= is held) until window.__release(); the abort signal is ignored so
+# the late answer reaches the page, which must drop it.
+HOLD_KEY_ANSWER = """
+window.__realFetch = window.__realFetch || window.fetch;
+const real = window.__realFetch;
+let release;
+const gate = new Promise((resolve) => { release = resolve; });
+window.__held = 0;
+window.__delivered = 0;
+window.__release = release;
+window.fetch = async (input, init) => {
+  const get = !init || !init.method || init.method === 'GET';
+  if (!get || !window.__heldKey || !String(input).endsWith('v1/plans/' + window.__heldKey)) {
+    return real(input, init);
+  }
+  window.__held++;
+  const res = await real(input, { ...init, signal: undefined });
+  await gate;
+  const json = res.json.bind(res);
+  res.json = async () => {
+    const value = await json();
+    setTimeout(() => { window.__delivered++; }, 0);
+    return value;
+  };
+  return res;
+};
+"""
+
+
+def check_late_key_answer(driver, port):
+    """A plan opened by ?key= whose answer arrives after a later planned request is dropped: the
+    form, the table, the status line and the URL keep the later plan."""
+    status, early = api_json(port, "POST", "/v1/plans", request_of(dict(THESIS, time="1.5"), "notch"))
+    check(status == 200, f"the API plans the early plan ({status})")
+    script = driver.execute_cdp_cmd("Page.addScriptToEvaluateOnNewDocument", {
+        "source": f"window.__heldKey = {json.dumps(early['key'])};" + HOLD_KEY_ANSWER})
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={early['key']}")
+        wait_for(driver, "return document.body.dataset.loaded === '1' && window.__held === 1")
+        fill_format(driver, THESIS, "notch")
+        driver.find_element(By.ID, "plan-button").click()
+        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                         "window.sloshPage.plans.notch.format.motion_time_s === 1")
+        driver.execute_script("window.__release()")
+        wait_for(driver, "return window.__delivered === 1")  # the late answer was handled
+        status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
+        check(status == 200, f"the API plans notch ({status})")
+        check(driver.find_element(By.ID, "time").get_attribute("value") == "1",
+              "the form keeps the later request's motion time")
+        check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
+              driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
+              "the page's plans are the later plan")
+        check(table_rows(driver)[0]["cells"] == expected_row(plan), "the table shows the later plan")
+        line = driver.find_element(By.ID, "status-line").text
+        check(line == f"notch: {plan['status']}. {plan['message']}", f"the status line is the later plan's: {line}")
+        check("T=1&" in driver.current_url and "key=" not in driver.current_url,
+              f"the URL is the later request's: {driver.current_url}")
+        check(driver.find_element(By.ID, "download-json").get_attribute("download") == f"plan-{plan['key']}.json",
+              "the plan download is the later plan")
+        check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
+    finally:
+        driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", script)
+        driver.execute_script("window.fetch = window.__realFetch")
+
+
 # Chart.js throwing after it registered its chart (as it does on an axis it cannot scale): the
 # plot of `plot-eta` fails while the test's wrapper is installed.
 BREAK_ETA_PLOT = """
@@ -804,6 +870,7 @@ def main():
         check_cam_download(driver, args.slosh, workdir)
         check_cam_refusal(driver, port, downloads)
         check_late_answer(driver, port)
+        check_late_key_answer(driver, port)
         check_plot_error(driver)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
         check_min_time(driver, port, os.path.join(args.artifacts, "min-time.png"))
