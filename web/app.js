@@ -227,25 +227,51 @@ function simulateRequest(plan, law) {
 // ±1e308 (it throws or allocates without bound).
 const MEASURED = { maxBytes: 8 << 20, maxSamples: 100000, etaMaxMm: 10000, tMaxS: 3600 };
 
-// A measured wave height as CSV: one "t_s,eta_mm" pair a line, times increasing, |t_s| and
-// |eta_mm| within MEASURED, at most MEASURED.maxSamples samples; a first line that is not two
-// numbers is a header. Throws an Error naming the line, the value and the allowed range.
+// A decimal number as a measurement file writes it ("-0.5", "1e-3", ".5"); never hex, "Infinity"
+// or an empty cell, which Number() would all accept.
+const DECIMAL = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
+
+// The cells of one line: ';' separates them when the line holds one (and a decimal comma is then
+// a decimal point, as spreadsheets of comma-decimal locales write it), else a tab, else ','.
+// Splitting on any of them would read "0,5;10,0" as four values and keep two wrong ones.
+function measuredCells(line) {
+  if (line.includes(';')) return line.split(';').map((c) => c.trim().replace(',', '.'));
+  return line.split(line.includes('\t') ? '\t' : ',').map((c) => c.trim());
+}
+
+function plural(n, word) {
+  return `${n} ${word}${n === 1 ? '' : 's'}`;
+}
+
+// A measured wave height as CSV: one "t_s,eta_mm" pair a line (separated as measuredCells says),
+// times increasing, |t_s| and |eta_mm| within MEASURED, at most MEASURED.maxSamples samples; the
+// first non-blank line is a header when none of its cells starts like a number. Throws an Error naming the
+// line, the value and the allowed range.
 function parseMeasuredCsv(text) {
   const out = { t_s: [], eta_mm: [] };
   const lines = text.split(/\r?\n/);
+  let first = true;
   lines.forEach((raw, i) => {
     const line = raw.trim();
     if (line === '') return;
-    const cells = line.split(/[,;\t]/).map((c) => c.trim());
-    const t = Number(cells[0]), eta = Number(cells[1]);
-    if (cells.length < 2 || cells[0] === '' || cells[1] === '' || !Number.isFinite(t) || !Number.isFinite(eta)) {
-      if (i === 0) return;  // a header
-      throw new Error(`line ${i + 1}: "${line.slice(0, 40)}" is not two numbers t_s,eta_mm`);
+    const cells = measuredCells(line);
+    // A header names its columns: none of its cells starts like a number ("0x10" does).
+    const header = first && !cells.some((c) => /^[+-]?\.?\d/.test(c));
+    first = false;
+    if (header) return;
+    if (cells.length !== 2) {
+      throw new Error(`line ${i + 1}: ${plural(cells.length, 'value')}, expected 2: t_s, eta_mm`);
     }
-    if (Math.abs(t) > MEASURED.tMaxS) {
+    ['t_s', 'eta_mm'].forEach((name, k) => {
+      if (!DECIMAL.test(cells[k])) {
+        throw new Error(`line ${i + 1}: ${name} = "${cells[k].slice(0, 40)}" is not a decimal number`);
+      }
+    });
+    const t = Number(cells[0]), eta = Number(cells[1]);
+    if (!Number.isFinite(t) || Math.abs(t) > MEASURED.tMaxS) {
       throw new Error(`line ${i + 1}: t_s = ${t} is outside [-${MEASURED.tMaxS}, ${MEASURED.tMaxS}] s`);
     }
-    if (Math.abs(eta) > MEASURED.etaMaxMm) {
+    if (!Number.isFinite(eta) || Math.abs(eta) > MEASURED.etaMaxMm) {
       throw new Error(`line ${i + 1}: eta_mm = ${eta} is outside [-${MEASURED.etaMaxMm}, ${MEASURED.etaMaxMm}] mm`);
     }
     const n = out.t_s.length;
@@ -258,7 +284,7 @@ function parseMeasuredCsv(text) {
     out.t_s.push(t);
     out.eta_mm.push(eta);
   });
-  if (out.t_s.length < 2) throw new Error(`${out.t_s.length} samples: at least 2 are needed`);
+  if (out.t_s.length < 2) throw new Error(`${plural(out.t_s.length, 'sample')}: at least 2 are needed`);
   return out;
 }
 

@@ -775,6 +775,36 @@ def upload_measured(driver, workdir, name, text):
     return driver.find_element(By.ID, "measured-note").text
 
 
+def check_measured_formats(driver, workdir):
+    """A measured series is split on ';' (with decimal commas), else a tab, else ','; a header may
+    follow blank lines; a third column, a hex number or a single sample is refused, named."""
+    accepted = [
+        ("semicolon.csv", "t_s;eta_mm\n0,00;0,5\n0,01;-1,25\n0,02;10,0\n1;2\n",
+         {"t_s": [0.0, 0.01, 0.02, 1.0], "eta_mm": [0.5, -1.25, 10.0, 2.0]}),
+        ("tab.csv", "\n\nt_s\teta_mm\n0\t1.5\n0.5\t-2e1\n",
+         {"t_s": [0.0, 0.5], "eta_mm": [1.5, -20.0]}),
+    ]
+    for name, text, expected in accepted:
+        note = upload_measured(driver, workdir, name, text)
+        n = len(expected["t_s"])
+        check(note == f"{name}: {n} samples overlaid on η(t)", f"{name} is read: {note!r}")
+        got = driver.execute_script("return window.sloshPage.measured")
+        check(got == expected, f"{name} holds {expected}: {got}")
+    refused = [
+        ("three.csv", "t_s,eta_mm\n0,1\n1,2,3\n",
+         "three.csv is not a series: line 3: 3 values, expected 2: t_s, eta_mm"),
+        ("hex.csv", "0x10,1\n17,2\n", 'hex.csv is not a series: line 1: t_s = "0x10" is not a decimal number'),
+        ("hexeta.csv", "t_s,eta_mm\n0,1\n1,0x2\n",
+         'hexeta.csv is not a series: line 3: eta_mm = "0x2" is not a decimal number'),
+        ("one.csv", "\n\nt_s,eta_mm\n0,1\n", "one.csv is not a series: 1 sample: at least 2 are needed"),
+        ("none.csv", "t_s,eta_mm\n", "none.csv is not a series: 0 samples: at least 2 are needed"),
+    ]
+    for name, text, expected in refused:
+        note = upload_measured(driver, workdir, name, text)
+        check(note == expected, f"{name} is refused: {note!r}")
+        check(driver.execute_script("return document.body.dataset.measured") == "invalid", f"{name}: no overlay")
+
+
 def check_measured_limits(driver, workdir):
     """A measured series beyond what a measurement holds is refused with its line, value and
     range (Chart.js cannot scale an axis to 1e308); the page keeps working."""
@@ -867,6 +897,7 @@ def main():
         plan = check_single_plan(driver, port)
         check_measured_overlay(driver, workdir)
         check_measured_limits(driver, workdir)
+        check_measured_formats(driver, workdir)
         check_cam_download(driver, args.slosh, workdir)
         check_cam_refusal(driver, port, downloads)
         check_late_answer(driver, port)
