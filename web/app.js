@@ -366,6 +366,19 @@ function updateCamLink() {
   $('cam-note').textContent = '';
 }
 
+// A typed period the number input cannot read ("1e400", "--1", "5e"): the input then reports an
+// empty value, which must not turn into the default period of 1 ms. Marks the input and says so;
+// true when the period is unreadable.
+function refuseUnreadablePeriod() {
+  const period = $('cam-period');
+  if (!period.validity.badInput) return false;
+  period.setAttribute('aria-invalid', 'true');
+  $('cam-period-error').textContent =
+    'the period is not a number: type a decimal number of milliseconds, such as 1 or 0.5';
+  $('cam-note').textContent = '';
+  return true;
+}
+
 // The cam table through fetch, not a plain link: a refused period (the API's 422) is shown at the
 // period input instead of being saved as the CSV file.
 async function downloadCam(event) {
@@ -374,6 +387,7 @@ async function downloadCam(event) {
   const period = $('cam-period');
   period.removeAttribute('aria-invalid');
   $('cam-period-error').textContent = '';
+  if (refuseUnreadablePeriod()) return;  // nothing is fetched or saved
   $('cam-note').textContent = 'Preparing the cam table…';
   try {
     const res = await fetch(href);
@@ -716,6 +730,7 @@ async function main() {
     $('cam-period').removeAttribute('aria-invalid');
     $('cam-period-error').textContent = '';
     updateCamLink();
+    refuseUnreadablePeriod();
   });
   $('download-cam').addEventListener('click', downloadCam);
   $('measured-csv').addEventListener('change', loadMeasured);

@@ -863,6 +863,32 @@ def check_cam_refusal(driver, port, downloads):
     period.send_keys("1")
 
 
+def check_unreadable_period(driver, downloads):
+    """A typed period the number input cannot read is refused at the input, never taken as the
+    default 1 ms: the message is shown, the input marked, nothing saved."""
+    period = driver.find_element(By.ID, "cam-period")
+    link = driver.find_element(By.ID, "download-cam")
+    expected = "the period is not a number: type a decimal number of milliseconds, such as 1 or 0.5"
+    for typed in ("1e400", "--1", "5e"):
+        before = sorted(os.listdir(downloads))
+        period.clear()
+        period.send_keys(typed)
+        check(driver.execute_script("const p = document.getElementById('cam-period');"
+                                    "return p.value === '' && p.validity.badInput"), f"{typed}: the input cannot read it")
+        shown = driver.find_element(By.ID, "cam-period-error").text
+        check(shown == expected, f"{typed}: the input says so: {shown!r}")
+        link.click()
+        time.sleep(1)
+        shown = driver.find_element(By.ID, "cam-period-error").text
+        check(shown == expected, f"{typed}: the click says so: {shown!r}")
+        check(period.get_attribute("aria-invalid") == "true", f"{typed}: the period input is marked invalid")
+        check(driver.find_element(By.ID, "cam-note").text == "", f"{typed}: no download under way")
+        check(sorted(os.listdir(downloads)) == before, f"{typed}: nothing saved: {os.listdir(downloads)}")
+    period.clear()
+    period.send_keys("1")
+    check(driver.find_element(By.ID, "cam-period-error").text == "", "a readable period clears the message")
+
+
 def check_sub_path(port):
     proxy = SubPathProxy(port)
     thread = threading.Thread(target=proxy.serve_forever, daemon=True)
@@ -900,6 +926,7 @@ def main():
         check_measured_formats(driver, workdir)
         check_cam_download(driver, args.slosh, workdir)
         check_cam_refusal(driver, port, downloads)
+        check_unreadable_period(driver, downloads)
         check_late_answer(driver, port)
         check_late_key_answer(driver, port)
         check_plot_error(driver)
