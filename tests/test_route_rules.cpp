@@ -229,7 +229,7 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
   const auto deleted = client.Delete("/v1/batches/no-such-job", {{"X-Request-Id", "delete-4"}});
   ASSERT_TRUE(deleted);
   EXPECT_EQ(deleted->status, 404);
-  // A method the route does not answer is not routed: "other".
+  // A method the route does not answer: 405, under the route of its path.
   const auto put = client.Put("/healthz", {{"X-Request-Id", "put-5"}}, "", "application/json");
   ASSERT_TRUE(put);
   EXPECT_EQ(put->status, 405);
@@ -238,7 +238,7 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
                                                     {"HEAD", "/healthz"},
                                                     {"POST", "/v1/plans"},
                                                     {"DELETE", "/v1/batches/{id}"},
-                                                    {"PUT", "other"}};
+                                                    {"PUT", "/healthz"}};
   for (const auto& [method, route] : expected) {
     EXPECT_EQ(test::metric(metrics, "slosh_http_request_duration_seconds_count{route=\"" + route +
                                         "\",method=\"" + method + "\"}"),
@@ -275,6 +275,87 @@ std::string access_line(const std::string& log, const std::string& id) {
   const std::size_t at = log.find(start);
   if (at == std::string::npos) return "";
   return log.substr(at, log.find('\n', at) - at);
+}
+
+// A request refused before or instead of its handler (405, 413, a %2F 404) is counted, timed and
+// logged under the route of its path; "other" is only a path no route has.
+TEST(RouteLabels, RefusalsCarryTheRouteOfTheirPath) {
+  test::TempDir dir;
+  test::write_file(dir / "config.json", R"({"max_body_bytes": 1024})");
+  Server server({"--config", (dir / "config.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  auto client = server.client();
+  client.set_keep_alive(true);
+  struct Case {
+    std::string id, method, path;
+    int status;
+    std::string route;
+  };
+  const std::vector<Case> cases{
+      {"del-1", "DELETE", "/v1/plans/abc", 405, "/v1/plans/{key}"},
+      {"opt-2", "OPTIONS", "/v1/plans/abc", 405, "/v1/plans/{key}"},
+      {"pat-3", "PATCH", "/v1/plans/abc", 405, "/v1/plans/{key}"},
+      {"put-4", "PUT", "/v1/plans", 405, "/v1/plans"},
+      {"opt-5", "OPTIONS", "/v1/plans", 405, "/v1/plans"},
+      {"pat-6", "PATCH", "/v1/plans", 405, "/v1/plans"},
+      {"get-7", "GET", "/v1/plans/batch", 405, "/v1/plans/batch"},
+      {"slash-8", "GET", "/v1/plans/a%2Fb", 404, "/v1/plans/{key}"},
+      {"none-9", "OPTIONS", "/nothing", 404, "other"},
+      {"big-10", "POST", "/v1/plans", 413, "/v1/plans"},
+  };
+  const std::string big = "{\"x\": \"" + std::string(4096, 'a') + "\"}";
+  for (const Case& c : cases) {
+    const httplib::Headers id{{"X-Request-Id", c.id}};
+    const httplib::Result r =
+        c.method == "DELETE"    ? client.Delete(c.path, id)
+        : c.method == "OPTIONS" ? client.Options(c.path, id)
+        : c.method == "PATCH"   ? client.Patch(c.path, id, "{}", "application/json")
+        : c.method == "PUT"     ? client.Put(c.path, id, "{}", "application/json")
+        : c.method == "POST"    ? client.Post(c.path, id, big, "application/json")
+                                : client.Get(c.path, id);
+    ASSERT_TRUE(r) << c.id;
+    EXPECT_EQ(r->status, c.status) << c.id;
+  }
+  // An oversized body announced with Expect: 100-continue is refused before any handler runs.
+  const std::vector<Case> raw_cases{
+      {"big-11", "POST", "/v1/plans/batch", 413, "/v1/plans/batch"},
+      {"big-12", "POST", "/v1/plans", 413, "/v1/plans"},
+  };
+  for (const Case& c : raw_cases) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.connected());
+    ASSERT_TRUE(raw.send(c.method + " " + c.path + " HTTP/1.1\r\nHost: x\r\nX-Request-Id: " + c.id +
+                         "\r\nContent-Type: application/json\r\nContent-Length: 100000\r\n"
+                         "Expect: 100-continue\r\nConnection: close\r\n\r\n"));
+    EXPECT_TRUE(raw.read_all().starts_with("HTTP/1.1 413 ")) << c.id;
+  }
+  const std::string metrics = client.Get("/metrics")->body;
+  std::map<std::pair<std::string, std::string>, int> counted;
+  for (const Case& c : cases) ++counted[{c.route, c.method}];
+  for (const Case& c : raw_cases) ++counted[{c.route, c.method}];
+  for (const auto& [key, n] : counted) {
+    EXPECT_EQ(test::metric(metrics, "slosh_http_request_duration_seconds_count{route=\"" +
+                                        key.first + "\",method=\"" + key.second + "\"}"),
+              n)
+        << key.first << " " << key.second;
+  }
+  EXPECT_EQ(test::metric(metrics, "slosh_http_requests_total{route=\"/v1/plans\",status=\"413\"}"),
+            2);
+  ASSERT_EQ(server.stop(), 0);
+  const std::string log = server.log();
+  std::vector<Case> all = cases;
+  all.insert(all.end(), raw_cases.begin(), raw_cases.end());
+  for (const Case& c : all) {
+    const std::string line = access_line(log, c.id);
+    const std::string head = "request id=" + c.id + " method=" + c.method + " path=" + c.path +
+                             " status=" + std::to_string(c.status) + " cache=- ms=";
+    EXPECT_EQ(line.substr(0, head.size()), head) << log;
+    const std::regex tail("^[0-9]+\\.[0-9]{3} bytes=[0-9]+ route=(\\S+)$");
+    std::smatch m;
+    const std::string rest = line.substr(std::min(head.size(), line.size()));
+    ASSERT_TRUE(std::regex_match(rest, m, tail)) << line;
+    EXPECT_EQ(m[1], c.route) << line;
+  }
 }
 
 TEST(AccessLog, WritesThePathAsSentSoNoRequestForgesALine) {
