@@ -332,14 +332,6 @@ void configure_transport(ListeningServer& server, const ServerConfig& config) {
 // The handler of one operation: the request (and its body for POST) to a reply.
 using Handler = std::function<Reply(const httplib::Request&, const std::string& body)>;
 
-// Every value of the query parameter `view` (the plan endpoints' view), in order.
-std::vector<std::string> view_values(const httplib::Request& req) {
-  std::vector<std::string> values;
-  const std::size_t n = req.get_param_value_count("view");
-  for (std::size_t i = 0; i < n; ++i) values.push_back(req.get_param_value("view", i));
-  return values;
-}
-
 // Every value of the query parameter `name` in the request target, in order, repeats included
 // (none when it is not given). The library's parameters drop a repeated identical "name=value"
 // pair, so a repeat of the same value would go unnoticed there.
@@ -360,6 +352,12 @@ std::vector<std::string> param_values(const httplib::Request& req, const char* n
                              : httplib::detail::decode_url(pair.substr(equals + 1), true));
       });
   return values;
+}
+
+// Every value of the query parameter `view` (the plan endpoints' view), in order, repeats of the
+// same value included (view=full&view=full is refused as every repeated parameter is).
+std::vector<std::string> view_values(const httplib::Request& req) {
+  return param_values(req, "view");
 }
 
 // The decoded name of every query parameter in the request target, in order, repeats included.

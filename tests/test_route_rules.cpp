@@ -174,6 +174,40 @@ TEST(QueryRule, EveryRouteRefusesAParameterItDoesNotTake) {
   EXPECT_EQ(page->status, 200);
 }
 
+// A repeated view is refused as every repeated parameter is, the same value twice included (the
+// HTTP library keeps one of two identical pairs).
+TEST(QueryRule, ARepeatedViewIsRefusedLikeEveryRepeatedParameter) {
+  Server server;
+  const std::string key = planned_key(server);
+  auto client = server.client();
+  const auto cam = client.Get("/v1/plans/" + key + "/cam.csv?period_ms=1&period_ms=1");
+  ASSERT_TRUE(cam);
+  EXPECT_EQ(cam->status, 422);
+  EXPECT_EQ(error_of(cam).at("message"),
+            "period_ms is given twice (1 and 1): give each query parameter once");
+  const std::string twice =
+      R"(view is given twice (full and full): give each query parameter once, one of "full", )"
+      R"("compact")";
+  const auto get = client.Get("/v1/plans/" + key + "?view=full&view=full");
+  const auto post =
+      client.Post("/v1/plans?view=full&view=full", plan_body().dump(), "application/json");
+  const auto batch =
+      client.Post("/v1/plans/batch?view=compact&view=full&view=compact",
+                  json{{"requests", json::array({plan_body()})}}.dump(), "application/json");
+  for (const auto* r : {&get, &post}) {
+    ASSERT_TRUE(*r);
+    EXPECT_EQ((*r)->status, 422) << (*r)->body;
+    const json e = error_of(*r);
+    EXPECT_EQ(e.at("field"), "view");
+    EXPECT_EQ(e.at("message"), twice);
+  }
+  ASSERT_TRUE(batch);
+  EXPECT_EQ(batch->status, 422) << batch->body;
+  EXPECT_EQ(error_of(batch).at("message"),
+            R"(view is given 3 times (compact, full and compact): give each query parameter )"
+            R"(once, one of "full", "compact")");
+}
+
 TEST(EncodedSlash, IsPartOfTheSegmentNeverASeparator) {
   Server server;
   const std::string key = planned_key(server);
