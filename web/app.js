@@ -51,7 +51,7 @@ const MIN_TIME_FIELDS = {
 const state = {
   request: null, plans: {}, selected: null, charts: [], ticket: 0,
   minTimeRequest: null, minTime: null, minTimeCharts: [],
-  measured: null, plotContext: null,
+  measured: null, plotContext: null, fluids: [],
   // The fetches of the latest request of each kind ('view': plan, compare, min-time; 'plots': the
   // series of the selected plan), and the plots' ticket: a newer request aborts them, and an
   // answer that arrives all the same is dropped by its ticket (state.ticket for the view).
@@ -529,7 +529,13 @@ function fillFormFromPlan(plan) {
   $('fill').value = f.fill_height_mm;
   $('stroke').value = f.stroke_mm;
   $('time').value = f.motion_time_s;
-  const known = [...$('fluid').options].some((o) => o.value === f.fluid.name);
+  // A catalogue fluid only when its properties are the catalogue entry's: a custom fluid may carry
+  // a catalogue name ({"name": "water", "density_kg_m3": 1260, ...}), and refilled as catalogue
+  // water it would be replanned with water's density.
+  const entry = state.fluids.find((c) => c.name === f.fluid.name);
+  const known = entry !== undefined && entry.density_kg_m3 === f.fluid.density_kg_m3 &&
+    entry.viscosity_pa_s === f.fluid.viscosity_pa_s &&
+    [...$('fluid').options].some((o) => o.value === f.fluid.name);
   $('fluid').value = known ? f.fluid.name : 'custom';
   $('density').value = f.fluid.density_kg_m3;
   $('viscosity').value = f.fluid.viscosity_pa_s;
@@ -709,6 +715,7 @@ async function openKey(key) {
 async function loadFluids() {
   try {
     const { fluids } = await getJson('v1/fluids');
+    state.fluids = fluids;
     const select = $('fluid');
     const current = select.value;
     select.replaceChildren();

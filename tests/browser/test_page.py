@@ -511,6 +511,35 @@ def check_infeasible_cam_link(driver, port):
     check(urllib.request.urlopen(href, timeout=60).status == 200, "the infeasible plan's cam table downloads")
 
 
+def check_key_view_custom_fluid(port):
+    """A plan whose custom fluid carries a catalogue name but other properties is refilled as a
+    custom fluid with its own density and viscosity, and replanned with them."""
+    request = request_of(THESIS, "notch")
+    request["format"]["fluid"] = {"name": "water", "density_kg_m3": 1260, "viscosity_pa_s": 1.4}
+    status, plan = api_json(port, "POST", "/v1/plans", request)
+    check(status == 200, f"the API plans the custom fluid ({status}: {plan})")
+    if status != 200:
+        return
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+        wait_for(driver, "return document.body.dataset.ready === 'notch'")
+        check(driver.find_element(By.ID, "fluid").get_attribute("value") == "custom",
+              "the fluid is custom, not catalogue water")
+        check(driver.find_element(By.ID, "density").get_attribute("value") == "1260" and
+              driver.find_element(By.ID, "viscosity").get_attribute("value") == "1.4",
+              "the custom inputs hold the plan's density and viscosity")
+        check(driver.find_element(By.ID, "custom-fluid").is_displayed(), "the custom inputs are shown")
+        driver.find_element(By.ID, "plan-button").click()
+        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                         "window.sloshPage.request !== null && window.sloshPage.request.format !== undefined")
+        fluid = driver.execute_script("return window.sloshPage.plans.notch.format.fluid")
+        check(fluid["density_kg_m3"] == 1260 and fluid["viscosity_pa_s"] == 1.4,
+              f"the replanned format keeps the fluid: {fluid}")
+    finally:
+        driver.quit()
+
+
 def check_key_view(port, plan):
     driver = browser()
     try:
@@ -938,6 +967,7 @@ def main():
         check_infeasible_cam_link(driver, port)
         check_uncertainty(driver, port)
         check_key_view(port, plan)
+        check_key_view_custom_fluid(port)
         check_bad_link(port)
         check_sub_path(port)
         severe = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"
