@@ -664,6 +664,21 @@ Reply unrouted_reply(const httplib::Request& req, const std::vector<Endpoint>& e
   return reply;
 }
 
+// PUT and PATCH, which no route answers: a 405 with Allow (or a 404 for a path of no route) at
+// once. The library reads the body of a PUT or PATCH before routing to a plain handler, and one
+// without Content-Length is read until the client closes or the read times out (a 400 after
+// 5 s); a handler with a content reader is routed before any of the body is read. The body is
+// never read, so the connection is closed.
+void register_unrouted_body_methods(Runtime& rt) {
+  const auto refuse = [&rt](const httplib::Request& req, httplib::Response& res,
+                            const httplib::ContentReader&) {
+    res.set_header("Connection", "close");
+    answer(rt, route_label_of(req.path, rt.endpoints), unrouted_reply(req, rt.endpoints), req, res);
+  };
+  rt.server.Put(".*", httplib::Server::HandlerWithContentReader(refuse));
+  rt.server.Patch(".*", httplib::Server::HandlerWithContentReader(refuse));
+}
+
 // The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
 // request line, bad Range).
 Reply framework_reply(const httplib::Request& req, int status, const Runtime& rt) {
@@ -923,6 +938,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   Runtime rt{config, service, jobs, server, nullptr, {}, replica_name(config), &calibrations};
   configure_transport(server, config);
   register_routes(rt);
+  register_unrouted_body_methods(rt);
   install_error_handlers(rt);
   install_request_hooks(rt);
   const int port = bind_port(server, config);

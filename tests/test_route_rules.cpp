@@ -9,6 +9,8 @@
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
+#include <tuple>
+#include <vector>
 
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/routes.hpp"
@@ -300,6 +302,35 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
                             " cache=\\S+ ms=[0-9.]+ bytes=\\d+ route=" +
                             std::regex_replace(route, std::regex("[{}]"), "\\$&") + "(\\s|$)");
     EXPECT_TRUE(std::regex_search(log, access)) << id << " in\n" << log;
+  }
+}
+
+// PUT and PATCH are answered by no route: without a body (no Content-Length) they are refused at
+// once with 405 and Allow, not read until the read times out.
+TEST(MethodRule, PutAndPatchWithoutABodyAreRefusedAtOnce) {
+  Server server;
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases{
+      {"PUT", "/v1/plans", "HTTP/1.1 405 "},
+      {"PATCH", "/v1/plans/abc", "HTTP/1.1 405 "},
+      {"PUT", "/nothing", "HTTP/1.1 404 "}};
+  for (const auto& [method, path, status_line] : cases) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.connected());
+    // The client keeps its end open (it only asks the server to close after the answer): a server
+    // waiting for a body would wait until its read timeout and answer 400.
+    ASSERT_TRUE(
+        raw.send(method + " " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"));
+    const std::string answer = raw.read_all();
+    EXPECT_TRUE(answer.starts_with(status_line)) << method << " " << path << ":\n" << answer;
+    if (status_line.find("405") != std::string::npos) {
+      EXPECT_NE(
+          answer.find(path == "/v1/plans" ? "\r\nAllow: POST\r\n" : "\r\nAllow: GET, HEAD\r\n"),
+          std::string::npos)
+          << answer;
+      EXPECT_NE(answer.find("\"" + method + " is not allowed on " + path), std::string::npos)
+          << answer;
+    }
+    EXPECT_NE(answer.find("\r\nConnection: close\r\n"), std::string::npos) << answer;
   }
 }
 
