@@ -5,10 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
+#include <thread>
 #include <tuple>
 #include <vector>
 
@@ -269,12 +272,24 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
   const auto put = client.Put("/healthz", {{"X-Request-Id", "put-5"}}, "", "application/json");
   ASSERT_TRUE(put);
   EXPECT_EQ(put->status, 405);
-  const std::string metrics = client.Get("/metrics")->body;
   const std::map<std::string, std::string> expected{{"GET", "/healthz"},
                                                     {"HEAD", "/healthz"},
                                                     {"POST", "/v1/plans"},
                                                     {"DELETE", "/v1/batches/{id}"},
                                                     {"PUT", "/healthz"}};
+  // The PUT's connection is closed (its body is never read): it is timed after its answer, on its
+  // own thread, while /metrics comes on a new connection; read until it has landed.
+  std::string metrics;
+  for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);;) {
+    metrics = client.Get("/metrics")->body;
+    if (test::metric(metrics,
+                     "slosh_http_request_duration_seconds_count{route=\"/healthz\","
+                     "method=\"PUT\"}") >= 1 ||
+        std::chrono::steady_clock::now() > deadline) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   for (const auto& [method, route] : expected) {
     EXPECT_EQ(test::metric(metrics, "slosh_http_request_duration_seconds_count{route=\"" + route +
                                         "\",method=\"" + method + "\"}"),
@@ -394,15 +409,27 @@ TEST(RouteLabels, RefusalsCarryTheRouteOfTheirPath) {
                          "Expect: 100-continue\r\nConnection: close\r\n\r\n"));
     EXPECT_TRUE(raw.read_all().starts_with("HTTP/1.1 413 ")) << c.id;
   }
-  const std::string metrics = client.Get("/metrics")->body;
   std::map<std::pair<std::string, std::string>, int> counted;
   for (const Case& c : cases) ++counted[{c.route, c.method}];
   for (const Case& c : raw_cases) ++counted[{c.route, c.method}];
+  const auto count_of = [](const std::string& text, const std::pair<std::string, std::string>& k) {
+    return test::metric(text, "slosh_http_request_duration_seconds_count{route=\"" + k.first +
+                                  "\",method=\"" + k.second + "\"}");
+  };
+  // A refusal that closes its connection (a %2F path, an oversized body) is timed by the server
+  // after its answer is sent, on that connection's thread, while the client already sends the
+  // next request on a new connection: /metrics is read until those observations have landed.
+  std::string metrics;
+  for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);;) {
+    metrics = client.Get("/metrics")->body;
+    const bool all = std::all_of(counted.begin(), counted.end(), [&](const auto& kv) {
+      return count_of(metrics, kv.first) >= kv.second;
+    });
+    if (all || std::chrono::steady_clock::now() > deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   for (const auto& [key, n] : counted) {
-    EXPECT_EQ(test::metric(metrics, "slosh_http_request_duration_seconds_count{route=\"" +
-                                        key.first + "\",method=\"" + key.second + "\"}"),
-              n)
-        << key.first << " " << key.second;
+    EXPECT_EQ(count_of(metrics, key), n) << key.first << " " << key.second;
   }
   EXPECT_EQ(test::metric(metrics, "slosh_http_requests_total{route=\"/v1/plans\",status=\"413\"}"),
             2);
