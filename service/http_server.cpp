@@ -152,7 +152,31 @@ struct Endpoint {
   std::regex pattern;
   std::vector<std::string> methods;
   std::string source;  // the pattern's text
+  std::string label;   // the route's path template ("/v1/plans/{key}"), its metrics label
 };
+
+// The route label of a path whatever the method: the template of the endpoint whose pattern it
+// matches, the most literal one when several do ("/v1/plans/batch" over "/v1/plans/{key}"), or
+// "other" when it matches none.
+std::string route_label_of(std::string_view path, const std::vector<Endpoint>& endpoints) {
+  const Endpoint* best = nullptr;
+  const auto parameters = [](const std::string& label) {
+    return std::count(label.begin(), label.end(), '{');
+  };
+  for (const Endpoint& e : endpoints) {
+    if (!std::regex_match(path.begin(), path.end(), e.pattern)) continue;
+    if (!best || parameters(e.label) < parameters(best->label)) best = &e;
+  }
+  return best ? best->label : "other";
+}
+
+// The path of the request line as the client sent it (percent escapes kept, query cut): the
+// decoded path would log "%2F" as a real '/' and "%0A" as a line break. The decoded path for a
+// request without a target.
+std::string path_as_sent(const httplib::Request& req) {
+  if (req.target.empty()) return req.path;
+  return req.target.substr(0, req.target.find_first_of("?#"));
+}
 
 std::string allow_header(const std::vector<std::string>& methods) {
   std::string allow;
@@ -308,14 +332,6 @@ void configure_transport(ListeningServer& server, const ServerConfig& config) {
 // The handler of one operation: the request (and its body for POST) to a reply.
 using Handler = std::function<Reply(const httplib::Request&, const std::string& body)>;
 
-// Every value of the query parameter `view` (the plan endpoints' view), in order.
-std::vector<std::string> view_values(const httplib::Request& req) {
-  std::vector<std::string> values;
-  const std::size_t n = req.get_param_value_count("view");
-  for (std::size_t i = 0; i < n; ++i) values.push_back(req.get_param_value("view", i));
-  return values;
-}
-
 // Every value of the query parameter `name` in the request target, in order, repeats included
 // (none when it is not given). The library's parameters drop a repeated identical "name=value"
 // pair, so a repeat of the same value would go unnoticed there.
@@ -336,6 +352,12 @@ std::vector<std::string> param_values(const httplib::Request& req, const char* n
                              : httplib::detail::decode_url(pair.substr(equals + 1), true));
       });
   return values;
+}
+
+// Every value of the query parameter `view` (the plan endpoints' view), in order, repeats of the
+// same value included (view=full&view=full is refused as every repeated parameter is).
+std::vector<std::string> view_values(const httplib::Request& req) {
+  return param_values(req, "view");
 }
 
 // The decoded name of every query parameter in the request target, in order, repeats included.
@@ -553,24 +575,28 @@ std::string path_pattern(std::string_view path) {
 }
 
 // Records the methods a path pattern answers (one Endpoint per pattern, for 405's Allow).
-void add_methods(Runtime& rt, const std::string& pattern, const std::vector<std::string>& methods) {
+void add_methods(Runtime& rt, const std::string& pattern, const std::string& label,
+                 const std::vector<std::string>& methods) {
   for (Endpoint& e : rt.endpoints) {
     if (e.source == pattern) {
       e.methods.insert(e.methods.end(), methods.begin(), methods.end());
       return;
     }
   }
-  rt.endpoints.push_back({std::regex(pattern), methods, pattern});
+  rt.endpoints.push_back({std::regex(pattern), methods, pattern, label});
 }
 
 // The reply of a routed request, whatever its method: sent, counted under its route, and the
-// route (and plan) kept for the access log and the latency histogram the logger writes.
-void answer(Runtime& rt, const std::string& label, Reply reply, httplib::Response& res) {
-  request_route = label;
+// route (and plan) kept for the access log and the latency histogram the logger writes. A 405 is
+// counted under the route of its path, which may be another than the handler's: GET
+// /v1/plans/batch reaches GET /v1/plans/{key}, whose handler refuses it for POST /v1/plans/batch.
+void answer(Runtime& rt, const std::string& label, Reply reply, const httplib::Request& req,
+            httplib::Response& res) {
+  request_route = reply.status == 405 ? route_label_of(req.path, rt.endpoints) : label;
   request_plan = reply.plan;
   const int status = reply.status;
   send(std::move(reply), res);
-  rt.service.metrics().count_request(label, status);
+  rt.service.metrics().count_request(request_route, status);
 }
 
 // Every route of api::routes(): one metrics label per route (its path), exceptions become the
@@ -583,17 +609,17 @@ void register_routes(Runtime& rt) {
     if (route.method == "DELETE") {
       rt.server.Delete(
           pattern, [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-            answer(rt, label, guarded([&] { return handler(req, std::string()); }), res);
+            answer(rt, label, guarded([&] { return handler(req, std::string()); }), req, res);
           });
-      add_methods(rt, pattern, {"DELETE"});
+      add_methods(rt, pattern, label, {"DELETE"});
       continue;
     }
     if (route.method == "GET") {
-      rt.server.Get(pattern,
-                    [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                      answer(rt, label, guarded([&] { return handler(req, std::string()); }), res);
-                    });
-      add_methods(rt, pattern, {"GET", "HEAD"});
+      rt.server.Get(
+          pattern, [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
+            answer(rt, label, guarded([&] { return handler(req, std::string()); }), req, res);
+          });
+      add_methods(rt, pattern, label, {"GET", "HEAD"});
       continue;
     }
     rt.server.Post(pattern,
@@ -611,9 +637,9 @@ void register_routes(Runtime& rt) {
                          });
                          // The rest of a refused body is not read.
                          if (refused) res.set_header("Connection", "close");
-                         answer(rt, label, std::move(reply), res);
+                         answer(rt, label, std::move(reply), req, res);
                        }));
-    add_methods(rt, pattern, {"POST"});
+    add_methods(rt, pattern, label, {"POST"});
   }
 }
 
@@ -636,6 +662,21 @@ Reply unrouted_reply(const httplib::Request& req, const std::vector<Endpoint>& e
                                    req.path.substr(0, 80) + "; allowed: " + allow_header(allowed));
   reply.headers.emplace_back("Allow", allow_header(allowed));
   return reply;
+}
+
+// PUT and PATCH, which no route answers: a 405 with Allow (or a 404 for a path of no route) at
+// once. The library reads the body of a PUT or PATCH before routing to a plain handler, and one
+// without Content-Length is read until the client closes or the read times out (a 400 after
+// 5 s); a handler with a content reader is routed before any of the body is read. The body is
+// never read, so the connection is closed.
+void register_unrouted_body_methods(Runtime& rt) {
+  const auto refuse = [&rt](const httplib::Request& req, httplib::Response& res,
+                            const httplib::ContentReader&) {
+    res.set_header("Connection", "close");
+    answer(rt, route_label_of(req.path, rt.endpoints), unrouted_reply(req, rt.endpoints), req, res);
+  };
+  rt.server.Put(".*", httplib::Server::HandlerWithContentReader(refuse));
+  rt.server.Patch(".*", httplib::Server::HandlerWithContentReader(refuse));
 }
 
 // The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
@@ -671,12 +712,17 @@ void install_error_handlers(Runtime& rt) {
         const Reply reply = framework_reply(req, res.status, rt);
         if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
         send(reply, res);
-        request_route = "other";
-        rt.service.metrics().count_request("other", reply.status);
+        // Under the route of the path whatever the method (a 405, a 413 before the body): "other"
+        // only for a path no route has.
+        request_route = route_label_of(req.path, rt.endpoints);
+        rt.service.metrics().count_request(request_route, reply.status);
         return httplib::Server::HandlerResponse::Handled;
       }));
   rt.server.set_expect_100_continue_handler(
       [&rt](const httplib::Request& req, httplib::Response& res) {
+        // The library asks before the pre-routing hook runs (and never runs it for a refusal):
+        // the request is timed from here.
+        request_start = std::chrono::steady_clock::now();
         res.status = expect_continue_status(req, rt.config);
         return res.status;
       });
@@ -730,7 +776,9 @@ void install_request_hooks(Runtime& rt) {
     if (auto slashed = encoded_slash_reply(req)) {
       send(std::move(*slashed), res);
       res.set_header("Connection", "close");  // a body of the request is not read
-      rt.service.metrics().count_request("other", res.status);
+      // The route whose segment holds the %2F (the sent path matches its template).
+      request_route = route_label_of(path_as_sent(req), rt.endpoints);
+      rt.service.metrics().count_request(request_route, res.status);
       return httplib::Server::HandlerResponse::Handled;
     }
     if (ConnectionPool::refusing()) {
@@ -748,7 +796,7 @@ void install_request_hooks(Runtime& rt) {
     AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
                          .method = req.method.substr(0, 16),
                          .route = request_route.empty() ? "other" : request_route,
-                         .path = req.path.substr(0, 200),
+                         .path = path_as_sent(req).substr(0, 200),
                          .status = res.status,
                          .ms = std::nullopt,
                          .bytes = res.content_provider_ ? res.content_length_ : res.body.size(),
@@ -892,6 +940,7 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   Runtime rt{config, service, jobs, server, nullptr, {}, replica_name(config), &calibrations};
   configure_transport(server, config);
   register_routes(rt);
+  register_unrouted_body_methods(rt);
   install_error_handlers(rt);
   install_request_hooks(rt);
   const int port = bind_port(server, config);

@@ -60,6 +60,23 @@ class JsonFormatter final : public spdlog::formatter {
   }
 };
 
+// `text` with every byte that could end or fake a text log line, or that a terminal would
+// interpret, written as \xNN: control bytes (CR, LF, NUL, ESC, ...), space, DEL, bytes of
+// non-ASCII characters, and the backslash itself (so an escape in the log is never ambiguous).
+std::string escaped(std::string_view text) {
+  std::string out;
+  out.reserve(text.size());
+  for (const char c : text) {
+    const auto byte = static_cast<unsigned char>(c);
+    if (byte <= 0x20 || byte >= 0x7f || c == '\\') {
+      out += fmt::format("\\x{:02x}", byte);
+    } else {
+      out += c;
+    }
+  }
+  return out;
+}
+
 void add_plan_text(std::string& line, const PlanFacts& plan) {
   line += " plan=" + plan.key + " strategy=" + plan.strategy + " plan_status=" + plan.status;
 }
@@ -95,10 +112,10 @@ void log_access(const AccessLogEntry& e) {
     spdlog::info("{}{}", kFieldsMarker, json_fields(e));
     return;
   }
-  std::string line =
-      fmt::format("request id={} method={} path={} status={} cache={} ms={} bytes={} route={}",
-                  e.request_id, e.method, e.path, e.status, e.cache.empty() ? "-" : e.cache,
-                  e.ms ? fmt::format("{:.3f}", *e.ms) : "-", e.bytes, e.route);
+  std::string line = fmt::format(
+      "request id={} method={} path={} status={} cache={} ms={} bytes={} route={}", e.request_id,
+      escaped(e.method), escaped(e.path), e.status, e.cache.empty() ? "-" : e.cache,
+      e.ms ? fmt::format("{:.3f}", *e.ms) : "-", e.bytes, e.route);
   if (e.plan) add_plan_text(line, *e.plan);
   spdlog::info("{}", line);
 }

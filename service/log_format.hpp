@@ -19,7 +19,9 @@ struct AccessLogEntry {
   std::string request_id;
   std::string method;
   std::string route;  ///< the routes-table path that answered, or "other"
-  std::string path;   ///< the request path (at most 200 bytes)
+  /// The request path as sent (still percent-encoded, without the query; at most 200 bytes): a
+  /// '/' sent as %2F is logged as %2F.
+  std::string path;
   int status{0};
   std::optional<double> ms;  ///< from routing to the response written; unset if unknown
   std::size_t bytes{0};      ///< body bytes of the response
@@ -31,7 +33,9 @@ struct AccessLogEntry {
 /// status=... cache=... ms=... bytes=..." (plus "route=", and "plan=... strategy=...
 /// plan_status=..." for a plan), in the json format as one object with the members time, level,
 /// msg ("request"), request_id, method, route, path, status, ms, bytes, and for a plan plan_key,
-/// strategy, plan_status and cached.
+/// strategy, plan_status and cached. The text format writes a control, space, DEL, backslash or
+/// non-ASCII byte of the method or the path as \xNN, so a request can never start a line of its
+/// own in the log.
 void log_access(const AccessLogEntry& entry);
 
 }  // namespace slosh::service

@@ -211,7 +211,7 @@ TEST(CompactPlan, UnknownViewsAreRefusedNamingTheFieldTheValueAndTheAllowedSet) 
       [] {
         (void)api::parse_view_query({"compact", "compact"});
       },
-      R"(view is given 2 times in the query: give it once, one of "full", "compact")");
+      R"(view is given twice (compact and compact): give each query parameter once, one of "full", "compact")");
   expect_invalid([] { (void)api::batch_view({}, json(3)); },
                  R"(view = 3 is not allowed: one of "full", "compact")");
   expect_invalid([] { (void)api::batch_view({"full"}, json("compact")); },

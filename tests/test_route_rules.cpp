@@ -5,13 +5,19 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <chrono>
 #include <map>
 #include <nlohmann/json.hpp>
 #include <regex>
 #include <string>
+#include <thread>
+#include <tuple>
+#include <vector>
 
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/routes.hpp"
+#include "support/raw_client.hpp"
 #include "support/server.hpp"
 
 namespace slosh {
@@ -173,6 +179,40 @@ TEST(QueryRule, EveryRouteRefusesAParameterItDoesNotTake) {
   EXPECT_EQ(page->status, 200);
 }
 
+// A repeated view is refused as every repeated parameter is, the same value twice included (the
+// HTTP library keeps one of two identical pairs).
+TEST(QueryRule, ARepeatedViewIsRefusedLikeEveryRepeatedParameter) {
+  Server server;
+  const std::string key = planned_key(server);
+  auto client = server.client();
+  const auto cam = client.Get("/v1/plans/" + key + "/cam.csv?period_ms=1&period_ms=1");
+  ASSERT_TRUE(cam);
+  EXPECT_EQ(cam->status, 422);
+  EXPECT_EQ(error_of(cam).at("message"),
+            "period_ms is given twice (1 and 1): give each query parameter once");
+  const std::string twice =
+      R"(view is given twice (full and full): give each query parameter once, one of "full", )"
+      R"("compact")";
+  const auto get = client.Get("/v1/plans/" + key + "?view=full&view=full");
+  const auto post =
+      client.Post("/v1/plans?view=full&view=full", plan_body().dump(), "application/json");
+  const auto batch =
+      client.Post("/v1/plans/batch?view=compact&view=full&view=compact",
+                  json{{"requests", json::array({plan_body()})}}.dump(), "application/json");
+  for (const auto* r : {&get, &post}) {
+    ASSERT_TRUE(*r);
+    EXPECT_EQ((*r)->status, 422) << (*r)->body;
+    const json e = error_of(*r);
+    EXPECT_EQ(e.at("field"), "view");
+    EXPECT_EQ(e.at("message"), twice);
+  }
+  ASSERT_TRUE(batch);
+  EXPECT_EQ(batch->status, 422) << batch->body;
+  EXPECT_EQ(error_of(batch).at("message"),
+            R"(view is given 3 times (compact, full and compact): give each query parameter )"
+            R"(once, one of "full", "compact")");
+}
+
 TEST(EncodedSlash, IsPartOfTheSegmentNeverASeparator) {
   Server server;
   const std::string key = planned_key(server);
@@ -228,16 +268,28 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
   const auto deleted = client.Delete("/v1/batches/no-such-job", {{"X-Request-Id", "delete-4"}});
   ASSERT_TRUE(deleted);
   EXPECT_EQ(deleted->status, 404);
-  // A method the route does not answer is not routed: "other".
+  // A method the route does not answer: 405, under the route of its path.
   const auto put = client.Put("/healthz", {{"X-Request-Id", "put-5"}}, "", "application/json");
   ASSERT_TRUE(put);
   EXPECT_EQ(put->status, 405);
-  const std::string metrics = client.Get("/metrics")->body;
   const std::map<std::string, std::string> expected{{"GET", "/healthz"},
                                                     {"HEAD", "/healthz"},
                                                     {"POST", "/v1/plans"},
                                                     {"DELETE", "/v1/batches/{id}"},
-                                                    {"PUT", "other"}};
+                                                    {"PUT", "/healthz"}};
+  // The PUT's connection is closed (its body is never read): it is timed after its answer, on its
+  // own thread, while /metrics comes on a new connection; read until it has landed.
+  std::string metrics;
+  for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);;) {
+    metrics = client.Get("/metrics")->body;
+    if (test::metric(metrics,
+                     "slosh_http_request_duration_seconds_count{route=\"/healthz\","
+                     "method=\"PUT\"}") >= 1 ||
+        std::chrono::steady_clock::now() > deadline) {
+      break;
+    }
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
   for (const auto& [method, route] : expected) {
     EXPECT_EQ(test::metric(metrics, "slosh_http_request_duration_seconds_count{route=\"" + route +
                                         "\",method=\"" + method + "\"}"),
@@ -266,6 +318,173 @@ TEST(RouteLabels, EveryMethodIsCountedTimedAndLoggedUnderItsRoute) {
                             std::regex_replace(route, std::regex("[{}]"), "\\$&") + "(\\s|$)");
     EXPECT_TRUE(std::regex_search(log, access)) << id << " in\n" << log;
   }
+}
+
+// PUT and PATCH are answered by no route: without a body (no Content-Length) they are refused at
+// once with 405 and Allow, not read until the read times out.
+TEST(MethodRule, PutAndPatchWithoutABodyAreRefusedAtOnce) {
+  Server server;
+  const std::vector<std::tuple<std::string, std::string, std::string>> cases{
+      {"PUT", "/v1/plans", "HTTP/1.1 405 "},
+      {"PATCH", "/v1/plans/abc", "HTTP/1.1 405 "},
+      {"PUT", "/nothing", "HTTP/1.1 404 "}};
+  for (const auto& [method, path, status_line] : cases) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.connected());
+    // The client keeps its end open (it only asks the server to close after the answer): a server
+    // waiting for a body would wait until its read timeout and answer 400.
+    ASSERT_TRUE(
+        raw.send(method + " " + path + " HTTP/1.1\r\nHost: x\r\nConnection: close\r\n\r\n"));
+    const std::string answer = raw.read_all();
+    EXPECT_TRUE(answer.starts_with(status_line)) << method << " " << path << ":\n" << answer;
+    if (status_line.find("405") != std::string::npos) {
+      EXPECT_NE(
+          answer.find(path == "/v1/plans" ? "\r\nAllow: POST\r\n" : "\r\nAllow: GET, HEAD\r\n"),
+          std::string::npos)
+          << answer;
+      EXPECT_NE(answer.find("\"" + method + " is not allowed on " + path), std::string::npos)
+          << answer;
+    }
+    EXPECT_NE(answer.find("\r\nConnection: close\r\n"), std::string::npos) << answer;
+  }
+}
+
+// The text log line of request `id` (empty when there is none), without spdlog's time and level.
+std::string access_line(const std::string& log, const std::string& id) {
+  const std::string start = "request id=" + id + " ";
+  const std::size_t at = log.find(start);
+  if (at == std::string::npos) return "";
+  return log.substr(at, log.find('\n', at) - at);
+}
+
+// A request refused before or instead of its handler (405, 413, a %2F 404) is counted, timed and
+// logged under the route of its path; "other" is only a path no route has.
+TEST(RouteLabels, RefusalsCarryTheRouteOfTheirPath) {
+  test::TempDir dir;
+  test::write_file(dir / "config.json", R"({"max_body_bytes": 1024})");
+  Server server({"--config", (dir / "config.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  auto client = server.client();
+  client.set_keep_alive(true);
+  struct Case {
+    std::string id, method, path;
+    int status;
+    std::string route;
+  };
+  const std::vector<Case> cases{
+      {"del-1", "DELETE", "/v1/plans/abc", 405, "/v1/plans/{key}"},
+      {"opt-2", "OPTIONS", "/v1/plans/abc", 405, "/v1/plans/{key}"},
+      {"pat-3", "PATCH", "/v1/plans/abc", 405, "/v1/plans/{key}"},
+      {"put-4", "PUT", "/v1/plans", 405, "/v1/plans"},
+      {"opt-5", "OPTIONS", "/v1/plans", 405, "/v1/plans"},
+      {"pat-6", "PATCH", "/v1/plans", 405, "/v1/plans"},
+      {"get-7", "GET", "/v1/plans/batch", 405, "/v1/plans/batch"},
+      {"slash-8", "GET", "/v1/plans/a%2Fb", 404, "/v1/plans/{key}"},
+      {"none-9", "OPTIONS", "/nothing", 404, "other"},
+      {"big-10", "POST", "/v1/plans", 413, "/v1/plans"},
+  };
+  const std::string big = "{\"x\": \"" + std::string(4096, 'a') + "\"}";
+  for (const Case& c : cases) {
+    const httplib::Headers id{{"X-Request-Id", c.id}};
+    const httplib::Result r =
+        c.method == "DELETE"    ? client.Delete(c.path, id)
+        : c.method == "OPTIONS" ? client.Options(c.path, id)
+        : c.method == "PATCH"   ? client.Patch(c.path, id, "{}", "application/json")
+        : c.method == "PUT"     ? client.Put(c.path, id, "{}", "application/json")
+        : c.method == "POST"    ? client.Post(c.path, id, big, "application/json")
+                                : client.Get(c.path, id);
+    ASSERT_TRUE(r) << c.id;
+    EXPECT_EQ(r->status, c.status) << c.id;
+  }
+  // An oversized body announced with Expect: 100-continue is refused before any handler runs.
+  const std::vector<Case> raw_cases{
+      {"big-11", "POST", "/v1/plans/batch", 413, "/v1/plans/batch"},
+      {"big-12", "POST", "/v1/plans", 413, "/v1/plans"},
+  };
+  for (const Case& c : raw_cases) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.connected());
+    ASSERT_TRUE(raw.send(c.method + " " + c.path + " HTTP/1.1\r\nHost: x\r\nX-Request-Id: " + c.id +
+                         "\r\nContent-Type: application/json\r\nContent-Length: 100000\r\n"
+                         "Expect: 100-continue\r\nConnection: close\r\n\r\n"));
+    EXPECT_TRUE(raw.read_all().starts_with("HTTP/1.1 413 ")) << c.id;
+  }
+  std::map<std::pair<std::string, std::string>, int> counted;
+  for (const Case& c : cases) ++counted[{c.route, c.method}];
+  for (const Case& c : raw_cases) ++counted[{c.route, c.method}];
+  const auto count_of = [](const std::string& text, const std::pair<std::string, std::string>& k) {
+    return test::metric(text, "slosh_http_request_duration_seconds_count{route=\"" + k.first +
+                                  "\",method=\"" + k.second + "\"}");
+  };
+  // A refusal that closes its connection (a %2F path, an oversized body) is timed by the server
+  // after its answer is sent, on that connection's thread, while the client already sends the
+  // next request on a new connection: /metrics is read until those observations have landed.
+  std::string metrics;
+  for (const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);;) {
+    metrics = client.Get("/metrics")->body;
+    const bool all = std::all_of(counted.begin(), counted.end(), [&](const auto& kv) {
+      return count_of(metrics, kv.first) >= kv.second;
+    });
+    if (all || std::chrono::steady_clock::now() > deadline) break;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  for (const auto& [key, n] : counted) {
+    EXPECT_EQ(count_of(metrics, key), n) << key.first << " " << key.second;
+  }
+  EXPECT_EQ(test::metric(metrics, "slosh_http_requests_total{route=\"/v1/plans\",status=\"413\"}"),
+            2);
+  ASSERT_EQ(server.stop(), 0);
+  const std::string log = server.log();
+  std::vector<Case> all = cases;
+  all.insert(all.end(), raw_cases.begin(), raw_cases.end());
+  for (const Case& c : all) {
+    const std::string line = access_line(log, c.id);
+    const std::string head = "request id=" + c.id + " method=" + c.method + " path=" + c.path +
+                             " status=" + std::to_string(c.status) + " cache=- ms=";
+    EXPECT_EQ(line.substr(0, head.size()), head) << log;
+    const std::regex tail("^[0-9]+\\.[0-9]{3} bytes=[0-9]+ route=(\\S+)$");
+    std::smatch m;
+    const std::string rest = line.substr(std::min(head.size(), line.size()));
+    ASSERT_TRUE(std::regex_match(rest, m, tail)) << line;
+    EXPECT_EQ(m[1], c.route) << line;
+  }
+}
+
+TEST(AccessLog, WritesThePathAsSentSoNoRequestForgesALine) {
+  Server server;
+  auto client = server.client();
+  client.set_keep_alive(true);
+  const std::string forged =
+      "/v1/plans/x%0D%0A%5B2026-11-26%2022%3A00%3A00.000%5D%20%5Binfo%5D%20request%20id%3D1%20"
+      "method%3DDELETE%20path%3D%2Fadmin%20status%3D200";
+  ASSERT_TRUE(client.Get(forged, {{"X-Request-Id", "forged-1"}}));
+  ASSERT_TRUE(client.Get("/v1/plans/a%2Fb", {{"X-Request-Id", "slash-2"}}));
+  ASSERT_TRUE(client.Get("/v1/plans/a%00b?view=full", {{"X-Request-Id", "nul-3"}}));
+  {
+    // Bytes no client library sends unescaped: non-ASCII, a control byte, a backslash.
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.connected());
+    ASSERT_TRUE(
+        raw.send("GET /caf\xc3\xa9\x01\\x HTTP/1.1\r\nHost: x\r\nX-Request-Id: raw-4\r\n"
+                 "Connection: close\r\n\r\n"));
+    raw.read_all();
+  }
+  ASSERT_EQ(server.stop(), 0);
+  const std::string log = server.log();
+  const std::regex tail(" cache=- ms=[0-9]+\\.[0-9]{3} bytes=[0-9]+ route=\\S+$");
+  const std::map<std::string, std::string> expected{
+      {"forged-1", "request id=forged-1 method=GET path=" + forged + " status=404"},
+      {"slash-2", "request id=slash-2 method=GET path=/v1/plans/a%2Fb status=404"},
+      {"nul-3", "request id=nul-3 method=GET path=/v1/plans/a%00b status=404"},
+      {"raw-4", "request id=raw-4 method=GET path=/caf\\xc3\\xa9\\x01\\x5cx status=404"}};
+  for (const auto& [id, head] : expected) {
+    const std::string line = access_line(log, id);
+    EXPECT_EQ(line.substr(0, head.size()), head) << log;
+    EXPECT_TRUE(std::regex_search(line.substr(std::min(head.size(), line.size())), tail)) << line;
+  }
+  // No line of the log was started by a request: each begins with spdlog's "[date time]".
+  EXPECT_EQ(log.find("[2026-11-26 22:00:00.000]"), std::string::npos);
+  EXPECT_EQ(log.find("path=/admin"), std::string::npos);
 }
 
 }  // namespace

@@ -51,7 +51,7 @@ const MIN_TIME_FIELDS = {
 const state = {
   request: null, plans: {}, selected: null, charts: [], ticket: 0,
   minTimeRequest: null, minTime: null, minTimeCharts: [],
-  measured: null, plotContext: null,
+  measured: null, plotContext: null, fluids: [],
   // The fetches of the latest request of each kind ('view': plan, compare, min-time; 'plots': the
   // series of the selected plan), and the plots' ticket: a newer request aborts them, and an
   // answer that arrives all the same is dropped by its ticket (state.ticket for the view).
@@ -163,8 +163,8 @@ async function postJson(path, body, signal) {
   return json;
 }
 
-async function getJson(path) {
-  const res = await fetch(path);
+async function getJson(path, signal) {
+  const res = await fetch(path, { signal });
   const json = await res.json();
   if (!res.ok) throw Object.assign(new Error(json.error.message), { api: json.error });
   return json;
@@ -227,25 +227,51 @@ function simulateRequest(plan, law) {
 // ±1e308 (it throws or allocates without bound).
 const MEASURED = { maxBytes: 8 << 20, maxSamples: 100000, etaMaxMm: 10000, tMaxS: 3600 };
 
-// A measured wave height as CSV: one "t_s,eta_mm" pair a line, times increasing, |t_s| and
-// |eta_mm| within MEASURED, at most MEASURED.maxSamples samples; a first line that is not two
-// numbers is a header. Throws an Error naming the line, the value and the allowed range.
+// A decimal number as a measurement file writes it ("-0.5", "1e-3", ".5"); never hex, "Infinity"
+// or an empty cell, which Number() would all accept.
+const DECIMAL = /^[+-]?(\d+\.?\d*|\.\d+)([eE][+-]?\d+)?$/;
+
+// The cells of one line: ';' separates them when the line holds one (and a decimal comma is then
+// a decimal point, as spreadsheets of comma-decimal locales write it), else a tab, else ','.
+// Splitting on any of them would read "0,5;10,0" as four values and keep two wrong ones.
+function measuredCells(line) {
+  if (line.includes(';')) return line.split(';').map((c) => c.trim().replace(',', '.'));
+  return line.split(line.includes('\t') ? '\t' : ',').map((c) => c.trim());
+}
+
+function plural(n, word) {
+  return `${n} ${word}${n === 1 ? '' : 's'}`;
+}
+
+// A measured wave height as CSV: one "t_s,eta_mm" pair a line (separated as measuredCells says),
+// times increasing, |t_s| and |eta_mm| within MEASURED, at most MEASURED.maxSamples samples; the
+// first non-blank line is a header when none of its cells starts like a number. Throws an Error naming the
+// line, the value and the allowed range.
 function parseMeasuredCsv(text) {
   const out = { t_s: [], eta_mm: [] };
   const lines = text.split(/\r?\n/);
+  let first = true;
   lines.forEach((raw, i) => {
     const line = raw.trim();
     if (line === '') return;
-    const cells = line.split(/[,;\t]/).map((c) => c.trim());
-    const t = Number(cells[0]), eta = Number(cells[1]);
-    if (cells.length < 2 || cells[0] === '' || cells[1] === '' || !Number.isFinite(t) || !Number.isFinite(eta)) {
-      if (i === 0) return;  // a header
-      throw new Error(`line ${i + 1}: "${line.slice(0, 40)}" is not two numbers t_s,eta_mm`);
+    const cells = measuredCells(line);
+    // A header names its columns: none of its cells starts like a number ("0x10" does).
+    const header = first && !cells.some((c) => /^[+-]?\.?\d/.test(c));
+    first = false;
+    if (header) return;
+    if (cells.length !== 2) {
+      throw new Error(`line ${i + 1}: ${plural(cells.length, 'value')}, expected 2: t_s, eta_mm`);
     }
-    if (Math.abs(t) > MEASURED.tMaxS) {
+    ['t_s', 'eta_mm'].forEach((name, k) => {
+      if (!DECIMAL.test(cells[k])) {
+        throw new Error(`line ${i + 1}: ${name} = "${cells[k].slice(0, 40)}" is not a decimal number`);
+      }
+    });
+    const t = Number(cells[0]), eta = Number(cells[1]);
+    if (!Number.isFinite(t) || Math.abs(t) > MEASURED.tMaxS) {
       throw new Error(`line ${i + 1}: t_s = ${t} is outside [-${MEASURED.tMaxS}, ${MEASURED.tMaxS}] s`);
     }
-    if (Math.abs(eta) > MEASURED.etaMaxMm) {
+    if (!Number.isFinite(eta) || Math.abs(eta) > MEASURED.etaMaxMm) {
       throw new Error(`line ${i + 1}: eta_mm = ${eta} is outside [-${MEASURED.etaMaxMm}, ${MEASURED.etaMaxMm}] mm`);
     }
     const n = out.t_s.length;
@@ -258,7 +284,7 @@ function parseMeasuredCsv(text) {
     out.t_s.push(t);
     out.eta_mm.push(eta);
   });
-  if (out.t_s.length < 2) throw new Error(`${out.t_s.length} samples: at least 2 are needed`);
+  if (out.t_s.length < 2) throw new Error(`${plural(out.t_s.length, 'sample')}: at least 2 are needed`);
   return out;
 }
 
@@ -340,6 +366,19 @@ function updateCamLink() {
   $('cam-note').textContent = '';
 }
 
+// A typed period the number input cannot read ("1e400", "--1", "5e"): the input then reports an
+// empty value, which must not turn into the default period of 1 ms. Marks the input and says so;
+// true when the period is unreadable.
+function refuseUnreadablePeriod() {
+  const period = $('cam-period');
+  if (!period.validity.badInput) return false;
+  period.setAttribute('aria-invalid', 'true');
+  $('cam-period-error').textContent =
+    'the period is not a number: type a decimal number of milliseconds, such as 1 or 0.5';
+  $('cam-note').textContent = '';
+  return true;
+}
+
 // The cam table through fetch, not a plain link: a refused period (the API's 422) is shown at the
 // period input instead of being saved as the CSV file.
 async function downloadCam(event) {
@@ -348,6 +387,7 @@ async function downloadCam(event) {
   const period = $('cam-period');
   period.removeAttribute('aria-invalid');
   $('cam-period-error').textContent = '';
+  if (refuseUnreadablePeriod()) return;  // nothing is fetched or saved
   $('cam-note').textContent = 'Preparing the cam table…';
   try {
     const res = await fetch(href);
@@ -489,7 +529,13 @@ function fillFormFromPlan(plan) {
   $('fill').value = f.fill_height_mm;
   $('stroke').value = f.stroke_mm;
   $('time').value = f.motion_time_s;
-  const known = [...$('fluid').options].some((o) => o.value === f.fluid.name);
+  // A catalogue fluid only when its properties are the catalogue entry's: a custom fluid may carry
+  // a catalogue name ({"name": "water", "density_kg_m3": 1260, ...}), and refilled as catalogue
+  // water it would be replanned with water's density.
+  const entry = state.fluids.find((c) => c.name === f.fluid.name);
+  const known = entry !== undefined && entry.density_kg_m3 === f.fluid.density_kg_m3 &&
+    entry.viscosity_pa_s === f.fluid.viscosity_pa_s &&
+    [...$('fluid').options].some((o) => o.value === f.fluid.name);
   $('fluid').value = known ? f.fluid.name : 'custom';
   $('density').value = f.fluid.density_kg_m3;
   $('viscosity').value = f.fluid.viscosity_pa_s;
@@ -646,8 +692,13 @@ async function runMinTime() {
 }
 
 async function openKey(key) {
+  // A view request like run and runMinTime: a newer one aborts it, and a late answer is dropped
+  // (it would refill the form and the results over the newer plan).
+  const ticket = ++state.ticket;
+  const signal = freshSignal('view');
   try {
-    const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`);
+    const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`, signal);
+    if (ticket !== state.ticket) return;  // a newer request replaced this view
     fillFormFromPlan(plan);
     state.request = { format: plan.format, strategy: plan.strategy, options: {} };
     state.plans = { [plan.strategy]: plan };
@@ -656,6 +707,7 @@ async function openKey(key) {
     renderTable([plan], plan.strategy);
     await selectPlan(plan.strategy);
   } catch (e) {
+    if (ticket !== state.ticket) return;
     $('form-error').textContent = e.api ? e.api.message : String(e);
   }
 }
@@ -663,6 +715,7 @@ async function openKey(key) {
 async function loadFluids() {
   try {
     const { fluids } = await getJson('v1/fluids');
+    state.fluids = fluids;
     const select = $('fluid');
     const current = select.value;
     select.replaceChildren();
@@ -684,6 +737,7 @@ async function main() {
     $('cam-period').removeAttribute('aria-invalid');
     $('cam-period-error').textContent = '';
     updateCamLink();
+    refuseUnreadablePeriod();
   });
   $('download-cam').addEventListener('click', downloadCam);
   $('measured-csv').addEventListener('change', loadMeasured);

@@ -37,9 +37,19 @@ PlanView parse_plan_view(std::string_view value) {
 PlanView parse_view_query(const std::vector<std::string>& values) {
   if (values.empty()) return PlanView::kFull;
   if (values.size() > 1) {
-    invalid(std::string(kField),
-            std::string(kField) + " is given " + std::to_string(values.size()) +
-                " times in the query: give it once, one of " + quoted_names(plan_view_names()));
+    // The wording of every other repeated query parameter (the cam tables'): "view is given
+    // twice (full and full): give each query parameter once".
+    const std::string count =
+        values.size() == 2 ? "twice" : std::to_string(values.size()) + " times";
+    std::string given;
+    for (std::size_t i = 0; i < values.size() && i < 3; ++i) {
+      if (i > 0) given += i + 1 == values.size() ? " and " : ", ";
+      given += values[i].substr(0, 32);
+    }
+    if (values.size() > 3) given += ", ...";
+    invalid(std::string(kField), std::string(kField) + " is given " + count + " (" + given +
+                                     "): give each query parameter once, one of " +
+                                     quoted_names(plan_view_names()));
   }
   return parse_plan_view(values.front());
 }

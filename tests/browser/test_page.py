@@ -511,6 +511,35 @@ def check_infeasible_cam_link(driver, port):
     check(urllib.request.urlopen(href, timeout=60).status == 200, "the infeasible plan's cam table downloads")
 
 
+def check_key_view_custom_fluid(port):
+    """A plan whose custom fluid carries a catalogue name but other properties is refilled as a
+    custom fluid with its own density and viscosity, and replanned with them."""
+    request = request_of(THESIS, "notch")
+    request["format"]["fluid"] = {"name": "water", "density_kg_m3": 1260, "viscosity_pa_s": 1.4}
+    status, plan = api_json(port, "POST", "/v1/plans", request)
+    check(status == 200, f"the API plans the custom fluid ({status}: {plan})")
+    if status != 200:
+        return
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+        wait_for(driver, "return document.body.dataset.ready === 'notch'")
+        check(driver.find_element(By.ID, "fluid").get_attribute("value") == "custom",
+              "the fluid is custom, not catalogue water")
+        check(driver.find_element(By.ID, "density").get_attribute("value") == "1260" and
+              driver.find_element(By.ID, "viscosity").get_attribute("value") == "1.4",
+              "the custom inputs hold the plan's density and viscosity")
+        check(driver.find_element(By.ID, "custom-fluid").is_displayed(), "the custom inputs are shown")
+        driver.find_element(By.ID, "plan-button").click()
+        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                         "window.sloshPage.request !== null && window.sloshPage.request.format !== undefined")
+        fluid = driver.execute_script("return window.sloshPage.plans.notch.format.fluid")
+        check(fluid["density_kg_m3"] == 1260 and fluid["viscosity_pa_s"] == 1.4,
+              f"the replanned format keeps the fluid: {fluid}")
+    finally:
+        driver.quit()
+
+
 def check_key_view(port, plan):
     driver = browser()
     try:
@@ -656,6 +685,72 @@ def check_late_answer(driver, port):
     driver.execute_script("window.fetch = window.__realFetch")
 
 
+# Holds the answer of GET v1/plans/<window.__heldKey> (installed before the page's own script runs,
+# so the page's opening of ?key= is held) until window.__release(); the abort signal is ignored so
+# the late answer reaches the page, which must drop it.
+HOLD_KEY_ANSWER = """
+window.__realFetch = window.__realFetch || window.fetch;
+const real = window.__realFetch;
+let release;
+const gate = new Promise((resolve) => { release = resolve; });
+window.__held = 0;
+window.__delivered = 0;
+window.__release = release;
+window.fetch = async (input, init) => {
+  const get = !init || !init.method || init.method === 'GET';
+  if (!get || !window.__heldKey || !String(input).endsWith('v1/plans/' + window.__heldKey)) {
+    return real(input, init);
+  }
+  window.__held++;
+  const res = await real(input, { ...init, signal: undefined });
+  await gate;
+  const json = res.json.bind(res);
+  res.json = async () => {
+    const value = await json();
+    setTimeout(() => { window.__delivered++; }, 0);
+    return value;
+  };
+  return res;
+};
+"""
+
+
+def check_late_key_answer(driver, port):
+    """A plan opened by ?key= whose answer arrives after a later planned request is dropped: the
+    form, the table, the status line and the URL keep the later plan."""
+    status, early = api_json(port, "POST", "/v1/plans", request_of(dict(THESIS, time="1.5"), "notch"))
+    check(status == 200, f"the API plans the early plan ({status})")
+    script = driver.execute_cdp_cmd("Page.addScriptToEvaluateOnNewDocument", {
+        "source": f"window.__heldKey = {json.dumps(early['key'])};" + HOLD_KEY_ANSWER})
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={early['key']}")
+        wait_for(driver, "return document.body.dataset.loaded === '1' && window.__held === 1")
+        fill_format(driver, THESIS, "notch")
+        driver.find_element(By.ID, "plan-button").click()
+        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                         "window.sloshPage.plans.notch.format.motion_time_s === 1")
+        driver.execute_script("window.__release()")
+        wait_for(driver, "return window.__delivered === 1")  # the late answer was handled
+        status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
+        check(status == 200, f"the API plans notch ({status})")
+        check(driver.find_element(By.ID, "time").get_attribute("value") == "1",
+              "the form keeps the later request's motion time")
+        check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
+              driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
+              "the page's plans are the later plan")
+        check(table_rows(driver)[0]["cells"] == expected_row(plan), "the table shows the later plan")
+        line = driver.find_element(By.ID, "status-line").text
+        check(line == f"notch: {plan['status']}. {plan['message']}", f"the status line is the later plan's: {line}")
+        check("T=1&" in driver.current_url and "key=" not in driver.current_url,
+              f"the URL is the later request's: {driver.current_url}")
+        check(driver.find_element(By.ID, "download-json").get_attribute("download") == f"plan-{plan['key']}.json",
+              "the plan download is the later plan")
+        check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
+    finally:
+        driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", script)
+        driver.execute_script("window.fetch = window.__realFetch")
+
+
 # Chart.js throwing after it registered its chart (as it does on an axis it cannot scale): the
 # plot of `plot-eta` fails while the test's wrapper is installed.
 BREAK_ETA_PLOT = """
@@ -707,6 +802,36 @@ def upload_measured(driver, workdir, name, text):
     driver.find_element(By.ID, "measured-csv").send_keys(path)
     wait_for(driver, "return document.body.dataset.measured !== undefined")
     return driver.find_element(By.ID, "measured-note").text
+
+
+def check_measured_formats(driver, workdir):
+    """A measured series is split on ';' (with decimal commas), else a tab, else ','; a header may
+    follow blank lines; a third column, a hex number or a single sample is refused, named."""
+    accepted = [
+        ("semicolon.csv", "t_s;eta_mm\n0,00;0,5\n0,01;-1,25\n0,02;10,0\n1;2\n",
+         {"t_s": [0.0, 0.01, 0.02, 1.0], "eta_mm": [0.5, -1.25, 10.0, 2.0]}),
+        ("tab.csv", "\n\nt_s\teta_mm\n0\t1.5\n0.5\t-2e1\n",
+         {"t_s": [0.0, 0.5], "eta_mm": [1.5, -20.0]}),
+    ]
+    for name, text, expected in accepted:
+        note = upload_measured(driver, workdir, name, text)
+        n = len(expected["t_s"])
+        check(note == f"{name}: {n} samples overlaid on η(t)", f"{name} is read: {note!r}")
+        got = driver.execute_script("return window.sloshPage.measured")
+        check(got == expected, f"{name} holds {expected}: {got}")
+    refused = [
+        ("three.csv", "t_s,eta_mm\n0,1\n1,2,3\n",
+         "three.csv is not a series: line 3: 3 values, expected 2: t_s, eta_mm"),
+        ("hex.csv", "0x10,1\n17,2\n", 'hex.csv is not a series: line 1: t_s = "0x10" is not a decimal number'),
+        ("hexeta.csv", "t_s,eta_mm\n0,1\n1,0x2\n",
+         'hexeta.csv is not a series: line 3: eta_mm = "0x2" is not a decimal number'),
+        ("one.csv", "\n\nt_s,eta_mm\n0,1\n", "one.csv is not a series: 1 sample: at least 2 are needed"),
+        ("none.csv", "t_s,eta_mm\n", "none.csv is not a series: 0 samples: at least 2 are needed"),
+    ]
+    for name, text, expected in refused:
+        note = upload_measured(driver, workdir, name, text)
+        check(note == expected, f"{name} is refused: {note!r}")
+        check(driver.execute_script("return document.body.dataset.measured") == "invalid", f"{name}: no overlay")
 
 
 def check_measured_limits(driver, workdir):
@@ -767,6 +892,32 @@ def check_cam_refusal(driver, port, downloads):
     period.send_keys("1")
 
 
+def check_unreadable_period(driver, downloads):
+    """A typed period the number input cannot read is refused at the input, never taken as the
+    default 1 ms: the message is shown, the input marked, nothing saved."""
+    period = driver.find_element(By.ID, "cam-period")
+    link = driver.find_element(By.ID, "download-cam")
+    expected = "the period is not a number: type a decimal number of milliseconds, such as 1 or 0.5"
+    for typed in ("1e400", "--1", "5e"):
+        before = sorted(os.listdir(downloads))
+        period.clear()
+        period.send_keys(typed)
+        check(driver.execute_script("const p = document.getElementById('cam-period');"
+                                    "return p.value === '' && p.validity.badInput"), f"{typed}: the input cannot read it")
+        shown = driver.find_element(By.ID, "cam-period-error").text
+        check(shown == expected, f"{typed}: the input says so: {shown!r}")
+        link.click()
+        time.sleep(1)
+        shown = driver.find_element(By.ID, "cam-period-error").text
+        check(shown == expected, f"{typed}: the click says so: {shown!r}")
+        check(period.get_attribute("aria-invalid") == "true", f"{typed}: the period input is marked invalid")
+        check(driver.find_element(By.ID, "cam-note").text == "", f"{typed}: no download under way")
+        check(sorted(os.listdir(downloads)) == before, f"{typed}: nothing saved: {os.listdir(downloads)}")
+    period.clear()
+    period.send_keys("1")
+    check(driver.find_element(By.ID, "cam-period-error").text == "", "a readable period clears the message")
+
+
 def check_sub_path(port):
     proxy = SubPathProxy(port)
     thread = threading.Thread(target=proxy.serve_forever, daemon=True)
@@ -801,9 +952,12 @@ def main():
         plan = check_single_plan(driver, port)
         check_measured_overlay(driver, workdir)
         check_measured_limits(driver, workdir)
+        check_measured_formats(driver, workdir)
         check_cam_download(driver, args.slosh, workdir)
         check_cam_refusal(driver, port, downloads)
+        check_unreadable_period(driver, downloads)
         check_late_answer(driver, port)
+        check_late_key_answer(driver, port)
         check_plot_error(driver)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
         check_min_time(driver, port, os.path.join(args.artifacts, "min-time.png"))
@@ -813,6 +967,7 @@ def main():
         check_infeasible_cam_link(driver, port)
         check_uncertainty(driver, port)
         check_key_view(port, plan)
+        check_key_view_custom_fluid(port)
         check_bad_link(port)
         check_sub_path(port)
         severe = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"
