@@ -348,21 +348,22 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
   const HttpReply rows = get_retrying_503(client, job.path() + "/results.jsonl");
   client.set_timeout(kJobCallTimeout);
   if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
-  job.release();  // done: nothing to cancel any more
+  const std::string id = job.id();  // release() forgets it; the row checks below name it
+  job.release();                    // done: nothing to cancel any more
   std::size_t at = 0;
   while (at < rows.body.size()) {
     const std::size_t end = rows.body.find('\n', at);
     const json row = json::parse(rows.body.substr(at, end - at));
     // Rows come in recipe order, each once: anything else is not the table of this run.
     if (row.value("row", std::size_t{0}) != sink.written() + 1) {
-      throw BatchAbort("batch job " + job.id() + " answered row " + api::dump_json(row["row"]) +
+      throw BatchAbort("batch job " + id + " answered row " + api::dump_json(row["row"]) +
                        " where row " + std::to_string(sink.written() + 1) + " was due");
     }
     sink.write_row(row);
     at = end == std::string::npos ? rows.body.size() : end + 1;
   }
   if (sink.written() != in.rows.size()) {
-    throw BatchAbort("batch job " + job.id() + " answered " + std::to_string(sink.written()) +
+    throw BatchAbort("batch job " + id + " answered " + std::to_string(sink.written()) +
                      " rows for " + std::to_string(in.rows.size()) + " recipes");
   }
   return true;

@@ -149,7 +149,7 @@ Reply json_reply(int status, const json& body) {
 
 // The record of job `id`: 404 when no store knows it, 503 (unavailable) when the shared store
 // cannot be asked (the job may run on another replica) or its stored text is damaged.
-json load_record(JobStore& store, const std::string& id, double ttl_s) {
+json load_record(JobStore& store, const std::string& id, const ServerConfig& config) {
   const auto text = store.record(id);
   const std::string shown = id.substr(0, 64);
   if (!text && !store.reachable()) {
@@ -170,9 +170,12 @@ json load_record(JobStore& store, const std::string& id, double ttl_s) {
         api::ErrorCode::kNotFound, "id",
         "no batch job with id '" + shown +
             "' is known to this service: it never existed, was deleted, was lost with a restart of "
-            "the replica that ran it (without a shared store), or expired (finished jobs are kept "
-            "for batch_job_ttl_s = " +
-            api::number_text(ttl_s) + " s)");
+            "the replica that ran it (without a shared store), expired or was forgotten to make "
+            "room (finished jobs are kept for batch_job_ttl_s = " +
+            api::number_text(config.batch_job_ttl_s) +
+            " s, at most batch_jobs_kept = " + std::to_string(config.batch_jobs_kept) +
+            " of them within batch_jobs_bytes = " + std::to_string(config.batch_jobs_bytes) +
+            " bytes)");
   }
   try {
     json record = json::parse(*text);
@@ -315,7 +318,7 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const ServerConfig& config = service_.config();
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
-    json record = load_record(store_, id, config.batch_job_ttl_s);
+    json record = load_record(store_, id, config);
     mark_stale_unless_here(record, id);
     if (is_final_state(record["state"].get<std::string>())) {
       const std::size_t stored = record["progress"]["done"].get<std::size_t>();
@@ -338,7 +341,7 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
 Reply BatchJobs::results(const std::string& id, TableFormat format) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
-    json record = load_record(store_, id, config.batch_job_ttl_s);
+    json record = load_record(store_, id, config);
     mark_stale_unless_here(record, id);
     const std::string state = record["state"].get<std::string>();
     if (!is_final_state(state)) {
@@ -368,7 +371,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format) {
 Reply BatchJobs::cancel(const std::string& id) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
-    json record = load_record(store_, id, config.batch_job_ttl_s);
+    json record = load_record(store_, id, config);
     mark_stale_unless_here(record, id);
     if (is_final_state(record["state"].get<std::string>())) {
       store_.remove(id);
@@ -510,6 +513,8 @@ void BatchJobs::run(Job& job) {
   auto last_flush = std::chrono::steady_clock::now();
   std::string stop_state;
   bool heartbeat = false;
+  std::size_t row_bytes = 0;  // of this job's rows, against batch_jobs_bytes
+  const std::size_t max_bytes = service_.config().batch_jobs_bytes;
   while (s.done < s.total) {
     if (cancelled(job, heartbeat)) {
       stop_state = "cancelled";
@@ -526,8 +531,13 @@ void BatchJobs::run(Job& job) {
       const json row = plan_row(job.rows[s.done], head.get(), job.view);
       if (row["status"] == "error") ++s.failed;
       rows.push_back(api::dump_json(row));
+      row_bytes += rows.back().size();
       ++s.done;
       window.pop_front();
+      if (row_bytes > max_bytes) {
+        stop_state = "too_large";
+        break;
+      }
     }
     heartbeat = std::chrono::steady_clock::now() - last_flush >= kHeartbeat;
     if (heartbeat) {
@@ -539,6 +549,13 @@ void BatchJobs::run(Job& job) {
   const std::string progress =
       std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
   if (stop_state == "cancelled") return finish(job, "cancelled", "cancelled after " + progress);
+  if (stop_state == "too_large") {
+    return finish(job, "failed",
+                  "its results passed the memory kept for batch jobs, batch_jobs_bytes = " +
+                      std::to_string(max_bytes) + " bytes, after " + progress +
+                      ": split the table into smaller jobs, ask for a smaller view, or raise "
+                      "batch_jobs_bytes");
+  }
   if (stop_state == "failed") {
     return finish(job, "failed",
                   "the service shut down after " + progress +

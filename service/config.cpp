@@ -138,6 +138,8 @@ const std::vector<Setting>& settings() {
       {"batch_job_max", "SLOSH_BATCH_JOB_MAX", &C::batch_job_max, 1, 10000000, "a recipe count"},
       {"batch_jobs_max", "SLOSH_BATCH_JOBS_MAX", &C::batch_jobs_max, 1, 10000, "a job count"},
       {"batch_jobs_kept", "SLOSH_BATCH_JOBS_KEPT", &C::batch_jobs_kept, 1, 1000000, "a job count"},
+      {"batch_jobs_bytes", "SLOSH_BATCH_JOBS_BYTES", &C::batch_jobs_bytes, 1 << 16, 1LL << 40,
+       "a size in bytes"},
       {"batch_job_ttl_s", "SLOSH_BATCH_JOB_TTL_S", &C::batch_job_ttl_s, 1, 30 * 86400},
       {"batch_job_stale_s", "SLOSH_BATCH_JOB_STALE_S", &C::batch_job_stale_s, 1, 86400},
   };

@@ -907,7 +907,8 @@ struct JobStores {
 
   JobStores(const ServerConfig& config, const PlanService& service)
       : local(MemoryJobStoreLimits{.ttl_s = config.batch_job_ttl_s,
-                                   .max_jobs = config.batch_jobs_kept + config.batch_jobs_max}) {
+                                   .max_jobs = config.batch_jobs_kept + config.batch_jobs_max,
+                                   .max_bytes = config.batch_jobs_bytes}) {
     if (!service.redis()) return;
     redis.emplace(service.redis(), std::chrono::seconds(std::llround(config.batch_job_ttl_s)));
     tiered.emplace(local, *redis);

@@ -1,6 +1,7 @@
 #include "memory_job_store.hpp"
 
 #include <algorithm>
+#include <iterator>
 #include <utility>
 
 namespace slosh::service {
@@ -8,15 +9,29 @@ namespace slosh::service {
 MemoryJobStore::MemoryJobStore(MemoryJobStoreLimits limits, std::function<Clock::time_point()> now)
     : limits_(limits), now_(std::move(now)) {}
 
-void MemoryJobStore::expire(Clock::time_point now) {
+void MemoryJobStore::erase(std::unordered_map<std::string, Entry>::iterator it) {
+  bytes_ -= it->second.bytes;
+  by_age_.erase(it->second.age);
+  entries_.erase(it);
+}
+
+void MemoryJobStore::expire(Clock::time_point now, const std::string* keep) {
   const auto ttl =
       std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(limits_.ttl_s));
   while (!by_age_.empty()) {
     auto it = entries_.find(by_age_.front());
     const bool too_many = entries_.size() > std::max<std::size_t>(1, limits_.max_jobs);
     if (!too_many && now - it->second.written < ttl) break;
-    entries_.erase(it);
-    by_age_.pop_front();
+    erase(it);
+  }
+  // Over the byte budget (checked on writes, which name the job written): the least recently
+  // written go first, never the job being written (the job manager bounds it: a job whose own
+  // results pass the budget stops).
+  if (keep == nullptr) return;
+  for (auto age = by_age_.begin(); bytes_ > limits_.max_bytes && age != by_age_.end();) {
+    const auto next = std::next(age);
+    if (*age != *keep) erase(entries_.find(*age));
+    age = next;
   }
 }
 
@@ -36,9 +51,11 @@ bool MemoryJobStore::put_record(const std::string& id, const std::string& record
   const Clock::time_point now = now_();
   auto [it, added] = entries_.try_emplace(id);
   if (added) it->second.age = by_age_.insert(by_age_.end(), id);
+  bytes_ = bytes_ - it->second.record.size() + record.size();
+  it->second.bytes = it->second.bytes - it->second.record.size() + record.size();
   it->second.record = record;
   touch(it->second, now);
-  expire(now);
+  expire(now, &id);
   return true;
 }
 
@@ -55,9 +72,17 @@ bool MemoryJobStore::put_rows(const std::string& id, std::size_t first,
   Entry* entry = find(id);
   if (entry == nullptr) return false;  // rows follow the record: an unknown job takes none
   if (first > entry->rows.size()) return false;  // a gap: rows are kept contiguous here
-  if (entry->rows.size() < first + rows.size()) entry->rows.resize(first + rows.size());
-  std::copy(rows.begin(), rows.end(), entry->rows.begin() + static_cast<std::ptrdiff_t>(first));
-  touch(*entry, now_());
+  const std::size_t end = first + rows.size();
+  if (entry->rows.size() < end) entry->rows.resize(end);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    std::string& slot = entry->rows[first + i];
+    entry->bytes = entry->bytes - slot.size() + rows[i].size();
+    bytes_ = bytes_ - slot.size() + rows[i].size();
+    slot = rows[i];
+  }
+  const Clock::time_point now = now_();
+  touch(*entry, now);
+  expire(now, &id);
   return true;
 }
 
@@ -91,8 +116,7 @@ void MemoryJobStore::remove(const std::string& id) {
   const std::lock_guard lock(mutex_);
   auto it = entries_.find(id);
   if (it == entries_.end()) return;
-  by_age_.erase(it->second.age);
-  entries_.erase(it);
+  erase(it);
 }
 
 std::vector<std::string> MemoryJobStore::ids() {

@@ -27,6 +27,9 @@ struct MemoryJobStoreLimits {
   /// Most jobs kept; beyond, the least recently written go first (finished jobs, as running ones
   /// are rewritten every second). Default 128.
   std::size_t max_jobs{128};
+  /// Most bytes of records and rows kept; beyond, the least recently written jobs other than the
+  /// one being written go first. Default 256 MiB (config batch_jobs_bytes).
+  std::size_t max_bytes{std::size_t{256} << 20};
 };
 
 /// JobStore in memory, thread-safe. Writes never fail.
@@ -58,11 +61,14 @@ class MemoryJobStore final : public JobStore {
     std::string record;
     std::vector<std::string> rows;
     bool cancel{false};
+    std::size_t bytes{0};  // of the record and the rows
     Clock::time_point written;
     std::list<std::string>::iterator age;  // position in by_age_
   };
-  // Drops expired entries and the oldest beyond max_jobs; the lock is held.
-  void expire(Clock::time_point now);
+  // Drops expired entries, the oldest beyond max_jobs and, beyond max_bytes, the oldest other
+  // than `keep` (the job being written); the lock is held.
+  void expire(Clock::time_point now, const std::string* keep = nullptr);
+  void erase(std::unordered_map<std::string, Entry>::iterator it);
   // The entry of `id` or nullptr (expired entries dropped first); the lock is held.
   Entry* find(const std::string& id);
   // Marks `entry` written now (moves it to the young end).
@@ -73,6 +79,7 @@ class MemoryJobStore final : public JobStore {
   std::mutex mutex_;
   std::unordered_map<std::string, Entry> entries_;
   std::list<std::string> by_age_;  // ids, least recently written first
+  std::size_t bytes_{0};           // of every entry
 };
 
 /// A local store in front of a shared one. Writes go to both; reads ask the local store first,

@@ -87,6 +87,11 @@ struct ServerConfig {
   /// Most finished jobs the in-memory job store keeps (their results included); beyond, the
   /// least recently written go first. Default 100.
   std::size_t batch_jobs_kept{100};
+  /// Most bytes of job records and result rows the in-memory job store keeps [bytes]; beyond,
+  /// the least recently written jobs (finished ones: running jobs are rewritten every 0.5 s) are
+  /// forgotten first, and a job whose own results pass it stops as failed, naming this setting.
+  /// Default 256 MiB (the rows of "view": "full" are ~30 KiB each).
+  std::size_t batch_jobs_bytes{std::size_t{256} << 20};
   /// A finished job is forgotten this long after its last write [s]. Default 3600.
   double batch_job_ttl_s{3600.0};
   /// A queued or running job whose record its replica has not rewritten for this long reads as

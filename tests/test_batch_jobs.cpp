@@ -307,7 +307,9 @@ TEST(BatchJobs, ErrorTexts) {
   EXPECT_EQ(message(unknown),
             "no batch job with id '0123' is known to this service: it never existed, was "
             "deleted, was lost with a restart of the replica that ran it (without a shared "
-            "store), or expired (finished jobs are kept for batch_job_ttl_s = 3600 s)");
+            "store), expired or was forgotten to make room (finished jobs are kept for "
+            "batch_job_ttl_s = 3600 s, at most batch_jobs_kept = 100 of them within "
+            "batch_jobs_bytes = 268435456 bytes)");
   EXPECT_EQ(c.Delete("/v1/batches/0123")->status, 404);
   EXPECT_EQ(c.Get("/v1/batches/0123/results.csv")->status, 404);
   auto wrong = c.Delete("/v1/batches");
@@ -556,6 +558,40 @@ TEST(BatchJobsCli, AnInterruptedRunKeepsTheRowsTheServiceFinishedInThePartialTab
             std::string::npos)
       << err;
   EXPECT_EQ(err.find("300/300"), std::string::npos) << err;
+}
+
+// Kept results have a byte budget (batch_jobs_bytes): a job whose own rows pass it stops as
+// failed naming the setting (never an allocation failure), and a later job's rows make room by
+// forgetting the least recently written finished job.
+TEST(BatchJobs, KeptResultsStayWithinTheirByteBudget) {
+  const TempDir dir;
+  write_file(dir / "budget.json", R"({"batch_jobs_bytes": 65536})");
+  Server server({"--workers", "1", "--config", (dir / "budget.json").string()});
+  auto c = server.client();
+  // ~1.5 KB a row: 200 rows pass 64 KiB.
+  const std::string big = post_job(c, {{"requests", recipes(200, 7000)}}).at("id");
+  const json failed = wait_finished(c, big);
+  ASSERT_EQ(failed.at("state"), "failed") << failed;
+  const auto done = failed.at("progress").at("done").get<std::size_t>();
+  EXPECT_LT(done, 200u);
+  EXPECT_EQ(failed.at("message"),
+            "its results passed the memory kept for batch jobs, batch_jobs_bytes = 65536 bytes, "
+            "after " +
+                std::to_string(done) +
+                " of 200 recipes: split the table into smaller jobs, ask for a smaller view, or "
+                "raise batch_jobs_bytes");
+  // Each of these fits; together they do not: the oldest is forgotten first.
+  const std::string first = post_job(c, {{"requests", recipes(25, 8000)}}).at("id");
+  ASSERT_EQ(wait_finished(c, first).at("state"), "done");
+  const std::string second = post_job(c, {{"requests", recipes(25, 8100)}}).at("id");
+  ASSERT_EQ(wait_finished(c, second).at("state"), "done");
+  const std::string third = post_job(c, {{"requests", recipes(25, 8200)}}).at("id");
+  ASSERT_EQ(wait_finished(c, third).at("state"), "done");
+  EXPECT_EQ(all_pages(c, third, 100).size(), 25u);
+  const auto gone = c.Get("/v1/batches/" + first);
+  ASSERT_TRUE(gone);
+  EXPECT_EQ(gone->status, 404) << gone->body;
+  EXPECT_NE(gone->body.find("batch_jobs_bytes = 65536 bytes"), std::string::npos) << gone->body;
 }
 
 }  // namespace

@@ -83,6 +83,38 @@ TEST(MemoryJobStore, BeyondTheCountTheLeastRecentlyWrittenGoFirst) {
   EXPECT_EQ(store.size(), 3u);
 }
 
+// Beyond max_bytes (records and rows, counted by their lengths) the least recently written jobs go
+// first, but never the job being written, even when it alone passes the budget.
+TEST(MemoryJobStore, BeyondTheByteBudgetTheLeastRecentlyWrittenGoFirstNeverTheOneWritten) {
+  FakeClock clock;
+  MemoryJobStore store({.ttl_s = 3600, .max_jobs = 100, .max_bytes = 100}, clock.fn());
+  const std::string row(30, 'x');
+  for (const char* id : {"j1", "j2", "j3"}) {  // 2 + 30 bytes each: 96 in all
+    store.put_record(id, id);
+    ASSERT_TRUE(store.put_rows(id, 0, {row}));
+    clock.now += 1s;
+  }
+  EXPECT_EQ(store.size(), 3u);
+  store.put_record("j1", "j1");                  // j1 is now the most recently written
+  EXPECT_FALSE(store.put_rows("j4", 0, {row}));  // rows follow a record
+  store.put_record("j4", "j4 record");  // 96 + 9 = 105 > 100: j2 (least recently written) goes
+  EXPECT_EQ(store.record("j2"), std::nullopt);
+  EXPECT_EQ(store.record("j3"), "j3");
+  EXPECT_EQ(store.size(), 3u);  // 73 bytes
+  // A row rewritten at its index replaces its bytes rather than adding to them.
+  ASSERT_TRUE(store.put_rows("j3", 0, {std::string(31, 'y')}));
+  EXPECT_EQ(store.size(), 3u);  // 74 bytes
+  // One job alone past the budget keeps its rows; every other job is forgotten for it.
+  ASSERT_TRUE(store.put_rows("j4", 0, {std::string(200, 'z')}));
+  EXPECT_EQ(store.size(), 1u);
+  EXPECT_EQ(store.rows("j4", 0, 1), (Rows{std::string(200, 'z')}));
+  // Removing it frees its bytes: two small jobs fit again.
+  store.remove("j4");
+  store.put_record("a", std::string(40, 'a'));
+  store.put_record("b", std::string(40, 'b'));
+  EXPECT_EQ(store.size(), 2u);
+}
+
 // A store that can be "down": every call fails as a Redis store's does (false / nullopt).
 class SwitchableStore final : public JobStore {
  public:

@@ -1,0 +1,209 @@
+// `slosh batch --server` (the real binary) against a scripted service on loopback (an httplib
+// server in this process playing the batch jobs API), to reach the moments a real service only
+// gives by chance: a SIGINT while the POST that starts the job is in flight (the job accepted,
+// its id not yet known to the CLI), a results table with a recipe twice or missing, and 503
+// answers with Retry-After while the job is read.
+
+#include <httplib.h>
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <condition_variable>
+#include <filesystem>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/process.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using test::read_file;
+using test::TempDir;
+using test::write_file;
+using namespace std::chrono_literals;
+
+constexpr const char* kJobId = "0123456789abcdef0123456789abcdef";
+
+/// The scripted service: POST /v1/batches answers 202 (after `hold_post` is released), GET of
+/// the record answers `record_503s` 503s first and then "done", GET results.jsonl answers
+/// `results`; DELETEs are counted.
+struct ScriptedService {
+  httplib::Server server;
+  std::thread thread;
+  int port{0};
+  std::mutex mutex;
+  std::condition_variable changed;
+  bool post_arrived{false};
+  bool hold_post{false};
+  bool post_released{false};
+  int record_503s{0};
+  bool record_hangs{false};  // GET of the record answers only when the service is destroyed
+  int record_gets{0};
+  std::string results;
+  std::atomic<int> deletes{0};
+
+  ScriptedService() {
+    server.Post("/v1/batches", [this](const httplib::Request&, httplib::Response& res) {
+      std::unique_lock lock(mutex);
+      post_arrived = true;
+      changed.notify_all();
+      changed.wait_for(lock, 30s, [this] { return !hold_post || post_released; });
+      res.status = 202;
+      res.set_content(json{{"id", kJobId}, {"state", "queued"}}.dump(), "application/json");
+    });
+    server.Get("/v1/batches/" + std::string(kJobId), [this](const httplib::Request&,
+                                                            httplib::Response& res) {
+      std::unique_lock lock(mutex);
+      if (record_hangs) {
+        changed.wait(lock, [this] { return post_released; });
+        return;
+      }
+      if (record_gets++ < record_503s) {
+        res.status = 503;
+        res.set_header("Retry-After", "1");
+        res.set_content(R"({"error":{"code":"unavailable","message":"m"}})", "application/json");
+        return;
+      }
+      res.set_content(
+          json{{"id", kJobId}, {"state", "done"}, {"progress", {{"done", 2}, {"total", 2}}}}.dump(),
+          "application/json");
+    });
+    server.Get("/v1/batches/" + std::string(kJobId) + "/results.jsonl",
+               [this](const httplib::Request&, httplib::Response& res) {
+                 const std::lock_guard lock(mutex);
+                 res.set_content(results, "application/x-ndjson");
+               });
+    server.Delete("/v1/batches/" + std::string(kJobId), [this](const httplib::Request&,
+                                                               httplib::Response& res) {
+      ++deletes;
+      res.set_content(json{{"id", kJobId}, {"state", "cancelled"}}.dump(), "application/json");
+    });
+    port = server.bind_to_any_port("127.0.0.1");
+    thread = std::thread([this] { server.listen_after_bind(); });
+  }
+  ~ScriptedService() {
+    {
+      const std::lock_guard lock(mutex);
+      post_released = true;
+    }
+    changed.notify_all();
+    server.stop();
+    thread.join();
+  }
+  [[nodiscard]] std::string url() const { return "http://127.0.0.1:" + std::to_string(port); }
+};
+
+std::string row(int n, const std::string& id) {
+  return json{{"row", n}, {"recipe_id", id}, {"status", "optimal"}, {"cached", false}}.dump() +
+         "\n";
+}
+
+struct Cli {
+  TempDir dir;
+  std::unique_ptr<test::Child> child;
+  explicit Cli(const std::string& server) {
+    write_file(dir / "t.csv",
+               "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
+               "a,48.5,82,water,800,1.5,notch\n"
+               "b,48.5,82,water,800,1.6,notch\n");
+    write_file(dir / "stdin", "");
+    child = std::make_unique<test::Child>(
+        test::spawn({"batch", "--in", (dir / "t.csv").string(), "--out", (dir / "o.jsonl").string(),
+                     "--server", server, "--progress", "never"},
+                    dir / "stdin", dir / "stdout", dir / "stderr"));
+  }
+  [[nodiscard]] std::string err() const { return read_file(dir / "stderr"); }
+};
+
+// The job was accepted but the 202 has not reached the CLI when Ctrl-C comes: the CLI still
+// learns the id from the answer and DELETEs the job (it is not killed by the default action).
+TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
+  ScriptedService service;
+  service.hold_post = true;
+  Cli cli(service.url());
+  {
+    std::unique_lock lock(service.mutex);
+    ASSERT_TRUE(service.changed.wait_for(lock, 30s, [&] { return service.post_arrived; }));
+  }
+  ::kill(cli.child->pid(), SIGINT);
+  std::this_thread::sleep_for(100ms);  // let the signal be taken; the CLI is blocked in the POST
+  {
+    const std::lock_guard lock(service.mutex);
+    service.post_released = true;
+  }
+  service.changed.notify_all();
+  const auto code = cli.child->wait_for(30s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 1) << cli.err();
+  // Cancelled, then asked for the rows it finished (none here) for the .partial table.
+  EXPECT_GE(service.deletes.load(), 1) << cli.err();
+  EXPECT_NE(cli.err().find("interrupted: batch job " + std::string(kJobId) + " cancelled"),
+            std::string::npos)
+      << cli.err();
+}
+
+// A table with a recipe twice (and so one missing) is never written as complete.
+TEST(BatchCliFaults, AResultsTableWithADuplicatedRowIsRefusedNonZero) {
+  ScriptedService service;
+  service.results = row(1, "a") + row(1, "a");
+  Cli cli(service.url());
+  const auto code = cli.child->wait_for(30s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
+  EXPECT_NE(
+      cli.err().find("batch job " + std::string(kJobId) + " answered row 1 where row 2 was due"),
+      std::string::npos)
+      << cli.err();
+}
+
+TEST(BatchCliFaults, AShortResultsTableIsRefusedNonZero) {
+  ScriptedService service;
+  service.results = row(1, "a");
+  Cli cli(service.url());
+  const auto code = cli.child->wait_for(30s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
+  EXPECT_NE(cli.err().find("batch job " + std::string(kJobId) + " answered 1 rows for 2 recipes"),
+            std::string::npos)
+      << cli.err();
+}
+
+// 503 with Retry-After while the job is read (Redis paused on the replica asked): the CLI waits
+// and asks again instead of stopping (and cancelling its own job).
+TEST(BatchCliFaults, A503WithRetryAfterIsRetriedNotFatal) {
+  ScriptedService service;
+  service.record_503s = 2;
+  service.results = row(1, "a") + row(2, "b");
+  Cli cli(service.url());
+  const auto code = cli.child->wait_for(60s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 0) << cli.err();
+  EXPECT_EQ(service.deletes.load(), 0);
+  EXPECT_EQ(read_file(cli.dir / "o.jsonl"), row(1, "a") + row(2, "b"));
+}
+
+// A replica that accepted the job and then stops answering (paused): the CLI's progress polls
+// have a deadline, so it stops with exit 1 (and tries to DELETE the job) instead of hanging.
+TEST(BatchCliFaults, AReplicaThatStopsAnsweringStopsTheRunNotHangsIt) {
+  ScriptedService service;
+  service.record_hangs = true;
+  Cli cli(service.url());
+  const auto code = cli.child->wait_for(120s);
+  ASSERT_TRUE(code.has_value()) << "the CLI still hangs";
+  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
+}
+
+}  // namespace
+}  // namespace slosh
