@@ -150,9 +150,9 @@ Reply json_reply(int status, const json& body) {
 // The record of job `id`: 404 when no store knows it, 503 (unavailable) when the shared store
 // cannot be asked (the job may run on another replica) or its stored text is damaged.
 json load_record(JobStore& store, const std::string& id, const ServerConfig& config) {
-  const auto text = store.record(id);
+  const auto [text, answered] = store.lookup_record(id);
   const std::string shown = id.substr(0, 64);
-  if (!text && !store.reachable()) {
+  if (!text && (!answered || !store.reachable())) {
     throw api::ApiError(api::ErrorCode::kUnavailable, "id",
                         "batch job '" + shown +
                             "' is not on this replica and the shared job store (Redis) cannot be "

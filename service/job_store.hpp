@@ -23,6 +23,18 @@ class JobStore {
   /// The record of job `id`; nullopt when the store does not know it or cannot be read.
   [[nodiscard]] virtual std::optional<std::string> record(const std::string& id) = 0;
 
+  /// The record of job `id` and whether the store answered at all. A shared store that is
+  /// down, slow or has every connection busy did not answer: the job may run on another
+  /// replica, so the caller must not read the missing record as "no such job". Default: a
+  /// local store always answers.
+  struct RecordLookup {
+    std::optional<std::string> text;
+    bool answered{true};
+  };
+  [[nodiscard]] virtual RecordLookup lookup_record(const std::string& id) {
+    return {record(id), true};
+  }
+
   /// Writes result rows `first`, `first` + 1, ... of job `id`. Rows are keyed by their index, so
   /// writing a row again (a retried write whose first attempt did land) replaces it instead of
   /// adding a duplicate, and a write that was lost leaves its indexes missing (never shifts the

@@ -178,8 +178,12 @@ void TieredJobStore::resync() {
 }
 
 std::optional<std::string> TieredJobStore::record(const std::string& id) {
-  if (auto r = local_.record(id)) return r;
-  return shared_.record(id);
+  return lookup_record(id).text;
+}
+
+JobStore::RecordLookup TieredJobStore::lookup_record(const std::string& id) {
+  if (auto r = local_.record(id)) return {std::move(r), true};
+  return shared_.lookup_record(id);
 }
 
 bool TieredJobStore::put_rows(const std::string& id, std::size_t first,

@@ -33,9 +33,14 @@ bool RedisJobStore::put_record(const std::string& id, const std::string& record)
 }
 
 std::optional<std::string> RedisJobStore::record(const std::string& id) {
+  return lookup_record(id).text;
+}
+
+JobStore::RecordLookup RedisJobStore::lookup_record(const std::string& id) {
   const auto reply = client_->command({"GET", key(id, "record")});
-  if (!reply || reply->type != RedisReply::Type::kString) return std::nullopt;
-  return reply->text;
+  if (!reply) return {std::nullopt, false};
+  if (reply->type != RedisReply::Type::kString) return {std::nullopt, true};
+  return {reply->text, true};
 }
 
 bool RedisJobStore::put_rows(const std::string& id, std::size_t first,

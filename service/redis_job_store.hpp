@@ -28,6 +28,7 @@ class RedisJobStore final : public JobStore {
 
   bool put_record(const std::string& id, const std::string& record) override;
   [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
+  [[nodiscard]] RecordLookup lookup_record(const std::string& id) override;
   bool put_rows(const std::string& id, std::size_t first,
                 const std::vector<std::string>& rows) override;
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,

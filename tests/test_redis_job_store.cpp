@@ -110,6 +110,25 @@ TEST(RedisJobStore, TwoReplicasSeeTheSameJobs) {
   EXPECT_TRUE(runner.cancel_requested("shared"));
 }
 
+// A record Redis did not answer for (stalled, slow, or every connection busy) is not a record
+// Redis said it lacks: the job may run on another replica, so it must not be answered as 404.
+TEST(RedisJobStore, ARecordRedisDidNotAnswerForIsNotReadAsMissing) {
+  RedisServer redis;
+  RedisJobStore store(client_of(redis), 3600s);
+  ASSERT_TRUE(store.put_record("j", "r"));
+  const JobStore::RecordLookup missing = store.lookup_record("absent");
+  EXPECT_TRUE(missing.answered);
+  EXPECT_FALSE(missing.text);
+  const JobStore::RecordLookup found = store.lookup_record("j");
+  EXPECT_TRUE(found.answered);
+  EXPECT_EQ(found.text, "r");
+  redis.pause();
+  const JobStore::RecordLookup stalled = store.lookup_record("j");
+  redis.resume();
+  EXPECT_FALSE(stalled.answered);
+  EXPECT_FALSE(stalled.text);
+}
+
 TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
   RedisServer redis;
   RedisJobStore store(client_of(redis), 3600s);
