@@ -124,6 +124,12 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   }
 }
 
+/// Set by SIGINT while an InterruptFlag lives (server mode through a batch job).
+volatile std::sig_atomic_t interrupted = 0;
+extern "C" void on_interrupt(int) {
+  interrupted = 1;
+}
+
 // POSTs `body` to `path`, retrying 503 answers after their Retry-After (kServerRetries times);
 // BatchAbort when the service cannot be reached.
 HttpReply post_retrying_503(HttpClient& client, const std::string& path, const std::string& body) {
@@ -136,8 +142,13 @@ HttpReply post_retrying_503(HttpClient& client, const std::string& path, const s
     }
     if (reply.status != 503 || attempt >= kServerRetries) return reply;
     const int wait =
-        reply.retry_after.empty() ? 1 : std::max(1, std::atoi(reply.retry_after.c_str()));
-    std::this_thread::sleep_for(std::chrono::seconds(wait));
+        reply.retry_after.empty() ? 1 : std::clamp(std::atoi(reply.retry_after.c_str()), 1, 30);
+    // Waits in slices so that Ctrl-C ends the run here: nothing is posted after an interrupt.
+    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(wait);
+    while (!interrupted && std::chrono::steady_clock::now() < until) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(20));
+    }
+    if (interrupted) throw BatchAbort("interrupted before " + path + " accepted the table");
   }
 }
 
@@ -199,11 +210,6 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
 constexpr std::chrono::seconds kJobCallTimeout{10};
 /// How often a batch job's progress is asked for.
 constexpr std::chrono::milliseconds kJobPollInterval{200};
-
-volatile std::sig_atomic_t interrupted = 0;
-extern "C" void on_interrupt(int) {
-  interrupted = 1;
-}
 
 /// SIGINT (Ctrl-C) sets `interrupted` while this lives; the previous handler comes back after.
 class InterruptFlag {
@@ -293,7 +299,12 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
 // Best effort: any failure leaves the rows written so far.
 void save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
   try {
-    (void)client.del(job.path());
+    // A job that finished before the stop is not cancelled: a DELETE would forget its rows.
+    const HttpReply now = client.get(job.path() + "?limit=1");
+    if (now.status != 200) return;
+    if (!is_final_state(json::parse(now.body).at("state").get<std::string>())) {
+      (void)client.del(job.path());
+    }
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     for (;;) {
       const HttpReply reply = client.get(job.path() + "?limit=1");

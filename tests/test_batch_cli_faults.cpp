@@ -46,6 +46,9 @@ struct ScriptedService {
   bool hold_post{false};
   bool post_released{false};
   int record_503s{0};
+  int post_503s{0};  // POSTs answered 503 with Retry-After: 30 before the 202
+  int posts{0};
+  bool forgotten{false};  // a DELETE of the finished job forgets it (its rows too), as the service
   bool record_hangs{false};  // GET of the record answers only when the service is destroyed
   int record_gets{0};
   std::string results;
@@ -56,6 +59,12 @@ struct ScriptedService {
       std::unique_lock lock(mutex);
       post_arrived = true;
       changed.notify_all();
+      if (posts++ < post_503s) {
+        res.status = 503;
+        res.set_header("Retry-After", "30");
+        res.set_content(R"({"error":{"code":"overloaded","message":"m"}})", "application/json");
+        return;
+      }
       changed.wait_for(lock, 30s, [this] { return !hold_post || post_released; });
       res.status = 202;
       res.set_content(json{{"id", kJobId}, {"state", "queued"}}.dump(), "application/json");
@@ -80,11 +89,19 @@ struct ScriptedService {
     server.Get("/v1/batches/" + std::string(kJobId) + "/results.jsonl",
                [this](const httplib::Request&, httplib::Response& res) {
                  const std::lock_guard lock(mutex);
+                 if (forgotten) {
+                   res.status = 404;
+                   return;
+                 }
                  res.set_content(results, "application/x-ndjson");
                });
     server.Delete("/v1/batches/" + std::string(kJobId), [this](const httplib::Request&,
                                                                httplib::Response& res) {
       ++deletes;
+      {
+        const std::lock_guard lock(mutex);
+        forgotten = true;
+      }
       res.set_content(json{{"id", kJobId}, {"state", "cancelled"}}.dump(), "application/json");
     });
     port = server.bind_to_any_port("127.0.0.1");
@@ -148,6 +165,52 @@ TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
   EXPECT_GE(service.deletes.load(), 1) << cli.err();
   EXPECT_NE(cli.err().find("interrupted: batch job " + std::string(kJobId) + " cancelled"),
             std::string::npos)
+      << cli.err();
+}
+
+// Ctrl-C after the job finished (here: the 202 is held until the signal has come, and the record
+// then reads done): the CLI must not DELETE the finished job before it fetched its rows (the
+// service forgets a finished job on DELETE), so the .partial table holds every row.
+TEST(BatchCliFaults, AnInterruptAfterTheJobFinishedKeepsItsRowsInThePartialTable) {
+  ScriptedService service;
+  service.hold_post = true;
+  service.results = row(1, "a") + row(2, "b");
+  Cli cli(service.url());
+  {
+    std::unique_lock lock(service.mutex);
+    ASSERT_TRUE(service.changed.wait_for(lock, 30s, [&] { return service.post_arrived; }));
+  }
+  ::kill(cli.child->pid(), SIGINT);
+  std::this_thread::sleep_for(100ms);
+  {
+    const std::lock_guard lock(service.mutex);
+    service.post_released = true;
+  }
+  service.changed.notify_all();
+  const auto code = cli.child->wait_for(30s);
+  ASSERT_TRUE(code.has_value());
+  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_EQ(read_file(cli.dir / "o.jsonl.partial"), row(1, "a") + row(2, "b")) << cli.err();
+}
+
+// Ctrl-C while the CLI waits out a 503's Retry-After before posting its job again: the run stops
+// at once and nothing is posted after the signal.
+TEST(BatchCliFaults, AnInterruptDuringA503WaitStopsBeforeAnotherPost) {
+  ScriptedService service;
+  service.post_503s = 1;
+  Cli cli(service.url());
+  {
+    std::unique_lock lock(service.mutex);
+    ASSERT_TRUE(service.changed.wait_for(lock, 30s, [&] { return service.post_arrived; }));
+  }
+  std::this_thread::sleep_for(200ms);  // the 503 answered; the CLI waits its 30 s Retry-After
+  ::kill(cli.child->pid(), SIGINT);
+  const auto code = cli.child->wait_for(20s);
+  ASSERT_TRUE(code.has_value()) << "Ctrl-C did not end the 30 s wait";
+  EXPECT_EQ(*code, 1) << cli.err();
+  const std::lock_guard lock(service.mutex);
+  EXPECT_EQ(service.posts, 1) << cli.err();
+  EXPECT_NE(cli.err().find("interrupted before /v1/batches accepted the table"), std::string::npos)
       << cli.err();
 }
 
