@@ -5,6 +5,7 @@
 #include "slosh/core/response/response.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/strategy/robustness.hpp"
 
 namespace {
 
@@ -58,6 +59,20 @@ void BM_NonlinearResponsePeaks(benchmark::State& state) {
   }
 }
 BENCHMARK(BM_NonlinearResponsePeaks)->Unit(benchmark::kMicrosecond);
+
+// The report every plan carries: 21 frequency errors (+-10 %) on both models, the nominal point
+// simulated too (no at_zero shortcut).
+void BM_RobustnessReport(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
+  slosh::RobustnessSweep sweep;
+  sweep.zeta = model.zeta;
+  sweep.eta_rest_max = 0.005;
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::robustness_report(model, law.law(), sweep));
+  }
+}
+BENCHMARK(BM_RobustnessReport)->Unit(benchmark::kMicrosecond);
 
 void BM_Simulate(benchmark::State& state) {
   const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
