@@ -60,6 +60,14 @@ void BM_NonlinearResponsePeaks(benchmark::State& state) {
 }
 BENCHMARK(BM_NonlinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 
+// The peaks alone (no trajectory kept, the rest window ended by the energy bound).
+void BM_NonlinearPeaks(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
+  for (auto _ : state) benchmark::DoNotOptimize(slosh::nonlinear_peaks(model, law.law(), 1.0));
+}
+BENCHMARK(BM_NonlinearPeaks)->Unit(benchmark::kMicrosecond);
+
 // The report every plan carries: 21 frequency errors (+-10 %) on both models, the nominal point
 // simulated too (no at_zero shortcut).
 void BM_RobustnessReport(benchmark::State& state) {

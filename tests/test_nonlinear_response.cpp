@@ -4,10 +4,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <random>
 
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/response/response.hpp"
 #include "support/fixtures.hpp"
+#include "support/random_format.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
@@ -78,7 +80,7 @@ TEST(NonlinearResponse, MatchesAFineIndependentRk4OnHarshLaws) {
   expect_accurate(thesis_format(), make_poly5_law(0.5, 0.7), 0.5);
 }
 
-TEST(NonlinearResponse, HermiteDenseOutputIsContinuousAndSmooth) {
+TEST(NonlinearResponse, DenseOutputIsContinuousAndSmooth) {
   const SloshingModel model = make_sloshing_model(thesis_format(), {});
   const NonlinearResponse r(model, SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(), 1.0);
   // Rate of the dense output agrees with the derivative of its position.
@@ -99,6 +101,86 @@ TEST(NonlinearResponse, RightHandSideIsEq235) {
                     1e-12 * (1.0 + std::abs(reference_xbar_dd(model, x, v, a))));
       }
     }
+  }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// A seven-segment law of random admissible durations summing to T (ramps >= 50 ms).
+MotionLaw random_seven_segment(std::mt19937& rng, double stroke, double T) {
+  std::uniform_real_distribution<double> u(0.2, 1.0);
+  Durations w{};
+  double total = 0.0;
+  for (double& wi : w) total += (wi = u(rng));
+  Durations d{};
+  const double room = T - 4.0 * 0.05;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    d[i] = (i % 2 == 0 ? 0.05 : 0.0) + room * w[i] / total;
+  }
+  return SevenSegmentLaw(d, stroke).law();
+}
+
+// Largest |K x| of a fine reference trajectory over [a, b], refined by the parabola through the
+// best sample and its neighbours.
+double reference_peak(const test::Rk4Trajectory& r, double K, double a, double b) {
+  std::size_t best = 0;
+  double best_value = -1.0;
+  for (std::size_t i = 0; i < r.t.size(); ++i) {
+    if (r.t[i] < a || r.t[i] > b) continue;
+    if (std::abs(r.x[i]) > best_value) best_value = std::abs(r.x[best = i]);
+  }
+  if (best == 0 || best + 1 >= r.t.size() || r.t[best - 1] < a || r.t[best + 1] > b) {
+    return K * best_value;
+  }
+  const double y0 = std::abs(r.x[best - 1]), y1 = best_value, y2 = std::abs(r.x[best + 1]);
+  const double denom = y0 - 2.0 * y1 + y2;
+  if (denom >= 0.0) return K * y1;
+  return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
+}
+
+TEST(NonlinearResponse, PeaksMatchAFineRk4OnRandomFormatsWithinTwoPpm) {
+  std::mt19937 rng(20261126u);
+  for (int k = 0; k < 12; ++k) {
+    const Format f = test::random_format(rng);
+    const MotionLaw law = random_seven_segment(rng, f.stroke, f.motion_time);
+    const SloshingModel model = make_sloshing_model(f, {});
+    const double rest = 1.0;
+    const test::Rk4Trajectory ref = test::rk4_solve(
+        [&](double t, double x, double v) {
+          return reference_xbar_dd(model, x, v, law.at(t).acceleration);
+        },
+        law.duration() + rest, 2e-5);
+    const double T = law.duration();
+    const double ref_motion = reference_peak(ref, model.K, 0.0, T);
+    const double ref_rest = reference_peak(ref, model.K, T, T + rest);
+    const SloshPeaks p = NonlinearResponse(model, law, rest).peaks();
+    const double scale = std::max(ref_motion, ref_rest);
+    EXPECT_NEAR(p.motion.value, ref_motion, 2e-6 * scale) << "format " << k;
+    EXPECT_NEAR(p.rest.value, ref_rest, 2e-6 * scale) << "format " << k;
+  }
+}
+
+// The rest window's search ends by the energy bound (docs/models.md): the eta_rest it finds is
+// the maximum over the whole window, here searched densely on the kept trajectory (0.5 ms
+// samples, golden-section refinement), also for rest windows of several seconds.
+TEST(NonlinearResponse, EarlyStoppedRestPeakIsTheWholeWindowMaximum) {
+  std::mt19937 rng(7u);
+  for (int k = 0; k < 16; ++k) {
+    const Format f = test::random_format(rng);
+    const MotionLaw law = random_seven_segment(rng, f.stroke, f.motion_time);
+    const SloshingModel model = make_sloshing_model(f, {});
+    const double rest = k % 2 == 0 ? 1.0 : 4.5;
+    const NonlinearResponse full(model, law, rest);
+    const double T = law.duration();
+    const Peak whole = find_max([&](double t) { return std::abs(full.eta(t)); }, T, T + rest, 5e-4);
+    const SloshPeaks early = nonlinear_peaks(model, law, rest);
+    EXPECT_NEAR(early.rest.value, whole.value, 1e-9 * whole.value) << "format " << k;
+    EXPECT_EQ(early.rest.value, full.peaks().rest.value);
+    EXPECT_EQ(early.motion.value, full.peaks().motion.value);
   }
 }
 
