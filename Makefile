@@ -18,8 +18,8 @@ SANITIZER_ENV := ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_chec
                  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp:print_suppressions=0 \
                  UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1
 
-.PHONY: all deps configure build build-slosh run test bench format format-check clean test-asan \
-        fuzz-build fuzz fuzz-smoke
+.PHONY: all deps configure build build-slosh run test bench bench-check bench-budgets format \
+        format-check clean test-asan fuzz-build fuzz fuzz-smoke
 
 all: build
 
@@ -49,6 +49,18 @@ test: build
 bench: deps configure
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target benchmarks
 	@bash scripts/run-bench.sh $(BUILD_DIR)
+
+# The benchmark guard (SPEC §8): a short benchmark set, normalised by a calibration loop of the
+# same run, fails on more than 3 x a budget of bench/budgets.tsv (scripts/bench-check.sh).
+bench-check: deps configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_check
+	@bash scripts/bench-check.sh $(BUILD_DIR)
+
+# Rewrites bench/budgets.tsv from one run of the same set (commit the file): after a change that
+# is meant to cost more, or one that made things faster.
+bench-budgets: deps configure
+	cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_check
+	@bash scripts/bench-check.sh $(BUILD_DIR) --update
 
 # The unit tests (and the corpus replays) under AddressSanitizer + UndefinedBehaviorSanitizer.
 $(ASAN_DIR)/build.ninja:

@@ -5,6 +5,9 @@
 
 #include <benchmark/benchmark.h>
 
+#include <random>
+#include <vector>
+
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -89,6 +92,40 @@ void BM_Plan(benchmark::State& state) {
 // 0 baseline, 1 notch, 2 multi_notch, 3 min_jerk_band, 4 time_domain, 5 fir_chain, 6 shaper,
 // 7 iir, 8 auto.
 BENCHMARK(BM_Plan)->DenseRange(0, 8)->Unit(benchmark::kMillisecond);
+
+// The whole plan() over 8 seeded formats (R 30-100 mm, fill 0.4-2.5 R, stroke 0.2-1 m, T 0.6-1.6
+// s: the property tests' ranges), one after the other: the thesis format alone can flatter a
+// change of the search path; counter: the summed solver evaluations.
+void BM_PlanFormats(benchmark::State& state) {
+  const auto strategy = static_cast<Strategy>(state.range(0));
+  std::mt19937 rng(20261126);
+  auto draw = [&rng](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  std::vector<slosh::Format> formats;
+  for (int k = 0; k < 8; ++k) {
+    slosh::Format f;
+    f.container.radius = draw(0.03, 0.1);
+    f.fill_height = draw(0.4, 2.5) * f.container.radius;
+    f.stroke = draw(0.2, 1.0);
+    f.motion_time = draw(0.6, 1.6);
+    formats.push_back(f);
+  }
+  PlanOptions options;
+  options.robustness = false;
+  int evaluations = 0;
+  for (auto _ : state) {
+    evaluations = 0;
+    for (const slosh::Format& f : formats) {
+      const slosh::PlanResult r = slosh::plan(f, strategy, options);
+      evaluations += r.solver.iterations;
+      benchmark::DoNotOptimize(r);
+    }
+  }
+  state.SetLabel(slosh::to_string(strategy));
+  state.counters["evaluations"] = evaluations;
+}
+BENCHMARK(BM_PlanFormats)->DenseRange(1, 4)->Arg(8)->Unit(benchmark::kMillisecond);
 
 // The robustness report of SPEC §10 alone (21 frequency errors in +-10 %, both models, the
 // delta = 0 point simulated too) for the law of each strategy on the thesis format.

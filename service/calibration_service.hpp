@@ -3,6 +3,9 @@
 // parse, fit on the solve pool within the solve budget, store under the request's name; and the
 // resolution of options.model = "<name>" in plan, simulate and min-time bodies.
 
+#include <atomic>
+#include <cstdint>
+#include <functional>
 #include <memory>
 #include <string>
 
@@ -21,8 +24,10 @@ class CalibrationService {
 
   /// The fit as JSON (api::run_calibration), stored when the body has a "name"; 422 on bad input,
   /// 503 when the pool's queue is full, 504 when the fit does not finish in the solve budget plus
-  /// the queue wait (the fit itself stops at the budget with status time_limit).
-  Reply post_calibration(const std::string& body);
+  /// the queue wait (the fit itself stops at the budget with status time_limit). `abandoned`
+  /// (optional) tells whether the client has gone away: the fit stops then (between two solver
+  /// steps) and is neither answered nor stored.
+  Reply post_calibration(const std::string& body, const std::function<bool()>& abandoned = {});
   /// The stored calibration; 422 for an invalid name, 404 for an unknown one.
   Reply get_calibration(const std::string& name) const;
   /// `body` with options.model = "<name>" replaced by the stored model (unchanged text when the
@@ -35,12 +40,15 @@ class CalibrationService {
   [[nodiscard]] std::string resolve_batch_model_names(const std::string& body) const;
   /// Why the store is in memory instead of its file; empty when it is not.
   [[nodiscard]] const std::string& store_error() const { return store_error_; }
+  /// Fits stopped because their client had gone.
+  [[nodiscard]] std::uint64_t cancelled() const { return cancelled_; }
 
  private:
   const ServerConfig& config_;
   WorkerPool& pool_;
   std::string store_error_;
   std::unique_ptr<CalibrationStore> store_;
+  std::atomic<std::uint64_t> cancelled_{0};
 };
 
 }  // namespace slosh::service

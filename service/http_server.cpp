@@ -27,6 +27,7 @@
 #include "calibration_service.hpp"
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
+#include "gzip.hpp"
 #include "log_format.hpp"
 #include "memory_job_store.hpp"
 #include "plan_service.hpp"
@@ -58,6 +59,9 @@ thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
 // said about a plan (Reply::plan), for the latency histogram and the access log.
 thread_local std::string request_route;
 thread_local std::optional<PlanFacts> request_plan;
+// The request's Accept-Encoding accepts gzip (read, then removed from the request, by the
+// pre-routing hook: the service codes its bodies itself, see send).
+thread_local bool request_accepts_gzip = false;
 std::atomic<std::uint64_t> request_counter{0};
 
 /// Seconds a client is told to wait when its connection could not get a thread.
@@ -66,12 +70,37 @@ constexpr int kThreadRetryAfterSeconds = 1;
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 
+// Media types whose bodies are text worth compressing.
+bool compressible(const std::string& content_type) {
+  return content_type.starts_with("application/json") || content_type.starts_with("text/") ||
+         content_type.starts_with("application/javascript");
+}
+
+// Writes `reply` to `res`. Content coding is decided here, not by the HTTP library (which would
+// compress every body again per response, and pick brotli at its slowest setting for a browser):
+// a body already gzip-coded (a cached plan's stored bytes) is sent as it is; another text body of
+// at least kGzipMinBytes is compressed for a client that accepts gzip. Every reply whose coding
+// depends on Accept-Encoding says so (Vary), whether or not this client accepted it.
 void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
+  const bool varies =
+      !reply.content_encoding.empty() || reply.plan.has_value() ||
+      (!reply.hold && compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes);
+  if (varies) res.set_header("Vary", "Accept-Encoding");
   if (reply.body.empty()) return;
   if (!reply.hold) {
-    res.set_content(reply.body, reply.content_type);
+    if (reply.content_encoding.empty() && request_accepts_gzip &&
+        compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes) {
+      // Level 1: bodies coded per response are the uncached ones (a fresh plan, a batch, an
+      // export); its speed matters more than the last 10 % of size.
+      reply.body = gzip_compress(reply.body, 1);
+      reply.content_encoding = "gzip";
+    }
+    if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
+    // Moved, not copied (set_content copies): a full plan is 40 kB.
+    res.body = std::move(reply.body);
+    res.set_header("Content-Type", reply.content_type);
     return;
   }
   // The body (and what the reply holds, e.g. an export's share of the budget) lives until the
@@ -309,6 +338,32 @@ std::vector<std::string> param_values(const httplib::Request& req, const char* n
   return values;
 }
 
+// The decoded name of every query parameter in the request target, in order, repeats included.
+std::vector<std::string> query_names(const httplib::Request& req) {
+  std::vector<std::string> names;
+  const std::size_t query = req.target.find('?');
+  if (query == std::string::npos) return names;
+  const std::string text = req.target.substr(query + 1, req.target.find('#') - query - 1);
+  httplib::detail::split(
+      text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
+        const std::string pair(begin, end);
+        names.push_back(httplib::detail::decode_url(pair.substr(0, pair.find('=')), true));
+      });
+  return names;
+}
+
+// The route's handler behind the one rule for query strings (api::check_query_names): a
+// parameter the route does not take is refused, never ignored.
+Handler with_query_rule(const api::Route& route, Handler handler) {
+  return
+      [&route, handler = std::move(handler)](const httplib::Request& req, const std::string& body) {
+        return guarded_reply([&] {
+          api::check_query_names(route, query_names(req));
+          return handler(req, body);
+        });
+      };
+}
+
 // The batch job routes (POST /v1/batches, GET and DELETE /v1/batches/{id}, the downloads).
 Handler job_handler_of(api::Operation operation, BatchJobs& jobs) {
   switch (operation) {
@@ -344,7 +399,8 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          std::to_string(jobs.active()) +
          "\n"
          "# HELP slosh_pool_tasks_started_total Solve tasks started by priority (interactive: "
-         "plans and searches of requests; background: items of batch jobs).\n"
+         "plans of requests and batches; background: items of batch jobs, min-time searches' "
+         "strategies, calibration fits).\n"
          "# TYPE slosh_pool_tasks_started_total counter\n"
          "slosh_pool_tasks_started_total{priority=\"interactive\"} " +
          std::to_string(pool.started(TaskPriority::kInteractive)) +
@@ -352,10 +408,40 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
          "slosh_pool_tasks_started_total{priority=\"background\"} " +
          std::to_string(pool.started(TaskPriority::kBackground)) +
          "\n"
-         "# HELP slosh_pool_background_queue_depth Batch job items waiting for a worker.\n"
+         "# HELP slosh_pool_background_queue_depth Background tasks waiting for a worker.\n"
          "# TYPE slosh_pool_background_queue_depth gauge\n"
          "slosh_pool_background_queue_depth " +
          std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
+}
+
+// Whether the client of `req` has closed its side of the connection: work nobody waits for is
+// stopped. Asked of the reaper at most every 100 ms (each answer lists the process's
+// descriptors); never true without the reaper.
+std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req) {
+  return [&rt, peer = peer_of(req), next = std::chrono::steady_clock::time_point{},
+          gone = false]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (!gone && rt.reaper && now >= next) {
+      gone = rt.reaper->closed_by_peer(peer);
+      next = now + std::chrono::milliseconds(100);
+    }
+    return gone;
+  };
+}
+
+// The solves stopped because their clients had gone, for /metrics.
+std::string cancelled_metrics(const PlanService& service, const CalibrationService& calibrations) {
+  return "# HELP slosh_solves_cancelled_total Solves stopped because every client waiting for "
+         "them had closed its connection (plans, min-time searches, calibration fits).\n"
+         "# TYPE slosh_solves_cancelled_total counter\n"
+         "slosh_solves_cancelled_total{kind=\"plan\"} " +
+         std::to_string(service.cancelled_plans()) +
+         "\n"
+         "slosh_solves_cancelled_total{kind=\"min_time\"} " +
+         std::to_string(service.cancelled_min_times()) +
+         "\n"
+         "slosh_solves_cancelled_total{kind=\"calibration\"} " +
+         std::to_string(calibrations.cancelled()) + "\n";
 }
 
 Handler handler_of(api::Operation operation, Runtime& rt) {
@@ -365,12 +451,12 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&service, &rt](const httplib::Request& req, const std::string& body) {
         return with_models(rt, body, [&](const std::string& resolved) {
           return service.post_plan(resolved, req.get_header_value("If-None-Match"),
-                                   view_values(req));
+                                   view_values(req), request_accepts_gzip, client_gone(rt, req));
         });
       };
     case api::Operation::kCreateCalibration:
-      return [&rt](const httplib::Request&, const std::string& body) {
-        return rt.calibrations->post_calibration(body);
+      return [&rt](const httplib::Request& req, const std::string& body) {
+        return rt.calibrations->post_calibration(body, client_gone(rt, req));
       };
     case api::Operation::kGetCalibration:
       return [&rt](const httplib::Request& req, const std::string&) {
@@ -396,13 +482,14 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
     case api::Operation::kMinTime:
       return [&service, &rt](const httplib::Request& req, const std::string& body) {
         return with_models(rt, body, [&](const std::string& resolved) {
-          return service.post_min_time(resolved, req.get_header_value("If-None-Match"));
+          return service.post_min_time(resolved, req.get_header_value("If-None-Match"),
+                                       client_gone(rt, req));
         });
       };
     case api::Operation::kGetPlan:
       return [&service](const httplib::Request& req, const std::string&) {
         return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"),
-                                view_values(req));
+                                view_values(req), request_accepts_gzip);
       };
     case api::Operation::kSimulate:
       return [&service, &rt](const httplib::Request&, const std::string& body) {
@@ -442,6 +529,7 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       return [&rt](const httplib::Request&, const std::string&) {
         Reply reply = rt.service.metrics_text();
         reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
+        reply.body += cancelled_metrics(rt.service, *rt.calibrations);
         return reply;
       };
     default:
@@ -475,33 +563,35 @@ void add_methods(Runtime& rt, const std::string& pattern, const std::vector<std:
   rt.endpoints.push_back({std::regex(pattern), methods, pattern});
 }
 
+// The reply of a routed request, whatever its method: sent, counted under its route, and the
+// route (and plan) kept for the access log and the latency histogram the logger writes.
+void answer(Runtime& rt, const std::string& label, Reply reply, httplib::Response& res) {
+  request_route = label;
+  request_plan = reply.plan;
+  const int status = reply.status;
+  send(std::move(reply), res);
+  rt.service.metrics().count_request(label, status);
+}
+
 // Every route of api::routes(): one metrics label per route (its path), exceptions become the
 // envelope, POST handlers read their bodies themselves (read_body).
 void register_routes(Runtime& rt) {
   for (const api::Route& route : api::routes()) {
     const std::string pattern = path_pattern(route.path);
     std::string label(route.path);
-    Handler handler = handler_of(route.operation, rt);
+    Handler handler = with_query_rule(route, handler_of(route.operation, rt));
     if (route.method == "DELETE") {
-      rt.server.Delete(pattern,
-                       [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                         Reply reply = guarded([&] { return handler(req, std::string()); });
-                         const int status = reply.status;
-                         send(std::move(reply), res);
-                         rt.service.metrics().count_request(label, status);
-                       });
+      rt.server.Delete(
+          pattern, [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
+            answer(rt, label, guarded([&] { return handler(req, std::string()); }), res);
+          });
       add_methods(rt, pattern, {"DELETE"});
       continue;
     }
     if (route.method == "GET") {
       rt.server.Get(pattern,
                     [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-                      Reply reply = guarded([&] { return handler(req, std::string()); });
-                      request_route = label;
-                      request_plan = reply.plan;
-                      const int status = reply.status;
-                      send(std::move(reply), res);
-                      rt.service.metrics().count_request(label, status);
+                      answer(rt, label, guarded([&] { return handler(req, std::string()); }), res);
                     });
       add_methods(rt, pattern, {"GET", "HEAD"});
       continue;
@@ -521,11 +611,7 @@ void register_routes(Runtime& rt) {
                          });
                          // The rest of a refused body is not read.
                          if (refused) res.set_header("Connection", "close");
-                         request_route = label;
-                         request_plan = reply.plan;
-                         const int status = reply.status;
-                         send(std::move(reply), res);
-                         rt.service.metrics().count_request(label, status);
+                         answer(rt, label, std::move(reply), res);
                        }));
     add_methods(rt, pattern, {"POST"});
   }
@@ -617,15 +703,36 @@ Reply thread_refusal_reply() {
   return reply;
 }
 
+// 404 for a path with a '/' sent as %2F (api::check_encoded_slashes); nullopt for any other. The
+// library decodes the path before routing: "/v1/plans/abc%2Fcam.csv" would reach abc's cam table.
+std::optional<Reply> encoded_slash_reply(const httplib::Request& req) {
+  try {
+    api::check_encoded_slashes(
+        req.method, std::string_view(req.target).substr(0, req.target.find_first_of("?#")));
+    return std::nullopt;
+  } catch (const api::ApiError& e) {
+    return reply_of(e);
+  }
+}
+
 // Request ids, the reaper's bookkeeping and one log line per request.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
+    // The service codes its bodies itself (send): the library must not compress them again.
+    request_accepts_gzip = accepts_gzip(req.get_header_value("Accept-Encoding"));
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
     res.set_header("X-Request-Id", request_id(req));
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
+    if (auto slashed = encoded_slash_reply(req)) {
+      send(std::move(*slashed), res);
+      res.set_header("Connection", "close");  // a body of the request is not read
+      rt.service.metrics().count_request("other", res.status);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (ConnectionPool::refusing()) {
       // This connection got no thread of its own (the system refused one): 503, and the client
       // is asked to close it.
@@ -656,6 +763,7 @@ void install_request_hooks(Runtime& rt) {
     request_start.reset();
     request_route.clear();
     request_plan.reset();
+    request_accepts_gzip = false;
     log_access(entry);
   });
 }

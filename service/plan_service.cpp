@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <exception>
+#include <functional>
 #include <future>
 #include <memory>
 #include <optional>
@@ -37,6 +38,15 @@ constexpr double kMinStallSeconds = 30.0;
 
 std::string etag(const std::string& key) {
   return "\"" + key + "\"";
+}
+
+// The ETag of a plan reply names the body: the same plan with series of another period, or in the
+// compact view, is another body. (The gzip coding of a body is the same representation: same tag.)
+std::string plan_etag(const std::string& key, api::PlanView view,
+                      const std::optional<double>& sample_period) {
+  return view == api::PlanView::kCompact ? etag(key + ";view=compact")
+         : sample_period                 ? etag(key + ";series=" + api::number_text(*sample_period))
+                                         : etag(key);
 }
 
 // Whether an If-None-Match header names `tag`: "*", or a list of tags compared weakly (RFC 9110
@@ -110,6 +120,41 @@ void add_redis_state(api::ReadyReport& report, RedisClient& redis, bool required
   if (required) unready = true;
 }
 
+/// How often a request waiting for its solve checks whether its client is still there.
+constexpr auto kClientPoll = std::chrono::milliseconds(100);
+
+// Nobody waits for the solve any more (its reply is for a connection that is gone).
+api::ApiError cancelled_error() {
+  return api::ApiError(api::ErrorCode::kCancelled, "",
+                       "not solved: every client waiting for it closed the connection");
+}
+
+// Waits for `future` until `until`, checking every kClientPoll whether the client went away.
+enum class WaitEnd { kReady, kGone, kTimeout };
+template <typename Future>
+WaitEnd wait_for_client(const Future& future, std::chrono::steady_clock::time_point until,
+                        const std::function<bool()>& abandoned) {
+  for (;;) {
+    const auto now = std::chrono::steady_clock::now();
+    if (now >= until) {
+      return future.wait_for(std::chrono::seconds(0)) == std::future_status::ready
+                 ? WaitEnd::kReady
+                 : WaitEnd::kTimeout;
+    }
+    const auto slice = abandoned
+                           ? std::min<std::chrono::steady_clock::duration>(kClientPoll, until - now)
+                           : until - now;
+    if (future.wait_for(slice) == std::future_status::ready) return WaitEnd::kReady;
+    if (abandoned && abandoned()) return WaitEnd::kGone;
+  }
+}
+
+std::chrono::steady_clock::time_point after(double seconds) {
+  return std::chrono::steady_clock::now() +
+         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+             std::chrono::duration<double>(seconds));
+}
+
 double seconds_since(std::chrono::steady_clock::time_point started) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count();
 }
@@ -121,6 +166,9 @@ PlanService::PlanService(const ServerConfig& config)
       redis_(make_redis(config)),
       cache_(cache_config(config, redis_, CacheTable::kPlans)),
       min_time_cache_(cache_config(config, redis_, CacheTable::kMinTime)),
+      // A plan's views are about a quarter of its stored body: a quarter of the memory tier's
+      // bytes keeps those of as many plans.
+      rendered_(config.cache_entries, config.cache_memory_bytes / 4),
       export_budget_(config.cam_export_bytes),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
@@ -155,12 +203,7 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
                               const std::optional<api::PlanRequest>& request,
                               std::optional<double> sample_period, api::PlanView view) const {
   Reply r;
-  // The ETag names the body: the same plan with series of another period, or in the compact view,
-  // is another body.
-  const std::string tag = view == api::PlanView::kCompact ? etag(key + ";view=compact")
-                          : sample_period
-                              ? etag(key + ";series=" + api::number_text(*sample_period))
-                              : etag(key);
+  const std::string tag = plan_etag(key, view, sample_period);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", cached ? "hit" : "miss");
   r.plan = plan_facts_of(key, body, cached);
@@ -172,12 +215,102 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
   return r;
 }
 
-std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& key,
-                                                            const api::PlanRequest& request,
-                                                            bool wait_for_room, bool* refused,
-                                                            TaskPriority priority) {
+std::optional<Reply> PlanService::rendered_reply(const std::string& key, const RenderedPlan& views,
+                                                 const std::string& if_none_match,
+                                                 api::PlanView view, bool gzip) const {
+  const bool compact = view == api::PlanView::kCompact;
+  if (!compact && !gzip) return std::nullopt;
+  Reply r;
+  const std::string tag = plan_etag(key, view, std::nullopt);
+  r.headers.emplace_back("ETag", tag);
+  r.headers.emplace_back("X-Cache", "hit");
+  r.plan = views.facts;
+  if (etag_matches(if_none_match, tag)) {
+    r.status = 304;
+    return r;
+  }
+  const std::string& coded = compact ? views.compact_gzip : views.full_gzip;
+  if (gzip && !coded.empty()) {
+    r.body = coded;
+    r.content_encoding = "gzip";
+  } else {
+    r.body = views.compact;
+  }
+  return r;
+}
+
+std::optional<std::string> PlanService::remembered_key(const std::string& text) {
+  if (text.size() > kRequestKeyTextBytes) return std::nullopt;
+  const std::lock_guard lock(request_keys_mutex_);
+  const auto it = request_keys_.find(text);
+  if (it == request_keys_.end()) return std::nullopt;
+  return it->second;
+}
+
+void PlanService::remember_key(const std::string& text, const std::string& key) {
+  if (text.size() > kRequestKeyTextBytes) return;
+  const std::lock_guard lock(request_keys_mutex_);
+  if (request_keys_.size() >= kRequestKeys) request_keys_.clear();
+  request_keys_.emplace(text, key);
+}
+
+std::optional<Reply> PlanService::cached_plan_reply(const std::string& key,
+                                                    const std::string& if_none_match,
+                                                    api::PlanView view, bool gzip) {
+  // The compact view and gzip bytes of a hit come rendered from memory: no copy or parse of the
+  // stored plan.
+  const bool rendered = view == api::PlanView::kCompact || gzip;
+  if (rendered) {
+    if (auto views = rendered_.get(key)) {
+      metrics_.count_cache_hit(CacheLevel::kMemory);
+      return rendered_reply(key, *views, if_none_match, view, gzip);
+    }
+  }
+  CacheLevel level{};
+  auto hit = cache_.get(key, &level);
+  if (!hit) return std::nullopt;
+  metrics_.count_cache_hit(level);
+  if (rendered) return rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip);
+  return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view);
+}
+
+std::shared_ptr<const RenderedPlan> PlanService::views_of(const std::string& key,
+                                                          const std::string& stored) {
+  if (auto views = rendered_.get(key)) return views;
+  auto views = render_cached_plan(key, stored);
+  rendered_.put(key, views);
+  return views;
+}
+
+void PlanService::join_locked(FlightWaiters& waiters, bool cancellable) {
+  if (cancellable) {
+    ++waiters.waiters;
+  } else {
+    waiters.pinned = true;
+  }
+}
+
+bool PlanService::leave_flight(std::unordered_map<std::string, Flight>& flights,
+                               const std::string& key,
+                               const std::shared_ptr<FlightWaiters>& waiters, bool gone) {
+  if (!waiters) return false;
+  const std::lock_guard lock(inflight_mutex_);
+  --waiters->waiters;
+  if (!gone || waiters->waiters > 0 || waiters->pinned) return false;
+  // Only a flight still running (in the map) is stopped: a finished one has forgotten itself.
+  const auto it = flights.find(key);
+  if (it == flights.end() || it->second.waiters != waiters) return false;
+  waiters->stop = true;
+  flights.erase(it);  // a new request for the key starts afresh, never joins a stopped solve
+  return true;
+}
+
+std::shared_future<PlanService::Outcome> PlanService::solve(
+    const std::string& key, const api::PlanRequest& request, bool wait_for_room, bool* refused,
+    TaskPriority priority, std::shared_ptr<FlightWaiters>* waiter) {
   *refused = false;
   auto promise = std::make_shared<std::promise<Outcome>>();
+  auto waiters = std::make_shared<FlightWaiters>();
   std::shared_future<Outcome> future = promise->get_future().share();
   const double budget = request.options.time_limit;
   std::uint64_t flight = 0;
@@ -188,6 +321,8 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
     std::lock_guard lock(inflight_mutex_);
     if (auto it = inflight_.find(key); it != inflight_.end() && it->second.budget >= budget) {
       metrics_.count_singleflight_join();
+      join_locked(*it->second.waiters, waiter != nullptr);
+      if (waiter != nullptr) *waiter = it->second.waiters;
       return it->second.future;
     }
     if (!ready_) {
@@ -195,19 +330,27 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       return {};
     }
     flight = ++flights_;
-    inflight_[key] = Flight{future, budget, flight};
+    join_locked(*waiters, waiter != nullptr);
+    inflight_[key] = Flight{future, budget, flight, waiters};
   }
+  if (waiter != nullptr) *waiter = waiters;
+  // The solve stops (between its starts) once nobody waits for it: see leave_flight.
+  api::PlanRequest solving = request;
+  solving.options.stop = &waiters->stop;
   auto forget = [this, key, flight] { forget_flight(inflight_, key, flight); };
   metrics_.count_cache_miss();
-  auto task = [this, key, request, promise, forget] {
+  auto task = [this, key, request = std::move(solving), promise, forget, priority, waiters] {
     Outcome outcome;
+    bool stored = false;
     const auto started = std::chrono::steady_clock::now();
     if (!ready_) {
       // Shutting down: what is still queued is answered at once, only running solves finish.
       outcome.error = overloaded_error();
+    } else if (waiters->stop) {
+      outcome.error = cancelled_error();  // its clients left while it was queued
     } else {
       try {
-        solve_once_across_replicas(key, request, outcome, started);
+        stored = solve_once_across_replicas(key, request, outcome, started);
       } catch (const api::ApiError& e) {
         outcome.error = e;
       } catch (const std::exception& e) {
@@ -218,7 +361,19 @@ std::shared_future<PlanService::Outcome> PlanService::solve(const std::string& k
       }
     }
     forget();
+    // A client that asked for a plan interactively is likely to ask again (and for its compact
+    // view): its views are rendered now, after the answer is out. A batch's plans render at
+    // their first hit that needs them.
+    const std::string body =
+        stored && priority == TaskPriority::kInteractive ? outcome.body : std::string();
     promise->set_value(std::move(outcome));
+    if (!body.empty()) {
+      try {
+        rendered_.put(key, render_cached_plan(key, body));
+      } catch (const std::exception&) {
+        // The hit that needs the views renders them again (and answers the error then).
+      }
+    }
   };
   const bool queued =
       wait_for_room ? pool_.submit_wait(task, priority) : pool_.try_submit(task, priority);
@@ -251,26 +406,44 @@ Reply PlanService::overloaded_reply() const {
 }
 
 Reply PlanService::post_plan(const std::string& text, const std::string& if_none_match,
-                             const std::vector<std::string>& view_query) {
+                             const std::vector<std::string>& view_query, bool gzip,
+                             const std::function<bool()>& abandoned) {
   return guarded_reply([&] {
     const api::PlanView view = api::parse_view_query(view_query);
+    // A request text seen before (without series) needs no parsing to be answered from the cache.
+    if (auto key = remembered_key(text)) {
+      if (auto reply = cached_plan_reply(*key, if_none_match, view, gzip)) {
+        return counted(std::move(*reply));
+      }
+    }
     api::PlanRequest request = api::parse_plan_text(text, config_.solve_budget_s);
     api::require_no_series(view, request.sample_period);
     const std::string key = api::recipe_key(request);
     // The plan is cached per recipe; the series are rendered per request (they are not part of
     // the recipe, and a cached plan must answer whatever period this request asks for).
     const std::optional<double> sample_period = std::exchange(request.sample_period, std::nullopt);
-    CacheLevel level{};
-    if (auto hit = cache_.get(key, &level)) {
-      metrics_.count_cache_hit(level);
-      return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
+    if (!sample_period) {
+      if (auto reply = cached_plan_reply(key, if_none_match, view, gzip)) {
+        remember_key(text, key);
+        return counted(std::move(*reply));
+      }
+    } else {
+      CacheLevel level{};
+      if (auto hit = cache_.get(key, &level)) {
+        metrics_.count_cache_hit(level);
+        return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
+      }
     }
     bool refused = false;
-    auto future = solve(key, request, false, &refused);
+    std::shared_ptr<FlightWaiters> waiters;
+    auto future = solve(key, request, false, &refused, TaskPriority::kInteractive,
+                        abandoned ? &waiters : nullptr);
     if (refused) return overloaded_reply();
-    const auto wait =
-        std::chrono::duration<double>(request.options.time_limit + config_.queue_wait_s);
-    if (future.wait_for(wait) != std::future_status::ready) {
+    const WaitEnd end = wait_for_client(
+        future, after(request.options.time_limit + config_.queue_wait_s), abandoned);
+    if (leave_flight(inflight_, key, waiters, end == WaitEnd::kGone)) ++cancelled_plans_;
+    if (end == WaitEnd::kGone) return reply_of(cancelled_error());
+    if (end == WaitEnd::kTimeout) {
       return error_reply(api::ErrorCode::kTimeout,
                          "the plan did not finish within its budget of " +
                              api::number_text(request.options.time_limit) + " s plus " +
@@ -297,7 +470,13 @@ struct PlanService::MinTimeSearch {
   // A task was still queued when shutdown began: the search answers 503, as queued plan solves do.
   std::atomic<bool> shut_down{false};
   std::promise<Outcome> promise;
+  // Who waits; its stop flag ends every strategy's search between two plans.
+  std::shared_ptr<FlightWaiters> waiters{std::make_shared<FlightWaiters>()};
 };
+
+void PlanService::leave_min_time(const PendingMinTime& pending, bool gone) {
+  if (leave_flight(min_time_inflight_, pending.key, pending.waiters, gone)) ++cancelled_min_times_;
+}
 
 void PlanService::forget_flight(std::unordered_map<std::string, Flight>& flights,
                                 const std::string& key, std::uint64_t id) {
@@ -305,7 +484,8 @@ void PlanService::forget_flight(std::unordered_map<std::string, Flight>& flights
   if (auto it = flights.find(key); it != flights.end() && it->second.id == id) flights.erase(it);
 }
 
-PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, bool wait_for_room) {
+PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, bool wait_for_room,
+                                           bool cancellable) {
   PendingMinTime pending;
   pending.key = api::min_time_key(request);
   CacheLevel level{};
@@ -325,11 +505,16 @@ PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, b
         it != min_time_inflight_.end() && it->second.budget >= budget) {
       metrics_.count_min_time_join();
       pending.search = it->second.future;
+      join_locked(*it->second.waiters, cancellable);
+      if (cancellable) pending.waiters = it->second.waiters;
       return pending;
     }
     if (ready_) {
       search->flight = ++flights_;
-      min_time_inflight_[pending.key] = Flight{pending.search, budget, search->flight};
+      join_locked(*search->waiters, cancellable);
+      min_time_inflight_[pending.key] =
+          Flight{pending.search, budget, search->flight, search->waiters};
+      if (cancellable) pending.waiters = search->waiters;
     }
   }
   if (search->flight == 0) {  // shutting down
@@ -343,6 +528,7 @@ PendingMinTime PlanService::start_min_time(const api::MinTimeRequest& request, b
     metrics_.count_cache_hit(level);
     pending.cached = std::move(hit);
     pending.search = {};
+    pending.waiters.reset();
     return pending;
   }
   search->request = request;
@@ -357,8 +543,11 @@ void PlanService::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& sea
   const std::size_t n = search->results.size();
   search->remaining = n + 1;
   for (std::size_t i = 0; i < n; ++i) {
+    // Background priority: a search is up to a second of work per strategy, and the plans an HMI
+    // waits for go ahead of its queued strategies (as batch jobs' items).
     auto task = [this, search, i] { run_min_time_task(search, i); };
-    const bool queued = wait_for_room ? pool_.submit_wait(task) : pool_.try_submit(task);
+    const bool queued = wait_for_room ? pool_.submit_wait(task, TaskPriority::kBackground)
+                                      : pool_.try_submit(task, TaskPriority::kBackground);
     if (!queued) {
       // Whoever joined this search gets the refusal too (never a future that hangs), and a new
       // request starts afresh; the i tasks already queued skip their strategy.
@@ -383,9 +572,14 @@ void PlanService::run_min_time_task(const std::shared_ptr<MinTimeSearch>& search
     if (!ready_) {
       // Shutting down: what is still queued is answered at once, only running searches finish.
       search->shut_down = true;
+    } else if (search->waiters->stop) {
+      slot.status = SolveStatus::kTimeLimit;  // nobody waits: not searched (and not cached)
+      slot.message = "not searched: every client waiting for it closed the connection";
     } else {
       try {
-        slot = min_time(request.format, request.strategies[i], request.options);
+        MinTimeOptions options = request.options;
+        options.plan.stop = &search->waiters->stop;
+        slot = min_time(request.format, request.strategies[i], options);
       } catch (...) {
         slot = MinTimeResult{};
         slot.strategy = request.strategies[i];
@@ -405,6 +599,7 @@ void PlanService::finish_min_time(MinTimeSearch& search) {
   Outcome outcome;
   try {
     if (search.shut_down) throw overloaded_error();
+    if (search.waiters->stop) throw cancelled_error();
     api::check_min_time_inputs(search.request, search.results);
     outcome.body = api::stored_min_time(search.request, search.results, search.key);
     // Cached before the flight is forgotten: a new request finds one or the other.
@@ -421,15 +616,18 @@ void PlanService::finish_min_time(MinTimeSearch& search) {
   search.promise.set_value(std::move(outcome));
 }
 
-Reply PlanService::post_min_time(const std::string& text, const std::string& if_none_match) {
+Reply PlanService::post_min_time(const std::string& text, const std::string& if_none_match,
+                                 const std::function<bool()>& abandoned) {
   return guarded_reply([&] {
     const api::MinTimeRequest request =
         api::parse_min_time_request(api::parse_json_body(text), config_.solve_budget_s);
-    const PendingMinTime pending = start_min_time(request, false);
+    const PendingMinTime pending = start_min_time(request, false, static_cast<bool>(abandoned));
     if (pending.cached) return min_time_reply(pending.key, *pending.cached, true, if_none_match);
-    const auto wait =
-        std::chrono::duration<double>(request.options.plan.time_limit + config_.queue_wait_s);
-    if (pending.search.wait_for(wait) != std::future_status::ready) {
+    const WaitEnd end = wait_for_client(
+        pending.search, after(request.options.plan.time_limit + config_.queue_wait_s), abandoned);
+    leave_min_time(pending, end == WaitEnd::kGone);
+    if (end == WaitEnd::kGone) return reply_of(cancelled_error());
+    if (end == WaitEnd::kTimeout) {
       return error_reply(api::ErrorCode::kTimeout,
                          "the min-time search did not finish within its budget of " +
                              api::number_text(request.options.plan.time_limit) + " s plus " +
@@ -443,7 +641,7 @@ Reply PlanService::post_min_time(const std::string& text, const std::string& if_
 }
 
 Reply PlanService::get_plan(const std::string& key, const std::string& if_none_match,
-                            const std::vector<std::string>& view_query) {
+                            const std::vector<std::string>& view_query, bool gzip) {
   return guarded_reply([&] {
     if (key == "batch") {  // the path of POST /v1/plans/batch, not a key
       Reply r = error_reply(api::ErrorCode::kMethodNotAllowed,
@@ -452,10 +650,8 @@ Reply PlanService::get_plan(const std::string& key, const std::string& if_none_m
       return r;
     }
     const api::PlanView view = api::parse_view_query(view_query);
-    CacheLevel level{};
-    if (auto hit = cache_.get(key, &level)) {
-      metrics_.count_cache_hit(level);
-      return counted(plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view));
+    if (auto reply = cached_plan_reply(key, if_none_match, view, gzip)) {
+      return counted(std::move(*reply));
     }
     return error_reply(
         api::ErrorCode::kNotFound,
@@ -755,7 +951,7 @@ Reply PlanService::metrics_text() const {
   return r;
 }
 
-void PlanService::solve_once_across_replicas(const std::string& key,
+bool PlanService::solve_once_across_replicas(const std::string& key,
                                              const api::PlanRequest& request, Outcome& outcome,
                                              std::chrono::steady_clock::time_point started) {
   RedisCache* shared = cache_.shared();
@@ -769,12 +965,16 @@ void PlanService::solve_once_across_replicas(const std::string& key,
       metrics_.count_singleflight_join();  // another replica's solve answered
       cache_.put_local(key, *body);
       outcome.body = std::move(*body);
-      return;
+      return true;
     }
   }
+  bool stored = false;
   try {
     api::StoredPlan plan = api::solve_for_storing(request);
-    if (api::is_cacheable(plan.status)) cache_.put(key, plan.body);
+    // A solve stopped because nobody waits is cut short: never kept, whatever its status says.
+    const bool stopped = request.options.stop != nullptr && request.options.stop->load();
+    stored = api::is_cacheable(plan.status) && !stopped;
+    if (stored) cache_.put(key, plan.body);
     outcome.body = std::move(plan.body);
   } catch (...) {
     metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
@@ -783,6 +983,7 @@ void PlanService::solve_once_across_replicas(const std::string& key,
   }
   metrics_.observe_solve(to_string(request.strategy), seconds_since(started));
   if (shared != nullptr) shared->unlock(key, token);
+  return stored;
 }
 
 std::string PlanService::cache_description() const {

@@ -21,6 +21,7 @@
 #include "plan_cache.hpp"
 #include "plan_facts.hpp"
 #include "redis_client.hpp"
+#include "rendered_plans.hpp"
 #include "server_config.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
@@ -35,6 +36,9 @@ struct Reply {
   int status{200};
   std::string body;
   std::string content_type{"application/json"};
+  /// "gzip" when `body` is already gzip-coded (a cached plan's stored coding); empty: `body` is
+  /// the identity coding (the HTTP layer may compress it for a client that accepts gzip).
+  std::string content_encoding;
   std::vector<std::pair<std::string, std::string>> headers;
   /// Kept alive until the body has been written to the client (a cam export's reservation of
   /// the export budget); empty for most replies.
@@ -50,6 +54,16 @@ struct SolveOutcome {
   std::optional<api::ApiError> error;
 };
 
+/// Who waits for a running solve or search (one per flight): a flight that only clients wait for
+/// (each of whom may hang up) is stopped when the last of them has gone; one that any batch item
+/// waits for (pinned) runs to its end.
+struct FlightWaiters {
+  /// Read by the solve (PlanOptions::stop): set once nobody waits any more.
+  std::atomic<bool> stop{false};
+  int waiters{0};      ///< clients waiting (under the service's flight lock)
+  bool pinned{false};  ///< a waiter that cannot hang up joined (under the flight lock)
+};
+
 /// A min-time request on its way (PlanService::start_min_time): answered from the cache at once,
 /// or the future of its search (a new one, or the running search of the same key it joined).
 struct PendingMinTime {
@@ -58,6 +72,8 @@ struct PendingMinTime {
   std::optional<std::string> cached;
   /// The search's outcome otherwise; already ready with a 503 error when it could not be queued.
   std::shared_future<SolveOutcome> search;
+  /// The waiters of the search this request waits for, when it was started `cancellable`.
+  std::shared_ptr<FlightWaiters> waiters;
 };
 
 /// One item of a batch: a rendered plan, or the error of the item (field paths relative to the
@@ -124,10 +140,15 @@ class PlanService {
 
   /// `view`: the values of the request's `view` query parameter (api::parse_view_query; none =
   /// the full plan). The view changes neither the key nor the cache entry, only the reply.
+  /// `gzip`: the client accepts the gzip coding; a cache hit then answers the plan's stored gzip
+  /// bytes (Reply::content_encoding), compressed once when the plan was rendered.
+  /// `abandoned` (optional) tells whether the client has gone away: its solve is stopped then,
+  /// unless another request still waits for it.
   Reply post_plan(const std::string& body, const std::string& if_none_match,
-                  const std::vector<std::string>& view = {});
+                  const std::vector<std::string>& view = {}, bool gzip = false,
+                  const std::function<bool()>& abandoned = {});
   Reply get_plan(const std::string& key, const std::string& if_none_match,
-                 const std::vector<std::string>& view = {});
+                 const std::vector<std::string>& view = {}, bool gzip = false);
   /// `abandoned` (optional) tells whether the client has gone away: no further solves are queued
   /// for it then. `view`: the query's view values (api::batch_view, with the body's "view").
   Reply post_batch(const std::string& body, const std::function<bool()>& abandoned = {},
@@ -153,13 +174,24 @@ class PlanService {
   /// Answers are cached per request key (memory, and the store's min_times table) when every
   /// search ended optimal or infeasible. Identical concurrent requests share one search (see
   /// start_min_time); those that waited for another's search answer as it did (cached: false).
-  Reply post_min_time(const std::string& body, const std::string& if_none_match);
+  /// `abandoned` (optional): as for post_plan, the search stops when its last client has gone.
+  Reply post_min_time(const std::string& body, const std::string& if_none_match,
+                      const std::function<bool()>& abandoned = {});
   /// Starts a validated min-time request: the cached answer, or the running search of the same
   /// key (single flight, when that search has at least this request's budget), or a new search
   /// of one pool task per strategy (`wait_for_room`: wait for queue slots instead of refusing
   /// with 503). The last task to finish assembles, caches and publishes the answer, so nobody
   /// waits on a worker and no lock is held while searching or queueing.
-  PendingMinTime start_min_time(const api::MinTimeRequest& request, bool wait_for_room);
+  /// `cancellable`: the caller may hang up (PendingMinTime::waiters; call leave_min_time when it
+  /// stops waiting); otherwise the search runs to its end whoever else leaves.
+  PendingMinTime start_min_time(const api::MinTimeRequest& request, bool wait_for_room,
+                                bool cancellable = false);
+  /// The caller of a cancellable start_min_time stops waiting; `gone`: its client hung up (the
+  /// search stops when nobody else waits for it).
+  void leave_min_time(const PendingMinTime& pending, bool gone);
+  /// Solves and searches stopped because every client waiting for them had gone.
+  [[nodiscard]] std::uint64_t cancelled_plans() const { return cancelled_plans_; }
+  [[nodiscard]] std::uint64_t cancelled_min_times() const { return cancelled_min_times_; }
   Reply fluids() const;
   /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
   /// `if_none_match` names the ETag, 404 for an unknown name.
@@ -203,18 +235,44 @@ class PlanService {
     std::shared_future<Outcome> future;
     double budget{};
     std::uint64_t id{};
+    std::shared_ptr<FlightWaiters> waiters;
   };
   // The rendered plan of `key`: from a running solve of the same recipe, or a new solve queued
-  // on the pool (`wait_for_room`: block for a queue slot instead of answering 503).
+  // on the pool (`wait_for_room`: block for a queue slot instead of answering 503). `waiter`
+  // (optional): the caller may hang up; receives the flight's waiters (see leave_flight).
+  // Without it the flight is pinned (runs to its end).
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
                                     bool wait_for_room, bool* refused,
-                                    TaskPriority priority = TaskPriority::kInteractive);
+                                    TaskPriority priority = TaskPriority::kInteractive,
+                                    std::shared_ptr<FlightWaiters>* waiter = nullptr);
+  // Joins `waiters` (under inflight_mutex_): counted when `cancellable`, else pinned.
+  static void join_locked(FlightWaiters& waiters, bool cancellable);
+  // A waiter of the flight `waiters` of `key` in `flights` stops waiting; when its client is
+  // `gone` and nobody else waits (and no batch pinned it), the flight is stopped and forgotten
+  // (a new request starts afresh). True when this stopped it.
+  bool leave_flight(std::unordered_map<std::string, Flight>& flights, const std::string& key,
+                    const std::shared_ptr<FlightWaiters>& waiters, bool gone);
   // The reply of a rendered plan: 304 when `if_none_match` names it, the series of
   // `sample_period` added when set, in `view`.
   Reply plan_reply(const std::string& key, const std::string& body, bool cached,
                    const std::string& if_none_match, const std::optional<api::PlanRequest>& request,
                    std::optional<double> sample_period,
                    api::PlanView view = api::PlanView::kFull) const;
+  // The reply of a cache hit of `key` from its rendered views, when they answer it (the compact
+  // view, or the full plan in gzip for a client that accepts it); nullopt for the plain full plan.
+  std::optional<Reply> rendered_reply(const std::string& key, const RenderedPlan& views,
+                                      const std::string& if_none_match, api::PlanView view,
+                                      bool gzip) const;
+  // The recipe key remembered for the request text `text`; nullopt when not remembered.
+  std::optional<std::string> remembered_key(const std::string& text);
+  void remember_key(const std::string& text, const std::string& key);
+  // The reply of a hit of `key` in `view` (gzip-coded when `gzip`) when the plan is cached;
+  // nullopt otherwise. Counts the hit.
+  std::optional<Reply> cached_plan_reply(const std::string& key, const std::string& if_none_match,
+                                         api::PlanView view, bool gzip);
+  // The rendered views of the cached plan `key` whose stored body is `stored`: from memory, else
+  // rendered now and kept.
+  std::shared_ptr<const RenderedPlan> views_of(const std::string& key, const std::string& stored);
   // 503 with Retry-After: the queue is full, or the service is shutting down.
   api::ApiError overloaded_error() const;
   struct MinTimeSearch;
@@ -233,8 +291,8 @@ class PlanService {
   Reply counted(Reply reply);
   // Solves `request` into `outcome` and caches it, unless another replica sharing the Redis is
   // solving the same key: then waits for its answer (RedisCache::lock_or_wait). Records the solve
-  // time since `started`. Throws what the solve throws.
-  void solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
+  // time since `started`. True when the answer is in the cache now. Throws what the solve throws.
+  bool solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
                                   Outcome& outcome, std::chrono::steady_clock::time_point started);
   // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
   // Retry-After) when the exports in flight leave too little.
@@ -249,11 +307,24 @@ class PlanService {
   PlanCache cache_;
   // Min-time answers by request key: the same store file, its own table (min_times).
   PlanCache min_time_cache_;
+  // The compact view and gzip bytes of cached plans (see RenderedPlans): rendered after an
+  // interactive solve, or at the first hit that needs them.
+  RenderedPlans rendered_;
+  // The recipe key of each plan request text (without series) seen lately: a repeated request
+  // skips parsing, validation and hashing. A request's key is a pure function of its text (model
+  // names are resolved into the text before, the service's settings do not change), so an entry
+  // is never stale. Emptied whole when it reaches kRequestKeys entries.
+  static constexpr std::size_t kRequestKeys{4096};
+  static constexpr std::size_t kRequestKeyTextBytes{4096};  // longer texts are not remembered
+  std::mutex request_keys_mutex_;
+  std::unordered_map<std::string, std::string> request_keys_;
   // Guards both maps and the counter; held only to look up, add or remove an entry.
   std::mutex inflight_mutex_;
   std::unordered_map<std::string, Flight> inflight_;
   std::unordered_map<std::string, Flight> min_time_inflight_;
   std::uint64_t flights_{0};
+  std::atomic<std::uint64_t> cancelled_plans_{0};
+  std::atomic<std::uint64_t> cancelled_min_times_{0};
   std::atomic<bool> ready_{true};
   // Memory of the cam exports in flight (config cam_export_bytes).
   ExportBudget export_budget_;

@@ -785,8 +785,11 @@ TEST_F(CamRoutes, QueryErrorsAre422NamingTheParameter) {
   EXPECT_EQ(bounded->status, 200);
   // 199 997 grid points, master_start, master_end and master_period, and the header.
   EXPECT_EQ(std::count(bounded->body.begin(), bounded->body.end(), '\n'), 200000 + 1);
+  // The one rule for query parameters: st_name is not one of cam.csv's, and cam.st takes it.
   expect_error("cam.csv?st_name=CAM", "st_name",
-               "st_name applies to the structured-text format only");
+               "st_name is not a query parameter of GET /v1/plans/{key}/cam.csv (GET "
+               "/v1/plans/{key}/cam.st takes it); allowed here: period_ms, master_period, "
+               "master_start, master_end, master_step, allow_infeasible");
   expect_error("cam.st?st_name=TYPE", "st_name",
                "st_name = TYPE is reserved: TYPE is an IEC 61131-3 keyword (identifiers are not "
                "case-sensitive)");

@@ -248,5 +248,39 @@ TEST(ChooseAuto, TiesGoToTheLowerPeakAccelerationAndWorseCandidatesWait) {
   EXPECT_EQ(none.index, 0u);
 }
 
+// Each candidate that lost says why, in the order the rule excludes, with the deciding figures.
+TEST(ChooseAuto, SaysWhyEachOtherCandidateLost) {
+  std::vector<PlanCandidate> c{
+      candidate(SolveStatus::kOptimal, 0.010, 0.004, 4.0),
+      candidate(SolveStatus::kOptimal, 0.0050, 0.0020, 5.0),
+      candidate(SolveStatus::kOptimal, 0.0052, 0.0010, 6.0),
+      candidate(SolveStatus::kOptimal, 0.0051, 0.0010 * (1.0 + 1e-9), 6.5),
+      candidate(SolveStatus::kInfeasible, 0.001, 0.0, 1.0),
+      candidate(SolveStatus::kOptimal, 0.0049, 0.0001, 1.0),
+  };
+  const Strategy names[] = {Strategy::kBaseline,   Strategy::kNotch,    Strategy::kMultiNotch,
+                            Strategy::kTimeDomain, Strategy::kFirChain, Strategy::kShaper};
+  for (std::size_t k = 0; k < c.size(); ++k) c[k].strategy = names[k];
+  const AutoChoice choice = choose_auto(c, {false, false, false, false, false, true});
+  ASSERT_EQ(choice.index, 2u);
+  const std::vector<CandidateLoss> lost{CandidateLoss::kMotionAboveBest,
+                                        CandidateLoss::kHigherRest,
+                                        CandidateLoss::kNone,
+                                        CandidateLoss::kTieOnRest,
+                                        CandidateLoss::kNotUsable,
+                                        CandidateLoss::kWorseThanBaseline};
+  EXPECT_EQ(choice.lost, lost);
+  const std::vector<std::string> detail{
+      "eta_motion 10 mm is more than 5 % above the best 5 mm",
+      "eta_rest 2 mm vs 1 mm of the chosen multi_notch",
+      "",
+      "eta_rest 1 mm ties with the chosen multi_notch and its peak acceleration 6.5 m/s^2 is not "
+      "below 6 m/s^2",
+      "status infeasible: only optimal, acceptable and time_limit candidates compete",
+      "worse than the uniform law (its worse_than_baseline warning) while a candidate that is not "
+      "competes"};
+  EXPECT_EQ(choice.lost_detail, detail);
+}
+
 }  // namespace
 }  // namespace slosh

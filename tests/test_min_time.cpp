@@ -289,6 +289,25 @@ TEST(MinTime, SummaryNamesTheWinnerAndTheGainOverTheUniformLaw) {
   EXPECT_NEAR(*s.gain_cycles_per_min, 75.0 - 50.0, 1e-12);
 }
 
+// SPEC §8/§9: a search costs at most 30 plan solves per strategy on the thesis container (the
+// result's own count of plan() calls, so the bound holds whatever the machine's speed), and every
+// planned T is on the curve (no plan is solved for nothing: a repeated plan is a fresh start
+// after a warm start that missed its constraints, at most one per T).
+TEST(MinTime, EachStrategySearchesTheThesisContainerInAtMostThirtyPlans) {
+  const Format f = thesis_container();
+  const MinTimeOptions o = issue_options();
+  for (Strategy s :
+       {Strategy::kBaseline, Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand,
+        Strategy::kTimeDomain, Strategy::kFirChain, Strategy::kShaper}) {
+    SCOPED_TRACE(to_string(s));
+    const MinTimeResult r = min_time(f, s, o);
+    ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+    EXPECT_LE(r.plans, 30);
+    EXPECT_GE(r.plans, static_cast<int>(r.curve.size()));
+    EXPECT_LE(r.plans, 2 * static_cast<int>(r.curve.size()));
+  }
+}
+
 }  // namespace
 }  // namespace slosh
 

@@ -13,6 +13,7 @@
 #include <complex>
 #include <limits>
 #include <ostream>
+#include <random>
 #include <string>
 #include <tuple>
 #include <vector>
@@ -25,6 +26,7 @@
 #include "slosh/core/solve/nlp_solver.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "support/law_quadrature.hpp"
+#include "support/random_format.hpp"
 #include "support/reference_integrators.hpp"
 #include "support/reference_optimum.hpp"
 
@@ -753,6 +755,55 @@ TEST(Planner, ExhaustedTimeBudgetReturnsTheBestAdmissiblePoint) {
   EXPECT_TRUE(Contains(r.message, "time budget"));
   expect_admissible(r, f);
   EXPECT_LT(elapsed, 1.0);
+}
+
+// The uniform law is simulated once per plan and shared (the baseline comparison, auto's baseline
+// candidate, plan(baseline)'s own prediction): every copy must equal a simulation of that law
+// made here, to the last bit; and a baseline that is not the uniform law (min_ramp above T/7)
+// must get its own law's figures, not the uniform law's.
+TEST(Planner, TheSharedUniformPredictionIsTheUniformLawsOwnToTheLastBit) {
+  std::mt19937 rng(20261126);
+  std::vector<Format> formats{thesis_format()};
+  for (int k = 0; k < 2; ++k) formats.push_back(test::random_format(rng));
+  for (const Format& f : formats) {
+    SCOPED_TRACE("R = " + std::to_string(f.container.radius) +
+                 ", T = " + std::to_string(f.motion_time));
+    PlanOptions o;
+    o.robustness = false;
+    const SloshingModel model = make_sloshing_model(f, o.model);
+    auto expect_simulated = [&](const LawPrediction& p, const MotionLaw& law) {
+      const SloshPeaks lin = LinearResponse(model, law, o.rest_time).peaks();
+      const SloshPeaks nl = NonlinearResponse(model, law, o.rest_time).peaks();
+      EXPECT_EQ(p.linear.motion.value, lin.motion.value);
+      EXPECT_EQ(p.linear.motion.time, lin.motion.time);
+      EXPECT_EQ(p.linear.rest.value, lin.rest.value);
+      EXPECT_EQ(p.nonlinear.motion.value, nl.motion.value);
+      EXPECT_EQ(p.nonlinear.motion.time, nl.motion.time);
+      EXPECT_EQ(p.nonlinear.rest.value, nl.rest.value);
+      EXPECT_EQ(p.nonlinear.rest.time, nl.rest.time);
+      EXPECT_EQ(p.kinematics.v_peak, law.summary().v_peak);
+    };
+    const MotionLaw uniform = SevenSegmentLaw(uniform_durations(f.motion_time), f.stroke).law();
+    const PlanResult b = plan(f, Strategy::kBaseline, o);
+    ASSERT_EQ(b.status, SolveStatus::kOptimal) << b.message;
+    expect_simulated(b.baseline, uniform);
+    expect_simulated(b.prediction, uniform);
+    const PlanResult a = plan(f, Strategy::kAuto, o);
+    const auto base = std::find_if(a.candidates.begin(), a.candidates.end(),
+                                   [](const auto& k) { return k.strategy == Strategy::kBaseline; });
+    ASSERT_NE(base, a.candidates.end());
+    expect_simulated(base->prediction, uniform);
+    expect_simulated(a.baseline, uniform);
+    // Ramps of at least T/5: the uniform law (ramps T/7) is excluded, baseline is another law.
+    PlanOptions wide = o;
+    wide.min_ramp = 0.2 * f.motion_time;
+    const PlanResult w = plan(f, Strategy::kBaseline, wide);
+    ASSERT_TRUE(w.durations);
+    ASSERT_NE(*w.durations, uniform_durations(f.motion_time));
+    expect_simulated(w.prediction, SevenSegmentLaw(*w.durations, f.stroke).law());
+    expect_simulated(w.baseline, uniform);
+    EXPECT_NE(w.prediction.nonlinear.motion.value, w.baseline.nonlinear.motion.value);
+  }
 }
 
 }  // namespace

@@ -52,6 +52,10 @@ const state = {
   request: null, plans: {}, selected: null, charts: [], ticket: 0,
   minTimeRequest: null, minTime: null, minTimeCharts: [],
   measured: null, plotContext: null,
+  // The fetches of the latest request of each kind ('view': plan, compare, min-time; 'plots': the
+  // series of the selected plan), and the plots' ticket: a newer request aborts them, and an
+  // answer that arrives all the same is dropped by its ticket (state.ticket for the view).
+  aborts: {}, plotTicket: 0,
 };
 window.sloshPage = state;  // for the browser test and the curious
 
@@ -143,9 +147,16 @@ function showError(error, aliases = {}) {
   $('status-line').textContent = `The service refused the request (${error.code}).`;
 }
 
-async function postJson(path, body) {
+// A new request of `kind`: the previous one's fetches are aborted; returns the new one's signal.
+function freshSignal(kind) {
+  if (state.aborts[kind]) state.aborts[kind].abort();
+  state.aborts[kind] = new AbortController();
+  return state.aborts[kind].signal;
+}
+
+async function postJson(path, body, signal) {
   const res = await fetch(path, {
-    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body),
+    method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body), signal,
   });
   const json = await res.json();
   if (!res.ok) throw Object.assign(new Error(json.error.message), { api: json.error });
@@ -211,8 +222,14 @@ function simulateRequest(plan, law) {
   };
 }
 
-// A measured wave height as CSV: one "t_s,eta_mm" pair a line, times increasing; a first line
-// that is not two numbers is a header. Throws an Error naming the line.
+// What a measured series may hold: a wave height is millimetres to metres, a test run seconds to
+// minutes; beyond these a value is a unit or export error, and Chart.js cannot scale an axis to
+// ±1e308 (it throws or allocates without bound).
+const MEASURED = { maxBytes: 8 << 20, maxSamples: 100000, etaMaxMm: 10000, tMaxS: 3600 };
+
+// A measured wave height as CSV: one "t_s,eta_mm" pair a line, times increasing, |t_s| and
+// |eta_mm| within MEASURED, at most MEASURED.maxSamples samples; a first line that is not two
+// numbers is a header. Throws an Error naming the line, the value and the allowed range.
 function parseMeasuredCsv(text) {
   const out = { t_s: [], eta_mm: [] };
   const lines = text.split(/\r?\n/);
@@ -225,7 +242,16 @@ function parseMeasuredCsv(text) {
       if (i === 0) return;  // a header
       throw new Error(`line ${i + 1}: "${line.slice(0, 40)}" is not two numbers t_s,eta_mm`);
     }
+    if (Math.abs(t) > MEASURED.tMaxS) {
+      throw new Error(`line ${i + 1}: t_s = ${t} is outside [-${MEASURED.tMaxS}, ${MEASURED.tMaxS}] s`);
+    }
+    if (Math.abs(eta) > MEASURED.etaMaxMm) {
+      throw new Error(`line ${i + 1}: eta_mm = ${eta} is outside [-${MEASURED.etaMaxMm}, ${MEASURED.etaMaxMm}] mm`);
+    }
     const n = out.t_s.length;
+    if (n >= MEASURED.maxSamples) {
+      throw new Error(`line ${i + 1}: more than ${MEASURED.maxSamples} samples`);
+    }
     if (n > 0 && !(t > out.t_s[n - 1])) {
       throw new Error(`line ${i + 1}: t_s = ${t} is not after ${out.t_s[n - 1]}: times must increase`);
     }
@@ -240,6 +266,9 @@ async function loadMeasured() {
   const file = $('measured-csv').files[0];
   if (!file) return;
   try {
+    if (file.size > MEASURED.maxBytes) {
+      throw new Error(`${file.size} bytes: at most ${MEASURED.maxBytes} (${MEASURED.maxSamples} samples)`);
+    }
     state.measured = parseMeasuredCsv(await file.text());
     $('measured-note').textContent = `${file.name}: ${state.measured.t_s.length} samples overlaid on η(t)`;
   } catch (e) {
@@ -253,6 +282,10 @@ async function loadMeasured() {
 async function selectPlan(strategy) {
   const plan = state.plans[strategy];
   if (!plan) return;  // a row of a view that has been replaced
+  // The plots of this selection only: an earlier selection's series that answer later (the same
+  // strategy of an earlier request, say) are aborted or dropped.
+  const ticket = ++state.plotTicket;
+  const signal = freshSignal('plots');
   state.selected = strategy;
   for (const tr of $('candidates').querySelectorAll('tbody tr')) {
     tr.classList.toggle('selected', tr.dataset.strategy === strategy);
@@ -265,15 +298,16 @@ async function selectPlan(strategy) {
   let series, base;
   try {
     [series, base] = await Promise.all([
-      postJson('v1/simulate', simulateRequest(plan, plan.law)),
-      postJson('v1/simulate', simulateRequest(plan, { type: 'seven_segment_uniform' })),
+      postJson('v1/simulate', simulateRequest(plan, plan.law), signal),
+      postJson('v1/simulate', simulateRequest(plan, { type: 'seven_segment_uniform' }), signal),
     ]);
   } catch (e) {
+    if (ticket !== state.plotTicket) return;
     clearPlots();
     $('form-error').textContent = `The plots could not be computed: ${e.api ? e.api.message : e.message}`;
     return;
   }
-  if (state.selected !== strategy) return;  // another row was chosen meanwhile
+  if (ticket !== state.plotTicket) return;  // a newer selection or request replaced this one
   state.plotContext = { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
   renderPlots({ ...state.plotContext, measured: state.measured });
   document.body.dataset.ready = strategy;  // the browser test waits for this
@@ -306,6 +340,37 @@ function updateCamLink() {
   $('cam-note').textContent = '';
 }
 
+// The cam table through fetch, not a plain link: a refused period (the API's 422) is shown at the
+// period input instead of being saved as the CSV file.
+async function downloadCam(event) {
+  event.preventDefault();
+  const { href, download: name } = $('download-cam');  // the plan and period of this click
+  const period = $('cam-period');
+  period.removeAttribute('aria-invalid');
+  $('cam-period-error').textContent = '';
+  $('cam-note').textContent = 'Preparing the cam table…';
+  try {
+    const res = await fetch(href);
+    if (!res.ok) {
+      const json = await res.json();
+      period.setAttribute('aria-invalid', 'true');
+      $('cam-period-error').textContent = json.error.message;
+      $('cam-note').textContent = '';
+      return;
+    }
+    const save = document.createElement('a');
+    save.href = URL.createObjectURL(await res.blob());
+    save.download = name;
+    document.body.appendChild(save);
+    save.click();
+    save.remove();
+    setTimeout(() => URL.revokeObjectURL(save.href), 60000);
+    $('cam-note').textContent = `Saved ${name}`;
+  } catch (e) {
+    $('cam-note').textContent = `The cam table could not be downloaded: ${e.message}`;
+  }
+}
+
 function clearPlots() {
   for (const chart of state.charts) chart.destroy();
   state.charts = [];
@@ -325,6 +390,9 @@ function clearMinTime() {
 
 // Nothing of a previous view stays on screen once a new request starts.
 function clearResults() {
+  state.plotTicket++;  // the series still on their way are for a view that is gone
+  if (state.aborts.plots) state.aborts.plots.abort();
+  state.plotContext = null;  // a measured series uploaded now has no plan to overlay
   clearPlots();
   clearMinTime();
   state.plans = {};
@@ -357,9 +425,23 @@ function renderPlots(context, view = 'plan', holder = $('plots')) {
     wrap.appendChild(canvas);
     box.append(title, wrap);
     holder.appendChild(box);
-    const chart = new Chart(canvas, plot.build(context));
-    png.addEventListener('click', () => { png.href = chart.toBase64Image('image/png', 1); });
-    charts.push(chart);
+    // One plot that cannot be drawn (Chart.js throws on an axis it cannot scale, say) costs that
+    // plot only: its chart is destroyed (Chart.js registers it before drawing) and the box says why.
+    try {
+      const chart = new Chart(canvas, plot.build(context));
+      charts.push(chart);
+      png.addEventListener('click', () => { png.href = chart.toBase64Image('image/png', 1); });
+    } catch (e) {
+      const broken = Chart.getChart(canvas);
+      if (broken) broken.destroy();
+      wrap.replaceChildren();
+      const note = document.createElement('p');
+      note.className = 'plot-error';
+      note.setAttribute('role', 'alert');
+      note.textContent = `This plot could not be drawn: ${e.message}`;
+      wrap.appendChild(note);
+      png.remove();
+    }
   }
   if (view === 'plan') state.charts = charts;
   return charts;
@@ -424,13 +506,14 @@ async function run(compare) {
   clearErrors();
   const strategy = compare ? 'auto' : $('strategy').value;
   const ticket = ++state.ticket;
+  const signal = freshSignal('view');
   state.request = buildRequest(strategy);
   clearResults();
   delete document.body.dataset.ready;
   writeUrl(compare ? { compare: '1' } : {});
   $('status-line').textContent = compare ? 'Planning every strategy…' : `Planning ${strategy}…`;
   try {
-    const first = await postJson('v1/plans', state.request);
+    const first = await postJson('v1/plans', state.request, signal);
     if (ticket !== state.ticket) return;  // a newer request replaced this view
     if (!compare) {
       state.plans[first.strategy] = first;
@@ -440,10 +523,15 @@ async function run(compare) {
     // Every candidate of auto as a plan of its own (its kinematics, warnings and law in full).
     const names = first.candidates.map((c) => c.strategy);
     const chosen = (first.candidates.find((c) => c.chosen) || {}).strategy;
-    const plans = await Promise.all(names.map((s) => postJson('v1/plans', { ...state.request, strategy: s })));
+    const plans = await Promise.all(names.map((s) => postJson('v1/plans', { ...state.request, strategy: s }, signal)));
     if (ticket !== state.ticket) return;
     for (const p of plans) state.plans[p.strategy] = p;
     renderTable(plans, chosen);
+    // Why auto did not return a row: its reason with the deciding figures, on hover.
+    for (const c of first.candidates) {
+      const tr = $('candidates').querySelector(`tbody tr[data-strategy="${c.strategy}"]`);
+      if (tr && c.reason_detail) tr.title = `auto did not choose it: ${c.reason_detail}`;
+    }
     return selectPlan(chosen || names[0]);
   } catch (e) {
     if (ticket !== state.ticket) return;
@@ -535,6 +623,7 @@ function selectMinTimePlan(strategy) {
 async function runMinTime() {
   clearErrors();
   const ticket = ++state.ticket;
+  const signal = freshSignal('view');
   const request = buildMinTimeRequest();
   state.request = null;
   clearResults();
@@ -544,7 +633,7 @@ async function runMinTime() {
   const which = request.strategies ? request.strategies[0] : 'every strategy but iir';
   $('status-line').textContent = `Searching the shortest motion time of ${which}…`;
   try {
-    const response = await postJson('v1/min-time', request);
+    const response = await postJson('v1/min-time', request, signal);
     if (ticket !== state.ticket) return;  // a newer request replaced this view
     state.minTimeRequest = request;
     state.minTime = response;
@@ -591,7 +680,12 @@ async function main() {
   $('format-form').addEventListener('submit', (e) => { e.preventDefault(); run(false); });
   $('compare-button').addEventListener('click', () => run(true));
   $('min-time-button').addEventListener('click', runMinTime);
-  $('cam-period').addEventListener('input', updateCamLink);
+  $('cam-period').addEventListener('input', () => {
+    $('cam-period').removeAttribute('aria-invalid');
+    $('cam-period-error').textContent = '';
+    updateCamLink();
+  });
+  $('download-cam').addEventListener('click', downloadCam);
   $('measured-csv').addEventListener('change', loadMeasured);
   const url = readUrl();
   document.body.dataset.loaded = '1';

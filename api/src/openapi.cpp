@@ -98,6 +98,15 @@ json string_enum(std::vector<std::string> values, const std::string& description
 
 // ---- enumerations, from their name tables ---------------------------------------------------
 
+/// The reasons auto gives a candidate it did not return (the chosen one has none: null).
+std::vector<std::string> candidate_loss_names() {
+  std::vector<std::string> out;
+  for (CandidateLoss loss : enum_values<CandidateLoss>()) {
+    if (loss != CandidateLoss::kNone) out.emplace_back(name_of(loss));
+  }
+  return out;
+}
+
 std::vector<std::string> fluid_names() {
   std::vector<std::string> out;
   for (const Fluid& f : fluid_catalogue()) out.push_back(f.name);
@@ -416,17 +425,33 @@ void add_plan_block_schemas(json& s) {
        {"solve_ms", number("Wall-clock time of the whole plan [ms].")}},
       {"name", "iterations", "starts", "objective", "solve_ms"}, "", false);
   s["SolveStatus"] = string_enum(enum_names<SolveStatus>(), "Outcome of the solve.");
-  s["Candidate"] =
-      object({{"strategy", ref("Strategy")},
-              {"status", ref("SolveStatus")},
-              {"durations_s", nullable(fixed_numbers(7, "[s]; null for a general law"))},
-              {"law_type", ref("LawType")},
-              {"prediction", ref("Prediction")},
-              {"a_peak", number("Peak |acceleration| [m/s^2].")},
-              {"chosen", boolean("The candidate auto returned.")},
-              {"worst_case", ref("WorstCase")}},
-             {"strategy", "status", "durations_s", "law_type", "prediction", "a_peak", "chosen"},
-             "One strategy's result inside an auto plan.", false);
+  s["Candidate"] = object(
+      {{"strategy", ref("Strategy")},
+       {"status", ref("SolveStatus")},
+       {"durations_s", nullable(fixed_numbers(7, "[s]; null for a general law"))},
+       {"law_type", ref("LawType")},
+       {"prediction", ref("Prediction")},
+       {"a_peak", number("Peak |acceleration| [m/s^2].")},
+       {"chosen", boolean("The candidate auto returned.")},
+       {"reason",
+        nullable(string_enum(
+            candidate_loss_names(),
+            "Why auto did not return it (null for the chosen one), in the order SPEC §5's "
+            "rule excludes: not_usable (infeasible or failed), worse_than_baseline (while "
+            "a candidate that is not competes), eta_motion_above_best (nonlinear "
+            "eta_motion more than 5 % above the best competitor's), higher_eta_rest "
+            "(above the chosen one's), tie_on_eta_rest (tied within 1e-6, peak "
+            "acceleration not lower). With an uncertainty range the worst case is "
+            "judged."))},
+       {"reason_detail",
+        nullable(text("The reason with the figures that decided it (null for the chosen "
+                      "one), e.g. \"eta_rest 1.2 mm vs 0.8 mm of the chosen multi_notch\"."))},
+       {"warnings", strings("Its worse_than_baseline warning as a plan of its strategy "
+                            "carries it; empty when it is not worse than the uniform law.")},
+       {"worst_case", ref("WorstCase")}},
+      {"strategy", "status", "durations_s", "law_type", "prediction", "a_peak", "chosen", "reason",
+       "reason_detail", "warnings"},
+      "One strategy's result inside an auto plan.", false);
 }
 
 /// How fir_chain, shaper or iir built their law.

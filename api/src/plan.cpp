@@ -279,6 +279,13 @@ nlohmann::json candidates_json(const std::vector<PlanCandidate>& candidates) {
                         {"a_peak", std::max(c.prediction.kinematics.a_peak_positive,
                                             c.prediction.kinematics.a_peak_negative)},
                         {"chosen", c.chosen}};
+    // Why auto did not return it: the rule's reason code and the figures that decided it.
+    const bool lost = c.lost != CandidateLoss::kNone;
+    item["reason"] = lost ? nlohmann::json(std::string(name_of(c.lost))) : nlohmann::json();
+    item["reason_detail"] = lost ? nlohmann::json(c.lost_detail) : nlohmann::json();
+    item["warnings"] = c.worse_than_baseline.empty()
+                           ? nlohmann::json::array()
+                           : nlohmann::json::array({c.worse_than_baseline});
     if (c.worst_case) item["worst_case"] = worst_case_json(*c.worst_case);
     list.push_back(std::move(item));
   }

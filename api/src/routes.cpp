@@ -1,6 +1,11 @@
 #include "slosh/api/routes.hpp"
 
+#include <algorithm>
 #include <array>
+#include <cctype>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
 
 namespace slosh::api {
 
@@ -47,10 +52,148 @@ constexpr std::array kRoutes{
           "Scripts and styles of the web page (embedded in the binary)"},
 };
 
+constexpr std::array<std::string_view, 1> kViewQuery{"view"};
+constexpr std::array<std::string_view, 6> kCamCsvQuery{
+    "period_ms", "master_period", "master_start", "master_end", "master_step", "allow_infeasible"};
+constexpr std::array<std::string_view, 7> kCamStQuery{
+    "period_ms",   "master_period",    "master_start", "master_end",
+    "master_step", "allow_infeasible", "st_name"};
+constexpr std::array<std::string_view, 2> kJobPageQuery{"offset", "limit"};
+
+/// The path segments of `path` ("/v1/plans/x" -> "", "v1", "plans", "x").
+std::vector<std::string_view> segments(std::string_view path) {
+  std::vector<std::string_view> out;
+  std::size_t start = 0;
+  for (std::size_t slash; (slash = path.find('/', start)) != std::string_view::npos;
+       start = slash + 1) {
+    out.push_back(path.substr(start, slash - start));
+  }
+  out.push_back(path.substr(start));
+  return out;
+}
+
+/// `text` with every %XX decoded (an incomplete escape stays as sent).
+std::string percent_decoded(std::string_view text) {
+  std::string out;
+  for (std::size_t i = 0; i < text.size(); ++i) {
+    if (text[i] == '%' && i + 2 < text.size() &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 1])) &&
+        std::isxdigit(static_cast<unsigned char>(text[i + 2]))) {
+      out += static_cast<char>(std::stoi(std::string(text.substr(i + 1, 2)), nullptr, 16));
+      i += 2;
+    } else {
+      out += text[i];
+    }
+  }
+  return out;
+}
+
+bool has_encoded_slash(std::string_view text) {
+  for (std::size_t i = 0; i + 2 < text.size(); ++i) {
+    if (text[i] == '%' && text[i + 1] == '2' && (text[i + 2] == 'F' || text[i + 2] == 'f')) {
+      return true;
+    }
+  }
+  return false;
+}
+
 }  // namespace
 
 std::span<const Route> routes() {
   return kRoutes;
+}
+
+std::optional<std::span<const std::string_view>> query_parameters(Operation operation) {
+  switch (operation) {
+    case Operation::kPlan:
+    case Operation::kPlanBatch:
+    case Operation::kGetPlan:
+      return kViewQuery;
+    case Operation::kCamTable:
+      return kCamCsvQuery;
+    case Operation::kCamTableSt:
+      return kCamStQuery;
+    case Operation::kGetJob:
+      return kJobPageQuery;
+    case Operation::kPage:
+      return std::nullopt;
+    default:
+      return std::span<const std::string_view>();
+  }
+}
+
+void check_query_names(const Route& route, const std::vector<std::string>& names) {
+  const auto accepted = query_parameters(route.operation);
+  if (!accepted) return;
+  for (const std::string& name : names) {
+    if (std::find(accepted->begin(), accepted->end(), name) != accepted->end()) continue;
+    std::string list;
+    for (std::string_view a : *accepted) list += (list.empty() ? "" : ", ") + std::string(a);
+    // The name as received may be anything: quoted (and cut) when it is not a plain word.
+    const bool plain =
+        !name.empty() && name.size() <= 64 && std::all_of(name.begin(), name.end(), [](char c) {
+          return std::isalnum(static_cast<unsigned char>(c)) || c == '_' || c == '-' || c == '.';
+        });
+    const std::string shown = plain ? name : show(nlohmann::json(name));
+    // A parameter of another route (st_name of cam.st on cam.csv, view on a job): which one.
+    std::string elsewhere;
+    for (const Route& other : kRoutes) {
+      const auto takes = query_parameters(other.operation);
+      if (&other == &route || !takes ||
+          std::find(takes->begin(), takes->end(), name) == takes->end()) {
+        continue;
+      }
+      elsewhere = " (" + std::string(other.method) + " " + std::string(other.path) + " takes it)";
+      break;
+    }
+    invalid(
+        name.substr(0, 64),
+        shown + " is not a query parameter of " + std::string(route.method) + " " +
+            std::string(route.path) + elsewhere +
+            (list.empty() ? "; this route takes no query parameters" : "; allowed here: " + list));
+  }
+}
+
+}  // namespace slosh::api
+
+namespace slosh::api {
+
+void check_encoded_slashes(std::string_view method, std::string_view raw_path) {
+  if (!has_encoded_slash(raw_path)) return;
+  const std::vector<std::string_view> sent = segments(raw_path);
+  const std::string_view routed = method == "HEAD" ? std::string_view("GET") : method;
+  // The routes of the request's method first: GET and DELETE /v1/batches/{id} share a shape.
+  std::vector<const Route*> order;
+  for (const Route& route : kRoutes) {
+    if (route.method == routed) order.push_back(&route);
+  }
+  for (const Route& route : kRoutes) {
+    if (route.method != routed) order.push_back(&route);
+  }
+  for (const Route* r : order) {
+    const Route& route = *r;
+    const std::vector<std::string_view> shape = segments(route.path);
+    if (shape.size() != sent.size()) continue;
+    std::optional<std::size_t> slashed;
+    bool fits = true;
+    for (std::size_t i = 0; i < shape.size() && fits; ++i) {
+      if (shape[i].starts_with('{')) {
+        if (has_encoded_slash(sent[i])) slashed = i;
+      } else {
+        fits = percent_decoded(sent[i]) == shape[i];
+      }
+    }
+    if (!fits || !slashed) continue;
+    const std::string name(shape[*slashed].substr(1, shape[*slashed].size() - 2));
+    throw ApiError(ErrorCode::kNotFound, name,
+                   name + " " + show(nlohmann::json(percent_decoded(sent[*slashed]))) +
+                       " holds a '/' (sent as %2F) and no " + name + " of " +
+                       std::string(route.method) + " " + std::string(route.path) + " does");
+  }
+  throw ApiError(ErrorCode::kNotFound, "",
+                 "no endpoint " + std::string(method.substr(0, 16)) + " " +
+                     std::string(raw_path.substr(0, 80)) +
+                     ": a '/' sent as %2F is part of a path segment; see /v1/openapi.json");
 }
 
 }  // namespace slosh::api

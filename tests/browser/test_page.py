@@ -113,12 +113,15 @@ class ProxyHandler(http.server.BaseHTTPRequestHandler):
     do_POST = forward
 
 
-def browser():
+def browser(downloads=None):
     options = webdriver.ChromeOptions()
     for arg in ("--headless=new", "--no-sandbox", "--disable-gpu", "--disable-dev-shm-usage",
                 "--window-size=1280,800"):
         options.add_argument(arg)
     options.set_capability("goog:loggingPrefs", {"browser": "ALL"})
+    if downloads:
+        options.add_experimental_option("prefs", {"download.default_directory": downloads,
+                                                  "download.prompt_for_download": False})
     return webdriver.Chrome(service=Service(shutil.which("chromedriver") or "/usr/bin/chromedriver"),
                             options=options)
 
@@ -285,6 +288,11 @@ def check_compare_all(driver, port, screenshot):
     check([r["strategy"] for r in rows] == names, f"one row per candidate of auto: {rows} vs {names}")
     chosen = [c["strategy"] for c in auto["candidates"] if c["chosen"]]
     check([r["strategy"] for r in rows if r["chosen"]] == chosen, f"the chosen row is highlighted ({chosen})")
+    titles = driver.execute_script(
+        "return [...document.querySelectorAll('#candidates tbody tr')].map(tr => tr.title)")
+    expected_titles = ["" if c["chosen"] else f"auto did not choose it: {c['reason_detail']}"
+                       for c in auto["candidates"]]
+    check(titles == expected_titles, f"each row says why auto did not choose it: {titles}")
     for row in rows:
         _, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, row["strategy"]))
         check(row["cells"] == expected_row(plan), f"row {row['strategy']} equals its plan")
@@ -566,6 +574,199 @@ def check_measured_overlay(driver, workdir):
     check(len(counts.get("plot-eta", [])) == 4, f"no overlay after a refused file: {counts}")
 
 
+# Holds back the v1/simulate answers of plans whose motion time is 1.5 s until window.__release()
+# (the request itself is sent and answered at once, so the page gets a complete, late answer even
+# after it aborted the fetch): an earlier request that answers after a later one.
+HOLD_SLOW_SERIES = """
+window.__realFetch = window.__realFetch || window.fetch;
+const real = window.__realFetch;
+let release;
+const gate = new Promise((resolve) => { release = resolve; });
+window.__held = 0;
+window.__delivered = 0;
+window.__release = release;
+window.fetch = async (input, init) => {
+  const body = init && typeof init.body === 'string' ? init.body : '';
+  if (!String(input).endsWith('v1/simulate') || !body.includes('"motion_time_s":1.5')) {
+    return real(input, init);
+  }
+  window.__held++;
+  const res = await real(input, { ...init, signal: undefined });
+  await gate;
+  // Counted once the page has its JSON and has run what follows (microtasks before this task).
+  const json = res.json.bind(res);
+  res.json = async () => {
+    const value = await json();
+    setTimeout(() => { window.__delivered++; }, 0);
+    return value;
+  };
+  return res;
+};
+"""
+
+
+def chart_data(driver):
+    return driver.execute_script(
+        "return Object.fromEntries(window.sloshPage.charts.map(c => [c.canvas.id, "
+        "c.data.datasets.map(d => d.data.map(p => [p.x, p.y]))]))")
+
+
+def check_late_answer(driver, port):
+    """The plots of an earlier request that answer after a later request's are dropped: the
+    table, the status line, the URL, the downloads and every plot show the later plan."""
+    driver.execute_script(HOLD_SLOW_SERIES)
+    fill_format(driver, dict(THESIS, time="1.5"), "notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return window.__held === 2")  # the first plan's two series are held
+    fill_format(driver, THESIS, "notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                     "window.sloshPage.plans.notch.format.motion_time_s === 1")
+    driver.execute_script("window.__release()")
+    wait_for(driver, "return window.__delivered === 2")  # the late answers were handled
+    status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
+    check(status == 200, f"the API plans notch ({status})")
+    check(table_rows(driver)[0]["cells"] == expected_row(plan), "the table shows the later plan")
+    line = driver.find_element(By.ID, "status-line").text
+    check(line == f"notch: {plan['status']}. {plan['message']}", f"the status line is the later plan's: {line}")
+    check("T=1&" in driver.current_url, f"the URL is the later request's: {driver.current_url}")
+    check(driver.find_element(By.ID, "download-json").get_attribute("download") == f"plan-{plan['key']}.json",
+          "the plan download is the later plan")
+    check(f"/v1/plans/{plan['key']}/cam.csv" in driver.find_element(By.ID, "download-cam").get_attribute("href"),
+          "the cam link is the later plan's")
+    check(driver.execute_script("return window.sloshPage.plotContext.plan.key") == plan["key"],
+          "the plot context is the later plan")
+    body = {"format": plan["format"], "law": plan["law"], "rest_time_s": plan["rest_time_s"],
+            "options": {"damping": plan["model"]["damping"], "alpha": plan["model"]["alpha"],
+                        "modes": len(plan["model"]["f_hz"]), "min_ramp_s": 0.001},
+            "sample_period_s": (plan["format"]["motion_time_s"] + plan["rest_time_s"]) / 2000}
+    series = api_json(port, "POST", "/v1/simulate", body)[1]["series"]
+    data = chart_data(driver)
+    expected = {
+        "plot-acceleration": [[t, a] for t, a in zip(series["t_s"], series["a"])],
+        "plot-velocity": [[t, v] for t, v in zip(series["t_s"], series["v"])],
+        "plot-eta": [[t, e] for t, e in zip(series["t_s"], series["eta_nonlinear_mm"])],
+        "plot-spectrum": [[f, x] for f, x in zip(plan["spectrum"]["f_hz"], plan["spectrum"]["amplitude"])],
+        "plot-robustness": [[p["delta_pct"], p["nonlinear"]["eta_rest_mm"] if p["nonlinear"] else None]
+                            for p in plan["robustness"]["points"]],
+    }
+    check(sorted(data) == sorted(expected), f"the five plots: {sorted(data)}")
+    for chart_id, points in expected.items():
+        check(data.get(chart_id, [[]])[0] == points, f"{chart_id} shows the later plan's first curve")
+    driver.execute_script("window.fetch = window.__realFetch")
+
+
+# Chart.js throwing after it registered its chart (as it does on an axis it cannot scale): the
+# plot of `plot-eta` fails while the test's wrapper is installed.
+BREAK_ETA_PLOT = """
+window.__RealChart = window.__RealChart || window.Chart;
+window.Chart = class extends window.__RealChart {
+  constructor(canvas, config) {
+    super(canvas, config);
+    if (canvas.id === 'plot-eta') throw new RangeError('test: the axis cannot be scaled');
+  }
+};
+"""
+
+
+def live_charts(driver):
+    return driver.execute_script("return Object.keys(Chart.instances).length")
+
+
+def check_plot_error(driver):
+    """A plot that cannot be drawn costs that plot only, says so, leaks no chart, and the next
+    plan draws every plot."""
+    driver.execute_script(BREAK_ETA_PLOT)
+    fill_format(driver, THESIS, "multi_notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch'")
+    ids = sorted(c["id"] for c in chart_counts(driver))
+    check(ids == ["plot-acceleration", "plot-robustness", "plot-spectrum", "plot-velocity"],
+          f"the other plots are drawn: {ids}")
+    note = driver.execute_script(
+        "const n = document.querySelector('#plots .plot-error'); return n && n.textContent")
+    check(note == "This plot could not be drawn: test: the axis cannot be scaled", f"the plot says why: {note}")
+    check(live_charts(driver) == 4, f"no chart leaks: {live_charts(driver)} live")
+    driver.execute_script("window.Chart = window.__RealChart")
+    fill_format(driver, dict(THESIS, stroke="700"), "multi_notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'multi_notch' && "
+                     "window.sloshPage.plotContext.plan.format.stroke_mm === 700")
+    check(len(chart_counts(driver)) == 5, "the next plan draws every plot")
+    check(live_charts(driver) == 5, f"no chart of the broken view is left: {live_charts(driver)} live")
+    check(driver.execute_script("return document.querySelectorAll('#plots .plot-error').length") == 0,
+          "the error went with its view")
+    fill_format(driver, THESIS, "multi_notch")  # the form of the checks that follow
+
+
+def upload_measured(driver, workdir, name, text):
+    path = os.path.join(workdir, name)
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(text)
+    driver.execute_script("delete document.body.dataset.measured")
+    driver.find_element(By.ID, "measured-csv").send_keys(path)
+    wait_for(driver, "return document.body.dataset.measured !== undefined")
+    return driver.find_element(By.ID, "measured-note").text
+
+
+def check_measured_limits(driver, workdir):
+    """A measured series beyond what a measurement holds is refused with its line, value and
+    range (Chart.js cannot scale an axis to 1e308); the page keeps working."""
+    cases = [
+        ("huge.csv", "t_s,eta_mm\n0,1\n1,1.7e308\n",
+         "huge.csv is not a series: line 3: eta_mm = 1.7e+308 is outside [-10000, 10000] mm"),
+        ("wide.csv", "0,9e307\n1,-9e307\n",
+         "wide.csv is not a series: line 1: eta_mm = 9e+307 is outside [-10000, 10000] mm"),
+        ("long.csv", "0,1\n4000,2\n",
+         "long.csv is not a series: line 2: t_s = 4000 is outside [-3600, 3600] s"),
+        ("many.csv", "t_s,eta_mm\n" + "".join(f"{i * 1e-3:.3f},1\n" for i in range(100001)),
+         "many.csv is not a series: line 100002: more than 100000 samples"),
+    ]
+    for name, text, expected in cases:
+        note = upload_measured(driver, workdir, name, text)
+        check(note == expected, f"{name} is refused: {note!r}")
+        check(driver.execute_script("return document.body.dataset.measured") == "invalid", f"{name}: no overlay")
+        counts = {c["id"]: c["counts"] for c in chart_counts(driver)}
+        check(len(counts) == 5 and len(counts.get("plot-eta", [])) == 4, f"{name}: the plots stay: {counts}")
+    note = upload_measured(driver, workdir, "fine.csv", "0,1\n0.5,-2\n1,3\n")
+    check(note == "fine.csv: 3 samples overlaid on η(t)", f"a valid series after the refusals: {note!r}")
+    check(live_charts(driver) == 5, f"no chart leaks over the uploads: {live_charts(driver)}")
+    upload_measured(driver, workdir, "reset.csv", "0,1\n")  # refused: no overlay for what follows
+
+
+def check_cam_refusal(driver, port, downloads):
+    """A period the API refuses shows the API's message at the period input; nothing is saved.
+    A valid period saves the cam table under its name."""
+    period = driver.find_element(By.ID, "cam-period")
+    period.clear()
+    period.send_keys("-1")
+    link = driver.find_element(By.ID, "download-cam")
+    href = link.get_attribute("href")
+    status, error = api_json(port, "GET", href[href.index("/v1/"):])
+    check(status == 422 and error["error"]["field"] == "period_ms", f"the API refuses the period: {error}")
+    link.click()
+    wait_for(driver, "return document.getElementById('cam-period-error').textContent.length > 0", 20)
+    shown = driver.find_element(By.ID, "cam-period-error").text
+    check(shown == error["error"]["message"], f"the period shows the API's message: {shown!r}")
+    check(period.get_attribute("aria-invalid") == "true", "the period input is marked invalid")
+    time.sleep(1)
+    check(os.listdir(downloads) == [], f"nothing saved for a refused period: {os.listdir(downloads)}")
+    period.clear()
+    period.send_keys("2")
+    check(driver.find_element(By.ID, "cam-period-error").text == "", "a new period clears the message")
+    name = link.get_attribute("download")
+    link.click()
+    path = os.path.join(downloads, name)
+    end = time.time() + 30
+    while time.time() < end and not os.path.exists(path):
+        time.sleep(0.1)
+    expected = urllib.request.urlopen(link.get_attribute("href"), timeout=60).read()
+    check(os.path.exists(path) and open(path, "rb").read() == expected,
+          f"the cam table is saved as {name}: {os.listdir(downloads)}")
+    period.clear()
+    period.send_keys("1")
+
+
 def check_sub_path(port):
     proxy = SubPathProxy(port)
     thread = threading.Thread(target=proxy.serve_forever, daemon=True)
@@ -589,7 +790,9 @@ def main():
     os.makedirs(args.artifacts, exist_ok=True)
     workdir = tempfile.mkdtemp(prefix="slosh-browser-")
     server, port = start_server(args.slosh, workdir)
-    driver = browser()
+    downloads = os.path.join(workdir, "downloads")
+    os.makedirs(downloads)
+    driver = browser(downloads)
     try:
         driver.get(f"http://127.0.0.1:{port}/")
         wait_for(driver, "return document.body.dataset.loaded === '1'")
@@ -597,7 +800,11 @@ def main():
         check(not driver.find_element(By.ID, "downloads").is_displayed(), "no downloads before a plan")
         plan = check_single_plan(driver, port)
         check_measured_overlay(driver, workdir)
+        check_measured_limits(driver, workdir)
         check_cam_download(driver, args.slosh, workdir)
+        check_cam_refusal(driver, port, downloads)
+        check_late_answer(driver, port)
+        check_plot_error(driver)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
         check_min_time(driver, port, os.path.join(args.artifacts, "min-time.png"))
         check_min_time_errors(driver, port)

@@ -121,7 +121,8 @@ class Search {
   /// One plan() of T; nullopt when the budget ran out before or during it.
   std::optional<Planned> plan_at(double T, const std::optional<Durations>& warm_start) {
     const double remaining = std::chrono::duration<double>(deadline_ - Clock::now()).count();
-    if (remaining <= 0.0 || result_.plans >= options_.max_plans) return std::nullopt;
+    const bool stopped = options_.plan.stop != nullptr && options_.plan.stop->load();
+    if (remaining <= 0.0 || stopped || result_.plans >= options_.max_plans) return std::nullopt;
     Format f = format_;
     f.motion_time = T;
     PlanOptions o = options_.plan;

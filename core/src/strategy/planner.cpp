@@ -342,14 +342,11 @@ std::string explain_limits(const StrategyContext& c) {
   return {};
 }
 
-void set_design(StrategyContext& c) {
+namespace {
+
+/// The uncertainty range's design model, sample models, check models, band and p_notch.
+void set_range(StrategyContext& c) {
   const PlanOptions& o = c.options;
-  c.band = o.band;
-  c.p_notch = o.p_notch;
-  c.design_model = c.model;
-  c.sample_models = {c.model};
-  c.check_models = {c.model};
-  if (!o.uncertainty.active()) return;
   c.range = uncertainty_range(c.format, o.model, o.uncertainty);
   const UncertaintyRange& r = *c.range;
   const double mid = r.scale_mid();
@@ -367,13 +364,29 @@ void set_design(StrategyContext& c) {
   c.p_notch = std::max(o.p_notch, (r.scale_hi - r.scale_lo) / (r.scale_hi + r.scale_lo));
 }
 
+}  // namespace
+
+void set_design(StrategyContext& c) {
+  const PlanOptions& o = c.options;
+  c.band = o.band;
+  c.p_notch = o.p_notch;
+  c.design_model = c.model;
+  c.sample_models = {c.model};
+  c.check_models = {c.model};
+  if (o.uncertainty.active()) set_range(c);
+  c.band_grid = band_check_grid(c.design_model.omega1(), c.band, o.n_band);
+}
+
 void set_references(StrategyContext& c, double eta_ref) {
   const Durations uniform = uniform_durations(c.format.motion_time);
   // X_ref is the nominal band's (SPEC §5): a band widened for an uncertainty range keeps the
   // nominal level as its limit instead of loosening with the wider band's larger maximum.
-  c.x_ref = band_peak(uniform, c.format.stroke,
-                      band_check_grid(c.model.omega1(), c.options.band, c.options.n_band))
-                .value;
+  // Without a range the nominal band is the design band: its grid is built already.
+  c.x_ref =
+      band_peak(uniform, c.format.stroke,
+                c.robust() ? band_check_grid(c.model.omega1(), c.options.band, c.options.n_band)
+                           : c.band_grid)
+          .value;
   c.jerk_ref = SevenSegmentLaw(uniform, c.format.stroke).jerk_integral();
   c.eta_ref = eta_ref;
   c.eta_motion_max = c.options.eta_motion_max.value_or(eta_ref);
@@ -491,6 +504,7 @@ struct Outcome {
   std::optional<FilterDesign> design;
   std::string detail;
   detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
+  bool law_of_durations{false};    // `law` is the 7-segment law of `durations`
 };
 
 Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::StrategyOutcome o) {
@@ -500,6 +514,7 @@ Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::Strate
   if (o.status == SolveStatus::kFailed) o.durations = uniform_durations(c.format.motion_time);
   out.durations = o.durations;
   out.law = SevenSegmentLaw(o.durations, c.format.stroke).law();
+  out.law_of_durations = true;
   out.detail = o.detail;
   out.solver = std::move(o);
   return out;
@@ -537,6 +552,17 @@ detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) 
              "), so baseline returns every segment at its minimum plus an equal share of the "
              "remaining time";
   return o;
+}
+
+/// The prediction of an outcome's law: the plan's uniform-law prediction when the law is the
+/// uniform 7-segment law (the same durations give the same law and the same responses, so it is
+/// not simulated twice), else simulated here.
+LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o) {
+  if (c.uniform_prediction != nullptr && o.law_of_durations && o.durations &&
+      *o.durations == uniform_durations(c.format.motion_time)) {
+    return *c.uniform_prediction;
+  }
+  return predict(c.model, o.law, c.options.rest_time);
 }
 
 /// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
@@ -658,7 +684,7 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   }
   Selection s;
   s.outcome = run_strategy(c, strategy, seeds);
-  s.prediction = predict(c.model, s.outcome.law, c.options.rest_time);
+  s.prediction = predict_outcome(c, s.outcome);
   s.range = judge_over_range(c, s.outcome.law, s.prediction);
   verify(c, s.outcome, judged(s.range, s.prediction));
   s.detail = s.outcome.detail;
@@ -720,6 +746,45 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
       choice.index = k;
     }
   }
+  // Why each other candidate lost, in the order the rule above excludes them, with the figures
+  // that decided it (a client can check the choice against the candidates' predictions).
+  const PlanCandidate& chosen = candidates[choice.index];
+  const std::string by_worst = chosen.worst_case ? " (worst case over the uncertainty range)" : "";
+  auto mm = [](double metres) { return sig3(metres * 1e3) + " mm"; };
+  choice.lost.assign(candidates.size(), CandidateLoss::kNone);
+  choice.lost_detail.assign(candidates.size(), std::string());
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (k == choice.index) continue;
+    const PlanCandidate& cand = candidates[k];
+    const LawPrediction& p = judged(cand);
+    const LawPrediction& q = judged(chosen);
+    CandidateLoss& lost = choice.lost[k];
+    std::string& detail = choice.lost_detail[k];
+    if (!usable_status(cand.status)) {
+      lost = CandidateLoss::kNotUsable;
+      detail = "status " + to_string(cand.status) +
+               ": only optimal, acceptable and time_limit candidates compete";
+    } else if (!eligible(k)) {
+      lost = CandidateLoss::kWorseThanBaseline;
+      detail =
+          "worse than the uniform law (its worse_than_baseline warning) while a candidate that "
+          "is not competes";
+    } else if (p.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      lost = CandidateLoss::kMotionAboveBest;
+      detail = "eta_motion " + mm(p.nonlinear.motion.value) + by_worst +
+               " is more than 5 % above the best " + mm(best_motion);
+    } else if (std::abs(p.nonlinear.rest.value - q.nonlinear.rest.value) <=
+               kAutoTieTolerance * q.nonlinear.rest.value) {
+      lost = CandidateLoss::kTieOnRest;
+      detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " ties with the chosen " +
+               to_string(chosen.strategy) + " and its peak acceleration " + sig3(peak(cand)) +
+               " m/s^2 is not below " + sig3(peak(chosen)) + " m/s^2";
+    } else {
+      lost = CandidateLoss::kHigherRest;
+      detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " vs " +
+               mm(q.nonlinear.rest.value) + " of the chosen " + to_string(chosen.strategy);
+    }
+  }
   return choice;
 }
 
@@ -749,7 +814,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     PlanCandidate cand;
     cand.strategy = o.strategy;
     cand.law = o.law;
-    cand.prediction = predict(c.model, cand.law, c.options.rest_time);
+    cand.prediction = predict_outcome(c, o);
     std::optional<RangeJudgement> range = judge_over_range(c, cand.law, cand.prediction);
     if (!finite_prediction(cand.prediction) || (range && !finite_prediction(range->worst))) {
       diverged += (diverged.empty() ? "" : ", ") + to_string(o.strategy);
@@ -772,13 +837,18 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     // goes back to plan(), whose finiteness check refuses it with the reason.
     Selection none;
     none.outcome = std::move(outcomes.front());
-    none.prediction = predict(c.model, none.outcome.law, c.options.rest_time);
+    none.prediction = predict_outcome(c, none.outcome);
     none.range = judge_over_range(c, none.outcome.law, none.prediction);
     none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
     return none;
   }
   const AutoChoice choice = choose_auto(candidates, worse);
   candidates[choice.index].chosen = true;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    candidates[k].lost = choice.lost[k];
+    candidates[k].lost_detail = choice.lost_detail[k];
+    candidates[k].worse_than_baseline = worse_of[k];
+  }
   Selection s;
   s.outcome = std::move(kept[choice.index]);
   s.outcome.solver.evaluations = evaluations;
@@ -917,7 +987,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (std::optional<InvalidInput> why = drive_profile_refusal(strategy, options.drive_profile)) {
     return refusal(format, strategy, options, std::move(*why));
   }
-  const detail::Deadline deadline(options.time_limit);
+  const detail::Deadline deadline(options.time_limit, options.stop);
   PlanResult r;
   r.strategy = strategy;
   r.model = make_sloshing_model(format, options.model);
@@ -939,6 +1009,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   r.band_omega = {(1.0 - c.band) * w_design, (1.0 + c.band) * w_design};
   r.uncertainty = c.range;
   detail::set_references(c, r.baseline.nonlinear.motion.value);
+  c.uniform_prediction = &r.baseline;
   if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
     return refusal(
         format, strategy, options,

@@ -148,8 +148,8 @@ std::vector<double> band_check_grid(double omega, double band, int n_band) {
                           std::max(n_band - 1, kBandCheckIntervals) * kBandCheckRefinement + 1);
 }
 
-std::vector<double> band_check_grid(const StrategyContext& c) {
-  return band_check_grid(c.design_model.omega1(), c.band, c.options.n_band);
+const std::vector<double>& band_check_grid(const StrategyContext& c) {
+  return c.band_grid;
 }
 
 std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {

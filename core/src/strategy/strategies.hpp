@@ -2,6 +2,7 @@
 // The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <optional>
 #include <string>
@@ -17,17 +18,21 @@ inline constexpr double kLongestBudget{365.0 * 24.0 * 3600.0};  // [s]
 class Deadline {
  public:
   /// `seconds` beyond a year (or infinite) is a year: the clock's integer count cannot hold more.
-  explicit Deadline(double seconds)
+  /// `stop` (PlanOptions::stop, may be null) set true ends the time at once.
+  explicit Deadline(double seconds, const std::atomic<bool>* stop = nullptr)
       : end_(std::chrono::steady_clock::now() +
              std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))) {}
+                 std::chrono::duration<double>(std::min(seconds, kLongestBudget)))),
+        stop_(stop) {}
   [[nodiscard]] double remaining() const {
+    if (stop_ != nullptr && stop_->load(std::memory_order_relaxed)) return 0.0;
     return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
   }
   [[nodiscard]] bool expired() const { return remaining() <= 0.0; }
 
  private:
   std::chrono::steady_clock::time_point end_;
+  const std::atomic<bool>* stop_;
 };
 
 /// What every strategy needs: the problem data, the references its objectives are scaled by, and
@@ -65,6 +70,12 @@ struct StrategyContext {
   std::optional<UncertaintyRange> range{};
   /// With a range: the robustness report's sweep over it (check_models are its points).
   RobustnessSweep sweep{};
+  /// band_check_grid of the design band (set_design builds it once per plan).
+  std::vector<double> band_grid{};
+  /// The uniform law's durations and its prediction on both models at the nominal model, made
+  /// once per plan by plan() and shared by everything that needs the uniform law's figures (the
+  /// baseline comparison, auto's baseline candidate); null when the caller did not make it.
+  const LawPrediction* uniform_prediction{nullptr};
 
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }
@@ -167,9 +178,9 @@ inline constexpr double kBandTolerance{1e-6};
 /// "|X| <= 20 % of X_ref on the band is not reachable in 1.04 s: the best is 34 % ...".
 [[nodiscard]] std::string band_limit_sentence(const StrategyContext& context, double best_ratio);
 
-/// The grid band_peak checks min_jerk_band's band on (and X_ref is taken on): the context's band
-/// around its design frequency.
-[[nodiscard]] std::vector<double> band_check_grid(const StrategyContext& context);
+/// The grid band_peak checks min_jerk_band's band on: the context's band around its design
+/// frequency (its band_grid, built once by set_design).
+[[nodiscard]] const std::vector<double>& band_check_grid(const StrategyContext& context);
 /// The same grid for the band (1 -+ band) omega checked from n_band points.
 [[nodiscard]] std::vector<double> band_check_grid(double omega, double band, int n_band);
 

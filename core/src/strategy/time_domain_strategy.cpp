@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 
 #include "response/nonlinear_sensitivity.hpp"
 #include "slosh/core/response/response.hpp"
@@ -141,7 +142,10 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
     }
   };
   std::vector<std::vector<double>> x0 = as_vectors(starts);
-  for (auto& x : x0) {
+  // Last start first: the workspace then holds the first start's response, where the solver
+  // begins, so its first evaluation is not integrated again.
+  for (auto it = x0.rbegin(); it != x0.rend(); ++it) {
+    std::vector<double>& x = *it;
     evaluate_samples(ws, samples, eta_ref, x.data());
     double z = 0.0;
     for (std::size_t m = 0; m < samples.size(); ++m) {
@@ -173,16 +177,23 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
 // The dense check of the point x on one model: every window peak above its bound (or above the
 // epigraph value z for the minimised phase) becomes a sample. Returns whether one was added;
 // `excess` grows to the largest relative excess over the bound.
+// `computed` is the model's sensitivity already integrated at x (the solver's workspace when its
+// last evaluation was x), or null to integrate it here.
 bool check_dense(const StrategyContext& c, const SloshingModel& model, const double* x, double z,
                  bool minimise_motion, std::optional<double> bound, Samples& samples,
-                 double& excess) {
+                 double& excess, const NonlinearSensitivity* computed) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
   const double period = 2.0 * std::numbers::pi / model.omega1();
   const int kw = std::max(1, static_cast<int>(std::ceil(T / period * kCheckWindowsPerPeriod)));
   const int kwr = std::max(1, static_cast<int>(std::ceil(rest / period * kCheckWindowsPerPeriod)));
-  NonlinearSensitivity sens(model, c.format.stroke, rest);
-  sens.compute(x);
+  std::optional<NonlinearSensitivity> own;
+  if (computed == nullptr) {
+    own.emplace(model, c.format.stroke, rest);
+    own->compute(x);
+    computed = &*own;
+  }
+  const NonlinearSensitivity& sens = *computed;
   bool added = false;
   for (int w = 0; w < kw + kwr; ++w) {
     const bool in_motion = w < kw;
@@ -261,9 +272,12 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     const double z = total.best.x[kSegments] * c.eta_ref;
     bool added = false;
     double excess = 0.0;
+    // The solver's last evaluation is usually its returned point: its responses are reused.
+    const bool at_last = ws.valid && std::equal(total.best.x.begin(),
+                                                total.best.x.begin() + kSegments, ws.last.begin());
     for (std::size_t m = 0; m < samples.size(); ++m) {
       added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, samples[m],
-                          excess) ||
+                          excess, at_last ? &ws.sensitivity[m] : nullptr) ||
               added;
     }
     if (bound &&
@@ -303,6 +317,12 @@ void run_bounded(const StrategyContext& c, bool motion, double bound,
 // The dense value of the constrained quantity (eta_rest for objective kMotion) at d, the largest
 // over the sample models [m].
 double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
+  // The uniform law at the nominal model alone was simulated once for the plan.
+  if (!c.robust() && c.uniform_prediction != nullptr &&
+      d == uniform_durations(c.format.motion_time)) {
+    const SloshPeaks& p = c.uniform_prediction->nonlinear;
+    return motion ? p.rest.value : p.motion.value;
+  }
   const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
   double value = 0.0;
   for (const SloshingModel& m : c.check_models) {

@@ -4,6 +4,7 @@
 // JSON, no logging.
 
 #include <array>
+#include <atomic>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -175,6 +176,10 @@ struct PlanOptions {
   /// callback, not CPU time). When it runs out the best admissible point found so far is
   /// returned with status kTimeLimit. Default 5 s.
   double time_limit{5.0};
+  /// The caller's cancellation flag (e.g. its client went away): once it reads true the plan ends
+  /// as when time_limit runs out (kTimeLimit with the best admissible point so far), checked
+  /// wherever the time limit is (between starts and phases). Must outlive the call. Default none.
+  const std::atomic<bool>* stop{nullptr};
   /// Base law of shaper and iir, planned over T minus the filter's delay. Default poly5 (the
   /// paper's recommendation for shaping, sec. 7).
   BaseLaw base{BaseLaw::kPoly5};
@@ -275,6 +280,28 @@ using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 /// True for the strategies that build a law by filtering instead of optimising 7 durations.
 [[nodiscard]] bool is_filter_strategy(Strategy strategy);
 
+/// Why `auto` did not return a candidate (SPEC §5's rule, in the order the rule applies it).
+enum class CandidateLoss {
+  kNone,               ///< the chosen candidate
+  kNotUsable,          ///< infeasible or failed: only optimal, acceptable, time_limit compete
+  kWorseThanBaseline,  ///< worse than the uniform law while a usable one that is not remains
+  kMotionAboveBest,    ///< nonlinear eta_motion more than 5 % above the best competitor's
+  kHigherRest,         ///< nonlinear eta_rest above the chosen candidate's
+  kTieOnRest,          ///< eta_rest tied (1e-6) with the chosen one, peak acceleration not lower
+};
+
+template <>
+struct EnumNames<CandidateLoss> {
+  static constexpr std::array<EnumName<CandidateLoss>, 6> table{{
+      {CandidateLoss::kNone, "none"},
+      {CandidateLoss::kNotUsable, "not_usable"},
+      {CandidateLoss::kWorseThanBaseline, "worse_than_baseline"},
+      {CandidateLoss::kMotionAboveBest, "eta_motion_above_best"},
+      {CandidateLoss::kHigherRest, "higher_eta_rest"},
+      {CandidateLoss::kTieOnRest, "tie_on_eta_rest"},
+  }};
+};
+
 /// One strategy's result inside an `auto` plan.
 struct PlanCandidate {
   Strategy strategy{};
@@ -287,6 +314,13 @@ struct PlanCandidate {
   /// With an active uncertainty: the largest verified eta over the sample models.
   std::optional<LawPrediction> worst_case;
   bool chosen{false};
+  /// Why auto did not return it (kNone for the chosen one) and that reason with its figures in
+  /// one sentence (empty for the chosen one); set by run_auto from choose_auto's verdict.
+  CandidateLoss lost{CandidateLoss::kNone};
+  std::string lost_detail;
+  /// Its `worse_than_baseline: ...` warning, as a plan of its strategy carries it (empty when it
+  /// is not worse than the uniform law, and for the uniform law itself).
+  std::string worse_than_baseline;
 };
 
 /// kAuto's pick among its verified candidates (SPEC §5).
@@ -297,6 +331,10 @@ struct AutoChoice {
   bool eligible{false};
   /// Some usable candidate is not worse than the uniform law (then the worse ones do not compete).
   bool any_not_worse{false};
+  /// Per candidate, index for index: why it lost (kNone for `index`) and the figures that decided
+  /// it, e.g. "eta_rest 1.2 mm vs 0.8 mm of the chosen multi_notch".
+  std::vector<CandidateLoss> lost;
+  std::vector<std::string> lost_detail;
 };
 
 /// SPEC §5's rule, pure: among the usable candidates (not worse than the uniform law while one

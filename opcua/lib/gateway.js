@@ -1,0 +1,245 @@
+"use strict";
+// The address space of the gateway: Objects/Slosh with the methods (PlanFormat, MinTime, GetPlan,
+// ImportBatchJob, PlanTable), the health variables (ServiceReady, LastError) and the Products
+// folder. Each method calls the slosh HTTP service (docs/api.md) through one bounded client.
+const { DataType, Variant, VariantArrayType, StatusCodes } = require("node-opcua");
+const { units, none: NO_UNIT } = require("./units");
+const A = require("./arguments");
+const { buildPlanRequest, buildMinTimeRequest, planSummary, ArgumentError } = require("./requests");
+const { failureResult } = require("./results");
+const { Products, checkRecipeId } = require("./products");
+
+
+const tableArgs = [
+  { name: "Table", type: "String", unit: null, field: "table", description: "A recipe table (docs/batch.md): CSV with a header row, JSON lines or a JSON array" },
+  { name: "TableFormat", type: "String", unit: null, field: "table_format", description: "csv, jsonl or json" },
+];
+const tableOutputs = [
+  { name: "JobId", type: "String", unit: null, description: "The batch job id (GET /v1/batches/{id}); its recipes land in Products when it finishes" },
+];
+const importArgs = [
+  { name: "JobId", type: "String", unit: null, field: "id", description: "A finished batch job's id (POST /v1/batches)" },
+];
+const importOutputs = [
+  { name: "Planned", type: "UInt32", unit: null, description: "Recipes whose plan was written to Products" },
+  { name: "Failed", type: "UInt32", unit: null, description: "Recipes whose row is an error (Status = error)" },
+];
+
+function argumentDefinition(a) {
+  return {
+    name: a.name,
+    description: { text: a.unit ? `${a.description} [${units[a.unit].displayName.text}]` : a.description },
+    dataType: DataType[a.type],
+    valueRank: a.array ? 1 : -1,
+  };
+}
+
+function outputVariants(outputs, values) {
+  return outputs.map((o) => {
+    const v = values[o.name];
+    if (o.array) return new Variant({ dataType: DataType[o.type], arrayType: VariantArrayType.Array, value: v || [] });
+    return new Variant({ dataType: DataType[o.type], value: v });
+  });
+}
+
+// Argument values by name from the call's variants.
+function valuesOf(args, inputArguments) {
+  const values = {};
+  args.forEach((a, i) => { values[a.name] = inputArguments[i] ? inputArguments[i].value : undefined; });
+  return values;
+}
+
+class Gateway {
+  // server: an initialised OPCUAServer; service: a ServiceClient; options.pollMs: readiness poll
+  // period; options.log(message).
+  constructor(server, service, options) {
+    this.server = server;
+    this.service = service;
+    this.log = options.log || (() => {});
+    this.pollMs = options.pollMs;
+    this.ready = false;
+    this.lastError = "";
+    const addressSpace = server.engine.addressSpace;
+    const namespace = addressSpace.getOwnNamespace();
+    this.namespace = namespace;
+    this.root = namespace.addObject({ organizedBy: addressSpace.rootFolder.objects, browseName: "Slosh", nodeId: "s=Slosh",
+      description: "Anti-sloshing motion planning (the slosh service behind this gateway)" });
+    namespace.addVariable({ componentOf: this.root, browseName: "ServiceReady", nodeId: "s=Slosh.ServiceReady", dataType: "Boolean",
+      description: "True while the slosh service answers GET /readyz with 200 (polled)", minimumSamplingInterval: 100,
+      value: { get: () => new Variant({ dataType: DataType.Boolean, value: this.ready }) } });
+    namespace.addVariable({ componentOf: this.root, browseName: "LastError", nodeId: "s=Slosh.LastError", dataType: "String",
+      description: "The last failure of a method call or of the readiness poll (UTC time, method, message); empty when none",
+      minimumSamplingInterval: 100,
+      value: { get: () => new Variant({ dataType: DataType.String, value: this.lastError }) } });
+    namespace.addVariable({ componentOf: this.root, browseName: "ServiceUrl", nodeId: "s=Slosh.ServiceUrl", dataType: "String",
+      description: "The slosh HTTP service this gateway calls",
+      value: { dataType: DataType.String, value: service.base.href } });
+    this.products = new Products(namespace, this.root);
+
+    this.method("PlanFormat", A.planArgs, A.planOutputs, "Plan one format (POST /v1/plans); with a RecipeId the plan is kept in Products", (v) => this.planFormat(v));
+    this.method("MinTime", A.minTimeArgs, A.minTimeOutputs, "Shortest motion time of the format within the limits (POST /v1/min-time)", (v) => this.minTime(v));
+    this.method("GetPlan", A.getPlanArgs, A.planOutputs, "A plan by its key (GET /v1/plans/{key})", (v) => this.getPlan(v));
+    this.method("PlanTable", tableArgs, tableOutputs, "Plan a recipe table as a batch job (POST /v1/batches); its recipes land in Products when it finishes", (v) => this.planTable(v));
+    this.method("ImportBatchJob", importArgs, importOutputs, "Write the recipes of a finished batch job to Products", (v) => this.importBatchJob(v));
+  }
+
+  method(name, args, outputs, description, handler) {
+    const method = this.namespace.addMethod(this.root, {
+      browseName: name, nodeId: `s=Slosh.${name}`, description,
+      inputArguments: args.map(argumentDefinition),
+      outputArguments: outputs.map(argumentDefinition),
+    });
+    // OPC UA Arguments carry no unit: the units of the arguments are properties of the method, one
+    // EUInformation per argument in argument order (unitId -1 for unitless ones).
+    for (const [prop, list] of [["InputArgumentUnits", args], ["OutputArgumentUnits", outputs]]) {
+      this.namespace.addVariable({ propertyOf: method, browseName: prop, nodeId: `s=Slosh.${name}.${prop}`,
+        dataType: "EUInformation", valueRank: 1, arrayDimensions: [list.length],
+        description: `The engineering unit of each ${prop.startsWith("Input") ? "input" : "output"} argument, in argument order`,
+        value: { dataType: DataType.ExtensionObject, arrayType: VariantArrayType.Array,
+          value: list.map((a) => (a.unit ? units[a.unit] : NO_UNIT)) } });
+    }
+    // Two parameters: node-opcua takes a two-argument function as promise-returning.
+    method.bindMethod(async (inputArguments, _context) => {
+      try {
+        const values = await handler(valuesOf(args, inputArguments));
+        return { statusCode: StatusCodes.Good, outputArguments: outputVariants(outputs, values) };
+      } catch (err) {
+        const result = failureResult(err, args);
+        this.setError(name, result.message);
+        delete result.message;
+        return result;
+      }
+    });
+    return method;
+  }
+
+  setError(where, message) {
+    this.lastError = `${new Date().toISOString()} ${where}: ${message}`;
+    this.log(this.lastError);
+  }
+
+  async planFormat(v) {
+    const id = v.RecipeId || "";
+    if (id !== "") {
+      const problem = checkRecipeId(id);
+      if (problem) throw new ArgumentError("RecipeId", problem);
+    }
+    const { body } = await this.service.request("POST", "/v1/plans", buildPlanRequest(v));
+    const summary = planSummary(body);
+    if (id !== "") this.products.setPlan(id, body, summary, v.OptionsJson || "");
+    return summary;
+  }
+
+  async minTime(v) {
+    const { body } = await this.service.request("POST", "/v1/min-time", buildMinTimeRequest(v));
+    const h = body.headline || {};
+    return {
+      TMinS: typeof h.t_min_s === "number" ? h.t_min_s : NaN,
+      Winner: h.winner || "",
+      GainPct: typeof h.gain_pct === "number" ? h.gain_pct : NaN,
+      Key: body.key || "",
+    };
+  }
+
+  async getPlan(v) {
+    const key = v.Key || "";
+    if (!/^[0-9a-f]{32}$/.test(key)) {
+      throw new ArgumentError("Key", `Key = ${JSON.stringify(key.slice(0, 60))} is not a recipe key: 32 lowercase hex digits expected`);
+    }
+    const { body } = await this.service.request("GET", `/v1/plans/${key}`);
+    return planSummary(body);
+  }
+
+  async planTable(v) {
+    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "" });
+    this.follow(body.id);
+    return { JobId: body.id };
+  }
+
+  // Polls a job this gateway submitted until it finishes, then imports it. Bounded by the job's
+  // own life: a job that stays unfinished for its stale time reads as failed.
+  follow(id) {
+    const tick = async () => {
+      try {
+        const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?limit=1`);
+        if (body.state === "queued" || body.state === "running") {
+          setTimeout(tick, 250).unref();
+          return;
+        }
+        if (body.state === "done") await this.importBatchJob({ JobId: id });
+        else this.setError("PlanTable", `batch job ${id} ended ${body.state}: ${body.message || ""}`);
+      } catch (err) {
+        this.setError("PlanTable", `batch job ${id}: ${err.message}`);
+      }
+    };
+    setTimeout(tick, 100).unref();
+  }
+
+  async importBatchJob(v) {
+    const id = v.JobId || "";
+    if (!/^[0-9a-f]{1,64}$/.test(id)) {
+      throw new ArgumentError("JobId", `JobId = ${JSON.stringify(id.slice(0, 60))} is not a batch job id: hex digits expected`);
+    }
+    const record = (await this.service.request("GET", `/v1/batches/${id}?limit=1`)).body;
+    if (record.state !== "done") {
+      const p = record.progress || {};
+      throw Object.assign(new ArgumentError("JobId", `batch job ${id} is ${record.state} (${p.done || 0} of ${p.total || 0} done): import it once it is done`), { invalidState: true });
+    }
+    let planned = 0;
+    let failed = 0;
+    let offset = 0;
+    for (;;) {
+      const page = (await this.service.request("GET", `/v1/batches/${id}?offset=${offset}&limit=1000`)).body.results;
+      for (const row of page.rows) {
+        const rid = row.recipe_id === undefined || row.recipe_id === null || row.recipe_id === "" ? `row-${row.row}` : String(row.recipe_id);
+        if (checkRecipeId(rid)) { failed += 1; continue; }
+        if (row.status === "error" || !row.key) {
+          this.products.setError(rid, row.error ? row.error.message : (row.message || "error"));
+          failed += 1;
+          continue;
+        }
+        // The row carries the figures only; the full plan (kept by the service under its key)
+        // carries the format the recipe was planned with.
+        let plan;
+        try {
+          plan = (await this.service.request("GET", `/v1/plans/${row.key}`)).body;
+        } catch (err) {
+          // A plan the cache no longer holds (evicted, or a time_limit plan, which is never
+          // cached): the row's own figures, without the parameters.
+          if (!(err.kind === "http" && err.status === 404)) throw err;
+          plan = { ...row, format: {} };
+        }
+        this.products.setPlan(rid, plan, planSummary(plan), "");
+        planned += 1;
+      }
+      if (page.next_offset === null || page.next_offset === undefined) break;
+      offset = page.next_offset;
+    }
+    return { Planned: planned, Failed: failed };
+  }
+
+  // Polls GET /readyz every pollMs while the server runs.
+  startPolling() {
+    const poll = async () => {
+      let ready = false;
+      try {
+        const { status, body } = await this.service.request("GET", "/readyz", undefined, { raw: true, timeoutMs: Math.min(this.service.timeoutMs, Math.max(this.pollMs, 1000)) });
+        ready = status === 200;
+        if (!ready) this.setError("ServiceReady", `GET /readyz answered ${status}: ${typeof body === "object" ? JSON.stringify(body).slice(0, 200) : String(body).slice(0, 200)}`);
+      } catch (err) {
+        if (this.ready) this.setError("ServiceReady", err.message);
+        else if (!this.lastError) this.setError("ServiceReady", err.message);
+      }
+      this.ready = ready;
+      if (!this.stopped) this.pollTimer = setTimeout(poll, this.pollMs);
+    };
+    return poll();
+  }
+
+  stop() {
+    this.stopped = true;
+    clearTimeout(this.pollTimer);
+  }
+}
+
+module.exports = { Gateway };

@@ -1,0 +1,111 @@
+"use strict";
+// slosh-opcua: starts the OPC UA server in front of the slosh service and runs until SIGINT or
+// SIGTERM. Exit 0 on a clean stop, 1 when the server cannot start, 2 on a bad setting.
+const crypto = require("crypto");
+const fs = require("fs");
+const path = require("path");
+const { resolve, UsageError, USAGE } = require("./options");
+const { version } = require("../package.json");
+
+function log(message) {
+  process.stderr.write(`slosh-opcua: ${message}\n`);
+}
+
+function sameSecret(a, b) {
+  // Digests of equal length, so the comparison time does not depend on where they differ.
+  const da = crypto.createHash("sha256").update(a).digest();
+  const db = crypto.createHash("sha256").update(b).digest();
+  return crypto.timingSafeEqual(da, db);
+}
+
+async function start(settings) {
+  // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
+  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode } = require("node-opcua");
+  const { ServiceClient } = require("./service_client");
+  const { Gateway } = require("./gateway");
+  // The PKI holds the server's private key: everything the gateway creates is for its user only
+  // (node-opcua writes the key 0644 under the default umask).
+  process.umask(0o077);
+  fs.mkdirSync(settings.stateDir, { recursive: true, mode: 0o700 });
+  const pki = path.join(settings.stateDir, "pki");
+  // Client certificates are not trusted until an operator moves them from pki/rejected/certs to
+  // pki/trusted/certs (docs/opcua.md): a secure channel is only as good as that decision.
+  const serverCertificateManager = new OPCUACertificateManager({ rootFolder: pki, automaticallyAcceptUnknownCertificate: false });
+  await serverCertificateManager.initialize();
+  // X.509 user tokens are not offered, but node-opcua keeps a user PKI anyway: inside the state
+  // directory, not in its default per-user config folder (a read-only root in the container).
+  const userCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(settings.stateDir, "user-pki"), automaticallyAcceptUnknownCertificate: false });
+  await userCertificateManager.initialize();
+  const policies = [];
+  const modes = [];
+  if (settings.security.none) { policies.push(SecurityPolicy.None); modes.push(MessageSecurityMode.None); }
+  if (settings.security.basic256sha256) { policies.push(SecurityPolicy.Basic256Sha256); modes.push(MessageSecurityMode.SignAndEncrypt); }
+  const wildcard = settings.host === "" || settings.host === "0.0.0.0" || settings.host === "::";
+  const users = settings.users;
+  const server = new OPCUAServer({
+    port: settings.port,
+    ...(wildcard ? {} : { host: settings.host, hostname: settings.host }),
+    serverCertificateManager,
+    userCertificateManager,
+    certificateFile: path.join(pki, "own", "certs", "certificate.pem"),
+    privateKeyFile: path.join(pki, "own", "private", "private_key.pem"),
+    securityPolicies: policies,
+    securityModes: modes,
+    allowAnonymous: users.length === 0,
+    userManager: {
+      isValidUser: (user, password) => users.some((u) => sameSecret(u.user, user || "") && sameSecret(u.password, password || "")),
+    },
+    buildInfo: { productName: "slosh-opcua", productUri: "urn:slosh:opcua", manufacturerName: "slosh", softwareVersion: version },
+    serverInfo: { applicationName: { text: "slosh OPC UA gateway", locale: "en" } },
+  });
+  await server.initialize();
+  // A key made by an earlier start under another umask is tightened too.
+  for (const [p, mode] of [[pki, 0o700], [path.join(pki, "own", "private"), 0o700], [path.join(pki, "own", "private", "private_key.pem"), 0o600]]) {
+    if (fs.existsSync(p)) fs.chmodSync(p, mode);
+  }
+  const service = new ServiceClient(settings.service, settings.timeoutMs);
+  const gateway = new Gateway(server, service, { pollMs: settings.pollMs, log });
+  await server.start();
+  const port = server.endpoints[0].port;
+  await gateway.startPolling();
+  if (settings.portFile) fs.writeFileSync(settings.portFile, `${port}\n`);
+  log(`listening on ${server.getEndpointUrl()} (${[settings.security.none && "None", settings.security.basic256sha256 && "Basic256Sha256 SignAndEncrypt"].filter(Boolean).join(", ")}; ${users.length ? `${users.length} user(s), anonymous refused` : "anonymous"}), service ${settings.service}, PKI ${pki}`);
+  return { server, gateway, service };
+}
+
+async function main(argv) {
+  let settings;
+  try {
+    settings = resolve(argv);
+  } catch (e) {
+    if (e instanceof UsageError) {
+      process.stderr.write(`slosh-opcua: ${e.message}\n`);
+      process.exit(2);
+    }
+    throw e;
+  }
+  if (settings.help) {
+    process.stdout.write(USAGE + "\n");
+    return;
+  }
+  let running;
+  try {
+    running = await start(settings);
+  } catch (e) {
+    log(`cannot start: ${e.message}`);
+    process.exit(1);
+  }
+  let stopping = false;
+  const stop = async () => {
+    if (stopping) return;
+    stopping = true;
+    running.gateway.stop();
+    running.service.close();
+    await running.server.shutdown(0);
+    process.exit(0);
+  };
+  process.on("SIGINT", stop);
+  process.on("SIGTERM", stop);
+}
+
+module.exports = { main, start };

@@ -1,0 +1,145 @@
+"use strict";
+// Command line, configuration file and environment of slosh-opcua. Lowest to highest precedence:
+// defaults, the --config file (JSON), the environment (SLOSH_OPCUA_*), the flags. A bad value stops
+// the start with a message naming the setting, the value and what is allowed (exit 2).
+const fs = require("fs");
+const os = require("os");
+const path = require("path");
+
+const USAGE = `usage: slosh-opcua --service URL [--port N] [options]
+
+OPC UA server (IEC 62541) in front of the slosh HTTP service: methods PlanFormat, MinTime,
+GetPlan, PlanTable, ImportBatchJob; the Products folder; ServiceReady and LastError.
+
+  --service URL      the slosh service, e.g. http://127.0.0.1:8080 (required; SLOSH_OPCUA_SERVICE)
+  --port N           OPC UA TCP port, 0 = any free one (default 4840; SLOSH_OPCUA_PORT)
+  --host ADDR        listen address and endpoint host name (default: every interface, the
+                     machine's host name in the endpoint URL; SLOSH_OPCUA_HOST)
+  --timeout-s S      bound of each call to the service, 0.1 to 600 s (default 30; a call then
+                     fails with BadTimeout; SLOSH_OPCUA_TIMEOUT_S)
+  --poll-s S         readiness poll period of GET /readyz, 0.1 to 60 s (default 2; SLOSH_OPCUA_POLL_S)
+  --security LIST    comma list of none, basic256sha256 (default none,basic256sha256:
+                     Basic256Sha256 is offered as SignAndEncrypt only; SLOSH_OPCUA_SECURITY)
+  --state-dir DIR    where the PKI lives (default \${XDG_STATE_HOME:-~/.local/state}/slosh/opcua;
+                     the server certificate is created in DIR/pki/own on first start;
+                     SLOSH_OPCUA_STATE_DIR)
+  --config FILE      JSON file with any of the keys service, port, host, timeout_s, poll_s,
+                     security, state_dir and users: [{"user": "...", "password": "..."}]
+                     (SLOSH_OPCUA_CONFIG)
+  --port-file FILE   write the port once listening (for --port 0)
+  --help             this text
+
+User name and password: the config's "users", or SLOSH_OPCUA_USER and SLOSH_OPCUA_PASSWORD. When
+any user is configured, anonymous sessions are refused.`;
+
+class UsageError extends Error {}
+
+function parseArgs(argv) {
+  const flags = {};
+  const known = new Set(["service", "port", "host", "timeout-s", "poll-s", "security", "state-dir", "config", "port-file"]);
+  for (let i = 0; i < argv.length; i++) {
+    const a = argv[i];
+    if (a === "--help" || a === "-h") return { help: true };
+    const m = /^--([a-z-]+)(?:=(.*))?$/.exec(a);
+    if (!m || !known.has(m[1])) throw new UsageError(`unknown argument ${JSON.stringify(a)} (see --help)`);
+    let value = m[2];
+    if (value === undefined) {
+      if (i + 1 >= argv.length) throw new UsageError(`--${m[1]} needs a value`);
+      value = argv[++i];
+    }
+    if (m[1] in flags) throw new UsageError(`--${m[1]} is given twice`);
+    flags[m[1]] = value;
+  }
+  return { flags };
+}
+
+function numberSetting(name, value, low, high, integer) {
+  const text = String(value).trim();
+  const n = Number(text);
+  if (text === "" || !Number.isFinite(n) || (integer && !Number.isInteger(n)) || n < low || n > high) {
+    throw new UsageError(`${name} = ${JSON.stringify(value)} is out of range: allowed ${integer ? "an integer " : ""}${low} to ${high}`);
+  }
+  return n;
+}
+
+function defaultStateDir(env) {
+  if (env.XDG_STATE_HOME && path.isAbsolute(env.XDG_STATE_HOME)) return path.join(env.XDG_STATE_HOME, "slosh", "opcua");
+  if (env.HOME) return path.join(env.HOME, ".local", "state", "slosh", "opcua");
+  throw new UsageError("state directory: neither XDG_STATE_HOME (an absolute path) nor HOME is set; give --state-dir DIR");
+}
+
+// -> {service, port, host, timeoutMs, pollMs, security: {none, basic256sha256}, stateDir, users, portFile}
+function resolve(argv, env = process.env) {
+  const parsed = parseArgs(argv);
+  if (parsed.help) return { help: true };
+  const f = parsed.flags;
+  const configPath = f.config !== undefined ? f.config : env.SLOSH_OPCUA_CONFIG;
+  let config = {};
+  if (configPath) {
+    let text;
+    try { text = fs.readFileSync(configPath, "utf8"); } catch (e) { throw new UsageError(`--config ${configPath}: cannot read it: ${e.code || e.message}`); }
+    try { config = JSON.parse(text); } catch (e) { throw new UsageError(`--config ${configPath}: not valid JSON: ${e.message}`); }
+    if (config === null || typeof config !== "object" || Array.isArray(config)) throw new UsageError(`--config ${configPath}: a JSON object expected`);
+    const allowed = new Set(["service", "port", "host", "timeout_s", "poll_s", "security", "state_dir", "users"]);
+    for (const k of Object.keys(config)) if (!allowed.has(k)) throw new UsageError(`--config ${configPath}: unknown key ${JSON.stringify(k)}: allowed ${[...allowed].join(", ")}`);
+  }
+  const pick = (flag, envName, key, fallback) => {
+    if (f[flag] !== undefined) return [`--${flag}`, f[flag]];
+    if (env[envName] !== undefined && env[envName] !== "") return [envName, env[envName]];
+    if (config[key] !== undefined) return [`config ${key}`, config[key]];
+    return [`--${flag}`, fallback];
+  };
+
+  const [serviceName, service] = pick("service", "SLOSH_OPCUA_SERVICE", "service", undefined);
+  if (service === undefined) throw new UsageError("--service URL is required (the slosh HTTP service, e.g. http://127.0.0.1:8080)");
+  let url;
+  try { url = new URL(String(service)); } catch (e) { url = null; }
+  if (!url || !["http:", "https:"].includes(url.protocol) || !url.hostname) {
+    throw new UsageError(`${serviceName} = ${JSON.stringify(service)} is not a service URL: http://host:port expected`);
+  }
+  const [portName, port] = pick("port", "SLOSH_OPCUA_PORT", "port", 4840);
+  const [hostName, host] = pick("host", "SLOSH_OPCUA_HOST", "host", "");
+  const [timeoutName, timeout] = pick("timeout-s", "SLOSH_OPCUA_TIMEOUT_S", "timeout_s", 30);
+  const [pollName, poll] = pick("poll-s", "SLOSH_OPCUA_POLL_S", "poll_s", 2);
+  const [securityName, security] = pick("security", "SLOSH_OPCUA_SECURITY", "security", "none,basic256sha256");
+  const securityList = (Array.isArray(security) ? security : String(security).split(",")).map((s) => String(s).trim().toLowerCase());
+  const policies = { none: false, basic256sha256: false };
+  for (const s of securityList) {
+    if (!(s in policies)) throw new UsageError(`${securityName} = ${JSON.stringify(security)}: unknown policy ${JSON.stringify(s)}: allowed none, basic256sha256`);
+    policies[s] = true;
+  }
+  if (!policies.none && !policies.basic256sha256) throw new UsageError(`${securityName} is empty: allowed none, basic256sha256 or both`);
+  if (typeof host !== "string" || /[\s/]/.test(host)) throw new UsageError(`${hostName} = ${JSON.stringify(host)} is not a host name or address`);
+
+  const [, stateDirSetting] = pick("state-dir", "SLOSH_OPCUA_STATE_DIR", "state_dir", undefined);
+  const stateDir = stateDirSetting !== undefined ? path.resolve(String(stateDirSetting)) : defaultStateDir(env);
+
+  const users = [];
+  if (config.users !== undefined) {
+    if (!Array.isArray(config.users)) throw new UsageError(`--config ${configPath}: users must be a list of {"user", "password"}`);
+    config.users.forEach((u, i) => {
+      if (!u || typeof u.user !== "string" || u.user === "" || typeof u.password !== "string" || u.password === "") {
+        throw new UsageError(`--config ${configPath}: users[${i}] needs a non-empty "user" and "password"`);
+      }
+      users.push({ user: u.user, password: u.password });
+    });
+  }
+  if (env.SLOSH_OPCUA_USER || env.SLOSH_OPCUA_PASSWORD) {
+    if (!env.SLOSH_OPCUA_USER || !env.SLOSH_OPCUA_PASSWORD) throw new UsageError("SLOSH_OPCUA_USER and SLOSH_OPCUA_PASSWORD go together: set both or neither");
+    users.push({ user: env.SLOSH_OPCUA_USER, password: env.SLOSH_OPCUA_PASSWORD });
+  }
+
+  return {
+    service: url.href,
+    port: numberSetting(portName, port, 0, 65535, true),
+    host,
+    timeoutMs: Math.round(numberSetting(timeoutName, timeout, 0.1, 600, false) * 1000),
+    pollMs: Math.round(numberSetting(pollName, poll, 0.1, 60, false) * 1000),
+    security: policies,
+    stateDir,
+    users,
+    portFile: f["port-file"],
+  };
+}
+
+module.exports = { resolve, UsageError, USAGE, hostName: os.hostname };

@@ -1,0 +1,134 @@
+"use strict";
+// The Products folder (PackML's spirit, OPC 30050): one object per recipe id, holding the recipe's
+// parameters and its last plan as variables with engineering units, its Status and LastPlanned, so
+// a PLC or HMI reads a recipe's durations without calling a method. Products live in the gateway's
+// memory: a restart starts with an empty folder (the plans stay in the service's store; PlanFormat
+// or ImportBatchJob brings them back).
+const { DataType, Variant, StatusCodes } = require("node-opcua");
+const { units } = require("./units");
+
+const MAX_RECIPE_ID = 128;
+
+// Parameters: [browse name, type, unit, description, value from (plan, request options)].
+const parameterVars = [
+  ["RadiusMm", "Double", "mm", "Radius of a round container (mm); 0 for a rectangular one", (p) => p.format.container.radius_mm],
+  ["LengthMm", "Double", "mm", "Rectangular container length (mm); 0 for a round one", (p) => p.format.container.length_mm],
+  ["WidthMm", "Double", "mm", "Rectangular container width (mm); 0 for a round one", (p) => p.format.container.width_mm],
+  ["ContainerHeightMm", "Double", "mm", "Container height (mm); 0 = not given", (p) => p.format.container.height_mm],
+  ["FillHeightMm", "Double", "mm", "Fill height (mm)", (p) => p.format.fill_height_mm],
+  ["Fluid", "String", null, "Fluid name (as the service resolved it)", (p) => (typeof p.format.fluid === "string" ? p.format.fluid : p.format.fluid && p.format.fluid.name)],
+  ["DensityKgM3", "Double", "kg_m3", "Fluid density (kg/m³)", (p) => p.format.fluid && p.format.fluid.density_kg_m3],
+  ["ViscosityPaS", "Double", "pa_s", "Fluid dynamic viscosity (Pa·s)", (p) => p.format.fluid && p.format.fluid.viscosity_pa_s],
+  ["StrokeMm", "Double", "mm", "Stroke of the straight move (mm); 0 for a motion object", (p) => p.format.stroke_mm],
+  ["MotionJson", "String", null, "The motion object as JSON; empty for a straight stroke", (p) => (p.format.motion ? JSON.stringify(p.format.motion) : "")],
+  ["MotionTimeS", "Double", "s", "Motion time T (s)", (p) => p.format.motion_time_s],
+  ["Strategy", "String", null, "Strategy planned", (p) => p.strategy],
+  ["OptionsJson", "String", null, "Plan options as given to PlanFormat (JSON); empty from a batch", (p, options) => options || ""],
+];
+
+// Last plan: [browse name, type, unit, description, value from the plan summary].
+const planVars = [
+  ["Key", "String", null, "Recipe key (GetPlan)", (s) => s.Key],
+  ["DurationsS", "Double[]", "s", "The 7 segment durations (s); empty for a general law", (s) => s.DurationsS],
+  ["A", "Double", "m_s2", "Acceleration plateau A (m/s²)", (s) => s.A],
+  ["B", "Double", "m_s2", "Deceleration plateau B (m/s²)", (s) => s.B],
+  ["EtaMotionNonlinearMm", "Double", "mm", "Peak wave height during the motion, nonlinear model (mm)", (s) => s.EtaMotionNonlinearMm],
+  ["EtaRestNonlinearMm", "Double", "mm", "Peak wave height at rest, nonlinear model (mm)", (s) => s.EtaRestNonlinearMm],
+  ["EtaMotionLinearMm", "Double", "mm", "Peak wave height during the motion, linear model (mm)", (s) => s.EtaMotionLinearMm],
+  ["EtaRestLinearMm", "Double", "mm", "Peak wave height at rest, linear model (mm)", (s) => s.EtaRestLinearMm],
+  ["Message", "String", null, "The plan's message, or the error of the recipe", (s) => s.Message],
+];
+
+function checkRecipeId(id) {
+  if (typeof id !== "string" || id.length === 0) return "RecipeId is empty";
+  if (id.length > MAX_RECIPE_ID) return `RecipeId is ${id.length} characters long: allowed 1 to ${MAX_RECIPE_ID}`;
+  // eslint-disable-next-line no-control-regex
+  if (/[\u0000-\u001f\u007f]/.test(id)) return `RecipeId ${JSON.stringify(id.slice(0, 60))} contains a control character`;
+  return null;
+}
+
+class Products {
+  constructor(namespace, parent) {
+    this.namespace = namespace;
+    this.folder = namespace.addObject({ organizedBy: parent, typeDefinition: "FolderType", browseName: "Products", nodeId: "s=Products",
+      description: "One object per recipe id: its parameters and last plan (PackML products)" });
+    this.items = new Map();
+  }
+
+  variable(parent, prefix, state, [name, type, unit, description]) {
+    const isArray = type.endsWith("[]");
+    const dataType = isArray ? type.slice(0, -2) : type;
+    const options = {
+      componentOf: parent,
+      browseName: name,
+      nodeId: `s=${prefix}.${name}`,
+      description,
+      dataType,
+      valueRank: isArray ? 1 : -1,
+      minimumSamplingInterval: 100,
+      value: {
+        get: () => {
+          const v = state[name];
+          if (v === undefined || v === null) return new Variant({ dataType: DataType[dataType], value: isArray ? [] : (dataType === "String" ? "" : 0), arrayType: isArray ? 1 : undefined });
+          return new Variant({ dataType: DataType[dataType], value: v, arrayType: isArray ? 1 : undefined });
+        },
+      },
+    };
+    if (unit) {
+      return this.namespace.addAnalogDataItem({ ...options, engineeringUnits: units[unit], engineeringUnitsRange: { low: 0, high: 1e6 } });
+    }
+    return this.namespace.addVariable(options);
+  }
+
+  ensure(id) {
+    let item = this.items.get(id);
+    if (item) return item;
+    const prefix = `Products.${id}`;
+    // A qualified name object, not the string: node-opcua would read "2:cup" as namespace 2.
+    const node = this.namespace.addObject({ organizedBy: this.folder, browseName: { name: id, namespaceIndex: this.namespace.index }, nodeId: `s=${prefix}`,
+      description: `Recipe ${id}` });
+    const state = { Status: "", LastPlanned: null };
+    const params = {};
+    const plan = {};
+    this.namespace.addVariable({ componentOf: node, browseName: "Status", nodeId: `s=${prefix}.Status`, dataType: "String",
+      description: "Plan status of the last plan (optimal, acceptable, infeasible, time_limit, failed) or error",
+      minimumSamplingInterval: 100,
+      value: { get: () => new Variant({ dataType: DataType.String, value: state.Status }) } });
+    this.namespace.addVariable({ componentOf: node, browseName: "LastPlanned", nodeId: `s=${prefix}.LastPlanned`, dataType: "DateTime",
+      description: "When the gateway last received a plan (or an error) for this recipe (UTC)",
+      minimumSamplingInterval: 100,
+      value: { get: () => new Variant({ dataType: DataType.DateTime, value: state.LastPlanned }) } });
+    const paramsNode = this.namespace.addObject({ componentOf: node, browseName: "Parameters", nodeId: `s=${prefix}.Parameters`,
+      description: "The recipe's format, strategy and options" });
+    const planNode = this.namespace.addObject({ componentOf: node, browseName: "LastPlan", nodeId: `s=${prefix}.LastPlan`,
+      description: "The recipe's last plan" });
+    for (const v of parameterVars) this.variable(paramsNode, `${prefix}.Parameters`, params, v);
+    for (const v of planVars) this.variable(planNode, `${prefix}.LastPlan`, plan, v);
+    item = { node, state, params, plan };
+    this.items.set(id, item);
+    return item;
+  }
+
+  // A full plan response for recipe id; options: the OptionsJson text it was planned with.
+  setPlan(id, plan, summary, options) {
+    const item = this.ensure(id);
+    for (const [name, , , , get] of parameterVars) {
+      let v;
+      try { v = get(plan, options); } catch (e) { v = undefined; }
+      item.params[name] = v;
+    }
+    for (const [name, , , , get] of planVars) item.plan[name] = get(summary);
+    item.state.Status = summary.Status;
+    item.state.LastPlanned = new Date();
+  }
+
+  // A recipe whose plan failed (a batch row with an error): its last plan is kept, Status says error.
+  setError(id, message) {
+    const item = this.ensure(id);
+    item.plan.Message = message;
+    item.state.Status = "error";
+    item.state.LastPlanned = new Date();
+  }
+}
+
+module.exports = { Products, checkRecipeId, StatusCodes };

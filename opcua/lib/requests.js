@@ -1,0 +1,138 @@
+"use strict";
+// Method arguments -> the service's JSON requests (docs/api.md, docs/min-time.md). What the gateway
+// checks itself is only what the HTTP API cannot express (which of two alternative arguments was
+// meant, JSON text that does not parse); every value is validated by the service, whose 422 message
+// the caller then sees word for word.
+
+class ArgumentError extends Error {
+  constructor(argument, message) {
+    super(message);
+    this.argument = argument;
+  }
+}
+
+function number(v, name) {
+  if (typeof v !== "number" || !Number.isFinite(v)) {
+    throw new ArgumentError(name, `${name} = ${v} is not a finite number`);
+  }
+  return v;
+}
+
+function jsonObject(text, name) {
+  let value;
+  try {
+    value = JSON.parse(text);
+  } catch (e) {
+    throw new ArgumentError(name, `${name} is not valid JSON: ${e.message}`);
+  }
+  if (value === null || typeof value !== "object" || Array.isArray(value)) {
+    throw new ArgumentError(name, `${name} must be a JSON object ({...}), got ${text.slice(0, 60)}`);
+  }
+  return value;
+}
+
+// a: {RadiusMm, LengthMm, ...} -> format (without motion_time_s).
+function buildFormat(a) {
+  const radius = number(a.RadiusMm, "RadiusMm");
+  const length = number(a.LengthMm, "LengthMm");
+  const width = number(a.WidthMm, "WidthMm");
+  const height = number(a.ContainerHeightMm, "ContainerHeightMm");
+  let container;
+  if (radius !== 0 && (length !== 0 || width !== 0)) {
+    throw new ArgumentError("RadiusMm", `RadiusMm = ${radius} and LengthMm = ${length}, WidthMm = ${width}: give the radius of a round container or the length and width of a rectangular one, not both`);
+  } else if (radius !== 0) {
+    container = { radius_mm: radius };
+  } else if (length !== 0 || width !== 0) {
+    container = { shape: "rectangular", length_mm: length, width_mm: width };
+  } else {
+    throw new ArgumentError("RadiusMm", "RadiusMm = 0 and LengthMm = 0: give the radius of a round container or the length and width of a rectangular one");
+  }
+  if (height !== 0) container.height_mm = height;
+
+  const density = number(a.DensityKgM3, "DensityKgM3");
+  const viscosity = number(a.ViscosityPaS, "ViscosityPaS");
+  const name = a.Fluid || "";
+  let fluid;
+  if (name !== "" && (density !== 0 || viscosity !== 0)) {
+    throw new ArgumentError("Fluid", `Fluid = "${name}" and DensityKgM3 = ${density}, ViscosityPaS = ${viscosity}: give a catalogue name or a density and viscosity, not both`);
+  } else if (name !== "") {
+    fluid = name;
+  } else if (density !== 0 || viscosity !== 0) {
+    fluid = { density_kg_m3: density, viscosity_pa_s: viscosity };
+  } else {
+    throw new ArgumentError("Fluid", "Fluid is empty and DensityKgM3 = 0, ViscosityPaS = 0: give a catalogue name (e.g. water) or a density and viscosity");
+  }
+
+  const format = { container, fill_height_mm: number(a.FillHeightMm, "FillHeightMm"), fluid };
+  const stroke = number(a.StrokeMm, "StrokeMm");
+  const motion = a.MotionJson || "";
+  if (stroke !== 0 && motion !== "") {
+    throw new ArgumentError("StrokeMm", `StrokeMm = ${stroke} and MotionJson given: give the stroke of a straight move or a motion object, not both`);
+  } else if (stroke !== 0) {
+    format.stroke_mm = stroke;
+  } else if (motion !== "") {
+    format.motion = jsonObject(motion, "MotionJson");
+  } else {
+    throw new ArgumentError("StrokeMm", "StrokeMm = 0 and MotionJson is empty: give the stroke (mm) or the motion as JSON");
+  }
+  return format;
+}
+
+function buildPlanRequest(a) {
+  const format = buildFormat(a);
+  format.motion_time_s = number(a.MotionTimeS, "MotionTimeS");
+  const request = { format };
+  if (a.Strategy) request.strategy = a.Strategy;
+  if (a.OptionsJson) request.options = jsonObject(a.OptionsJson, "OptionsJson");
+  return request;
+}
+
+function buildMinTimeRequest(a) {
+  const extra = a.RequestJson ? jsonObject(a.RequestJson, "RequestJson") : {};
+  for (const member of ["format", "eta_motion_max_mm", "eta_rest_max_mm"]) {
+    if (member in extra) {
+      throw new ArgumentError("RequestJson", `RequestJson.${member}: give it through its own argument, not in RequestJson`);
+    }
+  }
+  const request = { format: buildFormat(a), ...extra };
+  const etaMotion = number(a.EtaMotionMaxMm, "EtaMotionMaxMm");
+  const etaRest = number(a.EtaRestMaxMm, "EtaRestMaxMm");
+  if (etaMotion !== 0) request.eta_motion_max_mm = etaMotion;
+  if (etaRest !== 0) request.eta_rest_max_mm = etaRest;
+  const limits = {};
+  for (const [arg, member] of [["AMax", "a_max"], ["VMax", "v_max"], ["JMax", "j_max"]]) {
+    const v = number(a[arg], arg);
+    if (v !== 0) limits[member] = v;
+  }
+  if (Object.keys(limits).length > 0) {
+    request.options = { ...(request.options || {}) };
+    if (request.options.limits) {
+      throw new ArgumentError("RequestJson", "RequestJson.options.limits: give the machine limits through AMax, VMax, JMax, not both");
+    }
+    request.options.limits = limits;
+  }
+  return request;
+}
+
+// A plan response (full view) -> the PlanFormat outputs, in planOutputs order.
+function planSummary(plan) {
+  const k = plan.kinematics || {};
+  const p = plan.prediction || {};
+  const nl = p.nonlinear || {};
+  const li = p.linear || {};
+  const num = (v) => (typeof v === "number" ? v : NaN);
+  return {
+    Status: plan.status || "",
+    Message: plan.message || "",
+    DurationsS: Array.isArray(plan.durations_s) ? plan.durations_s : [],
+    A: num(k.a_max),
+    B: num(k.a_min),
+    EtaMotionNonlinearMm: num(nl.eta_motion_mm),
+    EtaRestNonlinearMm: num(nl.eta_rest_mm),
+    EtaMotionLinearMm: num(li.eta_motion_mm),
+    EtaRestLinearMm: num(li.eta_rest_mm),
+    Key: plan.key || "",
+  };
+}
+
+module.exports = { ArgumentError, buildFormat, buildPlanRequest, buildMinTimeRequest, planSummary };

@@ -1,0 +1,238 @@
+// The cached serve path (SPEC §8): a cached plan's compact view and gzip coding are rendered once
+// and served from memory; the bytes are exactly those rendered fresh from the plan, the gzip body
+// inflates to the identity body, every reply that could be coded says Vary: Accept-Encoding, and
+// nothing is coded for a client that did not ask. Checked on a real server over raw sockets (an
+// HTTP client library would negotiate and inflate on its own).
+
+#include <gtest/gtest.h>
+#include <zlib.h>
+
+#include <map>
+#include <memory>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "gzip.hpp"
+#include "rendered_plans.hpp"
+#include "slosh/api/plan_view.hpp"
+#include "support/raw_client.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+
+const std::string kRecipe =
+    R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,)"
+    R"( "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0}, "strategy": "notch"})";
+
+struct RawReply {
+  int status{};
+  std::map<std::string, std::string> headers;  // lower-case names
+  std::string body;
+};
+
+// One request on its own connection (Connection: close), the answer split by hand.
+RawReply exchange(int port, const std::string& method, const std::string& target,
+                  const std::string& body, const std::string& extra_headers = "") {
+  test::Raw raw(port);
+  EXPECT_TRUE(raw.connected());
+  std::string request = method + " " + target + " HTTP/1.1\r\nHost: 127.0.0.1\r\n" +
+                        "Connection: close\r\n" + extra_headers;
+  if (method == "POST") {
+    request +=
+        "Content-Type: application/json\r\nContent-Length: " + std::to_string(body.size()) + "\r\n";
+  }
+  request += "\r\n" + body;
+  EXPECT_TRUE(raw.send(request));
+  const std::string text = raw.read_all();
+  RawReply reply;
+  const std::size_t end = text.find("\r\n\r\n");
+  EXPECT_NE(end, std::string::npos) << text;
+  if (end == std::string::npos) return reply;
+  reply.status = std::stoi(text.substr(9, 3));
+  std::size_t at = text.find("\r\n") + 2;
+  while (at < end) {
+    const std::size_t eol = text.find("\r\n", at);
+    const std::string line = text.substr(at, eol - at);
+    const std::size_t colon = line.find(':');
+    std::string name = line.substr(0, colon);
+    for (char& c : name) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    reply.headers[name] = line.substr(line.find_first_not_of(' ', colon + 1));
+    at = eol + 2;
+  }
+  reply.body = text.substr(end + 4);
+  EXPECT_EQ(reply.body.size(), std::stoul(reply.headers["content-length"]));
+  return reply;
+}
+
+// Inflates a gzip member with zlib's own reader (the test's independent side of the coding).
+std::string gunzip(const std::string& data) {
+  z_stream stream{};
+  EXPECT_EQ(inflateInit2(&stream, 15 + 16), Z_OK);
+  std::string out;
+  char buffer[16384];
+  stream.next_in = reinterpret_cast<Bytef*>(const_cast<char*>(data.data()));
+  stream.avail_in = static_cast<uInt>(data.size());
+  int rc = Z_OK;
+  while (rc == Z_OK) {
+    stream.next_out = reinterpret_cast<Bytef*>(buffer);
+    stream.avail_out = sizeof buffer;
+    rc = inflate(&stream, Z_NO_FLUSH);
+    out.append(buffer, sizeof buffer - stream.avail_out);
+  }
+  EXPECT_EQ(rc, Z_STREAM_END);
+  EXPECT_EQ(stream.avail_in, 0U);  // one member, nothing after it
+  inflateEnd(&stream);
+  return out;
+}
+
+// The reply text of `plan` with its leading `"cached":false` member turned true.
+std::string as_cached(std::string plan) {
+  const std::string from = R"({"cached":false,)";
+  EXPECT_EQ(plan.rfind(from, 0), 0U) << plan.substr(0, 40);
+  return R"({"cached":true,)" + plan.substr(from.size());
+}
+
+TEST(Serving, CachedCompactViewIsTheViewRenderedFromTheFreshPlan) {
+  const test::Server server;
+  const RawReply fresh = exchange(server.port(), "POST", "/v1/plans", kRecipe);
+  ASSERT_EQ(fresh.status, 200) << fresh.body;
+  EXPECT_EQ(fresh.headers.at("x-cache"), "miss");
+  const std::string key = json::parse(fresh.body).at("key");
+  // The compact view of the plan as a hit would say it, rendered here from the full text.
+  const std::string expected = api::compact_plan_text(as_cached(fresh.body));
+  for (int i = 0; i < 2; ++i) {  // the first hit may render the views, the second finds them
+    const RawReply post = exchange(server.port(), "POST", "/v1/plans?view=compact", kRecipe);
+    EXPECT_EQ(post.headers.at("x-cache"), "hit");
+    EXPECT_EQ(post.body, expected);
+    const RawReply get = exchange(server.port(), "GET", "/v1/plans/" + key + "?view=compact", "");
+    EXPECT_EQ(get.body, expected);
+    EXPECT_EQ(get.headers.at("etag"), "\"" + key + ";view=compact\"");
+  }
+  // The full plan of a hit is the fresh one, cached.
+  EXPECT_EQ(exchange(server.port(), "POST", "/v1/plans", kRecipe).body, as_cached(fresh.body));
+}
+
+TEST(Serving, CompactViewOfAPlanLoadedFromTheStoreAfterARestart) {
+  const test::TempDir dir;
+  std::string fresh;
+  {
+    test::Server first({}, &dir);
+    fresh = exchange(first.port(), "POST", "/v1/plans", kRecipe).body;
+    ASSERT_EQ(first.stop(), 0);
+  }
+  const test::Server second({}, &dir);
+  const RawReply compact = exchange(second.port(), "POST", "/v1/plans?view=compact", kRecipe);
+  EXPECT_EQ(compact.headers.at("x-cache"), "hit");
+  EXPECT_EQ(compact.body, api::compact_plan_text(as_cached(fresh)));
+}
+
+TEST(Serving, GzipBodyInflatesToTheIdentityBody) {
+  const test::Server server;
+  const RawReply fresh =
+      exchange(server.port(), "POST", "/v1/plans", kRecipe, "Accept-Encoding: gzip\r\n");
+  ASSERT_EQ(fresh.status, 200);
+  // A fresh plan is coded per response.
+  EXPECT_EQ(fresh.headers.at("content-encoding"), "gzip");
+  EXPECT_EQ(fresh.headers.at("vary"), "Accept-Encoding");
+  const std::string fresh_plan = gunzip(fresh.body);
+  EXPECT_EQ(json::parse(fresh_plan).at("cached"), false);
+
+  const RawReply identity = exchange(server.port(), "POST", "/v1/plans", kRecipe);
+  EXPECT_EQ(identity.headers.count("content-encoding"), 0U);
+  EXPECT_EQ(identity.headers.at("vary"), "Accept-Encoding");
+  EXPECT_EQ(identity.body, as_cached(fresh_plan));
+  for (const char* accept : {"gzip", "deflate, gzip;q=0.5", "br, gzip, deflate", "*"}) {
+    const RawReply coded = exchange(server.port(), "POST", "/v1/plans", kRecipe,
+                                    std::string("Accept-Encoding: ") + accept + "\r\n");
+    EXPECT_EQ(coded.headers.at("x-cache"), "hit");
+    EXPECT_EQ(coded.headers.at("content-encoding"), "gzip") << accept;
+    EXPECT_EQ(coded.headers.at("vary"), "Accept-Encoding");
+    EXPECT_EQ(coded.headers.at("etag"), identity.headers.at("etag"));
+    EXPECT_LT(coded.body.size(), identity.body.size() / 2);
+    EXPECT_EQ(gunzip(coded.body), identity.body) << accept;
+  }
+  // Codings the client refuses or the service does not offer: identity.
+  for (const char* accept : {"gzip;q=0", "br", "identity", "*;q=0", "deflate"}) {
+    const RawReply plain = exchange(server.port(), "POST", "/v1/plans", kRecipe,
+                                    std::string("Accept-Encoding: ") + accept + "\r\n");
+    EXPECT_EQ(plain.headers.count("content-encoding"), 0U) << accept;
+    EXPECT_EQ(plain.body, identity.body) << accept;
+  }
+  // A revalidation in gzip is a 304 for the same tag.
+  const RawReply revalidated =
+      exchange(server.port(), "POST", "/v1/plans", kRecipe,
+               "Accept-Encoding: gzip\r\nIf-None-Match: " + identity.headers.at("etag") + "\r\n");
+  EXPECT_EQ(revalidated.status, 304);
+  EXPECT_EQ(revalidated.headers.at("vary"), "Accept-Encoding");
+}
+
+TEST(Serving, LargeBodiesOfOtherEndpointsAreCodedOnlyWhenAccepted) {
+  const test::Server server;
+  const RawReply plain = exchange(server.port(), "GET", "/v1/openapi.json", "");
+  ASSERT_GT(plain.body.size(), service::kGzipMinBytes);
+  EXPECT_EQ(plain.headers.count("content-encoding"), 0U);
+  EXPECT_EQ(plain.headers.at("vary"), "Accept-Encoding");
+  const RawReply coded =
+      exchange(server.port(), "GET", "/v1/openapi.json", "", "Accept-Encoding: gzip\r\n");
+  EXPECT_EQ(coded.headers.at("content-encoding"), "gzip");
+  EXPECT_EQ(gunzip(coded.body), plain.body);
+  // A small body stays as it is (the coding would cost more than it saves).
+  const RawReply health =
+      exchange(server.port(), "GET", "/healthz", "", "Accept-Encoding: gzip\r\n");
+  ASSERT_LT(health.body.size(), service::kGzipMinBytes);
+  EXPECT_EQ(health.headers.count("content-encoding"), 0U);
+  EXPECT_TRUE(json::accept(health.body)) << health.body;
+}
+
+TEST(Serving, AcceptEncodingFollowsItsQualityValues) {
+  using service::accepts_gzip;
+  EXPECT_TRUE(accepts_gzip("gzip"));
+  EXPECT_TRUE(accepts_gzip(" GZip ; q=0.3 "));
+  EXPECT_TRUE(accepts_gzip("deflate, x-gzip"));
+  EXPECT_TRUE(accepts_gzip("br;q=1, *;q=0.1"));
+  EXPECT_FALSE(accepts_gzip(""));
+  EXPECT_FALSE(accepts_gzip("br, deflate"));
+  EXPECT_FALSE(accepts_gzip("gzip;q=0"));
+  EXPECT_FALSE(accepts_gzip("gzip;q=0.000"));
+  EXPECT_FALSE(accepts_gzip("*, gzip;q=0"));  // the named coding decides over "*"
+  EXPECT_FALSE(accepts_gzip("gzipped"));
+}
+
+TEST(Serving, GzipIsDeterministicAndInflatesBack) {
+  std::string text;
+  for (int i = 0; i < 3000; ++i) text += std::to_string(i * 0.37) + ",";
+  const std::string coded = service::gzip_compress(text);
+  EXPECT_EQ(coded, service::gzip_compress(text));  // no time stamp in the header
+  EXPECT_EQ(gunzip(coded), text);
+  EXPECT_EQ(gunzip(service::gzip_compress("")), "");
+}
+
+TEST(Serving, RenderedPlansStayWithinTheirBounds) {
+  auto plan = std::make_shared<service::RenderedPlan>();
+  plan->compact = std::string(700, 'c');
+  plan->full_gzip = std::string(9000, 'z');
+  const std::shared_ptr<const service::RenderedPlan> views = plan;
+  const std::size_t one = 1 + views->bytes();
+  service::RenderedPlans plans(10, 3 * one);
+  for (const char* key : {"a", "b", "c", "d"}) plans.put(key, views);
+  EXPECT_EQ(plans.entries(), 3U);  // the bytes of 3
+  EXPECT_LE(plans.bytes(), 3 * one);
+  EXPECT_EQ(plans.get("a"), nullptr);  // the least recent went first
+  EXPECT_NE(plans.get("b"), nullptr);
+  plans.put("e", views);  // "b" was used: "c" goes
+  EXPECT_EQ(plans.get("c"), nullptr);
+  EXPECT_NE(plans.get("b"), nullptr);
+  service::RenderedPlans two(2, 1 << 20);
+  for (const char* key : {"a", "b", "c"}) two.put(key, views);
+  EXPECT_EQ(two.entries(), 2U);
+  service::RenderedPlans none(0, 1 << 20);
+  none.put("a", views);
+  EXPECT_EQ(none.get("a"), nullptr);
+}
+
+}  // namespace
+}  // namespace slosh
