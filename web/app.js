@@ -49,13 +49,13 @@ const MIN_TIME_FIELDS = {
 };
 
 const state = {
-  request: null, plans: {}, selected: null, charts: [], ticket: 0,
+  request: null, plans: {}, selected: null, charts: [],
   minTimeRequest: null, minTime: null, minTimeCharts: [],
   measured: null, plotContext: null, fluids: [],
   // The fetches of the latest request of each kind ('view': plan, compare, min-time; 'plots': the
-  // series of the selected plan), and the plots' ticket: a newer request aborts them, and an
-  // answer that arrives all the same is dropped by its ticket (state.ticket for the view).
-  aborts: {}, plotTicket: 0,
+  // series of the selected plan): a newer request aborts them, and an answer that arrives all the
+  // same is dropped because its signal is aborted.
+  aborts: {},
 };
 window.sloshPage = state;  // for the browser test and the curious
 
@@ -147,9 +147,15 @@ function showError(error, aliases = {}) {
   $('status-line').textContent = `The service refused the request (${error.code}).`;
 }
 
-// A new request of `kind`: the previous one's fetches are aborted; returns the new one's signal.
-function freshSignal(kind) {
+// Aborts the fetches of the latest request of `kind`; its answers, should they arrive all the same,
+// are dropped by the code that awaits them (it checks its signal).
+function cancel(kind) {
   if (state.aborts[kind]) state.aborts[kind].abort();
+}
+
+// A new request of `kind`: the previous one is cancelled; returns the new one's signal.
+function freshSignal(kind) {
+  cancel(kind);
   state.aborts[kind] = new AbortController();
   return state.aborts[kind].signal;
 }
@@ -310,7 +316,6 @@ async function selectPlan(strategy) {
   if (!plan) return;  // a row of a view that has been replaced
   // The plots of this selection only: an earlier selection's series that answer later (the same
   // strategy of an earlier request, say) are aborted or dropped.
-  const ticket = ++state.plotTicket;
   const signal = freshSignal('plots');
   state.selected = strategy;
   for (const tr of $('candidates').querySelectorAll('tbody tr')) {
@@ -328,12 +333,12 @@ async function selectPlan(strategy) {
       postJson('v1/simulate', simulateRequest(plan, { type: 'seven_segment_uniform' }), signal),
     ]);
   } catch (e) {
-    if (ticket !== state.plotTicket) return;
+    if (signal.aborted) return;
     clearPlots();
     $('form-error').textContent = `The plots could not be computed: ${e.api ? e.api.message : e.message}`;
     return;
   }
-  if (ticket !== state.plotTicket) return;  // a newer selection or request replaced this one
+  if (signal.aborted) return;  // a newer selection or request replaced this one
   state.plotContext = { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
   renderPlots({ ...state.plotContext, measured: state.measured });
   document.body.dataset.ready = strategy;  // the browser test waits for this
@@ -366,6 +371,12 @@ function updateCamLink() {
   $('cam-note').textContent = '';
 }
 
+// The period input as it is before a new period is read: unmarked, with no error under it.
+function resetPeriodError() {
+  $('cam-period').removeAttribute('aria-invalid');
+  $('cam-period-error').textContent = '';
+}
+
 // A typed period the number input cannot read ("1e400", "--1", "5e"): the input then reports an
 // empty value, which must not turn into the default period of 1 ms. Marks the input and says so;
 // true when the period is unreadable.
@@ -385,8 +396,7 @@ async function downloadCam(event) {
   event.preventDefault();
   const { href, download: name } = $('download-cam');  // the plan and period of this click
   const period = $('cam-period');
-  period.removeAttribute('aria-invalid');
-  $('cam-period-error').textContent = '';
+  resetPeriodError();
   if (refuseUnreadablePeriod()) return;  // nothing is fetched or saved
   $('cam-note').textContent = 'Preparing the cam table…';
   try {
@@ -430,8 +440,7 @@ function clearMinTime() {
 
 // Nothing of a previous view stays on screen once a new request starts.
 function clearResults() {
-  state.plotTicket++;  // the series still on their way are for a view that is gone
-  if (state.aborts.plots) state.aborts.plots.abort();
+  cancel('plots');  // the series still on their way are for a view that is gone
   state.plotContext = null;  // a measured series uploaded now has no plan to overlay
   clearPlots();
   clearMinTime();
@@ -533,9 +542,9 @@ function fillFormFromPlan(plan) {
   // a catalogue name ({"name": "water", "density_kg_m3": 1260, ...}), and refilled as catalogue
   // water it would be replanned with water's density.
   const entry = state.fluids.find((c) => c.name === f.fluid.name);
+  // (Every catalogue entry is an option of the fluid select: loadFluids adds them all.)
   const known = entry !== undefined && entry.density_kg_m3 === f.fluid.density_kg_m3 &&
-    entry.viscosity_pa_s === f.fluid.viscosity_pa_s &&
-    [...$('fluid').options].some((o) => o.value === f.fluid.name);
+    entry.viscosity_pa_s === f.fluid.viscosity_pa_s;
   $('fluid').value = known ? f.fluid.name : 'custom';
   $('density').value = f.fluid.density_kg_m3;
   $('viscosity').value = f.fluid.viscosity_pa_s;
@@ -551,7 +560,6 @@ function fillFormFromPlan(plan) {
 async function run(compare) {
   clearErrors();
   const strategy = compare ? 'auto' : $('strategy').value;
-  const ticket = ++state.ticket;
   const signal = freshSignal('view');
   state.request = buildRequest(strategy);
   clearResults();
@@ -560,7 +568,7 @@ async function run(compare) {
   $('status-line').textContent = compare ? 'Planning every strategy…' : `Planning ${strategy}…`;
   try {
     const first = await postJson('v1/plans', state.request, signal);
-    if (ticket !== state.ticket) return;  // a newer request replaced this view
+    if (signal.aborted) return;  // a newer request replaced this view
     if (!compare) {
       state.plans[first.strategy] = first;
       renderTable([first], first.strategy);
@@ -570,7 +578,7 @@ async function run(compare) {
     const names = first.candidates.map((c) => c.strategy);
     const chosen = (first.candidates.find((c) => c.chosen) || {}).strategy;
     const plans = await Promise.all(names.map((s) => postJson('v1/plans', { ...state.request, strategy: s }, signal)));
-    if (ticket !== state.ticket) return;
+    if (signal.aborted) return;
     for (const p of plans) state.plans[p.strategy] = p;
     renderTable(plans, chosen);
     // Why auto did not return a row: its reason with the deciding figures, on hover.
@@ -580,7 +588,7 @@ async function run(compare) {
     }
     return selectPlan(chosen || names[0]);
   } catch (e) {
-    if (ticket !== state.ticket) return;
+    if (signal.aborted) return;
     if (e.api) showError(e.api); else $('form-error').textContent = String(e);
   }
 }
@@ -668,7 +676,6 @@ function selectMinTimePlan(strategy) {
 
 async function runMinTime() {
   clearErrors();
-  const ticket = ++state.ticket;
   const signal = freshSignal('view');
   const request = buildMinTimeRequest();
   state.request = null;
@@ -680,13 +687,13 @@ async function runMinTime() {
   $('status-line').textContent = `Searching the shortest motion time of ${which}…`;
   try {
     const response = await postJson('v1/min-time', request, signal);
-    if (ticket !== state.ticket) return;  // a newer request replaced this view
+    if (signal.aborted) return;  // a newer request replaced this view
     state.minTimeRequest = request;
     state.minTime = response;
     renderMinTime(response);
     document.body.dataset.minTime = 'ready';  // the browser test waits for this
   } catch (e) {
-    if (ticket !== state.ticket) return;
+    if (signal.aborted) return;
     if (e.api) showError(e.api, MIN_TIME_FIELDS); else $('form-error').textContent = String(e);
   }
 }
@@ -694,11 +701,10 @@ async function runMinTime() {
 async function openKey(key) {
   // A view request like run and runMinTime: a newer one aborts it, and a late answer is dropped
   // (it would refill the form and the results over the newer plan).
-  const ticket = ++state.ticket;
   const signal = freshSignal('view');
   try {
     const plan = await getJson(`v1/plans/${encodeURIComponent(key)}`, signal);
-    if (ticket !== state.ticket) return;  // a newer request replaced this view
+    if (signal.aborted) return;  // a newer request replaced this view
     fillFormFromPlan(plan);
     state.request = { format: plan.format, strategy: plan.strategy, options: {} };
     state.plans = { [plan.strategy]: plan };
@@ -707,7 +713,7 @@ async function openKey(key) {
     renderTable([plan], plan.strategy);
     await selectPlan(plan.strategy);
   } catch (e) {
-    if (ticket !== state.ticket) return;
+    if (signal.aborted) return;
     $('form-error').textContent = e.api ? e.api.message : String(e);
   }
 }
@@ -734,8 +740,7 @@ async function main() {
   $('compare-button').addEventListener('click', () => run(true));
   $('min-time-button').addEventListener('click', runMinTime);
   $('cam-period').addEventListener('input', () => {
-    $('cam-period').removeAttribute('aria-invalid');
-    $('cam-period-error').textContent = '';
+    resetPeriodError();
     updateCamLink();
     refuseUnreadablePeriod();
   });
