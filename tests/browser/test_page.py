@@ -603,10 +603,13 @@ def check_measured_overlay(driver, workdir):
     check(len(counts.get("plot-eta", [])) == 4, f"no overlay after a refused file: {counts}")
 
 
-# Holds back the v1/simulate answers of plans whose motion time is 1.5 s until window.__release()
-# (the request itself is sent and answered at once, so the page gets a complete, late answer even
-# after it aborted the fetch): an earlier request that answers after a later one.
-HOLD_SLOW_SERIES = """
+# A fetch wrapper that holds back the answers of the requests `predicate_js` picks (a JS
+# expression of `input`, `init` and `body`, the request's JSON text) until window.__release(). The
+# request itself is sent and answered at once, its abort signal ignored, so the page gets a
+# complete, late answer even after it aborted the fetch, and must drop it. window.__held counts the
+# held requests; window.__delivered those whose JSON the page has read and acted on.
+def hold_fetch(predicate_js):
+    return """
 window.__realFetch = window.__realFetch || window.fetch;
 const real = window.__realFetch;
 let release;
@@ -616,9 +619,7 @@ window.__delivered = 0;
 window.__release = release;
 window.fetch = async (input, init) => {
   const body = init && typeof init.body === 'string' ? init.body : '';
-  if (!String(input).endsWith('v1/simulate') || !body.includes('"motion_time_s":1.5')) {
-    return real(input, init);
-  }
+  if (!(PREDICATE)) return real(input, init);
   window.__held++;
   const res = await real(input, { ...init, signal: undefined });
   await gate;
@@ -631,13 +632,29 @@ window.fetch = async (input, init) => {
   };
   return res;
 };
-"""
+""".replace("PREDICATE", predicate_js)
+
+
+# The v1/simulate requests of plans whose motion time is 1.5 s: an earlier request that answers
+# after a later one.
+HOLD_SLOW_SERIES = hold_fetch(
+    """String(input).endsWith('v1/simulate') && body.includes('"motion_time_s":1.5')""")
 
 
 def chart_data(driver):
     return driver.execute_script(
         "return Object.fromEntries(window.sloshPage.charts.map(c => [c.canvas.id, "
         "c.data.datasets.map(d => d.data.map(p => [p.x, p.y]))]))")
+
+
+def check_shows_plan(driver, plan):
+    """The table, the status line and the plan download are those of `plan` (a notch plan of the
+    later request, after an earlier request's late answer was dropped)."""
+    check(table_rows(driver)[0]["cells"] == expected_row(plan), "the table shows the later plan")
+    line = driver.find_element(By.ID, "status-line").text
+    check(line == f"notch: {plan['status']}. {plan['message']}", f"the status line is the later plan's: {line}")
+    check(driver.find_element(By.ID, "download-json").get_attribute("download") == f"plan-{plan['key']}.json",
+          "the plan download is the later plan")
 
 
 def check_late_answer(driver, port):
@@ -655,12 +672,8 @@ def check_late_answer(driver, port):
     wait_for(driver, "return window.__delivered === 2")  # the late answers were handled
     status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
     check(status == 200, f"the API plans notch ({status})")
-    check(table_rows(driver)[0]["cells"] == expected_row(plan), "the table shows the later plan")
-    line = driver.find_element(By.ID, "status-line").text
-    check(line == f"notch: {plan['status']}. {plan['message']}", f"the status line is the later plan's: {line}")
+    check_shows_plan(driver, plan)
     check("T=1&" in driver.current_url, f"the URL is the later request's: {driver.current_url}")
-    check(driver.find_element(By.ID, "download-json").get_attribute("download") == f"plan-{plan['key']}.json",
-          "the plan download is the later plan")
     check(f"/v1/plans/{plan['key']}/cam.csv" in driver.find_element(By.ID, "download-cam").get_attribute("href"),
           "the cam link is the later plan's")
     check(driver.execute_script("return window.sloshPage.plotContext.plan.key") == plan["key"],
@@ -685,34 +698,11 @@ def check_late_answer(driver, port):
     driver.execute_script("window.fetch = window.__realFetch")
 
 
-# Holds the answer of GET v1/plans/<window.__heldKey> (installed before the page's own script runs,
-# so the page's opening of ?key= is held) until window.__release(); the abort signal is ignored so
-# the late answer reaches the page, which must drop it.
-HOLD_KEY_ANSWER = """
-window.__realFetch = window.__realFetch || window.fetch;
-const real = window.__realFetch;
-let release;
-const gate = new Promise((resolve) => { release = resolve; });
-window.__held = 0;
-window.__delivered = 0;
-window.__release = release;
-window.fetch = async (input, init) => {
-  const get = !init || !init.method || init.method === 'GET';
-  if (!get || !window.__heldKey || !String(input).endsWith('v1/plans/' + window.__heldKey)) {
-    return real(input, init);
-  }
-  window.__held++;
-  const res = await real(input, { ...init, signal: undefined });
-  await gate;
-  const json = res.json.bind(res);
-  res.json = async () => {
-    const value = await json();
-    setTimeout(() => { window.__delivered++; }, 0);
-    return value;
-  };
-  return res;
-};
-"""
+# GET v1/plans/<window.__heldKey> (installed before the page's own script runs, so the page's
+# opening of ?key= is held).
+HOLD_KEY_ANSWER = hold_fetch(
+    "(!init || !init.method || init.method === 'GET') && window.__heldKey && "
+    "String(input).endsWith('v1/plans/' + window.__heldKey)")
 
 
 def check_late_key_answer(driver, port):
@@ -738,13 +728,9 @@ def check_late_key_answer(driver, port):
         check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
               driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
               "the page's plans are the later plan")
-        check(table_rows(driver)[0]["cells"] == expected_row(plan), "the table shows the later plan")
-        line = driver.find_element(By.ID, "status-line").text
-        check(line == f"notch: {plan['status']}. {plan['message']}", f"the status line is the later plan's: {line}")
+        check_shows_plan(driver, plan)
         check("T=1&" in driver.current_url and "key=" not in driver.current_url,
               f"the URL is the later request's: {driver.current_url}")
-        check(driver.find_element(By.ID, "download-json").get_attribute("download") == f"plan-{plan['key']}.json",
-              "the plan download is the later plan")
         check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
     finally:
         driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", script)
