@@ -3,7 +3,6 @@
 // defaults, the --config file (JSON), the environment (SLOSH_OPCUA_*), the flags. A bad value stops
 // the start with a message naming the setting, the value and what is allowed (exit 2).
 const fs = require("fs");
-const os = require("os");
 const path = require("path");
 
 const USAGE = `usage: slosh-opcua --service URL [--port N] [options]
@@ -37,9 +36,23 @@ any user is configured, anonymous sessions are refused.`;
 
 class UsageError extends Error {}
 
+// The settings a flag, the environment and the config file can give: [flag (--name), environment
+// variable, config key, default]. --config and --port-file are flags only; the config's "users"
+// is read on its own.
+const SETTINGS = [
+  ["service", "SLOSH_OPCUA_SERVICE", "service", undefined],
+  ["port", "SLOSH_OPCUA_PORT", "port", 4840],
+  ["host", "SLOSH_OPCUA_HOST", "host", ""],
+  ["timeout-s", "SLOSH_OPCUA_TIMEOUT_S", "timeout_s", 30],
+  ["poll-s", "SLOSH_OPCUA_POLL_S", "poll_s", 2],
+  ["security", "SLOSH_OPCUA_SECURITY", "security", "none,basic256sha256"],
+  ["state-dir", "SLOSH_OPCUA_STATE_DIR", "state_dir", undefined],
+  ["max-products", "SLOSH_OPCUA_MAX_PRODUCTS", "max_products", 2000],
+];
+
 function parseArgs(argv) {
   const flags = {};
-  const known = new Set(["service", "port", "host", "timeout-s", "poll-s", "security", "state-dir", "config", "port-file", "max-products"]);
+  const known = new Set([...SETTINGS.map(([flag]) => flag), "config", "port-file"]);
   for (let i = 0; i < argv.length; i++) {
     const a = argv[i];
     if (a === "--help" || a === "-h") return { help: true };
@@ -90,17 +103,19 @@ function resolve(argv, env = process.env) {
     try { text = fs.readFileSync(configPath, "utf8"); } catch (e) { throw new UsageError(`--config ${configPath}: cannot read it: ${e.code || e.message}`); }
     try { config = JSON.parse(text); } catch (e) { throw new UsageError(`--config ${configPath}: not valid JSON: ${e.message}`); }
     if (config === null || typeof config !== "object" || Array.isArray(config)) throw new UsageError(`--config ${configPath}: a JSON object expected`);
-    const allowed = new Set(["service", "port", "host", "timeout_s", "poll_s", "security", "state_dir", "max_products", "users"]);
+    const allowed = new Set([...SETTINGS.map(([, , key]) => key), "users"]);
     for (const k of Object.keys(config)) if (!allowed.has(k)) throw new UsageError(`--config ${configPath}: unknown key ${JSON.stringify(k)}: allowed ${[...allowed].join(", ")}`);
   }
-  const pick = (flag, envName, key, fallback) => {
+  // -> [the name of the setting's source, for messages; its value].
+  const pick = (flag) => {
+    const [, envName, key, fallback] = SETTINGS.find(([name]) => name === flag);
     if (f[flag] !== undefined) return [`--${flag}`, f[flag]];
     if (env[envName] !== undefined && env[envName] !== "") return [envName, env[envName]];
     if (config[key] !== undefined) return [`config ${key}`, config[key]];
     return [`--${flag}`, fallback];
   };
 
-  const [serviceName, service] = pick("service", "SLOSH_OPCUA_SERVICE", "service", undefined);
+  const [serviceName, service] = pick("service");
   if (service === undefined) throw new UsageError("--service URL is required (the slosh HTTP service, e.g. http://127.0.0.1:8080)");
   let url;
   try { url = new URL(String(service)); } catch (e) { url = null; }
@@ -115,12 +130,12 @@ function resolve(argv, env = process.env) {
   if (url.search || url.hash) {
     throw new UsageError(`${serviceName} = ${JSON.stringify(url.origin + url.pathname + "?…")} has a query or fragment: http://host[:port][/path] expected`);
   }
-  const [portName, port] = pick("port", "SLOSH_OPCUA_PORT", "port", 4840);
-  const [hostName, host] = pick("host", "SLOSH_OPCUA_HOST", "host", "");
-  const [timeoutName, timeout] = pick("timeout-s", "SLOSH_OPCUA_TIMEOUT_S", "timeout_s", 30);
-  const [pollName, poll] = pick("poll-s", "SLOSH_OPCUA_POLL_S", "poll_s", 2);
-  const [maxProductsName, maxProducts] = pick("max-products", "SLOSH_OPCUA_MAX_PRODUCTS", "max_products", 2000);
-  const [securityName, security] = pick("security", "SLOSH_OPCUA_SECURITY", "security", "none,basic256sha256");
+  const [portName, port] = pick("port");
+  const [hostName, host] = pick("host");
+  const [timeoutName, timeout] = pick("timeout-s");
+  const [pollName, poll] = pick("poll-s");
+  const [maxProductsName, maxProducts] = pick("max-products");
+  const [securityName, security] = pick("security");
   const securityList = (Array.isArray(security) ? security : String(security).split(",")).map((s) => String(s).trim().toLowerCase());
   const policies = { none: false, basic256sha256: false };
   for (const s of securityList) {
@@ -130,7 +145,7 @@ function resolve(argv, env = process.env) {
   if (!policies.none && !policies.basic256sha256) throw new UsageError(`${securityName} is empty: allowed none, basic256sha256 or both`);
   if (typeof host !== "string" || /[\s/]/.test(host)) throw new UsageError(`${hostName} = ${JSON.stringify(host)} is not a host name or address`);
 
-  const [, stateDirSetting] = pick("state-dir", "SLOSH_OPCUA_STATE_DIR", "state_dir", undefined);
+  const [, stateDirSetting] = pick("state-dir");
   const stateDir = stateDirSetting !== undefined ? path.resolve(String(stateDirSetting)) : defaultStateDir(env);
 
   const users = [];
@@ -172,4 +187,4 @@ function resolve(argv, env = process.env) {
   };
 }
 
-module.exports = { resolve, UsageError, USAGE, hostName: os.hostname };
+module.exports = { resolve, UsageError, USAGE };

@@ -172,4 +172,4 @@ function planSummary(plan) {
   };
 }
 
-module.exports = { ArgumentError, jsonDepth, MAX_JSON_DEPTH, MAX_JSON_BYTES, buildFormat, buildPlanRequest, buildMinTimeRequest, planSummary };
+module.exports = { ArgumentError, buildPlanRequest, buildMinTimeRequest, planSummary };

@@ -48,4 +48,4 @@ function failureResult(err, args) {
   return { statusCode, inputArgumentResults, inputArgumentDiagnosticInfos, message };
 }
 
-module.exports = { statusOf, failureResult };
+module.exports = { failureResult };
