@@ -3,39 +3,50 @@
 // the argument (so a 422 naming `format.container.radius_mm` marks the RadiusMm argument).
 // Numbers use 0 (and strings "") for "not given": OPC UA method arguments are all mandatory.
 
+// A Double argument: unit a key of units.js; field the request member it sets (a 422 naming it,
+// or a member under it, marks this argument).
+function num(name, unit, field, description) {
+  return { name, type: "Double", unit, field, description };
+}
+
+// A String argument; field as for num (null: no request member).
+function str(name, field, description) {
+  return { name, type: "String", unit: null, field, description };
+}
+
 const formatArgs = [
-  { name: "RadiusMm", type: "Double", unit: "mm", field: "format.container.radius_mm",
-    description: "Radius of a round container (mm); 0 for a rectangular one (LengthMm, WidthMm)" },
-  { name: "LengthMm", type: "Double", unit: "mm", field: "format.container.length_mm",
-    description: "Rectangular container: length along the motion (mm); 0 for a round one" },
-  { name: "WidthMm", type: "Double", unit: "mm", field: "format.container.width_mm",
-    description: "Rectangular container: width across the motion (mm); 0 for a round one" },
-  { name: "ContainerHeightMm", type: "Double", unit: "mm", field: "format.container.height_mm",
-    description: "Container height (mm): the free board is height - fill height; 0 = not given" },
-  { name: "FillHeightMm", type: "Double", unit: "mm", field: "format.fill_height_mm",
-    description: "Fill height of the liquid (mm)" },
-  { name: "Fluid", type: "String", unit: null, field: "format.fluid",
-    description: "Fluid catalogue name (e.g. water, GET /v1/fluids); empty for DensityKgM3 + ViscosityPaS" },
-  { name: "DensityKgM3", type: "Double", unit: "kg_m3", field: "format.fluid.density_kg_m3",
-    description: "Custom fluid density (kg/m³) when Fluid is empty; else 0" },
-  { name: "ViscosityPaS", type: "Double", unit: "pa_s", field: "format.fluid.viscosity_pa_s",
-    description: "Custom fluid dynamic viscosity (Pa·s) when Fluid is empty; else 0" },
-  { name: "StrokeMm", type: "Double", unit: "mm", field: "format.stroke_mm",
-    description: "Stroke of a straight move (mm); 0 when MotionJson gives the motion" },
-  { name: "MotionJson", type: "String", unit: null, field: "format.motion",
-    description: "The motion as a JSON object (format.motion: line, arc, path); empty when StrokeMm is given" },
+  num("RadiusMm", "mm", "format.container.radius_mm",
+    "Radius of a round container (mm); 0 for a rectangular one (LengthMm, WidthMm)"),
+  num("LengthMm", "mm", "format.container.length_mm",
+    "Rectangular container: length along the motion (mm); 0 for a round one"),
+  num("WidthMm", "mm", "format.container.width_mm",
+    "Rectangular container: width across the motion (mm); 0 for a round one"),
+  num("ContainerHeightMm", "mm", "format.container.height_mm",
+    "Container height (mm): the free board is height - fill height; 0 = not given"),
+  num("FillHeightMm", "mm", "format.fill_height_mm",
+    "Fill height of the liquid (mm)"),
+  str("Fluid", "format.fluid",
+    "Fluid catalogue name (e.g. water, GET /v1/fluids); empty for DensityKgM3 + ViscosityPaS"),
+  num("DensityKgM3", "kg_m3", "format.fluid.density_kg_m3",
+    "Custom fluid density (kg/m³) when Fluid is empty; else 0"),
+  num("ViscosityPaS", "pa_s", "format.fluid.viscosity_pa_s",
+    "Custom fluid dynamic viscosity (Pa·s) when Fluid is empty; else 0"),
+  num("StrokeMm", "mm", "format.stroke_mm",
+    "Stroke of a straight move (mm); 0 when MotionJson gives the motion"),
+  str("MotionJson", "format.motion",
+    "The motion as a JSON object (format.motion: line, arc, path); empty when StrokeMm is given"),
 ];
 
 const planArgs = [
-  { name: "RecipeId", type: "String", unit: null, field: null,
-    description: "Product (recipe) id: the plan is kept in Products/<RecipeId>; empty = not kept" },
+  str("RecipeId", null,
+    "Product (recipe) id: the plan is kept in Products/<RecipeId>; empty = not kept"),
   ...formatArgs,
-  { name: "MotionTimeS", type: "Double", unit: "s", field: "format.motion_time_s",
-    description: "Motion time T (s)" },
-  { name: "Strategy", type: "String", unit: null, field: "strategy",
-    description: "Strategy (auto, notch, multi_notch, min_jerk_band, time_domain, shaper, ...); empty = auto" },
-  { name: "OptionsJson", type: "String", unit: null, field: "options",
-    description: "Plan options as a JSON object (as in POST /v1/plans, e.g. {\"limits\": {\"a_max\": 10}}); empty = defaults" },
+  num("MotionTimeS", "s", "format.motion_time_s",
+    "Motion time T (s)"),
+  str("Strategy", "strategy",
+    "Strategy (auto, notch, multi_notch, min_jerk_band, time_domain, shaper, ...); empty = auto"),
+  str("OptionsJson", "options",
+    "Plan options as a JSON object (as in POST /v1/plans, e.g. {\"limits\": {\"a_max\": 10}}); empty = defaults"),
 ];
 
 const planOutputs = [
@@ -53,18 +64,18 @@ const planOutputs = [
 
 const minTimeArgs = [
   ...formatArgs,
-  { name: "EtaMotionMaxMm", type: "Double", unit: "mm", field: "eta_motion_max_mm",
-    description: "Limit of the wave height during the motion (mm); 0 = the free board (needs ContainerHeightMm)" },
-  { name: "EtaRestMaxMm", type: "Double", unit: "mm", field: "eta_rest_max_mm",
-    description: "Limit of the residual wave height at rest (mm); 0 = 3 mm" },
-  { name: "AMax", type: "Double", unit: "m_s2", field: "options.limits.a_max",
-    description: "Machine acceleration limit (m/s²); 0 = none" },
-  { name: "VMax", type: "Double", unit: "m_s", field: "options.limits.v_max",
-    description: "Machine velocity limit (m/s); 0 = none" },
-  { name: "JMax", type: "Double", unit: "m_s3", field: "options.limits.j_max",
-    description: "Machine jerk limit (m/s³); 0 = none" },
-  { name: "RequestJson", type: "String", unit: null, field: "",
-    description: "Further min-time request members as a JSON object (strategies, limit_model, options, ...); empty = defaults" },
+  num("EtaMotionMaxMm", "mm", "eta_motion_max_mm",
+    "Limit of the wave height during the motion (mm); 0 = the free board (needs ContainerHeightMm)"),
+  num("EtaRestMaxMm", "mm", "eta_rest_max_mm",
+    "Limit of the residual wave height at rest (mm); 0 = 3 mm"),
+  num("AMax", "m_s2", "options.limits.a_max",
+    "Machine acceleration limit (m/s²); 0 = none"),
+  num("VMax", "m_s", "options.limits.v_max",
+    "Machine velocity limit (m/s); 0 = none"),
+  num("JMax", "m_s3", "options.limits.j_max",
+    "Machine jerk limit (m/s³); 0 = none"),
+  str("RequestJson", "",
+    "Further min-time request members as a JSON object (strategies, limit_model, options, ...); empty = defaults"),
 ];
 
 const minTimeOutputs = [
@@ -76,6 +87,24 @@ const minTimeOutputs = [
 
 const getPlanArgs = [
   { name: "Key", type: "String", unit: null, field: "key", description: "Recipe key of a plan (PlanFormat's Key)" },
+];
+
+const tableArgs = [
+  str("Table", "table", "A recipe table (docs/batch.md): CSV with a header row, JSON lines or a JSON array"),
+  str("TableFormat", "table_format", "csv, jsonl or json"),
+];
+
+const tableOutputs = [
+  { name: "JobId", type: "String", unit: null, description: "The batch job id (GET /v1/batches/{id}); its recipes land in Products when it finishes" },
+];
+
+const importArgs = [
+  str("JobId", "id", "A finished batch job's id (POST /v1/batches)"),
+];
+
+const importOutputs = [
+  { name: "Planned", type: "UInt32", unit: null, description: "Recipes whose plan was written to Products" },
+  { name: "Failed", type: "UInt32", unit: null, description: "Recipes whose row is an error (Status = error)" },
 ];
 
 // The argument whose field is the longest prefix of the error's field (e.g.
@@ -96,4 +125,7 @@ function argumentOfField(args, field) {
   return best;
 }
 
-module.exports = { formatArgs, planArgs, planOutputs, minTimeArgs, minTimeOutputs, getPlanArgs, argumentOfField };
+module.exports = {
+  formatArgs, planArgs, planOutputs, minTimeArgs, minTimeOutputs, getPlanArgs,
+  tableArgs, tableOutputs, importArgs, importOutputs, argumentOfField,
+};

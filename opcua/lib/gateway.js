@@ -11,21 +11,6 @@ const { failureResult } = require("./results");
 const { Products, checkRecipeId } = require("./products");
 
 
-const tableArgs = [
-  { name: "Table", type: "String", unit: null, field: "table", description: "A recipe table (docs/batch.md): CSV with a header row, JSON lines or a JSON array" },
-  { name: "TableFormat", type: "String", unit: null, field: "table_format", description: "csv, jsonl or json" },
-];
-const tableOutputs = [
-  { name: "JobId", type: "String", unit: null, description: "The batch job id (GET /v1/batches/{id}); its recipes land in Products when it finishes" },
-];
-const importArgs = [
-  { name: "JobId", type: "String", unit: null, field: "id", description: "A finished batch job's id (POST /v1/batches)" },
-];
-const importOutputs = [
-  { name: "Planned", type: "UInt32", unit: null, description: "Recipes whose plan was written to Products" },
-  { name: "Failed", type: "UInt32", unit: null, description: "Recipes whose row is an error (Status = error)" },
-];
-
 function argumentDefinition(a) {
   return {
     name: a.name,
@@ -83,8 +68,8 @@ class Gateway {
     this.method("PlanFormat", A.planArgs, A.planOutputs, "Plan one format (POST /v1/plans); with a RecipeId the plan is kept in Products", (v) => this.planFormat(v));
     this.method("MinTime", A.minTimeArgs, A.minTimeOutputs, "Shortest motion time of the format within the limits (POST /v1/min-time)", (v) => this.minTime(v));
     this.method("GetPlan", A.getPlanArgs, A.planOutputs, "A plan by its key (GET /v1/plans/{key})", (v) => this.getPlan(v));
-    this.method("PlanTable", tableArgs, tableOutputs, "Plan a recipe table as a batch job (POST /v1/batches); its recipes land in Products when it finishes", (v) => this.planTable(v));
-    this.method("ImportBatchJob", importArgs, importOutputs, "Write the recipes of a finished batch job to Products", (v) => this.importBatchJob(v));
+    this.method("PlanTable", A.tableArgs, A.tableOutputs, "Plan a recipe table as a batch job (POST /v1/batches); its recipes land in Products when it finishes", (v) => this.planTable(v));
+    this.method("ImportBatchJob", A.importArgs, A.importOutputs, "Write the recipes of a finished batch job to Products", (v) => this.importBatchJob(v));
   }
 
   method(name, args, outputs, description, handler) {

@@ -6,41 +6,50 @@
 // or ImportBatchJob brings them back).
 const { DataType, Variant } = require("node-opcua");
 const { units } = require("./units");
+const { planArgs, planOutputs } = require("./arguments");
 
 const MAX_RECIPE_ID = 128;
 // Each product is 59 nodes of the address space, ~200 kB of heap with node-opcua 2.160
 // (docs/opcua.md): the default 2 000 products stay near 400 MB.
 const DEFAULT_MAX_PRODUCTS = 2000;
 
-// Parameters: [browse name, type, unit, description, value from (plan, request options)].
-const parameterVars = [
-  ["RadiusMm", "Double", "mm", "Radius of a round container (mm); 0 for a rectangular one", (p) => p.format.container.radius_mm],
-  ["LengthMm", "Double", "mm", "Rectangular container length (mm); 0 for a round one", (p) => p.format.container.length_mm],
-  ["WidthMm", "Double", "mm", "Rectangular container width (mm); 0 for a round one", (p) => p.format.container.width_mm],
-  ["ContainerHeightMm", "Double", "mm", "Container height (mm); 0 = not given", (p) => p.format.container.height_mm],
-  ["FillHeightMm", "Double", "mm", "Fill height (mm)", (p) => p.format.fill_height_mm],
-  ["Fluid", "String", null, "Fluid name (as the service resolved it)", (p) => (typeof p.format.fluid === "string" ? p.format.fluid : p.format.fluid && p.format.fluid.name)],
-  ["DensityKgM3", "Double", "kg_m3", "Fluid density (kg/m³)", (p) => p.format.fluid && p.format.fluid.density_kg_m3],
-  ["ViscosityPaS", "Double", "pa_s", "Fluid dynamic viscosity (Pa·s)", (p) => p.format.fluid && p.format.fluid.viscosity_pa_s],
-  ["StrokeMm", "Double", "mm", "Stroke of the straight move (mm); 0 for a motion object", (p) => p.format.stroke_mm],
-  ["MotionJson", "String", null, "The motion object as JSON; empty for a straight stroke", (p) => (p.format.motion ? JSON.stringify(p.format.motion) : "")],
-  ["MotionTimeS", "Double", "s", "Motion time T (s)", (p) => p.format.motion_time_s],
-  ["Strategy", "String", null, "Strategy planned", (p) => p.strategy],
-  ["OptionsJson", "String", null, "Plan options as given to PlanFormat (JSON); empty from a batch", (p, options) => options || ""],
-];
+// A variable of a product: [browse name, type ("Double[]" for an array), unit, description, value].
+function variableOf(arg, description, value) {
+  return [arg.name, arg.array ? `${arg.type}[]` : arg.type, arg.unit, description, value];
+}
 
-// Last plan: [browse name, type, unit, description, value from the plan summary].
-const planVars = [
-  ["Key", "String", null, "Recipe key (GetPlan)", (s) => s.Key],
-  ["DurationsS", "Double[]", "s", "The 7 segment durations (s); empty for a general law", (s) => s.DurationsS],
-  ["A", "Double", "m_s2", "Acceleration plateau A (m/s²)", (s) => s.A],
-  ["B", "Double", "m_s2", "Deceleration plateau B (m/s²)", (s) => s.B],
-  ["EtaMotionNonlinearMm", "Double", "mm", "Peak wave height during the motion, nonlinear model (mm)", (s) => s.EtaMotionNonlinearMm],
-  ["EtaRestNonlinearMm", "Double", "mm", "Peak wave height at rest, nonlinear model (mm)", (s) => s.EtaRestNonlinearMm],
-  ["EtaMotionLinearMm", "Double", "mm", "Peak wave height during the motion, linear model (mm)", (s) => s.EtaMotionLinearMm],
-  ["EtaRestLinearMm", "Double", "mm", "Peak wave height at rest, linear model (mm)", (s) => s.EtaRestLinearMm],
-  ["Message", "String", null, "The plan's message, or the error of the recipe", (s) => s.Message],
-];
+// Parameters: PlanFormat's arguments but RecipeId, valued from (plan, request options). Where the
+// value is not what the caller typed (the fluid the service resolved, a batch row's options) the
+// description says so in place of the argument's.
+const parameterValues = {
+  RadiusMm: (p) => p.format.container.radius_mm,
+  LengthMm: (p) => p.format.container.length_mm,
+  WidthMm: (p) => p.format.container.width_mm,
+  ContainerHeightMm: (p) => p.format.container.height_mm,
+  FillHeightMm: (p) => p.format.fill_height_mm,
+  Fluid: (p) => (typeof p.format.fluid === "string" ? p.format.fluid : p.format.fluid && p.format.fluid.name),
+  DensityKgM3: (p) => p.format.fluid && p.format.fluid.density_kg_m3,
+  ViscosityPaS: (p) => p.format.fluid && p.format.fluid.viscosity_pa_s,
+  StrokeMm: (p) => p.format.stroke_mm,
+  MotionJson: (p) => (p.format.motion ? JSON.stringify(p.format.motion) : ""),
+  MotionTimeS: (p) => p.format.motion_time_s,
+  Strategy: (p) => p.strategy,
+  OptionsJson: (p, options) => options || "",
+};
+const parameterDescriptions = {
+  Fluid: "Fluid name (as the service resolved it)",
+  DensityKgM3: "Fluid density (kg/m³)",
+  ViscosityPaS: "Fluid dynamic viscosity (Pa·s)",
+  Strategy: "Strategy planned",
+  OptionsJson: "Plan options as given to PlanFormat (JSON); empty from a batch",
+};
+const parameterVars = planArgs.filter((a) => a.name !== "RecipeId").map((a) =>
+  variableOf(a, parameterDescriptions[a.name] || a.description, parameterValues[a.name]));
+
+// Last plan: PlanFormat's outputs but Status (the product's own Status), valued from the plan
+// summary (requests.js planSummary).
+const planVars = planOutputs.filter((o) => o.name !== "Status").map((o) =>
+  variableOf(o, o.description, (summary) => summary[o.name]));
 
 function checkRecipeId(id) {
   if (typeof id !== "string" || id.length === 0) return "RecipeId is empty";

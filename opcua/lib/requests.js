@@ -4,6 +4,8 @@
 // meant, JSON text that does not parse); every value is validated by the service, whose 422 message
 // the caller then sees word for word.
 
+const { minTimeArgs } = require("./arguments");
+
 class ArgumentError extends Error {
   constructor(argument, message) {
     super(message);
@@ -132,23 +134,31 @@ function buildMinTimeRequest(a) {
     }
   }
   const request = { format: buildFormat(a), ...extra };
-  const etaMotion = number(a.EtaMotionMaxMm, "EtaMotionMaxMm");
-  const etaRest = number(a.EtaRestMaxMm, "EtaRestMaxMm");
-  if (etaMotion !== 0) request.eta_motion_max_mm = etaMotion;
-  if (etaRest !== 0) request.eta_rest_max_mm = etaRest;
-  const limits = {};
-  for (const [arg, member] of [["AMax", "a_max"], ["VMax", "v_max"], ["JMax", "j_max"]]) {
-    const v = number(a[arg], arg);
-    if (v !== 0) limits[member] = v;
+  // The numbers after the format (EtaMotionMaxMm, ..., JMax): each sets the member its field
+  // names; 0 = not given. All are read before any is set, so a bad number is reported first.
+  const given = [];
+  for (const arg of minTimeArgs) {
+    if (arg.type !== "Double" || arg.field.startsWith("format.")) continue;
+    const v = number(a[arg.name], arg.name);
+    if (v !== 0) given.push([arg.field, v]);
   }
-  if (Object.keys(limits).length > 0) {
-    request.options = { ...(request.options || {}) };
-    if (request.options.limits) {
-      throw new ArgumentError("RequestJson", "RequestJson.options.limits: give the machine limits through AMax, VMax, JMax, not both");
-    }
-    request.options.limits = limits;
+  if (given.some(([field]) => field.startsWith("options.limits.")) && request.options && request.options.limits) {
+    throw new ArgumentError("RequestJson", "RequestJson.options.limits: give the machine limits through AMax, VMax, JMax, not both");
   }
+  for (const [field, v] of given) setMember(request, field, v);
   return request;
+}
+
+// Sets the member at a dotted path (options.limits.a_max), creating the objects on the way as
+// copies, so what RequestJson gave is never altered in place.
+function setMember(object, path, value) {
+  const names = path.split(".");
+  let at = object;
+  for (const name of names.slice(0, -1)) {
+    at[name] = { ...(at[name] || {}) };
+    at = at[name];
+  }
+  at[names[names.length - 1]] = value;
 }
 
 // A plan response (full view) -> the PlanFormat outputs, in planOutputs order.
