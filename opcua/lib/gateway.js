@@ -10,6 +10,11 @@ const { checkPlan, checkMinTime, checkJob, checkJobPage, checkJobCreated } = req
 const { failureResult } = require("./results");
 const { Products, checkRecipeId } = require("./products");
 
+// Rows per results page of a batch job. A row of the full view is about 30 KiB
+// (docs/machines.md), so a page is some 7.5 MB: far below what the service client accepts in one
+// answer (MAX_ANSWER_BYTES, 64 MiB) even for rows with long general laws.
+const PAGE_ROWS = 250;
+
 
 function argumentDefinition(a) {
   return {
@@ -143,25 +148,34 @@ class Gateway {
   }
 
   async planTable(v) {
-    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "" });
+    // The full view: each row of the finished job carries its plan, so the import needs no request
+    // per recipe.
+    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "", view: "full" });
     checkJobCreated(body, "POST", "/v1/batches");
     this.follow(body.id);
     return { JobId: body.id };
   }
 
-  // Polls a job this gateway submitted until it finishes, then imports it. Bounded by the job's
-  // own life: a job that stays unfinished for its stale time reads as failed.
+  // The job record of id with its results page at offset (the page only once the job finished).
+  async jobPage(id, offset) {
+    const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?offset=${offset}&limit=${PAGE_ROWS}`);
+    checkJob(body, "GET", "/v1/batches/{id}");
+    return body;
+  }
+
+  // Polls a job this gateway submitted until it finishes, then imports it from the poll's own
+  // answer (which holds the first page). Bounded by the job's own life: a job that stays
+  // unfinished for its stale time reads as failed.
   follow(id) {
     const tick = async () => {
       try {
-        const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?limit=1`);
-        checkJob(body, "GET", "/v1/batches/{id}");
-        if (body.state === "queued" || body.state === "running") {
+        const record = await this.jobPage(id, 0);
+        if (record.state === "queued" || record.state === "running") {
           setTimeout(tick, 250).unref();
           return;
         }
-        if (body.state === "done") await this.importBatchJob({ JobId: id });
-        else this.setError("PlanTable", `batch job ${id} ended ${body.state}: ${body.message || ""}`);
+        if (record.state === "done") await this.importJob(id, record);
+        else this.setError("PlanTable", `batch job ${id} ended ${record.state}: ${record.message || ""}`);
       } catch (err) {
         this.setError("PlanTable", `batch job ${id}: ${err.message}`);
       }
@@ -174,17 +188,19 @@ class Gateway {
     if (!/^[0-9a-f]{1,64}$/.test(id)) {
       throw new ArgumentError("JobId", `JobId = ${JSON.stringify(id.slice(0, 60))} is not a batch job id: hex digits expected`);
     }
-    const record = (await this.service.request("GET", `/v1/batches/${id}?limit=1`)).body;
-    checkJob(record, "GET", "/v1/batches/{id}");
-    if (record.state !== "done") {
-      const p = record.progress || {};
-      throw Object.assign(new ArgumentError("JobId", `batch job ${id} is ${record.state} (${p.done || 0} of ${p.total || 0} done): import it once it is done`), { invalidState: true });
+    return this.importJob(id, await this.jobPage(id, 0));
+  }
+
+  // Writes the rows of job id to Products; first: its record with the first results page.
+  async importJob(id, first) {
+    if (first.state !== "done") {
+      const p = first.progress || {};
+      throw Object.assign(new ArgumentError("JobId", `batch job ${id} is ${first.state} (${p.done || 0} of ${p.total || 0} done): import it once it is done`), { invalidState: true });
     }
     let planned = 0;
     let failed = 0;
-    let offset = 0;
+    let pageBody = first;
     for (;;) {
-      const pageBody = (await this.service.request("GET", `/v1/batches/${id}?offset=${offset}&limit=1000`)).body;
       checkJobPage(pageBody, "GET", "/v1/batches/{id}");
       const page = pageBody.results;
       for (const row of page.rows) {
@@ -203,18 +219,7 @@ class Gateway {
             failed += 1;
             continue;
           }
-          // The row carries the figures only; the full plan (kept by the service under its key)
-          // carries the format the recipe was planned with.
-          let plan;
-          try {
-            plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`)).body;
-            checkPlan(plan, "GET", "/v1/plans/{key}");
-          } catch (err) {
-            // A plan the cache no longer holds (evicted, or a time_limit plan, which is never
-            // cached): the row's own figures, without the parameters.
-            if (!(err.kind === "http" && err.status === 404)) throw err;
-            plan = { ...row, format: {} };
-          }
+          const plan = await this.planOfRow(row);
           this.products.setPlan(rid, plan, planSummary(plan), "");
           planned += 1;
         } catch (err) {
@@ -224,9 +229,29 @@ class Gateway {
         }
       }
       if (page.next_offset === null || page.next_offset === undefined) break;
-      offset = page.next_offset;
+      pageBody = await this.jobPage(id, page.next_offset);
     }
     return { Planned: planned, Failed: failed };
+  }
+
+  // The full plan of a batch row, which carries the format the recipe was planned with: the row's
+  // own (a job posted with view full, as PlanTable's), else the one the service keeps under its
+  // key.
+  async planOfRow(row) {
+    if (row.plan !== undefined) {
+      checkPlan(row.plan, "GET", "/v1/batches/{id}");
+      return row.plan;
+    }
+    try {
+      const plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`)).body;
+      checkPlan(plan, "GET", "/v1/plans/{key}");
+      return plan;
+    } catch (err) {
+      // A plan the cache no longer holds (evicted, or a time_limit plan, which is never
+      // cached): the row's own figures, without the parameters.
+      if (!(err.kind === "http" && err.status === 404)) throw err;
+      return { ...row, format: {} };
+    }
   }
 
   // Polls GET /readyz every pollMs while the server runs.

@@ -74,7 +74,7 @@ class ServiceClient {
         res.on("data", (c) => {
           size += c.length;
           chunks.push(c);
-          // The largest answer the gateway asks for is a page of 1 000 batch rows (a few MB).
+          // The largest answer the gateway asks for is a page of batch rows (gateway.js PAGE_ROWS).
           if (size > MAX_ANSWER_BYTES) {
             finish(reject, new ServiceError("protocol", `the slosh service answered ${method} ${path} with more than ${MAX_ANSWER_BYTES} bytes`));
             req.destroy();
