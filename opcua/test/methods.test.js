@@ -34,19 +34,15 @@ function scratch(prefix) {
 }
 
 describe("slosh-opcua against a real slosh serve", () => {
-  let dir; let slosh; let gateway; let conn;
+  let stack; let slosh; let gateway; let conn;
 
   before(async () => {
-    dir = scratch("slosh-opcua-");
-    slosh = await S.startSlosh(dir);
-    gateway = await S.startGateway(dir, slosh.url);
-    conn = await S.connect(gateway.endpoint);
+    stack = await S.stack();
+    ({ slosh, gateway, conn } = stack);
   });
 
   after(async () => {
-    if (conn) await conn.close();
-    if (gateway) await gateway.stop();
-    if (slosh) await slosh.stop();
+    if (stack) await stack.stop();
     for (const d of scratchDirs) fs.rmSync(d, { recursive: true, force: true });
   });
 

@@ -46,21 +46,22 @@ describe("slosh-opcua command line", () => {
 });
 
 describe("slosh-opcua security", () => {
-  let dir; let slosh; let gateway;
+  let stack; let dir; let slosh; let gateway;
   const user = { userName: "line-7", password: "s3cret-format" };
 
   before(async () => {
-    dir = S.scratch("slosh-opcua-sec-");
-    const config = path.join(dir, "opcua.json");
-    fs.writeFileSync(config, JSON.stringify({ users: [{ user: user.userName, password: user.password }] }), { mode: 0o600 });
-    slosh = await S.startSlosh(dir);
-    gateway = await S.startGateway(dir, slosh.url, ["--config", config]);
+    const withUsers = (d) => {
+      const config = path.join(d, "opcua.json");
+      fs.writeFileSync(config, JSON.stringify({ users: [{ user: user.userName, password: user.password }] }), { mode: 0o600 });
+      return ["--config", config];
+    };
+    // No anonymous session: each test connects with its own security and identity.
+    stack = await S.stack({ prefix: "slosh-opcua-sec-", extra: withUsers, session: false });
+    ({ dir, slosh, gateway } = stack);
   });
 
   after(async () => {
-    if (gateway) await gateway.stop();
-    if (slosh) await slosh.stop();
-    fs.rmSync(dir, { recursive: true, force: true });
+    if (stack) await stack.stop();
   });
 
   it("creates its own certificate in the state directory and offers None and Basic256Sha256 SignAndEncrypt only", async () => {
@@ -117,6 +118,7 @@ describe("slosh-opcua security", () => {
     const ownBefore = fs.readFileSync(path.join(gateway.stateDir, "pki", "own", "certs", "certificate.pem"), "utf8");
     for (const f of files) fs.renameSync(path.join(rejected, f), path.join(gateway.stateDir, "pki", "trusted", "certs", f));
     gateway = await S.startGateway(dir, slosh.url, ["--config", path.join(dir, "opcua.json")]);
+    stack.gateway = gateway;  // the one the suite's stop() stops
     assert.equal(fs.readFileSync(path.join(gateway.stateDir, "pki", "own", "certs", "certificate.pem"), "utf8"), ownBefore,
       "a restart keeps the server's certificate (clients trust it)");
     const c = await S.connect(gateway.endpoint, secure, identity);

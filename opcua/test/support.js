@@ -128,6 +128,31 @@ async function connect(endpoint, options = {}, identity = undefined) {
   }
 }
 
+// A fresh scratch directory (name prefix), a slosh serve in it (or the service at `service`), a
+// gateway in front of it and, unless session is false, a connected session. extra: the gateway's
+// further flags, or a function of the directory that returns them (a config file written there);
+// env: its further environment. Resolves { dir, slosh, gateway, conn, stop() }; stop() closes and
+// stops what was started and removes the directory. A failed start stops what it had started.
+async function stack({ prefix = "slosh-opcua-", service, extra = [], env = {}, session = true } = {}) {
+  const s = { dir: scratch(prefix), slosh: null, gateway: null, conn: null };
+  s.stop = async () => {
+    if (s.conn) await s.conn.close();
+    if (s.gateway) await s.gateway.stop();
+    if (s.slosh) await s.slosh.stop();
+    fs.rmSync(s.dir, { recursive: true, force: true });
+  };
+  try {
+    if (service === undefined) s.slosh = await startSlosh(s.dir);
+    const flags = typeof extra === "function" ? extra(s.dir) : extra;
+    s.gateway = await startGateway(s.dir, service === undefined ? s.slosh.url : service, flags, env);
+    if (session) s.conn = await connect(s.gateway.endpoint);
+  } catch (e) {
+    await s.stop().catch(() => {});
+    throw e;
+  }
+  return s;
+}
+
 // Calls Slosh.<method> with [type, value] pairs.
 async function callMethod(session, method, args) {
   return session.call({
@@ -159,5 +184,5 @@ function planArgs(o) {
     ["String", o.strategy ?? ""], ["String", o.options ?? ""]];
 }
 
-module.exports = { root, scratch, until, httpJson, startSlosh, startGateway, connect, callMethod, readValue, readChild, planArgs,
+module.exports = { root, scratch, until, httpJson, startSlosh, startGateway, connect, stack, callMethod, readValue, readChild, planArgs,
   MessageSecurityMode, SecurityPolicy };
