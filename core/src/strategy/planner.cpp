@@ -504,7 +504,9 @@ struct Outcome {
   std::optional<FilterDesign> design;
   std::string detail;
   detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
-  bool law_of_durations{false};    // `law` is the 7-segment law of `durations`
+
+  /// `law` is the 7-segment law of `durations`: the optimisers' laws are, the filters' are not.
+  [[nodiscard]] bool law_of_durations() const { return !is_filter_strategy(strategy); }
 };
 
 Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::StrategyOutcome o) {
@@ -514,7 +516,6 @@ Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::Strate
   if (o.status == SolveStatus::kFailed) o.durations = uniform_durations(c.format.motion_time);
   out.durations = o.durations;
   out.law = SevenSegmentLaw(o.durations, c.format.stroke).law();
-  out.law_of_durations = true;
   out.detail = o.detail;
   out.solver = std::move(o);
   return out;
@@ -558,7 +559,7 @@ detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) 
 /// uniform 7-segment law (the same durations give the same law and the same responses, so it is
 /// not simulated twice), else simulated here.
 LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o) {
-  if (c.uniform_prediction != nullptr && o.law_of_durations && o.durations &&
+  if (c.uniform_prediction != nullptr && o.law_of_durations() && o.durations &&
       *o.durations == uniform_durations(c.format.motion_time)) {
     return *c.uniform_prediction;
   }
