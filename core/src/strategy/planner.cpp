@@ -836,8 +836,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
   }
   int evaluations = 0, starts = 0;
-  std::vector<std::string> worse_of;
-  std::vector<bool> worse;
+  std::vector<bool> worse;    // candidate k carries a worse_than_baseline warning
   std::vector<Outcome> kept;  // the outcomes of `candidates`, index for index
   std::vector<std::optional<RangeJudgement>> ranges;  // and their sweeps over the range
   std::string diverged;  // the candidates the models cannot follow, left out
@@ -857,10 +856,10 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     verify(c, o, judged(range, cand.prediction));
     cand.status = o.status;
     cand.durations = o.durations;
-    worse_of.push_back(o.strategy == Strategy::kBaseline
-                           ? std::string()
-                           : worse_than_baseline(cand.prediction, baseline));
-    worse.push_back(!worse_of.back().empty());
+    if (o.strategy != Strategy::kBaseline) {
+      cand.worse_than_baseline = worse_than_baseline(cand.prediction, baseline);
+    }
+    worse.push_back(!cand.worse_than_baseline.empty());
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
     ranges.push_back(std::move(range));
@@ -880,7 +879,6 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     candidates[k].lost = choice.lost[k];
     candidates[k].lost_detail = choice.lost_detail[k];
-    candidates[k].worse_than_baseline = worse_of[k];
   }
   Selection s;
   s.outcome = std::move(kept[choice.index]);
@@ -900,7 +898,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     s.detail += "; left out, the sloshing models diverge for their laws: " + diverged;
   }
   if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
-  s.worse = worse_of[choice.index];
+  s.worse = candidates[choice.index].worse_than_baseline;
   s.prediction = candidates[choice.index].prediction;
   s.range = std::move(ranges[choice.index]);
   return s;
