@@ -10,8 +10,7 @@
 #include <memory>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
+#include "fixtures.hpp"
 #include "plan_cache.hpp"
 #include "plan_service.hpp"
 #include "redis_client.hpp"
@@ -34,15 +33,6 @@ std::shared_ptr<slosh::service::RedisClient> redis_client() {
       slosh::service::RedisOptions{.url = slosh::service::parse_redis_url(redis().url())});
 }
 
-const std::string& plan_request() {
-  static const std::string body =
-      nlohmann::json::parse(R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},
-      "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
-      "strategy": "multi_notch"})")
-          .dump();
-  return body;
-}
-
 /// A real stored plan body (as the cache holds it): solved once.
 const std::string& stored_plan() {
   static const std::string body = [] {
@@ -50,7 +40,7 @@ const std::string& stored_plan() {
     config.cache_path = "";
     config.workers = 1;
     PlanService service(config);
-    const auto reply = service.post_plan(plan_request(), "");
+    const auto reply = service.post_plan(slosh::bench::cached_plan_request(), "");
     return reply.body;
   }();
   return body;
@@ -87,12 +77,7 @@ void BM_CachedPlanReply(benchmark::State& state) {
   config.cache_path = state.range(0) == 2 ? redis().url() : "";
   if (state.range(0) == 2) config.cache_entries = 0;
   PlanService service(config);
-  (void)service.post_plan(plan_request(), "");  // solved and stored
-  for (auto _ : state) {
-    const auto reply = service.post_plan(plan_request(), "");
-    if (reply.body.find("\"cached\":true") == std::string::npos) state.SkipWithError("not cached");
-    benchmark::DoNotOptimize(reply);
-  }
+  slosh::bench::cached_serve_loop(state, service);
   state.SetLabel(state.range(0) == 2 ? "redis" : "memory");
 }
 BENCHMARK(BM_CachedPlanReply)->Arg(0)->Arg(2)->Unit(benchmark::kMicrosecond);

@@ -27,25 +27,31 @@ UNIT_SECONDS = {"ns": 1e-9, "us": 1e-6, "ms": 1e-3, "s": 1.0}
 
 
 def medians(result_path):
-    """Median CPU time [s] of each benchmark of a Google Benchmark JSON file."""
+    """Median CPU time [s] of each benchmark of a Google Benchmark JSON file, and the error of each
+    benchmark that called SkipWithError (such a benchmark has error runs and no median)."""
     with open(result_path, encoding="utf-8") as f:
         result = json.load(f)
     out = {}
+    errors = {}
     for b in result.get("benchmarks", []):
+        if b.get("error_occurred"):
+            errors.setdefault(b["run_name"], b.get("error_message", ""))
+            continue
         if b.get("run_type") != "aggregate" or b.get("aggregate_name") != "median":
             continue
-        if b.get("error_occurred"):
-            raise SystemExit(f"bench-check: {b['run_name']} failed: {b.get('error_message', '')}")
         out[b["run_name"]] = b["cpu_time"] * UNIT_SECONDS[b.get("time_unit", "ns")]
-    return out
+    # A benchmark that failed in one repetition is not measured, whatever the others gave.
+    return {name: t for name, t in out.items() if name not in errors}, errors
 
 
 def units(result_path):
-    """Each benchmark's median in calibration units (the calibration loop itself excluded)."""
-    m = medians(result_path)
+    """Each benchmark's median in calibration units (the calibration loop itself excluded), the
+    calibration median [s], and the errors of the benchmarks that failed."""
+    m, errors = medians(result_path)
     if CALIBRATION not in m or m[CALIBRATION] <= 0:
         raise SystemExit(f"bench-check: {result_path} has no median of the '{CALIBRATION}' loop")
-    return {name: t / m[CALIBRATION] for name, t in m.items() if name != CALIBRATION}, m[CALIBRATION]
+    measured = {name: t / m[CALIBRATION] for name, t in m.items() if name != CALIBRATION}
+    return measured, m[CALIBRATION], errors
 
 
 def read_budgets(path):
@@ -63,11 +69,11 @@ def read_budgets(path):
 
 
 def check(result_path, budgets_path, factor):
-    measured, _ = units(result_path)
+    measured, _, errors = units(result_path)
     budgets = read_budgets(budgets_path)
-    failures = []
+    failures = [f"bench-check: {name} failed: {errors[name]}" for name in sorted(errors)]
     for name in sorted(budgets):
-        if name not in measured:
+        if name not in measured and name not in errors:
             failures.append(f"bench-check: {name} has a budget but was not measured")
     for name in sorted(measured):
         value = measured[name]
@@ -93,7 +99,13 @@ def check(result_path, budgets_path, factor):
 
 
 def update(result_path, budgets_path):
-    measured, calibration = units(result_path)
+    measured, calibration, errors = units(result_path)
+    if errors:
+        # Budgets without the failed benchmarks would pass a run where they fail again.
+        for name in sorted(errors):
+            print(f"bench-check: {name} failed: {errors[name]}", file=sys.stderr)
+        print(f"bench-check: {budgets_path} left as it was", file=sys.stderr)
+        return 1
     try:
         commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], capture_output=True,
                                 text=True, check=False).stdout.strip() or "unknown"

@@ -2,14 +2,14 @@
 
 #include <benchmark/benchmark.h>
 
+#include "fixtures.hpp"
 #include "slosh/core/response/response.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/response/spectrum.hpp"
 
 namespace {
 
-// An asymmetric admissible set of durations summing to 1 s.
-const slosh::Durations kAsymmetric{0.08, 0.17, 0.06, 0.21, 0.12, 0.09, 0.27};
+using slosh::bench::kAsymmetric;
 
 void BM_Spectrum(benchmark::State& state) {
   const double w1 = slosh::natural_frequency(0.0485, 0.082, 1);
@@ -40,22 +40,12 @@ void BM_LinearResponseBuild(benchmark::State& state) {
 BENCHMARK(BM_LinearResponseBuild);
 
 void BM_LinearResponsePeaks(benchmark::State& state) {
-  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
-  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
-  for (auto _ : state) {
-    const slosh::LinearResponse r(model, law.law(), 1.0);
-    benchmark::DoNotOptimize(r.peaks());
-  }
+  slosh::bench::response_peaks_loop<slosh::LinearResponse>(state);
 }
 BENCHMARK(BM_LinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 
 void BM_NonlinearResponsePeaks(benchmark::State& state) {
-  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
-  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
-  for (auto _ : state) {
-    const slosh::NonlinearResponse r(model, law.law(), 1.0);
-    benchmark::DoNotOptimize(r.peaks());
-  }
+  slosh::bench::response_peaks_loop<slosh::NonlinearResponse>(state);
 }
 BENCHMARK(BM_NonlinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 

@@ -8,6 +8,7 @@
 #include <random>
 #include <vector>
 
+#include "fixtures.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -78,14 +79,7 @@ BENCHMARK(BM_Optimise_TimeDomain)->Arg(1)->Unit(benchmark::kMillisecond);
 
 void BM_Plan(benchmark::State& state) {
   const auto strategy = static_cast<Strategy>(state.range(0));
-  const slosh::Format format = slosh::thesis_format();
-  const PlanOptions options;
-  double rest = 0.0;
-  for (auto _ : state) {
-    const slosh::PlanResult r = slosh::plan(format, strategy, options);
-    rest = r.prediction.nonlinear.rest.value;
-    benchmark::DoNotOptimize(r);
-  }
+  const double rest = slosh::bench::plan_loop(state, strategy, PlanOptions{});
   state.SetLabel(slosh::to_string(strategy));
   state.counters["eta_rest_mm"] = rest * 1e3;
 }
@@ -131,16 +125,7 @@ BENCHMARK(BM_PlanFormats)->DenseRange(1, 4)->Arg(8)->Unit(benchmark::kMillisecon
 // delta = 0 point simulated too) for the law of each strategy on the thesis format.
 void BM_RobustnessReport(benchmark::State& state) {
   const auto strategy = static_cast<Strategy>(state.range(0));
-  const slosh::Format format = slosh::thesis_format();
-  PlanOptions options;
-  options.robustness = false;
-  const slosh::PlanResult r = slosh::plan(format, strategy, options);
-  slosh::RobustnessSweep sweep;
-  sweep.zeta = r.model.zeta;
-  sweep.eta_rest_max = options.eta_rest_max;
-  for (auto _ : state) {
-    benchmark::DoNotOptimize(slosh::robustness_report(r.model, r.law, sweep));
-  }
+  slosh::bench::robustness_report_loop(state, strategy);
   state.SetLabel(slosh::to_string(strategy));
 }
 BENCHMARK(BM_RobustnessReport)->Arg(0)->Arg(4)->Arg(6)->Unit(benchmark::kMillisecond);

@@ -10,13 +10,10 @@ recipes=${2:-1000}
 workers=${3:-2}
 strategy=${4:-multi_notch}
 command -v python3 >/dev/null || { echo "jobs.sh: needs python3"; exit 1; }
-dir=$(mktemp -d)
-trap 'kill $pid 2>/dev/null || true; wait $pid 2>/dev/null || true; rm -rf "$dir"' EXIT
-"$build/slosh" serve --port 0 --port-file "$dir/port" --cache "" --workers "$workers" \
-  > "$dir/log" 2>&1 &
-pid=$!
-for _ in $(seq 100); do [ -s "$dir/port" ] && break; sleep 0.05; done
-url="http://127.0.0.1:$(cat "$dir/port")"
+# shellcheck source=bench/serve_common.sh
+source "$(dirname "$0")/serve_common.sh"
+slosh_serve server "$build" --cache "" --workers "$workers"
+url=$slosh_url
 python3 - "$url" "$recipes" "$strategy" <<'PY'
 import json, sys, time, urllib.request
 url, n, strategy = sys.argv[1], int(sys.argv[2]), sys.argv[3]

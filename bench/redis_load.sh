@@ -11,23 +11,19 @@ seconds=${2:-10}
 connections=${3:-16}
 command -v wrk >/dev/null || { echo "redis_load.sh: wrk is not installed (scripts/install-deps.sh)"; exit 1; }
 command -v redis-server >/dev/null || { echo "redis_load.sh: redis-server is not installed (scripts/install-deps.sh)"; exit 1; }
-dir=$(mktemp -d)
-pids=()
-trap 'for p in "${pids[@]}"; do kill "$p" 2>/dev/null || true; wait "$p" 2>/dev/null || true; done; rm -rf "$dir"' EXIT
+# shellcheck source=bench/serve_common.sh
+source "$(dirname "$0")/serve_common.sh"
+dir=$slosh_dir
 redis_port=$(python3 -c 'import socket; s = socket.socket(); s.bind(("127.0.0.1", 0)); print(s.getsockname()[1])')
 redis-server --port "$redis_port" --bind 127.0.0.1 --save "" --appendonly no --dir "$dir" \
   --logfile "$dir/redis.log" &
-pids+=($!)
+slosh_track $!
 for _ in $(seq 100); do redis-cli -p "$redis_port" ping >/dev/null 2>&1 && break; sleep 0.05; done
 echo '{"cache_entries": 1}' > "$dir/config.json"
-for name in a b; do
-  "$build/slosh" serve --config "$dir/config.json" --port 0 --port-file "$dir/$name.port" \
-    --cache "redis://127.0.0.1:$redis_port/0" > "$dir/$name.log" 2>&1 &
-  pids+=($!)
-done
-for name in a b; do for _ in $(seq 100); do [ -s "$dir/$name.port" ] && break; sleep 0.05; done; done
-a="http://127.0.0.1:$(cat "$dir/a.port")"
-b="http://127.0.0.1:$(cat "$dir/b.port")"
+slosh_serve a "$build" --config "$dir/config.json" --cache "redis://127.0.0.1:$redis_port/0"
+a=$slosh_url
+slosh_serve b "$build" --config "$dir/config.json" --cache "redis://127.0.0.1:$redis_port/0"
+b=$slosh_url
 body() { echo "{\"format\": {\"container\": {\"radius_mm\": 48.5}, \"fill_height_mm\": 82, \"fluid\": \"water\", \"stroke_mm\": $1, \"motion_time_s\": 1.0}, \"strategy\": \"multi_notch\"}"; }
 strokes="800 790 780 770 760 750 740 730"
 for stroke in $strokes; do

@@ -11,14 +11,11 @@ build=${1:-build}
 seconds=${2:-10}
 connections=${3:-32}
 command -v wrk >/dev/null || { echo "serve_load.sh: wrk is not installed (scripts/install-deps.sh)"; exit 1; }
-dir=$(mktemp -d)
-trap 'kill $pid 2>/dev/null || true; wait $pid 2>/dev/null || true; rm -rf "$dir"' EXIT
-"$build/slosh" serve --port 0 --port-file "$dir/port" --cache "$dir/plans.sqlite" \
-  > "$dir/log" 2>&1 &
-pid=$!
-for _ in $(seq 200); do [ -s "$dir/port" ] && break; sleep 0.05; done
-port=$(cat "$dir/port")
-url="http://127.0.0.1:$port"
+# shellcheck source=bench/serve_common.sh
+source "$(dirname "$0")/serve_common.sh"
+dir=$slosh_dir
+slosh_serve server "$build" --cache "$dir/plans.sqlite"
+url=$slosh_url
 body='{"format": {"container": {"radius_mm": 48.5}, "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0}, "strategy": "multi_notch"}'
 curl -s -o /dev/null -X POST -H 'Content-Type: application/json' -d "$body" "$url/v1/plans"
 

@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
-# The benchmark guard (SPEC §8): runs bench_check (one plan of each strategy, the robustness
-# report, one response of each model, the cached serve path, and the calibration loop), then
-# bench/bench_check.py compares each median, in calibration units, with bench/budgets.tsv and
-# fails on more than 3 x a budget.
+# The benchmark guard (SPEC §8): runs bench_check (one plan of each strategy without its own
+# robustness report, the report, one response of each model, the cached serve path, and the
+# calibration loop), then bench/bench_check.py compares each median, in calibration units, with
+# bench/budgets.tsv and fails on more than 3 x a budget.
 # Usage: scripts/bench-check.sh [build-dir] [--update]
 #   --update   rewrite bench/budgets.tsv from this run (commit it) instead of checking.
 set -euo pipefail

@@ -806,5 +806,46 @@ TEST(Planner, TheSharedUniformPredictionIsTheUniformLawsOwnToTheLastBit) {
   }
 }
 
+// The tie rule is not transitive: A ties B and keeps it out on peak acceleration, then C, lower
+// than A by more than the tie tolerance, replaces A while it still ties B. B lost to A, on a tie
+// with A's peak acceleration; judged again against C it would claim a peak "not below" C's, false.
+TEST(ChooseAuto, ALoserSaysWhatItLostToWhenTheWinnerIsLaterReplaced) {
+  auto candidate = [](Strategy s, double eta_rest, double a_peak) {
+    PlanCandidate c;
+    c.strategy = s;
+    c.status = SolveStatus::kOptimal;
+    c.prediction.nonlinear.motion.value = 0.005;
+    c.prediction.nonlinear.rest.value = eta_rest;
+    c.prediction.kinematics.a_peak_positive = a_peak;
+    c.prediction.kinematics.a_peak_negative = a_peak;
+    return c;
+  };
+  const double rest = 1e-3;
+  const std::vector<PlanCandidate> c{
+      candidate(Strategy::kNotch, rest, 5.0),                        // A
+      candidate(Strategy::kMultiNotch, rest * (1.0 - 0.9e-6), 6.0),  // B: ties A
+      candidate(Strategy::kTimeDomain, rest * (1.0 - 1.5e-6), 7.0),  // C: below A, ties B
+  };
+  // The premises, computed here with the rule's 1e-6 relative tie.
+  auto ties = [](double a, double b) { return std::abs(a - b) <= 1e-6 * b; };
+  const double ra = c[0].prediction.nonlinear.rest.value;
+  const double rb = c[1].prediction.nonlinear.rest.value;
+  const double rc = c[2].prediction.nonlinear.rest.value;
+  ASSERT_TRUE(ties(rb, ra));
+  ASSERT_TRUE(rc < ra * (1.0 - 1e-6));
+  ASSERT_TRUE(ties(rb, rc));
+
+  const AutoChoice choice = choose_auto(c, {false, false, false});
+  ASSERT_EQ(choice.index, 2u);
+  const std::vector<CandidateLoss> lost{CandidateLoss::kHigherRest, CandidateLoss::kTieOnRest,
+                                        CandidateLoss::kNone};
+  EXPECT_EQ(choice.lost, lost);
+  EXPECT_EQ(choice.lost_detail[0], "eta_rest 1 mm vs 1 mm of the chosen time_domain");
+  EXPECT_EQ(choice.lost_detail[1],
+            "eta_rest 1 mm ties with notch (kept then, later replaced; auto chose time_domain) "
+            "and its peak acceleration 6 m/s^2 is not below 5 m/s^2");
+  EXPECT_EQ(choice.lost_detail[2], "");
+}
+
 }  // namespace
 }  // namespace slosh

@@ -441,8 +441,9 @@ void add_plan_block_schemas(json& s) {
             "a candidate that is not competes), eta_motion_above_best (nonlinear "
             "eta_motion more than 5 % above the best competitor's), higher_eta_rest "
             "(above the chosen one's), tie_on_eta_rest (tied within 1e-6, peak "
-            "acceleration not lower). With an uncertainty range the worst case is "
-            "judged."))},
+            "acceleration not lower). The tie is not transitive, so a candidate can "
+            "have lost to one that was later replaced: then reason_detail names that "
+            "one. With an uncertainty range the worst case is judged."))},
        {"reason_detail",
         nullable(text("The reason with the figures that decided it (null for the chosen "
                       "one), e.g. \"eta_rest 1.2 mm vs 0.8 mm of the chosen multi_notch\"."))},

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "strategies.hpp"
 #include "text.hpp"
 
 namespace slosh {
@@ -84,8 +85,7 @@ class Search {
         strategy_(strategy),
         options_(options),
         result_(result),
-        deadline_(Clock::now() + std::chrono::duration_cast<Clock::duration>(
-                                     std::chrono::duration<double>(options.plan.time_limit))) {}
+        deadline_(options.plan.time_limit, options.plan.stop) {}
 
   /// Plans T; nullopt when the budget (time or max_plans) ran out before or during the plan.
   /// Plans T, warm-started from a neighbour (see warm_start_for). A warm-started plan that
@@ -120,9 +120,9 @@ class Search {
 
   /// One plan() of T; nullopt when the budget ran out before or during it.
   std::optional<Planned> plan_at(double T, const std::optional<Durations>& warm_start) {
-    const double remaining = std::chrono::duration<double>(deadline_ - Clock::now()).count();
-    const bool stopped = options_.plan.stop != nullptr && options_.plan.stop->load();
-    if (remaining <= 0.0 || stopped || result_.plans >= options_.max_plans) return std::nullopt;
+    // The search's own budget: the plans share time_limit, and a stop request ends it at once.
+    const double remaining = deadline_.remaining();
+    if (remaining <= 0.0 || result_.plans >= options_.max_plans) return std::nullopt;
     Format f = format_;
     f.motion_time = T;
     PlanOptions o = options_.plan;
@@ -211,7 +211,7 @@ class Search {
   Strategy strategy_;
   const MinTimeOptions& options_;
   MinTimeResult& result_;
-  Clock::time_point deadline_;
+  detail::Deadline deadline_;
 };
 
 }  // namespace

@@ -504,7 +504,9 @@ struct Outcome {
   std::optional<FilterDesign> design;
   std::string detail;
   detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
-  bool law_of_durations{false};    // `law` is the 7-segment law of `durations`
+
+  /// `law` is the 7-segment law of `durations`: the optimisers' laws are, the filters' are not.
+  [[nodiscard]] bool law_of_durations() const { return !is_filter_strategy(strategy); }
 };
 
 Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::StrategyOutcome o) {
@@ -514,7 +516,6 @@ Outcome from_solver(const detail::StrategyContext& c, Strategy s, detail::Strate
   if (o.status == SolveStatus::kFailed) o.durations = uniform_durations(c.format.motion_time);
   out.durations = o.durations;
   out.law = SevenSegmentLaw(o.durations, c.format.stroke).law();
-  out.law_of_durations = true;
   out.detail = o.detail;
   out.solver = std::move(o);
   return out;
@@ -558,7 +559,7 @@ detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) 
 /// uniform 7-segment law (the same durations give the same law and the same responses, so it is
 /// not simulated twice), else simulated here.
 LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o) {
-  if (c.uniform_prediction != nullptr && o.law_of_durations && o.durations &&
+  if (c.uniform_prediction != nullptr && o.law_of_durations() && o.durations &&
       *o.durations == uniform_durations(c.format.motion_time)) {
     return *c.uniform_prediction;
   }
@@ -729,9 +730,24 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
     return std::max(k.prediction.kinematics.a_peak_positive,
                     k.prediction.kinematics.a_peak_negative);
   };
+  choice.lost.assign(candidates.size(), CandidateLoss::kNone);
+  choice.lost_detail.assign(candidates.size(), std::string());
+  // The candidate each loser lost to on eta_rest, recorded when the loop rejects or replaces it:
+  // the tie rule is not transitive, so a loser judged again against the final choice could get a
+  // reason the loop never applied.
+  std::vector<std::size_t> beaten_by(candidates.size(), 0);
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const auto& cand = candidates[k];
-    if (!eligible(k) || judged(cand).nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+    if (!usable_status(cand.status)) {
+      choice.lost[k] = CandidateLoss::kNotUsable;
+      continue;
+    }
+    if (!eligible(k)) {
+      choice.lost[k] = CandidateLoss::kWorseThanBaseline;
+      continue;
+    }
+    if (judged(cand).nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+      choice.lost[k] = CandidateLoss::kMotionAboveBest;
       continue;
     }
     if (!choice.eligible) {
@@ -741,48 +757,65 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
     }
     const auto& cur = candidates[choice.index];
     const double a = judged(cand).nonlinear.rest.value, b = judged(cur).nonlinear.rest.value;
-    if (a < b * (1.0 - kAutoTieTolerance) ||
-        (std::abs(a - b) <= kAutoTieTolerance * b && peak(cand) < peak(cur))) {
+    const bool tie = std::abs(a - b) <= kAutoTieTolerance * b;
+    if (a < b * (1.0 - kAutoTieTolerance) || (tie && peak(cand) < peak(cur))) {
+      choice.lost[choice.index] = tie ? CandidateLoss::kTieOnRest : CandidateLoss::kHigherRest;
+      beaten_by[choice.index] = k;
       choice.index = k;
+    } else {
+      choice.lost[k] = tie ? CandidateLoss::kTieOnRest : CandidateLoss::kHigherRest;
+      beaten_by[k] = choice.index;
     }
   }
-  // Why each other candidate lost, in the order the rule above excludes them, with the figures
-  // that decided it (a client can check the choice against the candidates' predictions).
+  // With no eligible candidate the first one is returned, whatever excluded it.
+  choice.lost[choice.index] = CandidateLoss::kNone;
+  // The sentences, with the figures that decided each loss (a client can check the choice
+  // against the candidates' predictions).
   const PlanCandidate& chosen = candidates[choice.index];
   const std::string by_worst = chosen.worst_case ? " (worst case over the uncertainty range)" : "";
   auto mm = [](double metres) { return sig3(metres * 1e3) + " mm"; };
-  choice.lost.assign(candidates.size(), CandidateLoss::kNone);
-  choice.lost_detail.assign(candidates.size(), std::string());
+  // The candidate a loser lost to, named as the chosen one or as the one that then replaced it.
+  auto winner = [&](std::size_t w) {
+    if (w == choice.index) return "the chosen " + to_string(chosen.strategy);
+    return to_string(candidates[w].strategy) + " (kept then, later replaced; auto chose " +
+           to_string(chosen.strategy) + ")";
+  };
   for (std::size_t k = 0; k < candidates.size(); ++k) {
-    if (k == choice.index) continue;
     const PlanCandidate& cand = candidates[k];
     const LawPrediction& p = judged(cand);
-    const LawPrediction& q = judged(chosen);
-    CandidateLoss& lost = choice.lost[k];
+    const PlanCandidate& won = candidates[beaten_by[k]];
     std::string& detail = choice.lost_detail[k];
-    if (!usable_status(cand.status)) {
-      lost = CandidateLoss::kNotUsable;
-      detail = "status " + to_string(cand.status) +
-               ": only optimal, acceptable and time_limit candidates compete";
-    } else if (!eligible(k)) {
-      lost = CandidateLoss::kWorseThanBaseline;
-      detail =
-          "worse than the uniform law (its worse_than_baseline warning) while a candidate that "
-          "is not competes";
-    } else if (p.nonlinear.motion.value > kAutoMotionSlack * best_motion) {
-      lost = CandidateLoss::kMotionAboveBest;
-      detail = "eta_motion " + mm(p.nonlinear.motion.value) + by_worst +
-               " is more than 5 % above the best " + mm(best_motion);
-    } else if (std::abs(p.nonlinear.rest.value - q.nonlinear.rest.value) <=
-               kAutoTieTolerance * q.nonlinear.rest.value) {
-      lost = CandidateLoss::kTieOnRest;
-      detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " ties with the chosen " +
-               to_string(chosen.strategy) + " and its peak acceleration " + sig3(peak(cand)) +
-               " m/s^2 is not below " + sig3(peak(chosen)) + " m/s^2";
-    } else {
-      lost = CandidateLoss::kHigherRest;
-      detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " vs " +
-               mm(q.nonlinear.rest.value) + " of the chosen " + to_string(chosen.strategy);
+    switch (choice.lost[k]) {
+      case CandidateLoss::kNone:
+        break;
+      case CandidateLoss::kNotUsable:
+        detail = "status " + to_string(cand.status) +
+                 ": only optimal, acceptable and time_limit candidates compete";
+        break;
+      case CandidateLoss::kWorseThanBaseline:
+        detail =
+            "worse than the uniform law (its worse_than_baseline warning) while a candidate that "
+            "is not competes";
+        break;
+      case CandidateLoss::kMotionAboveBest:
+        detail = "eta_motion " + mm(p.nonlinear.motion.value) + by_worst +
+                 " is more than 5 % above the best " + mm(best_motion);
+        break;
+      case CandidateLoss::kTieOnRest:
+        detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " ties with " +
+                 winner(beaten_by[k]) + " and its peak acceleration " + sig3(peak(cand)) +
+                 " m/s^2 is not below " + sig3(peak(won)) + " m/s^2";
+        break;
+      case CandidateLoss::kHigherRest: {
+        // Against the chosen one when its eta_rest is below this one's (a client compares the
+        // two); else (a chain of ties raised it) against the one this candidate lost to.
+        const std::size_t shown = judged(chosen).nonlinear.rest.value < p.nonlinear.rest.value
+                                      ? choice.index
+                                      : beaten_by[k];
+        detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " vs " +
+                 mm(judged(candidates[shown]).nonlinear.rest.value) + " of " + winner(shown);
+        break;
+      }
     }
   }
   return choice;
@@ -803,8 +836,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
   }
   int evaluations = 0, starts = 0;
-  std::vector<std::string> worse_of;
-  std::vector<bool> worse;
+  std::vector<bool> worse;    // candidate k carries a worse_than_baseline warning
   std::vector<Outcome> kept;  // the outcomes of `candidates`, index for index
   std::vector<std::optional<RangeJudgement>> ranges;  // and their sweeps over the range
   std::string diverged;  // the candidates the models cannot follow, left out
@@ -824,10 +856,10 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     verify(c, o, judged(range, cand.prediction));
     cand.status = o.status;
     cand.durations = o.durations;
-    worse_of.push_back(o.strategy == Strategy::kBaseline
-                           ? std::string()
-                           : worse_than_baseline(cand.prediction, baseline));
-    worse.push_back(!worse_of.back().empty());
+    if (o.strategy != Strategy::kBaseline) {
+      cand.worse_than_baseline = worse_than_baseline(cand.prediction, baseline);
+    }
+    worse.push_back(!cand.worse_than_baseline.empty());
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
     ranges.push_back(std::move(range));
@@ -847,7 +879,6 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     candidates[k].lost = choice.lost[k];
     candidates[k].lost_detail = choice.lost_detail[k];
-    candidates[k].worse_than_baseline = worse_of[k];
   }
   Selection s;
   s.outcome = std::move(kept[choice.index]);
@@ -867,7 +898,7 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     s.detail += "; left out, the sloshing models diverge for their laws: " + diverged;
   }
   if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
-  s.worse = worse_of[choice.index];
+  s.worse = candidates[choice.index].worse_than_baseline;
   s.prediction = candidates[choice.index].prediction;
   s.range = std::move(ranges[choice.index]);
   return s;

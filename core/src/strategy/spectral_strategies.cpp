@@ -277,7 +277,7 @@ struct BandSearch {
   /// Phase E's z is (|X| / X_ref)^2: of order 1 like the durations' gradients, which SLSQP needs
   /// (in units of the tolerance it stalls on small tol_rel).
   double scale_e{};
-  std::vector<double> fine;         ///< band_check_grid
+  const std::vector<double>& fine;  ///< band_check_grid (the context's, built once)
   std::vector<double> base_omegas;  ///< the n_band solver frequencies
   std::vector<Durations> starts;
   /// The screening tries more random points than the other phases: the band-constrained optimum

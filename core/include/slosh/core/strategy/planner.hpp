@@ -332,7 +332,9 @@ struct AutoChoice {
   /// Some usable candidate is not worse than the uniform law (then the worse ones do not compete).
   bool any_not_worse{false};
   /// Per candidate, index for index: why it lost (kNone for `index`) and the figures that decided
-  /// it, e.g. "eta_rest 1.2 mm vs 0.8 mm of the chosen multi_notch".
+  /// it, e.g. "eta_rest 1.2 mm vs 0.8 mm of the chosen multi_notch". A rest loss is against the
+  /// candidate the rule kept at that point, which a later one may have replaced (the 1e-6 tie is
+  /// not transitive); the sentence then names both.
   std::vector<CandidateLoss> lost;
   std::vector<std::string> lost_detail;
 };
