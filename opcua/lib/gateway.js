@@ -148,9 +148,9 @@ class Gateway {
   }
 
   async planTable(v) {
-    // The full view: each row of the finished job carries its plan, so the import needs no request
-    // per recipe.
-    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "", view: "full" });
+    // Without a view: a full row costs some 30 KiB of the service's batch_jobs_bytes, which would
+    // bound a table to a few thousand recipes; the import fetches each plan by its key instead.
+    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "" });
     checkJobCreated(body, "POST", "/v1/batches");
     this.follow(body.id);
     return { JobId: body.id };
@@ -235,7 +235,7 @@ class Gateway {
   }
 
   // The full plan of a batch row, which carries the format the recipe was planned with: the row's
-  // own (a job posted with view full, as PlanTable's), else the one the service keeps under its
+  // own (a job posted with view full by another client), else the one the service keeps under its
   // key.
   async planOfRow(row) {
     if (row.plan !== undefined) {

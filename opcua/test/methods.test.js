@@ -201,6 +201,8 @@ describe("slosh-opcua against a real slosh serve", () => {
     });
     const good = rows.find((x) => x.recipe_id === "tray-a");
     const bad = rows.find((x) => x.recipe_id === "tray-bad");
+    // PlanTable's job has no view: its rows are figures only, small in the service's job memory.
+    assert.equal(good.plan, undefined);
     // The import writes the rows in table order: the last row's product comes last.
     await S.until("Products/2:odd.id", 10000, async () => {
       try { return (await S.readValue(conn.session, "ns=1;s=Products.2:odd%2Eid.Status")) !== ""; } catch (e) { return false; }
@@ -229,6 +231,15 @@ describe("slosh-opcua against a real slosh serve", () => {
     assert.equal(imp.statusCode.name, "Good");
     assert.deepEqual(imp.outputArguments.map((v) => v.value), [2, 1]);
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.cup-a.LastPlan.Key"), good.key);
+    // A job posted with the full view is imported from its rows' own plans, parameters included.
+    const full = await S.httpJson("POST", `${slosh.url}/v1/batches`, { table: table.replace(/tray-/g, "jar-"), table_format: "csv", view: "full" });
+    assert.equal(full.status, 202);
+    await S.until("the full-view batch job", 30000, async () => (await S.httpJson("GET", `${slosh.url}/v1/batches/${full.body.id}`)).body.state === "done");
+    const impFull = await S.callMethod(conn.session, "ImportBatchJob", [["String", full.body.id]]);
+    assert.equal(impFull.statusCode.name, "Good");
+    assert.deepEqual(impFull.outputArguments.map((v) => v.value), [2, 1]);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.jar-a.LastPlan.Key"), good.key);
+    assert.equal(await S.readValue(conn.session, "ns=1;s=Products.jar-a.Parameters.StrokeMm"), 500);
     const unknown = await S.callMethod(conn.session, "ImportBatchJob", [["String", "0".repeat(32)]]);
     assert.equal(unknown.statusCode.value, StatusCodes.BadNotFound.value);
   });
