@@ -111,8 +111,19 @@ TEST(Cancellation, AMinTimeSearchWhoseClientHungUpFreesItsWorker) {
   ASSERT_TRUE(wait_until([&] {
     return metric_of(server, kCancelledMinTime) == 1 && metric_of(server, kBusy) == 0;
   })) << server.log();
-  // Nothing half-searched was kept: the same request searches again.
   EXPECT_EQ(metric_of(server, "slosh_min_time_searches_total"), 1);
+  // Nothing half-searched was kept: the same request searches again instead of a cache hit.
+  {
+    test::Raw again(server.port());
+    ASSERT_TRUE(again.send(raw_post("/v1/min-time", endless_min_time())));
+    ASSERT_TRUE(wait_until([&] {
+      return metric_of(server, "slosh_min_time_searches_total") == 2 &&
+             metric_of(server, kBusy) == 1;
+    })) << server.log();
+  }
+  ASSERT_TRUE(wait_until([&] {
+    return metric_of(server, kCancelledMinTime) == 2 && metric_of(server, kBusy) == 0;
+  })) << server.log();
   EXPECT_EQ(metric_of(server, R"(slosh_cache_hits_total{level="memory"})"), 0);
 }
 
