@@ -529,7 +529,7 @@ TEST(BatchJobsCli, InterruptCancelsTheRemoteJob) {
     ::kill(cli.pid(), SIGINT);
     const auto code = cli.wait_for(30s);
     ASSERT_TRUE(code.has_value());
-    EXPECT_EQ(*code, 1);
+    EXPECT_EQ(*code, 130);
     EXPECT_NE(read_file(dir / "stderr").find("interrupted: batch job "), std::string::npos)
         << read_file(dir / "stderr");
     for (int i = 0; i < 600 && metric_of(server, "slosh_batch_jobs_active") != 0; ++i) {
@@ -565,7 +565,7 @@ TEST(BatchJobsCli, AnInterruptedRunKeepsTheRowsTheServiceFinishedInThePartialTab
   ::kill(cli.pid(), SIGINT);
   const auto code = cli.wait_for(60s);
   ASSERT_TRUE(code.has_value());
-  EXPECT_EQ(*code, 1);
+  EXPECT_EQ(*code, 130);
   const std::string err = read_file(dir / "stderr");
   std::istringstream partial(read_file(dir / "o.csv.partial"));
   std::string line;
