@@ -205,11 +205,14 @@ TEST(BatchCliFaults, AnInterruptAfterTheJobFinishedKeepsItsRowsInThePartialTable
   EXPECT_EQ(service.deletes.load(), 0) << "the finished job was deleted";
 }
 
-// Ctrl-C at any moment from the start (here within 0 to 3 ms of the process starting, before the
-// CLI has read its table or while it posts): the run ends with exit 130, and a job the service
-// accepted is DELETEd; never ignored (exit 0 with the job run to its end).
+// Ctrl-C at any moment from the start (here 0 to 3 ms after the process started, before the CLI
+// has read its table, and on to 60 ms, while it posts and polls): the run ends with exit 130, and
+// a job the service accepted is DELETEd; never ignored (exit 0 with the job run to its end).
 TEST(BatchCliFaults, AnInterruptRightAtTheStartEndsTheRunAndCancelsAnyPostedJob) {
-  for (int delay_us = 0; delay_us <= 3000; delay_us += 250) {
+  std::vector<int> delays_us;
+  for (int us = 0; us <= 3000; us += 250) delays_us.push_back(us);
+  for (int us = 5000; us <= 60000; us += 5000) delays_us.push_back(us);
+  for (const int delay_us : delays_us) {
     ScriptedService service;
     service.record_state = "running";
     Cli cli(service.url());
