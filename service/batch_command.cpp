@@ -327,7 +327,6 @@ std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink
   try {
     // A job that finished before the stop is not cancelled: a DELETE would forget its rows.
     json record = job_record_of(client, job);
-    const bool finished = record["state"] == "done";
     if (!is_final_state(record["state"].get<std::string>())) (void)client.del(job.path());
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (!is_final_state(record["state"].get<std::string>())) {
@@ -335,7 +334,8 @@ std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink
       std::this_thread::sleep_for(kJobPollInterval);
       record = job_record_of(client, job);
     }
-    outcome = finished ? "had finished" : record["state"].get<std::string>();
+    // A job that finished all its rows before the cancel reached it reads done: it had finished.
+    outcome = record["state"] == "done" ? "had finished" : record["state"].get<std::string>();
     const HttpReply rows = client.get(job.path() + "/results.jsonl");
     if (rows.status != 200) return outcome;
     std::istringstream lines(rows.body);
