@@ -4,11 +4,14 @@
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <future>
 #include <iostream>
 #include <map>
 #include <memory>
+#include <optional>
 #include <sstream>
 #include <thread>
 #include <vector>
@@ -124,32 +127,64 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   }
 }
 
-/// Set by SIGINT while an InterruptFlag lives (server mode through a batch job).
+/// Set by SIGINT while an InterruptFlag lives (server mode); never cleared, so that a Ctrl-C at
+/// any moment after the handler is in place is seen.
 volatile std::sig_atomic_t interrupted = 0;
 extern "C" void on_interrupt(int) {
   interrupted = 1;
 }
 
-// POSTs `body` to `path`, retrying 503 answers after their Retry-After (kServerRetries times);
-// BatchAbort when the service cannot be reached.
-HttpReply post_retrying_503(HttpClient& client, const std::string& path, const std::string& body) {
+/// SIGINT (Ctrl-C) sets `interrupted` while this lives; the previous action comes back after.
+/// Installed first thing in server mode, before the table is read: an interrupt from then on
+/// can only stop the run in an orderly way (a job the service accepted is cancelled).
+class InterruptFlag {
+ public:
+  InterruptFlag() {
+    struct sigaction action {};
+    action.sa_handler = on_interrupt;
+    sigemptyset(&action.sa_mask);
+    action.sa_flags = SA_RESTART;  // a blocking HTTP call finishes; the flag is looked at after
+    ::sigaction(SIGINT, &action, &previous_);
+  }
+  ~InterruptFlag() { ::sigaction(SIGINT, &previous_, nullptr); }
+  InterruptFlag(const InterruptFlag&) = delete;
+  InterruptFlag& operator=(const InterruptFlag&) = delete;
+
+ private:
+  struct sigaction previous_ {};
+};
+
+// Makes a call (`call`: one request to `path`), retrying 503 answers after their Retry-After
+// (1 to 30 s, 1 s without one) kServerRetries times; the last answer. The waits are sliced so
+// that Ctrl-C ends them at once: the 503 is then returned. BatchAbort when the service cannot be
+// reached.
+HttpReply retrying_503(const std::function<HttpReply()>& call) {
   for (int attempt = 0;; ++attempt) {
     HttpReply reply;
     try {
-      reply = client.post_json(path, body);
+      reply = call();
     } catch (const HttpError& e) {
       throw BatchAbort(e.what());
     }
-    if (reply.status != 503 || attempt >= kServerRetries) return reply;
+    if (reply.status != 503 || attempt >= kServerRetries || interrupted) return reply;
     const int wait =
         reply.retry_after.empty() ? 1 : std::clamp(std::atoi(reply.retry_after.c_str()), 1, 30);
-    // Waits in slices so that Ctrl-C ends the run here: nothing is posted after an interrupt.
     const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(wait);
     while (!interrupted && std::chrono::steady_clock::now() < until) {
       std::this_thread::sleep_for(std::chrono::milliseconds(20));
     }
-    if (interrupted) throw BatchAbort("interrupted before " + path + " accepted the table");
+    if (interrupted) return reply;
   }
+}
+
+// POSTs `body` to `path`, retrying 503 answers; nothing is posted after an interrupt.
+HttpReply post_retrying_503(HttpClient& client, const std::string& path, const std::string& body) {
+  if (interrupted) throw BatchAbort("interrupted before " + path + " accepted the table");
+  HttpReply reply = retrying_503([&] { return client.post_json(path, body); });
+  if (reply.status == 503 && interrupted) {
+    throw BatchAbort("interrupted before " + path + " accepted the table");
+  }
+  return reply;
 }
 
 // POSTs one chunk, retrying 503 answers after their Retry-After.
@@ -211,18 +246,6 @@ constexpr std::chrono::seconds kJobCallTimeout{10};
 /// How often a batch job's progress is asked for.
 constexpr std::chrono::milliseconds kJobPollInterval{200};
 
-/// SIGINT (Ctrl-C) sets `interrupted` while this lives; the previous handler comes back after.
-class InterruptFlag {
- public:
-  InterruptFlag() : previous_(std::signal(SIGINT, on_interrupt)) { interrupted = 0; }
-  ~InterruptFlag() { std::signal(SIGINT, previous_); }
-  InterruptFlag(const InterruptFlag&) = delete;
-  InterruptFlag& operator=(const InterruptFlag&) = delete;
-
- private:
-  void (*previous_)(int);
-};
-
 std::string reply_problem(const HttpClient& client, const std::string& path,
                           const HttpReply& reply) {
   std::string message = client.base_url() + path + " answered HTTP " + std::to_string(reply.status);
@@ -253,36 +276,36 @@ class RemoteJob {
   std::string id_;
 };
 
-HttpReply get_or_abort(HttpClient& client, const std::string& path) {
-  try {
-    return client.get(path);
-  } catch (const HttpError& e) {
-    throw BatchAbort(e.what());
-  }
-}
-
-// GETs `path`, retrying 503 answers (the shared job store of the replicas cannot answer now)
-// after their Retry-After, kServerRetries times; waits end early on Ctrl-C.
+// GETs `path`, retrying 503 answers (the shared job store of the replicas cannot answer now).
 HttpReply get_retrying_503(HttpClient& client, const std::string& path) {
-  for (int attempt = 0;; ++attempt) {
-    HttpReply reply = get_or_abort(client, path);
-    if (reply.status != 503 || attempt >= kServerRetries || interrupted) return reply;
-    const int wait =
-        reply.retry_after.empty() ? 1 : std::clamp(std::atoi(reply.retry_after.c_str()), 1, 30);
-    const auto until = std::chrono::steady_clock::now() + std::chrono::seconds(wait);
-    while (!interrupted && std::chrono::steady_clock::now() < until) {
-      std::this_thread::sleep_for(std::chrono::milliseconds(20));
-    }
+  return retrying_503([&] { return client.get(path); });
+}
+
+// The job's record (its first result row at most); BatchAbort unless the service answers it.
+json job_record_of(HttpClient& client, const RemoteJob& job) {
+  const HttpReply reply = get_retrying_503(client, job.path() + "?limit=1");
+  if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
+  try {
+    json record = json::parse(reply.body);
+    (void)record.at("state").get<std::string>();
+    (void)record.at("progress").at("done").get<std::size_t>();
+    return record;
+  } catch (const json::exception&) {
+    throw BatchAbort(client.base_url() + job.path() + " answered something that is not a job");
   }
 }
 
-// Polls the job until it has finished, drawing its progress; BatchAbort unless it is done.
+/// Thrown by wait_for_job on Ctrl-C: the job is stopped and its finished rows saved by the caller.
+struct BatchInterrupted : BatchAbort {
+  using BatchAbort::BatchAbort;
+};
+
+// Polls the job until it has finished, drawing its progress; BatchAbort unless it is done,
+// BatchInterrupted on Ctrl-C.
 void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
   for (;;) {
-    if (interrupted) throw BatchAbort("interrupted: batch job " + job.id() + " cancelled");
-    const HttpReply reply = get_retrying_503(client, job.path() + "?limit=1");
-    if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
-    const json record = json::parse(reply.body);
+    if (interrupted) throw BatchInterrupted("interrupted");
+    const json record = job_record_of(client, job);
     bar.update(record["progress"]["done"].get<std::size_t>());
     const std::string state = record["state"].get<std::string>();
     if (state == "done") return;
@@ -294,33 +317,34 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
   }
 }
 
-// After a stop (Ctrl-C, a failed job): cancels the job, waits a bounded time for it to end and
-// writes the rows it finished to `sink`, so that the .partial table holds what the service did.
-// Best effort: any failure leaves the rows written so far.
-void save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
+// After a stop (Ctrl-C, a failed job): cancels the job unless it has finished, waits a bounded
+// time for it to end and writes the rows it finished to `sink`, so that the .partial table holds
+// what the service did. Returns what happened, for the message: "cancelled", "had finished" or
+// "could not be cancelled" (the service did not answer). Any failure leaves the rows written so
+// far.
+std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
+  std::string outcome = "could not be cancelled";
   try {
     // A job that finished before the stop is not cancelled: a DELETE would forget its rows.
-    const HttpReply now = client.get(job.path() + "?limit=1");
-    if (now.status != 200) return;
-    if (!is_final_state(json::parse(now.body).at("state").get<std::string>())) {
-      (void)client.del(job.path());
-    }
+    json record = job_record_of(client, job);
+    if (!is_final_state(record["state"].get<std::string>())) (void)client.del(job.path());
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
-    for (;;) {
-      const HttpReply reply = client.get(job.path() + "?limit=1");
-      if (reply.status != 200) return;
-      if (is_final_state(json::parse(reply.body).at("state").get<std::string>())) break;
-      if (std::chrono::steady_clock::now() >= deadline) return;
+    while (!is_final_state(record["state"].get<std::string>())) {
+      if (std::chrono::steady_clock::now() >= deadline) return outcome;
       std::this_thread::sleep_for(kJobPollInterval);
+      record = job_record_of(client, job);
     }
+    // A job that finished all its rows before the cancel reached it reads done: it had finished.
+    outcome = record["state"] == "done" ? "had finished" : record["state"].get<std::string>();
     const HttpReply rows = client.get(job.path() + "/results.jsonl");
-    if (rows.status != 200) return;
+    if (rows.status != 200) return outcome;
     std::istringstream lines(rows.body);
     for (std::string line; std::getline(lines, line);) {
       if (!line.empty()) sink.write_row(json::parse(line));
     }
   } catch (const std::exception&) {
   }
+  return outcome;
 }
 
 // Runs the table as a batch job of the service: POSTs the table's text (the service reads it as
@@ -331,10 +355,8 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
                     RowSink& sink, ProgressBar& bar) {
   json body{{"table", in.text}, {"table_format", to_string(in.in_format)}, {"format", "jsonl"}};
   if (in.view) body["view"] = options.full ? std::string("full") : *options.view;
-  // Ctrl-C from here on only sets `interrupted`: a job the POST creates is then DELETEd as soon
-  // as its id is known (an interrupt during the POST must not kill the process with the job
-  // accepted and running on the server).
-  const InterruptFlag interrupt;
+  // Ctrl-C only sets `interrupted` (the handler is installed before the table is read): a job
+  // the POST creates is then DELETEd as soon as its id is known.
   const HttpReply posted = post_retrying_503(client, "/v1/batches", api::dump_json(body));
   if (posted.status == 404 || posted.status == 405 || posted.status == 413) {
     if (posted.status == 413) {
@@ -351,16 +373,24 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
   RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
   try {
     wait_for_job(client, job, bar);
+  } catch (const BatchInterrupted&) {
+    const std::string outcome = save_finished_rows(client, job, sink);
+    const std::string id = job.id();
+    if (outcome == "had finished") job.release();  // its rows are saved: nothing to cancel
+    throw BatchAbort("interrupted: batch job " + id + " " + outcome +
+                     (outcome == "had finished"
+                          ? " (" + std::to_string(sink.written()) + " rows written)"
+                          : ""));
   } catch (const BatchAbort&) {
-    save_finished_rows(client, job, sink);
+    (void)save_finished_rows(client, job, sink);
     throw;
   }
+  // Done: nothing to cancel any more (a DELETE would forget the results).
+  const std::string id = job.id();
+  job.release();
   client.set_timeout(kServerTimeout);
-  const HttpReply rows = get_retrying_503(client, job.path() + "/results.jsonl");
-  client.set_timeout(kJobCallTimeout);
-  if (rows.status != 200) throw BatchAbort(reply_problem(client, job.path(), rows));
-  const std::string id = job.id();  // release() forgets it; the row checks below name it
-  job.release();                    // done: nothing to cancel any more
+  const HttpReply rows = get_retrying_503(client, "/v1/batches/" + id + "/results.jsonl");
+  if (rows.status != 200) throw BatchAbort(reply_problem(client, "/v1/batches/" + id, rows));
   std::size_t at = 0;
   while (at < rows.body.size()) {
     const std::size_t end = rows.body.find('\n', at);
@@ -608,6 +638,17 @@ std::optional<api::PlanView> row_plan_view(const BatchCommandOptions& options) {
 
 std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInput& in) {
   try {
+    // Refused before anything is posted: a directory as --out would only fail once the job is
+    // done, when the table is renamed into place.
+    for (const auto& [flag, path] : {std::pair{"--in", &options.in}, {"--out", &options.out}}) {
+      std::error_code ec;
+      if (*path != "-" && std::filesystem::is_directory(*path, ec)) {
+        throw TableError(std::string(flag) + " '" + *path +
+                         "' is a directory: give the path of a table file" +
+                         (std::string(flag) == "--in" ? "" : " to write") + " (or - for " +
+                         (std::string(flag) == "--in" ? "stdin" : "stdout") + ")");
+      }
+    }
     in.in_format = table_format(options.in_format, options.in);
     in.out_format = table_format(options.out_format, options.out);
     try {
@@ -677,7 +718,7 @@ int run_min_time_mode(const BatchCommandOptions& options, BatchInput& in, BatchO
     writer.finish();
   } catch (const std::exception& e) {
     std::cerr << "slosh batch: stopped: " << e.what() << '\n';
-    return kExitFailure;
+    return interrupted ? kExitInterrupted : kExitFailure;
   }
   if (!output.commit()) return kExitFailure;
   if (!failed.empty()) {
@@ -709,7 +750,7 @@ int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutpu
     if (!output.to_stdout()) {
       std::cerr << "slosh batch: the rows written so far are in " << output.partial() << '\n';
     }
-    return kExitFailure;
+    return interrupted ? kExitInterrupted : kExitFailure;
   }
   bar.finish();
   if (!output.commit()) return kExitFailure;
@@ -729,6 +770,8 @@ int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutpu
 
 int run_batch_command(const BatchCommandOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  std::optional<InterruptFlag> interrupt;
+  if (!options.server.empty()) interrupt.emplace();
   BatchInput in;
   if (auto exit_code = read_batch_input(options, in)) return *exit_code;
   BatchOutput output(options.out);

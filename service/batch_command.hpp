@@ -14,6 +14,8 @@ namespace slosh::service {
 
 /// Exit code of a batch whose table was processed but some rows could not be planned.
 constexpr int kExitSomeRowsFailed = 3;
+/// Exit code of a run stopped by Ctrl-C (SIGINT), as a shell reports a process the signal ended.
+constexpr int kExitInterrupted = 130;
 
 struct BatchCommandOptions {
   /// Recipe table path, "-" = stdin. Default "-".

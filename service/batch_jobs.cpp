@@ -23,6 +23,10 @@ namespace {
 
 using nlohmann::json;
 
+/// Rows read from the store at a time when a job's results are read (one HMGET of at most this
+/// many fields on Redis: a 27 000-row job is not one command of 27 000 fields).
+constexpr std::size_t kRowsPage = 500;
+
 /// How often the runner stores rows and rewrites the record (the heartbeat), and polls the
 /// store's cancel flag, while a job runs.
 constexpr std::chrono::milliseconds kHeartbeat{500};
@@ -190,30 +194,63 @@ json load_record(JobStore& store, const std::string& id, const ServerConfig& con
   }
 }
 
-// Rows [offset, offset + count) of job `id`, all of them: fewer (the shared store lost some, e.g.
-// while Redis was down or flushed) or a row that is not a JSON object is a 503 (unavailable),
-// never a short table answered as complete.
+// "row 5", "rows 5, 6 and 9" (at most 10 named, then how many more).
+std::string row_list(const std::vector<std::size_t>& rows) {
+  std::string text = rows.size() == 1 ? "row " : "rows ";
+  const std::size_t shown = std::min<std::size_t>(rows.size(), 10);
+  for (std::size_t k = 0; k < shown; ++k) {
+    if (k > 0) text += k + 1 == rows.size() ? " and " : ", ";
+    text += std::to_string(rows[k]);
+  }
+  if (rows.size() > shown) text += " and " + std::to_string(rows.size() - shown) + " more";
+  return text;
+}
+
+// Whether `row` is a result row of the table's row `number` (1-based): an object naming its row
+// and its status, as plan_row writes it. A row damaged in the shared store (e.g. "{}") is not.
+bool is_result_row(const json& row, std::size_t number) {
+  if (!row.is_object()) return false;
+  const auto at = row.find("row");
+  const auto status = row.find("status");
+  return at != row.end() && at->is_number_unsigned() && at->get<std::size_t>() == number &&
+         status != row.end() && status->is_string();
+}
+
+// Rows [offset, offset + count) of job `id`, all of them, read in pages. Rows the shared store
+// lost (e.g. while Redis was down or flushed) or holds damaged are a 503 (unavailable) naming
+// them, never a short or blank-filled table answered as complete.
 std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t offset,
                             std::size_t count) {
-  const auto texts = store.rows(id, offset, count);
-  const std::string shown = id.substr(0, 64);
-  const std::size_t got = texts ? texts->size() : 0;
   std::vector<json> rows;
-  try {
-    if (got == count) {
-      for (const std::string& text : *texts) {
-        rows.push_back(json::parse(text));
-        if (!rows.back().is_object()) break;
+  rows.reserve(count);
+  std::vector<std::size_t> damaged;  // 1-based row numbers
+  std::size_t readable = 0;
+  bool short_read = false;
+  for (std::size_t page = offset; page < offset + count && !short_read; page += kRowsPage) {
+    const std::size_t n = std::min(kRowsPage, offset + count - page);
+    const auto texts = store.rows(id, page, n);
+    const std::size_t got = texts ? texts->size() : 0;
+    for (std::size_t i = 0; i < got; ++i) {
+      const std::size_t number = page + i + 1;
+      json row = json::parse((*texts)[i], nullptr, false);
+      if (is_result_row(row, number)) {
+        ++readable;
+        rows.push_back(std::move(row));
+      } else {
+        damaged.push_back(number);
       }
     }
-  } catch (const json::exception&) {
+    short_read = got < n;
   }
-  if (rows.size() == count && (rows.empty() || rows.back().is_object())) return rows;
-  throw api::ApiError(
-      api::ErrorCode::kUnavailable, "id",
-      "the stored results of batch job '" + shown + "' are incomplete or damaged (" +
-          std::to_string(got) + " readable of rows " + std::to_string(offset + 1) + " to " +
-          std::to_string(offset + count) + "): ask the replica that ran it, or POST the job again");
+  if (readable == count) return rows;
+  const std::string shown = id.substr(0, 64);
+  const std::string detail = damaged.empty() ? "" : "; damaged: " + row_list(damaged);
+  throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                      "the stored results of batch job '" + shown +
+                          "' are incomplete or damaged (" + std::to_string(readable) +
+                          " readable of rows " + std::to_string(offset + 1) + " to " +
+                          std::to_string(offset + count) + detail +
+                          "): ask the replica that ran it, or POST the job again");
 }
 
 }  // namespace
@@ -258,13 +295,19 @@ void BatchJobs::mark_stale_unless_here(nlohmann::json& record, const std::string
 }
 
 bool BatchJobs::write_record(Job& job) {
-  return store_.put_record(job.status.id, api::dump_json(job_record(job.status, unix_ms_now())));
+  json record = job_record(job.status, unix_ms_now());
+  // A DELETE on this replica sets the job's flag from another thread: a queued job's record says
+  // so at once, not only once the runner has taken the job.
+  if (job.cancel) record["cancel_requested"] = true;
+  return store_.put_record(job.status.id, api::dump_json(record));
 }
 
 Reply BatchJobs::post(const std::string& text) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     JobBody body = parse_job_body(text, config.batch_job_max);
+    // The cheap refusal first: resolving the recipes' stored models reads the calibrations.
+    check_capacity();
     if (resolve_models_) {
       for (RecipeRow& row : body.rows) {
         const json* options =
@@ -292,15 +335,7 @@ Reply BatchJobs::post(const std::string& text) {
     Reply reply;
     {
       const std::lock_guard lock(mutex_);
-      if (stopping_ || !service_.accepting()) {
-        throw api::ApiError(api::ErrorCode::kOverloaded, "", "the service is shutting down");
-      }
-      if (active_.size() >= config.batch_jobs_max) {
-        throw api::ApiError(api::ErrorCode::kOverloaded, "",
-                            std::to_string(active_.size()) +
-                                " batch jobs are queued or running here, the limit " +
-                                "(batch_jobs_max); retry after one has finished");
-      }
+      check_capacity_locked();  // again: other jobs may have been posted meanwhile
       // Rendered before the runner can see the job (it owns the status from then on).
       reply = json_reply(202, job_record(job->status, unix_ms_now()));
       reply.headers.emplace_back("Location", "/v1/batches/" + job->status.id);
@@ -313,6 +348,24 @@ Reply BatchJobs::post(const std::string& text) {
   });
 }
 
+void BatchJobs::check_capacity() const {
+  const std::lock_guard lock(mutex_);
+  check_capacity_locked();
+}
+
+void BatchJobs::check_capacity_locked() const {
+  if (stopping_ || !service_.accepting()) {
+    throw api::ApiError(api::ErrorCode::kOverloaded, "", "the service is shutting down");
+  }
+  const std::size_t limit = service_.config().batch_jobs_max;
+  if (active_.size() >= limit) {
+    throw api::ApiError(api::ErrorCode::kOverloaded, "",
+                        std::to_string(active_.size()) +
+                            " batch jobs are queued or running here, the limit " +
+                            "(batch_jobs_max); retry after one has finished");
+  }
+}
+
 Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
@@ -320,6 +373,12 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
     json record = load_record(store_, id, config);
     mark_stale_unless_here(record, id);
+    if (!is_final_state(record["state"].get<std::string>()) &&
+        record.value("cancel_requested", false) == false && store_.cancel_requested(id)) {
+      // A DELETE through another replica is recorded in the shared store at once; the owner
+      // rewrites the record when it next polls the flag (a queued job: when it starts).
+      record["cancel_requested"] = true;
+    }
     if (is_final_state(record["state"].get<std::string>())) {
       const std::size_t stored = record["progress"]["done"].get<std::size_t>();
       json rows = json::array();
@@ -476,8 +535,10 @@ void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
       spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
     }
   }
-  store_.resync();
   write_record(job);
+  // Then what the shared store missed (this job's rows and record after a failed write, every
+  // job after an emptying): each row and record is sent once, after the rows it counts.
+  store_.resync();
   // The queued jobs' heartbeat: they are alive, only waiting.
   std::vector<std::shared_ptr<Job>> queued;
   {

@@ -88,6 +88,9 @@ class BatchJobs {
   // Ends `job` in `state` with `message`: its rows and final record stored.
   void finish(Job& job, const std::string& state, const std::string& message);
   bool write_record(Job& job);
+  // 503 (overloaded) when stopping or batch_jobs_max jobs are queued or running here.
+  void check_capacity() const;
+  void check_capacity_locked() const;  // mutex_ held
   // Marks a stale queued or running record failed, unless the job runs on this replica.
   void mark_stale_unless_here(nlohmann::json& record, const std::string& id) const;
   // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).

@@ -910,7 +910,9 @@ struct JobStores {
                                    .max_jobs = config.batch_jobs_kept + config.batch_jobs_max,
                                    .max_bytes = config.batch_jobs_bytes}) {
     if (!service.redis()) return;
-    redis.emplace(service.redis(), std::chrono::seconds(std::llround(config.batch_job_ttl_s)));
+    redis.emplace(
+        service.redis(), std::chrono::seconds(std::llround(config.batch_job_ttl_s)),
+        "slosh:jobs:", std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1000)));
     tiered.emplace(local, *redis);
   }
   JobStores(const JobStores&) = delete;

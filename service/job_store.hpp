@@ -20,19 +20,18 @@ class JobStore {
   /// Writes the record of job `id`, replacing the previous one (a new job's first write creates
   /// it). False when the store could not be written (the caller keeps its own copy).
   virtual bool put_record(const std::string& id, const std::string& record) = 0;
-  /// The record of job `id`; nullopt when the store does not know it or cannot be read.
-  [[nodiscard]] virtual std::optional<std::string> record(const std::string& id) = 0;
-
   /// The record of job `id` and whether the store answered at all. A shared store that is
-  /// down, slow or has every connection busy did not answer: the job may run on another
-  /// replica, so the caller must not read the missing record as "no such job". Default: a
-  /// local store always answers.
+  /// down, slow or has every connection busy, or answered something that is not a record, did
+  /// not answer: the job may run on another replica, so the caller must not read the missing
+  /// record as "no such job". A job removed (remove()) is missing.
   struct RecordLookup {
     std::optional<std::string> text;
     bool answered{true};
   };
-  [[nodiscard]] virtual RecordLookup lookup_record(const std::string& id) {
-    return {record(id), true};
+  [[nodiscard]] virtual RecordLookup lookup_record(const std::string& id) = 0;
+  /// The record of job `id`; nullopt when the store does not know it or cannot be read.
+  [[nodiscard]] std::optional<std::string> record(const std::string& id) {
+    return lookup_record(id).text;
   }
 
   /// Writes result rows `first`, `first` + 1, ... of job `id`. Rows are keyed by their index, so
@@ -53,8 +52,18 @@ class JobStore {
   virtual bool request_cancel(const std::string& id) = 0;
   [[nodiscard]] virtual bool cancel_requested(const std::string& id) = 0;
 
-  /// Forgets job `id` (its record, rows and cancel flag).
-  virtual void remove(const std::string& id) = 0;
+  /// Forgets job `id` (its record, rows and cancel flag). A shared store keeps a mark that the
+  /// job was removed (for its time to live), so that its owner drops its own copy and does not
+  /// publish it again, and its cancel_requested() is then true. False when the store could not
+  /// be written.
+  virtual bool remove(const std::string& id) = 0;
+  /// Which of `ids` were removed (remove()) through this store, e.g. by another replica. Default
+  /// none (a local store forgets removed jobs at once).
+  [[nodiscard]] virtual std::vector<std::string> removed_among(
+      const std::vector<std::string>& ids) {
+    (void)ids;
+    return {};
+  }
 
   /// The jobs this store holds (a local store: the ones a replica republishes to a shared store
   /// that lost them). Default none.
@@ -68,7 +77,9 @@ class JobStore {
   /// are still publishing theirs again): such a job is answered 503, not 404. Default false.
   [[nodiscard]] virtual bool recently_emptied() { return false; }
   /// Sends the shared level of a tiered store what it is missing: every job after it was emptied,
-  /// else the records and rows whose writes to it failed. Called at every heartbeat. Default no-op.
+  /// else the records and rows whose writes to it failed, and the cancels and removals this
+  /// replica accepted that it lost; drops the local copies of jobs removed through another
+  /// replica. Called at every heartbeat. Default no-op.
   virtual void resync() {}
 
   /// False while the store, or the shared level of a tiered one, cannot be asked (Redis down):

@@ -1,5 +1,7 @@
 #include "memory_job_store.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <iterator>
 #include <utility>
@@ -59,11 +61,11 @@ bool MemoryJobStore::put_record(const std::string& id, const std::string& record
   return true;
 }
 
-std::optional<std::string> MemoryJobStore::record(const std::string& id) {
+JobStore::RecordLookup MemoryJobStore::lookup_record(const std::string& id) {
   const std::lock_guard lock(mutex_);
   const Entry* entry = find(id);
-  if (entry == nullptr) return std::nullopt;
-  return entry->record;
+  if (entry == nullptr) return {std::nullopt, true};
+  return {entry->record, true};
 }
 
 bool MemoryJobStore::put_rows(const std::string& id, std::size_t first,
@@ -112,11 +114,11 @@ bool MemoryJobStore::cancel_requested(const std::string& id) {
   return entry != nullptr && entry->cancel;
 }
 
-void MemoryJobStore::remove(const std::string& id) {
+bool MemoryJobStore::remove(const std::string& id) {
   const std::lock_guard lock(mutex_);
   auto it = entries_.find(id);
-  if (it == entries_.end()) return;
-  erase(it);
+  if (it != entries_.end()) erase(it);
+  return true;
 }
 
 std::vector<std::string> MemoryJobStore::ids() {
@@ -140,6 +142,12 @@ constexpr std::size_t kMaxCountedJobs = 1024;
 
 bool TieredJobStore::put_record(const std::string& id, const std::string& record) {
   const bool local = local_.put_record(id, record);
+  {
+    // The shared store is behind on this job: the record goes with its rows at the next resync
+    // (written now, it would announce rows the shared store does not hold yet).
+    const std::lock_guard lock(mutex_);
+    if (local && unsynced_.count(id) != 0) return true;
+  }
   const bool shared = shared_.put_record(id, record);
   if (local && !shared) {
     const std::lock_guard lock(mutex_);
@@ -148,69 +156,142 @@ bool TieredJobStore::put_record(const std::string& id, const std::string& record
   return local || shared;
 }
 
+bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
+                              const std::vector<std::string>& rows) {
+  const bool local = local_.put_rows(id, first, rows);
+  {
+    const std::lock_guard lock(mutex_);
+    if (counts_.size() > kMaxCountedJobs) {
+      // Forget the counts of jobs the local store has dropped (expired or removed).
+      std::erase_if(counts_, [this](const auto& entry) { return !local_.record(entry.first); });
+    }
+    RowCounts& counts = counts_[id];
+    if (local) counts.local = std::max(counts.local, first + rows.size());
+    // In step with the shared store: these rows follow the ones it holds. Else they wait for
+    // resync(), which sends every row it misses once, in order.
+    if (local && (unsynced_.count(id) != 0 || counts.shared != first)) {
+      unsynced_.insert(id);
+      return true;
+    }
+  }
+  const bool shared = shared_.put_rows(id, first, rows);
+  const std::lock_guard lock(mutex_);
+  if (shared) {
+    RowCounts& counts = counts_[id];
+    counts.shared = std::max(counts.shared, first + rows.size());
+  } else if (local) {
+    unsynced_.insert(id);
+  }
+  return local || shared;
+}
+
 bool TieredJobStore::publish(const std::string& id) {
+  // The record first: it counts no more rows than the local store held when it was written
+  // (rows are stored before their record), so the rows sent below cover it.
   const auto record = local_.record(id);
-  if (!record) return true;  // dropped here: nothing to publish
-  RowCounts& counts = counts_[id];
-  const std::size_t from = std::min(counts.shared, counts.local);
-  const auto rows = local_.rows(id, from, counts.local - from);
-  if (!rows || rows->size() != counts.local - from) return true;  // the local copy is gone
-  if (!shared_.put_rows(id, from, *rows)) return false;
-  counts.shared = counts.local;
+  if (!record) {  // dropped here (expired, removed): nothing to publish
+    const std::lock_guard lock(mutex_);
+    counts_.erase(id);
+    return true;
+  }
+  std::size_t from = 0;
+  std::size_t to = 0;
+  {
+    const std::lock_guard lock(mutex_);
+    const RowCounts& counts = counts_[id];
+    from = std::min(counts.shared, counts.local);
+    to = counts.local;
+  }
+  for (std::size_t at = from; at < to; at += kPublishChunk) {
+    const std::size_t n = std::min(kPublishChunk, to - at);
+    const auto rows = local_.rows(id, at, n);
+    if (!rows || rows->size() != n) {
+      // The local copy lost rows it had taken (it cannot, short of a bug): publish the record
+      // anyway, so that readers refuse the table naming the missing rows instead of reading an
+      // older state.
+      spdlog::error(
+          "batch job {}: the local job store holds {} of rows {} to {}; publishing its "
+          "record without them",
+          id, rows ? rows->size() : 0, at + 1, at + n);
+      break;
+    }
+    if (!shared_.put_rows(id, at, *rows)) return false;
+    const std::lock_guard lock(mutex_);
+    RowCounts& counts = counts_[id];
+    counts.shared = std::max(counts.shared, at + n);
+  }
   if (local_.cancel_requested(id) && !shared_.request_cancel(id)) return false;
   return shared_.put_record(id, *record);
 }
 
+void TieredJobStore::remember(const std::string& id, bool removed, bool told) {
+  auto [it, added] = remembered_.try_emplace(id, removed);
+  if (added) {
+    remembered_order_.push_back(id);
+  } else {
+    it->second = it->second || removed;
+  }
+  if (told) {
+    untold_.erase(id);
+  } else {
+    untold_.insert(id);
+  }
+  while (remembered_order_.size() > kRemembered) {
+    remembered_.erase(remembered_order_.front());
+    untold_.erase(remembered_order_.front());
+    remembered_order_.pop_front();
+  }
+}
+
+void TieredJobStore::tell_shared() {
+  std::vector<std::pair<std::string, bool>> pending;
+  {
+    const std::lock_guard lock(mutex_);
+    for (const std::string& id : untold_) pending.emplace_back(id, remembered_.at(id));
+  }
+  for (const auto& [id, removed] : pending) {
+    if (!(removed ? shared_.remove(id) : shared_.request_cancel(id))) return;  // down: later
+    const std::lock_guard lock(mutex_);
+    untold_.erase(id);
+  }
+}
+
 void TieredJobStore::resync() {
   const bool emptied = shared_.emptied_since_last_check();
-  std::vector<std::string> ids;
-  if (emptied) ids = local_.ids();
-  const std::lock_guard lock(mutex_);
   if (emptied) {
+    const std::vector<std::string> ids = local_.ids();
+    const std::lock_guard lock(mutex_);
     for (const std::string& id : ids) {
       counts_[id].shared = 0;  // the shared store holds none of its rows any more
       unsynced_.insert(id);
     }
+    for (const auto& [id, removed] : remembered_) untold_.insert(id);
   }
-  for (auto it = unsynced_.begin(); it != unsynced_.end();) {
-    it = publish(*it) ? unsynced_.erase(it) : std::next(it);
+  // Cancels and removals first: a job removed is not published again below.
+  tell_shared();
+  // Jobs removed through another replica: this replica forgets its own copy (it would else
+  // answer for the job and publish it again after an emptying).
+  for (const std::string& id : shared_.removed_among(local_.ids())) {
+    local_.remove(id);
+    const std::lock_guard lock(mutex_);
+    counts_.erase(id);
+    unsynced_.erase(id);
   }
-}
-
-std::optional<std::string> TieredJobStore::record(const std::string& id) {
-  return lookup_record(id).text;
+  std::vector<std::string> pending;
+  {
+    const std::lock_guard lock(mutex_);
+    pending.assign(unsynced_.begin(), unsynced_.end());
+  }
+  for (const std::string& id : pending) {
+    if (!publish(id)) continue;
+    const std::lock_guard lock(mutex_);
+    unsynced_.erase(id);
+  }
 }
 
 JobStore::RecordLookup TieredJobStore::lookup_record(const std::string& id) {
   if (auto r = local_.record(id)) return {std::move(r), true};
   return shared_.lookup_record(id);
-}
-
-bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
-                              const std::vector<std::string>& rows) {
-  const std::lock_guard lock(mutex_);
-  if (counts_.size() > kMaxCountedJobs) {
-    // Forget the counts of jobs the local store has dropped (expired or removed).
-    std::erase_if(counts_, [this](const auto& entry) { return !local_.record(entry.first); });
-  }
-  RowCounts& counts = counts_[id];
-  const bool local = local_.put_rows(id, first, rows);
-  if (local) counts.local = std::max(counts.local, first + rows.size());
-  // The shared store gets what it missed (from the local copy) before these rows. A write that
-  // timed out may have landed: sending it again rewrites the same indexes (no duplicate).
-  const std::size_t from = std::min(counts.shared, first);
-  std::vector<std::string> pending;
-  if (local && from < first) {
-    if (auto earlier = local_.rows(id, from, first - from)) pending = std::move(*earlier);
-  }
-  const bool complete = !local || pending.size() == first - from;
-  pending.insert(pending.end(), rows.begin(), rows.end());
-  if (complete && shared_.put_rows(id, local ? from : first, pending)) {
-    counts.shared = std::max(counts.shared, (local ? from : first) + pending.size());
-    return true;
-  }
-  if (local) unsynced_.insert(id);
-  return local;
 }
 
 std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& id,
@@ -223,6 +304,10 @@ std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& 
 bool TieredJobStore::request_cancel(const std::string& id) {
   const bool local = local_.request_cancel(id);
   const bool shared = shared_.request_cancel(id);
+  if (shared) {
+    const std::lock_guard lock(mutex_);
+    remember(id, false, true);
+  }
   return local || shared;
 }
 
@@ -230,14 +315,14 @@ bool TieredJobStore::cancel_requested(const std::string& id) {
   return local_.cancel_requested(id) || shared_.cancel_requested(id);
 }
 
-void TieredJobStore::remove(const std::string& id) {
-  {
-    const std::lock_guard lock(mutex_);
-    counts_.erase(id);
-    unsynced_.erase(id);
-  }
-  local_.remove(id);
-  shared_.remove(id);
+bool TieredJobStore::remove(const std::string& id) {
+  const bool local = local_.remove(id);
+  const bool shared = shared_.remove(id);
+  const std::lock_guard lock(mutex_);
+  counts_.erase(id);
+  unsynced_.erase(id);
+  remember(id, true, shared);
+  return local || shared;
 }
 
 }  // namespace slosh::service

@@ -41,7 +41,7 @@ class MemoryJobStore final : public JobStore {
                           std::function<Clock::time_point()> now = Clock::now);
 
   bool put_record(const std::string& id, const std::string& record) override;
-  [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
+  [[nodiscard]] RecordLookup lookup_record(const std::string& id) override;
   bool put_rows(const std::string& id, std::size_t first,
                 const std::vector<std::string>& rows) override;
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
@@ -49,7 +49,7 @@ class MemoryJobStore final : public JobStore {
                                                              std::size_t count) override;
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
-  void remove(const std::string& id) override;
+  bool remove(const std::string& id) override;
 
   [[nodiscard]] std::vector<std::string> ids() override;
 
@@ -83,34 +83,48 @@ class MemoryJobStore final : public JobStore {
 };
 
 /// A local store in front of a shared one. Writes go to both; reads ask the local store first,
-/// then the shared one. A write succeeds when the local store took it. Rows the shared store
-/// missed while it was down are sent again (from the local copy) with the job's next rows, so
-/// the shared copy never has a gap.
+/// then the shared one. A write succeeds when the local store took it. A job whose write to the
+/// shared store failed is "unsynced": its later records and rows go to the local store only, and
+/// resync() sends the shared store what it misses (the rows in chunks, then the latest record),
+/// so the shared copy never has a gap and nothing is sent twice.
 class TieredJobStore final : public JobStore {
  public:
   /// Both stores outlive this one.
   TieredJobStore(JobStore& local, JobStore& shared) : local_(local), shared_(shared) {}
 
   bool put_record(const std::string& id, const std::string& record) override;
-  [[nodiscard]] std::optional<std::string> record(const std::string& id) override;
   [[nodiscard]] RecordLookup lookup_record(const std::string& id) override;
   bool put_rows(const std::string& id, std::size_t first,
                 const std::vector<std::string>& rows) override;
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) override;
+  /// Also remembered (the last kRemembered) and sent again after the shared store was emptied,
+  /// so that a cancel this replica accepted reaches the owner that republishes the job.
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
-  void remove(const std::string& id) override;
+  /// Removed here and in the shared store; remembered as request_cancel(), and sent again until
+  /// the shared store took it: a DELETE accepted is never undone by the owner's republishing.
+  bool remove(const std::string& id) override;
   [[nodiscard]] bool reachable() const override { return shared_.reachable(); }
   [[nodiscard]] bool recently_emptied() override { return shared_.recently_emptied(); }
-  /// After the shared store was emptied, every local job is written to it again; else the jobs
-  /// whose record or rows it failed to take (a finished job has no later write to carry them).
   void resync() override;
 
+  /// Rows sent to the shared store in one write when a job is published again.
+  static constexpr std::size_t kPublishChunk = 500;
+  /// Cancels and removals remembered for sending again after an emptying.
+  static constexpr std::size_t kRemembered = 1024;
+
  private:
-  // Writes the local record and the rows the shared store misses of job `id`; the lock is held.
+  // Writes the rows the shared store misses of job `id` (in chunks), its cancel flag and its
+  // local record; false when the shared store failed (tried again at the next resync). The lock
+  // is not held: other writes and reads go on meanwhile.
   bool publish(const std::string& id);
+  // Sends the remembered cancels and removals the shared store has not taken.
+  void tell_shared();
+  // Remembers a cancel (`removed` false) or a removal of `id`; the lock is held.
+  void remember(const std::string& id, bool removed, bool told);
+
   JobStore& local_;
   JobStore& shared_;
   std::mutex mutex_;
@@ -120,7 +134,12 @@ class TieredJobStore final : public JobStore {
     std::size_t shared{0};
   };
   std::unordered_map<std::string, RowCounts> counts_;
-  std::unordered_set<std::string> unsynced_;  // jobs a write to the shared store failed for
+  std::unordered_set<std::string> unsynced_;  // jobs the shared store is behind on
+  // Cancels (false) and removals (true) accepted here, oldest first, and those not yet taken by
+  // the shared store.
+  std::unordered_map<std::string, bool> remembered_;
+  std::list<std::string> remembered_order_;
+  std::unordered_set<std::string> untold_;
 };
 
 }  // namespace slosh::service

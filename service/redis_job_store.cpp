@@ -1,5 +1,7 @@
 #include "redis_job_store.hpp"
 
+#include <spdlog/spdlog.h>
+
 #include <algorithm>
 #include <random>
 #include <utility>
@@ -9,14 +11,15 @@
 namespace slosh::service {
 
 RedisJobStore::RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::seconds ttl,
-                             std::string prefix)
+                             std::string prefix, std::chrono::milliseconds settle)
     : client_(std::move(client)),
       ttl_(std::to_string(std::max<long long>(1, ttl.count()))),
-      prefix_(std::move(prefix)) {}
+      prefix_(std::move(prefix)),
+      settle_ms_(settle.count()) {}
 
 bool RedisJobStore::write(const std::string& id, std::vector<std::vector<std::string>> commands) {
   commands.insert(commands.begin(), {"MULTI"});
-  for (const char* part : {"record", "rows", "cancel"}) {
+  for (const char* part : {"record", "rows", "cancel", "removed"}) {
     commands.push_back({"EXPIRE", key(id, part), ttl_});
   }
   commands.push_back({"EXEC"});
@@ -32,15 +35,29 @@ bool RedisJobStore::put_record(const std::string& id, const std::string& record)
   return write(id, {{"SET", key(id, "record"), record}});
 }
 
-std::optional<std::string> RedisJobStore::record(const std::string& id) {
-  return lookup_record(id).text;
-}
-
 JobStore::RecordLookup RedisJobStore::lookup_record(const std::string& id) {
-  const auto reply = client_->command({"GET", key(id, "record")});
-  if (!reply) return {std::nullopt, false};
-  if (reply->type != RedisReply::Type::kString) return {std::nullopt, true};
-  return {reply->text, true};
+  const auto replies =
+      client_->pipeline({{"GET", key(id, "record")}, {"EXISTS", key(id, "removed")}});
+  if (!replies) return {std::nullopt, false};
+  const RedisReply& record = (*replies)[0];
+  const RedisReply& removed = (*replies)[1];
+  // Only a nil is "no such record"; any other reply (an error such as WRONGTYPE or LOADING, a
+  // status, an integer, an array) is no answer: reading it as missing would answer 404 for a job
+  // that exists.
+  const bool known =
+      record.type == RedisReply::Type::kString || record.type == RedisReply::Type::kNil;
+  if (!known || removed.type != RedisReply::Type::kInteger) {
+    spdlog::warn(
+        "batch job {}: Redis answered the record read with an unexpected reply ({}{}): "
+        "answered as unavailable",
+        id, record.is_error() || removed.is_error() ? "error " : "type ",
+        record.is_error()    ? record.text
+        : removed.is_error() ? removed.text
+                             : "");
+    return {std::nullopt, false};
+  }
+  if (removed.integer > 0 || record.type == RedisReply::Type::kNil) return {std::nullopt, true};
+  return {record.text, true};
 }
 
 bool RedisJobStore::put_rows(const std::string& id, std::size_t first,
@@ -85,7 +102,8 @@ bool RedisJobStore::request_cancel(const std::string& id) {
 }
 
 bool RedisJobStore::cancel_requested(const std::string& id) {
-  const auto reply = client_->command({"EXISTS", key(id, "cancel")});
+  // A job removed through another replica (its record read as stale there) is cancelled too.
+  const auto reply = client_->command({"EXISTS", key(id, "cancel"), key(id, "removed")});
   return reply && reply->type == RedisReply::Type::kInteger && reply->integer > 0;
 }
 
@@ -119,11 +137,29 @@ bool RedisJobStore::recently_emptied() {
   const std::size_t colon = reply->text.rfind(':');
   const std::int64_t set_ms =
       colon == std::string::npos ? 0 : std::atoll(reply->text.c_str() + colon + 1);
-  return set_ms > 0 && unix_ms_now() - set_ms < kSettleMs;
+  return set_ms > 0 && unix_ms_now() - set_ms < settle_ms_;
 }
 
-void RedisJobStore::remove(const std::string& id) {
-  (void)client_->command({"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel")});
+bool RedisJobStore::remove(const std::string& id) {
+  // The mark outlives the job's other keys by the TTL: the owner sees it at its next heartbeat
+  // and drops its own copy instead of publishing it again.
+  return write(id, {{"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel")},
+                    {"SET", key(id, "removed"), "1"}});
+}
+
+std::vector<std::string> RedisJobStore::removed_among(const std::vector<std::string>& ids) {
+  std::vector<std::string> out;
+  if (ids.empty()) return out;
+  std::vector<std::vector<std::string>> asks;
+  asks.reserve(ids.size());
+  for (const std::string& id : ids) asks.push_back({"EXISTS", key(id, "removed")});
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return out;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const RedisReply& r = (*replies)[i];
+    if (r.type == RedisReply::Type::kInteger && r.integer > 0) out.push_back(ids[i]);
+  }
+  return out;
 }
 
 }  // namespace slosh::service

@@ -49,7 +49,8 @@ struct ScriptedService {
   int post_503s{0};  // POSTs answered 503 with Retry-After: 30 before the 202
   int posts{0};
   bool forgotten{false};  // a DELETE of the finished job forgets it (its rows too), as the service
-  bool record_hangs{false};  // GET of the record answers only when the service is destroyed
+  bool record_hangs{false};          // GET of the record answers only when the service is destroyed
+  std::string record_state{"done"};  // the job's state until a DELETE ("cancelled" after one)
   int record_gets{0};
   std::string results;
   std::atomic<int> deletes{0};
@@ -82,9 +83,12 @@ struct ScriptedService {
         res.set_content(R"({"error":{"code":"unavailable","message":"m"}})", "application/json");
         return;
       }
-      res.set_content(
-          json{{"id", kJobId}, {"state", "done"}, {"progress", {{"done", 2}, {"total", 2}}}}.dump(),
-          "application/json");
+      const bool cancelled = forgotten && record_state != "done";
+      res.set_content(json{{"id", kJobId},
+                           {"state", cancelled ? "cancelled" : record_state},
+                           {"progress", {{"done", cancelled ? 0 : 2}, {"total", 2}}}}
+                          .dump(),
+                      "application/json");
     });
     server.Get("/v1/batches/" + std::string(kJobId) + "/results.jsonl",
                [this](const httplib::Request&, httplib::Response& res) {
@@ -100,7 +104,7 @@ struct ScriptedService {
       ++deletes;
       {
         const std::lock_guard lock(mutex);
-        forgotten = true;
+        forgotten = true;  // a finished job is forgotten; a running one reads cancelled
       }
       res.set_content(json{{"id", kJobId}, {"state", "cancelled"}}.dump(), "application/json");
     });
@@ -146,6 +150,7 @@ struct Cli {
 TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
   ScriptedService service;
   service.hold_post = true;
+  service.record_state = "running";
   Cli cli(service.url());
   {
     std::unique_lock lock(service.mutex);
@@ -160,7 +165,7 @@ TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
   service.changed.notify_all();
   const auto code = cli.child->wait_for(30s);
   ASSERT_TRUE(code.has_value());
-  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_EQ(*code, 130) << cli.err();
   // Cancelled, then asked for the rows it finished (none here) for the .partial table.
   EXPECT_GE(service.deletes.load(), 1) << cli.err();
   EXPECT_NE(cli.err().find("interrupted: batch job " + std::string(kJobId) + " cancelled"),
@@ -170,7 +175,8 @@ TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
 
 // Ctrl-C after the job finished (here: the 202 is held until the signal has come, and the record
 // then reads done): the CLI must not DELETE the finished job before it fetched its rows (the
-// service forgets a finished job on DELETE), so the .partial table holds every row.
+// service forgets a finished job on DELETE), so the .partial table holds every row, and it says
+// what happened: the job had finished (not "cancelled"), its rows are written.
 TEST(BatchCliFaults, AnInterruptAfterTheJobFinishedKeepsItsRowsInThePartialTable) {
   ScriptedService service;
   service.hold_post = true;
@@ -189,8 +195,66 @@ TEST(BatchCliFaults, AnInterruptAfterTheJobFinishedKeepsItsRowsInThePartialTable
   service.changed.notify_all();
   const auto code = cli.child->wait_for(30s);
   ASSERT_TRUE(code.has_value());
-  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_EQ(*code, 130) << cli.err();
   EXPECT_EQ(read_file(cli.dir / "o.jsonl.partial"), row(1, "a") + row(2, "b")) << cli.err();
+  EXPECT_NE(cli.err().find("stopped after 2 of 2 recipes: interrupted: batch job " +
+                           std::string(kJobId) + " had finished (2 rows written)"),
+            std::string::npos)
+      << cli.err();
+  EXPECT_EQ(cli.err().find("cancelled"), std::string::npos) << cli.err();
+  EXPECT_EQ(service.deletes.load(), 0) << "the finished job was deleted";
+}
+
+// Ctrl-C at any moment from the start (here 0 to 3 ms after the process started, before the CLI
+// has read its table, and on to 60 ms, while it posts and polls): the run ends with exit 130, and
+// a job the service accepted is DELETEd; never ignored (exit 0 with the job run to its end).
+TEST(BatchCliFaults, AnInterruptRightAtTheStartEndsTheRunAndCancelsAnyPostedJob) {
+  std::vector<int> delays_us;
+  for (int us = 0; us <= 3000; us += 250) delays_us.push_back(us);
+  for (int us = 5000; us <= 60000; us += 5000) delays_us.push_back(us);
+  for (const int delay_us : delays_us) {
+    ScriptedService service;
+    service.record_state = "running";
+    Cli cli(service.url());
+    std::this_thread::sleep_for(std::chrono::microseconds(delay_us));
+    ::kill(cli.child->pid(), SIGINT);
+    const auto code = cli.child->wait_for(30s);
+    ASSERT_TRUE(code.has_value()) << delay_us << " us";
+    EXPECT_EQ(*code, 130) << delay_us << " us: " << cli.err();
+    const std::lock_guard lock(service.mutex);
+    if (service.posts > 0) {
+      EXPECT_GE(service.deletes.load(), 1) << delay_us << " us: the posted job was not cancelled";
+    }
+  }
+}
+
+// A directory as --in or --out is refused before anything is posted, naming the flag and path.
+TEST(BatchCliFaults, ADirectoryAsInOrOutIsRefusedBeforePosting) {
+  ScriptedService service;
+  TempDir dir;
+  write_file(dir / "t.csv",
+             "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
+             "a,48.5,82,water,800,1.5,notch\n");
+  std::filesystem::create_directories(dir / "out.csv");
+  const std::string table = (dir / "t.csv").string();
+  const std::string out = (dir / "out.csv").string();
+  const auto refused_out = test::run_slosh(
+      {"batch", "--in", table, "--out", out, "--server", service.url(), "--progress", "never"});
+  EXPECT_EQ(refused_out.exit_code, 2);
+  EXPECT_EQ(refused_out.err, "slosh batch: --out '" + out +
+                                 "' is a directory: give the path of a table file to write (or "
+                                 "- for stdout)\n");
+  std::filesystem::create_directories(dir / "tables");
+  const std::string in = (dir / "tables").string();
+  const auto refused_in = test::run_slosh(
+      {"batch", "--in", in, "--out", (dir / "o.csv").string(), "--server", service.url()});
+  EXPECT_EQ(refused_in.exit_code, 2);
+  EXPECT_EQ(refused_in.err, "slosh batch: --in '" + in +
+                                "' is a directory: give the path of a table file (or - for "
+                                "stdin)\n");
+  const std::lock_guard lock(service.mutex);
+  EXPECT_EQ(service.posts, 0);
+  EXPECT_FALSE(std::filesystem::exists(dir / "out.csv.partial"));
 }
 
 // Ctrl-C while the CLI waits out a 503's Retry-After before posting its job again: the run stops
@@ -207,7 +271,7 @@ TEST(BatchCliFaults, AnInterruptDuringA503WaitStopsBeforeAnotherPost) {
   ::kill(cli.child->pid(), SIGINT);
   const auto code = cli.child->wait_for(20s);
   ASSERT_TRUE(code.has_value()) << "Ctrl-C did not end the 30 s wait";
-  EXPECT_EQ(*code, 1) << cli.err();
+  EXPECT_EQ(*code, 130) << cli.err();
   const std::lock_guard lock(service.mutex);
   EXPECT_EQ(service.posts, 1) << cli.err();
   EXPECT_NE(cli.err().find("interrupted before /v1/batches accepted the table"), std::string::npos)

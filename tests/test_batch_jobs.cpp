@@ -295,6 +295,29 @@ TEST(BatchJobs, CancelMidRunStopsTheSolves) {
   get_json(c, "/v1/batches/" + id, 404);
 }
 
+// A DELETE of a job still queued behind another is recorded at once: its record says
+// cancel_requested before the runner takes it (it then ends cancelled without a solve).
+TEST(BatchJobs, AQueuedJobsDeleteShowsInItsRecordAtOnce) {
+  Server server({"--workers", "1"});
+  auto c = server.client();
+  const std::string running = post_job(c, {{"requests", recipes(400, 3000)}}).at("id");
+  const std::string queued = post_job(c, {{"requests", recipes(3, 3500)}}).at("id");
+  const auto deleted = c.Delete("/v1/batches/" + queued);
+  ASSERT_TRUE(deleted);
+  ASSERT_EQ(deleted->status, 202) << deleted->body;
+  const json record = get_json(c, "/v1/batches/" + queued);
+  ASSERT_EQ(record.at("state"), "queued") << record;
+  EXPECT_EQ(record.at("cancel_requested"), true) << record;
+  // Still so after a heartbeat of the running job rewrote the queued job's record.
+  std::this_thread::sleep_for(1200ms);  // two heartbeats (the product's period), not a timing
+  const json later = get_json(c, "/v1/batches/" + queued);
+  if (later.at("state") == "queued") {
+    EXPECT_EQ(later.at("cancel_requested"), true) << later;
+  }
+  c.Delete("/v1/batches/" + running);
+  EXPECT_EQ(wait_finished(c, queued).at("state"), "cancelled");
+}
+
 TEST(BatchJobs, ErrorTexts) {
   Server server({"--workers", "1"});
   auto c = server.client();
@@ -506,7 +529,7 @@ TEST(BatchJobsCli, InterruptCancelsTheRemoteJob) {
     ::kill(cli.pid(), SIGINT);
     const auto code = cli.wait_for(30s);
     ASSERT_TRUE(code.has_value());
-    EXPECT_EQ(*code, 1);
+    EXPECT_EQ(*code, 130);
     EXPECT_NE(read_file(dir / "stderr").find("interrupted: batch job "), std::string::npos)
         << read_file(dir / "stderr");
     for (int i = 0; i < 600 && metric_of(server, "slosh_batch_jobs_active") != 0; ++i) {
@@ -542,7 +565,7 @@ TEST(BatchJobsCli, AnInterruptedRunKeepsTheRowsTheServiceFinishedInThePartialTab
   ::kill(cli.pid(), SIGINT);
   const auto code = cli.wait_for(60s);
   ASSERT_TRUE(code.has_value());
-  EXPECT_EQ(*code, 1);
+  EXPECT_EQ(*code, 130);
   const std::string err = read_file(dir / "stderr");
   std::istringstream partial(read_file(dir / "o.csv.partial"));
   std::string line;

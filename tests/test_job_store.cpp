@@ -4,8 +4,14 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
+#include <future>
+#include <mutex>
 #include <optional>
+#include <set>
 #include <string>
+#include <thread>
+#include <utility>
 #include <vector>
 
 #include "memory_job_store.hpp"
@@ -115,7 +121,9 @@ TEST(MemoryJobStore, BeyondTheByteBudgetTheLeastRecentlyWrittenGoFirstNeverTheOn
   EXPECT_EQ(store.size(), 2u);
 }
 
-// A store that can be "down": every call fails as a Redis store's does (false / nullopt).
+// A store that can be "down": every call fails as a Redis store's does when Redis does not
+// answer (false, nullopt, and a record lookup that says it was not answered, as
+// RedisJobStore::lookup_record does on a timeout).
 class SwitchableStore final : public JobStore {
  public:
   bool down{false};
@@ -123,8 +131,9 @@ class SwitchableStore final : public JobStore {
   bool put_record(const std::string& id, const std::string& r) override {
     return !down && inner.put_record(id, r);
   }
-  std::optional<std::string> record(const std::string& id) override {
-    return down ? std::nullopt : inner.record(id);
+  RecordLookup lookup_record(const std::string& id) override {
+    if (down) return {std::nullopt, false};
+    return inner.lookup_record(id);
   }
   bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
     return !down && inner.put_rows(id, first, rows);
@@ -136,9 +145,7 @@ class SwitchableStore final : public JobStore {
   bool cancel_requested(const std::string& id) override {
     return !down && inner.cancel_requested(id);
   }
-  void remove(const std::string& id) override {
-    if (!down) inner.remove(id);
-  }
+  bool remove(const std::string& id) override { return !down && inner.remove(id); }
 };
 
 TEST(TieredJobStore, WritesBothReadsLocalFirstThenShared) {
@@ -178,9 +185,16 @@ TEST(TieredJobStore, AReplicaKeepsItsJobWhileTheSharedStoreIsDownAndCatchesItUpA
   EXPECT_TRUE(owner.cancel_requested("job"));
   shared.down = false;
   EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0"}));  // it missed r1, r2
-  // The next rows carry the missed ones first: the shared copy has no gap.
+  // Behind on this job, the shared store gets the next rows and record only with what it missed
+  // (at the heartbeat's resync), in order: its copy has no gap, and no row is sent twice.
   ASSERT_TRUE(owner.put_rows("job", 3, {"r3"}));
+  EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0"}));
+  EXPECT_EQ(shared.inner.record("job"), "v1");
+  owner.resync();
   EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
+  EXPECT_EQ(shared.inner.record("job"), "v2");
+  EXPECT_TRUE(shared.inner.cancel_requested("job"));
+  // In step again: written through at once.
   ASSERT_TRUE(owner.put_record("job", "v3"));
   EXPECT_EQ(shared.inner.record("job"), "v3");
   owner.remove("job");
@@ -198,7 +212,7 @@ class LandsButFailsStore final : public JobStore {
   bool put_record(const std::string& id, const std::string& r) override {
     return inner.put_record(id, r) && !lie;
   }
-  std::optional<std::string> record(const std::string& id) override { return inner.record(id); }
+  RecordLookup lookup_record(const std::string& id) override { return inner.lookup_record(id); }
   bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
     return inner.put_rows(id, first, rows) && !lie;
   }
@@ -207,7 +221,7 @@ class LandsButFailsStore final : public JobStore {
   }
   bool request_cancel(const std::string& id) override { return inner.request_cancel(id); }
   bool cancel_requested(const std::string& id) override { return inner.cancel_requested(id); }
-  void remove(const std::string& id) override { inner.remove(id); }
+  bool remove(const std::string& id) override { return inner.remove(id) && !lie; }
 };
 
 TEST(TieredJobStore, AWriteThatLandedButReportedFailureIsNotDuplicatedWhenSentAgain) {
@@ -220,8 +234,192 @@ TEST(TieredJobStore, AWriteThatLandedButReportedFailureIsNotDuplicatedWhenSentAg
   ASSERT_TRUE(owner.put_rows("job", 1, {"r1", "r2"}));
   shared.lie = false;
   ASSERT_TRUE(owner.put_rows("job", 3, {"r3"}));
+  owner.resync();
   EXPECT_EQ(shared.inner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
   EXPECT_EQ(owner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
+}
+
+// What a shared store (Redis) holds, seen by several replicas' RecordingStores.
+struct SharedState {
+  MemoryJobStore inner;
+  std::set<std::string> removed;
+  int generation{0};                                            // counts emptyings (FLUSHALL)
+  std::vector<std::pair<std::string, std::size_t>> row_writes;  // (id, rows in the write)
+  std::vector<std::string> records;                             // every record written
+  std::mutex log_mutex;
+  std::atomic<bool> hold{false};  // row writes of job "big" stall while set (a slow Redis)
+  std::atomic<bool> holding{false};
+  void empty() {
+    for (const std::string& id : inner.ids()) inner.remove(id);
+    removed.clear();
+    ++generation;
+  }
+};
+
+// One replica's view of a SharedState: it records what it is sent and, as Redis does, takes rows
+// and cancel flags of a job it holds no record of.
+class RecordingStore final : public JobStore {
+ public:
+  explicit RecordingStore(SharedState& state) : s_(state) {}
+  bool put_record(const std::string& id, const std::string& r) override {
+    {
+      const std::lock_guard lock(s_.log_mutex);
+      s_.records.push_back(id + "=" + r);
+    }
+    return s_.inner.put_record(id, r);
+  }
+  RecordLookup lookup_record(const std::string& id) override {
+    if (s_.removed.count(id) != 0) return {std::nullopt, true};
+    return s_.inner.lookup_record(id);
+  }
+  bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
+    while (s_.hold && id == "big") {
+      s_.holding = true;
+      std::this_thread::sleep_for(1ms);
+    }
+    {
+      const std::lock_guard lock(s_.log_mutex);
+      s_.row_writes.emplace_back(id, rows.size());
+    }
+    if (!s_.inner.record(id)) s_.inner.put_record(id, "");
+    return s_.inner.put_rows(id, first, rows);
+  }
+  std::optional<Rows> rows(const std::string& id, std::size_t offset, std::size_t count) override {
+    return s_.inner.rows(id, offset, count);
+  }
+  bool request_cancel(const std::string& id) override {
+    if (!s_.inner.record(id)) s_.inner.put_record(id, "");
+    return s_.inner.request_cancel(id);
+  }
+  bool cancel_requested(const std::string& id) override {
+    return s_.inner.cancel_requested(id) || s_.removed.count(id) != 0;
+  }
+  bool remove(const std::string& id) override {
+    s_.removed.insert(id);
+    return s_.inner.remove(id);
+  }
+  std::vector<std::string> removed_among(const std::vector<std::string>& ids) override {
+    std::vector<std::string> out;
+    for (const std::string& id : ids) {
+      if (s_.removed.count(id) != 0) out.push_back(id);
+    }
+    return out;
+  }
+  bool emptied_since_last_check() override {
+    const bool changed = seen_ != s_.generation;
+    seen_ = s_.generation;
+    return changed;
+  }
+
+ private:
+  SharedState& s_;
+  int seen_{0};
+};
+
+// Rows a failed write left behind go to the shared store once, with the next resync, before the
+// record that counts them; the rows written meanwhile are not sent on their own as well.
+TEST(TieredJobStore, RowsTheSharedStoreMissedAreSentOnceThenTheRecord) {
+  MemoryJobStore local;
+  SwitchableStore flaky;
+  TieredJobStore owner(local, flaky);
+  ASSERT_TRUE(owner.put_record("job", "v1"));
+  flaky.down = true;
+  ASSERT_TRUE(owner.put_rows("job", 0, {"r0", "r1"}));
+  flaky.down = false;
+  ASSERT_TRUE(owner.put_rows("job", 2, {"r2"}));
+  ASSERT_TRUE(owner.put_record("job", "v2"));
+  // Nothing reached the shared store out of order: no rows 2.. before rows 0, 1, no record v2
+  // that counts rows it does not hold.
+  EXPECT_EQ(flaky.inner.rows("job", 0, 10), Rows{});
+  EXPECT_EQ(flaky.inner.record("job"), "v1");
+  owner.resync();
+  EXPECT_EQ(flaky.inner.rows("job", 0, 10), (Rows{"r0", "r1", "r2"}));
+  EXPECT_EQ(flaky.inner.record("job"), "v2");
+
+  // Counted on a recording store: after an emptying, each row is sent once, in chunks of at
+  // most kPublishChunk, and the record once, after them.
+  MemoryJobStore local2;
+  SharedState state;
+  RecordingStore shared(state);
+  TieredJobStore replica(local2, shared);
+  const std::size_t n = 2 * TieredJobStore::kPublishChunk + 7;
+  ASSERT_TRUE(replica.put_record("big", "v1"));
+  ASSERT_TRUE(replica.put_rows("big", 0, Rows(n, "r")));
+  ASSERT_TRUE(replica.put_record("big", "done"));
+  state.empty();
+  state.row_writes.clear();
+  state.records.clear();
+  replica.resync();
+  std::vector<std::size_t> sizes;
+  for (const auto& [id, rows] : state.row_writes) sizes.push_back(rows);
+  EXPECT_EQ(sizes, (std::vector<std::size_t>{TieredJobStore::kPublishChunk,
+                                             TieredJobStore::kPublishChunk, 7}));
+  EXPECT_EQ(state.records, std::vector<std::string>{"big=done"});
+  EXPECT_EQ(state.inner.rows("big", 0, n + 5)->size(), n);
+  replica.resync();  // in step: nothing is sent again
+  EXPECT_EQ(state.row_writes.size(), 3u);
+  EXPECT_EQ(state.records.size(), 1u);
+}
+
+// Publishing a large job again does not hold the store's lock across the shared store's writes:
+// the other jobs' writes go on meanwhile.
+TEST(TieredJobStore, RepublishingALargeJobDoesNotBlockOtherWrites) {
+  MemoryJobStore local;
+  SharedState state;
+  RecordingStore shared(state);
+  TieredJobStore replica(local, shared);
+  ASSERT_TRUE(replica.put_record("big", "v1"));
+  ASSERT_TRUE(replica.put_rows("big", 0, Rows(10, "r")));
+  ASSERT_TRUE(replica.put_record("other", "v1"));
+  state.empty();
+  state.hold = true;  // the shared store stalls on the republished rows
+  std::thread heartbeat([&] { replica.resync(); });
+  while (!state.holding) std::this_thread::sleep_for(1ms);
+  auto written = std::async(std::launch::async, [&] {
+    return replica.put_rows("other", 0, {"o0"}) && replica.put_record("other", "v2");
+  });
+  const auto status = written.wait_for(5s);
+  state.hold = false;
+  heartbeat.join();
+  ASSERT_EQ(status, std::future_status::ready) << "a write waited for the republishing";
+  EXPECT_TRUE(written.get());
+  EXPECT_EQ(state.inner.rows("big", 0, 20)->size(), 10u);
+}
+
+// A removal (DELETE of a finished job) and a cancel (DELETE of a running one) accepted by one
+// replica survive an emptying of the shared store: that replica sends them again, before the
+// owner's republishing can bring the job back, and the owner then forgets its own copy (removed)
+// or sees the cancel.
+TEST(TieredJobStore, ARemovalOrCancelAcceptedElsewhereSurvivesAnEmptyingAndTheOwnersRepublishing) {
+  MemoryJobStore local_a;
+  MemoryJobStore local_b;
+  SharedState state;
+  RecordingStore shared_a(state);
+  RecordingStore shared_b(state);
+  TieredJobStore a(local_a, shared_a);  // the owner
+  TieredJobStore b(local_b, shared_b);  // where the DELETEs arrive
+  ASSERT_TRUE(a.put_record("finished", "done"));
+  ASSERT_TRUE(a.put_rows("finished", 0, {"r0"}));
+  ASSERT_TRUE(a.put_record("running", "running"));
+  ASSERT_TRUE(b.remove("finished"));
+  ASSERT_TRUE(b.request_cancel("running"));
+  state.empty();  // FLUSHALL while the owner is paused: the removal and the cancel are lost
+  b.resync();     // B's heartbeat comes first (A is paused)
+  a.resync();     // A resumes and republishes what it owns
+  EXPECT_EQ(a.record("finished"), std::nullopt);
+  EXPECT_EQ(b.record("finished"), std::nullopt);
+  EXPECT_EQ(local_a.record("finished"), std::nullopt);
+  EXPECT_TRUE(a.cancel_requested("running"));
+  EXPECT_EQ(b.record("running"), "running");
+  // The other order: A republishes first, then B's heartbeat.
+  ASSERT_TRUE(a.put_record("finished2", "done"));
+  ASSERT_TRUE(b.remove("finished2"));
+  state.empty();
+  a.resync();
+  b.resync();
+  a.resync();
+  EXPECT_EQ(b.record("finished2"), std::nullopt);
+  EXPECT_EQ(a.record("finished2"), std::nullopt);
 }
 
 TEST(MemoryJobStore, RowsAreKeyedByIndexAndAGapIsRefused) {

@@ -52,10 +52,16 @@ TEST(RedisJobStore, RecordsRowsAndCancelRoundTrip) {
   ASSERT_TRUE(store.request_cancel("j1"));
   EXPECT_TRUE(store.cancel_requested("j1"));
   EXPECT_FALSE(store.cancel_requested("j2"));
-  store.remove("j1");
+  EXPECT_TRUE(store.remove("j1"));
   EXPECT_FALSE(store.record("j1"));
   EXPECT_FALSE(store.rows("j1", 0, 10));
-  EXPECT_FALSE(store.cancel_requested("j1"));
+  // Removed: an owner still running it (its record read as stale elsewhere) cancels it, and a
+  // record it writes again stays unread.
+  EXPECT_TRUE(store.cancel_requested("j1"));
+  ASSERT_TRUE(store.put_record("j1", R"({"state":"running","done":1})"));
+  EXPECT_EQ(store.lookup_record("j1").text, std::nullopt);
+  EXPECT_TRUE(store.lookup_record("j1").answered);
+  EXPECT_EQ(store.removed_among({"j0", "j1", "j2"}), std::vector<std::string>{"j1"});
 }
 
 // A write that timed out in the client may still have landed in Redis; the owner writes the same
@@ -127,6 +133,18 @@ TEST(RedisJobStore, ARecordRedisDidNotAnswerForIsNotReadAsMissing) {
   redis.resume();
   EXPECT_FALSE(stalled.answered);
   EXPECT_FALSE(stalled.text);
+}
+
+// Only a nil reply means "no such record". An error reply (here WRONGTYPE: the key holds a hash)
+// is no answer at all: read as missing it would be answered 404 for a job that may exist.
+TEST(RedisJobStore, ARecordReadRedisAnsweredWithAnErrorIsNotReadAsMissing) {
+  const RedisServer redis;
+  const auto client = client_of(redis);
+  RedisJobStore store(client, 3600s);
+  ASSERT_TRUE(client->command({"HSET", store.key("j", "record"), "f", "v"}));
+  const JobStore::RecordLookup lookup = store.lookup_record("j");
+  EXPECT_FALSE(lookup.text);
+  EXPECT_FALSE(lookup.answered);
 }
 
 TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
