@@ -8,6 +8,7 @@
 #include <optional>
 #include <random>
 #include <string>
+#include <vector>
 
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/response/response.hpp"
@@ -329,6 +330,36 @@ TEST(LinearResponsePeaks, TheRestPeakEndedByTheEnergyBoundIsTheWholeWindowMaximu
     const Peak dense = find_max([&r](double t) { return std::abs(r.eta(t)); }, T, T + 4.0, 1e-4);
     const Peak fast = r.peaks().rest;
     EXPECT_NEAR(fast.value, dense.value, 1e-9 * dense.value) << c.what;
+  }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+TEST(LinearResponsePeaks, SideBySideEqualsEachResponseAlone) {
+  // One law, the model with every frequency scaled by 0.9 .. 1.1 (the robustness report's
+  // points): the side-by-side scan shares one grid and must give each response's own peaks.
+  std::mt19937 rng(31);
+  for (int k = 0; k < 8; ++k) {
+    const RandomCase c = random_case(rng, k);
+    std::vector<LinearResponse> responses;
+    for (int p = 0; p < 21; ++p) {
+      SloshingModel m = c.model;
+      for (double& w : m.omega) w *= 0.9 + 0.01 * p;
+      responses.emplace_back(m, c.law, c.rest);
+    }
+    const std::vector<SloshPeaks> together = LinearResponse::peaks_side_by_side(responses);
+    ASSERT_EQ(together.size(), responses.size());
+    for (std::size_t p = 0; p < responses.size(); ++p) {
+      const SloshPeaks alone = responses[p].peaks();
+      EXPECT_NEAR(together[p].motion.value, alone.motion.value, 1e-9 * alone.motion.value)
+          << c.what << " point " << p;
+      EXPECT_NEAR(together[p].rest.value, alone.rest.value, 1e-9 * alone.rest.value)
+          << c.what << " point " << p;
+    }
   }
 }
 
