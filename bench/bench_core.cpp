@@ -48,7 +48,7 @@ BENCHMARK(BM_LinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 
 // The linear half of the robustness report: the asymmetric law's linear peaks on the thesis model
 // with its frequencies scaled by 0.9 .. 1.1 (20 points, the nominal one left out as the report
-// does), built and scanned one by one (Arg 0) or side by side on one grid (Arg 1).
+// does), each built and scanned.
 void BM_LinearReportPoints(benchmark::State& state) {
   const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
   const slosh::SevenSegmentLaw law(slosh::bench::kAsymmetric, 0.8);
@@ -60,14 +60,10 @@ void BM_LinearReportPoints(benchmark::State& state) {
       for (double& w : m.omega) w *= 0.9 + 0.01 * p;
       responses.emplace_back(m, law.law(), 1.0);
     }
-    if (state.range(0) == 1) {
-      benchmark::DoNotOptimize(slosh::LinearResponse::peaks_side_by_side(responses));
-    } else {
-      for (const slosh::LinearResponse& r : responses) benchmark::DoNotOptimize(r.peaks());
-    }
+    for (const slosh::LinearResponse& r : responses) benchmark::DoNotOptimize(r.peaks());
   }
 }
-BENCHMARK(BM_LinearReportPoints)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_LinearReportPoints)->Unit(benchmark::kMicrosecond);
 
 void BM_NonlinearResponsePeaks(benchmark::State& state) {
   slosh::bench::response_peaks_loop<slosh::NonlinearResponse>(state);

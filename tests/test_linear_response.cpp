@@ -335,33 +335,3 @@ TEST(LinearResponsePeaks, TheRestPeakEndedByTheEnergyBoundIsTheWholeWindowMaximu
 
 }  // namespace
 }  // namespace slosh
-
-namespace slosh {
-namespace {
-
-TEST(LinearResponsePeaks, SideBySideEqualsEachResponseAlone) {
-  // One law, the model with every frequency scaled by 0.9 .. 1.1 (the robustness report's
-  // points): the side-by-side scan shares one grid and must give each response's own peaks.
-  std::mt19937 rng(31);
-  for (int k = 0; k < 8; ++k) {
-    const RandomCase c = random_case(rng, k);
-    std::vector<LinearResponse> responses;
-    for (int p = 0; p < 21; ++p) {
-      SloshingModel m = c.model;
-      for (double& w : m.omega) w *= 0.9 + 0.01 * p;
-      responses.emplace_back(m, c.law, c.rest);
-    }
-    const std::vector<SloshPeaks> together = LinearResponse::peaks_side_by_side(responses);
-    ASSERT_EQ(together.size(), responses.size());
-    for (std::size_t p = 0; p < responses.size(); ++p) {
-      const SloshPeaks alone = responses[p].peaks();
-      EXPECT_NEAR(together[p].motion.value, alone.motion.value, 1e-9 * alone.motion.value)
-          << c.what << " point " << p;
-      EXPECT_NEAR(together[p].rest.value, alone.rest.value, 1e-9 * alone.rest.value)
-          << c.what << " point " << p;
-    }
-  }
-}
-
-}  // namespace
-}  // namespace slosh

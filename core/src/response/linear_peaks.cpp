@@ -237,7 +237,6 @@ class LinearPeakScan {
     return bound;
   }
 
- public:
   /// find_max()'s candidate rule over samples 0..last (values may hold one more, last + 1).
   Peak pick(double a, double b, double h, std::size_t n, std::size_t last,
             const std::vector<double>& values) const {
@@ -266,7 +265,6 @@ class LinearPeakScan {
     return best;
   }
 
- private:
   /// The maximum of |eta| in [lo, hi] around the sample at t0: a safeguarded Newton iteration on
   /// s eta' = 0 (s the sign of eta there) when s eta' falls from positive to negative across the
   /// bracket; otherwise (the maximum sits at a bracket end, or the bracket holds more than one
@@ -311,147 +309,6 @@ class LinearPeakScan {
 
 }  // namespace detail
 
-namespace {
-
-/// What one response of a side-by-side scan still records.
-enum class Recording : unsigned char { kOn, kOneMore, kDone };
-
-/// max |eta| on [a, b] of every response in `scans` (all with `modes` modes, on the same pieces),
-/// sampled together on the grid of spacing <= step; `rest` as in LinearPeakScan::window().
-/// The state of response p's mode m is lane p * modes + m of flat arrays, so one sample rotates
-/// every lane in one loop the compiler vectorises.
-std::vector<Peak> side_by_side_window(const std::vector<detail::LinearPeakScan>& scans,
-                                      const std::vector<const std::vector<LinearModePiece>*>& coef,
-                                      const std::vector<const std::vector<double>*>& gains,
-                                      const std::vector<double>& begin, std::size_t modes, double a,
-                                      double b, double step, bool rest) {
-  const std::size_t P = scans.size(), lanes = P * modes;
-  std::vector<Peak> peaks(P);
-  if (!(b > a)) {
-    for (std::size_t p = 0; p < P; ++p) peaks[p] = scans[p].window(a, b, step, rest);
-    return peaks;
-  }
-  const auto n = static_cast<std::size_t>(std::ceil((b - a) / step));
-  const double h = (b - a) / static_cast<double>(n);
-  auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
-  std::vector<std::vector<double>> values(P);
-  for (auto& v : values) v.reserve(n + 2);
-  std::vector<double> zr(lanes), zi(lanes), er(lanes), ei(lanes), sigma(lanes), wd(lanes),
-      inv_omega(lanes), gain(lanes);
-  for (std::size_t p = 0; p < P; ++p) {
-    for (std::size_t m = 0; m < modes; ++m) {
-      const LinearModePiece& c = (*coef[p])[m];
-      const std::size_t l = p * modes + m;
-      const Complex e = decay_rotation(c.sigma, c.wd, h);
-      er[l] = e.re;
-      ei[l] = e.im;
-      sigma[l] = c.sigma;
-      wd[l] = c.wd;
-      inv_omega[l] = 1.0 / std::sqrt(c.sigma * c.sigma + c.wd * c.wd);
-      gain[l] = (*gains[p])[m];
-    }
-  }
-  std::vector<double> best(P, -INFINITY), r0(P), r1(P), r2(P), r3(P), hp(P), hq(P), hu(P), hv(P);
-  std::vector<std::size_t> last(P, n);
-  std::vector<Recording> recording(P, Recording::kOn);
-  std::size_t recording_count = P;
-  auto record = [&](std::size_t p, double v) {
-    if (recording[p] == Recording::kDone) return;
-    values[p].push_back(v);
-    best[p] = std::max(best[p], v);
-    if (recording[p] == Recording::kOneMore) {
-      recording[p] = Recording::kDone;
-      --recording_count;
-    }
-  };
-  std::size_t i = 0, k = 0;
-  while (i <= n && recording_count > 0) {
-    double t = t_of(i);
-    if (t <= 0.0) {
-      for (std::size_t p = 0; p < P; ++p) record(p, 0.0);
-      ++i;
-      continue;
-    }
-    while (k + 1 < begin.size() && begin[k + 1] <= t) ++k;
-    const double next = k + 1 < begin.size() ? begin[k + 1] : INFINITY;
-    const double W = (*coef[0])[k * modes].W;
-    bool forced = W != 0.0;
-    for (std::size_t p = 0; p < P; ++p) {
-      r0[p] = r1[p] = r2[p] = r3[p] = hp[p] = hq[p] = hu[p] = hv[p] = 0.0;
-      for (std::size_t m = 0; m < modes; ++m) {
-        const LinearModePiece& c = (*coef[p])[k * modes + m];
-        const double g = gain[p * modes + m];
-        r0[p] += g * c.r[0];
-        r1[p] += g * c.r[1];
-        r2[p] += g * c.r[2];
-        r3[p] += g * c.r[3];
-        hp[p] += g * c.P;
-        hq[p] += g * c.Q;
-        hu[p] += g * c.U;
-        hv[p] += g * c.V;
-      }
-      forced = forced || r0[p] != 0.0 || r1[p] != 0.0 || r2[p] != 0.0 || r3[p] != 0.0;
-    }
-    const double tau0 = t - begin[k];
-    for (std::size_t l = 0; l < lanes; ++l) {
-      const LinearModePiece& c = (*coef[l / modes])[k * modes + l % modes];
-      const Complex z =
-          mul({gain[l] * c.c1, -gain[l] * c.c2}, decay_rotation(sigma[l], wd[l], tau0));
-      zr[l] = z.re;
-      zi[l] = z.im;
-    }
-    Complex hz{}, hstep{};
-    if (W != 0.0) {
-      const detail::SinCos s0 = detail::fast_sincos(W * tau0);
-      const detail::SinCos sh = detail::fast_sincos(W * h);
-      hz = {s0.cos, s0.sin};
-      hstep = {sh.cos, sh.sin};
-    }
-    std::size_t since_bound = 0;
-    for (; i <= n && recording_count > 0; ++i) {
-      t = t_of(i);
-      if (t >= next) break;
-      const double tau = t - begin[k];
-      for (std::size_t p = 0; p < P; ++p) {
-        double e = 0.0;
-        if (forced) {
-          e = r0[p] + tau * (r1[p] + tau * (r2[p] + tau * r3[p])) + hp[p] * hz.re + hq[p] * hz.im +
-              tau * (hu[p] * hz.re + hv[p] * hz.im);
-        }
-        for (std::size_t m = 0; m < modes; ++m) e += zr[p * modes + m];
-        record(p, std::abs(e));
-      }
-      if (W != 0.0) hz = mul(hz, hstep);
-      if (rest && !forced && ++since_bound == kBoundStride) {
-        since_bound = 0;
-        for (std::size_t p = 0; p < P; ++p) {
-          if (recording[p] != Recording::kOn) continue;
-          double bound = 0.0;
-          for (std::size_t m = 0; m < modes; ++m) {
-            const std::size_t l = p * modes + m;
-            const double v = (-sigma[l] * zr[l] - wd[l] * zi[l]) * inv_omega[l];
-            bound += std::sqrt(zr[l] * zr[l] + v * v);
-          }
-          if (bound <= best[p]) {
-            last[p] = i;
-            recording[p] = i < n ? Recording::kOneMore : Recording::kDone;
-            if (i == n) --recording_count;
-          }
-        }
-      }
-      for (std::size_t l = 0; l < lanes; ++l) {
-        const double re = zr[l] * er[l] - zi[l] * ei[l];
-        zi[l] = zr[l] * ei[l] + zi[l] * er[l];
-        zr[l] = re;
-      }
-    }
-  }
-  for (std::size_t p = 0; p < P; ++p) peaks[p] = scans[p].pick(a, b, h, n, last[p], values[p]);
-  return peaks;
-}
-
-}  // namespace
-
 SloshPeaks LinearResponse::peaks() const {
   const bool under_damped = std::all_of(
       coefficients_.begin(), coefficients_.end(),
@@ -464,45 +321,6 @@ SloshPeaks LinearResponse::peaks() const {
   const detail::LinearPeakScan scan(gains_, piece_begin_, coefficients_);
   return {scan.window(0.0, motion_time_, peak_step_, false),
           scan.window(motion_time_, end_time_, peak_step_, true)};
-}
-
-std::vector<SloshPeaks> LinearResponse::peaks_side_by_side(
-    const std::vector<LinearResponse>& responses) {
-  std::vector<SloshPeaks> out;
-  out.reserve(responses.size());
-  auto one_by_one = [&] {
-    for (const LinearResponse& r : responses) out.push_back(r.peaks());
-    return out;
-  };
-  if (responses.size() < 2) return one_by_one();
-  const LinearResponse& first = responses.front();
-  double step = first.peak_step_;
-  for (const LinearResponse& r : responses) {
-    const bool same_law = r.piece_begin_ == first.piece_begin_ &&
-                          r.motion_time_ == first.motion_time_ && r.end_time_ == first.end_time_ &&
-                          r.gains_.size() == first.gains_.size();
-    const bool under_damped = std::all_of(
-        r.coefficients_.begin(), r.coefficients_.end(),
-        [](const LinearModePiece& p) { return p.damping == LinearModePiece::Damping::kUnder; });
-    if (!same_law || !under_damped || r.gains_.empty()) return one_by_one();
-    step = std::min(step, r.peak_step_);
-  }
-  std::vector<detail::LinearPeakScan> scans;
-  std::vector<const std::vector<LinearModePiece>*> coef;
-  std::vector<const std::vector<double>*> gains;
-  for (const LinearResponse& r : responses) {
-    scans.emplace_back(r.gains_, r.piece_begin_, r.coefficients_);
-    coef.push_back(&r.coefficients_);
-    gains.push_back(&r.gains_);
-  }
-  const std::size_t modes = first.gains_.size();
-  const std::vector<Peak> motion = side_by_side_window(scans, coef, gains, first.piece_begin_,
-                                                       modes, 0.0, first.motion_time_, step, false);
-  const std::vector<Peak> rest =
-      side_by_side_window(scans, coef, gains, first.piece_begin_, modes, first.motion_time_,
-                          first.end_time_, step, true);
-  for (std::size_t p = 0; p < responses.size(); ++p) out.push_back({motion[p], rest[p]});
-  return out;
 }
 
 }  // namespace slosh

@@ -84,29 +84,17 @@ RobustnessReport robustness_report(
   const std::vector<double> deltas = robustness_deltas(sweep);
   std::vector<double> lin_margin, nl_margin;
   std::size_t zero = 0;
-  // The points to simulate (all but a nominal one the caller has), and their linear peaks side by
-  // side: the points share the law's pieces, so one sample grid serves them all.
-  const bool reuse_zero = at_zero && sweep.zeta == nominal.zeta;
-  std::vector<SloshingModel> models;
-  std::vector<LinearResponse> linear;
-  for (const double d : deltas) {
-    if (d == 0.0 && reuse_zero) continue;
-    models.push_back(scaled_model(nominal, 1.0 + d, sweep.zeta));
-    linear.emplace_back(models.back(), law, sweep.rest_time);
-  }
-  const std::vector<SloshPeaks> linear_peaks = LinearResponse::peaks_side_by_side(linear);
-  std::size_t simulated = 0;
   for (std::size_t k = 0; k < deltas.size(); ++k) {
     RobustnessPoint p;
     p.delta = deltas[k];
     if (p.delta == 0.0) zero = k;
-    if (p.delta == 0.0 && reuse_zero) {
+    if (p.delta == 0.0 && at_zero && sweep.zeta == nominal.zeta) {
       p.linear = at_zero->first;
       p.nonlinear = at_zero->second;
     } else {
-      p.linear = linear_peaks[simulated];
-      p.nonlinear = NonlinearResponse(models[simulated], law, sweep.rest_time).peaks();
-      ++simulated;
+      const SloshingModel m = scaled_model(nominal, 1.0 + p.delta, sweep.zeta);
+      p.linear = LinearResponse(m, law, sweep.rest_time).peaks();
+      p.nonlinear = NonlinearResponse(m, law, sweep.rest_time).peaks();
     }
     lin_margin.push_back(margin(p.linear, sweep));
     nl_margin.push_back(margin(p.nonlinear, sweep));

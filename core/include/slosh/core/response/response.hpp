@@ -58,12 +58,6 @@ class LinearResponse {
   /// Peaks of |eta| located on the continuous response (samples at <= 1 ms and <= 1/64 of the
   /// fastest period, each candidate refined by golden section to 1e-10 s).
   [[nodiscard]] SloshPeaks peaks() const;
-  /// peaks() of several responses to one law (the same pieces and windows, e.g. one model with
-  /// its frequencies scaled), sampled side by side on one grid, as fine as the finest of them
-  /// needs; equal to each one's peaks() within round-off when their grids agree. Responses to
-  /// different laws or windows are taken one by one.
-  [[nodiscard]] static std::vector<SloshPeaks> peaks_side_by_side(
-      const std::vector<LinearResponse>& responses);
   [[nodiscard]] double motion_time() const { return motion_time_; }
   [[nodiscard]] double end_time() const { return end_time_; }
 
