@@ -2,6 +2,8 @@
 
 #include <benchmark/benchmark.h>
 
+#include <vector>
+
 #include "fixtures.hpp"
 #include "slosh/core/response/response.hpp"
 #include "slosh/core/response/simulation.hpp"
@@ -43,6 +45,25 @@ void BM_LinearResponsePeaks(benchmark::State& state) {
   slosh::bench::response_peaks_loop<slosh::LinearResponse>(state);
 }
 BENCHMARK(BM_LinearResponsePeaks)->Unit(benchmark::kMicrosecond);
+
+// The linear half of the robustness report: the asymmetric law's linear peaks on the thesis model
+// with its frequencies scaled by 0.9 .. 1.1 (20 points, the nominal one left out as the report
+// does), each built and scanned.
+void BM_LinearReportPoints(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(slosh::bench::kAsymmetric, 0.8);
+  for (auto _ : state) {
+    std::vector<slosh::LinearResponse> responses;
+    for (int p = 0; p <= 20; ++p) {
+      if (p == 10) continue;
+      slosh::SloshingModel m = model;
+      for (double& w : m.omega) w *= 0.9 + 0.01 * p;
+      responses.emplace_back(m, law.law(), 1.0);
+    }
+    for (const slosh::LinearResponse& r : responses) benchmark::DoNotOptimize(r.peaks());
+  }
+}
+BENCHMARK(BM_LinearReportPoints)->Unit(benchmark::kMicrosecond);
 
 void BM_NonlinearResponsePeaks(benchmark::State& state) {
   slosh::bench::response_peaks_loop<slosh::NonlinearResponse>(state);

@@ -5,6 +5,10 @@
 
 #include <cmath>
 #include <numbers>
+#include <optional>
+#include <random>
+#include <string>
+#include <vector>
 
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/response/response.hpp"
@@ -183,6 +187,150 @@ TEST(PeakFinder, FlatStretchesNeedNoRefinement) {
                           0.0, 1.0, 1e-3);
   EXPECT_NEAR(q.time, 0.5123, 1e-8);
   EXPECT_NEAR(q.value, 1.0, 1e-14);
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// The peak search of the linear response (sampled by complex rotation piece by piece, refined
+// by Newton's method, the rest window ended by the energy bound) against two independent
+// computations on seeded random formats and laws: find_max() over eta(t) on the whole of both
+// windows (the plain sampled-and-golden-section search), and fine-step RK4 of the mode
+// equations with a parabola through the three nodes around the largest |eta|.
+
+struct RandomCase {
+  SloshingModel model;
+  MotionLaw law;
+  double rest{};
+  std::optional<test::TrapezoidAcceleration> trapezoid;  // for the RK4 check
+  std::string what;
+};
+
+RandomCase random_case(std::mt19937& rng, int k) {
+  auto draw = [&rng](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  Format f = thesis_format();
+  f.container.radius = draw(0.03, 0.1);
+  f.fill_height = draw(0.4, 2.5) * f.container.radius;
+  ModelOptions o;
+  o.modes = 1 + k % static_cast<int>(kMaxModes);
+  if (k % 3 == 1) {
+    o.damping = DampingCorrelation::kExplicit;
+    o.explicit_zeta = draw(0.0, 0.3);
+  }
+  RandomCase c{make_sloshing_model(f, o), {}, draw(0.3, 3.0), std::nullopt, ""};
+  const double T = draw(0.5, 1.6), stroke = draw(0.2, 1.0);
+  switch (k % 4) {
+    case 0:
+    case 1: {
+      Durations d{};
+      double sum = 0.0;
+      for (double& x : d) sum += (x = draw(0.02, 1.0));
+      for (double& x : d) x *= T / sum;
+      const SevenSegmentLaw law(d, stroke);
+      c.law = law.law();
+      c.trapezoid = test::TrapezoidAcceleration{law.durations(), law.A(), law.B()};
+      break;
+    }
+    case 2:
+      c.law = make_cycloidal_law(stroke, T);
+      break;
+    default:
+      c.law = make_modified_trapezoid_law(stroke, T);
+      break;
+  }
+  c.what = "case " + std::to_string(k) + " modes " + std::to_string(o.modes) + " zeta " +
+           std::to_string(c.model.zeta) + " T " + std::to_string(T) + " rest " +
+           std::to_string(c.rest);
+  return c;
+}
+
+TEST(LinearResponsePeaks, EqualTheSampledGoldenSectionSearchOnSeededRandomLaws) {
+  std::mt19937 rng(20261127);
+  for (int k = 0; k < 60; ++k) {
+    const RandomCase c = random_case(rng, k);
+    const LinearResponse r(c.model, c.law, c.rest);
+    const SloshPeaks fast = r.peaks();
+    auto abs_eta = [&r](double t) { return std::abs(r.eta(t)); };
+    const double w_max = *std::max_element(c.model.omega.begin(), c.model.omega.end());
+    const double step = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / w_max / kSamplesPerPeriod);
+    const double T = r.motion_time();
+    const Peak motion = find_max(abs_eta, 0.0, T, step);
+    const Peak rest = find_max(abs_eta, T, T + c.rest, step);
+    EXPECT_NEAR(fast.motion.value, motion.value, 1e-9 * motion.value) << c.what;
+    EXPECT_NEAR(fast.rest.value, rest.value, 1e-9 * rest.value) << c.what;
+    // The times are where |eta| takes those values, inside their windows.
+    EXPECT_NEAR(abs_eta(fast.motion.time), fast.motion.value, 1e-12 * fast.motion.value);
+    EXPECT_NEAR(abs_eta(fast.rest.time), fast.rest.value, 1e-12 * fast.rest.value);
+    EXPECT_GE(fast.motion.time, 0.0);
+    EXPECT_LE(fast.motion.time, T);
+    EXPECT_GE(fast.rest.time, T);
+    EXPECT_LE(fast.rest.time, T + c.rest);
+  }
+}
+
+/// max |eta| over the RK4 nodes in [a, b], refined by the parabola through the best node and its
+/// neighbours (when both lie in the window).
+double rk4_window_max(const std::vector<double>& eta, const std::vector<double>& t, double a,
+                      double b) {
+  std::size_t best = 0;
+  double value = -1.0;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    if (t[i] < a || t[i] > b) continue;
+    if (std::abs(eta[i]) > value) value = std::abs(eta[best = i]);
+  }
+  if (best == 0 || best + 1 >= t.size() || t[best - 1] < a || t[best + 1] > b) return value;
+  const double y0 = std::abs(eta[best - 1]), y1 = value, y2 = std::abs(eta[best + 1]);
+  const double den = y0 - 2.0 * y1 + y2;
+  return den < 0.0 ? y1 - 0.125 * (y2 - y0) * (y2 - y0) / den : y1;
+}
+
+TEST(LinearResponsePeaks, MatchFineStepRk4OfTheModeEquationsOnSeededRandomSevenSegmentLaws) {
+  std::mt19937 rng(7);
+  int checked = 0;
+  for (int k = 0; checked < 6; ++k) {
+    const RandomCase c = random_case(rng, k);
+    if (!c.trapezoid) continue;
+    ++checked;
+    const LinearResponse r(c.model, c.law, c.rest);
+    const SloshPeaks fast = r.peaks();
+    const double T = r.motion_time();
+    const double h = 2e-5;
+    std::vector<double> eta, t;
+    for (int m = 0; m < c.model.modes(); ++m) {
+      const double w = c.model.omega[m], z = c.model.zeta;
+      const test::Rk4Trajectory x = test::rk4_solve(
+          [&](double time, double pos, double vel) {
+            return -(*c.trapezoid)(time)-2.0 * z * w * vel - w * w * pos;
+          },
+          T + c.rest, h);
+      if (eta.empty()) eta.assign(x.x.size(), 0.0), t = x.t;
+      for (std::size_t i = 0; i < x.x.size(); ++i) eta[i] += c.model.eta_gain[m] * x.x[i];
+    }
+    EXPECT_NEAR(fast.motion.value, rk4_window_max(eta, t, 0.0, T), 1e-7 * fast.motion.value)
+        << c.what;
+    EXPECT_NEAR(fast.rest.value, rk4_window_max(eta, t, T, T + c.rest), 1e-7 * fast.rest.value)
+        << c.what;
+  }
+}
+
+TEST(LinearResponsePeaks, TheRestPeakEndedByTheEnergyBoundIsTheWholeWindowMaximum) {
+  // Long rest windows of lightly damped multi-mode responses, where the scan ends long before the
+  // window does and the modes beat: the peak must still be the largest |eta| of the whole window,
+  // which a dense scan at 0.1 ms (refined by golden section) finds independently.
+  std::mt19937 rng(99);
+  for (int k = 0; k < 24; ++k) {
+    RandomCase c = random_case(rng, 4 * k);  // seven-segment laws, modes 1..5
+    const LinearResponse r(c.model, c.law, 4.0);
+    const double T = r.motion_time();
+    const Peak dense = find_max([&r](double t) { return std::abs(r.eta(t)); }, T, T + 4.0, 1e-4);
+    const Peak fast = r.peaks().rest;
+    EXPECT_NEAR(fast.value, dense.value, 1e-9 * dense.value) << c.what;
+  }
 }
 
 }  // namespace

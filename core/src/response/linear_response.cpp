@@ -154,10 +154,4 @@ double LinearResponse::eta(double t) const {
   return eta;
 }
 
-SloshPeaks LinearResponse::peaks() const {
-  auto abs_eta = [this](double t) { return std::abs(eta(t)); };
-  return {find_max(abs_eta, 0.0, motion_time_, peak_step_),
-          find_max(abs_eta, motion_time_, end_time_, peak_step_)};
-}
-
 }  // namespace slosh

@@ -1,0 +1,326 @@
+// Peaks of the exact linear response, found on the same sample grid as find_max() (<= 1 ms and
+// <= 1/64 of the fastest period, both window ends included) with the same candidate rule, but
+// sampled piece by piece by complex rotation and refined by Newton's method on the exact
+// derivatives instead of golden sections on libm calls.
+//
+// On one law piece, with tau = t - t_begin, mode m is
+//   x_m(tau) = p_m(tau) + h_m(tau) + Re(Z_m exp(lambda_m tau)),  lambda_m = -sigma_m + i wd_m,
+// with Z_m = c1 - i c2, a cubic p_m and a harmonic h_m at the piece's single frequency W. So
+//   eta(tau) = sum_m g_m p_m(tau) + sum_m g_m h_m(tau) + sum_m Re(g_m Z_m exp(lambda_m tau)):
+// one cubic and one harmonic (their coefficients summed over the modes once per piece) plus one
+// complex rotation z <- z E_m, E_m = exp(lambda_m h), per mode and sample. Each piece re-anchors
+// the rotations at its first sample from the closed form, so the round-off of the rotations
+// (about one ulp of |Z| per step) never carries over a breakpoint.
+//
+// The rest window ends early by the energy bound: after T the forcing is zero, and every mode's
+// energy E_m = (x_m'^2 + w_m^2 x_m^2) / 2 has dE_m/dt = -2 zeta w_m x_m'^2 <= 0, so for every
+// s >= t, |x_m(s)| <= sqrt(2 E_m(s)) / w_m <= sqrt(2 E_m(t)) / w_m and
+//   |eta(s)| <= B(t) = sum_m |g_m| sqrt(x_m(t)^2 + (x_m'(t) / w_m)^2).
+// B never increases. Once B(t_i) is at most the best sample so far, no later sample and no later
+// refined peak can exceed the peak already found, and the scan stops (docs/models.md).
+
+#include <algorithm>
+#include <cmath>
+#include <vector>
+
+#include "sincos.hpp"
+#include "slosh/core/response/response.hpp"
+
+namespace slosh {
+
+namespace {
+
+/// Newton steps below this are converged [s] (a few ulp of t near 1 s).
+constexpr double kNewtonTolerance{1e-14};
+
+/// Largest number of safeguarded Newton steps per candidate (bisection halves the bracket at
+/// worst, so 60 steps reach the round-off of the bracket's ends).
+constexpr int kMaxNewtonSteps{60};
+
+/// The rest window's energy bound is tested every this many samples [-] (its square roots cost
+/// as much as a sample; stopping up to this many samples late costs little).
+constexpr std::size_t kBoundStride{8};
+
+struct Complex {
+  double re{}, im{};
+};
+
+Complex mul(Complex a, Complex b) {
+  return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+}
+
+/// exp((-sigma + i wd) tau).
+Complex decay_rotation(double sigma, double wd, double tau) {
+  const double e = std::exp(-sigma * tau);
+  const detail::SinCos sc = detail::fast_sincos(wd * tau);
+  return {e * sc.cos, e * sc.sin};
+}
+
+/// eta and its first two time derivatives at one instant.
+struct EtaJet {
+  double eta{}, d1{}, d2{};
+};
+
+/// x, x', x'' of one under-damped mode piece at tau.
+EtaJet mode_jet(const LinearModePiece& p, double tau) {
+  EtaJet j;
+  j.eta = p.r[0] + tau * (p.r[1] + tau * (p.r[2] + tau * p.r[3]));
+  j.d1 = p.r[1] + tau * (2.0 * p.r[2] + tau * 3.0 * p.r[3]);
+  j.d2 = 2.0 * p.r[2] + 6.0 * p.r[3] * tau;
+  if (p.W != 0.0) {
+    const detail::SinCos sc = detail::fast_sincos(p.W * tau);
+    const double W = p.W;
+    const double a = p.P * sc.cos + p.Q * sc.sin;  // P cos + Q sin
+    const double da = W * (p.Q * sc.cos - p.P * sc.sin);
+    const double u = p.U * sc.cos + p.V * sc.sin;  // U cos + V sin
+    const double du = W * (p.V * sc.cos - p.U * sc.sin);
+    j.eta += a + tau * u;
+    j.d1 += da + u + tau * du;
+    j.d2 += -W * W * a + 2.0 * du - tau * W * W * u;
+  }
+  // Homogeneous part Re(Z e^{lambda tau}), Z = c1 - i c2.
+  const Complex lambda{-p.sigma, p.wd};
+  const Complex z = mul({p.c1, -p.c2}, decay_rotation(p.sigma, p.wd, tau));
+  const Complex dz = mul(lambda, z);
+  const Complex d2z = mul(lambda, dz);
+  j.eta += z.re;
+  j.d1 += dz.re;
+  j.d2 += d2z.re;
+  return j;
+}
+
+}  // namespace
+
+namespace detail {
+
+/// The sampled-and-refined peak search of one window, for a response whose modes are all
+/// under-damped.
+class LinearPeakScan {
+ public:
+  LinearPeakScan(const std::vector<double>& gains, const std::vector<double>& piece_begin,
+                 const std::vector<LinearModePiece>& coefficients)
+      : gains_(gains), begin_(piece_begin), coef_(coefficients), modes_(gains.size()) {}
+
+  /// max |eta| on [a, b] sampled at spacing <= step (as find_max()); `rest` allows the early
+  /// end by the energy bound (only valid where the forcing is zero).
+  Peak window(double a, double b, double step, bool rest) const {
+    if (!(b > a)) return {std::abs(eta(a)), a};
+    const auto n = static_cast<std::size_t>(std::ceil((b - a) / step));
+    const double h = (b - a) / static_cast<double>(n);
+    std::vector<double> values;
+    values.reserve(n + 1);
+    const std::size_t last = sample(a, b, h, n, rest, values);
+    return pick(a, b, h, n, last, values);
+  }
+
+  /// eta, eta', eta'' at t (0 for t <= 0, where the model is at rest).
+  [[nodiscard]] EtaJet jet(double t) const {
+    if (t <= 0.0) return {};
+    const std::size_t k = piece_index(t);
+    const double tau = t - begin_[k];
+    EtaJet e;
+    for (std::size_t m = 0; m < modes_; ++m) {
+      const EtaJet j = mode_jet(coef_[k * modes_ + m], tau);
+      e.eta += gains_[m] * j.eta;
+      e.d1 += gains_[m] * j.d1;
+      e.d2 += gains_[m] * j.d2;
+    }
+    return e;
+  }
+
+ private:
+  [[nodiscard]] double eta(double t) const { return jet(t).eta; }
+
+  [[nodiscard]] std::size_t piece_index(double t) const {
+    const auto it = std::upper_bound(begin_.begin(), begin_.end(), t);
+    return static_cast<std::size_t>(it - begin_.begin()) - 1;
+  }
+
+  /// Fills values[i] = |eta(t_i)|, t_i = a + h i (t_n = b), walking the pieces; returns the
+  /// index of the last sample taken (n, or earlier when the energy bound ends a rest window).
+  std::size_t sample(double a, double b, double h, std::size_t n, bool rest,
+                     std::vector<double>& values) const {
+    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
+    // Rotation of every mode over one step, and of the harmonic at the piece's frequency.
+    std::vector<Complex> step_rotation(modes_), z(modes_);
+    std::vector<double> omega(modes_);
+    for (std::size_t m = 0; m < modes_; ++m) {
+      const LinearModePiece& p = coef_[m];
+      step_rotation[m] = decay_rotation(p.sigma, p.wd, h);
+      omega[m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
+    }
+    std::size_t i = 0;
+    double best = -INFINITY;
+    const std::size_t pieces = begin_.size();
+    std::size_t k = 0;
+    while (i <= n) {
+      double t = t_of(i);
+      if (t <= 0.0) {  // at rest before the motion starts
+        values.push_back(0.0);
+        best = std::max(best, 0.0);
+        ++i;
+        continue;
+      }
+      while (k + 1 < pieces && begin_[k + 1] <= t) ++k;
+      const double next = k + 1 < pieces ? begin_[k + 1] : INFINITY;
+      const LinearModePiece* c = &coef_[k * modes_];
+      // Sum over the modes of the particular parts (one cubic, one harmonic at W).
+      double r0 = 0, r1 = 0, r2 = 0, r3 = 0, P = 0, Q = 0, U = 0, V = 0;
+      const double W = c[0].W;
+      for (std::size_t m = 0; m < modes_; ++m) {
+        const double g = gains_[m];
+        r0 += g * c[m].r[0];
+        r1 += g * c[m].r[1];
+        r2 += g * c[m].r[2];
+        r3 += g * c[m].r[3];
+        P += g * c[m].P;
+        Q += g * c[m].Q;
+        U += g * c[m].U;
+        V += g * c[m].V;
+      }
+      const bool harmonic = W != 0.0;
+      const bool free = !harmonic && r0 == 0.0 && r1 == 0.0 && r2 == 0.0 && r3 == 0.0;
+      // Re-anchor the rotations at this piece's first sample.
+      const double tau0 = t - begin_[k];
+      for (std::size_t m = 0; m < modes_; ++m) {
+        const Complex rot = decay_rotation(c[m].sigma, c[m].wd, tau0);
+        z[m] = mul({gains_[m] * c[m].c1, -gains_[m] * c[m].c2}, rot);
+      }
+      Complex hz{}, hstep{};
+      if (harmonic) {
+        const SinCos s0 = fast_sincos(W * tau0);
+        hz = {s0.cos, s0.sin};
+        const SinCos sh = fast_sincos(W * h);
+        hstep = {sh.cos, sh.sin};
+      }
+      std::size_t since_bound = 0;
+      for (; i <= n; ++i) {
+        t = t_of(i);
+        if (t >= next) break;
+        double e = 0.0;
+        if (!free) {
+          const double tau = t - begin_[k];
+          e = r0 + tau * (r1 + tau * (r2 + tau * r3));
+          if (harmonic) {
+            e += P * hz.re + Q * hz.im + tau * (U * hz.re + V * hz.im);
+            hz = mul(hz, hstep);
+          }
+        }
+        for (std::size_t m = 0; m < modes_; ++m) e += z[m].re;
+        const double v = std::abs(e);
+        values.push_back(v);
+        best = std::max(best, v);
+        if (rest && free && ++since_bound == kBoundStride) {
+          since_bound = 0;
+          if (energy_bound(z, c, omega) <= best) {
+            // One sample more, so the last sample of the scan has its right neighbour.
+            if (i < n) values.push_back(std::abs(eta(t_of(i + 1))));
+            return i;
+          }
+        }
+        for (std::size_t m = 0; m < modes_; ++m) z[m] = mul(z[m], step_rotation[m]);
+      }
+    }
+    return n;
+  }
+
+  /// B(t) = sum_m |g_m| sqrt(x_m^2 + (x_m' / w_m)^2) on a free piece, from the rotations
+  /// z_m = g_m Z_m exp(lambda_m tau) (so g_m x_m = Re z_m, g_m x_m' = Re(lambda_m z_m)).
+  [[nodiscard]] double energy_bound(const std::vector<Complex>& z, const LinearModePiece* c,
+                                    const std::vector<double>& omega) const {
+    double bound = 0.0;
+    for (std::size_t m = 0; m < modes_; ++m) {
+      const double x = z[m].re;
+      const double v = (-c[m].sigma * z[m].re - c[m].wd * z[m].im) / omega[m];
+      bound += std::sqrt(x * x + v * v);
+    }
+    return bound;
+  }
+
+  /// find_max()'s candidate rule over samples 0..last (values may hold one more, last + 1).
+  Peak pick(double a, double b, double h, std::size_t n, std::size_t last,
+            const std::vector<double>& values) const {
+    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
+    const double best_sample = *std::max_element(values.begin(), values.end());
+    const double threshold = best_sample - kRefineFraction * std::abs(best_sample);
+    Peak best{values[0], a};
+    if (last == n && values[n] > best.value) best = {values[n], b};
+    for (std::size_t i = 0; i <= last; ++i) {
+      if (values[i] < threshold) continue;
+      const bool left_ok = i == 0 || values[i] >= values[i - 1];
+      const bool right_ok = i == n || values[i] >= values[i + 1];
+      if (!left_ok || !right_ok) continue;
+      const bool flat =
+          (i == 0 || values[i] == values[i - 1]) && (i == n || values[i] == values[i + 1]);
+      if (flat) {
+        if (values[i] > best.value) best = {values[i], t_of(i)};
+        continue;
+      }
+      const double lo = t_of(i == 0 ? 0 : i - 1);
+      const double hi = t_of(std::min(i + 1, n));
+      Peak p = refine(lo, hi, t_of(i));
+      if (values[i] > p.value) p = {values[i], t_of(i)};
+      if (p.value > best.value) best = p;
+    }
+    return best;
+  }
+
+  /// The maximum of |eta| in [lo, hi] around the sample at t0: a safeguarded Newton iteration on
+  /// s eta' = 0 (s the sign of eta there) when s eta' falls from positive to negative across the
+  /// bracket; otherwise (the maximum sits at a bracket end, or the bracket holds more than one
+  /// extremum) the golden section of find_max().
+  [[nodiscard]] Peak refine(double lo, double hi, double t0) const {
+    const EtaJet j0 = jet(t0);
+    const double s = j0.eta < 0.0 ? -1.0 : 1.0;
+    const double g_lo = s * jet(lo).d1;
+    const double g_hi = s * jet(hi).d1;
+    if (!(g_lo > 0.0 && g_hi < 0.0) || j0.eta == 0.0) {
+      return refine_max([this](double t) { return std::abs(eta(t)); }, lo, hi);
+    }
+    double t = t0;
+    EtaJet j = j0;
+    for (int it = 0; it < kMaxNewtonSteps; ++it) {
+      const double g = s * j.d1;
+      if (g > 0.0)
+        lo = t;
+      else if (g < 0.0)
+        hi = t;
+      else
+        break;
+      const double dg = s * j.d2;
+      double next = dg < 0.0 ? t - g / dg : 0.5 * (lo + hi);
+      if (!(next > lo && next < hi)) next = 0.5 * (lo + hi);
+      const double moved = std::abs(next - t);
+      t = next;
+      j = jet(t);
+      if (moved < kNewtonTolerance || hi - lo < kNewtonTolerance) break;
+    }
+    return {std::abs(j.eta), t};
+  }
+
+  /// find_max()'s default refine_fraction.
+  static constexpr double kRefineFraction{0.05};
+
+  const std::vector<double>& gains_;
+  const std::vector<double>& begin_;
+  const std::vector<LinearModePiece>& coef_;
+  std::size_t modes_;
+};
+
+}  // namespace detail
+
+SloshPeaks LinearResponse::peaks() const {
+  const bool under_damped = std::all_of(
+      coefficients_.begin(), coefficients_.end(),
+      [](const LinearModePiece& p) { return p.damping == LinearModePiece::Damping::kUnder; });
+  if (!under_damped || gains_.empty()) {
+    auto abs_eta = [this](double t) { return std::abs(eta(t)); };
+    return {find_max(abs_eta, 0.0, motion_time_, peak_step_),
+            find_max(abs_eta, motion_time_, end_time_, peak_step_)};
+  }
+  const detail::LinearPeakScan scan(gains_, piece_begin_, coefficients_);
+  return {scan.window(0.0, motion_time_, peak_step_, false),
+          scan.window(motion_time_, end_time_, peak_step_, true)};
+}
+
+}  // namespace slosh
