@@ -64,9 +64,6 @@ thread_local std::optional<PlanFacts> request_plan;
 thread_local bool request_accepts_gzip = false;
 std::atomic<std::uint64_t> request_counter{0};
 
-/// Seconds a client is told to wait when its connection could not get a thread.
-constexpr int kThreadRetryAfterSeconds = 1;
-
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 
@@ -301,10 +298,7 @@ Reply with_models(const Runtime& rt, const std::string& body, F&& handle) {
   try {
     return handle(rt.calibrations->resolve_model_names(body));
   } catch (const api::ApiError& e) {
-    Reply r;
-    r.status = e.status();
-    r.body = api::error_body(e);
-    return r;
+    return reply_of(e);
   }
 }
 
@@ -739,14 +733,13 @@ void install_error_handlers(Runtime& rt) {
       });
 }
 
-// 503 with Retry-After for a connection the connection pool could not start a thread for.
+// 503 (with Retry-After, as every 503) for a connection the connection pool could not start a
+// thread for.
 Reply thread_refusal_reply() {
-  Reply reply = PlanService::error_reply(
+  return PlanService::error_reply(
       api::ErrorCode::kOverloaded,
       "the service cannot start a thread for this connection (the system refused one): retry "
       "later");
-  reply.headers.emplace_back("Retry-After", std::to_string(kThreadRetryAfterSeconds));
-  return reply;
 }
 
 // 404 for a path with a '/' sent as %2F (api::check_encoded_slashes); nullopt for any other. The

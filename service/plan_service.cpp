@@ -193,10 +193,7 @@ Reply internal_error_reply(const char* what) {
 
 Reply PlanService::error_reply(api::ErrorCode code, const std::string& message,
                                const std::string& field) {
-  Reply r;
-  r.status = api::http_status(code);
-  r.body = api::error_body(code, message, field);
-  return r;
+  return reply_of(api::ApiError(code, field, message));
 }
 
 Reply PlanService::plan_reply(const std::string& key, const std::string& body, bool cached,
