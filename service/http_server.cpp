@@ -67,12 +67,6 @@ std::atomic<std::uint64_t> request_counter{0};
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 
-// Media types whose bodies are text worth compressing.
-bool compressible(const std::string& content_type) {
-  return content_type.starts_with("application/json") || content_type.starts_with("text/") ||
-         content_type.starts_with("application/javascript");
-}
-
 // Writes `reply` to `res`. Content coding is decided here, not by the HTTP library (which would
 // compress every body again per response, and pick brotli at its slowest setting for a browser):
 // a body already gzip-coded (a cached plan's stored bytes) is sent as it is; another text body of
@@ -81,17 +75,14 @@ bool compressible(const std::string& content_type) {
 void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
-  const bool varies =
-      !reply.content_encoding.empty() || reply.plan.has_value() ||
-      (!reply.hold && compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes);
+  const bool varies = !reply.content_encoding.empty() || reply.plan.has_value() ||
+                      (!reply.hold && worth_compressing(reply.content_type, reply.body.size()));
   if (varies) res.set_header("Vary", "Accept-Encoding");
   if (reply.body.empty()) return;
   if (!reply.hold) {
     if (reply.content_encoding.empty() && request_accepts_gzip &&
-        compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes) {
-      // Level 1: bodies coded per response are the uncached ones (a fresh plan, a batch, an
-      // export); its speed matters more than the last 10 % of size.
-      reply.body = gzip_compress(reply.body, 1);
+        worth_compressing(reply.content_type, reply.body.size())) {
+      reply.body = gzip_compress(reply.body, kResponseGzipLevel);
       reply.content_encoding = "gzip";
     }
     if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
@@ -535,11 +526,12 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
     }
     case api::Operation::kPage:
       return [&service](const httplib::Request& req, const std::string&) {
-        return service.web_asset("", req.get_header_value("If-None-Match"));
+        return service.web_asset("", req.get_header_value("If-None-Match"), request_accepts_gzip);
       };
     case api::Operation::kAsset:
       return [&service](const httplib::Request& req, const std::string&) {
-        return service.web_asset(req.matches[1], req.get_header_value("If-None-Match"));
+        return service.web_asset(req.matches[1], req.get_header_value("If-None-Match"),
+                                 request_accepts_gzip);
       };
     case api::Operation::kMetrics:
       return [&rt](const httplib::Request&, const std::string&) {

@@ -12,6 +12,7 @@
 #include <utility>
 
 #include "export_command.hpp"
+#include "gzip.hpp"
 #include "redis_cache.hpp"
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
@@ -785,7 +786,8 @@ Reply PlanService::post_simulate(const std::string& text) {
   });
 }
 
-Reply PlanService::web_asset(const std::string& name, const std::string& if_none_match) const {
+Reply PlanService::web_asset(const std::string& name, const std::string& if_none_match,
+                             bool gzip) const {
   const WebAsset* asset = find_web_asset(name.empty() ? "index.html" : name);
   if (asset == nullptr) {
     return error_reply(api::ErrorCode::kNotFound,
@@ -804,7 +806,12 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
     return r;
   }
   r.content_type = std::string(asset->content_type);
-  r.body = std::string(asset->body);
+  if (gzip && worth_compressing(asset->content_type, asset->body.size())) {
+    r.body = std::string(gzipped_body(*asset));
+    r.content_encoding = "gzip";
+  } else {
+    r.body = std::string(asset->body);
+  }
   return r;
 }
 

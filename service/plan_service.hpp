@@ -194,8 +194,10 @@ class PlanService {
   [[nodiscard]] std::uint64_t cancelled_min_times() const { return cancelled_min_times_; }
   Reply fluids() const;
   /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
-  /// `if_none_match` names the ETag, 404 for an unknown name.
-  Reply web_asset(const std::string& name, const std::string& if_none_match) const;
+  /// `if_none_match` names the ETag, 404 for an unknown name. `gzip`: the client accepts the gzip
+  /// coding; a file worth coding is then answered in its gzip bytes, compressed once per process.
+  Reply web_asset(const std::string& name, const std::string& if_none_match,
+                  bool gzip = false) const;
   /// The cam table file of the cached plan `key` (GET /v1/plans/{key}/cam.csv, cam.st): `query`
   /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis;
   /// allow_infeasible "true" or "false"; each parameter at most once). 404 for an unknown key,

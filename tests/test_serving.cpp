@@ -188,6 +188,28 @@ TEST(Serving, LargeBodiesOfOtherEndpointsAreCodedOnlyWhenAccepted) {
   EXPECT_TRUE(json::accept(health.body)) << health.body;
 }
 
+// The web page's files are coded once and kept: every coded answer is the same bytes, which
+// inflate to the identity body; the ETag and the headers of the page stay those of the file.
+TEST(Serving, WebAssetsAreCodedOnceAndInflateToTheFile) {
+  const test::Server server;
+  for (const char* path : {"/", "/assets/app.js", "/assets/style.css"}) {
+    const RawReply plain = exchange(server.port(), "GET", path, "");
+    ASSERT_EQ(plain.status, 200) << path;
+    ASSERT_GE(plain.body.size(), service::kGzipMinBytes) << path;
+    EXPECT_EQ(plain.headers.count("content-encoding"), 0U) << path;
+    const RawReply first = exchange(server.port(), "GET", path, "", "Accept-Encoding: gzip\r\n");
+    const RawReply again = exchange(server.port(), "GET", path, "", "Accept-Encoding: gzip\r\n");
+    EXPECT_EQ(first.headers.at("content-encoding"), "gzip") << path;
+    EXPECT_EQ(first.headers.at("vary"), "Accept-Encoding") << path;
+    EXPECT_EQ(first.headers.at("etag"), plain.headers.at("etag")) << path;
+    EXPECT_EQ(first.headers.at("content-type"), plain.headers.at("content-type")) << path;
+    EXPECT_EQ(first.body, again.body) << path;
+    EXPECT_EQ(gunzip(first.body), plain.body) << path;
+    // The coding of one response (level 1), computed here: the kept bytes are those.
+    EXPECT_EQ(first.body, service::gzip_compress(plain.body, service::kResponseGzipLevel)) << path;
+  }
+}
+
 TEST(Serving, AcceptEncodingFollowsItsQualityValues) {
   using service::accepts_gzip;
   EXPECT_TRUE(accepts_gzip("gzip"));
