@@ -25,6 +25,7 @@
 
 #include "batch_jobs.hpp"
 #include "calibration_service.hpp"
+#include "client_wait.hpp"
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
 #include "gzip.hpp"
@@ -422,7 +423,7 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
 }
 
 // Whether the client of `req` has closed its side of the connection: work nobody waits for is
-// stopped. Asked of the reaper at most every 100 ms (each answer lists the process's
+// stopped. Asked of the reaper at most every kClientPoll (each answer lists the process's
 // descriptors); never true without the reaper.
 std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req) {
   return [&rt, peer = peer_of(req), next = std::chrono::steady_clock::time_point{},
@@ -430,7 +431,7 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
     const auto now = std::chrono::steady_clock::now();
     if (!gone && rt.reaper && now >= next) {
       gone = rt.reaper->closed_by_peer(peer);
-      next = now + std::chrono::milliseconds(100);
+      next = now + kClientPoll;
     }
     return gone;
   };
@@ -471,20 +472,9 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
       };
     case api::Operation::kPlanBatch:
       return [&rt](const httplib::Request& req, const std::string& body) {
-        // A client that hangs up gets no more solves queued (checked at most every 0.2 s).
-        auto next_check = std::chrono::steady_clock::now();
-        bool gone = false;
-        const std::string peer = peer_of(req);
-        return rt.service.post_batch(
-            rt.calibrations->resolve_batch_model_names(body),
-            [&]() {
-              if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
-                gone = rt.reaper->closed_by_peer(peer);
-                next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
-              }
-              return gone;
-            },
-            view_values(req));
+        // A client that hangs up gets no more solves queued.
+        return rt.service.post_batch(rt.calibrations->resolve_batch_model_names(body),
+                                     client_gone(rt, req), view_values(req));
       };
     case api::Operation::kMinTime:
       return [&service, &rt](const httplib::Request& req, const std::string& body) {

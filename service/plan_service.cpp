@@ -11,6 +11,7 @@
 #include <thread>
 #include <utility>
 
+#include "client_wait.hpp"
 #include "export_command.hpp"
 #include "gzip.hpp"
 #include "redis_cache.hpp"
@@ -121,39 +122,10 @@ void add_redis_state(api::ReadyReport& report, RedisClient& redis, bool required
   if (required) unready = true;
 }
 
-/// How often a request waiting for its solve checks whether its client is still there.
-constexpr auto kClientPoll = std::chrono::milliseconds(100);
-
 // Nobody waits for the solve any more (its reply is for a connection that is gone).
 api::ApiError cancelled_error() {
   return api::ApiError(api::ErrorCode::kCancelled, "",
                        "not solved: every client waiting for it closed the connection");
-}
-
-// Waits for `future` until `until`, checking every kClientPoll whether the client went away.
-enum class WaitEnd { kReady, kGone, kTimeout };
-template <typename Future>
-WaitEnd wait_for_client(const Future& future, std::chrono::steady_clock::time_point until,
-                        const std::function<bool()>& abandoned) {
-  for (;;) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= until) {
-      return future.wait_for(std::chrono::seconds(0)) == std::future_status::ready
-                 ? WaitEnd::kReady
-                 : WaitEnd::kTimeout;
-    }
-    const auto slice = abandoned
-                           ? std::min<std::chrono::steady_clock::duration>(kClientPoll, until - now)
-                           : until - now;
-    if (future.wait_for(slice) == std::future_status::ready) return WaitEnd::kReady;
-    if (abandoned && abandoned()) return WaitEnd::kGone;
-  }
-}
-
-std::chrono::steady_clock::time_point after(double seconds) {
-  return std::chrono::steady_clock::now() +
-         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-             std::chrono::duration<double>(seconds));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point started) {
