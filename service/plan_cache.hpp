@@ -84,7 +84,7 @@ struct CacheConfig {
 class CachedValue {
  public:
   /// Slots of renderings per value.
-  static constexpr std::size_t kRenderings{3};
+  static constexpr std::size_t kRenderings{4};
 
   CachedValue(std::string key, std::string value)
       : key_(std::move(key)), value_(std::move(value)) {}

@@ -189,7 +189,7 @@ Reply PlanService::hit_reply(const std::shared_ptr<const CachedValue>& plan,
   const std::string tag = plan_etag(plan->key(), view, std::nullopt);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", "hit");
-  r.plan = plan_facts_of(plan->key(), plan->value(), true);
+  r.plan = hit_facts(cache_, plan);
   if (etag_matches(if_none_match, tag)) {
     r.status = 304;
     return r;

@@ -43,6 +43,16 @@ HitBody hit_body(PlanCache& cache, const std::shared_ptr<const CachedValue>& pla
   return {*rendered(cache, plan, view, false), false};
 }
 
+PlanFacts hit_facts(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan) {
+  const std::string& kept =
+      cache.rendering(plan, slot(PlanRendering::kFacts), [&plan](const std::string& stored) {
+        const PlanFacts facts = plan_facts_of(plan->key(), stored, true);
+        return facts.strategy + '\n' + facts.status;
+      });
+  const std::size_t newline = kept.find('\n');
+  return PlanFacts{plan->key(), kept.substr(0, newline), kept.substr(newline + 1), true};
+}
+
 void prepare_hit_body(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan,
                       api::PlanView view, bool gzip) {
   (void)rendered(cache, plan, view, gzip);

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "plan_cache.hpp"
+#include "plan_facts.hpp"
 #include "slosh/api/plan_view.hpp"
 
 namespace slosh::service {
@@ -19,6 +20,7 @@ enum class PlanRendering : std::size_t {
   kFullGzip = 0,     ///< gzip_compress of the full reply with `cached: true`
   kCompact = 1,      ///< the compact view (api::compact_plan_text of that reply)
   kCompactGzip = 2,  ///< gzip_compress of the compact view; empty below kGzipMinBytes
+  kFacts = 3,        ///< the plan's strategy and status (plan_facts_of), a line each
 };
 
 /// A cache hit's body in one view and coding.
@@ -32,6 +34,10 @@ struct HitBody {
 /// identity body otherwise. Renders (and keeps) the view at its first use.
 [[nodiscard]] HitBody hit_body(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan,
                                api::PlanView view, bool gzip);
+
+/// What a hit of the plan `plan` (an entry of `cache`) says about it: found in the stored text at
+/// the first hit (a search backwards through it) and kept.
+[[nodiscard]] PlanFacts hit_facts(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan);
 
 /// Renders and keeps what a hit in `view` (gzip-coded when `gzip`) will answer, without building
 /// the body: nothing for the plain full plan.
