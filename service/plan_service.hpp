@@ -221,7 +221,7 @@ class PlanService {
   Metrics& metrics() { return metrics_; }
   /// Solve workers running (the configured count, or the cores for 0).
   [[nodiscard]] std::size_t workers() const { return pool_.workers(); }
-  /// The solve pool, for other solves of the service (calibration fits, issue 23).
+  /// The solve pool, for other solves of the service (calibration fits).
   [[nodiscard]] WorkerPool& worker_pool() { return pool_; }
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
   [[nodiscard]] const PlanCache& min_time_cache() const { return min_time_cache_; }
