@@ -235,27 +235,16 @@ void PlanCache::evict_locked() {
   }
 }
 
-const std::string& PlanCache::rendering(
-    const std::shared_ptr<const CachedValue>& entry, std::size_t slot,
-    const std::function<std::string(const std::string&)>& render) {
-  bool made = false;
-  std::call_once(entry->once_.at(slot), [&] {
-    entry->renderings_[slot] = render(entry->value());
-    made = true;
-  });
-  const std::string& text = entry->renderings_[slot];
-  if (made) {
-    // Counted only while this very entry is resident: one replaced or evicted meanwhile is
-    // dropped with its renderings when its last reader lets go.
-    const std::lock_guard memory(memory_mutex_);
-    if (const auto it = index_.find(entry->key());
-        it != index_.end() && it->second->value == entry) {
-      it->second->bytes += text.size();
-      memory_bytes_ += text.size();
-      evict_locked();
-    }
+void PlanCache::count_rendering(const std::shared_ptr<const CachedValue>& entry,
+                                std::size_t bytes) {
+  // Counted only while this very entry is resident: one replaced or evicted meanwhile is dropped
+  // with its renderings when its last reader lets go.
+  const std::lock_guard memory(memory_mutex_);
+  if (const auto it = index_.find(entry->key()); it != index_.end() && it->second->value == entry) {
+    it->second->bytes += bytes;
+    memory_bytes_ += bytes;
+    evict_locked();
   }
-  return text;
 }
 
 void PlanCache::drop_corrupt_locked(const std::string& key) {

@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
-#include <functional>
 #include <list>
 #include <memory>
 #include <mutex>
@@ -156,8 +155,18 @@ class PlanCache {
   /// its first use (concurrent callers wait for that one; an exception leaves the slot empty for
   /// the next caller) and kept with the entry. While the entry is in the memory tier its rendering
   /// counts in memory_bytes, and the least recent entries are evicted beyond the bounds.
+  template <typename Render>
   const std::string& rendering(const std::shared_ptr<const CachedValue>& entry, std::size_t slot,
-                               const std::function<std::string(const std::string&)>& render);
+                               Render&& render) {
+    bool made = false;
+    std::call_once(entry->once_.at(slot), [&] {
+      entry->renderings_[slot] = render(entry->value());
+      made = true;
+    });
+    const std::string& text = entry->renderings_[slot];
+    if (made) count_rendering(entry, text.size());
+    return text;
+  }
   /// Stores in memory and SQLite only (a value that came from the shared level).
   std::shared_ptr<const CachedValue> put_local(const std::string& key, const std::string& value) {
     return write_local(key, value);
@@ -215,6 +224,8 @@ class PlanCache {
   void remember_locked(const std::shared_ptr<const CachedValue>& entry);
   /// Evicts the least recent entries while the memory tier is beyond its bounds.
   void evict_locked();
+  /// Adds `bytes` of a new rendering of `entry` to the memory tier while that entry is resident.
+  void count_rendering(const std::shared_ptr<const CachedValue>& entry, std::size_t bytes);
 
   const CacheConfig config_;
   const std::string table_;  // "plans" or "min_times"
