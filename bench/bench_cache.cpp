@@ -2,7 +2,7 @@
 // SQLite file, and the shared Redis (a real redis-server on loopback, started here like the tests
 // do). Two views: PlanCache::get alone (the level's cost: lookup, transfer, digest check), and
 // PlanService::post_plan of a cached recipe (what POST /v1/plans costs without HTTP: parse, key,
-// lookup, render the reply).
+// lookup, render the reply); and what rendering each kept view of a cached plan costs.
 
 #include <benchmark/benchmark.h>
 
@@ -14,6 +14,7 @@
 #include "plan_cache.hpp"
 #include "plan_service.hpp"
 #include "redis_client.hpp"
+#include "rendered_plans.hpp"
 #include "support/redis_server.hpp"
 
 namespace {
@@ -81,6 +82,25 @@ void BM_CachedPlanReply(benchmark::State& state) {
   state.SetLabel(state.range(0) == 2 ? "redis" : "memory");
 }
 BENCHMARK(BM_CachedPlanReply)->Arg(0)->Arg(2)->Unit(benchmark::kMicrosecond);
+
+// What one rendering of a cached plan costs, made on a fresh entry each time (what the worker
+// renders after a solve, or the first hit that asks for it): range(0) = 0 the compact view,
+// 1 the full plan's gzip bytes, 2 the compact view's gzip bytes (its compact view made first,
+// outside the timing).
+void BM_RenderPlanView(benchmark::State& state) {
+  const auto which = state.range(0);
+  PlanCache cache(CacheConfig{});
+  const auto view = which == 1 ? slosh::api::PlanView::kFull : slosh::api::PlanView::kCompact;
+  for (auto _ : state) {
+    state.PauseTiming();
+    const auto plan = cache.put("bench-key", stored_plan());
+    if (which == 2) slosh::service::prepare_hit_body(cache, plan, view, false);
+    state.ResumeTiming();
+    slosh::service::prepare_hit_body(cache, plan, view, which != 0);
+  }
+  state.SetLabel(which == 0 ? "compact" : which == 1 ? "full gzip" : "compact gzip");
+}
+BENCHMARK(BM_RenderPlanView)->Arg(0)->Arg(1)->Arg(2)->Unit(benchmark::kMicrosecond);
 
 }  // namespace
 

@@ -5,14 +5,13 @@
 #include <future>
 #include <memory>
 
+#include "client_wait.hpp"
 #include "slosh/api/calibration_json.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
-
-namespace {}  // namespace
 
 CalibrationService::CalibrationService(const ServerConfig& config, WorkerPool& pool)
     : config_(config), pool_(pool) {
@@ -29,9 +28,7 @@ Reply CalibrationService::post_calibration(const std::string& text,
   return guarded_reply([&] {
     auto request = std::make_shared<api::CalibrationRequest>(
         api::parse_calibration_request(api::parse_json_body(text)));
-    const auto deadline = std::chrono::steady_clock::now() +
-                          std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                              std::chrono::duration<double>(config_.solve_budget_s));
+    const auto deadline = after(config_.solve_budget_s);
     // Set when the client has gone: the fit stops at its next step.
     auto gone = std::make_shared<std::atomic<bool>>(false);
     request->settings.stop = [deadline, gone] {
@@ -40,7 +37,7 @@ Reply CalibrationService::post_calibration(const std::string& text,
     auto promise = std::make_shared<std::promise<nlohmann::json>>();
     std::future<nlohmann::json> result = promise->get_future();
     // Background priority: a fit (up to solve_budget_s on a long series) never goes ahead of an
-    // HMI's plan (hostile review: 10 fits of 60 000 samples held a plan for 4.9 s).
+    // HMI's plan (ten fits of 60 000 samples ahead of it would hold a plan for about 5 s).
     const bool queued = pool_.try_submit(
         [request, promise, gone] {
           try {
@@ -58,28 +55,19 @@ Reply CalibrationService::post_calibration(const std::string& text,
                                       "all solve workers are busy and the queue is full; retry "
                                       "the calibration later");
     }
-    const auto until =
-        std::chrono::steady_clock::now() +
-        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-            std::chrono::duration<double>(config_.solve_budget_s + config_.queue_wait_s));
-    for (;;) {
-      const auto now = std::chrono::steady_clock::now();
-      if (now >= until && result.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
-        return PlanService::error_reply(
-            api::ErrorCode::kTimeout, "the calibration did not finish within the solve budget of " +
-                                          api::number_text(config_.solve_budget_s) + " s plus " +
-                                          api::number_text(config_.queue_wait_s) +
-                                          " s of queueing");
-      }
-      const auto slice = std::min<std::chrono::steady_clock::duration>(
-          std::chrono::milliseconds(100), until - now);
-      if (result.wait_for(slice) == std::future_status::ready) break;
-      if (abandoned && abandoned()) {
-        gone->store(true);
-        ++cancelled_;
-        return PlanService::error_reply(api::ErrorCode::kCancelled,
-                                        "not fitted: the client closed the connection");
-      }
+    const WaitEnd end =
+        wait_for_client(result, after(config_.solve_budget_s + config_.queue_wait_s), abandoned);
+    if (end == WaitEnd::kTimeout) {
+      return PlanService::error_reply(
+          api::ErrorCode::kTimeout, "the calibration did not finish within the solve budget of " +
+                                        api::number_text(config_.solve_budget_s) + " s plus " +
+                                        api::number_text(config_.queue_wait_s) + " s of queueing");
+    }
+    if (end == WaitEnd::kGone) {
+      gone->store(true);
+      ++cancelled_;
+      return PlanService::error_reply(api::ErrorCode::kCancelled,
+                                      "not fitted: the client closed the connection");
     }
     const nlohmann::json fit = result.get();
     if (request->name && !store_->put(*request->name, fit)) {

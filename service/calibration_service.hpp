@@ -1,5 +1,5 @@
 #pragma once
-// POST /v1/calibrations and GET /v1/calibrations/{name} without the HTTP library (issue 23):
+// POST /v1/calibrations and GET /v1/calibrations/{name} without the HTTP library:
 // parse, fit on the solve pool within the solve budget, store under the request's name; and the
 // resolution of options.model = "<name>" in plan, simulate and min-time bodies.
 

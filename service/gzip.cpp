@@ -60,6 +60,13 @@ bool accepts_gzip(std::string_view header) {
   return star;
 }
 
+bool worth_compressing(std::string_view content_type, std::size_t bytes) {
+  const bool text = content_type.starts_with("application/json") ||
+                    content_type.starts_with("text/") ||
+                    content_type.starts_with("application/javascript");
+  return text && bytes >= kGzipMinBytes;
+}
+
 std::string gzip_compress(std::string_view data, int level) {
   z_stream stream{};
   // windowBits 15 + 16: the gzip wrapper with a zeroed header (no name, mtime 0).

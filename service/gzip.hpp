@@ -20,4 +20,13 @@ namespace slosh::service {
 /// would save at most a few hundred bytes for a deflate state of 256 kB per response [bytes].
 constexpr std::size_t kGzipMinBytes{1024};
 
+/// Whether a body of `content_type` and `bytes` is gzip-coded for a client that accepts it: text
+/// (JSON, text/*, JavaScript) of at least kGzipMinBytes.
+[[nodiscard]] bool worth_compressing(std::string_view content_type, std::size_t bytes);
+
+/// The gzip level of a body coded for one response (a fresh plan, a batch, an export): its speed
+/// matters more than the last 10 % of size. The web page's files are coded once at this level too,
+/// so their bytes are the ones a per-response coding gives.
+constexpr int kResponseGzipLevel{1};
+
 }  // namespace slosh::service

@@ -25,6 +25,7 @@
 
 #include "batch_jobs.hpp"
 #include "calibration_service.hpp"
+#include "client_wait.hpp"
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
 #include "gzip.hpp"
@@ -32,6 +33,7 @@
 #include "memory_job_store.hpp"
 #include "plan_service.hpp"
 #include "redis_job_store.hpp"
+#include "route_table.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/routes.hpp"
 #include "version.hpp"
@@ -64,17 +66,8 @@ thread_local std::optional<PlanFacts> request_plan;
 thread_local bool request_accepts_gzip = false;
 std::atomic<std::uint64_t> request_counter{0};
 
-/// Seconds a client is told to wait when its connection could not get a thread.
-constexpr int kThreadRetryAfterSeconds = 1;
-
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
-
-// Media types whose bodies are text worth compressing.
-bool compressible(const std::string& content_type) {
-  return content_type.starts_with("application/json") || content_type.starts_with("text/") ||
-         content_type.starts_with("application/javascript");
-}
 
 // Writes `reply` to `res`. Content coding is decided here, not by the HTTP library (which would
 // compress every body again per response, and pick brotli at its slowest setting for a browser):
@@ -84,17 +77,16 @@ bool compressible(const std::string& content_type) {
 void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
   for (const auto& [name, value] : reply.headers) res.set_header(name, value);
-  const bool varies =
-      !reply.content_encoding.empty() || reply.plan.has_value() ||
-      (!reply.hold && compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes);
-  if (varies) res.set_header("Vary", "Accept-Encoding");
+  // A body this reply may code for this client: one that is not coded yet (nor held).
+  const bool codable = reply.content_encoding.empty() && !reply.hold &&
+                       worth_compressing(reply.content_type, reply.body.size());
+  if (codable || !reply.content_encoding.empty() || reply.plan.has_value()) {
+    res.set_header("Vary", "Accept-Encoding");
+  }
   if (reply.body.empty()) return;
   if (!reply.hold) {
-    if (reply.content_encoding.empty() && request_accepts_gzip &&
-        compressible(reply.content_type) && reply.body.size() >= kGzipMinBytes) {
-      // Level 1: bodies coded per response are the uncached ones (a fresh plan, a batch, an
-      // export); its speed matters more than the last 10 % of size.
-      reply.body = gzip_compress(reply.body, 1);
+    if (codable && request_accepts_gzip) {
+      reply.body = gzip_compress(reply.body, kResponseGzipLevel);
       reply.content_encoding = "gzip";
     }
     if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
@@ -147,41 +139,12 @@ bool known_method(const std::string& method) {
   return false;
 }
 
-// One endpoint: its path pattern and the methods it answers (for 405 with Allow).
-struct Endpoint {
-  std::regex pattern;
-  std::vector<std::string> methods;
-  std::string source;  // the pattern's text
-  std::string label;   // the route's path template ("/v1/plans/{key}"), its metrics label
-};
-
-// The route label of a path whatever the method: the template of the endpoint whose pattern it
-// matches, the most literal one when several do ("/v1/plans/batch" over "/v1/plans/{key}"), or
-// "other" when it matches none.
-std::string route_label_of(std::string_view path, const std::vector<Endpoint>& endpoints) {
-  const Endpoint* best = nullptr;
-  const auto parameters = [](const std::string& label) {
-    return std::count(label.begin(), label.end(), '{');
-  };
-  for (const Endpoint& e : endpoints) {
-    if (!std::regex_match(path.begin(), path.end(), e.pattern)) continue;
-    if (!best || parameters(e.label) < parameters(best->label)) best = &e;
-  }
-  return best ? best->label : "other";
-}
-
 // The path of the request line as the client sent it (percent escapes kept, query cut): the
 // decoded path would log "%2F" as a real '/' and "%0A" as a line break. The decoded path for a
 // request without a target.
 std::string path_as_sent(const httplib::Request& req) {
   if (req.target.empty()) return req.path;
   return req.target.substr(0, req.target.find_first_of("?#"));
-}
-
-std::string allow_header(const std::vector<std::string>& methods) {
-  std::string allow;
-  for (const std::string& m : methods) allow += (allow.empty() ? "" : ", ") + m;
-  return allow;
 }
 
 std::string framework_message(int status) {
@@ -194,18 +157,6 @@ std::string framework_message(int status) {
       return "the Range header is not valid; this service answers whole bodies only";
     default:
       return "HTTP " + std::to_string(status);
-  }
-}
-
-// A handler's reply, with every exception turned into the 500 envelope.
-template <typename Handler>
-Reply guarded(Handler&& handler) {
-  try {
-    return handler();
-  } catch (const std::exception& e) {
-    return PlanService::error_reply(api::ErrorCode::kInternal, e.what());
-  } catch (...) {
-    return PlanService::error_reply(api::ErrorCode::kInternal, "unknown error");
   }
 }
 
@@ -290,21 +241,18 @@ struct Runtime {
   BatchJobs& jobs;
   ListeningServer& server;
   std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
-  std::vector<Endpoint> endpoints;
+  RouteTable routes{api::routes()};
   std::string replica;                        // the X-Slosh-Replica header of every response
   CalibrationService* calibrations{nullptr};  // POST/GET /v1/calibrations, options.model names
 };
 
-// `handle` of the body with options.model = "<name>" resolved to the stored model (issue 23).
+// `handle` of the body with options.model = "<name>" resolved to the stored calibration's model.
 template <typename F>
 Reply with_models(const Runtime& rt, const std::string& body, F&& handle) {
   try {
     return handle(rt.calibrations->resolve_model_names(body));
   } catch (const api::ApiError& e) {
-    Reply r;
-    r.status = e.status();
-    r.body = api::error_body(e);
-    return r;
+    return reply_of(e);
   }
 }
 
@@ -329,84 +277,73 @@ void configure_transport(ListeningServer& server, const ServerConfig& config) {
   });
 }
 
-// The handler of one operation: the request (and its body for POST) to a reply.
-using Handler = std::function<Reply(const httplib::Request&, const std::string& body)>;
-
-// Every value of the query parameter `name` in the request target, in order, repeats included
-// (none when it is not given). The library's parameters drop a repeated identical "name=value"
-// pair, so a repeat of the same value would go unnoticed there.
-std::vector<std::string> param_values(const httplib::Request& req, const char* name) {
-  std::vector<std::string> values;
-  const std::size_t query = req.target.find('?');
-  if (query == std::string::npos) return values;
-  const std::string text = req.target.substr(query + 1, req.target.find('#') - query - 1);
-  httplib::detail::split(
-      text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
-        const std::string pair(begin, end);
-        const std::size_t equals = pair.find('=');
-        if (httplib::detail::decode_url(pair.substr(0, equals), true) != name) {
-          return;
-        }
-        values.push_back(equals == std::string::npos
-                             ? std::string()
-                             : httplib::detail::decode_url(pair.substr(equals + 1), true));
-      });
-  return values;
-}
-
-// Every value of the query parameter `view` (the plan endpoints' view), in order, repeats of the
-// same value included (view=full&view=full is refused as every repeated parameter is).
-std::vector<std::string> view_values(const httplib::Request& req) {
-  return param_values(req, "view");
-}
-
-// The decoded name of every query parameter in the request target, in order, repeats included.
-std::vector<std::string> query_names(const httplib::Request& req) {
-  std::vector<std::string> names;
-  const std::size_t query = req.target.find('?');
-  if (query == std::string::npos) return names;
-  const std::string text = req.target.substr(query + 1, req.target.find('#') - query - 1);
-  httplib::detail::split(
-      text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
-        const std::string pair(begin, end);
-        names.push_back(httplib::detail::decode_url(pair.substr(0, pair.find('=')), true));
-      });
-  return names;
-}
-
-// The route's handler behind the one rule for query strings (api::check_query_names): a
-// parameter the route does not take is refused, never ignored.
-Handler with_query_rule(const api::Route& route, Handler handler) {
-  return
-      [&route, handler = std::move(handler)](const httplib::Request& req, const std::string& body) {
-        return guarded_reply([&] {
-          api::check_query_names(route, query_names(req));
-          return handler(req, body);
+// The decoded query parameters of a request target, in order, repeats included (the library's
+// parameters drop a repeated identical "name=value" pair, so a repeat of the same value would go
+// unnoticed there). Parsed once per request.
+class Query {
+ public:
+  explicit Query(const std::string& target) {
+    const std::size_t query = target.find('?');
+    if (query == std::string::npos) return;
+    const std::string text = target.substr(query + 1, target.find('#') - query - 1);
+    httplib::detail::split(
+        text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
+          const std::string pair(begin, end);
+          const std::size_t equals = pair.find('=');
+          pairs_.emplace_back(httplib::detail::decode_url(pair.substr(0, equals), true),
+                              equals == std::string::npos
+                                  ? std::string()
+                                  : httplib::detail::decode_url(pair.substr(equals + 1), true));
         });
-      };
-}
+  }
+  /// Every name, in order.
+  [[nodiscard]] std::vector<std::string> names() const {
+    std::vector<std::string> out;
+    for (const auto& pair : pairs_) out.push_back(pair.first);
+    return out;
+  }
+  /// Every value of `name`, in order (none when it is not given).
+  [[nodiscard]] std::vector<std::string> values(std::string_view name) const {
+    std::vector<std::string> out;
+    for (const auto& [n, value] : pairs_) {
+      if (n == name) out.push_back(value);
+    }
+    return out;
+  }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> pairs_;
+};
+
+// One request as a handler sees it: the library's request, the body (empty but for POST) and the
+// parsed query.
+struct Call {
+  const httplib::Request& req;
+  const std::string& body;
+  const Query& query;
+  [[nodiscard]] std::string param(std::size_t i) const { return req.matches[i]; }
+};
+
+// The handler of one operation.
+using Handler = std::function<Reply(const Call&)>;
 
 // The batch job routes (POST /v1/batches, GET and DELETE /v1/batches/{id}, the downloads).
 Handler job_handler_of(api::Operation operation, BatchJobs& jobs) {
   switch (operation) {
     case api::Operation::kCreateJob:
-      return [&jobs](const httplib::Request&, const std::string& body) { return jobs.post(body); };
+      return [&jobs](const Call& c) { return jobs.post(c.body); };
     case api::Operation::kGetJob:
-      return [&jobs](const httplib::Request& req, const std::string&) {
-        return jobs.get(req.matches[1],
-                        JobPageQuery{param_values(req, "offset"), param_values(req, "limit")});
+      return [&jobs](const Call& c) {
+        return jobs.get(c.param(1),
+                        JobPageQuery{c.query.values("offset"), c.query.values("limit")});
       };
     case api::Operation::kCancelJob:
-      return [&jobs](const httplib::Request& req, const std::string&) {
-        return jobs.cancel(req.matches[1]);
-      };
+      return [&jobs](const Call& c) { return jobs.cancel(c.param(1)); };
     case api::Operation::kJobResultsCsv:
     case api::Operation::kJobResultsJsonl: {
       const TableFormat format =
           operation == api::Operation::kJobResultsCsv ? TableFormat::kCsv : TableFormat::kJsonLines;
-      return [&jobs, format](const httplib::Request& req, const std::string&) {
-        return jobs.results(req.matches[1], format);
-      };
+      return [&jobs, format](const Call& c) { return jobs.results(c.param(1), format); };
     }
     default:
       throw std::logic_error("not a batch job operation");
@@ -437,7 +374,7 @@ std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
 }
 
 // Whether the client of `req` has closed its side of the connection: work nobody waits for is
-// stopped. Asked of the reaper at most every 100 ms (each answer lists the process's
+// stopped. Asked of the reaper at most every kClientPoll (each answer lists the process's
 // descriptors); never true without the reaper.
 std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req) {
   return [&rt, peer = peer_of(req), next = std::chrono::steady_clock::time_point{},
@@ -445,7 +382,7 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
     const auto now = std::chrono::steady_clock::now();
     if (!gone && rt.reaper && now >= next) {
       gone = rt.reaper->closed_by_peer(peer);
-      next = now + std::chrono::milliseconds(100);
+      next = now + kClientPoll;
     }
     return gone;
   };
@@ -470,85 +407,75 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
   PlanService& service = rt.service;
   switch (operation) {
     case api::Operation::kPlan:
-      return [&service, &rt](const httplib::Request& req, const std::string& body) {
-        return with_models(rt, body, [&](const std::string& resolved) {
-          return service.post_plan(resolved, req.get_header_value("If-None-Match"),
-                                   view_values(req), request_accepts_gzip, client_gone(rt, req));
+      return [&service, &rt](const Call& c) {
+        return with_models(rt, c.body, [&](const std::string& resolved) {
+          return service.post_plan(resolved, c.req.get_header_value("If-None-Match"),
+                                   c.query.values("view"), request_accepts_gzip,
+                                   client_gone(rt, c.req));
         });
       };
     case api::Operation::kCreateCalibration:
-      return [&rt](const httplib::Request& req, const std::string& body) {
-        return rt.calibrations->post_calibration(body, client_gone(rt, req));
+      return [&rt](const Call& c) {
+        return rt.calibrations->post_calibration(c.body, client_gone(rt, c.req));
       };
     case api::Operation::kGetCalibration:
-      return [&rt](const httplib::Request& req, const std::string&) {
-        return rt.calibrations->get_calibration(req.matches[1]);
-      };
+      return [&rt](const Call& c) { return rt.calibrations->get_calibration(c.param(1)); };
     case api::Operation::kPlanBatch:
-      return [&rt](const httplib::Request& req, const std::string& body) {
-        // A client that hangs up gets no more solves queued (checked at most every 0.2 s).
-        auto next_check = std::chrono::steady_clock::now();
-        bool gone = false;
-        const std::string peer = peer_of(req);
-        return rt.service.post_batch(
-            rt.calibrations->resolve_batch_model_names(body),
-            [&]() {
-              if (!gone && rt.reaper && std::chrono::steady_clock::now() >= next_check) {
-                gone = rt.reaper->closed_by_peer(peer);
-                next_check = std::chrono::steady_clock::now() + std::chrono::milliseconds(200);
-              }
-              return gone;
-            },
-            view_values(req));
+      return [&rt](const Call& c) {
+        // A client that hangs up gets no more solves queued.
+        return rt.service.post_batch(rt.calibrations->resolve_batch_model_names(c.body),
+                                     client_gone(rt, c.req), c.query.values("view"));
       };
     case api::Operation::kMinTime:
-      return [&service, &rt](const httplib::Request& req, const std::string& body) {
-        return with_models(rt, body, [&](const std::string& resolved) {
-          return service.post_min_time(resolved, req.get_header_value("If-None-Match"),
-                                       client_gone(rt, req));
+      return [&service, &rt](const Call& c) {
+        return with_models(rt, c.body, [&](const std::string& resolved) {
+          return service.post_min_time(resolved, c.req.get_header_value("If-None-Match"),
+                                       client_gone(rt, c.req));
         });
       };
     case api::Operation::kGetPlan:
-      return [&service](const httplib::Request& req, const std::string&) {
-        return service.get_plan(req.matches[1], req.get_header_value("If-None-Match"),
-                                view_values(req), request_accepts_gzip);
+      return [&service](const Call& c) {
+        return service.get_plan(c.param(1), c.req.get_header_value("If-None-Match"),
+                                c.query.values("view"), request_accepts_gzip);
       };
     case api::Operation::kSimulate:
-      return [&service, &rt](const httplib::Request&, const std::string& body) {
-        return with_models(
-            rt, body, [&](const std::string& resolved) { return service.post_simulate(resolved); });
+      return [&service, &rt](const Call& c) {
+        return with_models(rt, c.body, [&](const std::string& resolved) {
+          return service.post_simulate(resolved);
+        });
       };
     case api::Operation::kFluids:
-      return [&service](const httplib::Request&, const std::string&) { return service.fluids(); };
+      return [&service](const Call&) { return service.fluids(); };
     case api::Operation::kOpenapi:
-      return [&service](const httplib::Request&, const std::string&) { return service.openapi(); };
+      return [&service](const Call&) { return service.openapi(); };
     case api::Operation::kHealth:
-      return [&service](const httplib::Request&, const std::string&) { return service.health(); };
+      return [&service](const Call&) { return service.health(); };
     case api::Operation::kReady:
-      return [&service](const httplib::Request&, const std::string&) { return service.ready(); };
+      return [&service](const Call&) { return service.ready(); };
     case api::Operation::kCamTable:
     case api::Operation::kCamTableSt: {
       const CamFileFormat format =
           operation == api::Operation::kCamTableSt ? CamFileFormat::kSt : CamFileFormat::kCsv;
-      return [&service, format](const httplib::Request& req, const std::string&) {
-        const CamQuery query{
-            param_values(req, "period_ms"),       param_values(req, "master_period"),
-            param_values(req, "master_start"),    param_values(req, "master_end"),
-            param_values(req, "master_step"),     param_values(req, "st_name"),
-            param_values(req, "allow_infeasible")};
-        return service.cam_table(req.matches[1], format, query);
+      return [&service, format](const Call& c) {
+        const Query& q = c.query;
+        const CamQuery query{q.values("period_ms"),       q.values("master_period"),
+                             q.values("master_start"),    q.values("master_end"),
+                             q.values("master_step"),     q.values("st_name"),
+                             q.values("allow_infeasible")};
+        return service.cam_table(c.param(1), format, query);
       };
     }
     case api::Operation::kPage:
-      return [&service](const httplib::Request& req, const std::string&) {
-        return service.web_asset("", req.get_header_value("If-None-Match"));
+      return [&service](const Call& c) {
+        return service.web_asset("", c.req.get_header_value("If-None-Match"), request_accepts_gzip);
       };
     case api::Operation::kAsset:
-      return [&service](const httplib::Request& req, const std::string&) {
-        return service.web_asset(req.matches[1], req.get_header_value("If-None-Match"));
+      return [&service](const Call& c) {
+        return service.web_asset(c.param(1), c.req.get_header_value("If-None-Match"),
+                                 request_accepts_gzip);
       };
     case api::Operation::kMetrics:
-      return [&rt](const httplib::Request&, const std::string&) {
+      return [&rt](const Call&) {
         Reply reply = rt.service.metrics_text();
         reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
         reply.body += cancelled_metrics(rt.service, *rt.calibrations);
@@ -560,107 +487,89 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
   throw std::logic_error("an operation without a handler");
 }
 
-// "/v1/plans/{key}" -> "/v1/plans/([^/]+)"
-std::string path_pattern(std::string_view path) {
-  std::string out;
-  for (std::size_t i = 0; i < path.size(); ++i) {
-    if (path[i] == '{') {
-      out += "([^/]+)";
-      i = path.find('}', i);
-    } else {
-      out += path[i];
-    }
-  }
-  return out;
-}
-
-// Records the methods a path pattern answers (one Endpoint per pattern, for 405's Allow).
-void add_methods(Runtime& rt, const std::string& pattern, const std::string& label,
-                 const std::vector<std::string>& methods) {
-  for (Endpoint& e : rt.endpoints) {
-    if (e.source == pattern) {
-      e.methods.insert(e.methods.end(), methods.begin(), methods.end());
-      return;
-    }
-  }
-  rt.endpoints.push_back({std::regex(pattern), methods, pattern, label});
-}
-
-// The reply of a routed request, whatever its method: sent, counted under its route, and the
-// route (and plan) kept for the access log and the latency histogram the logger writes. A 405 is
-// counted under the route of its path, which may be another than the handler's: GET
-// /v1/plans/batch reaches GET /v1/plans/{key}, whose handler refuses it for POST /v1/plans/batch.
-void answer(Runtime& rt, const std::string& label, Reply reply, const httplib::Request& req,
-            httplib::Response& res) {
-  request_route = reply.status == 405 ? route_label_of(req.path, rt.endpoints) : label;
+// The reply of a request with its route label, whatever answered it: sent, counted under the
+// label, and the label (and the plan) kept for the access log and the latency histogram the
+// logger writes.
+void answer(Runtime& rt, std::string label, Reply reply, httplib::Response& res) {
+  request_route = std::move(label);
   request_plan = reply.plan;
   const int status = reply.status;
   send(std::move(reply), res);
   rt.service.metrics().count_request(request_route, status);
 }
 
-// Every route of api::routes(): one metrics label per route (its path), exceptions become the
-// envelope, POST handlers read their bodies themselves (read_body).
+// A routed request: its body read (POST), its query checked against the route's parameters
+// (api::check_query_names: a parameter the route does not take is refused, never ignored), then
+// its handler, every exception turned into its envelope by the one wrapper. A 405 is labelled
+// with the route of its path, which may be another than the handler's: GET /v1/plans/batch
+// reaches GET /v1/plans/{key}, whose handler refuses it for POST /v1/plans/batch.
+void respond(Runtime& rt, const api::Route& route, const Handler& handler,
+             const httplib::Request& req, httplib::Response& res,
+             const httplib::ContentReader* reader) {
+  bool refused = false;
+  Reply reply = guarded_reply([&] {
+    std::string body;
+    if (reader != nullptr) {
+      Reply error;
+      std::optional<std::string> read = read_body(req, *reader, rt.config, error);
+      if (!read) {
+        refused = true;
+        return error;
+      }
+      body = std::move(*read);
+    }
+    const Query query(req.target);
+    api::check_query_names(route, query.names());
+    return handler(Call{req, body, query});
+  });
+  // The rest of a refused body is not read.
+  if (refused) res.set_header("Connection", "close");
+  std::string label =
+      reply.status == 405 ? rt.routes.match(req.path).label : std::string(route.path);
+  answer(rt, std::move(label), std::move(reply), res);
+}
+
+// Every route of api::routes(), registered with the library by its method; POST handlers read
+// their bodies themselves (read_body).
 void register_routes(Runtime& rt) {
   for (const api::Route& route : api::routes()) {
     const std::string pattern = path_pattern(route.path);
-    std::string label(route.path);
-    Handler handler = with_query_rule(route, handler_of(route.operation, rt));
-    if (route.method == "DELETE") {
-      rt.server.Delete(
-          pattern, [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-            answer(rt, label, guarded([&] { return handler(req, std::string()); }), req, res);
-          });
-      add_methods(rt, pattern, label, {"DELETE"});
+    Handler handler = handler_of(route.operation, rt);
+    if (route.method == "POST") {
+      rt.server.Post(pattern,
+                     httplib::Server::HandlerWithContentReader(
+                         [&rt, &route, handler](const httplib::Request& req, httplib::Response& res,
+                                                const httplib::ContentReader& reader) {
+                           respond(rt, route, handler, req, res, &reader);
+                         }));
       continue;
     }
+    auto plain = [&rt, &route, handler](const httplib::Request& req, httplib::Response& res) {
+      respond(rt, route, handler, req, res, nullptr);
+    };
     if (route.method == "GET") {
-      rt.server.Get(
-          pattern, [&rt, label, handler](const httplib::Request& req, httplib::Response& res) {
-            answer(rt, label, guarded([&] { return handler(req, std::string()); }), req, res);
-          });
-      add_methods(rt, pattern, label, {"GET", "HEAD"});
-      continue;
+      rt.server.Get(pattern, plain);
+    } else if (route.method == "DELETE") {
+      rt.server.Delete(pattern, plain);
+    } else {
+      throw std::logic_error("a route of a method the server does not register");
     }
-    rt.server.Post(pattern,
-                   httplib::Server::HandlerWithContentReader(
-                       [&rt, label, handler](const httplib::Request& req, httplib::Response& res,
-                                             const httplib::ContentReader& reader) {
-                         bool refused = false;
-                         Reply reply = guarded([&] {
-                           Reply error;
-                           if (const auto body = read_body(req, reader, rt.config, error)) {
-                             return handler(req, *body);
-                           }
-                           refused = true;
-                           return error;
-                         });
-                         // The rest of a refused body is not read.
-                         if (refused) res.set_header("Connection", "close");
-                         answer(rt, label, std::move(reply), req, res);
-                       }));
-    add_methods(rt, pattern, label, {"POST"});
   }
 }
 
-// 404 or 405 (with Allow) for a path the routes do not answer with this method.
-Reply unrouted_reply(const httplib::Request& req, const std::vector<Endpoint>& endpoints) {
-  std::vector<std::string> allowed;
-  for (const Endpoint& e : endpoints) {
-    if (std::regex_match(req.path, e.pattern)) {
-      allowed.insert(allowed.end(), e.methods.begin(), e.methods.end());
-    }
-  }
-  if (allowed.empty()) {
+// 404 or 405 (with Allow) for a path the routes do not answer with this method (`match`: the
+// table's answer for the path).
+Reply unrouted_reply(const httplib::Request& req, const RouteTable::Match& match) {
+  if (match.allowed.empty()) {
     return PlanService::error_reply(api::ErrorCode::kNotFound,
                                     "no endpoint " + req.method.substr(0, 16) + " " +
                                         req.path.substr(0, 80) + "; see /v1/openapi.json");
   }
-  Reply reply =
-      PlanService::error_reply(api::ErrorCode::kMethodNotAllowed,
-                               req.method.substr(0, 16) + " is not allowed on " +
-                                   req.path.substr(0, 80) + "; allowed: " + allow_header(allowed));
-  reply.headers.emplace_back("Allow", allow_header(allowed));
+  Reply reply = PlanService::error_reply(api::ErrorCode::kMethodNotAllowed,
+                                         req.method.substr(0, 16) + " is not allowed on " +
+                                             req.path.substr(0, 80) +
+                                             "; allowed: " + allow_header(match.allowed));
+  reply.headers.emplace_back("Allow", allow_header(match.allowed));
   return reply;
 }
 
@@ -673,7 +582,8 @@ void register_unrouted_body_methods(Runtime& rt) {
   const auto refuse = [&rt](const httplib::Request& req, httplib::Response& res,
                             const httplib::ContentReader&) {
     res.set_header("Connection", "close");
-    answer(rt, route_label_of(req.path, rt.endpoints), unrouted_reply(req, rt.endpoints), req, res);
+    const RouteTable::Match match = rt.routes.match(req.path);
+    answer(rt, match.label, unrouted_reply(req, match), res);
   };
   rt.server.Put(".*", httplib::Server::HandlerWithContentReader(refuse));
   rt.server.Patch(".*", httplib::Server::HandlerWithContentReader(refuse));
@@ -681,8 +591,9 @@ void register_unrouted_body_methods(Runtime& rt) {
 
 // The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
 // request line, bad Range).
-Reply framework_reply(const httplib::Request& req, int status, const Runtime& rt) {
-  if (status == 404) return unrouted_reply(req, rt.endpoints);
+Reply framework_reply(const httplib::Request& req, int status, const RouteTable::Match& match,
+                      const Runtime& rt) {
+  if (status == 404) return unrouted_reply(req, match);
   if (status == 413) return too_large_reply(rt.config);
   if (status == 415) return not_json_reply(req);
   if (status == 400 && !req.method.empty() && !known_method(req.method)) {
@@ -709,13 +620,12 @@ void install_error_handlers(Runtime& rt) {
         if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
         // This service answers whole bodies: a Range of the request never cuts the envelope.
         const_cast<httplib::Request&>(req).ranges.clear();
-        const Reply reply = framework_reply(req, res.status, rt);
-        if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
-        send(reply, res);
         // Under the route of the path whatever the method (a 405, a 413 before the body): "other"
         // only for a path no route has.
-        request_route = route_label_of(req.path, rt.endpoints);
-        rt.service.metrics().count_request(request_route, reply.status);
+        RouteTable::Match match = rt.routes.match(req.path);
+        Reply reply = framework_reply(req, res.status, match, rt);
+        if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
+        answer(rt, std::move(match.label), std::move(reply), res);
         return httplib::Server::HandlerResponse::Handled;
       }));
   rt.server.set_expect_100_continue_handler(
@@ -739,14 +649,13 @@ void install_error_handlers(Runtime& rt) {
       });
 }
 
-// 503 with Retry-After for a connection the connection pool could not start a thread for.
+// 503 (with Retry-After, as every 503) for a connection the connection pool could not start a
+// thread for.
 Reply thread_refusal_reply() {
-  Reply reply = PlanService::error_reply(
+  return PlanService::error_reply(
       api::ErrorCode::kOverloaded,
       "the service cannot start a thread for this connection (the system refused one): retry "
       "later");
-  reply.headers.emplace_back("Retry-After", std::to_string(kThreadRetryAfterSeconds));
-  return reply;
 }
 
 // 404 for a path with a '/' sent as %2F (api::check_encoded_slashes); nullopt for any other. The
@@ -774,19 +683,17 @@ void install_request_hooks(Runtime& rt) {
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
     if (auto slashed = encoded_slash_reply(req)) {
-      send(std::move(*slashed), res);
+      // Under the route whose segment holds the %2F (the sent path matches its template).
+      answer(rt, rt.routes.match(path_as_sent(req)).label, std::move(*slashed), res);
       res.set_header("Connection", "close");  // a body of the request is not read
-      // The route whose segment holds the %2F (the sent path matches its template).
-      request_route = route_label_of(path_as_sent(req), rt.endpoints);
-      rt.service.metrics().count_request(request_route, res.status);
       return httplib::Server::HandlerResponse::Handled;
     }
     if (ConnectionPool::refusing()) {
       // This connection got no thread of its own (the system refused one): 503, and the client
       // is asked to close it.
-      send(thread_refusal_reply(), res);
+      // Counted as "other": a connection without a thread is refused whatever it asks.
+      answer(rt, "other", thread_refusal_reply(), res);
       res.set_header("Connection", "close");
-      rt.service.metrics().count_request("other", 503);
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
@@ -940,7 +847,9 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
     spdlog::error("calibration store: {}; calibrations are kept in memory only",
                   calibrations.store_error());
   }
-  Runtime rt{config, service, jobs, server, nullptr, {}, replica_name(config), &calibrations};
+  Runtime rt{
+      config,       service, jobs, server, nullptr, RouteTable(api::routes()), replica_name(config),
+      &calibrations};
   configure_transport(server, config);
   register_routes(rt);
   register_unrouted_body_methods(rt);

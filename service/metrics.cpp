@@ -76,7 +76,7 @@ std::string label(const std::string& value) {
 }  // namespace
 
 // The HTTP latency histogram, the plans served, the build info and the process metrics.
-void Metrics::render_more(std::ostringstream& out) const {
+void Metrics::render_http_and_process(std::ostringstream& out) const {
   out << "# HELP slosh_http_request_duration_seconds Time from routing a request to its response "
          "written, by route and method.\n"
       << "# TYPE slosh_http_request_duration_seconds histogram\n";
@@ -172,7 +172,7 @@ std::string Metrics::render(std::size_t queue_depth, std::size_t busy_workers,
       << "# HELP slosh_workers Size of the worker pool.\n"
       << "# TYPE slosh_workers gauge\n"
       << "slosh_workers " << workers << '\n';
-  render_more(out);
+  render_http_and_process(out);
   return out.str();
 }
 

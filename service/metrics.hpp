@@ -50,8 +50,8 @@ class Metrics {
                                    std::size_t workers) const;
 
  private:
-  // The metrics added for issue 21 (HTTP latency, plans, build info, process_*), under the lock.
-  void render_more(std::ostringstream& out) const;
+  // HTTP latency, plans served, build info and the process_* metrics, under the lock.
+  void render_http_and_process(std::ostringstream& out) const;
   struct Histogram {
     std::array<std::uint64_t, kSolveBuckets.size()> buckets{};
     std::uint64_t count{};

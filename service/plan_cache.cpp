@@ -211,21 +211,39 @@ void PlanCache::clear_error() {
   storage_error_.clear();
 }
 
-void PlanCache::remember_locked(const std::string& key, const std::string& value) {
-  const std::size_t bytes = key.size() + value.size();
+void PlanCache::remember_locked(const std::shared_ptr<const CachedValue>& entry) {
+  const std::string& key = entry->key();
+  const std::size_t bytes = key.size() + entry->value().size();
   if (const auto it = index_.find(key); it != index_.end()) {
-    memory_bytes_ -= it->second->first.size() + it->second->second.size();
+    memory_bytes_ -= it->second->bytes;
     lru_.erase(it->second);
     index_.erase(it);
   }
   if (config_.memory_entries == 0 || bytes > config_.memory_bytes) return;
-  lru_.emplace_front(key, value);
+  lru_.push_front(Resident{entry, bytes});
   index_.emplace(key, lru_.begin());
   memory_bytes_ += bytes;
-  while (lru_.size() > config_.memory_entries || memory_bytes_ > config_.memory_bytes) {
-    memory_bytes_ -= lru_.back().first.size() + lru_.back().second.size();
-    index_.erase(lru_.back().first);
+  evict_locked();
+}
+
+void PlanCache::evict_locked() {
+  while (!lru_.empty() &&
+         (lru_.size() > config_.memory_entries || memory_bytes_ > config_.memory_bytes)) {
+    memory_bytes_ -= lru_.back().bytes;
+    index_.erase(lru_.back().value->key());
     lru_.pop_back();
+  }
+}
+
+void PlanCache::count_rendering(const std::shared_ptr<const CachedValue>& entry,
+                                std::size_t bytes) {
+  // Counted only while this very entry is resident: one replaced or evicted meanwhile is dropped
+  // with its renderings when its last reader lets go.
+  const std::lock_guard memory(memory_mutex_);
+  if (const auto it = index_.find(entry->key()); it != index_.end() && it->second->value == entry) {
+    it->second->bytes += bytes;
+    memory_bytes_ += bytes;
+    evict_locked();
   }
 }
 
@@ -309,6 +327,12 @@ std::optional<std::string> PlanCache::read_store(const std::string& key) {
 }
 
 std::optional<std::string> PlanCache::get(const std::string& key, CacheLevel* level) {
+  const auto entry = find(key, level);
+  if (!entry) return std::nullopt;
+  return entry->value();
+}
+
+std::shared_ptr<const CachedValue> PlanCache::find(const std::string& key, CacheLevel* level) {
   const auto hit = [&](CacheLevel where, std::uint64_t& counter) {
     ++counter;
     if (level != nullptr) *level = where;
@@ -318,40 +342,48 @@ std::optional<std::string> PlanCache::get(const std::string& key, CacheLevel* le
     if (const auto it = index_.find(key); it != index_.end()) {
       lru_.splice(lru_.begin(), lru_, it->second);
       hit(CacheLevel::kMemory, memory_hits_);
-      return it->second->second;
+      return it->second->value;
     }
   }
   // Not in memory: ask the store, then the shared level (without holding a lock meanwhile).
-  std::optional<std::string> value = read_store(key);
-  if (value) {
+  if (std::optional<std::string> value = read_store(key)) {
+    auto entry = std::make_shared<const CachedValue>(key, std::move(*value));
     const std::lock_guard memory(memory_mutex_);
-    remember_locked(key, *value);
+    remember_locked(entry);
     hit(CacheLevel::kLocal, local_hits_);
-    return value;
+    return entry;
   }
-  if (shared_) value = shared_->get(key);
-  if (value) write_local(key, *value);  // promoted into SQLite and memory
+  std::shared_ptr<const CachedValue> entry;
+  if (shared_) {
+    if (const std::optional<std::string> value = shared_->get(key)) {
+      entry = write_local(key, *value);  // promoted into SQLite and memory
+    }
+  }
   const std::lock_guard memory(memory_mutex_);
-  if (value) {
+  if (entry) {
     hit(CacheLevel::kShared, shared_hits_);
   } else {
     ++misses_;
   }
-  return value;
+  return entry;
 }
 
-void PlanCache::put(const std::string& key, const std::string& value) {
-  write_local(key, value);
+std::shared_ptr<const CachedValue> PlanCache::put(const std::string& key,
+                                                  const std::string& value) {
+  auto entry = write_local(key, value);
   if (shared_) shared_->put(key, value);  // outside the locks: Redis may take its timeout
+  return entry;
 }
 
-void PlanCache::write_local(const std::string& key, const std::string& value) {
+std::shared_ptr<const CachedValue> PlanCache::write_local(const std::string& key,
+                                                          const std::string& value) {
+  auto entry = std::make_shared<const CachedValue>(key, value);
   const std::lock_guard store(store_mutex_);
   {
     const std::lock_guard memory(memory_mutex_);
-    remember_locked(key, value);
+    remember_locked(entry);
   }
-  if (db_ == nullptr) return;
+  if (db_ == nullptr) return entry;
   int rc = SQLITE_TOOBIG;
   if (key.size() <= static_cast<std::size_t>(INT_MAX) &&
       value.size() <= static_cast<std::size_t>(INT_MAX)) {
@@ -381,6 +413,7 @@ void PlanCache::write_local(const std::string& key, const std::string& value) {
     set_error("plan cache store '" + config_.path + "': writing " + noun_ + " failed (" + message +
               "); it is kept in memory only");
   }
+  return entry;
 }
 
 PlanCache::Stats PlanCache::stats() const {

@@ -7,6 +7,7 @@
 // changes meaning: the cache never expires entries, only evicts them from memory (they stay on
 // disk); values in Redis expire only when a TTL is configured.
 
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cstddef>
@@ -52,8 +53,9 @@ struct CacheConfig {
   std::string path;
   /// LRU capacity of the memory tier (entries); 0 = no memory tier. Default 10000.
   std::size_t memory_entries{10000};
-  /// LRU capacity of the memory tier [bytes of keys and values]; the least recent plans are
-  /// evicted beyond it (a plan larger than this is kept on disk only). Default 256 MiB.
+  /// LRU capacity of the memory tier [bytes of keys, values and the renderings kept with them
+  /// (CachedValue)]; the least recent plans are evicted beyond it, with their renderings (a plan
+  /// larger than this is kept on disk only). Default 256 MiB.
   std::size_t memory_bytes{std::size_t{256} << 20};
   /// Largest size of the plans in the SQLite store [bytes of values]; beyond it the oldest plans
   /// are deleted down to 90 % of it (freed pages are reused, so the file stays near this size).
@@ -72,6 +74,32 @@ struct CacheConfig {
   /// Expiry of the values this cache writes to Redis [s]; 0 = none (an answer never goes stale:
   /// the version is part of its key). Default 0.
   std::chrono::seconds redis_ttl{0};
+};
+
+/// A value of the cache as its memory tier holds it, shared by the requests that read it (a hit
+/// hands out a pointer, never a copy of the value), with what is rendered from it (a plan's views,
+/// see rendered_plans.hpp): up to kRenderings texts, each made at its first use
+/// (PlanCache::rendering) and kept while the value stays in memory, in the memory tier's bytes.
+class CachedValue {
+ public:
+  /// Slots of renderings per value.
+  static constexpr std::size_t kRenderings{4};
+
+  CachedValue(std::string key, std::string value)
+      : key_(std::move(key)), value_(std::move(value)) {}
+  CachedValue(const CachedValue&) = delete;
+  CachedValue& operator=(const CachedValue&) = delete;
+
+  [[nodiscard]] const std::string& key() const { return key_; }
+  [[nodiscard]] const std::string& value() const { return value_; }
+
+ private:
+  friend class PlanCache;
+  const std::string key_;
+  const std::string value_;
+  // Each slot is written once, under its flag, and only read after it.
+  mutable std::array<std::once_flag, kRenderings> once_;
+  mutable std::array<std::string, kRenderings> renderings_;
 };
 
 /// In-memory LRU in front of a persistent SQLite store (WAL mode, one file), and optionally a
@@ -113,12 +141,36 @@ class PlanCache {
   /// counts as absent and is recorded in storage_error(). `level` (optional) receives the level
   /// of a hit.
   [[nodiscard]] std::optional<std::string> get(const std::string& key, CacheLevel* level = nullptr);
+  /// As get, without copying the value: the memory tier's entry of `key`, or for a value the
+  /// memory tier does not keep (none configured, or larger than its bytes) one made for this
+  /// caller alone (its renderings are then dropped with it); null when absent.
+  [[nodiscard]] std::shared_ptr<const CachedValue> find(const std::string& key,
+                                                        CacheLevel* level = nullptr);
   /// Stores in memory and (write-through) in SQLite and Redis, replacing any previous value. Never
   /// throws on a storage failure: records it in storage_error() (cleared again by a later
-  /// successful write); a Redis failure is the client's state.
-  void put(const std::string& key, const std::string& value);
+  /// successful write); a Redis failure is the client's state. Returns the value's entry (as
+  /// find would).
+  std::shared_ptr<const CachedValue> put(const std::string& key, const std::string& value);
+  /// Rendering `slot` (< CachedValue::kRenderings) of `entry`: made by `render(entry.value())` at
+  /// its first use (concurrent callers wait for that one; an exception leaves the slot empty for
+  /// the next caller) and kept with the entry. While the entry is in the memory tier its rendering
+  /// counts in memory_bytes, and the least recent entries are evicted beyond the bounds.
+  template <typename Render>
+  const std::string& rendering(const std::shared_ptr<const CachedValue>& entry, std::size_t slot,
+                               Render&& render) {
+    bool made = false;
+    std::call_once(entry->once_.at(slot), [&] {
+      entry->renderings_[slot] = render(entry->value());
+      made = true;
+    });
+    const std::string& text = entry->renderings_[slot];
+    if (made) count_rendering(entry, text.size());
+    return text;
+  }
   /// Stores in memory and SQLite only (a value that came from the shared level).
-  void put_local(const std::string& key, const std::string& value) { write_local(key, value); }
+  std::shared_ptr<const CachedValue> put_local(const std::string& key, const std::string& value) {
+    return write_local(key, value);
+  }
 
   /// Counters and state of the cache.
   struct Stats {
@@ -129,10 +181,10 @@ class PlanCache {
     std::uint64_t misses{};           ///< gets answered nullopt
     std::uint64_t shared_rejected{};  ///< Redis values dropped for a bad digest
     std::size_t memory_entries{};     ///< entries in the memory tier now
-    std::size_t memory_bytes{};       ///< bytes of keys and values in the memory tier now
-    std::size_t store_bytes{};        ///< bytes of plans in the store (approximate between prunes)
-    bool persistent{};                ///< a SQLite store is open (false: memory only)
-    std::string storage_error;        ///< as storage_error()
+    std::size_t memory_bytes{};  ///< bytes of keys, values and renderings in the memory tier now
+    std::size_t store_bytes{};   ///< bytes of plans in the store (approximate between prunes)
+    bool persistent{};           ///< a SQLite store is open (false: memory only)
+    std::string storage_error;   ///< as storage_error()
   };
   [[nodiscard]] Stats stats() const;
 
@@ -148,7 +200,11 @@ class PlanCache {
   [[nodiscard]] RedisCache* shared() const { return shared_.get(); }
 
  private:
-  using Entry = std::pair<std::string, std::string>;  // key, value
+  // An entry of the memory tier and the bytes it is counted for (its key, value and renderings).
+  struct Resident {
+    std::shared_ptr<const CachedValue> value;
+    std::size_t bytes{};
+  };
 
   void open_store();
   void close_store();
@@ -162,10 +218,14 @@ class PlanCache {
   void clear_error();
   // The value of `key` in SQLite (takes store_mutex_); drops a corrupt row.
   std::optional<std::string> read_store(const std::string& key);
-  // Stores in memory and SQLite (takes store_mutex_).
-  void write_local(const std::string& key, const std::string& value);
-  /// Inserts or refreshes `key` as most recent, evicting the least recent beyond capacity.
-  void remember_locked(const std::string& key, const std::string& value);
+  // Stores in memory and SQLite (takes store_mutex_); the value's entry.
+  std::shared_ptr<const CachedValue> write_local(const std::string& key, const std::string& value);
+  /// Inserts or refreshes `entry` as most recent, evicting the least recent beyond capacity.
+  void remember_locked(const std::shared_ptr<const CachedValue>& entry);
+  /// Evicts the least recent entries while the memory tier is beyond its bounds.
+  void evict_locked();
+  /// Adds `bytes` of a new rendering of `entry` to the memory tier while that entry is resident.
+  void count_rendering(const std::shared_ptr<const CachedValue>& entry, std::size_t bytes);
 
   const CacheConfig config_;
   const std::string table_;  // "plans" or "min_times"
@@ -173,8 +233,8 @@ class PlanCache {
 
   // Memory tier: most recent first.
   mutable std::mutex memory_mutex_;
-  std::list<Entry> lru_;
-  std::unordered_map<std::string, std::list<Entry>::iterator> index_;
+  std::list<Resident> lru_;
+  std::unordered_map<std::string, std::list<Resident>::iterator> index_;
   std::size_t memory_bytes_{};
   std::uint64_t memory_hits_{};
   std::uint64_t local_hits_{};

@@ -11,7 +11,9 @@
 #include <thread>
 #include <utility>
 
+#include "client_wait.hpp"
 #include "export_command.hpp"
+#include "gzip.hpp"
 #include "redis_cache.hpp"
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
@@ -120,39 +122,10 @@ void add_redis_state(api::ReadyReport& report, RedisClient& redis, bool required
   if (required) unready = true;
 }
 
-/// How often a request waiting for its solve checks whether its client is still there.
-constexpr auto kClientPoll = std::chrono::milliseconds(100);
-
 // Nobody waits for the solve any more (its reply is for a connection that is gone).
 api::ApiError cancelled_error() {
   return api::ApiError(api::ErrorCode::kCancelled, "",
                        "not solved: every client waiting for it closed the connection");
-}
-
-// Waits for `future` until `until`, checking every kClientPoll whether the client went away.
-enum class WaitEnd { kReady, kGone, kTimeout };
-template <typename Future>
-WaitEnd wait_for_client(const Future& future, std::chrono::steady_clock::time_point until,
-                        const std::function<bool()>& abandoned) {
-  for (;;) {
-    const auto now = std::chrono::steady_clock::now();
-    if (now >= until) {
-      return future.wait_for(std::chrono::seconds(0)) == std::future_status::ready
-                 ? WaitEnd::kReady
-                 : WaitEnd::kTimeout;
-    }
-    const auto slice = abandoned
-                           ? std::min<std::chrono::steady_clock::duration>(kClientPoll, until - now)
-                           : until - now;
-    if (future.wait_for(slice) == std::future_status::ready) return WaitEnd::kReady;
-    if (abandoned && abandoned()) return WaitEnd::kGone;
-  }
-}
-
-std::chrono::steady_clock::time_point after(double seconds) {
-  return std::chrono::steady_clock::now() +
-         std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-             std::chrono::duration<double>(seconds));
 }
 
 double seconds_since(std::chrono::steady_clock::time_point started) {
@@ -166,9 +139,6 @@ PlanService::PlanService(const ServerConfig& config)
       redis_(make_redis(config)),
       cache_(cache_config(config, redis_, CacheTable::kPlans)),
       min_time_cache_(cache_config(config, redis_, CacheTable::kMinTime)),
-      // A plan's views are about a quarter of its stored body: a quarter of the memory tier's
-      // bytes keeps those of as many plans.
-      rendered_(config.cache_entries, config.cache_memory_bytes / 4),
       export_budget_(config.cam_export_bytes),
       pool_(
           config.workers == 0 ? std::max(1u, std::thread::hardware_concurrency()) : config.workers,
@@ -193,10 +163,7 @@ Reply internal_error_reply(const char* what) {
 
 Reply PlanService::error_reply(api::ErrorCode code, const std::string& message,
                                const std::string& field) {
-  Reply r;
-  r.status = api::http_status(code);
-  r.body = api::error_body(code, message, field);
-  return r;
+  return reply_of(api::ApiError(code, field, message));
 }
 
 Reply PlanService::plan_reply(const std::string& key, const std::string& body, bool cached,
@@ -216,27 +183,20 @@ Reply PlanService::plan_reply(const std::string& key, const std::string& body, b
   return r;
 }
 
-std::optional<Reply> PlanService::rendered_reply(const std::string& key, const RenderedPlan& views,
-                                                 const std::string& if_none_match,
-                                                 api::PlanView view, bool gzip) const {
-  const bool compact = view == api::PlanView::kCompact;
-  if (!compact && !gzip) return std::nullopt;
+Reply PlanService::hit_reply(const std::shared_ptr<const CachedValue>& plan,
+                             const std::string& if_none_match, api::PlanView view, bool gzip) {
   Reply r;
-  const std::string tag = plan_etag(key, view, std::nullopt);
+  const std::string tag = plan_etag(plan->key(), view, std::nullopt);
   r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", "hit");
-  r.plan = views.facts;
+  r.plan = hit_facts(cache_, plan);
   if (etag_matches(if_none_match, tag)) {
     r.status = 304;
     return r;
   }
-  const std::string& coded = compact ? views.compact_gzip : views.full_gzip;
-  if (gzip && !coded.empty()) {
-    r.body = coded;
-    r.content_encoding = "gzip";
-  } else {
-    r.body = views.compact;
-  }
+  HitBody body = hit_body(cache_, plan, view, gzip);
+  r.body = std::move(body.body);
+  if (body.gzip) r.content_encoding = "gzip";
   return r;
 }
 
@@ -258,29 +218,11 @@ void PlanService::remember_key(const std::string& text, const std::string& key) 
 std::optional<Reply> PlanService::cached_plan_reply(const std::string& key,
                                                     const std::string& if_none_match,
                                                     api::PlanView view, bool gzip) {
-  // The compact view and gzip bytes of a hit come rendered from memory: no copy or parse of the
-  // stored plan.
-  const bool rendered = view == api::PlanView::kCompact || gzip;
-  if (rendered) {
-    if (auto views = rendered_.get(key)) {
-      metrics_.count_cache_hit(CacheLevel::kMemory);
-      return rendered_reply(key, *views, if_none_match, view, gzip);
-    }
-  }
   CacheLevel level{};
-  auto hit = cache_.get(key, &level);
-  if (!hit) return std::nullopt;
+  const auto plan = cache_.find(key, &level);
+  if (!plan) return std::nullopt;
   metrics_.count_cache_hit(level);
-  if (rendered) return rendered_reply(key, *views_of(key, *hit), if_none_match, view, gzip);
-  return plan_reply(key, *hit, true, if_none_match, std::nullopt, std::nullopt, view);
-}
-
-std::shared_ptr<const RenderedPlan> PlanService::views_of(const std::string& key,
-                                                          const std::string& stored) {
-  if (auto views = rendered_.get(key)) return views;
-  auto views = render_cached_plan(key, stored);
-  rendered_.put(key, views);
-  return views;
+  return hit_reply(plan, if_none_match, view, gzip);
 }
 
 void PlanService::join_locked(FlightWaiters& waiters, bool cancellable) {
@@ -308,7 +250,7 @@ bool PlanService::leave_flight(std::unordered_map<std::string, Flight>& flights,
 
 std::shared_future<PlanService::Outcome> PlanService::solve(
     const std::string& key, const api::PlanRequest& request, bool wait_for_room, bool* refused,
-    TaskPriority priority, std::shared_ptr<FlightWaiters>* waiter) {
+    TaskPriority priority, std::shared_ptr<FlightWaiters>* waiter, HitView hit) {
   *refused = false;
   auto promise = std::make_shared<std::promise<Outcome>>();
   auto waiters = std::make_shared<FlightWaiters>();
@@ -340,9 +282,9 @@ std::shared_future<PlanService::Outcome> PlanService::solve(
   solving.options.stop = &waiters->stop;
   auto forget = [this, key, flight] { forget_flight(inflight_, key, flight); };
   metrics_.count_cache_miss();
-  auto task = [this, key, request = std::move(solving), promise, forget, priority, waiters] {
+  auto task = [this, key, request = std::move(solving), promise, forget, waiters, hit] {
     Outcome outcome;
-    bool stored = false;
+    std::shared_ptr<const CachedValue> stored;
     const auto started = std::chrono::steady_clock::now();
     if (!ready_) {
       // Shutting down: what is still queued is answered at once, only running solves finish.
@@ -362,17 +304,15 @@ std::shared_future<PlanService::Outcome> PlanService::solve(
       }
     }
     forget();
-    // A client that asked for a plan interactively is likely to ask again (and for its compact
-    // view): its views are rendered now, after the answer is out. A batch's plans render at
-    // their first hit that needs them.
-    const std::string body =
-        stored && priority == TaskPriority::kInteractive ? outcome.body : std::string();
     promise->set_value(std::move(outcome));
-    if (!body.empty()) {
+    // A client that asked for a plan is likely to ask again in the same view: what that hit
+    // answers is rendered now, after the answer is out (only that view: a client rarely asks for
+    // both, and a view nobody asks for is never rendered).
+    if (stored) {
       try {
-        rendered_.put(key, render_cached_plan(key, body));
+        prepare_hit_body(cache_, stored, hit.view, hit.gzip);
       } catch (const std::exception&) {
-        // The hit that needs the views renders them again (and answers the error then).
+        // The hit renders it again (and answers the error then).
       }
     }
   };
@@ -430,15 +370,16 @@ Reply PlanService::post_plan(const std::string& text, const std::string& if_none
       }
     } else {
       CacheLevel level{};
-      if (auto hit = cache_.get(key, &level)) {
+      if (const auto hit = cache_.find(key, &level)) {
         metrics_.count_cache_hit(level);
-        return counted(plan_reply(key, *hit, true, if_none_match, request, sample_period, view));
+        return counted(
+            plan_reply(key, hit->value(), true, if_none_match, request, sample_period, view));
       }
     }
     bool refused = false;
     std::shared_ptr<FlightWaiters> waiters;
     auto future = solve(key, request, false, &refused, TaskPriority::kInteractive,
-                        abandoned ? &waiters : nullptr);
+                        abandoned ? &waiters : nullptr, HitView{view, gzip});
     if (refused) return overloaded_reply();
     const WaitEnd end = wait_for_client(
         future, after(request.options.time_limit + config_.queue_wait_s), abandoned);
@@ -703,9 +644,9 @@ StartedItem PlanService::start_batch_item(const json& item, TaskPriority priorit
     const api::PlanRequest request = api::parse_batch_item(item, config_.solve_budget_s);
     const std::string key = api::recipe_key(request);
     CacheLevel level{};
-    if (auto hit = cache_.get(key, &level)) {
+    if (const auto hit = cache_.find(key, &level)) {
       metrics_.count_cache_hit(level);
-      result.plan = api::render_plan_reply(*hit, true);
+      result.plan = api::render_plan_reply(hit->value(), true);
       result.cached = true;
       return started;
     }
@@ -735,9 +676,9 @@ PendingBatch PlanService::start_batch(const std::vector<json>& requests,
       try {
         const api::PlanRequest request = api::parse_batch_item(requests[i], config_.solve_budget_s);
         CacheLevel level{};
-        if (auto hit = cache_.get(api::recipe_key(request), &level)) {
+        if (const auto hit = cache_.find(api::recipe_key(request), &level)) {
           metrics_.count_cache_hit(level);
-          batch.results_[i].plan = api::render_plan_reply(*hit, true);
+          batch.results_[i].plan = api::render_plan_reply(hit->value(), true);
           batch.results_[i].cached = true;
         } else {
           batch.results_[i].error = api::ApiError(api::ErrorCode::kCancelled, "",
@@ -788,7 +729,8 @@ Reply PlanService::post_simulate(const std::string& text) {
   });
 }
 
-Reply PlanService::web_asset(const std::string& name, const std::string& if_none_match) const {
+Reply PlanService::web_asset(const std::string& name, const std::string& if_none_match,
+                             bool gzip) const {
   const WebAsset* asset = find_web_asset(name.empty() ? "index.html" : name);
   if (asset == nullptr) {
     return error_reply(api::ErrorCode::kNotFound,
@@ -807,7 +749,12 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
     return r;
   }
   r.content_type = std::string(asset->content_type);
-  r.body = std::string(asset->body);
+  if (gzip && worth_compressing(asset->content_type, asset->body.size())) {
+    r.body = std::string(gzipped_body(*asset));
+    r.content_encoding = "gzip";
+  } else {
+    r.body = std::string(asset->body);
+  }
   return r;
 }
 
@@ -824,7 +771,7 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
               " is not allowed: one of \"true\", \"false\"");
     }
     CacheLevel level{};
-    const auto hit = cache_.get(key, &level);
+    const auto hit = cache_.find(key, &level);
     if (!hit) {
       return error_reply(
           api::ErrorCode::kNotFound,
@@ -835,7 +782,8 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
     const bool st = format == CamFileFormat::kSt;
     Reply r;
     r.content_type = st ? "text/plain; charset=utf-8" : "text/csv; charset=utf-8";
-    r.body = plan_cam_file(api::render_plan_reply(*hit, true), options, allow_infeasible == "true",
+    r.body = plan_cam_file(api::render_plan_reply(hit->value(), true), options,
+                           allow_infeasible == "true",
                            [&](std::size_t bytes) { r.hold = reserve_export(bytes); });
     const std::string table =
         options.master_period
@@ -952,9 +900,9 @@ Reply PlanService::metrics_text() const {
   return r;
 }
 
-bool PlanService::solve_once_across_replicas(const std::string& key,
-                                             const api::PlanRequest& request, Outcome& outcome,
-                                             std::chrono::steady_clock::time_point started) {
+std::shared_ptr<const CachedValue> PlanService::solve_once_across_replicas(
+    const std::string& key, const api::PlanRequest& request, Outcome& outcome,
+    std::chrono::steady_clock::time_point started) {
   RedisCache* shared = cache_.shared();
   std::string token;
   if (shared != nullptr) {
@@ -964,18 +912,17 @@ bool PlanService::solve_once_across_replicas(const std::string& key,
         static_cast<long long>(std::ceil(request.options.time_limit * 1000.0)) + 1000);
     if (auto body = shared->lock_or_wait(key, hold, token)) {
       metrics_.count_singleflight_join();  // another replica's solve answered
-      cache_.put_local(key, *body);
+      auto entry = cache_.put_local(key, *body);
       outcome.body = std::move(*body);
-      return true;
+      return entry;
     }
   }
-  bool stored = false;
+  std::shared_ptr<const CachedValue> stored;
   try {
     api::StoredPlan plan = api::solve_for_storing(request);
     // A solve stopped because nobody waits is cut short: never kept, whatever its status says.
     const bool stopped = request.options.stop != nullptr && request.options.stop->load();
-    stored = api::is_cacheable(plan.status) && !stopped;
-    if (stored) cache_.put(key, plan.body);
+    if (api::is_cacheable(plan.status) && !stopped) stored = cache_.put(key, plan.body);
     outcome.body = std::move(plan.body);
   } catch (...) {
     metrics_.observe_solve(to_string(request.strategy), seconds_since(started));

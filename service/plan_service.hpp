@@ -132,6 +132,12 @@ Reply guarded_reply(F&& body) {
   }
 }
 
+/// What a plan request asks of a hit: the view and whether the client accepts gzip.
+struct HitView {
+  api::PlanView view{api::PlanView::kFull};
+  bool gzip{false};
+};
+
 class PlanService {
  public:
   explicit PlanService(const ServerConfig& config);
@@ -194,8 +200,10 @@ class PlanService {
   [[nodiscard]] std::uint64_t cancelled_min_times() const { return cancelled_min_times_; }
   Reply fluids() const;
   /// The web page's file `name` ("" = index.html) with its ETag and Cache-Control; 304 when
-  /// `if_none_match` names the ETag, 404 for an unknown name.
-  Reply web_asset(const std::string& name, const std::string& if_none_match) const;
+  /// `if_none_match` names the ETag, 404 for an unknown name. `gzip`: the client accepts the gzip
+  /// coding; a file worth coding is then answered in its gzip bytes, compressed once per process.
+  Reply web_asset(const std::string& name, const std::string& if_none_match,
+                  bool gzip = false) const;
   /// The cam table file of the cached plan `key` (GET /v1/plans/{key}/cam.csv, cam.st): `query`
   /// as received (plan_cam_file: time-based at period_ms, default 1 ms, or on the master axis;
   /// allow_infeasible "true" or "false"; each parameter at most once). 404 for an unknown key,
@@ -213,7 +221,7 @@ class PlanService {
   Metrics& metrics() { return metrics_; }
   /// Solve workers running (the configured count, or the cores for 0).
   [[nodiscard]] std::size_t workers() const { return pool_.workers(); }
-  /// The solve pool, for other solves of the service (calibration fits, issue 23).
+  /// The solve pool, for other solves of the service (calibration fits).
   [[nodiscard]] WorkerPool& worker_pool() { return pool_; }
   [[nodiscard]] const PlanCache& cache() const { return cache_; }
   [[nodiscard]] const PlanCache& min_time_cache() const { return min_time_cache_; }
@@ -240,11 +248,15 @@ class PlanService {
   // The rendered plan of `key`: from a running solve of the same recipe, or a new solve queued
   // on the pool (`wait_for_room`: block for a queue slot instead of answering 503). `waiter`
   // (optional): the caller may hang up; receives the flight's waiters (see leave_flight).
-  // Without it the flight is pinned (runs to its end).
+  // Without it the flight is pinned (runs to its end). `hit`: the view and coding the caller
+  // asked for; once the plan is cached (and answered), what a hit in them answers is rendered on
+  // the worker, since that client is likely to ask again (nothing for the plain full plan, which
+  // a batch asks for).
   std::shared_future<Outcome> solve(const std::string& key, const api::PlanRequest& request,
                                     bool wait_for_room, bool* refused,
                                     TaskPriority priority = TaskPriority::kInteractive,
-                                    std::shared_ptr<FlightWaiters>* waiter = nullptr);
+                                    std::shared_ptr<FlightWaiters>* waiter = nullptr,
+                                    HitView hit = {});
   // Joins `waiters` (under inflight_mutex_): counted when `cancellable`, else pinned.
   static void join_locked(FlightWaiters& waiters, bool cancellable);
   // A waiter of the flight `waiters` of `key` in `flights` stops waiting; when its client is
@@ -258,11 +270,10 @@ class PlanService {
                    const std::string& if_none_match, const std::optional<api::PlanRequest>& request,
                    std::optional<double> sample_period,
                    api::PlanView view = api::PlanView::kFull) const;
-  // The reply of a cache hit of `key` from its rendered views, when they answer it (the compact
-  // view, or the full plan in gzip for a client that accepts it); nullopt for the plain full plan.
-  std::optional<Reply> rendered_reply(const std::string& key, const RenderedPlan& views,
-                                      const std::string& if_none_match, api::PlanView view,
-                                      bool gzip) const;
+  // The reply of a cache hit of the plan `plan` in `view` (gzip-coded when `gzip`): 304 when
+  // `if_none_match` names it; the body from the plan's kept renderings (hit_body).
+  Reply hit_reply(const std::shared_ptr<const CachedValue>& plan, const std::string& if_none_match,
+                  api::PlanView view, bool gzip);
   // The recipe key remembered for the request text `text`; nullopt when not remembered.
   std::optional<std::string> remembered_key(const std::string& text);
   void remember_key(const std::string& text, const std::string& key);
@@ -270,9 +281,6 @@ class PlanService {
   // nullopt otherwise. Counts the hit.
   std::optional<Reply> cached_plan_reply(const std::string& key, const std::string& if_none_match,
                                          api::PlanView view, bool gzip);
-  // The rendered views of the cached plan `key` whose stored body is `stored`: from memory, else
-  // rendered now and kept.
-  std::shared_ptr<const RenderedPlan> views_of(const std::string& key, const std::string& stored);
   // 503 with Retry-After: the queue is full, or the service is shutting down.
   api::ApiError overloaded_error() const;
   struct MinTimeSearch;
@@ -291,9 +299,11 @@ class PlanService {
   Reply counted(Reply reply);
   // Solves `request` into `outcome` and caches it, unless another replica sharing the Redis is
   // solving the same key: then waits for its answer (RedisCache::lock_or_wait). Records the solve
-  // time since `started`. True when the answer is in the cache now. Throws what the solve throws.
-  bool solve_once_across_replicas(const std::string& key, const api::PlanRequest& request,
-                                  Outcome& outcome, std::chrono::steady_clock::time_point started);
+  // time since `started`. The cache's entry of the answer when it is cached now (else null).
+  // Throws what the solve throws.
+  std::shared_ptr<const CachedValue> solve_once_across_replicas(
+      const std::string& key, const api::PlanRequest& request, Outcome& outcome,
+      std::chrono::steady_clock::time_point started);
   // A reservation of `bytes` of the export budget; throws ApiError kOverloaded (503 with
   // Retry-After) when the exports in flight leave too little.
   std::shared_ptr<const void> reserve_export(std::size_t bytes);
@@ -307,9 +317,6 @@ class PlanService {
   PlanCache cache_;
   // Min-time answers by request key: the same store file, its own table (min_times).
   PlanCache min_time_cache_;
-  // The compact view and gzip bytes of cached plans (see RenderedPlans): rendered after an
-  // interactive solve, or at the first hit that needs them.
-  RenderedPlans rendered_;
   // The recipe key of each plan request text (without series) seen lately: a repeated request
   // skips parsing, validation and hashing. A request's key is a pure function of its text (model
   // names are resolved into the text before, the service's settings do not change), so an entry

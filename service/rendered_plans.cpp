@@ -2,58 +2,60 @@
 
 #include "gzip.hpp"
 #include "slosh/api/plan_reply.hpp"
-#include "slosh/api/plan_view.hpp"
 
 namespace slosh::service {
 
-std::shared_ptr<const RenderedPlan> render_cached_plan(const std::string& key,
-                                                       std::string_view stored) {
-  auto plan = std::make_shared<RenderedPlan>();
-  const std::string full = api::with_cached_flag(stored, true);
-  plan->compact = api::compact_plan_text(full);
-  plan->full_gzip = gzip_compress(full);
-  if (plan->compact.size() >= kGzipMinBytes) plan->compact_gzip = gzip_compress(plan->compact);
-  plan->facts = plan_facts_of(key, full, true);
-  return plan;
+namespace {
+
+std::size_t slot(PlanRendering rendering) {
+  return static_cast<std::size_t>(rendering);
 }
 
-std::shared_ptr<const RenderedPlan> RenderedPlans::get(const std::string& key) {
-  const std::lock_guard lock(mutex_);
-  const auto it = index_.find(key);
-  if (it == index_.end()) return nullptr;
-  lru_.splice(lru_.begin(), lru_, it->second);
-  return it->second->second;
-}
-
-void RenderedPlans::put(const std::string& key, std::shared_ptr<const RenderedPlan> plan) {
-  if (max_entries_ == 0 || !plan) return;
-  const std::size_t size = key.size() + plan->bytes();
-  if (size > max_bytes_) return;
-  const std::lock_guard lock(mutex_);
-  if (const auto it = index_.find(key); it != index_.end()) {
-    bytes_ -= it->first.size() + it->second->second->bytes();
-    lru_.erase(it->second);
-    index_.erase(it);
+// The kept rendering `which` of `plan`, made now when it is the first use. Nullptr for the plain
+// full plan (not kept). The compact view's gzip bytes are empty when the view is too short to be
+// worth coding.
+const std::string* rendered(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan,
+                            api::PlanView view, bool gzip) {
+  if (view == api::PlanView::kCompact) {
+    const std::string& compact =
+        cache.rendering(plan, slot(PlanRendering::kCompact), [](const std::string& stored) {
+          return api::compact_plan_text(api::with_cached_flag(stored, true));
+        });
+    if (!gzip) return &compact;
+    return &cache.rendering(plan, slot(PlanRendering::kCompactGzip), [&](const std::string&) {
+      return compact.size() >= kGzipMinBytes ? gzip_compress(compact) : std::string();
+    });
   }
-  lru_.emplace_front(key, std::move(plan));
-  index_[key] = lru_.begin();
-  bytes_ += size;
-  while (!lru_.empty() && (lru_.size() > max_entries_ || bytes_ > max_bytes_)) {
-    const Entry& last = lru_.back();
-    bytes_ -= last.first.size() + last.second->bytes();
-    index_.erase(last.first);
-    lru_.pop_back();
-  }
+  if (!gzip) return nullptr;
+  return &cache.rendering(plan, slot(PlanRendering::kFullGzip), [](const std::string& stored) {
+    return gzip_compress(api::with_cached_flag(stored, true));
+  });
 }
 
-std::size_t RenderedPlans::entries() const {
-  const std::lock_guard lock(mutex_);
-  return lru_.size();
+}  // namespace
+
+HitBody hit_body(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan,
+                 api::PlanView view, bool gzip) {
+  const std::string* kept = rendered(cache, plan, view, gzip);
+  if (kept == nullptr) return {api::with_cached_flag(plan->value(), true), false};
+  if (!kept->empty() || !gzip) return {*kept, gzip};
+  // The compact view below kGzipMinBytes: its identity body.
+  return {*rendered(cache, plan, view, false), false};
 }
 
-std::size_t RenderedPlans::bytes() const {
-  const std::lock_guard lock(mutex_);
-  return bytes_;
+PlanFacts hit_facts(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan) {
+  const std::string& kept =
+      cache.rendering(plan, slot(PlanRendering::kFacts), [&plan](const std::string& stored) {
+        const PlanFacts facts = plan_facts_of(plan->key(), stored, true);
+        return facts.strategy + '\n' + facts.status;
+      });
+  const std::size_t newline = kept.find('\n');
+  return PlanFacts{plan->key(), kept.substr(0, newline), kept.substr(newline + 1), true};
+}
+
+void prepare_hit_body(PlanCache& cache, const std::shared_ptr<const CachedValue>& plan,
+                      api::PlanView view, bool gzip) {
+  (void)rendered(cache, plan, view, gzip);
 }
 
 }  // namespace slosh::service

@@ -1,3 +1,8 @@
+#include <memory>
+#include <mutex>
+#include <string>
+
+#include "gzip.hpp"
 #include "web_assets.hpp"
 
 namespace slosh::service {
@@ -7,6 +12,18 @@ const WebAsset* find_web_asset(std::string_view name) {
     if (asset.name == name) return &asset;
   }
   return nullptr;
+}
+
+std::string_view gzipped_body(const WebAsset& asset) {
+  // One slot per embedded asset, filled once: every later request copies the kept bytes.
+  struct Coded {
+    std::once_flag once;
+    std::string body;
+  };
+  static const std::unique_ptr<Coded[]> coded(new Coded[web_assets().size()]);
+  Coded& slot = coded[static_cast<std::size_t>(&asset - web_assets().data())];
+  std::call_once(slot.once, [&] { slot.body = gzip_compress(asset.body, kResponseGzipLevel); });
+  return slot.body;
 }
 
 }  // namespace slosh::service

@@ -20,4 +20,9 @@ struct WebAsset {
 /// The asset named `name`; nullptr when there is none.
 [[nodiscard]] const WebAsset* find_web_asset(std::string_view name);
 
+/// The gzip coding (kResponseGzipLevel) of `asset`, one of web_assets(): compressed at its first
+/// use and kept for the life of the process (the files never change while it runs).
+/// Thread-safe.
+[[nodiscard]] std::string_view gzipped_body(const WebAsset& asset);
+
 }  // namespace slosh::service

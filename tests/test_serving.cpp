@@ -9,12 +9,13 @@
 
 #include <map>
 #include <memory>
+#include <stdexcept>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "gzip.hpp"
-#include "rendered_plans.hpp"
+#include "plan_cache.hpp"
 #include "slosh/api/plan_view.hpp"
 #include "support/raw_client.hpp"
 #include "support/server.hpp"
@@ -188,6 +189,28 @@ TEST(Serving, LargeBodiesOfOtherEndpointsAreCodedOnlyWhenAccepted) {
   EXPECT_TRUE(json::accept(health.body)) << health.body;
 }
 
+// The web page's files are coded once and kept: every coded answer is the same bytes, which
+// inflate to the identity body; the ETag and the headers of the page stay those of the file.
+TEST(Serving, WebAssetsAreCodedOnceAndInflateToTheFile) {
+  const test::Server server;
+  for (const char* path : {"/", "/assets/app.js", "/assets/style.css"}) {
+    const RawReply plain = exchange(server.port(), "GET", path, "");
+    ASSERT_EQ(plain.status, 200) << path;
+    ASSERT_GE(plain.body.size(), service::kGzipMinBytes) << path;
+    EXPECT_EQ(plain.headers.count("content-encoding"), 0U) << path;
+    const RawReply first = exchange(server.port(), "GET", path, "", "Accept-Encoding: gzip\r\n");
+    const RawReply again = exchange(server.port(), "GET", path, "", "Accept-Encoding: gzip\r\n");
+    EXPECT_EQ(first.headers.at("content-encoding"), "gzip") << path;
+    EXPECT_EQ(first.headers.at("vary"), "Accept-Encoding") << path;
+    EXPECT_EQ(first.headers.at("etag"), plain.headers.at("etag")) << path;
+    EXPECT_EQ(first.headers.at("content-type"), plain.headers.at("content-type")) << path;
+    EXPECT_EQ(first.body, again.body) << path;
+    EXPECT_EQ(gunzip(first.body), plain.body) << path;
+    // The coding of one response (level 1), computed here: the kept bytes are those.
+    EXPECT_EQ(first.body, service::gzip_compress(plain.body, service::kResponseGzipLevel)) << path;
+  }
+}
+
 TEST(Serving, AcceptEncodingFollowsItsQualityValues) {
   using service::accepts_gzip;
   EXPECT_TRUE(accepts_gzip("gzip"));
@@ -211,27 +234,87 @@ TEST(Serving, GzipIsDeterministicAndInflatesBack) {
   EXPECT_EQ(gunzip(service::gzip_compress("")), "");
 }
 
-TEST(Serving, RenderedPlansStayWithinTheirBounds) {
-  auto plan = std::make_shared<service::RenderedPlan>();
-  plan->compact = std::string(700, 'c');
-  plan->full_gzip = std::string(9000, 'z');
-  const std::shared_ptr<const service::RenderedPlan> views = plan;
-  const std::size_t one = 1 + views->bytes();
-  service::RenderedPlans plans(10, 3 * one);
-  for (const char* key : {"a", "b", "c", "d"}) plans.put(key, views);
-  EXPECT_EQ(plans.entries(), 3U);  // the bytes of 3
-  EXPECT_LE(plans.bytes(), 3 * one);
-  EXPECT_EQ(plans.get("a"), nullptr);  // the least recent went first
-  EXPECT_NE(plans.get("b"), nullptr);
-  plans.put("e", views);  // "b" was used: "c" goes
-  EXPECT_EQ(plans.get("c"), nullptr);
-  EXPECT_NE(plans.get("b"), nullptr);
-  service::RenderedPlans two(2, 1 << 20);
-  for (const char* key : {"a", "b", "c"}) two.put(key, views);
-  EXPECT_EQ(two.entries(), 2U);
-  service::RenderedPlans none(0, 1 << 20);
-  none.put("a", views);
-  EXPECT_EQ(none.get("a"), nullptr);
+// The memory tier's one bound holds the values and what is rendered from them: a rendering is
+// made once, counted while its value is resident, and evicts the least recent values beyond the
+// bound; a replaced value loses its renderings, and a value memory does not keep is rendered for
+// its caller alone.
+TEST(Serving, RenderingsCountInTheMemoryTiersOneBound) {
+  const std::string value(1000, 'v');
+  service::PlanCache cache(service::CacheConfig{.memory_entries = 10, .memory_bytes = 4 * 1001});
+  for (const char* key : {"b", "c", "a"}) cache.put(key, value);
+  EXPECT_EQ(cache.stats().memory_bytes, 3 * 1001U);
+  int renders = 0;
+  const auto render = [&renders](const std::string& v) {
+    ++renders;
+    return std::string(1500, 'r') + v.substr(0, 1);
+  };
+  const auto a = cache.find("a");
+  ASSERT_NE(a, nullptr);
+  const std::string& text = cache.rendering(a, 1, render);
+  EXPECT_EQ(text, std::string(1500, 'r') + "v");
+  EXPECT_EQ(&cache.rendering(a, 1, render), &text);  // kept: rendered once
+  EXPECT_EQ(renders, 1);
+  // 3 003 + 1 501 bytes exceed 4 004: the least recent value ("b") went.
+  EXPECT_FALSE(cache.in_memory("b"));
+  EXPECT_TRUE(cache.in_memory("a"));
+  EXPECT_TRUE(cache.in_memory("c"));
+  EXPECT_EQ(cache.stats().memory_bytes, 2 * 1001U + 1501U);
+  // A replaced value starts without renderings; the old one's bytes are no longer counted.
+  cache.put("a", value);
+  EXPECT_EQ(cache.stats().memory_bytes, 2 * 1001U);
+  (void)cache.rendering(cache.find("a"), 1, render);
+  EXPECT_EQ(renders, 2);
+  // A rendering that throws leaves its slot empty: the next use renders it.
+  const auto c = cache.find("c");
+  EXPECT_THROW((void)cache.rendering(c, 0,
+                                     [](const std::string&) -> std::string {
+                                       throw std::runtime_error("out of memory");
+                                     }),
+               std::runtime_error);
+  EXPECT_EQ(cache.rendering(c, 0, render).size(), 1501U);
+  // Without a memory tier a value read from the store is rendered for its caller alone.
+  const test::TempDir dir;
+  service::PlanCache store(
+      service::CacheConfig{.path = (dir / "plans.sqlite").string(), .memory_entries = 0});
+  store.put("a", value);
+  for (int i = 0; i < 2; ++i) {
+    const auto lone = store.find("a");
+    ASSERT_NE(lone, nullptr);
+    EXPECT_EQ(store.rendering(lone, 2, render).size(), 1501U);
+    EXPECT_EQ(store.stats().memory_bytes, 0U);
+  }
+  EXPECT_EQ(renders, 5);  // 2 above, "c" once, and once per read of the store
+}
+
+// Each view of a cached plan is rendered when a request first asks for it, and only it: the memory
+// tier grows by exactly the bytes of the body that hit answered (read from /readyz).
+TEST(Serving, EachViewIsRenderedAtItsFirstHitAndOnlyIt) {
+  const test::Server server;
+  const auto memory_bytes = [&server] {
+    const RawReply ready = exchange(server.port(), "GET", "/readyz", "");
+    return json::parse(ready.body).at("cache").at("memory_bytes").get<std::size_t>();
+  };
+  const RawReply fresh = exchange(server.port(), "POST", "/v1/plans", kRecipe);
+  ASSERT_EQ(fresh.status, 200);
+  const std::size_t stored = memory_bytes();  // the key and the stored plan, nothing rendered
+  const RawReply full = exchange(server.port(), "POST", "/v1/plans", kRecipe);
+  EXPECT_EQ(full.headers.at("x-cache"), "hit");
+  // A hit keeps the plan's strategy and status (a line each), never the full plan a second time.
+  const json plan = json::parse(full.body);
+  const std::size_t plain = memory_bytes();
+  EXPECT_EQ(plain, stored + plan.at("strategy").get<std::string>().size() + 1 +
+                       plan.at("status").get<std::string>().size());
+  const RawReply compact = exchange(server.port(), "POST", "/v1/plans?view=compact", kRecipe);
+  EXPECT_EQ(compact.headers.count("content-encoding"), 0U);
+  EXPECT_EQ(memory_bytes(), plain + compact.body.size());
+  const RawReply full_gzip =
+      exchange(server.port(), "POST", "/v1/plans", kRecipe, "Accept-Encoding: gzip\r\n");
+  EXPECT_EQ(full_gzip.headers.at("content-encoding"), "gzip");
+  EXPECT_EQ(memory_bytes(), plain + compact.body.size() + full_gzip.body.size());
+  // Asked again: nothing more is rendered.
+  (void)exchange(server.port(), "POST", "/v1/plans?view=compact", kRecipe);
+  (void)exchange(server.port(), "POST", "/v1/plans", kRecipe, "Accept-Encoding: gzip\r\n");
+  EXPECT_EQ(memory_bytes(), plain + compact.body.size() + full_gzip.body.size());
 }
 
 }  // namespace
