@@ -240,7 +240,8 @@ TEST(Serving, GzipIsDeterministicAndInflatesBack) {
 // its caller alone.
 TEST(Serving, RenderingsCountInTheMemoryTiersOneBound) {
   const std::string value(1000, 'v');
-  service::PlanCache cache(service::CacheConfig{.memory_entries = 10, .memory_bytes = 4 * 1001});
+  service::PlanCache cache(
+      service::CacheConfig{.path = "", .memory_entries = 10, .memory_bytes = 4 * 1001});
   for (const char* key : {"b", "c", "a"}) cache.put(key, value);
   EXPECT_EQ(cache.stats().memory_bytes, 3 * 1001U);
   int renders = 0;
