@@ -73,6 +73,15 @@ struct TimeDomainWorkspace {
   bool valid{false};                     ///< false: values and gradients are stale
 };
 
+// Fixes every model's step counts to those of the start x for the solver's run from it (the
+// responses are then smooth in the durations during the run); forgets the last evaluation when
+// they changed.
+void freeze_steps(TimeDomainWorkspace& ws, const double* x) {
+  bool changed = false;
+  for (NonlinearSensitivity& s : ws.sensitivity) changed = s.freeze_steps(x) || changed;
+  if (changed) ws.valid = false;
+}
+
 // Evaluates |eta| / eta_ref and its gradient at the samples of every model for the durations x
 // into `ws`, unless x is the last point evaluated.
 void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, double eta_ref,
@@ -141,11 +150,13 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
       space->limit_constraints(x, g + count, jrow, n);
     }
   };
+  p.before_start = [work](const double* x0) { freeze_steps(*work, x0); };
   std::vector<std::vector<double>> x0 = as_vectors(starts);
   // Last start first: the workspace then holds the first start's response, where the solver
   // begins, so its first evaluation is not integrated again.
   for (auto it = x0.rbegin(); it != x0.rend(); ++it) {
     std::vector<double>& x = *it;
+    freeze_steps(ws, x.data());
     evaluate_samples(ws, samples, eta_ref, x.data());
     double z = 0.0;
     for (std::size_t m = 0; m < samples.size(); ++m) {
@@ -229,7 +240,7 @@ bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise
   double worst = bound * (1.0 + kDenseTolerance);
   const SloshingModel* breaking = nullptr;
   for (const SloshingModel& m : c.check_models) {
-    const SloshPeaks p = NonlinearResponse(m, law, c.options.rest_time).peaks();
+    const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
     const double value = minimise_motion ? p.rest.value : p.motion.value;
     if (value > worst) {
       worst = value;
@@ -326,7 +337,7 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
   const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
   double value = 0.0;
   for (const SloshingModel& m : c.check_models) {
-    const SloshPeaks p = NonlinearResponse(m, law, c.options.rest_time).peaks();
+    const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
     value = std::max(value, motion ? p.rest.value : p.motion.value);
   }
   return value;
