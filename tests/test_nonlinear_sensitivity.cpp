@@ -326,10 +326,15 @@ double reference_peak(const test::Rk4Trajectory& r, double K, double a, double b
   return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
 }
 
-TEST(NonlinearSensitivity, PeaksMatchAnIndependentTenTimesFinerRk4) {
+// Both the default scheme and time_domain's (20 steps per period of mode 1).
+class NonlinearSensitivityPeaks : public ::testing::TestWithParam<double> {};
+
+TEST_P(NonlinearSensitivityPeaks, MatchAnIndependentTenTimesFinerRk4) {
   const SloshingModel model = thesis_model();
   const double h = max_step(model);
-  NonlinearSensitivity sens(model, kStroke, kRest);
+  NonlinearOptions options;
+  options.steps_per_period = GetParam();
+  NonlinearSensitivity sens(model, kStroke, kRest, options);
   std::vector<Durations> cases = random_durations(2, h);
   cases.push_back(test::kAsymmetricDurations);
   for (const Durations& d : cases) {
@@ -350,6 +355,8 @@ TEST(NonlinearSensitivity, PeaksMatchAnIndependentTenTimesFinerRk4) {
     EXPECT_NEAR(rest, ref_rest, 1e-7 * std::max(ref_rest, ref_motion));
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(StepsPerPeriod, NonlinearSensitivityPeaks, ::testing::Values(40.0, 20.0));
 
 }  // namespace
 }  // namespace slosh
