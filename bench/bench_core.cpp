@@ -70,6 +70,14 @@ void BM_NonlinearResponsePeaks(benchmark::State& state) {
 }
 BENCHMARK(BM_NonlinearResponsePeaks)->Unit(benchmark::kMicrosecond);
 
+// The peaks alone (no trajectory kept, the rest window ended by the energy bound).
+void BM_NonlinearPeaks(benchmark::State& state) {
+  const slosh::SloshingModel model = slosh::make_sloshing_model(slosh::thesis_format(), {});
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
+  for (auto _ : state) benchmark::DoNotOptimize(slosh::nonlinear_peaks(model, law.law(), 1.0));
+}
+BENCHMARK(BM_NonlinearPeaks)->Unit(benchmark::kMicrosecond);
+
 void BM_Simulate(benchmark::State& state) {
   const slosh::SevenSegmentLaw law(kAsymmetric, 0.8);
   const slosh::SimulationOptions options;

@@ -3,11 +3,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <random>
 
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/response/response.hpp"
 #include "support/fixtures.hpp"
+#include "support/random_format.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
@@ -78,7 +81,7 @@ TEST(NonlinearResponse, MatchesAFineIndependentRk4OnHarshLaws) {
   expect_accurate(thesis_format(), make_poly5_law(0.5, 0.7), 0.5);
 }
 
-TEST(NonlinearResponse, HermiteDenseOutputIsContinuousAndSmooth) {
+TEST(NonlinearResponse, DenseOutputIsContinuousAndSmooth) {
   const SloshingModel model = make_sloshing_model(thesis_format(), {});
   const NonlinearResponse r(model, SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law(), 1.0);
   // Rate of the dense output agrees with the derivative of its position.
@@ -99,6 +102,98 @@ TEST(NonlinearResponse, RightHandSideIsEq235) {
                     1e-12 * (1.0 + std::abs(reference_xbar_dd(model, x, v, a))));
       }
     }
+  }
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// A seven-segment law of random admissible durations summing to T (ramps >= 50 ms).
+MotionLaw random_seven_segment(std::mt19937& rng, double stroke, double T) {
+  std::uniform_real_distribution<double> u(0.2, 1.0);
+  Durations w{};
+  double total = 0.0;
+  for (double& wi : w) total += (wi = u(rng));
+  Durations d{};
+  const double room = T - 4.0 * 0.05;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    d[i] = (i % 2 == 0 ? 0.05 : 0.0) + room * w[i] / total;
+  }
+  return SevenSegmentLaw(d, stroke).law();
+}
+
+// x of a fine reference trajectory at t in step i (cubic Hermite from x and x' at its ends:
+// error ~ (omega h)^4, far below the bar at h = 20 us).
+double reference_x(const test::Rk4Trajectory& r, std::size_t i, double t) {
+  const double h = r.t[i + 1] - r.t[i];
+  const double s = (t - r.t[i]) / h;
+  const double u = 1.0 - s;
+  return (1.0 + 2.0 * s) * u * u * r.x[i] + s * u * u * h * r.v[i] +
+         s * s * (3.0 - 2.0 * s) * r.x[i + 1] - s * s * u * h * r.v[i + 1];
+}
+
+// Largest |K x| of a fine reference trajectory over [a, b]: the window's ends and every turning
+// point inside (a sign change of x' between two samples, located by linear interpolation of x').
+double reference_peak(const test::Rk4Trajectory& r, double K, double a, double b) {
+  const double h = r.t[1] - r.t[0];
+  const std::size_t last = r.t.size() - 2;
+  auto step_of = [&](double t) { return std::min(last, static_cast<std::size_t>(t / h)); };
+  double best =
+      std::max(std::abs(reference_x(r, step_of(a), a)), std::abs(reference_x(r, step_of(b), b)));
+  for (std::size_t i = step_of(a); i <= step_of(b); ++i) {
+    const double v0 = r.v[i], v1 = r.v[i + 1];
+    if ((v0 < 0.0) == (v1 < 0.0)) continue;
+    const double t = std::clamp(r.t[i] + h * v0 / (v0 - v1), a, b);
+    best = std::max(best, std::abs(reference_x(r, step_of(t), t)));
+  }
+  return K * best;
+}
+
+// Both peaks of the response against a fine RK4 (20 us steps) on seeded random formats and laws,
+// each within 1e-6 of its own value.
+TEST(NonlinearResponse, PeaksMatchAFineRk4OnRandomFormatsWithinOnePpm) {
+  std::mt19937 rng(20261126u);
+  for (int k = 0; k < 24; ++k) {
+    const Format f = test::random_format(rng);
+    const MotionLaw law = random_seven_segment(rng, f.stroke, f.motion_time);
+    const SloshingModel model = make_sloshing_model(f, {});
+    const double rest = 1.0;
+    const test::Rk4Trajectory ref = test::rk4_solve(
+        [&](double t, double x, double v) {
+          return reference_xbar_dd(model, x, v, law.at(t).acceleration);
+        },
+        law.duration() + rest, 2e-5);
+    const double T = law.duration();
+    const double ref_motion = reference_peak(ref, model.K, 0.0, T);
+    const double ref_rest = reference_peak(ref, model.K, T, T + rest);
+    const SloshPeaks p = NonlinearResponse(model, law, rest).peaks();
+    const SloshPeaks q = nonlinear_peaks(model, law, rest);
+    EXPECT_NEAR(p.motion.value, ref_motion, 1e-6 * ref_motion) << "format " << k;
+    EXPECT_NEAR(p.rest.value, ref_rest, 1e-6 * ref_rest) << "format " << k;
+    EXPECT_NEAR(q.rest.value, ref_rest, 1e-6 * ref_rest) << "format " << k;
+  }
+}
+
+// The rest window's search ends by the energy bound (docs/models.md): the eta_rest it finds is
+// the maximum over the whole window, here searched densely on the kept trajectory (0.5 ms
+// samples, golden-section refinement), also for rest windows of several seconds.
+TEST(NonlinearResponse, EarlyStoppedRestPeakIsTheWholeWindowMaximum) {
+  std::mt19937 rng(7u);
+  for (int k = 0; k < 16; ++k) {
+    const Format f = test::random_format(rng);
+    const MotionLaw law = random_seven_segment(rng, f.stroke, f.motion_time);
+    const SloshingModel model = make_sloshing_model(f, {});
+    const double rest = k % 2 == 0 ? 1.0 : 4.5;
+    const NonlinearResponse full(model, law, rest);
+    const double T = law.duration();
+    const Peak whole = find_max([&](double t) { return std::abs(full.eta(t)); }, T, T + rest, 5e-4);
+    const SloshPeaks early = nonlinear_peaks(model, law, rest);
+    EXPECT_NEAR(early.rest.value, whole.value, 1e-9 * whole.value) << "format " << k;
+    EXPECT_EQ(early.rest.value, full.peaks().rest.value);
+    EXPECT_EQ(early.motion.value, full.peaks().motion.value);
   }
 }
 

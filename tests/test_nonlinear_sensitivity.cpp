@@ -251,6 +251,52 @@ TEST(NonlinearSensitivity, SegmentsOnExactStepMultiplesMayTakeOneStepMore) {
   EXPECT_NEAR(sens.window_peak(1.0, 2.0).value, p.rest.value, 1e-8 * scale);
 }
 
+// A solver differentiates the response it is given: across a duration where a segment's step
+// count would change (d_k / h crossing an integer) the response must not jump. With the counts
+// frozen at d, the response at d + delta e_k is its first-order Taylor expansion from the exact
+// gradient at d (the second-order term is ~1e-18 here); a sensitivity that follows the counts of
+// its own durations jumps by the difference of two discretisations. Coarse steps (8 per period)
+// make that difference large enough to see; the property does not depend on the step.
+TEST(NonlinearSensitivity, FrozenStepCountsKeepTheResponseSmoothAcrossAStepMultiple) {
+  const SloshingModel model = thesis_model();
+  NonlinearOptions coarse;
+  coarse.steps_per_period = 8.0;
+  const double h =
+      std::min(coarse.max_step, 2.0 * std::numbers::pi / model.omega1() / coarse.steps_per_period);
+  Durations d = uniform_durations(kMotionTime);
+  const std::size_t k = 1;  // the first plateau
+  const double multiple = std::ceil(d[k] / h) * h;
+  const double delta = 1e-9;
+  d[k] = multiple - 0.5 * delta;
+  Durations moved = d;
+  moved[k] = multiple + 0.5 * delta;
+  ASSERT_LT(step_count(d[k], h, 1), step_count(moved[k], h, 1));
+  std::vector<double> times;
+  for (int j = 0; j < 40; ++j) times.push_back(1.0 + 0.0237 * j);  // the rest window
+  // The worst departure of the response at `moved` from its Taylor expansion at d [m].
+  auto departure = [&](NonlinearSensitivity& s) {
+    std::vector<double> at_d, at_moved;
+    std::vector<std::array<double, kSegments>> gradients;
+    s.compute(d.data());
+    s.abs_eta_at(times, &at_d, &gradients);
+    s.compute(moved.data());
+    s.abs_eta_at(times, &at_moved, nullptr);
+    const double scale = *std::max_element(at_d.begin(), at_d.end());
+    double worst = 0.0;
+    for (std::size_t j = 0; j < times.size(); ++j) {
+      if (at_d[j] < 0.05 * scale) continue;  // |eta| has a kink at its zeros
+      worst = std::max(worst, std::abs(at_moved[j] - (at_d[j] + gradients[j][k] * delta)));
+    }
+    return worst / scale;
+  };
+  NonlinearSensitivity frozen(model, kStroke, kRest, coarse);
+  EXPECT_TRUE(frozen.freeze_steps(d.data()));
+  EXPECT_FALSE(frozen.freeze_steps(d.data()));
+  NonlinearSensitivity own(model, kStroke, kRest, coarse);
+  EXPECT_LT(departure(frozen), 1e-13);
+  EXPECT_GT(departure(own), 1e-10);
+}
+
 // eq. 2.35 re-typed from SPEC §2 (not the core's nonlinear_acceleration).
 double reference_xbar_dd(const SloshingModel& m, double x, double v, double a) {
   const double w = m.omega[0], z = m.zeta, C = m.C, alpha = m.alpha;
@@ -280,10 +326,15 @@ double reference_peak(const test::Rk4Trajectory& r, double K, double a, double b
   return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
 }
 
-TEST(NonlinearSensitivity, PeaksMatchAnIndependentTenTimesFinerRk4) {
+// Both the default scheme and time_domain's (20 steps per period of mode 1).
+class NonlinearSensitivityPeaks : public ::testing::TestWithParam<double> {};
+
+TEST_P(NonlinearSensitivityPeaks, MatchAnIndependentTenTimesFinerRk4) {
   const SloshingModel model = thesis_model();
   const double h = max_step(model);
-  NonlinearSensitivity sens(model, kStroke, kRest);
+  NonlinearOptions options;
+  options.steps_per_period = GetParam();
+  NonlinearSensitivity sens(model, kStroke, kRest, options);
   std::vector<Durations> cases = random_durations(2, h);
   cases.push_back(test::kAsymmetricDurations);
   for (const Durations& d : cases) {
@@ -304,6 +355,8 @@ TEST(NonlinearSensitivity, PeaksMatchAnIndependentTenTimesFinerRk4) {
     EXPECT_NEAR(rest, ref_rest, 1e-7 * std::max(ref_rest, ref_motion));
   }
 }
+
+INSTANTIATE_TEST_SUITE_P(StepsPerPeriod, NonlinearSensitivityPeaks, ::testing::Values(40.0, 20.0));
 
 }  // namespace
 }  // namespace slosh

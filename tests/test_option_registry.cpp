@@ -37,9 +37,9 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added (issue 19): the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v3" since the nonlinear response moved to
-// the order-8 scheme (its numbers changed in the 7th digit): the pinned keys are those of the
-// same recipes with that version; everything else in the recipes is unchanged.
+// kVersion. The planner version in the recipe is "plan-v3" since the responses moved to the
+// faster schemes (order-8 nonlinear, rotated linear; numbers changed in the 7th digit): the pinned
+// keys are those of the same recipes with that version; everything else is unchanged.
 std::string key_before_versions(const json& request) {
   json recipe = canonical_recipe(parse_plan_request(request));
   EXPECT_EQ(recipe.at("slosh_version"), kVersion);

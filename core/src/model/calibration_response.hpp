@@ -1,13 +1,14 @@
 #pragma once
 // The nonlinear model (eq. 2.35) of a calibrated format integrated in dual numbers over the three
-// parameters that enter the equation of motion (omega_scale, zeta, alpha): every node of the RK4
-// grid carries xbar and xbar' with their exact derivatives, so eta(t) and the window peaks come
-// with exact parameter gradients (automatic differentiation through the integrator; the same
-// scheme, grid and dense output as NonlinearResponse; internal to the core).
+// parameters that enter the equation of motion (omega_scale, zeta, alpha): every step's dense
+// output carries xbar with its exact derivatives, so eta(t) and the window peaks come with exact
+// parameter gradients (automatic differentiation through the integrator; the same scheme (DOP853),
+// grid and dense output as NonlinearResponse; internal to the core).
 
 #include <array>
 #include <vector>
 
+#include "response/nonlinear_scheme.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
 #include "slosh/core/response/response.hpp"
@@ -37,7 +38,7 @@ class CalibrationResponse {
   void compute(const MotionParameters& p, double height_gain);
   /// eta at time t (held at the ends beyond [0, end]) with gradient and rate.
   [[nodiscard]] EtaSample eta_at(double t) const;
-  /// The largest |eta| over [t_begin, t_end] (found exactly on the Hermite dense output) with
+  /// The largest |eta| over [t_begin, t_end] (found exactly on the dense output) with
   /// its gradient at fixed time (exact wherever the argmax is unique); `value` >= 0.
   [[nodiscard]] EtaSample abs_peak(double t_begin, double t_end) const;
   [[nodiscard]] double motion_time() const { return law_.duration(); }
@@ -50,8 +51,9 @@ class CalibrationResponse {
   double rest_time_;
   NonlinearOptions options_;
   double gain_{1.0};
-  std::vector<double> t_;
-  std::vector<Dual3> x_, v_;
+  std::vector<double> t_, h_;        // start and length of every step [s]
+  std::vector<DensePoly<Dual3>> x_;  // xbar over each step, in theta
+  double end_{};                     // end of the rest window [s]
 };
 
 }  // namespace slosh::detail

@@ -13,84 +13,203 @@ double nonlinear_acceleration(const SloshingModel& m, double x, double v, double
   return detail::nonlinear_rhs(m, x, v, a);
 }
 
+namespace {
+
+/// Relative margin of the rest window's stopping test: the bound is that of the exact solution
+/// from the integrated state, the integrated trajectory departs from it by far less (< 1e-7 of
+/// the peak), so a later integrated maximum cannot exceed the one found.
+constexpr double kEnergyStopMargin{1e-6};
+
+/// The trajectory kept by NonlinearResponse (null for nonlinear_peaks).
+struct Trajectory {
+  std::vector<double>* t0;
+  std::vector<double>* h;
+  std::vector<NonlinearResponse::StepPoly>* x_poly;
+  std::vector<NonlinearResponse::StepPoly>* v_poly;
+};
+
+/// Container acceleration of a law piece at local time tau [m/s^2] (LawPiece::at's formula).
+double piece_acceleration(const LawPiece& p, double tau) {
+  double a = p.poly[0] + tau * (p.poly[1] + tau * (p.poly[2] + tau * p.poly[3]));
+  if (p.harmonic_omega != 0.0) {
+    a += p.harmonic_cos * std::cos(p.harmonic_omega * tau) +
+         p.harmonic_sin * std::sin(p.harmonic_omega * tau);
+  }
+  return a;
+}
+
+/// One classical RK4 step with the cubic Hermite interpolants of x (from x, v) and v (from v,
+/// x''), in the DopStep layout: the scheme of the divergence fallback (integrate_or_refine).
+template <typename Rhs, typename Acc>
+void rk4_step(const Rhs& rhs, const Acc& acc, double x, double v, double f0, double h,
+              detail::DopStep<double>& out) {
+  const double a_mid = acc(0.5), a1 = acc(1.0);
+  const double half_h = 0.5 * h;
+  const double k2x = v + half_h * f0;
+  const double k2v = rhs(x + half_h * v, k2x, a_mid);
+  const double k3x = v + half_h * k2v;
+  const double k3v = rhs(x + half_h * k2x, k3x, a_mid);
+  const double k4x = v + h * k3v;
+  const double k4v = rhs(x + h * k3x, k4x, a1);
+  const double sixth_h = h * (1.0 / 6.0);
+  out.x1 = x + sixth_h * (v + 2.0 * (k2x + k3x) + k4x);
+  out.v1 = v + sixth_h * (f0 + 2.0 * (k2v + k3v) + k4v);
+  out.f1 = rhs(out.x1, out.v1, a1);
+  auto hermite = [h](double y0, double d0, double y1, double d1) {
+    detail::DensePoly<double> p{};
+    p[0] = y0;
+    p[1] = h * d0;
+    p[2] = -3.0 * y0 - 2.0 * h * d0 + 3.0 * y1 - h * d1;
+    p[3] = 2.0 * y0 + h * d0 - 2.0 * y1 + h * d1;
+    return p;
+  };
+  out.x_poly = hermite(x, v, out.x1, out.v1);
+  out.v_poly = hermite(v, f0, out.v1, out.f1);
+}
+
+/// Integrates eq. 2.35 over the law and the rest window and returns the peaks; with `keep` the
+/// whole rest window is integrated and every step stored, else the integration ends where the
+/// rest window's search does. `last` receives the final state.
+SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double rest_time,
+                     const NonlinearOptions& options, const Trajectory* keep, ModeState* last,
+                     bool rk4 = false) {
+  const double w = model.omega1();
+  const double period = 2.0 * std::numbers::pi / w;
+  const double h_max = std::min(options.max_step, period / options.steps_per_period);
+  const double T = law.duration();
+  const double K = model.K;
+  const double c2 = model.C * model.C;
+  const std::vector<LawPiece>& pieces = law.pieces();
+  const std::size_t n_pieces = pieces.size() + 1;  // the law's pieces, then the rest window
+  const LawPiece rest{T, T + rest_time};
+  auto rhs = [&model](double x, double v, double a) {
+    return detail::nonlinear_rhs(model, x, v, a);
+  };
+
+  SloshPeaks peaks;  // motion: eta(0) = 0 at t = 0
+  bool rest_found = false;
+  double x = 0.0, v = 0.0;
+  detail::DopStep<double> step;
+  for (std::size_t k = 0; k < n_pieces && !(rest_found && keep == nullptr); ++k) {
+    const bool in_rest = k + 1 == n_pieces;
+    const LawPiece& p = in_rest ? rest : pieces[k];
+    const double L = p.duration();
+    if (!(L > 0.0)) continue;
+    const double hp = detail::piece_max_step(h_max, p.harmonic_omega, options.steps_per_period);
+    const std::size_t n = step_count(L, hp, 1);
+    const double h = L / static_cast<double>(n);
+    // The acceleration may jump at a piece start: the first stage is evaluated on this piece.
+    double f0 = rhs(x, v, in_rest ? 0.0 : piece_acceleration(p, 0.0));
+    Peak& window = in_rest ? peaks.rest : peaks.motion;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double tau = h * static_cast<double>(j);
+      if (rk4) {
+        rk4_step(
+            rhs, [&](double c) { return in_rest ? 0.0 : piece_acceleration(p, tau + c * h); }, x, v,
+            f0, h, step);
+      } else if (in_rest) {
+        detail::dop853_step(
+            rhs, [](std::size_t) { return 0.0; }, x, v, f0, h, true, step, keep != nullptr);
+      } else {
+        detail::dop853_step(
+            rhs, [&](std::size_t i) { return piece_acceleration(p, tau + detail::kDopC[i] * h); },
+            x, v, f0, h, true, step, keep != nullptr);
+      }
+      const double t0 = p.t_begin + tau;
+      if (!(in_rest && rest_found) && K * detail::dense_abs_bound(step.x_poly) > window.value) {
+        const detail::PolyMax m = detail::dense_max_abs(step.x_poly, 0.0, 1.0);
+        if (K * m.value > window.value) window = {K * m.value, t0 + m.s * h};
+      }
+      if (keep != nullptr) {
+        keep->t0->push_back(t0);
+        keep->h->push_back(h);
+        keep->x_poly->push_back(step.x_poly);
+        keep->v_poly->push_back(step.v_poly);
+      }
+      x = step.x1;
+      v = step.v1;
+      f0 = step.f1;
+      if (in_rest && !rest_found && !rk4) {
+        // Energy of the free motion (docs/models.md): never increases, and bounds |xbar| by
+        // V^-1(E): alpha/4 y^2 + y/2 = E / w^2 with y = xbar^2.
+        const double e = (0.5 * (1.0 + c2 * x * x) * v * v +
+                          w * w * x * x * (0.5 + 0.25 * model.alpha * x * x)) /
+                         (w * w);
+        const double bound = K * std::sqrt(2.0 * e / (0.5 + std::sqrt(0.25 + model.alpha * e)));
+        if (bound * (1.0 + kEnergyStopMargin) <= peaks.rest.value) {
+          rest_found = true;
+          if (keep == nullptr) break;
+        }
+      }
+      if (!std::isfinite(x) && keep == nullptr) break;
+    }
+    if (!std::isfinite(x) && keep == nullptr) break;
+  }
+  if (last != nullptr) *last = {x, v};
+  // A diverged integration stays non-finite to its end, and the search skips NaN values (they
+  // compare false): the peaks say so instead of showing the values before the divergence.
+  if (!std::isfinite(x) || !std::isfinite(v)) {
+    peaks.motion.value = std::numeric_limits<double>::quiet_NaN();
+    peaks.rest.value = std::numeric_limits<double>::quiet_NaN();
+  }
+  return peaks;
+}
+
+/// integrate(), and when the response diverges on the period-based grid, or leaves the model's
+/// range (|xbar| > kModelRange), once more over the whole window (no early end of the rest
+/// window) by classical RK4 with steps of at most min(1 ms, period / 100) (cubic Hermite dense
+/// output): far outside
+/// the model's range (peak accelerations of thousands of m/s^2) the motion is stiff on the scale
+/// of the period and the order-8 stages leave the region where the model is defined; the
+/// product's verdict there (a response, or "diverges") stays that of the fine low-order grid.
+constexpr double kDivergenceRetryStep{1e-3};
+/// Largest |xbar| the fast path answers for [-]: a fluid displacement of the container radius,
+/// far beyond the model's range (plans stay below 0.3).
+constexpr double kModelRange{1.0};
+constexpr double kDivergenceRetryStepsPerPeriod{100.0};
+
+SloshPeaks integrate_or_refine(const SloshingModel& model, const MotionLaw& law, double rest_time,
+                               const NonlinearOptions& options, const Trajectory* keep,
+                               ModeState* last) {
+  SloshPeaks p = integrate(model, law, rest_time, options, keep, last);
+  if (std::max(p.motion.value, p.rest.value) <= kModelRange * model.K) return p;
+  NonlinearOptions fine = options;
+  fine.max_step = std::min(options.max_step, kDivergenceRetryStep);
+  fine.steps_per_period = std::max(options.steps_per_period, kDivergenceRetryStepsPerPeriod);
+  if (keep != nullptr) {
+    keep->t0->clear();
+    keep->h->clear();
+    keep->x_poly->clear();
+    keep->v_poly->clear();
+  }
+  return integrate(model, law, rest_time, fine, keep, last, true);
+}
+
+}  // namespace
+
 NonlinearResponse::NonlinearResponse(const SloshingModel& model, const MotionLaw& law,
                                      double rest_time, const NonlinearOptions& options)
-    : K_(model.K), motion_time_(law.duration()), end_time_(law.duration() + rest_time) {
-  const double period = 2.0 * std::numbers::pi / model.omega1();
-  const double h_max = std::min(options.max_step, period / options.steps_per_period);
-  std::vector<LawPiece> pieces = law.pieces();
-  pieces.push_back(LawPiece{motion_time_, end_time_});
+    : K_(model.K), motion_time_(law.duration()) {
+  const Trajectory keep{&t0_, &h_, &x_poly_, &v_poly_};
+  peaks_ = integrate_or_refine(model, law, rest_time, options, &keep, &last_);
+}
 
-  std::size_t total = 1;
-  for (const LawPiece& p : pieces) {
-    total += step_count(p.duration(), h_max);
-  }
-  time_.reserve(total);
-  x_.reserve(total);
-  v_.reserve(total);
-  acc_.reserve(total);
-
-  double x = 0.0;
-  double v = 0.0;
-  time_.push_back(0.0);
-  x_.push_back(0.0);
-  v_.push_back(0.0);
-  acc_.push_back(nonlinear_acceleration(model, 0.0, 0.0, law.at(0.0).acceleration));
-  for (const LawPiece& p : pieces) {
-    const double L = p.duration();
-    if (L <= 0.0) continue;
-    const auto n = step_count(L, h_max, 1);
-    const double h = L / static_cast<double>(n);
-    auto accel = [&](double tau) { return p.at(tau).acceleration; };
-    double a0 = accel(0.0);
-    for (std::size_t i = 0; i < n; ++i) {
-      const double tau = h * static_cast<double>(i);
-      const double a_mid = accel(tau + 0.5 * h);
-      const double a1 = accel(tau + h);
-      detail::rk4_step(model, x, v, h, a0, a_mid, a1);
-      time_.push_back(i + 1 == n ? p.t_end : p.t_begin + tau + h);
-      x_.push_back(x);
-      v_.push_back(v);
-      acc_.push_back(nonlinear_acceleration(model, x, v, a1));
-      a0 = a1;
-    }
-  }
-  peak_step_ = h_max;
+SloshPeaks nonlinear_peaks(const SloshingModel& model, const MotionLaw& law, double rest_time,
+                           const NonlinearOptions& options) {
+  return integrate_or_refine(model, law, rest_time, options, nullptr, nullptr);
 }
 
 ModeState NonlinearResponse::state(double t) const {
-  if (t <= 0.0) return {};
-  if (t >= time_.back()) return {x_.back(), v_.back()};
-  auto it = std::upper_bound(time_.begin(), time_.end(), t);
-  const std::size_t i = static_cast<std::size_t>(it - time_.begin()) - 1;
-  const double h = time_[i + 1] - time_[i];
-  const double s = (t - time_[i]) / h;
-  // Cubic Hermite on (x, v) for the position and on (v, acc) for the rate.
-  return {detail::hermite(x_[i], v_[i], x_[i + 1], v_[i + 1], h, s),
-          detail::hermite(v_[i], acc_[i], v_[i + 1], acc_[i + 1], h, s)};
+  if (t <= 0.0 || t0_.empty()) return {};
+  const std::size_t i =
+      static_cast<std::size_t>(std::upper_bound(t0_.begin(), t0_.end(), t) - t0_.begin()) - 1;
+  const double s = (t - t0_[i]) / h_[i];
+  if (s >= 1.0 && i + 1 == t0_.size()) return last_;
+  return {detail::dense_value(x_poly_[i], s), detail::dense_value(v_poly_[i], s)};
 }
 
 double NonlinearResponse::eta(double t) const {
-  // Position only: the peak search's hot path.
-  if (t <= 0.0) return 0.0;
-  if (t >= time_.back()) return K_ * x_.back();
-  auto it = std::upper_bound(time_.begin(), time_.end(), t);
-  const std::size_t i = static_cast<std::size_t>(it - time_.begin()) - 1;
-  const double h = time_[i + 1] - time_[i];
-  return K_ * detail::hermite(x_[i], v_[i], x_[i + 1], v_[i + 1], h, (t - time_[i]) / h);
-}
-
-SloshPeaks NonlinearResponse::peaks() const {
-  auto abs_eta = [this](double t) { return std::abs(eta(t)); };
-  SloshPeaks p{find_max(abs_eta, 0.0, motion_time_, peak_step_),
-               find_max(abs_eta, motion_time_, end_time_, peak_step_)};
-  // A diverged integration stays non-finite to its end, and the scan skips NaN samples (they
-  // compare false): the peaks say so instead of showing the values before the divergence.
-  if (!std::isfinite(eta(end_time_))) {
-    p.motion.value = std::numeric_limits<double>::quiet_NaN();
-    p.rest.value = std::numeric_limits<double>::quiet_NaN();
-  }
-  return p;
+  return K_ * state(t).x;
 }
 
 }  // namespace slosh

@@ -4,8 +4,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "response/nonlinear_scheme.hpp"
-
 namespace slosh::detail {
 
 NonlinearSensitivity::NonlinearSensitivity(const SloshingModel& model, double stroke,
@@ -15,19 +13,35 @@ NonlinearSensitivity::NonlinearSensitivity(const SloshingModel& model, double st
   h_max_ = std::min(options.max_step, period / options.steps_per_period);
 }
 
+bool NonlinearSensitivity::freeze_steps(const double* d) {
+  std::array<std::size_t, kSegments> n{};
+  for (std::size_t k = 0; k < kSegments; ++k) n[k] = step_count(d[k], h_max_, 1) + 1;
+  const bool changed = !frozen_ || n != steps_;
+  steps_ = n;
+  frozen_ = true;
+  return changed;
+}
+
 void NonlinearSensitivity::compute(const double* d) {
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
   const auto lv = plateau_levels(dd, Dual7(stroke_));
   tv_.clear();
+  hv_.clear();
+  xv_.clear();
   t_.clear();
+  h_.clear();
   x_.clear();
-  v_.clear();
-  Dual7 t(0.0), x(0.0), v(0.0);
-  tv_.push_back(0.0);
-  t_.push_back(t);
-  x_.push_back(x);
-  v_.push_back(v);
+  auto store = [&](const Dual7& t0, const Dual7& h, const DensePoly<Dual7>& x_poly) {
+    tv_.push_back(t0.v);
+    hv_.push_back(h.v);
+    DensePoly<double> values;
+    for (std::size_t k = 0; k < kDenseTerms; ++k) values[k] = x_poly[k].v;
+    xv_.push_back(values);
+    t_.push_back(t0);
+    h_.push_back(h);
+    x_.push_back(x_poly);
+  };
   // Acceleration on segment k at the fraction f of it: ramps interpolate linearly (exact for the
   // constant-jerk law), plateaus hold A or -B.
   auto accel = [&](std::size_t k, double f) -> Dual7 {
@@ -48,23 +62,33 @@ void NonlinearSensitivity::compute(const double* d) {
         return Dual7(0.0);
     }
   };
+  auto rhs7 = [this](const Dual7& x, const Dual7& v, const Dual7& a) {
+    return nonlinear_rhs(model_, x, v, a);
+  };
+  Dual7 t(0.0), x(0.0), v(0.0);
+  DopStep<Dual7> step;
   for (std::size_t k = 0; k < kSegments; ++k) {
     // A segment of zero length still takes one (empty) step so that its derivatives (the flow
     // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
-    const auto n = step_count(d[k], h_max_, 1);
-    const Dual7 h = dd[k] * (1.0 / static_cast<double>(n));
+    const std::size_t own = step_count(d[k], h_max_, 1);
+    const std::size_t n = frozen_ ? std::max(own, steps_[k]) : own;
+    const double inv_n = 1.0 / static_cast<double>(n);
+    const Dual7 h = dd[k] * inv_n;
     const Dual7 t_begin = t;
+    // As NonlinearResponse: the first stage of a segment is evaluated on that segment.
+    Dual7 f0 = rhs7(x, v, accel(k, 0.0));
     for (std::size_t j = 0; j < n; ++j) {
-      const double f0 = static_cast<double>(j) / static_cast<double>(n);
-      const double fm = (static_cast<double>(j) + 0.5) / static_cast<double>(n);
-      const double f1 = static_cast<double>(j + 1) / static_cast<double>(n);
-      rk4_step(model_, x, v, h, accel(k, f0), accel(k, fm), accel(k, f1));
-      t = j + 1 == n ? t_begin + dd[k] : t_begin + h * static_cast<double>(j + 1);
-      tv_.push_back(t.v);
-      t_.push_back(t);
-      x_.push_back(x);
-      v_.push_back(v);
+      const double jd = static_cast<double>(j);
+      const Dual7 t0 = t_begin + h * jd;
+      dop853_step(
+          rhs7, [&](std::size_t i) { return accel(k, (jd + kDopC[i]) * inv_n); }, x, v, f0, h, true,
+          step, false);
+      store(t0, h, step.x_poly);
+      x = step.x1;
+      v = step.v1;
+      f0 = step.f1;
     }
+    t = t_begin + dd[k];
   }
   motion_time_ = t.v;
   const auto n_rest = step_count(rest_time_, h_max_, 1);
@@ -76,34 +100,45 @@ void NonlinearSensitivity::compute(const double* d) {
   const Dual7 x_end = x, v_end = v;
   using Dual2 = Dual<2>;
   Dual2 xr = Dual2::variable(x.v, 0), vr = Dual2::variable(v.v, 1);
-  const Dual2 zero(0.0);
   auto chain = [&](const Dual2& r) {
     Dual7 out(r.v);
     for (std::size_t i = 0; i < kSegments; ++i)
       out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
     return out;
   };
+  auto rhs2 = [this](const Dual2& xx, const Dual2& vv, double a) {
+    return nonlinear_rhs(model_, xx, vv, a);
+  };
+  Dual2 f0 = rhs2(xr, vr, 0.0);
+  DopStep<Dual2> rest_step;
   for (std::size_t j = 0; j < n_rest; ++j) {
-    rk4_step(model_, xr, vr, Dual2(h_rest), zero, zero, zero);
-    t = j + 1 == n_rest ? t_end + rest_time_ : t_end + h_rest * static_cast<double>(j + 1);
-    tv_.push_back(t.v);
-    t_.push_back(t);
-    x_.push_back(chain(xr));
-    v_.push_back(chain(vr));
+    dop853_step(
+        rhs2, [](std::size_t) { return 0.0; }, xr, vr, f0, Dual2(h_rest), true, rest_step, false);
+    DensePoly<Dual7> x_poly;
+    for (std::size_t k = 0; k < kDenseTerms; ++k) x_poly[k] = chain(rest_step.x_poly[k]);
+    store(t_end + h_rest * static_cast<double>(j), Dual7(h_rest), x_poly);
+    xr = rest_step.x1;
+    vr = rest_step.v1;
+    f0 = rest_step.f1;
   }
+}
+
+Dual7 NonlinearSensitivity::x_at(std::size_t i, double t) const {
+  const Dual7 s = h_[i].v > 0.0 ? (Dual7(t) - t_[i]) / h_[i] : Dual7(1.0);
+  return dense_value(x_[i], s);
 }
 
 void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<double>* values,
                                       std::vector<std::array<double, kSegments>>* gradients) const {
   values->resize(t.size());
   if (gradients != nullptr) gradients->resize(t.size());
+  const double t_last = tv_.back() + hv_.back();
   std::size_t i = 0;
   for (std::size_t k = 0; k < t.size(); ++k) {
-    const double tk = std::clamp(t[k], tv_.front(), tv_.back());
-    while (i + 2 < tv_.size() && (tv_[i + 1] < tk || tv_[i + 1] <= tv_[i])) ++i;
-    const Dual7 H = t_[i + 1] - t_[i];
-    const Dual7 s = H.v > 0.0 ? (Dual7(tk) - t_[i]) / H : Dual7(1.0);
-    Dual7 xs = hermite(x_[i], v_[i], x_[i + 1], v_[i + 1], H, s);
+    const double tk = std::clamp(t[k], 0.0, t_last);
+    // The step holding tk (the later of two at a shared end; empty steps are passed over).
+    while (i + 1 < tv_.size() && (tv_[i] + hv_[i] < tk || hv_[i] <= 0.0)) ++i;
+    Dual7 xs = x_at(i, tk);
     if (xs.v < 0.0) xs = -xs;
     (*values)[k] = model_.K * xs.v;
     if (gradients != nullptr) {
@@ -113,53 +148,29 @@ void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<
 }
 
 WindowPeak NonlinearSensitivity::window_peak(double t_begin, double t_end) const {
-  t_begin = std::max(t_begin, tv_.front());
-  t_end = std::min(t_end, tv_.back());
-  // First interval holding t_begin.
-  auto it = std::upper_bound(tv_.begin(), tv_.end(), t_begin);
-  std::size_t i = it == tv_.begin() ? 0 : static_cast<std::size_t>(it - tv_.begin()) - 1;
+  t_begin = std::max(t_begin, 0.0);
+  t_end = std::min(t_end, tv_.back() + hv_.back());
   double best = -1.0;
   double best_time = t_begin;
-  std::size_t best_interval = i;
-  for (; i + 1 < tv_.size() && tv_[i] <= t_end; ++i) {
-    const double H = tv_[i + 1] - tv_[i];
-    if (H <= 0.0) continue;
+  std::size_t best_step = 0;
+  // First step that can hold t_begin.
+  std::size_t i =
+      static_cast<std::size_t>(std::upper_bound(tv_.begin(), tv_.end(), t_begin) - tv_.begin());
+  i = i == 0 ? 0 : i - 1;
+  for (; i < tv_.size() && tv_[i] <= t_end; ++i) {
+    const double H = hv_[i];
+    if (H <= 0.0 || !(dense_abs_bound(xv_[i]) > best)) continue;
     const double s_lo = std::max(0.0, (t_begin - tv_[i]) / H);
     const double s_hi = std::min(1.0, (t_end - tv_[i]) / H);
-    if (s_lo > s_hi) continue;
-    const double x0 = x_[i].v, v0 = H * v_[i].v, x1 = x_[i + 1].v, v1 = H * v_[i + 1].v;
-    // p(s) = c0 + c1 s + c2 s^2 + c3 s^3; candidates: the ends and the roots of p'.
-    const double c1 = v0;
-    const double c2 = -3.0 * x0 - 2.0 * v0 + 3.0 * x1 - v1;
-    const double c3 = 2.0 * x0 + v0 - 2.0 * x1 + v1;
-    auto value = [&](double s) { return std::abs(x0 + s * (c1 + s * (c2 + s * c3))); };
-    std::array<double, 4> cand{s_lo, s_hi, -1.0, -1.0};
-    const double qa = 3.0 * c3, qb = 2.0 * c2, qc = c1;
-    if (std::abs(qa) > 1e-300) {
-      const double disc = qb * qb - 4.0 * qa * qc;
-      if (disc >= 0.0) {
-        const double q = -0.5 * (qb + std::copysign(std::sqrt(disc), qb));
-        cand[2] = q / qa;
-        if (q != 0.0) cand[3] = qc / q;
-      }
-    } else if (std::abs(qb) > 1e-300) {
-      cand[2] = -qc / qb;
-    }
-    for (double s : cand) {
-      if (s < s_lo || s > s_hi) continue;
-      const double val = value(s);
-      if (val > best) {
-        best = val;
-        best_time = tv_[i] + s * H;
-        best_interval = i;
-      }
+    const PolyMax m = dense_max_abs(xv_[i], s_lo, s_hi);
+    if (m.value > best) {
+      best = m.value;
+      best_time = tv_[i] + m.s * H;
+      best_step = i;
     }
   }
   WindowPeak out;
-  const std::size_t j = best_interval;
-  const Dual7 H = t_[j + 1] - t_[j];
-  const Dual7 s = (Dual7(best_time) - t_[j]) / H;
-  Dual7 xs = hermite(x_[j], v_[j], x_[j + 1], v_[j + 1], H, s);
+  Dual7 xs = x_at(best_step, best_time);
   if (xs.v < 0.0) xs = -xs;
   out.value = model_.K * xs.v;
   out.time = best_time;

@@ -1,12 +1,13 @@
 #pragma once
-// The nonlinear model (eq. 2.35) integrated exactly as NonlinearResponse does (RK4 on the
-// breakpoint-aligned grid, cubic Hermite dense output) but in dual numbers: every node carries its
+// The nonlinear model (eq. 2.35) integrated exactly as NonlinearResponse does (DOP853 with equal
+// steps on every segment, its order-7 dense output) but in dual numbers: every step carries its
 // exact derivatives with respect to the 7 durations, so the peaks of the accurate response come
 // with exact gradients (automatic differentiation through the integrator; internal to the core).
 
 #include <array>
 #include <vector>
 
+#include "response/nonlinear_scheme.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
 #include "slosh/core/response/response.hpp"
@@ -26,10 +27,21 @@ class NonlinearSensitivity {
   NonlinearSensitivity(const SloshingModel& model, double stroke, double rest_time,
                        const NonlinearOptions& options = {});
 
-  /// Integrates the model for durations d (reusing the buffers of the previous call).
+  /// Integrates the model for durations d (reusing the buffers of the previous call): segment k
+  /// in n_k equal steps h_k = d_k / n_k, n_k its own count (steps of at most the scheme's step)
+  /// or, when larger, the frozen count (freeze_steps).
   void compute(const double* d);
-  /// max |eta(t)| over [t_begin, t_end] of the Hermite dense output, found exactly (the roots of
-  /// the cubic's derivative on every interval), with the exact gradient at fixed t.
+  /// Fixes a least step count per segment, one step more than the durations d take, for every
+  /// compute() until the next call. Near d (each d_k shrinking, or growing by up to a step) the
+  /// counts then do not change and the discrete response is a smooth function of the
+  /// durations: a count that followed d would jump wherever d_k / n_k crosses the largest step,
+  /// and the response with it, by its discretisation error, and the solver's model of the
+  /// problem (built from exact gradients) would not hold across the jump. Farther away the
+  /// counts still follow d, so no step is ever longer than the scheme's. Returns whether the
+  /// counts changed.
+  bool freeze_steps(const double* d);
+  /// max |eta(t)| over [t_begin, t_end] of the dense output, found exactly (the roots of the
+  /// interpolant's derivative on every step), with the exact gradient at fixed t.
   [[nodiscard]] WindowPeak window_peak(double t_begin, double t_end) const;
   /// |eta(t)| of the dense output at each of the sorted times `t`, with its exact gradient at
   /// fixed t (row k of `gradients` holds d|eta(t_k)|/d dT_i).
@@ -44,8 +56,14 @@ class NonlinearSensitivity {
   double rest_time_;
   double h_max_;
   double motion_time_{};
-  std::vector<double> tv_;        // node times (values) for the search
-  std::vector<Dual7> t_, x_, v_;  // node times, xbar, xbar' with derivatives
+  bool frozen_{false};
+  std::array<std::size_t, kSegments> steps_{};  // frozen step count per segment
+  [[nodiscard]] Dual7 x_at(std::size_t step, double t) const;
+
+  std::vector<double> tv_, hv_;        // step start and length (values) for the search
+  std::vector<DensePoly<double>> xv_;  // xbar's interpolant on each step (values)
+  std::vector<Dual7> t_, h_;           // step start and length with derivatives
+  std::vector<DensePoly<Dual7>> x_;    // xbar's interpolant with derivatives
 };
 
 }  // namespace slosh::detail

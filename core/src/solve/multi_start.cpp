@@ -48,6 +48,7 @@ MultiStartResult solve_starts(const NlpProblem& problem,
       out.timed_out = true;
       break;
     }
+    if (problem.before_start) problem.before_start(x0.data());
     NlpOptions o = options;
     o.time_limit = remaining;
     NlpResult r = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)

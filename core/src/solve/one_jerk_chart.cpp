@@ -152,6 +152,11 @@ NlpProblem OneJerkChart::reduce(const NlpProblem& full) const {
     chain(gx.data(), jac, grad);
     return value;
   };
+  if (full.before_start) {
+    q.before_start = [h = full.before_start, chart, n](const double* p) {
+      h(chart.evaluation_point(p, n, nullptr, nullptr, nullptr).data());
+    };
+  }
   const int m = full.inequality_count;
   q.inequality_count = m + 2;
   q.inequalities = [g_full = full.inequalities, chain, m, n, nr, chart](const double* p, double* g,

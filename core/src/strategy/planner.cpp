@@ -24,7 +24,7 @@ LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double r
   LawPrediction p;
   p.kinematics = law.summary();
   p.linear = LinearResponse(model, law, rest_time).peaks();
-  p.nonlinear = NonlinearResponse(model, law, rest_time).peaks();
+  p.nonlinear = nonlinear_peaks(model, law, rest_time);
   return p;
 }
 

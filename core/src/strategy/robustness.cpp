@@ -94,7 +94,7 @@ RobustnessReport robustness_report(
     } else {
       const SloshingModel m = scaled_model(nominal, 1.0 + p.delta, sweep.zeta);
       p.linear = LinearResponse(m, law, sweep.rest_time).peaks();
-      p.nonlinear = NonlinearResponse(m, law, sweep.rest_time).peaks();
+      p.nonlinear = nonlinear_peaks(m, law, sweep.rest_time);
     }
     lin_margin.push_back(margin(p.linear, sweep));
     nl_margin.push_back(margin(p.nonlinear, sweep));

@@ -29,6 +29,17 @@ constexpr double kDenseTolerance{1e-7};
 /// Relative excess of a dense peak over the epigraph variable that adds a sample [-].
 constexpr double kObjectiveTolerance{1e-6};
 
+/// The scheme of the sensitivities the solver and the dense check use: DOP853 with 20 steps per
+/// period of mode 1 (half the steps of the accurate prediction, whose 40 are sized for the
+/// harshest formats' peaks to 1e-6): its error scales as h^8, 256 times that of the prediction's
+/// grid, about 1e-10 of the peak on the thesis format and far below kDenseTolerance on harsh
+/// ones. The plan's eta are those of the accurate prediction.
+NonlinearOptions sensitivity_options() {
+  NonlinearOptions o;
+  o.steps_per_period = 20.0;
+  return o;
+}
+
 NlpOptions time_domain_options() {
   NlpOptions o;
   o.tolerance = 1e-9;             // of eta / eta_ref: far below a micrometre
@@ -60,7 +71,7 @@ using ModelSamples = std::vector<Samples>;
 struct TimeDomainWorkspace {
   TimeDomainWorkspace(const StrategyContext& c, const std::vector<SloshingModel>& models) {
     for (const SloshingModel& m : models) {
-      sensitivity.emplace_back(m, c.format.stroke, c.options.rest_time);
+      sensitivity.emplace_back(m, c.format.stroke, c.options.rest_time, sensitivity_options());
     }
     values.resize(models.size());
     gradients.resize(models.size());
@@ -72,6 +83,15 @@ struct TimeDomainWorkspace {
   std::array<double, kSegments> last{};  ///< the durations values and gradients are of
   bool valid{false};                     ///< false: values and gradients are stale
 };
+
+// Fixes every model's step counts to those of the start x for the solver's run from it (the
+// responses are then smooth in the durations during the run); forgets the last evaluation when
+// they changed.
+void freeze_steps(TimeDomainWorkspace& ws, const double* x) {
+  bool changed = false;
+  for (NonlinearSensitivity& s : ws.sensitivity) changed = s.freeze_steps(x) || changed;
+  if (changed) ws.valid = false;
+}
 
 // Evaluates |eta| / eta_ref and its gradient at the samples of every model for the durations x
 // into `ws`, unless x is the last point evaluated.
@@ -141,11 +161,13 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
       space->limit_constraints(x, g + count, jrow, n);
     }
   };
+  p.before_start = [work](const double* x0) { freeze_steps(*work, x0); };
   std::vector<std::vector<double>> x0 = as_vectors(starts);
   // Last start first: the workspace then holds the first start's response, where the solver
   // begins, so its first evaluation is not integrated again.
   for (auto it = x0.rbegin(); it != x0.rend(); ++it) {
     std::vector<double>& x = *it;
+    freeze_steps(ws, x.data());
     evaluate_samples(ws, samples, eta_ref, x.data());
     double z = 0.0;
     for (std::size_t m = 0; m < samples.size(); ++m) {
@@ -189,7 +211,7 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
   const int kwr = std::max(1, static_cast<int>(std::ceil(rest / period * kCheckWindowsPerPeriod)));
   std::optional<NonlinearSensitivity> own;
   if (computed == nullptr) {
-    own.emplace(model, c.format.stroke, rest);
+    own.emplace(model, c.format.stroke, rest, sensitivity_options());
     own->compute(x);
     computed = &*own;
   }
@@ -229,7 +251,7 @@ bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise
   double worst = bound * (1.0 + kDenseTolerance);
   const SloshingModel* breaking = nullptr;
   for (const SloshingModel& m : c.check_models) {
-    const SloshPeaks p = NonlinearResponse(m, law, c.options.rest_time).peaks();
+    const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
     const double value = minimise_motion ? p.rest.value : p.motion.value;
     if (value > worst) {
       worst = value;
@@ -326,7 +348,7 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
   const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
   double value = 0.0;
   for (const SloshingModel& m : c.check_models) {
-    const SloshPeaks p = NonlinearResponse(m, law, c.options.rest_time).peaks();
+    const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
     value = std::max(value, motion ? p.rest.value : p.motion.value);
   }
   return value;

@@ -74,16 +74,19 @@ class LinearResponse {
 
 /// Options of the nonlinear integration.
 struct NonlinearOptions {
-  /// Largest RK4 step [s]. The actual step is min(max_step, period_1 / steps_per_period),
-  /// shrunk so that every law breakpoint is a step boundary. Default 1 ms (SPEC §2).
-  double max_step{kMaxPeakStep};
-  /// Minimum steps per period of mode 1 [-]. Default 100 (error on eta << 0.1 % of the peak).
-  double steps_per_period{100.0};
+  /// Largest step [s]. The actual step is min(max_step, period_1 / steps_per_period) (and at most
+  /// 1/steps_per_period of the period of a piece's harmonic), shrunk so that every law piece is
+  /// a whole number of steps. Default 50 ms (the period bound governs).
+  double max_step{0.05};
+  /// Minimum steps per period of mode 1 [-]. Default 40 (order-8 scheme: the error on eta stays
+  /// below 1e-6 of the peak even on harsh laws far into the nonlinear range, docs/models.md).
+  double steps_per_period{40.0};
 };
 
-/// Nonlinear fundamental-mode model (eq. 2.35) integrated with classical RK4 on a breakpoint-
-/// aligned grid; between steps the response is the cubic Hermite interpolant of the states and
-/// their derivatives, so peaks are located on a continuous curve.
+/// Nonlinear fundamental-mode model (eq. 2.35) integrated by the order-8 Runge-Kutta scheme of
+/// Dormand and Prince (DOP853) with equal steps on every law piece (never across a piece
+/// boundary); between steps the response is the scheme's order-7 dense output, so the peaks are
+/// the exact maxima of a continuous curve (the roots of its derivative on every step).
 class NonlinearResponse {
  public:
   NonlinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time,
@@ -93,20 +96,31 @@ class NonlinearResponse {
   [[nodiscard]] double eta(double t) const;
   /// xbar and its rate at t (held at the last computed state beyond the rest window).
   [[nodiscard]] ModeState state(double t) const;
-  [[nodiscard]] SloshPeaks peaks() const;
-  [[nodiscard]] std::size_t steps() const { return time_.size() - 1; }
+  /// The peaks (found while integrating; the rest window's search ends by the energy bound of
+  /// docs/models.md, which proves no later maximum can exceed the one found).
+  [[nodiscard]] SloshPeaks peaks() const { return peaks_; }
+  [[nodiscard]] std::size_t steps() const { return t0_.size(); }
   [[nodiscard]] double motion_time() const { return motion_time_; }
 
+  /// Power-basis coefficients of a step's interpolant in theta = (t - t0) / h [-].
+  using StepPoly = std::array<double, 8>;
+
  private:
-  std::vector<double> time_;
-  std::vector<double> x_, v_, acc_;  // xbar, xbar', xbar'' at each grid time
+  std::vector<double> t0_, h_;             // start and length of every step [s]
+  std::vector<StepPoly> x_poly_, v_poly_;  // xbar, xbar' over each step
+  ModeState last_{};                       // state at the end of the rest window
+  SloshPeaks peaks_;
   double K_{};
   double motion_time_{};
-  double end_time_{};
-  double peak_step_{};
 };
 
-/// RK4 steps for a stretch of length L with steps <= h_max: ceil(L / h_max), ignoring a
+/// The peaks of NonlinearResponse(model, law, rest_time, options).peaks(), equal to them bit for
+/// bit, without keeping the trajectory: the integration stops where the energy bound proves
+/// the rest window's maximum found (about half a period after the first turning point after T).
+[[nodiscard]] SloshPeaks nonlinear_peaks(const SloshingModel& model, const MotionLaw& law,
+                                         double rest_time, const NonlinearOptions& options = {});
+
+/// Steps for a stretch of length L with steps <= h_max: ceil(L / h_max), ignoring a
 /// round-off excess of 1e-9 step (0.17 s / 1 ms is 170.00000000000003), at least `at_least`.
 [[nodiscard]] inline std::size_t step_count(double length, double h_max, std::size_t at_least = 0) {
   // A length that is not positive (or NaN) takes no step: converting a negative count to size_t

@@ -53,6 +53,10 @@ struct NlpProblem {
   int inequality_count{0};
   /// Writes g(x) (size m) and, when `jacobian` is not null, dg/dx row-major (m x n).
   std::function<void(const double* x, double* g, double* jacobian)> inequalities;
+  /// Called by multi_start() with each start x0 before the solver runs from it (may be empty):
+  /// lets a problem fix, for the whole run from x0, the discretisation its functions use, so
+  /// they stay smooth in x during that run (time_domain's step counts per law piece).
+  std::function<void(const double* x0)> before_start;
 
   [[nodiscard]] int size() const { return static_cast<int>(lower.size()); }
 };
