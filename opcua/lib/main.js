@@ -18,6 +18,20 @@ function sameSecret(a, b) {
   return crypto.timingSafeEqual(da, db);
 }
 
+// node-opcua grants a client up to 50 min (a constant of its own): the session of a client killed
+// without closing it would hold a session slot that long. Requests for more than maxMs (or for
+// none, node-opcua's 30 s default) are lowered to maxMs before node-opcua sees them, so the
+// CreateSession answer's revisedSessionTimeout says what the client really got.
+function boundSessionTimeout(server, maxMs) {
+  const original = server._on_CreateSessionRequest;
+  if (typeof original !== "function") throw new Error("node-opcua has no _on_CreateSessionRequest: --session-timeout-s cannot be applied with this version");
+  server._on_CreateSessionRequest = function (message, channel) {
+    const request = message.request;
+    request.requestedSessionTimeout = Math.min(request.requestedSessionTimeout || 30000, maxMs);
+    return original.call(this, message, channel);
+  };
+}
+
 async function start(settings) {
   // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
   const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
@@ -62,10 +76,14 @@ async function start(settings) {
     userManager: {
       isValidUser: (user, password) => users.some((u) => sameSecret(u.user, user || "") && sameSecret(u.password, password || "")),
     },
+    // One connection per session is the usual client: as many connections as sessions.
+    serverCapabilities: { maxSessions: settings.maxSessions },
+    maxConnectionsPerEndpoint: settings.maxSessions,
     buildInfo: { productName: "slosh-opcua", productUri: "urn:slosh:opcua", manufacturerName: "slosh", softwareVersion: version },
     serverInfo: { applicationName: { text: "slosh OPC UA gateway", locale: "en" } },
   });
   await server.initialize();
+  boundSessionTimeout(server, settings.sessionTimeoutMs);
   // A key made by an earlier start under another umask is tightened too.
   for (const [p, mode] of [[pki, 0o700], [path.join(pki, "own", "private"), 0o700], [path.join(pki, "own", "private", "private_key.pem"), 0o600]]) {
     if (fs.existsSync(p)) fs.chmodSync(p, mode);

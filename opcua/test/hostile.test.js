@@ -235,6 +235,36 @@ describe("slosh-opcua settings a hostile integrator tried", () => {
     fs.chmodSync(file, 0o600);
     assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings, []);
   });
+  it("checks every source of a setting, not only the one that wins, and takes decimal numbers only", () => {
+    const { resolve } = require("../lib/options");
+    const dir = scratch("slosh-opcua-src-");
+    const file = path.join(dir, "c.json");
+    fs.writeFileSync(file, JSON.stringify({ port: "14899" }));
+    const refused = (argv, env) => {
+      try { resolve(argv, { HOME: dir, ...env }); } catch (e) { return e.message; }
+      return "accepted";
+    };
+    const svc = ["--service", "http://127.0.0.1:1"];
+    const cases = [
+      [[...svc, "--config", file, "--port", "1"], {}, "config port = \"14899\" is not a JSON number: allowed an integer 0 to 65535"],
+      [[...svc, "--config", file], { SLOSH_OPCUA_PORT: "1" }, "config port = \"14899\" is not a JSON number: allowed an integer 0 to 65535"],
+      [[...svc, "--port", "1"], { SLOSH_OPCUA_TIMEOUT_S: "abc" }, "SLOSH_OPCUA_TIMEOUT_S = \"abc\" is not a decimal number: allowed 0.1 to 600"],
+      [[...svc, "--port", "0x10"], {}, "--port = \"0x10\" is not a decimal number: allowed an integer 0 to 65535"],
+      [[...svc, "--port", " 0"], {}, "--port = \" 0\" is not a decimal number: allowed an integer 0 to 65535"],
+      [[...svc, "--timeout-s", "1e1"], {}, "--timeout-s = \"1e1\" is not a decimal number: allowed 0.1 to 600"],
+      [[...svc, "--state-dir", ""], {}, "--state-dir = \"\" is not a directory: give a path"],
+      [svc, { SLOSH_OPCUA_SECURITY: "" }, "SLOSH_OPCUA_SECURITY is empty: allowed none, basic256sha256 or both"],
+      [[...svc, "--security", ""], {}, "--security is empty: allowed none, basic256sha256 or both"],
+      [["--service", "http://x#f"], {}, "--service = \"http://x#…\" has a query or fragment: http://host[:port][/path] expected"],
+      [["--service", "http://x?token=s3"], {}, "--service = \"http://x?…\" has a query or fragment: http://host[:port][/path] expected"],
+      [["--service", "http://x"], { SLOSH_OPCUA_SERVICE: "ftp://y" }, "SLOSH_OPCUA_SERVICE = \"ftp://y\" is not a service URL: http://host[:port][/path] or https://… expected"],
+      [[...svc, "--session-timeout-s", "0.5"], {}, "--session-timeout-s = \"0.5\" is out of range: allowed 1 to 3000"],
+      [[...svc, "--max-sessions", "0"], {}, "--max-sessions = \"0\" is out of range: allowed an integer 1 to 1000"],
+    ];
+    for (const [argv, env, message] of cases) assert.equal(refused(argv, env), message, JSON.stringify([argv, env]));
+    const ok = resolve([...svc, "--port", "16", "--timeout-s", "2.5"], { HOME: dir });
+    assert.deepEqual([ok.port, ok.timeoutMs, ok.sessionTimeoutMs, ok.maxSessions], [16, 2500, 60000, 50]);
+  });
 });
 
 describe("slosh-opcua messages that name the right cause", () => {
@@ -299,5 +329,47 @@ describe("slosh-opcua messages that name the right cause", () => {
     fs.writeFileSync(path.join(keyDir, "private_key.pem"), "not a key\n");
     await assert.rejects(S.startGateway(dir, `http://127.0.0.1:${silent.address().port}`),
       (e) => e.message.includes(`slosh-opcua: cannot start: the private key ${path.join(keyDir, "private_key.pem")} is not a readable PEM key`));
+  });
+});
+
+describe("slosh-opcua sessions of clients that died without closing them", () => {
+  const { spawn } = require("child_process");
+  const path = require("path");
+
+  it("a requested timeout beyond --session-timeout-s gets the bound, and dead clients' sessions are freed within it", async () => {
+    const dir = scratch("slosh-opcua-sessions-");
+    const gw = await S.startGateway(dir, "http://127.0.0.1:1", ["--session-timeout-s", "3", "--max-sessions", "2"]);
+    // A client process that opens two sessions asking for an hour each, says what it got, and is
+    // then killed: its sessions are never closed.
+    const hog = spawn(process.execPath, ["-e", `
+      const { OPCUAClient } = require(${JSON.stringify(path.join(S.root, "opcua", "node_modules", "node-opcua"))});
+      (async () => {
+        const got = [];
+        for (let i = 0; i < 2; i++) {
+          const client = OPCUAClient.create({ endpointMustExist: false, connectionStrategy: { maxRetry: 0 }, requestedSessionTimeout: 3600000, keepSessionAlive: false });
+          await client.connect(${JSON.stringify(gw.endpoint)});
+          got.push((await client.createSession()).timeout);
+        }
+        process.stdout.write(JSON.stringify(got) + "\\n");
+        setInterval(() => {}, 1000);
+      })().catch((e) => { process.stdout.write("ERROR " + e.message + "\\n"); });`], { stdio: ["ignore", "pipe", "inherit"] });
+    let out = "";
+    hog.stdout.on("data", (c) => { out += c; });
+    try {
+      await S.until("the hog's sessions", 20000, () => out.includes("\n"));
+      const lastActivity = Date.now();
+      assert.deepEqual(JSON.parse(out), [3000, 3000]);
+      hog.kill("SIGKILL");
+      // Freed 3 s after the last request, plus node-opcua's 1 s watchdog period (node-opcua's own
+      // bound would hold both slots for 50 min).
+      const c = await S.until("a session once the dead ones timed out", 8000, async () => {
+        try { return await S.connect(gw.endpoint); } catch (e) { return null; }
+      }, 250);
+      assert.ok(Date.now() - lastActivity < 8000);
+      await c.close();
+    } finally {
+      hog.kill("SIGKILL");
+      await gw.stop();
+    }
   });
 });
