@@ -32,6 +32,21 @@ function boundSessionTimeout(server, maxMs) {
   };
 }
 
+// mkdir -p, one level at a time: Node's recursive mkdirSync never returns for a path under /proc
+// (/proc/self/x: mkdir answers ENOENT for a parent that exists, and Node retries the parent
+// forever), so a wrong --state-dir would hang the start instead of failing it.
+function makeDirectory(dir) {
+  const parts = path.resolve(dir).split(path.sep).filter(Boolean);
+  let at = path.sep;
+  for (const part of parts) {
+    at = path.join(at, part);
+    let stat = null;
+    try { stat = fs.statSync(at); } catch (e) { if (e.code !== "ENOENT") throw e; }
+    if (stat && !stat.isDirectory()) throw Object.assign(new Error(`ENOTDIR: not a directory, mkdir '${dir}' (${at} is a file)`), { code: "ENOTDIR" });
+    if (!stat) fs.mkdirSync(at, { mode: 0o700 });
+  }
+}
+
 async function start(settings) {
   // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
   const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
@@ -40,7 +55,7 @@ async function start(settings) {
   // The PKI holds the server's private key: everything the gateway creates is for its user only
   // (node-opcua writes the key 0644 under the default umask).
   process.umask(0o077);
-  fs.mkdirSync(settings.stateDir, { recursive: true, mode: 0o700 });
+  makeDirectory(settings.stateDir);
   const pki = path.join(settings.stateDir, "pki");
   // Client certificates are not trusted until an operator moves them from pki/rejected/certs to
   // pki/trusted/certs (docs/opcua.md): a secure channel is only as good as that decision.

@@ -199,7 +199,7 @@ describe("slosh-opcua settings a hostile integrator tried", () => {
   const { spawnSync } = require("child_process");
   const path = require("path");
   const script = path.join(S.root, "opcua", "slosh-opcua");
-  const run = (args, env = {}) => spawnSync(process.execPath, [script, ...args], { env: { ...process.env, HOME: scratch("slosh-opcua-set-"), ...env }, encoding: "utf8", timeout: 30000 });
+  const run = (args, env = {}) => spawnSync(process.execPath, [script, ...args], { env: { ...process.env, HOME: scratch("slosh-opcua-set-"), ...env }, encoding: "utf8", timeout: 15000, killSignal: "SIGKILL" });
 
   it("refuses credentials, queries and a missing URL in --service with a message that says so", () => {
     const cases = [
@@ -235,6 +235,15 @@ describe("slosh-opcua settings a hostile integrator tried", () => {
     fs.chmodSync(file, 0o600);
     assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings, []);
   });
+  it("a --state-dir under /proc fails the start with exit 1 instead of hanging", () => {
+    for (const dir of ["/proc/self/x", "/proc/1/nope"]) {
+      const r = run(["--service", "http://127.0.0.1:1", "--port", "0", "--state-dir", dir]);
+      assert.equal(r.error, undefined, `${dir}: ${r.error}`);
+      assert.equal(r.status, 1, r.stderr);
+      assert.equal(r.stderr, `slosh-opcua: cannot start: ENOENT: no such file or directory, mkdir '${dir}'\n`);
+    }
+  });
+
   it("checks every source of a setting, not only the one that wins, and takes decimal numbers only", () => {
     const { resolve } = require("../lib/options");
     const dir = scratch("slosh-opcua-src-");
