@@ -7,6 +7,7 @@ const { units, none: NO_UNIT } = require("./units");
 const A = require("./arguments");
 const { buildPlanRequest, buildMinTimeRequest, planSummary, ArgumentError } = require("./requests");
 const { checkPlan, checkMinTime, checkJob, checkJobPage, checkJobCreated } = require("./answers");
+const { ServiceError } = require("./service_client");
 const { failureResult } = require("./results");
 const { Products, checkRecipeId } = require("./products");
 
@@ -157,8 +158,9 @@ class Gateway {
   }
 
   // The job record of id with its results page at offset (the page only once the job finished).
-  async jobPage(id, offset) {
-    const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?offset=${offset}&limit=${PAGE_ROWS}`);
+  // deadline: see importJob.
+  async jobPage(id, offset, deadline = null) {
+    const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?offset=${offset}&limit=${PAGE_ROWS}`, undefined, this.bounded(deadline));
     checkJob(body, "GET", "/v1/batches/{id}");
     return body;
   }
@@ -188,11 +190,34 @@ class Gateway {
     if (!/^[0-9a-f]{1,64}$/.test(id)) {
       throw new ArgumentError("JobId", `JobId = ${JSON.stringify(id.slice(0, 60))} is not a batch job id: hex digits expected`);
     }
-    return this.importJob(id, await this.jobPage(id, 0));
+    // The whole call, not each request, is bounded by --timeout-s: an import of thousands of rows
+    // (one request each) would otherwise go on long after the client gave up on it.
+    const deadline = { at: Date.now() + this.service.timeoutMs, done: 0, failed: 0 };
+    return this.importJob(id, await this.jobPage(id, 0, deadline), deadline);
+  }
+
+  // The options of a request made under deadline (null: each request has the whole --timeout-s).
+  bounded(deadline) {
+    if (!deadline) return {};
+    const left = deadline.at - Date.now();
+    if (left <= 0) this.expired(deadline);
+    return { timeoutMs: left, boundName: "--timeout-s, the bound of the whole ImportBatchJob call", onTimeout: () => this.expiredError(deadline) };
+  }
+
+  expiredError(deadline) {
+    return new ServiceError("timeout", `ImportBatchJob did not finish within ${this.service.timeoutMs / 1000} s (--timeout-s): ${deadline.done} rows imported and ${deadline.failed} failed before it stopped, the rest not imported; `
+      + "call it again to import the whole job (rows already imported are written again), or use PlanTable, which imports in the background");
+  }
+
+  expired(deadline) {
+    throw this.expiredError(deadline);
   }
 
   // Writes the rows of job id to Products; first: its record with the first results page.
-  async importJob(id, first) {
+  // deadline: {at (ms since the epoch), done, failed} bounding the whole import, which stops
+  // between two rows once it passed (the rows written stay written); null for the background
+  // import of PlanTable, which no caller waits on.
+  async importJob(id, first, deadline = null) {
     if (first.state !== "done") {
       const p = first.progress || {};
       throw Object.assign(new ArgumentError("JobId", `batch job ${id} is ${first.state} (${p.done || 0} of ${p.total || 0} done): import it once it is done`), { invalidState: true });
@@ -204,6 +229,11 @@ class Gateway {
       checkJobPage(pageBody, "GET", "/v1/batches/{id}");
       const page = pageBody.results;
       for (const row of page.rows) {
+        if (deadline) {
+          deadline.done = planned;
+          deadline.failed = failed;
+          if (Date.now() >= deadline.at) this.expired(deadline);
+        }
         // One bad row (an id the gateway refuses, a plan that is gone or malformed) is counted as
         // failed with its message and never stops the rows after it.
         const rid = row.recipe_id === undefined || row.recipe_id === null || row.recipe_id === "" ? `row-${row.row}` : String(row.recipe_id);
@@ -219,7 +249,7 @@ class Gateway {
             failed += 1;
             continue;
           }
-          const plan = await this.planOfRow(row);
+          const plan = await this.planOfRow(row, deadline);
           this.products.setPlan(rid, plan, planSummary(plan), "");
           planned += 1;
         } catch (err) {
@@ -229,7 +259,11 @@ class Gateway {
         }
       }
       if (page.next_offset === null || page.next_offset === undefined) break;
-      pageBody = await this.jobPage(id, page.next_offset);
+      if (deadline) {
+        deadline.done = planned;
+        deadline.failed = failed;
+      }
+      pageBody = await this.jobPage(id, page.next_offset, deadline);
     }
     return { Planned: planned, Failed: failed };
   }
@@ -237,13 +271,13 @@ class Gateway {
   // The full plan of a batch row, which carries the format the recipe was planned with: the row's
   // own (a job posted with view full by another client), else the one the service keeps under its
   // key.
-  async planOfRow(row) {
+  async planOfRow(row, deadline) {
     if (row.plan !== undefined) {
       checkPlan(row.plan, "GET", "/v1/batches/{id}");
       return row.plan;
     }
     try {
-      const plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`)).body;
+      const plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`, undefined, this.bounded(deadline))).body;
       checkPlan(plan, "GET", "/v1/plans/{key}");
       return plan;
     } catch (err) {

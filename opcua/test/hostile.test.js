@@ -382,3 +382,57 @@ describe("slosh-opcua sessions of clients that died without closing them", () =>
     }
   });
 });
+
+describe("slosh-opcua ImportBatchJob bounded as a whole by --timeout-s", () => {
+  let server; let gw; let c; let planRequests = 0;
+  const ROWS = 12;
+  const plan = (key) => ({ status: "optimal", key, message: "", durations_s: [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1], kinematics: { a_max: 1, a_min: 1 }, prediction: {},
+    format: { container: { radius_mm: 48.5 }, fill_height_mm: 82, fluid: "water", stroke_mm: 800, motion_time_s: 1 }, strategy: "auto" });
+
+  before(async () => {
+    // A done job of 12 rows whose plans each take 250 ms to come: 3 s in all, 1 s allowed.
+    server = http.createServer((req, res) => {
+      const send = (body) => { res.writeHead(200, { "Content-Type": "application/json" }); res.end(JSON.stringify(body)); };
+      if (req.url === "/readyz") return send({ ready: true });
+      if (req.url.startsWith("/v1/batches/")) {
+        const rows = Array.from({ length: ROWS }, (_, i) => ({ row: i + 1, recipe_id: `slow${i + 1}`, status: "optimal", key: `k${i + 1}` }));
+        return send({ state: "done", progress: { done: ROWS, total: ROWS }, results: { rows, next_offset: null } });
+      }
+      planRequests += 1;
+      const key = req.url.split("/").pop();
+      setTimeout(() => send(plan(key)), 250);
+      return undefined;
+    });
+    await new Promise((r) => server.listen(0, "127.0.0.1", r));
+    gw = await S.startGateway(scratch("slosh-opcua-slowimp-"), `http://127.0.0.1:${server.address().port}`, ["--timeout-s", "1"]);
+    c = await S.connect(gw.endpoint);
+  });
+
+  after(async () => {
+    if (c) await c.close();
+    if (gw) await gw.stop();
+    if (server) server.close();
+  });
+
+  it("answers BadTimeout naming --timeout-s, stops importing, and keeps the rows it wrote", async () => {
+    const t0 = Date.now();
+    const r = await S.callMethod(c.session, "ImportBatchJob", [["String", "ab12"]]);
+    const elapsed = Date.now() - t0;
+    assert.equal(r.statusCode.value, StatusCodes.BadTimeout.value);
+    assert.ok(elapsed < 2500, `answered after ${elapsed} ms`);
+    const message = r.inputArgumentDiagnosticInfos[0].additionalInfo;
+    const m = /^ImportBatchJob did not finish within 1 s \(--timeout-s\): (\d+) rows imported and 0 failed before it stopped, the rest not imported; call it again to import the whole job \(rows already imported are written again\), or use PlanTable, which imports in the background$/.exec(message);
+    assert.ok(m, message);
+    const done = Number(m[1]);
+    assert.ok(done >= 1 && done < ROWS, message);
+    assert.match(await S.readValue(c.session, "ns=1;s=Slosh.LastError"), /ImportBatchJob: ImportBatchJob did not finish within 1 s/);
+    // No work goes on for a caller that is gone: no more plan requests once the answer is out.
+    const seen = planRequests;
+    await new Promise((res) => setTimeout(res, 700));
+    assert.equal(planRequests, seen);
+    assert.ok(seen <= done + 1, `${seen} plan requests for ${done} rows imported`);
+    const products = (await c.session.browse("ns=1;s=Products")).references.map((p) => p.browseName.name).sort();
+    assert.deepEqual(products, Array.from({ length: done }, (_, i) => `slow${i + 1}`).sort());
+    assert.equal(await S.readValue(c.session, "ns=1;s=Products.slow1.Status"), "optimal");
+  });
+});
