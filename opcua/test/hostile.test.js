@@ -11,6 +11,7 @@ const { StatusCodes } = require("node-opcua");
 const S = require("./support");
 
 const thesis = { radius: 48.5, height: 150, fill: 82, fluid: "water", stroke: 800, time: 1.0, strategy: "multi_notch" };
+const ALLOWED = "allowed: printable characters, not U+0000 to U+001F, U+007F to U+009F, U+2028, U+2029, U+FFFD or a lone surrogate";
 const OPTIONS_JSON = require("../lib/arguments").planArgs.findIndex((a) => a.name === "OptionsJson");
 
 const dirs = [];
@@ -52,18 +53,37 @@ describe("slosh-opcua against hostile input", () => {
 
   it("an import goes on past a row it refuses and counts it failed with its message", async () => {
     const row = (rid, stroke) => ({ recipe_id: rid, format: { container: { radius_mm: 48.5, height_mm: 150 }, fill_height_mm: 82, fluid: "water", stroke_mm: stroke, motion_time_s: 0.7 } });
-    const table = JSON.stringify([row("imp.a", 500), row("ctl\u0001x", 500), row("imp", 400)]);
+    const table = JSON.stringify([row("imp.a", 500), row("ctl\u0001x", 500), row("imp", 400), row("sep\u2029x", 500)]);
     const submitted = await S.httpJson("POST", `${slosh.url}/v1/batches`, { table, table_format: "json" });
     assert.equal(submitted.status, 202, submitted.text);
     const id = submitted.body.id;
     await S.until("the batch job", 30000, async () => (await S.httpJson("GET", `${slosh.url}/v1/batches/${id}`)).body.state === "done");
     const imp = await S.callMethod(conn.session, "ImportBatchJob", [["String", id]]);
     assert.equal(imp.statusCode.name, "Good");
-    assert.deepEqual(imp.outputArguments.map((v) => v.value), [2, 1]);
+    assert.deepEqual(imp.outputArguments.map((v) => v.value), [2, 2]);
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.imp.Parameters.StrokeMm"), 400);
     assert.equal(await S.readValue(conn.session, "ns=1;s=Products.imp%2Ea.Parameters.StrokeMm"), 500);
     const lastError = await S.readValue(conn.session, "ns=1;s=Slosh.LastError");
-    assert.match(lastError, new RegExp(`ImportBatchJob: batch job ${id} row 2: RecipeId "ctl\\\\u0001x" contains a control character; the row is not imported$`));
+    assert.ok(lastError.endsWith(`ImportBatchJob: batch job ${id} row 4: RecipeId "sep\\u2029x" contains a line or paragraph separator (U+2029): ${ALLOWED}; the row is not imported`), lastError);
+    // The product "sep" was not made from "sep\u2029x" (node-opcua's node id parser stops at U+2029).
+    const products = (await conn.session.browse("ns=1;s=Products")).references.map((p) => p.browseName.name);
+    assert.ok(!products.includes("sep"), products.join());
+  });
+
+  it("refuses RecipeIds with separators, C1 controls and lone surrogates on RecipeId, naming the allowed characters", async () => {
+    // A lone surrogate has no UTF-8: the client's encoder sends U+FFFD in its place.
+    const cases = [["p\u2029q", "\"p\\u2029q\" contains a line or paragraph separator (U+2029)"], ["l\u2028s", "\"l\\u2028s\" contains a line or paragraph separator (U+2028)"],
+      ["nel\u0085", "\"nel\\u0085\" contains a control character (U+0085)"], ["c1\u009b", "\"c1\\u009b\" contains a control character (U+009B)"],
+      ["lone\ud800", "\"lone\\ufffd\" contains the replacement character (U+FFFD)"]];
+    for (const [id, what] of cases) {
+      const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, recipeId: id }));
+      assert.equal(r.statusCode.value, StatusCodes.BadInvalidArgument.value, JSON.stringify(id));
+      assert.equal(r.inputArgumentResults[0].value, StatusCodes.BadInvalidArgument.value);
+      assert.equal(r.inputArgumentResults.filter((x) => x.value !== StatusCodes.Good.value).length, 1);
+      assert.equal(r.inputArgumentDiagnosticInfos[0].additionalInfo, `RecipeId ${what}: ${ALLOWED}`);
+    }
+    const products = (await conn.session.browse("ns=1;s=Products")).references.map((p) => p.browseName.name);
+    for (const n of ["p", "l", "nel", "c1", "lone"]) assert.ok(!products.some((p) => p.startsWith(n)), products.join());
   });
 
   it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
