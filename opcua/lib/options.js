@@ -23,7 +23,7 @@ GetPlan, PlanTable, ImportBatchJob; the Products folder; ServiceReady and LastEr
                      the server certificate is created in DIR/pki/own on first start;
                      SLOSH_OPCUA_STATE_DIR)
   --max-products N   most products kept in the Products folder, 1 to 100000 (default 2000,
-                     ~200 kB each); beyond it the product planned longest ago is removed and
+                     ~285 kB of RSS each); beyond it the product planned longest ago is removed and
                      LastError says so (SLOSH_OPCUA_MAX_PRODUCTS)
   --session-timeout-s S
                      longest session timeout granted, 1 to 3000 s (default 60): a client asking

@@ -9,8 +9,9 @@ const { units } = require("./units");
 const { planArgs, planOutputs } = require("./arguments");
 
 const MAX_RECIPE_ID = 128;
-// Each product is 59 nodes of the address space, ~200 kB of heap with node-opcua 2.160
-// (docs/opcua.md): the default 2 000 products stay near 400 MB.
+// Each product is 59 nodes of the address space, ~285 kB of resident memory with node-opcua 2.160
+// (docs/opcua.md): the default 2 000 products hold ~700 MB, up to 1.2 GB while importing into a
+// full folder.
 const DEFAULT_MAX_PRODUCTS = 2000;
 
 // A variable of a product: [browse name, type ("Double[]" for an array), unit, description, value].
