@@ -5,7 +5,7 @@
 const { DataType, Variant, VariantArrayType, StatusCodes } = require("node-opcua");
 const { units, none: NO_UNIT } = require("./units");
 const A = require("./arguments");
-const { buildPlanRequest, buildMinTimeRequest, planSummary, ArgumentError } = require("./requests");
+const { buildPlanRequest, buildMinTimeRequest, buildTableRequest, planSummary, ArgumentError } = require("./requests");
 const { checkPlan, checkMinTime, checkJob, checkJobPage, checkJobCreated } = require("./answers");
 const { ServiceError } = require("./service_client");
 const { failureResult } = require("./results");
@@ -151,7 +151,7 @@ class Gateway {
   async planTable(v) {
     // Without a view: a full row costs some 30 KiB of the service's batch_jobs_bytes, which would
     // bound a table to a few thousand recipes; the import fetches each plan by its key instead.
-    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "" });
+    const { body } = await this.service.request("POST", "/v1/batches", buildTableRequest(v));
     checkJobCreated(body, "POST", "/v1/batches");
     this.follow(body.id);
     return { JobId: body.id };

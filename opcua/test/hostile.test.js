@@ -86,6 +86,17 @@ describe("slosh-opcua against hostile input", () => {
     for (const n of ["p", "l", "nel", "c1", "lone"]) assert.ok(!products.some((p) => p.startsWith(n)), products.join());
   });
 
+  it("a Table over the service's 1 MiB body limit is refused on Table, naming its size and the limit", async () => {
+    const table = "recipe_id\n" + "x".repeat(1024 * 1024);
+    const r = await S.callMethod(conn.session, "PlanTable", [["String", table], ["String", "csv"]]);
+    assert.equal(r.statusCode.value, StatusCodes.BadInvalidArgument.value);
+    assert.deepEqual(r.inputArgumentResults.map((x) => x.value), [StatusCodes.BadInvalidArgument.value, StatusCodes.Good.value]);
+    const body = Buffer.byteLength(JSON.stringify({ table, table_format: "csv" }));
+    assert.equal(r.inputArgumentDiagnosticInfos[0].additionalInfo,
+      `Table is ${table.length} bytes long (${body} bytes as the request's JSON): allowed at most 1048576 bytes (1 MiB, the service's body limit, counting the request around it); split the table`);
+    assert.equal(r.inputArgumentDiagnosticInfos[1].additionalInfo, null);
+  });
+
   it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
     const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"line\",\"length_mm\":500}" }));
     assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
@@ -97,17 +108,24 @@ describe("slosh-opcua against hostile input", () => {
     assert.equal(rect.inputArgumentDiagnosticInfos[2].additionalInfo, "format.container.length_mm is not a known field; allowed here: radius_mm, height_mm");
   });
 
-  it("JSON nested deeper than the service's 64 levels is refused on its own argument, before parsing", async () => {
-    for (const levels of [65, 5000]) {
+  it("JSON nested deeper than the service's 64 levels (counting the request around it) is refused on its own argument, before parsing", async () => {
+    for (const levels of [64, 5000]) {
       const deep = "{\"a\":".repeat(levels) + "1" + "}".repeat(levels);
       const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, options: deep }));
       assert.equal(r.statusCode.value, StatusCodes.BadInvalidArgument.value);
       assert.equal(r.inputArgumentResults[OPTIONS_JSON].value, StatusCodes.BadInvalidArgument.value);
       assert.equal(r.inputArgumentResults.filter((x) => x.value !== StatusCodes.Good.value).length, 1);
-      assert.equal(r.inputArgumentDiagnosticInfos[OPTIONS_JSON].additionalInfo, `OptionsJson nests ${levels} levels deep: allowed at most 64 levels`);
+      assert.equal(r.inputArgumentDiagnosticInfos[OPTIONS_JSON].additionalInfo,
+        `OptionsJson nests ${levels} levels deep: allowed at most 63 levels (the service's limit of 64 counts the request object around it)`);
     }
-    // 64 levels reach the service (its limit is inclusive): its answer, word for word, not the
-    // gateway's check.
+    // The gateway's bound is the service's: 64 levels of options are 65 in the request, which the
+    // service refuses as malformed.
+    const deep64 = "{\"a\":".repeat(64) + "1" + "}".repeat(64);
+    const refused = await S.httpJson("POST", `${slosh.url}/v1/plans`, {
+      format: { container: { radius_mm: thesis.radius }, fill_height_mm: thesis.fill, fluid: thesis.fluid, stroke_mm: thesis.stroke, motion_time_s: thesis.time },
+      options: JSON.parse(deep64) });
+    assert.equal(refused.status, 400, refused.text);
+    // 63 levels reach the service: its answer, word for word, not the gateway's check.
     const ok = "{\"a\":".repeat(63) + "1" + "}".repeat(63);
     const r = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, options: ok }));
     const direct = await S.httpJson("POST", `${slosh.url}/v1/plans`, {
