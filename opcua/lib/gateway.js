@@ -16,6 +16,11 @@ const { Products, checkRecipeId } = require("./products");
 // answer (MAX_ANSWER_BYTES, 64 MiB) even for rows with long general laws.
 const PAGE_ROWS = 250;
 
+// How long the PlanTable follower retries a failing service: the service's default
+// batch_job_stale_s (docs/machines.md), after which an unfinished job of a stopped replica reads
+// as failed anyway.
+const FOLLOW_RETRY_MS = 30000;
+
 
 function argumentDefinition(a) {
   return {
@@ -167,11 +172,18 @@ class Gateway {
 
   // Polls a job this gateway submitted until it finishes, then imports it from the poll's own
   // answer (which holds the first page). Bounded by the job's own life: a job that stays
-  // unfinished for its stale time reads as failed.
+  // unfinished for its stale time reads as failed. A failure that may pass (the service
+  // restarting or overloaded: no connection, no answer in time, 502/503/504) is retried for
+  // FOLLOW_RETRY_MS after the first one of a row of failures; no caller waits on this, so only
+  // LastError tells, and it says how to import the job by hand once the service is back.
   follow(id) {
+    let failingSince = null;
+    let delay = 500;
     const tick = async () => {
       try {
         const record = await this.jobPage(id, 0);
+        failingSince = null;
+        delay = 500;
         if (record.state === "queued" || record.state === "running") {
           setTimeout(tick, 250).unref();
           return;
@@ -179,6 +191,18 @@ class Gateway {
         if (record.state === "done") await this.importJob(id, record);
         else this.setError("PlanTable", `batch job ${id} ended ${record.state}: ${record.message || ""}`);
       } catch (err) {
+        const transient = err.kind === "unreachable" || err.kind === "timeout" || (err.kind === "http" && [502, 503, 504].includes(err.status));
+        if (transient && !this.stopped) {
+          if (failingSince === null) failingSince = Date.now();
+          if (Date.now() - failingSince < FOLLOW_RETRY_MS) {
+            this.setError("PlanTable", `batch job ${id}: ${err.message}; retrying for up to ${FOLLOW_RETRY_MS / 1000} s`);
+            setTimeout(tick, delay).unref();
+            delay = Math.min(delay * 2, 4000);
+            return;
+          }
+          this.setError("PlanTable", `batch job ${id}: ${err.message}; gave up following it after ${FOLLOW_RETRY_MS / 1000} s of failures: call ImportBatchJob with JobId ${id} once the service is back (the job is kept for batch_job_ttl_s once done)`);
+          return;
+        }
         this.setError("PlanTable", `batch job ${id}: ${err.message}`);
       }
     };

@@ -422,7 +422,7 @@ describe("slosh-opcua sessions of clients that died without closing them", () =>
 });
 
 describe("slosh-opcua ImportBatchJob bounded as a whole by --timeout-s", () => {
-  let server; let gw; let c; let planRequests = 0;
+  let server; let gw; let c; let planRequests = 0; let cafePolls = 0;
   const ROWS = 12;
   const plan = (key) => ({ status: "optimal", key, message: "", durations_s: [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1], kinematics: { a_max: 1, a_min: 1 }, prediction: {},
     format: { container: { radius_mm: 48.5 }, fill_height_mm: 82, fluid: "water", stroke_mm: 800, motion_time_s: 1 }, strategy: "auto" });
@@ -432,6 +432,23 @@ describe("slosh-opcua ImportBatchJob bounded as a whole by --timeout-s", () => {
     server = http.createServer((req, res) => {
       const send = (body) => { res.writeHead(200, { "Content-Type": "application/json" }); res.end(JSON.stringify(body)); };
       if (req.url === "/readyz") return send({ ready: true });
+      if (req.method === "POST" && req.url === "/v1/batches") {
+        req.resume();
+        res.writeHead(202, { "Content-Type": "application/json" });
+        res.end(JSON.stringify({ id: "cafe" }));
+        return undefined;
+      }
+      if (req.url.startsWith("/v1/batches/cafe")) {
+        // The service restarting under the follower: 503, then no connection, then the job.
+        cafePolls += 1;
+        if (cafePolls === 1) {
+          res.writeHead(503, { "Content-Type": "application/json" });
+          res.end(JSON.stringify({ error: { code: "overloaded", message: "the service is starting" } }));
+          return undefined;
+        }
+        if (cafePolls === 2) { req.socket.destroy(); return undefined; }
+        return send({ state: "done", progress: { done: 1, total: 1 }, results: { rows: [{ row: 1, recipe_id: "followed", status: "optimal", key: "kf" }], next_offset: null } });
+      }
       if (req.url.startsWith("/v1/batches/")) {
         const rows = Array.from({ length: ROWS }, (_, i) => ({ row: i + 1, recipe_id: `slow${i + 1}`, status: "optimal", key: `k${i + 1}` }));
         return send({ state: "done", progress: { done: ROWS, total: ROWS }, results: { rows, next_offset: null } });
@@ -472,5 +489,18 @@ describe("slosh-opcua ImportBatchJob bounded as a whole by --timeout-s", () => {
     const products = (await c.session.browse("ns=1;s=Products")).references.map((p) => p.browseName.name).sort();
     assert.deepEqual(products, Array.from({ length: done }, (_, i) => `slow${i + 1}`).sort());
     assert.equal(await S.readValue(c.session, "ns=1;s=Products.slow1.Status"), "optimal");
+  });
+
+  it("PlanTable's follower retries a service that fails for a while (503, no connection) and imports the job", async () => {
+    const r = await S.callMethod(c.session, "PlanTable", [["String", "recipe_id\nfollowed\n"], ["String", "csv"]]);
+    assert.equal(r.statusCode.name, "Good");
+    const errors = new Set();
+    await S.until("the followed job in Products", 10000, async () => {
+      errors.add(await S.readValue(c.session, "ns=1;s=Slosh.LastError"));
+      const dv = await c.session.read({ nodeId: "ns=1;s=Products.followed.Status", attributeId: 13 });
+      return dv.statusCode.isGood() && dv.value.value === "optimal";
+    });
+    assert.ok(cafePolls >= 3, `${cafePolls} polls`);
+    assert.ok([...errors].some((e) => / PlanTable: batch job cafe: the service is starting; retrying for up to 30 s$/.test(e)), [...errors].join("\n"));
   });
 });
