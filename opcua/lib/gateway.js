@@ -2,7 +2,7 @@
 // The address space of the gateway: Objects/Slosh with the methods (PlanFormat, MinTime, GetPlan,
 // ImportBatchJob, PlanTable), the health variables (ServiceReady, LastError) and the Products
 // folder. Each method calls the slosh HTTP service (docs/api.md) through one bounded client.
-const { DataType, Variant, VariantArrayType, StatusCodes } = require("node-opcua");
+const { DataType, Variant, VariantArrayType, StatusCodes, DiagnosticInfo } = require("node-opcua");
 const { units, none: NO_UNIT } = require("./units");
 const A = require("./arguments");
 const { buildPlanRequest, buildMinTimeRequest, buildTableRequest, planSummary, ArgumentError } = require("./requests");
@@ -76,6 +76,8 @@ class Gateway {
       onEvict: (id) => this.setError("Products", `product ${JSON.stringify(id.slice(0, 60))} (planned longest ago) removed: --max-products ${options.maxProducts} reached`),
     });
 
+    this.argumentsOf = {};
+    this.explainStackRefusals(server);
     this.method("PlanFormat", A.planArgs, A.planOutputs, "Plan one format (POST /v1/plans); with a RecipeId the plan is kept in Products", (v) => this.planFormat(v));
     this.method("MinTime", A.minTimeArgs, A.minTimeOutputs, "Shortest motion time of the format within the limits (POST /v1/min-time)", (v) => this.minTime(v));
     this.method("GetPlan", A.getPlanArgs, A.planOutputs, "A plan by its key (GET /v1/plans/{key})", (v) => this.getPlan(v));
@@ -83,7 +85,41 @@ class Gateway {
     this.method("ImportBatchJob", A.importArgs, A.importOutputs, "Write the recipes of a finished batch job to Products", (v) => this.importBatchJob(v));
   }
 
+  // node-opcua checks the number and types of a call's arguments itself and answers
+  // BadArgumentsMissing, BadTooManyArguments or BadTypeMismatch without calling the method, so
+  // with no message and no LastError. The calls are wrapped where node-opcua makes them
+  // (AddressSpaceAccessor.callMethod, per instance) to give those answers the gateway's message.
+  explainStackRefusals(server) {
+    const accessor = server.engine && server.engine.addressSpaceAccessor;
+    if (!accessor || typeof accessor.callMethod !== "function") return;
+    const original = accessor.callMethod;
+    const refusals = [StatusCodes.BadArgumentsMissing, StatusCodes.BadTooManyArguments, StatusCodes.BadTypeMismatch, StatusCodes.BadOutOfRange].map((c) => c.value);
+    accessor.callMethod = async (context, methodToCall) => {
+      const result = await original.call(accessor, context, methodToCall);
+      const id = methodToCall.methodId;
+      const name = id && id.namespace === this.namespace.index && typeof id.value === "string" && id.value.startsWith("Slosh.") ? id.value.slice(6) : null;
+      const args = name && this.argumentsOf[name];
+      if (!args || !result || !result.statusCode || !refusals.includes(result.statusCode.value)) return result;
+      const given = methodToCall.inputArguments || [];
+      const typeOf = (v) => (v ? `${DataType[v.dataType]}${v.arrayType === VariantArrayType.Array ? "[]" : ""}` : "nothing");
+      const wanted = (a) => `${a.type}${a.array ? "[]" : ""}`;
+      let message;
+      let marked = [];
+      if (given.length !== args.length) {
+        message = `${name} takes ${args.length} argument${args.length === 1 ? "" : "s"} (${args.map((a) => a.name).join(", ")}): ${given.length} given`;
+      } else {
+        const results = result.inputArgumentResults || [];
+        marked = args.map((_, i) => i).filter((i) => results[i] && results[i].value !== StatusCodes.Good.value);
+        message = marked.map((i) => `${args[i].name} must be a ${wanted(args[i])}, got ${typeOf(given[i])}`).join("; ") || `${name}: ${result.statusCode.name}`;
+      }
+      this.setError(name, message);
+      const inputArgumentDiagnosticInfos = args.map((_, i) => (marked.length === 0 || marked.includes(i) ? new DiagnosticInfo({ additionalInfo: message }) : new DiagnosticInfo({})));
+      return { ...result, inputArgumentResults: result.inputArgumentResults || args.map(() => StatusCodes.Good), inputArgumentDiagnosticInfos };
+    };
+  }
+
   method(name, args, outputs, description, handler) {
+    this.argumentsOf[name] = args;
     const method = this.namespace.addMethod(this.root, {
       browseName: name, nodeId: `s=Slosh.${name}`, description,
       inputArguments: args.map(argumentDefinition),

@@ -97,6 +97,24 @@ describe("slosh-opcua against hostile input", () => {
     assert.equal(r.inputArgumentDiagnosticInfos[1].additionalInfo, null);
   });
 
+  it("node-opcua's own argument checks carry the gateway's message and set LastError", async () => {
+    const { Variant, DataType } = require("node-opcua");
+    const call = (method, args) => conn.session.call({ objectId: "ns=1;s=Slosh", methodId: `ns=1;s=Slosh.${method}`, inputArguments: args });
+    const str = (value) => new Variant({ dataType: DataType.String, value });
+    const cases = [
+      ["GetPlan", [], "BadArgumentsMissing", ["GetPlan takes 1 argument (Key): 0 given"]],
+      ["ImportBatchJob", [str("a"), str("b")], "BadTooManyArguments", ["ImportBatchJob takes 1 argument (JobId): 2 given"]],
+      ["PlanTable", [str("x"), new Variant({ dataType: DataType.Double, value: 1 })], "BadTypeMismatch", [null, "TableFormat must be a String, got Double"]],
+    ];
+    for (const [method, args, status, infos] of cases) {
+      const r = await call(method, args);
+      assert.equal(r.statusCode.name, status);
+      assert.deepEqual(r.inputArgumentDiagnosticInfos.map((d) => d.additionalInfo), infos);
+      const message = infos.filter(Boolean)[0];
+      assert.ok((await S.readValue(conn.session, "ns=1;s=Slosh.LastError")).endsWith(` ${method}: ${message}`));
+    }
+  });
+
   it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
     const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"line\",\"length_mm\":500}" }));
     assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
