@@ -14,8 +14,9 @@ GetPlan, PlanTable, ImportBatchJob; the Products folder; ServiceReady and LastEr
   --port N           OPC UA TCP port, 0 = any free one (default 4840; SLOSH_OPCUA_PORT)
   --host ADDR        listen address and endpoint host name (default: every interface, the
                      machine's host name in the endpoint URL; SLOSH_OPCUA_HOST)
-  --timeout-s S      bound of each call to the service, 0.1 to 600 s (default 30; a call then
-                     fails with BadTimeout; SLOSH_OPCUA_TIMEOUT_S)
+  --timeout-s S      bound of each call to the service and of a whole ImportBatchJob,
+                     0.1 to 600 s (default 30; a call then fails with BadTimeout;
+                     SLOSH_OPCUA_TIMEOUT_S)
   --poll-s S         readiness poll period of GET /readyz, 0.1 to 60 s (default 2; SLOSH_OPCUA_POLL_S)
   --security LIST    comma list of none, basic256sha256 (default none,basic256sha256:
                      Basic256Sha256 is offered as SignAndEncrypt only; SLOSH_OPCUA_SECURITY)
