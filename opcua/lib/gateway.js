@@ -2,11 +2,12 @@
 // The address space of the gateway: Objects/Slosh with the methods (PlanFormat, MinTime, GetPlan,
 // ImportBatchJob, PlanTable), the health variables (ServiceReady, LastError) and the Products
 // folder. Each method calls the slosh HTTP service (docs/api.md) through one bounded client.
-const { DataType, Variant, VariantArrayType, StatusCodes } = require("node-opcua");
+const { DataType, Variant, VariantArrayType, StatusCodes, DiagnosticInfo } = require("node-opcua");
 const { units, none: NO_UNIT } = require("./units");
 const A = require("./arguments");
-const { buildPlanRequest, buildMinTimeRequest, planSummary, ArgumentError } = require("./requests");
+const { buildPlanRequest, buildMinTimeRequest, buildTableRequest, planSummary, ArgumentError } = require("./requests");
 const { checkPlan, checkMinTime, checkJob, checkJobPage, checkJobCreated } = require("./answers");
+const { ServiceError } = require("./service_client");
 const { failureResult } = require("./results");
 const { Products, checkRecipeId } = require("./products");
 
@@ -14,6 +15,11 @@ const { Products, checkRecipeId } = require("./products");
 // (docs/machines.md), so a page is some 7.5 MB: far below what the service client accepts in one
 // answer (MAX_ANSWER_BYTES, 64 MiB) even for rows with long general laws.
 const PAGE_ROWS = 250;
+
+// How long the PlanTable follower retries a failing service: the service's default
+// batch_job_stale_s (docs/machines.md), after which an unfinished job of a stopped replica reads
+// as failed anyway.
+const FOLLOW_RETRY_MS = 30000;
 
 
 function argumentDefinition(a) {
@@ -70,6 +76,8 @@ class Gateway {
       onEvict: (id) => this.setError("Products", `product ${JSON.stringify(id.slice(0, 60))} (planned longest ago) removed: --max-products ${options.maxProducts} reached`),
     });
 
+    this.argumentsOf = {};
+    this.explainStackRefusals(server);
     this.method("PlanFormat", A.planArgs, A.planOutputs, "Plan one format (POST /v1/plans); with a RecipeId the plan is kept in Products", (v) => this.planFormat(v));
     this.method("MinTime", A.minTimeArgs, A.minTimeOutputs, "Shortest motion time of the format within the limits (POST /v1/min-time)", (v) => this.minTime(v));
     this.method("GetPlan", A.getPlanArgs, A.planOutputs, "A plan by its key (GET /v1/plans/{key})", (v) => this.getPlan(v));
@@ -77,7 +85,41 @@ class Gateway {
     this.method("ImportBatchJob", A.importArgs, A.importOutputs, "Write the recipes of a finished batch job to Products", (v) => this.importBatchJob(v));
   }
 
+  // node-opcua checks the number and types of a call's arguments itself and answers
+  // BadArgumentsMissing, BadTooManyArguments or BadTypeMismatch without calling the method, so
+  // with no message and no LastError. The calls are wrapped where node-opcua makes them
+  // (AddressSpaceAccessor.callMethod, per instance) to give those answers the gateway's message.
+  explainStackRefusals(server) {
+    const accessor = server.engine && server.engine.addressSpaceAccessor;
+    if (!accessor || typeof accessor.callMethod !== "function") return;
+    const original = accessor.callMethod;
+    const refusals = [StatusCodes.BadArgumentsMissing, StatusCodes.BadTooManyArguments, StatusCodes.BadTypeMismatch, StatusCodes.BadOutOfRange].map((c) => c.value);
+    accessor.callMethod = async (context, methodToCall) => {
+      const result = await original.call(accessor, context, methodToCall);
+      const id = methodToCall.methodId;
+      const name = id && id.namespace === this.namespace.index && typeof id.value === "string" && id.value.startsWith("Slosh.") ? id.value.slice(6) : null;
+      const args = name && this.argumentsOf[name];
+      if (!args || !result || !result.statusCode || !refusals.includes(result.statusCode.value)) return result;
+      const given = methodToCall.inputArguments || [];
+      const typeOf = (v) => (v ? `${DataType[v.dataType]}${v.arrayType === VariantArrayType.Array ? "[]" : ""}` : "nothing");
+      const wanted = (a) => `${a.type}${a.array ? "[]" : ""}`;
+      let message;
+      let marked = [];
+      if (given.length !== args.length) {
+        message = `${name} takes ${args.length} argument${args.length === 1 ? "" : "s"} (${args.map((a) => a.name).join(", ")}): ${given.length} given`;
+      } else {
+        const results = result.inputArgumentResults || [];
+        marked = args.map((_, i) => i).filter((i) => results[i] && results[i].value !== StatusCodes.Good.value);
+        message = marked.map((i) => `${args[i].name} must be a ${wanted(args[i])}, got ${typeOf(given[i])}`).join("; ") || `${name}: ${result.statusCode.name}`;
+      }
+      this.setError(name, message);
+      const inputArgumentDiagnosticInfos = args.map((_, i) => (marked.length === 0 || marked.includes(i) ? new DiagnosticInfo({ additionalInfo: message }) : new DiagnosticInfo({})));
+      return { ...result, inputArgumentResults: result.inputArgumentResults || args.map(() => StatusCodes.Good), inputArgumentDiagnosticInfos };
+    };
+  }
+
   method(name, args, outputs, description, handler) {
+    this.argumentsOf[name] = args;
     const method = this.namespace.addMethod(this.root, {
       browseName: name, nodeId: `s=Slosh.${name}`, description,
       inputArguments: args.map(argumentDefinition),
@@ -150,26 +192,34 @@ class Gateway {
   async planTable(v) {
     // Without a view: a full row costs some 30 KiB of the service's batch_jobs_bytes, which would
     // bound a table to a few thousand recipes; the import fetches each plan by its key instead.
-    const { body } = await this.service.request("POST", "/v1/batches", { table: v.Table || "", table_format: v.TableFormat || "" });
+    const { body } = await this.service.request("POST", "/v1/batches", buildTableRequest(v));
     checkJobCreated(body, "POST", "/v1/batches");
     this.follow(body.id);
     return { JobId: body.id };
   }
 
   // The job record of id with its results page at offset (the page only once the job finished).
-  async jobPage(id, offset) {
-    const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?offset=${offset}&limit=${PAGE_ROWS}`);
+  // deadline: see importJob.
+  async jobPage(id, offset, deadline = null) {
+    const { body } = await this.service.request("GET", `/v1/batches/${encodeURIComponent(id)}?offset=${offset}&limit=${PAGE_ROWS}`, undefined, this.bounded(deadline));
     checkJob(body, "GET", "/v1/batches/{id}");
     return body;
   }
 
   // Polls a job this gateway submitted until it finishes, then imports it from the poll's own
   // answer (which holds the first page). Bounded by the job's own life: a job that stays
-  // unfinished for its stale time reads as failed.
+  // unfinished for its stale time reads as failed. A failure that may pass (the service
+  // restarting or overloaded: no connection, no answer in time, 502/503/504) is retried for
+  // FOLLOW_RETRY_MS after the first one of a row of failures; no caller waits on this, so only
+  // LastError tells, and it says how to import the job by hand once the service is back.
   follow(id) {
+    let failingSince = null;
+    let delay = 500;
     const tick = async () => {
       try {
         const record = await this.jobPage(id, 0);
+        failingSince = null;
+        delay = 500;
         if (record.state === "queued" || record.state === "running") {
           setTimeout(tick, 250).unref();
           return;
@@ -177,6 +227,18 @@ class Gateway {
         if (record.state === "done") await this.importJob(id, record);
         else this.setError("PlanTable", `batch job ${id} ended ${record.state}: ${record.message || ""}`);
       } catch (err) {
+        const transient = err.kind === "unreachable" || err.kind === "timeout" || (err.kind === "http" && [502, 503, 504].includes(err.status));
+        if (transient && !this.stopped) {
+          if (failingSince === null) failingSince = Date.now();
+          if (Date.now() - failingSince < FOLLOW_RETRY_MS) {
+            this.setError("PlanTable", `batch job ${id}: ${err.message}; retrying for up to ${FOLLOW_RETRY_MS / 1000} s`);
+            setTimeout(tick, delay).unref();
+            delay = Math.min(delay * 2, 4000);
+            return;
+          }
+          this.setError("PlanTable", `batch job ${id}: ${err.message}; gave up following it after ${FOLLOW_RETRY_MS / 1000} s of failures: call ImportBatchJob with JobId ${id} once the service is back (the job is kept for batch_job_ttl_s once done)`);
+          return;
+        }
         this.setError("PlanTable", `batch job ${id}: ${err.message}`);
       }
     };
@@ -188,11 +250,34 @@ class Gateway {
     if (!/^[0-9a-f]{1,64}$/.test(id)) {
       throw new ArgumentError("JobId", `JobId = ${JSON.stringify(id.slice(0, 60))} is not a batch job id: hex digits expected`);
     }
-    return this.importJob(id, await this.jobPage(id, 0));
+    // The whole call, not each request, is bounded by --timeout-s: an import of thousands of rows
+    // (one request each) would otherwise go on long after the client gave up on it.
+    const deadline = { at: Date.now() + this.service.timeoutMs, done: 0, failed: 0 };
+    return this.importJob(id, await this.jobPage(id, 0, deadline), deadline);
+  }
+
+  // The options of a request made under deadline (null: each request has the whole --timeout-s).
+  bounded(deadline) {
+    if (!deadline) return {};
+    const left = deadline.at - Date.now();
+    if (left <= 0) this.expired(deadline);
+    return { timeoutMs: left, boundName: "--timeout-s, the bound of the whole ImportBatchJob call", onTimeout: () => this.expiredError(deadline) };
+  }
+
+  expiredError(deadline) {
+    return new ServiceError("timeout", `ImportBatchJob did not finish within ${this.service.timeoutMs / 1000} s (--timeout-s): ${deadline.done} rows imported and ${deadline.failed} failed before it stopped, the rest not imported; `
+      + "call it again to import the whole job (rows already imported are written again), or use PlanTable, which imports in the background");
+  }
+
+  expired(deadline) {
+    throw this.expiredError(deadline);
   }
 
   // Writes the rows of job id to Products; first: its record with the first results page.
-  async importJob(id, first) {
+  // deadline: {at (ms since the epoch), done, failed} bounding the whole import, which stops
+  // between two rows once it passed (the rows written stay written); null for the background
+  // import of PlanTable, which no caller waits on.
+  async importJob(id, first, deadline = null) {
     if (first.state !== "done") {
       const p = first.progress || {};
       throw Object.assign(new ArgumentError("JobId", `batch job ${id} is ${first.state} (${p.done || 0} of ${p.total || 0} done): import it once it is done`), { invalidState: true });
@@ -204,6 +289,11 @@ class Gateway {
       checkJobPage(pageBody, "GET", "/v1/batches/{id}");
       const page = pageBody.results;
       for (const row of page.rows) {
+        if (deadline) {
+          deadline.done = planned;
+          deadline.failed = failed;
+          if (Date.now() >= deadline.at) this.expired(deadline);
+        }
         // One bad row (an id the gateway refuses, a plan that is gone or malformed) is counted as
         // failed with its message and never stops the rows after it.
         const rid = row.recipe_id === undefined || row.recipe_id === null || row.recipe_id === "" ? `row-${row.row}` : String(row.recipe_id);
@@ -219,7 +309,7 @@ class Gateway {
             failed += 1;
             continue;
           }
-          const plan = await this.planOfRow(row);
+          const plan = await this.planOfRow(row, deadline);
           this.products.setPlan(rid, plan, planSummary(plan), "");
           planned += 1;
         } catch (err) {
@@ -229,7 +319,11 @@ class Gateway {
         }
       }
       if (page.next_offset === null || page.next_offset === undefined) break;
-      pageBody = await this.jobPage(id, page.next_offset);
+      if (deadline) {
+        deadline.done = planned;
+        deadline.failed = failed;
+      }
+      pageBody = await this.jobPage(id, page.next_offset, deadline);
     }
     return { Planned: planned, Failed: failed };
   }
@@ -237,13 +331,13 @@ class Gateway {
   // The full plan of a batch row, which carries the format the recipe was planned with: the row's
   // own (a job posted with view full by another client), else the one the service keeps under its
   // key.
-  async planOfRow(row) {
+  async planOfRow(row, deadline) {
     if (row.plan !== undefined) {
       checkPlan(row.plan, "GET", "/v1/batches/{id}");
       return row.plan;
     }
     try {
-      const plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`)).body;
+      const plan = (await this.service.request("GET", `/v1/plans/${encodeURIComponent(row.key)}`, undefined, this.bounded(deadline))).body;
       checkPlan(plan, "GET", "/v1/plans/{key}");
       return plan;
     } catch (err) {

@@ -18,6 +18,35 @@ function sameSecret(a, b) {
   return crypto.timingSafeEqual(da, db);
 }
 
+// node-opcua grants a client up to 50 min (a constant of its own): the session of a client killed
+// without closing it would hold a session slot that long. Requests for more than maxMs (or for
+// none, node-opcua's 30 s default) are lowered to maxMs before node-opcua sees them, so the
+// CreateSession answer's revisedSessionTimeout says what the client really got.
+function boundSessionTimeout(server, maxMs) {
+  const original = server._on_CreateSessionRequest;
+  if (typeof original !== "function") throw new Error("node-opcua has no _on_CreateSessionRequest: --session-timeout-s cannot be applied with this version");
+  server._on_CreateSessionRequest = function (message, channel) {
+    const request = message.request;
+    request.requestedSessionTimeout = Math.min(request.requestedSessionTimeout || 30000, maxMs);
+    return original.call(this, message, channel);
+  };
+}
+
+// mkdir -p, one level at a time: Node's recursive mkdirSync never returns for a path under /proc
+// (/proc/self/x: mkdir answers ENOENT for a parent that exists, and Node retries the parent
+// forever), so a wrong --state-dir would hang the start instead of failing it.
+function makeDirectory(dir) {
+  const parts = path.resolve(dir).split(path.sep).filter(Boolean);
+  let at = path.sep;
+  for (const part of parts) {
+    at = path.join(at, part);
+    let stat = null;
+    try { stat = fs.statSync(at); } catch (e) { if (e.code !== "ENOENT") throw e; }
+    if (stat && !stat.isDirectory()) throw Object.assign(new Error(`ENOTDIR: not a directory, mkdir '${dir}' (${at} is a file)`), { code: "ENOTDIR" });
+    if (!stat) fs.mkdirSync(at, { mode: 0o700 });
+  }
+}
+
 async function start(settings) {
   // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
   const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
@@ -26,7 +55,7 @@ async function start(settings) {
   // The PKI holds the server's private key: everything the gateway creates is for its user only
   // (node-opcua writes the key 0644 under the default umask).
   process.umask(0o077);
-  fs.mkdirSync(settings.stateDir, { recursive: true, mode: 0o700 });
+  makeDirectory(settings.stateDir);
   const pki = path.join(settings.stateDir, "pki");
   // Client certificates are not trusted until an operator moves them from pki/rejected/certs to
   // pki/trusted/certs (docs/opcua.md): a secure channel is only as good as that decision.
@@ -62,10 +91,14 @@ async function start(settings) {
     userManager: {
       isValidUser: (user, password) => users.some((u) => sameSecret(u.user, user || "") && sameSecret(u.password, password || "")),
     },
+    // One connection per session is the usual client: as many connections as sessions.
+    serverCapabilities: { maxSessions: settings.maxSessions },
+    maxConnectionsPerEndpoint: settings.maxSessions,
     buildInfo: { productName: "slosh-opcua", productUri: "urn:slosh:opcua", manufacturerName: "slosh", softwareVersion: version },
     serverInfo: { applicationName: { text: "slosh OPC UA gateway", locale: "en" } },
   });
   await server.initialize();
+  boundSessionTimeout(server, settings.sessionTimeoutMs);
   // A key made by an earlier start under another umask is tightened too.
   for (const [p, mode] of [[pki, 0o700], [path.join(pki, "own", "private"), 0o700], [path.join(pki, "own", "private", "private_key.pem"), 0o600]]) {
     if (fs.existsSync(p)) fs.chmodSync(p, mode);

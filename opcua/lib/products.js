@@ -9,8 +9,9 @@ const { units } = require("./units");
 const { planArgs, planOutputs } = require("./arguments");
 
 const MAX_RECIPE_ID = 128;
-// Each product is 59 nodes of the address space, ~200 kB of heap with node-opcua 2.160
-// (docs/opcua.md): the default 2 000 products stay near 400 MB.
+// Each product is 59 nodes of the address space, ~285 kB of resident memory with node-opcua 2.160
+// (docs/opcua.md): the default 2 000 products hold ~700 MB, up to 1.2 GB while importing into a
+// full folder.
 const DEFAULT_MAX_PRODUCTS = 2000;
 
 // A variable of a product: [browse name, type ("Double[]" for an array), unit, description, value].
@@ -51,18 +52,28 @@ const parameterVars = planArgs.filter((a) => a.name !== "RecipeId").map((a) =>
 const planVars = planOutputs.filter((o) => o.name !== "Status").map((o) =>
   variableOf(o, o.description, (summary) => summary[o.name]));
 
+// What a RecipeId may not hold, with why: control characters (C0, DEL and C1, NEL among them),
+// the line and paragraph separators U+2028 and U+2029 (node-opcua's node id parser stops at them,
+// so "p\u2029q" would be product "p"), lone surrogates (no UTF-8 for them) and U+FFFD (what a
+// lone surrogate became on its way through a client's UTF-8 encoder).
+const REFUSED_RECIPE_CHARS = /[\u0000-\u001f\u007f-\u009f\u2028\u2029\ufffd]|[\ud800-\udbff](?![\udc00-\udfff])|(?<![\ud800-\udbff])[\udc00-\udfff]/;
+const ALLOWED_RECIPE_CHARS = "allowed: printable characters, not U+0000 to U+001F, U+007F to U+009F, U+2028, U+2029, U+FFFD or a lone surrogate";
+
 function checkRecipeId(id) {
   if (typeof id !== "string" || id.length === 0) return "RecipeId is empty";
   if (id.length > MAX_RECIPE_ID) return `RecipeId is ${id.length} characters long: allowed 1 to ${MAX_RECIPE_ID}`;
-  // eslint-disable-next-line no-control-regex
-  if (/[\u0000-\u001f\u007f]/.test(id)) return `RecipeId ${JSON.stringify(id.slice(0, 60))} contains a control character`;
+  const m = REFUSED_RECIPE_CHARS.exec(id);
+  if (m) {
+    const code = m[0].charCodeAt(0);
+    const what = code <= 0x9f ? "a control character" : code === 0xfffd ? "the replacement character" : code >= 0xd800 && code <= 0xdfff ? "a lone surrogate" : "a line or paragraph separator";
+    const hex = code.toString(16).toUpperCase().padStart(4, "0");
+    // JSON.stringify escapes C0 controls and lone surrogates but not U+2028/9 or C1: escaped here.
+    const shown = JSON.stringify(id.slice(0, 60)).replace(/[\u007f-\u009f\u2028\u2029\ufffd]/g, (c) => `\\u${c.charCodeAt(0).toString(16).padStart(4, "0")}`);
+    return `RecipeId ${shown} contains ${what} (U+${hex}): ${ALLOWED_RECIPE_CHARS}`;
+  }
   return null;
 }
 
-// The id's part of a product's node ids: "." separates the id from its children
-// (Products.<id>.LastPlan.Key), so a "." in the id is written %2E and a "%" %25. Ids "x" and
-// "x.Status" then get distinct node ids (Products.x.Status vs Products.x%2EStatus) and can never
-// collide; ids without "." or "%" keep their text unchanged.
 function nodeIdPart(id) {
   return id.replace(/%/g, "%25").replace(/\./g, "%2E");
 }

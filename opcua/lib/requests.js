@@ -49,14 +49,18 @@ function jsonDepth(text) {
   return deepest;
 }
 
-function jsonObject(text, name) {
+// at: how deep the argument's object sits in the request the service reads (0: it is the
+// request; 1: a member of it, as options; 2: format.motion). The service's 64 levels count the
+// objects around it, so OptionsJson may nest 63.
+function jsonObject(text, name, at) {
   const bytes = Buffer.byteLength(text, "utf8");
   if (bytes > MAX_JSON_BYTES) {
     throw new ArgumentError(name, `${name} is ${bytes} bytes long: allowed at most ${MAX_JSON_BYTES} bytes (the service's body limit)`);
   }
   const depth = jsonDepth(text);
-  if (depth > MAX_JSON_DEPTH) {
-    throw new ArgumentError(name, `${name} nests ${depth} levels deep: allowed at most ${MAX_JSON_DEPTH} levels`);
+  if (depth > MAX_JSON_DEPTH - at) {
+    const around = at === 0 ? "" : ` (the service's limit of ${MAX_JSON_DEPTH} counts the ${at === 1 ? "request object" : `${at} objects`} around it)`;
+    throw new ArgumentError(name, `${name} nests ${depth} levels deep: allowed at most ${MAX_JSON_DEPTH - at} levels${around}`);
   }
   let value;
   try {
@@ -110,7 +114,7 @@ function buildFormat(a) {
   } else if (stroke !== 0) {
     format.stroke_mm = stroke;
   } else if (motion !== "") {
-    format.motion = jsonObject(motion, "MotionJson");
+    format.motion = jsonObject(motion, "MotionJson", 2);
   } else {
     throw new ArgumentError("StrokeMm", "StrokeMm = 0 and MotionJson is empty: give the stroke (mm) or the motion as JSON");
   }
@@ -122,12 +126,12 @@ function buildPlanRequest(a) {
   format.motion_time_s = number(a.MotionTimeS, "MotionTimeS");
   const request = { format };
   if (a.Strategy) request.strategy = a.Strategy;
-  if (a.OptionsJson) request.options = jsonObject(a.OptionsJson, "OptionsJson");
+  if (a.OptionsJson) request.options = jsonObject(a.OptionsJson, "OptionsJson", 1);
   return request;
 }
 
 function buildMinTimeRequest(a) {
-  const extra = a.RequestJson ? jsonObject(a.RequestJson, "RequestJson") : {};
+  const extra = a.RequestJson ? jsonObject(a.RequestJson, "RequestJson", 0) : {};
   for (const member of ["format", "eta_motion_max_mm", "eta_rest_max_mm"]) {
     if (member in extra) {
       throw new ArgumentError("RequestJson", `RequestJson.${member}: give it through its own argument, not in RequestJson`);
@@ -182,4 +186,16 @@ function planSummary(plan) {
   };
 }
 
-module.exports = { ArgumentError, buildPlanRequest, buildMinTimeRequest, planSummary };
+// The body of POST /v1/batches for a table: its size is checked here, where the refusal can name
+// Table, rather than by the service, whose 413 names no member.
+function buildTableRequest(a) {
+  const request = { table: a.Table || "", table_format: a.TableFormat || "" };
+  const bodyBytes = Buffer.byteLength(JSON.stringify(request), "utf8");
+  if (bodyBytes > MAX_JSON_BYTES) {
+    const tableBytes = Buffer.byteLength(request.table, "utf8");
+    throw new ArgumentError("Table", `Table is ${tableBytes} bytes long (${bodyBytes} bytes as the request's JSON): allowed at most ${MAX_JSON_BYTES} bytes (1 MiB, the service's body limit, counting the request around it); split the table`);
+  }
+  return request;
+}
+
+module.exports = { ArgumentError, buildTableRequest, buildPlanRequest, buildMinTimeRequest, planSummary };

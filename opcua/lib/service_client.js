@@ -39,8 +39,9 @@ class ServiceClient {
 
   // Resolves {status, body (parsed JSON or text), headers}; rejects with a ServiceError for a
   // connection failure, a timeout, or (unless raw) any status >= 400.
-  // boundName: what sets timeoutMs, for the timeout's message.
-  request(method, path, body = undefined, { raw = false, timeoutMs = this.timeoutMs, boundName = "--timeout-s" } = {}) {
+  // boundName: what sets timeoutMs, for the timeout's message; onTimeout: makes the error of a
+  // timeout instead (a bound of more than this one request says what it bounds).
+  request(method, path, body = undefined, { raw = false, timeoutMs = this.timeoutMs, boundName = "--timeout-s", onTimeout = null } = {}) {
     if (this.closing) return Promise.reject(new ServiceError("shutdown", "the gateway is shutting down: call again once it is back"));
     const target = this.url(path);
     const lib = target.protocol === "https:" ? https : http;
@@ -98,7 +99,7 @@ class ServiceClient {
         });
       });
       const timer = setTimeout(() => {
-        finish(reject, new ServiceError("timeout", `the slosh service at ${this.base.origin} did not answer ${method} ${path} within ${timeoutMs / 1000} s (${boundName})`));
+        finish(reject, onTimeout ? onTimeout() : new ServiceError("timeout", `the slosh service at ${this.base.origin} did not answer ${method} ${path} within ${timeoutMs / 1000} s (${boundName})`));
         req.destroy();
       }, timeoutMs);
       req.on("error", (e) => finish(reject, new ServiceError("unreachable", `the slosh service at ${this.base.origin} is unreachable: ${e.code || e.message}`)));

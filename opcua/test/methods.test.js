@@ -264,6 +264,9 @@ describe("slosh-opcua against a real slosh serve", () => {
     assert.equal(bad.stderr.trim(), "BadInvalidArgument (0x80ab0000) (RadiusMm): format.container.radius_mm = -3 is out of range: allowed 1 to 2000 mm");
     const browse = await run(["browse"]);
     assert.match(browse.stdout, /^ {2}cli-1 {2}Object {2}ns=1;s=Products\.cli-1$/m);
+    const unknown = await run(["call", "PlanFormats", "{}"]);
+    assert.equal(unknown.code, 2);
+    assert.equal(unknown.stderr, "slosh-opcua-client: unknown method \"PlanFormats\": the gateway has PlanFormat, MinTime, GetPlan, PlanTable, ImportBatchJob\n");
   });
 
   it("ServiceReady follows /readyz; a service that is down gives BadCommunicationError at once", async () => {
