@@ -24,6 +24,7 @@
 #include "slosh/core/strategy/planner.hpp"
 #include "slosh/core/strategy/robustness.hpp"
 #include "strategy/strategies.hpp"
+#include "strategy_context.hpp"
 
 namespace {
 
@@ -46,13 +47,7 @@ slosh::LawPrediction predict(const slosh::SloshingModel& model, const slosh::Mot
 }
 
 /// The context plan() builds before it solves, and one plan to verify, report and render.
-struct Setup {
-  slosh::Format format = slosh::thesis_format();
-  PlanOptions options;
-  slosh::SloshingModel model = slosh::make_sloshing_model(format, options.model);
-  slosh::detail::Deadline deadline{60.0};
-  slosh::detail::StrategyContext context{format, options, model,
-                                         slosh::detail::DurationSpace(format, options), deadline};
+struct Setup : slosh::bench::StrategyContextFixture {
   slosh::MotionLaw uniform =
       slosh::SevenSegmentLaw(slosh::uniform_durations(format.motion_time), format.stroke).law();
   slosh::LawPrediction baseline = predict(model, uniform, options.rest_time);

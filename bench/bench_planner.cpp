@@ -13,6 +13,7 @@
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "strategy/strategies.hpp"
+#include "strategy_context.hpp"
 
 namespace {
 
@@ -20,13 +21,7 @@ using slosh::PlanOptions;
 using slosh::Strategy;
 
 // The context plan() builds, for calling one strategy directly.
-struct Setup {
-  slosh::Format format = slosh::thesis_format();
-  PlanOptions options;
-  slosh::SloshingModel model = slosh::make_sloshing_model(format, options.model);
-  slosh::detail::Deadline deadline{60.0};
-  slosh::detail::StrategyContext context{format, options, model,
-                                         slosh::detail::DurationSpace(format, options), deadline};
+struct Setup : slosh::bench::StrategyContextFixture {
   explicit Setup(slosh::SolverChoice solver = slosh::SolverChoice::kAuto) {
     options.solver = solver;
     const auto uniform = slosh::uniform_durations(format.motion_time);
