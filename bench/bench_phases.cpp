@@ -14,6 +14,7 @@
 
 #include <benchmark/benchmark.h>
 
+#include <cstdio>
 #include <cstring>
 #include <string>
 #include <vector>
@@ -129,9 +130,19 @@ int main(int argc, char** argv) {
     constexpr const char* kFlag = "--phase_strategy=";
     if (std::strncmp(argv[i], kFlag, std::strlen(kFlag)) == 0) {
       const std::string name = argv[i] + std::strlen(kFlag);
+      bool known = false;
       for (int k = 0; k <= static_cast<int>(Strategy::kTimeDomain); ++k) {
-        if (slosh::to_string(static_cast<Strategy>(k)) == name)
+        if (slosh::to_string(static_cast<Strategy>(k)) == name) {
           g_strategy = static_cast<Strategy>(k);
+          known = true;
+        }
+      }
+      if (!known) {
+        std::fprintf(stderr,
+                     "bench_phases: --phase_strategy = '%s' is not one of baseline, notch, "
+                     "multi_notch, min_jerk_band, time_domain\n",
+                     name.c_str());
+        return 2;
       }
       continue;
     }
