@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/version.hpp"
+#include "support/process.hpp"
 #include "support/proxy.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
@@ -525,6 +526,42 @@ TEST(ClusterHostile, AnEvictedRecordIsUnavailableNotUnknownAndItsOwnerPublishesI
     const auto r = a.Get("/v1/batches/" + id);
     return r && r->status == 404;
   }));
+}
+
+// `slosh batch --server A` while A is paused (SIGSTOP) for longer than the CLI's 10 s call
+// deadline: the CLI took the timed-out poll as fatal, exited 1 and DELETEd its own healthy job.
+// A paused replica carries on with the job when it runs again, so the CLI keeps polling (with
+// backoff) and writes the whole table.
+TEST(ClusterHostile, TheCliWaitsForAPausedOwnerInsteadOfCancellingItsJob) {
+  Cluster cluster;
+  test::TempDir dir;
+  json table = recipes(150, 5400);
+  for (std::size_t i = 0; i < table.size(); ++i) table[i]["recipe_id"] = "r" + std::to_string(i);
+  test::write_file(dir / "t.json", table.dump());
+  test::write_file(dir / "stdin", "");
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.json").string(), "--out", (dir / "o.jsonl").string(),
+                   "--server", cluster.replicas[0].url(), "--progress", "never"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  auto a = cluster.replicas[0].client();
+  // The job has started: the CLI is polling it.
+  ASSERT_TRUE(poll_until(20s, [&] {
+    const auto r = a.Get("/metrics");
+    return r && test::metric(r->body, "slosh_batch_jobs_active") >= 1;
+  }));
+  ::kill(cluster.replicas[0].pid(), SIGSTOP);
+  {
+    struct Resume {
+      pid_t pid;
+      ~Resume() { ::kill(pid, SIGCONT); }
+    } resume{cluster.replicas[0].pid()};
+    std::this_thread::sleep_for(12s);  // the pause itself (the fault), past the CLI's deadline
+  }
+  const auto code = cli.wait_for(120s);
+  ASSERT_TRUE(code.has_value()) << "the CLI still runs";
+  EXPECT_EQ(*code, 0) << test::read_file(dir / "stderr");
+  const std::string out = test::read_file(dir / "o.jsonl");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 150) << test::read_file(dir / "stderr");
 }
 
 // A finished job DELETEd through B is forgotten by its owner A too (which otherwise answered it
