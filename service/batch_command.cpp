@@ -48,6 +48,12 @@ struct BatchAbort : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The service did not answer a call at all (refused, timed out), as opposed to answering an
+/// error: a started job's poll waits and asks again rather than stopping the run.
+struct ServiceUnreachable : BatchAbort {
+  using BatchAbort::BatchAbort;
+};
+
 /// Writes rows in input order and keeps the counts of the summary.
 class RowSink {
  public:
@@ -164,7 +170,7 @@ HttpReply retrying_503(const std::function<HttpReply()>& call) {
     try {
       reply = call();
     } catch (const HttpError& e) {
-      throw BatchAbort(e.what());
+      throw ServiceUnreachable(e.what());
     }
     if (reply.status != 503 || attempt >= kServerRetries || interrupted) return reply;
     const int wait =
@@ -245,6 +251,13 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
 constexpr std::chrono::seconds kJobCallTimeout{10};
 /// How often a batch job's progress is asked for.
 constexpr std::chrono::milliseconds kJobPollInterval{200};
+/// How long the progress polls of a started job go on while the service does not answer at all
+/// (the replica that runs it is paused, restarting, or the network is down) before the run
+/// stops: a paused replica carries on with the job when it runs again, so the CLI waits for it
+/// (the waits between polls back off from kJobPollInterval to kJobPollBackoffMax). Twice the
+/// default batch_job_stale_s (30 s), past which the other replicas call such a job failed.
+constexpr std::chrono::seconds kJobUnreachableLimit{60};
+constexpr std::chrono::milliseconds kJobPollBackoffMax{5000};
 
 std::string reply_problem(const HttpClient& client, const std::string& path,
                           const HttpReply& reply) {
@@ -284,6 +297,10 @@ HttpReply get_retrying_503(HttpClient& client, const std::string& path) {
 // The job's record (its first result row at most); BatchAbort unless the service answers it.
 json job_record_of(HttpClient& client, const RemoteJob& job) {
   const HttpReply reply = get_retrying_503(client, job.path() + "?limit=1");
+  if (reply.status == 502 || reply.status == 504) {
+    // A proxy in front of the replicas that could not reach the one it asked: no answer either.
+    throw ServiceUnreachable(reply_problem(client, job.path(), reply));
+  }
   if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
   try {
     json record = json::parse(reply.body);
@@ -300,12 +317,56 @@ struct BatchInterrupted : BatchAbort {
   using BatchAbort::BatchAbort;
 };
 
+/// Thrown by wait_for_job when the service stopped answering for kJobUnreachableLimit: the job
+/// is left alone (it may still finish; a DELETE could not reach it anyway).
+struct JobUnreachable : BatchAbort {
+  using BatchAbort::BatchAbort;
+};
+
+// An HttpError's text without its closing hint (": is `slosh serve` running there?"), which
+// misleads once the service has accepted the job: it ran, and stopped answering.
+std::string without_hint(const std::string& text) {
+  const std::size_t hint = text.find(": is `slosh serve` running there?");
+  return hint == std::string::npos ? text : text.substr(0, hint);
+}
+
+// Sleeps `wait` in slices, so that Ctrl-C ends it at once.
+void sleep_unless_interrupted(std::chrono::milliseconds wait) {
+  const auto until = std::chrono::steady_clock::now() + wait;
+  while (!interrupted && std::chrono::steady_clock::now() < until) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+}
+
 // Polls the job until it has finished, drawing its progress; BatchAbort unless it is done,
-// BatchInterrupted on Ctrl-C.
+// BatchInterrupted on Ctrl-C, JobUnreachable when the service has not answered at all for
+// kJobUnreachableLimit (polls that get no answer are repeated with backoff until then).
 void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
+  std::optional<std::chrono::steady_clock::time_point> silent_since;
+  std::chrono::milliseconds backoff = kJobPollInterval;
   for (;;) {
     if (interrupted) throw BatchInterrupted("interrupted");
-    const json record = job_record_of(client, job);
+    json record;
+    try {
+      record = job_record_of(client, job);
+    } catch (const ServiceUnreachable& e) {
+      const auto now = std::chrono::steady_clock::now();
+      if (!silent_since) silent_since = now;
+      const auto silent = std::chrono::duration_cast<std::chrono::seconds>(now - *silent_since);
+      if (silent >= kJobUnreachableLimit) {
+        throw JobUnreachable("batch job " + job.id() + ": the replica that runs it stopped " +
+                             "answering (no answer for " + std::to_string(silent.count()) +
+                             " s; last: " + without_hint(e.what()) +
+                             "); the job was not cancelled and may still finish: read it with "
+                             "GET " +
+                             client.base_url() + job.path());
+      }
+      sleep_unless_interrupted(backoff);
+      backoff = std::min(backoff * 2, kJobPollBackoffMax);
+      continue;
+    }
+    silent_since.reset();
+    backoff = kJobPollInterval;
     bar.update(record["progress"]["done"].get<std::size_t>());
     const std::string state = record["state"].get<std::string>();
     if (state == "done") return;
@@ -373,6 +434,9 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
   RemoteJob job(client, json::parse(posted.body)["id"].get<std::string>());
   try {
     wait_for_job(client, job, bar);
+  } catch (const JobUnreachable&) {
+    job.release();  // not cancelled: the replica may be paused, and carries on with it
+    throw;
   } catch (const BatchInterrupted&) {
     const std::string outcome = save_finished_rows(client, job, sink);
     const std::string id = job.id();

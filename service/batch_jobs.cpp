@@ -154,8 +154,14 @@ Reply json_reply(int status, const json& body) {
 // The record of job `id`: 404 when no store knows it, 503 (unavailable) when the shared store
 // cannot be asked (the job may run on another replica) or its stored text is damaged.
 json load_record(JobStore& store, const std::string& id, const ServerConfig& config) {
-  const auto [text, answered] = store.lookup_record(id);
+  const auto [text, answered, damaged] = store.lookup_record(id);
   const std::string shown = id.substr(0, 64);
+  if (damaged) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "the stored state of batch job '" + shown +
+                            "' is damaged (its record in the shared job store, Redis, is not a "
+                            "job record): POST the job again");
+  }
   if (!text && (!answered || !store.reachable())) {
     throw api::ApiError(api::ErrorCode::kUnavailable, "id",
                         "batch job '" + shown +
@@ -168,6 +174,15 @@ json load_record(JobStore& store, const std::string& id, const ServerConfig& con
                             "' is not on this replica and the shared job store (Redis) was "
                             "emptied or restarted a moment ago: the replicas are publishing their "
                             "jobs again, retry later");
+  }
+  if (!text && store.has_traces(id)) {
+    // The record key alone is gone (evicted under maxmemory, or deleted) while the job's rows
+    // are there: its owner publishes it again at its next heartbeat. A 404 would lose a DELETE.
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "batch job '" + shown +
+                            "' is not on this replica and its record is missing from the shared "
+                            "job store (Redis) although its results are there (evicted or "
+                            "deleted): the replica that runs it publishes it again, retry later");
   }
   if (!text) {
     throw api::ApiError(
@@ -224,15 +239,18 @@ std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t 
   std::vector<json> rows;
   rows.reserve(count);
   std::vector<std::size_t> damaged;  // 1-based row numbers
+  std::vector<std::size_t> missing;  // 1-based row numbers
   std::size_t readable = 0;
-  bool short_read = false;
-  for (std::size_t page = offset; page < offset + count && !short_read; page += kRowsPage) {
+  for (std::size_t page = offset; page < offset + count; page += kRowsPage) {
     const std::size_t n = std::min(kRowsPage, offset + count - page);
-    const auto texts = store.rows(id, page, n);
-    const std::size_t got = texts ? texts->size() : 0;
-    for (std::size_t i = 0; i < got; ++i) {
+    const auto slots = store.row_slots(id, page, n);
+    for (std::size_t i = 0; i < n; ++i) {
       const std::size_t number = page + i + 1;
-      json row = json::parse((*texts)[i], nullptr, false);
+      if (!slots || i >= slots->size() || !(*slots)[i]) {
+        missing.push_back(number);
+        continue;
+      }
+      json row = json::parse(*(*slots)[i], nullptr, false);
       if (is_result_row(row, number)) {
         ++readable;
         rows.push_back(std::move(row));
@@ -240,11 +258,12 @@ std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t 
         damaged.push_back(number);
       }
     }
-    short_read = got < n;
   }
   if (readable == count) return rows;
   const std::string shown = id.substr(0, 64);
-  const std::string detail = damaged.empty() ? "" : "; damaged: " + row_list(damaged);
+  std::string detail;
+  if (!missing.empty()) detail += "; missing: " + row_list(missing);
+  if (!damaged.empty()) detail += "; damaged: " + row_list(damaged);
   throw api::ApiError(api::ErrorCode::kUnavailable, "id",
                       "the stored results of batch job '" + shown +
                           "' are incomplete or damaged (" + std::to_string(readable) +

@@ -27,6 +27,9 @@ class JobStore {
   struct RecordLookup {
     std::optional<std::string> text;
     bool answered{true};
+    /// The store answered, but what it holds under the record's name is not a record (e.g. a
+    /// Redis key of another type): the job's stored state is damaged, not unreachable.
+    bool damaged{false};
   };
   [[nodiscard]] virtual RecordLookup lookup_record(const std::string& id) = 0;
   /// The record of job `id`; nullopt when the store does not know it or cannot be read.
@@ -46,6 +49,32 @@ class JobStore {
   [[nodiscard]] virtual std::optional<std::vector<std::string>> rows(const std::string& id,
                                                                      std::size_t offset,
                                                                      std::size_t count) = 0;
+
+  /// Rows [offset, offset + count) of job `id` as slots: nullopt for an index the store does not
+  /// hold, so that a reader can name every missing row (rows() stops at the first). nullopt when
+  /// the store does not know the job or cannot be read. Default: rows(), then empty slots.
+  [[nodiscard]] virtual std::optional<std::vector<std::optional<std::string>>> row_slots(
+      const std::string& id, std::size_t offset, std::size_t count) {
+    const auto got = rows(id, offset, count);
+    if (!got) return std::nullopt;
+    std::vector<std::optional<std::string>> out(got->begin(), got->end());
+    out.resize(count);
+    return out;
+  }
+  /// Whether the store holds other keys of job `id` (its rows or cancel flag) although it has no
+  /// record for it: the record was evicted or deleted and its owner publishes it again at its
+  /// next heartbeat, so the job must not be answered as unknown. Default false.
+  [[nodiscard]] virtual bool has_traces(const std::string& id) {
+    (void)id;
+    return false;
+  }
+  /// Which of `ids` have no record in this store and were not removed (a shared store that
+  /// evicted or lost a record key): their owner publishes them again. Default none.
+  [[nodiscard]] virtual std::vector<std::string> records_missing_among(
+      const std::vector<std::string>& ids) {
+    (void)ids;
+    return {};
+  }
 
   /// Asks the replica that runs job `id` to cancel it (it polls cancel_requested()). False when
   /// the store could not be written.

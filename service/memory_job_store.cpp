@@ -269,6 +269,24 @@ void TieredJobStore::resync() {
   }
   // Cancels and removals first: a job removed is not published again below.
   tell_shared();
+  // Jobs whose record the shared store lost on its own (evicted under maxmemory, or deleted):
+  // published again in full, as after an emptying. Jobs already waiting for resync are skipped.
+  {
+    std::vector<std::string> synced;
+    for (const std::string& id : local_.ids()) {
+      const std::lock_guard lock(mutex_);
+      if (unsynced_.count(id) == 0) synced.push_back(id);
+    }
+    for (const std::string& id : shared_.records_missing_among(synced)) {
+      spdlog::warn(
+          "batch job {}: its record is missing from the shared job store; publishing it "
+          "again",
+          id);
+      const std::lock_guard lock(mutex_);
+      counts_[id].shared = 0;
+      unsynced_.insert(id);
+    }
+  }
   // Jobs removed through another replica: this replica forgets its own copy (it would else
   // answer for the job and publish it again after an emptying).
   for (const std::string& id : shared_.removed_among(local_.ids())) {
@@ -299,6 +317,12 @@ std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& 
                                                              std::size_t count) {
   if (auto r = local_.rows(id, offset, count)) return r;
   return shared_.rows(id, offset, count);
+}
+
+std::optional<std::vector<std::optional<std::string>>> TieredJobStore::row_slots(
+    const std::string& id, std::size_t offset, std::size_t count) {
+  if (auto r = local_.row_slots(id, offset, count)) return r;
+  return shared_.row_slots(id, offset, count);
 }
 
 bool TieredJobStore::request_cancel(const std::string& id) {

@@ -99,6 +99,10 @@ class TieredJobStore final : public JobStore {
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) override;
+  /// The local store's slots when it knows the job, else the shared store's.
+  [[nodiscard]] std::optional<std::vector<std::optional<std::string>>> row_slots(
+      const std::string& id, std::size_t offset, std::size_t count) override;
+  [[nodiscard]] bool has_traces(const std::string& id) override { return shared_.has_traces(id); }
   /// Also remembered (the last kRemembered) and sent again after the shared store was emptied,
   /// so that a cancel this replica accepted reaches the owner that republishes the job.
   bool request_cancel(const std::string& id) override;

@@ -46,6 +46,14 @@ JobStore::RecordLookup RedisJobStore::lookup_record(const std::string& id) {
   // that exists.
   const bool known =
       record.type == RedisReply::Type::kString || record.type == RedisReply::Type::kNil;
+  if (record.is_error() && record.text.rfind("WRONGTYPE", 0) == 0 &&
+      removed.type == RedisReply::Type::kInteger) {
+    // Redis answered: the key exists but is not a string. The job's state is damaged, and
+    // reading it as "Redis cannot be reached" would send the user to wait for nothing.
+    if (removed.integer > 0) return {std::nullopt, true};
+    spdlog::warn("batch job {}: its record key in Redis is not a string ({})", id, record.text);
+    return {std::nullopt, true, true};
+  }
   if (!known || removed.type != RedisReply::Type::kInteger) {
     spdlog::warn(
         "batch job {}: Redis answered the record read with an unexpected reply ({}{}): "
@@ -93,6 +101,50 @@ std::optional<std::vector<std::string>> RedisJobStore::rows(const std::string& i
   for (const RedisReply& r : reply->elements) {
     if (r.type != RedisReply::Type::kString) break;  // a missing index ends what is readable
     out.push_back(r.text);
+  }
+  return out;
+}
+
+std::optional<std::vector<std::optional<std::string>>> RedisJobStore::row_slots(
+    const std::string& id, std::size_t offset, std::size_t count) {
+  const auto head = client_->pipeline({{"EXISTS", key(id, "record")}, {"HLEN", key(id, "rows")}});
+  if (!head || (*head)[0].type != RedisReply::Type::kInteger || (*head)[0].integer == 0 ||
+      (*head)[1].type != RedisReply::Type::kInteger) {
+    return std::nullopt;
+  }
+  std::vector<std::optional<std::string>> out(count);
+  if (count == 0 || (*head)[1].integer <= 0) return out;
+  std::vector<std::string> get{"HMGET", key(id, "rows")};
+  for (std::size_t i = 0; i < count; ++i) get.push_back(std::to_string(offset + i));
+  const auto reply = client_->command(get);
+  if (!reply || reply->type != RedisReply::Type::kArray || reply->elements.size() != count) {
+    return std::nullopt;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    if (reply->elements[i].type == RedisReply::Type::kString) out[i] = reply->elements[i].text;
+  }
+  return out;
+}
+
+bool RedisJobStore::has_traces(const std::string& id) {
+  const auto replies = client_->pipeline(
+      {{"EXISTS", key(id, "rows"), key(id, "cancel")}, {"EXISTS", key(id, "removed")}});
+  return replies && (*replies)[0].type == RedisReply::Type::kInteger && (*replies)[0].integer > 0 &&
+         (*replies)[1].type == RedisReply::Type::kInteger && (*replies)[1].integer == 0;
+}
+
+std::vector<std::string> RedisJobStore::records_missing_among(const std::vector<std::string>& ids) {
+  std::vector<std::string> out;
+  if (ids.empty()) return out;
+  std::vector<std::vector<std::string>> asks;
+  asks.reserve(ids.size());
+  for (const std::string& id : ids)
+    asks.push_back({"EXISTS", key(id, "record"), key(id, "removed")});
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return out;  // unreachable: nothing is known missing
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const RedisReply& r = (*replies)[i];
+    if (r.type == RedisReply::Type::kInteger && r.integer == 0) out.push_back(ids[i]);
   }
   return out;
 }

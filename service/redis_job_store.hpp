@@ -41,6 +41,13 @@ class RedisJobStore final : public JobStore {
   [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) override;
+  /// One HMGET of the asked indexes (bounded by HLEN as rows()).
+  [[nodiscard]] std::optional<std::vector<std::optional<std::string>>> row_slots(
+      const std::string& id, std::size_t offset, std::size_t count) override;
+  /// The rows or cancel key exists (the removal mark does not).
+  [[nodiscard]] bool has_traces(const std::string& id) override;
+  [[nodiscard]] std::vector<std::string> records_missing_among(
+      const std::vector<std::string>& ids) override;
   bool request_cancel(const std::string& id) override;
   [[nodiscard]] bool cancel_requested(const std::string& id) override;
   bool remove(const std::string& id) override;

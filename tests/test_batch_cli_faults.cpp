@@ -320,8 +320,10 @@ TEST(BatchCliFaults, A503WithRetryAfterIsRetriedNotFatal) {
   EXPECT_EQ(read_file(cli.dir / "o.jsonl"), row(1, "a") + row(2, "b"));
 }
 
-// A replica that accepted the job and then stops answering (paused): the CLI's progress polls
-// have a deadline, so it stops with exit 1 (and tries to DELETE the job) instead of hanging.
+// A replica that accepted the job and then stops answering for good: the CLI's progress polls
+// have a deadline and are repeated with backoff for 60 s, then it stops with exit 1 instead of
+// hanging, naming the job and saying its replica stopped answering. It does not DELETE the job
+// (a paused replica carries on with it when it runs again).
 TEST(BatchCliFaults, AReplicaThatStopsAnsweringStopsTheRunNotHangsIt) {
   ScriptedService service;
   service.record_hangs = true;
@@ -330,6 +332,18 @@ TEST(BatchCliFaults, AReplicaThatStopsAnsweringStopsTheRunNotHangsIt) {
   ASSERT_TRUE(code.has_value()) << "the CLI still hangs";
   EXPECT_EQ(*code, 1) << cli.err();
   EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
+  EXPECT_EQ(service.deletes.load(), 0);
+  const std::string err = cli.err();
+  EXPECT_NE(err.find("batch job " + std::string(kJobId) +
+                     ": the replica that runs it stopped "
+                     "answering (no answer for "),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("the job was not cancelled and may still finish: read it with GET " +
+                     service.url() + "/v1/batches/" + kJobId),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(err.find("running there?"), std::string::npos) << err;
 }
 
 }  // namespace

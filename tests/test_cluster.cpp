@@ -24,6 +24,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/version.hpp"
+#include "support/process.hpp"
 #include "support/proxy.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
@@ -343,8 +344,8 @@ TEST(ClusterHostile, ResultsTheSharedStoreLostOrDamagedAreRefusedNotTruncated) {
   // Two rows lost in the shared store: B reads the record (done 6) but not 6 rows.
   ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 4 5"), 0);
   const std::string lost = "the stored results of batch job '" + id +
-                           "' are incomplete or damaged (4 readable of rows 1 to 6): ask the "
-                           "replica that ran it, or POST the job again";
+                           "' are incomplete or damaged (4 readable of rows 1 to 6; missing: rows "
+                           "5 and 6): ask the replica that ran it, or POST the job again";
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503),
             json({{"code", "unavailable"}, {"field", "id"}, {"message", lost}}));
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503).at("message"), lost);
@@ -449,6 +450,118 @@ TEST(ClusterHostile, ADamagedRowInTheSharedStoreIsRefusedNamingIt) {
   const auto own = a.Get("/v1/batches/" + id + "/results.csv");
   ASSERT_TRUE(own && own->status == 200);
   EXPECT_EQ(std::count(own->body.begin(), own->body.end(), '\n'), 7);
+}
+
+// A row missing in the middle of the shared rows is named, and the rows after it still count as
+// readable (the reader used to stop at the first gap: "2 readable of rows 1 to 5"). A record key
+// of another Redis type is damaged state, not "Redis cannot be reached".
+TEST(ClusterHostile, AMissingRowIsNamedAndARecordOfTheWrongTypeIsDamaged) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  const std::string id = post_job(a, recipes(5, 5150));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+  ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 2"), 0);
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503).at("message"),
+            "the stored results of batch job '" + id +
+                "' are incomplete or damaged (4 readable of rows 1 to 5; missing: row 3): ask the "
+                "replica that ran it, or POST the job again");
+  ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 0"), 0);
+  ASSERT_EQ(redis_cli(cluster.redis, "hset slosh:jobs:" + id + ":rows 3 '{}'"), 0);
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503).at("message"),
+            "the stored results of batch job '" + id +
+                "' are incomplete or damaged (2 readable of rows 1 to 5; missing: rows 1 and 3; "
+                "damaged: row 4): ask the replica that ran it, or POST the job again");
+  ASSERT_EQ(redis_cli(cluster.redis, "del slosh:jobs:" + id + ":record"), 0);
+  ASSERT_EQ(redis_cli(cluster.redis, "hset slosh:jobs:" + id + ":record a b"), 0);
+  const std::string damaged = "the stored state of batch job '" + id +
+                              "' is damaged (its record in the shared job store, Redis, is not a "
+                              "job record): POST the job again";
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503),
+            json({{"code", "unavailable"}, {"field", "id"}, {"message", damaged}}));
+  EXPECT_EQ(error_of(b.Delete("/v1/batches/" + id), 503).at("message"), damaged);
+}
+
+// Redis evicted (maxmemory allkeys-lru) or someone deleted the record key of a finished job whose
+// owner A still holds it: B answered 404 (a DELETE through B was lost) and A never published it
+// again. B answers 503 with Retry-After while the job's rows are there, and A publishes the
+// record again at its next heartbeat. A is paused (SIGSTOP) so that B's answers are read before
+// it can republish.
+TEST(ClusterHostile, AnEvictedRecordIsUnavailableNotUnknownAndItsOwnerPublishesItAgain) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  const std::string id = post_job(a, recipes(5, 5170));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+  ::kill(cluster.replicas[0].pid(), SIGSTOP);
+  struct Resume {
+    pid_t pid;
+    ~Resume() { ::kill(pid, SIGCONT); }
+  } resume{cluster.replicas[0].pid()};
+  EXPECT_EQ(redis_cli(cluster.redis, "del slosh:jobs:" + id + ":record"), 0);
+  const std::string message = "batch job '" + id +
+                              "' is not on this replica and its record is missing from the "
+                              "shared job store (Redis) although its results are there (evicted "
+                              "or deleted): the replica that runs it publishes it again, retry "
+                              "later";
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503),
+            json({{"code", "unavailable"}, {"field", "id"}, {"message", message}}));
+  EXPECT_EQ(error_of(b.Delete("/v1/batches/" + id), 503).at("message"), message);
+  ::kill(cluster.replicas[0].pid(), SIGCONT);
+  // Republished: B reads it whole (503 until then, never 404).
+  EXPECT_TRUE(poll_until(10s, [&] {
+    const auto r = b.Get("/v1/batches/" + id + "?limit=10");
+    if (!r || r->status == 200) return static_cast<bool>(r);
+    EXPECT_EQ(error_of(r, 503).at("code"), "unavailable");
+    return false;
+  }));
+  EXPECT_EQ(get_json(b, "/v1/batches/" + id + "?limit=10").at("results").at("rows").size(), 5u);
+  // A DELETE through B now removes it, and A forgets it too.
+  const auto deleted = b.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 200) << deleted->body;
+  EXPECT_TRUE(poll_until(10s, [&] {
+    const auto r = a.Get("/v1/batches/" + id);
+    return r && r->status == 404;
+  }));
+}
+
+// `slosh batch --server A` while A is paused (SIGSTOP) for longer than the CLI's 10 s call
+// deadline: the CLI took the timed-out poll as fatal, exited 1 and DELETEd its own healthy job.
+// A paused replica carries on with the job when it runs again, so the CLI keeps polling (with
+// backoff) and writes the whole table.
+TEST(ClusterHostile, TheCliWaitsForAPausedOwnerInsteadOfCancellingItsJob) {
+  Cluster cluster;
+  test::TempDir dir;
+  json table = recipes(150, 5400);
+  for (std::size_t i = 0; i < table.size(); ++i) table[i]["recipe_id"] = "r" + std::to_string(i);
+  test::write_file(dir / "t.json", table.dump());
+  test::write_file(dir / "stdin", "");
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.json").string(), "--out", (dir / "o.jsonl").string(),
+                   "--server", cluster.replicas[0].url(), "--progress", "never"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  auto a = cluster.replicas[0].client();
+  // The job has started: the CLI is polling it.
+  ASSERT_TRUE(poll_until(20s, [&] {
+    const auto r = a.Get("/metrics");
+    return r && test::metric(r->body, "slosh_batch_jobs_active") >= 1;
+  }));
+  ::kill(cluster.replicas[0].pid(), SIGSTOP);
+  {
+    struct Resume {
+      pid_t pid;
+      ~Resume() { ::kill(pid, SIGCONT); }
+    } resume{cluster.replicas[0].pid()};
+    std::this_thread::sleep_for(12s);  // the pause itself (the fault), past the CLI's deadline
+  }
+  const auto code = cli.wait_for(120s);
+  ASSERT_TRUE(code.has_value()) << "the CLI still runs";
+  EXPECT_EQ(*code, 0) << test::read_file(dir / "stderr");
+  const std::string out = test::read_file(dir / "o.jsonl");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 150) << test::read_file(dir / "stderr");
 }
 
 // A finished job DELETEd through B is forgotten by its owner A too (which otherwise answered it

@@ -6,6 +6,7 @@
 
 #include <chrono>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -135,8 +136,9 @@ TEST(RedisJobStore, ARecordRedisDidNotAnswerForIsNotReadAsMissing) {
   EXPECT_FALSE(stalled.text);
 }
 
-// Only a nil reply means "no such record". An error reply (here WRONGTYPE: the key holds a hash)
-// is no answer at all: read as missing it would be answered 404 for a job that may exist.
+// Only a nil reply means "no such record". A WRONGTYPE error (the key holds a hash) is not read
+// as missing (it would be answered 404 for a job that exists), nor as Redis being unreachable:
+// Redis answered, and the job's stored state is damaged.
 TEST(RedisJobStore, ARecordReadRedisAnsweredWithAnErrorIsNotReadAsMissing) {
   const RedisServer redis;
   const auto client = client_of(redis);
@@ -144,7 +146,32 @@ TEST(RedisJobStore, ARecordReadRedisAnsweredWithAnErrorIsNotReadAsMissing) {
   ASSERT_TRUE(client->command({"HSET", store.key("j", "record"), "f", "v"}));
   const JobStore::RecordLookup lookup = store.lookup_record("j");
   EXPECT_FALSE(lookup.text);
-  EXPECT_FALSE(lookup.answered);
+  EXPECT_TRUE(lookup.answered);
+  EXPECT_TRUE(lookup.damaged);
+}
+
+// A record key gone while the job's rows are there (evicted, deleted): the job has traces and
+// its record is missing; row_slots names every missing index instead of stopping at the first.
+TEST(RedisJobStore, ALostRecordLeavesTracesAndRowSlotsShowEveryGap) {
+  const RedisServer redis;
+  const auto client = client_of(redis);
+  RedisJobStore store(client, 3600s);
+  ASSERT_TRUE(store.put_rows("j", 0, {"a", "b", "c", "d"}));
+  ASSERT_TRUE(store.put_record("j", "r"));
+  ASSERT_TRUE(store.put_record("k", "r"));
+  ASSERT_TRUE(client->command({"HDEL", store.key("j", "rows"), "1"}));
+  const auto slots = store.row_slots("j", 0, 4);
+  ASSERT_TRUE(slots);
+  EXPECT_EQ(*slots, (std::vector<std::optional<std::string>>{"a", std::nullopt, "c", "d"}));
+  EXPECT_TRUE(store.records_missing_among({"j", "k"}).empty());
+  ASSERT_TRUE(client->command({"DEL", store.key("j", "record")}));
+  EXPECT_EQ(store.records_missing_among({"j", "k"}), std::vector<std::string>{"j"});
+  EXPECT_TRUE(store.has_traces("j"));
+  EXPECT_FALSE(store.has_traces("unknown"));
+  // A removed job is neither missing (its owner must not publish it again) nor traced.
+  ASSERT_TRUE(store.remove("k"));
+  EXPECT_TRUE(store.records_missing_among({"k"}).empty());
+  EXPECT_FALSE(store.has_traces("k"));
 }
 
 TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
