@@ -110,6 +110,11 @@ struct ScriptedService {
     });
     port = server.bind_to_any_port("127.0.0.1");
     thread = std::thread([this] { server.listen_after_bind(); });
+    // stop() does nothing to a server that is not yet listening, so a service destroyed at once
+    // (a CLI interrupted before it connected) would leave its thread in accept() for ever.
+    for (int i = 0; i < 10000 && !server.is_running(); ++i) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+    }
   }
   ~ScriptedService() {
     {
