@@ -24,16 +24,6 @@ struct Params {
   Dual3 w, zeta, alpha;
 };
 
-// Container acceleration of a law piece at local time tau (LawPiece::at's formula).
-double piece_acceleration(const LawPiece& p, double tau) {
-  double a = p.poly[0] + tau * (p.poly[1] + tau * (p.poly[2] + tau * p.poly[3]));
-  if (p.harmonic_omega != 0.0) {
-    a += p.harmonic_cos * std::cos(p.harmonic_omega * tau) +
-         p.harmonic_sin * std::sin(p.harmonic_omega * tau);
-  }
-  return a;
-}
-
 }  // namespace
 
 CalibrationResponse::CalibrationResponse(SloshingModel base, MotionLaw law, double rest_time,
@@ -64,11 +54,11 @@ void CalibrationResponse::compute(const MotionParameters& p, double height_gain)
     const auto n =
         step_count(L, piece_max_step(h_max, piece.harmonic_omega, options_.steps_per_period), 1);
     const double h = L / static_cast<double>(n);
-    Dual3 f0 = f(x, v, piece_acceleration(piece, 0.0));
+    Dual3 f0 = f(x, v, piece.acceleration(0.0));
     for (std::size_t i = 0; i < n; ++i) {
       const double tau = h * static_cast<double>(i);
       dop853_step(
-          f, [&](std::size_t k) { return piece_acceleration(piece, tau + kDopC[k] * h); }, x, v, f0,
+          f, [&](std::size_t k) { return piece.acceleration(tau + kDopC[k] * h); }, x, v, f0,
           Dual3(h), true, step, false);
       t_.push_back(piece.t_begin + tau);
       h_.push_back(h);

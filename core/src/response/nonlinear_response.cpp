@@ -28,16 +28,6 @@ struct Trajectory {
   std::vector<NonlinearResponse::StepPoly>* v_poly;
 };
 
-/// Container acceleration of a law piece at local time tau [m/s^2] (LawPiece::at's formula).
-double piece_acceleration(const LawPiece& p, double tau) {
-  double a = p.poly[0] + tau * (p.poly[1] + tau * (p.poly[2] + tau * p.poly[3]));
-  if (p.harmonic_omega != 0.0) {
-    a += p.harmonic_cos * std::cos(p.harmonic_omega * tau) +
-         p.harmonic_sin * std::sin(p.harmonic_omega * tau);
-  }
-  return a;
-}
-
 /// One classical RK4 step with the cubic Hermite interpolants of x (from x, v) and v (from v,
 /// x''), in the DopStep layout: the scheme of the divergence fallback (integrate_or_refine).
 template <typename Rhs, typename Acc>
@@ -99,21 +89,21 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
     const std::size_t n = step_count(L, hp, 1);
     const double h = L / static_cast<double>(n);
     // The acceleration may jump at a piece start: the first stage is evaluated on this piece.
-    double f0 = rhs(x, v, in_rest ? 0.0 : piece_acceleration(p, 0.0));
+    double f0 = rhs(x, v, in_rest ? 0.0 : p.acceleration(0.0));
     Peak& window = in_rest ? peaks.rest : peaks.motion;
     for (std::size_t j = 0; j < n; ++j) {
       const double tau = h * static_cast<double>(j);
       if (rk4) {
         rk4_step(
-            rhs, [&](double c) { return in_rest ? 0.0 : piece_acceleration(p, tau + c * h); }, x, v,
-            f0, h, step);
+            rhs, [&](double c) { return in_rest ? 0.0 : p.acceleration(tau + c * h); }, x, v, f0, h,
+            step);
       } else if (in_rest) {
         detail::dop853_step(
             rhs, [](std::size_t) { return 0.0; }, x, v, f0, h, true, step, keep != nullptr);
       } else {
         detail::dop853_step(
-            rhs, [&](std::size_t i) { return piece_acceleration(p, tau + detail::kDopC[i] * h); },
-            x, v, f0, h, true, step, keep != nullptr);
+            rhs, [&](std::size_t i) { return p.acceleration(tau + detail::kDopC[i] * h); }, x, v,
+            f0, h, true, step, keep != nullptr);
       }
       const double t0 = p.t_begin + tau;
       if (!(in_rest && rest_found) && K * detail::dense_abs_bound(step.x_poly) > window.value) {

@@ -6,6 +6,7 @@
 // Position, velocity and jerk follow in closed form, and so does the exact linear response.
 
 #include <array>
+#include <cmath>
 #include <string>
 #include <vector>
 
@@ -33,6 +34,16 @@ struct LawPiece {
   [[nodiscard]] double duration() const { return t_end - t_begin; }
   /// State at local time tau in [0, duration()].
   [[nodiscard]] KinematicState at(double tau) const;
+  /// Acceleration at local time tau [m/s^2]: at(tau).acceleration alone, for the integrators'
+  /// right-hand sides, which need nothing else.
+  [[nodiscard]] double acceleration(double tau) const {
+    double a = poly[0] + tau * (poly[1] + tau * (poly[2] + tau * poly[3]));
+    if (harmonic_omega != 0.0) {
+      a += harmonic_cos * std::cos(harmonic_omega * tau) +
+           harmonic_sin * std::sin(harmonic_omega * tau);
+    }
+    return a;
+  }
 };
 
 /// Peak kinematic figures of a law.
