@@ -150,13 +150,9 @@ struct Cli {
   [[nodiscard]] std::string err() const { return read_file(dir / "stderr"); }
 };
 
-// The job was accepted but the 202 has not reached the CLI when Ctrl-C comes: the CLI still
-// learns the id from the answer and DELETEs the job (it is not killed by the default action).
-TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
-  ScriptedService service;
-  service.hold_post = true;
-  service.record_state = "running";
-  Cli cli(service.url());
+// Ctrl-C while the service holds the CLI's POST (hold_post), then the POST answered: the run
+// must end with exit 130.
+void interrupt_during_held_post(ScriptedService& service, Cli& cli) {
   {
     std::unique_lock lock(service.mutex);
     ASSERT_TRUE(service.changed.wait_for(lock, 30s, [&] { return service.post_arrived; }));
@@ -171,6 +167,16 @@ TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
   const auto code = cli.child->wait_for(30s);
   ASSERT_TRUE(code.has_value());
   EXPECT_EQ(*code, 130) << cli.err();
+}
+
+// The job was accepted but the 202 has not reached the CLI when Ctrl-C comes: the CLI still
+// learns the id from the answer and DELETEs the job (it is not killed by the default action).
+TEST(BatchCliFaults, AnInterruptWhileThePostIsInFlightStillCancelsTheJob) {
+  ScriptedService service;
+  service.hold_post = true;
+  service.record_state = "running";
+  Cli cli(service.url());
+  ASSERT_NO_FATAL_FAILURE(interrupt_during_held_post(service, cli));
   // Cancelled, then asked for the rows it finished (none here) for the .partial table.
   EXPECT_GE(service.deletes.load(), 1) << cli.err();
   EXPECT_NE(cli.err().find("interrupted: batch job " + std::string(kJobId) + " cancelled"),
@@ -187,20 +193,7 @@ TEST(BatchCliFaults, AnInterruptAfterTheJobFinishedKeepsItsRowsInThePartialTable
   service.hold_post = true;
   service.results = row(1, "a") + row(2, "b");
   Cli cli(service.url());
-  {
-    std::unique_lock lock(service.mutex);
-    ASSERT_TRUE(service.changed.wait_for(lock, 30s, [&] { return service.post_arrived; }));
-  }
-  ::kill(cli.child->pid(), SIGINT);
-  std::this_thread::sleep_for(100ms);
-  {
-    const std::lock_guard lock(service.mutex);
-    service.post_released = true;
-  }
-  service.changed.notify_all();
-  const auto code = cli.child->wait_for(30s);
-  ASSERT_TRUE(code.has_value());
-  EXPECT_EQ(*code, 130) << cli.err();
+  ASSERT_NO_FATAL_FAILURE(interrupt_during_held_post(service, cli));
   EXPECT_EQ(read_file(cli.dir / "o.jsonl.partial"), row(1, "a") + row(2, "b")) << cli.err();
   EXPECT_NE(cli.err().find("stopped after 2 of 2 recipes: interrupted: batch job " +
                            std::string(kJobId) + " had finished (2 rows written)"),
