@@ -173,7 +173,7 @@ BENCHMARK(BM_GeneralLawSpectrum)->Arg(0)->Arg(1)->Unit(benchmark::kMicrosecond);
 }  // namespace
 
 // The whole minimum-time search of one strategy (SPEC §8/§9) on the thesis format: R 48.5 mm,
-// fill 82 mm, height 150 mm (eta_motion <= the free board, 68 mm, as in issue 18), water, stroke
+// fill 82 mm, height 150 mm (eta_motion <= the free board, 68 mm), water, stroke
 // 800 mm, eta_rest <= 3 mm on the nonlinear model; counters: plans solved and T_min.
 void BM_MinTime(benchmark::State& state) {
   slosh::Format f = slosh::thesis_format();

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Batch job throughput on loopback (issue 21): one `slosh serve` with N workers, a job of R
+# Batch job throughput on loopback: one `slosh serve` with N workers, a job of R
 # distinct recipes (POST /v1/batches) polled until done: recipes/s uncached (every recipe a
 # solve), then the same table again (every recipe a cache hit), then the interactive latency of
 # a POST /v1/plans (a new recipe: a solve) while a job runs.

@@ -1,5 +1,5 @@
 #pragma once
-// Stored calibrations (issue 23): name -> the JSON of POST /v1/calibrations' response, in a
+// Stored calibrations: name -> the JSON of POST /v1/calibrations' response, in a
 // table `calibrations` of its own SQLite database (the plan cache's file is not touched). A plan,
 // simulate or min-time request names one with options.model = "<name>".
 

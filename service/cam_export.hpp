@@ -164,7 +164,7 @@ struct CamTable {
 [[nodiscard]] std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows);
 
 /// `v` as a CSV cell: the shortest text that reads back as `v` exactly ("800", "0.1",
-/// "1.2345678901234567e-05"; std::to_chars), never "-0" (hostile review: 12 significant digits
+/// "1.2345678901234567e-05"; std::to_chars), never "-0" (12 significant digits
 /// did not hold a stroke of many digits exactly in the last row).
 [[nodiscard]] std::string csv_number(double v);
 

@@ -4,7 +4,7 @@
 // connection per thread for its whole life).
 //
 // When the system refuses a new thread (std::system_error, e.g. under `ulimit -v` or a thread
-// limit), the connection is not lost and the process does not end (hostile review: the exception
+// limit), the connection is not lost and the process does not end (the exception
 // escaped the accept loop and std::terminate aborted the server): it goes to the refusing thread,
 // started with the pool, whose requests the service answers 503 with Retry-After (refusing()).
 

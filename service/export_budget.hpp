@@ -3,7 +3,7 @@
 // cam.st): each export reserves an upper bound of its bytes (its rows and its file) before it
 // samples, and keeps the reservation until its response has been written. An export that does not
 // fit is refused (503 with Retry-After) instead of waiting, so a burst of large exports cannot
-// exhaust memory (hostile review: 200 parallel 200 000-row exports reached more than 3 GB).
+// exhaust memory (200 parallel 200 000-row exports reached more than 3 GB).
 
 #include <cstddef>
 #include <memory>

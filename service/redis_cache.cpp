@@ -91,7 +91,7 @@ std::optional<std::string> RedisCache::lock_or_wait(const std::string& key,
     }
     if (auto value = get(key)) return value;  // stored by the replica that holds the lock
     // Every slosh lock expires (PX): one without an expiry was not set by a replica and is not
-    // waited for (hostile review: a planted lock held every request of its recipe for 11 s).
+    // waited for (a planted lock held every request of its recipe for 11 s).
     const auto ttl = client_->command({"PTTL", lock});
     if (!ttl || ttl->type != RedisReply::Type::kInteger || ttl->integer == -1) return std::nullopt;
     if (std::chrono::steady_clock::now() > deadline) return std::nullopt;

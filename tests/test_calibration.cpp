@@ -1,4 +1,4 @@
-// Calibration of the nonlinear model from measurements (core/model/calibration, issue 23):
+// Calibration of the nonlinear model from measurements (core/model/calibration):
 // the dual-number response against NonlinearResponse, its exact Jacobian against Richardson-
 // extrapolated central differences computed here, recovery of known parameters from synthetic
 // series and peaks with seeded noise, identifiability of a gentle move, and held-out prediction

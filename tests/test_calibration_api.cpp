@@ -1,4 +1,4 @@
-// Calibration through the API, the CLI and the service (issue 23): options.model in plans
+// Calibration through the API, the CLI and the service: options.model in plans
 // (recipe key), simulate and its 422s; the calibration request's validation with exact messages;
 // `slosh calibrate` on the real binary; POST/GET /v1/calibrations on a real server and a plan
 // naming the stored calibration, answered as the inline model.
@@ -218,7 +218,7 @@ TEST(CalibrationService, StoredCalibrationPlansAsTheInlineModel) {
   ASSERT_EQ(posted->status, 200) << posted->body;
   const json fit = json::parse(posted->body);
   EXPECT_EQ(fit["name"], "bench-2026-11");
-  // The fit ran below the plans (hostile review: fits at interactive priority starved them).
+  // The fit ran below the plans (fits at interactive priority starved them).
   const auto metrics = client.Get("/metrics");
   ASSERT_TRUE(metrics);
   EXPECT_EQ(test::metric(metrics->body, R"(slosh_pool_tasks_started_total{priority="background"})"),

@@ -800,7 +800,7 @@ TEST_F(CamRoutes, QueryErrorsAre422NamingTheParameter) {
   EXPECT_EQ(json::parse(unknown->body)["error"]["field"], "key");
 }
 
-// Hostile review: the query numbers were read with std::stod (hex "0x10", "inf", "nan", a
+// Regression: the query numbers were read with std::stod (hex "0x10", "inf", "nan", a
 // leading "+" or space accepted; 4.9e-324 called "not a number"), a repeated parameter was
 // resolved silently (the first one won) and an empty st_name fell back to the default.
 TEST_F(CamRoutes, QueryNumbersAreDecimalNumbersAndEachParameterIsGivenOnce) {
@@ -879,7 +879,7 @@ TEST_F(CamRoutes, QueryNumbersAreDecimalNumbersAndEachParameterIsGivenOnce) {
                "master_period = 5e-324 is out of range: allowed >= 1e-06 master units");
 }
 
-// Hostile review: st_name accepted the names of IEC 61131-3 standard function blocks and
+// Regression: st_name accepted the names of IEC 61131-3 standard function blocks and
 // functions (TON, CTU, R_TRIG, SIN, REAL_TO_INT, ...), which a PLC project already declares.
 TEST_F(CamRoutes, StNamesOfKeywordsTypesAndStandardBlocksAreRefusedWhateverTheirCase) {
   httplib::Client client = server_->client();
@@ -959,7 +959,7 @@ TEST_F(CamRoutes, StNamesOfKeywordsTypesAndStandardBlocksAreRefusedWhateverTheir
   }
 }
 
-// Hostile review: a master period of 1e308 over a 0.5 s motion overflowed the master speed
+// Regression: a master period of 1e308 over a 0.5 s motion overflowed the master speed
 // (master_end - master_start) / T to inf: a table of zeros, "speed_per_s": null in the summary
 // and "inf" in the ST header. Refused at master_period, in the CLI and over HTTP alike.
 TEST_F(CamRoutes, AMasterSpeedThatIsNotAFiniteNumberIsRefusedAtTheMasterPeriod) {
@@ -1034,7 +1034,7 @@ TEST_F(CamRoutes, AMasterSpeedThatIsNotAFiniteNumberIsRefusedAtTheMasterPeriod) 
   EXPECT_EQ(json::parse(fast.out)["master"]["speed_per_s"], 1e30);
 }
 
-// Hostile review: odd master values gave refusals whose texts contradicted themselves: an empty
+// Regression: odd master values gave refusals whose texts contradicted themselves: an empty
 // allowed range ("[360.0000005, 360]"), a value rounded onto its bound ("--master-end = 360 is
 // out of range (30, 360]" for 360.0000000001), and a bound that reads below the refused step.
 TEST(ExportMasterCli, OddValuesAreRefusedWithTheValueVisiblyOutsideANonEmptyRange) {
@@ -1096,7 +1096,7 @@ TEST(ExportMasterCli, OddValuesAreRefusedWithTheValueVisiblyOutsideANonEmptyRang
   EXPECT_EQ(denormal.exit_code, 0) << denormal.err;
 }
 
-// Hostile review: the CSV had 12 significant digits, so a stroke of more digits did not land in
+// Regression: the CSV had 12 significant digits, so a stroke of more digits did not land in
 // the last row exactly. Every number is the shortest text that reads back as the value, and the
 // rows at the stroke hold it as the request gave it, in the CLI and over HTTP alike.
 TEST(CamCsv, TheLastRowHoldsAStrokeOfManyDigitsExactly) {
@@ -1151,7 +1151,7 @@ TEST(CamCsv, TheLastRowHoldsAStrokeOfManyDigitsExactly) {
   }
 }
 
-// Hostile review: concurrent cam exports had no global memory bound (200 parallel requests for
+// Regression: concurrent cam exports had no global memory bound (200 parallel requests for
 // 200 000-row tables reached more than 3 GB). Each export reserves an upper bound of its bytes
 // in cam_export_bytes until its response is written; one that does not fit is a 503 with
 // Retry-After. A client that does not read a large table holds its share until the server gives

@@ -1,4 +1,4 @@
-// Issue 19: numbers in responses are not noise-tainted where an exact value exists. Every input a
+// Numbers in responses are not noise-tainted where an exact value exists. Every input a
 // response echoes (the format in mm and s and its fluid, rest_time_s; simulate's law: its
 // duration, stroke and given durations; the min-time limits) comes back as the request's own
 // number, for seeded random formats of 'nice' numbers as a packaging engineer types them (48.5 mm,

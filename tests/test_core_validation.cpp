@@ -1,4 +1,4 @@
-// The core validates its own inputs (issue 16): plan() of every strategy and simulate() return a
+// The core validates its own inputs: plan() of every strategy and simulate() return a
 // structured InvalidInput naming the core input, its value and its allowed set (core names, SI
 // units), never a throw or a non-finite number; every PlanInput maps to an API field path.
 
@@ -165,7 +165,7 @@ TEST(CoreValidation, EveryInputHasACoreNameAUnitAndAnApiFieldPath) {
       EXPECT_TRUE(
           path == "format" || path == "options" || path == "law" || path == "sample_period_s" ||
           path == "rest_time_s" || path.starts_with("format.") || path.starts_with("options.") ||
-          // the min-time options (issue 18) are top-level members of its request
+          // the min-time options are top-level members of its request
           path == "motion_time_max_s" || path == "free_board_margin_mm" || path == "scan_step_s" ||
           path == "max_plans" || path == "curve_factor" || path == "refine_excess")
           << path;

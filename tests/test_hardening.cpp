@@ -1,4 +1,4 @@
-// Issue 14 (SPEC §7 "Hardening"): what an attacker or an unlucky client did to `slosh serve`,
+// SPEC §7 "Hardening": what an attacker or an unlucky client did to `slosh serve`,
 // each replayed against the real server on loopback. Every test here failed (hung, crashed or
 // answered wrongly) before the fix it names.
 
@@ -554,7 +554,7 @@ TEST(Hardening, BreakpointsAtLeastOneNanosecondApart) {
   }
 }
 
-// Hostile review: a POST without Content-Length held a thread for the read timeout (the library
+// Regression: a POST without Content-Length held a thread for the read timeout (the library
 // read "until close") before a 400.
 TEST(Hardening, APostWithoutALengthHasAnEmptyBody) {
   Server server;
@@ -569,7 +569,7 @@ TEST(Hardening, APostWithoutALengthHasAnEmptyBody) {
   EXPECT_NE(answer.find(R"("code":"malformed_json")"), std::string::npos) << answer;
 }
 
-// Hostile review: multipart bodies gave 500 bad_function_call (uncounted in the metrics);
+// Regression: multipart bodies gave 500 bad_function_call (uncounted in the metrics);
 // "Expect: 100-continue" with an oversized length got "100 Continue".
 TEST(Hardening, MultipartAndOversizedExpectationsAreRefusedUpFront) {
   Server server;
@@ -593,7 +593,7 @@ TEST(Hardening, MultipartAndOversizedExpectationsAreRefusedUpFront) {
       << metrics->body;
 }
 
-// Hostile review: GET /v1/plans/batch looked up a plan "batch"; TRACE got a 400; a weak or "*"
+// Regression: GET /v1/plans/batch looked up a plan "batch"; TRACE got a 400; a weak or "*"
 // If-None-Match was not honoured.
 TEST(Hardening, MoreHonestFrameworkAnswers) {
   Server server;
@@ -617,7 +617,7 @@ TEST(Hardening, MoreHonestFrameworkAnswers) {
   }
 }
 
-// Hostile review: a cached plan echoed the first client's fluid name to the next one.
+// Regression: a cached plan echoed the first client's fluid name to the next one.
 TEST(Hardening, ACachedPlanEchoesThisRequestsFluidName) {
   Server server;
   httplib::Client c = server.client();
@@ -634,7 +634,7 @@ TEST(Hardening, ACachedPlanEchoesThisRequestsFluidName) {
   EXPECT_NE(parse(a->body)["key"], parse(b->body)["key"]);
 }
 
-// Hostile review: a request with a larger budget joined a running solve of the same recipe with
+// Regression: a request with a larger budget joined a running solve of the same recipe with
 // a smaller one and got its time_limit answer.
 TEST(Hardening, ALargerBudgetDoesNotJoinASmallerOne) {
   Server server({"--workers", "2"});
@@ -657,7 +657,7 @@ TEST(Hardening, ALargerBudgetDoesNotJoinASmallerOne) {
   EXPECT_NE(metrics->body.find("\nslosh_singleflight_joins_total 0\n"), std::string::npos);
 }
 
-// Hostile review: a batch whose client hung up went on queueing all its solves, and every other
+// Regression: a batch whose client hung up went on queueing all its solves, and every other
 // client got 503 meanwhile.
 TEST(Hardening, AnAbandonedBatchStopsQueueing) {
   Server server({"--workers", "1", "--queue", "2"});
@@ -689,7 +689,7 @@ TEST(Hardening, AnAbandonedBatchStopsQueueing) {
   EXPECT_LT(std::stoi(m.substr(at + line.size())), 100);
 }
 
-// Hostile review: 1 000 copies of a large cached plan in a 189 kB batch made a 657 MB response.
+// Regression: 1 000 copies of a large cached plan in a 189 kB batch made a 657 MB response.
 TEST(Hardening, BatchResponsesAreBounded) {
   const TempDir dir;
   write_file(dir / "small.json", R"({"max_response_bytes": 1048576})");
@@ -712,7 +712,7 @@ TEST(Hardening, BatchResponsesAreBounded) {
   EXPECT_EQ(small->status, 200);
 }
 
-// Hostile review: at SIGTERM every queued solve still ran (28 s with 6 Ipopt plans queued).
+// Regression: at SIGTERM every queued solve still ran (28 s with 6 Ipopt plans queued).
 // The shutdown may wait for the solve already running, never for the queued ones: it has to end
 // soon after the last plan that was answered 200, however slow one solve is (AddressSanitizer).
 TEST(Hardening, ShutdownAnswersQueuedSolvesInsteadOfRunningThem) {
@@ -795,7 +795,7 @@ long vm_size_kib(pid_t pid) {
   return -1;
 }
 
-// Hostile review: under `ulimit -v` the connection pool's std::thread threw std::system_error
+// Regression: under `ulimit -v` the connection pool's std::thread threw std::system_error
 // out of the HTTP library's accept loop and std::terminate aborted the server. Here the running
 // server's address space is limited (prlimit, as `ulimit -v` would) to what it maps plus 4 MiB,
 // less than a thread's stack: each connection is answered 503 with Retry-After by the pool's

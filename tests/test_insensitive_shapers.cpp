@@ -1,4 +1,4 @@
-// The insensitive input shapers (issue 20): MZV and the two- and three-hump EI shapers against
+// The insensitive input shapers: MZV and the two- and three-hump EI shapers against
 // their defining properties, computed here with Singhose's residual formula
 // V(w, zeta) = e^(-zeta w t_N) sqrt(C^2 + S^2), C, S = sum_j A_j e^(zeta w t_j) (cos, sin)(w_d t_j)
 // (independent of shaper_residual's complex sum): unit sum, zeros and humps where the definitions

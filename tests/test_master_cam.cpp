@@ -283,7 +283,7 @@ TEST(MasterCamTable, EachMemberIsRefusedWithItsRange) {
                std::invalid_argument);
 }
 
-// Hostile review: a master span of 1e-300 made the derivatives per master unit inf and nan. The
+// Regression: a master span of 1e-300 made the derivatives per master unit inf and nan. The
 // shortest span is also the shortest period (the refusal named the end with the empty range
 // "[1e-06, 1e-300]").
 TEST(MasterCamTable, ASpanTooShortForFiniteDerivativesIsRefused) {
@@ -308,7 +308,7 @@ TEST(MasterCamTable, ASpanTooShortForFiniteDerivativesIsRefused) {
             "master end = 30.0000000001 must be finite and in [30.000001, 360] (master units)");
 }
 
-// Hostile review of the refusals' texts: an allowed set that is empty ("[360.0000005, 360]" for
+// Regression in the refusals' texts: an allowed set that is empty ("[360.0000005, 360]" for
 // a start 5e-7 before the period), values rounded onto their bounds ("master end = 360 is out of
 // range (30, 360]" for 360.0000000001) and a denormal called "not a number".
 TEST(MasterCamTable, EveryRefusalShowsAValueVisiblyOutsideANonEmptyRange) {
@@ -356,7 +356,7 @@ TEST(MasterCamTable, EveryRefusalShowsAValueVisiblyOutsideANonEmptyRange) {
   EXPECT_FALSE(check_master_axis(last).has_value());
 }
 
-// Hostile review: a master period of 1e308 (end 1e308) over a 0.5 s law overflowed the master
+// Regression: a master period of 1e308 (end 1e308) over a 0.5 s law overflowed the master
 // speed to inf: a table of zeros, `speed_per_s: null` and "inf" in the ST header.
 TEST(MasterCamTable, AMasterSpeedThatIsNotAFiniteNumberIsRefusedAtThePeriod) {
   const MotionLaw law = make_poly5_law(0.1, 0.5);

@@ -1,4 +1,4 @@
-// Minimum motion time (issue 18, SPEC §9): the core search checked by planning at and below
+// Minimum motion time (SPEC §9): the core search checked by planning at and below
 // T_min, against a brute-force 1 ms scan, an analytic toy, and the kinematic lower bound against
 // an independent numeric minimisation over symmetric 7-segment profiles.
 
@@ -17,7 +17,7 @@
 namespace slosh {
 namespace {
 
-/// The thesis container with its 150 mm height: free board 68 mm, eta_rest <= 3 mm (issue 18).
+/// The thesis container with its 150 mm height: free board 68 mm, eta_rest <= 3 mm.
 Format thesis_container() {
   Format f = thesis_format();
   f.container.height = 0.150;
@@ -388,7 +388,7 @@ TEST(MinTime, EveryPlannedPointIsReproducedFromItsRecordedWarmStart) {
 namespace slosh {
 namespace {
 
-// Hostile review: T_min at the scan start claimed the scan start as infeasible_below, and a
+// Regression: T_min at the scan start claimed the scan start as infeasible_below, and a
 // 100 m stroke (in range) put non-finite eta into the curve (a 500 over HTTP).
 TEST(MinTime, TMinAtTheScanStartHasNothingInfeasibleBelow) {
   Format f = thesis_container();
@@ -425,7 +425,7 @@ TEST(MinTime, PlansWithoutFinitePredictionsStayOffTheCurve) {
 namespace slosh {
 namespace {
 
-// Hostile review: motion_time_max_s 0.05 s (in range) was refused as "min_ramp and plateau_min
+// Regression: motion_time_max_s 0.05 s (in range) was refused as "min_ramp and plateau_min
 // need 0.2 s, more than the motion time", naming "options", which the caller had not given.
 TEST(MinTime, ASearchRangeShorterThanTheRampsIsInfeasibleNamingTheTimeTheyNeed) {
   const Format f = thesis_container();

@@ -1,4 +1,4 @@
-// POST /v1/min-time against a real `slosh serve` and `slosh min-time` as a real process (issue 18):
+// POST /v1/min-time against a real `slosh serve` and `slosh min-time` as a real process:
 // the JSON equals the in-process API, the cache, and the exact texts of bad input.
 
 #include <httplib.h>
@@ -283,7 +283,7 @@ TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
 namespace slosh {
 namespace {
 
-// Hostile review: an in-range motion_time_max_s shorter than the ramps was a 422 on "options".
+// Regression: an in-range motion_time_max_s shorter than the ramps was a 422 on "options".
 TEST(MinTimeApi, ASearchRangeShorterThanTheRampsIsAnInfeasibleAnswerNotA422) {
   nlohmann::json body = thesis_request();
   body["motion_time_max_s"] = 0.05;
@@ -310,7 +310,7 @@ TEST(MinTimeApi, ASearchRangeShorterThanTheRampsIsAnInfeasibleAnswerNotA422) {
 namespace slosh {
 namespace {
 
-// Hostile review: the default free board came out as 67.99999999999999 mm (metres subtracted),
+// Regression: the default free board came out as 67.99999999999999 mm (metres subtracted),
 // so it did not share the key of the same explicit limit.
 TEST(MinTimeApi, TheDefaultFreeBoardIsTheExplicitLimitInMillimetres) {
   nlohmann::json by_default = thesis_request();

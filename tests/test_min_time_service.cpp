@@ -1,4 +1,4 @@
-// POST /v1/min-time as a service (issue 18): answers kept in the plan store's own table across a
+// POST /v1/min-time as a service: answers kept in the plan store's own table across a
 // restart of a real `slosh serve`, identical concurrent requests merged into one search, a
 // refused search that wedges nobody, and `slosh batch --mode min_time` locally (with the store)
 // and through --server, row by row equal. Real SQLite files, real processes, loopback only.
@@ -387,7 +387,7 @@ TEST(MinTimeService, BatchStopsWhenTheServerIsUnreachable) {
 namespace slosh {
 namespace {
 
-// Hostile review: a search still queued when shutdown began answered 200 with every strategy
+// Regression: a search still queued when shutdown began answered 200 with every strategy
 // "baseline" / time_limit. Queued work answers 503 at once, as queued plan solves do. The test
 // waits for what it needs to see in /metrics (the long search running, the second one queued)
 // instead of sleeping 150 ms, which raced SIGTERM under load.

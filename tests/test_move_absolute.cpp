@@ -1,4 +1,4 @@
-// drive_profile move_absolute (issue 19, SPEC §11): the one-jerk family's own coordinates with
+// drive_profile move_absolute (SPEC §11): the one-jerk family's own coordinates with
 // exact gradients, the plan's MC_MoveAbsolute numbers checked against an independent jerk-limited
 // profile (what a PLCopen block computes from them), the refusals, and durations below 1 ns.
 
@@ -532,7 +532,7 @@ TEST(MoveAbsoluteApi, MinTimeLeavesOutOrRefusesTheGeneralLaws) {
   }
 }
 
-// Hostile review: time_domain under move_absolute allocated without bound (17 GB) when its
+// Regression: time_domain under move_absolute allocated without bound (17 GB) when its
 // constraint could not be met: the solver's last point had a plateau of -1e-12 s, lifted as it
 // was, and the sensitivity integration asked for ~2^64 steps on it.
 TEST(MoveAbsoluteHardening, AnUnreachableTimeDomainConstraintIsAnInfeasibleOneJerkPlan) {
@@ -558,7 +558,7 @@ TEST(MoveAbsoluteHardening, ANegativeOrNanLengthTakesNoStep) {
   EXPECT_EQ(step_count(0.0105, 1e-3, 1), 11u);
 }
 
-// Hostile review: this fir_chain law summed 1 ulp below T (its durations were closed on
+// Regression: this fir_chain law summed 1 ulp below T (its durations were closed on
 // T1 + T2 + T3, not on the format's T).
 TEST(MoveAbsoluteHardening, AFirChainLawSumsToTheFormatsMotionTime) {
   const json body = json::parse(R"({"format": {"container": {"radius_mm": 168.68016950430706},
@@ -616,7 +616,7 @@ TEST(AutoHardening, CandidatesTheModelsCannotFollowAreLeftOutAndNamed) {
 namespace slosh {
 namespace {
 
-// Hostile review of issue 19 (F7): infeasible one-jerk plans under machine limits came without the
+// Regression: infeasible one-jerk plans under machine limits came without the
 // move_absolute block although their durations were in the family. Property over seeded random
 // formats with a_max and v_max: every plan with durations carries it, and its jerk reproduces the
 // four ramps.

@@ -261,7 +261,7 @@ TEST(OpenApiDocument, DescribesEveryEndpointWithItsStatuses) {
     return paths[path][method]["responses"]["200"]["content"]["application/json"]["schema"]["$ref"];
   };
   EXPECT_EQ(body_ref("/v1/plans", "post"), "#/components/schemas/PlanRequest");
-  // The plan endpoints answer the plan in the view of ?view= (issue 19).
+  // The plan endpoints answer the plan in the view of ?view=.
   const json either_view = json::parse(R"({"oneOf": [{"$ref": "#/components/schemas/PlanResponse"},
                                         {"$ref": "#/components/schemas/CompactPlan"}]})");
   auto ok_schema = [&](const char* path, const char* method) {
@@ -566,7 +566,7 @@ TEST(OpenApiResponses, PlanResponsesFitThePlanResponseSchema) {
       << joined(validation_errors("PlanResponse", broken));
 }
 
-// Issue 19: the compact view of real plans (a 7-segment law with warnings, a general law) fits
+// The compact view of real plans (a 7-segment law with warnings, a general law) fits
 // CompactPlan with no undocumented member, and a batch result tells the two views apart (oneOf).
 TEST(OpenApiResponses, CompactPlansFitTheCompactPlanSchema) {
   json request = thesis_plan("multi_notch");
@@ -597,7 +597,7 @@ TEST(OpenApiResponses, CompactPlansFitTheCompactPlanSchema) {
                         "version") != schema("PlanResponse")["required"].end());
 }
 
-// Issue 20: plans with an uncertainty range (uncertainty, worst_case, auto's candidates with
+// Plans with an uncertainty range (uncertainty, worst_case, auto's candidates with
 // theirs), without the report (robustness false), and where the nonlinear model diverges over the
 // range (nulls in the report and the worst case) fit PlanResponse, their compact views
 // CompactPlan; the Uncertainty request object is closed and its bounds are the parser's.

@@ -1,4 +1,4 @@
-// The option registry (issue 16): one entry per plan option drives the parser, the recipe key,
+// The option registry: one entry per plan option drives the parser, the recipe key,
 // the OpenAPI document and the CSV recipe columns. A fake option added to a copy of the registry
 // must be parsed, keyed, documented and read from a CSV column without any other change; the
 // recipe keys of the built-in options are pinned to the values computed before the registry
@@ -35,7 +35,7 @@ json request(const std::string& rest = "") {
 
 // The recipe part of the keys, computed with the code before the registry (commit 3f8474d):
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
-// slosh version added (issue 19): the digest of the canonical recipe without "slosh_version" is
+// slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
 // kVersion. The planner version in the recipe is "plan-v3" since the responses moved to the
 // faster schemes (order-8 nonlinear, rotated linear; numbers changed in the 7th digit): the pinned

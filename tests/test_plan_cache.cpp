@@ -275,7 +275,7 @@ TEST_F(PlanCacheTest, LargeTextRoundTripsExactly) {
   EXPECT_TRUE(*back == big);
 }
 
-/// Issue 14: the memory tier is bounded in bytes, not only in entries (40 series-laden plans
+/// The memory tier is bounded in bytes, not only in entries (40 series-laden plans
 /// took 978 MiB); the least recent plans go first, and a plan larger than the bound stays on disk.
 TEST_F(PlanCacheTest, MemoryTierIsBoundedInBytes) {
   CacheConfig config{.path = file("bytes.sqlite"), .memory_entries = 1000, .memory_bytes = 10000};
@@ -300,7 +300,7 @@ TEST_F(PlanCacheTest, MemoryTierIsBoundedInBytes) {
   EXPECT_EQ(cache.get("10"), "short");
 }
 
-/// Issue 14: the SQLite table is bounded (40 series-laden plans took 600 MiB): beyond
+/// The SQLite table is bounded (40 series-laden plans took 600 MiB): beyond
 /// store_bytes the oldest plans are deleted down to 90 % of it.
 TEST_F(PlanCacheTest, StoreIsPrunedOldestFirst) {
   const std::string path = file("pruned.sqlite");
@@ -428,7 +428,7 @@ TEST_F(PlanCacheTest, TheMinTimeTableIsPrunedWithinItsOwnBound) {
 namespace slosh::service {
 namespace {
 
-// Hostile review: bytes changed inside the file (its header intact) were served as a cached
+// Regression: bytes changed inside the file (its header intact) were served as a cached
 // answer. SQLite checks the pages' structure, not their content: the digest of each row does.
 TEST_F(PlanCacheTest, ARowWhoseBytesChangedOnDiskIsDroppedNotServed) {
   const std::string body = "{\"marker\":\"" + std::string(200, 'm') + "\"}";

@@ -1,4 +1,4 @@
-// Issue 22: `slosh plan` with format flags (a quick look without a request file), its text
+// `slosh plan` with format flags (a quick look without a request file), its text
 // summary, `slosh fluids`, the help text, and warnings that name the model of the height they
 // quote. The CLI tests run the real binary; the numbers are checked against the JSON plan of the
 // equivalent request.
@@ -220,7 +220,7 @@ TEST(WarningModels, SpillWarningsQuoteTheModelOfTheirFigure) {
     simulate["law"] = {{"type", "poly5"}};
     expect_spill_warning_matches(api::run_simulate(api::parse_simulate_request(simulate)));
   }
-  // Through the binary too, on the case of issue 22 (800 mm in 0.9 s, 38 mm of free board).
+  // Through the binary too, on the case (800 mm in 0.9 s, 38 mm of free board).
   const RunResult r =
       run_slosh({"plan", "--radius", "48.5", "--fill", "82", "--fluid", "water", "--stroke", "800",
                  "--time", "0.9", "--height", "120", "--strategy", "baseline"});

@@ -1,4 +1,4 @@
-// Issue 15 (and issue 14 item 8): the planner's status and message are a promise to a line
+// The planner's status and message are a promise to a line
 // engineer (SPEC §5 "Reference levels", "Honest status"). Each case of the issue as a regression
 // test, on the formats it gives; optimum values are checked against the independent multi-start
 // of tests/support/reference_optimum (24 starts, SLSQP called directly, nothing from the core).
@@ -420,7 +420,7 @@ TEST(PlanHonesty, Issue15Case7NloptEvaluationLimitIsNotAcceptable) {
 }
 
 // ---------------------------------------------------------------------------------------------
-// Issue 14 item 8: an over-damped mode 1 (zeta >= 1) gives an infeasible filter design with a
+// An over-damped mode 1 (zeta >= 1) gives an infeasible filter design with a
 // sentence, never a throw.
 
 TEST(PlanHonesty, Issue14OverDampedModeGivesInfeasibleFilterDesignsNotAThrow) {
@@ -455,7 +455,7 @@ TEST(PlanHonesty, Issue14OverDampedModeGivesInfeasibleFilterDesignsNotAThrow) {
             to_string(SolveStatus::kInfeasible));
 }
 
-// Hostile review: the uniform law was "optimal" whatever the options asked (limits, min_ramp_s),
+// Regression: the uniform law was "optimal" whatever the options asked (limits, min_ramp_s),
 // and auto returned it as such: a law that breaks the options is never optimal.
 TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
   const Format f = format_mm(48.5, 82, 800, 1.0);  // uniform: A 4.9 m/s^2, v 1.4 m/s, ramps T/7
@@ -492,7 +492,7 @@ TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
   }
 }
 
-// Hostile review: one reachable limit made time_domain and min_jerk_band blame "the machine
+// Regression: one reachable limit made time_domain and min_jerk_band blame "the machine
 // limits are each reachable but not together" (a zero-objective feasibility solve stopped at its
 // infeasible start), and the limit the returned law breaks went unsaid.
 TEST(PlanHonesty, AReachableLimitIsNotBlamedAndABrokenOneIsNamed) {
@@ -521,7 +521,7 @@ TEST(PlanHonesty, AReachableLimitIsNotBlamedAndABrokenOneIsNamed) {
 namespace slosh {
 namespace {
 
-// Hostile review of issue 19 (F8): a fir_chain law whose ramps or plateaus break the options was
+// Regression: a fir_chain law whose ramps or plateaus break the options was
 // returned with those durations (flagged infeasible); SPEC §5 says never. It is now returned as a
 // law without a 7-segment table.
 TEST(PlanHonesty, AFirChainLawThatBreaksTheRampMinimumCarriesNoDurations) {
@@ -535,7 +535,7 @@ TEST(PlanHonesty, AFirChainLawThatBreaksTheRampMinimumCarriesNoDurations) {
   EXPECT_GT(r.law.duration(), 0.0);
 }
 
-// Hostile review of issue 19: a plateau minimum below 1 ns gave a 2e-10 s plateau, which the
+// Regression: a plateau minimum below 1 ns gave a 2e-10 s plateau, which the
 // 1 ns rule then zeroed: such a minimum cannot be held and is refused.
 TEST(PlanHonesty, APlateauMinimumBelowOneNanosecondIsRefused) {
   PlanOptions o;
@@ -556,7 +556,7 @@ TEST(PlanHonesty, APlateauMinimumBelowOneNanosecondIsRefused) {
 namespace slosh {
 namespace {
 
-// Hostile review of issue 20 (D3): with T < 7 min_ramp the baseline returns the nearest admissible
+// Regression: with T < 7 min_ramp the baseline returns the nearest admissible
 // law, not T/7, and warned that it was worse than the baseline, i.e. than itself.
 TEST(PlanHonesty, TheBaselineIsNeverWorseThanTheBaseline) {
   const Format f = format_mm(48.5, 82, 800, 0.3);  // 0.3 s < 7 x 0.05 s

@@ -1,4 +1,4 @@
-// Issue 15: a seeded property test of the planner's promises over random formats (R 15-60 mm,
+// A seeded property test of the planner's promises over random formats (R 15-60 mm,
 // h/R 0.5-3, s 0.2-1 m, T from a peak acceleration of the uniform law of 2-10 m/s^2, water), for
 // every strategy: no non-finite number; the reported eta equals the re-verified one; a status of
 // infeasible only when the returned law violates a constraint on the verification, optimal /

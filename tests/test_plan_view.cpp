@@ -1,4 +1,4 @@
-// Issue 19: the compact plan (`?view=compact`, `"view": "compact"` in a batch, `--view compact`):
+// The compact plan (`?view=compact`, `"view": "compact"` in a batch, `--view compact`):
 // what a controller needs, under 1 kB for every strategy that returns a 7-segment law, also for
 // infeasible plans with long messages and every warning; its figures are the full plan's; the view
 // changes neither the key nor the cache entry; unknown views are a 422 naming "view". Checked on
@@ -109,7 +109,7 @@ void expect_compact_of(const json& compact, const json& plan, const json& reques
     }
     EXPECT_EQ(finding, expected) << full;
   }
-  // Issue 20: the nonlinear model's holding interval and worst eta, in hundredths.
+  // The nonlinear model's holding interval and worst eta, in hundredths.
   if (plan.contains("robustness")) {
     const auto hundredths = [](const json& v) {
       return std::round(v.get<double>() * 100.0) / 100.0;
@@ -143,7 +143,7 @@ TEST(CompactPlan, IsUnder1kBForEveryStrategyWithASevenSegmentLaw) {
   }
   // fir_chain gives a 7-segment law when the motion is long enough for conditions (14).
   cases.push_back({thesis("fir_chain", 1.5), false});
-  // Hostile review of issue 20: move_absolute on a short move (its block, the baseline's long
+  // Regression: move_absolute on a short move (its block, the baseline's long
   // durations and two long warnings) made 1075-1111 B before the warnings became codes.
   for (const char* s : {"baseline", "time_domain", "notch"}) {
     json r = thesis(s, 0.3);

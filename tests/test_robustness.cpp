@@ -1,4 +1,4 @@
-// Robust plans (issue 20, SPEC §10): the robustness report against an independent re-simulation,
+// Robust plans (SPEC §10): the robustness report against an independent re-simulation,
 // the uncertainty ranges through the model, and the robust designs.
 
 #include <gtest/gtest.h>
@@ -129,7 +129,7 @@ TEST(RobustnessReport, ReproducesTheIssuesSensitivityTableOfTheThesisFormat) {
       {Strategy::kShaper, {34, 29, 26, 22, 20}, {8.8, 5.7, 1.8, 0.7, 1.3}},
   }};
   const std::array<double, 5> deltas{-0.10, -0.05, 0.0, 0.05, 0.10};
-  // The table's min_jerk_band row predates issue 15's reference level: its band limit is 20 % of
+  // The table's min_jerk_band row predates the reference level: its band limit is 20 % of
   // |X_uniform(w1)|, i.e. tol_rel = 0.2 |X_uniform(w1)| / X_ref with X_ref the uniform law's
   // largest |X| over the band (computed here on a fine grid).
   const Format f = thesis_format();

@@ -1,4 +1,4 @@
-// Issue 20, the API side (SPEC §10): options.robustness and options.uncertainty through a real
+// The API side (SPEC §10): options.robustness and options.uncertainty through a real
 // `slosh serve` on loopback, the plan's robustness, uncertainty and worst_case blocks, the compact
 // view, the batch columns, and every refusal with its exact text and field.
 //
@@ -316,7 +316,7 @@ TEST_F(RobustnessApi, OptingOutLeavesTheBlockOutUnderAnotherKey) {
   EXPECT_FALSE(compact_off.body.contains("robustness"));
 }
 
-/// The built-in registry without the options of issue 20: what keyed every plan before them.
+/// The built-in registry without the robustness options: what keyed every plan before them.
 api::OptionRegistry registry_before_issue_20() {
   std::vector<api::OptionSpec> options;
   for (const api::OptionSpec& o : api::plan_option_registry().options()) {

@@ -1,4 +1,4 @@
-// Issue 22: `serve`, `batch` and `export` keep their plan store in the per-user state directory
+// `serve`, `batch` and `export` keep their plan store in the per-user state directory
 // (${XDG_STATE_HOME:-~/.local/state}/slosh/plans.sqlite, directories created 0700), never in the
 // directory they run from. The real binary runs with HOME / XDG_STATE_HOME in a temporary
 // directory and its working directory elsewhere; the directory listings are the check.

@@ -491,7 +491,7 @@ TEST(ValidationFormat, FillHeight) {
                       f + " = -1 is out of range: allowed 1 to 5000 mm"));
   EXPECT_TRUE(Rejects(with("/format/fill_height_mm", 5000.5), f,
                       f + " = 5000.5 is out of range: allowed 1 to 5000 mm"));
-  // Issue 14: a film of 0.07 mm gave null predictions.
+  // A film of 0.07 mm gave null predictions.
   EXPECT_TRUE(Rejects(with("/format/fill_height_mm", 0.07), f,
                       f + " = 0.07 is out of range: allowed 1 to 5000 mm"));
 }
@@ -521,7 +521,7 @@ TEST(ValidationFormat, Stroke) {
                       f + " = 0 is out of range: allowed 0.01 to 100000 mm"));
   EXPECT_TRUE(Rejects(with("/format/stroke_mm", 100000.5), f,
                       f + " = 100000.5 is out of range: allowed 0.01 to 100000 mm"));
-  // Issue 14: the smallest denormal stroke gave a 500.
+  // The smallest denormal stroke gave a 500.
   EXPECT_TRUE(Rejects(with("/format/stroke_mm", 5e-324), f,
                       f + " = 4.940656458e-324 is out of range: allowed 0.01 to 100000 mm"));
 }

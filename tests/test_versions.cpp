@@ -1,4 +1,4 @@
-// Issue 19: every plan states the slosh version that made it; the version is part of the recipe
+// Every plan states the slosh version that made it; the version is part of the recipe
 // and min-time keys and of each row of the plan store, so an upgrade never serves an older
 // planner's plan; `slosh --version`, GET /healthz and the plans agree with the project version of
 // CMakeLists.txt. The keys are checked against a SHA-256 computed here (OpenSSL), the store through

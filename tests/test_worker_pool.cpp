@@ -25,7 +25,7 @@ namespace {
 
 using namespace std::chrono_literals;
 
-// Issue 14: a task that throws used to end its worker thread (WorkerPool::run ran tasks
+// A task that throws used to end its worker thread (WorkerPool::run ran tasks
 // unguarded); the pool must carry on and count it.
 TEST(WorkerPool, AThrowingTaskDoesNotTakeItsWorkerDown) {
   WorkerPool pool(1, 4);
@@ -39,7 +39,7 @@ TEST(WorkerPool, AThrowingTaskDoesNotTakeItsWorkerDown) {
   EXPECT_EQ(pool.task_errors(), 2u);
 }
 
-// Issue 14: /readyz did not notice a pool that makes no progress.
+// /readyz did not notice a pool that makes no progress.
 TEST(WorkerPool, StalledForGrowsWhileWorkIsStuckAndResetsOnProgress) {
   WorkerPool pool(1, 4);
   EXPECT_EQ(pool.stalled_for(), std::chrono::steady_clock::duration::zero());  // idle
@@ -53,7 +53,7 @@ TEST(WorkerPool, StalledForGrowsWhileWorkIsStuckAndResetsOnProgress) {
   EXPECT_EQ(pool.stalled_for(), std::chrono::steady_clock::duration::zero());
 }
 
-// Issue 14: a batch larger than the queue waits for room (submit_wait) while workers finish.
+// A batch larger than the queue waits for room (submit_wait) while workers finish.
 TEST(WorkerPool, SubmitWaitQueuesMoreTasksThanTheQueueHolds) {
   WorkerPool pool(2, 2);
   std::atomic<int> ran{0};
@@ -67,7 +67,7 @@ TEST(WorkerPool, SubmitWaitQueuesMoreTasksThanTheQueueHolds) {
   EXPECT_EQ(ran, 50);
 }
 
-// Issue 21: an interactive task queued behind background (batch job) tasks runs first. The one
+// An interactive task queued behind background (batch job) tasks runs first. The one
 // worker is held by a latch while three background tasks and then one interactive task are
 // queued; once released, the order of the runs is recorded.
 TEST(WorkerPool, AnInteractiveTaskRunsBeforeQueuedBackgroundTasks) {
@@ -106,7 +106,7 @@ TEST(WorkerPool, AnInteractiveTaskRunsBeforeQueuedBackgroundTasks) {
   EXPECT_EQ(pool.started(TaskPriority::kBackground), 3u);
 }
 
-// Issue 21: background tasks have their own queue, so a full background queue leaves the
+// Background tasks have their own queue, so a full background queue leaves the
 // interactive room (and its 503) as it was: interactive overload is refused at the same depth.
 TEST(WorkerPool, BackgroundTasksDoNotTakeTheInteractiveQueueRoom) {
   WorkerPool pool(1, 2);
@@ -127,7 +127,7 @@ TEST(WorkerPool, BackgroundTasksDoNotTakeTheInteractiveQueueRoom) {
   release.set_value();
 }
 
-// Hostile review: a std::system_error from starting a connection thread (e.g. under
+// Regression: a std::system_error from starting a connection thread (e.g. under
 // `ulimit -v`) left ConnectionPool::enqueue, then the HTTP library's accept loop, and ended the
 // process. The connection goes to the refusing thread instead (its requests are answered 503).
 TEST(ConnectionPool, AThreadTheSystemRefusesSendsTheConnectionToTheRefusingThread) {

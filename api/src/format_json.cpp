@@ -179,7 +179,7 @@ nlohmann::json model_json(const SloshingModel& m, const ModelOptions& options) {
                         {"sloshing_mass_kg", m.mass},
                         {"fluid_mass_kg", m.fluid_mass},
                         {"eta_gain", m.eta_gain}};
-  // A calibrated model (options.model, issue 23) says so; f_hz, K_mm and eta_gain include it.
+  // A calibrated model (options.model) says so; f_hz, K_mm and eta_gain include it.
   if (options.omega_scale != 1.0 || options.height_gain != 1.0) {
     out["calibration"] = {{"omega_scale", options.omega_scale},
                           {"height_gain", options.height_gain}};

@@ -1358,7 +1358,7 @@ json job_operation(const Route& route) {
   }
 }
 
-/// POST /v1/calibrations and GET /v1/calibrations/{name} (issue 23).
+/// POST /v1/calibrations and GET /v1/calibrations/{name}.
 json calibration_operation(const Route& route) {
   json ok = json_response(
       "The fit: fitted values with standard errors, residuals before and "
@@ -1501,8 +1501,7 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
           {"tags",
            {{{"name", "plans"}, {"description", "Planning and the recipe cache."}},
             {{"name", "simulation"}, {"description", "Response of a given law."}},
-            {{"name", "calibration"},
-             {"description", "Fitting the model to bench measurements (issue 23)."}},
+            {{"name", "calibration"}, {"description", "Fitting the model to bench measurements."}},
             {{"name", "catalogue"}, {"description", "Reference data and this document."}},
             {{"name", "operations"}, {"description", "Health, readiness and metrics."}},
             {{"name", "page"}, {"description", "The web page served at / (SPEC §12)."}},

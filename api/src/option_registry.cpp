@@ -491,7 +491,7 @@ std::vector<OptionSpec> uncertainty_options() {
           in_uncertainty(std::move(samples), "uncertainty_sample_points")};
 }
 
-// A member of options.model (a calibrated model, issue 23). omega_scale and height_gain are keyed
+// A member of options.model (a calibrated model). omega_scale and height_gain are keyed
 // only when they differ from 1, so the keys of requests without a model stay as they were;
 // model.alpha and model.zeta write the options alpha and damping write, and are keyed by them.
 OptionSpec in_model(OptionSpec s, std::string_view recipe_name) {

@@ -1,5 +1,5 @@
 #pragma once
-// An independent multi-start reference for the spectral strategies (issue 15): the 7-segment
+// An independent multi-start reference for the spectral strategies: the 7-segment
 // law, its spectrum and jerk integral rebuilt from the SPEC text with forward-mode dual numbers
 // (exact gradients), solved from many seeded starts by NLopt's SLSQP called directly. Nothing
 // here calls into slosh::core, so the planner can be checked against it.

@@ -127,7 +127,7 @@ std::optional<MasterAxisRefusal> check_start_and_end(const MasterAxis& axis) {
   const InputBounds end{axis.start, axis.period, true, false};
   if (!end.contains(axis.end)) return master_refusal(MasterAxisInput::kEnd, axis.end, end);
   // A shorter motion span makes the derivatives per master unit (v / w, a / w^2, j / w^3)
-  // overflow to inf (hostile review: a period of 1e-300 gave nan and inf cells).
+  // overflow to inf (a period of 1e-300 gave nan and inf cells).
   const double earliest_end = axis.start + kMinMasterSpan;  // <= period (latest_start)
   if (axis.end < earliest_end) {
     return master_refusal(MasterAxisInput::kEnd, axis.end, closed_range(earliest_end, axis.period));

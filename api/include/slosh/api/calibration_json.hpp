@@ -2,7 +2,7 @@
 // POST /v1/calibrations and `slosh calibrate`: the request (a format, the base model options,
 // measured moves, fit settings, an optional name) and the response (fitted values with standard
 // errors, residuals before/after per move, identifiability notes and the `model` object that
-// options.model of plans, simulate, min-time and batch accept). Issue 23.
+// options.model of plans, simulate, min-time and batch accept).
 //
 // Request:
 //   {"format": {...as a plan...}, "options": {"modes", "damping", "alpha"} (the base model),

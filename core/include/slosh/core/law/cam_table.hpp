@@ -30,7 +30,7 @@ constexpr double kMinMasterSpan{1e-6};
 /// Slowest and fastest master speed (master_end - master_start) / motion time of a master-axis
 /// table [master units/s]. The derivatives per master unit divide the law's by the speed, its
 /// square and its cube, which stay between 1e-90 and 1e90 here: every cell is a finite number
-/// (hostile review: a master period of 1e308 over 0.5 s overflowed the speed to inf and gave a
+/// (a master period of 1e308 over 0.5 s overflowed the speed to inf and gave a
 /// table of zeros).
 constexpr double kMinMasterSpeed{1e-30};
 constexpr double kMaxMasterSpeed{1e30};

@@ -1,5 +1,5 @@
 #pragma once
-// Calibration of the nonlinear sloshing model (eq. 2.35) from bench measurements (issue 23):
+// Calibration of the nonlinear sloshing model (eq. 2.35) from bench measurements:
 // bounded nonlinear least squares on measured eta(t) series and/or measured peaks, with exact
 // gradients (dual numbers through the integrator), standard errors from the Jacobian and an
 // identifiability check that refuses to report values the data cannot separate.

@@ -31,7 +31,7 @@ struct ModelOptions {
   double explicit_zeta{0.0};
   /// Nonlinear stiffening coefficient alpha of eq. 2.35 [-]. Default 0.58.
   double alpha{kDefaultAlpha};
-  /// Calibrated scale of every natural frequency omega_n [-] (issue 23; 1 = the potential-flow
+  /// Calibrated scale of every natural frequency omega_n [-] (1 = the potential-flow
   /// frequencies of eq. 2.14). Default 1, allowed (0, 10].
   double omega_scale{1.0};
   /// Calibrated gain on the predicted wall height (linear eta_gain_n and nonlinear K) [-].
