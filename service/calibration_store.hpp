@@ -9,7 +9,7 @@
 
 #include <nlohmann/json.hpp>
 
-struct sqlite3;
+#include "sqlite_db.hpp"
 
 namespace slosh::service {
 
@@ -18,7 +18,6 @@ class CalibrationStore {
   /// Opens (creating) the database at `path`; ":memory:" keeps it in memory. Throws
   /// std::runtime_error when it cannot be opened.
   explicit CalibrationStore(const std::string& path);
-  ~CalibrationStore();
   CalibrationStore(const CalibrationStore&) = delete;
   CalibrationStore& operator=(const CalibrationStore&) = delete;
 
@@ -29,7 +28,7 @@ class CalibrationStore {
 
  private:
   mutable std::mutex mutex_;
-  sqlite3* db_{nullptr};
+  SqliteDb db_;
 };
 
 /// The calibrations database next to the plan cache: "<cache_path>.calibrations", or ":memory:"

@@ -5,6 +5,7 @@
 
 #include "redis_cache.hpp"
 #include "slosh/api/plan.hpp"
+#include "sqlite_db.hpp"
 
 #include <array>
 #include <chrono>
@@ -32,42 +33,6 @@ std::string table_name(CacheTable table) {
   return table == CacheTable::kMinTime ? "min_times" : "plans";
 }
 
-/// SQLite's message for the last failure on `db` (also when the handle is null: out of memory).
-std::string message_of(sqlite3* db) {
-  return db == nullptr ? std::string("out of memory") : std::string(sqlite3_errmsg(db));
-}
-
-/// Runs `sql` and returns the first column of its first row ("" when no row); sets `error` on
-/// failure.
-std::string query_text(sqlite3* db, std::string_view sql, std::string& error) {
-  sqlite3_stmt* stmt = nullptr;
-  std::string result;
-  if (sqlite3_prepare_v2(db, sql.data(), static_cast<int>(sql.size()), &stmt, nullptr) !=
-      SQLITE_OK) {
-    error = message_of(db);
-    return result;
-  }
-  int rc = sqlite3_step(stmt);
-  while (rc == SQLITE_ROW) {
-    if (result.empty() && sqlite3_column_type(stmt, 0) != SQLITE_NULL) {
-      result = reinterpret_cast<const char*>(sqlite3_column_text(stmt, 0));
-    }
-    rc = sqlite3_step(stmt);
-  }
-  if (rc != SQLITE_DONE) error = message_of(db);
-  sqlite3_finalize(stmt);
-  return result;
-}
-
-/// Runs `sql` (statements without results); sets `error` on failure.
-void execute(sqlite3* db, std::string_view sql, std::string& error) {
-  char* message = nullptr;
-  if (sqlite3_exec(db, std::string(sql).c_str(), nullptr, nullptr, &message) != SQLITE_OK) {
-    error = message == nullptr ? message_of(db) : std::string(message);
-  }
-  sqlite3_free(message);
-}
-
 /// The digest of a row: of its key, its version and its body, so that none of them can change on
 /// disk unnoticed.
 std::string row_digest(std::string_view key, std::string_view version, std::string_view body) {
@@ -79,31 +44,25 @@ std::string row_digest(std::string_view key, std::string_view version, std::stri
   return api::sha256_key(text);
 }
 
-bool prepare(sqlite3* db, std::string_view sql, sqlite3_stmt** stmt) {
-  return sqlite3_prepare_v3(db, sql.data(), static_cast<int>(sql.size()), SQLITE_PREPARE_PERSISTENT,
-                            stmt, nullptr) == SQLITE_OK;
-}
-
 /// Brings the file to kStoreLayoutVersion in one write transaction (so two connections opening it
 /// at once migrate it once): creates the tables and the columns they lack; a file of any other
 /// layout is emptied (layouts 2 and 3 recorded no version: their answers are an older planner's).
 /// Sets `error` on failure.
-void migrate_layout(sqlite3* db, std::string& error) {
-  execute(db, "BEGIN IMMEDIATE", error);
+void migrate_layout(const SqliteDb& db, std::string& error) {
+  db.execute("BEGIN IMMEDIATE", error);
   if (!error.empty()) return;
-  execute(db, kSchema, error);
+  db.execute(kSchema, error);
   const std::string current = std::to_string(kStoreLayoutVersion);
-  std::string found = error.empty() ? query_text(db, "PRAGMA user_version", error) : "";
+  std::string found = error.empty() ? db.query_text("PRAGMA user_version", error) : "";
   for (std::string_view table : kTables) {
     for (std::string_view column : kAddedColumns) {
       const std::string name(table);
       const std::string col(column);
-      if (error.empty() && query_text(db,
-                                      "SELECT COUNT(*) FROM pragma_table_info('" + name +
-                                          "') WHERE name = '" + col + "'",
-                                      error) == "0") {
-        execute(db, "ALTER TABLE " + name + " ADD COLUMN " + col + " TEXT NOT NULL DEFAULT ''",
-                error);
+      if (error.empty() && db.query_text("SELECT COUNT(*) FROM pragma_table_info('" + name +
+                                             "') WHERE name = '" + col + "'",
+                                         error) == "0") {
+        db.execute("ALTER TABLE " + name + " ADD COLUMN " + col + " TEXT NOT NULL DEFAULT ''",
+                   error);
         // A file that says this layout but lacks its columns is of no layout this slosh knows.
         if (found == current) found = "unknown";
       }
@@ -111,14 +70,14 @@ void migrate_layout(sqlite3* db, std::string& error) {
   }
   if (error.empty() && found != current) {
     for (std::string_view table : kTables) {
-      if (error.empty()) execute(db, "DELETE FROM " + std::string(table), error);
+      if (error.empty()) db.execute("DELETE FROM " + std::string(table), error);
     }
-    if (error.empty()) execute(db, "PRAGMA user_version = " + current, error);
+    if (error.empty()) db.execute("PRAGMA user_version = " + current, error);
   }
-  if (error.empty()) execute(db, "COMMIT", error);
+  if (error.empty()) db.execute("COMMIT", error);
   if (!error.empty()) {
     std::string ignored;  // the failure that caused the rollback is the one to report
-    execute(db, "ROLLBACK", ignored);
+    db.execute("ROLLBACK", ignored);
   }
 }
 
@@ -147,35 +106,29 @@ PlanCache::~PlanCache() {
 
 void PlanCache::open_store() {
   std::string error;
-  const int rc =
-      sqlite3_open_v2(config_.path.c_str(), &db_,
-                      SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX, nullptr);
-  if (rc != SQLITE_OK) {
-    error = message_of(db_);
-  } else {
-    sqlite3_busy_timeout(db_, config_.busy_timeout_ms);
+  if (db_.open(config_.path, SQLITE_OPEN_READWRITE | SQLITE_OPEN_CREATE | SQLITE_OPEN_FULLMUTEX,
+               error)) {
+    db_.busy_timeout(config_.busy_timeout_ms);
     // A file of garbage opens fine; the first statement reports "file is not a database".
-    const std::string mode = query_text(db_, "PRAGMA journal_mode=WAL", error);
+    const std::string mode = db_.query_text("PRAGMA journal_mode=WAL", error);
     if (error.empty() && mode != "wal") {
       error = "journal_mode is '" + mode + "', WAL could not be enabled";
     }
-    if (error.empty()) query_text(db_, "PRAGMA synchronous=NORMAL", error);
-    if (error.empty() && sqlite3_db_readonly(db_, "main") == 1) {
-      error = "the file is read-only";
-    }
+    if (error.empty()) db_.query_text("PRAGMA synchronous=NORMAL", error);
+    if (error.empty() && db_.read_only()) error = "the file is read-only";
     if (error.empty()) migrate_layout(db_, error);
-    if (error.empty() &&
-        (!prepare(db_, "SELECT body, digest, version FROM " + table_ + " WHERE key = ?1",
-                  &select_) ||
-         !prepare(db_,
-                  "INSERT OR REPLACE INTO " + table_ +
-                      "(key, body, created_unix, digest, version) VALUES(?1, ?2, ?3, ?4, ?5)",
-                  &upsert_))) {
-      error = message_of(db_);
+    if (error.empty()) {
+      select_ =
+          db_.prepare("SELECT body, digest, version FROM " + table_ + " WHERE key = ?1", true);
+      upsert_ = db_.prepare("INSERT OR REPLACE INTO " + table_ +
+                                "(key, body, created_unix, digest, version) "
+                                "VALUES(?1, ?2, ?3, ?4, ?5)",
+                            true);
+      if (!select_ || !upsert_) error = db_.message();
     }
     if (error.empty()) {
       store_bytes_ = std::stoull(
-          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM " + table_, error));
+          "0" + db_.query_text("SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM " + table_, error));
     }
   }
   if (!error.empty()) {
@@ -189,12 +142,9 @@ void PlanCache::open_store() {
 }
 
 void PlanCache::close_store() {
-  sqlite3_finalize(select_);
-  sqlite3_finalize(upsert_);
-  sqlite3_close_v2(db_);  // also releases a handle whose open failed
-  select_ = nullptr;
-  upsert_ = nullptr;
-  db_ = nullptr;
+  select_ = SqliteStatement();
+  upsert_ = SqliteStatement();
+  db_.close();
   const std::lock_guard lock(error_mutex_);
   persistent_ = false;
 }
@@ -249,14 +199,10 @@ void PlanCache::count_rendering(const std::shared_ptr<const CachedValue>& entry,
 
 void PlanCache::drop_corrupt_locked(const std::string& key) {
   std::string error;
-  sqlite3_stmt* remove = nullptr;
-  if (prepare(db_, "DELETE FROM " + table_ + " WHERE key = ?1", &remove)) {
-    sqlite3_bind_text(remove, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC);
-    if (sqlite3_step(remove) != SQLITE_DONE) error = message_of(db_);
-  } else {
-    error = message_of(db_);
+  SqliteStatement remove = db_.prepare("DELETE FROM " + table_ + " WHERE key = ?1");
+  if (!remove || remove.bind_text(1, key, false) != SQLITE_OK || remove.step() != SQLITE_DONE) {
+    error = db_.message();
   }
-  sqlite3_finalize(remove);
   set_error("plan cache store '" + config_.path + "': the stored bytes of " + noun_ + " (key '" +
             key.substr(0, 64) + "') do not match their digest" +
             (error.empty() ? "; the row was dropped and is computed again"
@@ -268,14 +214,13 @@ void PlanCache::prune_store_locked() {
   const std::size_t target = config_.store_bytes / 10 * 9;
   while (error.empty() && store_bytes_ > target) {
     // The oldest tenth of the rows (at least one) per round, then the size as SQLite counts it.
-    query_text(db_,
-               "DELETE FROM " + table_ + " WHERE rowid IN (SELECT rowid FROM " + table_ +
-                   " ORDER BY created_unix, rowid LIMIT MAX(1, (SELECT COUNT(*) FROM " + table_ +
-                   ") / 10))",
-               error);
+    db_.query_text("DELETE FROM " + table_ + " WHERE rowid IN (SELECT rowid FROM " + table_ +
+                       " ORDER BY created_unix, rowid LIMIT MAX(1, (SELECT COUNT(*) FROM " +
+                       table_ + ") / 10))",
+                   error);
     if (error.empty()) {
       store_bytes_ = std::stoull(
-          "0" + query_text(db_, "SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM " + table_, error));
+          "0" + db_.query_text("SELECT SUM(LENGTH(CAST(body AS BLOB))) FROM " + table_, error));
     }
   }
   if (!error.empty()) {
@@ -291,24 +236,17 @@ std::optional<std::string> PlanCache::read_store(const std::string& key) {
   std::optional<std::string> value;
   bool corrupt = false;
   const std::lock_guard store(store_mutex_);
-  if (db_ != nullptr) {
-    if (key.size() > static_cast<std::size_t>(INT_MAX) ||
-        sqlite3_bind_text(select_, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC) !=
-            SQLITE_OK) {
+  if (db_) {
+    if (select_.bind_text(1, key, false) != SQLITE_OK) {
       set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
-                message_of(db_) + ")");
+                db_.message() + ")");
     } else {
-      const int rc = sqlite3_step(select_);
+      const int rc = select_.step();
       if (rc == SQLITE_ROW) {
-        const auto* text = static_cast<const char*>(sqlite3_column_blob(select_, 0));
-        const int bytes = sqlite3_column_bytes(select_, 0);
-        value.emplace(text == nullptr ? "" : std::string(text, static_cast<std::size_t>(bytes)));
-        const auto* digest = reinterpret_cast<const char*>(sqlite3_column_text(select_, 1));
-        const auto* version = static_cast<const char*>(sqlite3_column_blob(select_, 2));
-        const std::string_view row_version(
-            version == nullptr ? "" : version,
-            static_cast<std::size_t>(sqlite3_column_bytes(select_, 2)));
-        if (digest == nullptr || row_digest(key, row_version, *value) != digest) {
+        value.emplace(select_.column(0));
+        const std::string_view digest = select_.column(1);
+        const std::string_view row_version = select_.column(2);
+        if (select_.column_is_null(1) || row_digest(key, row_version, *value) != digest) {
           value.reset();
           corrupt = true;
         } else if (row_version != config_.version) {
@@ -316,11 +254,10 @@ std::optional<std::string> PlanCache::read_store(const std::string& key) {
         }
       } else if (rc != SQLITE_DONE) {
         set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
-                  message_of(db_) + ")");
+                  db_.message() + ")");
       }
     }
-    sqlite3_reset(select_);
-    sqlite3_clear_bindings(select_);
+    select_.reset();
     if (corrupt) drop_corrupt_locked(key);
   }
   return value;
@@ -383,28 +320,16 @@ std::shared_ptr<const CachedValue> PlanCache::write_local(const std::string& key
     const std::lock_guard memory(memory_mutex_);
     remember_locked(entry);
   }
-  if (db_ == nullptr) return entry;
-  int rc = SQLITE_TOOBIG;
-  if (key.size() <= static_cast<std::size_t>(INT_MAX) &&
-      value.size() <= static_cast<std::size_t>(INT_MAX)) {
-    rc = sqlite3_bind_text(upsert_, 1, key.data(), static_cast<int>(key.size()), SQLITE_STATIC);
-    if (rc == SQLITE_OK) {
-      rc = sqlite3_bind_text(upsert_, 2, value.data(), static_cast<int>(value.size()),
-                             SQLITE_STATIC);
-    }
-    if (rc == SQLITE_OK) rc = sqlite3_bind_int64(upsert_, 3, now_unix());
-    const std::string digest = row_digest(key, config_.version, value);
-    if (rc == SQLITE_OK) rc = sqlite3_bind_text(upsert_, 4, digest.c_str(), -1, SQLITE_TRANSIENT);
-    if (rc == SQLITE_OK) {
-      rc = sqlite3_bind_text(upsert_, 5, config_.version.data(),
-                             static_cast<int>(config_.version.size()), SQLITE_STATIC);
-    }
-    if (rc == SQLITE_OK) rc = sqlite3_step(upsert_);
-  }
-  const std::string message =
-      rc == SQLITE_TOOBIG ? std::string(sqlite3_errstr(rc)) : message_of(db_);
-  sqlite3_reset(upsert_);
-  sqlite3_clear_bindings(upsert_);
+  if (!db_) return entry;
+  const std::string digest = row_digest(key, config_.version, value);
+  int rc = upsert_.bind_text(1, key, false);
+  if (rc == SQLITE_OK) rc = upsert_.bind_text(2, value, false);
+  if (rc == SQLITE_OK) rc = upsert_.bind_int64(3, now_unix());
+  if (rc == SQLITE_OK) rc = upsert_.bind_text(4, digest, false);
+  if (rc == SQLITE_OK) rc = upsert_.bind_text(5, config_.version, false);
+  if (rc == SQLITE_OK) rc = upsert_.step();
+  const std::string message = rc == SQLITE_TOOBIG ? std::string(sqlite3_errstr(rc)) : db_.message();
+  upsert_.reset();
   if (rc == SQLITE_DONE) {
     clear_error();
     store_bytes_ += value.size();

@@ -21,10 +21,8 @@
 #include <utility>
 
 #include "cache_level.hpp"
+#include "sqlite_db.hpp"
 #include "version.hpp"
-
-struct sqlite3;
-struct sqlite3_stmt;
 
 namespace slosh::service {
 
@@ -243,9 +241,9 @@ class PlanCache {
 
   // Persistent tier. Lock order: store_mutex_ before memory_mutex_ (never the reverse).
   std::mutex store_mutex_;
-  sqlite3* db_{nullptr};
-  sqlite3_stmt* select_{nullptr};
-  sqlite3_stmt* upsert_{nullptr};
+  SqliteDb db_;
+  SqliteStatement select_;
+  SqliteStatement upsert_;
   // SUM of the plans' sizes, counted up by puts between prunes (written under store_mutex_).
   std::atomic<std::size_t> store_bytes_{0};
 
