@@ -9,8 +9,8 @@
 #include <utility>
 
 #include "batch_job_record.hpp"
-#include "cam_export.hpp"
 #include "plan_table.hpp"
+#include "query_params.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
@@ -126,22 +126,6 @@ JobBody parse_job_body(const std::string& text, std::size_t max) {
     out.view = v->get<std::string>();
   }
   return out;
-}
-
-// A whole number within [lo, hi] from a query parameter given at most once; `fallback` when absent.
-std::size_t query_count(const std::vector<std::string>& values, const std::string& name,
-                        std::size_t fallback, std::size_t lo, std::size_t hi) {
-  const std::optional<std::string> text = single_query_value(values, name);
-  if (!text) return fallback;
-  const bool digits = !text->empty() && text->size() <= 12 &&
-                      text->find_first_not_of("0123456789") == std::string::npos;
-  const std::size_t value = digits ? std::stoull(*text) : 0;
-  if (!digits || value < lo || value > hi) {
-    invalid(name, name + " = " + (text->empty() ? "(empty)" : text->substr(0, 32)) +
-                      " is not allowed: a whole number from " + std::to_string(lo) + " to " +
-                      std::to_string(hi));
-  }
-  return value;
 }
 
 Reply json_reply(int status, const json& body) {

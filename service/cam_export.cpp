@@ -108,53 +108,6 @@ api::ApiError master_error(const MasterAxisRefusal& r, const MasterAxis& axis,
   return invalid(name, head + verdict + ": allowed " + r.allowed() + " master units");
 }
 
-// Whether `text` is a decimal number as a person writes it: an optional "-", digits with an
-// optional fraction (or a fraction alone, ".5"), an optional exponent ("e-3", "E+5"). No "+"
-// sign, spaces, hex, inf or nan.
-bool decimal_number(std::string_view text) {
-  std::size_t at = text.starts_with('-') ? 1 : 0;
-  std::size_t digits = 0;
-  const auto skip_digits = [&] {
-    std::size_t n = 0;
-    while (at < text.size() && text[at] >= '0' && text[at] <= '9') ++at, ++n;
-    return n;
-  };
-  digits += skip_digits();
-  if (at < text.size() && text[at] == '.') {
-    ++at;
-    digits += skip_digits();
-  }
-  if (digits == 0) return false;
-  if (at < text.size() && (text[at] == 'e' || text[at] == 'E')) {
-    ++at;
-    if (at < text.size() && (text[at] == '+' || text[at] == '-')) ++at;
-    if (skip_digits() == 0) return false;
-  }
-  return at == text.size();
-}
-
-// A query parameter's number, read whole (decimal_number); a number beyond the range of a double
-// (1e400, 1e-400) is refused, never rounded to inf or 0. A denormal (4.9e-324) is a number.
-double query_number(const std::string& text, const std::string& name, std::string_view unit) {
-  const std::string shown = text.empty() ? "(empty)" : text.substr(0, 32);
-  const std::string tail = " [" + std::string(unit) + "]";
-  if (!decimal_number(text)) {
-    throw invalid(name, name + " = " + shown + " is not a decimal number" + tail);
-  }
-  double value = 0.0;
-  const auto [end, error] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (error == std::errc::result_out_of_range) {
-    throw invalid(name, name + " = " + shown +
-                            " is beyond the range of a double: a number is 0 or of a magnitude "
-                            "from 4.9e-324 to 1.8e+308" +
-                            tail);
-  }
-  if (error != std::errc() || end != text.data() + text.size()) {
-    throw invalid(name, name + " = " + shown + " is not a decimal number" + tail);
-  }
-  return value;
-}
-
 // A master-axis table: period, start and end all given, or none of them (nor the step).
 std::optional<MasterAxis> master_axis_of(const CamOptions& o, const CamOptionNames& n) {
   if (!o.master_period && !o.master_start && !o.master_end && !o.master_step) return std::nullopt;
@@ -462,27 +415,13 @@ void check_period_ms(double period_ms, const std::string& field) {
                            "] ms");
 }
 
-std::optional<std::string> single_query_value(const QueryValues& values, const std::string& name) {
-  if (values.empty()) return std::nullopt;
-  if (values.size() == 1) return values.front();
-  const std::string count = values.size() == 2 ? "twice" : std::to_string(values.size()) + " times";
-  std::string given;
-  for (std::size_t i = 0; i < values.size() && i < 3; ++i) {
-    if (i > 0) given += i + 1 == values.size() ? " and " : ", ";
-    given += values[i].substr(0, 32);
-  }
-  if (values.size() > 3) given += ", ...";
-  throw invalid(name,
-                name + " is given " + count + " (" + given + "): give each query parameter once");
-}
-
 CamOptions parse_cam_query(const CamQuery& query, CamFileFormat format) {
   const CamOptionNames& n = query_option_names();
   const auto number = [](const QueryValues& values, const std::string& name,
                          std::string_view unit) -> std::optional<double> {
     const std::optional<std::string> text = single_query_value(values, name);
     if (!text) return std::nullopt;
-    return query_number(*text, name, unit);
+    return query_decimal(*text, name, unit);
   };
   CamOptions options;
   options.format = format;

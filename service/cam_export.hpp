@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "query_params.hpp"
 #include "slosh/core/law/cam_table.hpp"
 #include "slosh/core/law/motion_law.hpp"
 
@@ -87,9 +88,6 @@ struct CamTableSpec {
   std::string st_name{kDefaultStName};  ///< ST array identifier
 };
 
-/// Every value of one query parameter, in order (none: the parameter was not given).
-using QueryValues = std::vector<std::string>;
-
 /// The cam table query parameters of GET /v1/plans/{key}/cam.csv and cam.st as received.
 struct CamQuery {
   QueryValues period_ms;
@@ -100,13 +98,6 @@ struct CamQuery {
   QueryValues st_name;
   QueryValues allow_infeasible;
 };
-
-/// The one value of the query parameter `name`: nullopt when it is not given; throws
-/// ApiError(kInvalidValue, name) when it is given more than once ("master_period is given
-/// twice (360 and 720): give each query parameter once"; a repeated parameter is never
-/// resolved silently).
-[[nodiscard]] std::optional<std::string> single_query_value(const QueryValues& values,
-                                                            const std::string& name);
 
 /// The options of a query: each parameter given at most once (single_query_value), the numbers
 /// read whole as decimal numbers (`-`, digits, an optional fraction and exponent: no `+`, spaces,

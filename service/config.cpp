@@ -155,7 +155,7 @@ std::string known_keys() {
 }  // namespace
 
 void check_cache(const std::string& where, const std::string& cache) {
-  if (is_redis_cache(cache)) {
+  if (is_redis_url(cache)) {
     try {
       (void)parse_redis_url(cache);
     } catch (const std::invalid_argument& e) {
@@ -169,7 +169,7 @@ void check_cache(const std::string& where, const std::string& cache) {
 }
 
 void check_cache_levels(const ServerConfig& config) {
-  if (!config.cache_local.empty() && !is_redis_cache(config.cache_path)) {
+  if (!config.cache_local.empty() && !is_redis_url(config.cache_path)) {
     throw std::runtime_error("cache_local = " + config.cache_local +
                              " needs a Redis cache (cache = redis://host:port/db), but cache = '" +
                              config.cache_path +

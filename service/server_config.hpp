@@ -4,6 +4,8 @@
 #include <cstddef>
 #include <string>
 
+#include "redis_url.hpp"
+
 namespace slosh::service {
 
 struct ServerConfig {
@@ -99,19 +101,14 @@ struct ServerConfig {
   double batch_job_stale_s{30.0};
 };
 
-/// Whether `cache` (ServerConfig::cache_path) names a Redis server rather than a SQLite file.
-[[nodiscard]] inline bool is_redis_cache(const std::string& cache) {
-  return cache.starts_with("redis://");
-}
-
 /// The SQLite file of the plan cache ("" = none): `cache`, or `cache_local` with a Redis cache.
 [[nodiscard]] inline std::string local_cache_path(const ServerConfig& c) {
-  return is_redis_cache(c.cache_path) ? c.cache_local : c.cache_path;
+  return is_redis_url(c.cache_path) ? c.cache_local : c.cache_path;
 }
 
 /// The Redis URL of the plan cache's shared level ("" = none).
 [[nodiscard]] inline std::string redis_cache_url(const ServerConfig& c) {
-  return is_redis_cache(c.cache_path) ? c.cache_path : std::string();
+  return is_redis_url(c.cache_path) ? c.cache_path : std::string();
 }
 
 }  // namespace slosh::service
