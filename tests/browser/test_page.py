@@ -909,11 +909,11 @@ def check_unreadable_period(driver, downloads):
 # runs): id, path in that request, what kind of input and, for a select, its option values.
 PAGE_FIELDS = """
 const done = arguments[arguments.length - 1];
-import('./assets/form.js').then((m) => done(Object.fromEntries(['plan', 'min-time'].map((kind) => [kind,
+import('./assets/form.js').then((m) => Object.fromEntries(['plan', 'min-time'].map((kind) => [kind,
   m.fieldsOf(kind).map(([el, path]) => ({
     id: el.id, path, tag: el.tagName, type: el.type, number: 'number' in el.dataset,
-    options: el.tagName === 'SELECT' ? [...el.options].map((o) => o.value) : []}))]))),
-  (e) => done(String(e)));
+    options: el.tagName === 'SELECT' ? [...el.options].map((o) => o.value) : []}))])))
+  .then(done, (e) => done(String(e)));
 """
 
 REQUEST_SCHEMAS = {"plan": "PlanRequest", "min-time": "MinTimeRequest"}
@@ -1032,8 +1032,10 @@ OTHER_END = {"fill_min": ("fill_max", "90"), "fill_max": ("fill_min", "75"),
 # The request the form now holds, built by the page's own form module.
 PAGE_REQUEST = """
 const done = arguments[arguments.length - 1];
-import('./assets/form.js').then((m) => done(arguments[0] === 'plan' ? m.planRequest(
-  document.getElementById('strategy').value) : m.minTimeRequest()), (e) => done(String(e)));
+const kind = arguments[0];
+import('./assets/form.js').then((m) => (kind === 'plan'
+  ? m.planRequest(document.getElementById('strategy').value) : m.minTimeRequest()))
+  .then(done, (e) => done(String(e)));
 """
 
 
@@ -1056,10 +1058,14 @@ def check_errors_at_fields(driver, port):
         driver.execute_script(CORRUPT, f["id"], *OTHER_END.get(f["id"], (None, None)))
         driver.find_element(By.ID, "plan-button" if kind == "plan" else "min-time-button").click()
         wait_for(driver, "return document.getElementById('status-line').textContent.startsWith('The service refused')"
+                         " || document.getElementById('form-error').textContent"
                          " || document.body.dataset.ready || document.body.dataset.minTime", 30)
         request = driver.execute_async_script(PAGE_REQUEST, kind)
-        status, error = api_json(port, "POST", "/v1/plans" if kind == "plan" else "/v1/min-time", request)
         what = f"{kind}: #{f['id']} ({f['path']})"
+        check(isinstance(request, dict), f"{what}: the page builds its request: {request}")
+        if not isinstance(request, dict):
+            continue
+        status, error = api_json(port, "POST", "/v1/plans" if kind == "plan" else "/v1/min-time", request)
         check(status == 422, f"{what}: the API refuses {request}: {status} {error}")
         if status != 422:
             continue
