@@ -10,7 +10,10 @@ chart holds the API's sweep (its points, limit and holding interval), uncertaint
 the URL and the request, and a refused range is shown at its input. "How fast can
 it go?" (POST /v1/min-time): the table and headline equal the API's answer, the η-over-T charts
 hold the API's curves, a row loads its plan at T_min, a shared link reproduces a search, and the
-API's errors land at the fields they name.
+API's errors land at the fields they name. Every data-field path of the form is a member of the
+service's published request schemas, every input's refused value shows the API's error next to
+it, a late answer of an earlier request never replaces a later view, and an aborted request shows
+no error.
 
 usage: test_page.py --slosh build/slosh --artifacts build/browser
 """
@@ -576,7 +579,7 @@ def check_labels(driver):
 
 
 def check_measured_overlay(driver, workdir):
-    """A measured eta(t) CSV uploaded after a plan is drawn as points on the eta plot (issue 23);
+    """A measured eta(t) CSV uploaded after a plan is drawn as points on the eta plot;
     a series whose times do not increase is refused with the line named."""
     path = os.path.join(workdir, "measured.csv")
     samples = [(0.01 * i, round(5.0 * (i % 20) - 40.0, 3)) for i in range(150)]
@@ -605,11 +608,12 @@ def check_measured_overlay(driver, workdir):
 
 
 # A fetch wrapper that holds back the answers of the requests `predicate_js` picks (a JS
-# expression of `input`, `init` and `body`, the request's JSON text) until window.__release(). The
-# request itself is sent and answered at once, its abort signal ignored, so the page gets a
-# complete, late answer even after it aborted the fetch, and must drop it. window.__held counts the
-# held requests; window.__delivered those whose JSON the page has read and acted on.
-def hold_fetch(predicate_js):
+# expression of `input`, `init` and `body`, the request's JSON text) until window.__release(). By
+# default (LATE_ANSWER) the request itself is sent and answered at once, its abort signal ignored,
+# so the page gets a complete, late answer even after it aborted the fetch, and must drop it.
+# window.__held counts the held requests; window.__delivered those whose JSON the page has read
+# and acted on; window.__aborted those ABORTABLE rejected.
+def hold_fetch(predicate_js, held=None):
     return """
 window.__realFetch = window.__realFetch || window.fetch;
 const real = window.__realFetch;
@@ -617,11 +621,17 @@ let release;
 const gate = new Promise((resolve) => { release = resolve; });
 window.__held = 0;
 window.__delivered = 0;
+window.__aborted = 0;
 window.__release = release;
 window.fetch = async (input, init) => {
   const body = init && typeof init.body === 'string' ? init.body : '';
   if (!(PREDICATE)) return real(input, init);
   window.__held++;
+HELD};
+""".replace("PREDICATE", predicate_js).replace("HELD", held or LATE_ANSWER)
+
+
+LATE_ANSWER = """
   const res = await real(input, { ...init, signal: undefined });
   await gate;
   // Counted once the page has its JSON and has run what follows (microtasks before this task).
@@ -632,8 +642,18 @@ window.fetch = async (input, init) => {
     return value;
   };
   return res;
-};
-""".replace("PREDICATE", predicate_js)
+"""
+
+# The held request waits for window.__release() before it is sent, and an abort of its signal
+# while it waits rejects it with the signal's reason, as a fetch aborted on a slow network does.
+ABORTABLE = """
+  const signal = init && init.signal;
+  await new Promise((resolve, reject) => {
+    gate.then(resolve);
+    if (signal) signal.addEventListener('abort', () => { window.__aborted++; reject(signal.reason); });
+  });
+  return real(input, init);
+"""
 
 
 # The v1/simulate requests of plans whose motion time is 1.5 s: an earlier request that answers
@@ -658,6 +678,30 @@ def check_shows_plan(driver, plan):
           "the plan download is the later plan")
 
 
+def plan_later_then_release(driver, port, held=1):
+    """With `held` answers of an earlier request held: plans notch on the thesis format (T = 1 s),
+    waits for it to be drawn, releases the held answers and waits for the page to have handled
+    them. Returns the API's plan of the later request."""
+    fill_format(driver, THESIS, "notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                     "window.sloshPage.plans.notch.format.motion_time_s === 1")
+    driver.execute_script("window.__release()")
+    wait_for(driver, f"return window.__delivered === {held}")  # the late answers were handled
+    status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
+    check(status == 200, f"the API plans notch ({status})")
+    return plan
+
+
+def check_keeps_later_plan(driver, plan):
+    """The page's plans, table, status line and downloads are the later `plan`, with no error."""
+    check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
+          driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
+          "the page's plans are the later plan")
+    check_shows_plan(driver, plan)
+    check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
+
+
 def check_late_answer(driver, port):
     """The plots of an earlier request that answer after a later request's are dropped: the
     table, the status line, the URL, the downloads and every plot show the later plan."""
@@ -665,14 +709,7 @@ def check_late_answer(driver, port):
     fill_format(driver, dict(THESIS, time="1.5"), "notch")
     driver.find_element(By.ID, "plan-button").click()
     wait_for(driver, "return window.__held === 2")  # the first plan's two series are held
-    fill_format(driver, THESIS, "notch")
-    driver.find_element(By.ID, "plan-button").click()
-    wait_for(driver, "return document.body.dataset.ready === 'notch' && "
-                     "window.sloshPage.plans.notch.format.motion_time_s === 1")
-    driver.execute_script("window.__release()")
-    wait_for(driver, "return window.__delivered === 2")  # the late answers were handled
-    status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
-    check(status == 200, f"the API plans notch ({status})")
+    plan = plan_later_then_release(driver, port, held=2)
     check_shows_plan(driver, plan)
     check("T=1&" in driver.current_url, f"the URL is the later request's: {driver.current_url}")
     check(f"/v1/plans/{plan['key']}/cam.csv" in driver.find_element(By.ID, "download-cam").get_attribute("href"),
@@ -716,23 +753,12 @@ def check_late_key_answer(driver, port):
     try:
         driver.get(f"http://127.0.0.1:{port}/?key={early['key']}")
         wait_for(driver, "return document.body.dataset.loaded === '1' && window.__held === 1")
-        fill_format(driver, THESIS, "notch")
-        driver.find_element(By.ID, "plan-button").click()
-        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
-                         "window.sloshPage.plans.notch.format.motion_time_s === 1")
-        driver.execute_script("window.__release()")
-        wait_for(driver, "return window.__delivered === 1")  # the late answer was handled
-        status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
-        check(status == 200, f"the API plans notch ({status})")
+        plan = plan_later_then_release(driver, port)
         check(driver.find_element(By.ID, "time").get_attribute("value") == "1",
               "the form keeps the later request's motion time")
-        check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
-              driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
-              "the page's plans are the later plan")
-        check_shows_plan(driver, plan)
+        check_keeps_later_plan(driver, plan)
         check("T=1&" in driver.current_url and "key=" not in driver.current_url,
               f"the URL is the later request's: {driver.current_url}")
-        check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
     finally:
         driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", script)
         driver.execute_script("window.fetch = window.__realFetch")
@@ -1083,32 +1109,6 @@ def check_errors_at_fields(driver, port):
         check(texts == {f"{expected}-error": message}, f"{what}: the API's message next to #{expected}: {texts}")
 
 
-# An abortable hold: the requests `predicate_js` picks wait for window.__release() before they
-# are sent, and an abort of their signal while they wait rejects them with the signal's reason,
-# as a fetch aborted on a slow network does. window.__aborted counts those aborts.
-def hold_fetch_abortable(predicate_js):
-    return """
-window.__realFetch = window.__realFetch || window.fetch;
-const real = window.__realFetch;
-let release;
-const gate = new Promise((resolve) => { release = resolve; });
-window.__held = 0;
-window.__aborted = 0;
-window.__release = release;
-window.fetch = async (input, init) => {
-  const body = init && typeof init.body === 'string' ? init.body : '';
-  if (!(PREDICATE)) return real(input, init);
-  window.__held++;
-  const signal = init && init.signal;
-  await new Promise((resolve, reject) => {
-    gate.then(resolve);
-    if (signal) signal.addEventListener('abort', () => { window.__aborted++; reject(signal.reason); });
-  });
-  return real(input, init);
-};
-""".replace("PREDICATE", predicate_js)
-
-
 def check_late_plan_answer(driver, port):
     """The plan of an earlier Plan that answers after a later Plan's is dropped: the page's plans,
     request, table, status line, URL and downloads stay the later plan's, and no error shows."""
@@ -1118,22 +1118,11 @@ def check_late_plan_answer(driver, port):
         fill_format(driver, dict(THESIS, time="1.5"), "notch")
         driver.find_element(By.ID, "plan-button").click()
         wait_for(driver, "return window.__held === 1")
-        fill_format(driver, THESIS, "notch")
-        driver.find_element(By.ID, "plan-button").click()
-        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
-                         "window.sloshPage.plans.notch.format.motion_time_s === 1")
-        driver.execute_script("window.__release()")
-        wait_for(driver, "return window.__delivered === 1")  # the late answer was handled
-        status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
-        check(status == 200, f"the API plans notch ({status})")
-        check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
-              driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
-              "the page's plans are the later plan")
+        plan = plan_later_then_release(driver, port)
         check(driver.execute_script("return window.sloshPage.request.format.motion_time_s") == 1,
               "the page's request is the later one")
-        check_shows_plan(driver, plan)
+        check_keeps_later_plan(driver, plan)
         check("T=1&" in driver.current_url, f"the URL is the later request's: {driver.current_url}")
-        check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
     finally:
         driver.execute_script("window.fetch = window.__realFetch")
 
@@ -1142,7 +1131,7 @@ def check_aborted_request_shows_no_error(driver, port):
     """A min-time search still waiting for its answer when Plan is pressed is aborted (its fetch
     rejects with an AbortError) and shows no error: no field marked, no message, the status line
     and the view are the plan's, no min-time view."""
-    driver.execute_script(hold_fetch_abortable("String(input).endsWith('v1/min-time')"))
+    driver.execute_script(hold_fetch("String(input).endsWith('v1/min-time')", ABORTABLE))
     try:
         fill_format(driver, THESIS, "fir_chain")
         driver.find_element(By.ID, "min-time-button").click()
