@@ -1,7 +1,8 @@
 // The form and the requests it makes. Each input names, in its data-field attribute, its path in
 // the request it goes into ("format.container.radius_mm", "options.uncertainty.fill_height_mm[1]"):
 // the request body is built from these paths, and an error of the API, which names a path, is
-// shown at the input of that path, so adding an input is one element in index.html.
+// shown at the input of that path: an input goes into the requests by its element in index.html
+// alone (url.js gives it its name in a shared link).
 // data-request="plan" or "min-time" (on the input or on its fieldset) keeps an input to that one
 // request; data-min-time-field is an input's path in the min-time request where it differs.
 
