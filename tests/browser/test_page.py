@@ -1127,6 +1127,25 @@ def check_late_plan_answer(driver, port):
         driver.execute_script("window.fetch = window.__realFetch")
 
 
+def check_late_min_time_answer(driver, port):
+    """A min-time search that answers after a later Plan is drawn is dropped: no min-time view,
+    no min-time answer kept, and the plan view, URL and status line stay the later plan's."""
+    driver.execute_script(hold_fetch("String(input).endsWith('v1/min-time')"))
+    try:
+        fill_format(driver, THESIS, "fir_chain")
+        driver.find_element(By.ID, "min-time-button").click()
+        wait_for(driver, "return window.__held === 1")
+        plan = plan_later_then_release(driver, port)
+        check(not driver.find_element(By.ID, "min-time").is_displayed(), "no min-time view from the late answer")
+        check(driver.execute_script("return window.sloshPage.minTime") is None and
+              driver.execute_script("return document.body.dataset.minTime") is None,
+              "no min-time answer kept")
+        check_keeps_later_plan(driver, plan)
+        check("mintime" not in driver.current_url, f"the URL is the later request's: {driver.current_url}")
+    finally:
+        driver.execute_script("window.fetch = window.__realFetch")
+
+
 def check_aborted_request_shows_no_error(driver, port):
     """A min-time search still waiting for its answer when Plan is pressed is aborted (its fetch
     rejects with an AbortError) and shows no error: no field marked, no message, the status line
@@ -1196,6 +1215,7 @@ def main():
         check_late_answer(driver, port)
         check_late_key_answer(driver, port)
         check_late_plan_answer(driver, port)
+        check_late_min_time_answer(driver, port)
         check_aborted_request_shows_no_error(driver, port)
         check_plot_error(driver)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
