@@ -1,4 +1,4 @@
-// The web page's server side against a real `slosh serve`: the embedded assets are the files of
+// The web page's server side against a real `slosh serve`: the embedded assets are every file of
 // web/ (with ETag, Cache-Control and 304), and GET /v1/plans/{key}/cam.csv is `slosh export`'s
 // file, with the exact error texts of its parameters. The page itself is tested in a real
 // browser (tests/browser/test_page.py, ctest browser.page).
@@ -7,7 +7,11 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <filesystem>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -23,33 +27,44 @@ const char* const kThesis = R"({"format": {"container": {"radius_mm": 48.5, "hei
     "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
     "strategy": "multi_notch"})";
 
-std::string source_file(const std::string& relative) {
-  return test::read_file(std::filesystem::path(SLOSH_SOURCE_DIR) / relative);
+/// The media type the service sends for a file of web/, by its extension.
+std::string content_type_of(const std::filesystem::path& file) {
+  const std::string ext = file.extension().string();
+  if (ext == ".html") return "text/html; charset=utf-8";
+  if (ext == ".css") return "text/css; charset=utf-8";
+  if (ext == ".js") return "text/javascript; charset=utf-8";
+  return "";
 }
 
 TEST(WebPage, TheAssetsAreTheFilesOfWebWithETagsAndRevalidation) {
   test::Server server({"--workers", "1"});
   httplib::Client client = server.client();
-  const struct {
-    const char* path;
-    const char* file;
-    const char* type;
-  } assets[] = {{"/", "web/index.html", "text/html; charset=utf-8"},
-                {"/assets/app.js", "web/app.js", "text/javascript; charset=utf-8"},
-                {"/assets/plots.js", "web/plots.js", "text/javascript; charset=utf-8"},
-                {"/assets/style.css", "web/style.css", "text/css; charset=utf-8"}};
-  for (const auto& a : assets) {
-    const auto res = client.Get(a.path);
-    ASSERT_TRUE(res) << a.path;
-    EXPECT_EQ(res->status, 200) << a.path;
-    EXPECT_EQ(res->body, source_file(a.file)) << a.path;
-    EXPECT_EQ(res->get_header_value("Content-Type"), a.type) << a.path;
-    EXPECT_EQ(res->get_header_value("Cache-Control"), "no-cache") << a.path;
+  // Every file of web/ (the page's modules import each other by these names), index.html at /.
+  std::vector<std::pair<std::string, std::filesystem::path>> assets;
+  for (const auto& entry :
+       std::filesystem::directory_iterator(std::filesystem::path(SLOSH_SOURCE_DIR) / "web")) {
+    const std::string name = entry.path().filename().string();
+    assets.emplace_back(name == "index.html" ? "/" : "/assets/" + name, entry.path());
+  }
+  std::sort(assets.begin(), assets.end());
+  ASSERT_GE(assets.size(), 4u);
+  for (const char* file : {"index.html", "style.css", "app.js", "plots.js", "form.js", "api.js"}) {
+    EXPECT_TRUE(std::any_of(assets.begin(), assets.end(), [&](const auto& a) {
+      return a.second.filename() == file;
+    })) << file;
+  }
+  for (const auto& [path, file] : assets) {
+    const auto res = client.Get(path);
+    ASSERT_TRUE(res) << path;
+    EXPECT_EQ(res->status, 200) << path;
+    EXPECT_EQ(res->body, test::read_file(file)) << path;
+    EXPECT_EQ(res->get_header_value("Content-Type"), content_type_of(file)) << path;
+    EXPECT_EQ(res->get_header_value("Cache-Control"), "no-cache") << path;
     const std::string tag = res->get_header_value("ETag");
-    ASSERT_EQ(tag.size(), 66u) << a.path;  // the quoted SHA-256
-    const auto again = client.Get(a.path, {{"If-None-Match", tag}});
+    ASSERT_EQ(tag.size(), 66u) << path;  // the quoted SHA-256
+    const auto again = client.Get(path, {{"If-None-Match", tag}});
     ASSERT_TRUE(again);
-    EXPECT_EQ(again->status, 304) << a.path;
+    EXPECT_EQ(again->status, 304) << path;
     EXPECT_TRUE(again->body.empty());
   }
   const auto chart = client.Get("/assets/chart.min.js");

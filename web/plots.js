@@ -61,6 +61,14 @@ function line(label, data, color, extra = {}) {
   return { label, data, borderColor: color, backgroundColor: color, borderWidth: 1.5, pointRadius: 0, ...extra };
 }
 
+// One quantity of the series (`key`: 'a', 'v') of the plan and of the uniform law, as two lines.
+function planAndUniform(series, base, key, unit) {
+  return [
+    line(`${key} plan [${unit}]`, points(series.t_s, series[key]), COLORS.plan),
+    line(`${key} uniform [${unit}]`, points(base.t_s, base[key]), COLORS.base),
+  ];
+}
+
 function timeChart(datasets, yTitle, markers, y2Title) {
   const scales = {
     x: { type: 'linear', title: { display: true, text: 't [s]' } },
@@ -189,8 +197,7 @@ export const PLOTS = [
     view: 'plan',
     title: 'Acceleration and jerk',
     build: ({ series, base }) => timeChart([
-      line('a plan [m/s²]', points(series.t_s, series.a), COLORS.plan),
-      line('a uniform [m/s²]', points(base.t_s, base.a), COLORS.base),
+      ...planAndUniform(series, base, 'a', 'm/s²'),
       line('jerk plan [m/s³]', jerk(series.t_s, series.a), COLORS.jerk, { yAxisID: 'y2', borderWidth: 1 }),
     ], 'a [m/s²]', {}, 'j [m/s³]'),
   },
@@ -199,8 +206,7 @@ export const PLOTS = [
     view: 'plan',
     title: 'Velocity and position',
     build: ({ series, base }) => timeChart([
-      line('v plan [m/s]', points(series.t_s, series.v), COLORS.plan),
-      line('v uniform [m/s]', points(base.t_s, base.v), COLORS.base),
+      ...planAndUniform(series, base, 'v', 'm/s'),
       line('s plan [mm]', points(series.t_s, series.s, 1e3), COLORS.linear, { yAxisID: 'y2' }),
     ], 'v [m/s]', {}, 's [mm]'),
   },
@@ -212,8 +218,8 @@ export const PLOTS = [
       const T = format.motion_time_s;
       const markers = { shade: [{ from: T, to: T + plan.rest_time_s, label: 'rest window' }], hlines: [] };
       const height = format.container && format.container.height_mm;
-      if (height) {
-        const board = height - format.fill_height_mm;
+      const board = height ? height - format.fill_height_mm : null;  // the free board
+      if (board !== null) {
         markers.hlines.push({ y: board, label: `free board ${board.toFixed(1)} mm` });
         markers.hlines.push({ y: -board, label: '' });
       }
@@ -222,12 +228,11 @@ export const PLOTS = [
         line('η linear plan', points(series.t_s, series.eta_linear_mm), COLORS.linear),
         line('η nonlinear uniform', points(base.t_s, base.eta_nonlinear_mm), COLORS.base),
         line('η linear uniform', points(base.t_s, base.eta_linear_mm), COLORS.baseLinear),
-        // A measured series uploaded on the page (issue 23): points, not a line.
+        // A measured series uploaded on the page: samples, drawn as points, not a line.
         ...(measured ? [line('η measured', points(measured.t_s, measured.eta_mm), '#111',
           { showLine: false, pointRadius: 1.5 })] : []),
       ], 'η [mm]', markers);
-      if (height) {  // the free board stays in view
-        const board = height - format.fill_height_mm;
+      if (board !== null) {  // the free board stays in view
         config.options.scales.y.suggestedMax = 1.05 * board;
         config.options.scales.y.suggestedMin = -1.05 * board;
       }

@@ -10,7 +10,10 @@ chart holds the API's sweep (its points, limit and holding interval), uncertaint
 the URL and the request, and a refused range is shown at its input. "How fast can
 it go?" (POST /v1/min-time): the table and headline equal the API's answer, the η-over-T charts
 hold the API's curves, a row loads its plan at T_min, a shared link reproduces a search, and the
-API's errors land at the fields they name.
+API's errors land at the fields they name. Every data-field path of the form is a member of the
+service's published request schemas, every input's refused value shows the API's error next to
+it, a late answer of an earlier request never replaces a later view, and an aborted request shows
+no error.
 
 usage: test_page.py --slosh build/slosh --artifacts build/browser
 """
@@ -20,6 +23,7 @@ import http.client
 import http.server
 import json
 import os
+import re
 import shutil
 import subprocess
 import sys
@@ -575,7 +579,7 @@ def check_labels(driver):
 
 
 def check_measured_overlay(driver, workdir):
-    """A measured eta(t) CSV uploaded after a plan is drawn as points on the eta plot (issue 23);
+    """A measured eta(t) CSV uploaded after a plan is drawn as points on the eta plot;
     a series whose times do not increase is refused with the line named."""
     path = os.path.join(workdir, "measured.csv")
     samples = [(0.01 * i, round(5.0 * (i % 20) - 40.0, 3)) for i in range(150)]
@@ -604,11 +608,12 @@ def check_measured_overlay(driver, workdir):
 
 
 # A fetch wrapper that holds back the answers of the requests `predicate_js` picks (a JS
-# expression of `input`, `init` and `body`, the request's JSON text) until window.__release(). The
-# request itself is sent and answered at once, its abort signal ignored, so the page gets a
-# complete, late answer even after it aborted the fetch, and must drop it. window.__held counts the
-# held requests; window.__delivered those whose JSON the page has read and acted on.
-def hold_fetch(predicate_js):
+# expression of `input`, `init` and `body`, the request's JSON text) until window.__release(). By
+# default (LATE_ANSWER) the request itself is sent and answered at once, its abort signal ignored,
+# so the page gets a complete, late answer even after it aborted the fetch, and must drop it.
+# window.__held counts the held requests; window.__delivered those whose JSON the page has read
+# and acted on; window.__aborted those ABORTABLE rejected.
+def hold_fetch(predicate_js, held=None):
     return """
 window.__realFetch = window.__realFetch || window.fetch;
 const real = window.__realFetch;
@@ -616,11 +621,17 @@ let release;
 const gate = new Promise((resolve) => { release = resolve; });
 window.__held = 0;
 window.__delivered = 0;
+window.__aborted = 0;
 window.__release = release;
 window.fetch = async (input, init) => {
   const body = init && typeof init.body === 'string' ? init.body : '';
   if (!(PREDICATE)) return real(input, init);
   window.__held++;
+HELD};
+""".replace("PREDICATE", predicate_js).replace("HELD", held or LATE_ANSWER)
+
+
+LATE_ANSWER = """
   const res = await real(input, { ...init, signal: undefined });
   await gate;
   // Counted once the page has its JSON and has run what follows (microtasks before this task).
@@ -631,8 +642,18 @@ window.fetch = async (input, init) => {
     return value;
   };
   return res;
-};
-""".replace("PREDICATE", predicate_js)
+"""
+
+# The held request waits for window.__release() before it is sent, and an abort of its signal
+# while it waits rejects it with the signal's reason, as a fetch aborted on a slow network does.
+ABORTABLE = """
+  const signal = init && init.signal;
+  await new Promise((resolve, reject) => {
+    gate.then(resolve);
+    if (signal) signal.addEventListener('abort', () => { window.__aborted++; reject(signal.reason); });
+  });
+  return real(input, init);
+"""
 
 
 # The v1/simulate requests of plans whose motion time is 1.5 s: an earlier request that answers
@@ -657,6 +678,30 @@ def check_shows_plan(driver, plan):
           "the plan download is the later plan")
 
 
+def plan_later_then_release(driver, port, held=1):
+    """With `held` answers of an earlier request held: plans notch on the thesis format (T = 1 s),
+    waits for it to be drawn, releases the held answers and waits for the page to have handled
+    them. Returns the API's plan of the later request."""
+    fill_format(driver, THESIS, "notch")
+    driver.find_element(By.ID, "plan-button").click()
+    wait_for(driver, "return document.body.dataset.ready === 'notch' && "
+                     "window.sloshPage.plans.notch.format.motion_time_s === 1")
+    driver.execute_script("window.__release()")
+    wait_for(driver, f"return window.__delivered === {held}")  # the late answers were handled
+    status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
+    check(status == 200, f"the API plans notch ({status})")
+    return plan
+
+
+def check_keeps_later_plan(driver, plan):
+    """The page's plans, table, status line and downloads are the later `plan`, with no error."""
+    check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
+          driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
+          "the page's plans are the later plan")
+    check_shows_plan(driver, plan)
+    check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
+
+
 def check_late_answer(driver, port):
     """The plots of an earlier request that answer after a later request's are dropped: the
     table, the status line, the URL, the downloads and every plot show the later plan."""
@@ -664,14 +709,7 @@ def check_late_answer(driver, port):
     fill_format(driver, dict(THESIS, time="1.5"), "notch")
     driver.find_element(By.ID, "plan-button").click()
     wait_for(driver, "return window.__held === 2")  # the first plan's two series are held
-    fill_format(driver, THESIS, "notch")
-    driver.find_element(By.ID, "plan-button").click()
-    wait_for(driver, "return document.body.dataset.ready === 'notch' && "
-                     "window.sloshPage.plans.notch.format.motion_time_s === 1")
-    driver.execute_script("window.__release()")
-    wait_for(driver, "return window.__delivered === 2")  # the late answers were handled
-    status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
-    check(status == 200, f"the API plans notch ({status})")
+    plan = plan_later_then_release(driver, port, held=2)
     check_shows_plan(driver, plan)
     check("T=1&" in driver.current_url, f"the URL is the later request's: {driver.current_url}")
     check(f"/v1/plans/{plan['key']}/cam.csv" in driver.find_element(By.ID, "download-cam").get_attribute("href"),
@@ -715,23 +753,12 @@ def check_late_key_answer(driver, port):
     try:
         driver.get(f"http://127.0.0.1:{port}/?key={early['key']}")
         wait_for(driver, "return document.body.dataset.loaded === '1' && window.__held === 1")
-        fill_format(driver, THESIS, "notch")
-        driver.find_element(By.ID, "plan-button").click()
-        wait_for(driver, "return document.body.dataset.ready === 'notch' && "
-                         "window.sloshPage.plans.notch.format.motion_time_s === 1")
-        driver.execute_script("window.__release()")
-        wait_for(driver, "return window.__delivered === 1")  # the late answer was handled
-        status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
-        check(status == 200, f"the API plans notch ({status})")
+        plan = plan_later_then_release(driver, port)
         check(driver.find_element(By.ID, "time").get_attribute("value") == "1",
               "the form keeps the later request's motion time")
-        check(driver.execute_script("return Object.keys(window.sloshPage.plans)") == ["notch"] and
-              driver.execute_script("return window.sloshPage.plans.notch.key") == plan["key"],
-              "the page's plans are the later plan")
-        check_shows_plan(driver, plan)
+        check_keeps_later_plan(driver, plan)
         check("T=1&" in driver.current_url and "key=" not in driver.current_url,
               f"the URL is the later request's: {driver.current_url}")
-        check(driver.find_element(By.ID, "form-error").text == "", "no error from the dropped answer")
     finally:
         driver.execute_cdp_cmd("Page.removeScriptToEvaluateOnNewDocument", script)
         driver.execute_script("window.fetch = window.__realFetch")
@@ -904,6 +931,249 @@ def check_unreadable_period(driver, downloads):
     check(driver.find_element(By.ID, "cam-period-error").text == "", "a readable period clears the message")
 
 
+# The inputs of each request as the page's form module lists them (the module instance the page
+# runs): id, path in that request, what kind of input and, for a select, its option values.
+PAGE_FIELDS = """
+const done = arguments[arguments.length - 1];
+import('./assets/form.js').then((m) => Object.fromEntries(['plan', 'min-time'].map((kind) => [kind,
+  m.fieldsOf(kind).map(([el, path]) => ({
+    id: el.id, path, tag: el.tagName, type: el.type, number: 'number' in el.dataset,
+    options: el.tagName === 'SELECT' ? [...el.options].map((o) => o.value) : []}))])))
+  .then(done, (e) => done(String(e)));
+"""
+
+REQUEST_SCHEMAS = {"plan": "PlanRequest", "min-time": "MinTimeRequest"}
+
+
+def page_fields(driver):
+    fields = driver.execute_async_script(PAGE_FIELDS)
+    if not isinstance(fields, dict):
+        raise RuntimeError(f"the page's form module did not load: {fields}")
+    return fields
+
+
+def schema_alternatives(doc, schema):
+    """The schemas a schema stands for: its $ref followed, each alternative of a oneOf."""
+    while "$ref" in schema:
+        schema = doc["components"]["schemas"][schema["$ref"].rsplit("/", 1)[1]]
+    if "oneOf" in schema:
+        return [a for s in schema["oneOf"] for a in schema_alternatives(doc, s)]
+    return [schema]
+
+
+def schemas_at(doc, request, path):
+    """The schemas of the member at `path` ("options.uncertainty.fill_height_mm[1]") of the request
+    schema `request`; empty when the API has no such member (its request objects are closed)."""
+    at = schema_alternatives(doc, doc["components"]["schemas"][request])
+    for key in re.findall(r"\[\d+\]|[^.\[\]]+", path):
+        found = []
+        for s in at:
+            if key.startswith("["):
+                if s.get("type") == "array" and int(key[1:-1]) < s.get("maxItems", 1 << 30):
+                    found += schema_alternatives(doc, s["items"])
+            elif s.get("type") == "object" and key in s.get("properties", {}):
+                found += schema_alternatives(doc, s["properties"][key])
+        at = found
+    return at
+
+
+def takes(schemas, value, number):
+    """Whether one of the schemas takes `value`, an option of a select, as the page sends it."""
+    if value == "custom":  # the custom fluid: an object its group's inputs fill
+        return any(s.get("type") == "object" for s in schemas)
+    if number:
+        return any(s.get("type") in ("number", "integer") and s.get("minimum", -1e308) <= float(value)
+                   <= s.get("maximum", 1e308) for s in schemas)
+    return any(s.get("type") == "string" and value in s.get("enum", [value]) for s in schemas)
+
+
+def check_field_paths(driver, port):
+    """Every data-field path (and min-time path) of the form is a member of the request schema the
+    service publishes (GET /v1/openapi.json), of the type the input sends: a number for a number
+    input, each option of a select an allowed value. Every input goes into some request."""
+    status, doc = api_json(port, "GET", "/v1/openapi.json")
+    check(status == 200, f"the service serves its OpenAPI document ({status})")
+    fields = page_fields(driver)
+    every = driver.execute_script("return [...document.querySelectorAll('[data-field]')].map(e => e.id)")
+    listed = {f["id"] for kind in fields.values() for f in kind}
+    check(sorted(listed) == sorted(every), f"every input goes into a request: {sorted(every)} vs {sorted(listed)}")
+    only = {kind: {f["id"] for f in fields[kind]} - {f["id"] for f in fields[other]}
+            for kind, other in (("plan", "min-time"), ("min-time", "plan"))}
+    check(only == {"plan": {"time"}, "min-time": {"t_max", "margin", "limit_model"}},
+          f"the motion time goes into the plan request only, the search's inputs into min-time only: {only}")
+    for kind, request in REQUEST_SCHEMAS.items():
+        for f in fields[kind]:
+            schemas = schemas_at(doc, request, f["path"])
+            what = f"{kind}: #{f['id']} {f['path']}"
+            check(schemas != [], f"{what} is a member of {request}")
+            if f["tag"] == "INPUT":
+                check(f["type"] == "number" and any(s.get("type") in ("number", "integer") for s in schemas),
+                      f"{what} is a number input of a number: {f['type']} {schemas}")
+                continue
+            for value in f["options"]:
+                # "" sends nothing (the default); for the min-time request auto sends no strategies
+                # (the service's default: every strategy but iir).
+                if value == "" or (kind == "min-time" and f["id"] == "strategy" and value == "auto"):
+                    continue
+                check(takes(schemas, value, f["number"]), f"{what} takes its option {value!r}")
+
+
+def placement(field, inputs):
+    """The input an error naming `field` belongs at: the input of that path or of the longest path
+    holding it; an error about a whole range at its first end's ([0]); None: at the form."""
+    best = None
+    for f in inputs:
+        p = f["path"]
+        if p == field + "[0]":
+            return f["id"]
+        if (field == p or field.startswith(p + ".") or field.startswith(p + "[")) and \
+                (best is None or len(p) > len(best["path"])):
+            best = f
+    return best and best["id"]
+
+
+# An input given a value the API refuses (an added option for a select); a range end with its
+# other end valid, a custom fluid member with the custom fluid chosen.
+CORRUPT = """
+const [id, other, otherValue] = arguments;
+const el = document.getElementById(id);
+if (el.tagName === 'SELECT') {
+  const v = 'number' in el.dataset ? '7' : 'bogus';
+  el.add(new Option(v, v));
+  el.value = v;
+} else {
+  el.value = '-1e300';
+}
+if (other) document.getElementById(other).value = otherValue;
+if (el.closest('#custom-fluid')) {
+  const fluid = document.getElementById('fluid');
+  fluid.value = 'custom';
+  fluid.dispatchEvent(new Event('change'));
+}
+"""
+
+OTHER_END = {"fill_min": ("fill_max", "90"), "fill_max": ("fill_min", "75"),
+             "visc_min": ("visc_max", "0.002"), "visc_max": ("visc_min", "0.0005")}
+
+# The request the form now holds, built by the page's own form module.
+PAGE_REQUEST = """
+const done = arguments[arguments.length - 1];
+const kind = arguments[0];
+import('./assets/form.js').then((m) => (kind === 'plan'
+  ? m.planRequest(document.getElementById('strategy').value) : m.minTimeRequest()))
+  .then(done, (e) => done(String(e)));
+"""
+
+
+def check_errors_at_fields(driver, port):
+    """For every input, a value the API refuses: the API's error (the page's own request posted
+    again) names the input's path, and the page shows its message next to the input its field
+    names (marked aria-invalid), nowhere else. Plan inputs through Plan; the inputs whose path
+    differs in the min-time request, and its own, through "How fast can it go?"."""
+    base = f"http://127.0.0.1:{port}/"
+    driver.get(base)
+    wait_for(driver, "return document.body.dataset.loaded === '1'")
+    fields = page_fields(driver)
+    plan_paths = {f["id"]: f["path"] for f in fields["plan"]}
+    cases = [("plan", f) for f in fields["plan"]] + \
+        [("min-time", f) for f in fields["min-time"] if plan_paths.get(f["id"]) != f["path"]]
+    check(len([c for c in cases if c[0] == "min-time"]) == 6, f"six min-time inputs of their own: {cases}")
+    for kind, f in cases:
+        driver.get(base)
+        wait_for(driver, "return document.body.dataset.loaded === '1'")
+        driver.execute_script(CORRUPT, f["id"], *OTHER_END.get(f["id"], (None, None)))
+        driver.find_element(By.ID, "plan-button" if kind == "plan" else "min-time-button").click()
+        wait_for(driver, "return document.getElementById('status-line').textContent.startsWith('The service refused')"
+                         " || document.getElementById('form-error').textContent"
+                         " || document.body.dataset.ready || document.body.dataset.minTime", 30)
+        request = driver.execute_async_script(PAGE_REQUEST, kind)
+        what = f"{kind}: #{f['id']} ({f['path']})"
+        check(isinstance(request, dict), f"{what}: the page builds its request: {request}")
+        if not isinstance(request, dict):
+            continue
+        status, error = api_json(port, "POST", "/v1/plans" if kind == "plan" else "/v1/min-time", request)
+        check(status == 422, f"{what}: the API refuses {request}: {status} {error}")
+        if status != 422:
+            continue
+        field, message = error["error"]["field"], error["error"]["message"]
+        own = f["path"].removesuffix("[0]").removesuffix("[1]")
+        check(field == own or field.startswith(own + ".") or field.startswith(own + "["),
+              f"{what}: the API names the input's path: {field}")
+        expected = placement(field, fields[kind])
+        shown = driver.execute_script(
+            "return [...document.querySelectorAll('[aria-invalid]')].map(e => e.id)")
+        check(shown == [expected], f"{what}: the error of {field} is at #{expected}: marked {shown}")
+        texts = driver.execute_script(
+            "return Object.fromEntries([...document.querySelectorAll('.field-error, .form-error')]"
+            ".filter(e => e.textContent).map(e => [e.id, e.textContent]))")
+        check(texts == {f"{expected}-error": message}, f"{what}: the API's message next to #{expected}: {texts}")
+
+
+def check_late_plan_answer(driver, port):
+    """The plan of an earlier Plan that answers after a later Plan's is dropped: the page's plans,
+    request, table, status line, URL and downloads stay the later plan's, and no error shows."""
+    driver.execute_script(hold_fetch(
+        """String(input).endsWith('v1/plans') && body.includes('"motion_time_s":1.5')"""))
+    try:
+        fill_format(driver, dict(THESIS, time="1.5"), "notch")
+        driver.find_element(By.ID, "plan-button").click()
+        wait_for(driver, "return window.__held === 1")
+        plan = plan_later_then_release(driver, port)
+        check(driver.execute_script("return window.sloshPage.request.format.motion_time_s") == 1,
+              "the page's request is the later one")
+        check_keeps_later_plan(driver, plan)
+        check("T=1&" in driver.current_url, f"the URL is the later request's: {driver.current_url}")
+    finally:
+        driver.execute_script("window.fetch = window.__realFetch")
+
+
+def check_late_min_time_answer(driver, port):
+    """A min-time search that answers after a later Plan is drawn is dropped: no min-time view,
+    no min-time answer kept, and the plan view, URL and status line stay the later plan's."""
+    driver.execute_script(hold_fetch("String(input).endsWith('v1/min-time')"))
+    try:
+        fill_format(driver, THESIS, "fir_chain")
+        driver.find_element(By.ID, "min-time-button").click()
+        wait_for(driver, "return window.__held === 1")
+        plan = plan_later_then_release(driver, port)
+        check(not driver.find_element(By.ID, "min-time").is_displayed(), "no min-time view from the late answer")
+        check(driver.execute_script("return window.sloshPage.minTime") is None and
+              driver.execute_script("return document.body.dataset.minTime") is None,
+              "no min-time answer kept")
+        check_keeps_later_plan(driver, plan)
+        check("mintime" not in driver.current_url, f"the URL is the later request's: {driver.current_url}")
+    finally:
+        driver.execute_script("window.fetch = window.__realFetch")
+
+
+def check_aborted_request_shows_no_error(driver, port):
+    """A min-time search still waiting for its answer when Plan is pressed is aborted (its fetch
+    rejects with an AbortError) and shows no error: no field marked, no message, the status line
+    and the view are the plan's, no min-time view."""
+    driver.execute_script(hold_fetch("String(input).endsWith('v1/min-time')", ABORTABLE))
+    try:
+        fill_format(driver, THESIS, "fir_chain")
+        driver.find_element(By.ID, "min-time-button").click()
+        wait_for(driver, "return window.__held === 1")
+        Select(driver.find_element(By.ID, "strategy")).select_by_value("notch")
+        driver.find_element(By.ID, "plan-button").click()
+        # The abort rejected the held fetch before the plan was drawn: a page that showed the
+        # aborted request's error shows it by now.
+        wait_for(driver, "return document.body.dataset.ready === 'notch' && window.__aborted === 1")
+        status, plan = api_json(port, "POST", "/v1/plans", request_of(THESIS, "notch"))
+        check(status == 200, f"the API plans notch ({status})")
+        texts = driver.execute_script(
+            "return [...document.querySelectorAll('.field-error, .form-error')].map(e => e.textContent).join('')")
+        check(texts == "", f"no error from the aborted search: {texts!r}")
+        check(driver.execute_script("return document.querySelectorAll('[aria-invalid]').length") == 0,
+              "no input marked by the aborted search")
+        check(not driver.find_element(By.ID, "min-time").is_displayed(), "no min-time view")
+        check(driver.execute_script("return window.sloshPage.minTime") is None, "no min-time answer kept")
+        check_shows_plan(driver, plan)
+    finally:
+        driver.execute_script("window.fetch = window.__realFetch")
+
+
 def check_sub_path(port):
     proxy = SubPathProxy(port)
     thread = threading.Thread(target=proxy.serve_forever, daemon=True)
@@ -944,6 +1214,9 @@ def main():
         check_unreadable_period(driver, downloads)
         check_late_answer(driver, port)
         check_late_key_answer(driver, port)
+        check_late_plan_answer(driver, port)
+        check_late_min_time_answer(driver, port)
+        check_aborted_request_shows_no_error(driver, port)
         check_plot_error(driver)
         check_compare_all(driver, port, os.path.join(args.artifacts, "page.png"))
         check_min_time(driver, port, os.path.join(args.artifacts, "min-time.png"))
@@ -952,6 +1225,8 @@ def main():
         check_shared_url(driver, plan)
         check_infeasible_cam_link(driver, port)
         check_uncertainty(driver, port)
+        check_field_paths(driver, port)
+        check_errors_at_fields(driver, port)
         check_key_view(port, plan)
         check_key_view_custom_fluid(port)
         check_bad_link(port)
