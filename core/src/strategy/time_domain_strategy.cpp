@@ -18,13 +18,6 @@ namespace {
 /// Samples per period of mode 1 at which |eta| is bounded to start with [-]. Between samples a
 /// sinusoid can exceed them by 1 - cos(pi / 32) = 0.5 %; the exchange rounds close that gap.
 constexpr double kSamplesPerPeriod{32.0};
-/// Periods of mode 1 after T over which the rest window is sampled [-]. After T the model's
-/// energy never increases, so no maximum of |eta| in the rest window exceeds those at T and at
-/// the first turning point after T (docs/models.md, "The rest window ends by an energy argument"),
-/// which comes within about half a period: the later samples' constraints are implied by the
-/// earlier ones' and only enlarge the solver's problem. The dense check still covers the whole
-/// rest window (a peak it finds there becomes a sample wherever it is).
-constexpr double kRestSamplePeriods{1.5};
 /// Windows per period of mode 1 of the dense check after each solve [-].
 constexpr double kCheckWindowsPerPeriod{4.0};
 /// Exchange rounds: dense check, add the peak times that exceed their bound, re-solve.
@@ -190,7 +183,7 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
 }
 
 // The starting samples: kSamplesPerPeriod per period of the model's mode 1 over the motion and
-// over the first kRestSamplePeriods of the rest window.
+// over the rest window.
 Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
@@ -199,12 +192,7 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
   const int km = std::max(2, static_cast<int>(std::ceil(T / period * kSamplesPerPeriod)));
   const int kr = std::max(2, static_cast<int>(std::ceil(rest / period * kSamplesPerPeriod)));
   for (int k = 1; k <= km; ++k) samples.add(T * k / km, true);
-  const double rest_end = T + std::min(rest, kRestSamplePeriods * period);
-  for (int k = 1; k <= kr; ++k) {
-    const double t = T + rest * k / kr;
-    if (t > rest_end) break;
-    samples.add(t, false);
-  }
+  for (int k = 1; k <= kr; ++k) samples.add(T + rest * k / kr, false);
   return samples;
 }
 
