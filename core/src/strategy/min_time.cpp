@@ -99,7 +99,14 @@ class Search {
     if (!point) return std::nullopt;
     const SolveStatus status = point->point.plan_status;
     const bool plan_missed = status != SolveStatus::kOptimal && status != SolveStatus::kAcceptable;
-    if (from && from->feasible && plan_missed) {
+    // time_domain's optimum is a local one of the nonlinear peaks, and which branch the
+    // continuation follows depends on the neighbour: below the least feasible T so far, a
+    // warm-started plan that misses the limits by less than refine_excess is planned again from
+    // the planner's own starts (its spectral seeds reach branches no neighbour holds).
+    const bool near_miss = strategy_ == Strategy::kTimeDomain && !point->point.feasible &&
+                           point->point.excess <= options_.refine_excess &&
+                           (!result_.t_min || T < *result_.t_min);
+    if (from && ((from->feasible && plan_missed) || near_miss)) {
       std::optional<Planned> fresh = plan_at(T, std::nullopt);
       if (!fresh) return std::nullopt;
       const bool better = fresh->point.feasible || fresh->point.excess < point->point.excess;

@@ -291,6 +291,9 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     r.starts += total.starts;
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
+    // A round that cannot meet the bound on its samples is final: the exchange only adds samples,
+    // and a problem with more constraints is no more feasible than one with fewer.
+    if (bound && !total.feasible) break;
     const double z = total.best.x[kSegments] * c.eta_ref;
     bool added = false;
     double excess = 0.0;

@@ -63,7 +63,9 @@ struct MinTimeOptions {
   double scan_step{0.04};
   /// A scanned local minimum of the excess (max of eta / its limit over both limits) at or below
   /// this is refined by a golden-section search on the 1 ms grid between its two neighbours,
-  /// until a feasible T is found or the bracket is 2 ms [-]. Default 2; [1, 1000].
+  /// until a feasible T is found or the bracket is 2 ms; a time_domain plan below the least
+  /// feasible T so far whose excess is at or below this is planned again from the planner's own
+  /// starts [-]. Default 2; [1, 1000].
   double refine_excess{2.0};
   /// Most plans solved by one strategy's search (scan, bisection and curve) [-]. Default 40;
   /// [3, 10000]. When it runs out before T_min is bracketed to 1 ms the result is kTimeLimit
@@ -157,7 +159,11 @@ struct MinTimeResult {
 /// curve_factor T_min for the curve and feasible_above. Deterministic.
 /// Warm starts (the optimising strategies): the first T is planned from the planner's own
 /// starts; every later T from the durations of a planned neighbour (the nearest planned T below
-/// and above it, the one of lower excess; ties: below), recorded in its MinTimePoint.
+/// and above it, the one of lower excess; ties: below), recorded in its MinTimePoint. A T is
+/// planned again from the planner's own starts (the better plan kept, its warm_start then
+/// nullopt) when its warm-started plan missed its own constraints next to a feasible neighbour,
+/// or, for time_domain (whose plans are local optima that depend on where they start), when it
+/// misses the limits by at most refine_excess below the least feasible T found so far.
 [[nodiscard]] MinTimeResult min_time(const Format& format, Strategy strategy,
                                      const MinTimeOptions& options);
 
