@@ -971,7 +971,9 @@ void add_min_time_request_schemas(json& s) {
        {"refine_excess",
         with_default(number_in(mr::kRefineExcess,
                                "A scanned local minimum of max(eta / limit) at or below this is "
-                               "refined by golden-section search"),
+                               "refined by golden-section search; a time_domain plan below the "
+                               "best feasible T that misses by at most this is planned again "
+                               "from the planner's own starts"),
                      MinTimeOptions{}.refine_excess)},
        {"options", ref("MinTimeOptions")}},
       {"format"}, "A format without motion time, the limits and the strategies to search.", true);
