@@ -247,13 +247,11 @@ struct Runtime {
 };
 
 // `handle` of the body with options.model = "<name>" resolved to the stored calibration's model.
+// A refusal of the resolution (an unknown name, the store unavailable: 503 with Retry-After) is
+// thrown to respond()'s guarded_reply, the one wrapper every handler runs behind.
 template <typename F>
 Reply with_models(const Runtime& rt, const std::string& body, F&& handle) {
-  try {
-    return handle(rt.calibrations->resolve_model_names(body));
-  } catch (const api::ApiError& e) {
-    return reply_of(e);
-  }
+  return handle(rt.calibrations->resolve_model_names(body));
 }
 
 // The HTTP library's threads, timeouts and socket options.
@@ -351,26 +349,20 @@ Handler job_handler_of(api::Operation operation, BatchJobs& jobs) {
 }
 
 // The batch jobs' and the pool's priority figures for /metrics.
-std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
-  return "# HELP slosh_batch_jobs_active Batch jobs queued or running on this replica.\n"
-         "# TYPE slosh_batch_jobs_active gauge\n"
-         "slosh_batch_jobs_active " +
-         std::to_string(jobs.active()) +
-         "\n"
-         "# HELP slosh_pool_tasks_started_total Solve tasks started by priority (interactive: "
-         "plans of requests and batches; background: items of batch jobs, min-time searches' "
-         "strategies, calibration fits).\n"
-         "# TYPE slosh_pool_tasks_started_total counter\n"
-         "slosh_pool_tasks_started_total{priority=\"interactive\"} " +
-         std::to_string(pool.started(TaskPriority::kInteractive)) +
-         "\n"
-         "slosh_pool_tasks_started_total{priority=\"background\"} " +
-         std::to_string(pool.started(TaskPriority::kBackground)) +
-         "\n"
-         "# HELP slosh_pool_background_queue_depth Background tasks waiting for a worker.\n"
-         "# TYPE slosh_pool_background_queue_depth gauge\n"
-         "slosh_pool_background_queue_depth " +
-         std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
+void collect_job_metrics(MetricsText& out, const BatchJobs& jobs, const WorkerPool& pool) {
+  out.family("slosh_batch_jobs_active", "gauge", "Batch jobs queued or running on this replica.");
+  out.sample("slosh_batch_jobs_active", "", std::uint64_t{jobs.active()});
+  out.family("slosh_pool_tasks_started_total", "counter",
+             "Solve tasks started by priority (interactive: plans of requests and batches; "
+             "background: items of batch jobs, min-time searches' strategies, calibration fits).");
+  out.sample("slosh_pool_tasks_started_total", "priority=\"interactive\"",
+             std::uint64_t{pool.started(TaskPriority::kInteractive)});
+  out.sample("slosh_pool_tasks_started_total", "priority=\"background\"",
+             std::uint64_t{pool.started(TaskPriority::kBackground)});
+  out.family("slosh_pool_background_queue_depth", "gauge",
+             "Background tasks waiting for a worker.");
+  out.sample("slosh_pool_background_queue_depth", "",
+             std::uint64_t{pool.queue_depth(TaskPriority::kBackground)});
 }
 
 // Whether the client of `req` has closed its side of the connection: work nobody waits for is
@@ -389,18 +381,17 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
 }
 
 // The solves stopped because their clients had gone, for /metrics.
-std::string cancelled_metrics(const PlanService& service, const CalibrationService& calibrations) {
-  return "# HELP slosh_solves_cancelled_total Solves stopped because every client waiting for "
-         "them had closed its connection (plans, min-time searches, calibration fits).\n"
-         "# TYPE slosh_solves_cancelled_total counter\n"
-         "slosh_solves_cancelled_total{kind=\"plan\"} " +
-         std::to_string(service.cancelled_plans()) +
-         "\n"
-         "slosh_solves_cancelled_total{kind=\"min_time\"} " +
-         std::to_string(service.cancelled_min_times()) +
-         "\n"
-         "slosh_solves_cancelled_total{kind=\"calibration\"} " +
-         std::to_string(calibrations.cancelled()) + "\n";
+void collect_cancelled_metrics(MetricsText& out, const PlanService& service,
+                               const CalibrationService& calibrations) {
+  out.family("slosh_solves_cancelled_total", "counter",
+             "Solves stopped because every client waiting for them had closed its connection "
+             "(plans, min-time searches, calibration fits).");
+  out.sample("slosh_solves_cancelled_total", "kind=\"plan\"",
+             std::uint64_t{service.cancelled_plans()});
+  out.sample("slosh_solves_cancelled_total", "kind=\"min_time\"",
+             std::uint64_t{service.cancelled_min_times()});
+  out.sample("slosh_solves_cancelled_total", "kind=\"calibration\"",
+             std::uint64_t{calibrations.cancelled()});
 }
 
 Handler handler_of(api::Operation operation, Runtime& rt) {
@@ -475,12 +466,7 @@ Handler handler_of(api::Operation operation, Runtime& rt) {
                                  request_accepts_gzip);
       };
     case api::Operation::kMetrics:
-      return [&rt](const Call&) {
-        Reply reply = rt.service.metrics_text();
-        reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
-        reply.body += cancelled_metrics(rt.service, *rt.calibrations);
-        return reply;
-      };
+      return [&rt](const Call&) { return rt.service.metrics_text(); };
     default:
       return job_handler_of(operation, rt.jobs);
   }
@@ -850,6 +836,11 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   Runtime rt{
       config,       service, jobs, server, nullptr, RouteTable(api::routes()), replica_name(config),
       &calibrations};
+  service.metrics_registry().add(
+      [&jobs, &service](MetricsText& out) { collect_job_metrics(out, jobs, service.pool()); });
+  service.metrics_registry().add([&service, &calibrations](MetricsText& out) {
+    collect_cancelled_metrics(out, service, calibrations);
+  });
   configure_transport(server, config);
   register_routes(rt);
   register_unrouted_body_methods(rt);
