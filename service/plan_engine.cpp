@@ -10,8 +10,6 @@
 #include <thread>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-
 #include "client_wait.hpp"
 #include "engine_errors.hpp"
 #include "plan_cam_file.hpp"
