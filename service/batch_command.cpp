@@ -20,7 +20,7 @@
 #include "cli_commands.hpp"
 #include "http_client.hpp"
 #include "io.hpp"
-#include "plan_service.hpp"
+#include "plan_engine.hpp"
 #include "plan_table.hpp"
 #include "recipe_table.hpp"
 #include "slosh/api/error.hpp"
@@ -113,11 +113,11 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   const std::size_t unreadable = rows.size() - requests.size();
   // Room for the whole table: submission never blocks, so rows are written as they finish.
   config.queue = std::max<std::size_t>(1, requests.size());
-  PlanService service(config);
-  if (const std::string e = service.cache().storage_error(); !e.empty()) {
+  PlanEngine engine(config);
+  if (const std::string e = engine.cache().storage_error(); !e.empty()) {
     std::cerr << "slosh batch: warning: " << e << '\n';
   }
-  const PendingBatch batch = service.start_batch(requests);
+  const PendingBatch batch = engine.start_batch(requests);
   // Counting finished solves polls every item: only when the bar is due for a redraw.
   auto refresh = [&] {
     if (bar.due()) bar.update(unreadable + batch.finished());
@@ -590,16 +590,16 @@ struct MinTimeJob {
   PendingMinTime pending;
 };
 
-// Parses a row's min-time request and starts it on `service`: from the plan store, joined to the
+// Parses a row's min-time request and starts it on `engine`: from the plan store, joined to the
 // search of an identical earlier row, or queued (waiting for queue room).
-MinTimeJob start_min_time_row(const RecipeRow& row, double budget, PlanService& service) {
+MinTimeJob start_min_time_row(const RecipeRow& row, double budget, PlanEngine& engine) {
   MinTimeJob job;
   if (!row.error.is_null()) {
     job.error = api::error_from_json(row.error);
     return job;
   }
   try {
-    job.pending = service.start_min_time(
+    job.pending = engine.start_min_time(
         api::parse_min_time_request(api::min_time_body_from_recipe(row.request), budget), true);
   } catch (const api::ApiError& e) {
     job.error = e;
@@ -621,20 +621,20 @@ bool write_min_time_row(const RecipeRow& recipe, const SolveOutcome& outcome,
   return true;
 }
 
-// Searches every row on a local PlanService (the cache file of `config`, `config.workers`, one
+// Searches every row on a local PlanEngine (the cache file of `config`, `config.workers`, one
 // task per row and strategy) and writes the rows in input order; the 1-based numbers of the rows
 // in error.
 std::vector<std::size_t> run_min_time_local(const std::vector<RecipeRow>& rows, ServerConfig config,
                                             MinTimeWriter& writer) {
   config.queue = 1024;
-  PlanService service(config);
-  if (const std::string e = service.min_time_cache().storage_error(); !e.empty()) {
+  PlanEngine engine(config);
+  if (const std::string e = engine.min_time_cache().storage_error(); !e.empty()) {
     std::cerr << "slosh batch: warning: " << e << '\n';
   }
   std::vector<MinTimeJob> jobs;
   jobs.reserve(rows.size());
   for (const RecipeRow& row : rows) {
-    jobs.push_back(start_min_time_row(row, config.solve_budget_s, service));
+    jobs.push_back(start_min_time_row(row, config.solve_budget_s, engine));
   }
   std::vector<std::size_t> failed;
   for (std::size_t i = 0; i < rows.size(); ++i) {

@@ -11,7 +11,7 @@
 
 #include "cli_commands.hpp"
 #include "io.hpp"
-#include "plan_service.hpp"
+#include "plan_engine.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/export_summary.hpp"
 #include "slosh/api/format_json.hpp"
@@ -82,15 +82,18 @@ ExportSource plan_source(const json& body, const std::string& text, const Server
   (void)api::parse_plan_request(body);  // a plan request: errors name its fields
   ServerConfig one = config;
   one.workers = 1;
-  PlanService service(one);
-  const Reply reply = service.post_plan(text, "");
-  if (reply.status != 200) {
-    const api::ApiError error = api::error_from_text(reply.body);
+  PlanEngine engine(one);
+  std::string plan_text;
+  try {
+    const PlanAnswer answer = engine.answer_plan(text, api::PlanView::kFull);
+    plan_text = engine.plan_body(answer, false).body;
+  } catch (const api::ApiError& e) {
+    // The request's own errors are invalid input; the engine's (overloaded, timeout) are not.
     throw api::ApiError(
-        reply.status < 500 ? api::ErrorCode::kInvalidValue : api::ErrorCode::kInternal,
-        error.field(), error.what());
+        e.status() < 500 ? api::ErrorCode::kInvalidValue : api::ErrorCode::kInternal, e.field(),
+        e.what());
   }
-  api::PlanLaw plan = api::plan_law(reply.body);
+  api::PlanLaw plan = api::plan_law(plan_text);
   ExportSource source;
   source.seven = plan.seven;
   source.law = plan.law;
@@ -227,35 +230,6 @@ CamSource cam_source(const ExportSource& source) {
 }
 
 }  // namespace
-
-std::string plan_cam_file(const std::string& plan_text, const CamOptions& options,
-                          bool allow_infeasible, const std::function<void(std::size_t)>& admit) {
-  const CamTableSpec spec = resolve_cam_options(options, query_option_names(), kMaxServedCamRows,
-                                                " here (slosh export writes longer tables)");
-  const api::PlanLaw plan = api::plan_law(plan_text);
-  // The whole table is built in memory: at most kMaxServedCamRows rows per request.
-  const double duration = plan.law.duration();
-  const double period_ms = spec.period_ms;
-  const double shortest_ms = 1e3 * duration / static_cast<double>(kMaxServedCamRows - 2);
-  if (!spec.master && duration / (period_ms * 1e-3) > static_cast<double>(kMaxServedCamRows - 2)) {
-    throw api::ApiError(
-        api::ErrorCode::kInvalidValue, "period_ms",
-        "period_ms = " + master_value_text(period_ms) + " gives more than " +
-            std::to_string(kMaxServedCamRows) + " rows over the " + api::number_text(duration) +
-            " s motion: allowed >= " + api::number_text(std::ceil(shortest_ms * 1e3) / 1e3) +
-            " ms here (slosh export writes longer tables)");
-  }
-  if (!allow_infeasible && !api::exportable(plan.status)) {
-    throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
-                        api::not_exportable_message(plan, "add allow_infeasible=true"));
-  }
-  if (admit) {
-    admit(cam_export_bytes(spec, cam_rows(spec, duration, query_option_names())));
-  }
-  const CamTable table = sample_cam(plan.law, plan.stroke, spec, query_option_names());
-  CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};
-  return cam_file(table, source, spec);
-}
 
 int run_export_command(const ExportCommandOptions& options) {
   auto resolved = cam_spec(options.cam);

@@ -4,7 +4,6 @@
 // jerk-limited profile block is fed with.
 
 #include <cstddef>
-#include <functional>
 #include <string>
 #include <vector>
 
@@ -39,21 +38,6 @@ struct ExportCommandOptions {
 /// on stderr), 1 when the plan has no durations or is infeasible / time-limited without
 /// allow_infeasible.
 int run_export_command(const ExportCommandOptions& options);
-
-/// Most rows GET /v1/plans/{key}/cam.csv and cam.st serve (about 12 MB of CSV); `slosh export`
-/// has no such bound (only kCamMaxSamples).
-inline constexpr std::size_t kMaxServedCamRows{200000};
-
-/// The cam table file of a rendered plan (GET /v1/plans/{key}/cam.csv and cam.st): the same
-/// bytes as `slosh export` with the same options (named as query_option_names()); more than
-/// kMaxServedCamRows rows is refused (naming period_ms or master_step). Throws ApiError naming
-/// the parameter, or allow_infeasible for an infeasible or time-limited plan when
-/// `allow_infeasible` is false. Once the options and the plan are accepted, and before anything
-/// is sampled, `admit` (when set) is called with an upper bound of the bytes the export holds
-/// (cam_export_bytes); it refuses the export by throwing (e.g. ApiError kOverloaded).
-[[nodiscard]] std::string plan_cam_file(const std::string& plan_text, const CamOptions& options,
-                                        bool allow_infeasible,
-                                        const std::function<void(std::size_t)>& admit = {});
 
 /// 7-segment table CSV: header `segment,t_start_s,t_end_s,duration_s,jerk_mm_s3,a_start_mm_s2,
 /// a_end_mm_s2,v_start_mm_s,v_end_mm_s,s_start_mm,s_end_mm`, one line per segment.

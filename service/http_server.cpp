@@ -3,9 +3,7 @@
 #include <httplib.h>
 #include <spdlog/spdlog.h>
 
-#include <malloc.h>
 #include <netinet/in.h>
-#include <pthread.h>
 #include <sys/socket.h>
 #include <unistd.h>
 
@@ -13,7 +11,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -29,13 +26,17 @@
 #include "connection_pool.hpp"
 #include "connection_reaper.hpp"
 #include "gzip.hpp"
+#include "http_body.hpp"
+#include "job_stores.hpp"
 #include "log_format.hpp"
-#include "memory_job_store.hpp"
+#include "malloc_tuning.hpp"
+#include "metrics_registry.hpp"
 #include "plan_service.hpp"
-#include "redis_job_store.hpp"
+#include "route_handlers.hpp"
 #include "route_table.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/routes.hpp"
+#include "stop_signals.hpp"
 #include "version.hpp"
 
 namespace slosh::service {
@@ -119,18 +120,6 @@ std::string request_id(const httplib::Request& req) {
   return usable ? id : std::to_string(++request_counter);
 }
 
-// Media types a body may declare: JSON, or none at all.
-bool json_content_type(const std::string& value) {
-  if (value.empty()) return true;
-  std::string type = value.substr(0, value.find(';'));
-  type.erase(std::remove_if(type.begin(), type.end(), [](char c) { return c == ' ' || c == '\t'; }),
-             type.end());
-  std::transform(type.begin(), type.end(), type.begin(),
-                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return type == "application/json" ||
-         (type.starts_with("application/") && type.ends_with("+json"));
-}
-
 // The methods the HTTP library routes; it answers any other with a bare 400.
 bool known_method(const std::string& method) {
   for (const char* m : {"GET", "HEAD", "POST", "PUT", "DELETE", "OPTIONS", "PATCH"}) {
@@ -160,66 +149,6 @@ std::string framework_message(int status) {
   }
 }
 
-// The body of a POST, read here rather than by the library: the body limit holds for every
-// transfer encoding (a chunked body is cut off at the limit, where the library reads it whole), it
-// must arrive within the request timeout, and a body declared as something other than JSON is
-// refused as such. nullopt with `error` set when the body is refused.
-// 413 naming the body limit, and 415 naming the declared type (read_body, "Expect: 100-continue").
-Reply too_large_reply(const ServerConfig& config) {
-  return PlanService::error_reply(
-      api::ErrorCode::kPayloadTooLarge,
-      "the body is larger than the limit of " + std::to_string(config.max_body_bytes) + " bytes");
-}
-
-Reply not_json_reply(const httplib::Request& req) {
-  return PlanService::error_reply(
-      api::ErrorCode::kUnsupportedMediaType,
-      "the body is declared as '" + req.get_header_value("Content-Type").substr(0, 80) +
-          "'; send the JSON request with Content-Type: application/json");
-}
-
-std::optional<std::string> read_body(const httplib::Request& req,
-                                     const httplib::ContentReader& reader,
-                                     const ServerConfig& config, Reply& error) {
-  if (!json_content_type(req.get_header_value("Content-Type"))) {
-    error = not_json_reply(req);
-    return std::nullopt;
-  }
-  std::string body;
-  // A request has a body only with Content-Length or chunked transfer coding (RFC 9112 6.3); the
-  // library would otherwise read "until the connection closes" and hold the thread.
-  if (!req.has_header("Content-Length") &&
-      req.get_header_value("Transfer-Encoding").find("chunked") == std::string::npos) {
-    return body;
-  }
-  bool too_large = false;
-  bool too_slow = false;
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                            std::chrono::duration<double>(config.request_timeout_s));
-  const bool complete = reader([&](const char* data, std::size_t length) {
-    too_large = body.size() + length > config.max_body_bytes;
-    too_slow = std::chrono::steady_clock::now() > deadline;
-    if (too_large || too_slow) return false;
-    body.append(data, length);
-    return true;
-  });
-  if (too_large) {
-    error = too_large_reply(config);
-  } else if (too_slow) {
-    error = PlanService::error_reply(
-        api::ErrorCode::kRequestTimeout,
-        "the body did not arrive within " + api::number_text(config.request_timeout_s) + " s");
-  } else if (!complete) {
-    error = PlanService::error_reply(
-        api::ErrorCode::kBadRequest,
-        "the body could not be read (connection closed or invalid chunks)");
-  } else {
-    return body;
-  }
-  return std::nullopt;
-}
-
 timeval to_timeval(double seconds) {
   const double whole = std::floor(seconds);
   return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
@@ -234,27 +163,78 @@ class ListeningServer : public httplib::Server {
   bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
 };
 
+// The batch jobs' and the pool's priority figures for /metrics.
+void collect_job_metrics(MetricsText& out, const BatchJobs& jobs, const WorkerPool& pool) {
+  out.family("slosh_batch_jobs_active", "gauge", "Batch jobs queued or running on this replica.");
+  out.sample("slosh_batch_jobs_active", "", std::uint64_t{jobs.active()});
+  out.family("slosh_pool_tasks_started_total", "counter",
+             "Solve tasks started by priority (interactive: plans of requests and batches; "
+             "background: items of batch jobs, min-time searches' strategies, calibration fits).");
+  out.sample("slosh_pool_tasks_started_total", "priority=\"interactive\"",
+             std::uint64_t{pool.started(TaskPriority::kInteractive)});
+  out.sample("slosh_pool_tasks_started_total", "priority=\"background\"",
+             std::uint64_t{pool.started(TaskPriority::kBackground)});
+  out.family("slosh_pool_background_queue_depth", "gauge",
+             "Background tasks waiting for a worker.");
+  out.sample("slosh_pool_background_queue_depth", "",
+             std::uint64_t{pool.queue_depth(TaskPriority::kBackground)});
+}
+
+// The solves stopped because their clients had gone, for /metrics.
+void collect_cancelled_metrics(MetricsText& out, const PlanService& service,
+                               const CalibrationService& calibrations) {
+  out.family("slosh_solves_cancelled_total", "counter",
+             "Solves stopped because every client waiting for them had closed its connection "
+             "(plans, min-time searches, calibration fits).");
+  out.sample("slosh_solves_cancelled_total", "kind=\"plan\"",
+             std::uint64_t{service.cancelled_plans()});
+  out.sample("slosh_solves_cancelled_total", "kind=\"min_time\"",
+             std::uint64_t{service.cancelled_min_times()});
+  out.sample("slosh_solves_cancelled_total", "kind=\"calibration\"",
+             std::uint64_t{calibrations.cancelled()});
+}
+
+// Everything the server answers with, built in order: the handlers and their engine, the job
+// stores and jobs, the calibrations; the batch jobs' and the cancellations' metrics registered.
+struct ServerParts {
+  PlanService service;
+  JobStores job_stores;
+  BatchJobs jobs;
+  CalibrationService calibrations;
+
+  explicit ServerParts(const ServerConfig& config)
+      : service(config),
+        job_stores(config, service.redis()),
+        jobs(service, job_stores.store()),
+        calibrations(config, service.worker_pool()) {
+    if (const std::string error = service.cache().storage_error(); !error.empty()) {
+      spdlog::error("plan cache: {}; answering from memory only", error);
+    }
+    jobs.resolve_models_with(
+        [this](const std::string& body) { return calibrations.resolve_model_names(body); });
+    if (!calibrations.store_error().empty()) {
+      spdlog::error("calibration store: {}; calibrations are kept in memory only",
+                    calibrations.store_error());
+    }
+    service.metrics_registry().add(
+        [this](MetricsText& out) { collect_job_metrics(out, jobs, service.pool()); });
+    service.metrics_registry().add(
+        [this](MetricsText& out) { collect_cancelled_metrics(out, service, calibrations); });
+  }
+  ServerParts(const ServerParts&) = delete;
+  ServerParts& operator=(const ServerParts&) = delete;
+};
+
 // Everything a running server holds; the routes and hooks refer to it.
 struct Runtime {
   const ServerConfig& config;
-  PlanService& service;
-  BatchJobs& jobs;
+  ServerParts& parts;
   ListeningServer& server;
   std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
   RouteTable routes{api::routes()};
-  std::string replica;                        // the X-Slosh-Replica header of every response
-  CalibrationService* calibrations{nullptr};  // POST/GET /v1/calibrations, options.model names
+  std::string replica;  // the X-Slosh-Replica header of every response
+  Resources resources;  // what the route handlers answer with
 };
-
-// `handle` of the body with options.model = "<name>" resolved to the stored calibration's model.
-template <typename F>
-Reply with_models(const Runtime& rt, const std::string& body, F&& handle) {
-  try {
-    return handle(rt.calibrations->resolve_model_names(body));
-  } catch (const api::ApiError& e) {
-    return reply_of(e);
-  }
-}
 
 // The HTTP library's threads, timeouts and socket options.
 void configure_transport(ListeningServer& server, const ServerConfig& config) {
@@ -277,102 +257,6 @@ void configure_transport(ListeningServer& server, const ServerConfig& config) {
   });
 }
 
-// The decoded query parameters of a request target, in order, repeats included (the library's
-// parameters drop a repeated identical "name=value" pair, so a repeat of the same value would go
-// unnoticed there). Parsed once per request.
-class Query {
- public:
-  explicit Query(const std::string& target) {
-    const std::size_t query = target.find('?');
-    if (query == std::string::npos) return;
-    const std::string text = target.substr(query + 1, target.find('#') - query - 1);
-    httplib::detail::split(
-        text.data(), text.data() + text.size(), '&', [&](const char* begin, const char* end) {
-          const std::string pair(begin, end);
-          const std::size_t equals = pair.find('=');
-          pairs_.emplace_back(httplib::detail::decode_url(pair.substr(0, equals), true),
-                              equals == std::string::npos
-                                  ? std::string()
-                                  : httplib::detail::decode_url(pair.substr(equals + 1), true));
-        });
-  }
-  /// Every name, in order.
-  [[nodiscard]] std::vector<std::string> names() const {
-    std::vector<std::string> out;
-    for (const auto& pair : pairs_) out.push_back(pair.first);
-    return out;
-  }
-  /// Every value of `name`, in order (none when it is not given).
-  [[nodiscard]] std::vector<std::string> values(std::string_view name) const {
-    std::vector<std::string> out;
-    for (const auto& [n, value] : pairs_) {
-      if (n == name) out.push_back(value);
-    }
-    return out;
-  }
-
- private:
-  std::vector<std::pair<std::string, std::string>> pairs_;
-};
-
-// One request as a handler sees it: the library's request, the body (empty but for POST) and the
-// parsed query.
-struct Call {
-  const httplib::Request& req;
-  const std::string& body;
-  const Query& query;
-  [[nodiscard]] std::string param(std::size_t i) const { return req.matches[i]; }
-};
-
-// The handler of one operation.
-using Handler = std::function<Reply(const Call&)>;
-
-// The batch job routes (POST /v1/batches, GET and DELETE /v1/batches/{id}, the downloads).
-Handler job_handler_of(api::Operation operation, BatchJobs& jobs) {
-  switch (operation) {
-    case api::Operation::kCreateJob:
-      return [&jobs](const Call& c) { return jobs.post(c.body); };
-    case api::Operation::kGetJob:
-      return [&jobs](const Call& c) {
-        return jobs.get(c.param(1),
-                        JobPageQuery{c.query.values("offset"), c.query.values("limit")});
-      };
-    case api::Operation::kCancelJob:
-      return [&jobs](const Call& c) { return jobs.cancel(c.param(1)); };
-    case api::Operation::kJobResultsCsv:
-    case api::Operation::kJobResultsJsonl: {
-      const TableFormat format =
-          operation == api::Operation::kJobResultsCsv ? TableFormat::kCsv : TableFormat::kJsonLines;
-      return [&jobs, format](const Call& c) { return jobs.results(c.param(1), format); };
-    }
-    default:
-      throw std::logic_error("not a batch job operation");
-  }
-}
-
-// The batch jobs' and the pool's priority figures for /metrics.
-std::string batch_job_metrics(const BatchJobs& jobs, const WorkerPool& pool) {
-  return "# HELP slosh_batch_jobs_active Batch jobs queued or running on this replica.\n"
-         "# TYPE slosh_batch_jobs_active gauge\n"
-         "slosh_batch_jobs_active " +
-         std::to_string(jobs.active()) +
-         "\n"
-         "# HELP slosh_pool_tasks_started_total Solve tasks started by priority (interactive: "
-         "plans of requests and batches; background: items of batch jobs, min-time searches' "
-         "strategies, calibration fits).\n"
-         "# TYPE slosh_pool_tasks_started_total counter\n"
-         "slosh_pool_tasks_started_total{priority=\"interactive\"} " +
-         std::to_string(pool.started(TaskPriority::kInteractive)) +
-         "\n"
-         "slosh_pool_tasks_started_total{priority=\"background\"} " +
-         std::to_string(pool.started(TaskPriority::kBackground)) +
-         "\n"
-         "# HELP slosh_pool_background_queue_depth Background tasks waiting for a worker.\n"
-         "# TYPE slosh_pool_background_queue_depth gauge\n"
-         "slosh_pool_background_queue_depth " +
-         std::to_string(pool.queue_depth(TaskPriority::kBackground)) + "\n";
-}
-
 // Whether the client of `req` has closed its side of the connection: work nobody waits for is
 // stopped. Asked of the reaper at most every kClientPoll (each answer lists the process's
 // descriptors); never true without the reaper.
@@ -388,105 +272,6 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
   };
 }
 
-// The solves stopped because their clients had gone, for /metrics.
-std::string cancelled_metrics(const PlanService& service, const CalibrationService& calibrations) {
-  return "# HELP slosh_solves_cancelled_total Solves stopped because every client waiting for "
-         "them had closed its connection (plans, min-time searches, calibration fits).\n"
-         "# TYPE slosh_solves_cancelled_total counter\n"
-         "slosh_solves_cancelled_total{kind=\"plan\"} " +
-         std::to_string(service.cancelled_plans()) +
-         "\n"
-         "slosh_solves_cancelled_total{kind=\"min_time\"} " +
-         std::to_string(service.cancelled_min_times()) +
-         "\n"
-         "slosh_solves_cancelled_total{kind=\"calibration\"} " +
-         std::to_string(calibrations.cancelled()) + "\n";
-}
-
-Handler handler_of(api::Operation operation, Runtime& rt) {
-  PlanService& service = rt.service;
-  switch (operation) {
-    case api::Operation::kPlan:
-      return [&service, &rt](const Call& c) {
-        return with_models(rt, c.body, [&](const std::string& resolved) {
-          return service.post_plan(resolved, c.req.get_header_value("If-None-Match"),
-                                   c.query.values("view"), request_accepts_gzip,
-                                   client_gone(rt, c.req));
-        });
-      };
-    case api::Operation::kCreateCalibration:
-      return [&rt](const Call& c) {
-        return rt.calibrations->post_calibration(c.body, client_gone(rt, c.req));
-      };
-    case api::Operation::kGetCalibration:
-      return [&rt](const Call& c) { return rt.calibrations->get_calibration(c.param(1)); };
-    case api::Operation::kPlanBatch:
-      return [&rt](const Call& c) {
-        // A client that hangs up gets no more solves queued.
-        return rt.service.post_batch(rt.calibrations->resolve_batch_model_names(c.body),
-                                     client_gone(rt, c.req), c.query.values("view"));
-      };
-    case api::Operation::kMinTime:
-      return [&service, &rt](const Call& c) {
-        return with_models(rt, c.body, [&](const std::string& resolved) {
-          return service.post_min_time(resolved, c.req.get_header_value("If-None-Match"),
-                                       client_gone(rt, c.req));
-        });
-      };
-    case api::Operation::kGetPlan:
-      return [&service](const Call& c) {
-        return service.get_plan(c.param(1), c.req.get_header_value("If-None-Match"),
-                                c.query.values("view"), request_accepts_gzip);
-      };
-    case api::Operation::kSimulate:
-      return [&service, &rt](const Call& c) {
-        return with_models(rt, c.body, [&](const std::string& resolved) {
-          return service.post_simulate(resolved);
-        });
-      };
-    case api::Operation::kFluids:
-      return [&service](const Call&) { return service.fluids(); };
-    case api::Operation::kOpenapi:
-      return [&service](const Call&) { return service.openapi(); };
-    case api::Operation::kHealth:
-      return [&service](const Call&) { return service.health(); };
-    case api::Operation::kReady:
-      return [&service](const Call&) { return service.ready(); };
-    case api::Operation::kCamTable:
-    case api::Operation::kCamTableSt: {
-      const CamFileFormat format =
-          operation == api::Operation::kCamTableSt ? CamFileFormat::kSt : CamFileFormat::kCsv;
-      return [&service, format](const Call& c) {
-        const Query& q = c.query;
-        const CamQuery query{q.values("period_ms"),       q.values("master_period"),
-                             q.values("master_start"),    q.values("master_end"),
-                             q.values("master_step"),     q.values("st_name"),
-                             q.values("allow_infeasible")};
-        return service.cam_table(c.param(1), format, query);
-      };
-    }
-    case api::Operation::kPage:
-      return [&service](const Call& c) {
-        return service.web_asset("", c.req.get_header_value("If-None-Match"), request_accepts_gzip);
-      };
-    case api::Operation::kAsset:
-      return [&service](const Call& c) {
-        return service.web_asset(c.param(1), c.req.get_header_value("If-None-Match"),
-                                 request_accepts_gzip);
-      };
-    case api::Operation::kMetrics:
-      return [&rt](const Call&) {
-        Reply reply = rt.service.metrics_text();
-        reply.body += batch_job_metrics(rt.jobs, rt.service.pool());
-        reply.body += cancelled_metrics(rt.service, *rt.calibrations);
-        return reply;
-      };
-    default:
-      return job_handler_of(operation, rt.jobs);
-  }
-  throw std::logic_error("an operation without a handler");
-}
-
 // The reply of a request with its route label, whatever answered it: sent, counted under the
 // label, and the label (and the plan) kept for the access log and the latency histogram the
 // logger writes.
@@ -495,7 +280,7 @@ void answer(Runtime& rt, std::string label, Reply reply, httplib::Response& res)
   request_plan = reply.plan;
   const int status = reply.status;
   send(std::move(reply), res);
-  rt.service.metrics().count_request(request_route, status);
+  rt.parts.service.metrics().count_request(request_route, status);
 }
 
 // A routed request: its body read (POST), its query checked against the route's parameters
@@ -520,7 +305,7 @@ void respond(Runtime& rt, const api::Route& route, const Handler& handler,
     }
     const Query query(req.target);
     api::check_query_names(route, query.names());
-    return handler(Call{req, body, query});
+    return handler(Call{req, body, query, request_accepts_gzip});
   });
   // The rest of a refused body is not read.
   if (refused) res.set_header("Connection", "close");
@@ -529,28 +314,27 @@ void respond(Runtime& rt, const api::Route& route, const Handler& handler,
   answer(rt, std::move(label), std::move(reply), res);
 }
 
-// Every route of api::routes(), registered with the library by its method; POST handlers read
+// Every entry of the route table, registered with the library by its method, each answered by
+// respond() (so that every method's request is labelled with its route); POST handlers read
 // their bodies themselves (read_body).
 void register_routes(Runtime& rt) {
-  for (const api::Route& route : api::routes()) {
-    const std::string pattern = path_pattern(route.path);
-    Handler handler = handler_of(route.operation, rt);
-    if (route.method == "POST") {
-      rt.server.Post(pattern,
-                     httplib::Server::HandlerWithContentReader(
-                         [&rt, &route, handler](const httplib::Request& req, httplib::Response& res,
-                                                const httplib::ContentReader& reader) {
-                           respond(rt, route, handler, req, res, &reader);
-                         }));
-      continue;
-    }
-    auto plain = [&rt, &route, handler](const httplib::Request& req, httplib::Response& res) {
+  for (const RouteTable::Entry& entry : rt.routes.entries()) {
+    const api::Route& route = *entry.route;
+    Handler handler = handler_of(route.operation, rt.resources);
+    const auto with_body = [&rt, &route, handler](const httplib::Request& req,
+                                                  httplib::Response& res,
+                                                  const httplib::ContentReader& reader) {
+      respond(rt, route, handler, req, res, &reader);
+    };
+    const auto plain = [&rt, &route, handler](const httplib::Request& req, httplib::Response& res) {
       respond(rt, route, handler, req, res, nullptr);
     };
-    if (route.method == "GET") {
-      rt.server.Get(pattern, plain);
+    if (route.method == "POST") {
+      rt.server.Post(entry.pattern, httplib::Server::HandlerWithContentReader(with_body));
+    } else if (route.method == "GET") {
+      rt.server.Get(entry.pattern, plain);
     } else if (route.method == "DELETE") {
-      rt.server.Delete(pattern, plain);
+      rt.server.Delete(entry.pattern, plain);
     } else {
       throw std::logic_error("a route of a method the server does not register");
     }
@@ -561,14 +345,14 @@ void register_routes(Runtime& rt) {
 // table's answer for the path).
 Reply unrouted_reply(const httplib::Request& req, const RouteTable::Match& match) {
   if (match.allowed.empty()) {
-    return PlanService::error_reply(api::ErrorCode::kNotFound,
-                                    "no endpoint " + req.method.substr(0, 16) + " " +
-                                        req.path.substr(0, 80) + "; see /v1/openapi.json");
+    return error_reply(api::ErrorCode::kNotFound, "no endpoint " + req.method.substr(0, 16) + " " +
+                                                      req.path.substr(0, 80) +
+                                                      "; see /v1/openapi.json");
   }
-  Reply reply = PlanService::error_reply(api::ErrorCode::kMethodNotAllowed,
-                                         req.method.substr(0, 16) + " is not allowed on " +
-                                             req.path.substr(0, 80) +
-                                             "; allowed: " + allow_header(match.allowed));
+  Reply reply =
+      error_reply(api::ErrorCode::kMethodNotAllowed,
+                  req.method.substr(0, 16) + " is not allowed on " + req.path.substr(0, 80) +
+                      "; allowed: " + allow_header(match.allowed));
   reply.headers.emplace_back("Allow", allow_header(match.allowed));
   return reply;
 }
@@ -597,21 +381,11 @@ Reply framework_reply(const httplib::Request& req, int status, const RouteTable:
   if (status == 413) return too_large_reply(rt.config);
   if (status == 415) return not_json_reply(req);
   if (status == 400 && !req.method.empty() && !known_method(req.method)) {
-    return PlanService::error_reply(
+    return error_reply(
         api::ErrorCode::kNotImplemented,
         "the method " + req.method.substr(0, 16) + " is not implemented; see /v1/openapi.json");
   }
-  return PlanService::error_reply(api::error_code_of_status(status), framework_message(status));
-}
-
-// "Expect: 100-continue": a body that would be refused is refused before it is sent.
-int expect_continue_status(const httplib::Request& req, const ServerConfig& config) {
-  const std::string length = req.get_header_value("Content-Length");
-  const bool digits = !length.empty() && length.size() <= 18 &&
-                      length.find_first_not_of("0123456789") == std::string::npos;
-  if (!json_content_type(req.get_header_value("Content-Type"))) return 415;
-  if (!length.empty() && (!digits || std::stoull(length) > config.max_body_bytes)) return 413;
-  return 100;
+  return error_reply(api::error_code_of_status(status), framework_message(status));
 }
 
 void install_error_handlers(Runtime& rt) {
@@ -645,14 +419,14 @@ void install_error_handlers(Runtime& rt) {
           what = e.what();
         } catch (...) {
         }
-        send(PlanService::error_reply(api::ErrorCode::kInternal, what), res);
+        send(error_reply(api::ErrorCode::kInternal, what), res);
       });
 }
 
 // 503 (with Retry-After, as every 503) for a connection the connection pool could not start a
 // thread for.
 Reply thread_refusal_reply() {
-  return PlanService::error_reply(
+  return error_reply(
       api::ErrorCode::kOverloaded,
       "the service cannot start a thread for this connection (the system refused one): retry "
       "later");
@@ -712,7 +486,7 @@ void install_request_hooks(Runtime& rt) {
     if (request_start) {
       const std::chrono::duration<double> took = std::chrono::steady_clock::now() - *request_start;
       entry.ms = took.count() * 1e3;
-      rt.service.metrics().observe_http(
+      rt.parts.service.metrics().observe_http(
           entry.route, known_method(req.method) ? req.method : "other", took.count());
     }
     request_start.reset();
@@ -737,56 +511,12 @@ int bind_port(ListeningServer& server, const ServerConfig& config) {
   return port;
 }
 
-// SIGINT / SIGTERM, blocked in every thread from construction on (so first, before any thread is
-// started: the worker pool inherits the mask) and taken synchronously by one waiter thread, which
-// runs `on_stop` outside any signal handler. The destructor wakes and joins the waiter.
-class StopSignals {
- public:
-  StopSignals() {
-    sigemptyset(&signals_);
-    sigaddset(&signals_, SIGINT);
-    sigaddset(&signals_, SIGTERM);
-    pthread_sigmask(SIG_BLOCK, &signals_, nullptr);
-  }
-  StopSignals(const StopSignals&) = delete;
-  StopSignals& operator=(const StopSignals&) = delete;
-  ~StopSignals() { join(); }
-
-  /// Ends the waiter (idempotent): after this no stop runs.
-  void join() {
-    if (!waiter_.joinable()) return;
-    finished_ = true;
-    pthread_kill(waiter_.native_handle(), SIGTERM);  // wakes the wait if no signal came
-    waiter_.join();
-  }
-
-  void start(std::function<void(int)> on_stop) {
-    waiter_ = std::thread([this, on_stop = std::move(on_stop)] {
-      int signal_number = -1;
-      while (signal_number < 0) {
-        // While waiting, give freed memory back to the system every few seconds: a large batch
-        // response or series leaves glibc's arenas holding hundreds of MB otherwise.
-        const timespec period{5, 0};
-        signal_number = sigtimedwait(&signals_, nullptr, &period);
-        if (signal_number < 0) malloc_trim(0);
-      }
-      if (!finished_) on_stop(signal_number);
-    });
-  }
-  [[nodiscard]] bool finished() const { return finished_; }
-
- private:
-  sigset_t signals_{};
-  std::atomic<bool> finished_{false};
-  std::thread waiter_;
-};
-
 // Stops the server on a signal: what is queued is refused, requests being answered finish.
 void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) {
   spdlog::info("signal {} received: finishing the requests in flight, then stopping",
                signal_number);
-  rt.jobs.shutdown();  // running and queued batch jobs end as failed, with a message
-  rt.service.begin_shutdown();
+  rt.parts.jobs.shutdown();  // running and queued batch jobs end as failed, with a message
+  rt.parts.service.begin_shutdown();
   // A signal that arrives before the accept loop runs must still stop it.
   while (!rt.server.is_running() && !signals.finished()) {
     std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -803,58 +533,44 @@ std::string replica_name(const ServerConfig& config) {
   return host;
 }
 
-}  // namespace
-
-// Where the batch jobs keep their state: this replica's memory, and with a Redis plan cache the
-// shared Redis too, so that any replica answers for any job (TieredJobStore: local first).
-struct JobStores {
-  MemoryJobStore local;
-  std::optional<RedisJobStore> redis;
-  std::optional<TieredJobStore> tiered;
-
-  JobStores(const ServerConfig& config, const PlanService& service)
-      : local(MemoryJobStoreLimits{.ttl_s = config.batch_job_ttl_s,
-                                   .max_jobs = config.batch_jobs_kept + config.batch_jobs_max,
-                                   .max_bytes = config.batch_jobs_bytes}) {
-    if (!service.redis()) return;
-    redis.emplace(
-        service.redis(), std::chrono::seconds(std::llround(config.batch_job_ttl_s)),
-        "slosh:jobs:", std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1000)));
-    tiered.emplace(local, *redis);
-  }
-  JobStores(const JobStores&) = delete;
-  JobStores& operator=(const JobStores&) = delete;
-  JobStore& store() { return tiered ? static_cast<JobStore&>(*tiered) : local; }
-};
-
-int run_server(const ServerConfig& config, const std::string& port_file) {
-  use_log_format(config.log_format);
-  StopSignals signals;
-  // At most 4 malloc arenas (glibc's default is 8 per core, and up to 256 connection threads each
-  // grabbing one fragments the heap); freed memory is trimmed by the signal waiter.
-  mallopt(M_ARENA_MAX, 4);
-  PlanService service(config);
-  if (const std::string error = service.cache().storage_error(); !error.empty()) {
-    spdlog::error("plan cache: {}; answering from memory only", error);
-  }
-  JobStores job_stores(config, service);
-  BatchJobs jobs(service, job_stores.store());
-  ListeningServer server;
-  CalibrationService calibrations(config, service.worker_pool());
-  jobs.resolve_models_with(
-      [&calibrations](const std::string& body) { return calibrations.resolve_model_names(body); });
-  if (!calibrations.store_error().empty()) {
-    spdlog::error("calibration store: {}; calibrations are kept in memory only",
-                  calibrations.store_error());
-  }
-  Runtime rt{
-      config,       service, jobs, server, nullptr, RouteTable(api::routes()), replica_name(config),
-      &calibrations};
-  configure_transport(server, config);
+// Routes, hooks and handlers installed on `rt.server`.
+void install_http(Runtime& rt) {
+  configure_transport(rt.server, rt.config);
   register_routes(rt);
   register_unrouted_body_methods(rt);
   install_error_handlers(rt);
   install_request_hooks(rt);
+}
+
+// Listens until stopped; true when the accept loop ended normally.
+bool listen_until_stopped(Runtime& rt) {
+  try {
+    return rt.server.listen_after_bind();
+  } catch (const std::exception& e) {
+    // E.g. the connection pool's refusing thread could not be started (std::system_error).
+    spdlog::error("the server stopped: {}", e.what());
+    rt.parts.service.begin_shutdown();
+    return false;
+  }
+}
+
+}  // namespace
+
+int run_server(const ServerConfig& config, const std::string& port_file) {
+  use_log_format(config.log_format);
+  StopSignals signals;
+  limit_malloc_arenas();  // before any thread; freed memory is trimmed by the signal waiter
+  ServerParts parts(config);
+  ListeningServer server;
+  Runtime rt{config,
+             parts,
+             server,
+             nullptr,
+             RouteTable(api::routes()),
+             replica_name(config),
+             Resources{parts.service, parts.jobs, parts.calibrations, {}}};
+  rt.resources.client_gone = [&rt](const httplib::Request& req) { return client_gone(rt, req); };
+  install_http(rt);
   const int port = bind_port(server, config);
   if (port < 0) return 1;
   rt.reaper = std::make_unique<ConnectionReaper>(
@@ -868,16 +584,9 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
   spdlog::info(
       "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {}, "
       "replica {})",
-      kVersion, config.host, port, service.workers(), config.queue, config.http_threads,
-      service.cache_description(), rt.replica);
-  bool ok = false;
-  try {
-    ok = server.listen_after_bind();
-  } catch (const std::exception& e) {
-    // E.g. the connection pool's refusing thread could not be started (std::system_error).
-    spdlog::error("the server stopped: {}", e.what());
-    service.begin_shutdown();
-  }
+      kVersion, config.host, port, parts.service.workers(), config.queue, config.http_threads,
+      parts.service.cache_description(), rt.replica);
+  const bool ok = listen_until_stopped(rt);
   signals.join();
   rt.reaper.reset();
   spdlog::info("slosh stopped");

@@ -283,6 +283,27 @@ slosh::service::ProgressMode progress_mode(const std::string& name) {
                            : slosh::service::ProgressMode::kAuto;
 }
 
+// `slosh serve` with the layered settings `server` and the command line's overrides.
+int run_serve(const CliArgs& a, const ServerConfig& server) {
+  ServerConfig s = server;
+  if (a.host) s.host = *a.host;
+  if (a.port) s.port = *a.port;
+  if (a.queue) s.queue = *a.queue;
+  try {
+    if (a.log_format) slosh::service::apply_setting("log_format", "--log-format", *a.log_format, s);
+    if (a.replica_id) slosh::service::apply_setting("replica_id", "--replica-id", *a.replica_id, s);
+  } catch (const std::exception& e) {
+    std::cerr << "slosh serve: " << e.what() << '\n';
+    return slosh::service::kExitInvalidInput;
+  }
+  try {
+    return slosh::service::run_server(s, a.port_file);
+  } catch (const std::exception& e) {  // e.g. the system refused the worker threads
+    std::cerr << "slosh serve: cannot run: " << e.what() << '\n';
+    return 1;
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -324,27 +345,7 @@ int main(int argc, char** argv) {
   const std::optional<ServerConfig> server =
       layered_config(a, app.get_subcommands().front()->get_name());
   if (!server) return slosh::service::kExitInvalidInput;
-  if (*serve) {
-    ServerConfig s = *server;
-    if (a.host) s.host = *a.host;
-    if (a.port) s.port = *a.port;
-    if (a.queue) s.queue = *a.queue;
-    try {
-      if (a.log_format)
-        slosh::service::apply_setting("log_format", "--log-format", *a.log_format, s);
-      if (a.replica_id)
-        slosh::service::apply_setting("replica_id", "--replica-id", *a.replica_id, s);
-    } catch (const std::exception& e) {
-      std::cerr << "slosh serve: " << e.what() << '\n';
-      return slosh::service::kExitInvalidInput;
-    }
-    try {
-      return slosh::service::run_server(s, a.port_file);
-    } catch (const std::exception& e) {  // e.g. the system refused the worker threads
-      std::cerr << "slosh serve: cannot run: " << e.what() << '\n';
-      return 1;
-    }
-  }
+  if (*serve) return run_serve(a, *server);
   if (*batch) {
     a.batch.config = *server;
     a.batch.progress = progress_mode(a.batch_progress);

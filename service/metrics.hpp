@@ -1,15 +1,16 @@
 #pragma once
-// Service metrics in the Prometheus text exposition format (GET /metrics).
+// The service's request, cache and solve counters (GET /metrics, written through
+// metrics_registry.hpp).
 
 #include <array>
 #include <cstdint>
 #include <map>
 #include <mutex>
-#include <sstream>
 #include <string>
 #include <utility>
 
 #include "cache_level.hpp"
+#include "metrics_registry.hpp"
 
 namespace slosh::service {
 
@@ -44,28 +45,20 @@ class Metrics {
   /// A plan served to a client (solved for it or from the cache): its strategy and status.
   void count_plan(const std::string& strategy, const std::string& status);
 
-  /// The exposition text; `queue_depth`, `busy_workers`, `workers` are sampled by the caller. It
-  /// ends with slosh_build_info and the process_* metrics (process_metrics.hpp).
-  [[nodiscard]] std::string render(std::size_t queue_depth, std::size_t busy_workers,
-                                   std::size_t workers) const;
+  /// Writes the counters and histograms, the pool's gauges (`queue_depth`, `busy_workers`,
+  /// `workers`, sampled by the caller) and slosh_build_info.
+  void collect(MetricsText& out, std::size_t queue_depth, std::size_t busy_workers,
+               std::size_t workers) const;
 
  private:
-  // HTTP latency, plans served, build info and the process_* metrics, under the lock.
-  void render_http_and_process(std::ostringstream& out) const;
-  struct Histogram {
-    std::array<std::uint64_t, kSolveBuckets.size()> buckets{};
-    std::uint64_t count{};
-    double sum{};
-  };
+  // Requests, solve times and the cache counters, under the lock.
+  void collect_counters(MetricsText& out) const;
+  // HTTP latency, plans served and the build info, under the lock.
+  void collect_http(MetricsText& out) const;
   mutable std::mutex mutex_;
   std::map<std::pair<std::string, int>, std::uint64_t> requests_;
-  std::map<std::string, Histogram> solves_;
-  struct HttpHistogram {
-    std::array<std::uint64_t, kHttpBuckets.size()> buckets{};
-    std::uint64_t count{};
-    double sum{};
-  };
-  std::map<std::pair<std::string, std::string>, HttpHistogram> http_;
+  std::map<std::string, Histogram<kSolveBuckets.size()>> solves_;
+  std::map<std::pair<std::string, std::string>, Histogram<kHttpBuckets.size()>> http_;
   std::map<std::pair<std::string, std::string>, std::uint64_t> plans_;
   std::array<std::uint64_t, 3> cache_hits_{};  // by CacheLevel
   std::uint64_t cache_misses_{};

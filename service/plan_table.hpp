@@ -8,7 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plan_service.hpp"
+#include "plan_engine.hpp"
 #include "recipe_table.hpp"
 #include "slosh/api/plan_view.hpp"
 

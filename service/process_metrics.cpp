@@ -4,7 +4,6 @@
 #include <sys/resource.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <fstream>
 #include <sstream>
 #include <vector>
@@ -49,13 +48,11 @@ std::optional<double> open_fds() {
   return n;
 }
 
-void sample(std::ostringstream& out, const char* name, const char* type, const char* help,
+void sample(MetricsText& out, const char* name, const char* type, const char* help,
             const std::optional<double>& value) {
   if (!value) return;
-  char number[64];
-  std::snprintf(number, sizeof number, "%.17g", *value);
-  out << "# HELP " << name << ' ' << help << "\n# TYPE " << name << ' ' << type << '\n'
-      << name << ' ' << number << '\n';
+  out.family(name, type, help);
+  out.exact_sample(name, *value);
 }
 
 }  // namespace
@@ -79,8 +76,7 @@ ProcessStats read_process_stats() {
   return s;
 }
 
-std::string process_metrics_text(const ProcessStats& s) {
-  std::ostringstream out;
+void collect_process_metrics(MetricsText& out, const ProcessStats& s) {
   sample(out, "process_cpu_seconds_total", "counter",
          "Total user and system CPU time spent in seconds.", s.cpu_seconds);
   sample(out, "process_resident_memory_bytes", "gauge", "Resident memory size in bytes.",
@@ -91,6 +87,11 @@ std::string process_metrics_text(const ProcessStats& s) {
   sample(out, "process_max_fds", "gauge", "Maximum number of open file descriptors.", s.max_fds);
   sample(out, "process_start_time_seconds", "gauge",
          "Start time of the process since unix epoch in seconds.", s.start_time_seconds);
+}
+
+std::string process_metrics_text(const ProcessStats& s) {
+  MetricsText out;
+  collect_process_metrics(out, s);
   return out.str();
 }
 

@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include "metrics_registry.hpp"
+
 namespace slosh::service {
 
 /// What /proc says about this process; a member is nullopt when it could not be read.
@@ -18,6 +20,10 @@ struct ProcessStats {
 
 /// Reads /proc/self/stat, /proc/stat (boot time), /proc/self/fd and the NOFILE limit.
 [[nodiscard]] ProcessStats read_process_stats();
+
+/// Writes `stats` to `out` (HELP, TYPE and one sample per known member): the same families as
+/// process_metrics_text.
+void collect_process_metrics(MetricsText& out, const ProcessStats& stats);
 
 /// The exposition text of `stats` (HELP, TYPE and one sample per known member):
 /// process_cpu_seconds_total, process_resident_memory_bytes, process_virtual_memory_bytes,

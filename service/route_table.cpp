@@ -20,6 +20,7 @@ std::string path_pattern(std::string_view path) {
 RouteTable::RouteTable(std::span<const api::Route> routes) {
   for (const api::Route& route : routes) {
     const std::string source = path_pattern(route.path);
+    entries_.push_back({&route, source});
     auto it = std::find_if(paths_.begin(), paths_.end(),
                            [&](const Path& p) { return p.source == source; });
     if (it == paths_.end()) {

@@ -27,11 +27,21 @@ class RouteTable {
     std::vector<std::string> allowed;
   };
 
+  /// A route of the table with the regular expression its path is registered under.
+  struct Entry {
+    const api::Route* route;
+    std::string pattern;  // path_pattern(route->path)
+  };
+
+  /// The table of `routes` (kept by reference: they must outlive the table).
   explicit RouteTable(std::span<const api::Route> routes);
 
   [[nodiscard]] Match match(std::string_view path) const;
+  /// Every route, in table order: what the server registers, one handler per entry.
+  [[nodiscard]] const std::vector<Entry>& entries() const { return entries_; }
 
  private:
+  std::vector<Entry> entries_;
   // One per path template, with every method the routes of that template answer.
   struct Path {
     std::regex pattern;
