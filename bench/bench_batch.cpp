@@ -10,7 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plan_service.hpp"
+#include "http/plan_service.hpp"
 
 namespace {
 

@@ -10,11 +10,11 @@
 #include <memory>
 #include <string>
 
+#include "cache/plan_cache.hpp"
+#include "cache/rendered_plans.hpp"
 #include "fixtures.hpp"
-#include "plan_cache.hpp"
-#include "plan_service.hpp"
-#include "redis_client.hpp"
-#include "rendered_plans.hpp"
+#include "http/plan_service.hpp"
+#include "storage/redis_client.hpp"
 #include "support/redis_server.hpp"
 
 namespace {

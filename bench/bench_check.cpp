@@ -10,7 +10,7 @@
 #include <vector>
 
 #include "fixtures.hpp"
-#include "plan_service.hpp"
+#include "http/plan_service.hpp"
 
 namespace {
 

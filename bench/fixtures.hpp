@@ -20,7 +20,7 @@
 #if __has_include("plan_service.hpp")
 #include <nlohmann/json.hpp>
 
-#include "plan_service.hpp"
+#include "http/plan_service.hpp"
 #define SLOSH_BENCH_HAS_SERVICE 1
 #endif
 

@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "fuzz_support.hpp"
-#include "plan_service.hpp"
+#include "http/plan_service.hpp"
 
 namespace {
 

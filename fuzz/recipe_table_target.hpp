@@ -13,9 +13,9 @@
 #include <vector>
 
 #include "fuzz_support.hpp"
-#include "plan_service.hpp"
-#include "plan_table.hpp"
-#include "recipe_table.hpp"
+#include "http/plan_service.hpp"
+#include "jobs/plan_table.hpp"
+#include "jobs/recipe_table.hpp"
 
 namespace slosh::fuzz {
 

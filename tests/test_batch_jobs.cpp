@@ -19,7 +19,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "batch_job_record.hpp"
+#include "jobs/batch_job_record.hpp"
 #include "support/process.hpp"
 #include "support/server.hpp"
 

@@ -26,14 +26,14 @@
 
 #include <nlohmann/json.hpp>
 
-#include "cam_export.hpp"
+#include "config/version.hpp"
+#include "export/cam_export.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "support/process.hpp"
 #include "support/raw_client.hpp"
 #include "support/reference_seven_segment.hpp"
 #include "support/server.hpp"
-#include "version.hpp"
 
 namespace slosh {
 namespace {

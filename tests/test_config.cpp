@@ -11,7 +11,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "config.hpp"
+#include "config/config.hpp"
 
 namespace slosh::service {
 namespace {

@@ -14,7 +14,7 @@
 #include <utility>
 #include <vector>
 
-#include "memory_job_store.hpp"
+#include "jobs/memory_job_store.hpp"
 
 namespace slosh::service {
 namespace {

@@ -15,7 +15,7 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-#include "process_metrics.hpp"
+#include "metrics/process_metrics.hpp"
 #include "slosh/version.hpp"
 #include "support/process.hpp"
 #include "support/prom_text.hpp"

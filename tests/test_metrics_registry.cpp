@@ -12,7 +12,7 @@
 #include <string>
 #include <vector>
 
-#include "metrics_registry.hpp"
+#include "metrics/metrics_registry.hpp"
 #include "support/server.hpp"
 
 namespace slosh {

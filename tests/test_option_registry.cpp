@@ -12,7 +12,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "recipe_table.hpp"
+#include "jobs/recipe_table.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/option_registry.hpp"

@@ -14,7 +14,7 @@
 #include <thread>
 #include <vector>
 
-#include "plan_cache.hpp"
+#include "cache/plan_cache.hpp"
 #include "support/process.hpp"
 #include "support/sqlite_query.hpp"
 

@@ -14,7 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plan_service.hpp"
+#include "http/plan_service.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_view.hpp"

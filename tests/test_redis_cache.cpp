@@ -14,15 +14,15 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plan_cache.hpp"
-#include "plan_service.hpp"
-#include "redis_cache.hpp"
-#include "redis_client.hpp"
+#include "cache/plan_cache.hpp"
+#include "cache/redis_cache.hpp"
+#include "config/version.hpp"
+#include "http/plan_service.hpp"
 #include "slosh/api/plan.hpp"
+#include "storage/redis_client.hpp"
 #include "support/process.hpp"
 #include "support/redis_server.hpp"
 #include "support/server.hpp"
-#include "version.hpp"
 
 namespace slosh {
 namespace {

@@ -10,8 +10,8 @@
 #include <thread>
 #include <vector>
 
-#include "config.hpp"
-#include "redis_client.hpp"
+#include "config/config.hpp"
+#include "storage/redis_client.hpp"
 #include "support/redis_server.hpp"
 
 namespace {

@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "job_store.hpp"
-#include "redis_client.hpp"
-#include "redis_job_store.hpp"
+#include "jobs/job_store.hpp"
+#include "jobs/redis_job_store.hpp"
+#include "storage/redis_client.hpp"
 #include "support/redis_server.hpp"
 
 namespace {

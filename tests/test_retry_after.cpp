@@ -11,7 +11,7 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plan_service.hpp"
+#include "http/plan_service.hpp"
 #include "slosh/api/error.hpp"
 #include "support/server.hpp"
 

@@ -14,8 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "gzip.hpp"
-#include "plan_cache.hpp"
+#include "cache/plan_cache.hpp"
+#include "http/gzip.hpp"
 #include "slosh/api/plan_view.hpp"
 #include "support/raw_client.hpp"
 #include "support/server.hpp"

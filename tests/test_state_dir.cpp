@@ -14,8 +14,8 @@
 #include <string>
 #include <vector>
 
-#include "server_config.hpp"
-#include "state_dir.hpp"
+#include "config/server_config.hpp"
+#include "storage/state_dir.hpp"
 #include "support/process.hpp"
 
 namespace slosh::service {

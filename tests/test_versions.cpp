@@ -14,8 +14,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "plan_cache.hpp"
-#include "plan_service.hpp"
+#include "cache/plan_cache.hpp"
+#include "http/plan_service.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_reply.hpp"

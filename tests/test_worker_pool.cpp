@@ -17,8 +17,8 @@
 #include <thread>
 #include <vector>
 
-#include "connection_pool.hpp"
-#include "worker_pool.hpp"
+#include "engine/worker_pool.hpp"
+#include "http/connection_pool.hpp"
 
 namespace slosh::service {
 namespace {

@@ -1,0 +1,38 @@
+// The handler of POST /v1/plans/batch: every item's plan or error in request order, in one body
+// bounded by max_response_bytes.
+
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "http/plan_service.hpp"
+#include "slosh/api/plan_reply.hpp"
+#include "slosh/api/plan_view.hpp"
+
+namespace slosh::service {
+
+Reply PlanService::post_batch(const std::string& text, const std::function<bool()>& abandoned,
+                              const std::vector<std::string>& view_query) {
+  return guarded_reply([&] {
+    const ServerConfig& config = engine_.config();
+    const api::BatchBody body = api::parse_batch_body(text, config.batch_max);
+    const api::PlanView view = api::batch_view(view_query, body.view);
+    const PendingBatch batch = engine_.start_batch(body.requests, abandoned);
+    api::BatchReplyWriter writer(config.max_response_bytes);
+    for (std::size_t i = 0; i < batch.size(); ++i) {
+      const BatchResult item = batch.get(i);
+      if (item.ok()) {
+        engine_.count_plan(plan_facts_of("", item.plan, item.cached));
+        writer.add_plan(
+            i, view == api::PlanView::kCompact ? api::compact_plan_text(item.plan) : item.plan);
+      } else {
+        writer.add_error(i, *item.error);
+      }
+    }
+    Reply r;
+    r.body = writer.finish();
+    return r;
+  });
+}
+
+}  // namespace slosh::service

@@ -1,0 +1,596 @@
+#include "http/http_server.hpp"
+
+#include <httplib.h>
+#include <spdlog/spdlog.h>
+
+#include <netinet/in.h>
+#include <sys/socket.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <optional>
+#include <regex>
+#include <thread>
+#include <vector>
+
+#include "calibration/calibration_service.hpp"
+#include "config/version.hpp"
+#include "http/client_wait.hpp"
+#include "http/connection_pool.hpp"
+#include "http/connection_reaper.hpp"
+#include "http/gzip.hpp"
+#include "http/http_body.hpp"
+#include "http/malloc_tuning.hpp"
+#include "http/plan_service.hpp"
+#include "http/route_handlers.hpp"
+#include "http/route_table.hpp"
+#include "http/stop_signals.hpp"
+#include "jobs/batch_jobs.hpp"
+#include "jobs/job_stores.hpp"
+#include "log/access_log.hpp"
+#include "metrics/metrics_registry.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/routes.hpp"
+
+namespace slosh::service {
+
+namespace {
+
+// Writes the port to `path` atomically (temporary file + rename) so a reader never sees a
+// partial number.
+bool write_port_file(const std::string& path, int port) {
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp);
+    out << port << '\n';
+    if (!out) return false;
+  }
+  return std::rename(tmp.c_str(), path.c_str()) == 0;
+}
+
+// Per-request bookkeeping between the pre-routing hook and the logger (same thread).
+// Unset for what the library answers before routing (a malformed request line or header).
+thread_local std::optional<std::chrono::steady_clock::time_point> request_start;
+// The routes-table path that answered the request ("other" when none did), and what its reply
+// said about a plan (Reply::plan), for the latency histogram and the access log.
+thread_local std::string request_route;
+thread_local std::optional<PlanFacts> request_plan;
+// The request's Accept-Encoding accepts gzip (read, then removed from the request, by the
+// pre-routing hook: the service codes its bodies itself, see send).
+thread_local bool request_accepts_gzip = false;
+std::atomic<std::uint64_t> request_counter{0};
+
+/// Bytes a held body hands to the library per write [bytes].
+constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
+
+// Writes `reply` to `res`. Content coding is decided here, not by the HTTP library (which would
+// compress every body again per response, and pick brotli at its slowest setting for a browser):
+// a body already gzip-coded (a cached plan's stored bytes) is sent as it is; another text body of
+// at least kGzipMinBytes is compressed for a client that accepts gzip. Every reply whose coding
+// depends on Accept-Encoding says so (Vary), whether or not this client accepted it.
+void send(Reply reply, httplib::Response& res) {
+  res.status = reply.status;
+  for (const auto& [name, value] : reply.headers) res.set_header(name, value);
+  // A body this reply may code for this client: one that is not coded yet (nor held).
+  const bool codable = reply.content_encoding.empty() && !reply.hold &&
+                       worth_compressing(reply.content_type, reply.body.size());
+  if (codable || !reply.content_encoding.empty() || reply.plan.has_value()) {
+    res.set_header("Vary", "Accept-Encoding");
+  }
+  if (reply.body.empty()) return;
+  if (!reply.hold) {
+    if (codable && request_accepts_gzip) {
+      reply.body = gzip_compress(reply.body, kResponseGzipLevel);
+      reply.content_encoding = "gzip";
+    }
+    if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
+    // Moved, not copied (set_content copies): a full plan is 40 kB.
+    res.body = std::move(reply.body);
+    res.set_header("Content-Type", reply.content_type);
+    return;
+  }
+  // The body (and what the reply holds, e.g. an export's share of the budget) lives until the
+  // library has written it or given up, and is not copied on the way.
+  auto body = std::make_shared<const std::string>(std::move(reply.body));
+  res.set_content_provider(body->size(), reply.content_type,
+                           [body, hold = std::move(reply.hold)](
+                               std::size_t offset, std::size_t length, httplib::DataSink& sink) {
+                             return sink.write(body->data() + offset,
+                                               std::min(length, kHeldBodyChunk));
+                           });
+}
+
+std::string peer_of(const httplib::Request& req) {
+  return req.remote_addr + ":" + std::to_string(req.remote_port);
+}
+
+// An incoming X-Request-Id is kept when it is a short token of visible ASCII (it is logged and
+// echoed); otherwise the service numbers the request itself.
+std::string request_id(const httplib::Request& req) {
+  std::string id = req.get_header_value("X-Request-Id");
+  const bool usable = !id.empty() && id.size() <= 128 &&
+                      std::all_of(id.begin(), id.end(), [](char c) { return c > ' ' && c < 127; });
+  return usable ? id : std::to_string(++request_counter);
+}
+
+// The methods the HTTP library routes; it answers any other with a bare 400.
+bool known_method(const std::string& method) {
+  for (const char* m : {"GET", "HEAD", "POST", "PUT", "DELETE", "OPTIONS", "PATCH"}) {
+    if (method == m) return true;
+  }
+  return false;
+}
+
+// The path of the request line as the client sent it (percent escapes kept, query cut): the
+// decoded path would log "%2F" as a real '/' and "%0A" as a line break. The decoded path for a
+// request without a target.
+std::string path_as_sent(const httplib::Request& req) {
+  if (req.target.empty()) return req.path;
+  return req.target.substr(0, req.target.find_first_of("?#"));
+}
+
+std::string framework_message(int status) {
+  switch (status) {
+    case 400:
+      return "the request is not valid HTTP (request line, method or headers)";
+    case 414:
+      return "the request line is longer than the limit of 8192 bytes";
+    case 416:
+      return "the Range header is not valid; this service answers whole bodies only";
+    default:
+      return "HTTP " + std::to_string(status);
+  }
+}
+
+timeval to_timeval(double seconds) {
+  const double whole = std::floor(seconds);
+  return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
+}
+
+// The HTTP library with access to its listening socket.
+class ListeningServer : public httplib::Server {
+ public:
+  /// The library listens with a backlog of 5: a burst of more simultaneous connections than that
+  /// loses SYNs and stalls those clients for a second or more. Listening again with the system's
+  /// maximum only raises the backlog (Linux).
+  bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
+};
+
+// The batch jobs' and the pool's priority figures for /metrics.
+void collect_job_metrics(MetricsText& out, const BatchJobs& jobs, const WorkerPool& pool) {
+  out.family("slosh_batch_jobs_active", "gauge", "Batch jobs queued or running on this replica.");
+  out.sample("slosh_batch_jobs_active", "", std::uint64_t{jobs.active()});
+  out.family("slosh_pool_tasks_started_total", "counter",
+             "Solve tasks started by priority (interactive: plans of requests and batches; "
+             "background: items of batch jobs, min-time searches' strategies, calibration fits).");
+  out.sample("slosh_pool_tasks_started_total", "priority=\"interactive\"",
+             std::uint64_t{pool.started(TaskPriority::kInteractive)});
+  out.sample("slosh_pool_tasks_started_total", "priority=\"background\"",
+             std::uint64_t{pool.started(TaskPriority::kBackground)});
+  out.family("slosh_pool_background_queue_depth", "gauge",
+             "Background tasks waiting for a worker.");
+  out.sample("slosh_pool_background_queue_depth", "",
+             std::uint64_t{pool.queue_depth(TaskPriority::kBackground)});
+}
+
+// The solves stopped because their clients had gone, for /metrics.
+void collect_cancelled_metrics(MetricsText& out, const PlanService& service,
+                               const CalibrationService& calibrations) {
+  out.family("slosh_solves_cancelled_total", "counter",
+             "Solves stopped because every client waiting for them had closed its connection "
+             "(plans, min-time searches, calibration fits).");
+  out.sample("slosh_solves_cancelled_total", "kind=\"plan\"",
+             std::uint64_t{service.cancelled_plans()});
+  out.sample("slosh_solves_cancelled_total", "kind=\"min_time\"",
+             std::uint64_t{service.cancelled_min_times()});
+  out.sample("slosh_solves_cancelled_total", "kind=\"calibration\"",
+             std::uint64_t{calibrations.cancelled()});
+}
+
+// Everything the server answers with, built in order: the handlers and their engine, the job
+// stores and jobs, the calibrations; the batch jobs' and the cancellations' metrics registered.
+struct ServerParts {
+  PlanService service;
+  JobStores job_stores;
+  BatchJobs jobs;
+  CalibrationService calibrations;
+
+  explicit ServerParts(const ServerConfig& config)
+      : service(config),
+        job_stores(config, service.redis()),
+        jobs(service, job_stores.store()),
+        calibrations(config, service.worker_pool()) {
+    if (const std::string error = service.cache().storage_error(); !error.empty()) {
+      spdlog::error("plan cache: {}; answering from memory only", error);
+    }
+    jobs.resolve_models_with(
+        [this](const std::string& body) { return calibrations.resolve_model_names(body); });
+    if (!calibrations.store_error().empty()) {
+      spdlog::error("calibration store: {}; calibrations are kept in memory only",
+                    calibrations.store_error());
+    }
+    service.metrics_registry().add(
+        [this](MetricsText& out) { collect_job_metrics(out, jobs, service.pool()); });
+    service.metrics_registry().add(
+        [this](MetricsText& out) { collect_cancelled_metrics(out, service, calibrations); });
+  }
+  ServerParts(const ServerParts&) = delete;
+  ServerParts& operator=(const ServerParts&) = delete;
+};
+
+// Everything a running server holds; the routes and hooks refer to it.
+struct Runtime {
+  const ServerConfig& config;
+  ServerParts& parts;
+  ListeningServer& server;
+  std::unique_ptr<ConnectionReaper> reaper;  // started once the port is known
+  RouteTable routes{api::routes()};
+  std::string replica;  // the X-Slosh-Replica header of every response
+  Resources resources;  // what the route handlers answer with
+};
+
+// The HTTP library's threads, timeouts and socket options.
+void configure_transport(ListeningServer& server, const ServerConfig& config) {
+  server.new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
+  // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
+  // for chunked bodies.
+  const timeval read_timeout = to_timeval(config.read_timeout_s);
+  const timeval write_timeout = to_timeval(config.write_timeout_s);
+  server.set_read_timeout(read_timeout.tv_sec, read_timeout.tv_usec);
+  server.set_write_timeout(write_timeout.tv_sec, write_timeout.tv_usec);
+  server.set_keep_alive_timeout(
+      std::max<time_t>(1, static_cast<time_t>(std::lround(config.keep_alive_timeout_s))));
+  server.set_keep_alive_max_count(100000);
+  server.set_tcp_nodelay(true);  // no 40 ms Nagle + delayed-ACK stall between header and body
+  // The library's default options add SO_REUSEPORT, which lets a second instance bind the same
+  // port and take half of the connections: only SO_REUSEADDR here, so that second bind fails.
+  server.set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+}
+
+// Whether the client of `req` has closed its side of the connection: work nobody waits for is
+// stopped. Asked of the reaper at most every kClientPoll (each answer lists the process's
+// descriptors); never true without the reaper.
+std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req) {
+  return [&rt, peer = peer_of(req), next = std::chrono::steady_clock::time_point{},
+          gone = false]() mutable {
+    const auto now = std::chrono::steady_clock::now();
+    if (!gone && rt.reaper && now >= next) {
+      gone = rt.reaper->closed_by_peer(peer);
+      next = now + kClientPoll;
+    }
+    return gone;
+  };
+}
+
+// The reply of a request with its route label, whatever answered it: sent, counted under the
+// label, and the label (and the plan) kept for the access log and the latency histogram the
+// logger writes.
+void answer(Runtime& rt, std::string label, Reply reply, httplib::Response& res) {
+  request_route = std::move(label);
+  request_plan = reply.plan;
+  const int status = reply.status;
+  send(std::move(reply), res);
+  rt.parts.service.metrics().count_request(request_route, status);
+}
+
+// A routed request: its body read (POST), its query checked against the route's parameters
+// (api::check_query_names: a parameter the route does not take is refused, never ignored), then
+// its handler, every exception turned into its envelope by the one wrapper. A 405 is labelled
+// with the route of its path, which may be another than the handler's: GET /v1/plans/batch
+// reaches GET /v1/plans/{key}, whose handler refuses it for POST /v1/plans/batch.
+void respond(Runtime& rt, const api::Route& route, const Handler& handler,
+             const httplib::Request& req, httplib::Response& res,
+             const httplib::ContentReader* reader) {
+  bool refused = false;
+  Reply reply = guarded_reply([&] {
+    std::string body;
+    if (reader != nullptr) {
+      Reply error;
+      std::optional<std::string> read = read_body(req, *reader, rt.config, error);
+      if (!read) {
+        refused = true;
+        return error;
+      }
+      body = std::move(*read);
+    }
+    const Query query(req.target);
+    api::check_query_names(route, query.names());
+    return handler(Call{req, body, query, request_accepts_gzip});
+  });
+  // The rest of a refused body is not read.
+  if (refused) res.set_header("Connection", "close");
+  std::string label =
+      reply.status == 405 ? rt.routes.match(req.path).label : std::string(route.path);
+  answer(rt, std::move(label), std::move(reply), res);
+}
+
+// Every entry of the route table, registered with the library by its method, each answered by
+// respond() (so that every method's request is labelled with its route); POST handlers read
+// their bodies themselves (read_body).
+void register_routes(Runtime& rt) {
+  for (const RouteTable::Entry& entry : rt.routes.entries()) {
+    const api::Route& route = *entry.route;
+    Handler handler = handler_of(route.operation, rt.resources);
+    const auto with_body = [&rt, &route, handler](const httplib::Request& req,
+                                                  httplib::Response& res,
+                                                  const httplib::ContentReader& reader) {
+      respond(rt, route, handler, req, res, &reader);
+    };
+    const auto plain = [&rt, &route, handler](const httplib::Request& req, httplib::Response& res) {
+      respond(rt, route, handler, req, res, nullptr);
+    };
+    if (route.method == "POST") {
+      rt.server.Post(entry.pattern, httplib::Server::HandlerWithContentReader(with_body));
+    } else if (route.method == "GET") {
+      rt.server.Get(entry.pattern, plain);
+    } else if (route.method == "DELETE") {
+      rt.server.Delete(entry.pattern, plain);
+    } else {
+      throw std::logic_error("a route of a method the server does not register");
+    }
+  }
+}
+
+// 404 or 405 (with Allow) for a path the routes do not answer with this method (`match`: the
+// table's answer for the path).
+Reply unrouted_reply(const httplib::Request& req, const RouteTable::Match& match) {
+  if (match.allowed.empty()) {
+    return error_reply(api::ErrorCode::kNotFound, "no endpoint " + req.method.substr(0, 16) + " " +
+                                                      req.path.substr(0, 80) +
+                                                      "; see /v1/openapi.json");
+  }
+  Reply reply =
+      error_reply(api::ErrorCode::kMethodNotAllowed,
+                  req.method.substr(0, 16) + " is not allowed on " + req.path.substr(0, 80) +
+                      "; allowed: " + allow_header(match.allowed));
+  reply.headers.emplace_back("Allow", allow_header(match.allowed));
+  return reply;
+}
+
+// PUT and PATCH, which no route answers: a 405 with Allow (or a 404 for a path of no route) at
+// once. The library reads the body of a PUT or PATCH before routing to a plain handler, and one
+// without Content-Length is read until the client closes or the read times out (a 400 after
+// 5 s); a handler with a content reader is routed before any of the body is read. The body is
+// never read, so the connection is closed.
+void register_unrouted_body_methods(Runtime& rt) {
+  const auto refuse = [&rt](const httplib::Request& req, httplib::Response& res,
+                            const httplib::ContentReader&) {
+    res.set_header("Connection", "close");
+    const RouteTable::Match match = rt.routes.match(req.path);
+    answer(rt, match.label, unrouted_reply(req, match), res);
+  };
+  rt.server.Put(".*", httplib::Server::HandlerWithContentReader(refuse));
+  rt.server.Patch(".*", httplib::Server::HandlerWithContentReader(refuse));
+}
+
+// The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
+// request line, bad Range).
+Reply framework_reply(const httplib::Request& req, int status, const RouteTable::Match& match,
+                      const Runtime& rt) {
+  if (status == 404) return unrouted_reply(req, match);
+  if (status == 413) return too_large_reply(rt.config);
+  if (status == 415) return not_json_reply(req);
+  if (status == 400 && !req.method.empty() && !known_method(req.method)) {
+    return error_reply(
+        api::ErrorCode::kNotImplemented,
+        "the method " + req.method.substr(0, 16) + " is not implemented; see /v1/openapi.json");
+  }
+  return error_reply(api::error_code_of_status(status), framework_message(status));
+}
+
+void install_error_handlers(Runtime& rt) {
+  rt.server.set_error_handler(httplib::Server::HandlerWithResponse(
+      [&rt](const httplib::Request& req, httplib::Response& res) {
+        if (!res.body.empty()) return httplib::Server::HandlerResponse::Unhandled;
+        // This service answers whole bodies: a Range of the request never cuts the envelope.
+        const_cast<httplib::Request&>(req).ranges.clear();
+        // Under the route of the path whatever the method (a 405, a 413 before the body): "other"
+        // only for a path no route has.
+        RouteTable::Match match = rt.routes.match(req.path);
+        Reply reply = framework_reply(req, res.status, match, rt);
+        if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
+        answer(rt, std::move(match.label), std::move(reply), res);
+        return httplib::Server::HandlerResponse::Handled;
+      }));
+  rt.server.set_expect_100_continue_handler(
+      [&rt](const httplib::Request& req, httplib::Response& res) {
+        // The library asks before the pre-routing hook runs (and never runs it for a refusal):
+        // the request is timed from here.
+        request_start = std::chrono::steady_clock::now();
+        res.status = expect_continue_status(req, rt.config);
+        return res.status;
+      });
+  rt.server.set_exception_handler(
+      [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
+        std::string what = "unknown error";
+        try {
+          if (ep) std::rethrow_exception(ep);
+        } catch (const std::exception& e) {
+          what = e.what();
+        } catch (...) {
+        }
+        send(error_reply(api::ErrorCode::kInternal, what), res);
+      });
+}
+
+// 503 (with Retry-After, as every 503) for a connection the connection pool could not start a
+// thread for.
+Reply thread_refusal_reply() {
+  return error_reply(
+      api::ErrorCode::kOverloaded,
+      "the service cannot start a thread for this connection (the system refused one): retry "
+      "later");
+}
+
+// 404 for a path with a '/' sent as %2F (api::check_encoded_slashes); nullopt for any other. The
+// library decodes the path before routing: "/v1/plans/abc%2Fcam.csv" would reach abc's cam table.
+std::optional<Reply> encoded_slash_reply(const httplib::Request& req) {
+  try {
+    api::check_encoded_slashes(
+        req.method, std::string_view(req.target).substr(0, req.target.find_first_of("?#")));
+    return std::nullopt;
+  } catch (const api::ApiError& e) {
+    return reply_of(e);
+  }
+}
+
+// Request ids, the reaper's bookkeeping and one log line per request.
+void install_request_hooks(Runtime& rt) {
+  rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
+    request_start = std::chrono::steady_clock::now();
+    // Whole bodies only: the library would otherwise cut answers to a Range header.
+    const_cast<httplib::Request&>(req).ranges.clear();
+    // The service codes its bodies itself (send): the library must not compress them again.
+    request_accepts_gzip = accepts_gzip(req.get_header_value("Accept-Encoding"));
+    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
+    res.set_header("X-Request-Id", request_id(req));
+    res.set_header("X-Slosh-Replica", rt.replica);
+    if (rt.reaper) rt.reaper->begin_request(peer_of(req));
+    if (auto slashed = encoded_slash_reply(req)) {
+      // Under the route whose segment holds the %2F (the sent path matches its template).
+      answer(rt, rt.routes.match(path_as_sent(req)).label, std::move(*slashed), res);
+      res.set_header("Connection", "close");  // a body of the request is not read
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    if (ConnectionPool::refusing()) {
+      // This connection got no thread of its own (the system refused one): 503, and the client
+      // is asked to close it.
+      // Counted as "other": a connection without a thread is refused whatever it asks.
+      answer(rt, "other", thread_refusal_reply(), res);
+      res.set_header("Connection", "close");
+      return httplib::Server::HandlerResponse::Handled;
+    }
+    return httplib::Server::HandlerResponse::Unhandled;
+  });
+  rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
+    if (rt.reaper) rt.reaper->end_request(peer_of(req));
+    AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
+                         .method = req.method.substr(0, 16),
+                         .route = request_route.empty() ? "other" : request_route,
+                         .path = path_as_sent(req).substr(0, 200),
+                         .status = res.status,
+                         .ms = std::nullopt,
+                         .bytes = res.content_provider_ ? res.content_length_ : res.body.size(),
+                         .cache = res.get_header_value("X-Cache"),
+                         .plan = std::move(request_plan)};
+    if (request_start) {
+      const std::chrono::duration<double> took = std::chrono::steady_clock::now() - *request_start;
+      entry.ms = took.count() * 1e3;
+      rt.parts.service.metrics().observe_http(
+          entry.route, known_method(req.method) ? req.method : "other", took.count());
+    }
+    request_start.reset();
+    request_route.clear();
+    request_plan.reset();
+    request_accepts_gzip = false;
+    log_access(entry);
+  });
+}
+
+// The bound port (config.port, or the one the system chose for 0); -1 when binding failed.
+int bind_port(ListeningServer& server, const ServerConfig& config) {
+  const int port = config.port == 0 ? server.bind_to_any_port(config.host)
+                   : server.bind_to_port(config.host, config.port) ? config.port
+                                                                   : -1;
+  if (port < 0) {
+    spdlog::error("cannot bind {}:{} (is another slosh or another service using the port?)",
+                  config.host, config.port);
+  } else if (!server.raise_backlog()) {
+    spdlog::warn("cannot raise the listen backlog: bursts may stall");
+  }
+  return port;
+}
+
+// Stops the server on a signal: what is queued is refused, requests being answered finish.
+void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) {
+  spdlog::info("signal {} received: finishing the requests in flight, then stopping",
+               signal_number);
+  rt.parts.jobs.shutdown();  // running and queued batch jobs end as failed, with a message
+  rt.parts.service.begin_shutdown();
+  // A signal that arrives before the accept loop runs must still stop it.
+  while (!rt.server.is_running() && !signals.finished()) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  }
+  rt.server.stop();             // closes the listener; requests being answered finish
+  rt.reaper->close_idle_now();  // idle and trickling connections are closed, not waited for
+}
+
+// The configured replica id, or the host name.
+std::string replica_name(const ServerConfig& config) {
+  if (!config.replica_id.empty()) return config.replica_id;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) return "slosh";
+  return host;
+}
+
+// Routes, hooks and handlers installed on `rt.server`.
+void install_http(Runtime& rt) {
+  configure_transport(rt.server, rt.config);
+  register_routes(rt);
+  register_unrouted_body_methods(rt);
+  install_error_handlers(rt);
+  install_request_hooks(rt);
+}
+
+// Listens until stopped; true when the accept loop ended normally.
+bool listen_until_stopped(Runtime& rt) {
+  try {
+    return rt.server.listen_after_bind();
+  } catch (const std::exception& e) {
+    // E.g. the connection pool's refusing thread could not be started (std::system_error).
+    spdlog::error("the server stopped: {}", e.what());
+    rt.parts.service.begin_shutdown();
+    return false;
+  }
+}
+
+}  // namespace
+
+int run_server(const ServerConfig& config, const std::string& port_file) {
+  use_log_format(config.log_format);
+  StopSignals signals;
+  limit_malloc_arenas();  // before any thread; freed memory is trimmed by the signal waiter
+  ServerParts parts(config);
+  ListeningServer server;
+  Runtime rt{config,
+             parts,
+             server,
+             nullptr,
+             RouteTable(api::routes()),
+             replica_name(config),
+             Resources{parts.service, parts.jobs, parts.calibrations, {}}};
+  rt.resources.client_gone = [&rt](const httplib::Request& req) { return client_gone(rt, req); };
+  install_http(rt);
+  const int port = bind_port(server, config);
+  if (port < 0) return 1;
+  rt.reaper = std::make_unique<ConnectionReaper>(
+      port,
+      std::chrono::duration_cast<ConnectionReaper::Clock::duration>(
+          std::chrono::duration<double>(config.keep_alive_timeout_s + config.request_timeout_s)));
+  signals.start([&rt, &signals](int signal_number) { stop_on_signal(rt, signals, signal_number); });
+  if (!port_file.empty() && !write_port_file(port_file, port)) {
+    spdlog::error("cannot write the port file {}", port_file);
+  }
+  spdlog::info(
+      "slosh {} listening on http://{}:{} (workers {}, queue {}, http threads up to {}, cache {}, "
+      "replica {})",
+      kVersion, config.host, port, parts.service.workers(), config.queue, config.http_threads,
+      parts.service.cache_description(), rt.replica);
+  const bool ok = listen_until_stopped(rt);
+  signals.join();
+  rt.reaper.reset();
+  spdlog::info("slosh stopped");
+  return ok ? 0 : 1;
+}
+
+}  // namespace slosh::service

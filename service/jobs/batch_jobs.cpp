@@ -1,0 +1,631 @@
+#include "jobs/batch_jobs.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <random>
+#include <sstream>
+#include <utility>
+
+#include "http/query_params.hpp"
+#include "jobs/batch_job_record.hpp"
+#include "jobs/plan_table.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/api/plan_view.hpp"
+#include "slosh/api/simulate.hpp"
+
+namespace slosh::service {
+
+namespace {
+
+using nlohmann::json;
+
+/// Rows read from the store at a time when a job's results are read (one HMGET of at most this
+/// many fields on Redis: a 27 000-row job is not one command of 27 000 fields).
+constexpr std::size_t kRowsPage = 500;
+
+/// How often the runner stores rows and rewrites the record (the heartbeat), and polls the
+/// store's cancel flag, while a job runs.
+constexpr std::chrono::milliseconds kHeartbeat{500};
+
+[[noreturn]] void invalid(const std::string& field, const std::string& message) {
+  throw api::ApiError(api::ErrorCode::kInvalidValue, field, message);
+}
+
+// A job id: 128 random bits as 32 hex digits (not guessable from another job's id).
+std::string new_job_id() {
+  static std::mutex m;
+  static std::random_device device;
+  static std::mt19937_64 bits(
+      (static_cast<std::uint64_t>(device()) << 32U) ^ device() ^
+      static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()));
+  const std::lock_guard lock(m);
+  static constexpr char kHex[] = "0123456789abcdef";
+  std::string id;
+  for (int word = 0; word < 2; ++word) {
+    std::uint64_t v = bits();
+    for (int i = 0; i < 16; ++i, v >>= 4U) id += kHex[v & 0xFU];
+  }
+  return id;
+}
+
+// The body of POST /v1/batches.
+struct JobBody {
+  std::vector<RecipeRow> rows;
+  std::string format{"csv"};
+  std::optional<std::string> view;
+};
+
+std::vector<RecipeRow> table_rows(const json& body, std::size_t max) {
+  const json& text = body["table"];
+  if (!text.is_string())
+    invalid("table", "table must be the text of a recipe table, got " + api::show(text));
+  std::string format = "csv";
+  if (const json* f = api::given_member(body, "table_format")) {
+    format = f->is_string() ? f->get<std::string>() : api::show(*f);
+    if (format != "csv" && format != "jsonl" && format != "json") {
+      invalid("table_format", "table_format = " + api::show(*f) +
+                                  " is not allowed: one of \"csv\", \"jsonl\", \"json\"");
+    }
+  }
+  std::vector<RecipeRow> rows;
+  try {
+    rows = read_recipe_table(text.get<std::string>(), table_format(format, "-"));
+  } catch (const TableError& e) {
+    invalid("table", e.what());
+  }
+  if (rows.empty() || rows.size() > max) {
+    invalid("table", "the table has " + std::to_string(rows.size()) +
+                         " recipes: a job holds 1 to " + std::to_string(max) + " (batch_job_max)");
+  }
+  return rows;
+}
+
+std::vector<RecipeRow> request_rows(const json& requests, std::size_t max) {
+  if (!requests.is_array() || requests.empty() || requests.size() > max) {
+    invalid("requests", "requests must be an array of 1 to " + std::to_string(max) +
+                            " plan requests (batch_job_max), got " +
+                            (requests.is_array() ? std::to_string(requests.size()) + " requests"
+                                                 : api::show(requests)));
+  }
+  // Read as `slosh batch` reads a .json table: each item a plan request, with an optional
+  // "recipe_id" that the rows carry.
+  return read_recipe_table(api::dump_json(requests), TableFormat::kJson);
+}
+
+JobBody parse_job_body(const std::string& text, std::size_t max) {
+  const json body = api::parse_json_body(text);
+  if (!body.is_object()) {
+    invalid("",
+            "the body must be an object {\"requests\": [plan requests]} or {\"table\": "
+            "\"<recipe table>\", \"table_format\": \"csv\"}");
+  }
+  api::reject_unknown_fields(body, "", {"requests", "table", "table_format", "format", "view"});
+  const bool has_requests = body.contains("requests");
+  if (has_requests == body.contains("table")) {
+    invalid(has_requests ? "table" : "requests",
+            "give either requests (plan requests) or table (a recipe table's text), not " +
+                std::string(has_requests ? "both" : "neither"));
+  }
+  if (has_requests && body.contains("table_format")) {
+    invalid("table_format", "table_format goes with table, not with requests");
+  }
+  JobBody out;
+  out.rows = has_requests ? request_rows(body["requests"], max) : table_rows(body, max);
+  if (const json* f = api::given_member(body, "format")) {
+    if (*f != "csv" && *f != "jsonl") {
+      invalid("format", "format = " + api::show(*f) + " is not allowed: one of \"csv\", \"jsonl\"");
+    }
+    out.format = f->get<std::string>();
+  }
+  if (const json* v = api::given_member(body, "view")) {
+    (void)api::batch_view({}, *v);  // 422 naming view unless "full" or "compact"
+    out.view = v->get<std::string>();
+  }
+  return out;
+}
+
+Reply json_reply(int status, const json& body) {
+  Reply r;
+  r.status = status;
+  r.body = api::dump_json(body);
+  return r;
+}
+
+// The record of job `id`: 404 when no store knows it, 503 (unavailable) when the shared store
+// cannot be asked (the job may run on another replica) or its stored text is damaged.
+json load_record(JobStore& store, const std::string& id, const ServerConfig& config) {
+  const auto [text, answered, damaged] = store.lookup_record(id);
+  const std::string shown = id.substr(0, 64);
+  if (damaged) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "the stored state of batch job '" + shown +
+                            "' is damaged (its record in the shared job store, Redis, is not a "
+                            "job record): POST the job again");
+  }
+  if (!text && (!answered || !store.reachable())) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "batch job '" + shown +
+                            "' is not on this replica and the shared job store (Redis) cannot be "
+                            "reached now: retry later, or ask the replica that runs it");
+  }
+  if (!text && store.recently_emptied()) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "batch job '" + shown +
+                            "' is not on this replica and the shared job store (Redis) was "
+                            "emptied or restarted a moment ago: the replicas are publishing their "
+                            "jobs again, retry later");
+  }
+  if (!text && store.has_traces(id)) {
+    // The record key alone is gone (evicted under maxmemory, or deleted) while the job's rows
+    // are there: its owner publishes it again at its next heartbeat. A 404 would lose a DELETE.
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "batch job '" + shown +
+                            "' is not on this replica and its record is missing from the shared "
+                            "job store (Redis) although its results are there (evicted or "
+                            "deleted): the replica that runs it publishes it again, retry later");
+  }
+  if (!text) {
+    throw api::ApiError(
+        api::ErrorCode::kNotFound, "id",
+        "no batch job with id '" + shown +
+            "' is known to this service: it never existed, was deleted, was lost with a restart of "
+            "the replica that ran it (without a shared store), expired or was forgotten to make "
+            "room (finished jobs are kept for batch_job_ttl_s = " +
+            api::number_text(config.batch_job_ttl_s) +
+            " s, at most batch_jobs_kept = " + std::to_string(config.batch_jobs_kept) +
+            " of them within batch_jobs_bytes = " + std::to_string(config.batch_jobs_bytes) +
+            " bytes)");
+  }
+  try {
+    json record = json::parse(*text);
+    (void)record.at("state").get<std::string>();
+    (void)record.at("progress").at("done").get<std::size_t>();
+    (void)record.at("progress").at("total").get<std::size_t>();
+    return record;
+  } catch (const json::exception&) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        "the stored state of batch job '" + shown +
+                            "' is damaged (not a job record): POST the job again");
+  }
+}
+
+// "row 5", "rows 5, 6 and 9" (at most 10 named, then how many more).
+std::string row_list(const std::vector<std::size_t>& rows) {
+  std::string text = rows.size() == 1 ? "row " : "rows ";
+  const std::size_t shown = std::min<std::size_t>(rows.size(), 10);
+  for (std::size_t k = 0; k < shown; ++k) {
+    if (k > 0) text += k + 1 == rows.size() ? " and " : ", ";
+    text += std::to_string(rows[k]);
+  }
+  if (rows.size() > shown) text += " and " + std::to_string(rows.size() - shown) + " more";
+  return text;
+}
+
+// Whether `row` is a result row of the table's row `number` (1-based): an object naming its row
+// and its status, as plan_row writes it. A row damaged in the shared store (e.g. "{}") is not.
+bool is_result_row(const json& row, std::size_t number) {
+  if (!row.is_object()) return false;
+  const auto at = row.find("row");
+  const auto status = row.find("status");
+  return at != row.end() && at->is_number_unsigned() && at->get<std::size_t>() == number &&
+         status != row.end() && status->is_string();
+}
+
+// Rows [offset, offset + count) of job `id`, all of them, read in pages. Rows the shared store
+// lost (e.g. while Redis was down or flushed) or holds damaged are a 503 (unavailable) naming
+// them, never a short or blank-filled table answered as complete.
+std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t offset,
+                            std::size_t count) {
+  std::vector<json> rows;
+  rows.reserve(count);
+  std::vector<std::size_t> damaged;  // 1-based row numbers
+  std::vector<std::size_t> missing;  // 1-based row numbers
+  std::size_t readable = 0;
+  for (std::size_t page = offset; page < offset + count; page += kRowsPage) {
+    const std::size_t n = std::min(kRowsPage, offset + count - page);
+    const auto slots = store.row_slots(id, page, n);
+    for (std::size_t i = 0; i < n; ++i) {
+      const std::size_t number = page + i + 1;
+      if (!slots || i >= slots->size() || !(*slots)[i]) {
+        missing.push_back(number);
+        continue;
+      }
+      json row = json::parse(*(*slots)[i], nullptr, false);
+      if (is_result_row(row, number)) {
+        ++readable;
+        rows.push_back(std::move(row));
+      } else {
+        damaged.push_back(number);
+      }
+    }
+  }
+  if (readable == count) return rows;
+  const std::string shown = id.substr(0, 64);
+  std::string detail;
+  if (!missing.empty()) detail += "; missing: " + row_list(missing);
+  if (!damaged.empty()) detail += "; damaged: " + row_list(damaged);
+  throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                      "the stored results of batch job '" + shown +
+                          "' are incomplete or damaged (" + std::to_string(readable) +
+                          " readable of rows " + std::to_string(offset + 1) + " to " +
+                          std::to_string(offset + count) + detail +
+                          "): ask the replica that ran it, or POST the job again");
+}
+
+}  // namespace
+
+struct BatchJobs::Job {
+  JobStatus status;
+  std::vector<RecipeRow> rows;
+  std::optional<api::PlanView> view;
+  std::atomic<bool> cancel{false};
+};
+
+BatchJobs::BatchJobs(PlanService& service, JobStore& store)
+    : service_(service), store_(store), runner_([this] { run_jobs(); }) {}
+
+BatchJobs::~BatchJobs() {
+  shutdown();
+  if (runner_.joinable()) runner_.join();
+}
+
+void BatchJobs::shutdown() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+}
+
+std::size_t BatchJobs::active() const {
+  const std::lock_guard lock(mutex_);
+  return active_.size();
+}
+
+void BatchJobs::mark_stale_unless_here(nlohmann::json& record, const std::string& id) const {
+  // A job this replica runs is alive whatever its record's age (the record may be old because
+  // this process was paused, or the shared store missed writes): only another replica's job
+  // whose owner stopped rewriting it is judged stale.
+  {
+    const std::lock_guard lock(mutex_);
+    if (active_.count(id) != 0) return;
+  }
+  mark_if_stale(record, unix_ms_now(), service_.config().batch_job_stale_s);
+}
+
+bool BatchJobs::write_record(Job& job) {
+  json record = job_record(job.status, unix_ms_now());
+  // A DELETE on this replica sets the job's flag from another thread: a queued job's record says
+  // so at once, not only once the runner has taken the job.
+  if (job.cancel) record["cancel_requested"] = true;
+  return store_.put_record(job.status.id, api::dump_json(record));
+}
+
+Reply BatchJobs::post(const std::string& text) {
+  return guarded_reply([&] {
+    const ServerConfig& config = service_.config();
+    JobBody body = parse_job_body(text, config.batch_job_max);
+    // The cheap refusal first: resolving the recipes' stored models reads the calibrations.
+    check_capacity();
+    if (resolve_models_) {
+      for (RecipeRow& row : body.rows) {
+        const json* options =
+            row.request.is_object() ? api::given_member(row.request, "options") : nullptr;
+        const json* model = options != nullptr && options->is_object()
+                                ? api::given_member(*options, "model")
+                                : nullptr;
+        if (model == nullptr || !model->is_string()) continue;
+        try {
+          row.request = json::parse(resolve_models_(api::dump_json(row.request)));
+        } catch (const api::ApiError& e) {  // this recipe's row answers the error
+          row.error = api::error_envelope(e)["error"];
+          row.request = nullptr;
+        }
+      }
+    }
+    auto job = std::make_shared<Job>();
+    job->status.id = new_job_id();
+    job->status.format = body.format;
+    job->status.view = body.view;
+    job->status.total = body.rows.size();
+    job->status.created_ms = unix_ms_now();
+    job->rows = std::move(body.rows);
+    if (body.view) job->view = api::parse_plan_view(*body.view);
+    Reply reply;
+    {
+      const std::lock_guard lock(mutex_);
+      check_capacity_locked();  // again: other jobs may have been posted meanwhile
+      // Rendered before the runner can see the job (it owns the status from then on).
+      reply = json_reply(202, job_record(job->status, unix_ms_now()));
+      reply.headers.emplace_back("Location", "/v1/batches/" + job->status.id);
+      write_record(*job);
+      active_[job->status.id] = job;
+      queue_.push_back(job);
+    }
+    wake_.notify_all();
+    return reply;
+  });
+}
+
+void BatchJobs::check_capacity() const {
+  const std::lock_guard lock(mutex_);
+  check_capacity_locked();
+}
+
+void BatchJobs::check_capacity_locked() const {
+  if (stopping_ || !service_.accepting()) {
+    throw api::ApiError(api::ErrorCode::kOverloaded, "", "the service is shutting down");
+  }
+  const std::size_t limit = service_.config().batch_jobs_max;
+  if (active_.size() >= limit) {
+    throw api::ApiError(api::ErrorCode::kOverloaded, "",
+                        std::to_string(active_.size()) +
+                            " batch jobs are queued or running here, the limit " +
+                            "(batch_jobs_max); retry after one has finished");
+  }
+}
+
+Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
+  return guarded_reply([&] {
+    const ServerConfig& config = service_.config();
+    const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
+    const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
+    json record = load_record(store_, id, config);
+    mark_stale_unless_here(record, id);
+    if (!is_final_state(record["state"].get<std::string>()) &&
+        record.value("cancel_requested", false) == false && store_.cancel_requested(id)) {
+      // A DELETE through another replica is recorded in the shared store at once; the owner
+      // rewrites the record when it next polls the flag (a queued job: when it starts).
+      record["cancel_requested"] = true;
+    }
+    if (is_final_state(record["state"].get<std::string>())) {
+      const std::size_t stored = record["progress"]["done"].get<std::size_t>();
+      json rows = json::array();
+      if (offset < stored) {
+        for (json& row : load_rows(store_, id, offset, std::min(limit, stored - offset))) {
+          rows.push_back(std::move(row));
+        }
+      }
+      const std::size_t next = offset + rows.size();
+      record["results"] = {{"offset", offset},
+                           {"limit", limit},
+                           {"rows", rows},
+                           {"next_offset", next < stored ? json(next) : json(nullptr)}};
+    }
+    return json_reply(200, record);
+  });
+}
+
+Reply BatchJobs::results(const std::string& id, TableFormat format) {
+  return guarded_reply([&] {
+    const ServerConfig& config = service_.config();
+    json record = load_record(store_, id, config);
+    mark_stale_unless_here(record, id);
+    const std::string state = record["state"].get<std::string>();
+    if (!is_final_state(state)) {
+      return PlanService::error_reply(
+          api::ErrorCode::kConflict,
+          "batch job " + id + " is " + state + " (" +
+              std::to_string(record["progress"]["done"].get<std::size_t>()) + " of " +
+              std::to_string(record["progress"]["total"].get<std::size_t>()) +
+              " recipes done): its results are ready when it is done; poll GET /v1/batches/" + id,
+          "id");
+    }
+    const std::size_t stored = record["progress"]["done"].get<std::size_t>();
+    std::ostringstream out;
+    PlanTableWriter writer(out, format);  // the `slosh batch` table writer
+    for (const json& row : load_rows(store_, id, 0, stored)) writer.write(row);
+    writer.finish();
+    Reply r;
+    const bool csv = format == TableFormat::kCsv;
+    r.content_type = csv ? "text/csv; charset=utf-8" : "application/x-ndjson";
+    r.body = out.str();
+    r.headers.emplace_back("Content-Disposition",
+                           "attachment; filename=\"batch-" + id + (csv ? ".csv\"" : ".jsonl\""));
+    return r;
+  });
+}
+
+Reply BatchJobs::cancel(const std::string& id) {
+  return guarded_reply([&] {
+    const ServerConfig& config = service_.config();
+    json record = load_record(store_, id, config);
+    mark_stale_unless_here(record, id);
+    if (is_final_state(record["state"].get<std::string>())) {
+      store_.remove(id);
+      record["deleted"] = true;
+      return json_reply(200, record);
+    }
+    const bool recorded = store_.request_cancel(id);
+    bool here = false;
+    {
+      const std::lock_guard lock(mutex_);
+      if (auto it = active_.find(id); it != active_.end()) {
+        it->second->cancel = true;
+        here = true;
+      }
+    }
+    if (!recorded && !here) {
+      // Another replica runs the job and only the shared store can tell it: a cancel that was
+      // not recorded must not be answered as accepted.
+      throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                          "batch job '" + id.substr(0, 64) +
+                              "' runs on another replica and its cancel could not be recorded in "
+                              "the shared job store (Redis): DELETE it again later");
+    }
+    wake_.notify_all();
+    record["cancel_requested"] = true;
+    return json_reply(202, record);
+  });
+}
+
+void BatchJobs::run_jobs() {
+  for (;;) {
+    std::shared_ptr<Job> job;
+    {
+      std::unique_lock lock(mutex_);
+      // Idle, the runner still wakes every heartbeat to give the shared store what it missed
+      // (finished jobs' rows and records, or everything after it was emptied).
+      wake_.wait_for(lock, kHeartbeat, [this] { return stopping_ || !queue_.empty(); });
+      if (queue_.empty()) {
+        if (stopping_) return;  // stopping, nothing left
+        lock.unlock();
+        store_.resync();
+        continue;
+      }
+      job = queue_.front();
+      queue_.pop_front();
+    }
+    try {
+      run(*job);
+    } catch (const std::exception& e) {
+      finish(*job, "failed", std::string("the job failed: ") + e.what());
+    }
+    const std::lock_guard lock(mutex_);
+    active_.erase(job->status.id);
+  }
+}
+
+bool BatchJobs::cancelled(Job& job, bool ask_store) {
+  // The store is asked at most once a heartbeat (it may be Redis); a DELETE on this replica sets
+  // the job's own flag at once.
+  if (!job.cancel && ask_store && store_.cancel_requested(job.status.id)) job.cancel = true;
+  job.status.cancel_requested = job.cancel;
+  return job.cancel;
+}
+
+bool BatchJobs::stopping() const {
+  const std::lock_guard lock(mutex_);
+  return stopping_;
+}
+
+std::size_t BatchJobs::fill_window(Job& job, std::size_t next, std::deque<StartedItem>& window) {
+  // At most `workers` of this job's solves are queued or running: the background queue stays
+  // short, so interactive plans (which workers take first) never wait behind the job's items.
+  const std::size_t max_in_flight = service_.workers();
+  auto in_flight = [&] {
+    return static_cast<std::size_t>(
+        std::count_if(window.begin(), window.end(), [](const StartedItem& s) {
+          return s.pending.valid() &&
+                 s.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
+        }));
+  };
+  while (next < job.rows.size() && in_flight() < max_in_flight &&
+         window.size() < 4 * max_in_flight + 64) {
+    const RecipeRow& row = job.rows[next++];
+    if (!row.error.is_null()) {  // an unreadable row: its error is its result
+      StartedItem item;
+      item.result.error = api::error_from_json(row.error);
+      window.push_back(std::move(item));
+      continue;
+    }
+    window.push_back(service_.start_batch_item(row.request, TaskPriority::kBackground));
+  }
+  return next;
+}
+
+void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
+  // The buffered rows are rows done - size ... done - 1; on a failed write they stay buffered and
+  // are written again (same indexes) at the next heartbeat.
+  if (!rows.empty()) {
+    if (store_.put_rows(job.status.id, job.status.done - rows.size(), rows)) {
+      rows.clear();
+    } else {
+      spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
+    }
+  }
+  write_record(job);
+  // Then what the shared store missed (this job's rows and record after a failed write, every
+  // job after an emptying): each row and record is sent once, after the rows it counts.
+  store_.resync();
+  // The queued jobs' heartbeat: they are alive, only waiting.
+  std::vector<std::shared_ptr<Job>> queued;
+  {
+    const std::lock_guard lock(mutex_);
+    queued.assign(queue_.begin(), queue_.end());
+  }
+  for (const auto& q : queued) write_record(*q);
+}
+
+void BatchJobs::finish(Job& job, const std::string& state, const std::string& message) {
+  job.status.state = state;
+  job.status.message = message;
+  job.status.finished_ms = unix_ms_now();
+  write_record(job);
+  spdlog::info("batch job {} {}: {} of {} recipes ({} failed){}{}", job.status.id, state,
+               job.status.done, job.status.total, job.status.failed, message.empty() ? "" : ": ",
+               message);
+}
+
+void BatchJobs::run(Job& job) {
+  JobStatus& s = job.status;
+  if (cancelled(job, true)) return finish(job, "cancelled", "cancelled before it started");
+  if (stopping()) {
+    return finish(job, "failed",
+                  "the service shut down before the job started; POST the job again");
+  }
+  s.state = "running";
+  s.started_ms = unix_ms_now();
+  write_record(job);
+  std::deque<StartedItem> window;
+  std::vector<std::string> rows;
+  std::size_t next = 0;
+  auto last_flush = std::chrono::steady_clock::now();
+  std::string stop_state;
+  bool heartbeat = false;
+  std::size_t row_bytes = 0;  // of this job's rows, against batch_jobs_bytes
+  const std::size_t max_bytes = service_.config().batch_jobs_bytes;
+  while (s.done < s.total) {
+    if (cancelled(job, heartbeat)) {
+      stop_state = "cancelled";
+      break;
+    }
+    if (stopping()) {
+      stop_state = "failed";
+      break;
+    }
+    next = fill_window(job, next, window);
+    const StartedItem& head = window.front();
+    if (!head.pending.valid() ||
+        head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
+      const json row = plan_row(job.rows[s.done], head.get(), job.view);
+      if (row["status"] == "error") ++s.failed;
+      rows.push_back(api::dump_json(row));
+      row_bytes += rows.back().size();
+      ++s.done;
+      window.pop_front();
+      if (row_bytes > max_bytes) {
+        stop_state = "too_large";
+        break;
+      }
+    }
+    heartbeat = std::chrono::steady_clock::now() - last_flush >= kHeartbeat;
+    if (heartbeat) {
+      flush(job, rows);
+      last_flush = std::chrono::steady_clock::now();
+    }
+  }
+  flush(job, rows);
+  const std::string progress =
+      std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
+  if (stop_state == "cancelled") return finish(job, "cancelled", "cancelled after " + progress);
+  if (stop_state == "too_large") {
+    return finish(job, "failed",
+                  "its results passed the memory kept for batch jobs, batch_jobs_bytes = " +
+                      std::to_string(max_bytes) + " bytes, after " + progress +
+                      ": split the table into smaller jobs, ask for a smaller view, or raise "
+                      "batch_jobs_bytes");
+  }
+  if (stop_state == "failed") {
+    return finish(job, "failed",
+                  "the service shut down after " + progress +
+                      "; POST the job again (the finished plans are cached)");
+  }
+  finish(job, "done", "");
+}
+
+}  // namespace slosh::service

@@ -1,0 +1,111 @@
+#pragma once
+// Batch jobs as resources (SPEC §13, issue 21): POST /v1/batches starts a job of up to
+// batch_job_max recipes and answers 202 at once; GET /v1/batches/{id} reports its progress and,
+// once it is finished, its results (paged JSON rows); GET .../results.csv and .../results.jsonl
+// download them in the `slosh batch` formats; DELETE cancels (or forgets a finished job).
+//
+// A job runs on the solve pool at background priority (WorkerPool: interactive plans first) with
+// at most `workers` of its items queued or running at a time, so an interactive plan never waits
+// behind a job's thousands of items. Its record and rows live in the JobStore (memory, or Redis
+// shared by the replicas), so any replica answers GET for it; a DELETE on any replica sets the
+// store's cancel flag, which the owner polls. The owner rewrites the record at least every second;
+// a queued or running record not rewritten for batch_job_stale_s reads as failed (its replica
+// stopped). On shutdown (SIGTERM) the running and queued jobs end as failed, with a message.
+
+#include <condition_variable>
+#include <cstddef>
+#include <cstdint>
+#include <deque>
+#include <functional>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <thread>
+#include <unordered_map>
+#include <vector>
+
+#include "http/plan_service.hpp"
+#include "jobs/job_store.hpp"
+#include "jobs/recipe_table.hpp"
+
+namespace slosh::service {
+
+/// The query of GET /v1/batches/{id}: every value of offset and limit as received.
+struct JobPageQuery {
+  std::vector<std::string> offset;
+  std::vector<std::string> limit;
+};
+
+/// Most rows one GET /v1/batches/{id} page holds (query limit).
+constexpr std::size_t kJobPageMax = 1000;
+/// Rows of a page when no limit is given.
+constexpr std::size_t kJobPageDefault = 100;
+
+class BatchJobs {
+ public:
+  /// Jobs run on `service`'s pool and keep their state in `store`; both outlive this object.
+  BatchJobs(PlanService& service, JobStore& store);
+  /// shutdown(), then joins the runner.
+  ~BatchJobs();
+  BatchJobs(const BatchJobs&) = delete;
+  BatchJobs& operator=(const BatchJobs&) = delete;
+
+  /// POST /v1/batches: 202 with the record and Location: /v1/batches/{id}; 422 for a bad body
+  /// or more than batch_job_max recipes; 503 when batch_jobs_max jobs are queued or running here.
+  Reply post(const std::string& body);
+  /// GET /v1/batches/{id}: the record, with "results" (a page of rows) once it is finished.
+  Reply get(const std::string& id, const JobPageQuery& query);
+  /// GET /v1/batches/{id}/results.csv or .jsonl: every row of a finished job (409 before).
+  Reply results(const std::string& id, TableFormat format);
+  /// DELETE /v1/batches/{id}: a queued or running job is asked to cancel (202 with its record,
+  /// again on every DELETE until it has stopped); a finished one is forgotten (200 with its last
+  /// record; then 404).
+  Reply cancel(const std::string& id);
+
+  /// Puts the stored calibration in for every recipe whose options.model names one (as POST
+  /// /v1/plans does): `resolve` maps a plan request's text to the text with the model put in, and
+  /// throws api::ApiError for a bad or unknown name (that recipe's row is then its error). Set
+  /// before the first post(); without it a named model is left to the plan's own validation.
+  void resolve_models_with(std::function<std::string(const std::string&)> resolve) {
+    resolve_models_ = std::move(resolve);
+  }
+
+  /// Refuses new jobs and ends the queued and running ones as failed; returns at once (the
+  /// runner finishes writing their records).
+  void shutdown();
+
+  /// Jobs queued or running on this replica.
+  [[nodiscard]] std::size_t active() const;
+
+ private:
+  struct Job;
+  void run_jobs();
+  void run(Job& job);
+  // Starts items until `workers` of the job's solves are in flight; returns the next item.
+  std::size_t fill_window(Job& job, std::size_t next, std::deque<StartedItem>& window);
+  // Stores the buffered rows and the record (the heartbeat), also of the queued jobs.
+  void flush(Job& job, std::vector<std::string>& rows);
+  // Ends `job` in `state` with `message`: its rows and final record stored.
+  void finish(Job& job, const std::string& state, const std::string& message);
+  bool write_record(Job& job);
+  // 503 (overloaded) when stopping or batch_jobs_max jobs are queued or running here.
+  void check_capacity() const;
+  void check_capacity_locked() const;  // mutex_ held
+  // Marks a stale queued or running record failed, unless the job runs on this replica.
+  void mark_stale_unless_here(nlohmann::json& record, const std::string& id) const;
+  // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).
+  [[nodiscard]] bool cancelled(Job& job, bool ask_store);
+  [[nodiscard]] bool stopping() const;
+
+  PlanService& service_;
+  JobStore& store_;
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  std::deque<std::shared_ptr<Job>> queue_;                        // waiting to run, in order
+  std::unordered_map<std::string, std::shared_ptr<Job>> active_;  // queued or running here
+  bool stopping_{false};
+  std::function<std::string(const std::string&)> resolve_models_;
+  std::thread runner_;  // last: started once the members above exist
+};
+
+}  // namespace slosh::service

@@ -1,0 +1,217 @@
+#include "jobs/redis_job_store.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <random>
+#include <utility>
+
+#include "jobs/batch_job_record.hpp"
+
+namespace slosh::service {
+
+RedisJobStore::RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::seconds ttl,
+                             std::string prefix, std::chrono::milliseconds settle)
+    : client_(std::move(client)),
+      ttl_(std::to_string(std::max<long long>(1, ttl.count()))),
+      prefix_(std::move(prefix)),
+      settle_ms_(settle.count()) {}
+
+bool RedisJobStore::write(const std::string& id, std::vector<std::vector<std::string>> commands) {
+  commands.insert(commands.begin(), {"MULTI"});
+  for (const char* part : {"record", "rows", "cancel", "removed"}) {
+    commands.push_back({"EXPIRE", key(id, part), ttl_});
+  }
+  commands.push_back({"EXEC"});
+  const auto replies = client_->pipeline(commands);
+  if (!replies) return false;
+  const RedisReply& exec = replies->back();
+  if (exec.type != RedisReply::Type::kArray) return false;  // aborted (EXECABORT) or refused
+  return std::none_of(exec.elements.begin(), exec.elements.end(),
+                      [](const RedisReply& r) { return r.is_error(); });
+}
+
+bool RedisJobStore::put_record(const std::string& id, const std::string& record) {
+  return write(id, {{"SET", key(id, "record"), record}});
+}
+
+JobStore::RecordLookup RedisJobStore::lookup_record(const std::string& id) {
+  const auto replies =
+      client_->pipeline({{"GET", key(id, "record")}, {"EXISTS", key(id, "removed")}});
+  if (!replies) return {std::nullopt, false};
+  const RedisReply& record = (*replies)[0];
+  const RedisReply& removed = (*replies)[1];
+  // Only a nil is "no such record"; any other reply (an error such as WRONGTYPE or LOADING, a
+  // status, an integer, an array) is no answer: reading it as missing would answer 404 for a job
+  // that exists.
+  const bool known =
+      record.type == RedisReply::Type::kString || record.type == RedisReply::Type::kNil;
+  if (record.is_error() && record.text.rfind("WRONGTYPE", 0) == 0 &&
+      removed.type == RedisReply::Type::kInteger) {
+    // Redis answered: the key exists but is not a string. The job's state is damaged, and
+    // reading it as "Redis cannot be reached" would send the user to wait for nothing.
+    if (removed.integer > 0) return {std::nullopt, true};
+    spdlog::warn("batch job {}: its record key in Redis is not a string ({})", id, record.text);
+    return {std::nullopt, true, true};
+  }
+  if (!known || removed.type != RedisReply::Type::kInteger) {
+    spdlog::warn(
+        "batch job {}: Redis answered the record read with an unexpected reply ({}{}): "
+        "answered as unavailable",
+        id, record.is_error() || removed.is_error() ? "error " : "type ",
+        record.is_error()    ? record.text
+        : removed.is_error() ? removed.text
+                             : "");
+    return {std::nullopt, false};
+  }
+  if (removed.integer > 0 || record.type == RedisReply::Type::kNil) return {std::nullopt, true};
+  return {record.text, true};
+}
+
+bool RedisJobStore::put_rows(const std::string& id, std::size_t first,
+                             const std::vector<std::string>& rows) {
+  if (rows.empty()) return write(id, {});
+  std::vector<std::string> set{"HSET", key(id, "rows")};
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    set.push_back(std::to_string(first + i));
+    set.push_back(rows[i]);
+  }
+  return write(id, {std::move(set)});
+}
+
+std::optional<std::vector<std::string>> RedisJobStore::rows(const std::string& id,
+                                                            std::size_t offset, std::size_t count) {
+  // The fields asked for are bounded by the rows the hash holds (HLEN, asked first), so a huge
+  // count costs no more than the job's rows.
+  const auto head = client_->pipeline({{"EXISTS", key(id, "record")}, {"HLEN", key(id, "rows")}});
+  if (!head || (*head)[0].type != RedisReply::Type::kInteger || (*head)[0].integer == 0 ||
+      (*head)[1].type != RedisReply::Type::kInteger) {
+    return std::nullopt;
+  }
+  const auto held = static_cast<std::size_t>(std::max<long long>(0, (*head)[1].integer));
+  std::vector<std::string> out;
+  if (count == 0 || offset >= held) return out;
+  // Rows at indexes >= held cannot all be present when one below is missing; asking up to `held`
+  // past the offset is enough to find every row there is.
+  const std::size_t n = std::min(count, held);
+  std::vector<std::string> get{"HMGET", key(id, "rows")};
+  for (std::size_t i = 0; i < n; ++i) get.push_back(std::to_string(offset + i));
+  const auto reply = client_->command(get);
+  if (!reply || reply->type != RedisReply::Type::kArray) return std::nullopt;
+  for (const RedisReply& r : reply->elements) {
+    if (r.type != RedisReply::Type::kString) break;  // a missing index ends what is readable
+    out.push_back(r.text);
+  }
+  return out;
+}
+
+std::optional<std::vector<std::optional<std::string>>> RedisJobStore::row_slots(
+    const std::string& id, std::size_t offset, std::size_t count) {
+  const auto head = client_->pipeline({{"EXISTS", key(id, "record")}, {"HLEN", key(id, "rows")}});
+  if (!head || (*head)[0].type != RedisReply::Type::kInteger || (*head)[0].integer == 0 ||
+      (*head)[1].type != RedisReply::Type::kInteger) {
+    return std::nullopt;
+  }
+  std::vector<std::optional<std::string>> out(count);
+  if (count == 0 || (*head)[1].integer <= 0) return out;
+  std::vector<std::string> get{"HMGET", key(id, "rows")};
+  for (std::size_t i = 0; i < count; ++i) get.push_back(std::to_string(offset + i));
+  const auto reply = client_->command(get);
+  if (!reply || reply->type != RedisReply::Type::kArray || reply->elements.size() != count) {
+    return std::nullopt;
+  }
+  for (std::size_t i = 0; i < count; ++i) {
+    if (reply->elements[i].type == RedisReply::Type::kString) out[i] = reply->elements[i].text;
+  }
+  return out;
+}
+
+bool RedisJobStore::has_traces(const std::string& id) {
+  const auto replies = client_->pipeline(
+      {{"EXISTS", key(id, "rows"), key(id, "cancel")}, {"EXISTS", key(id, "removed")}});
+  return replies && (*replies)[0].type == RedisReply::Type::kInteger && (*replies)[0].integer > 0 &&
+         (*replies)[1].type == RedisReply::Type::kInteger && (*replies)[1].integer == 0;
+}
+
+std::vector<std::string> RedisJobStore::records_missing_among(const std::vector<std::string>& ids) {
+  std::vector<std::string> out;
+  if (ids.empty()) return out;
+  std::vector<std::vector<std::string>> asks;
+  asks.reserve(ids.size());
+  for (const std::string& id : ids)
+    asks.push_back({"EXISTS", key(id, "record"), key(id, "removed")});
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return out;  // unreachable: nothing is known missing
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const RedisReply& r = (*replies)[i];
+    if (r.type == RedisReply::Type::kInteger && r.integer == 0) out.push_back(ids[i]);
+  }
+  return out;
+}
+
+bool RedisJobStore::request_cancel(const std::string& id) {
+  return write(id, {{"SET", key(id, "cancel"), "1"}});
+}
+
+bool RedisJobStore::cancel_requested(const std::string& id) {
+  // A job removed through another replica (its record read as stale there) is cancelled too.
+  const auto reply = client_->command({"EXISTS", key(id, "cancel"), key(id, "removed")});
+  return reply && reply->type == RedisReply::Type::kInteger && reply->integer > 0;
+}
+
+std::optional<std::string> RedisJobStore::generation(std::int64_t set_ms) {
+  const std::string key = prefix_ + "generation";
+  const auto current = client_->command({"GET", key});
+  if (!current) return std::nullopt;
+  if (current->type == RedisReply::Type::kString) return current->text;
+  static thread_local std::mt19937_64 bits{std::random_device{}()};
+  const std::string mark = std::to_string(bits()) + ":" + std::to_string(set_ms);
+  // NX: when two replicas find it missing at once, both then read the one that was set first.
+  const auto replies = client_->pipeline({{"SET", key, mark, "NX"}, {"GET", key}});
+  if (!replies || (*replies)[1].type != RedisReply::Type::kString) return std::nullopt;
+  return (*replies)[1].text;
+}
+
+bool RedisJobStore::emptied_since_last_check() {
+  const std::lock_guard lock(mutex_);
+  const bool first = seen_generation_.empty();
+  const auto mark = generation(first ? 0 : unix_ms_now());
+  if (!mark) return false;
+  const bool changed = !first && *mark != seen_generation_;
+  seen_generation_ = *mark;
+  return changed;
+}
+
+bool RedisJobStore::recently_emptied() {
+  const auto reply = client_->command({"GET", prefix_ + "generation"});
+  if (!reply) return false;  // unreachable: answered as such elsewhere
+  if (reply->type != RedisReply::Type::kString) return true;
+  const std::size_t colon = reply->text.rfind(':');
+  const std::int64_t set_ms =
+      colon == std::string::npos ? 0 : std::atoll(reply->text.c_str() + colon + 1);
+  return set_ms > 0 && unix_ms_now() - set_ms < settle_ms_;
+}
+
+bool RedisJobStore::remove(const std::string& id) {
+  // The mark outlives the job's other keys by the TTL: the owner sees it at its next heartbeat
+  // and drops its own copy instead of publishing it again.
+  return write(id, {{"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel")},
+                    {"SET", key(id, "removed"), "1"}});
+}
+
+std::vector<std::string> RedisJobStore::removed_among(const std::vector<std::string>& ids) {
+  std::vector<std::string> out;
+  if (ids.empty()) return out;
+  std::vector<std::vector<std::string>> asks;
+  asks.reserve(ids.size());
+  for (const std::string& id : ids) asks.push_back({"EXISTS", key(id, "removed")});
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return out;
+  for (std::size_t i = 0; i < ids.size(); ++i) {
+    const RedisReply& r = (*replies)[i];
+    if (r.type == RedisReply::Type::kInteger && r.integer > 0) out.push_back(ids[i]);
+  }
+  return out;
+}
+
+}  // namespace slosh::service

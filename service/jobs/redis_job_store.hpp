@@ -1,0 +1,87 @@
+#pragma once
+// The job store on Redis (SPEC §13): batch jobs whose state any replica can read.
+//
+// Keys of job <id> (under the prefix, default "slosh:jobs:"): <id>:record (a string: the
+// record), <id>:rows (a hash: field = the row's index, value = the row; HSET
+// is idempotent, so a write retried after a timeout cannot duplicate a row), <id>:cancel (a string,
+// present once cancelling was asked), <id>:removed (a string, present once the job was removed:
+// its record then reads as missing even if its owner writes it again). Every write sets the time to
+// live of all three keys to `ttl` again, so a job is kept `ttl` after its last write: a running job
+// writes its progress and stays, a finished job (or one whose replica died) expires `ttl` after its
+// last record.
+
+#include <chrono>
+#include <cstdint>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "jobs/job_store.hpp"
+#include "storage/redis_client.hpp"
+
+namespace slosh::service {
+
+class RedisJobStore final : public JobStore {
+ public:
+  /// `ttl`: how long a job is kept after its last write (> 0); `prefix`: the keys' prefix.
+  /// `settle`: how long after an emptying a job the store does not know may be one that was
+  /// lost and is answered 503, not 404 (its owner republishes it at its next heartbeat, or when
+  /// it is running again after a pause: config batch_job_stale_s, past which its jobs read as
+  /// failed anyway).
+  RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::seconds ttl,
+                std::string prefix = "slosh:jobs:",
+                std::chrono::milliseconds settle = std::chrono::milliseconds(kSettleMs));
+
+  bool put_record(const std::string& id, const std::string& record) override;
+  [[nodiscard]] RecordLookup lookup_record(const std::string& id) override;
+  bool put_rows(const std::string& id, std::size_t first,
+                const std::vector<std::string>& rows) override;
+  [[nodiscard]] std::optional<std::vector<std::string>> rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) override;
+  /// One HMGET of the asked indexes (bounded by HLEN as rows()).
+  [[nodiscard]] std::optional<std::vector<std::optional<std::string>>> row_slots(
+      const std::string& id, std::size_t offset, std::size_t count) override;
+  /// The rows or cancel key exists (the removal mark does not).
+  [[nodiscard]] bool has_traces(const std::string& id) override;
+  [[nodiscard]] std::vector<std::string> records_missing_among(
+      const std::vector<std::string>& ids) override;
+  bool request_cancel(const std::string& id) override;
+  [[nodiscard]] bool cancel_requested(const std::string& id) override;
+  bool remove(const std::string& id) override;
+  [[nodiscard]] std::vector<std::string> removed_among(
+      const std::vector<std::string>& ids) override;
+  /// The generation mark (key <prefix>generation, "<token>:<unix ms set>") tells an emptied Redis
+  /// apart: missing, it is set again (unix ms 0 on this object's first look: a fresh Redis, not a
+  /// recent loss) and a new token means the store was emptied since the last look.
+  bool emptied_since_last_check() override;
+  /// The mark is missing or was set again less than `settle` ago.
+  [[nodiscard]] bool recently_emptied() override;
+  /// The default `settle` [ms]: the replicas republish their jobs at their next heartbeat (0.5 s).
+  static constexpr std::int64_t kSettleMs = 5000;
+  /// Whether the client believes Redis is up (its last command succeeded or backs off).
+  [[nodiscard]] bool reachable() const override { return client_->state().up; }
+
+  /// The Redis key of `part` (record, rows or cancel) of job `id`.
+  [[nodiscard]] std::string key(const std::string& id, const std::string& part) const {
+    return prefix_ + id + ":" + part;
+  }
+
+ private:
+  // Runs `commands` in MULTI ... EXEC with the TTL of the job's keys renewed; false on failure.
+  bool write(const std::string& id, std::vector<std::vector<std::string>> commands);
+
+  // The mark now, set (with `set_ms`) when missing; nullopt when Redis cannot be asked.
+  std::optional<std::string> generation(std::int64_t set_ms);
+
+  const std::shared_ptr<RedisClient> client_;
+  std::mutex mutex_;
+  std::string seen_generation_;  // the mark at the last look ("" before the first)
+  const std::string ttl_;        // seconds, as text
+  const std::string prefix_;
+  const std::int64_t settle_ms_;
+};
+
+}  // namespace slosh::service
