@@ -671,6 +671,87 @@ TEST(ClusterHostile, TheCliWaitsForAPausedOwnerInsteadOfCancellingItsJob) {
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 150) << test::read_file(dir / "stderr");
 }
 
+// `slosh batch --server A` while Redis is stalled (SIGSTOP): A refuses the job 503 with
+// Retry-After (B could not find it), the CLI posts it again after the Retry-After, and once Redis
+// runs again the one job it started writes the whole table.
+TEST(ClusterHostile, TheCliPostsItsJobAgainAfterARefusalWhileRedisIsStalled) {
+  Cluster cluster;
+  test::TempDir dir;
+  json table = recipes(20, 9000);
+  for (std::size_t i = 0; i < table.size(); ++i) table[i]["recipe_id"] = "r" + std::to_string(i);
+  test::write_file(dir / "t.json", table.dump());
+  test::write_file(dir / "stdin", "");
+  cluster.redis.pause();
+  struct Resume {
+    const test::RedisServer& redis;
+    ~Resume() { redis.resume(); }
+  } resume{cluster.redis};
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.json").string(), "--out", (dir / "o.jsonl").string(),
+                   "--server", cluster.replicas[0].url(), "--progress", "never"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  // A answered the CLI's POST 503 (its metrics count it), and started nothing.
+  ASSERT_TRUE(poll_until(20s, [&] {
+    return metric_of(cluster.replicas[0],
+                     "slosh_http_requests_total{route=\"/v1/batches\",status=\"503\"}") >= 1;
+  })) << test::read_file(dir / "stderr");
+  EXPECT_EQ(metric_of(cluster.replicas[0], "slosh_batch_jobs_active"), 0);
+  cluster.redis.resume();
+  const auto code = cli.wait_for(120s);
+  ASSERT_TRUE(code.has_value()) << "the CLI still runs";
+  EXPECT_EQ(*code, 0) << test::read_file(dir / "stderr");
+  const std::string out = test::read_file(dir / "o.jsonl");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 20) << test::read_file(dir / "stderr");
+  EXPECT_EQ(redis_keys(cluster.redis, "slosh:jobs:*:record").size(), 1u);
+}
+
+// Ctrl-C while the CLI posts its job again and again because Redis is stalled: it stops with exit
+// 130 saying why the job was not accepted, that nothing runs, and where its table (the header
+// only) is; once Redis runs again, no job of it is there.
+TEST(ClusterHostile, AnInterruptWhileRedisIsStalledSaysWhyAndWhereTheEmptyTableIs) {
+  Cluster cluster;
+  test::TempDir dir;
+  test::write_file(dir / "t.json", recipes(5, 9100).dump());
+  test::write_file(dir / "stdin", "");
+  cluster.redis.pause();
+  struct Resume {
+    const test::RedisServer& redis;
+    ~Resume() { redis.resume(); }
+  } resume{cluster.redis};
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.json").string(), "--out", (dir / "o.csv").string(),
+                   "--server", cluster.replicas[0].url(), "--progress", "never"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  ASSERT_TRUE(poll_until(20s, [&] {
+    return metric_of(cluster.replicas[0],
+                     "slosh_http_requests_total{route=\"/v1/batches\",status=\"503\"}") >= 1;
+  })) << test::read_file(dir / "stderr");
+  ::kill(cli.pid(), SIGINT);
+  const auto code = cli.wait_for(20s);
+  ASSERT_TRUE(code.has_value()) << "Ctrl-C did not end the run";
+  const std::string err = test::read_file(dir / "stderr");
+  EXPECT_EQ(*code, 130) << err;
+  EXPECT_NE(err.find("slosh batch: stopped after 0 of 5 recipes: interrupted before /v1/batches "
+                     "accepted the table (it answered HTTP 503: " +
+                     refused_post(cluster.redis, "no reply within 200 ms") +
+                     "); nothing was started on the service\n"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("slosh batch: the rows written so far are in " +
+                     (dir / "o.csv.partial").string() + " (none: it holds the header only)\n"),
+            std::string::npos)
+      << err;
+  const std::string partial = test::read_file(dir / "o.csv.partial");
+  EXPECT_EQ(std::count(partial.begin(), partial.end(), '\n'), 1) << partial;
+  EXPECT_EQ(partial.rfind("row,recipe_id,status,", 0), 0u) << partial;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.csv"));
+  cluster.redis.resume();
+  ASSERT_TRUE(
+      poll_until(20s, [&] { return !redis_keys(cluster.redis, "slosh:jobs:*:removed").empty(); }));
+  EXPECT_TRUE(redis_keys(cluster.redis, "slosh:jobs:*:record").empty());
+  EXPECT_EQ(metric_of(cluster.replicas[0], "slosh_batch_jobs_active"), 0);
+}
+
 // A finished job DELETEd through B is forgotten by its owner A too (which otherwise answered it
 // from its own copy), and a FLUSHALL afterwards does not bring it back with A's republishing.
 TEST(ClusterHostile, ADeleteThroughAnotherReplicaIsNotUndoneByTheOwner) {
