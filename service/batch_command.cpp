@@ -355,6 +355,13 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
     json record;
     try {
       record = job_record_of(client, job);
+    } catch (const BatchInterrupted&) {
+      throw;
+    } catch (const BatchAbort& e) {
+      // Ctrl-C ends the wait of a 503's Retry-After, which then answers the 503 (e.g. the
+      // replicas' Redis is down): still an interrupt, so that the job is cancelled if it can be.
+      if (interrupted) throw BatchInterrupted(e.what());
+      throw;
     } catch (const ServiceUnreachable& e) {
       const auto now = std::chrono::steady_clock::now();
       if (!silent_since) silent_since = now;
@@ -387,17 +394,28 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
 // After a stop (Ctrl-C, a failed job): cancels the job unless it has finished, waits a bounded
 // time for it to end and writes the rows it finished to `sink`, so that the .partial table holds
 // what the service did. Returns what happened, for the message: "cancelled", "had finished" or
-// "could not be cancelled" (the service did not answer). Any failure leaves the rows written so
-// far.
+// "could not be cancelled (why); it may still run: ..." (the service did not answer, or refused,
+// e.g. 503 while the replicas' Redis is down). Any failure leaves the rows written so far.
 std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
-  std::string outcome = "could not be cancelled";
+  const auto not_cancelled = [&](const std::string& why) {
+    return "could not be cancelled (" + why + "); it may still run: DELETE " + client.base_url() +
+           job.path() + " once the service answers";
+  };
+  std::string outcome = not_cancelled("no answer");
   try {
     // A job that finished before the stop is not cancelled: a DELETE would forget its rows.
     json record = job_record_of(client, job);
-    if (!is_final_state(record["state"].get<std::string>())) (void)client.del(job.path());
+    if (!is_final_state(record["state"].get<std::string>())) {
+      const HttpReply deleted = client.del(job.path());
+      if (deleted.status != 200 && deleted.status != 202) {
+        return not_cancelled(reply_problem(client, job.path(), deleted));
+      }
+    }
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (!is_final_state(record["state"].get<std::string>())) {
-      if (std::chrono::steady_clock::now() >= deadline) return outcome;
+      if (std::chrono::steady_clock::now() >= deadline) {
+        return not_cancelled("it had not stopped 10 s after its DELETE was accepted");
+      }
       std::this_thread::sleep_for(kJobPollInterval);
       record = job_record_of(client, job);
     }
@@ -409,7 +427,9 @@ std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink
     for (std::string line; std::getline(lines, line);) {
       if (!line.empty()) sink.write_row(json::parse(line));
     }
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
+    if (outcome.rfind("could not be cancelled", 0) == 0)
+      outcome = not_cancelled(without_hint(e.what()));
   }
   return outcome;
 }

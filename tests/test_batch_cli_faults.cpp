@@ -328,6 +328,41 @@ TEST(BatchCliFaults, AJobPostRefused503EveryTimeIsRetriedAfterItsRetryAfterThenG
   EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
 }
 
+// Ctrl-C while the job's progress is answered 503 (the replica asked cannot reach the replicas'
+// Redis): still an interrupt (exit 130), and since the job could not be cancelled the message
+// says so, why, and how to cancel it later; and where the (empty) table is.
+TEST(BatchCliFaults, AnInterruptWhileTheJobIsAnswered503SaysItCouldNotBeCancelledAndWhy) {
+  ScriptedService service;
+  service.record_503s = 1000;
+  service.record_state = "running";
+  Cli cli(service.url());
+  // The CLI's first progress poll was answered 503: it waits out the Retry-After.
+  const auto deadline = std::chrono::steady_clock::now() + 30s;
+  for (;;) {
+    {
+      const std::lock_guard lock(service.mutex);
+      if (service.record_gets >= 1) break;
+    }
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << cli.err();
+    std::this_thread::sleep_for(20ms);
+  }
+  ::kill(cli.child->pid(), SIGINT);
+  const auto code = cli.child->wait_for(30s);
+  ASSERT_TRUE(code.has_value()) << "Ctrl-C did not end the run";
+  EXPECT_EQ(*code, 130) << cli.err();
+  const std::string path = service.url() + "/v1/batches/" + kJobId;
+  EXPECT_NE(cli.err().find("slosh batch: stopped after 0 of 2 recipes: interrupted: batch job " +
+                           std::string(kJobId) + " could not be cancelled (" + path +
+                           " answered HTTP 503: m); it may still run: DELETE " + path +
+                           " once the service answers\n"),
+            std::string::npos)
+      << cli.err();
+  EXPECT_NE(cli.err().find("slosh batch: the rows written so far are in " +
+                           (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
+            std::string::npos)
+      << cli.err();
+}
+
 // A table with a recipe twice (and so one missing) is never written as complete.
 TEST(BatchCliFaults, AResultsTableWithADuplicatedRowIsRefusedNonZero) {
   ScriptedService service;
