@@ -355,13 +355,6 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
     json record;
     try {
       record = job_record_of(client, job);
-    } catch (const BatchInterrupted&) {
-      throw;
-    } catch (const BatchAbort& e) {
-      // Ctrl-C ends the wait of a 503's Retry-After, which then answers the 503 (e.g. the
-      // replicas' Redis is down): still an interrupt, so that the job is cancelled if it can be.
-      if (interrupted) throw BatchInterrupted(e.what());
-      throw;
     } catch (const ServiceUnreachable& e) {
       const auto now = std::chrono::steady_clock::now();
       if (!silent_since) silent_since = now;
@@ -377,6 +370,13 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
       sleep_unless_interrupted(backoff);
       backoff = std::min(backoff * 2, kJobPollBackoffMax);
       continue;
+    } catch (const BatchInterrupted&) {
+      throw;
+    } catch (const BatchAbort& e) {
+      // Ctrl-C ends the wait of a 503's Retry-After, which then answers the 503 (e.g. the
+      // replicas' Redis is down): still an interrupt, so that the job is cancelled if it can be.
+      if (interrupted) throw BatchInterrupted(e.what());
+      throw;
     }
     silent_since.reset();
     backoff = kJobPollInterval;
