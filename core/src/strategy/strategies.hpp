@@ -126,6 +126,13 @@ struct MultiStartResult {
 [[nodiscard]] StrategyOutcome solve_notch(const StrategyContext& context);
 [[nodiscard]] StrategyOutcome solve_multi_notch(const StrategyContext& context);
 [[nodiscard]] StrategyOutcome solve_min_jerk_band(const StrategyContext& context);
+/// Which of the n_band rows (and the exchange's points) min_jerk_band's band-constrained solves
+/// carry: kActive (the default) those that can be active near the current point, the rest
+/// checked at each solution and added when above their bound; kAll every row (the plain
+/// formulation, kept as the independent path the tests compare kActive against).
+enum class BandRowSelection { kActive, kAll };
+[[nodiscard]] StrategyOutcome solve_min_jerk_band(const StrategyContext& context,
+                                                  BandRowSelection rows);
 /// `seeds` are extra starts (the spectral optima), tried after the uniform law.
 [[nodiscard]] StrategyOutcome solve_time_domain(const StrategyContext& context,
                                                 const std::vector<Durations>& seeds);
