@@ -18,6 +18,8 @@ namespace {
 constexpr double kNotchDepth{1e-6};
 /// Random starts of the spectral strategies (after the uniform law and 4 symmetric families).
 constexpr int kSpectralRandomStarts{5};
+/// Random starts of notch in a row that find no lower optimum after which it stops.
+constexpr int kNotchPatience{2};
 /// Random starts of multi_notch (after the uniform law and 4 symmetric families): its objective
 /// has many basins on short moves (a 24-start reference found optima 4x lower than 10 starts).
 constexpr int kMultiNotchRandomStarts{8};
@@ -97,8 +99,8 @@ double weighted_power(const double* x, double* grad, const StrategyContext& c,
 
 // Minimise a weighted spectral power over the starts (limits as constraints).
 MultiStartResult minimise_power(const StrategyContext& c, const std::vector<double>& omegas,
-                                const std::vector<double>& weights,
-                                int random_starts = kSpectralRandomStarts) {
+                                const std::vector<double>& weights, int random_starts,
+                                const StartPolicy& policy) {
   NlpProblem p = c.space.problem();
   p.objective = [&c, omegas, weights](const double* x, double* grad) {
     return weighted_power(x, grad, c, omegas, weights);
@@ -106,7 +108,22 @@ MultiStartResult minimise_power(const StrategyContext& c, const std::vector<doub
   add_limits(p, c, 0, nullptr);
   NlpOptions options = spectral_options();
   options.stop_value = kExactZero;  // nothing is below an exact zero: the other starts can go
-  return multi_start(p, as_vectors(c.space.starts(random_starts)), c, options);
+  return multi_start(p, as_vectors(c.space.starts(random_starts)), c, options, policy);
+}
+
+/// The notch's multi-start: the deterministic starts (the uniform law and the symmetric
+/// families, or the warm start) all run; the random ones only while they keep finding lower
+/// optima (or, none feasible, less violation), and runs that reach an optimum found already are
+/// left there. On 300 random formats, half with random machine limits, this found every optimum
+/// the plain multi-start found with 48 % of its evaluations; the deterministic starts alone missed
+/// 4 in 150 by 0.4-2.6 %.
+StartPolicy notch_policy(const StrategyContext& c, StartUse uses) {
+  StartPolicy policy;
+  if (uses == StartUse::kEvery) return policy;
+  policy.leave_known_optima = true;
+  policy.optional_from = static_cast<int>(c.space.starts(0).size());
+  policy.patience = kNotchPatience;
+  return policy;
 }
 
 double jerk_objective(const double* x, double* grad, const StrategyContext& c) {
@@ -189,6 +206,10 @@ std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {
 }
 
 StrategyOutcome solve_notch(const StrategyContext& c) {
+  return solve_notch(c, StartUse::kEconomical);
+}
+
+StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   const double w1 = c.design_model.omega1();
   // Among the exact zeros of X(w1) (a 4-dimensional manifold of the 6 free durations), the one
   // with the least jerk integral: min int j^2 dt s.t. |Re X|, |Im X| <= kNotchDepth x_ref.
@@ -214,8 +235,8 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
       }
     }
   });
-  MultiStartResult m =
-      multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c, spectral_options());
+  MultiStartResult m = multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c,
+                                   spectral_options(), notch_policy(c, uses));
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
     o.detail =
@@ -225,7 +246,8 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
     return o;
   }
   // No zero reachable within the bounds and limits: the deepest notch instead.
-  MultiStartResult deepest = minimise_power(c, {w1}, {1.0});
+  MultiStartResult deepest =
+      minimise_power(c, {w1}, {1.0}, kSpectralRandomStarts, notch_policy(c, uses));
   deepest.evaluations += m.evaluations;
   deepest.starts += m.starts;
   StrategyOutcome o = outcome_from(deepest, c);
@@ -239,11 +261,18 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
 }
 
 StrategyOutcome solve_multi_notch(const StrategyContext& c) {
+  return solve_multi_notch(c, StartUse::kEconomical);
+}
+
+StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
   const double w1 = c.design_model.omega1();
   const double p_notch = c.p_notch;
   const std::vector<double> omegas{(1.0 - p_notch) * w1, w1, (1.0 + p_notch) * w1};
   const std::vector<double> weights(c.options.weights.begin(), c.options.weights.end());
-  const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts);
+  // Every start runs (its objective has many basins), each left once it reaches a known one.
+  StartPolicy policy;
+  policy.leave_known_optima = uses == StartUse::kEconomical;
+  const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts, policy);
   StrategyOutcome o = outcome_from(m, c);
   if (o.status != SolveStatus::kInfeasible) {
     Durations d = o.durations;
