@@ -78,17 +78,19 @@ void add_limits(NlpProblem& p, const StrategyContext& c, int first,
   };
 }
 
-// sum_i w_i |X(omega_i)|^2 / X_ref^2 and its gradient.
+// sum_i w_i |X(omega_i)|^2 / X_ref^2 and its gradient; the frequencies share the jerks and
+// their derivatives (spectrum_power_gradients), written into `powers` (reused between calls).
 double weighted_power(const double* x, double* grad, const StrategyContext& c,
-                      const std::vector<double>& omegas, const std::vector<double>& weights) {
+                      const std::vector<double>& omegas, const std::vector<double>& weights,
+                      std::vector<SpectrumPowerGradient>* powers) {
   Durations d;
   std::copy(x, x + kSegments, d.begin());
   const double scale = 1.0 / (c.x_ref * c.x_ref);
   double f = 0.0;
   if (grad != nullptr) std::fill(grad, grad + kSegments, 0.0);
+  spectrum_power_gradients(d, c.format.stroke, omegas, powers);
   for (std::size_t k = 0; k < omegas.size(); ++k) {
-    if (weights[k] == 0.0) continue;
-    const auto pg = spectrum_power_gradient(d, c.format.stroke, omegas[k]);
+    const SpectrumPowerGradient& pg = (*powers)[k];
     f += weights[k] * scale * pg.power;
     if (grad != nullptr) {
       for (std::size_t i = 0; i < kSegments; ++i) grad[i] += weights[k] * scale * pg.gradient[i];
@@ -102,8 +104,17 @@ MultiStartResult minimise_power(const StrategyContext& c, const std::vector<doub
                                 const std::vector<double>& weights, int random_starts,
                                 const StartPolicy& policy) {
   NlpProblem p = c.space.problem();
-  p.objective = [&c, omegas, weights](const double* x, double* grad) {
-    return weighted_power(x, grad, c, omegas, weights);
+  // The frequencies of zero weight contribute nothing: left out.
+  std::vector<double> used_omegas, used_weights;
+  for (std::size_t k = 0; k < omegas.size(); ++k) {
+    if (weights[k] == 0.0) continue;
+    used_omegas.push_back(omegas[k]);
+    used_weights.push_back(weights[k]);
+  }
+  p.objective = [&c, o = std::move(used_omegas), w = std::move(used_weights),
+                 powers = std::vector<SpectrumPowerGradient>()](const double* x,
+                                                                double* grad) mutable {
+    return weighted_power(x, grad, c, o, w, &powers);
   };
   add_limits(p, c, 0, nullptr);
   NlpOptions options = spectral_options();
