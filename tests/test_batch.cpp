@@ -17,10 +17,12 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cerrno>
 #include <charconv>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -965,6 +967,23 @@ TEST(BatchTableErrors, UnterminatedQuoteIsAMalformedTable) {
   EXPECT_EQ(r.err.substr(r.err.size() - tail.size()), tail) << r.err;
   EXPECT_FALSE(fs::exists(dir / "out.csv"));
   EXPECT_FALSE(fs::exists(dir / "out.csv.partial"));
+}
+
+// An output in a directory that does not exist: refused at once, naming the path and the OS's
+// reason, before any plan is solved (the cache file the run would fill is not even created).
+TEST(BatchTableErrors, AnOutputThatCannotBeCreatedIsRefusedNamingThePathAndWhyBeforeAnyWork) {
+  const TempDir dir;
+  write_file(dir / "in.csv", kSmallTable);
+  const std::string out = (dir / "missing" / "plans.csv").string();
+  const RunResult r = run_slosh({"batch", "--in", (dir / "in.csv").string(), "--out", out,
+                                 "--cache", (dir / "cache.sqlite").string()});
+  EXPECT_EQ(r.exit_code, 1) << r.err;
+  EXPECT_EQ(r.err, "slosh batch: cannot write the output table '" + out + "': creating '" + out +
+                       ".partial' (where it is written before it is renamed) failed: " +
+                       std::strerror(ENOENT) + "; nothing was planned\n");
+  EXPECT_EQ(r.out, "");
+  EXPECT_FALSE(fs::exists(dir / "missing"));
+  EXPECT_FALSE(fs::exists(dir / "cache.sqlite"));
 }
 
 TEST(BatchTableErrors, MissingInputFileAndBadOptions) {

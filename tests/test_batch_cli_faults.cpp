@@ -46,7 +46,9 @@ struct ScriptedService {
   bool hold_post{false};
   bool post_released{false};
   int record_503s{0};
-  int post_503s{0};  // POSTs answered 503 with Retry-After: 30 before the 202
+  int post_503s{0};  // POSTs answered 503 with Retry-After: post_retry_after before the 202
+  std::string post_retry_after{"30"};
+  std::vector<std::chrono::steady_clock::time_point> post_times;  // when each POST arrived
   int posts{0};
   bool forgotten{false};  // a DELETE of the finished job forgets it (its rows too), as the service
   bool record_hangs{false};          // GET of the record answers only when the service is destroyed
@@ -59,11 +61,12 @@ struct ScriptedService {
     server.Post("/v1/batches", [this](const httplib::Request&, httplib::Response& res) {
       std::unique_lock lock(mutex);
       post_arrived = true;
+      post_times.push_back(std::chrono::steady_clock::now());
       changed.notify_all();
       if (posts++ < post_503s) {
         res.status = 503;
-        res.set_header("Retry-After", "30");
-        res.set_content(R"({"error":{"code":"overloaded","message":"m"}})", "application/json");
+        res.set_header("Retry-After", post_retry_after);
+        res.set_content(R"({"error":{"code":"unavailable","message":"m"}})", "application/json");
         return;
       }
       changed.wait_for(lock, 30s, [this] { return !hold_post || post_released; });
@@ -273,6 +276,90 @@ TEST(BatchCliFaults, AnInterruptDuringA503WaitStopsBeforeAnotherPost) {
   const std::lock_guard lock(service.mutex);
   EXPECT_EQ(service.posts, 1) << cli.err();
   EXPECT_NE(cli.err().find("interrupted before /v1/batches accepted the table"), std::string::npos)
+      << cli.err();
+  // Why it had not been accepted, that nothing runs, and where the (empty) table is.
+  EXPECT_NE(cli.err().find("(it answered HTTP 503: m); nothing was started on the service\n"),
+            std::string::npos)
+      << cli.err();
+  EXPECT_NE(cli.err().find("slosh batch: the rows written so far are in " +
+                           (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
+            std::string::npos)
+      << cli.err();
+  EXPECT_EQ(read_file(cli.dir / "o.jsonl.partial"), "");
+}
+
+// A service that refuses the job 503 on every POST (its shared Redis stays down): the CLI posts
+// it again after each Retry-After (never sooner), then gives up with exit 1 saying how long it
+// tried and that no job was started, and leaves no output file.
+TEST(BatchCliFaults, AJobPostRefused503EveryTimeIsRetriedAfterItsRetryAfterThenGivenUp) {
+  ScriptedService service;
+  service.post_503s = 1000;
+  service.post_retry_after = "1";
+  Cli cli(service.url());
+  const auto code = cli.child->wait_for(120s);
+  ASSERT_TRUE(code.has_value()) << "the CLI still posts";
+  EXPECT_EQ(*code, 1) << cli.err();
+  const std::lock_guard lock(service.mutex);
+  ASSERT_EQ(service.posts, 31) << cli.err();
+  for (std::size_t i = 1; i < service.post_times.size(); ++i) {
+    EXPECT_GE(service.post_times[i] - service.post_times[i - 1], 1s) << "POST " << i + 1;
+  }
+  // The time the CLI reports spans its 31 POSTs: at least the 30 waits between their arrivals.
+  const auto waited = std::chrono::duration_cast<std::chrono::seconds>(service.post_times.back() -
+                                                                       service.post_times.front());
+  const std::string head = "slosh batch: stopped after 0 of 2 recipes: " + service.url() +
+                           "/v1/batches answered HTTP 503: m (still 503 after 31 tries over ";
+  const std::string tail = " s, each after its Retry-After; no job was started)\n";
+  const std::string err = cli.err();
+  const auto at = err.find(head);
+  ASSERT_NE(at, std::string::npos) << err;
+  const auto end = err.find(tail, at);
+  ASSERT_NE(end, std::string::npos) << err;
+  const std::string seconds = err.substr(at + head.size(), end - at - head.size());
+  ASSERT_FALSE(seconds.empty()) << err;
+  ASSERT_EQ(seconds.find_first_not_of("0123456789"), std::string::npos) << err;
+  EXPECT_GE(std::stoll(seconds), waited.count()) << err;
+  EXPECT_LE(std::stoll(seconds), waited.count() + 2) << err;
+  EXPECT_NE(err.find("slosh batch: the rows written so far are in " +
+                     (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
+            std::string::npos)
+      << err;
+  EXPECT_EQ(service.deletes.load(), 0);
+  EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
+}
+
+// Ctrl-C while the job's progress is answered 503 (the replica asked cannot reach the replicas'
+// Redis): still an interrupt (exit 130), and since the job could not be cancelled the message
+// says so, why, and how to cancel it later; and where the (empty) table is.
+TEST(BatchCliFaults, AnInterruptWhileTheJobIsAnswered503SaysItCouldNotBeCancelledAndWhy) {
+  ScriptedService service;
+  service.record_503s = 1000;
+  service.record_state = "running";
+  Cli cli(service.url());
+  // The CLI's first progress poll was answered 503: it waits out the Retry-After.
+  const auto deadline = std::chrono::steady_clock::now() + 30s;
+  for (;;) {
+    {
+      const std::lock_guard lock(service.mutex);
+      if (service.record_gets >= 1) break;
+    }
+    ASSERT_LT(std::chrono::steady_clock::now(), deadline) << cli.err();
+    std::this_thread::sleep_for(20ms);
+  }
+  ::kill(cli.child->pid(), SIGINT);
+  const auto code = cli.child->wait_for(30s);
+  ASSERT_TRUE(code.has_value()) << "Ctrl-C did not end the run";
+  EXPECT_EQ(*code, 130) << cli.err();
+  const std::string path = service.url() + "/v1/batches/" + kJobId;
+  EXPECT_NE(cli.err().find("slosh batch: stopped after 0 of 2 recipes: interrupted: batch job " +
+                           std::string(kJobId) + " could not be cancelled (" + path +
+                           " answered HTTP 503: m); it may still run: DELETE " + path +
+                           " once the service answers\n"),
+            std::string::npos)
+      << cli.err();
+  EXPECT_NE(cli.err().find("slosh batch: the rows written so far are in " +
+                           (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
+            std::string::npos)
       << cli.err();
 }
 

@@ -14,6 +14,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <optional>
@@ -381,22 +382,78 @@ TEST(ClusterHostile, AJobOfAnotherReplicaWhileRedisIsDownIsUnavailableNotUnknown
   EXPECT_EQ(get_json(a, "/v1/batches/" + id).value("state", ""), "done");
 }
 
+/// The keys of `redis` matching `pattern` (redis-cli KEYS), sorted.
+std::vector<std::string> redis_keys(const test::RedisServer& redis, const std::string& pattern) {
+  std::vector<std::string> keys;
+  const std::string command =
+      "redis-cli --raw -p " + std::to_string(redis.port()) + " keys '" + pattern + "'";
+  FILE* out = ::popen(command.c_str(), "r");
+  if (out == nullptr) {
+    ADD_FAILURE() << "cannot run " << command;
+    return keys;
+  }
+  char line[512];
+  while (std::fgets(line, sizeof line, out) != nullptr) {
+    std::string key(line);
+    while (!key.empty() && (key.back() == '\n' || key.back() == '\r')) key.pop_back();
+    if (!key.empty()) keys.push_back(key);
+  }
+  EXPECT_EQ(::pclose(out), 0) << command;
+  std::sort(keys.begin(), keys.end());
+  return keys;
+}
+
+/// The message of a POST /v1/batches refused because the shared job store did not take the
+/// job's first record; `why` is the Redis client's reason.
+std::string refused_post(const test::RedisServer& redis, const std::string& why) {
+  return "the shared job store (" + redis.url() + ") is unavailable: " + why +
+         "; the job was not started: POST it again later";
+}
+
+/// POSTs a job as a client honouring Retry-After does: a 503 (the owner's Redis client still
+/// backs off after a stall) must be the refusal naming the shared store, with Retry-After, and
+/// the POST is sent again after it. The job's id ("" on a failure, reported).
+std::string post_job_until_accepted(httplib::Client& c, const test::RedisServer& redis,
+                                    const json& requests) {
+  const std::string prefix = "the shared job store (" + redis.url() + ") is unavailable: ";
+  for (int attempt = 0; attempt < 30; ++attempt) {
+    const auto r = c.Post("/v1/batches", json{{"requests", requests}}.dump(), "application/json");
+    if (!r) break;
+    if (r->status == 202) return json::parse(r->body).at("id").get<std::string>();
+    if (r->status != 503) break;
+    const json error = json::parse(r->body).at("error");
+    const std::string message = error.value("message", "");
+    EXPECT_EQ(error.value("code", ""), "unavailable") << r->body;
+    EXPECT_EQ(message.rfind(prefix, 0), 0u) << r->body;
+    const std::string retry_after = r->get_header_value("Retry-After");
+    EXPECT_EQ(retry_after, "1") << r->body;
+    if (retry_after.empty()) break;
+    std::this_thread::sleep_for(std::chrono::seconds(std::stoi(retry_after)));
+  }
+  ADD_FAILURE() << "POST /v1/batches was not accepted after 30 tries";
+  return "";
+}
+
 // Redis paused (SIGSTOP) past the client's timeout and continued, several times while a job runs
 // on replica A: writes that timed out had landed and were sent again. B must answer the results
-// as the complete table (equal to A's own) or 503 with Retry-After, never with a row twice or
-// missing; its DELETE-free reads never see a wrong table.
-// Disabled while the defect it finds is open (2 runs in 8 on a quiet machine): a job posted to A
-// while A's Redis client backs off after a stall is written to A's own store only, and if it
-// finishes before A's next heartbeat republishes it, B finds no trace of it in Redis and answers
-// 404 "never existed" instead of 503. Run it with --gtest_also_run_disabled_tests.
-TEST(ClusterHostile, DISABLED_RedisStallsDuringAJobNeverYieldAWrongTable) {
+// as the complete table (equal to A's own), 409 while its view of the job is still running, or
+// 503 with Retry-After while its Redis client backs off; never a row twice or missing, and never
+// 404 for the job A accepted (a job is accepted only once its first record is in Redis: a POST
+// while A's client backs off after a stall is refused 503, and sent again after Retry-After).
+TEST(ClusterHostile, RedisStallsDuringAJobNeverYieldAWrongTable) {
   Cluster cluster;
   auto a = cluster.replicas[0].client();
   auto b = cluster.replicas[1].client();
   b.set_read_timeout(30s);
   for (int trial = 0; trial < 3; ++trial) {
-    const std::string id = post_job(a, recipes(40, 7000 + 100 * static_cast<std::size_t>(trial)));
+    const std::string id = post_job_until_accepted(
+        a, cluster.redis, recipes(40, 7000 + 100 * static_cast<std::size_t>(trial)));
     ASSERT_FALSE(id.empty());
+    // Accepted: B knows the job at once (or cannot ask Redis now), whatever A's state.
+    const auto known = b.Get("/v1/batches/" + id);
+    ASSERT_TRUE(known);
+    EXPECT_TRUE(known->status == 200 || known->status == 503)
+        << "trial " << trial << ": " << known->status << " " << known->body;
     for (int stall = 0; stall < 3; ++stall) {
       // Each stall starts once the job has progressed further: the writes it covers are rows.
       wait_progress(a, id, 5 + 10 * stall);
@@ -409,23 +466,69 @@ TEST(ClusterHostile, DISABLED_RedisStallsDuringAJobNeverYieldAWrongTable) {
     const auto own = a.Get("/v1/batches/" + id + "/results.csv");
     ASSERT_TRUE(own && own->status == 200);
     EXPECT_EQ(std::count(own->body.begin(), own->body.end(), '\n'), 41);
-    // B's view of the record may lag (the owner's last writes timed out and are republished at
-    // its next heartbeat): 409 "running" until then.
+    // B's view of the record lags while A's last writes wait for its next heartbeat (409
+    // "running"), and B's own Redis client may back off after the stall (503 with
+    // Retry-After): both end once Redis answers again, and then B's table is A's.
     std::optional<httplib::Response> other;
-    poll_until(20s, [&] {
+    const bool answered = poll_until(20s, [&] {
       const auto r = b.Get("/v1/batches/" + id + "/results.csv");
-      if (r) other = *r;
-      return !r || r->status != 409;
+      if (!r) return false;
+      other = *r;
+      if (r->status == 503) {
+        EXPECT_FALSE(r->get_header_value("Retry-After").empty()) << r->body;
+        EXPECT_EQ(json::parse(r->body).at("error").at("code"), "unavailable") << r->body;
+      }
+      return r->status != 409 && r->status != 503;
     });
-    ASSERT_TRUE(other);
-    if (other->status == 200) {
-      EXPECT_EQ(other->body, own->body) << "trial " << trial;
-    } else {
-      EXPECT_EQ(other->status, 503) << "trial " << trial << ": " << other->body;
-      EXPECT_FALSE(other->get_header_value("Retry-After").empty()) << other->body;
-      EXPECT_EQ(json::parse(other->body).at("error").at("code"), "unavailable") << other->body;
-    }
+    ASSERT_TRUE(other) << "trial " << trial << ": B never answered";
+    ASSERT_TRUE(answered) << "trial " << trial << ": " << other->status << " " << other->body;
+    EXPECT_EQ(other->status, 200) << "trial " << trial << ": " << other->body;
+    EXPECT_EQ(other->body, own->body) << "trial " << trial;
   }
+}
+
+// A job POSTed while Redis is stalled (SIGSTOP) cannot be put where the other replica finds it:
+// it is refused 503 with Retry-After naming the shared store and why, and nothing of it is left:
+// no job kept by A alone (which B would answer 404 for), and no record or rows in Redis once it
+// runs again (a write that timed out may land then: A removes it). A POST after the stall is
+// accepted and read through B.
+TEST(ClusterHostile, AJobPostedWhileRedisIsStalledIsRefused503AndLeavesNothingBehind) {
+  Cluster cluster;
+  auto a = cluster.replicas[0].client();
+  auto b = cluster.replicas[1].client();
+  ASSERT_TRUE(redis_keys(cluster.redis, "slosh:jobs:*:*").empty());
+  cluster.redis.pause();
+  const auto refused =
+      a.Post("/v1/batches", json{{"requests", recipes(3, 8000)}}.dump(), "application/json");
+  cluster.redis.resume();
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->get_header_value("Retry-After"), "1") << refused->body;
+  EXPECT_EQ(error_of(refused, 503),
+            json({{"code", "unavailable"},
+                  {"field", nullptr},
+                  {"message", refused_post(cluster.redis, "no reply within 200 ms")}}));
+  EXPECT_FALSE(refused->has_header("Location"));
+  // A tells Redis the refused job is removed at its next heartbeat once Redis answers (its mark
+  // is the one trace the refusal leaves): wait for it, then nothing else of the job is there.
+  ASSERT_TRUE(
+      poll_until(20s, [&] { return !redis_keys(cluster.redis, "slosh:jobs:*:removed").empty(); }));
+  const std::vector<std::string> marks = redis_keys(cluster.redis, "slosh:jobs:*:removed");
+  ASSERT_EQ(marks.size(), 1u);
+  const std::string refused_id = marks[0].substr(
+      std::string("slosh:jobs:").size(),
+      marks[0].size() - std::string("slosh:jobs:").size() - std::string(":removed").size());
+  ASSERT_EQ(refused_id.size(), 32u) << marks[0];
+  EXPECT_TRUE(redis_keys(cluster.redis, "slosh:jobs:*:record").empty());
+  EXPECT_TRUE(redis_keys(cluster.redis, "slosh:jobs:*:rows").empty());
+  // A kept nothing of it either: it does not answer for it, and publishes nothing of it again.
+  EXPECT_EQ(error_of(a.Get("/v1/batches/" + refused_id), 404).at("code"), "not_found");
+  const std::string id = post_job_until_accepted(a, cluster.redis, recipes(3, 8000));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(b, id).value("state", ""), "done");
+  EXPECT_EQ(redis_keys(cluster.redis, "slosh:jobs:*:record"),
+            std::vector<std::string>{"slosh:jobs:" + id + ":record"});
+  EXPECT_EQ(redis_keys(cluster.redis, "slosh:jobs:*:rows"),
+            std::vector<std::string>{"slosh:jobs:" + id + ":rows"});
 }
 
 // A row damaged in the shared store ("{}", or one naming another row) is not a result: the other
@@ -566,6 +669,87 @@ TEST(ClusterHostile, TheCliWaitsForAPausedOwnerInsteadOfCancellingItsJob) {
   EXPECT_EQ(*code, 0) << test::read_file(dir / "stderr");
   const std::string out = test::read_file(dir / "o.jsonl");
   EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 150) << test::read_file(dir / "stderr");
+}
+
+// `slosh batch --server A` while Redis is stalled (SIGSTOP): A refuses the job 503 with
+// Retry-After (B could not find it), the CLI posts it again after the Retry-After, and once Redis
+// runs again the one job it started writes the whole table.
+TEST(ClusterHostile, TheCliPostsItsJobAgainAfterARefusalWhileRedisIsStalled) {
+  Cluster cluster;
+  test::TempDir dir;
+  json table = recipes(20, 9000);
+  for (std::size_t i = 0; i < table.size(); ++i) table[i]["recipe_id"] = "r" + std::to_string(i);
+  test::write_file(dir / "t.json", table.dump());
+  test::write_file(dir / "stdin", "");
+  cluster.redis.pause();
+  struct Resume {
+    const test::RedisServer& redis;
+    ~Resume() { redis.resume(); }
+  } resume{cluster.redis};
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.json").string(), "--out", (dir / "o.jsonl").string(),
+                   "--server", cluster.replicas[0].url(), "--progress", "never"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  // A answered the CLI's POST 503 (its metrics count it), and started nothing.
+  ASSERT_TRUE(poll_until(20s, [&] {
+    return metric_of(cluster.replicas[0],
+                     "slosh_http_requests_total{route=\"/v1/batches\",status=\"503\"}") >= 1;
+  })) << test::read_file(dir / "stderr");
+  EXPECT_EQ(metric_of(cluster.replicas[0], "slosh_batch_jobs_active"), 0);
+  cluster.redis.resume();
+  const auto code = cli.wait_for(120s);
+  ASSERT_TRUE(code.has_value()) << "the CLI still runs";
+  EXPECT_EQ(*code, 0) << test::read_file(dir / "stderr");
+  const std::string out = test::read_file(dir / "o.jsonl");
+  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 20) << test::read_file(dir / "stderr");
+  EXPECT_EQ(redis_keys(cluster.redis, "slosh:jobs:*:record").size(), 1u);
+}
+
+// Ctrl-C while the CLI posts its job again and again because Redis is stalled: it stops with exit
+// 130 saying why the job was not accepted, that nothing runs, and where its table (the header
+// only) is; once Redis runs again, no job of it is there.
+TEST(ClusterHostile, AnInterruptWhileRedisIsStalledSaysWhyAndWhereTheEmptyTableIs) {
+  Cluster cluster;
+  test::TempDir dir;
+  test::write_file(dir / "t.json", recipes(5, 9100).dump());
+  test::write_file(dir / "stdin", "");
+  cluster.redis.pause();
+  struct Resume {
+    const test::RedisServer& redis;
+    ~Resume() { redis.resume(); }
+  } resume{cluster.redis};
+  test::Child cli(
+      test::spawn({"batch", "--in", (dir / "t.json").string(), "--out", (dir / "o.csv").string(),
+                   "--server", cluster.replicas[0].url(), "--progress", "never"},
+                  dir / "stdin", dir / "stdout", dir / "stderr"));
+  ASSERT_TRUE(poll_until(20s, [&] {
+    return metric_of(cluster.replicas[0],
+                     "slosh_http_requests_total{route=\"/v1/batches\",status=\"503\"}") >= 1;
+  })) << test::read_file(dir / "stderr");
+  ::kill(cli.pid(), SIGINT);
+  const auto code = cli.wait_for(20s);
+  ASSERT_TRUE(code.has_value()) << "Ctrl-C did not end the run";
+  const std::string err = test::read_file(dir / "stderr");
+  EXPECT_EQ(*code, 130) << err;
+  EXPECT_NE(err.find("slosh batch: stopped after 0 of 5 recipes: interrupted before /v1/batches "
+                     "accepted the table (it answered HTTP 503: " +
+                     refused_post(cluster.redis, "no reply within 200 ms") +
+                     "); nothing was started on the service\n"),
+            std::string::npos)
+      << err;
+  EXPECT_NE(err.find("slosh batch: the rows written so far are in " +
+                     (dir / "o.csv.partial").string() + " (none: it holds the header only)\n"),
+            std::string::npos)
+      << err;
+  const std::string partial = test::read_file(dir / "o.csv.partial");
+  EXPECT_EQ(std::count(partial.begin(), partial.end(), '\n'), 1) << partial;
+  EXPECT_EQ(partial.rfind("row,recipe_id,status,", 0), 0u) << partial;
+  EXPECT_FALSE(std::filesystem::exists(dir / "o.csv"));
+  cluster.redis.resume();
+  ASSERT_TRUE(
+      poll_until(20s, [&] { return !redis_keys(cluster.redis, "slosh:jobs:*:removed").empty(); }));
+  EXPECT_TRUE(redis_keys(cluster.redis, "slosh:jobs:*:record").empty());
+  EXPECT_EQ(metric_of(cluster.replicas[0], "slosh_batch_jobs_active"), 0);
 }
 
 // A finished job DELETEd through B is forgotten by its owner A too (which otherwise answered it

@@ -239,6 +239,41 @@ TEST(TieredJobStore, AWriteThatLandedButReportedFailureIsNotDuplicatedWhenSentAg
   EXPECT_EQ(owner.rows("job", 0, 10), (Rows{"r0", "r1", "r2", "r3"}));
 }
 
+// A job is created only once the shared store took its first record: while it is down the job
+// is refused and kept nowhere (another replica would not find it), and created once it is up.
+TEST(TieredJobStore, AJobTheSharedStoreCannotTakeIsNotCreatedAnywhere) {
+  MemoryJobStore local;
+  SwitchableStore shared;
+  TieredJobStore owner(local, shared);
+  shared.down = true;
+  EXPECT_EQ(owner.create("job", "v1"), "the job store did not take the job's record");
+  EXPECT_EQ(local.record("job"), std::nullopt);
+  EXPECT_TRUE(local.ids().empty());
+  shared.down = false;
+  owner.resync();
+  EXPECT_EQ(shared.inner.record("job"), std::nullopt);  // nothing published later either
+  EXPECT_EQ(owner.create("job2", "v1"), std::nullopt);
+  EXPECT_EQ(local.record("job2"), "v1");
+  EXPECT_EQ(shared.inner.record("job2"), "v1");
+}
+
+// The first record's write timed out but landed (Redis stalled, then continued): the refused
+// job is removed from the shared store at the next resync, not left there as a queued job that
+// never runs.
+TEST(TieredJobStore, ARefusedCreateThatLandedIsRemovedFromTheSharedStoreAtTheNextResync) {
+  MemoryJobStore local;
+  LandsButFailsStore shared;
+  TieredJobStore owner(local, shared);
+  shared.lie = true;
+  ASSERT_TRUE(owner.create("job", "v1"));
+  EXPECT_EQ(shared.inner.record("job"), "v1");  // landed
+  EXPECT_EQ(local.record("job"), std::nullopt);
+  shared.lie = false;
+  owner.resync();
+  EXPECT_EQ(shared.inner.record("job"), std::nullopt);
+  EXPECT_TRUE(local.ids().empty());
+}
+
 // What a shared store (Redis) holds, seen by several replicas' RecordingStores.
 struct SharedState {
   MemoryJobStore inner;

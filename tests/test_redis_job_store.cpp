@@ -8,6 +8,7 @@
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "jobs/job_store.hpp"
@@ -134,6 +135,39 @@ TEST(RedisJobStore, ARecordRedisDidNotAnswerForIsNotReadAsMissing) {
   redis.resume();
   EXPECT_FALSE(stalled.answered);
   EXPECT_FALSE(stalled.text);
+}
+
+// A job is created only when Redis takes its first record: a stalled Redis (SIGSTOP) or one
+// refusing writes (maxmemory reached, noeviction) makes create() name the store and why, and a
+// Redis that answers creates it.
+TEST(RedisJobStore, ACreateRedisDoesNotTakeIsRefusedNamingTheStoreAndWhy) {
+  RedisServer redis({"--maxmemory-policy", "noeviction"});
+  RedisJobStore store(client_of(redis), 3600s);
+  EXPECT_EQ(store.create("j", "r"), std::nullopt);
+  EXPECT_EQ(store.record("j"), "r");
+  redis.pause();
+  const std::optional<std::string> stalled = store.create("k", "r");
+  redis.resume();
+  EXPECT_EQ(stalled,
+            "the shared job store (" + redis.url() + ") is unavailable: no reply within 200 ms");
+  // Redis at its memory limit refuses the write inside MULTI: its own error is the reason.
+  auto admin = client_of(redis);
+  std::optional<slosh::service::RedisReply> set;
+  for (int i = 0; i < 50 && !(set && set->type == slosh::service::RedisReply::Type::kStatus); ++i) {
+    std::this_thread::sleep_for(100ms);  // the client probes again after its retry interval
+    set = admin->command({"CONFIG", "SET", "maxmemory", "1"});
+  }
+  ASSERT_TRUE(set && set->type == slosh::service::RedisReply::Type::kStatus);
+  std::optional<std::string> full;
+  for (int i = 0; i < 50; ++i) {  // store's client: up again after its retry interval
+    full = store.create("m", "r");
+    if (full && full->find("no reply") == std::string::npos) break;
+    std::this_thread::sleep_for(100ms);
+  }
+  EXPECT_EQ(full, "the shared job store (" + redis.url() +
+                      ") is unavailable: Redis refused the write: OOM command not allowed when "
+                      "used memory > 'maxmemory'.");
+  (void)admin->command({"CONFIG", "SET", "maxmemory", "0"});
 }
 
 // Only a nil reply means "no such record". A WRONGTYPE error (the key holds a hash) is not read

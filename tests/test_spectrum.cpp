@@ -6,6 +6,8 @@
 #include <cmath>
 #include <complex>
 #include <numbers>
+#include <random>
+#include <vector>
 
 #include "slosh/core/response/spectrum.hpp"
 #include "support/fixtures.hpp"
@@ -184,6 +186,46 @@ TEST(Spectrum, PiecewiseClosedFormMatchesQuadratureOnGeneralLaws) {
       EXPECT_LT(std::abs(closed - gauss), 1e-14 * (std::abs(gauss) + l1))
           << law.name() << " w = " << w;
       EXPECT_LT(std::abs(closed - simpson), 1e-9 * scale) << law.name() << " w = " << w;
+    }
+  }
+}
+
+// The band checks' grid evaluation (one complex rotation per point and switch time) against the
+// long-double closed form at every point, on seeded random laws and grids on both sides of the
+// omega T = 8 switch: within 1e-13 of the jerk-jump terms' scale sum |w_i| / omega^2.
+TEST(Spectrum, GridMagnitudesMatchTheLongDoubleClosedForm) {
+  std::mt19937_64 rng(4242);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 40; ++trial) {
+    Durations d;
+    double sum = 0.0;
+    for (double& di : d) {
+      di = 0.02 + u(rng);
+      sum += di;
+    }
+    const double T = 0.2 + 2.0 * u(rng);
+    for (double& di : d) di *= T / sum;
+    const double stroke = 0.1 + u(rng);
+    // omega T from 2 to 200 at the first point, 801 points over +-(5..30) %.
+    const double w1 = (2.0 + 198.0 * u(rng)) / T;
+    const double band = 0.05 + 0.25 * u(rng);
+    const std::size_t count = 801;
+    const double lo = (1.0 - band) * w1;
+    const double step = 2.0 * band * w1 / static_cast<double>(count - 1);
+    std::vector<double> got;
+    seven_segment_magnitudes(d, stroke, lo, step, count, &got);
+    ASSERT_EQ(got.size(), count);
+    std::array<long double, 7> dl{};
+    for (std::size_t i = 0; i < 7; ++i) dl[i] = d[i];
+    const SevenSegmentLaw law(d, stroke);
+    const double jerk_scale =
+        2.0 * (law.A() / d[0] + law.A() / d[2] + law.B() / d[4] + law.B() / d[6]);
+    for (std::size_t k = 0; k < count; ++k) {
+      const long double w = static_cast<long double>(lo) + static_cast<long double>(step) * k;
+      const double exact = static_cast<double>(
+          std::abs(seven_segment_spectrum<long double>(dl, static_cast<long double>(stroke), w)));
+      const double scale = jerk_scale / static_cast<double>(w * w);
+      ASSERT_NEAR(got[k], exact, 1e-13 * scale) << "trial " << trial << ", point " << k;
     }
   }
 }

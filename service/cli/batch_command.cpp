@@ -1,9 +1,11 @@
 #include "cli/batch_command.hpp"
 
 #include <algorithm>
+#include <cerrno>
 #include <chrono>
 #include <csignal>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <functional>
@@ -188,7 +190,11 @@ HttpReply post_retrying_503(HttpClient& client, const std::string& path, const s
   if (interrupted) throw BatchAbort("interrupted before " + path + " accepted the table");
   HttpReply reply = retrying_503([&] { return client.post_json(path, body); });
   if (reply.status == 503 && interrupted) {
-    throw BatchAbort("interrupted before " + path + " accepted the table");
+    // Say why it had not been accepted (e.g. the replicas' Redis is down) and that nothing runs.
+    std::string why = "HTTP 503";
+    if (const std::string m = api::envelope_message(reply.body); !m.empty()) why += ": " + m;
+    throw BatchAbort("interrupted before " + path + " accepted the table (it answered " + why +
+                     "); nothing was started on the service");
   }
   return reply;
 }
@@ -364,6 +370,13 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
       sleep_unless_interrupted(backoff);
       backoff = std::min(backoff * 2, kJobPollBackoffMax);
       continue;
+    } catch (const BatchInterrupted&) {
+      throw;
+    } catch (const BatchAbort& e) {
+      // Ctrl-C ends the wait of a 503's Retry-After, which then answers the 503 (e.g. the
+      // replicas' Redis is down): still an interrupt, so that the job is cancelled if it can be.
+      if (interrupted) throw BatchInterrupted(e.what());
+      throw;
     }
     silent_since.reset();
     backoff = kJobPollInterval;
@@ -381,17 +394,28 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
 // After a stop (Ctrl-C, a failed job): cancels the job unless it has finished, waits a bounded
 // time for it to end and writes the rows it finished to `sink`, so that the .partial table holds
 // what the service did. Returns what happened, for the message: "cancelled", "had finished" or
-// "could not be cancelled" (the service did not answer). Any failure leaves the rows written so
-// far.
+// "could not be cancelled (why); it may still run: ..." (the service did not answer, or refused,
+// e.g. 503 while the replicas' Redis is down). Any failure leaves the rows written so far.
 std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink& sink) {
-  std::string outcome = "could not be cancelled";
+  const auto not_cancelled = [&](const std::string& why) {
+    return "could not be cancelled (" + why + "); it may still run: DELETE " + client.base_url() +
+           job.path() + " once the service answers";
+  };
+  std::string outcome = not_cancelled("no answer");
   try {
     // A job that finished before the stop is not cancelled: a DELETE would forget its rows.
     json record = job_record_of(client, job);
-    if (!is_final_state(record["state"].get<std::string>())) (void)client.del(job.path());
+    if (!is_final_state(record["state"].get<std::string>())) {
+      const HttpReply deleted = client.del(job.path());
+      if (deleted.status != 200 && deleted.status != 202) {
+        return not_cancelled(reply_problem(client, job.path(), deleted));
+      }
+    }
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(10);
     while (!is_final_state(record["state"].get<std::string>())) {
-      if (std::chrono::steady_clock::now() >= deadline) return outcome;
+      if (std::chrono::steady_clock::now() >= deadline) {
+        return not_cancelled("it had not stopped 10 s after its DELETE was accepted");
+      }
       std::this_thread::sleep_for(kJobPollInterval);
       record = job_record_of(client, job);
     }
@@ -403,7 +427,9 @@ std::string save_finished_rows(HttpClient& client, const RemoteJob& job, RowSink
     for (std::string line; std::getline(lines, line);) {
       if (!line.empty()) sink.write_row(json::parse(line));
     }
-  } catch (const std::exception&) {
+  } catch (const std::exception& e) {
+    if (outcome.rfind("could not be cancelled", 0) == 0)
+      outcome = not_cancelled(without_hint(e.what()));
   }
   return outcome;
 }
@@ -418,6 +444,7 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
   if (in.view) body["view"] = options.full ? std::string("full") : *options.view;
   // Ctrl-C only sets `interrupted` (the handler is installed before the table is read): a job
   // the POST creates is then DELETEd as soon as its id is known.
+  const auto posting = std::chrono::steady_clock::now();
   const HttpReply posted = post_retrying_503(client, "/v1/batches", api::dump_json(body));
   if (posted.status == 404 || posted.status == 405 || posted.status == 413) {
     if (posted.status == 413) {
@@ -426,6 +453,16 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
                 << options.chunk << " to /v1/plans/batch\n";
     }
     return false;
+  }
+  if (posted.status == 503) {
+    // Still refused after every retry (e.g. the replicas' shared Redis is down: a job is only
+    // accepted once every replica can find it). Nothing was started on the service.
+    const auto waited =
+        std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - posting)
+            .count();
+    throw BatchAbort(reply_problem(client, "/v1/batches", posted) + " (still 503 after " +
+                     std::to_string(kServerRetries + 1) + " tries over " + std::to_string(waited) +
+                     " s, each after its Retry-After; no job was started)");
   }
   if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
   // A job's calls are short (a record, a cancel): a service that does not answer within this
@@ -749,10 +786,16 @@ std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInp
 class BatchOutput {
  public:
   explicit BatchOutput(const std::string& out) : out_(out), partial_(out + ".partial") {
-    if (!to_stdout()) file_.open(partial_, std::ios::binary | std::ios::trunc);
+    if (to_stdout()) return;
+    errno = 0;
+    file_.open(partial_, std::ios::binary | std::ios::trunc);
+    if (!file_) open_error_ = errno != 0 ? std::strerror(errno) : "it cannot be opened";
   }
   [[nodiscard]] bool to_stdout() const { return out_ == "-"; }
   [[nodiscard]] bool opened() const { return to_stdout() || static_cast<bool>(file_); }
+  /// Why the partial file could not be created (the OS's reason), when !opened().
+  [[nodiscard]] const std::string& open_error() const { return open_error_; }
+  [[nodiscard]] const std::string& out() const { return out_; }
   [[nodiscard]] const std::string& partial() const { return partial_; }
   std::ostream& stream() { return to_stdout() ? std::cout : file_; }
   /// Closes and renames the partial file; false (after a message) when it cannot.
@@ -771,6 +814,7 @@ class BatchOutput {
   std::string out_;
   std::string partial_;
   std::ofstream file_;
+  std::string open_error_;
 };
 
 int run_min_time_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutput& output) {
@@ -812,7 +856,12 @@ int run_plan_mode(const BatchCommandOptions& options, BatchInput& in, BatchOutpu
     std::cerr << "slosh batch: stopped after " << sink.written() << " of " << in.rows.size()
               << " recipes: " << e.what() << '\n';
     if (!output.to_stdout()) {
-      std::cerr << "slosh batch: the rows written so far are in " << output.partial() << '\n';
+      std::cerr << "slosh batch: the rows written so far are in " << output.partial();
+      if (sink.written() == 0) {
+        std::cerr << (in.out_format == TableFormat::kCsv ? " (none: it holds the header only)"
+                                                         : " (none: it is empty)");
+      }
+      std::cerr << '\n';
     }
     return interrupted ? kExitInterrupted : kExitFailure;
   }
@@ -838,9 +887,13 @@ int run_batch_command(const BatchCommandOptions& options) {
   if (!options.server.empty()) interrupt.emplace();
   BatchInput in;
   if (auto exit_code = read_batch_input(options, in)) return *exit_code;
+  // Before any plan is solved or posted: a table that cannot be written is not computed.
   BatchOutput output(options.out);
   if (!output.opened()) {
-    std::cerr << "slosh batch: cannot write '" << output.partial() << "'\n";
+    std::cerr << "slosh batch: cannot write the output table '" << output.out() << "': creating '"
+              << output.partial()
+              << "' (where it is written before it is renamed) failed: " << output.open_error()
+              << "; nothing was planned\n";
     return kExitFailure;
   }
   return options.mode == "min_time" ? run_min_time_mode(options, in, output)

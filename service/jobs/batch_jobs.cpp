@@ -297,12 +297,16 @@ void BatchJobs::mark_stale_unless_here(nlohmann::json& record, const std::string
   mark_if_stale(record, unix_ms_now(), service_.config().batch_job_stale_s);
 }
 
-bool BatchJobs::write_record(Job& job) {
+std::string BatchJobs::record_text(Job& job) {
   json record = job_record(job.status, unix_ms_now());
   // A DELETE on this replica sets the job's flag from another thread: a queued job's record says
   // so at once, not only once the runner has taken the job.
   if (job.cancel) record["cancel_requested"] = true;
-  return store_.put_record(job.status.id, api::dump_json(record));
+  return api::dump_json(record);
+}
+
+bool BatchJobs::write_record(Job& job) {
+  return store_.put_record(job.status.id, record_text(job));
 }
 
 Reply BatchJobs::post(const std::string& text) {
@@ -342,7 +346,12 @@ Reply BatchJobs::post(const std::string& text) {
       // Rendered before the runner can see the job (it owns the status from then on).
       reply = json_reply(202, job_record(job->status, unix_ms_now()));
       reply.headers.emplace_back("Location", "/v1/batches/" + job->status.id);
-      write_record(*job);
+      // Accepted only once every replica can find it: with a shared store down, another replica
+      // would answer 404 for a job this one runs (until its next heartbeat published it).
+      if (auto refused = store_.create(job->status.id, record_text(*job))) {
+        throw api::ApiError(api::ErrorCode::kUnavailable, "",
+                            *refused + "; the job was not started: POST it again later");
+      }
       active_[job->status.id] = job;
       queue_.push_back(job);
     }

@@ -51,7 +51,9 @@ class BatchJobs {
   BatchJobs& operator=(const BatchJobs&) = delete;
 
   /// POST /v1/batches: 202 with the record and Location: /v1/batches/{id}; 422 for a bad body
-  /// or more than batch_job_max recipes; 503 when batch_jobs_max jobs are queued or running here.
+  /// or more than batch_job_max recipes; 503 when batch_jobs_max jobs are queued or running here,
+  /// and 503 (unavailable, naming the store and why) when the job's first record cannot be
+  /// written where every replica reads it (a shared Redis store down): nothing of it is kept.
   Reply post(const std::string& body);
   /// GET /v1/batches/{id}: the record, with "results" (a page of rows) once it is finished.
   Reply get(const std::string& id, const JobPageQuery& query);
@@ -87,6 +89,8 @@ class BatchJobs {
   void flush(Job& job, std::vector<std::string>& rows);
   // Ends `job` in `state` with `message`: its rows and final record stored.
   void finish(Job& job, const std::string& state, const std::string& message);
+  // The job's record as stored (JSON text), and its write.
+  static std::string record_text(Job& job);
   bool write_record(Job& job);
   // 503 (overloaded) when stopping or batch_jobs_max jobs are queued or running here.
   void check_capacity() const;

@@ -20,6 +20,18 @@ class JobStore {
   /// Writes the record of job `id`, replacing the previous one (a new job's first write creates
   /// it). False when the store could not be written (the caller keeps its own copy).
   virtual bool put_record(const std::string& id, const std::string& record) = 0;
+  /// Creates job `id` with its first record, where every replica that reads this store finds it:
+  /// a shared store (or the shared level of a tiered one) must take the record, else the job is
+  /// not created and nothing of it is kept, so that no replica ever answers 404 for a job that
+  /// was accepted. nullopt once created; else why not, a sentence naming the store, e.g. "the
+  /// shared job store (redis://127.0.0.1:6379/0) is unavailable: no reply within 200 ms".
+  /// Default: put_record().
+  [[nodiscard]] virtual std::optional<std::string> create(const std::string& id,
+                                                          const std::string& record) {
+    if (put_record(id, record)) return std::nullopt;
+    return std::string("the job store did not take the job's record");
+  }
+
   /// The record of job `id` and whether the store answered at all. A shared store that is
   /// down, slow or has every connection busy, or answered something that is not a record, did
   /// not answer: the job may run on another replica, so the caller must not read the missing

@@ -156,6 +156,19 @@ bool TieredJobStore::put_record(const std::string& id, const std::string& record
   return local || shared;
 }
 
+std::optional<std::string> TieredJobStore::create(const std::string& id,
+                                                  const std::string& record) {
+  if (auto refused = shared_.create(id, record)) {
+    // Nobody learns the id of a refused job, but a write that timed out may land once Redis
+    // runs again: its record would then sit there as a queued job that never runs.
+    const std::lock_guard lock(mutex_);
+    remember(id, true, false);
+    return refused;
+  }
+  (void)local_.put_record(id, record);  // a memory store: never fails
+  return std::nullopt;
+}
+
 bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
                               const std::vector<std::string>& rows) {
   const bool local = local_.put_rows(id, first, rows);

@@ -83,7 +83,8 @@ class MemoryJobStore final : public JobStore {
 };
 
 /// A local store in front of a shared one. Writes go to both; reads ask the local store first,
-/// then the shared one. A write succeeds when the local store took it. A job whose write to the
+/// then the shared one. A job is created (create()) only once the shared store took its first
+/// record; later writes succeed when the local store took them. A job whose write to the
 /// shared store failed is "unsynced": its later records and rows go to the local store only, and
 /// resync() sends the shared store what it misses (the rows in chunks, then the latest record),
 /// so the shared copy never has a gap and nothing is sent twice.
@@ -93,6 +94,12 @@ class TieredJobStore final : public JobStore {
   TieredJobStore(JobStore& local, JobStore& shared) : local_(local), shared_(shared) {}
 
   bool put_record(const std::string& id, const std::string& record) override;
+  /// The shared store first: a job it did not take is refused (its reason returned) and kept
+  /// nowhere, so that another replica never answers 404 for a job this one accepted. The write
+  /// may have landed although it failed (a timeout): the job is removed from the shared store
+  /// once it answers again (as remove() of a job the shared store did not take).
+  [[nodiscard]] std::optional<std::string> create(const std::string& id,
+                                                  const std::string& record) override;
   [[nodiscard]] RecordLookup lookup_record(const std::string& id) override;
   bool put_rows(const std::string& id, std::size_t first,
                 const std::vector<std::string>& rows) override;

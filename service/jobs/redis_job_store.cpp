@@ -17,22 +17,42 @@ RedisJobStore::RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::s
       prefix_(std::move(prefix)),
       settle_ms_(settle.count()) {}
 
-bool RedisJobStore::write(const std::string& id, std::vector<std::vector<std::string>> commands) {
+std::string RedisJobStore::write_failure(const std::string& id,
+                                         std::vector<std::vector<std::string>> commands) {
   commands.insert(commands.begin(), {"MULTI"});
   for (const char* part : {"record", "rows", "cancel", "removed"}) {
     commands.push_back({"EXPIRE", key(id, part), ttl_});
   }
   commands.push_back({"EXEC"});
   const auto replies = client_->pipeline(commands);
-  if (!replies) return false;
+  if (!replies) {
+    const std::string error = client_->state().error;
+    return error.empty() ? "no reply" : error;
+  }
   const RedisReply& exec = replies->back();
-  if (exec.type != RedisReply::Type::kArray) return false;  // aborted (EXECABORT) or refused
-  return std::none_of(exec.elements.begin(), exec.elements.end(),
-                      [](const RedisReply& r) { return r.is_error(); });
+  if (exec.type != RedisReply::Type::kArray) {  // aborted (EXECABORT) or refused
+    // The reason is the first error of the queued commands (e.g. OOM under maxmemory), else
+    // EXEC's own.
+    for (const RedisReply& r : *replies) {
+      if (r.is_error()) return "Redis refused the write: " + r.text;
+    }
+    return "Redis refused the write (EXEC answered no results)";
+  }
+  for (const RedisReply& r : exec.elements) {
+    if (r.is_error()) return "Redis refused the write: " + r.text;
+  }
+  return "";
 }
 
 bool RedisJobStore::put_record(const std::string& id, const std::string& record) {
   return write(id, {{"SET", key(id, "record"), record}});
+}
+
+std::optional<std::string> RedisJobStore::create(const std::string& id, const std::string& record) {
+  const std::string failure = write_failure(id, {{"SET", key(id, "record"), record}});
+  if (failure.empty()) return std::nullopt;
+  return "the shared job store (" + client_->options().url.display() +
+         ") is unavailable: " + failure;
 }
 
 JobStore::RecordLookup RedisJobStore::lookup_record(const std::string& id) {

@@ -35,6 +35,11 @@ class RedisJobStore final : public JobStore {
                 std::chrono::milliseconds settle = std::chrono::milliseconds(kSettleMs));
 
   bool put_record(const std::string& id, const std::string& record) override;
+  /// put_record(); on failure "the shared job store (<url>) is unavailable: <why>" (the client's
+  /// last failure, or Redis's error reply). A write that timed out may still land later: the
+  /// caller removes the job once Redis answers again (TieredJobStore does).
+  [[nodiscard]] std::optional<std::string> create(const std::string& id,
+                                                  const std::string& record) override;
   [[nodiscard]] RecordLookup lookup_record(const std::string& id) override;
   bool put_rows(const std::string& id, std::size_t first,
                 const std::vector<std::string>& rows) override;
@@ -71,7 +76,11 @@ class RedisJobStore final : public JobStore {
 
  private:
   // Runs `commands` in MULTI ... EXEC with the TTL of the job's keys renewed; false on failure.
-  bool write(const std::string& id, std::vector<std::vector<std::string>> commands);
+  bool write(const std::string& id, std::vector<std::vector<std::string>> commands) {
+    return write_failure(id, std::move(commands)).empty();
+  }
+  // write(): "" on success, else why it failed (the client's last failure or Redis's error).
+  std::string write_failure(const std::string& id, std::vector<std::vector<std::string>> commands);
 
   // The mark now, set (with `set_ms`) when missing; nullopt when Redis cannot be asked.
   std::optional<std::string> generation(std::int64_t set_ms);

@@ -1,5 +1,6 @@
 #include "slosh/core/response/spectrum.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "response/sincos.hpp"
@@ -79,6 +80,46 @@ template std::complex<double> seven_segment_spectrum(const std::array<double, kS
                                                      double);
 template std::complex<long double> seven_segment_spectrum(const std::array<long double, kSegments>&,
                                                           long double, long double);
+
+void seven_segment_magnitudes(const Durations& d, double stroke, double omega0, double step,
+                              std::size_t count, std::vector<double>* out) {
+  constexpr std::size_t kRefresh{32};
+  out->resize(count);
+  if (count == 0) return;
+  double total = 0.0;
+  for (double di : d) total += di;
+  const double first = std::min(omega0, omega0 + step * static_cast<double>(count - 1));
+  if (!(first > 0.0 && first * total >= 8.0)) {
+    for (std::size_t k = 0; k < count; ++k) {
+      (*out)[k] =
+          std::abs(seven_segment_spectrum(d, stroke, omega0 + step * static_cast<double>(k)));
+    }
+    return;
+  }
+  // The jerk-jump form of seven_segment_spectrum: X = -(1/omega^2) sum_i w_i E_i, E_i =
+  // exp(-j omega t_i), over the 7 switch times after t_0 = 0 (w_0 = J_0 at E_0 = 1).
+  const auto lv = plateau_levels(d, stroke);
+  const std::array<double, kSegments> J{lv.A / d[0],  0.0, -lv.A / d[2], 0.0,
+                                        -lv.B / d[4], 0.0, lv.B / d[6]};
+  std::array<double, kSegments + 1> t{};
+  for (std::size_t i = 0; i < kSegments; ++i) t[i + 1] = t[i] + d[i];
+  // w_i: J_0 at t_0, -J_0 at t_1, J_k at t_k and -J_k at t_{k+1} for k = 2, 4, 6.
+  std::array<double, kSegments + 1> w{J[0], -J[0], J[2], -J[2], J[4], -J[4], J[6], -J[6]};
+  std::array<std::complex<double>, kSegments + 1> E{};
+  std::array<std::complex<double>, kSegments + 1> R{};
+  for (std::size_t i = 1; i <= kSegments; ++i) R[i] = expj(step * t[i]);
+  for (std::size_t k = 0; k < count; ++k) {
+    const double omega = omega0 + step * static_cast<double>(k);
+    if (k % kRefresh == 0) {
+      for (std::size_t i = 1; i <= kSegments; ++i) E[i] = expj(omega * t[i]);
+    } else {
+      for (std::size_t i = 1; i <= kSegments; ++i) E[i] *= R[i];
+    }
+    std::complex<double> sum(w[0]);
+    for (std::size_t i = 1; i <= kSegments; ++i) sum += w[i] * E[i];
+    (*out)[k] = std::sqrt(std::norm(sum)) / (omega * omega);
+  }
+}
 
 std::complex<double> acceleration_spectrum(const SevenSegmentLaw& law, double omega) {
   return seven_segment_spectrum(law.durations(), law.stroke(), omega);

@@ -32,17 +32,42 @@ std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts
 
 namespace {
 
+/// True when x is within kKnownOptimumBasin of the bounds' range of every duration of one of
+/// `optima` (coordinates past the durations, such as an epigraph's level, follow them).
+bool near_known_optimum(const NlpProblem& problem, const std::vector<std::vector<double>>& optima,
+                        const double* x) {
+  const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(problem.size()), kSegments);
+  for (const auto& y : optima) {
+    bool near = true;
+    for (std::size_t i = 0; i < n && near; ++i) {
+      const double range = problem.upper[i] - problem.lower[i];
+      if (!(range > 0.0 && std::isfinite(range))) continue;
+      near = std::abs(x[i] - y[i]) <= kKnownOptimumBasin * range;
+    }
+    if (near) return true;
+  }
+  return false;
+}
+
 MultiStartResult solve_starts(const NlpProblem& problem,
                               const std::vector<std::vector<double>>& starts,
-                              const StrategyContext& context, const NlpOptions& options) {
+                              const StrategyContext& context, const NlpOptions& options,
+                              const StartPolicy& policy) {
   MultiStartResult out;
+  // Optima reached (feasible, converged or stopped by round-off) by the runs so far.
+  std::vector<std::vector<double>> optima;
+  int stale = 0;  // optional starts in a row that did not lower the best
   // Ipopt relaxes bounds and equalities by ~1e-8 (bound_relax_factor); the durations are polished
   // onto the exact admissible set afterwards, so that much is not an infeasibility.
   const double feasible_tol = effective(context) == SolverChoice::kIpopt
                                   ? std::max(1e-7, 10.0 * options.constraint_tolerance)
                                   : 10.0 * options.constraint_tolerance;
   bool have = false;
-  for (const auto& x0 : starts) {
+  for (std::size_t k = 0; k < starts.size(); ++k) {
+    const auto& x0 = starts[k];
+    const bool optional =
+        policy.optional_from >= 0 && k >= static_cast<std::size_t>(policy.optional_from);
+    if (optional && stale >= policy.patience) break;
     const double remaining = context.deadline.remaining();
     if (remaining <= 0.0) {
       out.timed_out = true;
@@ -51,17 +76,33 @@ MultiStartResult solve_starts(const NlpProblem& problem,
     if (problem.before_start) problem.before_start(x0.data());
     NlpOptions o = options;
     o.time_limit = remaining;
+    if (policy.leave_known_optima && !optima.empty()) {
+      o.abandon = [&problem, &optima](const double* x) {
+        return near_known_optimum(problem, optima, x);
+      };
+    }
     NlpResult r = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)
                                                              : solve_with_nlopt(problem, x0, o);
     ++out.starts;
     out.evaluations += r.evaluations;
     if (r.status == SolveStatus::kTimeLimit) out.timed_out = true;
-    if (!std::isfinite(r.objective)) continue;
+    // An abandoned run was ending at an optimum already held: nothing lower.
+    if (r.abandoned || !std::isfinite(r.objective)) {
+      if (optional) ++stale;
+      continue;
+    }
     const bool feasible = r.max_violation <= feasible_tol;
+    if (feasible && r.usable()) optima.push_back(r.x);
     const bool better =
         !have || (feasible && !out.feasible) ||
         (feasible == out.feasible &&
          (feasible ? r.objective < out.best.objective : r.max_violation < out.best.max_violation));
+    if (optional) {
+      // A tie with the best (the same optimum to the solver's tolerance) is no progress.
+      const bool tie = have && feasible && out.feasible &&
+                       r.objective >= out.best.objective - 1e-9 * std::abs(out.best.objective);
+      stale = better && !tie ? 0 : stale + 1;
+    }
     if (better) {
       out.best = std::move(r);
       out.feasible = feasible;
@@ -79,14 +120,15 @@ MultiStartResult solve_starts(const NlpProblem& problem,
 
 MultiStartResult multi_start(const NlpProblem& problem,
                              const std::vector<std::vector<double>>& starts,
-                             const StrategyContext& context, const NlpOptions& options) {
+                             const StrategyContext& context, const NlpOptions& options,
+                             const StartPolicy& policy) {
   const std::optional<OneJerkChart>& chart = context.space.one_jerk;
-  if (!chart) return solve_starts(problem, starts, context, options);
+  if (!chart) return solve_starts(problem, starts, context, options, policy);
   // The one-jerk family: solved in its coordinates, the best point restated as durations.
   std::vector<std::vector<double>> reduced;
   reduced.reserve(starts.size());
   for (const auto& x0 : starts) reduced.push_back(chart->restrict(x0));
-  MultiStartResult out = solve_starts(chart->reduce(problem), reduced, context, options);
+  MultiStartResult out = solve_starts(chart->reduce(problem), reduced, context, options, policy);
   if (!out.best.x.empty()) out.best.x = chart->lift(out.best.x);
   return out;
 }

@@ -13,13 +13,20 @@ namespace {
 
 struct Context {
   const NlpProblem* problem;
+  const NlpOptions* options;
+  nlopt::opt* opt{nullptr};
   int evaluations{0};
+  bool abandoned{false};
 };
 
 double objective_callback(unsigned n, const double* x, double* grad, void* data) {
   auto* c = static_cast<Context*>(data);
   ++c->evaluations;
   (void)n;
+  if (c->options->abandon && !c->abandoned && c->options->abandon(x)) {
+    c->abandoned = true;
+    c->opt->force_stop();
+  }
   return c->problem->objective(x, grad);
 }
 
@@ -51,11 +58,12 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
   const auto n = static_cast<unsigned>(problem.size());
   NlpResult out;
   out.x = x0;
-  Context context{&problem};
+  Context context{&problem, &options};
   std::vector<EqualityData> equality_data;
   equality_data.reserve(problem.equalities.size());
   try {
     nlopt::opt opt(nlopt::LD_SLSQP, n);
+    context.opt = &opt;
     opt.set_lower_bounds(problem.lower);
     opt.set_upper_bounds(problem.upper);
     opt.set_min_objective(objective_callback, &context);
@@ -98,6 +106,9 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
     }
     out.message = std::string("nlopt SLSQP: result code ") + std::to_string(static_cast<int>(r)) +
                   (r == nlopt::MAXEVAL_REACHED ? " (evaluation limit reached)" : "");
+  } catch (const nlopt::forced_stop&) {
+    out.status = SolveStatus::kFailed;
+    out.message = "nlopt SLSQP: abandoned (an optimum another start found)";
   } catch (const nlopt::roundoff_limited&) {
     out.status = SolveStatus::kAcceptable;
     out.message = "nlopt SLSQP: stopped by round-off";
@@ -106,6 +117,7 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
     out.message = std::string("nlopt SLSQP: ") + e.what();
   }
   out.evaluations = context.evaluations;
+  out.abandoned = context.abandoned;
   out.objective = problem.objective(out.x.data(), nullptr);
   out.max_violation = max_violation(problem, out.x);
   // SLSQP does not certify infeasibility: judge the returned point.

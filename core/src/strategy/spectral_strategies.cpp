@@ -18,6 +18,8 @@ namespace {
 constexpr double kNotchDepth{1e-6};
 /// Random starts of the spectral strategies (after the uniform law and 4 symmetric families).
 constexpr int kSpectralRandomStarts{5};
+/// Random starts of notch in a row that find no lower optimum after which it stops.
+constexpr int kNotchPatience{2};
 /// Random starts of multi_notch (after the uniform law and 4 symmetric families): its objective
 /// has many basins on short moves (a 24-start reference found optima 4x lower than 10 starts).
 constexpr int kMultiNotchRandomStarts{8};
@@ -76,17 +78,19 @@ void add_limits(NlpProblem& p, const StrategyContext& c, int first,
   };
 }
 
-// sum_i w_i |X(omega_i)|^2 / X_ref^2 and its gradient.
+// sum_i w_i |X(omega_i)|^2 / X_ref^2 and its gradient; the frequencies share the jerks and
+// their derivatives (spectrum_power_gradients), written into `powers` (reused between calls).
 double weighted_power(const double* x, double* grad, const StrategyContext& c,
-                      const std::vector<double>& omegas, const std::vector<double>& weights) {
+                      const std::vector<double>& omegas, const std::vector<double>& weights,
+                      std::vector<SpectrumPowerGradient>* powers) {
   Durations d;
   std::copy(x, x + kSegments, d.begin());
   const double scale = 1.0 / (c.x_ref * c.x_ref);
   double f = 0.0;
   if (grad != nullptr) std::fill(grad, grad + kSegments, 0.0);
+  spectrum_power_gradients(d, c.format.stroke, omegas, powers);
   for (std::size_t k = 0; k < omegas.size(); ++k) {
-    if (weights[k] == 0.0) continue;
-    const auto pg = spectrum_power_gradient(d, c.format.stroke, omegas[k]);
+    const SpectrumPowerGradient& pg = (*powers)[k];
     f += weights[k] * scale * pg.power;
     if (grad != nullptr) {
       for (std::size_t i = 0; i < kSegments; ++i) grad[i] += weights[k] * scale * pg.gradient[i];
@@ -97,16 +101,40 @@ double weighted_power(const double* x, double* grad, const StrategyContext& c,
 
 // Minimise a weighted spectral power over the starts (limits as constraints).
 MultiStartResult minimise_power(const StrategyContext& c, const std::vector<double>& omegas,
-                                const std::vector<double>& weights,
-                                int random_starts = kSpectralRandomStarts) {
+                                const std::vector<double>& weights, int random_starts,
+                                const StartPolicy& policy) {
   NlpProblem p = c.space.problem();
-  p.objective = [&c, omegas, weights](const double* x, double* grad) {
-    return weighted_power(x, grad, c, omegas, weights);
+  // The frequencies of zero weight contribute nothing: left out.
+  std::vector<double> used_omegas, used_weights;
+  for (std::size_t k = 0; k < omegas.size(); ++k) {
+    if (weights[k] == 0.0) continue;
+    used_omegas.push_back(omegas[k]);
+    used_weights.push_back(weights[k]);
+  }
+  p.objective = [&c, o = std::move(used_omegas), w = std::move(used_weights),
+                 powers = std::vector<SpectrumPowerGradient>()](const double* x,
+                                                                double* grad) mutable {
+    return weighted_power(x, grad, c, o, w, &powers);
   };
   add_limits(p, c, 0, nullptr);
   NlpOptions options = spectral_options();
   options.stop_value = kExactZero;  // nothing is below an exact zero: the other starts can go
-  return multi_start(p, as_vectors(c.space.starts(random_starts)), c, options);
+  return multi_start(p, as_vectors(c.space.starts(random_starts)), c, options, policy);
+}
+
+/// The notch's multi-start: the deterministic starts (the uniform law and the symmetric
+/// families, or the warm start) all run; the random ones only while they keep finding lower
+/// optima (or, none feasible, less violation), and runs that reach an optimum found already are
+/// left there. On 300 random formats, half with random machine limits, this found every optimum
+/// the plain multi-start found with 48 % of its evaluations; the deterministic starts alone missed
+/// 4 in 150 by 0.4-2.6 %.
+StartPolicy notch_policy(const StrategyContext& c, StartUse uses) {
+  StartPolicy policy;
+  if (uses == StartUse::kEvery) return policy;
+  policy.leave_known_optima = true;
+  policy.optional_from = static_cast<int>(c.space.starts(0).size());
+  policy.patience = kNotchPatience;
+  return policy;
 }
 
 double jerk_objective(const double* x, double* grad, const StrategyContext& c) {
@@ -129,13 +157,40 @@ std::vector<double> band_frequencies(double omega1, double band, int count) {
   return w;
 }
 
+namespace {
+
+/// True when `grid` is omega0 + k step to round-off (band_frequencies' grids).
+bool equally_spaced(const std::vector<double>& grid, double* step) {
+  const std::size_t n = grid.size();
+  if (n < 3) return false;
+  *step = (grid.back() - grid.front()) / static_cast<double>(n - 1);
+  const double slack = 1e-12 * std::abs(grid.back());
+  for (std::size_t k = 1; k + 1 < n; ++k) {
+    if (std::abs(grid[k] - (grid.front() + *step * static_cast<double>(k))) > slack) return false;
+  }
+  return true;
+}
+
+}  // namespace
+
 BandPeak band_peak(const Durations& d, double stroke, const std::vector<double>& grid) {
   auto f = [&](double w) { return std::abs(seven_segment_spectrum(d, stroke, w)); };
-  std::vector<double> v(grid.size());
-  for (std::size_t k = 0; k < grid.size(); ++k) v[k] = f(grid[k]);
-  BandPeak best{v[0], grid[0]};
+  std::vector<double> v;
+  double step = 0.0;
+  if (equally_spaced(grid, &step)) {
+    // The grid's values only choose the brackets refined below and the best grid point, whose
+    // value is then evaluated directly.
+    seven_segment_magnitudes(d, stroke, grid.front(), step, grid.size(), &v);
+  } else {
+    v.resize(grid.size());
+    for (std::size_t k = 0; k < grid.size(); ++k) v[k] = f(grid[k]);
+  }
+  std::size_t top = 0;
+  for (std::size_t k = 1; k < grid.size(); ++k) {
+    if (v[k] > v[top]) top = k;
+  }
+  BandPeak best{f(grid[top]), grid[top]};
   for (std::size_t k = 0; k < grid.size(); ++k) {
-    if (v[k] > best.value) best = {v[k], grid[k]};
     const bool interior_max = k > 0 && k + 1 < grid.size() && v[k] >= v[k - 1] && v[k] >= v[k + 1];
     if (!interior_max) continue;
     const Peak p = refine_max(f, grid[k - 1], grid[k + 1], kBandPeakTolerance * grid[k],
@@ -162,6 +217,10 @@ std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {
 }
 
 StrategyOutcome solve_notch(const StrategyContext& c) {
+  return solve_notch(c, StartUse::kEconomical);
+}
+
+StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   const double w1 = c.design_model.omega1();
   // Among the exact zeros of X(w1) (a 4-dimensional manifold of the 6 free durations), the one
   // with the least jerk integral: min int j^2 dt s.t. |Re X|, |Im X| <= kNotchDepth x_ref.
@@ -187,8 +246,8 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
       }
     }
   });
-  MultiStartResult m =
-      multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c, spectral_options());
+  MultiStartResult m = multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c,
+                                   spectral_options(), notch_policy(c, uses));
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
     o.detail =
@@ -198,7 +257,8 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
     return o;
   }
   // No zero reachable within the bounds and limits: the deepest notch instead.
-  MultiStartResult deepest = minimise_power(c, {w1}, {1.0});
+  MultiStartResult deepest =
+      minimise_power(c, {w1}, {1.0}, kSpectralRandomStarts, notch_policy(c, uses));
   deepest.evaluations += m.evaluations;
   deepest.starts += m.starts;
   StrategyOutcome o = outcome_from(deepest, c);
@@ -212,11 +272,18 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
 }
 
 StrategyOutcome solve_multi_notch(const StrategyContext& c) {
+  return solve_multi_notch(c, StartUse::kEconomical);
+}
+
+StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
   const double w1 = c.design_model.omega1();
   const double p_notch = c.p_notch;
   const std::vector<double> omegas{(1.0 - p_notch) * w1, w1, (1.0 + p_notch) * w1};
   const std::vector<double> weights(c.options.weights.begin(), c.options.weights.end());
-  const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts);
+  // Every start runs (its objective has many basins), each left once it reaches a known one.
+  StartPolicy policy;
+  policy.leave_known_optima = uses == StartUse::kEconomical;
+  const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts, policy);
   StrategyOutcome o = outcome_from(m, c);
   if (o.status != SolveStatus::kInfeasible) {
     Durations d = o.durations;
@@ -285,6 +352,8 @@ struct BandSearch {
   std::vector<Durations> screen_starts;
   BandWorkspace& workspace;
   StrategyOutcome& out;
+  /// The rows phase J's solves carry (kActive, the default, or all of them).
+  BandRowSelection row_selection{BandRowSelection::kActive};
 
   void count(const MultiStartResult& r) {
     out.evaluations += r.evaluations;
@@ -340,6 +409,93 @@ BandPoint check_band(const BandSearch& s, const std::vector<double>& x, double* 
   return here;
 }
 
+/// min int j^2 dt s.t. the band rows on `omegas` (bound `limit`) and the limits, from `from`.
+MultiStartResult solve_on_rows(BandSearch& s, const std::vector<double>& omegas, double limit,
+                               const std::vector<std::vector<double>>& from) {
+  NlpProblem p = s.jerk_problem();
+  add_limits(p, s.c, static_cast<int>(omegas.size()), s.rows(omegas, false, limit));
+  MultiStartResult r = multi_start(p, from, s.c, spectral_options());
+  // SLSQP sometimes stops short of the optimum (line search on round-off); one restart from
+  // where it stopped finishes the job.
+  if (r.feasible && !r.timed_out) {
+    MultiStartResult again = multi_start(p, {r.best.x}, s.c, spectral_options());
+    s.count(again);
+    if (again.feasible && again.best.objective < r.best.objective) {
+      again.evaluations = r.evaluations;
+      again.starts = r.starts;
+      r = std::move(again);
+    }
+  }
+  s.count(r);
+  return r;
+}
+
+/// Marks the band rows that can be active near a point whose scaled rows (g <= 0 is met) are
+/// `g`: every local maximum of g over frequency with its two neighbours (a maximum of |X| moves
+/// with the durations, but between neighbouring rows), and every row within kNearActive of its
+/// bound. `order` sorts the rows by frequency (the exchange appends its points at the end).
+void mark_candidate_rows(const std::vector<double>& g, const std::vector<std::size_t>& order,
+                         std::vector<char>* chosen) {
+  constexpr double kNearActive{0.05};
+  const std::size_t n = order.size();
+  for (std::size_t j = 0; j < n; ++j) {
+    const double here = g[order[j]];
+    const bool left = j == 0 || here >= g[order[j - 1]];
+    const bool right = j + 1 == n || here >= g[order[j + 1]];
+    if (here >= -kNearActive) (*chosen)[order[j]] = 1;
+    if (!(left && right)) continue;
+    for (std::size_t k = j == 0 ? 0 : j - 1; k <= std::min(j + 1, n - 1); ++k) {
+      (*chosen)[order[k]] = 1;
+    }
+  }
+}
+
+/// solve_on_rows with only the rows that can be active: SLSQP's work per iteration grows with
+/// its rows (its least-squares subproblem carries every row), and of the n_band rows only the
+/// few near the band's local maxima of |X| bind. The rows left out are checked at the solution;
+/// any above its bound joins and the solve resumes from there, so the point returned meets every
+/// row and is a KKT point of the full problem (the rows left out are inactive there).
+MultiStartResult solve_on_active_rows(BandSearch& s, const std::vector<double>& omegas,
+                                      double limit, std::vector<std::vector<double>> from) {
+  const std::size_t rows = omegas.size();
+  NlpProblem full = s.jerk_problem();
+  add_limits(full, s.c, static_cast<int>(rows), s.rows(omegas, false, limit));
+  std::vector<std::size_t> order(rows);
+  for (std::size_t k = 0; k < rows; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return omegas[a] < omegas[b]; });
+  std::vector<double> g(static_cast<std::size_t>(full.inequality_count));
+  std::vector<char> chosen(rows, 0);
+  for (const auto& x0 : from) {
+    full.inequalities(x0.data(), g.data(), nullptr);
+    mark_candidate_rows(g, order, &chosen);
+  }
+  const double row_slack = spectral_options().constraint_tolerance;
+  for (;;) {
+    std::vector<double> active;
+    for (std::size_t k = 0; k < rows; ++k) {
+      if (chosen[k] != 0) active.push_back(omegas[k]);
+    }
+    MultiStartResult r = solve_on_rows(s, active, limit, from);
+    if (r.best.x.empty() || active.size() == rows) return r;
+    full.inequalities(r.best.x.data(), g.data(), nullptr);
+    bool added = false;
+    for (std::size_t k = 0; k < rows; ++k) {
+      if (chosen[k] == 0 && g[k] > row_slack) added = true;
+    }
+    if (!added || r.timed_out) {
+      r.best.max_violation = max_violation(full, r.best.x);
+      return r;
+    }
+    // Rows above their bound: they, and the rows that can be active around the new point, join.
+    for (std::size_t k = 0; k < rows; ++k) {
+      if (g[k] > row_slack) chosen[k] = 1;
+    }
+    mark_candidate_rows(g, order, &chosen);
+    from = {r.best.x};
+  }
+}
+
 /// Phase J: min int j^2 dt s.t. the band on n_band points, from `x0`; the constraint is
 /// semi-infinite, so the band is then checked on the fine grid and its worst frequency added for
 /// a re-solve from the current point until the check passes (exchange rounds). Between the
@@ -351,22 +507,10 @@ BandPoint solve_jerk(BandSearch& s, const std::vector<std::vector<double>>& x0) 
   double margin = 0.0;
   BandPoint best;
   for (int round = 0; round < kBandExchangeRounds; ++round) {
-    NlpProblem p = s.jerk_problem();
     const double limit = (1.0 - margin) * (1.0 - margin);
-    add_limits(p, s.c, static_cast<int>(omegas.size()), s.rows(omegas, false, limit));
-    MultiStartResult r = multi_start(p, from, s.c, spectral_options());
-    // SLSQP sometimes stops short of the optimum (line search on round-off); one restart from
-    // where it stopped finishes the job.
-    if (r.feasible && !r.timed_out) {
-      MultiStartResult again = multi_start(p, {r.best.x}, s.c, spectral_options());
-      s.count(again);
-      if (again.feasible && again.best.objective < r.best.objective) {
-        again.evaluations = r.evaluations;
-        again.starts = r.starts;
-        r = std::move(again);
-      }
-    }
-    s.count(r);
+    MultiStartResult r = s.row_selection == BandRowSelection::kAll
+                             ? solve_on_rows(s, omegas, limit, from)
+                             : solve_on_active_rows(s, omegas, limit, from);
     // SLSQP may stop a hair outside a constraint (4e-8 of the bound): far inside what the
     // verification tolerates, so the point is judged by the verification, not by the solver.
     if (r.best.x.empty() || r.best.max_violation > kExchangeSlack) break;
@@ -595,6 +739,10 @@ void finish_band(BandSearch& s, const BandPoint& jerk) {
 }  // namespace
 
 StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
+  return solve_min_jerk_band(c, BandRowSelection::kActive);
+}
+
+StrategyOutcome solve_min_jerk_band(const StrategyContext& c, BandRowSelection rows) {
   StrategyOutcome o;
   o.solver = solver_name(c);
   BandWorkspace workspace;
@@ -611,7 +759,8 @@ StrategyOutcome solve_min_jerk_band(const StrategyContext& c) {
                c.space.starts(kSpectralRandomStarts),
                c.space.starts(kBandRandomStarts),
                workspace,
-               o};
+               o,
+               rows};
   std::vector<std::vector<double>> jerk_starts = as_vectors(s.screen_starts);
   if (band_free_optimum(s, jerk_starts)) return o;
   // Phase J from the band-free optimum and every start: screened, then the best screened points

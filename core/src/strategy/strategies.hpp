@@ -110,10 +110,26 @@ struct MultiStartResult {
   int starts{};
 };
 
+/// How a multi-start spends its starts; the default runs every start to its end.
+struct StartPolicy {
+  /// Leave a run (NLopt) once its point is within kKnownOptimumBasin of the range of every
+  /// duration of an optimum an earlier start reached: SLSQP from there ends at that optimum, so
+  /// the rest of the run (its last 10-20 % of evaluations) would find nothing new.
+  bool leave_known_optima{false};
+  /// Starts from this index on are optional: they end after `patience` optional starts in a row
+  /// that do not lower the best feasible objective (by more than 1e-9 relative). -1: none.
+  int optional_from{-1};
+  int patience{2};
+};
+
+/// Relative distance (of each duration's range) within which a run has reached a known optimum.
+inline constexpr double kKnownOptimumBasin{1e-3};
+
 [[nodiscard]] MultiStartResult multi_start(const NlpProblem& problem,
                                            const std::vector<std::vector<double>>& starts,
                                            const StrategyContext& context,
-                                           const NlpOptions& options);
+                                           const NlpOptions& options,
+                                           const StartPolicy& policy = {});
 
 /// The outcome of a multi-start: polished best point and translated status (time_limit with the
 /// first start when time ran out before any feasible point; infeasible when none was feasible).
@@ -125,7 +141,20 @@ struct MultiStartResult {
 
 [[nodiscard]] StrategyOutcome solve_notch(const StrategyContext& context);
 [[nodiscard]] StrategyOutcome solve_multi_notch(const StrategyContext& context);
+/// How notch and multi_notch use their starts: kEconomical (the default) by their StartPolicy
+/// (runs left at known optima; notch's random starts only while they find lower optima), kEvery
+/// every start to its end (the plain multi-start, the path the tests compare kEconomical with).
+enum class StartUse { kEconomical, kEvery };
+[[nodiscard]] StrategyOutcome solve_notch(const StrategyContext& context, StartUse uses);
+[[nodiscard]] StrategyOutcome solve_multi_notch(const StrategyContext& context, StartUse uses);
 [[nodiscard]] StrategyOutcome solve_min_jerk_band(const StrategyContext& context);
+/// Which of the n_band rows (and the exchange's points) min_jerk_band's band-constrained solves
+/// carry: kActive (the default) those that can be active near the current point, the rest
+/// checked at each solution and added when above their bound; kAll every row (the plain
+/// formulation, kept as the independent path the tests compare kActive against).
+enum class BandRowSelection { kActive, kAll };
+[[nodiscard]] StrategyOutcome solve_min_jerk_band(const StrategyContext& context,
+                                                  BandRowSelection rows);
 /// `seeds` are extra starts (the spectral optima), tried after the uniform law.
 [[nodiscard]] StrategyOutcome solve_time_domain(const StrategyContext& context,
                                                 const std::vector<Durations>& seeds);

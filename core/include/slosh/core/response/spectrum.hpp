@@ -21,6 +21,14 @@ template <typename T>
 [[nodiscard]] std::complex<T> seven_segment_spectrum(const std::array<T, kSegments>& d, T stroke,
                                                      T omega);
 
+/// |X_a| of the 7-segment law at omega0 + k step, k = 0..count-1, written to `out` (resized): the
+/// band checks' grids. Above omega T = 8 (every point of the grid) each exp(-j omega t_i) advances
+/// by one complex product per point, recomputed every 32 points against drift (the products' error
+/// stays below 1e-14 of the jerk-jump terms, far under any tolerance the checks apply); otherwise
+/// every point is seven_segment_spectrum.
+void seven_segment_magnitudes(const Durations& d, double stroke, double omega0, double step,
+                              std::size_t count, std::vector<double>* out);
+
 /// X_a(omega) of a built law.
 [[nodiscard]] std::complex<double> acceleration_spectrum(const SevenSegmentLaw& law, double omega);
 

@@ -74,6 +74,10 @@ struct NlpOptions {
   /// Stop as soon as a feasible point with f <= stop_value is found (NLopt only; Ipopt solves
   /// to optimality). Default: none.
   std::optional<double> stop_value;
+  /// Called with every point the objective is evaluated at (NLopt only; may be empty): true
+  /// abandons the run there (NlpResult::abandoned). A multi-start leaves a run this way once it
+  /// has reached an optimum an earlier start found. Default: none.
+  std::function<bool(const double* x)> abandon;
 };
 
 /// Result of one solve.
@@ -84,6 +88,8 @@ struct NlpResult {
   double max_violation{};  ///< largest bound / equality / inequality violation at x
   int evaluations{};       ///< objective evaluations
   std::string message;     ///< the solver's own words, for the report
+  /// NlpOptions::abandon stopped the run (status kFailed; x is where it stopped).
+  bool abandoned{false};
 
   [[nodiscard]] bool usable() const {
     return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;
