@@ -17,7 +17,7 @@
 
 // The serve path is there only for the binaries linked with slosh::service (its headers are on
 // their include path): bench_core and bench_planner link the numerics alone.
-#if __has_include("plan_service.hpp")
+#if __has_include("http/plan_service.hpp")
 #include <nlohmann/json.hpp>
 
 #include "http/plan_service.hpp"

@@ -483,7 +483,7 @@ TEST_F(BatchTable, EveryRowInInputOrderErrorsNamedGoodRowsEqualTheJsonPlan) {
     expect_row_matches_plan(row, plan, recipe.id());
     EXPECT_EQ(row.text("key"), api::recipe_key(api::parse_plan_request(request_of(recipe))));
     EXPECT_EQ(row.text("cached"), "false");
-    // The table records which slosh planned it (issue 19).
+    // The table records which slosh planned it.
     EXPECT_EQ(row.text("version"), plan["version"].get<std::string>());
     EXPECT_EQ(row.text("version"), slosh::kVersion);
     double sum = 0.0;

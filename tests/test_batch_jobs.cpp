@@ -1,4 +1,4 @@
-// Batch jobs as resources (issue 21, SPEC §13) against a real `slosh serve` on loopback: the
+// Batch jobs as resources (SPEC §13) against a real `slosh serve` on loopback: the
 // lifecycle (202 + Location, progress to the total, results row by row equal to POST
 // /v1/plans/batch), paging, the CSV and JSON lines downloads equal to the files of `slosh batch`,
 // cancelling mid-run (no more solves after), the 404/405/422 texts, a bad recipe as a failed row,

@@ -1,4 +1,4 @@
-// The whole several-replica topology on loopback (issue 21, SPEC §13), every part real and started
+// The whole several-replica topology on loopback (SPEC §13), every part real and started
 // by the test: a redis-server on a free port, two `slosh serve` replicas (build/slosh) sharing it
 // as their cache and job store (--cache redis://...), and nginx (deploy/nginx.conf, rewritten by
 // support/proxy.hpp) in front. A plan solved by one replica is a hit on the other; a batch job
@@ -331,7 +331,7 @@ json error_of(const httplib::Result& r, int status) {
   return json::parse(r->body).at("error");
 }
 
-// Hostile review of issue 21: a FLUSHALL (or an outage) mid-job left the shared store with part of
+// Regression: a FLUSHALL (or an outage) mid-job left the shared store with part of
 // the rows, and the other replica answered them as the complete results (45 of 80, 200); a damaged
 // row answered 500 with a parser message. Both are now 503 "unavailable" naming the job.
 TEST(ClusterHostile, ResultsTheSharedStoreLostOrDamagedAreRefusedNotTruncated) {
@@ -361,7 +361,7 @@ TEST(ClusterHostile, ResultsTheSharedStoreLostOrDamagedAreRefusedNotTruncated) {
                 "' is damaged (not a job record): POST the job again");
 }
 
-// Hostile review: while Redis was down, a replica that does not run a job answered 404 for it
+// Regression: while Redis was down, a replica that does not run a job answered 404 for it
 // (and a DELETE was silently lost); it is a 503 now.
 TEST(ClusterHostile, AJobOfAnotherReplicaWhileRedisIsDownIsUnavailableNotUnknown) {
   Cluster cluster;
@@ -871,7 +871,7 @@ TEST(ClusterHostile, AReplicaPausedPastTheStaleTimeKeepsItsOwnJobRunningAndCance
   EXPECT_EQ(wait_finished(a, id).value("state", ""), "cancelled");
 }
 
-// Hostile review: a lock key without expiry (not set by a replica: theirs always expire) held
+// Regression: a lock key without expiry (not set by a replica: theirs always expire) held
 // every request of its recipe for the whole solve budget + 1 s.
 TEST(ClusterHostile, APlantedLockWithoutExpiryIsNotWaitedFor) {
   test::RedisServer redis;

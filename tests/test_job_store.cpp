@@ -1,4 +1,4 @@
-// Job stores (issue 21): MemoryJobStore's bounds (age and count, least recently written first)
+// Job stores: MemoryJobStore's bounds (age and count, least recently written first)
 // and TieredJobStore's semantics with two MemoryJobStores standing in for the local store and a
 // shared one (Redis) that goes down and comes back.
 

@@ -1,5 +1,5 @@
 #pragma once
-// Batch jobs as resources (SPEC §13, issue 21): POST /v1/batches starts a job of up to
+// Batch jobs as resources (SPEC §13): POST /v1/batches starts a job of up to
 // batch_job_max recipes and answers 202 at once; GET /v1/batches/{id} reports its progress and,
 // once it is finished, its results (paged JSON rows); GET .../results.csv and .../results.jsonl
 // download them in the `slosh batch` formats; DELETE cancels (or forgets a finished job).
