@@ -20,10 +20,12 @@
 // refined peak can exceed the peak already found, and the scan stops (docs/models.md).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
 #include "sincos.hpp"
+#include "slosh/core/constants.hpp"
 #include "slosh/core/response/response.hpp"
 
 namespace slosh {
@@ -140,11 +142,30 @@ class LinearPeakScan {
   /// index of the last sample taken (n, or earlier when the energy bound ends a rest window).
   std::size_t sample(double a, double b, double h, std::size_t n, bool rest,
                      std::vector<double>& values) const {
+    // The mode count as a constant: the rotations then live in registers, not in memory (each
+    // sample's rotation would otherwise wait for the store of the previous one).
+    switch (modes_) {
+      case 1:
+        return sample_modes<1>(a, b, h, n, rest, values);
+      case 2:
+        return sample_modes<2>(a, b, h, n, rest, values);
+      case 3:
+        return sample_modes<3>(a, b, h, n, rest, values);
+      case 4:
+        return sample_modes<4>(a, b, h, n, rest, values);
+      default:
+        return sample_modes<kMaxModes>(a, b, h, n, rest, values);
+    }
+  }
+
+  template <std::size_t M>
+  std::size_t sample_modes(double a, double b, double h, std::size_t n, bool rest,
+                           std::vector<double>& values) const {
     auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
     // Rotation of every mode over one step, and of the harmonic at the piece's frequency.
-    std::vector<Complex> step_rotation(modes_), z(modes_);
-    std::vector<double> omega(modes_);
-    for (std::size_t m = 0; m < modes_; ++m) {
+    std::array<Complex, M> step_rotation{}, z{};
+    std::array<double, M> omega{};
+    for (std::size_t m = 0; m < M; ++m) {
       const LinearModePiece& p = coef_[m];
       step_rotation[m] = decay_rotation(p.sigma, p.wd, h);
       omega[m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
@@ -167,7 +188,7 @@ class LinearPeakScan {
       // Sum over the modes of the particular parts (one cubic, one harmonic at W).
       double r0 = 0, r1 = 0, r2 = 0, r3 = 0, P = 0, Q = 0, U = 0, V = 0;
       const double W = c[0].W;
-      for (std::size_t m = 0; m < modes_; ++m) {
+      for (std::size_t m = 0; m < M; ++m) {
         const double g = gains_[m];
         r0 += g * c[m].r[0];
         r1 += g * c[m].r[1];
@@ -182,7 +203,7 @@ class LinearPeakScan {
       const bool free = !harmonic && r0 == 0.0 && r1 == 0.0 && r2 == 0.0 && r3 == 0.0;
       // Re-anchor the rotations at this piece's first sample.
       const double tau0 = t - begin_[k];
-      for (std::size_t m = 0; m < modes_; ++m) {
+      for (std::size_t m = 0; m < M; ++m) {
         const Complex rot = decay_rotation(c[m].sigma, c[m].wd, tau0);
         z[m] = mul({gains_[m] * c[m].c1, -gains_[m] * c[m].c2}, rot);
       }
@@ -206,7 +227,7 @@ class LinearPeakScan {
             hz = mul(hz, hstep);
           }
         }
-        for (std::size_t m = 0; m < modes_; ++m) e += z[m].re;
+        for (std::size_t m = 0; m < M; ++m) e += z[m].re;
         const double v = std::abs(e);
         values.push_back(v);
         best = std::max(best, v);
@@ -218,7 +239,7 @@ class LinearPeakScan {
             return i;
           }
         }
-        for (std::size_t m = 0; m < modes_; ++m) z[m] = mul(z[m], step_rotation[m]);
+        for (std::size_t m = 0; m < M; ++m) z[m] = mul(z[m], step_rotation[m]);
       }
     }
     return n;
@@ -226,10 +247,12 @@ class LinearPeakScan {
 
   /// B(t) = sum_m |g_m| sqrt(x_m^2 + (x_m' / w_m)^2) on a free piece, from the rotations
   /// z_m = g_m Z_m exp(lambda_m tau) (so g_m x_m = Re z_m, g_m x_m' = Re(lambda_m z_m)).
-  [[nodiscard]] double energy_bound(const std::vector<Complex>& z, const LinearModePiece* c,
-                                    const std::vector<double>& omega) const {
+  template <std::size_t M>
+  [[nodiscard]] static double energy_bound(const std::array<Complex, M>& z,
+                                           const LinearModePiece* c,
+                                           const std::array<double, M>& omega) {
     double bound = 0.0;
-    for (std::size_t m = 0; m < modes_; ++m) {
+    for (std::size_t m = 0; m < M; ++m) {
       const double x = z[m].re;
       const double v = (-c[m].sigma * z[m].re - c[m].wd * z[m].im) / omega[m];
       bound += std::sqrt(x * x + v * v);
