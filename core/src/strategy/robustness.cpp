@@ -93,10 +93,14 @@ RobustnessReport robustness_report(
     simulated.push_back(k);
   }
   const std::vector<SloshPeaks> nonlinear = nonlinear_peaks(models, law, sweep.rest_time);
+  std::vector<LinearResponse> responses;
+  responses.reserve(models.size());
+  for (const SloshingModel& m : models) responses.emplace_back(m, law, sweep.rest_time);
+  const std::vector<SloshPeaks> linear = LinearResponse::peaks_of(responses);
   r.points.resize(deltas.size());
   for (std::size_t i = 0; i < models.size(); ++i) {
     RobustnessPoint& p = r.points[simulated[i]];
-    p.linear = LinearResponse(models[i], law, sweep.rest_time).peaks();
+    p.linear = linear[i];
     p.nonlinear = nonlinear[i];
   }
   std::vector<double> lin_margin, nl_margin;

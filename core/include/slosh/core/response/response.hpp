@@ -59,6 +59,10 @@ class LinearResponse {
   /// Peaks of |eta| located on the continuous response (samples at <= 1 ms and <= 1/64 of the
   /// fastest period, each candidate refined by golden section to 1e-10 s).
   [[nodiscard]] SloshPeaks peaks() const;
+  /// peaks() of every response, equal to it bit for bit; responses on the same sample grid (the
+  /// robustness report's sweep of one law) are scanned side by side, a few per vector.
+  [[nodiscard]] static std::vector<SloshPeaks> peaks_of(
+      const std::vector<LinearResponse>& responses);
   [[nodiscard]] double motion_time() const { return motion_time_; }
   [[nodiscard]] double end_time() const { return end_time_; }
 
