@@ -31,8 +31,9 @@ namespace slosh {
 
 namespace {
 
-/// Lanes integrated side by side [-]: one AVX vector of doubles.
-constexpr std::size_t kLanes{4};
+/// Lanes integrated side by side [-]: two AVX vectors of doubles (two independent chains of
+/// stages: each stage waits for the division of the one before).
+constexpr std::size_t kLanes{8};
 
 /// Largest |xbar| the fast path answers for [-] (as nonlinear_peaks: beyond it the lane is
 /// answered by nonlinear_peaks' fine fallback grid).
