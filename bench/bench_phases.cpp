@@ -37,13 +37,14 @@ Strategy g_strategy = Strategy::kNotch;
 const char* const kPhaseNames[] = {"plan",         "baseline", "references", "solve",
                                    "verification", "report",   "rendering"};
 
-/// The prediction plan() makes of a law (kinematics, then both models' peaks).
+/// The prediction plan() makes of a law (kinematics, then both models' peaks), as plan() makes
+/// it: the nonlinear peaks without keeping the trajectory (nothing after the verdict needs it).
 slosh::LawPrediction predict(const slosh::SloshingModel& model, const slosh::MotionLaw& law,
                              double rest_time) {
   slosh::LawPrediction p;
   p.kinematics = law.summary();
   p.linear = slosh::LinearResponse(model, law, rest_time).peaks();
-  p.nonlinear = slosh::NonlinearResponse(model, law, rest_time).peaks();
+  p.nonlinear = slosh::nonlinear_peaks(model, law, rest_time);
   return p;
 }
 

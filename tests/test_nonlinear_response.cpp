@@ -6,6 +6,8 @@
 #include <algorithm>
 #include <cmath>
 #include <random>
+#include <thread>
+#include <vector>
 
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/response/response.hpp"
@@ -180,6 +182,32 @@ TEST(NonlinearResponse, PeaksMatchAFineRk4OnRandomFormatsWithinOnePpm) {
 // The rest window's search ends by the energy bound (docs/models.md): the eta_rest it finds is
 // the maximum over the whole window, here searched densely on the kept trajectory (0.5 ms
 // samples, golden-section refinement), also for rest windows of several seconds.
+// The rest of the rest window is integrated on the first read of the trajectory; reads from
+// several threads at once, through the response and through a copy made before any read, all see
+// the trajectory of a response read alone.
+TEST(NonlinearResponse, TheTrajectoryCompletedOnFirstReadIsTheSameFromEveryThreadAndCopy) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = SevenSegmentLaw(test::kAsymmetricDurations, 0.8).law();
+  const NonlinearResponse alone(model, law, 1.5);
+  std::vector<double> times, expected;
+  for (int i = 0; i <= 260; ++i) times.push_back(0.01 * i);
+  for (double t : times) expected.push_back(alone.eta(t));
+  const NonlinearResponse shared(model, law, 1.5);
+  const NonlinearResponse copy = shared;  // NOLINT(performance-unnecessary-copy-initialization)
+  std::vector<std::vector<double>> seen(4);
+  std::vector<std::thread> threads;
+  for (std::size_t k = 0; k < seen.size(); ++k) {
+    threads.emplace_back([&, k] {
+      const NonlinearResponse& r = k % 2 == 0 ? shared : copy;
+      for (double t : times) seen[k].push_back(r.eta(t));
+    });
+  }
+  for (std::thread& t : threads) t.join();
+  for (const std::vector<double>& s : seen) EXPECT_EQ(s, expected);
+  EXPECT_EQ(shared.steps(), alone.steps());
+  EXPECT_EQ(copy.steps(), alone.steps());
+}
+
 TEST(NonlinearResponse, EarlyStoppedRestPeakIsTheWholeWindowMaximum) {
   std::mt19937 rng(7u);
   for (int k = 0; k < 16; ++k) {

@@ -75,6 +75,76 @@ TEST(RobustnessReport, EveryPointEqualsTheNominalModelOnTheTimeStretchedLaw) {
   }
 }
 
+// The report integrates its points side by side (lanes in lockstep, each on its own step grid);
+// every point must be exactly what the one-point responses give, bit for bit, including the
+// peak times and a sweep whose point count leaves idle lanes.
+TEST(RobustnessReport, SideBySidePointsEqualThePointByPointResponsesBitForBit) {
+  std::mt19937 rng(4242);
+  for (int trial = 0; trial < 8; ++trial) {
+    const Format f = test::random_format(rng);
+    const Durations d = random_durations(rng, f.motion_time);
+    const SloshingModel model = make_sloshing_model(f, ModelOptions{});
+    const MotionLaw law = SevenSegmentLaw(d, f.stroke).law();
+    RobustnessSweep sweep;
+    sweep.delta_lo = -0.05 - 0.1 * trial / 8.0;
+    sweep.delta_hi = 0.03 + 0.1 * trial / 8.0;
+    sweep.points = 5 + 2 * trial;  // 5..19 points plus delta = 0: every lane remainder
+    sweep.zeta = model.zeta * (trial % 2 == 0 ? 1.0 : 0.5);
+    sweep.rest_time = 0.5 + 0.25 * trial;
+    sweep.eta_rest_max = 0.002;
+    const RobustnessReport r = robustness_report(model, law, sweep);
+    ASSERT_EQ(r.points.size(), robustness_deltas(sweep).size());
+    for (const RobustnessPoint& p : r.points) {
+      const SloshingModel m = scaled_model(model, 1.0 + p.delta, sweep.zeta);
+      const SloshPeaks nl = nonlinear_peaks(m, law, sweep.rest_time);
+      const SloshPeaks lin = LinearResponse(m, law, sweep.rest_time).peaks();
+      EXPECT_EQ(p.nonlinear.motion.value, nl.motion.value) << trial << " " << p.delta;
+      EXPECT_EQ(p.nonlinear.motion.time, nl.motion.time) << trial << " " << p.delta;
+      EXPECT_EQ(p.nonlinear.rest.value, nl.rest.value) << trial << " " << p.delta;
+      EXPECT_EQ(p.nonlinear.rest.time, nl.rest.time) << trial << " " << p.delta;
+      EXPECT_EQ(p.linear.motion.value, lin.motion.value) << trial << " " << p.delta;
+      EXPECT_EQ(p.linear.motion.time, lin.motion.time) << trial << " " << p.delta;
+      EXPECT_EQ(p.linear.rest.value, lin.rest.value) << trial << " " << p.delta;
+      EXPECT_EQ(p.linear.rest.time, lin.rest.time) << trial << " " << p.delta;
+      // The trajectory-keeping response agrees with the peaks-only one.
+      const SloshPeaks kept = NonlinearResponse(m, law, sweep.rest_time).peaks();
+      EXPECT_EQ(p.nonlinear.rest.value, kept.rest.value) << trial << " " << p.delta;
+      EXPECT_EQ(p.nonlinear.motion.value, kept.motion.value) << trial << " " << p.delta;
+    }
+  }
+}
+
+// A lane that leaves the model's range is answered by the one-point path's fine fallback grid,
+// while the other lanes of its vector keep the fast grid.
+TEST(RobustnessReport, ALaneOutsideTheModelsRangeTakesTheOnePointFallback) {
+  const Format f = thesis_format();
+  const SloshingModel model = make_sloshing_model(f, ModelOptions{});
+  const MotionLaw calm = SevenSegmentLaw(uniform_durations(1.0), 0.8).law();
+  const MotionLaw harsh = SevenSegmentLaw(uniform_durations(0.25), 3.0).law();
+  std::vector<SloshingModel> models;
+  for (double s : {0.9, 0.95, 1.0, 1.05, 1.1}) models.push_back(scaled_model(model, s, 0.0));
+  bool outside = false;  // the harsh law takes some lane beyond |xbar| = 1 (or diverges)
+  for (const MotionLaw* law : {&calm, &harsh}) {
+    const std::vector<SloshPeaks> side = nonlinear_peaks(models, *law, 1.0);
+    ASSERT_EQ(side.size(), models.size());
+    for (std::size_t i = 0; i < models.size(); ++i) {
+      const SloshPeaks one = nonlinear_peaks(models[i], *law, 1.0);
+      if (law == &harsh && !(std::max(one.motion.value, one.rest.value) <= models[i].K)) {
+        outside = true;
+      }
+      if (std::isnan(one.motion.value)) {
+        EXPECT_TRUE(std::isnan(side[i].motion.value)) << i;
+        continue;
+      }
+      EXPECT_EQ(side[i].motion.value, one.motion.value) << i;
+      EXPECT_EQ(side[i].rest.value, one.rest.value) << i;
+      EXPECT_EQ(side[i].rest.time, one.rest.time) << i;
+    }
+  }
+  EXPECT_TRUE(outside);
+  EXPECT_TRUE(nonlinear_peaks(std::vector<SloshingModel>{}, calm, 1.0).empty());
+}
+
 TEST(RobustnessReport, TheIntervalEndsLieBetweenTheLastPointThatHoldsAndTheFirstThatDoesNot) {
   const Format f = thesis_format();
   PlanOptions o;

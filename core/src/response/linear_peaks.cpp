@@ -20,10 +20,12 @@
 // refined peak can exceed the peak already found, and the scan stops (docs/models.md).
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <vector>
 
 #include "sincos.hpp"
+#include "slosh/core/constants.hpp"
 #include "slosh/core/response/response.hpp"
 
 namespace slosh {
@@ -140,11 +142,30 @@ class LinearPeakScan {
   /// index of the last sample taken (n, or earlier when the energy bound ends a rest window).
   std::size_t sample(double a, double b, double h, std::size_t n, bool rest,
                      std::vector<double>& values) const {
+    // The mode count as a constant: the rotations then live in registers, not in memory (each
+    // sample's rotation would otherwise wait for the store of the previous one).
+    switch (modes_) {
+      case 1:
+        return sample_modes<1>(a, b, h, n, rest, values);
+      case 2:
+        return sample_modes<2>(a, b, h, n, rest, values);
+      case 3:
+        return sample_modes<3>(a, b, h, n, rest, values);
+      case 4:
+        return sample_modes<4>(a, b, h, n, rest, values);
+      default:
+        return sample_modes<kMaxModes>(a, b, h, n, rest, values);
+    }
+  }
+
+  template <std::size_t M>
+  std::size_t sample_modes(double a, double b, double h, std::size_t n, bool rest,
+                           std::vector<double>& values) const {
     auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
     // Rotation of every mode over one step, and of the harmonic at the piece's frequency.
-    std::vector<Complex> step_rotation(modes_), z(modes_);
-    std::vector<double> omega(modes_);
-    for (std::size_t m = 0; m < modes_; ++m) {
+    std::array<Complex, M> step_rotation{}, z{};
+    std::array<double, M> omega{};
+    for (std::size_t m = 0; m < M; ++m) {
       const LinearModePiece& p = coef_[m];
       step_rotation[m] = decay_rotation(p.sigma, p.wd, h);
       omega[m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
@@ -167,7 +188,7 @@ class LinearPeakScan {
       // Sum over the modes of the particular parts (one cubic, one harmonic at W).
       double r0 = 0, r1 = 0, r2 = 0, r3 = 0, P = 0, Q = 0, U = 0, V = 0;
       const double W = c[0].W;
-      for (std::size_t m = 0; m < modes_; ++m) {
+      for (std::size_t m = 0; m < M; ++m) {
         const double g = gains_[m];
         r0 += g * c[m].r[0];
         r1 += g * c[m].r[1];
@@ -182,7 +203,7 @@ class LinearPeakScan {
       const bool free = !harmonic && r0 == 0.0 && r1 == 0.0 && r2 == 0.0 && r3 == 0.0;
       // Re-anchor the rotations at this piece's first sample.
       const double tau0 = t - begin_[k];
-      for (std::size_t m = 0; m < modes_; ++m) {
+      for (std::size_t m = 0; m < M; ++m) {
         const Complex rot = decay_rotation(c[m].sigma, c[m].wd, tau0);
         z[m] = mul({gains_[m] * c[m].c1, -gains_[m] * c[m].c2}, rot);
       }
@@ -206,7 +227,7 @@ class LinearPeakScan {
             hz = mul(hz, hstep);
           }
         }
-        for (std::size_t m = 0; m < modes_; ++m) e += z[m].re;
+        for (std::size_t m = 0; m < M; ++m) e += z[m].re;
         const double v = std::abs(e);
         values.push_back(v);
         best = std::max(best, v);
@@ -218,18 +239,156 @@ class LinearPeakScan {
             return i;
           }
         }
-        for (std::size_t m = 0; m < modes_; ++m) z[m] = mul(z[m], step_rotation[m]);
+        for (std::size_t m = 0; m < M; ++m) z[m] = mul(z[m], step_rotation[m]);
       }
     }
     return n;
   }
 
+ public:
+  /// window() of every scan in `scans` (at most kLanes, all with M modes, the same piece starts)
+  /// over one grid, the scans interleaved sample by sample so their rotations run side by side:
+  /// out[l] equals scans[l]->window(a, b, step, rest) bit for bit (each lane does its own
+  /// sample()'s operations in the same order).
+  template <std::size_t M>
+  static void window_lanes(const std::vector<const LinearPeakScan*>& scans, double a, double b,
+                           double step, bool rest, std::vector<Peak>& out) {
+    const std::size_t lanes = scans.size();
+    out.resize(lanes);
+    if (!(b > a)) {
+      for (std::size_t l = 0; l < lanes; ++l) out[l] = {std::abs(scans[l]->eta(a)), a};
+      return;
+    }
+    const auto n = static_cast<std::size_t>(std::ceil((b - a) / step));
+    const double h = (b - a) / static_cast<double>(n);
+    std::array<std::vector<double>, kLanes> values;
+    std::array<std::size_t, kLanes> last{};
+    for (std::size_t l = 0; l < lanes; ++l) values[l].reserve(n + 1);
+    sample_lanes<M>(scans, a, b, h, n, rest, values, last);
+    for (std::size_t l = 0; l < lanes; ++l) {
+      out[l] = scans[l]->pick(a, b, h, n, last[l], values[l]);
+    }
+  }
+
+  /// Scans side by side per vector [-].
+  static constexpr std::size_t kLanes{4};
+
+ private:
+  template <std::size_t M>
+  static void sample_lanes(const std::vector<const LinearPeakScan*>& scans, double a, double b,
+                           double h, std::size_t n, bool rest,
+                           std::array<std::vector<double>, kLanes>& values,
+                           std::array<std::size_t, kLanes>& last) {
+    const std::size_t lanes = scans.size();
+    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
+    std::array<std::array<Complex, M>, kLanes> step_rotation{}, z{};
+    std::array<std::array<double, M>, kLanes> omega{};
+    for (std::size_t l = 0; l < lanes; ++l) {
+      for (std::size_t m = 0; m < M; ++m) {
+        const LinearModePiece& p = scans[l]->coef_[m];
+        step_rotation[l][m] = decay_rotation(p.sigma, p.wd, h);
+        omega[l][m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
+      }
+    }
+    std::array<bool, kLanes> stopped{};
+    std::array<double, kLanes> best;
+    best.fill(-INFINITY);
+    last.fill(n);
+    const std::vector<double>& begin = scans[0]->begin_;
+    std::size_t i = 0;
+    const std::size_t pieces = begin.size();
+    std::size_t k = 0;
+    while (i <= n) {
+      double t = t_of(i);
+      if (t <= 0.0) {  // at rest before the motion starts
+        for (std::size_t l = 0; l < lanes; ++l) {
+          values[l].push_back(0.0);
+          best[l] = std::max(best[l], 0.0);
+        }
+        ++i;
+        continue;
+      }
+      while (k + 1 < pieces && begin[k + 1] <= t) ++k;
+      const double next = k + 1 < pieces ? begin[k + 1] : INFINITY;
+      const double tau0 = t - begin[k];
+      std::array<const LinearModePiece*, kLanes> c{};
+      std::array<double, kLanes> r0{}, r1{}, r2{}, r3{}, P{}, Q{}, U{}, V{};
+      std::array<bool, kLanes> harmonic{}, free{};
+      std::array<Complex, kLanes> hz{}, hstep{};
+      std::array<std::size_t, kLanes> since_bound{};
+      for (std::size_t l = 0; l < lanes; ++l) {
+        const LinearPeakScan& s = *scans[l];
+        c[l] = &s.coef_[k * M];
+        const double W = c[l][0].W;
+        for (std::size_t m = 0; m < M; ++m) {
+          const double g = s.gains_[m];
+          r0[l] += g * c[l][m].r[0];
+          r1[l] += g * c[l][m].r[1];
+          r2[l] += g * c[l][m].r[2];
+          r3[l] += g * c[l][m].r[3];
+          P[l] += g * c[l][m].P;
+          Q[l] += g * c[l][m].Q;
+          U[l] += g * c[l][m].U;
+          V[l] += g * c[l][m].V;
+        }
+        harmonic[l] = W != 0.0;
+        free[l] = !harmonic[l] && r0[l] == 0.0 && r1[l] == 0.0 && r2[l] == 0.0 && r3[l] == 0.0;
+        for (std::size_t m = 0; m < M; ++m) {
+          const Complex rot = decay_rotation(c[l][m].sigma, c[l][m].wd, tau0);
+          z[l][m] = mul({s.gains_[m] * c[l][m].c1, -s.gains_[m] * c[l][m].c2}, rot);
+        }
+        if (harmonic[l]) {
+          const SinCos s0 = fast_sincos(W * tau0);
+          hz[l] = {s0.cos, s0.sin};
+          const SinCos sh = fast_sincos(W * h);
+          hstep[l] = {sh.cos, sh.sin};
+        }
+      }
+      for (; i <= n; ++i) {
+        t = t_of(i);
+        if (t >= next) break;
+        const double tau = t - begin[k];
+        bool running = false;
+        for (std::size_t l = 0; l < lanes; ++l) {
+          if (stopped[l]) continue;
+          running = true;
+          double e = 0.0;
+          if (!free[l]) {
+            e = r0[l] + tau * (r1[l] + tau * (r2[l] + tau * r3[l]));
+            if (harmonic[l]) {
+              e += P[l] * hz[l].re + Q[l] * hz[l].im + tau * (U[l] * hz[l].re + V[l] * hz[l].im);
+              hz[l] = mul(hz[l], hstep[l]);
+            }
+          }
+          for (std::size_t m = 0; m < M; ++m) e += z[l][m].re;
+          const double v = std::abs(e);
+          values[l].push_back(v);
+          best[l] = std::max(best[l], v);
+          if (rest && free[l] && ++since_bound[l] == kBoundStride) {
+            since_bound[l] = 0;
+            if (energy_bound<M>(z[l], c[l], omega[l]) <= best[l]) {
+              if (i < n) values[l].push_back(std::abs(scans[l]->eta(t_of(i + 1))));
+              last[l] = i;
+              stopped[l] = true;
+              continue;
+            }
+          }
+          for (std::size_t m = 0; m < M; ++m) z[l][m] = mul(z[l][m], step_rotation[l][m]);
+        }
+        if (!running) return;
+      }
+    }
+  }
+
+ private:
   /// B(t) = sum_m |g_m| sqrt(x_m^2 + (x_m' / w_m)^2) on a free piece, from the rotations
   /// z_m = g_m Z_m exp(lambda_m tau) (so g_m x_m = Re z_m, g_m x_m' = Re(lambda_m z_m)).
-  [[nodiscard]] double energy_bound(const std::vector<Complex>& z, const LinearModePiece* c,
-                                    const std::vector<double>& omega) const {
+  template <std::size_t M>
+  [[nodiscard]] static double energy_bound(const std::array<Complex, M>& z,
+                                           const LinearModePiece* c,
+                                           const std::array<double, M>& omega) {
     double bound = 0.0;
-    for (std::size_t m = 0; m < modes_; ++m) {
+    for (std::size_t m = 0; m < M; ++m) {
       const double x = z[m].re;
       const double v = (-c[m].sigma * z[m].re - c[m].wd * z[m].im) / omega[m];
       bound += std::sqrt(x * x + v * v);
@@ -308,6 +467,76 @@ class LinearPeakScan {
 };
 
 }  // namespace detail
+
+namespace {
+
+/// LinearPeakScan::window_lanes with the mode count as a constant.
+void window_lanes(std::size_t modes, const std::vector<const detail::LinearPeakScan*>& scans,
+                  double a, double b, double step, bool rest, std::vector<Peak>& out) {
+  using Scan = detail::LinearPeakScan;
+  switch (modes) {
+    case 1:
+      return Scan::window_lanes<1>(scans, a, b, step, rest, out);
+    case 2:
+      return Scan::window_lanes<2>(scans, a, b, step, rest, out);
+    case 3:
+      return Scan::window_lanes<3>(scans, a, b, step, rest, out);
+    case 4:
+      return Scan::window_lanes<4>(scans, a, b, step, rest, out);
+    default:
+      return Scan::window_lanes<kMaxModes>(scans, a, b, step, rest, out);
+  }
+}
+
+}  // namespace
+
+std::vector<SloshPeaks> LinearResponse::peaks_of(const std::vector<LinearResponse>& responses) {
+  std::vector<SloshPeaks> out(responses.size());
+  // Lanes: responses that share the sample grid, the piece starts and the mode count, all modes
+  // under-damped (the others take peaks() alone).
+  auto lane_ready = [](const LinearResponse& r) {
+    return !r.gains_.empty() && r.gains_.size() <= kMaxModes &&
+           std::all_of(r.coefficients_.begin(), r.coefficients_.end(),
+                       [](const LinearModePiece& p) {
+                         return p.damping == LinearModePiece::Damping::kUnder;
+                       });
+  };
+  std::vector<detail::LinearPeakScan> scans;
+  scans.reserve(responses.size());
+  for (const LinearResponse& r : responses)
+    scans.emplace_back(r.gains_, r.piece_begin_, r.coefficients_);
+  std::vector<bool> done(responses.size(), false);
+  for (std::size_t i = 0; i < responses.size(); ++i) {
+    if (done[i]) continue;
+    const LinearResponse& r = responses[i];
+    if (!lane_ready(r)) {
+      out[i] = r.peaks();
+      done[i] = true;
+      continue;
+    }
+    std::vector<std::size_t> group{i};
+    for (std::size_t j = i + 1;
+         j < responses.size() && group.size() < detail::LinearPeakScan::kLanes; ++j) {
+      const LinearResponse& q = responses[j];
+      if (done[j] || !lane_ready(q) || q.peak_step_ != r.peak_step_ ||
+          q.motion_time_ != r.motion_time_ || q.end_time_ != r.end_time_ ||
+          q.gains_.size() != r.gains_.size() || q.piece_begin_ != r.piece_begin_) {
+        continue;
+      }
+      group.push_back(j);
+    }
+    std::vector<const detail::LinearPeakScan*> lanes;
+    for (std::size_t j : group) {
+      lanes.push_back(&scans[j]);
+      done[j] = true;
+    }
+    std::vector<Peak> motion, rest;
+    window_lanes(r.gains_.size(), lanes, 0.0, r.motion_time_, r.peak_step_, false, motion);
+    window_lanes(r.gains_.size(), lanes, r.motion_time_, r.end_time_, r.peak_step_, true, rest);
+    for (std::size_t g = 0; g < group.size(); ++g) out[group[g]] = {motion[g], rest[g]};
+  }
+  return out;
+}
 
 SloshPeaks LinearResponse::peaks() const {
   const bool under_damped = std::all_of(

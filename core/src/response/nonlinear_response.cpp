@@ -1,7 +1,9 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <mutex>
 #include <numbers>
+#include <optional>
 
 #include "slosh/core/response/response.hpp"
 
@@ -21,11 +23,18 @@ namespace {
 constexpr double kEnergyStopMargin{1e-6};
 
 /// The trajectory kept by NonlinearResponse (null for nonlinear_peaks).
-struct Trajectory {
+struct Keep {
   std::vector<double>* t0;
   std::vector<double>* h;
   std::vector<NonlinearResponse::StepPoly>* x_poly;
   std::vector<NonlinearResponse::StepPoly>* v_poly;
+};
+
+/// Where the rest window's integration stopped once its peak was proved found: the state after
+/// step j - 1 of the window's n steps of length h from t_begin.
+struct RestResume {
+  double x{}, v{}, f0{}, h{}, t_begin{};
+  std::size_t j{}, n{};
 };
 
 /// One classical RK4 step with the cubic Hermite interpolants of x (from x, v) and v (from v,
@@ -61,8 +70,8 @@ void rk4_step(const Rhs& rhs, const Acc& acc, double x, double v, double f0, dou
 /// whole rest window is integrated and every step stored, else the integration ends where the
 /// rest window's search does. `last` receives the final state.
 SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double rest_time,
-                     const NonlinearOptions& options, const Trajectory* keep, ModeState* last,
-                     bool rk4 = false) {
+                     const NonlinearOptions& options, const Keep* keep, ModeState* last,
+                     bool rk4 = false, std::optional<RestResume>* resume = nullptr) {
   const double w = model.omega1();
   const double period = 2.0 * std::numbers::pi / w;
   const double h_max = std::min(options.max_step, period / options.steps_per_period);
@@ -129,6 +138,10 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
         if (bound * (1.0 + kEnergyStopMargin) <= peaks.rest.value) {
           rest_found = true;
           if (keep == nullptr) break;
+          if (resume != nullptr) {
+            *resume = RestResume{x, v, f0, h, p.t_begin, j + 1, n};
+            break;
+          }
         }
       }
       if (!std::isfinite(x) && keep == nullptr) break;
@@ -159,9 +172,9 @@ constexpr double kModelRange{1.0};
 constexpr double kDivergenceRetryStepsPerPeriod{100.0};
 
 SloshPeaks integrate_or_refine(const SloshingModel& model, const MotionLaw& law, double rest_time,
-                               const NonlinearOptions& options, const Trajectory* keep,
-                               ModeState* last) {
-  SloshPeaks p = integrate(model, law, rest_time, options, keep, last);
+                               const NonlinearOptions& options, const Keep* keep, ModeState* last,
+                               std::optional<RestResume>* resume = nullptr) {
+  SloshPeaks p = integrate(model, law, rest_time, options, keep, last, false, resume);
   if (std::max(p.motion.value, p.rest.value) <= kModelRange * model.K) return p;
   NonlinearOptions fine = options;
   fine.max_step = std::min(options.max_step, kDivergenceRetryStep);
@@ -172,16 +185,80 @@ SloshPeaks integrate_or_refine(const SloshingModel& model, const MotionLaw& law,
     keep->x_poly->clear();
     keep->v_poly->clear();
   }
+  if (resume != nullptr) resume->reset();
   return integrate(model, law, rest_time, fine, keep, last, true);
+}
+
+/// The rest of the rest window from `r`, step for step what integrate() does there once the
+/// peak is found (the forcing is zero; nothing is searched).
+void resume_rest(const SloshingModel& model, const RestResume& r, const Keep& keep,
+                 ModeState& last) {
+  auto rhs = [&model](double x, double v, double a) {
+    return detail::nonlinear_rhs(model, x, v, a);
+  };
+  double x = r.x, v = r.v, f0 = r.f0;
+  detail::DopStep<double> step;
+  for (std::size_t j = r.j; j < r.n; ++j) {
+    const double tau = r.h * static_cast<double>(j);
+    detail::dop853_step(
+        rhs, [](std::size_t) { return 0.0; }, x, v, f0, r.h, true, step, true);
+    keep.t0->push_back(r.t_begin + tau);
+    keep.h->push_back(r.h);
+    keep.x_poly->push_back(step.x_poly);
+    keep.v_poly->push_back(step.v_poly);
+    x = step.x1;
+    v = step.v1;
+    f0 = step.f1;
+  }
+  last = {x, v};
 }
 
 }  // namespace
 
+struct NonlinearResponse::Trajectory {
+  std::vector<double> t0, h;             // start and length of every step [s]
+  std::vector<StepPoly> x_poly, v_poly;  // xbar, xbar' over each step
+  ModeState last{};                      // state at the end of the rest window
+  SloshingModel model;                   // for the rest window's remaining steps
+  std::optional<RestResume> resume;      // set while the rest window is not complete
+  std::once_flag completed;
+};
+
 NonlinearResponse::NonlinearResponse(const SloshingModel& model, const MotionLaw& law,
                                      double rest_time, const NonlinearOptions& options)
-    : K_(model.K), motion_time_(law.duration()) {
-  const Trajectory keep{&t0_, &h_, &x_poly_, &v_poly_};
-  peaks_ = integrate_or_refine(model, law, rest_time, options, &keep, &last_);
+    : trajectory_(std::make_shared<Trajectory>()), K_(model.K), motion_time_(law.duration()) {
+  Trajectory& tr = *trajectory_;
+  // Room for the whole grid (every piece rounds its step count up by at most one), so the
+  // vectors are not regrown while integrating.
+  const double h_max = std::min(options.max_step,
+                                2.0 * std::numbers::pi / model.omega1() / options.steps_per_period);
+  const double estimate =
+      (law.duration() + rest_time) / h_max + static_cast<double>(law.pieces().size()) + 2.0;
+  if (estimate > 0.0 && estimate < 1e6) {
+    const auto n = static_cast<std::size_t>(estimate);
+    tr.t0.reserve(n);
+    tr.h.reserve(n);
+    tr.x_poly.reserve(n);
+    tr.v_poly.reserve(n);
+  }
+  const Keep keep{&tr.t0, &tr.h, &tr.x_poly, &tr.v_poly};
+  peaks_ = integrate_or_refine(model, law, rest_time, options, &keep, &tr.last, &tr.resume);
+  if (tr.resume) tr.model = model;
+}
+
+const NonlinearResponse::Trajectory& NonlinearResponse::trajectory() const {
+  Trajectory& tr = *trajectory_;
+  std::call_once(tr.completed, [&tr] {
+    if (!tr.resume) return;
+    const Keep keep{&tr.t0, &tr.h, &tr.x_poly, &tr.v_poly};
+    resume_rest(tr.model, *tr.resume, keep, tr.last);
+    tr.resume.reset();
+  });
+  return tr;
+}
+
+std::size_t NonlinearResponse::steps() const {
+  return trajectory().t0.size();
 }
 
 SloshPeaks nonlinear_peaks(const SloshingModel& model, const MotionLaw& law, double rest_time,
@@ -190,12 +267,13 @@ SloshPeaks nonlinear_peaks(const SloshingModel& model, const MotionLaw& law, dou
 }
 
 ModeState NonlinearResponse::state(double t) const {
-  if (t <= 0.0 || t0_.empty()) return {};
+  const Trajectory& tr = trajectory();
+  if (t <= 0.0 || tr.t0.empty()) return {};
   const std::size_t i =
-      static_cast<std::size_t>(std::upper_bound(t0_.begin(), t0_.end(), t) - t0_.begin()) - 1;
-  const double s = (t - t0_[i]) / h_[i];
-  if (s >= 1.0 && i + 1 == t0_.size()) return last_;
-  return {detail::dense_value(x_poly_[i], s), detail::dense_value(v_poly_[i], s)};
+      static_cast<std::size_t>(std::upper_bound(tr.t0.begin(), tr.t0.end(), t) - tr.t0.begin()) - 1;
+  const double s = (t - tr.t0[i]) / tr.h[i];
+  if (s >= 1.0 && i + 1 == tr.t0.size()) return tr.last;
+  return {detail::dense_value(tr.x_poly[i], s), detail::dense_value(tr.v_poly[i], s)};
 }
 
 double NonlinearResponse::eta(double t) const {

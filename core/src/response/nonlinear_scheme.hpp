@@ -175,32 +175,38 @@ void stages(const Rhs& rhs, const Acc& acc, const S& x, const S& v, const S& h,
       ...);
 }
 
+// q <- theta q and q <- (1 - theta) q for q of degree Deg (a constant, so the shifts unroll into
+// register moves instead of a memmove per step).
+template <std::size_t Deg, typename S>
+void times_theta(DensePoly<S>& q) {
+  for (std::size_t k = Deg + 1; k > 0; --k) q[k] = q[k - 1];
+  q[0] = S(0.0);
+}
+template <std::size_t Deg, typename S>
+void times_one_minus_theta(DensePoly<S>& q) {
+  for (std::size_t k = Deg + 1; k > 0; --k) q[k] = q[k] - q[k - 1];
+}
+
 // y0 + theta (F0 + (1 - theta) (F1 + theta (F2 + (1 - theta) (F3 + theta (F4 + (1 - theta)
 // (F5 + theta F6)))))) expanded to the power basis in theta.
 template <typename S>
 DensePoly<S> power_basis(const S& y0, const std::array<S, 7>& F) {
   DensePoly<S> q;
   for (S& c : q) c = S(0.0);
-  std::size_t deg = 0;
   q[0] = F[6];
-  auto times_theta = [&] {
-    for (std::size_t k = deg + 1; k > 0; --k) q[k] = q[k - 1];
-    q[0] = S(0.0);
-    ++deg;
-  };
-  auto times_one_minus_theta = [&] {
-    for (std::size_t k = deg + 1; k > 0; --k) q[k] = q[k] - q[k - 1];
-    ++deg;
-  };
-  for (int j = 5; j >= 0; --j) {
-    if ((5 - j) % 2 == 0) {
-      times_theta();
-    } else {
-      times_one_minus_theta();
-    }
-    q[0] = q[0] + F[static_cast<std::size_t>(j)];
-  }
-  times_theta();
+  times_theta<0>(q);
+  q[0] = q[0] + F[5];
+  times_one_minus_theta<1>(q);
+  q[0] = q[0] + F[4];
+  times_theta<2>(q);
+  q[0] = q[0] + F[3];
+  times_one_minus_theta<3>(q);
+  q[0] = q[0] + F[2];
+  times_theta<4>(q);
+  q[0] = q[0] + F[1];
+  times_one_minus_theta<5>(q);
+  q[0] = q[0] + F[0];
+  times_theta<6>(q);
   q[0] = q[0] + y0;
   return q;
 }

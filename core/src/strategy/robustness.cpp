@@ -82,19 +82,36 @@ RobustnessReport robustness_report(
   RobustnessReport r;
   r.sweep = sweep;
   const std::vector<double> deltas = robustness_deltas(sweep);
+  const bool zero_given = at_zero && sweep.zeta == nominal.zeta;
+  // The models to simulate, in delta order (neighbours have nearly the same step grid, so the
+  // nonlinear lanes integrated side by side finish together).
+  std::vector<SloshingModel> models;
+  std::vector<std::size_t> simulated;  // index into deltas of models[i]
+  for (std::size_t k = 0; k < deltas.size(); ++k) {
+    if (deltas[k] == 0.0 && zero_given) continue;
+    models.push_back(scaled_model(nominal, 1.0 + deltas[k], sweep.zeta));
+    simulated.push_back(k);
+  }
+  const std::vector<SloshPeaks> nonlinear = nonlinear_peaks(models, law, sweep.rest_time);
+  std::vector<LinearResponse> responses;
+  responses.reserve(models.size());
+  for (const SloshingModel& m : models) responses.emplace_back(m, law, sweep.rest_time);
+  const std::vector<SloshPeaks> linear = LinearResponse::peaks_of(responses);
+  r.points.resize(deltas.size());
+  for (std::size_t i = 0; i < models.size(); ++i) {
+    RobustnessPoint& p = r.points[simulated[i]];
+    p.linear = linear[i];
+    p.nonlinear = nonlinear[i];
+  }
   std::vector<double> lin_margin, nl_margin;
   std::size_t zero = 0;
   for (std::size_t k = 0; k < deltas.size(); ++k) {
-    RobustnessPoint p;
+    RobustnessPoint& p = r.points[k];
     p.delta = deltas[k];
     if (p.delta == 0.0) zero = k;
-    if (p.delta == 0.0 && at_zero && sweep.zeta == nominal.zeta) {
+    if (p.delta == 0.0 && zero_given) {
       p.linear = at_zero->first;
       p.nonlinear = at_zero->second;
-    } else {
-      const SloshingModel m = scaled_model(nominal, 1.0 + p.delta, sweep.zeta);
-      p.linear = LinearResponse(m, law, sweep.rest_time).peaks();
-      p.nonlinear = nonlinear_peaks(m, law, sweep.rest_time);
     }
     lin_margin.push_back(margin(p.linear, sweep));
     nl_margin.push_back(margin(p.nonlinear, sweep));
@@ -102,7 +119,6 @@ RobustnessReport robustness_report(
     p.holds_nonlinear = nl_margin.back() <= kRobustnessSlack;
     raise(r.worst_linear, p.linear);
     raise(r.worst_nonlinear, p.nonlinear);
-    r.points.push_back(p);
   }
   r.linear = holding_interval(deltas, lin_margin, zero);
   r.nonlinear = holding_interval(deltas, nl_margin, zero);

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "slosh/core/law/motion_law.hpp"
@@ -58,6 +59,10 @@ class LinearResponse {
   /// Peaks of |eta| located on the continuous response (samples at <= 1 ms and <= 1/64 of the
   /// fastest period, each candidate refined by golden section to 1e-10 s).
   [[nodiscard]] SloshPeaks peaks() const;
+  /// peaks() of every response, equal to it bit for bit; responses on the same sample grid (the
+  /// robustness report's sweep of one law) are scanned side by side, a few per vector.
+  [[nodiscard]] static std::vector<SloshPeaks> peaks_of(
+      const std::vector<LinearResponse>& responses);
   [[nodiscard]] double motion_time() const { return motion_time_; }
   [[nodiscard]] double end_time() const { return end_time_; }
 
@@ -87,6 +92,10 @@ struct NonlinearOptions {
 /// Dormand and Prince (DOP853) with equal steps on every law piece (never across a piece
 /// boundary); between steps the response is the scheme's order-7 dense output, so the peaks are
 /// the exact maxima of a continuous curve (the roots of its derivative on every step).
+///
+/// The constructor integrates as far as the peaks need (the rest window up to where the energy
+/// bound proves its maximum found); the rest of the rest window is integrated on the first call
+/// of eta(), state() or steps(), once (thread-safe; copies share the trajectory).
 class NonlinearResponse {
  public:
   NonlinearResponse(const SloshingModel& model, const MotionLaw& law, double rest_time,
@@ -99,16 +108,20 @@ class NonlinearResponse {
   /// The peaks (found while integrating; the rest window's search ends by the energy bound of
   /// docs/models.md, which proves no later maximum can exceed the one found).
   [[nodiscard]] SloshPeaks peaks() const { return peaks_; }
-  [[nodiscard]] std::size_t steps() const { return t0_.size(); }
+  /// Steps of the whole trajectory (motion and rest window).
+  [[nodiscard]] std::size_t steps() const;
   [[nodiscard]] double motion_time() const { return motion_time_; }
 
   /// Power-basis coefficients of a step's interpolant in theta = (t - t0) / h [-].
   using StepPoly = std::array<double, 8>;
 
+  /// The stored steps and where the rest window's integration resumes (nonlinear_response.cpp).
+  struct Trajectory;
+
  private:
-  std::vector<double> t0_, h_;             // start and length of every step [s]
-  std::vector<StepPoly> x_poly_, v_poly_;  // xbar, xbar' over each step
-  ModeState last_{};                       // state at the end of the rest window
+  [[nodiscard]] const Trajectory& trajectory() const;  // completed on first use
+
+  std::shared_ptr<Trajectory> trajectory_;
   SloshPeaks peaks_;
   double K_{};
   double motion_time_{};
@@ -119,6 +132,12 @@ class NonlinearResponse {
 /// the rest window's maximum found (about half a period after the first turning point after T).
 [[nodiscard]] SloshPeaks nonlinear_peaks(const SloshingModel& model, const MotionLaw& law,
                                          double rest_time, const NonlinearOptions& options = {});
+
+/// nonlinear_peaks(models[i], law, rest_time, options) for every i, equal to it bit for bit,
+/// computed side by side (a few models a vector: the robustness report's frequency sweep).
+[[nodiscard]] std::vector<SloshPeaks> nonlinear_peaks(const std::vector<SloshingModel>& models,
+                                                      const MotionLaw& law, double rest_time,
+                                                      const NonlinearOptions& options = {});
 
 /// Steps for a stretch of length L with steps <= h_max: ceil(L / h_max), ignoring a
 /// round-off excess of 1e-9 step (0.17 s / 1 ms is 170.00000000000003), at least `at_least`.
