@@ -29,7 +29,9 @@ HISTORY = re.compile(r"\b[Ii]ssue \d+|\b[Hh]ostile review|\breview(ed)? (found|s
 
 
 def strip(text):
-    """`text` with comments, string and character literals blanked (newlines kept)."""
+    """`text` with comments, preprocessor lines, string and character literals blanked (newlines
+    kept)."""
+    text = re.sub(r"(?m)^[ \t]*#(?:[^\n]*\\\n)*[^\n]*", lambda m: "\n" * m.group(0).count("\n"), text)
     out = []
     i, n = 0, len(text)
     while i < n:
@@ -134,7 +136,7 @@ def main():
                     problems.append(f"{rel}: a comment names an issue or a review")
                     details.append(f"{rel}:{number}: {line_text.strip()[:80]}")
             if top == "service":
-                if "nlohmann" in strip(text):
+                if "nlohmann" in strip(text) or re.search(r"#include\s*<nlohmann/", text):
                     problems.append(f"{rel}: uses nlohmann/json (JSON lives in api/)")
                 if "cli" not in rel.parts and re.search(r'#include\s*"(\.\./)?cli/', text):
                     problems.append(f"{rel}: a server file includes a header of the CLI")
