@@ -1,6 +1,7 @@
-// The Redis client of the shared cache (service/storage/redis_client.hpp) against a real redis-server on
-// a loopback port: URL parsing with its exact refusals, commands, a stopped (SIGSTOP) server that
-// makes commands time out, back-off, and recovery after SIGCONT and after a restart.
+// The Redis client of the shared cache (service/storage/redis_client.hpp) against a real
+// redis-server on a loopback port: URL parsing with its exact refusals, commands, a stopped
+// (SIGSTOP) server that makes commands time out, back-off, and recovery after SIGCONT and after a
+// restart.
 
 #include <gtest/gtest.h>
 

@@ -1,6 +1,6 @@
-// RedisJobStore (service/jobs/redis_job_store.hpp) against a real redis-server on loopback: records,
-// rows in item order with paging, the cancel flag, removal, the time to live of a job's keys,
-// two replicas' stores seeing the same jobs, and a Redis that is down.
+// RedisJobStore (service/jobs/redis_job_store.hpp) against a real redis-server on loopback:
+// records, rows in item order with paging, the cancel flag, removal, the time to live of a job's
+// keys, two replicas' stores seeing the same jobs, and a Redis that is down.
 
 #include <gtest/gtest.h>
 

@@ -1,7 +1,8 @@
 #pragma once
-// Job stores of one process (service/jobs/job_store.hpp): MemoryJobStore keeps jobs in memory, bounded
-// by age and count; TieredJobStore puts a local store in front of a shared one (Redis), so a
-// replica keeps its own jobs while the shared store is down and reads other replicas' jobs from it.
+// Job stores of one process (service/jobs/job_store.hpp): MemoryJobStore keeps jobs in memory,
+// bounded by age and count; TieredJobStore puts a local store in front of a shared one (Redis), so
+// a replica keeps its own jobs while the shared store is down and reads other replicas' jobs from
+// it.
 
 #include <chrono>
 #include <cstddef>
