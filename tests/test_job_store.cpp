@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "jobs/memory_job_store.hpp"
+#include "jobs/tiered_job_store.hpp"
 
 namespace slosh::service {
 namespace {

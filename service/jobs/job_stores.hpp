@@ -9,6 +9,7 @@
 #include "config/server_config.hpp"
 #include "jobs/memory_job_store.hpp"
 #include "jobs/redis_job_store.hpp"
+#include "jobs/tiered_job_store.hpp"
 #include "storage/redis_client.hpp"
 
 namespace slosh::service {

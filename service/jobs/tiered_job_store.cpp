@@ -1,0 +1,238 @@
+#include "jobs/tiered_job_store.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <iterator>
+#include <utility>
+
+namespace slosh::service {
+
+namespace {
+/// Jobs whose row counts are kept before those the local store dropped are forgotten.
+constexpr std::size_t kMaxCountedJobs = 1024;
+}  // namespace
+
+bool TieredJobStore::put_record(const std::string& id, const std::string& record) {
+  const bool local = local_.put_record(id, record);
+  {
+    // The shared store is behind on this job: the record goes with its rows at the next resync
+    // (written now, it would announce rows the shared store does not hold yet).
+    const std::lock_guard lock(mutex_);
+    if (local && unsynced_.count(id) != 0) return true;
+  }
+  const bool shared = shared_.put_record(id, record);
+  if (local && !shared) {
+    const std::lock_guard lock(mutex_);
+    unsynced_.insert(id);
+  }
+  return local || shared;
+}
+
+std::optional<std::string> TieredJobStore::create(const std::string& id,
+                                                  const std::string& record) {
+  if (auto refused = shared_.create(id, record)) {
+    // Nobody learns the id of a refused job, but a write that timed out may land once Redis
+    // runs again: its record would then sit there as a queued job that never runs.
+    const std::lock_guard lock(mutex_);
+    remember(id, true, false);
+    return refused;
+  }
+  (void)local_.put_record(id, record);  // a memory store: never fails
+  return std::nullopt;
+}
+
+bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
+                              const std::vector<std::string>& rows) {
+  const bool local = local_.put_rows(id, first, rows);
+  {
+    const std::lock_guard lock(mutex_);
+    if (counts_.size() > kMaxCountedJobs) {
+      // Forget the counts of jobs the local store has dropped (expired or removed).
+      std::erase_if(counts_, [this](const auto& entry) { return !local_.record(entry.first); });
+    }
+    RowCounts& counts = counts_[id];
+    if (local) counts.local = std::max(counts.local, first + rows.size());
+    // In step with the shared store: these rows follow the ones it holds. Else they wait for
+    // resync(), which sends every row it misses once, in order.
+    if (local && (unsynced_.count(id) != 0 || counts.shared != first)) {
+      unsynced_.insert(id);
+      return true;
+    }
+  }
+  const bool shared = shared_.put_rows(id, first, rows);
+  const std::lock_guard lock(mutex_);
+  if (shared) {
+    RowCounts& counts = counts_[id];
+    counts.shared = std::max(counts.shared, first + rows.size());
+  } else if (local) {
+    unsynced_.insert(id);
+  }
+  return local || shared;
+}
+
+bool TieredJobStore::publish(const std::string& id) {
+  // The record first: it counts no more rows than the local store held when it was written
+  // (rows are stored before their record), so the rows sent below cover it.
+  const auto record = local_.record(id);
+  if (!record) {  // dropped here (expired, removed): nothing to publish
+    const std::lock_guard lock(mutex_);
+    counts_.erase(id);
+    return true;
+  }
+  std::size_t from = 0;
+  std::size_t to = 0;
+  {
+    const std::lock_guard lock(mutex_);
+    const RowCounts& counts = counts_[id];
+    from = std::min(counts.shared, counts.local);
+    to = counts.local;
+  }
+  for (std::size_t at = from; at < to; at += kPublishChunk) {
+    const std::size_t n = std::min(kPublishChunk, to - at);
+    const auto rows = local_.rows(id, at, n);
+    if (!rows || rows->size() != n) {
+      // The local copy lost rows it had taken (it cannot, short of a bug): publish the record
+      // anyway, so that readers refuse the table naming the missing rows instead of reading an
+      // older state.
+      spdlog::error(
+          "batch job {}: the local job store holds {} of rows {} to {}; publishing its "
+          "record without them",
+          id, rows ? rows->size() : 0, at + 1, at + n);
+      break;
+    }
+    if (!shared_.put_rows(id, at, *rows)) return false;
+    const std::lock_guard lock(mutex_);
+    RowCounts& counts = counts_[id];
+    counts.shared = std::max(counts.shared, at + n);
+  }
+  if (local_.cancel_requested(id) && !shared_.request_cancel(id)) return false;
+  return shared_.put_record(id, *record);
+}
+
+void TieredJobStore::remember(const std::string& id, bool removed, bool told) {
+  auto [it, added] = remembered_.try_emplace(id, removed);
+  if (added) {
+    remembered_order_.push_back(id);
+  } else {
+    it->second = it->second || removed;
+  }
+  if (told) {
+    untold_.erase(id);
+  } else {
+    untold_.insert(id);
+  }
+  while (remembered_order_.size() > kRemembered) {
+    remembered_.erase(remembered_order_.front());
+    untold_.erase(remembered_order_.front());
+    remembered_order_.pop_front();
+  }
+}
+
+void TieredJobStore::tell_shared() {
+  std::vector<std::pair<std::string, bool>> pending;
+  {
+    const std::lock_guard lock(mutex_);
+    for (const std::string& id : untold_) pending.emplace_back(id, remembered_.at(id));
+  }
+  for (const auto& [id, removed] : pending) {
+    if (!(removed ? shared_.remove(id) : shared_.request_cancel(id))) return;  // down: later
+    const std::lock_guard lock(mutex_);
+    untold_.erase(id);
+  }
+}
+
+void TieredJobStore::resync() {
+  const bool emptied = shared_.emptied_since_last_check();
+  if (emptied) {
+    const std::vector<std::string> ids = local_.ids();
+    const std::lock_guard lock(mutex_);
+    for (const std::string& id : ids) {
+      counts_[id].shared = 0;  // the shared store holds none of its rows any more
+      unsynced_.insert(id);
+    }
+    for (const auto& [id, removed] : remembered_) untold_.insert(id);
+  }
+  // Cancels and removals first: a job removed is not published again below.
+  tell_shared();
+  // Jobs whose record the shared store lost on its own (evicted under maxmemory, or deleted):
+  // published again in full, as after an emptying. Jobs already waiting for resync are skipped.
+  {
+    std::vector<std::string> synced;
+    for (const std::string& id : local_.ids()) {
+      const std::lock_guard lock(mutex_);
+      if (unsynced_.count(id) == 0) synced.push_back(id);
+    }
+    for (const std::string& id : shared_.records_missing_among(synced)) {
+      spdlog::warn(
+          "batch job {}: its record is missing from the shared job store; publishing it "
+          "again",
+          id);
+      const std::lock_guard lock(mutex_);
+      counts_[id].shared = 0;
+      unsynced_.insert(id);
+    }
+  }
+  // Jobs removed through another replica: this replica forgets its own copy (it would else
+  // answer for the job and publish it again after an emptying).
+  for (const std::string& id : shared_.removed_among(local_.ids())) {
+    local_.remove(id);
+    const std::lock_guard lock(mutex_);
+    counts_.erase(id);
+    unsynced_.erase(id);
+  }
+  std::vector<std::string> pending;
+  {
+    const std::lock_guard lock(mutex_);
+    pending.assign(unsynced_.begin(), unsynced_.end());
+  }
+  for (const std::string& id : pending) {
+    if (!publish(id)) continue;
+    const std::lock_guard lock(mutex_);
+    unsynced_.erase(id);
+  }
+}
+
+JobStore::RecordLookup TieredJobStore::lookup_record(const std::string& id) {
+  if (auto r = local_.record(id)) return {std::move(r), true};
+  return shared_.lookup_record(id);
+}
+
+std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& id,
+                                                             std::size_t offset,
+                                                             std::size_t count) {
+  if (auto r = local_.rows(id, offset, count)) return r;
+  return shared_.rows(id, offset, count);
+}
+
+std::optional<std::vector<std::optional<std::string>>> TieredJobStore::row_slots(
+    const std::string& id, std::size_t offset, std::size_t count) {
+  if (auto r = local_.row_slots(id, offset, count)) return r;
+  return shared_.row_slots(id, offset, count);
+}
+
+bool TieredJobStore::request_cancel(const std::string& id) {
+  const bool local = local_.request_cancel(id);
+  const bool shared = shared_.request_cancel(id);
+  if (shared) {
+    const std::lock_guard lock(mutex_);
+    remember(id, false, true);
+  }
+  return local || shared;
+}
+
+bool TieredJobStore::cancel_requested(const std::string& id) {
+  return local_.cancel_requested(id) || shared_.cancel_requested(id);
+}
+
+bool TieredJobStore::remove(const std::string& id) {
+  const bool local = local_.remove(id);
+  const bool shared = shared_.remove(id);
+  const std::lock_guard lock(mutex_);
+  counts_.erase(id);
+  unsynced_.erase(id);
+  remember(id, true, shared);
+  return local || shared;
+}
+
+}  // namespace slosh::service
