@@ -27,7 +27,13 @@ std::string etag(const std::string& key) {
   return "\"" + key + "\"";
 }
 
+std::string gzip_etag(const std::string& tag) {
+  if (tag.size() < 2 || tag.back() != '"') return tag;
+  return tag.substr(0, tag.size() - 1) + ";gzip\"";
+}
+
 bool etag_matches(const std::string& header, const std::string& tag) {
+  const std::string coded = gzip_etag(tag);
   std::size_t at = 0;
   while (at < header.size()) {
     std::size_t end = header.find(',', at);
@@ -36,7 +42,7 @@ bool etag_matches(const std::string& header, const std::string& tag) {
     item.erase(0, item.find_first_not_of(" \t"));
     item.erase(item.find_last_not_of(" \t") + 1);
     if (item.rfind("W/", 0) == 0) item.erase(0, 2);
-    if (item == "*" || item == tag) return true;
+    if (item == "*" || item == tag || item == coded) return true;
     at = end + 1;
   }
   return false;

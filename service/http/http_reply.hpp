@@ -59,8 +59,13 @@ Reply guarded_reply(F&& body) {
 /// "\"<key>\"": the strong entity tag of a body named by `key`.
 [[nodiscard]] std::string etag(const std::string& key);
 
-/// Whether an If-None-Match header names `tag`: "*", or a list of tags compared weakly (RFC 9110
-/// 13.1.2: W/"x" matches "x").
+/// The entity tag of the gzip coding of the body tagged `tag` ("\"<key>\"" -> "\"<key>;gzip\""):
+/// a strong tag names bytes, and the coded bytes differ from the identity ones (RFC 9110 8.8.3.3).
+[[nodiscard]] std::string gzip_etag(const std::string& tag);
+
+/// Whether an If-None-Match header names `tag` or its gzip coding's tag (either coding of the
+/// same body is still fresh): "*", or a list of tags compared weakly (RFC 9110 13.1.2: W/"x"
+/// matches "x").
 [[nodiscard]] bool etag_matches(const std::string& header, const std::string& tag);
 
 }  // namespace slosh::service

@@ -77,19 +77,22 @@ constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 // depends on Accept-Encoding says so (Vary), whether or not this client accepted it.
 void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
-  for (const auto& [name, value] : reply.headers) res.set_header(name, value);
   // A body this reply may code for this client: one that is not coded yet (nor held).
   const bool codable = reply.content_encoding.empty() && !reply.hold &&
                        worth_compressing(reply.content_type, reply.body.size());
+  if (codable && request_accepts_gzip && !reply.body.empty()) {
+    reply.body = gzip_compress(reply.body, kResponseGzipLevel);
+    reply.content_encoding = "gzip";
+  }
+  for (const auto& [name, value] : reply.headers) {
+    const bool coded_tag = name == "ETag" && reply.content_encoding == "gzip";
+    res.set_header(name, coded_tag ? gzip_etag(value) : value);
+  }
   if (codable || !reply.content_encoding.empty() || reply.plan.has_value()) {
     res.set_header("Vary", "Accept-Encoding");
   }
   if (reply.body.empty()) return;
   if (!reply.hold) {
-    if (codable && request_accepts_gzip) {
-      reply.body = gzip_compress(reply.body, kResponseGzipLevel);
-      reply.content_encoding = "gzip";
-    }
     if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
     // Moved, not copied (set_content copies): a full plan is 40 kB.
     res.body = std::move(reply.body);
