@@ -158,18 +158,69 @@ class LinearPeakScan {
     }
   }
 
+  /// The particular part of one piece summed over the modes (one cubic r0..r3, one harmonic
+  /// P cos + Q sin + tau (U cos + V sin) at the piece's frequency W), and the harmonic's
+  /// rotation anchored at the piece's first sample: set up once per piece, so that each sample
+  /// costs one cubic, one harmonic rotation and one rotation per mode.
+  struct PieceSum {
+    double r0{}, r1{}, r2{}, r3{}, P{}, Q{}, U{}, V{};
+    bool harmonic{}, free{};  // free: no forcing on the piece (the energy bound applies)
+    Complex hz{}, hstep{};    // exp(i W tau) at the current sample, exp(i W h)
+  };
+
+  /// PieceSum of the M modes c[0..M) (the summation order is the samplers' own), with the
+  /// homogeneous rotations z_m = g_m Z_m exp(lambda_m tau0) re-anchored at tau0 from the closed
+  /// form. Inlined into the samplers so their registers and code stay what they were.
   template <std::size_t M>
-  std::size_t sample_modes(double a, double b, double h, std::size_t n, bool rest,
-                           std::vector<double>& values) const {
-    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
-    // Rotation of every mode over one step, and of the harmonic at the piece's frequency.
-    std::array<Complex, M> step_rotation{}, z{};
-    std::array<double, M> omega{};
+  [[gnu::always_inline]] PieceSum piece_sum(const LinearModePiece* c, double tau0, double h,
+                                            std::array<Complex, M>& z) const {
+    PieceSum q;
+    const double W = c[0].W;
+    for (std::size_t m = 0; m < M; ++m) {
+      const double g = gains_[m];
+      q.r0 += g * c[m].r[0];
+      q.r1 += g * c[m].r[1];
+      q.r2 += g * c[m].r[2];
+      q.r3 += g * c[m].r[3];
+      q.P += g * c[m].P;
+      q.Q += g * c[m].Q;
+      q.U += g * c[m].U;
+      q.V += g * c[m].V;
+    }
+    q.harmonic = W != 0.0;
+    q.free = !q.harmonic && q.r0 == 0.0 && q.r1 == 0.0 && q.r2 == 0.0 && q.r3 == 0.0;
+    for (std::size_t m = 0; m < M; ++m) {
+      const Complex rot = decay_rotation(c[m].sigma, c[m].wd, tau0);
+      z[m] = mul({gains_[m] * c[m].c1, -gains_[m] * c[m].c2}, rot);
+    }
+    if (q.harmonic) {
+      const SinCos s0 = fast_sincos(W * tau0);
+      q.hz = {s0.cos, s0.sin};
+      const SinCos sh = fast_sincos(W * h);
+      q.hstep = {sh.cos, sh.sin};
+    }
+    return q;
+  }
+
+  /// Rotation of every mode over one step, and the modes' natural frequencies |lambda_m| (the
+  /// energy bound's scale): the same on every piece, so computed once per window.
+  template <std::size_t M>
+  [[gnu::always_inline]] void step_rotations(double h, std::array<Complex, M>& step_rotation,
+                                             std::array<double, M>& omega) const {
     for (std::size_t m = 0; m < M; ++m) {
       const LinearModePiece& p = coef_[m];
       step_rotation[m] = decay_rotation(p.sigma, p.wd, h);
       omega[m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
     }
+  }
+
+  template <std::size_t M>
+  std::size_t sample_modes(double a, double b, double h, std::size_t n, bool rest,
+                           std::vector<double>& values) const {
+    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
+    std::array<Complex, M> step_rotation{}, z{};
+    std::array<double, M> omega{};
+    step_rotations<M>(h, step_rotation, omega);
     std::size_t i = 0;
     double best = -INFINITY;
     const std::size_t pieces = begin_.size();
@@ -185,53 +236,25 @@ class LinearPeakScan {
       while (k + 1 < pieces && begin_[k + 1] <= t) ++k;
       const double next = k + 1 < pieces ? begin_[k + 1] : INFINITY;
       const LinearModePiece* c = &coef_[k * modes_];
-      // Sum over the modes of the particular parts (one cubic, one harmonic at W).
-      double r0 = 0, r1 = 0, r2 = 0, r3 = 0, P = 0, Q = 0, U = 0, V = 0;
-      const double W = c[0].W;
-      for (std::size_t m = 0; m < M; ++m) {
-        const double g = gains_[m];
-        r0 += g * c[m].r[0];
-        r1 += g * c[m].r[1];
-        r2 += g * c[m].r[2];
-        r3 += g * c[m].r[3];
-        P += g * c[m].P;
-        Q += g * c[m].Q;
-        U += g * c[m].U;
-        V += g * c[m].V;
-      }
-      const bool harmonic = W != 0.0;
-      const bool free = !harmonic && r0 == 0.0 && r1 == 0.0 && r2 == 0.0 && r3 == 0.0;
-      // Re-anchor the rotations at this piece's first sample.
-      const double tau0 = t - begin_[k];
-      for (std::size_t m = 0; m < M; ++m) {
-        const Complex rot = decay_rotation(c[m].sigma, c[m].wd, tau0);
-        z[m] = mul({gains_[m] * c[m].c1, -gains_[m] * c[m].c2}, rot);
-      }
-      Complex hz{}, hstep{};
-      if (harmonic) {
-        const SinCos s0 = fast_sincos(W * tau0);
-        hz = {s0.cos, s0.sin};
-        const SinCos sh = fast_sincos(W * h);
-        hstep = {sh.cos, sh.sin};
-      }
+      PieceSum q = piece_sum<M>(c, t - begin_[k], h, z);
       std::size_t since_bound = 0;
       for (; i <= n; ++i) {
         t = t_of(i);
         if (t >= next) break;
         double e = 0.0;
-        if (!free) {
+        if (!q.free) {
           const double tau = t - begin_[k];
-          e = r0 + tau * (r1 + tau * (r2 + tau * r3));
-          if (harmonic) {
-            e += P * hz.re + Q * hz.im + tau * (U * hz.re + V * hz.im);
-            hz = mul(hz, hstep);
+          e = q.r0 + tau * (q.r1 + tau * (q.r2 + tau * q.r3));
+          if (q.harmonic) {
+            e += q.P * q.hz.re + q.Q * q.hz.im + tau * (q.U * q.hz.re + q.V * q.hz.im);
+            q.hz = mul(q.hz, q.hstep);
           }
         }
         for (std::size_t m = 0; m < M; ++m) e += z[m].re;
         const double v = std::abs(e);
         values.push_back(v);
         best = std::max(best, v);
-        if (rest && free && ++since_bound == kBoundStride) {
+        if (rest && q.free && ++since_bound == kBoundStride) {
           since_bound = 0;
           if (energy_bound(z, c, omega) <= best) {
             // One sample more, so the last sample of the scan has its right neighbour.
@@ -284,11 +307,7 @@ class LinearPeakScan {
     std::array<std::array<Complex, M>, kLanes> step_rotation{}, z{};
     std::array<std::array<double, M>, kLanes> omega{};
     for (std::size_t l = 0; l < lanes; ++l) {
-      for (std::size_t m = 0; m < M; ++m) {
-        const LinearModePiece& p = scans[l]->coef_[m];
-        step_rotation[l][m] = decay_rotation(p.sigma, p.wd, h);
-        omega[l][m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
-      }
+      scans[l]->template step_rotations<M>(h, step_rotation[l], omega[l]);
     }
     std::array<bool, kLanes> stopped{};
     std::array<double, kLanes> best;
@@ -312,37 +331,11 @@ class LinearPeakScan {
       const double next = k + 1 < pieces ? begin[k + 1] : INFINITY;
       const double tau0 = t - begin[k];
       std::array<const LinearModePiece*, kLanes> c{};
-      std::array<double, kLanes> r0{}, r1{}, r2{}, r3{}, P{}, Q{}, U{}, V{};
-      std::array<bool, kLanes> harmonic{}, free{};
-      std::array<Complex, kLanes> hz{}, hstep{};
+      std::array<PieceSum, kLanes> q{};
       std::array<std::size_t, kLanes> since_bound{};
       for (std::size_t l = 0; l < lanes; ++l) {
-        const LinearPeakScan& s = *scans[l];
-        c[l] = &s.coef_[k * M];
-        const double W = c[l][0].W;
-        for (std::size_t m = 0; m < M; ++m) {
-          const double g = s.gains_[m];
-          r0[l] += g * c[l][m].r[0];
-          r1[l] += g * c[l][m].r[1];
-          r2[l] += g * c[l][m].r[2];
-          r3[l] += g * c[l][m].r[3];
-          P[l] += g * c[l][m].P;
-          Q[l] += g * c[l][m].Q;
-          U[l] += g * c[l][m].U;
-          V[l] += g * c[l][m].V;
-        }
-        harmonic[l] = W != 0.0;
-        free[l] = !harmonic[l] && r0[l] == 0.0 && r1[l] == 0.0 && r2[l] == 0.0 && r3[l] == 0.0;
-        for (std::size_t m = 0; m < M; ++m) {
-          const Complex rot = decay_rotation(c[l][m].sigma, c[l][m].wd, tau0);
-          z[l][m] = mul({s.gains_[m] * c[l][m].c1, -s.gains_[m] * c[l][m].c2}, rot);
-        }
-        if (harmonic[l]) {
-          const SinCos s0 = fast_sincos(W * tau0);
-          hz[l] = {s0.cos, s0.sin};
-          const SinCos sh = fast_sincos(W * h);
-          hstep[l] = {sh.cos, sh.sin};
-        }
+        c[l] = &scans[l]->coef_[k * M];
+        q[l] = scans[l]->template piece_sum<M>(c[l], tau0, h, z[l]);
       }
       for (; i <= n; ++i) {
         t = t_of(i);
@@ -352,19 +345,20 @@ class LinearPeakScan {
         for (std::size_t l = 0; l < lanes; ++l) {
           if (stopped[l]) continue;
           running = true;
+          PieceSum& p = q[l];
           double e = 0.0;
-          if (!free[l]) {
-            e = r0[l] + tau * (r1[l] + tau * (r2[l] + tau * r3[l]));
-            if (harmonic[l]) {
-              e += P[l] * hz[l].re + Q[l] * hz[l].im + tau * (U[l] * hz[l].re + V[l] * hz[l].im);
-              hz[l] = mul(hz[l], hstep[l]);
+          if (!p.free) {
+            e = p.r0 + tau * (p.r1 + tau * (p.r2 + tau * p.r3));
+            if (p.harmonic) {
+              e += p.P * p.hz.re + p.Q * p.hz.im + tau * (p.U * p.hz.re + p.V * p.hz.im);
+              p.hz = mul(p.hz, p.hstep);
             }
           }
           for (std::size_t m = 0; m < M; ++m) e += z[l][m].re;
           const double v = std::abs(e);
           values[l].push_back(v);
           best[l] = std::max(best[l], v);
-          if (rest && free[l] && ++since_bound[l] == kBoundStride) {
+          if (rest && p.free && ++since_bound[l] == kBoundStride) {
             since_bound[l] = 0;
             if (energy_bound<M>(z[l], c[l], omega[l]) <= best[l]) {
               if (i < n) values[l].push_back(std::abs(scans[l]->eta(t_of(i + 1))));

@@ -170,15 +170,10 @@ struct LaneCursor {
   SloshPeaks peaks;
 };
 
-/// Integrates up to kLanes models (models[first + l]) side by side into out[first + l].
-void run_lanes(const std::vector<SloshingModel>& models, std::size_t first, const MotionLaw& law,
-               double rest_time, const NonlinearOptions& options, std::vector<SloshPeaks>& out) {
-  const std::vector<LawPiece>& pieces = law.pieces();
-  const std::size_t n_pieces = pieces.size() + 1;
-  const double T = law.duration();
-  const LawPiece rest{T, T + rest_time};
-  LaneStep s;
-  std::array<LaneCursor, kLanes> cur;
+/// Loads models[first + l] into lane l (its parameters, its step bound, a cursor before its first
+/// piece); lanes past the last model stay inactive.
+void load_lanes(const std::vector<SloshingModel>& models, std::size_t first,
+                const NonlinearOptions& options, LaneStep& s, std::array<LaneCursor, kLanes>& cur) {
   for (std::size_t l = 0; l < kLanes && first + l < models.size(); ++l) {
     const SloshingModel& m = models[first + l];
     s.w[l] = m.omega1();
@@ -197,6 +192,80 @@ void run_lanes(const std::vector<SloshingModel>& models, std::size_t first, cons
     // Idle lanes integrate a harmless model at rest.
     s.w[l] = s.radius[l] = 1.0;
   }
+}
+
+/// Sets every lane's step length and stage accelerations for its next step (an ended lane
+/// integrates zeros); false when no lane is left. Inlined: it runs once per step.
+[[gnu::always_inline]] inline bool load_step_inputs(LaneStep& s,
+                                                    const std::array<LaneCursor, kLanes>& cur) {
+  bool any = false;
+  for (std::size_t l = 0; l < kLanes; ++l) {
+    const LaneCursor& c = cur[l];
+    if (!c.active) {
+      s.x[l] = s.v[l] = s.f0[l] = s.h[l] = 0.0;
+      for (auto& a : s.acc) a[l] = 0.0;
+      continue;
+    }
+    any = true;
+    s.h[l] = c.h;
+    const double tau = c.h * static_cast<double>(c.j);
+    for (std::size_t i = 1; i < detail::kDopStages; ++i) {
+      s.acc[i][l] = c.in_rest ? 0.0 : c.p->acceleration(tau + detail::kDopC[i] * c.h);
+    }
+  }
+  return any;
+}
+
+/// Raises lane l's window peak to the step's maximum of K |xbar| (nonlinear_peaks' search: the
+/// cheap bound of the polynomial skips the steps that cannot hold a new peak).
+[[gnu::always_inline]] inline void raise_lane_peak(const LaneStep& s, std::size_t l, Peak& window,
+                                                   double K, double t0, double h) {
+  detail::DensePoly<double> xp;
+  for (std::size_t k = 0; k < detail::kDenseTerms; ++k) xp[k] = s.x_poly[k][l];
+  if (K * detail::dense_abs_bound(xp) > window.value) {
+    const detail::PolyMax m = detail::dense_max_abs(xp, 0.0, 1.0);
+    if (K * m.value > window.value) window = {K * m.value, t0 + m.s * h};
+  }
+}
+
+/// K times the largest |xbar| lane l's free motion from (x, v) can reach (nonlinear_peaks' energy
+/// bound, the same operations): the rest window ends once it cannot exceed the peak found.
+[[gnu::always_inline]] inline double lane_free_motion_bound(const LaneStep& s, std::size_t l,
+                                                            double K, double x, double v) {
+  const double w = s.w[l];
+  const double e =
+      (0.5 * (1.0 + s.c2[l] * x * x) * v * v + w * w * x * x * (0.5 + 0.25 * s.alpha[l] * x * x)) /
+      (w * w);
+  return K * std::sqrt(2.0 * e / (0.5 + std::sqrt(0.25 + s.alpha[l] * e)));
+}
+
+/// Each lane's peaks into out[first + l]; a lane that diverged or left the model's range is
+/// answered by nonlinear_peaks itself (its fine fallback grid).
+void store_lanes(const std::vector<SloshingModel>& models, std::size_t first, const MotionLaw& law,
+                 double rest_time, const NonlinearOptions& options, const LaneStep& s,
+                 const std::array<LaneCursor, kLanes>& cur, std::vector<SloshPeaks>& out) {
+  for (std::size_t l = 0; l < kLanes && first + l < models.size(); ++l) {
+    const LaneCursor& c = cur[l];
+    const double top = std::max(c.peaks.motion.value, c.peaks.rest.value);
+    if (c.fallback || !std::isfinite(s.x[l]) || !std::isfinite(s.v[l]) ||
+        !(top <= kModelRange * c.K)) {
+      out[first + l] = nonlinear_peaks(models[first + l], law, rest_time, options);
+    } else {
+      out[first + l] = c.peaks;
+    }
+  }
+}
+
+/// Integrates up to kLanes models (models[first + l]) side by side into out[first + l].
+void run_lanes(const std::vector<SloshingModel>& models, std::size_t first, const MotionLaw& law,
+               double rest_time, const NonlinearOptions& options, std::vector<SloshPeaks>& out) {
+  const std::vector<LawPiece>& pieces = law.pieces();
+  const std::size_t n_pieces = pieces.size() + 1;
+  const double T = law.duration();
+  const LawPiece rest{T, T + rest_time};
+  LaneStep s;
+  std::array<LaneCursor, kLanes> cur;
+  load_lanes(models, first, options, s, cur);
 
   // Moves lane l to its next piece of positive length (or ends it).
   auto next_piece = [&](std::size_t l) {
@@ -221,50 +290,22 @@ void run_lanes(const std::vector<SloshingModel>& models, std::size_t first, cons
     if (cur[l].active) next_piece(l);
   }
 
-  for (;;) {
-    bool any = false;
-    for (std::size_t l = 0; l < kLanes; ++l) {
-      LaneCursor& c = cur[l];
-      if (!c.active) {
-        s.x[l] = s.v[l] = s.f0[l] = s.h[l] = 0.0;
-        for (auto& a : s.acc) a[l] = 0.0;
-        continue;
-      }
-      any = true;
-      s.h[l] = c.h;
-      const double tau = c.h * static_cast<double>(c.j);
-      for (std::size_t i = 1; i < detail::kDopStages; ++i) {
-        s.acc[i][l] = c.in_rest ? 0.0 : c.p->acceleration(tau + detail::kDopC[i] * c.h);
-      }
-    }
-    if (!any) break;
+  while (load_step_inputs(s, cur)) {
     lane_step(s);
     for (std::size_t l = 0; l < kLanes; ++l) {
       LaneCursor& c = cur[l];
       if (!c.active) continue;
       const double h = c.h;
       const double t0 = c.p->t_begin + h * static_cast<double>(c.j);
-      Peak& window = c.in_rest ? c.peaks.rest : c.peaks.motion;
-      detail::DensePoly<double> xp;
-      for (std::size_t k = 0; k < detail::kDenseTerms; ++k) xp[k] = s.x_poly[k][l];
-      if (c.K * detail::dense_abs_bound(xp) > window.value) {
-        const detail::PolyMax m = detail::dense_max_abs(xp, 0.0, 1.0);
-        if (c.K * m.value > window.value) window = {c.K * m.value, t0 + m.s * h};
-      }
+      raise_lane_peak(s, l, c.in_rest ? c.peaks.rest : c.peaks.motion, c.K, t0, h);
       const double x = s.x1[l], v = s.v1[l];
       s.x[l] = x;
       s.v[l] = v;
       s.f0[l] = s.f1[l];
-      if (c.in_rest) {
-        const double w = s.w[l];
-        const double e = (0.5 * (1.0 + s.c2[l] * x * x) * v * v +
-                          w * w * x * x * (0.5 + 0.25 * s.alpha[l] * x * x)) /
-                         (w * w);
-        const double bound = c.K * std::sqrt(2.0 * e / (0.5 + std::sqrt(0.25 + s.alpha[l] * e)));
-        if (bound * (1.0 + kEnergyStopMargin) <= c.peaks.rest.value) {
-          c.active = false;
-          continue;
-        }
+      if (c.in_rest && lane_free_motion_bound(s, l, c.K, x, v) * (1.0 + kEnergyStopMargin) <=
+                           c.peaks.rest.value) {
+        c.active = false;
+        continue;
       }
       if (!std::isfinite(x)) {
         c.fallback = true;
@@ -274,16 +315,7 @@ void run_lanes(const std::vector<SloshingModel>& models, std::size_t first, cons
       if (++c.j == c.n) next_piece(l);
     }
   }
-  for (std::size_t l = 0; l < kLanes && first + l < models.size(); ++l) {
-    LaneCursor& c = cur[l];
-    const double top = std::max(c.peaks.motion.value, c.peaks.rest.value);
-    if (c.fallback || !std::isfinite(s.x[l]) || !std::isfinite(s.v[l]) ||
-        !(top <= kModelRange * c.K)) {
-      out[first + l] = nonlinear_peaks(models[first + l], law, rest_time, options);
-    } else {
-      out[first + l] = c.peaks;
-    }
-  }
+  store_lanes(models, first, law, rest_time, options, s, cur, out);
 }
 
 }  // namespace

@@ -66,6 +66,44 @@ void rk4_step(const Rhs& rhs, const Acc& acc, double x, double v, double f0, dou
   out.v_poly = hermite(v, f0, out.v1, out.f1);
 }
 
+/// Raises `window` to the step's maximum of K |xbar| when it exceeds it; the cheap bound of the
+/// step's polynomial skips the search on the (many) steps that cannot hold a new peak.
+[[gnu::always_inline]] inline void raise_window_peak(Peak& window, double K,
+                                                     const detail::DensePoly<double>& x_poly,
+                                                     double t0, double h) {
+  if (K * detail::dense_abs_bound(x_poly) > window.value) {
+    const detail::PolyMax m = detail::dense_max_abs(x_poly, 0.0, 1.0);
+    if (K * m.value > window.value) window = {K * m.value, t0 + m.s * h};
+  }
+}
+
+/// K times the largest |xbar| the free motion from (x, v) can reach (docs/models.md): its energy
+/// never increases, and bounds |xbar| by V^-1(E): alpha/4 y^2 + y/2 = E / w^2 with y = xbar^2.
+[[gnu::always_inline]] inline double free_motion_bound(double K, double w, double c2, double alpha,
+                                                       double x, double v) {
+  const double e =
+      (0.5 * (1.0 + c2 * x * x) * v * v + w * w * x * x * (0.5 + 0.25 * alpha * x * x)) / (w * w);
+  return K * std::sqrt(2.0 * e / (0.5 + std::sqrt(0.25 + alpha * e)));
+}
+
+/// Appends one step to the kept trajectory.
+[[gnu::always_inline]] inline void keep_step(const Keep& keep, double t0, double h,
+                                             const detail::DopStep<double>& step) {
+  keep.t0->push_back(t0);
+  keep.h->push_back(h);
+  keep.x_poly->push_back(step.x_poly);
+  keep.v_poly->push_back(step.v_poly);
+}
+
+/// A diverged integration stays non-finite to its end, and the search skips NaN values (they
+/// compare false): the peaks say so instead of showing the values before the divergence.
+void mark_if_diverged(double x, double v, SloshPeaks& peaks) {
+  if (!std::isfinite(x) || !std::isfinite(v)) {
+    peaks.motion.value = std::numeric_limits<double>::quiet_NaN();
+    peaks.rest.value = std::numeric_limits<double>::quiet_NaN();
+  }
+}
+
 /// Integrates eq. 2.35 over the law and the rest window and returns the peaks; with `keep` the
 /// whole rest window is integrated and every step stored, else the integration ends where the
 /// rest window's search does. `last` receives the final state.
@@ -115,26 +153,14 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
             f0, h, true, step, keep != nullptr);
       }
       const double t0 = p.t_begin + tau;
-      if (!(in_rest && rest_found) && K * detail::dense_abs_bound(step.x_poly) > window.value) {
-        const detail::PolyMax m = detail::dense_max_abs(step.x_poly, 0.0, 1.0);
-        if (K * m.value > window.value) window = {K * m.value, t0 + m.s * h};
-      }
-      if (keep != nullptr) {
-        keep->t0->push_back(t0);
-        keep->h->push_back(h);
-        keep->x_poly->push_back(step.x_poly);
-        keep->v_poly->push_back(step.v_poly);
-      }
+      if (!(in_rest && rest_found)) raise_window_peak(window, K, step.x_poly, t0, h);
+      if (keep != nullptr) keep_step(*keep, t0, h, step);
       x = step.x1;
       v = step.v1;
       f0 = step.f1;
+      // Once the free motion cannot exceed the rest window's peak found, the window is done.
       if (in_rest && !rest_found && !rk4) {
-        // Energy of the free motion (docs/models.md): never increases, and bounds |xbar| by
-        // V^-1(E): alpha/4 y^2 + y/2 = E / w^2 with y = xbar^2.
-        const double e = (0.5 * (1.0 + c2 * x * x) * v * v +
-                          w * w * x * x * (0.5 + 0.25 * model.alpha * x * x)) /
-                         (w * w);
-        const double bound = K * std::sqrt(2.0 * e / (0.5 + std::sqrt(0.25 + model.alpha * e)));
+        const double bound = free_motion_bound(K, w, c2, model.alpha, x, v);
         if (bound * (1.0 + kEnergyStopMargin) <= peaks.rest.value) {
           rest_found = true;
           if (keep == nullptr) break;
@@ -149,12 +175,7 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
     if (!std::isfinite(x) && keep == nullptr) break;
   }
   if (last != nullptr) *last = {x, v};
-  // A diverged integration stays non-finite to its end, and the search skips NaN values (they
-  // compare false): the peaks say so instead of showing the values before the divergence.
-  if (!std::isfinite(x) || !std::isfinite(v)) {
-    peaks.motion.value = std::numeric_limits<double>::quiet_NaN();
-    peaks.rest.value = std::numeric_limits<double>::quiet_NaN();
-  }
+  mark_if_diverged(x, v, peaks);
   return peaks;
 }
 

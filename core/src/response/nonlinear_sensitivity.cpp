@@ -22,6 +22,64 @@ bool NonlinearSensitivity::freeze_steps(const double* d) {
   return changed;
 }
 
+namespace {
+
+/// Acceleration on segment k at the fraction f of it: ramps interpolate linearly (exact for the
+/// constant-jerk law), plateaus hold A or -B. Inlined: the DOP853 stages call it on every step.
+[[gnu::always_inline]] inline Dual7 segment_acceleration(const PlateauLevelsT<Dual7>& lv,
+                                                         std::size_t k, double f) {
+  switch (k) {
+    case 0:
+      return lv.A * f;
+    case 1:
+      return lv.A;
+    case 2:
+      return lv.A * (1.0 - f);
+    case 4:
+      return -(lv.B * f);
+    case 5:
+      return -lv.B;
+    case 6:
+      return -(lv.B * (1.0 - f));
+    default:
+      return Dual7(0.0);
+  }
+}
+
+/// The rest window from the state (x_end, v_end) at t_end, n_rest steps of h_rest, each step
+/// handed to store(t0, h, x_poly). It has no forcing: its states depend on the durations only
+/// through the state at T, so it is integrated with derivatives with respect to (x_T, v_T) and
+/// chained (a quarter of the work of carrying all 7 directions).
+template <typename Store>
+void integrate_rest(const SloshingModel& model, const Dual7& t_end, const Dual7& x_end,
+                    const Dual7& v_end, std::size_t n_rest, double h_rest, const Store& store) {
+  using Dual2 = Dual<2>;
+  Dual2 xr = Dual2::variable(x_end.v, 0), vr = Dual2::variable(v_end.v, 1);
+  auto chain = [&](const Dual2& r) {
+    Dual7 out(r.v);
+    for (std::size_t i = 0; i < kSegments; ++i)
+      out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
+    return out;
+  };
+  auto rhs2 = [&model](const Dual2& xx, const Dual2& vv, double a) {
+    return nonlinear_rhs(model, xx, vv, a);
+  };
+  Dual2 f0 = rhs2(xr, vr, 0.0);
+  DopStep<Dual2> rest_step;
+  for (std::size_t j = 0; j < n_rest; ++j) {
+    dop853_step(
+        rhs2, [](std::size_t) { return 0.0; }, xr, vr, f0, Dual2(h_rest), true, rest_step, false);
+    DensePoly<Dual7> x_poly;
+    for (std::size_t k = 0; k < kDenseTerms; ++k) x_poly[k] = chain(rest_step.x_poly[k]);
+    store(t_end + h_rest * static_cast<double>(j), Dual7(h_rest), x_poly);
+    xr = rest_step.x1;
+    vr = rest_step.v1;
+    f0 = rest_step.f1;
+  }
+}
+
+}  // namespace
+
 void NonlinearSensitivity::compute(const double* d) {
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
@@ -42,26 +100,7 @@ void NonlinearSensitivity::compute(const double* d) {
     h_.push_back(h);
     x_.push_back(x_poly);
   };
-  // Acceleration on segment k at the fraction f of it: ramps interpolate linearly (exact for the
-  // constant-jerk law), plateaus hold A or -B.
-  auto accel = [&](std::size_t k, double f) -> Dual7 {
-    switch (k) {
-      case 0:
-        return lv.A * f;
-      case 1:
-        return lv.A;
-      case 2:
-        return lv.A * (1.0 - f);
-      case 4:
-        return -(lv.B * f);
-      case 5:
-        return -lv.B;
-      case 6:
-        return -(lv.B * (1.0 - f));
-      default:
-        return Dual7(0.0);
-    }
-  };
+  auto accel = [&lv](std::size_t k, double f) { return segment_acceleration(lv, k, f); };
   auto rhs7 = [this](const Dual7& x, const Dual7& v, const Dual7& a) {
     return nonlinear_rhs(model_, x, v, a);
   };
@@ -93,34 +132,7 @@ void NonlinearSensitivity::compute(const double* d) {
   motion_time_ = t.v;
   const auto n_rest = step_count(rest_time_, h_max_, 1);
   const double h_rest = rest_time_ / static_cast<double>(n_rest);
-  // The rest window has no forcing: its states depend on the durations only through the state
-  // at T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter
-  // of the work of carrying all 7 directions).
-  const Dual7 t_end = t;
-  const Dual7 x_end = x, v_end = v;
-  using Dual2 = Dual<2>;
-  Dual2 xr = Dual2::variable(x.v, 0), vr = Dual2::variable(v.v, 1);
-  auto chain = [&](const Dual2& r) {
-    Dual7 out(r.v);
-    for (std::size_t i = 0; i < kSegments; ++i)
-      out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
-    return out;
-  };
-  auto rhs2 = [this](const Dual2& xx, const Dual2& vv, double a) {
-    return nonlinear_rhs(model_, xx, vv, a);
-  };
-  Dual2 f0 = rhs2(xr, vr, 0.0);
-  DopStep<Dual2> rest_step;
-  for (std::size_t j = 0; j < n_rest; ++j) {
-    dop853_step(
-        rhs2, [](std::size_t) { return 0.0; }, xr, vr, f0, Dual2(h_rest), true, rest_step, false);
-    DensePoly<Dual7> x_poly;
-    for (std::size_t k = 0; k < kDenseTerms; ++k) x_poly[k] = chain(rest_step.x_poly[k]);
-    store(t_end + h_rest * static_cast<double>(j), Dual7(h_rest), x_poly);
-    xr = rest_step.x1;
-    vr = rest_step.v1;
-    f0 = rest_step.f1;
-  }
+  integrate_rest(model_, t, x, v, n_rest, h_rest, store);
 }
 
 Dual7 NonlinearSensitivity::x_at(std::size_t i, double t) const {

@@ -700,53 +700,41 @@ bool usable_status(SolveStatus status) {
          status == SolveStatus::kTimeLimit;
 }
 
-}  // namespace
+/// Whether a candidate competes in choose_auto: usable, and not worse than the uniform law while
+/// a usable candidate that is not remains.
+bool competes(const PlanCandidate& k, bool worse_than_baseline, bool any_not_worse) {
+  return usable_status(k.status) && (!any_not_worse || !worse_than_baseline);
+}
 
-AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
-                       const std::vector<bool>& worse_than_baseline) {
-  // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best (ties:
-  // lower peak acceleration); infeasible or failed candidates do not compete, nor do those worse
-  // than the uniform law while one that is not remains (the baseline never is).
-  AutoChoice choice;
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    choice.any_not_worse =
-        choice.any_not_worse || (usable_status(candidates[k].status) && !worse_than_baseline[k]);
-  }
-  auto eligible = [&](std::size_t k) {
-    return usable_status(candidates[k].status) &&
-           (!choice.any_not_worse || !worse_than_baseline[k]);
-  };
-  // With an uncertainty range the candidates are judged by their worst case over it.
-  auto judged = [](const PlanCandidate& k) -> const LawPrediction& {
-    return k.worst_case ? *k.worst_case : k.prediction;
-  };
-  double best_motion = INFINITY;
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    if (eligible(k)) {
-      best_motion = std::min(best_motion, judged(candidates[k]).nonlinear.motion.value);
-    }
-  }
-  auto peak = [](const PlanCandidate& k) {
-    return std::max(k.prediction.kinematics.a_peak_positive,
-                    k.prediction.kinematics.a_peak_negative);
-  };
-  choice.lost.assign(candidates.size(), CandidateLoss::kNone);
-  choice.lost_detail.assign(candidates.size(), std::string());
-  // The candidate each loser lost to on eta_rest, recorded when the loop rejects or replaces it:
-  // the tie rule is not transitive, so a loser judged again against the final choice could get a
-  // reason the loop never applied.
-  std::vector<std::size_t> beaten_by(candidates.size(), 0);
+/// The prediction choose_auto judges a candidate by: with an uncertainty range, its worst case
+/// over it.
+const LawPrediction& judged_prediction(const PlanCandidate& k) {
+  return k.worst_case ? *k.worst_case : k.prediction;
+}
+
+/// A candidate's peak acceleration, the tie-breaker on eta_rest [m/s^2].
+double peak_acceleration(const PlanCandidate& k) {
+  return std::max(k.prediction.kinematics.a_peak_positive, k.prediction.kinematics.a_peak_negative);
+}
+
+/// The rule's pass over the candidates in order: sets choice.index, choice.eligible and every
+/// loser's reason, and beaten_by[k] to the candidate k lost to on eta_rest, recorded when the pass
+/// rejects or replaces it (the tie rule is not transitive, so a loser judged again against the
+/// final choice could get a reason the pass never applied).
+void rank_candidates(const std::vector<PlanCandidate>& candidates,
+                     const std::vector<bool>& worse_than_baseline, double best_motion,
+                     AutoChoice& choice, std::vector<std::size_t>& beaten_by) {
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const auto& cand = candidates[k];
     if (!usable_status(cand.status)) {
       choice.lost[k] = CandidateLoss::kNotUsable;
       continue;
     }
-    if (!eligible(k)) {
+    if (!competes(cand, worse_than_baseline[k], choice.any_not_worse)) {
       choice.lost[k] = CandidateLoss::kWorseThanBaseline;
       continue;
     }
-    if (judged(cand).nonlinear.motion.value > kAutoMotionSlack * best_motion) {
+    if (judged_prediction(cand).nonlinear.motion.value > kAutoMotionSlack * best_motion) {
       choice.lost[k] = CandidateLoss::kMotionAboveBest;
       continue;
     }
@@ -756,9 +744,11 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
       continue;
     }
     const auto& cur = candidates[choice.index];
-    const double a = judged(cand).nonlinear.rest.value, b = judged(cur).nonlinear.rest.value;
+    const double a = judged_prediction(cand).nonlinear.rest.value;
+    const double b = judged_prediction(cur).nonlinear.rest.value;
     const bool tie = std::abs(a - b) <= kAutoTieTolerance * b;
-    if (a < b * (1.0 - kAutoTieTolerance) || (tie && peak(cand) < peak(cur))) {
+    if (a < b * (1.0 - kAutoTieTolerance) ||
+        (tie && peak_acceleration(cand) < peak_acceleration(cur))) {
       choice.lost[choice.index] = tie ? CandidateLoss::kTieOnRest : CandidateLoss::kHigherRest;
       beaten_by[choice.index] = k;
       choice.index = k;
@@ -767,10 +757,12 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
       beaten_by[k] = choice.index;
     }
   }
-  // With no eligible candidate the first one is returned, whatever excluded it.
-  choice.lost[choice.index] = CandidateLoss::kNone;
-  // The sentences, with the figures that decided each loss (a client can check the choice
-  // against the candidates' predictions).
+}
+
+/// choice.lost_detail: the sentence of every loss with the figures that decided it (a client can
+/// check the choice against the candidates' predictions).
+void explain_losses(const std::vector<PlanCandidate>& candidates, double best_motion,
+                    const std::vector<std::size_t>& beaten_by, AutoChoice& choice) {
   const PlanCandidate& chosen = candidates[choice.index];
   const std::string by_worst = chosen.worst_case ? " (worst case over the uncertainty range)" : "";
   auto mm = [](double metres) { return sig3(metres * 1e3) + " mm"; };
@@ -782,7 +774,7 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
   };
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     const PlanCandidate& cand = candidates[k];
-    const LawPrediction& p = judged(cand);
+    const LawPrediction& p = judged_prediction(cand);
     const PlanCandidate& won = candidates[beaten_by[k]];
     std::string& detail = choice.lost_detail[k];
     switch (choice.lost[k]) {
@@ -803,21 +795,51 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
         break;
       case CandidateLoss::kTieOnRest:
         detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " ties with " +
-                 winner(beaten_by[k]) + " and its peak acceleration " + sig3(peak(cand)) +
-                 " m/s^2 is not below " + sig3(peak(won)) + " m/s^2";
+                 winner(beaten_by[k]) + " and its peak acceleration " +
+                 sig3(peak_acceleration(cand)) + " m/s^2 is not below " +
+                 sig3(peak_acceleration(won)) + " m/s^2";
         break;
       case CandidateLoss::kHigherRest: {
         // Against the chosen one when its eta_rest is below this one's (a client compares the
         // two); else (a chain of ties raised it) against the one this candidate lost to.
-        const std::size_t shown = judged(chosen).nonlinear.rest.value < p.nonlinear.rest.value
-                                      ? choice.index
-                                      : beaten_by[k];
+        const std::size_t shown =
+            judged_prediction(chosen).nonlinear.rest.value < p.nonlinear.rest.value ? choice.index
+                                                                                    : beaten_by[k];
         detail = "eta_rest " + mm(p.nonlinear.rest.value) + by_worst + " vs " +
-                 mm(judged(candidates[shown]).nonlinear.rest.value) + " of " + winner(shown);
+                 mm(judged_prediction(candidates[shown]).nonlinear.rest.value) + " of " +
+                 winner(shown);
         break;
       }
     }
   }
+}
+
+}  // namespace
+
+AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
+                       const std::vector<bool>& worse_than_baseline) {
+  // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best (ties:
+  // lower peak acceleration); infeasible or failed candidates do not compete, nor do those worse
+  // than the uniform law while one that is not remains (the baseline never is).
+  AutoChoice choice;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    choice.any_not_worse =
+        choice.any_not_worse || (usable_status(candidates[k].status) && !worse_than_baseline[k]);
+  }
+  // With an uncertainty range the candidates are judged by their worst case over it.
+  double best_motion = INFINITY;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (competes(candidates[k], worse_than_baseline[k], choice.any_not_worse)) {
+      best_motion = std::min(best_motion, judged_prediction(candidates[k]).nonlinear.motion.value);
+    }
+  }
+  choice.lost.assign(candidates.size(), CandidateLoss::kNone);
+  choice.lost_detail.assign(candidates.size(), std::string());
+  std::vector<std::size_t> beaten_by(candidates.size(), 0);
+  rank_candidates(candidates, worse_than_baseline, best_motion, choice, beaten_by);
+  // With no eligible candidate the first one is returned, whatever excluded it.
+  choice.lost[choice.index] = CandidateLoss::kNone;
+  explain_losses(candidates, best_motion, beaten_by, choice);
   return choice;
 }
 
