@@ -146,6 +146,13 @@ const std::vector<Setting>& settings() {
   return all;
 }
 
+const Setting& setting_of(std::string_view key) {
+  for (const Setting& s : settings()) {
+    if (key == s.key) return s;
+  }
+  throw std::logic_error("no setting " + std::string(key));
+}
+
 std::string known_keys() {
   std::string keys;
   for (const Setting& s : settings()) keys += (keys.empty() ? "" : ", ") + std::string(s.key);
@@ -229,15 +236,31 @@ void apply_environment(const std::map<std::string, std::string>& environment,
 
 void apply_setting(const std::string& key, const std::string& where, const std::string& text,
                    ServerConfig& config) {
-  for (const Setting& s : settings()) {
-    if (key == s.key) {
-      ServerConfig updated = config;
-      s.apply(where, text, updated);
-      config = updated;
-      return;
-    }
+  ServerConfig updated = config;
+  setting_of(key).apply(where, text, updated);
+  config = updated;
+}
+
+SettingLimits setting_limits(std::string_view key) {
+  const Setting& s = setting_of(key);
+  return {s.env, s.lo, s.hi, s.what};
+}
+
+std::string setting_text(std::string_view key, const ServerConfig& config) {
+  const Setting& s = setting_of(key);
+  if (const auto* text_field = std::get_if<std::string ServerConfig::*>(&s.field)) {
+    return config.*(*text_field);
   }
-  throw std::logic_error("no setting " + key);
+  if (const auto* bool_field = std::get_if<bool ServerConfig::*>(&s.field)) {
+    return config.*(*bool_field) ? "true" : "false";
+  }
+  if (const auto* int_field = std::get_if<int ServerConfig::*>(&s.field)) {
+    return std::to_string(config.*(*int_field));
+  }
+  if (const auto* size_field = std::get_if<std::size_t ServerConfig::*>(&s.field)) {
+    return std::to_string(config.*(*size_field));
+  }
+  return nlohmann::json(config.*std::get<double ServerConfig::*>(s.field)).dump();
 }
 
 std::map<std::string, std::string> slosh_environment() {
