@@ -4,12 +4,12 @@
 #include <iostream>
 
 #include "cli/io.hpp"
-#include "cli/plan_summary.hpp"
 #include "slosh/api/calibration_json.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_summary.hpp"
 #include "slosh/api/plan_view.hpp"
 #include "slosh/api/simulate.hpp"
 
@@ -145,7 +145,7 @@ std::string flag_of(const std::string& field) {
 
 int plan_as_text(const nlohmann::json& request, bool from_flags) {
   try {
-    std::cout << plan_text(api::run_plan(api::parse_plan_request(request)));
+    std::cout << api::plan_summary_text(api::run_plan(api::parse_plan_request(request)));
     return kExitOk;
   } catch (const api::ApiError& e) {
     const std::string flag = from_flags ? flag_of(e.field()) : "";
@@ -198,7 +198,7 @@ int run_fluids_command(const std::string& format) {
   if (format == "json") {
     std::cout << api::dump_json(fluids, 2) << '\n';
   } else {
-    std::cout << fluids_text(fluids);
+    std::cout << api::fluids_table_text(fluids);
   }
   return kExitOk;
 }
