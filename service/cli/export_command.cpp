@@ -12,6 +12,7 @@
 #include "cli/cli_commands.hpp"
 #include "cli/io.hpp"
 #include "engine/plan_engine.hpp"
+#include "slosh/api/command_replies.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/export_request.hpp"
 #include "slosh/api/export_summary.hpp"
@@ -143,7 +144,7 @@ struct ExportFailure {
 };
 
 int report(const ExportFailure& f) {
-  std::cerr << api::dump_json(api::error_envelope(f.error), 2) << '\n';
+  std::cerr << api::error_envelope_text(f.error) << '\n';
   return f.exit_code;
 }
 
