@@ -27,6 +27,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "config/config.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/simulate.hpp"
 #include "support/process.hpp"
@@ -99,6 +100,48 @@ TEST(CliBasics, UnknownSubcommandIsInvalidInput) {
   const RunResult r = run_slosh({"simulat"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_TRUE(r.out.empty()) << r.out;
+}
+
+// The serve flags check the ranges of the settings table: each bound written here once, checked
+// on the flag (the real binary, just outside and the help), and on the environment variable the
+// help names (the same table read by apply_environment), so the two cannot drift apart.
+TEST(CliServeFlags, RangesAndEnvironmentNamesAreTheSettingsTables) {
+  struct Case {
+    const char* flag;
+    const char* env;
+    long long lo, hi;
+  };
+  const Case cases[] = {{"--port", "SLOSH_PORT", 0, 65535},
+                        {"--workers", "SLOSH_WORKERS", 0, 1024},
+                        {"--queue", "SLOSH_QUEUE", 1, 100000},
+                        {"--cache-ttl-s", "SLOSH_CACHE_TTL_S", 0, 315360000},
+                        {"--redis-timeout-ms", "SLOSH_REDIS_TIMEOUT_MS", 1, 60000}};
+  const RunResult help = run_slosh({"serve", "--help"});
+  ASSERT_EQ(help.exit_code, 0) << help.err;
+  for (const Case& c : cases) {
+    const std::string range = std::to_string(c.lo) + " to " + std::to_string(c.hi);
+    for (const long long outside : {c.lo - 1, c.hi + 1}) {
+      const std::string value = std::to_string(outside);
+      const RunResult flag = run_slosh({"serve", c.flag, value});
+      EXPECT_EQ(flag.exit_code, 2) << c.flag;
+      EXPECT_EQ(flag.err, std::string(c.flag) + ": Value " + value + " not in range " + range +
+                              "\nRun with --help for more information.\n");
+      service::ServerConfig config;
+      try {
+        service::apply_environment({{c.env, value}}, config);
+        ADD_FAILURE() << c.env << " = " << value << " was accepted";
+      } catch (const std::runtime_error& e) {
+        const std::string message = e.what();
+        EXPECT_EQ(message.substr(0, std::string(c.env).size() + 3 + value.size()),
+                  std::string(c.env) + " = " + value)
+            << message;
+        EXPECT_TRUE(message.ends_with(": allowed " + range)) << message;
+      }
+    }
+    service::ServerConfig config;
+    EXPECT_NO_THROW(service::apply_environment({{c.env, std::to_string(c.hi)}}, config));
+    EXPECT_NE(help.out.find(std::string("env ") + c.env + "]"), std::string::npos) << c.flag;
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -4,14 +4,8 @@
 #include <iostream>
 
 #include "cli/io.hpp"
-#include "cli/plan_summary.hpp"
-#include "slosh/api/calibration_json.hpp"
+#include "slosh/api/command_replies.hpp"
 #include "slosh/api/error.hpp"
-#include "slosh/api/format_json.hpp"
-#include "slosh/api/min_time.hpp"
-#include "slosh/api/plan.hpp"
-#include "slosh/api/plan_view.hpp"
-#include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
 
@@ -20,39 +14,36 @@ namespace {
 template <typename Body>
 int print_json_or_error(Body&& body) {
   try {
-    std::cout << api::dump_json(body(), 2) << '\n';
+    std::cout << body() << '\n';
     return kExitOk;
   } catch (const api::ApiError& e) {
-    std::cerr << api::dump_json(api::error_envelope(e), 2) << '\n';
+    std::cerr << api::error_envelope_text(e) << '\n';
     return e.status() < 500 ? kExitInvalidInput : kExitFailure;
   } catch (const std::exception& e) {
     const api::ApiError wrapped(api::ErrorCode::kInternal, "", e.what());
-    std::cerr << api::dump_json(api::error_envelope(wrapped), 2) << '\n';
+    std::cerr << api::error_envelope_text(wrapped) << '\n';
     return kExitFailure;
   }
 }
 
-nlohmann::json read_request(const std::string& request_path) {
-  std::string text;
+// The request text of `--request` (a file, or - for stdin); ApiError naming --request when it
+// cannot be read.
+std::string read_request(const std::string& request_path) {
   try {
-    text = read_request_text(request_path);
+    return read_request_text(request_path);
   } catch (const std::exception& e) {
     throw api::ApiError(api::ErrorCode::kInvalidValue, "--request", e.what());
   }
-  return api::parse_json_body(text);
 }
 
 }  // namespace
 
 int run_simulate_command(const std::string& request_path) {
-  return print_json_or_error(
-      [&] { return api::run_simulate(api::parse_simulate_request(read_request(request_path))); });
+  return print_json_or_error([&] { return api::simulate_reply(read_request(request_path)); });
 }
 
 int run_calibrate_command(const std::string& request_path) {
-  return print_json_or_error([&] {
-    return api::run_calibration(api::parse_calibration_request(read_request(request_path)));
-  });
+  return print_json_or_error([&] { return api::calibration_reply(read_request(request_path)); });
 }
 
 std::vector<std::string> QuickPlanFlags::given() const {
@@ -109,20 +100,19 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
   return "";
 }
 
-/// The plan request the quick flags stand for (the values are validated by the request parser).
-nlohmann::json quick_request(const QuickPlanFlags& q) {
-  nlohmann::json container{{"radius_mm", *q.radius_mm}};
-  if (q.height_mm) container["height_mm"] = *q.height_mm;
-  nlohmann::json fluid = q.fluid ? nlohmann::json(*q.fluid)
-                                 : nlohmann::json{{"density_kg_m3", *q.density_kg_m3},
-                                                  {"viscosity_pa_s", *q.viscosity_pa_s}};
-  return {{"format",
-           {{"container", container},
-            {"fill_height_mm", *q.fill_mm},
-            {"fluid", fluid},
-            {"stroke_mm", *q.stroke_mm},
-            {"motion_time_s", *q.time_s}}},
-          {"strategy", q.strategy.value_or("auto")}};
+/// The quick flags as the API takes them (quick_flags_problem found none missing).
+api::QuickPlan quick_plan(const QuickPlanFlags& q) {
+  api::QuickPlan p;
+  p.radius_mm = *q.radius_mm;
+  p.height_mm = q.height_mm;
+  p.fill_mm = *q.fill_mm;
+  p.fluid = q.fluid;
+  p.density_kg_m3 = q.density_kg_m3;
+  p.viscosity_pa_s = q.viscosity_pa_s;
+  p.stroke_mm = *q.stroke_mm;
+  p.time_s = *q.time_s;
+  p.strategy = q.strategy.value_or("auto");
+  return p;
 }
 
 /// The flag a request field came from ("" when none).
@@ -143,9 +133,11 @@ std::string flag_of(const std::string& field) {
   return "";
 }
 
-int plan_as_text(const nlohmann::json& request, bool from_flags) {
+// The text summary of the plan of the flags (`from_flags`) or of the request text `request`.
+int plan_as_text(const PlanCommandOptions& o, const std::string& request, bool from_flags) {
   try {
-    std::cout << plan_text(api::run_plan(api::parse_plan_request(request)));
+    std::cout << (from_flags ? api::plan_summary_reply(quick_plan(o.quick))
+                             : api::plan_summary_reply(request));
     return kExitOk;
   } catch (const api::ApiError& e) {
     const std::string flag = from_flags ? flag_of(e.field()) : "";
@@ -174,42 +166,29 @@ int run_plan_command(const PlanCommandOptions& o) {
     return kExitInvalidInput;
   }
   if (format == "text") {
-    nlohmann::json request;
+    std::string request;
     try {
-      request = from_flags ? quick_request(o.quick) : read_request(o.request_path);
+      if (!from_flags) request = read_request(o.request_path);
     } catch (const api::ApiError& e) {
       std::cerr << "slosh plan: " << e.what() << '\n';
       return kExitInvalidInput;
     }
-    return plan_as_text(request, from_flags);
+    return plan_as_text(o, request, from_flags);
   }
   return print_json_or_error([&] {
     const api::PlanView v = o.view ? api::parse_plan_view(*o.view) : api::PlanView::kFull;
-    const api::PlanRequest request =
-        api::parse_plan_request(from_flags ? quick_request(o.quick) : read_request(o.request_path));
-    api::require_no_series(v, request.sample_period);
-    const nlohmann::json plan = api::run_plan(request);
-    return v == api::PlanView::kCompact ? api::compact_plan(plan) : plan;
+    return from_flags ? api::plan_reply(quick_plan(o.quick), v)
+                      : api::plan_reply(read_request(o.request_path), v);
   });
 }
 
 int run_fluids_command(const std::string& format) {
-  const nlohmann::json fluids = api::fluids_json();
-  if (format == "json") {
-    std::cout << api::dump_json(fluids, 2) << '\n';
-  } else {
-    std::cout << fluids_text(fluids);
-  }
+  std::cout << api::fluids_reply(format != "json") << (format == "json" ? "\n" : "");
   return kExitOk;
 }
 
 int run_min_time_command(const std::string& request_path) {
-  return print_json_or_error([&] {
-    // No server budget here: options.time_limit_s (per strategy) may be up to its 600 s maximum,
-    // which is also its default (the searches end long before).
-    return api::run_min_time(
-        api::parse_min_time_request(read_request(request_path), api::plan_ranges::kTimeLimit.hi));
-  });
+  return print_json_or_error([&] { return api::min_time_reply(read_request(request_path)); });
 }
 
 }  // namespace slosh::service

@@ -38,9 +38,9 @@ struct PlanCommandOptions {
 /// `slosh plan --request FILE|- [--view full|compact] [--format json|text]` or `slosh plan
 /// --radius R --fill H --fluid NAME --stroke S --time T [--height C] [--strategy NAME]`: prints
 /// the plan on stdout, as the /v1/plans response (json, the view named by `view`) or as a short
-/// summary (text, plan_text.hpp); exit 0 whatever the plan's status. Invalid input as for simulate
-/// (the envelope on stderr; with text output the message and the flag it came from); flags that
-/// conflict or are missing: a one-line message on stderr, exit 2.
+/// summary (text, api::plan_summary_text); exit 0 whatever the plan's status. Invalid input as for
+/// simulate (the envelope on stderr; with text output the message and the flag it came from); flags
+/// that conflict or are missing: a one-line message on stderr, exit 2.
 int run_plan_command(const PlanCommandOptions& options);
 
 /// `slosh fluids [--format text|json]`: the fluid catalogue (json: the GET /v1/fluids body).

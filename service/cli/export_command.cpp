@@ -12,7 +12,9 @@
 #include "cli/cli_commands.hpp"
 #include "cli/io.hpp"
 #include "engine/plan_engine.hpp"
+#include "slosh/api/command_replies.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/export_request.hpp"
 #include "slosh/api/export_summary.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
@@ -23,8 +25,6 @@
 namespace slosh::service {
 
 namespace {
-
-using nlohmann::json;
 
 std::string cell(double v) {
   return csv_number(v);
@@ -68,8 +68,7 @@ struct ExportSource {
   std::optional<api::ExportedPlan> plan;  // empty for a law request
 };
 
-ExportSource law_source(const json& body) {
-  const api::SimulateRequest request = api::parse_simulate_request(body);
+ExportSource law_source(const api::SimulateRequest& request) {
   ExportSource source;
   source.seven = api::seven_segment_law(request);
   source.law = source.seven ? source.seven->law() : api::build_law(request);
@@ -78,8 +77,8 @@ ExportSource law_source(const json& body) {
   return source;
 }
 
-ExportSource plan_source(const json& body, const std::string& text, const ServerConfig& config) {
-  (void)api::parse_plan_request(body);  // a plan request: errors name its fields
+// The plan of the request `text` (already checked by api::parse_export_request).
+ExportSource plan_source(const std::string& text, const ServerConfig& config) {
   ServerConfig one = config;
   one.workers = 1;
   PlanEngine engine(one);
@@ -105,9 +104,8 @@ ExportSource plan_source(const json& body, const std::string& text, const Server
 }
 
 ExportSource source_of(const std::string& text, const ServerConfig& config) {
-  const json body = api::parse_json_body(text);
-  if (body.is_object() && body.contains("law")) return law_source(body);
-  return plan_source(body, text, config);
+  if (const auto law = api::parse_export_request(text)) return law_source(*law);
+  return plan_source(text, config);
 }
 
 void write_text(const std::string& path, const std::string& text) {
@@ -146,7 +144,7 @@ struct ExportFailure {
 };
 
 int report(const ExportFailure& f) {
-  std::cerr << api::dump_json(api::error_envelope(f.error), 2) << '\n';
+  std::cerr << api::error_envelope_text(f.error) << '\n';
   return f.exit_code;
 }
 

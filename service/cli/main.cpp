@@ -10,6 +10,7 @@
 #include "cli/batch_command.hpp"
 #include "cli/cli_commands.hpp"
 #include "cli/export_command.hpp"
+#include "cli/setting_flags.hpp"
 #include "config/config.hpp"
 #include "config/version.hpp"
 #include "http/http_server.hpp"
@@ -45,62 +46,58 @@ struct CliArgs {
 std::string cache_help(const CliArgs& a, const std::string& what) {
   return what + ", \"\" = " + (what.starts_with("SQLite file") ? "memory only" : "none") +
          " [default " + a.defaults.cache_path +
-         ", XDG_STATE_HOME defaulting to ~/.local/state; env SLOSH_CACHE]";
+         ", XDG_STATE_HOME defaulting to ~/.local/state; env " +
+         slosh::service::setting_limits("cache").env + "]";
 }
 
 // The settings of the Redis shared cache level (ServerConfig documents them).
 void add_redis_options(CLI::App& serve, CliArgs& a) {
-  serve.add_option("--cache-local", a.cache_local,
-                   "With --cache redis://...: SQLite file of this replica's local level between "
-                   "memory and Redis (get: memory, SQLite, Redis, hits promoted to the faster "
-                   "levels; put: all) [default none: memory and Redis; env SLOSH_CACHE_LOCAL]");
-  serve
-      .add_option("--cache-ttl-s", a.cache_ttl_s,
-                  "Expiry of the plans written to Redis [s], 0 = none [default 0; env "
-                  "SLOSH_CACHE_TTL_S]")
-      ->check(CLI::Range(std::size_t{0}, std::size_t{10} * 365 * 86400));
-  serve
-      .add_option("--redis-timeout-ms", a.redis_timeout_ms,
-                  "Longest a Redis command may take, connecting included [ms]; beyond, the "
-                  "request goes on from the local levels [default 200; env "
-                  "SLOSH_REDIS_TIMEOUT_MS]")
-      ->check(CLI::Range(std::size_t{1}, std::size_t{60000}));
+  using slosh::service::add_setting_option;
+  using slosh::service::setting_help;
+  add_setting_option(serve, "--cache-local", "cache_local", a.cache_local,
+                     setting_help("With --cache redis://...: SQLite file of this replica's local "
+                                  "level between memory and Redis (get: memory, SQLite, Redis, "
+                                  "hits promoted to the faster levels; put: all)",
+                                  "cache_local", a.defaults, "none: memory and Redis"));
+  add_setting_option(serve, "--cache-ttl-s", "cache_ttl_s", a.cache_ttl_s,
+                     setting_help("Expiry of the plans written to Redis [s], 0 = none",
+                                  "cache_ttl_s", a.defaults));
+  add_setting_option(serve, "--redis-timeout-ms", "redis_timeout_ms", a.redis_timeout_ms,
+                     setting_help("Longest a Redis command may take, connecting included [ms]; "
+                                  "beyond, the request goes on from the local levels",
+                                  "redis_timeout_ms", a.defaults));
   serve.add_flag("--redis-required", a.redis_required,
-                 "/readyz answers 503 while Redis is down (default: 200 with status degraded; "
-                 "env SLOSH_REDIS_REQUIRED=true)");
+                 std::string("/readyz answers 503 while Redis is down (default: 200 with status "
+                             "degraded; env ") +
+                     slosh::service::setting_limits("redis_required").env + "=true)");
 }
 
 CLI::App* add_serve(CLI::App& app, CliArgs& a) {
+  using slosh::service::add_setting_option;
+  using slosh::service::setting_help;
   auto* serve = app.add_subcommand("serve", "Run the HTTP/JSON service");
   serve->add_option("--config", a.config_path, "JSON config file (see config/slosh.json)");
-  serve->add_option("--host", a.host,
-                    "Bind address [default " + a.defaults.host + "; env SLOSH_HOST]");
-  serve
-      ->add_option("--port", a.port,
-                   "TCP port, 0 = any free port [default " + std::to_string(a.defaults.port) +
-                       "; env SLOSH_PORT]")
-      ->check(CLI::Range(0, 65535));
+  add_setting_option(*serve, "--host", "host", a.host,
+                     setting_help("Bind address", "host", a.defaults));
+  add_setting_option(*serve, "--port", "port", a.port,
+                     setting_help("TCP port, 0 = any free port", "port", a.defaults));
   serve->add_option("--port-file", a.port_file, "Write the bound port to this file");
-  serve
-      ->add_option("--workers", a.workers,
-                   "Solve workers, 0 = the cores [default 0; env SLOSH_WORKERS]")
-      ->check(CLI::Range(0, 1024));
-  serve
-      ->add_option("--queue", a.queue,
-                   "Solves that may wait; beyond, 503 [default " +
-                       std::to_string(a.defaults.queue) + "; env SLOSH_QUEUE]")
-      ->check(CLI::Range(1, 100000));
+  add_setting_option(*serve, "--workers", "workers", a.workers,
+                     setting_help("Solve workers, 0 = the cores", "workers", a.defaults));
+  add_setting_option(*serve, "--queue", "queue", a.queue,
+                     setting_help("Solves that may wait; beyond, 503", "queue", a.defaults));
   serve->add_option("--cache", a.cache,
                     cache_help(a,
                                "SQLite file of the plan cache, or redis://host:port/db (or "
                                "redis://:password@host:port/db): a Redis shared by several "
                                "replicas behind the memory LRU"));
-  serve->add_option("--log-format", a.log_format,
-                    "Log lines: text, or json (one JSON object per line) [default text; env "
-                    "SLOSH_LOG_FORMAT]");
-  serve->add_option("--replica-id", a.replica_id,
-                    "Name in the X-Slosh-Replica response header, \"\" = the host name [env "
-                    "SLOSH_REPLICA_ID]");
+  add_setting_option(*serve, "--log-format", "log_format", a.log_format,
+                     setting_help("Log lines: text, or json (one JSON object per line)",
+                                  "log_format", a.defaults));
+  add_setting_option(*serve, "--replica-id", "replica_id", a.replica_id,
+                     setting_help("Name in the X-Slosh-Replica response header, \"\" = the host "
+                                  "name",
+                                  "replica_id", a.defaults));
   add_redis_options(*serve, a);
   return serve;
 }
@@ -160,10 +157,9 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
       ->check(CLI::IsMember({"auto", "csv", "jsonl", "json"}))
       ->capture_default_str();
   batch->add_option("--config", a.config_path, "JSON config file (workers, cache, solve budget)");
-  batch
-      ->add_option("--workers", a.workers,
-                   "Parallel solves, 0 = the cores [default 0; env SLOSH_WORKERS]")
-      ->check(CLI::Range(0, 1024));
+  slosh::service::add_setting_option(
+      *batch, "--workers", "workers", a.workers,
+      slosh::service::setting_help("Parallel solves, 0 = the cores", "workers", a.defaults));
   batch->add_option("--cache", a.cache,
                     cache_help(a, "SQLite plan cache shared with `slosh serve`"));
   batch->add_option(

@@ -3,13 +3,14 @@
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string_view>
 #include <variant>
 #include <vector>
 
+#include "slosh/api/config_file.hpp"
 #include "storage/redis_client.hpp"
 
 namespace slosh::service {
@@ -42,7 +43,7 @@ double parse_seconds(const std::string& where, const std::string& text, double l
   }
   if (used != text.size() || text.empty() || !(v > lo && v <= hi)) {
     throw std::runtime_error(where + " = " + text + " is not a duration: allowed > " +
-                             nlohmann::json(lo).dump() + " and <= " + nlohmann::json(hi).dump() +
+                             api::json_number_text(lo) + " and <= " + api::json_number_text(hi) +
                              " s");
   }
   return v;
@@ -146,6 +147,13 @@ const std::vector<Setting>& settings() {
   return all;
 }
 
+const Setting& setting_of(std::string_view key) {
+  for (const Setting& s : settings()) {
+    if (key == s.key) return s;
+  }
+  throw std::logic_error("no setting " + std::string(key));
+}
+
 std::string known_keys() {
   std::string keys;
   for (const Setting& s : settings()) keys += (keys.empty() ? "" : ", ") + std::string(s.key);
@@ -180,38 +188,35 @@ void check_cache_levels(const ServerConfig& config) {
 void apply_config_file(const std::string& path, ServerConfig& config) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read config file '" + path + "'");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error("config file '" + path + "' is not valid JSON: " + e.what());
-  }
-  if (!j.is_object()) throw std::runtime_error("config file '" + path + "' must hold an object");
+  // A read error (a directory) throws from the stream buffer, naming the reason.
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
   ServerConfig updated = config;  // all or nothing
-  for (const auto& [key, value] : j.items()) {
-    const std::string where = path + ": " + key;
+  for (const api::ConfigMember& member : api::parse_config_file(path, text)) {
+    using Type = api::ConfigMember::Type;
+    const std::string where = path + ": " + member.key;
     const Setting* setting = nullptr;
     for (const Setting& s : settings()) {
-      if (key == s.key) setting = &s;
+      if (member.key == s.key) setting = &s;
     }
     if (setting == nullptr) {
       throw std::runtime_error(where + " is not a known setting; allowed: " + known_keys());
     }
     const bool text_setting = setting->is_text();
     if (setting->is_bool()) {
-      if (!value.is_boolean()) {
-        throw std::runtime_error(where + " = " + value.dump() +
+      if (member.type != Type::kBoolean) {
+        throw std::runtime_error(where + " = " + member.json +
                                  " has the wrong type: allowed true or false");
       }
-      setting->apply(where, value.dump(), updated);
+      setting->apply(where, member.json, updated);
       continue;
     }
-    if (text_setting != value.is_string() || (!text_setting && !value.is_number())) {
+    if (text_setting != (member.type == Type::kString) ||
+        (!text_setting && member.type != Type::kNumber)) {
       // Numbers must be JSON numbers (a quoted "80" is rejected with the value shown).
-      setting->apply(where, value.dump(), updated);
-      throw std::runtime_error(where + " = " + value.dump() + " has the wrong type");
+      setting->apply(where, member.json, updated);
+      throw std::runtime_error(where + " = " + member.json + " has the wrong type");
     }
-    setting->apply(where, text_setting ? value.get<std::string>() : value.dump(), updated);
+    setting->apply(where, member.text, updated);
   }
   config = updated;
 }
@@ -229,15 +234,31 @@ void apply_environment(const std::map<std::string, std::string>& environment,
 
 void apply_setting(const std::string& key, const std::string& where, const std::string& text,
                    ServerConfig& config) {
-  for (const Setting& s : settings()) {
-    if (key == s.key) {
-      ServerConfig updated = config;
-      s.apply(where, text, updated);
-      config = updated;
-      return;
-    }
+  ServerConfig updated = config;
+  setting_of(key).apply(where, text, updated);
+  config = updated;
+}
+
+SettingLimits setting_limits(std::string_view key) {
+  const Setting& s = setting_of(key);
+  return {s.env, s.lo, s.hi, s.what};
+}
+
+std::string setting_text(std::string_view key, const ServerConfig& config) {
+  const Setting& s = setting_of(key);
+  if (const auto* text_field = std::get_if<std::string ServerConfig::*>(&s.field)) {
+    return config.*(*text_field);
   }
-  throw std::logic_error("no setting " + key);
+  if (const auto* bool_field = std::get_if<bool ServerConfig::*>(&s.field)) {
+    return config.*(*bool_field) ? "true" : "false";
+  }
+  if (const auto* int_field = std::get_if<int ServerConfig::*>(&s.field)) {
+    return std::to_string(config.*(*int_field));
+  }
+  if (const auto* size_field = std::get_if<std::size_t ServerConfig::*>(&s.field)) {
+    return std::to_string(config.*(*size_field));
+  }
+  return api::json_number_text(config.*std::get<double ServerConfig::*>(s.field));
 }
 
 std::map<std::string, std::string> slosh_environment() {

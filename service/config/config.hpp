@@ -4,6 +4,7 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <string_view>
 
 #include "http/http_server.hpp"
 
@@ -26,6 +27,23 @@ void apply_environment(const std::map<std::string, std::string>& environment, Se
 /// "--log-format"). Throws std::runtime_error on an invalid value.
 void apply_setting(const std::string& key, const std::string& where, const std::string& text,
                    ServerConfig& config);
+/// What the command line takes from one entry of the settings table, so that a flag checks the
+/// same range and names the same environment variable as the config file and the environment.
+struct SettingLimits {
+  const char* env;   ///< the environment variable, e.g. "SLOSH_WORKERS"
+  long long lo{0};   ///< integers: the smallest allowed value; durations: the exclusive bound [s]
+  long long hi{0};   ///< integers: the largest allowed value; durations: the inclusive bound [s]
+  const char* what;  ///< what the value is, e.g. "a worker count (0 = the cores)"
+};
+
+/// The settings-table entry of the config-file `key` (e.g. "workers"); std::logic_error when the
+/// table has none (a programming error: every flag names an existing key).
+[[nodiscard]] SettingLimits setting_limits(std::string_view key);
+
+/// The value of the setting `key` in `config` as it would be written in the environment (e.g. the
+/// default shown by a flag's help).
+[[nodiscard]] std::string setting_text(std::string_view key, const ServerConfig& config);
+
 /// Refuses a `cache` value (config key, env or flag, named by `where`) that is neither a SQLite
 /// file nor a valid Redis URL: throws std::runtime_error "<where> = <value> is not a Redis URL:
 /// ..." (parse_redis_url's reason) or "... is neither a SQLite file nor a Redis URL ...".

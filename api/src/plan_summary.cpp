@@ -1,9 +1,9 @@
-#include "cli/plan_summary.hpp"
+#include "slosh/api/plan_summary.hpp"
 
 #include <cstdio>
 #include <string>
 
-namespace slosh::service {
+namespace slosh::api {
 
 namespace {
 
@@ -69,7 +69,7 @@ std::string prediction_lines(const json& plan) {
 
 }  // namespace
 
-std::string plan_text(const json& plan) {
+std::string plan_summary_text(const json& plan) {
   const json& f = plan["format"];
   std::string out = "plan        " + plan["strategy"].get<std::string>() + " on R " +
                     num(f["container"]["radius_mm"], 1) + " mm, h " + num(f["fill_height_mm"], 1) +
@@ -90,7 +90,7 @@ std::string plan_text(const json& plan) {
   return out;
 }
 
-std::string fluids_text(const json& fluids) {
+std::string fluids_table_text(const json& fluids) {
   std::string out = pad("name", 19) + pad("density [kg/m^3]", 18) + pad("viscosity [Pa s]", 18) +
                     "source (at " + num(fluids["temperature_c"], 0) + " C)\n";
   for (const json& f : fluids["fluids"]) {
@@ -102,4 +102,4 @@ std::string fluids_text(const json& fluids) {
   return out;
 }
 
-}  // namespace slosh::service
+}  // namespace slosh::api

@@ -5,15 +5,15 @@
 #include <nlohmann/json.hpp>
 #include <string>
 
-namespace slosh::service {
+namespace slosh::api {
 
 /// A plan response (the JSON `slosh plan --format json` prints) as a few lines: strategy and
 /// status, the message, the law (durations or law type), the plateau levels and peaks, eta
 /// during and after the motion on both models with the uniform law's and the reductions, the
 /// warnings (each already names its model) and the recipe key. Ends with a newline.
-[[nodiscard]] std::string plan_text(const nlohmann::json& plan);
+[[nodiscard]] std::string plan_summary_text(const nlohmann::json& plan);
 
 /// The fluid catalogue (the GET /v1/fluids body) as a table: name, density, viscosity, source.
-[[nodiscard]] std::string fluids_text(const nlohmann::json& fluids);
+[[nodiscard]] std::string fluids_table_text(const nlohmann::json& fluids);
 
-}  // namespace slosh::service
+}  // namespace slosh::api

@@ -1,0 +1,81 @@
+#include "cli/batch_input.hpp"
+
+#include <filesystem>
+#include <iostream>
+#include <utility>
+
+#include "cli/batch_retry.hpp"
+#include "cli/cli_commands.hpp"
+#include "cli/io.hpp"
+#include "slosh/api/error.hpp"
+
+namespace slosh::service::batch_cli {
+
+namespace {
+
+// The view of the plan each JSON row carries: --view, or full with --full (both: the same view);
+// nullopt for none. Throws TableError for an unknown view or two different ones.
+std::optional<api::PlanView> row_plan_view(const BatchCommandOptions& options) {
+  std::optional<api::PlanView> view;
+  if (options.view) {
+    try {
+      view = api::parse_plan_view(*options.view);
+    } catch (const api::ApiError& e) {
+      throw TableError(std::string("--") + e.what());
+    }
+  }
+  if (options.full && view && *view != api::PlanView::kFull) {
+    throw TableError("--full adds the whole plan but --view " + *options.view +
+                     " the compact one: give one of them");
+  }
+  return options.full ? std::optional(api::PlanView::kFull) : view;
+}
+
+}  // namespace
+
+std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInput& in) {
+  try {
+    // Refused before anything is posted: a directory as --out would only fail once the job is
+    // done, when the table is renamed into place.
+    for (const auto& [flag, path] : {std::pair{"--in", &options.in}, {"--out", &options.out}}) {
+      std::error_code ec;
+      if (*path != "-" && std::filesystem::is_directory(*path, ec)) {
+        throw TableError(std::string(flag) + " '" + *path +
+                         "' is a directory: give the path of a table file" +
+                         (std::string(flag) == "--in" ? "" : " to write") + " (or - for " +
+                         (std::string(flag) == "--in" ? "stdin" : "stdout") + ")");
+      }
+    }
+    in.in_format = table_format(options.in_format, options.in);
+    in.out_format = table_format(options.out_format, options.out);
+    try {
+      in.text = read_request_text(options.in);
+    } catch (const std::exception&) {
+      throw TableError("cannot read the recipe table '" + options.in + "'");
+    }
+    in.rows = read_recipe_table(in.text, in.in_format);
+    in.view = row_plan_view(options);
+    if (in.view && in.out_format == TableFormat::kCsv) {
+      throw TableError(
+          std::string(options.full ? "--full adds the whole plan" : "--view adds the plan") +
+          " to JSON rows: use a .json or .jsonl output");
+    }
+    if (!options.server.empty() && options.chunk == 0) {
+      throw TableError("--chunk must be at least 1");
+    }
+    if (!options.server.empty()) {
+      in.client = std::make_unique<HttpClient>(options.server, kServerTimeout);  // checks the URL
+    }
+  } catch (const std::exception& e) {
+    std::cerr << "slosh batch: " << e.what() << '\n';
+    return kExitInvalidInput;
+  }
+  if (options.mode == "min_time" && in.view) {
+    std::cerr << "slosh batch: " << (options.full ? "--full" : "--view")
+              << " is for plan tables, not --mode min_time\n";
+    return kExitInvalidInput;
+  }
+  return std::nullopt;
+}
+
+}  // namespace slosh::service::batch_cli

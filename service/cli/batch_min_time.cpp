@@ -1,0 +1,190 @@
+#include "cli/batch_min_time.hpp"
+
+#include <iostream>
+#include <optional>
+#include <string>
+#include <string_view>
+
+#include "cli/batch_errors.hpp"
+#include "cli/batch_retry.hpp"
+#include "engine/plan_engine.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/min_time.hpp"
+#include "slosh/api/recipe_row.hpp"
+#include "slosh/api/service_bodies.hpp"
+
+namespace slosh::service::batch_cli {
+
+namespace {
+
+/// An RFC 4180 cell: text quoted when it holds a comma, a quote or a line break.
+std::string csv_cell(const json& v) {
+  if (v.is_null()) return "";
+  if (!v.is_string()) return api::dump_json(v);
+  const std::string text = v.get<std::string>();
+  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
+  return out + "\"";
+}
+
+/// The min_time table's columns (CSV header and JSON members, in order).
+std::vector<std::string> min_time_columns() {
+  std::vector<std::string> c{"row", "recipe_id", "status", "key"};
+  for (Strategy s : api::default_min_time_strategies()) c.push_back("t_min_" + to_string(s) + "_s");
+  for (const char* name : {"winner", "winner_t_min_s", "baseline_t_min_s", "gain_pct",
+                           "gain_cycles_per_min", "message", "error_field"}) {
+    c.emplace_back(name);
+  }
+  return c;
+}
+
+json min_time_error_row(const RecipeRow& recipe, const api::ApiError& e) {
+  json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}, {"status", "error"}};
+  std::string field = e.field();
+  std::string message = e.what();
+  if (recipe.csv) {  // name the CSV column, as plan tables do
+    constexpr std::string_view kMax = "motion_time_max_s";  // the motion_time_s column's value
+    if (field == kMax) {
+      if (message.rfind(kMax, 0) == 0) message.replace(0, kMax.size(), "motion_time_s");
+      field = "motion_time_s";
+    } else {
+      message = api::in_column_terms(field, message);
+      field = api::column_of_field(field);
+    }
+  }
+  row["message"] = message;
+  row["error_field"] = field.empty() ? json(nullptr) : json(field);
+  return row;
+}
+
+/// A min-time row on its way: its answer from the cache or a search, or the row's error.
+struct MinTimeJob {
+  std::optional<api::ApiError> error;
+  PendingMinTime pending;
+};
+
+// Parses a row's min-time request and starts it on `engine`: from the plan store, joined to the
+// search of an identical earlier row, or queued (waiting for queue room).
+MinTimeJob start_min_time_row(const RecipeRow& row, double budget, PlanEngine& engine) {
+  MinTimeJob job;
+  if (!row.error.is_null()) {
+    job.error = api::error_from_json(row.error);
+    return job;
+  }
+  try {
+    job.pending = engine.start_min_time(
+        api::parse_min_time_request(api::min_time_body_from_recipe(row.request), budget), true);
+  } catch (const api::ApiError& e) {
+    job.error = e;
+  }
+  return job;
+}
+
+// Writes the row of an answer (a stored or replied min-time response) or of its error; false for
+// an error row.
+bool write_min_time_row(const RecipeRow& recipe, const SolveOutcome& outcome,
+                        MinTimeWriter& writer) {
+  if (outcome.error) {
+    writer.write(min_time_error_row(recipe, *outcome.error));
+    return false;
+  }
+  json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}, {"status", "ok"}};
+  row.update(api::min_time_row_figures(outcome.body));
+  writer.write(row);
+  return true;
+}
+
+// POSTs one row's min-time request, retrying 503 answers after their Retry-After: the answer, or
+// the error the service answered; BatchAbort when it answered no envelope.
+SolveOutcome post_min_time_row(HttpClient& client, const std::string& body) {
+  HttpReply reply = post_retrying_503(client, "/v1/min-time", body);
+  if (reply.status == 200) return SolveOutcome{std::move(reply.body), std::nullopt};
+  if (api::envelope_message(reply.body).empty()) {
+    throw BatchAbort(client.base_url() + "/v1/min-time answered HTTP " +
+                     std::to_string(reply.status));
+  }
+  return SolveOutcome{{}, api::error_from_text(reply.body)};
+}
+
+}  // namespace
+
+MinTimeWriter::MinTimeWriter(std::ostream& out, TableFormat format) : out_(out), format_(format) {
+  if (format_ == TableFormat::kCsv) {
+    std::string header;
+    for (const std::string& c : min_time_columns()) header += (header.empty() ? "" : ",") + c;
+    out_ << header << '\n';
+  } else if (format_ == TableFormat::kJson) {
+    out_ << '[';
+  }
+}
+
+void MinTimeWriter::write(const json& row) {
+  if (format_ == TableFormat::kCsv) {
+    std::string line;
+    bool first = true;
+    for (const std::string& c : min_time_columns()) {
+      line += (first ? "" : ",") + csv_cell(row.value(c, json(nullptr)));
+      first = false;
+    }
+    out_ << line << '\n';
+  } else if (format_ == TableFormat::kJson) {
+    out_ << (rows_ == 0 ? "\n" : ",\n") << api::dump_json(row);
+  } else {
+    out_ << api::dump_json(row) << '\n';
+  }
+  ++rows_;
+  out_.flush();
+}
+
+void MinTimeWriter::finish() {
+  if (format_ == TableFormat::kJson) out_ << (rows_ == 0 ? "]\n" : "\n]\n");
+  out_.flush();
+}
+
+// Searches every row on a local PlanEngine (the cache file of `config`, `config.workers`, one
+// task per row and strategy) and writes the rows in input order; the 1-based numbers of the rows
+// in error.
+std::vector<std::size_t> run_min_time_local(const std::vector<RecipeRow>& rows, ServerConfig config,
+                                            MinTimeWriter& writer) {
+  config.queue = 1024;
+  PlanEngine engine(config);
+  if (const std::string e = engine.min_time_cache().storage_error(); !e.empty()) {
+    std::cerr << "slosh batch: warning: " << e << '\n';
+  }
+  std::vector<MinTimeJob> jobs;
+  jobs.reserve(rows.size());
+  for (const RecipeRow& row : rows) {
+    jobs.push_back(start_min_time_row(row, config.solve_budget_s, engine));
+  }
+  std::vector<std::size_t> failed;
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    const MinTimeJob& job = jobs[i];
+    const SolveOutcome outcome = job.error            ? SolveOutcome{{}, job.error}
+                                 : job.pending.cached ? SolveOutcome{*job.pending.cached, {}}
+                                                      : job.pending.search.get();
+    if (!write_min_time_row(rows[i], outcome, writer)) failed.push_back(rows[i].row);
+  }
+  return failed;
+}
+
+// POSTs every readable row to the service's /v1/min-time, one after the other (each request's
+// strategies run in parallel on the service's pool), and writes the rows as they return.
+std::vector<std::size_t> run_min_time_remote(const std::vector<RecipeRow>& rows, HttpClient& client,
+                                             MinTimeWriter& writer) {
+  std::vector<std::size_t> failed;
+  for (const RecipeRow& row : rows) {
+    const SolveOutcome outcome =
+        row.error.is_null()
+            ? post_min_time_row(client, api::dump_json(api::min_time_body_from_recipe(row.request)))
+            : SolveOutcome{{}, api::error_from_json(row.error)};
+    try {
+      if (!write_min_time_row(row, outcome, writer)) failed.push_back(row.row);
+    } catch (const std::invalid_argument& e) {
+      throw BatchAbort(client.base_url() + "/v1/min-time: " + e.what());
+    }
+  }
+  return failed;
+}
+
+}  // namespace slosh::service::batch_cli
