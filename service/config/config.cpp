@@ -4,12 +4,12 @@
 #include <cstdlib>
 #include <fstream>
 #include <limits>
-#include <nlohmann/json.hpp>
 #include <stdexcept>
 #include <string_view>
 #include <variant>
 #include <vector>
 
+#include "slosh/api/config_json.hpp"
 #include "storage/redis_client.hpp"
 
 namespace slosh::service {
@@ -42,7 +42,7 @@ double parse_seconds(const std::string& where, const std::string& text, double l
   }
   if (used != text.size() || text.empty() || !(v > lo && v <= hi)) {
     throw std::runtime_error(where + " = " + text + " is not a duration: allowed > " +
-                             nlohmann::json(lo).dump() + " and <= " + nlohmann::json(hi).dump() +
+                             api::json_number_text(lo) + " and <= " + api::json_number_text(hi) +
                              " s");
   }
   return v;
@@ -180,38 +180,33 @@ void check_cache_levels(const ServerConfig& config) {
 void apply_config_file(const std::string& path, ServerConfig& config) {
   std::ifstream in(path);
   if (!in) throw std::runtime_error("cannot read config file '" + path + "'");
-  nlohmann::json j;
-  try {
-    j = nlohmann::json::parse(in);
-  } catch (const nlohmann::json::exception& e) {
-    throw std::runtime_error("config file '" + path + "' is not valid JSON: " + e.what());
-  }
-  if (!j.is_object()) throw std::runtime_error("config file '" + path + "' must hold an object");
+  using Kind = api::ConfigMember::Kind;
   ServerConfig updated = config;  // all or nothing
-  for (const auto& [key, value] : j.items()) {
-    const std::string where = path + ": " + key;
+  for (const api::ConfigMember& member : api::parse_config_file(in, path)) {
+    const std::string where = path + ": " + member.key;
     const Setting* setting = nullptr;
     for (const Setting& s : settings()) {
-      if (key == s.key) setting = &s;
+      if (member.key == s.key) setting = &s;
     }
     if (setting == nullptr) {
       throw std::runtime_error(where + " is not a known setting; allowed: " + known_keys());
     }
     const bool text_setting = setting->is_text();
     if (setting->is_bool()) {
-      if (!value.is_boolean()) {
-        throw std::runtime_error(where + " = " + value.dump() +
+      if (member.kind != Kind::boolean) {
+        throw std::runtime_error(where + " = " + member.json +
                                  " has the wrong type: allowed true or false");
       }
-      setting->apply(where, value.dump(), updated);
+      setting->apply(where, member.json, updated);
       continue;
     }
-    if (text_setting != value.is_string() || (!text_setting && !value.is_number())) {
+    const bool is_string = member.kind == Kind::string;
+    if (text_setting != is_string || (!text_setting && member.kind != Kind::number)) {
       // Numbers must be JSON numbers (a quoted "80" is rejected with the value shown).
-      setting->apply(where, value.dump(), updated);
-      throw std::runtime_error(where + " = " + value.dump() + " has the wrong type");
+      setting->apply(where, member.json, updated);
+      throw std::runtime_error(where + " = " + member.json + " has the wrong type");
     }
-    setting->apply(where, text_setting ? value.get<std::string>() : value.dump(), updated);
+    setting->apply(where, text_setting ? member.text : member.json, updated);
   }
   config = updated;
 }
