@@ -46,7 +46,8 @@ void BM_Batch1000(benchmark::State& state) {
   std::size_t failed = 0;
   for (auto _ : state) {
     slosh::service::PlanService service(config);
-    const slosh::service::PendingBatch batch = service.start_batch(recipes);
+    const slosh::service::PendingBatch batch = service.start_batch(
+        slosh::api::read_batch_items(recipes, service.engine().config().solve_budget_s));
     for (std::size_t i = 0; i < batch.size(); ++i) {
       if (!batch.get(i).ok()) ++failed;
     }

@@ -52,7 +52,9 @@ inline void run_recipe_table(const std::uint8_t* data, std::size_t size,
     slot[i] = requests.size();
     requests.push_back(rows[i].request);
   }
-  const service::PendingBatch batch = shut_down_service().start_batch(requests);
+  service::PlanService& service = shut_down_service();
+  const service::PendingBatch batch = service.start_batch(
+      api::read_batch_items(requests, service.engine().config().solve_budget_s));
   std::ostringstream csv, jsonl, json;
   service::PlanTableWriter csv_writer(csv, service::TableFormat::kCsv);
   service::PlanTableWriter jsonl_writer(jsonl, service::TableFormat::kJsonLines);

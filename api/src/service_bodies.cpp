@@ -62,6 +62,25 @@ PlanRequest parse_batch_item(const nlohmann::json& item, double budget) {
   return request;
 }
 
+BatchItem read_batch_item(const nlohmann::json& item, double budget) {
+  BatchItem read;
+  try {
+    read.request = parse_batch_item(item, budget);
+  } catch (const ApiError& e) {
+    read.error = e;
+  } catch (const std::exception& e) {
+    read.error = ApiError(ErrorCode::kInternal, "", e.what());
+  }
+  return read;
+}
+
+std::vector<BatchItem> read_batch_items(const std::vector<nlohmann::json>& items, double budget) {
+  std::vector<BatchItem> read;
+  read.reserve(items.size());
+  for (const nlohmann::json& item : items) read.push_back(read_batch_item(item, budget));
+  return read;
+}
+
 void BatchReplyWriter::open_item(std::size_t index, std::size_t extra_bytes) {
   if (out_.size() + extra_bytes > max_bytes_) {
     throw ApiError(ErrorCode::kInvalidValue, "requests",

@@ -1,13 +1,11 @@
 #pragma once
-// Stored calibrations: name -> the JSON of POST /v1/calibrations' response, in a
+// Stored calibrations: name -> the JSON text of POST /v1/calibrations' response, in a
 // table `calibrations` of its own SQLite database (the plan cache's file is not touched). A plan,
 // simulate or min-time request names one with options.model = "<name>".
 
 #include <mutex>
 #include <optional>
 #include <string>
-
-#include <nlohmann/json.hpp>
 
 #include "storage/sqlite_db.hpp"
 
@@ -22,9 +20,9 @@ class CalibrationStore {
   CalibrationStore& operator=(const CalibrationStore&) = delete;
 
   /// Stores (replacing) the calibration `name`; false when the write failed.
-  bool put(const std::string& name, const nlohmann::json& calibration);
-  /// The calibration stored under `name`, or nullopt.
-  [[nodiscard]] std::optional<nlohmann::json> get(const std::string& name) const;
+  bool put(const std::string& name, const std::string& calibration);
+  /// The JSON text stored under `name`, or nullopt.
+  [[nodiscard]] std::optional<std::string> get(const std::string& name) const;
 
  private:
   mutable std::mutex mutex_;
@@ -34,10 +32,5 @@ class CalibrationStore {
 /// The calibrations database next to the plan cache: "<cache_path>.calibrations", or ":memory:"
 /// when the cache is in memory (empty or ":memory:").
 [[nodiscard]] std::string calibration_store_path(const std::string& cache_path);
-
-/// A request body with options.model given as a name replaced by that stored calibration's model
-/// object (unchanged when options.model is not a string). Throws api::ApiError: 422 for an
-/// invalid name, 404 for an unknown one, both naming options.model.
-[[nodiscard]] nlohmann::json resolve_model_name(nlohmann::json body, const CalibrationStore& store);
 
 }  // namespace slosh::service

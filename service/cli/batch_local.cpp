@@ -29,7 +29,8 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   if (const std::string e = engine.cache().storage_error(); !e.empty()) {
     std::cerr << "slosh batch: warning: " << e << '\n';
   }
-  const PendingBatch batch = engine.start_batch(requests);
+  const PendingBatch batch =
+      engine.start_batch(api::read_batch_items(requests, engine.config().solve_budget_s));
   // Counting finished solves polls every item: only when the bar is due for a redraw.
   auto refresh = [&] {
     if (bar.due()) bar.update(unreadable + batch.finished());

@@ -18,8 +18,6 @@
 #include <unordered_map>
 #include <vector>
 
-#include <nlohmann/json_fwd.hpp>
-
 #include "cache/plan_cache.hpp"
 #include "cache/rendered_plans.hpp"
 #include "config/server_config.hpp"
@@ -165,16 +163,16 @@ class PlanEngine {
   /// Counts a plan served in slosh_plans_total.
   void count_plan(const PlanFacts& facts);
 
-  /// Starts a batch of parsed plan requests: cache hits and invalid items finish at once, the
-  /// others are queued on the pool (waiting for queue room) with single-flight per recipe.
-  /// `abandoned` (optional) tells whether the client has gone away: no further solves are queued
-  /// for it then.
-  PendingBatch start_batch(const std::vector<nlohmann::json>& requests,
+  /// Starts a batch of read plan requests (api::read_batch_items): cache hits and invalid items
+  /// finish at once, the others are queued on the pool (waiting for queue room) with single-flight
+  /// per recipe. `abandoned` (optional) tells whether the client has gone away: no further solves
+  /// are queued for it then.
+  PendingBatch start_batch(const std::vector<api::BatchItem>& requests,
                            const std::function<bool()>& abandoned = {});
   /// Starts one batch item: a cache hit or an invalid request finishes at once; otherwise its
   /// solve is queued at `priority` (waiting for queue room), or joins a running solve of the same
   /// recipe. Never throws: errors are the item's.
-  StartedItem start_batch_item(const nlohmann::json& request,
+  StartedItem start_batch_item(const api::BatchItem& request,
                                TaskPriority priority = TaskPriority::kInteractive);
 
   /// The answer of a validated min-time request (SPEC §9): each strategy's search is one task on
@@ -286,7 +284,7 @@ class PlanEngine {
   std::optional<std::string> remembered_key(const std::string& text);
   void remember_key(const std::string& text, const std::string& key);
   // The batch item `request` of a client that has gone: a cache hit, else cancelled.
-  BatchResult abandoned_item(const nlohmann::json& request);
+  BatchResult abandoned_item(const api::BatchItem& request);
   // Joins a running search of `pending.key` with at least `budget`, or registers `search` as
   // the flight (unless shutting down: then search->flight stays 0). True when it joined.
   bool join_or_add_search(PendingMinTime& pending, const std::shared_ptr<MinTimeSearch>& search,

@@ -4,10 +4,9 @@
 #include <future>
 #include <utility>
 
-#include <nlohmann/json.hpp>
-
 #include "engine/plan_engine.hpp"
 #include "slosh/api/plan_reply.hpp"
+#include "slosh/api/service_bodies.hpp"
 
 namespace slosh::service {
 
@@ -47,11 +46,15 @@ BatchResult StartedItem::get() const {
   return pending.valid() ? batch_result(pending.get()) : result;
 }
 
-StartedItem PlanEngine::start_batch_item(const nlohmann::json& item, TaskPriority priority) {
+StartedItem PlanEngine::start_batch_item(const api::BatchItem& item, TaskPriority priority) {
   StartedItem started;
   BatchResult& result = started.result;
+  if (item.error) {
+    result.error = item.error;
+    return started;
+  }
   try {
-    const api::PlanRequest request = api::parse_batch_item(item, config_.solve_budget_s);
+    const api::PlanRequest& request = *item.request;
     const std::string key = api::recipe_key(request);
     CacheLevel level{};
     if (const auto hit = cache_.find(key, &level)) {
@@ -71,10 +74,14 @@ StartedItem PlanEngine::start_batch_item(const nlohmann::json& item, TaskPriorit
   return started;
 }
 
-BatchResult PlanEngine::abandoned_item(const nlohmann::json& item) {
+BatchResult PlanEngine::abandoned_item(const api::BatchItem& item) {
   BatchResult result;
+  if (item.error) {
+    result.error = item.error;
+    return result;
+  }
   try {
-    const api::PlanRequest request = api::parse_batch_item(item, config_.solve_budget_s);
+    const api::PlanRequest& request = *item.request;
     CacheLevel level{};
     if (const auto hit = cache_.find(api::recipe_key(request), &level)) {
       metrics_.count_cache_hit(level);
@@ -90,7 +97,7 @@ BatchResult PlanEngine::abandoned_item(const nlohmann::json& item) {
   return result;
 }
 
-PendingBatch PlanEngine::start_batch(const std::vector<nlohmann::json>& requests,
+PendingBatch PlanEngine::start_batch(const std::vector<api::BatchItem>& requests,
                                      const std::function<bool()>& abandoned) {
   PendingBatch batch;
   const std::size_t n = requests.size();

@@ -3,11 +3,10 @@
 
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "http/plan_service.hpp"
 #include "slosh/api/plan_reply.hpp"
 #include "slosh/api/plan_view.hpp"
+#include "slosh/api/service_bodies.hpp"
 
 namespace slosh::service {
 
@@ -17,7 +16,8 @@ Reply PlanService::post_batch(const std::string& text, const std::function<bool(
     const ServerConfig& config = engine_.config();
     const api::BatchBody body = api::parse_batch_body(text, config.batch_max);
     const api::PlanView view = api::batch_view(view_query, body.view);
-    const PendingBatch batch = engine_.start_batch(body.requests, abandoned);
+    const PendingBatch batch =
+        engine_.start_batch(api::read_batch_items(body.requests, config.solve_budget_s), abandoned);
     api::BatchReplyWriter writer(config.max_response_bytes);
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const BatchResult item = batch.get(i);

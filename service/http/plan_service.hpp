@@ -82,11 +82,11 @@ class PlanService {
   [[nodiscard]] const PlanEngine& engine() const { return engine_; }
 
   // The engine's parts, for the batch jobs and the tests.
-  StartedItem start_batch_item(const nlohmann::json& request,
+  StartedItem start_batch_item(const api::BatchItem& request,
                                TaskPriority priority = TaskPriority::kInteractive) {
     return engine_.start_batch_item(request, priority);
   }
-  PendingBatch start_batch(const std::vector<nlohmann::json>& requests,
+  PendingBatch start_batch(const std::vector<api::BatchItem>& requests,
                            const std::function<bool()>& abandoned = {}) {
     return engine_.start_batch(requests, abandoned);
   }

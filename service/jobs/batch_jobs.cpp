@@ -15,6 +15,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan_view.hpp"
+#include "slosh/api/service_bodies.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
@@ -532,7 +533,9 @@ std::size_t BatchJobs::fill_window(Job& job, std::size_t next, std::deque<Starte
       window.push_back(std::move(item));
       continue;
     }
-    window.push_back(service_.start_batch_item(row.request, TaskPriority::kBackground));
+    window.push_back(service_.start_batch_item(
+        api::read_batch_item(row.request, service_.engine().config().solve_budget_s),
+        TaskPriority::kBackground));
   }
   return next;
 }

@@ -5,10 +5,10 @@
 
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <ctime>
 #include <memory>
-#include <nlohmann/json.hpp>
+
+#include "slosh/api/log_json.hpp"
 
 namespace slosh::service {
 
@@ -19,12 +19,6 @@ std::atomic<bool> json_logs{false};
 // Marks a message whose payload is the members of a JSON object (`{"a":1,...}`) to be merged into
 // the log line; no other message starts with it (ASCII record separator).
 constexpr char kFieldsMarker = '\x1e';
-
-// A JSON string literal; invalid UTF-8 is replaced, never thrown on.
-std::string quoted(std::string_view text) {
-  return nlohmann::json(std::string(text))
-      .dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
-}
 
 // "2026-11-24T23:55:01.123Z"
 std::string utc_time(spdlog::log_clock::time_point when) {
@@ -45,12 +39,12 @@ class JsonFormatter final : public spdlog::formatter {
   void format(const spdlog::details::log_msg& msg, spdlog::memory_buf_t& dest) override {
     const std::string_view payload(msg.payload.data(), msg.payload.size());
     const spdlog::string_view_t level = spdlog::level::to_string_view(msg.level);
-    std::string line = "{\"time\":\"" + utc_time(msg.time) +
-                       "\",\"level\":" + quoted(std::string_view(level.data(), level.size())) + ",";
+    std::string line = "{\"time\":\"" + utc_time(msg.time) + "\",\"level\":" +
+                       api::json_quoted(std::string_view(level.data(), level.size())) + ",";
     if (!payload.empty() && payload.front() == kFieldsMarker) {
       line.append(payload.substr(2));  // the members after the marker and the object's '{'
     } else {
-      line += "\"msg\":" + quoted(payload) + "}";
+      line += "\"msg\":" + api::json_quoted(payload) + "}";
     }
     line += '\n';
     dest.append(line.data(), line.data() + line.size());
@@ -82,18 +76,11 @@ void add_plan_text(std::string& line, const PlanFacts& plan) {
 }
 
 std::string json_fields(const AccessLogEntry& e) {
-  nlohmann::json j = {
-      {"msg", "request"}, {"request_id", e.request_id}, {"method", e.method}, {"route", e.route},
-      {"path", e.path},   {"status", e.status},         {"bytes", e.bytes}};
-  j["ms"] = e.ms ? nlohmann::json(std::round(*e.ms * 1000.0) / 1000.0) : nlohmann::json(nullptr);
-  if (!e.cache.empty()) j["cache"] = e.cache;
-  if (e.plan) {
-    j["plan_key"] = e.plan->key;
-    j["strategy"] = e.plan->strategy;
-    j["plan_status"] = e.plan->status;
-    j["cached"] = e.plan->cached;
-  }
-  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+  api::LoggedRequest r{e.request_id, e.method, e.route, e.path,      e.status,
+                       e.ms,         e.bytes,  e.cache, std::nullopt};
+  if (e.plan)
+    r.plan = api::LoggedPlan{e.plan->key, e.plan->strategy, e.plan->status, e.plan->cached};
+  return api::request_log_object(r);
 }
 
 }  // namespace

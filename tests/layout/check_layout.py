@@ -136,7 +136,11 @@ def main():
                     problems.append(f"{rel}: a comment names an issue or a review")
                     details.append(f"{rel}:{number}: {line_text.strip()[:80]}")
             if top == "service":
-                if "nlohmann" in strip(text) or re.search(r"#include\s*<nlohmann/", text):
+                code = strip(text)
+                # nlohmann's types by their name or by the usual alias `json` (a member
+                # `x.json` of an api struct is text, not the type).
+                if ("nlohmann" in code or re.search(r"(?<![.>\w])json\b", code)
+                        or re.search(r"#include\s*<nlohmann/", text)):
                     problems.append(f"{rel}: uses nlohmann/json (JSON lives in api/)")
                 if "cli" not in rel.parts and re.search(r'#include\s*"(\.\./)?cli/', text):
                     problems.append(f"{rel}: a server file includes a header of the CLI")

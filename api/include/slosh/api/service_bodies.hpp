@@ -42,6 +42,21 @@ struct BatchBody {
 /// One batch item: a plan request with the budget, and no series (a batch answers with plans).
 [[nodiscard]] PlanRequest parse_batch_item(const nlohmann::json& item, double budget);
 
+/// One batch item read on its own: its plan request, or why it is not one (so one bad item fails
+/// alone while the others are planned).
+struct BatchItem {
+  std::optional<PlanRequest> request;  ///< set when the item is a valid plan request
+  std::optional<ApiError> error;       ///< set otherwise (422 naming the field, ...)
+};
+
+/// `item` read as parse_batch_item reads it; never throws (the error is the item's: an
+/// unexpected failure is an internal error).
+[[nodiscard]] BatchItem read_batch_item(const nlohmann::json& item, double budget);
+
+/// Every item of `items`, in order (read_batch_item).
+[[nodiscard]] std::vector<BatchItem> read_batch_items(const std::vector<nlohmann::json>& items,
+                                                      double budget);
+
 /// The batch response {"results": [{"index": i, "plan": {...}} | {"index": i, "error": {...}}]},
 /// written item by item; a response that would exceed `max_bytes` is refused with a 422 (the
 /// plans are cached: smaller batches get them).

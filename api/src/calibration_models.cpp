@@ -1,0 +1,83 @@
+#include "slosh/api/calibration_models.hpp"
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/simulate.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+// Whether `request` is an object whose options.model is a string (a stored calibration's name).
+bool names_a_model(const nlohmann::json& request) {
+  const auto* options = request.is_object() ? given_member(request, "options") : nullptr;
+  if (options == nullptr || !options->is_object()) return false;
+  const auto* model = given_member(*options, "model");
+  return model != nullptr && model->is_string();
+}
+
+// `body` with its options.model name replaced by the stored model (unchanged when it names none).
+nlohmann::json resolve_model_name(nlohmann::json body, const CalibrationLookup& lookup) {
+  if (!body.is_object() || !body.contains("options") || !body["options"].is_object()) return body;
+  nlohmann::json& options = body["options"];
+  if (!options.contains("model") || !options["model"].is_string()) return body;
+  const std::string name = options["model"].get<std::string>();
+  validate_calibration_name(name, "options.model");
+  const std::optional<std::string> text = lookup(name);
+  const nlohmann::json stored =
+      text ? nlohmann::json::parse(*text, nullptr, false) : nlohmann::json();
+  if (!text || !stored.contains("model")) {
+    throw ApiError(ErrorCode::kNotFound, "options.model",
+                   "options.model = \"" + name +
+                       "\": no stored calibration of that name (POST /v1/calibrations "
+                       "with \"name\" stores one)");
+  }
+  options["model"] = stored["model"];
+  return body;
+}
+
+}  // namespace
+
+CalibrationRequest parse_calibration_text(std::string_view text) {
+  return parse_calibration_request(parse_json_body(text));
+}
+
+std::string run_calibration_text(const CalibrationRequest& request) {
+  return dump_json(run_calibration(request));
+}
+
+std::string stored_calibration_reply(std::string_view stored) {
+  return dump_json(nlohmann::json::parse(stored, nullptr, false));
+}
+
+std::string resolve_model_names(const std::string& body, const CalibrationLookup& lookup) {
+  if (body.find("\"model\"") == std::string::npos) return body;
+  const nlohmann::json parsed = nlohmann::json::parse(body, nullptr, false);
+  if (parsed.is_discarded()) return body;  // the endpoint reports the malformed body itself
+  if (!names_a_model(parsed)) return body;
+  return dump_json(resolve_model_name(parsed, lookup));
+}
+
+std::string resolve_batch_model_names(const std::string& body, const CalibrationLookup& lookup) {
+  if (body.find("\"model\"") == std::string::npos) return body;
+  nlohmann::json parsed = nlohmann::json::parse(body, nullptr, false);
+  if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("requests") ||
+      !parsed["requests"].is_array()) {
+    return body;  // the endpoint reports the body itself
+  }
+  bool changed = false;
+  for (nlohmann::json& request : parsed["requests"]) {
+    if (!names_a_model(request)) continue;
+    try {
+      request = resolve_model_name(request, lookup);
+      changed = true;
+    } catch (const ApiError&) {
+      // left as given: the item's own parse names options.model
+    }
+  }
+  return changed ? dump_json(parsed) : body;
+}
+
+}  // namespace slosh::api
