@@ -25,6 +25,7 @@
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
+#include "support/random_format.hpp"
 
 namespace slosh::api {
 namespace {
@@ -35,8 +36,7 @@ constexpr std::uint64_t kSeed{19};
 constexpr int kDefaultFormats{40};
 
 int format_count() {
-  if (const char* n = std::getenv("SLOSH_PROPERTY_FORMATS")) return std::max(1, std::atoi(n));
-  return kDefaultFormats;
+  return test::property_format_count(kDefaultFormats);
 }
 
 /// A 'nice' decimal: k / 10^decimals for a uniform k in [lo, hi], as text ("48.5", "82", "0.73").

@@ -23,6 +23,7 @@
 #include "slosh/core/model/sloshing_model.hpp"
 #include "slosh/core/response/response.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "support/random_format.hpp"
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
@@ -36,8 +37,7 @@ constexpr double kMeets{1e-5};
 constexpr double kViolates{1e-7};
 
 int format_count() {
-  if (const char* n = std::getenv("SLOSH_PROPERTY_FORMATS")) return std::max(1, std::atoi(n));
-  return kDefaultFormats;
+  return test::property_format_count(kDefaultFormats);
 }
 
 struct RandomFormat {

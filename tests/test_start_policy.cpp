@@ -21,6 +21,7 @@
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "strategy/strategies.hpp"
+#include "support/random_format.hpp"
 
 namespace slosh {
 namespace {
@@ -32,8 +33,7 @@ constexpr std::uint64_t kSeed{3012};
 constexpr double kSameOptimum{1e-6};
 
 int format_count() {
-  if (const char* n = std::getenv("SLOSH_PROPERTY_FORMATS")) return std::max(1, std::atoi(n));
-  return kDefaultFormats;
+  return test::property_format_count(kDefaultFormats);
 }
 
 struct Case {

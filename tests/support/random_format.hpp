@@ -2,11 +2,20 @@
 // Seeded random formats for property tests: each member drawn uniformly from its range, in a
 // fixed order (radius, fill ratio, stroke, motion time), so a seed names the same formats.
 
+#include <algorithm>
+#include <cstdlib>
 #include <random>
 
 #include "slosh/core/model/format.hpp"
 
 namespace slosh::test {
+
+/// How many seeded formats a property test runs: SLOSH_PROPERTY_FORMATS when set (at least 1,
+/// for a longer run by hand), else `fallback`.
+inline int property_format_count(int fallback) {
+  if (const char* n = std::getenv("SLOSH_PROPERTY_FORMATS")) return std::max(1, std::atoi(n));
+  return fallback;
+}
 
 /// Ranges of a random format [SI units; the fill height as a ratio of the radius].
 struct FormatRanges {
