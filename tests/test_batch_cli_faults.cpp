@@ -151,6 +151,11 @@ struct Cli {
                     dir / "stdin", dir / "stdout", dir / "stderr"));
   }
   [[nodiscard]] std::string err() const { return read_file(dir / "stderr"); }
+  /// The line that names the partial output file as empty (nothing was written before the stop).
+  [[nodiscard]] std::string empty_partial_line() const {
+    return "slosh batch: the rows written so far are in " + (dir / "o.jsonl.partial").string() +
+           " (none: it is empty)\n";
+  }
 };
 
 // Ctrl-C while the service holds the CLI's POST (hold_post), then the POST answered: the run
@@ -281,10 +286,7 @@ TEST(BatchCliFaults, AnInterruptDuringA503WaitStopsBeforeAnotherPost) {
   EXPECT_NE(cli.err().find("(it answered HTTP 503: m); nothing was started on the service\n"),
             std::string::npos)
       << cli.err();
-  EXPECT_NE(cli.err().find("slosh batch: the rows written so far are in " +
-                           (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
-            std::string::npos)
-      << cli.err();
+  EXPECT_NE(cli.err().find(cli.empty_partial_line()), std::string::npos) << cli.err();
   EXPECT_EQ(read_file(cli.dir / "o.jsonl.partial"), "");
 }
 
@@ -320,10 +322,7 @@ TEST(BatchCliFaults, AJobPostRefused503EveryTimeIsRetriedAfterItsRetryAfterThenG
   ASSERT_EQ(seconds.find_first_not_of("0123456789"), std::string::npos) << err;
   EXPECT_GE(std::stoll(seconds), waited.count()) << err;
   EXPECT_LE(std::stoll(seconds), waited.count() + 2) << err;
-  EXPECT_NE(err.find("slosh batch: the rows written so far are in " +
-                     (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
-            std::string::npos)
-      << err;
+  EXPECT_NE(err.find(cli.empty_partial_line()), std::string::npos) << err;
   EXPECT_EQ(service.deletes.load(), 0);
   EXPECT_FALSE(std::filesystem::exists(cli.dir / "o.jsonl"));
 }
@@ -357,10 +356,7 @@ TEST(BatchCliFaults, AnInterruptWhileTheJobIsAnswered503SaysItCouldNotBeCancelle
                            " once the service answers\n"),
             std::string::npos)
       << cli.err();
-  EXPECT_NE(cli.err().find("slosh batch: the rows written so far are in " +
-                           (cli.dir / "o.jsonl.partial").string() + " (none: it is empty)\n"),
-            std::string::npos)
-      << cli.err();
+  EXPECT_NE(cli.err().find(cli.empty_partial_line()), std::string::npos) << cli.err();
 }
 
 // A table with a recipe twice (and so one missing) is never written as complete.
