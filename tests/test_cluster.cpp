@@ -345,7 +345,7 @@ TEST(ClusterHostile, ResultsTheSharedStoreLostOrDamagedAreRefusedNotTruncated) {
   // Two rows lost in the shared store: B reads the record (done 6) but not 6 rows.
   ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 4 5"), 0);
   const std::string lost = "the stored results of batch job '" + id +
-                           "' are incomplete or damaged (4 readable of rows 1 to 6; missing: rows "
+                           "' are incomplete (4 readable of rows 1 to 6; missing: rows "
                            "5 and 6): ask the replica that ran it, or POST the job again";
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503),
             json({{"code", "unavailable"}, {"field", "id"}, {"message", lost}}));
@@ -542,7 +542,7 @@ TEST(ClusterHostile, ADamagedRowInTheSharedStoreIsRefusedNamingIt) {
   ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
   ASSERT_EQ(redis_cli(cluster.redis, "hset slosh:jobs:" + id + ":rows 2 '{}'"), 0);
   const std::string message = "the stored results of batch job '" + id +
-                              "' are incomplete or damaged (5 readable of rows 1 to 6; damaged: "
+                              "' are damaged (5 readable of rows 1 to 6; damaged: "
                               "row 3): ask the replica that ran it, or POST the job again";
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503).at("message"), message);
   // A row of another index in its place is damaged too.
@@ -551,7 +551,7 @@ TEST(ClusterHostile, ADamagedRowInTheSharedStoreIsRefusedNamingIt) {
       0);
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "?limit=10"), 503).at("message"),
             "the stored results of batch job '" + id +
-                "' are incomplete or damaged (4 readable of rows 1 to 6; damaged: rows 3 and "
+                "' are damaged (4 readable of rows 1 to 6; damaged: rows 3 and "
                 "5): ask the replica that ran it, or POST the job again");
   // The owner answers from its own rows.
   const auto own = a.Get("/v1/batches/" + id + "/results.csv");
@@ -572,13 +572,13 @@ TEST(ClusterHostile, AMissingRowIsNamedAndARecordOfTheWrongTypeIsDamaged) {
   ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 2"), 0);
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503).at("message"),
             "the stored results of batch job '" + id +
-                "' are incomplete or damaged (4 readable of rows 1 to 5; missing: row 3): ask the "
+                "' are incomplete (4 readable of rows 1 to 5; missing: row 3): ask the "
                 "replica that ran it, or POST the job again");
   ASSERT_EQ(redis_cli(cluster.redis, "hdel slosh:jobs:" + id + ":rows 0"), 0);
   ASSERT_EQ(redis_cli(cluster.redis, "hset slosh:jobs:" + id + ":rows 3 '{}'"), 0);
   EXPECT_EQ(error_of(b.Get("/v1/batches/" + id), 503).at("message"),
             "the stored results of batch job '" + id +
-                "' are incomplete or damaged (2 readable of rows 1 to 5; missing: rows 1 and 3; "
+                "' are incomplete and damaged (2 readable of rows 1 to 5; missing: rows 1 and 3; "
                 "damaged: row 4): ask the replica that ran it, or POST the job again");
   ASSERT_EQ(redis_cli(cluster.redis, "del slosh:jobs:" + id + ":record"), 0);
   ASSERT_EQ(redis_cli(cluster.redis, "hset slosh:jobs:" + id + ":record a b"), 0);

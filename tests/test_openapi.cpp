@@ -229,8 +229,8 @@ TEST(OpenApiDocument, DescribesEveryEndpointWithItsStatuses) {
       {"/v1/batches", "post", {"202", "400", "413", "415", "422", "503"}},
       {"/v1/batches/{id}", "get", {"200", "404", "422"}},
       {"/v1/batches/{id}", "delete", {"200", "202", "404"}},
-      {"/v1/batches/{id}/results.csv", "get", {"200", "404", "409"}},
-      {"/v1/batches/{id}/results.jsonl", "get", {"200", "404", "409"}},
+      {"/v1/batches/{id}/results.csv", "get", {"200", "404", "409", "422", "503"}},
+      {"/v1/batches/{id}/results.jsonl", "get", {"200", "404", "409", "422", "503"}},
   };
   const json& paths = document().at("paths");
   std::set<std::string> operation_ids;

@@ -69,8 +69,8 @@ const std::map<std::string, std::string>& accepted_query() {
       {"POST /v1/batches", ""},
       {"GET /v1/batches/{id}", "offset, limit"},
       {"DELETE /v1/batches/{id}", ""},
-      {"GET /v1/batches/{id}/results.csv", ""},
-      {"GET /v1/batches/{id}/results.jsonl", ""},
+      {"GET /v1/batches/{id}/results.csv", "partial"},
+      {"GET /v1/batches/{id}/results.jsonl", "partial"},
       {"GET /assets/{name}", ""},
   };
   return m;

@@ -1078,8 +1078,18 @@ void add_batch_job_schemas(json& s) {
       {{"offset", integer("The first row of this page (0-based).")},
        {"limit", integer("Rows asked for (1 to 1000, default 100).")},
        {"rows", {{"type", "array"}, {"items", row}}},
-       {"next_offset", nullable(integer("The offset of the next page; null after the last."))}},
+       {"next_offset", nullable(integer("The offset of the next page; null after the last."))},
+       {"partial", boolean("True when the job did not finish every row (cancelled, failed): the "
+                           "rows are its done rows only.")}},
       {"offset", "limit", "rows", "next_offset"}, "A page of the results.", false);
+  json unshared = object(
+      {{"rows", nullable(integer("Rows held by the replica running the job only (null when "
+                                 "another replica answers: it cannot count them)."))},
+       {"reason", text("Why: the shared store's refusal or failure, naming it (e.g. Redis at "
+                       "maxmemory: \"OOM command not allowed ...\").")}},
+      {"rows", "reason"},
+      "Present while the shared job store (Redis) lacks rows or the latest record of the job.",
+      false);
   json time = nullable(text("ISO 8601 UTC time; null until then."));
   s["BatchJob"] = object(
       {{"id", text("The job id (32 random hex digits).")},
@@ -1094,6 +1104,11 @@ void add_batch_job_schemas(json& s) {
        {"updated_at", text("Last write of the record by its replica (every 0.5 s while it runs).")},
        {"updated_unix_ms", integer("updated_at in ms since the Unix epoch.")},
        {"message", nullable(text("Why the job failed or was cancelled."))},
+       {"note", nullable(text("What happened besides its state (its replica was paused and "
+                              "carried on)."))},
+       {"unshared", unshared},
+       {"cancel_note",
+        text("In the 202 of a DELETE of another replica's job: when that replica stops it.")},
        {"cancel_requested", boolean("A DELETE asked for the job to be cancelled.")},
        {"deleted", boolean("Present (true) in the answer of the DELETE that forgot the job.")},
        {"results_csv", text("Path of the CSV download.")},
@@ -1346,7 +1361,12 @@ json job_operation(const Route& route) {
     default: {
       const bool csv = route.operation == Operation::kJobResultsCsv;
       return {{"tags", {"jobs"}},
-              {"parameters", {job_id_parameter()}},
+              {"parameters",
+               {job_id_parameter(),
+                query_parameter(
+                    "partial", {{"type", "string"}, {"enum", {"1", "true", "0", "false"}}},
+                    "1 or true: the done rows of a cancelled or failed job (else 409), marked by "
+                    "the headers X-Slosh-Partial: true, X-Slosh-Rows and X-Slosh-Rows-Total.")}},
               {"responses",
                with_statuses(
                    {{"200",
@@ -1355,7 +1375,7 @@ json job_operation(const Route& route) {
                       {"content",
                        {{csv ? "text/csv" : "application/x-ndjson",
                          {{"schema", {{"type", "string"}}}}}}}}}},
-                   {404, 409, 500})}};
+                   {404, 409, 422, 500, 503})}};
     }
   }
 }

@@ -59,6 +59,7 @@ constexpr std::array<std::string_view, 7> kCamStQuery{
     "period_ms",   "master_period",    "master_start", "master_end",
     "master_step", "allow_infeasible", "st_name"};
 constexpr std::array<std::string_view, 2> kJobPageQuery{"offset", "limit"};
+constexpr std::array<std::string_view, 1> kJobResultsQuery{"partial"};
 
 /// The path segments of `path` ("/v1/plans/x" -> "", "v1", "plans", "x").
 std::vector<std::string_view> segments(std::string_view path) {
@@ -115,6 +116,9 @@ std::optional<std::span<const std::string_view>> query_parameters(Operation oper
       return kCamStQuery;
     case Operation::kGetJob:
       return kJobPageQuery;
+    case Operation::kJobResultsCsv:
+    case Operation::kJobResultsJsonl:
+      return kJobResultsQuery;
     case Operation::kPage:
       return std::nullopt;
     default:

@@ -172,6 +172,7 @@ std::string ready_body(const ReadyReport& r) {
     if (!r.redis_error.empty()) redis["error"] = r.redis_error;
     body["cache"]["redis"] = redis;
   }
+  if (!r.job_store_warning.empty()) body["jobs"] = {{"store_warning", r.job_store_warning}};
   body["status"] = r.status;
   return dump_json(body);
 }

@@ -39,11 +39,19 @@ Reply PlanService::health() const {
   return r;
 }
 
-Reply PlanService::ready() const {
-  const Readiness readiness = engine_.readiness();
+Reply PlanService::ready(const std::string& job_store_warning) const {
+  Readiness readiness = engine_.readiness();
+  api::ReadyReport& report = readiness.report;
+  if (!job_store_warning.empty()) {
+    // Still serving (the owner holds the rows and serves them), but other replicas cannot.
+    report.job_store_warning = job_store_warning;
+    if (report.status == "ready") report.status = "degraded";
+    report.reason =
+        report.reason.empty() ? job_store_warning : report.reason + "; " + job_store_warning;
+  }
   Reply r;
   r.status = readiness.ready ? 200 : 503;
-  r.body = api::ready_body(readiness.report);
+  r.body = api::ready_body(report);
   return r;
 }
 

@@ -70,8 +70,10 @@ class PlanService {
   Reply cam_table(const std::string& key, CamFileFormat format, const CamQuery& query);
   Reply openapi() const;
   Reply health() const;
-  /// GET /readyz: 200 while ready or degraded, 503 otherwise.
-  Reply ready() const;
+  /// GET /readyz: 200 while ready or degraded, 503 otherwise. `job_store_warning`: why batch
+  /// jobs' rows are held on this replica only (BatchJobs::store_warning()); non-empty, it makes
+  /// a ready replica degraded and is shown as jobs.store_warning.
+  Reply ready(const std::string& job_store_warning = {}) const;
   /// GET /metrics: every collector of metrics_registry() in order.
   Reply metrics_text() const;
   /// Where the other parts of the server add what /metrics reports (batch jobs, cancellations).

@@ -82,7 +82,8 @@ Handler ops_handler_of(api::Operation operation, Resources& r) {
     case api::Operation::kHealth:
       return [&service](const Call&) { return service.health(); };
     case api::Operation::kReady:
-      return [&service](const Call&) { return service.ready(); };
+      return
+          [&service, &jobs = r.jobs](const Call&) { return service.ready(jobs.store_warning()); };
     case api::Operation::kMetrics:
       return [&service](const Call&) { return service.metrics_text(); };
     case api::Operation::kPage:
@@ -116,7 +117,9 @@ Handler job_handler_of(api::Operation operation, Resources& r) {
     case api::Operation::kJobResultsJsonl: {
       const TableFormat format =
           operation == api::Operation::kJobResultsCsv ? TableFormat::kCsv : TableFormat::kJsonLines;
-      return [&jobs, format](const Call& c) { return jobs.results(c.param(1), format); };
+      return [&jobs, format](const Call& c) {
+        return jobs.results(c.param(1), format, c.query.values("partial"));
+      };
     }
     case api::Operation::kCreateCalibration:
       return [&r](const Call& c) {

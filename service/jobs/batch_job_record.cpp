@@ -72,6 +72,7 @@ json job_record(const JobStatus& s, std::int64_t now_ms) {
           {"updated_at", iso_time(now_ms)},
           {"updated_unix_ms", now_ms},
           {"message", s.message.empty() ? json(nullptr) : json(s.message)},
+          {"note", s.note.empty() ? json(nullptr) : json(s.note)},
           {"cancel_requested", s.cancel_requested},
           {"results_csv", base + "/results.csv"},
           {"results_jsonl", base + "/results.jsonl"}};

@@ -5,7 +5,8 @@
 // {"id", "state": "queued"|"running"|"done"|"cancelled"|"failed", "format": "csv"|"jsonl",
 //  "view": "full"|"compact"|null, "progress": {"done", "total", "failed", "rate_per_s", "eta_s"},
 //  "created_at", "started_at", "finished_at", "updated_at" (ISO 8601 UTC, null until then),
-//  "updated_unix_ms", "message" (why it failed or was cancelled; null), "cancel_requested",
+//  "updated_unix_ms", "message" (why it failed or was cancelled; null), "note" (e.g. the replica
+//  running it was paused and carried on; null), "cancel_requested",
 //  "results_csv", "results_jsonl" (the download paths)}
 
 #include <cstddef>
@@ -30,6 +31,8 @@ struct JobStatus {
   std::optional<std::int64_t> started_ms;
   std::optional<std::int64_t> finished_ms;
   std::string message;
+  /// What happened to the job besides its state (e.g. its replica was paused); empty when none.
+  std::string note;
   bool cancel_requested{false};
 };
 

@@ -4,12 +4,12 @@
 
 #include <algorithm>
 #include <chrono>
-#include <random>
 #include <sstream>
 #include <utility>
 
 #include "http/query_params.hpp"
 #include "jobs/batch_job_record.hpp"
+#include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
@@ -32,25 +32,16 @@ constexpr std::size_t kRowsPage = 500;
 /// store's cancel flag, while a job runs.
 constexpr std::chrono::milliseconds kHeartbeat{500};
 
+/// Another replica's record older than this [ms] (4 heartbeats) is behind: its owner is paused,
+/// or the shared store refuses or fails its writes (its heartbeat then says it is alive).
+constexpr std::int64_t kBehindMs = 2000;
+
+/// A gap between two turns of a running job's loop longer than this [s]: the process did not
+/// run (paused, starved), which its record and log then say.
+constexpr double kPauseNoteS = 2.0;
+
 [[noreturn]] void invalid(const std::string& field, const std::string& message) {
   throw api::ApiError(api::ErrorCode::kInvalidValue, field, message);
-}
-
-// A job id: 128 random bits as 32 hex digits (not guessable from another job's id).
-std::string new_job_id() {
-  static std::mutex m;
-  static std::random_device device;
-  static std::mt19937_64 bits(
-      (static_cast<std::uint64_t>(device()) << 32U) ^ device() ^
-      static_cast<std::uint64_t>(std::chrono::steady_clock::now().time_since_epoch().count()));
-  const std::lock_guard lock(m);
-  static constexpr char kHex[] = "0123456789abcdef";
-  std::string id;
-  for (int word = 0; word < 2; ++word) {
-    std::uint64_t v = bits();
-    for (int i = 0; i < 16; ++i, v >>= 4U) id += kHex[v & 0xFU];
-  }
-  return id;
 }
 
 // The body of POST /v1/batches.
@@ -139,47 +130,13 @@ Reply json_reply(int status, const json& body) {
 // The record of job `id`: 404 when no store knows it, 503 (unavailable) when the shared store
 // cannot be asked (the job may run on another replica) or its stored text is damaged.
 json load_record(JobStore& store, const std::string& id, const ServerConfig& config) {
-  const auto [text, answered, damaged] = store.lookup_record(id);
+  const JobStore::RecordLookup lookup = store.lookup_record(id);
+  const auto& text = lookup.text;
   const std::string shown = id.substr(0, 64);
-  if (damaged) {
-    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
-                        "the stored state of batch job '" + shown +
-                            "' is damaged (its record in the shared job store, Redis, is not a "
-                            "job record): POST the job again");
-  }
-  if (!text && (!answered || !store.reachable())) {
-    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
-                        "batch job '" + shown +
-                            "' is not on this replica and the shared job store (Redis) cannot be "
-                            "reached now: retry later, or ask the replica that runs it");
-  }
-  if (!text && store.recently_emptied()) {
-    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
-                        "batch job '" + shown +
-                            "' is not on this replica and the shared job store (Redis) was "
-                            "emptied or restarted a moment ago: the replicas are publishing their "
-                            "jobs again, retry later");
-  }
-  if (!text && store.has_traces(id)) {
-    // The record key alone is gone (evicted under maxmemory, or deleted) while the job's rows
-    // are there: its owner publishes it again at its next heartbeat. A 404 would lose a DELETE.
-    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
-                        "batch job '" + shown +
-                            "' is not on this replica and its record is missing from the shared "
-                            "job store (Redis) although its results are there (evicted or "
-                            "deleted): the replica that runs it publishes it again, retry later");
-  }
-  if (!text) {
-    throw api::ApiError(
-        api::ErrorCode::kNotFound, "id",
-        "no batch job with id '" + shown +
-            "' is known to this service: it never existed, was deleted, was lost with a restart of "
-            "the replica that ran it (without a shared store), expired or was forgotten to make "
-            "room (finished jobs are kept for batch_job_ttl_s = " +
-            api::number_text(config.batch_job_ttl_s) +
-            " s, at most batch_jobs_kept = " + std::to_string(config.batch_jobs_kept) +
-            " of them within batch_jobs_bytes = " + std::to_string(config.batch_jobs_bytes) +
-            " bytes)");
+  if (lookup.damaged || !text) {
+    refuse_missing_record(
+        store, id, lookup,
+        {config.batch_job_ttl_s, config.batch_jobs_kept, config.batch_jobs_bytes});
   }
   try {
     json record = json::parse(*text);
@@ -194,18 +151,6 @@ json load_record(JobStore& store, const std::string& id, const ServerConfig& con
   }
 }
 
-// "row 5", "rows 5, 6 and 9" (at most 10 named, then how many more).
-std::string row_list(const std::vector<std::size_t>& rows) {
-  std::string text = rows.size() == 1 ? "row " : "rows ";
-  const std::size_t shown = std::min<std::size_t>(rows.size(), 10);
-  for (std::size_t k = 0; k < shown; ++k) {
-    if (k > 0) text += k + 1 == rows.size() ? " and " : ", ";
-    text += std::to_string(rows[k]);
-  }
-  if (rows.size() > shown) text += " and " + std::to_string(rows.size() - shown) + " more";
-  return text;
-}
-
 // Whether `row` is a result row of the table's row `number` (1-based): an object naming its row
 // and its status, as plan_row writes it. A row damaged in the shared store (e.g. "{}") is not.
 bool is_result_row(const json& row, std::size_t number) {
@@ -218,7 +163,8 @@ bool is_result_row(const json& row, std::size_t number) {
 
 // Rows [offset, offset + count) of job `id`, all of them, read in pages. Rows the shared store
 // lost (e.g. while Redis was down or flushed) or holds damaged are a 503 (unavailable) naming
-// them, never a short or blank-filled table answered as complete.
+// them, never a short or blank-filled table answered as complete; a store that does not answer
+// in time is a 503 naming it and its timeout (the rows are not lost).
 std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t offset,
                             std::size_t count) {
   std::vector<json> rows;
@@ -228,7 +174,11 @@ std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t 
   std::size_t readable = 0;
   for (std::size_t page = offset; page < offset + count; page += kRowsPage) {
     const std::size_t n = std::min(kRowsPage, offset + count - page);
-    const auto slots = store.row_slots(id, page, n);
+    const auto [slots, failure] = store.read_slots(id, page, n);
+    if (!slots && !failure.empty()) {
+      throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                          rows_unread_text(id, page + 1, page + n, failure));
+    }
     for (std::size_t i = 0; i < n; ++i) {
       const std::size_t number = page + i + 1;
       if (!slots || i >= slots->size() || !(*slots)[i]) {
@@ -245,16 +195,41 @@ std::vector<json> load_rows(JobStore& store, const std::string& id, std::size_t 
     }
   }
   if (readable == count) return rows;
-  const std::string shown = id.substr(0, 64);
-  std::string detail;
-  if (!missing.empty()) detail += "; missing: " + row_list(missing);
-  if (!damaged.empty()) detail += "; damaged: " + row_list(damaged);
-  throw api::ApiError(api::ErrorCode::kUnavailable, "id",
-                      "the stored results of batch job '" + shown +
-                          "' are incomplete or damaged (" + std::to_string(readable) +
-                          " readable of rows " + std::to_string(offset + 1) + " to " +
-                          std::to_string(offset + count) + detail +
-                          "): ask the replica that ran it, or POST the job again");
+  throw api::ApiError(
+      api::ErrorCode::kUnavailable, "id",
+      rows_problem_text(id, readable, offset + 1, offset + count, missing, damaged));
+}
+
+// The value of ?partial= of a results download: "1" or "true" asks for the done rows of a job
+// that did not finish them all; else 422 naming it.
+bool partial_of(const std::vector<std::string>& values) {
+  const std::string text = single_query_value(values, "partial").value_or("0");
+  if (text == "1" || text == "true") return true;
+  if (text == "0" || text == "false") return false;
+  invalid("partial", "partial = " + (text.empty() ? "(empty)" : text.substr(0, 32)) +
+                         " is not allowed: one of \"1\", \"true\", \"0\", \"false\"");
+}
+
+// A results download: the table as `slosh batch` writes it, with headers saying whether it holds
+// every row of the job (X-Slosh-Partial), how many (X-Slosh-Rows of X-Slosh-Rows-Total) and the
+// job's state (X-Slosh-Job-State).
+Reply table_reply(const std::string& id, TableFormat format, const std::vector<json>& rows,
+                  const std::string& state, std::size_t total) {
+  std::ostringstream out;
+  PlanTableWriter writer(out, format);  // the `slosh batch` table writer
+  for (const json& row : rows) writer.write(row);
+  writer.finish();
+  Reply r;
+  const bool csv = format == TableFormat::kCsv;
+  r.content_type = csv ? "text/csv; charset=utf-8" : "application/x-ndjson";
+  r.body = out.str();
+  r.headers.emplace_back("Content-Disposition",
+                         "attachment; filename=\"batch-" + id + (csv ? ".csv\"" : ".jsonl\""));
+  r.headers.emplace_back("X-Slosh-Partial", rows.size() < total ? "true" : "false");
+  r.headers.emplace_back("X-Slosh-Rows", std::to_string(rows.size()));
+  r.headers.emplace_back("X-Slosh-Rows-Total", std::to_string(total));
+  r.headers.emplace_back("X-Slosh-Job-State", state);
+  return r;
 }
 
 }  // namespace
@@ -287,7 +262,7 @@ std::size_t BatchJobs::active() const {
   return active_.size();
 }
 
-void BatchJobs::mark_stale_unless_here(nlohmann::json& record, const std::string& id) const {
+void BatchJobs::judge_liveness(nlohmann::json& record, const std::string& id) const {
   // A job this replica runs is alive whatever its record's age (the record may be old because
   // this process was paused, or the shared store missed writes): only another replica's job
   // whose owner stopped rewriting it is judged stale.
@@ -295,7 +270,20 @@ void BatchJobs::mark_stale_unless_here(nlohmann::json& record, const std::string
     const std::lock_guard lock(mutex_);
     if (active_.count(id) != 0) return;
   }
-  mark_if_stale(record, unix_ms_now(), service_.config().batch_job_stale_s);
+  if (is_final_state(record["state"].get<std::string>())) return;
+  const std::int64_t now = unix_ms_now();
+  const std::int64_t age = now - record.value("updated_unix_ms", std::int64_t{0});
+  const double stale_s = service_.config().batch_job_stale_s;
+  if (age > kBehindMs) {
+    // The owner renews its heartbeat even while the store refuses its record (Redis full): a
+    // heartbeat newer than the record is an owner alive whose progress the store lacks.
+    const auto beat = store_.heartbeat_age_ms(id);
+    if (beat && *beat + kBehindMs < age && static_cast<double>(*beat) <= stale_s * 1e3) {
+      record["unshared"] = {{"rows", nullptr}, {"reason", store_behind_text(age, *beat)}};
+      return;
+    }
+  }
+  mark_if_stale(record, now, stale_s);
 }
 
 std::string BatchJobs::record_text(Job& job) {
@@ -385,7 +373,10 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
     json record = load_record(store_, id, config);
-    mark_stale_unless_here(record, id);
+    judge_liveness(record, id);
+    if (const auto kept = store_.unshared(id)) {  // this replica runs it, the store is behind
+      record["unshared"] = {{"rows", kept->rows}, {"reason", kept->reason}};
+    }
     if (!is_final_state(record["state"].get<std::string>()) &&
         record.value("cancel_requested", false) == false && store_.cancel_requested(id)) {
       // A DELETE through another replica is recorded in the shared store at once; the owner
@@ -404,39 +395,46 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
       record["results"] = {{"offset", offset},
                            {"limit", limit},
                            {"rows", rows},
-                           {"next_offset", next < stored ? json(next) : json(nullptr)}};
+                           {"next_offset", next < stored ? json(next) : json(nullptr)},
+                           {"partial", stored < record["progress"]["total"].get<std::size_t>()}};
     }
     return json_reply(200, record);
   });
 }
 
-Reply BatchJobs::results(const std::string& id, TableFormat format) {
+Reply BatchJobs::results(const std::string& id, TableFormat format,
+                         const std::vector<std::string>& partial) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
+    const bool accept_partial = partial_of(partial);
     json record = load_record(store_, id, config);
-    mark_stale_unless_here(record, id);
+    judge_liveness(record, id);
     const std::string state = record["state"].get<std::string>();
+    const std::size_t stored = record["progress"]["done"].get<std::size_t>();
+    const std::size_t total = record["progress"]["total"].get<std::size_t>();
+    const std::string path =
+        "/v1/batches/" + id + (format == TableFormat::kCsv ? "/results.csv" : "/results.jsonl");
+    if (!is_final_state(state) && record.contains("unshared")) {
+      throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                          results_behind_text(id, record["unshared"]["reason"]));
+    }
     if (!is_final_state(state)) {
       return PlanService::error_reply(
           api::ErrorCode::kConflict,
-          "batch job " + id + " is " + state + " (" +
-              std::to_string(record["progress"]["done"].get<std::size_t>()) + " of " +
-              std::to_string(record["progress"]["total"].get<std::size_t>()) +
+          "batch job " + id + " is " + state + " (" + std::to_string(stored) + " of " +
+              std::to_string(total) +
               " recipes done): its results are ready when it is done; poll GET /v1/batches/" + id,
           "id");
     }
-    const std::size_t stored = record["progress"]["done"].get<std::size_t>();
-    std::ostringstream out;
-    PlanTableWriter writer(out, format);  // the `slosh batch` table writer
-    for (const json& row : load_rows(store_, id, 0, stored)) writer.write(row);
-    writer.finish();
-    Reply r;
-    const bool csv = format == TableFormat::kCsv;
-    r.content_type = csv ? "text/csv; charset=utf-8" : "application/x-ndjson";
-    r.body = out.str();
-    r.headers.emplace_back("Content-Disposition",
-                           "attachment; filename=\"batch-" + id + (csv ? ".csv\"" : ".jsonl\""));
-    return r;
+    // A cancelled or failed job's table lacks rows: never answered as if it were the table.
+    const bool complete = stored == total;
+    if (!complete && !accept_partial) {
+      return PlanService::error_reply(
+          api::ErrorCode::kConflict,
+          incomplete_results_text(id, state, stored, total, record.value("message", ""), path),
+          "id");
+    }
+    return table_reply(id, format, load_rows(store_, id, 0, stored), state, total);
   });
 }
 
@@ -444,7 +442,7 @@ Reply BatchJobs::cancel(const std::string& id) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
     json record = load_record(store_, id, config);
-    mark_stale_unless_here(record, id);
+    judge_liveness(record, id);
     if (is_final_state(record["state"].get<std::string>())) {
       store_.remove(id);
       record["deleted"] = true;
@@ -469,6 +467,12 @@ Reply BatchJobs::cancel(const std::string& id) {
     }
     wake_.notify_all();
     record["cancel_requested"] = true;
+    if (!here) {  // when the owner will see it: it may be paused, or cut off from the store
+      const std::int64_t age = unix_ms_now() - record.value("updated_unix_ms", std::int64_t{0});
+      const auto beat = age > kBehindMs ? store_.heartbeat_age_ms(id) : std::nullopt;
+      record["cancel_note"] =
+          remote_cancel_text(age, beat.value_or(-1), service_.config().batch_job_stale_s);
+    }
     return json_reply(202, record);
   });
 }
@@ -563,6 +567,16 @@ void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
   for (const auto& q : queued) write_record(*q);
 }
 
+void BatchJobs::note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn) {
+  const auto now = std::chrono::steady_clock::now();
+  const double gap = std::chrono::duration<double>(now - last_turn).count();
+  last_turn = now;
+  if (gap <= kPauseNoteS) return;
+  job.status.note = resumed_note(gap, service_.config().batch_job_stale_s);
+  spdlog::warn("batch job {}: {}", job.status.id, job.status.note);
+  write_record(job);  // at once: other replicas may have read it as failed meanwhile
+}
+
 void BatchJobs::finish(Job& job, const std::string& state, const std::string& message) {
   job.status.state = state;
   job.status.message = message;
@@ -591,7 +605,9 @@ void BatchJobs::run(Job& job) {
   bool heartbeat = false;
   std::size_t row_bytes = 0;  // of this job's rows, against batch_jobs_bytes
   const std::size_t max_bytes = service_.config().batch_jobs_bytes;
+  auto last_turn = std::chrono::steady_clock::now();
   while (s.done < s.total) {
+    note_if_paused(job, last_turn);
     if (cancelled(job, heartbeat)) {
       stop_state = "cancelled";
       break;

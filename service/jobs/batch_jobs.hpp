@@ -12,6 +12,7 @@
 // a queued or running record not rewritten for batch_job_stale_s reads as failed (its replica
 // stopped). On shutdown (SIGTERM) the running and queued jobs end as failed, with a message.
 
+#include <chrono>
 #include <condition_variable>
 #include <cstddef>
 #include <cstdint>
@@ -57,8 +58,13 @@ class BatchJobs {
   Reply post(const std::string& body);
   /// GET /v1/batches/{id}: the record, with "results" (a page of rows) once it is finished.
   Reply get(const std::string& id, const JobPageQuery& query);
-  /// GET /v1/batches/{id}/results.csv or .jsonl: every row of a finished job (409 before).
-  Reply results(const std::string& id, TableFormat format);
+  /// GET /v1/batches/{id}/results.csv or .jsonl: every row of a finished job, 409 before it has
+  /// finished, and 409 for a cancelled or failed job that lacks rows unless `partial` (the values
+  /// of ?partial=) is "1" or "true": then its done rows. Headers X-Slosh-Partial (true when rows
+  /// are missing), X-Slosh-Rows, X-Slosh-Rows-Total and X-Slosh-Job-State say which. 503 when
+  /// the rows are not all in the shared store (naming why) or it does not answer in time.
+  Reply results(const std::string& id, TableFormat format,
+                const std::vector<std::string>& partial = {});
   /// DELETE /v1/batches/{id}: a queued or running job is asked to cancel (202 with its record,
   /// again on every DELETE until it has stopped); a finished one is forgotten (200 with its last
   /// record; then 404).
@@ -79,6 +85,10 @@ class BatchJobs {
   /// Jobs queued or running on this replica.
   [[nodiscard]] std::size_t active() const;
 
+  /// For /readyz: why some jobs' rows or records are held on this replica only (the shared
+  /// store refuses or fails their writes, naming it and its reason); empty when none are.
+  [[nodiscard]] std::string store_warning() { return store_.sharing_problem(); }
+
  private:
   struct Job;
   void run_jobs();
@@ -87,6 +97,9 @@ class BatchJobs {
   std::size_t fill_window(Job& job, std::size_t next, std::deque<StartedItem>& window);
   // Stores the buffered rows and the record (the heartbeat), also of the queued jobs.
   void flush(Job& job, std::vector<std::string>& rows);
+  // Notes in the job's record and the log that this process did not run since `last_turn` when
+  // that gap is long (paused, starved); sets `last_turn` to now.
+  void note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
   // Ends `job` in `state` with `message`: its rows and final record stored.
   void finish(Job& job, const std::string& state, const std::string& message);
   // The job's record as stored (JSON text), and its write.
@@ -95,8 +108,10 @@ class BatchJobs {
   // 503 (overloaded) when stopping or batch_jobs_max jobs are queued or running here.
   void check_capacity() const;
   void check_capacity_locked() const;  // mutex_ held
-  // Marks a stale queued or running record failed, unless the job runs on this replica.
-  void mark_stale_unless_here(nlohmann::json& record, const std::string& id) const;
+  // Marks a stale queued or running record failed, unless the job runs on this replica or its
+  // owner's heartbeat in the shared store says it is alive (then "unshared" says the record
+  // there is behind).
+  void judge_liveness(nlohmann::json& record, const std::string& id) const;
   // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).
   [[nodiscard]] bool cancelled(Job& job, bool ask_store);
   [[nodiscard]] bool stopping() const;

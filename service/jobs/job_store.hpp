@@ -7,6 +7,7 @@
 // owns the meaning; a store only keeps, bounds and expires them.
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 #include <vector>
@@ -73,6 +74,50 @@ class JobStore {
     out.resize(count);
     return out;
   }
+  /// row_slots() and, when the store did not answer, why (slots nullopt and `failure` naming the
+  /// store, e.g. "the shared job store (redis://127.0.0.1:6379/0) did not answer in time: no reply
+  /// within 200 ms"), so that a reader tells a store that is slow apart from rows that are gone.
+  struct SlotsRead {
+    std::optional<std::vector<std::optional<std::string>>> slots;
+    std::string failure;  ///< empty unless the store did not answer
+  };
+  [[nodiscard]] virtual SlotsRead read_slots(const std::string& id, std::size_t offset,
+                                             std::size_t count) {
+    return {row_slots(id, offset, count), {}};
+  }
+
+  /// Renews the heartbeat of job `id` in a shared store with a command that a store refusing
+  /// writes (Redis at maxmemory with noeviction) still takes, so that other replicas know its
+  /// owner is alive while its record there cannot be rewritten. Default: nothing to renew.
+  virtual bool touch(const std::string& id) {
+    (void)id;
+    return true;
+  }
+  /// Milliseconds since the owner of job `id` last wrote its record or renewed its heartbeat in
+  /// this store; nullopt when unknown (no heartbeat, expired, or the store cannot be asked).
+  [[nodiscard]] virtual std::optional<std::int64_t> heartbeat_age_ms(const std::string& id) {
+    (void)id;
+    return std::nullopt;
+  }
+  /// What of job `id` this replica holds that the shared store does not (rows and the latest
+  /// record kept here only, retried at every heartbeat), and why; nullopt when the shared store
+  /// holds all of it (or there is none).
+  struct Unshared {
+    std::size_t rows{0};  ///< rows held here only
+    std::string reason;   ///< the shared store's last refusal or failure, naming it
+  };
+  [[nodiscard]] virtual std::optional<Unshared> unshared(const std::string& id) {
+    (void)id;
+    return std::nullopt;
+  }
+  /// Why this store's most recent failed write failed, naming the store (e.g. "the shared job
+  /// store (redis://127.0.0.1:6379/0) refused the write: OOM command not allowed when used memory
+  /// > 'maxmemory'."); empty when no write failed yet. Default empty.
+  [[nodiscard]] virtual std::string last_write_failure() { return {}; }
+  /// A sentence for /readyz while some jobs' rows or records are held here only because the
+  /// shared store refuses or fails their writes (naming it and its reason); empty otherwise.
+  [[nodiscard]] virtual std::string sharing_problem() { return {}; }
+
   /// Whether the store holds other keys of job `id` (its rows or cancel flag) although it has no
   /// record for it: the record was evicted or deleted and its owner publishes it again at its
   /// next heartbeat, so the job must not be answered as unknown. Default false.

@@ -24,7 +24,20 @@ std::string RedisJobStore::write_failure(const std::string& id,
     commands.push_back({"EXPIRE", key(id, part), ttl_});
   }
   commands.push_back({"EXEC"});
-  const auto replies = client_->pipeline(commands);
+  const std::string failure = write_replies_failure(client_->pipeline(commands));
+  if (!failure.empty()) {
+    const std::string store = "the shared job store (" + client_->options().url.display() + ") ";
+    const std::string refused = "Redis refused the write: ";
+    const std::lock_guard lock(failure_mutex_);
+    last_failure_ = failure.starts_with(refused)
+                        ? store + "refused the write: " + failure.substr(refused.size())
+                        : store + "is unavailable: " + failure;
+  }
+  return failure;
+}
+
+std::string RedisJobStore::write_replies_failure(
+    const std::optional<std::vector<RedisReply>>& replies) const {
   if (!replies) {
     const std::string error = client_->state().error;
     return error.empty() ? "no reply" : error;
@@ -44,12 +57,56 @@ std::string RedisJobStore::write_failure(const std::string& id,
   return "";
 }
 
+std::vector<std::string> RedisJobStore::alive_command(const std::string& id) const {
+  const std::string ms = std::to_string(std::max<std::int64_t>(1, settle_ms_));
+  return {"SET", key(id, "alive"), ms, "PX", ms};
+}
+
 bool RedisJobStore::put_record(const std::string& id, const std::string& record) {
-  return write(id, {{"SET", key(id, "record"), record}});
+  return write(id, {{"SET", key(id, "record"), record}, alive_command(id)});
+}
+
+bool RedisJobStore::touch(const std::string& id) {
+  const std::string ms = std::to_string(std::max<std::int64_t>(1, settle_ms_));
+  const auto renewed = client_->command({"PEXPIRE", key(id, "alive"), ms});
+  if (!renewed || renewed->type != RedisReply::Type::kInteger) return false;
+  if (renewed->integer == 1) return true;
+  // Expired (the owner was silent for `settle`): set again, which a full Redis refuses.
+  const auto set = client_->command(alive_command(id));
+  return set && set->type == RedisReply::Type::kStatus;
+}
+
+std::optional<std::int64_t> RedisJobStore::heartbeat_age_ms(const std::string& id) {
+  const auto replies = client_->pipeline({{"GET", key(id, "alive")}, {"PTTL", key(id, "alive")}});
+  if (!replies || (*replies)[0].type != RedisReply::Type::kString ||
+      (*replies)[1].type != RedisReply::Type::kInteger || (*replies)[1].integer < 0) {
+    return std::nullopt;
+  }
+  const std::int64_t given = std::atoll((*replies)[0].text.c_str());
+  return std::max<std::int64_t>(0, given - (*replies)[1].integer);
+}
+
+std::string RedisJobStore::last_write_failure() {
+  const std::lock_guard lock(failure_mutex_);
+  return last_failure_;
+}
+
+std::string RedisJobStore::unanswered() const {
+  const RedisClient::State state = client_->state();
+  const std::string store = "the shared job store (" + client_->options().url.display() + ") ";
+  if (state.up) {
+    return store + "did not answer in time: every connection to it stayed busy for " +
+           std::to_string(client_->options().timeout.count()) + " ms";
+  }
+  if (state.error.find("no reply within") != std::string::npos) {
+    return store + "did not answer in time: " + state.error;
+  }
+  return store + "cannot be reached: " + (state.error.empty() ? "no reply" : state.error);
 }
 
 std::optional<std::string> RedisJobStore::create(const std::string& id, const std::string& record) {
-  const std::string failure = write_failure(id, {{"SET", key(id, "record"), record}});
+  const std::string failure =
+      write_failure(id, {{"SET", key(id, "record"), record}, alive_command(id)});
   if (failure.empty()) return std::nullopt;
   return "the shared job store (" + client_->options().url.display() +
          ") is unavailable: " + failure;
@@ -125,25 +182,25 @@ std::optional<std::vector<std::string>> RedisJobStore::rows(const std::string& i
   return out;
 }
 
-std::optional<std::vector<std::optional<std::string>>> RedisJobStore::row_slots(
-    const std::string& id, std::size_t offset, std::size_t count) {
+JobStore::SlotsRead RedisJobStore::read_slots(const std::string& id, std::size_t offset,
+                                              std::size_t count) {
   const auto head = client_->pipeline({{"EXISTS", key(id, "record")}, {"HLEN", key(id, "rows")}});
-  if (!head || (*head)[0].type != RedisReply::Type::kInteger || (*head)[0].integer == 0 ||
+  if (!head) return {std::nullopt, unanswered()};
+  if ((*head)[0].type != RedisReply::Type::kInteger || (*head)[0].integer == 0 ||
       (*head)[1].type != RedisReply::Type::kInteger) {
-    return std::nullopt;
+    return {};
   }
   std::vector<std::optional<std::string>> out(count);
-  if (count == 0 || (*head)[1].integer <= 0) return out;
+  if (count == 0 || (*head)[1].integer <= 0) return {std::move(out), {}};
   std::vector<std::string> get{"HMGET", key(id, "rows")};
   for (std::size_t i = 0; i < count; ++i) get.push_back(std::to_string(offset + i));
   const auto reply = client_->command(get);
-  if (!reply || reply->type != RedisReply::Type::kArray || reply->elements.size() != count) {
-    return std::nullopt;
-  }
+  if (!reply) return {std::nullopt, unanswered()};
+  if (reply->type != RedisReply::Type::kArray || reply->elements.size() != count) return {};
   for (std::size_t i = 0; i < count; ++i) {
     if (reply->elements[i].type == RedisReply::Type::kString) out[i] = reply->elements[i].text;
   }
-  return out;
+  return {std::move(out), {}};
 }
 
 bool RedisJobStore::has_traces(const std::string& id) {
@@ -215,8 +272,9 @@ bool RedisJobStore::recently_emptied() {
 bool RedisJobStore::remove(const std::string& id) {
   // The mark outlives the job's other keys by the TTL: the owner sees it at its next heartbeat
   // and drops its own copy instead of publishing it again.
-  return write(id, {{"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel")},
-                    {"SET", key(id, "removed"), "1"}});
+  return write(id,
+               {{"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel"), key(id, "alive")},
+                {"SET", key(id, "removed"), "1"}});
 }
 
 std::vector<std::string> RedisJobStore::removed_among(const std::vector<std::string>& ids) {

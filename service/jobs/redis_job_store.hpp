@@ -8,7 +8,10 @@
 // its record then reads as missing even if its owner writes it again). Every write sets the time to
 // live of all three keys to `ttl` again, so a job is kept `ttl` after its last write: a running job
 // writes its progress and stays, a finished job (or one whose replica died) expires `ttl` after its
-// last record.
+// last record. <id>:alive is the owner's heartbeat: set with every record for `settle` (the
+// replicas' batch_job_stale_s) and renewed by touch() while the record cannot be written (Redis
+// at maxmemory refuses SET and HSET but takes PEXPIRE), so that another replica does not read a
+// live job as failed.
 
 #include <chrono>
 #include <cstdint>
@@ -48,7 +51,18 @@ class RedisJobStore final : public JobStore {
                                                              std::size_t count) override;
   /// One HMGET of the asked indexes (bounded by HLEN as rows()).
   [[nodiscard]] std::optional<std::vector<std::optional<std::string>>> row_slots(
-      const std::string& id, std::size_t offset, std::size_t count) override;
+      const std::string& id, std::size_t offset, std::size_t count) override {
+    return read_slots(id, offset, count).slots;
+  }
+  [[nodiscard]] SlotsRead read_slots(const std::string& id, std::size_t offset,
+                                     std::size_t count) override;
+  /// PEXPIRE of <id>:alive (a command Redis takes at maxmemory with noeviction); SET again when
+  /// it has expired (which a full Redis refuses).
+  bool touch(const std::string& id) override;
+  /// From <id>:alive: its value is the time to live it was given [ms], so its age is that less
+  /// its PTTL.
+  [[nodiscard]] std::optional<std::int64_t> heartbeat_age_ms(const std::string& id) override;
+  [[nodiscard]] std::string last_write_failure() override;
   /// The rows or cancel key exists (the removal mark does not).
   [[nodiscard]] bool has_traces(const std::string& id) override;
   [[nodiscard]] std::vector<std::string> records_missing_among(
@@ -81,6 +95,14 @@ class RedisJobStore final : public JobStore {
   }
   // write(): "" on success, else why it failed (the client's last failure or Redis's error).
   std::string write_failure(const std::string& id, std::vector<std::vector<std::string>> commands);
+  // Why the replies of a write (MULTI ... EXEC) are a failure; "" when they are not.
+  std::string write_replies_failure(const std::optional<std::vector<RedisReply>>& replies) const;
+
+  // "the shared job store (<url>) did not answer in time: ..." (or "cannot be reached: ...")
+  // after a read that got no reply.
+  std::string unanswered() const;
+  // The command that sets the heartbeat of job `id` for `settle`.
+  std::vector<std::string> alive_command(const std::string& id) const;
 
   // The mark now, set (with `set_ms`) when missing; nullopt when Redis cannot be asked.
   std::optional<std::string> generation(std::int64_t set_ms);
@@ -88,6 +110,8 @@ class RedisJobStore final : public JobStore {
   const std::shared_ptr<RedisClient> client_;
   std::mutex mutex_;
   std::string seen_generation_;  // the mark at the last look ("" before the first)
+  std::mutex failure_mutex_;     // guards last_failure_ (mutex_ is held across commands)
+  std::string last_failure_;     // of the last failed write, naming the store
   const std::string ttl_;        // seconds, as text
   const std::string prefix_;
   const std::int64_t settle_ms_;

@@ -24,9 +24,54 @@ bool TieredJobStore::put_record(const std::string& id, const std::string& record
   const bool shared = shared_.put_record(id, record);
   if (local && !shared) {
     const std::lock_guard lock(mutex_);
-    unsynced_.insert(id);
+    fell_behind(id);
   }
   return local || shared;
+}
+
+void TieredJobStore::fell_behind(const std::string& id) {
+  unsynced_.insert(id);
+  std::string why = shared_.last_write_failure();
+  if (why.empty()) why = "the shared job store did not take the write";
+  auto [it, added] = refused_.try_emplace(id, why);
+  if (!added) {
+    it->second = std::move(why);
+    return;
+  }
+  // Once per job falling behind: its rows stay here and are sent again at every heartbeat.
+  spdlog::warn(
+      "batch job {}: {}; its rows and record are kept on this replica and sent again at every "
+      "heartbeat",
+      id, it->second);
+}
+
+std::optional<JobStore::Unshared> TieredJobStore::unshared(const std::string& id) {
+  const std::lock_guard lock(mutex_);
+  if (unsynced_.count(id) == 0) return std::nullopt;
+  const auto counts = counts_.find(id);
+  Unshared out;
+  if (counts != counts_.end() && counts->second.local > counts->second.shared) {
+    out.rows = counts->second.local - counts->second.shared;
+  }
+  const auto why = refused_.find(id);
+  out.reason = why != refused_.end()
+                   ? why->second
+                   : "the shared job store lost the job (emptied or evicted); it is being "
+                     "published there again";
+  return out;
+}
+
+std::string TieredJobStore::sharing_problem() {
+  std::size_t jobs = 0;
+  {
+    const std::lock_guard lock(mutex_);
+    jobs = refused_.size();
+  }
+  if (jobs == 0) return {};
+  return shared_.last_write_failure() + "; " + std::to_string(jobs) +
+         (jobs == 1 ? " batch job's" : " batch jobs'") +
+         " rows or records are kept on this replica only and sent again at every heartbeat "
+         "(other replicas cannot serve them until then)";
 }
 
 std::optional<std::string> TieredJobStore::create(const std::string& id,
@@ -66,7 +111,7 @@ bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
     RowCounts& counts = counts_[id];
     counts.shared = std::max(counts.shared, first + rows.size());
   } else if (local) {
-    unsynced_.insert(id);
+    fell_behind(id);
   }
   return local || shared;
 }
@@ -180,16 +225,31 @@ void TieredJobStore::resync() {
     const std::lock_guard lock(mutex_);
     counts_.erase(id);
     unsynced_.erase(id);
+    refused_.erase(id);
   }
+  publish_unsynced();
+}
+
+void TieredJobStore::publish_unsynced() {
   std::vector<std::string> pending;
   {
     const std::lock_guard lock(mutex_);
     pending.assign(unsynced_.begin(), unsynced_.end());
   }
   for (const std::string& id : pending) {
-    if (!publish(id)) continue;
+    if (!publish(id)) {
+      // Still refused: the reason may have changed, and other replicas must keep reading the job
+      // as alive (a full Redis takes the heartbeat's PEXPIRE though it refuses the record).
+      (void)shared_.touch(id);
+      const std::lock_guard lock(mutex_);
+      fell_behind(id);
+      continue;
+    }
     const std::lock_guard lock(mutex_);
     unsynced_.erase(id);
+    if (refused_.erase(id) != 0) {
+      spdlog::info("batch job {}: the shared job store took its rows and record again", id);
+    }
   }
 }
 
@@ -203,6 +263,12 @@ std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& 
                                                              std::size_t count) {
   if (auto r = local_.rows(id, offset, count)) return r;
   return shared_.rows(id, offset, count);
+}
+
+JobStore::SlotsRead TieredJobStore::read_slots(const std::string& id, std::size_t offset,
+                                               std::size_t count) {
+  if (auto r = local_.row_slots(id, offset, count)) return {std::move(r), {}};
+  return shared_.read_slots(id, offset, count);
 }
 
 std::optional<std::vector<std::optional<std::string>>> TieredJobStore::row_slots(
@@ -231,6 +297,7 @@ bool TieredJobStore::remove(const std::string& id) {
   const std::lock_guard lock(mutex_);
   counts_.erase(id);
   unsynced_.erase(id);
+  refused_.erase(id);
   remember(id, true, shared);
   return local || shared;
 }

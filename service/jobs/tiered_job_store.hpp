@@ -42,6 +42,17 @@ class TieredJobStore final : public JobStore {
   /// The local store's slots when it knows the job, else the shared store's.
   [[nodiscard]] std::optional<std::vector<std::optional<std::string>>> row_slots(
       const std::string& id, std::size_t offset, std::size_t count) override;
+  /// As row_slots(), with the shared store's reason when it did not answer.
+  [[nodiscard]] SlotsRead read_slots(const std::string& id, std::size_t offset,
+                                     std::size_t count) override;
+  [[nodiscard]] std::optional<std::int64_t> heartbeat_age_ms(const std::string& id) override {
+    return shared_.heartbeat_age_ms(id);
+  }
+  [[nodiscard]] std::string last_write_failure() override { return shared_.last_write_failure(); }
+  /// A job the shared store is behind on: its rows held here only and why (the shared store's
+  /// refusal or failure, or its emptying).
+  [[nodiscard]] std::optional<Unshared> unshared(const std::string& id) override;
+  [[nodiscard]] std::string sharing_problem() override;
   [[nodiscard]] bool has_traces(const std::string& id) override { return shared_.has_traces(id); }
   /// Also remembered (the last kRemembered) and sent again after the shared store was emptied,
   /// so that a cancel this replica accepted reaches the owner that republishes the job.
@@ -52,6 +63,8 @@ class TieredJobStore final : public JobStore {
   bool remove(const std::string& id) override;
   [[nodiscard]] bool reachable() const override { return shared_.reachable(); }
   [[nodiscard]] bool recently_emptied() override { return shared_.recently_emptied(); }
+  /// Also renews the heartbeat (touch()) of every job the shared store is still behind on, so
+  /// that another replica reads it as alive although its record there is old.
   void resync() override;
 
   /// Rows sent to the shared store in one write when a job is published again.
@@ -64,10 +77,15 @@ class TieredJobStore final : public JobStore {
   // local record; false when the shared store failed (tried again at the next resync). The lock
   // is not held: other writes and reads go on meanwhile.
   bool publish(const std::string& id);
+  // Publishes every unsynced job; renews the heartbeat of those the shared store still refuses.
+  void publish_unsynced();
   // Sends the remembered cancels and removals the shared store has not taken.
   void tell_shared();
   // Remembers a cancel (`removed` false) or a removal of `id`; the lock is held.
   void remember(const std::string& id, bool removed, bool told);
+  // Marks `id` unsynced after a failed write to the shared store, keeping the store's reason
+  // (logged when the job was in step until now); the lock is held.
+  void fell_behind(const std::string& id);
 
   JobStore& local_;
   JobStore& shared_;
@@ -79,6 +97,8 @@ class TieredJobStore final : public JobStore {
   };
   std::unordered_map<std::string, RowCounts> counts_;
   std::unordered_set<std::string> unsynced_;  // jobs the shared store is behind on
+  // Of the unsynced jobs, those whose write the shared store refused or failed: the reason.
+  std::unordered_map<std::string, std::string> refused_;
   // Cancels (false) and removals (true) accepted here, oldest first, and those not yet taken by
   // the shared store.
   std::unordered_map<std::string, bool> remembered_;

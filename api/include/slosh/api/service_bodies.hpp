@@ -111,6 +111,9 @@ struct ReadyReport {
   bool redis_up{false};
   bool redis_required{false};  ///< config redis_required: 503 while down
   std::string redis_error{};   ///< the last failure while down
+  /// Why batch jobs' rows or records are held on this replica only (the shared job store refuses
+  /// or fails their writes, e.g. Redis at maxmemory); shown as jobs.store_warning when set.
+  std::string job_store_warning{};
 };
 
 /// GET /readyz.

@@ -1,0 +1,75 @@
+#pragma once
+// The job manager's words (BatchJobs): new job ids and the sentences its answers and records
+// carry when a job's results are incomplete, the shared store is behind or slow, a cancel waits
+// for an owner that does not answer, or the owner was paused. Kept apart from the JSON handling so
+// that each sentence is written once and read in one place.
+
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "jobs/job_store.hpp"
+
+namespace slosh::service {
+
+/// How long and how many finished jobs a replica keeps (config batch_job_ttl_s, batch_jobs_kept,
+/// batch_jobs_bytes), named by the 404 of a job it does not know.
+struct JobKeepBounds {
+  double ttl_s{};
+  std::size_t kept{};
+  std::size_t bytes{};
+};
+
+/// Throws the answer for job `id` whose record `lookup` did not yield (damaged or missing):
+/// 503 (unavailable) when its stored state is damaged, the store cannot be reached, was emptied a
+/// moment ago or still holds the job's other keys (its owner publishes it again); else 404
+/// naming `bounds`.
+[[noreturn]] void refuse_missing_record(JobStore& store, const std::string& id,
+                                        const JobStore::RecordLookup& lookup,
+                                        const JobKeepBounds& bounds);
+
+/// A job id: 128 random bits as 32 hex digits (not guessable from another job's id).
+[[nodiscard]] std::string new_job_id();
+
+/// "row 5", "rows 5, 6 and 9" (at most 10 named, then how many more).
+[[nodiscard]] std::string row_list(const std::vector<std::size_t>& rows);
+
+/// The 503 of a table whose rows [first, last] (1-based) the store holds `readable` of: which are
+/// missing (lost) and which damaged (not a result row of their index).
+[[nodiscard]] std::string rows_problem_text(const std::string& id, std::size_t readable,
+                                            std::size_t first, std::size_t last,
+                                            const std::vector<std::size_t>& missing,
+                                            const std::vector<std::size_t>& damaged);
+
+/// The 503 of a read of rows [first, last] (1-based) that the store did not answer (`failure`
+/// names the store and why, e.g. its timeout).
+[[nodiscard]] std::string rows_unread_text(const std::string& id, std::size_t first,
+                                           std::size_t last, const std::string& failure);
+
+/// The 409 of results.csv / .jsonl of a job that ended `state` (cancelled, failed; `message` its
+/// reason, may be empty) with `done` of `total` rows: the table is incomplete, and how to ask
+/// for the done rows (`path`: the download path).
+[[nodiscard]] std::string incomplete_results_text(const std::string& id, const std::string& state,
+                                                  std::size_t done, std::size_t total,
+                                                  const std::string& message,
+                                                  const std::string& path);
+
+/// Why another replica's job whose record in the shared store is `record_age_ms` old is alive
+/// all the same: its owner renewed its heartbeat `heartbeat_age_ms` ago, but its record and rows
+/// since are held on that replica (the shared store refuses or fails its writes).
+[[nodiscard]] std::string store_behind_text(std::int64_t record_age_ms,
+                                            std::int64_t heartbeat_age_ms);
+
+/// The 503 of the results of such a job: its rows are not all in the shared store.
+[[nodiscard]] std::string results_behind_text(const std::string& id, const std::string& why);
+
+/// What a DELETE accepted for another replica's job says about when it takes effect: the owner's
+/// record is `record_age_ms` old; `heartbeat_age_ms` < 0 when its heartbeat is unknown or old.
+[[nodiscard]] std::string remote_cancel_text(std::int64_t record_age_ms,
+                                             std::int64_t heartbeat_age_ms, double stale_s);
+
+/// The note of a job whose replica did not run for `gap_s` (paused or starved) and carried on.
+[[nodiscard]] std::string resumed_note(double gap_s, double stale_s);
+
+}  // namespace slosh::service

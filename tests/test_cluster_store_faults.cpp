@@ -1,0 +1,352 @@
+// Batch jobs of two real `slosh serve` replicas sharing a real redis-server (SPEC §13) when the
+// shared store misbehaves or a replica is paused: Redis at maxmemory refusing the job's writes,
+// Redis stalling while a replica reads a job's rows (through a relay that holds only the row
+// reads), an owner paused (SIGSTOP) when a DELETE comes through the other replica, and the
+// downloads of a job that did not finish its rows. Every answer is checked by its exact text.
+
+#include <httplib.h>
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdlib>
+#include <regex>
+#include <string>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "support/redis_server.hpp"
+#include "support/replicas.hpp"
+#include "support/stalling_relay.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+json recipe(std::size_t i) {
+  return {{"format",
+           {{"container", {{"radius_mm", 48.5}}},
+            {"fill_height_mm", 82},
+            {"fluid", "water"},
+            {"stroke_mm", 800},
+            {"motion_time_s", 0.9 + 0.001 * static_cast<double>(i)}}},
+          {"strategy", "notch"}};
+}
+
+json recipes(std::size_t n, std::size_t first) {
+  json out = json::array();
+  for (std::size_t i = 0; i < n; ++i) out.push_back(recipe(first + i));
+  return out;
+}
+
+std::string post_job(httplib::Client& c, const json& requests) {
+  const auto r = c.Post("/v1/batches", json{{"requests", requests}}.dump(), "application/json");
+  EXPECT_TRUE(r && r->status == 202) << (r ? r->body : "no answer");
+  return r && r->status == 202 ? json::parse(r->body).at("id").get<std::string>() : "";
+}
+
+json get_json(httplib::Client& c, const std::string& path) {
+  const auto r = c.Get(path);
+  EXPECT_TRUE(r && r->status == 200) << path << ": " << (r ? r->body : "no answer");
+  return r && r->status == 200 ? json::parse(r->body) : json();
+}
+
+bool is_final(const json& record) {
+  const std::string state = record.value("state", "");
+  return state == "done" || state == "cancelled" || state == "failed";
+}
+
+json wait_finished(httplib::Client& c, const std::string& id) {
+  json record;
+  for (int i = 0; i < 1200; ++i) {
+    record = get_json(c, "/v1/batches/" + id);
+    if (record.is_null() || is_final(record)) break;
+    std::this_thread::sleep_for(50ms);
+  }
+  return record;
+}
+
+json wait_progress(httplib::Client& c, const std::string& id, std::size_t done) {
+  json record;
+  for (int i = 0; i < 1200; ++i) {
+    record = get_json(c, "/v1/batches/" + id);
+    if (record.is_null() || record.at("progress").at("done").get<std::size_t>() >= done) break;
+    std::this_thread::sleep_for(20ms);
+  }
+  return record;
+}
+
+/// The error envelope of `r`, which must have `status` (and Retry-After when 503).
+json error_of(const httplib::Result& r, int status) {
+  EXPECT_TRUE(r);
+  if (!r) return json();
+  EXPECT_EQ(r->status, status) << r->body;
+  if (status == 503) EXPECT_FALSE(r->get_header_value("Retry-After").empty()) << r->body;
+  return json::parse(r->body).at("error");
+}
+
+int redis_cli(const test::RedisServer& redis, const std::string& args) {
+  return std::system(
+      ("redis-cli -p " + std::to_string(redis.port()) + " " + args + " >/dev/null").c_str());
+}
+
+std::size_t lines_of(const std::string& text) {
+  return static_cast<std::size_t>(std::count(text.begin(), text.end(), '\n'));
+}
+
+/// Polls `attempt` every 50 ms until it returns true or `limit` passes; whether it did.
+template <typename Attempt>
+bool poll_until(std::chrono::milliseconds limit, Attempt attempt) {
+  const auto deadline = std::chrono::steady_clock::now() + limit;
+  for (;;) {
+    if (attempt()) return true;
+    if (std::chrono::steady_clock::now() >= deadline) return false;
+    std::this_thread::sleep_for(50ms);
+  }
+}
+
+/// Two replicas sharing `redis` (one worker each), reading batch_job_stale_s = `stale_s`.
+struct Pair {
+  explicit Pair(const test::RedisServer& redis, const char* stale_s = "30")
+      : replicas(start(redis.url(), redis.url(), stale_s)) {}
+  Pair(const std::string& url_a, const std::string& url_b, const char* stale_s = "30")
+      : replicas(start(url_a, url_b, stale_s)) {}
+  static std::vector<std::unique_ptr<test::Replica>> start(const std::string& url_a,
+                                                           const std::string& url_b,
+                                                           const char* stale_s) {
+    ::setenv("SLOSH_BATCH_JOB_STALE_S", stale_s, 1);  // the replicas read it at start
+    std::vector<std::unique_ptr<test::Replica>> out;
+    out.push_back(std::make_unique<test::Replica>(
+        "line-1", std::vector<std::string>{"--cache", url_a, "--workers", "1"}));
+    out.push_back(std::make_unique<test::Replica>(
+        "line-2", std::vector<std::string>{"--cache", url_b, "--workers", "1"}));
+    ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+    return out;
+  }
+  std::vector<std::unique_ptr<test::Replica>> replicas;
+  test::Replica& a() { return *replicas[0]; }
+  test::Replica& b() { return *replicas[1]; }
+};
+
+// Redis at maxmemory with noeviction refuses the job's row and record writes (OOM). The owner
+// keeps the rows, retries them at every heartbeat and says so (its record, its log, its
+// /readyz naming Redis's refusal); its heartbeat stays alive, so the other replica never reads
+// the job as failed, and answers 503 for the results whose rows are not in Redis (never a 200
+// with rows missing). Once Redis takes writes again, both serve the same full table.
+TEST(ClusterStoreFaults, RowsRedisRefusesStayOnTheOwnerWhichSaysSoAndNoReplicaCallsTheJobFailed) {
+  test::RedisServer redis;
+  Pair pair(redis, "3");
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(300, 11000));
+  ASSERT_FALSE(id.empty());
+  // Full from now on: every write that may grow memory is refused with Redis's OOM error.
+  ASSERT_EQ(redis_cli(redis, "config set maxmemory-policy noeviction"), 0);
+  ASSERT_EQ(redis_cli(redis, "config set maxmemory 1"), 0);
+  const std::string refusal = "the shared job store (" + redis.url() +
+                              ") refused the write: OOM command not allowed when used memory > "
+                              "'maxmemory'.";
+  const json own = wait_finished(a, id);
+  ASSERT_EQ(own.value("state", ""), "done") << own.dump();
+  ASSERT_TRUE(own.contains("unshared")) << own.dump();
+  EXPECT_EQ(own["unshared"]["reason"], refusal);
+  EXPECT_GT(own["unshared"]["rows"].get<std::size_t>(), 0u) << own.dump();
+  EXPECT_NE(pair.a().log().find("batch job " + id + ": " + refusal +
+                                "; its rows and record are kept on this replica and sent again "
+                                "at every heartbeat"),
+            std::string::npos)
+      << pair.a().log();
+  const json ready = get_json(a, "/readyz");
+  EXPECT_EQ(ready.value("status", ""), "degraded") << ready.dump();
+  EXPECT_EQ(ready["jobs"]["store_warning"],
+            refusal +
+                "; 1 batch job's rows or records are kept on this replica only and sent again at "
+                "every heartbeat (other replicas cannot serve them until then)");
+  const auto full = a.Get("/v1/batches/" + id + "/results.csv");
+  ASSERT_TRUE(full && full->status == 200);
+  EXPECT_EQ(lines_of(full->body), 301u);
+  // Past batch_job_stale_s (3 s) since Redis last took the record: still alive on B.
+  std::this_thread::sleep_for(4s);  // the time the fault lasts, not a wait on the product
+  const json other = get_json(b, "/v1/batches/" + id);
+  EXPECT_NE(other.value("state", ""), "failed") << other.dump();
+  ASSERT_TRUE(other.contains("unshared")) << other.dump();
+  const std::string alive =
+      "the replica running it is alive (its heartbeat in the shared job "
+      "store is ";
+  EXPECT_EQ(other["unshared"]["reason"].get<std::string>().rfind(alive, 0), 0u) << other.dump();
+  const json refused = error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503);
+  EXPECT_EQ(refused.value("message", "")
+                .rfind("the rows of batch job '" + id +
+                           "' are not all in the shared job store "
+                           "(Redis): " +
+                           alive,
+                       0),
+            0u)
+      << refused.dump();
+  // Redis takes writes again: the owner's next heartbeat publishes the rows.
+  ASSERT_EQ(redis_cli(redis, "config set maxmemory 0"), 0);
+  std::optional<httplib::Response> later;
+  ASSERT_TRUE(poll_until(15s, [&] {
+    const auto r = b.Get("/v1/batches/" + id + "/results.csv");
+    if (r) later = *r;
+    return r && r->status == 200;
+  })) << (later ? later->body : "no answer");
+  EXPECT_EQ(later->body, full->body);
+  EXPECT_FALSE(get_json(a, "/v1/batches/" + id).contains("unshared"));
+  EXPECT_EQ(get_json(a, "/readyz").value("status", ""), "ready");
+}
+
+// Redis stalls while B reads a job's rows (the relay holds B's HMGET past B's 200 ms timeout):
+// a 503 with Retry-After naming the store and its timeout, not "damaged, POST the job again".
+TEST(ClusterStoreFaults, AStallWhileReadingRowsIsTheStoreNotAnsweringInTimeNotDamage) {
+  test::RedisServer redis;
+  test::StallingRelay relay(redis.port());
+  Pair pair(redis.url(), relay.url());
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(6, 12000));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+  const auto own = a.Get("/v1/batches/" + id + "/results.csv");
+  ASSERT_TRUE(own && own->status == 200);
+  relay.stall_on("HMGET", 600ms);
+  const std::string unread =
+      "the results of batch job '" + id + "' could not be read: the shared job store (" +
+      relay.url() +
+      ") did not answer in time: no reply within 200 ms (reading rows 1 to 6); nothing is lost, "
+      "retry later";
+  EXPECT_EQ(error_of(b.Get("/v1/batches/" + id + "/results.csv"), 503),
+            json({{"code", "unavailable"}, {"field", "id"}, {"message", unread}}));
+  EXPECT_GE(relay.stalled(), 1);
+  relay.stall_on("", 0ms);
+  std::optional<httplib::Response> later;
+  ASSERT_TRUE(poll_until(10s, [&] {
+    const auto r = b.Get("/v1/batches/" + id + "/results.csv");
+    if (r) later = *r;
+    return r && r->status == 200;
+  })) << (later ? later->body : "no answer");
+  EXPECT_EQ(later->body, own->body);
+}
+
+// A DELETE through B of a job whose owner A is paused (SIGSTOP) is recorded in Redis and
+// answered at once (within the Redis timeouts), saying the owner has not answered and stops the
+// job when it next reads the store; once A runs again, it does.
+TEST(ClusterStoreFaults, ADeleteThroughAnotherReplicaWhileTheOwnerIsPausedIsAnsweredAtOnce) {
+  test::RedisServer redis;
+  Pair pair(redis);
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(300, 13000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(pair.a().pid(), SIGSTOP);
+  std::this_thread::sleep_for(3s);  // the pause itself (the fault): A's record ages
+  const auto asked = std::chrono::steady_clock::now();
+  const auto deleted = b.Delete("/v1/batches/" + id);
+  const auto took = std::chrono::steady_clock::now() - asked;
+  ::kill(pair.a().pid(), SIGCONT);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  // Bounded by B's Redis commands (200 ms each), not by A.
+  EXPECT_LT(took, 2s);
+  const json record = json::parse(deleted->body);
+  EXPECT_EQ(record.value("cancel_requested", false), true);
+  const std::regex note(
+      "the cancel is recorded in the shared job store; the replica running the job has not "
+      "answered for [0-9.]+ s \\(paused, stalled or cut off from the store\\): it stops the job "
+      "when it next reads the store, and the job reads as failed once it has been silent for "
+      "batch_job_stale_s = 30 s");
+  EXPECT_TRUE(std::regex_match(record.value("cancel_note", ""), note)) << record.dump();
+  EXPECT_EQ(wait_finished(a, id).value("state", ""), "cancelled");
+}
+
+// An owner paused past batch_job_stale_s carries on and says so: a line in its log and a note in
+// the job's record (read through either replica), naming how long it did not run.
+TEST(ClusterStoreFaults, AnOwnerResumedAfterAPauseSaysSoInItsLogAndTheJobsRecord) {
+  test::RedisServer redis;
+  Pair pair(redis, "1.5");
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(200, 14000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(pair.a().pid(), SIGSTOP);
+  std::this_thread::sleep_for(3s);  // the pause itself (the fault), past the stale time
+  ::kill(pair.a().pid(), SIGCONT);
+  const json done = wait_finished(a, id);
+  EXPECT_EQ(done.value("state", ""), "done") << done.dump();
+  const std::regex note(
+      "this job's replica did not run for ([0-9.]+) s \\(its process was paused or starved\\) and "
+      "carried on with the job; other replicas read it as failed meanwhile \\(batch_job_stale_s = "
+      "1.5 s\\) until its next record");
+  std::smatch m;
+  const std::string text = done.value("note", "");
+  ASSERT_TRUE(std::regex_match(text, m, note)) << done.dump();
+  EXPECT_GE(std::stod(m[1]), 3.0) << text;
+  EXPECT_LT(std::stod(m[1]), 30.0) << text;
+  EXPECT_NE(pair.a().log().find("batch job " + id + ": " + text), std::string::npos)
+      << pair.a().log();
+  EXPECT_EQ(get_json(b, "/v1/batches/" + id).value("note", ""), text);
+}
+
+// The table of a job that did not finish its rows (cancelled) is never answered as if it were
+// the table: 409 naming the state and the rows done, and with ?partial=1 the done rows marked
+// partial by the headers. A finished job's table says it is complete.
+TEST(ClusterStoreFaults, ACancelledJobsTableIsRefusedUnlessThePartialTableIsAskedFor) {
+  test::RedisServer redis;
+  Pair pair(redis);
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(300, 15000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 3);
+  ASSERT_TRUE(a.Delete("/v1/batches/" + id));
+  const json record = wait_finished(a, id);
+  ASSERT_EQ(record.value("state", ""), "cancelled");
+  const auto done = record["progress"]["done"].get<std::size_t>();
+  ASSERT_LT(done, 300u);
+  for (auto* c : {&a, &b}) {
+    for (const std::string kind : {"csv", "jsonl"}) {
+      const std::string path = "/v1/batches/" + id + "/results." + kind;
+      EXPECT_EQ(
+          error_of(c->Get(path), 409),
+          json({{"code", "conflict"},
+                {"field", "id"},
+                {"message", "batch job " + id + " is cancelled with " + std::to_string(done) +
+                                " of 300 recipes done (cancelled after " + std::to_string(done) +
+                                " of 300 recipes): its table is "
+                                "incomplete; GET " +
+                                path + "?partial=1 for the " + std::to_string(done) +
+                                " done rows, marked partial (X-Slosh-Partial: true), or POST "
+                                "the job again"}}));
+      const auto partial = c->Get(path + "?partial=1");
+      ASSERT_TRUE(partial && partial->status == 200) << (partial ? partial->body : "");
+      EXPECT_EQ(partial->get_header_value("X-Slosh-Partial"), "true");
+      EXPECT_EQ(partial->get_header_value("X-Slosh-Rows"), std::to_string(done));
+      EXPECT_EQ(partial->get_header_value("X-Slosh-Rows-Total"), "300");
+      EXPECT_EQ(partial->get_header_value("X-Slosh-Job-State"), "cancelled");
+      EXPECT_EQ(lines_of(partial->body), done + (kind == "csv" ? 1 : 0));
+    }
+  }
+  EXPECT_EQ(get_json(b, "/v1/batches/" + id)["results"]["partial"], true);
+  EXPECT_EQ(error_of(a.Get("/v1/batches/" + id + "/results.csv?partial=maybe"), 422),
+            json({{"code", "invalid_value"},
+                  {"field", "partial"},
+                  {"message",
+                   "partial = maybe is not allowed: one of \"1\", \"true\", \"0\", \"false\""}}));
+  // A job that finished every row: its table, said complete.
+  const std::string whole = post_job(a, recipes(4, 15500));
+  ASSERT_EQ(wait_finished(a, whole).value("state", ""), "done");
+  const auto table = b.Get("/v1/batches/" + whole + "/results.csv");
+  ASSERT_TRUE(table && table->status == 200) << (table ? table->body : "");
+  EXPECT_EQ(table->get_header_value("X-Slosh-Partial"), "false");
+  EXPECT_EQ(table->get_header_value("X-Slosh-Rows"), "4");
+  EXPECT_EQ(lines_of(table->body), 5u);
+}
+
+}  // namespace
+}  // namespace slosh
