@@ -85,7 +85,9 @@ json error_of(const httplib::Result& r, int status) {
   EXPECT_TRUE(r);
   if (!r) return json();
   EXPECT_EQ(r->status, status) << r->body;
-  if (status == 503) EXPECT_FALSE(r->get_header_value("Retry-After").empty()) << r->body;
+  if (status == 503) {
+    EXPECT_FALSE(r->get_header_value("Retry-After").empty()) << r->body;
+  }
   return json::parse(r->body).at("error");
 }
 

@@ -9,6 +9,7 @@
 
 #include "http/query_params.hpp"
 #include "jobs/batch_job_record.hpp"
+#include "jobs/batch_job_state.hpp"
 #include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
 #include "slosh/api/error.hpp"
@@ -28,17 +29,9 @@ using nlohmann::json;
 /// many fields on Redis: a 27 000-row job is not one command of 27 000 fields).
 constexpr std::size_t kRowsPage = 500;
 
-/// How often the runner stores rows and rewrites the record (the heartbeat), and polls the
-/// store's cancel flag, while a job runs.
-constexpr std::chrono::milliseconds kHeartbeat{500};
-
 /// Another replica's record older than this [ms] (4 heartbeats) is behind: its owner is paused,
 /// or the shared store refuses or fails its writes (its heartbeat then says it is alive).
 constexpr std::int64_t kBehindMs = 2000;
-
-/// A gap between two turns of a running job's loop longer than this [s]: the process did not
-/// run (paused, starved), which its record and log then say.
-constexpr double kPauseNoteS = 2.0;
 
 [[noreturn]] void invalid(const std::string& field, const std::string& message) {
   throw api::ApiError(api::ErrorCode::kInvalidValue, field, message);
@@ -233,13 +226,6 @@ Reply table_reply(const std::string& id, TableFormat format, const std::vector<j
 }
 
 }  // namespace
-
-struct BatchJobs::Job {
-  JobStatus status;
-  std::vector<RecipeRow> rows;
-  std::optional<api::PlanView> view;
-  std::atomic<bool> cancel{false};
-};
 
 BatchJobs::BatchJobs(PlanService& service, JobStore& store)
     : service_(service), store_(store), runner_([this] { run_jobs(); }) {}
@@ -475,185 +461,6 @@ Reply BatchJobs::cancel(const std::string& id) {
     }
     return json_reply(202, record);
   });
-}
-
-void BatchJobs::run_jobs() {
-  for (;;) {
-    std::shared_ptr<Job> job;
-    {
-      std::unique_lock lock(mutex_);
-      // Idle, the runner still wakes every heartbeat to give the shared store what it missed
-      // (finished jobs' rows and records, or everything after it was emptied).
-      wake_.wait_for(lock, kHeartbeat, [this] { return stopping_ || !queue_.empty(); });
-      if (queue_.empty()) {
-        if (stopping_) return;  // stopping, nothing left
-        lock.unlock();
-        store_.resync();
-        continue;
-      }
-      job = queue_.front();
-      queue_.pop_front();
-    }
-    try {
-      run(*job);
-    } catch (const std::exception& e) {
-      finish(*job, "failed", std::string("the job failed: ") + e.what());
-    }
-    const std::lock_guard lock(mutex_);
-    active_.erase(job->status.id);
-  }
-}
-
-bool BatchJobs::cancelled(Job& job, bool ask_store) {
-  // The store is asked at most once a heartbeat (it may be Redis); a DELETE on this replica sets
-  // the job's own flag at once.
-  if (!job.cancel && ask_store && store_.cancel_requested(job.status.id)) job.cancel = true;
-  job.status.cancel_requested = job.cancel;
-  return job.cancel;
-}
-
-bool BatchJobs::stopping() const {
-  const std::lock_guard lock(mutex_);
-  return stopping_;
-}
-
-std::size_t BatchJobs::fill_window(Job& job, std::size_t next, std::deque<StartedItem>& window) {
-  // At most `workers` of this job's solves are queued or running: the background queue stays
-  // short, so interactive plans (which workers take first) never wait behind the job's items.
-  const std::size_t max_in_flight = service_.workers();
-  auto in_flight = [&] {
-    return static_cast<std::size_t>(
-        std::count_if(window.begin(), window.end(), [](const StartedItem& s) {
-          return s.pending.valid() &&
-                 s.pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready;
-        }));
-  };
-  while (next < job.rows.size() && in_flight() < max_in_flight &&
-         window.size() < 4 * max_in_flight + 64) {
-    const RecipeRow& row = job.rows[next++];
-    if (!row.error.is_null()) {  // an unreadable row: its error is its result
-      StartedItem item;
-      item.result.error = api::error_from_json(row.error);
-      window.push_back(std::move(item));
-      continue;
-    }
-    window.push_back(service_.start_batch_item(
-        api::read_batch_item(row.request, service_.engine().config().solve_budget_s),
-        TaskPriority::kBackground));
-  }
-  return next;
-}
-
-void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
-  // The buffered rows are rows done - size ... done - 1; on a failed write they stay buffered and
-  // are written again (same indexes) at the next heartbeat.
-  if (!rows.empty()) {
-    if (store_.put_rows(job.status.id, job.status.done - rows.size(), rows)) {
-      rows.clear();
-    } else {
-      spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
-    }
-  }
-  write_record(job);
-  // Then what the shared store missed (this job's rows and record after a failed write, every
-  // job after an emptying): each row and record is sent once, after the rows it counts.
-  store_.resync();
-  // The queued jobs' heartbeat: they are alive, only waiting.
-  std::vector<std::shared_ptr<Job>> queued;
-  {
-    const std::lock_guard lock(mutex_);
-    queued.assign(queue_.begin(), queue_.end());
-  }
-  for (const auto& q : queued) write_record(*q);
-}
-
-void BatchJobs::note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn) {
-  const auto now = std::chrono::steady_clock::now();
-  const double gap = std::chrono::duration<double>(now - last_turn).count();
-  last_turn = now;
-  if (gap <= kPauseNoteS) return;
-  job.status.note = resumed_note(gap, service_.config().batch_job_stale_s);
-  spdlog::warn("batch job {}: {}", job.status.id, job.status.note);
-  write_record(job);  // at once: other replicas may have read it as failed meanwhile
-}
-
-void BatchJobs::finish(Job& job, const std::string& state, const std::string& message) {
-  job.status.state = state;
-  job.status.message = message;
-  job.status.finished_ms = unix_ms_now();
-  write_record(job);
-  spdlog::info("batch job {} {}: {} of {} recipes ({} failed){}{}", job.status.id, state,
-               job.status.done, job.status.total, job.status.failed, message.empty() ? "" : ": ",
-               message);
-}
-
-void BatchJobs::run(Job& job) {
-  JobStatus& s = job.status;
-  if (cancelled(job, true)) return finish(job, "cancelled", "cancelled before it started");
-  if (stopping()) {
-    return finish(job, "failed",
-                  "the service shut down before the job started; POST the job again");
-  }
-  s.state = "running";
-  s.started_ms = unix_ms_now();
-  write_record(job);
-  std::deque<StartedItem> window;
-  std::vector<std::string> rows;
-  std::size_t next = 0;
-  auto last_flush = std::chrono::steady_clock::now();
-  std::string stop_state;
-  bool heartbeat = false;
-  std::size_t row_bytes = 0;  // of this job's rows, against batch_jobs_bytes
-  const std::size_t max_bytes = service_.config().batch_jobs_bytes;
-  auto last_turn = std::chrono::steady_clock::now();
-  while (s.done < s.total) {
-    note_if_paused(job, last_turn);
-    if (cancelled(job, heartbeat)) {
-      stop_state = "cancelled";
-      break;
-    }
-    if (stopping()) {
-      stop_state = "failed";
-      break;
-    }
-    next = fill_window(job, next, window);
-    const StartedItem& head = window.front();
-    if (!head.pending.valid() ||
-        head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
-      const json row = plan_row(job.rows[s.done], head.get(), job.view);
-      if (row["status"] == "error") ++s.failed;
-      rows.push_back(api::dump_json(row));
-      row_bytes += rows.back().size();
-      ++s.done;
-      window.pop_front();
-      if (row_bytes > max_bytes) {
-        stop_state = "too_large";
-        break;
-      }
-    }
-    heartbeat = std::chrono::steady_clock::now() - last_flush >= kHeartbeat;
-    if (heartbeat) {
-      flush(job, rows);
-      last_flush = std::chrono::steady_clock::now();
-    }
-  }
-  flush(job, rows);
-  const std::string progress =
-      std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
-  if (stop_state == "cancelled") return finish(job, "cancelled", "cancelled after " + progress);
-  if (stop_state == "too_large") {
-    return finish(job, "failed",
-                  "its results passed the memory kept for batch jobs, batch_jobs_bytes = " +
-                      std::to_string(max_bytes) + " bytes, after " + progress +
-                      ": split the table into smaller jobs, ask for a smaller view, or raise "
-                      "batch_jobs_bytes");
-  }
-  if (stop_state == "failed") {
-    return finish(job, "failed",
-                  "the service shut down after " + progress +
-                      "; POST the job again (the finished plans are cached)");
-  }
-  finish(job, "done", "");
 }
 
 }  // namespace slosh::service

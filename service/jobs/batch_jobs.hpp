@@ -100,6 +100,9 @@ class BatchJobs {
   // Notes in the job's record and the log that this process did not run since `last_turn` when
   // that gap is long (paused, starved); sets `last_turn` to now.
   void note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
+  // Ends a run that stopped as `stop_state` ("" all rows done, "cancelled", "too_large",
+  // "failed" on shutdown) with its state and message.
+  void finish_run(Job& job, const std::string& stop_state);
   // Ends `job` in `state` with `message`: its rows and final record stored.
   void finish(Job& job, const std::string& state, const std::string& message);
   // The job's record as stored (JSON text), and its write.
