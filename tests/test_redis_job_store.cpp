@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <chrono>
+#include <cstdlib>
 #include <memory>
 #include <optional>
 #include <string>
@@ -220,6 +221,48 @@ TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
   EXPECT_FALSE(store.request_cancel("j"));
   EXPECT_FALSE(store.cancel_requested("j"));
   EXPECT_NO_THROW(store.remove("j"));
+}
+
+}  // namespace
+
+namespace {
+
+// Redis at maxmemory (noeviction) refuses the record and the rows with its OOM error, and the
+// store says so naming Redis; the heartbeat (PEXPIRE of <id>:alive) is still taken, so the job's
+// heartbeat age stays young while its record ages. Its age is the time to live it was given less
+// the time left, checked against a clock in the test.
+TEST(RedisJobStore, AFullRedisRefusesTheRecordButTakesTheHeartbeat) {
+  const RedisServer redis;
+  RedisJobStore store(client_of(redis), 3600s, "slosh:jobs:", 10000ms);
+  EXPECT_EQ(store.heartbeat_age_ms("j"), std::nullopt);
+  ASSERT_TRUE(store.put_record("j", "r1"));
+  const auto written = std::chrono::steady_clock::now();
+  const auto fresh = store.heartbeat_age_ms("j");
+  ASSERT_TRUE(fresh);
+  EXPECT_LE(*fresh, 100);
+  ASSERT_EQ(std::system(("redis-cli -p " + std::to_string(redis.port()) +
+                         " config set maxmemory-policy noeviction >/dev/null && redis-cli -p " +
+                         std::to_string(redis.port()) + " config set maxmemory 1 >/dev/null")
+                            .c_str()),
+            0);
+  EXPECT_FALSE(store.put_record("j", "r2"));
+  EXPECT_FALSE(store.put_rows("j", 0, {"row"}));
+  EXPECT_EQ(store.last_write_failure(),
+            "the shared job store (" + redis.url() +
+                ") refused the write: OOM command not allowed when used memory > 'maxmemory'.");
+  std::this_thread::sleep_for(300ms);  // the record ages (the time that passes, not a wait)
+  const auto before = store.heartbeat_age_ms("j");
+  const auto aged_ms = std::chrono::duration_cast<std::chrono::milliseconds>(
+                           std::chrono::steady_clock::now() - written)
+                           .count();
+  ASSERT_TRUE(before);
+  EXPECT_GE(*before, 250);
+  EXPECT_LE(*before, aged_ms + 50);  // the write took place before `written`
+  ASSERT_TRUE(store.touch("j"));
+  const auto after = store.heartbeat_age_ms("j");
+  ASSERT_TRUE(after);
+  EXPECT_LE(*after, 100);
+  EXPECT_EQ(store.record("j"), "r1");  // the record Redis took last
 }
 
 }  // namespace
