@@ -238,10 +238,12 @@ TEST(BatchCliStops, AnInterruptWhileTheReplicaIsPausedEndsInSecondsNamingTheJobT
       test::spawn({"batch", "--in", (dir / "t.csv").string(), "--out", (dir / "o.csv").string(),
                    "--server", server.url(), "--progress", "never"},
                   dir / "stdin", dir / "stdout", dir / "stderr"));
+  // The CLI polls its job (it has the POST's answer): a poll of the record was answered.
   auto c = server.client();
+  const std::string polled = R"(slosh_http_requests_total{route="/v1/batches/{id}",status="200"})";
   for (int i = 0; i < 1000; ++i) {
     const auto r = c.Get("/metrics");
-    if (r && test::metric(r->body, "slosh_batch_jobs_active") == 1) break;
+    if (r && test::metric(r->body, polled) >= 1) break;
     std::this_thread::sleep_for(20ms);
   }
   const pid_t replica = server.child().pid();
