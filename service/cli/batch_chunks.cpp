@@ -4,6 +4,7 @@
 
 #include "cli/batch_errors.hpp"
 #include "cli/batch_retry.hpp"
+#include "slosh/api/batch_requests.hpp"
 #include "slosh/api/service_bodies.hpp"
 
 namespace slosh::service::batch_cli {
@@ -12,9 +13,8 @@ namespace {
 
 // POSTs one chunk, retrying 503 answers after their Retry-After.
 std::vector<api::BatchItemReply> post_chunk(HttpClient& client,
-                                            const std::vector<nlohmann::json>& requests) {
-  const HttpReply reply =
-      post_retrying_503(client, "/v1/plans/batch", api::batch_body_text(requests));
+                                            const api::BatchRequests& requests) {
+  const HttpReply reply = post_retrying_503(client, "/v1/plans/batch", requests.body_text());
   auto results = reply.status == 200 ? api::parse_batch_reply(reply.body) : std::nullopt;
   if (!results) {
     std::string message = "HTTP " + std::to_string(reply.status);
@@ -32,11 +32,11 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
                 HttpClient& client, RowSink& sink, ProgressBar& bar) {
   for (std::size_t begin = 0; begin < rows.size(); begin += options.chunk) {
     const std::size_t end = std::min(rows.size(), begin + options.chunk);
-    std::vector<nlohmann::json> requests;
+    api::BatchRequests requests;
     std::vector<std::size_t> sent;
     for (std::size_t i = begin; i < end; ++i) {
       if (rows[i].error.is_null()) {
-        requests.push_back(rows[i].request);
+        requests.add(rows[i].request);
         sent.push_back(i);
       }
     }

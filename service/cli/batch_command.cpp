@@ -31,9 +31,7 @@ std::string summary(const RowSink& sink, double seconds, const std::string& out)
   std::string text = "slosh batch: " + count(sink.written(), "recipe") + ", " +
                      std::to_string(sink.written() - sink.failed_rows().size()) + " planned (" +
                      std::to_string(sink.cached()) + " from cache";
-  for (const auto& [status, n] : sink.statuses()) {
-    if (status != "error") text += ", " + std::to_string(n) + " " + status;
-  }
+  for (const auto& [status, n] : sink.statuses()) text += ", " + std::to_string(n) + " " + status;
   char timing[32];
   std::snprintf(timing, sizeof timing, ", %.1f s", seconds);
   text += "), " + count(sink.failed_rows().size(), "error") + timing;

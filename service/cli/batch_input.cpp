@@ -31,6 +31,29 @@ std::optional<api::PlanView> row_plan_view(const BatchCommandOptions& options) {
   return options.full ? std::optional(api::PlanView::kFull) : view;
 }
 
+// Throws TableError when writing the plan table would overwrite the recipe table: --out, or the
+// "<out>.partial" file it is written to first, is the --in file (the same file after symbolic
+// links and relative paths are resolved, or another hard link to it).
+void check_out_is_not_in(const BatchCommandOptions& options) {
+  if (options.in == "-" || options.out == "-") return;
+  namespace fs = std::filesystem;
+  std::error_code ec;
+  const fs::path in = fs::canonical(options.in, ec);
+  if (ec) return;  // no such file: reading it fails with its own message
+  if (fs::equivalent(options.out, in, ec) && !ec) {
+    throw TableError("--out '" + options.out + "' is the --in file (" + in.string() +
+                     "): the plan table would overwrite the recipe table; give --out another "
+                     "path");
+  }
+  const std::string partial = options.out + ".partial";
+  ec.clear();
+  if (fs::equivalent(partial, in, ec) && !ec) {
+    throw TableError("--out '" + options.out + "' is written first to '" + partial +
+                     "', which is the --in file (" + in.string() +
+                     "): the recipe table would be overwritten; give --out another path");
+  }
+}
+
 }  // namespace
 
 std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInput& in) {
@@ -46,6 +69,7 @@ std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInp
                          (std::string(flag) == "--in" ? "stdin" : "stdout") + ")");
       }
     }
+    check_out_is_not_in(options);
     in.in_format = table_format(options.in_format, options.in);
     in.out_format = table_format(options.out_format, options.out);
     try {

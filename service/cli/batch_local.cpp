@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <chrono>
 #include <iostream>
+#include <utility>
+
+#include "slosh/api/service_bodies.hpp"
 
 namespace slosh::service::batch_cli {
 
@@ -15,22 +18,26 @@ constexpr std::chrono::milliseconds kPollInterval{100};
 
 void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink& sink,
                ProgressBar& bar) {
-  std::vector<json> requests;
   std::vector<std::size_t> slot(rows.size(), static_cast<std::size_t>(-1));
+  std::size_t readable = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (!rows[i].error.is_null()) continue;
-    slot[i] = requests.size();
-    requests.push_back(rows[i].request);
+    if (rows[i].error.is_null()) slot[i] = readable++;
   }
-  const std::size_t unreadable = rows.size() - requests.size();
+  const std::size_t unreadable = rows.size() - readable;
   // Room for the whole table: submission never blocks, so rows are written as they finish.
-  config.queue = std::max<std::size_t>(1, requests.size());
+  config.queue = std::max<std::size_t>(1, readable);
   PlanEngine engine(config);
   if (const std::string e = engine.cache().storage_error(); !e.empty()) {
     std::cerr << "slosh batch: warning: " << e << '\n';
   }
-  const PendingBatch batch =
-      engine.start_batch(api::read_batch_items(requests, engine.config().solve_budget_s));
+  std::vector<api::BatchItem> items;
+  items.reserve(readable);
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    if (slot[i] != static_cast<std::size_t>(-1)) {
+      items.push_back(api::read_batch_item(rows[i].request, engine.config().solve_budget_s));
+    }
+  }
+  const PendingBatch batch = engine.start_batch(std::move(items));
   // Counting finished solves polls every item: only when the bar is due for a redraw.
   auto refresh = [&] {
     if (bar.due()) bar.update(unreadable + batch.finished());

@@ -3,7 +3,6 @@
 #include <iostream>
 #include <optional>
 #include <string>
-#include <string_view>
 
 #include "cli/batch_errors.hpp"
 #include "cli/batch_retry.hpp"
@@ -16,47 +15,6 @@
 namespace slosh::service::batch_cli {
 
 namespace {
-
-/// An RFC 4180 cell: text quoted when it holds a comma, a quote or a line break.
-std::string csv_cell(const json& v) {
-  if (v.is_null()) return "";
-  if (!v.is_string()) return api::dump_json(v);
-  const std::string text = v.get<std::string>();
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
-}
-
-/// The min_time table's columns (CSV header and JSON members, in order).
-std::vector<std::string> min_time_columns() {
-  std::vector<std::string> c{"row", "recipe_id", "status", "key"};
-  for (Strategy s : api::default_min_time_strategies()) c.push_back("t_min_" + to_string(s) + "_s");
-  for (const char* name : {"winner", "winner_t_min_s", "baseline_t_min_s", "gain_pct",
-                           "gain_cycles_per_min", "message", "error_field"}) {
-    c.emplace_back(name);
-  }
-  return c;
-}
-
-json min_time_error_row(const RecipeRow& recipe, const api::ApiError& e) {
-  json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}, {"status", "error"}};
-  std::string field = e.field();
-  std::string message = e.what();
-  if (recipe.csv) {  // name the CSV column, as plan tables do
-    constexpr std::string_view kMax = "motion_time_max_s";  // the motion_time_s column's value
-    if (field == kMax) {
-      if (message.rfind(kMax, 0) == 0) message.replace(0, kMax.size(), "motion_time_s");
-      field = "motion_time_s";
-    } else {
-      message = api::in_column_terms(field, message);
-      field = api::column_of_field(field);
-    }
-  }
-  row["message"] = message;
-  row["error_field"] = field.empty() ? json(nullptr) : json(field);
-  return row;
-}
 
 /// A min-time row on its way: its answer from the cache or a search, or the row's error.
 struct MinTimeJob {
@@ -86,12 +44,10 @@ MinTimeJob start_min_time_row(const RecipeRow& row, double budget, PlanEngine& e
 bool write_min_time_row(const RecipeRow& recipe, const SolveOutcome& outcome,
                         MinTimeWriter& writer) {
   if (outcome.error) {
-    writer.write(min_time_error_row(recipe, *outcome.error));
+    writer.write(api::min_time_error_row(recipe.row, recipe.recipe_id, recipe.csv, *outcome.error));
     return false;
   }
-  json row{{"row", recipe.row}, {"recipe_id", recipe.recipe_id}, {"status", "ok"}};
-  row.update(api::min_time_row_figures(outcome.body));
-  writer.write(row);
+  writer.write(api::min_time_answer_row(recipe.row, recipe.recipe_id, outcome.body));
   return true;
 }
 
@@ -111,27 +67,19 @@ SolveOutcome post_min_time_row(HttpClient& client, const std::string& body) {
 
 MinTimeWriter::MinTimeWriter(std::ostream& out, TableFormat format) : out_(out), format_(format) {
   if (format_ == TableFormat::kCsv) {
-    std::string header;
-    for (const std::string& c : min_time_columns()) header += (header.empty() ? "" : ",") + c;
-    out_ << header << '\n';
+    out_ << api::min_time_csv_header() << '\n';
   } else if (format_ == TableFormat::kJson) {
     out_ << '[';
   }
 }
 
-void MinTimeWriter::write(const json& row) {
+void MinTimeWriter::write(const api::MinTimeTableRow& row) {
   if (format_ == TableFormat::kCsv) {
-    std::string line;
-    bool first = true;
-    for (const std::string& c : min_time_columns()) {
-      line += (first ? "" : ",") + csv_cell(row.value(c, json(nullptr)));
-      first = false;
-    }
-    out_ << line << '\n';
+    out_ << api::min_time_csv_line(row) << '\n';
   } else if (format_ == TableFormat::kJson) {
-    out_ << (rows_ == 0 ? "\n" : ",\n") << api::dump_json(row);
+    out_ << (rows_ == 0 ? "\n" : ",\n") << api::min_time_json_text(row);
   } else {
-    out_ << api::dump_json(row) << '\n';
+    out_ << api::min_time_json_text(row) << '\n';
   }
   ++rows_;
   out_.flush();

@@ -3,23 +3,21 @@
 // a PlanEngine or by a running service's POST /v1/min-time, written as a table.
 
 #include <cstddef>
-#include <nlohmann/json.hpp>
 #include <ostream>
 #include <vector>
 
 #include "cli/http_client.hpp"
 #include "config/server_config.hpp"
 #include "jobs/recipe_table.hpp"
+#include "slosh/api/min_time_table.hpp"
 
 namespace slosh::service::batch_cli {
-
-using nlohmann::json;
 
 /// Writes the min_time rows in the table format (the CSV header, or the JSON array's brackets).
 class MinTimeWriter {
  public:
   MinTimeWriter(std::ostream& out, TableFormat format);
-  void write(const json& row);
+  void write(const api::MinTimeTableRow& row);
   void finish();
 
  private:

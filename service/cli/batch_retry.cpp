@@ -11,6 +11,11 @@
 namespace slosh::service::batch_cli {
 
 HttpReply retrying_503(const std::function<HttpReply()>& call) {
+  return retrying_transient(call, {503});
+}
+
+HttpReply retrying_transient(const std::function<HttpReply()>& call,
+                             std::initializer_list<int> transient) {
   for (int attempt = 0;; ++attempt) {
     HttpReply reply;
     try {
@@ -18,7 +23,9 @@ HttpReply retrying_503(const std::function<HttpReply()>& call) {
     } catch (const HttpError& e) {
       throw ServiceUnreachable(e.what());
     }
-    if (reply.status != 503 || attempt >= kServerRetries || interrupt_requested()) return reply;
+    const bool again =
+        std::find(transient.begin(), transient.end(), reply.status) != transient.end();
+    if (!again || attempt >= kServerRetries || interrupt_requested()) return reply;
     const int wait =
         reply.retry_after.empty() ? 1 : std::clamp(std::atoi(reply.retry_after.c_str()), 1, 30);
     sleep_unless_interrupted(std::chrono::seconds(wait));

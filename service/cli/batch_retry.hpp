@@ -4,6 +4,7 @@
 
 #include <chrono>
 #include <functional>
+#include <initializer_list>
 #include <string>
 
 #include "cli/http_client.hpp"
@@ -20,6 +21,11 @@ constexpr int kServerRetries = 30;
 /// ends them at once: the 503 is then returned. ServiceUnreachable when the service cannot be
 /// reached.
 HttpReply retrying_503(const std::function<HttpReply()>& call);
+
+/// retrying_503 for every status in `transient` (answers that say "not now" rather than "no", e.g.
+/// 409 from a replica that does not see yet that a job has finished).
+HttpReply retrying_transient(const std::function<HttpReply()>& call,
+                             std::initializer_list<int> transient);
 
 /// POSTs `body` to `path`, retrying 503 answers; nothing is posted after an interrupt (BatchAbort,
 /// saying why the last try had not been accepted).

@@ -4,7 +4,6 @@
 
 #include <cstddef>
 #include <map>
-#include <nlohmann/json.hpp>
 #include <optional>
 #include <string>
 #include <vector>
@@ -12,11 +11,10 @@
 #include "engine/plan_engine.hpp"
 #include "jobs/plan_table.hpp"
 #include "jobs/recipe_table.hpp"
+#include "slosh/api/plan_table_row.hpp"
 #include "slosh/api/plan_view.hpp"
 
 namespace slosh::service::batch_cli {
-
-using nlohmann::json;
 
 /// Writes rows in input order and keeps the counts of the summary.
 class RowSink {
@@ -24,20 +22,23 @@ class RowSink {
   RowSink(PlanTableWriter& writer, std::optional<api::PlanView> view)
       : writer_(writer), view_(view) {}
   void write(const RecipeRow& recipe, const BatchResult& result) {
-    write_row(plan_row(recipe, result, view_));
+    write_row(api::table_row_of(plan_row(recipe, result, view_)));
   }
   /// Writes a row made elsewhere (a batch job's, from the service).
-  void write_row(const json& row) {
-    const std::string status = row["status"].get<std::string>();
-    ++statuses_[status];
-    if (status == "error") failed_rows_.push_back(row["row"].get<std::size_t>());
-    if (row.value("cached", false)) ++cached_;
+  void write_row(const api::PlanTableRow& row) {
+    if (row.failed) {
+      failed_rows_.push_back(row.number);
+    } else {
+      ++statuses_[row.status];
+    }
+    if (row.cached) ++cached_;
     ++written_;
-    writer_.write(row);
+    writer_.write(row.document);
   }
   [[nodiscard]] std::size_t written() const { return written_; }
   [[nodiscard]] std::size_t cached() const { return cached_; }
   [[nodiscard]] const std::vector<std::size_t>& failed_rows() const { return failed_rows_; }
+  /// How many rows have each plan status (the rows that are errors are failed_rows()).
   [[nodiscard]] const std::map<std::string, std::size_t>& statuses() const { return statuses_; }
 
  private:

@@ -27,7 +27,7 @@ HttpClient::HttpClient(const std::string& base_url, std::chrono::seconds timeout
   impl_->client.set_keep_alive(true);
 }
 
-void HttpClient::set_timeout(std::chrono::seconds timeout) {
+void HttpClient::set_timeout(std::chrono::milliseconds timeout) {
   impl_->client.set_connection_timeout(timeout);
   impl_->client.set_read_timeout(timeout);
   impl_->client.set_write_timeout(timeout);

@@ -40,7 +40,7 @@ class HttpClient {
   HttpReply del(const std::string& path);
 
   /// Bounds connecting and each read/write of the calls from now on.
-  void set_timeout(std::chrono::seconds timeout);
+  void set_timeout(std::chrono::milliseconds timeout);
 
   [[nodiscard]] const std::string& base_url() const { return base_url_; }
 

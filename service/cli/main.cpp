@@ -3,11 +3,13 @@
 
 #include <CLI/CLI.hpp>
 
+#include <csignal>
 #include <iostream>
 #include <optional>
 #include <string>
 
 #include "cli/batch_command.hpp"
+#include "cli/batch_interrupt.hpp"
 #include "cli/cli_commands.hpp"
 #include "cli/export_command.hpp"
 #include "cli/setting_flags.hpp"
@@ -300,9 +302,21 @@ int run_serve(const CliArgs& a, const ServerConfig& server) {
   }
 }
 
+// Every command but `batch --server` ends at Ctrl-C as the default action does: the handler of
+// `early` goes, and an interrupt that came meanwhile (unless SIGINT was ignored when the process
+// started) ends the process now.
+void default_interrupts(std::optional<slosh::service::batch_cli::InterruptFlag>& early) {
+  early.reset();
+  if (slosh::service::batch_cli::interrupt_requested()) std::raise(SIGINT);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Ctrl-C is only noted until the command is known: `batch --server` must see an interrupt from
+  // its first instant (to cancel a job it may post, and to end with exit 130 and its message),
+  // and parsing the command line and the configuration layers takes milliseconds.
+  std::optional<slosh::service::batch_cli::InterruptFlag> early_interrupt(std::in_place);
   CLI::App app{"slosh: anti-sloshing motion-law planner for packaging machines"};
   app.set_version_flag("--version", std::string("slosh ") + slosh::kVersion);
   app.require_subcommand(1);
@@ -329,6 +343,7 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
+  if (!*batch || a.batch.server.empty()) default_interrupts(early_interrupt);
   if (*simulate) return slosh::service::run_simulate_command(a.request);
   if (*plan) {
     a.plan.request_path = a.request;
