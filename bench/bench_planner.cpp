@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fixtures.hpp"
+#include "response/nonlinear_sensitivity.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -71,6 +72,22 @@ BENCHMARK(BM_Optimise_Notch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Optimise_MultiNotch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Optimise_MinJerkBand)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Optimise_TimeDomain)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// One evaluation of time_domain's response with its gradient (the uniform law on the thesis
+// format, 20 steps per period, 1 s of rest): what each SLSQP evaluation integrates per model.
+void BM_NonlinearSensitivity(benchmark::State& state) {
+  Setup s;
+  slosh::NonlinearOptions o;
+  o.steps_per_period = 20.0;
+  slosh::detail::NonlinearSensitivity sens(s.model, 0.8, 1.0, o);
+  const auto d = slosh::uniform_durations(s.format.motion_time);
+  sens.freeze_steps(d.data());
+  for (auto _ : state) {
+    sens.compute(d.data());
+    benchmark::DoNotOptimize(sens.motion_time());
+  }
+}
+BENCHMARK(BM_NonlinearSensitivity)->Unit(benchmark::kMicrosecond);
 
 void BM_Plan(benchmark::State& state) {
   const auto strategy = static_cast<Strategy>(state.range(0));

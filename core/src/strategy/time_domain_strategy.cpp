@@ -283,12 +283,20 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   *bound_excess = 0.0;
   const int rounds = c.robust() ? kRobustExchangeRounds : kExchangeRounds;
   TimeDomainWorkspace ws(c, models);
+  bool rerun = false;  // this round re-runs the last point on the same samples
   for (int round = 0; round < rounds; ++round) {
     std::optional<double> solver_bound;
     if (bound) solver_bound = *bound * (1.0 - margin);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws);
     r.evaluations += total.evaluations;
     r.starts += total.starts;
+    if (rerun && (r.best.x.empty() || (total.feasible && !r.feasible) ||
+                  r.best.objective > total.best.objective)) {
+      // Nothing better on the same samples: the last point stands (its counts are kept).
+      total.evaluations = r.evaluations;
+      total.starts = r.starts;
+      break;
+    }
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
     // A round that cannot meet the bound on its samples is final: the exchange only adds samples,
@@ -300,6 +308,16 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     // The solver's last evaluation is usually its returned point: its responses are reused.
     const bool at_last = ws.valid && std::equal(total.best.x.begin(),
                                                 total.best.x.begin() + kSegments, ws.last.begin());
+    // The best run's step counts were frozen at its start; where they had to grow on the way the
+    // response it saw jumped, and SLSQP can stop at such a jump short of the optimum: it runs
+    // again from its point with the counts frozen there (a round without new samples).
+    bool outgrown = false;
+    if (total.best_start >= 0 && static_cast<std::size_t>(total.best_start) < starts.size()) {
+      const Durations& from = starts[static_cast<std::size_t>(total.best_start)];
+      for (const NonlinearSensitivity& s : ws.sensitivity) {
+        outgrown = outgrown || s.outgrows_frozen_steps(from.data(), total.best.x.data());
+      }
+    }
     for (std::size_t m = 0; m < samples.size(); ++m) {
       added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, samples[m],
                           excess, at_last ? &ws.sensitivity[m] : nullptr) ||
@@ -312,7 +330,8 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       added = true;
     }
     *bound_excess = excess;
-    if (!added) break;
+    if (!added && !outgrown) break;
+    rerun = !added;
     if (round >= 1) margin += 2.0 * excess;
     Durations d;
     std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
@@ -412,6 +431,31 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   return o;
 }
 
+// The objective of the durations d on the dense response of every sample model (the largest
+// peak of the minimised phase / eta_ref), or nothing when a bounded peak breaks the bound or d
+// breaks a machine limit.
+std::optional<double> dense_objective(const StrategyContext& c, bool minimise_motion, double bound,
+                                      const Durations& d) {
+  std::vector<double> limits(static_cast<std::size_t>(c.space.limit_count()));
+  if (!limits.empty()) c.space.limit_constraints(d.data(), limits.data(), nullptr, kSegments);
+  for (double g : limits) {
+    if (g > time_domain_options().constraint_tolerance) return std::nullopt;
+  }
+  const double T = c.format.motion_time;
+  const double rest = c.options.rest_time;
+  double value = 0.0;
+  for (const SloshingModel& m : c.sample_models) {
+    NonlinearSensitivity sens(m, c.format.stroke, rest, sensitivity_options());
+    sens.compute(d.data());
+    const double motion = sens.window_peak(0.0, T).value;
+    const double after = sens.window_peak(T + 1e-12, T + rest).value;
+    const double bounded = minimise_motion ? after : motion;
+    if (bounded > bound * (1.0 + kDenseTolerance)) return std::nullopt;
+    value = std::max(value, minimise_motion ? motion : after);
+  }
+  return value / c.eta_ref;
+}
+
 }  // namespace
 
 StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
@@ -425,7 +469,19 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
   }
   StrategyOutcome o;
   run_bounded(c, motion, bound, starts, &o);
-  if (o.status != SolveStatus::kInfeasible) return o;
+  if (o.status != SolveStatus::kInfeasible) {
+    // A continuation never returns worse than its warm start: the exchange rounds resolve the
+    // objective to about kObjectiveTolerance and their path differs from the one that found the
+    // warm start, so from an optimum they can end a few 1e-6 above it.
+    if (c.space.warm_start && !starts.empty() && starts.front() != o.durations) {
+      const std::optional<double> warm = dense_objective(c, motion, bound, starts.front());
+      if (warm && *warm <= o.objective) {
+        o.durations = starts.front();
+        o.objective = *warm;
+      }
+    }
+    return o;
+  }
   return least_infeasible(c, motion, bound, starts, std::move(o));
 }
 
