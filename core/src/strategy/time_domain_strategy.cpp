@@ -28,6 +28,12 @@ constexpr int kRobustExchangeRounds{16};
 constexpr double kDenseTolerance{1e-7};
 /// Relative excess of a dense peak over the epigraph variable that adds a sample [-].
 constexpr double kObjectiveTolerance{1e-6};
+/// The same while a least infeasible phase's objective is hopeless, more than kHopeless times the
+/// bound it seeks to meet: the plan is infeasible whatever the last digits, its value is reported
+/// to 3 digits and only ranks infeasible laws (min-time's curve), so the exchange rounds stop once
+/// it is resolved to 0.1 % instead of running on for digits nobody reads [-].
+constexpr double kHopelessObjectiveTolerance{1e-3};
+constexpr double kHopeless{1.01};
 
 /// The scheme of the sensitivities the solver and the dense check use: DOP853 with 20 steps per
 /// period of mode 1 (half the steps of the accurate prediction, whose 40 are sized for the
@@ -201,9 +207,12 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
 // `excess` grows to the largest relative excess over the bound.
 // `computed` is the model's sensitivity already integrated at x (the solver's workspace when its
 // last evaluation was x), or null to integrate it here.
+// `hopeless_above` (least infeasible phases): the objective level above which the plan is
+// infeasible anyway; the peaks are then sampled to kHopelessObjectiveTolerance only.
 bool check_dense(const StrategyContext& c, const SloshingModel& model, const double* x, double z,
-                 bool minimise_motion, std::optional<double> bound, Samples& samples,
-                 double& excess, const NonlinearSensitivity* computed) {
+                 bool minimise_motion, std::optional<double> bound,
+                 std::optional<double> hopeless_above, Samples& samples, double& excess,
+                 const NonlinearSensitivity* computed) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
   const double period = 2.0 * std::numbers::pi / model.omega1();
@@ -216,6 +225,8 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     computed = &*own;
   }
   const NonlinearSensitivity& sens = *computed;
+  const bool hopeless = hopeless_above && z > *hopeless_above;
+  const double level = z * (1.0 + (hopeless ? kHopelessObjectiveTolerance : kObjectiveTolerance));
   bool added = false;
   for (int w = 0; w < kw + kwr; ++w) {
     const bool in_motion = w < kw;
@@ -226,7 +237,7 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     const WindowPeak peak = sens.window_peak(in_motion ? a : std::max(a, T + 1e-12), b);
     if (free) {
       // The objective's own peaks: sampled for accuracy (the reported eta is the dense one).
-      if (peak.value > z * (1.0 + kObjectiveTolerance)) {
+      if (peak.value > level) {
         samples.add(peak.time, peak.time <= T);
         added = true;
       }
@@ -272,7 +283,8 @@ bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise
 // above its bound becomes a new sample for the next solve (started from the current point).
 MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
                              std::optional<double> bound, std::vector<Durations> starts,
-                             double* bound_excess) {
+                             double* bound_excess,
+                             std::optional<double> hopeless_above = std::nullopt) {
   std::vector<SloshingModel> models = c.sample_models;
   ModelSamples samples;
   for (const SloshingModel& m : models) samples.push_back(initial_samples(c, m));
@@ -319,9 +331,10 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       }
     }
     for (std::size_t m = 0; m < samples.size(); ++m) {
-      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, samples[m],
-                          excess, at_last ? &ws.sensitivity[m] : nullptr) ||
-              added;
+      added =
+          check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, hopeless_above,
+                      samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
+          added;
     }
     if (bound &&
         add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess)) {
@@ -383,7 +396,8 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
 StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double bound,
                                  const std::vector<Durations>& starts, StrategyOutcome o) {
   double unused = 0.0;
-  const MultiStartResult best = solve_phase(c, !motion, std::nullopt, starts, &unused);
+  const MultiStartResult best =
+      solve_phase(c, !motion, std::nullopt, starts, &unused, bound * kHopeless);
   const Durations infeasible_point = o.durations;
   o.evaluations += best.evaluations;
   o.starts += best.starts;
