@@ -235,6 +235,7 @@ std::array<double, kLanes> array_of(const Lanes8& a) {
 /// The integration of compute(), one free function so that it can be cloned for AVX.
 struct SensitivityPass {
   static void run(NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv);
+  struct Eta;
 };
 
 // flatten: every helper is inlined, so the AVX clone's lane loops are AVX as well.
@@ -358,23 +359,60 @@ Dual7 NonlinearSensitivity::x_at(std::size_t i, double t) const {
   }
   return r;
 }
-void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<double>* values,
-                                      std::vector<std::array<double, kSegments>>* gradients) const {
+/// The interpolant of step i at time t with its derivatives (x_at's operations lane by lane), and
+/// the loop of abs_eta_at over the samples; one free function, cloned for AVX as the integration.
+struct SensitivityPass::Eta {
+  static void abs_at(const NonlinearSensitivity& s, const std::vector<double>& t,
+                     std::vector<double>* values,
+                     std::vector<std::array<double, kSegments>>* gradients);
+};
+
+SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::Eta::abs_at(
+    const NonlinearSensitivity& s, const std::vector<double>& t, std::vector<double>* values,
+    std::vector<std::array<double, kSegments>>* gradients) {
   values->resize(t.size());
   if (gradients != nullptr) gradients->resize(t.size());
-  const double t_last = tv_.back() + hv_.back();
+  const double t_last = s.tv_.back() + s.hv_.back();
   std::size_t i = 0;
   for (std::size_t k = 0; k < t.size(); ++k) {
     const double tk = std::clamp(t[k], 0.0, t_last);
     // The step holding tk (the later of two at a shared end; empty steps are passed over).
-    while (i + 1 < tv_.size() && (tv_[i] + hv_[i] < tk || hv_[i] <= 0.0)) ++i;
-    Dual7 xs = x_at(i, tk);
-    if (xs.v < 0.0) xs = -xs;
-    (*values)[k] = model_.K * xs.v;
+    while (i + 1 < s.tv_.size() && (s.tv_[i] + s.hv_[i] < tk || s.hv_[i] <= 0.0)) ++i;
+    const double h = s.hv_[i];
+    double theta = 1.0;
+    Lanes8 ds;
+    if (h > 0.0) {
+      const double inv = 1.0 / h;
+      theta = (tk - s.tv_[i]) * inv;
+      Lanes8 dt0, dh;
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        dt0[l] = s.dt_[i][l];
+        dh[l] = s.dh_[i][l];
+      }
+      ds = (Lanes8(0.0) - dt0 - theta * dh) * inv;
+    }
+    const DensePoly<double>& p = s.xv_[i];
+    const auto& dp = s.dx_[i];
+    double rv = p[kDenseTerms - 1];
+    Lanes8 rd;
+    for (std::size_t l = 0; l < kLanes; ++l) rd[l] = dp[kDenseTerms - 1][l];
+    for (std::size_t j = kDenseTerms - 1; j > 0; --j) {
+      Lanes8 pj;
+      for (std::size_t l = 0; l < kLanes; ++l) pj[l] = dp[j - 1][l];
+      rd = (rd * theta + rv * ds) + pj;
+      rv = rv * theta + p[j - 1];
+    }
+    const double sign = rv < 0.0 ? -1.0 : 1.0;
+    (*values)[k] = s.model_.K * (sign * rv);
     if (gradients != nullptr) {
-      for (std::size_t j = 0; j < kSegments; ++j) (*gradients)[k][j] = model_.K * xs.d[j];
+      for (std::size_t l = 0; l < kSegments; ++l) (*gradients)[k][l] = s.model_.K * (sign * rd[l]);
     }
   }
+}
+
+void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<double>* values,
+                                      std::vector<std::array<double, kSegments>>* gradients) const {
+  SensitivityPass::Eta::abs_at(*this, t, values, gradients);
 }
 
 WindowPeak NonlinearSensitivity::window_peak(double t_begin, double t_end) const {
