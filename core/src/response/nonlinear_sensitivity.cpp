@@ -232,33 +232,49 @@ std::array<double, kLanes> array_of(const Lanes8& a) {
 
 }  // namespace
 
-/// The integration of compute(), one free function so that it can be cloned for AVX.
+/// The integration of compute(), one free function so that it can be cloned for AVX (its helpers
+/// are inlined into it).
 struct SensitivityPass {
   static void run(NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv);
   struct Eta;
+
+ private:
+  /// The state at the end of the motion with its derivatives, T and dT.
+  struct MotionEnd {
+    TangentState<kLanes> st;
+    double t{};
+    Lanes8 dt;
+  };
+  static void store(NonlinearSensitivity& s, double t0, const Lanes8& dt0, double h,
+                    const Lanes8& dh, const DensePoly<double>& x,
+                    const std::array<Lanes8, kDenseTerms>& dx);
+  static MotionEnd motion(NonlinearSensitivity& s, const double* d,
+                          const PlateauLevelsT<Dual7>& lv);
+  static void rest(NonlinearSensitivity& s, const MotionEnd& end);
 };
 
-// flatten: every helper is inlined, so the AVX clone's lane loops are AVX as well.
-SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensitivity& s,
-                                                                const double* d,
-                                                                const PlateauLevelsT<Dual7>& lv) {
+[[gnu::always_inline]] inline void SensitivityPass::store(
+    NonlinearSensitivity& s, double t0, const Lanes8& dt0, double h, const Lanes8& dh,
+    const DensePoly<double>& x, const std::array<Lanes8, kDenseTerms>& dx) {
+  s.tv_.push_back(t0);
+  s.hv_.push_back(h);
+  s.xv_.push_back(x);
+  s.dt_.push_back(array_of(dt0));
+  s.dh_.push_back(array_of(dh));
+  std::array<std::array<double, kLanes>, kDenseTerms> terms;
+  for (std::size_t k = 0; k < kDenseTerms; ++k) terms[k] = array_of(dx[k]);
+  s.dx_.push_back(terms);
+}
+
+// The 7 segments, each in its equal steps; h_k = d_k / n_k moves with d_k, the acceleration with
+// A (segments 0-2) or B (4-6).
+[[gnu::always_inline]] inline SensitivityPass::MotionEnd SensitivityPass::motion(
+    NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv) {
   const Lanes8 dA = lanes_of(lv.A), dB = lanes_of(lv.B);
-  TangentState<kLanes> st;
-  double t = 0.0;
-  Lanes8 dt;
+  MotionEnd e;
+  TangentState<kLanes>& st = e.st;
   DensePoly<double> xp;
   std::array<Lanes8, kDenseTerms> dxp;
-  auto store = [&s](double t0, const Lanes8& dt0, double h, const Lanes8& dh,
-                    const DensePoly<double>& x, const std::array<Lanes8, kDenseTerms>& dx) {
-    s.tv_.push_back(t0);
-    s.hv_.push_back(h);
-    s.xv_.push_back(x);
-    s.dt_.push_back(array_of(dt0));
-    s.dh_.push_back(array_of(dh));
-    std::array<std::array<double, kLanes>, kDenseTerms> terms;
-    for (std::size_t k = 0; k < kDenseTerms; ++k) terms[k] = array_of(dx[k]);
-    s.dx_.push_back(terms);
-  };
   StepForcing<kLanes> fo;
   for (std::size_t k = 0; k < kSegments; ++k) {
     // A segment of zero length still takes one (empty) step so that its derivatives (the flow
@@ -270,15 +286,13 @@ SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensiti
     Lanes8 dh;
     dh[k] = inv_n;
     fo.g = k < 3 ? dA : k > 3 ? dB : Lanes8{};
-    const double t_begin = t;
-    const Lanes8 dt_begin = dt;
+    const double t_begin = e.t;
+    const Lanes8 dt_begin = e.dt;
     // As NonlinearResponse: the first stage of a segment is evaluated on that segment.
-    {
-      const auto [a0, c0] = segment_acceleration(lv.A.v, lv.B.v, k, 0.0);
-      const RhsJet j = rhs_jet(s.model_, st.x, st.v, a0);
-      st.f = j.f;
-      st.df = j.fx * st.dx + j.fv * st.dv + (j.fa * c0) * fo.g;
-    }
+    const auto [a0, c0] = segment_acceleration(lv.A.v, lv.B.v, k, 0.0);
+    const RhsJet j0 = rhs_jet(s.model_, st.x, st.v, a0);
+    st.f = j0.f;
+    st.df = j0.fx * st.dx + j0.fv * st.dv + (j0.fa * c0) * fo.g;
     for (std::size_t j = 0; j < n; ++j) {
       const double jd = static_cast<double>(j);
       for (std::size_t i = 1; i < kDopStages; ++i) {
@@ -286,41 +300,51 @@ SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensiti
         fo.a[i] = a;
         fo.c[i] = c;
       }
-      const double t0 = t_begin + h * jd;
-      const Lanes8 dt0 = dt_begin + dh * jd;
       tangent_step(s.model_, fo, h, dh, st, xp, dxp);
-      store(t0, dt0, h, dh, xp, dxp);
+      store(s, t_begin + h * jd, dt_begin + dh * jd, h, dh, xp, dxp);
     }
-    t = t_begin + d[k];
-    dt[k] += 1.0;
+    e.t = t_begin + d[k];
+    e.dt[k] += 1.0;
   }
-  s.motion_time_ = t;
-  // The rest window has no forcing: its states depend on the durations only through the state
-  // at T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter
-  // of the work of carrying all 7 directions).
+  return e;
+}
+
+// The rest window has no forcing: its states depend on the durations only through the state at
+// T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter of
+// the work of carrying all 7 directions).
+[[gnu::always_inline]] inline void SensitivityPass::rest(NonlinearSensitivity& s,
+                                                         const MotionEnd& end) {
   const auto n_rest = step_count(s.rest_time_, s.h_max_, 1);
   const double h_rest = s.rest_time_ / static_cast<double>(n_rest);
   TangentState<2> r;
-  r.x = st.x;
-  r.v = st.v;
+  r.x = end.st.x;
+  r.v = end.st.v;
   r.dx[0] = 1.0;
   r.dv[1] = 1.0;
-  {
-    const RhsJet j = rhs_jet(s.model_, r.x, r.v, 0.0);
-    r.f = j.f;
-    r.df = j.fx * r.dx + j.fv * r.dv;
-  }
+  const RhsJet j0 = rhs_jet(s.model_, r.x, r.v, 0.0);
+  r.f = j0.f;
+  r.df = j0.fx * r.dx + j0.fv * r.dv;
   const StepForcing<2> rest_forcing{};
   const Lanes<2> no_dh;
   DensePoly<double> rp;
   std::array<Lanes<2>, kDenseTerms> drp;
+  std::array<Lanes8, kDenseTerms> dxp;
   for (std::size_t j = 0; j < n_rest; ++j) {
     tangent_step(s.model_, rest_forcing, h_rest, no_dh, r, rp, drp);
     for (std::size_t k = 0; k < kDenseTerms; ++k) {
-      dxp[k] = drp[k][0] * st.dx + drp[k][1] * st.dv;
+      dxp[k] = drp[k][0] * end.st.dx + drp[k][1] * end.st.dv;
     }
-    store(t + h_rest * static_cast<double>(j), dt, h_rest, Lanes8{}, rp, dxp);
+    store(s, end.t + h_rest * static_cast<double>(j), end.dt, h_rest, Lanes8{}, rp, dxp);
   }
+}
+
+// flatten: every helper is inlined, so the AVX clone's lane loops are AVX as well.
+SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensitivity& s,
+                                                                const double* d,
+                                                                const PlateauLevelsT<Dual7>& lv) {
+  const MotionEnd end = motion(s, d, lv);
+  s.motion_time_ = end.t;
+  rest(s, end);
 }
 
 void NonlinearSensitivity::compute(const double* d) {

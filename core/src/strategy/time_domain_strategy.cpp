@@ -487,7 +487,8 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
     // A continuation never returns worse than its warm start: the exchange rounds resolve the
     // objective to about kObjectiveTolerance and their path differs from the one that found the
     // warm start, so from an optimum they can end a few 1e-6 above it.
-    if (c.space.warm_start && !starts.empty() && starts.front() != o.durations) {
+    // (Not for robust plans: their bound also holds on check models the samples do not carry.)
+    if (c.space.warm_start && !c.robust() && !starts.empty() && starts.front() != o.durations) {
       const std::optional<double> warm = dense_objective(c, motion, bound, starts.front());
       if (warm && *warm <= o.objective) {
         o.durations = starts.front();
