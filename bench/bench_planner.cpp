@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "fixtures.hpp"
+#include "response/nonlinear_sensitivity.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -71,6 +72,22 @@ BENCHMARK(BM_Optimise_Notch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Optimise_MultiNotch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Optimise_MinJerkBand)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond);
 BENCHMARK(BM_Optimise_TimeDomain)->Arg(1)->Unit(benchmark::kMillisecond);
+
+// One evaluation of time_domain's response with its gradient (the uniform law on the thesis
+// format, 20 steps per period, 1 s of rest): what each SLSQP evaluation integrates per model.
+void BM_NonlinearSensitivity(benchmark::State& state) {
+  Setup s;
+  slosh::NonlinearOptions o;
+  o.steps_per_period = 20.0;
+  slosh::detail::NonlinearSensitivity sens(s.model, 0.8, 1.0, o);
+  const auto d = slosh::uniform_durations(s.format.motion_time);
+  sens.freeze_steps(d.data());
+  for (auto _ : state) {
+    sens.compute(d.data());
+    benchmark::DoNotOptimize(sens.motion_time());
+  }
+}
+BENCHMARK(BM_NonlinearSensitivity)->Unit(benchmark::kMicrosecond);
 
 void BM_Plan(benchmark::State& state) {
   const auto strategy = static_cast<Strategy>(state.range(0));
@@ -192,5 +209,45 @@ void BM_MinTime(benchmark::State& state) {
   state.counters["t_min_ms"] = r.t_min ? *r.t_min * 1e3 : -1.0;
 }
 BENCHMARK(BM_MinTime)->DenseRange(0, 6)->Unit(benchmark::kMillisecond);
+
+// The minimum-time search over 6 seeded formats (the ranges of BM_PlanFormats, a container
+// 1.5 R above the fill so that eta_motion is bounded by its free board), one after the other: the
+// thesis container alone can flatter a change of the search path (which local optimum a plan
+// near T_min reaches decides its T_min); counters: the plans solved and the summed T_min.
+void BM_MinTimeFormats(benchmark::State& state) {
+  const auto strategy = static_cast<slosh::Strategy>(state.range(0));
+  std::mt19937 rng(20261127);
+  auto draw = [&rng](double lo, double hi) {
+    return std::uniform_real_distribution<double>(lo, hi)(rng);
+  };
+  std::vector<slosh::Format> formats;
+  for (int k = 0; k < 6; ++k) {
+    slosh::Format f;
+    f.container.radius = draw(0.03, 0.1);
+    f.fill_height = draw(0.4, 2.5) * f.container.radius;
+    f.container.height = f.fill_height + 1.5 * f.container.radius;
+    f.stroke = draw(0.2, 1.0);
+    formats.push_back(f);
+  }
+  slosh::MinTimeOptions o;
+  o.free_board_margin = 0.0;
+  o.plan.time_limit = 60.0;
+  int plans = 0;
+  double t_min_sum = 0.0;
+  for (auto _ : state) {
+    plans = 0;
+    t_min_sum = 0.0;
+    for (const slosh::Format& f : formats) {
+      const slosh::MinTimeResult r = slosh::min_time(f, strategy, o);
+      plans += r.plans;
+      t_min_sum += r.t_min ? *r.t_min : 0.0;
+      benchmark::DoNotOptimize(r.t_min);
+    }
+  }
+  state.SetLabel(slosh::to_string(strategy));
+  state.counters["plans"] = plans;
+  state.counters["t_min_sum_ms"] = t_min_sum * 1e3;
+}
+BENCHMARK(BM_MinTimeFormats)->Arg(4)->Unit(benchmark::kMillisecond);
 
 BENCHMARK_MAIN();

@@ -297,6 +297,33 @@ TEST(NonlinearSensitivity, FrozenStepCountsKeepTheResponseSmoothAcrossAStepMulti
   EXPECT_GT(departure(own), 1e-10);
 }
 
+// A solver run frozen at d sees a smooth response while every segment keeps at most its frozen
+// count (freeze_steps: one step more than d takes); a segment grown by more than a step takes
+// more, and outgrows_frozen_steps says so (time_domain then runs the solver again from there).
+TEST(NonlinearSensitivity, OutgrowingTheFrozenStepCountsIsReported) {
+  const SloshingModel model = thesis_model();
+  NonlinearOptions coarse;
+  coarse.steps_per_period = 8.0;
+  const double h =
+      std::min(coarse.max_step, 2.0 * std::numbers::pi / model.omega1() / coarse.steps_per_period);
+  NonlinearSensitivity sens(model, kStroke, kRest, coarse);
+  const Durations d = uniform_durations(kMotionTime);
+  EXPECT_FALSE(sens.outgrows_frozen_steps(d.data(), d.data()));
+  for (std::size_t k = 0; k < kSegments; ++k) {
+    // The count of d_k is ceil(d_k / h); the frozen one is that plus one.
+    const double frozen = std::ceil(d[k] / h) + 1.0;
+    Durations within = d;
+    within[k] = frozen * h * (1.0 - 1e-9);  // still the frozen count
+    Durations beyond = d;
+    beyond[k] = frozen * h * (1.0 + 1e-6);  // one step more than frozen
+    Durations shrunk = d;
+    shrunk[k] = 0.5 * d[k];
+    EXPECT_FALSE(sens.outgrows_frozen_steps(d.data(), within.data())) << k;
+    EXPECT_TRUE(sens.outgrows_frozen_steps(d.data(), beyond.data())) << k;
+    EXPECT_FALSE(sens.outgrows_frozen_steps(d.data(), shrunk.data())) << k;
+  }
+}
+
 // eq. 2.35 re-typed from SPEC §2 (not the core's nonlinear_acceleration).
 double reference_xbar_dd(const SloshingModel& m, double x, double v, double a) {
   const double w = m.omega[0], z = m.zeta, C = m.C, alpha = m.alpha;

@@ -3,6 +3,16 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <utility>
+
+// One clone of the integration loops for AVX (a derivative lane set is two AVX vectors of
+// doubles), chosen at load time where the CPU has it. No FMA and no reassociation, so both
+// clones compute the same numbers bit for bit.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SLOSH_TANGENT_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define SLOSH_TANGENT_CLONES
+#endif
 
 namespace slosh::detail {
 
@@ -22,63 +32,320 @@ bool NonlinearSensitivity::freeze_steps(const double* d) {
   return changed;
 }
 
+bool NonlinearSensitivity::outgrows_frozen_steps(const double* from, const double* at) const {
+  for (std::size_t k = 0; k < kSegments; ++k) {
+    if (step_count(at[k], h_max_, 1) > step_count(from[k], h_max_, 1) + 1) return true;
+  }
+  return false;
+}
+
 namespace {
 
-/// Acceleration on segment k at the fraction f of it: ramps interpolate linearly (exact for the
-/// constant-jerk law), plateaus hold A or -B. Inlined: the DOP853 stages call it on every step.
-[[gnu::always_inline]] inline Dual7 segment_acceleration(const PlateauLevelsT<Dual7>& lv,
-                                                         std::size_t k, double f) {
+/// xbar'' of eq. 2.35 with its partial derivatives: the value exactly as NonlinearResponse
+/// computes it (nonlinear_rhs in double), the partials from the same formula differentiated.
+struct RhsJet {
+  double f, fx, fv, fa;
+};
+
+[[gnu::always_inline]] inline RhsJet rhs_jet(const SloshingModel& m, double x, double v, double a) {
+  const double f = nonlinear_rhs(m, x, v, a);
+  const double w = m.omega1();
+  const double c2 = m.C * m.C;
+  const double den = 1.0 + c2 * x * x;
+  const double inv = 1.0 / den;
+  // f = -num / den, so df = -(dnum + f dden) / den.
+  const double num_x =
+      4.0 * w * m.zeta * c2 * x * v + c2 * v * v + w * w * (1.0 + 3.0 * m.alpha * x * x);
+  const double num_v = 2.0 * w * m.zeta * den + 2.0 * c2 * x * v;
+  return {f, -(num_x + f * 2.0 * c2 * x) * inv, -num_v * inv, -inv / m.radius};
+}
+
+/// The state's derivatives with respect to N directions at once (the durations, or the state at
+/// T for the rest window): a GCC vector of N doubles, which each clone lowers to its own vector
+/// registers (two AVX or four SSE2 registers for N = 8).
+typedef double Vec2 __attribute__((vector_size(2 * sizeof(double))));
+typedef double Vec8 __attribute__((vector_size(8 * sizeof(double))));
+template <std::size_t N>
+struct VecOf;
+template <>
+struct VecOf<2> {
+  using type = Vec2;
+};
+template <>
+struct VecOf<8> {
+  using type = Vec8;
+};
+
+template <std::size_t N>
+struct Lanes {
+  using Vec = typename VecOf<N>::type;
+  Vec v{};
+  Lanes() = default;
+  Lanes(double c) : v(Vec{} + c) {}  // NOLINT: implicit, so the scheme's templates accept it
+  [[nodiscard]] double operator[](std::size_t i) const { return v[i]; }
+  double& operator[](std::size_t i) { return reinterpret_cast<double*>(&v)[i]; }
+  friend Lanes operator+(const Lanes& a, const Lanes& b) { return from(a.v + b.v); }
+  friend Lanes operator-(const Lanes& a, const Lanes& b) { return from(a.v - b.v); }
+  friend Lanes operator*(double c, const Lanes& a) { return from(c * a.v); }
+  friend Lanes operator*(const Lanes& a, double c) { return from(a.v * c); }
+  static Lanes from(const Vec& x) {
+    Lanes r;
+    r.v = x;
+    return r;
+  }
+};
+
+/// The 7 durations and a zero pad: two AVX vectors, no scalar tail.
+constexpr std::size_t kLanes{8};
+using Lanes8 = Lanes<kLanes>;
+
+/// State (x, v) and x'' at a step start, each with its derivatives.
+template <std::size_t N>
+struct TangentState {
+  double x{}, v{}, f{};
+  Lanes<N> dx, dv, df;
+};
+
+/// The forcing of one step: the container acceleration at the stages (a[i] at t0 + c_i h) and
+/// its derivatives, c[i] times the direction g (dA or dB on a segment, or zero).
+template <std::size_t N>
+struct StepForcing {
+  std::array<double, kDopStages> a{};
+  std::array<double, kDopStages> c{};
+  Lanes<N> g;
+};
+
+/// One DOP853 step of (x, v) with its tangent (forward sensitivity) in N directions: the values
+/// are those of dop853_step in double, operation for operation; the derivatives follow the same
+/// stages linearised (the right-hand side by its partials, the stage sums by the same
+/// coefficients). h has the derivative dh. Returns the new state; x's order-7 interpolant and its
+/// derivatives go to xp, dxp.
+template <std::size_t N, std::size_t... I>
+[[gnu::always_inline]] inline void tangent_stages(
+    const SloshingModel& m, const StepForcing<N>& fo, double h, const Lanes<N>& dh,
+    const TangentState<N>& s, std::array<double, kDopStages>& kx,
+    std::array<double, kDopStages>& kv, std::array<Lanes<N>, kDopStages>& dkx,
+    std::array<Lanes<N>, kDopStages>& dkv, double& x_end, Lanes<N>& dx_end,
+    std::index_sequence<I...>) {
+  (
+      [&] {
+        constexpr std::size_t i = I + 1;
+        using Seq = std::make_index_sequence<i>;
+        const double sx = dop_impl::row_sum<kDopA, i>(kx, Seq{});
+        const double sv = dop_impl::row_sum<kDopA, i>(kv, Seq{});
+        const double xi = s.x + h * sx;
+        const double vi = s.v + h * sv;
+        const Lanes<N> dxi = s.dx + (dh * sx + h * dop_impl::row_sum<kDopA, i>(dkx, Seq{}));
+        const Lanes<N> dvi = s.dv + (dh * sv + h * dop_impl::row_sum<kDopA, i>(dkv, Seq{}));
+        if constexpr (i == 12) {
+          x_end = xi;
+          dx_end = dxi;
+        }
+        kx[i] = vi;
+        dkx[i] = dvi;
+        const RhsJet j = rhs_jet(m, xi, vi, fo.a[i]);
+        kv[i] = j.f;
+        dkv[i] = j.fx * dxi + j.fv * dvi + (j.fa * fo.c[i]) * fo.g;
+      }(),
+      ...);
+}
+
+template <std::size_t N>
+[[gnu::always_inline]] inline void tangent_step(const SloshingModel& m, const StepForcing<N>& fo,
+                                                double h, const Lanes<N>& dh, TangentState<N>& s,
+                                                DensePoly<double>& xp,
+                                                std::array<Lanes<N>, kDenseTerms>& dxp) {
+  std::array<double, kDopStages> kx, kv;
+  std::array<Lanes<N>, kDopStages> dkx, dkv;
+  kx[0] = s.v;
+  kv[0] = s.f;
+  dkx[0] = s.dv;
+  dkv[0] = s.df;
+  double x1 = 0.0;
+  Lanes<N> dx1;
+  tangent_stages(m, fo, h, dh, s, kx, kv, dkx, dkv, x1, dx1, std::make_index_sequence<15>{});
+  // x's interpolant, as dop853_step's (the stage rates of x are the stage values of v).
+  using All = std::make_index_sequence<kDopStages>;
+  const double dy = x1 - s.x;
+  std::array<double, 7> F;
+  F[0] = dy;
+  F[1] = h * kx[0] - dy;
+  F[2] = 2.0 * dy - h * (kx[12] + kx[0]);
+  const std::array<double, 4> R{
+      dop_impl::row_sum<kDopD, 0>(kx, All{}), dop_impl::row_sum<kDopD, 1>(kx, All{}),
+      dop_impl::row_sum<kDopD, 2>(kx, All{}), dop_impl::row_sum<kDopD, 3>(kx, All{})};
+  for (std::size_t r = 0; r < 4; ++r) F[3 + r] = h * R[r];
+  xp = dop_impl::power_basis(s.x, F);
+  const Lanes<N> ddy = dx1 - s.dx;
+  std::array<Lanes<N>, 7> dF;
+  dF[0] = ddy;
+  dF[1] = (dh * kx[0] + h * dkx[0]) - ddy;
+  dF[2] = 2.0 * ddy - (dh * (kx[12] + kx[0]) + h * (dkx[12] + dkx[0]));
+  dF[3] = dh * R[0] + h * dop_impl::row_sum<kDopD, 0>(dkx, All{});
+  dF[4] = dh * R[1] + h * dop_impl::row_sum<kDopD, 1>(dkx, All{});
+  dF[5] = dh * R[2] + h * dop_impl::row_sum<kDopD, 2>(dkx, All{});
+  dF[6] = dh * R[3] + h * dop_impl::row_sum<kDopD, 3>(dkx, All{});
+  dxp = dop_impl::power_basis(s.dx, dF);
+  s.x = x1;
+  s.v = kx[12];
+  s.f = kv[12];
+  s.dx = dx1;
+  s.dv = dkx[12];
+  s.df = dkv[12];
+}
+
+/// The container acceleration on segment k at the fraction fr of it (ramps interpolate
+/// linearly, exact for the constant-jerk law; plateaus hold A or -B) as value and the
+/// coefficient of the segment's direction (dA on segments 0-2, dB on 4-6).
+[[gnu::always_inline]] inline std::pair<double, double> segment_acceleration(double A, double B,
+                                                                             std::size_t k,
+                                                                             double fr) {
   switch (k) {
     case 0:
-      return lv.A * f;
+      return {A * fr, fr};
     case 1:
-      return lv.A;
+      return {A, 1.0};
     case 2:
-      return lv.A * (1.0 - f);
+      return {A * (1.0 - fr), 1.0 - fr};
     case 4:
-      return -(lv.B * f);
+      return {-(B * fr), -fr};
     case 5:
-      return -lv.B;
+      return {-B, -1.0};
     case 6:
-      return -(lv.B * (1.0 - f));
+      return {-(B * (1.0 - fr)), -(1.0 - fr)};
     default:
-      return Dual7(0.0);
+      return {0.0, 0.0};
   }
 }
 
-/// The rest window from the state (x_end, v_end) at t_end, n_rest steps of h_rest, each step
-/// handed to store(t0, h, x_poly). It has no forcing: its states depend on the durations only
-/// through the state at T, so it is integrated with derivatives with respect to (x_T, v_T) and
-/// chained (a quarter of the work of carrying all 7 directions).
-template <typename Store>
-void integrate_rest(const SloshingModel& model, const Dual7& t_end, const Dual7& x_end,
-                    const Dual7& v_end, std::size_t n_rest, double h_rest, const Store& store) {
-  using Dual2 = Dual<2>;
-  Dual2 xr = Dual2::variable(x_end.v, 0), vr = Dual2::variable(v_end.v, 1);
-  auto chain = [&](const Dual2& r) {
-    Dual7 out(r.v);
-    for (std::size_t i = 0; i < kSegments; ++i)
-      out.d[i] = r.d[0] * x_end.d[i] + r.d[1] * v_end.d[i];
-    return out;
-  };
-  auto rhs2 = [&model](const Dual2& xx, const Dual2& vv, double a) {
-    return nonlinear_rhs(model, xx, vv, a);
-  };
-  Dual2 f0 = rhs2(xr, vr, 0.0);
-  DopStep<Dual2> rest_step;
-  for (std::size_t j = 0; j < n_rest; ++j) {
-    dop853_step(
-        rhs2, [](std::size_t) { return 0.0; }, xr, vr, f0, Dual2(h_rest), true, rest_step, false);
-    DensePoly<Dual7> x_poly;
-    for (std::size_t k = 0; k < kDenseTerms; ++k) x_poly[k] = chain(rest_step.x_poly[k]);
-    store(t_end + h_rest * static_cast<double>(j), Dual7(h_rest), x_poly);
-    xr = rest_step.x1;
-    vr = rest_step.v1;
-    f0 = rest_step.f1;
-  }
+Lanes8 lanes_of(const Dual7& a) {
+  Lanes8 r;
+  for (std::size_t i = 0; i < kSegments; ++i) r[i] = a.d[i];
+  return r;
+}
+
+std::array<double, kLanes> array_of(const Lanes8& a) {
+  std::array<double, kLanes> r;
+  for (std::size_t i = 0; i < kLanes; ++i) r[i] = a[i];
+  return r;
 }
 
 }  // namespace
+
+/// The integration of compute(), one free function so that it can be cloned for AVX (its helpers
+/// are inlined into it).
+struct SensitivityPass {
+  static void run(NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv);
+  struct Eta;
+
+ private:
+  /// The state at the end of the motion with its derivatives, T and dT.
+  struct MotionEnd {
+    TangentState<kLanes> st;
+    double t{};
+    Lanes8 dt;
+  };
+  static void store(NonlinearSensitivity& s, double t0, const Lanes8& dt0, double h,
+                    const Lanes8& dh, const DensePoly<double>& x,
+                    const std::array<Lanes8, kDenseTerms>& dx);
+  static MotionEnd motion(NonlinearSensitivity& s, const double* d,
+                          const PlateauLevelsT<Dual7>& lv);
+  static void rest(NonlinearSensitivity& s, const MotionEnd& end);
+};
+
+[[gnu::always_inline]] inline void SensitivityPass::store(
+    NonlinearSensitivity& s, double t0, const Lanes8& dt0, double h, const Lanes8& dh,
+    const DensePoly<double>& x, const std::array<Lanes8, kDenseTerms>& dx) {
+  s.tv_.push_back(t0);
+  s.hv_.push_back(h);
+  s.xv_.push_back(x);
+  s.dt_.push_back(array_of(dt0));
+  s.dh_.push_back(array_of(dh));
+  std::array<std::array<double, kLanes>, kDenseTerms> terms;
+  for (std::size_t k = 0; k < kDenseTerms; ++k) terms[k] = array_of(dx[k]);
+  s.dx_.push_back(terms);
+}
+
+// The 7 segments, each in its equal steps; h_k = d_k / n_k moves with d_k, the acceleration with
+// A (segments 0-2) or B (4-6).
+[[gnu::always_inline]] inline SensitivityPass::MotionEnd SensitivityPass::motion(
+    NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv) {
+  const Lanes8 dA = lanes_of(lv.A), dB = lanes_of(lv.B);
+  MotionEnd e;
+  TangentState<kLanes>& st = e.st;
+  DensePoly<double> xp;
+  std::array<Lanes8, kDenseTerms> dxp;
+  StepForcing<kLanes> fo;
+  for (std::size_t k = 0; k < kSegments; ++k) {
+    // A segment of zero length still takes one (empty) step so that its derivatives (the flow
+    // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
+    const std::size_t own = step_count(d[k], s.h_max_, 1);
+    const std::size_t n = s.frozen_ ? std::max(own, s.steps_[k]) : own;
+    const double inv_n = 1.0 / static_cast<double>(n);
+    const double h = d[k] * inv_n;
+    Lanes8 dh;
+    dh[k] = inv_n;
+    fo.g = k < 3 ? dA : k > 3 ? dB : Lanes8{};
+    const double t_begin = e.t;
+    const Lanes8 dt_begin = e.dt;
+    // As NonlinearResponse: the first stage of a segment is evaluated on that segment.
+    const auto [a0, c0] = segment_acceleration(lv.A.v, lv.B.v, k, 0.0);
+    const RhsJet j0 = rhs_jet(s.model_, st.x, st.v, a0);
+    st.f = j0.f;
+    st.df = j0.fx * st.dx + j0.fv * st.dv + (j0.fa * c0) * fo.g;
+    for (std::size_t j = 0; j < n; ++j) {
+      const double jd = static_cast<double>(j);
+      for (std::size_t i = 1; i < kDopStages; ++i) {
+        const auto [a, c] = segment_acceleration(lv.A.v, lv.B.v, k, (jd + kDopC[i]) * inv_n);
+        fo.a[i] = a;
+        fo.c[i] = c;
+      }
+      tangent_step(s.model_, fo, h, dh, st, xp, dxp);
+      store(s, t_begin + h * jd, dt_begin + dh * jd, h, dh, xp, dxp);
+    }
+    e.t = t_begin + d[k];
+    e.dt[k] += 1.0;
+  }
+  return e;
+}
+
+// The rest window has no forcing: its states depend on the durations only through the state at
+// T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter of
+// the work of carrying all 7 directions).
+[[gnu::always_inline]] inline void SensitivityPass::rest(NonlinearSensitivity& s,
+                                                         const MotionEnd& end) {
+  const auto n_rest = step_count(s.rest_time_, s.h_max_, 1);
+  const double h_rest = s.rest_time_ / static_cast<double>(n_rest);
+  TangentState<2> r;
+  r.x = end.st.x;
+  r.v = end.st.v;
+  r.dx[0] = 1.0;
+  r.dv[1] = 1.0;
+  const RhsJet j0 = rhs_jet(s.model_, r.x, r.v, 0.0);
+  r.f = j0.f;
+  r.df = j0.fx * r.dx + j0.fv * r.dv;
+  const StepForcing<2> rest_forcing{};
+  const Lanes<2> no_dh;
+  DensePoly<double> rp;
+  std::array<Lanes<2>, kDenseTerms> drp;
+  std::array<Lanes8, kDenseTerms> dxp;
+  for (std::size_t j = 0; j < n_rest; ++j) {
+    tangent_step(s.model_, rest_forcing, h_rest, no_dh, r, rp, drp);
+    for (std::size_t k = 0; k < kDenseTerms; ++k) {
+      dxp[k] = drp[k][0] * end.st.dx + drp[k][1] * end.st.dv;
+    }
+    store(s, end.t + h_rest * static_cast<double>(j), end.dt, h_rest, Lanes8{}, rp, dxp);
+  }
+}
+
+// flatten: every helper is inlined, so the AVX clone's lane loops are AVX as well.
+SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensitivity& s,
+                                                                const double* d,
+                                                                const PlateauLevelsT<Dual7>& lv) {
+  const MotionEnd end = motion(s, d, lv);
+  s.motion_time_ = end.t;
+  rest(s, end);
+}
 
 void NonlinearSensitivity::compute(const double* d) {
   std::array<Dual7, kSegments> dd;
@@ -87,76 +354,89 @@ void NonlinearSensitivity::compute(const double* d) {
   tv_.clear();
   hv_.clear();
   xv_.clear();
-  t_.clear();
-  h_.clear();
-  x_.clear();
-  auto store = [&](const Dual7& t0, const Dual7& h, const DensePoly<Dual7>& x_poly) {
-    tv_.push_back(t0.v);
-    hv_.push_back(h.v);
-    DensePoly<double> values;
-    for (std::size_t k = 0; k < kDenseTerms; ++k) values[k] = x_poly[k].v;
-    xv_.push_back(values);
-    t_.push_back(t0);
-    h_.push_back(h);
-    x_.push_back(x_poly);
-  };
-  auto accel = [&lv](std::size_t k, double f) { return segment_acceleration(lv, k, f); };
-  auto rhs7 = [this](const Dual7& x, const Dual7& v, const Dual7& a) {
-    return nonlinear_rhs(model_, x, v, a);
-  };
-  Dual7 t(0.0), x(0.0), v(0.0);
-  DopStep<Dual7> step;
-  for (std::size_t k = 0; k < kSegments; ++k) {
-    // A segment of zero length still takes one (empty) step so that its derivatives (the flow
-    // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
-    const std::size_t own = step_count(d[k], h_max_, 1);
-    const std::size_t n = frozen_ ? std::max(own, steps_[k]) : own;
-    const double inv_n = 1.0 / static_cast<double>(n);
-    const Dual7 h = dd[k] * inv_n;
-    const Dual7 t_begin = t;
-    // As NonlinearResponse: the first stage of a segment is evaluated on that segment.
-    Dual7 f0 = rhs7(x, v, accel(k, 0.0));
-    for (std::size_t j = 0; j < n; ++j) {
-      const double jd = static_cast<double>(j);
-      const Dual7 t0 = t_begin + h * jd;
-      dop853_step(
-          rhs7, [&](std::size_t i) { return accel(k, (jd + kDopC[i]) * inv_n); }, x, v, f0, h, true,
-          step, false);
-      store(t0, h, step.x_poly);
-      x = step.x1;
-      v = step.v1;
-      f0 = step.f1;
-    }
-    t = t_begin + dd[k];
-  }
-  motion_time_ = t.v;
-  const auto n_rest = step_count(rest_time_, h_max_, 1);
-  const double h_rest = rest_time_ / static_cast<double>(n_rest);
-  integrate_rest(model_, t, x, v, n_rest, h_rest, store);
+  dt_.clear();
+  dh_.clear();
+  dx_.clear();
+  SensitivityPass::run(*this, d, lv);
 }
 
 Dual7 NonlinearSensitivity::x_at(std::size_t i, double t) const {
-  const Dual7 s = h_[i].v > 0.0 ? (Dual7(t) - t_[i]) / h_[i] : Dual7(1.0);
-  return dense_value(x_[i], s);
+  // s = (t - t0) / h with t0 and h moving with the durations; then the interpolant at s.
+  const double h = hv_[i];
+  const auto& dt0 = dt_[i];
+  const auto& dh = dh_[i];
+  double s = 1.0;
+  std::array<double, kSegments> ds{};
+  if (h > 0.0) {
+    const double inv = 1.0 / h;
+    s = (t - tv_[i]) * inv;
+    for (std::size_t l = 0; l < kSegments; ++l) ds[l] = (-dt0[l] - s * dh[l]) * inv;
+  }
+  const DensePoly<double>& p = xv_[i];
+  const auto& dp = dx_[i];
+  Dual7 r(p[kDenseTerms - 1]);
+  std::copy_n(dp[kDenseTerms - 1].begin(), kSegments, r.d.begin());
+  for (std::size_t k = kDenseTerms - 1; k > 0; --k) {
+    const double rv = r.v;
+    r.v = rv * s + p[k - 1];
+    for (std::size_t l = 0; l < kSegments; ++l) r.d[l] = r.d[l] * s + rv * ds[l] + dp[k - 1][l];
+  }
+  return r;
 }
+/// The interpolant of step i at time t with its derivatives (x_at's operations lane by lane), and
+/// the loop of abs_eta_at over the samples; one free function, cloned for AVX as the integration.
+struct SensitivityPass::Eta {
+  static void abs_at(const NonlinearSensitivity& s, const std::vector<double>& t,
+                     std::vector<double>* values,
+                     std::vector<std::array<double, kSegments>>* gradients);
+};
 
-void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<double>* values,
-                                      std::vector<std::array<double, kSegments>>* gradients) const {
+SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::Eta::abs_at(
+    const NonlinearSensitivity& s, const std::vector<double>& t, std::vector<double>* values,
+    std::vector<std::array<double, kSegments>>* gradients) {
   values->resize(t.size());
   if (gradients != nullptr) gradients->resize(t.size());
-  const double t_last = tv_.back() + hv_.back();
+  const double t_last = s.tv_.back() + s.hv_.back();
   std::size_t i = 0;
   for (std::size_t k = 0; k < t.size(); ++k) {
     const double tk = std::clamp(t[k], 0.0, t_last);
     // The step holding tk (the later of two at a shared end; empty steps are passed over).
-    while (i + 1 < tv_.size() && (tv_[i] + hv_[i] < tk || hv_[i] <= 0.0)) ++i;
-    Dual7 xs = x_at(i, tk);
-    if (xs.v < 0.0) xs = -xs;
-    (*values)[k] = model_.K * xs.v;
+    while (i + 1 < s.tv_.size() && (s.tv_[i] + s.hv_[i] < tk || s.hv_[i] <= 0.0)) ++i;
+    const double h = s.hv_[i];
+    double theta = 1.0;
+    Lanes8 ds;
+    if (h > 0.0) {
+      const double inv = 1.0 / h;
+      theta = (tk - s.tv_[i]) * inv;
+      Lanes8 dt0, dh;
+      for (std::size_t l = 0; l < kLanes; ++l) {
+        dt0[l] = s.dt_[i][l];
+        dh[l] = s.dh_[i][l];
+      }
+      ds = (Lanes8(0.0) - dt0 - theta * dh) * inv;
+    }
+    const DensePoly<double>& p = s.xv_[i];
+    const auto& dp = s.dx_[i];
+    double rv = p[kDenseTerms - 1];
+    Lanes8 rd;
+    for (std::size_t l = 0; l < kLanes; ++l) rd[l] = dp[kDenseTerms - 1][l];
+    for (std::size_t j = kDenseTerms - 1; j > 0; --j) {
+      Lanes8 pj;
+      for (std::size_t l = 0; l < kLanes; ++l) pj[l] = dp[j - 1][l];
+      rd = (rd * theta + rv * ds) + pj;
+      rv = rv * theta + p[j - 1];
+    }
+    const double sign = rv < 0.0 ? -1.0 : 1.0;
+    (*values)[k] = s.model_.K * (sign * rv);
     if (gradients != nullptr) {
-      for (std::size_t j = 0; j < kSegments; ++j) (*gradients)[k][j] = model_.K * xs.d[j];
+      for (std::size_t l = 0; l < kSegments; ++l) (*gradients)[k][l] = s.model_.K * (sign * rd[l]);
     }
   }
+}
+
+void NonlinearSensitivity::abs_eta_at(const std::vector<double>& t, std::vector<double>* values,
+                                      std::vector<std::array<double, kSegments>>* gradients) const {
+  SensitivityPass::Eta::abs_at(*this, t, values, gradients);
 }
 
 WindowPeak NonlinearSensitivity::window_peak(double t_begin, double t_end) const {

@@ -1,8 +1,9 @@
 #pragma once
 // The nonlinear model (eq. 2.35) integrated exactly as NonlinearResponse does (DOP853 with equal
-// steps on every segment, its order-7 dense output) but in dual numbers: every step carries its
-// exact derivatives with respect to the 7 durations, so the peaks of the accurate response come
-// with exact gradients (automatic differentiation through the integrator; internal to the core).
+// steps on every segment, its order-7 dense output) together with its forward sensitivity: every
+// step carries the exact derivatives of its state and interpolant with respect to the 7
+// durations (the scheme linearised stage by stage, the right-hand side by its partials), so the
+// peaks of the accurate response come with exact gradients (internal to the core).
 
 #include <array>
 #include <vector>
@@ -22,6 +23,8 @@ struct WindowPeak {
   std::array<double, kSegments> gradient;  ///< d value / d dT_i [m/s]
 };
 
+struct SensitivityPass;
+
 class NonlinearSensitivity {
  public:
   NonlinearSensitivity(const SloshingModel& model, double stroke, double rest_time,
@@ -40,6 +43,10 @@ class NonlinearSensitivity {
   /// counts still follow d, so no step is ever longer than the scheme's. Returns whether the
   /// counts changed.
   bool freeze_steps(const double* d);
+  /// Whether a run frozen at `from` (freeze_steps(from)) integrates `at` with more steps than
+  /// frozen on some segment: there the counts follow the durations, and the response the run saw
+  /// between `from` and `at` is not smooth (a solver may stop at such a jump short of the optimum).
+  [[nodiscard]] bool outgrows_frozen_steps(const double* from, const double* at) const;
   /// max |eta(t)| over [t_begin, t_end] of the dense output, found exactly (the roots of the
   /// interpolant's derivative on every step), with the exact gradient at fixed t.
   [[nodiscard]] WindowPeak window_peak(double t_begin, double t_end) const;
@@ -59,11 +66,15 @@ class NonlinearSensitivity {
   bool frozen_{false};
   std::array<std::size_t, kSegments> steps_{};  // frozen step count per segment
   [[nodiscard]] Dual7 x_at(std::size_t step, double t) const;
+  friend struct SensitivityPass;
 
-  std::vector<double> tv_, hv_;        // step start and length (values) for the search
-  std::vector<DensePoly<double>> xv_;  // xbar's interpolant on each step (values)
-  std::vector<Dual7> t_, h_;           // step start and length with derivatives
-  std::vector<DensePoly<Dual7>> x_;    // xbar's interpolant with derivatives
+  // Per step: start and length with their derivatives, and xbar's interpolant (a polynomial in
+  // the step fraction) with the derivatives of its coefficients; the derivative rows hold the 7
+  // durations and a zero pad (two AVX vectors).
+  std::vector<double> tv_, hv_;
+  std::vector<DensePoly<double>> xv_;
+  std::vector<std::array<double, 8>> dt_, dh_;
+  std::vector<std::array<std::array<double, 8>, kDenseTerms>> dx_;
 };
 
 }  // namespace slosh::detail

@@ -105,6 +105,7 @@ MultiStartResult solve_starts(const NlpProblem& problem,
     }
     if (better) {
       out.best = std::move(r);
+      out.best_start = static_cast<int>(k);
       out.feasible = feasible;
       have = true;
     }

@@ -104,6 +104,7 @@ struct StrategyOutcome {
 /// start), or the least infeasible when none is feasible.
 struct MultiStartResult {
   NlpResult best;
+  int best_start{-1};  ///< index of the start whose run gave `best` (-1: none)
   bool feasible{false};
   bool timed_out{false};
   int evaluations{};

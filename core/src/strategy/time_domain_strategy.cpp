@@ -28,6 +28,12 @@ constexpr int kRobustExchangeRounds{16};
 constexpr double kDenseTolerance{1e-7};
 /// Relative excess of a dense peak over the epigraph variable that adds a sample [-].
 constexpr double kObjectiveTolerance{1e-6};
+/// The same while a least infeasible phase's objective is hopeless, more than kHopeless times the
+/// bound it seeks to meet: the plan is infeasible whatever the last digits, its value is reported
+/// to 3 digits and only ranks infeasible laws (min-time's curve), so the exchange rounds stop once
+/// it is resolved to 0.1 % instead of running on for digits nobody reads [-].
+constexpr double kHopelessObjectiveTolerance{1e-3};
+constexpr double kHopeless{1.01};
 
 /// The scheme of the sensitivities the solver and the dense check use: DOP853 with 20 steps per
 /// period of mode 1 (half the steps of the accurate prediction, whose 40 are sized for the
@@ -201,9 +207,12 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
 // `excess` grows to the largest relative excess over the bound.
 // `computed` is the model's sensitivity already integrated at x (the solver's workspace when its
 // last evaluation was x), or null to integrate it here.
+// `hopeless_above` (least infeasible phases): the objective level above which the plan is
+// infeasible anyway; the peaks are then sampled to kHopelessObjectiveTolerance only.
 bool check_dense(const StrategyContext& c, const SloshingModel& model, const double* x, double z,
-                 bool minimise_motion, std::optional<double> bound, Samples& samples,
-                 double& excess, const NonlinearSensitivity* computed) {
+                 bool minimise_motion, std::optional<double> bound,
+                 std::optional<double> hopeless_above, Samples& samples, double& excess,
+                 const NonlinearSensitivity* computed) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
   const double period = 2.0 * std::numbers::pi / model.omega1();
@@ -216,6 +225,8 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     computed = &*own;
   }
   const NonlinearSensitivity& sens = *computed;
+  const bool hopeless = hopeless_above && z > *hopeless_above;
+  const double level = z * (1.0 + (hopeless ? kHopelessObjectiveTolerance : kObjectiveTolerance));
   bool added = false;
   for (int w = 0; w < kw + kwr; ++w) {
     const bool in_motion = w < kw;
@@ -226,7 +237,7 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     const WindowPeak peak = sens.window_peak(in_motion ? a : std::max(a, T + 1e-12), b);
     if (free) {
       // The objective's own peaks: sampled for accuracy (the reported eta is the dense one).
-      if (peak.value > z * (1.0 + kObjectiveTolerance)) {
+      if (peak.value > level) {
         samples.add(peak.time, peak.time <= T);
         added = true;
       }
@@ -272,7 +283,8 @@ bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise
 // above its bound becomes a new sample for the next solve (started from the current point).
 MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
                              std::optional<double> bound, std::vector<Durations> starts,
-                             double* bound_excess) {
+                             double* bound_excess,
+                             std::optional<double> hopeless_above = std::nullopt) {
   std::vector<SloshingModel> models = c.sample_models;
   ModelSamples samples;
   for (const SloshingModel& m : models) samples.push_back(initial_samples(c, m));
@@ -283,12 +295,20 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   *bound_excess = 0.0;
   const int rounds = c.robust() ? kRobustExchangeRounds : kExchangeRounds;
   TimeDomainWorkspace ws(c, models);
+  bool rerun = false;  // this round re-runs the last point on the same samples
   for (int round = 0; round < rounds; ++round) {
     std::optional<double> solver_bound;
     if (bound) solver_bound = *bound * (1.0 - margin);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws);
     r.evaluations += total.evaluations;
     r.starts += total.starts;
+    if (rerun && (r.best.x.empty() || (total.feasible && !r.feasible) ||
+                  r.best.objective > total.best.objective)) {
+      // Nothing better on the same samples: the last point stands (its counts are kept).
+      total.evaluations = r.evaluations;
+      total.starts = r.starts;
+      break;
+    }
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
     // A round that cannot meet the bound on its samples is final: the exchange only adds samples,
@@ -300,10 +320,21 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     // The solver's last evaluation is usually its returned point: its responses are reused.
     const bool at_last = ws.valid && std::equal(total.best.x.begin(),
                                                 total.best.x.begin() + kSegments, ws.last.begin());
+    // The best run's step counts were frozen at its start; where they had to grow on the way the
+    // response it saw jumped, and SLSQP can stop at such a jump short of the optimum: it runs
+    // again from its point with the counts frozen there (a round without new samples).
+    bool outgrown = false;
+    if (total.best_start >= 0 && static_cast<std::size_t>(total.best_start) < starts.size()) {
+      const Durations& from = starts[static_cast<std::size_t>(total.best_start)];
+      for (const NonlinearSensitivity& s : ws.sensitivity) {
+        outgrown = outgrown || s.outgrows_frozen_steps(from.data(), total.best.x.data());
+      }
+    }
     for (std::size_t m = 0; m < samples.size(); ++m) {
-      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, samples[m],
-                          excess, at_last ? &ws.sensitivity[m] : nullptr) ||
-              added;
+      added =
+          check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, hopeless_above,
+                      samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
+          added;
     }
     if (bound &&
         add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess)) {
@@ -312,7 +343,8 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       added = true;
     }
     *bound_excess = excess;
-    if (!added) break;
+    if (!added && !outgrown) break;
+    rerun = !added;
     if (round >= 1) margin += 2.0 * excess;
     Durations d;
     std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
@@ -364,7 +396,8 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
 StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double bound,
                                  const std::vector<Durations>& starts, StrategyOutcome o) {
   double unused = 0.0;
-  const MultiStartResult best = solve_phase(c, !motion, std::nullopt, starts, &unused);
+  const MultiStartResult best =
+      solve_phase(c, !motion, std::nullopt, starts, &unused, bound * kHopeless);
   const Durations infeasible_point = o.durations;
   o.evaluations += best.evaluations;
   o.starts += best.starts;
@@ -412,6 +445,31 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   return o;
 }
 
+// The objective of the durations d on the dense response of every sample model (the largest
+// peak of the minimised phase / eta_ref), or nothing when a bounded peak breaks the bound or d
+// breaks a machine limit.
+std::optional<double> dense_objective(const StrategyContext& c, bool minimise_motion, double bound,
+                                      const Durations& d) {
+  std::vector<double> limits(static_cast<std::size_t>(c.space.limit_count()));
+  if (!limits.empty()) c.space.limit_constraints(d.data(), limits.data(), nullptr, kSegments);
+  for (double g : limits) {
+    if (g > time_domain_options().constraint_tolerance) return std::nullopt;
+  }
+  const double T = c.format.motion_time;
+  const double rest = c.options.rest_time;
+  double value = 0.0;
+  for (const SloshingModel& m : c.sample_models) {
+    NonlinearSensitivity sens(m, c.format.stroke, rest, sensitivity_options());
+    sens.compute(d.data());
+    const double motion = sens.window_peak(0.0, T).value;
+    const double after = sens.window_peak(T + 1e-12, T + rest).value;
+    const double bounded = minimise_motion ? after : motion;
+    if (bounded > bound * (1.0 + kDenseTolerance)) return std::nullopt;
+    value = std::max(value, minimise_motion ? motion : after);
+  }
+  return value / c.eta_ref;
+}
+
 }  // namespace
 
 StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
@@ -425,7 +483,20 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
   }
   StrategyOutcome o;
   run_bounded(c, motion, bound, starts, &o);
-  if (o.status != SolveStatus::kInfeasible) return o;
+  if (o.status != SolveStatus::kInfeasible) {
+    // A continuation never returns worse than its warm start: the exchange rounds resolve the
+    // objective to about kObjectiveTolerance and their path differs from the one that found the
+    // warm start, so from an optimum they can end a few 1e-6 above it.
+    // (Not for robust plans: their bound also holds on check models the samples do not carry.)
+    if (c.space.warm_start && !c.robust() && !starts.empty() && starts.front() != o.durations) {
+      const std::optional<double> warm = dense_objective(c, motion, bound, starts.front());
+      if (warm && *warm <= o.objective) {
+        o.durations = starts.front();
+        o.objective = *warm;
+      }
+    }
+    return o;
+  }
   return least_infeasible(c, motion, bound, starts, std::move(o));
 }
 
