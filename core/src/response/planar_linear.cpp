@@ -1,0 +1,122 @@
+// The linear multi-mode model as isotropic 2-D oscillators in the world frame
+// (planar_response.hpp; docs/models.md).
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "response/planar_scheme.hpp"
+#include "slosh/core/constants.hpp"
+
+namespace slosh {
+
+namespace {
+
+/// M modes: state (x_1, y_1, ..., x_M, y_M, spin angle of the liquid).
+template <std::size_t M>
+struct LinearPlanarModel {
+  static constexpr std::size_t N = 2 * M + 1;
+  using V = detail::Vec<N>;
+  std::array<double, M> w2{}, two_zw{}, gain{}, inv_w2{};
+  double w_max{};
+  double nu{}, fill{};
+  bool spin{};
+
+  LinearPlanarModel(const SloshingModel& m, const PlanarOptions& o)
+      : nu(o.kinematic_viscosity), fill(m.fill_height), spin(o.spin == SpinLag::kEkman) {
+    for (std::size_t n = 0; n < M; ++n) {
+      const double w = m.omega[n];
+      w2[n] = w * w;
+      inv_w2[n] = 1.0 / (w * w);
+      two_zw[n] = 2.0 * m.zeta * w;
+      gain[n] = m.eta_gain[n];
+      w_max = std::max(w_max, w);
+    }
+  }
+
+  V rhs(const V& x, const V& v, const PlanarExcitation& e) const {
+    V a;
+    const double g_scale = 1.0 + e.az / kGravity;
+    for (std::size_t n = 0; n < M; ++n) {
+      const double k = w2[n] * g_scale;
+      a[2 * n] = -two_zw[n] * v[2 * n] - k * x[2 * n] - e.ax;
+      a[2 * n + 1] = -two_zw[n] * v[2 * n + 1] - k * x[2 * n + 1] - e.ay;
+    }
+    a[N - 1] =
+        spin ? detail::ekman_rate(nu, fill, e.theta_dot, v[N - 1]) * (e.theta_dot - v[N - 1]) : 0.0;
+    return a;
+  }
+
+  void wave(const detail::DensePoly<V>& p, detail::Poly& ex, detail::Poly& ey) const {
+    for (std::size_t k = 0; k < detail::kDenseTerms; ++k) {
+      double sx = 0.0, sy = 0.0;
+      for (std::size_t n = 0; n < M; ++n) {
+        sx += gain[n] * p[k][2 * n];
+        sy += gain[n] * p[k][2 * n + 1];
+      }
+      ex[k] = sx;
+      ey[k] = sy;
+    }
+  }
+
+  /// Each mode's energy (|r'|^2 + w^2 |r|^2) / 2 never increases in free motion, so
+  /// |r_n| <= sqrt(|r_n|^2 + |r_n'|^2 / w_n^2) from now on.
+  double free_bound(const V& x, const V& v) const {
+    double b = 0.0;
+    for (std::size_t n = 0; n < M; ++n) {
+      const double r2 = x[2 * n] * x[2 * n] + x[2 * n + 1] * x[2 * n + 1];
+      const double v2 = v[2 * n] * v[2 * n] + v[2 * n + 1] * v[2 * n + 1];
+      b += std::abs(gain[n]) * std::sqrt(r2 + v2 * inv_w2[n]);
+    }
+    return b;
+  }
+
+  double fastest_omega() const { return w_max; }
+};
+
+template <std::size_t M>
+PlanarPeaks run(const SloshingModel& model, const PlanarDrive& drive, double rest_time,
+                const PlanarOptions& options, double vortex_gain, std::vector<PlanarStep>* keep) {
+  return detail::integrate_planar(LinearPlanarModel<M>(model, options), drive, rest_time, options,
+                                  vortex_gain, keep);
+}
+
+PlanarPeaks dispatch(const SloshingModel& model, const PlanarDrive& drive, double rest_time,
+                     const PlanarOptions& options, double vortex_gain,
+                     std::vector<PlanarStep>* keep) {
+  switch (model.modes()) {
+    case 1:
+      return run<1>(model, drive, rest_time, options, vortex_gain, keep);
+    case 2:
+      return run<2>(model, drive, rest_time, options, vortex_gain, keep);
+    case 3:
+      return run<3>(model, drive, rest_time, options, vortex_gain, keep);
+    case 4:
+      return run<4>(model, drive, rest_time, options, vortex_gain, keep);
+    case 5:
+      return run<5>(model, drive, rest_time, options, vortex_gain, keep);
+    default:
+      throw std::invalid_argument("planar linear model: modes must be in [1, 5]");
+  }
+}
+
+}  // namespace
+
+void PlanarBuilder::linear(PlanarResponse& r, const SloshingModel& model, const PlanarDrive& drive,
+                           double rest_time, const PlanarOptions& options) {
+  r.vortex_gain_ = detail::vortex_gain(model, options);
+  r.motion_time_ = drive.duration();
+  r.peaks_ = dispatch(model, drive, rest_time, options, r.vortex_gain_, &r.steps_);
+}
+
+PlanarLinearResponse::PlanarLinearResponse(const SloshingModel& model, const PlanarDrive& drive,
+                                           double rest_time, const PlanarOptions& options) {
+  PlanarBuilder::linear(*this, model, drive, rest_time, options);
+}
+
+PlanarPeaks planar_linear_peaks(const SloshingModel& model, const PlanarDrive& drive,
+                                double rest_time, const PlanarOptions& options) {
+  return dispatch(model, drive, rest_time, options, detail::vortex_gain(model, options), nullptr);
+}
+
+}  // namespace slosh

@@ -1,0 +1,214 @@
+// The planar sloshing models (SPEC §14) against independent computations written here: the
+// exact straight-line models, the closed-form steady state of a circular motion, the closed-form
+// Ekman spin-up, and their invariance under a rotation of the world.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+#include "slosh/core/constants.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/response/planar_response.hpp"
+#include "slosh/core/response/response.hpp"
+#include "support/fixtures.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+MotionLaw asymmetric_law(double stroke) {
+  return SevenSegmentLaw(test::kAsymmetricDurations, stroke).law();
+}
+
+// The exact piecewise closed form of the straight-line linear model (LinearResponse) and the
+// planar model on a line: |eta| is the height at the front or the rear wall.
+TEST(PlanarLinear, OnALineItIsTheExactStraightLineModel) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const LinearResponse exact(model, law, 1.0);
+  const PlanarLinearResponse planar(model, PlanarDrive(PlanarPath::line(0.8), law), 1.0);
+  const double peak = exact.peaks().motion.value;
+  for (int i = 1; i < 1000; ++i) {
+    const double t = 0.002 * i + 1.7e-5;
+    EXPECT_NEAR(planar.eta(t), std::abs(exact.eta(t)), 1e-7 * peak) << t;
+  }
+  EXPECT_NEAR(planar.peaks().motion.value, peak, 1e-7 * peak);
+  EXPECT_NEAR(planar.peaks().motion.time, exact.peaks().motion.time, 1e-6);
+  EXPECT_NEAR(planar.peaks().rest.value, exact.peaks().rest.value, 1e-7 * peak);
+  // The wave peaks at the rear wall (phi = pi) when the liquid lags an acceleration along +x.
+  const double t_peak = planar.peaks().motion.time;
+  EXPECT_NEAR(std::abs(planar.peaks().motion.direction), exact.eta(t_peak) > 0 ? 0.0 : kPi, 1e-12);
+}
+
+TEST(PlanarLinear, ALineAt37DegreesGivesTheSameWave) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const double turn = 37.0 * kPi / 180.0;
+  const PlanarLinearResponse a(model, PlanarDrive(PlanarPath::line(0.8, 0.0), law), 1.0);
+  const PlanarLinearResponse b(model, PlanarDrive(PlanarPath::line(0.8, turn), law), 1.0);
+  const double peak = a.peaks().motion.value;
+  for (int i = 1; i < 500; ++i) {
+    const double t = 0.004 * i + 3.1e-4;
+    EXPECT_NEAR(b.eta(t), a.eta(t), 1e-12 * peak) << t;
+    if (a.eta(t) > 1e-3 * peak) {
+      EXPECT_NEAR(std::remainder(b.direction(t) - a.direction(t) - turn, 2 * kPi), 0.0, 1e-9);
+    }
+  }
+  EXPECT_NEAR(b.peaks().motion.value, peak, 1e-12 * peak);
+  EXPECT_NEAR(b.peaks().rest.value, a.peaks().rest.value, 1e-12 * peak);
+}
+
+// The normal acceleration of an arc of radius rho is v^2 / rho, across the wave the tangential
+// one raises, and the tangent turns by s / rho: the height's difference from the line's falls
+// at least as 1 / rho (as 1 / rho^2 where the tangential wave dominates).
+TEST(PlanarLinear, AnArcOfHugeRadiusTendsToTheLine) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const PlanarLinearResponse line(model, PlanarDrive(PlanarPath::line(0.8), law), 1.0);
+  const double peak = line.peaks().motion.value;
+  std::vector<double> gaps;
+  for (double rho : {1e2, 1e3, 1e4}) {
+    const PlanarLinearResponse arc(model, PlanarDrive(PlanarPath::arc(rho, 0.8 / rho, true), law),
+                                   1.0);
+    double gap = 0.0;
+    for (int i = 1; i < 500; ++i) {
+      gap = std::max(gap, std::abs(arc.eta(0.004 * i) - line.eta(0.004 * i)));
+    }
+    gaps.push_back(gap / peak);
+    EXPECT_NEAR(arc.peaks().motion.value, peak, 3.0 / rho * peak) << rho;
+  }
+  EXPECT_GT(gaps[0], 1e-4);  // the arc is felt
+  EXPECT_GT(gaps[0] / gaps[1], 9.0);
+  EXPECT_GT(gaps[1] / gaps[2], 9.0);
+  EXPECT_LT(gaps[2], 1e-5);
+}
+
+// A container carried round a circle of radius rho at constant angular rate W: the horizontal
+// acceleration is rho W^2 towards the centre, so each mode settles to r_n = A_n p with p the
+// unit vector from the centre and A_n = rho W^2 / (w_n^2 - W^2 + 2 i zeta w_n W) (a complex
+// amplitude: |A| the radius, arg A the lag behind p). The height is |sum g_n A_n|.
+TEST(PlanarLinear, SteadyCircularMotionMatchesItsClosedForm) {
+  ModelOptions options;
+  options.damping = DampingCorrelation::kExplicit;
+  options.explicit_zeta = 0.05;  // transients die within a few seconds
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const double rho = 0.3, W = 2.5, v = rho * W, ramp = 0.5, t_end = 25.0;
+  // Constant acceleration up to speed v, then constant speed (not at rest at the end: only
+  // the motion window is looked at).
+  const MotionLaw law("ramp", {{0.0, ramp, {v / ramp, 0, 0, 0}}, {ramp, t_end, {0, 0, 0, 0}}});
+  const double angle = law.stroke() / rho;
+  const PlanarLinearResponse r(model, PlanarDrive(PlanarPath::arc(rho, angle, false), law), 0.0);
+  std::complex<double> sum{};
+  for (int n = 0; n < model.modes(); ++n) {
+    const double w = model.omega[n];
+    sum += model.eta_gain[n] * rho * W * W /
+           std::complex<double>(w * w - W * W, 2.0 * model.zeta * w * W);
+  }
+  for (double t : {20.0, 21.3, 24.9}) {
+    EXPECT_NEAR(r.eta(t), std::abs(sum), 1e-7 * std::abs(sum)) << t;
+    // p: the container's position from the centre (0, rho) of the left-turning arc.
+    const double psi = law.at(t).position / rho;
+    const double p_angle = psi - kPi / 2;
+    EXPECT_NEAR(std::remainder(r.direction(t) - p_angle - std::arg(sum), 2 * kPi), 0.0, 1e-6);
+  }
+}
+
+// A container spinning in place at W from t = 0: the liquid spins up through the bottom Ekman
+// layer, w_l' = k (W - w_l) with k = sqrt(nu W) / h, so w_l = W (1 - exp(-k t)) and the wall
+// rises by R^2 w_l^2 / (4 g), tending to the forced vortex R^2 W^2 / (4 g).
+TEST(PlanarLinear, SpinTermFollowsTheEkmanSpinUpToTheForcedVortex) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const double W = 5.0, nu = 1e-4;
+  TrajectorySamples s;
+  for (int i = 0; i <= 4000; ++i) {
+    s.t.push_back(0.01 * i);
+    s.x.push_back(0.0);
+    s.y.push_back(0.0);
+    s.theta.push_back(W * 0.01 * i);
+  }
+  PlanarOptions options;
+  options.kinematic_viscosity = nu;
+  const PlanarLinearResponse r(model, PlanarDrive(SampledTrajectory(s)), 0.0, options);
+  const double k = std::sqrt(nu * W) / model.fill_height;
+  const double R = model.radius;
+  for (double t : {1.0, 5.0, 12.0, 39.5}) {
+    const double wl = W * (1.0 - std::exp(-k * t));
+    EXPECT_NEAR(r.liquid_spin(t), wl, 1e-9 * W) << t;
+    EXPECT_NEAR(r.eta(t), R * R * wl * wl / (4.0 * kGravity), 1e-9 * R) << t;
+  }
+  EXPECT_NEAR(r.eta(39.9), R * R * W * W / (4.0 * kGravity), 1e-4 * R * R * W * W / (4 * kGravity));
+  options.spin = SpinLag::kNone;
+  EXPECT_EQ(PlanarLinearResponse(model, PlanarDrive(SampledTrajectory(s)), 0.0, options).eta(20.0),
+            0.0);
+}
+
+TEST(PlanarLinear, PeaksWithoutTheTrajectoryEqualTheStoredResponse) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const PlanarDrive drive(PlanarPath::arc(0.3, kPi / 2, true), asymmetric_law(0.3 * kPi / 2));
+  const PlanarLinearResponse full(model, drive, 1.0);
+  const PlanarPeaks fast = planar_linear_peaks(model, drive, 1.0);
+  EXPECT_EQ(fast.motion.value, full.peaks().motion.value);
+  EXPECT_EQ(fast.motion.time, full.peaks().motion.time);
+  EXPECT_EQ(fast.rest.value, full.peaks().rest.value);
+  EXPECT_EQ(fast.rest.time, full.peaks().rest.time);
+  // The stored response agrees with its own peaks, and no sample exceeds them.
+  EXPECT_NEAR(full.eta(full.peaks().motion.time), full.peaks().motion.value, 1e-15);
+  for (int i = 0; i <= 2000; ++i) {
+    const double t = 1e-3 * i;
+    const PlanarPeak& p = t <= 1.0 ? full.peaks().motion : full.peaks().rest;
+    EXPECT_LE(full.eta(t), p.value * (1 + 1e-12)) << t;
+  }
+}
+
+// On a line the planar nonlinear model is eq. 2.35 (NonlinearResponse), at any direction.
+TEST(PlanarNonlinear, OnALineItIsEquation235) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const NonlinearResponse exact(model, law, 1.0);
+  const double peak = exact.peaks().motion.value;
+  for (double direction : {0.0, 37.0 * kPi / 180.0, -2.0}) {
+    const PlanarNonlinearResponse planar(model, PlanarDrive(PlanarPath::line(0.8, direction), law),
+                                         1.0);
+    for (int i = 1; i < 1000; ++i) {
+      const double t = 0.002 * i + 1.7e-5;
+      ASSERT_NEAR(planar.eta(t), std::abs(exact.eta(t)), 1e-9 * peak) << t;
+    }
+    EXPECT_NEAR(planar.peaks().motion.value, peak, 1e-9 * peak);
+    EXPECT_NEAR(planar.peaks().motion.time, exact.peaks().motion.time, 1e-9);
+    EXPECT_NEAR(planar.peaks().rest.value, exact.peaks().rest.value, 1e-9 * peak);
+    EXPECT_NEAR(planar.peaks().rest.time, exact.peaks().rest.time, 1e-9);
+    const PlanarPeaks fast =
+        planar_nonlinear_peaks(model, PlanarDrive(PlanarPath::line(0.8, direction), law), 1.0);
+    EXPECT_EQ(fast.motion.value, planar.peaks().motion.value);
+    EXPECT_EQ(fast.rest.value, planar.peaks().rest.value);
+  }
+}
+
+// Off the line the planar nonlinear model tends to the planar linear one's first mode as the
+// motion shrinks (x / R ~ 1e-6): the spherical pendulum's small-amplitude limit.
+TEST(PlanarNonlinear, TinyArcMotionReducesToTheOneModeLinearModel) {
+  ModelOptions options;
+  options.modes = 1;
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const double scale = 1e-5;
+  const PlanarDrive drive(PlanarPath::arc(0.3 * scale, kPi, false),
+                          asymmetric_law(0.3 * scale * kPi));
+  const PlanarLinearResponse lin(model, drive, 1.0);
+  const PlanarNonlinearResponse nl(model, drive, 1.0);
+  // Same displacement, different heights: K / (R eta_gain_1) = xi_1^2 / 4.
+  const double ratio = model.K / (model.radius * model.eta_gain[0]);
+  for (int i = 1; i < 200; ++i) {
+    const double t = 0.01 * i;
+    EXPECT_NEAR(nl.eta(t), ratio * lin.eta(t), 1e-5 * ratio * lin.peaks().motion.value) << t;
+    if (lin.eta(t) > 0.1 * lin.peaks().motion.value) {
+      EXPECT_NEAR(std::remainder(nl.direction(t) - lin.direction(t), 2 * kPi), 0.0, 1e-4);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace slosh
