@@ -8,7 +8,7 @@ namespace slosh {
 namespace {
 
 /// The first time in [a, b] where the law's position reaches s (bisection to the round-off of
-/// t: the join time only places a step boundary, the excitation itself looks the element up).
+/// t: a stage a round-off beyond the join still evaluates the piece's element, extended).
 double crossing_time(const MotionLaw& law, double s, double a, double b) {
   for (int it = 0; it < 200 && b - a > 1e-15 * std::max(1.0, b); ++it) {
     const double m = 0.5 * (a + b);
@@ -48,7 +48,8 @@ PlanarDrive::PlanarDrive(const PlanarPath& path, const MotionLaw& law)
     }
     cuts.push_back(p.t_end);
     for (std::size_t c = 0; c + 1 < cuts.size(); ++c) {
-      pieces_.push_back({cuts[c], cuts[c + 1], k, p.harmonic_omega});
+      const double middle = law.at(0.5 * (cuts[c] + cuts[c + 1])).position;
+      pieces_.push_back({cuts[c], cuts[c + 1], k, path.element_at(middle), p.harmonic_omega});
     }
   }
 }
@@ -59,7 +60,8 @@ PlanarDrive::PlanarDrive(const SampledTrajectory& trajectory)
       turns_(trajectory.turns()) {
   const std::vector<double>& t = trajectory.samples().t;
   const double t0 = t.front();
-  for (std::size_t i = 0; i + 1 < t.size(); ++i) pieces_.push_back({t[i] - t0, t[i + 1] - t0, i});
+  for (std::size_t i = 0; i + 1 < t.size(); ++i)
+    pieces_.push_back({t[i] - t0, t[i + 1] - t0, i, 0});
 }
 
 PlanarExcitation PlanarDrive::excitation(std::size_t k, double t) const {
@@ -75,8 +77,8 @@ PlanarExcitation PlanarDrive::excitation(std::size_t k, double t) const {
   }
   const LawPiece& lp = law_->pieces()[piece.source];
   const KinematicState s = lp.at(t - lp.t_begin);
-  path_->acceleration(path_->element_at(s.position), s.position, s.velocity, s.acceleration, e.ax,
-                      e.ay, e.theta_dot);
+  path_->acceleration(piece.element, s.position, s.velocity, s.acceleration, e.ax, e.ay,
+                      e.theta_dot);
   return e;
 }
 

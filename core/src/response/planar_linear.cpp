@@ -5,6 +5,7 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "response/planar_linear_exact.hpp"
 #include "response/planar_scheme.hpp"
 #include "slosh/core/constants.hpp"
 
@@ -116,6 +117,10 @@ PlanarLinearResponse::PlanarLinearResponse(const SloshingModel& model, const Pla
 
 PlanarPeaks planar_linear_peaks(const SloshingModel& model, const PlanarDrive& drive,
                                 double rest_time, const PlanarOptions& options) {
+  if (std::optional<PlanarPeaks> exact =
+          detail::exact_planar_linear_peaks(model, drive, rest_time, options)) {
+    return *exact;
+  }
   return dispatch(model, drive, rest_time, options, detail::vortex_gain(model, options), nullptr);
 }
 

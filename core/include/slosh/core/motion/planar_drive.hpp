@@ -27,6 +27,10 @@ struct PlanarExcitation {
 struct DrivePiece {
   double t_begin{}, t_end{};
   std::size_t source{};  ///< the law piece, or the trajectory's sample interval
+  /// The path element the piece runs on (the one at its middle): its closed form is used over
+  /// the whole piece, so a stage at the piece's start is not evaluated on the element before
+  /// because s(t_begin) rounds below the join.
+  std::size_t element{};
   /// Period of the law piece's harmonic term [s] (0: none): steps must resolve it too.
   double harmonic_omega{};
 };
@@ -44,6 +48,8 @@ class PlanarDrive {
   [[nodiscard]] const std::vector<DrivePiece>& pieces() const { return pieces_; }
   /// True when the heading may change (the spin term needs integrating).
   [[nodiscard]] bool turns() const { return turns_; }
+  /// True when the container may move vertically (the effective gravity changes).
+  [[nodiscard]] bool vertical() const { return trajectory_ && trajectory_->has_vertical_motion(); }
   /// Excitation at time t on piece k (t within it; the models' hot path).
   [[nodiscard]] PlanarExcitation excitation(std::size_t k, double t) const;
   /// Pose and derivatives at any t (at rest before 0 and after the duration).
