@@ -6,6 +6,7 @@
 #include <sstream>
 #include <string>
 
+#include "response/sincos.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 
 namespace slosh {
@@ -173,7 +174,8 @@ void PlanarPath::acceleration(std::size_t i, double s, double s_dot, double s_dd
                               double& ay, double& theta_dot) const {
   const double kappa = curvature_[i];
   const double psi = heading_[i] + kappa * (s - starts_[i]);
-  const double c = std::cos(psi), sn = std::sin(psi);
+  const detail::SinCos sc = detail::fast_sincos(psi);  // the integrators call this per stage
+  const double c = sc.cos, sn = sc.sin;
   const double an = kappa * s_dot * s_dot;
   ax = s_ddot * c - an * sn;
   ay = s_ddot * sn + an * c;

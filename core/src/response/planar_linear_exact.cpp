@@ -12,7 +12,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <complex>
 #include <numbers>
 #include <optional>
 
@@ -24,14 +23,34 @@ namespace slosh::detail {
 
 namespace {
 
-using Complex = std::complex<double>;
+/// A complex number with plain arithmetic (std::complex's product checks for infinities and
+/// NaN on every call, which costs more than the product in the sampling loop).
+struct Complex {
+  double re{}, im{};
+  [[nodiscard]] double real() const { return re; }
+  [[nodiscard]] double imag() const { return im; }
+};
+Complex operator*(Complex a, Complex b) {
+  return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+}
+Complex operator*(double a, Complex b) {
+  return {a * b.re, a * b.im};
+}
+/// exp((-sigma + i wd) tau) for lambda = (-sigma, wd).
+Complex exp_of(Complex lambda, double tau) {
+  const double e = std::exp(lambda.re * tau);
+  const SinCos sc = fast_sincos(lambda.im * tau);
+  return {e * sc.cos, e * sc.sin};
+}
 constexpr std::size_t kTerms{8};
 using Coeffs = std::array<double, kTerms>;
 
 /// Sub-steps per period of the first mode [-] (and per period of a law piece's harmonic).
-constexpr double kFitStepsPerPeriod{8.0};
+constexpr double kFitStepsPerPeriod{4.0};
 /// Candidates within this fraction of the best sample are refined (as find_max()).
 constexpr double kRefineFraction{0.05};
+/// A candidate this far below the best refined peak is not refined [-] (window_peak()).
+constexpr double kRefineGain{0.01};
 
 /// Chebyshev nodes on [0, 1] and the inverse of their monomial Vandermonde matrix: the
 /// interpolating polynomial's coefficients in u are inverse * values.
@@ -41,7 +60,8 @@ struct ChebyshevFit {
   ChebyshevFit() {
     std::array<std::array<double, 2 * kTerms>, kTerms> a{};
     for (std::size_t j = 0; j < kTerms; ++j) {
-      node[j] = 0.5 * (1.0 - std::cos((2.0 * static_cast<double>(j) + 1.0) * std::numbers::pi / (2.0 * kTerms)));
+      node[j] = 0.5 * (1.0 - std::cos((2.0 * static_cast<double>(j) + 1.0) * std::numbers::pi /
+                                      (2.0 * kTerms)));
       double p = 1.0;
       for (std::size_t k = 0; k < kTerms; ++k, p *= node[j]) a[j][k] = p;
       a[j][kTerms + j] = 1.0;
@@ -105,10 +125,12 @@ struct Mode {
 
 /// One sub-step in closed form: E(u) = (px, py)(u) + sum_n Re((zx_n, zy_n) exp(lambda_n H u)),
 /// amplitudes weighted by the modes' height gains; the liquid's spin w(u).
+template <std::size_t M>
 struct SubStep {
   double t0{}, H{};
+  bool forced{};  ///< px, py are not zero (the rest window has no forcing)
   Coeffs px{}, py{}, spin{};
-  std::array<Complex, kMaxModes> zx{}, zy{};
+  std::array<Complex, M> zx{}, zy{};
 };
 
 /// Height and its first two time derivatives.
@@ -116,15 +138,16 @@ struct Jet {
   double f{}, d1{}, d2{}, ex{}, ey{};
 };
 
+template <std::size_t M>
 class ExactPlanarLinear {
  public:
   ExactPlanarLinear(const SloshingModel& model, const PlanarOptions& options, double vortex_gain)
       : options_(options), vortex_gain_(vortex_gain), fill_(model.fill_height) {
     double w_max = 0.0;
-    for (int n = 0; n < model.modes(); ++n) {
-      const double w = model.omega[static_cast<std::size_t>(n)];
-      modes_.push_back({w, w * w, 2.0 * model.zeta * w, model.eta_gain[static_cast<std::size_t>(n)],
-                        Complex(-model.zeta * w, w * std::sqrt(1.0 - model.zeta * model.zeta))});
+    for (std::size_t n = 0; n < M; ++n) {
+      const double w = model.omega[n];
+      modes_[n] = {w, w * w, 2.0 * model.zeta * w, model.eta_gain[n],
+                   Complex{-model.zeta * w, w * std::sqrt(1.0 - model.zeta * model.zeta)}};
       w_max = std::max(w_max, w);
     }
     w1_ = model.omega1();
@@ -135,13 +158,13 @@ class ExactPlanarLinear {
 
  private:
   struct State {
-    std::array<double, kMaxModes> x{}, y{}, vx{}, vy{};
+    std::array<double, M> x{}, y{}, vx{}, vy{};
     double phi{}, spin{};
   };
 
   void sub_step(const PlanarDrive& drive, std::size_t piece, bool rest, double t0, double H,
-                SubStep& out);
-  void sample(const SubStep& s, std::size_t m, std::vector<double>& t,
+                SubStep<M>& out);
+  void sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
               std::vector<double>& f) const;
   [[nodiscard]] Jet jet(double t) const;
   [[nodiscard]] double height_now() const;
@@ -153,15 +176,17 @@ class ExactPlanarLinear {
   PlanarOptions options_;
   double vortex_gain_{}, fill_{}, w1_{}, sample_step_{};
   bool spin_{};
-  std::vector<Mode> modes_;
+  std::array<Mode, M> modes_{};
   State state_;
-  std::vector<SubStep> steps_;
+  std::vector<SubStep<M>> steps_;
 };
 
-void ExactPlanarLinear::sub_step(const PlanarDrive& drive, std::size_t piece, bool rest, double t0,
-                                 double H, SubStep& out) {
+template <std::size_t M>
+void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece, bool rest,
+                                    double t0, double H, SubStep<M>& out) {
   out.t0 = t0;
   out.H = H;
+  out.forced = !rest;
   Coeffs qx{}, qy{}, th{};
   if (!rest) {
     const ChebyshevFit& fit = chebyshev();
@@ -179,7 +204,7 @@ void ExactPlanarLinear::sub_step(const PlanarDrive& drive, std::size_t piece, bo
   out.px.fill(0.0);
   out.py.fill(0.0);
   const double inv_h = 1.0 / H, inv_h2 = inv_h * inv_h;
-  for (std::size_t n = 0; n < modes_.size(); ++n) {
+  for (std::size_t n = 0; n < M; ++n) {
     const Mode& md = modes_[n];
     const double a1 = md.two_zw * inv_h;
     auto particular = [&](const Coeffs& q) {
@@ -197,11 +222,11 @@ void ExactPlanarLinear::sub_step(const PlanarDrive& drive, std::size_t piece, bo
     auto homogeneous = [&](const Coeffs& r, double x0, double v0) {
       const double c1 = x0 - r[0];
       const double c2 = (v0 - r[1] * inv_h + sigma * c1) / wd;
-      return Complex(c1, -c2);
+      return Complex{c1, -c2};
     };
     const Complex zx = homogeneous(rx, state_.x[n], state_.vx[n]);
     const Complex zy = homogeneous(ry, state_.y[n], state_.vy[n]);
-    const Complex e = std::exp(md.lambda * H);
+    const Complex e = exp_of(md.lambda, H);
     double rx1 = 0.0, ry1 = 0.0, drx1 = 0.0, dry1 = 0.0;
     for (std::size_t k = 0; k < kTerms; ++k) {
       out.px[k] += md.gain * rx[k];
@@ -234,37 +259,50 @@ void ExactPlanarLinear::sub_step(const PlanarDrive& drive, std::size_t piece, bo
   }
 }
 
-void ExactPlanarLinear::sample(const SubStep& s, std::size_t m, std::vector<double>& t,
-                               std::vector<double>& f) const {
+template <std::size_t M>
+void ExactPlanarLinear<M>::sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
+                                  std::vector<double>& f) const {
   const double dt = s.H / static_cast<double>(m);
-  std::array<Complex, kMaxModes> rot{}, step{};
-  for (std::size_t n = 0; n < modes_.size(); ++n) {
-    rot[n] = 1.0;
-    step[n] = std::exp(modes_[n].lambda * dt);
+  std::array<Complex, M> rot{}, step{};
+  for (std::size_t n = 0; n < M; ++n) {
+    rot[n] = {1.0, 0.0};
+    step[n] = exp_of(modes_[n].lambda, dt);
   }
+  const std::size_t first = f.size();
+  t.resize(first + m);
+  f.resize(first + m);
+  double* tp = t.data() + first;
+  double* fp = f.data() + first;
+  const double du = 1.0 / static_cast<double>(m);
   for (std::size_t j = 0; j < m; ++j) {
-    const double u = static_cast<double>(j) / static_cast<double>(m);
-    double ex = horner(s.px, u), ey = horner(s.py, u);
-    for (std::size_t n = 0; n < modes_.size(); ++n) {
-      const Complex zx = s.zx[n] * rot[n], zy = s.zy[n] * rot[n];
-      ex += zx.real();
-      ey += zy.real();
-      rot[n] *= step[n];
+    const double u = static_cast<double>(j) * du;
+    double ex = 0.0, ey = 0.0;
+    if (s.forced) {
+      ex = horner(s.px, u);
+      ey = horner(s.py, u);
     }
-    double h = std::sqrt(ex * ex + ey * ey);
-    if (spin_) {
-      const double w = horner(s.spin, u);
-      h += vortex_gain_ * w * w;
+    for (std::size_t n = 0; n < M; ++n) {
+      const Complex r = rot[n];
+      ex += s.zx[n].re * r.re - s.zx[n].im * r.im;
+      ey += s.zy[n].re * r.re - s.zy[n].im * r.im;
+      rot[n] = r * step[n];
     }
-    t.push_back(s.t0 + static_cast<double>(j) * dt);
-    f.push_back(h);
+    tp[j] = s.t0 + static_cast<double>(j) * dt;
+    fp[j] = std::sqrt(ex * ex + ey * ey);
+  }
+  if (spin_) {
+    for (std::size_t j = 0; j < m; ++j) {
+      const double w = horner(s.spin, static_cast<double>(j) * du);
+      fp[j] += vortex_gain_ * w * w;
+    }
   }
 }
 
-Jet ExactPlanarLinear::jet(double t) const {
+template <std::size_t M>
+Jet ExactPlanarLinear<M>::jet(double t) const {
   const auto it = std::upper_bound(steps_.begin(), steps_.end(), t,
-                                   [](double v, const SubStep& s) { return v < s.t0; });
-  const SubStep& s = *(it == steps_.begin() ? it : it - 1);
+                                   [](double v, const SubStep<M>& s) { return v < s.t0; });
+  const SubStep<M>& s = *(it == steps_.begin() ? it : it - 1);
   const double tau = t - s.t0, u = tau / s.H, ih = 1.0 / s.H;
   double ex = 0, ex1 = 0, ex2 = 0, ey = 0, ey1 = 0, ey2 = 0;
   horner_jet(s.px, u, ex, ex1, ex2);
@@ -273,10 +311,9 @@ Jet ExactPlanarLinear::jet(double t) const {
   ey1 *= ih;
   ex2 *= ih * ih;
   ey2 *= ih * ih;
-  for (std::size_t n = 0; n < modes_.size(); ++n) {
+  for (std::size_t n = 0; n < M; ++n) {
     const Complex l = modes_[n].lambda;
-    const SinCos sc = fast_sincos(l.imag() * tau);
-    const Complex e = std::exp(l.real() * tau) * Complex(sc.cos, sc.sin);
+    const Complex e = exp_of(l, tau);
     const Complex zx = s.zx[n] * e, zy = s.zy[n] * e;
     ex += zx.real();
     ey += zy.real();
@@ -305,9 +342,10 @@ Jet ExactPlanarLinear::jet(double t) const {
   return j;
 }
 
-double ExactPlanarLinear::height_now() const {
+template <std::size_t M>
+double ExactPlanarLinear<M>::height_now() const {
   double ex = 0.0, ey = 0.0;
-  for (std::size_t n = 0; n < modes_.size(); ++n) {
+  for (std::size_t n = 0; n < M; ++n) {
     ex += modes_[n].gain * state_.x[n];
     ey += modes_[n].gain * state_.y[n];
   }
@@ -316,9 +354,10 @@ double ExactPlanarLinear::height_now() const {
 
 /// |r_n| <= sqrt(|r_n|^2 + |r_n'|^2 / w_n^2) for all later times in free motion; the spin only
 /// decays once the container stops turning.
-double ExactPlanarLinear::free_bound() const {
+template <std::size_t M>
+double ExactPlanarLinear<M>::free_bound() const {
   double b = 0.0;
-  for (std::size_t n = 0; n < modes_.size(); ++n) {
+  for (std::size_t n = 0; n < M; ++n) {
     const double r2 = state_.x[n] * state_.x[n] + state_.y[n] * state_.y[n];
     const double v2 = state_.vx[n] * state_.vx[n] + state_.vy[n] * state_.vy[n];
     b += std::abs(modes_[n].gain) * std::sqrt(r2 + v2 / modes_[n].w2);
@@ -328,7 +367,8 @@ double ExactPlanarLinear::free_bound() const {
 
 /// The root of f' in [lo, hi] from t by Newton's method kept inside the bracket (bisection when
 /// a step leaves it or f'' >= 0).
-PlanarPeak ExactPlanarLinear::refine(double lo, double hi, double t, double f) const {
+template <std::size_t M>
+PlanarPeak ExactPlanarLinear<M>::refine(double lo, double hi, double t, double f) const {
   PlanarPeak best{f, t, 0.0};
   for (int it = 0; it < 60 && hi - lo > 1e-14; ++it) {
     const Jet j = jet(t);
@@ -350,30 +390,39 @@ PlanarPeak ExactPlanarLinear::refine(double lo, double hi, double t, double f) c
   return best;
 }
 
-PlanarPeak ExactPlanarLinear::window_peak(const std::vector<double>& t,
-                                          const std::vector<double>& f) const {
-  PlanarPeak best{-1.0, 0.0, 0.0};
+template <std::size_t M>
+PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
+                                             const std::vector<double>& f) const {
   if (t.empty()) return {0.0, 0.0, 0.0};
   const double top = *std::max_element(f.begin(), f.end());
   const double threshold = top - kRefineFraction * std::abs(top);
   const std::size_t n = t.size();
+  std::vector<std::size_t> candidates;
   for (std::size_t i = 0; i < n; ++i) {
     if (f[i] < threshold) continue;
     const bool left = i == 0 || f[i] >= f[i - 1];
     const bool right = i + 1 == n || f[i] >= f[i + 1];
-    if (!left || !right) continue;
+    if (left && right) candidates.push_back(i);
+  }
+  // Highest samples first; a candidate whose sample is more than kRefineGain below the best
+  // refined peak cannot exceed it (between samples at most 1/64 of the fastest period apart
+  // the height rises above its best sample by less than (4 pi / 64)^2 / 8 = 0.5 %).
+  std::sort(candidates.begin(), candidates.end(),
+            [&f](std::size_t a, std::size_t b) { return f[a] > f[b]; });
+  PlanarPeak best{-1.0, 0.0, 0.0};
+  for (std::size_t i : candidates) {
+    if (f[i] < best.value * (1.0 - kRefineGain)) break;
     PlanarPeak p{f[i], t[i], 0.0};
     if (i > 0 && i + 1 < n) p = refine(t[i - 1], t[i + 1], t[i], f[i]);
-    if (p.value > best.value) {
-      best = p;
-      const Jet j = jet(best.time);
-      best.direction = std::atan2(j.ey, j.ex);
-    }
+    if (p.value > best.value) best = p;
   }
+  const Jet j = jet(best.time);
+  best.direction = std::atan2(j.ey, j.ex);
   return best;
 }
 
-PlanarPeaks ExactPlanarLinear::run(const PlanarDrive& drive, double rest_time) {
+template <std::size_t M>
+PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time) {
   spin_ = drive.turns() && vortex_gain_ > 0.0;
   const double T = drive.duration();
   const std::vector<DrivePiece>& pieces = drive.pieces();
@@ -426,8 +475,21 @@ std::optional<PlanarPeaks> exact_planar_linear_peaks(const SloshingModel& model,
                                                      const PlanarDrive& drive, double rest_time,
                                                      const PlanarOptions& options) {
   if (drive.vertical() || !(model.zeta < 1.0)) return std::nullopt;
-  ExactPlanarLinear solver(model, options, vortex_gain(model, options));
-  return solver.run(drive, rest_time);
+  const double gain = vortex_gain(model, options);
+  switch (model.modes()) {
+    case 1:
+      return ExactPlanarLinear<1>(model, options, gain).run(drive, rest_time);
+    case 2:
+      return ExactPlanarLinear<2>(model, options, gain).run(drive, rest_time);
+    case 3:
+      return ExactPlanarLinear<3>(model, options, gain).run(drive, rest_time);
+    case 4:
+      return ExactPlanarLinear<4>(model, options, gain).run(drive, rest_time);
+    case 5:
+      return ExactPlanarLinear<5>(model, options, gain).run(drive, rest_time);
+    default:
+      return std::nullopt;
+  }
 }
 
 }  // namespace slosh::detail

@@ -106,7 +106,7 @@ StepMax step_max(const Poly& ex, const Poly& ey, const Poly& w, double vortex_ga
     if (v > best.value) best = {v, s, 0.0};
   };
   consider(0.0);
-  constexpr int kParts = 8;
+  constexpr int kParts = 4;
   double s0 = 0.0, d0 = f.slope(0.0);
   for (int j = 1; j <= kParts; ++j) {
     const double s1 = static_cast<double>(j) / kParts;
