@@ -13,18 +13,16 @@ namespace slosh {
 
 namespace {
 
-/// M modes: state (x_1, y_1, ..., x_M, y_M, spin angle of the liquid).
+/// M modes: state (x_1, y_1, ..., x_M, y_M).
 template <std::size_t M>
 struct LinearPlanarModel {
-  static constexpr std::size_t N = 2 * M + 1;
+  static constexpr std::size_t N = 2 * M;
   using V = detail::Vec<N>;
   std::array<double, M> w2{}, two_zw{}, gain{}, inv_w2{};
   double w_max{};
-  double nu{}, fill{};
-  bool spin{};
+  const SloshingModel* source{};
 
-  LinearPlanarModel(const SloshingModel& m, const PlanarOptions& o)
-      : nu(o.kinematic_viscosity), fill(m.fill_height), spin(o.spin == SpinLag::kEkman) {
+  explicit LinearPlanarModel(const SloshingModel& m) : source(&m) {
     for (std::size_t n = 0; n < M; ++n) {
       const double w = m.omega[n];
       w2[n] = w * w;
@@ -43,8 +41,6 @@ struct LinearPlanarModel {
       a[2 * n] = -two_zw[n] * v[2 * n] - k * x[2 * n] - e.ax;
       a[2 * n + 1] = -two_zw[n] * v[2 * n + 1] - k * x[2 * n + 1] - e.ay;
     }
-    a[N - 1] =
-        spin ? detail::ekman_rate(nu, fill, e.theta_dot, v[N - 1]) * (e.theta_dot - v[N - 1]) : 0.0;
     return a;
   }
 
@@ -73,12 +69,13 @@ struct LinearPlanarModel {
   }
 
   double fastest_omega() const { return w_max; }
+  const SloshingModel& sloshing_model() const { return *source; }
 };
 
 template <std::size_t M>
 PlanarPeaks run(const SloshingModel& model, const PlanarDrive& drive, double rest_time,
                 const PlanarOptions& options, double vortex_gain, std::vector<PlanarStep>* keep) {
-  return detail::integrate_planar(LinearPlanarModel<M>(model, options), drive, rest_time, options,
+  return detail::integrate_planar(LinearPlanarModel<M>(model), drive, rest_time, options,
                                   vortex_gain, keep);
 }
 

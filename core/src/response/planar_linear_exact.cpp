@@ -6,9 +6,9 @@
 // so no step follows the fastest mode's period. The height |E| + R^2 w_l^2 / (4 g) is sampled
 // at min(1 ms, fastest period / 64) by complex rotation (as linear_peaks.cpp) and every sampled
 // local maximum within 5 % of the best sample is refined by safeguarded Newton steps on its
-// exact derivatives. The liquid's spin (slow, seconds to minutes) is integrated by DOP853 on
-// the same sub-steps from the interpolated turning rate. Applies when the effective gravity is
-// constant (no vertical motion) and every mode is under-damped; else the caller integrates.
+// exact derivatives. The liquid's spin is the SpinTrack's (planar_spin.hpp), on the same
+// sub-steps. Applies when the effective gravity is constant (no vertical motion) and every mode
+// is under-damped; else the caller integrates.
 
 #include <algorithm>
 #include <cmath>
@@ -17,6 +17,7 @@
 
 #include "response/planar_linear_exact.hpp"
 #include "response/planar_scheme.hpp"
+#include "response/planar_spin.hpp"
 #include "sincos.hpp"
 
 namespace slosh::detail {
@@ -42,69 +43,13 @@ Complex exp_of(Complex lambda, double tau) {
   const SinCos sc = fast_sincos(lambda.im * tau);
   return {e * sc.cos, e * sc.sin};
 }
-constexpr std::size_t kTerms{8};
-using Coeffs = std::array<double, kTerms>;
+constexpr std::size_t kTerms{kFitTerms};
+using Coeffs = FitPoly;
 
-/// Sub-steps per period of the first mode [-] (and per period of a law piece's harmonic).
-constexpr double kFitStepsPerPeriod{4.0};
 /// Candidates within this fraction of the best sample are refined (as find_max()).
 constexpr double kRefineFraction{0.05};
 /// A candidate this far below the best refined peak is not refined [-] (window_peak()).
 constexpr double kRefineGain{0.01};
-
-/// Chebyshev nodes on [0, 1] and the inverse of their monomial Vandermonde matrix: the
-/// interpolating polynomial's coefficients in u are inverse * values.
-struct ChebyshevFit {
-  std::array<double, kTerms> node{};
-  std::array<std::array<double, kTerms>, kTerms> inverse{};
-  ChebyshevFit() {
-    std::array<std::array<double, 2 * kTerms>, kTerms> a{};
-    for (std::size_t j = 0; j < kTerms; ++j) {
-      node[j] = 0.5 * (1.0 - std::cos((2.0 * static_cast<double>(j) + 1.0) * std::numbers::pi /
-                                      (2.0 * kTerms)));
-      double p = 1.0;
-      for (std::size_t k = 0; k < kTerms; ++k, p *= node[j]) a[j][k] = p;
-      a[j][kTerms + j] = 1.0;
-    }
-    for (std::size_t c = 0; c < kTerms; ++c) {  // Gauss-Jordan with partial pivoting
-      std::size_t pivot = c;
-      for (std::size_t r = c + 1; r < kTerms; ++r) {
-        if (std::abs(a[r][c]) > std::abs(a[pivot][c])) pivot = r;
-      }
-      std::swap(a[c], a[pivot]);
-      const double d = a[c][c];
-      for (double& e : a[c]) e /= d;
-      for (std::size_t r = 0; r < kTerms; ++r) {
-        if (r == c) continue;
-        const double f = a[r][c];
-        for (std::size_t k = 0; k < 2 * kTerms; ++k) a[r][k] -= f * a[c][k];
-      }
-    }
-    for (std::size_t r = 0; r < kTerms; ++r) {
-      for (std::size_t k = 0; k < kTerms; ++k) inverse[r][k] = a[r][kTerms + k];
-    }
-  }
-  [[nodiscard]] Coeffs fit(const Coeffs& values) const {
-    Coeffs c{};
-    for (std::size_t r = 0; r < kTerms; ++r) {
-      double s = 0.0;
-      for (std::size_t k = 0; k < kTerms; ++k) s += inverse[r][k] * values[k];
-      c[r] = s;
-    }
-    return c;
-  }
-};
-
-const ChebyshevFit& chebyshev() {
-  static const ChebyshevFit fit;
-  return fit;
-}
-
-double horner(const Coeffs& c, double u) {
-  double r = c[kTerms - 1];
-  for (std::size_t k = kTerms - 1; k > 0; --k) r = r * u + c[k - 1];
-  return r;
-}
 
 /// p, p', p'' in u.
 void horner_jet(const Coeffs& c, double u, double& p, double& d1, double& d2) {
@@ -142,7 +87,7 @@ template <std::size_t M>
 class ExactPlanarLinear {
  public:
   ExactPlanarLinear(const SloshingModel& model, const PlanarOptions& options, double vortex_gain)
-      : options_(options), vortex_gain_(vortex_gain), fill_(model.fill_height) {
+      : model_(&model), options_(options), vortex_gain_(vortex_gain) {
     double w_max = 0.0;
     for (std::size_t n = 0; n < M; ++n) {
       const double w = model.omega[n];
@@ -150,7 +95,6 @@ class ExactPlanarLinear {
                    Complex{-model.zeta * w, w * std::sqrt(1.0 - model.zeta * model.zeta)}};
       w_max = std::max(w_max, w);
     }
-    w1_ = model.omega1();
     sample_step_ = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / w_max / kSamplesPerPeriod);
   }
 
@@ -159,7 +103,7 @@ class ExactPlanarLinear {
  private:
   struct State {
     std::array<double, M> x{}, y{}, vx{}, vy{};
-    double phi{}, spin{};
+    double spin{};  // the liquid's spin rate at the current time [rad/s]
   };
 
   void sub_step(const PlanarDrive& drive, std::size_t piece, bool rest, double t0, double H,
@@ -173,10 +117,12 @@ class ExactPlanarLinear {
                                        const std::vector<double>& f) const;
   [[nodiscard]] PlanarPeak refine(double lo, double hi, double t, double f) const;
 
+  const SloshingModel* model_;
   PlanarOptions options_;
-  double vortex_gain_{}, fill_{}, w1_{}, sample_step_{};
+  double vortex_gain_{}, sample_step_{};
   bool spin_{};
   std::array<Mode, M> modes_{};
+  SpinTrack spin_track_;
   State state_;
   std::vector<SubStep<M>> steps_;
 };
@@ -187,19 +133,17 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
   out.t0 = t0;
   out.H = H;
   out.forced = !rest;
-  Coeffs qx{}, qy{}, th{};
+  Coeffs qx{}, qy{};
   if (!rest) {
     const ChebyshevFit& fit = chebyshev();
-    Coeffs ax{}, ay{}, td{};
+    Coeffs ax{}, ay{};
     for (std::size_t j = 0; j < kTerms; ++j) {
       const PlanarExcitation e = drive.excitation(piece, t0 + fit.node[j] * H);
       ax[j] = -e.ax;
       ay[j] = -e.ay;
-      td[j] = e.theta_dot;
     }
     qx = fit.fit(ax);
     qy = fit.fit(ay);
-    if (spin_) th = fit.fit(td);
   }
   out.px.fill(0.0);
   out.py.fill(0.0);
@@ -245,17 +189,8 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
   }
   out.spin.fill(0.0);
   if (spin_) {
-    const double nu = options_.kinematic_viscosity, fill = fill_;
-    auto rhs = [nu, fill](double, double v, double a) {
-      return ekman_rate(nu, fill, a, v) * (a - v);
-    };
-    auto acc = [&](std::size_t i) { return horner(th, kDopC[i]); };
-    DopStep<double> step;
-    const double f0 = rhs(state_.phi, state_.spin, th[0]);
-    dop853_step(rhs, acc, state_.phi, state_.spin, f0, H, true, step, true);
-    std::copy(step.v_poly.begin(), step.v_poly.end(), out.spin.begin());
-    state_.phi = step.x1;
-    state_.spin = step.v1;
+    out.spin = spin_track_.pieces()[steps_.size() - 1].w;  // the same sub-steps, in order
+    state_.spin = horner(out.spin, 1.0);
   }
 }
 
@@ -424,10 +359,10 @@ PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
 template <std::size_t M>
 PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time) {
   spin_ = drive.turns() && vortex_gain_ > 0.0;
+  if (spin_) spin_track_ = SpinTrack(drive, rest_time, *model_, options_);
   const double T = drive.duration();
   const std::vector<DrivePiece>& pieces = drive.pieces();
-  const double h_max =
-      std::min(options_.max_step, 2.0 * std::numbers::pi / w1_ / kFitStepsPerPeriod);
+  const double h_fit = fit_step(*model_, options_);
   PlanarPeaks peaks;
   std::vector<double> ts, fs;
   ts.reserve(static_cast<std::size_t>((T + rest_time) / sample_step_) + pieces.size() + 8);
@@ -445,8 +380,7 @@ PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time
     const DrivePiece p = rest ? DrivePiece{T, T + rest_time} : pieces[k];
     const double L = p.t_end - p.t_begin;
     if (!(L > 0.0)) continue;
-    const std::size_t n =
-        step_count(L, piece_max_step(h_max, p.harmonic_omega, kFitStepsPerPeriod), 1);
+    const std::size_t n = fit_steps(L, h_fit, p.harmonic_omega);
     const double H = L / static_cast<double>(n);
     const std::size_t m = step_count(H, sample_step_, 1);
     bool done = false;

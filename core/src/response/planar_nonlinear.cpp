@@ -10,15 +10,14 @@ namespace slosh {
 
 namespace {
 
-/// State (xbar, ybar, spin angle of the liquid), q = r_1 / R.
+/// State (xbar, ybar), q = r_1 / R.
 struct NonlinearPlanarModel {
-  static constexpr std::size_t N = 3;
+  static constexpr std::size_t N = 2;
   using V = detail::Vec<N>;
   double w{}, w2{}, two_zw{}, c2{}, alpha{}, inv_radius{}, K{};
-  double nu{}, fill{};
-  bool spin{};
+  const SloshingModel* source{};
 
-  NonlinearPlanarModel(const SloshingModel& m, const PlanarOptions& o)
+  explicit NonlinearPlanarModel(const SloshingModel& m)
       : w(m.omega1()),
         w2(m.omega1() * m.omega1()),
         two_zw(2.0 * m.zeta * m.omega1()),
@@ -26,9 +25,7 @@ struct NonlinearPlanarModel {
         alpha(m.alpha),
         inv_radius(1.0 / m.radius),
         K(m.K),
-        nu(o.kinematic_viscosity),
-        fill(m.fill_height),
-        spin(o.spin == SpinLag::kEkman) {}
+        source(&m) {}
 
   // M q'' = b with M = I + C^2 q q^T, so q'' = b - C^2 q (q . b) / (1 + C^2 |q|^2).
   V rhs(const V& x, const V& v, const PlanarExcitation& e) const {
@@ -45,7 +42,6 @@ struct NonlinearPlanarModel {
     V a;
     a[0] = bx - lam * qx;
     a[1] = by - lam * qy;
-    a[2] = spin ? detail::ekman_rate(nu, fill, e.theta_dot, v[2]) * (e.theta_dot - v[2]) : 0.0;
     return a;
   }
 
@@ -68,6 +64,7 @@ struct NonlinearPlanarModel {
   }
 
   double fastest_omega() const { return w; }
+  const SloshingModel& sloshing_model() const { return *source; }
 };
 
 }  // namespace
@@ -77,8 +74,8 @@ void PlanarBuilder::nonlinear(PlanarResponse& r, const SloshingModel& model,
                               const PlanarOptions& options) {
   r.vortex_gain_ = detail::vortex_gain(model, options);
   r.motion_time_ = drive.duration();
-  r.peaks_ = detail::integrate_planar(NonlinearPlanarModel(model, options), drive, rest_time,
-                                      options, r.vortex_gain_, &r.steps_);
+  r.peaks_ = detail::integrate_planar(NonlinearPlanarModel(model), drive, rest_time, options,
+                                      r.vortex_gain_, &r.steps_);
 }
 
 PlanarNonlinearResponse::PlanarNonlinearResponse(const SloshingModel& model,
@@ -89,7 +86,7 @@ PlanarNonlinearResponse::PlanarNonlinearResponse(const SloshingModel& model,
 
 PlanarPeaks planar_nonlinear_peaks(const SloshingModel& model, const PlanarDrive& drive,
                                    double rest_time, const PlanarOptions& options) {
-  return detail::integrate_planar(NonlinearPlanarModel(model, options), drive, rest_time, options,
+  return detail::integrate_planar(NonlinearPlanarModel(model), drive, rest_time, options,
                                   detail::vortex_gain(model, options), nullptr);
 }
 

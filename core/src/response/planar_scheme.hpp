@@ -5,7 +5,7 @@
 // and the rest window's early end by the model's energy bound.
 //
 // A model supplies (Model concept):
-//   static constexpr std::size_t N;                       state components (the last: the spin)
+//   static constexpr std::size_t N;                       state components
 //   Vec<N> rhs(const Vec<N>& x, const Vec<N>& v, const PlanarExcitation& e) const;
 //   void wave(const DensePoly<Vec<N>>& x_poly, Poly& ex, Poly& ey) const;   E over a step
 //   double free_bound(const Vec<N>& x, const Vec<N>& v) const;  bound of |E| in free motion
@@ -22,6 +22,7 @@
 #include "slosh/core/response/response.hpp"
 
 #include "response/nonlinear_scheme.hpp"
+#include "response/planar_spin.hpp"
 
 namespace slosh::detail {
 
@@ -106,7 +107,9 @@ PlanarPeaks integrate_planar(const Model& model, const PlanarDrive& drive, doubl
       options.max_step, 2.0 * std::numbers::pi / model.fastest_omega() / options.steps_per_period);
   const double T = drive.duration();
   const std::vector<DrivePiece>& pieces = drive.pieces();
-  const bool spin = drive.turns() && vortex_gain > 0.0;
+  const SpinTrack spin = drive.turns() && vortex_gain > 0.0
+                             ? SpinTrack(drive, rest_time, model.sloshing_model(), options)
+                             : SpinTrack();
   const PlanarExcitation at_rest{};
   auto rhs = [&model](const V& x, const V& v, const PlanarExcitation& e) {
     return model.rhs(x, v, e);
@@ -136,11 +139,9 @@ PlanarPeaks integrate_planar(const Model& model, const PlanarDrive& drive, doubl
         if (i == 11) end = e;
         return e;
       };
-      dop853_step(rhs, acc, x, v, f0, V(h), true, step, spin);
+      dop853_step(rhs, acc, x, v, f0, V(h), true, step, false);
       model.wave(step.x_poly, ex, ey);
-      if (spin) {
-        for (std::size_t i = 0; i < kDenseTerms; ++i) w[i] = step.v_poly[i][N - 1];
-      }
+      if (!spin.empty()) w = spin.over(t0, h);
       if (!(in_rest && rest_found) && step_bound(ex, ey, w, vortex_gain) > window.value) {
         const StepMax m = step_max(ex, ey, w, vortex_gain);
         if (m.value > window.value) window = {m.value, t0 + m.s * h, m.direction};
@@ -150,7 +151,8 @@ PlanarPeaks integrate_planar(const Model& model, const PlanarDrive& drive, doubl
       v = step.v1;
       f0 = step.f1;
       if (in_rest && !rest_found) {
-        const double spin_rate = v[N - 1];
+        // Once the container stops turning the spin only decays.
+        const double spin_rate = horner(w, 1.0);
         const double bound = model.free_bound(x, v) + vortex_gain * spin_rate * spin_rate;
         if (bound * (1.0 + kPlanarStopMargin) <= peaks.rest.value) {
           rest_found = true;
