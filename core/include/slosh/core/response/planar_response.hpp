@@ -19,11 +19,14 @@
 //   Greenspan and Howard 1963): w_l' = sqrt(nu Omega) / h (theta' - w_l), Omega = max(|theta'|,
 //   |w_l|). The rise adds to the wave's height (it is the same around the wall).
 //
-// Both models are integrated as the straight-line nonlinear model is (nonlinear_response.cpp):
-// DOP853 in equal steps on every smooth piece of the drive (never across a piece boundary),
-// steps of at most 1/steps_per_period of the fastest modelled period; between steps the order-7
-// dense output, on which the maximum over the wall is located exactly on every step (the roots
-// of its derivative). docs/models.md derives the models and compares them with measurements.
+// The stored responses of both models are integrated as the straight-line nonlinear model is
+// (nonlinear_response.cpp): DOP853 in equal steps on every smooth piece of the drive (never
+// across a piece boundary), steps of at most 1/steps_per_period of the fastest modelled period;
+// between steps the order-7 dense output, on which the maximum over the wall is located exactly
+// on every step (the roots of its derivative). planar_linear_peaks() solves the linear model
+// exactly piece by piece instead (planar_linear_exact.cpp). The liquid's spin depends on the
+// turning alone and is integrated once per drive (planar_spin.hpp). docs/models.md derives the
+// models and compares them with measurements.
 
 #include <array>
 #include <cstddef>
@@ -114,11 +117,16 @@ class PlanarNonlinearResponse : public PlanarResponse {
                           const PlanarOptions& options = {});
 };
 
-/// The peaks of PlanarLinearResponse, equal to them, without storing the response: the rest
-/// window ends where the modes' energy bound proves its maximum found (docs/models.md).
+/// The peaks of the planar linear model without storing the response, from the piecewise exact
+/// solution (the forcing interpolated at degree 7 on sub-steps, the modes in closed form, the
+/// height sampled at min(1 ms, fastest period / 64) and refined by Newton's method); they agree
+/// with PlanarLinearResponse's to about 1e-8 of the peak. With vertical motion or a mode that is
+/// not under-damped, PlanarLinearResponse's integration (its peaks exactly). The rest window
+/// ends where the modes' energy bound proves its maximum found.
 [[nodiscard]] PlanarPeaks planar_linear_peaks(const SloshingModel& model, const PlanarDrive& drive,
                                               double rest_time, const PlanarOptions& options = {});
-/// The same for the planar nonlinear model.
+/// The peaks of PlanarNonlinearResponse, equal to them bit for bit, without storing the response
+/// (the rest window ends by the energy bound).
 [[nodiscard]] PlanarPeaks planar_nonlinear_peaks(const SloshingModel& model,
                                                  const PlanarDrive& drive, double rest_time,
                                                  const PlanarOptions& options = {});
