@@ -119,6 +119,9 @@ RunResult simulate_run(const std::string& run) {
   r.measured_time = measured.time;
   r.nonlinear_time = peak_time(nonlinear.peaks());
   r.linear = std::max(linear.peaks().motion.value, linear.peaks().rest.value);
+  // The exact piecewise linear peaks on the spline's pieces agree with the integration.
+  const PlanarPeaks exact = planar_linear_peaks(model, drive, kRestTime);
+  EXPECT_NEAR(std::max(exact.motion.value, exact.rest.value), r.linear, 1e-7 * r.linear) << run;
   r.nonlinear = std::max(nonlinear.peaks().motion.value, nonlinear.peaks().rest.value);
   return r;
 }

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <numbers>
@@ -181,6 +182,47 @@ TEST(PlanarLinear, ExactPeaksAgreeWithTheIntegratedResponse) {
       EXPECT_LE(full.eta(t), p.value * (1 + 1e-12)) << t;
     }
   }
+}
+
+// A constant upward acceleration a_z raises the effective gravity to g + a_z, so every natural
+// frequency by sqrt(1 + a_z / g): an undamped model on a trajectory rising at a_z equals the
+// same horizontal motion without rise with the frequencies scaled (a model built with that
+// omega_scale). Both models; the trajectory is a spline of samples (its natural ends bend the
+// acceleration only near the ends, where the liquid is at rest).
+TEST(PlanarModels, VerticalAccelerationScalesTheEffectiveGravity) {
+  ModelOptions options;
+  options.damping = DampingCorrelation::kExplicit;
+  options.explicit_zeta = 0.0;
+  const SloshingModel flat = make_sloshing_model(thesis_format(), options);
+  const double az = 2.0;
+  options.omega_scale = std::sqrt(1.0 + az / kGravity);
+  const SloshingModel scaled = make_sloshing_model(thesis_format(), options);
+  TrajectorySamples rising, level;
+  for (int i = 0; i <= 2000; ++i) {
+    const double t = 1e-3 * i;
+    // x: a smooth rest-to-rest move of 0.2 m between 0.3 s and 1.3 s.
+    const double u = std::clamp(t - 0.3, 0.0, 1.0);
+    const double x = 0.2 * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+    for (TrajectorySamples* s : {&rising, &level}) {
+      s->t.push_back(t);
+      s->x.push_back(x);
+      s->y.push_back(0.5 * x);
+    }
+    rising.z.push_back(0.5 * az * t * t);
+  }
+  const PlanarDrive up{SampledTrajectory(rising)}, still{SampledTrajectory(level)};
+  ASSERT_TRUE(up.vertical());
+  const PlanarLinearResponse lin_up(flat, up, 0.0), lin_ref(scaled, still, 0.0);
+  const PlanarNonlinearResponse nl_up(flat, up, 0.0), nl_ref(scaled, still, 0.0);
+  const double lin_peak = lin_ref.peaks().motion.value, nl_peak = nl_ref.peaks().motion.value;
+  ASSERT_GT(lin_peak, 1e-3);
+  for (int i = 1; i < 190; ++i) {
+    const double t = 0.01 * i;
+    EXPECT_NEAR(lin_up.eta(t), lin_ref.eta(t), 1e-5 * lin_peak) << t;
+    EXPECT_NEAR(nl_up.eta(t), nl_ref.eta(t), 1e-5 * nl_peak) << t;
+  }
+  // With vertical motion the linear peaks come from the integration itself.
+  EXPECT_EQ(planar_linear_peaks(flat, up, 0.0).motion.value, lin_up.peaks().motion.value);
 }
 
 // On a line the planar nonlinear model is eq. 2.35 (NonlinearResponse), at any direction.
