@@ -249,6 +249,23 @@ TEST(PlanarNonlinear, OnALineItIsEquation235) {
   }
 }
 
+// The rest window's search ends by the energy and angular-momentum bound: no later instant of
+// the whole window (the stored response is integrated to its end) exceeds the peak found, for
+// windows short enough for the bound to end the search and long ones.
+TEST(PlanarNonlinear, RestPeakBoundsTheWholeRestWindowOnAnArc) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const PlanarDrive drive(PlanarPath::arc(0.3, kPi / 2, true), asymmetric_law(0.3 * kPi / 2));
+  for (double rest : {0.1, 0.25, 1.0}) {
+    const PlanarNonlinearResponse full(model, drive, rest);
+    const PlanarPeaks fast = planar_nonlinear_peaks(model, drive, rest);
+    EXPECT_EQ(fast.rest.value, full.peaks().rest.value) << rest;
+    for (int i = 1; i <= 10000; ++i) {
+      const double t = 1.0 + rest * i / 10000.0;
+      EXPECT_LE(full.eta(t), fast.rest.value * (1 + 1e-12)) << rest << " " << t;
+    }
+  }
+}
+
 // Off the line the planar nonlinear model tends to the planar linear one's first mode as the
 // motion shrinks (x / R ~ 1e-6): the spherical pendulum's small-amplitude limit.
 TEST(PlanarNonlinear, TinyArcMotionReducesToTheOneModeLinearModel) {

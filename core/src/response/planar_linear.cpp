@@ -56,14 +56,14 @@ struct LinearPlanarModel {
     }
   }
 
-  /// Each mode's energy (|r'|^2 + w^2 |r|^2) / 2 never increases in free motion, so
-  /// |r_n| <= sqrt(|r_n|^2 + |r_n'|^2 / w_n^2) from now on.
-  double free_bound(const V& x, const V& v) const {
+  /// Each mode's reach within the horizon (oscillator_reach).
+  double free_bound(const V& x, const V& v, double horizon) const {
     double b = 0.0;
     for (std::size_t n = 0; n < M; ++n) {
-      const double r2 = x[2 * n] * x[2 * n] + x[2 * n + 1] * x[2 * n + 1];
-      const double v2 = v[2 * n] * v[2 * n] + v[2 * n + 1] * v[2 * n + 1];
-      b += std::abs(gain[n]) * std::sqrt(r2 + v2 * inv_w2[n]);
+      const double qx = x[2 * n], qy = x[2 * n + 1], vx = v[2 * n], vy = v[2 * n + 1];
+      const double e = 0.5 * ((vx * vx + vy * vy) * inv_w2[n] + qx * qx + qy * qy);
+      const double l = (qx * vy - qy * vx) * std::exp(-two_zw[n] * horizon);
+      b += std::abs(gain[n]) * std::sqrt(detail::oscillator_reach(e, l * l * inv_w2[n], 0.0));
     }
     return b;
   }

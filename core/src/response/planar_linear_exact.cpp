@@ -112,7 +112,7 @@ class ExactPlanarLinear {
               std::vector<double>& f) const;
   [[nodiscard]] Jet jet(double t) const;
   [[nodiscard]] double height_now() const;
-  [[nodiscard]] double free_bound() const;
+  [[nodiscard]] double free_bound(double horizon) const;
   [[nodiscard]] PlanarPeak window_peak(const std::vector<double>& t,
                                        const std::vector<double>& f) const;
   [[nodiscard]] PlanarPeak refine(double lo, double hi, double t, double f) const;
@@ -287,15 +287,16 @@ double ExactPlanarLinear<M>::height_now() const {
   return std::sqrt(ex * ex + ey * ey) + vortex_gain_ * state_.spin * state_.spin;
 }
 
-/// |r_n| <= sqrt(|r_n|^2 + |r_n'|^2 / w_n^2) for all later times in free motion; the spin only
-/// decays once the container stops turning.
+/// Each mode's reach up to the horizon (oscillator_reach); the spin only decays once the
+/// container stops turning.
 template <std::size_t M>
-double ExactPlanarLinear<M>::free_bound() const {
+double ExactPlanarLinear<M>::free_bound(double horizon) const {
   double b = 0.0;
   for (std::size_t n = 0; n < M; ++n) {
-    const double r2 = state_.x[n] * state_.x[n] + state_.y[n] * state_.y[n];
-    const double v2 = state_.vx[n] * state_.vx[n] + state_.vy[n] * state_.vy[n];
-    b += std::abs(modes_[n].gain) * std::sqrt(r2 + v2 / modes_[n].w2);
+    const double qx = state_.x[n], qy = state_.y[n], vx = state_.vx[n], vy = state_.vy[n];
+    const double e = 0.5 * ((vx * vx + vy * vy) / modes_[n].w2 + qx * qx + qy * qy);
+    const double l = (qx * vy - qy * vx) * std::exp(-modes_[n].two_zw * horizon);
+    b += std::abs(modes_[n].gain) * std::sqrt(oscillator_reach(e, l * l / modes_[n].w2, 0.0));
   }
   return b + vortex_gain_ * state_.spin * state_.spin;
 }
@@ -391,7 +392,8 @@ PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time
       sample(steps_.back(), m, ts, fs);
       if (rest) {
         for (std::size_t i = first; i < fs.size(); ++i) best_rest = std::max(best_rest, fs[i]);
-        done = free_bound() <= best_rest;
+        const double t_end = p.t_begin + H * static_cast<double>(j + 1);
+        done = free_bound(T + rest_time - t_end) * (1.0 + kPlanarStopMargin) <= best_rest;
       }
     }
     if (rest && !done) {

@@ -53,14 +53,15 @@ struct NonlinearPlanarModel {
   }
 
   /// The energy (|q'|^2 + C^2 (q . q')^2) / 2 + w^2 (|q|^2 / 2 + alpha |q|^4 / 4) never increases
-  /// in free motion (the damping dissipates 2 zeta w q'^T M q'), so |q|^2 stays below y with
-  /// alpha/4 y^2 + y/2 = E / w^2.
-  double free_bound(const V& x, const V& v) const {
+  /// in free motion (the damping dissipates 2 zeta w q'^T M q'); with the angular momentum it
+  /// bounds |q| up to the horizon (oscillator_reach).
+  double free_bound(const V& x, const V& v, double horizon) const {
     const double r2 = x[0] * x[0] + x[1] * x[1];
     const double qv = x[0] * v[0] + x[1] * v[1];
     const double v2 = v[0] * v[0] + v[1] * v[1];
     const double e = (0.5 * (v2 + c2 * qv * qv) + w2 * r2 * (0.5 + 0.25 * alpha * r2)) / w2;
-    return K * std::sqrt(2.0 * e / (0.5 + std::sqrt(0.25 + alpha * e)));
+    const double l = (x[0] * v[1] - x[1] * v[0]) * std::exp(-two_zw * horizon);
+    return K * std::sqrt(detail::oscillator_reach(e, l * l / w2, alpha));
   }
 
   double fastest_omega() const { return w; }

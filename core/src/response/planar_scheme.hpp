@@ -8,7 +8,9 @@
 //   static constexpr std::size_t N;                       state components
 //   Vec<N> rhs(const Vec<N>& x, const Vec<N>& v, const PlanarExcitation& e) const;
 //   void wave(const DensePoly<Vec<N>>& x_poly, Poly& ex, Poly& ey) const;   E over a step
-//   double free_bound(const Vec<N>& x, const Vec<N>& v) const;  bound of |E| in free motion
+//   double free_bound(const Vec<N>& x, const Vec<N>& v, double horizon) const;
+//                                                         bound of |E| in free motion up to
+//                                                         `horizon` seconds ahead
 //   double fastest_omega() const;                         [rad/s], sets the step
 
 #include <array>
@@ -92,6 +94,28 @@ inline double vortex_gain(const SloshingModel& model, const PlanarOptions& optio
   return options.spin == SpinLag::kNone ? 0.0 : model.radius * model.radius / (4.0 * kGravity);
 }
 
+/// The largest y = |q|^2 an isotropic 2-D oscillator can reach in free motion, from its energy and
+/// angular momentum normalised by w^2: e = E / w^2 with E = kinetic + w^2 (y/2 + alpha y^2/4),
+/// l2 = (L / w)^2 with L = q x q'. At any instant the kinetic energy holds at least the rotation's
+/// L^2 / (2 y) (the paraboloid's extra inertia only adds radial motion), so
+/// l2 / (2 y) + y / 2 + alpha y^2 / 4 <= e, and y is below the largest root. E never increases in
+/// free motion and L decays exactly as exp(-2 zeta w t) (the damping's torque is -2 zeta w L:
+/// the paraboloid's part of the damping is radial), so the root for the energy now and the
+/// angular momentum at the horizon bounds y up to the horizon. Alpha = 0: the closed form; else
+/// Newton's method from the root for l2 = 0, whose iterates fall monotonically onto the root (the
+/// left side is convex in y), so every iterate is itself a bound.
+inline double oscillator_reach(double e, double l2, double alpha) {
+  if (alpha == 0.0) return e + std::sqrt(std::max(e * e - l2, 0.0));
+  double y = 2.0 * e / (0.5 + std::sqrt(0.25 + alpha * e));
+  for (int it = 0; it < 4 && l2 > 0.0; ++it) {
+    const double g = 0.25 * alpha * y * y + 0.5 * y + 0.5 * l2 / y - e;
+    const double dg = 0.5 * alpha * y + 0.5 - 0.5 * l2 / (y * y);
+    if (!(g > 0.0) || !(dg > 0.0)) break;
+    y -= g / dg;
+  }
+  return y;
+}
+
 /// Relative margin of the rest window's stopping test (as nonlinear_response.cpp).
 inline constexpr double kPlanarStopMargin{1e-6};
 
@@ -153,7 +177,8 @@ PlanarPeaks integrate_planar(const Model& model, const PlanarDrive& drive, doubl
       if (in_rest && !rest_found) {
         // Once the container stops turning the spin only decays.
         const double spin_rate = horner(w, 1.0);
-        const double bound = model.free_bound(x, v) + vortex_gain * spin_rate * spin_rate;
+        const double horizon = T + rest_time - (t0 + h);
+        const double bound = model.free_bound(x, v, horizon) + vortex_gain * spin_rate * spin_rate;
         if (bound * (1.0 + kPlanarStopMargin) <= peaks.rest.value) {
           rest_found = true;
           if (keep == nullptr) break;
