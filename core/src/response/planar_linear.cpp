@@ -56,14 +56,15 @@ struct LinearPlanarModel {
     }
   }
 
-  /// Each mode's reach within the horizon (oscillator_reach).
+  /// Each mode's reach within the horizon (oscillator_reach_over).
   double free_bound(const V& x, const V& v, double horizon) const {
     double b = 0.0;
     for (std::size_t n = 0; n < M; ++n) {
       const double qx = x[2 * n], qy = x[2 * n + 1], vx = v[2 * n], vy = v[2 * n + 1];
       const double e = 0.5 * ((vx * vx + vy * vy) * inv_w2[n] + qx * qx + qy * qy);
-      const double l = (qx * vy - qy * vx) * std::exp(-two_zw[n] * horizon);
-      b += std::abs(gain[n]) * std::sqrt(detail::oscillator_reach(e, l * l * inv_w2[n], 0.0));
+      const double l = qx * vy - qy * vx;
+      b += std::abs(gain[n]) * std::sqrt(detail::oscillator_reach_over(e, l * l * inv_w2[n], 0.0,
+                                                                       0.5 * two_zw[n], horizon));
     }
     return b;
   }

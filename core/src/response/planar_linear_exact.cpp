@@ -287,7 +287,7 @@ double ExactPlanarLinear<M>::height_now() const {
   return std::sqrt(ex * ex + ey * ey) + vortex_gain_ * state_.spin * state_.spin;
 }
 
-/// Each mode's reach up to the horizon (oscillator_reach); the spin only decays once the
+/// Each mode's reach up to the horizon (oscillator_reach_over); the spin only decays once the
 /// container stops turning.
 template <std::size_t M>
 double ExactPlanarLinear<M>::free_bound(double horizon) const {
@@ -295,8 +295,10 @@ double ExactPlanarLinear<M>::free_bound(double horizon) const {
   for (std::size_t n = 0; n < M; ++n) {
     const double qx = state_.x[n], qy = state_.y[n], vx = state_.vx[n], vy = state_.vy[n];
     const double e = 0.5 * ((vx * vx + vy * vy) / modes_[n].w2 + qx * qx + qy * qy);
-    const double l = (qx * vy - qy * vx) * std::exp(-modes_[n].two_zw * horizon);
-    b += std::abs(modes_[n].gain) * std::sqrt(oscillator_reach(e, l * l / modes_[n].w2, 0.0));
+    const double l = qx * vy - qy * vx;
+    b += std::abs(modes_[n].gain) *
+         std::sqrt(
+             oscillator_reach_over(e, l * l / modes_[n].w2, 0.0, 0.5 * modes_[n].two_zw, horizon));
   }
   return b + vortex_gain_ * state_.spin * state_.spin;
 }

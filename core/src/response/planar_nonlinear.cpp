@@ -54,14 +54,15 @@ struct NonlinearPlanarModel {
 
   /// The energy (|q'|^2 + C^2 (q . q')^2) / 2 + w^2 (|q|^2 / 2 + alpha |q|^4 / 4) never increases
   /// in free motion (the damping dissipates 2 zeta w q'^T M q'); with the angular momentum it
-  /// bounds |q| up to the horizon (oscillator_reach).
+  /// bounds |q| up to the horizon (oscillator_reach_over).
   double free_bound(const V& x, const V& v, double horizon) const {
     const double r2 = x[0] * x[0] + x[1] * x[1];
     const double qv = x[0] * v[0] + x[1] * v[1];
     const double v2 = v[0] * v[0] + v[1] * v[1];
     const double e = (0.5 * (v2 + c2 * qv * qv) + w2 * r2 * (0.5 + 0.25 * alpha * r2)) / w2;
-    const double l = (x[0] * v[1] - x[1] * v[0]) * std::exp(-two_zw * horizon);
-    return K * std::sqrt(detail::oscillator_reach(e, l * l / w2, alpha));
+    const double l = x[0] * v[1] - x[1] * v[0];
+    return K *
+           std::sqrt(detail::oscillator_reach_over(e, l * l / w2, alpha, 0.5 * two_zw, horizon));
   }
 
   double fastest_omega() const { return w; }

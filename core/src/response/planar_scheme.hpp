@@ -116,6 +116,29 @@ inline double oscillator_reach(double e, double l2, double alpha) {
   return y;
 }
 
+/// The largest |q|^2 of an isotropic 2-D oscillator over a free-motion horizon, from e and l2 as
+/// oscillator_reach() takes them and k = zeta w. On every sixteenth of the horizon the reach for
+/// the energy at its start and the angular momentum at its end bounds |q|^2 by Y; the damping then
+/// dissipates at least 2 k |q'|^2 >= 2 k L^2 / Y (in these units, 2 k l2 / Y), so the energy at
+/// its end is at most e - l2 (1 - z) / (2 Y), z = exp(-4 k h); on the stretch the reach grows
+/// with time (it falls with l2 faster than with the guaranteed energy loss while |q|^2 <= Y), so
+/// its largest value is the reach at the end. The bound follows a swirling wave's slow decay,
+/// which the reach for the energy now and the angular momentum at the horizon's end does not.
+inline double oscillator_reach_over(double e, double l2, double alpha, double k, double horizon) {
+  constexpr int kParts = 16;
+  double best = oscillator_reach(e, l2, alpha);
+  if (!(l2 > 0.0) || !(horizon > 0.0)) return best;
+  const double z = std::exp(-4.0 * k * horizon / kParts);
+  for (int i = 0; i < kParts; ++i) {
+    const double Y = oscillator_reach(e, l2 * z, alpha);
+    if (!(Y > 0.0)) break;
+    e -= l2 * (1.0 - z) / (2.0 * Y);
+    l2 *= z;
+    best = std::max(best, oscillator_reach(e, l2, alpha));
+  }
+  return best;
+}
+
 /// Relative margin of the rest window's stopping test (as nonlinear_response.cpp).
 inline constexpr double kPlanarStopMargin{1e-6};
 
