@@ -1,0 +1,84 @@
+#pragma once
+// A sampled spatial trajectory (a robot's log or a commanded pose table): times, positions and
+// the heading about the vertical axis, interpolated by natural cubic splines (SPEC §14). The
+// acceleration the models need is the splines' second derivative: continuous and piecewise
+// linear between samples, so a simulation steps from sample to sample exactly on its pieces.
+// The splines interpolate (no smoothing): commanded poses are smooth to their printed digits
+// (1e-9 m at 500 Hz moves the acceleration by ~1e-4 m/s^2); a noisy measured log should be
+// filtered before it is given here.
+
+#include <cstddef>
+#include <istream>
+#include <string>
+#include <vector>
+
+#include "slosh/core/motion/planar_kinematics.hpp"
+
+namespace slosh {
+
+/// Raw samples. `z` and `theta` may be empty (then 0 throughout); otherwise every vector has
+/// the size of `t`.
+struct TrajectorySamples {
+  std::vector<double> t;      ///< [s], strictly increasing
+  std::vector<double> x;      ///< [m]
+  std::vector<double> y;      ///< [m]
+  std::vector<double> z;      ///< [m], up
+  std::vector<double> theta;  ///< heading about the vertical axis [rad], unwrapped
+};
+
+/// Least samples per period of the first sloshing mode a trajectory must have [-]: the cubic
+/// spline's second derivative then follows a motion at the mode's frequency to about 1 % of its
+/// acceleration amplitude (the error of a cubic spline's second derivative is ~ (w h)^2 / 12,
+/// w h = 2 pi / 20).
+inline constexpr double kSamplesPerFirstPeriod{20.0};
+
+/// Natural cubic spline of one coordinate: second derivatives at the knots.
+struct CubicSpline {
+  std::vector<double> value;   ///< samples
+  std::vector<double> second;  ///< second derivative at each knot (0 at both ends)
+};
+
+/// A validated trajectory.
+class SampledTrajectory {
+ public:
+  /// Throws InvalidMotion for fewer than 4 samples ("t"), vectors of different sizes (the
+  /// vector's name), a non-finite value ("x[12]"), or times not strictly increasing ("t[12]").
+  explicit SampledTrajectory(TrajectorySamples samples);
+
+  /// Throws InvalidMotion ("t[i]") when two samples are further apart than a
+  /// 1/kSamplesPerFirstPeriod of the first mode's period 2 pi / omega1, saying the rate needed.
+  void check_sampling(double omega1) const;
+  /// Samples per second a trajectory needs for a first mode of omega1 [rad/s].
+  [[nodiscard]] static double required_rate(double omega1);
+
+  [[nodiscard]] const TrajectorySamples& samples() const { return samples_; }
+  [[nodiscard]] std::size_t size() const { return samples_.t.size(); }
+  [[nodiscard]] double start_time() const { return samples_.t.front(); }
+  [[nodiscard]] double end_time() const { return samples_.t.back(); }
+  /// True when z or theta is not constant.
+  [[nodiscard]] bool has_vertical_motion() const { return vertical_; }
+  [[nodiscard]] bool turns() const { return turns_; }
+  /// The interval i with t[i] <= t < t[i+1] (clamped to the first and last).
+  [[nodiscard]] std::size_t interval_at(double t) const;
+  /// Pose and derivatives at t from the splines (clamped to [start, end]: at rest outside).
+  [[nodiscard]] PlanarKinematics at(double t) const;
+  /// at() on interval i.
+  [[nodiscard]] PlanarKinematics at(std::size_t i, double t) const;
+
+ private:
+  TrajectorySamples samples_;
+  CubicSpline x_, y_, z_, theta_;
+  bool vertical_{};
+  bool turns_{};
+};
+
+/// Reads the measured runs' pose CSV: a header `t_s,x_m,y_m,z_m,qx,qy,qz,qw` (positions in
+/// metres, orientation a unit quaternion) and one sample a line. The heading is
+/// theta = 2 atan2(qz, qw), unwrapped to a continuous angle. Throws InvalidMotion naming the
+/// line ("line 17") for a wrong header, a missing or non-numeric field, a quaternion that is not
+/// a unit one (|q| off 1 by more than 1e-6), or one that tilts the container (|qx| or |qy| above
+/// 1e-6: only rotations about the vertical axis are modelled). `source` names the input in the
+/// messages.
+[[nodiscard]] TrajectorySamples read_pose_csv(std::istream& in, const std::string& source);
+
+}  // namespace slosh

@@ -1,0 +1,237 @@
+#include "slosh/core/motion/sampled_trajectory.hpp"
+
+#include <algorithm>
+#include <charconv>
+#include <cmath>
+#include <numbers>
+#include <sstream>
+#include <string_view>
+
+#include "slosh/core/motion/invalid_motion.hpp"
+
+namespace slosh {
+
+namespace {
+
+/// Largest |qx|, |qy| of a rotation about the vertical axis, and largest | |q| - 1 | [-].
+constexpr double kQuaternionTolerance{1e-6};
+
+std::string number(double v) {
+  std::ostringstream out;
+  out.precision(10);
+  out << v;
+  return out.str();
+}
+
+std::string indexed(const char* name, std::size_t i) {
+  return std::string(name) + "[" + std::to_string(i) + "]";
+}
+
+/// Natural cubic spline through (t, v): the tridiagonal system of the second derivatives
+/// (Thomas algorithm), M_0 = M_{n-1} = 0.
+CubicSpline natural_spline(const std::vector<double>& t, const std::vector<double>& v) {
+  const std::size_t n = t.size();
+  CubicSpline s{v, std::vector<double>(n, 0.0)};
+  if (n < 3) return s;
+  std::vector<double> diag(n, 0.0), upper(n, 0.0), rhs(n, 0.0);
+  for (std::size_t i = 1; i + 1 < n; ++i) {
+    const double h0 = t[i] - t[i - 1], h1 = t[i + 1] - t[i];
+    diag[i] = 2.0 * (h0 + h1);
+    upper[i] = h1;
+    rhs[i] = 6.0 * ((v[i + 1] - v[i]) / h1 - (v[i] - v[i - 1]) / h0);
+  }
+  // Forward elimination over rows 1..n-2 (row i's lower entry is h0 = t[i] - t[i-1]).
+  for (std::size_t i = 2; i + 1 < n; ++i) {
+    const double lower = t[i] - t[i - 1];
+    const double m = lower / diag[i - 1];
+    diag[i] -= m * upper[i - 1];
+    rhs[i] -= m * rhs[i - 1];
+  }
+  for (std::size_t i = n - 2; i >= 1; --i) {
+    s.second[i] = (rhs[i] - upper[i] * s.second[i + 1]) / diag[i];
+  }
+  return s;
+}
+
+/// Value and three derivatives of spline piece i at t.
+struct Jet {
+  double v, d1, d2, d3;
+};
+Jet spline_at(const CubicSpline& s, const std::vector<double>& t, std::size_t i, double tt) {
+  const double h = t[i + 1] - t[i];
+  const double a = (t[i + 1] - tt) / h, b = (tt - t[i]) / h;
+  const double m0 = s.second[i], m1 = s.second[i + 1];
+  const double y0 = s.value[i], y1 = s.value[i + 1];
+  Jet j;
+  j.v = a * y0 + b * y1 + ((a * a * a - a) * m0 + (b * b * b - b) * m1) * h * h / 6.0;
+  j.d1 = (y1 - y0) / h - (3.0 * a * a - 1.0) / 6.0 * h * m0 + (3.0 * b * b - 1.0) / 6.0 * h * m1;
+  j.d2 = a * m0 + b * m1;
+  j.d3 = (m1 - m0) / h;
+  return j;
+}
+
+}  // namespace
+
+SampledTrajectory::SampledTrajectory(TrajectorySamples samples) : samples_(std::move(samples)) {
+  const std::size_t n = samples_.t.size();
+  if (n < 4) {
+    throw InvalidMotion("t", "t: a trajectory needs at least 4 samples, got " + std::to_string(n));
+  }
+  if (samples_.z.empty()) samples_.z.assign(n, 0.0);
+  if (samples_.theta.empty()) samples_.theta.assign(n, 0.0);
+  const std::pair<const char*, const std::vector<double>*> columns[] = {{"t", &samples_.t},
+                                                                        {"x", &samples_.x},
+                                                                        {"y", &samples_.y},
+                                                                        {"z", &samples_.z},
+                                                                        {"theta", &samples_.theta}};
+  for (const auto& [name, column] : columns) {
+    if (column->size() != n) {
+      throw InvalidMotion(name, std::string(name) + ": " + std::to_string(column->size()) +
+                                    " samples, but t has " + std::to_string(n));
+    }
+    for (std::size_t i = 0; i < n; ++i) {
+      if (!std::isfinite((*column)[i])) {
+        throw InvalidMotion(indexed(name, i),
+                            indexed(name, i) + " = " + number((*column)[i]) + " must be finite");
+      }
+    }
+  }
+  for (std::size_t i = 1; i < n; ++i) {
+    if (!(samples_.t[i] > samples_.t[i - 1])) {
+      throw InvalidMotion(indexed("t", i), indexed("t", i) + " = " + number(samples_.t[i]) +
+                                               " s must be greater than " + indexed("t", i - 1) +
+                                               " = " + number(samples_.t[i - 1]) +
+                                               " s (times strictly increasing)");
+    }
+  }
+  x_ = natural_spline(samples_.t, samples_.x);
+  y_ = natural_spline(samples_.t, samples_.y);
+  z_ = natural_spline(samples_.t, samples_.z);
+  theta_ = natural_spline(samples_.t, samples_.theta);
+  auto varies = [](const std::vector<double>& v) {
+    return std::any_of(v.begin(), v.end(), [&](double e) { return e != v.front(); });
+  };
+  vertical_ = varies(samples_.z);
+  turns_ = varies(samples_.theta);
+}
+
+double SampledTrajectory::required_rate(double omega1) {
+  return kSamplesPerFirstPeriod * omega1 / (2.0 * std::numbers::pi);
+}
+
+void SampledTrajectory::check_sampling(double omega1) const {
+  const double rate = required_rate(omega1);
+  const double spacing = 1.0 / rate;
+  const std::vector<double>& t = samples_.t;
+  for (std::size_t i = 1; i < t.size(); ++i) {
+    const double gap = t[i] - t[i - 1];
+    if (gap > spacing) {
+      throw InvalidMotion(
+          indexed("t", i),
+          indexed("t", i) + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) +
+              " are " + number(gap) + " s apart; the first sloshing mode (" +
+              number(omega1 / (2.0 * std::numbers::pi)) + " Hz) needs at least " + number(rate) +
+              " samples per second (a spacing of at most " + number(spacing) + " s)");
+    }
+  }
+}
+
+std::size_t SampledTrajectory::interval_at(double t) const {
+  const std::vector<double>& ts = samples_.t;
+  const auto it = std::upper_bound(ts.begin(), ts.end(), t);
+  const auto i = static_cast<std::ptrdiff_t>(it - ts.begin()) - 1;
+  return static_cast<std::size_t>(
+      std::clamp<std::ptrdiff_t>(i, 0, static_cast<std::ptrdiff_t>(ts.size()) - 2));
+}
+
+PlanarKinematics SampledTrajectory::at(double t) const {
+  return at(interval_at(t), t);
+}
+
+PlanarKinematics SampledTrajectory::at(std::size_t i, double t) const {
+  PlanarKinematics k;
+  const bool before = t<start_time(), after = t> end_time();
+  const double tt = before ? start_time() : after ? end_time() : t;
+  const Jet x = spline_at(x_, samples_.t, i, tt), y = spline_at(y_, samples_.t, i, tt);
+  const Jet z = spline_at(z_, samples_.t, i, tt), th = spline_at(theta_, samples_.t, i, tt);
+  k.x = x.v;
+  k.y = y.v;
+  k.z = z.v;
+  k.theta = th.v;
+  if (before || after) return k;  // at rest outside the samples
+  k.vx = x.d1;
+  k.vy = y.d1;
+  k.vz = z.d1;
+  k.ax = x.d2;
+  k.ay = y.d2;
+  k.az = z.d2;
+  k.jx = x.d3;
+  k.jy = y.d3;
+  k.jz = z.d3;
+  k.theta_dot = th.d1;
+  k.theta_ddot = th.d2;
+  k.theta_dddot = th.d3;
+  return k;
+}
+
+TrajectorySamples read_pose_csv(std::istream& in, const std::string& source) {
+  TrajectorySamples s;
+  std::string line;
+  std::size_t line_no = 0;
+  auto where = [&](std::size_t no) { return source + " line " + std::to_string(no); };
+  auto fail = [&](const std::string& why) {
+    throw InvalidMotion("line " + std::to_string(line_no), where(line_no) + ": " + why);
+  };
+  if (!std::getline(in, line)) {
+    line_no = 1;
+    fail("empty; expected the header t_s,x_m,y_m,z_m,qx,qy,qz,qw");
+  }
+  line_no = 1;
+  if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line != "t_s,x_m,y_m,z_m,qx,qy,qz,qw") {
+    fail("header \"" + line + "\" must be t_s,x_m,y_m,z_m,qx,qy,qz,qw");
+  }
+  double previous_theta = 0.0;
+  while (std::getline(in, line)) {
+    ++line_no;
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (line.empty()) continue;
+    double f[8];
+    std::string_view rest(line);
+    for (int k = 0; k < 8; ++k) {
+      const std::size_t comma = rest.find(',');
+      const std::string_view field = rest.substr(0, comma);
+      if ((comma == std::string_view::npos) != (k == 7)) {
+        fail("expected 8 comma-separated numbers, got \"" + line + "\"");
+      }
+      const auto [end, ec] = std::from_chars(field.data(), field.data() + field.size(), f[k]);
+      if (ec != std::errc() || end != field.data() + field.size() || !std::isfinite(f[k])) {
+        fail("field " + std::to_string(k + 1) + " \"" + std::string(field) +
+             "\" is not a finite number");
+      }
+      if (comma != std::string_view::npos) rest.remove_prefix(comma + 1);
+    }
+    const double qx = f[4], qy = f[5], qz = f[6], qw = f[7];
+    const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
+    if (std::abs(norm - 1.0) > kQuaternionTolerance) {
+      fail("the quaternion's norm " + number(norm) + " must be 1 (within 1e-6)");
+    }
+    if (std::abs(qx) > kQuaternionTolerance || std::abs(qy) > kQuaternionTolerance) {
+      fail("the orientation tilts the container (qx = " + number(qx) + ", qy = " + number(qy) +
+           "); only rotations about the vertical axis are modelled (|qx|, |qy| <= 1e-6)");
+    }
+    double theta = 2.0 * std::atan2(qz, qw);
+    if (!s.theta.empty()) {  // unwrap: the nearest turn to the previous sample
+      theta = previous_theta + std::remainder(theta - previous_theta, 2.0 * std::numbers::pi);
+    }
+    previous_theta = theta;
+    s.t.push_back(f[0]);
+    s.x.push_back(f[1]);
+    s.y.push_back(f[2]);
+    s.z.push_back(f[3]);
+    s.theta.push_back(theta);
+  }
+  return s;
+}
+
+}  // namespace slosh

@@ -1,0 +1,433 @@
+// Peaks of the planar linear model solved exactly piece by piece (planar_response.hpp): on
+// sub-steps of a drive piece the horizontal acceleration is interpolated by a degree-7
+// polynomial at Chebyshev nodes (error ~ (W H / 2)^8 / (2^7 8!) of the forcing for content at
+// W rad/s, below 1e-9 for the sub-steps used), and every mode's response to a polynomial
+// forcing is a polynomial particular solution plus the damped homogeneous one in closed form,
+// so no step follows the fastest mode's period. The height |E| + R^2 w_l^2 / (4 g) is sampled
+// at min(1 ms, fastest period / 64) by complex rotation (as linear_peaks.cpp) and every sampled
+// local maximum within 5 % of the best sample is refined by safeguarded Newton steps on its
+// exact derivatives. The liquid's spin is the SpinTrack's (planar_spin.hpp), on the same
+// sub-steps. Applies when the effective gravity is constant (no vertical motion) and every mode
+// is under-damped; else the caller integrates.
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <optional>
+
+#include "response/planar_linear_exact.hpp"
+#include "response/planar_scheme.hpp"
+#include "response/planar_spin.hpp"
+#include "sincos.hpp"
+
+namespace slosh::detail {
+
+namespace {
+
+/// A complex number with plain arithmetic (std::complex's product checks for infinities and
+/// NaN on every call, which costs more than the product in the sampling loop).
+struct Complex {
+  double re{}, im{};
+  [[nodiscard]] double real() const { return re; }
+  [[nodiscard]] double imag() const { return im; }
+};
+Complex operator*(Complex a, Complex b) {
+  return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
+}
+Complex operator*(double a, Complex b) {
+  return {a * b.re, a * b.im};
+}
+/// exp((-sigma + i wd) tau) for lambda = (-sigma, wd).
+Complex exp_of(Complex lambda, double tau) {
+  const double e = std::exp(lambda.re * tau);
+  const SinCos sc = fast_sincos(lambda.im * tau);
+  return {e * sc.cos, e * sc.sin};
+}
+constexpr std::size_t kTerms{kFitTerms};
+using Coeffs = FitPoly;
+
+/// Candidates within this fraction of the best sample are refined (as find_max()).
+constexpr double kRefineFraction{0.05};
+/// A candidate this far below the best refined peak is not refined [-] (window_peak()).
+constexpr double kRefineGain{0.01};
+
+/// p, p', p'' in u.
+void horner_jet(const Coeffs& c, double u, double& p, double& d1, double& d2) {
+  p = c[kTerms - 1];
+  d1 = 0.0;
+  d2 = 0.0;
+  for (std::size_t k = kTerms - 1; k > 0; --k) {
+    d2 = d2 * u + 2.0 * d1;
+    d1 = d1 * u + p;
+    p = p * u + c[k - 1];
+  }
+}
+
+struct Mode {
+  double w{}, w2{}, two_zw{}, gain{};
+  Complex lambda;  // -sigma + i wd
+};
+
+/// One sub-step in closed form: E(u) = (px, py)(u) + sum_n Re((zx_n, zy_n) exp(lambda_n H u)),
+/// amplitudes weighted by the modes' height gains; the liquid's spin w(u).
+template <std::size_t M>
+struct SubStep {
+  double t0{}, H{};
+  bool forced{};  ///< px, py are not zero (the rest window has no forcing)
+  Coeffs px{}, py{}, spin{};
+  std::array<Complex, M> zx{}, zy{};
+};
+
+/// Height and its first two time derivatives.
+struct Jet {
+  double f{}, d1{}, d2{}, ex{}, ey{};
+};
+
+template <std::size_t M>
+class ExactPlanarLinear {
+ public:
+  ExactPlanarLinear(const SloshingModel& model, const PlanarOptions& options, double vortex_gain)
+      : model_(&model), options_(options), vortex_gain_(vortex_gain) {
+    double w_max = 0.0;
+    for (std::size_t n = 0; n < M; ++n) {
+      const double w = model.omega[n];
+      modes_[n] = {w, w * w, 2.0 * model.zeta * w, model.eta_gain[n],
+                   Complex{-model.zeta * w, w * std::sqrt(1.0 - model.zeta * model.zeta)}};
+      w_max = std::max(w_max, w);
+    }
+    sample_step_ = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / w_max / kSamplesPerPeriod);
+  }
+
+  PlanarPeaks run(const PlanarDrive& drive, double rest_time);
+
+ private:
+  struct State {
+    std::array<double, M> x{}, y{}, vx{}, vy{};
+    double spin{};  // the liquid's spin rate at the current time [rad/s]
+  };
+
+  void sub_step(const PlanarDrive& drive, std::size_t piece, bool rest, double t0, double H,
+                SubStep<M>& out);
+  void sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
+              std::vector<double>& f) const;
+  [[nodiscard]] Jet jet(double t) const;
+  [[nodiscard]] double height_now() const;
+  [[nodiscard]] double free_bound(double horizon) const;
+  [[nodiscard]] PlanarPeak window_peak(const std::vector<double>& t,
+                                       const std::vector<double>& f) const;
+  [[nodiscard]] PlanarPeak refine(double lo, double hi, double t, double f) const;
+
+  const SloshingModel* model_;
+  PlanarOptions options_;
+  double vortex_gain_{}, sample_step_{};
+  bool spin_{};
+  std::array<Mode, M> modes_{};
+  SpinTrack spin_track_;
+  State state_;
+  std::vector<SubStep<M>> steps_;
+};
+
+template <std::size_t M>
+void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece, bool rest,
+                                    double t0, double H, SubStep<M>& out) {
+  out.t0 = t0;
+  out.H = H;
+  out.forced = !rest;
+  Coeffs qx{}, qy{};
+  if (!rest) {
+    const ChebyshevFit& fit = chebyshev();
+    Coeffs ax{}, ay{};
+    for (std::size_t j = 0; j < kTerms; ++j) {
+      const PlanarExcitation e = drive.excitation(piece, t0 + fit.node[j] * H);
+      ax[j] = -e.ax;
+      ay[j] = -e.ay;
+    }
+    qx = fit.fit(ax);
+    qy = fit.fit(ay);
+  }
+  out.px.fill(0.0);
+  out.py.fill(0.0);
+  const double inv_h = 1.0 / H, inv_h2 = inv_h * inv_h;
+  for (std::size_t n = 0; n < M; ++n) {
+    const Mode& md = modes_[n];
+    const double a1 = md.two_zw * inv_h;
+    auto particular = [&](const Coeffs& q) {
+      Coeffs r{};
+      for (std::size_t k = kTerms; k-- > 0;) {
+        double v = q[k];
+        if (k + 1 < kTerms) v -= static_cast<double>(k + 1) * a1 * r[k + 1];
+        if (k + 2 < kTerms) v -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * r[k + 2];
+        r[k] = v / md.w2;
+      }
+      return r;
+    };
+    const Coeffs rx = particular(qx), ry = particular(qy);
+    const double sigma = -md.lambda.real(), wd = md.lambda.imag();
+    auto homogeneous = [&](const Coeffs& r, double x0, double v0) {
+      const double c1 = x0 - r[0];
+      const double c2 = (v0 - r[1] * inv_h + sigma * c1) / wd;
+      return Complex{c1, -c2};
+    };
+    const Complex zx = homogeneous(rx, state_.x[n], state_.vx[n]);
+    const Complex zy = homogeneous(ry, state_.y[n], state_.vy[n]);
+    const Complex e = exp_of(md.lambda, H);
+    double rx1 = 0.0, ry1 = 0.0, drx1 = 0.0, dry1 = 0.0;
+    for (std::size_t k = 0; k < kTerms; ++k) {
+      out.px[k] += md.gain * rx[k];
+      out.py[k] += md.gain * ry[k];
+      rx1 += rx[k];
+      ry1 += ry[k];
+      drx1 += static_cast<double>(k) * rx[k];
+      dry1 += static_cast<double>(k) * ry[k];
+    }
+    out.zx[n] = md.gain * zx;
+    out.zy[n] = md.gain * zy;
+    state_.x[n] = rx1 + (zx * e).real();
+    state_.y[n] = ry1 + (zy * e).real();
+    state_.vx[n] = drx1 * inv_h + (md.lambda * zx * e).real();
+    state_.vy[n] = dry1 * inv_h + (md.lambda * zy * e).real();
+  }
+  out.spin.fill(0.0);
+  if (spin_) {
+    out.spin = spin_track_.pieces()[steps_.size() - 1].w;  // the same sub-steps, in order
+    state_.spin = horner(out.spin, 1.0);
+  }
+}
+
+template <std::size_t M>
+void ExactPlanarLinear<M>::sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
+                                  std::vector<double>& f) const {
+  const double dt = s.H / static_cast<double>(m);
+  std::array<Complex, M> rot{}, step{};
+  for (std::size_t n = 0; n < M; ++n) {
+    rot[n] = {1.0, 0.0};
+    step[n] = exp_of(modes_[n].lambda, dt);
+  }
+  const std::size_t first = f.size();
+  t.resize(first + m);
+  f.resize(first + m);
+  double* tp = t.data() + first;
+  double* fp = f.data() + first;
+  const double du = 1.0 / static_cast<double>(m);
+  for (std::size_t j = 0; j < m; ++j) {
+    const double u = static_cast<double>(j) * du;
+    double ex = 0.0, ey = 0.0;
+    if (s.forced) {
+      ex = horner(s.px, u);
+      ey = horner(s.py, u);
+    }
+    for (std::size_t n = 0; n < M; ++n) {
+      const Complex r = rot[n];
+      ex += s.zx[n].re * r.re - s.zx[n].im * r.im;
+      ey += s.zy[n].re * r.re - s.zy[n].im * r.im;
+      rot[n] = r * step[n];
+    }
+    tp[j] = s.t0 + static_cast<double>(j) * dt;
+    fp[j] = std::sqrt(ex * ex + ey * ey);
+  }
+  if (spin_) {
+    for (std::size_t j = 0; j < m; ++j) {
+      const double w = horner(s.spin, static_cast<double>(j) * du);
+      fp[j] += vortex_gain_ * w * w;
+    }
+  }
+}
+
+template <std::size_t M>
+Jet ExactPlanarLinear<M>::jet(double t) const {
+  const auto it = std::upper_bound(steps_.begin(), steps_.end(), t,
+                                   [](double v, const SubStep<M>& s) { return v < s.t0; });
+  const SubStep<M>& s = *(it == steps_.begin() ? it : it - 1);
+  const double tau = t - s.t0, u = tau / s.H, ih = 1.0 / s.H;
+  double ex = 0, ex1 = 0, ex2 = 0, ey = 0, ey1 = 0, ey2 = 0;
+  horner_jet(s.px, u, ex, ex1, ex2);
+  horner_jet(s.py, u, ey, ey1, ey2);
+  ex1 *= ih;
+  ey1 *= ih;
+  ex2 *= ih * ih;
+  ey2 *= ih * ih;
+  for (std::size_t n = 0; n < M; ++n) {
+    const Complex l = modes_[n].lambda;
+    const Complex e = exp_of(l, tau);
+    const Complex zx = s.zx[n] * e, zy = s.zy[n] * e;
+    ex += zx.real();
+    ey += zy.real();
+    ex1 += (l * zx).real();
+    ey1 += (l * zy).real();
+    ex2 += (l * l * zx).real();
+    ey2 += (l * l * zy).real();
+  }
+  Jet j;
+  j.ex = ex;
+  j.ey = ey;
+  const double r = std::sqrt(ex * ex + ey * ey);
+  if (r > 0.0) {
+    const double dot = ex * ex1 + ey * ey1;
+    j.f = r;
+    j.d1 = dot / r;
+    j.d2 = (ex1 * ex1 + ey1 * ey1 + ex * ex2 + ey * ey2) / r - dot * dot / (r * r * r);
+  }
+  if (spin_) {
+    double w = 0, w1 = 0, w2 = 0;
+    horner_jet(s.spin, u, w, w1, w2);
+    j.f += vortex_gain_ * w * w;
+    j.d1 += 2.0 * vortex_gain_ * w * w1 * ih;
+    j.d2 += 2.0 * vortex_gain_ * (w1 * w1 + w * w2) * ih * ih;
+  }
+  return j;
+}
+
+template <std::size_t M>
+double ExactPlanarLinear<M>::height_now() const {
+  double ex = 0.0, ey = 0.0;
+  for (std::size_t n = 0; n < M; ++n) {
+    ex += modes_[n].gain * state_.x[n];
+    ey += modes_[n].gain * state_.y[n];
+  }
+  return std::sqrt(ex * ex + ey * ey) + vortex_gain_ * state_.spin * state_.spin;
+}
+
+/// Each mode's reach up to the horizon (oscillator_reach_over); the spin only decays once the
+/// container stops turning.
+template <std::size_t M>
+double ExactPlanarLinear<M>::free_bound(double horizon) const {
+  double b = 0.0;
+  for (std::size_t n = 0; n < M; ++n) {
+    const double qx = state_.x[n], qy = state_.y[n], vx = state_.vx[n], vy = state_.vy[n];
+    const double e = 0.5 * ((vx * vx + vy * vy) / modes_[n].w2 + qx * qx + qy * qy);
+    const double l = qx * vy - qy * vx;
+    b += std::abs(modes_[n].gain) *
+         std::sqrt(
+             oscillator_reach_over(e, l * l / modes_[n].w2, 0.0, 0.5 * modes_[n].two_zw, horizon));
+  }
+  return b + vortex_gain_ * state_.spin * state_.spin;
+}
+
+/// The root of f' in [lo, hi] from t by Newton's method kept inside the bracket (bisection when
+/// a step leaves it or f'' >= 0).
+template <std::size_t M>
+PlanarPeak ExactPlanarLinear<M>::refine(double lo, double hi, double t, double f) const {
+  PlanarPeak best{f, t, 0.0};
+  for (int it = 0; it < 60 && hi - lo > 1e-14; ++it) {
+    const Jet j = jet(t);
+    if (j.f > best.value) best = {j.f, t, std::atan2(j.ey, j.ex)};
+    if (j.d1 == 0.0) break;
+    if (j.d1 > 0.0) {
+      lo = t;
+    } else {
+      hi = t;
+    }
+    const double next = t - j.d1 / j.d2;
+    const double mid = 0.5 * (lo + hi);
+    const double step = j.d2 < 0.0 && next > lo && next < hi ? next : mid;
+    if (std::abs(step - t) < 1e-14) break;
+    t = step;
+  }
+  const Jet j = jet(best.time);
+  best.direction = std::atan2(j.ey, j.ex);
+  return best;
+}
+
+template <std::size_t M>
+PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
+                                             const std::vector<double>& f) const {
+  if (t.empty()) return {0.0, 0.0, 0.0};
+  const double top = *std::max_element(f.begin(), f.end());
+  const double threshold = top - kRefineFraction * std::abs(top);
+  const std::size_t n = t.size();
+  std::vector<std::size_t> candidates;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (f[i] < threshold) continue;
+    const bool left = i == 0 || f[i] >= f[i - 1];
+    const bool right = i + 1 == n || f[i] >= f[i + 1];
+    if (left && right) candidates.push_back(i);
+  }
+  // Highest samples first; a candidate whose sample is more than kRefineGain below the best
+  // refined peak cannot exceed it (between samples at most 1/64 of the fastest period apart
+  // the height rises above its best sample by less than (4 pi / 64)^2 / 8 = 0.5 %).
+  std::sort(candidates.begin(), candidates.end(),
+            [&f](std::size_t a, std::size_t b) { return f[a] > f[b]; });
+  PlanarPeak best{-1.0, 0.0, 0.0};
+  for (std::size_t i : candidates) {
+    if (f[i] < best.value * (1.0 - kRefineGain)) break;
+    PlanarPeak p{f[i], t[i], 0.0};
+    if (i > 0 && i + 1 < n) p = refine(t[i - 1], t[i + 1], t[i], f[i]);
+    if (p.value > best.value) best = p;
+  }
+  const Jet j = jet(best.time);
+  best.direction = std::atan2(j.ey, j.ex);
+  return best;
+}
+
+template <std::size_t M>
+PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time) {
+  spin_ = drive.turns() && vortex_gain_ > 0.0;
+  if (spin_) spin_track_ = SpinTrack(drive, rest_time, *model_, options_);
+  const double T = drive.duration();
+  const std::vector<DrivePiece>& pieces = drive.pieces();
+  const double h_fit = fit_step(*model_, options_);
+  PlanarPeaks peaks;
+  std::vector<double> ts, fs;
+  ts.reserve(static_cast<std::size_t>((T + rest_time) / sample_step_) + pieces.size() + 8);
+  fs.reserve(ts.capacity());
+  double best_rest = 0.0;
+  for (std::size_t k = 0; k <= pieces.size(); ++k) {
+    const bool rest = k == pieces.size();
+    if (rest) {  // the motion window ends with its end point
+      ts.push_back(T);
+      fs.push_back(height_now());
+      peaks.motion = window_peak(ts, fs);
+      ts.clear();
+      fs.clear();
+    }
+    const DrivePiece p = rest ? DrivePiece{T, T + rest_time} : pieces[k];
+    const double L = p.t_end - p.t_begin;
+    if (!(L > 0.0)) continue;
+    const std::size_t n = fit_steps(L, h_fit, p.harmonic_omega);
+    const double H = L / static_cast<double>(n);
+    const std::size_t m = step_count(H, sample_step_, 1);
+    bool done = false;
+    for (std::size_t j = 0; j < n && !done; ++j) {
+      steps_.emplace_back();
+      sub_step(drive, k, rest, p.t_begin + H * static_cast<double>(j), H, steps_.back());
+      const std::size_t first = fs.size();
+      sample(steps_.back(), m, ts, fs);
+      if (rest) {
+        for (std::size_t i = first; i < fs.size(); ++i) best_rest = std::max(best_rest, fs[i]);
+        const double t_end = p.t_begin + H * static_cast<double>(j + 1);
+        done = free_bound(T + rest_time - t_end) * (1.0 + kPlanarStopMargin) <= best_rest;
+      }
+    }
+    if (rest && !done) {
+      ts.push_back(T + rest_time);
+      fs.push_back(height_now());
+    }
+  }
+  peaks.rest = window_peak(ts, fs);
+  return peaks;
+}
+
+}  // namespace
+
+std::optional<PlanarPeaks> exact_planar_linear_peaks(const SloshingModel& model,
+                                                     const PlanarDrive& drive, double rest_time,
+                                                     const PlanarOptions& options) {
+  if (drive.vertical() || !(model.zeta < 1.0)) return std::nullopt;
+  const double gain = vortex_gain(model, options);
+  switch (model.modes()) {
+    case 1:
+      return ExactPlanarLinear<1>(model, options, gain).run(drive, rest_time);
+    case 2:
+      return ExactPlanarLinear<2>(model, options, gain).run(drive, rest_time);
+    case 3:
+      return ExactPlanarLinear<3>(model, options, gain).run(drive, rest_time);
+    case 4:
+      return ExactPlanarLinear<4>(model, options, gain).run(drive, rest_time);
+    case 5:
+      return ExactPlanarLinear<5>(model, options, gain).run(drive, rest_time);
+    default:
+      return std::nullopt;
+  }
+}
+
+}  // namespace slosh::detail

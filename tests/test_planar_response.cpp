@@ -1,0 +1,328 @@
+// The planar sloshing models (SPEC §14) against independent computations written here: the
+// exact straight-line models, the closed-form steady state of a circular motion, the closed-form
+// Ekman spin-up, and their invariance under a rotation of the world.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "response/planar_scheme.hpp"
+#include "slosh/core/constants.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/response/planar_response.hpp"
+#include "slosh/core/response/response.hpp"
+#include "support/fixtures.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+MotionLaw asymmetric_law(double stroke) {
+  return SevenSegmentLaw(test::kAsymmetricDurations, stroke).law();
+}
+
+// The exact piecewise closed form of the straight-line linear model (LinearResponse) and the
+// planar model on a line: |eta| is the height at the front or the rear wall.
+TEST(PlanarLinear, OnALineItIsTheExactStraightLineModel) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const LinearResponse exact(model, law, 1.0);
+  const PlanarLinearResponse planar(model, PlanarDrive(PlanarPath::line(0.8), law), 1.0);
+  const double peak = exact.peaks().motion.value;
+  for (int i = 1; i < 1000; ++i) {
+    const double t = 0.002 * i + 1.7e-5;
+    EXPECT_NEAR(planar.eta(t), std::abs(exact.eta(t)), 1e-7 * peak) << t;
+  }
+  EXPECT_NEAR(planar.peaks().motion.value, peak, 1e-7 * peak);
+  EXPECT_NEAR(planar.peaks().motion.time, exact.peaks().motion.time, 1e-6);
+  EXPECT_NEAR(planar.peaks().rest.value, exact.peaks().rest.value, 1e-7 * peak);
+  // The peaks alone come from the piecewise exact solution: the exact model's to round-off.
+  const PlanarPeaks fast = planar_linear_peaks(model, PlanarDrive(PlanarPath::line(0.8), law), 1.0);
+  EXPECT_NEAR(fast.motion.value, peak, 1e-9 * peak);
+  EXPECT_NEAR(fast.motion.time, exact.peaks().motion.time, 1e-8);
+  EXPECT_NEAR(fast.rest.value, exact.peaks().rest.value, 1e-9 * peak);
+  EXPECT_NEAR(fast.rest.time, exact.peaks().rest.time, 1e-8);
+  // The wave peaks at the rear wall (phi = pi) when the liquid lags an acceleration along +x.
+  const double t_peak = planar.peaks().motion.time;
+  EXPECT_NEAR(std::abs(planar.peaks().motion.direction), exact.eta(t_peak) > 0 ? 0.0 : kPi, 1e-12);
+}
+
+TEST(PlanarLinear, ALineAt37DegreesGivesTheSameWave) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const double turn = 37.0 * kPi / 180.0;
+  const PlanarLinearResponse a(model, PlanarDrive(PlanarPath::line(0.8, 0.0), law), 1.0);
+  const PlanarLinearResponse b(model, PlanarDrive(PlanarPath::line(0.8, turn), law), 1.0);
+  const double peak = a.peaks().motion.value;
+  for (int i = 1; i < 500; ++i) {
+    const double t = 0.004 * i + 3.1e-4;
+    EXPECT_NEAR(b.eta(t), a.eta(t), 1e-12 * peak) << t;
+    if (a.eta(t) > 1e-3 * peak) {
+      EXPECT_NEAR(std::remainder(b.direction(t) - a.direction(t) - turn, 2 * kPi), 0.0, 1e-9);
+    }
+  }
+  EXPECT_NEAR(b.peaks().motion.value, peak, 1e-12 * peak);
+  EXPECT_NEAR(b.peaks().rest.value, a.peaks().rest.value, 1e-12 * peak);
+}
+
+// The normal acceleration of an arc of radius rho is v^2 / rho, across the wave the tangential
+// one raises, and the tangent turns by s / rho: the height's difference from the line's falls
+// at least as 1 / rho (as 1 / rho^2 where the tangential wave dominates).
+TEST(PlanarLinear, AnArcOfHugeRadiusTendsToTheLine) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const PlanarLinearResponse line(model, PlanarDrive(PlanarPath::line(0.8), law), 1.0);
+  const double peak = line.peaks().motion.value;
+  std::vector<double> gaps;
+  for (double rho : {1e2, 1e3, 1e4}) {
+    const PlanarLinearResponse arc(model, PlanarDrive(PlanarPath::arc(rho, 0.8 / rho, true), law),
+                                   1.0);
+    double gap = 0.0;
+    for (int i = 1; i < 500; ++i) {
+      gap = std::max(gap, std::abs(arc.eta(0.004 * i) - line.eta(0.004 * i)));
+    }
+    gaps.push_back(gap / peak);
+    EXPECT_NEAR(arc.peaks().motion.value, peak, 3.0 / rho * peak) << rho;
+  }
+  EXPECT_GT(gaps[0], 1e-4);  // the arc is felt
+  EXPECT_GT(gaps[0] / gaps[1], 9.0);
+  EXPECT_GT(gaps[1] / gaps[2], 9.0);
+  EXPECT_LT(gaps[2], 1e-5);
+}
+
+// A container carried round a circle of radius rho at constant angular rate W: the horizontal
+// acceleration is rho W^2 towards the centre, so each mode settles to r_n = A_n p with p the
+// unit vector from the centre and A_n = rho W^2 / (w_n^2 - W^2 + 2 i zeta w_n W) (a complex
+// amplitude: |A| the radius, arg A the lag behind p). The height is |sum g_n A_n|.
+TEST(PlanarLinear, SteadyCircularMotionMatchesItsClosedForm) {
+  ModelOptions options;
+  options.damping = DampingCorrelation::kExplicit;
+  options.explicit_zeta = 0.05;  // transients die within a few seconds
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const double rho = 0.3, W = 2.5, v = rho * W, ramp = 0.5, t_end = 25.0;
+  // Constant acceleration up to speed v, then constant speed (not at rest at the end: only
+  // the motion window is looked at).
+  const MotionLaw law("ramp", {{0.0, ramp, {v / ramp, 0, 0, 0}}, {ramp, t_end, {0, 0, 0, 0}}});
+  const double angle = law.stroke() / rho;
+  const PlanarLinearResponse r(model, PlanarDrive(PlanarPath::arc(rho, angle, false), law), 0.0);
+  std::complex<double> sum{};
+  for (int n = 0; n < model.modes(); ++n) {
+    const double w = model.omega[n];
+    sum += model.eta_gain[n] * rho * W * W /
+           std::complex<double>(w * w - W * W, 2.0 * model.zeta * w * W);
+  }
+  for (double t : {20.0, 21.3, 24.9}) {
+    EXPECT_NEAR(r.eta(t), std::abs(sum), 1e-7 * std::abs(sum)) << t;
+    // p: the container's position from the centre (0, rho) of the left-turning arc.
+    const double psi = law.at(t).position / rho;
+    const double p_angle = psi - kPi / 2;
+    EXPECT_NEAR(std::remainder(r.direction(t) - p_angle - std::arg(sum), 2 * kPi), 0.0, 1e-6);
+  }
+}
+
+// A container spinning in place at W from t = 0: the liquid spins up through the bottom Ekman
+// layer, w_l' = k (W - w_l) with k = sqrt(nu W) / h, so w_l = W (1 - exp(-k t)) and the wall
+// rises by R^2 w_l^2 / (4 g), tending to the forced vortex R^2 W^2 / (4 g).
+TEST(PlanarLinear, SpinTermFollowsTheEkmanSpinUpToTheForcedVortex) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const double W = 5.0, nu = 1e-4;
+  TrajectorySamples s;
+  for (int i = 0; i <= 4000; ++i) {
+    s.t.push_back(0.01 * i);
+    s.x.push_back(0.0);
+    s.y.push_back(0.0);
+    s.theta.push_back(W * 0.01 * i);
+  }
+  PlanarOptions options;
+  options.kinematic_viscosity = nu;
+  const PlanarLinearResponse r(model, PlanarDrive(SampledTrajectory(s)), 0.0, options);
+  const double k = std::sqrt(nu * W) / model.fill_height;
+  const double R = model.radius;
+  for (double t : {1.0, 5.0, 12.0, 39.5}) {
+    const double wl = W * (1.0 - std::exp(-k * t));
+    EXPECT_NEAR(r.liquid_spin(t), wl, 1e-9 * W) << t;
+    EXPECT_NEAR(r.eta(t), R * R * wl * wl / (4.0 * kGravity), 1e-9 * R) << t;
+  }
+  EXPECT_NEAR(r.eta(39.9), R * R * W * W / (4.0 * kGravity), 1e-4 * R * R * W * W / (4 * kGravity));
+  options.spin = SpinLag::kNone;
+  EXPECT_EQ(PlanarLinearResponse(model, PlanarDrive(SampledTrajectory(s)), 0.0, options).eta(20.0),
+            0.0);
+}
+
+// The peaks alone (the piecewise exact solution) and the stored response (DOP853): two
+// independent integrations of the same model agree, on an arc with the container turning and
+// on a path of lines and arcs.
+TEST(PlanarLinear, ExactPeaksAgreeWithTheIntegratedResponse) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const PlanarPath table = PlanarPath::arc(0.3, kPi / 2, true);
+  const PlanarPath track({PathElement::line(0.2), PathElement::arc(0.15, -kPi / 2),
+                          PathElement::line(0.1), PathElement::arc(0.1, kPi)},
+                         0.3, true);
+  PlanarOptions options;
+  options.kinematic_viscosity = 1e-3;  // a spin term that shows: a syrup
+  for (const PlanarPath* path : {&table, &track}) {
+    const PlanarDrive drive(*path, asymmetric_law(path->length()));
+    const PlanarLinearResponse full(model, drive, 1.0, options);
+    const PlanarPeaks fast = planar_linear_peaks(model, drive, 1.0, options);
+    const PlanarPeaks& ref = full.peaks();
+    EXPECT_NEAR(fast.motion.value, ref.motion.value, 1e-7 * ref.motion.value);
+    EXPECT_NEAR(fast.motion.time, ref.motion.time, 1e-5);
+    EXPECT_NEAR(std::remainder(fast.motion.direction - ref.motion.direction, 2 * kPi), 0.0, 1e-5);
+    EXPECT_NEAR(fast.rest.value, ref.rest.value, 1e-7 * ref.motion.value);
+    EXPECT_NEAR(fast.rest.time, ref.rest.time, 1e-5);
+    // The stored response agrees with its own peaks, and no sample exceeds them.
+    EXPECT_NEAR(full.eta(ref.motion.time), ref.motion.value, 1e-15);
+    for (int i = 0; i <= 2000; ++i) {
+      const double t = 1e-3 * i;
+      const PlanarPeak& p = t <= 1.0 ? ref.motion : ref.rest;
+      EXPECT_LE(full.eta(t), p.value * (1 + 1e-12)) << t;
+    }
+  }
+}
+
+// A constant upward acceleration a_z raises the effective gravity to g + a_z, so every natural
+// frequency by sqrt(1 + a_z / g): an undamped model on a trajectory rising at a_z equals the
+// same horizontal motion without rise with the frequencies scaled (a model built with that
+// omega_scale). Both models; the trajectory is a spline of samples (its natural ends bend the
+// acceleration only near the ends, where the liquid is at rest).
+TEST(PlanarModels, VerticalAccelerationScalesTheEffectiveGravity) {
+  ModelOptions options;
+  options.damping = DampingCorrelation::kExplicit;
+  options.explicit_zeta = 0.0;
+  const SloshingModel flat = make_sloshing_model(thesis_format(), options);
+  const double az = 2.0;
+  options.omega_scale = std::sqrt(1.0 + az / kGravity);
+  const SloshingModel scaled = make_sloshing_model(thesis_format(), options);
+  TrajectorySamples rising, level;
+  for (int i = 0; i <= 2000; ++i) {
+    const double t = 1e-3 * i;
+    // x: a smooth rest-to-rest move of 0.2 m between 0.3 s and 1.3 s.
+    const double u = std::clamp(t - 0.3, 0.0, 1.0);
+    const double x = 0.2 * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+    for (TrajectorySamples* s : {&rising, &level}) {
+      s->t.push_back(t);
+      s->x.push_back(x);
+      s->y.push_back(0.5 * x);
+    }
+    rising.z.push_back(0.5 * az * t * t);
+  }
+  const PlanarDrive up{SampledTrajectory(rising)}, still{SampledTrajectory(level)};
+  ASSERT_TRUE(up.vertical());
+  const PlanarLinearResponse lin_up(flat, up, 0.0), lin_ref(scaled, still, 0.0);
+  const PlanarNonlinearResponse nl_up(flat, up, 0.0), nl_ref(scaled, still, 0.0);
+  const double lin_peak = lin_ref.peaks().motion.value, nl_peak = nl_ref.peaks().motion.value;
+  ASSERT_GT(lin_peak, 1e-3);
+  for (int i = 1; i < 190; ++i) {
+    const double t = 0.01 * i;
+    EXPECT_NEAR(lin_up.eta(t), lin_ref.eta(t), 1e-5 * lin_peak) << t;
+    EXPECT_NEAR(nl_up.eta(t), nl_ref.eta(t), 1e-5 * nl_peak) << t;
+  }
+  // With vertical motion the linear peaks come from the integration itself.
+  EXPECT_EQ(planar_linear_peaks(flat, up, 0.0).motion.value, lin_up.peaks().motion.value);
+}
+
+// The rest window's bound of a free damped isotropic oscillator (oscillator_reach_over) against
+// its exact motion: each component is exp(-zeta w t) (c1 cos(wd t) + c2 sin(wd t)). Over seeded
+// random states and damping the bound holds at every instant of the horizon, and on a nearly
+// circular orbit it stays within 5 % of the true largest radius (the energy alone gives 41 %).
+TEST(PlanarBounds, OscillatorReachBoundsTheExactFreeMotion) {
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> u(-1.0, 1.0), zeta_of(0.001, 0.2);
+  const double w = 19.0, horizon = 1.0;
+  for (int trial = 0; trial < 200; ++trial) {
+    const double zeta = zeta_of(rng);
+    const double x0 = u(rng), y0 = u(rng), vx0 = w * u(rng), vy0 = w * u(rng);
+    const double sigma = zeta * w, wd = w * std::sqrt(1 - zeta * zeta);
+    auto at = [&](double p0, double v0, double t) {
+      const double c2 = (v0 + sigma * p0) / wd;
+      return std::exp(-sigma * t) * (p0 * std::cos(wd * t) + c2 * std::sin(wd * t));
+    };
+    double reach = 0.0;
+    for (int i = 0; i <= 20000; ++i) {
+      const double t = horizon * i / 20000.0;
+      const double x = at(x0, vx0, t), y = at(y0, vy0, t);
+      reach = std::max(reach, x * x + y * y);
+    }
+    const double e = 0.5 * ((vx0 * vx0 + vy0 * vy0) / (w * w) + x0 * x0 + y0 * y0);
+    const double l = (x0 * vy0 - y0 * vx0) / w;
+    const double bound = detail::oscillator_reach_over(e, l * l, 0.0, sigma, horizon);
+    EXPECT_LE(reach, bound * (1 + 1e-12)) << trial;
+  }
+  // A circular orbit of radius 1 (v = w, perpendicular) decaying at zeta = 0.0045.
+  const double zeta = 0.0045, e = 1.0, l2 = 1.0;
+  const double bound = detail::oscillator_reach_over(e, l2, 0.0, zeta * w, horizon);
+  EXPECT_LT(std::sqrt(bound), 1.05);
+  EXPECT_GT(std::sqrt(detail::oscillator_reach(e, 0.0, 0.0)), 1.41);
+}
+
+// On a line the planar nonlinear model is eq. 2.35 (NonlinearResponse), at any direction.
+TEST(PlanarNonlinear, OnALineItIsEquation235) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const MotionLaw law = asymmetric_law(0.8);
+  const NonlinearResponse exact(model, law, 1.0);
+  const double peak = exact.peaks().motion.value;
+  for (double direction : {0.0, 37.0 * kPi / 180.0, -2.0}) {
+    const PlanarNonlinearResponse planar(model, PlanarDrive(PlanarPath::line(0.8, direction), law),
+                                         1.0);
+    for (int i = 1; i < 1000; ++i) {
+      const double t = 0.002 * i + 1.7e-5;
+      ASSERT_NEAR(planar.eta(t), std::abs(exact.eta(t)), 1e-9 * peak) << t;
+    }
+    EXPECT_NEAR(planar.peaks().motion.value, peak, 1e-9 * peak);
+    EXPECT_NEAR(planar.peaks().motion.time, exact.peaks().motion.time, 1e-9);
+    EXPECT_NEAR(planar.peaks().rest.value, exact.peaks().rest.value, 1e-9 * peak);
+    EXPECT_NEAR(planar.peaks().rest.time, exact.peaks().rest.time, 1e-9);
+    const PlanarPeaks fast =
+        planar_nonlinear_peaks(model, PlanarDrive(PlanarPath::line(0.8, direction), law), 1.0);
+    EXPECT_EQ(fast.motion.value, planar.peaks().motion.value);
+    EXPECT_EQ(fast.rest.value, planar.peaks().rest.value);
+  }
+}
+
+// The rest window's search ends by the energy and angular-momentum bound: no later instant of
+// the whole window (the stored response is integrated to its end) exceeds the peak found, for
+// windows short enough for the bound to end the search and long ones.
+TEST(PlanarNonlinear, RestPeakBoundsTheWholeRestWindowOnAnArc) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const PlanarDrive drive(PlanarPath::arc(0.3, kPi / 2, true), asymmetric_law(0.3 * kPi / 2));
+  for (double rest : {0.1, 0.25, 1.0}) {
+    const PlanarNonlinearResponse full(model, drive, rest);
+    const PlanarPeaks fast = planar_nonlinear_peaks(model, drive, rest);
+    EXPECT_EQ(fast.rest.value, full.peaks().rest.value) << rest;
+    for (int i = 1; i <= 10000; ++i) {
+      const double t = 1.0 + rest * i / 10000.0;
+      EXPECT_LE(full.eta(t), fast.rest.value * (1 + 1e-12)) << rest << " " << t;
+    }
+  }
+}
+
+// Off the line the planar nonlinear model tends to the planar linear one's first mode as the
+// motion shrinks (x / R ~ 1e-6): the spherical pendulum's small-amplitude limit.
+TEST(PlanarNonlinear, TinyArcMotionReducesToTheOneModeLinearModel) {
+  ModelOptions options;
+  options.modes = 1;
+  const SloshingModel model = make_sloshing_model(thesis_format(), options);
+  const double scale = 1e-5;
+  const PlanarDrive drive(PlanarPath::arc(0.3 * scale, kPi, false),
+                          asymmetric_law(0.3 * scale * kPi));
+  const PlanarLinearResponse lin(model, drive, 1.0);
+  const PlanarNonlinearResponse nl(model, drive, 1.0);
+  // Same displacement, different heights: K / (R eta_gain_1) = xi_1^2 / 4.
+  const double ratio = model.K / (model.radius * model.eta_gain[0]);
+  for (int i = 1; i < 200; ++i) {
+    const double t = 0.01 * i;
+    EXPECT_NEAR(nl.eta(t), ratio * lin.eta(t), 1e-5 * ratio * lin.peaks().motion.value) << t;
+    if (lin.eta(t) > 0.1 * lin.peaks().motion.value) {
+      EXPECT_NEAR(std::remainder(nl.direction(t) - lin.direction(t), 2 * kPi), 0.0, 1e-4);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace slosh
