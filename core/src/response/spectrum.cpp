@@ -84,12 +84,16 @@ template std::complex<long double> seven_segment_spectrum(const std::array<long 
 void seven_segment_magnitudes(const Durations& d, double stroke, double omega0, double step,
                               std::size_t count, std::vector<double>* out) {
   constexpr std::size_t kRefresh{32};
+  constexpr double kRotationMinOmegaT{0.5};
   out->resize(count);
   if (count == 0) return;
   double total = 0.0;
   for (double di : d) total += di;
   const double first = std::min(omega0, omega0 + step * static_cast<double>(count - 1));
-  if (!(first > 0.0 && first * total >= 8.0)) {
+  // The rotation's error is bounded by the jerk-jump terms' scale sum |w_i| / omega^2 (about
+  // 1e-14 of it), which grows against |X| ~ stroke omega as (omega T)^-3 at low frequency: at
+  // omega T = 0.5 still below 1e-10 of |X|, far under what a band check resolves.
+  if (!(first > 0.0 && first * total >= kRotationMinOmegaT)) {
     for (std::size_t k = 0; k < count; ++k) {
       (*out)[k] =
           std::abs(seven_segment_spectrum(d, stroke, omega0 + step * static_cast<double>(k)));
