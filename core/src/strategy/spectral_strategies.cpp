@@ -534,11 +534,69 @@ BandPoint solve_jerk(BandSearch& s, const std::vector<std::vector<double>>& x0) 
   return best;
 }
 
+/// Phase E's solve on `omegas` from `from`: with kActive only the rows that can be active (those
+/// near the band's local maxima of |X| and within 5 % of the level z, as in phase J), the rest
+/// checked at the solution and added, and the solve resumed, while any is above z; the point
+/// returned is then a KKT point of the min-max on every row.
+MultiStartResult solve_excess_rows(BandSearch& s, const std::vector<double>& omegas,
+                                   std::vector<std::vector<double>> from) {
+  const NlpOptions options = spectral_options();
+  auto solve = [&](const std::vector<double>& rows_omegas,
+                   const std::vector<std::vector<double>>& x0) {
+    NlpProblem p = s.c.space.problem(1, 1e6);
+    add_limits(p, s.c, static_cast<int>(rows_omegas.size()), s.rows(rows_omegas, true));
+    MultiStartResult r = multi_start(p, x0, s.c, options);
+    s.count(r);
+    return r;
+  };
+  if (s.row_selection == BandRowSelection::kAll) return solve(omegas, from);
+  const std::size_t rows = omegas.size();
+  NlpProblem full = s.c.space.problem(1, 1e6);
+  add_limits(full, s.c, static_cast<int>(rows), s.rows(omegas, true));
+  std::vector<std::size_t> order(rows);
+  for (std::size_t k = 0; k < rows; ++k) order[k] = k;
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return omegas[a] < omegas[b]; });
+  std::vector<double> g(static_cast<std::size_t>(full.inequality_count));
+  std::vector<double> relative(rows);
+  std::vector<char> chosen(rows, 0);
+  // The rows relative to the level z (g_k = |X_k|^2 / X_ref^2 - z; g_k / z >= -5 % is near it).
+  auto mark = [&](const std::vector<double>& x) {
+    full.inequalities(x.data(), g.data(), nullptr);
+    const double z = std::max(x[kSegments], 1e-300);
+    for (std::size_t k = 0; k < rows; ++k) relative[k] = g[k] / z;
+    mark_candidate_rows(relative, order, &chosen);
+  };
+  for (const auto& x0 : from) mark(x0);
+  const double row_slack = spectral_options().constraint_tolerance;
+  for (;;) {
+    std::vector<double> active;
+    for (std::size_t k = 0; k < rows; ++k) {
+      if (chosen[k] != 0) active.push_back(omegas[k]);
+    }
+    MultiStartResult r = solve(active, from);
+    if (r.best.x.empty() || active.size() == rows || r.timed_out) return r;
+    full.inequalities(r.best.x.data(), g.data(), nullptr);
+    bool added = false;
+    for (std::size_t k = 0; k < rows; ++k) {
+      if (chosen[k] == 0 && g[k] > row_slack) {
+        chosen[k] = 1;
+        added = true;
+      }
+    }
+    if (!added) {
+      r.best.max_violation = max_violation(full, r.best.x);
+      return r;
+    }
+    mark(r.best.x);
+    from = {r.best.x};
+  }
+}
+
 /// Phase E (least infeasible): min z s.t. |X(w_k)|^2 / X_ref^2 <= z on the band, the min-max of
 /// the band excess, with the same exchange on the fine grid.
 BandPoint solve_excess(BandSearch& s, const std::vector<Durations>& x0) {
   std::vector<double> omegas = s.base_omegas;
-  const NlpOptions options = spectral_options();
   BandPoint best;
   std::vector<std::vector<double>> from;
   for (const Durations& d : x0) {
@@ -547,10 +605,7 @@ BandPoint solve_excess(BandSearch& s, const std::vector<Durations>& x0) {
     from.push_back(std::move(x));
   }
   for (int round = 0; round < kBandExchangeRounds; ++round) {
-    NlpProblem p = s.c.space.problem(1, 1e6);
-    add_limits(p, s.c, static_cast<int>(omegas.size()), s.rows(omegas, true));
-    MultiStartResult r = multi_start(p, from, s.c, options);
-    s.count(r);
+    MultiStartResult r = solve_excess_rows(s, omegas, from);
     if (r.best.x.empty()) break;
     double worst_omega = 0.0;
     BandPoint here = check_band(s, r.best.x, &worst_omega);
