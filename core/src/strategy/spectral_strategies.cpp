@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <optional>
 
 #include "slosh/core/response/peak_finder.hpp"
 #include "slosh/core/response/spectrum.hpp"
@@ -598,6 +599,17 @@ MultiStartResult solve_excess_rows(BandSearch& s, const std::vector<double>& ome
 BandPoint solve_excess(BandSearch& s, const std::vector<Durations>& x0) {
   std::vector<double> omegas = s.base_omegas;
   BandPoint best;
+  if (const std::optional<Durations> only = s.c.space.only_point()) {
+    // One admissible point: its band maximum is the least excess (z is then a 1-D min-max).
+    double worst_omega = 0.0;
+    best = check_band(s, std::vector<double>(only->begin(), only->end()), &worst_omega);
+    best.r.best.x.assign(only->begin(), only->end());
+    best.r.best.x.push_back(best.ratio * best.ratio);
+    best.r.best.status = SolveStatus::kOptimal;
+    best.r.feasible = limits_met(s.c, *only);
+    best.r.starts = 1;
+    return best;
+  }
   std::vector<std::vector<double>> from;
   for (const Durations& d : x0) {
     std::vector<double> x(d.begin(), d.end());
