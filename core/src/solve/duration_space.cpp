@@ -104,6 +104,13 @@ Durations DurationSpace::from_weights(const Durations& w) const {
   return polish(d.data());
 }
 
+std::optional<Durations> DurationSpace::only_point() const {
+  double room = motion_time;
+  for (double l : lower) room -= l;
+  if (std::abs(room) > kBoundSnap) return std::nullopt;
+  return polish(lower.data());
+}
+
 std::vector<Durations> DurationSpace::starts(int random_count) const {
   const std::vector<Durations> all = general_starts(random_count);
   if (!one_jerk) return all;

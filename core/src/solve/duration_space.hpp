@@ -55,6 +55,10 @@ struct DurationSpace {
 
   /// The point with free-weight fractions w (>= 0) of the room above the lower bounds.
   [[nodiscard]] Durations from_weights(const Durations& w) const;
+
+  /// The only admissible point when the lower bounds fill the motion time (to kZeroDuration:
+  /// e.g. T = 4 min_ramp without plateau minimums, where a min-time search starts), else nullopt.
+  [[nodiscard]] std::optional<Durations> only_point() const;
 };
 
 /// Jerk integral sum J_i^2 dT_i [m^2/s^5] and its gradient.

@@ -123,6 +123,24 @@ MultiStartResult multi_start(const NlpProblem& problem,
                              const std::vector<std::vector<double>>& starts,
                              const StrategyContext& context, const NlpOptions& options,
                              const StartPolicy& policy) {
+  // Lower bounds that fill the motion time leave one admissible point: it is the optimum, and
+  // every start is it (SLSQP spent its whole evaluation budget there on infeasible problems).
+  if (problem.size() == static_cast<int>(kSegments) && !starts.empty()) {
+    if (const std::optional<Durations> only = context.space.only_point()) {
+      MultiStartResult out;
+      NlpResult& r = out.best;
+      r.x.assign(only->begin(), only->end());
+      r.objective = problem.objective(r.x.data(), nullptr);
+      r.max_violation = max_violation(problem, r.x);
+      r.evaluations = 1;
+      r.message = "the bounds leave one admissible point";
+      out.feasible = r.max_violation <= 10.0 * options.constraint_tolerance;
+      r.status = out.feasible ? SolveStatus::kOptimal : SolveStatus::kInfeasible;
+      out.starts = 1;
+      out.evaluations = 1;
+      return out;
+    }
+  }
   const std::optional<OneJerkChart>& chart = context.space.one_jerk;
   if (!chart) return solve_starts(problem, starts, context, options, policy);
   // The one-jerk family: solved in its coordinates, the best point restated as durations.

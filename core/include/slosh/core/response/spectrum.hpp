@@ -22,10 +22,12 @@ template <typename T>
                                                      T omega);
 
 /// |X_a| of the 7-segment law at omega0 + k step, k = 0..count-1, written to `out` (resized): the
-/// band checks' grids. Above omega T = 8 (every point of the grid) each exp(-j omega t_i) advances
-/// by one complex product per point, recomputed every 32 points against drift (the products' error
-/// stays below 1e-14 of the jerk-jump terms, far under any tolerance the checks apply); otherwise
-/// every point is seven_segment_spectrum.
+/// band checks' grids. Above omega T = 0.5 (every point of the grid) each exp(-j omega t_i)
+/// advances by one complex product per point in the jerk-jump form, recomputed every 32 points
+/// against drift (the error stays below 1e-13 of the jerk-jump terms' scale sum |w_i| / omega^2,
+/// i.e. below 1e-10 of |X| down to omega T = 0.5: far under any tolerance the checks apply, whose
+/// maxima are refined on seven_segment_spectrum anyway); otherwise every point is
+/// seven_segment_spectrum.
 void seven_segment_magnitudes(const Durations& d, double stroke, double omega0, double step,
                               std::size_t count, std::vector<double>* out);
 
