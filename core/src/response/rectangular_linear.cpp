@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 
 #include "slosh/core/response/rectangular_response.hpp"
 
@@ -32,6 +33,29 @@ AxisComponents axis_components(double orientation_deg) {
             std::copysign(std::numbers::sqrt2 / 2.0, s)};
   }
   return {c, s};
+}
+
+LinearResponse LinearResponse::combined(const LinearResponse& a, double gain_a,
+                                        const LinearResponse& b, double gain_b) {
+  if (a.piece_begin_ != b.piece_begin_ || a.end_time_ != b.end_time_) {
+    throw std::invalid_argument("LinearResponse::combined: the responses' pieces differ");
+  }
+  LinearResponse sum = a;
+  const std::size_t ma = a.gains_.size(), mb = b.gains_.size();
+  sum.gains_.clear();
+  for (double g : a.gains_) sum.gains_.push_back(gain_a * g);
+  for (double g : b.gains_) sum.gains_.push_back(gain_b * g);
+  sum.coefficients_.clear();
+  sum.coefficients_.reserve(a.coefficients_.size() + b.coefficients_.size());
+  for (std::size_t k = 0; k < a.piece_begin_.size(); ++k) {
+    const auto ka = static_cast<std::ptrdiff_t>(k * ma), kb = static_cast<std::ptrdiff_t>(k * mb);
+    sum.coefficients_.insert(sum.coefficients_.end(), a.coefficients_.begin() + ka,
+                             a.coefficients_.begin() + ka + static_cast<std::ptrdiff_t>(ma));
+    sum.coefficients_.insert(sum.coefficients_.end(), b.coefficients_.begin() + kb,
+                             b.coefficients_.begin() + kb + static_cast<std::ptrdiff_t>(mb));
+  }
+  sum.peak_step_ = std::min(a.peak_step_, b.peak_step_);
+  return sum;
 }
 
 namespace {
@@ -76,11 +100,13 @@ RectangularPeaks RectangularLinearResponse::peaks() const {
     p.highest = p.along_width;
   } else {
     // Along a wall the other direction's wave adds its own elevation; with both at their wall
-    // values (the corners) the highest point at t is |eta_L| + |eta_W|, the larger of the two
-    // corner sums eta_L +- eta_W (docs/models.md).
-    auto f = [this](double t) { return eta_highest(t); };
-    p.highest = {find_max(f, 0.0, motion_time_, peak_step_),
-                 find_max(f, motion_time_, end_time_, peak_step_)};
+    // values (the corners) the highest point at t is |eta_L| + |eta_W| = max(|eta_L + eta_W|,
+    // |eta_L - eta_W|): the larger peak of the two corner responses, each scanned exactly as one
+    // response with both directions' modes (docs/models.md).
+    const SloshPeaks plus = LinearResponse::combined(*length_, 1.0, *width_, 1.0).peaks();
+    const SloshPeaks minus = LinearResponse::combined(*length_, 1.0, *width_, -1.0).peaks();
+    p.highest.motion = plus.motion.value >= minus.motion.value ? plus.motion : minus.motion;
+    p.highest.rest = plus.rest.value >= minus.rest.value ? plus.rest : minus.rest;
   }
   return p;
 }
