@@ -61,11 +61,11 @@ class RectangularLinearResponse {
 
 /// Where the rectangular nonlinear model holds (docs/models.md): the Moiseev-type asymptotics of
 /// the dominant mode need a finite depth, h / side >= kRectangularMinDepthRatio for every
-/// excited direction (Faltinsen et al. 2000; shallower fill needs the adaptive modal theory of
-/// Faltinsen & Timokha 2002), and a small wave: the third-order theory is an expansion in the
-/// steepness k_1 A of the wall amplitude A, trusted here up to kRectangularMaxSteepness, about
-/// half the steepest standing wave (Penney & Price 1952: crest height H / lambda = 0.218, i.e.
-/// k A = 0.68).
+/// excited direction (Faltinsen et al. 2000; shallower fill needs the adaptive and small-depth
+/// modal systems of Faltinsen & Timokha, 2001 and 2002), and a small wave: the third-order theory
+/// is an expansion in the steepness k_1 A of the wall amplitude A, trusted here up to
+/// kRectangularMaxSteepness, about half the steepest standing wave (Penney & Price 1952: crest
+/// height H / lambda = 0.218, i.e. k A = 0.68).
 inline constexpr double kRectangularMinDepthRatio{0.24};
 inline constexpr double kRectangularMaxSteepness{0.3};
 
