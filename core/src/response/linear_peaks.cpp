@@ -153,8 +153,19 @@ class LinearPeakScan {
         return sample_modes<3>(a, b, h, n, rest, values);
       case 4:
         return sample_modes<4>(a, b, h, n, rest, values);
+      case 5:
+        return sample_modes<5>(a, b, h, n, rest, values);
+      // Two directions of a rectangular tank side by side (LinearResponse::combined).
+      case 6:
+        return sample_modes<6>(a, b, h, n, rest, values);
+      case 7:
+        return sample_modes<7>(a, b, h, n, rest, values);
+      case 8:
+        return sample_modes<8>(a, b, h, n, rest, values);
+      case 9:
+        return sample_modes<9>(a, b, h, n, rest, values);
       default:
-        return sample_modes<kMaxModes>(a, b, h, n, rest, values);
+        return sample_modes<2 * kMaxModes>(a, b, h, n, rest, values);
     }
   }
 
@@ -536,7 +547,7 @@ SloshPeaks LinearResponse::peaks() const {
   const bool under_damped = std::all_of(
       coefficients_.begin(), coefficients_.end(),
       [](const LinearModePiece& p) { return p.damping == LinearModePiece::Damping::kUnder; });
-  if (!under_damped || gains_.empty()) {
+  if (!under_damped || gains_.empty() || gains_.size() > 2 * kMaxModes) {
     auto abs_eta = [this](double t) { return std::abs(eta(t)); };
     return {find_max(abs_eta, 0.0, motion_time_, peak_step_),
             find_max(abs_eta, motion_time_, end_time_, peak_step_)};

@@ -66,6 +66,13 @@ class LinearResponse {
   [[nodiscard]] double motion_time() const { return motion_time_; }
   [[nodiscard]] double end_time() const { return end_time_; }
 
+  /// The response gain_a eta_a(t) + gain_b eta_b(t) of two responses over the same pieces and
+  /// rest window (laws that differ by a scale), as one response with both's modes side by side
+  /// (at most 2 kMaxModes), so that peaks() scans the sum exactly (rectangular_linear.cpp).
+  /// Throws std::invalid_argument when the pieces differ.
+  [[nodiscard]] static LinearResponse combined(const LinearResponse& a, double gain_a,
+                                               const LinearResponse& b, double gain_b);
+
  private:
   [[nodiscard]] std::size_t piece_index(double t) const;  // piece holding t > 0
 

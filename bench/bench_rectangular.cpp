@@ -1,0 +1,46 @@
+// Responses of a rectangular cup of a form-fill-seal line: 120 x 80 mm, water filled 50 mm
+// (h/L = 0.42, h/W = 0.63), the asymmetric 7-segment law over 100 mm in 1 s (9 mm at the wall,
+// inside the nonlinear model's range), rest window 1 s; the tank straight on the path (one
+// direction) and turned by 30 degrees (both directions and the corners).
+
+#include <benchmark/benchmark.h>
+
+#include "fixtures.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
+
+namespace {
+
+using slosh::bench::kAsymmetric;
+
+slosh::RectangularModel cup(double orientation_deg) {
+  return slosh::make_rectangular_model({0.12, 0.08, orientation_deg}, 0.05,
+                                       slosh::Fluid{"water", 998.2, 1.0016e-3, ""});
+}
+
+void BM_RectangularLinear(benchmark::State& state) {
+  const slosh::RectangularModel model = cup(static_cast<double>(state.range(0)));
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.1);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::RectangularLinearResponse(model, law.law(), 1.0).peaks());
+  }
+}
+BENCHMARK(BM_RectangularLinear)->Arg(0)->Arg(30)->Unit(benchmark::kMicrosecond);
+
+void BM_RectangularNonlinear(benchmark::State& state) {
+  const slosh::RectangularModel model = cup(static_cast<double>(state.range(0)));
+  const slosh::SevenSegmentLaw law(kAsymmetric, 0.1);
+  if (!slosh::rectangular_nonlinear_peaks(model, law.law(), 1.0).nonlinear) {
+    state.SkipWithError("the benchmark format left the nonlinear model's range");
+    return;
+  }
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(slosh::rectangular_nonlinear_peaks(model, law.law(), 1.0));
+  }
+}
+BENCHMARK(BM_RectangularNonlinear)->Arg(0)->Arg(30)->Unit(benchmark::kMicrosecond);
+
+}  // namespace
+
+BENCHMARK_MAIN();

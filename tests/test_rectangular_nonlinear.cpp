@@ -1,0 +1,235 @@
+// The rectangular tank's nonlinear model: its free oscillation against the published third-order
+// frequency-amplitude relation of standing waves in finite depth (Tadjbakhsh & Keller 1960, the
+// steady state of the Moiseev-type theory of Faltinsen 1974 and Faltinsen et al. 2000, whose
+// critical depth h/L = 0.3368 separates hardening from softening), a fine-step RK4 of the
+// oscillator re-typed here, the linear limit, and the fallback outside the model's range.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kG = 9.81;
+
+Fluid water() {
+  return Fluid{"thesis_water", 1000.0, 1.0e-3, "test"};
+}
+
+/// Third-order frequency correction re-typed: (9 T^-4 - 12 T^-2 - 3 - 2 T^2) / 64.
+double tk_correction(double kh) {
+  const double t2 = std::tanh(kh) * std::tanh(kh);
+  return (9 / (t2 * t2) - 12 / t2 - 3 - 2 * t2) / 64;
+}
+
+/// Downward zero crossing of f in (a, b) by bisection.
+template <typename F>
+double crossing(const F& f, double a, double b) {
+  for (int i = 0; i < 200 && b - a > 1e-13; ++i) {
+    const double m = 0.5 * (a + b);
+    (f(m) > 0 ? a : b) = m;
+  }
+  return 0.5 * (a + b);
+}
+
+/// Frequency and wall amplitude of the free, undamped oscillation after a short move.
+struct FreeOscillation {
+  double omega{}, amplitude{};
+};
+
+FreeOscillation free_oscillation(const SloshingModel& m, double stroke) {
+  const double period = 2 * kPi / m.omega1();
+  const MotionLaw law = make_poly5_law(stroke, 0.8 * period);
+  const double rest = 12 * period;
+  const NonlinearResponse r(m, law, rest);
+  auto eta = [&r](double t) { return r.eta(t); };
+  // Downward zero crossings over ten periods of the rest window, located by sign changes on a
+  // fine grid and bisection.
+  std::vector<double> zeros;
+  const double T = law.duration();
+  const double dt = period / 200;
+  for (double t = T + period; t + dt < T + rest && zeros.size() < 11; t += dt) {
+    if (eta(t) > 0 && eta(t + dt) <= 0) zeros.push_back(crossing(eta, t, t + dt));
+  }
+  FreeOscillation f;
+  f.omega = 2 * kPi * (static_cast<double>(zeros.size()) - 1) / (zeros.back() - zeros.front());
+  f.amplitude = r.peaks().rest.value;
+  return f;
+}
+
+TEST(RectangularNonlinear, FreeOscillationFollowsTheThirdOrderStandingWaveFrequency) {
+  const double L = 0.1;
+  RectangularModelOptions options;
+  options.explicit_zeta = 0.0;
+  // Above the critical depth (soft spring) and below it (hard spring).
+  for (double hl : {0.5, 0.27}) {
+    const double h = hl * L;
+    const SloshingModel m =
+        make_rectangular_direction_model({L, 0.05, 0.0}, h, water(), TankAxis::kLength, options);
+    const double k = kPi / L;
+    const double w1 = std::sqrt(kG * k * std::tanh(k * h));
+    const FreeOscillation f = free_oscillation(m, 0.006);
+    const double ka = k * f.amplitude;
+    ASSERT_GT(ka, 0.08) << "the move must reach a measurable amplitude";
+    ASSERT_LT(ka, 0.2);
+    const double expected = tk_correction(k * h) * ka * ka;  // omega / omega_1 - 1
+    EXPECT_NEAR(f.omega / w1 - 1, expected, 0.01 * std::abs(expected)) << "h/L " << hl;
+    if (hl > 0.3368) {
+      EXPECT_LT(f.omega, w1);
+    } else {
+      EXPECT_GT(f.omega, w1);
+    }
+  }
+}
+
+TEST(RectangularNonlinear, AtTheCriticalDepthTheFrequencyDoesNotDependOnTheAmplitude) {
+  const double L = 0.1, h = 0.3368 * L;
+  RectangularModelOptions options;
+  options.explicit_zeta = 0.0;
+  const SloshingModel m =
+      make_rectangular_direction_model({L, 0.05, 0.0}, h, water(), TankAxis::kLength, options);
+  const FreeOscillation f = free_oscillation(m, 0.02);
+  EXPECT_NEAR(f.omega / m.omega1() - 1, 0.0, 2e-6);
+}
+
+/// RK4 at step dt of x'' + 2 zeta w x' + w^2 x (1 + alpha (x/L)^2) = -c a(t) per direction (the
+/// rectangular nonlinear oscillator of docs/models.md re-typed), peaks of sum |G_1 x|.
+struct Duffing {
+  double w, zeta, alpha, side, gain, component;
+};
+
+std::pair<double, double> rk4_duffing_peaks(const std::vector<Duffing>& dirs, const MotionLaw& law,
+                                            double rest, double dt) {
+  std::vector<double> x(dirs.size(), 0.0), v(dirs.size(), 0.0);
+  const double T = law.duration();
+  const auto steps = static_cast<long>(std::llround((T + rest) / dt));
+  auto acc = [&](double t) { return t < T ? law.at(t).acceleration : 0.0; };
+  double motion = 0, rest_peak = 0;
+  for (long i = 0; i < steps; ++i) {
+    const double t = static_cast<double>(i) * dt;
+    const double a0 = acc(t), am = acc(t + dt / 2), a1 = acc(t + dt);
+    double eta = 0;
+    for (std::size_t d = 0; d < dirs.size(); ++d) {
+      const Duffing& p = dirs[d];
+      auto f = [&p](double xx, double vv, double a) {
+        const double xb = xx / p.side;
+        return -2 * p.zeta * p.w * vv - p.w * p.w * xx * (1 + p.alpha * xb * xb) - p.component * a;
+      };
+      const double k1x = v[d], k1v = f(x[d], v[d], a0);
+      const double k2x = v[d] + dt / 2 * k1v, k2v = f(x[d] + dt / 2 * k1x, k2x, am);
+      const double k3x = v[d] + dt / 2 * k2v, k3v = f(x[d] + dt / 2 * k2x, k3x, am);
+      const double k4x = v[d] + dt * k3v, k4v = f(x[d] + dt * k3x, k4x, a1);
+      x[d] += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+      v[d] += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+      eta += std::abs(p.gain * x[d]);
+    }
+    if (static_cast<double>(i + 1) * dt <= T + 1e-12) {
+      motion = std::max(motion, eta);
+    } else {
+      rest_peak = std::max(rest_peak, eta);
+    }
+  }
+  return {motion, rest_peak};
+}
+
+Duffing retyped(double side, double across, double h, double component) {
+  const double k = kPi / side, nu = 1e-6;
+  Duffing d{};
+  d.w = std::sqrt(kG * k * std::tanh(k * h));
+  d.zeta = std::sqrt(nu / (2 * d.w)) *
+           (k * (1 - 2 * h / side) / std::sinh(2 * k * h) + 1 / side + 1 / across);
+  d.gain = 4 * std::tanh(k * h) / kPi;
+  d.alpha = 8.0 / 3.0 * tk_correction(k * h) * kPi * kPi * d.gain * d.gain;
+  d.side = side;
+  d.component = component;
+  return d;
+}
+
+TEST(RectangularNonlinear, TurnedTankMatchesAFineStepIntegrationOfTheOscillator) {
+  const double L = 0.1, W = 0.07, h = 0.04;
+  const MotionLaw law = make_modified_trapezoid_law(0.03, 0.5);
+  for (double phi : {0.0, 35.0, 90.0}) {
+    const RectangularModel model = make_rectangular_model({L, W, phi}, h, water());
+    const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
+    ASSERT_TRUE(p.nonlinear) << p.warning;
+    EXPECT_EQ(p.warning, "");
+    const double c = std::cos(phi * kPi / 180), s = std::sin(phi * kPi / 180);
+    std::vector<Duffing> dirs;
+    if (phi != 90.0) dirs.push_back(retyped(L, W, h, c));
+    if (phi != 0.0) dirs.push_back(retyped(W, L, h, s));
+    const auto [motion, rest] = rk4_duffing_peaks(dirs, law, 1.0, 1e-5);
+    EXPECT_NEAR(p.peaks.highest.motion.value / motion, 1.0, 1e-6) << phi;
+    EXPECT_NEAR(p.peaks.highest.rest.value / rest, 1.0, 1e-6) << phi;
+  }
+}
+
+TEST(RectangularNonlinear, SmallMovesGiveTheLinearFirstMode) {
+  const double L = 0.1, W = 0.08, h = 0.04;
+  RectangularModelOptions one_mode;
+  one_mode.modes = 1;
+  const RectangularModel model = make_rectangular_model({L, W, 20.0}, h, water(), one_mode);
+  const MotionLaw law = make_poly5_law(1e-4, 0.5);
+  const RectangularNonlinearPeaks nl = rectangular_nonlinear_peaks(model, law, 1.0);
+  const RectangularPeaks lin = RectangularLinearResponse(model, law, 1.0).peaks();
+  ASSERT_TRUE(nl.nonlinear);
+  EXPECT_NEAR(nl.peaks.highest.motion.value / lin.highest.motion.value, 1.0, 1e-6);
+  EXPECT_NEAR(nl.peaks.highest.rest.value / lin.highest.rest.value, 1.0, 1e-6);
+}
+
+TEST(RectangularNonlinear, SquareTankAt45DegreesIsSymmetric) {
+  const MotionLaw law = make_poly5_law(0.02, 0.45);
+  const RectangularNonlinearPeaks plus = rectangular_nonlinear_peaks(
+      make_rectangular_model({0.09, 0.09, 45.0}, 0.04, water()), law, 1.0);
+  const RectangularNonlinearPeaks minus = rectangular_nonlinear_peaks(
+      make_rectangular_model({0.09, 0.09, -45.0}, 0.04, water()), law, 1.0);
+  ASSERT_TRUE(plus.nonlinear);
+  EXPECT_EQ(plus.peaks.along_length.motion.value, plus.peaks.along_width.motion.value);
+  EXPECT_EQ(plus.peaks.highest.motion.value, minus.peaks.highest.motion.value);
+  EXPECT_EQ(plus.peaks.highest.rest.value, minus.peaks.highest.rest.value);
+  EXPECT_NEAR(plus.peaks.highest.motion.value, 2 * plus.peaks.along_length.motion.value,
+              1e-9 * plus.peaks.highest.motion.value);
+}
+
+TEST(RectangularNonlinear, ShallowFillAnswersLinearlyAndSaysWhy) {
+  // h / L = 0.2 along the length (below 0.24); the width direction (h / W = 0.333) alone would
+  // be in range.
+  const RectangularModel model = make_rectangular_model({0.1, 0.06, 30.0}, 0.02, water());
+  const MotionLaw law = make_poly5_law(0.02, 0.5);
+  const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
+  EXPECT_FALSE(p.nonlinear);
+  EXPECT_EQ(p.warning,
+            "rectangular nonlinear model not valid along the length: fill height / length = "
+            "0.200 is below 0.24 (shallow fill, outside the Moiseev-type modal theory of "
+            "Faltinsen et al. 2000); linear model used");
+  const RectangularPeaks lin = RectangularLinearResponse(model, law, 1.0).peaks();
+  EXPECT_EQ(p.peaks.highest.motion.value, lin.highest.motion.value);
+  EXPECT_EQ(p.peaks.highest.rest.value, lin.highest.rest.value);
+  // Moved along the width only, the same tank is in range.
+  const RectangularModel across = make_rectangular_model({0.1, 0.06, 90.0}, 0.02, water());
+  EXPECT_TRUE(rectangular_nonlinear_peaks(across, law, 1.0).nonlinear);
+}
+
+TEST(RectangularNonlinear, LargeResponseAnswersLinearlyAndSaysWhy) {
+  const RectangularModel model = make_rectangular_model({0.1, 0.06, 0.0}, 0.05, water());
+  const MotionLaw law = make_poly5_law(0.05, 0.4);  // 25 mm at the wall: k1 eta = 0.78
+  const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
+  EXPECT_FALSE(p.nonlinear);
+  const std::string head = "rectangular nonlinear model not valid along the length: wall height ";
+  const std::string tail = " above 0.30 (beyond the third-order theory); linear model used";
+  ASSERT_GT(p.warning.size(), head.size() + tail.size());
+  EXPECT_EQ(p.warning.substr(0, head.size()), head);
+  EXPECT_EQ(p.warning.substr(p.warning.size() - tail.size()), tail);
+  EXPECT_EQ(p.peaks.highest.motion.value,
+            RectangularLinearResponse(model, law, 1.0).peaks().highest.motion.value);
+}
+
+}  // namespace
+}  // namespace slosh

@@ -1,0 +1,170 @@
+// Responses of a rectangular tank turned on a straight path against independent computations:
+// a fine-step RK4 integration of the modal equations re-typed here, the 2-D (one-direction)
+// answer for a tank very wide across the motion, and the symmetries of a square tank.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kG = 9.81;
+constexpr double kNu = 1.0e-6;  // water, rho = 1000, mu = 1e-3
+
+Fluid water() {
+  return Fluid{"thesis_water", 1000.0, 1.0e-3, "test"};
+}
+
+/// One direction's modes re-typed from docs/models.md: omega_n, wall gain G_n, one zeta.
+struct Modes {
+  std::vector<double> w, g;
+  double zeta{};
+  double component{};  // share of the acceleration along this direction
+};
+
+Modes direction(double side, double across, double h, double component, int modes,
+                bool side_walls = true) {
+  Modes m;
+  m.component = component;
+  for (int n = 1; n <= modes; ++n) {
+    const double k = (2 * n - 1) * kPi / side;
+    m.w.push_back(std::sqrt(kG * k * std::tanh(k * h)));
+    m.g.push_back(4 * std::tanh(k * h) / ((2 * n - 1) * kPi));
+  }
+  const double k = kPi / side;
+  m.zeta = std::sqrt(kNu / (2 * m.w[0])) * (k * (1 - 2 * h / side) / std::sinh(2 * k * h) +
+                                            1 / side + (side_walls ? 1 / across : 0.0));
+  return m;
+}
+
+struct RefPeaks {
+  double motion{}, rest{};
+};
+
+/// Classical RK4 at step dt of x_n'' + 2 zeta w_n x_n' + w_n^2 x_n = -c a(t) for every mode of
+/// every direction; the peaks of sum over directions of |sum_n G_n x_n| on the sample grid.
+RefPeaks rk4_peaks(const std::vector<Modes>& dirs, const MotionLaw& law, double rest, double dt) {
+  struct State {
+    double x{}, v{};
+  };
+  std::vector<std::vector<State>> s(dirs.size());
+  for (std::size_t d = 0; d < dirs.size(); ++d) s[d].resize(dirs[d].w.size());
+  const double T = law.duration();
+  const auto steps = static_cast<long>(std::llround((T + rest) / dt));
+  RefPeaks p;
+  auto acc = [&](double t) { return t < T ? law.at(t).acceleration : 0.0; };
+  for (long i = 0; i < steps; ++i) {
+    const double t = static_cast<double>(i) * dt;
+    const double a0 = acc(t), am = acc(t + dt / 2), a1 = acc(t + dt);
+    double eta = 0.0;
+    for (std::size_t d = 0; d < dirs.size(); ++d) {
+      double eta_d = 0.0;
+      for (std::size_t n = 0; n < dirs[d].w.size(); ++n) {
+        const double w = dirs[d].w[n], c = dirs[d].component, z = dirs[d].zeta;
+        auto f = [&](double x, double v, double a) { return -2 * z * w * v - w * w * x - c * a; };
+        State& q = s[d][n];
+        const double k1x = q.v, k1v = f(q.x, q.v, a0);
+        const double k2x = q.v + dt / 2 * k1v, k2v = f(q.x + dt / 2 * k1x, k2x, am);
+        const double k3x = q.v + dt / 2 * k2v, k3v = f(q.x + dt / 2 * k2x, k3x, am);
+        const double k4x = q.v + dt * k3v, k4v = f(q.x + dt * k3x, k4x, a1);
+        q.x += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+        q.v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+        eta_d += dirs[d].g[n] * q.x;
+      }
+      eta += std::abs(eta_d);
+    }
+    const double t1 = static_cast<double>(i + 1) * dt;
+    if (t1 <= T + 1e-12) {
+      p.motion = std::max(p.motion, eta);
+    } else {
+      p.rest = std::max(p.rest, eta);
+    }
+  }
+  return p;
+}
+
+TEST(RectangularResponse, TurnedTankMatchesAFineStepIntegration) {
+  const double L = 0.12, W = 0.08, h = 0.05;
+  for (double phi : {30.0, 70.0, -120.0}) {
+    const RectangularModel model = make_rectangular_model({L, W, phi}, h, water());
+    for (const MotionLaw& law :
+         {make_poly5_law(0.3, 0.6), make_modified_trapezoid_law(0.25, 0.45)}) {
+      const RectangularPeaks p = RectangularLinearResponse(model, law, 1.0).peaks();
+      const double c = std::cos(phi * kPi / 180), s = std::sin(phi * kPi / 180);
+      const RefPeaks ref =
+          rk4_peaks({direction(L, W, h, c, 3), direction(W, L, h, s, 3)}, law, 1.0, 1e-5);
+      EXPECT_NEAR(p.highest.motion.value / ref.motion, 1.0, 1e-6) << phi;
+      EXPECT_NEAR(p.highest.rest.value / ref.rest, 1.0, 1e-6) << phi;
+      // Each direction alone is the same integration with the other left out.
+      const RefPeaks only_l = rk4_peaks({direction(L, W, h, c, 3)}, law, 1.0, 1e-5);
+      EXPECT_NEAR(p.along_length.motion.value / only_l.motion, 1.0, 1e-6) << phi;
+      EXPECT_GT(p.highest.motion.value, p.along_length.motion.value);
+      EXPECT_GT(p.highest.motion.value, p.along_width.motion.value);
+    }
+  }
+}
+
+TEST(RectangularResponse, TankVeryWideAcrossTheMotionEqualsTheTwoDimensionalAnswer) {
+  // L along the motion, W 10^5 times longer: the W modes are not excited and the side
+  // walls' share of the damping vanishes, leaving the 2-D tank of length L (no side walls).
+  const double L = 0.12, h = 0.05;
+  const RectangularModel model = make_rectangular_model({L, 1e5 * L, 0.0}, h, water());
+  const MotionLaw law = make_modified_trapezoid_law(0.3, 0.5);
+  const RectangularPeaks p = RectangularLinearResponse(model, law, 1.0).peaks();
+  const RefPeaks two_d = rk4_peaks({direction(L, 0.0, h, 1.0, 3, false)}, law, 1.0, 1e-5);
+  EXPECT_NEAR(p.highest.motion.value / two_d.motion, 1.0, 1e-5);
+  EXPECT_NEAR(p.highest.rest.value / two_d.rest, 1.0, 1e-5);
+  EXPECT_EQ(p.along_width.motion.value, 0.0);
+  EXPECT_EQ(p.along_width.rest.value, 0.0);
+  // And a tank turned by 90 degrees is the same tank moved along W.
+  const RectangularModel turned = make_rectangular_model({1e5 * L, L, 90.0}, h, water());
+  const RectangularPeaks q = RectangularLinearResponse(turned, law, 1.0).peaks();
+  EXPECT_EQ(q.highest.motion.value, p.highest.motion.value);
+  EXPECT_EQ(q.highest.rest.value, p.highest.rest.value);
+  EXPECT_EQ(q.along_length.motion.value, 0.0);
+}
+
+TEST(RectangularResponse, SquareTankAt45DegreesExcitesBothDirectionsEqually) {
+  const double side = 0.1, h = 0.045;
+  const MotionLaw law = make_poly5_law(0.25, 0.4);
+  const RectangularPeaks straight =
+      RectangularLinearResponse(make_rectangular_model({side, side, 0.0}, h, water()), law, 1.0)
+          .peaks();
+  const RectangularPeaks plus =
+      RectangularLinearResponse(make_rectangular_model({side, side, 45.0}, h, water()), law, 1.0)
+          .peaks();
+  const RectangularPeaks minus =
+      RectangularLinearResponse(make_rectangular_model({side, side, -45.0}, h, water()), law, 1.0)
+          .peaks();
+  EXPECT_EQ(plus.along_length.motion.value, plus.along_width.motion.value);
+  EXPECT_EQ(plus.along_length.rest.value, plus.along_width.rest.value);
+  EXPECT_EQ(plus.highest.motion.value, minus.highest.motion.value);
+  EXPECT_EQ(plus.highest.rest.value, minus.highest.rest.value);
+  // Each direction carries cos 45 of the straight move's response and the corner adds both:
+  // sqrt(2) times the straight move's wall height.
+  EXPECT_NEAR(plus.along_length.motion.value / straight.highest.motion.value, std::sqrt(0.5),
+              1e-12);
+  EXPECT_NEAR(plus.highest.motion.value / straight.highest.motion.value, std::sqrt(2.0), 1e-9);
+  EXPECT_NEAR(plus.highest.rest.value / straight.highest.rest.value, std::sqrt(2.0), 1e-9);
+}
+
+TEST(RectangularResponse, AxisComponentsAreExactAtQuarterTurns) {
+  EXPECT_EQ(axis_components(0.0).along_width, 0.0);
+  EXPECT_EQ(axis_components(90.0).along_length, 0.0);
+  EXPECT_EQ(axis_components(-90.0).along_width, -1.0);
+  EXPECT_EQ(axis_components(180.0).along_length, -1.0);
+  EXPECT_EQ(axis_components(-180.0).along_width, 0.0);
+  EXPECT_DOUBLE_EQ(axis_components(30.0).along_width, 0.5);
+  EXPECT_DOUBLE_EQ(axis_components(-60.0).along_length, 0.5);
+}
+
+}  // namespace
+}  // namespace slosh
