@@ -129,6 +129,41 @@ TEST(RectangularModel, BoundaryLayerDampingMatchesItsFormula) {
   EXPECT_NEAR(m.along_length.zeta, 3.9e-3, 1e-4);
 }
 
+// The damping from its definition, integrated here by the midpoint rule: the mean Stokes-layer
+// dissipation (rho U^2 / 2) sqrt(nu w / 2) per unit area of wetted wall and bottom, U the
+// tangential velocity amplitude of the mode phi = cos(k x) cosh(k (z + h)), x in [0, L], over
+// 2 w times its energy (rho / 2) int |grad phi|^2 dV, breadth B across.
+TEST(RectangularModel, BoundaryLayerDampingIsTheStokesLayerDissipationOverTheModeEnergy) {
+  const double L = 0.12, B = 0.08, nu = 1e-6;
+  for (double h : {0.02, 0.05, 0.15}) {
+    for (int n = 1; n <= 2; ++n) {
+      const double k = (2 * n - 1) * kPi / L;
+      const double w = std::sqrt(kG * k * std::tanh(k * h));
+      auto u = [&](double x, double z) { return -k * std::sin(k * x) * std::cosh(k * (z + h)); };
+      auto v = [&](double x, double z) { return k * std::cos(k * x) * std::sinh(k * (z + h)); };
+      const int N = 600;
+      const double dx = L / N, dz = h / N;
+      double volume = 0, bottom = 0, ends = 0, sides = 0;
+      for (int i = 0; i < N; ++i) {
+        const double x = (i + 0.5) * dx;
+        bottom += u(x, -h) * u(x, -h) * dx * B;
+        for (int j = 0; j < N; ++j) {
+          const double z = -h + (j + 0.5) * dz;
+          const double q = u(x, z) * u(x, z) + v(x, z) * v(x, z);
+          volume += q * dx * dz * B;
+          sides += 2 * q * dx * dz;  // both velocity components are tangential on y = 0, B
+        }
+      }
+      for (int j = 0; j < N; ++j) {
+        const double z = -h + (j + 0.5) * dz;
+        ends += (v(0.0, z) * v(0.0, z) + v(L, z) * v(L, z)) * dz * B;  // only w is tangential
+      }
+      const double zeta = std::sqrt(nu * w / 2) * (bottom + ends + sides) / (2 * w * volume);
+      EXPECT_NEAR(rectangular_damping_ratio(L, B, h, nu, n) / zeta, 1.0, 1e-5) << h << " " << n;
+    }
+  }
+}
+
 // Sun, Fujino, Pacheco & Chaiseri (1992), "Modelling of tuned liquid damper (TLD)", J. Wind
 // Eng. Ind. Aerodyn. 41-44: in shallow water zeta = 1/(2h) sqrt(nu / (2 omega)) (1 + 2h/b + S),
 // b the breadth across the motion, S the surface-contamination term (0 for a clean surface).

@@ -6,6 +6,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
 #include <vector>
 
 #include "slosh/core/law/motion_law.hpp"
@@ -154,6 +155,20 @@ TEST(RectangularResponse, SquareTankAt45DegreesExcitesBothDirectionsEqually) {
               1e-12);
   EXPECT_NEAR(plus.highest.motion.value / straight.highest.motion.value, std::sqrt(2.0), 1e-9);
   EXPECT_NEAR(plus.highest.rest.value / straight.highest.rest.value, std::sqrt(2.0), 1e-9);
+}
+
+TEST(RectangularResponse, CombinedResponseIsTheWeightedSumOfItsParts) {
+  const RectangularModel model = make_rectangular_model({0.12, 0.08, 0.0}, 0.05, water());
+  const MotionLaw law = make_poly5_law(0.2, 0.5);
+  const LinearResponse a(model.along_length, law, 1.0);
+  const LinearResponse b(model.along_width, law.scaled(0.4), 1.0);
+  const LinearResponse sum = LinearResponse::combined(a, 0.7, b, -1.3);
+  for (double t = 0.0; t <= 1.5; t += 0.0123) {
+    EXPECT_NEAR(sum.eta(t), 0.7 * a.eta(t) - 1.3 * b.eta(t), 1e-15) << t;
+  }
+  // Different piece times (another motion time) cannot be summed piece by piece.
+  const LinearResponse other(model.along_width, make_poly5_law(0.2, 0.6), 1.0);
+  EXPECT_THROW((void)LinearResponse::combined(a, 1.0, other, 1.0), std::invalid_argument);
 }
 
 TEST(RectangularResponse, AxisComponentsAreExactAtQuarterTurns) {
