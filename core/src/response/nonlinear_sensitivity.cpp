@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <numbers>
 #include <utility>
 
@@ -224,9 +225,16 @@ Lanes8 lanes_of(const Dual7& a) {
   return r;
 }
 
+// Copies between the stored rows and the vectors (whole-vector moves, not lane by lane).
 std::array<double, kLanes> array_of(const Lanes8& a) {
   std::array<double, kLanes> r;
-  for (std::size_t i = 0; i < kLanes; ++i) r[i] = a[i];
+  std::memcpy(r.data(), &a.v, sizeof r);
+  return r;
+}
+
+Lanes8 from_array(const std::array<double, kLanes>& a) {
+  Lanes8 r;
+  std::memcpy(&r.v, a.data(), sizeof a);
   return r;
 }
 
@@ -408,28 +416,21 @@ SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::Eta::abs_at(
     if (h > 0.0) {
       const double inv = 1.0 / h;
       theta = (tk - s.tv_[i]) * inv;
-      Lanes8 dt0, dh;
-      for (std::size_t l = 0; l < kLanes; ++l) {
-        dt0[l] = s.dt_[i][l];
-        dh[l] = s.dh_[i][l];
-      }
-      ds = (Lanes8(0.0) - dt0 - theta * dh) * inv;
+      ds = (Lanes8(0.0) - from_array(s.dt_[i]) - theta * from_array(s.dh_[i])) * inv;
     }
     const DensePoly<double>& p = s.xv_[i];
     const auto& dp = s.dx_[i];
     double rv = p[kDenseTerms - 1];
-    Lanes8 rd;
-    for (std::size_t l = 0; l < kLanes; ++l) rd[l] = dp[kDenseTerms - 1][l];
+    Lanes8 rd = from_array(dp[kDenseTerms - 1]);
     for (std::size_t j = kDenseTerms - 1; j > 0; --j) {
-      Lanes8 pj;
-      for (std::size_t l = 0; l < kLanes; ++l) pj[l] = dp[j - 1][l];
-      rd = (rd * theta + rv * ds) + pj;
+      rd = (rd * theta + rv * ds) + from_array(dp[j - 1]);
       rv = rv * theta + p[j - 1];
     }
     const double sign = rv < 0.0 ? -1.0 : 1.0;
     (*values)[k] = s.model_.K * (sign * rv);
     if (gradients != nullptr) {
-      for (std::size_t l = 0; l < kSegments; ++l) (*gradients)[k][l] = s.model_.K * (sign * rd[l]);
+      const std::array<double, kLanes> g = array_of(s.model_.K * (sign * rd));
+      std::copy_n(g.begin(), kSegments, (*gradients)[k].begin());
     }
   }
 }
