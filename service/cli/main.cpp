@@ -304,7 +304,8 @@ int run_serve(const CliArgs& a, const ServerConfig& server) {
 // Ctrl-C is only noted until the command is known: `batch --server` must see an interrupt from
 // the process's first instant (to cancel a job it may post, and to end with exit 130 and its
 // message). Priority 101, the first a program may use: before the program's own static
-// initialisers (the TLS library's among them), command-line parsing and the configuration layers.
+// initialisers, command-line parsing and the configuration layers (only the loader and the shared
+// libraries' initialisers come first).
 [[gnu::constructor(101)]] void note_interrupts_first() {
   slosh::service::batch_cli::note_interrupts();
 }
