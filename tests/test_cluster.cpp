@@ -635,7 +635,7 @@ TEST(ClusterHostile, AnEvictedRecordIsUnavailableNotUnknownAndItsOwnerPublishesI
   }));
 }
 
-// `slosh batch --server A` while A is paused (SIGSTOP) for longer than the CLI's 10 s call
+// `slosh batch --server A` while A is paused (SIGSTOP) for longer than the CLI's 3 s poll
 // deadline: the CLI took the timed-out poll as fatal, exited 1 and DELETEd its own healthy job.
 // A paused replica carries on with the job when it runs again, so the CLI keeps polling (with
 // backoff) and writes the whole table.

@@ -11,18 +11,34 @@ extern "C" void on_interrupt(int) {
   interrupted = 1;
 }
 
+// SIGINT's action when note_interrupts() replaced it.
+struct sigaction found_action {};
+
+void install(struct sigaction* previous) {
+  struct sigaction action {};
+  action.sa_handler = on_interrupt;
+  sigemptyset(&action.sa_mask);
+  action.sa_flags = SA_RESTART;  // a blocking HTTP call finishes; the flag is looked at after
+  ::sigaction(SIGINT, &action, previous);
+}
+
 }  // namespace
 
 bool interrupt_requested() {
   return interrupted != 0;
 }
 
+void note_interrupts() {
+  install(&found_action);
+}
+
+void restore_interrupts() {
+  ::sigaction(SIGINT, &found_action, nullptr);
+  if (interrupted != 0) std::raise(SIGINT);
+}
+
 InterruptFlag::InterruptFlag() {
-  struct sigaction action {};
-  action.sa_handler = on_interrupt;
-  sigemptyset(&action.sa_mask);
-  action.sa_flags = SA_RESTART;  // a blocking HTTP call finishes; the flag is looked at after
-  ::sigaction(SIGINT, &action, &previous_);
+  install(&previous_);
 }
 
 InterruptFlag::~InterruptFlag() {

@@ -11,6 +11,16 @@ namespace slosh::service::batch_cli {
 /// moment after the handler is in place is seen.
 [[nodiscard]] bool interrupt_requested();
 
+/// Notes Ctrl-C from now on (the flag of interrupt_requested()), keeping SIGINT's action at this
+/// moment for restore_interrupts(). `slosh` calls it before anything else of its own runs, so
+/// that `batch --server` sees an interrupt from the process's first instant.
+void note_interrupts();
+
+/// SIGINT's action back to what note_interrupts() found; an interrupt that came meanwhile is
+/// raised again, so the process ends as that action would have ended it (nothing when SIGINT was
+/// ignored).
+void restore_interrupts();
+
 /// SIGINT (Ctrl-C) sets the flag of interrupt_requested() while this lives; the previous action
 /// comes back after. Installed first thing in server mode, before the table is read: an
 /// interrupt from then on can only stop the run in an orderly way (a job the service accepted is

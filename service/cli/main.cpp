@@ -3,7 +3,6 @@
 
 #include <CLI/CLI.hpp>
 
-#include <csignal>
 #include <iostream>
 #include <optional>
 #include <string>
@@ -302,21 +301,18 @@ int run_serve(const CliArgs& a, const ServerConfig& server) {
   }
 }
 
-// Every command but `batch --server` ends at Ctrl-C as the default action does: the handler of
-// `early` goes, and an interrupt that came meanwhile (unless SIGINT was ignored when the process
-// started) ends the process now.
-void default_interrupts(std::optional<slosh::service::batch_cli::InterruptFlag>& early) {
-  early.reset();
-  if (slosh::service::batch_cli::interrupt_requested()) std::raise(SIGINT);
+// Ctrl-C is only noted until the command is known: `batch --server` must see an interrupt from
+// the process's first instant (to cancel a job it may post, and to end with exit 130 and its
+// message). Priority 101, the first a program may use: before the program's own static
+// initialisers, command-line parsing and the configuration layers (only the loader and the shared
+// libraries' initialisers come first).
+[[gnu::constructor(101)]] void note_interrupts_first() {
+  slosh::service::batch_cli::note_interrupts();
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  // Ctrl-C is only noted until the command is known: `batch --server` must see an interrupt from
-  // its first instant (to cancel a job it may post, and to end with exit 130 and its message),
-  // and parsing the command line and the configuration layers takes milliseconds.
-  std::optional<slosh::service::batch_cli::InterruptFlag> early_interrupt(std::in_place);
   CLI::App app{"slosh: anti-sloshing motion-law planner for packaging machines"};
   app.set_version_flag("--version", std::string("slosh ") + slosh::kVersion);
   app.require_subcommand(1);
@@ -343,7 +339,8 @@ int main(int argc, char** argv) {
   } catch (const CLI::ParseError& e) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
-  if (!*batch || a.batch.server.empty()) default_interrupts(early_interrupt);
+  // Every other command ends at Ctrl-C as the default action does.
+  if (!*batch || a.batch.server.empty()) slosh::service::batch_cli::restore_interrupts();
   if (*simulate) return slosh::service::run_simulate_command(a.request);
   if (*plan) {
     a.plan.request_path = a.request;
