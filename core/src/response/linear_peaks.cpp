@@ -22,6 +22,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "sincos.hpp"
@@ -112,15 +113,33 @@ struct ScanLanes {
   std::array<bool, kScanLanes> harmonic{}, free{};
 };
 
+#if defined(__GNUC__)
+/// kScanLanes doubles, one per lane: every operation on it is the lanes' IEEE operation side by
+/// side (two SSE2 or one AVX instruction).
+using LaneVector = double __attribute__((vector_size(8 * kScanLanes)));
+using LaneBits = long long __attribute__((vector_size(8 * kScanLanes)));
+
+// The helpers below are always inlined into the lane clones, so no vector crosses a call (the
+// ABI warning is about such calls).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+[[gnu::always_inline]] inline LaneVector load(const std::array<double, kScanLanes>& a) {
+  LaneVector v;
+  __builtin_memcpy(&v, a.data(), sizeof v);
+  return v;
+}
+
+[[gnu::always_inline]] inline void store(LaneVector v, std::array<double, kScanLanes>& a) {
+  __builtin_memcpy(a.data(), &v, sizeof v);
+}
+
 /// One more step of every mode's rotation: z <- z exp(lambda h) (mul()'s operations).
 SLOSH_LANE_CLONES void rotate_lanes(ScanLanes& s, std::size_t modes) {
   for (std::size_t m = 0; m < modes; ++m) {
-    for (std::size_t l = 0; l < kScanLanes; ++l) {
-      const double re = s.zre[m][l] * s.sre[m][l] - s.zim[m][l] * s.sim[m][l];
-      const double im = s.zre[m][l] * s.sim[m][l] + s.zim[m][l] * s.sre[m][l];
-      s.zre[m][l] = re;
-      s.zim[m][l] = im;
-    }
+    const LaneVector zr = load(s.zre[m]), zi = load(s.zim[m]);
+    const LaneVector sr = load(s.sre[m]), si = load(s.sim[m]);
+    store(zr * sr - zi * si, s.zre[m]);
+    store(zr * si + zi * sr, s.zim[m]);
   }
 }
 
@@ -132,56 +151,62 @@ SLOSH_LANE_CLONES void rotate_lanes(ScanLanes& s, std::size_t modes) {
 SLOSH_LANE_CLONES void scan_block(ScanLanes& s, std::size_t modes, bool harmonic, double a,
                                   double b, double h, std::size_t n, double begin, std::size_t i0,
                                   std::size_t count, bool rotate_last, double* values) {
-  std::array<std::array<double, kScanLanes>, kBoundStride> e;
+  std::array<LaneVector, kBoundStride> e;
   std::array<double, kBoundStride> tau{};
   for (std::size_t j = 0; j < count; ++j) {
     const std::size_t i = i0 + j;
     tau[j] = (i == n ? b : a + h * static_cast<double>(i)) - begin;
   }
-  for (std::size_t j = 0; j < count; ++j) {
-    const double t = tau[j];
-    for (std::size_t l = 0; l < kScanLanes; ++l) {
-      e[j][l] = s.r0[l] + t * (s.r1[l] + t * (s.r2[l] + t * s.r3[l]));
+  {
+    const LaneVector r0 = load(s.r0), r1 = load(s.r1), r2 = load(s.r2), r3 = load(s.r3);
+    for (std::size_t j = 0; j < count; ++j) {
+      const double t = tau[j];
+      e[j] = r0 + t * (r1 + t * (r2 + t * r3));
     }
   }
   if (harmonic) {
+    const LaneVector P = load(s.P), Q = load(s.Q), U = load(s.U), V = load(s.V);
+    const LaneVector sr = load(s.hsre), si = load(s.hsim);
+    LaneVector hr = load(s.hre), hi = load(s.him);
     for (std::size_t j = 0; j < count; ++j) {
       const double t = tau[j];
-      for (std::size_t l = 0; l < kScanLanes; ++l) {
-        e[j][l] +=
-            s.P[l] * s.hre[l] + s.Q[l] * s.him[l] + t * (s.U[l] * s.hre[l] + s.V[l] * s.him[l]);
-        const double re = s.hre[l] * s.hsre[l] - s.him[l] * s.hsim[l];
-        const double im = s.hre[l] * s.hsim[l] + s.him[l] * s.hsre[l];
-        s.hre[l] = re;
-        s.him[l] = im;
-      }
+      e[j] += P * hr + Q * hi + t * (U * hr + V * hi);
+      const LaneVector re = hr * sr - hi * si;
+      const LaneVector im = hr * si + hi * sr;
+      hr = re;
+      hi = im;
     }
+    store(hr, s.hre);
+    store(hi, s.him);
   }
   for (std::size_t m = 0; m < modes; ++m) {
-    std::array<double, kScanLanes> zr = s.zre[m], zi = s.zim[m];
-    const std::array<double, kScanLanes> sr = s.sre[m], si = s.sim[m];
+    LaneVector zr = load(s.zre[m]), zi = load(s.zim[m]);
+    const LaneVector sr = load(s.sre[m]), si = load(s.sim[m]);
     for (std::size_t j = 0; j < count; ++j) {
-      for (std::size_t l = 0; l < kScanLanes; ++l) e[j][l] += zr[l];
+      e[j] += zr;
       if (j + 1 == count && !rotate_last) break;
-      for (std::size_t l = 0; l < kScanLanes; ++l) {
-        const double re = zr[l] * sr[l] - zi[l] * si[l];
-        const double im = zr[l] * si[l] + zi[l] * sr[l];
-        zr[l] = re;
-        zi[l] = im;
-      }
+      const LaneVector re = zr * sr - zi * si;
+      const LaneVector im = zr * si + zi * sr;
+      zr = re;
+      zi = im;
     }
-    s.zre[m] = zr;
-    s.zim[m] = zi;
+    store(zr, s.zre[m]);
+    store(zi, s.zim[m]);
   }
+  constexpr long long kMagnitude = 0x7fffffffffffffffLL;  // every bit but the sign
+  LaneVector best = load(s.best);
   for (std::size_t j = 0; j < count; ++j) {
-    double* out = values + (i0 + j) * kScanLanes;
-    for (std::size_t l = 0; l < kScanLanes; ++l) {
-      const double v = std::abs(e[j][l]);
-      out[l] = v;
-      s.best[l] = std::max(s.best[l], v);
-    }
+    const LaneVector v =
+        reinterpret_cast<LaneVector>(reinterpret_cast<LaneBits>(e[j]) & kMagnitude);
+    __builtin_memcpy(values + (i0 + j) * kScanLanes, &v, sizeof v);
+    best = best < v ? v : best;  // std::max(best, v)
   }
+  store(best, s.best);
 }
+#pragma GCC diagnostic pop
+#else
+#error "the linear report lanes need GCC or Clang vector extensions"
+#endif
 
 }  // namespace
 
@@ -386,12 +411,14 @@ class LinearPeakScan {
     }
     const auto n = static_cast<std::size_t>(std::ceil((b - a) / step));
     const double h = (b - a) / static_cast<double>(n);
-    std::vector<double> values;  // sample i of lane l at values[i kLanes + l]
+    // Sample i of lane l at values[i kLanes + l]; left uninitialised (only written entries are
+    // read), since the rest window's grid runs to the end of the rest time.
+    std::unique_ptr<double[]> values(new double[(n + 2) * kLanes]);
     std::array<std::size_t, kLanes> last{};
-    sample_lanes(scans, modes, a, b, h, n, rest, values, last);
+    sample_lanes(scans, modes, a, b, h, n, rest, values.get(), last);
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t count = last[l] == n ? n + 1 : last[l] + 2;
-      out[l] = scans[l]->pick(a, b, h, n, last[l], values.data() + l, kLanes, count);
+      out[l] = scans[l]->pick(a, b, h, n, last[l], values.get() + l, kLanes, count);
     }
   }
 
@@ -447,11 +474,10 @@ class LinearPeakScan {
   /// sample after a lane's early end is its exact |eta| (as sample_modes() appends it), later
   /// entries of that lane are not read.
   static void sample_lanes(const std::vector<const LinearPeakScan*>& scans, std::size_t modes,
-                           double a, double b, double h, std::size_t n, bool rest,
-                           std::vector<double>& values, std::array<std::size_t, kLanes>& last) {
+                           double a, double b, double h, std::size_t n, bool rest, double* values,
+                           std::array<std::size_t, kLanes>& last) {
     const std::size_t lanes = scans.size();
     auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
-    values.assign((n + 2) * kLanes, 0.0);
     ScanLanes s{};
     std::array<std::array<double, kMaxModes>, kLanes> omega{};
     for (std::size_t l = 0; l < lanes; ++l) {
@@ -480,7 +506,10 @@ class LinearPeakScan {
     while (i <= n) {
       const double t = t_of(i);
       if (t <= 0.0) {  // at rest before the motion starts
-        for (std::size_t l = 0; l < kLanes; ++l) s.best[l] = std::max(s.best[l], 0.0);
+        for (std::size_t l = 0; l < kLanes; ++l) {
+          values[i * kLanes + l] = 0.0;
+          s.best[l] = std::max(s.best[l], 0.0);
+        }
         ++i;
         continue;
       }
@@ -503,7 +532,7 @@ class LinearPeakScan {
         if (rest && count == kBoundStride) {
           for (std::size_t l = 0; l < lanes; ++l) test = test || (s.free[l] && !stopped[l]);
         }
-        scan_block(s, modes, harmonic, a, b, h, n, begin[k], i, count, !test, values.data());
+        scan_block(s, modes, harmonic, a, b, h, n, begin[k], i, count, !test, values);
         i += count;
         if (!test) continue;
         for (std::size_t l = 0; l < lanes; ++l) {
