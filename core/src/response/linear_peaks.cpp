@@ -229,7 +229,8 @@ class LinearPeakScan {
     std::vector<double> values;
     values.reserve(n + 1);
     const std::size_t last = sample(a, b, h, n, rest, values);
-    return pick(a, b, h, n, last, values.data(), 1, values.size());
+    return pick(a, b, h, n, last, values.data(), 1, values.size(),
+                rest ? curvature_bound(a) : INFINITY);
   }
 
   /// eta, eta', eta'' at t (0 for t <= 0, where the model is at rest).
@@ -418,7 +419,8 @@ class LinearPeakScan {
     sample_lanes(scans, modes, a, b, h, n, rest, values.get(), last);
     for (std::size_t l = 0; l < lanes; ++l) {
       const std::size_t count = last[l] == n ? n + 1 : last[l] + 2;
-      out[l] = scans[l]->pick(a, b, h, n, last[l], values.get() + l, kLanes, count);
+      out[l] = scans[l]->pick(a, b, h, n, last[l], values.get() + l, kLanes, count,
+                              rest ? scans[l]->curvature_bound(a) : INFINITY);
     }
   }
 
@@ -573,10 +575,38 @@ class LinearPeakScan {
     return bound;
   }
 
+  /// A bound on |eta''| over [t, end of the response] when no forcing acts from t on (the rest
+  /// window), else infinity. There eta = sum_m Re z_m with z_m = g_m Z_m exp(lambda_m tau), so
+  /// |eta''| <= sum_m |lambda_m|^2 |z_m(s)| <= sum_m w_m^2 |z_m(t)| for every s >= t (|z_m| only
+  /// decays); the factor 1 + 1e-6 covers the round-off of the closed form.
+  [[nodiscard]] double curvature_bound(double t) const {
+    if (!(t > 0.0)) return INFINITY;
+    const std::size_t k = piece_index(t);
+    const double tau = t - begin_[k];
+    double bound = 0.0;
+    for (std::size_t m = 0; m < modes_; ++m) {
+      const LinearModePiece& p = coef_[k * modes_ + m];
+      if (p.damping != LinearModePiece::Damping::kUnder || p.W != 0.0 || p.r[0] != 0.0 ||
+          p.r[1] != 0.0 || p.r[2] != 0.0 || p.r[3] != 0.0 || p.P != 0.0 || p.Q != 0.0 ||
+          p.U != 0.0 || p.V != 0.0) {
+        return INFINITY;
+      }
+      const double z = std::abs(gains_[m]) * std::hypot(p.c1, p.c2) * std::exp(-p.sigma * tau);
+      bound += (p.sigma * p.sigma + p.wd * p.wd) * z;
+    }
+    return std::isfinite(bound) ? bound * (1.0 + 1e-6) : INFINITY;
+  }
+
   /// find_max()'s candidate rule over samples 0..last, sample i at values[i stride] (`count`
   /// samples: last + 1, or one more, the right neighbour of the last).
+  ///
+  /// With `curvature` a bound on |eta''| over the window, the candidate with the largest sample
+  /// is refined first, and a candidate whose bracket cannot hold more is not refined: at the
+  /// maximum t* of |eta| inside a bracket eta'(t*) = 0 and the nearest sample is at most h/2
+  /// away, so |eta(t*)| <= (largest of the bracket's samples) + curvature h^2 / 8. Leaving out
+  /// candidates strictly below the best found changes nothing (the first of the largest wins).
   Peak pick(double a, double b, double h, std::size_t n, std::size_t last, const double* values,
-            std::size_t stride, std::size_t count) const {
+            std::size_t stride, std::size_t count, double curvature) const {
     auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
     auto value = [&](std::size_t i) { return values[i * stride]; };
     double best_sample = value(0);  // as std::max_element: the first of the largest
@@ -584,23 +614,54 @@ class LinearPeakScan {
       if (best_sample < value(i)) best_sample = value(i);
     }
     const double threshold = best_sample - kRefineFraction * std::abs(best_sample);
-    Peak best{value(0), a};
-    if (last == n && value(n) > best.value) best = {value(n), b};
-    for (std::size_t i = 0; i <= last; ++i) {
-      if (value(i) < threshold) continue;
+    // 0: not a candidate, 1: a flat candidate, 2: a candidate to refine.
+    auto kind = [&](std::size_t i) {
+      if (value(i) < threshold) return 0;
       const bool left_ok = i == 0 || value(i) >= value(i - 1);
       const bool right_ok = i == n || value(i) >= value(i + 1);
-      if (!left_ok || !right_ok) continue;
+      if (!left_ok || !right_ok) return 0;
       const bool flat =
           (i == 0 || value(i) == value(i - 1)) && (i == n || value(i) == value(i + 1));
-      if (flat) {
-        if (value(i) > best.value) best = {value(i), t_of(i)};
-        continue;
-      }
+      return flat ? 1 : 2;
+    };
+    auto refined = [&](std::size_t i) {
       const double lo = t_of(i == 0 ? 0 : i - 1);
       const double hi = t_of(std::min(i + 1, n));
       Peak p = refine(lo, hi, t_of(i));
       if (value(i) > p.value) p = {value(i), t_of(i)};
+      return p;
+    };
+    constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+    std::size_t first = kNone;
+    Peak first_peak;
+    const double slack = curvature * h * h / 8.0;
+    if (std::isfinite(slack)) {
+      for (std::size_t i = 0; i <= last; ++i) {
+        if (kind(i) == 2 && (first == kNone || value(i) > value(first))) first = i;
+      }
+      if (first != kNone) first_peak = refined(first);
+    }
+    Peak best{value(0), a};
+    if (last == n && value(n) > best.value) best = {value(n), b};
+    for (std::size_t i = 0; i <= last; ++i) {
+      const int k = kind(i);
+      if (k == 0) continue;
+      if (k == 1) {
+        if (value(i) > best.value) best = {value(i), t_of(i)};
+        continue;
+      }
+      Peak p;
+      if (i == first) {
+        p = first_peak;
+      } else {
+        if (first != kNone) {
+          const double top =
+              std::max({value(i == 0 ? 0 : i - 1), value(i), value(std::min(i + 1, n))});
+          // The relative 1e-9 covers the samples' round-off (the rotations drift by ulps).
+          if ((top + slack) * (1.0 + 1e-9) < first_peak.value) continue;
+        }
+        p = refined(i);
+      }
       if (p.value > best.value) best = p;
     }
     return best;
