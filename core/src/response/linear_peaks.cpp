@@ -524,8 +524,17 @@ class LinearPeakScan {
       }
       const bool harmonic =
           std::any_of(s.harmonic.begin(), s.harmonic.begin() + lanes, [](bool x) { return x; });
-      std::size_t end = i;
-      while (end <= n && t_of(end) < next) ++end;
+      // The first sample at or after the next piece (t_of increases with i): estimated, then
+      // corrected onto the exact comparison.
+      std::size_t end = n + 1;
+      if (next <= b) {
+        const double guess = std::ceil((next - a) / h);
+        end = guess <= static_cast<double>(i)       ? i
+              : guess >= static_cast<double>(n + 1) ? n + 1
+                                                    : static_cast<std::size_t>(guess);
+        while (end > i && t_of(end - 1) >= next) --end;
+        while (end <= n && t_of(end) < next) ++end;
+      }
       // Blocks of kBoundStride samples from the piece's first, the energy bound tested after
       // each full block where a running lane is free (sample_modes()' every kBoundStride-th).
       while (i < end) {
