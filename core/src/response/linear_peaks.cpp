@@ -472,6 +472,34 @@ class LinearPeakScan {
     }
   }
 
+  /// The first sample index in [i, n + 1) at or after `next` on the grid t_i = a + h i (t_n = b),
+  /// n + 1 when none (t_i increases with i): estimated, then corrected onto the exact comparison.
+  static std::size_t first_sample_from(double next, double a, double b, double h, std::size_t n,
+                                       std::size_t i) {
+    auto t_of = [&](std::size_t j) { return j == n ? b : a + h * static_cast<double>(j); };
+    if (!(next <= b)) return n + 1;
+    const double guess = std::ceil((next - a) / h);
+    std::size_t end = guess <= static_cast<double>(i)       ? i
+                      : guess >= static_cast<double>(n + 1) ? n + 1
+                                                            : static_cast<std::size_t>(guess);
+    while (end > i && t_of(end - 1) >= next) --end;
+    while (end <= n && t_of(end) < next) ++end;
+    return end;
+  }
+
+  /// energy_bound() of lane l (the same operations).
+  static double lane_energy_bound(const ScanLanes& s, std::size_t l, std::size_t modes,
+                                  const LinearModePiece* c,
+                                  const std::array<double, kMaxModes>& omega) {
+    double bound = 0.0;
+    for (std::size_t m = 0; m < modes; ++m) {
+      const double x = s.zre[m][l];
+      const double v = (-c[m].sigma * s.zre[m][l] - c[m].wd * s.zim[m][l]) / omega[m];
+      bound += std::sqrt(x * x + v * v);
+    }
+    return bound;
+  }
+
   /// sample_modes() of every lane, the samples of lane l written to values[i kLanes + l]; the
   /// sample after a lane's early end is its exact |eta| (as sample_modes() appends it), later
   /// entries of that lane are not read.
@@ -524,17 +552,7 @@ class LinearPeakScan {
       }
       const bool harmonic =
           std::any_of(s.harmonic.begin(), s.harmonic.begin() + lanes, [](bool x) { return x; });
-      // The first sample at or after the next piece (t_of increases with i): estimated, then
-      // corrected onto the exact comparison.
-      std::size_t end = n + 1;
-      if (next <= b) {
-        const double guess = std::ceil((next - a) / h);
-        end = guess <= static_cast<double>(i)       ? i
-              : guess >= static_cast<double>(n + 1) ? n + 1
-                                                    : static_cast<std::size_t>(guess);
-        while (end > i && t_of(end - 1) >= next) --end;
-        while (end <= n && t_of(end) < next) ++end;
-      }
+      const std::size_t end = first_sample_from(next, a, b, h, n, i);
       // Blocks of kBoundStride samples from the piece's first, the energy bound tested after
       // each full block where a running lane is free (sample_modes()' every kBoundStride-th).
       while (i < end) {
@@ -548,14 +566,7 @@ class LinearPeakScan {
         if (!test) continue;
         for (std::size_t l = 0; l < lanes; ++l) {
           if (stopped[l] || !s.free[l]) continue;
-          double bound = 0.0;
-          for (std::size_t m = 0; m < modes; ++m) {
-            const double x = s.zre[m][l];
-            const double v =
-                (-c[l][m].sigma * s.zre[m][l] - c[l][m].wd * s.zim[m][l]) / omega[l][m];
-            bound += std::sqrt(x * x + v * v);
-          }
-          if (bound <= s.best[l]) {
+          if (lane_energy_bound(s, l, modes, c[l], omega[l]) <= s.best[l]) {
             last[l] = i - 1;
             stopped[l] = true;
             --running;
