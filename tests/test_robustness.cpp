@@ -11,9 +11,11 @@
 #include <variant>
 #include <vector>
 
+#include "slosh/core/constants.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/uncertainty.hpp"
+#include "slosh/core/response/response.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/planner.hpp"
@@ -110,6 +112,38 @@ TEST(RobustnessReport, SideBySidePointsEqualThePointByPointResponsesBitForBit) {
       const SloshPeaks kept = NonlinearResponse(m, law, sweep.rest_time).peaks();
       EXPECT_EQ(p.nonlinear.rest.value, kept.rest.value) << trial << " " << p.delta;
       EXPECT_EQ(p.nonlinear.motion.value, kept.motion.value) << trial << " " << p.delta;
+    }
+  }
+}
+
+// The linear lanes over every mode count the lanes take (1..kMaxModes), every group remainder
+// (1..4 lanes) and damping ratios that end the rest windows at different samples: each response
+// equals its own one-point scan bit for bit.
+TEST(RobustnessReport, LinearLanesEqualTheOnePointScanForEveryModeCount) {
+  std::mt19937 rng(777);
+  std::uniform_real_distribution<double> zeta(0.002, 0.08);
+  for (int modes = 1; modes <= static_cast<int>(kMaxModes); ++modes) {
+    for (int count = 1; count <= 6; ++count) {
+      const Format f = test::random_format(rng);
+      const Durations d = random_durations(rng, f.motion_time);
+      ModelOptions mo;
+      mo.modes = modes;
+      const SloshingModel model = make_sloshing_model(f, mo);
+      const MotionLaw law = SevenSegmentLaw(d, f.stroke).law();
+      std::vector<LinearResponse> responses;
+      for (int k = 0; k < count; ++k) {
+        const SloshingModel m = scaled_model(model, 1.0 + 0.02 * (k - count / 2), zeta(rng));
+        responses.emplace_back(m, law, 0.5 + 0.1 * modes);
+      }
+      const std::vector<SloshPeaks> side = LinearResponse::peaks_of(responses);
+      ASSERT_EQ(side.size(), responses.size());
+      for (std::size_t k = 0; k < responses.size(); ++k) {
+        const SloshPeaks one = responses[k].peaks();
+        EXPECT_EQ(side[k].motion.value, one.motion.value) << modes << " " << count << " " << k;
+        EXPECT_EQ(side[k].motion.time, one.motion.time) << modes << " " << count << " " << k;
+        EXPECT_EQ(side[k].rest.value, one.rest.value) << modes << " " << count << " " << k;
+        EXPECT_EQ(side[k].rest.time, one.rest.time) << modes << " " << count << " " << k;
+      }
     }
   }
 }

@@ -22,11 +22,20 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <memory>
 #include <vector>
 
 #include "sincos.hpp"
 #include "slosh/core/constants.hpp"
 #include "slosh/core/response/response.hpp"
+
+// One clone of the lane loops for AVX (4 doubles a vector, no FMA, so the results are those of
+// the baseline SSE2 clone bit for bit) chosen at load time where the CPU has it.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SLOSH_LANE_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define SLOSH_LANE_CLONES
+#endif
 
 namespace slosh {
 
@@ -91,6 +100,114 @@ EtaJet mode_jet(const LinearModePiece& p, double tau) {
   return j;
 }
 
+/// Linear scans side by side [-]: one AVX vector of doubles.
+constexpr std::size_t kScanLanes{4};
+
+/// The state of kScanLanes scans on one piece, lane l of every field at [l] (the rotations of
+/// mode m at [m][l]), so that each operation of a sample is one vector operation over the lanes.
+struct ScanLanes {
+  std::array<double, kScanLanes> r0{}, r1{}, r2{}, r3{}, P{}, Q{}, U{}, V{};
+  std::array<double, kScanLanes> hre{}, him{}, hsre{}, hsim{};  // exp(i W tau), exp(i W h)
+  std::array<std::array<double, kScanLanes>, kMaxModes> zre{}, zim{}, sre{}, sim{};
+  std::array<double, kScanLanes> best{};
+  std::array<bool, kScanLanes> harmonic{}, free{};
+};
+
+#if defined(__GNUC__)
+/// kScanLanes doubles, one per lane: every operation on it is the lanes' IEEE operation side by
+/// side (two SSE2 or one AVX instruction).
+using LaneVector = double __attribute__((vector_size(8 * kScanLanes)));
+using LaneBits = long long __attribute__((vector_size(8 * kScanLanes)));
+
+// The helpers below are always inlined into the lane clones, so no vector crosses a call (the
+// ABI warning is about such calls).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wpsabi"
+[[gnu::always_inline]] inline LaneVector load(const std::array<double, kScanLanes>& a) {
+  LaneVector v;
+  __builtin_memcpy(&v, a.data(), sizeof v);
+  return v;
+}
+
+[[gnu::always_inline]] inline void store(LaneVector v, std::array<double, kScanLanes>& a) {
+  __builtin_memcpy(a.data(), &v, sizeof v);
+}
+
+/// One more step of every mode's rotation: z <- z exp(lambda h) (mul()'s operations).
+SLOSH_LANE_CLONES void rotate_lanes(ScanLanes& s, std::size_t modes) {
+  for (std::size_t m = 0; m < modes; ++m) {
+    const LaneVector zr = load(s.zre[m]), zi = load(s.zim[m]);
+    const LaneVector sr = load(s.sre[m]), si = load(s.sim[m]);
+    store(zr * sr - zi * si, s.zre[m]);
+    store(zr * si + zi * sr, s.zim[m]);
+  }
+}
+
+/// Samples i0 .. i0 + count - 1 (count <= kBoundStride) of every lane on one piece starting at
+/// `begin`, |eta| of lane l written to values[i kScanLanes + l]: the operations of
+/// sample_modes(), in its order, per lane. The summed cubic of a free piece is zero, so it adds
+/// exactly what sample_modes()' 0.0 does. The rotations advance after every sample but the last
+/// unless rotate_last (the energy bound is then tested on them first).
+SLOSH_LANE_CLONES void scan_block(ScanLanes& s, std::size_t modes, bool harmonic, double a,
+                                  double b, double h, std::size_t n, double begin, std::size_t i0,
+                                  std::size_t count, bool rotate_last, double* values) {
+  std::array<LaneVector, kBoundStride> e;
+  std::array<double, kBoundStride> tau{};
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t i = i0 + j;
+    tau[j] = (i == n ? b : a + h * static_cast<double>(i)) - begin;
+  }
+  {
+    const LaneVector r0 = load(s.r0), r1 = load(s.r1), r2 = load(s.r2), r3 = load(s.r3);
+    for (std::size_t j = 0; j < count; ++j) {
+      const double t = tau[j];
+      e[j] = r0 + t * (r1 + t * (r2 + t * r3));
+    }
+  }
+  if (harmonic) {
+    const LaneVector P = load(s.P), Q = load(s.Q), U = load(s.U), V = load(s.V);
+    const LaneVector sr = load(s.hsre), si = load(s.hsim);
+    LaneVector hr = load(s.hre), hi = load(s.him);
+    for (std::size_t j = 0; j < count; ++j) {
+      const double t = tau[j];
+      e[j] += P * hr + Q * hi + t * (U * hr + V * hi);
+      const LaneVector re = hr * sr - hi * si;
+      const LaneVector im = hr * si + hi * sr;
+      hr = re;
+      hi = im;
+    }
+    store(hr, s.hre);
+    store(hi, s.him);
+  }
+  for (std::size_t m = 0; m < modes; ++m) {
+    LaneVector zr = load(s.zre[m]), zi = load(s.zim[m]);
+    const LaneVector sr = load(s.sre[m]), si = load(s.sim[m]);
+    for (std::size_t j = 0; j < count; ++j) {
+      e[j] += zr;
+      if (j + 1 == count && !rotate_last) break;
+      const LaneVector re = zr * sr - zi * si;
+      const LaneVector im = zr * si + zi * sr;
+      zr = re;
+      zi = im;
+    }
+    store(zr, s.zre[m]);
+    store(zi, s.zim[m]);
+  }
+  constexpr long long kMagnitude = 0x7fffffffffffffffLL;  // every bit but the sign
+  LaneVector best = load(s.best);
+  for (std::size_t j = 0; j < count; ++j) {
+    const LaneVector v =
+        reinterpret_cast<LaneVector>(reinterpret_cast<LaneBits>(e[j]) & kMagnitude);
+    __builtin_memcpy(values + (i0 + j) * kScanLanes, &v, sizeof v);
+    best = best < v ? v : best;  // std::max(best, v)
+  }
+  store(best, s.best);
+}
+#pragma GCC diagnostic pop
+#else
+#error "the linear report lanes need GCC or Clang vector extensions"
+#endif
+
 }  // namespace
 
 namespace detail {
@@ -112,7 +229,8 @@ class LinearPeakScan {
     std::vector<double> values;
     values.reserve(n + 1);
     const std::size_t last = sample(a, b, h, n, rest, values);
-    return pick(a, b, h, n, last, values);
+    return pick(a, b, h, n, last, values.data(), 1, values.size(),
+                rest ? curvature_bound(a) : INFINITY);
   }
 
   /// eta, eta', eta'' at t (0 for t <= 0, where the model is at rest).
@@ -280,13 +398,12 @@ class LinearPeakScan {
   }
 
  public:
-  /// window() of every scan in `scans` (at most kLanes, all with M modes, the same piece starts)
-  /// over one grid, the scans interleaved sample by sample so their rotations run side by side:
-  /// out[l] equals scans[l]->window(a, b, step, rest) bit for bit (each lane does its own
-  /// sample()'s operations in the same order).
-  template <std::size_t M>
-  static void window_lanes(const std::vector<const LinearPeakScan*>& scans, double a, double b,
-                           double step, bool rest, std::vector<Peak>& out) {
+  /// window() of every scan in `scans` (at most kLanes, all with `modes` modes, the same piece
+  /// starts) over one grid, the scans side by side as the lanes of one vector: out[l] equals
+  /// scans[l]->window(a, b, step, rest) bit for bit (each lane does its own sample()'s
+  /// operations in the same order, without fused multiply-adds).
+  static void window_lanes(std::size_t modes, const std::vector<const LinearPeakScan*>& scans,
+                           double a, double b, double step, bool rest, std::vector<Peak>& out) {
     const std::size_t lanes = scans.size();
     out.resize(lanes);
     if (!(b > a)) {
@@ -295,94 +412,171 @@ class LinearPeakScan {
     }
     const auto n = static_cast<std::size_t>(std::ceil((b - a) / step));
     const double h = (b - a) / static_cast<double>(n);
-    std::array<std::vector<double>, kLanes> values;
+    // Sample i of lane l at values[i kLanes + l]; left uninitialised (only written entries are
+    // read), since the rest window's grid runs to the end of the rest time.
+    std::unique_ptr<double[]> values(new double[(n + 2) * kLanes]);
     std::array<std::size_t, kLanes> last{};
-    for (std::size_t l = 0; l < lanes; ++l) values[l].reserve(n + 1);
-    sample_lanes<M>(scans, a, b, h, n, rest, values, last);
+    sample_lanes(scans, modes, a, b, h, n, rest, values.get(), last);
     for (std::size_t l = 0; l < lanes; ++l) {
-      out[l] = scans[l]->pick(a, b, h, n, last[l], values[l]);
+      const std::size_t count = last[l] == n ? n + 1 : last[l] + 2;
+      out[l] = scans[l]->pick(a, b, h, n, last[l], values.get() + l, kLanes, count,
+                              rest ? scans[l]->curvature_bound(a) : INFINITY);
     }
   }
 
   /// Scans side by side per vector [-].
-  static constexpr std::size_t kLanes{4};
+  static constexpr std::size_t kLanes{kScanLanes};
 
  private:
+  /// The PieceSum of lane l's piece c (piece_sum with the mode count as a constant), written into
+  /// the lanes' state.
   template <std::size_t M>
-  static void sample_lanes(const std::vector<const LinearPeakScan*>& scans, double a, double b,
-                           double h, std::size_t n, bool rest,
-                           std::array<std::vector<double>, kLanes>& values,
+  void load_piece(const LinearModePiece* c, double tau0, double h, ScanLanes& s,
+                  std::size_t l) const {
+    std::array<Complex, M> z{};
+    const PieceSum q = piece_sum<M>(c, tau0, h, z);
+    s.r0[l] = q.r0;
+    s.r1[l] = q.r1;
+    s.r2[l] = q.r2;
+    s.r3[l] = q.r3;
+    // A lane without the harmonic adds exactly +0 (its samples are finite), as if it had none.
+    s.P[l] = q.harmonic ? q.P : 0.0;
+    s.Q[l] = q.harmonic ? q.Q : 0.0;
+    s.U[l] = q.harmonic ? q.U : 0.0;
+    s.V[l] = q.harmonic ? q.V : 0.0;
+    s.hre[l] = q.harmonic ? q.hz.re : 1.0;
+    s.him[l] = q.harmonic ? q.hz.im : 0.0;
+    s.hsre[l] = q.harmonic ? q.hstep.re : 1.0;
+    s.hsim[l] = q.harmonic ? q.hstep.im : 0.0;
+    s.harmonic[l] = q.harmonic;
+    s.free[l] = q.free;
+    for (std::size_t m = 0; m < M; ++m) {
+      s.zre[m][l] = z[m].re;
+      s.zim[m][l] = z[m].im;
+    }
+  }
+
+  void load_piece(std::size_t modes, const LinearModePiece* c, double tau0, double h, ScanLanes& s,
+                  std::size_t l) const {
+    switch (modes) {
+      case 1:
+        return load_piece<1>(c, tau0, h, s, l);
+      case 2:
+        return load_piece<2>(c, tau0, h, s, l);
+      case 3:
+        return load_piece<3>(c, tau0, h, s, l);
+      case 4:
+        return load_piece<4>(c, tau0, h, s, l);
+      default:
+        return load_piece<kMaxModes>(c, tau0, h, s, l);
+    }
+  }
+
+  /// The first sample index in [i, n + 1) at or after `next` on the grid t_i = a + h i (t_n = b),
+  /// n + 1 when none (t_i increases with i): estimated, then corrected onto the exact comparison.
+  static std::size_t first_sample_from(double next, double a, double b, double h, std::size_t n,
+                                       std::size_t i) {
+    auto t_of = [&](std::size_t j) { return j == n ? b : a + h * static_cast<double>(j); };
+    if (!(next <= b)) return n + 1;
+    const double guess = std::ceil((next - a) / h);
+    std::size_t end = guess <= static_cast<double>(i)       ? i
+                      : guess >= static_cast<double>(n + 1) ? n + 1
+                                                            : static_cast<std::size_t>(guess);
+    while (end > i && t_of(end - 1) >= next) --end;
+    while (end <= n && t_of(end) < next) ++end;
+    return end;
+  }
+
+  /// energy_bound() of lane l (the same operations).
+  static double lane_energy_bound(const ScanLanes& s, std::size_t l, std::size_t modes,
+                                  const LinearModePiece* c,
+                                  const std::array<double, kMaxModes>& omega) {
+    double bound = 0.0;
+    for (std::size_t m = 0; m < modes; ++m) {
+      const double x = s.zre[m][l];
+      const double v = (-c[m].sigma * s.zre[m][l] - c[m].wd * s.zim[m][l]) / omega[m];
+      bound += std::sqrt(x * x + v * v);
+    }
+    return bound;
+  }
+
+  /// sample_modes() of every lane, the samples of lane l written to values[i kLanes + l]; the
+  /// sample after a lane's early end is its exact |eta| (as sample_modes() appends it), later
+  /// entries of that lane are not read.
+  static void sample_lanes(const std::vector<const LinearPeakScan*>& scans, std::size_t modes,
+                           double a, double b, double h, std::size_t n, bool rest, double* values,
                            std::array<std::size_t, kLanes>& last) {
     const std::size_t lanes = scans.size();
     auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
-    std::array<std::array<Complex, M>, kLanes> step_rotation{}, z{};
-    std::array<std::array<double, M>, kLanes> omega{};
+    ScanLanes s{};
+    std::array<std::array<double, kMaxModes>, kLanes> omega{};
     for (std::size_t l = 0; l < lanes; ++l) {
-      scans[l]->template step_rotations<M>(h, step_rotation[l], omega[l]);
+      for (std::size_t m = 0; m < modes; ++m) {
+        const LinearModePiece& p = scans[l]->coef_[m];
+        const Complex r = decay_rotation(p.sigma, p.wd, h);
+        s.sre[m][l] = r.re;
+        s.sim[m][l] = r.im;
+        omega[l][m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
+      }
     }
-    std::array<bool, kLanes> stopped{};
-    std::array<double, kLanes> best;
-    best.fill(-INFINITY);
+    s.best.fill(-INFINITY);
     last.fill(n);
+    std::array<bool, kLanes> stopped{};
+    std::size_t running = lanes;
+    auto finish = [&] {
+      for (std::size_t l = 0; l < lanes; ++l) {
+        if (last[l] < n)
+          values[(last[l] + 1) * kLanes + l] = std::abs(scans[l]->eta(t_of(last[l] + 1)));
+      }
+    };
     const std::vector<double>& begin = scans[0]->begin_;
-    std::size_t i = 0;
     const std::size_t pieces = begin.size();
+    std::size_t i = 0;
     std::size_t k = 0;
     while (i <= n) {
-      double t = t_of(i);
+      const double t = t_of(i);
       if (t <= 0.0) {  // at rest before the motion starts
-        for (std::size_t l = 0; l < lanes; ++l) {
-          values[l].push_back(0.0);
-          best[l] = std::max(best[l], 0.0);
+        for (std::size_t l = 0; l < kLanes; ++l) {
+          values[i * kLanes + l] = 0.0;
+          s.best[l] = std::max(s.best[l], 0.0);
         }
         ++i;
         continue;
       }
       while (k + 1 < pieces && begin[k + 1] <= t) ++k;
       const double next = k + 1 < pieces ? begin[k + 1] : INFINITY;
-      const double tau0 = t - begin[k];
       std::array<const LinearModePiece*, kLanes> c{};
-      std::array<PieceSum, kLanes> q{};
-      std::array<std::size_t, kLanes> since_bound{};
       for (std::size_t l = 0; l < lanes; ++l) {
-        c[l] = &scans[l]->coef_[k * M];
-        q[l] = scans[l]->template piece_sum<M>(c[l], tau0, h, z[l]);
+        c[l] = &scans[l]->coef_[k * modes];
+        scans[l]->load_piece(modes, c[l], t - begin[k], h, s, l);
       }
-      for (; i <= n; ++i) {
-        t = t_of(i);
-        if (t >= next) break;
-        const double tau = t - begin[k];
-        bool running = false;
-        for (std::size_t l = 0; l < lanes; ++l) {
-          if (stopped[l]) continue;
-          running = true;
-          PieceSum& p = q[l];
-          double e = 0.0;
-          if (!p.free) {
-            e = p.r0 + tau * (p.r1 + tau * (p.r2 + tau * p.r3));
-            if (p.harmonic) {
-              e += p.P * p.hz.re + p.Q * p.hz.im + tau * (p.U * p.hz.re + p.V * p.hz.im);
-              p.hz = mul(p.hz, p.hstep);
-            }
-          }
-          for (std::size_t m = 0; m < M; ++m) e += z[l][m].re;
-          const double v = std::abs(e);
-          values[l].push_back(v);
-          best[l] = std::max(best[l], v);
-          if (rest && p.free && ++since_bound[l] == kBoundStride) {
-            since_bound[l] = 0;
-            if (energy_bound<M>(z[l], c[l], omega[l]) <= best[l]) {
-              if (i < n) values[l].push_back(std::abs(scans[l]->eta(t_of(i + 1))));
-              last[l] = i;
-              stopped[l] = true;
-              continue;
-            }
-          }
-          for (std::size_t m = 0; m < M; ++m) z[l][m] = mul(z[l][m], step_rotation[l][m]);
+      const bool harmonic =
+          std::any_of(s.harmonic.begin(), s.harmonic.begin() + lanes, [](bool x) { return x; });
+      const std::size_t end = first_sample_from(next, a, b, h, n, i);
+      // Blocks of kBoundStride samples from the piece's first, the energy bound tested after
+      // each full block where a running lane is free (sample_modes()' every kBoundStride-th).
+      while (i < end) {
+        const std::size_t count = std::min(kBoundStride, end - i);
+        bool test = false;
+        if (rest && count == kBoundStride) {
+          for (std::size_t l = 0; l < lanes; ++l) test = test || (s.free[l] && !stopped[l]);
         }
-        if (!running) return;
+        scan_block(s, modes, harmonic, a, b, h, n, begin[k], i, count, !test, values);
+        i += count;
+        if (!test) continue;
+        for (std::size_t l = 0; l < lanes; ++l) {
+          if (stopped[l] || !s.free[l]) continue;
+          if (lane_energy_bound(s, l, modes, c[l], omega[l]) <= s.best[l]) {
+            last[l] = i - 1;
+            stopped[l] = true;
+            --running;
+          }
+        }
+        if (running == 0) return finish();
+        rotate_lanes(s, modes);
       }
     }
+    finish();
   }
 
  private:
@@ -401,29 +595,93 @@ class LinearPeakScan {
     return bound;
   }
 
-  /// find_max()'s candidate rule over samples 0..last (values may hold one more, last + 1).
-  Peak pick(double a, double b, double h, std::size_t n, std::size_t last,
-            const std::vector<double>& values) const {
-    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
-    const double best_sample = *std::max_element(values.begin(), values.end());
-    const double threshold = best_sample - kRefineFraction * std::abs(best_sample);
-    Peak best{values[0], a};
-    if (last == n && values[n] > best.value) best = {values[n], b};
-    for (std::size_t i = 0; i <= last; ++i) {
-      if (values[i] < threshold) continue;
-      const bool left_ok = i == 0 || values[i] >= values[i - 1];
-      const bool right_ok = i == n || values[i] >= values[i + 1];
-      if (!left_ok || !right_ok) continue;
-      const bool flat =
-          (i == 0 || values[i] == values[i - 1]) && (i == n || values[i] == values[i + 1]);
-      if (flat) {
-        if (values[i] > best.value) best = {values[i], t_of(i)};
-        continue;
+  /// A bound on |eta''| over [t, end of the response] when no forcing acts from t on (the rest
+  /// window), else infinity. There eta = sum_m Re z_m with z_m = g_m Z_m exp(lambda_m tau), so
+  /// |eta''| <= sum_m |lambda_m|^2 |z_m(s)| <= sum_m w_m^2 |z_m(t)| for every s >= t (|z_m| only
+  /// decays); the factor 1 + 1e-6 covers the round-off of the closed form.
+  [[nodiscard]] double curvature_bound(double t) const {
+    if (!(t > 0.0)) return INFINITY;
+    const std::size_t k = piece_index(t);
+    const double tau = t - begin_[k];
+    double bound = 0.0;
+    for (std::size_t m = 0; m < modes_; ++m) {
+      const LinearModePiece& p = coef_[k * modes_ + m];
+      if (p.damping != LinearModePiece::Damping::kUnder || p.W != 0.0 || p.r[0] != 0.0 ||
+          p.r[1] != 0.0 || p.r[2] != 0.0 || p.r[3] != 0.0 || p.P != 0.0 || p.Q != 0.0 ||
+          p.U != 0.0 || p.V != 0.0) {
+        return INFINITY;
       }
+      const double z = std::abs(gains_[m]) * std::hypot(p.c1, p.c2) * std::exp(-p.sigma * tau);
+      bound += (p.sigma * p.sigma + p.wd * p.wd) * z;
+    }
+    return std::isfinite(bound) ? bound * (1.0 + 1e-6) : INFINITY;
+  }
+
+  /// find_max()'s candidate rule over samples 0..last, sample i at values[i stride] (`count`
+  /// samples: last + 1, or one more, the right neighbour of the last).
+  ///
+  /// With `curvature` a bound on |eta''| over the window, the candidate with the largest sample
+  /// is refined first, and a candidate whose bracket cannot hold more is not refined: at the
+  /// maximum t* of |eta| inside a bracket eta'(t*) = 0 and the nearest sample is at most h/2
+  /// away, so |eta(t*)| <= (largest of the bracket's samples) + curvature h^2 / 8. Leaving out
+  /// candidates strictly below the best found changes nothing (the first of the largest wins).
+  Peak pick(double a, double b, double h, std::size_t n, std::size_t last, const double* values,
+            std::size_t stride, std::size_t count, double curvature) const {
+    auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
+    auto value = [&](std::size_t i) { return values[i * stride]; };
+    double best_sample = value(0);  // as std::max_element: the first of the largest
+    for (std::size_t i = 1; i < count; ++i) {
+      if (best_sample < value(i)) best_sample = value(i);
+    }
+    const double threshold = best_sample - kRefineFraction * std::abs(best_sample);
+    // 0: not a candidate, 1: a flat candidate, 2: a candidate to refine.
+    auto kind = [&](std::size_t i) {
+      if (value(i) < threshold) return 0;
+      const bool left_ok = i == 0 || value(i) >= value(i - 1);
+      const bool right_ok = i == n || value(i) >= value(i + 1);
+      if (!left_ok || !right_ok) return 0;
+      const bool flat =
+          (i == 0 || value(i) == value(i - 1)) && (i == n || value(i) == value(i + 1));
+      return flat ? 1 : 2;
+    };
+    auto refined = [&](std::size_t i) {
       const double lo = t_of(i == 0 ? 0 : i - 1);
       const double hi = t_of(std::min(i + 1, n));
       Peak p = refine(lo, hi, t_of(i));
-      if (values[i] > p.value) p = {values[i], t_of(i)};
+      if (value(i) > p.value) p = {value(i), t_of(i)};
+      return p;
+    };
+    constexpr std::size_t kNone = static_cast<std::size_t>(-1);
+    std::size_t first = kNone;
+    Peak first_peak;
+    const double slack = curvature * h * h / 8.0;
+    if (std::isfinite(slack)) {
+      for (std::size_t i = 0; i <= last; ++i) {
+        if (kind(i) == 2 && (first == kNone || value(i) > value(first))) first = i;
+      }
+      if (first != kNone) first_peak = refined(first);
+    }
+    Peak best{value(0), a};
+    if (last == n && value(n) > best.value) best = {value(n), b};
+    for (std::size_t i = 0; i <= last; ++i) {
+      const int k = kind(i);
+      if (k == 0) continue;
+      if (k == 1) {
+        if (value(i) > best.value) best = {value(i), t_of(i)};
+        continue;
+      }
+      Peak p;
+      if (i == first) {
+        p = first_peak;
+      } else {
+        if (first != kNone) {
+          const double top =
+              std::max({value(i == 0 ? 0 : i - 1), value(i), value(std::min(i + 1, n))});
+          // The relative 1e-9 covers the samples' round-off (the rotations drift by ulps).
+          if ((top + slack) * (1.0 + 1e-9) < first_peak.value) continue;
+        }
+        p = refined(i);
+      }
       if (p.value > best.value) best = p;
     }
     return best;
@@ -473,28 +731,6 @@ class LinearPeakScan {
 
 }  // namespace detail
 
-namespace {
-
-/// LinearPeakScan::window_lanes with the mode count as a constant.
-void window_lanes(std::size_t modes, const std::vector<const detail::LinearPeakScan*>& scans,
-                  double a, double b, double step, bool rest, std::vector<Peak>& out) {
-  using Scan = detail::LinearPeakScan;
-  switch (modes) {
-    case 1:
-      return Scan::window_lanes<1>(scans, a, b, step, rest, out);
-    case 2:
-      return Scan::window_lanes<2>(scans, a, b, step, rest, out);
-    case 3:
-      return Scan::window_lanes<3>(scans, a, b, step, rest, out);
-    case 4:
-      return Scan::window_lanes<4>(scans, a, b, step, rest, out);
-    default:
-      return Scan::window_lanes<kMaxModes>(scans, a, b, step, rest, out);
-  }
-}
-
-}  // namespace
-
 std::vector<SloshPeaks> LinearResponse::peaks_of(const std::vector<LinearResponse>& responses) {
   std::vector<SloshPeaks> out(responses.size());
   // Lanes: responses that share the sample grid, the piece starts and the mode count, all modes
@@ -536,8 +772,10 @@ std::vector<SloshPeaks> LinearResponse::peaks_of(const std::vector<LinearRespons
       done[j] = true;
     }
     std::vector<Peak> motion, rest;
-    window_lanes(r.gains_.size(), lanes, 0.0, r.motion_time_, r.peak_step_, false, motion);
-    window_lanes(r.gains_.size(), lanes, r.motion_time_, r.end_time_, r.peak_step_, true, rest);
+    using Scan = detail::LinearPeakScan;
+    Scan::window_lanes(r.gains_.size(), lanes, 0.0, r.motion_time_, r.peak_step_, false, motion);
+    Scan::window_lanes(r.gains_.size(), lanes, r.motion_time_, r.end_time_, r.peak_step_, true,
+                       rest);
     for (std::size_t g = 0; g < group.size(); ++g) out[group[g]] = {motion[g], rest[g]};
   }
   return out;
