@@ -6,6 +6,7 @@
 // thresholds.
 
 #include <httplib.h>
+#include <signal.h>
 
 #include <gtest/gtest.h>
 
@@ -87,6 +88,7 @@ class LongBudgetServer {
     server_ = std::make_unique<test::Server>(args);
   }
   const test::Server& operator*() const { return *server_; }
+  test::Server& server() { return *server_; }
 
  private:
   test::TempDir dir_;
@@ -263,6 +265,44 @@ TEST(MinTimePriority, APlanOvertakesTheQueuedStrategiesOfASearch) {
   EXPECT_EQ(plan->status, 200) << plan->body;
   EXPECT_LE(after - before, 1);
   EXPECT_EQ(metric_of(server, kInteractive), 1);
+}
+
+// A plan answered 504 (its budget plus queue_wait_s passed while it queued behind a search) has
+// nobody waiting for it: its queued solve is stopped at once, as for a client that hung up,
+// instead of taking the worker for its whole budget after the search.
+TEST(Cancellation, APlanAnswered504IsStoppedNotRunForNobody) {
+  test::TempDir dir;
+  test::write_file(dir / "slosh.json", R"({"solve_budget_s": 600, "queue_wait_s": 0.2})");
+  const test::Server server({"--config", (dir / "slosh.json").string(), "--workers", "1"});
+  ASSERT_GT(server.port(), 0) << server.log();
+  test::Raw search(server.port());
+  ASSERT_TRUE(search.send(raw_post("/v1/min-time", endless_min_time())));
+  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; })) << server.log();
+  json quick = json::parse(thesis_plan_request("notch"));
+  quick["options"] = {{"time_limit_s", 0.3}};
+  const auto r = server.client().Post("/v1/plans", quick.dump(), "application/json");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(r->status, 504) << r->body;
+  EXPECT_EQ(json::parse(r->body)["error"]["message"],
+            "the plan did not finish within its budget of 0.3 s plus 0.2 s of queueing");
+  EXPECT_EQ(metric_of(server, kCancelledPlan), 1);
+}
+
+// SIGTERM while a min-time search runs: the search stops between two plans and its client gets
+// the shutdown's 503 at once (the search would otherwise run its 500 s budget for an answer
+// that is thrown away), and the server exits 0.
+TEST(Cancellation, SigtermStopsARunningMinTimeSearchWithTheShutdownReply) {
+  LongBudgetServer holder({"--workers", "1"});
+  test::Server& server = holder.server();
+  test::Raw client(server.port());
+  ASSERT_TRUE(client.send(raw_post("/v1/min-time", endless_min_time())));
+  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; })) << server.log();
+  ::kill(server.child().pid(), SIGTERM);
+  const std::string reply = client.read_all();
+  EXPECT_EQ(reply.substr(0, 12), "HTTP/1.1 503") << reply.substr(0, 300);
+  EXPECT_NE(reply.find(R"("message":"the service is shutting down")"), std::string::npos)
+      << reply.substr(0, 600);
+  EXPECT_EQ(server.child().wait_for(std::chrono::seconds(20)), 0) << server.log();
 }
 
 }  // namespace

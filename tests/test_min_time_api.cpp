@@ -5,8 +5,10 @@
 
 #include <gtest/gtest.h>
 
+#include <chrono>
 #include <sstream>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -14,6 +16,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/min_time.hpp"
 #include "support/process.hpp"
+#include "support/raw_client.hpp"
 #include "support/server.hpp"
 
 namespace slosh {
@@ -194,16 +197,48 @@ TEST(MinTimeApi, RealServerAnswersAsTheApiCachesAndRefusesBadInput) {
 }
 
 TEST(MinTimeApi, FullQueueAnswers503WithRetryAfter) {
-  // One worker and room for one queued search: seven strategies cannot all be queued.
+  // One worker and room for one queued task: a search of two strategies that no T satisfies
+  // (eta_motion <= 0.01 mm, up to 1 000 plans each) holds both while a second search arrives.
+  // (An idle pool would run a search of more strategies than workers + queue in turns: only a
+  // busy pool answers 503.)
   test::Server server({"--workers", "1", "--queue", "1"});
+  json busy = thesis_request();
+  busy["strategies"] = {"time_domain", "multi_notch"};
+  busy["eta_motion_max_mm"] = 0.01;
+  busy["max_plans"] = 1000;
+  busy["scan_step_s"] = 0.001;
+  test::Raw holder(server.port());
+  const std::string text = busy.dump();
+  ASSERT_TRUE(
+      holder.send("POST /v1/min-time HTTP/1.1\r\nHost: 127.0.0.1\r\nContent-Type: "
+                  "application/json\r\nContent-Length: " +
+                  std::to_string(text.size()) + "\r\n\r\n" + text));
+  bool holding = false;
+  for (int i = 0; i < 6000 && !holding; ++i) {
+    const auto m = server.client().Get("/metrics");
+    holding = m && test::metric(m->body, "slosh_busy_workers") == 1 &&
+              test::metric(m->body, "slosh_queue_depth") == 1;
+    if (!holding) std::this_thread::sleep_for(std::chrono::milliseconds(10));
+  }
+  ASSERT_TRUE(holding) << server.log();
   auto client = server.client();
-  json body = thesis_request();
-  body.erase("strategies");  // every strategy but iir: seven tasks
-  const auto r = client.Post("/v1/min-time", body.dump(), "application/json");
+  const auto r = client.Post("/v1/min-time", thesis_request().dump(), "application/json");
   ASSERT_TRUE(r);
   EXPECT_EQ(r->status, 503) << r->body;
   EXPECT_EQ(r->get_header_value("Retry-After"), "1");
   EXPECT_EQ(json::parse(r->body)["error"]["code"], "overloaded");
+}
+
+// More strategies than workers + queue on an idle pool: run in turns, never a 503 that no retry
+// could cure.
+TEST(MinTimeApi, MoreStrategiesThanThePoolHoldsRunInTurns) {
+  test::Server server({"--workers", "1", "--queue", "1"});
+  json body = thesis_request();
+  body.erase("strategies");  // every strategy but iir: seven tasks
+  const auto r = server.client().Post("/v1/min-time", body.dump(), "application/json");
+  ASSERT_TRUE(r);
+  ASSERT_EQ(r->status, 200) << r->body.substr(0, 300);
+  EXPECT_EQ(json::parse(r->body)["strategies"].size(), 7u);
 }
 
 TEST(MinTimeApi, CliPrintsTheResponseFromAFileAndStdinAndRefusesBadInput) {

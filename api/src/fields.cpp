@@ -4,12 +4,14 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <utility>
 #include <vector>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/exact_number.hpp"
 
 namespace slosh::api {
 
@@ -27,6 +29,20 @@ const nlohmann::json* given_member(const nlohmann::json& object, std::string_vie
 std::string number_text(double v) {
   std::ostringstream os;
   os.precision(10);
+  os << v;
+  return os.str();
+}
+
+std::string exact_number_text(double v) {
+  if (!std::isfinite(v)) return number_text(v);
+  for (int digits = 10; digits < 17; ++digits) {
+    std::ostringstream os;
+    os.precision(digits);
+    os << v;
+    if (std::strtod(os.str().c_str(), nullptr) == v) return os.str();
+  }
+  std::ostringstream os;
+  os.precision(17);  // every double reads back from 17 significant digits
   os << v;
   return os.str();
 }
@@ -231,7 +247,7 @@ double checked_number(const nlohmann::json* v, const std::string& field, const R
   const double x = v->get<double>();
   if (!std::isfinite(x) || !range.contains(x)) {
     std::string message =
-        field + " = " + number_text(x) + " is out of range: allowed " + range.describe();
+        field + " = " + exact_number_text(x) + " is out of range: allowed " + range.describe();
     if (x < range.lo) message += below_range_hint;
     invalid(field, message);
   }
@@ -254,10 +270,10 @@ int optional_integer(const nlohmann::json& object, const std::string& path, std:
   if (!v->is_number()) invalid(field, field + " must be " + allowed + ", got " + show(*v));
   const double x = v->get<double>();
   if (x != std::floor(x)) {
-    invalid(field, field + " = " + number_text(x) + " is not an integer: allowed " + allowed);
+    invalid(field, field + " = " + exact_number_text(x) + " is not an integer: allowed " + allowed);
   }
   if (x < lo || x > hi) {
-    invalid(field, field + " = " + number_text(x) + " is out of range: allowed " + allowed);
+    invalid(field, field + " = " + exact_number_text(x) + " is out of range: allowed " + allowed);
   }
   return static_cast<int>(x);
 }

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/exact_number.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/core/law/filtered_laws.hpp"
 
@@ -174,7 +175,7 @@ MotionLaw parse_piecewise(const nlohmann::json& law, const std::string& path, do
       // The harmonic integrates to cos/omega^2: a vanishing omega overflows the kinematics.
       if (p.harmonic_omega != 0.0 && p.harmonic_omega < kMinHarmonicOmega) {
         const std::string opath = join_path(hpath, "omega_rad_s");
-        invalid(opath, opath + " = " + number_text(p.harmonic_omega) +
+        invalid(opath, opath + " = " + exact_number_text(p.harmonic_omega) +
                            " is out of range: allowed 0 (no harmonic) or " +
                            number_text(kMinHarmonicOmega) + " to 1e+09 rad/s");
       }

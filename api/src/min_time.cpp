@@ -1,5 +1,6 @@
 #include "slosh/api/min_time.hpp"
 
+#include "slosh/api/exact_number.hpp"
 #include "slosh/api/plan_reply.hpp"
 
 #include <algorithm>
@@ -238,7 +239,7 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
   if (given_member(options, "time_limit_s") == nullptr) {
     plan.time_limit = budget;
   } else if (plan.time_limit > budget) {
-    invalid("options.time_limit_s", "options.time_limit_s = " + number_text(plan.time_limit) +
+    invalid("options.time_limit_s", "options.time_limit_s = " + exact_number_text(plan.time_limit) +
                                         " is out of range: this server allows at most " +
                                         number_text(budget) + " s");
   }

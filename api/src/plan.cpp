@@ -11,6 +11,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
 #include "slosh/api/option_registry.hpp"
+#include "slosh/api/plan_reply.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/response/spectrum.hpp"
@@ -331,6 +332,9 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["format"] = format_json(request.format);
   out["rest_time_s"] = request.options.rest_time;
   out["warnings"] = r.warnings;
+  if (std::string budget = budget_warning(r); !budget.empty()) {
+    out["warnings"].push_back(std::move(budget));
+  }
   require_finite(out);
   return out;
 }

@@ -1,5 +1,7 @@
 #include "slosh/api/plan_reply.hpp"
 
+#include <algorithm>
+
 #include "slosh/api/error.hpp"
 
 namespace slosh::api {
@@ -9,13 +11,43 @@ bool is_cacheable(SolveStatus status) {
          status == SolveStatus::kInfeasible;
 }
 
+bool budget_limited(const PlanResult& result) {
+  if (result.status == SolveStatus::kTimeLimit) return true;
+  return std::ranges::any_of(result.candidates, [](const PlanCandidate& c) {
+    return c.status == SolveStatus::kTimeLimit;
+  });
+}
+
+bool budget_limited(std::string_view stored_body) {
+  // The stored body is compact JSON (dump_json): a status member reads exactly this way, and no
+  // other member holds this text.
+  return stored_body.find(R"("status":"time_limit")") != std::string_view::npos;
+}
+
+std::string budget_warning(const PlanResult& result) {
+  if (result.status == SolveStatus::kTimeLimit) return {};
+  std::string names;
+  for (const PlanCandidate& c : result.candidates) {
+    if (c.status != SolveStatus::kTimeLimit) continue;
+    names += (names.empty() ? "" : ", ") + std::string(to_string(c.strategy));
+  }
+  if (names.empty()) return {};
+  return "time_limited_candidates: the time budget ran out for candidate " + names +
+         " (status time_limit), so the choice depends on the budget and the machine's load; "
+         "this plan is not cached (a larger options.time_limit_s may choose another law)";
+}
+
+bool is_cacheable(const StoredPlan& plan) {
+  return is_cacheable(plan.status) && !plan.budget_limited;
+}
+
 StoredPlan solve_for_storing(const PlanRequest& request) {
   PlanRequest without_series = request;
   without_series.sample_period.reset();
   const PlanResult result = plan_request(request);
   nlohmann::json out = plan_json(without_series, result);
   out.erase("cached");
-  return {result.status, dump_json(out)};
+  return {result.status, dump_json(out), budget_limited(result)};
 }
 
 std::string with_cached_flag(std::string_view stored, bool cached) {

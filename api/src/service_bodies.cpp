@@ -1,6 +1,7 @@
 #include "slosh/api/service_bodies.hpp"
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/exact_number.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/simulate.hpp"
 
@@ -15,7 +16,7 @@ PlanRequest parse_plan_with_budget(const nlohmann::json& body, double budget) {
     request.options.time_limit = budget;
   } else if (request.options.time_limit > budget) {
     throw ApiError(ErrorCode::kInvalidValue, "options.time_limit_s",
-                   "options.time_limit_s = " + number_text(request.options.time_limit) +
+                   "options.time_limit_s = " + exact_number_text(request.options.time_limit) +
                        " is out of range: this server allows at most " + number_text(budget) +
                        " s");
   }

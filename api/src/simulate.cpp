@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
@@ -41,6 +43,67 @@ int nesting_depth(std::string_view text) {
   return deepest;
 }
 
+// Refuses a member given twice in one object while the parser reads it (nlohmann keeps the last
+// silently): the body would otherwise say two things and be read as one of them, the one case of
+// input silently dropped. Each open object or array is a frame; the path names the member.
+class DuplicateMembers {
+ public:
+  bool operator()(int /*depth*/, nlohmann::json::parse_event_t event,
+                  const nlohmann::json& parsed) {
+    using Event = nlohmann::json::parse_event_t;
+    switch (event) {
+      case Event::object_start:
+      case Event::array_start:
+        frames_.push_back(Frame{event == Event::object_start, {}, {}, 0});
+        break;
+      case Event::key:
+        add_key(parsed.get<std::string>());
+        break;
+      case Event::object_end:
+      case Event::array_end:
+        frames_.pop_back();
+        next_element();
+        break;
+      case Event::value:
+        next_element();
+        break;
+    }
+    return true;
+  }
+
+ private:
+  struct Frame {
+    bool object{};
+    std::vector<std::string> keys;  // the members read so far (objects are small)
+    std::string key;                // the member being read
+    std::size_t index{};            // the element being read (arrays)
+  };
+
+  void next_element() {
+    if (!frames_.empty() && !frames_.back().object) ++frames_.back().index;
+  }
+
+  void add_key(const std::string& key) {
+    Frame& frame = frames_.back();
+    if (std::find(frame.keys.begin(), frame.keys.end(), key) != frame.keys.end()) {
+      std::string field;
+      for (std::size_t i = 0; i + 1 < frames_.size(); ++i) {
+        field = frames_[i].object ? join_path(field, frames_[i].key)
+                                  : field + "[" + std::to_string(frames_[i].index) + "]";
+      }
+      field = join_path(field, key);
+      throw ApiError(ErrorCode::kInvalidValue, field,
+                     field +
+                         " is given twice: give each member once (a repeated member would "
+                         "silently replace the first)");
+    }
+    frame.keys.push_back(key);
+    frame.key = key;
+  }
+
+  std::vector<Frame> frames_;
+};
+
 }  // namespace
 
 nlohmann::json parse_json_body(std::string_view body) {
@@ -52,7 +115,7 @@ nlohmann::json parse_json_body(std::string_view body) {
                        std::to_string(kMaxJsonDepth) + " levels");
   }
   try {
-    return nlohmann::json::parse(body);
+    return nlohmann::json::parse(body, DuplicateMembers{});
   } catch (const nlohmann::json::exception& e) {  // parse errors and number overflow
     // Drop nlohmann's "[json.exception.parse_error.101] " prefix: the rest is the useful part.
     std::string detail = e.what();

@@ -251,6 +251,8 @@ std::optional<std::string> PlanCache::read_store(const std::string& key) {
           corrupt = true;
         } else if (row_version != config_.version) {
           value.reset();  // another slosh's answer: never served (its key is not ours either)
+        } else if (config_.servable && !config_.servable(*value)) {
+          value.reset();
         }
       } else if (rc != SQLITE_DONE) {
         set_error("plan cache store '" + config_.path + "': reading " + noun_ + " failed (" +
@@ -292,7 +294,8 @@ std::shared_ptr<const CachedValue> PlanCache::find(const std::string& key, Cache
   }
   std::shared_ptr<const CachedValue> entry;
   if (shared_) {
-    if (const std::optional<std::string> value = shared_->get(key)) {
+    const std::optional<std::string> value = shared_->get(key);
+    if (value && (!config_.servable || config_.servable(*value))) {
       entry = write_local(key, *value);  // promoted into SQLite and memory
     }
   }

@@ -12,11 +12,13 @@
 #include <chrono>
 #include <cstddef>
 #include <cstdint>
+#include <functional>
 #include <list>
 #include <memory>
 #include <mutex>
 #include <optional>
 #include <string>
+#include <string_view>
 #include <unordered_map>
 #include <utility>
 
@@ -72,6 +74,10 @@ struct CacheConfig {
   /// Expiry of the values this cache writes to Redis [s]; 0 = none (an answer never goes stale:
   /// the version is part of its key). Default 0.
   std::chrono::seconds redis_ttl{0};
+  /// Whether a value read from SQLite or Redis may be served (one an older build wrote that this
+  /// build would not store, e.g. a plan that depended on its time budget, is a miss); null = every
+  /// value. Values in memory were put by this process and are not checked again. Default null.
+  std::function<bool(std::string_view)> servable{};
 };
 
 /// A value of the cache as its memory tier holds it, shared by the requests that read it (a hit

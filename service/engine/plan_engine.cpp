@@ -28,6 +28,13 @@ std::shared_ptr<RedisClient> make_redis(const ServerConfig& config) {
       .url = parse_redis_url(url), .timeout = std::chrono::milliseconds(config.redis_timeout_ms)});
 }
 
+// A stored plan that depended on a time budget running out is never served: its key holds no
+// time_limit_s, so it would answer every budget (such plans are not stored; an older build's may
+// be in the store or the shared Redis).
+bool plan_servable(std::string_view body) {
+  return !api::budget_limited(body);
+}
+
 CacheConfig cache_config(const ServerConfig& config, std::shared_ptr<RedisClient> redis,
                          CacheTable table) {
   return CacheConfig{.path = local_cache_path(config),
@@ -38,7 +45,8 @@ CacheConfig cache_config(const ServerConfig& config, std::shared_ptr<RedisClient
                                         : config.cache_store_bytes,
                      .table = table,
                      .redis = std::move(redis),
-                     .redis_ttl = std::chrono::seconds(config.cache_ttl_s)};
+                     .redis_ttl = std::chrono::seconds(config.cache_ttl_s),
+                     .servable = table == CacheTable::kPlans ? plan_servable : nullptr};
 }
 
 double seconds_since(std::chrono::steady_clock::time_point started) {
@@ -276,7 +284,9 @@ std::string PlanEngine::wait_for_plan(const std::string& key, const api::PlanReq
                                       const std::function<bool()>& abandoned) {
   const WaitEnd end =
       wait_for_client(future, after(request.options.time_limit + config_.queue_wait_s), abandoned);
-  if (leave_flight(inflight_, key, waiters, end == WaitEnd::kGone)) ++cancelled_plans_;
+  // A request answered 504 waits no more either: its solve is stopped as for a client that hung
+  // up (unless another request still waits for it), never run to its budget for nobody.
+  if (leave_flight(inflight_, key, waiters, end != WaitEnd::kReady)) ++cancelled_plans_;
   if (end == WaitEnd::kGone) throw cancelled_error();
   if (end == WaitEnd::kTimeout) {
     throw api::ApiError(api::ErrorCode::kTimeout, "",
@@ -311,7 +321,7 @@ std::shared_ptr<const CachedValue> PlanEngine::solve_once_across_replicas(
     api::StoredPlan plan = api::solve_for_storing(request);
     // A solve stopped because nobody waits is cut short: never kept, whatever its status says.
     const bool stopped = request.options.stop != nullptr && request.options.stop->load();
-    if (api::is_cacheable(plan.status) && !stopped) stored = cache_.put(key, plan.body);
+    if (api::is_cacheable(plan) && !stopped) stored = cache_.put(key, plan.body);
     outcome.body = std::move(plan.body);
   } catch (...) {
     metrics_.observe_solve(to_string(request.strategy), seconds_since(started));

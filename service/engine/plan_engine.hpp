@@ -164,9 +164,9 @@ class PlanEngine {
   void count_plan(const PlanFacts& facts);
 
   /// Starts a batch of read plan requests (api::read_batch_items): cache hits and invalid items
-  /// finish at once, the others are queued on the pool (waiting for queue room) with single-flight
-  /// per recipe. `abandoned` (optional) tells whether the client has gone away: no further solves
-  /// are queued for it then.
+  /// finish at once, the others are queued on the pool at background priority (waiting for queue
+  /// room; interactive plans overtake them) with single-flight per recipe. `abandoned` (optional)
+  /// tells whether the client has gone away: no further solves are queued for it then.
   PendingBatch start_batch(const std::vector<api::BatchItem>& requests,
                            const std::function<bool()>& abandoned = {});
   /// Starts one batch item: a cache hit or an invalid request finishes at once; otherwise its
@@ -292,8 +292,13 @@ class PlanEngine {
   // Queues one task per strategy of `search`; on a refusal publishes the 503 at once (the tasks
   // already queued then skip their strategy).
   void queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& search, bool wait_for_room);
-  // Runs strategy `i` of `search`; the last task to finish calls finish_min_time.
+  // Runs task `i` of `search` (its strategies, see MinTimeSearch::tasks); the last task to finish
+  // calls finish_min_time.
   void run_min_time_task(const std::shared_ptr<MinTimeSearch>& search, std::size_t i);
+  // The pool tasks of a search of `strategies` strategies: one each, at most workers + queue.
+  [[nodiscard]] std::size_t min_time_tasks(std::size_t strategies) const;
+  // Searches strategy `i` of `search` into its result slot.
+  void run_min_time_strategy(MinTimeSearch& search, std::size_t i);
   // Assembles the answer of a finished search, caches it, forgets the flight, publishes it.
   void finish_min_time(MinTimeSearch& search);
   // Solves `request` into `outcome` and caches it, unless another replica sharing the Redis is

@@ -112,7 +112,10 @@ PendingBatch PlanEngine::start_batch(const std::vector<api::BatchItem>& requests
       batch.results_[i] = abandoned_item(requests[i]);
       continue;
     }
-    StartedItem started = start_batch_item(requests[i]);
+    // Below interactive plans (as batch jobs' items): a batch of up to batch_max recipes fills
+    // the background queue as it drains, and an HMI's plan must still overtake it instead of
+    // finding the queue full for the whole batch.
+    StartedItem started = start_batch_item(requests[i], TaskPriority::kBackground);
     batch.results_[i] = std::move(started.result);
     batch.pending_[i] = std::move(started.pending);
   }

@@ -1,6 +1,7 @@
 // PlanEngine's min-time searches (SPEC §9): one pool task per strategy, single flight per request
 // key, the answer assembled and cached by the last task to finish.
 
+#include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <future>
@@ -21,6 +22,8 @@ struct PlanEngine::MinTimeSearch {
   std::string key;
   std::uint64_t flight{};
   std::vector<MinTimeResult> results;
+  // Pool tasks of the search: task i searches strategies i, i + tasks, i + 2 tasks, ...
+  std::size_t tasks{1};
   // Tasks not finished, plus one held by the queueing thread until it has queued them all.
   std::atomic<std::size_t> remaining{0};
   // A task could not be queued: the 503 is published and the queued tasks skip their strategy.
@@ -96,9 +99,17 @@ PendingMinTime PlanEngine::start_min_time(const api::MinTimeRequest& request, bo
   return pending;
 }
 
+std::size_t PlanEngine::min_time_tasks(std::size_t strategies) const {
+  return std::max<std::size_t>(1, std::min(strategies, pool_.workers() + pool_.capacity()));
+}
+
 void PlanEngine::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& search,
                                       bool wait_for_room) {
-  const std::size_t n = search->results.size();
+  // One task per strategy, but never more than an idle pool admits (workers + queue): a search
+  // of more strategies runs some of them one after the other instead of being refused forever
+  // with an "all workers are busy" that no retry can cure.
+  const std::size_t n = min_time_tasks(search->results.size());
+  search->tasks = n;
   search->remaining = n + 1;
   for (std::size_t i = 0; i < n; ++i) {
     // Background priority: a search is up to a second of work per strategy, and the plans an HMI
@@ -122,41 +133,46 @@ void PlanEngine::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& sear
 }
 
 void PlanEngine::run_min_time_task(const std::shared_ptr<MinTimeSearch>& search, std::size_t i) {
-  if (!search->refused) {
-    const api::MinTimeRequest& request = search->request;
-    MinTimeResult& slot = search->results[i];
-    const auto started = std::chrono::steady_clock::now();
-    slot.strategy = request.strategies[i];
-    if (!ready_) {
-      // Shutting down: what is still queued is answered at once, only running searches finish.
-      search->shut_down = true;
-    } else if (search->waiters->stop) {
-      slot.status = SolveStatus::kTimeLimit;  // nobody waits: not searched (and not cached)
-      slot.message = "not searched: every client waiting for it closed the connection";
-    } else {
-      try {
-        MinTimeOptions options = request.options;
-        options.plan.stop = &search->waiters->stop;
-        slot = min_time(request.format, request.strategies[i], options);
-      } catch (...) {
-        slot = MinTimeResult{};
-        slot.strategy = request.strategies[i];
-        slot.status = SolveStatus::kFailed;
-        slot.message = "the search failed";
-      }
-    }
-    metrics_.observe_solve(
-        "min_time:" + to_string(request.strategies[i]),
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
+  for (std::size_t s = i; s < search->results.size() && !search->refused; s += search->tasks) {
+    run_min_time_strategy(*search, s);
   }
   if (search->remaining.fetch_sub(1) == 1) finish_min_time(*search);
+}
+
+void PlanEngine::run_min_time_strategy(MinTimeSearch& search, std::size_t i) {
+  const api::MinTimeRequest& request = search.request;
+  MinTimeResult& slot = search.results[i];
+  const auto started = std::chrono::steady_clock::now();
+  slot.strategy = request.strategies[i];
+  if (!ready_) {
+    // Shutting down: not searched; the search answers the shutdown's 503 (finish_min_time).
+    search.shut_down = true;
+  } else if (search.waiters->stop) {
+    slot.status = SolveStatus::kTimeLimit;  // nobody waits: not searched (and not cached)
+    slot.message = "not searched: every client waiting for it closed the connection";
+  } else {
+    try {
+      MinTimeOptions options = request.options;
+      options.plan.stop = &search.waiters->stop;
+      slot = min_time(request.format, request.strategies[i], options);
+    } catch (...) {
+      slot = MinTimeResult{};
+      slot.strategy = request.strategies[i];
+      slot.status = SolveStatus::kFailed;
+      slot.message = "the search failed";
+    }
+  }
+  metrics_.observe_solve(
+      "min_time:" + to_string(request.strategies[i]),
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
 void PlanEngine::finish_min_time(MinTimeSearch& search) {
   if (search.refused) return;  // its refusal has been published
   Outcome outcome;
   try {
-    if (search.shut_down) throw overloaded_error();
+    // Stopped by begin_shutdown (not by its clients): the shutdown's refusal.
+    if (search.shut_down || (search.waiters->stop && !ready_)) throw overloaded_error();
     if (search.waiters->stop) throw cancelled_error();
     api::check_min_time_inputs(search.request, search.results);
     outcome.body = api::stored_min_time(search.request, search.results, search.key);
@@ -178,14 +194,20 @@ MinTimeAnswer PlanEngine::answer_min_time(const api::MinTimeRequest& request,
                                           const std::function<bool()>& abandoned) {
   const PendingMinTime pending = start_min_time(request, false, static_cast<bool>(abandoned));
   if (pending.cached) return MinTimeAnswer{pending.key, *pending.cached, true};
-  const WaitEnd end = wait_for_client(
-      pending.search, after(request.options.plan.time_limit + config_.queue_wait_s), abandoned);
-  leave_min_time(pending, end == WaitEnd::kGone);
+  // A task that searches several strategies one after the other (min_time_tasks) has a budget
+  // for each of them.
+  const std::size_t n = request.strategies.size();
+  const std::size_t tasks = min_time_tasks(n);
+  const double budget =
+      request.options.plan.time_limit * static_cast<double>((n + tasks - 1) / tasks);
+  const WaitEnd end =
+      wait_for_client(pending.search, after(budget + config_.queue_wait_s), abandoned);
+  leave_min_time(pending, end != WaitEnd::kReady);  // a 504 waits no more either
   if (end == WaitEnd::kGone) throw cancelled_error();
   if (end == WaitEnd::kTimeout) {
     throw api::ApiError(api::ErrorCode::kTimeout, "",
                         "the min-time search did not finish within its budget of " +
-                            api::number_text(request.options.plan.time_limit) + " s plus " +
+                            api::number_text(budget) + " s plus " +
                             api::number_text(config_.queue_wait_s) + " s of queueing");
   }
   const Outcome& outcome = pending.search.get();

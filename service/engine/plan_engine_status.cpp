@@ -134,6 +134,11 @@ std::string PlanEngine::cache_description() const {
 void PlanEngine::begin_shutdown() {
   ready_ = false;
   pool_.stop_accepting();
+  // A min-time search is many plans (up to a budget per strategy): it stops between two of them
+  // and answers the shutdown's 503 at once, instead of holding the exit for a budget whose answer
+  // would be thrown away. A plan solve is one budget at most and its answer is kept: it finishes.
+  const std::lock_guard lock(inflight_mutex_);
+  for (auto& [key, flight] : min_time_inflight_) flight.waiters->stop = true;
 }
 
 }  // namespace slosh::service

@@ -42,16 +42,27 @@ void WorkerPool::push(std::unique_lock<std::mutex>& lock, std::function<void()> 
   has_task_.notify_one();
 }
 
+bool WorkerPool::has_room_locked(TaskPriority priority) const {
+  // A task an idle worker is about to take is not waiting: it does not count against the queue
+  // (else a burst of exactly workers + queue tasks on an idle pool would see one refused before
+  // the woken workers take theirs). Idle workers take interactive tasks first, so a background
+  // task counts only the idle workers the interactive ones leave.
+  const std::size_t idle = threads_.size() > busy_ ? threads_.size() - busy_ : 0;
+  if (priority == TaskPriority::kInteractive) return interactive_.size() < capacity_ + idle;
+  const std::size_t left = idle > interactive_.size() ? idle - interactive_.size() : 0;
+  return background_.size() < capacity_ + left;
+}
+
 bool WorkerPool::try_submit(std::function<void()> task, TaskPriority priority) {
   std::unique_lock lock(mutex_);
-  if (!accepting_ || queue_of(priority).size() >= capacity_) return false;
+  if (!accepting_ || !has_room_locked(priority)) return false;
   push(lock, std::move(task), priority);
   return true;
 }
 
 bool WorkerPool::submit_wait(std::function<void()> task, TaskPriority priority) {
   std::unique_lock lock(mutex_);
-  has_room_.wait(lock, [&] { return !accepting_ || queue_of(priority).size() < capacity_; });
+  has_room_.wait(lock, [&] { return !accepting_ || has_room_locked(priority); });
   if (!accepting_) return false;
   push(lock, std::move(task), priority);
   return true;
@@ -108,10 +119,13 @@ void WorkerPool::run() {
     } catch (...) {
       failed = true;
     }
-    std::lock_guard lock(mutex_);
-    --busy_;
-    if (failed) ++task_errors_;
-    last_progress_ = std::chrono::steady_clock::now();
+    {
+      std::lock_guard lock(mutex_);
+      --busy_;
+      if (failed) ++task_errors_;
+      last_progress_ = std::chrono::steady_clock::now();
+    }
+    has_room_.notify_all();  // an idle worker is room too (has_room_locked)
   }
 }
 

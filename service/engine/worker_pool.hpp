@@ -32,7 +32,9 @@ class WorkerPool {
   WorkerPool(const WorkerPool&) = delete;
   WorkerPool& operator=(const WorkerPool&) = delete;
 
-  /// Queues `task` unless its priority's queue is full or the pool is stopping; false then.
+  /// Queues `task` unless its priority's queue is full or the pool is stopping; false then. The
+  /// queue is full when `queue_capacity` tasks of that priority wait beyond the ones the idle
+  /// workers are about to take (so an idle pool admits workers + queue_capacity tasks at once).
   [[nodiscard]] bool try_submit(std::function<void()> task,
                                 TaskPriority priority = TaskPriority::kInteractive);
   /// Queues `task`, waiting for room in its priority's queue; false when the pool is stopping.
@@ -57,6 +59,8 @@ class WorkerPool {
 
  private:
   void run();
+  // Whether a task of `priority` may be queued now (the lock held).
+  [[nodiscard]] bool has_room_locked(TaskPriority priority) const;
   // Queues `task` (the lock held, room checked) and wakes a worker.
   void push(std::unique_lock<std::mutex>& lock, std::function<void()> task, TaskPriority priority);
   std::deque<std::function<void()>>& queue_of(TaskPriority priority) {

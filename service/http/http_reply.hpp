@@ -23,6 +23,9 @@ struct Reply {
   /// "gzip" when `body` is already gzip-coded (a cached plan's stored coding); empty: `body` is
   /// the identity coding (the HTTP layer may compress it for a client that accepts gzip).
   std::string content_encoding;
+  /// A 304 whose 200 would have been gzip-coded for a client that accepts gzip: its ETag is then
+  /// the `;gzip` tag that 200 would carry (RFC 9110 §15.4.5), never the identity tag.
+  bool coded_when_accepted{false};
   std::vector<std::pair<std::string, std::string>> headers;
   /// Kept alive until the body has been written to the client (a cam export's reservation of
   /// the export budget); empty for most replies.

@@ -77,23 +77,24 @@ constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
 // depends on Accept-Encoding says so (Vary), whether or not this client accepted it.
 void send(Reply reply, httplib::Response& res) {
   res.status = reply.status;
-  // A body this reply may code for this client: one that is not coded yet (nor held).
-  const bool codable = reply.content_encoding.empty() && !reply.hold &&
-                       worth_compressing(reply.content_type, reply.body.size());
+  // A body not coded yet may be coded for this client (a held cam table too: its reservation
+  // stays held while the coded bytes are written).
+  const bool codable =
+      reply.content_encoding.empty() && worth_compressing(reply.content_type, reply.body.size());
   if (codable && request_accepts_gzip && !reply.body.empty()) {
     reply.body = gzip_compress(reply.body, kResponseGzipLevel);
     reply.content_encoding = "gzip";
   }
+  const bool coded = reply.content_encoding == "gzip" ||
+                     (reply.coded_when_accepted && request_accepts_gzip && reply.status == 304);
   for (const auto& [name, value] : reply.headers) {
-    const bool coded_tag = name == "ETag" && reply.content_encoding == "gzip";
-    res.set_header(name, coded_tag ? gzip_etag(value) : value);
+    res.set_header(name, name == "ETag" && coded ? gzip_etag(value) : value);
   }
-  if (codable || !reply.content_encoding.empty() || reply.plan.has_value()) {
-    res.set_header("Vary", "Accept-Encoding");
-  }
+  const bool varies = codable || coded || reply.plan.has_value() || reply.coded_when_accepted;
+  if (varies) res.set_header("Vary", "Accept-Encoding");
   if (reply.body.empty()) return;
+  if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
   if (!reply.hold) {
-    if (!reply.content_encoding.empty()) res.set_header("Content-Encoding", reply.content_encoding);
     // Moved, not copied (set_content copies): a full plan is 40 kB.
     res.body = std::move(reply.body);
     res.set_header("Content-Type", reply.content_type);

@@ -2,6 +2,7 @@
 
 #include <string>
 
+#include "http/gzip.hpp"
 #include "http/plan_service.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/simulate.hpp"
@@ -18,6 +19,8 @@ Reply min_time_reply(const MinTimeAnswer& answer, const std::string& if_none_mat
   r.headers.emplace_back("X-Cache", answer.cached ? "hit" : "miss");
   if (answer.cached && etag_matches(if_none_match, etag(answer.key))) {
     r.status = 304;
+    // The 200 is coded for a gzip client when the body is worth it (send() decides the same).
+    r.coded_when_accepted = worth_compressing(r.content_type, answer.stored.size());
     return r;
   }
   r.body = api::render_min_time_reply(answer.stored, answer.cached);

@@ -7,6 +7,7 @@
 
 #include "engine/engine_errors.hpp"
 #include "http/plan_service.hpp"
+#include "slosh/api/exact_number.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan_view.hpp"
 #include "slosh/api/simulate.hpp"
@@ -16,12 +17,13 @@ namespace slosh::service {
 namespace {
 
 // The ETag of a plan reply names the body: the same plan with series of another period, or in the
-// compact view, is another body. (The gzip coding of a body is the same representation: same tag.)
+// compact view, is another body (the period is written so that it reads back as exactly that
+// double: two periods never share a tag). The gzip coding gets its own tag in send().
 std::string plan_etag(const std::string& key, api::PlanView view,
                       const std::optional<double>& sample_period) {
   return view == api::PlanView::kCompact ? etag(key + ";view=compact")
-         : sample_period                 ? etag(key + ";series=" + api::number_text(*sample_period))
-                                         : etag(key);
+         : sample_period ? etag(key + ";series=" + api::exact_number_text(*sample_period))
+                         : etag(key);
 }
 
 // The allow_infeasible query value: "true" or "false" (default), else 422 naming it.
@@ -50,6 +52,9 @@ Reply PlanService::plan_reply(const PlanAnswer& answer, const std::string& if_no
   engine_.count_plan(*r.plan);
   if (answer.cached && etag_matches(if_none_match, tag)) {
     r.status = 304;
+    // The 200 of a hit is gzip-coded when its coding is worth it (its kept rendering says); a plan
+    // with series is always over the 1 kB where coding starts.
+    r.coded_when_accepted = gzip && (!answer.hit || engine_.plan_body(answer, true).gzip);
     return r;
   }
   HitBody body = engine_.plan_body(answer, gzip);

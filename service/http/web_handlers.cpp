@@ -25,6 +25,7 @@ Reply PlanService::web_asset(const std::string& name, const std::string& if_none
   r.headers.emplace_back("Content-Security-Policy", "frame-ancestors 'none'");
   if (etag_matches(if_none_match, tag)) {
     r.status = 304;
+    r.coded_when_accepted = worth_compressing(asset->content_type, asset->body.size());
     return r;
   }
   r.content_type = std::string(asset->content_type);
