@@ -63,7 +63,7 @@ async function start(settings) {
     }
   }
   // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
-  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
+  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("./stack");
   const { ServiceClient } = require("./service_client");
   const { Gateway } = require("./gateway");
   // Client certificates are not trusted until an operator moves them from pki/rejected/certs to

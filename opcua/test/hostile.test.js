@@ -7,7 +7,7 @@ const { describe, it, before, after } = require("node:test");
 const assert = require("node:assert/strict");
 const fs = require("fs");
 const http = require("http");
-const { StatusCodes } = require("node-opcua");
+const { StatusCodes } = require("../lib/stack");
 const S = require("./support");
 
 const thesis = { radius: 48.5, height: 150, fill: 82, fluid: "water", stroke: 800, time: 1.0, strategy: "multi_notch" };
@@ -98,7 +98,7 @@ describe("slosh-opcua against hostile input", () => {
   });
 
   it("node-opcua's own argument checks carry the gateway's message and set LastError", async () => {
-    const { Variant, DataType } = require("node-opcua");
+    const { Variant, DataType } = require("../lib/stack");
     const call = (method, args) => conn.session.call({ objectId: "ns=1;s=Slosh", methodId: `ns=1;s=Slosh.${method}`, inputArguments: args });
     const str = (value) => new Variant({ dataType: DataType.String, value });
     const cases = [
@@ -408,7 +408,7 @@ describe("slosh-opcua sessions of clients that died without closing them", () =>
     // A client process that opens two sessions asking for an hour each, says what it got, and is
     // then killed: its sessions are never closed.
     const hog = spawn(process.execPath, ["-e", `
-      const { OPCUAClient } = require(${JSON.stringify(path.join(S.root, "opcua", "node_modules", "node-opcua"))});
+      const { OPCUAClient } = require(${JSON.stringify(path.join(S.root, "opcua", "lib", "stack"))});
       (async () => {
         const got = [];
         for (let i = 0; i < 2; i++) {
