@@ -57,10 +57,7 @@ describe("slosh-opcua against a real slosh serve", () => {
   });
 
   after(async () => {
-    for (const p of [shared, silentGateway]) {
-      const started = await p.catch(() => null);
-      if (started) await started.stop();
-    }
+    await starts.stopAll();
     silentSockets.forEach((sock) => sock.destroy());
     silent.close();
     for (const d of scratchDirs) fs.rmSync(d, { recursive: true, force: true });

@@ -136,6 +136,8 @@ async function connect(endpoint, options = {}, identity = undefined) {
 async function stack({ prefix = "slosh-opcua-", service, extra = [], env = {}, session = true } = {}) {
   const s = { dir: scratch(prefix), slosh: null, gateway: null, conn: null };
   s.stop = async () => {
+    if (s.stopped) return;
+    s.stopped = true;
     if (s.conn) await s.conn.close();
     if (s.gateway) await s.gateway.stop();
     if (s.slosh) await s.slosh.stop();
@@ -160,7 +162,7 @@ async function stack({ prefix = "slosh-opcua-", service, extra = [], env = {}, s
 // Sessions are opened by the tests that use them, not up front: an idle session would expire
 // (the gateway's session timeout) while the tests before it run.
 // starts(name, fn): fn's promise, queued now (a rejection is kept for whoever awaits it);
-// starts.all(): resolves once every queued start has settled.
+// starts.all(): resolves once every queued start has settled; starts.stopAll(): stops them.
 function startPool(limit = 3) {
   let active = 0;
   const queue = [];
@@ -179,6 +181,13 @@ function startPool(limit = 3) {
     return p;
   };
   starts.all = () => Promise.allSettled(every);
+  // Stops whatever started and is still running (a suite's own after hook stops its part first;
+  // this catches the parts of suites that never ran).
+  starts.stopAll = async () => {
+    for (const r of await starts.all()) {
+      if (r.status === "fulfilled" && r.value && typeof r.value.stop === "function") await r.value.stop().catch(() => {});
+    }
+  };
   return starts;
 }
 
