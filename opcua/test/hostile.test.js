@@ -356,36 +356,38 @@ describe("slosh-opcua messages that name the right cause", () => {
   const path = require("path");
   const sockets = [];
   const silent = net.createServer((s) => sockets.push(s));
-  // Ready, but a plan never comes: a call is pending for sure once its request arrived.
+  // One gateway for the first two tests (one start less): its service never answers GET /readyz
+  // until the first test is done, and never answers a plan. The second test stops the gateway.
+  let pollsHang = true;
+  const hungPolls = [];
   const hung = [];
   const svc = http.createServer((req, res) => {
-    if (req.url === "/readyz") { res.writeHead(200, { "Content-Type": "application/json" }); res.end("{}"); return; }
+    if (req.url === "/readyz") {
+      if (pollsHang) { hungPolls.push(res); return; }
+      res.writeHead(200, { "Content-Type": "application/json" });
+      res.end("{}");
+      return;
+    }
     hung.push(res);
   });
-  const pollGateway = starts(async () => {
-    await new Promise((r) => silent.listen(0, "127.0.0.1", r));
-    return S.startGateway(scratch("slosh-opcua-pollto-"), `http://127.0.0.1:${silent.address().port}`, ["--timeout-s", "5"]);
-  });
-  const termGateway = starts(async () => {
-    await new Promise((r) => svc.listen(0, "127.0.0.1", r));
-    return S.startGateway(scratch("slosh-opcua-term-"), `http://127.0.0.1:${svc.address().port}`, ["--timeout-s", "20"]);
+  const started = starts(async () => {
+    await Promise.all([new Promise((r) => silent.listen(0, "127.0.0.1", r)), new Promise((r) => svc.listen(0, "127.0.0.1", r))]);
+    return S.startGateway(scratch("slosh-opcua-hang-"), `http://127.0.0.1:${svc.address().port}`, ["--timeout-s", "20"]);
   });
 
   before(() => starts.all());
 
   after(async () => {
-    for (const p of [pollGateway, termGateway]) {
-      const gw = await p.catch(() => null);
-      if (gw) await gw.stop();
-    }
+    const gw = await started.catch(() => null);
+    if (gw) await gw.stop();
     sockets.forEach((s) => s.destroy());
     silent.close();
-    hung.forEach((r) => r.destroy());
+    hungPolls.concat(hung).forEach((r) => r.destroy());
     svc.close();
   });
 
   it("a readiness poll that times out names the poll's bound, not --timeout-s alone", async () => {
-    const gw = await pollGateway;
+    const gw = await started;
     const c = await S.connect(gw.endpoint);
     try {
       const last = await S.until("the poll's timeout in LastError", 15000, async () => {
@@ -395,14 +397,16 @@ describe("slosh-opcua messages that name the right cause", () => {
       assert.match(last, /ServiceReady: the slosh service at http:\/\/127\.0\.0\.1:\d+ did not answer GET \/readyz within 1 s \(the readiness poll's bound: --poll-s, at least 1 s, at most --timeout-s\)$/);
     } finally {
       await c.close();
-      await gw.stop();
     }
   });
 
   it("a call pending when the gateway stops is answered BadShutdown, not blamed on the service", async () => {
-    const gw = await termGateway;
+    // Ready, but a plan never comes: the call is pending for sure once the request arrived.
+    pollsHang = false;
+    const gw = await started;
     const c = await S.connect(gw.endpoint);
     try {
+      await S.until("ServiceReady true", 10000, async () => (await S.readValue(c.session, "ns=1;s=Slosh.ServiceReady")) === true);
       const call = S.callMethod(c.session, "PlanFormat", S.planArgs(thesis));
       await S.until("the call to reach the service", 5000, () => hung.length > 0);
       gw.proc.kill("SIGTERM");
