@@ -2,7 +2,7 @@
 // The address space of the gateway: Objects/Slosh with the methods (PlanFormat, MinTime, GetPlan,
 // ImportBatchJob, PlanTable), the health variables (ServiceReady, LastError) and the Products
 // folder. Each method calls the slosh HTTP service (docs/api.md) through one bounded client.
-const { DataType, Variant, VariantArrayType, StatusCodes, DiagnosticInfo } = require("node-opcua");
+const { DataType, Variant, VariantArrayType, StatusCodes, DiagnosticInfo } = require("./stack");
 const { units, none: NO_UNIT } = require("./units");
 const A = require("./arguments");
 const { buildPlanRequest, buildMinTimeRequest, buildTableRequest, planSummary, ArgumentError } = require("./requests");

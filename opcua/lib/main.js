@@ -48,15 +48,24 @@ function makeDirectory(dir) {
 }
 
 async function start(settings) {
-  // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
-  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("node-opcua");
-  const { ServiceClient } = require("./service_client");
-  const { Gateway } = require("./gateway");
   // The PKI holds the server's private key: everything the gateway creates is for its user only
   // (node-opcua writes the key 0644 under the default umask).
   process.umask(0o077);
+  // The state directory and the key are checked before the OPC UA stack is loaded (some 2 s of
+  // CPU): a start that cannot succeed fails at once.
   makeDirectory(settings.stateDir);
   const pki = path.join(settings.stateDir, "pki");
+  // A key file that is not a key would fail deep in node-opcua with a message naming no file.
+  const keyFile = path.join(pki, "own", "private", "private_key.pem");
+  if (fs.existsSync(keyFile)) {
+    try { crypto.createPrivateKey(fs.readFileSync(keyFile)); } catch (e) {
+      throw new Error(`the private key ${keyFile} is not a readable PEM key (${e.message}): move it away to have a new one made, or restore it`);
+    }
+  }
+  // Loaded here, not at the top: --help and a bad setting answer without loading the OPC UA stack.
+  const { OPCUAServer, OPCUACertificateManager, SecurityPolicy, MessageSecurityMode, UserTokenType } = require("./stack");
+  const { ServiceClient } = require("./service_client");
+  const { Gateway } = require("./gateway");
   // Client certificates are not trusted until an operator moves them from pki/rejected/certs to
   // pki/trusted/certs (docs/opcua.md): a secure channel is only as good as that decision.
   const serverCertificateManager = new OPCUACertificateManager({ rootFolder: pki, automaticallyAcceptUnknownCertificate: false });
@@ -65,13 +74,6 @@ async function start(settings) {
   // directory, not in its default per-user config folder (a read-only root in the container).
   const userCertificateManager = new OPCUACertificateManager({ rootFolder: path.join(settings.stateDir, "user-pki"), automaticallyAcceptUnknownCertificate: false });
   await userCertificateManager.initialize();
-  // A key file that is not a key would fail deep in node-opcua with a message naming no file.
-  const keyFile = path.join(pki, "own", "private", "private_key.pem");
-  if (fs.existsSync(keyFile)) {
-    try { crypto.createPrivateKey(fs.readFileSync(keyFile)); } catch (e) {
-      throw new Error(`the private key ${keyFile} is not a readable PEM key (${e.message}): move it away to have a new one made, or restore it`);
-    }
-  }
   const policies = [];
   const modes = [];
   if (settings.security.none) { policies.push(SecurityPolicy.None); modes.push(MessageSecurityMode.None); }

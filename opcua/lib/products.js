@@ -4,7 +4,7 @@
 // a PLC or HMI reads a recipe's durations without calling a method. Products live in the gateway's
 // memory: a restart starts with an empty folder (the plans stay in the service's store; PlanFormat
 // or ImportBatchJob brings them back).
-const { DataType, Variant } = require("node-opcua");
+const { DataType, Variant } = require("./stack");
 const { units } = require("./units");
 const { planArgs, planOutputs } = require("./arguments");
 

@@ -3,7 +3,7 @@
 // service's 422 message word for word, or the gateway's own) travels as the DiagnosticInfo of the
 // argument it concerns (inputArgumentDiagnosticInfos, additionalInfo) with that argument's result
 // set to BadInvalidArgument, and is kept in the LastError variable.
-const { StatusCodes, DiagnosticInfo } = require("node-opcua");
+const { StatusCodes, DiagnosticInfo } = require("./stack");
 const { ServiceError } = require("./service_client");
 const { ArgumentError } = require("./requests");
 const { argumentOfField } = require("./arguments");

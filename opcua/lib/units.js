@@ -2,7 +2,7 @@
 // Engineering units (OPC UA EUInformation, UNECE Recommendation 20 common codes) of the gateway's
 // arguments and variables. A unitId is the common code packed into an Int32 as OPC UA Part 8
 // specifies (node-opcua's makeEUInformation does the packing).
-const { makeEUInformation } = require("node-opcua");
+const { makeEUInformation } = require("./stack");
 
 const units = {
   mm: makeEUInformation("MMT", "mm", "millimetre"),

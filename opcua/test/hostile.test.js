@@ -7,7 +7,7 @@ const { describe, it, before, after } = require("node:test");
 const assert = require("node:assert/strict");
 const fs = require("fs");
 const http = require("http");
-const { StatusCodes } = require("node-opcua");
+const { StatusCodes } = require("../lib/stack");
 const S = require("./support");
 
 const thesis = { radius: 48.5, height: 150, fill: 82, fluid: "water", stroke: 800, time: 1.0, strategy: "multi_notch" };
@@ -21,11 +21,19 @@ function scratch(prefix) {
   return d;
 }
 
+// The gateways of every suite below start together before the first test (support.js
+// startPool); each suite's before hook opens its session.
+const starts = S.startPool();
+after(() => starts.stopAll());
+
 describe("slosh-opcua against hostile input", () => {
   let stack; let slosh; let conn;
+  const started = starts(() => S.stack({ prefix: "slosh-opcua-hostile-", session: false }));
 
   before(async () => {
-    stack = await S.stack({ prefix: "slosh-opcua-hostile-" });
+    await starts.all();
+    stack = await started;
+    stack.conn = await S.connect(stack.gateway.endpoint);
     ({ slosh, conn } = stack);
   });
 
@@ -98,7 +106,7 @@ describe("slosh-opcua against hostile input", () => {
   });
 
   it("node-opcua's own argument checks carry the gateway's message and set LastError", async () => {
-    const { Variant, DataType } = require("node-opcua");
+    const { Variant, DataType } = require("../lib/stack");
     const call = (method, args) => conn.session.call({ objectId: "ns=1;s=Slosh", methodId: `ns=1;s=Slosh.${method}`, inputArguments: args });
     const str = (value) => new Variant({ dataType: DataType.String, value });
     const cases = [
@@ -161,7 +169,7 @@ describe("slosh-opcua against hostile input", () => {
 describe("slosh-opcua against a service whose 2xx/3xx answer is not a plan", () => {
   let server; let stack; let conn; let answer;
 
-  before(async () => {
+  const started = starts(async () => {
     server = http.createServer((req, res) => {
       if (req.url === "/readyz") {
         res.writeHead(200, { "Content-Type": "application/json" });
@@ -175,7 +183,13 @@ describe("slosh-opcua against a service whose 2xx/3xx answer is not a plan", () 
       });
     });
     await new Promise((r) => server.listen(0, "127.0.0.1", r));
-    stack = await S.stack({ prefix: "slosh-opcua-notplan-", service: `http://127.0.0.1:${server.address().port}` });
+    return S.stack({ prefix: "slosh-opcua-notplan-", service: `http://127.0.0.1:${server.address().port}`, session: false });
+  });
+
+  before(async () => {
+    await starts.all();
+    stack = await started;
+    stack.conn = await S.connect(stack.gateway.endpoint);
     ({ conn } = stack);
   });
 
@@ -224,8 +238,12 @@ describe("slosh-opcua against a service whose 2xx/3xx answer is not a plan", () 
 describe("slosh-opcua --max-products", () => {
   let stack; let conn;
 
+  const started = starts(() => S.stack({ prefix: "slosh-opcua-max-", extra: ["--max-products", "2"], session: false }));
+
   before(async () => {
-    stack = await S.stack({ prefix: "slosh-opcua-max-", extra: ["--max-products", "2"] });
+    await starts.all();
+    stack = await started;
+    stack.conn = await S.connect(stack.gateway.endpoint);
     ({ conn } = stack);
   });
 
@@ -336,20 +354,40 @@ describe("slosh-opcua settings a hostile integrator tried", () => {
 describe("slosh-opcua messages that name the right cause", () => {
   const net = require("net");
   const path = require("path");
-  let silent; const sockets = [];
-
-  before(async () => {
-    silent = net.createServer((s) => sockets.push(s));
-    await new Promise((r) => silent.listen(0, "127.0.0.1", r));
+  const sockets = [];
+  const silent = net.createServer((s) => sockets.push(s));
+  // One gateway for the first two tests (one start less): its service never answers GET /readyz
+  // until the first test is done, and never answers a plan. The second test stops the gateway.
+  let pollsHang = true;
+  const hungPolls = [];
+  const hung = [];
+  const svc = http.createServer((req, res) => {
+    if (req.url === "/readyz") {
+      if (pollsHang) { hungPolls.push(res); return; }
+      res.writeHead(200, { "Content-Type": "application/json" });
+      res.end("{}");
+      return;
+    }
+    hung.push(res);
+  });
+  const started = starts(async () => {
+    await Promise.all([new Promise((r) => silent.listen(0, "127.0.0.1", r)), new Promise((r) => svc.listen(0, "127.0.0.1", r))]);
+    return S.startGateway(scratch("slosh-opcua-hang-"), `http://127.0.0.1:${svc.address().port}`, ["--timeout-s", "20"]);
   });
 
-  after(() => {
+  before(() => starts.all());
+
+  after(async () => {
+    const gw = await started.catch(() => null);
+    if (gw) await gw.stop();
     sockets.forEach((s) => s.destroy());
     silent.close();
+    hungPolls.concat(hung).forEach((r) => r.destroy());
+    svc.close();
   });
 
   it("a readiness poll that times out names the poll's bound, not --timeout-s alone", async () => {
-    const gw = await S.startGateway(scratch("slosh-opcua-pollto-"), `http://127.0.0.1:${silent.address().port}`, ["--timeout-s", "5"]);
+    const gw = await started;
     const c = await S.connect(gw.endpoint);
     try {
       const last = await S.until("the poll's timeout in LastError", 15000, async () => {
@@ -359,21 +397,16 @@ describe("slosh-opcua messages that name the right cause", () => {
       assert.match(last, /ServiceReady: the slosh service at http:\/\/127\.0\.0\.1:\d+ did not answer GET \/readyz within 1 s \(the readiness poll's bound: --poll-s, at least 1 s, at most --timeout-s\)$/);
     } finally {
       await c.close();
-      await gw.stop();
     }
   });
 
   it("a call pending when the gateway stops is answered BadShutdown, not blamed on the service", async () => {
     // Ready, but a plan never comes: the call is pending for sure once the request arrived.
-    const hung = [];
-    const svc = http.createServer((req, res) => {
-      if (req.url === "/readyz") { res.writeHead(200, { "Content-Type": "application/json" }); res.end("{}"); return; }
-      hung.push(res);
-    });
-    await new Promise((r) => svc.listen(0, "127.0.0.1", r));
-    const gw = await S.startGateway(scratch("slosh-opcua-term-"), `http://127.0.0.1:${svc.address().port}`, ["--timeout-s", "20"]);
+    pollsHang = false;
+    const gw = await started;
     const c = await S.connect(gw.endpoint);
     try {
+      await S.until("ServiceReady true", 10000, async () => (await S.readValue(c.session, "ns=1;s=Slosh.ServiceReady")) === true);
       const call = S.callMethod(c.session, "PlanFormat", S.planArgs(thesis));
       await S.until("the call to reach the service", 5000, () => hung.length > 0);
       gw.proc.kill("SIGTERM");
@@ -383,8 +416,6 @@ describe("slosh-opcua messages that name the right cause", () => {
     } finally {
       await c.close().catch(() => {});
       await gw.stop();
-      hung.forEach((r) => r.destroy());
-      svc.close();
     }
   });
 
@@ -401,14 +432,16 @@ describe("slosh-opcua messages that name the right cause", () => {
 describe("slosh-opcua sessions of clients that died without closing them", () => {
   const { spawn } = require("child_process");
   const path = require("path");
+  const sessionGateway = starts(() => S.startGateway(scratch("slosh-opcua-sessions-"), "http://127.0.0.1:1", ["--session-timeout-s", "3", "--max-sessions", "2"]));
+
+  before(() => starts.all());
 
   it("a requested timeout beyond --session-timeout-s gets the bound, and dead clients' sessions are freed within it", async () => {
-    const dir = scratch("slosh-opcua-sessions-");
-    const gw = await S.startGateway(dir, "http://127.0.0.1:1", ["--session-timeout-s", "3", "--max-sessions", "2"]);
+    const gw = await sessionGateway;
     // A client process that opens two sessions asking for an hour each, says what it got, and is
     // then killed: its sessions are never closed.
     const hog = spawn(process.execPath, ["-e", `
-      const { OPCUAClient } = require(${JSON.stringify(path.join(S.root, "opcua", "node_modules", "node-opcua"))});
+      const { OPCUAClient } = require(${JSON.stringify(path.join(S.root, "opcua", "lib", "stack"))});
       (async () => {
         const got = [];
         for (let i = 0; i < 2; i++) {
@@ -446,7 +479,7 @@ describe("slosh-opcua ImportBatchJob bounded as a whole by --timeout-s", () => {
   const plan = (key) => ({ status: "optimal", key, message: "", durations_s: [0.1, 0.1, 0.1, 0.1, 0.1, 0.1, 0.1], kinematics: { a_max: 1, a_min: 1 }, prediction: {},
     format: { container: { radius_mm: 48.5 }, fill_height_mm: 82, fluid: "water", stroke_mm: 800, motion_time_s: 1 }, strategy: "auto" });
 
-  before(async () => {
+  const started = starts(async () => {
     // A done job of 12 rows whose plans each take 250 ms to come: 3 s in all, 1 s allowed.
     server = http.createServer((req, res) => {
       const send = (body) => { res.writeHead(200, { "Content-Type": "application/json" }); res.end(JSON.stringify(body)); };
@@ -478,7 +511,12 @@ describe("slosh-opcua ImportBatchJob bounded as a whole by --timeout-s", () => {
       return undefined;
     });
     await new Promise((r) => server.listen(0, "127.0.0.1", r));
-    gw = await S.startGateway(scratch("slosh-opcua-slowimp-"), `http://127.0.0.1:${server.address().port}`, ["--timeout-s", "1"]);
+    return S.startGateway(scratch("slosh-opcua-slowimp-"), `http://127.0.0.1:${server.address().port}`, ["--timeout-s", "1"]);
+  });
+
+  before(async () => {
+    await starts.all();
+    gw = await started;
     c = await S.connect(gw.endpoint);
   });
 

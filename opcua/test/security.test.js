@@ -8,7 +8,7 @@ const assert = require("node:assert/strict");
 const { spawnSync } = require("child_process");
 const fs = require("fs");
 const path = require("path");
-const { OPCUACertificateManager, UserTokenType, StatusCodes } = require("node-opcua");
+const { OPCUACertificateManager, UserTokenType, StatusCodes } = require("../lib/stack");
 const S = require("./support");
 
 const gatewayScript = path.join(S.root, "opcua", "slosh-opcua");
@@ -71,7 +71,7 @@ describe("slosh-opcua security", () => {
     const key = path.join(gateway.stateDir, "pki", "own", "private", "private_key.pem");
     assert.equal(fs.statSync(key).mode & 0o777, 0o600, "the private key is for the gateway's user only");
     assert.equal(fs.statSync(path.join(gateway.stateDir, "pki")).mode & 0o777, 0o700);
-    const { OPCUAClient } = require("node-opcua");
+    const { OPCUAClient } = require("../lib/stack");
     const client = OPCUAClient.create({ endpointMustExist: false, connectionStrategy: { maxRetry: 0 } });
     await client.connect(gateway.endpoint);
     const endpoints = await client.getEndpoints();

@@ -9,7 +9,7 @@ const os = require("os");
 const path = require("path");
 let opcua;
 try {
-  opcua = require("node-opcua");
+  opcua = require("../lib/stack");
 } catch (e) {
   throw new Error(`node-opcua is not installed in opcua/node_modules (${e.message}): run scripts/install-deps.sh (npm ci in opcua/)`);
 }
@@ -136,6 +136,8 @@ async function connect(endpoint, options = {}, identity = undefined) {
 async function stack({ prefix = "slosh-opcua-", service, extra = [], env = {}, session = true } = {}) {
   const s = { dir: scratch(prefix), slosh: null, gateway: null, conn: null };
   s.stop = async () => {
+    if (s.stopped) return;
+    s.stopped = true;
     if (s.conn) await s.conn.close();
     if (s.gateway) await s.gateway.stop();
     if (s.slosh) await s.slosh.stop();
@@ -151,6 +153,42 @@ async function stack({ prefix = "slosh-opcua-", service, extra = [], env = {}, s
     throw e;
   }
   return s;
+}
+
+// Starts what a test file needs before its first test, `limit` at a time. A gateway start is
+// some 2.5 s of CPU (node-opcua's modules and its standard address space); one after the other,
+// the starts were most of a file's time. Started together up front, the tests then run one after
+// the other against idle processes, so no test's time bound is measured against another start.
+// Sessions are opened by the tests that use them, not up front: an idle session would expire
+// (the gateway's session timeout) while the tests before it run.
+// starts(name, fn): fn's promise, queued now (a rejection is kept for whoever awaits it);
+// starts.all(): resolves once every queued start has settled; starts.stopAll(): stops them.
+function startPool(limit = 3) {
+  let active = 0;
+  const queue = [];
+  const every = [];
+  const next = () => {
+    while (active < limit && queue.length) {
+      const { fn, resolve, reject } = queue.shift();
+      active += 1;
+      Promise.resolve().then(fn).then(resolve, reject).finally(() => { active -= 1; next(); });
+    }
+  };
+  const starts = (fn) => {
+    const p = new Promise((resolve, reject) => { queue.push({ fn, resolve, reject }); next(); });
+    p.catch(() => {});
+    every.push(p);
+    return p;
+  };
+  starts.all = () => Promise.allSettled(every);
+  // Stops whatever started and is still running (a suite's own after hook stops its part first;
+  // this catches the parts of suites that never ran).
+  starts.stopAll = async () => {
+    for (const r of await starts.all()) {
+      if (r.status === "fulfilled" && r.value && typeof r.value.stop === "function") await r.value.stop().catch(() => {});
+    }
+  };
+  return starts;
 }
 
 // Calls Slosh.<method> with [type, value] pairs.
@@ -184,5 +222,5 @@ function planArgs(o) {
     ["String", o.strategy ?? ""], ["String", o.options ?? ""]];
 }
 
-module.exports = { root, scratch, until, httpJson, startSlosh, startGateway, connect, stack, callMethod, readValue, readChild, planArgs,
+module.exports = { root, scratch, until, httpJson, startSlosh, startGateway, connect, stack, startPool, callMethod, readValue, readChild, planArgs,
   MessageSecurityMode, SecurityPolicy };
