@@ -37,12 +37,26 @@ namespace {
 using nlohmann::json;
 using namespace std::chrono_literals;
 
-/// redis-server, two replicas sharing it (one solve worker each) and nginx in front.
+/// redis-server, two replicas sharing it (one solve worker each, Redis timeout
+/// `redis_timeout_ms`) and nginx in front.
 struct Cluster {
+  explicit Cluster(int redis_timeout_ms = 200)
+      : replicas{2,
+                 {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms",
+                  std::to_string(redis_timeout_ms)},
+                 "line"} {}
   test::RedisServer redis;
-  test::ReplicaSet replicas{2, {"--cache", redis.url(), "--workers", "1"}, "line"};
+  test::ReplicaSet replicas;
   test::NginxProxy proxy{replicas.ports(), true};
 };
+
+/// The Redis timeout of the clusters whose tests are about sharing, not about a slow Redis [ms].
+/// A replica whose Redis reply takes longer than its timeout rightly treats Redis as down for a
+/// second (503 "cannot be reached now" for another replica's job, a cache miss): with the
+/// default 200 ms that happens whenever the test machine starves the replica of CPU for 200 ms
+/// (a loaded CI runner), which is the product working as documented, not what these tests check.
+/// The hostile tests keep the default: they stall Redis on purpose and check those answers.
+constexpr int kSharingRedisTimeoutMs = 10000;
 
 // A plan request of a distinct recipe per `i` (the motion time differs): never a hit of another i.
 json recipe(std::size_t i) {
@@ -137,7 +151,7 @@ std::size_t index_of(const std::string& replica_id) {
 }
 
 TEST(Cluster, APlanSolvedThroughTheProxyIsAHitOnTheOtherReplica) {
-  Cluster cluster;
+  Cluster cluster{kSharingRedisTimeoutMs};
   auto proxy = cluster.proxy.client();
   const auto solved = proxy.Post("/v1/plans", recipe(1).dump(), "application/json");
   ASSERT_TRUE(solved && solved->status == 200) << cluster.proxy.log();
@@ -160,7 +174,7 @@ TEST(Cluster, APlanSolvedThroughTheProxyIsAHitOnTheOtherReplica) {
 }
 
 TEST(Cluster, ABatchJobStartedOnOneReplicaIsReadDownloadedAndCancelledThroughTheOther) {
-  Cluster cluster;
+  Cluster cluster{kSharingRedisTimeoutMs};
   auto a = cluster.replicas[0].client();
   auto b = cluster.replicas[1].client();
   // A small job, run on A, read through B: the same record, rows and CSV file.
@@ -206,7 +220,7 @@ TEST(Cluster, ABatchJobStartedOnOneReplicaIsReadDownloadedAndCancelledThroughThe
 }
 
 TEST(Cluster, KillingRedisMidRunLeavesBothAnsweringDegradedAndARestartRecovers) {
-  Cluster cluster;
+  Cluster cluster{kSharingRedisTimeoutMs};
   auto proxy = cluster.proxy.client();
   auto a = cluster.replicas[0].client();
   const std::string id = post_job(a, recipes(1000, 4000));
@@ -273,7 +287,7 @@ std::pair<double, std::string> timed_plan(httplib::Client& proxy, std::size_t i)
 // item, the window's queued one and one each side of the metric reads start meanwhile), and takes
 // at most 5 times + 1 s the slowest of the same kind of plan on the idle cluster.
 TEST(Cluster, AnInteractivePlanThroughTheProxyOvertakesRunningJobs) {
-  Cluster cluster;
+  Cluster cluster{kSharingRedisTimeoutMs};
   auto proxy = cluster.proxy.client();
   double idle = 0.0;
   for (std::size_t i = 0; i < 4; ++i) idle = std::max(idle, timed_plan(proxy, 9000 + i).first);
