@@ -345,6 +345,65 @@ json error_of(const httplib::Result& r, int status) {
   return json::parse(r->body).at("error");
 }
 
+// A replica of the previous version shares Redis during a rolling upgrade: a finished job it
+// stored (record and rows in its text, byte for byte) is answered by this version as the previous
+// one answered it: the stored record with its results page, and the same record with "deleted" on
+// DELETE. The expected bodies are built here from the stored text as that version did (parse, add
+// the members, dump).
+TEST(Cluster, AJobStoredByThePreviousVersionIsAnsweredByteForByte) {
+  Cluster cluster{kSharingRedisTimeoutMs};
+  auto b = cluster.replicas[1].client();
+  const std::string id = "0123456789abcdef0123456789abcdef";
+  const std::string record =
+      R"({"cancel_requested":false,"created_at":"2026-11-25T00:21:40.000Z",)"
+      R"("finished_at":"2026-11-25T00:21:43.512Z","format":"csv","id":")" +
+      id +
+      R"(","message":null,"note":null,"progress":{"done":2,"eta_s":0,"failed":1,)"
+      R"("rate_per_s":0.6,"total":2},"results_csv":"/v1/batches/)" +
+      id + R"(/results.csv","results_jsonl":"/v1/batches/)" + id +
+      R"(/results.jsonl","started_at":"2026-11-25T00:21:40.100Z","state":"done",)"
+      R"("updated_at":"2026-11-25T00:21:43.512Z","updated_unix_ms":1795566103512,"view":null})";
+  const std::vector<std::string> rows{
+      R"({"cached":true,"recipe_id":"a","row":1,"solve_ms":12.5,"status":"optimal"})",
+      R"({"error":"invalid_value","error_field":"radius_mm","message":"radius_mm = -3 is out of range","recipe_id":"b","row":2,"status":"error"})"};
+  const std::string key = "slosh:jobs:" + id;
+  ASSERT_EQ(redis_cli(cluster.redis, "set " + key + ":record '" + record + "'"), 0);
+  ASSERT_EQ(
+      redis_cli(cluster.redis, "hset " + key + ":rows 0 '" + rows[0] + "' 1 '" + rows[1] + "'"), 0);
+
+  json expected = json::parse(record);
+  expected["results"] = {{"offset", 0},
+                         {"limit", 100},
+                         {"rows", {json::parse(rows[0]), json::parse(rows[1])}},
+                         {"next_offset", nullptr},
+                         {"partial", false}};
+  const auto got = b.Get("/v1/batches/" + id);
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->status, 200) << got->body;
+  EXPECT_EQ(got->body, expected.dump());
+  const auto page = b.Get("/v1/batches/" + id + "?offset=1&limit=1");
+  ASSERT_TRUE(page);
+  expected["results"] = {{"offset", 1},
+                         {"limit", 1},
+                         {"rows", {json::parse(rows[1])}},
+                         {"next_offset", nullptr},
+                         {"partial", false}};
+  EXPECT_EQ(page->body, expected.dump());
+
+  const auto jsonl = b.Get("/v1/batches/" + id + "/results.jsonl");
+  ASSERT_TRUE(jsonl);
+  EXPECT_EQ(jsonl->status, 200) << jsonl->body;
+  EXPECT_EQ(jsonl->body, json::parse(rows[0]).dump() + "\n" + json::parse(rows[1]).dump() + "\n");
+  EXPECT_EQ(jsonl->get_header_value("X-Slosh-Job-State"), "done");
+
+  const auto deleted = b.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 200) << deleted->body;
+  json gone = json::parse(record);
+  gone["deleted"] = true;
+  EXPECT_EQ(deleted->body, gone.dump());
+}
+
 // Regression: a FLUSHALL (or an outage) mid-job left the shared store with part of
 // the rows, and the other replica answered them as the complete results (45 of 80, 200); a damaged
 // row answered 500 with a parser message. Both are now 503 "unavailable" naming the job.
