@@ -15,7 +15,6 @@
 #include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
 #include "slosh/api/error.hpp"
-#include "slosh/api/format_json.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/plan_table_row.hpp"
 #include "slosh/api/service_bodies.hpp"

@@ -13,14 +13,10 @@
 #include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
 #include "slosh/api/error.hpp"
-#include "slosh/api/fields.hpp"
-#include "slosh/api/format_json.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/job_request.hpp"
 #include "slosh/api/plan_table_row.hpp"
 #include "slosh/api/plan_view.hpp"
-#include "slosh/api/service_bodies.hpp"
-#include "slosh/api/simulate.hpp"
 
 namespace slosh::service {
 
