@@ -20,6 +20,7 @@
 #include <nlohmann/json.hpp>
 
 #include "jobs/batch_job_record.hpp"
+#include "slosh/api/job_record.hpp"
 #include "support/process.hpp"
 #include "support/server.hpp"
 
@@ -450,25 +451,77 @@ TEST(BatchJobs, ShutdownEndsTheRunningJobAsFailed) {
 TEST(BatchJobs, ARecordItsReplicaStoppedRewritingReadsAsFailed) {
   service::JobStatus status;
   status.id = "abc";
-  status.state = "running";
+  status.state = service::JobState::kRunning;
   status.total = 10;
   status.done = 4;
   status.created_ms = 1'000'000;
   status.started_ms = 1'000'000;
-  json record = service::job_record(status, 1'002'000);
-  EXPECT_EQ(record["progress"]["rate_per_s"], 2.0);  // 4 rows in 2 s
-  EXPECT_EQ(record["progress"]["eta_s"], 3.0);       // 6 rows left at 2 rows/s
-  EXPECT_FALSE(service::mark_if_stale(record, 1'002'000 + 30'000, 30));
-  EXPECT_EQ(record["state"], "running");
-  EXPECT_TRUE(service::mark_if_stale(record, 1'002'000 + 31'000, 30));
-  EXPECT_EQ(record["state"], "failed");
-  EXPECT_EQ(record["message"],
+  const std::string text = api::job_record_text(status, 1'002'000);
+  const json rendered = json::parse(text);
+  EXPECT_EQ(rendered["progress"]["rate_per_s"], 2.0);  // 4 rows in 2 s
+  EXPECT_EQ(rendered["progress"]["eta_s"], 3.0);       // 6 rows left at 2 rows/s
+  auto record = api::parse_job_record(text);
+  ASSERT_TRUE(record);
+  EXPECT_FALSE(service::mark_if_stale(*record, 1'002'000 + 30'000, 30));
+  EXPECT_EQ(json::parse(api::job_record_text(*record))["state"], "running");
+  EXPECT_TRUE(service::mark_if_stale(*record, 1'002'000 + 31'000, 30));
+  EXPECT_EQ(record->state, service::JobState::kFailed);
+  const json stale = json::parse(api::job_record_text(*record));
+  EXPECT_EQ(stale["state"], "failed");
+  EXPECT_EQ(stale["message"],
             "the replica running it stopped: no update for 31 s (batch_job_stale_s = 30 s); POST "
             "the job again (its plans are cached)");
-  status.state = "done";
-  json finished = service::job_record(status, 1'002'000);
-  EXPECT_FALSE(service::mark_if_stale(finished, 9'000'000'000, 30));  // final states stay
-  EXPECT_EQ(service::iso_time(1'795'566'103'512), "2026-11-25T00:21:43.512Z");
+  status.state = service::JobState::kDone;
+  auto finished = api::parse_job_record(api::job_record_text(status, 1'002'000));
+  ASSERT_TRUE(finished);
+  EXPECT_FALSE(service::mark_if_stale(*finished, 9'000'000'000, 30));  // final states stay
+  EXPECT_EQ(api::iso_time(1'795'566'103'512), "2026-11-25T00:21:43.512Z");
+}
+
+// A replica of the previous version shares Redis: the records it stored (this text is one, byte
+// for byte, as it wrote it) are read, judged and answered unchanged, and this version stores the
+// same text for the same job.
+TEST(BatchJobs, ARecordInThePreviousStoredFormIsReadAndAnsweredByteForByte) {
+  const std::string stored =
+      R"({"cancel_requested":false,"created_at":"1970-01-01T00:16:40.000Z","finished_at":null,)"
+      R"("format":"jsonl","id":"abc","message":null,"note":null,"progress":{"done":4,"eta_s":3.0,)"
+      R"("failed":1,"rate_per_s":2.0,"total":10},"results_csv":"/v1/batches/abc/results.csv",)"
+      R"("results_jsonl":"/v1/batches/abc/results.jsonl","started_at":"1970-01-01T00:16:40.000Z",)"
+      R"("state":"running","updated_at":"1970-01-01T00:16:42.000Z","updated_unix_ms":1002000,)"
+      R"("view":"compact"})";
+  service::JobStatus status;
+  status.id = "abc";
+  status.state = service::JobState::kRunning;
+  status.format = "jsonl";
+  status.view = "compact";
+  status.total = 10;
+  status.done = 4;
+  status.failed = 1;
+  status.created_ms = 1'000'000;
+  status.started_ms = 1'000'000;
+  EXPECT_EQ(api::job_record_text(status, 1'002'000), stored);
+
+  auto record = api::parse_job_record(stored);
+  ASSERT_TRUE(record);
+  EXPECT_EQ(record->state, service::JobState::kRunning);
+  EXPECT_EQ(record->done, 4u);
+  EXPECT_EQ(record->total, 10u);
+  EXPECT_EQ(record->updated_unix_ms, 1'002'000);
+  EXPECT_FALSE(record->cancel_requested);
+  EXPECT_EQ(record->message, "");
+  EXPECT_EQ(api::job_record_text(*record), stored);  // answered as stored
+  api::mark_cancel_requested(*record);
+  std::string cancelled = stored;
+  cancelled.replace(cancelled.find("false"), 5, "true");
+  EXPECT_EQ(api::job_record_text(*record), cancelled);
+
+  // Not job records: 503 "damaged" for these, never a crash or a guess.
+  for (const char* damaged : {"", "[]", "{}", R"({"state":"running"})",
+                              R"({"state":"paused","progress":{"done":1,"total":2}})",
+                              R"({"state":"done","progress":{"done":"1","total":2}})",
+                              R"({"state":3,"progress":{"done":1,"total":2}})"}) {
+    EXPECT_FALSE(api::parse_job_record(damaged)) << damaged;
+  }
 }
 
 // `slosh batch --server` runs the table as a job (POST /v1/batches, GET for progress, the

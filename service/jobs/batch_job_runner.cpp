@@ -15,7 +15,8 @@
 #include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
 #include "slosh/api/error.hpp"
-#include "slosh/api/format_json.hpp"
+#include "slosh/api/job_record.hpp"
+#include "slosh/api/plan_table_row.hpp"
 #include "slosh/api/service_bodies.hpp"
 #include "slosh/api/simulate.hpp"
 
@@ -53,7 +54,7 @@ void BatchJobs::run_jobs() {
     try {
       run(*job);
     } catch (const std::exception& e) {
-      finish(*job, "failed", std::string("the job failed: ") + e.what());
+      finish(*job, JobState::kFailed, std::string("the job failed: ") + e.what());
     }
     const std::lock_guard lock(mutex_);
     active_.erase(job->status.id);
@@ -133,31 +134,31 @@ void BatchJobs::note_if_paused(Job& job, std::chrono::steady_clock::time_point& 
   write_record(job);  // at once: other replicas may have read it as failed meanwhile
 }
 
-void BatchJobs::finish(Job& job, const std::string& state, const std::string& message) {
+void BatchJobs::finish(Job& job, JobState state, const std::string& message) {
   job.status.state = state;
   job.status.message = message;
   job.status.finished_ms = unix_ms_now();
   write_record(job);
-  spdlog::info("batch job {} {}: {} of {} recipes ({} failed){}{}", job.status.id, state,
-               job.status.done, job.status.total, job.status.failed, message.empty() ? "" : ": ",
-               message);
+  spdlog::info("batch job {} {}: {} of {} recipes ({} failed){}{}", job.status.id,
+               api::to_string(state), job.status.done, job.status.total, job.status.failed,
+               message.empty() ? "" : ": ", message);
 }
 
 void BatchJobs::run(Job& job) {
   JobStatus& s = job.status;
-  if (cancelled(job, true)) return finish(job, "cancelled", "cancelled before it started");
+  if (cancelled(job, true)) return finish(job, JobState::kCancelled, "cancelled before it started");
   if (stopping()) {
-    return finish(job, "failed",
+    return finish(job, JobState::kFailed,
                   "the service shut down before the job started; POST the job again");
   }
-  s.state = "running";
+  s.state = JobState::kRunning;
   s.started_ms = unix_ms_now();
   write_record(job);
   std::deque<StartedItem> window;
   std::vector<std::string> rows;
   std::size_t next = 0;
   auto last_flush = std::chrono::steady_clock::now();
-  std::string stop_state;
+  RunStop stop = RunStop::kAllDone;
   bool heartbeat = false;
   std::size_t row_bytes = 0;  // of this job's rows, against batch_jobs_bytes
   const std::size_t max_bytes = service_.config().batch_jobs_bytes;
@@ -165,25 +166,26 @@ void BatchJobs::run(Job& job) {
   while (s.done < s.total) {
     note_if_paused(job, last_turn);
     if (cancelled(job, heartbeat)) {
-      stop_state = "cancelled";
+      stop = RunStop::kCancelled;
       break;
     }
     if (stopping()) {
-      stop_state = "failed";
+      stop = RunStop::kShutdown;
       break;
     }
     next = fill_window(job, next, window);
     const StartedItem& head = window.front();
     if (!head.pending.valid() ||
         head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
-      const auto row = plan_row(job.rows[s.done], head.get(), job.view);
-      if (row["status"] == "error") ++s.failed;
-      rows.push_back(api::dump_json(row));
+      const api::PlanTableRow row =
+          api::table_row_of(plan_row(job.rows[s.done], head.get(), job.view));
+      if (row.failed) ++s.failed;
+      rows.push_back(api::table_row_text(row));
       row_bytes += rows.back().size();
       ++s.done;
       window.pop_front();
       if (row_bytes > max_bytes) {
-        stop_state = "too_large";
+        stop = RunStop::kTooLarge;
         break;
       }
     }
@@ -194,28 +196,30 @@ void BatchJobs::run(Job& job) {
     }
   }
   flush(job, rows);
-  finish_run(job, stop_state);
+  finish_run(job, stop);
 }
 
-void BatchJobs::finish_run(Job& job, const std::string& stop_state) {
+void BatchJobs::finish_run(Job& job, RunStop stop) {
   const JobStatus& s = job.status;
   const std::string progress =
       std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
-  if (stop_state == "cancelled") return finish(job, "cancelled", "cancelled after " + progress);
-  if (stop_state == "too_large") {
-    return finish(job, "failed",
+  if (stop == RunStop::kCancelled) {
+    return finish(job, JobState::kCancelled, "cancelled after " + progress);
+  }
+  if (stop == RunStop::kTooLarge) {
+    return finish(job, JobState::kFailed,
                   "its results passed the memory kept for batch jobs, batch_jobs_bytes = " +
                       std::to_string(service_.config().batch_jobs_bytes) + " bytes, after " +
                       progress +
                       ": split the table into smaller jobs, ask for a smaller view, or raise "
                       "batch_jobs_bytes");
   }
-  if (stop_state == "failed") {
-    return finish(job, "failed",
+  if (stop == RunStop::kShutdown) {
+    return finish(job, JobState::kFailed,
                   "the service shut down after " + progress +
                       "; POST the job again (the finished plans are cached)");
   }
-  finish(job, "done", "");
+  finish(job, JobState::kDone, "");
 }
 
 }  // namespace slosh::service

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "http/plan_service.hpp"
+#include "jobs/batch_job_record.hpp"
 #include "jobs/job_store.hpp"
 #include "jobs/recipe_table.hpp"
 
@@ -100,11 +101,12 @@ class BatchJobs {
   // Notes in the job's record and the log that this process did not run since `last_turn` when
   // that gap is long (paused, starved); sets `last_turn` to now.
   void note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
-  // Ends a run that stopped as `stop_state` ("" all rows done, "cancelled", "too_large",
-  // "failed" on shutdown) with its state and message.
-  void finish_run(Job& job, const std::string& stop_state);
+  // Why a run stopped: all rows done, cancelled, its rows passed batch_jobs_bytes, shutdown.
+  enum class RunStop { kAllDone, kCancelled, kTooLarge, kShutdown };
+  // Ends a run that stopped as `stop` with its state and message.
+  void finish_run(Job& job, RunStop stop);
   // Ends `job` in `state` with `message`: its rows and final record stored.
-  void finish(Job& job, const std::string& state, const std::string& message);
+  void finish(Job& job, JobState state, const std::string& message);
   // The job's record as stored (JSON text), and its write.
   static std::string record_text(Job& job);
   bool write_record(Job& job);
@@ -114,7 +116,7 @@ class BatchJobs {
   // Marks a stale queued or running record failed, unless the job runs on this replica or its
   // owner's heartbeat in the shared store says it is alive (then "unshared" says the record
   // there is behind).
-  void judge_liveness(nlohmann::json& record, const std::string& id) const;
+  void judge_liveness(JobRecord& record, const std::string& id) const;
   // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).
   [[nodiscard]] bool cancelled(Job& job, bool ask_store);
   [[nodiscard]] bool stopping() const;

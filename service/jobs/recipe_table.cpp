@@ -9,15 +9,14 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/recipe_row.hpp"
+#include "slosh/api/text_preview.hpp"
 
 namespace slosh::service {
 
 namespace {
 
-using nlohmann::json;
-
 std::string quote_text(std::string_view text) {
-  return api::show(json(std::string(text)));
+  return api::show_text(text);
 }
 
 // Collects the records of a CSV text with libcsv (RFC 4180: quoted cells, doubled quotes,
