@@ -1,0 +1,22 @@
+#pragma once
+// POST /v1/simulate with format.motion (SPEC §14): both planar models' peaks over the wall.
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/simulate.hpp"
+#include "slosh/core/response/planar_response.hpp"
+
+namespace slosh::api {
+
+/// {"eta_motion_mm", "eta_rest_mm", "t_motion_s", "t_rest_s", "direction_motion_deg",
+/// "direction_rest_deg"}: one planar model's peaks, the directions the wall angles of the peaks
+/// (world frame, from +x, counter-clockwise).
+[[nodiscard]] nlohmann::json planar_peaks_json(const PlanarPeaks& peaks);
+
+/// Runs a validated request with a motion and renders the response {"format" (with its
+/// motion), "law"? (not for a trajectory), "motion", "model", "prediction", "rest_time_s",
+/// "warnings"}. Throws ApiError naming format.motion.t_s[i] when a trajectory is sampled too
+/// coarsely for the first mode.
+[[nodiscard]] nlohmann::json run_spatial_simulate(const SimulateRequest& request);
+
+}  // namespace slosh::api
