@@ -20,14 +20,13 @@ using json = nlohmann::json;
 constexpr double kRadPerDeg{std::numbers::pi / 180.0};
 const std::string kMotion{"format.motion"};
 
-// Ranges of the motion members. An arc's radius is > 0 (a table of any size); angles within
-// ten turns either way; a trajectory spans at most a minute (what a simulation is asked for).
-const Range kArcRadiusMm{0.0, 100000.0, "mm", true};
-const Range kAngleDeg{-3600.0, 3600.0, "deg"};
-const Range kHeadingDeg{-360.0, 360.0, "deg"};
+using motion_ranges::kAngleDeg;
+using motion_ranges::kArcRadiusMm;
+using motion_ranges::kHeadingDeg;
+using motion_ranges::kMaxTrajectorySamples;
+using motion_ranges::kMaxTrajectorySpanS;
+// Sample values: any finite number a log holds (1e9 mm is 1000 km).
 const Range kSampleValue{-1e9, 1e9, ""};
-constexpr double kMaxTrajectorySpanS{60.0};
-constexpr std::size_t kMaxTrajectorySamples{200000};
 
 MotionType parse_type(const json& m) {
   const std::string tpath = join_path(kMotion, "type");
@@ -268,7 +267,16 @@ SpatialFormat parse_spatial_format(const nlohmann::json& body, bool trajectory_a
 
 std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
   const json* m = given_motion(body);
-  if (m == nullptr) return std::nullopt;
+  if (m == nullptr) {
+    // "motion": null is absent, as every optional member.
+    const json* format = body.is_object() ? given_member(body, "format") : nullptr;
+    if (format == nullptr || !format->is_object() || find_member(*format, "motion") == nullptr) {
+      return std::nullopt;
+    }
+    json out = body;
+    out["format"].erase("motion");
+    return out;
+  }
   require_object(*m, kMotion);
   const MotionType type = parse_type(*m);
   if (type != MotionType::kLine) {

@@ -103,6 +103,8 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
     SpatialFormat spatial = parse_spatial_format(body, true);
     r.format = spatial.format;
     r.motion = std::move(spatial.motion);
+  } else if (const std::optional<nlohmann::json> plain = straight_line_body(body)) {
+    r.format = parse_request_format(*plain);  // "motion": null
   } else {
     r.format = parse_request_format(body);
   }

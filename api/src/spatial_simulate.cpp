@@ -9,6 +9,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/motion_json.hpp"
+#include "slosh/api/trajectory_csv.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
 
@@ -99,6 +100,25 @@ nlohmann::json run_spatial_simulate(const SimulateRequest& request) {
   out["warnings"] = nlohmann::json::array();
   require_finite(out);
   return out;
+}
+
+std::string simulate_trajectory_reply(std::string_view request, std::istream& csv,
+                                      const std::string& source) {
+  nlohmann::json body = parse_json_body(request);
+  if (given_motion(body) != nullptr) {
+    invalid("--trajectory",
+            "--trajectory and the request's format.motion both give the motion: give one of them");
+  }
+  TrajectorySamples samples;
+  try {
+    samples = read_trajectory_csv(csv, source);
+  } catch (const InvalidMotion& e) {
+    invalid("--trajectory", "--trajectory " + std::string(e.what()));
+  }
+  if (body.is_object() && body.contains("format") && body["format"].is_object()) {
+    body["format"]["motion"] = trajectory_motion_json(samples);
+  }
+  return dump_json(run_simulate(parse_simulate_request(body)), 2);
 }
 
 }  // namespace slosh::api

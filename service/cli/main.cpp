@@ -37,6 +37,7 @@ struct CliArgs {
   std::optional<std::size_t> cache_ttl_s, redis_timeout_ms;
   bool redis_required{false};
   std::string request = "-";
+  std::string trajectory;                   // slosh simulate --trajectory
   slosh::service::PlanCommandOptions plan;  // slosh plan (but --request)
   std::string fluids_format = "text";
   slosh::service::BatchCommandOptions batch;
@@ -325,6 +326,9 @@ int main(int argc, char** argv) {
   auto* simulate = add_request_command(
       app, a, "simulate",
       "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
+  simulate->add_option("--trajectory", a.trajectory,
+                       "Trajectory CSV as format.motion: t_s,x_mm,y_mm[,z_mm][,theta_deg] or "
+                       "t_s,x_m,y_m,z_m,qx,qy,qz,qw (the request then gives no law)");
   auto* plan = add_plan(app, a);
   auto* fluids = app.add_subcommand("fluids", "List the fluid catalogue (names for --fluid)");
   fluids->add_option("--format", a.fluids_format, "text (a table) or json (the /v1/fluids body)")
@@ -344,7 +348,7 @@ int main(int argc, char** argv) {
     return app.exit(e) == 0 ? 0 : slosh::service::kExitInvalidInput;
   }
   if (!*batch || a.batch.server.empty()) default_interrupts(early_interrupt);
-  if (*simulate) return slosh::service::run_simulate_command(a.request);
+  if (*simulate) return slosh::service::run_simulate_command(a.request, a.trajectory);
   if (*plan) {
     a.plan.request_path = a.request;
     a.plan.request_given = plan->get_option("--request")->count() > 0;

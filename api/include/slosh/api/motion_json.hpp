@@ -9,11 +9,26 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/fields.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/motion/planar_path.hpp"
 #include "slosh/core/motion/sampled_trajectory.hpp"
 
 namespace slosh::api {
+
+/// Allowed ranges of the motion members (user units).
+namespace motion_ranges {
+/// An arc's radius: > 0 (a table or a track curve of any size).
+inline const Range kArcRadiusMm{0.0, 100000.0, "mm", true};
+/// An arc's angle, signed (left positive), non-zero: up to ten turns either way.
+inline const Range kAngleDeg{-3600.0, 3600.0, "deg"};
+/// Directions and headings.
+inline const Range kHeadingDeg{-360.0, 360.0, "deg"};
+/// A trajectory spans at most a minute (what a simulation is asked for) [s].
+constexpr double kMaxTrajectorySpanS{60.0};
+/// Most samples of a trajectory.
+constexpr std::size_t kMaxTrajectorySamples{200000};
+}  // namespace motion_ranges
 
 /// The motion types of format.motion.
 enum class MotionType { kLine, kArc, kPath, kTrajectory };
@@ -43,9 +58,9 @@ struct SpatialFormat {
                                                  bool trajectory_allowed);
 
 /// For the planning endpoints (plans, min-time), which plan along a straight line only: nullopt
-/// when the body has no format.motion; the body with a `line` motion written as its short form
-/// stroke_mm (the line's direction does not change the wave of an axisymmetric container); any
-/// other motion is refused with a 422 naming format.motion.
+/// when the body has no format.motion; the body without it when it is null; the body with a `line`
+/// motion written as its short form stroke_mm (the line's direction does not change the wave of an
+/// axisymmetric container); any other motion is refused with a 422 naming format.motion.
 [[nodiscard]] std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body);
 
 /// Throws ApiError (422) for a core refusal of a motion, its member as the JSON member.

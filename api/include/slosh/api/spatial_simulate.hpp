@@ -1,6 +1,10 @@
 #pragma once
 // POST /v1/simulate with format.motion (SPEC §14): both planar models' peaks over the wall.
 
+#include <istream>
+#include <string>
+#include <string_view>
+
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/simulate.hpp"
@@ -18,5 +22,12 @@ namespace slosh::api {
 /// "warnings"}. Throws ApiError naming format.motion.t_s[i] when a trajectory is sampled too
 /// coarsely for the first mode.
 [[nodiscard]] nlohmann::json run_spatial_simulate(const SimulateRequest& request);
+
+/// `slosh simulate --trajectory FILE.csv`: the simulate reply (pretty JSON) to `request` (its
+/// format without stroke_mm, motion_time_s and motion; no law) with format.motion the trajectory
+/// read from `csv` (trajectory_csv.hpp); `source` names the file in messages. ApiError naming
+/// --trajectory for an unreadable CSV or a request that gives a motion too.
+[[nodiscard]] std::string simulate_trajectory_reply(std::string_view request, std::istream& csv,
+                                                    const std::string& source);
 
 }  // namespace slosh::api
