@@ -8,7 +8,6 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
-#include "slosh/api/spatial_simulate.hpp"
 
 namespace slosh::api {
 
@@ -65,49 +64,11 @@ nlohmann::json parse_json_body(std::string_view body) {
   }
 }
 
-namespace {
-
-// The law (a path's) and the rest of a request with format.motion. A trajectory carries its own
-// times, so a law is refused; series are not rendered for motions.
-void parse_motion_simulate(const nlohmann::json& body, SimulateRequest& r) {
-  if (r.motion->trajectory) {
-    if (given_member(body, "law") != nullptr) {
-      invalid("law",
-              "law is not part of a trajectory motion: its samples give the times; leave law out");
-    }
-  } else {
-    if (!body.contains("law")) {
-      invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
-    }
-    ParsedLaw law = parse_law(body["law"], "law", r.format, r.min_ramp);
-    r.law_type = law.type;
-    r.durations = law.durations;
-    r.law = std::move(law.law);
-  }
-  r.options.rest_time =
-      optional_number(body, "", "rest_time_s", ranges::kRestTimeS, kDefaultRestTime);
-  if (given_member(body, "sample_period_s") != nullptr) {
-    invalid("sample_period_s",
-            "sample_period_s: series are not available with format.motion yet (the answer gives "
-            "both models' peaks); leave sample_period_s out");
-  }
-}
-
-}  // namespace
-
 SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "law", "rest_time_s", "sample_period_s", "options"});
   SimulateRequest r;
-  if (given_motion(body) != nullptr) {
-    SpatialFormat spatial = parse_spatial_format(body, true);
-    r.format = spatial.format;
-    r.motion = std::move(spatial.motion);
-  } else if (const std::optional<nlohmann::json> plain = straight_line_body(body)) {
-    r.format = parse_request_format(*plain);  // "motion": null
-  } else {
-    r.format = parse_request_format(body);
-  }
+  r.format = parse_request_format(body);
 
   nlohmann::json options = body.value("options", nlohmann::json::object());
   if (options.is_null()) options = nlohmann::json::object();
@@ -123,10 +84,6 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
                            " (the upper bound is format.motion_time_s / 4: four ramps must fit)");
   }
 
-  if (r.motion) {
-    parse_motion_simulate(body, r);
-    return r;
-  }
   if (!body.contains("law")) {
     invalid("law", "law is required: {\"type\": ..., \"durations_s\": [...]}");
   }
@@ -198,7 +155,6 @@ nlohmann::json law_echo(const SimulateRequest& request, const MotionLaw& law) {
 }  // namespace
 
 nlohmann::json run_simulate(const SimulateRequest& request) {
-  if (request.motion) return run_spatial_simulate(request);
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
   const SimulationResult r = simulate(request.format, law, request.options);

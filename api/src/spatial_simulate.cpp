@@ -19,9 +19,8 @@ namespace {
 
 constexpr double kDegPerRad{180.0 / std::numbers::pi};
 
-PlanarDrive make_drive(const SimulateRequest& request, const SloshingModel& model,
+PlanarDrive make_drive(const SpatialMotion& motion, const SloshingModel& model,
                        const MotionLaw& law) {
-  const SpatialMotion& motion = *request.motion;
   if (!motion.trajectory) return PlanarDrive(*motion.path, law);
   try {
     motion.trajectory->check_sampling(model.omega1());
@@ -56,12 +55,51 @@ nlohmann::json planar_peaks_json(const PlanarPeaks& p) {
           {"direction_rest_deg", p.rest.direction * kDegPerRad}};
 }
 
-nlohmann::json run_spatial_simulate(const SimulateRequest& request) {
-  const SpatialMotion& motion = *request.motion;
+SpatialSimulateRequest parse_spatial_simulate_request(const nlohmann::json& body) {
+  require_object(body, "");
+  reject_unknown_fields(body, "", {"format", "law", "rest_time_s", "sample_period_s", "options"});
+  SpatialFormat spatial = parse_spatial_format(body, true);
+  if (given_member(body, "sample_period_s") != nullptr) {
+    invalid("sample_period_s",
+            "sample_period_s: series are not available with format.motion yet (the answer gives "
+            "both models' peaks); leave sample_period_s out");
+  }
+  // The straight-line parser reads the law and the options on the format with the motion's
+  // length as its stroke.
+  nlohmann::json plain = body;
+  nlohmann::json& format = plain["format"];
+  format.erase("motion");
+  if (spatial.motion.trajectory) {
+    if (given_member(body, "law") != nullptr) {
+      invalid("law",
+              "law is not part of a trajectory motion: its samples give the times; leave law out");
+    }
+    format["stroke_mm"] = 1.0;
+    format["motion_time_s"] = 1.0;
+    plain["law"] = {{"type", "seven_segment_uniform"}};
+  } else {
+    format["stroke_mm"] = mm_of(spatial.format.stroke);
+  }
+  return {parse_simulate_request(plain), std::move(spatial.motion)};
+}
+
+nlohmann::json simulate_response(const nlohmann::json& body) {
+  if (given_motion(body) != nullptr) {
+    return run_spatial_simulate(parse_spatial_simulate_request(body));
+  }
+  if (const std::optional<nlohmann::json> plain = straight_line_body(body)) {
+    return run_simulate(parse_simulate_request(*plain));  // "motion": null
+  }
+  return run_simulate(parse_simulate_request(body));
+}
+
+nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
+  const SimulateRequest& request = spatial.base;
+  const SpatialMotion& motion = spatial.motion;
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
   const SloshingModel model = make_sloshing_model(request.format, request.options.model);
-  const PlanarDrive drive = make_drive(request, model, law);
+  const PlanarDrive drive = make_drive(motion, model, law);
   const double rest = request.options.rest_time;
   const PlanarPeaks linear = planar_linear_peaks(model, drive, rest);
   const PlanarPeaks nonlinear = planar_nonlinear_peaks(model, drive, rest);
@@ -118,7 +156,7 @@ std::string simulate_trajectory_reply(std::string_view request, std::istream& cs
   if (body.is_object() && body.contains("format") && body["format"].is_object()) {
     body["format"]["motion"] = trajectory_motion_json(samples);
   }
-  return dump_json(run_simulate(parse_simulate_request(body)), 2);
+  return dump_json(simulate_response(body), 2);
 }
 
 }  // namespace slosh::api

@@ -8,7 +8,6 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/law_json.hpp"
-#include "slosh/api/motion_json.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/response/simulation.hpp"
 
@@ -22,8 +21,6 @@ struct SimulateRequest {
   MotionLaw law;                       ///< the law, whatever its type
   SimulationOptions options;
   double min_ramp{kDefaultMinRamp};
-  /// format.motion when given (SPEC §14); absent: the straight line of format.stroke_mm.
-  std::optional<SpatialMotion> motion;
 };
 
 /// Deepest nesting of arrays and objects a request body may have (a SPEC request nests 4 deep).
