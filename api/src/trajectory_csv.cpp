@@ -49,7 +49,9 @@ TrajectorySamples read_trajectory_csv(std::istream& in, const std::string& sourc
     std::istringstream again(all.str());
     return read_pose_csv(again, source);
   }
-  const std::vector<std::string_view> names = split(line);
+  // Copied: the views of split() point into `line`, which the next getline overwrites.
+  const std::string header = line;
+  const std::vector<std::string_view> names = split(header);
   const bool plain = names.size() >= 3 && names.size() <= 5 && names[0] == "t_s" &&
                      names[1] == "x_mm" && names[2] == "y_mm" &&
                      (names.size() < 4 || names[3] == "z_mm" || names[3] == "theta_deg") &&
