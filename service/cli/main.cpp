@@ -113,6 +113,17 @@ CLI::App* add_request_command(CLI::App& app, CliArgs& a, const std::string& name
   return command;
 }
 
+CLI::App* add_simulate(CLI::App& app, CliArgs& a) {
+  auto* simulate = add_request_command(
+      app, a, "simulate",
+      "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
+  simulate->add_option("--trajectory", a.trajectory,
+                       "Trajectory CSV as format.motion: t_s,x_mm,y_mm[,z_mm][,theta_deg] or "
+                       "t_s,x_m,y_m,z_m,qx,qy,qz,qw (the request then gives no law nor stroke_mm "
+                       "and motion_time_s)");
+  return simulate;
+}
+
 CLI::App* add_plan(CLI::App& app, CliArgs& a) {
   auto* plan = add_request_command(
       app, a, "plan",
@@ -323,12 +334,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   CliArgs a;
   auto* serve = add_serve(app, a);
-  auto* simulate = add_request_command(
-      app, a, "simulate",
-      "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
-  simulate->add_option("--trajectory", a.trajectory,
-                       "Trajectory CSV as format.motion: t_s,x_mm,y_mm[,z_mm][,theta_deg] or "
-                       "t_s,x_m,y_m,z_m,qx,qy,qz,qw (the request then gives no law)");
+  auto* simulate = add_simulate(app, a);
   auto* plan = add_plan(app, a);
   auto* fluids = app.add_subcommand("fluids", "List the fluid catalogue (names for --fluid)");
   fluids->add_option("--format", a.fluids_format, "text (a table) or json (the /v1/fluids body)")
