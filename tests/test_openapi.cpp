@@ -24,6 +24,7 @@
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_view.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/api/spatial_simulate.hpp"
 #include "slosh/core/model/fluid.hpp"
 #include "slosh/core/strategy/planner.hpp"
 
@@ -712,6 +713,38 @@ TEST(OpenApiResponses, SimulateResponsesFitTheSimulateResponseSchema) {
   expect_top_level_keys("SimulateResponse", out);
   const auto poly_errors = validation_errors("SimulateResponse", out);
   EXPECT_TRUE(poly_errors.empty()) << joined(poly_errors);
+}
+
+// Simulate along a path and along a sampled trajectory (format.motion): the response and the
+// requests fit their schemas.
+TEST(OpenApiResponses, SpatialSimulateResponsesFitTheSimulateResponseSchema) {
+  json arc = {{"format", thesis_format()}, {"law", {{"type", "seven_segment_uniform"}}}};
+  arc["format"].erase("stroke_mm");
+  arc["format"]["motion"] = {
+      {"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}};
+  json samples = {{"type", "trajectory"},
+                  {"t_s", json::array()},
+                  {"x_mm", json::array()},
+                  {"y_mm", json::array()},
+                  {"theta_deg", json::array()}};
+  for (int i = 0; i <= 100; ++i) {
+    samples["t_s"].push_back(i * 0.01);
+    samples["x_mm"].push_back(50.0 * std::sin(i * 0.01));
+    samples["y_mm"].push_back(0.0);
+    samples["theta_deg"].push_back(i * 0.5);
+  }
+  json trajectory = {{"format", thesis_format()}};
+  trajectory["format"].erase("stroke_mm");
+  trajectory["format"].erase("motion_time_s");
+  trajectory["format"]["motion"] = samples;
+  for (const json& body : {arc, trajectory}) {
+    EXPECT_TRUE(validation_errors("SimulateRequest", body).empty())
+        << joined(validation_errors("SimulateRequest", body));
+    const json out = simulate_response(body);
+    expect_top_level_keys("SimulateResponse", out);
+    const auto errors = validation_errors("SimulateResponse", out);
+    EXPECT_TRUE(errors.empty()) << joined(errors);
+  }
 }
 
 TEST(OpenApiResponses, ErrorEnvelopeFluidsAndExamplesFitTheirSchemas) {

@@ -8,6 +8,7 @@
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_summary.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/api/spatial_simulate.hpp"
 
 namespace slosh::api {
 
@@ -43,7 +44,7 @@ std::string plan_reply_of(const nlohmann::json& request, PlanView view) {
 }  // namespace
 
 std::string simulate_reply(std::string_view request) {
-  return pretty(run_simulate(parse_simulate_request(parse_json_body(request))));
+  return pretty(simulate_response(parse_json_body(request)));
 }
 
 std::string calibration_reply(std::string_view request) {

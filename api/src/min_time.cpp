@@ -10,6 +10,7 @@
 #include "slosh/api/core_input.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/motion_json.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
 
@@ -273,7 +274,10 @@ void fit_strategies_to_drive(const json& body, DriveProfile profile,
 
 }  // namespace
 
-MinTimeRequest parse_min_time_request(const json& body, double budget) {
+MinTimeRequest parse_min_time_request(const json& given, double budget) {
+  // A line motion is the stroke; min-time along other paths is refused (motion_json.hpp).
+  const std::optional<json> line = straight_line_body(given);
+  const json& body = line ? *line : given;
   require_object(body, "");
   reject_unknown_fields(body, "",
                         {"format", "motion_time_max_s", "eta_motion_max_mm", "free_board_margin_mm",

@@ -6,6 +6,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/min_time.hpp"
+#include "slosh/api/motion_json.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_view.hpp"
@@ -301,7 +302,7 @@ void add_simulate_request_schemas(json& s) {
   options["model"] = ref("CalibratedModel");
   s["SimulateOptions"] = object(options, {}, "Model options; every member optional.", true);
   s["SimulateRequest"] = object(
-      {{"format", ref("Format")},
+      {{"format", ref("SimulateFormat")},
        {"law", ref("LawSpec")},
        {"rest_time_s", with_default(number_in(ranges::kRestTimeS, "Rest window after the motion"),
                                     kDefaultRestTime)},
@@ -310,7 +311,8 @@ void add_simulate_request_schemas(json& s) {
                                               std::to_string(ranges::kMaxSeriesSamples) +
                                               " samples over motion + rest")},
        {"options", ref("SimulateOptions")}},
-      {"format", "law"}, "Any supported law on a format.", true);
+      {"format"}, "Any supported law on a format (law required but for a trajectory motion).",
+      true);
   s["SimulateRequest"]["example"] = json::parse(R"({
     "format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,
                "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0},
@@ -731,6 +733,96 @@ void add_plan_response_schemas(json& s) {
   add_move_absolute_schema(s);
 }
 
+// format.motion (SPEC §14): what simulate accepts, and the line plans and min-time take.
+void add_motion_request_schemas(json& s) {
+  namespace mr = motion_ranges;
+  const json turns = boolean(
+      "The container turns with the table or path tangent (a rotary table) or keeps its "
+      "orientation (a carriage on a curved track).");
+  const json heading = number_in(mr::kHeadingDeg, "Tangent direction at the start, from +x");
+  s["LineMotion"] = object(
+      {{"type", string_enum({"line"}, "A straight move.")},
+       {"length_mm", number_in(ranges::kStrokeMm, "Length of the move (stroke_mm's long form)")},
+       {"direction_deg", with_default(number_in(mr::kHeadingDeg, "Direction from +x"), 0)}},
+      {"type", "length_mm"}, "The straight move; the only motion plans and min-time take.", true);
+  s["ArcMotion"] = object(
+      {{"type", string_enum({"arc"}, "An arc of a rotary table, carousel or curved track.")},
+       {"radius_mm", number_in(mr::kArcRadiusMm, "Radius of the arc")},
+       {"angle_deg", number_in(mr::kAngleDeg, "Angle turned, signed (left positive), not 0")},
+       {"container_turns", with_default(turns, true)},
+       {"start_heading_deg", with_default(heading, 0)}},
+      {"type", "radius_mm", "angle_deg"}, "", true);
+  s["PathSegment"] = object(
+      {{"line_mm", number_in(ranges::kStrokeMm, "A line of this length")},
+       {"arc", object({{"radius_mm", number_in(mr::kArcRadiusMm, "Radius")},
+                       {"angle_deg", number_in(mr::kAngleDeg, "Signed angle, not 0")}},
+                      {"radius_mm", "angle_deg"}, "An arc.", true)},
+       {"heading_deg", number_in(mr::kHeadingDeg,
+                                 "Optional: the tangent direction the segment starts with; it "
+                                 "must equal the direction the path arrives with")}},
+      {}, "One of line_mm or arc.", true);
+  s["PathMotion"] =
+      object({{"type", string_enum({"path"}, "Lines and arcs joined with a common tangent.")},
+              {"segments", {{"type", "array"}, {"minItems", 1}, {"items", ref("PathSegment")}}},
+              {"start_heading_deg", with_default(heading, 0)},
+              {"container_turns", with_default(turns, false)}},
+             {"type", "segments"}, "", true);
+  const std::string most = std::to_string(mr::kMaxTrajectorySamples);
+  s["TrajectoryMotion"] = object(
+      {{"type", string_enum({"trajectory"}, "Sampled poses (simulate only).")},
+       {"t_s", numbers("Times, strictly increasing, at least 4, at most " + most +
+                       ", spanning at most 60 s, at least 20 samples per first-mode period [s].")},
+       {"x_mm", numbers("Positions [mm].")},
+       {"y_mm", numbers("Positions [mm].")},
+       {"z_mm", numbers("Optional: heights (up) [mm].")},
+       {"theta_deg", numbers("Optional: heading about the vertical axis, unwrapped [deg].")}},
+      {"type", "t_s", "x_mm", "y_mm"},
+      "Interpolated by natural cubic splines; the format then has no stroke_mm, no "
+      "motion_time_s and the request no law.",
+      true);
+  s["Motion"] = {
+      {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion"), ref("TrajectoryMotion")}},
+      {"description",
+       "The container's motion (SPEC §14). Plans and min-time take a line only "
+       "(any other is a 422 naming format.motion)."}};
+  json format = s["Format"];
+  format["properties"]["motion"] = ref("Motion");
+  format["required"] = {"container", "fill_height_mm", "fluid"};
+  format["description"] =
+      "A format with its motion: stroke_mm (the straight line) or motion (the law moves the "
+      "container along its length; giving both is a 422); motion_time_s required except for a "
+      "trajectory.";
+  s["SimulateFormat"] = format;
+}
+
+// The answer of simulate with format.motion: both planar models' peaks with their wall angles.
+void add_motion_response_schemas(json& s) {
+  json peaks = s["Peaks"];
+  peaks["properties"]["direction_motion_deg"] =
+      number("Wall angle of the motion peak, world frame from +x [deg].");
+  peaks["properties"]["direction_rest_deg"] = number("Wall angle of the rest peak [deg].");
+  peaks["required"].push_back("direction_motion_deg");
+  peaks["required"].push_back("direction_rest_deg");
+  peaks["description"] = "Peaks of one planar model, maximised over the wall.";
+  s["PlanarPeaks"] = peaks;
+  s["PlanarPrediction"] =
+      object({{"nonlinear", ref("PlanarPeaks")}, {"linear", ref("PlanarPeaks")}},
+             {"nonlinear", "linear"}, "Both planar models (format.motion given).", false);
+  json echo = s["FormatEcho"];
+  echo["properties"]["motion"] = ref("Motion");
+  echo["required"] = {"container", "fill_height_mm", "fluid", "motion"};
+  echo["description"] =
+      "The format with its motion (no stroke_mm nor motion_time_s for a trajectory).";
+  s["SpatialFormatEcho"] = echo;
+  s["MotionSummary"] =
+      object({{"type", string_enum({"line", "arc", "path", "trajectory"}, "")},
+              {"duration_s", number("End of the motion [s].")},
+              {"length_mm", number("Path length (not for a trajectory) [mm].")},
+              {"container_turns", boolean("Whether the container turns (not for a trajectory).")},
+              {"samples", integer("Samples of a trajectory.")}},
+             {"type", "duration_s"}, "The simulated motion.", false);
+}
+
 void add_simulate_response_schemas(json& s) {
   s["LawEcho"] = object(
       {{"type", ref("LawType")},
@@ -743,16 +835,19 @@ void add_simulate_response_schemas(json& s) {
         fixed_numbers(7, "7-segment laws: jerk of each segment, 0 on the plateaus [m/s^3].")}},
       {"type", "duration_s", "stroke_mm", "breakpoints_s"}, "The simulated law.", false);
   s["SimulateResponse"] =
-      object({{"format", ref("FormatEcho")},
+      object({{"format", {{"oneOf", {ref("FormatEcho"), ref("SpatialFormatEcho")}}}},
               {"law", ref("LawEcho")},
               {"kinematics", ref("Kinematics")},
+              {"motion", ref("MotionSummary")},
               {"model", ref("Model")},
-              {"prediction", ref("Prediction")},
+              {"prediction", {{"oneOf", {ref("Prediction"), ref("PlanarPrediction")}}}},
               {"rest_time_s", number("Rest window [s].")},
               {"series", ref("Series")},
               {"warnings", strings("Validity limits of the models reached by this law.")}},
-             {"format", "law", "kinematics", "model", "prediction", "rest_time_s", "warnings"},
-             "Wave-height response of the law (also what `slosh simulate` prints).", false);
+             {"format", "model", "prediction", "rest_time_s", "warnings"},
+             "Wave-height response of the law (also what `slosh simulate` prints); with "
+             "format.motion: motion, no kinematics, no law for a trajectory.",
+             false);
 }
 
 void add_service_schemas(json& s) {
@@ -1504,8 +1599,10 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
   add_model_option_schemas(schemas);
   add_plan_request_schemas(schemas, registry);
   add_simulate_request_schemas(schemas);
+  add_motion_request_schemas(schemas);
   add_shared_response_schemas(schemas);
   add_plan_response_schemas(schemas);
+  add_motion_response_schemas(schemas);
   add_simulate_response_schemas(schemas);
   add_service_schemas(schemas);
   add_min_time_schemas(schemas);

@@ -10,6 +10,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
+#include "slosh/api/motion_json.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan_reply.hpp"
 #include "slosh/api/robustness_json.hpp"
@@ -114,7 +115,10 @@ std::string to_hex(const unsigned char* data, std::size_t n) {
 
 }  // namespace
 
-PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry& registry) {
+PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry& registry) {
+  // A line motion is the stroke; planning along other paths is refused (motion_json.hpp).
+  const std::optional<nlohmann::json> line = straight_line_body(given);
+  const nlohmann::json& body = line ? *line : given;
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "strategy", "options", "sample_period_s"});
   PlanRequest r;

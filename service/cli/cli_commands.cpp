@@ -1,11 +1,13 @@
 #include "cli/cli_commands.hpp"
 
 #include <exception>
+#include <fstream>
 #include <iostream>
 
 #include "cli/io.hpp"
 #include "slosh/api/command_replies.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/spatial_simulate.hpp"
 
 namespace slosh::service {
 
@@ -38,8 +40,18 @@ std::string read_request(const std::string& request_path) {
 
 }  // namespace
 
-int run_simulate_command(const std::string& request_path) {
-  return print_json_or_error([&] { return api::simulate_reply(read_request(request_path)); });
+int run_simulate_command(const std::string& request_path, const std::string& trajectory_path) {
+  if (trajectory_path.empty()) {
+    return print_json_or_error([&] { return api::simulate_reply(read_request(request_path)); });
+  }
+  return print_json_or_error([&] {
+    std::ifstream csv(trajectory_path, std::ios::binary);
+    if (!csv) {
+      throw api::ApiError(api::ErrorCode::kInvalidValue, "--trajectory",
+                          "--trajectory: cannot read the file '" + trajectory_path + "'");
+    }
+    return api::simulate_trajectory_reply(read_request(request_path), csv, trajectory_path);
+  });
 }
 
 int run_calibrate_command(const std::string& request_path) {

@@ -11,8 +11,9 @@ namespace slosh::service {
 enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitInvalidInput = 2 };
 
 /// `slosh simulate --request FILE|-`: prints the simulate response on stdout; on invalid input
-/// prints the error envelope on stderr and returns kExitInvalidInput.
-int run_simulate_command(const std::string& request_path);
+/// prints the error envelope on stderr and returns kExitInvalidInput. A non-empty
+/// `trajectory_path` (`--trajectory FILE.csv`) is the request's format.motion.
+int run_simulate_command(const std::string& request_path, const std::string& trajectory_path = {});
 
 /// The format flags of `slosh plan` (a quick look without a request file): lengths in mm, the
 /// motion time in s, density kg/m^3, viscosity Pa s; unset = not given.

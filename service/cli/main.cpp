@@ -36,6 +36,7 @@ struct CliArgs {
   std::optional<std::size_t> cache_ttl_s, redis_timeout_ms;
   bool redis_required{false};
   std::string request = "-";
+  std::string trajectory;                   // slosh simulate --trajectory
   slosh::service::PlanCommandOptions plan;  // slosh plan (but --request)
   std::string fluids_format = "text";
   slosh::service::BatchCommandOptions batch;
@@ -109,6 +110,17 @@ CLI::App* add_request_command(CLI::App& app, CliArgs& a, const std::string& name
   command->add_option("--request", a.request, "Request JSON file, or - for stdin")
       ->capture_default_str();
   return command;
+}
+
+CLI::App* add_simulate(CLI::App& app, CliArgs& a) {
+  auto* simulate = add_request_command(
+      app, a, "simulate",
+      "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
+  simulate->add_option("--trajectory", a.trajectory,
+                       "Trajectory CSV as format.motion: t_s,x_mm,y_mm[,z_mm][,theta_deg] or "
+                       "t_s,x_m,y_m,z_m,qx,qy,qz,qw (the request then gives no law nor stroke_mm "
+                       "and motion_time_s)");
+  return simulate;
 }
 
 CLI::App* add_plan(CLI::App& app, CliArgs& a) {
@@ -318,9 +330,7 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   CliArgs a;
   auto* serve = add_serve(app, a);
-  auto* simulate = add_request_command(
-      app, a, "simulate",
-      "Simulate a motion law on a format (JSON in, the /v1/simulate response out)");
+  auto* simulate = add_simulate(app, a);
   auto* plan = add_plan(app, a);
   auto* fluids = app.add_subcommand("fluids", "List the fluid catalogue (names for --fluid)");
   fluids->add_option("--format", a.fluids_format, "text (a table) or json (the /v1/fluids body)")
@@ -341,7 +351,7 @@ int main(int argc, char** argv) {
   }
   // Every other command ends at Ctrl-C as the default action does.
   if (!*batch || a.batch.server.empty()) slosh::service::batch_cli::restore_interrupts();
-  if (*simulate) return slosh::service::run_simulate_command(a.request);
+  if (*simulate) return slosh::service::run_simulate_command(a.request, a.trajectory);
   if (*plan) {
     a.plan.request_path = a.request;
     a.plan.request_given = plan->get_option("--request")->count() > 0;

@@ -11,6 +11,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan_view.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/api/spatial_simulate.hpp"
 
 namespace slosh::service {
 
@@ -112,8 +113,7 @@ Reply PlanService::cam_table(const std::string& key, CamFileFormat format, const
 Reply PlanService::post_simulate(const std::string& text) {
   return guarded_reply([&] {
     Reply r;
-    r.body =
-        api::dump_json(api::run_simulate(api::parse_simulate_request(api::parse_json_body(text))));
+    r.body = api::dump_json(api::simulate_response(api::parse_json_body(text)));
     return r;
   });
 }

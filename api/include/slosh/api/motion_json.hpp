@@ -1,0 +1,73 @@
+#pragma once
+// format.motion (SPEC §14): a line, an arc, a path of lines and arcs, or (simulate only) a
+// sampled trajectory, parsed into the core's PlanarPath or SampledTrajectory. The request speaks
+// mm, degrees and s; the core SI and radians. A motion the core refuses (InvalidMotion) becomes a
+// 422 naming the JSON member (`format.motion.segments[2]`, `format.motion.t_s[13]`).
+
+#include <optional>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/fields.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/motion/planar_path.hpp"
+#include "slosh/core/motion/sampled_trajectory.hpp"
+
+namespace slosh::api {
+
+/// Allowed ranges of the motion members (user units).
+namespace motion_ranges {
+/// An arc's radius: > 0 (a table or a track curve of any size).
+inline const Range kArcRadiusMm{0.0, 100000.0, "mm", true};
+/// An arc's angle, signed (left positive), non-zero: up to ten turns either way.
+inline const Range kAngleDeg{-3600.0, 3600.0, "deg"};
+/// Directions and headings.
+inline const Range kHeadingDeg{-360.0, 360.0, "deg"};
+/// A trajectory spans at most a minute (what a simulation is asked for) [s].
+constexpr double kMaxTrajectorySpanS{60.0};
+/// Most samples of a trajectory.
+constexpr std::size_t kMaxTrajectorySamples{200000};
+}  // namespace motion_ranges
+
+/// The motion types of format.motion.
+enum class MotionType { kLine, kArc, kPath, kTrajectory };
+
+/// A validated format.motion.
+struct SpatialMotion {
+  MotionType type{MotionType::kLine};
+  std::optional<PlanarPath> path;               ///< line, arc and path
+  std::optional<SampledTrajectory> trajectory;  ///< trajectory
+  nlohmann::json echo;                          ///< the motion as given
+};
+
+/// A format with its motion: the format's stroke is the path's length (a trajectory's format
+/// has neither stroke nor motion time: `format` then holds placeholders the echo leaves out).
+struct SpatialFormat {
+  Format format;
+  SpatialMotion motion;
+};
+
+/// The request's format.motion when given (null counts as absent).
+[[nodiscard]] const nlohmann::json* given_motion(const nlohmann::json& body);
+
+/// Parses the format of a request whose format.motion is given; `trajectory_allowed` for
+/// simulate. A path motion replaces format.stroke_mm (both given are refused); a trajectory
+/// replaces stroke_mm and motion_time_s.
+[[nodiscard]] SpatialFormat parse_spatial_format(const nlohmann::json& body,
+                                                 bool trajectory_allowed);
+
+/// For the planning endpoints (plans, min-time), which plan along a straight line only: nullopt
+/// when the body has no format.motion; the body without it when it is null; the body with a `line`
+/// motion written as its short form stroke_mm (the line's direction does not change the wave of an
+/// axisymmetric container); any other motion is refused with a 422 naming format.motion.
+[[nodiscard]] std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body);
+
+/// Throws ApiError (422) for a core refusal of a motion, its member as the JSON member.
+[[noreturn]] void motion_refusal(const std::string& member, const std::string& message);
+
+/// The samples of format.motion of type trajectory in user units (t_s, x_mm, y_mm, z_mm?,
+/// theta_deg?) from SI samples: what `slosh simulate --trajectory` puts in the request.
+[[nodiscard]] nlohmann::json trajectory_motion_json(const TrajectorySamples& samples);
+
+}  // namespace slosh::api

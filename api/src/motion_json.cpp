@@ -1,0 +1,316 @@
+#include "slosh/api/motion_json.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <string_view>
+#include <utility>
+#include <vector>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
+#include "slosh/api/format_json.hpp"
+#include "slosh/core/motion/invalid_motion.hpp"
+
+namespace slosh::api {
+
+namespace {
+
+using json = nlohmann::json;
+
+constexpr double kRadPerDeg{std::numbers::pi / 180.0};
+const std::string kMotion{"format.motion"};
+
+using motion_ranges::kAngleDeg;
+using motion_ranges::kArcRadiusMm;
+using motion_ranges::kHeadingDeg;
+using motion_ranges::kMaxTrajectorySamples;
+using motion_ranges::kMaxTrajectorySpanS;
+// Sample values: any finite number a log holds (1e9 mm is 1000 km).
+const Range kSampleValue{-1e9, 1e9, ""};
+
+MotionType parse_type(const json& m) {
+  const std::string tpath = join_path(kMotion, "type");
+  const json* type = given_member(m, "type");
+  if (type == nullptr) {
+    invalid(tpath, tpath + " is required: one of \"line\", \"arc\", \"path\", \"trajectory\"");
+  }
+  const std::string name = type->is_string() ? type->get<std::string>() : std::string();
+  if (name == "line") return MotionType::kLine;
+  if (name == "arc") return MotionType::kArc;
+  if (name == "path") return MotionType::kPath;
+  if (name == "trajectory") return MotionType::kTrajectory;
+  invalid(tpath, tpath + " = " + show(*type) +
+                     " is not allowed: one of \"line\", \"arc\", \"path\", \"trajectory\"");
+}
+
+// A non-zero angle: an arc that turns through nothing is not an arc.
+double arc_angle_deg(const json& arc, const std::string& path) {
+  const double angle = required_number(arc, path, "angle_deg", kAngleDeg);
+  if (angle == 0.0) {
+    const std::string field = join_path(path, "angle_deg");
+    invalid(field, field + " = 0 is not allowed: an arc turns, allowed " + kAngleDeg.describe() +
+                       " except 0 (signed, left positive)");
+  }
+  return angle;
+}
+
+std::optional<double> optional_heading(const json& object, const std::string& path,
+                                       std::string_view key) {
+  if (given_member(object, key) == nullptr) return std::nullopt;
+  return required_number(object, path, key, kHeadingDeg) * kRadPerDeg;
+}
+
+PlanarPath checked_path(std::vector<PathElement> elements, double start_heading, bool turns) {
+  try {
+    return PlanarPath(std::move(elements), start_heading, turns);
+  } catch (const InvalidMotion& e) {
+    motion_refusal(e.member(), e.what());
+  }
+}
+
+PathElement parse_segment(const json& segment, const std::string& path) {
+  require_object(segment, path);
+  reject_unknown_fields(segment, path, {"line_mm", "arc", "heading_deg"});
+  const bool line = given_member(segment, "line_mm") != nullptr;
+  const bool arc = given_member(segment, "arc") != nullptr;
+  if (line == arc) {
+    invalid(path, path +
+                      " must have one of \"line_mm\" (a line's length) or \"arc\" "
+                      "({\"radius_mm\", \"angle_deg\"}), got " +
+                      show(segment));
+  }
+  const std::optional<double> heading = optional_heading(segment, path, "heading_deg");
+  if (line)
+    return PathElement::line(required_number(segment, path, "line_mm", ranges::kStrokeMm) * 1e-3,
+                             heading);
+  const std::string apath = join_path(path, "arc");
+  const json& a = segment["arc"];
+  require_object(a, apath);
+  reject_unknown_fields(a, apath, {"radius_mm", "angle_deg"});
+  const double radius = required_number(a, apath, "radius_mm", kArcRadiusMm) * 1e-3;
+  return PathElement::arc(radius, arc_angle_deg(a, apath) * kRadPerDeg, heading);
+}
+
+PlanarPath parse_path(const json& m) {
+  reject_unknown_fields(m, kMotion, {"type", "segments", "start_heading_deg", "container_turns"});
+  const std::string spath = join_path(kMotion, "segments");
+  const json* segments = given_member(m, "segments");
+  if (segments == nullptr || !segments->is_array() || segments->empty()) {
+    invalid(spath, spath +
+                       " must be a non-empty array of {\"line_mm\"} and {\"arc\": "
+                       "{\"radius_mm\", \"angle_deg\"}}, got " +
+                       (segments == nullptr ? std::string("nothing") : show(*segments)));
+  }
+  std::vector<PathElement> elements;
+  for (std::size_t i = 0; i < segments->size(); ++i) {
+    elements.push_back(parse_segment((*segments)[i], spath + "[" + std::to_string(i) + "]"));
+  }
+  const double heading = optional_number(m, kMotion, "start_heading_deg", kHeadingDeg, 0.0);
+  const bool turns = optional_bool(m, kMotion, "container_turns", false);
+  return checked_path(std::move(elements), heading * kRadPerDeg, turns);
+}
+
+// A sample column in user units, scaled to SI; empty when optional and absent.
+std::vector<double> sample_column(const json& m, std::string_view key, double scale,
+                                  bool required) {
+  const std::string cpath = join_path(kMotion, key);
+  const json* column = given_member(m, key);
+  if (column == nullptr) {
+    if (required) invalid(cpath, cpath + " is required: an array of numbers, one per sample");
+    return {};
+  }
+  if (!column->is_array())
+    invalid(cpath, cpath + " must be an array of numbers, got " + show(*column));
+  if (column->size() > kMaxTrajectorySamples) {
+    invalid(cpath, cpath + " has " + std::to_string(column->size()) + " samples; allowed at most " +
+                       std::to_string(kMaxTrajectorySamples));
+  }
+  std::vector<double> out;
+  out.reserve(column->size());
+  for (std::size_t i = 0; i < column->size(); ++i) {
+    const std::string field = cpath + "[" + std::to_string(i) + "]";
+    out.push_back(checked_number(&(*column)[i], field, kSampleValue) * scale);
+  }
+  return out;
+}
+
+SampledTrajectory parse_trajectory(const json& m) {
+  reject_unknown_fields(m, kMotion, {"type", "t_s", "x_mm", "y_mm", "z_mm", "theta_deg"});
+  TrajectorySamples s;
+  s.t = sample_column(m, "t_s", 1.0, true);
+  s.x = sample_column(m, "x_mm", 1e-3, true);
+  s.y = sample_column(m, "y_mm", 1e-3, true);
+  s.z = sample_column(m, "z_mm", 1e-3, false);
+  s.theta = sample_column(m, "theta_deg", kRadPerDeg, false);
+  try {
+    SampledTrajectory trajectory(std::move(s));
+    const double span = trajectory.end_time() - trajectory.start_time();
+    if (span > kMaxTrajectorySpanS) {
+      const std::string field = join_path(kMotion, "t_s");
+      invalid(field, field + " spans " + number_text(span) + " s; allowed at most " +
+                         number_text(kMaxTrajectorySpanS) + " s");
+    }
+    return trajectory;
+  } catch (const InvalidMotion& e) {
+    motion_refusal(e.member(), e.what());
+  }
+}
+
+// The JSON name of a core member: "t[12]" -> "t_s[12]", "segments[2]" as it is.
+std::string json_member(const std::string& member) {
+  const std::size_t bracket = member.find('[');
+  const std::string head = member.substr(0, bracket);
+  const std::string tail = bracket == std::string::npos ? std::string() : member.substr(bracket);
+  static const std::pair<std::string_view, std::string_view> kNames[] = {
+      {"t", "t_s"},  {"x", "x_mm"},          {"y", "y_mm"},
+      {"z", "z_mm"}, {"theta", "theta_deg"}, {"start_heading", "start_heading_deg"}};
+  for (const auto& [core, api] : kNames) {
+    if (head == core) return std::string(api) + tail;
+  }
+  return member;
+}
+
+SpatialMotion parse_motion(const json& m, bool trajectory_allowed) {
+  require_object(m, kMotion);
+  SpatialMotion out;
+  out.type = parse_type(m);
+  out.echo = m;
+  switch (out.type) {
+    case MotionType::kLine: {
+      reject_unknown_fields(m, kMotion, {"type", "length_mm", "direction_deg"});
+      const double length = required_number(m, kMotion, "length_mm", ranges::kStrokeMm);
+      const double direction = optional_number(m, kMotion, "direction_deg", kHeadingDeg, 0.0);
+      out.path = checked_path({PathElement::line(length * 1e-3)}, direction * kRadPerDeg, false);
+      break;
+    }
+    case MotionType::kArc: {
+      reject_unknown_fields(
+          m, kMotion, {"type", "radius_mm", "angle_deg", "container_turns", "start_heading_deg"});
+      const double radius = required_number(m, kMotion, "radius_mm", kArcRadiusMm) * 1e-3;
+      const double angle = arc_angle_deg(m, kMotion) * kRadPerDeg;
+      const double heading = optional_number(m, kMotion, "start_heading_deg", kHeadingDeg, 0.0);
+      const bool turns = optional_bool(m, kMotion, "container_turns", true);
+      out.path = checked_path({PathElement::arc(radius, angle)}, heading * kRadPerDeg, turns);
+      break;
+    }
+    case MotionType::kPath:
+      out.path = parse_path(m);
+      break;
+    case MotionType::kTrajectory:
+      if (!trajectory_allowed) break;  // refused by the caller
+      out.trajectory = parse_trajectory(m);
+      break;
+  }
+  return out;
+}
+
+}  // namespace
+
+void motion_refusal(const std::string& member, const std::string& message) {
+  // The core's sentence starts with its member: it is renamed to the JSON member.
+  const std::string field = join_path(kMotion, json_member(member));
+  std::string text = message;
+  if (text.rfind(member, 0) == 0) {
+    text = field + text.substr(member.size());
+  } else {
+    text = field + ": " + text;
+  }
+  invalid(field, text);
+}
+
+const nlohmann::json* given_motion(const nlohmann::json& body) {
+  if (!body.is_object()) return nullptr;
+  const json* format = given_member(body, "format");
+  if (format == nullptr || !format->is_object()) return nullptr;
+  return given_member(*format, "motion");
+}
+
+SpatialFormat parse_spatial_format(const nlohmann::json& body, bool trajectory_allowed) {
+  const json& format = body.at("format");
+  SpatialFormat out;
+  out.motion = parse_motion(format.at("motion"), trajectory_allowed);
+  json plain = format;
+  plain.erase("motion");
+  if (out.motion.type == MotionType::kTrajectory) {
+    for (const char* key : {"stroke_mm", "motion_time_s"}) {
+      if (given_member(format, key) != nullptr) {
+        const std::string field = join_path("format", key);
+        invalid(field, field +
+                           " is not part of a trajectory motion: its samples give the path "
+                           "and the times; leave " +
+                           field + " out");
+      }
+    }
+    // Placeholders for the members a trajectory replaces (the echo leaves them out).
+    plain["stroke_mm"] = 1.0;
+    plain["motion_time_s"] = 1.0;
+    out.format = parse_format(plain, "format");
+    return out;
+  }
+  if (given_member(format, "stroke_mm") != nullptr) {
+    invalid("format.stroke_mm",
+            "format.stroke_mm and format.motion both give the move: give one of them (stroke_mm "
+            "is the short form of a motion of type \"line\")");
+  }
+  const double length_mm = out.motion.type == MotionType::kLine
+                               ? format["motion"]["length_mm"].get<double>()
+                               : out.motion.path->length() * 1e3;
+  if (!ranges::kStrokeMm.contains(length_mm)) {
+    invalid(kMotion, kMotion + " is " + number_text(length_mm) +
+                         " mm long (the length the law moves along it); allowed " +
+                         ranges::kStrokeMm.describe());
+  }
+  plain["stroke_mm"] = length_mm;
+  out.format = parse_format(plain, "format");
+  return out;
+}
+
+std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
+  const json* m = given_motion(body);
+  if (m == nullptr) {
+    // "motion": null is absent, as every optional member.
+    const json* format = body.is_object() ? given_member(body, "format") : nullptr;
+    if (format == nullptr || !format->is_object() || find_member(*format, "motion") == nullptr) {
+      return std::nullopt;
+    }
+    json out = body;
+    out["format"].erase("motion");
+    return out;
+  }
+  require_object(*m, kMotion);
+  const MotionType type = parse_type(*m);
+  if (type != MotionType::kLine) {
+    invalid(kMotion, kMotion + " of type " + show((*m)["type"]) +
+                         ": planning along paths is not available yet; plans, min-time and cam "
+                         "export move along a straight line (format.stroke_mm, or a motion of "
+                         "type \"line\"). POST /v1/simulate predicts the wave of any motion");
+  }
+  static_cast<void>(parse_motion(*m, false));  // validates the line
+  const json& format = body["format"];
+  if (given_member(format, "stroke_mm") != nullptr) {
+    invalid("format.stroke_mm",
+            "format.stroke_mm and format.motion both give the move: give one of them (stroke_mm "
+            "is the short form of a motion of type \"line\")");
+  }
+  json out = body;
+  out["format"].erase("motion");
+  out["format"]["stroke_mm"] = (*m)["length_mm"];
+  return out;
+}
+
+nlohmann::json trajectory_motion_json(const TrajectorySamples& samples) {
+  auto scaled = [](const std::vector<double>& v, double scale) {
+    std::vector<double> out(v.size());
+    for (std::size_t i = 0; i < v.size(); ++i) out[i] = v[i] * scale;
+    return out;
+  };
+  json m{{"type", "trajectory"},
+         {"t_s", samples.t},
+         {"x_mm", scaled(samples.x, 1e3)},
+         {"y_mm", scaled(samples.y, 1e3)}};
+  if (!samples.z.empty()) m["z_mm"] = scaled(samples.z, 1e3);
+  if (!samples.theta.empty()) m["theta_deg"] = scaled(samples.theta, 1.0 / kRadPerDeg);
+  return m;
+}
+
+}  // namespace slosh::api

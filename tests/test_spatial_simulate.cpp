@@ -1,0 +1,357 @@
+// POST /v1/simulate and `slosh simulate` with format.motion (SPEC §14), end to end on the real
+// binary: an arc's answer equals the core's planar models called here, a line motion gives the
+// straight line's wave in any direction, every bad motion is refused with its exact sentence,
+// the planning endpoints refuse paths honestly, and `slosh simulate --trajectory` on a measured
+// run gives the core's peaks.
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <fstream>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/format_json.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/response/planar_response.hpp"
+#include "support/paths.hpp"
+#include "support/process.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using test::Server;
+
+constexpr double kPi{std::numbers::pi};
+
+json format_json_of(double stroke_mm) {
+  return json{{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+              {"fill_height_mm", 82},
+              {"fluid", "water"},
+              {"stroke_mm", stroke_mm},
+              {"motion_time_s", 1.2}};
+}
+
+json arc_body() {
+  json format = format_json_of(0);
+  format.erase("stroke_mm");
+  format["motion"] = {
+      {"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}};
+  return {{"format", format}, {"law", {{"type", "seven_segment_uniform"}}}};
+}
+
+json post(Server& server, const std::string& route, const json& body, int status = 200) {
+  auto client = server.client();
+  const auto r = client.Post(route, body.dump(), "application/json");
+  EXPECT_TRUE(r) << route;
+  if (!r) return json::object();
+  EXPECT_EQ(r->status, status) << r->body;
+  return json::parse(r->body);
+}
+
+// The model the API builds by default (3 modes, thesis damping, default alpha) on the format.
+SloshingModel default_model(const json& format) {
+  json plain = format;
+  plain.erase("motion");
+  if (!plain.contains("stroke_mm")) plain["stroke_mm"] = 1.0;
+  ModelOptions options;
+  options.modes = 3;
+  return make_sloshing_model(api::parse_format(plain), options);
+}
+
+void expect_peaks(const json& got, const PlanarPeaks& want, double rel) {
+  auto near = [&](const char* key, double value) {
+    EXPECT_NEAR(got[key].get<double>(), value, rel * std::max(1.0, std::abs(value))) << key;
+  };
+  near("eta_motion_mm", want.motion.value * 1e3);
+  near("eta_rest_mm", want.rest.value * 1e3);
+  near("t_motion_s", want.motion.time);
+  near("t_rest_s", want.rest.time);
+  near("direction_motion_deg", want.motion.direction * 180 / kPi);
+  near("direction_rest_deg", want.rest.direction * 180 / kPi);
+}
+
+TEST(SpatialSimulate, ArcAnswerEqualsTheCorePlanarModels) {
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json body = arc_body();
+  const json r = post(server, "/v1/simulate", body);
+  ASSERT_TRUE(r.contains("prediction")) << r.dump();
+
+  const PlanarPath path = PlanarPath::arc(0.3, kPi / 2, true);
+  const SevenSegmentLaw law(uniform_durations(1.2), path.length());
+  const PlanarDrive drive(path, law.law());
+  const SloshingModel model = default_model(body["format"]);
+  expect_peaks(r["prediction"]["linear"], planar_linear_peaks(model, drive, 1.0), 1e-10);
+  expect_peaks(r["prediction"]["nonlinear"], planar_nonlinear_peaks(model, drive, 1.0), 1e-10);
+  EXPECT_NEAR(r["motion"]["length_mm"].get<double>(), 300 * kPi / 2, 1e-9);
+  EXPECT_EQ(r["motion"]["type"], "arc");
+  EXPECT_EQ(r["format"]["motion"], body["format"]["motion"]);
+  // The normal acceleration turns the wave off the tangent: not the straight line's answer.
+  const SevenSegmentLaw straight(uniform_durations(1.2), path.length());
+  const PlanarDrive line(PlanarPath::line(path.length()), straight.law());
+  EXPECT_GT(std::abs(r["prediction"]["linear"]["eta_motion_mm"].get<double>() -
+                     planar_linear_peaks(model, line, 1.0).motion.value * 1e3),
+            0.1);
+}
+
+TEST(SpatialSimulate, LineMotionGivesTheStrokesWaveInAnyDirection) {
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json law{{"type", "seven_segment_uniform"}};
+  const json straight =
+      post(server, "/v1/simulate", {{"format", format_json_of(800)}, {"law", law}});
+  for (const double direction : {0.0, 37.0}) {
+    json format = format_json_of(0);
+    format.erase("stroke_mm");
+    format["motion"] = {{"type", "line"}, {"length_mm", 800}, {"direction_deg", direction}};
+    const json r = post(server, "/v1/simulate", {{"format", format}, {"law", law}});
+    for (const char* model : {"linear", "nonlinear"}) {
+      const json& got = r["prediction"][model];
+      const json& want = straight["prediction"][model];
+      for (const char* key : {"eta_motion_mm", "eta_rest_mm"}) {
+        EXPECT_NEAR(got[key].get<double>(), want[key].get<double>(), 1e-7 * want[key].get<double>())
+            << model << ' ' << key << " at " << direction << " deg";
+      }
+      EXPECT_NEAR(got["t_motion_s"].get<double>(), want["t_motion_s"].get<double>(), 1e-6);
+      // The wave peaks on the wall along the line (ahead or behind the container).
+      const double d = std::remainder(got["direction_motion_deg"].get<double>() - direction, 180.0);
+      EXPECT_NEAR(d, 0.0, 1e-6) << model;
+    }
+  }
+}
+
+TEST(SpatialSimulate, PlansTakeALineMotionAsTheStroke) {
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  json by_stroke{{"format", format_json_of(800)}, {"strategy", "baseline"}};
+  json by_line = by_stroke;
+  by_line["format"].erase("stroke_mm");
+  by_line["format"]["motion"] = {{"type", "line"}, {"length_mm", 800}, {"direction_deg", 90}};
+  const json a = post(server, "/v1/plans", by_stroke);
+  const json b = post(server, "/v1/plans", by_line);
+  EXPECT_EQ(a["key"], b["key"]);
+  EXPECT_EQ(a["prediction"], b["prediction"]);
+}
+
+struct Refusal {
+  const char* what;
+  json body;
+  const char* field;
+  const char* message;
+};
+
+json with_motion(const json& motion, bool path_motion = true) {
+  json body = arc_body();
+  body["format"]["motion"] = motion;
+  if (!path_motion) {
+    body["format"].erase("motion_time_s");
+    body.erase("law");
+  }
+  return body;
+}
+
+json trajectory(std::vector<double> t, std::vector<double> x) {
+  std::vector<double> y(x.size(), 0.0);
+  return {{"type", "trajectory"}, {"t_s", t}, {"x_mm", x}, {"y_mm", y}};
+}
+
+TEST(SpatialSimulate, BadMotionsAreRefusedNamingTheMember) {
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json arc{{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  json radius = arc;
+  radius["radius_mm"] = -5;
+  json angle = arc;
+  angle["angle_deg"] = 0;
+  const json joined{{"type", "path"},
+                    {"segments",
+                     {{{"line_mm", 200}},
+                      {{"arc", {{"radius_mm", 100}, {"angle_deg", 90}}}},
+                      {{"line_mm", 100}, {"heading_deg", 45}}}}};
+  const json bad_radius_in_path{
+      {"type", "path"},
+      {"segments",
+       {{{"line_mm", 200}}, {{"line_mm", 10}}, {{"arc", {{"radius_mm", 0}, {"angle_deg", 30}}}}}}};
+  std::vector<double> fine_t, fine_x;
+  for (int i = 0; i <= 400; ++i) {
+    fine_t.push_back(i * 0.005);
+    fine_x.push_back(100.0 * std::sin(i * 0.005));
+  }
+  std::vector<double> same_t = fine_t;
+  same_t[13] = same_t[12];
+  json with_null = trajectory(fine_t, fine_x);
+  with_null["x_mm"][7] = nullptr;
+  json both = arc_body();
+  both["format"]["stroke_mm"] = 800;
+  const std::vector<Refusal> refusals{
+      {"radius <= 0", with_motion(radius), "format.motion.radius_mm",
+       "format.motion.radius_mm = -5 is out of range: allowed > 0 and <= 100000 mm"},
+      {"angle 0", with_motion(angle), "format.motion.angle_deg",
+       "format.motion.angle_deg = 0 is not allowed: an arc turns, allowed -3600 to 3600 deg "
+       "except 0 (signed, left positive)"},
+      {"radius 0 in a path", with_motion(bad_radius_in_path),
+       "format.motion.segments[2].arc.radius_mm",
+       "format.motion.segments[2].arc.radius_mm = 0 is out of range: allowed > 0 and <= 100000 "
+       "mm"},
+      {"no common tangent", with_motion(joined), "format.motion.segments[2]",
+       "format.motion.segments[2] starts at heading 45 deg but the path arrives at heading 90 deg: "
+       "lines and arcs must join with a common tangent"},
+      {"times not increasing", with_motion(trajectory(same_t, fine_x), false),
+       "format.motion.t_s[13]",
+       "format.motion.t_s[13] = 0.06 s must be greater than t[12] = 0.06 s (times strictly "
+       "increasing)"},
+      {"null sample", with_motion(with_null, false), "format.motion.x_mm[7]",
+       "format.motion.x_mm[7] is required: a number, allowed -1000000000 to 1000000000"},
+      {"three samples", with_motion(trajectory({0, 0.1, 0.2}, {0, 1, 2}), false),
+       "format.motion.t_s", "format.motion.t_s: a trajectory needs at least 4 samples, got 3"},
+      {"too coarse", with_motion(trajectory({0, 0.1, 0.2, 0.3, 0.4}, {0, 1, 2, 3, 4}), false),
+       "format.motion.t_s[1]",
+       "format.motion.t_s[1]: samples 0 and 1 are 0.1 s apart; the first sloshing mode "
+       "(3.065303562 Hz) needs at least 61.30607125 samples per second (a spacing of at most "
+       "0.01631159818 s)"},
+      {"stroke and motion", both, "format.stroke_mm",
+       "format.stroke_mm and format.motion both give the move: give one of them (stroke_mm is the "
+       "short form of a motion of type \"line\")"},
+  };
+  for (const Refusal& r : refusals) {
+    const json e = post(server, "/v1/simulate", r.body, 422);
+    ASSERT_TRUE(e.contains("error")) << r.what << ": " << e.dump();
+    EXPECT_EQ(e["error"]["field"], r.field) << r.what;
+    EXPECT_EQ(e["error"]["message"], r.message) << r.what;
+  }
+}
+
+TEST(SpatialSimulate, PlanningAlongAPathIsRefusedHonestly) {
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  json plan = arc_body();
+  plan.erase("law");
+  plan["strategy"] = "baseline";
+  json min_time = arc_body();
+  min_time.erase("law");
+  min_time["format"].erase("motion_time_s");
+  const std::string message =
+      "format.motion of type \"arc\": planning along paths is not available yet; plans, "
+      "min-time and cam export move along a straight line (format.stroke_mm, or a motion of type "
+      "\"line\"). POST /v1/simulate predicts the wave of any motion";
+  for (const auto& [route, body] : {std::pair{"/v1/plans", plan}, {"/v1/min-time", min_time}}) {
+    const json e = post(server, route, body, 422);
+    EXPECT_EQ(e["error"]["field"], "format.motion") << route;
+    EXPECT_EQ(e["error"]["message"], message) << route;
+  }
+  // A cam export of a law along the arc is refused too, not exported as a straight move.
+  const test::TempDir dir;
+  test::write_file(dir / "arc.json", arc_body().dump());
+  const test::RunResult run = test::run_slosh(
+      {"export", "--request", (dir / "arc.json").string(), "--out", (dir / "cam.csv").string()});
+  EXPECT_EQ(run.exit_code, 2) << run.err;
+  const json e = json::parse(run.err);
+  EXPECT_EQ(e["error"]["field"], "format.motion");
+  EXPECT_EQ(e["error"]["message"], message);
+}
+
+std::string num(double v) {
+  return json(v).dump();
+}
+
+// The measured run's commanded trajectory through the CLI gives the peaks of the core's models
+// on the same file, at the measured first mode and the JDSMC damping (as test_planar_measured).
+TEST(SpatialSimulate, CliTrajectoryOfAMeasuredRunGivesTheCorePeaks) {
+  const std::string csv = std::string(SLOSH_SOURCE_DIR) +
+                          "/tests/data/bologna-4d/TRD_2D_0.3m_2.2s_270deg.trajectory.csv";
+  const double omega_scale = 18.961 / natural_frequency(0.049, 0.080, 1);
+  const json request{
+      {"format", {{"container", {{"radius_mm", 49}}}, {"fill_height_mm", 80}, {"fluid", "water"}}},
+      {"rest_time_s", 4},
+      {"options", {{"damping", "paper"}, {"model", {{"omega_scale", omega_scale}}}}}};
+  const test::TempDir dir;
+  test::write_file(dir / "request.json", request.dump());
+  const test::RunResult run = test::run_slosh(
+      {"simulate", "--request", (dir / "request.json").string(), "--trajectory", csv});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json r = json::parse(run.out);
+
+  std::ifstream in(csv);
+  TrajectorySamples samples = read_pose_csv(in, "run");
+  // The CLI puts the samples in the request in mm and degrees, read back as m and rad: the
+  // same round trip here, so the answers are equal to the last bits.
+  for (std::vector<double>* v : {&samples.x, &samples.y, &samples.z}) {
+    for (double& value : *v) value = value * 1e3 * 1e-3;
+  }
+  for (double& value : samples.theta) value = value * (1.0 / (kPi / 180.0)) * (kPi / 180.0);
+  const SampledTrajectory trajectory(std::move(samples));
+  Format f;
+  f.container.radius = 0.049;
+  f.fill_height = 0.080;
+  ModelOptions options;
+  options.damping = DampingCorrelation::kPaper;
+  options.omega_scale = omega_scale;
+  const SloshingModel model = make_sloshing_model(f, options);
+  const PlanarDrive drive(trajectory);
+  expect_peaks(r["prediction"]["linear"], planar_linear_peaks(model, drive, 4.0), 1e-12);
+  expect_peaks(r["prediction"]["nonlinear"], planar_nonlinear_peaks(model, drive, 4.0), 1e-12);
+  EXPECT_EQ(r["motion"]["samples"], trajectory.size());
+  EXPECT_FALSE(r["format"].contains("stroke_mm"));
+}
+
+// A plain CSV in mm and degrees is the same trajectory as the JSON samples; a bad line is named.
+TEST(SpatialSimulate, CliPlainCsvEqualsTheJsonTrajectoryAndNamesABadLine) {
+  std::vector<double> t, x, y, theta;
+  std::string text = "t_s,x_mm,y_mm,theta_deg\n";
+  for (int i = 0; i <= 300; ++i) {
+    const double ti = i * 0.004;
+    const double phi = kPi / 2 * ti * ti * (3 - 2 * ti / 1.2) / 1.44;  // smooth 0 -> 90 deg
+    t.push_back(ti);
+    x.push_back(std::round(3e5 * std::sin(phi)) / 1e3);
+    y.push_back(std::round(3e5 * (1 - std::cos(phi))) / 1e3);
+    theta.push_back(std::round(phi * 180 / kPi * 1e6) / 1e6);
+    text +=
+        num(t.back()) + "," + num(x.back()) + "," + num(y.back()) + "," + num(theta.back()) + "\n";
+  }
+  json request{
+      {"format",
+       {{"container", {{"radius_mm", 48.5}}}, {"fill_height_mm", 82}, {"fluid", "water"}}}};
+  const test::TempDir dir;
+  test::write_file(dir / "request.json", request.dump());
+  test::write_file(dir / "run.csv", text);
+  const test::RunResult run =
+      test::run_slosh({"simulate", "--request", (dir / "request.json").string(), "--trajectory",
+                       (dir / "run.csv").string()});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  request["format"]["motion"] = {
+      {"type", "trajectory"}, {"t_s", t}, {"x_mm", x}, {"y_mm", y}, {"theta_deg", theta}};
+  const json posted = post(server, "/v1/simulate", request);
+  const json cli = json::parse(run.out)["prediction"];
+  for (const char* model : {"linear", "nonlinear"}) {
+    for (const auto& [key, value] : posted["prediction"][model].items()) {
+      // The CLI's samples go through SI and back to mm: equal to round-off.
+      EXPECT_NEAR(cli[model][key].get<double>(), value.get<double>(),
+                  1e-9 * std::max(1.0, std::abs(value.get<double>())))
+          << model << ' ' << key;
+    }
+  }
+
+  test::write_file(dir / "bad.csv", "t_s,x_mm,y_mm\n0,0,0\n0.1,nan,0\n");
+  const test::RunResult bad =
+      test::run_slosh({"simulate", "--request", (dir / "request.json").string(), "--trajectory",
+                       (dir / "bad.csv").string()});
+  EXPECT_EQ(bad.exit_code, 2);
+  const json e = json::parse(bad.err);
+  EXPECT_EQ(e["error"]["field"], "--trajectory");
+  EXPECT_EQ(e["error"]["message"], "--trajectory " + (dir / "bad.csv").string() +
+                                       " line 3: x_mm = \"nan\" must be a finite number");
+}
+
+}  // namespace
+}  // namespace slosh
