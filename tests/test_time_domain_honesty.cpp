@@ -36,12 +36,13 @@ constexpr double kMeets{1e-5};
 /// A plan's least infeasible law is no worse than a start's to this relative slack (both on the
 /// same reference, so only the reference's own round-off separates equal laws) [-].
 constexpr double kNoWorse{1e-6};
-/// A fresh plan at min-time's T_min that meets the rest bound reaches min-time's eta_motion to
-/// this factor. time_domain is a local method: the search reaches T_min by continuation from a
-/// neighbouring T, a fresh plan from its own starts, and the two can end at different local
-/// optima. Measured over 24 seeded formats (SLOSH_PROPERTY_FORMATS=24): at most 1.0004 with the
-/// starts of this planner; before it, fresh plans ended 7-11 % above the search's laws [-].
-constexpr double kFreshVsSearch{1.02};
+/// A fresh plan at a T where min-time's search found a law meeting the rest bound, when it meets
+/// the bound too, reaches the search's eta_motion to this factor. time_domain is a local method:
+/// the search plans most T by continuation from a neighbour's law, a fresh plan from its own
+/// starts, and the two can end at different local optima. Measured over 24 seeded formats
+/// (SLOSH_PROPERTY_FORMATS=24, the thesis container first, 267 feasible T): the worst 3.9 % above;
+/// before the least infeasible phase ran from every start, 4.8 % on the first 8 formats [-].
+constexpr double kFreshVsSearch{1.05};
 
 /// Largest |eta| of the nonlinear model over [t0, t1] of a 7-segment law, and over the motion.
 struct ReferencePeaks {
@@ -175,17 +176,20 @@ TEST(TimeDomainHonesty, ThesisShortMotionsMeetTheRestBoundOnTheReference) {
 }
 
 // Over seeded formats: min-time's search for time_domain (eta_rest <= 3 mm, eta_motion free)
-// gives T_min and a law that meets the bound there. A fresh plan at T_min either meets the bound
-// too, with an eta_motion within kFreshVsSearch of the search's law, or says honestly that it
-// found none; a fresh plan 1 ms below (where the search found none) is honest the same way and
-// its least infeasible law is no worse than any of its own start points.
+// gives T_min and, at every T it found feasible (T_min and the curve above), a law that meets the
+// bound. A fresh plan at each such T either meets the bound too, with an eta_motion within
+// kFreshVsSearch of the search's law, or says honestly that it found none (its least infeasible
+// law no worse than any of its own start points); a fresh plan 1 ms below T_min (where the
+// search found none) is honest the same way.
 TEST(TimeDomainHonesty, AtMinTimesBoundaryFreshPlansAreHonestAndNearTheSearchsLaw) {
   const int count = test::property_format_count(4);
   std::mt19937 rng(20261127u);
   int compared = 0;
+  int flagged = 0;
   double worst = 0.0;
   for (int k = 0; k < count; ++k) {
-    const Format base = test::random_format(rng);
+    // The thesis container first (fresh plans there ended up to 11 % above the search's laws).
+    const Format base = k == 0 ? Format{} : test::random_format(rng);
     MinTimeOptions mo;
     mo.eta_motion_max = 1.0;  // the rest bound alone decides T_min
     mo.plan.time_limit = 600.0;
@@ -200,23 +204,28 @@ TEST(TimeDomainHonesty, AtMinTimesBoundaryFreshPlansAreHonestAndNearTheSearchsLa
     PlanOptions o = mo.plan;
     o.eta_rest_max = mo.eta_rest_max;
     Format f = base;
-    f.motion_time = *mt.t_min;
     const SloshingModel model = make_sloshing_model(f, o.model);
-    const ReferencePeaks search =
-        reference_peaks(model, *mt.plan->durations, f.stroke, o.rest_time);
-    ASSERT_LE(search.rest, o.eta_rest_max * (1.0 + kMeets)) << name;
-    const PlanResult fresh = plan(f, Strategy::kTimeDomain, o);
-    const std::string what =
-        std::string(name) + ", T_min " + std::to_string(f.motion_time) + " s: " + fresh.message;
-    if (fresh.usable()) {
-      const ReferencePeaks p = reference_peaks(model, *fresh.durations, f.stroke, o.rest_time);
-      EXPECT_LE(p.rest, o.eta_rest_max * (1.0 + kMeets)) << what;
-      EXPECT_LE(p.motion, search.motion * kFreshVsSearch) << what;
-      worst = std::max(worst, p.motion / search.motion);
-      ++compared;
-    } else {
-      EXPECT_EQ(to_string(fresh.status), "infeasible") << what;
-      expect_honest_least_infeasible(f, o, fresh, what);
+    // Every T the search found feasible (T_min and the curve above it, most of them planned by
+    // continuation from a neighbour's law), planned fresh.
+    for (const MinTimePoint& point : mt.curve) {
+      if (!point.feasible || !point.durations) continue;
+      f.motion_time = point.motion_time;
+      const ReferencePeaks search = reference_peaks(model, *point.durations, f.stroke, o.rest_time);
+      ASSERT_LE(search.rest, o.eta_rest_max * (1.0 + kMeets)) << name;
+      const PlanResult fresh = plan(f, Strategy::kTimeDomain, o);
+      const std::string what = std::string(name) + ", T " + std::to_string(f.motion_time) +
+                               " s (T_min " + std::to_string(*mt.t_min) + " s): " + fresh.message;
+      if (fresh.usable()) {
+        const ReferencePeaks p = reference_peaks(model, *fresh.durations, f.stroke, o.rest_time);
+        EXPECT_LE(p.rest, o.eta_rest_max * (1.0 + kMeets)) << what;
+        EXPECT_LE(p.motion, search.motion * kFreshVsSearch) << what;
+        worst = std::max(worst, p.motion / search.motion);
+        ++compared;
+      } else {
+        EXPECT_EQ(to_string(fresh.status), "infeasible") << what;
+        expect_honest_least_infeasible(f, o, fresh, what);
+        ++flagged;
+      }
     }
     if (mt.infeasible_below) {
       f.motion_time = *mt.infeasible_below;
@@ -227,9 +236,9 @@ TEST(TimeDomainHonesty, AtMinTimesBoundaryFreshPlansAreHonestAndNearTheSearchsLa
     }
   }
   std::printf(
-      "[ property ] %d formats, %d fresh plans at T_min meet the bound, worst eta_motion "
-      "%.6f x the search's\n",
-      count, compared, worst);
+      "[ property ] %d formats: %d fresh plans at feasible T of the search meet the bound "
+      "(worst eta_motion %.6f x the search's law), %d say they found none\n",
+      count, compared, worst, flagged);
 }
 
 // Over seeded a_max just above the kinematic minimum (the thesis format and seeded formats):
