@@ -404,8 +404,8 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   return total;
 }
 
-// The bounded phase from `from` into `out`, adding to its counts (dense excess within
-// kDenseTolerance counts as met).
+// The bounded phase from `from` (starts that keep the machine limits) into `out`, adding to its
+// counts (dense excess within kDenseTolerance counts as met).
 void run_bounded(const StrategyContext& c, bool motion, double bound,
                  const std::vector<Durations>& from, StrategyOutcome* out) {
   double excess = 0.0;
@@ -415,6 +415,12 @@ void run_bounded(const StrategyContext& c, bool motion, double bound,
   *out = outcome_from(m, c);
   out->evaluations = evaluations;
   out->starts = solved;
+  if ((out->status == SolveStatus::kTimeLimit || out->status == SolveStatus::kFailed) &&
+      !keeps_limits(c.space, c.space.limits, out->durations, kLimitSlack)) {
+    // Out of time before any feasible point, outcome_from falls back on the uniform law, which
+    // may break the limits; every start here keeps them.
+    out->durations = from.front();
+  }
   if ((out->status == SolveStatus::kOptimal || out->status == SolveStatus::kAcceptable) &&
       excess > kDenseTolerance) {
     // The exchange rounds ran out before the dense check passed: not met.
@@ -529,20 +535,12 @@ std::optional<double> dense_objective(const StrategyContext& c, bool minimise_mo
   return value / c.eta_ref;
 }
 
-}  // namespace
-
-namespace {
-
 // time_domain from starts that keep the context's machine limits.
 StrategyOutcome solve_from(const StrategyContext& c, const std::vector<Durations>& starts) {
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
   StrategyOutcome o;
   run_bounded(c, motion, bound, starts, &o);
-  if (o.status == SolveStatus::kTimeLimit &&
-      !keeps_limits(c.space, c.space.limits, o.durations, kLimitSlack)) {
-    o.durations = starts.front();  // out of time: the first admissible start
-  }
   if (o.status != SolveStatus::kInfeasible) {
     // A continuation never returns worse than its warm start: the exchange rounds resolve the
     // objective to about kObjectiveTolerance and their path differs from the one that found the
