@@ -314,6 +314,19 @@ bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise
   return true;
 }
 
+// The relative excess of the bounded peak of the solver's point x over `bound` on the accurate
+// prediction the plan is verified by (`robust_value`: the worst over the check models, computed
+// by add_breaking_model), 0 within kDenseTolerance. The sensitivities run at half the
+// prediction's steps (frozen at the run's start): where the motion's peak is tens of times the
+// bounded one (short motions) their error at the bounded peak reaches 1e-4 of the bound, so a
+// point they accept can break it on that prediction.
+double accurate_miss(const StrategyContext& c, bool minimise_motion, double bound,
+                     const std::vector<double>& x, double robust_value) {
+  const double value =
+      c.robust() ? robust_value : constrained_value(c, minimise_motion, c.space.polish(x.data()));
+  return value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
+}
+
 // The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
 // dense accurate response of every sample model is checked window by window, and every peak
 // above its bound becomes a new sample for the next solve (started from the current point).
@@ -379,19 +392,12 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
       added = true;
     }
-    // The sensitivities run at half the prediction's steps (frozen at the run's start): where the
-    // motion's peak is tens of times the bounded one (short motions) their error at the bounded
-    // peak reaches 1e-4 of the bound, so a point they accept can break it on the prediction the
-    // plan is verified by. The bound is met only on that prediction; a miss tightens the bound
+    // The bound is met only on the prediction the plan is verified by; a miss tightens the bound
     // the solver sees by twice the miss and solves again from the point.
-    double missed = 0.0;
-    if (bound && !added && !outgrown) {
-      if (!c.robust()) {
-        accurate = constrained_value(c, minimise_motion, c.space.polish(total.best.x.data()));
-      }
-      if (accurate > *bound * (1.0 + kDenseTolerance)) missed = accurate / *bound - 1.0;
-      excess = std::max(excess, missed);
-    }
+    const double missed = bound && !added && !outgrown
+                              ? accurate_miss(c, minimise_motion, *bound, total.best.x, accurate)
+                              : 0.0;
+    excess = std::max(excess, missed);
     *bound_excess = excess;
     if (!added && !outgrown && missed == 0.0) break;
     rerun = !added && missed == 0.0;
