@@ -474,7 +474,7 @@ TEST(CliPlan, UnreachableConstraintIsAPlanWithStatusInfeasible) {
   const json out = parse_or_fail(r.out);
   EXPECT_EQ(out["status"], "infeasible");
   const std::string message = out["message"];
-  EXPECT_NE(message.find("eta_rest <= 0.1 mm is not reachable in 0.5 s: the best is"),
+  EXPECT_NE(message.find("no law found that meets eta_rest <= 0.1 mm in 0.5 s: the best found is"),
             std::string::npos)
       << message;
   EXPECT_NE(message.find("lengthen the motion or relax the limit"), std::string::npos) << message;

@@ -8,6 +8,7 @@
 
 #include "response/nonlinear_sensitivity.hpp"
 #include "slosh/core/response/response.hpp"
+#include "solve/admissible_starts.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
 
@@ -34,6 +35,17 @@ constexpr double kObjectiveTolerance{1e-6};
 /// it is resolved to 0.1 % instead of running on for digits nobody reads [-].
 constexpr double kHopelessObjectiveTolerance{1e-3};
 constexpr double kHopeless{1.01};
+/// A least infeasible phase stops refining once every peak of its objective is below this
+/// fraction of the bound it seeks to meet: the bound is then met with room, and the bounded phase
+/// that runs from its point does the rest [-].
+constexpr double kMetWithRoom{0.5};
+
+/// How finely a least infeasible phase resolves its objective: it only has to tell whether the
+/// bound is met and, when it is not, by how much to 3 digits [m].
+struct LeastResolution {
+  double hopeless_above;  ///< above it the objective is resolved to kHopelessObjectiveTolerance
+  double met_below;       ///< peaks at or below it take no samples and end the solver's run
+};
 
 /// The scheme of the sensitivities the solver and the dense check use: DOP853 with 20 steps per
 /// period of mode 1 (half the steps of the accurate prediction, whose 40 are sized for the
@@ -125,10 +137,11 @@ struct SampleRow {
 // min z s.t. |eta_m(t_k)| / eta_ref <= z at the samples of the minimised phase and
 // |eta_m(t_k)| / eta_ref <= bound / eta_ref at those of the other phase (none without a bound),
 // for every model m. The problem evaluates into `ws` and reads `samples`: both must outlive the
-// solve.
+// solve. A run ends once z <= stop_below / eta_ref when that is given.
 MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
                                 std::optional<double> bound, const ModelSamples& samples,
-                                const std::vector<Durations>& starts, TimeDomainWorkspace& ws) {
+                                const std::vector<Durations>& starts, TimeDomainWorkspace& ws,
+                                std::optional<double> stop_below) {
   ws.valid = false;             // the samples may have changed since the last evaluation
   std::vector<SampleRow> rows;  // samples that carry a constraint
   for (std::size_t m = 0; m < samples.size(); ++m) {
@@ -185,7 +198,9 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
     }
     x.push_back(z);
   }
-  return multi_start(p, x0, c, time_domain_options());
+  NlpOptions o = time_domain_options();
+  if (stop_below) o.stop_value = *stop_below / c.eta_ref;
+  return multi_start(p, x0, c, o);
 }
 
 // The starting samples: kSamplesPerPeriod per period of the model's mode 1 over the motion and
@@ -207,11 +222,10 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
 // `excess` grows to the largest relative excess over the bound.
 // `computed` is the model's sensitivity already integrated at x (the solver's workspace when its
 // last evaluation was x), or null to integrate it here.
-// `hopeless_above` (least infeasible phases): the objective level above which the plan is
-// infeasible anyway; the peaks are then sampled to kHopelessObjectiveTolerance only.
+// `least` (least infeasible phases): how finely the objective's peaks are sampled.
 bool check_dense(const StrategyContext& c, const SloshingModel& model, const double* x, double z,
                  bool minimise_motion, std::optional<double> bound,
-                 std::optional<double> hopeless_above, Samples& samples, double& excess,
+                 const std::optional<LeastResolution>& least, Samples& samples, double& excess,
                  const NonlinearSensitivity* computed) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
@@ -225,7 +239,7 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     computed = &*own;
   }
   const NonlinearSensitivity& sens = *computed;
-  const bool hopeless = hopeless_above && z > *hopeless_above;
+  const bool hopeless = least && z > least->hopeless_above;
   const double level = z * (1.0 + (hopeless ? kHopelessObjectiveTolerance : kObjectiveTolerance));
   bool added = false;
   for (int w = 0; w < kw + kwr; ++w) {
@@ -237,7 +251,7 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     const WindowPeak peak = sens.window_peak(in_motion ? a : std::max(a, T + 1e-12), b);
     if (free) {
       // The objective's own peaks: sampled for accuracy (the reported eta is the dense one).
-      if (peak.value > level) {
+      if (peak.value > level && !(least && peak.value <= least->met_below)) {
         samples.add(peak.time, peak.time <= T);
         added = true;
       }
@@ -250,20 +264,42 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
   return added;
 }
 
+// The dense value of the constrained quantity (eta_rest for objective kMotion) at d, the largest
+// over the sample models [m].
+double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
+  // The uniform law at the nominal model alone was simulated once for the plan.
+  if (!c.robust() && c.uniform_prediction != nullptr &&
+      d == uniform_durations(c.format.motion_time)) {
+    const SloshPeaks& p = c.uniform_prediction->nonlinear;
+    return motion ? p.rest.value : p.motion.value;
+  }
+  const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
+  double value = 0.0;
+  for (const SloshingModel& m : c.check_models) {
+    const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
+    value = std::max(value, motion ? p.rest.value : p.motion.value);
+  }
+  return value;
+}
+
 // Robust plans: the check model (of the robustness grid over the uncertainty range) whose bounded
 // peak breaks the bound the most at x, appended to `models` (exchange in frequency, as the dense
-// check is in time). Returns whether one was added; `excess` grows to its relative excess.
+// check is in time). Returns whether one was added; `excess` grows to its relative excess and
+// `accurate` is set to the largest bounded peak over the check models [m].
 bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise_motion,
-                        double bound, std::vector<SloshingModel>& models, double& excess) {
+                        double bound, std::vector<SloshingModel>& models, double& excess,
+                        double& accurate) {
   if (!c.robust()) return false;
   Durations d;
   std::copy(x, x + kSegments, d.begin());
   const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
   double worst = bound * (1.0 + kDenseTolerance);
   const SloshingModel* breaking = nullptr;
+  accurate = 0.0;
   for (const SloshingModel& m : c.check_models) {
     const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
     const double value = minimise_motion ? p.rest.value : p.motion.value;
+    accurate = std::max(accurate, value);
     if (value > worst) {
       worst = value;
       breaking = &m;
@@ -278,13 +314,26 @@ bool add_breaking_model(const StrategyContext& c, const double* x, bool minimise
   return true;
 }
 
+// The relative excess of the bounded peak of the solver's point x over `bound` on the accurate
+// prediction the plan is verified by (`robust_value`: the worst over the check models, computed
+// by add_breaking_model), 0 within kDenseTolerance. The sensitivities run at half the
+// prediction's steps (frozen at the run's start): where the motion's peak is tens of times the
+// bounded one (short motions) their error at the bounded peak reaches 1e-4 of the bound, so a
+// point they accept can break it on that prediction.
+double accurate_miss(const StrategyContext& c, bool minimise_motion, double bound,
+                     const std::vector<double>& x, double robust_value) {
+  const double value =
+      c.robust() ? robust_value : constrained_value(c, minimise_motion, c.space.polish(x.data()));
+  return value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
+}
+
 // The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
 // dense accurate response of every sample model is checked window by window, and every peak
 // above its bound becomes a new sample for the next solve (started from the current point).
 MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
                              std::optional<double> bound, std::vector<Durations> starts,
                              double* bound_excess,
-                             std::optional<double> hopeless_above = std::nullopt) {
+                             const std::optional<LeastResolution>& least = std::nullopt) {
   std::vector<SloshingModel> models = c.sample_models;
   ModelSamples samples;
   for (const SloshingModel& m : models) samples.push_back(initial_samples(c, m));
@@ -299,7 +348,8 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   for (int round = 0; round < rounds; ++round) {
     std::optional<double> solver_bound;
     if (bound) solver_bound = *bound * (1.0 - margin);
-    MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws);
+    MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws,
+                                        least ? std::optional(least->met_below) : std::nullopt);
     r.evaluations += total.evaluations;
     r.starts += total.starts;
     if (rerun && (r.best.x.empty() || (total.feasible && !r.feasible) ||
@@ -331,21 +381,28 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       }
     }
     for (std::size_t m = 0; m < samples.size(); ++m) {
-      added =
-          check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, hopeless_above,
-                      samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
-          added;
+      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
+                          samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
+              added;
     }
-    if (bound &&
-        add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess)) {
+    double accurate = 0.0;  // the bounded peak of the accurate prediction (robust: worst case)
+    if (bound && add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess,
+                                    accurate)) {
       samples.push_back(initial_samples(c, models.back()));
       ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
       added = true;
     }
+    // The bound is met only on the prediction the plan is verified by; a miss tightens the bound
+    // the solver sees by twice the miss and solves again from the point.
+    const double missed = bound && !added && !outgrown
+                              ? accurate_miss(c, minimise_motion, *bound, total.best.x, accurate)
+                              : 0.0;
+    excess = std::max(excess, missed);
     *bound_excess = excess;
-    if (!added && !outgrown) break;
-    rerun = !added;
+    if (!added && !outgrown && missed == 0.0) break;
+    rerun = !added && missed == 0.0;
     if (round >= 1) margin += 2.0 * excess;
+    if (round == 0) margin += 2.0 * missed;
     Durations d;
     std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
     starts = {d};
@@ -353,8 +410,8 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   return total;
 }
 
-// The bounded phase from `from` into `out`, adding to its counts (dense excess within
-// kDenseTolerance counts as met).
+// The bounded phase from `from` (starts that keep the machine limits) into `out`, adding to its
+// counts (dense excess within kDenseTolerance counts as met).
 void run_bounded(const StrategyContext& c, bool motion, double bound,
                  const std::vector<Durations>& from, StrategyOutcome* out) {
   double excess = 0.0;
@@ -364,6 +421,12 @@ void run_bounded(const StrategyContext& c, bool motion, double bound,
   *out = outcome_from(m, c);
   out->evaluations = evaluations;
   out->starts = solved;
+  if ((out->status == SolveStatus::kTimeLimit || out->status == SolveStatus::kFailed) &&
+      !keeps_limits(c.space, c.space.limits, out->durations, kLimitSlack)) {
+    // Out of time before any feasible point, outcome_from falls back on the uniform law, which
+    // may break the limits; every start here keeps them.
+    out->durations = from.front();
+  }
   if ((out->status == SolveStatus::kOptimal || out->status == SolveStatus::kAcceptable) &&
       excess > kDenseTolerance) {
     // The exchange rounds ran out before the dense check passed: not met.
@@ -371,77 +434,84 @@ void run_bounded(const StrategyContext& c, bool motion, double bound,
   }
 }
 
-// The dense value of the constrained quantity (eta_rest for objective kMotion) at d, the largest
-// over the sample models [m].
-double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
-  // The uniform law at the nominal model alone was simulated once for the plan.
-  if (!c.robust() && c.uniform_prediction != nullptr &&
-      d == uniform_durations(c.format.motion_time)) {
-    const SloshPeaks& p = c.uniform_prediction->nonlinear;
-    return motion ? p.rest.value : p.motion.value;
-  }
-  const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
-  double value = 0.0;
-  for (const SloshingModel& m : c.check_models) {
-    const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
-    value = std::max(value, motion ? p.rest.value : p.motion.value);
-  }
-  return value;
-}
-
-// Least infeasible phase after the bounded phase `o` was infeasible: the constrained quantity
-// alone minimised from the same starts (the min of eta_rest, or of eta_motion for objective
-// kRest). When it meets the bound, the bounded phase runs again from it (a feasible start);
-// failing that, it is itself a law that meets the bound.
+// Least infeasible phase after the bounded phase `o` was infeasible (SLSQP from a start far
+// outside the bound often ends outside it although laws inside exist). First, from every start
+// and, for a fresh plan, the symmetric families too, the constrained quantity alone is minimised
+// (eta_rest, or eta_motion for objective kRest) until it is met with room: each start its own run,
+// since from the uniform law alone it often ends in a local minimum tens of times the one the
+// other starts reach. Then the bounded phase runs again from every point that meets the bound
+// (feasible starts); failing that, the best of them is itself a law that meets the bound. The
+// machine limits stay hard constraints: only laws that keep them compete. time_domain is a local
+// method: when no law it finds meets the bound it says so, with what the best found reaches, and
+// does not claim that none exists.
 StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double bound,
                                  const std::vector<Durations>& starts, StrategyOutcome o) {
-  double unused = 0.0;
-  const MultiStartResult best =
-      solve_phase(c, !motion, std::nullopt, starts, &unused, bound * kHopeless);
-  const Durations infeasible_point = o.durations;
-  o.evaluations += best.evaluations;
-  o.starts += best.starts;
-  if (best.best.x.empty() || !best.feasible) {
-    o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
-    o.detail = "the machine limits leave no admissible law";
-    return o;
+  std::vector<Durations> from = starts;
+  if (!c.space.warm_start) {
+    for (const Durations& d : admissible_starts(c, c.space.starts(0)).starts) {
+      if (std::find(from.begin(), from.end(), d) == from.end()) from.push_back(d);
+    }
   }
-  // The minimiser's point, or a start or the bounded phase's point when one is better.
-  Durations chosen = c.space.polish(best.best.x.data());
-  double reached = constrained_value(c, motion, chosen);
-  std::vector<Durations> others = starts;
-  others.push_back(infeasible_point);
-  for (const Durations& d : others) {
+  const LeastResolution least{bound * kHopeless, bound * kMetWithRoom};
+  // The admissible laws at hand: the minimisers' points, the starts and the bounded phase's point.
+  std::vector<Durations> candidates;
+  bool minimised = false;  // some run of the first step ended
+  for (const Durations& start : from) {
+    if (c.deadline.expired()) break;
+    double unused = 0.0;
+    const MultiStartResult r = solve_phase(c, !motion, std::nullopt, {start}, &unused, least);
+    o.evaluations += r.evaluations;
+    o.starts += r.starts;
+    if (r.best.x.empty() || !r.feasible) continue;
+    minimised = true;
+    candidates.push_back(c.space.polish(r.best.x.data()));
+  }
+  candidates.insert(candidates.end(), from.begin(), from.end());
+  candidates.push_back(o.durations);
+  std::optional<Durations> chosen;  // the least value of the constrained quantity
+  double reached = 0.0;
+  std::vector<Durations> met;  // the laws that meet the bound, distinct
+  for (const Durations& d : candidates) {
+    if (!keeps_limits(c.space, c.space.limits, d, kLimitSlack)) continue;
     const double v = constrained_value(c, motion, d);
-    if (v < reached) {
+    if (v <= bound * (1.0 + kDenseTolerance) && std::find(met.begin(), met.end(), d) == met.end()) {
+      met.push_back(d);
+    }
+    if (!chosen || v < reached) {
       reached = v;
       chosen = d;
     }
   }
+  if (!chosen || (!minimised && c.deadline.expired())) {
+    o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
+    if (chosen) o.durations = *chosen;
+    o.detail = "the machine limits leave no admissible law";
+    return o;
+  }
   const std::string bounded_name = motion ? "eta_rest" : "eta_motion";
-  if (reached <= bound * (1.0 + kDenseTolerance)) {
+  if (!met.empty()) {
     StrategyOutcome again;
     again.evaluations = o.evaluations;
     again.starts = o.starts;
-    run_bounded(c, motion, bound, {chosen}, &again);
+    run_bounded(c, motion, bound, met, &again);
     if (again.status != SolveStatus::kInfeasible) return again;
     o.evaluations = again.evaluations;
     o.starts = again.starts;
     // The least infeasible point meets the bound: a law that keeps the promise, though its
     // objective is not minimised.
     o.status = SolveStatus::kAcceptable;
-    o.durations = chosen;
-    o.objective = best.best.objective;
+    o.durations = *chosen;
     o.detail = bounded_name + " <= " + sig3(bound * 1e3) + " mm met (" + sig3(reached * 1e3) +
                " mm), but the " + (motion ? "eta_motion" : "eta_rest") +
                " objective was not minimised";
     return o;
   }
   o.status = SolveStatus::kInfeasible;
-  o.durations = chosen;
-  o.detail = bounded_name + " <= " + sig3(bound * 1e3) + " mm is not reachable in " +
-             sig3(c.format.motion_time) + " s: the best is " + sig3(reached * 1e3) +
-             " mm; lengthen the motion or relax the limit";
+  o.durations = *chosen;
+  o.detail = "no law found that meets " + bounded_name + " <= " + sig3(bound * 1e3) + " mm in " +
+             sig3(c.format.motion_time) + " s: the best found is " + sig3(reached * 1e3) +
+             " mm (time_domain searches locally, from " + std::to_string(from.size()) +
+             " starts); lengthen the motion or relax the limit";
   return o;
 }
 
@@ -457,30 +527,24 @@ std::optional<double> dense_objective(const StrategyContext& c, bool minimise_mo
   }
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
+  // The bound on the prediction the plan is verified by (as the exchange's last check).
+  if (constrained_value(c, minimise_motion, d) > bound * (1.0 + kDenseTolerance)) {
+    return std::nullopt;
+  }
   double value = 0.0;
   for (const SloshingModel& m : c.sample_models) {
     NonlinearSensitivity sens(m, c.format.stroke, rest, sensitivity_options());
     sens.compute(d.data());
-    const double motion = sens.window_peak(0.0, T).value;
-    const double after = sens.window_peak(T + 1e-12, T + rest).value;
-    const double bounded = minimise_motion ? after : motion;
-    if (bounded > bound * (1.0 + kDenseTolerance)) return std::nullopt;
-    value = std::max(value, minimise_motion ? motion : after);
+    value = std::max(value, minimise_motion ? sens.window_peak(0.0, T).value
+                                            : sens.window_peak(T + 1e-12, T + rest).value);
   }
   return value / c.eta_ref;
 }
 
-}  // namespace
-
-StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
+// time_domain from starts that keep the context's machine limits.
+StrategyOutcome solve_from(const StrategyContext& c, const std::vector<Durations>& starts) {
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
-  // The uniform law; with a warm start, the warm start and then the uniform law.
-  std::vector<Durations> starts = c.space.starts(0);
-  if (!c.space.warm_start) starts.resize(1);
-  for (const Durations& d : seeds) {
-    if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
-  }
   StrategyOutcome o;
   run_bounded(c, motion, bound, starts, &o);
   if (o.status != SolveStatus::kInfeasible) {
@@ -498,6 +562,26 @@ StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Du
     return o;
   }
   return least_infeasible(c, motion, bound, starts, std::move(o));
+}
+
+}  // namespace
+
+StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
+  // The uniform law; with a warm start, the warm start and then the uniform law.
+  std::vector<Durations> starts = c.space.starts(0);
+  if (!c.space.warm_start) starts.resize(1);
+  for (const Durations& d : seeds) {
+    if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
+  }
+  // The machine limits are hard constraints of every phase, and SLSQP from a start outside them
+  // can end outside them: every start is first moved onto the set they admit.
+  AdmissibleStarts admissible = admissible_starts(c, starts);
+  if (!admissible.relaxed) return solve_from(c, admissible.starts);
+  // A limit no law reaches: the law keeps its least reachable value (and every reachable limit);
+  // the verification then names that limit.
+  StrategyContext raised = c;
+  raised.space.limits = admissible.limits;
+  return solve_from(raised, admissible.starts);
 }
 
 }  // namespace slosh::detail
