@@ -121,22 +121,22 @@ std::optional<api::JobProgress> wait_ended(HttpClient& client, const RemoteJob& 
   return std::nullopt;
 }
 
-// Writes the rows of the ended job to `sink`; empty, or why they could not be fetched. A 409
-// (the replica asked does not see yet that the job ended, or keeps a stopped job's rows for
-// `?partial=1` only) is asked again with `?partial=1`: a service that takes no query parameter
-// there refuses that (400), and the plain download is tried again.
+// Writes the rows of the ended job to `sink`; empty, or why they could not be fetched. A stopped
+// job's rows are asked with `?partial=1` (the service answers its table 409 without it); a
+// service that takes no query parameter there refuses that (400), and the plain download is
+// asked instead. Every try asks the same way: behind a round-robin proxy, two different
+// requests per try would always reach the same two replicas in the same order.
 std::string fetch_rows(HttpClient& client, const RemoteJob& job, RowSink& sink, const Deadline& d) {
-  const std::string path = job.path() + "/results.jsonl";
+  const std::string plain = job.path() + "/results.jsonl";
+  std::string path = plain + "?partial=1";
   std::string problem = "no time was left to fetch them";
   while (!d.passed()) {
     d.bound(client);
     try {
       HttpReply reply = client.get(path);
-      if (reply.status == 409) {
-        d.bound(client);
-        if (HttpReply partial = client.get(path + "?partial=1"); partial.status == 200) {
-          reply = std::move(partial);
-        }
+      if (reply.status == 400 && path != plain) {
+        path = plain;
+        continue;
       }
       if (reply.status == 200) {
         for (const api::PlanTableRow& row : job_rows_of(job, reply.body)) sink.write_row(row);
