@@ -220,6 +220,24 @@ double required_number(const nlohmann::json& object, const std::string& path, st
   return checked_number(find_member(object, key), join_path(path, key), range);
 }
 
+namespace {
+
+/// A value outside `range` as text that shows it is outside: number_text's 10 digits, or as many
+/// more as it takes (0.04999999999999999 would print as 0.05 next to "allowed 0.05 to ...").
+std::string outside_text(double x, const Range& range) {
+  std::string text = number_text(x);
+  for (int digits = 11; digits <= 17 && std::isfinite(x) && range.contains(std::stod(text));
+       ++digits) {
+    std::ostringstream os;
+    os.precision(digits);
+    os << x;
+    text = os.str();
+  }
+  return text;
+}
+
+}  // namespace
+
 double checked_number(const nlohmann::json* v, const std::string& field, const Range& range,
                       std::string_view below_range_hint) {
   if (v == nullptr || v->is_null()) {
@@ -231,7 +249,7 @@ double checked_number(const nlohmann::json* v, const std::string& field, const R
   const double x = v->get<double>();
   if (!std::isfinite(x) || !range.contains(x)) {
     std::string message =
-        field + " = " + number_text(x) + " is out of range: allowed " + range.describe();
+        field + " = " + outside_text(x, range) + " is out of range: allowed " + range.describe();
     if (x < range.lo) message += below_range_hint;
     invalid(field, message);
   }

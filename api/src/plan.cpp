@@ -20,7 +20,7 @@ namespace slosh::api {
 namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
-constexpr const char* kPlannerVersion = "plan-v4";
+constexpr const char* kPlannerVersion = "plan-v5";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
@@ -130,6 +130,9 @@ PlanRequest parse_plan_request(const nlohmann::json& body, const OptionRegistry&
   }
   if (std::optional<InvalidInput> why = drive_profile_refusal(r.strategy, o.drive_profile)) {
     invalid("options.drive_profile", "options." + why->message);
+  }
+  if (std::optional<InvalidInput> why = band_refusal(r.strategy, r.format, o)) {
+    invalid(options_field(*why, o), "options." + input_sentence(*why, r.format, o));
   }
 
   r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);

@@ -34,27 +34,76 @@ double left_to_right_sum(const Durations& d) {
 
 }  // namespace
 
+namespace {
+
+/// Walks segment i towards closing the sum, inside [lo, hi]: the rounded residual first (one step
+/// unless a later addition rounds), then single ulps (the left-to-right sum is monotone in d[i],
+/// so stepping towards T reaches it or steps over it by rounding). True when the sum is T.
+bool walk_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi) {
+  for (int step = 0; step < 4; ++step) {
+    const double residual = motion_time - left_to_right_sum(d);
+    if (residual == 0.0) return true;
+    d[i] = std::clamp(d[i] + residual, lo, hi);
+  }
+  for (int step = 0; step < 64; ++step) {
+    const double residual = motion_time - left_to_right_sum(d);
+    if (residual == 0.0) return true;
+    const double next = std::nextafter(d[i], residual > 0.0 ? INFINITY : -INFINITY);
+    if (next < lo || next > hi) return false;
+    d[i] = next;
+  }
+  return left_to_right_sum(d) == motion_time;
+}
+
+}  // namespace
+
 void close_sum(Durations& d, double motion_time, std::size_t into) {
-  // The rounded residual first (one step unless a later addition rounds), then single ulps: the
-  // left-to-right sum is monotone in d[into], so stepping towards T reaches it or steps over it
-  // by rounding; then the other segments, longest first, in the same way.
+  Durations lower{};
+  Durations upper;
+  upper.fill(INFINITY);
+  close_sum(d, motion_time, into, lower, upper);
+}
+
+void close_sum(Durations& d, double motion_time, std::size_t into, const Durations& lower,
+               const Durations& upper) {
+  // A segment that is exactly 0 stays 0 (durations below 1 ns are 0, never a subnormal), and no
+  // segment leaves its bounds: a ramp on min_ramp may only grow.
+  auto movable = [&](std::size_t i) { return d[i] != 0.0 && lower[i] < upper[i]; };
+  const Durations start = d;
+  if (movable(into) && walk_segment(d, motion_time, into, lower[into], upper[into])) return;
+  d = start;
+  // Rounding can leave no value of d[into] whose sum is T (the sum steps over T from one ulp to
+  // the next): an ulp or two on another segment, inside its bounds, changes the rounding of the
+  // partial sums; then d[into] closes the sum again.
+  for (std::size_t j = 0; j < kSegments; ++j) {
+    if (j == into || !movable(j)) continue;
+    for (double direction : {INFINITY, -INFINITY}) {
+      for (int k = 1; k <= 4; ++k) {
+        Durations trial = start;
+        for (int n = 0; n < k; ++n) trial[j] = std::nextafter(trial[j], direction);
+        if (trial[j] < lower[j] || trial[j] > upper[j]) break;
+        if (!movable(into)) {
+          if (left_to_right_sum(trial) == motion_time) {
+            d = trial;
+            return;
+          }
+          continue;
+        }
+        if (walk_segment(trial, motion_time, into, lower[into], upper[into])) {
+          d = trial;
+          return;
+        }
+      }
+    }
+  }
+  // No exact sum within a few ulps (not met in practice): the other segments, longest first,
+  // each inside its bounds, in the same way; the sum stays within an ulp or two of T otherwise.
   std::array<std::size_t, kSegments> order{};
   for (std::size_t i = 0; i < kSegments; ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return (a == into) > (b == into) || ((a == into) == (b == into) && d[a] > d[b]);
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return d[a] > d[b]; });
   for (std::size_t i : order) {
-    if (d[i] == 0.0) continue;
-    for (int step = 0; step < 4; ++step) {
-      const double residual = motion_time - left_to_right_sum(d);
-      if (residual == 0.0) return;
-      d[i] += residual;
-    }
-    for (int step = 0; step < 64; ++step) {
-      const double residual = motion_time - left_to_right_sum(d);
-      if (residual == 0.0) return;
-      d[i] = std::nextafter(d[i], residual > 0.0 ? INFINITY : -INFINITY);
-    }
+    if (movable(i) && walk_segment(d, motion_time, i, lower[i], upper[i])) return;
   }
 }
 

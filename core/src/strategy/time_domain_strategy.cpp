@@ -357,6 +357,23 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
   return value;
 }
 
+// When the bounds leave no room (4 min_ramp plus the plateau minimums fill T), the clause
+// saying so: the options, not the search, then fix the law; else empty.
+std::string one_admissible_law(const StrategyContext& c) {
+  double room = c.format.motion_time;
+  for (double lo : c.space.lower) room -= lo;
+  if (room > kZeroDuration) return {};
+  return " (4 x min_ramp_s = " + sig3(4.0 * c.options.min_ramp) +
+         " s plus the plateau minimums fill the motion time: one admissible law)";
+}
+
+// Whether d keeps the machine limits (to the solver's constraint tolerance).
+bool keeps_limits(const StrategyContext& c, const Durations& d) {
+  std::vector<double> g(static_cast<std::size_t>(c.space.limit_count()));
+  c.space.limit_constraints(d.data(), g.data(), nullptr, 0);
+  return std::all_of(g.begin(), g.end(), [](double v) { return v <= 1e-9; });
+}
+
 // Least infeasible phase after the bounded phase `o` was infeasible: the constrained quantity
 // alone minimised from the same starts (the min of eta_rest, or of eta_motion for objective
 // kRest). When it meets the bound, the bounded phase runs again from it (a feasible start);
@@ -368,17 +385,23 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   const Durations infeasible_point = o.durations;
   o.evaluations += best.evaluations;
   o.starts += best.starts;
-  if (best.best.x.empty() || !best.feasible) {
+  const bool found = !best.best.x.empty() && best.feasible;
+  if (!found && (c.deadline.expired() || c.space.limit_count() > 0)) {
     o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
     o.detail = "the machine limits leave no admissible law";
     return o;
   }
-  // The minimiser's point, or a start or the bounded phase's point when one is better.
-  Durations chosen = c.space.polish(best.best.x.data());
+  // The minimiser's point (without limits every start is admissible: a minimiser that found
+  // none, on a space of one point say, leaves the starts), or a start or the bounded phase's
+  // point when one is better.
+  Durations chosen = found ? c.space.polish(best.best.x.data()) : infeasible_point;
   double reached = constrained_value(c, motion, chosen);
   std::vector<Durations> others = starts;
   others.push_back(infeasible_point);
   for (const Durations& d : others) {
+    // A start that breaks a machine limit the minimiser kept (the uniform law above a_max) is
+    // no better law, however little it sloshes.
+    if (found && !keeps_limits(c, d)) continue;
     const double v = constrained_value(c, motion, d);
     if (v < reached) {
       reached = v;
@@ -407,8 +430,8 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   o.status = SolveStatus::kInfeasible;
   o.durations = chosen;
   o.detail = bounded_name + " <= " + sig3(bound * 1e3) + " mm is not reachable in " +
-             sig3(c.format.motion_time) + " s: the best is " + sig3(reached * 1e3) +
-             " mm; lengthen the motion or relax the limit";
+             sig3(c.format.motion_time) + " s: the best is " + sig3(reached * 1e3) + " mm" +
+             one_admissible_law(c) + "; lengthen the motion or relax the limit";
   return o;
 }
 
