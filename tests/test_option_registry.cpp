@@ -37,10 +37,11 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v4" since the spectral strategies solve
-// fewer starts to their end and min_jerk_band fewer band rows (numbers changed in the 7th digit;
-// "plan-v3" was the faster response schemes): the pinned keys are those of the same recipes with
-// that version; everything else is unchanged.
+// kVersion. The planner version in the recipe is "plan-v5" since every returned law keeps its
+// bounds to the last ulp, filters without a law return baseline's admissible law and the baseline
+// guard compares with that law ("plan-v4" was fewer spectral starts and band rows, "plan-v3" the
+// faster response schemes): the pinned keys are those of the same recipes with that version;
+// everything else is unchanged.
 std::string key_before_versions(const json& request) {
   json recipe = canonical_recipe(parse_plan_request(request));
   EXPECT_EQ(recipe.at("slosh_version"), kVersion);
@@ -50,13 +51,13 @@ std::string key_before_versions(const json& request) {
 }
 
 TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
-  EXPECT_EQ(key_before_versions(request()), "b1c2547798863e3f4bd98c9a900603a3");
+  EXPECT_EQ(key_before_versions(request()), "056845a5c62e47da4d159b26fa2b2413");
   EXPECT_EQ(key_before_versions(request(R"(, "strategy": "multi_notch")")),
-            "97d3cafb0f66822943b68bdbb13c3b7b");
+            "4e5d65160a5236858bfdbbc301d76941");
   EXPECT_EQ(key_before_versions(request(R"(, "options": {"damping": {"zeta": 0.1}})")),
-            "4c37f4f6e4c3f38dda2c956f0b9293a4");
+            "2729b8db46f8cddd88cb2de867d612de");
   EXPECT_EQ(key_before_versions(request(R"(, "options": {"limits": {"a_max": 10}})")),
-            "dce83ecfa2a4e2cc126bc03d35f67989");
+            "8a523caf6b282f6aed99ef5ba94af20c");
   EXPECT_EQ(key_before_versions(request(
                 R"(, "sample_period_s": 0.001, "options": {"p_notch": 0.2, "weights": [1, 2, 3],
                 "band": 0.1, "n_band": 31, "tol_rel": 0.3, "eta_rest_max_mm": 2.5,
@@ -66,14 +67,14 @@ TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
                 "alpha": 0.5, "modes": 2, "solver": "ipopt", "time_limit_s": 3,
                 "base": "modified_trapezoid", "shaper": "ei", "residual": 0.1, "iir_order": 2,
                 "iir_tau": 40, "iir_sample_period_s": 0.002})")),
-            "f0af324587eb3b7abf244ee5f9652c71");
+            "d04f8932d8e78822c644403648f6ef91");
   EXPECT_EQ(key_before_versions(json::parse(
                 R"({"format": {"container": {"radius_mm": 30}, "fill_height_mm": 40,
                 "fluid": {"density_kg_m3": 1100, "viscosity_pa_s": 0.002, "name": "syrup"},
                 "stroke_mm": 250.5, "motion_time_s": 0.7}, "strategy": "time_domain",
                 "options": {"objective": "rest", "eta_motion_max_mm": 4.5,
                 "limits": {"j_max": 300}}})")),
-            "d6633112ba73e15cb1ce89674d29045d");
+            "0238d1825156b16940c6742b9c49a85f");
 }
 
 TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {

@@ -38,8 +38,12 @@ namespace {
 
 /// Walks segment i towards closing the sum, inside [lo, hi]: the rounded residual first (one step
 /// unless a later addition rounds), then single ulps (the left-to-right sum is monotone in d[i],
-/// so stepping towards T reaches it or steps over it by rounding). True when the sum is T.
+/// so stepping towards T reaches it or steps over it by rounding); when the ulps of a short
+/// segment are too fine to get there, bisect_segment. True when the sum is T.
+bool bisect_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi);
+
 bool walk_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi) {
+  const double start = d[i];
   for (int step = 0; step < 4; ++step) {
     const double residual = motion_time - left_to_right_sum(d);
     if (residual == 0.0) return true;
@@ -49,10 +53,55 @@ bool walk_segment(Durations& d, double motion_time, std::size_t i, double lo, do
     const double residual = motion_time - left_to_right_sum(d);
     if (residual == 0.0) return true;
     const double next = std::nextafter(d[i], residual > 0.0 ? INFINITY : -INFINITY);
-    if (next < lo || next > hi) return false;
+    if (next < lo || next > hi) break;
     d[i] = next;
   }
-  return left_to_right_sum(d) == motion_time;
+  if (left_to_right_sum(d) == motion_time) return true;
+  d[i] = start;
+  return bisect_segment(d, motion_time, i, lo, hi);
+}
+
+/// Moves segment i, inside [lo, hi], to the value whose left-to-right sum is T. The sum is
+/// monotone in d[i]: a bracket [a, b] with sum(a) < T <= sum(b) is grown from the residual, then
+/// bisected down to adjacent doubles; b is then the least value reaching T. True when its sum is
+/// T (else no value of d[i] gives T, and d[i] is left at the nearer end).
+bool bisect_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi) {
+  auto sum_at = [&](double x) {
+    d[i] = x;
+    return left_to_right_sum(d);
+  };
+  const double start = d[i];
+  const double residual = motion_time - sum_at(start);
+  if (residual == 0.0) return true;
+  double step = 4.0 * std::abs(residual);
+  double a = start, b = start;
+  for (int grow = 0; grow < 64; ++grow, step *= 2.0) {
+    if (residual > 0.0) {
+      b = std::min(hi, start + step);
+      if (sum_at(b) >= motion_time || b == hi) break;
+      a = b;
+    } else {
+      a = std::max(lo, start - step);
+      if (sum_at(a) < motion_time || a == lo) break;
+      b = a;
+    }
+  }
+  if (sum_at(b) < motion_time || sum_at(a) > motion_time) {
+    d[i] = start;  // T is beyond the bounds of this segment
+    return false;
+  }
+  if (sum_at(a) == motion_time) return true;
+  // sum(a) < T <= sum(b)
+  for (int halve = 0; halve < 2100 && std::nextafter(a, b) < b; ++halve) {
+    const double m = a + 0.5 * (b - a);
+    if (m <= a || m >= b) break;
+    (sum_at(m) >= motion_time ? b : a) = m;
+  }
+  if (sum_at(b) == motion_time) return true;
+  const double below = motion_time - sum_at(a);
+  const double above = sum_at(b) - motion_time;
+  d[i] = below <= above ? a : b;
+  return false;
 }
 
 }  // namespace

@@ -863,6 +863,34 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
 
 namespace {
 
+/// Marks the chosen candidate and every loser's reason; returns the sentence of the choice. The
+/// guard's reference is named as it is (baseline's law when the options exclude the uniform law).
+std::string record_choice(const detail::StrategyContext& c, const AutoChoice& choice,
+                          const GuardReference& baseline, std::vector<PlanCandidate>& candidates) {
+  const std::string reference =
+      baseline.uniform ? "the uniform law" : "baseline's law (the uniform law breaks the options)";
+  candidates[choice.index].chosen = true;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    candidates[k].lost = choice.lost[k];
+    candidates[k].lost_detail = choice.lost_detail[k];
+    if (choice.lost[k] == CandidateLoss::kWorseThanBaseline && !baseline.uniform) {
+      candidates[k].lost_detail = "worse than " + reference +
+                                  " (its worse_than_baseline warning) while a candidate that is "
+                                  "not competes";
+    }
+  }
+  if (!choice.eligible) {
+    return std::string("no candidate meets every constraint; auto returns ") +
+           (baseline.uniform ? "the uniform law" : "baseline's law");
+  }
+  return "auto chose " + to_string(candidates[choice.index].strategy) +
+         (c.robust() ? " (judged by the worst case over the uncertainty range: " : " (") +
+         "lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+         (choice.any_not_worse
+              ? "none worse than " + reference + ")"
+              : "all worse than " + reference + ", which does not meet the options)");
+}
+
 /// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
 Selection run_auto(const detail::StrategyContext& c, const GuardReference& baseline,
                    std::vector<PlanCandidate>& candidates) {
@@ -915,33 +943,11 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     return none;
   }
   const AutoChoice choice = choose_auto(candidates, worse);
-  candidates[choice.index].chosen = true;
-  // The law the guard compared with, named as it is.
-  const std::string reference =
-      baseline.uniform ? "the uniform law" : "baseline's law (the uniform law breaks the options)";
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    candidates[k].lost = choice.lost[k];
-    candidates[k].lost_detail = choice.lost_detail[k];
-    if (choice.lost[k] == CandidateLoss::kWorseThanBaseline && !baseline.uniform) {
-      candidates[k].lost_detail = "worse than " + reference +
-                                  " (its worse_than_baseline warning) while a candidate that is "
-                                  "not competes";
-    }
-  }
   Selection s;
   s.outcome = std::move(kept[choice.index]);
   s.outcome.solver.evaluations = evaluations;
   s.outcome.solver.starts = starts;
-  if (!choice.eligible) {
-    s.detail = "no candidate meets every constraint; auto returns the uniform law";
-  } else {
-    s.detail = "auto chose " + to_string(s.outcome.strategy) +
-               (c.robust() ? " (judged by the worst case over the uncertainty range: " : " (") +
-               "lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
-               (choice.any_not_worse
-                    ? "none worse than " + reference + ")"
-                    : "all worse than " + reference + ", which does not meet the options)");
-  }
+  s.detail = record_choice(c, choice, baseline, candidates);
   if (!diverged.empty()) {
     s.detail += "; left out, the sloshing models diverge for their laws: " + diverged;
   }
