@@ -718,7 +718,7 @@ TEST_F(RobustnessApi, BatchRowsCarryTheIntervalAndReadTheUncertaintyColumns) {
 TEST_F(RobustnessApi, WhereTheNonlinearModelDivergesTheReportSaysNull) {
   json body = json::parse(R"({"format": {"container": {"radius_mm": 5}, "fill_height_mm": 6,
       "fluid": "water", "stroke_mm": 5000, "motion_time_s": 0.05}, "strategy": "fir_chain",
-      "options": {"min_ramp_s": 0.0125, "limits": {"a_max": 0.001}}})");
+      "options": {"min_ramp_s": 0.007, "limits": {"a_max": 0.001}}})");
   // Over an uncertainty range the plan promises the range: a law the models cannot follow
   // somewhere in it is refused, as one they cannot follow at the nominal model is.
   json uncertain = body;

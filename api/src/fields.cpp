@@ -4,6 +4,7 @@
 #include <array>
 #include <charconv>
 #include <cmath>
+#include <cstdlib>
 #include <limits>
 #include <sstream>
 #include <utility>
@@ -226,7 +227,8 @@ namespace {
 /// more as it takes (0.04999999999999999 would print as 0.05 next to "allowed 0.05 to ...").
 std::string outside_text(double x, const Range& range) {
   std::string text = number_text(x);
-  for (int digits = 11; digits <= 17 && std::isfinite(x) && range.contains(std::stod(text));
+  for (int digits = 11;
+       digits <= 17 && std::isfinite(x) && range.contains(std::strtod(text.c_str(), nullptr));
        ++digits) {
     std::ostringstream os;
     os.precision(digits);
