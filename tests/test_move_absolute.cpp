@@ -599,7 +599,7 @@ TEST(MoveAbsoluteHardening, ANanosecondSnapKeepsTheLawOneJerk) {
 TEST(AutoHardening, CandidatesTheModelsCannotFollowAreLeftOutAndNamed) {
   const json body = json::parse(R"({"format": {"container": {"radius_mm": 5}, "fill_height_mm": 6,
       "fluid": "water", "stroke_mm": 5000, "motion_time_s": 0.05}, "strategy": "auto",
-      "options": {"min_ramp_s": 0.0125, "limits": {"a_max": 0.001}}})");
+      "options": {"min_ramp_s": 0.007, "limits": {"a_max": 0.001}}})");
   const json plan = api::run_plan(api::parse_plan_request(body));
   EXPECT_NE(plan["message"].get<std::string>().find(
                 "left out, the sloshing models diverge for their laws: "),

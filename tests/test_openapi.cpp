@@ -609,7 +609,7 @@ TEST(OpenApiResponses, RobustAndUncertainPlansFitThePlanResponseSchema) {
   off["options"]["robustness"] = false;
   const json diverging = json::parse(R"({"format": {"container": {"radius_mm": 5},
       "fill_height_mm": 6, "fluid": "water", "stroke_mm": 5000, "motion_time_s": 0.05},
-      "strategy": "fir_chain", "options": {"min_ramp_s": 0.0125, "limits": {"a_max": 0.001}}})");
+      "strategy": "fir_chain", "options": {"min_ramp_s": 0.007, "limits": {"a_max": 0.001}}})");
   for (const json* body : std::vector<const json*>{&robust, &off, &diverging}) {
     const json plan = run_plan(parse_plan_request(*body));
     SCOPED_TRACE(body->dump());

@@ -38,11 +38,12 @@ json request(const std::string& rest = "") {
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
 // kVersion. The planner version in the recipe is "plan-v5" since time_domain's sensitivities are
-// the scheme linearised in double instead of dual numbers and min_jerk_band's screening stops its
-// random starts once two in a row find nothing lower (both move plans in their last digits;
-// "plan-v4" was the spectral strategies' fewer starts and band rows, "plan-v3" the faster response
-// schemes): the pinned keys are those of the same recipes with that version; everything else is
-// unchanged.
+// the scheme linearised in double instead of dual numbers, min_jerk_band's screening stops its
+// random starts once two in a row find nothing lower, every returned law keeps its bounds to the
+// last ulp, filters without a law return baseline's admissible law and the baseline guard compares
+// with that law ("plan-v4" was the spectral strategies' fewer starts and band rows, "plan-v3" the
+// faster response schemes): the pinned keys are those of the same recipes with that version;
+// everything else is unchanged.
 std::string key_before_versions(const json& request) {
   json recipe = canonical_recipe(parse_plan_request(request));
   EXPECT_EQ(recipe.at("slosh_version"), kVersion);

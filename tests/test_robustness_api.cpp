@@ -397,8 +397,8 @@ std::string widened_band_message(const std::string& member, double w1, double sc
                                  double scale_hi, double band, const std::string& band_text) {
   const double f_lo = w1 * scale_lo / (2.0 * kPi), f_hi = w1 * scale_hi / (2.0 * kPi);
   return "options.uncertainty." + member + " spreads f1 over " + g3(f_lo) + " to " + g3(f_hi) +
-         " Hz: options.band = " + band_text +
-         " widened to cover it reaches 0 Hz at its lower "
+         " Hz: min_jerk_band's options.band = " + band_text +
+         " widened to cover it (centred on the range's middle) reaches 0 Hz at its lower "
          "edge (" +
          g3(f_lo) + " - " + band_text + " x " + g3(f_hi) + " = " + g3(f_lo - band * f_hi) +
          " Hz); allowed options.band < " + g10(scale_lo / scale_hi) +
@@ -479,22 +479,32 @@ TEST_F(RobustnessApi, EveryRefusalNamesTheFieldTheValueAndTheRange) {
   const double R = 48.5 * 1e-3, h = 82 * 1e-3;
   const double w1 = omega1(R, h);
   cases.push_back(
-      {with_uncertainty({{"omega_error_pct", 10}}, {{"band", 0.82}}),
-       "options.uncertainty.omega_error_pct",
+      {with_uncertainty({{"omega_error_pct", 10}}, {{"band", 0.82}}), "options.band",
        widened_band_message("omega_error_pct = 10 %", w1, 1.0 - 0.1, 1.0 + 0.1, 0.82, "0.82")});
   const double s_lo = omega1(R, 2 * 1e-3) / w1, s_hi = omega1(R, 140 * 1e-3) / w1;
   cases.push_back(
-      {with_uncertainty({{"fill_height_mm", {2, 140}}}, {{"band", 0.5}}),
-       "options.uncertainty.fill_height_mm",
+      {with_uncertainty({{"fill_height_mm", {2, 140}}}, {{"band", 0.5}}), "options.band",
        widened_band_message("fill_height_mm = [2, 140] mm", w1, s_lo, s_hi, 0.5, "0.5")});
-  for (const Refusal& c : cases) {
-    SCOPED_TRACE(c.options.dump());
-    json body = plan_body("multi_notch", c.options);
-    if (c.without_height) body["format"]["container"].erase("height_mm");
-    const Reply r = post("/v1/plans", body);
-    EXPECT_EQ(r.status, 422) << r.raw;
-    EXPECT_EQ(r.body["error"]["field"], c.field);
-    EXPECT_EQ(r.body["error"]["message"], c.message);
+  const std::size_t band_cases = 2;  // the last two: only the strategies holding the band
+  for (std::size_t k = 0; k < cases.size(); ++k) {
+    const Refusal& c = cases[k];
+    const bool band = k + band_cases >= cases.size();
+    for (const char* strategy : {"min_jerk_band", "auto", "multi_notch"}) {
+      if (!band && std::string(strategy) != "multi_notch") continue;
+      SCOPED_TRACE(c.options.dump() + " " + strategy);
+      json body = plan_body(strategy, c.options);
+      if (c.without_height) body["format"]["container"].erase("height_mm");
+      const Reply r = post("/v1/plans", body);
+      if (band && std::string(strategy) == "multi_notch") {
+        // multi_notch has no band: the same band and range are no reason to refuse it.
+        EXPECT_EQ(r.status, 200) << r.raw.substr(0, 300);
+        EXPECT_GE(r.body["spectrum"]["markers"]["band_hz"][0].get<double>(), 0.0);
+        continue;
+      }
+      EXPECT_EQ(r.status, 422) << r.raw;
+      EXPECT_EQ(r.body["error"]["field"], c.field);
+      EXPECT_EQ(r.body["error"]["message"], c.message);
+    }
   }
   // Just inside those bounds the plans are made: 0.9 / 1.1 = 0.8181..., s_lo / s_hi = 0.27...
   for (const json& options :
@@ -708,7 +718,7 @@ TEST_F(RobustnessApi, BatchRowsCarryTheIntervalAndReadTheUncertaintyColumns) {
 TEST_F(RobustnessApi, WhereTheNonlinearModelDivergesTheReportSaysNull) {
   json body = json::parse(R"({"format": {"container": {"radius_mm": 5}, "fill_height_mm": 6,
       "fluid": "water", "stroke_mm": 5000, "motion_time_s": 0.05}, "strategy": "fir_chain",
-      "options": {"min_ramp_s": 0.0125, "limits": {"a_max": 0.001}}})");
+      "options": {"min_ramp_s": 0.007, "limits": {"a_max": 0.001}}})");
   // Over an uncertainty range the plan promises the range: a law the models cannot follow
   // somewhere in it is refused, as one they cannot follow at the nominal model is.
   json uncertain = body;

@@ -104,11 +104,11 @@ std::string widened_band_sentence(const Format& format, const PlanOptions& o) {
   const double f_lo = r.omega_lo / (2.0 * std::numbers::pi);
   const double f_hi = r.omega_hi / (2.0 * std::numbers::pi);
   return spreading_member(o.uncertainty) + " spreads f1 over " + sig3(f_lo) + " to " + sig3(f_hi) +
-         " Hz: options.band = " + number_text(o.band) +
-         " widened to cover it reaches 0 Hz at its lower edge (" + sig3(f_lo) + " - " +
-         number_text(o.band) + " x " + sig3(f_hi) + " = " + sig3(f_lo - o.band * f_hi) +
-         " Hz); allowed options.band < " + number_text(r.scale_lo / r.scale_hi) +
-         " with this range: narrow the band or the range";
+         " Hz: min_jerk_band's options.band = " + number_text(o.band) +
+         " widened to cover it (centred on the range's middle) reaches 0 Hz at its lower edge (" +
+         sig3(f_lo) + " - " + number_text(o.band) + " x " + sig3(f_hi) + " = " +
+         sig3(f_lo - o.band * f_hi) + " Hz); allowed options.band < " +
+         number_text(r.scale_lo / r.scale_hi) + " with this range: narrow the band or the range";
 }
 
 /// The sentence of a refused member of options.uncertainty (or of the band it widens), nullopt
@@ -283,10 +283,8 @@ std::string options_field(const InvalidInput& invalid, const PlanOptions& option
     case PlanInput::kUncertaintySamples:
       return std::string(api_field_path(invalid.input));
     default:
-      if (widened_band_refusal(invalid, options)) {
-        return options.uncertainty.omega_error > 0.0 ? "options.uncertainty.omega_error_pct"
-                                                     : "options.uncertainty.fill_height_mm";
-      }
+      // The band is the value refused (its allowed maximum for the range is named).
+      if (widened_band_refusal(invalid, options)) return "options.band";
       return "options";
   }
 }

@@ -136,6 +136,9 @@ PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry
   if (std::optional<InvalidInput> why = drive_profile_refusal(r.strategy, o.drive_profile)) {
     invalid("options.drive_profile", "options." + why->message);
   }
+  if (std::optional<InvalidInput> why = band_refusal(r.strategy, r.format, o)) {
+    invalid(options_field(*why, o), "options." + input_sentence(*why, r.format, o));
+  }
 
   r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);
   return r;

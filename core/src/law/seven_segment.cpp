@@ -34,27 +34,125 @@ double left_to_right_sum(const Durations& d) {
 
 }  // namespace
 
+namespace {
+
+/// Walks segment i towards closing the sum, inside [lo, hi]: the rounded residual first (one step
+/// unless a later addition rounds), then single ulps (the left-to-right sum is monotone in d[i],
+/// so stepping towards T reaches it or steps over it by rounding); when the ulps of a short
+/// segment are too fine to get there, bisect_segment. True when the sum is T.
+bool bisect_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi);
+
+bool walk_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi) {
+  const double start = d[i];
+  for (int step = 0; step < 4; ++step) {
+    const double residual = motion_time - left_to_right_sum(d);
+    if (residual == 0.0) return true;
+    d[i] = std::clamp(d[i] + residual, lo, hi);
+  }
+  for (int step = 0; step < 64; ++step) {
+    const double residual = motion_time - left_to_right_sum(d);
+    if (residual == 0.0) return true;
+    const double next = std::nextafter(d[i], residual > 0.0 ? INFINITY : -INFINITY);
+    if (next < lo || next > hi) break;
+    d[i] = next;
+  }
+  if (left_to_right_sum(d) == motion_time) return true;
+  d[i] = start;
+  return bisect_segment(d, motion_time, i, lo, hi);
+}
+
+/// Moves segment i, inside [lo, hi], to the value whose left-to-right sum is T. The sum is
+/// monotone in d[i]: a bracket [a, b] with sum(a) < T <= sum(b) is grown from the residual, then
+/// bisected down to adjacent doubles; b is then the least value reaching T. True when its sum is
+/// T (else no value of d[i] gives T, and d[i] is left at the nearer end).
+bool bisect_segment(Durations& d, double motion_time, std::size_t i, double lo, double hi) {
+  auto sum_at = [&](double x) {
+    d[i] = x;
+    return left_to_right_sum(d);
+  };
+  const double start = d[i];
+  const double residual = motion_time - sum_at(start);
+  if (residual == 0.0) return true;
+  double step = 4.0 * std::abs(residual);
+  double a = start, b = start;
+  for (int grow = 0; grow < 64; ++grow, step *= 2.0) {
+    if (residual > 0.0) {
+      b = std::min(hi, start + step);
+      if (sum_at(b) >= motion_time || b == hi) break;
+      a = b;
+    } else {
+      a = std::max(lo, start - step);
+      if (sum_at(a) < motion_time || a == lo) break;
+      b = a;
+    }
+  }
+  if (sum_at(b) < motion_time || sum_at(a) > motion_time) {
+    d[i] = start;  // T is beyond the bounds of this segment
+    return false;
+  }
+  if (sum_at(a) == motion_time) return true;
+  // sum(a) < T <= sum(b)
+  for (int halve = 0; halve < 2100 && std::nextafter(a, b) < b; ++halve) {
+    const double m = a + 0.5 * (b - a);
+    if (m <= a || m >= b) break;
+    (sum_at(m) >= motion_time ? b : a) = m;
+  }
+  if (sum_at(b) == motion_time) return true;
+  const double below = motion_time - sum_at(a);
+  const double above = sum_at(b) - motion_time;
+  d[i] = below <= above ? a : b;
+  return false;
+}
+
+}  // namespace
+
 void close_sum(Durations& d, double motion_time, std::size_t into) {
-  // The rounded residual first (one step unless a later addition rounds), then single ulps: the
-  // left-to-right sum is monotone in d[into], so stepping towards T reaches it or steps over it
-  // by rounding; then the other segments, longest first, in the same way.
+  Durations lower{};
+  Durations upper;
+  upper.fill(INFINITY);
+  close_sum(d, motion_time, into, lower, upper);
+}
+
+void close_sum(Durations& d, double motion_time, std::size_t into, const Durations& lower,
+               const Durations& upper) {
+  // A segment that is exactly 0 stays 0 (durations below 1 ns are 0, never a subnormal), and no
+  // segment leaves its bounds: a ramp on min_ramp may only grow.
+  auto movable = [&](std::size_t i) { return d[i] != 0.0 && lower[i] < upper[i]; };
+  const Durations start = d;
+  if (movable(into) && walk_segment(d, motion_time, into, lower[into], upper[into])) return;
+  d = start;
+  // Rounding can leave no value of d[into] whose sum is T (the sum steps over T from one ulp to
+  // the next): an ulp or two on another segment, inside its bounds, changes the rounding of the
+  // partial sums; then d[into] closes the sum again.
+  for (std::size_t j = 0; j < kSegments; ++j) {
+    if (j == into || !movable(j)) continue;
+    for (double direction : {INFINITY, -INFINITY}) {
+      for (int k = 1; k <= 4; ++k) {
+        Durations trial = start;
+        for (int n = 0; n < k; ++n) trial[j] = std::nextafter(trial[j], direction);
+        if (trial[j] < lower[j] || trial[j] > upper[j]) break;
+        if (!movable(into)) {
+          if (left_to_right_sum(trial) == motion_time) {
+            d = trial;
+            return;
+          }
+          continue;
+        }
+        if (walk_segment(trial, motion_time, into, lower[into], upper[into])) {
+          d = trial;
+          return;
+        }
+      }
+    }
+  }
+  // No exact sum within a few ulps (not met in practice): the other segments, longest first,
+  // each inside its bounds, in the same way; the sum stays within an ulp or two of T otherwise.
   std::array<std::size_t, kSegments> order{};
   for (std::size_t i = 0; i < kSegments; ++i) order[i] = i;
-  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
-    return (a == into) > (b == into) || ((a == into) == (b == into) && d[a] > d[b]);
-  });
+  std::stable_sort(order.begin(), order.end(),
+                   [&](std::size_t a, std::size_t b) { return d[a] > d[b]; });
   for (std::size_t i : order) {
-    if (d[i] == 0.0) continue;
-    for (int step = 0; step < 4; ++step) {
-      const double residual = motion_time - left_to_right_sum(d);
-      if (residual == 0.0) return;
-      d[i] += residual;
-    }
-    for (int step = 0; step < 64; ++step) {
-      const double residual = motion_time - left_to_right_sum(d);
-      if (residual == 0.0) return;
-      d[i] = std::nextafter(d[i], residual > 0.0 ? INFINITY : -INFINITY);
-    }
+    if (movable(i) && walk_segment(d, motion_time, i, lower[i], upper[i])) return;
   }
 }
 

@@ -123,14 +123,22 @@ std::vector<Durations> DurationSpace::starts(int random_count) const {
   return distinct;
 }
 
+bool DurationSpace::uniform_inside() const {
+  const Durations uniform = uniform_durations(motion_time);
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    if (!(uniform[i] >= lower[i] && uniform[i] <= upper[i])) return false;
+  }
+  return true;
+}
+
+Durations DurationSpace::nearest_uniform() const {
+  return uniform_inside() ? uniform_durations(motion_time)
+                          : from_weights(Durations{1, 1, 1, 1, 1, 1, 1});
+}
+
 std::vector<Durations> DurationSpace::general_starts(int random_count) const {
   std::vector<Durations> out;
-  const Durations uniform = uniform_durations(motion_time);
-  bool uniform_inside = true;
-  for (std::size_t i = 0; i < kSegments; ++i) {
-    uniform_inside = uniform_inside && uniform[i] >= lower[i] && uniform[i] <= upper[i];
-  }
-  const Durations first = uniform_inside ? uniform : from_weights(Durations{1, 1, 1, 1, 1, 1, 1});
+  const Durations first = nearest_uniform();
   if (warm_start) {
     double sum = 0.0;
     for (double d : *warm_start) sum += d;
@@ -191,12 +199,13 @@ Durations DurationSpace::polish(const double* x) const {
       sum += d[i];
     }
   }
-  // The last ulps: on the segment with the most room above its bound.
+  // The last ulps: on the segment with the most room above its bound, none of them pushing a
+  // segment past its bounds (a ramp on min_ramp an ulp below it is refused by the law parser).
   std::size_t best = 0;
   for (std::size_t i = 1; i < kSegments; ++i) {
     if (d[i] - lower[i] > d[best] - lower[best]) best = i;
   }
-  close_sum(d, motion_time, best);
+  close_sum(d, motion_time, best, lower, upper);
   return d;
 }
 

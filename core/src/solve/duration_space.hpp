@@ -53,6 +53,14 @@ struct DurationSpace {
   /// its coordinates (repaired into their bounds), so the result is in the family.
   [[nodiscard]] Durations polish(const double* x) const;
 
+  /// Whether the uniform law T/7 lies inside the bounds (min_ramp <= T/7, the plateau minimums,
+  /// a cruise allowed).
+  [[nodiscard]] bool uniform_inside() const;
+  /// The admissible law nearest the uniform one: the uniform law when inside the bounds, else
+  /// every segment at its lower bound plus an equal share of the remaining time (the baseline
+  /// strategy's law, and the fallback of a method that has no law of its own).
+  [[nodiscard]] Durations nearest_uniform() const;
+
   /// The point with free-weight fractions w (>= 0) of the room above the lower bounds.
   [[nodiscard]] Durations from_weights(const Durations& w) const;
 

@@ -37,13 +37,19 @@ namespace {
 /// Relative slack of the limit checks (round-off of the closed forms) [-].
 constexpr double kLimitSlack{1e-9};
 
-/// The uniform 7-segment law, returned when a method has no law for the format.
+/// The uniform 7-segment law, returned when a method has no law for the format; when the
+/// options exclude it (min_ramp above T/7, ...), baseline's admissible law instead.
 FilterOutcome no_law(const StrategyContext& c, std::string why) {
   FilterOutcome o;
   o.status = SolveStatus::kInfeasible;
-  o.durations = uniform_durations(c.format.motion_time);
+  const bool uniform = c.space.uniform_inside();
+  o.durations = c.space.nearest_uniform();
   o.law = SevenSegmentLaw(*o.durations, c.format.stroke).law();
-  o.detail = std::move(why) + "; the law returned is the uniform 7-segment law, not a solution";
+  o.detail = std::move(why) + (uniform ? "; the law returned is the uniform 7-segment law, not a "
+                                         "solution"
+                                       : "; the law returned is baseline's (the uniform law breaks "
+                                         "the options: every segment at its minimum plus an equal "
+                                         "share), not a solution");
   return o;
 }
 

@@ -342,7 +342,8 @@ bool prepare_search(const Format& format, Strategy strategy, const MinTimeOption
     return false;
   }
   if (auto e = options.validate(format);
-      e || (e = drive_profile_refusal(strategy, options.plan.drive_profile))) {
+      e || (e = drive_profile_refusal(strategy, options.plan.drive_profile)) ||
+      (e = band_refusal(strategy, format, options.plan))) {
     r.invalid_input = std::move(e);
     r.message = "invalid input: " + r.invalid_input->message + "; nothing was planned";
     return false;

@@ -66,8 +66,17 @@ std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
 constexpr double kWorseRelative{0.05};
 constexpr double kWorseAbsolute{0.5e-3};  // [m]
 
+/// What the baseline guard compares every law with: the law strategy baseline returns. That is
+/// the uniform law when the options admit it; else its nearest admissible law (every segment at
+/// its minimum plus an equal share), since a law the options forbid is no alternative to offer.
+struct GuardReference {
+  LawPrediction prediction;
+  bool uniform{true};  ///< the reference is the uniform law itself
+};
+
 /// The `worse_than_baseline` warning naming the figures, or empty.
-std::string worse_than_baseline(const LawPrediction& p, const LawPrediction& b) {
+std::string worse_than_baseline(const LawPrediction& p, const GuardReference& ref) {
+  const LawPrediction& b = ref.prediction;
   std::string figures;
   auto check = [&](double value, double base, const char* what) {
     if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
@@ -80,6 +89,12 @@ std::string worse_than_baseline(const LawPrediction& p, const LawPrediction& b) 
   check(p.linear.motion.value, b.linear.motion.value, "eta_motion (linear)");
   check(p.linear.rest.value, b.linear.rest.value, "eta_rest (linear)");
   if (figures.empty()) return {};
+  if (!ref.uniform) {
+    return "worse_than_baseline: " + figures +
+           " for baseline's law (more than 5 % and 0.5 mm above it; the uniform law breaks the "
+           "options, so baseline's law is every segment at its minimum plus an equal share); "
+           "strategy baseline sloshes less there";
+  }
   return "worse_than_baseline: " + figures +
          " for the uniform law (more than 5 % and 0.5 mm above it); the uniform law (strategy "
          "baseline) sloshes less there";
@@ -243,17 +258,24 @@ std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
     return bad;
   }
   if (auto bad = validate_uncertainty(format, model, uncertainty)) return bad;
-  if (uncertainty.active()) {
-    const double widened =
-        detail::widened_band(band, uncertainty_range(format, model, uncertainty));
-    if (!(widened < 1.0)) {
-      return refused(PlanInput::kBand, band, open_range(0.0, 1.0),
-                     "band = " + sig3(band) + " widened to cover the uncertainty range is " +
-                         sig3(widened) +
-                         ": its lower edge reaches 0 Hz; narrow the band or the range");
-    }
-  }
   return std::nullopt;
+}
+
+bool uses_band(Strategy strategy) {
+  return strategy == Strategy::kMinJerkBand || strategy == Strategy::kAuto;
+}
+
+std::optional<InvalidInput> band_refusal(Strategy strategy, const Format& format,
+                                         const PlanOptions& options) {
+  if (!uses_band(strategy) || !options.uncertainty.active()) return std::nullopt;
+  const double widened = detail::widened_band(
+      options.band, uncertainty_range(format, options.model, options.uncertainty));
+  if (widened < 1.0) return std::nullopt;
+  return refused(PlanInput::kBand, options.band, open_range(0.0, 1.0),
+                 "band = " + sig3(options.band) + " widened to cover the uncertainty range is " +
+                     sig3(widened) + ": its lower edge reaches 0 Hz (min_jerk_band" +
+                     (strategy == Strategy::kAuto ? ", a candidate of auto," : "") +
+                     " holds the band); narrow the band or the range");
 }
 
 bool PlanOptions::is_valid(const Format& format, InvalidInput* error) const {
@@ -541,14 +563,10 @@ detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) 
   o.status = SolveStatus::kOptimal;
   o.solver = "none";
   o.durations = uniform_durations(c.format.motion_time);
+  if (c.space.uniform_inside()) return o;
   const std::string broken =
       detail::violated_constraint(c, Strategy::kBaseline, o.durations, SloshPeaks{});
-  bool inside = true;
-  for (std::size_t i = 0; i < kSegments; ++i) {
-    inside = inside && o.durations[i] >= c.space.lower[i] && o.durations[i] <= c.space.upper[i];
-  }
-  if (inside) return o;
-  o.durations = c.space.from_weights(Durations{1, 1, 1, 1, 1, 1, 1});
+  o.durations = c.space.nearest_uniform();
   o.detail = "the uniform law breaks the options (" + broken +
              "), so baseline returns every segment at its minimum plus an equal share of the "
              "remaining time";
@@ -677,7 +695,7 @@ struct Selection {
 };
 
 Selection run_single(const detail::StrategyContext& c, Strategy strategy,
-                     const LawPrediction& baseline) {
+                     const GuardReference& baseline) {
   std::vector<Durations> seeds;
   // A warm start replaces the multi-start, the spectral seeds included (continuation).
   if (strategy == Strategy::kTimeDomain && !c.options.warm_start) {
@@ -845,8 +863,36 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
 
 namespace {
 
+/// Marks the chosen candidate and every loser's reason; returns the sentence of the choice. The
+/// guard's reference is named as it is (baseline's law when the options exclude the uniform law).
+std::string record_choice(const detail::StrategyContext& c, const AutoChoice& choice,
+                          const GuardReference& baseline, std::vector<PlanCandidate>& candidates) {
+  const std::string reference =
+      baseline.uniform ? "the uniform law" : "baseline's law (the uniform law breaks the options)";
+  candidates[choice.index].chosen = true;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    candidates[k].lost = choice.lost[k];
+    candidates[k].lost_detail = choice.lost_detail[k];
+    if (choice.lost[k] == CandidateLoss::kWorseThanBaseline && !baseline.uniform) {
+      candidates[k].lost_detail = "worse than " + reference +
+                                  " (its worse_than_baseline warning) while a candidate that is "
+                                  "not competes";
+    }
+  }
+  if (!choice.eligible) {
+    return std::string("no candidate meets every constraint; auto returns ") +
+           (baseline.uniform ? "the uniform law" : "baseline's law");
+  }
+  return "auto chose " + to_string(candidates[choice.index].strategy) +
+         (c.robust() ? " (judged by the worst case over the uncertainty range: " : " (") +
+         "lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
+         (choice.any_not_worse
+              ? "none worse than " + reference + ")"
+              : "all worse than " + reference + ", which does not meet the options)");
+}
+
 /// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
-Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseline,
+Selection run_auto(const detail::StrategyContext& c, const GuardReference& baseline,
                    std::vector<PlanCandidate>& candidates) {
   std::vector<Outcome> outcomes;
   outcomes.push_back(run_strategy(c, Strategy::kBaseline, {}));
@@ -897,25 +943,11 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
     return none;
   }
   const AutoChoice choice = choose_auto(candidates, worse);
-  candidates[choice.index].chosen = true;
-  for (std::size_t k = 0; k < candidates.size(); ++k) {
-    candidates[k].lost = choice.lost[k];
-    candidates[k].lost_detail = choice.lost_detail[k];
-  }
   Selection s;
   s.outcome = std::move(kept[choice.index]);
   s.outcome.solver.evaluations = evaluations;
   s.outcome.solver.starts = starts;
-  if (!choice.eligible) {
-    s.detail = "no candidate meets every constraint; auto returns the uniform law";
-  } else {
-    s.detail = "auto chose " + to_string(s.outcome.strategy) +
-               (c.robust() ? " (judged by the worst case over the uncertainty range: " : " (") +
-               "lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
-               (choice.any_not_worse ? std::string("none worse than the uniform law)")
-                                     : std::string("all worse than the uniform law, which does "
-                                                   "not meet the options)"));
-  }
+  s.detail = record_choice(c, choice, baseline, candidates);
   if (!diverged.empty()) {
     s.detail += "; left out, the sloshing models diverge for their laws: " + diverged;
   }
@@ -924,6 +956,17 @@ Selection run_auto(const detail::StrategyContext& c, const LawPrediction& baseli
   s.prediction = candidates[choice.index].prediction;
   s.range = std::move(ranges[choice.index]);
   return s;
+}
+
+/// The guard's reference: the uniform law's prediction `uniform` when the options admit it, else
+/// that of baseline's admissible law (simulated here; the uniform law's when it is not finite).
+GuardReference guard_reference(const detail::StrategyContext& c, const LawPrediction& uniform) {
+  if (c.space.uniform_inside()) return {uniform, true};
+  const Durations d = c.space.nearest_uniform();
+  LawPrediction p =
+      predict(c.model, SevenSegmentLaw(d, c.format.stroke).law(), c.options.rest_time);
+  if (!finite_prediction(p)) return {uniform, true};
+  return {std::move(p), false};
 }
 
 /// The sentence of an infeasible optimised law: the machine limits first when they alone cannot
@@ -1040,6 +1083,9 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (std::optional<InvalidInput> why = drive_profile_refusal(strategy, options.drive_profile)) {
     return refusal(format, strategy, options, std::move(*why));
   }
+  if (std::optional<InvalidInput> why = band_refusal(strategy, format, options)) {
+    return refusal(format, strategy, options, std::move(*why));
+  }
   const detail::Deadline deadline(options.time_limit, options.stop);
   PlanResult r;
   r.strategy = strategy;
@@ -1059,7 +1105,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                             deadline};
   detail::set_design(c);
   const double w_design = c.design_model.omega1();
-  r.band_omega = {(1.0 - c.band) * w_design, (1.0 + c.band) * w_design};
+  // (A strategy without a band may widen it past 0 Hz: the marker stops there.)
+  r.band_omega = {std::max(0.0, (1.0 - c.band) * w_design), (1.0 + c.band) * w_design};
   r.uncertainty = c.range;
   detail::set_references(c, r.baseline.nonlinear.motion.value);
   c.uniform_prediction = &r.baseline;
@@ -1071,8 +1118,9 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                     sig3(c.x_ref) + " m/s)"));
   }
 
-  Selection s = strategy == Strategy::kAuto ? run_auto(c, r.baseline, r.candidates)
-                                            : run_single(c, strategy, r.baseline);
+  const GuardReference reference = guard_reference(c, r.baseline);
+  Selection s = strategy == Strategy::kAuto ? run_auto(c, reference, r.candidates)
+                                            : run_single(c, strategy, reference);
   const Strategy result_strategy = s.outcome.strategy;
   take_selection(r, s, format);
   take_move_absolute(r, options, format);

@@ -258,7 +258,8 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
     o.detail =
-        "exact notch at f1 (|X(w1)| <= 1e-6 of X_ref), the one with the least "
+        "exact notch at f1 (|Re X(w1)|, |Im X(w1)| <= 1e-6 of X_ref, so |X(w1)| <= 1.42e-6 of "
+        "X_ref), the one with the least "
         "jerk integral among the zeros (" +
         percent(o.objective) + " of the uniform law's)";
     return o;

@@ -434,6 +434,16 @@ void run_bounded(const StrategyContext& c, bool motion, double bound,
   }
 }
 
+// When the bounds leave no room (4 min_ramp plus the plateau minimums fill T), the clause
+// saying so: the options, not the search, then fix the law; else empty.
+std::string one_admissible_law(const StrategyContext& c) {
+  double room = c.format.motion_time;
+  for (double lo : c.space.lower) room -= lo;
+  if (room > kZeroDuration) return {};
+  return " (4 x min_ramp_s = " + sig3(4.0 * c.options.min_ramp) +
+         " s plus the plateau minimums fill the motion time: one admissible law)";
+}
+
 // Least infeasible phase after the bounded phase `o` was infeasible (SLSQP from a start far
 // outside the bound often ends outside it although laws inside exist). First, from every start
 // and, for a fresh plan, the symmetric families too, the constrained quantity alone is minimised
@@ -485,7 +495,8 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   if (!chosen || (!minimised && c.deadline.expired())) {
     o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
     if (chosen) o.durations = *chosen;
-    o.detail = "the machine limits leave no admissible law";
+    o.detail = chosen ? "the time budget ran out before the least infeasible search ended"
+                      : "the machine limits leave no admissible law";
     return o;
   }
   const std::string bounded_name = motion ? "eta_rest" : "eta_motion";
@@ -510,8 +521,8 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   o.durations = *chosen;
   o.detail = "no law found that meets " + bounded_name + " <= " + sig3(bound * 1e3) + " mm in " +
              sig3(c.format.motion_time) + " s: the best found is " + sig3(reached * 1e3) +
-             " mm (time_domain searches locally, from " + std::to_string(from.size()) +
-             " starts); lengthen the motion or relax the limit";
+             " mm (time_domain searches locally, from " + std::to_string(from.size()) + " starts)" +
+             one_admissible_law(c) + "; lengthen the motion or relax the limit";
   return o;
 }
 

@@ -36,8 +36,16 @@ struct AdmissibilityRules {
 [[nodiscard]] Durations clean_durations(Durations d, double motion_time);
 
 /// Puts the difference between `motion_time` and the left-to-right sum of `d` on segment `into`
-/// until the sum is `motion_time` to the last bit (at most a few ulps move).
+/// until the sum is `motion_time` to the last bit (at most a few ulps move); a segment that is
+/// exactly 0 stays 0. Durations are >= 0.
 void close_sum(Durations& d, double motion_time, std::size_t into);
+
+/// close_sum() keeping every segment inside [lower, upper] (a segment on its lower bound may only
+/// grow): when no value of d[into] gives the sum T (the rounding of the partial sums steps over
+/// it), an ulp or two on another segment with room changes that rounding first. A sum that no
+/// such move closes stays within a few ulps of T, the bounds kept.
+void close_sum(Durations& d, double motion_time, std::size_t into, const Durations& lower,
+               const Durations& upper);
 
 /// A, B and the peak velocity of a set of durations for a stroke.
 struct PlateauLevels {

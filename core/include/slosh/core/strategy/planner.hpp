@@ -277,6 +277,16 @@ using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 [[nodiscard]] std::optional<InvalidInput> drive_profile_refusal(Strategy strategy,
                                                                 DriveProfile profile);
 
+/// True for the strategies that hold `PlanOptions::band` (min_jerk_band, and auto, which runs it).
+[[nodiscard]] bool uses_band(Strategy strategy);
+
+/// Why `strategy` cannot plan with this band under the uncertainty range (kBand): min_jerk_band
+/// widens its band to [w_lo - band w_hi, (1 + band) w_hi] (centred on the range's middle), and a
+/// lower edge at or below 0 Hz is no band. nullopt for the strategies without a band, whatever
+/// `band` is.
+[[nodiscard]] std::optional<InvalidInput> band_refusal(Strategy strategy, const Format& format,
+                                                       const PlanOptions& options);
+
 /// True for the strategies that build a law by filtering instead of optimising 7 durations.
 [[nodiscard]] bool is_filter_strategy(Strategy strategy);
 
