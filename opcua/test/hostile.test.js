@@ -124,10 +124,10 @@ describe("slosh-opcua against hostile input", () => {
   });
 
   it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
-    const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"line\",\"length_mm\":500}" }));
+    const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"arc\",\"radius_mm\":300,\"angle_deg\":90}" }));
     assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
     assert.equal(motion.inputArgumentResults[10].value, StatusCodes.BadInvalidArgument.value);
-    assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion is not a known field; allowed here: container, fill_height_mm, fluid, stroke_mm, motion_time_s");
+    assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion of type \"arc\": planning along paths is not available yet; plans, min-time and cam export move along a straight line (format.stroke_mm, or a motion of type \"line\"). POST /v1/simulate predicts the wave of any motion");
     const rect = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, radius: 0, length: 100, width: 80 }));
     assert.equal(rect.statusCode.value, StatusCodes.BadInvalidArgument.value);
     assert.equal(rect.inputArgumentResults[2].value, StatusCodes.BadInvalidArgument.value);
