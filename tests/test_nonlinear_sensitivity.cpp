@@ -324,33 +324,9 @@ TEST(NonlinearSensitivity, OutgrowingTheFrozenStepCountsIsReported) {
   }
 }
 
-// eq. 2.35 re-typed from SPEC §2 (not the core's nonlinear_acceleration).
+// eq. 2.35 re-typed from SPEC §2 (tests/support), with this model's parameters.
 double reference_xbar_dd(const SloshingModel& m, double x, double v, double a) {
-  const double w = m.omega[0], z = m.zeta, C = m.C, alpha = m.alpha;
-  return -(2.0 * w * z * (v + C * C * x * x * v) + C * C * x * v * v +
-           w * w * x * (1.0 + alpha * x * x) + a / m.radius) /
-         (1.0 + C * C * x * x);
-}
-
-// Largest |K x| of the reference trajectory over [a, b], refined by the parabola through the
-// best sample and its neighbours (the sample spacing alone would cost ~(w dt)^2 / 8 = 5e-7).
-double reference_peak(const test::Rk4Trajectory& r, double K, double a, double b) {
-  std::size_t best = 0;
-  double best_value = -1.0;
-  for (std::size_t i = 0; i < r.t.size(); ++i) {
-    if (r.t[i] < a || r.t[i] > b) continue;
-    if (std::abs(r.x[i]) > best_value) {
-      best_value = std::abs(r.x[i]);
-      best = i;
-    }
-  }
-  if (best == 0 || best + 1 >= r.t.size() || r.t[best - 1] < a || r.t[best + 1] > b) {
-    return K * best_value;
-  }
-  const double y0 = std::abs(r.x[best - 1]), y1 = best_value, y2 = std::abs(r.x[best + 1]);
-  const double denom = y0 - 2.0 * y1 + y2;
-  if (denom >= 0.0) return K * y1;
-  return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
+  return test::eq235_xbar_dd(m.omega[0], m.zeta, m.C, m.alpha, m.radius, x, v, a);
 }
 
 // Both the default scheme and time_domain's (20 steps per period of mode 1).
@@ -374,8 +350,8 @@ TEST_P(NonlinearSensitivityPeaks, MatchAnIndependentTenTimesFinerRk4) {
     sens.compute(d.data());
     const double motion = sens.window_peak(0.0, T).value;
     const double rest = sens.window_peak(T, T + kRest).value;
-    const double ref_motion = reference_peak(ref, model.K, 0.0, T);
-    const double ref_rest = reference_peak(ref, model.K, T, T + kRest);
+    const double ref_motion = test::parabola_peak(ref, model.K, 0.0, T);
+    const double ref_rest = test::parabola_peak(ref, model.K, T, T + kRest);
     EXPECT_GT(ref_motion, 5e-3);
     // Observed agreement 5e-9 relative (1 ms RK4 on the breakpoint-aligned grid vs 0.1 ms).
     EXPECT_NEAR(motion, ref_motion, 1e-7 * ref_motion);

@@ -50,34 +50,9 @@ struct ReferencePeaks {
   double rest{};
 };
 
-/// eta'' of eq. 2.35 for x = eta / K (SPEC §2), re-typed: the same equation as the core's
-/// integrators, none of their code.
+// eq. 2.35 re-typed from SPEC §2 (tests/support), with this model's parameters.
 double xbar_dd(const SloshingModel& m, double x, double v, double a) {
-  const double w = m.omega[0], z = m.zeta, C = m.C, alpha = m.alpha;
-  return -(2.0 * w * z * (v + C * C * x * x * v) + C * C * x * v * v +
-           w * w * x * (1.0 + alpha * x * x) + a / m.radius) /
-         (1.0 + C * C * x * x);
-}
-
-/// Largest |K x| of the trajectory over [a, b], refined by the parabola through the best sample
-/// and its neighbours.
-double peak_of(const test::Rk4Trajectory& r, double K, double a, double b) {
-  std::size_t best = 0;
-  double best_value = -1.0;
-  for (std::size_t i = 0; i < r.t.size(); ++i) {
-    if (r.t[i] < a || r.t[i] > b) continue;
-    if (std::abs(r.x[i]) > best_value) {
-      best_value = std::abs(r.x[i]);
-      best = i;
-    }
-  }
-  if (best == 0 || best + 1 >= r.t.size() || r.t[best - 1] < a || r.t[best + 1] > b) {
-    return K * best_value;
-  }
-  const double y0 = std::abs(r.x[best - 1]), y1 = best_value, y2 = std::abs(r.x[best + 1]);
-  const double denom = y0 - 2.0 * y1 + y2;
-  if (denom >= 0.0) return K * y1;
-  return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
+  return test::eq235_xbar_dd(m.omega[0], m.zeta, m.C, m.alpha, m.radius, x, v, a);
 }
 
 /// The nonlinear peaks of the 7-segment law `d` by a 20 us RK4 (the rest window from T, as the
@@ -90,7 +65,7 @@ ReferencePeaks reference_peaks(const SloshingModel& model, const Durations& d, d
   const test::Rk4Trajectory r = test::rk4_solve(
       [&](double t, double x, double v) { return xbar_dd(model, x, v, t < T ? acc(t) : 0.0); },
       T + rest, 2e-5);
-  return {peak_of(r, model.K, 0.0, T), peak_of(r, model.K, T, T + rest)};
+  return {test::parabola_peak(r, model.K, 0.0, T), test::parabola_peak(r, model.K, T, T + rest)};
 }
 
 /// max(A, B) of the durations, rebuilt from them alone [m/s^2].

@@ -93,4 +93,30 @@ std::complex<double> dft_bin(const std::vector<double>& samples, double dt, doub
   return sum * dt;
 }
 
+double parabola_peak(const Rk4Trajectory& r, double K, double a, double b) {
+  std::size_t best = 0;
+  double best_value = -1.0;
+  for (std::size_t i = 0; i < r.t.size(); ++i) {
+    if (r.t[i] < a || r.t[i] > b) continue;
+    if (std::abs(r.x[i]) > best_value) {
+      best_value = std::abs(r.x[i]);
+      best = i;
+    }
+  }
+  if (best == 0 || best + 1 >= r.t.size() || r.t[best - 1] < a || r.t[best + 1] > b) {
+    return K * best_value;
+  }
+  const double y0 = std::abs(r.x[best - 1]), y1 = best_value, y2 = std::abs(r.x[best + 1]);
+  const double denom = y0 - 2.0 * y1 + y2;
+  if (denom >= 0.0) return K * y1;
+  return K * (y1 - 0.125 * (y2 - y0) * (y2 - y0) / denom);
+}
+
+double eq235_xbar_dd(double omega, double zeta, double C, double alpha, double radius, double x,
+                     double v, double a) {
+  return -(2.0 * omega * zeta * (v + C * C * x * x * v) + C * C * x * v * v +
+           omega * omega * x * (1.0 + alpha * x * x) + a / radius) /
+         (1.0 + C * C * x * x);
+}
+
 }  // namespace slosh::test

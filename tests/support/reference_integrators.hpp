@@ -57,6 +57,16 @@ struct Rk4Trajectory {
 [[nodiscard]] Rk4Trajectory rk4_solve(const std::function<double(double, double, double)>& f,
                                       double t_end, double step);
 
+/// Largest |K x| of the trajectory over [a, b], refined by the parabola through the best sample
+/// and its neighbours (the sample spacing alone would cost ~(w dt)^2 / 8 of the peak).
+[[nodiscard]] double parabola_peak(const Rk4Trajectory& r, double K, double a, double b);
+
+/// eq. 2.35 of SPEC §2 for xbar = eta / K, re-typed from the text: xbar'' from xbar, xbar' and
+/// the container's acceleration a [m/s^2], with the model's omega_1 [rad/s], zeta, C, alpha and
+/// radius R [m].
+[[nodiscard]] double eq235_xbar_dd(double omega, double zeta, double C, double alpha, double radius,
+                                   double x, double v, double a);
+
 /// Fourier integral int f(t) exp(-j w t) dt of a sampled signal by the DFT sum
 /// dt * sum f(n dt) exp(-j w n dt) (rectangle rule, as an FFT bin computes it).
 [[nodiscard]] std::complex<double> dft_bin(const std::vector<double>& samples, double dt, double w);
