@@ -41,21 +41,6 @@ TEST(Admission, AnIdlePoolAdmitsWorkersPlusQueueTasksAtOnce) {
   release.set_value();
 }
 
-double metric_of(const test::Server& server, const std::string& series) {
-  const auto r = server.client().Get("/metrics");
-  return r ? test::metric(r->body, series) : -2.0;
-}
-
-// Polls until `done` holds; false after `limit`, which only a hung service reaches.
-bool wait_until(const std::function<bool()>& done, std::chrono::seconds limit = 120s) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < until) {
-    if (done()) return true;
-    std::this_thread::sleep_for(20ms);
-  }
-  return done();
-}
-
 json thesis_plan(const std::string& strategy, double stroke_mm) {
   json body = json::parse(R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},
       "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0}})");
@@ -75,7 +60,7 @@ TEST(Admission, AnInteractivePlanOvertakesASynchronousBatch) {
     return server.client().Post("/v1/plans/batch", json{{"requests", requests}}.dump(),
                                 "application/json");
   });
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, "slosh_queue_depth") >= 2; }))
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, "slosh_queue_depth") >= 2; }))
       << server.log();
   const auto plan =
       server.client().Post("/v1/plans", thesis_plan("notch", 321).dump(), "application/json");
@@ -100,7 +85,7 @@ TEST(Admission, AMinTimeOfMoreStrategiesThanThePoolAdmitsRunsThemInTurn) {
   ASSERT_EQ(r->status, 200) << r->body;
   const json answer = json::parse(r->body);
   ASSERT_EQ(answer.at("strategies").size(), 4u) << r->body.substr(0, 400);
-  EXPECT_EQ(metric_of(server, R"(slosh_pool_tasks_started_total{priority="background"})"), 2);
+  EXPECT_EQ(test::metric_of(server, R"(slosh_pool_tasks_started_total{priority="background"})"), 2);
 }
 
 }  // namespace

@@ -81,12 +81,6 @@ json wait_finished(httplib::Client& c, const std::string& id) {
   return record;
 }
 
-double metric_of(const Server& server, const std::string& series) {
-  auto c = server.client();
-  auto r = c.Get("/metrics");
-  return r ? test::metric(r->body, series) : -1.0;
-}
-
 // Every row of a finished job through the pages of `limit` rows (following next_offset).
 std::vector<json> all_pages(httplib::Client& c, const std::string& id, std::size_t limit) {
   std::vector<json> rows;
@@ -284,11 +278,12 @@ TEST(BatchJobs, CancelMidRunStopsTheSolves) {
   // item in flight has finished.
   std::this_thread::sleep_for(1s);
   const double started =
-      metric_of(server, "slosh_pool_tasks_started_total{priority=\"background\"}");
+      test::metric_of(server, "slosh_pool_tasks_started_total{priority=\"background\"}");
   std::this_thread::sleep_for(1s);
-  EXPECT_EQ(metric_of(server, "slosh_pool_tasks_started_total{priority=\"background\"}"), started);
+  EXPECT_EQ(test::metric_of(server, "slosh_pool_tasks_started_total{priority=\"background\"}"),
+            started);
   EXPECT_LE(started, done + 2);  // the window: at most `workers` items beyond the rows kept
-  EXPECT_EQ(metric_of(server, "slosh_batch_jobs_active"), 0);
+  EXPECT_EQ(test::metric_of(server, "slosh_batch_jobs_active"), 0);
   // A finished job's DELETE forgets it.
   auto forget = c.Delete("/v1/batches/" + id);
   ASSERT_TRUE(forget);
@@ -411,10 +406,10 @@ TEST(BatchJobs, AnInteractivePlanOvertakesARunningJob) {
   }
   const std::string background = "slosh_pool_tasks_started_total{priority=\"background\"}";
   for (int k = 0; k < 3; ++k) {
-    const double before = metric_of(server, background);
+    const double before = test::metric_of(server, background);
     auto r =
         c.Post("/v1/plans", recipe(9000 + static_cast<std::size_t>(k)).dump(), "application/json");
-    const double after = metric_of(server, background);
+    const double after = test::metric_of(server, background);
     ASSERT_TRUE(r);
     EXPECT_EQ(r->status, 200) << r->body;
     EXPECT_EQ(r->get_header_value("X-Cache"), "miss");
@@ -424,7 +419,7 @@ TEST(BatchJobs, AnInteractivePlanOvertakesARunningJob) {
   const json record = get_json(c, "/v1/batches/" + id);
   EXPECT_EQ(record.at("state"), "running");
   EXPECT_LT(record.at("progress").at("done").get<int>(), 1000);
-  EXPECT_LE(metric_of(server, "slosh_pool_background_queue_depth"), 1);
+  EXPECT_LE(test::metric_of(server, "slosh_pool_background_queue_depth"), 1);
   c.Delete("/v1/batches/" + id);
 }
 
@@ -551,10 +546,12 @@ TEST(BatchJobsCli, ServerModeRunsAJobAndWritesTheLocalTable) {
       << remote.err;
   EXPECT_EQ(jsonl_without_timing(read_file(dir / "remote.jsonl")),
             jsonl_without_timing(read_file(dir / "local.jsonl")));
-  EXPECT_EQ(metric_of(server, "slosh_http_requests_total{route=\"/v1/batches\",status=\"202\"}"),
-            1);
   EXPECT_EQ(
-      metric_of(server, "slosh_http_requests_total{route=\"/v1/plans/batch\",status=\"200\"}"), -1);
+      test::metric_of(server, "slosh_http_requests_total{route=\"/v1/batches\",status=\"202\"}"),
+      1);
+  EXPECT_EQ(test::metric_of(server,
+                            "slosh_http_requests_total{route=\"/v1/plans/batch\",status=\"200\"}"),
+            -1);
 }
 
 // Ctrl-C (SIGINT) during a remote job cancels the job on the service (DELETE). The signal is sent
@@ -576,20 +573,20 @@ TEST(BatchJobsCli, InterruptCancelsTheRemoteJob) {
         test::spawn({"batch", "--in", (dir / "t.csv").string(), "--out", (dir / "o.csv").string(),
                      "--server", server.url(), "--progress", "never"},
                     dir / "stdin", dir / "stdout", dir / "stderr"));
-    for (int i = 0; i < 1200 && metric_of(server, "slosh_batch_jobs_active") != 1; ++i) {
+    for (int i = 0; i < 1200 && test::metric_of(server, "slosh_batch_jobs_active") != 1; ++i) {
       std::this_thread::sleep_for(10ms);
     }
-    ASSERT_EQ(metric_of(server, "slosh_batch_jobs_active"), 1) << server.log();
+    ASSERT_EQ(test::metric_of(server, "slosh_batch_jobs_active"), 1) << server.log();
     ::kill(cli.pid(), SIGINT);
     const auto code = cli.wait_for(30s);
     ASSERT_TRUE(code.has_value());
     EXPECT_EQ(*code, 130);
     EXPECT_NE(read_file(dir / "stderr").find("interrupted: batch job "), std::string::npos)
         << read_file(dir / "stderr");
-    for (int i = 0; i < 600 && metric_of(server, "slosh_batch_jobs_active") != 0; ++i) {
+    for (int i = 0; i < 600 && test::metric_of(server, "slosh_batch_jobs_active") != 0; ++i) {
       std::this_thread::sleep_for(10ms);
     }
-    ASSERT_EQ(metric_of(server, "slosh_batch_jobs_active"), 0);
+    ASSERT_EQ(test::metric_of(server, "slosh_batch_jobs_active"), 0);
   }
   EXPECT_NE(server.log().find("method=DELETE path=/v1/batches/"), std::string::npos);
 }
@@ -612,10 +609,10 @@ TEST(BatchJobsCli, AnInterruptedRunKeepsTheRowsTheServiceFinishedInThePartialTab
                   dir / "stdin", dir / "stdout", dir / "stderr"));
   // With one worker, the 5th item started means at least 3 rows are finished.
   const std::string started = R"(slosh_pool_tasks_started_total{priority="background"})";
-  for (int i = 0; i < 3000 && metric_of(server, started) < 5; ++i) {
+  for (int i = 0; i < 3000 && test::metric_of(server, started) < 5; ++i) {
     std::this_thread::sleep_for(10ms);
   }
-  ASSERT_GE(metric_of(server, started), 5) << server.log();
+  ASSERT_GE(test::metric_of(server, started), 5) << server.log();
   ::kill(cli.pid(), SIGINT);
   const auto code = cli.wait_for(60s);
   ASSERT_TRUE(code.has_value());

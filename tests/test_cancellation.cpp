@@ -43,22 +43,6 @@ std::string thesis_plan_request(const std::string& strategy) {
   return body.dump();
 }
 
-double metric_of(const test::Server& server, const std::string& series) {
-  const auto r = server.client().Get("/metrics");
-  return r ? test::metric(r->body, series) : -2.0;
-}
-
-// Waits (polling /metrics) until `done` holds; false after `limit`, which only a hung service
-// reaches (the condition is about counters, not about how fast they move).
-bool wait_until(const std::function<bool()>& done, std::chrono::seconds limit = 120s) {
-  const auto until = std::chrono::steady_clock::now() + limit;
-  while (std::chrono::steady_clock::now() < until) {
-    if (done()) return true;
-    std::this_thread::sleep_for(20ms);
-  }
-  return done();
-}
-
 // A min-time search on a 1 ms scan up to 5 s with the most plans allowed (1 000) and an eta_motion
 // limit (0.01 mm) that no T meets: every one of the 1 000 plans is solved, seconds to a minute of
 // work however fast a plan is, far longer than a stop takes; only a stop ends it early.
@@ -104,29 +88,30 @@ const std::string kInteractive = R"(slosh_pool_tasks_started_total{priority="int
 TEST(Cancellation, AMinTimeSearchWhoseClientHungUpFreesItsWorker) {
   const LongBudgetServer holder({"--workers", "2"});
   const test::Server& server = *holder;
-  EXPECT_EQ(metric_of(server, kCancelledMinTime), 0);
+  EXPECT_EQ(test::metric_of(server, kCancelledMinTime), 0);
   {
     test::Raw client(server.port());
     ASSERT_TRUE(client.send(raw_post("/v1/min-time", endless_min_time())));
-    ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; })) << server.log();
+    ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }))
+        << server.log();
   }  // the client hangs up mid-search
-  ASSERT_TRUE(wait_until([&] {
-    return metric_of(server, kCancelledMinTime) == 1 && metric_of(server, kBusy) == 0;
+  ASSERT_TRUE(test::wait_until([&] {
+    return test::metric_of(server, kCancelledMinTime) == 1 && test::metric_of(server, kBusy) == 0;
   })) << server.log();
-  EXPECT_EQ(metric_of(server, "slosh_min_time_searches_total"), 1);
+  EXPECT_EQ(test::metric_of(server, "slosh_min_time_searches_total"), 1);
   // Nothing half-searched was kept: the same request searches again instead of a cache hit.
   {
     test::Raw again(server.port());
     ASSERT_TRUE(again.send(raw_post("/v1/min-time", endless_min_time())));
-    ASSERT_TRUE(wait_until([&] {
-      return metric_of(server, "slosh_min_time_searches_total") == 2 &&
-             metric_of(server, kBusy) == 1;
+    ASSERT_TRUE(test::wait_until([&] {
+      return test::metric_of(server, "slosh_min_time_searches_total") == 2 &&
+             test::metric_of(server, kBusy) == 1;
     })) << server.log();
   }
-  ASSERT_TRUE(wait_until([&] {
-    return metric_of(server, kCancelledMinTime) == 2 && metric_of(server, kBusy) == 0;
+  ASSERT_TRUE(test::wait_until([&] {
+    return test::metric_of(server, kCancelledMinTime) == 2 && test::metric_of(server, kBusy) == 0;
   })) << server.log();
-  EXPECT_EQ(metric_of(server, R"(slosh_cache_hits_total{level="memory"})"), 0);
+  EXPECT_EQ(test::metric_of(server, R"(slosh_cache_hits_total{level="memory"})"), 0);
 }
 
 TEST(Cancellation, ASearchTwoClientsWaitForStopsOnlyWhenBothHaveGone) {
@@ -134,10 +119,11 @@ TEST(Cancellation, ASearchTwoClientsWaitForStopsOnlyWhenBothHaveGone) {
   const test::Server& server = *holder;
   auto first = std::make_unique<test::Raw>(server.port());
   ASSERT_TRUE(first->send(raw_post("/v1/min-time", endless_min_time())));
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; }));
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }));
   auto second = std::make_unique<test::Raw>(server.port());
   ASSERT_TRUE(second->send(raw_post("/v1/min-time", endless_min_time())));
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, "slosh_min_time_joins_total") == 1; }));
+  ASSERT_TRUE(
+      test::wait_until([&] { return test::metric_of(server, "slosh_min_time_joins_total") == 1; }));
   first.reset();
   // The first client's departure is seen (within the 100 ms poll) and changes nothing: the
   // search still runs for the second. A plan answered meanwhile proves the service went on.
@@ -145,11 +131,11 @@ TEST(Cancellation, ASearchTwoClientsWaitForStopsOnlyWhenBothHaveGone) {
   ASSERT_TRUE(plan);
   EXPECT_EQ(plan->status, 200);
   std::this_thread::sleep_for(500ms);  // longer than the poll: the departure has been seen
-  EXPECT_EQ(metric_of(server, kCancelledMinTime), 0);
-  EXPECT_EQ(metric_of(server, kBusy), 1);
+  EXPECT_EQ(test::metric_of(server, kCancelledMinTime), 0);
+  EXPECT_EQ(test::metric_of(server, kBusy), 1);
   second.reset();
-  ASSERT_TRUE(wait_until([&] {
-    return metric_of(server, kCancelledMinTime) == 1 && metric_of(server, kBusy) == 0;
+  ASSERT_TRUE(test::wait_until([&] {
+    return test::metric_of(server, kCancelledMinTime) == 1 && test::metric_of(server, kBusy) == 0;
   })) << server.log();
 }
 
@@ -160,28 +146,29 @@ TEST(Cancellation, AQueuedPlanWhoseClientHungUpIsNeverSolved) {
   const test::Server& server = *holder;
   auto search = std::make_unique<test::Raw>(server.port());
   ASSERT_TRUE(search->send(raw_post("/v1/min-time", endless_min_time())));
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; }));
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }));
   {
     test::Raw plan(server.port());
     ASSERT_TRUE(plan.send(raw_post("/v1/plans", thesis_plan_request("multi_notch"))));
-    ASSERT_TRUE(wait_until([&] { return metric_of(server, "slosh_queue_depth") == 1; }));
+    ASSERT_TRUE(
+        test::wait_until([&] { return test::metric_of(server, "slosh_queue_depth") == 1; }));
   }
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, kCancelledPlan) == 1; }));
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kCancelledPlan) == 1; }));
   search.reset();
-  ASSERT_TRUE(wait_until([&] {
-    return metric_of(server, kCancelledMinTime) == 1 && metric_of(server, kBusy) == 0 &&
-           metric_of(server, "slosh_queue_depth") == 0;
+  ASSERT_TRUE(test::wait_until([&] {
+    return test::metric_of(server, kCancelledMinTime) == 1 && test::metric_of(server, kBusy) == 0 &&
+           test::metric_of(server, "slosh_queue_depth") == 0;
   })) << server.log();
   // The queued plan's task ran (and was skipped): no multi_notch solve was timed.
-  EXPECT_EQ(metric_of(server, kInteractive), 1);
-  EXPECT_EQ(metric_of(server, R"(slosh_solve_seconds_count{strategy="multi_notch"})"), -1);
+  EXPECT_EQ(test::metric_of(server, kInteractive), 1);
+  EXPECT_EQ(test::metric_of(server, R"(slosh_solve_seconds_count{strategy="multi_notch"})"), -1);
   // A new request for the recipe solves it afresh, never the stopped flight.
   auto again =
       server.client().Post("/v1/plans", thesis_plan_request("multi_notch"), "application/json");
   ASSERT_TRUE(again);
   EXPECT_EQ(again->status, 200) << again->body;
   EXPECT_EQ(json::parse(again->body).at("status"), "optimal");
-  EXPECT_EQ(metric_of(server, R"(slosh_solve_seconds_count{strategy="multi_notch"})"), 1);
+  EXPECT_EQ(test::metric_of(server, R"(slosh_solve_seconds_count{strategy="multi_notch"})"), 1);
 }
 
 TEST(Cancellation, PlanAndMinTimeEndAtOnceWhenTheirStopIsSet) {
@@ -227,9 +214,9 @@ TEST(Cancellation, IdenticalConcurrentRobustPlansShareOneSolve) {
     EXPECT_EQ(p.dump(), plan);
   }
   // One solve; every other request joined it or found its answer cached.
-  EXPECT_EQ(metric_of(server, R"(slosh_solve_seconds_count{strategy="auto"})"), 1);
-  EXPECT_EQ(metric_of(server, "slosh_singleflight_joins_total") +
-                metric_of(server, R"(slosh_cache_hits_total{level="memory"})"),
+  EXPECT_EQ(test::metric_of(server, R"(slosh_solve_seconds_count{strategy="auto"})"), 1);
+  EXPECT_EQ(test::metric_of(server, "slosh_singleflight_joins_total") +
+                test::metric_of(server, R"(slosh_cache_hits_total{level="memory"})"),
             kClients - 1);
 }
 
@@ -243,8 +230,8 @@ TEST(MinTimePriority, SearchesRunAtBackgroundPriority) {
   auto r = server.client().Post("/v1/min-time", body.dump(), "application/json");
   ASSERT_TRUE(r);
   ASSERT_EQ(r->status, 200) << r->body;
-  EXPECT_EQ(metric_of(server, kBackground), 3);  // one task per strategy
-  EXPECT_EQ(metric_of(server, kInteractive), 0);
+  EXPECT_EQ(test::metric_of(server, kBackground), 3);  // one task per strategy
+  EXPECT_EQ(test::metric_of(server, kInteractive), 0);
 }
 
 // A plan posted while a search's strategies wait for the one worker goes ahead of them: while it
@@ -257,14 +244,14 @@ TEST(MinTimePriority, APlanOvertakesTheQueuedStrategiesOfASearch) {
   search["strategies"] = json::array({"notch", "multi_notch", "min_jerk_band", "fir_chain"});
   test::Raw client(server.port());
   ASSERT_TRUE(client.send(raw_post("/v1/min-time", search.dump())));
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBackground) == 1; }));
-  const double before = metric_of(server, kBackground);
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBackground) == 1; }));
+  const double before = test::metric_of(server, kBackground);
   auto plan = server.client().Post("/v1/plans", thesis_plan_request("notch"), "application/json");
-  const double after = metric_of(server, kBackground);
+  const double after = test::metric_of(server, kBackground);
   ASSERT_TRUE(plan);
   EXPECT_EQ(plan->status, 200) << plan->body;
   EXPECT_LE(after - before, 1);
-  EXPECT_EQ(metric_of(server, kInteractive), 1);
+  EXPECT_EQ(test::metric_of(server, kInteractive), 1);
 }
 
 // A plan answered 504 (its budget plus queue_wait_s passed while it queued behind a search) has
@@ -277,7 +264,8 @@ TEST(Cancellation, APlanAnswered504IsStoppedNotRunForNobody) {
   ASSERT_GT(server.port(), 0) << server.log();
   test::Raw search(server.port());
   ASSERT_TRUE(search.send(raw_post("/v1/min-time", endless_min_time())));
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; })) << server.log();
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }))
+      << server.log();
   json quick = json::parse(thesis_plan_request("notch"));
   quick["options"] = {{"time_limit_s", 0.3}};
   const auto r = server.client().Post("/v1/plans", quick.dump(), "application/json");
@@ -285,7 +273,7 @@ TEST(Cancellation, APlanAnswered504IsStoppedNotRunForNobody) {
   EXPECT_EQ(r->status, 504) << r->body;
   EXPECT_EQ(json::parse(r->body)["error"]["message"],
             "the plan did not finish within its budget of 0.3 s plus 0.2 s of queueing");
-  EXPECT_EQ(metric_of(server, kCancelledPlan), 1);
+  EXPECT_EQ(test::metric_of(server, kCancelledPlan), 1);
 }
 
 // SIGTERM while a min-time search runs: the search stops between two plans and its client gets
@@ -296,7 +284,8 @@ TEST(Cancellation, SigtermStopsARunningMinTimeSearchWithTheShutdownReply) {
   test::Server& server = holder.server();
   test::Raw client(server.port());
   ASSERT_TRUE(client.send(raw_post("/v1/min-time", endless_min_time())));
-  ASSERT_TRUE(wait_until([&] { return metric_of(server, kBusy) == 1; })) << server.log();
+  ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }))
+      << server.log();
   ::kill(server.child().pid(), SIGTERM);
   const std::string reply = client.read_all();
   EXPECT_EQ(reply.substr(0, 12), "HTTP/1.1 503") << reply.substr(0, 300);

@@ -8,6 +8,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
 
 namespace slosh {
@@ -16,8 +17,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
 
+// The thesis bench's water (rho = 1000 kg/m^3, mu = 1.0e-3 Pa s).
 Fluid water() {
-  return Fluid{"thesis_water", 1000.0, 1.0e-3, "test"};
+  return thesis_format().fluid;
 }
 
 TEST(RectangularModel, FrequenciesAreTheStandingWaveDispersionRelation) {

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 
@@ -20,8 +21,9 @@ namespace {
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
 
+// The thesis bench's water (rho = 1000 kg/m^3, mu = 1.0e-3 Pa s).
 Fluid water() {
-  return Fluid{"thesis_water", 1000.0, 1.0e-3, "test"};
+  return thesis_format().fluid;
 }
 
 /// Third-order frequency correction re-typed: (9 T^-4 - 12 T^-2 - 3 - 2 T^2) / 64.

@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 
@@ -20,8 +21,9 @@ constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
 constexpr double kNu = 1.0e-6;  // water, rho = 1000, mu = 1e-3
 
+// The thesis bench's water (rho = 1000 kg/m^3, mu = 1.0e-3 Pa s).
 Fluid water() {
-  return Fluid{"thesis_water", 1000.0, 1.0e-3, "test"};
+  return thesis_format().fluid;
 }
 
 /// One direction's modes re-typed from docs/models.md: omega_n, wall gain G_n, one zeta.

@@ -7,9 +7,11 @@
 #include <algorithm>
 #include <chrono>
 #include <filesystem>
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "support/process.hpp"
@@ -68,5 +70,23 @@ class Server {
   std::unique_ptr<Child> child_;
   int port_{0};
 };
+
+/// The sample `series` of `server`'s /metrics; -1 when absent, -2 when /metrics did not answer.
+inline double metric_of(const Server& server, const std::string& series) {
+  const auto r = server.client().Get("/metrics");
+  return r ? metric(r->body, series) : -2.0;
+}
+
+/// Polls every 20 ms until `done` holds; false after `limit`, which only a hung service reaches
+/// (the conditions are about counters and states, not about how fast they move).
+inline bool wait_until(const std::function<bool()>& done,
+                       std::chrono::seconds limit = std::chrono::seconds(120)) {
+  const auto until = std::chrono::steady_clock::now() + limit;
+  while (std::chrono::steady_clock::now() < until) {
+    if (done()) return true;
+    std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  }
+  return done();
+}
 
 }  // namespace slosh::test
