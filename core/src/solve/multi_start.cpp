@@ -32,30 +32,74 @@ std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts
 
 namespace {
 
+/// An optimum a run reached: its point and objective.
+struct KnownOptimum {
+  std::vector<double> x;
+  double f{};
+};
+
 /// True when x is within kKnownOptimumBasin of the bounds' range of every duration of one of
-/// `optima` (coordinates past the durations, such as an epigraph's level, follow them).
-bool near_known_optimum(const NlpProblem& problem, const std::vector<std::vector<double>>& optima,
-                        const double* x) {
+/// `optima` (coordinates past the durations, such as an epigraph's level, follow them), or, with
+/// an approach basin, within `approach` of the range of every duration of a poor one (at least
+/// kPoorOptimum times the lowest held) whose objective f exceeds by at most kApproachRatio times.
+bool near_known_optimum(const NlpProblem& problem, const std::vector<KnownOptimum>& optima,
+                        const double* x, double f, double approach) {
+  double lowest = INFINITY;
+  for (const auto& y : optima) lowest = std::min(lowest, y.f);
   const std::size_t n = std::min<std::size_t>(static_cast<std::size_t>(problem.size()), kSegments);
   for (const auto& y : optima) {
+    // Only the basins of optima far above the lowest one held: a run that ends in another
+    // optimum next to such a one (twins a few 1e-4 apart occur) would not be the answer either.
+    const bool poor = std::abs(y.f) >= kPoorOptimum * std::abs(lowest);
+    const bool close_in_f = approach > 0.0 && poor && std::abs(f) <= kApproachRatio * std::abs(y.f);
+    const double basin = close_in_f ? std::max(approach, kKnownOptimumBasin) : kKnownOptimumBasin;
     bool near = true;
     for (std::size_t i = 0; i < n && near; ++i) {
       const double range = problem.upper[i] - problem.lower[i];
       if (!(range > 0.0 && std::isfinite(range))) continue;
-      near = std::abs(x[i] - y[i]) <= kKnownOptimumBasin * range;
+      near = std::abs(x[i] - y.x[i]) <= basin * range;
     }
     if (near) return true;
   }
   return false;
 }
 
-MultiStartResult solve_starts(const NlpProblem& problem,
+/// Whether the problem's variables start with the 7 durations themselves (not the one-jerk
+/// family's coordinates) and their bounds are the same read backwards.
+bool symmetric_durations(const NlpProblem& problem, const StrategyContext& context) {
+  if (context.space.one_jerk || problem.size() < static_cast<int>(kSegments)) return false;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    const std::size_t j = kSegments - 1 - i;
+    if (problem.lower[i] != problem.lower[j] || problem.upper[i] != problem.upper[j]) return false;
+  }
+  return true;
+}
+
+/// x with its 7 durations in reverse order (the coordinates after them unchanged).
+std::vector<double> mirrored(std::vector<double> x) {
+  std::reverse(x.begin(), x.begin() + static_cast<std::ptrdiff_t>(kSegments));
+  return x;
+}
+
+MultiStartResult solve_starts(const NlpProblem& given,
                               const std::vector<std::vector<double>>& starts,
                               const StrategyContext& context, const NlpOptions& options,
                               const StartPolicy& policy) {
+  // With an approach basin the abandon test reads the objective's value at the point it is
+  // called with: the solver evaluates the objective first, and the problem records it here.
+  double last_f = 0.0;
+  NlpProblem recording;
+  if (policy.leave_known_optima && policy.approach_basin > 0.0) {
+    recording = given;
+    recording.objective = [f = given.objective, &last_f](const double* x, double* grad) {
+      last_f = f(x, grad);
+      return last_f;
+    };
+  }
+  const NlpProblem& problem = recording.objective ? recording : given;
   MultiStartResult out;
   // Optima reached (feasible, converged or stopped by round-off) by the runs so far.
-  std::vector<std::vector<double>> optima;
+  std::vector<KnownOptimum> optima;
   int stale = 0;  // optional starts in a row that did not lower the best
   // Ipopt relaxes bounds and equalities by ~1e-8 (bound_relax_factor); the durations are polished
   // onto the exact admissible set afterwards, so that much is not an infeasibility.
@@ -63,6 +107,8 @@ MultiStartResult solve_starts(const NlpProblem& problem,
                                   ? std::max(1e-7, 10.0 * options.constraint_tolerance)
                                   : 10.0 * options.constraint_tolerance;
   bool have = false;
+  const bool mirror =
+      policy.leave_known_optima && policy.mirror_symmetric && symmetric_durations(problem, context);
   for (std::size_t k = 0; k < starts.size(); ++k) {
     const auto& x0 = starts[k];
     const bool optional =
@@ -77,8 +123,8 @@ MultiStartResult solve_starts(const NlpProblem& problem,
     NlpOptions o = options;
     o.time_limit = remaining;
     if (policy.leave_known_optima && !optima.empty()) {
-      o.abandon = [&problem, &optima](const double* x) {
-        return near_known_optimum(problem, optima, x);
+      o.abandon = [&problem, &optima, &last_f, approach = policy.approach_basin](const double* x) {
+        return near_known_optimum(problem, optima, x, last_f, approach);
       };
     }
     NlpResult r = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)
@@ -92,7 +138,10 @@ MultiStartResult solve_starts(const NlpProblem& problem,
       continue;
     }
     const bool feasible = r.max_violation <= feasible_tol;
-    if (feasible && r.usable()) optima.push_back(r.x);
+    if (feasible && r.usable()) {
+      optima.push_back({r.x, r.objective});
+      if (mirror) optima.push_back({mirrored(r.x), r.objective});
+    }
     const bool better =
         !have || (feasible && !out.feasible) ||
         (feasible == out.feasible &&

@@ -23,11 +23,13 @@ double objective_callback(unsigned n, const double* x, double* grad, void* data)
   auto* c = static_cast<Context*>(data);
   ++c->evaluations;
   (void)n;
+  // The value first: an abandon test may read it (multi_start's record of the last value).
+  const double f = c->problem->objective(x, grad);
   if (c->options->abandon && !c->abandoned && c->options->abandon(x)) {
     c->abandoned = true;
     c->opt->force_stop();
   }
-  return c->problem->objective(x, grad);
+  return f;
 }
 
 struct EqualityData {

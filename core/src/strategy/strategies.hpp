@@ -121,10 +121,27 @@ struct StartPolicy {
   /// that do not lower the best feasible objective (by more than 1e-9 relative). -1: none.
   int optional_from{-1};
   int patience{2};
+  /// The problem is invariant under reversing the order of the 7 durations (its objective and
+  /// constraints, as multi_notch's |X|^2 and the machine limits are: the reversed law is the
+  /// mirrored motion, A and B swapped): with leave_known_optima, a run is also left at the mirror
+  /// image of an optimum already reached, which has the same objective. Used only where the
+  /// bounds are symmetric too and the durations are the solver's variables.
+  bool mirror_symmetric{false};
+  /// With leave_known_optima: a run is also left within this fraction of the range of every
+  /// duration of a known optimum at least kPoorOptimum times the lowest one held, once its
+  /// objective is within kApproachRatio of that optimum's: it is descending into a basin whose
+  /// optimum (or a twin of it next to it) cannot be the answer, and SLSQP's last iterations there
+  /// find nothing new. The basins of the low optima keep kKnownOptimumBasin alone (their twins,
+  /// a few 1e-4 apart in the objective, decide the answer). 0: off.
+  double approach_basin{0.0};
 };
 
 /// Relative distance (of each duration's range) within which a run has reached a known optimum.
 inline constexpr double kKnownOptimumBasin{1e-3};
+/// See StartPolicy::approach_basin: |f| at most this many times the known optimum's [-].
+inline constexpr double kApproachRatio{1.5};
+/// ... and only at optima at least this many times the lowest known objective [-].
+inline constexpr double kPoorOptimum{10.0};
 
 [[nodiscard]] MultiStartResult multi_start(const NlpProblem& problem,
                                            const std::vector<std::vector<double>>& starts,

@@ -19,6 +19,15 @@ namespace {
 /// Samples per period of mode 1 at which |eta| is bounded to start with [-]. Between samples a
 /// sinusoid can exceed them by 1 - cos(pi / 32) = 0.5 %; the exchange rounds close that gap.
 constexpr double kSamplesPerPeriod{32.0};
+/// Periods of mode 1 after T that the starting samples of the rest window cover [-]. After T the
+/// model's energy never increases, so no maximum of |eta| after the first turning point exceeds
+/// it (docs/models.md, "The rest window ends by an energy argument"), and that turning point
+/// lies within half a period of T: later samples can only bind by the sampling gap (0.5 %),
+/// which the exchange closes by adding the dense peak. Their rows cost SLSQP's subproblem work
+/// at every iteration (two thirds of the rest rows at 1 s of rest) for nothing; the dense check
+/// still covers the whole window. A whole period leaves room for the nonlinear model's longer
+/// period at large amplitude.
+constexpr double kRestSamplePeriods{1.0};
 /// Windows per period of mode 1 of the dense check after each solve [-].
 constexpr double kCheckWindowsPerPeriod{4.0};
 /// Exchange rounds: dense check, add the peak times that exceed their bound, re-solve.
@@ -204,7 +213,7 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
 }
 
 // The starting samples: kSamplesPerPeriod per period of the model's mode 1 over the motion and
-// over the rest window.
+// over the first kRestSamplePeriods of the rest window (the grid of the whole window, cut there).
 Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
@@ -213,7 +222,12 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
   const int km = std::max(2, static_cast<int>(std::ceil(T / period * kSamplesPerPeriod)));
   const int kr = std::max(2, static_cast<int>(std::ceil(rest / period * kSamplesPerPeriod)));
   for (int k = 1; k <= km; ++k) samples.add(T * k / km, true);
-  for (int k = 1; k <= kr; ++k) samples.add(T + rest * k / kr, false);
+  const double span = kRestSamplePeriods * period;
+  for (int k = 1; k <= kr; ++k) {
+    const double t = rest * k / kr;
+    if (t > span && k > 2) break;
+    samples.add(T + t, false);
+  }
   return samples;
 }
 
