@@ -26,10 +26,10 @@ constexpr int kNotchPatience{2};
 constexpr int kMultiNotchRandomStarts{8};
 /// multi_notch's StartPolicy::approach_basin [-]: most of its starts end in basins an earlier
 /// start reached (the thesis format: 8 of 13, most of them 1000 times above the best), and SLSQP
-/// spends their last third converging there. Measured on the thesis format and BM_PlanFormats' 8
-/// formats: 7 % fewer instructions for the whole plan, the same optimum on every one; without the
-/// kPoorOptimum restriction one of StartPolicy's 40 formats lost the best optimum to its twin
-/// 2e-4 above it.
+/// spends their last third converging there. Measured (callgrind) with the mirrored optima: the
+/// thesis plan 8 % fewer instructions, BM_PlanFormats' 8 formats 2.5 %, the same optimum on
+/// every one; without the kPoorOptimum restriction one of StartPolicy's 40 formats lost the best
+/// optimum to its twin 2e-4 above it.
 constexpr double kMultiNotchApproach{0.03};
 /// A weighted spectral power (relative to X_ref^2) this low is an exact zero [-].
 constexpr double kExactZero{1e-14};
