@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 
 #include "strategy/strategies.hpp"
 
@@ -81,22 +82,26 @@ std::vector<double> mirrored(std::vector<double> x) {
   return x;
 }
 
+/// With an approach basin, `given` with an objective that records its last value in `last_f`:
+/// the abandon test reads it (the solver evaluates the objective first); else nothing.
+std::optional<NlpProblem> recording(const NlpProblem& given, const StartPolicy& policy,
+                                    double* last_f) {
+  if (!policy.leave_known_optima || policy.approach_basin <= 0.0) return std::nullopt;
+  NlpProblem p = given;
+  p.objective = [f = given.objective, last_f](const double* x, double* grad) {
+    *last_f = f(x, grad);
+    return *last_f;
+  };
+  return p;
+}
+
 MultiStartResult solve_starts(const NlpProblem& given,
                               const std::vector<std::vector<double>>& starts,
                               const StrategyContext& context, const NlpOptions& options,
                               const StartPolicy& policy) {
-  // With an approach basin the abandon test reads the objective's value at the point it is
-  // called with: the solver evaluates the objective first, and the problem records it here.
   double last_f = 0.0;
-  NlpProblem recording;
-  if (policy.leave_known_optima && policy.approach_basin > 0.0) {
-    recording = given;
-    recording.objective = [f = given.objective, &last_f](const double* x, double* grad) {
-      last_f = f(x, grad);
-      return last_f;
-    };
-  }
-  const NlpProblem& problem = recording.objective ? recording : given;
+  const std::optional<NlpProblem> recorded = recording(given, policy, &last_f);
+  const NlpProblem& problem = recorded ? *recorded : given;
   MultiStartResult out;
   // Optima reached (feasible, converged or stopped by round-off) by the runs so far.
   std::vector<KnownOptimum> optima;
