@@ -26,6 +26,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "storage/redis_client.hpp"
+#include "storage/redis_url.hpp"
 #include "support/calibration_body.hpp"
 #include "support/process.hpp"
 #include "support/proxy.hpp"
@@ -214,9 +216,16 @@ TEST(SharedJobs, KillingAReplicaAtAThirdLosesNoRowAndDuplicatesNone) {
   auto other = cluster.replicas[1].client();
   const std::string id = post_table(owner, 480);
   ASSERT_FALSE(id.empty());
-  // The replica that accepted the job dies at ~30 %, with items in flight.
+  // The replica that accepted the job dies at ~30 %, holding an item it took (pending in the
+  // stream's group: it is solving it), which another replica must take over.
   const json third = wait_done(other, id, 144);
   ASSERT_EQ(third.at("state"), "running") << third;
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  ASSERT_TRUE(test::wait_until([&] {
+    const auto held = redis.command(
+        {"XPENDING", "slosh:jobs:" + id + ":items", "workers", "-", "+", "10", "line-1"});
+    return held && !held->elements.empty();
+  }));
   ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
   const json done = wait_finished(other, id);
   ASSERT_EQ(done.at("state"), "done") << done;
