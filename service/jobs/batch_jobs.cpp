@@ -340,7 +340,10 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
     JobRecord record = load_record(store_, id, config);
-    if (shared_ && !api::is_final(record.state)) {  // progress now, not at the last heartbeat
+    // A shared job's progress as of now, not of the last heartbeat, while some replica rewrites
+    // its record (once none has for a while, the stored record is judged as it is).
+    if (shared_ && !api::is_final(record.state) &&
+        unix_ms_now() - record.updated_unix_ms <= kBehindMs) {
       if (auto live = shared_->live_record(id)) {
         if (auto now = api::parse_job_record(*live)) record = std::move(*now);
       }
