@@ -142,7 +142,7 @@ bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InF
   return took;
 }
 
-bool SharedJobWorker::store_ready(std::vector<InFlight>& flight) {
+bool SharedJobWorker::store_ready(std::vector<InFlight>& flight, bool& complete) {
   bool any = false;
   for (auto it = flight.begin(); it != flight.end();) {
     const StartedItem& s = it->started;
@@ -157,6 +157,9 @@ bool SharedJobWorker::store_ready(std::vector<InFlight>& flight) {
     const api::PlanTableRow row = api::table_row_of(plan_row(it->item.recipe, s.get(), view));
     const auto result = queue_.store(it->job, it->item, api::table_row_text(row), row.failed);
     if (result.stored == SharedJobQueue::Stored::kNew) ++stored_;
+    if (result.stored != SharedJobQueue::Stored::kFailed && result.done >= it->item.total) {
+      complete = true;
+    }
     if (result.stored == SharedJobQueue::Stored::kFailed) {
       spdlog::warn(
           "batch job {}: row {} was not stored (Redis did not answer); another replica "
@@ -173,23 +176,23 @@ void SharedJobWorker::run() {
   std::vector<InFlight> flight;
   std::vector<std::string> jobs;
   auto last_beat = std::chrono::steady_clock::now() - kHeartbeat;
+  bool complete = false;  // a job's last row was stored here: its final record at once
   while (!stopping()) {
-    if (std::chrono::steady_clock::now() - last_beat >= kHeartbeat) {
+    if (complete || std::chrono::steady_clock::now() - last_beat >= kHeartbeat) {
       jobs = heartbeat(flight);
       last_beat = std::chrono::steady_clock::now();
     } else if (flight.empty()) {
       jobs = queue_.jobs();  // idle: a new job's items are taken within kIdlePoll
     }
     const bool took = fill(jobs, flight);
-    if (store_ready(flight) && flight.empty() && !took) {
-      last_beat -= kHeartbeat;  // maybe the last row of a job: its final record now
-      continue;
-    }
+    complete = false;
+    if (store_ready(flight, complete)) continue;  // room again: the next items at once
     if (!flight.empty()) {
       const StartedItem& oldest = flight.front().started;
       if (oldest.pending.valid()) (void)oldest.pending.wait_for(kItemWait);
       continue;
     }
+    if (took) continue;
     std::unique_lock lock(mutex_);
     wake_.wait_for(lock, kIdlePoll, [this] { return stopping_; });
   }

@@ -56,8 +56,9 @@ class SharedJobWorker {
   std::vector<std::string> heartbeat(std::vector<InFlight>& flight);
   // Takes items of `jobs` (oldest job first) until `workers` are in flight; whether it took any.
   bool fill(const std::vector<std::string>& jobs, std::vector<InFlight>& flight);
-  // Stores the rows of the finished items; whether any finished (and a job may be complete).
-  bool store_ready(std::vector<InFlight>& flight);
+  // Stores the rows of the finished items; whether any finished. Sets `complete` when a job has
+  // all its rows stored.
+  bool store_ready(std::vector<InFlight>& flight, bool& complete);
   [[nodiscard]] bool stopping() const;
 
   PlanService& service_;
