@@ -19,6 +19,7 @@
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/response/response.hpp"
+#include "support/calibration_body.hpp"
 #include "support/plan_errors.hpp"
 #include "support/process.hpp"
 #include "support/server.hpp"
@@ -28,10 +29,8 @@ namespace {
 
 using nlohmann::json;
 
-json thesis_format_json() {
-  return json::parse(R"({"container": {"radius_mm": 48.5, "height_mm": 150},
-    "fill_height_mm": 82, "fluid": "water", "stroke_mm": 800, "motion_time_s": 1.0})");
-}
+using test::calibration_body;
+using test::thesis_format_json;
 
 json plan_body(const json& options) {
   return {{"format", thesis_format_json()}, {"strategy", "shaper"}, {"options", options}};
@@ -90,28 +89,6 @@ TEST(CalibratedModelOption, SimulateUsesTheModel) {
           .peaks();
   EXPECT_NEAR(out["prediction"]["nonlinear"]["eta_motion_mm"].get<double>(), p.motion.value * 1e3,
               1e-6);
-}
-
-// A calibration request on the thesis format: one series of the truth model sampled at 50 Hz.
-json calibration_body() {
-  json body = {{"format", thesis_format_json()}};
-  const Format f = api::parse_request_format(body);
-  ModelOptions truth;
-  truth.omega_scale = 1.05;
-  truth.height_gain = 0.9;
-  const MotionLaw law = make_modified_trapezoid_law(0.8, 0.8);
-  const NonlinearResponse response(make_sloshing_model(f, truth), law, 1.2);
-  json t = json::array(), eta = json::array();
-  for (int k = 0; k <= 100; ++k) {
-    t.push_back(0.02 * k);
-    eta.push_back(response.eta(0.02 * k) * 1e3);
-  }
-  body["moves"] = json::array({{{"name", "mod-trap 0.8 s"},
-                                {"motion_time_s", 0.8},
-                                {"law", {{"type", "modified_trapezoid"}}},
-                                {"series", {{"t_s", t}, {"eta_mm", eta}}}}});
-  body["fit"] = {{"zeta", {{"fit", false}}}, {"alpha", {{"fit", false}}}};
-  return body;
 }
 
 api::ApiError calibration_error(const json& body) {

@@ -1,4 +1,5 @@
 #include "slosh/api/error.hpp"
+#include "slosh/api/json_text.hpp"
 
 namespace slosh::api {
 
@@ -30,6 +31,11 @@ ErrorCode error_code_of_status(int status) {
 
 std::string dump_json(const nlohmann::json& value, int indent) {
   return value.dump(indent, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+nlohmann::json json_value_of(std::string_view text) {
+  nlohmann::json value = nlohmann::json::parse(text, nullptr, false);
+  return value.is_discarded() ? nlohmann::json(nullptr) : value;
 }
 
 nlohmann::json error_envelope(const ApiError& error) {

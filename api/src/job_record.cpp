@@ -67,26 +67,31 @@ std::string job_record_text(const JobStatus& s, std::int64_t now_ms) {
     eta = std::ceil(static_cast<double>(s.total - s.done) / rate);
   }
   const std::string base = "/v1/batches/" + s.id;
-  const json record{{"id", s.id},
-                    {"state", to_string(s.state)},
-                    {"format", s.format},
-                    {"view", s.view ? json(*s.view) : json(nullptr)},
-                    {"progress",
-                     {{"done", s.done},
-                      {"total", s.total},
-                      {"failed", s.failed},
-                      {"rate_per_s", rate},
-                      {"eta_s", eta}}},
-                    {"created_at", iso_time(s.created_ms)},
-                    {"started_at", optional_time(s.started_ms)},
-                    {"finished_at", optional_time(s.finished_ms)},
-                    {"updated_at", iso_time(now_ms)},
-                    {"updated_unix_ms", now_ms},
-                    {"message", s.message.empty() ? json(nullptr) : json(s.message)},
-                    {"note", s.note.empty() ? json(nullptr) : json(s.note)},
-                    {"cancel_requested", s.cancel_requested},
-                    {"results_csv", base + "/results.csv"},
-                    {"results_jsonl", base + "/results.jsonl"}};
+  json record{{"id", s.id},
+              {"state", to_string(s.state)},
+              {"format", s.format},
+              {"view", s.view ? json(*s.view) : json(nullptr)},
+              {"progress",
+               {{"done", s.done},
+                {"total", s.total},
+                {"failed", s.failed},
+                {"rate_per_s", rate},
+                {"eta_s", eta}}},
+              {"created_at", iso_time(s.created_ms)},
+              {"started_at", optional_time(s.started_ms)},
+              {"finished_at", optional_time(s.finished_ms)},
+              {"updated_at", iso_time(now_ms)},
+              {"updated_unix_ms", now_ms},
+              {"message", s.message.empty() ? json(nullptr) : json(s.message)},
+              {"note", s.note.empty() ? json(nullptr) : json(s.note)},
+              {"cancel_requested", s.cancel_requested},
+              {"results_csv", base + "/results.csv"},
+              {"results_jsonl", base + "/results.jsonl"}};
+  if (!s.shares.empty()) {
+    json shares = json::object();
+    for (const auto& [replica, rows] : s.shares) shares[replica] = rows;
+    record["shares"] = std::move(shares);
+  }
   return dump_json(record);
 }
 

@@ -38,6 +38,10 @@ class CalibrationService {
   /// options.model names a stored calibration (a request naming an invalid or unknown one is left
   /// as it is: its own item answers 422 on options.model).
   [[nodiscard]] std::string resolve_batch_model_names(const std::string& body) const;
+  /// Shares the stored calibrations through the plan cache's Redis (null: not shared).
+  void share_through(std::shared_ptr<RedisClient> redis) {
+    if (redis) store_->share_through(std::move(redis));
+  }
   /// Why the store is in memory instead of its file; empty when it is not.
   [[nodiscard]] const std::string& store_error() const { return store_error_; }
   /// Fits stopped because their client had gone.

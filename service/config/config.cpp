@@ -1,5 +1,6 @@
 #include "config/config.hpp"
 
+#include <unistd.h>
 #include <algorithm>
 #include <cstdlib>
 #include <fstream>
@@ -143,6 +144,13 @@ const std::vector<Setting>& settings() {
        "a size in bytes"},
       {"batch_job_ttl_s", "SLOSH_BATCH_JOB_TTL_S", &C::batch_job_ttl_s, 1, 30 * 86400},
       {"batch_job_stale_s", "SLOSH_BATCH_JOB_STALE_S", &C::batch_job_stale_s, 1, 86400},
+      {"batch_job_spread",
+       "SLOSH_BATCH_JOB_SPREAD",
+       &C::batch_job_spread,
+       0,
+       0,
+       "a job spread",
+       {"owner", "replicas"}},
   };
   return all;
 }
@@ -267,6 +275,13 @@ std::map<std::string, std::string> slosh_environment() {
     if (const char* value = std::getenv(s.env)) env[s.env] = value;
   }
   return env;
+}
+
+std::string replica_name(const ServerConfig& config) {
+  if (!config.replica_id.empty()) return config.replica_id;
+  char host[256] = {};
+  if (::gethostname(host, sizeof host - 1) != 0) return "slosh";
+  return host;
 }
 
 }  // namespace slosh::service

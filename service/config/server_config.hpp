@@ -99,7 +99,16 @@ struct ServerConfig {
   /// A queued or running job whose record its replica has not rewritten for this long reads as
   /// failed ("the replica running it stopped"); the owner rewrites it every 0.5 s [s]. Default 30.
   double batch_job_stale_s{30.0};
+  /// Where a batch job's items are solved when the cache is Redis: "owner" (the replica that
+  /// accepted it runs them all; its record and rows are shared through Redis) or "replicas"
+  /// (its items go into a Redis stream with a consumer group, every replica's workers take them,
+  /// an item a stopped replica took is taken over after batch_job_stale_s, each row is stored
+  /// once). Without Redis a job always runs on its replica. Default "owner".
+  std::string batch_job_spread{"owner"};
 };
+
+/// This replica's name: replica_id, or the host name when that is empty.
+[[nodiscard]] std::string replica_name(const ServerConfig& config);
 
 /// The SQLite file of the plan cache ("" = none): `cache`, or `cache_local` with a Redis cache.
 [[nodiscard]] inline std::string local_cache_path(const ServerConfig& c) {

@@ -171,6 +171,10 @@ class ListeningServer : public httplib::Server {
 void collect_job_metrics(MetricsText& out, const BatchJobs& jobs, const WorkerPool& pool) {
   out.family("slosh_batch_jobs_active", "gauge", "Batch jobs queued or running on this replica.");
   out.sample("slosh_batch_jobs_active", "", std::uint64_t{jobs.active()});
+  out.family("slosh_batch_job_items_total", "counter",
+             "Batch job items (rows) this replica solved and stored; a shared job's row counts "
+             "on the one replica that stored it.");
+  out.sample("slosh_batch_job_items_total", "", jobs.items_stored());
   out.family("slosh_pool_tasks_started_total", "counter",
              "Solve tasks started by priority (interactive: plans of requests and batches; "
              "background: items of batch jobs, min-time searches' strategies, calibration fits).");
@@ -211,6 +215,7 @@ struct ServerParts {
         job_stores(config, service.redis()),
         jobs(service, job_stores.store()),
         calibrations(config, service.worker_pool()) {
+    calibrations.share_through(service.redis());  // any replica plans with a stored calibration
     if (const std::string error = service.cache().storage_error(); !error.empty()) {
       spdlog::error("plan cache: {}; answering from memory only", error);
     }
@@ -527,14 +532,6 @@ void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) 
   }
   rt.server.stop();             // closes the listener; requests being answered finish
   rt.reaper->close_idle_now();  // idle and trickling connections are closed, not waited for
-}
-
-// The configured replica id, or the host name.
-std::string replica_name(const ServerConfig& config) {
-  if (!config.replica_id.empty()) return config.replica_id;
-  char host[256] = {};
-  if (::gethostname(host, sizeof host - 1) != 0) return "slosh";
-  return host;
 }
 
 // Routes, hooks and handlers installed on `rt.server`.

@@ -183,6 +183,7 @@ void BatchJobs::run(Job& job) {
       rows.push_back(api::table_row_text(row));
       row_bytes += rows.back().size();
       ++s.done;
+      ++items_stored_;
       window.pop_front();
       if (row_bytes > max_bytes) {
         stop = RunStop::kTooLarge;

@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cmath>
+#include <iterator>
 #include <sstream>
 #include <utility>
 
@@ -124,6 +126,52 @@ std::vector<api::PlanTableRow> load_rows(JobStore& store, const std::string& id,
       rows_problem_text(id, readable, offset + 1, offset + count, missing, damaged));
 }
 
+// The rows of a shared job that stopped before all its rows were stored (cancelled): the
+// replicas stored them in no particular order, so its rows have gaps. Rows [offset, offset +
+// count) of those it holds, in table order; a 503 as load_rows() when fewer than its `done` are
+// readable.
+std::vector<api::PlanTableRow> load_present_rows(JobStore& store, const std::string& id,
+                                                 const JobRecord& record, std::size_t offset,
+                                                 std::size_t count) {
+  std::vector<api::PlanTableRow> rows;
+  std::vector<std::size_t> damaged;  // 1-based row numbers
+  for (std::size_t page = 0; page < record.total; page += kRowsPage) {
+    const std::size_t n = std::min(kRowsPage, record.total - page);
+    const auto [slots, failure] = store.read_slots(id, page, n);
+    if (!slots) {
+      throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                          rows_unread_text(id, page + 1, page + n, failure));
+    }
+    for (std::size_t i = 0; i < n && i < slots->size(); ++i) {
+      if (!(*slots)[i]) continue;
+      if (auto row = api::parse_result_row(*(*slots)[i], page + i + 1)) {
+        rows.push_back(std::move(*row));
+      } else {
+        damaged.push_back(page + i + 1);
+      }
+    }
+  }
+  if (rows.size() < record.done || !damaged.empty()) {
+    throw api::ApiError(api::ErrorCode::kUnavailable, "id",
+                        rows_problem_text(id, rows.size(), 1, record.total, {}, damaged));
+  }
+  const std::size_t first = std::min(offset, rows.size());
+  const std::size_t last = std::min(rows.size(), first + count);
+  return {std::make_move_iterator(rows.begin() + static_cast<std::ptrdiff_t>(first)),
+          std::make_move_iterator(rows.begin() + static_cast<std::ptrdiff_t>(last))};
+}
+
+// Rows [offset, offset + count) of the finished job of `record`, as load_rows() or, for a shared
+// job with gaps, load_present_rows().
+std::vector<api::PlanTableRow> finished_rows(JobStore& store, const std::string& id,
+                                             const JobRecord& record, std::size_t offset,
+                                             std::size_t count) {
+  if (record.document.contains("shares") && record.done < record.total) {
+    return load_present_rows(store, id, record, offset, count);
+  }
+  return load_rows(store, id, offset, count);
+}
+
 // The value of ?partial= of a results download: "1" or "true" asks for the done rows of a job
 // that did not finish them all; else 422 naming it.
 bool partial_of(const std::vector<std::string>& values) {
@@ -159,7 +207,17 @@ Reply table_reply(const std::string& id, TableFormat format,
 }  // namespace
 
 BatchJobs::BatchJobs(PlanService& service, JobStore& store)
-    : service_(service), store_(store), runner_([this] { run_jobs(); }) {}
+    : service_(service), store_(store), runner_([this] { run_jobs(); }) {
+  const ServerConfig& config = service.config();
+  if (config.batch_job_spread != "replicas" || !service.redis()) return;
+  SharedQueueOptions options;
+  options.replica = replica_name(config);
+  // A replica silent for batch_job_stale_s is stopped: its items are taken over after that long.
+  options.claim_idle = std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1e3));
+  options.alive = options.claim_idle;
+  options.ttl = std::chrono::milliseconds(std::llround(config.batch_job_ttl_s * 1e3));
+  shared_ = std::make_unique<SharedJobWorker>(service, service.redis(), std::move(options));
+}
 
 BatchJobs::~BatchJobs() {
   shutdown();
@@ -171,12 +229,13 @@ void BatchJobs::shutdown() {
     const std::lock_guard lock(mutex_);
     stopping_ = true;
   }
+  if (shared_) shared_->stop();  // its items in flight are taken over by the other replicas
   wake_.notify_all();
 }
 
 std::size_t BatchJobs::active() const {
   const std::lock_guard lock(mutex_);
-  return active_.size();
+  return active_.size() + (shared_ ? shared_->owned() : 0);
 }
 
 void BatchJobs::judge_liveness(JobRecord& record, const std::string& id) const {
@@ -233,6 +292,7 @@ Reply BatchJobs::post(const std::string& text) {
     job->status.created_ms = unix_ms_now();
     job->rows = std::move(body.rows);
     if (body.outputs.view) job->view = api::parse_plan_view(*body.outputs.view);
+    if (shared_) return post_shared(*job);
     Reply reply;
     {
       const std::lock_guard lock(mutex_);
@@ -265,9 +325,10 @@ void BatchJobs::check_capacity_locked() const {
     throw api::ApiError(api::ErrorCode::kOverloaded, "", "the service is shutting down");
   }
   const std::size_t limit = service_.config().batch_jobs_max;
-  if (active_.size() >= limit) {
+  const std::size_t active = active_.size() + (shared_ ? shared_->owned() : 0);
+  if (active >= limit) {
     throw api::ApiError(api::ErrorCode::kOverloaded, "",
-                        std::to_string(active_.size()) +
+                        std::to_string(active) +
                             " batch jobs are queued or running here, the limit " +
                             "(batch_jobs_max); retry after one has finished");
   }
@@ -279,6 +340,14 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
     JobRecord record = load_record(store_, id, config);
+    // A shared job's progress as of now, not of the last heartbeat, while some replica rewrites
+    // its record (once none has for a while, the stored record is judged as it is).
+    if (shared_ && !api::is_final(record.state) &&
+        unix_ms_now() - record.updated_unix_ms <= kBehindMs) {
+      if (auto live = shared_->live_record(id)) {
+        if (auto now = api::parse_job_record(*live)) record = std::move(*now);
+      }
+    }
     judge_liveness(record, id);
     if (const auto kept = store_.unshared(id)) {  // this replica runs it, the store is behind
       api::mark_unshared(record, kept->rows, kept->reason);
@@ -291,7 +360,9 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     if (api::is_final(record.state)) {
       const std::size_t stored = record.done;
       std::vector<api::PlanTableRow> rows;
-      if (offset < stored) rows = load_rows(store_, id, offset, std::min(limit, stored - offset));
+      if (offset < stored) {
+        rows = finished_rows(store_, id, record, offset, std::min(limit, stored - offset));
+      }
       api::add_results(record, offset, limit, rows);
     }
     return record_reply(200, record);
@@ -331,7 +402,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format,
                                   record.message, path),
           "id");
     }
-    return table_reply(id, format, load_rows(store_, id, 0, stored), state, total);
+    return table_reply(id, format, finished_rows(store_, id, record, 0, stored), state, total);
   });
 }
 
@@ -364,7 +435,8 @@ Reply BatchJobs::cancel(const std::string& id) {
     }
     wake_.notify_all();
     api::mark_cancel_requested(record);
-    if (!here) {  // when the owner will see it: it may be paused, or cut off from the store
+    if (!here &&
+        !shared_) {  // when the owner will see it: it may be paused, or cut off from the store
       const std::int64_t age = unix_ms_now() - record.updated_unix_ms;
       const auto beat = age > kBehindMs ? store_.heartbeat_age_ms(id) : std::nullopt;
       api::add_cancel_note(

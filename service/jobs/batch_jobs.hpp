@@ -6,12 +6,15 @@
 //
 // A job runs on the solve pool at background priority (WorkerPool: interactive plans first) with
 // at most `workers` of its items queued or running at a time, so an interactive plan never waits
-// behind a job's thousands of items. Its record and rows live in the JobStore (memory, or Redis
-// shared by the replicas), so any replica answers GET for it; a DELETE on any replica sets the
-// store's cancel flag, which the owner polls. The owner rewrites the record at least every second;
-// a queued or running record not rewritten for batch_job_stale_s reads as failed (its replica
-// stopped). On shutdown (SIGTERM) the running and queued jobs end as failed, with a message.
+// behind a job's thousands of items. With batch_job_spread = "replicas" and a Redis cache, a job's
+// items are shared out to every replica instead (SharedJobWorker, SharedJobQueue). Its record and
+// rows live in the JobStore (memory, or Redis shared by the replicas), so any replica answers GET
+// for it; a DELETE on any replica sets the store's cancel flag, which the owner polls. The owner
+// rewrites the record at least every second; a queued or running record not rewritten for
+// batch_job_stale_s reads as failed (its replica stopped). On shutdown (SIGTERM) the running and
+// queued jobs end as failed, with a message.
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <cstddef>
@@ -29,6 +32,7 @@
 #include "jobs/batch_job_record.hpp"
 #include "jobs/job_store.hpp"
 #include "jobs/recipe_table.hpp"
+#include "jobs/shared_job_worker.hpp"
 
 namespace slosh::service {
 
@@ -83,8 +87,14 @@ class BatchJobs {
   /// runner finishes writing their records).
   void shutdown();
 
-  /// Jobs queued or running on this replica.
+  /// Jobs queued or running on this replica (with batch_job_spread = "replicas": the jobs posted
+  /// here that have not finished).
   [[nodiscard]] std::size_t active() const;
+  /// Job items (rows) this replica solved and stored, of its own jobs and of shared ones; a row
+  /// of a shared job is counted by the one replica that stored it first.
+  [[nodiscard]] std::uint64_t items_stored() const {
+    return items_stored_.load() + (shared_ ? shared_->items_stored() : 0);
+  }
 
   /// For /readyz: why some jobs' rows or records are held on this replica only (the shared
   /// store refuses or fails their writes, naming it and its reason); empty when none are.
@@ -92,6 +102,8 @@ class BatchJobs {
 
  private:
   struct Job;
+  // post() of a job shared out to the replicas: published in Redis, not run here.
+  Reply post_shared(Job& job);
   void run_jobs();
   void run(Job& job);
   // Starts items until `workers` of the job's solves are in flight; returns the next item.
@@ -129,6 +141,9 @@ class BatchJobs {
   std::unordered_map<std::string, std::shared_ptr<Job>> active_;  // queued or running here
   bool stopping_{false};
   std::function<std::string(const std::string&)> resolve_models_;
+  std::atomic<std::uint64_t> items_stored_{0};  // rows of the jobs run here
+  // The worker of the jobs shared out through Redis (batch_job_spread = "replicas"), else null.
+  std::unique_ptr<SharedJobWorker> shared_;
   std::thread runner_;  // last: started once the members above exist
 };
 

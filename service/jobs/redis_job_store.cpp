@@ -272,9 +272,9 @@ bool RedisJobStore::recently_emptied() {
 bool RedisJobStore::remove(const std::string& id) {
   // The mark outlives the job's other keys by the TTL: the owner sees it at its next heartbeat
   // and drops its own copy instead of publishing it again.
-  return write(id,
-               {{"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel"), key(id, "alive")},
-                {"SET", key(id, "removed"), "1"}});
+  return write(id, {{"DEL", key(id, "record"), key(id, "rows"), key(id, "cancel"), key(id, "alive"),
+                     key(id, "spec"), key(id, "counts"), key(id, "items"), key(id, "final")},
+                    {"SET", key(id, "removed"), "1"}});
 }
 
 std::vector<std::string> RedisJobStore::removed_among(const std::vector<std::string>& ids) {

@@ -8,7 +8,8 @@
 //  "created_at", "started_at", "finished_at", "updated_at" (ISO 8601 UTC, null until then),
 //  "updated_unix_ms", "message" (why it failed or was cancelled; null), "note" (e.g. the replica
 //  running it was paused and carried on; null), "cancel_requested",
-//  "results_csv", "results_jsonl" (the download paths)}
+//  "results_csv", "results_jsonl" (the download paths), and for a job shared out to the
+//  replicas "shares": {"<replica>": rows it stored}}
 // Records written by earlier versions have the same members and are read alike.
 
 #include <cstddef>
@@ -16,6 +17,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -41,6 +43,10 @@ struct JobStatus {
   /// What happened to the job besides its state (e.g. its replica was paused); empty when none.
   std::string note;
   bool cancel_requested{false};
+  /// A job shared out to the replicas (batch_job_spread = "replicas"): the rows each replica
+  /// stored, by replica name, rendered as "shares": {"<replica>": rows}; empty (no member) for a
+  /// job one replica runs.
+  std::vector<std::pair<std::string, std::size_t>> shares;
 };
 
 /// The state named `name` ("queued", ...); nullopt for any other text.

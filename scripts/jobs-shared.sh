@@ -1,0 +1,116 @@
+#!/usr/bin/env bash
+# Throughput of one batch job shared out to 1, 2 and 3 `slosh serve` replicas through Redis
+# (batch_job_spread = "replicas", one solve worker each), all started here on loopback: for each
+# replica count, one job of N distinct recipes (notch, or the strategy given; the motion time differs, and each run uses
+# other recipes, so nothing is cached) is POSTed to the first replica and polled until done;
+# prints recipes/s and each replica's share. Then, with 3 replicas, the first replica (which
+# accepted the job) is killed (-9) at 30 %: prints the time from the kill to the job's end, the
+# rows stored and whether each row is there once, against the time the remaining 70 % would take
+# at the 2-replica rate (the excess is the take-over time, batch_job_stale_s, plus start-up).
+# Usage: scripts/jobs-shared.sh [slosh-binary] [recipes] [stale-s] [strategy]
+# Needs: redis-server, redis-cli, curl, python3. Stops everything it started.
+set -euo pipefail
+here="$(cd "$(dirname "$0")/.." && pwd)"
+slosh="${1:-$here/build/slosh}"
+n="${2:-600}"
+stale="${3:-5}"
+strategy="${4:-notch}"
+dir="$(mktemp -d)"
+pids=()
+cleanup() {
+  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
+  wait 2>/dev/null || true
+  rm -rf "$dir"
+}
+trap cleanup EXIT
+free_port() {
+  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
+}
+
+redis_port="$(free_port)"
+redis-server --port "$redis_port" --bind 127.0.0.1 --save "" --appendonly no --dir "$dir" \
+  >"$dir/redis.log" 2>&1 &
+pids+=("$!")
+for _ in $(seq 100); do redis-cli -p "$redis_port" ping >/dev/null 2>&1 && break; sleep 0.1; done
+
+# start_replicas RUN COUNT: starts COUNT replicas named run-RUN-i; their ports in ports[], pids in
+# run_pids[].
+start_replicas() {
+  ports=()
+  run_pids=()
+  for i in $(seq "$2"); do
+    SLOSH_BATCH_JOB_SPREAD=replicas SLOSH_BATCH_JOB_STALE_S="$stale" \
+      "$slosh" serve --host 127.0.0.1 --port 0 --port-file "$dir/port-$1-$i" --workers 1 \
+      --cache "redis://127.0.0.1:$redis_port/0" --replica-id "run$1-$i" \
+      >"$dir/slosh-$1-$i.log" 2>&1 &
+    pids+=("$!")
+    run_pids+=("$!")
+  done
+  for i in $(seq "$2"); do
+    for _ in $(seq 200); do [ -s "$dir/port-$1-$i" ] && break; sleep 0.05; done
+    ports+=("$(cat "$dir/port-$1-$i")")
+  done
+}
+
+stop_replicas() {
+  for pid in "${run_pids[@]}"; do kill "$pid" 2>/dev/null || true; wait "$pid" 2>/dev/null || true; done
+}
+
+# run_job RUN KILL_AT PORTS...: posts N recipes (offset by RUN) to the first port and polls through
+# the last one; KILL_AT (a fraction, 0 = none) kills the first replica (pid in $victim) then.
+run_job() {
+  python3 - "$n" "$1" "$2" "${victim:-0}" "$strategy" "${@:3}" <<'PY'
+import json, os, signal, sys, time, urllib.request
+n, run, kill_at, victim, strategy, ports = int(sys.argv[1]), int(sys.argv[2]), \
+    float(sys.argv[3]), int(sys.argv[4]), sys.argv[5], sys.argv[6:]
+def call(port, path, data=None):
+    req = urllib.request.Request(f"http://127.0.0.1:{port}{path}",
+                                 data=None if data is None else json.dumps(data).encode(),
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=30) as r:
+        return r.read()
+body = {"requests": [{"format": {"container": {"radius_mm": 48.5}, "fill_height_mm": 82,
+         "fluid": "water", "stroke_mm": 800,
+         "motion_time_s": 0.9 + 0.0001 * (run * n + i)}, "strategy": strategy} for i in range(n)]}
+start = time.monotonic()
+job = json.loads(call(ports[0], "/v1/batches", body))["id"]
+killed = None
+while True:
+    rec = json.loads(call(ports[-1], f"/v1/batches/{job}?limit=1"))
+    done = rec["progress"]["done"]
+    if killed is None and kill_at > 0 and done >= kill_at * n:
+        os.kill(victim, signal.SIGKILL)
+        killed = (time.monotonic(), done)
+    if rec["state"] not in ("queued", "running"):
+        break
+    time.sleep(0.05)
+wall = time.monotonic() - start
+csv = call(ports[-1], f"/v1/batches/{job}/results.csv").decode().splitlines()[1:]
+rows = sorted(int(line.split(",")[0]) for line in csv)
+once = rows == list(range(1, n + 1))
+print(f"{len(ports)} replica(s): {rec['state']}, {done} recipes in {wall:.2f} s = "
+      f"{done / wall:.1f} recipes/s; shares {rec.get('shares')}; every row once: {once}")
+if killed:
+    after = time.monotonic() - killed[0]
+    print(f"  killed the accepting replica at {killed[1]} rows; the job ended {after:.2f} s later")
+PY
+}
+
+run=1
+for count in 1 2 3; do
+  start_replicas "$run" "$count"
+  if [ "$count" = 1 ]; then
+    # A first job on a fresh process and Redis runs slower (page faults, allocator, connections):
+    # one job of other recipes first, not counted.
+    run_job 99 0 "${ports[@]}" >/dev/null
+  fi
+  echo "== $count replica(s), 1 worker each, $n $strategy recipes"
+  run_job "$run" 0 "${ports[@]}"
+  stop_replicas
+  run=$((run + 1))
+done
+start_replicas "$run" 3
+victim="${run_pids[0]}"
+echo "== 3 replicas, the accepting one killed (-9) at 30 %, batch_job_stale_s = $stale"
+run_job "$run" 0.3 "${ports[@]}"
+stop_replicas

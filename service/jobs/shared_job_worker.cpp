@@ -1,0 +1,201 @@
+#include "jobs/shared_job_worker.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <chrono>
+#include <set>
+#include <utility>
+
+#include "jobs/plan_table.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/job_record.hpp"
+#include "slosh/api/plan_table_row.hpp"
+#include "slosh/api/plan_view.hpp"
+#include "slosh/api/service_bodies.hpp"
+
+namespace slosh::service {
+
+namespace {
+
+/// How often the worker rewrites the shared jobs' records and renews its items (the heartbeat).
+constexpr std::chrono::milliseconds kHeartbeat{500};
+/// How long an idle worker waits before it looks for items again.
+constexpr std::chrono::milliseconds kIdlePoll{100};
+/// How long a busy worker waits for its oldest item before it looks at the others again.
+constexpr std::chrono::milliseconds kItemWait{20};
+
+}  // namespace
+
+struct SharedJobWorker::InFlight {
+  std::string job;
+  SharedItem item;
+  StartedItem started;
+};
+
+SharedJobWorker::SharedJobWorker(PlanService& service, std::shared_ptr<RedisClient> client,
+                                 SharedQueueOptions options)
+    : service_(service),
+      queue_(std::move(client), std::move(options)),
+      thread_([this] { run(); }) {}
+
+SharedJobWorker::~SharedJobWorker() {
+  stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void SharedJobWorker::stop() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+}
+
+bool SharedJobWorker::stopping() const {
+  const std::lock_guard lock(mutex_);
+  return stopping_;
+}
+
+std::size_t SharedJobWorker::owned() const {
+  const std::lock_guard lock(mutex_);
+  return owned_.size();
+}
+
+std::optional<std::string> SharedJobWorker::publish(const JobStatus& status,
+                                                    std::vector<RecipeRow> recipes) {
+  if (auto refused = queue_.publish(status, recipes)) return refused;
+  {
+    const std::lock_guard lock(mutex_);
+    owned_[status.id] = Owned{status, std::move(recipes)};
+  }
+  wake_.notify_all();
+  return std::nullopt;
+}
+
+std::vector<std::string> SharedJobWorker::heartbeat(std::vector<InFlight>& flight) {
+  std::vector<std::string> jobs = queue_.jobs();
+  std::set<std::string> beaten;
+  std::vector<std::string> running;
+  std::set<std::string> over;
+  for (const std::string& id : jobs) {
+    beaten.insert(id);
+    const SharedJobQueue::Fate fate = queue_.beat(id);
+    if (fate == SharedJobQueue::Fate::kFinished || fate == SharedJobQueue::Fate::kGone) {
+      over.insert(id);
+    } else {
+      running.push_back(id);
+    }
+  }
+  std::vector<std::pair<std::string, Owned>> owned;
+  {
+    const std::lock_guard lock(mutex_);
+    owned.assign(owned_.begin(), owned_.end());
+  }
+  for (auto& [id, job] : owned) {
+    SharedJobQueue::Fate fate = SharedJobQueue::Fate::kRunning;
+    if (beaten.count(id) == 0 || over.count(id) != 0) fate = queue_.beat(id);
+    if (fate == SharedJobQueue::Fate::kGone) {
+      // Redis lost the job (restarted empty, flushed): this replica still has its table, so it
+      // runs again from its first row (the plans are in the replicas' local caches).
+      spdlog::warn("batch job {}: the shared job store lost it; publishing it again", id);
+      if (!queue_.publish(job.status, job.recipes)) running.push_back(id);
+      continue;
+    }
+    if (fate == SharedJobQueue::Fate::kFinished) {
+      const std::lock_guard lock(mutex_);
+      owned_.erase(id);
+    }
+  }
+  // The items of a job that is over are not stored (their solves finish on the pool anyway).
+  flight.erase(std::remove_if(flight.begin(), flight.end(),
+                              [&](const InFlight& f) { return over.count(f.job) != 0; }),
+               flight.end());
+  std::map<std::string, std::vector<std::string>> held;
+  for (const InFlight& f : flight) held[f.job].push_back(f.item.entry);
+  for (const auto& [id, entries] : held) queue_.keep(id, entries);
+  return running;
+}
+
+bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InFlight>& flight) {
+  const std::size_t workers = std::max<std::size_t>(1, service_.workers());
+  const double budget = service_.engine().config().solve_budget_s;
+  bool took = false;
+  for (const std::string& id : jobs) {
+    if (flight.size() >= workers) break;
+    for (SharedItem& item : queue_.take(id, workers - flight.size())) {
+      took = true;
+      InFlight f{id, std::move(item), {}};
+      if (!f.item.recipe.error.is_null()) {  // an unreadable row: its error is its result
+        f.started.result.error = api::error_from_json(f.item.recipe.error);
+      } else {
+        try {
+          f.started = service_.start_batch_item(api::read_batch_item(f.item.recipe.request, budget),
+                                                TaskPriority::kBackground);
+        } catch (const api::ApiError& e) {
+          f.started.result.error = e;
+        }
+      }
+      flight.push_back(std::move(f));
+    }
+  }
+  return took;
+}
+
+bool SharedJobWorker::store_ready(std::vector<InFlight>& flight, bool& complete) {
+  bool any = false;
+  for (auto it = flight.begin(); it != flight.end();) {
+    const StartedItem& s = it->started;
+    const bool ready = !s.pending.valid() ||
+                       s.pending.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+    if (!ready) {
+      ++it;
+      continue;
+    }
+    std::optional<api::PlanView> view;
+    if (it->item.view) view = api::parse_plan_view(*it->item.view);
+    const api::PlanTableRow row = api::table_row_of(plan_row(it->item.recipe, s.get(), view));
+    const auto result = queue_.store(it->job, it->item, api::table_row_text(row), row.failed);
+    if (result.stored == SharedJobQueue::Stored::kNew) ++stored_;
+    if (result.stored != SharedJobQueue::Stored::kFailed && result.done >= it->item.total) {
+      complete = true;
+    }
+    if (result.stored == SharedJobQueue::Stored::kFailed) {
+      spdlog::warn(
+          "batch job {}: row {} was not stored (Redis did not answer); another replica "
+          "takes its item over",
+          it->job, it->item.index + 1);
+    }
+    any = true;
+    it = flight.erase(it);
+  }
+  return any;
+}
+
+void SharedJobWorker::run() {
+  std::vector<InFlight> flight;
+  std::vector<std::string> jobs;
+  auto last_beat = std::chrono::steady_clock::now() - kHeartbeat;
+  bool complete = false;  // a job's last row was stored here: its final record at once
+  while (!stopping()) {
+    if (complete || std::chrono::steady_clock::now() - last_beat >= kHeartbeat) {
+      jobs = heartbeat(flight);
+      last_beat = std::chrono::steady_clock::now();
+    } else if (flight.empty()) {
+      jobs = queue_.jobs();  // idle: a new job's items are taken within kIdlePoll
+    }
+    const bool took = fill(jobs, flight);
+    complete = false;
+    if (store_ready(flight, complete)) continue;  // room again: the next items at once
+    if (!flight.empty()) {
+      const StartedItem& oldest = flight.front().started;
+      if (oldest.pending.valid()) (void)oldest.pending.wait_for(kItemWait);
+      continue;
+    }
+    if (took) continue;
+    std::unique_lock lock(mutex_);
+    wake_.wait_for(lock, kIdlePoll, [this] { return stopping_; });
+  }
+}
+
+}  // namespace slosh::service

@@ -1,0 +1,78 @@
+#pragma once
+// The background worker of a replica that solves shared batch jobs' items (batch_job_spread =
+// "replicas", SPEC §13): it takes items from the jobs' Redis streams (SharedJobQueue), solves them
+// on the solve pool at background priority with at most `workers` of them in flight (so
+// interactive plans still overtake them), stores each row once and acknowledges its item. Every
+// heartbeat it rewrites the record of every shared job (so a job stays alive while any replica
+// works on it), renews its hold of the items it is solving, and gives its own jobs (those posted
+// here) to Redis again when Redis lost them (restarted without persistence).
+
+#include <atomic>
+#include <condition_variable>
+#include <cstdint>
+#include <map>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "http/plan_service.hpp"
+#include "jobs/shared_job_queue.hpp"
+
+namespace slosh::service {
+
+class SharedJobWorker {
+ public:
+  /// Works on `service`'s pool (which outlives it) with the queue's Redis client.
+  SharedJobWorker(PlanService& service, std::shared_ptr<RedisClient> client,
+                  SharedQueueOptions options);
+  /// stop(), then joins the thread.
+  ~SharedJobWorker();
+  SharedJobWorker(const SharedJobWorker&) = delete;
+  SharedJobWorker& operator=(const SharedJobWorker&) = delete;
+
+  /// Publishes a job posted here (SharedJobQueue::publish) and keeps its table until it has
+  /// finished, to publish it again if Redis loses it. nullopt once published; else why not.
+  [[nodiscard]] std::optional<std::string> publish(const JobStatus& status,
+                                                   std::vector<RecipeRow> recipes);
+  /// Stops taking items; the items in flight are left to be taken over by other replicas.
+  void stop();
+  /// Rows this replica stored first (counted once across the replicas).
+  [[nodiscard]] std::uint64_t items_stored() const { return stored_.load(); }
+  /// SharedJobQueue::live_record.
+  [[nodiscard]] std::optional<std::string> live_record(const std::string& id) {
+    return queue_.live_record(id);
+  }
+  /// Jobs posted here that have not finished.
+  [[nodiscard]] std::size_t owned() const;
+
+ private:
+  struct InFlight;
+  void run();
+  // Beats every shared job and the owned ones (publishing again those Redis lost); drops the
+  // items in flight of jobs that are over; returns the jobs with items left, oldest first.
+  std::vector<std::string> heartbeat(std::vector<InFlight>& flight);
+  // Takes items of `jobs` (oldest job first) until `workers` are in flight; whether it took any.
+  bool fill(const std::vector<std::string>& jobs, std::vector<InFlight>& flight);
+  // Stores the rows of the finished items; whether any finished. Sets `complete` when a job has
+  // all its rows stored.
+  bool store_ready(std::vector<InFlight>& flight, bool& complete);
+  [[nodiscard]] bool stopping() const;
+
+  PlanService& service_;
+  SharedJobQueue queue_;
+  std::atomic<std::uint64_t> stored_{0};
+  mutable std::mutex mutex_;
+  std::condition_variable wake_;
+  bool stopping_{false};
+  struct Owned {
+    JobStatus status;
+    std::vector<RecipeRow> recipes;
+  };
+  std::map<std::string, Owned> owned_;  // jobs posted here, until they have finished
+  std::thread thread_;                  // last: started once the members above exist
+};
+
+}  // namespace slosh::service

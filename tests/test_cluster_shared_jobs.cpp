@@ -1,0 +1,380 @@
+// A batch job shared out to every replica through Redis (SPEC §13, batch_job_spread =
+// "replicas"), every part real and started by the test: a redis-server on a free port, three
+// `slosh serve` replicas (one solve worker each) sharing it, and nginx in front. A job posted
+// through the proxy is worked on by all three (each one's slosh_batch_job_items_total and its
+// share in the record), and its table is the file `slosh batch` writes for the same recipes,
+// also after a replica was killed (-9) at a third of it and after Redis was restarted empty
+// mid-job; a cancel through a replica that did not take the job stops every replica's items; a
+// job much larger than every replica's queue runs to its end while interactive plans are
+// answered. A calibration stored through one replica plans on another (calibrations live in Redis
+// too). The tests wait for states and counters (polling), never for a fixed time.
+
+#include <httplib.h>
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <set>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "storage/redis_client.hpp"
+#include "storage/redis_url.hpp"
+#include "support/calibration_body.hpp"
+#include "support/process.hpp"
+#include "support/proxy.hpp"
+#include "support/redis_server.hpp"
+#include "support/replicas.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using namespace std::chrono_literals;
+
+/// The item take-over time of these clusters (batch_job_stale_s) [s]: a killed replica's items
+/// are solved by the others this long after it stopped renewing them.
+constexpr const char* kStaleS = "3";
+
+/// redis-server, three replicas sharing jobs through it (one worker each, `queue` solves may wait
+/// on each) and nginx in front.
+struct SharedCluster {
+  explicit SharedCluster(const char* queue = "64") : replicas(start(redis, queue)) {}
+  static test::ReplicaSet start(const test::RedisServer& redis, const char* queue) {
+    ::setenv("SLOSH_BATCH_JOB_SPREAD", "replicas", 1);  // the replicas read them at start
+    ::setenv("SLOSH_BATCH_JOB_STALE_S", kStaleS, 1);
+    test::ReplicaSet set{
+        3,
+        {"--cache", redis.url(), "--workers", "1", "--queue", queue, "--redis-timeout-ms", "10000"},
+        "line"};
+    ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
+    ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+    return set;
+  }
+  test::RedisServer redis;
+  test::ReplicaSet replicas;
+  test::NginxProxy proxy{replicas.ports(), true};
+};
+
+/// A CSV recipe table of `n` distinct recipes (the motion time differs: no two share a plan).
+std::string table_of(std::size_t n) {
+  std::string table = "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n";
+  for (std::size_t i = 0; i < n; ++i) {
+    char time[32];
+    std::snprintf(time, sizeof time, "%.3f", 0.9 + 0.001 * static_cast<double>(i));
+    table += "r" + std::to_string(i) + ",48.5,82,water,800," + time + ",notch\n";
+  }
+  return table;
+}
+
+// The cells of a CSV line (no quoted commas in these tables' rows but the header's).
+std::vector<std::string> csv_cells(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (char ch : line) {
+    if (ch == '"') quoted = !quoted;
+    if (ch == ',' && !quoted) {
+      cells.emplace_back();
+    } else {
+      cells.back() += ch;
+    }
+  }
+  return cells;
+}
+
+// The lines of a CSV plan table without the cells that depend on the run (cached, solve_ms).
+std::vector<std::string> csv_without_timing(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  std::string line;
+  std::vector<std::size_t> skip;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = csv_cells(line);
+    if (skip.empty()) {
+      for (std::size_t i = 0; i < cells.size(); ++i) {
+        if (cells[i] == "cached" || cells[i] == "solve_ms") skip.push_back(i);
+      }
+    }
+    std::string kept;
+    for (std::size_t i = 0; i < cells.size(); ++i) {
+      if (std::find(skip.begin(), skip.end(), i) == skip.end()) kept += cells[i] + ",";
+    }
+    lines.push_back(kept);
+  }
+  return lines;
+}
+
+/// The table `slosh batch` writes for table_of(n) (no cache), without timing cells.
+std::vector<std::string> reference_of(std::size_t n) {
+  const test::TempDir dir;
+  test::write_file(dir / "t.csv", table_of(n));
+  const auto r = test::run_slosh({"batch", "--in", (dir / "t.csv").string(), "--out",
+                                  (dir / "out.csv").string(), "--cache", ""});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return csv_without_timing(test::read_file(dir / "out.csv"));
+}
+
+/// The reference of the 480-recipe table, computed once for the tests that use it.
+const std::vector<std::string>& reference_480() {
+  static const std::vector<std::string> reference = reference_of(480);
+  return reference;
+}
+
+std::string post_table(httplib::Client& c, std::size_t n) {
+  const json body{{"table", table_of(n)}, {"table_format", "csv"}, {"format", "csv"}};
+  const auto r = c.Post("/v1/batches", body.dump(), "application/json");
+  EXPECT_TRUE(r && r->status == 202) << (r ? r->body : "no answer");
+  return r && r->status == 202 ? json::parse(r->body).at("id").get<std::string>() : "";
+}
+
+/// The record of job `id` through `c`; null while it answers anything but 200 (e.g. 503 while
+/// Redis restarts).
+json record_of(httplib::Client& c, const std::string& id) {
+  const auto r = c.Get("/v1/batches/" + id);
+  return r && r->status == 200 ? json::parse(r->body) : json();
+}
+
+bool is_final(const json& record) {
+  const std::string state = record.is_object() ? record.value("state", "") : "";
+  return state == "done" || state == "cancelled" || state == "failed";
+}
+
+/// Polls job `id` through `c` until it has finished; the last record.
+json wait_finished(httplib::Client& c, const std::string& id) {
+  json record;
+  test::wait_until([&] { return is_final(record = record_of(c, id)); });
+  return record;
+}
+
+/// Polls job `id` through `c` until at least `done` rows are stored; the last record.
+json wait_done(httplib::Client& c, const std::string& id, int done) {
+  json record;
+  test::wait_until([&] {
+    record = record_of(c, id);
+    return record.is_object() && record.at("progress").at("done").get<int>() >= done;
+  });
+  return record;
+}
+
+double items_of(const test::Replica& replica) {
+  auto c = replica.client();
+  const auto r = c.Get("/metrics");
+  return r ? test::metric(r->body, "slosh_batch_job_items_total") : -1.0;
+}
+
+/// The items counters of the running replicas of `cluster` once their sum is `rows`: a replica
+/// counts a row just after Redis took it, so the last count may follow the job's final record by
+/// a moment; a sum that never reaches `rows` (a row stored twice or never) is reported as it is.
+std::vector<double> counters_once_at(SharedCluster& cluster, double rows) {
+  std::vector<double> items(3, 0.0);
+  test::wait_until(
+      [&] {
+        double sum = 0;
+        for (std::size_t i = 0; i < 3; ++i) {
+          items[i] = cluster.replicas[i].running() ? items_of(cluster.replicas[i]) : 0.0;
+          sum += items[i];
+        }
+        return sum == rows;
+      },
+      std::chrono::seconds(10));
+  return items;
+}
+
+/// The results.csv of a finished job `id` through `c`, checked whole: every row number once.
+std::vector<std::string> whole_table(httplib::Client& c, const std::string& id, std::size_t n) {
+  const auto csv = c.Get("/v1/batches/" + id + "/results.csv");
+  EXPECT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
+  if (!csv || csv->status != 200) return {};
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Partial"), "false");
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), std::to_string(n));
+  return csv_without_timing(csv->body);
+}
+
+TEST(SharedJobs, AJobIsWorkedOnByEveryReplicaAndItsTableIsSloshBatchs) {
+  const std::vector<std::string>& reference = reference_480();
+  SharedCluster cluster;
+  auto proxy = cluster.proxy.client();
+  const std::string id = post_table(proxy, 480);
+  ASSERT_FALSE(id.empty());
+  const json done = wait_finished(proxy, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 480);
+  EXPECT_EQ(done.at("progress").at("failed"), 0);
+  // Each replica stored a share, its counter says the same, and the shares add up to the table.
+  const std::vector<double> items = counters_once_at(cluster, 480);
+  double sum = 0;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const test::Replica& r = cluster.replicas[i];
+    EXPECT_GT(items[i], 0) << r.id() << " took no item: " << done;
+    EXPECT_EQ(done.at("shares").value(r.id(), -1.0), items[i]) << done;
+    sum += items[i];
+  }
+  EXPECT_EQ(sum, 480);
+  EXPECT_EQ(whole_table(proxy, id, 480), reference);
+  // Every replica answers the same record.
+  for (std::size_t i = 0; i < 3; ++i) {
+    auto c = cluster.replicas[i].client();
+    EXPECT_EQ(record_of(c, id).at("shares"), done.at("shares"));
+  }
+}
+
+TEST(SharedJobs, KillingAReplicaAtAThirdLosesNoRowAndDuplicatesNone) {
+  const std::vector<std::string>& reference = reference_480();
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[1].client();
+  const std::string id = post_table(owner, 480);
+  ASSERT_FALSE(id.empty());
+  // The replica that accepted the job dies at ~30 %, holding an item it took (pending in the
+  // stream's group: it is solving it), which another replica must take over.
+  const json third = wait_done(other, id, 144);
+  ASSERT_EQ(third.at("state"), "running") << third;
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  ASSERT_TRUE(test::wait_until([&] {
+    const auto held = redis.command(
+        {"XPENDING", "slosh:jobs:" + id + ":items", "workers", "-", "+", "10", "line-1"});
+    return held && !held->elements.empty();
+  }));
+  ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 480);
+  const json& shares = done.at("shares");
+  std::size_t sum = 0;
+  for (const auto& [replica, rows] : shares.items()) sum += rows.get<std::size_t>();
+  EXPECT_EQ(sum, 480) << shares;  // each row stored once
+  const std::vector<double> items = counters_once_at(cluster, 480 - shares.value("line-1", 0.0));
+  EXPECT_EQ(items[1] + items[2] + shares.value("line-1", 0.0), 480);
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+TEST(SharedJobs, ARedisRestartedEmptyMidJobStillEndsWithTheWholeTable) {
+  const std::vector<std::string>& reference = reference_480();
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[2].client();
+  const std::string id = post_table(owner, 480);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(other, id, 120).at("state"), "running");
+  cluster.redis.kill();
+  cluster.redis.start();  // the same port, empty: the owner publishes the job again
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 480);
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+TEST(SharedJobs, ACancelThroughAnotherReplicaStopsEveryReplicasItems) {
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto third = cluster.replicas[2].client();
+  const std::string id = post_table(owner, 3000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(third, id, 30).at("state"), "running");
+  const auto deleted = third.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  auto second = cluster.replicas[1].client();
+  const json cancelled = wait_finished(second, id);
+  ASSERT_EQ(cancelled.at("state"), "cancelled") << cancelled;
+  const int rows = cancelled.at("progress").at("done").get<int>();
+  EXPECT_LT(rows, 3000);
+  EXPECT_EQ(cancelled.at("message"),
+            "cancelled after " + std::to_string(rows) + " of 3000 recipes");
+  // No replica stored a row after the cancel: the rows stored are the record's, and the partial
+  // table holds each of them once.
+  const std::vector<double> items = counters_once_at(cluster, rows);
+  EXPECT_EQ(items[0] + items[1] + items[2], rows);
+  const auto csv = second.Get("/v1/batches/" + id + "/results.csv?partial=1");
+  ASSERT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), std::to_string(rows));
+  const std::vector<std::string> lines = csv_without_timing(csv->body);
+  ASSERT_EQ(lines.size(), static_cast<std::size_t>(rows) + 1);
+  std::set<std::string> numbers;
+  for (std::size_t i = 1; i < lines.size(); ++i) numbers.insert(csv_cells(lines[i]).at(0));
+  EXPECT_EQ(numbers.size(), static_cast<std::size_t>(rows));
+  // The replicas' pools run no more of its items: every replica is idle again.
+  EXPECT_TRUE(test::wait_until([&] {
+    for (std::size_t i = 0; i < 3; ++i) {
+      auto c = cluster.replicas[i].client();
+      const auto m = c.Get("/metrics");
+      if (!m || test::metric(m->body, "slosh_pool_background_queue_depth") > 0) return false;
+    }
+    return true;
+  }));
+}
+
+TEST(SharedJobs, AJobLargerThanEveryQueueRunsToItsEndWhileInteractivePlansAreAnswered) {
+  // Each replica lets 2 solves wait: the 600 items never crowd out a plan (the job keeps at most
+  // one item per worker in flight), and a plan posted meanwhile is answered, not refused.
+  SharedCluster cluster{"2"};
+  auto proxy = cluster.proxy.client();
+  const std::string id = post_table(proxy, 600);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(proxy, id, 30).at("state"), "running");
+  for (int i = 0; i < 3; ++i) {  // distinct recipes: each one solved, none a cache hit
+    const std::string plan = json{
+        {"format",
+         {{"container", {{"radius_mm", 48.5}}},
+          {"fill_height_mm", 82},
+          {"fluid", "water"},
+          {"stroke_mm", 800},
+          {"motion_time_s", 2.5 + 0.1 * i}}},
+        {"strategy", "notch"}}.dump();
+    const auto r = proxy.Post("/v1/plans", plan, "application/json");
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->status, 200) << r->body;
+  }
+  const json done = wait_finished(proxy, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 600);
+  std::size_t sum = 0;
+  for (const auto& [replica, rows] : done.at("shares").items()) sum += rows.get<std::size_t>();
+  EXPECT_EQ(sum, 600);
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_GT(items_of(cluster.replicas[i]), 0);
+}
+
+// With a Redis cache, a calibration stored through one replica is in Redis: another replica
+// plans with it by name (before, it answered 404 on options.model), with the same plan as the
+// fitted model given inline.
+TEST(SharedCalibrations, ACalibrationStoredThroughOneReplicaPlansOnAnother) {
+  test::RedisServer redis;
+  test::ReplicaSet replicas{
+      2, {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms", "10000"}, "cal"};
+  auto a = replicas[0].client();
+  auto b = replicas[1].client();
+  json body = test::calibration_body();
+  body["name"] = "line-7-2026";
+  const auto posted = a.Post("/v1/calibrations", body.dump(), "application/json");
+  ASSERT_TRUE(posted && posted->status == 200) << (posted ? posted->body : "no answer");
+  const json fit = json::parse(posted->body);
+  const auto got = b.Get("/v1/calibrations/line-7-2026");
+  ASSERT_TRUE(got);
+  ASSERT_EQ(got->status, 200) << got->body;
+  EXPECT_EQ(json::parse(got->body), fit);
+  auto plan = [&](const json& model) {
+    const json request{{"format", test::thesis_format_json()},
+                       {"strategy", "shaper"},
+                       {"options", {{"model", model}}}};
+    const auto r = b.Post("/v1/plans", request.dump(), "application/json");
+    EXPECT_TRUE(r && r->status == 200) << (r ? r->body : "no answer");
+    return r && r->status == 200 ? json::parse(r->body) : json();
+  };
+  const json by_name = plan("line-7-2026");
+  const json inline_model = plan(fit.at("model"));
+  ASSERT_TRUE(by_name.is_object() && inline_model.is_object());
+  EXPECT_EQ(by_name.at("key"), inline_model.at("key"));
+  EXPECT_EQ(by_name.at("law"), inline_model.at("law"));
+}
+
+}  // namespace
+}  // namespace slosh
