@@ -44,17 +44,17 @@ inline void run_recipe_table(const std::uint8_t* data, std::size_t size,
     return;  // nothing is planned (exit 2)
   }
   // As batch_command.cpp's run_local: readable rows are planned, the others keep their error.
-  std::vector<nlohmann::json> requests;
+  std::vector<api::BatchItem> items;
   std::vector<std::size_t> slot(rows.size(), rows.size());
   for (std::size_t i = 0; i < rows.size(); ++i) {
     require(rows[i].row == i + 1, "rows are numbered in input order");
-    if (!rows[i].error.is_null()) continue;
-    slot[i] = requests.size();
-    requests.push_back(rows[i].request);
+    if (rows[i].error) continue;
+    slot[i] = items.size();
+    items.push_back(
+        api::batch_item_of(rows[i].request, shut_down_service().engine().config().solve_budget_s));
   }
   service::PlanService& service = shut_down_service();
-  const service::PendingBatch batch = service.start_batch(
-      api::read_batch_items(requests, service.engine().config().solve_budget_s));
+  const service::PendingBatch batch = service.start_batch(std::move(items));
   std::ostringstream csv, jsonl, json;
   service::PlanTableWriter csv_writer(csv, service::TableFormat::kCsv);
   service::PlanTableWriter jsonl_writer(jsonl, service::TableFormat::kJsonLines);
@@ -62,7 +62,7 @@ inline void run_recipe_table(const std::uint8_t* data, std::size_t size,
   for (std::size_t i = 0; i < rows.size(); ++i) {
     service::BatchResult result;
     if (slot[i] == rows.size()) {
-      result.error = api::error_from_json(rows[i].error);
+      result.error = rows[i].error;
     } else {
       require(batch.wait_for(slot[i], std::chrono::milliseconds(0)), "nothing was queued");
       result = batch.get(slot[i]);
@@ -71,8 +71,8 @@ inline void run_recipe_table(const std::uint8_t* data, std::size_t size,
     const std::string code = api::to_string(result.error->code());
     require(code == "invalid_value" || code == "malformed_json" || code == "overloaded",
             "a recipe fails as invalid_value or malformed_json (or is refused), never internal");
-    const nlohmann::json row = service::plan_row(rows[i], result, std::nullopt);
-    require(row["status"] == "error" && row["message"].is_string(), "an error row has a message");
+    const api::PlanTableRow row = service::plan_row(rows[i], result, std::nullopt);
+    require(row.failed && row.document["message"].is_string(), "an error row has a message");
     csv_writer.write(row);
     jsonl_writer.write(row);
     json_writer.write(row);

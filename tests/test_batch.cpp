@@ -721,8 +721,7 @@ TEST(BatchServer, UnreachableServerStopsWithThePartialTable) {
 
 TEST(BatchCsv, QuotedIdsRoundTripThroughTheOutput) {
   const TempDir dir;
-  const std::vector<std::string> ids{"line 4, station \"B\"", "say \"\"hi\"\"", "two\nlines",
-                                     "crlf\r\ninside", "  padded  "};
+  const std::vector<std::string> ids{"line 4, station \"B\"", "say \"\"hi\"\"", "  padded  "};
   std::string text =
       "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\r\n";
   for (const std::string& id : ids) {
@@ -745,6 +744,34 @@ TEST(BatchCsv, QuotedIdsRoundTripThroughTheOutput) {
   }
   // On the wire: the doubled quotes are doubled again.
   EXPECT_NE(out.find(",\"say \"\"\"\"hi\"\"\"\"\","), std::string::npos) << out;
+}
+
+// A line break inside a quoted id is valid CSV but would start a new line wherever the id is
+// echoed (a log, a spreadsheet): the row is refused naming recipe_id, the rest is planned.
+TEST(BatchCsv, IdsWithLineBreaksAreRefusedRows) {
+  const TempDir dir;
+  write_file(dir / "in.csv",
+             "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\r\n"
+             "\"two\nlines\",48.5,82,water,800,1.0,notch\r\n"
+             "\"crlf\r\ninside\",48.5,82,water,800,1.0,notch\r\n"
+             "ok,48.5,82,water,800,1.0,notch\r\n");
+  const RunResult r = run_slosh({"batch", "--in", (dir / "in.csv").string(), "--out",
+                                 (dir / "out.csv").string(), "--cache", ""});
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(read_file(dir / "out.csv"));
+  ASSERT_EQ(rows.size(), 3u);
+  for (std::size_t i = 0; i < 2; ++i) {
+    EXPECT_EQ(rows[i].text("status"), "error");
+    EXPECT_EQ(rows[i].text("recipe_id"), "");
+    EXPECT_EQ(rows[i].text("error_field"), "recipe_id");
+  }
+  EXPECT_EQ(rows[0].text("message"),
+            "recipe_id must not hold control characters (NUL, tab, line breaks, ...), got "
+            "\"two\\nlines\"");
+  EXPECT_EQ(rows[1].text("message"),
+            "recipe_id must not hold control characters (NUL, tab, line breaks, ...), got "
+            "\"crlf\\r\\ninside\"");
+  EXPECT_EQ(rows[2].text("status"), "optimal");
 }
 
 TEST(BatchCsv, ByteOrderMarkAndCrlfAreAccepted) {

@@ -220,12 +220,13 @@ TEST(OptionRegistry, AFakeOptionIsACsvColumn) {
       "b,48.5,82,water,800,1,auto,wide\n";
   const auto rows = service::read_recipe_table(table, service::TableFormat::kCsv, registry);
   ASSERT_EQ(rows.size(), 2u);
-  ASSERT_TRUE(rows[0].error.is_null()) << rows[0].error;
-  EXPECT_EQ(rows[0].request["options"]["fake_gap_mm"], 7.5);
-  (void)parse_plan_request(rows[0].request, registry);
+  ASSERT_FALSE(rows[0].error.has_value()) << rows[0].error->what();
+  EXPECT_EQ(rows[0].request.body()["options"]["fake_gap_mm"], 7.5);
+  (void)parse_plan_request(rows[0].request.body(), registry);
   EXPECT_DOUBLE_EQ(sink.value.value(), 0.0075);
-  EXPECT_EQ(rows[1].error["field"], "fake_gap_mm");
-  EXPECT_EQ(rows[1].error["message"], "fake_gap_mm = \"wide\" is not a number");
+  ASSERT_TRUE(rows[1].error.has_value());
+  EXPECT_EQ(rows[1].error->field(), "fake_gap_mm");
+  EXPECT_STREQ(rows[1].error->what(), "fake_gap_mm = \"wide\" is not a number");
   EXPECT_EQ(column_of_field("options.fake_gap_mm", registry), "fake_gap_mm");
   // The built-in registry has no such column.
   EXPECT_THROW((void)service::read_recipe_table(table, service::TableFormat::kCsv),

@@ -18,6 +18,17 @@ bool names_a_model(const nlohmann::json& request) {
   return model != nullptr && model->is_string();
 }
 
+// The body as its endpoint parses it, or discarded when that parse refuses it (malformed, too
+// deep, a member given twice): the endpoint then refuses the body as sent, never a rewritten
+// copy from which the repeated member was dropped.
+nlohmann::json parsed_or_discarded(std::string_view body) {
+  try {
+    return parse_json_body(body);
+  } catch (const ApiError&) {
+    return nlohmann::json(nlohmann::json::value_t::discarded);
+  }
+}
+
 // `body` with its options.model name replaced by the stored model (unchanged when it names none).
 nlohmann::json resolve_model_name(nlohmann::json body, const CalibrationLookup& lookup) {
   if (!body.is_object() || !body.contains("options") || !body["options"].is_object()) return body;
@@ -54,7 +65,7 @@ std::string stored_calibration_reply(std::string_view stored) {
 
 std::string resolve_model_names(const std::string& body, const CalibrationLookup& lookup) {
   if (body.find("\"model\"") == std::string::npos) return body;
-  const nlohmann::json parsed = nlohmann::json::parse(body, nullptr, false);
+  const nlohmann::json parsed = parsed_or_discarded(body);
   if (parsed.is_discarded()) return body;  // the endpoint reports the malformed body itself
   if (!names_a_model(parsed)) return body;
   return dump_json(resolve_model_name(parsed, lookup));
@@ -62,7 +73,7 @@ std::string resolve_model_names(const std::string& body, const CalibrationLookup
 
 std::string resolve_batch_model_names(const std::string& body, const CalibrationLookup& lookup) {
   if (body.find("\"model\"") == std::string::npos) return body;
-  nlohmann::json parsed = nlohmann::json::parse(body, nullptr, false);
+  nlohmann::json parsed = parsed_or_discarded(body);
   if (parsed.is_discarded() || !parsed.is_object() || !parsed.contains("requests") ||
       !parsed["requests"].is_array()) {
     return body;  // the endpoint reports the body itself

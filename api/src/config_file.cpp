@@ -3,6 +3,9 @@
 #include <nlohmann/json.hpp>
 #include <stdexcept>
 
+#include "slosh/api/error.hpp"
+#include "slosh/api/simulate.hpp"
+
 namespace slosh::api {
 
 std::vector<ConfigMember> parse_config_file(const std::string& path, const std::string& text) {
@@ -11,6 +14,11 @@ std::vector<ConfigMember> parse_config_file(const std::string& path, const std::
     j = nlohmann::json::parse(text);
   } catch (const nlohmann::json::exception& e) {
     throw std::runtime_error("config file '" + path + "' is not valid JSON: " + e.what());
+  }
+  try {
+    (void)parse_json_body(text);  // refuses a member given twice, which the parse above keeps last
+  } catch (const ApiError& e) {
+    throw std::runtime_error("config file '" + path + "': " + e.what());
   }
   if (!j.is_object()) throw std::runtime_error("config file '" + path + "' must hold an object");
   std::vector<ConfigMember> members;

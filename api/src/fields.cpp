@@ -10,6 +10,8 @@
 #include <utility>
 #include <vector>
 
+#include "slosh/api/control_characters.hpp"
+
 #include "slosh/api/error.hpp"
 #include "slosh/api/exact_number.hpp"
 
@@ -211,6 +213,16 @@ std::string quoted_names(const std::vector<std::string>& names) {
 
 void invalid(const std::string& path, const std::string& message) {
   throw ApiError(ErrorCode::kInvalidValue, path, message);
+}
+
+void refuse_control_characters(const std::string& path, std::string_view text) {
+  const auto control = std::find_if(text.begin(), text.end(), [](char c) {
+    return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
+  });
+  if (control != text.end()) {
+    invalid(path, path + " must not hold control characters (NUL, tab, line breaks, ...), got " +
+                      show(nlohmann::json(std::string(text))));
+  }
 }
 
 void require_object(const nlohmann::json& object, const std::string& path) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/api/control_characters.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/core/model/fluid.hpp"
 
@@ -49,16 +50,7 @@ Fluid parse_fluid(const nlohmann::json& fluid, const std::string& path) {
       invalid(npath, npath + " must be a text of 1 to 64 characters, got " + show(*name));
     }
     f.name = name->get<std::string>();
-    // The name is echoed into plans, tables and logs: a NUL or a line break would cut or forge
-    // their lines.
-    const auto control = std::find_if(f.name.begin(), f.name.end(), [](char c) {
-      return static_cast<unsigned char>(c) < 0x20 || c == 0x7f;
-    });
-    if (control != f.name.end()) {
-      invalid(npath, npath +
-                         " must not hold control characters (NUL, tab, line breaks, ...), got " +
-                         show(*name));
-    }
+    refuse_control_characters(npath, f.name);  // echoed into plans, tables and logs
   }
   f.density = required_number(fluid, path, "density_kg_m3", ranges::kDensity);
   f.viscosity = required_number(fluid, path, "viscosity_pa_s", ranges::kViscosity);

@@ -184,8 +184,4 @@ std::optional<PlanTableRow> parse_result_row(std::string_view text, std::size_t 
   return table_row_of(std::move(row));
 }
 
-std::string table_row_text(const PlanTableRow& row) {
-  return dump_json(row.document);
-}
-
 }  // namespace slosh::api

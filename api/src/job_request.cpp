@@ -78,17 +78,18 @@ JobRequest parse_job_request(const std::string& text, std::size_t max,
   return out;
 }
 
-void resolve_recipe_model(json& request, json& error,
+void resolve_recipe_model(RecipeRequest& request, std::optional<ApiError>& error,
                           const std::function<std::string(const std::string&)>& resolve) {
-  const json* options = request.is_object() ? given_member(request, "options") : nullptr;
+  const json& body = request.body();
+  const json* options = body.is_object() ? given_member(body, "options") : nullptr;
   const json* model =
       options != nullptr && options->is_object() ? given_member(*options, "model") : nullptr;
   if (model == nullptr || !model->is_string()) return;
   try {
-    request = json::parse(resolve(dump_json(request)));
+    request = RecipeRequest(json::parse(resolve(dump_json(body))));
   } catch (const ApiError& e) {  // this recipe's row answers the error
-    error = error_envelope(e)["error"];
-    request = nullptr;
+    error = e;
+    request = RecipeRequest();
   }
 }
 

@@ -2,6 +2,7 @@
 
 #include <vector>
 
+#include "slosh/api/csv_cell.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/recipe_row.hpp"
 
@@ -9,15 +10,12 @@ namespace slosh::api {
 
 namespace {
 
-/// An RFC 4180 cell: text quoted when it holds a comma, a quote or a line break.
+/// An RFC 4180 cell: text quoted when it holds a comma, a quote or a line break, formula-leading
+/// text neutralised (csv_cell.hpp); numbers bare.
 std::string csv_cell(const nlohmann::json& v) {
   if (v.is_null()) return "";
   if (!v.is_string()) return dump_json(v);
-  const std::string text = v.get<std::string>();
-  if (text.find_first_of(",\"\r\n") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) out += c == '"' ? std::string("\"\"") : std::string(1, c);
-  return out + "\"";
+  return csv_text_cell(v.get_ref<const std::string&>(), false);
 }
 
 /// The min_time table's columns (CSV header and JSON members, in order).

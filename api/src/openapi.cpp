@@ -10,6 +10,7 @@
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_view.hpp"
+#include "slosh/api/plan_warnings.hpp"
 #include "slosh/api/routes.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/model/fluid.hpp"
@@ -70,6 +71,29 @@ json fixed_numbers(int n, const std::string& description) {
 
 json strings(const std::string& description) {
   return {{"type", "array"}, {"items", {{"type", "string"}}}, {"description", description}};
+}
+
+/// The full plan's "warnings": every kind of plan_warning_kinds, by how its sentence begins.
+std::string warning_kinds_description() {
+  std::string out =
+      "Warnings about this plan, each a sentence; the kinds, by how the sentence begins:";
+  for (const PlanWarningKind& kind : plan_warning_kinds()) {
+    out += " \"" + std::string(kind.prefix) + "...\" (" + std::string(kind.code) +
+           "): " + std::string(kind.meaning) + ";";
+  }
+  out.back() = '.';
+  return out;
+}
+
+/// The compact plan's "warnings": the codes of plan_warning_kinds.
+std::string warning_codes_description() {
+  std::string codes;
+  for (const PlanWarningKind& kind : plan_warning_kinds()) {
+    codes += (codes.empty() ? "" : ", ") + std::string(kind.code);
+  }
+  return "A code per warning (" + codes +
+         "), else the warning's finding (its text up to the first \": \"); the full plan has "
+         "the explanation.";
 }
 
 /// An object with the given properties; `closed` marks request objects (unknown members are
@@ -524,10 +548,7 @@ void add_compact_plan_schemas(json& s) {
                              {"a_max", "a_min", "v_peak", "j_peak"}, "Peaks of the law.", false)},
        {"prediction", object({{"nonlinear", peaks}, {"linear", peaks}}, {"nonlinear", "linear"},
                              "Predicted peaks of both models.", false)},
-       {"warnings", strings("A code per validity warning (linear_model_unreliable, "
-                            "surface_tension, shallow_fill, spill), else the warning's finding "
-                            "(its text up to the first \": \"); the full plan has the "
-                            "explanation.")},
+       {"warnings", strings(warning_codes_description())},
        {"move_absolute", ref("MoveAbsolute")},
        {"robustness", ref("CompactRobustness")}},
       {"view", "key", "cached", "version", "strategy", "status", "law", "kinematics", "prediction",
@@ -717,7 +738,7 @@ void add_plan_response_schemas(json& s) {
          {"description", "auto only: every strategy's result."}}},
        {"format", ref("FormatEcho")},
        {"rest_time_s", number("Rest window [s].")},
-       {"warnings", strings("Validity limits of the models reached by this plan.")},
+       {"warnings", strings(warning_kinds_description())},
        {"move_absolute", ref("MoveAbsolute")},
        {"uncertainty", ref("UncertaintyRange")},
        {"worst_case", ref("WorstCase")},

@@ -3,6 +3,7 @@
 #include <algorithm>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/plan_warnings.hpp"
 
 namespace slosh::api {
 
@@ -32,7 +33,7 @@ std::string budget_warning(const PlanResult& result) {
     names += (names.empty() ? "" : ", ") + std::string(to_string(c.strategy));
   }
   if (names.empty()) return {};
-  return "time_limited_candidates: the time budget ran out for candidate " + names +
+  return std::string(kTimeLimitedCandidates) + ": the time budget ran out for candidate " + names +
          " (status time_limit), so the choice depends on the budget and the machine's load; "
          "this plan is not cached (a larger options.time_limit_s may choose another law)";
 }

@@ -4,7 +4,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "slosh/api/csv_cell.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/recipe_row.hpp"
 
 namespace slosh::api {
 
@@ -21,6 +23,56 @@ PlanTableRow table_row_of(nlohmann::json document) {
   row.cached = cached != document.end() && cached->is_boolean() && cached->get<bool>();
   row.document = std::move(document);
   return row;
+}
+
+namespace {
+
+nlohmann::json row_head(const RowRecipe& recipe) {
+  return {{"row", recipe.number}, {"recipe_id", recipe.recipe_id}};
+}
+
+}  // namespace
+
+PlanTableRow planned_row(const RowRecipe& recipe, std::string_view plan, bool cached,
+                         std::optional<PlanView> view) {
+  nlohmann::json row = row_head(recipe);
+  const nlohmann::json parsed = nlohmann::json::parse(plan);
+  row.update(plan_row_figures(parsed));
+  row["cached"] = cached;
+  if (view) row["plan"] = *view == PlanView::kCompact ? compact_plan(parsed) : parsed;
+  return table_row_of(std::move(row));
+}
+
+PlanTableRow failed_row(const RowRecipe& recipe, const ApiError& error) {
+  nlohmann::json row = row_head(recipe);
+  row.update(error_row_figures(error_envelope(error)["error"], recipe.csv));
+  return table_row_of(std::move(row));
+}
+
+std::string plan_table_csv_header() {
+  return plan_column_names();
+}
+
+std::string plan_table_csv_line(const PlanTableRow& row) {
+  std::string line;
+  bool first = true;
+  for (const PlanColumn& column : plan_columns()) {
+    if (!first) line += ',';
+    first = false;
+    const nlohmann::json::json_pointer pointer{std::string(column.pointer)};
+    if (!row.document.contains(pointer)) continue;
+    const nlohmann::json& value = row.document[pointer];
+    if (value.is_string()) {
+      line += csv_text_cell(value.get_ref<const std::string&>(), true);
+    } else if (!value.is_null()) {
+      line += dump_json(value);
+    }
+  }
+  return line;
+}
+
+std::string table_row_text(const PlanTableRow& row) {
+  return dump_json(row.document);
 }
 
 std::vector<PlanTableRow> parse_table_rows(std::string_view text) {

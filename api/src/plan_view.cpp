@@ -2,6 +2,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/plan_warnings.hpp"
 #include "slosh/api/robustness_json.hpp"
 
 namespace slosh::api {
@@ -76,22 +77,32 @@ void require_no_series(PlanView view, const std::optional<double>& sample_period
   }
 }
 
-/// The compact code of each validity warning (SPEC §2) by the start of its sentence; other
-/// warnings keep their finding (the text up to the first ": ").
-struct WarningCode {
-  std::string_view prefix;
-  std::string_view code;
-};
-constexpr WarningCode kWarningCodes[] = {
-    {"peak |acceleration| ", "linear_model_unreliable"},
-    {"radius ", "surface_tension"},
-    {"fill ratio ", "shallow_fill"},
-    {"predicted sloshing height during the motion ", "spill"},
+constexpr PlanWarningKind kWarningKinds[] = {
+    {"linear_model_unreliable", "peak |acceleration| ",
+     "the law's peak acceleration is beyond the linear model's validity: rely on the nonlinear "
+     "prediction"},
+    {"surface_tension", "radius ",
+     "the container is so narrow that surface tension, which is not modelled, matters"},
+    {"shallow_fill", "fill ratio ",
+     "the fill ratio h/R is in the shallow-liquid regime, which is not modelled"},
+    {"spill", "predicted sloshing height during the motion ",
+     "the predicted sloshing height during the motion exceeds the free board: liquid will "
+     "spill"},
+    {"worse_than_baseline", "worse_than_baseline: ",
+     "the chosen law leaves more residual sloshing than the uniform baseline law"},
+    {kTimeLimitedCandidates, "time_limited_candidates: ",
+     "auto only: a candidate ran out of its time budget (status time_limit), so the choice "
+     "depends on the budget and the machine's load; such a plan is not cached"},
 };
 
+std::span<const PlanWarningKind> plan_warning_kinds() {
+  return kWarningKinds;
+}
+
 std::string warning_finding(const std::string& warning) {
-  for (const WarningCode& c : kWarningCodes) {
-    if (warning.starts_with(c.prefix)) return std::string(c.code);
+  // The code of a known kind; another warning keeps its finding (the text up to the first ": ").
+  for (const PlanWarningKind& kind : kWarningKinds) {
+    if (warning.starts_with(kind.prefix)) return std::string(kind.code);
   }
   return warning.substr(0, warning.find(": "));
 }

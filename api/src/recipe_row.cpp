@@ -8,9 +8,12 @@
 #include <cstdint>
 #include <optional>
 
+#include "slosh/api/control_characters.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/min_time.hpp"
 #include "slosh/api/robustness_json.hpp"
+#include "slosh/api/service_bodies.hpp"
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::api {
@@ -211,7 +214,7 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
   }
 }
 
-json RecipeHeader::request(const std::vector<std::string>& cells) const {
+RecipeRequest RecipeHeader::request(const std::vector<std::string>& cells) const {
   std::string named_fluid;   // "fluid = ..." when given
   std::string custom_fluid;  // "density_kg_m3 = ..." when given
   for (std::size_t c = 0; c < cells.size(); ++c) {
@@ -233,37 +236,69 @@ json RecipeHeader::request(const std::vector<std::string>& cells) const {
     if (column.kind == CellKind::kId || cells[c].empty()) continue;  // empty: the default
     request[json::json_pointer(column.pointer)] = cell_value(column, cells[c]);
   }
-  return request;
+  return RecipeRequest(std::move(request));
+}
+
+ReadRecipe RecipeHeader::recipe(std::size_t number, const std::vector<std::string>& cells) const {
+  ReadRecipe recipe;
+  try {
+    if (id_index_ < cells.size()) {
+      check_recipe_id(cells[id_index_]);
+      recipe.recipe_id = cells[id_index_];
+    }
+    if (cells.size() != size()) {
+      throw ApiError(ErrorCode::kInvalidValue, "",
+                     "row " + std::to_string(number) + " has " + std::to_string(cells.size()) +
+                         " cells, the header has " + std::to_string(size()));
+    }
+    recipe.request = request(cells);
+  } catch (const ApiError& e) {
+    recipe.error = e;
+  } catch (const CellError& e) {
+    recipe.error = ApiError(ErrorCode::kInvalidValue, e.column, e.message);
+  }
+  return recipe;
+}
+
+void check_recipe_id(std::string_view recipe_id) {
+  refuse_control_characters("recipe_id", recipe_id);
 }
 
 namespace {
 
-JsonRecipe json_recipe(json value) {
-  JsonRecipe recipe;
+ReadRecipe json_recipe(json value) {
+  ReadRecipe recipe;
   if (value.is_object()) {
     if (const auto id = value.find("recipe_id"); id != value.end()) {
-      recipe.recipe_id = id->is_string() ? id->get<std::string>() : id->dump();
+      std::string text = id->is_string() ? id->get<std::string>() : id->dump();
       value.erase(id);
+      try {
+        check_recipe_id(text);
+      } catch (const ApiError& e) {
+        recipe.error = e;
+        return recipe;
+      }
+      recipe.recipe_id = std::move(text);
     }
   }
-  recipe.request = std::move(value);
+  recipe.request = RecipeRequest(std::move(value));
   return recipe;
 }
 
 }  // namespace
 
-JsonRecipe json_line_recipe(std::string_view line, std::size_t line_number) {
+ReadRecipe json_line_recipe(std::string_view line, std::size_t line_number) {
   try {
     return json_recipe(parse_json_body(line));
   } catch (const ApiError& e) {
-    JsonRecipe recipe;
-    recipe.error = error_envelope(e)["error"];
-    recipe.error["message"] = "line " + std::to_string(line_number) + ": " + e.what();
+    ReadRecipe recipe;
+    recipe.error =
+        ApiError(e.code(), e.field(), "line " + std::to_string(line_number) + ": " + e.what());
     return recipe;
   }
 }
 
-std::vector<JsonRecipe> json_document_recipes(std::string_view text) {
+std::vector<ReadRecipe> json_document_recipes(std::string_view text) {
   json document;
   try {
     document = parse_json_body(text);
@@ -275,16 +310,22 @@ std::vector<JsonRecipe> json_document_recipes(std::string_view text) {
     throw RecipeTableError(
         "recipe table: a .json table is an array of plan requests or {\"requests\": [...]}");
   }
-  std::vector<JsonRecipe> recipes;
+  std::vector<ReadRecipe> recipes;
   recipes.reserve(document.size());
   for (json& value : document) recipes.push_back(json_recipe(std::move(value)));
   return recipes;
 }
 
-json row_error(const std::string& message, const std::string& field) {
-  return {{"code", to_string(ErrorCode::kInvalidValue)},
-          {"message", message},
-          {"field", field.empty() ? json(nullptr) : json(field)}};
+BatchItem batch_item_of(const RecipeRequest& request, double budget) {
+  return read_batch_item(request.body(), budget);
+}
+
+MinTimeRequest min_time_request_of(const RecipeRequest& request, double budget) {
+  return parse_min_time_request(min_time_body_from_recipe(request.body()), budget);
+}
+
+std::string min_time_body_text(const RecipeRequest& request) {
+  return dump_json(min_time_body_from_recipe(request.body()));
 }
 
 std::string column_of_field(const std::string& field, const OptionRegistry& registry) {

@@ -35,7 +35,7 @@ void run_remote(const std::vector<RecipeRow>& rows, const BatchCommandOptions& o
     api::BatchRequests requests;
     std::vector<std::size_t> sent;
     for (std::size_t i = begin; i < end; ++i) {
-      if (rows[i].error.is_null()) {
+      if (!rows[i].error) {
         requests.add(rows[i].request);
         sent.push_back(i);
       }

@@ -21,7 +21,7 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   std::vector<std::size_t> slot(rows.size(), static_cast<std::size_t>(-1));
   std::size_t readable = 0;
   for (std::size_t i = 0; i < rows.size(); ++i) {
-    if (rows[i].error.is_null()) slot[i] = readable++;
+    if (!rows[i].error) slot[i] = readable++;
   }
   const std::size_t unreadable = rows.size() - readable;
   // Room for the whole table: submission never blocks, so rows are written as they finish.
@@ -34,7 +34,7 @@ void run_local(const std::vector<RecipeRow>& rows, ServerConfig config, RowSink&
   items.reserve(readable);
   for (std::size_t i = 0; i < rows.size(); ++i) {
     if (slot[i] != static_cast<std::size_t>(-1)) {
-      items.push_back(api::read_batch_item(rows[i].request, engine.config().solve_budget_s));
+      items.push_back(api::batch_item_of(rows[i].request, engine.config().solve_budget_s));
     }
   }
   const PendingBatch batch = engine.start_batch(std::move(items));

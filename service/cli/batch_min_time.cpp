@@ -26,13 +26,12 @@ struct MinTimeJob {
 // search of an identical earlier row, or queued (waiting for queue room).
 MinTimeJob start_min_time_row(const RecipeRow& row, double budget, PlanEngine& engine) {
   MinTimeJob job;
-  if (!row.error.is_null()) {
-    job.error = api::error_from_json(row.error);
+  if (row.error) {
+    job.error = row.error;
     return job;
   }
   try {
-    job.pending = engine.start_min_time(
-        api::parse_min_time_request(api::min_time_body_from_recipe(row.request), budget), true);
+    job.pending = engine.start_min_time(api::min_time_request_of(row.request, budget), true);
   } catch (const api::ApiError& e) {
     job.error = e;
   }
@@ -123,9 +122,8 @@ std::vector<std::size_t> run_min_time_remote(const std::vector<RecipeRow>& rows,
   std::vector<std::size_t> failed;
   for (const RecipeRow& row : rows) {
     const SolveOutcome outcome =
-        row.error.is_null()
-            ? post_min_time_row(client, api::dump_json(api::min_time_body_from_recipe(row.request)))
-            : SolveOutcome{{}, api::error_from_json(row.error)};
+        !row.error ? post_min_time_row(client, api::min_time_body_text(row.request))
+                   : SolveOutcome{{}, row.error};
     try {
       if (!write_min_time_row(row, outcome, writer)) failed.push_back(row.row);
     } catch (const std::invalid_argument& e) {

@@ -22,7 +22,7 @@ class RowSink {
   RowSink(PlanTableWriter& writer, std::optional<api::PlanView> view)
       : writer_(writer), view_(view) {}
   void write(const RecipeRow& recipe, const BatchResult& result) {
-    write_row(api::table_row_of(plan_row(recipe, result, view_)));
+    write_row(plan_row(recipe, result, view_));
   }
   /// Writes a row made elsewhere (a batch job's, from the service).
   void write_row(const api::PlanTableRow& row) {
@@ -33,7 +33,7 @@ class RowSink {
     }
     if (row.cached) ++cached_;
     ++written_;
-    writer_.write(row.document);
+    writer_.write(row);
   }
   [[nodiscard]] std::size_t written() const { return written_; }
   [[nodiscard]] std::size_t cached() const { return cached_; }

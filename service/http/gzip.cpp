@@ -23,17 +23,25 @@ bool equals_lower(std::string_view a, std::string_view lower) {
          });
 }
 
-// The q of a member's parameters ("q=0.5"); 1 when absent or unreadable (RFC 9110 12.4.2).
+// A qvalue (RFC 9110 12.4.2: "0" to "1" with at most three decimals), 0 for any other text: a
+// preference that cannot be read is not taken as consent (the identity coding is always
+// acceptable).
+double qvalue(std::string_view text) {
+  if (text.empty() || (text[0] != '0' && text[0] != '1')) return 0.0;
+  if (text.size() > 1 && (text[1] != '.' || text.size() > 5)) return 0.0;
+  for (const char c : text.substr(std::min<std::size_t>(2, text.size()))) {
+    if (!std::isdigit(static_cast<unsigned char>(c)) || (text[0] == '1' && c != '0')) return 0.0;
+  }
+  return text[0] == '1' ? 1.0 : std::stod(std::string(text));
+}
+
+// The q of a member's parameters ("q=0.5"); 1 when absent.
 double quality(std::string_view params) {
   while (!params.empty()) {
     const std::size_t semi = params.find(';');
     const std::string_view param = trimmed(params.substr(0, semi));
     if (param.size() >= 2 && (param[0] == 'q' || param[0] == 'Q') && param[1] == '=') {
-      try {
-        return std::stod(std::string(param.substr(2)));
-      } catch (const std::exception&) {
-        return 1.0;
-      }
+      return qvalue(param.substr(2));
     }
     if (semi == std::string_view::npos) break;
     params.remove_prefix(semi + 1);

@@ -46,11 +46,15 @@ std::optional<std::string> read_body(const httplib::Request& req,
       req.get_header_value("Transfer-Encoding").find("chunked") == std::string::npos) {
     return body;
   }
+  if (std::optional<Reply> refusal = declared_length_refusal(req, config)) {
+    error = std::move(*refusal);
+    return std::nullopt;
+  }
   bool too_large = false;
   bool too_slow = false;
-  const auto deadline = std::chrono::steady_clock::now() +
-                        std::chrono::duration_cast<std::chrono::steady_clock::duration>(
-                            std::chrono::duration<double>(config.request_timeout_s));
+  const auto start = std::chrono::steady_clock::now();
+  const auto deadline = start + std::chrono::duration_cast<std::chrono::steady_clock::duration>(
+                                    std::chrono::duration<double>(config.request_timeout_s));
   const bool complete = reader([&](const char* data, std::size_t length) {
     too_large = body.size() + length > config.max_body_bytes;
     too_slow = std::chrono::steady_clock::now() > deadline;
@@ -64,12 +68,41 @@ std::optional<std::string> read_body(const httplib::Request& req,
     error = error_reply(
         api::ErrorCode::kRequestTimeout,
         "the body did not arrive within " + api::number_text(config.request_timeout_s) + " s");
+  } else if (!complete && config.read_timeout_s > 0 &&
+             std::chrono::steady_clock::now() - start >=
+                 std::chrono::duration<double>(config.read_timeout_s)) {
+    // The socket read timed out: the body stopped arriving (a closed connection or bad chunks
+    // fail at once).
+    error = error_reply(api::ErrorCode::kRequestTimeout,
+                        "the body stopped arriving: nothing came for read_timeout_s = " +
+                            api::number_text(config.read_timeout_s) + " s");
   } else if (!complete) {
     error = error_reply(api::ErrorCode::kBadRequest,
                         "the body could not be read (connection closed or invalid chunks)");
   } else {
     return body;
   }
+  return std::nullopt;
+}
+
+std::optional<Reply> declared_length_refusal(const httplib::Request& req,
+                                             const ServerConfig& config) {
+  if (!req.has_header("Content-Length")) return std::nullopt;
+  const std::string length = req.get_header_value("Content-Length");
+  if (req.has_header("Transfer-Encoding")) {
+    // Two framings of one body: a proxy and this service could split the stream differently.
+    return error_reply(api::ErrorCode::kBadRequest,
+                       "the request declares both Content-Length and Transfer-Encoding: send "
+                       "one of them (RFC 9112 6.3)");
+  }
+  if (length.empty() || length.size() > 18 ||
+      length.find_first_not_of("0123456789") != std::string::npos) {
+    return error_reply(api::ErrorCode::kBadRequest,
+                       "Content-Length = \"" + length.substr(0, 32) +
+                           "\" is not a length: a whole number of bytes, at most " +
+                           std::to_string(config.max_body_bytes));
+  }
+  if (std::stoull(length) > config.max_body_bytes) return too_large_reply(config);
   return std::nullopt;
 }
 

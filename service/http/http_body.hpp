@@ -29,6 +29,13 @@ namespace slosh::service {
                                                    const httplib::ContentReader& reader,
                                                    const ServerConfig& config, Reply& error);
 
+/// The refusal a request's framing earns before any of its body is read (nullopt when none): 413
+/// for a Content-Length above max_body_bytes, 400 for one that is not a length (negative, not
+/// digits, over 18 digits) or that comes with Transfer-Encoding. The body is then never read, so
+/// the connection is closed after the answer.
+[[nodiscard]] std::optional<Reply> declared_length_refusal(const httplib::Request& req,
+                                                           const ServerConfig& config);
+
 /// "Expect: 100-continue": 100, or the status (415, 413) a body that would be refused is refused
 /// with before it is sent.
 [[nodiscard]] int expect_continue_status(const httplib::Request& req, const ServerConfig& config);

@@ -27,6 +27,8 @@
 #include "http/connection_reaper.hpp"
 #include "http/gzip.hpp"
 #include "http/http_body.hpp"
+#include "http/library_replies.hpp"
+#include "http/listen_address.hpp"
 #include "http/malloc_tuning.hpp"
 #include "http/plan_service.hpp"
 #include "http/route_handlers.hpp"
@@ -138,19 +140,6 @@ bool known_method(const std::string& method) {
 std::string path_as_sent(const httplib::Request& req) {
   if (req.target.empty()) return req.path;
   return req.target.substr(0, req.target.find_first_of("?#"));
-}
-
-std::string framework_message(int status) {
-  switch (status) {
-    case 400:
-      return "the request is not valid HTTP (request line, method or headers)";
-    case 414:
-      return "the request line is longer than the limit of 8192 bytes";
-    case 416:
-      return "the Range header is not valid; this service answers whole bodies only";
-    default:
-      return "HTTP " + std::to_string(status);
-  }
 }
 
 timeval to_timeval(double seconds) {
@@ -317,7 +306,7 @@ void respond(Runtime& rt, const api::Route& route, const Handler& handler,
     return handler(Call{req, body, query, request_accepts_gzip});
   });
   // The rest of a refused body is not read.
-  if (refused) res.set_header("Connection", "close");
+  if (refused) close_after_answer(req, res);
   std::string label =
       reply.status == 405 ? rt.routes.match(req.path).label : std::string(route.path);
   answer(rt, std::move(label), std::move(reply), res);
@@ -374,7 +363,7 @@ Reply unrouted_reply(const httplib::Request& req, const RouteTable::Match& match
 void register_unrouted_body_methods(Runtime& rt) {
   const auto refuse = [&rt](const httplib::Request& req, httplib::Response& res,
                             const httplib::ContentReader&) {
-    res.set_header("Connection", "close");
+    close_after_answer(req, res);
     const RouteTable::Match match = rt.routes.match(req.path);
     answer(rt, match.label, unrouted_reply(req, match), res);
   };
@@ -408,6 +397,8 @@ void install_error_handlers(Runtime& rt) {
         RouteTable::Match match = rt.routes.match(req.path);
         Reply reply = framework_reply(req, res.status, match, rt);
         if (!res.has_header("X-Request-Id")) res.set_header("X-Request-Id", request_id(req));
+        // A malformed request never reaches the pre-routing hook that names the replica.
+        if (!res.has_header("X-Slosh-Replica")) res.set_header("X-Slosh-Replica", rt.replica);
         answer(rt, std::move(match.label), std::move(reply), res);
         return httplib::Server::HandlerResponse::Handled;
       }));
@@ -468,7 +459,7 @@ void install_request_hooks(Runtime& rt) {
     if (auto slashed = encoded_slash_reply(req)) {
       // Under the route whose segment holds the %2F (the sent path matches its template).
       answer(rt, rt.routes.match(path_as_sent(req)).label, std::move(*slashed), res);
-      res.set_header("Connection", "close");  // a body of the request is not read
+      close_after_answer(req, res);  // a body of the request is not read
       return httplib::Server::HandlerResponse::Handled;
     }
     if (ConnectionPool::refusing()) {
@@ -476,7 +467,7 @@ void install_request_hooks(Runtime& rt) {
       // is asked to close it.
       // Counted as "other": a connection without a thread is refused whatever it asks.
       answer(rt, "other", thread_refusal_reply(), res);
-      res.set_header("Connection", "close");
+      close_after_answer(req, res);
       return httplib::Server::HandlerResponse::Handled;
     }
     return httplib::Server::HandlerResponse::Unhandled;
@@ -512,8 +503,7 @@ int bind_port(ListeningServer& server, const ServerConfig& config) {
                    : server.bind_to_port(config.host, config.port) ? config.port
                                                                    : -1;
   if (port < 0) {
-    spdlog::error("cannot bind {}:{} (is another slosh or another service using the port?)",
-                  config.host, config.port);
+    spdlog::error("{}", bind_failure_message(config.host, config.port));
   } else if (!server.raise_backlog()) {
     spdlog::warn("cannot raise the listen backlog: bursts may stall");
   }

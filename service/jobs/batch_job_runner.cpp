@@ -88,14 +88,14 @@ std::size_t BatchJobs::fill_window(Job& job, std::size_t next, std::deque<Starte
   while (next < job.rows.size() && in_flight() < max_in_flight &&
          window.size() < 4 * max_in_flight + 64) {
     const RecipeRow& row = job.rows[next++];
-    if (!row.error.is_null()) {  // an unreadable row: its error is its result
+    if (row.error) {  // an unreadable row: its error is its result
       StartedItem item;
-      item.result.error = api::error_from_json(row.error);
+      item.result.error = row.error;
       window.push_back(std::move(item));
       continue;
     }
     window.push_back(service_.start_batch_item(
-        api::read_batch_item(row.request, service_.engine().config().solve_budget_s),
+        api::batch_item_of(row.request, service_.engine().config().solve_budget_s),
         TaskPriority::kBackground));
   }
   return next;
@@ -177,8 +177,7 @@ void BatchJobs::run(Job& job) {
     const StartedItem& head = window.front();
     if (!head.pending.valid() ||
         head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
-      const api::PlanTableRow row =
-          api::table_row_of(plan_row(job.rows[s.done], head.get(), job.view));
+      const api::PlanTableRow row = plan_row(job.rows[s.done], head.get(), job.view);
       if (row.failed) ++s.failed;
       rows.push_back(api::table_row_text(row));
       row_bytes += rows.back().size();

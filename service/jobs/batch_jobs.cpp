@@ -189,7 +189,7 @@ Reply table_reply(const std::string& id, TableFormat format,
                   const std::vector<api::PlanTableRow>& rows, JobState state, std::size_t total) {
   std::ostringstream out;
   PlanTableWriter writer(out, format);  // the `slosh batch` table writer
-  for (const api::PlanTableRow& row : rows) writer.write(row.document);
+  for (const api::PlanTableRow& row : rows) writer.write(row);
   writer.finish();
   Reply r;
   const bool csv = format == TableFormat::kCsv;

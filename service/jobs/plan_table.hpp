@@ -1,26 +1,24 @@
 #pragma once
-// Plan tables written by `slosh batch`: one row per recipe, in input order, as CSV (one column
-// per figure, units in the names), JSON lines or a JSON array.
+// Plan tables written by `slosh batch` and a batch job's results downloads: one row per recipe,
+// in input order, as CSV (one column per figure, units in the names), JSON lines or a JSON
+// array. The rows and their text are api's (slosh/api/plan_table_row.hpp); this writes them.
 
+#include <cstddef>
 #include <optional>
 #include <ostream>
 #include <string>
 
-#include <nlohmann/json.hpp>
-
 #include "engine/plan_engine.hpp"
 #include "jobs/recipe_table.hpp"
+#include "slosh/api/plan_table_row.hpp"
 #include "slosh/api/plan_view.hpp"
 
 namespace slosh::service {
 
-/// The table row of one recipe: {"row", "recipe_id", "status", "key", "cached", "strategy",
-/// "message", "durations_s", "kinematics", "f1_hz", "prediction", "baseline", "reduction_pct",
-/// "solve_ms"} of its plan, or {"row", "recipe_id", "status": "error", "message", "error",
-/// "error_field"} when the recipe could not be planned. `plan` adds the plan as "plan" in that
-/// view (the whole plan, or api::compact_plan of it).
-[[nodiscard]] nlohmann::json plan_row(const RecipeRow& recipe, const BatchResult& result,
-                                      std::optional<api::PlanView> plan);
+/// The table row of one recipe: the figures of its plan (api::planned_row; `plan` adds the plan
+/// in that view), or, when the recipe could not be planned, its error (api::failed_row).
+[[nodiscard]] api::PlanTableRow plan_row(const RecipeRow& recipe, const BatchResult& result,
+                                         std::optional<api::PlanView> plan);
 
 /// The CSV header of plan tables (comma-separated column names).
 [[nodiscard]] std::string plan_table_header();
@@ -29,7 +27,7 @@ namespace slosh::service {
 class PlanTableWriter {
  public:
   PlanTableWriter(std::ostream& out, TableFormat format);
-  void write(const nlohmann::json& row);
+  void write(const api::PlanTableRow& row);
   /// Closes the table (the JSON array's bracket); call once after the last row.
   void finish();
 

@@ -6,7 +6,6 @@
 #include <cctype>
 #include <string_view>
 
-#include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/recipe_row.hpp"
 #include "slosh/api/text_preview.hpp"
@@ -64,25 +63,14 @@ api::RecipeHeader read_header(const std::vector<std::string>& names,
   }
 }
 
-// One CSV record after the header -> its recipe (the request, or the error naming the column).
-RecipeRow csv_row(std::size_t number, const std::vector<std::string>& cells,
-                  const api::RecipeHeader& header) {
+// A recipe as api read it, numbered.
+RecipeRow recipe_row(std::size_t number, api::ReadRecipe recipe, bool csv) {
   RecipeRow row;
   row.row = number;
-  row.csv = true;
-  if (header.id_index() < cells.size()) row.recipe_id = cells[header.id_index()];
-  if (cells.size() != header.size()) {
-    row.error =
-        api::row_error("row " + std::to_string(number) + " has " + std::to_string(cells.size()) +
-                           " cells, the header has " + std::to_string(header.size()),
-                       "");
-    return row;
-  }
-  try {
-    row.request = header.request(cells);
-  } catch (const api::CellError& e) {
-    row.error = api::row_error(e.message, e.column);
-  }
+  row.recipe_id = std::move(recipe.recipe_id);
+  row.request = std::move(recipe.request);
+  row.error = std::move(recipe.error);
+  row.csv = csv;
   return row;
 }
 
@@ -93,17 +81,9 @@ std::vector<RecipeRow> read_csv(std::string_view text, const api::OptionRegistry
   const api::RecipeHeader header = read_header(records.front(), registry);
   std::vector<RecipeRow> rows;
   rows.reserve(records.size() - 1);
-  for (std::size_t r = 1; r < records.size(); ++r) rows.push_back(csv_row(r, records[r], header));
+  for (std::size_t r = 1; r < records.size(); ++r)
+    rows.push_back(recipe_row(r, header.recipe(r, records[r]), true));
   return rows;
-}
-
-RecipeRow json_row(std::size_t number, api::JsonRecipe recipe) {
-  RecipeRow row;
-  row.row = number;
-  row.recipe_id = std::move(recipe.recipe_id);
-  row.request = std::move(recipe.request);
-  row.error = std::move(recipe.error);
-  return row;
 }
 
 std::vector<RecipeRow> read_json_lines(std::string_view text) {
@@ -117,13 +97,13 @@ std::vector<RecipeRow> read_json_lines(std::string_view text) {
     at = end + 1;
     ++line_number;
     if (line.find_first_not_of(" \t\r") == std::string_view::npos) continue;
-    rows.push_back(json_row(rows.size() + 1, api::json_line_recipe(line, line_number)));
+    rows.push_back(recipe_row(rows.size() + 1, api::json_line_recipe(line, line_number), false));
   }
   return rows;
 }
 
 std::vector<RecipeRow> read_json(std::string_view text) {
-  std::vector<api::JsonRecipe> recipes;
+  std::vector<api::ReadRecipe> recipes;
   try {
     recipes = api::json_document_recipes(text);
   } catch (const api::RecipeTableError& e) {
@@ -131,8 +111,8 @@ std::vector<RecipeRow> read_json(std::string_view text) {
   }
   std::vector<RecipeRow> rows;
   rows.reserve(recipes.size());
-  for (api::JsonRecipe& recipe : recipes)
-    rows.push_back(json_row(rows.size() + 1, std::move(recipe)));
+  for (api::ReadRecipe& recipe : recipes)
+    rows.push_back(recipe_row(rows.size() + 1, std::move(recipe), false));
   return rows;
 }
 

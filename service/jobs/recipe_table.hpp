@@ -13,13 +13,14 @@
 // are trimmed (libcsv's default); quote a cell to keep them.
 
 #include <cstddef>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
+#include "slosh/api/error.hpp"
 #include "slosh/api/option_registry.hpp"
+#include "slosh/api/recipe_row.hpp"
 #include "slosh/core/enum_names.hpp"
 
 namespace slosh::service {
@@ -56,16 +57,17 @@ class TableError : public std::runtime_error {
 
 /// One recipe of a table.
 struct RecipeRow {
-  std::size_t row{};       ///< 1-based recipe number (the CSV header is not counted)
-  std::string recipe_id;   ///< as given (may be empty)
-  nlohmann::json request;  ///< the plan request (null when `error` is set)
-  nlohmann::json error;    ///< {"code", "message", "field"} when the row cannot be read
-  bool csv{false};         ///< read from CSV: error fields are reported as column names
+  std::size_t row{};           ///< 1-based recipe number (the CSV header is not counted)
+  std::string recipe_id;       ///< as given (may be empty; empty when the id itself is refused)
+  api::RecipeRequest request;  ///< the plan request, read by api (null when `error` is set)
+  std::optional<api::ApiError> error;  ///< set when the row cannot be read
+  bool csv{false};                     ///< read from CSV: error fields are reported as column names
 };
 
 /// Reads a whole table. Row-level problems (a non-numeric cell, a wrong cell count, a line that
-/// is not JSON) become the row's `error`; table-level ones throw TableError. The CSV columns and
-/// cells are api's (slosh/api/recipe_row.hpp); their options come from `registry`.
+/// is not JSON, a recipe_id with a control character) become the row's `error`; table-level ones
+/// throw TableError. The CSV columns and cells are api's (slosh/api/recipe_row.hpp); their options
+/// come from `registry`.
 [[nodiscard]] std::vector<RecipeRow> read_recipe_table(
     const std::string& text, TableFormat format,
     const api::OptionRegistry& registry = api::plan_option_registry());

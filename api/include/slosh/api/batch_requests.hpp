@@ -8,6 +8,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/recipe_row.hpp"
 #include "slosh/api/service_bodies.hpp"
 
 namespace slosh::api {
@@ -16,7 +17,7 @@ namespace slosh::api {
 class BatchRequests {
  public:
   /// Adds a plan request as a recipe table read it.
-  void add(const nlohmann::json& request) { requests_.push_back(request); }
+  void add(const RecipeRequest& request) { requests_.push_back(request.body()); }
   [[nodiscard]] std::size_t size() const { return requests_.size(); }
   [[nodiscard]] bool empty() const { return requests_.empty(); }
   /// The body {"requests": [...]}.

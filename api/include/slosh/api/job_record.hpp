@@ -105,7 +105,4 @@ void add_results(JobRecord& record, std::size_t offset, std::size_t limit,
 [[nodiscard]] std::optional<PlanTableRow> parse_result_row(std::string_view text,
                                                            std::size_t number);
 
-/// The row as stored and as a JSON-lines table holds it (JSON text, no line break).
-[[nodiscard]] std::string table_row_text(const PlanTableRow& row);
-
 }  // namespace slosh::api

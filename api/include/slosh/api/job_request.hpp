@@ -13,6 +13,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/error.hpp"
+#include "slosh/api/recipe_row.hpp"
+
 namespace slosh::api {
 
 /// A job's outputs as asked.
@@ -38,9 +41,9 @@ using JobTableReader = std::function<void(const std::string& table, const std::s
 
 /// A recipe's plan request with the stored calibration put in when its options.model names one:
 /// `resolve` maps the request's text to the text with the model put in and throws ApiError for a
-/// bad or unknown name; then `request` is null and `error` the error ({"code", "message",
-/// "field"}). A request without a named model is left as it is.
-void resolve_recipe_model(nlohmann::json& request, nlohmann::json& error,
+/// bad or unknown name; then `request` is null and `error` that error. A request without a named
+/// model is left as it is.
+void resolve_recipe_model(RecipeRequest& request, std::optional<ApiError>& error,
                           const std::function<std::string(const std::string&)>& resolve);
 
 }  // namespace slosh::api

@@ -3,11 +3,15 @@
 // counts, typed, and the row itself, which only the table writer renders.
 
 #include <cstddef>
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/plan_view.hpp"
 
 namespace slosh::api {
 
@@ -28,8 +32,38 @@ struct PlanTableRow {
   nlohmann::json document;
 };
 
-/// The typed facts of a row made by the table code (plan_row).
+/// The typed facts of a row given as JSON (a stored results line).
 [[nodiscard]] PlanTableRow table_row_of(nlohmann::json document);
+
+/// Which recipe a row is of: its 1-based number, its recipe_id, and whether it was read from CSV
+/// (then an error names the column instead of the request path).
+struct RowRecipe {
+  std::size_t number{0};
+  std::string_view recipe_id;
+  bool csv{false};
+};
+
+/// The row of a planned recipe: {"row", "recipe_id", "status", "key", "cached", "strategy",
+/// "message", "durations_s", "kinematics", "f1_hz", "prediction", "baseline", "reduction_pct",
+/// "solve_ms", ...} of `plan` (the rendered plan's JSON text); `view` adds the plan as "plan" in
+/// that view (the whole plan, or compact_plan of it).
+[[nodiscard]] PlanTableRow planned_row(const RowRecipe& recipe, std::string_view plan, bool cached,
+                                       std::optional<PlanView> view);
+
+/// The row of a recipe that could not be planned: {"row", "recipe_id", "status": "error",
+/// "message", "error", "error_field"}.
+[[nodiscard]] PlanTableRow failed_row(const RowRecipe& recipe, const ApiError& error);
+
+/// The CSV header of plan tables (comma-separated column names).
+[[nodiscard]] std::string plan_table_csv_header();
+
+/// The row as a CSV line of those columns (no line break): text cells quoted (RFC 4180) and
+/// neutralised when formula-leading (csv_cell.hpp), numbers and booleans bare, absent ones empty.
+[[nodiscard]] std::string plan_table_csv_line(const PlanTableRow& row);
+
+/// The row as one JSON object (no line break): a line of JSON-lines tables, an element of JSON
+/// ones, a stored results line of a batch job.
+[[nodiscard]] std::string table_row_text(const PlanTableRow& row);
 
 /// The rows of a JSON-lines table (a batch job's results.jsonl; blank lines skipped). Throws
 /// std::runtime_error naming the line (1-based) that is not a JSON object with a string

@@ -10,6 +10,7 @@
 // uncertainty_viscosity_pa_s, uncertainty_sample_points).
 
 #include <cstddef>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -18,9 +19,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/error.hpp"
 #include "slosh/api/option_registry.hpp"
 
 namespace slosh::api {
+
+struct BatchItem;       // slosh/api/service_bodies.hpp
+struct MinTimeRequest;  // slosh/api/min_time.hpp
 
 /// How a CSV cell is read.
 enum class CellKind {
@@ -60,6 +65,34 @@ struct CellError {
   std::string message;
 };
 
+/// The plan request of one recipe as its table gave it: the CSV cells as request members, or the
+/// JSON value of a line without its recipe_id. Only api reads it (as a batch item, a min-time
+/// request or a member of a POST /v1/plans/batch body), so the service moves it as a value.
+class RecipeRequest {
+ public:
+  RecipeRequest() = default;
+  explicit RecipeRequest(nlohmann::json body) : body_(std::move(body)) {}
+  /// The request as JSON (null for a recipe whose row could not be read).
+  [[nodiscard]] const nlohmann::json& body() const { return body_; }
+
+ private:
+  nlohmann::json body_;
+};
+
+/// One recipe as a table gave it: its recipe_id and its request, or the error of its row.
+struct ReadRecipe {
+  /// As given; empty when the row has none or when the id itself is refused (a control
+  /// character would cut or forge the lines of the table it is written into).
+  std::string recipe_id;
+  RecipeRequest request;
+  std::optional<ApiError> error;  ///< set when the row cannot be read (then `request` is null)
+};
+
+/// The recipe_id of a row, or an ApiError (invalid_value, field "recipe_id") when it holds a
+/// control character (U+0000 to U+001F, U+007F): "recipe_id must not hold control characters
+/// (NUL, tab, line breaks, ...), got \"a\nb\"".
+void check_recipe_id(std::string_view recipe_id);
+
 /// The columns of one CSV recipe table, from its header row.
 class RecipeHeader {
  public:
@@ -73,30 +106,35 @@ class RecipeHeader {
 
   /// The plan request of a row of size() cells (an empty cell means "the default"); throws
   /// CellError.
-  [[nodiscard]] nlohmann::json request(const std::vector<std::string>& cells) const;
+  [[nodiscard]] RecipeRequest request(const std::vector<std::string>& cells) const;
+
+  /// The recipe of CSV record `number` (1-based, the header not counted): its recipe_id and
+  /// request, or the row's error (a wrong cell count, a refused id, a cell that cannot be read),
+  /// never a throw.
+  [[nodiscard]] ReadRecipe recipe(std::size_t number, const std::vector<std::string>& cells) const;
 
  private:
   std::vector<RecipeColumn> columns_;
   std::size_t id_index_{0};
 };
 
-/// A recipe of a JSON table: its recipe_id (taken out of the request) and the request, or the
-/// error of a line that is not JSON.
-struct JsonRecipe {
-  std::string recipe_id;
-  nlohmann::json request;
-  nlohmann::json error;  ///< {"code", "message", "field"}; null when the line was read
-};
-
-/// One line of a JSON-lines table; `line_number` (1-based) prefixes the message of its error.
-[[nodiscard]] JsonRecipe json_line_recipe(std::string_view line, std::size_t line_number);
+/// One line of a JSON-lines table (its recipe_id taken out of the request); `line_number`
+/// (1-based) prefixes the message of its error.
+[[nodiscard]] ReadRecipe json_line_recipe(std::string_view line, std::size_t line_number);
 
 /// The recipes of a .json table: an array of plan requests or {"requests": [...]}. Throws
 /// RecipeTableError.
-[[nodiscard]] std::vector<JsonRecipe> json_document_recipes(std::string_view text);
+[[nodiscard]] std::vector<ReadRecipe> json_document_recipes(std::string_view text);
 
-/// {"code": "invalid_value", "message", "field"} of a row that cannot be read.
-[[nodiscard]] nlohmann::json row_error(const std::string& message, const std::string& field);
+/// A recipe's plan request read as a batch item (read_batch_item: never throws).
+[[nodiscard]] BatchItem batch_item_of(const RecipeRequest& request, double budget);
+
+/// A recipe's min-time request (`slosh batch --mode min_time`: min_time_body_from_recipe, then
+/// parse_min_time_request with `budget`); throws ApiError.
+[[nodiscard]] MinTimeRequest min_time_request_of(const RecipeRequest& request, double budget);
+
+/// The body of POST /v1/min-time for a recipe (min_time_body_from_recipe, as JSON text).
+[[nodiscard]] std::string min_time_body_text(const RecipeRequest& request);
 
 /// The CSV column a request field path ("format.container.radius_mm", "options.weights[1]")
 /// comes from; the path itself when no column maps to it.

@@ -1,0 +1,21 @@
+#pragma once
+// What the service adds to the answers cpp-httplib shapes itself: the message of a status the
+// library answers before any handler runs, and the close of a connection whose request body is
+// left unread.
+
+#include <httplib.h>
+
+#include <string>
+
+namespace slosh::service {
+
+/// The message of a status the HTTP library answers itself (a request line that is not HTTP, one
+/// over 8192 bytes, a bad Range; "HTTP <status>" for another).
+[[nodiscard]] std::string framework_message(int status);
+
+/// Asks the client to close the connection after this answer, whose request body is left unread
+/// (it would be read as the next request): "Connection: close", set once (the library adds its
+/// own when the request asked for "Connection: close").
+void close_after_answer(const httplib::Request& req, httplib::Response& res);
+
+}  // namespace slosh::service
