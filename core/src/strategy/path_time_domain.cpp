@@ -200,7 +200,10 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
     x.push_back(z);
   }
   ws.valid = false;
-  return multi_start(p, x0, c, path_time_domain_options());
+  // A run that reaches an optimum an earlier start found ends there (it would find nothing new).
+  StartPolicy policy;
+  policy.leave_known_optima = true;
+  return multi_start(p, x0, c, path_time_domain_options(), policy);
 }
 
 /// Adds the dense response's window peaks above their bound (the minimised window's above z) as
