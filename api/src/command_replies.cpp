@@ -25,13 +25,32 @@ nlohmann::json quick_request(const QuickPlan& q) {
   nlohmann::json fluid = q.fluid ? nlohmann::json(*q.fluid)
                                  : nlohmann::json{{"density_kg_m3", q.density_kg_m3.value_or(0)},
                                                   {"viscosity_pa_s", q.viscosity_pa_s.value_or(0)}};
-  return {{"format",
-           {{"container", container},
-            {"fill_height_mm", q.fill_mm},
-            {"fluid", fluid},
-            {"stroke_mm", q.stroke_mm},
-            {"motion_time_s", q.time_s}}},
-          {"strategy", q.strategy}};
+  nlohmann::json request{{"format",
+                          {{"container", container},
+                           {"fill_height_mm", q.fill_mm},
+                           {"fluid", fluid},
+                           {"stroke_mm", q.stroke_mm},
+                           {"motion_time_s", q.time_s}}},
+                         {"strategy", q.strategy}};
+  std::optional<nlohmann::json> motion;
+  if (q.arc_radius_mm) {
+    motion = {{"type", "arc"}, {"radius_mm", *q.arc_radius_mm}, {"angle_deg", *q.arc_angle_deg}};
+    if (q.turns) (*motion)["container_turns"] = *q.turns;
+  }
+  if (q.motion_text) {
+    motion = nlohmann::json::parse(*q.motion_text, nullptr, false);
+    if (motion->is_discarded()) {
+      throw ApiError(ErrorCode::kInvalidValue, "--motion",
+                     "--motion " + q.motion_source +
+                         " is not JSON: it must hold format.motion, e.g. {\"type\": \"arc\", "
+                         "\"radius_mm\": 300, \"angle_deg\": 90}");
+    }
+  }
+  if (motion) {
+    request["format"].erase("stroke_mm");
+    request["format"]["motion"] = std::move(*motion);
+  }
+  return request;
 }
 
 std::string plan_reply_of(const nlohmann::json& request, PlanView view) {

@@ -20,8 +20,15 @@ struct QuickPlan {
   std::optional<std::string> fluid;      ///< a catalogue fluid, or else
   std::optional<double> density_kg_m3;   ///< a custom fluid's density [kg/m^3]
   std::optional<double> viscosity_pa_s;  ///< and dynamic viscosity [Pa s]
-  double stroke_mm{};                    ///< [mm]
-  double time_s{};                       ///< motion time [s]
+  double stroke_mm{};                    ///< [mm] (unused with an arc or a motion)
+  /// An arc instead of the stroke: radius [mm], angle [deg], the container turning (default
+  /// true): format.motion {"type": "arc", ...}.
+  std::optional<double> arc_radius_mm, arc_angle_deg;
+  std::optional<bool> turns;
+  /// format.motion as JSON text instead of the stroke (`--motion FILE`, named by motion_source).
+  std::optional<std::string> motion_text;
+  std::string motion_source;
+  double time_s{};  ///< motion time [s]
   std::string strategy{"auto"};
 };
 

@@ -1,0 +1,339 @@
+// Planning along planar paths (SPEC §14): a time_domain plan on an arc checked by a simulation of
+// the spherical-pendulum model written here, the limit to the straight line (a huge radius, a
+// line in any direction), and the path's machine limits on seeded random arcs.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <random>
+#include <vector>
+
+#include "response/planar_sensitivity.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/strategy/path_plan.hpp"
+#include "support/fixtures.hpp"
+#include "support/reference_integrators.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// The 90-degree index of a 300 mm rotary table in 1.2 s (SPEC §14's example).
+PlanarPath table_arc(double angle_deg = 90.0, double radius = 0.3, bool turns = true) {
+  return PlanarPath::arc(radius, angle_deg * kPi / 180.0, turns);
+}
+
+Format format_for(const PlanarPath& path, double motion_time) {
+  Format f = thesis_format();
+  f.stroke = path.length();
+  f.motion_time = motion_time;
+  return f;
+}
+
+PlanOptions quiet_options() {
+  PlanOptions o;
+  o.robustness = false;
+  o.time_limit = 60.0;
+  return o;
+}
+
+/// Independent simulation of the planar spherical-pendulum model, re-typed from SPEC §14 and
+/// docs/models.md: M q'' + C^2 |q'|^2 q + 2 zeta w M q' + w^2 (1 + alpha |q|^2) q + a_h / R = 0,
+/// M = I + C^2 q q^T, driven by the 7-segment law (rebuilt from SPEC §3) moved along an arc of
+/// radius rho from heading 0, turning left: a_h = s'' T + s'^2 / rho N. Classical RK4 with the
+/// tangential state (s, s') integrated alongside, on steps that end at every switch time.
+struct ArcSimulation {
+  double eta_motion{}, eta_rest{}, t_rest{};
+};
+
+ArcSimulation simulate_on_arc(const SloshingModel& m, const Durations& d, double length, double rho,
+                              double rest_time) {
+  // A and B from the two lobes' balance and the stroke: B = A area_p / area_n, then A by the
+  // stroke reached with A = 1 (computed by the same integration, the law linear in A).
+  const double area_p = 0.5 * d[0] + d[1] + 0.5 * d[2];
+  const double area_n = 0.5 * d[4] + d[5] + 0.5 * d[6];
+  test::TrapezoidAcceleration unit{d, 1.0, area_p / area_n};
+  const auto knots = unit.knots();
+  const double T = knots[7];
+  using State = std::array<double, 6>;  // s, s', qx, qy, qx', qy'
+  const double w = m.omega1(), c2 = m.C * m.C;
+  auto run = [&](const test::TrapezoidAcceleration& a, bool drive, ArcSimulation* out) {
+    auto f = [&](double t, const State& y) {
+      const double acc = t < T ? a(t) : 0.0;
+      const double v = t < T ? y[1] : 0.0;
+      const double psi = y[0] / rho;
+      const double ax = drive ? acc * std::cos(psi) - v * v / rho * std::sin(psi) : 0.0;
+      const double ay = drive ? acc * std::sin(psi) + v * v / rho * std::cos(psi) : 0.0;
+      const double qx = y[2], qy = y[3], vx = y[4], vy = y[5];
+      const double r2 = qx * qx + qy * qy, v2 = vx * vx + vy * vy, qv = qx * vx + qy * vy;
+      // b = -(C^2 |q'|^2 q + 2 zeta w M q' + w^2 (1 + alpha r2) q + a / R); q'' = M^-1 b.
+      const double k = w * w * (1.0 + m.alpha * r2);
+      const double bx =
+          -(c2 * v2 * qx + 2 * m.zeta * w * (vx + c2 * qx * qv) + k * qx + ax / m.radius);
+      const double by =
+          -(c2 * v2 * qy + 2 * m.zeta * w * (vy + c2 * qy * qv) + k * qy + ay / m.radius);
+      const double lam = c2 * (qx * bx + qy * by) / (1.0 + c2 * r2);
+      return State{y[1], acc, vx, vy, bx - lam * qx, by - lam * qy};
+    };
+    State y{};
+    std::vector<double> cuts(knots.begin(), knots.end());
+    cuts.push_back(T + rest_time);
+    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
+      const double L = cuts[k + 1] - cuts[k];
+      if (!(L > 0.0)) continue;
+      const int n = static_cast<int>(std::ceil(L / 2e-4));
+      const double h = L / n;
+      for (int i = 0; i < n; ++i) {
+        const double t = cuts[k] + h * i;
+        auto add = [](const State& a, const State& b, double s) {
+          State r;
+          for (std::size_t j = 0; j < 6; ++j) r[j] = a[j] + s * b[j];
+          return r;
+        };
+        // Stages just inside the step, so each sees the piece it belongs to.
+        const double e = 1e-12;
+        const State k1 = f(t + e, y), k2 = f(t + h / 2, add(y, k1, h / 2));
+        const State k3 = f(t + h / 2, add(y, k2, h / 2)), k4 = f(t + h - e, add(y, k3, h));
+        for (std::size_t j = 0; j < 6; ++j) y[j] += h / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+        if (out != nullptr) {
+          const double eta = m.K * std::hypot(y[2], y[3]);
+          if (t + h <= T + 1e-12) {
+            out->eta_motion = std::max(out->eta_motion, eta);
+          } else if (eta > out->eta_rest) {
+            out->eta_rest = eta;
+            out->t_rest = t + h;
+          }
+        }
+      }
+    }
+    return y[0];
+  };
+  const double unit_stroke = run(unit, false, nullptr);
+  const double A = length / unit_stroke;
+  ArcSimulation out;
+  run(test::TrapezoidAcceleration{d, A, A * area_p / area_n}, true, &out);
+  return out;
+}
+
+TEST(PathPlan, TimeDomainOnAnArcHoldsOnAnIndependentSimulation) {
+  const PlanarPath arc = table_arc();
+  const Format f = format_for(arc, 1.2);
+  const PlanOptions o = quiet_options();
+  const PlanResult r = plan_on_path(f, arc, Strategy::kTimeDomain, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  ASSERT_TRUE(r.durations.has_value());
+  const ArcSimulation sim = simulate_on_arc(r.model, *r.durations, arc.length(), 0.3, o.rest_time);
+  // The bound holds on the independent simulation (its 0.2 ms steps sample the peak to ~1e-4).
+  EXPECT_LE(sim.eta_rest, o.eta_rest_max * (1.0 + 1e-3));
+  // The plan's verified peaks are the simulation's (the liquid's spin adds < 1e-7 mm here).
+  EXPECT_NEAR(r.prediction.nonlinear.rest.value, sim.eta_rest, 2e-4 * sim.eta_rest);
+  EXPECT_NEAR(r.prediction.nonlinear.motion.value, sim.eta_motion, 2e-4 * sim.eta_motion);
+  // It beats the uniform law, which the same simulation checks too.
+  const ArcSimulation uniform =
+      simulate_on_arc(r.model, uniform_durations(1.2), arc.length(), 0.3, o.rest_time);
+  EXPECT_NEAR(r.baseline.nonlinear.motion.value, uniform.eta_motion, 2e-4 * uniform.eta_motion);
+  EXPECT_LT(sim.eta_motion, uniform.eta_motion);
+  // The straight line's time_domain plan of the same length does not hold the bound on the arc:
+  // the normal acceleration matters, and this test would see a plan that ignored it.
+  const PlanResult line = plan(f, Strategy::kTimeDomain, o);
+  ASSERT_TRUE(line.durations.has_value());
+  const ArcSimulation line_on_arc =
+      simulate_on_arc(r.model, *line.durations, arc.length(), 0.3, o.rest_time);
+  EXPECT_GT(line_on_arc.eta_rest, o.eta_rest_max * 1.05);
+  EXPECT_NE(r.message.find("time_domain optimised the planar nonlinear model along the path"),
+            std::string::npos)
+      << r.message;
+}
+
+// An arc of a kilometre's radius is a straight line to the liquid: its time_domain plan is the
+// straight line's, and so are the tangential strategies' predictions.
+TEST(PathPlan, AnArcOfHugeRadiusTendsToTheLinePlan) {
+  const double radius = 1000.0;
+  const PlanarPath arc = PlanarPath::arc(radius, 0.8 / radius, false);
+  const Format f = format_for(arc, 1.0);
+  const PlanOptions o = quiet_options();
+  for (Strategy s : {Strategy::kTimeDomain, Strategy::kNotch}) {
+    const PlanResult on_arc = plan_on_path(f, arc, s, o);
+    const PlanResult on_line = plan(f, s, o);
+    ASSERT_TRUE(on_arc.durations && on_line.durations) << to_string(s);
+    EXPECT_EQ(on_arc.status, on_line.status) << to_string(s) << ": " << on_arc.message;
+    for (std::size_t i = 0; i < kSegments; ++i) {
+      EXPECT_NEAR((*on_arc.durations)[i], (*on_line.durations)[i], 1e-4) << to_string(s) << i;
+    }
+    const double motion = on_line.prediction.nonlinear.motion.value;
+    EXPECT_NEAR(on_arc.prediction.nonlinear.motion.value, motion, 1e-3 * motion) << to_string(s);
+    EXPECT_NEAR(on_arc.prediction.nonlinear.rest.value, on_line.prediction.nonlinear.rest.value,
+                1e-3 * motion)
+        << to_string(s);
+    EXPECT_NEAR(on_arc.prediction.linear.motion.value, on_line.prediction.linear.motion.value,
+                1e-3 * motion)
+        << to_string(s);
+  }
+}
+
+// The wave of an axisymmetric container does not depend on the direction of a straight move: a
+// line at 0 and at 37 degrees give the same plan (and the straight line's).
+TEST(PathPlan, ALineAt0And37DegreesGivesTheSamePlan) {
+  const PlanarPath at0 = PlanarPath::line(0.8, 0.0);
+  const PlanarPath at37 = PlanarPath::line(0.8, 37.0 * kPi / 180.0);
+  const Format f = format_for(at0, 1.0);
+  const PlanOptions o = quiet_options();
+  for (Strategy s : {Strategy::kTimeDomain, Strategy::kMultiNotch, Strategy::kShaper}) {
+    const PlanResult a = plan_on_path(f, at0, s, o);
+    const PlanResult b = plan_on_path(f, at37, s, o);
+    const PlanResult line = plan(f, s, o);
+    EXPECT_EQ(a.status, b.status) << to_string(s);
+    ASSERT_EQ(a.durations.has_value(), b.durations.has_value()) << to_string(s);
+    if (a.durations) {
+      for (std::size_t i = 0; i < kSegments; ++i) {
+        EXPECT_NEAR((*a.durations)[i], (*b.durations)[i], 1e-7) << to_string(s) << i;
+        EXPECT_NEAR((*a.durations)[i], (*line.durations)[i], 1e-5) << to_string(s) << i;
+      }
+    }
+    const double peak = line.prediction.nonlinear.motion.value;
+    EXPECT_NEAR(a.prediction.nonlinear.motion.value, b.prediction.nonlinear.motion.value,
+                1e-7 * peak);
+    EXPECT_NEAR(a.prediction.nonlinear.rest.value, b.prediction.nonlinear.rest.value, 1e-7 * peak);
+    EXPECT_NEAR(a.prediction.nonlinear.motion.value, peak, 1e-5 * peak) << to_string(s);
+    EXPECT_NEAR(a.prediction.linear.rest.value, line.prediction.linear.rest.value, 1e-5 * peak);
+  }
+}
+
+/// The largest total horizontal acceleration of the 7-segment law d moved along an arc of radius
+/// rho, sampled every 10 us (the law rebuilt from SPEC §3, its speed integrated here).
+double sampled_total_acceleration(const Durations& d, double length, double rho) {
+  const double area_p = 0.5 * d[0] + d[1] + 0.5 * d[2];
+  const double area_n = 0.5 * d[4] + d[5] + 0.5 * d[6];
+  test::TrapezoidAcceleration unit{d, 1.0, area_p / area_n};
+  const double T = unit.knots()[7];
+  const double dt = 1e-5;
+  auto walk = [&](const test::TrapezoidAcceleration& a, double* peak) {
+    double v = 0.0, s = 0.0;
+    for (double t = 0.0; t < T; t += dt) {
+      // Trapezoidal rule on the piecewise linear acceleration: exact but at the knots.
+      const double a0 = a(t), a1 = a(std::min(t + dt, T));
+      if (peak != nullptr) *peak = std::max(*peak, std::hypot(a0, v * v / rho));
+      s += v * dt + (2.0 * a0 + a1) * dt * dt / 6.0;
+      v += 0.5 * (a0 + a1) * dt;
+    }
+    return s;
+  };
+  const double A = length / walk(unit, nullptr);
+  double peak = 0.0;
+  walk(test::TrapezoidAcceleration{d, A, A * area_p / area_n}, &peak);
+  return peak;
+}
+
+// Seeded random arcs with machine limits: a plan that does not name a broken limit keeps them
+// all, on the law's acceleration sampled here; one that breaks one is infeasible and names it.
+TEST(PathPlan, LimitsHoldOnSeededRandomArcs) {
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> radius(0.15, 1.0), angle(45.0, 180.0), time(0.9, 1.6),
+      scale(0.85, 1.3);
+  PlanOptions o = quiet_options();
+  int held = 0, refused = 0;
+  for (int k = 0; k < 6; ++k) {
+    const double rho = radius(rng);
+    const PlanarPath arc = table_arc(angle(rng), rho);
+    const Format f = format_for(arc, time(rng));
+    // Limits around the uniform law's own figures, some reachable, some not.
+    const PlanResult uniform = plan_on_path(f, arc, Strategy::kBaseline, o);
+    const PathPlanReport u = path_plan_report(uniform, arc, f.motion_time, o.rest_time);
+    o.limits.a_max = scale(rng) * u.prediction.a_total_peak;
+    o.limits.v_max = scale(rng) * u.prediction.v_peak;
+    o.limits.j_max = 1.5 * scale(rng) * u.prediction.j_peak;
+    for (Strategy s : {Strategy::kTimeDomain, Strategy::kMinJerkBand}) {
+      const PlanResult r = plan_on_path(f, arc, s, o);
+      ASSERT_TRUE(r.durations.has_value()) << r.message;
+      const PathPlanReport p = path_plan_report(r, arc, f.motion_time, o.rest_time);
+      const double sampled = sampled_total_acceleration(*r.durations, arc.length(), rho);
+      // The exact maximum is at least the sampled one, and the two agree closely.
+      EXPECT_GE(p.prediction.a_total_peak, sampled * (1.0 - 1e-9));
+      EXPECT_NEAR(p.prediction.a_total_peak, sampled, 1e-3 * sampled);
+      // A law that keeps the limits is checked here; one that breaks one is never usable, and
+      // its message names the limit.
+      const bool named = r.message.find("exceeds limits.") != std::string::npos;
+      if (r.usable()) ++held;
+      if (!named) {
+        EXPECT_LE(sampled, *o.limits.a_max * (1.0 + 1e-6)) << k << " " << to_string(s);
+        EXPECT_LE(p.prediction.v_peak, *o.limits.v_max * (1.0 + 1e-6)) << r.message;
+        EXPECT_LE(p.prediction.j_peak, *o.limits.j_max * (1.0 + 1e-6)) << r.message;
+      } else {
+        ++refused;
+        EXPECT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+      }
+    }
+  }
+  // The seed gives both kinds.
+  EXPECT_GT(held, 0);
+  EXPECT_GT(refused, 0);
+}
+
+/// A track of a line, a left quarter circle and a line: two joins where the curvature jumps.
+PlanarPath track(double radius) {
+  return PlanarPath(
+      {PathElement::line(0.2), PathElement::arc(radius, kPi / 2), PathElement::line(0.2)}, 0.0,
+      false);
+}
+
+// The sensitivities the optimiser uses are exact derivatives of the discrete response, also where
+// the steps end at the moving join crossings: checked against central differences of the same
+// discrete response (step counts frozen, so it is smooth in the durations).
+TEST(PathPlan, SensitivitiesAcrossJoinsMatchCentralDifferences) {
+  const PlanarPath path = track(0.15);
+  const Format f = format_for(path, 1.2);
+  const SloshingModel m = make_sloshing_model(f, {});
+  Durations d = test::kAsymmetricDurations;
+  for (double& x : d) x *= 1.2;
+  detail::PlanarSensitivity sens(m, path, 1.0, 12.0);
+  sens.freeze_steps(d.data());
+  sens.compute(d.data());
+  const std::vector<double> times{0.31, 0.64, 0.97, 1.33, 1.71, 2.05};
+  std::vector<double> values;
+  std::vector<std::array<double, kSegments>> gradients;
+  sens.eta_at(times, values, gradients);
+  const double h = 1e-6;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    Durations up = d, down = d;
+    up[i] += h;
+    down[i] -= h;
+    std::vector<double> v_up, v_down;
+    std::vector<std::array<double, kSegments>> unused;
+    sens.compute(up.data());
+    sens.eta_at(times, v_up, unused);
+    sens.compute(down.data());
+    sens.eta_at(times, v_down, unused);
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      const double fd = (v_up[k] - v_down[k]) / (2.0 * h);
+      EXPECT_NEAR(gradients[k][i], fd, 1e-5 * std::abs(fd) + 1e-9) << "d" << i << " t " << times[k];
+    }
+  }
+}
+
+// time_domain on a track (lines and a 500 mm curve in 1.6 s): the plan holds its bound on the
+// verified planar prediction and beats the uniform law's sloshing during the motion.
+TEST(PathPlan, TimeDomainAlongATrackWithJoins) {
+  const PlanarPath path = track(0.5);
+  const Format f = format_for(path, 1.6);
+  const PlanOptions o = quiet_options();
+  const PlanResult r = plan_on_path(f, path, Strategy::kTimeDomain, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  EXPECT_LE(r.prediction.nonlinear.rest.value, o.eta_rest_max * (1.0 + 1e-7));
+  EXPECT_LT(r.prediction.nonlinear.motion.value, r.baseline.nonlinear.motion.value);
+  // On a tighter curve in less time no law meets the bound: the plan says so, with the least
+  // value it found, and that law is the least infeasible one (below the uniform law's).
+  const PlanarPath tight = track(0.15);
+  const PlanResult hard = plan_on_path(format_for(tight, 1.2), tight, Strategy::kTimeDomain, o);
+  EXPECT_EQ(hard.status, SolveStatus::kInfeasible);
+  EXPECT_NE(hard.message.find("no law found that meets eta_rest <= 3 mm in 1.2 s along the path"),
+            std::string::npos)
+      << hard.message;
+  EXPECT_LT(hard.prediction.nonlinear.rest.value, hard.baseline.nonlinear.rest.value);
+}
+
+}  // namespace
+}  // namespace slosh
