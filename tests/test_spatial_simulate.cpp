@@ -240,23 +240,14 @@ TEST(SpatialSimulate, PlanningAlongAPathIsRefusedHonestly) {
   min_time.erase("law");
   min_time["format"].erase("motion_time_s");
   const std::string message =
-      "format.motion of type \"arc\": planning along paths is not available yet; plans, "
-      "min-time and cam export move along a straight line (format.stroke_mm, or a motion of type "
-      "\"line\"). POST /v1/simulate predicts the wave of any motion";
+      "format.motion of type \"arc\": planning along paths is not available yet; plans and "
+      "min-time move along a straight line (format.stroke_mm, or a motion of type \"line\"). "
+      "POST /v1/simulate predicts the wave of any motion";
   for (const auto& [route, body] : {std::pair{"/v1/plans", plan}, {"/v1/min-time", min_time}}) {
     const json e = post(server, route, body, 422);
     EXPECT_EQ(e["error"]["field"], "format.motion") << route;
     EXPECT_EQ(e["error"]["message"], message) << route;
   }
-  // A cam export of a law along the arc is refused too, not exported as a straight move.
-  const test::TempDir dir;
-  test::write_file(dir / "arc.json", arc_body().dump());
-  const test::RunResult run = test::run_slosh(
-      {"export", "--request", (dir / "arc.json").string(), "--out", (dir / "cam.csv").string()});
-  EXPECT_EQ(run.exit_code, 2) << run.err;
-  const json e = json::parse(run.err);
-  EXPECT_EQ(e["error"]["field"], "format.motion");
-  EXPECT_EQ(e["error"]["message"], message);
 }
 
 std::string num(double v) {

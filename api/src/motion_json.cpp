@@ -281,8 +281,8 @@ std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
   const MotionType type = parse_type(*m);
   if (type != MotionType::kLine) {
     invalid(kMotion, kMotion + " of type " + show((*m)["type"]) +
-                         ": planning along paths is not available yet; plans, min-time and cam "
-                         "export move along a straight line (format.stroke_mm, or a motion of "
+                         ": planning along paths is not available yet; plans and min-time move "
+                         "along a straight line (format.stroke_mm, or a motion of "
                          "type \"line\"). POST /v1/simulate predicts the wave of any motion");
   }
   static_cast<void>(parse_motion(*m, false));  // validates the line

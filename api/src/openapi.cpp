@@ -385,7 +385,7 @@ void add_shared_response_schemas(json& s) {
                         {"eta_nonlinear_mm", numbers("Wave height, nonlinear model [mm].")},
                         {"units", units}},
                        {"t_s", "a", "v", "s", "eta_linear_mm", "eta_nonlinear_mm", "units"},
-                       "Time series (both ends included) when sample_period_s is given.", false);
+                       "Time series (both ends included) when sample_period_s is given.", true);
 }
 
 /// The blocks of a plan response: baseline, reductions, spectrum, solver, candidates.
@@ -821,6 +821,26 @@ void add_motion_response_schemas(json& s) {
               {"container_turns", boolean("Whether the container turns (not for a trajectory).")},
               {"samples", integer("Samples of a trajectory.")}},
              {"type", "duration_s"}, "The simulated motion.", false);
+  json units{{"type", "object"},
+             {"additionalProperties", {{"type", "string"}}},
+             {"description", "Unit of each series."}};
+  s["SpatialSeries"] = object(
+      {{"t_s", numbers("Time from the motion's start [s].")},
+       {"x_mm", numbers("Container position, world frame [mm].")},
+       {"y_mm", numbers("Container position, world frame [mm].")},
+       {"theta_deg", numbers("Container heading from the start [deg].")},
+       {"a_h", numbers("Magnitude of the horizontal acceleration, normal part included [m/s^2].")},
+       {"eta_linear_mm", numbers("Linear planar model: wall height maximised over the wall [mm].")},
+       {"eta_nonlinear_mm", numbers("Nonlinear planar model: the same [mm].")},
+       {"direction_linear_deg", numbers("Wall angle of the linear maximum, from +x [deg].")},
+       {"direction_nonlinear_deg", numbers("Wall angle of the nonlinear maximum [deg].")},
+       {"s", numbers("A law along a path: distance along it [m].")},
+       {"v", numbers("A law along a path: speed along it [m/s].")},
+       {"a", numbers("A law along a path: tangential acceleration [m/s^2].")},
+       {"units", units}},
+      {"t_s", "x_mm", "y_mm", "theta_deg", "a_h", "eta_linear_mm", "eta_nonlinear_mm",
+       "direction_linear_deg", "direction_nonlinear_deg", "units"},
+      "Time series along format.motion (both ends included) when sample_period_s is given.", true);
 }
 
 void add_simulate_response_schemas(json& s) {
@@ -842,7 +862,7 @@ void add_simulate_response_schemas(json& s) {
               {"model", ref("Model")},
               {"prediction", {{"oneOf", {ref("Prediction"), ref("PlanarPrediction")}}}},
               {"rest_time_s", number("Rest window [s].")},
-              {"series", ref("Series")},
+              {"series", {{"oneOf", {ref("Series"), ref("SpatialSeries")}}}},
               {"warnings", strings("Validity limits of the models reached by this law.")}},
              {"format", "model", "prediction", "rest_time_s", "warnings"},
              "Wave-height response of the law (also what `slosh simulate` prints); with "

@@ -10,6 +10,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
+#include "slosh/api/recipe_motion.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
 
@@ -133,6 +134,13 @@ json cell_value(const RecipeColumn& column, std::string_view text) {
       return bool_cell(column.name, text);
     case CellKind::kNumberList:
       return number_list_cell(column.name, text);
+    case CellKind::kJson: {
+      json value = json::parse(text, nullptr, false);
+      if (value.is_discarded()) {
+        throw CellError{column.name, column.name + " = " + quote_text(text) + " is not JSON"};
+      }
+      return value;
+    }
   }
   return nullptr;
 }
@@ -158,7 +166,10 @@ std::optional<RecipeColumn> column_for(const std::string& field, const OptionReg
 }  // namespace
 
 std::vector<RecipeColumn> recipe_columns(const OptionRegistry& registry) {
-  std::vector<RecipeColumn> columns(kRequestColumns.begin(), kRequestColumns.end());
+  std::vector<RecipeColumn> columns(kRequestColumns.begin(), kRequestColumns.end() - 1);
+  const std::vector<RecipeColumn>& motion = motion_recipe_columns();
+  columns.insert(columns.end(), motion.begin(), motion.end());
+  columns.push_back(kRequestColumns.back());  // strategy
   for (const OptionSpec& o : registry.options()) {
     std::string pointer = "/options/";
     std::string name(o.name);
@@ -199,6 +210,8 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
                        [&](const RecipeColumn& k) { return k.name == name; });
   };
   for (std::string_view name : kRequired) {
+    // A table with motion_type may move its rows along arcs and paths (their length the stroke).
+    if (name == "stroke_mm" && has("motion_type")) continue;
     if (!has(name)) {
       throw RecipeTableError("recipe table: missing column " + quote_text(name) + "; required: " +
                              "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
@@ -233,6 +246,7 @@ json RecipeHeader::request(const std::vector<std::string>& cells) const {
     if (column.kind == CellKind::kId || cells[c].empty()) continue;  // empty: the default
     request[json::json_pointer(column.pointer)] = cell_value(column, cells[c]);
   }
+  complete_row_motion(request);
   return request;
 }
 
