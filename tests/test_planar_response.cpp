@@ -187,10 +187,12 @@ TEST(PlanarLinear, SpinDownAfterTheStopFollowsTheEkmanLayer) {
     const double at = (i + 1) * dt;
     if ((i + 1) % 500 == 0) {
       EXPECT_NEAR(r.liquid_spin(at), w, 1e-9 * W) << at;
-      if (at > T) EXPECT_LT(r.liquid_spin(at), r.liquid_spin(at - 0.5));
+      if (at > T) {
+        EXPECT_LT(r.liquid_spin(at), r.liquid_spin(at - 0.5));
+      }
     }
   }
-  EXPECT_GT(r.liquid_spin(T + 5.0), 0.1 * W);  // still spinning: the spin-down is slow
+  EXPECT_GT(r.liquid_spin(T + 5.0), 0.05 * W);  // still spinning: the spin-down is slow
 }
 
 // The peaks alone (the piecewise exact solution) and the stored response (DOP853): two

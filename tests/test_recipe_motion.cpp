@@ -10,6 +10,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/plan.hpp"
 #include "slosh/api/recipe_motion.hpp"
 #include "slosh/api/recipe_row.hpp"
 
@@ -117,6 +118,25 @@ TEST(RecipeMotion, StrokeColumnIsOptionalWithAMotionTypeAndMembersMapToColumns) 
   EXPECT_EQ(in_column_terms("format.motion.radius_mm",
                             "format.motion.radius_mm = -5 is out of range: allowed > 0"),
             "arc_radius_mm = -5 is out of range: allowed > 0");
+}
+
+TEST(RecipeMotion, PlanRowsCarryTheMotion) {
+  const json arc_row =
+      request_of({"t1", "48.5", "82", "water", "", "1.2", "arc", "300", "90", "", "", "baseline"});
+  const json arc = plan_row_figures(run_plan(parse_plan_request(arc_row)));
+  EXPECT_EQ(arc["motion_type"], "arc");
+  EXPECT_EQ(arc["arc_radius_mm"], 300);
+  EXPECT_EQ(arc["arc_angle_deg"], 90);
+  EXPECT_EQ(arc["container_turns"], true);  // an arc's default
+  EXPECT_NEAR(arc["path_length_mm"].get<double>(), 150.0 * 3.141592653589793, 1e-9);
+  const json line_row =
+      request_of({"l", "48.5", "82", "water", "800", "1.2", "", "", "", "", "", "baseline"});
+  const json line = plan_row_figures(run_plan(parse_plan_request(line_row)));
+  EXPECT_EQ(line["motion_type"], "line");
+  EXPECT_EQ(line["arc_radius_mm"], nullptr);
+  EXPECT_EQ(line["container_turns"], nullptr);
+  EXPECT_EQ(line["path_length_mm"], 800);
+  EXPECT_EQ(motion_row_figures(json::object())["motion_type"], nullptr);
 }
 
 }  // namespace

@@ -14,6 +14,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/plan.hpp"
 #include "slosh/api/spatial_simulate.hpp"
 
 namespace slosh {
@@ -113,6 +114,36 @@ TEST(SpatialSeries, ArcSeriesPeaksAtThePredictionOnTheCircle) {
     EXPECT_LE(rest, eta_rest * (1 + 1e-7));
     EXPECT_GE(rest, eta_rest * (1 - 1e-3));
   }
+}
+
+TEST(SpatialSeries, APlanAlongAnArcHasThePlanarSeriesOfItsLaw) {
+  json body = body_with(
+      {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}}, 0.001);
+  body.erase("law");
+  body["strategy"] = "baseline";
+  const json plan = api::run_plan(api::parse_plan_request(body));
+  const json& series = plan.at("series");
+  ASSERT_TRUE(series.contains("direction_nonlinear_deg"));  // the planar series, not the line's
+  const std::vector<double> t = column(series, "t_s");
+  for (const char* model : {"linear", "nonlinear"}) {
+    SCOPED_TRACE(model);
+    const std::vector<double> eta = column(series, ("eta_" + std::string(model) + "_mm").c_str());
+    double motion = 0.0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if (t[k] <= 1.2) motion = std::max(motion, eta[k]);
+    }
+    const double want = plan["prediction"][model]["eta_motion_mm"].get<double>();
+    EXPECT_LE(motion, want * (1 + 1e-7));
+    EXPECT_GE(motion, want * (1 - 1e-3));
+  }
+  // The same law simulated along the arc gives the same series.
+  json simulate = body_with(
+      {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}}, 0.001);
+  const json simulated = api::simulate_response(simulate);
+  const std::vector<double> a = column(simulated["series"], "eta_nonlinear_mm");
+  const std::vector<double> b = column(series, "eta_nonlinear_mm");
+  ASSERT_EQ(a.size(), b.size());
+  for (std::size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-12) << k;
 }
 
 TEST(SpatialSeries, TrajectorySeriesHasThePoseButNoPathDistance) {

@@ -281,10 +281,8 @@ std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
   const MotionType type = parse_type(*m);
   if (type != MotionType::kLine) {
     invalid(kMotion, kMotion + " of type " + show((*m)["type"]) +
-                         ": min-time along paths is not available yet; it moves along a "
-                         "straight line (format.stroke_mm, or a motion of type \"line\"). POST "
-                         "/v1/plans plans along an arc or a path, and POST /v1/simulate predicts "
-                         "the wave of any motion");
+                         ": min-time moves the container along a \"line\", an \"arc\" or a "
+                         "\"path\" (a trajectory is simulated, POST /v1/simulate)");
   }
   static_cast<void>(parse_motion(*m, false));  // validates the line
   const json& format = body["format"];

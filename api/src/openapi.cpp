@@ -744,7 +744,7 @@ void add_motion_request_schemas(json& s) {
       {{"type", string_enum({"line"}, "A straight move.")},
        {"length_mm", number_in(ranges::kStrokeMm, "Length of the move (stroke_mm's long form)")},
        {"direction_deg", with_default(number_in(mr::kHeadingDeg, "Direction from +x"), 0)}},
-      {"type", "length_mm"}, "The straight move; the only motion plans and min-time take.", true);
+      {"type", "length_mm"}, "The straight move (stroke_mm's long form).", true);
   s["ArcMotion"] = object(
       {{"type", string_enum({"arc"}, "An arc of a rotary table, carousel or curved track.")},
        {"radius_mm", number_in(mr::kArcRadiusMm, "Radius of the arc")},
@@ -783,8 +783,21 @@ void add_motion_request_schemas(json& s) {
   s["Motion"] = {
       {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion"), ref("TrajectoryMotion")}},
       {"description",
-       "The container's motion (SPEC §14). Plans and min-time take a line only "
-       "(any other is a 422 naming format.motion)."}};
+       "The container's motion (SPEC §14). Plans and min-time take a line, an arc or a path "
+       "(PlannedMotion); a trajectory is simulated only."}};
+  s["PlannedMotion"] = {
+      {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion")}},
+      {"description",
+       "The motion a plan or a min-time search moves along: the law s(t) spans its length; on "
+       "an arc or a path a_max limits the total horizontal acceleration, v_max s' and j_max the "
+       "tangential jerk, and the wave is the planar models' maximum over the wall."}};
+  json plan_format = s["Format"];
+  plan_format["properties"]["motion"] = ref("PlannedMotion");
+  plan_format["required"] = {"container", "fill_height_mm", "fluid", "motion_time_s"};
+  plan_format["description"] =
+      "A format with its motion: stroke_mm (the straight line) or motion (giving both is a 422).";
+  s["PlanFormat"] = plan_format;
+  s["PlanRequest"]["properties"]["format"] = ref("PlanFormat");
   json format = s["Format"];
   format["properties"]["motion"] = ref("Motion");
   format["required"] = {"container", "fill_height_mm", "fluid"};
@@ -1032,9 +1045,11 @@ void add_min_time_request_schemas(json& s) {
   namespace mr = min_time_ranges;
   json format = s["Format"];
   format["properties"].erase("motion_time_s");
-  format["required"] = {"container", "fill_height_mm", "fluid", "stroke_mm"};
+  format["properties"]["motion"] = ref("PlannedMotion");
+  format["required"] = {"container", "fill_height_mm", "fluid"};
   format["description"] =
-      "The format without motion_time_s: the search finds it (giving it is a 422).";
+      "The format without motion_time_s: the search finds it (giving it is a 422); stroke_mm "
+      "(the straight line) or motion (a line, an arc or a path: every T is planned along it).";
   s["MinTimeFormat"] = format;
   json options = s["PlanOptions"];
   options["properties"].erase("eta_rest_max_mm");

@@ -3,6 +3,7 @@
 #include <string_view>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
 
 namespace slosh::api {
 
@@ -68,6 +69,32 @@ void complete_row_motion(json& request) {
     throw CellError{"stroke_mm", "stroke_mm is given but motion_type is " + type + ": the " + type +
                                      "'s length is the stroke; leave it empty"};
   }
+}
+
+json motion_row_figures(const json& plan) {
+  json row{{"motion_type", nullptr},
+           {"arc_radius_mm", nullptr},
+           {"arc_angle_deg", nullptr},
+           {"container_turns", nullptr},
+           {"path_length_mm", nullptr}};
+  const json* format = find_member(plan, "format");
+  if (format == nullptr || !format->is_object()) return row;
+  if (const json* stroke = find_member(*format, "stroke_mm")) row["path_length_mm"] = *stroke;
+  const json* motion = find_member(*format, "motion");
+  if (motion == nullptr || !motion->is_object() || !motion->contains("type")) {
+    row["motion_type"] = "line";
+    return row;
+  }
+  row["motion_type"] = (*motion)["type"];
+  if ((*motion)["type"] == "arc") {
+    row["arc_radius_mm"] = motion->value("radius_mm", json(nullptr));
+    row["arc_angle_deg"] = motion->value("angle_deg", json(nullptr));
+  }
+  // The plan's path block says whether the container turns (the echo may leave the default out).
+  if (const json* path = find_member(plan, "path")) {
+    if (const json* turns = find_member(*path, "container_turns")) row["container_turns"] = *turns;
+  }
+  return row;
 }
 
 }  // namespace slosh::api

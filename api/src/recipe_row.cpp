@@ -354,6 +354,11 @@ constexpr std::array kPlanColumns{
     PlanColumn{"holds_from_pct", "/holds_from_pct"},
     PlanColumn{"holds_to_pct", "/holds_to_pct"},
     PlanColumn{"worst_eta_rest_mm", "/worst_eta_rest_mm"},
+    PlanColumn{"motion_type", "/motion_type"},
+    PlanColumn{"arc_radius_mm", "/arc_radius_mm"},
+    PlanColumn{"arc_angle_deg", "/arc_angle_deg"},
+    PlanColumn{"container_turns", "/container_turns"},
+    PlanColumn{"path_length_mm", "/path_length_mm"},
 };
 
 /// object[key], null when absent (or when `object` is not an object).
@@ -394,6 +399,7 @@ json plan_row_figures(const json& plan) {
   row["f1_hz"] = f_hz.is_array() && !f_hz.empty() ? f_hz[0] : json(nullptr);
   row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
   row.update(robustness_row_figures(find_member(plan, "robustness")));
+  row.update(motion_row_figures(plan));
   return row;
 }
 

@@ -125,7 +125,7 @@ struct PlanColumn {
 /// The figures of a rendered plan a table row shows: status, key, version, strategy, message,
 /// law_type, durations_s, kinematics, f1_hz, prediction, baseline, reduction_pct, solve_ms and
 /// of its robustness report holds_from_pct, holds_to_pct and worst_eta_rest_mm (nonlinear model;
-/// null without the report).
+/// null without the report), and its motion (motion_row_figures, recipe_motion.hpp).
 [[nodiscard]] nlohmann::json plan_row_figures(const nlohmann::json& plan);
 
 /// The row of a recipe that failed: status "error", message, error and error_field; `csv` rows
