@@ -11,8 +11,10 @@
 #include <random>
 #include <vector>
 
+#include "response/planar_sensitivity.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
+#include "support/fixtures.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
@@ -145,6 +147,192 @@ TEST(PathPlan, TimeDomainOnAnArcHoldsOnAnIndependentSimulation) {
   EXPECT_NE(r.message.find("time_domain optimised the planar nonlinear model along the path"),
             std::string::npos)
       << r.message;
+}
+
+// An arc of a kilometre's radius is a straight line to the liquid: its time_domain plan is the
+// straight line's, and so are the tangential strategies' predictions.
+TEST(PathPlan, AnArcOfHugeRadiusTendsToTheLinePlan) {
+  const double radius = 1000.0;
+  const PlanarPath arc = PlanarPath::arc(radius, 0.8 / radius, false);
+  const Format f = format_for(arc, 1.0);
+  const PlanOptions o = quiet_options();
+  for (Strategy s : {Strategy::kTimeDomain, Strategy::kNotch}) {
+    const PlanResult on_arc = plan_on_path(f, arc, s, o);
+    const PlanResult on_line = plan(f, s, o);
+    ASSERT_TRUE(on_arc.durations && on_line.durations) << to_string(s);
+    EXPECT_EQ(on_arc.status, on_line.status) << to_string(s) << ": " << on_arc.message;
+    for (std::size_t i = 0; i < kSegments; ++i) {
+      EXPECT_NEAR((*on_arc.durations)[i], (*on_line.durations)[i], 1e-4) << to_string(s) << i;
+    }
+    const double motion = on_line.prediction.nonlinear.motion.value;
+    EXPECT_NEAR(on_arc.prediction.nonlinear.motion.value, motion, 1e-3 * motion) << to_string(s);
+    EXPECT_NEAR(on_arc.prediction.nonlinear.rest.value, on_line.prediction.nonlinear.rest.value,
+                1e-3 * motion)
+        << to_string(s);
+    EXPECT_NEAR(on_arc.prediction.linear.motion.value, on_line.prediction.linear.motion.value,
+                1e-3 * motion)
+        << to_string(s);
+  }
+}
+
+// The wave of an axisymmetric container does not depend on the direction of a straight move: a
+// line at 0 and at 37 degrees give the same plan (and the straight line's).
+TEST(PathPlan, ALineAt0And37DegreesGivesTheSamePlan) {
+  const PlanarPath at0 = PlanarPath::line(0.8, 0.0);
+  const PlanarPath at37 = PlanarPath::line(0.8, 37.0 * kPi / 180.0);
+  const Format f = format_for(at0, 1.0);
+  const PlanOptions o = quiet_options();
+  for (Strategy s : {Strategy::kTimeDomain, Strategy::kMultiNotch, Strategy::kShaper}) {
+    const PlanResult a = plan_on_path(f, at0, s, o);
+    const PlanResult b = plan_on_path(f, at37, s, o);
+    const PlanResult line = plan(f, s, o);
+    EXPECT_EQ(a.status, b.status) << to_string(s);
+    ASSERT_EQ(a.durations.has_value(), b.durations.has_value()) << to_string(s);
+    if (a.durations) {
+      for (std::size_t i = 0; i < kSegments; ++i) {
+        EXPECT_NEAR((*a.durations)[i], (*b.durations)[i], 1e-7) << to_string(s) << i;
+        EXPECT_NEAR((*a.durations)[i], (*line.durations)[i], 1e-5) << to_string(s) << i;
+      }
+    }
+    const double peak = line.prediction.nonlinear.motion.value;
+    EXPECT_NEAR(a.prediction.nonlinear.motion.value, b.prediction.nonlinear.motion.value,
+                1e-7 * peak);
+    EXPECT_NEAR(a.prediction.nonlinear.rest.value, b.prediction.nonlinear.rest.value, 1e-7 * peak);
+    EXPECT_NEAR(a.prediction.nonlinear.motion.value, peak, 1e-5 * peak) << to_string(s);
+    EXPECT_NEAR(a.prediction.linear.rest.value, line.prediction.linear.rest.value, 1e-5 * peak);
+  }
+}
+
+/// The largest total horizontal acceleration of the 7-segment law d moved along an arc of radius
+/// rho, sampled every 10 us (the law rebuilt from SPEC §3, its speed integrated here).
+double sampled_total_acceleration(const Durations& d, double length, double rho) {
+  const double area_p = 0.5 * d[0] + d[1] + 0.5 * d[2];
+  const double area_n = 0.5 * d[4] + d[5] + 0.5 * d[6];
+  test::TrapezoidAcceleration unit{d, 1.0, area_p / area_n};
+  const double T = unit.knots()[7];
+  const double dt = 1e-5;
+  auto walk = [&](const test::TrapezoidAcceleration& a, double* peak) {
+    double v = 0.0, s = 0.0;
+    for (double t = 0.0; t < T; t += dt) {
+      // Trapezoidal rule on the piecewise linear acceleration: exact but at the knots.
+      const double a0 = a(t), a1 = a(std::min(t + dt, T));
+      if (peak != nullptr) *peak = std::max(*peak, std::hypot(a0, v * v / rho));
+      s += v * dt + (2.0 * a0 + a1) * dt * dt / 6.0;
+      v += 0.5 * (a0 + a1) * dt;
+    }
+    return s;
+  };
+  const double A = length / walk(unit, nullptr);
+  double peak = 0.0;
+  walk(test::TrapezoidAcceleration{d, A, A * area_p / area_n}, &peak);
+  return peak;
+}
+
+// Seeded random arcs with machine limits: a plan that does not name a broken limit keeps them
+// all, on the law's acceleration sampled here; one that breaks one is infeasible and names it.
+TEST(PathPlan, LimitsHoldOnSeededRandomArcs) {
+  std::mt19937 rng(20261127);
+  std::uniform_real_distribution<double> radius(0.15, 1.0), angle(45.0, 180.0), time(0.9, 1.6),
+      scale(0.85, 1.3);
+  PlanOptions o = quiet_options();
+  int held = 0, refused = 0;
+  for (int k = 0; k < 6; ++k) {
+    const double rho = radius(rng);
+    const PlanarPath arc = table_arc(angle(rng), rho);
+    const Format f = format_for(arc, time(rng));
+    // Limits around the uniform law's own figures, some reachable, some not.
+    const PlanResult uniform = plan_on_path(f, arc, Strategy::kBaseline, o);
+    const PathPlanReport u = path_plan_report(uniform, arc, f.motion_time, o.rest_time);
+    o.limits.a_max = scale(rng) * u.prediction.a_total_peak;
+    o.limits.v_max = scale(rng) * u.prediction.v_peak;
+    o.limits.j_max = 1.5 * scale(rng) * u.prediction.j_peak;
+    for (Strategy s : {Strategy::kTimeDomain, Strategy::kMinJerkBand}) {
+      const PlanResult r = plan_on_path(f, arc, s, o);
+      ASSERT_TRUE(r.durations.has_value()) << r.message;
+      const PathPlanReport p = path_plan_report(r, arc, f.motion_time, o.rest_time);
+      const double sampled = sampled_total_acceleration(*r.durations, arc.length(), rho);
+      // The exact maximum is at least the sampled one, and the two agree closely.
+      EXPECT_GE(p.prediction.a_total_peak, sampled * (1.0 - 1e-9));
+      EXPECT_NEAR(p.prediction.a_total_peak, sampled, 1e-3 * sampled);
+      // A law that keeps the limits is checked here; one that breaks one is never usable, and
+      // its message names the limit.
+      const bool named = r.message.find("exceeds limits.") != std::string::npos;
+      if (r.usable()) ++held;
+      if (!named) {
+        EXPECT_LE(sampled, *o.limits.a_max * (1.0 + 1e-6)) << k << " " << to_string(s);
+        EXPECT_LE(p.prediction.v_peak, *o.limits.v_max * (1.0 + 1e-6)) << r.message;
+        EXPECT_LE(p.prediction.j_peak, *o.limits.j_max * (1.0 + 1e-6)) << r.message;
+      } else {
+        ++refused;
+        EXPECT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+      }
+    }
+  }
+  // The seed gives both kinds.
+  EXPECT_GT(held, 0);
+  EXPECT_GT(refused, 0);
+}
+
+/// A track of a line, a left quarter circle and a line: two joins where the curvature jumps.
+PlanarPath track(double radius) {
+  return PlanarPath(
+      {PathElement::line(0.2), PathElement::arc(radius, kPi / 2), PathElement::line(0.2)}, 0.0,
+      false);
+}
+
+// The sensitivities the optimiser uses are exact derivatives of the discrete response, also where
+// the steps end at the moving join crossings: checked against central differences of the same
+// discrete response (step counts frozen, so it is smooth in the durations).
+TEST(PathPlan, SensitivitiesAcrossJoinsMatchCentralDifferences) {
+  const PlanarPath path = track(0.15);
+  const Format f = format_for(path, 1.2);
+  const SloshingModel m = make_sloshing_model(f, {});
+  Durations d = test::kAsymmetricDurations;
+  for (double& x : d) x *= 1.2;
+  detail::PlanarSensitivity sens(m, path, 1.0, 12.0);
+  sens.freeze_steps(d.data());
+  sens.compute(d.data());
+  const std::vector<double> times{0.31, 0.64, 0.97, 1.33, 1.71, 2.05};
+  std::vector<double> values;
+  std::vector<std::array<double, kSegments>> gradients;
+  sens.eta_at(times, values, gradients);
+  const double h = 1e-6;
+  for (std::size_t i = 0; i < kSegments; ++i) {
+    Durations up = d, down = d;
+    up[i] += h;
+    down[i] -= h;
+    std::vector<double> v_up, v_down;
+    std::vector<std::array<double, kSegments>> unused;
+    sens.compute(up.data());
+    sens.eta_at(times, v_up, unused);
+    sens.compute(down.data());
+    sens.eta_at(times, v_down, unused);
+    for (std::size_t k = 0; k < times.size(); ++k) {
+      const double fd = (v_up[k] - v_down[k]) / (2.0 * h);
+      EXPECT_NEAR(gradients[k][i], fd, 1e-5 * std::abs(fd) + 1e-9) << "d" << i << " t " << times[k];
+    }
+  }
+}
+
+// time_domain on a track (lines and a 500 mm curve in 1.6 s): the plan holds its bound on the
+// verified planar prediction and beats the uniform law's sloshing during the motion.
+TEST(PathPlan, TimeDomainAlongATrackWithJoins) {
+  const PlanarPath path = track(0.5);
+  const Format f = format_for(path, 1.6);
+  const PlanOptions o = quiet_options();
+  const PlanResult r = plan_on_path(f, path, Strategy::kTimeDomain, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  EXPECT_LE(r.prediction.nonlinear.rest.value, o.eta_rest_max * (1.0 + 1e-7));
+  EXPECT_LT(r.prediction.nonlinear.motion.value, r.baseline.nonlinear.motion.value);
+  // On a tighter curve in less time no law meets the bound: the plan says so, with the least
+  // value it found, and that law is the least infeasible one (below the uniform law's).
+  const PlanarPath tight = track(0.15);
+  const PlanResult hard = plan_on_path(format_for(tight, 1.2), tight, Strategy::kTimeDomain, o);
+  EXPECT_EQ(hard.status, SolveStatus::kInfeasible);
+  EXPECT_NE(hard.message.find("no law found that meets eta_rest <= 3 mm in 1.2 s along the path"),
+            std::string::npos)
+      << hard.message;
+  EXPECT_LT(hard.prediction.nonlinear.rest.value, hard.baseline.nonlinear.rest.value);
 }
 
 }  // namespace

@@ -32,9 +32,23 @@ nlohmann::json quick_request(const QuickPlan& q) {
                            {"stroke_mm", q.stroke_mm},
                            {"motion_time_s", q.time_s}}},
                          {"strategy", q.strategy}};
-  if (q.motion) {
+  std::optional<nlohmann::json> motion;
+  if (q.arc_radius_mm) {
+    motion = {{"type", "arc"}, {"radius_mm", *q.arc_radius_mm}, {"angle_deg", *q.arc_angle_deg}};
+    if (q.turns) (*motion)["container_turns"] = *q.turns;
+  }
+  if (q.motion_text) {
+    motion = nlohmann::json::parse(*q.motion_text, nullptr, false);
+    if (motion->is_discarded()) {
+      throw ApiError(ErrorCode::kInvalidValue, "--motion",
+                     "--motion " + q.motion_source +
+                         " is not JSON: it must hold format.motion, e.g. {\"type\": \"arc\", "
+                         "\"radius_mm\": 300, \"angle_deg\": 90}");
+    }
+  }
+  if (motion) {
     request["format"].erase("stroke_mm");
-    request["format"]["motion"] = *q.motion;
+    request["format"]["motion"] = std::move(*motion);
   }
   return request;
 }

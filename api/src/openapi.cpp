@@ -791,13 +791,6 @@ void add_motion_request_schemas(json& s) {
        "The motion a plan or a min-time search moves along: the law s(t) spans its length; on "
        "an arc or a path a_max limits the total horizontal acceleration, v_max s' and j_max the "
        "tangential jerk, and the wave is the planar models' maximum over the wall."}};
-  json plan_format = s["Format"];
-  plan_format["properties"]["motion"] = ref("PlannedMotion");
-  plan_format["required"] = {"container", "fill_height_mm", "fluid", "motion_time_s"};
-  plan_format["description"] =
-      "A format with its motion: stroke_mm (the straight line) or motion (giving both is a 422).";
-  s["PlanFormat"] = plan_format;
-  s["PlanRequest"]["properties"]["format"] = ref("PlanFormat");
   json format = s["Format"];
   format["properties"]["motion"] = ref("Motion");
   format["required"] = {"container", "fill_height_mm", "fluid"};
@@ -806,6 +799,52 @@ void add_motion_request_schemas(json& s) {
       "container along its length; giving both is a 422); motion_time_s required except for a "
       "trajectory.";
   s["SimulateFormat"] = format;
+  json plan_format = format;
+  plan_format["properties"]["motion"] = {
+      {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion")}},
+      {"description",
+       "The law moves the container along it (its length is the stroke; giving stroke_mm too is "
+       "a 422). Along an arc or a path every strategy plans s(t); see docs/api.md."}};
+  plan_format["required"] = {"container", "fill_height_mm", "fluid", "motion_time_s"};
+  plan_format["description"] = "A format with stroke_mm (the straight line) or motion.";
+  s["PlanFormat"] = plan_format;
+  s["PlanRequest"]["properties"]["format"] = ref("PlanFormat");
+}
+
+// A plan along an arc or a path: the planar models' figures with the wall directions and the
+// path's kinematics (after PlanarPeaks).
+void add_path_plan_schemas(json& s) {
+  const json kinematics =
+      object({{"a_total_peak", number("Largest horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) "
+                                      "[m/s^2] (what limits.a_max bounds along a path).")},
+              {"t_a_total_peak_s", number("Where [s].")},
+              {"a_normal_peak", number("Largest normal acceleration s'^2/rho [m/s^2].")},
+              {"v_peak", number("Largest speed ds/dt [m/s].")},
+              {"j_peak", number("Largest tangential jerk |d3s/dt3| [m/s^3].")}},
+             {"a_total_peak", "a_normal_peak", "v_peak", "j_peak"}, "", false);
+  const json figures = object({{"nonlinear", ref("PlanarPeaks")},
+                               {"linear", ref("PlanarPeaks")},
+                               {"kinematics", kinematics}},
+                              {"nonlinear", "linear", "kinematics"}, "", false);
+  s["PathPlan"] = object(
+      {{"type", string_enum({"arc", "path"}, "")},
+       {"length_mm", number("Length the law moves along [mm] (format.stroke_mm).")},
+       {"container_turns", boolean("Whether the container turns with the path.")},
+       {"prediction", figures},
+       {"baseline", figures}},
+      {"type", "length_mm", "container_turns", "prediction", "baseline"},
+      "Only along an arc or a path: the plan's law and the uniform law on the planar models "
+      "(prediction and baseline of the plan hold the same peaks), with the wall angle of each "
+      "peak.",
+      false);
+  s["PlanResponse"]["properties"]["path"] = ref("PathPlan");
+  s["CompactPlan"]["properties"]["path"] =
+      object({{"length_mm", number("[mm]")},
+              {"direction_motion_deg", number("Wall angle of the nonlinear motion peak [deg].")},
+              {"direction_rest_deg", number("Wall angle of the nonlinear rest peak [deg].")},
+              {"a_total_peak", number("[m/s^2]")}},
+             {}, "Only along an arc or a path.", false);
+  s["CompactLaw"]["properties"]["motion"] = ref("Motion");
 }
 
 // The answer of simulate with format.motion: both planar models' peaks with their wall angles.
@@ -854,6 +893,7 @@ void add_motion_response_schemas(json& s) {
       {"t_s", "x_mm", "y_mm", "theta_deg", "a_h", "eta_linear_mm", "eta_nonlinear_mm",
        "direction_linear_deg", "direction_nonlinear_deg", "units"},
       "Time series along format.motion (both ends included) when sample_period_s is given.", true);
+  add_path_plan_schemas(s);
 }
 
 void add_simulate_response_schemas(json& s) {

@@ -346,17 +346,18 @@ std::vector<OptionSpec> law_shape_options() {
       in_group(nullable_number(
                    "a_max", kAMax,
                    [](PlanOptions& o) -> std::optional<double>& { return o.limits.a_max; },
-                   "Peak |acceleration| max(A, B)"),
+                   "Peak |acceleration| max(A, B); along an arc or a path the total horizontal "
+                   "acceleration sqrt(s''^2 + (s'^2/rho)^2)"),
                "limits"),
       in_group(nullable_number(
                    "v_max", kVMax,
                    [](PlanOptions& o) -> std::optional<double>& { return o.limits.v_max; },
-                   "Peak velocity"),
+                   "Peak velocity (along a path: of s)"),
                "limits"),
       in_group(nullable_number(
                    "j_max", kJMax,
                    [](PlanOptions& o) -> std::optional<double>& { return o.limits.j_max; },
-                   "Peak |jerk| over the four ramps"),
+                   "Peak |jerk| over the four ramps (along a path: the tangential jerk)"),
                "limits"),
       drive_profile(),
   };

@@ -51,6 +51,21 @@ std::string kinematics_line(const json& k) {
          " m/s^3\n";
 }
 
+/// Along an arc or a path: its length, the wall angles of the nonlinear peaks and the peak
+/// horizontal acceleration (tangential and normal together); nothing for a straight line.
+std::string path_line(const json& plan) {
+  const auto path = plan.find("path");
+  if (path == plan.end()) return "";
+  const json& p = (*path)["prediction"];
+  return "path        " + (*path)["type"].get<std::string>() + " of " +
+         num((*path)["length_mm"], 1) + " mm, container " +
+         ((*path)["container_turns"].get<bool>() ? "turns" : "keeps its heading") +
+         "; wave peaks at wall angle " + num(p["nonlinear"]["direction_motion_deg"], 0) +
+         " deg (motion), " + num(p["nonlinear"]["direction_rest_deg"], 0) +
+         " deg (rest); peak horizontal acceleration " + num(p["kinematics"]["a_total_peak"], 2) +
+         " m/s^2\n";
+}
+
 std::string prediction_lines(const json& plan) {
   const json& p = plan["prediction"];
   const json& b = plan["baseline"];
@@ -82,7 +97,8 @@ std::string plan_summary_text(const json& plan) {
       if (c.value("chosen", false)) out += "chosen      " + c["strategy"].get<std::string>() + "\n";
     }
   }
-  out += law_line(plan) + kinematics_line(plan["kinematics"]) + prediction_lines(plan);
+  out += law_line(plan) + kinematics_line(plan["kinematics"]) + path_line(plan) +
+         prediction_lines(plan);
   if (plan["warnings"].empty()) out += "warnings    none\n";
   for (const json& w : plan["warnings"]) out += "warning     " + w.get<std::string>() + "\n";
   out += "key         " + plan["key"].get<std::string>() +

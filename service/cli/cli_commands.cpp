@@ -156,22 +156,12 @@ api::QuickPlan quick_plan(const QuickPlanFlags& q) {
   p.density_kg_m3 = q.density_kg_m3;
   p.viscosity_pa_s = q.viscosity_pa_s;
   if (q.stroke_mm) p.stroke_mm = *q.stroke_mm;
-  if (q.arc_radius_mm) {
-    nlohmann::json arc{
-        {"type", "arc"}, {"radius_mm", *q.arc_radius_mm}, {"angle_deg", *q.arc_angle_deg}};
-    if (q.turns) arc["container_turns"] = *q.turns;
-    p.motion = std::move(arc);
-  }
+  p.arc_radius_mm = q.arc_radius_mm;
+  p.arc_angle_deg = q.arc_angle_deg;
+  p.turns = q.turns;
   if (q.motion_path) {
-    const std::string text = read_file_flag(*q.motion_path, "--motion");
-    nlohmann::json motion = nlohmann::json::parse(text, nullptr, false);
-    if (motion.is_discarded()) {
-      throw api::ApiError(api::ErrorCode::kInvalidValue, "--motion",
-                          "--motion " + *q.motion_path +
-                              " is not JSON: it must hold format.motion, e.g. {\"type\": \"arc\", "
-                              "\"radius_mm\": 300, \"angle_deg\": 90}");
-    }
-    p.motion = std::move(motion);
+    p.motion_text = read_file_flag(*q.motion_path, "--motion");
+    p.motion_source = *q.motion_path;
   }
   p.time_s = *q.time_s;
   p.strategy = q.strategy.value_or("auto");

@@ -137,34 +137,39 @@ std::vector<PlanarSensitivity::Piece> PlanarSensitivity::pieces(
   return out;
 }
 
-void PlanarSensitivity::compute(const double* d) {
-  std::array<Dual7, kSegments> D;
-  for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7::variable(d[i], i);
-  const std::vector<Piece> list = pieces(D);
-  motion_time_ = t_start_[kSegments].v;
-  const DualModel rhs{model_.omega1() * model_.omega1(), 2.0 * model_.zeta * model_.omega1(),
-                      model_.C * model_.C, model_.alpha, 1.0 / model_.radius};
-  bool same_pieces = frozen_.size() == list.size();
+/// The integration of compute() (a friend: it reads the law's duals and writes the steps).
+struct PlanarSensitivityPass {
+  static void run(PlanarSensitivity& s, const std::vector<PlanarSensitivity::Piece>& list);
+};
+
+void PlanarSensitivityPass::run(PlanarSensitivity& s,
+                                const std::vector<PlanarSensitivity::Piece>& list) {
+  const SloshingModel& m = s.model_;
+  const PlanarPath& path = s.path_;
+  const DualModel rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
+                      1.0 / m.radius};
+  bool same_pieces = s.frozen_.size() == list.size();
   for (std::size_t i = 0; same_pieces && i < list.size(); ++i) {
-    same_pieces = frozen_key_[i] == list[i].segment * 1000 + list[i].element;
+    same_pieces = s.frozen_key_[i] == list[i].segment * 1000 + list[i].element;
   }
-  steps_.clear();
-  t0_values_.clear();
+  s.steps_.clear();
+  s.t0_values_.clear();
   DualPair x(0.0), v(0.0);
   DopStep<DualPair> step;
   for (std::size_t p = 0; p < list.size(); ++p) {
-    const Piece& piece = list[p];
+    const PlanarSensitivity::Piece& piece = list[p];
     const Dual7 length = piece.t_end - piece.t_begin;
-    std::size_t n = step_count(length.v, h_max_, 1);
-    if (same_pieces) n = std::max(n, frozen_[p]);
+    std::size_t n = step_count(length.v, s.h_max_, 1);
+    if (same_pieces) n = std::max(n, s.frozen_[p]);
     const Dual7 h = length * (1.0 / static_cast<double>(n));
     const std::size_t k = piece.segment;
     const std::size_t e = piece.element;
-    const PlanarKinematics start = path_.at(e, path_.element_starts()[e], 1.0, 0.0, 0.0);
+    const PlanarKinematics start = path.at(e, path.element_starts()[e], 1.0, 0.0, 0.0);
     const double psi0 = std::atan2(start.vy, start.vx);
-    const double kappa = path_.curvature(e);
-    const double s_e = path_.element_starts()[e];
-    const D8 T_k(t_start_[k]), s_k(s_start_[k]), v_k(v_start_[k]), a_k(a_start_[k]), J_k(jerk_[k]);
+    const double kappa = path.curvature(e);
+    const double s_e = path.element_starts()[e];
+    const D8 T_k(s.t_start_[k]), s_k(s.s_start_[k]), v_k(s.v_start_[k]), a_k(s.a_start_[k]),
+        J_k(s.jerk_[k]);
     const D8 half_J = 0.5 * J_k, sixth_J = (1.0 / 6.0) * J_k, half_a = 0.5 * a_k;
     const double cos0 = std::cos(psi0), sin0 = std::sin(psi0);
     auto force = [&](const D8& t) {
@@ -178,8 +183,8 @@ void PlanarSensitivity::compute(const double* d) {
         return a;
       }
       const D8 vel = v_k + u * (a_k + u * half_J);
-      const D8 s = s_k + u * (v_k + u * (half_a + u * sixth_J));
-      const D8 psi = psi0 + kappa * (s - s_e);
+      const D8 pos = s_k + u * (v_k + u * (half_a + u * sixth_J));
+      const D8 psi = psi0 + kappa * (pos - s_e);
       D8 c, sn;
       dual_cos_sin(psi, c, sn);
       const D8 normal = kappa * (vel * vel);
@@ -195,13 +200,21 @@ void PlanarSensitivity::compute(const double* d) {
       const D8 t0 = tb + static_cast<double>(j) * hd;
       auto acc = [&](std::size_t i) { return force(t0 + kDopC[i] * hd); };
       dop853_step(rhs, acc, x, v, f0, hh, true, step, false);
-      steps_.push_back({t0, hd, step.x_poly});
-      t0_values_.push_back(t0.value());
+      s.steps_.push_back({t0, hd, step.x_poly});
+      s.t0_values_.push_back(t0.value());
       x = step.x1;
       v = step.v1;
       f0 = step.f1;
     }
   }
+}
+
+void PlanarSensitivity::compute(const double* d) {
+  std::array<Dual7, kSegments> D;
+  for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7::variable(d[i], i);
+  const std::vector<Piece> list = pieces(D);
+  motion_time_ = t_start_[kSegments].v;
+  PlanarSensitivityPass::run(*this, list);
 }
 
 void PlanarSensitivity::freeze_steps(const double* d) {

@@ -137,6 +137,8 @@ struct PlanarWindowPeak {
   double time{};   ///< [s]
 };
 
+struct PlanarSensitivityPass;
+
 class PlanarSensitivity {
  public:
   /// `steps_per_period`: steps per period of mode 1 (the step is also at most 50 ms).
@@ -168,6 +170,7 @@ class PlanarSensitivity {
     D8 t0, h;
     DensePoly<DualPair> q;
   };
+  friend struct PlanarSensitivityPass;
   [[nodiscard]] std::vector<Piece> pieces(const std::array<Dual7, kSegments>& d);
   [[nodiscard]] std::size_t step_at(double t) const;
 

@@ -112,16 +112,18 @@ struct PathOutcome {
 /// The status follows the verification along the path: a usable law that breaks a path limit
 /// (or time_domain's bound) is infeasible; a time_domain law that meets them all is usable.
 void verify_on_path(const PathContext& c, PathOutcome& o, bool time_domain) {
-  std::string violation = path_limit_violation(c.options.limits, o.prediction);
+  const std::string limit = path_limit_violation(c.options.limits, o.prediction);
+  std::string violation = limit;
   if (violation.empty() && time_domain) violation = bound_violation(c, o.prediction);
   SolveStatus& status = o.plan.status;
   const bool usable = status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;
   if (!violation.empty() && usable) {
     status = SolveStatus::kInfeasible;
     o.detail = violation + "; " + o.detail;
-  } else if (!violation.empty()) {
-    o.detail = violation + "; " + o.detail;
-  } else if (time_domain && status == SolveStatus::kInfeasible) {
+  } else if (!limit.empty()) {
+    // (time_domain's own sentence already names its bound and the least value found.)
+    o.detail = limit + "; " + o.detail;
+  } else if (violation.empty() && time_domain && status == SolveStatus::kInfeasible) {
     status = SolveStatus::kAcceptable;
     o.detail +=
         "; the law meets every constraint on the verification, though its objective "
@@ -180,6 +182,7 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
              (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
                      : "min eta_rest s.t. eta_motion <= " + sig3(sc.eta_motion_max * 1e3)) +
              " mm over the whole wall, exact gradients)";
+  if (!out.detail.empty()) o.detail = out.detail + "; " + o.detail;
   verify_on_path(c, o, true);
   return o;
 }

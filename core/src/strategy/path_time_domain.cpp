@@ -13,7 +13,9 @@
 #include "slosh/core/motion/planar_drive.hpp"
 #include "slosh/core/response/planar_response.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
+#include "solve/admissible_starts.hpp"
 #include "solve/dual.hpp"
+#include "text.hpp"
 
 namespace slosh::detail {
 
@@ -198,7 +200,10 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
     x.push_back(z);
   }
   ws.valid = false;
-  return multi_start(p, x0, c, path_time_domain_options());
+  // A run that reaches an optimum an earlier start found ends there (it would find nothing new).
+  StartPolicy policy;
+  policy.leave_known_optima = true;
+  return multi_start(p, x0, c, path_time_domain_options(), policy);
 }
 
 /// Adds the dense response's window peaks above their bound (the minimised window's above z) as
@@ -255,21 +260,18 @@ double verified_bounded_peak(const StrategyContext& c, const PlanarPath& path, b
 
 }  // namespace
 
-StrategyOutcome solve_path_time_domain(const StrategyContext& c, const PlanarPath& path,
-                                       const std::vector<Durations>& seeds) {
-  const bool minimise_motion = c.options.objective == TimeDomainObjective::kMotion;
-  const double bound = minimise_motion ? c.options.eta_rest_max : c.eta_motion_max;
+namespace {
+
+/// One phase: min the free window's peak s.t. the other window's peak <= bound, from `starts`,
+/// closed by exchange (dense check of the sensitivities' response, then the verified prediction).
+StrategyOutcome run_phase(const StrategyContext& c, const PlanarPath& path, bool minimise_motion,
+                          double bound, std::vector<Durations> starts) {
   Setup s{&c, &path, minimise_motion, bound, initial_samples(c), initial_points(c)};
   Workspace ws{PlanarSensitivity(c.model, path, c.options.rest_time, kSensitivityStepsPerPeriod),
                {},
                {},
                {},
                false};
-  std::vector<Durations> starts = c.space.starts(0);
-  if (!c.space.warm_start) starts.resize(1);
-  for (const Durations& d : seeds) {
-    if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
-  }
   MultiStartResult total;
   int evaluations = 0, solved = 0;
   double margin = 0.0, miss = 0.0;
@@ -305,6 +307,73 @@ StrategyOutcome solve_path_time_domain(const StrategyContext& c, const PlanarPat
     o.status = SolveStatus::kInfeasible;
   }
   return o;
+}
+
+/// A bound no wave reaches [m]: the other window's constraint of a least infeasible phase.
+constexpr double kUnbounded{1e3};
+
+/// time_domain along the path from starts that keep the context's machine limits.
+StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
+                           const std::vector<Durations>& starts) {
+  const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+  const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
+  StrategyOutcome o = run_phase(c, path, motion, bound, starts);
+  if (o.status != SolveStatus::kInfeasible || c.deadline.expired()) return o;
+  // Least infeasible: the bounded window's peak alone minimised (SLSQP from a start far outside
+  // the bound often ends outside it although laws inside exist); the bounded phase again from
+  // there when it meets the bound, else the least value found is reported.
+  StrategyOutcome least = run_phase(c, path, !motion, kUnbounded, starts);
+  least.evaluations += o.evaluations;
+  least.starts += o.starts;
+  const double reached = verified_bounded_peak(c, path, motion, least.durations);
+  const std::string name = motion ? "eta_rest" : "eta_motion";
+  if (reached <= bound * (1.0 + kDenseTolerance)) {
+    StrategyOutcome again = run_phase(c, path, motion, bound, {least.durations});
+    again.evaluations += least.evaluations;
+    again.starts += least.starts;
+    if (again.status != SolveStatus::kInfeasible) return again;
+    least.evaluations = again.evaluations;
+    least.starts = again.starts;
+    least.status = SolveStatus::kAcceptable;
+    least.detail = name + " <= " + sig3(bound * 1e3) + " mm met (" + sig3(reached * 1e3) +
+                   " mm), but the " + (motion ? "eta_motion" : "eta_rest") +
+                   " objective was not minimised";
+    return least;
+  }
+  // Only laws that keep the machine limits compete (the limits are hard constraints).
+  const bool first_keeps = keeps_limits(c.space, c.space.limits, o.durations, kLimitSlack);
+  const bool least_keeps = keeps_limits(c.space, c.space.limits, least.durations, kLimitSlack);
+  const double first = verified_bounded_peak(c, path, motion, o.durations);
+  if (first_keeps && (first < reached || !least_keeps)) least.durations = o.durations;
+  if (!first_keeps && !least_keeps) least.durations = starts.front();
+  least.status = SolveStatus::kInfeasible;
+  least.detail = "no law found that meets " + name + " <= " + sig3(bound * 1e3) + " mm in " +
+                 sig3(c.format.motion_time) + " s along the path: the best found is " +
+                 sig3(verified_bounded_peak(c, path, motion, least.durations) * 1e3) +
+                 " mm (time_domain searches locally, from " + std::to_string(starts.size()) +
+                 " starts); lengthen the motion or relax the limit";
+  return least;
+}
+
+}  // namespace
+
+StrategyOutcome solve_path_time_domain(const StrategyContext& c, const PlanarPath& path,
+                                       const std::vector<Durations>& seeds) {
+  std::vector<Durations> starts = c.space.starts(0);
+  if (!c.space.warm_start) starts.resize(1);
+  for (const Durations& d : seeds) {
+    if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
+  }
+  // The machine limits are hard constraints of every phase, and SLSQP from a start outside them
+  // can end outside them: every start is first moved onto the set they admit (a_max on the
+  // tangential acceleration there, which the total one bounds from above).
+  AdmissibleStarts admissible = admissible_starts(c, starts);
+  if (!admissible.relaxed) return solve_from(c, path, admissible.starts);
+  // A limit no law reaches: the law keeps its least reachable value (and every reachable limit);
+  // the verification then names that limit.
+  StrategyContext raised = c;
+  raised.space.limits = admissible.limits;
+  return solve_from(raised, path, admissible.starts);
 }
 
 }  // namespace slosh::detail

@@ -7,8 +7,6 @@
 #include <string>
 #include <string_view>
 
-#include <nlohmann/json.hpp>
-
 #include "slosh/api/error.hpp"
 #include "slosh/api/plan_view.hpp"
 
@@ -22,9 +20,14 @@ struct QuickPlan {
   std::optional<std::string> fluid;      ///< a catalogue fluid, or else
   std::optional<double> density_kg_m3;   ///< a custom fluid's density [kg/m^3]
   std::optional<double> viscosity_pa_s;  ///< and dynamic viscosity [Pa s]
-  double stroke_mm{};                    ///< [mm] (unused with a motion)
-  /// format.motion instead of the stroke (an arc of the --arc-* flags, or a --motion file).
-  std::optional<nlohmann::json> motion;
+  double stroke_mm{};                    ///< [mm] (unused with an arc or a motion)
+  /// An arc instead of the stroke: radius [mm], angle [deg], the container turning (default
+  /// true): format.motion {"type": "arc", ...}.
+  std::optional<double> arc_radius_mm, arc_angle_deg;
+  std::optional<bool> turns;
+  /// format.motion as JSON text instead of the stroke (`--motion FILE`, named by motion_source).
+  std::optional<std::string> motion_text;
+  std::string motion_source;
   double time_s{};  ///< motion time [s]
   std::string strategy{"auto"};
 };
