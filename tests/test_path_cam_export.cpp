@@ -245,6 +245,31 @@ TEST(PathCamCli, PathMasterCamHasThePoseAtEachRow) {
   }
 }
 
+TEST(PathCamCli, APlanAlongAnArcExportsItsLawWithThePose) {
+  const TempDir dir;
+  json request = law_request({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}, 1.2);
+  request.erase("law");
+  request["strategy"] = "min_jerk_band";
+  write_file(dir / "plan.json", request.dump());
+  const RunResult r = run_slosh({"export", "--request", (dir / "plan.json").string(), "--out",
+                                 (dir / "cam.csv").string(), "--cache", ""});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json summary = json::parse(r.out);
+  EXPECT_EQ(summary["source"], "plan");
+  EXPECT_EQ(summary["motion"]["type"], "arc");
+  const Csv cam = read_csv(read_file(dir / "cam.csv"));
+  EXPECT_EQ(cam.header,
+            "t_s,s_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3,x_mm,y_mm,theta_deg,"
+            "table_deg");
+  for (const std::vector<double>& row : cam.rows) {
+    const double phi = row[1] / 300.0;
+    EXPECT_NEAR(row[5], 300.0 * std::sin(phi), 1e-9) << row[0];
+    EXPECT_NEAR(row[6], 300.0 * (1.0 - std::cos(phi)), 1e-9) << row[0];
+    EXPECT_NEAR(row[7], phi * 180.0 / kPi, 1e-9) << row[0];
+  }
+  EXPECT_EQ(cam.rows.back()[8], 90.0);
+}
+
 TEST(PathCamCli, ALineMotionExportsTheStraightLineTableUnchanged) {
   const TempDir dir;
   json plain = law_request(json(), 0.8);

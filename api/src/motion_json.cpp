@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/export_request.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
@@ -327,6 +328,17 @@ nlohmann::json canonical_motion(const SpatialMotion& motion) {
           {"elements", elements},
           {"start_heading_rad", std::atan2(start.vy, start.vx)},
           {"container_turns", motion.path->container_turns()}};
+}
+
+std::optional<SpatialMotion> plan_path_motion(std::string_view plan_text) {
+  const json plan = parse_json_body(plan_text);
+  const json* format = plan.is_object() ? given_member(plan, "format") : nullptr;
+  const json* motion =
+      format != nullptr && format->is_object() ? given_member(*format, "motion") : nullptr;
+  if (motion == nullptr) return std::nullopt;
+  SpatialMotion m = parse_motion(*motion, false);
+  if (m.type == MotionType::kLine) return std::nullopt;
+  return m;
 }
 
 nlohmann::json trajectory_motion_json(const TrajectorySamples& samples) {

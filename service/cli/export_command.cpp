@@ -109,6 +109,11 @@ ExportSource plan_source(const std::string& text, const ServerConfig& config) {
   source.law_type = api::to_string(plan.type);
   source.strategy = plan.strategy;
   source.plan = api::ExportedPlan{plan.key, plan.cached, plan.status, plan.message};
+  // A plan along an arc or a path: its cam table carries the pose too.
+  if (std::optional<api::SpatialMotion> motion = api::plan_path_motion(plan_text)) {
+    source.path = std::move(motion->path);
+    source.motion_type = motion->type == api::MotionType::kArc ? "arc" : "path";
+  }
   return source;
 }
 

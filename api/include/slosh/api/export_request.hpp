@@ -27,4 +27,9 @@ struct ExportLawRequest {
 /// law to sample).
 [[nodiscard]] std::optional<ExportLawRequest> parse_export_request(std::string_view text);
 
+/// The path of a plan answer along an arc or a path (its echoed format.motion), for the pose
+/// columns of its cam table; nullopt for a plan along a straight line (no motion, or a line).
+/// Defined with the motion parser (motion_json.cpp).
+[[nodiscard]] std::optional<SpatialMotion> plan_path_motion(std::string_view plan_text);
+
 }  // namespace slosh::api
