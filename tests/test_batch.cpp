@@ -104,9 +104,15 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "version",
                                             "holds_from_pct",
                                             "holds_to_pct",
-                                            "worst_eta_rest_mm"};
-const std::set<std::string> kTextColumns{"recipe_id", "status",  "key",         "strategy",
-                                         "law_type",  "message", "error_field", "version"};
+                                            "worst_eta_rest_mm",
+                                            "motion_type",
+                                            "arc_radius_mm",
+                                            "arc_angle_deg",
+                                            "container_turns",
+                                            "path_length_mm"};
+const std::set<std::string> kTextColumns{"recipe_id",   "status",   "key",
+                                         "strategy",    "law_type", "message",
+                                         "error_field", "version",  "motion_type"};
 
 /// One row of a plan table by column name.
 struct OutRow {
@@ -919,7 +925,8 @@ struct TableErrorCase {
 TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
   const std::string allowed =
       "recipe_id, radius_mm, container_height_mm, fill_height_mm, fluid, density_kg_m3, "
-      "viscosity_pa_s, stroke_mm, motion_time_s, strategy, p_notch, weights, band, n_band, "
+      "viscosity_pa_s, stroke_mm, motion_time_s, motion_type, arc_radius_mm, arc_angle_deg, "
+      "container_turns, path_json, strategy, p_notch, weights, band, n_band, "
       "tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s, min_ramp_s, "
       "fix_constant_velocity_zero, plateau_min_s, a_max, v_max, j_max, drive_profile, damping, "
       "alpha, "

@@ -155,6 +155,46 @@ TEST(PlanarLinear, SpinTermFollowsTheEkmanSpinUpToTheForcedVortex) {
             0.0);
 }
 
+// The same container stopping after 5 s: the liquid spins down through the same layer,
+// w_l' = -sqrt(nu |w_l|) / h w_l, integrated here by RK4 at 1 ms from the start (the stop a
+// jump of the turning rate to 0), against the response's spin in the rest window.
+TEST(PlanarLinear, SpinDownAfterTheStopFollowsTheEkmanLayer) {
+  const SloshingModel model = make_sloshing_model(thesis_format(), {});
+  const double W = 5.0, nu = 1e-3, T = 5.0, h = model.fill_height;
+  TrajectorySamples s;
+  for (int i = 0; i <= 500; ++i) {
+    s.t.push_back(0.01 * i);
+    s.x.push_back(0.0);
+    s.y.push_back(0.0);
+    s.theta.push_back(W * 0.01 * i);
+  }
+  PlanarOptions options;
+  options.kinematic_viscosity = nu;
+  const PlanarLinearResponse r(model, PlanarDrive(SampledTrajectory(s)), 5.0, options);
+  auto rate = [&](double t, double w) {
+    const double turning = t < T ? W : 0.0;
+    return std::sqrt(nu * std::max(std::abs(turning), std::abs(w))) / h * (turning - w);
+  };
+  double w = 0.0;
+  const double dt = 1e-3;
+  for (int i = 0; i < 10000; ++i) {
+    const double t = i * dt;
+    // Each step inside one side of the stop (T is a multiple of dt).
+    const double k1 = rate(t, w), k2 = rate(t + dt / 2 - 1e-12, w + dt / 2 * k1);
+    const double k3 = rate(t + dt / 2 - 1e-12, w + dt / 2 * k2);
+    const double k4 = rate(t + dt - 1e-12, w + dt * k3);
+    w += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+    const double at = (i + 1) * dt;
+    if ((i + 1) % 500 == 0) {
+      EXPECT_NEAR(r.liquid_spin(at), w, 1e-9 * W) << at;
+      if (at > T) {
+        EXPECT_LT(r.liquid_spin(at), r.liquid_spin(at - 0.5));
+      }
+    }
+  }
+  EXPECT_GT(r.liquid_spin(T + 5.0), 0.05 * W);  // still spinning: the spin-down is slow
+}
+
 // The peaks alone (the piecewise exact solution) and the stored response (DOP853): two
 // independent integrations of the same model agree, on an arc with the container turning and
 // on a path of lines and arcs.

@@ -64,6 +64,10 @@ std::string export_summary_json(const ExportSummary& s) {
     out["segments"] = segments_json(law);
     if (!s.segment_table.empty()) out["segment_table"] = s.segment_table;
   }
+  if (!s.motion_type.empty()) {
+    out["motion"] = {{"type", s.motion_type}, {"length_mm", mm_of(s.stroke)}};
+    if (s.table_rotation_deg) out["motion"]["table_rotation_deg"] = *s.table_rotation_deg;
+  }
   out["warnings"] = s.warnings;
   return dump_json(out, 2);
 }

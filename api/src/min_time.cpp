@@ -98,6 +98,7 @@ PlanRequest plan_request_at(const MinTimeRequest& request, const MinTimeResult& 
   p.options = request.options.plan;
   p.options.eta_rest_max = r.eta_rest_max;
   p.options.eta_motion_max = r.eta_motion_max;
+  p.motion = request.motion;
   for (const MinTimePoint& point : r.curve) {
     if (point.motion_time == T) p.options.warm_start = point.warm_start;
   }
@@ -149,6 +150,14 @@ std::vector<Strategy> default_min_time_strategies() {
 namespace {
 
 // The format without motion time (the search finds it), parsed at motion_time_max.
+void refuse_motion_time(const json& format) {
+  if (format.contains("motion_time_s")) {
+    invalid("format.motion_time_s",
+            "format.motion_time_s is not part of a min-time request: the search finds the motion "
+            "time; bound it with motion_time_max_s (default 5 s)");
+  }
+}
+
 Format parse_min_time_format(const json& body, double motion_time_max) {
   if (!body.contains("format")) {
     invalid("format",
@@ -156,11 +165,7 @@ Format parse_min_time_format(const json& body, double motion_time_max) {
   }
   const json& format = body["format"];
   require_object(format, "format");
-  if (format.contains("motion_time_s")) {
-    invalid("format.motion_time_s",
-            "format.motion_time_s is not part of a min-time request: the search finds the motion "
-            "time; bound it with motion_time_max_s (default 5 s)");
-  }
+  refuse_motion_time(format);
   reject_unknown_fields(format, "format", kFormatMembers);
   json with_time = format;
   with_time["motion_time_s"] = motion_time_max;
@@ -272,12 +277,35 @@ void fit_strategies_to_drive(const json& body, DriveProfile profile,
   }
 }
 
+/// A body whose format.motion is an arc or a path: the body with the motion replaced by its
+/// length as format.stroke_mm (the search's format), `motion` the parsed motion; nullopt for any
+/// other body (stroke_mm, a line, a trajectory: straight_line_body's).
+std::optional<json> path_as_stroke(const json& given, std::optional<SpatialMotion>& motion) {
+  const json* m = given_motion(given);
+  if (m == nullptr || !m->is_object()) return std::nullopt;
+  const auto type = m->find("type");
+  if (type == m->end() || (*type != "arc" && *type != "path")) return std::nullopt;
+  json timed = given;
+  json& format = timed["format"];
+  refuse_motion_time(format);
+  format["motion_time_s"] = kDefaultMotionTimeMax;  // parsed for the motion; the search's own T
+  SpatialFormat spatial = parse_spatial_format(timed, false);
+  json body = given;
+  body["format"].erase("motion");
+  body["format"]["stroke_mm"] = mm_of(spatial.format.stroke);
+  motion = std::move(spatial.motion);
+  return body;
+}
+
 }  // namespace
 
 MinTimeRequest parse_min_time_request(const json& given, double budget) {
-  // A line motion is the stroke; min-time along other paths is refused (motion_json.hpp).
-  const std::optional<json> line = straight_line_body(given);
-  const json& body = line ? *line : given;
+  // An arc or a path: the search runs on the format with the path's length as its stroke and
+  // plans along the path; a line motion is the stroke (motion_json.hpp).
+  std::optional<SpatialMotion> motion;
+  const std::optional<json> along = path_as_stroke(given, motion);
+  const std::optional<json> line = along ? std::nullopt : straight_line_body(given);
+  const json& body = along ? *along : line ? *line : given;
   require_object(body, "");
   reject_unknown_fields(body, "",
                         {"format", "motion_time_max_s", "eta_motion_max_mm", "free_board_margin_mm",
@@ -300,6 +328,16 @@ MinTimeRequest parse_min_time_request(const json& given, double budget) {
   if (auto e = o.validate(r.format)) {
     invalid(std::string(api_field_path(e->input)), e->message);
   }
+  if (motion) {
+    if (o.plan.uncertainty.active()) {
+      invalid("options.uncertainty",
+              "options.uncertainty is not available along an arc or a path yet: a plan along a "
+              "path is verified at the nominal model (leave options.uncertainty out, or search "
+              "on a straight line)");
+    }
+    o.path = motion->path;
+    r.motion = std::move(motion);
+  }
   return r;
 }
 
@@ -314,6 +352,8 @@ std::string min_time_key(const MinTimeRequest& request, std::string_view version
   const MinTimeOptions& o = request.options;
   json strategies = json::array();
   for (Strategy s : request.strategies) strategies.push_back(to_string(s));
+  // Only a search along an arc or a path has the member: every other key stays as it was.
+  if (request.motion) recipe["motion"] = canonical_motion(*request.motion);
   recipe["min_time"] = {{"version", kMinTimeVersion},
                         {"motion_time_max_s", o.motion_time_max},
                         {"eta_motion_max_m", *o.eta_motion_limit(request.format)},
@@ -336,6 +376,7 @@ json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResul
   out["version"] = kVersion;
   json format = format_json(request.format);
   format.erase("motion_time_s");
+  if (request.motion) format["motion"] = request.motion->echo;
   out["format"] = format;
   out["motion_time_max_s"] = o.motion_time_max;
   const MachineLimits& m = o.plan.limits;
@@ -346,7 +387,8 @@ json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResul
                    {"a_max", optional_json(m.a_max)},
                    {"v_max", optional_json(m.v_max)},
                    {"j_max", optional_json(m.j_max)}};
-  out["kinematic_lower_bound_s"] = kinematic_lower_bound(request.format.stroke, m);
+  out["kinematic_lower_bound_s"] =
+      o.path ? kinematic_lower_bound(*o.path, m) : kinematic_lower_bound(request.format.stroke, m);
   json list = json::array();
   for (const MinTimeResult& r : results) list.push_back(strategy_json(request, r));
   out["strategies"] = list;

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "slosh/api/error.hpp"
+#include "slosh/api/export_request.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
@@ -281,10 +282,8 @@ std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
   const MotionType type = parse_type(*m);
   if (type != MotionType::kLine) {
     invalid(kMotion, kMotion + " of type " + show((*m)["type"]) +
-                         ": min-time and cam export along paths are not available yet; they move "
-                         "along a straight line (format.stroke_mm, or a motion of type "
-                         "\"line\"). POST /v1/plans plans along an arc or a path, and POST "
-                         "/v1/simulate predicts the wave of any motion");
+                         ": min-time moves the container along a \"line\", an \"arc\" or a "
+                         "\"path\" (a trajectory is simulated, POST /v1/simulate)");
   }
   static_cast<void>(parse_motion(*m, false));  // validates the line
   const json& format = body["format"];
@@ -329,6 +328,17 @@ nlohmann::json canonical_motion(const SpatialMotion& motion) {
           {"elements", elements},
           {"start_heading_rad", std::atan2(start.vy, start.vx)},
           {"container_turns", motion.path->container_turns()}};
+}
+
+std::optional<SpatialMotion> plan_path_motion(std::string_view plan_text) {
+  const json plan = parse_json_body(plan_text);
+  const json* format = plan.is_object() ? given_member(plan, "format") : nullptr;
+  const json* motion =
+      format != nullptr && format->is_object() ? given_member(*format, "motion") : nullptr;
+  if (motion == nullptr) return std::nullopt;
+  SpatialMotion m = parse_motion(*motion, false);
+  if (m.type == MotionType::kLine) return std::nullopt;
+  return m;
 }
 
 nlohmann::json trajectory_motion_json(const TrajectorySamples& samples) {

@@ -409,7 +409,7 @@ void add_shared_response_schemas(json& s) {
                         {"eta_nonlinear_mm", numbers("Wave height, nonlinear model [mm].")},
                         {"units", units}},
                        {"t_s", "a", "v", "s", "eta_linear_mm", "eta_nonlinear_mm", "units"},
-                       "Time series (both ends included) when sample_period_s is given.", false);
+                       "Time series (both ends included) when sample_period_s is given.", true);
 }
 
 /// The blocks of a plan response: baseline, reductions, spectrum, solver, candidates.
@@ -765,7 +765,7 @@ void add_motion_request_schemas(json& s) {
       {{"type", string_enum({"line"}, "A straight move.")},
        {"length_mm", number_in(ranges::kStrokeMm, "Length of the move (stroke_mm's long form)")},
        {"direction_deg", with_default(number_in(mr::kHeadingDeg, "Direction from +x"), 0)}},
-      {"type", "length_mm"}, "The straight move; the only motion min-time takes.", true);
+      {"type", "length_mm"}, "The straight move (stroke_mm's long form).", true);
   s["ArcMotion"] = object(
       {{"type", string_enum({"arc"}, "An arc of a rotary table, carousel or curved track.")},
        {"radius_mm", number_in(mr::kArcRadiusMm, "Radius of the arc")},
@@ -804,9 +804,14 @@ void add_motion_request_schemas(json& s) {
   s["Motion"] = {
       {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion"), ref("TrajectoryMotion")}},
       {"description",
-       "The container's motion (SPEC §14). Plans take a line, an arc or a path (a trajectory "
-       "is a 422 naming format.motion.type); min-time takes a line only (any other is a 422 "
-       "naming format.motion)."}};
+       "The container's motion (SPEC §14). Plans and min-time take a line, an arc or a path "
+       "(PlannedMotion); a trajectory is simulated only."}};
+  s["PlannedMotion"] = {
+      {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion")}},
+      {"description",
+       "The motion a plan or a min-time search moves along: the law s(t) spans its length; on "
+       "an arc or a path a_max limits the total horizontal acceleration, v_max s' and j_max the "
+       "tangential jerk, and the wave is the planar models' maximum over the wall."}};
   json format = s["Format"];
   format["properties"]["motion"] = ref("Motion");
   format["required"] = {"container", "fill_height_mm", "fluid"};
@@ -889,6 +894,26 @@ void add_motion_response_schemas(json& s) {
               {"container_turns", boolean("Whether the container turns (not for a trajectory).")},
               {"samples", integer("Samples of a trajectory.")}},
              {"type", "duration_s"}, "The simulated motion.", false);
+  json units{{"type", "object"},
+             {"additionalProperties", {{"type", "string"}}},
+             {"description", "Unit of each series."}};
+  s["SpatialSeries"] = object(
+      {{"t_s", numbers("Time from the motion's start [s].")},
+       {"x_mm", numbers("Container position, world frame [mm].")},
+       {"y_mm", numbers("Container position, world frame [mm].")},
+       {"theta_deg", numbers("Container heading from the start [deg].")},
+       {"a_h", numbers("Magnitude of the horizontal acceleration, normal part included [m/s^2].")},
+       {"eta_linear_mm", numbers("Linear planar model: wall height maximised over the wall [mm].")},
+       {"eta_nonlinear_mm", numbers("Nonlinear planar model: the same [mm].")},
+       {"direction_linear_deg", numbers("Wall angle of the linear maximum, from +x [deg].")},
+       {"direction_nonlinear_deg", numbers("Wall angle of the nonlinear maximum [deg].")},
+       {"s", numbers("A law along a path: distance along it [m].")},
+       {"v", numbers("A law along a path: speed along it [m/s].")},
+       {"a", numbers("A law along a path: tangential acceleration [m/s^2].")},
+       {"units", units}},
+      {"t_s", "x_mm", "y_mm", "theta_deg", "a_h", "eta_linear_mm", "eta_nonlinear_mm",
+       "direction_linear_deg", "direction_nonlinear_deg", "units"},
+      "Time series along format.motion (both ends included) when sample_period_s is given.", true);
   add_path_plan_schemas(s);
 }
 
@@ -911,7 +936,7 @@ void add_simulate_response_schemas(json& s) {
               {"model", ref("Model")},
               {"prediction", {{"oneOf", {ref("Prediction"), ref("PlanarPrediction")}}}},
               {"rest_time_s", number("Rest window [s].")},
-              {"series", ref("Series")},
+              {"series", {{"oneOf", {ref("Series"), ref("SpatialSeries")}}}},
               {"warnings", strings("Validity limits of the models reached by this law.")}},
              {"format", "model", "prediction", "rest_time_s", "warnings"},
              "Wave-height response of the law (also what `slosh simulate` prints); with "
@@ -1081,9 +1106,11 @@ void add_min_time_request_schemas(json& s) {
   namespace mr = min_time_ranges;
   json format = s["Format"];
   format["properties"].erase("motion_time_s");
-  format["required"] = {"container", "fill_height_mm", "fluid", "stroke_mm"};
+  format["properties"]["motion"] = ref("PlannedMotion");
+  format["required"] = {"container", "fill_height_mm", "fluid"};
   format["description"] =
-      "The format without motion_time_s: the search finds it (giving it is a 422).";
+      "The format without motion_time_s: the search finds it (giving it is a 422); stroke_mm "
+      "(the straight line) or motion (a line, an arc or a path: every T is planned along it).";
   s["MinTimeFormat"] = format;
   json options = s["PlanOptions"];
   options["properties"].erase("eta_rest_max_mm");

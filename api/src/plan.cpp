@@ -15,6 +15,7 @@
 #include "slosh/api/plan_reply.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/api/spatial_series.hpp"
 #include "slosh/api/spatial_simulate.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
@@ -413,6 +414,14 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
   s.options.model = request.options.model;
   s.options.rest_time = request.options.rest_time;
   s.options.sample_period = request.sample_period;
+  if (request.motion) {  // along the path: both planar models, maximised over the wall
+    const SloshingModel model = make_sloshing_model(request.format, request.options.model);
+    const std::optional<SevenSegmentLaw> seven = seven_segment_law(s);
+    const MotionLaw& law = seven ? seven->law() : s.law;
+    plan["series"] = spatial_series_json(model, PlanarDrive(*request.motion->path, law), &law,
+                                         request.options.rest_time, *request.sample_period);
+    return;
+  }
   plan["series"] = run_simulate(s)["series"];
 }
 

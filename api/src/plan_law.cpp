@@ -14,7 +14,11 @@ PlanLaw plan_law(std::string_view plan_text) {
   if (!plan.is_object() || !plan.contains("law") || !plan.contains("format")) {
     throw ApiError(ErrorCode::kInternal, "", "the plan has no law to export");
   }
-  const Format format = parse_format(plan["format"]);
+  // A plan along an arc or a path echoes its motion beside stroke_mm (the path length): the law
+  // spans that length, the motion is read by plan_path_motion.
+  nlohmann::json plain = plan["format"];
+  if (plain.is_object()) plain.erase("motion");
+  const Format format = parse_format(plain);
   const ParsedLaw law = parse_law(plan["law"], "law", format, ranges::kMinRampS.lo);
   PlanLaw out;
   out.key = plan.value("key", std::string());

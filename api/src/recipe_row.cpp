@@ -12,6 +12,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/min_time.hpp"
+#include "slosh/api/recipe_motion.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/service_bodies.hpp"
 #include "slosh/api/simulate.hpp"
@@ -136,6 +137,13 @@ json cell_value(const RecipeColumn& column, std::string_view text) {
       return bool_cell(column.name, text);
     case CellKind::kNumberList:
       return number_list_cell(column.name, text);
+    case CellKind::kJson: {
+      json value = json::parse(text, nullptr, false);
+      if (value.is_discarded()) {
+        throw CellError{column.name, column.name + " = " + quote_text(text) + " is not JSON"};
+      }
+      return value;
+    }
   }
   return nullptr;
 }
@@ -161,7 +169,10 @@ std::optional<RecipeColumn> column_for(const std::string& field, const OptionReg
 }  // namespace
 
 std::vector<RecipeColumn> recipe_columns(const OptionRegistry& registry) {
-  std::vector<RecipeColumn> columns(kRequestColumns.begin(), kRequestColumns.end());
+  std::vector<RecipeColumn> columns(kRequestColumns.begin(), kRequestColumns.end() - 1);
+  const std::vector<RecipeColumn>& motion = motion_recipe_columns();
+  columns.insert(columns.end(), motion.begin(), motion.end());
+  columns.push_back(kRequestColumns.back());  // strategy
   for (const OptionSpec& o : registry.options()) {
     std::string pointer = "/options/";
     std::string name(o.name);
@@ -202,6 +213,8 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
                        [&](const RecipeColumn& k) { return k.name == name; });
   };
   for (std::string_view name : kRequired) {
+    // A table with motion_type may move its rows along arcs and paths (their length the stroke).
+    if (name == "stroke_mm" && has("motion_type")) continue;
     if (!has(name)) {
       throw RecipeTableError("recipe table: missing column " + quote_text(name) + "; required: " +
                              "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
@@ -236,6 +249,7 @@ RecipeRequest RecipeHeader::request(const std::vector<std::string>& cells) const
     if (column.kind == CellKind::kId || cells[c].empty()) continue;  // empty: the default
     request[json::json_pointer(column.pointer)] = cell_value(column, cells[c]);
   }
+  complete_row_motion(request);
   return RecipeRequest(std::move(request));
 }
 
@@ -381,6 +395,11 @@ constexpr std::array kPlanColumns{
     PlanColumn{"holds_from_pct", "/holds_from_pct"},
     PlanColumn{"holds_to_pct", "/holds_to_pct"},
     PlanColumn{"worst_eta_rest_mm", "/worst_eta_rest_mm"},
+    PlanColumn{"motion_type", "/motion_type"},
+    PlanColumn{"arc_radius_mm", "/arc_radius_mm"},
+    PlanColumn{"arc_angle_deg", "/arc_angle_deg"},
+    PlanColumn{"container_turns", "/container_turns"},
+    PlanColumn{"path_length_mm", "/path_length_mm"},
 };
 
 /// object[key], null when absent (or when `object` is not an object).
@@ -421,6 +440,7 @@ json plan_row_figures(const json& plan) {
   row["f1_hz"] = f_hz.is_array() && !f_hz.empty() ? f_hz[0] : json(nullptr);
   row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
   row.update(robustness_row_figures(find_member(plan, "robustness")));
+  row.update(motion_row_figures(plan));
   return row;
 }
 

@@ -9,6 +9,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/motion_json.hpp"
+#include "slosh/api/spatial_series.hpp"
 #include "slosh/api/trajectory_csv.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
@@ -59,14 +60,10 @@ SpatialSimulateRequest parse_spatial_simulate_request(const nlohmann::json& body
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "law", "rest_time_s", "sample_period_s", "options"});
   SpatialFormat spatial = parse_spatial_format(body, true);
-  if (given_member(body, "sample_period_s") != nullptr) {
-    invalid("sample_period_s",
-            "sample_period_s: series are not available with format.motion yet (the answer gives "
-            "both models' peaks); leave sample_period_s out");
-  }
   // The straight-line parser reads the law and the options on the format with the motion's
-  // length as its stroke.
+  // length as its stroke; the series' span is the motion's.
   nlohmann::json plain = body;
+  plain.erase("sample_period_s");
   nlohmann::json& format = plain["format"];
   format.erase("motion");
   if (spatial.motion.trajectory) {
@@ -80,7 +77,12 @@ SpatialSimulateRequest parse_spatial_simulate_request(const nlohmann::json& body
   } else {
     format["stroke_mm"] = mm_of(spatial.format.stroke);
   }
-  return {parse_simulate_request(plain), std::move(spatial.motion)};
+  SimulateRequest base = parse_simulate_request(plain);
+  const double duration = spatial.motion.trajectory ? spatial.motion.trajectory->end_time() -
+                                                          spatial.motion.trajectory->start_time()
+                                                    : base.format.motion_time;
+  base.options.sample_period = parse_sample_period(body, duration + base.options.rest_time);
+  return {std::move(base), std::move(spatial.motion)};
 }
 
 nlohmann::json simulate_response(const nlohmann::json& body) {
@@ -135,6 +137,10 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   out["prediction"] = {{"nonlinear", planar_peaks_json(nonlinear)},
                        {"linear", planar_peaks_json(linear)}};
   out["rest_time_s"] = rest;
+  if (request.options.sample_period) {
+    out["series"] = spatial_series_json(model, drive, motion.trajectory ? nullptr : &law, rest,
+                                        *request.options.sample_period);
+  }
   out["warnings"] = nlohmann::json::array();
   require_finite(out);
   return out;

@@ -12,6 +12,7 @@
 #include "cli/cli_commands.hpp"
 #include "cli/io.hpp"
 #include "engine/plan_engine.hpp"
+#include "export/path_cam_export.hpp"
 #include "slosh/api/command_replies.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/export_request.hpp"
@@ -21,6 +22,7 @@
 #include "slosh/api/plan.hpp"
 #include "slosh/api/plan_law.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/core/law/path_cam_table.hpp"
 
 namespace slosh::service {
 
@@ -66,10 +68,17 @@ struct ExportSource {
   std::string law_type;                   // api::LawType name
   std::string strategy;                   // the plan's strategy; empty for a law request
   std::optional<api::ExportedPlan> plan;  // empty for a law request
+  std::optional<PlanarPath> path;         // an arc or a path (format.motion); empty: the line
+  std::string motion_type;                // "arc" or "path" with a path
 };
 
-ExportSource law_source(const api::SimulateRequest& request) {
+ExportSource law_source(const api::ExportLawRequest& export_request) {
+  const api::SimulateRequest& request = export_request.request;
   ExportSource source;
+  source.path = export_request.path;
+  if (source.path) {
+    source.motion_type = export_request.motion_type == api::MotionType::kArc ? "arc" : "path";
+  }
   source.seven = api::seven_segment_law(request);
   source.law = source.seven ? source.seven->law() : api::build_law(request);
   source.stroke = request.format.stroke;
@@ -100,6 +109,11 @@ ExportSource plan_source(const std::string& text, const ServerConfig& config) {
   source.law_type = api::to_string(plan.type);
   source.strategy = plan.strategy;
   source.plan = api::ExportedPlan{plan.key, plan.cached, plan.status, plan.message};
+  // A plan along an arc or a path: its cam table carries the pose too.
+  if (std::optional<api::SpatialMotion> motion = api::plan_path_motion(plan_text)) {
+    source.path = std::move(motion->path);
+    source.motion_type = motion->type == api::MotionType::kArc ? "arc" : "path";
+  }
   return source;
 }
 
@@ -191,6 +205,13 @@ std::optional<ExportFailure> check_exportable(const ExportSource& source,
         kExitFailure, api::ApiError(api::ErrorCode::kInternal, "",
                                     api::not_exportable_message(plan, "pass --allow-infeasible"))};
   }
+  if (source.path && options.cam.format != CamFileFormat::kCsv) {
+    try {
+      check_path_cam_format(options.cam.format, "--format");
+    } catch (const api::ApiError& e) {
+      return ExportFailure{kExitInvalidInput, e};
+    }
+  }
   if (!options.segments.empty() && !source.seven) {
     return invalid("--segments", "--segments: the law " + source.law_type +
                                      " is not a 7-segment law; it has no segment table");
@@ -214,6 +235,8 @@ api::ExportSummary summary_of(const ExportSource& source, const ExportCommandOpt
   s.seven = source.seven;
   if (source.seven) s.segment_table = options.segments;
   s.warnings = cam_warnings(table);
+  s.motion_type = source.motion_type;
+  if (source.path) s.table_rotation_deg = table_rotation_deg(*source.path);
   return s;
 }
 
@@ -245,7 +268,8 @@ int run_export_command(const ExportCommandOptions& options) {
     return report({kExitInvalidInput, e});
   }
   try {
-    file = cam_file(table, cam_source(source), spec);
+    file =
+        source.path ? path_cam_csv(table, *source.path) : cam_file(table, cam_source(source), spec);
   } catch (const std::exception& e) {
     return report({kExitFailure, api::ApiError(api::ErrorCode::kInternal, "", e.what())});
   }

@@ -82,6 +82,14 @@ PlanarExcitation PlanarDrive::excitation(std::size_t k, double t) const {
   return e;
 }
 
+double PlanarDrive::turning_rate(std::size_t k, double t) const {
+  if (trajectory_) return excitation(k, t).theta_dot;
+  const DrivePiece& piece = pieces_[k];
+  if (!path_->container_turns()) return 0.0;
+  const LawPiece& lp = law_->pieces()[piece.source];
+  return path_->curvature(piece.element) * lp.at(t - lp.t_begin).velocity;
+}
+
 PlanarKinematics PlanarDrive::kinematics(double t) const {
   if (trajectory_) return trajectory_->at(t + trajectory_->start_time());
   const KinematicState s = law_->at(t);

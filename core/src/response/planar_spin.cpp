@@ -49,6 +49,18 @@ std::size_t fit_steps(double L, double h_fit, double harmonic_omega) {
   return step_count(L, piece_max_step(h_fit, harmonic_omega, kFitStepsPerPeriod), 1);
 }
 
+namespace {
+
+/// The liquid's spin a time tau after w0 once the container has stopped turning: then
+/// Omega = |w| and w' = -c sqrt(|w|) w, c = sqrt(nu) / h, so |w|^(-1/2) grows linearly:
+/// w(tau) = w0 / (1 + c sqrt(|w0|) tau / 2)^2 (closed form; no step needed in the rest window).
+double spin_down(double w0, double c, double tau) {
+  const double d = 1.0 + 0.5 * c * std::sqrt(std::abs(w0)) * tau;
+  return w0 / (d * d);
+}
+
+}  // namespace
+
 SpinTrack::SpinTrack(const PlanarDrive& drive, double rest_time, const SloshingModel& model,
                      const PlanarOptions& options) {
   const double nu = options.kinematic_viscosity, fill = model.fill_height;
@@ -59,6 +71,7 @@ SpinTrack::SpinTrack(const PlanarDrive& drive, double rest_time, const SloshingM
   };
   const std::vector<DrivePiece>& pieces = drive.pieces();
   const double T = drive.duration();
+  const double spin_down_rate = std::sqrt(nu) / fill;
   double phi = 0.0, spin = 0.0;
   for (std::size_t k = 0; k <= pieces.size(); ++k) {
     const bool rest = k == pieces.size();
@@ -69,14 +82,20 @@ SpinTrack::SpinTrack(const PlanarDrive& drive, double rest_time, const SloshingM
     const double H = L / static_cast<double>(n);
     for (std::size_t j = 0; j < n; ++j) {
       const double t0 = p.t_begin + H * static_cast<double>(j);
-      FitPoly rate{};
-      if (!rest) {
+      if (rest) {
         FitPoly values{};
         for (std::size_t i = 0; i < kFitTerms; ++i) {
-          values[i] = drive.excitation(k, t0 + cheb.node[i] * H).theta_dot;
+          values[i] = spin_down(spin, spin_down_rate, cheb.node[i] * H);
         }
-        rate = cheb.fit(values);
+        pieces_.push_back({t0, H, cheb.fit(values)});
+        spin = spin_down(spin, spin_down_rate, H);
+        continue;
       }
+      FitPoly values{};
+      for (std::size_t i = 0; i < kFitTerms; ++i) {
+        values[i] = drive.turning_rate(k, t0 + cheb.node[i] * H);
+      }
+      const FitPoly rate = cheb.fit(values);
       auto acc = [&rate](std::size_t i) { return horner(rate, kDopC[i]); };
       DopStep<double> step;
       dop853_step(rhs, acc, phi, spin, rhs(phi, spin, rate[0]), H, true, step, true);

@@ -7,8 +7,9 @@
 // first mode's period and of a law piece's harmonic, and max_step) the turning rate is
 // interpolated by a degree-7 polynomial at Chebyshev nodes and the spin's equation
 // w_l' = sqrt(nu Omega) / h (theta' - w_l) is stepped by DOP853, whose dense output gives w_l on
-// the sub-step. A wave integrator reads it over its own steps (which never cross a drive piece,
-// where the spin is smooth) by the same interpolation.
+// the sub-step. In the rest window (theta' = 0) the equation has a closed form, interpolated on
+// the sub-steps the same way instead of stepped. A wave integrator reads it over its own steps
+// (which never cross a drive piece, where the spin is smooth) by the same interpolation.
 
 #include <algorithm>
 #include <array>

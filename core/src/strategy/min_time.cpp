@@ -5,6 +5,7 @@
 #include <cmath>
 #include <limits>
 
+#include "slosh/core/strategy/path_plan.hpp"
 #include "strategies.hpp"
 #include "text.hpp"
 
@@ -138,7 +139,8 @@ class Search {
     o.time_limit = remaining;
     o.warm_start = warm_start;
     o.robustness = false;  // the report is made once, for the returned plan (min_time())
-    Planned out{MinTimePoint{}, plan(f, strategy_, o)};
+    Planned out{MinTimePoint{}, options_.path ? plan_on_path(f, *options_.path, strategy_, o)
+                                              : plan(f, strategy_, o)};
     ++result_.plans;
     if (out.plan.status == SolveStatus::kTimeLimit) return std::nullopt;
     MinTimePoint& p = out.point;
@@ -225,6 +227,21 @@ class Search {
 
 double plan_validation_time(double motion_time_max, const PlanOptions& plan) {
   return std::max(motion_time_max, 4.0 * plan.min_ramp + plan.plateau_min[0] + plan.plateau_min[1]);
+}
+
+double kinematic_lower_bound(const PlanarPath& path, const MachineLimits& limits) {
+  MachineLimits along = limits;
+  const std::vector<PathElement>& elements = path.elements();
+  const bool arcs_only = std::all_of(elements.begin(), elements.end(), [](const PathElement& e) {
+    return e.kind == PathElement::Kind::kArc;
+  });
+  if (arcs_only && limits.a_max) {
+    double rho = std::numeric_limits<double>::infinity();
+    for (const PathElement& e : elements) rho = std::min(rho, e.radius);
+    const double v_normal = std::sqrt(*limits.a_max * rho);
+    along.v_max = limits.v_max ? std::min(*limits.v_max, v_normal) : v_normal;
+  }
+  return kinematic_lower_bound(path.length(), along);
 }
 
 double kinematic_lower_bound(double stroke, const MachineLimits& limits) {
@@ -350,14 +367,16 @@ bool prepare_search(const Format& format, Strategy strategy, const MinTimeOption
   }
   r.eta_motion_max = *options.eta_motion_limit(format);
   r.eta_rest_max = options.eta_rest_max;
-  r.kinematic_bound = kinematic_lower_bound(format.stroke, options.plan.limits);
+  r.kinematic_bound = options.path ? kinematic_lower_bound(*options.path, options.plan.limits)
+                                   : kinematic_lower_bound(format.stroke, options.plan.limits);
   const double admissible =
       4.0 * options.plan.min_ramp + options.plan.plateau_min[0] + options.plan.plateau_min[1];
   r.scan_start = ceil_to_grid(std::max({r.kinematic_bound, admissible, kMinPlanTime}));
   const double t_max = options.motion_time_max;
   if (r.scan_start > t_max + 1e-12) {
     r.status = SolveStatus::kInfeasible;
-    r.message = "no motion time up to motion_time_max " + sec(t_max) + " is possible: the stroke " +
+    r.message = "no motion time up to motion_time_max " + sec(t_max) +
+                " is possible: " + (options.path ? "the path length " : "the stroke ") +
                 mm(format.stroke) + " needs at least " + sec(r.scan_start) +
                 " (machine limits and ramps >= min_ramp); raise " +
                 "motion_time_max_s or the machine limits";
@@ -571,7 +590,7 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
     std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
       return a.motion_time < b.motion_time;
     });
-    if (r.plan && options.plan.robustness && !r.plan->invalid_input) {
+    if (r.plan && options.plan.robustness && !r.plan->invalid_input && !options.path) {
       Format at = format;
       at.motion_time = r.plan->law.duration();
       PlanOptions judged = options.plan;

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "slosh/core/strategy/path_plan.hpp"
+#include "slosh/core/strategy/robustness.hpp"
 #include "strategy/path_time_domain.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -367,6 +368,15 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
     return base;
   }
   PlanResult r = strategy == Strategy::kAuto ? run_auto(c, base) : run_single(c, base, strategy);
+  if (options.robustness && !r.invalid_input && r.law.duration() > 0.0) {
+    // The returned law swept over +-10 % of the mode frequencies on the planar models (SPEC §10).
+    RobustnessSweep sweep;
+    sweep.zeta = r.model.zeta;
+    sweep.rest_time = o.rest_time;
+    sweep.eta_rest_max = o.eta_rest_max;
+    sweep.eta_motion_max = o.eta_motion_max;
+    r.robustness = robustness_report_on_path(r.model, path, r.law, sweep);
+  }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return r;

@@ -4,6 +4,8 @@
 #include <cmath>
 
 #include "slosh/core/model/uncertainty.hpp"
+#include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/response/planar_response.hpp"
 
 namespace slosh {
 
@@ -76,6 +78,11 @@ std::optional<DeltaInterval> holding_interval(const std::vector<double>& deltas,
 
 }  // namespace
 
+namespace {
+/// The holding flags, worst cases and intervals of a report whose points hold their peaks.
+void judge(RobustnessReport& r);
+}  // namespace
+
 RobustnessReport robustness_report(
     const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
     const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero) {
@@ -103,16 +110,48 @@ RobustnessReport robustness_report(
     p.linear = linear[i];
     p.nonlinear = nonlinear[i];
   }
-  std::vector<double> lin_margin, nl_margin;
-  std::size_t zero = 0;
   for (std::size_t k = 0; k < deltas.size(); ++k) {
     RobustnessPoint& p = r.points[k];
     p.delta = deltas[k];
-    if (p.delta == 0.0) zero = k;
     if (p.delta == 0.0 && zero_given) {
       p.linear = at_zero->first;
       p.nonlinear = at_zero->second;
     }
+  }
+  judge(r);
+  return r;
+}
+
+RobustnessReport robustness_report_on_path(const SloshingModel& nominal, const PlanarPath& path,
+                                           const MotionLaw& law, const RobustnessSweep& sweep) {
+  RobustnessReport r;
+  r.sweep = sweep;
+  const PlanarDrive drive(path, law);
+  auto peaks = [](const PlanarPeaks& p) {
+    return SloshPeaks{{p.motion.value, p.motion.time}, {p.rest.value, p.rest.time}};
+  };
+  for (const double delta : robustness_deltas(sweep)) {
+    const SloshingModel model = scaled_model(nominal, 1.0 + delta, sweep.zeta);
+    RobustnessPoint p;
+    p.delta = delta;
+    p.linear = peaks(planar_linear_peaks(model, drive, sweep.rest_time));
+    p.nonlinear = peaks(planar_nonlinear_peaks(model, drive, sweep.rest_time));
+    r.points.push_back(p);
+  }
+  judge(r);
+  return r;
+}
+
+namespace {
+
+void judge(RobustnessReport& r) {
+  const RobustnessSweep& sweep = r.sweep;
+  std::vector<double> deltas, lin_margin, nl_margin;
+  std::size_t zero = 0;
+  for (std::size_t k = 0; k < r.points.size(); ++k) {
+    RobustnessPoint& p = r.points[k];
+    deltas.push_back(p.delta);
+    if (p.delta == 0.0) zero = k;
     lin_margin.push_back(margin(p.linear, sweep));
     nl_margin.push_back(margin(p.nonlinear, sweep));
     p.holds_linear = lin_margin.back() <= kRobustnessSlack;
@@ -122,7 +161,8 @@ RobustnessReport robustness_report(
   }
   r.linear = holding_interval(deltas, lin_margin, zero);
   r.nonlinear = holding_interval(deltas, nl_margin, zero);
-  return r;
 }
+
+}  // namespace
 
 }  // namespace slosh

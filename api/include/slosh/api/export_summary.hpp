@@ -36,13 +36,19 @@ struct ExportSummary {
   std::optional<SevenSegmentLaw> seven;  ///< the 7-segment law, when the law is one
   std::string segment_table;             ///< path of the segment table; empty when not written
   std::vector<std::string> warnings;
+  /// "arc" or "path" for a law exported along format.motion (the cam table's columns then add
+  /// the pose); empty for the straight line.
+  std::string motion_type;
+  /// The table's rotation of a one-arc motion [deg] (its master-axis table is in degrees).
+  std::optional<double> table_rotation_deg;
 };
 
 /// The summary as JSON text (2-space indented): source, key, cached, status, message (plans),
 /// law, cam_table, file_format, table ("time" or "master"), period_s (time) or master {period,
 /// start, end, step, speed_per_s, equidistant} (master), samples, motion_time_s, end_time_s
 /// (time), stroke_mm, and for 7-segment laws durations_s, A_mm_s2, B_mm_s2, v_peak_mm_s, segments
-/// (and segment_table), warnings.
+/// (and segment_table), warnings; along an arc or a path also motion {type, length_mm,
+/// table_rotation_deg (one arc)}.
 [[nodiscard]] std::string export_summary_json(const ExportSummary& summary);
 
 }  // namespace slosh::api

@@ -2,6 +2,7 @@
 // POST /v1/min-time and `slosh min-time`: a format without motion time, the sloshing and machine
 // limits and the strategies to try -> each strategy's minimum motion time (SPEC §9).
 
+#include <optional>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -9,6 +10,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/fields.hpp"
+#include "slosh/api/motion_json.hpp"
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/version.hpp"
 
@@ -32,7 +34,11 @@ struct MinTimeRequest {
   Format format;
   /// The strategies in request order (default: every strategy but iir and auto).
   std::vector<Strategy> strategies;
+  /// The options; options.path is the motion's path when `motion` is set.
   MinTimeOptions options;
+  /// format.motion of type arc or path: the search plans along it (format.stroke is its length).
+  /// Unset for stroke_mm and a line motion, which search as they always have.
+  std::optional<SpatialMotion> motion;
 };
 
 /// The strategies searched when the request names none: every strategy but iir (and auto).

@@ -57,10 +57,11 @@ struct SpatialFormat {
 [[nodiscard]] SpatialFormat parse_spatial_format(const nlohmann::json& body,
                                                  bool trajectory_allowed);
 
-/// For the planning endpoints (plans, min-time), which plan along a straight line only: nullopt
-/// when the body has no format.motion; the body without it when it is null; the body with a `line`
-/// motion written as its short form stroke_mm (the line's direction does not change the wave of an
-/// axisymmetric container); any other motion is refused with a 422 naming format.motion.
+/// The straight line of the planning endpoints (plans, min-time, export), which take arcs and
+/// paths first (planned_path_format): nullopt when the body has no format.motion; the body
+/// without it when it is null; the body with a `line` motion written as its short form stroke_mm
+/// (the line's direction does not change the wave of an axisymmetric container); any other
+/// motion (a trajectory) is refused with a 422 naming format.motion.
 [[nodiscard]] std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body);
 
 /// For POST /v1/plans: the format of a request whose format.motion is an arc or a path (its

@@ -4,10 +4,11 @@
 // CSV/JSON text, writes cells).
 //
 // CSV input columns: recipe_id, the format's (radius_mm, container_height_mm, fill_height_mm,
-// fluid or density_kg_m3 + viscosity_pa_s, stroke_mm, motion_time_s), strategy, then every plan
-// option of the registry by its JSON name (the limits by theirs: a_max, v_max, j_max; the
-// members of options.uncertainty prefixed: uncertainty_omega_error_pct, uncertainty_fill_height_mm,
-// uncertainty_viscosity_pa_s, uncertainty_sample_points).
+// fluid or density_kg_m3 + viscosity_pa_s, stroke_mm, motion_time_s), the motion's (motion_type,
+// arc_radius_mm, arc_angle_deg, container_turns, path_json: recipe_motion.hpp), strategy, then
+// every plan option of the registry by its JSON name (the limits by theirs: a_max, v_max, j_max;
+// the members of options.uncertainty prefixed: uncertainty_omega_error_pct,
+// uncertainty_fill_height_mm, uncertainty_viscosity_pa_s, uncertainty_sample_points).
 
 #include <cstddef>
 #include <optional>
@@ -35,6 +36,7 @@ enum class CellKind {
   kBool,        ///< true/false, yes/no, 1/0
   kNumberList,  ///< numbers separated by ';', ',' or spaces
   kDamping,     ///< a number (the explicit zeta) or a correlation name
+  kJson,        ///< a JSON value (a path's segments)
 };
 
 /// One input column of CSV recipe tables.
@@ -161,7 +163,7 @@ struct PlanColumn {
 /// The figures of a rendered plan a table row shows: status, key, version, strategy, message,
 /// law_type, durations_s, kinematics, f1_hz, prediction, baseline, reduction_pct, solve_ms and
 /// of its robustness report holds_from_pct, holds_to_pct and worst_eta_rest_mm (nonlinear model;
-/// null without the report).
+/// null without the report), and its motion (motion_row_figures, recipe_motion.hpp).
 [[nodiscard]] nlohmann::json plan_row_figures(const nlohmann::json& plan);
 
 /// The row of a recipe that failed: status "error", message, error and error_field; `csv` rows

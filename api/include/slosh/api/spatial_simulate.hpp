@@ -31,8 +31,8 @@ struct SpatialSimulateRequest {
 
 /// Runs a validated request with a motion and renders the response {"format" (with its
 /// motion), "law"? (not for a trajectory), "motion", "model", "prediction", "rest_time_s",
-/// "warnings"}. Throws ApiError naming format.motion.t_s[i] when a trajectory is sampled too
-/// coarsely for the first mode.
+/// "series"? (with sample_period_s: spatial_series.hpp), "warnings"}. Throws ApiError naming
+/// format.motion.t_s[i] when a trajectory is sampled too coarsely for the first mode.
 [[nodiscard]] nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& request);
 
 /// The POST /v1/simulate answer to a parsed body: the planar models with format.motion, else

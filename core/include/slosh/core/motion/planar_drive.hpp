@@ -52,6 +52,9 @@ class PlanarDrive {
   [[nodiscard]] bool vertical() const { return trajectory_ && trajectory_->has_vertical_motion(); }
   /// Excitation at time t on piece k (t within it; the models' hot path).
   [[nodiscard]] PlanarExcitation excitation(std::size_t k, double t) const;
+  /// The container's turning rate theta' at time t on piece k [rad/s]: excitation(k, t)'s
+  /// theta_dot without the accelerations (the liquid's spin needs it alone).
+  [[nodiscard]] double turning_rate(std::size_t k, double t) const;
   /// Pose and derivatives at any t (at rest before 0 and after the duration).
   [[nodiscard]] PlanarKinematics kinematics(double t) const;
 

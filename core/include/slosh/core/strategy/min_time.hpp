@@ -11,6 +11,7 @@
 
 #include "slosh/core/enum_names.hpp"
 #include "slosh/core/invalid_input.hpp"
+#include "slosh/core/motion/planar_path.hpp"
 #include "slosh/core/strategy/planner.hpp"
 
 namespace slosh {
@@ -73,6 +74,13 @@ struct MinTimeOptions {
   int max_plans{40};
   /// The curve of eta over T reaches this factor times T_min [-]. Default 1.5; [1, 10].
   double curve_factor{1.5};
+  /// The path the law moves along (SPEC §14: a rotary table's arc, a track's curves); unset: the
+  /// straight line of the format's stroke. With a path every T is planned by plan_on_path (the
+  /// format's stroke is the path's length): the eta limits apply to the planar models' peaks,
+  /// maximised over the wall, and the machine limits to the path (a_max on the total horizontal
+  /// acceleration, v_max on s', j_max on the tangential jerk). No robustness report is made
+  /// along a path.
+  std::optional<PlanarPath> path;
 
   /// eta_motion_max, or its default from the free board; nullopt when neither is available.
   [[nodiscard]] std::optional<double> eta_motion_limit(const Format& format) const;
@@ -94,6 +102,12 @@ struct MinTimeOptions {
 /// limit is set. Every law the planner can return obeys the same limits, so no plan exists below
 /// it [s].
 [[nodiscard]] double kinematic_lower_bound(double stroke, const MachineLimits& limits);
+
+/// The same bound along `path` [s]: the tangential motion obeys the line's limits over the path
+/// length (|s''| is at most the total horizontal acceleration); on a path of arcs only, where the
+/// normal acceleration s'^2 / rho <= a_max holds everywhere, the speed is also at most
+/// sqrt(a_max rho_min).
+[[nodiscard]] double kinematic_lower_bound(const PlanarPath& path, const MachineLimits& limits);
 
 /// One T the search planned, with the verified predictions of its plan.
 struct MinTimePoint {

@@ -19,9 +19,10 @@ namespace slosh {
 
 /// Plans a law along `path` for `format` (its stroke is set to the path length). Options as
 /// plan(); the machine limits mean: v_max on s', a_max on the total horizontal acceleration
-/// sqrt(s''^2 + (s'^2 / rho)^2), j_max on the tangential jerk s'''. options.robustness and an
-/// active options.uncertainty are not applied along a path (no robustness report). The status
-/// follows the verification on the planar models and the path's limits; its predictions
+/// sqrt(s''^2 + (s'^2 / rho)^2), j_max on the tangential jerk s'''. With options.robustness the
+/// returned law is swept over +-10 % of the mode frequencies on the planar models
+/// (robustness_report_on_path); an active options.uncertainty is not applied along a path. The
+/// status follows the verification on the planar models and the path's limits; its predictions
 /// (PlanResult::prediction, baseline and the candidates') are the planar models' peaks along the
 /// path, and its message says how the law was made (time_domain: on the planar nonlinear model;
 /// the others: the tangential acceleration shaped, the normal one not).

@@ -8,6 +8,7 @@
 
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/motion/planar_path.hpp"
 #include "slosh/core/response/response.hpp"
 
 namespace slosh {
@@ -73,5 +74,12 @@ struct RobustnessReport {
 [[nodiscard]] RobustnessReport robustness_report(
     const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
     const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero = std::nullopt);
+
+/// robustness_report of `law` moved along `path` (SPEC §14): every point's peaks from the planar
+/// models (planar_linear_peaks, planar_nonlinear_peaks), the wave maximised over the wall.
+[[nodiscard]] RobustnessReport robustness_report_on_path(const SloshingModel& nominal,
+                                                         const PlanarPath& path,
+                                                         const MotionLaw& law,
+                                                         const RobustnessSweep& sweep);
 
 }  // namespace slosh

@@ -1,0 +1,26 @@
+#pragma once
+// The series of a simulation along a spatial motion (SPEC §14): the wall height maximised over
+// the wall of both planar models, the wall direction of that maximum, and the container's pose,
+// at equal steps from the motion's start to the end of the rest window.
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/motion/planar_drive.hpp"
+
+namespace slosh::api {
+
+/// {"t_s", "x_mm", "y_mm", "theta_deg", "a_h" (the horizontal acceleration's magnitude [m/s^2],
+/// normal part included), "eta_linear_mm", "eta_nonlinear_mm" (each model's height maximised
+/// over the wall, the vortex rise of a turning container included), "direction_linear_deg",
+/// "direction_nonlinear_deg" (the wall angle of that maximum, world frame, from +x), and with a
+/// law along a path also "s", "v", "a" (distance, speed and tangential acceleration along the
+/// path, SI as the straight line's series); "units"}. Samples at k dt, k = 0 .. floor(span / dt),
+/// span = the drive's duration + rest_time; the heights from the stored planar responses
+/// (PlanarLinearResponse, PlanarNonlinearResponse). `law` is null for a trajectory.
+[[nodiscard]] nlohmann::json spatial_series_json(const SloshingModel& model,
+                                                 const PlanarDrive& drive, const MotionLaw* law,
+                                                 double rest_time, double dt);
+
+}  // namespace slosh::api

@@ -1,0 +1,42 @@
+#include "slosh/core/law/path_cam_table.hpp"
+
+#include <numbers>
+#include <stdexcept>
+
+namespace slosh {
+
+std::vector<PathCamSample> cam_along_path(const std::vector<CamSample>& cam,
+                                          const PlanarPath& path) {
+  std::vector<PathCamSample> out;
+  out.reserve(cam.size());
+  for (const CamSample& c : cam) {
+    const PlanarKinematics k = path.at(c.position, c.velocity, c.acceleration, c.jerk);
+    out.push_back({c.t, c.position, c.velocity, c.acceleration, c.jerk, k.x, k.y, k.theta});
+  }
+  return out;
+}
+
+std::optional<double> table_rotation_deg(const PlanarPath& path) {
+  const std::vector<PathElement>& e = path.elements();
+  if (e.size() != 1 || e.front().kind != PathElement::Kind::kArc) return std::nullopt;
+  return e.front().angle * (180.0 / std::numbers::pi);
+}
+
+std::vector<MasterCamSample> table_rotation_rows(const std::vector<MasterCamSample>& rows,
+                                                 const PlanarPath& path) {
+  const std::optional<double> angle = table_rotation_deg(path);
+  if (!angle) throw std::invalid_argument("a table rotation cam needs a path of one arc");
+  const double length = path.length();
+  std::vector<MasterCamSample> out = rows;
+  // value / length * angle: at the end, position == length exactly, the row holds the angle
+  // exactly (a precomputed factor angle / length would round it).
+  for (MasterCamSample& r : out) {
+    r.position = r.position / length * *angle;
+    r.velocity = r.velocity / length * *angle;
+    r.acceleration = r.acceleration / length * *angle;
+    r.jerk = r.jerk / length * *angle;
+  }
+  return out;
+}
+
+}  // namespace slosh

@@ -1,0 +1,210 @@
+// Min-time along an arc or a path (SPEC §9, §14), through the API's request handling: with the
+// sloshing limits out of reach, the uniform law's T_min along an arc is where its total
+// horizontal acceleration sqrt(s''^2 + (s'^2 / R)^2) meets a_max, computed here from a 7-segment
+// law written in the test (both terms scale as 1 / T^2, so T* = sqrt(peak at T = 1 / a_max));
+// it is at least the line's, non-increasing in the radius for the same length, tends to the
+// line's; the kinematic bound along arcs obeys the same order; the refusals' exact texts; and
+// the robustness report of a plan along an arc against the planar models of scaled models.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/error.hpp"
+#include "slosh/api/min_time.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/strategy/path_plan.hpp"
+#include "slosh/core/strategy/robustness.hpp"
+#include "support/reference_seven_segment.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+
+constexpr double kPi{std::numbers::pi};
+constexpr double kAMax{2.0};     // m/s^2
+constexpr double kLength{0.45};  // m, every motion below
+
+json body_with(const json& motion) {
+  json format{{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+              {"fill_height_mm", 82},
+              {"fluid", "water"}};
+  if (motion.is_null()) {
+    format["stroke_mm"] = kLength * 1e3;
+  } else {
+    format["motion"] = motion;
+  }
+  return {{"format", format},          {"strategies", {"baseline"}},
+          {"eta_motion_max_mm", 5000}, {"eta_rest_max_mm", 5000},
+          {"motion_time_max_s", 4},    {"options", {{"limits", {{"a_max", kAMax}}}}}};
+}
+
+json arc_of(double radius) {
+  return {
+      {"type", "arc"}, {"radius_mm", radius * 1e3}, {"angle_deg", kLength / radius * 180 / kPi}};
+}
+
+/// The uniform law's least T on the 1 ms grid with peak total acceleration <= a_max along an arc
+/// of `radius` (infinite: the line).
+double expected_t_min(double radius) {
+  const test::ReferenceSevenSegment law(uniform_durations(1.0), kLength);
+  double peak = 0.0;
+  for (int i = 0; i <= 200000; ++i) {
+    const test::LawState s = law.at(i * 1e-6 * 5);
+    const double normal = std::isinf(radius) ? 0.0 : s.v * s.v / radius;
+    peak = std::max(peak, std::hypot(s.a, normal));
+  }
+  const double t_star = std::sqrt(peak / kAMax);
+  return std::ceil(t_star * 1e3 - 1e-6) / 1e3;
+}
+
+double t_min_of(const json& motion) {
+  const api::MinTimeRequest request = api::parse_min_time_request(body_with(motion), 60.0);
+  const json answer = api::run_min_time(request);
+  const json& s = answer.at("strategies").at(0);
+  EXPECT_EQ(s["status"], "optimal") << s["message"];
+  return s.at("t_min_s").get<double>();
+}
+
+TEST(MinTimePath, UniformLawOnAnArcMeetsTheTotalAccelerationLimit) {
+  const double line = t_min_of(json());
+  EXPECT_NEAR(line, expected_t_min(INFINITY), 1.5e-3);
+  double previous = INFINITY;
+  for (const double radius : {0.15, 0.3, 0.6, 1.2, 100.0}) {
+    SCOPED_TRACE(radius);
+    const double t = t_min_of(arc_of(radius));
+    EXPECT_NEAR(t, expected_t_min(radius), 1.5e-3);
+    EXPECT_GE(t, line);
+    EXPECT_LE(t, previous);  // a larger table is no slower to index
+    previous = t;
+  }
+  EXPECT_NEAR(previous, line, 1.5e-3);  // 100 m: the line
+}
+
+TEST(MinTimePath, TheAnswerEchoesTheMotionAndItsKeyDiffersFromTheLine) {
+  const json arc = arc_of(0.3);
+  const api::MinTimeRequest request = api::parse_min_time_request(body_with(arc), 60.0);
+  const api::MinTimeRequest line = api::parse_min_time_request(body_with(json()), 60.0);
+  EXPECT_NE(api::min_time_key(request), api::min_time_key(line));
+  const json answer = api::run_min_time(request);
+  EXPECT_EQ(answer["format"]["motion"], arc);
+  EXPECT_NEAR(answer["format"]["stroke_mm"].get<double>(), kLength * 1e3, 1e-9);
+  const json& plan = answer["strategies"][0]["plan"];
+  EXPECT_EQ(plan["path"]["type"], "arc");
+  EXPECT_EQ(plan["format"]["motion"], arc);
+  EXPECT_LE(plan["path"]["prediction"]["kinematics"]["a_total_peak"].get<double>(),
+            kAMax * (1 + 1e-9));
+  // A line motion searches as its stroke: the same key.
+  const json line_motion{{"type", "line"}, {"length_mm", kLength * 1e3}, {"direction_deg", 30}};
+  EXPECT_EQ(api::min_time_key(api::parse_min_time_request(body_with(line_motion), 60.0)),
+            api::min_time_key(line));
+}
+
+TEST(MinTimePath, KinematicBoundAlongArcsIsTheLinesOrTheNormalSpeedLimit) {
+  MachineLimits limits;
+  limits.a_max = kAMax;
+  limits.j_max = 40.0;
+  const double line = kinematic_lower_bound(kLength, limits);
+  double previous = INFINITY;
+  for (const double radius : {0.05, 0.15, 0.3, 1.0, 100.0}) {
+    const double b = kinematic_lower_bound(PlanarPath::arc(radius, kLength / radius, true), limits);
+    EXPECT_GE(b, line - 1e-15);
+    EXPECT_LE(b, previous + 1e-12);  // the path length is R (L / R): equal to round-off
+    // s' <= sqrt(a_max R) on the arc: the line's bound with that speed limit.
+    MachineLimits capped = limits;
+    capped.v_max = std::sqrt(kAMax * radius);
+    EXPECT_NEAR(b, kinematic_lower_bound(kLength, capped), 1e-12);
+    previous = b;
+  }
+  // A path with a line: the speed may peak on the line, so only the line's bound holds.
+  const PlanarPath track({PathElement::line(0.3), PathElement::arc(0.05, kPi / 2)}, 0.0, false);
+  EXPECT_EQ(kinematic_lower_bound(track, limits), kinematic_lower_bound(track.length(), limits));
+}
+
+TEST(MinTimePath, RefusalsNameTheMember) {
+  auto refusal = [](const json& body) -> std::pair<std::string, std::string> {
+    try {
+      (void)api::parse_min_time_request(body, 60.0);
+    } catch (const api::ApiError& e) {
+      return {e.field(), e.what()};
+    }
+    return {"", "accepted"};
+  };
+  json timed = body_with(arc_of(0.3));
+  timed["format"]["motion_time_s"] = 1.0;
+  EXPECT_EQ(refusal(timed),
+            std::make_pair(std::string("format.motion_time_s"),
+                           std::string("format.motion_time_s is not part of a min-time request: "
+                                       "the search finds the motion time; bound it with "
+                                       "motion_time_max_s (default 5 s)")));
+  json robust = body_with(arc_of(0.3));
+  robust["options"]["uncertainty"] = {{"omega_error_pct", 5}};
+  EXPECT_EQ(refusal(robust),
+            std::make_pair(std::string("options.uncertainty"),
+                           std::string("options.uncertainty is not available along an arc or a "
+                                       "path yet: a plan along a path is verified at the nominal "
+                                       "model (leave options.uncertainty out, or search on a "
+                                       "straight line)")));
+  const json trajectory = body_with(json::parse(
+      R"({"type": "trajectory", "t_s": [0, 0.01, 0.02, 0.03], "x_mm": [0, 1, 2, 3],
+          "y_mm": [0, 0, 0, 0]})"));
+  EXPECT_EQ(refusal(trajectory),
+            std::make_pair(std::string("format.motion"),
+                           std::string("format.motion of type \"trajectory\": min-time moves the "
+                                       "container along a \"line\", an \"arc\" or a \"path\" (a "
+                                       "trajectory is simulated, POST /v1/simulate)")));
+  json bad = body_with(arc_of(0.3));
+  bad["format"]["motion"]["radius_mm"] = -5;
+  EXPECT_EQ(refusal(bad).first, "format.motion.radius_mm");
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+// The robustness report of a plan along an arc (SPEC §10 on the planar models): every point is
+// the planar models' peaks of the law on a model whose mode frequencies are scaled here by
+// (1 + delta), its middle point the plan's own prediction, and the interval holds where the
+// points do.
+TEST(PathRobustness, PointsAreThePlanarPeaksOfTheScaledModels) {
+  Format format = thesis_format();
+  format.motion_time = 1.2;
+  const PlanarPath arc = PlanarPath::arc(0.3, kPi / 2, true);
+  PlanOptions options;
+  options.eta_rest_max = 0.003;
+  const PlanResult plan = plan_on_path(format, arc, Strategy::kMinJerkBand, options);
+  ASSERT_TRUE(plan.robustness.has_value()) << plan.message;
+  const RobustnessReport& r = *plan.robustness;
+  ASSERT_EQ(r.points.size(), 21u);
+  const PlanarDrive drive(arc, plan.law);
+  for (const RobustnessPoint& p : r.points) {
+    SloshingModel m = plan.model;
+    for (double& w : m.omega) w *= 1.0 + p.delta;
+    const PlanarPeaks lin = planar_linear_peaks(m, drive, options.rest_time);
+    const PlanarPeaks nl = planar_nonlinear_peaks(m, drive, options.rest_time);
+    EXPECT_NEAR(p.linear.rest.value, lin.rest.value, 1e-12) << p.delta;
+    EXPECT_NEAR(p.linear.motion.value, lin.motion.value, 1e-12) << p.delta;
+    EXPECT_NEAR(p.nonlinear.rest.value, nl.rest.value, 1e-12) << p.delta;
+    EXPECT_EQ(p.holds_nonlinear, nl.rest.value <= 0.003 * (1 + 1e-9)) << p.delta;
+    if (p.delta == 0.0) {
+      EXPECT_NEAR(p.nonlinear.motion.value, plan.prediction.nonlinear.motion.value, 1e-12);
+      EXPECT_NEAR(p.nonlinear.rest.value, plan.prediction.nonlinear.rest.value, 1e-12);
+    }
+  }
+  if (r.nonlinear) {
+    EXPECT_LE(r.nonlinear->lo, 0.0);
+    EXPECT_GE(r.nonlinear->hi, 0.0);
+  }
+}
+
+}  // namespace
+}  // namespace slosh

@@ -1,0 +1,324 @@
+// Cam tables along a path (SPEC §14): the pose columns of cam_along_path and the table rotation
+// of table_rotation_rows against the circle and the line written out here, and `slosh export`
+// of a law along an arc and a path end to end with the real binary (a poly5 law, whose s(t) is
+// a closed form, so every column has an independent value), and the refusals.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstddef>
+#include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/core/law/path_cam_table.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "support/process.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using test::read_file;
+using test::run_slosh;
+using test::RunResult;
+using test::TempDir;
+using test::write_file;
+
+constexpr double kPi = std::numbers::pi;
+
+/// The pose on an arc of radius R from the origin heading +x, turning `sign` (+1 left, -1
+/// right), at arc length s: centre (0, sign R).
+struct ArcPose {
+  double x, y, heading;
+};
+ArcPose arc_pose(double R, double sign, double s) {
+  const double phi = s / R;
+  return {R * std::sin(phi), sign * R * (1.0 - std::cos(phi)), sign * phi};
+}
+
+TEST(PathCam, ArcPoseIsOnTheCircleWithTheHeadingOfTheTable) {
+  const double R = 0.3;
+  for (const double sign : {1.0, -1.0}) {
+    for (const bool turns : {true, false}) {
+      SCOPED_TRACE(testing::Message() << "sign " << sign << " turns " << turns);
+      const PlanarPath path = PlanarPath::arc(R, sign * kPi / 2, turns);
+      const SevenSegmentLaw law(uniform_durations(1.2), path.length());
+      const std::vector<CamSample> cam = sample_cam_table(law.law(), path.length(), 1e-3);
+      const std::vector<PathCamSample> rows = cam_along_path(cam, path);
+      ASSERT_EQ(rows.size(), cam.size());
+      for (std::size_t k = 0; k < rows.size(); ++k) {
+        const ArcPose want = arc_pose(R, sign, cam[k].position);
+        EXPECT_EQ(rows[k].s, cam[k].position);
+        EXPECT_EQ(rows[k].t, cam[k].t);
+        EXPECT_NEAR(rows[k].x, want.x, 1e-14) << k;
+        EXPECT_NEAR(rows[k].y, want.y, 1e-14) << k;
+        EXPECT_NEAR(rows[k].theta, turns ? want.heading : 0.0, 1e-13) << k;
+      }
+      EXPECT_NEAR(rows.back().x, R, 1e-15);
+      EXPECT_NEAR(rows.back().y, sign * R, 1e-15);
+    }
+  }
+}
+
+TEST(PathCam, LineThenArcThenLineFollowsEachElement) {
+  // 200 mm along +x, a left quarter of radius 100 mm, 150 mm along +y.
+  const PlanarPath path(
+      {PathElement::line(0.2), PathElement::arc(0.1, kPi / 2), PathElement::line(0.15)}, 0.0, true);
+  const double L = path.length();
+  ASSERT_NEAR(L, 0.35 + 0.1 * kPi / 2, 1e-15);
+  const SevenSegmentLaw law(uniform_durations(1.5), L);
+  const std::vector<PathCamSample> rows =
+      cam_along_path(sample_cam_table(law.law(), L, 5e-4), path);
+  const double arc_end = 0.2 + 0.1 * kPi / 2;
+  for (const PathCamSample& r : rows) {
+    double x = 0, y = 0, th = 0;
+    if (r.s <= 0.2) {
+      x = r.s;
+    } else if (r.s <= arc_end) {
+      const ArcPose p = arc_pose(0.1, 1.0, r.s - 0.2);
+      x = 0.2 + p.x;
+      y = p.y;
+      th = p.heading;
+    } else {
+      x = 0.3;
+      y = 0.1 + (r.s - arc_end);
+      th = kPi / 2;
+    }
+    EXPECT_NEAR(r.x, x, 1e-13) << r.t;
+    EXPECT_NEAR(r.y, y, 1e-13) << r.t;
+    EXPECT_NEAR(r.theta, th, 1e-12) << r.t;
+  }
+  EXPECT_NEAR(rows.back().x, 0.3, 1e-15);
+  EXPECT_NEAR(rows.back().y, 0.25, 1e-15);
+}
+
+TEST(PathCam, TableRotationIsTheArcAngleOfTheDistanceAndEndsOnTheAngleExactly) {
+  const double R = 0.3;
+  const PlanarPath path = PlanarPath::arc(R, -kPi / 3, true);  // a 60 degree right turn
+  ASSERT_TRUE(table_rotation_deg(path).has_value());
+  EXPECT_NEAR(*table_rotation_deg(path), -60.0, 1e-12);
+  const SevenSegmentLaw law(uniform_durations(0.9), path.length());
+  const MasterAxis axis{360.0, 30.0, 300.0, 0.5};
+  const std::vector<MasterCamSample> mm = sample_master_cam_table(law.law(), path.length(), axis);
+  const std::vector<MasterCamSample> deg = table_rotation_rows(mm, path);
+  ASSERT_EQ(deg.size(), mm.size());
+  const double per_m = -60.0 / (R * kPi / 3);  // degrees of table per metre along the arc
+  for (std::size_t k = 0; k < deg.size(); ++k) {
+    EXPECT_EQ(deg[k].master, mm[k].master);
+    EXPECT_NEAR(deg[k].position, mm[k].position * per_m, 1e-12) << k;
+    EXPECT_NEAR(deg[k].velocity, mm[k].velocity * per_m, 1e-12 * std::abs(per_m)) << k;
+    EXPECT_NEAR(deg[k].acceleration, mm[k].acceleration * per_m, 1e-12 * std::abs(per_m)) << k;
+  }
+  EXPECT_EQ(deg.back().position, *table_rotation_deg(path));
+  EXPECT_FALSE(table_rotation_deg(PlanarPath::line(0.5)).has_value());
+  EXPECT_THROW((void)table_rotation_rows(mm, PlanarPath::line(0.5)), std::invalid_argument);
+}
+
+// ---------------------------------------------------------------------------------------------
+// `slosh export` along a motion.
+
+struct Csv {
+  std::string header;
+  std::vector<std::vector<double>> rows;
+};
+
+Csv read_csv(const std::string& text) {
+  Csv out;
+  std::istringstream in(text);
+  std::getline(in, out.header);
+  std::string line;
+  while (std::getline(in, line)) {
+    std::vector<double> row;
+    std::istringstream cells(line);
+    std::string cell;
+    while (std::getline(cells, cell, ',')) row.push_back(std::stod(cell));
+    out.rows.push_back(row);
+  }
+  return out;
+}
+
+json law_request(const json& motion, double T) {
+  json r = json::parse(R"({"format": {"container": {"radius_mm": 40}, "fill_height_mm": 70,
+      "fluid": "water"}, "law": {"type": "poly5"}})");
+  r["format"]["motion"] = motion;
+  r["format"]["motion_time_s"] = T;
+  return r;
+}
+
+/// s(t) of poly5 over L in T [same unit as L].
+double poly5(double L, double T, double t) {
+  const double u = std::min(t / T, 1.0);
+  return L * u * u * u * (10.0 - 15.0 * u + 6.0 * u * u);
+}
+
+json error_of(const RunResult& r) {
+  try {
+    return json::parse(r.err);
+  } catch (const json::exception&) {
+    ADD_FAILURE() << "stderr is not JSON: " << r.err;
+  }
+  return json::object();
+}
+
+TEST(PathCamCli, ArcTableHasThePoseAndTheTableRotation) {
+  const TempDir dir;
+  for (const bool turns : {true, false}) {
+    SCOPED_TRACE(turns);
+    const json motion{
+        {"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", turns}};
+    write_file(dir / "law.json", law_request(motion, 1.2).dump());
+    const RunResult r = run_slosh(
+        {"export", "--request", (dir / "law.json").string(), "--out", (dir / "cam.csv").string()});
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    const json summary = json::parse(r.out);
+    EXPECT_EQ(summary["motion"]["type"], "arc");
+    EXPECT_NEAR(summary["motion"]["length_mm"].get<double>(), 150.0 * kPi, 1e-9);
+    EXPECT_NEAR(summary["motion"]["table_rotation_deg"].get<double>(), 90.0, 1e-12);
+    EXPECT_EQ(summary["samples"], 1201);
+    const Csv cam = read_csv(read_file(dir / "cam.csv"));
+    EXPECT_EQ(cam.header,
+              "t_s,s_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3,x_mm,y_mm,theta_deg,"
+              "table_deg");
+    ASSERT_EQ(cam.rows.size(), 1201u);
+    const double L = 150.0 * kPi;  // mm
+    for (const std::vector<double>& row : cam.rows) {
+      ASSERT_EQ(row.size(), 9u);
+      const double s = poly5(L, 1.2, row[0]);
+      const double phi = s / 300.0;
+      EXPECT_NEAR(row[1], s, 1e-9) << row[0];
+      EXPECT_NEAR(row[5], 300.0 * std::sin(phi), 1e-9) << row[0];
+      EXPECT_NEAR(row[6], 300.0 * (1.0 - std::cos(phi)), 1e-9) << row[0];
+      EXPECT_NEAR(row[7], turns ? phi * 180.0 / kPi : 0.0, 1e-9) << row[0];
+      EXPECT_NEAR(row[8], phi * 180.0 / kPi, 1e-9) << row[0];
+    }
+    EXPECT_EQ(cam.rows.back()[8], 90.0);
+  }
+}
+
+TEST(PathCamCli, RotaryTableMasterCamIsInDegreesOfTableRotation) {
+  const TempDir dir;
+  const json motion{{"type", "arc"}, {"radius_mm", 250}, {"angle_deg", -45}};
+  write_file(dir / "law.json", law_request(motion, 0.8).dump());
+  const RunResult r =
+      run_slosh({"export", "--request", (dir / "law.json").string(), "--out", "-",
+                 "--master-period", "360", "--master-start", "20", "--master-end", "200"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Csv cam = read_csv(r.out);
+  EXPECT_EQ(cam.header,
+            "master,table_deg,velocity_deg_per_unit,acceleration_deg_per_unit2,"
+            "jerk_deg_per_unit3");
+  ASSERT_EQ(cam.rows.size(), 361u);
+  for (const std::vector<double>& row : cam.rows) {
+    // The law's time at master position m: (m - 20) / 180 of 0.8 s; the table turns -45 deg.
+    const double t = std::clamp((row[0] - 20.0) / 180.0, 0.0, 1.0) * 0.8;
+    EXPECT_NEAR(row[1], poly5(-45.0, 0.8, t), 1e-11) << row[0];
+  }
+  EXPECT_EQ(cam.rows.back()[1], -45.0);
+}
+
+TEST(PathCamCli, PathMasterCamHasThePoseAtEachRow) {
+  const TempDir dir;
+  const json motion = json::parse(R"({"type": "path", "segments": [{"line_mm": 200},
+      {"arc": {"radius_mm": 100, "angle_deg": 90}}], "container_turns": true})");
+  write_file(dir / "law.json", law_request(motion, 1.0).dump());
+  const RunResult r =
+      run_slosh({"export", "--request", (dir / "law.json").string(), "--out", "-",
+                 "--master-period", "100", "--master-start", "0", "--master-end", "100"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Csv cam = read_csv(r.out);
+  EXPECT_EQ(cam.header,
+            "master,s_mm,velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3,x_mm,"
+            "y_mm,theta_deg");
+  const double L = 200.0 + 50.0 * kPi;
+  for (const std::vector<double>& row : cam.rows) {
+    const double s = poly5(L, 1.0, row[0] / 100.0);
+    EXPECT_NEAR(row[1], s, 1e-9) << row[0];
+    const double x = s <= 200.0 ? s : 200.0 + 100.0 * std::sin((s - 200.0) / 100.0);
+    const double y = s <= 200.0 ? 0.0 : 100.0 * (1.0 - std::cos((s - 200.0) / 100.0));
+    EXPECT_NEAR(row[5], x, 1e-9) << row[0];
+    EXPECT_NEAR(row[6], y, 1e-9) << row[0];
+    EXPECT_NEAR(row[7], s <= 200.0 ? 0.0 : (s - 200.0) / 100.0 * 180.0 / kPi, 1e-9) << row[0];
+  }
+}
+
+TEST(PathCamCli, APlanAlongAnArcExportsItsLawWithThePose) {
+  const TempDir dir;
+  json request = law_request({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}, 1.2);
+  request.erase("law");
+  request["strategy"] = "min_jerk_band";
+  write_file(dir / "plan.json", request.dump());
+  const RunResult r = run_slosh({"export", "--request", (dir / "plan.json").string(), "--out",
+                                 (dir / "cam.csv").string(), "--cache", ""});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json summary = json::parse(r.out);
+  EXPECT_EQ(summary["source"], "plan");
+  EXPECT_EQ(summary["motion"]["type"], "arc");
+  const Csv cam = read_csv(read_file(dir / "cam.csv"));
+  EXPECT_EQ(cam.header,
+            "t_s,s_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3,x_mm,y_mm,theta_deg,"
+            "table_deg");
+  for (const std::vector<double>& row : cam.rows) {
+    const double phi = row[1] / 300.0;
+    EXPECT_NEAR(row[5], 300.0 * std::sin(phi), 1e-9) << row[0];
+    EXPECT_NEAR(row[6], 300.0 * (1.0 - std::cos(phi)), 1e-9) << row[0];
+    EXPECT_NEAR(row[7], phi * 180.0 / kPi, 1e-9) << row[0];
+  }
+  EXPECT_EQ(cam.rows.back()[8], 90.0);
+}
+
+TEST(PathCamCli, ALineMotionExportsTheStraightLineTableUnchanged) {
+  const TempDir dir;
+  json plain = law_request(json(), 0.8);
+  plain["format"].erase("motion");
+  plain["format"]["stroke_mm"] = 500;
+  json line = law_request({{"type", "line"}, {"length_mm", 500}, {"direction_deg", 30}}, 0.8);
+  write_file(dir / "plain.json", plain.dump());
+  write_file(dir / "line.json", line.dump());
+  const RunResult a =
+      run_slosh({"export", "--request", (dir / "plain.json").string(), "--out", "-"});
+  const RunResult b =
+      run_slosh({"export", "--request", (dir / "line.json").string(), "--out", "-"});
+  ASSERT_EQ(a.exit_code, 0) << a.err;
+  ASSERT_EQ(b.exit_code, 0) << b.err;
+  EXPECT_EQ(a.out, b.out);
+}
+
+TEST(PathCamCli, RefusalsNameTheMemberOrTheOption) {
+  const TempDir dir;
+  json trajectory = law_request(json::parse(R"({"type": "trajectory", "t_s": [0, 0.01, 0.02, 0.03],
+          "x_mm": [0, 1, 2, 3], "y_mm": [0, 0, 0, 0]})"),
+                                1.0);
+  trajectory["format"].erase("motion_time_s");
+  write_file(dir / "trajectory.json", trajectory.dump());
+  RunResult r = run_slosh({"export", "--request", (dir / "trajectory.json").string(), "--out",
+                           (dir / "cam.csv").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(error_of(r)["error"]["field"], "format.motion");
+  EXPECT_EQ(error_of(r)["error"]["message"],
+            "format.motion: a trajectory cannot be exported: its samples are the motion already "
+            "(export a law along a line, an arc or a path)");
+
+  write_file(dir / "arc.json",
+             law_request({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}, 1.0).dump());
+  r = run_slosh({"export", "--request", (dir / "arc.json").string(), "--out",
+                 (dir / "cam.st").string(), "--format", "st"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(error_of(r)["error"]["field"], "--format");
+  EXPECT_EQ(error_of(r)["error"]["message"],
+            "--format st: the structured-text cam table of a motion along an arc or a path is not "
+            "available (its type holds the straight-line columns); use --format csv");
+  EXPECT_FALSE(std::filesystem::exists(dir / "cam.st"));
+
+  write_file(dir / "bad.json",
+             law_request({{"type", "arc"}, {"radius_mm", 0}, {"angle_deg", 90}}, 1.0).dump());
+  r = run_slosh({"export", "--request", (dir / "bad.json").string(), "--out", "-"});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(error_of(r)["error"]["field"], "format.motion.radius_mm");
+}
+
+}  // namespace
+}  // namespace slosh
