@@ -417,9 +417,10 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
   if (request.motion) {  // along the path: both planar models, maximised over the wall
     const SloshingModel model = make_sloshing_model(request.format, request.options.model);
     const std::optional<SevenSegmentLaw> seven = seven_segment_law(s);
-    const MotionLaw& law = seven ? seven->law() : s.law;
-    plan["series"] = spatial_series_json(model, PlanarDrive(*request.motion->path, law), &law,
-                                         request.options.rest_time, *request.sample_period);
+    const MotionLaw& drive_law = seven ? seven->law() : s.law;
+    plan["series"] =
+        spatial_series_json(model, PlanarDrive(*request.motion->path, drive_law), &drive_law,
+                            request.options.rest_time, *request.sample_period);
     return;
   }
   plan["series"] = run_simulate(s)["series"];
