@@ -255,7 +255,8 @@ void BatchJobs::judge_liveness(JobRecord& record, const std::string& id) const {
     // heartbeat newer than the record is an owner alive whose progress the store lacks.
     const auto beat = store_.heartbeat_age_ms(id);
     if (beat && *beat + kBehindMs < age && static_cast<double>(*beat) <= stale_s * 1e3) {
-      api::mark_unshared(record, std::nullopt, store_behind_text(age, *beat));
+      api::mark_unshared(record, std::nullopt,
+                         shared_ ? shared_behind_text(age, *beat) : store_behind_text(age, *beat));
       return;
     }
   }
