@@ -416,6 +416,33 @@ TEST(SharedJobs, AJobRefusedWhileRedisIsStalledIsClosedForEveryReplica) {
   for (std::size_t i = 0; i < 3; ++i) EXPECT_LE(items_of(cluster.replicas[i]), 0);
 }
 
+// Redis killed mid-job: the replica that accepted the job still answers for it with its last view
+// of the job's progress (saying why), not 503, and takes a DELETE, which it records in Redis once
+// Redis runs again (restarted empty: it publishes the job again, cancelled).
+TEST(SharedJobs, WhileRedisIsDownTheAcceptingReplicaAnswersForItsJobAndTakesItsCancel) {
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 3000);
+  ASSERT_FALSE(id.empty());
+  const int seen = wait_done(owner, id, 30).at("progress").at("done").get<int>();
+  cluster.redis.kill();
+  const json view = record_of(owner, id);
+  ASSERT_TRUE(view.is_object()) << "no 200 from the accepting replica";
+  EXPECT_EQ(view.value("state", ""), "running") << view;
+  EXPECT_GE(view.at("progress").at("done").get<int>(), seen) << view;
+  EXPECT_EQ(view["unshared"].value("reason", ""),
+            "the shared job store (Redis) cannot be reached now: this is the job's progress over "
+            "all replicas as the replica that accepted it last read it; its items wait until the "
+            "store answers again")
+      << view;
+  const auto deleted = owner.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  cluster.redis.start();
+  const json cancelled = wait_finished(owner, id);
+  EXPECT_EQ(cancelled.value("state", ""), "cancelled") << cancelled;
+}
+
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica
 // plans with it by name (before, it answered 404 on options.model), with the same plan as the
 // fitted model given inline.

@@ -140,6 +140,12 @@ std::string shared_behind_text(std::int64_t record_age_ms, std::int64_t heartbea
          "whose rows it refused are solved again once it takes writes";
 }
 
+std::string owner_view_text() {
+  return "the shared job store (Redis) cannot be reached now: this is the job's progress over "
+         "all replicas as the replica that accepted it last read it; its items wait until the "
+         "store answers again";
+}
+
 std::string results_behind_text(const std::string& id, const std::string& why) {
   return "the rows of batch job '" + id.substr(0, 64) +
          "' are not all in the shared job store (Redis): " + why +

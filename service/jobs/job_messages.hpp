@@ -65,6 +65,10 @@ struct JobKeepBounds {
 [[nodiscard]] std::string shared_behind_text(std::int64_t record_age_ms,
                                              std::int64_t heartbeat_age_ms);
 
+/// Why the record of a shared job answered by the replica that accepted it is its last view:
+/// the shared store cannot be asked now.
+[[nodiscard]] std::string owner_view_text();
+
 /// The 503 of the results of such a job: its rows are not all in the shared store.
 [[nodiscard]] std::string results_behind_text(const std::string& id, const std::string& why);
 

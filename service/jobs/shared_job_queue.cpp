@@ -273,6 +273,12 @@ SharedJobQueue::Snapshot SharedJobQueue::read(const std::string& id, bool renew)
   return out;
 }
 
+bool SharedJobQueue::request_cancel(const std::string& id) {
+  const auto reply =
+      client_->command({"SET", key(id, "cancel"), "1", "PX", std::to_string(options_.ttl.count())});
+  return reply && reply->type == RedisReply::Type::kStatus;
+}
+
 std::optional<std::string> SharedJobQueue::live_record(const std::string& id) {
   const Snapshot now = read(id, false);
   if (!now.answered || now.over || !now.status) return std::nullopt;
