@@ -18,6 +18,7 @@
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
+#include <regex>
 #include <set>
 #include <sstream>
 #include <string>
@@ -46,16 +47,18 @@ using namespace std::chrono_literals;
 constexpr const char* kStaleS = "3";
 
 /// redis-server, three replicas sharing jobs through it (one worker each, `queue` solves may wait
-/// on each) and nginx in front.
+/// on each, Redis timeout `redis_timeout_ms`) and nginx in front.
 struct SharedCluster {
-  explicit SharedCluster(const char* queue = "64") : replicas(start(redis, queue)) {}
-  static test::ReplicaSet start(const test::RedisServer& redis, const char* queue) {
+  explicit SharedCluster(const char* queue = "64", const char* redis_timeout_ms = "10000")
+      : replicas(start(redis, queue, redis_timeout_ms)) {}
+  static test::ReplicaSet start(const test::RedisServer& redis, const char* queue,
+                                const char* redis_timeout_ms) {
     ::setenv("SLOSH_BATCH_JOB_SPREAD", "replicas", 1);  // the replicas read them at start
     ::setenv("SLOSH_BATCH_JOB_STALE_S", kStaleS, 1);
-    test::ReplicaSet set{
-        3,
-        {"--cache", redis.url(), "--workers", "1", "--queue", queue, "--redis-timeout-ms", "10000"},
-        "line"};
+    test::ReplicaSet set{3,
+                         {"--cache", redis.url(), "--workers", "1", "--queue", queue,
+                          "--redis-timeout-ms", redis_timeout_ms},
+                         "line"};
     ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
     ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
     return set;
@@ -341,6 +344,103 @@ TEST(SharedJobs, AJobLargerThanEveryQueueRunsToItsEndWhileInteractivePlansAreAns
   for (const auto& [replica, rows] : done.at("shares").items()) sum += rows.get<std::size_t>();
   EXPECT_EQ(sum, 600);
   for (std::size_t i = 0; i < 3; ++i) EXPECT_GT(items_of(cluster.replicas[i]), 0);
+}
+
+/// The keys of the Redis of `cluster` matching `pattern` (KEYS), sorted; empty when it does not
+/// answer.
+std::vector<std::string> keys_of(const SharedCluster& cluster, const std::string& pattern) {
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  std::vector<std::string> out;
+  if (const auto reply = redis.command({"KEYS", pattern})) {
+    for (const auto& key : reply->elements) out.push_back(key.text);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+// Redis full (maxmemory, noeviction) mid-job refuses the rows and the record, but the replicas
+// still renew the job's heartbeat (a PEXPIRE, which a full Redis takes): past batch_job_stale_s
+// another replica reads the job as alive and behind, never as failed, and once Redis takes
+// writes again the items whose rows it refused are taken over and the job ends with the whole
+// table.
+TEST(SharedJobs, AFullRedisMidJobLeavesItAliveAndItEndsWithTheWholeTableOnceWritesAreTaken) {
+  const std::vector<std::string>& reference = reference_480();
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[1].client();
+  const std::string id = post_table(owner, 480);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(other, id, 60).at("state"), "running");
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  ASSERT_TRUE(redis.command({"CONFIG", "SET", "maxmemory-policy", "noeviction"}));
+  ASSERT_TRUE(redis.command({"CONFIG", "SET", "maxmemory", "1"}));
+  std::this_thread::sleep_for(5s);  // the fault lasts past batch_job_stale_s (3 s)
+  const json behind = record_of(other, id);
+  // Its stored record is the last one Redis took (queued or running), not failed.
+  const std::string state = behind.value("state", "");
+  EXPECT_TRUE(state == "queued" || state == "running") << behind;
+  ASSERT_TRUE(behind.contains("unshared")) << behind;
+  const std::regex reason(
+      "the replicas working on it are alive \\(its heartbeat in the shared job store is "
+      "[0-9.]+ s old\\) but could not update its record there for [0-9.]+ s: the shared store "
+      "refuses or fails their writes \\(their /readyz says why\\); the items whose rows it "
+      "refused are solved again once it takes writes");
+  EXPECT_TRUE(std::regex_match(behind["unshared"].value("reason", ""), reason)) << behind;
+  ASSERT_TRUE(redis.command({"CONFIG", "SET", "maxmemory", "0"}));
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 480);
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+// A job POSTed while Redis is stalled (SIGSTOP) past the replicas' 200 ms timeout is refused 503;
+// the publishing writes that timed out land once Redis runs again, and the replica that refused
+// the job marks it removed, so no replica takes an item of a job that nobody owns and nothing of
+// it but the mark is left.
+TEST(SharedJobs, AJobRefusedWhileRedisIsStalledIsClosedForEveryReplica) {
+  SharedCluster cluster{"64", "200"};
+  auto owner = cluster.replicas[0].client();
+  cluster.redis.pause();
+  const json body{{"table", table_of(30)}, {"table_format", "csv"}, {"format", "csv"}};
+  const auto refused = owner.Post("/v1/batches", body.dump(), "application/json");
+  cluster.redis.resume();
+  ASSERT_TRUE(refused);
+  ASSERT_EQ(refused->status, 503) << refused->body;
+  EXPECT_EQ(refused->get_header_value("Retry-After"), "1");
+  ASSERT_TRUE(test::wait_until([&] { return !keys_of(cluster, "slosh:jobs:*:removed").empty(); },
+                               std::chrono::seconds(20)));
+  ASSERT_EQ(keys_of(cluster, "slosh:jobs:*:removed").size(), 1u);
+  for (const char* part : {"spec", "items", "record", "rows", "counts"}) {
+    EXPECT_TRUE(keys_of(cluster, std::string("slosh:jobs:*:") + part).empty()) << part;
+  }
+  for (std::size_t i = 0; i < 3; ++i) EXPECT_LE(items_of(cluster.replicas[i]), 0);
+}
+
+// Redis killed mid-job: the replica that accepted the job still answers for it with its last view
+// of the job's progress (saying why), not 503, and takes a DELETE, which it records in Redis once
+// Redis runs again (restarted empty: it publishes the job again, cancelled).
+TEST(SharedJobs, WhileRedisIsDownTheAcceptingReplicaAnswersForItsJobAndTakesItsCancel) {
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 3000);
+  ASSERT_FALSE(id.empty());
+  const int seen = wait_done(owner, id, 30).at("progress").at("done").get<int>();
+  cluster.redis.kill();
+  const json view = record_of(owner, id);
+  ASSERT_TRUE(view.is_object()) << "no 200 from the accepting replica";
+  EXPECT_EQ(view.value("state", ""), "running") << view;
+  EXPECT_GE(view.at("progress").at("done").get<int>(), seen) << view;
+  EXPECT_EQ(view["unshared"].value("reason", ""),
+            "the shared job store (Redis) cannot be reached now: this is the job's progress over "
+            "all replicas as the replica that accepted it last read it; its items wait until the "
+            "store answers again")
+      << view;
+  const auto deleted = owner.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  cluster.redis.start();
+  const json cancelled = wait_finished(owner, id);
+  EXPECT_EQ(cancelled.value("state", ""), "cancelled") << cancelled;
 }
 
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica

@@ -246,6 +246,7 @@ void BatchJobs::judge_liveness(JobRecord& record, const std::string& id) const {
     const std::lock_guard lock(mutex_);
     if (active_.count(id) != 0) return;
   }
+  if (shared_ && shared_->owns(id)) return;  // its worker here beats it
   if (api::is_final(record.state)) return;
   const std::int64_t now = unix_ms_now();
   const std::int64_t age = now - record.updated_unix_ms;
@@ -255,11 +256,25 @@ void BatchJobs::judge_liveness(JobRecord& record, const std::string& id) const {
     // heartbeat newer than the record is an owner alive whose progress the store lacks.
     const auto beat = store_.heartbeat_age_ms(id);
     if (beat && *beat + kBehindMs < age && static_cast<double>(*beat) <= stale_s * 1e3) {
-      api::mark_unshared(record, std::nullopt, store_behind_text(age, *beat));
+      api::mark_unshared(record, std::nullopt,
+                         shared_ ? shared_behind_text(age, *beat) : store_behind_text(age, *beat));
       return;
     }
   }
   mark_if_stale(record, now, stale_s);
+}
+
+JobRecord BatchJobs::load(const std::string& id) const {
+  try {
+    return load_record(store_, id, service_.config());
+  } catch (const api::ApiError& e) {
+    if (!shared_ || e.code() != api::ErrorCode::kUnavailable) throw;
+    const auto own = shared_->owned_record(id);
+    auto record = own ? api::parse_job_record(*own) : std::nullopt;
+    if (!record) throw;
+    api::mark_unshared(*record, std::nullopt, owner_view_text());
+    return std::move(*record);
+  }
 }
 
 std::string BatchJobs::record_text(Job& job) {
@@ -339,7 +354,7 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     const ServerConfig& config = service_.config();
     const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
-    JobRecord record = load_record(store_, id, config);
+    JobRecord record = load(id);
     // A shared job's progress as of now, not of the last heartbeat, while some replica rewrites
     // its record (once none has for a while, the stored record is judged as it is).
     if (shared_ && !api::is_final(record.state) &&
@@ -348,6 +363,8 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
         if (auto now = api::parse_job_record(*live)) record = std::move(*now);
       }
     }
+    // The latest view of a job posted here, answered while Redis cannot be asked.
+    if (shared_ && !record.unshared) shared_->note_view(id, api::job_record_text(record));
     judge_liveness(record, id);
     if (const auto kept = store_.unshared(id)) {  // this replica runs it, the store is behind
       api::mark_unshared(record, kept->rows, kept->reason);
@@ -372,9 +389,8 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
 Reply BatchJobs::results(const std::string& id, TableFormat format,
                          const std::vector<std::string>& partial) {
   return guarded_reply([&] {
-    const ServerConfig& config = service_.config();
     const bool accept_partial = partial_of(partial);
-    JobRecord record = load_record(store_, id, config);
+    JobRecord record = load(id);
     judge_liveness(record, id);
     const JobState state = record.state;
     const std::size_t stored = record.done;
@@ -408,8 +424,7 @@ Reply BatchJobs::results(const std::string& id, TableFormat format,
 
 Reply BatchJobs::cancel(const std::string& id) {
   return guarded_reply([&] {
-    const ServerConfig& config = service_.config();
-    JobRecord record = load_record(store_, id, config);
+    JobRecord record = load(id);
     judge_liveness(record, id);
     if (api::is_final(record.state)) {
       store_.remove(id);
@@ -425,6 +440,8 @@ Reply BatchJobs::cancel(const std::string& id) {
         here = true;
       }
     }
+    // A shared job posted here: its worker sets the flag once Redis answers.
+    if (!recorded && !here && shared_) here = shared_->cancel_later(id);
     if (!recorded && !here) {
       // Another replica runs the job and only the shared store can tell it: a cancel that was
       // not recorded must not be answered as accepted.

@@ -129,6 +129,9 @@ class BatchJobs {
   // owner's heartbeat in the shared store says it is alive (then "unshared" says the record
   // there is behind).
   void judge_liveness(JobRecord& record, const std::string& id) const;
+  // The record of job `id` (load_record()); while the store cannot be asked, a shared job
+  // posted here answers with this replica's last view of it, marked unshared.
+  [[nodiscard]] JobRecord load(const std::string& id) const;
   // Whether the job is to be cancelled (`ask_store`: also polls the store's flag).
   [[nodiscard]] bool cancelled(Job& job, bool ask_store);
   [[nodiscard]] bool stopping() const;

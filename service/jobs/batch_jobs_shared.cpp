@@ -19,6 +19,10 @@ Reply BatchJobs::post_shared(Job& job) {
   reply.headers.emplace_back("Location", "/v1/batches/" + job.status.id);
   // Accepted only once every replica can find it and take its items.
   if (auto refused = shared_->publish(job.status, std::move(job.rows))) {
+    // Nobody learns the id of a refused job, but its writes that timed out may land once Redis
+    // answers again: its items would then be taken by every replica for a job no one owns. Its
+    // removal mark (sent again at every heartbeat until Redis takes it) closes it for them all.
+    (void)store_.remove(job.status.id);
     throw api::ApiError(api::ErrorCode::kUnavailable, "",
                         *refused + "; the job was not started: POST it again later");
   }

@@ -132,6 +132,20 @@ std::string store_behind_text(std::int64_t record_age_ms, std::int64_t heartbeat
          "them (it refuses or fails the writes; that replica's /readyz says why)";
 }
 
+std::string shared_behind_text(std::int64_t record_age_ms, std::int64_t heartbeat_age_ms) {
+  return "the replicas working on it are alive (its heartbeat in the shared job store is " +
+         seconds_of_ms(heartbeat_age_ms) + " old) but could not update its record there for " +
+         seconds_of_ms(record_age_ms) +
+         ": the shared store refuses or fails their writes (their /readyz says why); the items "
+         "whose rows it refused are solved again once it takes writes";
+}
+
+std::string owner_view_text() {
+  return "the shared job store (Redis) cannot be reached now: this is the job's progress over "
+         "all replicas as the replica that accepted it last read it; its items wait until the "
+         "store answers again";
+}
+
 std::string results_behind_text(const std::string& id, const std::string& why) {
   return "the rows of batch job '" + id.substr(0, 64) +
          "' are not all in the shared job store (Redis): " + why +

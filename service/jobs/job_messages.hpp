@@ -60,6 +60,14 @@ struct JobKeepBounds {
 /// since are held on that replica (the shared store refuses or fails its writes).
 [[nodiscard]] std::string store_behind_text(std::int64_t record_age_ms,
                                             std::int64_t heartbeat_age_ms);
+/// The same for a job shared out to the replicas (batch_job_spread = "replicas"): no replica
+/// holds rows of it; the items whose rows the store refused are solved again once it takes them.
+[[nodiscard]] std::string shared_behind_text(std::int64_t record_age_ms,
+                                             std::int64_t heartbeat_age_ms);
+
+/// Why the record of a shared job answered by the replica that accepted it is its last view:
+/// the shared store cannot be asked now.
+[[nodiscard]] std::string owner_view_text();
 
 /// The 503 of the results of such a job: its rows are not all in the shared store.
 [[nodiscard]] std::string results_behind_text(const std::string& id, const std::string& why);

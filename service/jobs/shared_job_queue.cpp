@@ -273,6 +273,12 @@ SharedJobQueue::Snapshot SharedJobQueue::read(const std::string& id, bool renew)
   return out;
 }
 
+bool SharedJobQueue::request_cancel(const std::string& id) {
+  const auto reply =
+      client_->command({"SET", key(id, "cancel"), "1", "PX", std::to_string(options_.ttl.count())});
+  return reply && reply->type == RedisReply::Type::kStatus;
+}
+
 std::optional<std::string> SharedJobQueue::live_record(const std::string& id) {
   const Snapshot now = read(id, false);
   if (!now.answered || now.over || !now.status) return std::nullopt;
@@ -293,8 +299,12 @@ SharedJobQueue::Fate SharedJobQueue::beat(const std::string& id) {
   JobStatus& s = *now.status;
   const bool cancel = s.cancel_requested;
   if (!cancel && s.done < s.total) {
-    return write_record(id, api::job_record_text(s, unix_ms_now()), false) ? Fate::kRunning
-                                                                           : Fate::kUnknown;
+    if (write_record(id, api::job_record_text(s, unix_ms_now()), false)) return Fate::kRunning;
+    // A full Redis (maxmemory, noeviction) refuses the record but takes the heartbeat's
+    // PEXPIRE: the other replicas then read the job as alive and behind, not as stopped.
+    (void)client_->command({"PEXPIRE", key(id, "alive"),
+                            std::to_string(std::max<std::int64_t>(1, options_.alive.count()))});
+    return Fate::kUnknown;
   }
   s.finished_ms = unix_ms_now();
   s.state = cancel ? JobState::kCancelled : JobState::kDone;

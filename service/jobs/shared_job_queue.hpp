@@ -100,6 +100,10 @@ class SharedJobQueue {
   /// heartbeat's record); nullopt when it has finished, Redis does not hold it or cannot be asked.
   [[nodiscard]] std::optional<std::string> live_record(const std::string& id);
 
+  /// Sets the cancel flag of job `id` (as a DELETE through any replica does); whether Redis took
+  /// it.
+  bool request_cancel(const std::string& id);
+
   [[nodiscard]] const SharedQueueOptions& options() const { return options_; }
 
  private:

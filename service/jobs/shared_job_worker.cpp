@@ -67,7 +67,7 @@ std::optional<std::string> SharedJobWorker::publish(const JobStatus& status,
   if (auto refused = queue_.publish(status, recipes)) return refused;
   {
     const std::lock_guard lock(mutex_);
-    owned_[status.id] = Owned{status, std::move(recipes)};
+    owned_[status.id] = Owned{status, std::move(recipes), "", false};
   }
   wake_.notify_all();
   return std::nullopt;
@@ -87,12 +87,30 @@ std::vector<std::string> SharedJobWorker::heartbeat(std::vector<InFlight>& fligh
       running.push_back(id);
     }
   }
+  beat_owned(beaten, over, running);
+  // The items of a job that is over are not stored (their solves finish on the pool anyway).
+  flight.erase(std::remove_if(flight.begin(), flight.end(),
+                              [&](const InFlight& f) { return over.count(f.job) != 0; }),
+               flight.end());
+  std::map<std::string, std::vector<std::string>> held;
+  for (const InFlight& f : flight) held[f.job].push_back(f.item.entry);
+  for (const auto& [id, entries] : held) queue_.keep(id, entries);
+  return running;
+}
+
+void SharedJobWorker::beat_owned(const std::set<std::string>& beaten,
+                                 const std::set<std::string>& over,
+                                 std::vector<std::string>& running) {
   std::vector<std::pair<std::string, Owned>> owned;
   {
     const std::lock_guard lock(mutex_);
     owned.assign(owned_.begin(), owned_.end());
   }
   for (auto& [id, job] : owned) {
+    if (job.cancel && queue_.request_cancel(id)) {
+      const std::lock_guard lock(mutex_);
+      if (auto it = owned_.find(id); it != owned_.end()) it->second.cancel = false;
+    }
     SharedJobQueue::Fate fate = SharedJobQueue::Fate::kRunning;
     if (beaten.count(id) == 0 || over.count(id) != 0) fate = queue_.beat(id);
     if (fate == SharedJobQueue::Fate::kGone) {
@@ -102,19 +120,45 @@ std::vector<std::string> SharedJobWorker::heartbeat(std::vector<InFlight>& fligh
       if (!queue_.publish(job.status, job.recipes)) running.push_back(id);
       continue;
     }
+    const std::lock_guard lock(mutex_);
     if (fate == SharedJobQueue::Fate::kFinished) {
-      const std::lock_guard lock(mutex_);
       owned_.erase(id);
+      continue;
+    }
+    if (fate != SharedJobQueue::Fate::kRunning) continue;
+    if (auto live = queue_.live_record(id)) {
+      if (auto it = owned_.find(id); it != owned_.end()) it->second.last_record = std::move(*live);
     }
   }
-  // The items of a job that is over are not stored (their solves finish on the pool anyway).
-  flight.erase(std::remove_if(flight.begin(), flight.end(),
-                              [&](const InFlight& f) { return over.count(f.job) != 0; }),
-               flight.end());
-  std::map<std::string, std::vector<std::string>> held;
-  for (const InFlight& f : flight) held[f.job].push_back(f.item.entry);
-  for (const auto& [id, entries] : held) queue_.keep(id, entries);
-  return running;
+}
+
+std::optional<std::string> SharedJobWorker::owned_record(const std::string& id) const {
+  const std::lock_guard lock(mutex_);
+  const auto it = owned_.find(id);
+  if (it == owned_.end()) return std::nullopt;
+  if (!it->second.last_record.empty()) return it->second.last_record;
+  return api::job_record_text(it->second.status, unix_ms_now());
+}
+
+void SharedJobWorker::note_view(const std::string& id, std::string record) {
+  const std::lock_guard lock(mutex_);
+  if (auto it = owned_.find(id); it != owned_.end()) it->second.last_record = std::move(record);
+}
+
+bool SharedJobWorker::owns(const std::string& id) const {
+  const std::lock_guard lock(mutex_);
+  return owned_.count(id) != 0;
+}
+
+bool SharedJobWorker::cancel_later(const std::string& id) {
+  {
+    const std::lock_guard lock(mutex_);
+    const auto it = owned_.find(id);
+    if (it == owned_.end()) return false;
+    it->second.cancel = true;
+  }
+  wake_.notify_all();
+  return true;
 }
 
 bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InFlight>& flight) {

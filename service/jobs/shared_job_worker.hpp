@@ -14,6 +14,7 @@
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <string>
 #include <thread>
 #include <vector>
@@ -47,6 +48,17 @@ class SharedJobWorker {
   }
   /// Jobs posted here that have not finished.
   [[nodiscard]] std::size_t owned() const;
+  /// The record of job `id` as this replica last read it from Redis (its progress over all
+  /// replicas at the last heartbeat) when the job was posted here and has not finished; nullopt
+  /// otherwise. Answers for it while Redis cannot be asked.
+  [[nodiscard]] std::optional<std::string> owned_record(const std::string& id) const;
+  /// Keeps `record` (text) as this replica's latest view of job `id` when it was posted here.
+  void note_view(const std::string& id, std::string record);
+  /// Whether job `id` was posted here and has not finished.
+  [[nodiscard]] bool owns(const std::string& id) const;
+  /// Asks to cancel job `id` posted here: its cancel flag is set in Redis at the next heartbeat
+  /// that Redis answers. Whether the job was posted here and has not finished.
+  bool cancel_later(const std::string& id);
 
  private:
   struct InFlight;
@@ -70,7 +82,13 @@ class SharedJobWorker {
   struct Owned {
     JobStatus status;
     std::vector<RecipeRow> recipes;
+    std::string last_record;  // as last read from Redis ("" before the first read)
+    bool cancel{false};       // a DELETE here that Redis has not taken yet
   };
+  // Beats the jobs posted here (publishing again those Redis lost, sending their cancels);
+  // `beaten`/`over`: the shared jobs already beaten and those over. Adds the running ones.
+  void beat_owned(const std::set<std::string>& beaten, const std::set<std::string>& over,
+                  std::vector<std::string>& running);
   std::map<std::string, Owned> owned_;  // jobs posted here, until they have finished
   std::thread thread_;                  // last: started once the members above exist
 };
