@@ -160,21 +160,31 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
   }
   // "version" names the numerics (bumped with them, as before the slosh version was part of the
   // key); "slosh_version" the release that plans: an upgrade never answers with an older plan.
-  return {{"version", kPlannerVersion},
-          {"slosh_version", version},
-          {"format",
-           {{"radius_m", f.container.radius},
-            {"height_m", optional(f.container.height)},
-            {"fill_height_m", f.fill_height},
-            {"density_kg_m3", f.fluid.density},
-            {"viscosity_pa_s", f.fluid.viscosity},
-            // The plan echoes the fluid's name: two names are two answers (a cached plan never
-            // shows one client's fluid name to another).
-            {"fluid_name", f.fluid.name},
-            {"stroke_m", f.stroke},
-            {"motion_time_s", f.motion_time}}},
-          {"strategy", to_string(r.strategy)},
-          {"options", std::move(options)}};
+  nlohmann::json recipe = {{"version", kPlannerVersion},
+                           {"slosh_version", version},
+                           {"format",
+                            {{"radius_m", f.container.radius},
+                             {"height_m", optional(f.container.height)},
+                             {"fill_height_m", f.fill_height},
+                             {"density_kg_m3", f.fluid.density},
+                             {"viscosity_pa_s", f.fluid.viscosity},
+                             // The plan echoes the fluid's name: two names are two answers (a
+                             // cached plan never shows one client's fluid name to another).
+                             {"fluid_name", f.fluid.name},
+                             {"stroke_m", f.stroke},
+                             {"motion_time_s", f.motion_time}}},
+                           {"strategy", to_string(r.strategy)},
+                           {"options", std::move(options)}};
+  // A rectangular container is another answer; the cylinder's keys stay as they were.
+  if (const auto& t = f.container.rectangular) {
+    nlohmann::json& format = recipe["format"];
+    format.erase("radius_m");
+    format["shape"] = "rectangular";
+    format["length_m"] = t->length;
+    format["width_m"] = t->width;
+    format["orientation_deg"] = t->orientation_deg;
+  }
+  return recipe;
 }
 
 std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry,
@@ -323,6 +333,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["law"] = law_json(r.law, r.durations);
   if (r.design) out["design"] = design_json(*r.design);
   out["model"] = model_json(r.model, request.options.model);
+  if (r.rectangular) add_rectangular_model(out["model"], *r.rectangular, request.options.model);
   out["prediction"] = prediction_json(r.prediction);
   out["baseline"] = prediction_json(r.baseline);
   out["baseline"]["durations_s"] = uniform_durations(request.format.motion_time);
