@@ -201,9 +201,9 @@ TEST(RectangularNonlinear, SquareTankAt45DegreesIsSymmetric) {
 }
 
 TEST(RectangularNonlinear, ShallowFillAnswersLinearlyAndSaysWhy) {
-  // h / L = 0.2 along the length (below 0.24); the width direction (h / W = 0.333) alone would
+  // h / L = 0.2 along the length (below 0.24); the width direction (h / W = 0.4) alone would
   // be in range.
-  const RectangularModel model = make_rectangular_model({0.1, 0.06, 30.0}, 0.02, water());
+  const RectangularModel model = make_rectangular_model({0.1, 0.05, 30.0}, 0.02, water());
   const MotionLaw law = make_poly5_law(0.02, 0.5);
   const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
   EXPECT_FALSE(p.nonlinear);
@@ -215,7 +215,7 @@ TEST(RectangularNonlinear, ShallowFillAnswersLinearlyAndSaysWhy) {
   EXPECT_EQ(p.peaks.highest.motion.value, lin.highest.motion.value);
   EXPECT_EQ(p.peaks.highest.rest.value, lin.highest.rest.value);
   // Moved along the width only, the same tank is in range.
-  const RectangularModel across = make_rectangular_model({0.1, 0.06, 90.0}, 0.02, water());
+  const RectangularModel across = make_rectangular_model({0.1, 0.05, 90.0}, 0.02, water());
   EXPECT_TRUE(rectangular_nonlinear_peaks(across, law, 1.0).nonlinear);
 }
 
