@@ -74,7 +74,7 @@ StandingWave hos_standing_wave(double L, double h, double ka) {
   HosTank::State s{std::vector<double>(modes, 0.0), std::vector<double>(modes, 0.0)};
   s.eta[1] = A;
   s.eta[2] = k * A * A / 8 * ((1 / T + T) + (3 / (T * T * T) - 1 / T));
-  const double period = 2 * kPi / hos.omega(1), dt = period / 400;
+  const double period = 2 * kPi / hos.omega(1), dt = period / 100;
   auto still = [](double) { return 0.0; };
   std::vector<double> zeros, times, second;
   double t = 0, previous = s.eta[1];
@@ -145,7 +145,7 @@ double hos_peak_wall(double L, double h, const MotionLaw& law, double rest) {
   const int modes = 24;
   const HosTank hos(L, h, modes, 4);
   HosTank::State s{std::vector<double>(modes, 0.0), std::vector<double>(modes, 0.0)};
-  const double T = law.duration(), dt = 2e-4;
+  const double T = law.duration(), dt = 1e-3;
   auto acc = [&law, T](double t) { return t < T ? law.at(t).acceleration : 0.0; };
   double t = 0, peak = 0;
   while (t < T + rest - 1e-12) {
