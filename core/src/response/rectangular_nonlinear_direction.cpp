@@ -60,14 +60,16 @@ void RectangularNonlinearDirection::integrate_second_mode(const SloshingModel& m
                                                           const MotionLaw& law, double rest_time) {
   const double s2 = mode2_.sigma2;
   const double k_raw = model.K / gain_;  // beta_1 = k_raw xbar without the height gain
-  // b_2'' from b_2, b_2' at t, the acceleration a of the piece holding t.
-  auto rhs = [&](double t, double b, double v, double a) {
+  // The right-hand side's forcing -d4 beta_1 beta_1'' - d5 beta_1'^2 at t, for the acceleration
+  // a of the piece holding t (it does not depend on b_2: three evaluations a step, the last one
+  // the next step's first within a stretch).
+  auto forcing = [&](double t, double a) {
     const ModeState s = first_.state(t);
     const double x_dd = nonlinear_acceleration(model, s.x, s.x_dot, a);
     const double beta = k_raw * s.x, beta_dot = k_raw * s.x_dot, beta_dd = k_raw * x_dd;
-    return -2.0 * zeta_ * s2 * v - s2 * s2 * b - mode2_.d4 * beta * beta_dd -
-           mode2_.d5 * beta_dot * beta_dot;
+    return -mode2_.d4 * beta * beta_dd - mode2_.d5 * beta_dot * beta_dot;
   };
+  auto rhs = [&](double b, double v, double f) { return -2.0 * zeta_ * s2 * v - s2 * s2 * b + f; };
   const double h_max = 2.0 * std::numbers::pi / s2 / kStepsPerSecondModePeriod;
   double b = 0.0, v = 0.0;
   t_.assign(1, 0.0);
@@ -77,18 +79,21 @@ void RectangularNonlinearDirection::integrate_second_mode(const SloshingModel& m
   auto stretch = [&](double t0, double length, const auto& acc) {
     const std::size_t n = step_count(length, h_max, 1);
     const double h = length / static_cast<double>(n);
+    double f0 = forcing(t0, acc(t0));
     for (std::size_t i = 0; i < n; ++i) {
       const double t = t0 + h * static_cast<double>(i);
-      const double a0 = acc(t), am = acc(t + 0.5 * h), a1 = acc(t + h);
-      const double k1b = v, k1v = rhs(t, b, v, a0);
-      const double k2b = v + 0.5 * h * k1v, k2v = rhs(t + 0.5 * h, b + 0.5 * h * k1b, k2b, am);
-      const double k3b = v + 0.5 * h * k2v, k3v = rhs(t + 0.5 * h, b + 0.5 * h * k2b, k3b, am);
-      const double k4b = v + h * k3v, k4v = rhs(t + h, b + h * k3b, k4b, a1);
+      const double fm = forcing(t + 0.5 * h, acc(t + 0.5 * h));
+      const double f1 = forcing(t + h, acc(t + h));
+      const double k1b = v, k1v = rhs(b, v, f0);
+      const double k2b = v + 0.5 * h * k1v, k2v = rhs(b + 0.5 * h * k1b, k2b, fm);
+      const double k3b = v + 0.5 * h * k2v, k3v = rhs(b + 0.5 * h * k2b, k3b, fm);
+      const double k4b = v + h * k3v, k4v = rhs(b + h * k3b, k4b, f1);
       b += h / 6.0 * (k1b + 2.0 * k2b + 2.0 * k3b + k4b);
       v += h / 6.0 * (k1v + 2.0 * k2v + 2.0 * k3v + k4v);
       t_.push_back(t0 + h * static_cast<double>(i + 1));
       b_.push_back(b);
       b_dot_.push_back(v);
+      f0 = f1;
     }
   };
   for (const LawPiece& p : law.pieces()) {
