@@ -14,6 +14,7 @@
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/response/rectangular_nonlinear_direction.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 
 namespace slosh {
@@ -268,6 +269,35 @@ TEST(RectangularNonlinear, LargeResponseAnswersLinearlyAndSaysWhy) {
   EXPECT_EQ(p.warning.substr(p.warning.size() - tail.size()), tail);
   EXPECT_EQ(p.peaks.highest.motion.value,
             RectangularLinearResponse(model, law, 1.0).peaks().highest.motion.value);
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+TEST(RectangularNonlinear, CalibrationScalesTheSecondModeAlike) {
+  // omega_scale moves the second mode's frequency with the first; height_gain scales the whole
+  // wall (dominant, second and higher modes) by the same factor.
+  const double L = 0.1, W = 0.07, h = 0.04;
+  RectangularModelOptions calibrated;
+  calibrated.omega_scale = 1.1;
+  calibrated.height_gain = 2.0;
+  const RectangularModel plain = make_rectangular_model({L, W, 0.0}, h, water());
+  const RectangularModel scaled = make_rectangular_model({L, W, 0.0}, h, water(), calibrated);
+  EXPECT_NEAR(rectangular_second_mode(scaled.along_length).sigma2 /
+                  rectangular_second_mode(plain.along_length).sigma2,
+              1.1, 1e-12);
+  RectangularModelOptions gain_only;
+  gain_only.height_gain = 2.0;
+  const RectangularModel doubled = make_rectangular_model({L, W, 0.0}, h, water(), gain_only);
+  const MotionLaw law = make_poly5_law(0.01, 0.5);
+  const RectangularNonlinearPeaks one = rectangular_nonlinear_peaks(plain, law, 1.0);
+  const RectangularNonlinearPeaks two = rectangular_nonlinear_peaks(doubled, law, 1.0);
+  ASSERT_TRUE(one.nonlinear && two.nonlinear);
+  EXPECT_NEAR(two.peaks.highest.motion.value / one.peaks.highest.motion.value, 2.0, 1e-9);
+  EXPECT_NEAR(two.peaks.highest.rest.value / one.peaks.highest.rest.value, 2.0, 1e-9);
 }
 
 }  // namespace
