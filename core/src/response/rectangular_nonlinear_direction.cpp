@@ -49,7 +49,10 @@ RectangularNonlinearDirection::RectangularNonlinearDirection(const SloshingModel
     higher_.emplace(higher, law, rest_time);
   }
   integrate_second_mode(model, law, rest_time);
-  const double period = 2.0 * std::numbers::pi / std::max(model.omega1(), mode2_.sigma2);
+  // The fastest of the model's modes and the second mode sets the sampling.
+  const double fastest =
+      std::max(*std::max_element(model.omega.begin(), model.omega.end()), mode2_.sigma2);
+  const double period = 2.0 * std::numbers::pi / fastest;
   peak_step_ = std::min(kMaxPeakStep, period / kSamplesPerPeriod);
   const double T = law.duration();
   auto wall_at = [this](double t) { return wall(t); };

@@ -49,7 +49,7 @@ class RectangularNonlinearDirection {
   /// Higher wall at t: |eta_odd| + |eta_even| [m].
   [[nodiscard]] double wall(double t) const;
   /// Peaks of wall(t) in the motion and rest windows (sampled at <= 1 ms and <= 1/64 of the
-  /// second mode's period, refined by golden section).
+  /// period of the fastest mode, the second one included, refined by golden section).
   [[nodiscard]] SloshPeaks peaks() const { return peaks_; }
   /// Sampling step of the peak searches [s].
   [[nodiscard]] double peak_step() const { return peak_step_; }
