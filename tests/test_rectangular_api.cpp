@@ -9,9 +9,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/calibration_json.hpp"
+#include "slosh/api/format_json.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
+#include "slosh/core/response/response.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "support/plan_errors.hpp"
 #include "support/process.hpp"
@@ -90,6 +94,68 @@ TEST(RectangularApi, RefusalsNameTheMemberTheValueAndTheRange) {
                  "options.uncertainty is planned for a rectangular tank square to the motion "
                  "only (orientation 0, 90, -90 or 180 degrees); at 30 degrees both of its "
                  "directions move");
+}
+
+TEST(RectangularApi, TheCylindersModelOptionsAreRefusedForARectangularContainer) {
+  const std::string why =
+      " applies to the cylinder's model only: a rectangular container's damping is its "
+      "boundary layer's unless a zeta is given, and its nonlinear coefficient follows from its "
+      "depth (docs/models.md)";
+  json alpha = cup_request();
+  alpha["options"]["alpha"] = 0.58;
+  expect_refusal(alpha, "options.alpha", "options.alpha" + why);
+  json paper = cup_request();
+  paper["options"]["damping"] = "paper";
+  expect_refusal(paper, "options.damping", "options.damping = \"paper\"" + why);
+  json model_alpha = cup_request();
+  model_alpha["options"]["model"] = {{"alpha", 0.5}};
+  expect_refusal(model_alpha, "options.model.alpha", "options.model.alpha" + why);
+  // A measured damping ratio is the rectangular tank's too.
+  json zeta = cup_request();
+  zeta["options"]["damping"] = {{"zeta", 0.02}};
+  EXPECT_EQ(api::parse_plan_request(zeta).options.model.explicit_zeta, 0.02);
+}
+
+/// A calibration of the cup moved along L from a series of the model with omega_scale 1.05 and
+/// height_gain 0.9.
+json cup_calibration(double orientation) {
+  json body = {{"format", cup_request()["format"]}};
+  body["format"]["container"]["orientation_deg"] = orientation;
+  body["format"]["stroke_mm"] = 100;
+  const Format f = api::parse_request_format(body);
+  ModelOptions truth;
+  truth.omega_scale = 1.05;
+  truth.height_gain = 0.9;
+  const NonlinearResponse response(make_sloshing_model(f, truth),
+                                   make_modified_trapezoid_law(0.1, 0.8), 1.2);
+  json t = json::array(), eta = json::array();
+  for (int k = 0; k <= 100; ++k) {
+    t.push_back(0.02 * k);
+    eta.push_back(response.eta(0.02 * k) * 1e3);
+  }
+  body["moves"] = json::array({{{"motion_time_s", 0.8},
+                                {"law", {{"type", "modified_trapezoid"}}},
+                                {"series", {{"t_s", t}, {"eta_mm", eta}}}}});
+  body["fit"] = {{"zeta", {{"fit", false}}}};
+  return body;
+}
+
+TEST(RectangularApi, CalibrationFitsTheDirectionMovedAndHoldsTheTheorysAlpha) {
+  const json out = api::run_calibration(api::parse_calibration_request(cup_calibration(0.0)));
+  EXPECT_EQ(out["status"], "converged") << out.dump();
+  EXPECT_NEAR(out["model"]["omega_scale"].get<double>(), 1.05, 1e-5);
+  EXPECT_NEAR(out["model"]["height_gain"].get<double>(), 0.9, 1e-5);
+  EXPECT_FALSE(out["model"].contains("alpha"));
+  try {
+    (void)api::parse_calibration_request(cup_calibration(30.0));
+    ADD_FAILURE() << "a turned tank was calibrated";
+  } catch (const api::ApiError& e) {
+    EXPECT_EQ(e.field(), "format.container.orientation_deg");
+    EXPECT_STREQ(e.what(),
+                 "format.container.orientation_deg = 30: a rectangular container is calibrated "
+                 "by moves along one of its sides (orientation 0, 90, -90 or 180 degrees), each "
+                 "exciting one direction");
+  }
 }
 
 TEST(RectangularApi, FormatEchoAndRecipeKeyCarryTheShape) {

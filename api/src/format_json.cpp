@@ -127,11 +127,8 @@ Format parse_format(const nlohmann::json& format, const std::string& path) {
                         {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"});
   const std::string cpath = join_path(path, "container");
   auto it = format.find("container");
-  if (it == format.end()) {
-    invalid(cpath, cpath +
-                       " is required: {\"radius_mm\"} and optionally \"height_mm\", or "
-                       "{\"shape\": \"rectangular\", \"length_mm\", \"width_mm\"}");
-  }
+  if (it == format.end())
+    invalid(cpath, cpath + " is required: {\"radius_mm\"} and optionally \"height_mm\"");
   require_object(*it, cpath);
   Format f;
   f.container = parse_container(*it, cpath);
@@ -218,6 +215,27 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
   std::erase(names, name_of(DampingCorrelation::kExplicit));  // given as {"zeta": z}
   invalid(dpath, dpath + " = " + show(*it) + " is not allowed: one of " + quoted_names(names) +
                      " or {\"zeta\": z} with 0 <= z < 0.5");
+}
+
+void refuse_cylinder_model_options(const Format& format, const nlohmann::json& options,
+                                   const std::string& path) {
+  if (!format.container.rectangular || !options.is_object()) return;
+  const std::string why =
+      " applies to the cylinder's model only: a rectangular container's damping is its "
+      "boundary layer's unless a zeta is given, and its nonlinear coefficient follows from its "
+      "depth (docs/models.md)";
+  const std::string dpath = join_path(path, "damping");
+  if (const nlohmann::json* d = given_member(options, "damping"); d != nullptr && d->is_string()) {
+    invalid(dpath, dpath + " = " + show(*d) + why);
+  }
+  if (given_member(options, "alpha") != nullptr) {
+    invalid(join_path(path, "alpha"), join_path(path, "alpha") + why);
+  }
+  const nlohmann::json* m = given_member(options, "model");
+  if (m != nullptr && m->is_object() && given_member(*m, "alpha") != nullptr) {
+    const std::string apath = join_path(join_path(path, "model"), "alpha");
+    invalid(apath, apath + why);
+  }
 }
 
 nlohmann::json format_json(const Format& f) {

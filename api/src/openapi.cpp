@@ -347,6 +347,43 @@ void add_simulate_request_schemas(json& s) {
 
 // ---- response schemas ----------------------------------------------------------------------
 
+/// Prediction: both models' peaks (and a rectangular container's directions in a simulation).
+void add_prediction_schema(json& s) {
+  s["Prediction"] =
+      object({{"nonlinear", ref("Peaks")},
+              {"linear", ref("Peaks")},
+              {"directions",
+               object({{"length", ref("Peaks")}, {"width", ref("Peaks")}}, {"length", "width"},
+                      "A rectangular container's simulation: each direction's own walls "
+                      "(nonlinear model, or linear outside its range).",
+                      false)}},
+             {"nonlinear", "linear"},
+             "Predictions of the dense accurate simulation of both models.", false);
+}
+
+/// Model.rectangular: a rectangular tank's two directions.
+void add_rectangular_model_schema(json& s) {
+  json direction = object(
+      {{"excited", boolean("Whether the motion drives this direction (share != 0).")},
+       {"component", number("Share c of the acceleration along the motion: cos(orientation) "
+                            "along L, sin(orientation) along W [-].")},
+       {"side_mm", number("The side along this direction [mm].")},
+       {"omega_rad_s", numbers("omega_n = sqrt(g k_n tanh(k_n h)), k_n = (2n-1) pi / side.")},
+       {"f_hz", numbers("[Hz].")},
+       {"zeta", number("Damping ratio [-].")},
+       {"alpha", number("Duffing coefficient of the dominant mode [-].")},
+       {"K_mm", number("Nonlinear height gain [mm].")},
+       {"sloshing_mass_kg", numbers("Sloshing masses [kg].")},
+       {"eta_gain", numbers("Linear wall-height gains per mode [-].")}},
+      {"excited", "component", "side_mm", "omega_rad_s", "f_hz", "zeta", "alpha", "K_mm",
+       "sloshing_mass_kg", "eta_gain"},
+      "", false);
+  s["RectangularModel"] =
+      object({{"length", direction}, {"width", direction}, {"orientation_deg", number("[deg]")}},
+             {"length", "width", "orientation_deg"},
+             "A rectangular tank's two directions (SPEC §15).", false);
+}
+
 void add_shared_response_schemas(json& s) {
   s["ResolvedFluid"] = object({{"name", text("Catalogue name, the caller's name or \"custom\".")},
                                {"density_kg_m3", number("Density [kg/m^3].")},
@@ -399,25 +436,7 @@ void add_shared_response_schemas(json& s) {
       "most excited direction driven by the whole acceleration along the motion (its share c: "
       "gains times |c|, alpha times c²; C = 0), with both directions in \"rectangular\".",
       false);
-  json direction = object(
-      {{"excited", boolean("Whether the motion drives this direction (share != 0).")},
-       {"component", number("Share c of the acceleration along the motion: cos(orientation) "
-                            "along L, sin(orientation) along W [-].")},
-       {"side_mm", number("The side along this direction [mm].")},
-       {"omega_rad_s", numbers("omega_n = sqrt(g k_n tanh(k_n h)), k_n = (2n-1) pi / side.")},
-       {"f_hz", numbers("[Hz].")},
-       {"zeta", number("Damping ratio [-].")},
-       {"alpha", number("Duffing coefficient of the dominant mode [-].")},
-       {"K_mm", number("Nonlinear height gain [mm].")},
-       {"sloshing_mass_kg", numbers("Sloshing masses [kg].")},
-       {"eta_gain", numbers("Linear wall-height gains per mode [-].")}},
-      {"excited", "component", "side_mm", "omega_rad_s", "f_hz", "zeta", "alpha", "K_mm",
-       "sloshing_mass_kg", "eta_gain"},
-      "", false);
-  s["RectangularModel"] =
-      object({{"length", direction}, {"width", direction}, {"orientation_deg", number("[deg]")}},
-             {"length", "width", "orientation_deg"},
-             "A rectangular tank's two directions (SPEC §15).", false);
+  add_rectangular_model_schema(s);
   s["Peaks"] =
       object({{"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm].")},
               {"eta_rest_mm", number("Peak |eta| in the rest window (residual wave) [mm].")},
@@ -425,16 +444,7 @@ void add_shared_response_schemas(json& s) {
               {"t_rest_s", number("Time of the rest peak [s].")}},
              {"eta_motion_mm", "eta_rest_mm", "t_motion_s", "t_rest_s"},
              "Wave-height peaks of one model.", false);
-  s["Prediction"] =
-      object({{"nonlinear", ref("Peaks")},
-              {"linear", ref("Peaks")},
-              {"directions",
-               object({{"length", ref("Peaks")}, {"width", ref("Peaks")}}, {"length", "width"},
-                      "A rectangular container's simulation: each direction's own walls "
-                      "(nonlinear model, or linear outside its range).",
-                      false)}},
-             {"nonlinear", "linear"},
-             "Predictions of the dense accurate simulation of both models.", false);
+  add_prediction_schema(s);
   json units{{"type", "object"},
              {"additionalProperties", {{"type", "string"}}},
              {"description", "Unit of each series."}};

@@ -126,6 +126,7 @@ PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry
   r.strategy = parse_request_strategy(body);
   const nlohmann::json options = request_options(body);
   reject_unknown_fields(options, "options", registry.option_keys());
+  refuse_cylinder_model_options(r.format, options, "options");
   PlanOptions& o = r.options;
   registry.parse(options, r.format, o);
   // Relations between options (e.g. ramps + plateau minimums longer than T).

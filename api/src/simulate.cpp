@@ -137,6 +137,7 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   if (options.is_null()) options = nlohmann::json::object();
   require_object(options, "options");
   reject_unknown_fields(options, "options", {"modes", "damping", "alpha", "model", "min_ramp_s"});
+  refuse_cylinder_model_options(r.format, options, "options");
   parse_model_options(options, "options", r.options.model);
   parse_calibrated_model(options, "options", r.options.model);
   const Range min_ramp_range{ranges::kMinRampS.lo, r.format.motion_time / 4.0, "s"};

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "slosh/core/model/tank_directions.hpp"
+#include "slosh/core/response/rectangular_nonlinear_direction.hpp"
 #include "text.hpp"
 
 namespace slosh {
@@ -125,12 +126,13 @@ TimeSeries sampled_series(const MotionLaw& law, const SimulationOptions& options
   return s;
 }
 
-/// The wave height series of a rectangular tank: signed at the wall when one direction moves,
-/// else the highest corner; the nonlinear one by each driven direction's oscillator, or the
-/// linear model's where the nonlinear model does not hold (`nonlinear_holds` false).
+/// The wave height series of a rectangular tank: signed at the wall ahead when one direction
+/// moves, else the highest corner; the nonlinear one by each direction's nonlinear response
+/// (RectangularNonlinearDirection), or the linear model's where the nonlinear model does not
+/// hold (`nonlinear_holds` false).
 struct RectangularSeries {
   RectangularLinearResponse linear;
-  std::vector<NonlinearResponse> nonlinear;
+  std::vector<RectangularNonlinearDirection> nonlinear;
   bool nonlinear_holds{true};
 
   [[nodiscard]] double eta_linear(double t) const {
@@ -139,8 +141,8 @@ struct RectangularSeries {
   }
   [[nodiscard]] double eta_nonlinear(double t) const {
     if (!nonlinear_holds) return eta_linear(t);
-    if (nonlinear.size() == 1) return nonlinear.front().eta(t);
-    return std::abs(nonlinear[0].eta(t)) + std::abs(nonlinear[1].eta(t));
+    if (nonlinear.size() == 1) return nonlinear[0].eta_odd(t) + nonlinear[0].eta_even(t);
+    return nonlinear[0].wall(t) + nonlinear[1].wall(t);
   }
 };
 
@@ -159,8 +161,9 @@ void simulate_rectangular(const Format& format, const MotionLaw& law,
   if (!options.sample_period) return;
   if (series.nonlinear_holds) {
     for (const DrivenDirection& d : driven_directions(m)) {
-      series.nonlinear.emplace_back(d.model, law.scaled(d.component > 0.0 ? 1.0 : -1.0),
-                                    options.rest_time, options.nonlinear);
+      const SloshingModel& own = d.axis == TankAxis::kLength ? m.along_length : m.along_width;
+      series.nonlinear.emplace_back(own, law.scaled(d.component), options.rest_time,
+                                    options.nonlinear);
     }
   }
   r.series = sampled_series(

@@ -63,6 +63,13 @@ void parse_calibrated_model(const nlohmann::json& options, const std::string& pa
 /// Parses options.damping (a correlation name or {"zeta": z}; thesis when absent) into `model`.
 void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model);
 
+/// A rectangular container's model takes neither the cylinder's damping correlations nor its
+/// alpha (its damping is the tank's boundary layer unless a zeta is given, its Duffing
+/// coefficient follows from the depth): a 422 naming options.damping given as a correlation
+/// name, options.alpha or options.model.alpha. Nothing for the cylinder.
+void refuse_cylinder_model_options(const Format& format, const nlohmann::json& options,
+                                   const std::string& path);
+
 /// The format echoed back in user units.
 [[nodiscard]] nlohmann::json format_json(const Format& format);
 
