@@ -891,7 +891,8 @@ struct TableErrorCase {
 
 TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
   const std::string allowed =
-      "recipe_id, radius_mm, container_height_mm, fill_height_mm, fluid, density_kg_m3, "
+      "recipe_id, radius_mm, container_shape, length_mm, width_mm, orientation_deg, "
+      "container_height_mm, fill_height_mm, fluid, density_kg_m3, "
       "viscosity_pa_s, stroke_mm, motion_time_s, strategy, p_notch, weights, band, n_band, "
       "tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s, min_ramp_s, "
       "fix_constant_velocity_zero, plateau_min_s, a_max, v_max, j_max, drive_profile, damping, "
