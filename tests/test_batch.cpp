@@ -924,7 +924,8 @@ struct TableErrorCase {
 
 TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
   const std::string allowed =
-      "recipe_id, radius_mm, container_height_mm, fill_height_mm, fluid, density_kg_m3, "
+      "recipe_id, radius_mm, container_shape, length_mm, width_mm, orientation_deg, "
+      "container_height_mm, fill_height_mm, fluid, density_kg_m3, "
       "viscosity_pa_s, stroke_mm, motion_time_s, motion_type, arc_radius_mm, arc_angle_deg, "
       "container_turns, path_json, strategy, p_notch, weights, band, n_band, "
       "tol_rel, eta_rest_max_mm, eta_motion_max_mm, objective, rest_time_s, min_ramp_s, "

@@ -6,6 +6,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 #include <string>
@@ -13,6 +14,7 @@
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/response/rectangular_nonlinear_direction.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 
 namespace slosh {
@@ -102,37 +104,63 @@ TEST(RectangularNonlinear, AtTheCriticalDepthTheFrequencyDoesNotDependOnTheAmpli
   EXPECT_NEAR(f.omega / m.omega1() - 1, 0.0, 2e-6);
 }
 
-/// RK4 at step dt of x'' + 2 zeta w x' + w^2 x (1 + alpha (x/L)^2) = -c a(t) per direction (the
-/// rectangular nonlinear oscillator of docs/models.md re-typed), peaks of sum |G_1 x|.
+/// RK4 at step dt, per direction, of the rectangular nonlinear model of docs/models.md re-typed:
+/// the dominant mode x'' + 2 zeta w x' + w^2 x (1 + alpha (x/L)^2) = -c a(t), beta_1 = G_1 x;
+/// the second mode b'' + 2 zeta s2 b' + s2^2 b = -d4 beta_1 beta_1'' - d5 beta_1'^2; and the
+/// linear modes n = 2, 3 (k_n = (2n - 1) pi / L) x_n'' + 2 zeta w_n x_n' + w_n^2 x_n = -c a(t).
+/// Peaks of the highest corner, sum |beta_1 + G_2 x_2 + G_3 x_3| + |sum b|.
 struct Duffing {
-  double w, zeta, alpha, side, gain, component;
+  double w, zeta, alpha, side, gain, component, s2, d4, d5;
+  std::array<double, 2> w_n, gain_n;  // modes n = 2, 3
 };
+
+using Y = std::array<double, 8>;  // x, x', b, b', x_2, x_2', x_3, x_3'
+
+Y duffing_rhs(const Duffing& p, const Y& q, double a) {
+  const double xb = q[0] / p.side;
+  const double xdd =
+      -2 * p.zeta * p.w * q[1] - p.w * p.w * q[0] * (1 + p.alpha * xb * xb) - p.component * a;
+  const double beta = p.gain * q[0], beta_d = p.gain * q[1], beta_dd = p.gain * xdd;
+  const double bdd = -2 * p.zeta * p.s2 * q[3] - p.s2 * p.s2 * q[2] - p.d4 * beta * beta_dd -
+                     p.d5 * beta_d * beta_d;
+  Y r{q[1], xdd, q[3], bdd};
+  for (int n = 0; n < 2; ++n) {
+    const double wn = p.w_n[n];
+    r[4 + 2 * n] = q[5 + 2 * n];
+    r[5 + 2 * n] = -2 * p.zeta * wn * q[5 + 2 * n] - wn * wn * q[4 + 2 * n] - p.component * a;
+  }
+  return r;
+}
 
 std::pair<double, double> rk4_duffing_peaks(const std::vector<Duffing>& dirs, const MotionLaw& law,
                                             double rest, double dt) {
-  std::vector<double> x(dirs.size(), 0.0), v(dirs.size(), 0.0);
+  std::vector<Y> y(dirs.size(), Y{});
   const double T = law.duration();
   const auto steps = static_cast<long>(std::llround((T + rest) / dt));
   auto acc = [&](double t) { return t < T ? law.at(t).acceleration : 0.0; };
+  auto plus = [](const Y& q, const Y& k, double c) {
+    Y r = q;
+    for (std::size_t j = 0; j < r.size(); ++j) r[j] += c * k[j];
+    return r;
+  };
   double motion = 0, rest_peak = 0;
   for (long i = 0; i < steps; ++i) {
     const double t = static_cast<double>(i) * dt;
     const double a0 = acc(t), am = acc(t + dt / 2), a1 = acc(t + dt);
-    double eta = 0;
+    double odd = 0, even = 0;
     for (std::size_t d = 0; d < dirs.size(); ++d) {
       const Duffing& p = dirs[d];
-      auto f = [&p](double xx, double vv, double a) {
-        const double xb = xx / p.side;
-        return -2 * p.zeta * p.w * vv - p.w * p.w * xx * (1 + p.alpha * xb * xb) - p.component * a;
-      };
-      const double k1x = v[d], k1v = f(x[d], v[d], a0);
-      const double k2x = v[d] + dt / 2 * k1v, k2v = f(x[d] + dt / 2 * k1x, k2x, am);
-      const double k3x = v[d] + dt / 2 * k2v, k3v = f(x[d] + dt / 2 * k2x, k3x, am);
-      const double k4x = v[d] + dt * k3v, k4v = f(x[d] + dt * k3x, k4x, a1);
-      x[d] += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
-      v[d] += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
-      eta += std::abs(p.gain * x[d]);
+      const Y k1 = duffing_rhs(p, y[d], a0);
+      const Y k2 = duffing_rhs(p, plus(y[d], k1, dt / 2), am);
+      const Y k3 = duffing_rhs(p, plus(y[d], k2, dt / 2), am);
+      const Y k4 = duffing_rhs(p, plus(y[d], k3, dt), a1);
+      for (std::size_t j = 0; j < Y{}.size(); ++j) {
+        y[d][j] += dt / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
+      }
+      odd += std::abs(p.gain * y[d][0] + p.gain_n[0] * y[d][4] + p.gain_n[1] * y[d][6]);
+      even += y[d][2];
     }
+    const double eta = odd + std::abs(even);
     if (static_cast<double>(i + 1) * dt <= T + 1e-12) {
       motion = std::max(motion, eta);
     } else {
@@ -152,12 +180,21 @@ Duffing retyped(double side, double across, double h, double component) {
   d.alpha = 8.0 / 3.0 * tk_correction(k * h) * kPi * kPi * d.gain * d.gain;
   d.side = side;
   d.component = component;
+  const double t = std::tanh(k * h);
+  d.s2 = std::sqrt(kG * 2 * k * std::tanh(2 * k * h));
+  d.d4 = k * (t * t - 1) / (t * (1 + t * t));
+  d.d5 = -2 * k / (t * (1 + t * t));
+  for (int n = 0; n < 2; ++n) {
+    const double odd = 3 + 2 * n, kn = odd * kPi / side;
+    d.w_n[n] = std::sqrt(kG * kn * std::tanh(kn * h));
+    d.gain_n[n] = 4 * std::tanh(kn * h) / (odd * kPi);
+  }
   return d;
 }
 
 TEST(RectangularNonlinear, TurnedTankMatchesAFineStepIntegrationOfTheOscillator) {
   const double L = 0.1, W = 0.07, h = 0.04;
-  const MotionLaw law = make_modified_trapezoid_law(0.03, 0.5);
+  const MotionLaw law = make_modified_trapezoid_law(0.025, 0.5);
   for (double phi : {0.0, 35.0, 90.0}) {
     const RectangularModel model = make_rectangular_model({L, W, phi}, h, water());
     const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
@@ -178,7 +215,8 @@ TEST(RectangularNonlinear, SmallMovesGiveTheLinearFirstMode) {
   RectangularModelOptions one_mode;
   one_mode.modes = 1;
   const RectangularModel model = make_rectangular_model({L, W, 20.0}, h, water(), one_mode);
-  const MotionLaw law = make_poly5_law(1e-4, 0.5);
+  // 10 nm: the second mode, O(k_1 A) of the first, is below 1e-6 of it.
+  const MotionLaw law = make_poly5_law(1e-8, 0.5);
   const RectangularNonlinearPeaks nl = rectangular_nonlinear_peaks(model, law, 1.0);
   const RectangularPeaks lin = RectangularLinearResponse(model, law, 1.0).peaks();
   ASSERT_TRUE(nl.nonlinear);
@@ -201,9 +239,9 @@ TEST(RectangularNonlinear, SquareTankAt45DegreesIsSymmetric) {
 }
 
 TEST(RectangularNonlinear, ShallowFillAnswersLinearlyAndSaysWhy) {
-  // h / L = 0.2 along the length (below 0.24); the width direction (h / W = 0.333) alone would
+  // h / L = 0.2 along the length (below 0.24); the width direction (h / W = 0.4) alone would
   // be in range.
-  const RectangularModel model = make_rectangular_model({0.1, 0.06, 30.0}, 0.02, water());
+  const RectangularModel model = make_rectangular_model({0.1, 0.05, 30.0}, 0.02, water());
   const MotionLaw law = make_poly5_law(0.02, 0.5);
   const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
   EXPECT_FALSE(p.nonlinear);
@@ -215,7 +253,7 @@ TEST(RectangularNonlinear, ShallowFillAnswersLinearlyAndSaysWhy) {
   EXPECT_EQ(p.peaks.highest.motion.value, lin.highest.motion.value);
   EXPECT_EQ(p.peaks.highest.rest.value, lin.highest.rest.value);
   // Moved along the width only, the same tank is in range.
-  const RectangularModel across = make_rectangular_model({0.1, 0.06, 90.0}, 0.02, water());
+  const RectangularModel across = make_rectangular_model({0.1, 0.05, 90.0}, 0.02, water());
   EXPECT_TRUE(rectangular_nonlinear_peaks(across, law, 1.0).nonlinear);
 }
 
@@ -231,6 +269,35 @@ TEST(RectangularNonlinear, LargeResponseAnswersLinearlyAndSaysWhy) {
   EXPECT_EQ(p.warning.substr(p.warning.size() - tail.size()), tail);
   EXPECT_EQ(p.peaks.highest.motion.value,
             RectangularLinearResponse(model, law, 1.0).peaks().highest.motion.value);
+}
+
+}  // namespace
+}  // namespace slosh
+
+namespace slosh {
+namespace {
+
+TEST(RectangularNonlinear, CalibrationScalesTheSecondModeAlike) {
+  // omega_scale moves the second mode's frequency with the first; height_gain scales the whole
+  // wall (dominant, second and higher modes) by the same factor.
+  const double L = 0.1, W = 0.07, h = 0.04;
+  RectangularModelOptions calibrated;
+  calibrated.omega_scale = 1.1;
+  calibrated.height_gain = 2.0;
+  const RectangularModel plain = make_rectangular_model({L, W, 0.0}, h, water());
+  const RectangularModel scaled = make_rectangular_model({L, W, 0.0}, h, water(), calibrated);
+  EXPECT_NEAR(rectangular_second_mode(scaled.along_length).sigma2 /
+                  rectangular_second_mode(plain.along_length).sigma2,
+              1.1, 1e-12);
+  RectangularModelOptions gain_only;
+  gain_only.height_gain = 2.0;
+  const RectangularModel doubled = make_rectangular_model({L, W, 0.0}, h, water(), gain_only);
+  const MotionLaw law = make_poly5_law(0.01, 0.5);
+  const RectangularNonlinearPeaks one = rectangular_nonlinear_peaks(plain, law, 1.0);
+  const RectangularNonlinearPeaks two = rectangular_nonlinear_peaks(doubled, law, 1.0);
+  ASSERT_TRUE(one.nonlinear && two.nonlinear);
+  EXPECT_NEAR(two.peaks.highest.motion.value / one.peaks.highest.motion.value, 2.0, 1e-9);
+  EXPECT_NEAR(two.peaks.highest.rest.value / one.peaks.highest.rest.value, 2.0, 1e-9);
 }
 
 }  // namespace

@@ -1,5 +1,6 @@
 #include "slosh/api/calibration_json.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <string>
 
@@ -7,6 +8,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
+#include "slosh/core/strategy/rectangular_plan.hpp"
 
 namespace slosh::api {
 
@@ -189,6 +191,35 @@ void validate_calibration_name(const std::string& name, const std::string& field
   }
 }
 
+/// A rectangular tank is calibrated by moves along one of its sides (each move drives one
+/// direction, whose scales are then the tank's), and its Duffing coefficient follows from the
+/// depth: alpha is not fitted but held at the theory's value.
+void fix_rectangular_alpha(const json& body, CalibrationRequest& r) {
+  const RectangularTank& t = *r.format.container.rectangular;
+  if (both_directions_excited(t.orientation_deg)) {
+    invalid("format.container.orientation_deg",
+            "format.container.orientation_deg = " + number_text(t.orientation_deg) +
+                ": a rectangular container is calibrated by moves along one of its sides "
+                "(orientation 0, 90, -90 or 180 degrees), each exciting one direction");
+  }
+  const json* fit = given_member(body, "fit");
+  if (fit != nullptr && given_member(*fit, "alpha") != nullptr) {
+    invalid("fit.alpha",
+            "fit.alpha applies to the cylinder's model only: a rectangular "
+            "container's nonlinear coefficient follows from its depth");
+  }
+  ModelOptions unit = r.base;
+  unit.omega_scale = unit.height_gain = 1.0;
+  r.base.alpha = make_sloshing_model(r.format, unit).alpha;
+  ParameterSetting& alpha =
+      r.settings.parameters[static_cast<std::size_t>(CalibrationParameter::kAlpha)];
+  alpha.fit = false;
+  alpha.initial = r.base.alpha;
+  // (Above the critical depth the coefficient is negative, softening: the bounds hold it.)
+  alpha.lower = std::min(alpha.lower, r.base.alpha - 1.0);
+  alpha.upper = std::max(alpha.upper, r.base.alpha + 1.0);
+}
+
 CalibrationRequest parse_calibration_request(const json& body) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "options", "moves", "fit", "name"});
@@ -198,6 +229,7 @@ CalibrationRequest parse_calibration_request(const json& body) {
   if (options.is_null()) options = json::object();
   require_object(options, "options");
   reject_unknown_fields(options, "options", {"modes", "damping", "alpha"});
+  refuse_cylinder_model_options(r.format, options, "options");
   parse_model_options(options, "options", r.base);
   if (given_member(body, "name") != nullptr) {
     if (!body["name"].is_string())
@@ -215,6 +247,7 @@ CalibrationRequest parse_calibration_request(const json& body) {
     r.moves.push_back(parse_move((*moves)[i], "moves[" + std::to_string(i) + "]", r.format));
   }
   parse_fit(body, r.settings);
+  if (r.format.container.rectangular) fix_rectangular_alpha(body, r);
   check_priors(r);
   return r;
 }
@@ -257,6 +290,8 @@ json run_calibration(const CalibrationRequest& request) {
   out["moves"] = std::move(moves);
   out["identifiability"] = fit.identifiability;
   out["model"] = calibrated_model_json(fit.model);
+  // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans).
+  if (request.format.container.rectangular) out["model"].erase("alpha");
   if (request.name) out["name"] = *request.name;
   return out;
 }

@@ -95,6 +95,14 @@ constexpr PlanWarningKind kWarningKinds[] = {
      "depends on the budget and the machine's load; such a plan is not cached"},
 };
 
+/// Sentences that belong to a kind above but open otherwise: the rectangular tank's surface
+/// tension is judged on half its shorter side rather than a radius.
+struct WarningAlias {
+  std::string_view prefix;
+  std::string_view code;
+};
+constexpr WarningAlias kWarningAliases[] = {{"half the shorter side ", "surface_tension"}};
+
 std::span<const PlanWarningKind> plan_warning_kinds() {
   return kWarningKinds;
 }
@@ -103,6 +111,9 @@ std::string warning_finding(const std::string& warning) {
   // The code of a known kind; another warning keeps its finding (the text up to the first ": ").
   for (const PlanWarningKind& kind : kWarningKinds) {
     if (warning.starts_with(kind.prefix)) return std::string(kind.code);
+  }
+  for (const WarningAlias& alias : kWarningAliases) {
+    if (warning.starts_with(alias.prefix)) return std::string(alias.code);
   }
   return warning.substr(0, warning.find(": "));
 }

@@ -137,6 +137,7 @@ SimulateRequest parse_simulate_request(const nlohmann::json& body) {
   if (options.is_null()) options = nlohmann::json::object();
   require_object(options, "options");
   reject_unknown_fields(options, "options", {"modes", "damping", "alpha", "model", "min_ramp_s"});
+  refuse_cylinder_model_options(r.format, options, "options");
   parse_model_options(options, "options", r.options.model);
   parse_calibrated_model(options, "options", r.options.model);
   const Range min_ramp_range{ranges::kMinRampS.lo, r.format.motion_time / 4.0, "s"};
@@ -264,6 +265,12 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
   out["kinematics"] = kin;
   out["model"] = model_json(r.model, request.options.model);
   out["prediction"] = prediction_json(r);
+  if (r.rectangular) {
+    add_rectangular_model(out["model"], *r.rectangular, request.options.model);
+    // Each direction's own walls (the nonlinear model, or the linear one outside its range).
+    out["prediction"]["directions"] = {{"length", peaks_json(r.rectangular_peaks->along_length)},
+                                       {"width", peaks_json(r.rectangular_peaks->along_width)}};
+  }
   out["rest_time_s"] = request.options.rest_time;
   if (r.series) {
     auto mm = [](std::vector<double> v) {

@@ -78,16 +78,9 @@ std::optional<DeltaInterval> holding_interval(const std::vector<double>& deltas,
 
 }  // namespace
 
-namespace {
-/// The holding flags, worst cases and intervals of a report whose points hold their peaks.
-void judge(RobustnessReport& r);
-}  // namespace
-
 RobustnessReport robustness_report(
     const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
     const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero) {
-  RobustnessReport r;
-  r.sweep = sweep;
   const std::vector<double> deltas = robustness_deltas(sweep);
   const bool zero_given = at_zero && sweep.zeta == nominal.zeta;
   // The models to simulate, in delta order (neighbours have nearly the same step grid, so the
@@ -104,48 +97,26 @@ RobustnessReport robustness_report(
   responses.reserve(models.size());
   for (const SloshingModel& m : models) responses.emplace_back(m, law, sweep.rest_time);
   const std::vector<SloshPeaks> linear = LinearResponse::peaks_of(responses);
-  r.points.resize(deltas.size());
+  std::vector<RobustnessPoint> points(deltas.size());
   for (std::size_t i = 0; i < models.size(); ++i) {
-    RobustnessPoint& p = r.points[simulated[i]];
+    RobustnessPoint& p = points[simulated[i]];
     p.linear = linear[i];
     p.nonlinear = nonlinear[i];
   }
   for (std::size_t k = 0; k < deltas.size(); ++k) {
-    RobustnessPoint& p = r.points[k];
-    p.delta = deltas[k];
-    if (p.delta == 0.0 && zero_given) {
-      p.linear = at_zero->first;
-      p.nonlinear = at_zero->second;
+    points[k].delta = deltas[k];
+    if (deltas[k] == 0.0 && zero_given) {
+      points[k].linear = at_zero->first;
+      points[k].nonlinear = at_zero->second;
     }
   }
-  judge(r);
-  return r;
+  return judged_report(sweep, std::move(points));
 }
 
-RobustnessReport robustness_report_on_path(const SloshingModel& nominal, const PlanarPath& path,
-                                           const MotionLaw& law, const RobustnessSweep& sweep) {
+RobustnessReport judged_report(const RobustnessSweep& sweep, std::vector<RobustnessPoint> points) {
   RobustnessReport r;
   r.sweep = sweep;
-  const PlanarDrive drive(path, law);
-  auto peaks = [](const PlanarPeaks& p) {
-    return SloshPeaks{{p.motion.value, p.motion.time}, {p.rest.value, p.rest.time}};
-  };
-  for (const double delta : robustness_deltas(sweep)) {
-    const SloshingModel model = scaled_model(nominal, 1.0 + delta, sweep.zeta);
-    RobustnessPoint p;
-    p.delta = delta;
-    p.linear = peaks(planar_linear_peaks(model, drive, sweep.rest_time));
-    p.nonlinear = peaks(planar_nonlinear_peaks(model, drive, sweep.rest_time));
-    r.points.push_back(p);
-  }
-  judge(r);
-  return r;
-}
-
-namespace {
-
-void judge(RobustnessReport& r) {
-  const RobustnessSweep& sweep = r.sweep;
+  r.points = std::move(points);
   std::vector<double> deltas, lin_margin, nl_margin;
   std::size_t zero = 0;
   for (std::size_t k = 0; k < r.points.size(); ++k) {
@@ -161,8 +132,25 @@ void judge(RobustnessReport& r) {
   }
   r.linear = holding_interval(deltas, lin_margin, zero);
   r.nonlinear = holding_interval(deltas, nl_margin, zero);
+  return r;
 }
 
-}  // namespace
+RobustnessReport robustness_report_on_path(const SloshingModel& nominal, const PlanarPath& path,
+                                           const MotionLaw& law, const RobustnessSweep& sweep) {
+  const PlanarDrive drive(path, law);
+  auto peaks = [](const PlanarPeaks& p) {
+    return SloshPeaks{{p.motion.value, p.motion.time}, {p.rest.value, p.rest.time}};
+  };
+  std::vector<RobustnessPoint> points;
+  for (const double delta : robustness_deltas(sweep)) {
+    const SloshingModel model = scaled_model(nominal, 1.0 + delta, sweep.zeta);
+    RobustnessPoint p;
+    p.delta = delta;
+    p.linear = peaks(planar_linear_peaks(model, drive, sweep.rest_time));
+    p.nonlinear = peaks(planar_nonlinear_peaks(model, drive, sweep.rest_time));
+    points.push_back(p);
+  }
+  return judged_report(sweep, std::move(points));
+}
 
 }  // namespace slosh

@@ -12,15 +12,23 @@
 
 namespace slosh::api {
 
+/// A rectangular container of the format flags.
+struct QuickRectangle {
+  double length_mm{};                     ///< side L [mm]
+  double width_mm{};                      ///< side W [mm]
+  std::optional<double> orientation_deg;  ///< angle of L to the motion [deg]; unset: 0
+};
+
 /// The format flags of `slosh plan` (a quick look without a request file).
 struct QuickPlan {
-  double radius_mm{};                    ///< container radius [mm]
-  std::optional<double> height_mm;       ///< container height [mm]; unset: none given
-  double fill_mm{};                      ///< fill height [mm]
-  std::optional<std::string> fluid;      ///< a catalogue fluid, or else
-  std::optional<double> density_kg_m3;   ///< a custom fluid's density [kg/m^3]
-  std::optional<double> viscosity_pa_s;  ///< and dynamic viscosity [Pa s]
-  double stroke_mm{};                    ///< [mm] (unused with an arc or a motion)
+  double radius_mm{};                         ///< container radius [mm] (unused with `rectangular`)
+  std::optional<QuickRectangle> rectangular;  ///< a rectangular container instead
+  std::optional<double> height_mm;            ///< container height [mm]; unset: none given
+  double fill_mm{};                           ///< fill height [mm]
+  std::optional<std::string> fluid;           ///< a catalogue fluid, or else
+  std::optional<double> density_kg_m3;        ///< a custom fluid's density [kg/m^3]
+  std::optional<double> viscosity_pa_s;       ///< and dynamic viscosity [Pa s]
+  double stroke_mm{};                         ///< [mm] (unused with an arc or a motion)
   /// An arc instead of the stroke: radius [mm], angle [deg], the container turning (default
   /// true): format.motion {"type": "arc", ...}.
   std::optional<double> arc_radius_mm, arc_angle_deg;

@@ -59,13 +59,13 @@ class RectangularLinearResponse {
   double peak_step_{};
 };
 
-/// Where the rectangular nonlinear model holds (docs/models.md): the Moiseev-type asymptotics of
-/// the dominant mode need a finite depth, h / side >= kRectangularMinDepthRatio for every
-/// excited direction (Faltinsen et al. 2000; shallower fill needs the adaptive and small-depth
-/// modal systems of Faltinsen & Timokha, 2001 and 2002), and a small wave: the third-order theory
-/// is an expansion in the steepness k_1 A of the wall amplitude A, trusted here up to
-/// kRectangularMaxSteepness, about half the steepest standing wave (Penney & Price 1952: crest
-/// height H / lambda = 0.218, i.e. k A = 0.68).
+/// Where the rectangular nonlinear model holds (rectangular_nonlinear_validity, docs/models.md):
+/// the Moiseev-type asymptotics of the dominant mode need a finite depth, h / side >=
+/// kRectangularMinDepthRatio for every excited direction (Faltinsen et al. 2000; shallower fill
+/// needs the adaptive and small-depth modal systems of Faltinsen & Timokha, 2001 and 2002), and
+/// a small wave: the third-order theory is an expansion in the steepness k_1 A of the wall
+/// amplitude A, trusted here up to kRectangularMaxSteepness, about half the steepest standing
+/// wave (Penney & Price 1952: crest height H / lambda = 0.218, i.e. k A = 0.68).
 inline constexpr double kRectangularMinDepthRatio{0.24};
 inline constexpr double kRectangularMaxSteepness{0.3};
 
@@ -80,10 +80,11 @@ struct RectangularNonlinearPeaks {
   std::string warning;
 };
 
-/// The dominant mode of each excited direction by the nonlinear oscillator of the rectangular
-/// model (NonlinearResponse with the direction's forcing component; the order-8 scheme and its
-/// dense output), the corners' peak on the sum of the two continuous responses. Outside the
-/// range above the linear peaks are returned with a warning, never an extrapolation.
+/// Each excited direction by RectangularNonlinearDirection (the dominant mode's third-order
+/// oscillator with the direction's forcing component, the second mode it drives, the higher
+/// modes linear); the corners' peak on the sum of the continuous responses. Outside the range of
+/// rectangular_nonlinear_validity (checked on the format first, then on the directions' peak
+/// wall heights) the linear peaks are returned with its reason, never an extrapolation.
 [[nodiscard]] RectangularNonlinearPeaks rectangular_nonlinear_peaks(
     const RectangularModel& model, const MotionLaw& law, double rest_time,
     const NonlinearOptions& options = {});
