@@ -263,3 +263,5 @@ def run(driver, port, ctx):
     check_arc(driver, port, ctx)
     check_cup(driver, port, ctx)
     check_refusals(driver, port, ctx)
+    driver.get(f"http://127.0.0.1:{port}/")  # the next checks start from a fresh form
+    ctx["wait_for"](driver, "return document.body.dataset.loaded === '1'")
