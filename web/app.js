@@ -81,13 +81,17 @@ async function plotContext(plan, signal) {
     const [series, base] = await Promise.all([simulate(simulateRequest(plan, plan.law)), simulate(simulateRequest(plan, uniform))]);
     return { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
   }
-  // The planar simulation gives the peaks (the service samples no series of a planar motion).
+  // The planar models' peaks: the plan's own (plan.path: its law's and the uniform law's), else
+  // a planar simulation of both laws (the service samples no series of a planar motion).
   const planar = (law) => {
     const body = simulateRequest(plan, law);
     delete body.sample_period_s;
-    return simulate(body);
+    const { stroke_mm, ...format } = plan.format;  // the motion gives the move
+    return simulate({ ...body, format });
   };
-  const [onPath, baseOnPath] = await Promise.all([planar(plan.law), planar(uniform)]);
+  const [onPath, baseOnPath] = plan.path
+    ? [{ prediction: plan.path.prediction, motion: { length_mm: plan.path.length_mm } }, { prediction: plan.path.baseline }]
+    : await Promise.all([planar(plan.law), planar(uniform)]);
   const line = (law) => ({ ...simulateRequest(plan, law), format: lineFormat(plan.format, onPath.motion.length_mm) });
   const [series, base] = await Promise.all([simulate(line(plan.law)), simulate(line(uniform))]);
   return {

@@ -76,6 +76,8 @@ export function renderTopView(context) {
       `during the motion (η ${nl.eta_motion_mm.toFixed(2)} mm at t = ${nl.t_motion_s.toFixed(3)} s, toward ` +
       `${nl.direction_motion_deg.toFixed(1)}°) and in the rest window (η ${nl.eta_rest_mm.toFixed(2)} mm toward ` +
       `${nl.direction_rest_deg.toFixed(1)}°), where the container is then. Angles from +x, counter-clockwise.`;
+  } else if (context.format.container.shape === 'rectangular') {
+    $('top-note').textContent = 'On a straight line the height reported is the highest over the tank\'s walls and corners.';
   } else {
     $('top-note').textContent = 'On a straight line the wave peaks at the front or back wall along the line.';
   }

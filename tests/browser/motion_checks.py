@@ -4,10 +4,11 @@ the real binary: called by test_page.py with its driver and server.
 - An arc of a rotary table: the page's plan equals the API's plan of the same request written
   here; the top view's path ends where the arc of that radius and angle ends (closed form), the
   container's heading turns with the table; each peak arrow points in the wall direction of the
-  API's planar simulation of the plan's law and sits where the container is at the peak's time,
+  plan's planar peaks (its `path` block, else the API's planar simulation of its law) and sits
+  where the container is at the peak's time,
   computed here from the law's seven durations by exact integration of its piecewise-constant
   jerk; the η plot is the maximum over the wall (the API's planar figures), not the
-  straight-line η.
+  straight-line η; the view's link reproduces it in a fresh browser.
 - A rectangular cup of a form-fill-seal line: the page's plan equals the API's plan of the same
   request; the form's drawing and the top view turn the cup by its orientation (corners computed
   here).
@@ -87,7 +88,8 @@ def arc_request(strategy):
 def planar_simulation(api_json, port, plan):
     m = plan["model"]
     damping = {"zeta": m["zeta"]} if m["damping"] == "explicit" else m["damping"]
-    body = {"format": plan["format"], "law": plan["law"], "rest_time_s": plan["rest_time_s"],
+    format = {k: v for k, v in plan["format"].items() if k != "stroke_mm"}  # the motion is the move
+    body = {"format": format, "law": plan["law"], "rest_time_s": plan["rest_time_s"],
             "options": {"damping": damping, "alpha": m["alpha"], "modes": len(m["f_hz"]), "min_ramp_s": 0.001}}
     return api_json(port, "POST", "/v1/simulate", body)
 
@@ -119,10 +121,15 @@ def check_arc(driver, port, ctx):
           f"the page's request is the arc's: {driver.execute_script('return window.sloshPage.request')}")
     rows = table_rows(driver)
     check(len(rows) == 1 and rows[0]["cells"] == expected_row(plan), f"the table equals the API's arc plan: {rows}")
-    status, sim = planar_simulation(api_json, port, plan)
-    check(status == 200, f"the API simulates the plan's law on the arc ({status}: {sim})")
-    if status != 200:
-        return
+    # The peaks over the wall: the plan's own figures on the path, else the API's planar
+    # simulation of the plan's law.
+    if "path" in plan:
+        sim = {"prediction": plan["path"]["prediction"], "motion": {"length_mm": plan["path"]["length_mm"]}}
+    else:
+        status, sim = planar_simulation(api_json, port, plan)
+        check(status == 200, f"the API simulates the plan's law on the arc ({status}: {sim})")
+        if status != 200:
+            return
     end = driver.execute_script("const l = document.querySelector('#top-view #path-line');"
                                 "return [Number(l.dataset.endX), Number(l.dataset.endY), Number(l.dataset.lengthMm)]")
     check(abs(end[0] - 300) < 1e-9 and abs(end[1] - 300) < 1e-9 and abs(end[2] - 150 * math.pi) < 1e-9,
@@ -161,6 +168,28 @@ def check_arc(driver, port, ctx):
               f"the η plot holds the API's nonlinear peaks over the wall: {wall[0]}")
     elif wall is not None:
         check(len(wall[0]) == len(sim["series"]["t_s"]), "the η plot holds the API's series over the wall")
+    check_arc_link(driver, ctx, plan)
+
+
+ARROWS = ("return [...document.querySelectorAll('#top-view .peak')]"
+          ".map(g => [g.id, g.dataset.x, g.dataset.y, g.dataset.directionDeg])")
+
+
+def check_arc_link(driver, ctx, plan):
+    """The link of the arc's view reproduces its table and top view in a fresh browser."""
+    link = driver.find_element(By.ID, "share-link").get_attribute("href")
+    ctx["check"]("motion=arc" in link and "arc_r=300" in link and "arc_turns=1" in link and "stroke=" not in link,
+                 f"the link holds the arc, not a stroke: {link}")
+    arrows = driver.execute_script(ARROWS)
+    fresh = ctx["browser"]()
+    try:
+        fresh.get(link)
+        ctx["wait_for"](fresh, "return document.body.dataset.ready === 'multi_notch'")
+        ctx["check"](ctx["table_rows"](fresh)[0]["cells"] == ctx["expected_row"](plan), "the arc's link reproduces the table")
+        ctx["check"](fresh.execute_script(ARROWS) == arrows and len(arrows) == 4,
+                     f"the arc's link reproduces the peak arrows: {arrows}")
+    finally:
+        fresh.quit()
 
 
 def cup_request(strategy):

@@ -1245,7 +1245,7 @@ def main():
         check_uncertainty(driver, port)
         motion_checks.run(driver, port, {
             "check": check, "api_json": api_json, "wait_for": wait_for, "expected_row": expected_row,
-            "table_rows": table_rows, "chart_counts": chart_counts})
+            "table_rows": table_rows, "chart_counts": chart_counts, "browser": browser})
         check_field_paths(driver, port)
         check_errors_at_fields(driver, port)
         check_key_view(port, plan)
