@@ -31,8 +31,13 @@ function piecesOf(motion) {
   } else {
     return null;
   }
-  const usable = pieces.length > 0 && pieces.every((p) => (p.kind === 'line'
-    ? finite(p.length) && p.length > 0 : finite(p.radius, p.angle) && p.radius > 0 && p.angle !== 0));
+  // Sizes the service takes at most (an arc of ±3600°, lines and radii of kilometres); beyond
+  // them there is nothing to draw (the service refuses the motion), and the polyline of an arc of
+  // 1e300° would never end.
+  const MAX_MM = 1e7;
+  const usable = pieces.length > 0 && pieces.length <= 1000 && pieces.every((p) => (p.kind === 'line'
+    ? finite(p.length) && p.length > 0 && p.length <= MAX_MM
+    : finite(p.radius, p.angle) && p.radius > 0 && p.radius <= MAX_MM && p.angle !== 0 && Math.abs(p.angle) <= 3600 * RAD));
   if (!usable || !finite(heading)) return null;
   for (const p of pieces) if (p.kind === 'arc') p.length = p.radius * Math.abs(p.angle);
   return { pieces, heading: heading * RAD, turns };
