@@ -1,7 +1,7 @@
 // POST /v1/simulate and `slosh simulate` with format.motion (SPEC §14), end to end on the real
 // binary: an arc's answer equals the core's planar models called here, a line motion gives the
 // straight line's wave in any direction, every bad motion is refused with its exact sentence,
-// the planning endpoints refuse paths honestly, and `slosh simulate --trajectory` on a measured
+// min-time and cam export refuse paths honestly, and `slosh simulate --trajectory` on a measured
 // run gives the core's peaks.
 
 #include <httplib.h>
@@ -230,33 +230,30 @@ TEST(SpatialSimulate, BadMotionsAreRefusedNamingTheMember) {
   }
 }
 
-TEST(SpatialSimulate, PlanningAlongAPathIsRefusedHonestly) {
+TEST(SpatialSimulate, MinTimeAndExportAlongAPathAreRefusedHonestly) {
+  // Plans go along paths (test_path_plan_api.cpp); min-time and cam export do not yet.
   Server server;
   ASSERT_GT(server.port(), 0) << server.log();
-  json plan = arc_body();
-  plan.erase("law");
-  plan["strategy"] = "baseline";
   json min_time = arc_body();
   min_time.erase("law");
   min_time["format"].erase("motion_time_s");
   const std::string message =
-      "format.motion of type \"arc\": planning along paths is not available yet; plans, "
-      "min-time and cam export move along a straight line (format.stroke_mm, or a motion of type "
-      "\"line\"). POST /v1/simulate predicts the wave of any motion";
-  for (const auto& [route, body] : {std::pair{"/v1/plans", plan}, {"/v1/min-time", min_time}}) {
-    const json e = post(server, route, body, 422);
-    EXPECT_EQ(e["error"]["field"], "format.motion") << route;
-    EXPECT_EQ(e["error"]["message"], message) << route;
-  }
+      "format.motion of type \"arc\": min-time and cam export along paths are not available yet; "
+      "they move along a straight line (format.stroke_mm, or a motion of type \"line\"). POST "
+      "/v1/plans plans along an arc or a path, and POST /v1/simulate predicts the wave of any "
+      "motion";
+  const json e = post(server, "/v1/min-time", min_time, 422);
+  EXPECT_EQ(e["error"]["field"], "format.motion");
+  EXPECT_EQ(e["error"]["message"], message);
   // A cam export of a law along the arc is refused too, not exported as a straight move.
   const test::TempDir dir;
   test::write_file(dir / "arc.json", arc_body().dump());
   const test::RunResult run = test::run_slosh(
       {"export", "--request", (dir / "arc.json").string(), "--out", (dir / "cam.csv").string()});
   EXPECT_EQ(run.exit_code, 2) << run.err;
-  const json e = json::parse(run.err);
-  EXPECT_EQ(e["error"]["field"], "format.motion");
-  EXPECT_EQ(e["error"]["message"], message);
+  const json x = json::parse(run.err);
+  EXPECT_EQ(x["error"]["field"], "format.motion");
+  EXPECT_EQ(x["error"]["message"], message);
 }
 
 std::string num(double v) {

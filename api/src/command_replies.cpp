@@ -25,13 +25,18 @@ nlohmann::json quick_request(const QuickPlan& q) {
   nlohmann::json fluid = q.fluid ? nlohmann::json(*q.fluid)
                                  : nlohmann::json{{"density_kg_m3", q.density_kg_m3.value_or(0)},
                                                   {"viscosity_pa_s", q.viscosity_pa_s.value_or(0)}};
-  return {{"format",
-           {{"container", container},
-            {"fill_height_mm", q.fill_mm},
-            {"fluid", fluid},
-            {"stroke_mm", q.stroke_mm},
-            {"motion_time_s", q.time_s}}},
-          {"strategy", q.strategy}};
+  nlohmann::json request{{"format",
+                          {{"container", container},
+                           {"fill_height_mm", q.fill_mm},
+                           {"fluid", fluid},
+                           {"stroke_mm", q.stroke_mm},
+                           {"motion_time_s", q.time_s}}},
+                         {"strategy", q.strategy}};
+  if (q.motion) {
+    request["format"].erase("stroke_mm");
+    request["format"]["motion"] = *q.motion;
+  }
+  return request;
 }
 
 std::string plan_reply_of(const nlohmann::json& request, PlanView view) {

@@ -281,9 +281,10 @@ std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
   const MotionType type = parse_type(*m);
   if (type != MotionType::kLine) {
     invalid(kMotion, kMotion + " of type " + show((*m)["type"]) +
-                         ": planning along paths is not available yet; plans, min-time and cam "
-                         "export move along a straight line (format.stroke_mm, or a motion of "
-                         "type \"line\"). POST /v1/simulate predicts the wave of any motion");
+                         ": min-time and cam export along paths are not available yet; they move "
+                         "along a straight line (format.stroke_mm, or a motion of type "
+                         "\"line\"). POST /v1/plans plans along an arc or a path, and POST "
+                         "/v1/simulate predicts the wave of any motion");
   }
   static_cast<void>(parse_motion(*m, false));  // validates the line
   const json& format = body["format"];
@@ -296,6 +297,38 @@ std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body) {
   out["format"].erase("motion");
   out["format"]["stroke_mm"] = (*m)["length_mm"];
   return out;
+}
+
+std::optional<SpatialFormat> planned_path_format(const nlohmann::json& body) {
+  const json* m = given_motion(body);
+  if (m == nullptr) return std::nullopt;
+  require_object(*m, kMotion);
+  const MotionType type = parse_type(*m);
+  if (type == MotionType::kLine) return std::nullopt;
+  if (type == MotionType::kTrajectory) {
+    const std::string field = join_path(kMotion, "type");
+    invalid(field, field +
+                       " = \"trajectory\" is not allowed in a plan: a plan moves the container "
+                       "along a \"line\", an \"arc\" or a \"path\" (a trajectory is simulated, "
+                       "POST /v1/simulate)");
+  }
+  return parse_spatial_format(body, false);
+}
+
+nlohmann::json canonical_motion(const SpatialMotion& motion) {
+  json elements = json::array();
+  for (const PathElement& e : motion.path->elements()) {
+    if (e.kind == PathElement::Kind::kLine) {
+      elements.push_back({{"line_m", e.length}});
+    } else {
+      elements.push_back({{"arc_radius_m", e.radius}, {"arc_angle_rad", e.angle}});
+    }
+  }
+  const PlanarKinematics start = motion.path->at(0.0, 1.0, 0.0, 0.0);
+  return {{"type", motion.type == MotionType::kArc ? "arc" : "path"},
+          {"elements", elements},
+          {"start_heading_rad", std::atan2(start.vy, start.vx)},
+          {"container_turns", motion.path->container_turns()}};
 }
 
 nlohmann::json trajectory_motion_json(const TrajectorySamples& samples) {

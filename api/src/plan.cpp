@@ -15,7 +15,9 @@
 #include "slosh/api/plan_reply.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
+#include "slosh/api/spatial_simulate.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/strategy/path_plan.hpp"
 
 namespace slosh::api {
 
@@ -113,16 +115,33 @@ std::string to_hex(const unsigned char* data, std::size_t n) {
   return out;
 }
 
+/// The options a plan along an arc or a path does not apply yet: refused rather than ignored.
+void refuse_path_options(const PlanOptions& o) {
+  if (o.uncertainty.active()) {
+    invalid("options.uncertainty",
+            "options.uncertainty is not available along an arc or a path yet: a plan along a "
+            "path is verified at the nominal model (leave options.uncertainty out, or plan on "
+            "a straight line)");
+  }
+}
+
 }  // namespace
 
 PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry& registry) {
-  // A line motion is the stroke; planning along other paths is refused (motion_json.hpp).
-  const std::optional<nlohmann::json> line = straight_line_body(given);
+  // A line motion is the stroke (motion_json.hpp): the same request, key and answer; an arc or a
+  // path plans along it.
+  std::optional<SpatialFormat> spatial = planned_path_format(given);
+  const std::optional<nlohmann::json> line = spatial ? std::nullopt : straight_line_body(given);
   const nlohmann::json& body = line ? *line : given;
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "strategy", "options", "sample_period_s"});
   PlanRequest r;
-  r.format = parse_request_format(body);
+  if (spatial) {
+    r.format = spatial->format;
+    r.motion = std::move(spatial->motion);
+  } else {
+    r.format = parse_request_format(body);
+  }
   r.strategy = parse_request_strategy(body);
   const nlohmann::json options = request_options(body);
   reject_unknown_fields(options, "options", registry.option_keys());
@@ -140,6 +159,7 @@ PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry
     invalid(options_field(*why, o), "options." + input_sentence(*why, r.format, o));
   }
 
+  if (r.motion) refuse_path_options(o);
   r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);
   return r;
 }
@@ -160,21 +180,24 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
   }
   // "version" names the numerics (bumped with them, as before the slosh version was part of the
   // key); "slosh_version" the release that plans: an upgrade never answers with an older plan.
-  return {{"version", kPlannerVersion},
-          {"slosh_version", version},
-          {"format",
-           {{"radius_m", f.container.radius},
-            {"height_m", optional(f.container.height)},
-            {"fill_height_m", f.fill_height},
-            {"density_kg_m3", f.fluid.density},
-            {"viscosity_pa_s", f.fluid.viscosity},
-            // The plan echoes the fluid's name: two names are two answers (a cached plan never
-            // shows one client's fluid name to another).
-            {"fluid_name", f.fluid.name},
-            {"stroke_m", f.stroke},
-            {"motion_time_s", f.motion_time}}},
-          {"strategy", to_string(r.strategy)},
-          {"options", std::move(options)}};
+  nlohmann::json recipe = {{"version", kPlannerVersion},
+                           {"slosh_version", version},
+                           {"format",
+                            {{"radius_m", f.container.radius},
+                             {"height_m", optional(f.container.height)},
+                             {"fill_height_m", f.fill_height},
+                             {"density_kg_m3", f.fluid.density},
+                             {"viscosity_pa_s", f.fluid.viscosity},
+                             // The plan echoes the fluid's name: two names are two answers (a
+                             // cached plan never shows one client's fluid name to another).
+                             {"fluid_name", f.fluid.name},
+                             {"stroke_m", f.stroke},
+                             {"motion_time_s", f.motion_time}}},
+                           {"strategy", to_string(r.strategy)},
+                           {"options", std::move(options)}};
+  // Only a plan along an arc or a path has the member: every other key stays as it was.
+  if (r.motion) recipe["motion"] = canonical_motion(*r.motion);
+  return recipe;
 }
 
 std::string recipe_key(const PlanRequest& request, const OptionRegistry& registry,
@@ -309,6 +332,30 @@ void add_robustness(const PlanRequest& request, const PlanResult& r, nlohmann::j
   if (r.robustness) out["robustness"] = robustness_json(*r.robustness, r.model);
 }
 
+/// The figures of the planar models along the path, with the wall direction of each peak.
+nlohmann::json path_prediction_json(const PathPrediction& p) {
+  return {{"nonlinear", planar_peaks_json(p.nonlinear)},
+          {"linear", planar_peaks_json(p.linear)},
+          {"kinematics",
+           {{"a_total_peak", p.a_total_peak},
+            {"t_a_total_peak_s", p.a_total_time},
+            {"a_normal_peak", p.a_normal_peak},
+            {"v_peak", p.v_peak},
+            {"j_peak", p.j_peak}}}};
+}
+
+/// A plan along an arc or a path: format.motion as given (format.stroke_mm is the length the law
+/// moves along it) and the "path" block.
+void add_path(const SpatialMotion& motion, const PathPlanReport& report, nlohmann::json& out) {
+  out["format"]["motion"] = motion.echo;
+  nlohmann::json path{{"type", motion.type == MotionType::kArc ? "arc" : "path"},
+                      {"length_mm", report.length * 1e3},
+                      {"container_turns", motion.path->container_turns()},
+                      {"prediction", path_prediction_json(report.prediction)},
+                      {"baseline", path_prediction_json(report.baseline)}};
+  out["path"] = std::move(path);
+}
+
 }  // namespace
 
 nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
@@ -337,6 +384,12 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   if (r.move_absolute) out["move_absolute"] = move_absolute_json(*r.move_absolute);
   add_robustness(request, r, out);
   out["format"] = format_json(request.format);
+  if (request.motion) {
+    add_path(*request.motion,
+             path_plan_report(r, *request.motion->path, request.format.motion_time,
+                              request.options.rest_time),
+             out);
+  }
   out["rest_time_s"] = request.options.rest_time;
   out["warnings"] = r.warnings;
   if (std::string budget = budget_warning(r); !budget.empty()) {
@@ -364,7 +417,9 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
 }
 
 PlanResult plan_request(const PlanRequest& request) {
-  PlanResult result = plan(request.format, request.strategy, request.options);
+  PlanResult result = request.motion ? plan_on_path(request.format, *request.motion->path,
+                                                    request.strategy, request.options)
+                                     : plan(request.format, request.strategy, request.options);
   if (result.invalid_input) {
     // The request passed the API's ranges but not the planner's own checks (e.g. a format whose
     // uniform law already drives the model out of its range): a 422, not a plan of zeros.

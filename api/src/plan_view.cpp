@@ -96,6 +96,21 @@ std::string warning_finding(const std::string& warning) {
   return warning.substr(0, warning.find(": "));
 }
 
+namespace {
+
+/// Along an arc or a path: the wall directions of the nonlinear peaks and the peak horizontal
+/// acceleration (tangential and normal together), what a line engineer checks on the arc.
+json compact_path(const json& path) {
+  const json& p = path.at("prediction");
+  const json& nl = p.at("nonlinear");
+  return {{"length_mm", path.at("length_mm")},
+          {"direction_motion_deg", nl.at("direction_motion_deg")},
+          {"direction_rest_deg", nl.at("direction_rest_deg")},
+          {"a_total_peak", p.at("kinematics").at("a_total_peak")}};
+}
+
+}  // namespace
+
 json compact_plan(const json& plan) {
   json out;
   out["view"] = "compact";
@@ -107,6 +122,8 @@ json compact_plan(const json& plan) {
     const json& format = plan.at("format");
     law["stroke_mm"] = format.at("stroke_mm");
     law["motion_time_s"] = format.at("motion_time_s");
+    // Along an arc or a path the law's stroke is the length along it: the motion says where.
+    if (const auto m = format.find("motion"); m != format.end()) law["motion"] = *m;
   }
   out["law"] = std::move(law);
   const json& k = plan.at("kinematics");
@@ -117,6 +134,7 @@ json compact_plan(const json& plan) {
   const json& p = plan.at("prediction");
   out["prediction"] = {{"nonlinear", compact_peaks(p.at("nonlinear"))},
                        {"linear", compact_peaks(p.at("linear"))}};
+  if (const auto path = plan.find("path"); path != plan.end()) out["path"] = compact_path(*path);
   json findings = json::array();
   for (const json& w : plan.at("warnings"))
     findings.push_back(warning_finding(w.get<std::string>()));

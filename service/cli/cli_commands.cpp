@@ -71,6 +71,10 @@ std::vector<std::string> QuickPlanFlags::given() const {
   note(viscosity_pa_s.has_value(), "--viscosity");
   note(stroke_mm.has_value(), "--stroke");
   note(time_s.has_value(), "--time");
+  note(arc_radius_mm.has_value(), "--arc-radius");
+  note(arc_angle_deg.has_value(), "--arc-angle");
+  note(turns.has_value(), "--turns");
+  note(motion_path.has_value(), "--motion");
   note(strategy.has_value(), "--strategy");
   return out;
 }
@@ -81,6 +85,23 @@ std::string joined(const std::vector<std::string>& items) {
   std::string out;
   for (const std::string& i : items) out += (out.empty() ? "" : ", ") + i;
   return out;
+}
+
+/// Why the move's flags conflict (--stroke, the arc's, --motion), or "" when they do not.
+std::string motion_flags_problem(const QuickPlanFlags& q) {
+  const bool arc = q.arc_radius_mm || q.arc_angle_deg;
+  if (q.motion_path && (q.stroke_mm || arc || q.turns)) {
+    return "--motion cannot be combined with --stroke, --arc-radius, --arc-angle or --turns: the "
+           "file gives the whole motion";
+  }
+  if (q.stroke_mm && arc) {
+    return "--stroke cannot be combined with --arc-radius/--arc-angle: the law moves along the "
+           "arc, its length is the stroke";
+  }
+  if (q.turns && !arc) {
+    return "--turns applies to an arc: give --arc-radius and --arc-angle";
+  }
+  return "";
 }
 
 /// Why the flags cannot make a request (conflicts, missing flags), or "" when they can.
@@ -96,13 +117,17 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
     return "--fluid cannot be combined with --density/--viscosity: name a catalogue fluid "
            "(slosh fluids) or give a custom one";
   }
+  if (const std::string motion = motion_flags_problem(q); !motion.empty()) return motion;
   std::vector<std::string> missing;
   if (!q.radius_mm) missing.emplace_back("--radius");
   if (!q.fill_mm) missing.emplace_back("--fill");
   if (!q.fluid && !q.density_kg_m3)
     missing.emplace_back(q.viscosity_pa_s ? "--density" : "--fluid");
   if (!q.fluid && q.density_kg_m3 && !q.viscosity_pa_s) missing.emplace_back("--viscosity");
-  if (!q.stroke_mm) missing.emplace_back("--stroke");
+  const bool arc = q.arc_radius_mm || q.arc_angle_deg;
+  if (arc && !q.arc_radius_mm) missing.emplace_back("--arc-radius");
+  if (arc && !q.arc_angle_deg) missing.emplace_back("--arc-angle");
+  if (!q.stroke_mm && !arc && !q.motion_path) missing.emplace_back("--stroke");
   if (!q.time_s) missing.emplace_back("--time");
   if (!missing.empty()) {
     return "the format flags need --radius, --fill, --fluid (or --density and --viscosity), "
@@ -110,6 +135,15 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
            joined(missing);
   }
   return "";
+}
+
+/// The text of the file a flag names; ApiError naming the flag when it cannot be read.
+std::string read_file_flag(const std::string& path, const std::string& flag) {
+  try {
+    return read_request_text(path);
+  } catch (const std::exception& e) {
+    throw api::ApiError(api::ErrorCode::kInvalidValue, flag, e.what());
+  }
 }
 
 /// The quick flags as the API takes them (quick_flags_problem found none missing).
@@ -121,7 +155,24 @@ api::QuickPlan quick_plan(const QuickPlanFlags& q) {
   p.fluid = q.fluid;
   p.density_kg_m3 = q.density_kg_m3;
   p.viscosity_pa_s = q.viscosity_pa_s;
-  p.stroke_mm = *q.stroke_mm;
+  if (q.stroke_mm) p.stroke_mm = *q.stroke_mm;
+  if (q.arc_radius_mm) {
+    nlohmann::json arc{
+        {"type", "arc"}, {"radius_mm", *q.arc_radius_mm}, {"angle_deg", *q.arc_angle_deg}};
+    if (q.turns) arc["container_turns"] = *q.turns;
+    p.motion = std::move(arc);
+  }
+  if (q.motion_path) {
+    const std::string text = read_file_flag(*q.motion_path, "--motion");
+    nlohmann::json motion = nlohmann::json::parse(text, nullptr, false);
+    if (motion.is_discarded()) {
+      throw api::ApiError(api::ErrorCode::kInvalidValue, "--motion",
+                          "--motion " + *q.motion_path +
+                              " is not JSON: it must hold format.motion, e.g. {\"type\": \"arc\", "
+                              "\"radius_mm\": 300, \"angle_deg\": 90}");
+    }
+    p.motion = std::move(motion);
+  }
   p.time_s = *q.time_s;
   p.strategy = q.strategy.value_or("auto");
   return p;
@@ -137,6 +188,9 @@ std::string flag_of(const std::string& field) {
       {"format.fluid.viscosity_pa_s", "--viscosity"},
       {"format.fluid", "--fluid"},
       {"format.stroke_mm", "--stroke"},
+      {"format.motion.radius_mm", "--arc-radius"},
+      {"format.motion.angle_deg", "--arc-angle"},
+      {"format.motion.container_turns", "--turns"},
       {"format.motion_time_s", "--time"},
       {"strategy", "--strategy"}};
   for (const auto& [path, flag] : flags) {

@@ -22,6 +22,13 @@ struct QuickPlanFlags {
   std::optional<std::string> fluid;                     ///< a catalogue name (slosh fluids)
   std::optional<double> density_kg_m3, viscosity_pa_s;  ///< a custom fluid instead
   std::optional<std::string> strategy;                  ///< default auto
+  /// A rotary table's (or a curved track's) arc instead of the stroke: its radius [mm] and the
+  /// angle turned [deg, signed, left positive]; `turns`: the container turns with the table
+  /// (default true, a carriage on a curved track keeps its heading: false).
+  std::optional<double> arc_radius_mm, arc_angle_deg;
+  std::optional<bool> turns;
+  /// A file holding format.motion (a line, an arc or a path, SPEC §14) instead of the stroke.
+  std::optional<std::string> motion_path;
   /// The flags given, as typed ("--radius", ...), in the order of the help.
   [[nodiscard]] std::vector<std::string> given() const;
 };
@@ -37,7 +44,9 @@ struct PlanCommandOptions {
 };
 
 /// `slosh plan --request FILE|- [--view full|compact] [--format json|text]` or `slosh plan
-/// --radius R --fill H --fluid NAME --stroke S --time T [--height C] [--strategy NAME]`: prints
+/// --radius R --fill H --fluid NAME --stroke S --time T [--height C] [--strategy NAME]` (or, for
+/// the move, `--arc-radius R --arc-angle A [--turns true|false]` or `--motion FILE.json` instead
+/// of --stroke): prints
 /// the plan on stdout, as the /v1/plans response (json, the view named by `view`) or as a short
 /// summary (text, api::plan_summary_text); exit 0 whatever the plan's status. Invalid input as for
 /// simulate (the envelope on stderr; with text output the message and the flag it came from); flags

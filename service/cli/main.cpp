@@ -139,6 +139,17 @@ CLI::App* add_plan(CLI::App& app, CliArgs& a) {
   plan->add_option("--viscosity", q.viscosity_pa_s, "Custom fluid: dynamic viscosity [Pa s]");
   plan->add_option("--stroke", q.stroke_mm, "Stroke [mm]");
   plan->add_option("--time", q.time_s, "Motion time [s]");
+  plan->add_option("--arc-radius", q.arc_radius_mm,
+                   "Instead of --stroke, an arc (rotary table, carousel, curved track): its "
+                   "radius [mm]");
+  plan->add_option("--arc-angle", q.arc_angle_deg,
+                   "The arc's angle [deg], signed (left positive), e.g. 90 for a 90-degree index");
+  plan->add_option("--turns", q.turns,
+                   "true (default): the container turns with the table; false: it keeps its "
+                   "heading (a carriage on a curved track)");
+  plan->add_option("--motion", q.motion_path,
+                   "Instead of --stroke, a JSON file holding format.motion (a line, an arc or a "
+                   "path of lines and arcs)");
   plan->add_option("--strategy", q.strategy,
                    "baseline, notch, multi_notch, min_jerk_band, time_domain, fir_chain, shaper, "
                    "iir or auto [default auto]");

@@ -7,6 +7,8 @@
 #include <string>
 #include <string_view>
 
+#include <nlohmann/json.hpp>
+
 #include "slosh/api/error.hpp"
 #include "slosh/api/plan_view.hpp"
 
@@ -20,8 +22,10 @@ struct QuickPlan {
   std::optional<std::string> fluid;      ///< a catalogue fluid, or else
   std::optional<double> density_kg_m3;   ///< a custom fluid's density [kg/m^3]
   std::optional<double> viscosity_pa_s;  ///< and dynamic viscosity [Pa s]
-  double stroke_mm{};                    ///< [mm]
-  double time_s{};                       ///< motion time [s]
+  double stroke_mm{};                    ///< [mm] (unused with a motion)
+  /// format.motion instead of the stroke (an arc of the --arc-* flags, or a --motion file).
+  std::optional<nlohmann::json> motion;
+  double time_s{};  ///< motion time [s]
   std::string strategy{"auto"};
 };
 

@@ -63,6 +63,16 @@ struct SpatialFormat {
 /// axisymmetric container); any other motion is refused with a 422 naming format.motion.
 [[nodiscard]] std::optional<nlohmann::json> straight_line_body(const nlohmann::json& body);
 
+/// For POST /v1/plans: the format of a request whose format.motion is an arc or a path (its
+/// stroke the path length; parse_spatial_format's refusals); nullopt without a motion or for a
+/// line (straight_line_body's). A trajectory is refused naming format.motion.type.
+[[nodiscard]] std::optional<SpatialFormat> planned_path_format(const nlohmann::json& body);
+
+/// The motion as the recipe key holds it: the path's elements in SI (lengths in m, angles in
+/// rad), its start heading and container_turns; the same path written twice the same way (an arc
+/// or a path of one arc) gives the same key only when its type is the same.
+[[nodiscard]] nlohmann::json canonical_motion(const SpatialMotion& motion);
+
 /// Throws ApiError (422) for a core refusal of a motion, its member as the JSON member.
 [[noreturn]] void motion_refusal(const std::string& member, const std::string& message);
 

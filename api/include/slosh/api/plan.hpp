@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/fields.hpp"
+#include "slosh/api/motion_json.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "slosh/version.hpp"
@@ -44,6 +45,9 @@ struct PlanRequest {
   PlanOptions options;
   /// When set, the response carries time series of the planned law at this period [s].
   std::optional<double> sample_period;
+  /// format.motion of type arc or path: the law moves along it (format.stroke is its length).
+  /// Unset for stroke_mm and for a line motion, which plan as they always have.
+  std::optional<SpatialMotion> motion;
 };
 
 /// Validates a parsed plan request; throws ApiError(kInvalidValue) naming the field, the value

@@ -1,0 +1,188 @@
+#pragma once
+// The planar nonlinear model (planar_nonlinear.cpp) driven by a 7-segment law along a planar
+// path, integrated by the same DOP853 scheme in dual numbers over the 7 durations: every step
+// carries the exact derivatives of its state and interpolant, so the wave height at any time
+// comes with its exact gradient (internal to the core; what time_domain optimises along a path).
+//
+// The steps never cross a point where the drive is not smooth: the law's switch times and the
+// times where s(t) crosses a join of the path (where the curvature jumps). Those times move with
+// the durations, and their derivatives follow: a switch time is a sum of durations, a crossing
+// time t_c of s(t_c) = s_join has dt_c/dd = -(ds/dd at fixed t) / s'(t_c).
+
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include "response/nonlinear_scheme.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/motion/planar_path.hpp"
+#include "solve/dual.hpp"
+
+namespace slosh::detail {
+
+/// A dual number over the 7 durations in 8 aligned lanes: x[0] the value, x[1 + i] the
+/// derivative by duration i. Its operations are flat loops over the lanes the compiler vectorises
+/// and always inlines: this integrator evaluates them millions of times per plan.
+struct D8 {
+  alignas(32) std::array<double, 8> x{};
+  D8() = default;
+  explicit D8(double v) { x[0] = v; }
+  explicit D8(const Dual7& d) {
+    x[0] = d.v;
+    for (std::size_t i = 0; i < kSegments; ++i) x[1 + i] = d.d[i];
+  }
+  [[nodiscard]] double value() const { return x[0]; }
+};
+
+#define SLOSH_D8_LOOP(expr)                          \
+  D8 r;                                              \
+  for (std::size_t i = 0; i < 8; ++i) r.x[i] = expr; \
+  return r
+
+[[gnu::always_inline]] inline D8 operator+(const D8& a, const D8& b) {
+  SLOSH_D8_LOOP(a.x[i] + b.x[i]);
+}
+[[gnu::always_inline]] inline D8 operator-(const D8& a, const D8& b) {
+  SLOSH_D8_LOOP(a.x[i] - b.x[i]);
+}
+[[gnu::always_inline]] inline D8 operator-(const D8& a) {
+  SLOSH_D8_LOOP(-a.x[i]);
+}
+[[gnu::always_inline]] inline D8 operator*(double a, const D8& b) {
+  SLOSH_D8_LOOP(a * b.x[i]);
+}
+[[gnu::always_inline]] inline D8 operator*(const D8& b, double a) {
+  SLOSH_D8_LOOP(a * b.x[i]);
+}
+[[gnu::always_inline]] inline D8 operator+(const D8& a, double b) {
+  D8 r = a;
+  r.x[0] += b;
+  return r;
+}
+[[gnu::always_inline]] inline D8 operator+(double b, const D8& a) {
+  return a + b;
+}
+[[gnu::always_inline]] inline D8 operator-(const D8& a, double b) {
+  return a + (-b);
+}
+/// The dual product (lane 0 the product of the values, lane i the product rule).
+[[gnu::always_inline]] inline D8 operator*(const D8& a, const D8& b) {
+  D8 r;
+  const double a0 = a.x[0], b0 = b.x[0];
+  for (std::size_t i = 0; i < 8; ++i) r.x[i] = a.x[i] * b0 + a0 * b.x[i];
+  r.x[0] = a0 * b0;
+  return r;
+}
+[[gnu::always_inline]] inline D8 operator/(const D8& a, const D8& b) {
+  D8 r;
+  const double inv = 1.0 / b.x[0];
+  const double q = a.x[0] * inv;
+  for (std::size_t i = 0; i < 8; ++i) r.x[i] = (a.x[i] - q * b.x[i]) * inv;
+  r.x[0] = q;
+  return r;
+}
+#undef SLOSH_D8_LOOP
+
+/// Two duals (q_x, q_y), the state type the DOP853 templates integrate: the scheme's linear
+/// combinations act on all 16 lanes alike; only the products with the dual step length are dual
+/// products.
+struct DualPair {
+  std::array<D8, 2> c{};
+  DualPair() = default;
+  DualPair(double v) {  // NOLINT(google-explicit-constructor): scalars broadcast
+    c[0].x[0] = c[1].x[0] = v;
+  }
+  explicit DualPair(const D8& v) { c[0] = c[1] = v; }
+};
+
+// Element-wise arithmetic (what the DOP853 templates need), found by argument-dependent lookup.
+[[gnu::always_inline]] inline DualPair operator+(const DualPair& a, const DualPair& b) {
+  DualPair r;
+  r.c[0] = a.c[0] + b.c[0];
+  r.c[1] = a.c[1] + b.c[1];
+  return r;
+}
+[[gnu::always_inline]] inline DualPair operator-(const DualPair& a, const DualPair& b) {
+  DualPair r;
+  r.c[0] = a.c[0] - b.c[0];
+  r.c[1] = a.c[1] - b.c[1];
+  return r;
+}
+[[gnu::always_inline]] inline DualPair operator*(double a, const DualPair& b) {
+  DualPair r;
+  r.c[0] = a * b.c[0];
+  r.c[1] = a * b.c[1];
+  return r;
+}
+[[gnu::always_inline]] inline DualPair operator*(const DualPair& b, double a) {
+  return a * b;
+}
+[[gnu::always_inline]] inline DualPair operator*(const DualPair& a, const DualPair& b) {
+  DualPair r;
+  r.c[0] = a.c[0] * b.c[0];
+  r.c[1] = a.c[1] * b.c[1];
+  return r;
+}
+[[gnu::always_inline]] inline DualPair operator*(const DualPair& a, const D8& s) {
+  DualPair r;
+  r.c[0] = a.c[0] * s;
+  r.c[1] = a.c[1] * s;
+  return r;
+}
+
+/// A local maximum of the wall height over a window of the response.
+struct PlanarWindowPeak {
+  double value{};  ///< [m]
+  double time{};   ///< [s]
+};
+
+class PlanarSensitivity {
+ public:
+  /// `steps_per_period`: steps per period of mode 1 (the step is also at most 50 ms).
+  PlanarSensitivity(const SloshingModel& model, const PlanarPath& path, double rest_time,
+                    double steps_per_period);
+
+  /// Integrates the model for the durations d over the motion and the whole rest window.
+  void compute(const double* d);
+  /// Fixes the least step count of every smooth piece at one more than d takes, for every
+  /// compute() until the next call while the pieces keep their order (so the discrete response
+  /// stays smooth in the durations during a solver's run).
+  void freeze_steps(const double* d);
+  /// K |q(t)| at each time of `t` (any order) with its gradient over the durations.
+  void eta_at(const std::vector<double>& t, std::vector<double>& values,
+              std::vector<std::array<double, kSegments>>& gradients) const;
+  /// The largest K |q| in every window of `window` seconds over [t_begin, t_end] (exact per
+  /// step: the roots of the interpolant's slope).
+  [[nodiscard]] std::vector<PlanarWindowPeak> window_peaks(double t_begin, double t_end,
+                                                           double window) const;
+  [[nodiscard]] double motion_time() const { return motion_time_; }
+
+ private:
+  struct Piece {
+    Dual7 t_begin, t_end;
+    std::size_t segment{}, element{};
+    bool rest{};
+  };
+  struct Stored {
+    D8 t0, h;
+    DensePoly<DualPair> q;
+  };
+  [[nodiscard]] std::vector<Piece> pieces(const std::array<Dual7, kSegments>& d);
+  [[nodiscard]] std::size_t step_at(double t) const;
+
+  SloshingModel model_;
+  PlanarPath path_;
+  double rest_time_;
+  double h_max_;
+  double motion_time_{};
+  // The law's state at each segment start and its jerks, in duals (set by pieces()).
+  std::array<Dual7, kSegments + 1> t_start_{}, s_start_{}, v_start_{}, a_start_{};
+  std::array<Dual7, kSegments> jerk_{};
+  std::vector<std::size_t> frozen_;      // least step count per piece
+  std::vector<std::size_t> frozen_key_;  // the pieces' (segment, element) at the freeze
+  std::vector<Stored> steps_;
+  std::vector<double> t0_values_;
+};
+
+}  // namespace slosh::detail

@@ -1,0 +1,372 @@
+// plan_on_path (path_plan.hpp): each strategy's law of s(t) along the path, verified on the
+// planar models; auto chooses among them on those verified figures (SPEC §5's rule).
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "slosh/core/strategy/path_plan.hpp"
+#include "strategy/path_time_domain.hpp"
+#include "strategy/strategies.hpp"
+#include "text.hpp"
+
+namespace slosh {
+
+namespace {
+
+using detail::sig3;
+
+constexpr double kLimitSlack{1e-9};
+constexpr double kBoundTolerance{1e-7};
+constexpr double kWorseRelative{0.05};
+constexpr double kWorseAbsolute{0.5e-3};  // [m]
+
+SloshPeaks as_peaks(const PlanarPeaks& p) {
+  SloshPeaks out;
+  out.motion.value = p.motion.value;
+  out.motion.time = p.motion.time;
+  out.rest.value = p.rest.value;
+  out.rest.time = p.rest.time;
+  return out;
+}
+
+LawPrediction as_prediction(const PathPrediction& p, const KinematicSummary& kinematics) {
+  return {as_peaks(p.linear), as_peaks(p.nonlinear), kinematics};
+}
+
+bool finite(const PathPrediction& p) {
+  for (double v : {p.linear.motion.value, p.linear.rest.value, p.nonlinear.motion.value,
+                   p.nonlinear.rest.value, p.a_total_peak}) {
+    if (!std::isfinite(v)) return false;
+  }
+  return true;
+}
+
+/// What every strategy's plan along the path shares.
+struct PathContext {
+  const Format& format;  ///< stroke = the path length
+  const PlanarPath& path;
+  const PlanOptions& options;  ///< robustness and uncertainty off
+  SloshingModel model;
+  PathPrediction uniform;
+  LawPrediction uniform_line;  ///< the uniform law's kinematics (and the line figures)
+  const detail::Deadline& deadline;
+};
+
+/// The first path limit the prediction breaks, as a sentence; empty when all hold.
+std::string path_limit_violation(const MachineLimits& lim, const PathPrediction& p) {
+  if (lim.v_max && p.v_peak > *lim.v_max * (1.0 + kLimitSlack)) {
+    return "the law's peak speed s' " + sig3(p.v_peak) +
+           " m/s exceeds limits.v_max = " + sig3(*lim.v_max) + " m/s";
+  }
+  if (lim.a_max && p.a_total_peak > *lim.a_max * (1.0 + kLimitSlack)) {
+    return "the law's peak horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) " +
+           sig3(p.a_total_peak) + " m/s^2 exceeds limits.a_max = " + sig3(*lim.a_max) +
+           " m/s^2 (normal acceleration up to " + sig3(p.a_normal_peak) + " m/s^2 on the arcs)";
+  }
+  if (lim.j_max && p.j_peak > *lim.j_max * (1.0 + kLimitSlack)) {
+    return "the law's peak tangential jerk " + sig3(p.j_peak) +
+           " m/s^3 exceeds limits.j_max = " + sig3(*lim.j_max) + " m/s^3";
+  }
+  return {};
+}
+
+/// time_domain's bound on the verified planar nonlinear prediction, as a sentence when broken.
+std::string bound_violation(const PathContext& c, const PathPrediction& p) {
+  const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+  const double bound = motion ? c.options.eta_rest_max
+                              : c.options.eta_motion_max.value_or(c.uniform.nonlinear.motion.value);
+  const double value = motion ? p.nonlinear.rest.value : p.nonlinear.motion.value;
+  if (value <= bound * (1.0 + kBoundTolerance)) return {};
+  return std::string(motion ? "eta_rest" : "eta_motion") + " " + sig3(value * 1e3) +
+         " mm of the planar nonlinear model exceeds its bound " + sig3(bound * 1e3) + " mm";
+}
+
+std::string worse_than_uniform(const PathPrediction& p, const PathPrediction& b) {
+  std::string figures;
+  auto check = [&](double value, double base, const char* what) {
+    if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
+      if (!figures.empty()) figures += ", ";
+      figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
+    }
+  };
+  check(p.nonlinear.motion.value, b.nonlinear.motion.value, "eta_motion (nonlinear)");
+  check(p.nonlinear.rest.value, b.nonlinear.rest.value, "eta_rest (nonlinear)");
+  check(p.linear.motion.value, b.linear.motion.value, "eta_motion (linear)");
+  check(p.linear.rest.value, b.linear.rest.value, "eta_rest (linear)");
+  if (figures.empty()) return {};
+  return "worse_than_baseline: " + figures +
+         " for the uniform law along the path (more than 5 % and 0.5 mm above it); the uniform "
+         "law (strategy baseline) sloshes less there";
+}
+
+/// One strategy's law along the path with its verified figures.
+struct PathOutcome {
+  PlanResult plan;  ///< the law's plan; its status follows the verification along the path
+  PathPrediction prediction;
+  std::string detail;  ///< how the law was made, and why it is not a solution when it is not
+  std::string worse;   ///< its worse_than_baseline warning along the path, or empty
+};
+
+/// The status follows the verification along the path: a usable law that breaks a path limit
+/// (or time_domain's bound) is infeasible; a time_domain law that meets them all is usable.
+void verify_on_path(const PathContext& c, PathOutcome& o, bool time_domain) {
+  std::string violation = path_limit_violation(c.options.limits, o.prediction);
+  if (violation.empty() && time_domain) violation = bound_violation(c, o.prediction);
+  SolveStatus& status = o.plan.status;
+  const bool usable = status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;
+  if (!violation.empty() && usable) {
+    status = SolveStatus::kInfeasible;
+    o.detail = violation + "; " + o.detail;
+  } else if (!violation.empty()) {
+    o.detail = violation + "; " + o.detail;
+  } else if (time_domain && status == SolveStatus::kInfeasible) {
+    status = SolveStatus::kAcceptable;
+    o.detail +=
+        "; the law meets every constraint on the verification, though its objective "
+        "was not minimised";
+  }
+  if (o.plan.strategy != Strategy::kBaseline) o.worse = worse_than_uniform(o.prediction, c.uniform);
+}
+
+PathOutcome run_tangential(const PathContext& c, Strategy s) {
+  PathOutcome o;
+  o.plan = plan(c.format, s, c.options);
+  o.prediction = predict_on_path(c.model, c.path, o.plan.law, c.options.rest_time);
+  if (s != Strategy::kBaseline) {
+    o.detail = to_string(s) +
+               " shapes the tangential acceleration s'' as on a straight line of the path's "
+               "length; the normal acceleration s'^2/rho on the arcs is not shaped, and the "
+               "figures are the planar models' along the path";
+  }
+  if (o.plan.status == SolveStatus::kInfeasible) {
+    // Why the tangential law is not a solution (its own constraint: a band, a filter's limit).
+    const std::string& m = o.plan.message;
+    o.detail = "on the tangential law: " + m.substr(0, m.find(". ")) + "; " + o.detail;
+  }
+  verify_on_path(c, o, false);
+  return o;
+}
+
+PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
+                            const std::vector<Durations>& seeds) {
+  detail::StrategyContext sc{c.format, c.options, c.model,
+                             detail::DurationSpace(c.format, c.options), c.deadline};
+  detail::set_design(sc);
+  detail::set_references(sc, c.uniform.nonlinear.motion.value);
+  detail::StrategyOutcome out = detail::solve_path_time_domain(sc, c.path, seeds);
+  if (out.status == SolveStatus::kFailed) out.durations = uniform_durations(c.format.motion_time);
+  PathOutcome o;
+  o.plan = base;
+  PlanResult& r = o.plan;
+  r.strategy = Strategy::kTimeDomain;
+  r.status = out.status;
+  r.durations = out.durations;
+  const SevenSegmentLaw law(out.durations, c.format.stroke);
+  r.law = law.law();
+  r.A = law.A();
+  r.B = law.B();
+  r.design.reset();
+  r.move_absolute.reset();
+  if (c.options.drive_profile == DriveProfile::kMoveAbsolute) {
+    r.move_absolute = move_absolute_profile(out.durations, c.format.stroke);
+  }
+  r.solver = {out.solver, out.evaluations, out.starts, out.objective, 0.0};
+  r.prediction.kinematics = r.law.summary();
+  o.prediction = predict_on_path(c.model, c.path, r.law, c.options.rest_time);
+  const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+  o.detail = std::string("time_domain optimised the planar nonlinear model along the path (") +
+             (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
+                     : "min eta_rest s.t. eta_motion <= " + sig3(sc.eta_motion_max * 1e3)) +
+             " mm over the whole wall, exact gradients)";
+  verify_on_path(c, o, true);
+  return o;
+}
+
+/// The message: what happened, then what the law does along the path.
+std::string path_message(const PathContext& c, const PlanResult& r, const PathPrediction& p,
+                         std::string detail) {
+  std::string head;
+  switch (r.status) {
+    case SolveStatus::kOptimal:
+    case SolveStatus::kAcceptable:
+      head = to_string(r.strategy) + " " + to_string(r.status);
+      break;
+    case SolveStatus::kInfeasible:
+      head = "not a solution";
+      detail += "; the durations returned are the least infeasible found";
+      break;
+    case SolveStatus::kTimeLimit:
+      head = "the time budget of " + sig3(c.options.time_limit) +
+             " s ran out; returning the best admissible point found";
+      break;
+    case SolveStatus::kFailed:
+      head = "the solver failed; the durations returned are the uniform law";
+      break;
+  }
+  if (!detail.empty()) head += ": " + detail;
+  const PathPrediction& b = c.uniform;
+  return head + ". Along the path (" + sig3(c.path.length() * 1e3) +
+         " mm; planar models, the wave maximised over the wall): eta_motion " +
+         sig3(p.nonlinear.motion.value * 1e3) + " mm (uniform law " +
+         sig3(b.nonlinear.motion.value * 1e3) + " mm), eta_rest " +
+         sig3(p.nonlinear.rest.value * 1e3) + " mm (uniform law " +
+         sig3(b.nonlinear.rest.value * 1e3) + " mm); peak horizontal acceleration " +
+         sig3(p.a_total_peak) + " m/s^2 (normal " + sig3(p.a_normal_peak) + " m/s^2).";
+}
+
+/// The result of the outcome `o` for the requested strategy.
+PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::string detail) {
+  PlanResult r = std::move(o.plan);
+  r.strategy = requested;
+  r.prediction = as_prediction(o.prediction, r.prediction.kinematics);
+  r.baseline = as_prediction(c.uniform, c.uniform_line.kinematics);
+  r.robustness.reset();
+  r.worst_case.reset();
+  r.uncertainty.reset();
+  r.message = path_message(c, r, o.prediction, std::move(detail));
+  r.warnings =
+      validity_warnings(c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
+                        o.prediction.nonlinear.motion.value);
+  if (!o.worse.empty()) r.warnings.push_back(o.worse);
+  return r;
+}
+
+/// The spectral optima (time_domain's extra starts) from their outcomes.
+std::vector<Durations> seeds_of(const std::vector<PathOutcome>& outcomes) {
+  std::vector<Durations> seeds;
+  for (const PathOutcome& o : outcomes) {
+    const Strategy s = o.plan.strategy;
+    const bool spectral =
+        s == Strategy::kNotch || s == Strategy::kMultiNotch || s == Strategy::kMinJerkBand;
+    // The tangential plan's own status: its law is the spectral optimum whatever the path does.
+    if (spectral && o.plan.durations && !o.plan.message.empty() &&
+        o.plan.message.rfind(to_string(s) + " ", 0) == 0) {
+      seeds.push_back(*o.plan.durations);
+    }
+  }
+  return seeds;
+}
+
+std::vector<PathOutcome> spectral_outcomes(const PathContext& c) {
+  std::vector<PathOutcome> out;
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+    out.push_back(run_tangential(c, s));
+  }
+  return out;
+}
+
+PlanResult run_auto(const PathContext& c, const PlanResult& base) {
+  std::vector<PathOutcome> outcomes;
+  outcomes.push_back(run_tangential(c, Strategy::kBaseline));
+  std::vector<PathOutcome> spectral = spectral_outcomes(c);
+  const std::vector<Durations> seeds = seeds_of(spectral);
+  for (PathOutcome& o : spectral) outcomes.push_back(std::move(o));
+  outcomes.push_back(run_time_domain(c, base, seeds));
+  outcomes.push_back(run_tangential(c, Strategy::kFirChain));
+  if (c.options.drive_profile != DriveProfile::kMoveAbsolute) {
+    outcomes.push_back(run_tangential(c, Strategy::kShaper));
+  }
+  std::vector<PlanCandidate> candidates;
+  std::vector<bool> worse;
+  std::vector<std::size_t> kept;
+  int evaluations = 0, starts = 0;
+  for (std::size_t i = 0; i < outcomes.size(); ++i) {
+    const PathOutcome& o = outcomes[i];
+    evaluations += o.plan.solver.iterations;
+    starts += o.plan.solver.starts;
+    if (!finite(o.prediction)) continue;
+    PlanCandidate k;
+    k.strategy = o.plan.strategy;
+    k.status = o.plan.status;
+    k.durations = o.plan.durations;
+    k.law = o.plan.law;
+    k.prediction = as_prediction(o.prediction, o.plan.prediction.kinematics);
+    k.worse_than_baseline = o.worse;
+    worse.push_back(!o.worse.empty());
+    candidates.push_back(std::move(k));
+    kept.push_back(i);
+  }
+  const AutoChoice choice = choose_auto(candidates, worse);
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    candidates[k].chosen = k == choice.index;
+    candidates[k].lost = choice.lost[k];
+    candidates[k].lost_detail = choice.lost_detail[k];
+  }
+  PathOutcome& chosen = outcomes[kept[choice.index]];
+  std::string detail =
+      choice.eligible
+          ? "auto chose " + to_string(chosen.plan.strategy) +
+                " (lowest eta_rest among the candidates within 5 % of the best eta_motion, "
+                "judged on the planar models along the path)"
+          : std::string("no candidate meets every constraint; auto returns the uniform law");
+  if (!chosen.detail.empty()) detail += "; " + chosen.detail;
+  PlanResult r = finish(c, Strategy::kAuto, std::move(chosen), std::move(detail));
+  r.solver.iterations = evaluations;
+  r.solver.starts = starts;
+  r.candidates = std::move(candidates);
+  return r;
+}
+
+PlanResult run_single(const PathContext& c, const PlanResult& base, Strategy s) {
+  if (s != Strategy::kTimeDomain) {
+    PathOutcome o = run_tangential(c, s);
+    std::string detail = o.detail;
+    return finish(c, s, std::move(o), std::move(detail));
+  }
+  std::vector<Durations> seeds;
+  if (!c.options.warm_start) seeds = seeds_of(spectral_outcomes(c));
+  PathOutcome o = run_time_domain(c, base, seeds);
+  std::string detail = o.detail;
+  return finish(c, s, std::move(o), std::move(detail));
+}
+
+}  // namespace
+
+PathPlanReport path_plan_report(const PlanResult& result, const PlanarPath& path,
+                                double motion_time, double rest_time) {
+  const MotionLaw uniform = SevenSegmentLaw(uniform_durations(motion_time), path.length()).law();
+  return {path.length(), predict_on_path(result.model, path, result.law, rest_time),
+          predict_on_path(result.model, path, uniform, rest_time)};
+}
+
+PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy strategy,
+                        const PlanOptions& options) {
+  const auto started = std::chrono::steady_clock::now();
+  Format f = format;
+  f.stroke = path.length();
+  PlanOptions o = options;
+  o.robustness = false;
+  o.uncertainty = Uncertainty{};
+  // The uniform law's plan: the inputs' validation, the model and the uniform law's figures.
+  PlanResult base = plan(f, Strategy::kBaseline, o);
+  if (base.invalid_input) {
+    base.strategy = strategy;
+    return base;
+  }
+  const MotionLaw uniform = SevenSegmentLaw(uniform_durations(f.motion_time), f.stroke).law();
+  const detail::Deadline deadline(o.time_limit, o.stop);
+  PathContext c{f,
+                path,
+                o,
+                base.model,
+                predict_on_path(base.model, path, uniform, o.rest_time),
+                base.baseline,
+                deadline};
+  if (!finite(c.uniform)) {
+    base.strategy = strategy;
+    base.status = SolveStatus::kFailed;
+    base.invalid_input =
+        refused(PlanInput::kUniformResponse, c.uniform.nonlinear.motion.value, non_negative(),
+                "the uniform law's predicted sloshing along the path is not "
+                "finite for this format");
+    base.message = "invalid input: " + base.invalid_input->message + "; nothing was planned";
+    return base;
+  }
+  PlanResult r = strategy == Strategy::kAuto ? run_auto(c, base) : run_single(c, base, strategy);
+  r.solver.solve_ms =
+      std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
+  return r;
+}
+
+}  // namespace slosh
