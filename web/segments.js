@@ -9,6 +9,9 @@ import { $ } from './dom.js';
 // The path a new page starts with: a line, a left quarter turn, a line (a curve of a track).
 export const DEFAULT_SEGMENTS = [{ line_mm: 200 }, { arc: { radius_mm: 150, angle_deg: 90 } }, { line_mm: 200 }];
 
+// A segment added by "Add line" or "Add arc".
+const NEW = { line: { line_mm: 100 }, arc: { arc: { radius_mm: 100, angle_deg: 90 } } };
+
 // The inputs of a row of kind `kind`: [id suffix, label, request path below the segment].
 const INPUTS = {
   line: [['line', 'Length [mm]', 'line_mm']],
@@ -71,7 +74,11 @@ function segmentRow(segment, i) {
   kindLabel.textContent = `Segment ${i + 1}`;
   head.append(kindLabel, kind, remove);
   row.appendChild(head);
-  const values = { line: segment.line_mm, radius: segment.arc?.radius_mm, angle: segment.arc?.angle_deg };
+  // The inputs of the other kind start with the values of a new segment of that kind, so a row
+  // switched from line to arc (or back) holds a whole segment.
+  const values = segment.arc
+    ? { line: NEW.line.line_mm, radius: segment.arc.radius_mm, angle: segment.arc.angle_deg }
+    : { line: segment.line_mm, radius: NEW.arc.arc.radius_mm, angle: NEW.arc.arc.angle_deg };
   for (const [which, inputs] of Object.entries(INPUTS)) {
     const group = document.createElement('div');
     group.dataset.when = `${kind.id}=${which}`;
@@ -111,6 +118,6 @@ export function initSegments(changed) {
     setSegments([...readSegments(), segment]);
     onChange();
   };
-  $('add-line').addEventListener('click', add({ line_mm: 100 }));
-  $('add-arc').addEventListener('click', add({ arc: { radius_mm: 100, angle_deg: 90 } }));
+  $('add-line').addEventListener('click', add(NEW.line));
+  $('add-arc').addEventListener('click', add(NEW.arc));
 }
