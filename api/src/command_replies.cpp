@@ -21,6 +21,10 @@ std::string pretty(const nlohmann::json& value) {
 // The plan request the format flags stand for.
 nlohmann::json quick_request(const QuickPlan& q) {
   nlohmann::json container{{"radius_mm", q.radius_mm}};
+  if (const auto& r = q.rectangular) {
+    container = {{"shape", "rectangular"}, {"length_mm", r->length_mm}, {"width_mm", r->width_mm}};
+    if (r->orientation_deg) container["orientation_deg"] = *r->orientation_deg;
+  }
   if (q.height_mm) container["height_mm"] = *q.height_mm;
   nlohmann::json fluid = q.fluid ? nlohmann::json(*q.fluid)
                                  : nlohmann::json{{"density_kg_m3", q.density_kg_m3.value_or(0)},

@@ -262,6 +262,9 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kFillHeightRange, "options.uncertainty.fill_height_mm"},
     {PlanInput::kViscosityRange, "options.uncertainty.viscosity_pa_s"},
     {PlanInput::kUncertaintySamples, "options.uncertainty.sample_points"},
+    {PlanInput::kContainerLength, "format.container.length_mm"},
+    {PlanInput::kContainerWidth, "format.container.width_mm"},
+    {PlanInput::kContainerOrientation, "format.container.orientation_deg"},
 };
 
 }  // namespace
@@ -282,6 +285,9 @@ std::string options_field(const InvalidInput& invalid, const PlanOptions& option
     case PlanInput::kViscosityRange:
     case PlanInput::kUncertaintySamples:
       return std::string(api_field_path(invalid.input));
+    case PlanInput::kContainerOrientation:
+      // The one option refused for the tank's orientation: an uncertainty range.
+      return "options.uncertainty";
     default:
       // The band is the value refused (its allowed maximum for the range is named).
       if (widened_band_refusal(invalid, options)) return "options.band";

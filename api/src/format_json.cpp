@@ -6,6 +6,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/core/model/fluid.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
 
 namespace slosh::api {
 
@@ -22,6 +23,60 @@ std::size_t utf8_length(const std::string& text) {
   std::size_t n = 0;
   for (unsigned char c : text) n += (c & 0xC0) != 0x80 ? 1 : 0;
   return n;
+}
+
+/// True for a rectangular container: "shape" when given, else "cylinder". A container with both
+/// the cylinder's radius and a rectangle's side is refused by name, whatever its shape.
+bool container_shape(const nlohmann::json& c, const std::string& path) {
+  const std::string spath = join_path(path, "shape");
+  bool rectangular = false;
+  if (const nlohmann::json* shape = given_member(c, "shape")) {
+    if (!shape->is_string() || (*shape != "cylinder" && *shape != "rectangular")) {
+      invalid(spath, spath + " = " + show(*shape) +
+                         " is not allowed: one of \"cylinder\", \"rectangular\"");
+    }
+    rectangular = *shape == "rectangular";
+  }
+  for (std::string_view side : {"length_mm", "width_mm", "orientation_deg"}) {
+    if (given_member(c, "radius_mm") == nullptr || given_member(c, side) == nullptr) continue;
+    const std::string field = join_path(path, rectangular ? "radius_mm" : side);
+    invalid(field, join_path(path, "radius_mm") + " and " + join_path(path, side) +
+                       " are both given: a container is a cylinder (radius_mm) or rectangular "
+                       "(\"shape\": \"rectangular\", length_mm, width_mm, orientation_deg), "
+                       "not both");
+  }
+  return rectangular;
+}
+
+/// The container of a format (parse_format).
+Container parse_container(const nlohmann::json& c, const std::string& path) {
+  const bool rectangular = container_shape(c, path);
+  Container out;
+  if (!rectangular) {
+    for (std::string_view side : {"length_mm", "width_mm", "orientation_deg"}) {
+      if (given_member(c, side) == nullptr) continue;
+      const std::string field = join_path(path, side);
+      invalid(field, field + " belongs to a rectangular container: give " +
+                         join_path(path, "shape") + " = \"rectangular\" (the cylinder has " +
+                         "radius_mm)");
+    }
+    // (The cylinder's list without "shape" unless given: its refusals read as they always have.)
+    if (given_member(c, "shape") != nullptr) {
+      reject_unknown_fields(c, path, {"shape", "radius_mm", "height_mm"});
+    } else {
+      reject_unknown_fields(c, path, {"radius_mm", "height_mm"});
+    }
+    out.radius = required_number(c, path, "radius_mm", ranges::kRadiusMm) * 1e-3;
+    return out;
+  }
+  reject_unknown_fields(c, path,
+                        {"shape", "length_mm", "width_mm", "height_mm", "orientation_deg"});
+  RectangularTank t;
+  t.length = required_number(c, path, "length_mm", ranges::kSideMm) * 1e-3;
+  t.width = required_number(c, path, "width_mm", ranges::kSideMm) * 1e-3;
+  t.orientation_deg = optional_number(c, path, "orientation_deg", ranges::kOrientationDeg, 0.0);
+  out.rectangular = t;
+  return out;
 }
 
 }  // namespace
@@ -72,12 +127,14 @@ Format parse_format(const nlohmann::json& format, const std::string& path) {
                         {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"});
   const std::string cpath = join_path(path, "container");
   auto it = format.find("container");
-  if (it == format.end())
-    invalid(cpath, cpath + " is required: {\"radius_mm\"} and optionally \"height_mm\"");
+  if (it == format.end()) {
+    invalid(cpath, cpath +
+                       " is required: {\"radius_mm\"} and optionally \"height_mm\", or "
+                       "{\"shape\": \"rectangular\", \"length_mm\", \"width_mm\"}");
+  }
   require_object(*it, cpath);
-  reject_unknown_fields(*it, cpath, {"radius_mm", "height_mm"});
   Format f;
-  f.container.radius = required_number(*it, cpath, "radius_mm", ranges::kRadiusMm) * 1e-3;
+  f.container = parse_container(*it, cpath);
   const double fill_mm = required_number(format, path, "fill_height_mm", ranges::kFillHeightMm);
   f.fill_height = fill_mm * 1e-3;
   if (it->contains("height_mm") && !(*it)["height_mm"].is_null()) {
@@ -166,6 +223,12 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
 nlohmann::json format_json(const Format& f) {
   // The lengths as the request gave them (mm_of undoes parse_format's mm * 1e-3 exactly).
   nlohmann::json container{{"radius_mm", mm_of(f.container.radius)}};
+  if (const auto& t = f.container.rectangular) {
+    container = {{"shape", "rectangular"},
+                 {"length_mm", mm_of(t->length)},
+                 {"width_mm", mm_of(t->width)},
+                 {"orientation_deg", t->orientation_deg}};
+  }
   if (f.container.height) container["height_mm"] = mm_of(*f.container.height);
   return {{"container", container},
           {"fill_height_mm", mm_of(f.fill_height)},
@@ -195,6 +258,36 @@ nlohmann::json model_json(const SloshingModel& m, const ModelOptions& options) {
     out["calibration"] = {{"omega_scale", options.omega_scale},
                           {"height_gain", options.height_gain}};
   }
+  return out;
+}
+
+void add_rectangular_model(nlohmann::json& out_model, const RectangularModel& model,
+                           const ModelOptions& options) {
+  out_model["rectangular"] = rectangular_model_json(model);
+  // The tank's own damping unless given: the cylinder's correlations do not apply to it.
+  if (options.damping != DampingCorrelation::kExplicit) out_model["damping"] = "rectangular";
+}
+
+nlohmann::json rectangular_model_json(const RectangularModel& model) {
+  const AxisComponents c = axis_components(model.orientation_deg);
+  nlohmann::json out = nlohmann::json::object();
+  auto direction = [](const SloshingModel& m, double component) {
+    nlohmann::json f_hz = nlohmann::json::array();
+    for (double w : m.omega) f_hz.push_back(w / (2.0 * std::numbers::pi));
+    return nlohmann::json{{"excited", component != 0.0},
+                          {"component", component},
+                          {"side_mm", m.radius * 1e3},
+                          {"omega_rad_s", m.omega},
+                          {"f_hz", f_hz},
+                          {"zeta", m.zeta},
+                          {"alpha", m.alpha},
+                          {"K_mm", m.K * 1e3},
+                          {"sloshing_mass_kg", m.mass},
+                          {"eta_gain", m.eta_gain}};
+  };
+  out["length"] = direction(model.along_length, c.along_length);
+  out["width"] = direction(model.along_width, c.along_width);
+  out["orientation_deg"] = model.orientation_deg;
   return out;
 }
 

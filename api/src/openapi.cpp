@@ -115,6 +115,13 @@ std::vector<std::string> fluid_names() {
 }
 
 /// The damping correlations a request may name (explicit is given as {"zeta": z}).
+/// The damping names a model reports: the correlations, and "rectangular" (a rectangular tank's
+/// own damping).
+std::vector<std::string> rectangular_damping(std::vector<std::string> names) {
+  names.emplace_back("rectangular");
+  return names;
+}
+
 std::vector<std::string> damping_names(bool with_explicit) {
   std::vector<std::string> out;
   for (DampingCorrelation c : enum_values<DampingCorrelation>()) {
@@ -130,9 +137,26 @@ void add_format_schemas(json& s) {
                           "Container height (optional; used for the spill warning). Must exceed "
                           "fill_height_mm");
   s["Container"] = object(
-      {{"radius_mm", number_in(ranges::kRadiusMm, "Inner radius R of the cylindrical container")},
+      {{"shape", string_enum({"cylinder"}, "The cylinder (the default when absent).")},
+       {"radius_mm", number_in(ranges::kRadiusMm, "Inner radius R of the cylindrical container")},
        {"height_mm", height}},
       {"radius_mm"}, "Cylindrical container.", true);
+  s["RectangularContainer"] = object(
+      {{"shape", string_enum({"rectangular"}, "A rectangular container (SPEC §15).")},
+       {"length_mm",
+        number_in(ranges::kSideMm, "Inner side L (along the motion at orientation 0)")},
+       {"width_mm", number_in(ranges::kSideMm, "Inner side W")},
+       {"height_mm", height},
+       {"orientation_deg",
+        with_default(number_in(ranges::kOrientationDeg,
+                               "Angle of the side L to the direction of motion: 0 moves the tank "
+                               "along L, 90 along W; between them both directions slosh"),
+                     0)}},
+      {"shape", "length_mm", "width_mm"},
+      "Open rectangular container (cup, tray of a form-fill-seal line): each horizontal "
+      "direction's modes on their own, the wall height reported the highest over its walls and "
+      "corners (docs/models.md). A container gives radius_mm or the sides, never both (422).",
+      true);
   s["FluidName"] =
       string_enum(fluid_names(), "A fluid of the catalogue (GET /v1/fluids; properties at 20 °C).");
   s["CustomFluid"] = object(
@@ -147,7 +171,7 @@ void add_format_schemas(json& s) {
   s["Fluid"] = {{"oneOf", {ref("FluidName"), ref("CustomFluid")}},
                 {"description", "A catalogue name or {density_kg_m3, viscosity_pa_s, name?}."}};
   s["Format"] =
-      object({{"container", ref("Container")},
+      object({{"container", {{"oneOf", {ref("Container"), ref("RectangularContainer")}}}},
               {"fill_height_mm", number_in(ranges::kFillHeightMm, "Fill height h of the liquid")},
               {"fluid", ref("Fluid")},
               {"stroke_mm", number_in(ranges::kStrokeMm, "Stroke s of the rest-to-rest motion")},
@@ -330,8 +354,13 @@ void add_shared_response_schemas(json& s) {
                               {"name", "density_kg_m3", "viscosity_pa_s"}, "", false);
   s["FormatEcho"] =
       object({{"container",
-               object({{"radius_mm", number("[mm]")}, {"height_mm", number("[mm], when given")}},
-                      {"radius_mm"}, "", false)},
+               object({{"radius_mm", number("[mm] (the cylinder)")},
+                       {"shape", text("\"rectangular\" (absent for the cylinder).")},
+                       {"length_mm", number("[mm] (rectangular)")},
+                       {"width_mm", number("[mm] (rectangular)")},
+                       {"orientation_deg", number("[deg] (rectangular)")},
+                       {"height_mm", number("[mm], when given")}},
+                      {}, "The cylinder's radius_mm, or a rectangular container's sides.", false)},
               {"fill_height_mm", number("[mm]")},
               {"fluid", ref("ResolvedFluid")},
               {"stroke_mm", number("[mm]")},
@@ -354,16 +383,41 @@ void add_shared_response_schemas(json& s) {
       {{"omega_rad_s", numbers("Natural circular frequencies omega_n [rad/s].")},
        {"f_hz", numbers("Natural frequencies f_n [Hz].")},
        {"zeta", number("Damping ratio [-].")},
-       {"damping", string_enum(damping_names(true), "Correlation used (explicit = given zeta).")},
+       {"damping", string_enum(rectangular_damping(damping_names(true)),
+                               "Correlation used (explicit = given zeta; rectangular = the "
+                               "rectangular tank's laminar boundary-layer damping).")},
        {"C", number("C = xi_1 tanh(xi_1 h/R) = omega_1² R / g [-].")},
        {"alpha", number("Nonlinear stiffening [-].")},
        {"K_mm", number("Nonlinear height gain K [mm].")},
        {"sloshing_mass_kg", numbers("Sloshing masses m_n [kg].")},
        {"fluid_mass_kg", number("Fluid mass [kg].")},
-       {"eta_gain", numbers("Linear wall-height gains per mode [-].")}},
+       {"eta_gain", numbers("Linear wall-height gains per mode [-].")},
+       {"rectangular", ref("RectangularModel")}},
       {"omega_rad_s", "f_hz", "zeta", "damping", "C", "alpha", "K_mm", "sloshing_mass_kg",
        "fluid_mass_kg", "eta_gain"},
-      "Sloshing model parameters of the format.", false);
+      "Sloshing model parameters of the format. A rectangular container's are those of its "
+      "most excited direction driven by the whole acceleration along the motion (its share c: "
+      "gains times |c|, alpha times c²; C = 0), with both directions in \"rectangular\".",
+      false);
+  json direction = object(
+      {{"excited", boolean("Whether the motion drives this direction (share != 0).")},
+       {"component", number("Share c of the acceleration along the motion: cos(orientation) "
+                            "along L, sin(orientation) along W [-].")},
+       {"side_mm", number("The side along this direction [mm].")},
+       {"omega_rad_s", numbers("omega_n = sqrt(g k_n tanh(k_n h)), k_n = (2n-1) pi / side.")},
+       {"f_hz", numbers("[Hz].")},
+       {"zeta", number("Damping ratio [-].")},
+       {"alpha", number("Duffing coefficient of the dominant mode [-].")},
+       {"K_mm", number("Nonlinear height gain [mm].")},
+       {"sloshing_mass_kg", numbers("Sloshing masses [kg].")},
+       {"eta_gain", numbers("Linear wall-height gains per mode [-].")}},
+      {"excited", "component", "side_mm", "omega_rad_s", "f_hz", "zeta", "alpha", "K_mm",
+       "sloshing_mass_kg", "eta_gain"},
+      "", false);
+  s["RectangularModel"] =
+      object({{"length", direction}, {"width", direction}, {"orientation_deg", number("[deg]")}},
+             {"length", "width", "orientation_deg"},
+             "A rectangular tank's two directions (SPEC §15).", false);
   s["Peaks"] =
       object({{"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm].")},
               {"eta_rest_mm", number("Peak |eta| in the rest window (residual wave) [mm].")},
@@ -372,7 +426,14 @@ void add_shared_response_schemas(json& s) {
              {"eta_motion_mm", "eta_rest_mm", "t_motion_s", "t_rest_s"},
              "Wave-height peaks of one model.", false);
   s["Prediction"] =
-      object({{"nonlinear", ref("Peaks")}, {"linear", ref("Peaks")}}, {"nonlinear", "linear"},
+      object({{"nonlinear", ref("Peaks")},
+              {"linear", ref("Peaks")},
+              {"directions",
+               object({{"length", ref("Peaks")}, {"width", ref("Peaks")}}, {"length", "width"},
+                      "A rectangular container's simulation: each direction's own walls "
+                      "(nonlinear model, or linear outside its range).",
+                      false)}},
+             {"nonlinear", "linear"},
              "Predictions of the dense accurate simulation of both models.", false);
   json units{{"type", "object"},
              {"additionalProperties", {{"type", "string"}}},

@@ -195,6 +195,15 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
                              {"motion_time_s", f.motion_time}}},
                            {"strategy", to_string(r.strategy)},
                            {"options", std::move(options)}};
+  // A rectangular container is another answer; the cylinder's keys stay as they were.
+  if (const auto& t = f.container.rectangular) {
+    nlohmann::json& format = recipe["format"];
+    format.erase("radius_m");
+    format["shape"] = "rectangular";
+    format["length_m"] = t->length;
+    format["width_m"] = t->width;
+    format["orientation_deg"] = t->orientation_deg;
+  }
   // Only a plan along an arc or a path has the member: every other key stays as it was.
   if (r.motion) recipe["motion"] = canonical_motion(*r.motion);
   return recipe;
@@ -370,6 +379,7 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["law"] = law_json(r.law, r.durations);
   if (r.design) out["design"] = design_json(*r.design);
   out["model"] = model_json(r.model, request.options.model);
+  if (r.rectangular) add_rectangular_model(out["model"], *r.rectangular, request.options.model);
   out["prediction"] = prediction_json(r.prediction);
   out["baseline"] = prediction_json(r.baseline);
   out["baseline"]["durations_s"] = uniform_durations(request.format.motion_time);

@@ -71,9 +71,14 @@ std::string prediction_lines(const json& plan) {
 
 std::string plan_summary_text(const json& plan) {
   const json& f = plan["format"];
-  std::string out = "plan        " + plan["strategy"].get<std::string>() + " on R " +
-                    num(f["container"]["radius_mm"], 1) + " mm, h " + num(f["fill_height_mm"], 1) +
-                    " mm, " + f["fluid"].value("name", std::string("custom fluid")) + ", " +
+  const json& c = f["container"];
+  const std::string container = c.contains("length_mm") ? "L " + num(c["length_mm"], 1) + " x W " +
+                                                              num(c["width_mm"], 1) + " mm at " +
+                                                              num(c["orientation_deg"], 1) + " deg"
+                                                        : "R " + num(c["radius_mm"], 1) + " mm";
+  std::string out = "plan        " + plan["strategy"].get<std::string>() + " on " + container +
+                    ", h " + num(f["fill_height_mm"], 1) + " mm, " +
+                    f["fluid"].value("name", std::string("custom fluid")) + ", " +
                     num(f["stroke_mm"], 1) + " mm in " + num(f["motion_time_s"], 3) + " s\n";
   out += "status      " + plan["status"].get<std::string>() + "\n";
   out += "message     " + plan["message"].get<std::string>() + "\n";

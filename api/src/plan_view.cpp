@@ -85,6 +85,7 @@ struct WarningCode {
 constexpr WarningCode kWarningCodes[] = {
     {"peak |acceleration| ", "linear_model_unreliable"},
     {"radius ", "surface_tension"},
+    {"half the shorter side ", "surface_tension"},
     {"fill ratio ", "shallow_fill"},
     {"predicted sloshing height during the motion ", "spill"},
 };

@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <cstdint>
+#include <functional>
 #include <optional>
 
 #include "slosh/api/error.hpp"
@@ -23,6 +24,10 @@ using nlohmann::json;
 const std::array kRequestColumns{
     RecipeColumn{"recipe_id", "", CellKind::kId},
     RecipeColumn{"radius_mm", "/format/container/radius_mm", CellKind::kNumber},
+    RecipeColumn{"container_shape", "/format/container/shape", CellKind::kText},
+    RecipeColumn{"length_mm", "/format/container/length_mm", CellKind::kNumber},
+    RecipeColumn{"width_mm", "/format/container/width_mm", CellKind::kNumber},
+    RecipeColumn{"orientation_deg", "/format/container/orientation_deg", CellKind::kNumber},
     RecipeColumn{"container_height_mm", "/format/container/height_mm", CellKind::kNumber},
     RecipeColumn{"fill_height_mm", "/format/fill_height_mm", CellKind::kNumber},
     RecipeColumn{"fluid", "/format/fluid", CellKind::kText},
@@ -33,6 +38,7 @@ const std::array kRequestColumns{
     RecipeColumn{"strategy", "/strategy", CellKind::kText},
 };
 
+// (radius_mm, or length_mm and width_mm for rectangular containers: container_sides.)
 constexpr std::array<std::string_view, 6> kRequired{"recipe_id", "radius_mm",     "fill_height_mm",
                                                     "stroke_mm", "motion_time_s", "strategy"};
 
@@ -66,6 +72,20 @@ std::string comma_list(const Names& items) {
 
 std::string quote_text(std::string_view text) {
   return show(json(std::string(text)));
+}
+
+/// A table of rectangular containers (a length_mm or width_mm column) needs both sides instead
+/// of radius_mm; a row gives one shape or the other (the request parser names a row's mix).
+bool rectangular_table(const std::function<bool(std::string_view)>& has) {
+  if (!has("length_mm") && !has("width_mm")) return false;
+  for (std::string_view side : {"length_mm", "width_mm"}) {
+    if (!has(side)) {
+      throw RecipeTableError("recipe table: missing column " + quote_text(side) +
+                             "; a table of rectangular containers has both length_mm and "
+                             "width_mm (and radius_mm only for its round ones)");
+    }
+  }
+  return true;
 }
 
 // "/format/container/radius_mm" -> "format.container.radius_mm"
@@ -198,8 +218,9 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
     return std::any_of(columns_.begin(), columns_.end(),
                        [&](const RecipeColumn& k) { return k.name == name; });
   };
+  const bool rectangular = rectangular_table(has);
   for (std::string_view name : kRequired) {
-    if (!has(name)) {
+    if (!has(name) && !(rectangular && name == "radius_mm")) {
       throw RecipeTableError("recipe table: missing column " + quote_text(name) + "; required: " +
                              "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
                              "viscosity_pa_s), stroke_mm, motion_time_s, strategy");
@@ -232,6 +253,15 @@ json RecipeHeader::request(const std::vector<std::string>& cells) const {
     const RecipeColumn& column = columns_[c];
     if (column.kind == CellKind::kId || cells[c].empty()) continue;  // empty: the default
     request[json::json_pointer(column.pointer)] = cell_value(column, cells[c]);
+  }
+  // A row with sides and no radius is a rectangular container without saying so.
+  const json::json_pointer container("/format/container");
+  if (request.contains(container)) {
+    json& c = request[container];
+    if (!c.contains("shape") && !c.contains("radius_mm") &&
+        (c.contains("length_mm") || c.contains("width_mm"))) {
+      c["shape"] = "rectangular";
+    }
   }
   return request;
 }

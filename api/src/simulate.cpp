@@ -264,6 +264,12 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
   out["kinematics"] = kin;
   out["model"] = model_json(r.model, request.options.model);
   out["prediction"] = prediction_json(r);
+  if (r.rectangular) {
+    add_rectangular_model(out["model"], *r.rectangular, request.options.model);
+    // Each direction's own walls (the nonlinear model, or the linear one outside its range).
+    out["prediction"]["directions"] = {{"length", peaks_json(r.rectangular_peaks->along_length)},
+                                       {"width", peaks_json(r.rectangular_peaks->along_width)}};
+  }
   out["rest_time_s"] = request.options.rest_time;
   if (r.series) {
     auto mm = [](std::vector<double> v) {

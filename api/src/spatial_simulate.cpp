@@ -98,6 +98,13 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   const SpatialMotion& motion = spatial.motion;
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
+  if (request.format.container.rectangular) {
+    // The planar models are the cylinder's (its modes do not care which way it moves).
+    invalid("format.container.shape",
+            "format.container.shape = \"rectangular\" is not simulated along format.motion: the "
+            "planar sloshing models are the cylinder's; move a rectangular container along the "
+            "straight stroke (without format.motion), turned by orientation_deg");
+  }
   const SloshingModel model = make_sloshing_model(request.format, request.options.model);
   const PlanarDrive drive = make_drive(motion, model, law);
   const double rest = request.options.rest_time;

@@ -49,7 +49,11 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kLawResponse:
     case PlanInput::kFreeBoardMargin:
     case PlanInput::kFillHeightRange:
+    case PlanInput::kContainerLength:
+    case PlanInput::kContainerWidth:
       return "m";
+    case PlanInput::kContainerOrientation:
+      return "deg";
     case PlanInput::kFluidDensity:
       return "kg/m^3";
     case PlanInput::kFluidViscosity:

@@ -123,15 +123,18 @@ describe("slosh-opcua against hostile input", () => {
     }
   });
 
-  it("MotionJson and the rectangle arguments reach the service, whose refusal today names the argument", async () => {
+  it("MotionJson and the rectangle arguments reach the service, whose refusal names the argument", async () => {
     const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"arc\",\"radius_mm\":300,\"angle_deg\":90}" }));
     assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
     assert.equal(motion.inputArgumentResults[10].value, StatusCodes.BadInvalidArgument.value);
     assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion of type \"arc\": planning along paths is not available yet; plans, min-time and cam export move along a straight line (format.stroke_mm, or a motion of type \"line\"). POST /v1/simulate predicts the wave of any motion");
+    // A rectangular container is planned (SPEC §15); a side out of range is refused on its argument.
     const rect = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, radius: 0, length: 100, width: 80 }));
-    assert.equal(rect.statusCode.value, StatusCodes.BadInvalidArgument.value);
-    assert.equal(rect.inputArgumentResults[2].value, StatusCodes.BadInvalidArgument.value);
-    assert.equal(rect.inputArgumentDiagnosticInfos[2].additionalInfo, "format.container.length_mm is not a known field; allowed here: radius_mm, height_mm");
+    assert.equal(rect.statusCode.value, StatusCodes.Good.value);
+    const thin = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, radius: 0, length: 100, width: 0.5 }));
+    assert.equal(thin.statusCode.value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(thin.inputArgumentResults[3].value, StatusCodes.BadInvalidArgument.value);
+    assert.equal(thin.inputArgumentDiagnosticInfos[3].additionalInfo, "format.container.width_mm = 0.5 is out of range: allowed 1 to 4000 mm");
   });
 
   it("JSON nested deeper than the service's 64 levels (counting the request around it) is refused on its own argument, before parsing", async () => {

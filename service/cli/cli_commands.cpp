@@ -64,6 +64,9 @@ std::vector<std::string> QuickPlanFlags::given() const {
     if (set) out.emplace_back(flag);
   };
   note(radius_mm.has_value(), "--radius");
+  note(length_mm.has_value(), "--length");
+  note(width_mm.has_value(), "--width");
+  note(orientation_deg.has_value(), "--orientation");
   note(fill_mm.has_value(), "--fill");
   note(height_mm.has_value(), "--height");
   note(fluid.has_value(), "--fluid");
@@ -118,8 +121,18 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
            "(slosh fluids) or give a custom one";
   }
   if (const std::string motion = motion_flags_problem(q); !motion.empty()) return motion;
+  const bool rectangular = q.length_mm || q.width_mm || q.orientation_deg;
+  if (q.radius_mm && rectangular) {
+    return "--radius cannot be combined with --length/--width/--orientation: a container is a "
+           "cylinder (--radius) or rectangular (--length and --width)";
+  }
   std::vector<std::string> missing;
-  if (!q.radius_mm) missing.emplace_back("--radius");
+  if (rectangular) {
+    if (!q.length_mm) missing.emplace_back("--length");
+    if (!q.width_mm) missing.emplace_back("--width");
+  } else if (!q.radius_mm) {
+    missing.emplace_back("--radius");
+  }
   if (!q.fill_mm) missing.emplace_back("--fill");
   if (!q.fluid && !q.density_kg_m3)
     missing.emplace_back(q.viscosity_pa_s ? "--density" : "--fluid");
@@ -130,8 +143,9 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
   if (!q.stroke_mm && !arc && !q.motion_path) missing.emplace_back("--stroke");
   if (!q.time_s) missing.emplace_back("--time");
   if (!missing.empty()) {
-    return "the format flags need --radius, --fill, --fluid (or --density and --viscosity), "
-           "--stroke and --time: missing " +
+    return std::string("the format flags need ") +
+           (rectangular ? "--length and --width" : "--radius") +
+           ", --fill, --fluid (or --density and --viscosity), --stroke and --time: missing " +
            joined(missing);
   }
   return "";
@@ -149,7 +163,9 @@ std::string read_file_flag(const std::string& path, const std::string& flag) {
 /// The quick flags as the API takes them (quick_flags_problem found none missing).
 api::QuickPlan quick_plan(const QuickPlanFlags& q) {
   api::QuickPlan p;
-  p.radius_mm = *q.radius_mm;
+  p.radius_mm = q.radius_mm.value_or(0.0);
+  if (q.length_mm)
+    p.rectangular = api::QuickRectangle{*q.length_mm, *q.width_mm, q.orientation_deg};
   p.height_mm = q.height_mm;
   p.fill_mm = *q.fill_mm;
   p.fluid = q.fluid;
@@ -182,6 +198,9 @@ api::QuickPlan quick_plan(const QuickPlanFlags& q) {
 std::string flag_of(const std::string& field) {
   static const std::pair<const char*, const char*> flags[] = {
       {"format.container.radius_mm", "--radius"},
+      {"format.container.length_mm", "--length"},
+      {"format.container.width_mm", "--width"},
+      {"format.container.orientation_deg", "--orientation"},
       {"format.container.height_mm", "--height"},
       {"format.fill_height_mm", "--fill"},
       {"format.fluid.density_kg_m3", "--density"},

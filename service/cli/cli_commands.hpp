@@ -19,6 +19,8 @@ int run_simulate_command(const std::string& request_path, const std::string& tra
 /// motion time in s, density kg/m^3, viscosity Pa s; unset = not given.
 struct QuickPlanFlags {
   std::optional<double> radius_mm, fill_mm, height_mm, stroke_mm, time_s;
+  /// A rectangular container instead of the radius: sides [mm] and orientation [deg].
+  std::optional<double> length_mm, width_mm, orientation_deg;
   std::optional<std::string> fluid;                     ///< a catalogue name (slosh fluids)
   std::optional<double> density_kg_m3, viscosity_pa_s;  ///< a custom fluid instead
   std::optional<std::string> strategy;                  ///< default auto
@@ -44,9 +46,9 @@ struct PlanCommandOptions {
 };
 
 /// `slosh plan --request FILE|- [--view full|compact] [--format json|text]` or `slosh plan
-/// --radius R --fill H --fluid NAME --stroke S --time T [--height C] [--strategy NAME]` (or, for
-/// the move, `--arc-radius R --arc-angle A [--turns true|false]` or `--motion FILE.json` instead
-/// of --stroke): prints
+/// --radius R (or --length L --width W [--orientation DEG]) --fill H --fluid NAME --stroke S
+/// --time T [--height C] [--strategy NAME]` (or, for the move, `--arc-radius R --arc-angle A
+/// [--turns true|false]` or `--motion FILE.json` instead of --stroke): prints
 /// the plan on stdout, as the /v1/plans response (json, the view named by `view`) or as a short
 /// summary (text, api::plan_summary_text); exit 0 whatever the plan's status. Invalid input as for
 /// simulate (the envelope on stderr; with text output the message and the flag it came from); flags

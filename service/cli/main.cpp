@@ -131,7 +131,14 @@ CLI::App* add_plan(CLI::App& app, CliArgs& a) {
       "may choose one). Request JSON in (--request) or the format as flags (--radius ...); the "
       "/v1/plans response or a short text summary out");
   auto& q = a.plan.quick;
-  plan->add_option("--radius", q.radius_mm, "Format flags: container radius [mm]");
+  plan->add_option("--radius", q.radius_mm, "Format flags: container radius [mm] (a cylinder)");
+  plan->add_option("--length", q.length_mm,
+                   "Or a rectangular container: its side L [mm] (along the motion at "
+                   "orientation 0)");
+  plan->add_option("--width", q.width_mm, "Rectangular container: its side W [mm]");
+  plan->add_option("--orientation", q.orientation_deg,
+                   "Rectangular container: angle of L to the motion [deg], -180 to 180 "
+                   "[default 0]");
   plan->add_option("--fill", q.fill_mm, "Fill height [mm]");
   plan->add_option("--height", q.height_mm, "Container height [mm] (optional; the free board)");
   plan->add_option("--fluid", q.fluid, "Catalogue fluid (slosh fluids), e.g. water");

@@ -3,6 +3,8 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/core/model/tank_directions.hpp"
+
 namespace slosh {
 
 namespace {
@@ -41,6 +43,10 @@ double natural_frequency(double radius, double fill_height, int n) {
 }
 
 SloshingModel make_sloshing_model(const Format& format, const ModelOptions& options) {
+  if (format.container.rectangular) {
+    // A rectangular tank's one model: its most excited direction, driven by the motion.
+    return driven_directions(rectangular_model_of(format, options)).front().model;
+  }
   SloshingModel m;
   const double R = format.container.radius;
   const double h = format.fill_height;

@@ -92,17 +92,37 @@ std::optional<InvalidInput> validate_uncertainty(const Format& format, const Mod
   return std::nullopt;
 }
 
+namespace {
+
+/// The first natural frequency of the format at another fill [rad/s]: the cylinder's, or the
+/// rectangular tank's most excited direction's (only a tank square to the motion is planned
+/// over a range: one direction).
+double first_frequency(const Format& format, double fill) {
+  if (!format.container.rectangular) return natural_frequency(format.container.radius, fill, 1);
+  return make_sloshing_model(with_fill_and_viscosity(format, fill, format.fluid.viscosity),
+                             ModelOptions{})
+      .omega1();
+}
+
+/// The damping ratio of the format by a correlation (the rectangular tank's own damping for
+/// any correlation but kExplicit, which uncertainty_range handles).
+double correlated_zeta(const Format& format, DampingCorrelation correlation) {
+  if (!format.container.rectangular) return damping_ratio(format, correlation);
+  return make_sloshing_model(format, ModelOptions{}).zeta;
+}
+
+}  // namespace
+
 UncertaintyRange uncertainty_range(const Format& format, const ModelOptions& model,
                                    const Uncertainty& u) {
-  const double R = format.container.radius;
   const double h = format.fill_height;
   const double nu = format.fluid.viscosity;
-  const double w1 = natural_frequency(R, h, 1);
+  const double w1 = first_frequency(format, h);
   const std::array<double, 2> fills = u.fill_height.value_or(std::array<double, 2>{h, h});
   const std::array<double, 2> viscosities = u.viscosity.value_or(std::array<double, 2>{nu, nu});
   UncertaintyRange r;
-  r.scale_lo = natural_frequency(R, fills[0], 1) / w1 * (1.0 - u.omega_error);
-  r.scale_hi = natural_frequency(R, fills[1], 1) / w1 * (1.0 + u.omega_error);
+  r.scale_lo = first_frequency(format, fills[0]) / w1 * (1.0 - u.omega_error);
+  r.scale_hi = first_frequency(format, fills[1]) / w1 * (1.0 + u.omega_error);
   if (model.damping == DampingCorrelation::kExplicit) {
     r.zeta_lo = r.zeta_hi = model.explicit_zeta;
   } else {
@@ -111,7 +131,7 @@ UncertaintyRange uncertainty_range(const Format& format, const ModelOptions& mod
     for (int k = 0; k < kZetaFillSamples; ++k) {
       const double fill = fills[0] + (fills[1] - fills[0]) * k / (kZetaFillSamples - 1);
       for (double v : viscosities) {
-        const double z = damping_ratio(with_fill_and_viscosity(format, fill, v), model.damping);
+        const double z = correlated_zeta(with_fill_and_viscosity(format, fill, v), model.damping);
         r.zeta_lo = std::min(r.zeta_lo, z);
         r.zeta_hi = std::max(r.zeta_hi, z);
       }

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "slosh/core/model/tank_directions.hpp"
 #include "text.hpp"
 
 namespace slosh {
@@ -20,12 +21,22 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
                 " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); "
                 "rely on the nonlinear prediction");
   }
-  if (R < kMinModelledRadius) {
+  if (format.container.rectangular) {
+    // A rectangular tank's shallow fill is judged by its nonlinear model's range
+    // (rectangular_nonlinear_peaks); surface tension by half its shorter side.
+    const RectangularTank& t = *format.container.rectangular;
+    const double half = 0.5 * std::min(t.length, t.width);
+    if (half < kMinModelledRadius) {
+      w.push_back("half the shorter side " + fixed(half * 1e3, 1) + " mm is below " +
+                  fixed(kMinModelledRadius * 1e3, 0) +
+                  " mm: surface tension matters and is not modelled");
+    }
+  } else if (R < kMinModelledRadius) {
     w.push_back("radius " + fixed(R * 1e3, 1) + " mm is below " +
                 fixed(kMinModelledRadius * 1e3, 0) +
                 " mm: surface tension matters and is not modelled");
   }
-  if (h / R < kMinFillRatio) {
+  if (!format.container.rectangular && h / R < kMinFillRatio) {
     w.push_back("fill ratio h/R = " + fixed(h / R, 3) + " is below " + fixed(kMinFillRatio, 1) +
                 ": shallow-liquid regime, not modelled");
   }
@@ -48,8 +59,19 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
 
 std::optional<InvalidInput> validate_simulation_input(const Format& f, const MotionLaw& law,
                                                       const SimulationOptions& options) {
+  if (f.container.rectangular) {
+    const RectangularTank& t = *f.container.rectangular;
+    if (auto bad = first_out_of_range({
+            {PlanInput::kContainerLength, t.length, positive()},
+            {PlanInput::kContainerWidth, t.width, positive()},
+            {PlanInput::kContainerOrientation, t.orientation_deg, closed_range(-180.0, 180.0)},
+        })) {
+      return bad;
+    }
+  }
   if (auto bad = first_out_of_range({
-          {PlanInput::kContainerRadius, f.container.radius, positive()},
+          {PlanInput::kContainerRadius, f.container.rectangular ? 1.0 : f.container.radius,
+           positive()},
           {PlanInput::kContainerHeight, f.container.height.value_or(1.0), positive()},
           {PlanInput::kFillHeight, f.fill_height, positive()},
           {PlanInput::kFluidDensity, f.fluid.density, positive()},
@@ -80,6 +102,74 @@ std::optional<InvalidInput> validate_simulation_input(const Format& f, const Mot
   return std::nullopt;
 }
 
+namespace {
+
+/// The series sampled at options.sample_period over the motion and the rest window.
+template <class Linear, class Nonlinear>
+TimeSeries sampled_series(const MotionLaw& law, const SimulationOptions& options,
+                          const Linear& eta_linear, const Nonlinear& eta_nonlinear) {
+  const double dt = *options.sample_period;
+  const double end = law.duration() + options.rest_time;
+  const auto n = static_cast<std::size_t>(std::floor(end / dt + 1e-9));
+  TimeSeries s;
+  for (std::size_t i = 0; i <= n; ++i) {
+    const double t = std::min(end, dt * static_cast<double>(i));
+    const KinematicState k = law.at(t);
+    s.t.push_back(t);
+    s.a.push_back(k.acceleration);
+    s.v.push_back(k.velocity);
+    s.s.push_back(k.position);
+    s.eta_linear.push_back(eta_linear(t));
+    s.eta_nonlinear.push_back(eta_nonlinear(t));
+  }
+  return s;
+}
+
+/// The wave height series of a rectangular tank: signed at the wall when one direction moves,
+/// else the highest corner; the nonlinear one by each driven direction's oscillator, or the
+/// linear model's where the nonlinear model does not hold (`nonlinear_holds` false).
+struct RectangularSeries {
+  RectangularLinearResponse linear;
+  std::vector<NonlinearResponse> nonlinear;
+  bool nonlinear_holds{true};
+
+  [[nodiscard]] double eta_linear(double t) const {
+    const double l = linear.eta_length(t), w = linear.eta_width(t);
+    return l == 0.0 || w == 0.0 ? l + w : std::abs(l) + std::abs(w);
+  }
+  [[nodiscard]] double eta_nonlinear(double t) const {
+    if (!nonlinear_holds) return eta_linear(t);
+    if (nonlinear.size() == 1) return nonlinear.front().eta(t);
+    return std::abs(nonlinear[0].eta(t)) + std::abs(nonlinear[1].eta(t));
+  }
+};
+
+void simulate_rectangular(const Format& format, const MotionLaw& law,
+                          const SimulationOptions& options, SimulationResult& r) {
+  r.rectangular = rectangular_model_of(format, options.model);
+  const RectangularModel& m = *r.rectangular;
+  const RectangularNonlinearPeaks nonlinear =
+      rectangular_nonlinear_peaks(m, law, options.rest_time, options.nonlinear);
+  RectangularSeries series{
+      RectangularLinearResponse(m, law, options.rest_time), {}, nonlinear.nonlinear};
+  r.linear = series.linear.peaks().highest;
+  r.nonlinear = nonlinear.peaks.highest;
+  r.rectangular_peaks = nonlinear.peaks;
+  if (!nonlinear.warning.empty()) r.warnings.push_back(nonlinear.warning);
+  if (!options.sample_period) return;
+  if (series.nonlinear_holds) {
+    for (const DrivenDirection& d : driven_directions(m)) {
+      series.nonlinear.emplace_back(d.model, law.scaled(d.component > 0.0 ? 1.0 : -1.0),
+                                    options.rest_time, options.nonlinear);
+    }
+  }
+  r.series = sampled_series(
+      law, options, [&series](double t) { return series.eta_linear(t); },
+      [&series](double t) { return series.eta_nonlinear(t); });
+}
+
+}  // namespace
+
 SimulationResult simulate(const Format& format, const MotionLaw& law,
                           const SimulationOptions& options) {
   SimulationResult r;
@@ -89,30 +179,24 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   }
   r.model = make_sloshing_model(format, options.model);
   r.kinematics = law.summary();
-  const LinearResponse linear(r.model, law, options.rest_time);
-  const NonlinearResponse nonlinear(r.model, law, options.rest_time, options.nonlinear);
-  r.linear = linear.peaks();
-  r.nonlinear = nonlinear.peaks();
-  r.warnings = validity_warnings(
+  if (format.container.rectangular) {
+    simulate_rectangular(format, law, options, r);
+  } else {
+    const LinearResponse linear(r.model, law, options.rest_time);
+    const NonlinearResponse nonlinear(r.model, law, options.rest_time, options.nonlinear);
+    r.linear = linear.peaks();
+    r.nonlinear = nonlinear.peaks();
+    if (options.sample_period) {
+      r.series = sampled_series(
+          law, options, [&linear](double t) { return linear.eta(t); },
+          [&nonlinear](double t) { return nonlinear.eta(t); });
+    }
+  }
+  std::vector<std::string> warnings = validity_warnings(
       format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
       r.linear.motion.value, r.nonlinear.motion.value);
-  if (options.sample_period) {
-    const double dt = *options.sample_period;
-    const double end = law.duration() + options.rest_time;
-    const auto n = static_cast<std::size_t>(std::floor(end / dt + 1e-9));
-    TimeSeries s;
-    for (std::size_t i = 0; i <= n; ++i) {
-      const double t = std::min(end, dt * static_cast<double>(i));
-      const KinematicState k = law.at(t);
-      s.t.push_back(t);
-      s.a.push_back(k.acceleration);
-      s.v.push_back(k.velocity);
-      s.s.push_back(k.position);
-      s.eta_linear.push_back(linear.eta(t));
-      s.eta_nonlinear.push_back(nonlinear.eta(t));
-    }
-    r.series = std::move(s);
-  }
+  warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+  r.warnings = std::move(warnings);
   return r;
 }
 

@@ -4,7 +4,9 @@
 #include <chrono>
 #include <cmath>
 
+#include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/strategy/rectangular_plan.hpp"
 #include "solve/one_jerk_chart.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -20,9 +22,18 @@ constexpr double kAutoTieTolerance{1e-6};
 /// `auto` keeps candidates whose eta_motion is within this factor of the best one (SPEC §5).
 constexpr double kAutoMotionSlack{1.05};
 
-LawPrediction predict(const SloshingModel& model, const MotionLaw& law, double rest_time) {
+/// The verified prediction of a law: on the cylinder's `model`, or on the rectangular tank's
+/// walls and corners when `rectangular` is given.
+LawPrediction predict(const SloshingModel& model, const RectangularModel* rectangular,
+                      const MotionLaw& law, double rest_time) {
   LawPrediction p;
   p.kinematics = law.summary();
+  if (rectangular != nullptr) {
+    const RectangularPrediction r = rectangular_prediction(*rectangular, law, rest_time);
+    p.linear = r.linear;
+    p.nonlinear = r.nonlinear;
+    return p;
+  }
   p.linear = LinearResponse(model, law, rest_time).peaks();
   p.nonlinear = nonlinear_peaks(model, law, rest_time);
   return p;
@@ -109,12 +120,29 @@ bool finite_prediction(const LawPrediction& p) {
                      [](double v) { return std::isfinite(v); });
 }
 
+/// A rectangular tank's sides and orientation.
+std::optional<InvalidInput> validate_rectangular(const Format& f) {
+  if (!f.container.rectangular) return std::nullopt;
+  const RectangularTank& t = *f.container.rectangular;
+  const InputBounds side = closed_range(kMinPlanRadius, kMaxPlanLength);
+  if (auto bad = first_out_of_range({
+          {PlanInput::kContainerLength, t.length, side},
+          {PlanInput::kContainerWidth, t.width, side},
+          {PlanInput::kContainerOrientation, t.orientation_deg, closed_range(-180.0, 180.0)},
+      })) {
+    return bad;
+  }
+  return std::nullopt;
+}
+
 }  // namespace
 
 std::optional<InvalidInput> validate_plan_input(const Format& f, const PlanOptions& options) {
   const InputBounds length = closed_range(kMinPlanLength, kMaxPlanLength);
+  if (auto bad = validate_rectangular(f)) return bad;
   if (auto bad = first_out_of_range({
-          {PlanInput::kContainerRadius, f.container.radius,
+          {PlanInput::kContainerRadius,
+           f.container.rectangular ? kMinPlanRadius : f.container.radius,
            closed_range(kMinPlanRadius, kMaxPlanLength)},
           {PlanInput::kContainerHeight, f.container.height.value_or(1.0), positive()},
           {PlanInput::kFillHeight, f.fill_height, length},
@@ -258,6 +286,13 @@ std::optional<InvalidInput> PlanOptions::validate(const Format& format) const {
     return bad;
   }
   if (auto bad = validate_uncertainty(format, model, uncertainty)) return bad;
+  const auto& tank = format.container.rectangular;
+  if (uncertainty.active() && tank && both_directions_excited(tank->orientation_deg)) {
+    return refused(PlanInput::kContainerOrientation, tank->orientation_deg, {},
+                   "uncertainty is planned for a rectangular tank square to the motion only "
+                   "(orientation 0, 90, -90 or 180 degrees); at " +
+                       sig3(tank->orientation_deg) + " degrees both of its directions move");
+  }
   return std::nullopt;
 }
 
@@ -396,6 +431,7 @@ void set_design(StrategyContext& c) {
   c.sample_models = {c.model};
   c.check_models = {c.model};
   if (o.uncertainty.active()) set_range(c);
+  set_directions(c);
   c.band_grid = band_check_grid(c.design_model.omega1(), c.band, o.n_band);
 }
 
@@ -581,7 +617,7 @@ LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o
       *o.durations == uniform_durations(c.format.motion_time)) {
     return *c.uniform_prediction;
   }
-  return predict(c.model, o.law, c.options.rest_time);
+  return predict(c.model, c.rectangular, o.law, c.options.rest_time);
 }
 
 /// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
@@ -963,8 +999,8 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
 GuardReference guard_reference(const detail::StrategyContext& c, const LawPrediction& uniform) {
   if (c.space.uniform_inside()) return {uniform, true};
   const Durations d = c.space.nearest_uniform();
-  LawPrediction p =
-      predict(c.model, SevenSegmentLaw(d, c.format.stroke).law(), c.options.rest_time);
+  LawPrediction p = predict(c.model, c.rectangular, SevenSegmentLaw(d, c.format.stroke).law(),
+                            c.options.rest_time);
   if (!finite_prediction(p)) return {uniform, true};
   return {std::move(p), false};
 }
@@ -1061,6 +1097,15 @@ InvalidInput diverging_law(const KinematicSummary& k, Strategy strategy, bool at
                      (at_nominal ? "" : " or narrow the range"));
 }
 
+/// A rectangular tank's plan says when the linear model answered for the nonlinear one (a
+/// shallow fill or a steep wave, rectangular_nonlinear_peaks), once.
+void add_rectangular_warnings(PlanResult& r, const PlanOptions& options) {
+  std::string why = rectangular_prediction(*r.rectangular, r.law, options.rest_time).warning;
+  if (!why.empty() && std::find(r.warnings.begin(), r.warnings.end(), why) == r.warnings.end()) {
+    r.warnings.push_back(std::move(why));
+  }
+}
+
 /// PlanResult::move_absolute of a one-jerk law under drive_profile kMoveAbsolute.
 void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format& format) {
   if (options.drive_profile != DriveProfile::kMoveAbsolute || !r.durations) return;
@@ -1071,6 +1116,11 @@ void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format&
 
 RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
                                const PlanResult& r) {
+  if (r.rectangular && both_directions_excited(r.rectangular->orientation_deg)) {
+    return rectangular_robustness_report(*r.rectangular, r.law,
+                                         sweep_for(format, options, r.model.zeta),
+                                         std::pair{r.prediction.linear, r.prediction.nonlinear});
+  }
   return robustness_report(r.model, r.law, sweep_for(format, options, r.model.zeta),
                            std::pair{r.prediction.linear, r.prediction.nonlinear});
 }
@@ -1090,11 +1140,14 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   PlanResult r;
   r.strategy = strategy;
   r.model = make_sloshing_model(format, options.model);
+  if (format.container.rectangular) r.rectangular = rectangular_model_of(format, options.model);
+  const RectangularModel* rectangular = r.rectangular ? &*r.rectangular : nullptr;
   if (std::optional<InvalidInput> why = model_refusal(r.model)) {
     return refusal(format, strategy, options, std::move(*why));
   }
   const Durations uniform = uniform_durations(format.motion_time);
-  r.baseline = predict(r.model, SevenSegmentLaw(uniform, format.stroke).law(), options.rest_time);
+  r.baseline = predict(r.model, rectangular, SevenSegmentLaw(uniform, format.stroke).law(),
+                       options.rest_time);
   if (!finite_prediction(r.baseline)) {
     return refusal(
         format, strategy, options,
@@ -1103,6 +1156,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   }
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
+  c.rectangular = rectangular;
   detail::set_design(c);
   const double w_design = c.design_model.omega1();
   // (A strategy without a band may widen it past 0 Hz: the marker stops there.)
@@ -1144,6 +1198,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
       r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value);
   if (!s.worse.empty()) r.warnings.push_back(s.worse);
+  if (rectangular != nullptr) add_rectangular_warnings(r, options);
   return r;
 }
 

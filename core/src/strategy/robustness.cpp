@@ -79,8 +79,6 @@ std::optional<DeltaInterval> holding_interval(const std::vector<double>& deltas,
 RobustnessReport robustness_report(
     const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
     const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero) {
-  RobustnessReport r;
-  r.sweep = sweep;
   const std::vector<double> deltas = robustness_deltas(sweep);
   const bool zero_given = at_zero && sweep.zeta == nominal.zeta;
   // The models to simulate, in delta order (neighbours have nearly the same step grid, so the
@@ -97,22 +95,32 @@ RobustnessReport robustness_report(
   responses.reserve(models.size());
   for (const SloshingModel& m : models) responses.emplace_back(m, law, sweep.rest_time);
   const std::vector<SloshPeaks> linear = LinearResponse::peaks_of(responses);
-  r.points.resize(deltas.size());
+  std::vector<RobustnessPoint> points(deltas.size());
   for (std::size_t i = 0; i < models.size(); ++i) {
-    RobustnessPoint& p = r.points[simulated[i]];
+    RobustnessPoint& p = points[simulated[i]];
     p.linear = linear[i];
     p.nonlinear = nonlinear[i];
   }
-  std::vector<double> lin_margin, nl_margin;
-  std::size_t zero = 0;
   for (std::size_t k = 0; k < deltas.size(); ++k) {
-    RobustnessPoint& p = r.points[k];
-    p.delta = deltas[k];
-    if (p.delta == 0.0) zero = k;
-    if (p.delta == 0.0 && zero_given) {
-      p.linear = at_zero->first;
-      p.nonlinear = at_zero->second;
+    points[k].delta = deltas[k];
+    if (deltas[k] == 0.0 && zero_given) {
+      points[k].linear = at_zero->first;
+      points[k].nonlinear = at_zero->second;
     }
+  }
+  return judged_report(sweep, std::move(points));
+}
+
+RobustnessReport judged_report(const RobustnessSweep& sweep, std::vector<RobustnessPoint> points) {
+  RobustnessReport r;
+  r.sweep = sweep;
+  r.points = std::move(points);
+  std::vector<double> deltas, lin_margin, nl_margin;
+  std::size_t zero = 0;
+  for (std::size_t k = 0; k < r.points.size(); ++k) {
+    RobustnessPoint& p = r.points[k];
+    deltas.push_back(p.delta);
+    if (p.delta == 0.0) zero = k;
     lin_margin.push_back(margin(p.linear, sweep));
     nl_margin.push_back(margin(p.nonlinear, sweep));
     p.holds_linear = lin_margin.back() <= kRobustnessSlack;

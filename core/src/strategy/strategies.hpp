@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "solve/duration_space.hpp"
 
@@ -77,6 +78,11 @@ struct StrategyContext {
   /// baseline comparison, auto's baseline candidate); null when the caller did not make it.
   const LawPrediction* uniform_prediction{nullptr};
 
+  /// A rectangular tank's model (SPEC §15), or null for the cylinder. `model` is then its most
+  /// excited direction driven by the motion (driven_directions); the plan's laws are verified
+  /// on this model's walls and corners (rectangular_prediction).
+  const RectangularModel* rectangular{nullptr};
+
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }
 };
@@ -84,6 +90,11 @@ struct StrategyContext {
 /// Sets the context's design model, sample models, band and p_notch from its options (call once,
 /// after construction, before set_references).
 void set_design(StrategyContext& context);
+
+/// A tank turned to the motion (both directions excited): the design frequency, band and
+/// p_notch over both directions' first modes, and time_domain's models (rectangular_plan.cpp).
+/// Nothing for a cylinder or a tank square to the motion. Called by set_design.
+void set_directions(StrategyContext& context);
 
 /// The relative half band around the middle of `range` that reaches (1 + band) scale_hi (and
 /// covers (1 - band) scale_lo) [-].

@@ -14,15 +14,23 @@
 
 namespace slosh::api {
 
+/// A rectangular container of the format flags.
+struct QuickRectangle {
+  double length_mm{};                     ///< side L [mm]
+  double width_mm{};                      ///< side W [mm]
+  std::optional<double> orientation_deg;  ///< angle of L to the motion [deg]; unset: 0
+};
+
 /// The format flags of `slosh plan` (a quick look without a request file).
 struct QuickPlan {
-  double radius_mm{};                    ///< container radius [mm]
-  std::optional<double> height_mm;       ///< container height [mm]; unset: none given
-  double fill_mm{};                      ///< fill height [mm]
-  std::optional<std::string> fluid;      ///< a catalogue fluid, or else
-  std::optional<double> density_kg_m3;   ///< a custom fluid's density [kg/m^3]
-  std::optional<double> viscosity_pa_s;  ///< and dynamic viscosity [Pa s]
-  double stroke_mm{};                    ///< [mm] (unused with a motion)
+  double radius_mm{};                         ///< container radius [mm] (unused with `rectangular`)
+  std::optional<QuickRectangle> rectangular;  ///< a rectangular container instead
+  std::optional<double> height_mm;            ///< container height [mm]; unset: none given
+  double fill_mm{};                           ///< fill height [mm]
+  std::optional<std::string> fluid;           ///< a catalogue fluid, or else
+  std::optional<double> density_kg_m3;        ///< a custom fluid's density [kg/m^3]
+  std::optional<double> viscosity_pa_s;       ///< and dynamic viscosity [Pa s]
+  double stroke_mm{};                         ///< [mm] (unused with a motion)
   /// format.motion instead of the stroke (an arc of the --arc-* flags, or a --motion file).
   std::optional<nlohmann::json> motion;
   double time_s{};  ///< motion time [s]

@@ -7,6 +7,7 @@
 
 #include "slosh/api/fields.hpp"
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
 
 namespace slosh::api {
@@ -15,6 +16,10 @@ namespace slosh::api {
 namespace ranges {
 inline const Range kRadiusMm{1.0, 2000.0, "mm"};
 inline const Range kContainerHeightMm{0.0, 10000.0, "mm", true};
+/// The sides of a rectangular container (SPEC §15): as the cylinder's diameter, 2 R.
+inline const Range kSideMm{1.0, 4000.0, "mm"};
+/// The angle of a rectangular container's side L to the motion.
+inline const Range kOrientationDeg{-180.0, 180.0, "deg"};
 // Lower bounds that keep the model physical and its numbers finite: a film under 1 mm and a
 // stroke under 0.01 mm are not formats a line runs.
 inline const Range kFillHeightMm{1.0, 5000.0, "mm"};
@@ -34,7 +39,9 @@ inline const Range kMinRampS{1e-3, 1.0, "s"};
 constexpr int kMaxSeriesSamples{50000};
 }  // namespace ranges
 
-/// Parses and validates `format` (radius, height, fill, fluid, stroke, motion time).
+/// Parses and validates `format` (container, fill, fluid, stroke, motion time). The container is
+/// the cylinder {"radius_mm", "height_mm"?} ("shape": "cylinder" optional) or {"shape":
+/// "rectangular", "length_mm", "width_mm", "height_mm"?, "orientation_deg"? (default 0)}.
 [[nodiscard]] Format parse_format(const nlohmann::json& format, const std::string& path = "format");
 
 /// The required top-level "format" of a request body (plan and simulate).
@@ -58,6 +65,17 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
 
 /// The format echoed back in user units.
 [[nodiscard]] nlohmann::json format_json(const Format& format);
+
+/// A rectangular tank's model beside "model"'s driven direction: per direction ("length",
+/// "width") its share of the motion, f_hz, omega_rad_s, zeta, alpha, K_mm, sloshing masses and
+/// wall gains of the tank's own model (not driven), and which are excited.
+[[nodiscard]] nlohmann::json rectangular_model_json(const RectangularModel& model);
+
+/// Adds a rectangular tank's model to a "model" object (model_json of its driven direction):
+/// "rectangular" (rectangular_model_json) and "damping": "rectangular" (the tank's laminar
+/// boundary-layer damping) unless the damping ratio was given.
+void add_rectangular_model(nlohmann::json& out_model, const RectangularModel& model,
+                           const ModelOptions& options);
 
 /// "model": omega_rad_s, f_hz, zeta, C, alpha, K_mm, masses, gains.
 [[nodiscard]] nlohmann::json model_json(const SloshingModel& model, const ModelOptions& options);

@@ -63,14 +63,17 @@ enum class PlanInput {
   kOmegaError,        ///< Uncertainty::omega_error [-]
   kFillHeightRange,   ///< Uncertainty::fill_height[index] [m]; index -1: the pair
   kViscosityRange,    ///< Uncertainty::viscosity[index] [Pa s]; index -1: the pair
-  kUncertaintySamples,  ///< Uncertainty::sample_points [-]
-  kOmegaScale,          ///< ModelOptions::omega_scale [-]
-  kHeightGain,          ///< ModelOptions::height_gain [-]
+  kUncertaintySamples,    ///< Uncertainty::sample_points [-]
+  kOmegaScale,            ///< ModelOptions::omega_scale [-]
+  kHeightGain,            ///< ModelOptions::height_gain [-]
+  kContainerLength,       ///< RectangularTank::length [m]
+  kContainerWidth,        ///< RectangularTank::width [m]
+  kContainerOrientation,  ///< RectangularTank::orientation_deg [deg]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 48> table{{
+  static constexpr std::array<EnumName<PlanInput>, 51> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -119,6 +122,9 @@ struct EnumNames<PlanInput> {
       {PlanInput::kUncertaintySamples, "uncertainty_samples"},
       {PlanInput::kOmegaScale, "omega_scale"},
       {PlanInput::kHeightGain, "height_gain"},
+      {PlanInput::kContainerLength, "container_length"},
+      {PlanInput::kContainerWidth, "container_width"},
+      {PlanInput::kContainerOrientation, "container_orientation"},
   }};
 };
 

@@ -4,13 +4,16 @@
 #include <optional>
 
 #include "slosh/core/model/fluid.hpp"
+#include "slosh/core/model/rectangular_tank.hpp"
 
 namespace slosh {
 
-/// Cylindrical container, translated along x.
+/// The container, translated along x: a cylinder of radius R, or a rectangular tank (SPEC §15).
 struct Container {
-  double radius{0.0485};         ///< R [m]
+  double radius{0.0485};         ///< R [m] of the cylinder (unused when `rectangular` is set)
   std::optional<double> height;  ///< total inner height [m]; enables the free-board warning
+  /// The rectangular tank's sides and orientation; nullopt (default): the cylinder.
+  std::optional<RectangularTank> rectangular;
 };
 
 /// One production format: container, liquid and the rest-to-rest move.

@@ -63,7 +63,10 @@ struct SloshingModel {
 /// Natural circular frequency of radial mode n (1-based) [rad/s].
 [[nodiscard]] double natural_frequency(double radius, double fill_height, int n);
 
-/// Builds the model parameters. Inputs are assumed validated (see api/validation).
+/// Builds the model parameters. Inputs are assumed validated (see api/validation). A rectangular
+/// container (Container::rectangular) gives its most excited direction driven by the motion
+/// (driven_directions in tank_directions.hpp): the whole model when the tank is square to the
+/// motion, one of its two directions when it is turned.
 [[nodiscard]] SloshingModel make_sloshing_model(const Format& format, const ModelOptions& options);
 
 /// The first model option outside what the model accepts (modes in [1, kMaxModes], alpha >= 0,

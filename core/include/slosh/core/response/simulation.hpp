@@ -8,7 +8,9 @@
 #include "slosh/core/invalid_input.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/response/response.hpp"
 
 namespace slosh {
@@ -24,16 +26,24 @@ struct SimulationOptions {
 };
 
 /// Sampled time series (SI: s, m/s^2, m/s, m, m).
+/// For a rectangular tank square to the motion the wave heights are signed (at the wall ahead in
+/// the tank's axis); turned, they are the highest corner's |eta_L| + |eta_W| (>= 0).
 struct TimeSeries {
   std::vector<double> t, a, v, s, eta_linear, eta_nonlinear;
 };
 
 /// Everything a simulation reports.
 struct SimulationResult {
+  /// The model (a rectangular tank's: its most excited direction driven by the motion).
   SloshingModel model;
   KinematicSummary kinematics;
-  SloshPeaks linear;
-  SloshPeaks nonlinear;
+  SloshPeaks linear;     ///< a rectangular tank's: the highest wall or corner
+  SloshPeaks nonlinear;  ///< a rectangular tank's: outside its range, the linear model's
+  /// A rectangular tank's model (SPEC §15); nullopt for the cylinder.
+  std::optional<RectangularModel> rectangular;
+  /// A rectangular tank's nonlinear peaks per direction (along_length, along_width; zero for a
+  /// direction the motion does not drive) and the corners' (highest).
+  std::optional<RectangularPeaks> rectangular_peaks;
   std::optional<TimeSeries> series;
   std::vector<std::string> warnings;
   /// Set when simulate() refused its inputs (validate_simulation_input); nothing else is filled.

@@ -17,6 +17,7 @@
 #include "slosh/core/law/move_absolute.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
 #include "slosh/core/model/uncertainty.hpp"
 #include "slosh/core/response/simulation.hpp"
@@ -378,6 +379,10 @@ struct PlanResult {
   double A{};  ///< positive plateau (general laws: peak acceleration) [m/s^2]
   double B{};  ///< negative plateau magnitude (general laws: peak deceleration) [m/s^2]
   SloshingModel model;
+  /// A rectangular tank's model (both directions; SPEC §15), nullopt for the cylinder. `model` is
+  /// then its most excited direction driven by the motion, and the predictions are the tank's
+  /// highest wall or corner.
+  std::optional<RectangularModel> rectangular;
   LawPrediction prediction;  ///< of the returned law
   LawPrediction baseline;    ///< of the uniform law
   /// The band of min_jerk_band (also reported for the other strategies as w1 +- band) [rad/s].

@@ -74,4 +74,10 @@ struct RobustnessReport {
     const SloshingModel& nominal, const MotionLaw& law, const RobustnessSweep& sweep,
     const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero = std::nullopt);
 
+/// The report of a sweep whose points are simulated already (sorted by delta, one at delta = 0,
+/// each with its peaks): each point judged by the sweep's limits, the holding intervals and the
+/// worst cases (robustness_report's judgement, for models it does not sweep itself).
+[[nodiscard]] RobustnessReport judged_report(const RobustnessSweep& sweep,
+                                             std::vector<RobustnessPoint> points);
+
 }  // namespace slosh

@@ -1,0 +1,42 @@
+#pragma once
+// What the planner verifies a rectangular tank's law by (SPEC §15): the tank's own responses
+// (RectangularLinearResponse and the rectangular nonlinear model, the highest wall or corner),
+// not the driven direction models the strategies optimise on.
+
+#include <optional>
+#include <string>
+#include <utility>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/response/response.hpp"
+#include "slosh/core/strategy/robustness.hpp"
+
+namespace slosh {
+
+/// A law's peaks on a rectangular tank.
+struct RectangularPrediction {
+  SloshPeaks linear;     ///< the highest wall or corner of the linear model [m]
+  SloshPeaks nonlinear;  ///< of the nonlinear model, or the linear one outside its range [m]
+  SloshPeaks length;     ///< the walls normal to L alone, nonlinear (or linear) model [m]
+  SloshPeaks width;      ///< the walls normal to W alone [m]
+  /// Empty, or why the linear model answers for the nonlinear one (rectangular_nonlinear_peaks).
+  std::string warning;
+};
+
+[[nodiscard]] RectangularPrediction rectangular_prediction(const RectangularModel& model,
+                                                           const MotionLaw& law, double rest_time);
+
+/// True when the motion drives both of the tank's directions (orientation not a multiple of 90
+/// degrees).
+[[nodiscard]] bool both_directions_excited(double orientation_deg);
+
+/// The sweep of SPEC §10 on the tank: every frequency of both directions scaled by (1 + delta);
+/// each direction keeps its own damping ratio unless `sweep.zeta` differs from the most excited
+/// direction's (an uncertainty range's least damping), which then holds for both. `at_zero` as
+/// in robustness_report.
+[[nodiscard]] RobustnessReport rectangular_robustness_report(
+    const RectangularModel& model, const MotionLaw& law, const RobustnessSweep& sweep,
+    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero = std::nullopt);
+
+}  // namespace slosh

@@ -1,0 +1,219 @@
+// Rectangular containers on the JSON surface, the CLI and HTTP (SPEC §15): the exact text of
+// every refusal, the format echo and the recipe key, and round trips through the real binary
+// (`slosh plan --length ...`, `slosh simulate`, `slosh serve`) checked against the core.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <string>
+
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/plan.hpp"
+#include "slosh/api/simulate.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
+#include "slosh/core/strategy/planner.hpp"
+#include "support/plan_errors.hpp"
+#include "support/process.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+
+/// A cup of a form-fill-seal line: 120 x 80 mm, turned 30 degrees to the motion.
+json cup_request(const std::string& strategy = "multi_notch") {
+  return json::parse(R"({"format": {"container": {"shape": "rectangular", "length_mm": 120,
+      "width_mm": 80, "height_mm": 70, "orientation_deg": 30}, "fill_height_mm": 40,
+      "fluid": "water", "stroke_mm": 300, "motion_time_s": 0.8}, "strategy": ")" +
+                     strategy + R"("})");
+}
+
+json with_container(const json& container) {
+  json body = cup_request();
+  body["format"]["container"] = container;
+  return body;
+}
+
+void expect_refusal(const json& body, const std::string& field, const std::string& message) {
+  const api::ApiError e = test::plan_parse_error(body);
+  EXPECT_EQ(e.status(), 422) << e.what();
+  EXPECT_EQ(e.field(), field);
+  EXPECT_EQ(std::string(e.what()), message);
+}
+
+TEST(RectangularApi, RefusalsNameTheMemberTheValueAndTheRange) {
+  json c = cup_request()["format"]["container"];
+  json zero = c;
+  zero["length_mm"] = 0;
+  expect_refusal(with_container(zero), "format.container.length_mm",
+                 "format.container.length_mm = 0 is out of range: allowed 1 to 4000 mm");
+  json negative = c;
+  negative["width_mm"] = -5;
+  expect_refusal(with_container(negative), "format.container.width_mm",
+                 "format.container.width_mm = -5 is out of range: allowed 1 to 4000 mm");
+  json turned = c;
+  turned["orientation_deg"] = 200;
+  expect_refusal(with_container(turned), "format.container.orientation_deg",
+                 "format.container.orientation_deg = 200 is out of range: allowed -180 to 180 deg");
+  turned["orientation_deg"] = -180.5;
+  expect_refusal(with_container(turned), "format.container.orientation_deg",
+                 "format.container.orientation_deg = -180.5 is out of range: allowed -180 to 180 "
+                 "deg");
+  json both = c;
+  both["radius_mm"] = 40;
+  expect_refusal(with_container(both), "format.container.radius_mm",
+                 "format.container.radius_mm and format.container.length_mm are both given: a "
+                 "container is a cylinder (radius_mm) or rectangular (\"shape\": \"rectangular\", "
+                 "length_mm, width_mm, orientation_deg), not both");
+  expect_refusal(with_container({{"radius_mm", 40}, {"width_mm", 80}}), "format.container.width_mm",
+                 "format.container.radius_mm and format.container.width_mm are both given: a "
+                 "container is a cylinder (radius_mm) or rectangular (\"shape\": \"rectangular\", "
+                 "length_mm, width_mm, orientation_deg), not both");
+  json oval = c;
+  oval["shape"] = "oval";
+  expect_refusal(with_container(oval), "format.container.shape",
+                 "format.container.shape = \"oval\" is not allowed: one of \"cylinder\", "
+                 "\"rectangular\"");
+  expect_refusal(with_container({{"length_mm", 120}, {"width_mm", 80}}),
+                 "format.container.length_mm",
+                 "format.container.length_mm belongs to a rectangular container: give "
+                 "format.container.shape = \"rectangular\" (the cylinder has radius_mm)");
+  json missing = c;
+  missing.erase("width_mm");
+  expect_refusal(with_container(missing), "format.container.width_mm",
+                 "format.container.width_mm is required: a number, allowed 1 to 4000 mm");
+  json uncertain = cup_request();
+  uncertain["options"]["uncertainty"] = {{"omega_error_pct", 5}};
+  expect_refusal(uncertain, "options.uncertainty",
+                 "options.uncertainty is planned for a rectangular tank square to the motion "
+                 "only (orientation 0, 90, -90 or 180 degrees); at 30 degrees both of its "
+                 "directions move");
+}
+
+TEST(RectangularApi, FormatEchoAndRecipeKeyCarryTheShape) {
+  const api::PlanRequest request = api::parse_plan_request(cup_request());
+  ASSERT_TRUE(request.format.container.rectangular);
+  EXPECT_EQ(request.format.container.rectangular->length, 0.12);
+  const json recipe =
+      api::canonical_recipe(request, api::plan_option_registry(), "test-version")["format"];
+  EXPECT_EQ(recipe["shape"], "rectangular");
+  EXPECT_EQ(recipe["length_m"], 0.12);
+  EXPECT_EQ(recipe["width_m"], 0.08);
+  EXPECT_EQ(recipe["orientation_deg"], 30);
+  EXPECT_FALSE(recipe.contains("radius_m"));
+  // Another orientation, another answer, another key.
+  json other = cup_request();
+  other["format"]["container"]["orientation_deg"] = 60;
+  EXPECT_NE(api::recipe_key(request), api::recipe_key(api::parse_plan_request(other)));
+  // Orientation 0 given or left out is the same recipe.
+  json zero = cup_request(), absent = cup_request();
+  zero["format"]["container"]["orientation_deg"] = 0;
+  absent["format"]["container"].erase("orientation_deg");
+  EXPECT_EQ(api::recipe_key(api::parse_plan_request(zero)),
+            api::recipe_key(api::parse_plan_request(absent)));
+}
+
+/// The plan's echo, model and predictions against the core's planning of the same format.
+void expect_cup_plan(const json& plan) {
+  EXPECT_EQ(plan["format"]["container"],
+            json::parse(R"({"shape": "rectangular", "length_mm": 120, "width_mm": 80,
+                "orientation_deg": 30, "height_mm": 70})"));
+  const json& rect = plan["model"]["rectangular"];
+  EXPECT_EQ(rect["length"]["excited"], true);
+  EXPECT_EQ(rect["width"]["excited"], true);
+  EXPECT_NEAR(rect["length"]["component"].get<double>(), std::sqrt(3.0) / 2, 1e-15);
+  EXPECT_NEAR(rect["width"]["component"].get<double>(), 0.5, 1e-15);
+  // omega_1 = sqrt(g k tanh(k h)), k = pi / side (docs/models.md).
+  auto w1 = [](double side) {
+    const double k = std::numbers::pi / side;
+    return std::sqrt(9.81 * k * std::tanh(k * 0.04));
+  };
+  EXPECT_NEAR(rect["length"]["omega_rad_s"][0].get<double>(), w1(0.12), 1e-12);
+  EXPECT_NEAR(rect["width"]["omega_rad_s"][0].get<double>(), w1(0.08), 1e-12);
+  EXPECT_EQ(plan["model"]["damping"], "rectangular");
+  const PlanResult core =
+      slosh::plan(api::parse_plan_request(cup_request()).format, Strategy::kMultiNotch,
+                  api::parse_plan_request(cup_request()).options);
+  EXPECT_NEAR(plan["prediction"]["linear"]["eta_rest_mm"].get<double>(),
+              core.prediction.linear.rest.value * 1e3, 1e-9);
+}
+
+TEST(RectangularApi, PlanFlagsOfTheRealBinaryGiveTheRequestsPlan) {
+  const test::RunResult run = test::run_slosh(
+      {"plan",     "--length", "120",    "--width",    "80",          "--orientation", "30",
+       "--height", "70",       "--fill", "40",         "--fluid",     "water",         "--stroke",
+       "300",      "--time",   "0.8",    "--strategy", "multi_notch", "--format",      "json"});
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json plan = json::parse(run.out);
+  expect_cup_plan(plan);
+  EXPECT_EQ(plan["key"], api::recipe_key(api::parse_plan_request(cup_request())));
+
+  const test::RunResult both =
+      test::run_slosh({"plan", "--radius", "40", "--length", "120", "--fill", "40", "--fluid",
+                       "water", "--stroke", "300", "--time", "0.8"});
+  EXPECT_EQ(both.exit_code, 2);
+  EXPECT_NE(both.err.find("--radius cannot be combined with --length/--width/--orientation"),
+            std::string::npos)
+      << both.err;
+  const test::RunResult half =
+      test::run_slosh({"plan", "--length", "120", "--fill", "40", "--fluid", "water", "--stroke",
+                       "300", "--time", "0.8"});
+  EXPECT_EQ(half.exit_code, 2);
+  EXPECT_NE(half.err.find("the format flags need --length and --width, --fill, --fluid (or "
+                          "--density and --viscosity), --stroke and --time: missing --width"),
+            std::string::npos)
+      << half.err;
+}
+
+TEST(RectangularApi, SimulateOfTheRealBinaryReportsBothDirections) {
+  json request = cup_request();
+  request.erase("strategy");
+  request["law"] = {{"type", "seven_segment_uniform"}};
+  request["sample_period_s"] = 0.01;
+  const test::RunResult run = test::run_slosh({"simulate", "--request", "-"}, request.dump());
+  ASSERT_EQ(run.exit_code, 0) << run.err;
+  const json r = json::parse(run.out);
+  const json& directions = r["prediction"]["directions"];
+  // The corner is higher than either wall alone, and at most their sum.
+  const double corner = r["prediction"]["linear"]["eta_motion_mm"].get<double>();
+  const double l = directions["length"]["eta_motion_mm"].get<double>();
+  const double w = directions["width"]["eta_motion_mm"].get<double>();
+  EXPECT_GT(r["prediction"]["nonlinear"]["eta_motion_mm"].get<double>(), std::max(l, w));
+  EXPECT_GT(corner, 0.0);
+  // The series' corner height never exceeds the reported peak.
+  double series_max = 0.0;
+  for (const json& v : r["series"]["eta_linear_mm"])
+    series_max = std::max(series_max, v.get<double>());
+  EXPECT_LE(series_max, corner * (1 + 1e-9));
+  EXPECT_GT(series_max, 0.9 * corner);
+}
+
+TEST(RectangularApi, HttpPlanAndSimulateOnLoopback) {
+  test::Server server;
+  httplib::Client client = server.client();
+  const auto plan = client.Post("/v1/plans", cup_request().dump(), "application/json");
+  ASSERT_TRUE(plan);
+  ASSERT_EQ(plan->status, 200) << plan->body;
+  expect_cup_plan(json::parse(plan->body));
+  json bad = cup_request();
+  bad["format"]["container"]["length_mm"] = 0;
+  const auto refused = client.Post("/v1/plans", bad.dump(), "application/json");
+  ASSERT_TRUE(refused);
+  EXPECT_EQ(refused->status, 422);
+  const json error = json::parse(refused->body)["error"];
+  EXPECT_EQ(error["field"], "format.container.length_mm");
+  EXPECT_EQ(error["message"],
+            "format.container.length_mm = 0 is out of range: allowed 1 to 4000 mm");
+  json sim = cup_request();
+  sim.erase("strategy");
+  sim["law"] = {{"type", "seven_segment_uniform"}};
+  const auto simulated = client.Post("/v1/simulate", sim.dump(), "application/json");
+  ASSERT_TRUE(simulated);
+  ASSERT_EQ(simulated->status, 200) << simulated->body;
+  EXPECT_TRUE(json::parse(simulated->body)["model"].contains("rectangular"));
+}
+
+}  // namespace
+}  // namespace slosh
