@@ -112,7 +112,10 @@ def check_arc(driver, port, ctx):
     choose(driver, "strategy", "multi_notch")
     driver.find_element(By.ID, "plan-button").click()
     ctx["wait_for"](driver, "return document.body.dataset.ready === 'multi_notch'"
-                            " || document.getElementById('status-line').textContent.startsWith('The service refused')")
+                            " || document.getElementById('status-line').textContent.startsWith('The service refused')"
+                            " || document.getElementById('form-error').textContent")
+    problem = driver.find_element(By.ID, "form-error").text
+    check(problem == "", f"the arc's plan is drawn: {problem}")
     status, plan = api_json(port, "POST", "/v1/plans", arc_request("multi_notch"))
     check(status == 200, f"the API plans the arc ({status}: {plan})")
     if status != 200:
@@ -227,7 +230,10 @@ def check_cup(driver, port, ctx):
     choose(driver, "strategy", "multi_notch")
     driver.find_element(By.ID, "plan-button").click()
     ctx["wait_for"](driver, "return document.body.dataset.ready === 'multi_notch'"
-                            " || document.getElementById('status-line').textContent.startsWith('The service refused')")
+                            " || document.getElementById('status-line').textContent.startsWith('The service refused')"
+                            " || document.getElementById('form-error').textContent")
+    problem = driver.find_element(By.ID, "form-error").text
+    check(problem == "", f"the cup's plan is drawn: {problem}")
     status, plan = api_json(port, "POST", "/v1/plans", cup_request("multi_notch"))
     check(status == 200, f"the API plans the cup ({status}: {plan})")
     if status != 200:
@@ -239,6 +245,13 @@ def check_cup(driver, port, ctx):
           f"the top view draws the cup at the start turned 30°: {first}")
     ids = [c["id"] for c in ctx["chart_counts"](driver)]
     check("plot-eta" in ids and "plot-acceleration" in ids, f"the cup's plan is plotted: {ids}")
+    # The η plot is the wave of the plan's own model (the tank's damping, not a cylinder's): its
+    # sampled peak during the motion is the plan's, to the sampling (2000 samples).
+    eta = driver.execute_script(
+        "const c = window.sloshPage.charts.find(c => c.canvas.id === 'plot-eta');"
+        "return c && c.data.datasets[0].data.filter(p => p.x <= arguments[0]).map(p => Math.abs(p.y))", 0.8)
+    peak = plan["prediction"]["nonlinear"]["eta_motion_mm"]
+    check(eta and abs(max(eta) - peak) < 1e-3 * peak, f"the η plot peaks at the plan's η motion {peak} mm: {eta and max(eta)}")
     check(driver.execute_script("return window.sloshPage.plans.multi_notch.format.container") ==
           plan["format"]["container"], "the page keeps the API's echo of the cup")
 
