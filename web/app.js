@@ -4,7 +4,7 @@
 // downloads, a measured η(t) overlaid on the predicted one, and the URL as the shareable state.
 // A motion along an arc or a path (format.motion, SPEC §14) and a rectangular container (SPEC
 // §15) are drawn from above (motion-view.js): the path, the container's heading and the wall
-// direction of the peak wave, from the planar simulation of the plan's law.
+// direction of the peak wave, from the plan's planar peaks (or a planar simulation of its law).
 // This module runs the requests of the views; form.js builds them from the form, url.js keeps
 // the URL, api.js sends them, view.js, min-time.js, downloads.js, measured.js and motion-view.js
 // draw the answers.
@@ -196,6 +196,8 @@ function openKey(key) {
   return views.run(async (signal) => {
     const plan = await requestJson(`v1/plans/${encodeURIComponent(key)}`, { signal });
     fillFormFromPlan(plan, state.fluids);
+    drawTank();
+    drawPreview();
     state.request = { format: plan.format, strategy: plan.strategy, options: {} };
     state.plans = { [plan.strategy]: plan };
     writeKeyUrl(plan.key);

@@ -12,6 +12,8 @@ the real binary: called by test_page.py with its driver and server.
 - A rectangular cup of a form-fill-seal line: the page's plan equals the API's plan of the same
   request; the form's drawing and the top view turn the cup by its orientation (corners computed
   here).
+- A path opened by its key: the segment rows, start heading and turning refilled, the preview
+  drawn, and Plan sends the request the plan was made with.
 - Refusals: a path segment with a bad radius and a cup turned out of range get the API's message
   at the input of the field the API names, and nowhere else.
 """
@@ -301,7 +303,51 @@ def check_refusals(driver, port, ctx):
     check_refusal(driver, port, ctx, turned_too_far, cup, "orientation", "format.container.orientation_deg")
 
 
+def check_path_key(port, ctx):
+    """A plan along a path opened by its key fills the form with its motion (the segment rows,
+    the start heading, the container's turning) and its drawing, and Plan sends the same request."""
+    check = ctx["check"]
+    request = {"format": {"container": {"radius_mm": 48.5, "height_mm": 150.0}, "fill_height_mm": 82.0,
+                          "fluid": "water", "motion_time_s": 1.5,
+                          "motion": {"type": "path", "start_heading_deg": 30.0, "container_turns": True,
+                                     "segments": [{"line_mm": 150.0}, {"arc": {"radius_mm": 120.0, "angle_deg": -60.0}},
+                                                  {"line_mm": 80.0}, {"arc": {"radius_mm": 200.0, "angle_deg": 45.0}}]}},
+               "strategy": "notch", "options": {}}
+    status, plan = ctx["api_json"](port, "POST", "/v1/plans", request)
+    check(status == 200, f"the API plans the path ({status}: {plan})")
+    if status != 200:
+        return
+    driver = ctx["browser"]()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+        ctx["wait_for"](driver, "return document.body.dataset.ready === 'notch'")
+        rows = driver.execute_script(
+            "return [...document.querySelectorAll('#segments .segment')].map((r, i) => "
+            "[document.getElementById(`seg${i}_kind`).value, ...[...r.querySelectorAll('[data-field]')]"
+            ".filter(e => !e.closest('[hidden]')).map(e => e.value)])")
+        check(rows == [["line", "150"], ["arc", "120", "-60"], ["line", "80"], ["arc", "200", "45"]],
+              f"the key view fills the segment rows: {rows}")
+        check(driver.find_element(By.ID, "path_turns").is_selected() and
+              driver.find_element(By.ID, "path_heading").get_attribute("value") == "30",
+              "the key view fills the start heading and the turning")
+        end = driver.execute_script("const l = document.querySelector('#motion-preview #path-line');"
+                                    "return l && Number(l.dataset.lengthMm)")
+        length = 150 + 120 * math.pi / 3 + 80 + 200 * math.pi / 4
+        check(end is not None and abs(end - length) < 1e-9, f"the preview draws the opened path: {end} vs {length}")
+        driver.execute_script("delete document.body.dataset.ready")
+        driver.find_element(By.ID, "plan-button").click()
+        ctx["wait_for"](driver, "return document.body.dataset.ready"
+                                " || document.getElementById('status-line').textContent.startsWith('The service refused')"
+                                " || document.getElementById('form-error').textContent")
+        check(errors_shown(driver) == {}, f"the opened path plans again: {errors_shown(driver)}")
+        check(driver.execute_script("return window.sloshPage.request") == request,
+              f"Plan sends the opened path's request: {driver.execute_script('return window.sloshPage.request')}")
+    finally:
+        driver.quit()
+
+
 def run(driver, port, ctx):
+    check_path_key(port, ctx)
     check_arc(driver, port, ctx)
     check_cup(driver, port, ctx)
     check_refusals(driver, port, ctx)
