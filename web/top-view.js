@@ -23,7 +23,10 @@ function boxOf(points, reach) {
 export function topView(path, container, peaks = [], { width = 560, height = 320 } = {}) {
   const points = path.points();
   const reach = containerReach(container);
-  const { svg, unit } = svgFor(boxOf(points, reach * 2.2), width, height, 'Top view of the motion');
+  // As tall as the motion needs (a straight line is a strip), up to `height`.
+  const box = boxOf(points, reach * 2.2);
+  const tall = Math.min(height, Math.max(110, (width * (box.y1 - box.y0)) / Math.max(box.x1 - box.x0, 1e-9)));
+  const { svg, unit } = svgFor(box, width, tall, 'Top view of the motion');
   svg.classList.add('top-view');
   const end = points[points.length - 1];
   svg.appendChild(el('polyline', {
