@@ -19,6 +19,7 @@ the real binary: called by test_page.py with its driver and server.
 """
 
 import math
+import os
 
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import Select
@@ -173,6 +174,9 @@ def check_arc(driver, port, ctx):
               f"the η plot holds the API's nonlinear peaks over the wall: {wall[0]}")
     elif wall is not None:
         check(len(wall[0]) == len(sim["series"]["t_s"]), "the η plot holds the API's series over the wall")
+    if ctx.get("artifacts"):  # the screenshot of docs/web-page.md
+        driver.execute_script("window.scrollTo(0, 0)")
+        driver.save_screenshot(os.path.join(ctx["artifacts"], "arc.png"))
     check_arc_link(driver, ctx, plan)
 
 

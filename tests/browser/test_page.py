@@ -1250,7 +1250,8 @@ def main():
         check_uncertainty(driver, port)
         motion_checks.run(driver, port, {
             "check": check, "api_json": api_json, "wait_for": wait_for, "expected_row": expected_row,
-            "table_rows": table_rows, "chart_counts": chart_counts, "browser": browser})
+            "table_rows": table_rows, "chart_counts": chart_counts, "browser": browser,
+            "artifacts": args.artifacts})
         check_field_paths(driver, port)
         check_errors_at_fields(driver, port)
         check_key_view(port, plan)
