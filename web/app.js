@@ -2,15 +2,22 @@
 // selected plan against the uniform law and its robustness over the frequency error, the minimum
 // motion time of the strategies ("How fast can it go?", POST v1/min-time) with η over T,
 // downloads, a measured η(t) overlaid on the predicted one, and the URL as the shareable state.
+// A motion along an arc or a path (format.motion, SPEC §14) and a rectangular container (SPEC
+// §15) are drawn from above (motion-view.js): the path, the container's heading and the wall
+// direction of the peak wave, from the plan's planar peaks (or a planar simulation of its law).
 // This module runs the requests of the views; form.js builds them from the form, url.js keeps
-// the URL, api.js sends them, view.js, min-time.js, downloads.js and measured.js draw the answers.
+// the URL, api.js sends them, view.js, min-time.js, downloads.js, measured.js and motion-view.js
+// draw the answers.
 
 import { Latest, requestJson } from './api.js';
 import { $, markSelectedRow } from './dom.js';
 import { downloadCam, periodTyped, showDownloads } from './downloads.js';
 import {
-  MIN_TIME, PLAN, clearErrors, fillFormFromPlan, minTimeRequest, planRequest, showCustomFluid, showError,
+  MIN_TIME, PLAN, clearErrors, fillFormFromPlan, minTimeRequest, planRequest, showError, showGroups,
 } from './form.js';
+import { clearTopView, drawPreview, isSpatial, lineFormat, renderTopView } from './motion-view.js';
+import { initSegments } from './segments.js';
+import { drawTank } from './tank-view.js';
 import { loadMeasured } from './measured.js';
 import { clearMinTime, renderMinTime } from './min-time.js';
 import { markersPlugin } from './plots.js';
@@ -38,6 +45,7 @@ function clearResults() {
   plots.cancel();  // the series still on their way are for a view that is gone
   state.plotContext = null;  // a measured series uploaded now has no plan to overlay
   clearPlots();
+  clearTopView();
   clearMinTime();
   state.plans = {};
   state.selected = null;
@@ -52,6 +60,12 @@ function simulateRequest(plan, law) {
   const m = plan.model;
   const T = plan.format.motion_time_s;
   const options = { damping: m.damping === 'explicit' ? m.zeta : m.damping, alpha: m.alpha, modes: m.f_hz.length, min_ramp_s: 0.001 };
+  // A rectangular tank's model reports its own damping ("rectangular"), which simulate applies
+  // when none is given, and its own nonlinear model (the cylinder's alpha is not part of it).
+  if (m.rectangular) {
+    if (m.damping === 'rectangular') delete options.damping;
+    delete options.alpha;
+  }
   if (m.calibration) options.model = m.calibration;
   return {
     format: plan.format,
@@ -59,6 +73,36 @@ function simulateRequest(plan, law) {
     rest_time_s: plan.rest_time_s,
     options,
     sample_period_s: (T + plan.rest_time_s) / 2000,
+  };
+}
+
+// The series of the plan's law and of the uniform law for the plots; for a motion along an arc or
+// a path also both laws' planar simulations on it (the peaks over the wall, their directions):
+// the series then come from the same law along a straight line of the path's length, which is
+// the law's s(t) along the path (its tangential a and v).
+async function plotContext(plan, signal) {
+  const simulate = (body) => requestJson('v1/simulate', { body, signal });
+  const uniform = { type: 'seven_segment_uniform' };
+  if (!isSpatial(plan.format)) {
+    const [series, base] = await Promise.all([simulate(simulateRequest(plan, plan.law)), simulate(simulateRequest(plan, uniform))]);
+    return { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
+  }
+  // The planar models' peaks: the plan's own (plan.path: its law's and the uniform law's), else
+  // a planar simulation of both laws (the service samples no series of a planar motion).
+  const planar = (law) => {
+    const body = simulateRequest(plan, law);
+    delete body.sample_period_s;
+    const { stroke_mm, ...format } = plan.format;  // the motion gives the move
+    return simulate({ ...body, format });
+  };
+  const [onPath, baseOnPath] = plan.path
+    ? [{ prediction: plan.path.prediction, motion: { length_mm: plan.path.length_mm } }, { prediction: plan.path.baseline }]
+    : await Promise.all([planar(plan.law), planar(uniform)]);
+  const line = (law) => ({ ...simulateRequest(plan, law), format: lineFormat(plan.format, onPath.motion.length_mm) });
+  const [series, base] = await Promise.all([simulate(line(plan.law)), simulate(line(uniform))]);
+  return {
+    plan, request: state.request, series: series.series, base: base.series, format: plan.format,
+    spatial: { plan: onPath, base: baseOnPath },
   };
 }
 
@@ -71,15 +115,13 @@ function selectPlan(strategy) {
   $('status-line').textContent = `${plan.strategy}: ${plan.status}. ${plan.message}`;
   showDownloads(plan);
   return plots.run(async (signal) => {
-    const [series, base] = await Promise.all([
-      requestJson('v1/simulate', { body: simulateRequest(plan, plan.law), signal }),
-      requestJson('v1/simulate', { body: simulateRequest(plan, { type: 'seven_segment_uniform' }), signal }),
-    ]);
-    state.plotContext = { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
+    state.plotContext = await plotContext(plan, signal);
+    renderTopView(state.plotContext);
     renderPlots({ ...state.plotContext, measured: state.measured });
     document.body.dataset.ready = strategy;  // the browser test waits for this
   }, (e) => {
     clearPlots();
+    clearTopView();
     $('form-error').textContent = `The plots could not be computed: ${e.api ? e.api.message : e.message}`;
   });
 }
@@ -154,6 +196,8 @@ function openKey(key) {
   return views.run(async (signal) => {
     const plan = await requestJson(`v1/plans/${encodeURIComponent(key)}`, { signal });
     fillFormFromPlan(plan, state.fluids);
+    drawTank();
+    drawPreview();
     state.request = { format: plan.format, strategy: plan.strategy, options: {} };
     state.plans = { [plan.strategy]: plan };
     writeKeyUrl(plan.key);
@@ -179,7 +223,10 @@ async function loadFluids() {
 
 async function main() {
   await loadFluids();
-  $('fluid').addEventListener('change', showCustomFluid);
+  initSegments(drawPreview);
+  for (const id of ['fluid', 'shape', 'motion_type']) $(id).addEventListener('change', showGroups);
+  $('format-form').addEventListener('input', () => { drawTank(); drawPreview(); });
+  $('format-form').addEventListener('change', () => { drawTank(); drawPreview(); });
   $('format-form').addEventListener('submit', (e) => { e.preventDefault(); run(false); });
   $('compare-button').addEventListener('click', () => run(true));
   $('min-time-button').addEventListener('click', runMinTime);
@@ -187,6 +234,8 @@ async function main() {
   $('download-cam').addEventListener('click', downloadCam);
   $('measured-csv').addEventListener('change', loadMeasured);
   const url = readUrl();
+  drawTank();
+  drawPreview();
   document.body.dataset.loaded = '1';
   if (url.key) return openKey(url.key);
   if (url.any) return url.minTime ? runMinTime() : run(url.compare);

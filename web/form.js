@@ -5,8 +5,12 @@
 // alone (url.js gives it its name in a shared link).
 // data-request="plan" or "min-time" (on the input or on its fieldset) keeps an input to that one
 // request; data-min-time-field is an input's path in the min-time request where it differs.
+// data-when="id=value" on a group shows it only while the select `id` has that value (the custom
+// fluid's properties, the arc's or path's inputs, a rectangular container's sides): the inputs of
+// a hidden group put nothing into a request.
 
 import { $ } from './dom.js';
+import { setSegments } from './segments.js';
 
 export const PLAN = 'plan';  // POST v1/plans
 export const MIN_TIME = 'min-time';  // POST v1/min-time
@@ -57,9 +61,11 @@ function setAt(object, path, value) {
 // undefined when it puts nothing: left empty (the API's default applies) or inside a hidden group
 // (the custom fluid's properties while a catalogue fluid is chosen).
 function valueOf(el) {
+  if (el.closest('[hidden]')) return undefined;
   const text = el.value.trim();
-  if (text === '' || el.closest('[hidden]')) return undefined;
+  if (text === '' && el.type !== 'checkbox') return undefined;
   if (el.tagName === 'SELECT' && text === CUSTOM) return {};
+  if (el.type === 'checkbox') return el.checked;
   return el.type === 'number' || 'number' in el.dataset ? Number(text) : text;
 }
 
@@ -95,10 +101,16 @@ export function minTimeRequest() {
   return request;
 }
 
-// Shows the custom fluid's inputs when the custom fluid is chosen, and only then.
-export function showCustomFluid() {
-  $('custom-fluid').hidden = $('fluid').value !== CUSTOM;
+// Shows each data-when group while its select holds the value it names, and only then.
+export function showGroups() {
+  for (const group of document.querySelectorAll('[data-when]')) {
+    const [id, value] = group.dataset.when.split('=');
+    group.hidden = $(id).value !== value;
+  }
 }
+
+// The custom fluid's inputs shown when the custom fluid is chosen (one of the groups).
+export const showCustomFluid = showGroups;
 
 export function clearErrors() {
   for (const el of document.querySelectorAll('.field-error, .form-error')) el.textContent = '';
@@ -107,16 +119,22 @@ export function clearErrors() {
 
 // The input an error of a `kind` request names: the input of the error's field or of the longest
 // path that holds it (a member of a custom fluid is its own input's); an error about a whole range
-// is its first end's.
+// is its first end's; an error about an object no input holds (the whole motion, one segment of
+// a path) is its first shown input's.
 function inputOf(field, kind) {
   let best = null;
   let bestLength = -1;
+  let firstInside = null;
   for (const [el, path] of fieldsOf(kind)) {
     if (path.endsWith('[0]') && field === path.slice(0, -3)) return el;
     const holds = field === path || field.startsWith(`${path}.`) || field.startsWith(`${path}[`);
     if (holds && path.length > bestLength) [best, bestLength] = [el, path.length];
+    // Not a whole top-level member ("format"): that is the form's.
+    const nested = /[.[]/.test(field);
+    const inside = nested && (path.startsWith(`${field}.`) || path.startsWith(`${field}[`));
+    if (inside && !firstInside && !el.closest('[hidden]')) firstInside = el;
   }
-  return best;
+  return best || firstInside;
 }
 
 // The API's refusal of a `kind` request at the input its error.field names, else at the form.
@@ -142,6 +160,10 @@ const ECHOED = ['format', 'strategy', 'options.uncertainty'];
 // Sets input `el` to `value` (empty for none); a select keeps its choice when it has no option
 // of that value.
 function setInput(el, value) {
+  if (el.type === 'checkbox') {  // absent: the input's own default
+    el.checked = value === undefined || value === null ? el.defaultChecked : Boolean(value);
+    return;
+  }
   const text = value === undefined || value === null ? '' : String(value);
   if (el.tagName === 'SELECT' && ![...el.options].some((o) => o.value === text)) return;
   el.value = text;
@@ -156,6 +178,9 @@ export function fillFormFromPlan(plan, fluids) {
     format: plan.format, strategy: plan.strategy,
     options: { uncertainty: { ...u, omega_error_pct: u.omega_error_pct || undefined } },
   };
+  // A path's segments get their rows before the rows' inputs are filled.
+  const motion = plan.format.motion;
+  if (motion && motion.type === 'path') setSegments(motion.segments);
   for (const [el, path] of fieldsOf(PLAN)) {
     if (!ECHOED.some((p) => path === p || path.startsWith(`${p}.`))) continue;
     const value = valueAt(echo, path);
@@ -169,5 +194,12 @@ export function fillFormFromPlan(plan, fluids) {
   const known = entry !== undefined && entry.density_kg_m3 === f.density_kg_m3 &&
     entry.viscosity_pa_s === f.viscosity_pa_s;
   $('fluid').value = known ? f.name : CUSTOM;
-  showCustomFluid();
+  // A straight line is the form's stroke (its short form), which sends no motion.
+  if (motion && motion.type === 'line') {
+    $('motion_type').value = '';
+    $('stroke').value = String(motion.length_mm);
+  }
+  // A cylinder is the form's default shape, which sends no shape.
+  if (plan.format.container.shape === 'cylinder') $('shape').value = '';
+  showGroups();
 }

@@ -1,6 +1,7 @@
 // The plots of the page: one entry per plot in PLOTS (adding a plot = one entry). Each entry
 // belongs to a view: 'plan' entries build a Chart.js configuration from the context {plan,
-// request, series, base, format}, 'min-time' entries from {minTime} (the POST v1/min-time
+// request, series, base, format, spatial?} (spatial: the planar simulations {plan, base} of a
+// motion along an arc or a path), 'min-time' entries from {minTime} (the POST v1/min-time
 // response); an entry with `when` is drawn only when when(context) holds.
 
 const COLORS = { plan: '#0b63c5', base: '#8c959f', linear: '#d4731c', baseLinear: '#e3b58a', jerk: '#7a3db8' };
@@ -179,6 +180,37 @@ function robustnessChart(plan) {
   return config;
 }
 
+// η over the wall of a planar motion: max over the wall angle φ of η(φ, t), per model, for the
+// plan's law and the uniform law. The series when the service gives them (series.eta_*_mm of the
+// planar answer), else its peaks (during the motion and in the rest window, at their times) as
+// points; the rest window shaded and the free board marked as for the straight line.
+function wallChart({ plan, format, spatial }) {
+  const T = format.motion_time_s;
+  const markers = { shade: [{ from: T, to: T + plan.rest_time_s, label: 'rest window' }], hlines: [] };
+  const height = format.container && format.container.height_mm;
+  const board = height ? height - format.fill_height_mm : null;
+  if (board !== null) markers.hlines.push({ y: board, label: `free board ${board.toFixed(1)} mm` });
+  const of = (answer, model, label, color, extra = {}) => {
+    const s = answer.series;
+    const key = `eta_${model}_mm`;
+    if (s && s[key]) return line(label, points(s.t_s, s[key]), color, extra);
+    const p = answer.prediction[model];
+    const data = [{ x: p.t_motion_s, y: p.eta_motion_mm }, { x: p.t_rest_s, y: p.eta_rest_mm }];
+    return line(`${label} (peaks)`, data, color, { showLine: false, pointRadius: 5, ...extra });
+  };
+  const config = timeChart([
+    of(spatial.plan, 'nonlinear', 'η nonlinear plan', COLORS.plan),
+    of(spatial.plan, 'linear', 'η linear plan', COLORS.linear, { pointStyle: 'rect' }),
+    of(spatial.base, 'nonlinear', 'η nonlinear uniform', COLORS.base),
+    of(spatial.base, 'linear', 'η linear uniform', COLORS.baseLinear, { pointStyle: 'rect' }),
+  ], 'max over the wall of η [mm]', markers);
+  config.options.scales.x.min = 0;
+  config.options.scales.x.max = T + plan.rest_time_s;
+  config.options.scales.y.suggestedMin = 0;
+  if (board !== null) config.options.scales.y.suggestedMax = 1.05 * board;
+  return config;
+}
+
 export const PLOTS = [
   {
     id: 'min-time-motion',
@@ -214,6 +246,7 @@ export const PLOTS = [
     id: 'eta',
     view: 'plan',
     title: 'Wave height η(t) at the wall',
+    when: ({ spatial }) => !spatial,
     build: ({ plan, series, base, format, measured }) => {
       const T = format.motion_time_s;
       const markers = { shade: [{ from: T, to: T + plan.rest_time_s, label: 'rest window' }], hlines: [] };
@@ -238,6 +271,13 @@ export const PLOTS = [
       }
       return config;
     },
+  },
+  {
+    id: 'eta-wall',
+    view: 'plan',
+    title: 'Wave height at the wall, the maximum over the wall angle (arc or path)',
+    when: ({ spatial }) => Boolean(spatial),
+    build: (context) => wallChart(context),
   },
   {
     id: 'spectrum',

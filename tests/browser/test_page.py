@@ -13,7 +13,8 @@ hold the API's curves, a row loads its plan at T_min, a shared link reproduces a
 API's errors land at the fields they name. Every data-field path of the form is a member of the
 service's published request schemas, every input's refused value shows the API's error next to
 it, a late answer of an earlier request never replaces a later view, and an aborted request shows
-no error.
+no error. Arcs, paths and rectangular cups (the top view, the peak directions, their refusals):
+motion_checks.py.
 
 usage: test_page.py --slosh build/slosh --artifacts build/browser
 """
@@ -33,6 +34,8 @@ import time
 import urllib.request
 
 from selenium import webdriver
+
+import motion_checks
 from selenium.webdriver.chrome.service import Service
 from selenium.webdriver.common.by import By
 from selenium.webdriver.support.ui import Select
@@ -937,7 +940,7 @@ PAGE_FIELDS = """
 const done = arguments[arguments.length - 1];
 import('./assets/form.js').then((m) => Object.fromEntries(['plan', 'min-time'].map((kind) => [kind,
   m.fieldsOf(kind).map(([el, path]) => ({
-    id: el.id, path, tag: el.tagName, type: el.type, number: 'number' in el.dataset,
+    id: el.id, path, tag: el.tagName, type: el.type, number: 'number' in el.dataset, shown: !el.closest('[hidden]'),
     options: el.tagName === 'SELECT' ? [...el.options].map((o) => o.value) : []}))])))
   .then(done, (e) => done(String(e)));
 """
@@ -1004,8 +1007,16 @@ def check_field_paths(driver, port):
     for kind, request in REQUEST_SCHEMAS.items():
         for f in fields[kind]:
             schemas = schemas_at(doc, request, f["path"])
+            if not schemas and f["path"].startswith("format.motion."):
+                # The published request schemas give format.motion in SimulateFormat only (plans
+                # take arcs and paths, min-time refuses them by name): its members are checked
+                # against the Motion schema the service publishes for it.
+                schemas = schemas_at(doc, "SimulateFormat", f["path"].removeprefix("format."))
             what = f"{kind}: #{f['id']} {f['path']}"
             check(schemas != [], f"{what} is a member of {request}")
+            if f["type"] == "checkbox":
+                check(any(s.get("type") == "boolean" for s in schemas), f"{what} is a checkbox of a boolean: {schemas}")
+                continue
             if f["tag"] == "INPUT":
                 check(f["type"] == "number" and any(s.get("type") in ("number", "integer") for s in schemas),
                       f"{what} is a number input of a number: {f['type']} {schemas}")
@@ -1020,8 +1031,11 @@ def check_field_paths(driver, port):
 
 def placement(field, inputs):
     """The input an error naming `field` belongs at: the input of that path or of the longest path
-    holding it; an error about a whole range at its first end's ([0]); None: at the form."""
+    holding it; an error about a whole range at its first end's ([0]); an error about an object
+    inside a top-level member that no input holds (a motion, a segment) at its first shown input;
+    None: at the form."""
     best = None
+    inside = None
     for f in inputs:
         p = f["path"]
         if p == field + "[0]":
@@ -1029,6 +1043,10 @@ def placement(field, inputs):
         if (field == p or field.startswith(p + ".") or field.startswith(p + "[")) and \
                 (best is None or len(p) > len(best["path"])):
             best = f
+        if inside is None and re.search(r"[.\[]", field) and f["shown"] and \
+                (p.startswith(field + ".") or p.startswith(field + "[")):
+            inside = f
+    best = best or inside
     return best and best["id"]
 
 
@@ -1045,10 +1063,14 @@ if (el.tagName === 'SELECT') {
   el.value = '-1e300';
 }
 if (other) document.getElementById(other).value = otherValue;
-if (el.closest('#custom-fluid')) {
-  const fluid = document.getElementById('fluid');
-  fluid.value = 'custom';
-  fluid.dispatchEvent(new Event('change'));
+// The groups the input is in are shown (the custom fluid chosen, the arc or path, a rectangular
+// container, an arc segment), outermost first.
+const groups = [];
+for (let g = el.closest('[data-when]'); g; g = g.parentElement.closest('[data-when]')) groups.unshift(g);
+for (const g of groups) {
+  const [select, value] = g.dataset.when.split('=');
+  document.getElementById(select).value = value;
+  document.getElementById(select).dispatchEvent(new Event('change', { bubbles: true }));
 }
 """
 
@@ -1075,7 +1097,8 @@ def check_errors_at_fields(driver, port):
     wait_for(driver, "return document.body.dataset.loaded === '1'")
     fields = page_fields(driver)
     plan_paths = {f["id"]: f["path"] for f in fields["plan"]}
-    cases = [("plan", f) for f in fields["plan"]] + \
+    # A checkbox sends true or false, both taken: it has no value to refuse.
+    cases = [("plan", f) for f in fields["plan"] if f["type"] != "checkbox"] + \
         [("min-time", f) for f in fields["min-time"] if plan_paths.get(f["id"]) != f["path"]]
     check(len([c for c in cases if c[0] == "min-time"]) == 6, f"six min-time inputs of their own: {cases}")
     for kind, f in cases:
@@ -1099,7 +1122,7 @@ def check_errors_at_fields(driver, port):
         own = f["path"].removesuffix("[0]").removesuffix("[1]")
         check(field == own or field.startswith(own + ".") or field.startswith(own + "["),
               f"{what}: the API names the input's path: {field}")
-        expected = placement(field, fields[kind])
+        expected = placement(field, page_fields(driver)[kind])  # the groups shown now
         shown = driver.execute_script(
             "return [...document.querySelectorAll('[aria-invalid]')].map(e => e.id)")
         check(shown == [expected], f"{what}: the error of {field} is at #{expected}: marked {shown}")
@@ -1225,6 +1248,10 @@ def main():
         check_shared_url(driver, plan)
         check_infeasible_cam_link(driver, port)
         check_uncertainty(driver, port)
+        motion_checks.run(driver, port, {
+            "check": check, "api_json": api_json, "wait_for": wait_for, "expected_row": expected_row,
+            "table_rows": table_rows, "chart_counts": chart_counts, "browser": browser,
+            "artifacts": args.artifacts})
         check_field_paths(driver, port)
         check_errors_at_fields(driver, port)
         check_key_view(port, plan)
