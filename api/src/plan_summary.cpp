@@ -86,11 +86,12 @@ std::string prediction_lines(const json& plan) {
 
 std::string plan_summary_text(const json& plan) {
   const json& f = plan["format"];
-  const json& c = f["container"];
-  const std::string container = c.contains("length_mm") ? "L " + num(c["length_mm"], 1) + " x W " +
-                                                              num(c["width_mm"], 1) + " mm at " +
-                                                              num(c["orientation_deg"], 1) + " deg"
-                                                        : "R " + num(c["radius_mm"], 1) + " mm";
+  const json& box = f["container"];
+  const std::string container = box.contains("length_mm")
+                                    ? "L " + num(box["length_mm"], 1) + " x W " +
+                                          num(box["width_mm"], 1) + " mm at " +
+                                          num(box["orientation_deg"], 1) + " deg"
+                                    : "R " + num(box["radius_mm"], 1) + " mm";
   std::string out = "plan        " + plan["strategy"].get<std::string>() + " on " + container +
                     ", h " + num(f["fill_height_mm"], 1) + " mm, " +
                     f["fluid"].value("name", std::string("custom fluid")) + ", " +
