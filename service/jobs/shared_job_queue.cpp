@@ -76,9 +76,9 @@ std::vector<std::string> item_command(const std::string& stream, const JobStatus
                                "rid",
                                r.recipe_id,
                                "req",
-                               api::dump_json(r.request),
+                               api::recipe_request_text(r.request),
                                "err",
-                               api::dump_json(r.error),
+                               api::recipe_error_text(r.error),
                                "csv",
                                r.csv ? "1" : "0",
                                "t",
@@ -156,8 +156,8 @@ std::vector<SharedItem> SharedJobQueue::items_of(const RedisReply& entries) {
     if (const std::string* rid = field_of(fields, "rid")) item.recipe.recipe_id = *rid;
     const std::string* req = field_of(fields, "req");
     const std::string* err = field_of(fields, "err");
-    item.recipe.request = req != nullptr ? api::json_value_of(*req) : nullptr;
-    item.recipe.error = err != nullptr ? api::json_value_of(*err) : nullptr;
+    item.recipe.request = req != nullptr ? api::recipe_request_of_text(*req) : api::RecipeRequest();
+    item.recipe.error = err != nullptr ? api::recipe_error_of_text(*err) : std::nullopt;
     const std::string* csv = field_of(fields, "csv");
     item.recipe.csv = csv != nullptr && *csv == "1";
     item.total = count_of(fields, "t");

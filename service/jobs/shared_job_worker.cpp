@@ -170,11 +170,11 @@ bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InF
     for (SharedItem& item : queue_.take(id, workers - flight.size())) {
       took = true;
       InFlight f{id, std::move(item), {}};
-      if (!f.item.recipe.error.is_null()) {  // an unreadable row: its error is its result
-        f.started.result.error = api::error_from_json(f.item.recipe.error);
+      if (f.item.recipe.error) {  // an unreadable row: its error is its result
+        f.started.result.error = *f.item.recipe.error;
       } else {
         try {
-          f.started = service_.start_batch_item(api::read_batch_item(f.item.recipe.request, budget),
+          f.started = service_.start_batch_item(api::batch_item_of(f.item.recipe.request, budget),
                                                 TaskPriority::kBackground);
         } catch (const api::ApiError& e) {
           f.started.result.error = e;
@@ -198,7 +198,7 @@ bool SharedJobWorker::store_ready(std::vector<InFlight>& flight, bool& complete)
     }
     std::optional<api::PlanView> view;
     if (it->item.view) view = api::parse_plan_view(*it->item.view);
-    const api::PlanTableRow row = api::table_row_of(plan_row(it->item.recipe, s.get(), view));
+    const api::PlanTableRow row = plan_row(it->item.recipe, s.get(), view);
     const auto result = queue_.store(it->job, it->item, api::table_row_text(row), row.failed);
     if (result.stored == SharedJobQueue::Stored::kNew) ++stored_;
     if (result.stored != SharedJobQueue::Stored::kFailed && result.done >= it->item.total) {

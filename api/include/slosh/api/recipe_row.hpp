@@ -128,6 +128,14 @@ class RecipeHeader {
 /// RecipeTableError.
 [[nodiscard]] std::vector<ReadRecipe> json_document_recipes(std::string_view text);
 
+/// A recipe's request as JSON text ("null" for a row that could not be read), and back (a text
+/// that is not JSON reads as null), for work items kept outside the process (a Redis stream).
+[[nodiscard]] std::string recipe_request_text(const RecipeRequest& request);
+[[nodiscard]] RecipeRequest recipe_request_of_text(std::string_view text);
+/// A row's error as its envelope's text (empty when the row was read), and back.
+[[nodiscard]] std::string recipe_error_text(const std::optional<ApiError>& error);
+[[nodiscard]] std::optional<ApiError> recipe_error_of_text(std::string_view text);
+
 /// A recipe's plan request read as a batch item (read_batch_item: never throws).
 [[nodiscard]] BatchItem batch_item_of(const RecipeRequest& request, double budget);
 
