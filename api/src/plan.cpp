@@ -116,12 +116,29 @@ std::string to_hex(const unsigned char* data, std::size_t n) {
 }
 
 /// The options a plan along an arc or a path does not apply yet: refused rather than ignored.
-void refuse_path_options(const PlanOptions& o) {
+// What a plan along an arc or a path does not compute yet is refused, never silently left out.
+void refuse_path_options(const PlanOptions& o, const nlohmann::json& body,
+                         const nlohmann::json& options) {
   if (o.uncertainty.active()) {
     invalid("options.uncertainty",
             "options.uncertainty is not available along an arc or a path yet: a plan along a "
             "path is verified at the nominal model (leave options.uncertainty out, or plan on "
             "a straight line)");
+  }
+  // The report is on by default on a line; along a path it is left out unless asked for.
+  const nlohmann::json* robustness = given_member(options, "robustness");
+  if (o.robustness && robustness != nullptr) {
+    invalid("options.robustness",
+            "options.robustness is not available along an arc or a path yet: the robustness "
+            "report re-simulates the straight-line models (leave options.robustness out, or "
+            "plan on a straight line)");
+  }
+  // The series render the straight-line models of the tangential motion, not the planar
+  // models the answer's prediction comes from (as POST /v1/simulate along a path).
+  if (given_member(body, "sample_period_s") != nullptr) {
+    invalid("sample_period_s",
+            "sample_period_s: series are not available with format.motion of type arc or path "
+            "yet (the answer gives both planar models' peaks); leave sample_period_s out");
   }
 }
 
@@ -159,7 +176,7 @@ PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry
     invalid(options_field(*why, o), "options." + input_sentence(*why, r.format, o));
   }
 
-  if (r.motion) refuse_path_options(o);
+  if (r.motion) refuse_path_options(o, body, options);
   r.sample_period = parse_sample_period(body, r.format.motion_time + o.rest_time);
   return r;
 }
