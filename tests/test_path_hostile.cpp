@@ -192,5 +192,48 @@ TEST(PathHostile, SeriesOfAnArcPlanAreThePlanarPrediction) {
       << "the series is not the planar model's wave the answer predicts";
 }
 
+// The refusals the review asked for, with their exact text: a time step below 1e-9 of the first
+// mode's period, a subnormal angle, more than 10000 segments; and headings written to 6
+// decimals of a degree join within the documented 1e-6 rad.
+TEST(PathHostile, RefusalsNameMemberValueAndLimit) {
+  Server server({"--cache", ""});
+  auto refusal = [&](const json& motion, const std::string& field, const std::string& message) {
+    json format = thesis_format();
+    if (motion["type"] != "trajectory") format["motion_time_s"] = 1.2;
+    format["motion"] = motion;
+    const Reply r = post(server, "/v1/simulate", {{"format", format}});
+    EXPECT_EQ(r.status, 422) << r.body.dump();
+    EXPECT_EQ(r.body["error"]["field"], field) << r.body.dump();
+    EXPECT_EQ(r.body["error"]["message"], message) << r.body.dump();
+  };
+  std::vector<double> t, zero(10, 0.0);
+  for (int i = 0; i < 10; ++i) t.push_back(i * 1e-300);
+  refusal({{"type", "trajectory"}, {"t_s", t}, {"x_mm", zero}, {"y_mm", zero}},
+          "format.motion.t_s[1]",
+          "format.motion.t_s[1]: samples 0 and 1 are 1e-300 s apart; the time step must be at "
+          "least 3.262319635e-10 s (1e-9 of the first sloshing mode's period 0.3262319635 s)");
+  refusal({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 5e-324}}, "format.motion.angle_deg",
+          "format.motion.angle_deg = 4.940656458e-324 is too small to compute with: allowed "
+          "-3600 to 3600 deg and at least 1.274873412e-306 deg in magnitude");
+  json many = lines(std::vector<double>(10001, 0.05));
+  refusal(many, "format.motion.segments",
+          "format.motion.segments has 10001 segments; allowed at most 10000");
+  // Three thirds of 100 deg to 6 decimals, then a line stating the nominal 100 deg: a 1.7e-8 rad
+  // difference, accepted; a 1e-5 rad kink is refused.
+  auto thirds = [](double heading) {
+    json segments = json::array();
+    for (int i = 0; i < 3; ++i) {
+      segments.push_back({{"arc", {{"radius_mm", 100}, {"angle_deg", 33.333333}}}});
+    }
+    segments.push_back({{"line_mm", 100}, {"heading_deg", heading}});
+    return json{{"type", "path"}, {"segments", segments}};
+  };
+  simulate_uniform(server, thirds(100.0));
+  refusal(thirds(99.999999 + 1e-5 * 180.0 / std::numbers::pi), "format.motion.segments[3]",
+          "format.motion.segments[3] starts at heading 100.000572 deg but the path arrives at "
+          "heading 99.999999 deg: lines and arcs must join with a common tangent (within 1e-6 "
+          "rad)");
+}
+
 }  // namespace
 }  // namespace slosh::test

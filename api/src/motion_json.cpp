@@ -122,6 +122,11 @@ PlanarPath parse_path(const json& m) {
                        "{\"radius_mm\", \"angle_deg\"}}, got " +
                        (segments == nullptr ? std::string("nothing") : show(*segments)));
   }
+  if (segments->size() > motion_ranges::kMaxPathSegments) {
+    invalid(spath, spath + " has " + std::to_string(segments->size()) +
+                       " segments; allowed at most " +
+                       std::to_string(motion_ranges::kMaxPathSegments));
+  }
   std::vector<PathElement> elements;
   for (std::size_t i = 0; i < segments->size(); ++i) {
     elements.push_back(parse_segment((*segments)[i], spath + "[" + std::to_string(i) + "]"));
