@@ -90,13 +90,13 @@ TEST(PlanarPath, RefusalsNameTheElement) {
                                 0.0, false);
             }),
             "segments[1] | segments[1] starts at heading 60 deg but the path arrives at heading "
-            "0 deg: lines and arcs must join with a common tangent");
+            "0 deg: lines and arcs must join with a common tangent (within 1e-6 rad)");
   EXPECT_EQ(refusal_of([] {
               return PlanarPath({PathElement::arc(0.1, kPi / 2), PathElement::line(0.2, 0.0)}, 0.0,
                                 false);
             }),
             "segments[1] | segments[1] starts at heading 0 deg but the path arrives at heading "
-            "90 deg: lines and arcs must join with a common tangent");
+            "90 deg: lines and arcs must join with a common tangent (within 1e-6 rad)");
   EXPECT_EQ(refusal_of([] { return PlanarPath::arc(0.0, 1.0, true); }),
             "segments[0] | segments[0]: an arc's radius 0 m must be finite and > 0 m");
   EXPECT_EQ(refusal_of([] { return PlanarPath::arc(0.3, 0.0, true); }),

@@ -205,7 +205,7 @@ TEST(SpatialSimulate, BadMotionsAreRefusedNamingTheMember) {
        "mm"},
       {"no common tangent", with_motion(joined), "format.motion.segments[2]",
        "format.motion.segments[2] starts at heading 45 deg but the path arrives at heading 90 deg: "
-       "lines and arcs must join with a common tangent"},
+       "lines and arcs must join with a common tangent (within 1e-6 rad)"},
       {"times not increasing", with_motion(trajectory(same_t, fine_x), false),
        "format.motion.t_s[13]",
        "format.motion.t_s[13] = 0.06 s must be greater than t[12] = 0.06 s (times strictly "

@@ -1,6 +1,7 @@
 #include "slosh/api/motion_json.hpp"
 
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <string_view>
 #include <utility>
@@ -44,15 +45,35 @@ MotionType parse_type(const json& m) {
                      " is not allowed: one of \"line\", \"arc\", \"path\", \"trajectory\"");
 }
 
+// A value that passed its range but is not a normal double once scaled to SI (5e-324 mm is 0 m,
+// 1e-310 deg a subnormal radian): refused naming the member and the value sent, since the core
+// would see 0 or compute with a few bits.
+void require_normal_scaled(double value, double scale, const std::string& field,
+                           const Range& range) {
+  if (value == 0.0 || std::isnormal(value * scale)) return;
+  invalid(field, field + " = " + number_text(value) + " is too small to compute with: allowed " +
+                     range.describe() + " and at least " +
+                     number_text(std::numeric_limits<double>::min() / scale) + " " +
+                     std::string(range.unit) + " in magnitude");
+}
+
 // A non-zero angle: an arc that turns through nothing is not an arc.
 double arc_angle_deg(const json& arc, const std::string& path) {
   const double angle = required_number(arc, path, "angle_deg", kAngleDeg);
+  const std::string field = join_path(path, "angle_deg");
   if (angle == 0.0) {
-    const std::string field = join_path(path, "angle_deg");
     invalid(field, field + " = 0 is not allowed: an arc turns, allowed " + kAngleDeg.describe() +
                        " except 0 (signed, left positive)");
   }
+  require_normal_scaled(angle, kRadPerDeg, field, kAngleDeg);
   return angle;
+}
+
+// An arc's radius [m] from radius_mm.
+double arc_radius_m(const json& arc, const std::string& path) {
+  const double radius = required_number(arc, path, "radius_mm", kArcRadiusMm);
+  require_normal_scaled(radius, 1e-3, join_path(path, "radius_mm"), kArcRadiusMm);
+  return radius * 1e-3;
 }
 
 std::optional<double> optional_heading(const json& object, const std::string& path,
@@ -88,7 +109,7 @@ PathElement parse_segment(const json& segment, const std::string& path) {
   const json& a = segment["arc"];
   require_object(a, apath);
   reject_unknown_fields(a, apath, {"radius_mm", "angle_deg"});
-  const double radius = required_number(a, apath, "radius_mm", kArcRadiusMm) * 1e-3;
+  const double radius = arc_radius_m(a, apath);
   return PathElement::arc(radius, arc_angle_deg(a, apath) * kRadPerDeg, heading);
 }
 
@@ -101,6 +122,11 @@ PlanarPath parse_path(const json& m) {
                        " must be a non-empty array of {\"line_mm\"} and {\"arc\": "
                        "{\"radius_mm\", \"angle_deg\"}}, got " +
                        (segments == nullptr ? std::string("nothing") : show(*segments)));
+  }
+  if (segments->size() > motion_ranges::kMaxPathSegments) {
+    invalid(spath, spath + " has " + std::to_string(segments->size()) +
+                       " segments; allowed at most " +
+                       std::to_string(motion_ranges::kMaxPathSegments));
   }
   std::vector<PathElement> elements;
   for (std::size_t i = 0; i < segments->size(); ++i) {
@@ -187,7 +213,7 @@ SpatialMotion parse_motion(const json& m, bool trajectory_allowed) {
     case MotionType::kArc: {
       reject_unknown_fields(
           m, kMotion, {"type", "radius_mm", "angle_deg", "container_turns", "start_heading_deg"});
-      const double radius = required_number(m, kMotion, "radius_mm", kArcRadiusMm) * 1e-3;
+      const double radius = arc_radius_m(m, kMotion);
       const double angle = arc_angle_deg(m, kMotion) * kRadPerDeg;
       const double heading = optional_number(m, kMotion, "start_heading_deg", kHeadingDeg, 0.0);
       const bool turns = optional_bool(m, kMotion, "container_turns", true);

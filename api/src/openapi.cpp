@@ -844,18 +844,23 @@ void add_motion_request_schemas(json& s) {
        {"container_turns", with_default(turns, true)},
        {"start_heading_deg", with_default(heading, 0)}},
       {"type", "radius_mm", "angle_deg"}, "", true);
-  s["PathSegment"] = object(
-      {{"line_mm", number_in(ranges::kStrokeMm, "A line of this length")},
-       {"arc", object({{"radius_mm", number_in(mr::kArcRadiusMm, "Radius")},
-                       {"angle_deg", number_in(mr::kAngleDeg, "Signed angle, not 0")}},
-                      {"radius_mm", "angle_deg"}, "An arc.", true)},
-       {"heading_deg", number_in(mr::kHeadingDeg,
-                                 "Optional: the tangent direction the segment starts with; it "
-                                 "must equal the direction the path arrives with")}},
-      {}, "One of line_mm or arc.", true);
+  s["PathSegment"] =
+      object({{"line_mm", number_in(ranges::kStrokeMm, "A line of this length")},
+              {"arc", object({{"radius_mm", number_in(mr::kArcRadiusMm, "Radius")},
+                              {"angle_deg", number_in(mr::kAngleDeg, "Signed angle, not 0")}},
+                             {"radius_mm", "angle_deg"}, "An arc.", true)},
+              {"heading_deg",
+               number_in(mr::kHeadingDeg,
+                         "Optional: the tangent direction the segment starts with; it "
+                         "must equal the direction the path arrives with (within 1e-6 rad)")}},
+             {}, "One of line_mm or arc.", true);
   s["PathMotion"] =
       object({{"type", string_enum({"path"}, "Lines and arcs joined with a common tangent.")},
-              {"segments", {{"type", "array"}, {"minItems", 1}, {"items", ref("PathSegment")}}},
+              {"segments",
+               {{"type", "array"},
+                {"minItems", 1},
+                {"maxItems", mr::kMaxPathSegments},
+                {"items", ref("PathSegment")}}},
               {"start_heading_deg", with_default(heading, 0)},
               {"container_turns", with_default(turns, false)}},
              {"type", "segments"}, "", true);

@@ -152,9 +152,10 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
 }
 
 /// The text of the file a flag names; ApiError naming the flag when it cannot be read.
-std::string read_file_flag(const std::string& path, const std::string& flag) {
+std::string read_file_flag(const std::string& path, const std::string& flag,
+                           const std::string& what) {
   try {
-    return read_request_text(path);
+    return read_request_text(path, what);
   } catch (const std::exception& e) {
     throw api::ApiError(api::ErrorCode::kInvalidValue, flag, e.what());
   }
@@ -176,7 +177,7 @@ api::QuickPlan quick_plan(const QuickPlanFlags& q) {
   p.arc_angle_deg = q.arc_angle_deg;
   p.turns = q.turns;
   if (q.motion_path) {
-    p.motion_text = read_file_flag(*q.motion_path, "--motion");
+    p.motion_text = read_file_flag(*q.motion_path, "--motion", "motion");
     p.motion_source = *q.motion_path;
   }
   p.time_s = *q.time_s;

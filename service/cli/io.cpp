@@ -8,7 +8,7 @@
 
 namespace slosh::service {
 
-std::string read_request_text(const std::string& path) {
+std::string read_request_text(const std::string& path, const std::string& what) {
   std::ostringstream buffer;
   if (path == "-") {
     buffer << std::cin.rdbuf();
@@ -18,10 +18,10 @@ std::string read_request_text(const std::string& path) {
   // letting the JSON parser report "unexpected end of input".
   std::error_code ec;
   if (std::filesystem::is_directory(path, ec)) {
-    throw std::runtime_error("cannot read request file '" + path + "': it is a directory");
+    throw std::runtime_error("cannot read " + what + " file '" + path + "': it is a directory");
   }
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw std::runtime_error("cannot read request file '" + path + "'");
+  if (!in) throw std::runtime_error("cannot read " + what + " file '" + path + "'");
   buffer << in.rdbuf();
   return buffer.str();
 }

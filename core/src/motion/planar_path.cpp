@@ -13,8 +13,10 @@ namespace slosh {
 
 namespace {
 
-/// Largest difference between a stated start heading and the arriving tangent [rad].
-constexpr double kTangentTolerance{1e-9};
+/// Largest difference between a stated start heading and the arriving tangent [rad]: 1e-6 rad
+/// (5.7e-5 deg) admits headings and angles written to 6 decimals of a degree (a CAD or PLC
+/// export), far below any physical kink (the jump of the tangent is what shakes the liquid).
+constexpr double kTangentTolerance{1e-6};
 
 std::string element_name(std::size_t i) {
   return "segments[" + std::to_string(i) + "]";
@@ -90,9 +92,10 @@ PlanarPath::PlanarPath(std::vector<PathElement> elements, double start_heading,
       const double d = angle_difference(*e.start_heading, psi);
       if (std::abs(d) > kTangentTolerance) {
         const std::string name = element_name(i);
-        throw InvalidMotion(name, name + " starts at heading " + degrees(*e.start_heading) +
-                                      " but the path arrives at heading " + degrees(psi) +
-                                      ": lines and arcs must join with a common tangent");
+        throw InvalidMotion(
+            name, name + " starts at heading " + degrees(*e.start_heading) +
+                      " but the path arrives at heading " + degrees(psi) +
+                      ": lines and arcs must join with a common tangent (within 1e-6 rad)");
       }
     }
     const double kappa =

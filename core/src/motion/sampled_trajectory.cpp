@@ -125,6 +125,16 @@ void SampledTrajectory::check_sampling(double omega1) const {
   const std::vector<double>& t = samples_.t;
   for (std::size_t i = 1; i < t.size(); ++i) {
     const double gap = t[i] - t[i - 1];
+    const double period = 2.0 * std::numbers::pi / omega1,
+                 shortest = kMinStepPerFirstPeriod * period;
+    if (gap < shortest) {
+      throw InvalidMotion(indexed("t", i), indexed("t", i) + ": samples " + std::to_string(i - 1) +
+                                               " and " + std::to_string(i) + " are " + number(gap) +
+                                               " s apart; the time step must be at least " +
+                                               number(shortest) +
+                                               " s (1e-9 of the first sloshing mode's period " +
+                                               number(period) + " s)");
+    }
     if (gap > spacing) {
       throw InvalidMotion(
           indexed("t", i),

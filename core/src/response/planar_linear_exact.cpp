@@ -46,17 +46,36 @@ Complex exp_of(Complex lambda, double tau) {
 constexpr std::size_t kTerms{kFitTerms};
 using Coeffs = FitPoly;
 
+/// A mode whose omega H is below this is stepped by its Taylor series in u instead of the
+/// polynomial particular solution plus the homogeneous one: the particular solution's
+/// coefficients r_k carry q_{k+j} (k+j)! / (omega H)^(2j) and cancel against the homogeneous
+/// amplitude when omega H is small (a sub-step of 1e-16 s at a path join, a trajectory sampled
+/// at 20 kHz), while the series' terms fall like (omega H)^j / j! there.
+constexpr double kSeriesLimit{1.0};
+/// Terms of the solution polynomial of a sub-step: the Taylor series at omega H <= 1 drops
+/// terms below 1 / 24! ~ 2e-24 of the state.
+constexpr std::size_t kSolTerms{24};
+using SolPoly = std::array<double, kSolTerms>;
+
+double horner_n(const SolPoly& c, std::size_t terms, double u) {
+  double r = c[terms - 1];
+  for (std::size_t k = terms - 1; k > 0; --k) r = r * u + c[k - 1];
+  return r;
+}
+
 /// Candidates within this fraction of the best sample are refined (as find_max()).
 constexpr double kRefineFraction{0.05};
 /// A candidate this far below the best refined peak is not refined [-] (window_peak()).
 constexpr double kRefineGain{0.01};
 
-/// p, p', p'' in u.
-void horner_jet(const Coeffs& c, double u, double& p, double& d1, double& d2) {
-  p = c[kTerms - 1];
+/// p, p', p'' in u of the first `terms` coefficients.
+template <std::size_t N>
+void horner_jet(const std::array<double, N>& c, double u, double& p, double& d1, double& d2,
+                std::size_t terms = N) {
+  p = c[terms - 1];
   d1 = 0.0;
   d2 = 0.0;
-  for (std::size_t k = kTerms - 1; k > 0; --k) {
+  for (std::size_t k = terms - 1; k > 0; --k) {
     d2 = d2 * u + 2.0 * d1;
     d1 = d1 * u + p;
     p = p * u + c[k - 1];
@@ -73,8 +92,10 @@ struct Mode {
 template <std::size_t M>
 struct SubStep {
   double t0{}, H{};
-  bool forced{};  ///< px, py are not zero (the rest window has no forcing)
-  Coeffs px{}, py{}, spin{};
+  bool forced{};              ///< px, py are not zero (the rest window's modes are all homogeneous)
+  std::size_t terms{kTerms};  ///< coefficients of px, py in use
+  SolPoly px{}, py{};
+  Coeffs spin{};
   std::array<Complex, M> zx{}, zy{};
 };
 
@@ -108,6 +129,8 @@ class ExactPlanarLinear {
 
   void sub_step(const PlanarDrive& drive, std::size_t piece, bool rest, double t0, double H,
                 SubStep<M>& out);
+  void series_step(const Mode& md, std::size_t n, const Coeffs& qx, const Coeffs& qy, double H,
+                   SubStep<M>& out);
   void sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
               std::vector<double>& f) const;
   [[nodiscard]] Jet jet(double t) const;
@@ -147,9 +170,14 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
   }
   out.px.fill(0.0);
   out.py.fill(0.0);
+  out.terms = kTerms;
   const double inv_h = 1.0 / H, inv_h2 = inv_h * inv_h;
   for (std::size_t n = 0; n < M; ++n) {
     const Mode& md = modes_[n];
+    if (md.w * H < kSeriesLimit) {
+      series_step(md, n, qx, qy, H, out);
+      continue;
+    }
     const double a1 = md.two_zw * inv_h;
     auto particular = [&](const Coeffs& q) {
       Coeffs r{};
@@ -194,6 +222,54 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
   }
 }
 
+/// Mode n over the sub-step as its Taylor series in u: with s(u) = x(t0 + u H),
+/// s'' + 2 zeta omega H s' + (omega H)^2 s = H^2 q(u), s(0) = x0, s'(0) = v0 H, so
+/// (j + 2)(j + 1) s_{j+2} = H^2 q_j - 2 zeta omega H (j + 1) s_{j+1} - (omega H)^2 s_j.
+/// Every term is a sum of small parts (no cancellation) for any H >= 0; at omega H < 1 the
+/// terms beyond kSolTerms are below 1 / kSolTerms! of the state. The mode's amplitude is all in
+/// the polynomial (z = 0).
+template <std::size_t M>
+void ExactPlanarLinear<M>::series_step(const Mode& md, std::size_t n, const Coeffs& qx,
+                                       const Coeffs& qy, double H, SubStep<M>& out) {
+  const double b = md.two_zw * H, g = md.w2 * H * H, h2 = H * H;
+  auto series = [&](const Coeffs& q, double x0, double v0) {
+    SolPoly s{};
+    s[0] = x0;
+    s[1] = v0 * H;
+    for (std::size_t j = 0; j + 2 < kSolTerms; ++j) {
+      const double forcing = j < kTerms ? h2 * q[j] : 0.0;
+      s[j + 2] = (forcing - b * static_cast<double>(j + 1) * s[j + 1] - g * s[j]) /
+                 static_cast<double>((j + 2) * (j + 1));
+    }
+    return s;
+  };
+  const SolPoly sx = series(qx, state_.x[n], state_.vx[n]);
+  const SolPoly sy = series(qy, state_.y[n], state_.vy[n]);
+  double x1 = 0.0, y1 = 0.0, dx1 = 0.0, dy1 = 0.0, scale = 0.0;
+  for (std::size_t k = 0; k < kSolTerms; ++k) {
+    out.px[k] += md.gain * sx[k];
+    out.py[k] += md.gain * sy[k];
+    x1 += sx[k];
+    y1 += sy[k];
+    dx1 += static_cast<double>(k) * sx[k];
+    dy1 += static_cast<double>(k) * sy[k];
+    scale += std::abs(sx[k]) + std::abs(sy[k]);
+  }
+  // Terms below round-off of the whole are not evaluated when sampling.
+  std::size_t terms = kSolTerms;
+  while (terms > kTerms && std::abs(sx[terms - 1]) + std::abs(sy[terms - 1]) <= 1e-18 * scale) {
+    --terms;
+  }
+  out.terms = std::max(out.terms, terms);
+  out.forced = true;
+  out.zx[n] = {};
+  out.zy[n] = {};
+  state_.x[n] = x1;
+  state_.y[n] = y1;
+  state_.vx[n] = dx1 / H;
+  state_.vy[n] = dy1 / H;
+}
+
 template <std::size_t M>
 void ExactPlanarLinear<M>::sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
                                   std::vector<double>& f) const {
@@ -213,8 +289,8 @@ void ExactPlanarLinear<M>::sample(const SubStep<M>& s, std::size_t m, std::vecto
     const double u = static_cast<double>(j) * du;
     double ex = 0.0, ey = 0.0;
     if (s.forced) {
-      ex = horner(s.px, u);
-      ey = horner(s.py, u);
+      ex = horner_n(s.px, s.terms, u);
+      ey = horner_n(s.py, s.terms, u);
     }
     for (std::size_t n = 0; n < M; ++n) {
       const Complex r = rot[n];
@@ -240,8 +316,8 @@ Jet ExactPlanarLinear<M>::jet(double t) const {
   const SubStep<M>& s = *(it == steps_.begin() ? it : it - 1);
   const double tau = t - s.t0, u = tau / s.H, ih = 1.0 / s.H;
   double ex = 0, ex1 = 0, ex2 = 0, ey = 0, ey1 = 0, ey2 = 0;
-  horner_jet(s.px, u, ex, ex1, ex2);
-  horner_jet(s.py, u, ey, ey1, ey2);
+  horner_jet(s.px, u, ex, ex1, ex2, s.terms);
+  horner_jet(s.py, u, ey, ey1, ey2, s.terms);
   ex1 *= ih;
   ey1 *= ih;
   ex2 *= ih * ih;

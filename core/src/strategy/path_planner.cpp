@@ -198,7 +198,9 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
       break;
     case SolveStatus::kInfeasible:
       head = "not a solution";
-      detail += "; the durations returned are the least infeasible found";
+      // A filtered law (fir_chain, shaper, iir) has no durations: it is the law that is returned.
+      detail += r.durations ? "; the durations returned are the least infeasible found"
+                            : "; the law returned is the least infeasible found";
       break;
     case SolveStatus::kTimeLimit:
       head = "the time budget of " + sig3(c.options.time_limit) +

@@ -28,6 +28,9 @@ inline const Range kHeadingDeg{-360.0, 360.0, "deg"};
 constexpr double kMaxTrajectorySpanS{60.0};
 /// Most samples of a trajectory.
 constexpr std::size_t kMaxTrajectorySamples{200000};
+/// Most segments of a path: a track of many modules plans in seconds (each segment joins the
+/// drive's pieces and the planner's sensitivities), 10 000 keeps a plan within its budget.
+constexpr std::size_t kMaxPathSegments{10000};
 }  // namespace motion_ranges
 
 /// The motion types of format.motion.

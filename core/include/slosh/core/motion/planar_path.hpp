@@ -45,7 +45,7 @@ class PlanarPath {
  public:
   /// Throws InvalidMotion naming the element ("segments[i]") for a line of length <= 0, an arc
   /// of radius <= 0 or angle 0, a non-finite value, or a stated start heading that differs from
-  /// the arriving tangent by more than 1e-9 rad; "segments" when there is none.
+  /// the arriving tangent by more than 1e-6 rad; "segments" when there is none.
   /// `start_heading`: the tangent direction at the start [rad]. `container_turns`: the container
   /// turns with the path's tangent (a rotary table, a carousel: its heading theta = psi - psi_0)
   /// or keeps its orientation (a carriage on a curved track: theta = 0).

@@ -31,6 +31,10 @@ struct TrajectorySamples {
 /// acceleration amplitude (the error of a cubic spline's second derivative is ~ (w h)^2 / 12,
 /// w h = 2 pi / 20).
 inline constexpr double kSamplesPerFirstPeriod{20.0};
+/// Shortest time step between two samples, as a fraction of the first mode's period [-]: 1e-9
+/// of ~0.1..1 s is far below any drive's log period (1 us at 1 MHz), and above it the spline's
+/// accelerations and the models' steps stay finite (steps of 1e-300 s overflow both).
+inline constexpr double kMinStepPerFirstPeriod{1e-9};
 
 /// Natural cubic spline of one coordinate: second derivatives at the knots.
 struct CubicSpline {
@@ -46,7 +50,8 @@ class SampledTrajectory {
   explicit SampledTrajectory(TrajectorySamples samples);
 
   /// Throws InvalidMotion ("t[i]") when two samples are further apart than a
-  /// 1/kSamplesPerFirstPeriod of the first mode's period 2 pi / omega1, saying the rate needed.
+  /// 1/kSamplesPerFirstPeriod of the first mode's period 2 pi / omega1, saying the rate needed,
+  /// or closer than kMinStepPerFirstPeriod of that period, saying the minimum step.
   void check_sampling(double omega1) const;
   /// Samples per second a trajectory needs for a first mode of omega1 [rad/s].
   [[nodiscard]] static double required_rate(double omega1);
