@@ -21,17 +21,11 @@
 
 namespace slosh::detail {
 
-/// Eight doubles as one GCC vector, not an array: the compiler lowers each operation on it to
-/// whole vector instructions (two AVX or four SSE2 ones, per clone of the integration), where
-/// loops over an array of lanes, once unrolled across the scheme's stages, stay scalar.
-typedef double Lanes8 __attribute__((vector_size(8 * sizeof(double))));
-
-/// A dual number over the 7 durations in 8 lanes: x[0] the value, x[1 + i] the derivative by
-/// duration i. Its operations are whole-vector operations, always inlined: this integrator
-/// evaluates them millions of times per plan. The value lane of a product or quotient is set
-/// apart, so it holds exactly what the same formula gives in double.
+/// A dual number over the 7 durations in 8 aligned lanes: x[0] the value, x[1 + i] the
+/// derivative by duration i. Its operations are flat loops over the lanes the compiler vectorises
+/// and always inlines: this integrator evaluates them millions of times per plan.
 struct D8 {
-  Lanes8 x{};
+  alignas(32) std::array<double, 8> x{};
   D8() = default;
   explicit D8(double v) { x[0] = v; }
   explicit D8(const Dual7& d) {
@@ -39,27 +33,27 @@ struct D8 {
     for (std::size_t i = 0; i < kSegments; ++i) x[1 + i] = d.d[i];
   }
   [[nodiscard]] double value() const { return x[0]; }
-  static D8 of(const Lanes8& v) {
-    D8 r;
-    r.x = v;
-    return r;
-  }
 };
 
+#define SLOSH_D8_LOOP(expr)                          \
+  D8 r;                                              \
+  for (std::size_t i = 0; i < 8; ++i) r.x[i] = expr; \
+  return r
+
 [[gnu::always_inline]] inline D8 operator+(const D8& a, const D8& b) {
-  return D8::of(a.x + b.x);
+  SLOSH_D8_LOOP(a.x[i] + b.x[i]);
 }
 [[gnu::always_inline]] inline D8 operator-(const D8& a, const D8& b) {
-  return D8::of(a.x - b.x);
+  SLOSH_D8_LOOP(a.x[i] - b.x[i]);
 }
 [[gnu::always_inline]] inline D8 operator-(const D8& a) {
-  return D8::of(-a.x);
+  SLOSH_D8_LOOP(-a.x[i]);
 }
 [[gnu::always_inline]] inline D8 operator*(double a, const D8& b) {
-  return D8::of(a * b.x);
+  SLOSH_D8_LOOP(a * b.x[i]);
 }
 [[gnu::always_inline]] inline D8 operator*(const D8& b, double a) {
-  return D8::of(a * b.x);
+  SLOSH_D8_LOOP(a * b.x[i]);
 }
 [[gnu::always_inline]] inline D8 operator+(const D8& a, double b) {
   D8 r = a;
@@ -74,18 +68,21 @@ struct D8 {
 }
 /// The dual product (lane 0 the product of the values, lane i the product rule).
 [[gnu::always_inline]] inline D8 operator*(const D8& a, const D8& b) {
+  D8 r;
   const double a0 = a.x[0], b0 = b.x[0];
-  D8 r = D8::of(a.x * b0 + a0 * b.x);
+  for (std::size_t i = 0; i < 8; ++i) r.x[i] = a.x[i] * b0 + a0 * b.x[i];
   r.x[0] = a0 * b0;
   return r;
 }
 [[gnu::always_inline]] inline D8 operator/(const D8& a, const D8& b) {
+  D8 r;
   const double inv = 1.0 / b.x[0];
   const double q = a.x[0] * inv;
-  D8 r = D8::of((a.x - q * b.x) * inv);
+  for (std::size_t i = 0; i < 8; ++i) r.x[i] = (a.x[i] - q * b.x[i]) * inv;
   r.x[0] = q;
   return r;
 }
+#undef SLOSH_D8_LOOP
 
 /// Two duals (q_x, q_y), the state type the DOP853 templates integrate: the scheme's linear
 /// combinations act on all 16 lanes alike; only the products with the dual step length are dual
