@@ -123,11 +123,14 @@ describe("slosh-opcua against hostile input", () => {
     }
   });
 
-  it("MotionJson and the rectangle arguments reach the service, whose refusal names the argument", async () => {
-    const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"arc\",\"radius_mm\":300,\"angle_deg\":90}" }));
+  it("MotionJson and the rectangle arguments reach the service, which plans them or refuses naming the argument", async () => {
+    // An arc is planned (SPEC §14); an arc that does not turn is refused on MotionJson.
+    const arc = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"arc\",\"radius_mm\":300,\"angle_deg\":90}" }));
+    assert.equal(arc.statusCode.value, StatusCodes.Good.value);
+    const motion = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, stroke: 0, motion: "{\"type\":\"arc\",\"radius_mm\":300,\"angle_deg\":0}" }));
     assert.equal(motion.statusCode.value, StatusCodes.BadInvalidArgument.value);
     assert.equal(motion.inputArgumentResults[10].value, StatusCodes.BadInvalidArgument.value);
-    assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion of type \"arc\": planning along paths is not available yet; plans, min-time and cam export move along a straight line (format.stroke_mm, or a motion of type \"line\"). POST /v1/simulate predicts the wave of any motion");
+    assert.equal(motion.inputArgumentDiagnosticInfos[10].additionalInfo, "format.motion.angle_deg = 0 is not allowed: an arc turns, allowed -3600 to 3600 deg except 0 (signed, left positive)");
     // A rectangular container is planned (SPEC §15); a side out of range is refused on its argument.
     const rect = await S.callMethod(conn.session, "PlanFormat", S.planArgs({ ...thesis, radius: 0, length: 100, width: 80 }));
     assert.equal(rect.statusCode.value, StatusCodes.Good.value);
