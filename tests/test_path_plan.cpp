@@ -89,9 +89,9 @@ ArcSimulation simulate_on_arc(const SloshingModel& m, const Durations& d, double
       const double h = L / n;
       for (int i = 0; i < n; ++i) {
         const double t = cuts[k] + h * i;
-        auto add = [](const State& a, const State& b, double s) {
+        auto add = [](const State& base, const State& slope, double s) {
           State r;
-          for (std::size_t j = 0; j < 6; ++j) r[j] = a[j] + s * b[j];
+          for (std::size_t j = 0; j < 6; ++j) r[j] = base[j] + s * slope[j];
           return r;
         };
         // Stages just inside the step, so each sees the piece it belongs to.

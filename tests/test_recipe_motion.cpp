@@ -25,7 +25,7 @@ const std::vector<std::string> kHeader{"recipe_id",       "radius_mm",     "fill
                                        "container_turns", "path_json",     "strategy"};
 
 json request_of(const std::vector<std::string>& cells) {
-  return RecipeHeader(kHeader).request(cells);
+  return RecipeHeader(kHeader).request(cells).body();
 }
 
 CellError error_of(const std::vector<std::string>& cells) {
