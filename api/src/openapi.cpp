@@ -825,6 +825,29 @@ void add_plan_response_schemas(json& s) {
   add_move_absolute_schema(s);
 }
 
+/// The formats that carry a motion: simulate's (any motion) and a plan's (a line, an arc or a
+/// path).
+void add_motion_format_schemas(json& s) {
+  json format = s["Format"];
+  format["properties"]["motion"] = ref("Motion");
+  format["required"] = {"container", "fill_height_mm", "fluid"};
+  format["description"] =
+      "A format with its motion: stroke_mm (the straight line) or motion (the law moves the "
+      "container along its length; giving both is a 422); motion_time_s required except for a "
+      "trajectory.";
+  s["SimulateFormat"] = format;
+  json plan_format = format;
+  plan_format["properties"]["motion"] = {
+      {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion")}},
+      {"description",
+       "The law moves the container along it (its length is the stroke; giving stroke_mm too is "
+       "a 422). Along an arc or a path every strategy plans s(t); see docs/api.md."}};
+  plan_format["required"] = {"container", "fill_height_mm", "fluid", "motion_time_s"};
+  plan_format["description"] = "A format with stroke_mm (the straight line) or motion.";
+  s["PlanFormat"] = plan_format;
+  s["PlanRequest"]["properties"]["format"] = ref("PlanFormat");
+}
+
 // format.motion (SPEC §14): what simulate accepts, and the line plans and min-time take.
 void add_motion_request_schemas(json& s) {
   namespace mr = motion_ranges;
@@ -888,24 +911,7 @@ void add_motion_request_schemas(json& s) {
        "The motion a plan or a min-time search moves along: the law s(t) spans its length; on "
        "an arc or a path a_max limits the total horizontal acceleration, v_max s' and j_max the "
        "tangential jerk, and the wave is the planar models' maximum over the wall."}};
-  json format = s["Format"];
-  format["properties"]["motion"] = ref("Motion");
-  format["required"] = {"container", "fill_height_mm", "fluid"};
-  format["description"] =
-      "A format with its motion: stroke_mm (the straight line) or motion (the law moves the "
-      "container along its length; giving both is a 422); motion_time_s required except for a "
-      "trajectory.";
-  s["SimulateFormat"] = format;
-  json plan_format = format;
-  plan_format["properties"]["motion"] = {
-      {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion")}},
-      {"description",
-       "The law moves the container along it (its length is the stroke; giving stroke_mm too is "
-       "a 422). Along an arc or a path every strategy plans s(t); see docs/api.md."}};
-  plan_format["required"] = {"container", "fill_height_mm", "fluid", "motion_time_s"};
-  plan_format["description"] = "A format with stroke_mm (the straight line) or motion.";
-  s["PlanFormat"] = plan_format;
-  s["PlanRequest"]["properties"]["format"] = ref("PlanFormat");
+  add_motion_format_schemas(s);
 }
 
 // A plan along an arc or a path: the planar models' figures with the wall directions and the
