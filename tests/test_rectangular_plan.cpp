@@ -70,6 +70,26 @@ TEST(RectangularPlan, TankVeryWideAcrossTheMotionPlansAsTheTwoDimensionalTank) {
   EXPECT_LT(r.prediction.linear.rest.value, 0.5 * r.baseline.linear.rest.value);
 }
 
+TEST(RectangularPlan, ATankAHairOffAnAxisPlansAsOnTheAxis) {
+  // A PLC's float gives 89.9999999 degrees for 90: the width direction is driven with a share of
+  // 2e-9, so the design is the axis's own (no jump to the two-mode design) and the predictions
+  // differ by that share at most.
+  for (const auto& [axis, hair] : {std::pair{0.0, 1e-9}, {90.0, 89.9999999}, {0.0, -1e-300}}) {
+    for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+      const PlanResult on = plan(cup(120, 80, axis), s, quick_options());
+      const PlanResult off = plan(cup(120, 80, hair), s, quick_options());
+      // The same answer, feasible or not (min_jerk_band's band is out of reach in 1.2 s here).
+      EXPECT_EQ(on.status, off.status) << off.message;
+      ASSERT_TRUE(on.durations && off.durations);
+      for (std::size_t k = 0; k < on.durations->size(); ++k) {
+        EXPECT_NEAR((*off.durations)[k], (*on.durations)[k], 1e-7) << hair << " " << k;
+      }
+      EXPECT_LT(relative(off.prediction.linear.rest.value, on.prediction.linear.rest.value), 1e-6)
+          << hair;
+    }
+  }
+}
+
 TEST(RectangularPlan, SquareTankAt45DegreesExcitesBothDirectionsEquallyAndPlansAsAtMinus45) {
   const MotionLaw law = uniform_law();
   SimulationOptions so;

@@ -61,12 +61,29 @@ RobustnessReport rectangular_robustness_report(
   return judged_report(sweep, std::move(points));
 }
 
+namespace {
+
+/// A direction whose static wall height is below this share of the other's is not designed for
+/// (the law is still verified on both): a tank turned a hair off an axis, e.g. 89.9999999 degrees
+/// from a PLC's float, plans as on the axis instead of jumping to the two-mode design.
+constexpr double kMinDesignShare{0.05};
+
+double static_wall_height(const DrivenDirection& d) {
+  return d.model.eta_gain.front() / (d.model.omega1() * d.model.omega1());
+}
+
+}  // namespace
+
 namespace detail {
 
 void set_directions(StrategyContext& c) {
   if (c.rectangular == nullptr) return;
   const std::vector<DrivenDirection> directions = driven_directions(*c.rectangular);
   if (directions.size() < 2) return;
+  // driven_directions puts the direction of the higher static wall height first.
+  if (static_wall_height(directions[1]) < kMinDesignShare * static_wall_height(directions[0])) {
+    return;
+  }
   // Both directions excited: the spectral strategies design over the range of the two first
   // frequencies (multi_notch's side notches at its ends, min_jerk_band's band over both, notch
   // and the filters at its middle), as they do over an uncertainty range.
