@@ -70,6 +70,12 @@ Container parse_container(const nlohmann::json& c, const std::string& path) {
     out.radius = required_number(c, path, "radius_mm", ranges::kRadiusMm) * 1e-3;
     return out;
   }
+  if (given_member(c, "radius_mm") != nullptr) {
+    const std::string field = join_path(path, "radius_mm");
+    invalid(field, field + " belongs to a cylinder: a container with " + join_path(path, "shape") +
+                       " = \"rectangular\" has length_mm, width_mm and orientation_deg (leave " +
+                       "shape out for a cylinder)");
+  }
   reject_unknown_fields(c, path,
                         {"shape", "length_mm", "width_mm", "height_mm", "orientation_deg"});
   RectangularTank t;
