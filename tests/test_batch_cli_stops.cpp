@@ -373,9 +373,11 @@ TEST(BatchCliStopsCluster, AnInterruptThroughTheProxyWhileRedisIsPausedCancelsTh
   test::NginxProxy proxy{replicas.ports(), true};
   const TempDir dir;
   std::string table = "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n";
+  // time_domain (about 15 ms a recipe, 2 s for the table on two workers): the job must still run
+  // 300 ms after Redis pauses; a notch table (under 1 ms a recipe) could end before the interrupt.
   for (int i = 0; i < 300; ++i) {
     table += "q" + std::to_string(i) + ",48.5,82,water,800," + std::to_string(2.2 + 0.001 * i) +
-             ",notch\n";
+             ",time_domain\n";
   }
   write_file(dir / "t.csv", table);
   write_file(dir / "stdin", "");
