@@ -19,8 +19,6 @@ using detail::sig3;
 
 constexpr double kLimitSlack{1e-9};
 constexpr double kBoundTolerance{1e-7};
-constexpr double kWorseRelative{0.05};
-constexpr double kWorseAbsolute{0.5e-3};  // [m]
 
 SloshPeaks as_peaks(const PlanarPeaks& p) {
   SloshPeaks out;
@@ -84,17 +82,8 @@ std::string bound_violation(const PathContext& c, const PathPrediction& p) {
 }
 
 std::string worse_than_uniform(const PathPrediction& p, const PathPrediction& b) {
-  std::string figures;
-  auto check = [&](double value, double base, const char* what) {
-    if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
-      if (!figures.empty()) figures += ", ";
-      figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
-    }
-  };
-  check(p.nonlinear.motion.value, b.nonlinear.motion.value, "eta_motion (nonlinear)");
-  check(p.nonlinear.rest.value, b.nonlinear.rest.value, "eta_rest (nonlinear)");
-  check(p.linear.motion.value, b.linear.motion.value, "eta_motion (linear)");
-  check(p.linear.rest.value, b.linear.rest.value, "eta_rest (linear)");
+  const std::string figures =
+      detail::worse_figures(detail::peak_figures(p), detail::peak_figures(b));
   if (figures.empty()) return {};
   return "worse_than_baseline: " + figures +
          " for the uniform law along the path (more than 5 % and 0.5 mm above it); the uniform "

@@ -72,11 +72,6 @@ std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
          change(b.nonlinear.rest.value, p.nonlinear.rest.value) + ")";
 }
 
-/// A law is worse than the uniform baseline on a figure when it is above it by more than this
-/// fraction and by more than kWorseAbsolute (SPEC §5 "Honest status").
-constexpr double kWorseRelative{0.05};
-constexpr double kWorseAbsolute{0.5e-3};  // [m]
-
 /// What the baseline guard compares every law with: the law strategy baseline returns. That is
 /// the uniform law when the options admit it; else its nearest admissible law (every segment at
 /// its minimum plus an equal share), since a law the options forbid is no alternative to offer.
@@ -87,18 +82,8 @@ struct GuardReference {
 
 /// The `worse_than_baseline` warning naming the figures, or empty.
 std::string worse_than_baseline(const LawPrediction& p, const GuardReference& ref) {
-  const LawPrediction& b = ref.prediction;
-  std::string figures;
-  auto check = [&](double value, double base, const char* what) {
-    if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
-      if (!figures.empty()) figures += ", ";
-      figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
-    }
-  };
-  check(p.nonlinear.motion.value, b.nonlinear.motion.value, "eta_motion (nonlinear)");
-  check(p.nonlinear.rest.value, b.nonlinear.rest.value, "eta_rest (nonlinear)");
-  check(p.linear.motion.value, b.linear.motion.value, "eta_motion (linear)");
-  check(p.linear.rest.value, b.linear.rest.value, "eta_rest (linear)");
+  const std::string figures =
+      detail::worse_figures(detail::peak_figures(p), detail::peak_figures(ref.prediction));
   if (figures.empty()) return {};
   if (!ref.uniform) {
     return "worse_than_baseline: " + figures +
@@ -1201,5 +1186,27 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (rectangular != nullptr) add_rectangular_warnings(r, options);
   return r;
 }
+
+namespace detail {
+
+std::string worse_figures(const PeakFigures& law, const PeakFigures& reference) {
+  // Above the reference by more than this fraction and by more than kWorseAbsolute [m].
+  constexpr double kWorseRelative{0.05};
+  constexpr double kWorseAbsolute{0.5e-3};
+  std::string figures;
+  auto check = [&](double value, double base, const char* what) {
+    if (value > base * (1.0 + kWorseRelative) && value > base + kWorseAbsolute) {
+      if (!figures.empty()) figures += ", ";
+      figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
+    }
+  };
+  check(law.nonlinear_motion, reference.nonlinear_motion, "eta_motion (nonlinear)");
+  check(law.nonlinear_rest, reference.nonlinear_rest, "eta_rest (nonlinear)");
+  check(law.linear_motion, reference.linear_motion, "eta_motion (linear)");
+  check(law.linear_rest, reference.linear_rest, "eta_rest (linear)");
+  return figures;
+}
+
+}  // namespace detail
 
 }  // namespace slosh

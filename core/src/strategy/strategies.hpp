@@ -257,4 +257,21 @@ void set_references(StrategyContext& context, double eta_ref);
 /// Starts as solver vectors.
 [[nodiscard]] std::vector<std::vector<double>> as_vectors(const std::vector<Durations>& starts);
 
+/// Both models' peaks of a prediction during and after the motion [m], in the order the
+/// `worse_than_baseline` warning names them (nonlinear, then linear).
+struct PeakFigures {
+  double nonlinear_motion, nonlinear_rest, linear_motion, linear_rest;
+};
+
+template <class Prediction>
+PeakFigures peak_figures(const Prediction& p) {
+  return {p.nonlinear.motion.value, p.nonlinear.rest.value, p.linear.motion.value,
+          p.linear.rest.value};
+}
+
+/// The figures of `law` above `reference` by more than 5 % and by more than 0.5 mm (SPEC §5
+/// "Honest status"), each named with both values ("eta_rest (nonlinear) 3.1 mm vs 2.0 mm, ..."),
+/// or empty: the test of every `worse_than_baseline` warning, on a line or along a path.
+[[nodiscard]] std::string worse_figures(const PeakFigures& law, const PeakFigures& reference);
+
 }  // namespace slosh::detail
