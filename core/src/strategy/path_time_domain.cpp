@@ -36,14 +36,6 @@ constexpr double kSensitivityStepsPerPeriod{12.0};
 /// Fractions of every segment where the total acceleration is first bounded [-].
 constexpr std::array<double, 5> kAccelerationPoints{0.0, 0.25, 0.5, 0.75, 1.0};
 
-NlpOptions path_time_domain_options() {
-  NlpOptions o;
-  o.tolerance = 1e-9;
-  o.constraint_tolerance = 1e-9;
-  o.max_iterations = 400;
-  return o;
-}
-
 /// Where the height is bounded: times and whether each is in the motion window.
 struct Samples {
   std::vector<double> t;
@@ -203,7 +195,7 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
   // A run that reaches an optimum an earlier start found ends there (it would find nothing new).
   StartPolicy policy;
   policy.leave_known_optima = true;
-  return multi_start(p, x0, c, path_time_domain_options(), policy);
+  return multi_start(p, x0, c, time_domain_options(), policy);
 }
 
 /// Adds the dense response's window peaks above their bound (the minimised window's above z) as

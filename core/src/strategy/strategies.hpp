@@ -168,6 +168,10 @@ inline constexpr double kPoorOptimum{10.0};
 /// Name of the solver a context uses ("nlopt-slsqp" or "ipopt").
 [[nodiscard]] std::string solver_name(const StrategyContext& context);
 
+/// The solver settings of time_domain, on a line and along a path: tolerances of 1e-9 of
+/// eta / eta_ref (far below a micrometre), 400 iterations.
+[[nodiscard]] NlpOptions time_domain_options();
+
 [[nodiscard]] StrategyOutcome solve_notch(const StrategyContext& context);
 [[nodiscard]] StrategyOutcome solve_multi_notch(const StrategyContext& context);
 /// How notch and multi_notch use their starts: kEconomical (the default) by their StartPolicy

@@ -67,14 +67,6 @@ NonlinearOptions sensitivity_options() {
   return o;
 }
 
-NlpOptions time_domain_options() {
-  NlpOptions o;
-  o.tolerance = 1e-9;             // of eta / eta_ref: far below a micrometre
-  o.constraint_tolerance = 1e-9;  // ditto
-  o.max_iterations = 400;
-  return o;
-}
-
 // Times at which |eta| is constrained, sorted; `motion[k]` tells the phase of t[k]. One set per
 // model of the context's sample_models.
 struct Samples {
@@ -590,6 +582,14 @@ StrategyOutcome solve_from(const StrategyContext& c, const std::vector<Durations
 }
 
 }  // namespace
+
+NlpOptions time_domain_options() {
+  NlpOptions o;
+  o.tolerance = 1e-9;             // of eta / eta_ref: far below a micrometre
+  o.constraint_tolerance = 1e-9;  // ditto
+  o.max_iterations = 400;
+  return o;
+}
 
 StrategyOutcome solve_time_domain(const StrategyContext& c, const std::vector<Durations>& seeds) {
   // The uniform law; with a warm start, the warm start and then the uniform law.
