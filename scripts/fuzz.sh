@@ -23,32 +23,61 @@ jobs_extra=${FUZZ_FLAGS:-}
 export ASAN_OPTIONS=${ASAN_OPTIONS:-abort_on_error=1:detect_stack_use_after_return=1}
 export UBSAN_OPTIONS=${UBSAN_OPTIONS:-print_stacktrace=1:halt_on_error=1}
 
-failed=()
+# One target per core side by side (FUZZ_PARALLEL, default nproc): each target's time budget is
+# wall-clock time of its own process, so running them together keeps every target's budget while
+# the whole run takes ceil(targets / cores) budgets instead of one per target.
+parallel=${FUZZ_PARALLEL:-$(nproc)}
 for target in "${targets[@]}"; do
-  binary="$build_dir/fuzz/fuzz_$target"
-  if [ ! -x "$binary" ]; then
-    echo "fuzz: $binary is missing (make fuzz builds it)" >&2
+  if [ ! -x "$build_dir/fuzz/fuzz_$target" ]; then
+    echo "fuzz: $build_dir/fuzz/fuzz_$target is missing (make fuzz builds it)" >&2
     exit 2
   fi
-  work="$build_dir/fuzz-corpus/$target"
-  artifacts="fuzz-artifacts/$target"
+done
+
+# Runs one target and leaves its one-line summary in $build_dir/fuzz-$target.summary and its exit
+# status in $build_dir/fuzz-$target.rc.
+run_target() {
+  local target=$1
+  local binary="$build_dir/fuzz/fuzz_$target"
+  local work="$build_dir/fuzz-corpus/$target"
+  local artifacts="fuzz-artifacts/$target"
   mkdir -p "$work" "$artifacts"
-  dict=fuzz/json.dict
+  local dict=fuzz/json.dict
   [ "$target" = recipe_csv ] && dict=fuzz/csv.dict
-  echo "fuzz: $target for ${seconds} s (timeout ${timeout_s} s/input, rss ${rss_mb} MB)"
+  local start
   start=$(date +%s)
   # shellcheck disable=SC2086
   "$binary" -max_total_time="$seconds" -timeout="$timeout_s" -rss_limit_mb="$rss_mb" \
     -max_len="$max_len" -dict="$dict" -artifact_prefix="$artifacts/" -print_final_stats=1 \
     $jobs_extra "$work" "fuzz/corpus/$target" >"$build_dir/fuzz-$target.log" 2>&1
-  rc=$?
-  grep -E '^stat::(number_of_executed_units|new_units_added|peak_rss_mb)' \
-    "$build_dir/fuzz-$target.log" | tr '\n' ' '
-  echo "($(($(date +%s) - start)) s, exit $rc)"
-  if [ $rc -ne 0 ]; then
+  local rc=$?
+  {
+    grep -E '^stat::(number_of_executed_units|new_units_added|peak_rss_mb)' \
+      "$build_dir/fuzz-$target.log" | tr '\n' ' '
+    echo "($(($(date +%s) - start)) s, exit $rc)"
+  } >"$build_dir/fuzz-$target.summary"
+  echo "$rc" >"$build_dir/fuzz-$target.rc"
+}
+
+running=0
+for target in "${targets[@]}"; do
+  echo "fuzz: $target for ${seconds} s (timeout ${timeout_s} s/input, rss ${rss_mb} MB)"
+  run_target "$target" &
+  running=$((running + 1))
+  if [ "$running" -ge "$parallel" ]; then
+    wait -n
+    running=$((running - 1))
+  fi
+done
+wait
+
+failed=()
+for target in "${targets[@]}"; do
+  echo "fuzz: $target: $(cat "$build_dir/fuzz-$target.summary")"
+  if [ "$(cat "$build_dir/fuzz-$target.rc")" -ne 0 ]; then
     failed+=("$target")
     echo "fuzz: $target FAILED; log: $build_dir/fuzz-$target.log; reproducer(s):" >&2
-    ls -1 "$artifacts" >&2
+    ls -1 "fuzz-artifacts/$target" >&2
     grep -m1 -A40 -E '^==[0-9]+==ERROR|runtime error|^fuzz invariant|deadly signal|terminate called' \
       "$build_dir/fuzz-$target.log" >&2
   fi

@@ -138,7 +138,10 @@ TEST(NonlinearSensitivity, WindowPeakGradientMatchesCentralDifferences) {
       {{0.0, kMotionTime}, {kMotionTime, kMotionTime + kRest}, {0.3, 0.7}}};
   for (const Durations& d : random_durations(6, max_step(model))) {
     sens.compute(d.data());
-    for (const auto& [a, b] : windows) {
+    for (const auto& window : windows) {
+      // Plain names, not a structured binding: clang 14 (the sanitizer build) cannot capture one.
+      const double a = window[0];
+      const double b = window[1];
       const WindowPeak peak = sens.window_peak(a, b);
       ASSERT_GT(peak.value, 1e-4) << "window [" << a << ", " << b << "]";
       const auto fd = central_difference(
