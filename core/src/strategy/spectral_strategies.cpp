@@ -92,19 +92,31 @@ void add_limits(NlpProblem& p, const StrategyContext& c, int first,
   };
 }
 
+/// |X|^2 and its gradient at the objective's frequencies for the durations `of` (empty until the
+/// first evaluation). SLSQP evaluates a backtracked line-search point without its gradient and
+/// then, once it accepts it, again with it: the second call reuses the first's powers (which
+/// carry the gradient anyway).
+struct PowerScratch {
+  std::vector<SpectrumPowerGradient> powers;
+  std::optional<Durations> of;
+};
+
 // sum_i w_i |X(omega_i)|^2 / X_ref^2 and its gradient; the frequencies share the jerks and
-// their derivatives (spectrum_power_gradients), written into `powers` (reused between calls).
+// their derivatives (spectrum_power_gradients), written into `scratch` (reused between calls).
 double weighted_power(const double* x, double* grad, const StrategyContext& c,
                       const std::vector<double>& omegas, const std::vector<double>& weights,
-                      std::vector<SpectrumPowerGradient>* powers) {
+                      PowerScratch* scratch) {
   Durations d;
   std::copy(x, x + kSegments, d.begin());
   const double scale = 1.0 / (c.x_ref * c.x_ref);
   double f = 0.0;
   if (grad != nullptr) std::fill(grad, grad + kSegments, 0.0);
-  spectrum_power_gradients(d, c.format.stroke, omegas, powers);
+  if (scratch->of != d) {
+    spectrum_power_gradients(d, c.format.stroke, omegas, &scratch->powers);
+    scratch->of = d;
+  }
   for (std::size_t k = 0; k < omegas.size(); ++k) {
-    const SpectrumPowerGradient& pg = (*powers)[k];
+    const SpectrumPowerGradient& pg = scratch->powers[k];
     f += weights[k] * scale * pg.power;
     if (grad != nullptr) {
       for (std::size_t i = 0; i < kSegments; ++i) grad[i] += weights[k] * scale * pg.gradient[i];
@@ -126,9 +138,8 @@ MultiStartResult minimise_power(const StrategyContext& c, const std::vector<doub
     used_weights.push_back(weights[k]);
   }
   p.objective = [&c, o = std::move(used_omegas), w = std::move(used_weights),
-                 powers = std::vector<SpectrumPowerGradient>()](const double* x,
-                                                                double* grad) mutable {
-    return weighted_power(x, grad, c, o, w, &powers);
+                 scratch = PowerScratch()](const double* x, double* grad) mutable {
+    return weighted_power(x, grad, c, o, w, &scratch);
   };
   add_limits(p, c, 0, nullptr);
   NlpOptions options = spectral_options();
