@@ -37,15 +37,16 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v6" since time_domain's starting samples
-// of the rest window cover its first period only and multi_notch leaves a run at the mirror image
-// of a known optimum and on its approach ("plan-v5" was time_domain's sensitivities as the scheme
-// linearised in double instead of dual numbers, min_jerk_band's screening stopping its random
-// starts once two in a row find nothing lower, every returned law keeping its bounds to the last
-// ulp, filters without a law returning baseline's admissible law and the baseline guard comparing
-// with that law; "plan-v4" was the spectral strategies' fewer starts and band rows, "plan-v3" the
-// faster response schemes): the pinned keys are those of the same recipes with that version;
-// everything else is unchanged.
+// kVersion. The planner version in the recipe is "plan-v7" since time_domain's exchanged peaks
+// are rows that follow their peak, on a line and along a path ("plan-v6" was time_domain's
+// starting samples of the rest window covering its first period only and multi_notch leaving a
+// run at the mirror image of a known optimum and on its approach; "plan-v5" was time_domain's
+// sensitivities as the scheme linearised in double instead of dual numbers, min_jerk_band's
+// screening stopping its random starts once two in a row find nothing lower, every returned law
+// keeping its bounds to the last ulp, filters without a law returning baseline's admissible law and
+// the baseline guard comparing with that law; "plan-v4" was the spectral strategies' fewer starts
+// and band rows, "plan-v3" the faster response schemes): the pinned keys are those of the same
+// recipes with that version; everything else is unchanged.
 std::string key_before_versions(const json& request) {
   json recipe = canonical_recipe(parse_plan_request(request));
   EXPECT_EQ(recipe.at("slosh_version"), kVersion);
@@ -55,13 +56,13 @@ std::string key_before_versions(const json& request) {
 }
 
 TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
-  EXPECT_EQ(key_before_versions(request()), "0344ff175c95eb8d5ce0e2502914f9d8");
+  EXPECT_EQ(key_before_versions(request()), "fd16cc7bb9c31de378c2ea3ee54a7d72");
   EXPECT_EQ(key_before_versions(request(R"(, "strategy": "multi_notch")")),
-            "7316c6442bc04ff75faf55a37fab7afa");
+            "9a8fc4d07b7d4850b37cd1050017cae3");
   EXPECT_EQ(key_before_versions(request(R"(, "options": {"damping": {"zeta": 0.1}})")),
-            "1241397b6ae78f7764430a95899a4a00");
+            "19b12397a6db31f6cf72764a21ed5848");
   EXPECT_EQ(key_before_versions(request(R"(, "options": {"limits": {"a_max": 10}})")),
-            "3107f65678ab2ae6a2a3589b6299c4e9");
+            "ec5d6b3a9d5b2b319b02d38742d8b8d5");
   EXPECT_EQ(key_before_versions(request(
                 R"(, "sample_period_s": 0.001, "options": {"p_notch": 0.2, "weights": [1, 2, 3],
                 "band": 0.1, "n_band": 31, "tol_rel": 0.3, "eta_rest_max_mm": 2.5,
@@ -71,14 +72,14 @@ TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
                 "alpha": 0.5, "modes": 2, "solver": "ipopt", "time_limit_s": 3,
                 "base": "modified_trapezoid", "shaper": "ei", "residual": 0.1, "iir_order": 2,
                 "iir_tau": 40, "iir_sample_period_s": 0.002})")),
-            "5628baa592237270501ebe26bc7daad4");
+            "180f840d648e7055e9f0bc8853533c67");
   EXPECT_EQ(key_before_versions(json::parse(
                 R"({"format": {"container": {"radius_mm": 30}, "fill_height_mm": 40,
                 "fluid": {"density_kg_m3": 1100, "viscosity_pa_s": 0.002, "name": "syrup"},
                 "stroke_mm": 250.5, "motion_time_s": 0.7}, "strategy": "time_domain",
                 "options": {"objective": "rest", "eta_motion_max_mm": 4.5,
                 "limits": {"j_max": 300}}})")),
-            "ecf0516c061d9b19a4c1ab3b604910af");
+            "193451504e13f71979dfa428bf0d7e1e");
 }
 
 TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {

@@ -202,6 +202,7 @@ void PlanarSensitivityPass::run(PlanarSensitivity& s,
       dop853_step(rhs, acc, x, v, f0, hh, true, step, false);
       s.steps_.push_back({t0, hd, step.x_poly});
       s.t0_values_.push_back(t0.value());
+      if (t0.value() + hd.value() >= s.until_) return;
       x = step.x1;
       v = step.v1;
       f0 = step.f1;
@@ -209,7 +210,8 @@ void PlanarSensitivityPass::run(PlanarSensitivity& s,
   }
 }
 
-void PlanarSensitivity::compute(const double* d) {
+void PlanarSensitivity::compute(const double* d, double until) {
+  until_ = until;
   std::array<Dual7, kSegments> D;
   for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7::variable(d[i], i);
   const std::vector<Piece> list = pieces(D);
@@ -251,6 +253,52 @@ void PlanarSensitivity::eta_at(const std::vector<double>& t, std::vector<double>
                   : 0.0;
     }
   }
+}
+
+namespace {
+
+/// q and dq/dtheta of a step's interpolant at theta (values only).
+struct QJet {
+  double x{}, y{}, dx{}, dy{};
+};
+QJet q_jet(const DensePoly<DualPair>& q, double theta) {
+  QJet j;
+  for (std::size_t k = kDenseTerms; k-- > 0;) {
+    j.dx = j.dx * theta + j.x;
+    j.dy = j.dy * theta + j.y;
+    j.x = j.x * theta + q[k].c[0].x[0];
+    j.y = j.y * theta + q[k].c[1].x[0];
+  }
+  return j;
+}
+
+}  // namespace
+
+double PlanarSensitivity::peak_time(double lo, double hi) const {
+  auto jet = [this](double t) {
+    const Stored& s = steps_[step_at(t)];
+    return q_jet(s.q, (t - s.t0.value()) / s.h.value());
+  };
+  // The slope of |q|^2 / 2 over theta (the step's positive length scales it, not its sign).
+  auto slope = [&jet](double t) {
+    const QJet j = jet(t);
+    return j.x * j.dx + j.y * j.dy;
+  };
+  auto height = [&jet](double t) {
+    const QJet j = jet(t);
+    return std::hypot(j.x, j.y);
+  };
+  const double g_lo = slope(lo), g_hi = slope(hi);
+  if (!(g_lo > 0.0 && g_hi < 0.0)) return height(lo) >= height(hi) ? lo : hi;
+  // Bisection on the sign of the slope: its bracket always holds a maximum, and the count of
+  // halvings is fixed by the bracket, so the time is a deterministic function of the response.
+  double a = lo, b = hi;
+  while (b - a > 1e-12) {
+    const double m = 0.5 * (a + b);
+    if (m <= a || m >= b) break;
+    (slope(m) > 0.0 ? a : b) = m;
+  }
+  return 0.5 * (a + b);
 }
 
 std::vector<PlanarWindowPeak> PlanarSensitivity::window_peaks(double t_begin, double t_end,

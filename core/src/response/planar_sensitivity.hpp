@@ -11,6 +11,7 @@
 
 #include <array>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include "response/nonlinear_scheme.hpp"
@@ -145,8 +146,10 @@ class PlanarSensitivity {
   PlanarSensitivity(const SloshingModel& model, const PlanarPath& path, double rest_time,
                     double steps_per_period);
 
-  /// Integrates the model for the durations d over the motion and the whole rest window.
-  void compute(const double* d);
+  /// Integrates the model for the durations d over the motion and the rest window, or only as far
+  /// as the step that reaches `until` [s] (the same steps as the whole window's, so the response
+  /// up to there is the same to the last bit; times later than that are not to be read).
+  void compute(const double* d, double until = std::numeric_limits<double>::infinity());
   /// Fixes the least step count of every smooth piece at one more than d takes, for every
   /// compute() until the next call while the pieces keep their order (so the discrete response
   /// stays smooth in the durations during a solver's run).
@@ -154,6 +157,11 @@ class PlanarSensitivity {
   /// K |q(t)| at each time of `t` (any order) with its gradient over the durations.
   void eta_at(const std::vector<double>& t, std::vector<double>& values,
               std::vector<std::array<double, kSegments>>& gradients) const;
+  /// The time of the largest K |q| over [lo, hi] (any two times inside the response): the
+  /// interior maximum where |q|^2 has one (its slope changes sign from + to -), else the larger
+  /// end. A row bounded there follows its peak as the durations move, and its value (continuous
+  /// in the durations) has the gradient at fixed time (envelope theorem).
+  [[nodiscard]] double peak_time(double lo, double hi) const;
   /// The largest K |q| in every window of `window` seconds over [t_begin, t_end] (exact per
   /// step: the roots of the interpolant's slope).
   [[nodiscard]] std::vector<PlanarWindowPeak> window_peaks(double t_begin, double t_end,
@@ -171,6 +179,7 @@ class PlanarSensitivity {
     DensePoly<DualPair> q;
   };
   friend struct PlanarSensitivityPass;
+  double until_{std::numeric_limits<double>::infinity()};
   [[nodiscard]] std::vector<Piece> pieces(const std::array<Dual7, kSegments>& d);
   [[nodiscard]] std::size_t step_at(double t) const;
 
