@@ -22,30 +22,6 @@ void dual_cos_sin(const D8& x, D8& c, D8& s) {
 
 using Accel = std::array<D8, 2>;
 
-/// The planar nonlinear model's right-hand side (planar_nonlinear.cpp) in duals, at a_z = 0.
-struct DualModel {
-  double w2{}, two_zw{}, c2{}, alpha{}, inv_radius{};
-  [[gnu::always_inline]] DualPair operator()(const DualPair& x, const DualPair& v,
-                                             const Accel& a) const {
-    const D8& qx = x.c[0];
-    const D8& qy = x.c[1];
-    const D8& vx = v.c[0];
-    const D8& vy = v.c[1];
-    const D8 r2 = qx * qx + qy * qy;
-    const D8 v2 = vx * vx + vy * vy;
-    const D8 qv = qx * vx + qy * vy;
-    const D8 stiff = w2 * (1.0 + alpha * r2);
-    const D8 damp = c2 * qv;
-    const D8 bx = -(c2 * (v2 * qx) + stiff * qx + two_zw * (vx + qx * damp) + inv_radius * a[0]);
-    const D8 by = -(c2 * (v2 * qy) + stiff * qy + two_zw * (vy + qy * damp) + inv_radius * a[1]);
-    const D8 lam = c2 * (qx * bx + qy * by) / (1.0 + c2 * r2);
-    DualPair out;
-    out.c[0] = bx - lam * qx;
-    out.c[1] = by - lam * qy;
-    return out;
-  }
-};
-
 /// The time where s(t) = target on a segment starting at t0 with (s0, v0, a0) and jerk J, by
 /// bisection then Newton's method on tau in [0, len] (s is increasing there).
 double crossing_tau(double s0, double v0, double a0, double J, double len, double target) {
@@ -146,8 +122,8 @@ void PlanarSensitivityPass::run(PlanarSensitivity& s,
                                 const std::vector<PlanarSensitivity::Piece>& list) {
   const SloshingModel& m = s.model_;
   const PlanarPath& path = s.path_;
-  const DualModel rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
-                      1.0 / m.radius};
+  const PlanarTangentRhs rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
+                             1.0 / m.radius};
   bool same_pieces = s.frozen_.size() == list.size();
   for (std::size_t i = 0; same_pieces && i < list.size(); ++i) {
     same_pieces = s.frozen_key_[i] == list[i].segment * 1000 + list[i].element;
