@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <numeric>
 #include <random>
 #include <vector>
 
@@ -122,6 +123,74 @@ TEST(PlanarSensitivity, GradientsOnSeededRandomPathsMatchCentralDifferences) {
         const double fd = (v_up[k] - v_down[k]) / (2.0 * h);
         EXPECT_NEAR(gradients[k][i], fd, 1e-5 * std::abs(fd) + 1e-9)
             << "trial " << trial << " d" << i << " t " << times[k];
+      }
+    }
+  }
+}
+
+// A following row of time_domain along a path: peak_time's maximum over a span around each window
+// peak is that peak (found there by the roots of the step polynomial's slope, here by bisection
+// on its sign), and the row's value K |q(peak_time)| as a function of the durations has the
+// gradient eta_at gives at that time (the envelope theorem): against central differences of the
+// maximum itself, re-located at every perturbed point.
+TEST(PlanarSensitivity, FollowedPeaksAreTheWindowPeaksWithTheEnvelopeGradient) {
+  std::mt19937 rng(314159);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  for (int trial = 0; trial < 4; ++trial) {
+    const PlanarPath path = PlanarPath::arc(0.15 + 0.6 * u(rng), 0.8 + 2.0 * u(rng), u(rng) < 0.5);
+    Format f = thesis_format();
+    f.stroke = path.length();
+    f.motion_time = 0.9 + 0.7 * u(rng);
+    const SloshingModel m = make_sloshing_model(f, {});
+    const double span = 2.0 * std::numbers::pi / m.omega1() / 16.0;
+    Durations d = uniform_durations(f.motion_time);
+    for (double& x : d) x *= 0.8 + 0.4 * u(rng);
+    const double T = std::accumulate(d.begin(), d.end(), 0.0);
+    detail::PlanarSensitivity sens(m, path, 1.0, 12.0);
+    sens.freeze_steps(d.data());
+    sens.compute(d.data());
+    const std::vector<detail::PlanarWindowPeak> peaks = sens.window_peaks(0.0, T, 4.0 * span);
+    ASSERT_GE(peaks.size(), 3U);
+    // Interior peaks of the motion (a window's largest value can sit on its edge, not a maximum).
+    std::vector<double> at;
+    for (const detail::PlanarWindowPeak& p : peaks) {
+      if (p.time < span || p.time > T - span) continue;
+      const double t = sens.peak_time(p.time - 0.7 * span, p.time + 0.6 * span);
+      std::vector<double> v;
+      std::vector<std::array<double, kSegments>> g;
+      sens.eta_at({t}, v, g);
+      if (std::abs(t - p.time) < 1e-6) {
+        EXPECT_NEAR(v[0], p.value, 1e-12 * p.value) << "trial " << trial << " t " << p.time;
+        at.push_back(p.time);
+      } else {
+        // The window's largest value lay on its edge: the span's maximum is at least as high.
+        EXPECT_GE(v[0], p.value * (1.0 - 1e-12)) << "trial " << trial << " t " << p.time;
+      }
+    }
+    ASSERT_FALSE(at.empty());
+    auto followed = [&](const Durations& x, std::vector<std::array<double, kSegments>>* grad) {
+      sens.compute(x.data());
+      std::vector<double> times;
+      for (double t : at) times.push_back(sens.peak_time(t - 0.7 * span, t + 0.6 * span));
+      std::vector<double> v;
+      std::vector<std::array<double, kSegments>> g;
+      sens.eta_at(times, v, g);
+      if (grad != nullptr) *grad = g;
+      return v;
+    };
+    std::vector<std::array<double, kSegments>> gradients;
+    (void)followed(d, &gradients);
+    const double h = 1e-6;
+    for (std::size_t i = 0; i < kSegments; ++i) {
+      Durations up = d, down = d;
+      up[i] += h;
+      down[i] -= h;
+      const std::vector<double> v_up = followed(up, nullptr);
+      const std::vector<double> v_down = followed(down, nullptr);
+      for (std::size_t k = 0; k < at.size(); ++k) {
+        const double fd = (v_up[k] - v_down[k]) / (2.0 * h);
+        EXPECT_NEAR(gradients[k][i], fd, 1e-5 * std::abs(fd) + 1e-9)
+            << "trial " << trial << " d" << i << " peak " << at[k];
       }
     }
   }
