@@ -264,6 +264,8 @@ void BM_PlanArc(benchmark::State& state) {
   format.motion_time = 1.2;
   PlanOptions options;
   options.robustness = false;
+  // Under callgrind (50 x slower) the default 5 s budget would cut the arc's plan short.
+  options.time_limit = 60.0;
   double rest = 0.0;
   int evaluations = 0;
   for (auto _ : state) {

@@ -37,7 +37,8 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v7" since a robust time_domain plan's
+// kVersion. The planner version in the recipe is "plan-v7" since time_domain's exchanged peaks
+// are rows that follow their peak, on a line and along a path, and a robust time_domain plan's
 // starting samples cover the whole rest window again ("plan-v6" was time_domain's starting samples
 // of the rest window covering its first period only and multi_notch leaving a run at the mirror
 // image of a known optimum and on its approach; "plan-v5" was time_domain's sensitivities as the

@@ -22,30 +22,6 @@ void dual_cos_sin(const D8& x, D8& c, D8& s) {
 
 using Accel = std::array<D8, 2>;
 
-/// The planar nonlinear model's right-hand side (planar_nonlinear.cpp) in duals, at a_z = 0.
-struct DualModel {
-  double w2{}, two_zw{}, c2{}, alpha{}, inv_radius{};
-  [[gnu::always_inline]] DualPair operator()(const DualPair& x, const DualPair& v,
-                                             const Accel& a) const {
-    const D8& qx = x.c[0];
-    const D8& qy = x.c[1];
-    const D8& vx = v.c[0];
-    const D8& vy = v.c[1];
-    const D8 r2 = qx * qx + qy * qy;
-    const D8 v2 = vx * vx + vy * vy;
-    const D8 qv = qx * vx + qy * vy;
-    const D8 stiff = w2 * (1.0 + alpha * r2);
-    const D8 damp = c2 * qv;
-    const D8 bx = -(c2 * (v2 * qx) + stiff * qx + two_zw * (vx + qx * damp) + inv_radius * a[0]);
-    const D8 by = -(c2 * (v2 * qy) + stiff * qy + two_zw * (vy + qy * damp) + inv_radius * a[1]);
-    const D8 lam = c2 * (qx * bx + qy * by) / (1.0 + c2 * r2);
-    DualPair out;
-    out.c[0] = bx - lam * qx;
-    out.c[1] = by - lam * qy;
-    return out;
-  }
-};
-
 /// The time where s(t) = target on a segment starting at t0 with (s0, v0, a0) and jerk J, by
 /// bisection then Newton's method on tau in [0, len] (s is increasing there).
 double crossing_tau(double s0, double v0, double a0, double J, double len, double target) {
@@ -146,8 +122,8 @@ void PlanarSensitivityPass::run(PlanarSensitivity& s,
                                 const std::vector<PlanarSensitivity::Piece>& list) {
   const SloshingModel& m = s.model_;
   const PlanarPath& path = s.path_;
-  const DualModel rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
-                      1.0 / m.radius};
+  const PlanarTangentRhs rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
+                             1.0 / m.radius};
   bool same_pieces = s.frozen_.size() == list.size();
   for (std::size_t i = 0; same_pieces && i < list.size(); ++i) {
     same_pieces = s.frozen_key_[i] == list[i].segment * 1000 + list[i].element;
@@ -202,6 +178,7 @@ void PlanarSensitivityPass::run(PlanarSensitivity& s,
       dop853_step(rhs, acc, x, v, f0, hh, true, step, false);
       s.steps_.push_back({t0, hd, step.x_poly});
       s.t0_values_.push_back(t0.value());
+      if (t0.value() + hd.value() >= s.until_) return;
       x = step.x1;
       v = step.v1;
       f0 = step.f1;
@@ -209,7 +186,8 @@ void PlanarSensitivityPass::run(PlanarSensitivity& s,
   }
 }
 
-void PlanarSensitivity::compute(const double* d) {
+void PlanarSensitivity::compute(const double* d, double until) {
+  until_ = until;
   std::array<Dual7, kSegments> D;
   for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7::variable(d[i], i);
   const std::vector<Piece> list = pieces(D);
@@ -251,6 +229,52 @@ void PlanarSensitivity::eta_at(const std::vector<double>& t, std::vector<double>
                   : 0.0;
     }
   }
+}
+
+namespace {
+
+/// q and dq/dtheta of a step's interpolant at theta (values only).
+struct QJet {
+  double x{}, y{}, dx{}, dy{};
+};
+QJet q_jet(const DensePoly<DualPair>& q, double theta) {
+  QJet j;
+  for (std::size_t k = kDenseTerms; k-- > 0;) {
+    j.dx = j.dx * theta + j.x;
+    j.dy = j.dy * theta + j.y;
+    j.x = j.x * theta + q[k].c[0].x[0];
+    j.y = j.y * theta + q[k].c[1].x[0];
+  }
+  return j;
+}
+
+}  // namespace
+
+double PlanarSensitivity::peak_time(double lo, double hi) const {
+  auto jet = [this](double t) {
+    const Stored& s = steps_[step_at(t)];
+    return q_jet(s.q, (t - s.t0.value()) / s.h.value());
+  };
+  // The slope of |q|^2 / 2 over theta (the step's positive length scales it, not its sign).
+  auto slope = [&jet](double t) {
+    const QJet j = jet(t);
+    return j.x * j.dx + j.y * j.dy;
+  };
+  auto height = [&jet](double t) {
+    const QJet j = jet(t);
+    return std::hypot(j.x, j.y);
+  };
+  const double g_lo = slope(lo), g_hi = slope(hi);
+  if (!(g_lo > 0.0 && g_hi < 0.0)) return height(lo) >= height(hi) ? lo : hi;
+  // Bisection on the sign of the slope: its bracket always holds a maximum, and the count of
+  // halvings is fixed by the bracket, so the time is a deterministic function of the response.
+  double a = lo, b = hi;
+  while (b - a > 1e-12) {
+    const double m = 0.5 * (a + b);
+    if (m <= a || m >= b) break;
+    (slope(m) > 0.0 ? a : b) = m;
+  }
+  return 0.5 * (a + b);
 }
 
 std::vector<PlanarWindowPeak> PlanarSensitivity::window_peaks(double t_begin, double t_end,

@@ -23,6 +23,12 @@ namespace {
 
 /// Samples per period of mode 1 the height is first bounded at [-] (as time_domain).
 constexpr double kSamplesPerPeriod{32.0};
+/// Periods of mode 1 after T that the starting samples of the rest window cover [-]. After T the
+/// model is free and damped, its energy never increases (docs/models.md, "The rest window ends
+/// by an energy argument"), and the first maxima after T bind; a later peak that breaks the
+/// bound is found by the dense check over the whole window and becomes a row of its own. The
+/// solver's evaluations integrate only as far as their rows read.
+constexpr double kRestSamplePeriods{1.0};
 /// Windows per period of mode 1 of the dense check [-].
 constexpr double kWindowsPerPeriod{4.0};
 constexpr int kExchangeRounds{8};
@@ -36,13 +42,31 @@ constexpr double kSensitivityStepsPerPeriod{12.0};
 /// Fractions of every segment where the total acceleration is first bounded [-].
 constexpr std::array<double, 5> kAccelerationPoints{0.0, 0.25, 0.5, 0.75, 1.0};
 
-/// Where the height is bounded: times and whether each is in the motion window.
+/// Half the span, in periods of mode 1, over which a peak's row follows its peak [-]: the peaks
+/// the exchange adds move by a small fraction of a period between rounds, and |q| has at most one
+/// interior maximum in a sixteenth of a period either side (its maxima are half a period apart
+/// on a line and farther apart where the wave turns).
+constexpr double kFollowPeriods{1.0 / 16.0};
+
+/// Where the height is bounded: times, whether each is in the motion window, and whether its row
+/// follows the peak next to it (the exchange's peaks: their row is then the local maximum of the
+/// height over [t - follow, t + follow] within its window, so the dense check of the next round
+/// finds it met, where a row at a fixed time leaves the moving peak a little above its bound and
+/// each round adds another sample beside it).
 struct Samples {
   std::vector<double> t;
   std::vector<char> motion;
-  void add(double time, bool in_motion) {
+  std::vector<char> follow;
+  void add(double time, bool in_motion, bool follows = false) {
     t.push_back(time);
     motion.push_back(static_cast<char>(in_motion));
+    follow.push_back(static_cast<char>(follows));
+  }
+  void erase(std::size_t k) {
+    const auto i = static_cast<std::ptrdiff_t>(k);
+    t.erase(t.begin() + i);
+    motion.erase(motion.begin() + i);
+    follow.erase(follow.begin() + i);
   }
 };
 
@@ -55,6 +79,10 @@ struct LawPoint {
 /// The sensitivity and its last evaluation.
 struct Workspace {
   PlanarSensitivity sensitivity;
+  double follow{};            ///< half span of a following row [s]
+  double T{};                 ///< the motion window's end [s]
+  double end{};               ///< the rest window's end [s]
+  std::vector<double> times;  ///< where each row is evaluated
   std::vector<double> values;
   std::vector<std::array<double, kSegments>> gradients;
   std::array<double, kSegments> last{};
@@ -63,8 +91,23 @@ struct Workspace {
 
 void evaluate(Workspace& ws, const Samples& samples, double eta_ref, const double* x) {
   if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
-  ws.sensitivity.compute(x);
-  ws.sensitivity.eta_at(samples.t, ws.values, ws.gradients);
+  // The response is integrated as far as the last row reads it: the rest window's starting
+  // samples cover its first period only, and the dense check integrates the whole window.
+  double until = 0.0;
+  for (std::size_t k = 0; k < samples.t.size(); ++k) {
+    until =
+        std::max(until, samples.t[k] + (static_cast<bool>(samples.follow[k]) ? ws.follow : 0.0));
+  }
+  ws.sensitivity.compute(x, until);
+  ws.times = samples.t;
+  for (std::size_t k = 0; k < ws.times.size(); ++k) {
+    if (!static_cast<bool>(samples.follow[k])) continue;
+    const bool motion = static_cast<bool>(samples.motion[k]);
+    const double lo = std::max(samples.t[k] - ws.follow, motion ? 0.0 : ws.T);
+    const double hi = std::min(samples.t[k] + ws.follow, motion ? ws.T : ws.end);
+    ws.times[k] = ws.sensitivity.peak_time(lo, hi);
+  }
+  ws.sensitivity.eta_at(ws.times, ws.values, ws.gradients);
   for (double& v : ws.values) v /= eta_ref;
   for (auto& g : ws.gradients) {
     for (double& gi : g) gi /= eta_ref;
@@ -161,8 +204,12 @@ Samples initial_samples(const StrategyContext& c) {
   for (std::size_t i = 1; i <= n_motion; ++i)
     s.add(T * static_cast<double>(i) / static_cast<double>(n_motion), true);
   const auto n_rest = static_cast<std::size_t>(std::ceil(rest / dt));
-  for (std::size_t i = 1; i <= n_rest; ++i)
-    s.add(T + rest * static_cast<double>(i) / static_cast<double>(n_rest), false);
+  const double span = kRestSamplePeriods * kSamplesPerPeriod * dt;
+  for (std::size_t i = 1; i <= n_rest; ++i) {
+    const double t = rest * static_cast<double>(i) / static_cast<double>(n_rest);
+    if (t > span && i > 2) break;
+    s.add(T + t, false);
+  }
   return s;
 }
 
@@ -199,8 +246,9 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
 }
 
 /// Adds the dense response's window peaks above their bound (the minimised window's above z) as
-/// samples; returns whether any was added and raises `excess` to the largest relative excess.
-bool add_peaks(Setup& s, Workspace& ws, const double* x, double bound, double& excess) {
+/// following rows, unless a following row holds them already; returns whether any was added and
+/// raises `bounded_peak` to the bounded window's largest dense peak [m].
+bool add_peaks(Setup& s, Workspace& ws, const double* x, double bound, double& bounded_peak) {
   const StrategyContext& c = *s.c;
   ws.sensitivity.compute(x);
   ws.valid = false;
@@ -214,10 +262,30 @@ bool add_peaks(Setup& s, Workspace& ws, const double* x, double bound, double& e
     const auto peaks = motion ? ws.sensitivity.window_peaks(0.0, T, window)
                               : ws.sensitivity.window_peaks(T, T + c.options.rest_time, window);
     for (const PlanarWindowPeak& p : peaks) {
+      if (!free) bounded_peak = std::max(bounded_peak, p.value);
       if (p.value <= limit) continue;
-      if (std::find(s.samples.t.begin(), s.samples.t.end(), p.time) != s.samples.t.end()) continue;
-      s.samples.add(p.time, motion);
-      if (!free) excess = std::max(excess, p.value / bound - 1.0);
+      // A peak a following row already holds is its row's (met within the solver's tolerance:
+      // above it only where the bound the solver saw was not tightened yet).
+      bool held = false;
+      for (std::size_t k = 0; k < s.samples.t.size() && !held; ++k) {
+        held = static_cast<bool>(s.samples.follow[k]) &&
+               static_cast<bool>(s.samples.motion[k]) == motion &&
+               std::abs(s.samples.t[k] - p.time) < ws.follow;
+      }
+      if (held || std::find(s.samples.t.begin(), s.samples.t.end(), p.time) != s.samples.t.end()) {
+        continue;
+      }
+      // The row bounds the largest height over [t - follow, t + follow]: the fixed samples
+      // inside that span are dominated by it, and as rows nearly parallel to it they would
+      // only make SLSQP's subproblems ill-conditioned (it then stalls outside the bound).
+      for (std::size_t k = s.samples.t.size(); k-- > 0;) {
+        if (!static_cast<bool>(s.samples.follow[k]) &&
+            static_cast<bool>(s.samples.motion[k]) == motion &&
+            std::abs(s.samples.t[k] - p.time) <= ws.follow) {
+          s.samples.erase(k);
+        }
+      }
+      s.samples.add(p.time, motion, true);
       added = true;
     }
   }
@@ -259,37 +327,41 @@ namespace {
 StrategyOutcome run_phase(const StrategyContext& c, const PlanarPath& path, bool minimise_motion,
                           double bound, std::vector<Durations> starts) {
   Setup s{&c, &path, minimise_motion, bound, initial_samples(c), initial_points(c)};
+  const double period = 2.0 * std::numbers::pi / c.model.omega1();
   Workspace ws{PlanarSensitivity(c.model, path, c.options.rest_time, kSensitivityStepsPerPeriod),
+               kFollowPeriods * period,
+               c.format.motion_time,
+               c.format.motion_time + c.options.rest_time,
+               {},
                {},
                {},
                {},
                false};
   MultiStartResult total;
   int evaluations = 0, solved = 0;
-  double margin = 0.0, miss = 0.0;
+  // The bound the solver sees is the bound over (1 + scheme), less `margin`: `scheme` is how far
+  // the verified prediction's bounded peak lies above the sensitivities' (their coarser steps
+  // at the last round's point; it varies slowly with the durations), `margin` twice every miss
+  // that still remained on the verified prediction.
+  double margin = 0.0, scheme = 0.0, miss = 0.0;
   for (int round = 0; round < kExchangeRounds; ++round) {
-    s.bound = bound * (1.0 - margin);
+    s.bound = bound * (1.0 - margin) / (1.0 + scheme);
     MultiStartResult r = solve_round(s, ws, starts);
     evaluations += r.evaluations;
     solved += r.starts;
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out || !total.feasible) break;
-    double excess = 0.0;
+    double dense = 0.0;
     const Durations d = c.space.polish(total.best.x.data());
-    bool added = add_peaks(s, ws, total.best.x.data(), bound, excess);
+    bool added = add_peaks(s, ws, total.best.x.data(), bound, dense);
     added = add_acceleration_point(s, d) || added;
-    // The bound is met only on the prediction the plan is verified by; a miss there (once the
-    // samples hold every peak) tightens the bound the solver sees by twice the miss.
-    miss = 0.0;
-    if (!added) {
-      const double value = verified_bounded_peak(c, path, minimise_motion, d);
-      miss = value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
-      if (miss == 0.0) break;
-    }
-    // Between samples the peaks move with the durations: from the second round on the bound is
-    // also tightened by twice the excess the dense check still finds (as time_domain).
-    if (round >= 1) margin += 2.0 * std::max(excess, miss);
-    if (round == 0) margin += 2.0 * miss;
+    // The bound is met only on the prediction the plan is verified by.
+    const double value = verified_bounded_peak(c, path, minimise_motion, d);
+    if (dense > 0.0) scheme = std::max(0.0, value / dense - 1.0);
+    miss = value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
+    if (!added && miss == 0.0) break;
+    // A miss once the rows hold every peak: the scheme's error moved; the bound is tightened.
+    if (!added) margin += 2.0 * miss;
     starts = {d};
   }
   StrategyOutcome o = outcome_from(total, c);

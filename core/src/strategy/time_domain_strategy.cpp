@@ -70,18 +70,54 @@ NonlinearOptions sensitivity_options() {
   return o;
 }
 
-// Times at which |eta| is constrained, sorted; `motion[k]` tells the phase of t[k]. One set per
-// model of the context's sample_models.
+/// Half the span, in periods of mode 1, over which the row of an exchanged peak follows it [-]:
+/// the peaks move by a small fraction of a period between rounds, and |eta| has one maximum per
+/// half period.
+constexpr double kFollowPeriods{1.0 / 16.0};
+
+// Times at which |eta| is constrained, sorted; `motion[k]` tells the phase of t[k]; `follow[k]`
+// whether the row is the largest |eta| over [t[k] - span, t[k] + span] within its phase (the
+// exchange's peaks: such a row follows its peak as the durations move, so the next dense check
+// finds it met, where a row at a fixed time leaves the moving peak a little above its bound and
+// each round adds another sample beside it). One set per model of the context's sample_models.
 struct Samples {
   std::vector<double> t;
   std::vector<char> motion;
+  std::vector<char> follow;
+  double span{};  ///< half span of a following row [s]
 
-  void add(double time, bool in_motion) {
+  void add(double time, bool in_motion, bool follows = false) {
     auto it = std::lower_bound(t.begin(), t.end(), time);
     if (it != t.end() && std::abs(*it - time) < 1e-12) return;
     const auto k = it - t.begin();
     t.insert(it, time);
     motion.insert(motion.begin() + k, static_cast<char>(in_motion));
+    follow.insert(follow.begin() + k, static_cast<char>(follows));
+  }
+  // Whether a following row of the phase holds `time` in its span.
+  [[nodiscard]] bool held(double time, bool in_motion) const {
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if (static_cast<bool>(follow[k]) && static_cast<bool>(motion[k]) == in_motion &&
+          std::abs(t[k] - time) < span) {
+        return true;
+      }
+    }
+    return false;
+  }
+  // A following row at the peak `time`; the fixed samples of its phase within its span go: the
+  // row dominates them, and as rows nearly parallel to it they would only make SLSQP's
+  // subproblems ill-conditioned.
+  void add_following(double time, bool in_motion) {
+    for (std::size_t k = t.size(); k-- > 0;) {
+      if (!static_cast<bool>(follow[k]) && static_cast<bool>(motion[k]) == in_motion &&
+          std::abs(t[k] - time) <= span) {
+        const auto i = static_cast<std::ptrdiff_t>(k);
+        t.erase(t.begin() + i);
+        motion.erase(motion.begin() + i);
+        follow.erase(follow.begin() + i);
+      }
+    }
+    add(time, in_motion, true);
   }
 };
 using ModelSamples = std::vector<Samples>;
@@ -97,11 +133,15 @@ struct TimeDomainWorkspace {
     }
     values.resize(models.size());
     gradients.resize(models.size());
+    motion_time = c.format.motion_time;
+    end = c.format.motion_time + c.options.rest_time;
   }
 
   std::vector<NonlinearSensitivity> sensitivity;
   std::vector<std::vector<double>> values;  ///< per model: |eta(t_k)| / eta_ref
   std::vector<std::vector<std::array<double, kSegments>>> gradients;
+  double motion_time{};                  ///< the motion window's end [s]
+  double end{};                          ///< the rest window's end [s]
   std::array<double, kSegments> last{};  ///< the durations values and gradients are of
   bool valid{false};                     ///< false: values and gradients are stale
 };
@@ -121,8 +161,19 @@ void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, doub
                       const double* x) {
   if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
   for (std::size_t m = 0; m < samples.size(); ++m) {
+    const Samples& sm = samples[m];
     ws.sensitivity[m].compute(x);
-    ws.sensitivity[m].abs_eta_at(samples[m].t, &ws.values[m], &ws.gradients[m]);
+    ws.sensitivity[m].abs_eta_at(sm.t, &ws.values[m], &ws.gradients[m]);
+    for (std::size_t k = 0; k < sm.t.size(); ++k) {
+      if (!static_cast<bool>(sm.follow[k])) continue;
+      // Its phase: the motion up to T, the rest window after it (T fixed by the equality).
+      const bool motion = static_cast<bool>(sm.motion[k]);
+      const double lo = std::max(sm.t[k] - sm.span, motion ? 0.0 : ws.motion_time + 1e-12);
+      const double hi = std::min(sm.t[k] + sm.span, motion ? ws.motion_time : ws.end);
+      const WindowPeak p = ws.sensitivity[m].window_peak(lo, hi);
+      ws.values[m][k] = p.value;
+      ws.gradients[m][k] = p.gradient;
+    }
     for (double& v : ws.values[m]) v /= eta_ref;
     for (auto& g : ws.gradients[m]) {
       for (double& gi : g) gi /= eta_ref;
@@ -215,6 +266,7 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
   const double rest = c.options.rest_time;
   const double period = 2.0 * std::numbers::pi / model.omega1();
   Samples samples;
+  samples.span = kFollowPeriods * period;
   const int km = std::max(2, static_cast<int>(std::ceil(T / period * kSamplesPerPeriod)));
   const int kr = std::max(2, static_cast<int>(std::ceil(rest / period * kSamplesPerPeriod)));
   for (int k = 1; k <= km; ++k) samples.add(T * k / km, true);
@@ -259,14 +311,16 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
     const double a = in_motion ? T * w / kw : T + rest * (w - kw) / kwr;
     const double b = in_motion ? T * (w + 1) / kw : T + rest * (w + 1 - kw) / kwr;
     const WindowPeak peak = sens.window_peak(in_motion ? a : std::max(a, T + 1e-12), b);
+    // A peak a following row holds is met by it (within the solver's tolerance).
+    if (samples.held(peak.time, peak.time <= T)) continue;
     if (free) {
       // The objective's own peaks: sampled for accuracy (the reported eta is the dense one).
       if (peak.value > level && !(least && peak.value <= least->met_below)) {
-        samples.add(peak.time, peak.time <= T);
+        samples.add_following(peak.time, peak.time <= T);
         added = true;
       }
     } else if (peak.value > *bound * (1.0 + kDenseTolerance)) {
-      samples.add(peak.time, peak.time <= T);
+      samples.add_following(peak.time, peak.time <= T);
       added = true;
       excess = std::max(excess, peak.value / *bound - 1.0);
     }
