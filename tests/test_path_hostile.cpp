@@ -460,5 +460,42 @@ TEST(PathHostile, AWrappedHeadingLogIsTheUnwrappedTurn) {
   EXPECT_LT(wrapped.body["prediction"]["nonlinear"]["eta_motion_mm"].get<double>(), 0.01);
 }
 
+// An extreme motion, 50 alternating arcs of 100 mm and +-10 deg in 1 s (total acceleration
+// above 20 m/s^2): answered, with the warning that neither model describes it (beyond g h / R the
+// quasi-static surface reaches the bottom), also as the compact view's code. Before, only the
+// linear model was said to be unreliable and the nonlinear one was to be relied on.
+TEST(PathHostile, AnExtremeMotionSaysNeitherModelDescribesIt) {
+  Server server({"--cache", ""});
+  json segments = json::array();
+  for (int i = 0; i < 50; ++i) {
+    segments.push_back({{"arc", {{"radius_mm", 100}, {"angle_deg", i % 2 == 0 ? 10 : -10}}}});
+  }
+  json format = thesis_format();
+  format["motion_time_s"] = 1.0;
+  format["motion"] = {{"type", "path"}, {"segments", segments}};
+  const json body{{"format", format}, {"strategy", "baseline"}};
+  const Reply full = post(server, "/v1/plans", body);
+  ASSERT_EQ(full.status, 200) << full.body.dump().substr(0, 400);
+  const double a_total = full.body["path"]["prediction"]["kinematics"]["a_total_peak"];
+  EXPECT_GT(a_total, 9.81 * 82.0 / 48.5);
+  bool said = false;
+  for (const json& w : full.body["warnings"]) {
+    const std::string text = w;
+    if (text.rfind("peak horizontal acceleration ", 0) != 0) continue;
+    said = true;
+    EXPECT_NE(text.find(" m/s^2 exceeds g h / R = 16.59 m/s^2, where a free surface tilted to the "
+                        "quasi-static slope a/g reaches the container's bottom: both models are "
+                        "outside what they describe"),
+              std::string::npos)
+        << text;
+  }
+  EXPECT_TRUE(said) << full.body["warnings"].dump();
+  const Reply compact = post(server, "/v1/plans?view=compact", body);
+  ASSERT_EQ(compact.status, 200);
+  const json& codes = compact.body["warnings"];
+  EXPECT_NE(std::find(codes.begin(), codes.end(), json("models_out_of_range")), codes.end())
+      << codes.dump();
+}
+
 }  // namespace
 }  // namespace slosh::test
