@@ -51,11 +51,31 @@ bool usable(const json& c) {
 void expected_reasons(const json& plan, std::vector<std::string>& out) {
   const json& cs = plan["candidates"];
   const json& base = plan["baseline"];
+  // The eta bound first (the requests keep the default eta_rest_max_mm = 3): only the usable
+  // candidates within it compete; none within, the lowest eta_rest of the usable ones and
+  // time_domain's is returned and the others lost to the bound.
+  auto within = [](const json& c) {
+    return c["prediction"]["nonlinear"]["eta_rest_mm"].get<double>() <= 3.0 * (1.0 + 1e-6);
+  };
+  const bool any_within =
+      std::any_of(cs.begin(), cs.end(), [&](const json& c) { return usable(c) && within(c); });
+  if (!any_within) {
+    out.clear();
+    for (const json& c : cs) {
+      if (c["chosen"] == true) {
+        out.emplace_back();
+      } else {
+        out.emplace_back(usable(c) || c["strategy"] == "time_domain" ? "eta_above_limit"
+                                                                     : "not_usable");
+      }
+    }
+    return;
+  }
   const bool any_not_worse = std::any_of(cs.begin(), cs.end(), [&](const json& c) {
-    return usable(c) && (c["strategy"] == "baseline" || !worse(c["prediction"], base));
+    return usable(c) && within(c) && (c["strategy"] == "baseline" || !worse(c["prediction"], base));
   });
   auto eligible = [&](const json& c) {
-    return usable(c) &&
+    return usable(c) && within(c) &&
            (!any_not_worse || c["strategy"] == "baseline" || !worse(c["prediction"], base));
   };
   double best = INFINITY;
@@ -88,6 +108,8 @@ void expected_reasons(const json& plan, std::vector<std::string>& out) {
       out.emplace_back();
     } else if (!usable(c)) {
       out.emplace_back("not_usable");
+    } else if (!within(c)) {
+      out.emplace_back("eta_above_limit");
     } else if (!eligible(c)) {
       out.emplace_back("worse_than_baseline");
     } else if (motion > 1.05 * best) {

@@ -321,8 +321,8 @@ TEST(InputRefusals, EveryWarningTheModelsAndThePlannerWriteIsAKindOfTheTable) {
   const std::vector<std::string> validity = validity_warnings(format, 50.0, 0.02, 0.01);
   std::vector<std::string> kinds;
   for (const std::string& w : validity) kinds.push_back(kind_of(w));
-  EXPECT_EQ(kinds, (std::vector<std::string>{"linear_model_unreliable", "surface_tension",
-                                             "shallow_fill", "spill"}));
+  EXPECT_EQ(kinds, (std::vector<std::string>{"linear_model_unreliable", "models_out_of_range",
+                                             "surface_tension", "shallow_fill", "spill"}));
   for (const std::string& w : validity) EXPECT_EQ(api::warning_finding(w), kind_of(w));
   // The planner's own: a worse law than the baseline, and the budget of auto's candidates.
   EXPECT_EQ(kind_of(std::string(name_of(CandidateLoss::kWorseThanBaseline)) + ": x"),

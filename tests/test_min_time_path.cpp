@@ -21,6 +21,7 @@
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/robustness.hpp"
+#include "support/process.hpp"
 #include "support/reference_seven_segment.hpp"
 
 namespace slosh {
@@ -94,17 +95,133 @@ TEST(MinTimePath, TheAnswerEchoesTheMotionAndItsKeyDiffersFromTheLine) {
   const api::MinTimeRequest line = api::parse_min_time_request(body_with(json()), 60.0);
   EXPECT_NE(api::min_time_key(request), api::min_time_key(line));
   const json answer = api::run_min_time(request);
-  EXPECT_EQ(answer["format"]["motion"], arc);
+  // The motion as planned (canonical): the defaults filled in, the angle the shortest decimal
+  // that reads back to the same radians.
+  json canonical = arc;
+  canonical["start_heading_deg"] = 0.0;
+  canonical["container_turns"] = true;
+  canonical["angle_deg"] = answer["format"]["motion"]["angle_deg"];
+  EXPECT_EQ(answer["format"]["motion"], canonical);
+  EXPECT_EQ(answer["format"]["motion"]["angle_deg"].get<double>() * (kPi / 180.0),
+            arc["angle_deg"].get<double>() * (kPi / 180.0));
   EXPECT_NEAR(answer["format"]["stroke_mm"].get<double>(), kLength * 1e3, 1e-9);
   const json& plan = answer["strategies"][0]["plan"];
   EXPECT_EQ(plan["path"]["type"], "arc");
-  EXPECT_EQ(plan["format"]["motion"], arc);
+  EXPECT_EQ(plan["format"]["motion"], canonical);
   EXPECT_LE(plan["path"]["prediction"]["kinematics"]["a_total_peak"].get<double>(),
             kAMax * (1 + 1e-9));
   // A line motion searches as its stroke: the same key.
   const json line_motion{{"type", "line"}, {"length_mm", kLength * 1e3}, {"direction_deg", 30}};
   EXPECT_EQ(api::min_time_key(api::parse_min_time_request(body_with(line_motion), 60.0)),
             api::min_time_key(line));
+}
+
+// `slosh min-time` takes the move flags of `slosh plan`: the arc's flags (or --motion FILE) are
+// the request's format.motion, through the real binary: the same answer as the request that
+// holds the motion; conflicts refused with their exact text.
+TEST(MinTimePath, TheCliTakesTheArcFlagsAndTheMotionFileAsPlanDoes) {
+  const test::TempDir dir;
+  json plain = body_with(json());
+  plain["format"].erase("stroke_mm");
+  test::write_file(dir / "format.json", plain.dump());
+  const json arc = arc_of(0.3);
+  test::write_file(dir / "with_motion.json", body_with(arc).dump());
+  test::write_file(dir / "arc.json", arc.dump());
+  auto answer_of = [](const test::RunResult& r) {
+    EXPECT_EQ(r.exit_code, 0) << r.err;
+    json a = json::parse(r.out);
+    for (json& s : a["strategies"]) s["plan"].erase("solver");  // its solve_ms
+    return a;
+  };
+  const json reference =
+      answer_of(test::run_slosh({"min-time", "--request", (dir / "with_motion.json").string()}));
+  const json flags = answer_of(
+      test::run_slosh({"min-time", "--request", (dir / "format.json").string(), "--arc-radius",
+                       "300", "--arc-angle", arc["angle_deg"].dump(), "--turns", "true"}));
+  const json file =
+      answer_of(test::run_slosh({"min-time", "--request", (dir / "format.json").string(),
+                                 "--motion", (dir / "arc.json").string()}));
+  EXPECT_EQ(flags["key"], reference["key"]);
+  EXPECT_EQ(file["key"], reference["key"]);
+  EXPECT_EQ(flags["strategies"][0]["t_min_s"], reference["strategies"][0]["t_min_s"]);
+  EXPECT_EQ(file["strategies"][0]["t_min_s"], reference["strategies"][0]["t_min_s"]);
+  EXPECT_EQ(flags["format"]["motion"], reference["format"]["motion"]);
+  EXPECT_EQ(flags["strategies"][0]["plan"]["path"], reference["strategies"][0]["plan"]["path"]);
+
+  auto refused = [](const test::RunResult& r, const std::string& text) {
+    EXPECT_EQ(r.exit_code, 2) << r.out;
+    EXPECT_NE(r.err.find(text), std::string::npos) << r.err;
+  };
+  refused(test::run_slosh({"min-time", "--request", (dir / "with_motion.json").string(),
+                           "--arc-radius", "300", "--arc-angle", "90"}),
+          "format.motion cannot be combined with --arc-radius/--arc-angle: the flags give the "
+          "motion; leave format.motion out of the request");
+  json stroke = body_with(json());
+  test::write_file(dir / "stroke.json", stroke.dump());
+  refused(test::run_slosh({"min-time", "--request", (dir / "stroke.json").string(), "--motion",
+                           (dir / "arc.json").string()}),
+          "format.stroke_mm cannot be combined with --motion: the flags give the motion; leave "
+          "format.stroke_mm out of the request");
+  refused(test::run_slosh(
+              {"min-time", "--request", (dir / "format.json").string(), "--arc-radius", "300"}),
+          "slosh min-time: an arc needs --arc-radius and --arc-angle: missing --arc-angle\n");
+  refused(test::run_slosh(
+              {"min-time", "--request", (dir / "format.json").string(), "--turns", "false"}),
+          "slosh min-time: --turns applies to an arc: give --arc-radius and --arc-angle\n");
+  refused(test::run_slosh({"min-time", "--request", (dir / "format.json").string(), "--motion",
+                           (dir / "arc.json").string(), "--arc-angle", "90"}),
+          "slosh min-time: --motion cannot be combined with --arc-radius, --arc-angle or "
+          "--turns: the file gives the whole motion\n");
+}
+
+// options.robustness along an arc: the returned plan carries the robustness report (before, it
+// was silently left out), judged by the search's limits, whose point at 0 % is the plan's own
+// planar prediction.
+TEST(MinTimePath, RobustnessAlongAnArcIsTheReturnedPlansReport) {
+  json body = body_with(arc_of(0.3));
+  body["options"]["robustness"] = true;
+  body["eta_rest_max_mm"] = 3;
+  const json answer = api::run_min_time(api::parse_min_time_request(body, 60.0));
+  const json& plan = answer.at("strategies").at(0).at("plan");
+  ASSERT_TRUE(plan.contains("robustness") && plan["robustness"].is_object()) << plan.dump();
+  const json& report = plan["robustness"];
+  EXPECT_EQ(report["sweep"]["eta_rest_max_mm"], 3.0);
+  bool nominal = false;
+  for (const json& p : report["points"]) {
+    if (p["delta_pct"].get<double>() != 0.0) continue;
+    nominal = true;
+    for (const char* model : {"nonlinear", "linear"}) {
+      for (const char* eta : {"eta_motion_mm", "eta_rest_mm"}) {
+        EXPECT_NEAR(p[model][eta].get<double>(), plan["prediction"][model][eta].get<double>(),
+                    1e-6 * (1.0 + plan["prediction"][model][eta].get<double>()))
+            << model << " " << eta;
+      }
+    }
+  }
+  EXPECT_TRUE(nominal) << report["points"].dump();
+}
+
+// A search whose plans run out before a T meets the limits (the review's small table, 50 mm and
+// one turn with a_max 1 m/s^2, here with 3 plans) names max_plans, the budget that ran out (it
+// blamed time_limit_s 10 s, which raising changes nothing).
+TEST(MinTimePath, APlanBudgetThatRunsOutIsNamedAsSuch) {
+  json format{{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+              {"fill_height_mm", 82},
+              {"fluid", "water"},
+              {"motion", {{"type", "arc"}, {"radius_mm", 50}, {"angle_deg", 360}}}};
+  const json body{{"format", format},
+                  {"strategies", {"multi_notch"}},
+                  {"max_plans", 3},
+                  {"options", {{"limits", {{"a_max", 1}}}}}};
+  const json answer = api::run_min_time(api::parse_min_time_request(body, 60.0));
+  const json& s = answer.at("strategies").at(0);
+  EXPECT_EQ(s["status"], "time_limit") << s.dump().substr(0, 400);
+  const std::string message = s["message"];
+  EXPECT_EQ(message.rfind("the search's plan budget (max_plans 3, all planned; raise max_plans) "
+                          "ran out ",
+                          0),
+            0U)
+      << message;
 }
 
 TEST(MinTimePath, KinematicBoundAlongArcsIsTheLinesOrTheNormalSpeedLimit) {

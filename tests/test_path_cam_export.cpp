@@ -7,6 +7,7 @@
 
 #include <cmath>
 #include <cstddef>
+#include <cstdint>
 #include <numbers>
 #include <sstream>
 #include <string>
@@ -17,6 +18,7 @@
 #include "slosh/core/law/path_cam_table.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "support/process.hpp"
+#include "support/server.hpp"
 
 namespace slosh {
 namespace {
@@ -116,6 +118,30 @@ TEST(PathCam, TableRotationIsTheArcAngleOfTheDistanceAndEndsOnTheAngleExactly) {
   EXPECT_EQ(deg.back().position, *table_rotation_deg(path));
   EXPECT_FALSE(table_rotation_deg(PlanarPath::line(0.5)).has_value());
   EXPECT_THROW((void)table_rotation_rows(mm, PlanarPath::line(0.5)), std::invalid_argument);
+}
+
+// The rotation is the degrees the request gave (read as deg * pi / 180), not radians * 180 / pi:
+// -120 deg ends the table on -120, which a PLC's in-position check compares with (it was
+// -119.99999999999999). Seeded random angles to 6 decimals, as a drawing gives them.
+TEST(PathCam, TableRotationIsTheGivenDegreesExactly) {
+  constexpr double kRadPerDeg = kPi / 180.0;
+  std::vector<double> angles{-120.0, 90.0, 33.333333, -270.0, 3600.0, 0.1};
+  std::uint64_t state = 20261127;
+  for (int i = 0; i < 200; ++i) {
+    state = state * 6364136223846793005ULL + 1442695040888963407ULL;
+    const double u = static_cast<double>(state >> 11) / 9007199254740992.0;  // [0, 1)
+    angles.push_back(std::round((u * 720.0 - 360.0) * 1e6) / 1e6);
+  }
+  for (const double angle : angles) {
+    if (angle == 0.0) continue;
+    const PlanarPath path = PlanarPath::arc(0.3, angle * kRadPerDeg, true);
+    ASSERT_EQ(*table_rotation_deg(path), angle) << angle;
+  }
+  const PlanarPath path = PlanarPath::arc(0.3, -120.0 * kRadPerDeg, true);
+  const SevenSegmentLaw law(uniform_durations(0.8), path.length());
+  const std::vector<MasterCamSample> deg = table_rotation_rows(
+      sample_master_cam_table(law.law(), path.length(), MasterAxis{360.0, 30.0, 210.0, 1.0}), path);
+  EXPECT_EQ(deg.back().position, -120.0);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -302,22 +328,148 @@ TEST(PathCamCli, RefusalsNameTheMemberOrTheOption) {
             "format.motion: a trajectory cannot be exported: its samples are the motion already "
             "(export a law along a line, an arc or a path)");
 
-  write_file(dir / "arc.json",
-             law_request({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}, 1.0).dump());
-  r = run_slosh({"export", "--request", (dir / "arc.json").string(), "--out",
-                 (dir / "cam.st").string(), "--format", "st"});
-  EXPECT_EQ(r.exit_code, 2);
-  EXPECT_EQ(error_of(r)["error"]["field"], "--format");
-  EXPECT_EQ(error_of(r)["error"]["message"],
-            "--format st: the structured-text cam table of a motion along an arc or a path is not "
-            "available (its type holds the straight-line columns); use --format csv");
-  EXPECT_FALSE(std::filesystem::exists(dir / "cam.st"));
-
   write_file(dir / "bad.json",
              law_request({{"type", "arc"}, {"radius_mm", 0}, {"angle_deg", 90}}, 1.0).dump());
   r = run_slosh({"export", "--request", (dir / "bad.json").string(), "--out", "-"});
   EXPECT_EQ(r.exit_code, 2);
   EXPECT_EQ(error_of(r)["error"]["field"], "format.motion.radius_mm");
+}
+
+// The rows of an ST cam table: each "(a := 1.0, b := 2.0)" initialiser as its numbers, and the
+// member names of its first row.
+struct StRows {
+  std::vector<std::string> names;
+  std::vector<std::vector<double>> rows;
+};
+
+StRows read_st_rows(const std::string& text) {
+  StRows out;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) {
+    const std::size_t open = line.find("    (");
+    if (open != 0) continue;
+    std::vector<double> row;
+    std::size_t at = 0;
+    while ((at = line.find(" := ", at)) != std::string::npos) {
+      if (out.rows.empty()) {
+        const std::size_t name_start = line.find_last_of("(, ", at - 1) + 1;
+        out.names.push_back(line.substr(name_start, at - name_start));
+      }
+      at += 4;
+      row.push_back(std::stod(line.substr(at)));
+    }
+    out.rows.push_back(row);
+  }
+  return out;
+}
+
+// The structured text along an arc and along a path: the CSV's columns as the structure's
+// members (a type of their own, declared in the file), the same rows to the ST literal's 15
+// digits; the header names the path.
+TEST(PathCamCli, StructuredTextHasTheCsvColumnsAndRows) {
+  const TempDir dir;
+  const json arc{{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  const json path = json::parse(R"({"type": "path", "segments": [{"line_mm": 200},
+      {"arc": {"radius_mm": 100, "angle_deg": 90}}], "container_turns": true})");
+  struct Case {
+    json motion;
+    std::vector<std::string> extra;
+    std::string type;
+  };
+  for (const Case& c :
+       {Case{arc, {}, "SLOSH_TABLE_CAM_POINT"}, Case{path, {}, "SLOSH_PATH_CAM_POINT"},
+        Case{arc,
+             {"--master-period", "360", "--master-start", "30", "--master-end", "210"},
+             "SLOSH_TABLE_MASTER_CAM_POINT"},
+        Case{path,
+             {"--master-period", "100", "--master-start", "0", "--master-end", "100"},
+             "SLOSH_PATH_MASTER_CAM_POINT"}}) {
+    SCOPED_TRACE(c.type);
+    write_file(dir / "law.json", law_request(c.motion, 1.0).dump());
+    std::vector<std::string> csv_args{"export", "--request", (dir / "law.json").string(), "--out",
+                                      "-"};
+    csv_args.insert(csv_args.end(), c.extra.begin(), c.extra.end());
+    std::vector<std::string> st_args = csv_args;
+    st_args.insert(st_args.end(), {"--format", "st", "--st-name", "TABLE_INDEX"});
+    const RunResult csv = run_slosh(csv_args);
+    const RunResult st = run_slosh(st_args);
+    ASSERT_EQ(csv.exit_code, 0) << csv.err;
+    ASSERT_EQ(st.exit_code, 0) << st.err;
+    const Csv table = read_csv(csv.out);
+    const StRows rows = read_st_rows(st.out);
+    std::string names;
+    for (const std::string& n : rows.names) names += (names.empty() ? "" : ",") + n;
+    EXPECT_EQ(names, table.header);
+    EXPECT_NE(st.out.find("TYPE\n  " + c.type + " :\n  STRUCT\n"), std::string::npos) << st.out;
+    EXPECT_NE(st.out.find("TABLE_INDEX : ARRAY[0.." + std::to_string(table.rows.size() - 1) +
+                          "] OF " + c.type + " := ["),
+              std::string::npos);
+    EXPECT_NE(
+        st.out.find(c.motion["type"] == "arc" ? "   path: one arc (a rotary table), rotation 90 deg"
+                                              : "   path: a path of 2 segments (lines and arcs)"),
+        std::string::npos)
+        << st.out.substr(0, 800);
+    ASSERT_EQ(rows.rows.size(), table.rows.size());
+    for (std::size_t k = 0; k < table.rows.size(); ++k) {
+      ASSERT_EQ(rows.rows[k].size(), table.rows[k].size()) << k;
+      for (std::size_t i = 0; i < table.rows[k].size(); ++i) {
+        EXPECT_NEAR(rows.rows[k][i], table.rows[k][i], 1e-13 * (1.0 + std::abs(table.rows[k][i])))
+            << k << " " << i;
+      }
+    }
+  }
+}
+
+// GET /v1/plans/{key}/cam.csv and cam.st of a plan along an arc: the bytes `slosh export`
+// writes for the same plan request and options (the pose, the table's rotation, and the
+// master-axis cam in degrees of table rotation). Before, the routes wrote s alone.
+TEST(PathCamHttp, CamRoutesOfAnArcPlanAreTheCliExport) {
+  const TempDir dir;
+  json request = law_request({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}, 1.2);
+  request.erase("law");
+  request["strategy"] = "min_jerk_band";
+  write_file(dir / "plan.json", request.dump());
+  test::Server server({"--cache", ""});
+  auto client = server.client();
+  const auto posted = client.Post("/v1/plans", request.dump(), "application/json");
+  ASSERT_TRUE(posted);
+  ASSERT_EQ(posted->status, 200) << posted->body;
+  const std::string key = json::parse(posted->body)["key"];
+  struct Case {
+    std::string route;
+    std::vector<std::string> flags;
+  };
+  for (const Case& c :
+       {Case{"cam.csv", {}}, Case{"cam.st", {"--format", "st"}},
+        Case{"cam.csv?master_period=360&master_start=30&master_end=210",
+             {"--master-period", "360", "--master-start", "30", "--master-end", "210"}},
+        Case{"cam.st?master_period=360&master_start=30&master_end=210",
+             {"--format", "st", "--master-period", "360", "--master-start", "30", "--master-end",
+              "210"}}}) {
+    SCOPED_TRACE(c.route);
+    const auto got = client.Get("/v1/plans/" + key + "/" + c.route);
+    ASSERT_TRUE(got);
+    ASSERT_EQ(got->status, 200) << got->body;
+    std::vector<std::string> args{
+        "export", "--request", (dir / "plan.json").string(), "--out", "-", "--cache", ""};
+    args.insert(args.end(), c.flags.begin(), c.flags.end());
+    const RunResult cli = run_slosh(args);
+    ASSERT_EQ(cli.exit_code, 0) << cli.err;
+    EXPECT_EQ(cli.out, got->body);
+    if (c.route == "cam.csv") {
+      EXPECT_EQ(got->body.substr(0, got->body.find('\n')),
+                "t_s,s_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3,x_mm,y_mm,theta_deg,"
+                "table_deg");
+      const Csv cam = read_csv(got->body);
+      EXPECT_EQ(cam.rows.back()[8], 90.0);
+      for (const std::vector<double>& row : cam.rows) {
+        const double phi = row[1] / 300.0;
+        EXPECT_NEAR(row[5], 300.0 * std::sin(phi), 1e-9) << row[0];
+        EXPECT_NEAR(row[6], 300.0 * (1.0 - std::cos(phi)), 1e-9) << row[0];
+      }
+    }
+  }
 }
 
 }  // namespace

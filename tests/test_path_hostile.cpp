@@ -8,12 +8,14 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <numbers>
 #include <string>
 #include <vector>
 
 #include <nlohmann/json.hpp>
 
+#include "support/process.hpp"
 #include "support/server.hpp"
 
 namespace slosh::test {
@@ -233,6 +235,266 @@ TEST(PathHostile, RefusalsNameMemberValueAndLimit) {
           "format.motion.segments[3] starts at heading 100.000572 deg but the path arrives at "
           "heading 99.999999 deg: lines and arcs must join with a common tangent (within 1e-6 "
           "rad)");
+}
+
+// A cached plan shows the motion of its recipe key, not the spelling of the client that filled
+// the cache: the second client (the same path with its headings stated, a start heading a turn
+// away and the default container_turns given) gets the canonical motion, which is also the
+// first client's answer; the CLI's arc flags give the HTTP body byte for byte (90 vs 90.0).
+TEST(PathHostile, ACachedPlanEchoesTheCanonicalMotionNotAnotherClients) {
+  Server server;  // with its plan cache
+  auto plan = [&](const json& motion) {
+    json format = thesis_format();
+    format["motion_time_s"] = 1.2;
+    format["motion"] = motion;
+    const Reply r = post(server, "/v1/plans", {{"format", format}, {"strategy", "baseline"}});
+    EXPECT_EQ(r.status, 200) << r.body.dump();
+    return r.body;
+  };
+  const json first = plan(
+      {{"type", "path"},
+       {"segments", {{{"line_mm", 100}}, {{"arc", {{"radius_mm", 100}, {"angle_deg", 90}}}}}}});
+  const json second =
+      plan({{"type", "path"},
+            {"segments",
+             {{{"line_mm", 100}, {"heading_deg", 0}},
+              {{"arc", {{"radius_mm", 100.0}, {"angle_deg", 90.0}}}, {"heading_deg", 360}}}},
+            {"start_heading_deg", 360},
+            {"container_turns", false}});
+  const json canonical = {
+      {"type", "path"},
+      {"segments", {{{"line_mm", 100.0}}, {{"arc", {{"radius_mm", 100.0}, {"angle_deg", 90.0}}}}}},
+      {"start_heading_deg", 0.0},
+      {"container_turns", false}};
+  EXPECT_FALSE(first["cached"].get<bool>());
+  EXPECT_TRUE(second["cached"].get<bool>());
+  EXPECT_EQ(second["key"], first["key"]);
+  EXPECT_EQ(first["format"]["motion"], canonical) << first["format"]["motion"].dump();
+  EXPECT_EQ(second["format"]["motion"], canonical) << second["format"]["motion"].dump();
+
+  // An arc: container_turns omitted or true, 90 or 90.0, heading -180 or 180 are one recipe.
+  const json arc =
+      plan({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"start_heading_deg", -180}});
+  const json arc_again = plan({{"type", "arc"},
+                               {"radius_mm", 300.0},
+                               {"angle_deg", 90.0},
+                               {"start_heading_deg", 180},
+                               {"container_turns", true}});
+  EXPECT_TRUE(arc_again["cached"].get<bool>());
+  EXPECT_EQ(arc_again["key"], arc["key"]);
+  const json arc_canonical = {{"type", "arc"},
+                              {"radius_mm", 300.0},
+                              {"angle_deg", 90.0},
+                              {"start_heading_deg", 180.0},
+                              {"container_turns", true}};
+  EXPECT_EQ(arc["format"]["motion"], arc_canonical) << arc["format"]["motion"].dump();
+  EXPECT_EQ(arc_again["format"]["motion"], arc_canonical);
+
+  // The CLI's flags plan the same recipe with the same echo.
+  const RunResult cli =
+      run_slosh({"plan", "--radius", "48.5", "--height", "150", "--fill", "82", "--fluid", "water",
+                 "--time", "1.2", "--arc-radius", "300", "--arc-angle", "90", "--strategy",
+                 "baseline", "--format", "json"});
+  ASSERT_EQ(cli.exit_code, 0) << cli.err;
+  const json from_cli = json::parse(cli.out);
+  const json http = plan({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}});
+  EXPECT_EQ(from_cli["key"], http["key"]);
+  EXPECT_EQ(from_cli["format"]["motion"].dump(), http["format"]["motion"].dump());
+  EXPECT_EQ(http["format"]["motion"]["start_heading_deg"], 0.0);
+}
+
+// auto on the review's arc (300 mm, 90 deg in 0.6 s) with eta_rest_max_mm 0.5, which no
+// candidate reaches: infeasible with the least infeasible law (the lowest verified eta_rest of
+// the candidates), never optimal with multi_notch's 37 mm; the compact view says the same.
+TEST(PathHostile, AutoAboveEtaRestMaxIsInfeasibleWithTheLowestCandidate) {
+  Server server({"--cache", ""});
+  json format = thesis_format();
+  format["motion_time_s"] = 0.6;
+  format["motion"] = {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  const Reply r =
+      post(server, "/v1/plans",
+           {{"format", format}, {"strategy", "auto"}, {"options", {{"eta_rest_max_mm", 0.5}}}});
+  ASSERT_EQ(r.status, 200) << r.body.dump();
+  EXPECT_EQ(r.body["status"], "infeasible");
+  const std::string message = r.body["message"];
+  EXPECT_NE(message.find("no candidate meets eta_rest <= 0.5 mm (eta_rest_max_mm): the lowest is "),
+            std::string::npos)
+      << message;
+  double lowest = INFINITY;
+  std::string lowest_strategy;
+  for (const json& c : r.body["candidates"]) {
+    if (c["reason"] == "not_usable") continue;  // infeasible for a fault of its own
+    const double rest = c["prediction"]["nonlinear"]["eta_rest_mm"].get<double>();
+    if (rest < lowest) {
+      lowest = rest;
+      lowest_strategy = c["strategy"];
+    }
+  }
+  EXPECT_EQ(r.body["prediction"]["nonlinear"]["eta_rest_mm"].get<double>(), lowest);
+  for (const json& c : r.body["candidates"]) {
+    if (c["strategy"] == lowest_strategy) {
+      EXPECT_TRUE(c["chosen"].get<bool>());
+    } else {
+      EXPECT_TRUE(c["reason"] == "eta_above_limit" || c["reason"] == "not_usable") << c.dump();
+    }
+  }
+}
+
+// A trajectory sampled at `rate` over [0, T]: t, x(t), z(t), theta(t) in the request's units.
+json trajectory(double T, double rate, const std::function<double(double)>& x,
+                const std::function<double(double)>& z,
+                const std::function<double(double)>& theta) {
+  const int n = static_cast<int>(std::lround(T * rate)) + 1;
+  std::vector<double> t, xs, ys, zs, th;
+  for (int i = 0; i < n; ++i) {
+    const double ti = i / rate;
+    t.push_back(ti);
+    xs.push_back(x(ti));
+    ys.push_back(0.0);
+    zs.push_back(z(ti));
+    th.push_back(theta(ti));
+  }
+  return {{"type", "trajectory"}, {"t_s", t},   {"x_mm", xs},
+          {"y_mm", ys},           {"z_mm", zs}, {"theta_deg", th}};
+}
+
+// simulate along a motion warns as a plan along it and a straight-line simulate do: the arc
+// that spills (free board 18 mm, 92-179 mm of wave) and a 500 Hz log of a fast move. Before,
+// simulate along any motion answered warnings [].
+TEST(PathHostile, SimulateAlongAMotionWarnsAsThePlanDoes) {
+  Server server({"--cache", ""});
+  json format = thesis_format();
+  format["container"]["height_mm"] = 100;
+  format["motion_time_s"] = 0.5;
+  format["motion"] = {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  const Reply sim = post(server, "/v1/simulate",
+                         {{"format", format}, {"law", {{"type", "seven_segment_uniform"}}}});
+  const Reply plan = post(server, "/v1/plans", {{"format", format}, {"strategy", "baseline"}});
+  ASSERT_EQ(sim.status, 200) << sim.body.dump();
+  ASSERT_EQ(plan.status, 200) << plan.body.dump();
+  EXPECT_EQ(sim.body["warnings"], plan.body["warnings"]);
+  ASSERT_EQ(sim.body["warnings"].size(), 2U) << sim.body["warnings"].dump();
+  EXPECT_EQ(sim.body["warnings"][0].get<std::string>().rfind("peak |acceleration| 12.6", 0), 0U);
+  EXPECT_NE(sim.body["warnings"][1].get<std::string>().find("liquid will spill"),
+            std::string::npos);
+
+  // A cycloidal 500 mm move in 0.5 s, x = L (t/T - sin(2 pi t/T) / (2 pi)): peak acceleration
+  // 2 pi L / T^2 = 12.57 m/s^2, at rest at both ends (the samples' natural spline holds it).
+  json tformat = thesis_format();
+  tformat["container"]["height_mm"] = 100;
+  tformat["motion"] = trajectory(
+      0.5, 500.0,
+      [](double t) {
+        const double u = t / 0.5;
+        return 500.0 * (u - std::sin(2.0 * std::numbers::pi * u) / (2.0 * std::numbers::pi));
+      },
+      [](double) { return 0.0; }, [](double) { return 0.0; });
+  const Reply log = post(server, "/v1/simulate", {{"format", tformat}});
+  ASSERT_EQ(log.status, 200) << log.body.dump().substr(0, 400);
+  const json& w = log.body["warnings"];
+  ASSERT_EQ(w.size(), 2U) << w.dump();
+  EXPECT_EQ(w[0].get<std::string>().rfind("peak |acceleration| 12.57 m/s^2 exceeds 10 m/s^2", 0),
+            0U)
+      << w[0];
+  EXPECT_NE(w[1].get<std::string>().find("liquid will spill"), std::string::npos) << w[1];
+}
+
+// A log that accelerates downward faster than gravity leaves both models (g + a_z <= 0): a 422
+// naming the first sample where it does, instead of a 200 with a 1 m wave. z = Z (1 - cos(w t))
+// with Z w^2 = 1.5 g first reaches a_z = -g at t = 0.4395 s: sample 220 at 500 Hz.
+TEST(PathHostile, ADescentFasterThanGravityIsRefusedNamingTheSample) {
+  Server server({"--cache", ""});
+  constexpr double kT = 1.2, kG = 9.81;
+  const double w = 2.0 * std::numbers::pi / kT;
+  auto request = [&](double k) {
+    const double Z = k * kG / (w * w) * 1e3;
+    json format = thesis_format();
+    format["motion"] = trajectory(
+        kT, 500.0, [](double t) { return 250.0 * (1.0 - std::cos(std::numbers::pi * t / 1.2)); },
+        [&](double t) { return Z * (1.0 - std::cos(w * t)); }, [](double) { return 0.0; });
+    return json{{"format", format}};
+  };
+  EXPECT_EQ(post(server, "/v1/simulate", request(0.5)).status, 200);
+  const Reply r = post(server, "/v1/simulate", request(1.5));
+  ASSERT_EQ(r.status, 422) << r.body.dump().substr(0, 400);
+  EXPECT_EQ(r.body["error"]["field"], "format.motion.z_mm[220]");
+  const std::string message = r.body["error"]["message"];
+  EXPECT_EQ(message.rfind("format.motion.z_mm[220]: the vertical acceleration of the samples' "
+                          "spline is -9.8",
+                          0),
+            0U)
+      << message;
+  EXPECT_NE(message.find(" s, so the effective gravity g + a_z = -0.0"), std::string::npos)
+      << message;
+  EXPECT_NE(message.find("m/s^2 is not positive: the liquid leaves the bottom and neither model "
+                         "describes it; allowed a_z > -9.81 m/s^2"),
+            std::string::npos)
+      << message;
+}
+
+// A heading logged wrapped to +-180 deg is the same turn as the unwrapped log: 720 deg in 4 s
+// about the container's own axis. Before, each wrap was a -360 deg turn in 2 ms (the spin term
+// 940 times larger).
+TEST(PathHostile, AWrappedHeadingLogIsTheUnwrappedTurn) {
+  Server server({"--cache", ""});
+  auto heading = [](double t) {
+    return 720.0 * (0.5 - 0.5 * std::cos(std::numbers::pi * t / 4.0));
+  };
+  auto zero = [](double) { return 0.0; };
+  json format = thesis_format();
+  format["motion"] = trajectory(4.0, 500.0, zero, zero, heading);
+  const Reply plain = post(server, "/v1/simulate", {{"format", format}});
+  format["motion"] = trajectory(4.0, 500.0, zero, zero, [&](double t) {
+    return std::fmod(std::fmod(heading(t) + 180.0, 360.0) + 360.0, 360.0) - 180.0;
+  });
+  const Reply wrapped = post(server, "/v1/simulate", {{"format", format}});
+  ASSERT_EQ(plain.status, 200) << plain.body.dump().substr(0, 400);
+  ASSERT_EQ(wrapped.status, 200) << wrapped.body.dump().substr(0, 400);
+  for (const char* model : {"nonlinear", "linear"}) {
+    for (const char* eta : {"eta_motion_mm", "eta_rest_mm"}) {
+      const double a = plain.body["prediction"][model][eta].get<double>();
+      const double b = wrapped.body["prediction"][model][eta].get<double>();
+      EXPECT_NEAR(b, a, 1e-6 * a) << model << " " << eta;
+    }
+  }
+  EXPECT_LT(wrapped.body["prediction"]["nonlinear"]["eta_motion_mm"].get<double>(), 0.01);
+}
+
+// An extreme motion, 50 alternating arcs of 100 mm and +-10 deg in 1 s (total acceleration
+// above 20 m/s^2): answered, with the warning that neither model describes it (beyond g h / R the
+// quasi-static surface reaches the bottom), also as the compact view's code. Before, only the
+// linear model was said to be unreliable and the nonlinear one was to be relied on.
+TEST(PathHostile, AnExtremeMotionSaysNeitherModelDescribesIt) {
+  Server server({"--cache", ""});
+  json segments = json::array();
+  for (int i = 0; i < 50; ++i) {
+    segments.push_back({{"arc", {{"radius_mm", 100}, {"angle_deg", i % 2 == 0 ? 10 : -10}}}});
+  }
+  json format = thesis_format();
+  format["motion_time_s"] = 1.0;
+  format["motion"] = {{"type", "path"}, {"segments", segments}};
+  const json body{{"format", format}, {"strategy", "baseline"}};
+  const Reply full = post(server, "/v1/plans", body);
+  ASSERT_EQ(full.status, 200) << full.body.dump().substr(0, 400);
+  const double a_total = full.body["path"]["prediction"]["kinematics"]["a_total_peak"];
+  EXPECT_GT(a_total, 9.81 * 82.0 / 48.5);
+  bool said = false;
+  for (const json& w : full.body["warnings"]) {
+    const std::string text = w;
+    if (text.rfind("peak horizontal acceleration ", 0) != 0) continue;
+    said = true;
+    EXPECT_NE(text.find(" m/s^2 exceeds g h / R = 16.59 m/s^2, where a free surface tilted to the "
+                        "quasi-static slope a/g reaches the container's bottom: both models are "
+                        "outside what they describe"),
+              std::string::npos)
+        << text;
+  }
+  EXPECT_TRUE(said) << full.body["warnings"].dump();
+  const Reply compact = post(server, "/v1/plans?view=compact", body);
+  ASSERT_EQ(compact.status, 200);
+  const json& codes = compact.body["warnings"];
+  EXPECT_NE(std::find(codes.begin(), codes.end(), json("models_out_of_range")), codes.end())
+      << codes.dump();
 }
 
 }  // namespace

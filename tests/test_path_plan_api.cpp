@@ -73,7 +73,11 @@ TEST(PathPlanApi, AnArcPlansEndToEndWithThePlanarModelsFigures) {
   ASSERT_GT(server.port(), 0) << server.log();
   const json plan = post(server, "/v1/plans", arc_plan("notch"));
   ASSERT_EQ(plan["status"], "optimal") << plan.dump();
-  EXPECT_EQ(plan["format"]["motion"], arc_plan("notch")["format"]["motion"]);
+  // The motion as planned, canonical: the defaults filled in.
+  json canonical = arc_plan("notch")["format"]["motion"];
+  canonical["container_turns"] = true;
+  canonical["start_heading_deg"] = 0.0;
+  EXPECT_EQ(plan["format"]["motion"], canonical);
   const double length_mm = 300.0 * kPi / 2.0;
   EXPECT_NEAR(plan["format"]["stroke_mm"].get<double>(), length_mm, 1e-9);
   EXPECT_EQ(plan["path"]["type"], "arc");
@@ -196,6 +200,7 @@ TEST(PathPlanApi, TheCliPlansAlongAnArcAndRefusesConflictingFlags) {
   EXPECT_EQ(plan["format"]["motion"], json({{"type", "arc"},
                                             {"radius_mm", 300.0},
                                             {"angle_deg", 90.0},
+                                            {"start_heading_deg", 0.0},
                                             {"container_turns", false}}));
   EXPECT_EQ(plan["path"]["container_turns"], false);
   // --motion FILE: a path of lines and arcs.

@@ -199,7 +199,14 @@ TEST(PlanHonesty, Issue15Case3AutoKeepsTheTimeDomainCandidate) {
            above(p.linear.rest.value, b.linear.rest.value);
   };
   if (worse(td)) {
-    EXPECT_FALSE(td.chosen);
+    // Not chosen, unless it is the only usable candidate within eta_rest <= 3 mm: the bound is
+    // a constraint of auto and comes before the guard against the uniform law.
+    bool other_within = false;
+    for (const PlanCandidate& c : r.candidates) {
+      other_within = other_within || (&c != &td && converged(c.status) &&
+                                      c.prediction.nonlinear.rest.value <= 0.003 * (1.0 + 1e-6));
+    }
+    EXPECT_EQ(td.chosen, !other_within);
     return;
   }
   double best_motion = std::numeric_limits<double>::infinity();
@@ -479,9 +486,13 @@ TEST(PlanHonesty, TheUniformLawIsJudgedByTheOptionsToo) {
   const PlanResult baseline = plan(f, Strategy::kBaseline, fast);
   EXPECT_EQ(baseline.status, SolveStatus::kInfeasible) << describe(baseline);
   EXPECT_TRUE(Contains(baseline.message, "limits.v_max = 1 m/s")) << baseline.message;
-  // auto does not pick it: its law meets v_max, and the candidates list says why.
+  // auto does not pick it: its law meets v_max, and the candidates list says why. (No candidate
+  // reaches the default eta_rest <= 3 mm under v_max: auto then returns the least infeasible law,
+  // which meets v_max too.)
   const PlanResult chosen = plan(f, Strategy::kAuto, fast);
-  ASSERT_TRUE(converged(chosen.status)) << describe(chosen);
+  ASSERT_TRUE(converged(chosen.status) ||
+              Contains(chosen.message, "no candidate meets eta_rest <= 3 mm"))
+      << describe(chosen);
   EXPECT_NE(chosen.strategy, Strategy::kBaseline);
   ASSERT_TRUE(chosen.durations.has_value());
   EXPECT_LE(SevenSegmentLaw(*chosen.durations, f.stroke).v_peak(), 1.0 * (1 + 1e-6));

@@ -239,12 +239,26 @@ TEST(PlanProperties, SeededRandomFormatsKeepEveryPromise) {
       }
       if (s == Strategy::kAuto) {
         ASSERT_EQ(r.candidates.size(), 7u) << what;
+        // The eta bound first: a usable auto plan meets eta_rest_max; with no usable candidate
+        // within it, auto's plan is infeasible (the least infeasible law) and says so.
+        const auto within = [&](const PlanCandidate& c) {
+          return c.prediction.nonlinear.rest.value <= o.eta_rest_max * (1.0 + kMeets);
+        };
+        const bool any_within = std::any_of(
+            r.candidates.begin(), r.candidates.end(),
+            [&](const PlanCandidate& c) { return usable_status(c.status) && within(c); });
+        if (!any_within) {
+          EXPECT_EQ(r.status, SolveStatus::kInfeasible) << what;
+          EXPECT_NE(r.message.find("no candidate meets eta_rest <= "), std::string::npos) << what;
+        } else {
+          EXPECT_LE(nl.rest.value, o.eta_rest_max * (1.0 + kMeets)) << what;
+        }
         const bool any_not_worse =
             std::any_of(r.candidates.begin(), r.candidates.end(), [&](const PlanCandidate& c) {
-              return usable_status(c.status) && !worse(c.prediction, r.baseline);
+              return usable_status(c.status) && within(c) && !worse(c.prediction, r.baseline);
             });
         for (const PlanCandidate& c : r.candidates) {
-          if (!c.chosen) continue;
+          if (!c.chosen || !any_within) continue;
           EXPECT_TRUE(usable_status(c.status)) << what;
           if (any_not_worse) {
             EXPECT_FALSE(worse(c.prediction, r.baseline))

@@ -95,6 +95,7 @@ void expect_compact_of(const json& compact, const json& plan, const json& reques
   // first ": ".
   const std::vector<std::pair<std::string, std::string>> codes{
       {"peak |acceleration| ", "linear_model_unreliable"},
+      {"peak horizontal acceleration ", "models_out_of_range"},
       {"radius ", "surface_tension"},
       {"fill ratio ", "shallow_fill"},
       {"predicted sloshing height during the motion ", "spill"}};

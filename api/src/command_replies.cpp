@@ -18,6 +18,25 @@ std::string pretty(const nlohmann::json& value) {
   return dump_json(value, 2);
 }
 
+// format.motion of the move flags; nullopt when none is given.
+std::optional<nlohmann::json> motion_of_flags(const QuickMotion& q) {
+  std::optional<nlohmann::json> motion;
+  if (q.arc_radius_mm) {
+    motion = {{"type", "arc"}, {"radius_mm", *q.arc_radius_mm}, {"angle_deg", *q.arc_angle_deg}};
+    if (q.turns) (*motion)["container_turns"] = *q.turns;
+  }
+  if (q.motion_text) {
+    motion = nlohmann::json::parse(*q.motion_text, nullptr, false);
+    if (motion->is_discarded()) {
+      throw ApiError(ErrorCode::kInvalidValue, "--motion",
+                     "--motion " + q.motion_source +
+                         " is not JSON: it must hold format.motion, e.g. {\"type\": \"arc\", "
+                         "\"radius_mm\": 300, \"angle_deg\": 90}");
+    }
+  }
+  return motion;
+}
+
 // The plan request the format flags stand for.
 nlohmann::json quick_request(const QuickPlan& q) {
   nlohmann::json container{{"radius_mm", q.radius_mm}};
@@ -36,21 +55,7 @@ nlohmann::json quick_request(const QuickPlan& q) {
                            {"stroke_mm", q.stroke_mm},
                            {"motion_time_s", q.time_s}}},
                          {"strategy", q.strategy}};
-  std::optional<nlohmann::json> motion;
-  if (q.arc_radius_mm) {
-    motion = {{"type", "arc"}, {"radius_mm", *q.arc_radius_mm}, {"angle_deg", *q.arc_angle_deg}};
-    if (q.turns) (*motion)["container_turns"] = *q.turns;
-  }
-  if (q.motion_text) {
-    motion = nlohmann::json::parse(*q.motion_text, nullptr, false);
-    if (motion->is_discarded()) {
-      throw ApiError(ErrorCode::kInvalidValue, "--motion",
-                     "--motion " + q.motion_source +
-                         " is not JSON: it must hold format.motion, e.g. {\"type\": \"arc\", "
-                         "\"radius_mm\": 300, \"angle_deg\": 90}");
-    }
-  }
-  if (motion) {
+  if (std::optional<nlohmann::json> motion = motion_of_flags(q.motion)) {
     request["format"].erase("stroke_mm");
     request["format"]["motion"] = std::move(*motion);
   }
@@ -77,6 +82,24 @@ std::string calibration_reply(std::string_view request) {
 std::string min_time_reply(std::string_view request) {
   return pretty(
       run_min_time(parse_min_time_request(parse_json_body(request), plan_ranges::kTimeLimit.hi)));
+}
+
+std::string min_time_reply(std::string_view request, const QuickMotion& flags) {
+  nlohmann::json body = parse_json_body(request);
+  std::optional<nlohmann::json> motion = motion_of_flags(flags);
+  if (motion && body.is_object() && body.contains("format") && body["format"].is_object()) {
+    const std::string flag = flags.motion_text ? "--motion" : "--arc-radius/--arc-angle";
+    for (const char* key : {"stroke_mm", "motion"}) {
+      if (body["format"].contains(key)) {
+        const std::string field = std::string("format.") + key;
+        throw ApiError(ErrorCode::kInvalidValue, field,
+                       field + " cannot be combined with " + flag +
+                           ": the flags give the motion; leave " + field + " out of the request");
+      }
+    }
+    body["format"]["motion"] = std::move(*motion);
+  }
+  return pretty(run_min_time(parse_min_time_request(body, plan_ranges::kTimeLimit.hi)));
 }
 
 std::string plan_reply(std::string_view request, PlanView view) {

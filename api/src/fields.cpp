@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <numbers>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -87,6 +88,11 @@ double mm_of(double metres) {
 
 double pct_of(double fraction) {
   return shortest_decimal(fraction * 100.0, fraction, 0.01);
+}
+
+double deg_of(double radians) {
+  constexpr double kRadPerDeg{std::numbers::pi / 180.0};
+  return shortest_decimal(radians / kRadPerDeg, radians, kRadPerDeg);
 }
 
 bool Range::contains(double v) const {

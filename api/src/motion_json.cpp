@@ -76,6 +76,45 @@ double arc_radius_m(const json& arc, const std::string& path) {
   return radius * 1e-3;
 }
 
+// A start heading in (-180, 180] deg: headings a turn apart are one motion (one recipe key, one
+// echo); fmod is exact.
+double normal_heading_deg(double deg) {
+  double h = std::fmod(deg, 360.0);
+  if (h <= -180.0) h += 360.0;
+  if (h > 180.0) h -= 360.0;
+  return h;
+}
+
+// The start heading of an arc or a path [rad], normalised.
+double start_heading_rad(const json& m) {
+  return normal_heading_deg(optional_number(m, kMotion, "start_heading_deg", kHeadingDeg, 0.0)) *
+         kRadPerDeg;
+}
+
+// An arc or a path as answers echo it, from what was parsed: every member given (defaults
+// filled in), in the request's units, the optional heading checks of the segments left out. A
+// cached plan shows the motion of its recipe key, never one client's spelling of it to another.
+json canonical_echo(MotionType type, const PlanarPath& path) {
+  const std::vector<PathElement>& elements = path.elements();
+  auto arc_json = [](const PathElement& e) {
+    return json{{"radius_mm", mm_of(e.radius)}, {"angle_deg", deg_of(e.angle)}};
+  };
+  json out{{"type", type == MotionType::kArc ? "arc" : "path"}};
+  if (type == MotionType::kArc) {
+    out.update(arc_json(elements.front()));
+  } else {
+    json segments = json::array();
+    for (const PathElement& e : elements) {
+      segments.push_back(e.kind == PathElement::Kind::kLine ? json{{"line_mm", mm_of(e.length)}}
+                                                            : json{{"arc", arc_json(e)}});
+    }
+    out["segments"] = std::move(segments);
+  }
+  out["start_heading_deg"] = deg_of(path.start_heading());
+  out["container_turns"] = path.container_turns();
+  return out;
+}
+
 std::optional<double> optional_heading(const json& object, const std::string& path,
                                        std::string_view key) {
   if (given_member(object, key) == nullptr) return std::nullopt;
@@ -132,9 +171,8 @@ PlanarPath parse_path(const json& m) {
   for (std::size_t i = 0; i < segments->size(); ++i) {
     elements.push_back(parse_segment((*segments)[i], spath + "[" + std::to_string(i) + "]"));
   }
-  const double heading = optional_number(m, kMotion, "start_heading_deg", kHeadingDeg, 0.0);
   const bool turns = optional_bool(m, kMotion, "container_turns", false);
-  return checked_path(std::move(elements), heading * kRadPerDeg, turns);
+  return checked_path(std::move(elements), start_heading_rad(m), turns);
 }
 
 // A sample column in user units, scaled to SI; empty when optional and absent.
@@ -161,6 +199,20 @@ std::vector<double> sample_column(const json& m, std::string_view key, double sc
   return out;
 }
 
+// A heading log wrapped to (-180, 180] deg (as robots log it), unwrapped: each sample is taken
+// at the turn nearest the previous one, as the quaternion reader does, so a wrap is not a turn
+// of -360 deg in one interval. Samples that do not wrap are kept exactly.
+std::vector<double> unwrapped(std::vector<double> theta) {
+  constexpr double kTurn{2.0 * std::numbers::pi};
+  double offset = 0.0;
+  for (std::size_t i = 1; i < theta.size(); ++i) {
+    const double step = theta[i] + offset - theta[i - 1];
+    offset -= kTurn * std::round(step / kTurn);
+    if (offset != 0.0) theta[i] += offset;
+  }
+  return theta;
+}
+
 SampledTrajectory parse_trajectory(const json& m) {
   reject_unknown_fields(m, kMotion, {"type", "t_s", "x_mm", "y_mm", "z_mm", "theta_deg"});
   TrajectorySamples s;
@@ -168,7 +220,7 @@ SampledTrajectory parse_trajectory(const json& m) {
   s.x = sample_column(m, "x_mm", 1e-3, true);
   s.y = sample_column(m, "y_mm", 1e-3, true);
   s.z = sample_column(m, "z_mm", 1e-3, false);
-  s.theta = sample_column(m, "theta_deg", kRadPerDeg, false);
+  s.theta = unwrapped(sample_column(m, "theta_deg", kRadPerDeg, false));
   try {
     SampledTrajectory trajectory(std::move(s));
     const double span = trajectory.end_time() - trajectory.start_time();
@@ -215,13 +267,14 @@ SpatialMotion parse_motion(const json& m, bool trajectory_allowed) {
           m, kMotion, {"type", "radius_mm", "angle_deg", "container_turns", "start_heading_deg"});
       const double radius = arc_radius_m(m, kMotion);
       const double angle = arc_angle_deg(m, kMotion) * kRadPerDeg;
-      const double heading = optional_number(m, kMotion, "start_heading_deg", kHeadingDeg, 0.0);
       const bool turns = optional_bool(m, kMotion, "container_turns", true);
-      out.path = checked_path({PathElement::arc(radius, angle)}, heading * kRadPerDeg, turns);
+      out.path = checked_path({PathElement::arc(radius, angle)}, start_heading_rad(m), turns);
+      out.echo = canonical_echo(out.type, *out.path);
       break;
     }
     case MotionType::kPath:
       out.path = parse_path(m);
+      out.echo = canonical_echo(out.type, *out.path);
       break;
     case MotionType::kTrajectory:
       if (!trajectory_allowed) break;  // refused by the caller
@@ -357,10 +410,9 @@ nlohmann::json canonical_motion(const SpatialMotion& motion) {
       elements.push_back({{"arc_radius_m", e.radius}, {"arc_angle_rad", e.angle}});
     }
   }
-  const PlanarKinematics start = motion.path->at(0.0, 1.0, 0.0, 0.0);
   return {{"type", motion.type == MotionType::kArc ? "arc" : "path"},
           {"elements", elements},
-          {"start_heading_rad", std::atan2(start.vy, start.vx)},
+          {"start_heading_rad", motion.path->start_heading()},
           {"container_turns", motion.path->container_turns()}};
 }
 

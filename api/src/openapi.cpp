@@ -429,8 +429,11 @@ void add_shared_response_schemas(json& s) {
              {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"},
              "The format in user units, with the resolved fluid.", false);
   s["Kinematics"] = object(
-      {{"a_max", number("Positive plateau level A [m/s^2].")},
-       {"a_min", number("Negative plateau level B (magnitude, positive) [m/s^2].")},
+      {{"a_max", number("Positive plateau level A [m/s^2]. Along an arc or a path: of the "
+                        "tangential acceleration s'' alone; limits.a_max bounds the total "
+                        "horizontal acceleration (path.prediction.kinematics.a_total_peak).")},
+       {"a_min", number("Negative plateau level B (magnitude, positive) [m/s^2]. Along a path: "
+                        "tangential, as a_max.")},
        {"v_peak", number("Peak velocity [m/s].")},
        {"j_peak", number("Peak |jerk| [m/s^3].")},
        {"jerks_m_s3",
@@ -528,13 +531,17 @@ void add_plan_block_schemas(json& s) {
        {"durations_s", nullable(fixed_numbers(7, "[s]; null for a general law"))},
        {"law_type", ref("LawType")},
        {"prediction", ref("Prediction")},
-       {"a_peak", number("Peak |acceleration| [m/s^2].")},
+       {"a_peak", number("Peak |acceleration| [m/s^2]; along an arc or a path the tangential "
+                         "s'' alone (limits.a_max bounds the total horizontal acceleration).")},
        {"chosen", boolean("The candidate auto returned.")},
        {"reason",
         nullable(string_enum(
             candidate_loss_names(),
             "Why auto did not return it (null for the chosen one), in the order SPEC §5's "
-            "rule excludes: not_usable (infeasible or failed), worse_than_baseline (while "
+            "rule excludes: not_usable (infeasible or failed), eta_above_limit (verified "
+            "eta_rest above eta_rest_max_mm, or eta_motion above eta_motion_max_mm with "
+            "objective rest, while another candidate meets it; or, none meeting it, above "
+            "the least infeasible one auto returns as infeasible), worse_than_baseline (while "
             "a candidate that is not competes), eta_motion_above_best (nonlinear "
             "eta_motion more than 5 % above the best competitor's), higher_eta_rest "
             "(above the chosen one's), tie_on_eta_rest (tied within 1e-6, peak "
@@ -612,7 +619,9 @@ void add_compact_plan_schemas(json& s) {
        {"strategy", ref("Strategy")},
        {"status", ref("SolveStatus")},
        {"law", ref("CompactLaw")},
-       {"kinematics", object({{"a_max", number("Positive plateau level A [m/s^2].")},
+       {"kinematics", object({{"a_max", number("Positive plateau level A [m/s^2]; along an arc "
+                                               "or a path the tangential s'' alone (the total "
+                                               "is path.a_total_peak).")},
                               {"a_min", number("Negative plateau level B (magnitude) [m/s^2].")},
                               {"v_peak", number("Peak velocity [m/s].")},
                               {"j_peak", number("Peak |jerk| [m/s^3].")}},
@@ -945,7 +954,9 @@ void add_path_plan_schemas(json& s) {
       object({{"length_mm", number("[mm]")},
               {"direction_motion_deg", number("Wall angle of the nonlinear motion peak [deg].")},
               {"direction_rest_deg", number("Wall angle of the nonlinear rest peak [deg].")},
-              {"a_total_peak", number("[m/s^2]")}},
+              {"a_total_peak", number("Largest total horizontal acceleration sqrt(s''^2 + "
+                                      "(s'^2/rho)^2) [m/s^2]: what limits.a_max bounds "
+                                      "(kinematics.a_max is the tangential s'' alone).")}},
              {}, "Only along an arc or a path.", false);
   s["CompactLaw"]["properties"]["motion"] = ref("Motion");
 }
@@ -1525,10 +1536,17 @@ json cam_table_operation(bool st) {
       "Time-based: t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3 (the last row, "
       "at or after the motion time, holds the stroke). Master-axis: "
       "master,position_mm,velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3 "
-      "(slave derivatives per master unit).";
+      "(slave derivatives per master unit). A plan along an arc or a path: "
+      "t_s,s_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3,x_mm,y_mm,theta_deg (the pose, world "
+      "frame from the path's start), plus table_deg (the table's rotation) for one arc; "
+      "master-axis along one arc: master,table_deg,velocity_deg_per_unit,"
+      "acceleration_deg_per_unit2,jerk_deg_per_unit3; along a path: master,s_mm,"
+      "velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3,x_mm,y_mm,theta_deg.";
   const char* st_text =
       "IEC 61131-3 structured text: a comment header (format, strategy, recipe key, slosh "
       "version, law), TYPE SLOSH_CAM_POINT (time-based) or SLOSH_MASTER_CAM_POINT (master-axis), "
+      "along an arc or a path SLOSH_PATH_CAM_POINT, SLOSH_TABLE_CAM_POINT, "
+      "SLOSH_PATH_MASTER_CAM_POINT or SLOSH_TABLE_MASTER_CAM_POINT (the CSV's columns of cam.csv), "
       "a STRUCT of LREAL members named as the CSV columns, and VAR_GLOBAL CONSTANT <st_name> : "
       "ARRAY[0..N-1] OF that type := [(...), ...]; END_VAR.";
   const char* type = st ? "text/plain" : "text/csv";

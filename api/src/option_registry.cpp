@@ -305,7 +305,8 @@ std::vector<OptionSpec> time_domain_options() {
   return {
       in_mm(number(
                 "eta_rest_max_mm", kEtaMm, [](PlanOptions& o) -> double& { return o.eta_rest_max; },
-                "time_domain (objective motion): largest residual wave eta_rest"),
+                "time_domain (objective motion): largest residual wave eta_rest; auto's "
+                "too (an auto plan above it is infeasible, never optimal)"),
             "eta_rest_max_m"),
       in_mm(nullable_number(
                 "eta_motion_max_mm", kEtaMm,

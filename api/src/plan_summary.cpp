@@ -45,10 +45,11 @@ std::string law_line(const json& plan) {
   return out + "\n";
 }
 
-std::string kinematics_line(const json& k) {
-  return "kinematics  A " + num(k["a_max"], 2) + " m/s^2, B " + num(k["a_min"], 2) +
-         " m/s^2, v_peak " + num(k["v_peak"], 3) + " m/s, j_peak " + num(k["j_peak"], 1) +
-         " m/s^3\n";
+/// Along a path A and B are the tangential acceleration's (the total is on the path line).
+std::string kinematics_line(const json& k, bool along_path) {
+  return "kinematics  A " + num(k["a_max"], 2) + " m/s^2, B " + num(k["a_min"], 2) + " m/s^2" +
+         (along_path ? " (tangential s'')" : "") + ", v_peak " + num(k["v_peak"], 3) +
+         " m/s, j_peak " + num(k["j_peak"], 1) + " m/s^3\n";
 }
 
 /// Along an arc or a path: its length, the wall angles of the nonlinear peaks and the peak
@@ -63,7 +64,8 @@ std::string path_line(const json& plan) {
          "; wave peaks at wall angle " + num(p["nonlinear"]["direction_motion_deg"], 0) +
          " deg (motion), " + num(p["nonlinear"]["direction_rest_deg"], 0) +
          " deg (rest); peak horizontal acceleration " + num(p["kinematics"]["a_total_peak"], 2) +
-         " m/s^2\n";
+         " m/s^2 (tangential and normal " + num(p["kinematics"]["a_normal_peak"], 2) +
+         " m/s^2 together: what limits.a_max bounds)\n";
 }
 
 std::string prediction_lines(const json& plan) {
@@ -103,8 +105,8 @@ std::string plan_summary_text(const json& plan) {
       if (c.value("chosen", false)) out += "chosen      " + c["strategy"].get<std::string>() + "\n";
     }
   }
-  out += law_line(plan) + kinematics_line(plan["kinematics"]) + path_line(plan) +
-         prediction_lines(plan);
+  out += law_line(plan) + kinematics_line(plan["kinematics"], plan.contains("path")) +
+         path_line(plan) + prediction_lines(plan);
   if (plan["warnings"].empty()) out += "warnings    none\n";
   for (const json& w : plan["warnings"]) out += "warning     " + w.get<std::string>() + "\n";
   out += "key         " + plan["key"].get<std::string>() +

@@ -81,6 +81,9 @@ constexpr PlanWarningKind kWarningKinds[] = {
     {"linear_model_unreliable", "peak |acceleration| ",
      "the law's peak acceleration is beyond the linear model's validity: rely on the nonlinear "
      "prediction"},
+    {"models_out_of_range", "peak horizontal acceleration ",
+     "the law's peak horizontal acceleration tilts the free surface (quasi-statically) down to "
+     "the container's bottom: neither model describes the liquid there"},
     {"surface_tension", "radius ",
      "the container is so narrow that surface tension, which is not modelled, matters"},
     {"shallow_fill", "fill ratio ",

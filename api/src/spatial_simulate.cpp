@@ -1,9 +1,11 @@
 #include "slosh/api/spatial_simulate.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
@@ -11,14 +13,40 @@
 #include "slosh/api/motion_json.hpp"
 #include "slosh/api/spatial_series.hpp"
 #include "slosh/api/trajectory_csv.hpp"
+#include "slosh/core/constants.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/response/simulation.hpp"
+#include "slosh/core/strategy/path_plan.hpp"
 
 namespace slosh::api {
 
 namespace {
 
 constexpr double kDegPerRad{180.0 / std::numbers::pi};
+
+// Both models hold the liquid on the bottom under the effective gravity g + a_z: a trajectory
+// that accelerates downward at g or more (a delta robot's fast descent) is outside both, refused
+// at the first sample where it happens. The samples' spline has a vertical acceleration linear
+// on every interval, so its least value is at a sample.
+void require_positive_gravity(const PlanarDrive& drive) {
+  const std::vector<DrivePiece>& pieces = drive.pieces();
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    for (const bool end : {false, true}) {
+      const double t = end ? pieces[k].t_end : pieces[k].t_begin;
+      const double az = drive.excitation(k, t).az;
+      if (kGravity + az > 0.0) continue;
+      const std::string field =
+          "format.motion.z_mm[" + std::to_string(pieces[k].source + (end ? 1 : 0)) + "]";
+      invalid(field, field + ": the vertical acceleration of the samples' spline is " +
+                         number_text(az) + " m/s^2 at t = " + number_text(t) +
+                         " s, so the effective gravity g + a_z = " + number_text(kGravity + az) +
+                         " m/s^2 is not positive: the liquid leaves the bottom and neither model "
+                         "describes it; allowed a_z > " +
+                         number_text(-kGravity) + " m/s^2");
+    }
+  }
+}
 
 PlanarDrive make_drive(const SpatialMotion& motion, const SloshingModel& model,
                        const MotionLaw& law) {
@@ -28,7 +56,26 @@ PlanarDrive make_drive(const SpatialMotion& motion, const SloshingModel& model,
   } catch (const InvalidMotion& e) {
     motion_refusal(e.member(), e.what());
   }
-  return PlanarDrive(*motion.trajectory);
+  PlanarDrive drive(*motion.trajectory);
+  if (drive.vertical()) require_positive_gravity(drive);
+  return drive;
+}
+
+// The largest horizontal acceleration of the motion [m/s^2]: along a path the law's exact
+// maximum of sqrt(s''^2 + (s'^2/rho)^2) (as plans report it); a trajectory's spline acceleration
+// is linear on every sample interval, so its magnitude (convex there) peaks at a sample.
+double peak_horizontal_acceleration(const SpatialMotion& motion, const PlanarDrive& drive,
+                                    const MotionLaw& law) {
+  if (motion.path) return path_acceleration(*motion.path, law).total;
+  double peak = 0.0;
+  const std::vector<DrivePiece>& pieces = drive.pieces();
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    for (const double t : {pieces[k].t_begin, pieces[k].t_end}) {
+      const PlanarExcitation e = drive.excitation(k, t);
+      peak = std::max(peak, std::hypot(e.ax, e.ay));
+    }
+  }
+  return peak;
 }
 
 const char* type_name(MotionType type) {
@@ -148,7 +195,11 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
     out["series"] = spatial_series_json(model, drive, motion.trajectory ? nullptr : &law, rest,
                                         *request.options.sample_period);
   }
-  out["warnings"] = nlohmann::json::array();
+  // The validity warnings of a straight-line simulate or a plan along the same motion, on the
+  // planar peaks and the total horizontal acceleration.
+  out["warnings"] =
+      validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
+                        linear.motion.value, nonlinear.motion.value);
   require_finite(out);
   return out;
 }

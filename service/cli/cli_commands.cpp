@@ -82,6 +82,16 @@ std::vector<std::string> QuickPlanFlags::given() const {
   return out;
 }
 
+std::string motion_flags_problem(const MotionFlags& m) {
+  const bool arc = m.arc_radius_mm || m.arc_angle_deg;
+  if (m.motion_path && (arc || m.turns)) {
+    return "--motion cannot be combined with --arc-radius, --arc-angle or --turns: the file "
+           "gives the whole motion";
+  }
+  if (m.turns && !arc) return "--turns applies to an arc: give --arc-radius and --arc-angle";
+  return "";
+}
+
 namespace {
 
 std::string joined(const std::vector<std::string>& items) {
@@ -91,7 +101,7 @@ std::string joined(const std::vector<std::string>& items) {
 }
 
 /// Why the move's flags conflict (--stroke, the arc's, --motion), or "" when they do not.
-std::string motion_flags_problem(const QuickPlanFlags& q) {
+std::string stroke_and_motion_problem(const QuickPlanFlags& q) {
   const bool arc = q.arc_radius_mm || q.arc_angle_deg;
   if (q.motion_path && (q.stroke_mm || arc || q.turns)) {
     return "--motion cannot be combined with --stroke, --arc-radius, --arc-angle or --turns: the "
@@ -101,10 +111,7 @@ std::string motion_flags_problem(const QuickPlanFlags& q) {
     return "--stroke cannot be combined with --arc-radius/--arc-angle: the law moves along the "
            "arc, its length is the stroke";
   }
-  if (q.turns && !arc) {
-    return "--turns applies to an arc: give --arc-radius and --arc-angle";
-  }
-  return "";
+  return motion_flags_problem(q);
 }
 
 /// Why the flags cannot make a request (conflicts, missing flags), or "" when they can.
@@ -120,7 +127,7 @@ std::string quick_flags_problem(const PlanCommandOptions& o) {
     return "--fluid cannot be combined with --density/--viscosity: name a catalogue fluid "
            "(slosh fluids) or give a custom one";
   }
-  if (const std::string motion = motion_flags_problem(q); !motion.empty()) return motion;
+  if (const std::string motion = stroke_and_motion_problem(q); !motion.empty()) return motion;
   const bool rectangular = q.length_mm || q.width_mm || q.orientation_deg;
   if (q.radius_mm && rectangular) {
     return "--radius cannot be combined with --length/--width/--orientation: a container is a "
@@ -161,6 +168,19 @@ std::string read_file_flag(const std::string& path, const std::string& flag,
   }
 }
 
+/// The move flags as the API takes them (the --motion file read).
+api::QuickMotion quick_motion(const MotionFlags& m) {
+  api::QuickMotion p;
+  p.arc_radius_mm = m.arc_radius_mm;
+  p.arc_angle_deg = m.arc_angle_deg;
+  p.turns = m.turns;
+  if (m.motion_path) {
+    p.motion_text = read_file_flag(*m.motion_path, "--motion", "motion");
+    p.motion_source = *m.motion_path;
+  }
+  return p;
+}
+
 /// The quick flags as the API takes them (quick_flags_problem found none missing).
 api::QuickPlan quick_plan(const QuickPlanFlags& q) {
   api::QuickPlan p;
@@ -173,13 +193,7 @@ api::QuickPlan quick_plan(const QuickPlanFlags& q) {
   p.density_kg_m3 = q.density_kg_m3;
   p.viscosity_pa_s = q.viscosity_pa_s;
   if (q.stroke_mm) p.stroke_mm = *q.stroke_mm;
-  p.arc_radius_mm = q.arc_radius_mm;
-  p.arc_angle_deg = q.arc_angle_deg;
-  p.turns = q.turns;
-  if (q.motion_path) {
-    p.motion_text = read_file_flag(*q.motion_path, "--motion", "motion");
-    p.motion_source = *q.motion_path;
-  }
+  p.motion = quick_motion(q);
   p.time_s = *q.time_s;
   p.strategy = q.strategy.value_or("auto");
   return p;
@@ -263,8 +277,18 @@ int run_fluids_command(const std::string& format) {
   return kExitOk;
 }
 
-int run_min_time_command(const std::string& request_path) {
-  return print_json_or_error([&] { return api::min_time_reply(read_request(request_path)); });
+int run_min_time_command(const std::string& request_path, const MotionFlags& motion) {
+  std::string problem = motion_flags_problem(motion);
+  if (problem.empty() && (motion.arc_radius_mm.has_value() != motion.arc_angle_deg.has_value())) {
+    problem = std::string("an arc needs --arc-radius and --arc-angle: missing ") +
+              (motion.arc_radius_mm ? "--arc-angle" : "--arc-radius");
+  }
+  if (!problem.empty()) {
+    std::cerr << "slosh min-time: " << problem << '\n';
+    return kExitInvalidInput;
+  }
+  return print_json_or_error(
+      [&] { return api::min_time_reply(read_request(request_path), quick_motion(motion)); });
 }
 
 }  // namespace slosh::service

@@ -15,22 +15,30 @@ enum ExitCode : int { kExitOk = 0, kExitFailure = 1, kExitInvalidInput = 2 };
 /// `trajectory_path` (`--trajectory FILE.csv`) is the request's format.motion.
 int run_simulate_command(const std::string& request_path, const std::string& trajectory_path = {});
 
+/// The move flags of `slosh plan` and `slosh min-time` (add_motion_flags registers them for
+/// both): a rotary table's (or a curved track's) arc instead of the stroke, its radius [mm] and
+/// the angle turned [deg, signed, left positive]; `turns`: the container turns with the table
+/// (default true, a carriage on a curved track keeps its heading: false); or a file holding
+/// format.motion (a line, an arc or a path, SPEC §14). Unset = not given.
+struct MotionFlags {
+  std::optional<double> arc_radius_mm, arc_angle_deg;
+  std::optional<bool> turns;
+  std::optional<std::string> motion_path;
+};
+
+/// Why the move flags conflict (--motion with the arc's flags, --turns without an arc), or ""
+/// when they do not.
+[[nodiscard]] std::string motion_flags_problem(const MotionFlags& m);
+
 /// The format flags of `slosh plan` (a quick look without a request file): lengths in mm, the
 /// motion time in s, density kg/m^3, viscosity Pa s; unset = not given.
-struct QuickPlanFlags {
+struct QuickPlanFlags : MotionFlags {
   std::optional<double> radius_mm, fill_mm, height_mm, stroke_mm, time_s;
   /// A rectangular container instead of the radius: sides [mm] and orientation [deg].
   std::optional<double> length_mm, width_mm, orientation_deg;
   std::optional<std::string> fluid;                     ///< a catalogue name (slosh fluids)
   std::optional<double> density_kg_m3, viscosity_pa_s;  ///< a custom fluid instead
   std::optional<std::string> strategy;                  ///< default auto
-  /// A rotary table's (or a curved track's) arc instead of the stroke: its radius [mm] and the
-  /// angle turned [deg, signed, left positive]; `turns`: the container turns with the table
-  /// (default true, a carriage on a curved track keeps its heading: false).
-  std::optional<double> arc_radius_mm, arc_angle_deg;
-  std::optional<bool> turns;
-  /// A file holding format.motion (a line, an arc or a path, SPEC §14) instead of the stroke.
-  std::optional<std::string> motion_path;
   /// The flags given, as typed ("--radius", ...), in the order of the help.
   [[nodiscard]] std::vector<std::string> given() const;
 };
@@ -58,9 +66,12 @@ int run_plan_command(const PlanCommandOptions& options);
 /// `slosh fluids [--format text|json]`: the fluid catalogue (json: the GET /v1/fluids body).
 int run_fluids_command(const std::string& format);
 
-/// `slosh min-time --request FILE|-`: prints the min-time response (SPEC §9) on stdout, every
-/// strategy searched in turn (exit 0 whatever their status); invalid input as for simulate.
-int run_min_time_command(const std::string& request_path);
+/// `slosh min-time --request FILE|- [--arc-radius R --arc-angle A [--turns true|false] |
+/// --motion FILE.json]`: prints the min-time response (SPEC §9) on stdout, every strategy
+/// searched in turn (exit 0 whatever their status); the move flags are the request's
+/// format.motion, as for `slosh plan`; invalid input as for simulate; move flags that conflict
+/// or are incomplete: a one-line message on stderr, exit 2.
+int run_min_time_command(const std::string& request_path, const MotionFlags& motion = {});
 
 /// `slosh calibrate --request FILE|-`: prints the POST /v1/calibrations response on stdout (the
 /// fit runs without a time budget; a "name" is echoed, not stored); invalid input as for simulate.

@@ -205,13 +205,6 @@ std::optional<ExportFailure> check_exportable(const ExportSource& source,
         kExitFailure, api::ApiError(api::ErrorCode::kInternal, "",
                                     api::not_exportable_message(plan, "pass --allow-infeasible"))};
   }
-  if (source.path && options.cam.format != CamFileFormat::kCsv) {
-    try {
-      check_path_cam_format(options.cam.format, "--format");
-    } catch (const api::ApiError& e) {
-      return ExportFailure{kExitInvalidInput, e};
-    }
-  }
   if (!options.segments.empty() && !source.seven) {
     return invalid("--segments", "--segments: the law " + source.law_type +
                                      " is not a 7-segment law; it has no segment table");
@@ -268,8 +261,8 @@ int run_export_command(const ExportCommandOptions& options) {
     return report({kExitInvalidInput, e});
   }
   try {
-    file =
-        source.path ? path_cam_csv(table, *source.path) : cam_file(table, cam_source(source), spec);
+    file = source.path ? path_cam_file(table, *source.path, cam_source(source), spec)
+                       : cam_file(table, cam_source(source), spec);
   } catch (const std::exception& e) {
     return report({kExitFailure, api::ApiError(api::ErrorCode::kInternal, "", e.what())});
   }

@@ -36,8 +36,9 @@ struct CliArgs {
   std::optional<std::size_t> cache_ttl_s, redis_timeout_ms;
   bool redis_required{false};
   std::string request = "-";
-  std::string trajectory;                   // slosh simulate --trajectory
-  slosh::service::PlanCommandOptions plan;  // slosh plan (but --request)
+  std::string trajectory;                       // slosh simulate --trajectory
+  slosh::service::PlanCommandOptions plan;      // slosh plan (but --request)
+  slosh::service::MotionFlags min_time_motion;  // slosh min-time's move flags
   std::string fluids_format = "text";
   slosh::service::BatchCommandOptions batch;
   std::string batch_progress = "auto";
@@ -123,6 +124,25 @@ CLI::App* add_simulate(CLI::App& app, CliArgs& a) {
   return simulate;
 }
 
+// The move flags of plan and min-time (MotionFlags), one table for both; `instead_of` is what
+// they replace ("--stroke", or the request's format.stroke_mm).
+void add_motion_flags(CLI::App& command, slosh::service::MotionFlags& m,
+                      const std::string& instead_of) {
+  command.add_option("--arc-radius", m.arc_radius_mm,
+                     "Instead of " + instead_of +
+                         ", an arc (rotary table, carousel, curved track): its radius [mm]");
+  command.add_option("--arc-angle", m.arc_angle_deg,
+                     "The arc's angle [deg], signed (left positive), e.g. 90 for a 90-degree "
+                     "index");
+  command.add_option("--turns", m.turns,
+                     "true (default): the container turns with the table; false: it keeps its "
+                     "heading (a carriage on a curved track)");
+  command.add_option("--motion", m.motion_path,
+                     "Instead of " + instead_of +
+                         ", a JSON file holding format.motion (a line, an arc or a path of lines "
+                         "and arcs)");
+}
+
 CLI::App* add_plan(CLI::App& app, CliArgs& a) {
   auto* plan = add_request_command(
       app, a, "plan",
@@ -146,17 +166,7 @@ CLI::App* add_plan(CLI::App& app, CliArgs& a) {
   plan->add_option("--viscosity", q.viscosity_pa_s, "Custom fluid: dynamic viscosity [Pa s]");
   plan->add_option("--stroke", q.stroke_mm, "Stroke [mm]");
   plan->add_option("--time", q.time_s, "Motion time [s]");
-  plan->add_option("--arc-radius", q.arc_radius_mm,
-                   "Instead of --stroke, an arc (rotary table, carousel, curved track): its "
-                   "radius [mm]");
-  plan->add_option("--arc-angle", q.arc_angle_deg,
-                   "The arc's angle [deg], signed (left positive), e.g. 90 for a 90-degree index");
-  plan->add_option("--turns", q.turns,
-                   "true (default): the container turns with the table; false: it keeps its "
-                   "heading (a carriage on a curved track)");
-  plan->add_option("--motion", q.motion_path,
-                   "Instead of --stroke, a JSON file holding format.motion (a line, an arc or a "
-                   "path of lines and arcs)");
+  add_motion_flags(*plan, q, "--stroke");
   plan->add_option("--strategy", q.strategy,
                    "baseline, notch, multi_notch, min_jerk_band, time_domain, fir_chain, shaper, "
                    "iir or auto [default auto]");
@@ -357,6 +367,7 @@ int main(int argc, char** argv) {
   auto* min_time = add_request_command(
       app, a, "min-time",
       "Minimum motion time of a format per strategy (JSON in, the /v1/min-time response out)");
+  add_motion_flags(*min_time, a.min_time_motion, "the request's format.stroke_mm");
   auto* calibrate = add_request_command(
       app, a, "calibrate",
       "Fit the model to bench measurements (JSON in, the /v1/calibrations response out)");
@@ -376,7 +387,7 @@ int main(int argc, char** argv) {
     return slosh::service::run_plan_command(a.plan);
   }
   if (*fluids) return slosh::service::run_fluids_command(a.fluids_format);
-  if (*min_time) return slosh::service::run_min_time_command(a.request);
+  if (*min_time) return slosh::service::run_min_time_command(a.request, a.min_time_motion);
   if (*calibrate) return slosh::service::run_calibrate_command(a.request);
   const std::optional<ServerConfig> server =
       layered_config(a, app.get_subcommands().front()->get_name());

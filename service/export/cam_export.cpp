@@ -207,7 +207,8 @@ std::string st_reserved_reason(const std::string& key) {
       (key.starts_with("TRUNC_") && listed(kStTypes, key.substr(6)))) {
     return "an IEC 61131-3 standard type conversion function";
   }
-  if (key == kStTimePointType || key == kStMasterPointType) {
+  if (key == kStTimePointType || key == kStMasterPointType || key == kStPathPointType ||
+      key == kStTablePointType || key == kStPathMasterPointType || key == kStTableMasterPointType) {
     return "the structure type every slosh export declares";
   }
   return "";
@@ -347,7 +348,8 @@ std::string st_master_line(const MasterAxis& a, double motion_time) {
          "end on\n";
 }
 
-std::string st_header(const CamTable& table, const CamSource& source, std::string_view type) {
+std::string st_header(const CamTable& table, const CamSource& source, std::string_view type,
+                      const std::string& extra = {}) {
   const std::string none = "none (a law request, not a plan)";
   std::string h = "(* slosh cam table: IEC 61131-3 structured text, to paste into a PLC project\n";
   h += st_format_line(table);
@@ -358,6 +360,7 @@ std::string st_header(const CamTable& table, const CamSource& source, std::strin
        api::number_text(source.stroke * kMmPerM) + " mm, motion time " +
        api::number_text(source.motion_time) + " s\n";
   if (table.axis) h += st_master_line(*table.axis, source.motion_time);
+  h += extra;
   h += "   TYPE " + std::string(type) +
        " is the same in every slosh export: declare it once per project *)\n";
   return h;
@@ -534,6 +537,32 @@ std::string cam_table_st(const CamTable& table, const CamSource& source, const s
   }
   return st_of(st_header(table, source, kStTimePointType), kStTimePointType, kTimeColumns,
                table.time, name);
+}
+
+std::string cam_st_header(const CamTable& table, const CamSource& source, std::string_view type,
+                          const std::string& extra) {
+  return st_header(table, source, type, extra);
+}
+
+std::string st_declaration(const std::string& header, std::string_view type,
+                           const std::vector<CamColumn>& columns,
+                           const std::vector<std::vector<double>>& rows, const std::string& name) {
+  std::string out = header + "\nTYPE\n  " + std::string(type) + " :\n  STRUCT\n";
+  for (const CamColumn& c : columns) {
+    out += "    " + std::string(c.name) + " : LREAL; (* " + std::string(c.comment) + " *)\n";
+  }
+  out += "  END_STRUCT;\nEND_TYPE\n\nVAR_GLOBAL CONSTANT\n  " + name + " : ARRAY[0.." +
+         std::to_string(rows.size() - 1) + "] OF " + std::string(type) + " := [\n";
+  for (std::size_t k = 0; k < rows.size(); ++k) {
+    out += "    (";
+    for (std::size_t i = 0; i < columns.size(); ++i) {
+      if (i > 0) out += ", ";
+      out += std::string(columns[i].name) + " := " + st_real_literal(rows[k][i]);
+    }
+    out += k + 1 == rows.size() ? ")\n" : "),\n";
+  }
+  out += "  ];\nEND_VAR\n";
+  return out;
 }
 
 std::string cam_file(const CamTable& table, const CamSource& source, const CamTableSpec& spec) {

@@ -57,6 +57,13 @@ inline constexpr std::size_t kMaxStNameLength{64};
 /// The ST structure types (the same in every export: a project declares each once).
 inline constexpr std::string_view kStTimePointType{"SLOSH_CAM_POINT"};
 inline constexpr std::string_view kStMasterPointType{"SLOSH_MASTER_CAM_POINT"};
+/// The ST structure types of a law along an arc or a path (path_cam_export.hpp): time-based with
+/// the pose, plus the table's rotation for one arc; master-axis with the pose, or a rotary
+/// table's rotation.
+inline constexpr std::string_view kStPathPointType{"SLOSH_PATH_CAM_POINT"};
+inline constexpr std::string_view kStTablePointType{"SLOSH_TABLE_CAM_POINT"};
+inline constexpr std::string_view kStPathMasterPointType{"SLOSH_PATH_MASTER_CAM_POINT"};
+inline constexpr std::string_view kStTableMasterPointType{"SLOSH_TABLE_MASTER_CAM_POINT"};
 
 /// The cam table options as given (an unset option was not given).
 struct CamOptions {
@@ -181,6 +188,27 @@ struct CamTable {
 /// <type> := [(...), ...]; END_VAR` with one structure initialiser per row.
 [[nodiscard]] std::string cam_table_st(const CamTable& table, const CamSource& source,
                                        const std::string& name);
+
+/// The comment header of a cam table's structured text (cam_table_st's): format, strategy,
+/// recipe key, slosh version, law; the master axis; `extra` (lines of its own, each starting
+/// with three spaces and ending with a line break); and that TYPE `type` is the same in every
+/// export.
+[[nodiscard]] std::string cam_st_header(const CamTable& table, const CamSource& source,
+                                        std::string_view type, const std::string& extra = {});
+
+/// A member of an ST structure (and a CSV column) with its comment.
+struct CamColumn {
+  std::string_view name;
+  std::string_view comment;
+};
+
+/// `header`, then `TYPE <type>` (a STRUCT of LREAL members `columns`) and `VAR_GLOBAL CONSTANT
+/// <name> : ARRAY[0..N-1] OF <type> := [(...), ...]; END_VAR` with one initialiser per row (each
+/// row as many values as columns, st_real_literal): cam_table_st's layout for any columns.
+[[nodiscard]] std::string st_declaration(const std::string& header, std::string_view type,
+                                         const std::vector<CamColumn>& columns,
+                                         const std::vector<std::vector<double>>& rows,
+                                         const std::string& name);
 
 /// The file of `table` in the format of `spec` (CSV or ST).
 [[nodiscard]] std::string cam_file(const CamTable& table, const CamSource& source,

@@ -4,7 +4,6 @@
 #include <optional>
 #include <vector>
 
-#include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/core/law/path_cam_table.hpp"
 
@@ -20,69 +19,125 @@ double s_mm(double s, double length) {
   return s == length ? api::mm_of(length) : s * kMmPerM;
 }
 
-std::string line_of(std::initializer_list<double> values) {
-  std::string out;
-  for (const double v : values) {
-    if (!out.empty()) out += ',';
-    out += csv_number(v);
-  }
-  out += '\n';
-  return out;
+// The rows of a path's table in the file's units, with its columns and ST type: one table
+// written as CSV or ST, so the two formats cannot drift apart.
+struct PathRows {
+  std::string_view type;
+  std::vector<CamColumn> columns;
+  std::vector<std::vector<double>> rows;
+};
+
+const std::vector<CamColumn> kPoseColumns{
+    {"x_mm", "container position x, world frame from the path's start [mm]"},
+    {"y_mm", "container position y [mm]"},
+    {"theta_deg", "container heading about the vertical from the start [deg]"}};
+
+std::vector<CamColumn> with_pose(std::vector<CamColumn> columns) {
+  columns.insert(columns.end(), kPoseColumns.begin(), kPoseColumns.end());
+  return columns;
 }
 
-std::string time_csv(const CamTable& table, const PlanarPath& path) {
+PathRows time_rows(const CamTable& table, const PlanarPath& path) {
   const std::optional<double> table_deg = table_rotation_deg(path);
   const double length = path.length();
-  std::string out = "t_s,s_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3,x_mm,y_mm,theta_deg";
-  out += table_deg ? ",table_deg\n" : "\n";
+  PathRows out;
+  out.type = table_deg ? kStTablePointType : kStPathPointType;
+  out.columns = with_pose({{"t_s", "time since the start of the motion [s]"},
+                           {"s_mm", "distance along the path [mm]"},
+                           {"velocity_mm_s", "ds/dt [mm/s]"},
+                           {"acceleration_mm_s2", "tangential acceleration d2s/dt2 [mm/s^2]"},
+                           {"jerk_mm_s3", "tangential jerk d3s/dt3 [mm/s^3]"}});
+  if (table_deg) out.columns.push_back({"table_deg", "the table's rotation [deg]"});
   for (const PathCamSample& r : cam_along_path(table.time, path)) {
-    std::string row =
-        line_of({r.t, s_mm(r.s, length), r.velocity * kMmPerM, r.acceleration * kMmPerM,
-                 r.jerk * kMmPerM, r.x * kMmPerM, r.y * kMmPerM, r.theta * kDegPerRad});
-    if (table_deg) {
-      row.back() = ',';
-      row += csv_number(r.s / length * *table_deg) + '\n';
-    }
-    out += row;
+    std::vector<double> row{r.t,
+                            s_mm(r.s, length),
+                            r.velocity * kMmPerM,
+                            r.acceleration * kMmPerM,
+                            r.jerk * kMmPerM,
+                            r.x * kMmPerM,
+                            r.y * kMmPerM,
+                            r.theta * kDegPerRad};
+    if (table_deg) row.push_back(r.s / length * *table_deg);
+    out.rows.push_back(std::move(row));
   }
   return out;
 }
 
-std::string master_csv(const CamTable& table, const PlanarPath& path) {
+PathRows master_rows(const CamTable& table, const PlanarPath& path) {
+  PathRows out;
   if (table_rotation_deg(path)) {
-    std::string out =
-        "master,table_deg,velocity_deg_per_unit,acceleration_deg_per_unit2,jerk_deg_per_unit3\n";
+    out.type = kStTableMasterPointType;
+    out.columns = {{"master", "master position [master units]"},
+                   {"table_deg", "the table's rotation [deg]"},
+                   {"velocity_deg_per_unit", "d rotation / d master [deg/master unit]"},
+                   {"acceleration_deg_per_unit2", "d2 rotation / d master2 [deg/master unit^2]"},
+                   {"jerk_deg_per_unit3", "d3 rotation / d master3 [deg/master unit^3]"}};
     for (const MasterCamSample& r : table_rotation_rows(table.master, path)) {
-      out += line_of({r.master, r.position, r.velocity, r.acceleration, r.jerk});
+      out.rows.push_back({r.master, r.position, r.velocity, r.acceleration, r.jerk});
     }
     return out;
   }
   const double length = path.length();
-  std::string out =
-      "master,s_mm,velocity_mm_per_unit,acceleration_mm_per_unit2,jerk_mm_per_unit3,x_mm,y_mm,"
-      "theta_deg\n";
+  out.type = kStPathMasterPointType;
+  out.columns = with_pose({{"master", "master position [master units]"},
+                           {"s_mm", "distance along the path [mm]"},
+                           {"velocity_mm_per_unit", "ds / d master [mm/master unit]"},
+                           {"acceleration_mm_per_unit2", "d2s / d master2 [mm/master unit^2]"},
+                           {"jerk_mm_per_unit3", "d3s / d master3 [mm/master unit^3]"}});
   for (const MasterCamSample& r : table.master) {
     const PlanarKinematics k = path.at(r.position, 0.0, 0.0, 0.0);
-    out +=
-        line_of({r.master, s_mm(r.position, length), r.velocity * kMmPerM, r.acceleration * kMmPerM,
-                 r.jerk * kMmPerM, k.x * kMmPerM, k.y * kMmPerM, k.theta * kDegPerRad});
+    out.rows.push_back({r.master, s_mm(r.position, length), r.velocity * kMmPerM,
+                        r.acceleration * kMmPerM, r.jerk * kMmPerM, k.x * kMmPerM, k.y * kMmPerM,
+                        k.theta * kDegPerRad});
   }
   return out;
+}
+
+PathRows rows_of(const CamTable& table, const PlanarPath& path) {
+  return table.axis ? master_rows(table, path) : time_rows(table, path);
+}
+
+std::string csv_of(const PathRows& t) {
+  std::string out;
+  for (const CamColumn& c : t.columns) {
+    if (!out.empty()) out += ',';
+    out += c.name;
+  }
+  out += '\n';
+  for (const std::vector<double>& row : t.rows) {
+    for (std::size_t i = 0; i < row.size(); ++i) {
+      if (i > 0) out += ',';
+      out += csv_number(row[i]);
+    }
+    out += '\n';
+  }
+  return out;
+}
+
+// The header line naming the path the law moves along.
+std::string path_line(const PlanarPath& path) {
+  const std::optional<double> table_deg = table_rotation_deg(path);
+  std::string line = "   path: ";
+  line += table_deg ? "one arc (a rotary table), rotation " + api::number_text(*table_deg) + " deg"
+                    : "a path of " + std::to_string(path.elements().size()) +
+                          " segments (lines and arcs)";
+  line += ", length " + api::number_text(api::mm_of(path.length())) + " mm; the container " +
+          (path.container_turns() ? "turns with the path" : "keeps its heading") + "\n";
+  return line;
 }
 
 }  // namespace
 
 std::string path_cam_csv(const CamTable& table, const PlanarPath& path) {
-  return table.axis ? master_csv(table, path) : time_csv(table, path);
+  return csv_of(rows_of(table, path));
 }
 
-void check_path_cam_format(CamFileFormat format, const std::string& format_field) {
-  if (format == CamFileFormat::kCsv) return;
-  throw api::ApiError(api::ErrorCode::kInvalidValue, format_field,
-                      format_field +
-                          " st: the structured-text cam table of a motion along an arc or a path "
-                          "is not available (its type holds the straight-line columns); use " +
-                          format_field + " csv");
+std::string path_cam_file(const CamTable& table, const PlanarPath& path, const CamSource& source,
+                          const CamTableSpec& spec) {
+  const PathRows t = rows_of(table, path);
+  if (spec.format == CamFileFormat::kCsv) return csv_of(t);
+  return st_declaration(cam_st_header(table, source, t.type, path_line(path)), t.type, t.columns,
+                        t.rows, spec.st_name);
 }
 
 }  // namespace slosh::service

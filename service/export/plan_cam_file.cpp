@@ -1,10 +1,14 @@
 #include "export/plan_cam_file.hpp"
 
 #include <cmath>
+#include <optional>
 #include <string>
 
+#include "export/path_cam_export.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/export_request.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/motion_json.hpp"
 #include "slosh/api/plan_law.hpp"
 
 namespace slosh::service {
@@ -30,11 +34,16 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
     throw api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                         api::not_exportable_message(plan, "add allow_infeasible=true"));
   }
+  // A plan along an arc or a path: its table carries the pose (as slosh export writes it).
+  const std::optional<api::SpatialMotion> motion = api::plan_path_motion(plan_text);
   if (admit) {
-    admit(cam_export_bytes(spec, cam_rows(spec, duration, query_option_names())));
+    const std::size_t bytes =
+        cam_export_bytes(spec, cam_rows(spec, duration, query_option_names()));
+    admit(motion ? kPathCamWidthFactor * bytes : bytes);
   }
   const CamTable table = sample_cam(plan.law, plan.stroke, spec, query_option_names());
   CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};
+  if (motion) return path_cam_file(table, *motion->path, source, spec);
   return cam_file(table, source, spec);
 }
 

@@ -1,5 +1,8 @@
 #include "slosh/core/law/path_cam_table.hpp"
 
+#include <array>
+#include <cstdio>
+#include <cstdlib>
 #include <numbers>
 #include <stdexcept>
 
@@ -19,7 +22,19 @@ std::vector<PathCamSample> cam_along_path(const std::vector<CamSample>& cam,
 std::optional<double> table_rotation_deg(const PlanarPath& path) {
   const std::vector<PathElement>& e = path.elements();
   if (e.size() != 1 || e.front().kind != PathElement::Kind::kArc) return std::nullopt;
-  return e.front().angle * (180.0 / std::numbers::pi);
+  // The degrees the angle was given in: the shortest decimal whose conversion deg * pi / 180 (the
+  // request's) gives the radians back, so -120 deg ends the table at -120, not at
+  // -119.99999999999999 (radians * 180 / pi).
+  constexpr double kRadPerDeg{std::numbers::pi / 180.0};
+  const double radians = e.front().angle;
+  const double degrees = radians / kRadPerDeg;
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::array<char, 40> text{};
+    std::snprintf(text.data(), text.size(), "%.*g", digits, degrees);
+    const double candidate = std::strtod(text.data(), nullptr);
+    if (candidate * kRadPerDeg == radians) return candidate;
+  }
+  return degrees;
 }
 
 std::vector<MasterCamSample> table_rotation_rows(const std::vector<MasterCamSample>& rows,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "slosh/core/constants.hpp"
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/response/rectangular_nonlinear_direction.hpp"
 #include "text.hpp"
@@ -21,6 +22,18 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
                 fixed(kLinearModelMaxAcceleration, 0) +
                 " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); "
                 "rely on the nonlinear prediction");
+  }
+  if (!format.container.rectangular && peak_abs_acceleration > kGravity * h / R) {
+    // A steady horizontal acceleration a tilts the free surface to the slope a/g, raising it by
+    // R a/g at the wall: beyond g h / R even that quasi-static surface reaches the bottom. Both
+    // models assume a liquid over the whole bottom with a small, unbroken surface, so neither
+    // describes such a motion (a law that reaches it briefly may still slosh little, but no
+    // figure of either model can be promised).
+    w.push_back("peak horizontal acceleration " + fixed(peak_abs_acceleration, 2) +
+                " m/s^2 exceeds g h / R = " + fixed(kGravity * h / R, 2) +
+                " m/s^2, where a free surface tilted to the quasi-static slope a/g reaches the "
+                "container's bottom: both models are outside what they describe (the liquid "
+                "may leave the bottom and the wave break), so neither prediction is reliable");
   }
   if (format.container.rectangular) {
     // A rectangular tank's shallow fill is judged by its nonlinear model's range

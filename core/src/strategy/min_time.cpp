@@ -330,8 +330,12 @@ struct SearchRun {
 
   void out_of_budget(const std::string& where) {
     r.status = SolveStatus::kTimeLimit;
-    r.message = "the search budget (time_limit_s " + sec(options.plan.time_limit) + ", max_plans " +
-                std::to_string(options.max_plans) + ") ran out " + where;
+    // Which of the two ran out, so the client raises the one that matters.
+    r.message = r.plans >= options.max_plans
+                    ? "the search's plan budget (max_plans " + std::to_string(options.max_plans) +
+                          ", all planned; raise max_plans) ran out " + where
+                    : "the search's time budget (time_limit_s " + sec(options.plan.time_limit) +
+                          ") ran out " + where;
     if (r.t_min) {
       r.message += "; the best bound so far is T_min <= " + sec(*r.t_min);
     } else {
@@ -590,7 +594,17 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
     std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
       return a.motion_time < b.motion_time;
     });
-    if (r.plan && options.plan.robustness && !r.plan->invalid_input && !options.path) {
+    if (r.plan && options.plan.robustness && !r.plan->invalid_input && options.path) {
+      // Along a path: the returned law swept over +-10 % of the mode frequencies on the planar
+      // models, judged by the search's limits (as plan_on_path's report).
+      RobustnessSweep sweep;
+      sweep.zeta = r.plan->model.zeta;
+      sweep.rest_time = options.plan.rest_time;
+      sweep.eta_rest_max = r.eta_rest_max;
+      sweep.eta_motion_max = r.eta_motion_max;
+      r.plan->robustness =
+          robustness_report_on_path(r.plan->model, *options.path, r.plan->law, sweep);
+    } else if (r.plan && options.plan.robustness && !r.plan->invalid_input) {
       Format at = format;
       at.motion_time = r.plan->law.duration();
       PlanOptions judged = options.plan;

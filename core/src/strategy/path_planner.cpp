@@ -121,6 +121,22 @@ void verify_on_path(const PathContext& c, PathOutcome& o, bool time_domain) {
   if (o.plan.strategy != Strategy::kBaseline) o.worse = worse_than_uniform(o.prediction, c.uniform);
 }
 
+/// A verified candidate against time_domain's eta bound (BoundVerdict): its other constraints
+/// are met when it is usable, or when it is time_domain's law within the path limits.
+BoundVerdict bound_verdict(const PathContext& c, const PathOutcome& o) {
+  BoundVerdict b;
+  b.on_rest = c.options.objective == TimeDomainObjective::kMotion;
+  b.bound = b.on_rest ? c.options.eta_rest_max
+                      : c.options.eta_motion_max.value_or(c.uniform.nonlinear.motion.value);
+  b.value = b.on_rest ? o.prediction.nonlinear.rest.value : o.prediction.nonlinear.motion.value;
+  const SolveStatus st = o.plan.status;
+  b.others_met = st == SolveStatus::kOptimal || st == SolveStatus::kAcceptable ||
+                 st == SolveStatus::kTimeLimit ||
+                 (o.plan.strategy == Strategy::kTimeDomain &&
+                  path_limit_violation(c.options.limits, o.prediction).empty());
+  return b;
+}
+
 PathOutcome run_tangential(const PathContext& c, Strategy s) {
   PathOutcome o;
   o.plan = plan(c.format, s, c.options);
@@ -264,6 +280,7 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
   }
   std::vector<PlanCandidate> candidates;
   std::vector<bool> worse;
+  std::vector<BoundVerdict> bounds;
   std::vector<std::size_t> kept;
   int evaluations = 0, starts = 0;
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
@@ -279,18 +296,25 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
     k.prediction = as_prediction(o.prediction, o.plan.prediction.kinematics);
     k.worse_than_baseline = o.worse;
     worse.push_back(!o.worse.empty());
+    bounds.push_back(bound_verdict(c, o));
     candidates.push_back(std::move(k));
     kept.push_back(i);
   }
-  const AutoChoice choice = choose_auto(candidates, worse);
+  const AutoChoice choice = choose_auto(candidates, worse, bounds);
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     candidates[k].chosen = k == choice.index;
     candidates[k].lost = choice.lost[k];
     candidates[k].lost_detail = choice.lost_detail[k];
   }
   PathOutcome& chosen = outcomes[kept[choice.index]];
+  if (choice.bound_missed) {
+    // The least infeasible law when no candidate meets the eta bound: never optimal.
+    chosen.plan.status = SolveStatus::kInfeasible;
+    chosen.detail.clear();
+  }
   std::string detail =
-      choice.eligible
+      choice.bound_missed ? choice.bound_sentence
+      : choice.eligible
           ? "auto chose " + to_string(chosen.plan.strategy) +
                 " (lowest eta_rest among the candidates within 5 % of the best eta_motion, "
                 "judged on the planar models along the path)"

@@ -818,6 +818,7 @@ void explain_losses(const std::vector<PlanCandidate>& candidates, double best_mo
     std::string& detail = choice.lost_detail[k];
     switch (choice.lost[k]) {
       case CandidateLoss::kNone:
+      case CandidateLoss::kAboveBound:  // choose_auto writes its sentence
         break;
       case CandidateLoss::kNotUsable:
         detail = "status " + to_string(cand.status) +
@@ -855,8 +856,60 @@ void explain_losses(const std::vector<PlanCandidate>& candidates, double best_mo
 
 }  // namespace
 
-AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
-                       const std::vector<bool>& worse_than_baseline) {
+namespace {
+
+/// "eta_rest" or "eta_motion", and its option.
+std::string bound_figure(const BoundVerdict& b) {
+  return b.on_rest ? "eta_rest" : "eta_motion";
+}
+std::string bound_option(const BoundVerdict& b) {
+  return b.on_rest ? "eta_rest_max_mm" : "eta_motion_max_mm";
+}
+
+/// No usable candidate meets its bound: the least infeasible one (lowest bounded figure among
+/// those whose only fault is the bound; ties: the earlier) is returned, and every other one says
+/// why it was not.
+AutoChoice least_infeasible(const std::vector<PlanCandidate>& candidates,
+                            const std::vector<BoundVerdict>& bounds) {
+  AutoChoice choice;
+  choice.bound_missed = true;
+  choice.lost.assign(candidates.size(), CandidateLoss::kNotUsable);
+  choice.lost_detail.assign(candidates.size(), std::string());
+  auto considered = [&](std::size_t k) {
+    return usable_status(candidates[k].status) || bounds[k].others_met;
+  };
+  bool found = false;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (considered(k) && (!found || bounds[k].value < bounds[choice.index].value)) {
+      choice.index = k;
+      found = true;
+    }
+  }
+  const BoundVerdict& best = bounds[choice.index];
+  auto mm = [](double metres) { return sig3(metres * 1e3) + " mm"; };
+  const std::string chosen = to_string(candidates[choice.index].strategy);
+  choice.bound_sentence = "no candidate meets " + bound_figure(best) + " <= " + mm(best.bound) +
+                          " (" + bound_option(best) + "): the lowest is " + mm(best.value) + " (" +
+                          chosen + "), which auto returns; lengthen the motion or relax the limit";
+  choice.lost[choice.index] = CandidateLoss::kNone;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    if (k == choice.index) continue;
+    if (considered(k)) {
+      choice.lost[k] = CandidateLoss::kAboveBound;
+      choice.lost_detail[k] = bound_figure(bounds[k]) + " " + mm(bounds[k].value) + " vs " +
+                              mm(best.value) + " of the chosen " + chosen +
+                              "; no candidate meets " + bound_figure(best) +
+                              " <= " + mm(best.bound);
+    } else {
+      choice.lost_detail[k] = "status " + to_string(candidates[k].status) +
+                              ": only optimal, acceptable and time_limit candidates compete";
+    }
+  }
+  return choice;
+}
+
+AutoChoice choose_unbounded(const std::vector<PlanCandidate>& candidates,
+                            const std::vector<bool>& worse_than_baseline) {
   // SPEC §5: the lowest eta_rest among those whose eta_motion is within 5 % of the best (ties:
   // lower peak acceleration); infeasible or failed candidates do not compete, nor do those worse
   // than the uniform law while one that is not remains (the baseline never is).
@@ -882,6 +935,47 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
   return choice;
 }
 
+}  // namespace
+
+AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
+                       const std::vector<bool>& worse_than_baseline,
+                       const std::vector<BoundVerdict>& bounds) {
+  if (bounds.empty()) return choose_unbounded(candidates, worse_than_baseline);
+  // A usable candidate that breaks the eta bound competes only against the others that break
+  // it: when one meets it, they lose to it; when none does, the least infeasible is returned.
+  bool any_within = false;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    any_within = any_within || (usable_status(candidates[k].status) && bounds[k].meets());
+  }
+  bool any_considered = false;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    any_considered = any_considered || usable_status(candidates[k].status) || bounds[k].others_met;
+  }
+  if (!any_within) {
+    return any_considered ? least_infeasible(candidates, bounds)
+                          : choose_unbounded(candidates, worse_than_baseline);
+  }
+  // The rule among the candidates within the bound: the others are judged as not usable, then
+  // named for the bound they break.
+  std::vector<PlanCandidate> within = candidates;
+  std::vector<std::size_t> above;
+  for (std::size_t k = 0; k < within.size(); ++k) {
+    if (usable_status(within[k].status) && !bounds[k].meets()) {
+      within[k].status = SolveStatus::kInfeasible;
+      above.push_back(k);
+    }
+  }
+  AutoChoice choice = choose_unbounded(within, worse_than_baseline);
+  for (std::size_t k : above) {
+    const BoundVerdict& b = bounds[k];
+    choice.lost[k] = CandidateLoss::kAboveBound;
+    choice.lost_detail[k] = bound_figure(b) + " " + sig3(b.value * 1e3) + " mm is above " +
+                            bound_option(b) + " = " + sig3(b.bound * 1e3) +
+                            " mm, which another candidate meets";
+  }
+  return choice;
+}
+
 namespace {
 
 /// Marks the chosen candidate and every loser's reason; returns the sentence of the choice. The
@@ -900,6 +994,7 @@ std::string record_choice(const detail::StrategyContext& c, const AutoChoice& ch
                                   "not competes";
     }
   }
+  if (choice.bound_missed) return choice.bound_sentence;
   if (!choice.eligible) {
     return std::string("no candidate meets every constraint; auto returns ") +
            (baseline.uniform ? "the uniform law" : "baseline's law");
@@ -910,6 +1005,22 @@ std::string record_choice(const detail::StrategyContext& c, const AutoChoice& ch
          (choice.any_not_worse
               ? "none worse than " + reference + ")"
               : "all worse than " + reference + ", which does not meet the options)");
+}
+
+/// A verified candidate against time_domain's eta bound (BoundVerdict). Its other constraints
+/// are met when it is usable, or when it is a 7-segment law that meets the options' ramps and
+/// machine limits (time_domain's least infeasible law, whose one fault is the bound).
+BoundVerdict bound_verdict(const detail::StrategyContext& c, const Outcome& o,
+                           const LawPrediction& p) {
+  BoundVerdict b;
+  b.on_rest = c.options.objective == TimeDomainObjective::kMotion;
+  b.value = b.on_rest ? p.nonlinear.rest.value : p.nonlinear.motion.value;
+  b.bound = b.on_rest ? c.options.eta_rest_max : c.eta_motion_max;
+  b.others_met =
+      usable_status(o.status) ||
+      (o.strategy == Strategy::kTimeDomain && o.durations &&
+       detail::violated_constraint(c, Strategy::kBaseline, *o.durations, p.nonlinear).empty());
+  return b;
 }
 
 /// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
@@ -925,8 +1036,9 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
   }
   int evaluations = 0, starts = 0;
-  std::vector<bool> worse;    // candidate k carries a worse_than_baseline warning
-  std::vector<Outcome> kept;  // the outcomes of `candidates`, index for index
+  std::vector<bool> worse;           // candidate k carries a worse_than_baseline warning
+  std::vector<BoundVerdict> bounds;  // and how it stands against the eta bound
+  std::vector<Outcome> kept;         // the outcomes of `candidates`, index for index
   std::vector<std::optional<RangeJudgement>> ranges;  // and their sweeps over the range
   std::string diverged;  // the candidates the models cannot follow, left out
   for (Outcome& o : outcomes) {
@@ -943,6 +1055,7 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     }
     if (range) cand.worst_case = range->worst;
     verify(c, o, judged(range, cand.prediction));
+    bounds.push_back(bound_verdict(c, o, judged(range, cand.prediction)));
     cand.status = o.status;
     cand.durations = o.durations;
     if (o.strategy != Strategy::kBaseline) {
@@ -963,9 +1076,14 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
     return none;
   }
-  const AutoChoice choice = choose_auto(candidates, worse);
+  const AutoChoice choice = choose_auto(candidates, worse, bounds);
   Selection s;
   s.outcome = std::move(kept[choice.index]);
+  // The least infeasible law when no candidate meets the eta bound: never optimal.
+  if (choice.bound_missed) {
+    s.outcome.status = SolveStatus::kInfeasible;
+    s.outcome.detail.clear();
+  }
   s.outcome.solver.evaluations = evaluations;
   s.outcome.solver.starts = starts;
   s.detail = record_choice(c, choice, baseline, candidates);

@@ -19,6 +19,17 @@ struct QuickRectangle {
   std::optional<double> orientation_deg;  ///< angle of L to the motion [deg]; unset: 0
 };
 
+/// The move flags of `slosh plan` and `slosh min-time`: an arc, or format.motion as JSON text.
+struct QuickMotion {
+  /// An arc: radius [mm], angle [deg], the container turning (default true): format.motion
+  /// {"type": "arc", ...}.
+  std::optional<double> arc_radius_mm, arc_angle_deg;
+  std::optional<bool> turns;
+  /// format.motion as JSON text (`--motion FILE`, named by motion_source).
+  std::optional<std::string> motion_text;
+  std::string motion_source;
+};
+
 /// The format flags of `slosh plan` (a quick look without a request file).
 struct QuickPlan {
   double radius_mm{};                         ///< container radius [mm] (unused with `rectangular`)
@@ -29,14 +40,8 @@ struct QuickPlan {
   std::optional<double> density_kg_m3;        ///< a custom fluid's density [kg/m^3]
   std::optional<double> viscosity_pa_s;       ///< and dynamic viscosity [Pa s]
   double stroke_mm{};                         ///< [mm] (unused with an arc or a motion)
-  /// An arc instead of the stroke: radius [mm], angle [deg], the container turning (default
-  /// true): format.motion {"type": "arc", ...}.
-  std::optional<double> arc_radius_mm, arc_angle_deg;
-  std::optional<bool> turns;
-  /// format.motion as JSON text instead of the stroke (`--motion FILE`, named by motion_source).
-  std::optional<std::string> motion_text;
-  std::string motion_source;
-  double time_s{};  ///< motion time [s]
+  QuickMotion motion;                         ///< an arc or a motion instead of the stroke
+  double time_s{};                            ///< motion time [s]
   std::string strategy{"auto"};
 };
 
@@ -49,6 +54,9 @@ struct QuickPlan {
 /// The POST /v1/min-time reply to `request`, without a server budget: options.time_limit_s (per
 /// strategy) may be up to its maximum, which is also its default.
 [[nodiscard]] std::string min_time_reply(std::string_view request);
+/// The same with the move flags `motion` as the request's format.motion (the request then gives
+/// neither format.stroke_mm nor format.motion: refused naming the member and the flag).
+[[nodiscard]] std::string min_time_reply(std::string_view request, const QuickMotion& motion);
 
 /// The POST /v1/plans reply to `request` in `view`; ApiError for invalid input (and for a
 /// compact view of a request with sampled series).

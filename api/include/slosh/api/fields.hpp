@@ -47,6 +47,10 @@ struct Range {
 /// pct * 0.01), as mm_of does for millimetres: 5 % echoes as 5, not as 5.000000000000001.
 [[nodiscard]] double pct_of(double fraction);
 
+/// Degrees of an angle that the API received in degrees and keeps in radians (read as
+/// deg * pi / 180), as mm_of does for millimetres: 90 deg echoes as 90.
+[[nodiscard]] double deg_of(double radians);
+
 /// Compact JSON text of a value for messages, cut to 60 bytes on a UTF-8 boundary.
 [[nodiscard]] std::string show(const nlohmann::json& value);
 

@@ -41,7 +41,11 @@ struct SpatialMotion {
   MotionType type{MotionType::kLine};
   std::optional<PlanarPath> path;               ///< line, arc and path
   std::optional<SampledTrajectory> trajectory;  ///< trajectory
-  nlohmann::json echo;                          ///< the motion as given
+  /// The motion as answers echo it: a line or a trajectory as given; an arc or a path canonical
+  /// (every member with its default filled in, start_heading_deg in (-180, 180], the segments'
+  /// optional heading_deg checks left out, numbers as the request's units read them back), so
+  /// the echo is a function of the recipe key (canonical_motion).
+  nlohmann::json echo;
 };
 
 /// A format with its motion: the format's stroke is the path's length (a trajectory's format
@@ -73,8 +77,9 @@ struct SpatialFormat {
 [[nodiscard]] std::optional<SpatialFormat> planned_path_format(const nlohmann::json& body);
 
 /// The motion as the recipe key holds it: the path's elements in SI (lengths in m, angles in
-/// rad), its start heading and container_turns; the same path written twice the same way (an arc
-/// or a path of one arc) gives the same key only when its type is the same.
+/// rad), its start heading (normalised to (-180, 180] deg) and container_turns; the same path
+/// written twice the same way (an arc or a path of one arc) gives the same key only when its
+/// type is the same.
 [[nodiscard]] nlohmann::json canonical_motion(const SpatialMotion& motion);
 
 /// Throws ApiError (422) for a core refusal of a motion, its member as the JSON member.

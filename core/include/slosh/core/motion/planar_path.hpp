@@ -60,6 +60,8 @@ class PlanarPath {
 
   [[nodiscard]] double length() const { return starts_.back(); }
   [[nodiscard]] bool container_turns() const { return container_turns_; }
+  /// The tangent direction at the start, as constructed [rad].
+  [[nodiscard]] double start_heading() const { return start_heading_; }
   [[nodiscard]] const std::vector<PathElement>& elements() const { return elements_; }
   /// Arc length where each element starts, then the total length (size elements + 1) [m].
   [[nodiscard]] const std::vector<double>& element_starts() const { return starts_; }

@@ -78,8 +78,8 @@ struct MinTimeOptions {
   /// straight line of the format's stroke. With a path every T is planned by plan_on_path (the
   /// format's stroke is the path's length): the eta limits apply to the planar models' peaks,
   /// maximised over the wall, and the machine limits to the path (a_max on the total horizontal
-  /// acceleration, v_max on s', j_max on the tangential jerk). No robustness report is made
-  /// along a path.
+  /// acceleration, v_max on s', j_max on the tangential jerk). With plan.robustness the
+  /// returned plan's report sweeps the planar models (robustness_report_on_path).
   std::optional<PlanarPath> path;
 
   /// eta_motion_max, or its default from the free board; nullopt when neither is available.

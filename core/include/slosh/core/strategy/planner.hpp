@@ -5,6 +5,7 @@
 
 #include <array>
 #include <atomic>
+#include <limits>
 #include <optional>
 #include <string>
 #include <string_view>
@@ -295,6 +296,8 @@ using FilterDesign = std::variant<FirChainDesign, ShaperDesign, IirDesign>;
 enum class CandidateLoss {
   kNone,               ///< the chosen candidate
   kNotUsable,          ///< infeasible or failed: only optimal, acceptable, time_limit compete
+  kAboveBound,         ///< its verified eta breaks the eta bound (BoundVerdict) another meets,
+                       ///< or (none meets it) it is above the least infeasible one returned
   kWorseThanBaseline,  ///< worse than the uniform law while a usable one that is not remains
   kMotionAboveBest,    ///< nonlinear eta_motion more than 5 % above the best competitor's
   kHigherRest,         ///< nonlinear eta_rest above the chosen candidate's
@@ -303,9 +306,10 @@ enum class CandidateLoss {
 
 template <>
 struct EnumNames<CandidateLoss> {
-  static constexpr std::array<EnumName<CandidateLoss>, 6> table{{
+  static constexpr std::array<EnumName<CandidateLoss>, 7> table{{
       {CandidateLoss::kNone, "none"},
       {CandidateLoss::kNotUsable, "not_usable"},
+      {CandidateLoss::kAboveBound, "eta_above_limit"},
       {CandidateLoss::kWorseThanBaseline, "worse_than_baseline"},
       {CandidateLoss::kMotionAboveBest, "eta_motion_above_best"},
       {CandidateLoss::kHigherRest, "higher_eta_rest"},
@@ -334,6 +338,21 @@ struct PlanCandidate {
   std::string worse_than_baseline;
 };
 
+/// A candidate of `auto` against the eta bound of the options, on its verified (judged) figures:
+/// time_domain's bound, eta_rest <= eta_rest_max (objective motion, default 3 mm) or eta_motion
+/// <= eta_motion_max (objective rest). `auto` returns a law that breaks it only when no usable
+/// candidate meets it, and then as infeasible: a plan that breaks the limit is never optimal.
+struct BoundVerdict {
+  double value{0.0};                                      ///< the bounded nonlinear figure [m]
+  double bound{std::numeric_limits<double>::infinity()};  ///< the bound [m]
+  bool on_rest{true};  ///< the figure is eta_rest (objective motion), else eta_motion
+  /// The candidate meets every constraint but the bound (machine limits, ramps, its method's
+  /// own): it may be returned as the least infeasible when no usable candidate meets the bound.
+  bool others_met{false};
+  /// Relative round-off of the verification.
+  [[nodiscard]] bool meets() const { return value <= bound * (1.0 + 1e-6); }
+};
+
 /// kAuto's pick among its verified candidates (SPEC §5).
 struct AutoChoice {
   /// The chosen candidate; 0 (the first, the uniform law) when none is eligible.
@@ -348,14 +367,22 @@ struct AutoChoice {
   /// not transitive); the sentence then names both.
   std::vector<CandidateLoss> lost;
   std::vector<std::string> lost_detail;
+  /// Bounds were given and no usable candidate meets them: `index` is the least infeasible
+  /// candidate (lowest bounded figure among those whose only fault is the bound), `eligible` is
+  /// false and the plan is infeasible; `bound_sentence` says so with the figures.
+  bool bound_missed{false};
+  std::string bound_sentence;
 };
 
 /// SPEC §5's rule, pure: among the usable candidates (not worse than the uniform law while one
 /// that is not remains; `worse_than_baseline[k]` flags candidate k), those whose nonlinear
 /// eta_motion is within 5 % of the best compete; the lowest eta_rest wins (relative ties of 1e-6:
 /// the lower peak acceleration, then the earlier candidate).
+/// With `bounds` (index for index; empty: none), only the usable candidates that meet their bound
+/// compete; when none does, the least infeasible one is returned (AutoChoice::bound_missed).
 [[nodiscard]] AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
-                                     const std::vector<bool>& worse_than_baseline);
+                                     const std::vector<bool>& worse_than_baseline,
+                                     const std::vector<BoundVerdict>& bounds = {});
 
 /// Everything plan() returns. The durations are always admissible (SPEC §3).
 struct PlanResult {
