@@ -684,7 +684,9 @@ TEST(Planner, AutoIgnoresInfeasibleCandidates) {
     }
     // No candidate reaches eta_rest <= 3 mm here: auto returns the least infeasible law
     // (expect_auto_rule checks which) as infeasible.
-    if (c.chosen) EXPECT_EQ(to_string(r.status), to_string(SolveStatus::kInfeasible));
+    if (c.chosen) {
+      EXPECT_EQ(to_string(r.status), to_string(SolveStatus::kInfeasible));
+    }
   }
   EXPECT_LT(best_infeasible, best_usable / 1.05);
 }

@@ -24,7 +24,7 @@ using slosh::service::ServerConfig;
 // Everything the command line sets; precedence: embedded defaults < --config file < SLOSH_*
 // environment < flags.
 struct CliArgs {
-  const ServerConfig defaults;
+  const ServerConfig defaults{};
   std::string config_path;
   std::optional<std::string> host;
   std::optional<int> port;
