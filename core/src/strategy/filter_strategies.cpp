@@ -239,8 +239,15 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   }
   o.design = ShaperDesign{opt.base, shaper, Tb, residual};
   // Below 1e-9 the residual is round-off: the ZV family cancels mode 1 exactly.
+  // On a turned tank the shaper is tuned between the two directions' first modes: neither of
+  // them is cancelled exactly, and the text must not claim so.
+  const std::string at =
+      c.over_directions
+          ? " at " + sig3(c.design_model.omega1() / (2.0 * std::numbers::pi)) +
+                " Hz, the middle of the two directions' first modes (each keeps a residual)"
+          : " at f1";
   const std::string residual_text =
-      residual < 1e-9 ? "no residual at f1" : "residual " + percent(residual) + " at f1";
+      (residual < 1e-9 ? "no residual" : "residual " + percent(residual)) + at;
   o.detail = name + " (" + std::to_string(shaper.impulses.size()) + " impulses over " +
              ms(shaper.delay()) + ", " + residual_text + ") on a " + to_string(opt.base) +
              " base law of " + sig3(Tb) + " s";

@@ -82,6 +82,9 @@ struct StrategyContext {
   /// excited direction driven by the motion (driven_directions); the plan's laws are verified
   /// on this model's walls and corners (rectangular_prediction).
   const RectangularModel* rectangular{nullptr};
+  /// True when set_directions designs at the middle of a turned tank's two first modes: then
+  /// design_model.omega1() is neither direction's frequency (the reports say so).
+  bool over_directions{false};
 
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }
