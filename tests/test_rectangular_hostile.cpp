@@ -113,6 +113,33 @@ TEST_F(RectangularHostile, CalibrationOfOneCupDoesNotImposeItsDampingPriorElsewh
       << "the 120 x 80 cup's prior zeta replaced the 300 x 200 tank's own damping silently";
 }
 
+// The cup's calibration is refused on a cylinder moved along an arc, naming options.model.
+TEST_F(RectangularHostile, CupCalibrationIsRefusedOnACylinderAlongAnArc) {
+  const json moves = json::array(
+      {{{"name", "m1"},
+        {"law", {{"type", "modified_trapezoid"}}},
+        {"peaks", {{"eta_motion_mm", 14}, {"eta_rest_mm", 12}, {"rest_window_s", 1.0}}}},
+       {{"name", "m2"},
+        {"law", {{"type", "poly5"}}},
+        {"peaks", {{"eta_motion_mm", 12}, {"eta_rest_mm", 3}, {"rest_window_s", 1.0}}}}});
+  post(*server_, "/v1/calibrations", {{"name", "cup-arc"}, {"format", cup(0.0)}, {"moves", moves}});
+  const json arc = {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+                    {"fill_height_mm", 82},
+                    {"fluid", "water"},
+                    {"motion_time_s", 1.2},
+                    {"motion", {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}}};
+  const json refused =
+      post(*server_, "/v1/plans",
+           {{"format", arc}, {"strategy", "baseline"}, {"options", {{"model", "cup-arc"}}}}, 422);
+  EXPECT_EQ(refused["error"]["field"], "options.model") << refused.dump();
+  EXPECT_EQ(refused["error"]["message"],
+            "options.model = \"cup-arc\" was fitted on a rectangular container 120 x 80 mm moved "
+            "along its length; this request's container is a cylinder of radius 48.5 mm: a "
+            "calibration applies only to the container and the directions it was measured on "
+            "(calibrate this one, or give its numbers as an options.model object)")
+      << refused.dump();
+}
+
 // Physically identical orientations share one recipe key (one cache entry, one answer).
 TEST_F(RectangularHostile, EquivalentOrientationsShareTheRecipeKey) {
   const std::string zero = post(*server_, "/v1/plans", {{"format", cup(0.0)}})["key"];
