@@ -402,6 +402,29 @@ TEST(RectangularPlan, AReferenceOutOfTheNonlinearRangeIsSaid) {
       << ::testing::PrintToString(r.warnings);
 }
 
+TEST(RectangularPlan, TimeDomainNeverCallsABoundUnreachableThatNotchMeets) {
+  // The 120 x 80 x 50 mm cup moved 100 mm in 1 s along L.
+  Format f = cup(120, 80, 0.0, 50.0);
+  f.stroke = 0.1;
+  f.motion_time = 1.0;
+  const PlanOptions o = quick_options();
+  const PlanResult notch = plan(f, Strategy::kNotch, o);
+  ASSERT_TRUE(notch.usable()) << notch.message;
+  ASSERT_LE(notch.prediction.nonlinear.rest.value, o.eta_rest_max);
+  const PlanResult td = plan(f, Strategy::kTimeDomain, o);
+  EXPECT_EQ(td.message.find("not reachable"), std::string::npos) << td.message;
+  if (td.usable()) {
+    EXPECT_LE(td.prediction.nonlinear.rest.value, o.eta_rest_max * (1 + 1e-6));
+  } else {
+    EXPECT_NE(td.message.find("eta_rest <= 3 mm is not met in 1 s: time_domain's law, bounded on "
+                              "each direction's oscillator model (without the second mode), "
+                              "verifies at "),
+              std::string::npos)
+        << td.message;
+    EXPECT_NE(td.message.find("try notch or multi_notch"), std::string::npos) << td.message;
+  }
+}
+
 TEST(RectangularPlan, AutoAndTheFiltersPlanATurnedTank) {
   for (Strategy s : {Strategy::kAuto, Strategy::kFirChain, Strategy::kShaper}) {
     const PlanResult r = plan(cup(120, 80, 60.0), s, quick_options());
