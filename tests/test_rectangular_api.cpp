@@ -151,6 +151,12 @@ TEST(RectangularApi, CalibrationFitsTheDirectionMovedAndHoldsTheTheorysAlpha) {
   EXPECT_NEAR(out["model"]["omega_scale"].get<double>(), 1.05, 1e-5);
   EXPECT_NEAR(out["model"]["height_gain"].get<double>(), 0.9, 1e-5);
   EXPECT_FALSE(out["model"].contains("alpha"));
+  // zeta held at the tank's own prior (fit false, no value given): not stored as a value.
+  EXPECT_EQ(out["parameters"]["zeta"]["state"], "fixed");
+  EXPECT_FALSE(out["model"].contains("zeta")) << out["model"].dump();
+  json given = cup_calibration(0.0);
+  given["fit"]["zeta"] = {{"fit", false}, {"initial", 0.01}};
+  EXPECT_EQ(api::run_calibration(api::parse_calibration_request(given))["model"]["zeta"], 0.01);
   try {
     (void)api::parse_calibration_request(cup_calibration(30.0));
     ADD_FAILURE() << "a turned tank was calibrated";

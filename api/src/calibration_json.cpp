@@ -295,8 +295,17 @@ json run_calibration(const CalibrationRequest& request) {
   out["moves"] = std::move(moves);
   out["identifiability"] = fit.identifiability;
   out["model"] = calibrated_model_json(fit.model);
-  // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans).
-  if (request.format.container.rectangular) out["model"].erase("alpha");
+  // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans). Its
+  // zeta, when the moves did not fit it and no value was given, is the tank's own boundary-layer
+  // damping at the fitted fill: left out, so that a plan at another fill keeps its own.
+  if (request.format.container.rectangular) {
+    out["model"].erase("alpha");
+    const auto zeta = static_cast<std::size_t>(CalibrationParameter::kZeta);
+    if (fit.parameters[zeta].state != ParameterState::kFitted &&
+        !request.settings.parameters[zeta].initial) {
+      out["model"].erase("zeta");
+    }
+  }
   // What the fit holds for: a request naming it on another container is refused.
   out["container"] = fitted_container_json(request.format);
   if (request.name) out["name"] = *request.name;
