@@ -119,6 +119,8 @@ void set_directions(StrategyContext& c) {
   if (c.range) zeta = std::min(zeta, c.range->zeta_lo);
   c.design_model = scaled_model(c.model, mid / c.model.omega1(), zeta);
   c.over_directions = true;
+  c.direction_omega = {w_a, w_b};
+  c.direction_zeta = {directions[0].model.zeta, directions[1].model.zeta};
   const double band = c.options.band;
   c.band = std::max((1.0 + band) * hi / mid - 1.0, 1.0 - (1.0 - band) * lo / mid);
   c.p_notch = std::max(c.options.p_notch, (hi - lo) / (hi + lo));
