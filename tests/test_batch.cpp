@@ -950,6 +950,14 @@ TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
        "slosh batch: recipe table: missing column \"strategy\"; required: recipe_id, radius_mm, "
        "fill_height_mm, fluid (or density_kg_m3 and viscosity_pa_s), stroke_mm, motion_time_s, "
        "strategy\n"},
+      {"missing required column of a rectangular table",
+       "recipe_id,container_shape,length_mm,width_mm,fill_height_mm,fluid,stroke_mm,"
+       "motion_time_s\n"
+       "a,rectangular,120,80,50,water,200,1.0\n",
+       "out.csv",
+       "slosh batch: recipe table: missing column \"strategy\"; required: recipe_id, length_mm, "
+       "width_mm, fill_height_mm, fluid (or density_kg_m3 and viscosity_pa_s), stroke_mm, "
+       "motion_time_s, strategy\n"},
       {"missing fluid",
        "recipe_id,radius_mm,fill_height_mm,density_kg_m3,stroke_mm,motion_time_s,strategy\n"
        "a,48.5,82,1000,800,1.0,notch\n",

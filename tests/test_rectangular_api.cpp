@@ -5,11 +5,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
 
 #include "slosh/api/calibration_json.hpp"
+#include "slosh/api/calibration_models.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
@@ -93,12 +95,10 @@ TEST(RectangularApi, RefusalsNameTheMemberTheValueAndTheRange) {
   missing.erase("width_mm");
   expect_refusal(with_container(missing), "format.container.width_mm",
                  "format.container.width_mm is required: a number, allowed 1 to 4000 mm");
+  // An uncertainty range on a turned tank is planned (both directions' frequencies move).
   json uncertain = cup_request();
   uncertain["options"]["uncertainty"] = {{"omega_error_pct", 5}};
-  expect_refusal(uncertain, "options.uncertainty",
-                 "options.uncertainty is planned for a rectangular tank square to the motion "
-                 "only (orientation 0, 90, -90 or 180 degrees); at 30 degrees both of its "
-                 "directions move");
+  EXPECT_NO_THROW((void)api::parse_plan_request(uncertain));
 }
 
 TEST(RectangularApi, TheCylindersModelOptionsAreRefusedForARectangularContainer) {
@@ -151,16 +151,94 @@ TEST(RectangularApi, CalibrationFitsTheDirectionMovedAndHoldsTheTheorysAlpha) {
   EXPECT_NEAR(out["model"]["omega_scale"].get<double>(), 1.05, 1e-5);
   EXPECT_NEAR(out["model"]["height_gain"].get<double>(), 0.9, 1e-5);
   EXPECT_FALSE(out["model"].contains("alpha"));
+  // zeta held at the tank's own prior (fit false, no value given): not stored as a value.
+  EXPECT_EQ(out["parameters"]["zeta"]["state"], "fixed");
+  EXPECT_FALSE(out["model"].contains("zeta")) << out["model"].dump();
+  json given = cup_calibration(0.0);
+  given["fit"]["zeta"] = {{"fit", false}, {"initial", 0.01}};
+  EXPECT_EQ(api::run_calibration(api::parse_calibration_request(given))["model"]["zeta"], 0.01);
   try {
     (void)api::parse_calibration_request(cup_calibration(30.0));
     ADD_FAILURE() << "a turned tank was calibrated";
   } catch (const api::ApiError& e) {
     EXPECT_EQ(e.field(), "format.container.orientation_deg");
     EXPECT_STREQ(e.what(),
-                 "format.container.orientation_deg = 30: a rectangular container is calibrated "
-                 "by moves along one of its sides (orientation 0, 90, -90 or 180 degrees), each "
-                 "exciting one direction");
+                 "format.container.orientation_deg = 30 is not calibrated: allowed 0, 90, -90 "
+                 "or 180 degrees (a rectangular container is calibrated by moves along one of "
+                 "its sides, each exciting one direction; the scales of both directions are not "
+                 "fitted from turned moves)");
   }
+}
+
+TEST(RectangularApi, CalibrationRecordsItsContainerAndAcceptsAlphaHeldAsItIs) {
+  json body = cup_calibration(90.0);
+  body["fit"]["alpha"] = {{"fit", false}};  // what happens anyway: not refused
+  const json out = api::run_calibration(api::parse_calibration_request(body));
+  EXPECT_EQ(out["container"], json::parse(R"({"shape": "rectangular", "length_mm": 120,
+                "width_mm": 80, "directions": ["width"]})"));
+  body["fit"]["alpha"] = {{"fit", true}};
+  try {
+    (void)api::parse_calibration_request(body);
+    ADD_FAILURE() << "fit.alpha was fitted on a rectangular tank";
+  } catch (const api::ApiError& e) {
+    EXPECT_EQ(e.field(), "fit.alpha");
+  }
+}
+
+TEST(RectangularApi, ANamedCalibrationPlansOnlyItsContainerAndDirections) {
+  const json stored = {{"model", {{"omega_scale", 1.05}, {"zeta", 0.004}}},
+                       {"container",
+                        {{"shape", "rectangular"},
+                         {"length_mm", 120},
+                         {"width_mm", 80},
+                         {"directions", {"length"}}}}};
+  const api::CalibrationLookup lookup = [&stored](const std::string&) {
+    return std::optional<std::string>(stored.dump());
+  };
+  auto body = [](const json& container) {
+    return json{{"format", {{"container", container}, {"fill_height_mm", 30}}},
+                {"options", {{"model", "cup"}}}};
+  };
+  auto refusal = [&](const json& container) -> std::string {
+    try {
+      (void)api::resolve_model_names(body(container).dump(), lookup);
+    } catch (const api::ApiError& e) {
+      EXPECT_EQ(e.field(), "options.model");
+      EXPECT_EQ(e.status(), 422);
+      return e.what();
+    }
+    return "";
+  };
+  // The same cup at another fill, moved along L either way: the stored model is put in.
+  for (double orientation : {0.0, 180.0}) {
+    const json resolved =
+        json::parse(api::resolve_model_names(body({{"shape", "rectangular"},
+                                                   {"length_mm", 120.0},
+                                                   {"width_mm", 80},
+                                                   {"orientation_deg", orientation}})
+                                                 .dump(),
+                                             lookup));
+    EXPECT_EQ(resolved["options"]["model"], stored["model"]) << orientation;
+  }
+  const std::string head =
+      "options.model = \"cup\" was fitted on a rectangular container 120 x 80 mm moved along its "
+      "length; this request's container is ";
+  const std::string tail =
+      ": a calibration applies only to the container and the directions it was measured on "
+      "(calibrate this one, or give its numbers as an options.model object)";
+  EXPECT_EQ(refusal({{"radius_mm", 48.5}}), head + "a cylinder of radius 48.5 mm" + tail);
+  EXPECT_EQ(refusal({{"shape", "rectangular"}, {"length_mm", 300}, {"width_mm", 200}}),
+            head + "a rectangular container 300 x 200 mm moved along its length" + tail);
+  EXPECT_EQ(refusal({{"shape", "rectangular"},
+                     {"length_mm", 120},
+                     {"width_mm", 80},
+                     {"orientation_deg", 90}}),
+            head + "a rectangular container 120 x 80 mm moved along its width" + tail);
+  EXPECT_EQ(refusal({{"shape", "rectangular"},
+                     {"length_mm", 120},
+                     {"width_mm", 80},
+                     {"orientation_deg", 45}}),
+            head + "a rectangular container 120 x 80 mm moved along both of its sides" + tail);
 }
 
 TEST(RectangularApi, FormatEchoAndRecipeKeyCarryTheShape) {

@@ -129,5 +129,27 @@ TEST(RectangularNonlinearValidity, OnlyTheExcitedDirectionsAreJudgedLengthFirst)
   EXPECT_TRUE(rectangular_nonlinear_validity(tank(0.1, 0.04, 0.0, 0.05), {0.001, 1.0}).valid);
 }
 
+TEST(RectangularNonlinearValidity, BothDirectionsOutOfRangeAreBothNamedInOneSentence) {
+  // A square 100 x 100 tank at 45 deg in 20 mm: h / L = h / W = 0.200, both shallow.
+  const auto both = rectangular_nonlinear_validity(tank(0.1, 0.1, 45.0, 0.02));
+  EXPECT_FALSE(both.valid);
+  EXPECT_EQ(both.limit, Limit::kShallowDepth);
+  EXPECT_EQ(both.reason,
+            "rectangular nonlinear model not valid along the length: fill height / length = "
+            "0.200 is below 0.24 (shallow fill, outside the Moiseev-type modal theory of "
+            "Faltinsen et al. 2000); rectangular nonlinear model not valid along the width: fill "
+            "height / width = 0.200 is below 0.24 (shallow fill, outside the Moiseev-type modal "
+            "theory of Faltinsen et al. 2000); linear model used");
+  // Different limits on the two sides: each sentence says its own (length steep, width shallow).
+  const auto mixed = rectangular_nonlinear_validity(tank(0.1, 0.2, 30.0, 0.045), {0.01, 0.0});
+  EXPECT_EQ(mixed.limit, Limit::kSteepness);
+  EXPECT_NE(mixed.reason.find("along the length: wall height 10.0 mm"), std::string::npos)
+      << mixed.reason;
+  EXPECT_NE(mixed.reason.find("; rectangular nonlinear model not valid along the width: fill "
+                              "height / width = 0.225 is below 0.24"),
+            std::string::npos)
+      << mixed.reason;
+}
+
 }  // namespace
 }  // namespace slosh

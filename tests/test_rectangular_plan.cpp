@@ -6,8 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <complex>
+#include <cstdio>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -198,15 +200,247 @@ TEST(RectangularPlan, FillHeightRangeMovesTheExcitedDirectionsFrequency) {
   EXPECT_LT(relative(r.uncertainty->omega_hi, w1(0.045)), 1e-12);
 }
 
-TEST(RectangularPlan, UncertaintyOnATurnedTankIsRefusedByName) {
+TEST(RectangularPlan, FillHeightRangeOnATurnedTankMovesBothDirectionsFrequencies) {
+  // 120 x 80 at 30 degrees, fill 35 to 45 mm: each direction's omega_1 moves by its own factor.
+  const std::array<double, 2> fills{0.035, 0.045};
   PlanOptions o = quick_options();
-  o.uncertainty.omega_error = 0.05;
-  const PlanResult r = plan(cup(120, 80, 30.0), Strategy::kNotch, o);
-  ASSERT_TRUE(r.invalid_input);
-  EXPECT_EQ(r.invalid_input->input, PlanInput::kContainerOrientation);
-  EXPECT_EQ(r.invalid_input->message,
-            "uncertainty is planned for a rectangular tank square to the motion only "
-            "(orientation 0, 90, -90 or 180 degrees); at 30 degrees both of its directions move");
+  o.robustness = true;
+  o.uncertainty.fill_height = fills;
+  const PlanResult r = plan(cup(120, 80, 30.0), Strategy::kMultiNotch, o);
+  ASSERT_TRUE(r.usable()) << r.message;
+  ASSERT_TRUE(r.uncertainty);
+  auto w1 = [](double side, double across, double h) {
+    return test::direction(side, across, h, 1.0, 1).w[0];
+  };
+  // The common factor range covers both directions' own ranges (closed forms).
+  const double lo = std::min(w1(0.12, 0.08, fills[0]) / w1(0.12, 0.08, 0.04),
+                             w1(0.08, 0.12, fills[0]) / w1(0.08, 0.12, 0.04));
+  const double hi = std::max(w1(0.12, 0.08, fills[1]) / w1(0.12, 0.08, 0.04),
+                             w1(0.08, 0.12, fills[1]) / w1(0.08, 0.12, 0.04));
+  EXPECT_LT(relative(r.uncertainty->scale_lo, lo), 1e-12);
+  EXPECT_LT(relative(r.uncertainty->scale_hi, hi), 1e-12);
+  // The two directions' factors differ (else the test would not tell one range from two).
+  EXPECT_GT(std::abs(w1(0.08, 0.12, fills[0]) / w1(0.08, 0.12, 0.04) -
+                     w1(0.12, 0.08, fills[0]) / w1(0.12, 0.08, 0.04)),
+            1e-3);
+  // The sweep the plan is judged by, against the reference RK4 of both directions' modes
+  // (re-typed in tests/support) with every frequency scaled by 1 + delta and both directions at
+  // the range's least damping: each point, the corners' linear rest.
+  ASSERT_TRUE(r.robustness);
+  const double phi = 30.0 * kPi / 180.0;
+  int checked = 0;
+  for (const RobustnessPoint& p : r.robustness->points) {
+    std::vector<test::Modes> modes{test::direction(0.12, 0.08, 0.04, std::cos(phi), 3),
+                                   test::direction(0.08, 0.12, 0.04, std::sin(phi), 3)};
+    for (test::Modes& m : modes) {
+      for (double& w : m.w) w *= 1.0 + p.delta;
+      m.zeta = r.uncertainty->zeta_lo;
+    }
+    const test::RefPeaks ref = test::rk4_peaks(modes, r.law, 1.0, 1e-5);
+    EXPECT_LT(relative(p.linear.motion.value, ref.motion), 1e-4) << p.delta;
+    EXPECT_LT(relative(p.linear.rest.value, ref.rest), 1e-3) << p.delta;
+    ++checked;
+  }
+  EXPECT_GE(checked, 5);
+  // The sweep reaches both ends of the range.
+  EXPECT_LT(std::abs(r.robustness->points.front().delta - (lo - 1.0)), 1e-12);
+  EXPECT_LT(std::abs(r.robustness->points.back().delta - (hi - 1.0)), 1e-12);
+}
+
+TEST(RectangularPlan, ShallowWideTankSaysTheLinearAnswerIsOutOfTheoryAndThePlanCannotAct) {
+  // 4 x 4 m in 20 mm of water, moved diagonally 200 mm in 1 s: the first period is about 18 s.
+  Format f = cup(4000, 4000, 45.0, 20.0);
+  f.motion_time = 1.0;
+  const PlanResult r = plan(f, Strategy::kMultiNotch, quick_options());
+  ASSERT_TRUE(r.usable()) << r.message;
+  // omega_1 = sqrt(g k tanh(k h)), k = pi / 4 m (docs/models.md), the period 2 pi / omega_1.
+  const double k = kPi / 4.0;
+  const double period = 2 * kPi / std::sqrt(9.81 * k * std::tanh(k * 0.02));
+  ASSERT_GT(period, 10.0);
+  char expected_period[32];
+  std::snprintf(expected_period, sizeof expected_period, "%.3g", period);
+  const double eta = r.prediction.linear.motion.value;
+  ASSERT_GT(eta / 0.02, 0.5) << "the case must be beyond linear theory";
+  char share[16];
+  std::snprintf(share, sizeof share, "%.2f", eta / 0.02);
+  char eta_mm[16];
+  std::snprintf(eta_mm, sizeof eta_mm, "%.1f", eta * 1e3);
+  auto has = [&r](const std::string& text) {
+    return std::any_of(r.warnings.begin(), r.warnings.end(),
+                       [&text](const std::string& w) { return w.find(text) != std::string::npos; });
+  };
+  EXPECT_TRUE(has(std::string("linear model beyond its theory: wall height ") + eta_mm + " mm is " +
+                  share +
+                  " of the fill height 20.0 mm (above 0.5), a wave not small against the depth"))
+      << ::testing::PrintToString(r.warnings);
+  EXPECT_TRUE(has(std::string("motion too short for the tank: motion time 1 s is below 0.1 of "
+                              "the first sloshing period ") +
+                  expected_period + " s along the length; the move is an impulse to that mode"))
+      << ::testing::PrintToString(r.warnings);
+  // Both directions out of the nonlinear model's range: one sentence names both.
+  EXPECT_TRUE(has("not valid along the length: fill height / length = 0.005 is below 0.24 "))
+      << ::testing::PrintToString(r.warnings);
+  EXPECT_TRUE(
+      has("; rectangular nonlinear model not valid along the width: fill height / width "
+          "= 0.005 is below 0.24"))
+      << ::testing::PrintToString(r.warnings);
+  // The cup of the other tests has neither warning.
+  const PlanResult cup_plan = plan(cup(120, 80, 30.0), Strategy::kMultiNotch, quick_options());
+  for (const std::string& w : cup_plan.warnings) {
+    EXPECT_EQ(w.find("beyond its theory"), std::string::npos) << w;
+    EXPECT_EQ(w.find("motion too short"), std::string::npos) << w;
+  }
+}
+
+TEST(RectangularPlan, OutOfItsRangeTheNonlinearModelIsNotCalledOnOrReliedOn) {
+  // 100 x 100 at 45 deg in 50 mm, the uniform law: the walls' waves are steeper than k1 eta =
+  // 0.3 along both sides, so the "nonlinear" figures are the linear model's.
+  Format f = cup(100, 100, 45.0, 50.0);
+  f.container.height = 0.06;
+  f.stroke = 0.2;
+  f.motion_time = 1.0;
+  const SimulationResult s = simulate(f, SevenSegmentLaw(uniform_durations(1.0), 0.2).law(), {});
+  ASSERT_FALSE(s.invalid_input);
+  ASSERT_EQ(s.linear.motion.value, s.nonlinear.motion.value);
+  bool spill = false, both = false;
+  for (const std::string& w : s.warnings) {
+    EXPECT_EQ(w.find("rely on the nonlinear"), std::string::npos) << w;
+    EXPECT_EQ(w.find("(nonlinear model;"), std::string::npos) << w;
+    spill = spill || w.find(
+                         "(linear model; the nonlinear model is out of its range) exceeds the "
+                         "free board 10.0 mm") != std::string::npos;
+    both = both || (w.find("along the length") != std::string::npos &&
+                    w.find("along the width") != std::string::npos);
+  }
+  EXPECT_TRUE(spill) << ::testing::PrintToString(s.warnings);
+  EXPECT_TRUE(both) << ::testing::PrintToString(s.warnings);
+  // The acceleration warning: a 1 x 1 mm cup in 5 m of water moved 100 m in 0.2 s.
+  Format tiny = cup(1, 1, 45.0, 5000.0);
+  tiny.stroke = 100.0;
+  tiny.motion_time = 0.2;
+  const SimulationResult t =
+      simulate(tiny, SevenSegmentLaw(uniform_durations(0.2), 100.0).law(), {});
+  bool acceleration = false;
+  for (const std::string& w : t.warnings) {
+    EXPECT_EQ(w.find("rely on the nonlinear"), std::string::npos) << w;
+    acceleration = acceleration || w.find(
+                                       "the nonlinear model is out of its range too, so no "
+                                       "prediction is reliable") != std::string::npos;
+  }
+  EXPECT_TRUE(acceleration) << ::testing::PrintToString(t.warnings);
+}
+
+TEST(RectangularPlan, ShaperOnATurnedTankCancelsBothDirectionsFirstModes) {
+  const PlanResult r = plan(cup(120, 80, 30.0), Strategy::kShaper, quick_options());
+  ASSERT_TRUE(r.usable()) << r.message;
+  // One ZV per direction (closed-form frequencies, h = 40 mm), convolved.
+  auto f1 = [](double side) {
+    const double k = kPi / side;
+    return std::sqrt(9.81 * k * std::tanh(k * 0.04)) / (2 * kPi);
+  };
+  char tuned[64];
+  std::snprintf(tuned, sizeof tuned, "one per direction, at %.3g and %.3g Hz, convolved", f1(0.12),
+                f1(0.08));
+  EXPECT_NE(r.message.find(tuned), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("4 impulses"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("no residual at both directions' first modes"), std::string::npos)
+      << r.message;
+  // The reference RK4 of both directions' first modes (at the tank's own damping): the law
+  // leaves them at rest, where the uniform law does not.
+  const double phi = 30.0 * kPi / 180.0;
+  std::vector<test::Modes> modes{test::direction(0.12, 0.08, 0.04, std::cos(phi), 1),
+                                 test::direction(0.08, 0.12, 0.04, std::sin(phi), 1)};
+  modes[0].zeta = r.rectangular->along_length.zeta;
+  modes[1].zeta = r.rectangular->along_width.zeta;
+  const double shaped = test::rk4_peaks(modes, r.law, 1.0, 1e-5).rest;
+  const double uniform = test::rk4_peaks(modes, uniform_law(), 1.0, 1e-5).rest;
+  EXPECT_LT(shaped, 1e-4 * uniform) << shaped << " vs " << uniform;
+  // Just past the orientation where the second direction joins the design, the residual is no
+  // worse than just before it (a shaper at the middle frequency made it 59 % worse).
+  Format below = cup(120, 80, 4.28, 50.0), above = cup(120, 80, 4.29, 50.0);
+  below.motion_time = above.motion_time = 1.0;
+  const PlanResult before = plan(below, Strategy::kShaper, quick_options());
+  const PlanResult after = plan(above, Strategy::kShaper, quick_options());
+  ASSERT_TRUE(before.usable() && after.usable()) << before.message << after.message;
+  EXPECT_LE(after.prediction.nonlinear.rest.value,
+            before.prediction.nonlinear.rest.value + 0.05e-3);
+}
+
+TEST(RectangularPlan, RobustnessPointsAreTheTankSimulatedWithItsFrequenciesScaled) {
+  // Each point of the sweep must be simulate() of the tank with omega_scale 1 + delta: the same
+  // nonlinear model (second mode, higher modes) and the same range checks as the nominal point,
+  // inside the range (100 mm) and where the model leaves it at some points (CUP along W, 200 mm).
+  struct Case {
+    double orientation, stroke, time;
+    Strategy strategy;
+  };
+  for (const Case& k :
+       {Case{0.0, 0.1, 1.0, Strategy::kNotch}, Case{90.0, 0.2, 0.73, Strategy::kShaper},
+        Case{30.0, 0.2, 1.0, Strategy::kMultiNotch}}) {
+    Format f = cup(120, 80, k.orientation, 50.0);
+    f.stroke = k.stroke;
+    f.motion_time = k.time;
+    PlanOptions o = quick_options();
+    o.robustness = true;
+    const PlanResult r = plan(f, k.strategy, o);
+    ASSERT_TRUE(r.usable()) << r.message;
+    ASSERT_TRUE(r.robustness);
+    ASSERT_GE(r.robustness->points.size(), 5u);
+    for (const RobustnessPoint& p : r.robustness->points) {
+      SimulationOptions so;
+      so.rest_time = o.rest_time;
+      so.model.omega_scale = 1.0 + p.delta;
+      const SimulationResult sim = simulate(f, r.law, so);
+      ASSERT_FALSE(sim.invalid_input);
+      const std::string where =
+          "orientation " + std::to_string(k.orientation) + ", delta " + std::to_string(p.delta);
+      EXPECT_LT(relative(p.nonlinear.motion.value, sim.nonlinear.motion.value), 1e-6) << where;
+      EXPECT_LT(relative(p.nonlinear.rest.value, sim.nonlinear.rest.value), 1e-6) << where;
+      EXPECT_LT(relative(p.linear.rest.value, sim.linear.rest.value), 1e-6) << where;
+    }
+  }
+}
+
+TEST(RectangularPlan, AReferenceOutOfTheNonlinearRangeIsSaid) {
+  // 120 x 80 at 30 deg, 200 mm in 1 s: the uniform law's wave leaves the nonlinear model's range
+  // (k1 eta = 0.50 along the length), the shaper's does not.
+  Format f = cup(120, 80, 30.0, 50.0);
+  f.motion_time = 1.0;
+  const PlanResult r = plan(f, Strategy::kShaper, quick_options());
+  ASSERT_TRUE(r.usable()) << r.message;
+  const RectangularNonlinearPeaks uniform = rectangular_nonlinear_peaks(
+      *r.rectangular, SevenSegmentLaw(uniform_durations(1.0), 0.2).law(), 1.0);
+  ASSERT_FALSE(uniform.nonlinear);
+  ASSERT_TRUE(rectangular_nonlinear_peaks(*r.rectangular, r.law, 1.0).nonlinear);
+  const std::string expected =
+      "the uniform law's nonlinear figures (the reference of the reductions) are the linear "
+      "model's: " +
+      uniform.warning;
+  EXPECT_NE(std::find(r.warnings.begin(), r.warnings.end(), expected), r.warnings.end())
+      << ::testing::PrintToString(r.warnings);
+}
+
+TEST(RectangularPlan, TimeDomainNeverCallsABoundUnreachableThatNotchMeets) {
+  // The 120 x 80 x 50 mm cup moved 100 mm in 1 s along L.
+  Format f = cup(120, 80, 0.0, 50.0);
+  f.stroke = 0.1;
+  f.motion_time = 1.0;
+  const PlanOptions o = quick_options();
+  const PlanResult notch = plan(f, Strategy::kNotch, o);
+  ASSERT_TRUE(notch.usable()) << notch.message;
+  ASSERT_LE(notch.prediction.nonlinear.rest.value, o.eta_rest_max);
+  const PlanResult td = plan(f, Strategy::kTimeDomain, o);
+  EXPECT_EQ(td.message.find("not reachable"), std::string::npos) << td.message;
+  if (td.usable()) {
+    EXPECT_LE(td.prediction.nonlinear.rest.value, o.eta_rest_max * (1 + 1e-6));
+  } else {
+    EXPECT_NE(td.message.find("eta_rest <= 3 mm is not met in 1 s: time_domain's law, bounded on "
+                              "each direction's oscillator model (without the second mode), "
+                              "verifies at "),
+              std::string::npos)
+        << td.message;
+    EXPECT_NE(td.message.find("try notch or multi_notch"), std::string::npos) << td.message;
+  }
 }
 
 TEST(RectangularPlan, AutoAndTheFiltersPlanATurnedTank) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <string>
 
+#include "slosh/api/calibration_container.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
@@ -199,11 +200,15 @@ void fix_rectangular_alpha(const json& body, CalibrationRequest& r) {
   if (both_directions_excited(t.orientation_deg)) {
     invalid("format.container.orientation_deg",
             "format.container.orientation_deg = " + number_text(t.orientation_deg) +
-                ": a rectangular container is calibrated by moves along one of its sides "
-                "(orientation 0, 90, -90 or 180 degrees), each exciting one direction");
+                " is not calibrated: allowed 0, 90, -90 or 180 degrees (a rectangular "
+                "container is calibrated by moves along one of its sides, each exciting one "
+                "direction; the scales of both directions are not fitted from turned moves)");
   }
   const json* fit = given_member(body, "fit");
-  if (fit != nullptr && given_member(*fit, "alpha") != nullptr) {
+  const json* alpha_fit = fit != nullptr ? given_member(*fit, "alpha") : nullptr;
+  // {"fit": false} asks for what happens anyway (the theory's alpha, held): accepted.
+  const bool held = alpha_fit != nullptr && *alpha_fit == json{{"fit", false}};
+  if (alpha_fit != nullptr && !held) {
     invalid("fit.alpha",
             "fit.alpha applies to the cylinder's model only: a rectangular "
             "container's nonlinear coefficient follows from its depth");
@@ -290,8 +295,19 @@ json run_calibration(const CalibrationRequest& request) {
   out["moves"] = std::move(moves);
   out["identifiability"] = fit.identifiability;
   out["model"] = calibrated_model_json(fit.model);
-  // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans).
-  if (request.format.container.rectangular) out["model"].erase("alpha");
+  // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans). Its
+  // zeta, when the moves did not fit it and no value was given, is the tank's own boundary-layer
+  // damping at the fitted fill: left out, so that a plan at another fill keeps its own.
+  if (request.format.container.rectangular) {
+    out["model"].erase("alpha");
+    const auto zeta = static_cast<std::size_t>(CalibrationParameter::kZeta);
+    if (fit.parameters[zeta].state != ParameterState::kFitted &&
+        !request.settings.parameters[zeta].initial) {
+      out["model"].erase("zeta");
+    }
+  }
+  // What the fit holds for: a request naming it on another container is refused.
+  out["container"] = fitted_container_json(request.format);
   if (request.name) out["name"] = *request.name;
   return out;
 }

@@ -2,6 +2,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "slosh/api/calibration_container.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/simulate.hpp"
@@ -45,6 +46,7 @@ nlohmann::json resolve_model_name(nlohmann::json body, const CalibrationLookup& 
                        "\": no stored calibration of that name (POST /v1/calibrations "
                        "with \"name\" stores one)");
   }
+  check_calibrated_container(stored, body, name);
   options["model"] = stored["model"];
   return body;
 }

@@ -82,6 +82,11 @@ Container parse_container(const nlohmann::json& c, const std::string& path) {
   t.length = required_number(c, path, "length_mm", ranges::kSideMm) * 1e-3;
   t.width = required_number(c, path, "width_mm", ranges::kSideMm) * 1e-3;
   t.orientation_deg = optional_number(c, path, "orientation_deg", ranges::kOrientationDeg, 0.0);
+  // One spelling per direction of motion, so that one direction has one recipe key and one
+  // echo: -0 is 0 and -180 is 180 (the same angle). 0 and 180 (or 90 and -90) are not merged:
+  // they move the tank the other way round, and the answer's signed components differ.
+  if (t.orientation_deg == 0.0) t.orientation_deg = 0.0;
+  if (t.orientation_deg == -180.0) t.orientation_deg = 180.0;
   out.rectangular = t;
   return out;
 }

@@ -1747,6 +1747,8 @@ void add_calibration_schemas(json& s) {
        "{name: {value, prior, standard_error (null unless fitted), state (fitted, fixed, "
        "unidentifiable), at_bound}}, moves [{name, residuals, rms_before_mm, rms_after_mm, "
        "offset_s, offset_standard_error_s}], identifiability [sentences], model (options.model), "
+       "container (the container fitted on: shape, radius_mm or length_mm, width_mm and the "
+       "directions moved; a request naming the calibration on another container is refused), "
        "name."}};
 }
 

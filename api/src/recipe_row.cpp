@@ -237,8 +237,11 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
     // A table with motion_type may move its rows along arcs and paths (their length the stroke).
     if (name == "stroke_mm" && has("motion_type")) continue;
     if (!has(name) && !(rectangular && name == "radius_mm")) {
-      throw RecipeTableError("recipe table: missing column " + quote_text(name) + "; required: " +
-                             "recipe_id, radius_mm, fill_height_mm, fluid (or density_kg_m3 and " +
+      // A rectangular table names its sides instead of a radius.
+      const std::string container = rectangular ? "length_mm, width_mm" : "radius_mm";
+      throw RecipeTableError("recipe table: missing column " + quote_text(name) +
+                             "; required: " + "recipe_id, " + container +
+                             ", fill_height_mm, fluid (or density_kg_m3 and " +
                              "viscosity_pa_s), stroke_mm, motion_time_s, strategy");
     }
   }

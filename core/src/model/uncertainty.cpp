@@ -3,7 +3,11 @@
 #include <algorithm>
 #include <cmath>
 #include <string>
+#include <utility>
+#include <vector>
 
+#include "slosh/core/model/tank_directions.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "text.hpp"
 
@@ -95,8 +99,7 @@ std::optional<InvalidInput> validate_uncertainty(const Format& format, const Mod
 namespace {
 
 /// The first natural frequency of the format at another fill [rad/s]: the cylinder's, or the
-/// rectangular tank's most excited direction's (only a tank square to the motion is planned
-/// over a range: one direction).
+/// rectangular tank's most excited direction's (the one its plan's model follows).
 double first_frequency(const Format& format, double fill) {
   if (!format.container.rectangular) return natural_frequency(format.container.radius, fill, 1);
   return make_sloshing_model(with_fill_and_viscosity(format, fill, format.fluid.viscosity),
@@ -104,11 +107,55 @@ double first_frequency(const Format& format, double fill) {
       .omega1();
 }
 
+/// The excited directions of a rectangular format at another fill and viscosity: their first
+/// natural frequencies [rad/s] and damping ratios [-] (one direction, or two on a turned tank).
+struct ExcitedDirections {
+  std::vector<double> omega;
+  std::vector<double> zeta;
+};
+ExcitedDirections excited_directions(const Format& format, double fill, double viscosity) {
+  const RectangularModel m =
+      rectangular_model_of(with_fill_and_viscosity(format, fill, viscosity), ModelOptions{});
+  const AxisComponents c = axis_components(m.orientation_deg);
+  ExcitedDirections out;
+  for (const auto& [component, d] :
+       {std::pair{c.along_length, &m.along_length}, std::pair{c.along_width, &m.along_width}}) {
+    if (component == 0.0) continue;
+    out.omega.push_back(d->omega1());
+    out.zeta.push_back(d->zeta);
+  }
+  return out;
+}
+
+/// The least and largest frequency factor omega_1(fill) / omega_1(h) at the ends of `fills`:
+/// on a turned tank over both directions, whose frequencies move by different factors (tanh(k h)
+/// saturates sooner along the shorter side), so that one common factor range covers each.
+std::array<double, 2> fill_scales(const Format& format, const std::array<double, 2>& fills) {
+  const double h = format.fill_height;
+  if (!format.container.rectangular) {
+    const double w1 = first_frequency(format, h);
+    return {first_frequency(format, fills[0]) / w1, first_frequency(format, fills[1]) / w1};
+  }
+  const double nu = format.fluid.viscosity;
+  const ExcitedDirections nominal = excited_directions(format, h, nu);
+  const ExcitedDirections lo = excited_directions(format, fills[0], nu);
+  const ExcitedDirections hi = excited_directions(format, fills[1], nu);
+  std::array<double, 2> out{INFINITY, -INFINITY};
+  for (std::size_t i = 0; i < nominal.omega.size(); ++i) {
+    out[0] = std::min(out[0], lo.omega[i] / nominal.omega[i]);
+    out[1] = std::max(out[1], hi.omega[i] / nominal.omega[i]);
+  }
+  return out;
+}
+
 /// The damping ratio of the format by a correlation (the rectangular tank's own damping for
-/// any correlation but kExplicit, which uncertainty_range handles).
+/// any correlation but kExplicit, which uncertainty_range handles; on a turned tank the lesser
+/// of its two directions').
 double correlated_zeta(const Format& format, DampingCorrelation correlation) {
   if (!format.container.rectangular) return damping_ratio(format, correlation);
-  return make_sloshing_model(format, ModelOptions{}).zeta;
+  const ExcitedDirections d =
+      excited_directions(format, format.fill_height, format.fluid.viscosity);
+  return *std::min_element(d.zeta.begin(), d.zeta.end());
 }
 
 }  // namespace
@@ -121,8 +168,9 @@ UncertaintyRange uncertainty_range(const Format& format, const ModelOptions& mod
   const std::array<double, 2> fills = u.fill_height.value_or(std::array<double, 2>{h, h});
   const std::array<double, 2> viscosities = u.viscosity.value_or(std::array<double, 2>{nu, nu});
   UncertaintyRange r;
-  r.scale_lo = first_frequency(format, fills[0]) / w1 * (1.0 - u.omega_error);
-  r.scale_hi = first_frequency(format, fills[1]) / w1 * (1.0 + u.omega_error);
+  const std::array<double, 2> scales = fill_scales(format, fills);
+  r.scale_lo = scales[0] * (1.0 - u.omega_error);
+  r.scale_hi = scales[1] * (1.0 + u.omega_error);
   if (model.damping == DampingCorrelation::kExplicit) {
     r.zeta_lo = r.zeta_hi = model.explicit_zeta;
   } else {

@@ -81,15 +81,21 @@ RectangularWaveHeights wave_heights(const RectangularPeaks& peaks) {
 RectangularNonlinearValidity rectangular_nonlinear_validity(const RectangularModel& model,
                                                             const RectangularWaveHeights& heights) {
   const AxisComponents c = axis_components(model.orientation_deg);
+  RectangularNonlinearValidity length, width;
   if (c.along_length != 0.0) {
-    auto v = check_direction(model.along_length, TankAxis::kLength, heights.along_length);
-    if (!v.valid) return v;
+    length = check_direction(model.along_length, TankAxis::kLength, heights.along_length);
   }
   if (c.along_width != 0.0) {
-    auto v = check_direction(model.along_width, TankAxis::kWidth, heights.along_width);
-    if (!v.valid) return v;
+    width = check_direction(model.along_width, TankAxis::kWidth, heights.along_width);
   }
-  return {};
+  if (length.valid) return width;
+  if (width.valid) return length;
+  // Both directions fail: one sentence naming each, so the user does not fix one side and meet
+  // the other on the next try.
+  const std::string tail = "; linear model used";
+  length.reason.resize(length.reason.size() - tail.size());
+  length.reason += "; " + width.reason;
+  return length;
 }
 
 }  // namespace slosh

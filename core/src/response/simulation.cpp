@@ -12,16 +12,52 @@ namespace slosh {
 
 using detail::fixed;
 
+namespace {
+
+/// Where the linear model's own assumption, a wave small against the depth and the tank, fails
+/// on a rectangular tank: the linear wall height `eta` [m] above kLinearMaxDepthShare of the
+/// fill height `h` (shallow fill: the wave speed itself depends on the amplitude), or a wave
+/// steeper along the longer side than the steepest standing wave (Penney & Price 1952: k A =
+/// 0.68), which no liquid can carry. Only the nonlinear model's range was checked before, and
+/// outside it the linear model answers: these say that this answer is out of theory too.
+std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h, double eta) {
+  constexpr double kLinearMaxDepthShare{0.5};
+  constexpr double kSteepestStandingWave{0.68};
+  std::vector<std::string> w;
+  if (!std::isfinite(eta)) return w;
+  if (eta > kLinearMaxDepthShare * h) {
+    w.push_back("linear model beyond its theory: wall height " + fixed(eta * 1e3, 1) + " mm is " +
+                fixed(eta / h, 2) + " of the fill height " + fixed(h * 1e3, 1) + " mm (above " +
+                fixed(kLinearMaxDepthShare, 1) +
+                "), a wave not small against the depth; the figures are not reliable");
+  }
+  const double side = std::max(t.length, t.width);
+  const double steepness = rectangular_wavenumber(side, 1) * eta;
+  if (steepness > kSteepestStandingWave) {
+    w.push_back("linear model beyond its theory: wall height " + fixed(eta * 1e3, 1) +
+                " mm is a wave steepness k1 eta = " + fixed(steepness, 2) +
+                " along the longer side " + fixed(side * 1e3, 1) +
+                " mm, above the steepest standing wave " + fixed(kSteepestStandingWave, 2) +
+                " (Penney & Price 1952); the figures are not reliable");
+  }
+  return w;
+}
+
+}  // namespace
+
 std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
-                                           double eta_motion_linear, double eta_motion_nonlinear) {
+                                           double eta_motion_linear, double eta_motion_nonlinear,
+                                           bool nonlinear_in_range) {
   std::vector<std::string> w;
   const double R = format.container.radius;
   const double h = format.fill_height;
   if (peak_abs_acceleration > kLinearModelMaxAcceleration) {
     w.push_back("peak |acceleration| " + fixed(peak_abs_acceleration, 2) + " m/s^2 exceeds " +
                 fixed(kLinearModelMaxAcceleration, 0) +
-                " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); "
-                "rely on the nonlinear prediction");
+                " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); " +
+                (nonlinear_in_range ? std::string("rely on the nonlinear prediction")
+                                    : std::string("the nonlinear model is out of its range too, "
+                                                  "so no prediction is reliable")));
   }
   if (!format.container.rectangular && peak_abs_acceleration > kGravity * h / R) {
     // A steady horizontal acceleration a tilts the free surface to the slope a/g, raising it by
@@ -45,6 +81,9 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
                   fixed(kMinModelledRadius * 1e3, 0) +
                   " mm: surface tension matters and is not modelled");
     }
+    for (std::string& beyond : beyond_linear_theory(t, h, eta_motion_linear)) {
+      w.push_back(std::move(beyond));
+    }
   } else if (R < kMinModelledRadius) {
     w.push_back("radius " + fixed(R * 1e3, 1) + " mm is below " +
                 fixed(kMinModelledRadius * 1e3, 0) +
@@ -60,7 +99,13 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
     const bool linear_larger = eta_motion_linear > eta_motion_nonlinear;
     const double eta = linear_larger ? eta_motion_linear : eta_motion_nonlinear;
     const double other = linear_larger ? eta_motion_nonlinear : eta_motion_linear;
-    if (eta > free_board) {
+    if (eta > free_board && !nonlinear_in_range) {
+      w.push_back(
+          "predicted sloshing height during the motion " + fixed(eta_motion_linear * 1e3, 1) +
+          " mm (linear model; the nonlinear model is out of its range) exceeds the free "
+          "board " +
+          fixed(free_board * 1e3, 1) + " mm (container height - fill height): liquid will spill");
+    } else if (eta > free_board) {
       w.push_back("predicted sloshing height during the motion " + fixed(eta * 1e3, 1) + " mm (" +
                   (linear_larger ? "linear" : "nonlinear") + " model; " +
                   (linear_larger ? "nonlinear" : "linear") + " model " + fixed(other * 1e3, 1) +
@@ -208,9 +253,11 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
           [&nonlinear](double t) { return nonlinear.eta(t); });
     }
   }
+  // So far r.warnings holds only the rectangular nonlinear model's out-of-range reason.
+  const bool nonlinear_in_range = r.warnings.empty();
   std::vector<std::string> warnings = validity_warnings(
       format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
-      r.linear.motion.value, r.nonlinear.motion.value);
+      r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range);
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   r.warnings = std::move(warnings);
   return r;

@@ -6,6 +6,8 @@
 #include <array>
 #include <cmath>
 #include <numbers>
+#include <utility>
+#include <vector>
 
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -178,9 +180,42 @@ constexpr std::array<ShaperType, 7> kShapersByDelay{
 /// shortest family whose residual over [omega_lo, omega_hi] at the range's least damping stays
 /// <= the option `residual` V, designed at the middle of the range; when none does, the one of
 /// least worst residual. `choice` gets the sentence saying so (empty for the option).
+/// The shaper that cancels both modes a and b: every pair of their impulses, at the sum of the
+/// times with the product of the amplitudes (the transfer function is the product, zero at each
+/// mode's frequency).
+InputShaper convolved(const InputShaper& a, const InputShaper& b) {
+  InputShaper out{a.type, {}, a.exact_design && b.exact_design};
+  for (const Impulse& i : a.impulses) {
+    for (const Impulse& j : b.impulses)
+      out.impulses.push_back({i.time + j.time, i.amplitude * j.amplitude});
+  }
+  std::sort(out.impulses.begin(), out.impulses.end(),
+            [](const Impulse& x, const Impulse& y) { return x.time < y.time; });
+  return out;
+}
+
+/// Every mode the shaper must cancel: the design model's first, or a turned tank's two.
+std::vector<std::pair<double, double>> shaped_modes(const StrategyContext& c) {
+  if (c.over_directions && !c.robust()) {
+    return {{c.direction_omega[0], c.direction_zeta[0]},
+            {c.direction_omega[1], c.direction_zeta[1]}};
+  }
+  return {{c.design_model.omega1(), c.design_model.zeta}};
+}
+
 InputShaper shaper_for(const StrategyContext& c, std::string* choice) {
   const PlanOptions& opt = c.options;
   const double w = c.design_model.omega1(), z = c.design_model.zeta;
+  if (c.over_directions && !c.robust()) {
+    // A turned tank: a shaper at the middle of its two first modes cancels neither; one per
+    // direction, convolved, cancels both (at the sum of their delays).
+    const double f = 0.5 / std::numbers::pi;
+    *choice = "one per direction, at " + sig3(c.direction_omega[0] * f) + " and " +
+              sig3(c.direction_omega[1] * f) + " Hz, convolved";
+    return convolved(
+        make_shaper(opt.shaper, c.direction_omega[0], c.direction_zeta[0], opt.residual),
+        make_shaper(opt.shaper, c.direction_omega[1], c.direction_zeta[1], opt.residual));
+  }
   if (!c.robust() || !opt.shaper_for_range) return make_shaper(opt.shaper, w, z, opt.residual);
   const UncertaintyRange& r = *c.range;
   std::optional<InputShaper> best;
@@ -218,7 +253,10 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   const double Tb = T - shaper.delay();
   const std::string name =
       to_string(shaper.type) + " shaper" + (choice.empty() ? "" : " (" + choice + ")");
-  const double residual = shaper_residual(shaper, c.design_model.omega1(), c.design_model.zeta);
+  double residual = 0.0;
+  for (const auto& [omega, zeta] : shaped_modes(c)) {
+    residual = std::max(residual, shaper_residual(shaper, omega, zeta));
+  }
   if (!(Tb >= kMinBaseDuration)) {
     FilterOutcome o = no_law(c, "the " + name + " delays the law by " + sig3(shaper.delay()) +
                                     " s of T = " + sig3(T) +
@@ -239,8 +277,16 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   }
   o.design = ShaperDesign{opt.base, shaper, Tb, residual};
   // Below 1e-9 the residual is round-off: the ZV family cancels mode 1 exactly.
+  // On a turned tank under an uncertainty range the shaper is tuned between the two directions'
+  // first modes: neither of them is cancelled exactly, and the text must not claim so.
+  const std::string at =
+      !c.over_directions ? " at f1"
+      : !c.robust()      ? " at both directions' first modes"
+                         : " at " + sig3(c.design_model.omega1() / (2.0 * std::numbers::pi)) +
+                          " Hz, the middle of the two directions' first modes (each keeps a "
+                          "residual)";
   const std::string residual_text =
-      residual < 1e-9 ? "no residual at f1" : "residual " + percent(residual) + " at f1";
+      (residual < 1e-9 ? "no residual" : "residual " + percent(residual)) + at;
   o.detail = name + " (" + std::to_string(shaper.impulses.size()) + " impulses over " +
              ms(shaper.delay()) + ", " + residual_text + ") on a " + to_string(opt.base) +
              " base law of " + sig3(Tb) + " s";

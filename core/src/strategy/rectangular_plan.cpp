@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/model/uncertainty.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 #include "strategy/strategies.hpp"
+#include "text.hpp"
 
 namespace slosh {
 
@@ -20,6 +22,26 @@ RectangularPrediction rectangular_prediction(const RectangularModel& model, cons
   p.width = nonlinear.peaks.along_width;
   p.warning = std::move(nonlinear.warning);
   return p;
+}
+
+std::string motion_too_short_for_mode(const RectangularModel& model, double motion_time) {
+  const AxisComponents c = axis_components(model.orientation_deg);
+  double period = 0.0;
+  const char* name = "length";
+  if (c.along_length != 0.0) period = 2.0 * std::numbers::pi / model.along_length.omega1();
+  if (c.along_width != 0.0) {
+    const double w = 2.0 * std::numbers::pi / model.along_width.omega1();
+    if (w > period) {
+      period = w;
+      name = "width";
+    }
+  }
+  if (!(motion_time < kMinMotionPeriodShare * period)) return {};
+  return "motion too short for the tank: motion time " + detail::sig3(motion_time) +
+         " s is below " + detail::fixed(kMinMotionPeriodShare, 1) +
+         " of the first sloshing period " + detail::sig3(period) + " s along the " + name +
+         "; the move is an impulse to that mode, every law of this duration leaves about the "
+         "same sloshing, and no plan can reduce it (a longer motion time can)";
 }
 
 bool both_directions_excited(double orientation_deg) {
@@ -86,22 +108,43 @@ void set_directions(StrategyContext& c) {
   }
   // Both directions excited: the spectral strategies design over the range of the two first
   // frequencies (multi_notch's side notches at its ends, min_jerk_band's band over both, notch
-  // and the filters at its middle), as they do over an uncertainty range.
+  // and the filters at its middle), as they do over an uncertainty range; with one, over the
+  // union of both directions' ranges (uncertainty_range's factors cover each direction's own).
+  const double s_lo = c.range ? c.range->scale_lo : 1.0;
+  const double s_hi = c.range ? c.range->scale_hi : 1.0;
   const double w_a = directions[0].model.omega1(), w_b = directions[1].model.omega1();
-  const double lo = std::min(w_a, w_b), hi = std::max(w_a, w_b), mid = 0.5 * (lo + hi);
-  const double zeta = std::min(directions[0].model.zeta, directions[1].model.zeta);
+  const double lo = std::min(w_a, w_b) * s_lo, hi = std::max(w_a, w_b) * s_hi;
+  const double mid = 0.5 * (lo + hi);
+  double zeta = std::min(directions[0].model.zeta, directions[1].model.zeta);
+  if (c.range) zeta = std::min(zeta, c.range->zeta_lo);
   c.design_model = scaled_model(c.model, mid / c.model.omega1(), zeta);
+  c.over_directions = true;
+  c.direction_omega = {w_a, w_b};
+  c.direction_zeta = {directions[0].model.zeta, directions[1].model.zeta};
   const double band = c.options.band;
   c.band = std::max((1.0 + band) * hi / mid - 1.0, 1.0 - (1.0 - band) * lo / mid);
   c.p_notch = std::max(c.options.p_notch, (hi - lo) / (hi + lo));
   // time_domain bounds the corners, |eta_L| + |eta_W| <= 2 max(|eta_L|, |eta_W|): each driven
   // direction at twice its wall height (exact for a square tank at 45 degrees, where both are
-  // equal; conservative otherwise, and the plan is verified on the corners themselves).
+  // equal; conservative otherwise, and the plan is verified on the corners themselves); over a
+  // range, each direction at the range's sample points and checked at the sweep's points.
   c.sample_models.clear();
+  c.check_models.clear();
   for (const DrivenDirection& d : directions) {
-    c.sample_models.push_back(with_height_factor(d.model, 2.0));
+    const SloshingModel doubled = with_height_factor(d.model, 2.0);
+    if (!c.range) {
+      c.sample_models.push_back(doubled);
+      c.check_models.push_back(doubled);
+      continue;
+    }
+    for (const SloshingModel& m :
+         sample_models(doubled, *c.range, c.options.uncertainty.sample_points)) {
+      c.sample_models.push_back(m);
+    }
+    for (double delta : robustness_deltas(c.sweep)) {
+      c.check_models.push_back(scaled_model(doubled, 1.0 + delta, c.sweep.zeta));
+    }
   }
-  c.check_models = c.sample_models;
 }
 
 }  // namespace detail

@@ -2,6 +2,7 @@
 // The optimising strategies of SPEC §5 and the multi-start machinery they share (internal).
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <optional>
@@ -82,6 +83,13 @@ struct StrategyContext {
   /// excited direction driven by the motion (driven_directions); the plan's laws are verified
   /// on this model's walls and corners (rectangular_prediction).
   const RectangularModel* rectangular{nullptr};
+  /// True when set_directions designs at the middle of a turned tank's two first modes: then
+  /// design_model.omega1() is neither direction's frequency (the reports say so).
+  bool over_directions{false};
+  /// With over_directions: the two directions' first-mode frequencies [rad/s] and damping ratios
+  /// [-], the most excited direction first (the shaper cancels each).
+  std::array<double, 2> direction_omega{};
+  std::array<double, 2> direction_zeta{};
 
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }

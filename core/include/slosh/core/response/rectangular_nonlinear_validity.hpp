@@ -38,7 +38,7 @@ enum class RectangularNonlinearLimit {
 struct RectangularNonlinearValidity {
   bool valid{true};
   RectangularNonlinearLimit limit{RectangularNonlinearLimit::kNone};
-  /// The direction that failed (meaningless when valid); the length is checked first.
+  /// The direction that failed (meaningless when valid); the length when both fail.
   TankAxis axis{TankAxis::kLength};
   /// Empty when valid; otherwise one sentence naming the direction, the quantity, its value
   /// and the range, ending "; linear model used" (the exact texts are in the tests).
@@ -65,7 +65,10 @@ struct RectangularWaveHeights {
 ///   kDiverged; the steepness k_1 eta = pi eta / side must be <= kRectangularMaxSteepness (0.3);
 ///   and the third-order coefficient c(h / side) must keep |c| >= 0.28 (k_1 eta)^2 (fails only
 ///   near the critical depth 0.3368, and never for eta = 0).
-/// - The first failure is returned (the length before the width); valid otherwise.
+/// - Both excited directions are checked. When one fails, its verdict is returned; when both
+///   fail, the length's verdict (limit, axis) with a reason naming both: the length's sentence
+///   without its tail, "; ", then the width's sentence (one warning, every direction out of
+///   range named); valid otherwise.
 /// - Pure: no allocation beyond the reason text, no state; the model is assumed built by
 ///   make_rectangular_model (sides and fill height positive and finite).
 [[nodiscard]] RectangularNonlinearValidity rectangular_nonlinear_validity(

@@ -56,10 +56,14 @@ constexpr double kMinModelledRadius{0.015};          ///< [m], surface tension b
 constexpr double kMinFillRatio{0.3};                 ///< h/R below: shallow-liquid regime
 
 /// Validity warnings of SPEC §2 for a format, a law's peak |a| and predicted eta_motion values.
+/// `nonlinear_in_range` false says the nonlinear figures are the linear model's (a rectangular
+/// tank outside its nonlinear model's range): the sentences then neither send the user to the
+/// nonlinear prediction nor call a figure nonlinear.
 [[nodiscard]] std::vector<std::string> validity_warnings(const Format& format,
                                                          double peak_abs_acceleration,
                                                          double eta_motion_linear,
-                                                         double eta_motion_nonlinear);
+                                                         double eta_motion_nonlinear,
+                                                         bool nonlinear_in_range = true);
 
 /// The first input simulate() refuses, or nullopt: the format (radius, fill height, density
 /// finite and > 0; viscosity, stroke finite and >= 0; motion time and the container height when

@@ -27,6 +27,18 @@ struct RectangularPrediction {
 [[nodiscard]] RectangularPrediction rectangular_prediction(const RectangularModel& model,
                                                            const MotionLaw& law, double rest_time);
 
+/// Below this share of an excited direction's first sloshing period a move is an impulse to
+/// that mode: the residual of any law of this duration differs from the uniform law's by terms
+/// of order (omega_1 T)^2 / 12 < 4 % (a tenth of the period: omega_1 T = 0.63), so no planning
+/// can reduce it.
+inline constexpr double kMinMotionPeriodShare{0.1};
+
+/// Empty, or the sentence saying that `motion_time` [s] is below kMinMotionPeriodShare of the
+/// first period 2 pi / omega_1 of an excited direction of `model` (the slowest such direction
+/// is named): the plan cannot act on that mode.
+[[nodiscard]] std::string motion_too_short_for_mode(const RectangularModel& model,
+                                                    double motion_time);
+
 /// True when the motion drives both of the tank's directions (orientation not a multiple of 90
 /// degrees).
 [[nodiscard]] bool both_directions_excited(double orientation_deg);

@@ -1,0 +1,154 @@
+// Hostile checks of rectangular containers through a real `slosh serve` on loopback: the answer
+// must be continuous in the orientation, the validity warnings must name every direction out of
+// range, and a calibration must not carry one tank's unfitted damping into another container.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "support/server.hpp"
+
+namespace slosh::test {
+namespace {
+
+using nlohmann::json;
+
+json cup(double orientation_deg, double length_mm = 120, double width_mm = 80,
+         double fill_mm = 50) {
+  return {{"container",
+           {{"shape", "rectangular"},
+            {"length_mm", length_mm},
+            {"width_mm", width_mm},
+            {"height_mm", 70},
+            {"orientation_deg", orientation_deg}}},
+          {"fill_height_mm", fill_mm},
+          {"fluid", "water"},
+          {"stroke_mm", 200},
+          {"motion_time_s", 1}};
+}
+
+json post(const Server& server, const std::string& path, const json& body, int expect = 200) {
+  auto r = server.client().Post(path, body.dump(), "application/json");
+  EXPECT_TRUE(r);
+  if (!r) return json();
+  EXPECT_EQ(r->status, expect) << r->body;
+  return json::parse(r->body);
+}
+
+double rest(const json& plan, const char* model) {
+  return plan["prediction"][model]["eta_rest_mm"].get<double>();
+}
+
+class RectangularHostile : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() { server_ = new Server({"--cache", ""}); }
+  static void TearDownTestSuite() {
+    delete server_;
+    server_ = nullptr;
+  }
+  static Server* server_;
+};
+Server* RectangularHostile::server_ = nullptr;
+
+// A width share of sin(1e-9 deg) ~ 1.7e-11 must not change the plan: same physics as 0 deg.
+TEST_F(RectangularHostile, OrientationJustOffTheAxisPlansAsOnTheAxis) {
+  const json at_zero = post(*server_, "/v1/plans", {{"format", cup(0.0)}});
+  for (double tiny : {1e-9, -1e-9, 1e-300}) {
+    const json off = post(*server_, "/v1/plans", {{"format", cup(tiny)}});
+    for (const char* model : {"linear", "nonlinear"}) {
+      EXPECT_NEAR(rest(off, model), rest(at_zero, model), 1e-3 * rest(at_zero, model) + 1e-6)
+          << "orientation " << tiny << ", " << model << " model";
+    }
+  }
+  const json at_ninety = post(*server_, "/v1/plans", {{"format", cup(90.0)}});
+  const json near_ninety = post(*server_, "/v1/plans", {{"format", cup(89.9999999)}});
+  for (const char* model : {"linear", "nonlinear"}) {
+    EXPECT_NEAR(rest(near_ninety, model), rest(at_ninety, model),
+                1e-3 * rest(at_ninety, model) + 1e-6)
+        << model;
+  }
+}
+
+// A square tank moved diagonally in shallow fill is out of the nonlinear range along both sides.
+TEST_F(RectangularHostile, ShallowSquareAtFortyFiveWarnsForBothDirections) {
+  const json plan = post(*server_, "/v1/plans", {{"format", cup(45.0, 100, 100, 20)}});
+  bool length = false, width = false;
+  for (const auto& w : plan["warnings"]) {
+    const std::string text = w.get<std::string>();
+    length = length || text.find("not valid along the length") != std::string::npos;
+    width = width || text.find("not valid along the width") != std::string::npos;
+  }
+  EXPECT_TRUE(length) << plan["warnings"].dump();
+  EXPECT_TRUE(width) << plan["warnings"].dump();
+}
+
+// A calibration whose zeta stayed at the cup's prior must not override another tank's damping.
+TEST_F(RectangularHostile, CalibrationOfOneCupDoesNotImposeItsDampingPriorElsewhere) {
+  const json moves = json::array(
+      {{{"name", "m1"},
+        {"law", {{"type", "modified_trapezoid"}}},
+        {"peaks", {{"eta_motion_mm", 14}, {"eta_rest_mm", 12}, {"rest_window_s", 1.0}}}},
+       {{"name", "m2"},
+        {"law", {{"type", "poly5"}}},
+        {"peaks", {{"eta_motion_mm", 12}, {"eta_rest_mm", 3}, {"rest_window_s", 1.0}}}}});
+  post(*server_, "/v1/calibrations",
+       {{"name", "hostile-cup"}, {"format", cup(0.0)}, {"moves", moves}});
+  const json big = cup(0.0, 300, 200, 100);
+  json big_format = big;
+  big_format["container"]["height_mm"] = 150;
+  const json own = post(*server_, "/v1/plans", {{"format", big_format}});
+  auto r = server_->client().Post(
+      "/v1/plans", json{{"format", big_format}, {"options", {{"model", "hostile-cup"}}}}.dump(),
+      "application/json");
+  ASSERT_TRUE(r);
+  if (r->status == 422) return;  // refusing a calibration of another tank is an answer too
+  ASSERT_EQ(r->status, 200) << r->body;
+  const json calibrated = json::parse(r->body);
+  for (const auto& w : calibrated["warnings"]) {
+    if (w.get<std::string>().find("calibrat") != std::string::npos) return;  // said so
+  }
+  EXPECT_DOUBLE_EQ(calibrated["model"]["zeta"].get<double>(), own["model"]["zeta"].get<double>())
+      << "the 120 x 80 cup's prior zeta replaced the 300 x 200 tank's own damping silently";
+}
+
+// The cup's calibration is refused on a cylinder moved along an arc, naming options.model.
+TEST_F(RectangularHostile, CupCalibrationIsRefusedOnACylinderAlongAnArc) {
+  const json moves = json::array(
+      {{{"name", "m1"},
+        {"law", {{"type", "modified_trapezoid"}}},
+        {"peaks", {{"eta_motion_mm", 14}, {"eta_rest_mm", 12}, {"rest_window_s", 1.0}}}},
+       {{"name", "m2"},
+        {"law", {{"type", "poly5"}}},
+        {"peaks", {{"eta_motion_mm", 12}, {"eta_rest_mm", 3}, {"rest_window_s", 1.0}}}}});
+  post(*server_, "/v1/calibrations", {{"name", "cup-arc"}, {"format", cup(0.0)}, {"moves", moves}});
+  const json arc = {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+                    {"fill_height_mm", 82},
+                    {"fluid", "water"},
+                    {"motion_time_s", 1.2},
+                    {"motion", {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}}};
+  const json refused =
+      post(*server_, "/v1/plans",
+           {{"format", arc}, {"strategy", "baseline"}, {"options", {{"model", "cup-arc"}}}}, 422);
+  EXPECT_EQ(refused["error"]["field"], "options.model") << refused.dump();
+  EXPECT_EQ(refused["error"]["message"],
+            "options.model = \"cup-arc\" was fitted on a rectangular container 120 x 80 mm moved "
+            "along its length; this request's container is a cylinder of radius 48.5 mm: a "
+            "calibration applies only to the container and the directions it was measured on "
+            "(calibrate this one, or give its numbers as an options.model object)")
+      << refused.dump();
+}
+
+// Physically identical orientations share one recipe key (one cache entry, one answer).
+TEST_F(RectangularHostile, EquivalentOrientationsShareTheRecipeKey) {
+  const std::string zero = post(*server_, "/v1/plans", {{"format", cup(0.0)}})["key"];
+  const std::string minus_zero = post(*server_, "/v1/plans", {{"format", cup(-0.0)}})["key"];
+  const std::string plus_180 = post(*server_, "/v1/plans", {{"format", cup(180.0)}})["key"];
+  const std::string minus_180 = post(*server_, "/v1/plans", {{"format", cup(-180.0)}})["key"];
+  EXPECT_EQ(zero, minus_zero);
+  EXPECT_EQ(plus_180, minus_180);
+}
+
+}  // namespace
+}  // namespace slosh::test
