@@ -216,6 +216,8 @@ BatchJobs::BatchJobs(PlanService& service, JobStore& store)
   options.claim_idle = std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1e3));
   options.alive = options.claim_idle;
   options.ttl = std::chrono::milliseconds(std::llround(config.batch_job_ttl_s * 1e3));
+  options.max_bytes = config.batch_jobs_bytes;
+  options.max_takes = config.batch_job_max_takes;
   shared_ = std::make_unique<SharedJobWorker>(service, service.redis(), std::move(options));
 }
 

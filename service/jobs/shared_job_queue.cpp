@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <utility>
 
+#include "jobs/job_messages.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/json_text.hpp"
@@ -19,18 +20,24 @@ constexpr const char* kGroup = "workers";
 constexpr std::size_t kPublishChunk = 500;
 
 // Stores a row once by its index, counts it and acknowledges its item, in one step: a replica
-// killed between two of these leaves either all done or none (the item is then taken over).
+// killed between two of these leaves either all done or none (the item is then taken over). The
+// job's rows are bounded by its spec's max_bytes: the row that passes it is stored, then the job
+// is closed ("over" in its counters) and its final record says failed.
 // KEYS: spec, rows, counts, items, cancel, removed. ARGV: index, row, failed (0|1), replica,
 // entry. Returns {1 new | 0 again | -1 closed, done}.
 constexpr const char* kStoreScript = R"lua(
-if redis.call('EXISTS', KEYS[1]) == 0 or redis.call('EXISTS', KEYS[5], KEYS[6]) > 0 then
-  return {-1, 0}
+if redis.call('EXISTS', KEYS[1]) == 0 or redis.call('EXISTS', KEYS[5], KEYS[6]) > 0 or
+   redis.call('HEXISTS', KEYS[3], 'over') == 1 then
+  return {-1, tonumber(redis.call('HGET', KEYS[3], 'done') or '0')}
 end
 local new = redis.call('HSETNX', KEYS[2], ARGV[1], ARGV[2])
 if new == 1 then
   redis.call('HINCRBY', KEYS[3], 'done', 1)
   if ARGV[3] == '1' then redis.call('HINCRBY', KEYS[3], 'failed', 1) end
   redis.call('HINCRBY', KEYS[3], 'r:' .. ARGV[4], 1)
+  local bytes = redis.call('HINCRBY', KEYS[3], 'bytes', string.len(ARGV[2]))
+  local max = tonumber(redis.call('HGET', KEYS[1], 'max_bytes') or '0')
+  if max > 0 and bytes > max then redis.call('HSET', KEYS[3], 'over', '1') end
 end
 redis.call('XACK', KEYS[4], 'workers', ARGV[5])
 return {new, tonumber(redis.call('HGET', KEYS[3], 'done') or '0')}
@@ -108,9 +115,11 @@ std::optional<std::string> SharedJobQueue::publish(const JobStatus& status,
       return r.is_error() && r.text.rfind("BUSYGROUP", 0) != 0;
     });
   };
-  std::vector<std::string> spec{
-      "HSET",   key(id, "spec"), "total",      std::to_string(status.total),
-      "format", status.format,   "created_ms", std::to_string(status.created_ms)};
+  std::vector<std::string> spec{"HSET",       key(id, "spec"),
+                                "total",      std::to_string(status.total),
+                                "format",     status.format,
+                                "created_ms", std::to_string(status.created_ms),
+                                "max_bytes",  std::to_string(options_.max_bytes)};
   if (status.view) spec.insert(spec.end(), {"view", *status.view});
   if (failed(client_->pipeline({{"DEL", key(id, "items"), key(id, "final")},
                                 spec,
@@ -176,6 +185,7 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
                         std::to_string(options_.claim_idle.count()), "0-0", "COUNT", count});
   if (claimed && claimed->type == RedisReply::Type::kArray && claimed->elements.size() >= 2) {
     out = items_of(claimed->elements[1]);
+    count_takes(id, out);
   }
   if (out.size() < n) {
     const auto read = client_->command({"XREADGROUP", "GROUP", kGroup, options_.replica, "COUNT",
@@ -193,6 +203,25 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
         {"HSETNX", key(id, "counts"), "started_ms", std::to_string(unix_ms_now())});
   }
   return out;
+}
+
+void SharedJobQueue::count_takes(const std::string& id, std::vector<SharedItem>& items) {
+  if (items.empty()) return;
+  // XPENDING of one entry: [[id, consumer, idle ms, deliveries]]. XAUTOCLAIM counted this take.
+  std::vector<std::vector<std::string>> asks;
+  for (const SharedItem& item : items) {
+    asks.push_back({"XPENDING", key(id, "items"), kGroup, item.entry, item.entry, "1"});
+  }
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return;
+  for (std::size_t i = 0; i < items.size() && i < replies->size(); ++i) {
+    const RedisReply& r = (*replies)[i];
+    if (r.type != RedisReply::Type::kArray || r.elements.empty() ||
+        r.elements[0].elements.size() < 4) {
+      continue;
+    }
+    items[i].takes = static_cast<std::size_t>(std::max(1LL, r.elements[0].elements[3].integer));
+  }
 }
 
 void SharedJobQueue::keep(const std::string& id, const std::vector<std::string>& entries) {
@@ -270,6 +299,8 @@ SharedJobQueue::Snapshot SharedJobQueue::read(const std::string& id, bool renew)
   out.answered = true;
   out.over = (*replies)[3].integer > 0;
   out.status = compose(id, (*replies)[1], (*replies)[2], (*replies)[0].integer > 0);
+  out.too_large = field_of((*replies)[2], "over") != nullptr;
+  out.max_bytes = count_of((*replies)[1], "max_bytes");
   return out;
 }
 
@@ -298,7 +329,7 @@ SharedJobQueue::Fate SharedJobQueue::beat(const std::string& id) {
   if (!now.status) return leave(Fate::kGone);
   JobStatus& s = *now.status;
   const bool cancel = s.cancel_requested;
-  if (!cancel && s.done < s.total) {
+  if (!cancel && !now.too_large && s.done < s.total) {
     if (write_record(id, api::job_record_text(s, unix_ms_now()), false)) return Fate::kRunning;
     // A full Redis (maxmemory, noeviction) refuses the record but takes the heartbeat's
     // PEXPIRE: the other replicas then read the job as alive and behind, not as stopped.
@@ -311,6 +342,9 @@ SharedJobQueue::Fate SharedJobQueue::beat(const std::string& id) {
   if (cancel) {
     s.message =
         "cancelled after " + std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
+  } else if (now.too_large) {
+    s.state = JobState::kFailed;
+    s.message = too_large_text(now.max_bytes, s.done, s.total);
   }
   if (!write_record(id, api::job_record_text(s, unix_ms_now()), true)) return Fate::kUnknown;
   (void)client_->pipeline({{"DEL", key(id, "items")}});

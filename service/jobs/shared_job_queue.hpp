@@ -38,6 +38,9 @@ struct SharedItem {
   RecipeRow recipe;                 ///< the recipe (or its reading error)
   std::size_t total{0};             ///< the job's recipes
   std::optional<std::string> view;  ///< the job's plan view (null: no plan in the rows)
+  /// Times the item was handed out, this take included (its delivery count in the group): more
+  /// than SharedQueueOptions::max_takes means that many takers never stored its row.
+  std::size_t takes{1};
 };
 
 /// Settings of a SharedJobQueue.
@@ -52,6 +55,13 @@ struct SharedQueueOptions {
   /// The heartbeat's time to live [ms] (the replicas' batch_job_stale_s).
   std::chrono::milliseconds alive{30000};
   std::string prefix{"slosh:jobs:"};
+  /// Most bytes of result rows one shared job stores in Redis (the accepting replica's
+  /// batch_jobs_bytes, kept in the job's spec so every replica applies the same bound): the row
+  /// that passes it is the job's last, and the job ends failed naming batch_jobs_bytes.
+  std::size_t max_bytes{std::size_t{256} << 20};
+  /// An item handed out more often than this is not solved again: its row is recorded failed
+  /// (dead_item_text). The replicas' batch_job_max_takes.
+  std::size_t max_takes{3};
 };
 
 class SharedJobQueue {
@@ -75,7 +85,7 @@ class SharedJobQueue {
   enum class Stored {
     kNew,     ///< stored and counted for this replica
     kAgain,   ///< the row was stored before (by this or another replica); acknowledged
-    kClosed,  ///< the job is cancelled, removed or no longer in Redis: not stored
+    kClosed,  ///< the job is cancelled, removed, past its bytes or no longer in Redis: not stored
     kFailed,  ///< Redis did not answer: the item stays pending and is taken over later
   };
   struct StoreResult {
@@ -113,6 +123,8 @@ class SharedJobQueue {
     std::optional<JobStatus> status;
     bool over{false};
     bool answered{false};
+    bool too_large{false};     // its rows passed max_bytes: it ends failed
+    std::size_t max_bytes{0};  // its spec's bound
   };
   // Reads it; `renew`: also renews its keys' time to live.
   Snapshot read(const std::string& id, bool renew);
@@ -124,6 +136,8 @@ class SharedJobQueue {
   bool write_record(const std::string& id, const std::string& record, bool final);
   // The items of a stream reply (XREADGROUP's or XAUTOCLAIM's entry list).
   [[nodiscard]] static std::vector<SharedItem> items_of(const RedisReply& entries);
+  // Sets the takes of `items` (taken over from another replica) from the group's delivery counts.
+  void count_takes(const std::string& id, std::vector<SharedItem>& items);
 
   std::shared_ptr<RedisClient> client_;
   SharedQueueOptions options_;
