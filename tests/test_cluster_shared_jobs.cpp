@@ -529,6 +529,40 @@ TEST(SharedJobs, ASharedJobsRowsInRedisAreBoundedByBatchJobsBytes) {
   EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), std::to_string(done));
 }
 
+// A finished job survives Redis restarted empty, as a job run on one replica does: the replica
+// that accepted it kept a copy of its record and rows and publishes it again, so every replica
+// answers its record and its whole table (before, every replica answered 404 a moment later).
+TEST(SharedJobs, AFinishedJobIsStillReadAndDownloadedAfterRedisRestartedEmpty) {
+  const std::vector<std::string> reference = reference_of(90);
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[2].client();
+  const std::string id = post_table(owner, 90);
+  ASSERT_FALSE(id.empty());
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  // The accepting replica counts the job as its own until it has kept its copy.
+  ASSERT_TRUE(test::wait_until([&] {
+    auto c = cluster.replicas[0].client();
+    const auto m = c.Get("/metrics");
+    return m && test::metric(m->body, "slosh_batch_jobs_active") == 0;
+  }));
+  cluster.redis.kill();
+  cluster.redis.start();  // the same port, empty
+  json again;
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        again = record_of(other, id);
+        return test::is_final_record(again);
+      },
+      std::chrono::seconds(30)))
+      << "the job was not published again";
+  EXPECT_EQ(again.at("state"), "done") << again;
+  EXPECT_EQ(again.at("progress").at("done"), 90);
+  EXPECT_EQ(again.at("shares"), done.at("shares"));
+  EXPECT_EQ(whole_table(other, id, 90), reference);
+}
+
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica
 // plans with it by name (before, it answered 404 on options.model), with the same plan as the
 // fitted model given inline.

@@ -218,7 +218,9 @@ BatchJobs::BatchJobs(PlanService& service, JobStore& store)
   options.ttl = std::chrono::milliseconds(std::llround(config.batch_job_ttl_s * 1e3));
   options.max_bytes = config.batch_jobs_bytes;
   options.max_takes = config.batch_job_max_takes;
-  shared_ = std::make_unique<SharedJobWorker>(service, service.redis(), std::move(options));
+  shared_ = std::make_unique<SharedJobWorker>(
+      service, service.redis(), std::move(options),
+      [this](const std::string& id) { keep_finished_shared(id); });
 }
 
 BatchJobs::~BatchJobs() {

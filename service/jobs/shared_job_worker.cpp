@@ -41,9 +41,11 @@ struct SharedJobWorker::InFlight {
 };
 
 SharedJobWorker::SharedJobWorker(PlanService& service, std::shared_ptr<RedisClient> client,
-                                 SharedQueueOptions options)
+                                 SharedQueueOptions options,
+                                 std::function<void(const std::string&)> finished)
     : service_(service),
       queue_(std::move(client), std::move(options)),
+      finished_(std::move(finished)),
       thread_([this] { run(); }) {}
 
 SharedJobWorker::~SharedJobWorker() {
@@ -127,11 +129,13 @@ void SharedJobWorker::beat_owned(const std::set<std::string>& beaten,
       if (!queue_.publish(job.status, job.recipes)) running.push_back(id);
       continue;
     }
-    const std::lock_guard lock(mutex_);
     if (fate == SharedJobQueue::Fate::kFinished) {
+      if (finished_) finished_(id);
+      const std::lock_guard lock(mutex_);
       owned_.erase(id);
       continue;
     }
+    const std::lock_guard lock(mutex_);
     if (fate != SharedJobQueue::Fate::kRunning) continue;
     if (auto live = queue_.live_record(id)) {
       if (auto it = owned_.find(id); it != owned_.end()) it->second.last_record = std::move(*live);

@@ -10,6 +10,7 @@
 #include <atomic>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,9 +27,12 @@ namespace slosh::service {
 
 class SharedJobWorker {
  public:
-  /// Works on `service`'s pool (which outlives it) with the queue's Redis client.
+  /// Works on `service`'s pool (which outlives it) with the queue's Redis client. `finished` is
+  /// called (on the worker's thread) with the id of each job posted here once its final record
+  /// is in Redis, before the job stops counting as posted here: the replica keeps a copy of it.
   SharedJobWorker(PlanService& service, std::shared_ptr<RedisClient> client,
-                  SharedQueueOptions options);
+                  SharedQueueOptions options,
+                  std::function<void(const std::string&)> finished = {});
   /// stop(), then joins the thread.
   ~SharedJobWorker();
   SharedJobWorker(const SharedJobWorker&) = delete;
@@ -75,6 +79,7 @@ class SharedJobWorker {
 
   PlanService& service_;
   SharedJobQueue queue_;
+  std::function<void(const std::string&)> finished_;
   std::atomic<std::uint64_t> stored_{0};
   mutable std::mutex mutex_;
   std::condition_variable wake_;
