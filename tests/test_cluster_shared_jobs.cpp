@@ -563,6 +563,31 @@ TEST(SharedJobs, AFinishedJobIsStillReadAndDownloadedAfterRedisRestartedEmpty) {
   EXPECT_EQ(whole_table(other, id, 90), reference);
 }
 
+// A job is paged to its end through any replica, also one whose own batch_job_max is smaller
+// than the job (settings changed one replica at a time); an offset past such a job is refused
+// naming the job's size. Before, that replica refused every offset past its own batch_job_max.
+TEST(SharedJobs, AJobLargerThanAReplicasBatchJobMaxIsPagedThroughIt) {
+  test::RedisServer redis;
+  test::ReplicaSet wide = sharing_replicas(redis, 1, {}, "wide");
+  test::ReplicaSet narrow = sharing_replicas(redis, 1, {{"SLOSH_BATCH_JOB_MAX", "100"}}, "narrow");
+  auto a = wide[0].client();
+  auto b = narrow[0].client();
+  const std::string id = post_table(a, 150);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(b, id).at("state"), "done");
+  const auto page = b.Get("/v1/batches/" + id + "?offset=120&limit=5");
+  ASSERT_TRUE(page);
+  ASSERT_EQ(page->status, 200) << page->body;
+  const json rows = json::parse(page->body).at("results").at("rows");
+  ASSERT_EQ(rows.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(rows[i].at("row"), 121 + i) << rows[i];
+  const auto past = b.Get("/v1/batches/" + id + "?offset=151");
+  ASSERT_TRUE(past);
+  EXPECT_EQ(past->status, 422) << past->body;
+  EXPECT_EQ(json::parse(past->body).at("error").at("message"),
+            "offset = 151 is not allowed: a whole number from 0 to 150");
+}
+
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica
 // plans with it by name (before, it answered 404 on options.model), with the same plan as the
 // fitted model given inline.
