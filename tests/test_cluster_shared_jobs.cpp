@@ -588,6 +588,34 @@ TEST(SharedJobs, AJobLargerThanAReplicasBatchJobMaxIsPagedThroughIt) {
             "offset = 151 is not allowed: a whole number from 0 to 150");
 }
 
+// A Redis stall past the replicas' timeout in the middle of a job does not hold the job for the
+// take-over time: a row whose write timed out is stored again by the replica that solved it, and
+// the items Redis handed out in a take whose reply was lost are found again in that replica's
+// pending list. With one replica and batch_job_stale_s = 30 nothing else could take them over:
+// before, the job stood one row short until 30 s after the stall.
+TEST(SharedJobs, ARedisStallMidJobDoesNotHoldTheJobForTheTakeOverTime) {
+  test::RedisServer redis;
+  ::setenv("SLOSH_BATCH_JOB_SPREAD", "replicas", 1);
+  ::setenv("SLOSH_BATCH_JOB_STALE_S", "30", 1);
+  test::ReplicaSet one{
+      1, {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms", "200"}, "stall"};
+  ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
+  ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+  auto c = one[0].client();
+  const std::string id = post_table(c, 400);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(c, id, 40).at("state"), "running");
+  redis.pause();
+  std::this_thread::sleep_for(1s);  // the stall itself (the fault), five times the timeout
+  redis.resume();
+  json record;
+  EXPECT_TRUE(test::wait_until([&] { return test::is_final_record(record = record_of(c, id)); },
+                               std::chrono::seconds(20)))
+      << "the job did not end within 20 s of the stall: " << record;
+  EXPECT_EQ(record.value("state", ""), "done") << record;
+  EXPECT_EQ(whole_table(c, id, 400).size(), 401u);
+}
+
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica
 // plans with it by name (before, it answered 404 on options.model), with the same plan as the
 // fitted model given inline.

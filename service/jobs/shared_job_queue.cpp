@@ -176,20 +176,26 @@ std::vector<SharedItem> SharedJobQueue::items_of(const RedisReply& entries) {
   return out;
 }
 
-std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t n) {
-  const std::string count = std::to_string(n);
+std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t n,
+                                             const std::set<std::string>& held) {
   const std::string stream = key(id, "items");
   std::vector<SharedItem> out;
-  const auto claimed =
-      client_->command({"XAUTOCLAIM", stream, kGroup, options_.replica,
-                        std::to_string(options_.claim_idle.count()), "0-0", "COUNT", count});
-  if (claimed && claimed->type == RedisReply::Type::kArray && claimed->elements.size() >= 2) {
-    out = items_of(claimed->elements[1]);
-    count_takes(id, out);
+  if (lost_.count(id) != 0) out = take_lost(id, n, held);
+  if (out.size() < n) {
+    const auto claimed = client_->command({"XAUTOCLAIM", stream, kGroup, options_.replica,
+                                           std::to_string(options_.claim_idle.count()), "0-0",
+                                           "COUNT", std::to_string(n - out.size())});
+    if (!claimed) lost_.insert(id);  // it may have claimed entries all the same
+    if (claimed && claimed->type == RedisReply::Type::kArray && claimed->elements.size() >= 2) {
+      std::vector<SharedItem> over = items_of(claimed->elements[1]);
+      count_takes(id, over);
+      for (SharedItem& item : over) out.push_back(std::move(item));
+    }
   }
   if (out.size() < n) {
     const auto read = client_->command({"XREADGROUP", "GROUP", kGroup, options_.replica, "COUNT",
                                         std::to_string(n - out.size()), "STREAMS", stream, ">"});
+    if (!read) lost_.insert(id);  // Redis may have handed entries out with the lost reply
     // [[stream, [entries]]], nil when there are none.
     if (read && read->type == RedisReply::Type::kArray && !read->elements.empty() &&
         read->elements[0].elements.size() == 2) {
@@ -202,6 +208,29 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
     (void)client_->command(
         {"HSETNX", key(id, "counts"), "started_ms", std::to_string(unix_ms_now())});
   }
+  return out;
+}
+
+std::vector<SharedItem> SharedJobQueue::take_lost(const std::string& id, std::size_t n,
+                                                  const std::set<std::string>& held) {
+  // XPENDING of this consumer: [[entry, consumer, idle ms, deliveries], ...].
+  const auto pending =
+      client_->command({"XPENDING", key(id, "items"), kGroup, "-", "+", "1000", options_.replica});
+  if (!pending || pending->type != RedisReply::Type::kArray) return {};
+  std::vector<std::string> claim{"XCLAIM", key(id, "items"), kGroup, options_.replica, "0"};
+  for (const RedisReply& p : pending->elements) {
+    if (claim.size() - 5 >= n) break;
+    if (!p.elements.empty() && held.count(p.elements[0].text) == 0) {
+      claim.push_back(p.elements[0].text);
+    }
+  }
+  if (pending->elements.size() < 1000 && claim.size() == 5) lost_.erase(id);  // none lost
+  if (claim.size() == 5) return {};
+  // XCLAIM by this replica itself: the entries and their fields, counted as one more take.
+  const auto claimed = client_->command(claim);
+  if (!claimed || claimed->type != RedisReply::Type::kArray) return {};
+  std::vector<SharedItem> out = items_of(*claimed);
+  count_takes(id, out);
   return out;
 }
 

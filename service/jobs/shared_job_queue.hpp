@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -75,9 +76,12 @@ class SharedJobQueue {
                                                    const std::vector<RecipeRow>& recipes);
   /// The jobs with items left, oldest first; empty when Redis cannot be asked.
   [[nodiscard]] std::vector<std::string> jobs();
-  /// Up to `n` items of job `id`: first those another replica held longer than claim_idle, then
-  /// new ones. Empty when it has none left to hand out or Redis cannot be asked.
-  [[nodiscard]] std::vector<SharedItem> take(const std::string& id, std::size_t n);
+  /// Up to `n` items of job `id`: first those Redis handed to this replica in a take whose reply
+  /// was lost (pending for this replica but not among `held`, the entries it is solving), then
+  /// those another replica held longer than claim_idle, then new ones. Empty when it has none
+  /// left to hand out or Redis cannot be asked.
+  [[nodiscard]] std::vector<SharedItem> take(const std::string& id, std::size_t n,
+                                             const std::set<std::string>& held = {});
   /// Renews this replica's hold of `entries` of job `id` (they are being solved).
   void keep(const std::string& id, const std::vector<std::string>& entries);
 
@@ -138,9 +142,15 @@ class SharedJobQueue {
   [[nodiscard]] static std::vector<SharedItem> items_of(const RedisReply& entries);
   // Sets the takes of `items` (taken over from another replica) from the group's delivery counts.
   void count_takes(const std::string& id, std::vector<SharedItem>& items);
+  // Up to `n` entries of job `id` pending for this replica but not in `held`: a take whose reply
+  // was lost (a Redis stall past the client's timeout) left them to this replica unknowingly.
+  std::vector<SharedItem> take_lost(const std::string& id, std::size_t n,
+                                    const std::set<std::string>& held);
 
   std::shared_ptr<RedisClient> client_;
   SharedQueueOptions options_;
+  // Jobs in whose stream a take of this replica got no reply: look for its lost items.
+  std::set<std::string> lost_;
 };
 
 }  // namespace slosh::service

@@ -178,7 +178,11 @@ bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InF
   bool took = false;
   for (const std::string& id : jobs) {
     if (flight.size() >= workers) break;
-    for (SharedItem& item : queue_.take(id, workers - flight.size())) {
+    std::set<std::string> held;
+    for (const InFlight& f : flight) {
+      if (f.job == id) held.insert(f.item.entry);
+    }
+    for (SharedItem& item : queue_.take(id, workers - flight.size(), held)) {
       took = true;
       InFlight f{id, std::move(item), {}, std::nullopt, false, {}};
       const std::size_t max_takes = queue_.options().max_takes;
