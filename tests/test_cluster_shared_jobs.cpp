@@ -616,6 +616,21 @@ TEST(SharedJobs, ARedisStallMidJobDoesNotHoldTheJobForTheTakeOverTime) {
   EXPECT_EQ(whole_table(c, id, 400).size(), 401u);
 }
 
+// Two replicas started with one --replica-id (or none, on one host) would merge their consumer
+// names and shares without a word: each says so in its log.
+TEST(SharedJobs, TwoLiveReplicasWithOneIdSaySoInTheirLogs) {
+  test::RedisServer redis;
+  test::ReplicaSet first = sharing_replicas(redis, 1, {}, "same");
+  test::ReplicaSet second = sharing_replicas(redis, 1, {}, "same");
+  const std::string warning = "another live replica uses the replica id 'same-1' on this Redis";
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return first[0].log().find(warning) != std::string::npos &&
+               second[0].log().find(warning) != std::string::npos;
+      },
+      std::chrono::seconds(20)));
+}
+
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica
 // plans with it by name (before, it answered 404 on options.model), with the same plan as the
 // fitted model given inline.

@@ -333,6 +333,13 @@ SharedJobQueue::Snapshot SharedJobQueue::read(const std::string& id, bool renew)
   return out;
 }
 
+bool SharedJobQueue::hold_name(const std::string& token) {
+  const auto reply =
+      client_->command({"SET", options_.prefix + "replicas:" + options_.replica, token, "PX",
+                        std::to_string(std::max<std::int64_t>(1, options_.alive.count())), "GET"});
+  return !reply || reply->type != RedisReply::Type::kString || reply->text == token;
+}
+
 bool SharedJobQueue::request_cancel(const std::string& id) {
   const auto reply =
       client_->command({"SET", key(id, "cancel"), "1", "PX", std::to_string(options_.ttl.count())});

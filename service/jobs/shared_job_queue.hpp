@@ -114,6 +114,11 @@ class SharedJobQueue {
   /// heartbeat's record); nullopt when it has finished, Redis does not hold it or cannot be asked.
   [[nodiscard]] std::optional<std::string> live_record(const std::string& id);
 
+  /// Renews this replica's name in Redis (<prefix>replicas:<name>, for the heartbeat's time to
+  /// live) with `token`, unique to this process; false when another live process held the name
+  /// (two replicas with one --replica-id: their consumer names and shares would merge).
+  bool hold_name(const std::string& token);
+
   /// Sets the cancel flag of job `id` (as a DELETE through any replica does); whether Redis took
   /// it.
   bool request_cancel(const std::string& id);

@@ -25,6 +25,8 @@ constexpr std::chrono::milliseconds kHeartbeat{500};
 constexpr std::chrono::milliseconds kIdlePoll{100};
 /// How long a busy worker waits for its oldest item before it looks at the others again.
 constexpr std::chrono::milliseconds kItemWait{20};
+/// How often a replica whose name another live replica uses says so in its log.
+constexpr std::chrono::seconds kNameWarnEvery{60};
 
 }  // namespace
 
@@ -46,6 +48,7 @@ SharedJobWorker::SharedJobWorker(PlanService& service, std::shared_ptr<RedisClie
     : service_(service),
       queue_(std::move(client), std::move(options)),
       finished_(std::move(finished)),
+      token_(new_job_id()),
       thread_([this] { run(); }) {}
 
 SharedJobWorker::~SharedJobWorker() {
@@ -83,6 +86,17 @@ std::optional<std::string> SharedJobWorker::publish(const JobStatus& status,
 }
 
 std::vector<std::string> SharedJobWorker::heartbeat(std::vector<InFlight>& flight) {
+  if (!queue_.hold_name(token_)) {
+    const auto now = std::chrono::steady_clock::now();
+    if (warned_name_ == std::chrono::steady_clock::time_point{} ||
+        now - warned_name_ > kNameWarnEvery) {
+      warned_name_ = now;
+      spdlog::warn(
+          "another live replica uses the replica id '{}' on this Redis: their shares of batch "
+          "jobs and their consumer names merge; give each replica its own --replica-id",
+          queue_.options().replica);
+    }
+  }
   std::vector<std::string> jobs = queue_.jobs();
   std::set<std::string> beaten;
   std::vector<std::string> running;

@@ -8,6 +8,7 @@
 // here) to Redis again when Redis lost them (restarted without persistence).
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
@@ -80,6 +81,10 @@ class SharedJobWorker {
   PlanService& service_;
   SharedJobQueue queue_;
   std::function<void(const std::string&)> finished_;
+  // This process's token for its replica name in Redis (SharedJobQueue::hold_name), and when it
+  // last warned that another live replica uses the same name.
+  std::string token_;
+  std::chrono::steady_clock::time_point warned_name_{};
   std::atomic<std::uint64_t> stored_{0};
   mutable std::mutex mutex_;
   std::condition_variable wake_;
