@@ -4,39 +4,20 @@
 # nothing is cached) POSTed to each replica at once (POST /v1/batches), both polled until done;
 # prints each job's rate and the total recipes/s (2 N / the wall time until both finished).
 # Usage: scripts/jobs-replicas.sh [slosh-binary] [recipes-per-job] [workers-per-replica] [strategy]
-# Needs: redis-server, redis-cli, curl, python3. Stops everything it started.
+# Needs: redis-server, redis-cli, python3. Stops everything it started (scripts/lib/loopback.sh).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 slosh="${1:-$here/build/slosh}"
 n="${2:-500}"
 workers="${3:-1}"
 strategy="${4:-notch}"
-dir="$(mktemp -d)"
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-free_port() {
-  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
-}
-
-redis_port="$(free_port)"
-redis-server --port "$redis_port" --bind 127.0.0.1 --save "" --appendonly no --dir "$dir" \
-  >"$dir/redis.log" 2>&1 &
-pids+=("$!")
-for _ in $(seq 100); do redis-cli -p "$redis_port" ping >/dev/null 2>&1 && break; sleep 0.1; done
+# shellcheck source=scripts/lib/loopback.sh
+. "$here/scripts/lib/loopback.sh"
+lb_redis
 ports=()
 for i in 1 2; do
-  "$slosh" serve --host 127.0.0.1 --port 0 --port-file "$dir/port$i" --workers "$workers" \
-    --cache "redis://127.0.0.1:$redis_port/0" --replica-id "jobs-$i" >"$dir/slosh$i.log" 2>&1 &
-  pids+=("$!")
-done
-for i in 1 2; do
-  for _ in $(seq 100); do [ -s "$dir/port$i" ] && break; sleep 0.1; done
-  ports+=("$(cat "$dir/port$i")")
+  lb_serve "slosh$i" "$slosh" --workers "$workers" --cache "$lb_redis_url" --replica-id "jobs-$i"
+  ports+=("$lb_port")
 done
 
 python3 - "$n" "$strategy" "${ports[@]}" <<'PY'

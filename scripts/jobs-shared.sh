@@ -1,38 +1,26 @@
 #!/usr/bin/env bash
 # Throughput of one batch job shared out to 1, 2 and 3 `slosh serve` replicas through Redis
 # (batch_job_spread = "replicas", one solve worker each), all started here on loopback: for each
-# replica count, one job of N distinct recipes (notch, or the strategy given; the motion time differs, and each run uses
-# other recipes, so nothing is cached) is POSTed to the first replica and polled until done;
-# prints recipes/s and each replica's share. Then, with 3 replicas, the first replica (which
+# replica count, one job of N distinct recipes (time_domain, or the strategy given; the motion
+# time differs, and each run uses other recipes, so nothing is cached) is POSTed to the first
+# replica and polled until done; prints recipes/s, each replica's share and the machine's load
+# average (the figures mean little when other processes take the cores). Then, with 3 replicas, the first replica (which
 # accepted the job) is killed (-9) at 30 %: prints the time from the kill to the job's end, the
 # rows stored and whether each row is there once, against the time the remaining 70 % would take
 # at the 2-replica rate (the excess is the take-over time, batch_job_stale_s, plus start-up).
 # Usage: scripts/jobs-shared.sh [slosh-binary] [recipes] [stale-s] [strategy]
-# Needs: redis-server, redis-cli, curl, python3. Stops everything it started.
+# Use a strategy whose recipes cost real solve time (time_domain, ~13 ms each on a quiet core):
+# with notch (~1 ms) the Redis round trips per item dominate and the figures measure overhead.
+# Needs: redis-server, redis-cli, python3. Stops everything it started (scripts/lib/loopback.sh).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 slosh="${1:-$here/build/slosh}"
 n="${2:-600}"
 stale="${3:-5}"
-strategy="${4:-notch}"
-dir="$(mktemp -d)"
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-free_port() {
-  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
-}
-
-redis_port="$(free_port)"
-redis-server --port "$redis_port" --bind 127.0.0.1 --save "" --appendonly no --dir "$dir" \
-  >"$dir/redis.log" 2>&1 &
-pids+=("$!")
-for _ in $(seq 100); do redis-cli -p "$redis_port" ping >/dev/null 2>&1 && break; sleep 0.1; done
-
+strategy="${4:-time_domain}"
+# shellcheck source=scripts/lib/loopback.sh
+. "$here/scripts/lib/loopback.sh"
+lb_redis
 # start_replicas RUN COUNT: starts COUNT replicas named run-RUN-i; their ports in ports[], pids in
 # run_pids[].
 start_replicas() {
@@ -40,15 +28,9 @@ start_replicas() {
   run_pids=()
   for i in $(seq "$2"); do
     SLOSH_BATCH_JOB_SPREAD=replicas SLOSH_BATCH_JOB_STALE_S="$stale" \
-      "$slosh" serve --host 127.0.0.1 --port 0 --port-file "$dir/port-$1-$i" --workers 1 \
-      --cache "redis://127.0.0.1:$redis_port/0" --replica-id "run$1-$i" \
-      >"$dir/slosh-$1-$i.log" 2>&1 &
-    pids+=("$!")
-    run_pids+=("$!")
-  done
-  for i in $(seq "$2"); do
-    for _ in $(seq 200); do [ -s "$dir/port-$1-$i" ] && break; sleep 0.05; done
-    ports+=("$(cat "$dir/port-$1-$i")")
+      lb_serve "slosh-$1-$i" "$slosh" --workers 1 --cache "$lb_redis_url" --replica-id "run$1-$i"
+    run_pids+=("$lb_pid")
+    ports+=("$lb_port")
   done
 }
 
@@ -104,13 +86,13 @@ for count in 1 2 3; do
     # one job of other recipes first, not counted.
     run_job 99 0 "${ports[@]}" >/dev/null
   fi
-  echo "== $count replica(s), 1 worker each, $n $strategy recipes"
+  echo "== $count replica(s), 1 worker each, $n $strategy recipes (load $(cut -d' ' -f1-3 /proc/loadavg))"
   run_job "$run" 0 "${ports[@]}"
   stop_replicas
   run=$((run + 1))
 done
 start_replicas "$run" 3
 victim="${run_pids[0]}"
-echo "== 3 replicas, the accepting one killed (-9) at 30 %, batch_job_stale_s = $stale"
+echo "== 3 replicas, the accepting one killed (-9) at 30 %, batch_job_stale_s = $stale (load $(cut -d' ' -f1-3 /proc/loadavg))"
 run_job "$run" 0.3 "${ports[@]}"
 stop_replicas

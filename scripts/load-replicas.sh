@@ -8,47 +8,29 @@
 #   cache: "" (default) = each replica's own memory cache; "redis" = a redis-server started here
 #   on a free loopback port (no persistence) that both replicas share (--cache redis://...).
 # Needs: nginx (nginx-light), wrk, curl (and redis-server for "redis"). Runs only on loopback;
-# stops everything it started.
+# stops everything it started (scripts/lib/loopback.sh).
 set -euo pipefail
 here="$(cd "$(dirname "$0")/.." && pwd)"
 slosh="${1:-$here/build/slosh}"
 seconds="${2:-10}"
 connections="${3:-32}"
 cache_mode="${4:-}"
-dir="$(mktemp -d)"
-pids=()
-cleanup() {
-  for pid in "${pids[@]}"; do kill "$pid" 2>/dev/null || true; done
-  wait 2>/dev/null || true
-  rm -rf "$dir"
-}
-trap cleanup EXIT
-
-free_port() {
-  python3 -c 'import socket; s=socket.socket(); s.bind(("127.0.0.1",0)); print(s.getsockname()[1])'
-}
+# shellcheck source=scripts/lib/loopback.sh
+. "$here/scripts/lib/loopback.sh"
+dir="$lb_dir"
 cache=""
 if [ "$cache_mode" = redis ]; then
-  redis_port="$(free_port)"
-  redis-server --port "$redis_port" --bind 127.0.0.1 --save "" --appendonly no --dir "$dir" \
-    >"$dir/redis.log" 2>&1 &
-  pids+=("$!")
-  for _ in $(seq 100); do redis-cli -p "$redis_port" ping >/dev/null 2>&1 && break; sleep 0.1; done
-  cache="redis://127.0.0.1:$redis_port/0"
+  lb_redis
+  cache="$lb_redis_url"
 fi
 
 ports=()
 for i in 1 2; do
-  "$slosh" serve --host 127.0.0.1 --port 0 --port-file "$dir/port$i" --cache "$cache" --workers 1 \
-    --replica-id "load-$i" >"$dir/slosh$i.log" 2>&1 &
-  pids+=("$!")
-done
-for i in 1 2; do
-  for _ in $(seq 100); do [ -s "$dir/port$i" ] && break; sleep 0.1; done
-  ports+=("$(cat "$dir/port$i")")
+  lb_serve "slosh$i" "$slosh" --cache "$cache" --workers 1 --replica-id "load-$i"
+  ports+=("$lb_port")
 done
 
-proxy_port="$(free_port)"
+proxy_port="$(lb_free_port)"
 servers="server 127.0.0.1:${ports[0]} max_fails=1 fail_timeout=5s; server 127.0.0.1:${ports[1]} max_fails=1 fail_timeout=5s;"
 sed -e '/^\s*server slosh-[0-9]*:[0-9]*/d' \
     -e "s|keepalive 32;|$servers keepalive 32;|" \
@@ -62,7 +44,7 @@ user=""
 [ "$(id -u)" -eq 0 ] && user="user root;"
 nginx -p "$dir/" -e "$dir/error.log" -c "$dir/nginx.conf" -g "daemon off; $user" \
   >"$dir/nginx.out" 2>&1 &
-pids+=("$!")
+lb_track "$!"
 for _ in $(seq 100); do curl -s -o /dev/null "http://127.0.0.1:$proxy_port/healthz" && break; sleep 0.1; done
 
 body='{"format": {"container": {"radius_mm": 48.5, "height_mm": 150}, "fill_height_mm": 82,

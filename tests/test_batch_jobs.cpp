@@ -21,6 +21,7 @@
 
 #include "jobs/batch_job_record.hpp"
 #include "slosh/api/job_record.hpp"
+#include "support/job_tables.hpp"
 #include "support/process.hpp"
 #include "support/server.hpp"
 
@@ -28,6 +29,7 @@ namespace slosh {
 namespace {
 
 using nlohmann::json;
+using test::csv_without_timing;
 using test::read_file;
 using test::run_slosh;
 using test::Server;
@@ -163,43 +165,6 @@ TEST(BatchJobs, PagesFollowNextOffsetAndAnOffsetPastTheEndIsEmpty) {
   const json past = get_json(c, "/v1/batches/" + id + "?offset=50");
   EXPECT_EQ(past.at("results").at("rows"), json::array());
   EXPECT_TRUE(past.at("results").at("next_offset").is_null());
-}
-
-// A quote-aware split of one CSV line into its cells (cells keep their quotes).
-std::vector<std::string> csv_cells(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') quoted = !quoted;
-    if (ch == ',' && !quoted) {
-      cells.emplace_back();
-    } else {
-      cells.back() += ch;
-    }
-  }
-  return cells;
-}
-
-// The lines of a CSV plan table without the cached and solve_ms cells.
-std::vector<std::string> csv_without_timing(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  std::vector<std::size_t> skip;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> cells = csv_cells(line);
-    if (skip.empty()) {
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        if (cells[i] == "cached" || cells[i] == "solve_ms") skip.push_back(i);
-      }
-    }
-    std::string kept;
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      if (std::find(skip.begin(), skip.end(), i) == skip.end()) kept += cells[i] + ",";
-    }
-    lines.push_back(kept);
-  }
-  return lines;
 }
 
 std::vector<json> jsonl_without_timing(const std::string& text) {

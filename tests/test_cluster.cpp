@@ -25,6 +25,7 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/version.hpp"
+#include "support/job_tables.hpp"
 #include "support/process.hpp"
 #include "support/proxy.hpp"
 #include "support/redis_server.hpp"
@@ -128,11 +129,6 @@ std::pair<int, json> ready_until(const test::Replica& replica, const std::string
     std::this_thread::sleep_for(50ms);
   } while (std::chrono::steady_clock::now() < deadline);
   return last;
-}
-
-bool is_final(const json& record) {
-  const std::string state = record.value("state", "");
-  return state == "done" || state == "cancelled" || state == "failed";
 }
 
 /// Calls `attempt` every 50 ms until it returns true or `limit` passes; whether it did.
@@ -878,7 +874,7 @@ TEST(ClusterHostile, AFlushWhileTheOwnerIsPausedLosesNeitherTheJobNorAnAcceptedD
     const auto r = b.Get("/v1/batches/" + id);
     if (!r || r->status != 200) return false;
     record = json::parse(r->body);
-    return is_final(record);
+    return test::is_final_record(record);
   });
   EXPECT_EQ(record.value("state", ""), "cancelled") << record.dump();
 }

@@ -27,9 +27,13 @@
 
 #include <nlohmann/json.hpp>
 
+#include "jobs/batch_job_record.hpp"
+#include "jobs/recipe_table.hpp"
+#include "jobs/shared_job_queue.hpp"
 #include "storage/redis_client.hpp"
 #include "storage/redis_url.hpp"
 #include "support/calibration_body.hpp"
+#include "support/job_tables.hpp"
 #include "support/process.hpp"
 #include "support/proxy.hpp"
 #include "support/redis_server.hpp"
@@ -40,6 +44,8 @@ namespace slosh {
 namespace {
 
 using nlohmann::json;
+using test::csv_cells;
+using test::csv_without_timing;
 using namespace std::chrono_literals;
 
 /// The item take-over time of these clusters (batch_job_stale_s) [s]: a killed replica's items
@@ -79,43 +85,6 @@ std::string table_of(std::size_t n) {
   return table;
 }
 
-// The cells of a CSV line (no quoted commas in these tables' rows but the header's).
-std::vector<std::string> csv_cells(const std::string& line) {
-  std::vector<std::string> cells(1);
-  bool quoted = false;
-  for (char ch : line) {
-    if (ch == '"') quoted = !quoted;
-    if (ch == ',' && !quoted) {
-      cells.emplace_back();
-    } else {
-      cells.back() += ch;
-    }
-  }
-  return cells;
-}
-
-// The lines of a CSV plan table without the cells that depend on the run (cached, solve_ms).
-std::vector<std::string> csv_without_timing(const std::string& text) {
-  std::vector<std::string> lines;
-  std::istringstream in(text);
-  std::string line;
-  std::vector<std::size_t> skip;
-  while (std::getline(in, line)) {
-    const std::vector<std::string> cells = csv_cells(line);
-    if (skip.empty()) {
-      for (std::size_t i = 0; i < cells.size(); ++i) {
-        if (cells[i] == "cached" || cells[i] == "solve_ms") skip.push_back(i);
-      }
-    }
-    std::string kept;
-    for (std::size_t i = 0; i < cells.size(); ++i) {
-      if (std::find(skip.begin(), skip.end(), i) == skip.end()) kept += cells[i] + ",";
-    }
-    lines.push_back(kept);
-  }
-  return lines;
-}
-
 /// The table `slosh batch` writes for table_of(n) (no cache), without timing cells.
 std::vector<std::string> reference_of(std::size_t n) {
   const test::TempDir dir;
@@ -146,15 +115,10 @@ json record_of(httplib::Client& c, const std::string& id) {
   return r && r->status == 200 ? json::parse(r->body) : json();
 }
 
-bool is_final(const json& record) {
-  const std::string state = record.is_object() ? record.value("state", "") : "";
-  return state == "done" || state == "cancelled" || state == "failed";
-}
-
 /// Polls job `id` through `c` until it has finished; the last record.
 json wait_finished(httplib::Client& c, const std::string& id) {
   json record;
-  test::wait_until([&] { return is_final(record = record_of(c, id)); });
+  test::wait_until([&] { return test::is_final_record(record = record_of(c, id)); });
   return record;
 }
 
@@ -360,9 +324,9 @@ std::vector<std::string> keys_of(const SharedCluster& cluster, const std::string
 
 // Redis full (maxmemory, noeviction) mid-job refuses the rows and the record, but the replicas
 // still renew the job's heartbeat (a PEXPIRE, which a full Redis takes): past batch_job_stale_s
-// another replica reads the job as alive and behind, never as failed, and once Redis takes
-// writes again the items whose rows it refused are taken over and the job ends with the whole
-// table.
+// another replica reads the job as alive and behind, never as failed, and the job ends with the
+// whole table once Redis takes writes: each replica kept the rows Redis refused (renewing its
+// hold of their items, so none is taken over as if its replica had died) and stores them then.
 TEST(SharedJobs, AFullRedisMidJobLeavesItAliveAndItEndsWithTheWholeTableOnceWritesAreTaken) {
   const std::vector<std::string>& reference = reference_480();
   SharedCluster cluster;
@@ -383,8 +347,8 @@ TEST(SharedJobs, AFullRedisMidJobLeavesItAliveAndItEndsWithTheWholeTableOnceWrit
   const std::regex reason(
       "the replicas working on it are alive \\(its heartbeat in the shared job store is "
       "[0-9.]+ s old\\) but could not update its record there for [0-9.]+ s: the shared store "
-      "refuses or fails their writes \\(their /readyz says why\\); the items whose rows it "
-      "refused are solved again once it takes writes");
+      "refuses or fails their writes \\(their /readyz says why\\); each replica keeps the rows "
+      "it refused and stores them once it takes writes");
   EXPECT_TRUE(std::regex_match(behind["unshared"].value("reason", ""), reason)) << behind;
   ASSERT_TRUE(redis.command({"CONFIG", "SET", "maxmemory", "0"}));
   const json done = wait_finished(other, id);
@@ -441,6 +405,230 @@ TEST(SharedJobs, WhileRedisIsDownTheAcceptingReplicaAnswersForItsJobAndTakesItsC
   cluster.redis.start();
   const json cancelled = wait_finished(owner, id);
   EXPECT_EQ(cancelled.value("state", ""), "cancelled") << cancelled;
+}
+
+/// Replicas sharing jobs through `redis` (one worker each), started with the settings `env`
+/// (name, value) besides batch_job_spread = "replicas" and batch_job_stale_s = 2.
+test::ReplicaSet sharing_replicas(const test::RedisServer& redis, std::size_t n,
+                                  const std::vector<std::pair<const char*, const char*>>& env,
+                                  const char* name) {
+  ::setenv("SLOSH_BATCH_JOB_SPREAD", "replicas", 1);
+  ::setenv("SLOSH_BATCH_JOB_STALE_S", "2", 1);
+  for (const auto& [key, value] : env) ::setenv(key, value, 1);
+  test::ReplicaSet set{
+      n, {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms", "10000"}, name};
+  ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
+  ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+  for (const auto& [key, value] : env) ::unsetenv(key);
+  return set;
+}
+
+/// Publishes a job of table_of(n) in `redis` as a replica that accepted it would, and returns
+/// its id; no replica runs yet.
+std::string publish_job(const test::RedisServer& redis, const std::string& id, std::size_t n) {
+  auto client = std::make_shared<service::RedisClient>(
+      service::RedisOptions{service::parse_redis_url(redis.url())});
+  service::SharedQueueOptions options;
+  options.replica = "publisher";
+  service::SharedJobQueue queue(client, options);
+  service::JobStatus status;
+  status.id = id;
+  status.total = n;
+  status.created_ms = service::unix_ms_now();
+  const auto published =
+      queue.publish(status, service::read_recipe_table(table_of(n), service::TableFormat::kCsv));
+  EXPECT_FALSE(published) << *published;
+  return id;
+}
+
+/// Hands the first item of job `id` out `takes` times to consumers that never store it (as
+/// replicas that died while solving it would); its delivery count is then `takes`.
+void take_first_item(service::RedisClient& redis, const std::string& id, int takes) {
+  const std::string stream = "slosh:jobs:" + id + ":items";
+  const auto read = redis.command(
+      {"XREADGROUP", "GROUP", "workers", "ghost-1", "COUNT", "1", "STREAMS", stream, ">"});
+  ASSERT_TRUE(read && !read->elements.empty()) << "no item to take";
+  const std::string entry = read->elements[0].elements[1].elements[0].elements[0].text;
+  for (int i = 2; i <= takes; ++i) {
+    ASSERT_TRUE(
+        redis.command({"XCLAIM", stream, "workers", "ghost-" + std::to_string(i), "0", entry}));
+  }
+  const auto pending = redis.command({"XPENDING", stream, "workers", entry, entry, "1"});
+  ASSERT_TRUE(pending && pending->elements.size() == 1);
+  ASSERT_EQ(pending->elements[0].elements[3].integer, takes);
+}
+
+// An item whose takers all stopped before storing its row (it may be what kills them) is handed
+// out batch_job_max_takes times at most: the next replica that takes it over records its row
+// failed, naming the setting, instead of solving it again; an item taken as often as the limit
+// allows is still solved.
+TEST(SharedJobs, AnItemTakenMoreThanMaxTakesWithoutARowIsRecordedFailedNotHandedOutForever) {
+  test::RedisServer redis;
+  service::RedisClient client({service::parse_redis_url(redis.url())});
+  const std::string at_limit = publish_job(redis, "00000000000000000000000000000a11", 6);
+  const std::string past = publish_job(redis, "00000000000000000000000000000b22", 6);
+  take_first_item(client, at_limit, 2);  // the replica's take over is the 3rd: still solved
+  take_first_item(client, past, 3);      // the replica's take over is the 4th: recorded failed
+  test::ReplicaSet replicas =
+      sharing_replicas(redis, 1, {{"SLOSH_BATCH_JOB_MAX_TAKES", "3"}}, "take");
+  auto c = replicas[0].client();
+  const json solved = wait_finished(c, at_limit);
+  ASSERT_EQ(solved.at("state"), "done") << solved;
+  EXPECT_EQ(solved.at("progress").at("failed"), 0) << solved;
+  const json dead = wait_finished(c, past);
+  ASSERT_EQ(dead.at("state"), "done") << dead;
+  EXPECT_EQ(dead.at("progress").at("done"), 6);
+  EXPECT_EQ(dead.at("progress").at("failed"), 1) << dead;
+  const json& rows = dead.at("results").at("rows");
+  ASSERT_EQ(rows.size(), 6u);
+  EXPECT_EQ(rows[0].at("status"), "error") << rows[0];
+  EXPECT_EQ(rows[0].at("message"),
+            "this recipe was taken 3 times by replicas that never stored its row (each stopped, "
+            "crashed or was cut off from Redis while solving it): it is not handed out again past "
+            "batch_job_max_takes = 3; plan it alone (POST /v1/plans) to see what it does");
+  for (std::size_t i = 1; i < 6; ++i) EXPECT_NE(rows[i].at("status"), "error") << rows[i];
+  // The same recipe in the other job was solved: it is a good recipe, only its takers died.
+  EXPECT_NE(solved.at("results").at("rows")[0].at("status"), "error");
+}
+
+// batch_jobs_bytes bounds a shared job's rows in Redis as it bounds a job run on one replica: the
+// row that passes it is the job's last and the job ends failed naming the setting; Redis holds
+// exactly the rows counted, their sizes summed just past the bound.
+TEST(SharedJobs, ASharedJobsRowsInRedisAreBoundedByBatchJobsBytes) {
+  test::RedisServer redis;
+  test::ReplicaSet replicas =
+      sharing_replicas(redis, 2, {{"SLOSH_BATCH_JOBS_BYTES", "65536"}}, "bytes");
+  auto c = replicas[0].client();
+  const std::string id = post_table(c, 600);
+  ASSERT_FALSE(id.empty());
+  auto other = replicas[1].client();
+  const json failed = wait_finished(other, id);
+  ASSERT_EQ(failed.at("state"), "failed") << failed;
+  const int done = failed.at("progress").at("done").get<int>();
+  EXPECT_LT(done, 600);
+  EXPECT_EQ(failed.at("message"),
+            "its results passed the memory kept for batch jobs, batch_jobs_bytes = 65536 bytes, "
+            "after " +
+                std::to_string(done) +
+                " of 600 recipes: split the table into smaller "
+                "jobs, ask for a smaller view, or raise batch_jobs_bytes");
+  service::RedisClient client({service::parse_redis_url(redis.url())});
+  const auto values = client.command({"HVALS", "slosh:jobs:" + id + ":rows"});
+  ASSERT_TRUE(values);
+  ASSERT_EQ(values->elements.size(), static_cast<std::size_t>(done));
+  std::size_t bytes = 0;
+  std::size_t largest = 0;
+  for (const auto& v : values->elements) {
+    bytes += v.text.size();
+    largest = std::max(largest, v.text.size());
+  }
+  EXPECT_GT(bytes, 65536u);
+  EXPECT_LE(bytes - largest, 65536u);  // no row stored past the one that passed the bound
+  const auto csv = other.Get("/v1/batches/" + id + "/results.csv?partial=1");
+  ASSERT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), std::to_string(done));
+}
+
+// A finished job survives Redis restarted empty, as a job run on one replica does: the replica
+// that accepted it kept a copy of its record and rows and publishes it again, so every replica
+// answers its record and its whole table (before, every replica answered 404 a moment later).
+TEST(SharedJobs, AFinishedJobIsStillReadAndDownloadedAfterRedisRestartedEmpty) {
+  const std::vector<std::string> reference = reference_of(90);
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[2].client();
+  const std::string id = post_table(owner, 90);
+  ASSERT_FALSE(id.empty());
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  // The accepting replica counts the job as its own until it has kept its copy.
+  ASSERT_TRUE(test::wait_until([&] {
+    auto c = cluster.replicas[0].client();
+    const auto m = c.Get("/metrics");
+    return m && test::metric(m->body, "slosh_batch_jobs_active") == 0;
+  }));
+  cluster.redis.kill();
+  cluster.redis.start();  // the same port, empty
+  json again;
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        again = record_of(other, id);
+        return test::is_final_record(again);
+      },
+      std::chrono::seconds(30)))
+      << "the job was not published again";
+  EXPECT_EQ(again.at("state"), "done") << again;
+  EXPECT_EQ(again.at("progress").at("done"), 90);
+  EXPECT_EQ(again.at("shares"), done.at("shares"));
+  EXPECT_EQ(whole_table(other, id, 90), reference);
+}
+
+// A job is paged to its end through any replica, also one whose own batch_job_max is smaller
+// than the job (settings changed one replica at a time); an offset past such a job is refused
+// naming the job's size. Before, that replica refused every offset past its own batch_job_max.
+TEST(SharedJobs, AJobLargerThanAReplicasBatchJobMaxIsPagedThroughIt) {
+  test::RedisServer redis;
+  test::ReplicaSet wide = sharing_replicas(redis, 1, {}, "wide");
+  test::ReplicaSet narrow = sharing_replicas(redis, 1, {{"SLOSH_BATCH_JOB_MAX", "100"}}, "narrow");
+  auto a = wide[0].client();
+  auto b = narrow[0].client();
+  const std::string id = post_table(a, 150);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(b, id).at("state"), "done");
+  const auto page = b.Get("/v1/batches/" + id + "?offset=120&limit=5");
+  ASSERT_TRUE(page);
+  ASSERT_EQ(page->status, 200) << page->body;
+  const json rows = json::parse(page->body).at("results").at("rows");
+  ASSERT_EQ(rows.size(), 5u);
+  for (std::size_t i = 0; i < 5; ++i) EXPECT_EQ(rows[i].at("row"), 121 + i) << rows[i];
+  const auto past = b.Get("/v1/batches/" + id + "?offset=151");
+  ASSERT_TRUE(past);
+  EXPECT_EQ(past->status, 422) << past->body;
+  EXPECT_EQ(json::parse(past->body).at("error").at("message"),
+            "offset = 151 is not allowed: a whole number from 0 to 150");
+}
+
+// A Redis stall past the replicas' timeout in the middle of a job does not hold the job for the
+// take-over time: a row whose write timed out is stored again by the replica that solved it, and
+// the items Redis handed out in a take whose reply was lost are found again in that replica's
+// pending list. With one replica and batch_job_stale_s = 30 nothing else could take them over:
+// before, the job stood one row short until 30 s after the stall.
+TEST(SharedJobs, ARedisStallMidJobDoesNotHoldTheJobForTheTakeOverTime) {
+  test::RedisServer redis;
+  ::setenv("SLOSH_BATCH_JOB_SPREAD", "replicas", 1);
+  ::setenv("SLOSH_BATCH_JOB_STALE_S", "30", 1);
+  test::ReplicaSet one{
+      1, {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms", "200"}, "stall"};
+  ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
+  ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+  auto c = one[0].client();
+  const std::string id = post_table(c, 400);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(c, id, 40).at("state"), "running");
+  redis.pause();
+  std::this_thread::sleep_for(1s);  // the stall itself (the fault), five times the timeout
+  redis.resume();
+  json record;
+  EXPECT_TRUE(test::wait_until([&] { return test::is_final_record(record = record_of(c, id)); },
+                               std::chrono::seconds(20)))
+      << "the job did not end within 20 s of the stall: " << record;
+  EXPECT_EQ(record.value("state", ""), "done") << record;
+  EXPECT_EQ(whole_table(c, id, 400).size(), 401u);
+}
+
+// Two replicas started with one --replica-id (or none, on one host) would merge their consumer
+// names and shares without a word: each says so in its log.
+TEST(SharedJobs, TwoLiveReplicasWithOneIdSaySoInTheirLogs) {
+  test::RedisServer redis;
+  test::ReplicaSet first = sharing_replicas(redis, 1, {}, "same");
+  test::ReplicaSet second = sharing_replicas(redis, 1, {}, "same");
+  const std::string warning = "another live replica uses the replica id 'same-1' on this Redis";
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return first[0].log().find(warning) != std::string::npos &&
+               second[0].log().find(warning) != std::string::npos;
+      },
+      std::chrono::seconds(20)));
 }
 
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica

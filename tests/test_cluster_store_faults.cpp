@@ -17,6 +17,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/job_tables.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
 #include "support/stalling_relay.hpp"
@@ -55,16 +56,11 @@ json get_json(httplib::Client& c, const std::string& path) {
   return r && r->status == 200 ? json::parse(r->body) : json();
 }
 
-bool is_final(const json& record) {
-  const std::string state = record.value("state", "");
-  return state == "done" || state == "cancelled" || state == "failed";
-}
-
 json wait_finished(httplib::Client& c, const std::string& id) {
   json record;
   for (int i = 0; i < 1200; ++i) {
     record = get_json(c, "/v1/batches/" + id);
-    if (record.is_null() || is_final(record)) break;
+    if (record.is_null() || test::is_final_record(record)) break;
     std::this_thread::sleep_for(50ms);
   }
   return record;

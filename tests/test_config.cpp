@@ -148,7 +148,7 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
           "request_timeout_s, cache_memory_bytes, cache_store_bytes, "
           "cache_min_time_store_bytes, cam_export_bytes, log_format, replica_id, batch_job_max, "
           "batch_jobs_max, batch_jobs_kept, batch_jobs_bytes, batch_job_ttl_s, batch_job_stale_s, "
-          "batch_job_spread");
+          "batch_job_spread, batch_job_max_takes");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
             queue + ": queue = 0 is not a queue size: allowed 1 to 100000");

@@ -105,6 +105,12 @@ struct ServerConfig {
   /// an item a stopped replica took is taken over after batch_job_stale_s, each row is stored
   /// once). Without Redis a job always runs on its replica. Default "owner".
   std::string batch_job_spread{"owner"};
+  /// With batch_job_spread = "replicas": an item of a shared job taken this many times by
+  /// replicas that never stored its row (each stopped, crashed or was cut off from Redis while
+  /// solving it) is not handed out again: its row is recorded failed, naming this setting, so an
+  /// item that kills its solver cannot circulate forever. Takes are Redis's delivery counts of
+  /// the item in the job's consumer group. Default 3 (allowed 1 to 100).
+  std::size_t batch_job_max_takes{3};
 };
 
 /// This replica's name: replica_id, or the host name when that is empty.

@@ -208,11 +208,7 @@ void BatchJobs::finish_run(Job& job, RunStop stop) {
   }
   if (stop == RunStop::kTooLarge) {
     return finish(job, JobState::kFailed,
-                  "its results passed the memory kept for batch jobs, batch_jobs_bytes = " +
-                      std::to_string(service_.config().batch_jobs_bytes) + " bytes, after " +
-                      progress +
-                      ": split the table into smaller jobs, ask for a smaller view, or raise "
-                      "batch_jobs_bytes");
+                  too_large_text(service_.config().batch_jobs_bytes, s.done, s.total));
   }
   if (stop == RunStop::kShutdown) {
     return finish(job, JobState::kFailed,

@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <iterator>
+#include <optional>
 #include <sstream>
 #include <utility>
 
@@ -216,7 +217,11 @@ BatchJobs::BatchJobs(PlanService& service, JobStore& store)
   options.claim_idle = std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1e3));
   options.alive = options.claim_idle;
   options.ttl = std::chrono::milliseconds(std::llround(config.batch_job_ttl_s * 1e3));
-  shared_ = std::make_unique<SharedJobWorker>(service, service.redis(), std::move(options));
+  options.max_bytes = config.batch_jobs_bytes;
+  options.max_takes = config.batch_job_max_takes;
+  shared_ = std::make_unique<SharedJobWorker>(
+      service, service.redis(), std::move(options),
+      [this](const std::string& id) { keep_finished_shared(id); });
 }
 
 BatchJobs::~BatchJobs() {
@@ -352,9 +357,21 @@ void BatchJobs::check_capacity_locked() const {
 Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
   return guarded_reply([&] {
     const ServerConfig& config = service_.config();
-    const std::size_t offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
+    std::size_t offset = 0;
+    std::optional<api::ApiError> bad_offset;
+    try {
+      offset = query_count(query.offset, "offset", 0, 0, config.batch_job_max);
+    } catch (const api::ApiError& e) {
+      bad_offset = e;
+    }
     const std::size_t limit = query_count(query.limit, "limit", kJobPageDefault, 1, kJobPageMax);
     JobRecord record = load(id);
+    if (bad_offset) {
+      // A job posted through a replica with a larger batch_job_max (settings changed one replica
+      // at a time) is paged to its end through this one too.
+      if (record.total <= config.batch_job_max) throw *bad_offset;
+      offset = query_count(query.offset, "offset", 0, 0, record.total);
+    }
     // A shared job's progress as of now, not of the last heartbeat, while some replica rewrites
     // its record (once none has for a while, the stored record is judged as it is).
     if (shared_ && !api::is_final(record.state) &&

@@ -104,6 +104,10 @@ class BatchJobs {
   struct Job;
   // post() of a job shared out to the replicas: published in Redis, not run here.
   Reply post_shared(Job& job);
+  // Keeps a local copy (record and rows) of shared job `id` posted here, which has finished,
+  // when its done rows are the table's first (every job done), so that this replica publishes it
+  // again if Redis loses it, as it does for a job it ran alone.
+  void keep_finished_shared(const std::string& id);
   void run_jobs();
   void run(Job& job);
   // Starts items until `workers` of the job's solves are in flight; returns the next item.

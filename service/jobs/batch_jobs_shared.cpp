@@ -1,12 +1,26 @@
 // POST /v1/batches with batch_job_spread = "replicas": the job is published in Redis, where
 // every replica's SharedJobWorker takes its items; its record is the one every replica rewrites.
 
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <optional>
+#include <string>
+#include <vector>
+
 #include "jobs/batch_job_state.hpp"
 #include "jobs/batch_jobs.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 
 namespace slosh::service {
+
+namespace {
+
+/// Rows read from Redis at a time when a finished job is copied here (one HMGET each).
+constexpr std::size_t kCopyPage = 500;
+
+}  // namespace
 
 Reply BatchJobs::post_shared(Job& job) {
   {
@@ -27,6 +41,30 @@ Reply BatchJobs::post_shared(Job& job) {
                         *refused + "; the job was not started: POST it again later");
   }
   return reply;
+}
+
+void BatchJobs::keep_finished_shared(const std::string& id) {
+  const JobStore::RecordLookup lookup = store_.lookup_record(id);
+  const auto record = lookup.text ? api::parse_job_record(*lookup.text) : std::nullopt;
+  if (!record || !api::is_final(record->state)) return;
+  std::vector<std::string> rows;
+  rows.reserve(record->done);
+  bool whole = true;
+  for (std::size_t page = 0; whole && page < record->done; page += kCopyPage) {
+    const std::size_t n = std::min(kCopyPage, record->done - page);
+    auto read = store_.read_slots(id, page, n);
+    whole = read.slots && read.slots->size() == n;
+    for (std::size_t i = 0; whole && i < n; ++i) {
+      whole = (*read.slots)[i].has_value();
+      if (whole) rows.push_back(std::move(*(*read.slots)[i]));
+    }
+  }
+  // A cancelled job's rows have gaps (the replicas stored them in no particular order): the
+  // local store keeps rows in order only, so such a job is not kept (docs/machines.md).
+  if (!whole || !store_.keep_copy(id, *lookup.text, rows)) {
+    spdlog::info("batch job {}: no local copy kept (its rows are not the table's first {})", id,
+                 record->done);
+  }
 }
 
 }  // namespace slosh::service

@@ -136,8 +136,8 @@ std::string shared_behind_text(std::int64_t record_age_ms, std::int64_t heartbea
   return "the replicas working on it are alive (its heartbeat in the shared job store is " +
          seconds_of_ms(heartbeat_age_ms) + " old) but could not update its record there for " +
          seconds_of_ms(record_age_ms) +
-         ": the shared store refuses or fails their writes (their /readyz says why); the items "
-         "whose rows it refused are solved again once it takes writes";
+         ": the shared store refuses or fails their writes (their /readyz says why); each "
+         "replica keeps the rows it refused and stores them once it takes writes";
 }
 
 std::string owner_view_text() {
@@ -179,6 +179,21 @@ std::string resumed_note(double gap_s, double stale_s) {
          (gap_s > stale_s ? "; other replicas read it as failed meanwhile (batch_job_stale_s = " +
                                 api::number_text(stale_s) + " s) until its next record"
                           : "");
+}
+
+std::string too_large_text(std::size_t max_bytes, std::size_t done, std::size_t total) {
+  return "its results passed the memory kept for batch jobs, batch_jobs_bytes = " +
+         std::to_string(max_bytes) + " bytes, after " + std::to_string(done) + " of " +
+         std::to_string(total) +
+         " recipes: split the table into smaller jobs, ask for a smaller view, or raise "
+         "batch_jobs_bytes";
+}
+
+std::string dead_item_text(std::size_t takes, std::size_t max_takes) {
+  return "this recipe was taken " + std::to_string(takes - 1) +
+         " times by replicas that never stored its row (each stopped, crashed or was cut off "
+         "from Redis while solving it): it is not handed out again past batch_job_max_takes = " +
+         std::to_string(max_takes) + "; plan it alone (POST /v1/plans) to see what it does";
 }
 
 }  // namespace slosh::service

@@ -77,6 +77,15 @@ struct JobKeepBounds {
 [[nodiscard]] std::string remote_cancel_text(std::int64_t record_age_ms,
                                              std::int64_t heartbeat_age_ms, double stale_s);
 
+/// The message of a job that stopped failed because its rows passed `max_bytes`
+/// (batch_jobs_bytes) after `done` of `total` recipes.
+[[nodiscard]] std::string too_large_text(std::size_t max_bytes, std::size_t done,
+                                         std::size_t total);
+
+/// The error of a shared job's item that `takes` replicas took and none stored (each stopped,
+/// crashed or was cut off while solving it): recorded failed, naming batch_job_max_takes.
+[[nodiscard]] std::string dead_item_text(std::size_t takes, std::size_t max_takes);
+
 /// The note of a job whose replica did not run for `gap_s` (paused or starved) and carried on.
 [[nodiscard]] std::string resumed_note(double gap_s, double stale_s);
 

@@ -151,6 +151,18 @@ class JobStore {
     return {};
   }
 
+  /// Keeps a copy of job `id` that the shared store already holds whole (its final `record` and
+  /// `rows` 0 .. n-1) on this replica only, so that it is published again if the shared store
+  /// loses it (emptied, restarted): a job shared out to the replicas finished, kept by the
+  /// replica that accepted it. Whether the copy was kept. Default: not kept (no local level).
+  virtual bool keep_copy(const std::string& id, const std::string& record,
+                         const std::vector<std::string>& rows) {
+    (void)id;
+    (void)record;
+    (void)rows;
+    return false;
+  }
+
   /// The jobs this store holds (a local store: the ones a replica republishes to a shared store
   /// that lost them). Default none.
   [[nodiscard]] virtual std::vector<std::string> ids() { return {}; }

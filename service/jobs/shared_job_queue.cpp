@@ -4,6 +4,7 @@
 #include <cstdlib>
 #include <utility>
 
+#include "jobs/job_messages.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/json_text.hpp"
@@ -19,18 +20,24 @@ constexpr const char* kGroup = "workers";
 constexpr std::size_t kPublishChunk = 500;
 
 // Stores a row once by its index, counts it and acknowledges its item, in one step: a replica
-// killed between two of these leaves either all done or none (the item is then taken over).
+// killed between two of these leaves either all done or none (the item is then taken over). The
+// job's rows are bounded by its spec's max_bytes: the row that passes it is stored, then the job
+// is closed ("over" in its counters) and its final record says failed.
 // KEYS: spec, rows, counts, items, cancel, removed. ARGV: index, row, failed (0|1), replica,
 // entry. Returns {1 new | 0 again | -1 closed, done}.
 constexpr const char* kStoreScript = R"lua(
-if redis.call('EXISTS', KEYS[1]) == 0 or redis.call('EXISTS', KEYS[5], KEYS[6]) > 0 then
-  return {-1, 0}
+if redis.call('EXISTS', KEYS[1]) == 0 or redis.call('EXISTS', KEYS[5], KEYS[6]) > 0 or
+   redis.call('HEXISTS', KEYS[3], 'over') == 1 then
+  return {-1, tonumber(redis.call('HGET', KEYS[3], 'done') or '0')}
 end
 local new = redis.call('HSETNX', KEYS[2], ARGV[1], ARGV[2])
 if new == 1 then
   redis.call('HINCRBY', KEYS[3], 'done', 1)
   if ARGV[3] == '1' then redis.call('HINCRBY', KEYS[3], 'failed', 1) end
   redis.call('HINCRBY', KEYS[3], 'r:' .. ARGV[4], 1)
+  local bytes = redis.call('HINCRBY', KEYS[3], 'bytes', string.len(ARGV[2]))
+  local max = tonumber(redis.call('HGET', KEYS[1], 'max_bytes') or '0')
+  if max > 0 and bytes > max then redis.call('HSET', KEYS[3], 'over', '1') end
 end
 redis.call('XACK', KEYS[4], 'workers', ARGV[5])
 return {new, tonumber(redis.call('HGET', KEYS[3], 'done') or '0')}
@@ -108,9 +115,11 @@ std::optional<std::string> SharedJobQueue::publish(const JobStatus& status,
       return r.is_error() && r.text.rfind("BUSYGROUP", 0) != 0;
     });
   };
-  std::vector<std::string> spec{
-      "HSET",   key(id, "spec"), "total",      std::to_string(status.total),
-      "format", status.format,   "created_ms", std::to_string(status.created_ms)};
+  std::vector<std::string> spec{"HSET",       key(id, "spec"),
+                                "total",      std::to_string(status.total),
+                                "format",     status.format,
+                                "created_ms", std::to_string(status.created_ms),
+                                "max_bytes",  std::to_string(options_.max_bytes)};
   if (status.view) spec.insert(spec.end(), {"view", *status.view});
   if (failed(client_->pipeline({{"DEL", key(id, "items"), key(id, "final")},
                                 spec,
@@ -167,19 +176,26 @@ std::vector<SharedItem> SharedJobQueue::items_of(const RedisReply& entries) {
   return out;
 }
 
-std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t n) {
-  const std::string count = std::to_string(n);
+std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t n,
+                                             const std::set<std::string>& held) {
   const std::string stream = key(id, "items");
   std::vector<SharedItem> out;
-  const auto claimed =
-      client_->command({"XAUTOCLAIM", stream, kGroup, options_.replica,
-                        std::to_string(options_.claim_idle.count()), "0-0", "COUNT", count});
-  if (claimed && claimed->type == RedisReply::Type::kArray && claimed->elements.size() >= 2) {
-    out = items_of(claimed->elements[1]);
+  if (lost_.count(id) != 0) out = take_lost(id, n, held);
+  if (out.size() < n) {
+    const auto claimed = client_->command({"XAUTOCLAIM", stream, kGroup, options_.replica,
+                                           std::to_string(options_.claim_idle.count()), "0-0",
+                                           "COUNT", std::to_string(n - out.size())});
+    if (!claimed) lost_.insert(id);  // it may have claimed entries all the same
+    if (claimed && claimed->type == RedisReply::Type::kArray && claimed->elements.size() >= 2) {
+      std::vector<SharedItem> over = items_of(claimed->elements[1]);
+      count_takes(id, over);
+      for (SharedItem& item : over) out.push_back(std::move(item));
+    }
   }
   if (out.size() < n) {
     const auto read = client_->command({"XREADGROUP", "GROUP", kGroup, options_.replica, "COUNT",
                                         std::to_string(n - out.size()), "STREAMS", stream, ">"});
+    if (!read) lost_.insert(id);  // Redis may have handed entries out with the lost reply
     // [[stream, [entries]]], nil when there are none.
     if (read && read->type == RedisReply::Type::kArray && !read->elements.empty() &&
         read->elements[0].elements.size() == 2) {
@@ -193,6 +209,48 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
         {"HSETNX", key(id, "counts"), "started_ms", std::to_string(unix_ms_now())});
   }
   return out;
+}
+
+std::vector<SharedItem> SharedJobQueue::take_lost(const std::string& id, std::size_t n,
+                                                  const std::set<std::string>& held) {
+  // XPENDING of this consumer: [[entry, consumer, idle ms, deliveries], ...].
+  const auto pending =
+      client_->command({"XPENDING", key(id, "items"), kGroup, "-", "+", "1000", options_.replica});
+  if (!pending || pending->type != RedisReply::Type::kArray) return {};
+  std::vector<std::string> claim{"XCLAIM", key(id, "items"), kGroup, options_.replica, "0"};
+  for (const RedisReply& p : pending->elements) {
+    if (claim.size() - 5 >= n) break;
+    if (!p.elements.empty() && held.count(p.elements[0].text) == 0) {
+      claim.push_back(p.elements[0].text);
+    }
+  }
+  if (pending->elements.size() < 1000 && claim.size() == 5) lost_.erase(id);  // none lost
+  if (claim.size() == 5) return {};
+  // XCLAIM by this replica itself: the entries and their fields, counted as one more take.
+  const auto claimed = client_->command(claim);
+  if (!claimed || claimed->type != RedisReply::Type::kArray) return {};
+  std::vector<SharedItem> out = items_of(*claimed);
+  count_takes(id, out);
+  return out;
+}
+
+void SharedJobQueue::count_takes(const std::string& id, std::vector<SharedItem>& items) {
+  if (items.empty()) return;
+  // XPENDING of one entry: [[id, consumer, idle ms, deliveries]]. XAUTOCLAIM counted this take.
+  std::vector<std::vector<std::string>> asks;
+  for (const SharedItem& item : items) {
+    asks.push_back({"XPENDING", key(id, "items"), kGroup, item.entry, item.entry, "1"});
+  }
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return;
+  for (std::size_t i = 0; i < items.size() && i < replies->size(); ++i) {
+    const RedisReply& r = (*replies)[i];
+    if (r.type != RedisReply::Type::kArray || r.elements.empty() ||
+        r.elements[0].elements.size() < 4) {
+      continue;
+    }
+    items[i].takes = static_cast<std::size_t>(std::max(1LL, r.elements[0].elements[3].integer));
+  }
 }
 
 void SharedJobQueue::keep(const std::string& id, const std::vector<std::string>& entries) {
@@ -270,7 +328,16 @@ SharedJobQueue::Snapshot SharedJobQueue::read(const std::string& id, bool renew)
   out.answered = true;
   out.over = (*replies)[3].integer > 0;
   out.status = compose(id, (*replies)[1], (*replies)[2], (*replies)[0].integer > 0);
+  out.too_large = field_of((*replies)[2], "over") != nullptr;
+  out.max_bytes = count_of((*replies)[1], "max_bytes");
   return out;
+}
+
+bool SharedJobQueue::hold_name(const std::string& token) {
+  const auto reply =
+      client_->command({"SET", options_.prefix + "replicas:" + options_.replica, token, "PX",
+                        std::to_string(std::max<std::int64_t>(1, options_.alive.count())), "GET"});
+  return !reply || reply->type != RedisReply::Type::kString || reply->text == token;
 }
 
 bool SharedJobQueue::request_cancel(const std::string& id) {
@@ -298,7 +365,7 @@ SharedJobQueue::Fate SharedJobQueue::beat(const std::string& id) {
   if (!now.status) return leave(Fate::kGone);
   JobStatus& s = *now.status;
   const bool cancel = s.cancel_requested;
-  if (!cancel && s.done < s.total) {
+  if (!cancel && !now.too_large && s.done < s.total) {
     if (write_record(id, api::job_record_text(s, unix_ms_now()), false)) return Fate::kRunning;
     // A full Redis (maxmemory, noeviction) refuses the record but takes the heartbeat's
     // PEXPIRE: the other replicas then read the job as alive and behind, not as stopped.
@@ -311,6 +378,9 @@ SharedJobQueue::Fate SharedJobQueue::beat(const std::string& id) {
   if (cancel) {
     s.message =
         "cancelled after " + std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
+  } else if (now.too_large) {
+    s.state = JobState::kFailed;
+    s.message = too_large_text(now.max_bytes, s.done, s.total);
   }
   if (!write_record(id, api::job_record_text(s, unix_ms_now()), true)) return Fate::kUnknown;
   (void)client_->pipeline({{"DEL", key(id, "items")}});

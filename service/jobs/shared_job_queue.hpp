@@ -22,6 +22,7 @@
 #include <cstdint>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,9 @@ struct SharedItem {
   RecipeRow recipe;                 ///< the recipe (or its reading error)
   std::size_t total{0};             ///< the job's recipes
   std::optional<std::string> view;  ///< the job's plan view (null: no plan in the rows)
+  /// Times the item was handed out, this take included (its delivery count in the group): more
+  /// than SharedQueueOptions::max_takes means that many takers never stored its row.
+  std::size_t takes{1};
 };
 
 /// Settings of a SharedJobQueue.
@@ -52,6 +56,13 @@ struct SharedQueueOptions {
   /// The heartbeat's time to live [ms] (the replicas' batch_job_stale_s).
   std::chrono::milliseconds alive{30000};
   std::string prefix{"slosh:jobs:"};
+  /// Most bytes of result rows one shared job stores in Redis (the accepting replica's
+  /// batch_jobs_bytes, kept in the job's spec so every replica applies the same bound): the row
+  /// that passes it is the job's last, and the job ends failed naming batch_jobs_bytes.
+  std::size_t max_bytes{std::size_t{256} << 20};
+  /// An item handed out more often than this is not solved again: its row is recorded failed
+  /// (dead_item_text). The replicas' batch_job_max_takes.
+  std::size_t max_takes{3};
 };
 
 class SharedJobQueue {
@@ -65,9 +76,12 @@ class SharedJobQueue {
                                                    const std::vector<RecipeRow>& recipes);
   /// The jobs with items left, oldest first; empty when Redis cannot be asked.
   [[nodiscard]] std::vector<std::string> jobs();
-  /// Up to `n` items of job `id`: first those another replica held longer than claim_idle, then
-  /// new ones. Empty when it has none left to hand out or Redis cannot be asked.
-  [[nodiscard]] std::vector<SharedItem> take(const std::string& id, std::size_t n);
+  /// Up to `n` items of job `id`: first those Redis handed to this replica in a take whose reply
+  /// was lost (pending for this replica but not among `held`, the entries it is solving), then
+  /// those another replica held longer than claim_idle, then new ones. Empty when it has none
+  /// left to hand out or Redis cannot be asked.
+  [[nodiscard]] std::vector<SharedItem> take(const std::string& id, std::size_t n,
+                                             const std::set<std::string>& held = {});
   /// Renews this replica's hold of `entries` of job `id` (they are being solved).
   void keep(const std::string& id, const std::vector<std::string>& entries);
 
@@ -75,7 +89,7 @@ class SharedJobQueue {
   enum class Stored {
     kNew,     ///< stored and counted for this replica
     kAgain,   ///< the row was stored before (by this or another replica); acknowledged
-    kClosed,  ///< the job is cancelled, removed or no longer in Redis: not stored
+    kClosed,  ///< the job is cancelled, removed, past its bytes or no longer in Redis: not stored
     kFailed,  ///< Redis did not answer: the item stays pending and is taken over later
   };
   struct StoreResult {
@@ -100,6 +114,11 @@ class SharedJobQueue {
   /// heartbeat's record); nullopt when it has finished, Redis does not hold it or cannot be asked.
   [[nodiscard]] std::optional<std::string> live_record(const std::string& id);
 
+  /// Renews this replica's name in Redis (<prefix>replicas:<name>, for the heartbeat's time to
+  /// live) with `token`, unique to this process; false when another live process held the name
+  /// (two replicas with one --replica-id: their consumer names and shares would merge).
+  bool hold_name(const std::string& token);
+
   /// Sets the cancel flag of job `id` (as a DELETE through any replica does); whether Redis took
   /// it.
   bool request_cancel(const std::string& id);
@@ -113,6 +132,8 @@ class SharedJobQueue {
     std::optional<JobStatus> status;
     bool over{false};
     bool answered{false};
+    bool too_large{false};     // its rows passed max_bytes: it ends failed
+    std::size_t max_bytes{0};  // its spec's bound
   };
   // Reads it; `renew`: also renews its keys' time to live.
   Snapshot read(const std::string& id, bool renew);
@@ -124,9 +145,17 @@ class SharedJobQueue {
   bool write_record(const std::string& id, const std::string& record, bool final);
   // The items of a stream reply (XREADGROUP's or XAUTOCLAIM's entry list).
   [[nodiscard]] static std::vector<SharedItem> items_of(const RedisReply& entries);
+  // Sets the takes of `items` (taken over from another replica) from the group's delivery counts.
+  void count_takes(const std::string& id, std::vector<SharedItem>& items);
+  // Up to `n` entries of job `id` pending for this replica but not in `held`: a take whose reply
+  // was lost (a Redis stall past the client's timeout) left them to this replica unknowingly.
+  std::vector<SharedItem> take_lost(const std::string& id, std::size_t n,
+                                    const std::set<std::string>& held);
 
   std::shared_ptr<RedisClient> client_;
   SharedQueueOptions options_;
+  // Jobs in whose stream a take of this replica got no reply: look for its lost items.
+  std::set<std::string> lost_;
 };
 
 }  // namespace slosh::service

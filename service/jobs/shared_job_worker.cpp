@@ -7,6 +7,7 @@
 #include <set>
 #include <utility>
 
+#include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
@@ -24,6 +25,8 @@ constexpr std::chrono::milliseconds kHeartbeat{500};
 constexpr std::chrono::milliseconds kIdlePoll{100};
 /// How long a busy worker waits for its oldest item before it looks at the others again.
 constexpr std::chrono::milliseconds kItemWait{20};
+/// How often a replica whose name another live replica uses says so in its log.
+constexpr std::chrono::seconds kNameWarnEvery{60};
 
 }  // namespace
 
@@ -31,12 +34,21 @@ struct SharedJobWorker::InFlight {
   std::string job;
   SharedItem item;
   StartedItem started;
+  // The solved row (and whether it is an error row) once its solve has finished: kept while Redis
+  // refuses or fails its write, and sent again each heartbeat. Meanwhile this replica renews its
+  // hold of the item, so a refused write is not a take another replica must make again.
+  std::optional<std::string> text;
+  bool failed{false};
+  std::chrono::steady_clock::time_point retry_at{};
 };
 
 SharedJobWorker::SharedJobWorker(PlanService& service, std::shared_ptr<RedisClient> client,
-                                 SharedQueueOptions options)
+                                 SharedQueueOptions options,
+                                 std::function<void(const std::string&)> finished)
     : service_(service),
       queue_(std::move(client), std::move(options)),
+      finished_(std::move(finished)),
+      token_(new_job_id()),
       thread_([this] { run(); }) {}
 
 SharedJobWorker::~SharedJobWorker() {
@@ -74,6 +86,17 @@ std::optional<std::string> SharedJobWorker::publish(const JobStatus& status,
 }
 
 std::vector<std::string> SharedJobWorker::heartbeat(std::vector<InFlight>& flight) {
+  if (!queue_.hold_name(token_)) {
+    const auto now = std::chrono::steady_clock::now();
+    if (warned_name_ == std::chrono::steady_clock::time_point{} ||
+        now - warned_name_ > kNameWarnEvery) {
+      warned_name_ = now;
+      spdlog::warn(
+          "another live replica uses the replica id '{}' on this Redis: their shares of batch "
+          "jobs and their consumer names merge; give each replica its own --replica-id",
+          queue_.options().replica);
+    }
+  }
   std::vector<std::string> jobs = queue_.jobs();
   std::set<std::string> beaten;
   std::vector<std::string> running;
@@ -120,11 +143,13 @@ void SharedJobWorker::beat_owned(const std::set<std::string>& beaten,
       if (!queue_.publish(job.status, job.recipes)) running.push_back(id);
       continue;
     }
-    const std::lock_guard lock(mutex_);
     if (fate == SharedJobQueue::Fate::kFinished) {
+      if (finished_) finished_(id);
+      const std::lock_guard lock(mutex_);
       owned_.erase(id);
       continue;
     }
+    const std::lock_guard lock(mutex_);
     if (fate != SharedJobQueue::Fate::kRunning) continue;
     if (auto live = queue_.live_record(id)) {
       if (auto it = owned_.find(id); it != owned_.end()) it->second.last_record = std::move(*live);
@@ -167,11 +192,22 @@ bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InF
   bool took = false;
   for (const std::string& id : jobs) {
     if (flight.size() >= workers) break;
-    for (SharedItem& item : queue_.take(id, workers - flight.size())) {
+    std::set<std::string> held;
+    for (const InFlight& f : flight) {
+      if (f.job == id) held.insert(f.item.entry);
+    }
+    for (SharedItem& item : queue_.take(id, workers - flight.size(), held)) {
       took = true;
-      InFlight f{id, std::move(item), {}};
+      InFlight f{id, std::move(item), {}, std::nullopt, false, {}};
+      const std::size_t max_takes = queue_.options().max_takes;
       if (f.item.recipe.error) {  // an unreadable row: its error is its result
         f.started.result.error = *f.item.recipe.error;
+      } else if (f.item.takes > max_takes) {
+        // Its earlier takers all stopped before storing it: it may be what stops them.
+        spdlog::warn("batch job {}: row {} was taken {} times and never stored; recorded failed",
+                     id, f.item.index + 1, f.item.takes - 1);
+        f.started.result.error =
+            api::ApiError(api::ErrorCode::kInternal, "", dead_item_text(f.item.takes, max_takes));
       } else {
         try {
           f.started = service_.start_batch_item(api::batch_item_of(f.item.recipe.request, budget),
@@ -188,27 +224,42 @@ bool SharedJobWorker::fill(const std::vector<std::string>& jobs, std::vector<InF
 
 bool SharedJobWorker::store_ready(std::vector<InFlight>& flight, bool& complete) {
   bool any = false;
+  const auto now = std::chrono::steady_clock::now();
   for (auto it = flight.begin(); it != flight.end();) {
-    const StartedItem& s = it->started;
-    const bool ready = !s.pending.valid() ||
-                       s.pending.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
-    if (!ready) {
+    if (!it->text) {
+      const StartedItem& s = it->started;
+      const bool ready = !s.pending.valid() ||
+                         s.pending.wait_for(std::chrono::seconds(0)) == std::future_status::ready;
+      if (!ready) {
+        ++it;
+        continue;
+      }
+      std::optional<api::PlanView> view;
+      if (it->item.view) view = api::parse_plan_view(*it->item.view);
+      const api::PlanTableRow row = plan_row(it->item.recipe, s.get(), view);
+      it->text = api::table_row_text(row);
+      it->failed = row.failed;
+    } else if (now < it->retry_at) {
       ++it;
       continue;
     }
-    std::optional<api::PlanView> view;
-    if (it->item.view) view = api::parse_plan_view(*it->item.view);
-    const api::PlanTableRow row = plan_row(it->item.recipe, s.get(), view);
-    const auto result = queue_.store(it->job, it->item, api::table_row_text(row), row.failed);
-    if (result.stored == SharedJobQueue::Stored::kNew) ++stored_;
-    if (result.stored != SharedJobQueue::Stored::kFailed && result.done >= it->item.total) {
-      complete = true;
-    }
+    const auto result = queue_.store(it->job, it->item, *it->text, it->failed);
     if (result.stored == SharedJobQueue::Stored::kFailed) {
-      spdlog::warn(
-          "batch job {}: row {} was not stored (Redis did not answer); another replica "
-          "takes its item over",
-          it->job, it->item.index + 1);
+      if (it->retry_at == std::chrono::steady_clock::time_point{}) {
+        spdlog::warn(
+            "batch job {}: row {} was not stored (Redis refused or did not answer); this "
+            "replica keeps it and stores it once Redis takes it",
+            it->job, it->item.index + 1);
+      }
+      it->retry_at = now + kHeartbeat;
+      ++it;
+      continue;
+    }
+    if (result.stored == SharedJobQueue::Stored::kNew) ++stored_;
+    // Stored the last row, or found the job closed (cancelled, past its bytes): its final
+    // record at once.
+    if (result.done >= it->item.total || result.stored == SharedJobQueue::Stored::kClosed) {
+      complete = true;
     }
     any = true;
     it = flight.erase(it);
@@ -232,8 +283,15 @@ void SharedJobWorker::run() {
     complete = false;
     if (store_ready(flight, complete)) continue;  // room again: the next items at once
     if (!flight.empty()) {
-      const StartedItem& oldest = flight.front().started;
-      if (oldest.pending.valid()) (void)oldest.pending.wait_for(kItemWait);
+      const auto solving = std::find_if(flight.begin(), flight.end(), [](const InFlight& f) {
+        return !f.text && f.started.pending.valid();
+      });
+      if (solving != flight.end()) {
+        (void)solving->started.pending.wait_for(kItemWait);
+      } else {  // every row solved, waiting for Redis to take it
+        std::unique_lock lock(mutex_);
+        wake_.wait_for(lock, kItemWait, [this] { return stopping_; });
+      }
       continue;
     }
     if (took) continue;

@@ -8,8 +8,10 @@
 // here) to Redis again when Redis lost them (restarted without persistence).
 
 #include <atomic>
+#include <chrono>
 #include <condition_variable>
 #include <cstdint>
+#include <functional>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -26,9 +28,12 @@ namespace slosh::service {
 
 class SharedJobWorker {
  public:
-  /// Works on `service`'s pool (which outlives it) with the queue's Redis client.
+  /// Works on `service`'s pool (which outlives it) with the queue's Redis client. `finished` is
+  /// called (on the worker's thread) with the id of each job posted here once its final record
+  /// is in Redis, before the job stops counting as posted here: the replica keeps a copy of it.
   SharedJobWorker(PlanService& service, std::shared_ptr<RedisClient> client,
-                  SharedQueueOptions options);
+                  SharedQueueOptions options,
+                  std::function<void(const std::string&)> finished = {});
   /// stop(), then joins the thread.
   ~SharedJobWorker();
   SharedJobWorker(const SharedJobWorker&) = delete;
@@ -75,6 +80,11 @@ class SharedJobWorker {
 
   PlanService& service_;
   SharedJobQueue queue_;
+  std::function<void(const std::string&)> finished_;
+  // This process's token for its replica name in Redis (SharedJobQueue::hold_name), and when it
+  // last warned that another live replica uses the same name.
+  std::string token_;
+  std::chrono::steady_clock::time_point warned_name_{};
   std::atomic<std::uint64_t> stored_{0};
   mutable std::mutex mutex_;
   std::condition_variable wake_;

@@ -116,6 +116,23 @@ bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
   return local || shared;
 }
 
+bool TieredJobStore::keep_copy(const std::string& id, const std::string& record,
+                               const std::vector<std::string>& rows) {
+  if (!local_.put_record(id, record)) return false;
+  for (std::size_t first = 0; first < rows.size(); first += kPublishChunk) {
+    const std::vector<std::string> chunk(
+        rows.begin() + static_cast<std::ptrdiff_t>(first),
+        rows.begin() + static_cast<std::ptrdiff_t>(std::min(rows.size(), first + kPublishChunk)));
+    if (!local_.put_rows(id, first, chunk)) {
+      local_.remove(id);  // never a copy that lacks rows: it would be published as the job
+      return false;
+    }
+  }
+  const std::lock_guard lock(mutex_);
+  counts_[id] = RowCounts{rows.size(), rows.size()};
+  return true;
+}
+
 bool TieredJobStore::publish(const std::string& id) {
   // The record first: it counts no more rows than the local store held when it was written
   // (rows are stored before their record), so the rows sent below cover it.

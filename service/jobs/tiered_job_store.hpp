@@ -63,6 +63,10 @@ class TieredJobStore final : public JobStore {
   bool remove(const std::string& id) override;
   [[nodiscard]] bool reachable() const override { return shared_.reachable(); }
   [[nodiscard]] bool recently_emptied() override { return shared_.recently_emptied(); }
+  /// Written to the local store only; counted as held by the shared store too, so that only an
+  /// emptying (or a lost record) sends it there again.
+  bool keep_copy(const std::string& id, const std::string& record,
+                 const std::vector<std::string>& rows) override;
   /// Also renews the heartbeat (touch()) of every job the shared store is still behind on, so
   /// that another replica reads it as alive although its record there is old.
   void resync() override;
