@@ -809,6 +809,34 @@ TEST(OpenApiResponses, ErrorEnvelopeFluidsAndExamplesFitTheirSchemas) {
 namespace slosh::api {
 namespace {
 
+// Along an arc a plan and a min-time search echo the canonical motion in their format: every
+// member documented (FormatEcho's motion), the echo holding the motion.
+TEST(OpenApiResponses, PlansAndSearchesAlongAnArcEchoTheirMotion) {
+  const json arc{{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  json body = thesis_plan("notch");
+  body["format"].erase("stroke_mm");
+  body["format"]["motion"] = arc;
+  const json plan = run_plan(parse_plan_request(body));
+  ASSERT_TRUE(plan["format"].contains("motion")) << plan["format"].dump();
+  EXPECT_EQ(plan["format"]["motion"]["radius_mm"], 300);
+  const auto errors = validation_errors("PlanResponse", plan);
+  EXPECT_TRUE(errors.empty()) << joined(errors);
+  const auto echo_errors = validation_errors("FormatEcho", plan["format"]);
+  EXPECT_TRUE(echo_errors.empty()) << joined(echo_errors);
+
+  json search{{"format",
+               {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+                {"fill_height_mm", 82},
+                {"fluid", "water"},
+                {"motion", arc}}},
+              {"strategies", {"baseline"}},
+              {"motion_time_max_s", 3.0}};
+  const json out = run_min_time(parse_min_time_request(search, 10.0));
+  ASSERT_TRUE(out["format"].contains("motion")) << out["format"].dump();
+  const auto search_errors = validation_errors("MinTimeResponse", out);
+  EXPECT_TRUE(search_errors.empty()) << joined(search_errors);
+}
+
 TEST(OpenApiResponses, MinTimeResponsesFitTheMinTimeResponseSchema) {
   // A feasible search (with its plan) and an infeasible one (the best point and its plan).
   json body{{"format",

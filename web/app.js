@@ -77,9 +77,10 @@ function simulateRequest(plan, law) {
 }
 
 // The series of the plan's law and of the uniform law for the plots; for a motion along an arc or
-// a path also both laws' planar simulations on it (the peaks over the wall, their directions):
-// the series then come from the same law along a straight line of the path's length, which is
-// the law's s(t) along the path (its tangential a and v).
+// a path also both laws' planar simulations on it, sampled: the η(t) series as the maximum over
+// the wall, the peaks and their directions. The acceleration and velocity plots then come from
+// the same law along a straight line of the path's length, which is the law's s(t) along the path
+// (its tangential a and v).
 async function plotContext(plan, signal) {
   const simulate = (body) => requestJson('v1/simulate', { body, signal });
   const uniform = { type: 'seven_segment_uniform' };
@@ -87,17 +88,11 @@ async function plotContext(plan, signal) {
     const [series, base] = await Promise.all([simulate(simulateRequest(plan, plan.law)), simulate(simulateRequest(plan, uniform))]);
     return { plan, request: state.request, series: series.series, base: base.series, format: plan.format };
   }
-  // The planar models' peaks: the plan's own (plan.path: its law's and the uniform law's), else
-  // a planar simulation of both laws (the service samples no series of a planar motion).
   const planar = (law) => {
-    const body = simulateRequest(plan, law);
-    delete body.sample_period_s;
     const { stroke_mm, ...format } = plan.format;  // the motion gives the move
-    return simulate({ ...body, format });
+    return simulate({ ...simulateRequest(plan, law), format });
   };
-  const [onPath, baseOnPath] = plan.path
-    ? [{ prediction: plan.path.prediction, motion: { length_mm: plan.path.length_mm } }, { prediction: plan.path.baseline }]
-    : await Promise.all([planar(plan.law), planar(uniform)]);
+  const [onPath, baseOnPath] = await Promise.all([planar(plan.law), planar(uniform)]);
   const line = (law) => ({ ...simulateRequest(plan, law), format: lineFormat(plan.format, onPath.motion.length_mm) });
   const [series, base] = await Promise.all([simulate(line(plan.law)), simulate(line(uniform))]);
   return {

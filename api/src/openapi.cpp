@@ -425,9 +425,13 @@ void add_shared_response_schemas(json& s) {
               {"fill_height_mm", number("[mm]")},
               {"fluid", ref("ResolvedFluid")},
               {"stroke_mm", number("[mm]")},
-              {"motion_time_s", number("[s]")}},
+              {"motion_time_s", number("[s]")},
+              {"motion", ref("Motion")}},
              {"container", "fill_height_mm", "fluid", "stroke_mm", "motion_time_s"},
-             "The format in user units, with the resolved fluid.", false);
+             "The format in user units, with the resolved fluid; along an arc or a path also the "
+             "motion as planned (canonical: its defaults filled in), stroke_mm then the path "
+             "length.",
+             false);
   s["Kinematics"] = object(
       {{"a_max", number("Positive plateau level A [m/s^2]. Along an arc or a path: of the "
                         "tangential acceleration s'' alone; limits.a_max bounds the total "
@@ -974,11 +978,14 @@ void add_motion_response_schemas(json& s) {
   s["PlanarPrediction"] =
       object({{"nonlinear", ref("PlanarPeaks")}, {"linear", ref("PlanarPeaks")}},
              {"nonlinear", "linear"}, "Both planar models (format.motion given).", false);
+  // FormatEcho holds a line, an arc or a path (with their stroke_mm and motion_time_s); a
+  // trajectory's format has neither, so it is an echo of its own (and a oneOf tells them apart).
   json echo = s["FormatEcho"];
-  echo["properties"]["motion"] = ref("Motion");
+  echo["properties"].erase("stroke_mm");
+  echo["properties"].erase("motion_time_s");
   echo["required"] = {"container", "fill_height_mm", "fluid", "motion"};
   echo["description"] =
-      "The format with its motion (no stroke_mm nor motion_time_s for a trajectory).";
+      "The format of a sampled trajectory: its motion, no stroke_mm nor motion_time_s.";
   s["SpatialFormatEcho"] = echo;
   s["MotionSummary"] =
       object({{"type", string_enum({"line", "arc", "path", "trajectory"}, "")},

@@ -177,6 +177,10 @@ class Search {
     const bool usable = plan_result.status == SolveStatus::kOptimal ||
                         plan_result.status == SolveStatus::kAcceptable;
     p.feasible = !refused && usable && p.excess <= 1.0 + kLimitTolerance;
+    const std::optional<double>& a_max = options_.plan.limits.a_max;
+    if (options_.path && a_max && !plan_result.invalid_input && plan_result.law.duration() > 0.0) {
+      p.a_max_ratio = path_acceleration(*options_.path, plan_result.law).total / *a_max;
+    }
     return out;
   }
 
@@ -389,6 +393,11 @@ bool prepare_search(const Format& format, Strategy strategy, const MinTimeOption
   return true;
 }
 
+// The plan's law breaks limits.a_max along the path (beyond the planner's own slack).
+bool breaks_a_max(const MinTimePoint& p) {
+  return p.a_max_ratio > 1.0 + 1e-6;
+}
+
 // Golden-section search for the least excess between the last three scanned points; false when
 // the budget ran out. `hit` is set to the first feasible T found.
 bool refine_near_miss(SearchRun& run, std::optional<MinTimePoint>& hit) {
@@ -429,8 +438,9 @@ bool refine_near_miss(SearchRun& run, std::optional<MinTimePoint>& hit) {
 bool coarse_scan(SearchRun& run) {
   const double step = run.options.scan_step;
   const double t_max = run.options.motion_time_max;
+  double next = run.r.scan_start;
   for (int k = 0;; ++k) {
-    double T = round_to_grid(run.r.scan_start + k * step);
+    double T = round_to_grid(next);
     if (T > t_max) T = t_max;
     if (k > 0 && T <= run.scanned.back().motion_time) break;  // t_max reached
     const std::optional<MinTimePoint> p = run.search.evaluate(T);
@@ -443,10 +453,22 @@ bool coarse_scan(SearchRun& run) {
       break;
     }
     run.scanned.push_back(*p);
+    next = T + step;
+    if (breaks_a_max(*p)) {
+      // Along an arc the normal acceleration s'^2/rho alone can break a_max. The law's total
+      // acceleration scales as 1/T^2 when its shape is stretched, so no T below
+      // T sqrt(a_total/a_max) lets this shape meet a_max: scan on from there (a plan that breaks
+      // the machine limit is not refined, whatever its slosh figures).
+      next = std::max(next, ceil_to_grid(T * std::sqrt(p->a_max_ratio)));
+      run.last_infeasible = T;
+      if (T >= t_max) break;
+      continue;
+    }
     const std::size_t n = run.scanned.size();
     if (n >= 3 && run.scanned[n - 2].excess < run.scanned[n - 3].excess &&
         run.scanned[n - 2].excess < run.scanned[n - 1].excess &&
-        run.scanned[n - 2].excess <= run.options.refine_excess) {
+        run.scanned[n - 2].excess <= run.options.refine_excess &&
+        !breaks_a_max(run.scanned[n - 2]) && !breaks_a_max(run.scanned[n - 3])) {
       std::optional<MinTimePoint> hit;
       if (!refine_near_miss(run, hit)) return false;
       if (hit) {

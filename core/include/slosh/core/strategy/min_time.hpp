@@ -120,6 +120,11 @@ struct MinTimePoint {
   /// max(eta_motion / eta_motion_max, eta_rest / eta_rest_max) [-]; infinity for a plan that
   /// refused its inputs. Feasible points have <= 1.
   double excess{};
+  /// Along a path with limits.a_max: the plan law's largest total horizontal acceleration
+  /// sqrt(s''^2 + (s'^2/rho)^2) over a_max [-] (> 1: the law breaks the machine limit); 0 on a
+  /// line or without a_max. For the same law shape stretched to T' it scales as (T/T')^2, which
+  /// the scan uses to step past motion times where the law cannot meet a_max.
+  double a_max_ratio{};
   /// The PlanOptions::warm_start this T was planned with (the durations of a neighbouring
   /// point; see min_time()); nullopt: planned from the planner's own starts. plan() of the format
   /// at motion_time with the search's plan options and this warm start returns the same plan.
