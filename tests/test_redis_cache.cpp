@@ -9,8 +9,11 @@
 #include <chrono>
 #include <future>
 #include <memory>
+#include <stdexcept>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -37,9 +40,30 @@ using service::RedisReply;
 using test::RedisServer;
 using namespace std::chrono_literals;
 
+// These tests are about sharing, isolation and a Redis that is gone, never about a slow one: a
+// healthy Redis on loopback gets a timeout it always meets. With the product's 200 ms, a loaded
+// machine that leaves redis-server (or the test) unscheduled for longer turns one reply into a
+// timeout, which marks the client down for its retry interval (as documented): the next commands
+// then fail at once and a test would see a miss or no reply where Redis was fine. A Redis that
+// was killed refuses at once, so the long timeout never slows the tests that kill it.
+constexpr auto kHealthyRedisTimeout = 10s;
+
 std::shared_ptr<RedisClient> client_of(const RedisServer& server) {
-  return std::make_shared<RedisClient>(service::RedisOptions{
-      .url = service::parse_redis_url(server.url()), .timeout = 200ms, .retry_interval = 100ms});
+  return std::make_shared<RedisClient>(
+      service::RedisOptions{.url = service::parse_redis_url(server.url()),
+                            .timeout = kHealthyRedisTimeout,
+                            .retry_interval = 100ms});
+}
+
+/// The reply of `args` on `client`; a Redis that did not answer fails the test and says why
+/// (never a dereferenced empty optional).
+RedisReply reply_of(RedisClient& client, const std::vector<std::string>& args) {
+  auto reply = client.command(args);
+  if (!reply) {
+    throw std::runtime_error("redis did not answer " + args.front() + " (" + client.state().error +
+                             ")");
+  }
+  return std::move(*reply);
 }
 
 /// A replica's plan cache: memory, optionally a SQLite file, and the Redis of `redis`.
@@ -82,7 +106,7 @@ TEST(RedisCacheLevel, APutOnOneReplicaIsAHitOnTheOtherAndIsPromoted) {
   EXPECT_FALSE(b.get("absent", &level));
   EXPECT_EQ(b.stats().misses, 1u);
   // The key and value as documented: prefix with the version, "slosh1 <digest>\n<body>".
-  RedisClient raw({.url = service::parse_redis_url(redis.url())});
+  RedisClient raw({.url = service::parse_redis_url(redis.url()), .timeout = kHealthyRedisTimeout});
   const auto stored = raw.command({"GET", plan_key_in_redis("k1")});
   ASSERT_TRUE(stored);
   const std::string digest = api::sha256_key(plan_key_in_redis("k1") + "\n" + R"({"plan":1})");
@@ -124,8 +148,8 @@ TEST(RedisCacheLevel, TamperedOrForeignValuesAreNeverServed) {
   PlanCache writer(replica(client));
   writer.put("good", "the plan");
   writer.put("other", "another plan");
-  const std::string good = client->command({"GET", plan_key_in_redis("good")})->text;
-  const std::string other = client->command({"GET", plan_key_in_redis("other")})->text;
+  const std::string good = reply_of(*client, {"GET", plan_key_in_redis("good")}).text;
+  const std::string other = reply_of(*client, {"GET", plan_key_in_redis("other")}).text;
   // Body changed (digest kept), digest changed, a foreign value, and a valid value copied under
   // another key: none is served, each is deleted.
   std::string changed_body = good;
@@ -140,7 +164,7 @@ TEST(RedisCacheLevel, TamperedOrForeignValuesAreNeverServed) {
   PlanCache reader(replica(client));
   for (const auto& [key, value] : tampered) {
     EXPECT_FALSE(reader.get(key)) << key;
-    EXPECT_EQ(client->command({"EXISTS", plan_key_in_redis(key)})->integer, 0) << key;
+    EXPECT_EQ(reply_of(*client, {"EXISTS", plan_key_in_redis(key)}).integer, 0) << key;
   }
   EXPECT_EQ(reader.stats().shared_rejected, tampered.size());
   // The untouched value is served; a value written by hand in the documented form is too.
@@ -158,10 +182,10 @@ TEST(RedisCacheLevel, TheTtlIsSetOnEveryValueWrittenAndNoneByDefault) {
   with_ttl.redis_ttl = 3600s;
   PlanCache(with_ttl).put("expiring", "v");
   PlanCache(replica(client)).put("kept", "v");
-  const long long expiring = client->command({"PTTL", plan_key_in_redis("expiring")})->integer;
+  const long long expiring = reply_of(*client, {"PTTL", plan_key_in_redis("expiring")}).integer;
   EXPECT_GT(expiring, 3590 * 1000);
   EXPECT_LE(expiring, 3600 * 1000);
-  EXPECT_EQ(client->command({"PTTL", plan_key_in_redis("kept")})->integer, -1);  // no expiry
+  EXPECT_EQ(reply_of(*client, {"PTTL", plan_key_in_redis("kept")}).integer, -1);  // no expiry
 }
 
 TEST(RedisCacheLevel, RedisKilledMidRunLeavesTheLocalLevelsAnsweringAndRecovers) {
@@ -205,6 +229,8 @@ json plan_body() {
 service::ServerConfig service_config(const RedisServer& redis) {
   service::ServerConfig config;
   config.cache_path = redis.url();
+  config.redis_timeout_ms =
+      static_cast<std::size_t>(std::chrono::milliseconds(kHealthyRedisTimeout).count());
   config.workers = 1;
   return config;
 }
@@ -321,11 +347,11 @@ TEST(RedisCacheLevel, ALockOfADeadReplicaExpiresAndTheRecipeIsSolved) {
   ASSERT_EQ(reply.status, 200) << reply.body;
   EXPECT_EQ(json::parse(reply.body)["cached"], false);
   EXPECT_EQ(solves(service), 1);
-  EXPECT_EQ(service.redis()->command({"EXISTS", lock})->integer, 0);
+  EXPECT_EQ(reply_of(*service.redis(), {"EXISTS", lock}).integer, 0);
   // Our own lock was released, never another's: a lock set by hand now stays.
   ASSERT_TRUE(service.redis()->command({"SET", lock, "other", "PX", "60000"}));
   EXPECT_EQ(service.post_plan(text, "").status, 200);  // a cache hit: no lock involved
-  EXPECT_EQ(service.redis()->command({"GET", lock})->text, "other");
+  EXPECT_EQ(reply_of(*service.redis(), {"GET", lock}).text, "other");
 }
 
 }  // namespace
