@@ -408,11 +408,8 @@ void add_rectangular_model_schema(json& s) {
              "A rectangular tank's two directions (SPEC §15).", false);
 }
 
-void add_shared_response_schemas(json& s) {
-  s["ResolvedFluid"] = object({{"name", text("Catalogue name, the caller's name or \"custom\".")},
-                               {"density_kg_m3", number("Density [kg/m^3].")},
-                               {"viscosity_pa_s", number("Dynamic viscosity [Pa·s].")}},
-                              {"name", "density_kg_m3", "viscosity_pa_s"}, "", false);
+/// The format as a response echoes it: user units, the resolved fluid, the motion as planned.
+void add_format_echo_schema(json& s) {
   s["FormatEcho"] =
       object({{"container",
                object({{"radius_mm", number("[mm] (the cylinder)")},
@@ -432,6 +429,14 @@ void add_shared_response_schemas(json& s) {
              "motion as planned (canonical: its defaults filled in), stroke_mm then the path "
              "length.",
              false);
+}
+
+void add_shared_response_schemas(json& s) {
+  s["ResolvedFluid"] = object({{"name", text("Catalogue name, the caller's name or \"custom\".")},
+                               {"density_kg_m3", number("Density [kg/m^3].")},
+                               {"viscosity_pa_s", number("Dynamic viscosity [Pa·s].")}},
+                              {"name", "density_kg_m3", "viscosity_pa_s"}, "", false);
+  add_format_echo_schema(s);
   s["Kinematics"] = object(
       {{"a_max", number("Positive plateau level A [m/s^2]. Along an arc or a path: of the "
                         "tangential acceleration s'' alone; limits.a_max bounds the total "
