@@ -1,5 +1,4 @@
 #include <algorithm>
-#include <array>
 #include <cmath>
 #include <limits>
 #include <mutex>
@@ -148,16 +147,6 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
       } else if (in_rest) {
         detail::dop853_step(
             rhs, [](std::size_t) { return 0.0; }, x, v, f0, h, true, step, keep != nullptr);
-      } else if (p.harmonic_omega == 0.0) {
-        // LawPiece::acceleration's polynomial at the 15 stages, the same operations, in one
-        // loop the compiler vectorises (not one call with its branch per stage).
-        std::array<double, detail::kDopStages> a;
-        for (std::size_t i = 1; i < detail::kDopStages; ++i) {
-          const double t = tau + detail::kDopC[i] * h;
-          a[i] = p.poly[0] + t * (p.poly[1] + t * (p.poly[2] + t * p.poly[3]));
-        }
-        detail::dop853_step(
-            rhs, [&a](std::size_t i) { return a[i]; }, x, v, f0, h, true, step, keep != nullptr);
       } else {
         detail::dop853_step(
             rhs, [&](std::size_t i) { return p.acceleration(tau + detail::kDopC[i] * h); }, x, v,
