@@ -84,15 +84,20 @@ TEST_F(RectangularHostile, ShallowSquareAtFortyFiveWarnsForBothDirections) {
   EXPECT_TRUE(width) << plan["warnings"].dump();
 }
 
-// A calibration whose zeta stayed at the cup's prior must not override another tank's damping.
-TEST_F(RectangularHostile, CalibrationOfOneCupDoesNotImposeItsDampingPriorElsewhere) {
-  const json moves = json::array(
+// Two measured moves of the 120 x 80 cup along its length, for a calibration.
+json two_cup_moves() {
+  return json::array(
       {{{"name", "m1"},
         {"law", {{"type", "modified_trapezoid"}}},
         {"peaks", {{"eta_motion_mm", 14}, {"eta_rest_mm", 12}, {"rest_window_s", 1.0}}}},
        {{"name", "m2"},
         {"law", {{"type", "poly5"}}},
         {"peaks", {{"eta_motion_mm", 12}, {"eta_rest_mm", 3}, {"rest_window_s", 1.0}}}}});
+}
+
+// A calibration whose zeta stayed at the cup's prior must not override another tank's damping.
+TEST_F(RectangularHostile, CalibrationOfOneCupDoesNotImposeItsDampingPriorElsewhere) {
+  const json moves = two_cup_moves();
   post(*server_, "/v1/calibrations",
        {{"name", "hostile-cup"}, {"format", cup(0.0)}, {"moves", moves}});
   const json big = cup(0.0, 300, 200, 100);
@@ -115,13 +120,7 @@ TEST_F(RectangularHostile, CalibrationOfOneCupDoesNotImposeItsDampingPriorElsewh
 
 // The cup's calibration is refused on a cylinder moved along an arc, naming options.model.
 TEST_F(RectangularHostile, CupCalibrationIsRefusedOnACylinderAlongAnArc) {
-  const json moves = json::array(
-      {{{"name", "m1"},
-        {"law", {{"type", "modified_trapezoid"}}},
-        {"peaks", {{"eta_motion_mm", 14}, {"eta_rest_mm", 12}, {"rest_window_s", 1.0}}}},
-       {{"name", "m2"},
-        {"law", {{"type", "poly5"}}},
-        {"peaks", {{"eta_motion_mm", 12}, {"eta_rest_mm", 3}, {"rest_window_s", 1.0}}}}});
+  const json moves = two_cup_moves();
   post(*server_, "/v1/calibrations", {{"name", "cup-arc"}, {"format", cup(0.0)}, {"moves", moves}});
   const json arc = {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
                     {"fill_height_mm", 82},

@@ -471,22 +471,23 @@ std::string violated_constraint(const StrategyContext& c, Strategy strategy, con
     const bool motion = c.options.objective == TimeDomainObjective::kMotion;
     const double value = motion ? verified.rest.value : verified.motion.value;
     const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
-    if (value > bound * (1.0 + kSlack) && c.rectangular != nullptr) {
+    if (value <= bound * (1.0 + kSlack)) return {};
+    const std::string head = std::string(motion ? "eta_rest" : "eta_motion") +
+                             " <= " + sig3(bound * 1e3) + " mm is not ";
+    const std::string in_time = " in " + sig3(c.format.motion_time) + " s: ";
+    const std::string act = "lengthen the motion or relax the limit";
+    if (c.rectangular != nullptr) {
       // time_domain bounds each direction's oscillator model; the tank's verification adds the
       // second mode, so a law of another strategy may still meet the bound.
-      return std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
-             " mm is not met in " + sig3(c.format.motion_time) +
-             " s: time_domain's law, bounded on each direction's oscillator model (without the "
+      return head + "met" + in_time +
+             "time_domain's law, bounded on each direction's oscillator model (without the "
              "second mode), verifies at " +
              sig3(value * 1e3) +
              " mm on the tank's model (second mode included); try notch or "
-             "multi_notch, lengthen the motion or relax the limit";
+             "multi_notch, " +
+             act;
     }
-    if (value > bound * (1.0 + kSlack)) {
-      return std::string(motion ? "eta_rest" : "eta_motion") + " <= " + sig3(bound * 1e3) +
-             " mm is not reachable in " + sig3(c.format.motion_time) + " s: the best is " +
-             sig3(value * 1e3) + " mm; lengthen the motion or relax the limit";
-    }
+    return head + "reachable" + in_time + "the best is " + sig3(value * 1e3) + " mm; " + act;
   }
   return {};
 }
