@@ -165,7 +165,7 @@ TEST(Hardening, DeepNestingIsA400NotACrash) {
 
 // Item 4: a chunked body was read whole whatever its size (878 MiB of RSS for a 32 MiB one).
 TEST(Hardening, ChunkedBodiesHoldTheBodyLimit) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(SLOSH_PRODUCT_ADDRESS_SANITIZED)
   // AddressSanitizer keeps freed blocks in a quarantine of up to 256 MiB, so every 64 KiB chunk
   // the server read and dropped would stay resident: a small quarantine keeps RSS the measure of
   // what the server holds.
@@ -801,7 +801,7 @@ long vm_size_kib(pid_t pid) {
 // less than a thread's stack: each connection is answered 503 with Retry-After by the pool's
 // refusing thread, and once threads can be started again the server answers as before.
 TEST(Hardening, AConnectionThatGetsNoThreadIsAnswered503AndTheServerLivesOn) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(SLOSH_PRODUCT_ADDRESS_SANITIZED)
   // AddressSanitizer's allocator aborts the process when the address space runs out (instead of
   // the std::bad_alloc / std::system_error the server handles): the limit tests the sanitizer.
   GTEST_SKIP() << "an address-space limit under AddressSanitizer aborts in its allocator";

@@ -197,7 +197,7 @@ TEST(ConnectionPool, NoRefusingThreadMeansNoPool) {
 }
 
 TEST(WorkerPoolDeathTest, AWorkerTheSystemRefusesIsAnErrorNotAnAbort) {
-#if defined(__SANITIZE_ADDRESS__)
+#if defined(__SANITIZE_ADDRESS__) || defined(SLOSH_PRODUCT_ADDRESS_SANITIZED)
   // AddressSanitizer's own allocations (its fake stacks) abort in a tight address space before
   // the worker pool can refuse: the limit would test the sanitizer.
   GTEST_SKIP() << "an address-space limit under AddressSanitizer aborts in its allocator";
