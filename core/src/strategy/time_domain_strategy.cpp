@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "response/nonlinear_sensitivity.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/response/response.hpp"
 #include "solve/admissible_starts.hpp"
 #include "strategy/strategies.hpp"
@@ -37,6 +38,15 @@ constexpr double kCheckWindowsPerPeriod{4.0};
 constexpr int kExchangeRounds{8};
 /// Exchange rounds of a robust plan, which also adds the frequencies that break the bound.
 constexpr int kRobustExchangeRounds{16};
+/// Rounds a rectangular tank's phase may add to correct its bound by the gap between the
+/// oscillators and the tank's model, each a re-solve from the last point [-].
+constexpr int kGapRounds{8};
+/// Change of the gap, relative to 1 + gap, below which it has settled [-]: the bound on the tank's
+/// model is then met to this share (far inside the 0.1 % a plan's figures are compared to).
+constexpr double kGapSettled{1e-5};
+/// Largest violation of the solver's constraints (scaled by eta_ref) at which a rectangular
+/// tank's round that SLSQP ended outside its bound solves again with the bound tightened [-].
+constexpr double kNearlyFeasible{1e-5};
 /// Relative excess over a bound the dense check tolerates [-].
 constexpr double kDenseTolerance{1e-7};
 /// Relative excess of a dense peak over the epigraph variable that adds a sample [-].
@@ -328,8 +338,17 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
   return added;
 }
 
+// Whether the solver's models differ from the one the plan is verified by, so that the bound it
+// sees is corrected by their gap: a rectangular tank's time_domain bounds each direction's
+// oscillator (doubled for the corners when both are driven), and the tank's nonlinear model adds
+// the second mode and the coupling of the directions. (A robust rectangular plan is judged over
+// the range's sweep of the tank's model: its check models stay the oscillators', see the docs.)
+bool corrects_model_gap(const StrategyContext& c) {
+  return c.rectangular != nullptr && !c.robust();
+}
+
 // The dense value of the constrained quantity (eta_rest for objective kMotion) at d, the largest
-// over the sample models [m].
+// over the sample models [m]; a rectangular tank's is its verified nonlinear prediction's.
 double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
   // The uniform law at the nominal model alone was simulated once for the plan.
   if (!c.robust() && c.uniform_prediction != nullptr &&
@@ -338,6 +357,12 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
     return motion ? p.rest.value : p.motion.value;
   }
   const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
+  if (corrects_model_gap(c)) {
+    // A rectangular tank is verified on its own nonlinear model (the second mode, the corners).
+    const SloshPeaks p =
+        rectangular_nonlinear_peaks(*c.rectangular, law, c.options.rest_time).peaks.highest;
+    return motion ? p.rest.value : p.motion.value;
+  }
   double value = 0.0;
   for (const SloshingModel& m : c.check_models) {
     const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
@@ -391,6 +416,64 @@ double accurate_miss(const StrategyContext& c, bool minimise_motion, double boun
   return value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
 }
 
+// The gap of the solver's oscillators to a rectangular tank's verified model at x: how far the
+// verified bounded peak lies above the largest dense bounded peak of the sample models, as a
+// share of the latter, at least 0. `ws` holds the sample models' responses at x, or is null.
+double model_gap(const StrategyContext& c, bool minimise_motion, const double* x,
+                 const TimeDomainWorkspace* ws, const std::vector<SloshingModel>& models) {
+  const double T = c.format.motion_time;
+  const double end = T + c.options.rest_time;
+  double dense = 0.0;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    std::optional<NonlinearSensitivity> own;
+    const NonlinearSensitivity* sens = ws != nullptr ? &ws->sensitivity[m] : nullptr;
+    if (sens == nullptr) {
+      own.emplace(models[m], c.format.stroke, c.options.rest_time, sensitivity_options());
+      own->compute(x);
+      sens = &*own;
+    }
+    dense = std::max(dense, minimise_motion ? sens->window_peak(T + 1e-12, end).value
+                                            : sens->window_peak(0.0, T).value);
+  }
+  const double verified = constrained_value(c, minimise_motion, c.space.polish(x));
+  return dense > 0.0 ? std::max(0.0, verified / dense - 1.0) : 0.0;
+}
+
+// The gap a rectangular tank's next round corrects its bound by: the root of
+// F(gap) = measured(gap) - gap, `measured` the gap at the point solved for with `gap`. The plain
+// iteration gap <- measured converges slowly both where the point's gap falls as the bound
+// tightens (on the docs' cup F' is about -1.6: each round overshoots by two thirds of its step)
+// and where it grows (F' about -0.4 on the same cup moved 200 mm, whose nonlinear model leaves
+// its range: each round makes a third of its way), so the step is the secant's through the last
+// two settled rounds: inside their bracket when they bracket the root, else along the plain
+// step and at most kMaxGapExtrapolation times it.
+class GapRoot {
+ public:
+  // The gap to solve for next, after the point solved for with `used` measured `measured`.
+  double next(double used, double measured) {
+    const double f = measured - used;
+    double out = measured;
+    if (has_last_ && f != f_last_) {
+      const double step = -f * (used - used_last_) / (f - f_last_);
+      const bool bracketed = (f < 0.0) != (f_last_ < 0.0);
+      const bool along =
+          (step < 0.0) == (f < 0.0) && std::abs(step) <= kMaxGapExtrapolation * std::abs(f);
+      if (bracketed || along) out = std::max(0.0, used + step);
+    }
+    used_last_ = used;
+    f_last_ = f;
+    has_last_ = true;
+    return out;
+  }
+
+ private:
+  /// Largest secant step outside a bracket, in plain steps [-].
+  static constexpr double kMaxGapExtrapolation{4.0};
+  double used_last_{};
+  double f_last_{};
+  bool has_last_{false};
+};
+
 // The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
 // dense accurate response of every sample model is checked window by window, and every peak
 // above its bound becomes a new sample for the next solve (started from the current point).
@@ -406,12 +489,28 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   MultiStartResult total;
   double margin = 0.0;
   *bound_excess = 0.0;
-  const int rounds = c.robust() ? kRobustExchangeRounds : kExchangeRounds;
+  // A rectangular tank's bound is met on its own model, not on the oscillators the solver sees:
+  // the bound they are given is divided by (1 + gap), `gap` how far the verified bounded peak
+  // lies above the oscillators' dense one. The gap is measured only where the oscillators'
+  // exchange has settled (no new sample, no outgrown steps), the first time at the optimum of
+  // the uncorrected problem, and each new gap re-solves from that point until the gap no longer
+  // moves: the plan is then the fixed point of a continuation from the oscillators' own optimum.
+  // (A gap measured at the first rounds' points, far from any optimum, where it can be twice its
+  // final value, would steer the search by wherever those rounds happened to land.)
+  const bool gapped = bound && corrects_model_gap(c);
+  double gap = 0.0;
+  GapRoot root;
+  const int rounds =
+      (c.robust() ? kRobustExchangeRounds : kExchangeRounds) + (gapped ? kGapRounds : 0);
   TimeDomainWorkspace ws(c, models);
   bool rerun = false;  // this round re-runs the last point on the same samples
+  // The last settled point that met the bound on the tank's model (gapped phases): it stands
+  // when a corrected bound turns out infeasible.
+  std::optional<MultiStartResult> met;
+  int hair_retries = 0;  // solves again after SLSQP stopped a hair outside the bound
   for (int round = 0; round < rounds; ++round) {
     std::optional<double> solver_bound;
-    if (bound) solver_bound = *bound * (1.0 - margin);
+    if (bound) solver_bound = *bound * (1.0 - margin) / (1.0 + gap);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws,
                                         least ? std::optional(least->met_below) : std::nullopt);
     r.evaluations += total.evaluations;
@@ -421,13 +520,48 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       // Nothing better on the same samples: the last point stands (its counts are kept).
       total.evaluations = r.evaluations;
       total.starts = r.starts;
-      break;
+      // Its gap was not measured (its steps had outgrown their frozen counts): measured now, it
+      // may move the corrected bound, which is then solved for from the point.
+      if (!gapped) break;
+      const double missed = accurate_miss(c, minimise_motion, *bound, total.best.x, 0.0);
+      *bound_excess = std::max(*bound_excess, missed);
+      const double measured = model_gap(c, minimise_motion, total.best.x.data(), nullptr, models);
+      const bool moved = std::abs(measured - gap) > kGapSettled * (1.0 + gap);
+      gap = root.next(gap, measured);
+      if (missed == 0.0) met = total;
+      if (!moved) break;
+      rerun = false;
+      Durations d;
+      std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
+      starts = {d};
+      continue;
     }
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
     // A round that cannot meet the bound on its samples is final: the exchange only adds samples,
-    // and a problem with more constraints is no more feasible than one with fewer.
-    if (bound && !total.feasible) break;
+    // and a problem with more constraints is no more feasible than one with fewer. (A corrected
+    // bound that tightened too far leaves the last point that met it.)
+    if (bound && !total.feasible) {
+      // SLSQP can stop converged a hair outside its bound (1e-7 of eta_ref where its tolerance
+      // is 1e-8; seen on the docs' cup, where that alone made the phase infeasible): a gapped
+      // phase tightens the bound by twice the excess and solves again from the point.
+      if (gapped && total.best.max_violation <= kNearlyFeasible && hair_retries < 2) {
+        ++hair_retries;
+        margin += 2.0 * total.best.max_violation * c.eta_ref / *solver_bound;
+        rerun = false;
+        Durations d;
+        std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
+        starts = {d};
+        continue;
+      }
+      if (met) {
+        met->evaluations = total.evaluations;
+        met->starts = total.starts;
+        total = std::move(*met);
+        *bound_excess = 0.0;
+      }
+      break;
+    }
     const double z = total.best.x[kSegments] * c.eta_ref;
     bool added = false;
     double excess = 0.0;
@@ -461,15 +595,34 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
     const double missed = bound && !added && !outgrown
                               ? accurate_miss(c, minimise_motion, *bound, total.best.x, accurate)
                               : 0.0;
+    bool gap_moved = false;
+    if (gapped && !added && !outgrown) {
+      const double measured =
+          model_gap(c, minimise_motion, total.best.x.data(), at_last ? &ws : nullptr, models);
+      gap_moved = std::abs(measured - gap) > kGapSettled * (1.0 + gap);
+      gap = root.next(gap, measured);
+      if (missed == 0.0) met = total;
+    }
+    const double dense_excess = excess;
     excess = std::max(excess, missed);
     *bound_excess = excess;
-    if (!added && !outgrown && missed == 0.0) break;
-    rerun = !added && missed == 0.0;
-    if (round >= 1) margin += 2.0 * excess;
-    if (round == 0) margin += 2.0 * missed;
+    if (!added && !outgrown && missed == 0.0 && !gap_moved) break;
+    // A new gap is a new problem: its solve is not compared with the last point's objective.
+    rerun = !added && missed == 0.0 && !gap_moved;
+    // A miss the gap's move answers is not added to the margin as well.
+    const double unexplained = gap_moved ? 0.0 : missed;
+    if (round >= 1) margin += 2.0 * std::max(dense_excess, unexplained);
+    if (round == 0) margin += 2.0 * unexplained;
     Durations d;
     std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
     starts = {d};
+  }
+  if (met && *bound_excess > kDenseTolerance && !total.timed_out) {
+    // The rounds ran out on a point that breaks the bound: the last one that met it stands.
+    met->evaluations = total.evaluations;
+    met->starts = total.starts;
+    total = std::move(*met);
+    *bound_excess = 0.0;
   }
   return total;
 }
