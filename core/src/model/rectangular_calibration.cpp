@@ -251,10 +251,13 @@ FittedParameter parameter(const Problem& pb, const Values& v, std::size_t j,
 
 }  // namespace
 
-RectangularCalibrationResult calibrate_rectangular(
-    const Format& format, const ModelOptions& base,
-    const std::vector<RectangularMeasuredMove>& moves, const CalibrationSettings& settings) {
-  RectangularCalibrationResult out;
+namespace {
+
+/// The fit's set-up: the unscaled tank, which directions the moves drive, every column's prior,
+/// bounds and whether it is fitted (an undriven direction's are not).
+Problem make_problem(const Format& format, const ModelOptions& base,
+                     const std::vector<RectangularMeasuredMove>& moves,
+                     const CalibrationSettings& settings, std::array<bool, 2>* driven) {
   ModelOptions unscaled = base;
   unscaled.omega_scale = 1.0;
   unscaled.height_gain = 1.0;
@@ -262,79 +265,144 @@ RectangularCalibrationResult calibrate_rectangular(
   pb.tank = rectangular_model_of(format, unscaled);
   pb.moves = &moves;
   pb.nonlinear = settings.nonlinear;
-  // Which directions the moves drive.
-  bool drives_length = false, drives_width = false;
+  *driven = {false, false};
   for (const RectangularMeasuredMove& m : moves) {
     RectangularModel turned = pb.tank;
     turned.orientation_deg = m.orientation_deg;
     for (const DrivenDirection& d : driven_directions(turned)) {
-      (d.axis == TankAxis::kLength ? drives_length : drives_width) = true;
+      (*driven)[d.axis == TankAxis::kLength ? 0 : 1] = true;
     }
   }
-  const ParameterSetting& omega = settings.parameters[0];
-  const ParameterSetting& zeta = settings.parameters[1];
-  const ParameterSetting& gain = settings.parameters[3];
-  const std::array<const ParameterSetting*, kColumns> setting{&omega, &zeta, &omega, &zeta, &gain};
+  const auto& p = settings.parameters;
+  const std::array<const ParameterSetting*, kColumns> setting{&p[0], &p[1], &p[0], &p[1], &p[3]};
   const Values own{1.0, pb.tank.along_length.zeta, 1.0, pb.tank.along_width.zeta, 1.0};
   for (std::size_t j = 0; j < kColumns; ++j) {
     pb.prior[j] = setting[j]->initial.value_or(own[j]);
     pb.lower[j] = setting[j]->lower;
     pb.upper[j] = setting[j]->upper;
-    const bool measured = of_length(j) ? drives_length : of_width(j) ? drives_width : true;
+    const bool measured = of_length(j) ? (*driven)[0] : of_width(j) ? (*driven)[1] : true;
     pb.free[j] = setting[j]->fit && measured;
   }
-  for (const auto& [measured, name, across] :
-       {std::tuple{drives_length, "length", "(orientation 0 or 180 degrees)"},
-        std::tuple{drives_width, "width", "(orientation 90 or -90 degrees)"}}) {
+  return pb;
+}
+
+/// The sentences of the directions no move drives.
+std::vector<std::string> unmeasured_notes(const std::array<bool, 2>& driven) {
+  std::vector<std::string> notes;
+  for (const auto& [measured, name, along] :
+       {std::tuple{driven[0], "length", "(orientation 0 or 180 degrees)"},
+        std::tuple{driven[1], "width", "(orientation 90 or -90 degrees)"}}) {
     if (!measured) {
-      out.notes.push_back(std::string("the ") + name +
-                          " is unmeasured: no move drives it, so its omega_scale and zeta keep "
-                          "their priors; a move along it " +
-                          across + " or a turned move would measure it");
+      notes.push_back(std::string("the ") + name +
+                      " is unmeasured: no move drives it, so its omega_scale and zeta keep their "
+                      "priors; a move along it " +
+                      along + " or a turned move would measure it");
     }
   }
+  return notes;
+}
+
+/// The bounded least-squares fit of the free columns `cols` from `v`, into `v`.
+detail::LeastSquaresOutcome fit(const Problem& pb, const std::vector<std::size_t>& cols, Values& v,
+                                const CalibrationSettings& settings) {
+  const auto n = static_cast<Eigen::Index>(cols.size());
+  detail::BoundedLeastSquares problem;
+  problem.lower.resize(n);
+  problem.upper.resize(n);
+  Eigen::VectorXd x0(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::size_t j = cols[static_cast<std::size_t>(k)];
+    problem.lower[k] = pb.lower[j];
+    problem.upper[k] = pb.upper[j];
+    x0[k] = v[j];
+  }
+  problem.evaluate = [&pb, &cols, &v](const Eigen::VectorXd& x, Eigen::VectorXd& r,
+                                      Eigen::MatrixXd& jac) {
+    Values trial = v;
+    for (std::size_t k = 0; k < cols.size(); ++k) trial[cols[k]] = x[static_cast<Eigen::Index>(k)];
+    const Evaluation e = pb.run(trial);
+    r = Eigen::Map<const Eigen::VectorXd>(e.r.data(), static_cast<Eigen::Index>(e.r.size()));
+    jac = select(e, cols);
+    return true;
+  };
+  detail::LeastSquaresOptions options;
+  options.max_iterations = settings.max_iterations;
+  options.stop = settings.stop;
+  detail::LeastSquaresOutcome out = detail::solve_bounded_least_squares(problem, x0, options);
+  for (std::size_t k = 0; k < cols.size(); ++k) v[cols[k]] = out.x[static_cast<Eigen::Index>(k)];
+  return out;
+}
+
+/// sigma sqrt((J^T J)^-1_ii) of every free column (in the bound-scaled variables, as calibrate()).
+std::array<std::optional<double>, kColumns> standard_errors(const Problem& pb,
+                                                            const std::vector<std::size_t>& cols,
+                                                            const Eigen::MatrixXd& J,
+                                                            double sigma) {
+  std::array<std::optional<double>, kColumns> se{};
+  if (cols.empty() || !(sigma > 0.0)) return se;
+  const Eigen::VectorXd w = widths(pb, cols);
+  const Eigen::MatrixXd Js = J * w.asDiagonal();
+  const auto n = static_cast<Eigen::Index>(cols.size());
+  const Eigen::MatrixXd inv = (Js.transpose() * Js).ldlt().solve(Eigen::MatrixXd::Identity(n, n));
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    se[cols[k]] = sigma * std::sqrt(inv(i, i)) * w[i];
+  }
+  return se;
+}
+
+/// Every move's residual count and RMS before and after.
+std::vector<MoveFit> move_fits(const std::vector<RectangularMeasuredMove>& moves,
+                               const Evaluation& before, const Evaluation& after) {
+  std::vector<MoveFit> out;
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    MoveFit m;
+    m.name = moves[i].move.name;
+    m.residuals = after.move_end[i] - begin;
+    m.rms_before = rms(before.r, begin, before.move_end[i]);
+    m.rms_after = rms(after.r, begin, after.move_end[i]);
+    out.push_back(std::move(m));
+    begin = after.move_end[i];
+  }
+  return out;
+}
+
+CalibrationStatus status_of(detail::LeastSquaresStatus s) {
+  switch (s) {
+    case detail::LeastSquaresStatus::kConverged:
+      return CalibrationStatus::kConverged;
+    case detail::LeastSquaresStatus::kMaxIterations:
+      return CalibrationStatus::kMaxIterations;
+    case detail::LeastSquaresStatus::kStopped:
+      return CalibrationStatus::kTimeLimit;
+    case detail::LeastSquaresStatus::kFailed:
+      break;
+  }
+  return CalibrationStatus::kFailed;
+}
+
+}  // namespace
+
+RectangularCalibrationResult calibrate_rectangular(
+    const Format& format, const ModelOptions& base,
+    const std::vector<RectangularMeasuredMove>& moves, const CalibrationSettings& settings) {
+  RectangularCalibrationResult out;
+  std::array<bool, 2> driven{};
+  Problem pb = make_problem(format, base, moves, settings, &driven);
+  out.notes = unmeasured_notes(driven);
   Values v = pb.prior;
   const Evaluation before = pb.run(v);
   std::array<bool, kColumns> held{};  // held at the prior as not determined by the moves
   detail::LeastSquaresOutcome ls;
-  std::vector<std::size_t> cols;
-  Evaluation after;
+  ls.status = detail::LeastSquaresStatus::kConverged;  // nothing to fit: the priors stand
+  std::vector<std::size_t> cols = pb.free_columns();
+  Evaluation after = before;
   Eigen::MatrixXd J;
-  double sigma = 0.0;
-  for (;;) {
-    cols = pb.free_columns();
-    if (cols.empty()) {
-      after = before;
-      ls.status = detail::LeastSquaresStatus::kConverged;
-      break;
-    }
-    const auto n = static_cast<Eigen::Index>(cols.size());
-    detail::BoundedLeastSquares problem;
-    problem.lower.resize(n);
-    problem.upper.resize(n);
-    Eigen::VectorXd x0(n);
-    for (Eigen::Index k = 0; k < n; ++k) {
-      const std::size_t j = cols[static_cast<std::size_t>(k)];
-      problem.lower[k] = pb.lower[j];
-      problem.upper[k] = pb.upper[j];
-      x0[k] = v[j];
-    }
-    problem.evaluate = [&pb, &cols, &v](const Eigen::VectorXd& x, Eigen::VectorXd& r,
-                                        Eigen::MatrixXd& jac) {
-      Values trial = v;
-      for (std::size_t k = 0; k < cols.size(); ++k)
-        trial[cols[k]] = x[static_cast<Eigen::Index>(k)];
-      const Evaluation e = pb.run(trial);
-      r = Eigen::Map<const Eigen::VectorXd>(e.r.data(), static_cast<Eigen::Index>(e.r.size()));
-      jac = select(e, cols);
-      return true;
-    };
-    detail::LeastSquaresOptions options;
-    options.max_iterations = settings.max_iterations;
-    options.stop = settings.stop;
-    ls = detail::solve_bounded_least_squares(problem, x0, options);
+  double sigma = residual_sigma(after, 0);
+  while (!cols.empty()) {
+    ls = fit(pb, cols, v, settings);
     out.iterations += ls.iterations;
-    for (std::size_t k = 0; k < cols.size(); ++k) v[cols[k]] = ls.x[static_cast<Eigen::Index>(k)];
     after = pb.run(v);
     J = select(after, cols);
     sigma = residual_sigma(after, cols.size());
@@ -343,18 +411,16 @@ RectangularCalibrationResult calibrate_rectangular(
     const auto weak = unidentifiable(pb, cols, J, sigma, settings.identifiable_fraction, &why);
     if (!weak) break;
     const std::vector<std::size_t>& shared = weak->columns;
-    const bool mixes = std::any_of(shared.begin(), shared.end(), of_length) &&
-                       std::any_of(shared.begin(), shared.end(), of_width);
-    if (mixes) {
+    if (std::any_of(shared.begin(), shared.end(), of_length) &&
+        std::any_of(shared.begin(), shared.end(), of_width)) {
       // The moves drive both directions but do not tell them apart: no values to report.
       out.refused = names_of(shared) + " cannot be separated by these moves (" + why +
                     "): add a move along the length (orientation 0 or 180 degrees) and one "
                     "along the width (90 or -90 degrees), or a measured series of a turned "
                     "move, whose two frequencies tell the directions apart";
-      out.status = CalibrationStatus::kFailed;
       v = pb.prior;
-      for (std::size_t j = 0; j < kColumns; ++j) pb.free[j] = false;
-      after = pb.run(v);
+      pb.free.fill(false);
+      after = before;
       cols.clear();
       sigma = residual_sigma(after, 0);
       break;
@@ -368,49 +434,16 @@ RectangularCalibrationResult calibrate_rectangular(
     pb.free[hold] = false;
     held[hold] = true;
     v[hold] = pb.prior[hold];
+    cols = pb.free_columns();
   }
-  std::array<std::optional<double>, kColumns> se{};
-  if (!cols.empty() && sigma > 0.0) {
-    const Eigen::VectorXd w = widths(pb, cols);
-    const Eigen::MatrixXd Js = J * w.asDiagonal();
-    const auto n = static_cast<Eigen::Index>(cols.size());
-    const Eigen::MatrixXd inv = (Js.transpose() * Js).ldlt().solve(Eigen::MatrixXd::Identity(n, n));
-    for (std::size_t k = 0; k < cols.size(); ++k) {
-      const auto i = static_cast<Eigen::Index>(k);
-      se[cols[k]] = sigma * std::sqrt(inv(i, i)) * w[i];
-    }
-  }
-  out.length = {drives_length, parameter(pb, v, kOmegaL, se[kOmegaL], held[kOmegaL]),
-                parameter(pb, v, kZetaL, se[kZetaL], held[kZetaL])};
-  out.width = {drives_width, parameter(pb, v, kOmegaW, se[kOmegaW], held[kOmegaW]),
-               parameter(pb, v, kZetaW, se[kZetaW], held[kZetaW])};
-  out.height_gain = parameter(pb, v, kGain, se[kGain], held[kGain]);
-  std::size_t begin = 0;
-  for (std::size_t i = 0; i < moves.size(); ++i) {
-    MoveFit m;
-    m.name = moves[i].move.name;
-    m.residuals = after.move_end[i] - begin;
-    m.rms_before = rms(before.r, begin, before.move_end[i]);
-    m.rms_after = rms(after.r, begin, after.move_end[i]);
-    out.moves.push_back(std::move(m));
-    begin = after.move_end[i];
-  }
+  const auto se = standard_errors(pb, cols, J, sigma);
+  auto param = [&](std::size_t j) { return parameter(pb, v, j, se[j], held[j]); };
+  out.length = {driven[0], param(kOmegaL), param(kZetaL)};
+  out.width = {driven[1], param(kOmegaW), param(kZetaW)};
+  out.height_gain = param(kGain);
+  out.moves = move_fits(moves, before, after);
   out.sigma = sigma;
-  if (!out.refused.empty()) return out;
-  switch (ls.status) {
-    case detail::LeastSquaresStatus::kConverged:
-      out.status = CalibrationStatus::kConverged;
-      break;
-    case detail::LeastSquaresStatus::kMaxIterations:
-      out.status = CalibrationStatus::kMaxIterations;
-      break;
-    case detail::LeastSquaresStatus::kStopped:
-      out.status = CalibrationStatus::kTimeLimit;
-      break;
-    case detail::LeastSquaresStatus::kFailed:
-      out.status = CalibrationStatus::kFailed;
-      break;
-  }
+  out.status = out.refused.empty() ? status_of(ls.status) : CalibrationStatus::kFailed;
   return out;
 }
 

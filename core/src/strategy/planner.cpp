@@ -1226,6 +1226,29 @@ InvalidInput diverging_law(const KinematicSummary& k, Strategy strategy, bool at
                      (at_nominal ? "" : " or narrow the range"));
 }
 
+/// The uniform law's prediction on `tank`.
+LawPrediction uniform_prediction(const SloshingModel& model, const RectangularModel& tank,
+                                 const Format& format, double rest_time) {
+  return predict(model, &tank,
+                 SevenSegmentLaw(uniform_durations(format.motion_time), format.stroke).law(),
+                 rest_time);
+}
+
+/// A rectangular tank's figures of the selected law on the tank itself, and why its nonlinear
+/// model does not hold for the law into `s.out_of_range`: simulated again only when the
+/// strategies saw the tank on its axis (`on_axis`; the figures differ in the last digits), and
+/// the uniform law's reason (`baseline_out_of_range`) when the law is the uniform law
+/// (`uniform`), whose prediction the selection did not simulate again.
+void take_own_figures(PlanResult& r, Selection& s, bool on_axis, const Durations& uniform,
+                      const std::string& baseline_out_of_range, double rest_time) {
+  if (!r.rectangular) return;
+  if (on_axis) {
+    r.prediction = predict(r.model, &*r.rectangular, r.law, rest_time, &s.out_of_range);
+  } else if (s.outcome.law_of_durations() && r.durations && *r.durations == uniform) {
+    s.out_of_range = baseline_out_of_range;
+  }
+}
+
 /// The plan's warnings: SPEC §2's validity warnings, the baseline guard's `worse`, and a
 /// rectangular tank's (its nonlinear model out of range for the law, `out_of_range`, or for the
 /// uniform law of reference, a motion too short to act on a mode), each once.
@@ -1307,9 +1330,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   const std::optional<RectangularModel> axis_tank =
       rectangular ? rectangular_axis_tank(*rectangular) : std::nullopt;
   const LawPrediction reference =
-      axis_tank ? predict(r.model, &*axis_tank, SevenSegmentLaw(uniform, format.stroke).law(),
-                          options.rest_time)
-                : r.baseline;
+      axis_tank ? uniform_prediction(r.model, *axis_tank, format, options.rest_time) : r.baseline;
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
   c.rectangular = axis_tank ? &*axis_tank : rectangular;
@@ -1333,13 +1354,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                                             : run_single(c, strategy, guard);
   const Strategy result_strategy = s.outcome.strategy;
   take_selection(r, s, format);
-  if (axis_tank) {
-    // The law's figures on the tank itself (they differ from the axis tank's in the last digits).
-    r.prediction = predict(r.model, rectangular, r.law, options.rest_time, &s.out_of_range);
-  } else if (rectangular != nullptr && s.outcome.law_of_durations() && r.durations &&
-             *r.durations == uniform) {
-    s.out_of_range = baseline_out_of_range;  // the uniform law's prediction was not simulated again
-  }
+  take_own_figures(r, s, axis_tank.has_value(), uniform, baseline_out_of_range, options.rest_time);
   take_move_absolute(r, options, format);
   // A law the models cannot follow (hundreds of g on a short move), at the nominal model or
   // somewhere in the uncertainty range: no numbers to promise.

@@ -474,9 +474,113 @@ class GapRoot {
   bool has_last_{false};
 };
 
+// The durations of a solver's point.
+Durations point_of(const MultiStartResult& r) {
+  Durations d;
+  std::copy(r.best.x.begin(), r.best.x.begin() + kSegments, d.begin());
+  return d;
+}
+
+// Whether the best run's step counts, frozen at its start, had to grow on the way to its point:
+// the response it saw jumped there, and SLSQP can stop at such a jump short of the optimum.
+bool outgrew_steps(const MultiStartResult& total, const std::vector<Durations>& starts,
+                   const TimeDomainWorkspace& ws) {
+  if (total.best_start < 0 || static_cast<std::size_t>(total.best_start) >= starts.size()) {
+    return false;
+  }
+  const Durations& from = starts[static_cast<std::size_t>(total.best_start)];
+  bool outgrown = false;
+  for (const NonlinearSensitivity& s : ws.sensitivity) {
+    outgrown = outgrown || s.outgrows_frozen_steps(from.data(), total.best.x.data());
+  }
+  return outgrown;
+}
+
+// The correction of a rectangular tank's bound (solve_phase). Its bound is met on the tank's own
+// model, not on the oscillators the solver sees: the bound they are given is divided by
+// (1 + gap), `gap` how far the verified bounded peak lies above the oscillators' dense one. The
+// gap is measured only where the oscillators' exchange has settled (no new sample, no outgrown
+// steps), the first time at the optimum of the uncorrected problem, and each new gap is solved
+// for again from that point until it no longer moves: the plan is then the fixed point of a
+// continuation from the oscillators' own optimum. (A gap measured at the first rounds' points,
+// far from any optimum, where it can be twice its final value, would steer the search by
+// wherever those rounds happened to land.)
+struct GapCorrection {
+  bool active{false};
+  double gap{0.0};
+  GapRoot root;
+  /// The last settled point that met the bound on the tank's model: it stands when a corrected
+  /// bound turns out infeasible, or when the rounds run out on a point that breaks it.
+  std::optional<MultiStartResult> met;
+  int hair_retries{0};  ///< solves again after SLSQP stopped a hair outside the bound
+
+  // Measures the gap at the settled point of `total` (`missed`: its miss on the tank's model,
+  // `ws` its responses or null) and takes the next one; returns whether the gap moved.
+  bool settle(const StrategyContext& c, bool minimise_motion, const MultiStartResult& total,
+              const TimeDomainWorkspace* ws, const std::vector<SloshingModel>& models,
+              double missed) {
+    const double measured = model_gap(c, minimise_motion, total.best.x.data(), ws, models);
+    const bool moved = std::abs(measured - gap) > kGapSettled * (1.0 + gap);
+    gap = root.next(gap, measured);
+    if (missed == 0.0) met = total;
+    return moved;
+  }
+  // SLSQP can stop converged a hair outside its bound (1e-7 of eta_ref where its tolerance is
+  // 1e-8, which alone made the docs' cup infeasible): whether to tighten the bound by twice the
+  // excess (into `margin`) and solve again from the point.
+  bool hair_retry(const StrategyContext& c, const MultiStartResult& total, double solver_bound,
+                  double& margin) {
+    if (!active || total.best.max_violation > kNearlyFeasible || hair_retries >= 2) return false;
+    ++hair_retries;
+    margin += 2.0 * total.best.max_violation * c.eta_ref / solver_bound;
+    return true;
+  }
+  // The last point that met the bound replaces `total` (its counts kept), when there is one.
+  void restore(MultiStartResult& total, double* bound_excess) {
+    if (!met) return;
+    met->evaluations = total.evaluations;
+    met->starts = total.starts;
+    total = std::move(*met);
+    met.reset();
+    *bound_excess = 0.0;
+  }
+};
+
+// One exchange step at the solver's point: the dense check of every sample model (every peak
+// above its bound becomes a sample) and, for robust plans, the check model that breaks the bound
+// the most (a new sample model).
+struct Exchange {
+  const StrategyContext& c;
+  bool minimise_motion;
+  std::optional<double> bound;
+  const std::optional<LeastResolution>& least;
+  double excess{0.0};    ///< the largest relative excess over the bound found
+  double accurate{0.0};  ///< the bounded peak of the accurate prediction (robust: worst case)
+
+  // Returns whether a sample or a model was added; `at_last`: `ws` holds the point's responses.
+  bool add(const MultiStartResult& total, bool at_last, std::vector<SloshingModel>& models,
+           ModelSamples& samples, TimeDomainWorkspace& ws) {
+    const double z = total.best.x[kSegments] * c.eta_ref;
+    bool added = false;
+    for (std::size_t m = 0; m < samples.size(); ++m) {
+      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
+                          samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
+              added;
+    }
+    if (bound && add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess,
+                                    accurate)) {
+      samples.push_back(initial_samples(c, models.back()));
+      ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
+      added = true;
+    }
+    return added;
+  }
+};
+
 // The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
 // dense accurate response of every sample model is checked window by window, and every peak
 // above its bound becomes a new sample for the next solve (started from the current point).
+// A rectangular tank's bound is corrected by its gap to the tank's model (GapCorrection).
 MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
                              std::optional<double> bound, std::vector<Durations> starts,
                              double* bound_excess,
@@ -489,141 +593,74 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   MultiStartResult total;
   double margin = 0.0;
   *bound_excess = 0.0;
-  // A rectangular tank's bound is met on its own model, not on the oscillators the solver sees:
-  // the bound they are given is divided by (1 + gap), `gap` how far the verified bounded peak
-  // lies above the oscillators' dense one. The gap is measured only where the oscillators'
-  // exchange has settled (no new sample, no outgrown steps), the first time at the optimum of
-  // the uncorrected problem, and each new gap re-solves from that point until the gap no longer
-  // moves: the plan is then the fixed point of a continuation from the oscillators' own optimum.
-  // (A gap measured at the first rounds' points, far from any optimum, where it can be twice its
-  // final value, would steer the search by wherever those rounds happened to land.)
-  const bool gapped = bound && corrects_model_gap(c);
-  double gap = 0.0;
-  GapRoot root;
+  GapCorrection gc;
+  gc.active = bound && corrects_model_gap(c);
   const int rounds =
-      (c.robust() ? kRobustExchangeRounds : kExchangeRounds) + (gapped ? kGapRounds : 0);
+      (c.robust() ? kRobustExchangeRounds : kExchangeRounds) + (gc.active ? kGapRounds : 0);
   TimeDomainWorkspace ws(c, models);
   bool rerun = false;  // this round re-runs the last point on the same samples
-  // The last settled point that met the bound on the tank's model (gapped phases): it stands
-  // when a corrected bound turns out infeasible.
-  std::optional<MultiStartResult> met;
-  int hair_retries = 0;  // solves again after SLSQP stopped a hair outside the bound
   for (int round = 0; round < rounds; ++round) {
     std::optional<double> solver_bound;
-    if (bound) solver_bound = *bound * (1.0 - margin) / (1.0 + gap);
+    if (bound) solver_bound = *bound * (1.0 - margin) / (1.0 + gc.gap);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws,
                                         least ? std::optional(least->met_below) : std::nullopt);
     r.evaluations += total.evaluations;
     r.starts += total.starts;
     if (rerun && (r.best.x.empty() || (total.feasible && !r.feasible) ||
                   r.best.objective > total.best.objective)) {
-      // Nothing better on the same samples: the last point stands (its counts are kept).
+      // Nothing better on the same samples: the last point stands (its counts are kept). Its gap
+      // was not measured (its steps had outgrown their frozen counts): a moved gap re-solves.
       total.evaluations = r.evaluations;
       total.starts = r.starts;
-      // Its gap was not measured (its steps had outgrown their frozen counts): measured now, it
-      // may move the corrected bound, which is then solved for from the point.
-      if (!gapped) break;
+      if (!gc.active) break;
       const double missed = accurate_miss(c, minimise_motion, *bound, total.best.x, 0.0);
       *bound_excess = std::max(*bound_excess, missed);
-      const double measured = model_gap(c, minimise_motion, total.best.x.data(), nullptr, models);
-      const bool moved = std::abs(measured - gap) > kGapSettled * (1.0 + gap);
-      gap = root.next(gap, measured);
-      if (missed == 0.0) met = total;
-      if (!moved) break;
+      if (!gc.settle(c, minimise_motion, total, nullptr, models, missed)) break;
       rerun = false;
-      Durations d;
-      std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
-      starts = {d};
+      starts = {point_of(total)};
       continue;
     }
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
     // A round that cannot meet the bound on its samples is final: the exchange only adds samples,
-    // and a problem with more constraints is no more feasible than one with fewer. (A corrected
-    // bound that tightened too far leaves the last point that met it.)
+    // and a problem with more constraints is no more feasible than one with fewer.
     if (bound && !total.feasible) {
-      // SLSQP can stop converged a hair outside its bound (1e-7 of eta_ref where its tolerance
-      // is 1e-8; seen on the docs' cup, where that alone made the phase infeasible): a gapped
-      // phase tightens the bound by twice the excess and solves again from the point.
-      if (gapped && total.best.max_violation <= kNearlyFeasible && hair_retries < 2) {
-        ++hair_retries;
-        margin += 2.0 * total.best.max_violation * c.eta_ref / *solver_bound;
+      if (gc.hair_retry(c, total, *solver_bound, margin)) {
         rerun = false;
-        Durations d;
-        std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
-        starts = {d};
+        starts = {point_of(total)};
         continue;
       }
-      if (met) {
-        met->evaluations = total.evaluations;
-        met->starts = total.starts;
-        total = std::move(*met);
-        *bound_excess = 0.0;
-      }
+      gc.restore(total, bound_excess);
       break;
     }
-    const double z = total.best.x[kSegments] * c.eta_ref;
-    bool added = false;
-    double excess = 0.0;
     // The solver's last evaluation is usually its returned point: its responses are reused.
     const bool at_last = ws.valid && std::equal(total.best.x.begin(),
                                                 total.best.x.begin() + kSegments, ws.last.begin());
-    // The best run's step counts were frozen at its start; where they had to grow on the way the
-    // response it saw jumped, and SLSQP can stop at such a jump short of the optimum: it runs
-    // again from its point with the counts frozen there (a round without new samples).
-    bool outgrown = false;
-    if (total.best_start >= 0 && static_cast<std::size_t>(total.best_start) < starts.size()) {
-      const Durations& from = starts[static_cast<std::size_t>(total.best_start)];
-      for (const NonlinearSensitivity& s : ws.sensitivity) {
-        outgrown = outgrown || s.outgrows_frozen_steps(from.data(), total.best.x.data());
-      }
-    }
-    for (std::size_t m = 0; m < samples.size(); ++m) {
-      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
-                          samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
-              added;
-    }
-    double accurate = 0.0;  // the bounded peak of the accurate prediction (robust: worst case)
-    if (bound && add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess,
-                                    accurate)) {
-      samples.push_back(initial_samples(c, models.back()));
-      ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
-      added = true;
-    }
+    // An outgrown run goes again from its point with the counts frozen there (no new samples).
+    const bool outgrown = outgrew_steps(total, starts, ws);
+    Exchange e{c, minimise_motion, bound, least};
+    const bool added = e.add(total, at_last, models, samples, ws);
+    double excess = e.excess;
+    const double accurate = e.accurate;
     // The bound is met only on the prediction the plan is verified by; a miss tightens the bound
-    // the solver sees by twice the miss and solves again from the point.
+    // the solver sees by twice the miss (unless a moved gap answers it) and solves again.
     const double missed = bound && !added && !outgrown
                               ? accurate_miss(c, minimise_motion, *bound, total.best.x, accurate)
                               : 0.0;
-    bool gap_moved = false;
-    if (gapped && !added && !outgrown) {
-      const double measured =
-          model_gap(c, minimise_motion, total.best.x.data(), at_last ? &ws : nullptr, models);
-      gap_moved = std::abs(measured - gap) > kGapSettled * (1.0 + gap);
-      gap = root.next(gap, measured);
-      if (missed == 0.0) met = total;
-    }
+    const bool gap_moved =
+        gc.active && !added && !outgrown &&
+        gc.settle(c, minimise_motion, total, at_last ? &ws : nullptr, models, missed);
     const double dense_excess = excess;
     excess = std::max(excess, missed);
     *bound_excess = excess;
     if (!added && !outgrown && missed == 0.0 && !gap_moved) break;
-    // A new gap is a new problem: its solve is not compared with the last point's objective.
-    rerun = !added && missed == 0.0 && !gap_moved;
-    // A miss the gap's move answers is not added to the margin as well.
+    rerun = !added && missed == 0.0 && !gap_moved;  // a new gap is a new problem
     const double unexplained = gap_moved ? 0.0 : missed;
     if (round >= 1) margin += 2.0 * std::max(dense_excess, unexplained);
     if (round == 0) margin += 2.0 * unexplained;
-    Durations d;
-    std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
-    starts = {d};
+    starts = {point_of(total)};
   }
-  if (met && *bound_excess > kDenseTolerance && !total.timed_out) {
-    // The rounds ran out on a point that breaks the bound: the last one that met it stands.
-    met->evaluations = total.evaluations;
-    met->starts = total.starts;
-    total = std::move(*met);
-    *bound_excess = 0.0;
-  }
+  if (*bound_excess > kDenseTolerance && !total.timed_out) gc.restore(total, bound_excess);
   return total;
 }
 
