@@ -14,10 +14,13 @@
 #include <string>
 #include <vector>
 
+#include "slosh/core/model/fluid.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/response/simulation.hpp"
+#include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "support/hos_tank.hpp"
 #include "support/rectangular_reference.hpp"
 #include "support/reference_integrators.hpp"
 
@@ -435,11 +438,144 @@ TEST(RectangularPlan, TimeDomainNeverCallsABoundUnreachableThatNotchMeets) {
     EXPECT_LE(td.prediction.nonlinear.rest.value, o.eta_rest_max * (1 + 1e-6));
   } else {
     EXPECT_NE(td.message.find("eta_rest <= 3 mm is not met in 1 s: time_domain's law, bounded on "
-                              "each direction's oscillator model (without the second mode), "
-                              "verifies at "),
+                              "each direction's oscillator model corrected by its gap to the "
+                              "tank's model, verifies at "),
               std::string::npos)
         << td.message;
     EXPECT_NE(td.message.find("try notch or multi_notch"), std::string::npos) << td.message;
+  }
+}
+
+/// The rest window's highest wall of the 2-D tank L x h moved by `law`, by the fully nonlinear
+/// Euler solution of tests/support/hos_tank.hpp (24 cosine modes, order 4, RK4 at 1 ms) [m].
+double hos_rest_peak(double L, double h, const MotionLaw& law, double rest) {
+  const int modes = 24;
+  const testing::HosTank hos(L, h, modes, 4);
+  testing::HosTank::State s{std::vector<double>(modes, 0.0), std::vector<double>(modes, 0.0)};
+  const double T = law.duration(), dt = 1e-3;
+  auto acc = [&law, T](double t) { return t < T ? law.at(t).acceleration : 0.0; };
+  double t = 0, peak = 0;
+  while (t < T + rest - 1e-12) {
+    double step = std::min(dt, T + rest - t);
+    if (t < T && t + step > T) step = T - t;  // no step across the end of the motion
+    hos.step(s, t, step, acc);
+    t += step;
+    if (t > T) {
+      peak = std::max({peak, std::abs(testing::HosTank::wall_left(s)),
+                       std::abs(testing::HosTank::wall_right(s))});
+    }
+  }
+  return peak;
+}
+
+TEST(RectangularPlan, TimeDomainMeetsTheRestBoundOnTheCupVerifiedIndependently) {
+  // The docs' cup, 120 x 80 x 50 mm moved 100 mm in 1 s along L: time_domain's oscillator misses
+  // the second mode the tank's model adds, and its bound is corrected by that gap.
+  Format f = cup(120, 80, 0.0, 50.0);
+  f.stroke = 0.1;
+  f.motion_time = 1.0;
+  const PlanOptions o = quick_options();
+  const PlanResult r = plan(f, Strategy::kTimeDomain, o);
+  ASSERT_TRUE(r.usable()) << r.message;
+  EXPECT_LE(r.prediction.nonlinear.rest.value, o.eta_rest_max * (1 + 1e-6));
+  // The law re-integrated: the linear modes by RK4 (re-typed from docs/models.md), and the
+  // fully nonlinear 2-D tank (W is not driven) by the Euler equations.
+  const test::RefPeaks linear =
+      test::rk4_peaks({test::direction(0.12, 0.08, 0.05, 1.0, 3)}, r.law, o.rest_time, 1e-5);
+  EXPECT_LT(relative(r.prediction.linear.rest.value, linear.rest), 1e-3);
+  EXPECT_LE(linear.rest, o.eta_rest_max);
+  // Within the 4 % the model keeps to the Euler solution's peaks (the nonlinear reference test;
+  // measured here 1.3 % above, the Euler tank being inviscid).
+  const double euler = hos_rest_peak(0.12, 0.05, r.law, o.rest_time);
+  EXPECT_LT(relative(euler, r.prediction.nonlinear.rest.value), 0.04) << euler;
+  // Never worse than notch's law on what it minimises, notch's law being a point of its search.
+  const PlanResult notch = plan(f, Strategy::kNotch, o);
+  ASSERT_TRUE(notch.usable()) << notch.message;
+  EXPECT_LE(r.prediction.nonlinear.motion.value, notch.prediction.nonlinear.motion.value);
+}
+
+TEST(RectangularPlan, MinTimeFindsATimeForTimeDomainOnTheCup) {
+  // The same cup, 200 mm (the hostile review's format): the shaper's T_min is 0.817 s, and
+  // time_domain, which starts from the spectral optima, finds one too.
+  Format f = cup(120, 80, 0.0, 50.0);
+  f.container.height = 0.07;
+  MinTimeOptions o;
+  o.plan = quick_options();
+  o.motion_time_max = 1.5;
+  const MinTimeResult r = min_time(f, Strategy::kTimeDomain, o);
+  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  ASSERT_TRUE(r.t_min);
+  ASSERT_TRUE(r.plan);
+  EXPECT_LT(*r.t_min, 1.0);
+  EXPECT_LE(r.plan->prediction.nonlinear.rest.value, 0.003 * (1 + 1e-6));
+}
+
+/// The README's first-plan cup of a form-fill-seal line: 120 x 80 mm, 70 mm high, 50 mm of
+/// catalogue water, 200 mm in 1 s, its length turned `orientation_deg` from the motion.
+Format readme_cup(double orientation_deg) {
+  Format f;
+  f.container.rectangular = RectangularTank{0.12, 0.08, orientation_deg};
+  f.container.height = 0.07;
+  f.fill_height = 0.05;
+  f.fluid = *find_fluid("water");
+  f.stroke = 0.2;
+  f.motion_time = 1.0;
+  return f;
+}
+
+TEST(RectangularPlan, TimeDomainMeetsTheRestLimitOnTheReadmeCupVerifiedIndependently) {
+  // The README's cup with the default limit eta_rest <= 3 mm: time_domain optimises each
+  // direction's oscillator, and its bound is corrected by the gap to the tank's model (second
+  // mode included), so the law meets the limit on the model the plan is judged by.
+  const Format f = readme_cup(0.0);
+  const PlanOptions o = quick_options();
+  const PlanResult r = plan(f, Strategy::kTimeDomain, o);
+  ASSERT_TRUE(r.usable()) << r.message;
+  EXPECT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  EXPECT_EQ(r.message.find("not met"), std::string::npos) << r.message;
+  EXPECT_LE(r.prediction.nonlinear.rest.value, o.eta_rest_max * (1 + 1e-6));
+  // The limit is what binds (the law is not merely far inside it): within 0.1 % of it.
+  EXPECT_GT(r.prediction.nonlinear.rest.value, o.eta_rest_max * (1 - 1e-3));
+  // The law re-integrated independently: the linear modes by RK4 (re-typed from docs/models.md,
+  // water's nu = 1e-6 m^2/s where the catalogue's is 1.003e-6: 2e-4 of the rest peak) ...
+  const test::RefPeaks linear =
+      test::rk4_peaks({test::direction(0.12, 0.08, 0.05, 1.0, 3)}, r.law, o.rest_time, 1e-5);
+  EXPECT_LT(relative(r.prediction.linear.rest.value, linear.rest), 1e-3);
+  EXPECT_LE(linear.rest, o.eta_rest_max);
+  // ... and the fully nonlinear 2-D tank (W is not driven) by the Euler equations: the limit
+  // holds on it. (Measured 2.40 mm: at 10.3 mm during the motion, k1 eta = 0.27, near the end of
+  // the third-order range, the model's rest peak is 25 % above the Euler tank's, on the safe
+  // side; the linear model alone says 1.54 mm.)
+  const double euler = hos_rest_peak(0.12, 0.05, r.law, o.rest_time);
+  EXPECT_LE(euler, o.eta_rest_max) << euler;
+  EXPECT_GT(euler, linear.rest) << euler;
+  // notch's law is a point of time_domain's search space that meets the limit here: time_domain
+  // does not move more.
+  const PlanResult notch = plan(f, Strategy::kNotch, o);
+  ASSERT_TRUE(notch.usable()) << notch.message;
+  ASSERT_LE(notch.prediction.nonlinear.rest.value, o.eta_rest_max);
+  EXPECT_LE(r.prediction.nonlinear.motion.value, notch.prediction.nonlinear.motion.value);
+}
+
+TEST(RectangularPlan, TimeDomainOnTheReadmeCupAHairOffAnAxisPlansAsOnTheAxis) {
+  // The gap-corrected bound of time_domain must not make the plan turn on the last digits of
+  // the data: a hair off the axis (a PLC's float) gives the axis's law.
+  for (const auto& [axis, hair] : {std::pair{0.0, 1e-9}, {90.0, 89.9999999}, {0.0, -1e-300}}) {
+    const PlanResult on = plan(readme_cup(axis), Strategy::kTimeDomain, quick_options());
+    const PlanResult off = plan(readme_cup(hair), Strategy::kTimeDomain, quick_options());
+    ASSERT_TRUE(on.usable() && off.usable()) << on.message << " / " << off.message;
+    EXPECT_EQ(on.status, off.status) << off.message;
+    ASSERT_TRUE(on.durations && off.durations);
+    for (std::size_t k = 0; k < on.durations->size(); ++k) {
+      EXPECT_NEAR((*off.durations)[k], (*on.durations)[k], 1e-9) << hair << " " << k;
+    }
+    // The figures are the tank's own: the hair's direction adds its share at most.
+    EXPECT_LT(relative(off.prediction.nonlinear.rest.value, on.prediction.nonlinear.rest.value),
+              1e-7)
+        << hair;
+    EXPECT_LT(relative(off.prediction.nonlinear.motion.value, on.prediction.nonlinear.motion.value),
+              1e-7)
+        << hair;
   }
 }
 

@@ -477,11 +477,13 @@ std::string violated_constraint(const StrategyContext& c, Strategy strategy, con
     const std::string in_time = " in " + sig3(c.format.motion_time) + " s: ";
     const std::string act = "lengthen the motion or relax the limit";
     if (c.rectangular != nullptr) {
-      // time_domain bounds each direction's oscillator model; the tank's verification adds the
-      // second mode, so a law of another strategy may still meet the bound.
+      // time_domain bounds each direction's oscillator model, its bound corrected by the gap to
+      // the tank's model (second mode, corners) at each round's point; a local search whose
+      // correction has not settled, or a robust plan (whose range is not corrected), can end
+      // above the bound where a law of another strategy meets it.
       return head + "met" + in_time +
-             "time_domain's law, bounded on each direction's oscillator model (without the "
-             "second mode), verifies at " +
+             "time_domain's law, bounded on each direction's oscillator model corrected by its "
+             "gap to the tank's model, verifies at " +
              sig3(value * 1e3) +
              " mm on the tank's model (second mode included); try notch or "
              "multi_notch, " +
@@ -604,13 +606,16 @@ detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) 
 
 /// The prediction of an outcome's law: the plan's uniform-law prediction when the law is the
 /// uniform 7-segment law (the same durations give the same law and the same responses, so it is
-/// not simulated twice), else simulated here.
-LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o) {
+/// not simulated twice; `out_of_range` is then left as it is), else simulated here.
+/// `out_of_range`, when given, receives why the rectangular nonlinear model does not hold for the
+/// law (empty when it does).
+LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o,
+                              std::string* out_of_range = nullptr) {
   if (c.uniform_prediction != nullptr && o.law_of_durations() && o.durations &&
       *o.durations == uniform_durations(c.format.motion_time)) {
     return *c.uniform_prediction;
   }
-  return predict(c.model, c.rectangular, o.law, c.options.rest_time);
+  return predict(c.model, c.rectangular, o.law, c.options.rest_time, out_of_range);
 }
 
 /// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
@@ -724,6 +729,9 @@ const LawPrediction& judged(const std::optional<RangeJudgement>& range,
 struct Selection {
   Outcome outcome;
   LawPrediction prediction;
+  /// Why the rectangular nonlinear model does not hold for the law (predict_outcome's), so that
+  /// the plan's warnings do not simulate the law again.
+  std::string out_of_range;
   std::optional<RangeJudgement> range;  ///< over the uncertainty range, when robust
   std::string detail;
   std::string worse;
@@ -738,7 +746,7 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   }
   Selection s;
   s.outcome = run_strategy(c, strategy, seeds);
-  s.prediction = predict_outcome(c, s.outcome);
+  s.prediction = predict_outcome(c, s.outcome, &s.out_of_range);
   s.range = judge_over_range(c, s.outcome.law, s.prediction);
   verify(c, s.outcome, judged(s.range, s.prediction));
   s.detail = s.outcome.detail;
@@ -1054,14 +1062,16 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
   std::vector<BoundVerdict> bounds;  // and how it stands against the eta bound
   std::vector<Outcome> kept;         // the outcomes of `candidates`, index for index
   std::vector<std::optional<RangeJudgement>> ranges;  // and their sweeps over the range
-  std::string diverged;  // the candidates the models cannot follow, left out
+  std::vector<std::string> out_of_range;  // and why the rectangular nonlinear model does not hold
+  std::string diverged;                   // the candidates the models cannot follow, left out
   for (Outcome& o : outcomes) {
     evaluations += o.solver.evaluations;
     starts += o.solver.starts;
     PlanCandidate cand;
     cand.strategy = o.strategy;
     cand.law = o.law;
-    cand.prediction = predict_outcome(c, o);
+    std::string why_linear;
+    cand.prediction = predict_outcome(c, o, &why_linear);
     std::optional<RangeJudgement> range = judge_over_range(c, cand.law, cand.prediction);
     if (!finite_prediction(cand.prediction) || (range && !finite_prediction(range->worst))) {
       diverged += (diverged.empty() ? "" : ", ") + to_string(o.strategy);
@@ -1079,13 +1089,14 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
     ranges.push_back(std::move(range));
+    out_of_range.push_back(std::move(why_linear));
   }
   if (candidates.empty()) {
     // The models diverge for every candidate (over the uncertainty range, say): the uniform law
     // goes back to plan(), whose finiteness check refuses it with the reason.
     Selection none;
     none.outcome = std::move(outcomes.front());
-    none.prediction = predict_outcome(c, none.outcome);
+    none.prediction = predict_outcome(c, none.outcome, &none.out_of_range);
     none.range = judge_over_range(c, none.outcome.law, none.prediction);
     none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
     return none;
@@ -1108,6 +1119,7 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
   s.worse = candidates[choice.index].worse_than_baseline;
   s.prediction = candidates[choice.index].prediction;
   s.range = std::move(ranges[choice.index]);
+  s.out_of_range = std::move(out_of_range[choice.index]);
   return s;
 }
 
@@ -1214,22 +1226,35 @@ InvalidInput diverging_law(const KinematicSummary& k, Strategy strategy, bool at
                      (at_nominal ? "" : " or narrow the range"));
 }
 
-/// A rectangular tank's plan says when the linear model answered for the nonlinear one (a
-/// shallow fill or a steep wave, rectangular_nonlinear_peaks), once.
-/// Why the rectangular nonlinear model does not hold for the plan's law (empty when it does, or
-/// for a cylinder).
-std::string rectangular_out_of_range(const PlanResult& r, const PlanOptions& options) {
-  if (!r.rectangular) return {};
-  return rectangular_prediction(*r.rectangular, r.law, options.rest_time).warning;
+/// The uniform law's prediction on `tank`.
+LawPrediction uniform_prediction(const SloshingModel& model, const RectangularModel& tank,
+                                 const Format& format, double rest_time) {
+  return predict(model, &tank,
+                 SevenSegmentLaw(uniform_durations(format.motion_time), format.stroke).law(),
+                 rest_time);
+}
+
+/// A rectangular tank's figures of the selected law on the tank itself, and why its nonlinear
+/// model does not hold for the law into `s.out_of_range`: simulated again only when the
+/// strategies saw the tank on its axis (`on_axis`; the figures differ in the last digits), and
+/// the uniform law's reason (`baseline_out_of_range`) when the law is the uniform law
+/// (`uniform`), whose prediction the selection did not simulate again.
+void take_own_figures(PlanResult& r, Selection& s, bool on_axis, const Durations& uniform,
+                      const std::string& baseline_out_of_range, double rest_time) {
+  if (!r.rectangular) return;
+  if (on_axis) {
+    r.prediction = predict(r.model, &*r.rectangular, r.law, rest_time, &s.out_of_range);
+  } else if (s.outcome.law_of_durations() && r.durations && *r.durations == uniform) {
+    s.out_of_range = baseline_out_of_range;
+  }
 }
 
 /// The plan's warnings: SPEC §2's validity warnings, the baseline guard's `worse`, and a
-/// rectangular tank's (its nonlinear model out of range for the law or for the uniform law of
-/// reference, a motion too short to act on a mode).
-std::vector<std::string> plan_warnings(const Format& format, const PlanOptions& options,
-                                       const PlanResult& r, const std::string& worse,
+/// rectangular tank's (its nonlinear model out of range for the law, `out_of_range`, or for the
+/// uniform law of reference, a motion too short to act on a mode), each once.
+std::vector<std::string> plan_warnings(const Format& format, const PlanResult& r,
+                                       const std::string& worse, std::string out_of_range,
                                        const std::string& baseline_out_of_range) {
-  std::string out_of_range = rectangular_out_of_range(r, options);
   const bool law_in_range = out_of_range.empty();
   std::vector<std::string> w = validity_warnings(
       format,
@@ -1300,16 +1325,22 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
         refused(PlanInput::kUniformResponse, r.baseline.nonlinear.motion.value, non_negative(),
                 "the uniform law's predicted sloshing is not finite for this format"));
   }
+  // A tank turned a hair off an axis is planned as on it (rectangular_axis_tank): the strategies
+  // and their references see the axis's tank, the plan's figures are the tank's own.
+  const std::optional<RectangularModel> axis_tank =
+      rectangular ? rectangular_axis_tank(*rectangular) : std::nullopt;
+  const LawPrediction reference =
+      axis_tank ? uniform_prediction(r.model, *axis_tank, format, options.rest_time) : r.baseline;
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
-  c.rectangular = rectangular;
+  c.rectangular = axis_tank ? &*axis_tank : rectangular;
   detail::set_design(c);
   const double w_design = c.design_model.omega1();
   // (A strategy without a band may widen it past 0 Hz: the marker stops there.)
   r.band_omega = {std::max(0.0, (1.0 - c.band) * w_design), (1.0 + c.band) * w_design};
   r.uncertainty = c.range;
-  detail::set_references(c, r.baseline.nonlinear.motion.value);
-  c.uniform_prediction = &r.baseline;
+  detail::set_references(c, reference.nonlinear.motion.value);
+  c.uniform_prediction = &reference;
   if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
     return refusal(
         format, strategy, options,
@@ -1318,11 +1349,12 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                     sig3(c.x_ref) + " m/s)"));
   }
 
-  const GuardReference reference = guard_reference(c, r.baseline);
-  Selection s = strategy == Strategy::kAuto ? run_auto(c, reference, r.candidates)
-                                            : run_single(c, strategy, reference);
+  const GuardReference guard = guard_reference(c, reference);
+  Selection s = strategy == Strategy::kAuto ? run_auto(c, guard, r.candidates)
+                                            : run_single(c, strategy, guard);
   const Strategy result_strategy = s.outcome.strategy;
   take_selection(r, s, format);
+  take_own_figures(r, s, axis_tank.has_value(), uniform, baseline_out_of_range, options.rest_time);
   take_move_absolute(r, options, format);
   // A law the models cannot follow (hundreds of g on a short move), at the nominal model or
   // somewhere in the uncertainty range: no numbers to promise.
@@ -1339,7 +1371,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));
-  r.warnings = plan_warnings(format, options, r, s.worse, baseline_out_of_range);
+  r.warnings = plan_warnings(format, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);
   return r;
 }
 

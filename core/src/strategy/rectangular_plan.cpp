@@ -96,6 +96,18 @@ double static_wall_height(const DrivenDirection& d) {
 
 }  // namespace
 
+std::optional<RectangularModel> rectangular_axis_tank(const RectangularModel& model) {
+  const std::vector<DrivenDirection> directions = driven_directions(model);
+  // driven_directions puts the direction of the higher static wall height first.
+  if (directions.size() < 2 || !(static_wall_height(directions[1]) <
+                                 kNegligibleDirectionShare * static_wall_height(directions[0]))) {
+    return std::nullopt;
+  }
+  RectangularModel axis = model;
+  axis.orientation_deg = 90.0 * std::round(model.orientation_deg / 90.0);
+  return axis;
+}
+
 namespace detail {
 
 void set_directions(StrategyContext& c) {

@@ -7,6 +7,7 @@
 #include <optional>
 
 #include "response/nonlinear_sensitivity.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/response/response.hpp"
 #include "solve/admissible_starts.hpp"
 #include "strategy/strategies.hpp"
@@ -37,6 +38,15 @@ constexpr double kCheckWindowsPerPeriod{4.0};
 constexpr int kExchangeRounds{8};
 /// Exchange rounds of a robust plan, which also adds the frequencies that break the bound.
 constexpr int kRobustExchangeRounds{16};
+/// Rounds a rectangular tank's phase may add to correct its bound by the gap between the
+/// oscillators and the tank's model, each a re-solve from the last point [-].
+constexpr int kGapRounds{8};
+/// Change of the gap, relative to 1 + gap, below which it has settled [-]: the bound on the tank's
+/// model is then met to this share (far inside the 0.1 % a plan's figures are compared to).
+constexpr double kGapSettled{1e-5};
+/// Largest violation of the solver's constraints (scaled by eta_ref) at which a rectangular
+/// tank's round that SLSQP ended outside its bound solves again with the bound tightened [-].
+constexpr double kNearlyFeasible{1e-5};
 /// Relative excess over a bound the dense check tolerates [-].
 constexpr double kDenseTolerance{1e-7};
 /// Relative excess of a dense peak over the epigraph variable that adds a sample [-].
@@ -328,8 +338,17 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
   return added;
 }
 
+// Whether the solver's models differ from the one the plan is verified by, so that the bound it
+// sees is corrected by their gap: a rectangular tank's time_domain bounds each direction's
+// oscillator (doubled for the corners when both are driven), and the tank's nonlinear model adds
+// the second mode and the coupling of the directions. (A robust rectangular plan is judged over
+// the range's sweep of the tank's model: its check models stay the oscillators', see the docs.)
+bool corrects_model_gap(const StrategyContext& c) {
+  return c.rectangular != nullptr && !c.robust();
+}
+
 // The dense value of the constrained quantity (eta_rest for objective kMotion) at d, the largest
-// over the sample models [m].
+// over the sample models [m]; a rectangular tank's is its verified nonlinear prediction's.
 double constrained_value(const StrategyContext& c, bool motion, const Durations& d) {
   // The uniform law at the nominal model alone was simulated once for the plan.
   if (!c.robust() && c.uniform_prediction != nullptr &&
@@ -338,6 +357,12 @@ double constrained_value(const StrategyContext& c, bool motion, const Durations&
     return motion ? p.rest.value : p.motion.value;
   }
   const MotionLaw law = SevenSegmentLaw(d, c.format.stroke).law();
+  if (corrects_model_gap(c)) {
+    // A rectangular tank is verified on its own nonlinear model (the second mode, the corners).
+    const SloshPeaks p =
+        rectangular_nonlinear_peaks(*c.rectangular, law, c.options.rest_time).peaks.highest;
+    return motion ? p.rest.value : p.motion.value;
+  }
   double value = 0.0;
   for (const SloshingModel& m : c.check_models) {
     const SloshPeaks p = nonlinear_peaks(m, law, c.options.rest_time);
@@ -391,9 +416,171 @@ double accurate_miss(const StrategyContext& c, bool minimise_motion, double boun
   return value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
 }
 
+// The gap of the solver's oscillators to a rectangular tank's verified model at x: how far the
+// verified bounded peak lies above the largest dense bounded peak of the sample models, as a
+// share of the latter, at least 0. `ws` holds the sample models' responses at x, or is null.
+double model_gap(const StrategyContext& c, bool minimise_motion, const double* x,
+                 const TimeDomainWorkspace* ws, const std::vector<SloshingModel>& models) {
+  const double T = c.format.motion_time;
+  const double end = T + c.options.rest_time;
+  double dense = 0.0;
+  for (std::size_t m = 0; m < models.size(); ++m) {
+    std::optional<NonlinearSensitivity> own;
+    const NonlinearSensitivity* sens = ws != nullptr ? &ws->sensitivity[m] : nullptr;
+    if (sens == nullptr) {
+      own.emplace(models[m], c.format.stroke, c.options.rest_time, sensitivity_options());
+      own->compute(x);
+      sens = &*own;
+    }
+    dense = std::max(dense, minimise_motion ? sens->window_peak(T + 1e-12, end).value
+                                            : sens->window_peak(0.0, T).value);
+  }
+  const double verified = constrained_value(c, minimise_motion, c.space.polish(x));
+  return dense > 0.0 ? std::max(0.0, verified / dense - 1.0) : 0.0;
+}
+
+// The gap a rectangular tank's next round corrects its bound by: the root of
+// F(gap) = measured(gap) - gap, `measured` the gap at the point solved for with `gap`. The plain
+// iteration gap <- measured converges slowly both where the point's gap falls as the bound
+// tightens (on the docs' cup F' is about -1.6: each round overshoots by two thirds of its step)
+// and where it grows (F' about -0.4 on the same cup moved 200 mm, whose nonlinear model leaves
+// its range: each round makes a third of its way), so the step is the secant's through the last
+// two settled rounds: inside their bracket when they bracket the root, else along the plain
+// step and at most kMaxGapExtrapolation times it.
+class GapRoot {
+ public:
+  // The gap to solve for next, after the point solved for with `used` measured `measured`.
+  double next(double used, double measured) {
+    const double f = measured - used;
+    double out = measured;
+    if (has_last_ && f != f_last_) {
+      const double step = -f * (used - used_last_) / (f - f_last_);
+      const bool bracketed = (f < 0.0) != (f_last_ < 0.0);
+      const bool along =
+          (step < 0.0) == (f < 0.0) && std::abs(step) <= kMaxGapExtrapolation * std::abs(f);
+      if (bracketed || along) out = std::max(0.0, used + step);
+    }
+    used_last_ = used;
+    f_last_ = f;
+    has_last_ = true;
+    return out;
+  }
+
+ private:
+  /// Largest secant step outside a bracket, in plain steps [-].
+  static constexpr double kMaxGapExtrapolation{4.0};
+  double used_last_{};
+  double f_last_{};
+  bool has_last_{false};
+};
+
+// The durations of a solver's point.
+Durations point_of(const MultiStartResult& r) {
+  Durations d;
+  std::copy(r.best.x.begin(), r.best.x.begin() + kSegments, d.begin());
+  return d;
+}
+
+// Whether the best run's step counts, frozen at its start, had to grow on the way to its point:
+// the response it saw jumped there, and SLSQP can stop at such a jump short of the optimum.
+bool outgrew_steps(const MultiStartResult& total, const std::vector<Durations>& starts,
+                   const TimeDomainWorkspace& ws) {
+  if (total.best_start < 0 || static_cast<std::size_t>(total.best_start) >= starts.size()) {
+    return false;
+  }
+  const Durations& from = starts[static_cast<std::size_t>(total.best_start)];
+  bool outgrown = false;
+  for (const NonlinearSensitivity& s : ws.sensitivity) {
+    outgrown = outgrown || s.outgrows_frozen_steps(from.data(), total.best.x.data());
+  }
+  return outgrown;
+}
+
+// The correction of a rectangular tank's bound (solve_phase). Its bound is met on the tank's own
+// model, not on the oscillators the solver sees: the bound they are given is divided by
+// (1 + gap), `gap` how far the verified bounded peak lies above the oscillators' dense one. The
+// gap is measured only where the oscillators' exchange has settled (no new sample, no outgrown
+// steps), the first time at the optimum of the uncorrected problem, and each new gap is solved
+// for again from that point until it no longer moves: the plan is then the fixed point of a
+// continuation from the oscillators' own optimum. (A gap measured at the first rounds' points,
+// far from any optimum, where it can be twice its final value, would steer the search by
+// wherever those rounds happened to land.)
+struct GapCorrection {
+  bool active{false};
+  double gap{0.0};
+  GapRoot root;
+  /// The last settled point that met the bound on the tank's model: it stands when a corrected
+  /// bound turns out infeasible, or when the rounds run out on a point that breaks it.
+  std::optional<MultiStartResult> met;
+  int hair_retries{0};  ///< solves again after SLSQP stopped a hair outside the bound
+
+  // Measures the gap at the settled point of `total` (`missed`: its miss on the tank's model,
+  // `ws` its responses or null) and takes the next one; returns whether the gap moved.
+  bool settle(const StrategyContext& c, bool minimise_motion, const MultiStartResult& total,
+              const TimeDomainWorkspace* ws, const std::vector<SloshingModel>& models,
+              double missed) {
+    const double measured = model_gap(c, minimise_motion, total.best.x.data(), ws, models);
+    const bool moved = std::abs(measured - gap) > kGapSettled * (1.0 + gap);
+    gap = root.next(gap, measured);
+    if (missed == 0.0) met = total;
+    return moved;
+  }
+  // SLSQP can stop converged a hair outside its bound (1e-7 of eta_ref where its tolerance is
+  // 1e-8, which alone made the docs' cup infeasible): whether to tighten the bound by twice the
+  // excess (into `margin`) and solve again from the point.
+  bool hair_retry(const StrategyContext& c, const MultiStartResult& total, double solver_bound,
+                  double& margin) {
+    if (!active || total.best.max_violation > kNearlyFeasible || hair_retries >= 2) return false;
+    ++hair_retries;
+    margin += 2.0 * total.best.max_violation * c.eta_ref / solver_bound;
+    return true;
+  }
+  // The last point that met the bound replaces `total` (its counts kept), when there is one.
+  void restore(MultiStartResult& total, double* bound_excess) {
+    if (!met) return;
+    met->evaluations = total.evaluations;
+    met->starts = total.starts;
+    total = std::move(*met);
+    met.reset();
+    *bound_excess = 0.0;
+  }
+};
+
+// One exchange step at the solver's point: the dense check of every sample model (every peak
+// above its bound becomes a sample) and, for robust plans, the check model that breaks the bound
+// the most (a new sample model).
+struct Exchange {
+  const StrategyContext& c;
+  bool minimise_motion;
+  std::optional<double> bound;
+  const std::optional<LeastResolution>& least;
+  double excess{0.0};    ///< the largest relative excess over the bound found
+  double accurate{0.0};  ///< the bounded peak of the accurate prediction (robust: worst case)
+
+  // Returns whether a sample or a model was added; `at_last`: `ws` holds the point's responses.
+  bool add(const MultiStartResult& total, bool at_last, std::vector<SloshingModel>& models,
+           ModelSamples& samples, TimeDomainWorkspace& ws) {
+    const double z = total.best.x[kSegments] * c.eta_ref;
+    bool added = false;
+    for (std::size_t m = 0; m < samples.size(); ++m) {
+      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
+                          samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
+              added;
+    }
+    if (bound && add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess,
+                                    accurate)) {
+      samples.push_back(initial_samples(c, models.back()));
+      ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
+      added = true;
+    }
+    return added;
+  }
+};
+
 // The epigraph problem with its semi-infinite constraint closed by exchange: after each solve the
 // dense accurate response of every sample model is checked window by window, and every peak
 // above its bound becomes a new sample for the next solve (started from the current point).
+// A rectangular tank's bound is corrected by its gap to the tank's model (GapCorrection).
 MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
                              std::optional<double> bound, std::vector<Durations> starts,
                              double* bound_excess,
@@ -406,71 +593,74 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
   MultiStartResult total;
   double margin = 0.0;
   *bound_excess = 0.0;
-  const int rounds = c.robust() ? kRobustExchangeRounds : kExchangeRounds;
+  GapCorrection gc;
+  gc.active = bound && corrects_model_gap(c);
+  const int rounds =
+      (c.robust() ? kRobustExchangeRounds : kExchangeRounds) + (gc.active ? kGapRounds : 0);
   TimeDomainWorkspace ws(c, models);
   bool rerun = false;  // this round re-runs the last point on the same samples
   for (int round = 0; round < rounds; ++round) {
     std::optional<double> solver_bound;
-    if (bound) solver_bound = *bound * (1.0 - margin);
+    if (bound) solver_bound = *bound * (1.0 - margin) / (1.0 + gc.gap);
     MultiStartResult r = solve_epigraph(c, minimise_motion, solver_bound, samples, starts, ws,
                                         least ? std::optional(least->met_below) : std::nullopt);
     r.evaluations += total.evaluations;
     r.starts += total.starts;
     if (rerun && (r.best.x.empty() || (total.feasible && !r.feasible) ||
                   r.best.objective > total.best.objective)) {
-      // Nothing better on the same samples: the last point stands (its counts are kept).
+      // Nothing better on the same samples: the last point stands (its counts are kept). Its gap
+      // was not measured (its steps had outgrown their frozen counts): a moved gap re-solves.
       total.evaluations = r.evaluations;
       total.starts = r.starts;
-      break;
+      if (!gc.active) break;
+      const double missed = accurate_miss(c, minimise_motion, *bound, total.best.x, 0.0);
+      *bound_excess = std::max(*bound_excess, missed);
+      if (!gc.settle(c, minimise_motion, total, nullptr, models, missed)) break;
+      rerun = false;
+      starts = {point_of(total)};
+      continue;
     }
     total = std::move(r);
     if (total.best.x.empty() || total.timed_out) break;
     // A round that cannot meet the bound on its samples is final: the exchange only adds samples,
     // and a problem with more constraints is no more feasible than one with fewer.
-    if (bound && !total.feasible) break;
-    const double z = total.best.x[kSegments] * c.eta_ref;
-    bool added = false;
-    double excess = 0.0;
+    if (bound && !total.feasible) {
+      if (gc.hair_retry(c, total, *solver_bound, margin)) {
+        rerun = false;
+        starts = {point_of(total)};
+        continue;
+      }
+      gc.restore(total, bound_excess);
+      break;
+    }
     // The solver's last evaluation is usually its returned point: its responses are reused.
     const bool at_last = ws.valid && std::equal(total.best.x.begin(),
                                                 total.best.x.begin() + kSegments, ws.last.begin());
-    // The best run's step counts were frozen at its start; where they had to grow on the way the
-    // response it saw jumped, and SLSQP can stop at such a jump short of the optimum: it runs
-    // again from its point with the counts frozen there (a round without new samples).
-    bool outgrown = false;
-    if (total.best_start >= 0 && static_cast<std::size_t>(total.best_start) < starts.size()) {
-      const Durations& from = starts[static_cast<std::size_t>(total.best_start)];
-      for (const NonlinearSensitivity& s : ws.sensitivity) {
-        outgrown = outgrown || s.outgrows_frozen_steps(from.data(), total.best.x.data());
-      }
-    }
-    for (std::size_t m = 0; m < samples.size(); ++m) {
-      added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
-                          samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
-              added;
-    }
-    double accurate = 0.0;  // the bounded peak of the accurate prediction (robust: worst case)
-    if (bound && add_breaking_model(c, total.best.x.data(), minimise_motion, *bound, models, excess,
-                                    accurate)) {
-      samples.push_back(initial_samples(c, models.back()));
-      ws = TimeDomainWorkspace(c, models);  // one sensitivity per model
-      added = true;
-    }
+    // An outgrown run goes again from its point with the counts frozen there (no new samples).
+    const bool outgrown = outgrew_steps(total, starts, ws);
+    Exchange e{c, minimise_motion, bound, least};
+    const bool added = e.add(total, at_last, models, samples, ws);
+    double excess = e.excess;
+    const double accurate = e.accurate;
     // The bound is met only on the prediction the plan is verified by; a miss tightens the bound
-    // the solver sees by twice the miss and solves again from the point.
+    // the solver sees by twice the miss (unless a moved gap answers it) and solves again.
     const double missed = bound && !added && !outgrown
                               ? accurate_miss(c, minimise_motion, *bound, total.best.x, accurate)
                               : 0.0;
+    const bool gap_moved =
+        gc.active && !added && !outgrown &&
+        gc.settle(c, minimise_motion, total, at_last ? &ws : nullptr, models, missed);
+    const double dense_excess = excess;
     excess = std::max(excess, missed);
     *bound_excess = excess;
-    if (!added && !outgrown && missed == 0.0) break;
-    rerun = !added && missed == 0.0;
-    if (round >= 1) margin += 2.0 * excess;
-    if (round == 0) margin += 2.0 * missed;
-    Durations d;
-    std::copy(total.best.x.begin(), total.best.x.begin() + kSegments, d.begin());
-    starts = {d};
+    if (!added && !outgrown && missed == 0.0 && !gap_moved) break;
+    rerun = !added && missed == 0.0 && !gap_moved;  // a new gap is a new problem
+    const double unexplained = gap_moved ? 0.0 : missed;
+    if (round >= 1) margin += 2.0 * std::max(dense_excess, unexplained);
+    if (round == 0) margin += 2.0 * unexplained;
+    starts = {point_of(total)};
   }
+  if (*bound_excess > kDenseTolerance && !total.timed_out) gc.restore(total, bound_excess);
   return total;
 }
 

@@ -39,6 +39,20 @@ inline constexpr double kMinMotionPeriodShare{0.1};
 [[nodiscard]] std::string motion_too_short_for_mode(const RectangularModel& model,
                                                     double motion_time);
 
+/// A direction whose static wall height is below this share of the other's is left out of what
+/// the strategies optimise (rectangular_axis_tank) [-]: its waves move the tank's peaks by less
+/// than that share, below the 1e-7 to which time_domain meets its bounds, and a tank turned a
+/// hair off an axis (89.9999999 degrees from a PLC's float) must plan as on the axis, where the
+/// optimisers, whose local searches can turn on the last digits of their data, would otherwise
+/// see a different problem.
+inline constexpr double kNegligibleDirectionShare{1e-8};
+
+/// The tank turned onto its nearest axis (orientation a multiple of 90 degrees) when the motion
+/// drives a direction below kNegligibleDirectionShare of the other's static wall height; nullopt
+/// otherwise (the tank on an axis already, or both directions driven). The planner's strategies
+/// see this tank; the plan's figures stay those of the tank itself.
+[[nodiscard]] std::optional<RectangularModel> rectangular_axis_tank(const RectangularModel& model);
+
 /// True when the motion drives both of the tank's directions (orientation not a multiple of 90
 /// degrees).
 [[nodiscard]] bool both_directions_excited(double orientation_deg);

@@ -1,0 +1,60 @@
+#pragma once
+// Calibration of a rectangular tank (SPEC §15) from moves that drive one or both of its
+// directions: the frequency scale and damping ratio of each direction the moves drive, and one
+// height gain, fitted by bounded least squares with exact gradients (each driven direction's
+// dominant-mode oscillator integrated in dual numbers, as calibrate() does for one model).
+
+#include <string>
+#include <vector>
+
+#include "slosh/core/model/calibration.hpp"
+#include "slosh/core/model/format.hpp"
+
+namespace slosh {
+
+/// One measured move of a rectangular tank at its own orientation.
+struct RectangularMeasuredMove {
+  /// Its law and what was measured: a series or peaks of simulate's wave height (the signed
+  /// wall ahead when one direction moves, the highest corner |eta_L| + |eta_W| when both do).
+  /// A series' offset is taken as given (not fitted here).
+  MeasuredMove move;
+  /// Angle from the motion to the tank's side L [deg], as RectangularTank::orientation_deg.
+  double orientation_deg{};
+};
+
+/// One direction's fitted frequency scale and damping ratio.
+struct DirectionCalibration {
+  /// Whether some move drives this direction. When none does, its parameters stay at their
+  /// priors with state kFixed, and the result's notes say that the direction is unmeasured.
+  bool measured{false};
+  FittedParameter omega_scale;  ///< scale of the direction's natural frequencies [-]
+  FittedParameter zeta;         ///< damping ratio of the direction's modes [-]
+};
+
+struct RectangularCalibrationResult {
+  CalibrationStatus status{CalibrationStatus::kFailed};
+  DirectionCalibration length;  ///< the modes along L
+  DirectionCalibration width;   ///< the modes along W
+  FittedParameter height_gain;  ///< gain on the predicted wall heights of both directions [-]
+  std::vector<MoveFit> moves;
+  double sigma{};    ///< residual standard deviation [m]
+  int iterations{};  ///< LM steps over all refits
+  /// A direction left unmeasured, a parameter held at its prior (which one, why), each a sentence.
+  std::vector<std::string> notes;
+  /// Non-empty when the moves drive both directions but cannot tell their parameters apart: the
+  /// sentence says which and which moves would; status is then kFailed and every value is its
+  /// prior.
+  std::string refused;
+};
+
+/// Fits the tank of `format` (its container rectangular; its orientation unused, each move
+/// carries its own) to `moves` (at least one, validated as for calibrate()). The parameters are
+/// those of `settings`: omega_scale's and zeta's setting (fit, initial, bounds) hold for each
+/// direction, height_gain's for the one gain; zeta's prior is each direction's own boundary-layer
+/// damping unless an initial value is given; alpha is each direction's theory value, held (the
+/// Duffing coefficient follows from the depth, docs/models.md).
+[[nodiscard]] RectangularCalibrationResult calibrate_rectangular(
+    const Format& format, const ModelOptions& base,
+    const std::vector<RectangularMeasuredMove>& moves, const CalibrationSettings& settings);
+
+}  // namespace slosh

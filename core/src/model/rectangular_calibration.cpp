@@ -1,0 +1,450 @@
+#include "slosh/core/model/rectangular_calibration.hpp"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdio>
+#include <numbers>
+#include <optional>
+#include <tuple>
+
+#include <Eigen/Dense>
+
+#include "model/calibration_response.hpp"
+#include "slosh/core/model/tank_directions.hpp"
+#include "slosh/core/response/peak_finder.hpp"
+#include "solve/least_squares.hpp"
+
+namespace slosh {
+
+namespace {
+
+/// The fitted columns, in this order: each direction's omega scale and zeta, then the gain.
+enum Column : std::size_t { kOmegaL, kZetaL, kOmegaW, kZetaW, kGain, kColumns };
+using Values = std::array<double, kColumns>;
+
+constexpr std::array<const char*, kColumns> kNames{"the length's omega_scale", "the length's zeta",
+                                                   "the width's omega_scale", "the width's zeta",
+                                                   "height_gain"};
+
+std::size_t omega_column(TankAxis axis) {
+  return axis == TankAxis::kLength ? kOmegaL : kOmegaW;
+}
+
+bool of_length(std::size_t column) {
+  return column == kOmegaL || column == kZetaL;
+}
+bool of_width(std::size_t column) {
+  return column == kOmegaW || column == kZetaW;
+}
+
+std::string sig3(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.3g", v);
+  return buf;
+}
+
+// The rest window a move's response is integrated over (as calibrate()'s horizon).
+double horizon(const MeasuredMove& move) {
+  double rest = 0.01;
+  if (move.peaks) rest = std::max(rest, move.peaks->rest_window);
+  if (move.series && !move.series->t.empty()) {
+    rest = std::max(rest, move.series->t.back() - move.series->offset - move.law.duration() + 0.01);
+  }
+  return rest;
+}
+
+/// A wave height with its gradient over the columns.
+struct Sample {
+  double value{};
+  Values gradient{};
+};
+
+/// One driven direction's dual-number response in a move.
+struct DirectionResponse {
+  detail::CalibrationResponse response;
+  std::size_t omega;  ///< its omega column (zeta's is the next)
+  double sign;        ///< the sign of its share of the acceleration
+  double period;      ///< of its first mode at the prior frequency [s]
+};
+
+Sample direction_sample(const DirectionResponse& d, const detail::EtaSample& s, double gain) {
+  Sample out;
+  out.value = d.sign * s.value;
+  out.gradient[d.omega] = d.sign * s.gradient[0];
+  out.gradient[d.omega + 1] = d.sign * s.gradient[1];
+  out.gradient[kGain] = out.value / gain;
+  return out;
+}
+
+/// simulate's wave height at t: the signed wall ahead, or the highest corner.
+Sample wave_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
+  if (dirs.size() == 1) return direction_sample(dirs[0], dirs[0].response.eta_at(t), gain);
+  Sample out;
+  for (const DirectionResponse& d : dirs) {
+    const Sample s = direction_sample(d, d.response.eta_at(t), gain);
+    const double sign = s.value < 0.0 ? -1.0 : 1.0;
+    out.value += sign * s.value;
+    for (std::size_t j = 0; j < kColumns; ++j) out.gradient[j] += sign * s.gradient[j];
+  }
+  return out;
+}
+
+/// The largest wave height over [a, b], with its gradient at its time.
+Sample peak_of(const std::vector<DirectionResponse>& dirs, double a, double b, double gain) {
+  if (dirs.size() == 1) {
+    return direction_sample(dirs[0], dirs[0].response.abs_peak(a, b), gain);
+  }
+  // The corner |eta_L| + |eta_W|: sampled at 1/64 of the faster first period and refined.
+  const double step = std::min(dirs[0].period, dirs[1].period) / 64.0;
+  const Peak p = find_max([&dirs, gain](double t) { return wave_at(dirs, t, gain).value; }, a, b,
+                          std::min(step, 1e-3));
+  return wave_at(dirs, p.time, gain);
+}
+
+struct Evaluation {
+  std::vector<double> r;
+  std::vector<Values> J;
+  std::vector<std::size_t> move_end;
+};
+
+struct Problem {
+  RectangularModel tank;  // the unscaled tank (omega_scale 1, gain 1)
+  const std::vector<RectangularMeasuredMove>* moves{};
+  NonlinearOptions nonlinear;
+  Values prior{};
+  Values lower{}, upper{};
+  std::array<bool, kColumns> free{};
+
+  [[nodiscard]] Evaluation run(const Values& v) const {
+    Evaluation e;
+    for (const RectangularMeasuredMove& m : *moves) {
+      RectangularModel turned = tank;
+      turned.orientation_deg = m.orientation_deg;
+      std::vector<DirectionResponse> dirs;
+      for (const DrivenDirection& d : driven_directions(turned)) {
+        const std::size_t omega = omega_column(d.axis);
+        dirs.push_back(
+            {detail::CalibrationResponse(d.model, m.move.law, horizon(m.move), nonlinear), omega,
+             d.component < 0.0 ? -1.0 : 1.0, 2.0 * std::numbers::pi / d.model.omega1()});
+        dirs.back().response.compute({v[omega], v[omega + 1], d.model.alpha}, v[kGain]);
+      }
+      auto push = [&e](const Sample& s, double measured) {
+        e.r.push_back(s.value - measured);
+        e.J.push_back(s.gradient);
+      };
+      if (m.move.series) {
+        const MeasuredSeries& s = *m.move.series;
+        for (std::size_t k = 0; k < s.t.size(); ++k) {
+          push(wave_at(dirs, std::clamp(s.t[k] - s.offset, 0.0, HUGE_VAL), v[kGain]), s.eta[k]);
+        }
+      }
+      if (m.move.peaks) {
+        const double T = m.move.law.duration();
+        if (m.move.peaks->eta_motion)
+          push(peak_of(dirs, 0.0, T, v[kGain]), *m.move.peaks->eta_motion);
+        if (m.move.peaks->eta_rest) {
+          push(peak_of(dirs, T, T + m.move.peaks->rest_window, v[kGain]), *m.move.peaks->eta_rest);
+        }
+      }
+      e.move_end.push_back(e.r.size());
+    }
+    return e;
+  }
+
+  [[nodiscard]] std::vector<std::size_t> free_columns() const {
+    std::vector<std::size_t> c;
+    for (std::size_t j = 0; j < kColumns; ++j) {
+      if (free[j]) c.push_back(j);
+    }
+    return c;
+  }
+};
+
+Eigen::MatrixXd select(const Evaluation& e, const std::vector<std::size_t>& cols) {
+  Eigen::MatrixXd J(static_cast<Eigen::Index>(e.r.size()), static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t i = 0; i < e.r.size(); ++i) {
+    for (std::size_t k = 0; k < cols.size(); ++k) {
+      J(static_cast<Eigen::Index>(i), static_cast<Eigen::Index>(k)) = e.J[i][cols[k]];
+    }
+  }
+  return J;
+}
+
+Eigen::VectorXd widths(const Problem& pb, const std::vector<std::size_t>& cols) {
+  Eigen::VectorXd w(static_cast<Eigen::Index>(cols.size()));
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    w[static_cast<Eigen::Index>(k)] = pb.upper[cols[k]] - pb.lower[cols[k]];
+  }
+  return w;
+}
+
+double residual_sigma(const Evaluation& e, std::size_t p) {
+  if (e.r.size() <= p) return 0.0;
+  double ssr = 0.0;
+  for (double r : e.r) ssr += r * r;
+  return std::sqrt(ssr / static_cast<double>(e.r.size() - p));
+}
+
+double rms(const std::vector<double>& r, std::size_t begin, std::size_t end) {
+  if (end <= begin) return 0.0;
+  double s = 0.0;
+  for (std::size_t k = begin; k < end; ++k) s += r[k] * r[k];
+  return std::sqrt(s / static_cast<double>(end - begin));
+}
+
+/// The least identifiable direction of the bound-scaled free parameters: its columns of at
+/// least 0.3 in column order, and the largest.
+struct WeakDirection {
+  std::vector<std::size_t> columns;
+  std::size_t largest{};
+};
+
+/// The least identifiable direction, when J^T J is singular in it (1e-12 relative) or its
+/// standard deviation exceeds `fraction` of the bound box; `why` says which.
+std::optional<WeakDirection> unidentifiable(const Problem& pb, const std::vector<std::size_t>& cols,
+                                            const Eigen::MatrixXd& J, double sigma, double fraction,
+                                            std::string* why) {
+  if (cols.empty()) return std::nullopt;
+  const Eigen::MatrixXd Js = J * widths(pb, cols).asDiagonal();
+  const Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(Js.transpose() * Js);
+  const double lam = es.eigenvalues()[0];
+  const bool singular = !(lam > 1e-12 * es.eigenvalues().maxCoeff());
+  const double sd = singular ? HUGE_VAL : sigma / std::sqrt(lam);
+  if (!singular && !(sd > fraction)) return std::nullopt;
+  const Eigen::VectorXd u = es.eigenvectors().col(0);
+  WeakDirection weak;
+  Eigen::Index largest = 0;
+  u.cwiseAbs().maxCoeff(&largest);
+  weak.largest = cols[static_cast<std::size_t>(largest)];
+  for (Eigen::Index k = 0; k < u.size(); ++k) {
+    if (std::abs(u[k]) >= 0.3) weak.columns.push_back(cols[static_cast<std::size_t>(k)]);
+  }
+  *why = singular ? "J^T J is singular in that direction"
+                  : "standard deviation " + sig3(100.0 * sd) + " % of its bound box";
+  return weak;
+}
+
+std::string names_of(const std::vector<std::size_t>& columns) {
+  std::string out;
+  for (std::size_t k = 0; k < columns.size(); ++k) {
+    out += (k == 0                    ? ""
+            : k + 1 == columns.size() ? " and "
+                                      : ", ") +
+           std::string(kNames[columns[k]]);
+  }
+  return out;
+}
+
+// Column j's result; `held`: held at its prior as not determined by the moves.
+FittedParameter parameter(const Problem& pb, const Values& v, std::size_t j,
+                          const std::optional<double>& se, bool held) {
+  FittedParameter f;
+  f.prior = pb.prior[j];
+  f.value = v[j];
+  f.standard_error = se;
+  f.state = pb.free[j] ? ParameterState::kFitted
+                       : (held ? ParameterState::kUnidentifiable : ParameterState::kFixed);
+  f.at_bound = pb.free[j] && (f.value <= pb.lower[j] || f.value >= pb.upper[j]);
+  return f;
+}
+
+}  // namespace
+
+namespace {
+
+/// The fit's set-up: the unscaled tank, which directions the moves drive, every column's prior,
+/// bounds and whether it is fitted (an undriven direction's are not).
+Problem make_problem(const Format& format, const ModelOptions& base,
+                     const std::vector<RectangularMeasuredMove>& moves,
+                     const CalibrationSettings& settings, std::array<bool, 2>* driven) {
+  ModelOptions unscaled = base;
+  unscaled.omega_scale = 1.0;
+  unscaled.height_gain = 1.0;
+  Problem pb;
+  pb.tank = rectangular_model_of(format, unscaled);
+  pb.moves = &moves;
+  pb.nonlinear = settings.nonlinear;
+  *driven = {false, false};
+  for (const RectangularMeasuredMove& m : moves) {
+    RectangularModel turned = pb.tank;
+    turned.orientation_deg = m.orientation_deg;
+    for (const DrivenDirection& d : driven_directions(turned)) {
+      (*driven)[d.axis == TankAxis::kLength ? 0 : 1] = true;
+    }
+  }
+  const auto& p = settings.parameters;
+  const std::array<const ParameterSetting*, kColumns> setting{&p[0], &p[1], &p[0], &p[1], &p[3]};
+  const Values own{1.0, pb.tank.along_length.zeta, 1.0, pb.tank.along_width.zeta, 1.0};
+  for (std::size_t j = 0; j < kColumns; ++j) {
+    pb.prior[j] = setting[j]->initial.value_or(own[j]);
+    pb.lower[j] = setting[j]->lower;
+    pb.upper[j] = setting[j]->upper;
+    const bool measured = of_length(j) ? (*driven)[0] : of_width(j) ? (*driven)[1] : true;
+    pb.free[j] = setting[j]->fit && measured;
+  }
+  return pb;
+}
+
+/// The sentences of the directions no move drives.
+std::vector<std::string> unmeasured_notes(const std::array<bool, 2>& driven) {
+  std::vector<std::string> notes;
+  for (const auto& [measured, name, along] :
+       {std::tuple{driven[0], "length", "(orientation 0 or 180 degrees)"},
+        std::tuple{driven[1], "width", "(orientation 90 or -90 degrees)"}}) {
+    if (!measured) {
+      notes.push_back(std::string("the ") + name +
+                      " is unmeasured: no move drives it, so its omega_scale and zeta keep their "
+                      "priors; a move along it " +
+                      along + " or a turned move would measure it");
+    }
+  }
+  return notes;
+}
+
+/// The bounded least-squares fit of the free columns `cols` from `v`, into `v`.
+detail::LeastSquaresOutcome fit(const Problem& pb, const std::vector<std::size_t>& cols, Values& v,
+                                const CalibrationSettings& settings) {
+  const auto n = static_cast<Eigen::Index>(cols.size());
+  detail::BoundedLeastSquares problem;
+  problem.lower.resize(n);
+  problem.upper.resize(n);
+  Eigen::VectorXd x0(n);
+  for (Eigen::Index k = 0; k < n; ++k) {
+    const std::size_t j = cols[static_cast<std::size_t>(k)];
+    problem.lower[k] = pb.lower[j];
+    problem.upper[k] = pb.upper[j];
+    x0[k] = v[j];
+  }
+  problem.evaluate = [&pb, &cols, &v](const Eigen::VectorXd& x, Eigen::VectorXd& r,
+                                      Eigen::MatrixXd& jac) {
+    Values trial = v;
+    for (std::size_t k = 0; k < cols.size(); ++k) trial[cols[k]] = x[static_cast<Eigen::Index>(k)];
+    const Evaluation e = pb.run(trial);
+    r = Eigen::Map<const Eigen::VectorXd>(e.r.data(), static_cast<Eigen::Index>(e.r.size()));
+    jac = select(e, cols);
+    return true;
+  };
+  detail::LeastSquaresOptions options;
+  options.max_iterations = settings.max_iterations;
+  options.stop = settings.stop;
+  detail::LeastSquaresOutcome out = detail::solve_bounded_least_squares(problem, x0, options);
+  for (std::size_t k = 0; k < cols.size(); ++k) v[cols[k]] = out.x[static_cast<Eigen::Index>(k)];
+  return out;
+}
+
+/// sigma sqrt((J^T J)^-1_ii) of every free column (in the bound-scaled variables, as calibrate()).
+std::array<std::optional<double>, kColumns> standard_errors(const Problem& pb,
+                                                            const std::vector<std::size_t>& cols,
+                                                            const Eigen::MatrixXd& J,
+                                                            double sigma) {
+  std::array<std::optional<double>, kColumns> se{};
+  if (cols.empty() || !(sigma > 0.0)) return se;
+  const Eigen::VectorXd w = widths(pb, cols);
+  const Eigen::MatrixXd Js = J * w.asDiagonal();
+  const auto n = static_cast<Eigen::Index>(cols.size());
+  const Eigen::MatrixXd inv = (Js.transpose() * Js).ldlt().solve(Eigen::MatrixXd::Identity(n, n));
+  for (std::size_t k = 0; k < cols.size(); ++k) {
+    const auto i = static_cast<Eigen::Index>(k);
+    se[cols[k]] = sigma * std::sqrt(inv(i, i)) * w[i];
+  }
+  return se;
+}
+
+/// Every move's residual count and RMS before and after.
+std::vector<MoveFit> move_fits(const std::vector<RectangularMeasuredMove>& moves,
+                               const Evaluation& before, const Evaluation& after) {
+  std::vector<MoveFit> out;
+  std::size_t begin = 0;
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    MoveFit m;
+    m.name = moves[i].move.name;
+    m.residuals = after.move_end[i] - begin;
+    m.rms_before = rms(before.r, begin, before.move_end[i]);
+    m.rms_after = rms(after.r, begin, after.move_end[i]);
+    out.push_back(std::move(m));
+    begin = after.move_end[i];
+  }
+  return out;
+}
+
+CalibrationStatus status_of(detail::LeastSquaresStatus s) {
+  switch (s) {
+    case detail::LeastSquaresStatus::kConverged:
+      return CalibrationStatus::kConverged;
+    case detail::LeastSquaresStatus::kMaxIterations:
+      return CalibrationStatus::kMaxIterations;
+    case detail::LeastSquaresStatus::kStopped:
+      return CalibrationStatus::kTimeLimit;
+    case detail::LeastSquaresStatus::kFailed:
+      break;
+  }
+  return CalibrationStatus::kFailed;
+}
+
+}  // namespace
+
+RectangularCalibrationResult calibrate_rectangular(
+    const Format& format, const ModelOptions& base,
+    const std::vector<RectangularMeasuredMove>& moves, const CalibrationSettings& settings) {
+  RectangularCalibrationResult out;
+  std::array<bool, 2> driven{};
+  Problem pb = make_problem(format, base, moves, settings, &driven);
+  out.notes = unmeasured_notes(driven);
+  Values v = pb.prior;
+  const Evaluation before = pb.run(v);
+  std::array<bool, kColumns> held{};  // held at the prior as not determined by the moves
+  detail::LeastSquaresOutcome ls;
+  ls.status = detail::LeastSquaresStatus::kConverged;  // nothing to fit: the priors stand
+  std::vector<std::size_t> cols = pb.free_columns();
+  Evaluation after = before;
+  Eigen::MatrixXd J;
+  double sigma = residual_sigma(after, 0);
+  while (!cols.empty()) {
+    ls = fit(pb, cols, v, settings);
+    out.iterations += ls.iterations;
+    after = pb.run(v);
+    J = select(after, cols);
+    sigma = residual_sigma(after, cols.size());
+    if (ls.status == detail::LeastSquaresStatus::kStopped) break;
+    std::string why;
+    const auto weak = unidentifiable(pb, cols, J, sigma, settings.identifiable_fraction, &why);
+    if (!weak) break;
+    const std::vector<std::size_t>& shared = weak->columns;
+    if (std::any_of(shared.begin(), shared.end(), of_length) &&
+        std::any_of(shared.begin(), shared.end(), of_width)) {
+      // The moves drive both directions but do not tell them apart: no values to report.
+      out.refused = names_of(shared) + " cannot be separated by these moves (" + why +
+                    "): add a move along the length (orientation 0 or 180 degrees) and one "
+                    "along the width (90 or -90 degrees), or a measured series of a turned "
+                    "move, whose two frequencies tell the directions apart";
+      v = pb.prior;
+      pb.free.fill(false);
+      after = before;
+      cols.clear();
+      sigma = residual_sigma(after, 0);
+      break;
+    }
+    const std::size_t hold = weak->largest;
+    out.notes.push_back(names_of(shared) +
+                        (shared.size() > 1 ? " cannot be separated" : " is not determined") +
+                        " by these moves (" + why + "): " + kNames[hold] +
+                        " is held at its prior " + sig3(pb.prior[hold]) +
+                        "; add moves that excite it (faster or larger moves, a measured series)");
+    pb.free[hold] = false;
+    held[hold] = true;
+    v[hold] = pb.prior[hold];
+    cols = pb.free_columns();
+  }
+  const auto se = standard_errors(pb, cols, J, sigma);
+  auto param = [&](std::size_t j) { return parameter(pb, v, j, se[j], held[j]); };
+  out.length = {driven[0], param(kOmegaL), param(kZetaL)};
+  out.width = {driven[1], param(kOmegaW), param(kZetaW)};
+  out.height_gain = param(kGain);
+  out.moves = move_fits(moves, before, after);
+  out.sigma = sigma;
+  out.status = out.refused.empty() ? status_of(ls.status) : CalibrationStatus::kFailed;
+  return out;
+}
+
+}  // namespace slosh
