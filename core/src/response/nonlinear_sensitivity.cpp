@@ -337,7 +337,12 @@ struct SensitivityPass {
   DensePoly<double> rp;
   std::array<Lanes<2>, kDenseTerms> drp;
   std::array<Lanes8, kDenseTerms> dxp;
+  s.complete_ = true;
   for (std::size_t j = 0; j < n_rest; ++j) {
+    if (j > 0 && end.t + h_rest * static_cast<double>(j) > s.until_) {
+      s.complete_ = false;
+      break;
+    }
     tangent_step(s.model_, rest_forcing, h_rest, no_dh, r, rp, drp);
     for (std::size_t k = 0; k < kDenseTerms; ++k) {
       dxp[k] = drp[k][0] * end.st.dx + drp[k][1] * end.st.dv;
@@ -355,7 +360,8 @@ SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensiti
   rest(s, end);
 }
 
-void NonlinearSensitivity::compute(const double* d) {
+void NonlinearSensitivity::compute(const double* d, double until) {
+  until_ = until;
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
   const auto lv = plateau_levels(dd, Dual7(stroke_));

@@ -162,7 +162,13 @@ void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, doub
   if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
   for (std::size_t m = 0; m < samples.size(); ++m) {
     const Samples& sm = samples[m];
-    ws.sensitivity[m].compute(x);
+    // Nothing after the last sample (or its following row's span) is read: the rest window's
+    // later steps are left out (most of it, as the samples end a period after T).
+    double until = 0.0;
+    for (std::size_t k = 0; k < sm.t.size(); ++k) {
+      until = std::max(until, static_cast<bool>(sm.follow[k]) ? sm.t[k] + sm.span : sm.t[k]);
+    }
+    ws.sensitivity[m].compute(x, until);
     ws.sensitivity[m].abs_eta_at(sm.t, &ws.values[m], &ws.gradients[m]);
     for (std::size_t k = 0; k < sm.t.size(); ++k) {
       if (!static_cast<bool>(sm.follow[k])) continue;
@@ -445,6 +451,9 @@ MultiStartResult solve_phase(const StrategyContext& c, bool minimise_motion,
       }
     }
     for (std::size_t m = 0; m < samples.size(); ++m) {
+      // The solver's evaluations stopped after the last sample; the check reads the whole window
+      // (on the same frozen step counts, so the values it shares with the samples are unchanged).
+      if (at_last && !ws.sensitivity[m].complete()) ws.sensitivity[m].compute(total.best.x.data());
       added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
                           samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
               added;
