@@ -302,7 +302,8 @@ TEST(NonlinearSensitivity, FrozenStepCountsKeepTheResponseSmoothAcrossAStepMulti
 
 // compute(d, until) stops the rest window after the step holding `until` (time_domain's solver
 // reads nothing later): every |eta| and gradient up to there is the whole window's to the last
-// bit, window peaks inside that span too, and complete() tells the truncated from the whole.
+// bit, window peaks inside that span too, complete() tells the truncated from the whole, and
+// complete_rest() makes it the whole.
 TEST(NonlinearSensitivity, ARestWindowCutAfterTheLastReadTimeChangesNothingBefore) {
   const SloshingModel model = thesis_model();
   NonlinearOptions o;
@@ -333,6 +334,20 @@ TEST(NonlinearSensitivity, ARestWindowCutAfterTheLastReadTimeChangesNothingBefor
     EXPECT_EQ(a.value, b.value);
     EXPECT_EQ(a.time, b.time);
     EXPECT_EQ(a.gradient, b.gradient);
+    // complete_rest() integrates the rest of the window from the saved state at T: the whole
+    // window's response to the last bit, peaks and gradients included.
+    cut.complete_rest();
+    EXPECT_TRUE(cut.complete());
+    times.clear();
+    for (int j = 0; j <= 400; ++j) times.push_back((kMotionTime + kRest) * j / 400.0);
+    whole.abs_eta_at(times, &v_whole, &g_whole);
+    cut.abs_eta_at(times, &v_cut, &g_cut);
+    EXPECT_EQ(v_whole, v_cut);
+    EXPECT_EQ(g_whole, g_cut);
+    const WindowPeak c = whole.window_peak(kMotionTime + 1e-12, kMotionTime + kRest);
+    const WindowPeak e = cut.window_peak(kMotionTime + 1e-12, kMotionTime + kRest);
+    EXPECT_EQ(c.value, e.value);
+    EXPECT_EQ(c.gradient, e.gradient);
     // A cut at T keeps one rest step; without `until` the whole window is integrated again.
     cut.compute(d.data(), kMotionTime);
     EXPECT_FALSE(cut.complete());

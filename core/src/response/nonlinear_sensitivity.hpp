@@ -41,6 +41,10 @@ class NonlinearSensitivity {
   void compute(const double* d, double until = INFINITY);
   /// Whether the last compute() covered the whole rest window.
   [[nodiscard]] bool complete() const { return complete_; }
+  /// Integrates the rest window of the last compute() to its end, when compute() stopped it
+  /// early: the same steps from the same state at T, so the result is that of compute(d) to the
+  /// last bit, without integrating the motion again.
+  void complete_rest();
   /// Fixes a least step count per segment, one step more than the durations d take, for every
   /// compute() until the next call. Near d (each d_k shrinking, or growing by up to a step) the
   /// counts then do not change and the discrete response is a smooth function of the
@@ -73,6 +77,11 @@ class NonlinearSensitivity {
   bool frozen_{false};
   double until_{INFINITY};  // the rest window's last needed time of the running compute() [s]
   bool complete_{false};    // the last compute() integrated the whole rest window
+  // The state at the end of the motion of the last compute() (x, v and their derivatives, T
+  // and dT), where complete_rest() starts, and the number of motion steps before the rest's.
+  double end_x_{}, end_v_{}, end_t_{};
+  std::array<double, 8> end_dx_{}, end_dv_{}, end_dt_{};
+  std::size_t motion_steps_{};
   std::array<std::size_t, kSegments> steps_{};  // frozen step count per segment
   [[nodiscard]] Dual7 x_at(std::size_t step, double t) const;
   friend struct SensitivityPass;
