@@ -300,6 +300,62 @@ TEST(NonlinearSensitivity, FrozenStepCountsKeepTheResponseSmoothAcrossAStepMulti
   EXPECT_GT(departure(own), 1e-10);
 }
 
+// compute(d, until) stops the rest window after the step holding `until` (time_domain's solver
+// reads nothing later): every |eta| and gradient up to there is the whole window's to the last
+// bit, window peaks inside that span too, complete() tells the truncated from the whole, and
+// complete_rest() makes it the whole.
+TEST(NonlinearSensitivity, ARestWindowCutAfterTheLastReadTimeChangesNothingBefore) {
+  const SloshingModel model = thesis_model();
+  NonlinearOptions o;
+  o.steps_per_period = 20.0;  // time_domain's scheme
+  const double period = 2.0 * std::numbers::pi / model.omega1();
+  for (const Durations& d : random_durations(4, max_step(model))) {
+    NonlinearSensitivity whole(model, kStroke, kRest, o);
+    NonlinearSensitivity cut(model, kStroke, kRest, o);
+    whole.freeze_steps(d.data());
+    cut.freeze_steps(d.data());
+    const double until = kMotionTime + 1.03 * period;
+    whole.compute(d.data());
+    cut.compute(d.data(), until);
+    EXPECT_TRUE(whole.complete());
+    EXPECT_FALSE(cut.complete());
+    std::vector<double> times;
+    for (int j = 0; j <= 200; ++j) times.push_back(until * j / 200.0);
+    std::vector<double> v_whole, v_cut;
+    std::vector<std::array<double, kSegments>> g_whole, g_cut;
+    whole.abs_eta_at(times, &v_whole, &g_whole);
+    cut.abs_eta_at(times, &v_cut, &g_cut);
+    for (std::size_t j = 0; j < times.size(); ++j) {
+      EXPECT_EQ(v_whole[j], v_cut[j]) << times[j];
+      EXPECT_EQ(g_whole[j], g_cut[j]) << times[j];
+    }
+    const WindowPeak a = whole.window_peak(kMotionTime + 1e-12, until);
+    const WindowPeak b = cut.window_peak(kMotionTime + 1e-12, until);
+    EXPECT_EQ(a.value, b.value);
+    EXPECT_EQ(a.time, b.time);
+    EXPECT_EQ(a.gradient, b.gradient);
+    // complete_rest() integrates the rest of the window from the saved state at T: the whole
+    // window's response to the last bit, peaks and gradients included.
+    cut.complete_rest();
+    EXPECT_TRUE(cut.complete());
+    times.clear();
+    for (int j = 0; j <= 400; ++j) times.push_back((kMotionTime + kRest) * j / 400.0);
+    whole.abs_eta_at(times, &v_whole, &g_whole);
+    cut.abs_eta_at(times, &v_cut, &g_cut);
+    EXPECT_EQ(v_whole, v_cut);
+    EXPECT_EQ(g_whole, g_cut);
+    const WindowPeak c = whole.window_peak(kMotionTime + 1e-12, kMotionTime + kRest);
+    const WindowPeak e = cut.window_peak(kMotionTime + 1e-12, kMotionTime + kRest);
+    EXPECT_EQ(c.value, e.value);
+    EXPECT_EQ(c.gradient, e.gradient);
+    // A cut at T keeps one rest step; without `until` the whole window is integrated again.
+    cut.compute(d.data(), kMotionTime);
+    EXPECT_FALSE(cut.complete());
+    cut.compute(d.data());
+    EXPECT_TRUE(cut.complete());
+  }
+}
+
 // A solver run frozen at d sees a smooth response while every segment keeps at most its frozen
 // count (freeze_steps: one step more than d takes); a segment grown by more than a step takes
 // more, and outgrows_frozen_steps says so (time_domain then runs the solver again from there).

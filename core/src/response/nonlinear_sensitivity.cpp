@@ -259,6 +259,10 @@ struct SensitivityPass {
   static MotionEnd motion(NonlinearSensitivity& s, const double* d,
                           const PlateauLevelsT<Dual7>& lv);
   static void rest(NonlinearSensitivity& s, const MotionEnd& end);
+
+ public:
+  /// The rest window from the motion end saved by run() (NonlinearSensitivity::complete_rest).
+  static void finish_rest(NonlinearSensitivity& s);
 };
 
 [[gnu::always_inline]] inline void SensitivityPass::store(
@@ -337,7 +341,12 @@ struct SensitivityPass {
   DensePoly<double> rp;
   std::array<Lanes<2>, kDenseTerms> drp;
   std::array<Lanes8, kDenseTerms> dxp;
+  s.complete_ = true;
   for (std::size_t j = 0; j < n_rest; ++j) {
+    if (j > 0 && end.t + h_rest * static_cast<double>(j) > s.until_) {
+      s.complete_ = false;
+      break;
+    }
     tangent_step(s.model_, rest_forcing, h_rest, no_dh, r, rp, drp);
     for (std::size_t k = 0; k < kDenseTerms; ++k) {
       dxp[k] = drp[k][0] * end.st.dx + drp[k][1] * end.st.dv;
@@ -352,10 +361,40 @@ SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensiti
                                                                 const PlateauLevelsT<Dual7>& lv) {
   const MotionEnd end = motion(s, d, lv);
   s.motion_time_ = end.t;
+  s.end_x_ = end.st.x;
+  s.end_v_ = end.st.v;
+  s.end_t_ = end.t;
+  s.end_dx_ = array_of(end.st.dx);
+  s.end_dv_ = array_of(end.st.dv);
+  s.end_dt_ = array_of(end.dt);
+  s.motion_steps_ = s.tv_.size();
   rest(s, end);
 }
 
-void NonlinearSensitivity::compute(const double* d) {
+SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::finish_rest(NonlinearSensitivity& s) {
+  MotionEnd end;
+  end.st.x = s.end_x_;
+  end.st.v = s.end_v_;
+  end.st.dx = from_array(s.end_dx_);
+  end.st.dv = from_array(s.end_dv_);
+  end.t = s.end_t_;
+  end.dt = from_array(s.end_dt_);
+  s.tv_.resize(s.motion_steps_);
+  s.hv_.resize(s.motion_steps_);
+  s.xv_.resize(s.motion_steps_);
+  s.dt_.resize(s.motion_steps_);
+  s.dh_.resize(s.motion_steps_);
+  s.dx_.resize(s.motion_steps_);
+  s.until_ = INFINITY;
+  rest(s, end);
+}
+
+void NonlinearSensitivity::complete_rest() {
+  if (!complete_) SensitivityPass::finish_rest(*this);
+}
+
+void NonlinearSensitivity::compute(const double* d, double until) {
+  until_ = until;
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
   const auto lv = plateau_levels(dd, Dual7(stroke_));

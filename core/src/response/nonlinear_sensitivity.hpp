@@ -6,6 +6,7 @@
 // peaks of the accurate response come with exact gradients (internal to the core).
 
 #include <array>
+#include <cmath>
 #include <vector>
 
 #include "response/nonlinear_scheme.hpp"
@@ -33,7 +34,17 @@ class NonlinearSensitivity {
   /// Integrates the model for durations d (reusing the buffers of the previous call): segment k
   /// in n_k equal steps h_k = d_k / n_k, n_k its own count (steps of at most the scheme's step)
   /// or, when larger, the frozen count (freeze_steps).
-  void compute(const double* d);
+  ///
+  /// `until` [s]: the rest window is integrated only up to the end of its step that holds this
+  /// time (its step grid unchanged, so every value and gradient up to there is the same to the
+  /// last bit); a caller that reads nothing later saves the rest of the window. Default: all.
+  void compute(const double* d, double until = INFINITY);
+  /// Whether the last compute() covered the whole rest window.
+  [[nodiscard]] bool complete() const { return complete_; }
+  /// Integrates the rest window of the last compute() to its end, when compute() stopped it
+  /// early: the same steps from the same state at T, so the result is that of compute(d) to the
+  /// last bit, without integrating the motion again.
+  void complete_rest();
   /// Fixes a least step count per segment, one step more than the durations d take, for every
   /// compute() until the next call. Near d (each d_k shrinking, or growing by up to a step) the
   /// counts then do not change and the discrete response is a smooth function of the
@@ -64,6 +75,13 @@ class NonlinearSensitivity {
   double h_max_;
   double motion_time_{};
   bool frozen_{false};
+  double until_{INFINITY};  // the rest window's last needed time of the running compute() [s]
+  bool complete_{false};    // the last compute() integrated the whole rest window
+  // The state at the end of the motion of the last compute() (x, v and their derivatives, T
+  // and dT), where complete_rest() starts, and the number of motion steps before the rest's.
+  double end_x_{}, end_v_{}, end_t_{};
+  std::array<double, 8> end_dx_{}, end_dv_{}, end_dt_{};
+  std::size_t motion_steps_{};
   std::array<std::size_t, kSegments> steps_{};  // frozen step count per segment
   [[nodiscard]] Dual7 x_at(std::size_t step, double t) const;
   friend struct SensitivityPass;

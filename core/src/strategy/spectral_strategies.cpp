@@ -26,11 +26,13 @@ constexpr int kNotchPatience{2};
 constexpr int kMultiNotchRandomStarts{8};
 /// multi_notch's StartPolicy::approach_basin [-]: most of its starts end in basins an earlier
 /// start reached (the thesis format: 8 of 13, most of them 1000 times above the best), and SLSQP
-/// spends their last third converging there. Measured (callgrind) with the mirrored optima: the
-/// thesis plan 8 % fewer instructions, BM_PlanFormats' 8 formats 2.5 %, the same optimum on
-/// every one; without the kPoorOptimum restriction one of StartPolicy's 40 formats lost the best
+/// spends their last third converging there. Measured (callgrind) with the mirrored optima: 0.03
+/// saved the thesis plan 8 % of its instructions; 0.12 saves another 10 % (12.4 M -> 11.2 M,
+/// BM_PlanFormats' 8 formats 9 % of the evaluations) and returns the same law as 0.03 to the
+/// last bit on StartPolicy's first 1000 formats (SLOSH_PROPERTY_FORMATS=1000), where 0.15 lost
+/// one best optimum; without the kPoorOptimum restriction one of the first 40 lost the best
 /// optimum to its twin 2e-4 above it.
-constexpr double kMultiNotchApproach{0.03};
+constexpr double kMultiNotchApproach{0.12};
 /// A weighted spectral power (relative to X_ref^2) this low is an exact zero [-].
 constexpr double kExactZero{1e-14};
 /// Refinement of the band check after a min_jerk_band solve: points per solver interval.

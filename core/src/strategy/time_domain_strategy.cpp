@@ -154,6 +154,17 @@ struct TimeDomainWorkspace {
   double end{};                          ///< the rest window's end [s]
   std::array<double, kSegments> last{};  ///< the durations values and gradients are of
   bool valid{false};                     ///< false: values and gradients are stale
+
+  /// An evaluation kept aside: solve_epigraph evaluates every start for its epigraph level
+  /// before the solver runs from any, and the run from a start takes its evaluation back
+  /// instead of integrating it again.
+  struct Kept {
+    std::array<double, kSegments> x{};
+    std::vector<NonlinearSensitivity> sensitivity;
+    std::vector<std::vector<double>> values;
+    std::vector<std::vector<std::array<double, kSegments>>> gradients;
+  };
+  std::vector<Kept> kept;
 };
 
 // Fixes every model's step counts to those of the start x for the solver's run from it (the
@@ -165,6 +176,27 @@ void freeze_steps(TimeDomainWorkspace& ws, const double* x) {
   if (changed) ws.valid = false;
 }
 
+// Keeps the workspace's current evaluation aside (TimeDomainWorkspace::kept).
+void keep_evaluation(TimeDomainWorkspace& ws) {
+  ws.kept.push_back({ws.last, ws.sensitivity, ws.values, ws.gradients});
+}
+
+// Takes back the evaluation kept at x, when there is one and the workspace does not hold x: the
+// steps of both were frozen at x, so it is the one evaluate_samples would integrate.
+void restore_evaluation(TimeDomainWorkspace& ws, const double* x) {
+  if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
+  for (auto it = ws.kept.begin(); it != ws.kept.end(); ++it) {
+    if (!std::equal(x, x + kSegments, it->x.begin())) continue;
+    ws.sensitivity.swap(it->sensitivity);
+    ws.values.swap(it->values);
+    ws.gradients.swap(it->gradients);
+    ws.last = it->x;
+    ws.valid = true;
+    ws.kept.erase(it);
+    return;
+  }
+}
+
 // Evaluates |eta| / eta_ref and its gradient at the samples of every model for the durations x
 // into `ws`, unless x is the last point evaluated.
 void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, double eta_ref,
@@ -172,7 +204,13 @@ void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, doub
   if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
   for (std::size_t m = 0; m < samples.size(); ++m) {
     const Samples& sm = samples[m];
-    ws.sensitivity[m].compute(x);
+    // Nothing after the last sample (or its following row's span) is read: the rest window's
+    // later steps are left out (most of it, as the samples end a period after T).
+    double until = 0.0;
+    for (std::size_t k = 0; k < sm.t.size(); ++k) {
+      until = std::max(until, static_cast<bool>(sm.follow[k]) ? sm.t[k] + sm.span : sm.t[k]);
+    }
+    ws.sensitivity[m].compute(x, until);
     ws.sensitivity[m].abs_eta_at(sm.t, &ws.values[m], &ws.gradients[m]);
     for (std::size_t k = 0; k < sm.t.size(); ++k) {
       if (!static_cast<bool>(sm.follow[k])) continue;
@@ -245,14 +283,19 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
       space->limit_constraints(x, g + count, jrow, n);
     }
   };
-  p.before_start = [work](const double* x0) { freeze_steps(*work, x0); };
+  p.before_start = [work](const double* x0) {
+    freeze_steps(*work, x0);
+    restore_evaluation(*work, x0);
+  };
   std::vector<std::vector<double>> x0 = as_vectors(starts);
   // Last start first: the workspace then holds the first start's response, where the solver
-  // begins, so its first evaluation is not integrated again.
+  // begins, and the others' are kept aside for their runs: no start is integrated twice.
+  ws.kept.clear();
   for (auto it = x0.rbegin(); it != x0.rend(); ++it) {
     std::vector<double>& x = *it;
     freeze_steps(ws, x.data());
     evaluate_samples(ws, samples, eta_ref, x.data());
+    if (it + 1 != x0.rend()) keep_evaluation(ws);
     double z = 0.0;
     for (std::size_t m = 0; m < samples.size(); ++m) {
       for (std::size_t k = 0; k < samples[m].t.size(); ++k) {
@@ -563,6 +606,9 @@ struct Exchange {
     const double z = total.best.x[kSegments] * c.eta_ref;
     bool added = false;
     for (std::size_t m = 0; m < samples.size(); ++m) {
+      // The solver's evaluations stopped after the last sample; the check reads the whole window
+      // (the same steps, so the values it shares with the samples are unchanged).
+      if (at_last) ws.sensitivity[m].complete_rest();
       added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
                           samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
               added;
