@@ -341,13 +341,16 @@ Samples initial_samples(const StrategyContext& c, const SloshingModel& model) {
 bool check_dense(const StrategyContext& c, const SloshingModel& model, const double* x, double z,
                  bool minimise_motion, std::optional<double> bound,
                  const std::optional<LeastResolution>& least, Samples& samples, double& excess,
-                 const NonlinearSensitivity* computed) {
+                 NonlinearSensitivity* computed) {
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
   const double period = 2.0 * std::numbers::pi / model.omega1();
   const int kw = std::max(1, static_cast<int>(std::ceil(T / period * kCheckWindowsPerPeriod)));
   const int kwr = std::max(1, static_cast<int>(std::ceil(rest / period * kCheckWindowsPerPeriod)));
   std::optional<NonlinearSensitivity> own;
+  // The solver's evaluations stop the rest window after their last sample; the check reads the
+  // whole window (the same steps, so the values it shares with the samples are unchanged).
+  if (computed != nullptr) computed->complete_rest();
   if (computed == nullptr) {
     own.emplace(model, c.format.stroke, rest, sensitivity_options());
     own->compute(x);
@@ -606,9 +609,6 @@ struct Exchange {
     const double z = total.best.x[kSegments] * c.eta_ref;
     bool added = false;
     for (std::size_t m = 0; m < samples.size(); ++m) {
-      // The solver's evaluations stopped after the last sample; the check reads the whole window
-      // (the same steps, so the values it shares with the samples are unchanged).
-      if (at_last) ws.sensitivity[m].complete_rest();
       added = check_dense(c, models[m], total.best.x.data(), z, minimise_motion, bound, least,
                           samples[m], excess, at_last ? &ws.sensitivity[m] : nullptr) ||
               added;
