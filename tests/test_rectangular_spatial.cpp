@@ -1,0 +1,208 @@
+// A rectangular tank along arcs, paths and trajectories (SPEC §14 with §15) against independent
+// computations: the line's answer in the limits where the motion is a line, the steady state of
+// the 2-D oscillator under a circular motion in closed form, and a fine-step RK4 of the
+// per-direction modal equations driven by the rotated acceleration, re-typed here.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <complex>
+#include <numbers>
+#include <vector>
+
+#include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/law/seven_segment.hpp"
+#include "slosh/core/model/format.hpp"
+#include "slosh/core/model/rectangular_model.hpp"
+#include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/motion/planar_path.hpp"
+#include "slosh/core/response/rectangular_planar.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
+#include "support/rectangular_reference.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+constexpr double kDeg = kPi / 180.0;
+
+Fluid water() {
+  return thesis_format().fluid;
+}
+
+PlanarOptions no_spin() {
+  PlanarOptions o;
+  o.spin = SpinLag::kNone;
+  return o;
+}
+
+TEST(RectangularSpatial, HugeRadiusArcTendsToTheLine) {
+  const double L = 0.12, W = 0.08, h = 0.05, stroke = 0.3, rest = 1.0;
+  const MotionLaw law = SevenSegmentLaw(uniform_durations(0.6), stroke).law();
+  for (double phi : {0.0, 30.0, 90.0, -120.0}) {
+    const RectangularModel model = make_rectangular_model({L, W, phi}, h, water());
+    const RectangularPeaks line = RectangularLinearResponse(model, law, rest).peaks();
+    const RectangularNonlinearPeaks line_nl = rectangular_nonlinear_peaks(model, law, rest);
+    for (bool turns : {true, false}) {
+      const double radius = 1e6;  // normal acceleration and turn O(1e-6) of the line's
+      const PlanarDrive drive(PlanarPath::arc(radius, stroke / radius, turns), law);
+      const RectangularPlanarPeaks arc =
+          rectangular_planar_linear_peaks(model, drive, phi * kDeg, rest);
+      EXPECT_NEAR(arc.highest.motion.value / line.highest.motion.value, 1.0, 1e-5) << phi;
+      EXPECT_NEAR(arc.highest.rest.value / line.highest.rest.value, 1.0, 1e-5) << phi;
+      EXPECT_NEAR(arc.along_length.rest.value, line.along_length.rest.value,
+                  1e-5 * line.highest.rest.value)
+          << phi;
+      const RectangularPlanarNonlinearPeaks arc_nl =
+          rectangular_planar_nonlinear_peaks(model, drive, phi * kDeg, rest);
+      EXPECT_EQ(arc_nl.nonlinear, line_nl.nonlinear) << phi;
+      EXPECT_NEAR(arc_nl.peaks.highest.motion.value / line_nl.peaks.highest.motion.value, 1.0, 1e-5)
+          << phi;
+      EXPECT_NEAR(arc_nl.peaks.highest.rest.value / line_nl.peaks.highest.rest.value, 1.0, 1e-5)
+          << phi;
+    }
+  }
+}
+
+TEST(RectangularSpatial, TankKeepingItsOrientationOnATurnedLineIsTheLineAtMinusThatAngle) {
+  // The tank's L axis along world x, the line at angle d: the motion is at -d from L.
+  const double L = 0.12, W = 0.09, h = 0.06, stroke = 0.25, rest = 0.8;
+  const MotionLaw law = make_poly5_law(stroke, 0.5);
+  for (double d : {25.0, 90.0, 160.0, -70.0}) {
+    const RectangularModel on_line = make_rectangular_model({L, W, -d}, h, water());
+    const RectangularPeaks line = RectangularLinearResponse(on_line, law, rest).peaks();
+    const RectangularNonlinearPeaks line_nl = rectangular_nonlinear_peaks(on_line, law, rest);
+    const RectangularModel tank = make_rectangular_model({L, W, 0.0}, h, water());
+    const PlanarDrive drive(PlanarPath::line(stroke, d * kDeg), law);
+    const RectangularPlanarPeaks p = rectangular_planar_linear_peaks(tank, drive, 0.0, rest);
+    EXPECT_NEAR(p.highest.motion.value / line.highest.motion.value, 1.0, 1e-7) << d;
+    EXPECT_NEAR(p.highest.rest.value / line.highest.rest.value, 1.0, 1e-7) << d;
+    const RectangularPlanarNonlinearPeaks nl =
+        rectangular_planar_nonlinear_peaks(tank, drive, 0.0, rest);
+    EXPECT_NEAR(nl.peaks.highest.motion.value / line_nl.peaks.highest.motion.value, 1.0, 1e-5) << d;
+    EXPECT_NEAR(nl.peaks.highest.rest.value / line_nl.peaks.highest.rest.value, 1.0, 1e-5) << d;
+  }
+}
+
+TEST(RectangularSpatial, SquareTankOnACircleAtConstantSpeedIsInvariantInItsOrientation) {
+  // The centre on a circle of radius r at rate Om: the acceleration r Om^2 turns with it. In
+  // the tank's frame each mode of either direction is driven by r Om^2 cos(Om t - b); the
+  // steady waves are E cos(Om t - b - Phi) and E sin(...) with E = |sum_n G_n A_n e^{-i phi_n}|
+  // (A_n, phi_n the oscillator's amplitude and lag), so the highest corner is sqrt(2) E
+  // whatever the tank's orientation b.
+  const double side = 0.1, h = 0.05, r = 0.05, om = 9.0;
+  RectangularModelOptions mo;
+  mo.explicit_zeta = 0.08;  // steady in a few seconds
+  TrajectorySamples samples;
+  const double dt = 1e-3, T = 8.0;
+  for (int i = 0; i <= static_cast<int>(T / dt); ++i) {
+    const double t = i * dt;
+    samples.t.push_back(t);
+    samples.x.push_back(r * std::cos(om * t));
+    samples.y.push_back(r * std::sin(om * t));
+  }
+  const SampledTrajectory trajectory(samples);
+  const PlanarDrive drive(trajectory);
+  const test::Modes modes = test::direction(side, side, h, 1.0, 3);
+  std::complex<double> e{};
+  for (std::size_t n = 0; n < modes.w.size(); ++n) {
+    const double w = modes.w[n];
+    e += modes.g[n] * r * om * om /
+         std::complex<double>(w * w - om * om, 2.0 * mo.explicit_zeta.value() * w * om);
+  }
+  const double expected = std::sqrt(2.0) * std::abs(e);
+  for (double b : {0.0, 20.0, 45.0, -110.0}) {
+    const RectangularModel model = make_rectangular_model({side, side, 0.0}, h, water(), mo);
+    const RectangularPlanarResponse resp(model, drive, b * kDeg, 0.5,
+                                         RectangularPlanarModel::kLinear);
+    double peak = 0.0;
+    for (double t = 6.5; t < 7.5; t += 1e-4) peak = std::max(peak, resp.eta_highest(t));
+    EXPECT_NEAR(peak / expected, 1.0, 2e-4) << b;
+  }
+}
+
+// ---- The linear tank along an arc against a fine-step RK4 of the rotated forcing ----
+
+struct ArcCase {
+  double radius, angle_deg, orientation_deg;
+  bool turns;
+};
+
+/// Peaks of sum over directions |sum_n G_n x_n| with x_n'' + 2 zeta w_n x_n' + w_n^2 x_n = -a_d,
+/// a_d the tank-frame component of the arc's acceleration s'' T + s'^2 / R N (left turn).
+test::RefPeaks arc_reference(double L, double W, double h, const ArcCase& c, const MotionLaw& law,
+                             double rest, double dt) {
+  const std::vector<test::Modes> dirs = {test::direction(L, W, h, 1.0, 3),
+                                         test::direction(W, L, h, 1.0, 3)};
+  const double T = law.duration(), phi = c.orientation_deg * kDeg;
+  auto forcing = [&](double t, double out[2]) {
+    out[0] = out[1] = 0.0;
+    if (t >= T) return;
+    const KinematicState k = law.at(t);
+    const double psi = (c.angle_deg > 0 ? 1.0 : -1.0) * k.position / c.radius;  // tangent
+    const double kappa = (c.angle_deg > 0 ? 1.0 : -1.0) / c.radius;
+    const double ax =
+        k.acceleration * std::cos(psi) - kappa * k.velocity * k.velocity * std::sin(psi);
+    const double ay =
+        k.acceleration * std::sin(psi) + kappa * k.velocity * k.velocity * std::cos(psi);
+    const double frame = phi + (c.turns ? psi : 0.0);
+    out[0] = ax * std::cos(frame) + ay * std::sin(frame);
+    out[1] = -ax * std::sin(frame) + ay * std::cos(frame);
+  };
+  struct State {
+    double x{}, v{};
+  };
+  std::vector<std::vector<State>> s(2, std::vector<State>(3));
+  test::RefPeaks p;
+  const auto steps = static_cast<long>(std::llround((T + rest) / dt));
+  for (long i = 0; i < steps; ++i) {
+    const double t = static_cast<double>(i) * dt;
+    double a0[2], am[2], a1[2];
+    forcing(t, a0);
+    forcing(t + dt / 2, am);
+    forcing(t + dt, a1);
+    double eta = 0.0;
+    for (std::size_t d = 0; d < 2; ++d) {
+      double eta_d = 0.0;
+      for (std::size_t n = 0; n < 3; ++n) {
+        const double w = dirs[d].w[n], z = dirs[d].zeta;
+        auto f = [&](double x, double v, double a) { return -2 * z * w * v - w * w * x - a; };
+        State& q = s[d][n];
+        const double k1x = q.v, k1v = f(q.x, q.v, a0[d]);
+        const double k2x = q.v + dt / 2 * k1v, k2v = f(q.x + dt / 2 * k1x, k2x, am[d]);
+        const double k3x = q.v + dt / 2 * k2v, k3v = f(q.x + dt / 2 * k2x, k3x, am[d]);
+        const double k4x = q.v + dt * k3v, k4v = f(q.x + dt * k3x, k4x, a1[d]);
+        q.x += dt / 6 * (k1x + 2 * k2x + 2 * k3x + k4x);
+        q.v += dt / 6 * (k1v + 2 * k2v + 2 * k3v + k4v);
+        eta_d += dirs[d].g[n] * q.x;
+      }
+      eta += std::abs(eta_d);
+    }
+    const double t1 = static_cast<double>(i + 1) * dt;
+    if (t1 <= T + 1e-12) {
+      p.motion = std::max(p.motion, eta);
+    } else {
+      p.rest = std::max(p.rest, eta);
+    }
+  }
+  return p;
+}
+
+TEST(RectangularSpatial, LinearTankOnAnArcMatchesAFineStepIntegrationOfTheRotatedForcing) {
+  const double L = 0.12, W = 0.08, h = 0.05, rest = 1.0;
+  for (const ArcCase& c : {ArcCase{0.3, 90.0, 0.0, true}, ArcCase{0.25, -120.0, 30.0, true},
+                           ArcCase{0.4, 60.0, 90.0, false}, ArcCase{0.2, 180.0, -45.0, false}}) {
+    const double stroke = c.radius * std::abs(c.angle_deg) * kDeg;
+    const MotionLaw law = make_modified_trapezoid_law(stroke, 0.7);
+    const RectangularModel model = make_rectangular_model({L, W, c.orientation_deg}, h, water());
+    const PlanarDrive drive(PlanarPath::arc(c.radius, c.angle_deg * kDeg, c.turns), law);
+    const RectangularPlanarPeaks p =
+        rectangular_planar_linear_peaks(model, drive, c.orientation_deg * kDeg, rest, no_spin());
+    const test::RefPeaks ref = arc_reference(L, W, h, c, law, rest, 2e-5);
+    EXPECT_NEAR(p.highest.motion.value / ref.motion, 1.0, 1e-6) << c.angle_deg;
+    EXPECT_NEAR(p.highest.rest.value / ref.rest, 1.0, 1e-6) << c.angle_deg;
+  }
+}
+
+}  // namespace
+}  // namespace slosh
