@@ -247,13 +247,9 @@ RectangularPlanarResponse::RectangularPlanarResponse(const RectangularModel& mod
   // The corner's world direction: the signs of the two odd waves at the peak, in the frame the
   // tank had then.
   auto corner = [&](const Peak& p) {
-    const double eL = eta_length(p.time), eW = eta_width(p.time);
-    const double sx = eL > 0.0 ? 1.0 : eL < 0.0 ? -1.0 : 0.0;
-    const double sy = eW > 0.0 ? 1.0 : eW < 0.0 ? -1.0 : 0.0;
-    const double tank =
-        sx == 0.0 && sy == 0.0 ? 0.0 : std::atan2(sy * half_width_, sx * half_length_);
     const double t = std::clamp(p.time, 0.0, T);
-    return PlanarPeak{p.value, p.time, frame_angle + drive.kinematics(t).theta + tank};
+    return PlanarPeak{p.value, p.time,
+                      frame_angle + drive.kinematics(t).theta + corner_angle(p.time)};
   };
   peaks_.highest = {corner(h.motion), corner(h.rest)};
 }
@@ -276,6 +272,14 @@ double RectangularPlanarResponse::value(double t, std::size_t signal) const {
   const Step* st = step_at(t, s);
   if (st == nullptr) return 0.0;
   return detail::dense_value(st->eta[signal], s);
+}
+
+double RectangularPlanarResponse::corner_angle(double t) const {
+  const double eL = eta_length(t), eW = eta_width(t);
+  const double sx = eL > 0.0 ? 1.0 : eL < 0.0 ? -1.0 : 0.0;
+  const double sy = eW > 0.0 ? 1.0 : eW < 0.0 ? -1.0 : 0.0;
+  if (sx == 0.0 && sy == 0.0) return 0.0;
+  return std::atan2(sy * half_width_, sx * half_length_);
 }
 
 double RectangularPlanarResponse::spin_rise(double t) const {

@@ -67,6 +67,9 @@ class RectangularPlanarResponse {
   [[nodiscard]] double spin_rise(double t) const;
   /// The highest corner at t: |eta_length| + |eta_width| + |eta_even| + spin_rise [m].
   [[nodiscard]] double eta_highest(double t) const;
+  /// The angle of the highest corner in the tank's frame at t, from its L axis [rad] (of the
+  /// wall's middle when one direction is at rest; 0 when both are).
+  [[nodiscard]] double corner_angle(double t) const;
   [[nodiscard]] const RectangularPlanarPeaks& peaks() const { return peaks_; }
   [[nodiscard]] double motion_time() const { return motion_time_; }
   [[nodiscard]] std::size_t steps() const { return steps_.size(); }
