@@ -10,6 +10,11 @@
 #include <numbers>
 #include <vector>
 
+#include <nlohmann/json.hpp>
+
+#include "slosh/api/calibration_container.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/spatial_simulate.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
@@ -246,6 +251,73 @@ TEST(RectangularSpatial, PlanForATankOnANinetyDegreeTableIsVerifiedByAnIndepende
     EXPECT_LT(r.prediction.nonlinear.rest.value, r.baseline.nonlinear.rest.value) << r.message;
     EXPECT_NE(r.message.find("the tank's models"), std::string::npos) << r.message;
   }
+}
+
+// ---- The answers of the API ----
+
+nlohmann::json cup_format(double orientation_deg) {
+  return {{"container",
+           {{"shape", "rectangular"},
+            {"length_mm", 120},
+            {"width_mm", 80},
+            {"height_mm", 150},
+            {"orientation_deg", orientation_deg}}},
+          {"fill_height_mm", 50},
+          {"fluid", "water"},
+          {"motion_time_s", 0.9}};
+}
+
+TEST(RectangularSpatialApi, ALineOrAStraightPathAtAnyHeadingIsTheStraightStroke) {
+  // orientation_deg is measured from the motion's own direction: the heading of the line (or
+  // of a path's start) does not change the answer; the straight stroke is the line model.
+  for (double orientation : {0.0, 35.0, -90.0}) {
+    nlohmann::json stroke = {{"format", cup_format(orientation)},
+                             {"law", {{"type", "seven_segment_uniform"}}}};
+    stroke["format"]["stroke_mm"] = 250;
+    const nlohmann::json line_answer = api::simulate_response(stroke);
+    for (const nlohmann::json& motion :
+         {nlohmann::json{{"type", "line"}, {"length_mm", 250}, {"direction_deg", 70}},
+          nlohmann::json{{"type", "path"},
+                         {"segments", {{{"line_mm", 250}}}},
+                         {"start_heading_deg", -130},
+                         {"container_turns", false}}}) {
+      nlohmann::json body = {{"format", cup_format(orientation)},
+                             {"law", {{"type", "seven_segment_uniform"}}}};
+      body["format"]["motion"] = motion;
+      const nlohmann::json out = api::simulate_response(body);
+      for (const char* model : {"linear", "nonlinear"}) {
+        for (const char* peak : {"eta_motion_mm", "eta_rest_mm"}) {
+          EXPECT_NEAR(out["prediction"][model][peak].get<double>() /
+                          line_answer["prediction"][model][peak].get<double>(),
+                      1.0, 1e-5)
+              << orientation << " " << motion.dump() << " " << model << " " << peak;
+        }
+      }
+    }
+  }
+}
+
+TEST(RectangularSpatialApi, ACalibrationAlongOneSideDoesNotCoverATurningMotion) {
+  Format measured = thesis_format();
+  measured.container.rectangular = RectangularTank{0.12, 0.08, 0.0};
+  const nlohmann::json stored = {{"container", api::fitted_container_json(measured)}};
+  nlohmann::json body = {{"format", cup_format(0.0)}, {"strategy", "baseline"}};
+  body["format"]["motion"] = {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  std::string message;
+  try {
+    api::check_calibrated_container(stored, body, "cup");
+  } catch (const api::ApiError& e) {
+    message = e.field() + " | " + e.what();
+  }
+  EXPECT_EQ(message,
+            "options.model | options.model = \"cup\" was fitted on a rectangular container 120 x "
+            "80 mm moved along its length; this request's container is a rectangular container "
+            "120 x 80 mm moved along both of its sides: a calibration applies only to the "
+            "container and the directions it was measured on (calibrate this one, or give its "
+            "numbers as an options.model object)");
+  // Along a line at the calibrated orientation it applies.
+  body["format"]["motion"] = {{"type", "line"}, {"length_mm", 200}, {"direction_deg", 40}};
+  EXPECT_NO_THROW(api::check_calibrated_container(stored, body, "cup"));
 }
 
 }  // namespace
