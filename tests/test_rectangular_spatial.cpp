@@ -21,6 +21,7 @@
 #include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
 #include "slosh/core/motion/planar_path.hpp"
+#include "slosh/core/response/rectangular_nonlinear_direction.hpp"
 #include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
@@ -251,6 +252,146 @@ TEST(RectangularSpatial, PlanForATankOnANinetyDegreeTableIsVerifiedByAnIndepende
     EXPECT_LT(r.prediction.nonlinear.rest.value, r.baseline.nonlinear.rest.value) << r.message;
     EXPECT_NE(r.message.find("the tank's models"), std::string::npos) << r.message;
   }
+}
+
+/// The nonlinear model along an arc by RK4 at step dt, re-typed from docs/models.md: per
+/// direction the dominant mode xbar'' = -2 zeta w1 xbar' - w1^2 xbar (1 + alpha xbar^2) - a/side,
+/// the higher modes x_n'' = -2 zeta w_n x_n' - w_n^2 x_n - a, the second mode b'' = -2 zeta s2 b'
+/// - s2^2 b - d4 beta beta'' - d5 beta'^2 with beta = G_1 side xbar; the corner
+/// |K xbar_L + sum G x_L| + |K xbar_W + sum G x_W| + |b_L + b_W| (K = G_1 side, no gain).
+test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase& c,
+                                       const MotionLaw& law, double rest, double dt) {
+  const double T = law.duration(), phi = c.orientation_deg * kDeg;
+  const double sign = c.angle_deg > 0 ? 1.0 : -1.0;
+  auto forcing = [&](double t, double out[2]) {
+    out[0] = out[1] = 0.0;
+    if (t >= T) return;
+    const KinematicState k = law.at(t);
+    const double psi = sign * k.position / c.radius, kappa = sign / c.radius;
+    const double an = kappa * k.velocity * k.velocity;
+    const double ax = k.acceleration * std::cos(psi) - an * std::sin(psi);
+    const double ay = k.acceleration * std::sin(psi) + an * std::cos(psi);
+    const double frame = phi + (c.turns ? psi : 0.0);
+    out[0] = ax * std::cos(frame) + ay * std::sin(frame);
+    out[1] = -ax * std::sin(frame) + ay * std::cos(frame);
+  };
+  const SloshingModel* dirs[2] = {&m.along_length, &m.along_width};
+  const std::size_t M = m.along_length.omega.size();
+  const std::size_t n_state = 2 * (M + 1);
+  // State per direction: xbar, x_2..x_M, b; rates alike.
+  auto rhs = [&](const std::vector<double>& x, const std::vector<double>& v, const double a[2],
+                 std::vector<double>& out) {
+    for (std::size_t d = 0; d < 2; ++d) {
+      const SloshingModel& sm = *dirs[d];
+      const RectangularSecondMode s2 = rectangular_second_mode(sm);
+      const std::size_t o = d * (M + 1);
+      const double w1 = sm.omega[0], z = sm.zeta;
+      const double xdd =
+          -2 * z * w1 * v[o] - w1 * w1 * x[o] * (1 + sm.alpha * x[o] * x[o]) - a[d] / sm.radius;
+      out[o] = xdd;
+      for (std::size_t n = 1; n < M; ++n) {
+        const double w = sm.omega[n];
+        out[o + n] = -2 * z * w * v[o + n] - w * w * x[o + n] - a[d];
+      }
+      const double kr = sm.K;  // G_1 side
+      const double b = kr * x[o], bd = kr * v[o], bdd = kr * xdd;
+      out[o + M] = -2 * z * s2.sigma2 * v[o + M] - s2.sigma2 * s2.sigma2 * x[o + M] -
+                   s2.d4 * b * bdd - s2.d5 * bd * bd;
+    }
+  };
+  auto corner = [&](const std::vector<double>& x) {
+    double odd[2], even = 0.0;
+    for (std::size_t d = 0; d < 2; ++d) {
+      const std::size_t o = d * (M + 1);
+      odd[d] = dirs[d]->K * x[o];
+      for (std::size_t n = 1; n < M; ++n) odd[d] += dirs[d]->eta_gain[n] * x[o + n];
+      even += x[o + M];
+    }
+    return std::abs(odd[0]) + std::abs(odd[1]) + std::abs(even);
+  };
+  std::vector<double> x(n_state, 0.0), v(n_state, 0.0), k1x, k1v(n_state), k2x, k2v(n_state), k3x,
+      k3v(n_state), k4x, k4v(n_state), tx(n_state), tv(n_state);
+  test::RefPeaks p;
+  const auto steps = static_cast<long>(std::llround((T + rest) / dt));
+  for (long i = 0; i < steps; ++i) {
+    const double t = static_cast<double>(i) * dt;
+    double a0[2], am[2], a1[2];
+    forcing(t, a0);
+    forcing(t + dt / 2, am);
+    forcing(t + dt, a1);
+    rhs(x, v, a0, k1v);
+    k1x = v;
+    for (std::size_t j = 0; j < n_state; ++j) {
+      tx[j] = x[j] + dt / 2 * k1x[j];
+      tv[j] = v[j] + dt / 2 * k1v[j];
+    }
+    rhs(tx, tv, am, k2v);
+    k2x = tv;
+    for (std::size_t j = 0; j < n_state; ++j) {
+      tx[j] = x[j] + dt / 2 * k2x[j];
+      tv[j] = v[j] + dt / 2 * k2v[j];
+    }
+    rhs(tx, tv, am, k3v);
+    k3x = tv;
+    for (std::size_t j = 0; j < n_state; ++j) {
+      tx[j] = x[j] + dt * k3x[j];
+      tv[j] = v[j] + dt * k3v[j];
+    }
+    rhs(tx, tv, a1, k4v);
+    k4x = tv;
+    for (std::size_t j = 0; j < n_state; ++j) {
+      x[j] += dt / 6 * (k1x[j] + 2 * k2x[j] + 2 * k3x[j] + k4x[j]);
+      v[j] += dt / 6 * (k1v[j] + 2 * k2v[j] + 2 * k3v[j] + k4v[j]);
+    }
+    const double eta = corner(x);
+    if (static_cast<double>(i + 1) * dt <= T + 1e-12) {
+      p.motion = std::max(p.motion, eta);
+    } else {
+      p.rest = std::max(p.rest, eta);
+    }
+  }
+  return p;
+}
+
+TEST(RectangularSpatial, NonlinearTankOnAnArcMatchesAFineStepIntegrationOfTheRotatedForcing) {
+  // A deep fill (h / side >= 0.4 both ways) and a gentle index: inside the model's range.
+  const double L = 0.1, W = 0.08, h = 0.05, rest = 1.0;
+  for (const ArcCase& c : {ArcCase{0.3, 90.0, 0.0, true}, ArcCase{0.25, -60.0, 40.0, false}}) {
+    const double stroke = c.radius * std::abs(c.angle_deg) * kDeg;
+    const MotionLaw law = make_poly5_law(stroke, 1.6);
+    const RectangularModel model = make_rectangular_model({L, W, c.orientation_deg}, h, water());
+    const PlanarDrive drive(PlanarPath::arc(c.radius, c.angle_deg * kDeg, c.turns), law);
+    const RectangularPlanarNonlinearPeaks p =
+        rectangular_planar_nonlinear_peaks(model, drive, c.orientation_deg * kDeg, rest, no_spin());
+    ASSERT_TRUE(p.nonlinear) << p.warning;
+    const test::RefPeaks ref = nonlinear_arc_reference(model, c, law, rest, 2e-5);
+    EXPECT_NEAR(p.peaks.highest.motion.value / ref.motion, 1.0, 1e-5) << c.angle_deg;
+    EXPECT_NEAR(p.peaks.highest.rest.value / ref.rest, 1.0, 1e-5) << c.angle_deg;
+    // And it is not the linear model's answer.
+    const RectangularPlanarPeaks lin =
+        rectangular_planar_linear_peaks(model, drive, c.orientation_deg * kDeg, rest, no_spin());
+    EXPECT_GT(std::abs(lin.highest.rest.value / ref.rest - 1.0), 1e-3) << c.angle_deg;
+  }
+}
+
+TEST(RectangularSpatial, TheRobustnessSweepAlongAPathIsTheTanksModels) {
+  Format f = thesis_format();
+  f.container.rectangular = RectangularTank{0.12, 0.08, 20.0};
+  f.fill_height = 0.05;
+  f.motion_time = 1.2;
+  const PlanarPath table = PlanarPath::arc(0.3, kPi / 2, true);
+  PlanOptions o;
+  o.robustness = true;
+  const PlanResult r = plan_on_path(f, table, Strategy::kNotch, o);
+  ASSERT_TRUE(r.robustness.has_value()) << r.message;
+  bool zero = false;
+  for (const RobustnessPoint& p : r.robustness->points) {
+    if (p.delta != 0.0) continue;
+    zero = true;
+    EXPECT_DOUBLE_EQ(p.nonlinear.rest.value, r.prediction.nonlinear.rest.value);
+    EXPECT_DOUBLE_EQ(p.linear.motion.value, r.prediction.linear.motion.value);
+  }
+  EXPECT_TRUE(zero);
 }
 
 // ---- The answers of the API ----
