@@ -128,6 +128,32 @@ TEST(RectangularSpatial, SquareTankOnACircleAtConstantSpeedIsInvariantInItsOrien
   }
 }
 
+TEST(RectangularSpatial, ATankSpunInPlaceRisesAtTheCornersByTheLaggingVortex) {
+  // The centre at rest, the tank turning at a constant Om: no wave, only the liquid's spin
+  // w_l = Om (1 - exp(-k t)), k = sqrt(nu Om) / h (the Ekman lag, Om = max(|theta'|, |w_l|)),
+  // raising the corners by (L^2 + W^2) w_l^2 / (12 g) over the mean level.
+  const double L = 0.12, W = 0.08, h = 0.05, om = 3.0, nu = 1e-6;
+  TrajectorySamples samples;
+  for (int i = 0; i <= 2000; ++i) {
+    const double t = i * 0.01;
+    samples.t.push_back(t);
+    samples.x.push_back(0.0);
+    samples.y.push_back(0.0);
+    samples.theta.push_back(om * t);
+  }
+  const PlanarDrive drive{SampledTrajectory(samples)};
+  const RectangularModel model = make_rectangular_model({L, W, 0.0}, h, water());
+  const RectangularPlanarResponse r(model, drive, 0.0, 0.0, RectangularPlanarModel::kLinear);
+  const double k = std::sqrt(nu * om) / h;
+  for (double t : {1.0, 7.5, 19.0}) {
+    const double w = om * (1.0 - std::exp(-k * t));
+    const double rise = (L * L + W * W) * w * w / (12.0 * 9.81);
+    EXPECT_NEAR(r.spin_rise(t) / rise, 1.0, 1e-6) << t;
+    EXPECT_NEAR(r.eta_highest(t) / rise, 1.0, 1e-6) << t;
+  }
+  EXPECT_NEAR(r.peaks().highest.motion.value / r.spin_rise(20.0), 1.0, 1e-9);
+}
+
 // ---- The linear tank along an arc against a fine-step RK4 of the rotated forcing ----
 
 struct ArcCase {
