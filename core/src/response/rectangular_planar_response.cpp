@@ -138,6 +138,9 @@ void integrate_tank(const RectangularModel& model, const PlanarDrive& drive, dou
   const double T = drive.duration();
   const std::vector<DrivePiece>& pieces = drive.pieces();
   auto rhs = [&m](const V& x, const V& v, const TankExcitation& e) { return m.rhs(x, v, e); };
+  // A drive that does not turn keeps its heading: read it once.
+  const bool turning = drive.turns();
+  const double theta0 = drive.kinematics(0.0).theta;
   V x(0.0), v(0.0);
   detail::DopStep<V> step;
   for (std::size_t k = 0; k <= pieces.size(); ++k) {
@@ -152,7 +155,7 @@ void integrate_tank(const RectangularModel& model, const PlanarDrive& drive, dou
       TankExcitation out;
       if (in_rest) return out;
       const PlanarExcitation e = drive.excitation(k, t);
-      const double psi = frame_angle + drive.kinematics(t).theta;
+      const double psi = frame_angle + (turning ? drive.kinematics(t).theta : theta0);
       const double c = std::cos(psi), s = std::sin(psi);
       out.a[0] = e.ax * c + e.ay * s;
       out.a[1] = -e.ax * s + e.ay * c;
