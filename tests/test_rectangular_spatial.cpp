@@ -178,7 +178,7 @@ test::RefPeaks arc_reference(double L, double W, double h, const ArcCase& c, con
     const double th = turn_rate(t);
     return std::sqrt(1e-6 * std::max(std::abs(th), std::abs(w))) / h * (th - w);
   };
-  double w = 0.0;
+  double spin_w = 0.0;
   const double spin_gain = spin ? (L * L + W * W) / (12.0 * 9.81) : 0.0;
   auto forcing = [&](double t, double out[2]) {
     out[0] = out[1] = 0.0;
@@ -224,10 +224,11 @@ test::RefPeaks arc_reference(double L, double W, double h, const ArcCase& c, con
       eta += std::abs(eta_d);
     }
     if (spin) {
-      const double k1 = spin_rate(t, w), k2 = spin_rate(t + dt / 2, w + dt / 2 * k1);
-      const double k3 = spin_rate(t + dt / 2, w + dt / 2 * k2), k4 = spin_rate(t + dt, w + dt * k3);
-      w += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
-      eta += spin_gain * w * w;
+      const double k1 = spin_rate(t, spin_w), k2 = spin_rate(t + dt / 2, spin_w + dt / 2 * k1);
+      const double k3 = spin_rate(t + dt / 2, spin_w + dt / 2 * k2);
+      const double k4 = spin_rate(t + dt, spin_w + dt * k3);
+      spin_w += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
+      eta += spin_gain * spin_w * spin_w;
     }
     const double t1 = static_cast<double>(i + 1) * dt;
     if (t1 <= T + 1e-12) {
