@@ -837,6 +837,64 @@ TEST(OpenApiResponses, PlansAndSearchesAlongAnArcEchoTheirMotion) {
   EXPECT_TRUE(search_errors.empty()) << joined(search_errors);
 }
 
+// A rectangular container along an arc and a trajectory: simulate (with its series), plan and
+// min-time answers fit their schemas.
+TEST(OpenApiResponses, RectangularContainersAlongSpatialMotionsFitTheirSchemas) {
+  const json cup{{"shape", "rectangular"},
+                 {"length_mm", 120},
+                 {"width_mm", 80},
+                 {"height_mm", 150},
+                 {"orientation_deg", 30}};
+  const json arc{{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}};
+  json simulate = {{"format",
+                    {{"container", cup},
+                     {"fill_height_mm", 50},
+                     {"fluid", "water"},
+                     {"motion_time_s", 1.5},
+                     {"motion", arc}}},
+                   {"law", {{"type", "seven_segment_uniform"}}},
+                   {"sample_period_s", 0.01}};
+  json samples = {{"type", "trajectory"},
+                  {"t_s", json::array()},
+                  {"x_mm", json::array()},
+                  {"y_mm", json::array()},
+                  {"theta_deg", json::array()}};
+  for (int i = 0; i <= 100; ++i) {
+    samples["t_s"].push_back(i * 0.01);
+    samples["x_mm"].push_back(50.0 * std::sin(i * 0.01));
+    samples["y_mm"].push_back(0.0);
+    samples["theta_deg"].push_back(i * 0.5);
+  }
+  json trajectory = {
+      {"format",
+       {{"container", cup}, {"fill_height_mm", 50}, {"fluid", "water"}, {"motion", samples}}}};
+  for (const json& body : {simulate, trajectory}) {
+    const json out = simulate_response(body);
+    ASSERT_TRUE(out["prediction"].contains("directions")) << out.dump();
+    const auto errors = validation_errors("SimulateResponse", out);
+    EXPECT_TRUE(errors.empty()) << joined(errors);
+  }
+  json plan_body = {{"format",
+                     {{"container", cup},
+                      {"fill_height_mm", 50},
+                      {"fluid", "water"},
+                      {"motion_time_s", 1.5},
+                      {"motion", arc}}},
+                    {"strategy", "auto"}};
+  const json plan = run_plan(parse_plan_request(plan_body));
+  EXPECT_NE(plan["message"].get<std::string>().find("the tank's models"), std::string::npos)
+      << plan["message"];
+  const auto plan_errors = validation_errors("PlanResponse", plan);
+  EXPECT_TRUE(plan_errors.empty()) << joined(plan_errors);
+  json search{
+      {"format", {{"container", cup}, {"fill_height_mm", 50}, {"fluid", "water"}, {"motion", arc}}},
+      {"strategies", {"baseline"}},
+      {"motion_time_max_s", 3.0}};
+  const json out = run_min_time(parse_min_time_request(search, 10.0));
+  const auto search_errors = validation_errors("MinTimeResponse", out);
+  EXPECT_TRUE(search_errors.empty()) << joined(search_errors);
+}
+
 TEST(OpenApiResponses, MinTimeResponsesFitTheMinTimeResponseSchema) {
   // A feasible search (with its plan) and an infeasible one (the best point and its plan).
   json body{{"format",

@@ -45,10 +45,18 @@ std::optional<json> requested_container(const json& body) {
   const json* orientation = number("orientation_deg");
   if (length == nullptr || width == nullptr) return std::nullopt;
   if (given_member(*c, "orientation_deg") != nullptr && orientation == nullptr) return std::nullopt;
-  return json{{"shape", "rectangular"},
-              {"length_mm", *length},
-              {"width_mm", *width},
-              {"directions", directions_of(orientation ? orientation->get<double>() : 0.0)}};
+  // Along an arc, a path or a trajectory the tank turns against its path (or the path turns
+  // under it): both directions are driven, whatever the orientation.
+  const json* motion = given_member(*format, "motion");
+  const json* type =
+      motion != nullptr && motion->is_object() ? given_member(*motion, "type") : nullptr;
+  const bool spatial = type != nullptr && *type != "line";
+  return json{
+      {"shape", "rectangular"},
+      {"length_mm", *length},
+      {"width_mm", *width},
+      {"directions", spatial ? json::array({"length", "width"})
+                             : directions_of(orientation ? orientation->get<double>() : 0.0)}};
 }
 
 std::string describe(const json& c) {

@@ -342,14 +342,6 @@ SpatialFormat parse_spatial_format(const nlohmann::json& body, bool trajectory_a
   }
   plain["stroke_mm"] = length_mm;
   out.format = parse_format(plain, "format");
-  if (!trajectory_allowed && out.motion.type != MotionType::kLine &&
-      out.format.container.rectangular) {
-    // The planar models are the cylinder's; a rectangular tank on an arc turns against its path.
-    invalid("format.container.shape",
-            "format.container.shape = \"rectangular\" is not planned along an arc or a path: the "
-            "planar sloshing models are the cylinder's; move a rectangular container along the "
-            "straight stroke (stroke_mm or a \"line\" motion), turned by orientation_deg");
-  }
   return out;
 }
 

@@ -947,17 +947,17 @@ void add_path_plan_schemas(json& s) {
                                {"linear", ref("PlanarPeaks")},
                                {"kinematics", kinematics}},
                               {"nonlinear", "linear", "kinematics"}, "", false);
-  s["PathPlan"] = object(
-      {{"type", string_enum({"arc", "path"}, "")},
-       {"length_mm", number("Length the law moves along [mm] (format.stroke_mm).")},
-       {"container_turns", boolean("Whether the container turns with the path.")},
-       {"prediction", figures},
-       {"baseline", figures}},
-      {"type", "length_mm", "container_turns", "prediction", "baseline"},
-      "Only along an arc or a path: the plan's law and the uniform law on the planar models "
-      "(prediction and baseline of the plan hold the same peaks), with the wall angle of each "
-      "peak.",
-      false);
+  s["PathPlan"] =
+      object({{"type", string_enum({"arc", "path"}, "")},
+              {"length_mm", number("Length the law moves along [mm] (format.stroke_mm).")},
+              {"container_turns", boolean("Whether the container turns with the path.")},
+              {"prediction", figures},
+              {"baseline", figures}},
+             {"type", "length_mm", "container_turns", "prediction", "baseline"},
+             "Only along an arc or a path: the plan's law and the uniform law on the planar models "
+             "(a rectangular container: the tank's models, the highest corner; prediction and "
+             "baseline of the plan hold the same peaks), with the wall angle of each peak.",
+             false);
   s["PlanResponse"]["properties"]["path"] = ref("PathPlan");
   s["CompactPlan"]["properties"]["path"] =
       object({{"length_mm", number("[mm]")},
@@ -980,9 +980,18 @@ void add_motion_response_schemas(json& s) {
   peaks["required"].push_back("direction_rest_deg");
   peaks["description"] = "Peaks of one planar model, maximised over the wall.";
   s["PlanarPeaks"] = peaks;
-  s["PlanarPrediction"] =
-      object({{"nonlinear", ref("PlanarPeaks")}, {"linear", ref("PlanarPeaks")}},
-             {"nonlinear", "linear"}, "Both planar models (format.motion given).", false);
+  s["PlanarPrediction"] = object(
+      {{"nonlinear", ref("PlanarPeaks")},
+       {"linear", ref("PlanarPeaks")},
+       {"directions",
+        object({{"length", ref("Peaks")}, {"width", ref("Peaks")}}, {"length", "width"},
+               "A rectangular container: each direction's own walls along the motion (nonlinear "
+               "model, or linear outside its range).",
+               false)}},
+      {"nonlinear", "linear"},
+      "Both planar models (format.motion given); for a rectangular container the tank's models "
+      "in its own frame, the peaks the highest corner and their angle the corner's.",
+      false);
   // FormatEcho holds a line, an arc or a path (with their stroke_mm and motion_time_s); a
   // trajectory's format has neither, so it is an echo of its own (and a oneOf tells them apart).
   json echo = s["FormatEcho"];

@@ -11,11 +11,14 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/motion_json.hpp"
+#include "slosh/api/spatial_rectangular_series.hpp"
 #include "slosh/api/spatial_series.hpp"
 #include "slosh/api/trajectory_csv.hpp"
 #include "slosh/core/constants.hpp"
+#include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 
@@ -92,6 +95,95 @@ const char* type_name(MotionType type) {
   return "line";
 }
 
+/// The world angle of a rectangular tank's L axis when the drive's heading is 0 [rad]: along a
+/// path, orientation_deg from the path's start tangent; on a trajectory, from the world x axis
+/// (the samples' theta turns it from there).
+double tank_frame_angle(const SpatialMotion& motion, const RectangularTank& tank) {
+  const double start = motion.path ? motion.path->start_heading() : 0.0;
+  return start + tank.orientation_deg / kDegPerRad;
+}
+
+nlohmann::json law_json(const SimulateRequest& request, const MotionLaw& law,
+                        const std::optional<SevenSegmentLaw>& seven) {
+  nlohmann::json out{{"type", to_string(request.law_type)},
+                     {"duration_s", law.duration()},
+                     {"stroke_mm", mm_of(request.format.stroke)},
+                     {"breakpoints_s", law.breakpoints()}};
+  if (seven) out["durations_s"] = seven->durations();
+  return out;
+}
+
+nlohmann::json motion_summary(const SpatialMotion& motion, const PlanarDrive& drive) {
+  nlohmann::json summary{{"type", type_name(motion.type)}, {"duration_s", drive.duration()}};
+  if (motion.trajectory) {
+    summary["samples"] = motion.trajectory->size();
+  } else {
+    summary["length_mm"] = motion.path->length() * 1e3;
+    summary["container_turns"] = motion.path->container_turns();
+  }
+  return summary;
+}
+
+/// A rectangular tank along the motion: the tank-frame models of rectangular_planar.hpp.
+nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const MotionLaw& law,
+                               const std::optional<SevenSegmentLaw>& seven) {
+  const SimulateRequest& request = spatial.base;
+  const SpatialMotion& motion = spatial.motion;
+  const RectangularModel tank = rectangular_model_of(request.format, request.options.model);
+  // The sampling must follow the faster of the two directions' first modes.
+  SloshingModel fastest = tank.along_length.omega1() >= tank.along_width.omega1()
+                              ? tank.along_length
+                              : tank.along_width;
+  const PlanarDrive drive = make_drive(motion, fastest, law);
+  const double rest = request.options.rest_time;
+  const double frame = tank_frame_angle(motion, *request.format.container.rectangular);
+  const RectangularPlanarPeaks linear = rectangular_planar_linear_peaks(tank, drive, frame, rest);
+  const RectangularPlanarNonlinearPeaks nonlinear =
+      rectangular_planar_nonlinear_peaks(tank, drive, frame, rest);
+  for (const auto& [name, p] :
+       {std::pair{"nonlinear", &nonlinear.peaks}, std::pair{"linear", &linear}}) {
+    if (!std::isfinite(p->highest.motion.value) || !std::isfinite(p->highest.rest.value)) {
+      invalid(join_path("format", "motion"),
+              std::string("the ") + name +
+                  " sloshing model of the rectangular tank diverges for this motion on this "
+                  "format: the motion is outside what the model describes");
+    }
+  }
+  nlohmann::json out;
+  nlohmann::json format = format_json(request.format);
+  if (motion.trajectory) {
+    format.erase("stroke_mm");
+    format.erase("motion_time_s");
+  } else {
+    out["law"] = law_json(request, law, seven);
+  }
+  format["motion"] = motion.echo;
+  out["format"] = format;
+  out["motion"] = motion_summary(motion, drive);
+  out["model"] =
+      model_json(make_sloshing_model(request.format, request.options.model), request.options.model);
+  add_rectangular_model(out["model"], tank, request.options.model);
+  const RectangularPlanarPeaks& nl = nonlinear.peaks;
+  out["prediction"] = {
+      {"nonlinear", planar_peaks_json(nl.highest)},
+      {"linear", planar_peaks_json(linear.highest)},
+      {"directions",
+       {{"length", peaks_json(nl.along_length)}, {"width", peaks_json(nl.along_width)}}}};
+  out["rest_time_s"] = rest;
+  if (request.options.sample_period) {
+    out["series"] =
+        rectangular_spatial_series_json(tank, drive, frame, motion.trajectory ? nullptr : &law,
+                                        rest, *request.options.sample_period, nonlinear.nonlinear);
+  }
+  std::vector<std::string> warnings =
+      validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
+                        linear.highest.motion.value, nl.highest.motion.value, nonlinear.nonlinear);
+  if (!nonlinear.warning.empty()) warnings.push_back(nonlinear.warning);
+  out["warnings"] = warnings;
+  require_finite(out);
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json planar_peaks_json(const PlanarPeaks& p) {
@@ -147,13 +239,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   const SpatialMotion& motion = spatial.motion;
   const std::optional<SevenSegmentLaw> seven = seven_segment_law(request);
   const MotionLaw& law = seven ? seven->law() : request.law;
-  if (request.format.container.rectangular) {
-    // The planar models are the cylinder's (its modes do not care which way it moves).
-    invalid("format.container.shape",
-            "format.container.shape = \"rectangular\" is not simulated along format.motion: the "
-            "planar sloshing models are the cylinder's; move a rectangular container along the "
-            "straight stroke (without format.motion), turned by orientation_deg");
-  }
+  if (request.format.container.rectangular) return run_rectangular(spatial, law, seven);
   const SloshingModel model = make_sloshing_model(request.format, request.options.model);
   const PlanarDrive drive = make_drive(motion, model, law);
   const double rest = request.options.rest_time;
@@ -169,24 +255,15 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   }
   nlohmann::json out;
   nlohmann::json format = format_json(request.format);
-  nlohmann::json summary{{"type", type_name(motion.type)}, {"duration_s", drive.duration()}};
   if (motion.trajectory) {
     format.erase("stroke_mm");
     format.erase("motion_time_s");
-    summary["samples"] = motion.trajectory->size();
   } else {
-    summary["length_mm"] = motion.path->length() * 1e3;
-    summary["container_turns"] = motion.path->container_turns();
-    nlohmann::json law_json{{"type", to_string(request.law_type)},
-                            {"duration_s", law.duration()},
-                            {"stroke_mm", mm_of(request.format.stroke)},
-                            {"breakpoints_s", law.breakpoints()}};
-    if (seven) law_json["durations_s"] = seven->durations();
-    out["law"] = law_json;
+    out["law"] = law_json(request, law, seven);
   }
   format["motion"] = motion.echo;
   out["format"] = format;
-  out["motion"] = summary;
+  out["motion"] = motion_summary(motion, drive);
   out["model"] = model_json(model, request.options.model);
   out["prediction"] = {{"nonlinear", planar_peaks_json(nonlinear)},
                        {"linear", planar_peaks_json(linear)}};

@@ -6,6 +6,7 @@
 #include <limits>
 
 #include "slosh/core/strategy/path_plan.hpp"
+#include "slosh/core/strategy/rectangular_path_plan.hpp"
 #include "strategies.hpp"
 #include "text.hpp"
 
@@ -625,7 +626,10 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
       sweep.eta_rest_max = r.eta_rest_max;
       sweep.eta_motion_max = r.eta_motion_max;
       r.plan->robustness =
-          robustness_report_on_path(r.plan->model, *options.path, r.plan->law, sweep);
+          r.plan->rectangular
+              ? rectangular_robustness_report_on_path(*r.plan->rectangular, *options.path,
+                                                      r.plan->law, sweep)
+              : robustness_report_on_path(r.plan->model, *options.path, r.plan->law, sweep);
     } else if (r.plan && options.plan.robustness && !r.plan->invalid_input) {
       Format at = format;
       at.motion_time = r.plan->law.duration();

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "slosh/core/strategy/path_plan.hpp"
+#include "slosh/core/strategy/rectangular_path_plan.hpp"
 #include "slosh/core/strategy/robustness.hpp"
 #include "strategy/path_time_domain.hpp"
 #include "strategy/strategies.hpp"
@@ -41,6 +42,16 @@ bool finite(const PathPrediction& p) {
   return true;
 }
 
+/// The figures of `law` along the path: the tank's models for a rectangular tank, else the
+/// planar models of `model`.
+PathPrediction verified_on_path(const SloshingModel& model,
+                                const std::optional<RectangularModel>& tank, const PlanarPath& path,
+                                const MotionLaw& law, double rest_time,
+                                std::string* warning = nullptr) {
+  if (tank) return predict_tank_on_path(*tank, path, law, rest_time, warning);
+  return predict_on_path(model, path, law, rest_time);
+}
+
 /// What every strategy's plan along the path shares.
 struct PathContext {
   const Format& format;  ///< stroke = the path length
@@ -50,6 +61,19 @@ struct PathContext {
   PathPrediction uniform;
   LawPrediction uniform_line;  ///< the uniform law's kinematics (and the line figures)
   const detail::Deadline& deadline;
+  /// A rectangular tank's models (SPEC §15): the laws are then verified on them along the path
+  /// (rectangular_path_plan.hpp) instead of on the cylinder's planar models.
+  std::optional<RectangularModel> tank{};
+
+  /// The verified figures of `law` along the path; the tank's nonlinear model's out-of-range
+  /// reason in `*warning` when given.
+  [[nodiscard]] PathPrediction predict(const MotionLaw& law, std::string* warning = nullptr) const {
+    return verified_on_path(model, tank, path, law, options.rest_time, warning);
+  }
+  /// What the figures are, for the messages.
+  [[nodiscard]] const char* models() const {
+    return tank ? "the tank's models" : "the planar models";
+  }
 };
 
 /// The first path limit the prediction breaks, as a sentence; empty when all hold.
@@ -96,6 +120,9 @@ struct PathOutcome {
   PathPrediction prediction;
   std::string detail;  ///< how the law was made, and why it is not a solution when it is not
   std::string worse;   ///< its worse_than_baseline warning along the path, or empty
+  /// A rectangular tank's nonlinear model out of its range along the path (why the linear
+  /// model answers), or empty.
+  std::string model_warning;
 };
 
 /// The status follows the verification along the path: a usable law that breaks a path limit
@@ -140,24 +167,34 @@ BoundVerdict bound_verdict(const PathContext& c, const PathOutcome& o) {
 PathOutcome run_tangential(const PathContext& c, Strategy s) {
   PathOutcome o;
   o.plan = plan(c.format, s, c.options);
-  o.prediction = predict_on_path(c.model, c.path, o.plan.law, c.options.rest_time);
-  if (s != Strategy::kBaseline) {
+  o.prediction = c.predict(o.plan.law, &o.model_warning);
+  if (s == Strategy::kTimeDomain) {
+    // (A rectangular tank: no planar nonlinear model with exact sensitivities to optimise.)
+    o.detail =
+        "time_domain optimised the tank's models on a straight line of the path's length (not "
+        "along the path: the tank's models along it have no exact sensitivities here); the "
+        "normal acceleration s'^2/rho on the arcs is not shaped, and the figures are " +
+        std::string(c.models()) + " along the path";
+  } else if (s != Strategy::kBaseline) {
     o.detail = to_string(s) +
                " shapes the tangential acceleration s'' as on a straight line of the path's "
                "length; the normal acceleration s'^2/rho on the arcs is not shaped, and the "
-               "figures are the planar models' along the path";
+               "figures are " +
+               (c.tank ? std::string(c.models()) : std::string("the planar models'")) +
+               " along the path";
   }
   if (o.plan.status == SolveStatus::kInfeasible) {
     // Why the tangential law is not a solution (its own constraint: a band, a filter's limit).
     const std::string& m = o.plan.message;
     o.detail = "on the tangential law: " + m.substr(0, m.find(". ")) + "; " + o.detail;
   }
-  verify_on_path(c, o, false);
+  verify_on_path(c, o, s == Strategy::kTimeDomain);
   return o;
 }
 
 PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
                             const std::vector<Durations>& seeds) {
+  if (c.tank) return run_tangential(c, Strategy::kTimeDomain);
   detail::StrategyContext sc{c.format, c.options, c.model,
                              detail::DurationSpace(c.format, c.options), c.deadline};
   detail::set_design(sc);
@@ -181,7 +218,7 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
   }
   r.solver = {out.solver, out.evaluations, out.starts, out.objective, 0.0};
   r.prediction.kinematics = r.law.summary();
-  o.prediction = predict_on_path(c.model, c.path, r.law, c.options.rest_time);
+  o.prediction = c.predict(r.law);
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   o.detail = std::string("time_domain optimised the planar nonlinear model along the path (") +
              (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
@@ -217,9 +254,10 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
   }
   if (!detail.empty()) head += ": " + detail;
   const PathPrediction& b = c.uniform;
-  return head + ". Along the path (" + sig3(c.path.length() * 1e3) +
-         " mm; planar models, the wave maximised over the wall): eta_motion " +
-         sig3(p.nonlinear.motion.value * 1e3) + " mm (uniform law " +
+  const std::string models = c.tank ? "the tank's models in its own frame, the highest corner"
+                                    : "planar models, the wave maximised over the wall";
+  return head + ". Along the path (" + sig3(c.path.length() * 1e3) + " mm; " + models +
+         "): eta_motion " + sig3(p.nonlinear.motion.value * 1e3) + " mm (uniform law " +
          sig3(b.nonlinear.motion.value * 1e3) + " mm), eta_rest " +
          sig3(p.nonlinear.rest.value * 1e3) + " mm (uniform law " +
          sig3(b.nonlinear.rest.value * 1e3) + " mm); peak horizontal acceleration " +
@@ -239,6 +277,7 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   r.warnings =
       validity_warnings(c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
                         o.prediction.nonlinear.motion.value);
+  if (!o.model_warning.empty()) r.warnings.push_back(o.model_warning);
   if (!o.worse.empty()) r.warnings.push_back(o.worse);
   return r;
 }
@@ -317,7 +356,8 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
       : choice.eligible
           ? "auto chose " + to_string(chosen.plan.strategy) +
                 " (lowest eta_rest among the candidates within 5 % of the best eta_motion, "
-                "judged on the planar models along the path)"
+                "judged on " +
+                c.models() + " along the path)"
           : std::string("no candidate meets every constraint; auto returns the uniform law");
   if (!chosen.detail.empty()) detail += "; " + chosen.detail;
   PlanResult r = finish(c, Strategy::kAuto, std::move(chosen), std::move(detail));
@@ -334,7 +374,8 @@ PlanResult run_single(const PathContext& c, const PlanResult& base, Strategy s) 
     return finish(c, s, std::move(o), std::move(detail));
   }
   std::vector<Durations> seeds;
-  if (!c.options.warm_start) seeds = seeds_of(spectral_outcomes(c));
+  // (A rectangular tank's time_domain plans on the line: no seeds along the path.)
+  if (!c.options.warm_start && !c.tank) seeds = seeds_of(spectral_outcomes(c));
   PathOutcome o = run_time_domain(c, base, seeds);
   std::string detail = o.detail;
   return finish(c, s, std::move(o), std::move(detail));
@@ -345,8 +386,9 @@ PlanResult run_single(const PathContext& c, const PlanResult& base, Strategy s) 
 PathPlanReport path_plan_report(const PlanResult& result, const PlanarPath& path,
                                 double motion_time, double rest_time) {
   const MotionLaw uniform = SevenSegmentLaw(uniform_durations(motion_time), path.length()).law();
-  return {path.length(), predict_on_path(result.model, path, result.law, rest_time),
-          predict_on_path(result.model, path, uniform, rest_time)};
+  return {path.length(),
+          verified_on_path(result.model, result.rectangular, path, result.law, rest_time),
+          verified_on_path(result.model, result.rectangular, path, uniform, rest_time)};
 }
 
 PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy strategy,
@@ -369,9 +411,10 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
                 path,
                 o,
                 base.model,
-                predict_on_path(base.model, path, uniform, o.rest_time),
+                verified_on_path(base.model, base.rectangular, path, uniform, o.rest_time),
                 base.baseline,
-                deadline};
+                deadline,
+                base.rectangular};
   if (!finite(c.uniform)) {
     base.strategy = strategy;
     base.status = SolveStatus::kFailed;
@@ -390,7 +433,8 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
     sweep.rest_time = o.rest_time;
     sweep.eta_rest_max = o.eta_rest_max;
     sweep.eta_motion_max = o.eta_motion_max;
-    r.robustness = robustness_report_on_path(r.model, path, r.law, sweep);
+    r.robustness = c.tank ? rectangular_robustness_report_on_path(*c.tank, path, r.law, sweep)
+                          : robustness_report_on_path(r.model, path, r.law, sweep);
   }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
