@@ -20,6 +20,14 @@
 #include "response/planar_spin.hpp"
 #include "sincos.hpp"
 
+// One clone for AVX (4 doubles a vector; no FMA and no reassociation, so the same numbers as the
+// baseline SSE2 clone bit for bit), chosen at load time where the CPU has it.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SLOSH_PLANAR_LINEAR_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define SLOSH_PLANAR_LINEAR_CLONES
+#endif
+
 namespace slosh::detail {
 
 namespace {
@@ -137,14 +145,16 @@ class ExactPlanarLinear {
                 SubStep<M>& out);
   void series_step(const Mode& md, std::size_t n, const Coeffs& qx, const Coeffs& qy, double H,
                    SubStep<M>& out);
-  /// The mode's response to the forcing polynomial q over a sub-step of 1 / inv_h seconds from
-  /// x0, v0: the particular polynomial r(u) plus Re(z exp(lambda H u)).
+  /// Mode n's response on each axis to the forcing polynomials qx, qy over a sub-step of
+  /// 1 / inv_h seconds from the current state: the particular polynomial r(u) plus
+  /// Re(z exp(lambda H u)).
   struct ClosedForm {
     Coeffs r{};
     Complex z;
   };
-  [[nodiscard]] static ClosedForm closed_form(const Mode& md, const Coeffs& q, double x0, double v0,
-                                              double inv_h);
+  [[nodiscard]] std::array<ClosedForm, 2> closed_forms(const Mode& md, std::size_t n,
+                                                       const Coeffs& qx, const Coeffs& qy,
+                                                       double inv_h) const;
   void sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
               std::vector<double>& f) const;
   [[nodiscard]] Jet jet(double t) const;
@@ -164,24 +174,35 @@ class ExactPlanarLinear {
   std::vector<SubStep<M>> steps_;
 };
 
+// Both axes in one loop: two independent recurrences (each a chain of divisions) overlap.
 template <std::size_t M>
-typename ExactPlanarLinear<M>::ClosedForm ExactPlanarLinear<M>::closed_form(const Mode& md,
-                                                                            const Coeffs& q,
-                                                                            double x0, double v0,
-                                                                            double inv_h) {
+std::array<typename ExactPlanarLinear<M>::ClosedForm, 2> ExactPlanarLinear<M>::closed_forms(
+    const Mode& md, std::size_t n, const Coeffs& qx, const Coeffs& qy, double inv_h) const {
   const double a1 = md.two_zw * inv_h, inv_h2 = inv_h * inv_h;
-  ClosedForm c;
-  Coeffs& r = c.r;
+  std::array<ClosedForm, 2> c;
+  Coeffs& rx = c[0].r;
+  Coeffs& ry = c[1].r;
   for (std::size_t k = kTerms; k-- > 0;) {
-    double v = q[k];
-    if (k + 1 < kTerms) v -= static_cast<double>(k + 1) * a1 * r[k + 1];
-    if (k + 2 < kTerms) v -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * r[k + 2];
-    r[k] = v / md.w2;
+    double vx = qx[k], vy = qy[k];
+    if (k + 1 < kTerms) {
+      vx -= static_cast<double>(k + 1) * a1 * rx[k + 1];
+      vy -= static_cast<double>(k + 1) * a1 * ry[k + 1];
+    }
+    if (k + 2 < kTerms) {
+      vx -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * rx[k + 2];
+      vy -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * ry[k + 2];
+    }
+    rx[k] = vx / md.w2;
+    ry[k] = vy / md.w2;
   }
   const double sigma = -md.lambda.real(), wd = md.lambda.imag();
-  const double c1 = x0 - r[0];
-  const double c2 = (v0 - r[1] * inv_h + sigma * c1) / wd;
-  c.z = Complex{c1, -c2};
+  auto phasor = [&](const Coeffs& r, double x0, double v0) {
+    const double c1 = x0 - r[0];
+    const double c2 = (v0 - r[1] * inv_h + sigma * c1) / wd;
+    return Complex{c1, -c2};
+  };
+  c[0].z = phasor(rx, state_.x[n], state_.vx[n]);
+  c[1].z = phasor(ry, state_.y[n], state_.vy[n]);
   return c;
 }
 
@@ -216,8 +237,7 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
     const double wh = md.w * H;
     if (wh < kSeriesLimit) {
       if (wh >= kSampleClosedLimit) {
-        const ClosedForm cx = closed_form(md, qx, state_.x[n], state_.vx[n], inv_h);
-        const ClosedForm cy = closed_form(md, qy, state_.y[n], state_.vy[n], inv_h);
+        const auto [cx, cy] = closed_forms(md, n, qx, qy, inv_h);
         for (std::size_t k = 0; k < kTerms; ++k) {
           out.sx[k] += md.gain * cx.r[k];
           out.sy[k] += md.gain * cy.r[k];
@@ -231,8 +251,7 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
       series_step(md, n, qx, qy, H, out);
       continue;
     }
-    const ClosedForm cx = closed_form(md, qx, state_.x[n], state_.vx[n], inv_h);
-    const ClosedForm cy = closed_form(md, qy, state_.y[n], state_.vy[n], inv_h);
+    const auto [cx, cy] = closed_forms(md, n, qx, qy, inv_h);
     const Coeffs& rx = cx.r;
     const Coeffs& ry = cy.r;
     const Complex zx = cx.z, zy = cy.z;
@@ -275,19 +294,18 @@ template <std::size_t M>
 void ExactPlanarLinear<M>::series_step(const Mode& md, std::size_t n, const Coeffs& qx,
                                        const Coeffs& qy, double H, SubStep<M>& out) {
   const double b = md.two_zw * H, g = md.w2 * H * H, h2 = H * H;
-  auto series = [&](const Coeffs& q, double x0, double v0) {
-    SolPoly s{};
-    s[0] = x0;
-    s[1] = v0 * H;
-    for (std::size_t j = 0; j + 2 < kSolTerms; ++j) {
-      const double forcing = j < kTerms ? h2 * q[j] : 0.0;
-      s[j + 2] = (forcing - b * static_cast<double>(j + 1) * s[j + 1] - g * s[j]) /
-                 static_cast<double>((j + 2) * (j + 1));
-    }
-    return s;
-  };
-  const SolPoly sx = series(qx, state_.x[n], state_.vx[n]);
-  const SolPoly sy = series(qy, state_.y[n], state_.vy[n]);
+  // Both axes in one loop: two independent recurrences (each a chain of divisions) overlap.
+  SolPoly sx{}, sy{};
+  sx[0] = state_.x[n];
+  sx[1] = state_.vx[n] * H;
+  sy[0] = state_.y[n];
+  sy[1] = state_.vy[n] * H;
+  for (std::size_t j = 0; j + 2 < kSolTerms; ++j) {
+    const double fx = j < kTerms ? h2 * qx[j] : 0.0, fy = j < kTerms ? h2 * qy[j] : 0.0;
+    const double bj = static_cast<double>(j + 1), den = static_cast<double>((j + 2) * (j + 1));
+    sx[j + 2] = (fx - b * bj * sx[j + 1] - g * sx[j]) / den;
+    sy[j + 2] = (fy - b * bj * sy[j + 1] - g * sy[j]) / den;
+  }
   double x1 = 0.0, y1 = 0.0, dx1 = 0.0, dy1 = 0.0, scale = 0.0;
   for (std::size_t k = 0; k < kSolTerms; ++k) {
     out.px[k] += md.gain * sx[k];
@@ -467,9 +485,13 @@ double ExactPlanarLinear<M>::free_bound(double horizon) const {
 template <std::size_t M>
 PlanarPeak ExactPlanarLinear<M>::refine(double lo, double hi, double t, double f) const {
   PlanarPeak best{f, t, 0.0};
+  bool refined = false;
   for (int it = 0; it < 60 && hi - lo > 1e-14; ++it) {
     const Jet j = jet(t);
-    if (j.f > best.value) best = {j.f, t, std::atan2(j.ey, j.ex)};
+    if (j.f > best.value) {
+      best = {j.f, t, std::atan2(j.ey, j.ex)};
+      refined = true;
+    }
     if (j.d1 == 0.0) break;
     if (j.d1 > 0.0) {
       lo = t;
@@ -482,8 +504,11 @@ PlanarPeak ExactPlanarLinear<M>::refine(double lo, double hi, double t, double f
     if (std::abs(step - t) < 1e-14) break;
     t = step;
   }
-  const Jet j = jet(best.time);
-  best.direction = std::atan2(j.ey, j.ex);
+  // An improved best carries its direction already (from the jet at its very time).
+  if (!refined) {
+    const Jet j = jet(best.time);
+    best.direction = std::atan2(j.ey, j.ex);
+  }
   return best;
 }
 
@@ -491,7 +516,8 @@ template <std::size_t M>
 PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
                                              const std::vector<double>& f) const {
   if (t.empty()) return {0.0, 0.0, 0.0};
-  const double top = *std::max_element(f.begin(), f.end());
+  double top = f.front();  // a plain loop (it vectorises; max_element's branches do not)
+  for (double v : f) top = std::max(top, v);
   const double threshold = top - kRefineFraction * std::abs(top);
   const std::size_t n = t.size();
   std::vector<std::size_t> candidates;
@@ -507,14 +533,21 @@ PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
   std::sort(candidates.begin(), candidates.end(),
             [&f](std::size_t a, std::size_t b) { return f[a] > f[b]; });
   PlanarPeak best{-1.0, 0.0, 0.0};
+  bool directed = false;  // best.direction is that of the jet at best.time (refine()'s)
   for (std::size_t i : candidates) {
     if (f[i] < best.value * (1.0 - kRefineGain)) break;
     PlanarPeak p{f[i], t[i], 0.0};
-    if (i > 0 && i + 1 < n) p = refine(t[i - 1], t[i + 1], t[i], f[i]);
-    if (p.value > best.value) best = p;
+    const bool interior = i > 0 && i + 1 < n;
+    if (interior) p = refine(t[i - 1], t[i + 1], t[i], f[i]);
+    if (p.value > best.value) {
+      best = p;
+      directed = interior;
+    }
   }
-  const Jet j = jet(best.time);
-  best.direction = std::atan2(j.ey, j.ex);
+  if (!directed) {
+    const Jet j = jet(best.time);
+    best.direction = std::atan2(j.ey, j.ex);
+  }
   return best;
 }
 
@@ -568,9 +601,10 @@ PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time
 
 }  // namespace
 
-std::optional<PlanarPeaks> exact_planar_linear_peaks(const SloshingModel& model,
-                                                     const PlanarDrive& drive, double rest_time,
-                                                     const PlanarOptions& options) {
+// flatten: the solution and the sampling are inlined, so the AVX clone's block loops are AVX.
+SLOSH_PLANAR_LINEAR_CLONES [[gnu::flatten]] std::optional<PlanarPeaks> exact_planar_linear_peaks(
+    const SloshingModel& model, const PlanarDrive& drive, double rest_time,
+    const PlanarOptions& options) {
   if (drive.vertical() || !(model.zeta < 1.0)) return std::nullopt;
   const double gain = vortex_gain(model, options);
   switch (model.modes()) {
