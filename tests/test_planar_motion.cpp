@@ -126,7 +126,7 @@ TrajectorySamples sine_samples(std::size_t n, double dt) {
 
 TEST(SampledTrajectory, SplineAccelerationFollowsTheSampledMotion) {
   const SampledTrajectory tr(sine_samples(1001, 1e-3));
-  for (double t : {0.2, 0.5003, 0.77}) {  // interior: the natural ends bend the first samples
+  for (double t : {0.2, 0.5003, 0.77}) {
     const PlanarKinematics k = tr.at(t);
     EXPECT_NEAR(k.x, std::sin(3.0 * t), 1e-9);
     EXPECT_NEAR(k.vx, 3.0 * std::cos(3.0 * t), 1e-5);
@@ -135,6 +135,32 @@ TEST(SampledTrajectory, SplineAccelerationFollowsTheSampledMotion) {
   }
   EXPECT_FALSE(tr.turns());
   EXPECT_FALSE(tr.has_vertical_motion());
+}
+
+// The not-a-knot ends: a cubic sampled at uneven times is its own spline, to the ends (a
+// natural spline's second derivative would be 0 at both), in every coordinate.
+TEST(SampledTrajectory, ACubicIsItsOwnSplineUpToTheEnds) {
+  TrajectorySamples s;
+  const std::vector<double> t{0.0, 0.01, 0.025, 0.03, 0.047, 0.06, 0.08};
+  auto x = [](double v) { return 2.0 + v * (0.5 + v * (3.0 - 40.0 * v)); };
+  for (double v : t) {
+    s.t.push_back(v);
+    s.x.push_back(x(v));
+    s.y.push_back(-x(v));
+    s.z.push_back(0.5 * x(v));
+    s.theta.push_back(0.1 * x(v));
+  }
+  const SampledTrajectory tr(s);
+  for (double v : {0.0, 0.004, 0.028, 0.07, 0.08}) {
+    const PlanarKinematics k = tr.at(v);
+    const double a = 6.0 - 240.0 * v, j = -240.0;
+    EXPECT_NEAR(k.x, x(v), 1e-12) << v;
+    EXPECT_NEAR(k.ax, a, 1e-9) << v;
+    EXPECT_NEAR(k.ay, -a, 1e-9) << v;
+    EXPECT_NEAR(k.az, 0.5 * a, 1e-9) << v;
+    EXPECT_NEAR(k.theta_ddot, 0.1 * a, 1e-9) << v;
+    EXPECT_NEAR(k.jx, j, 1e-6) << v;
+  }
 }
 
 TEST(SampledTrajectory, RefusalsSayWhatIsWrong) {

@@ -310,9 +310,12 @@ TEST(SpatialSimulate, CliPlainCsvEqualsTheJsonTrajectoryAndNamesABadLine) {
   const json cli = json::parse(run.out)["prediction"];
   for (const char* model : {"linear", "nonlinear"}) {
     for (const auto& [key, value] : posted["prediction"][model].items()) {
-      // The CLI's samples go through SI and back to mm: equal to round-off.
+      // The CLI's samples go through SI and back to mm: equal to round-off. The wall direction
+      // of a peak where the wave swirls (|E| nearly flat over its maximum) turns with the
+      // peak's time, which that round-off moves by ~1e-10 s: ~1e-7 deg at omega_1 = 19 rad/s.
+      const bool direction = key.rfind("direction", 0) == 0;
       EXPECT_NEAR(cli[model][key].get<double>(), value.get<double>(),
-                  1e-9 * std::max(1.0, std::abs(value.get<double>())))
+                  direction ? 1e-5 : 1e-9 * std::max(1.0, std::abs(value.get<double>())))
           << model << ' ' << key;
     }
   }

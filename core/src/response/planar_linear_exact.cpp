@@ -20,6 +20,14 @@
 #include "response/planar_spin.hpp"
 #include "sincos.hpp"
 
+// One clone for AVX (4 doubles a vector; no FMA and no reassociation, so the same numbers as the
+// baseline SSE2 clone bit for bit), chosen at load time where the CPU has it.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+#define SLOSH_PLANAR_LINEAR_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define SLOSH_PLANAR_LINEAR_CLONES
+#endif
+
 namespace slosh::detail {
 
 namespace {
@@ -55,13 +63,13 @@ constexpr double kSeriesLimit{1.0};
 /// Terms of the solution polynomial of a sub-step: the Taylor series at omega H <= 1 drops
 /// terms below 1 / 24! ~ 2e-24 of the state.
 constexpr std::size_t kSolTerms{24};
+/// A mode stepped by its series at omega H at or above this is sampled in the closed form
+/// (polynomial plus phasor) all the same: the samples only locate the candidates that the
+/// series' exact derivatives refine (jet()), and there the closed form's cancellation costs at
+/// most ~7! / (omega H)^6 ~ 3e5 ulp, while the series' 24-term polynomial would cost three
+/// times the sampling's multiply-adds.
+constexpr double kSampleClosedLimit{0.5};
 using SolPoly = std::array<double, kSolTerms>;
-
-double horner_n(const SolPoly& c, std::size_t terms, double u) {
-  double r = c[terms - 1];
-  for (std::size_t k = terms - 1; k > 0; --k) r = r * u + c[k - 1];
-  return r;
-}
 
 /// Candidates within this fraction of the best sample are refined (as find_max()).
 constexpr double kRefineFraction{0.05};
@@ -97,6 +105,12 @@ struct SubStep {
   SolPoly px{}, py{};
   Coeffs spin{};
   std::array<Complex, M> zx{}, zy{};
+  /// The sampling's own form when a mode is stepped by its series at omega H >=
+  /// kSampleClosedLimit (else the sampling uses the form above): every mode as the polynomial
+  /// sx, sy of kTerms coefficients plus its phasor.
+  bool sample_apart{};
+  Coeffs sx{}, sy{};
+  std::array<Complex, M> szx{}, szy{};
 };
 
 /// Height and its first two time derivatives.
@@ -131,6 +145,16 @@ class ExactPlanarLinear {
                 SubStep<M>& out);
   void series_step(const Mode& md, std::size_t n, const Coeffs& qx, const Coeffs& qy, double H,
                    SubStep<M>& out);
+  /// Mode n's response on each axis to the forcing polynomials qx, qy over a sub-step of
+  /// 1 / inv_h seconds from the current state: the particular polynomial r(u) plus
+  /// Re(z exp(lambda H u)).
+  struct ClosedForm {
+    Coeffs r{};
+    Complex z;
+  };
+  [[nodiscard]] std::array<ClosedForm, 2> closed_forms(const Mode& md, std::size_t n,
+                                                       const Coeffs& qx, const Coeffs& qy,
+                                                       double inv_h) const;
   void sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
               std::vector<double>& f) const;
   [[nodiscard]] Jet jet(double t) const;
@@ -149,6 +173,38 @@ class ExactPlanarLinear {
   State state_;
   std::vector<SubStep<M>> steps_;
 };
+
+// Both axes in one loop: two independent recurrences (each a chain of divisions) overlap.
+template <std::size_t M>
+std::array<typename ExactPlanarLinear<M>::ClosedForm, 2> ExactPlanarLinear<M>::closed_forms(
+    const Mode& md, std::size_t n, const Coeffs& qx, const Coeffs& qy, double inv_h) const {
+  const double a1 = md.two_zw * inv_h, inv_h2 = inv_h * inv_h;
+  std::array<ClosedForm, 2> c;
+  Coeffs& rx = c[0].r;
+  Coeffs& ry = c[1].r;
+  for (std::size_t k = kTerms; k-- > 0;) {
+    double vx = qx[k], vy = qy[k];
+    if (k + 1 < kTerms) {
+      vx -= static_cast<double>(k + 1) * a1 * rx[k + 1];
+      vy -= static_cast<double>(k + 1) * a1 * ry[k + 1];
+    }
+    if (k + 2 < kTerms) {
+      vx -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * rx[k + 2];
+      vy -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * ry[k + 2];
+    }
+    rx[k] = vx / md.w2;
+    ry[k] = vy / md.w2;
+  }
+  const double sigma = -md.lambda.real(), wd = md.lambda.imag();
+  auto phasor = [&](const Coeffs& r, double x0, double v0) {
+    const double c1 = x0 - r[0];
+    const double c2 = (v0 - r[1] * inv_h + sigma * c1) / wd;
+    return Complex{c1, -c2};
+  };
+  c[0].z = phasor(rx, state_.x[n], state_.vx[n]);
+  c[1].z = phasor(ry, state_.y[n], state_.vy[n]);
+  return c;
+}
 
 template <std::size_t M>
 void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece, bool rest,
@@ -171,38 +227,41 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
   out.px.fill(0.0);
   out.py.fill(0.0);
   out.terms = kTerms;
-  const double inv_h = 1.0 / H, inv_h2 = inv_h * inv_h;
+  out.sample_apart = false;
+  out.sx.fill(0.0);
+  out.sy.fill(0.0);
+  bool series_only = false;  // a series mode too fast-stepped for the closed form
+  const double inv_h = 1.0 / H;
   for (std::size_t n = 0; n < M; ++n) {
     const Mode& md = modes_[n];
-    if (md.w * H < kSeriesLimit) {
+    const double wh = md.w * H;
+    if (wh < kSeriesLimit) {
+      if (wh >= kSampleClosedLimit) {
+        const auto [cx, cy] = closed_forms(md, n, qx, qy, inv_h);
+        for (std::size_t k = 0; k < kTerms; ++k) {
+          out.sx[k] += md.gain * cx.r[k];
+          out.sy[k] += md.gain * cy.r[k];
+        }
+        out.szx[n] = md.gain * cx.z;
+        out.szy[n] = md.gain * cy.z;
+        out.sample_apart = true;
+      } else {
+        series_only = true;
+      }
       series_step(md, n, qx, qy, H, out);
       continue;
     }
-    const double a1 = md.two_zw * inv_h;
-    auto particular = [&](const Coeffs& q) {
-      Coeffs r{};
-      for (std::size_t k = kTerms; k-- > 0;) {
-        double v = q[k];
-        if (k + 1 < kTerms) v -= static_cast<double>(k + 1) * a1 * r[k + 1];
-        if (k + 2 < kTerms) v -= static_cast<double>((k + 2) * (k + 1)) * inv_h2 * r[k + 2];
-        r[k] = v / md.w2;
-      }
-      return r;
-    };
-    const Coeffs rx = particular(qx), ry = particular(qy);
-    const double sigma = -md.lambda.real(), wd = md.lambda.imag();
-    auto homogeneous = [&](const Coeffs& r, double x0, double v0) {
-      const double c1 = x0 - r[0];
-      const double c2 = (v0 - r[1] * inv_h + sigma * c1) / wd;
-      return Complex{c1, -c2};
-    };
-    const Complex zx = homogeneous(rx, state_.x[n], state_.vx[n]);
-    const Complex zy = homogeneous(ry, state_.y[n], state_.vy[n]);
+    const auto [cx, cy] = closed_forms(md, n, qx, qy, inv_h);
+    const Coeffs& rx = cx.r;
+    const Coeffs& ry = cy.r;
+    const Complex zx = cx.z, zy = cy.z;
     const Complex e = exp_of(md.lambda, H);
     double rx1 = 0.0, ry1 = 0.0, drx1 = 0.0, dry1 = 0.0;
     for (std::size_t k = 0; k < kTerms; ++k) {
       out.px[k] += md.gain * rx[k];
       out.py[k] += md.gain * ry[k];
+      out.sx[k] += md.gain * rx[k];
+      out.sy[k] += md.gain * ry[k];
       rx1 += rx[k];
       ry1 += ry[k];
       drx1 += static_cast<double>(k) * rx[k];
@@ -210,11 +269,14 @@ void ExactPlanarLinear<M>::sub_step(const PlanarDrive& drive, std::size_t piece,
     }
     out.zx[n] = md.gain * zx;
     out.zy[n] = md.gain * zy;
+    out.szx[n] = out.zx[n];
+    out.szy[n] = out.zy[n];
     state_.x[n] = rx1 + (zx * e).real();
     state_.y[n] = ry1 + (zy * e).real();
     state_.vx[n] = drx1 * inv_h + (md.lambda * zx * e).real();
     state_.vy[n] = dry1 * inv_h + (md.lambda * zy * e).real();
   }
+  if (series_only) out.sample_apart = false;
   out.spin.fill(0.0);
   if (spin_) {
     out.spin = spin_track_.pieces()[steps_.size() - 1].w;  // the same sub-steps, in order
@@ -232,19 +294,18 @@ template <std::size_t M>
 void ExactPlanarLinear<M>::series_step(const Mode& md, std::size_t n, const Coeffs& qx,
                                        const Coeffs& qy, double H, SubStep<M>& out) {
   const double b = md.two_zw * H, g = md.w2 * H * H, h2 = H * H;
-  auto series = [&](const Coeffs& q, double x0, double v0) {
-    SolPoly s{};
-    s[0] = x0;
-    s[1] = v0 * H;
-    for (std::size_t j = 0; j + 2 < kSolTerms; ++j) {
-      const double forcing = j < kTerms ? h2 * q[j] : 0.0;
-      s[j + 2] = (forcing - b * static_cast<double>(j + 1) * s[j + 1] - g * s[j]) /
-                 static_cast<double>((j + 2) * (j + 1));
-    }
-    return s;
-  };
-  const SolPoly sx = series(qx, state_.x[n], state_.vx[n]);
-  const SolPoly sy = series(qy, state_.y[n], state_.vy[n]);
+  // Both axes in one loop: two independent recurrences (each a chain of divisions) overlap.
+  SolPoly sx{}, sy{};
+  sx[0] = state_.x[n];
+  sx[1] = state_.vx[n] * H;
+  sy[0] = state_.y[n];
+  sy[1] = state_.vy[n] * H;
+  for (std::size_t j = 0; j + 2 < kSolTerms; ++j) {
+    const double fx = j < kTerms ? h2 * qx[j] : 0.0, fy = j < kTerms ? h2 * qy[j] : 0.0;
+    const double bj = static_cast<double>(j + 1), den = static_cast<double>((j + 2) * (j + 1));
+    sx[j + 2] = (fx - b * bj * sx[j + 1] - g * sx[j]) / den;
+    sy[j + 2] = (fy - b * bj * sy[j + 1] - g * sy[j]) / den;
+  }
   double x1 = 0.0, y1 = 0.0, dx1 = 0.0, dy1 = 0.0, scale = 0.0;
   for (std::size_t k = 0; k < kSolTerms; ++k) {
     out.px[k] += md.gain * sx[k];
@@ -270,14 +331,41 @@ void ExactPlanarLinear<M>::series_step(const Mode& md, std::size_t n, const Coef
   state_.vy[n] = dy1 / H;
 }
 
+/// Samples evaluated together: the polynomials' Horner recurrences and the modes' phasors of
+/// kBlock samples are independent, so the loops over a block run at the vector units'
+/// throughput instead of waiting on one sample's chain of dependent operations.
+constexpr std::size_t kBlock{8};
+using Block = std::array<double, kBlock>;
+
+/// c(u_b) for every u_b of the block, by Horner's rule on the first `terms` coefficients.
+template <std::size_t N>
+void horner_block(const std::array<double, N>& c, std::size_t terms, const Block& u, Block& r) {
+  r.fill(c[terms - 1]);
+  for (std::size_t k = terms - 1; k > 0; --k) {
+    const double ck = c[k - 1];
+    for (std::size_t b = 0; b < kBlock; ++b) r[b] = r[b] * u[b] + ck;
+  }
+}
+
 template <std::size_t M>
 void ExactPlanarLinear<M>::sample(const SubStep<M>& s, std::size_t m, std::vector<double>& t,
                                   std::vector<double>& f) const {
   const double dt = s.H / static_cast<double>(m);
-  std::array<Complex, M> rot{}, step{};
+  // Each mode's phasor at the block's samples is its value at the block's start times
+  // exp(lambda dt b): those powers are the same for every block, so the samples of a block are
+  // independent products (no chain from sample to sample within the block).
+  std::array<Complex, M> start{}, advance{};
+  std::array<Block, M> pow_re{}, pow_im{};
   for (std::size_t n = 0; n < M; ++n) {
-    rot[n] = {1.0, 0.0};
-    step[n] = exp_of(modes_[n].lambda, dt);
+    const Complex step = exp_of(modes_[n].lambda, dt);
+    Complex p{1.0, 0.0};
+    for (std::size_t b = 0; b < kBlock; ++b) {
+      pow_re[n][b] = p.re;
+      pow_im[n][b] = p.im;
+      p = p * step;
+    }
+    advance[n] = p;
+    start[n] = {1.0, 0.0};
   }
   const std::size_t first = f.size();
   t.resize(first + m);
@@ -285,26 +373,39 @@ void ExactPlanarLinear<M>::sample(const SubStep<M>& s, std::size_t m, std::vecto
   double* tp = t.data() + first;
   double* fp = f.data() + first;
   const double du = 1.0 / static_cast<double>(m);
-  for (std::size_t j = 0; j < m; ++j) {
-    const double u = static_cast<double>(j) * du;
-    double ex = 0.0, ey = 0.0;
-    if (s.forced) {
-      ex = horner_n(s.px, s.terms, u);
-      ey = horner_n(s.py, s.terms, u);
+  const std::array<Complex, M>& zx = s.sample_apart ? s.szx : s.zx;
+  const std::array<Complex, M>& zy = s.sample_apart ? s.szy : s.zy;
+  Block u{}, ex{}, ey{}, w{};
+  for (std::size_t j0 = 0; j0 < m; j0 += kBlock) {
+    // A last, partial block is evaluated whole (its extra samples are not stored).
+    const std::size_t count = std::min(kBlock, m - j0);
+    for (std::size_t b = 0; b < kBlock; ++b) u[b] = static_cast<double>(j0 + b) * du;
+    if (s.sample_apart) {
+      horner_block(s.sx, kTerms, u, ex);
+      horner_block(s.sy, kTerms, u, ey);
+    } else if (s.forced) {
+      horner_block(s.px, s.terms, u, ex);
+      horner_block(s.py, s.terms, u, ey);
+    } else {
+      ex.fill(0.0);
+      ey.fill(0.0);
     }
     for (std::size_t n = 0; n < M; ++n) {
-      const Complex r = rot[n];
-      ex += s.zx[n].re * r.re - s.zx[n].im * r.im;
-      ey += s.zy[n].re * r.re - s.zy[n].im * r.im;
-      rot[n] = r * step[n];
+      const Complex ax = zx[n] * start[n], ay = zy[n] * start[n];
+      for (std::size_t b = 0; b < kBlock; ++b) {
+        ex[b] += ax.re * pow_re[n][b] - ax.im * pow_im[n][b];
+        ey[b] += ay.re * pow_re[n][b] - ay.im * pow_im[n][b];
+      }
+      start[n] = start[n] * advance[n];
     }
-    tp[j] = s.t0 + static_cast<double>(j) * dt;
-    fp[j] = std::sqrt(ex * ex + ey * ey);
-  }
-  if (spin_) {
-    for (std::size_t j = 0; j < m; ++j) {
-      const double w = horner(s.spin, static_cast<double>(j) * du);
-      fp[j] += vortex_gain_ * w * w;
+    for (std::size_t b = 0; b < kBlock; ++b) ex[b] = std::sqrt(ex[b] * ex[b] + ey[b] * ey[b]);
+    if (spin_) {
+      horner_block(s.spin, kFitTerms, u, w);
+      for (std::size_t b = 0; b < kBlock; ++b) ex[b] += vortex_gain_ * w[b] * w[b];
+    }
+    for (std::size_t b = 0; b < count; ++b) {
+      tp[j0 + b] = s.t0 + static_cast<double>(j0 + b) * dt;
+      fp[j0 + b] = ex[b];
     }
   }
 }
@@ -384,9 +485,13 @@ double ExactPlanarLinear<M>::free_bound(double horizon) const {
 template <std::size_t M>
 PlanarPeak ExactPlanarLinear<M>::refine(double lo, double hi, double t, double f) const {
   PlanarPeak best{f, t, 0.0};
+  bool refined = false;
   for (int it = 0; it < 60 && hi - lo > 1e-14; ++it) {
     const Jet j = jet(t);
-    if (j.f > best.value) best = {j.f, t, std::atan2(j.ey, j.ex)};
+    if (j.f > best.value) {
+      best = {j.f, t, std::atan2(j.ey, j.ex)};
+      refined = true;
+    }
     if (j.d1 == 0.0) break;
     if (j.d1 > 0.0) {
       lo = t;
@@ -399,8 +504,11 @@ PlanarPeak ExactPlanarLinear<M>::refine(double lo, double hi, double t, double f
     if (std::abs(step - t) < 1e-14) break;
     t = step;
   }
-  const Jet j = jet(best.time);
-  best.direction = std::atan2(j.ey, j.ex);
+  // An improved best carries its direction already (from the jet at its very time).
+  if (!refined) {
+    const Jet j = jet(best.time);
+    best.direction = std::atan2(j.ey, j.ex);
+  }
   return best;
 }
 
@@ -408,7 +516,8 @@ template <std::size_t M>
 PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
                                              const std::vector<double>& f) const {
   if (t.empty()) return {0.0, 0.0, 0.0};
-  const double top = *std::max_element(f.begin(), f.end());
+  double top = f.front();  // a plain loop (it vectorises; max_element's branches do not)
+  for (double v : f) top = std::max(top, v);
   const double threshold = top - kRefineFraction * std::abs(top);
   const std::size_t n = t.size();
   std::vector<std::size_t> candidates;
@@ -424,14 +533,21 @@ PlanarPeak ExactPlanarLinear<M>::window_peak(const std::vector<double>& t,
   std::sort(candidates.begin(), candidates.end(),
             [&f](std::size_t a, std::size_t b) { return f[a] > f[b]; });
   PlanarPeak best{-1.0, 0.0, 0.0};
+  bool directed = false;  // best.direction is that of the jet at best.time (refine()'s)
   for (std::size_t i : candidates) {
     if (f[i] < best.value * (1.0 - kRefineGain)) break;
     PlanarPeak p{f[i], t[i], 0.0};
-    if (i > 0 && i + 1 < n) p = refine(t[i - 1], t[i + 1], t[i], f[i]);
-    if (p.value > best.value) best = p;
+    const bool interior = i > 0 && i + 1 < n;
+    if (interior) p = refine(t[i - 1], t[i + 1], t[i], f[i]);
+    if (p.value > best.value) {
+      best = p;
+      directed = interior;
+    }
   }
-  const Jet j = jet(best.time);
-  best.direction = std::atan2(j.ey, j.ex);
+  if (!directed) {
+    const Jet j = jet(best.time);
+    best.direction = std::atan2(j.ey, j.ex);
+  }
   return best;
 }
 
@@ -485,9 +601,10 @@ PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time
 
 }  // namespace
 
-std::optional<PlanarPeaks> exact_planar_linear_peaks(const SloshingModel& model,
-                                                     const PlanarDrive& drive, double rest_time,
-                                                     const PlanarOptions& options) {
+// flatten: the solution and the sampling are inlined, so the AVX clone's block loops are AVX.
+SLOSH_PLANAR_LINEAR_CLONES [[gnu::flatten]] std::optional<PlanarPeaks> exact_planar_linear_peaks(
+    const SloshingModel& model, const PlanarDrive& drive, double rest_time,
+    const PlanarOptions& options) {
   if (drive.vertical() || !(model.zeta < 1.0)) return std::nullopt;
   const double gain = vortex_gain(model, options);
   switch (model.modes()) {

@@ -1,8 +1,10 @@
 #pragma once
 // A sampled spatial trajectory (a robot's log or a commanded pose table): times, positions and
-// the heading about the vertical axis, interpolated by natural cubic splines (SPEC §14). The
-// acceleration the models need is the splines' second derivative: continuous and piecewise
-// linear between samples, so a simulation steps from sample to sample exactly on its pieces.
+// the heading about the vertical axis, interpolated by not-a-knot cubic splines (SPEC §14: the
+// end pieces are the cubics through the four nearest samples, so a motion that starts or stops
+// with an acceleration step keeps it). The acceleration the models need is the splines' second
+// derivative: continuous and piecewise linear between samples, so a simulation steps from sample
+// to sample exactly on its pieces.
 // The splines interpolate (no smoothing): commanded poses are smooth to their printed digits
 // (1e-9 m at 500 Hz moves the acceleration by ~1e-4 m/s^2); a noisy measured log should be
 // filtered before it is given here.
@@ -36,10 +38,10 @@ inline constexpr double kSamplesPerFirstPeriod{20.0};
 /// accelerations and the models' steps stay finite (steps of 1e-300 s overflow both).
 inline constexpr double kMinStepPerFirstPeriod{1e-9};
 
-/// Natural cubic spline of one coordinate: second derivatives at the knots.
+/// Cubic spline of one coordinate: second derivatives at the knots.
 struct CubicSpline {
   std::vector<double> value;   ///< samples
-  std::vector<double> second;  ///< second derivative at each knot (0 at both ends)
+  std::vector<double> second;  ///< second derivative at each knot (not-a-knot ends)
 };
 
 /// A validated trajectory.
