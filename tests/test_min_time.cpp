@@ -136,7 +136,7 @@ TEST(MinTime, AnalyticToyUniformLawUnderAnAccelerationLimit) {
   ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
   const double expected = std::ceil(std::sqrt(49.0 * 0.8 / (8.0 * 5.0)) * 1000.0) / 1000.0;
   EXPECT_NEAR(*r.t_min, expected, 1e-9);
-  EXPECT_TRUE(r.feasible_above);
+  EXPECT_EQ(r.feasible_above, std::optional<bool>(true));
   EXPECT_NEAR(*r.infeasible_below, expected - 1e-3, 1e-9);
   EXPECT_NEAR(r.kinematic_bound, 2.0 * std::sqrt(0.8 / 5.0), 1e-12);  // bang-bang
   EXPECT_LE(r.plans, 30);
@@ -188,11 +188,14 @@ TEST(MinTime, EveryStrategyOnTheThesisContainerIsFeasibleAtTMinAndNotOneMillisec
     const double t = *r.t_min;
     EXPECT_NEAR(t * 1000.0, std::round(t * 1000.0), 1e-6);  // on the 1 ms grid
     EXPECT_GE(t, r.kinematic_bound);
-    // Each planned T is reproduced by plan() from the warm start the search recorded for it.
+    // Each planned T is reproduced by plan() from the start the search recorded for it (T_min,
+    // found by the bracketing or the refinement, is planned from the planner's own starts there:
+    // where a plan is likely infeasible the search plans from those at once).
     const MinTimePoint* at = point_at(r, t);
     ASSERT_NE(at, nullptr);
-    EXPECT_EQ(at->warm_start.has_value(),
-              s != Strategy::kBaseline && s != Strategy::kFirChain && s != Strategy::kShaper);
+    if (s == Strategy::kBaseline || s == Strategy::kFirChain || s == Strategy::kShaper) {
+      EXPECT_FALSE(at->warm_start);
+    }
     EXPECT_TRUE(feasible_at(f, s, o, t, at->warm_start)) << r.message;
     ASSERT_TRUE(r.plan);
     EXPECT_NEAR(r.plan->law.duration(), t, 1e-9);
@@ -405,7 +408,16 @@ TEST(MinTime, EveryPlannedPointIsReproducedFromItsRecordedWarmStart) {
     EXPECT_EQ(again.prediction.nonlinear.rest.value, p.prediction.nonlinear.rest.value);
     warm += p.warm_start ? 1 : 0;
   }
-  EXPECT_EQ(warm, static_cast<int>(r.curve.size()) - 1);
+  // The curve's 3 points above T_min continue from a feasible neighbour; the planner's own starts
+  // plan the first T and those where a plan is likely infeasible (next to a near miss, the
+  // refinement, the bracketing below T_min) or was (a warm-started plan that missed is planned
+  // again).
+  for (std::size_t k = r.curve.size() - 3; k < r.curve.size(); ++k) {
+    if (r.curve[k].feasible) {
+      EXPECT_TRUE(r.curve[k].warm_start) << "T = " << r.curve[k].motion_time;
+    }
+  }
+  EXPECT_GE(warm, static_cast<int>(r.curve.size()) / 2);
 }
 
 }  // namespace

@@ -22,7 +22,8 @@ using nlohmann::json;
 namespace mr = min_time_ranges;
 
 /// Version of the search; part of every min-time key, bumped when results change.
-constexpr const char* kMinTimeVersion = "min-time-v2";  // v2: warm starts, regula falsi
+constexpr const char* kMinTimeVersion =
+    "min-time-v3";  // v3: infeasible points confirmed from the planner's own starts
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",
@@ -106,16 +107,17 @@ PlanRequest plan_request_at(const MinTimeRequest& request, const MinTimeResult& 
 }
 
 json strategy_json(const MinTimeRequest& request, const MinTimeResult& r) {
-  json out{{"strategy", to_string(r.strategy)},
-           {"status", to_string(r.status)},
-           {"message", r.message},
-           {"t_min_s", optional_json(r.t_min)},
-           {"infeasible_below_s", optional_json(r.infeasible_below)},
-           {"feasible_above", r.t_min ? json(r.feasible_above) : json(nullptr)},
-           {"kinematic_lower_bound_s", r.kinematic_bound},
-           {"scan_start_s", r.scan_start},
-           {"plans", r.plans},
-           {"search_ms", r.search_ms}};
+  json out{
+      {"strategy", to_string(r.strategy)},
+      {"status", to_string(r.status)},
+      {"message", r.message},
+      {"t_min_s", optional_json(r.t_min)},
+      {"infeasible_below_s", optional_json(r.infeasible_below)},
+      {"feasible_above", r.t_min && r.feasible_above ? json(*r.feasible_above) : json(nullptr)},
+      {"kinematic_lower_bound_s", r.kinematic_bound},
+      {"scan_start_s", r.scan_start},
+      {"plans", r.plans},
+      {"search_ms", r.search_ms}};
   if (r.best) {
     out["best"] = {{"t_s", r.best->motion_time},
                    {"eta_motion_mm", r.best->eta_motion * 1e3},

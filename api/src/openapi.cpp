@@ -1307,16 +1307,20 @@ void add_min_time_response_schemas(json& s) {
   json plan = ref("PlanResponse");
   s["MinTimeStrategyResult"] = object(
       {{"strategy", text("Strategy searched.")},
-       {"status", text("optimal (T_min found), infeasible (no T up to motion_time_max met the "
-                       "limits; best), time_limit (budget ran out; t_min_s is the best bound so "
-                       "far), failed.")},
+       {"status", text("optimal (T_min found, curve complete), infeasible (no T up to "
+                       "motion_time_max met the limits; best), time_limit (budget ran out; "
+                       "t_min_s is the best bound so far, or T_min itself when "
+                       "infeasible_below_s is t_min_s - 1 ms and the curve is partial), failed.")},
        {"message", text("What happened, for a line engineer.")},
        {"t_min_s", nullable_number},
        {"infeasible_below_s", nullable_number},
        {"feasible_above",
         {{"type", "boolean"},
          {"nullable", true},
-         {"description", "Every planned T above t_min_s was feasible."}}},
+         {"description",
+          "Every planned T above t_min_s, up to curve_factor t_min_s, was feasible; false: one "
+          "is infeasible from the planner's own starts too; null without t_min_s or when the "
+          "budget ended the curve early before a T failed."}}},
        {"kinematic_lower_bound_s", number("Closed-form jerk-limited minimum time [s].")},
        {"scan_start_s", number("First T scanned [s].")},
        {"plans", integer("plan() calls of the search.")},

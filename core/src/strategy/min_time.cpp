@@ -1,6 +1,7 @@
 #include "slosh/core/strategy/min_time.hpp"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -89,32 +90,40 @@ class Search {
         result_(result),
         deadline_(options.plan.time_limit, options.plan.stop) {}
 
-  /// Plans T; nullopt when the budget (time or max_plans) ran out before or during the plan.
-  /// Plans T, warm-started from a neighbour (see warm_start_for). A warm-started plan that
-  /// misses its own constraints (status not optimal or acceptable) next to a feasible neighbour
-  /// is planned again from the planner's own starts, and the better of the two is kept
-  /// (continuation can lose a branch that a fresh multi-start finds). Nullopt when the budget (time
-  /// or max_plans) ran out before or during a plan.
-  std::optional<MinTimePoint> evaluate(double T) {
-    const std::optional<Neighbour> from = warm_start_for(T);
-    std::optional<Planned> point = plan_at(T, from ? from->durations : std::optional<Durations>{});
+  /// Plans T, warm-started from a neighbour (see warm_start_for). A warm-started plan that is
+  /// infeasible is planned again from the planner's own starts (what a plan request at T without
+  /// a warm start does), and that plan is kept when it is feasible or both are infeasible: a T
+  /// is called infeasible only when the planner's own starts cannot meet the limits there
+  /// (continuation can follow a branch that misses its own constraints, e.g. time_domain's
+  /// eta_rest of 43 mm at a T where a fresh plan holds 3 mm). `trust_far_miss`: below every
+  /// feasible T found so far, a plan warm-started from a far miss that misses the limits by more
+  /// than refine_excess itself is taken as it is (the scan far from the limits, where the re-plan
+  /// would double the cost; warm_start_for plans the T next to a near miss from the planner's own
+  /// starts at once). Nullopt when the budget (time or max_plans) ran out before or during a plan.
+  std::optional<MinTimePoint> evaluate(double T, bool trust_far_miss) {
+    const std::optional<Durations> from = warm_start_for(T);
+    std::optional<Planned> point = plan_at(T, from);
     if (!point) return std::nullopt;
-    const SolveStatus status = point->point.plan_status;
-    const bool plan_missed = status != SolveStatus::kOptimal && status != SolveStatus::kAcceptable;
-    // time_domain's optimum is a local one of the nonlinear peaks, and which branch the
-    // continuation follows depends on the neighbour: below the least feasible T so far, a
-    // warm-started plan that misses the limits by less than refine_excess is planned again from
-    // the planner's own starts (its spectral seeds reach branches no neighbour holds).
-    const bool near_miss = strategy_ == Strategy::kTimeDomain && !point->point.feasible &&
-                           point->point.excess <= options_.refine_excess &&
-                           (!result_.t_min || T < *result_.t_min);
-    if (from && ((from->feasible && plan_missed) || near_miss)) {
+    if (from && !point->point.feasible && !(trust_far_miss && far_miss(point->point))) {
       std::optional<Planned> fresh = plan_at(T, std::nullopt);
       if (!fresh) return std::nullopt;
-      const bool better = fresh->point.feasible || fresh->point.excess < point->point.excess;
-      if (better) point = std::move(fresh);
+      point = std::move(fresh);
     }
     return record(std::move(*point));
+  }
+
+  /// Plans T again from the planner's own starts when its point on the curve is infeasible and
+  /// was warm-started (a far miss taken as it was during the scan), and puts that plan in its
+  /// place. False when the budget ran out; true when there was nothing to do or it was done.
+  bool confirm(double T) {
+    auto it = std::find_if(result_.curve.begin(), result_.curve.end(),
+                           [&](const MinTimePoint& p) { return p.motion_time == T; });
+    if (it == result_.curve.end() || it->feasible || !it->warm_start) return true;
+    std::optional<Planned> fresh = plan_at(T, std::nullopt);
+    if (!fresh) return false;
+    result_.curve.erase(it);
+    record(std::move(*fresh));
+    return true;
   }
 
  private:
@@ -122,10 +131,11 @@ class Search {
     MinTimePoint point;
     PlanResult plan;
   };
-  struct Neighbour {
-    Durations durations;
-    bool feasible{false};
-  };
+  /// A plan that misses the limits by more than refine_excess, below every feasible T found so
+  /// far.
+  [[nodiscard]] bool far_miss(const MinTimePoint& p) const {
+    return p.excess > options_.refine_excess && (!result_.t_min || p.motion_time < *result_.t_min);
+  }
 
   /// One plan() of T; nullopt when the budget ran out before or during it.
   std::optional<Planned> plan_at(double T, const std::optional<Durations>& warm_start) {
@@ -203,10 +213,11 @@ class Search {
     return p;
   }
 
-  /// The nearest planned T below and above T with 7-segment durations, the one of lower excess
-  /// (ties: below); nullopt for the first T and for the strategies that do not optimise
-  /// durations.
-  [[nodiscard]] std::optional<Neighbour> warm_start_for(double T) const {
+  /// The durations of the nearest planned T below and above T, the one of lower excess (ties:
+  /// below): above the least feasible T so far when it is feasible or a far miss, below it when
+  /// it is a far miss and the scan's excess, extrapolated to T, stays above refine_excess. Nullopt
+  /// otherwise, for the first T, and for the strategies that do not optimise durations.
+  [[nodiscard]] std::optional<Durations> warm_start_for(double T) const {
     if (!takes_warm_start(strategy_)) return std::nullopt;
     const MinTimePoint* below = nullptr;
     const MinTimePoint* above = nullptr;
@@ -218,7 +229,32 @@ class Search {
     const MinTimePoint* from = below;
     if (from == nullptr || (above != nullptr && above->excess < from->excess)) from = above;
     if (from == nullptr) return std::nullopt;
-    return Neighbour{*from->durations, from->feasible};
+    // An infeasible warm-started plan is planned again from the planner's own starts, so where
+    // it is likely infeasible the search plans from those at once (one plan instead of two):
+    // below every feasible T found so far (the bracketing) unless the neighbour is a far miss
+    // (the scan far from the limits, whose far misses are kept), and next to a near miss.
+    const bool below_feasible = !result_.t_min || T < *result_.t_min;
+    if (below_feasible && from->feasible) return std::nullopt;
+    if (!from->feasible && from->excess <= options_.refine_excess) return std::nullopt;
+    if (below_feasible && from == below && from->excess > options_.refine_excess) {
+      // The scan approaching the limits: the excess extrapolated from the last two planned T
+      // below reaches refine_excess at T, so T is likely a near miss.
+      const MinTimePoint* before = nullptr;
+      for (const MinTimePoint& q : result_.curve) {
+        if (q.motion_time < from->motion_time && std::isfinite(q.excess) &&
+            (before == nullptr || q.motion_time > before->motion_time)) {
+          before = &q;
+        }
+      }
+      if (before != nullptr) {
+        const double slope =
+            (from->excess - before->excess) / (from->motion_time - before->motion_time);
+        if (from->excess + slope * (T - from->motion_time) <= options_.refine_excess) {
+          return std::nullopt;
+        }
+      }
+    }
+    return *from->durations;
   }
 
   const Format& format_;
@@ -333,14 +369,17 @@ struct SearchRun {
         limits(limits_text(result, o.model)),
         search(f, s, o, result) {}
 
+  /// Which budget ran out, so the client raises the one that matters.
+  [[nodiscard]] std::string budget_text() const {
+    return r.plans >= options.max_plans
+               ? "the search's plan budget (max_plans " + std::to_string(options.max_plans) +
+                     ", all planned; raise max_plans)"
+               : "the search's time budget (time_limit_s " + sec(options.plan.time_limit) + ")";
+  }
+
   void out_of_budget(const std::string& where) {
     r.status = SolveStatus::kTimeLimit;
-    // Which of the two ran out, so the client raises the one that matters.
-    r.message = r.plans >= options.max_plans
-                    ? "the search's plan budget (max_plans " + std::to_string(options.max_plans) +
-                          ", all planned; raise max_plans) ran out " + where
-                    : "the search's time budget (time_limit_s " + sec(options.plan.time_limit) +
-                          ") ran out " + where;
+    r.message = budget_text() + " ran out " + where;
     if (r.t_min) {
       r.message += "; the best bound so far is T_min <= " + sec(*r.t_min);
     } else {
@@ -413,7 +452,7 @@ bool refine_near_miss(SearchRun& run, std::optional<MinTimePoint>& hit) {
     const bool left = c - a > b - c;
     double d = round_to_grid(left ? c - (1.0 - kGolden) * (c - a) : c + (1.0 - kGolden) * (b - c));
     if (d <= a || d >= b || d == c) break;
-    const std::optional<MinTimePoint> q = run.search.evaluate(d);
+    const std::optional<MinTimePoint> q = run.search.evaluate(d, true);
     if (!q) {
       run.out_of_budget("while refining the scan near T = " + sec(c));
       return false;
@@ -444,7 +483,7 @@ bool coarse_scan(SearchRun& run) {
     double T = round_to_grid(next);
     if (T > t_max) T = t_max;
     if (k > 0 && T <= run.scanned.back().motion_time) break;  // t_max reached
-    const std::optional<MinTimePoint> p = run.search.evaluate(T);
+    const std::optional<MinTimePoint> p = run.search.evaluate(T, true);
     if (!p) {
       run.out_of_budget("during the scan at T = " + sec(T));
       return false;
@@ -506,11 +545,13 @@ const MinTimePoint* point_at(const MinTimeResult& r, double T) {
 }
 
 // The next T to plan strictly inside (lo, hi) on the 1 ms grid. Regula falsi (Illinois): where
-// the line through the ratio to its limit of the quantity that lo violates most (eta_motion or
-// eta_rest), at lo (> 1) and at hi, crosses 1, the ratios' distances to 1 scaled by `scale_lo` and
-// `scale_hi` (halved while the other end keeps moving). Those ratios are smooth near a crossing,
-// while the excess saturates at 1 where time_domain holds eta_rest on its limit. The midpoint
-// when `bisect` is set or the ratios do not bracket 1.
+// the line through the ratio to its limit of one quantity (eta_motion or eta_rest), at lo (> 1)
+// and at hi (< 1), crosses 1, the ratios' distances to 1 scaled by `scale_lo` and `scale_hi`
+// (halved while the other end keeps moving). Those ratios are smooth near a crossing, while the
+// excess saturates at 1 where time_domain holds eta_rest on its limit. The quantity is the one lo
+// violates most among those that hi meets with a margin (a quantity held on its limit at hi, as
+// time_domain's eta_rest, carries no slope: its line would put every step next to hi). The
+// midpoint when `bisect` is set or no quantity brackets 1.
 double next_bracket_point(const MinTimeResult& r, double lo, double hi, double scale_lo,
                           double scale_hi, bool bisect) {
   double t = 0.5 * (lo + hi);
@@ -518,11 +559,23 @@ double next_bracket_point(const MinTimeResult& r, double lo, double hi, double s
   const MinTimePoint* b = point_at(r, hi);
   if (!bisect && a != nullptr && b != nullptr && std::isfinite(a->excess) &&
       std::isfinite(b->excess)) {
-    const bool motion = a->eta_motion / r.eta_motion_max >= a->eta_rest / r.eta_rest_max;
-    const double limit = motion ? r.eta_motion_max : r.eta_rest_max;
-    const double f_lo = scale_lo * ((motion ? a->eta_motion : a->eta_rest) / limit - 1.0);
-    const double f_hi = scale_hi * ((motion ? b->eta_motion : b->eta_rest) / limit - 1.0);
-    if (f_lo > 0.0 && f_hi <= 0.0) t = lo + (hi - lo) * f_lo / (f_lo - f_hi);
+    // hi's ratio must be below 1 by more than this to give the line a slope [-].
+    constexpr double kMargin = 1e-3;
+    const std::array<std::array<double, 2>, 2> ratios{{
+        {a->eta_motion / r.eta_motion_max, b->eta_motion / r.eta_motion_max},
+        {a->eta_rest / r.eta_rest_max, b->eta_rest / r.eta_rest_max},
+    }};
+    const std::array<double, 2>* chosen = nullptr;
+    for (const std::array<double, 2>& q : ratios) {
+      if (q[0] > 1.0 && q[1] < 1.0 - kMargin && (chosen == nullptr || q[0] > (*chosen)[0])) {
+        chosen = &q;
+      }
+    }
+    if (chosen != nullptr) {
+      const double f_lo = scale_lo * ((*chosen)[0] - 1.0);
+      const double f_hi = scale_hi * ((*chosen)[1] - 1.0);
+      t = lo + (hi - lo) * f_lo / (f_lo - f_hi);
+    }
   }
   t = round_to_grid(t);
   return std::clamp(t, round_to_grid(lo + kMinTimeResolution),
@@ -531,41 +584,55 @@ double next_bracket_point(const MinTimeResult& r, double lo, double hi, double s
 
 // 2. Bracketing to 1 ms between the last infeasible and the first feasible scanned T: regula
 // falsi (Illinois), with a bisection step after two steps in a row that did not halve the
-// bracket; false when the budget ran out.
+// bracket. The infeasible end, T_min - 1 ms, is infeasible from the planner's own starts too (a
+// far miss the scan took from a warm start is planned again); when that plan is feasible, T_min
+// moves down to it and the bracketing goes on below. False when the budget ran out.
 bool bisect(SearchRun& run) {
-  if (run.last_infeasible < 0.0) return true;  // T_min is the scan start: nothing below
-  double lo = run.last_infeasible, hi = run.first_feasible;
-  double scale_lo = 1.0, scale_hi = 1.0;
-  int moved = 0;  // +1: hi moved last, -1: lo moved last
-  int slow = 0;   // steps in a row that did not halve the bracket
-  while (hi - lo > 1.5 * kMinTimeResolution) {
-    const double width = hi - lo;
-    const double t = next_bracket_point(run.r, lo, hi, scale_lo, scale_hi, slow >= 2);
-    const std::optional<MinTimePoint> p = run.search.evaluate(t);
-    if (!p) {
-      run.out_of_budget("during the bisection between " + sec(lo) + " and " + sec(hi));
-      run.r.infeasible_below = lo;
+  for (;;) {
+    if (run.last_infeasible < 0.0) return true;  // T_min is the scan start: nothing below
+    double lo = run.last_infeasible, hi = run.first_feasible;
+    double scale_lo = 1.0, scale_hi = 1.0;
+    int moved = 0;  // +1: hi moved last, -1: lo moved last
+    int slow = 0;   // steps in a row that did not halve the bracket
+    while (hi - lo > 1.5 * kMinTimeResolution) {
+      const double width = hi - lo;
+      const double t = next_bracket_point(run.r, lo, hi, scale_lo, scale_hi, slow >= 2);
+      const std::optional<MinTimePoint> p = run.search.evaluate(t, false);
+      if (!p) {
+        run.out_of_budget("during the bisection between " + sec(lo) + " and " + sec(hi));
+        run.r.infeasible_below = lo;
+        return false;
+      }
+      if (p->feasible) {
+        hi = t;
+        scale_hi = 1.0;
+        if (moved == 1) scale_lo *= 0.5;
+        moved = 1;
+      } else {
+        lo = t;
+        scale_lo = 1.0;
+        if (moved == -1) scale_hi *= 0.5;
+        moved = -1;
+      }
+      slow = hi - lo <= 0.5 * width + 1e-12 ? 0 : slow + 1;
+    }
+    run.r.infeasible_below = lo;
+    if (!run.search.confirm(lo)) {
+      run.out_of_budget("while planning T = " + sec(lo) + " again from the planner's own starts");
       return false;
     }
-    if (p->feasible) {
-      hi = t;
-      scale_hi = 1.0;
-      if (moved == 1) scale_lo *= 0.5;
-      moved = 1;
-    } else {
-      lo = t;
-      scale_lo = 1.0;
-      if (moved == -1) scale_hi *= 0.5;
-      moved = -1;
-    }
-    slow = hi - lo <= 0.5 * width + 1e-12 ? 0 : slow + 1;
+    const MinTimePoint* below = point_at(run.r, lo);
+    if (below == nullptr || !below->feasible) return true;
+    run.r.infeasible_below.reset();
+    run.found(*below);
   }
-  run.r.infeasible_below = lo;
-  return true;
 }
 
-// 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (at least 4
-// points when the budget allows): feasible_above is judged on every T planned above T_min.
+// 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (3 points when
+// the budget allows): feasible_above is judged on every T planned above T_min, each infeasible
+// one confirmed from the planner's own starts. When the budget runs out here, T_min stands
+// (bracketed) but the curve is partial: kTimeLimit, and feasible_above is unknown unless a failing
+// T was found.
 void extend_curve_and_report(SearchRun& run) {
   MinTimeResult& r = run.r;
   const double t_min = *r.t_min;
@@ -574,21 +641,36 @@ void extend_curve_and_report(SearchRun& run) {
   const int curve_points =
       std::max(1, std::min(3, static_cast<int>(std::floor((curve_end - run.first_feasible) /
                                                           run.options.scan_step))));
-  for (int k = 1; k <= curve_points; ++k) {
+  std::optional<double> cut;  // the T the budget ran out at
+  for (int k = 1; k <= curve_points && !cut; ++k) {
     const double T =
         round_to_grid(run.first_feasible + (curve_end - run.first_feasible) * k / curve_points);
     if (T <= run.first_feasible || T > t_max) break;
-    if (!run.search.evaluate(T)) break;  // the curve is shorter; T_min stands
+    if (!run.search.evaluate(T, false)) cut = T;
   }
-  r.feasible_above = true;
-  const MinTimePoint* first_bad = nullptr;
+  // An infeasible T above T_min calls feasibility non-monotone: it must be infeasible from the
+  // planner's own starts too (the scan may have taken a far miss from a warm start).
+  std::vector<double> unconfirmed;
   for (const MinTimePoint& p : r.curve) {
-    if (p.motion_time > t_min && !p.feasible) {
+    if (p.motion_time > t_min && !p.feasible && p.warm_start) unconfirmed.push_back(p.motion_time);
+  }
+  for (double T : unconfirmed) {
+    if (cut) break;
+    if (!run.search.confirm(T)) cut = T;
+  }
+  const MinTimePoint* first_bad = nullptr;
+  double last_planned = t_min;
+  for (const MinTimePoint& p : r.curve) {
+    last_planned = std::max(last_planned, p.motion_time);
+    if (p.motion_time > t_min && !p.feasible && (!p.warm_start || !cut)) {
       if (first_bad == nullptr || p.motion_time < first_bad->motion_time) first_bad = &p;
-      r.feasible_above = false;
     }
   }
-  r.status = SolveStatus::kOptimal;
+  r.feasible_above = first_bad != nullptr ? std::optional<bool>(false)
+                     : cut                ? std::nullopt
+                                          : std::optional<bool>(true);
+  r.t_min_final = true;
+  r.status = cut ? SolveStatus::kTimeLimit : SolveStatus::kOptimal;
   r.best.reset();  // the least excess is the infeasible searches' answer
   r.message = "T_min = " + sec(t_min) + ": the shortest motion time on the 1 ms grid whose " +
               "verified " + to_string(run.strategy) + " plan meets " + run.limits;
@@ -604,6 +686,15 @@ void extend_curve_and_report(SearchRun& run) {
   if (first_bad != nullptr) {
     r.message += "; feasibility is not monotone: T = " + sec(first_bad->motion_time) +
                  " above it fails (" + why_not(*first_bad, r) + ")";
+  }
+  if (cut) {
+    r.message = run.budget_text() + " ran out at T = " + sec(*cut) + ", after T_min was " +
+                "bracketed, while the curve above it was planned (to " + sec(curve_end) +
+                "): the curve is partial, " +
+                (first_bad != nullptr ? std::string("and ")
+                                      : "every T planned above T_min (up to " + sec(last_planned) +
+                                            ") is feasible but beyond that it is unknown; ") +
+                r.message;
   }
 }
 
@@ -657,7 +748,7 @@ MinTimeSummary summarize_min_time(const std::vector<MinTimeResult>& results) {
   MinTimeSummary s;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const MinTimeResult& r = results[i];
-    if (r.status != SolveStatus::kOptimal || !r.t_min) continue;
+    if (!r.t_min || (r.status != SolveStatus::kOptimal && !r.t_min_final)) continue;
     if (r.strategy == Strategy::kBaseline && !s.baseline) s.baseline = i;
     if (!s.winner || *r.t_min < *results[*s.winner].t_min) s.winner = i;
   }

@@ -64,13 +64,13 @@ struct MinTimeOptions {
   double scan_step{0.04};
   /// A scanned local minimum of the excess (max of eta / its limit over both limits) at or below
   /// this is refined by a golden-section search on the 1 ms grid between its two neighbours,
-  /// until a feasible T is found or the bracket is 2 ms; a time_domain plan below the least
-  /// feasible T so far whose excess is at or below this is planned again from the planner's own
-  /// starts [-]. Default 2; [1, 1000].
+  /// until a feasible T is found or the bracket is 2 ms; a warm-started plan below the least
+  /// feasible T so far whose excess is above this is kept without a plan from the planner's own
+  /// starts (a far miss, see min_time()) [-]. Default 2; [1, 1000].
   double refine_excess{2.0};
   /// Most plans solved by one strategy's search (scan, bisection and curve) [-]. Default 40;
-  /// [3, 10000]. When it runs out before T_min is bracketed to 1 ms the result is kTimeLimit
-  /// (with the best bound so far); after that, the curve above T_min is only shorter.
+  /// [3, 10000]. When it runs out the result is kTimeLimit: before T_min is bracketed to 1 ms
+  /// with the best bound so far; after that with T_min (t_min_final) and a partial curve.
   int max_plans{40};
   /// The curve of eta over T reaches this factor times T_min [-]. Default 1.5; [1, 10].
   double curve_factor{1.5};
@@ -136,10 +136,12 @@ struct MinTimePoint {
 /// One strategy's search.
 struct MinTimeResult {
   Strategy strategy{};
-  /// kOptimal: T_min found (t_min; the plan at T_min). kInfeasible: no T from the lower bound to
-  /// motion_time_max met the limits (best: the least excess reached, with its plan). kTimeLimit:
-  /// the budget ran out; t_min, when set, is the best bound so far (a feasible T; the true T_min
-  /// is at or below it). kFailed: invalid input (invalid_input) or a plan that failed.
+  /// kOptimal: T_min found (t_min; the plan at T_min) and the curve planned up to curve_factor
+  /// T_min. kInfeasible: no T from the lower bound to motion_time_max met the limits (best: the
+  /// least excess reached, with its plan). kTimeLimit: the budget (time or max_plans) ran out;
+  /// t_min, when set, is the best bound so far (a feasible T; the true T_min is at or below it),
+  /// or T_min itself when t_min_final (the budget ran out on the curve above it, which is then
+  /// partial; the message says so). kFailed: invalid input (invalid_input) or a plan that failed.
   SolveStatus status{SolveStatus::kFailed};
   std::optional<InvalidInput> invalid_input;
   std::string message;
@@ -156,9 +158,15 @@ struct MinTimeResult {
   /// The largest T planned below t_min that was infeasible (t_min - 1 ms after the bracketing);
   /// nullopt when t_min is the scan start (nothing below it was planned) [s].
   std::optional<double> infeasible_below;
-  /// Every T planned above t_min was feasible (false: the feasible set is not an interval there,
-  /// e.g. the residual wave of the uniform law has zeros). Only meaningful with t_min.
-  bool feasible_above{false};
+  /// T_min is final: bracketed to 1 ms (infeasible_below is t_min - 1 ms, infeasible from the
+  /// planner's own starts) or the scan start. Always for kOptimal; for kTimeLimit when the budget
+  /// ran out only while the curve above T_min was planned (else t_min is a bound).
+  bool t_min_final{false};
+  /// Every T planned above t_min, up to curve_factor t_min, was feasible (false: a T above it is
+  /// infeasible from the planner's own starts, so the feasible set is not an interval there, e.g.
+  /// the residual wave of the uniform law has zeros). Nullopt without t_min, and when the budget
+  /// ran out before the curve reached curve_factor t_min and no T above it had failed.
+  std::optional<bool> feasible_above;
   /// The plan at t_min; for kInfeasible the plan of the best point reached.
   std::optional<PlanResult> plan;
   /// kInfeasible: the point of least excess reached.
@@ -176,22 +184,26 @@ struct MinTimeResult {
 /// scan_step, a bracketing search (regula falsi on the excess, safeguarded by bisection) to 1 ms
 /// between the last infeasible and the first feasible scanned T, then the scan continued up to
 /// curve_factor T_min for the curve and feasible_above. Deterministic.
-/// Warm starts (the optimising strategies): the first T is planned from the planner's own
-/// starts; every later T from the durations of a planned neighbour (the nearest planned T below
-/// and above it, the one of lower excess; ties: below), recorded in its MinTimePoint. A T is
-/// planned again from the planner's own starts (the better plan kept, its warm_start then
-/// nullopt) when its warm-started plan missed its own constraints next to a feasible neighbour,
-/// or, for time_domain (whose plans are local optima that depend on where they start), when it
-/// misses the limits by at most refine_excess below the least feasible T found so far.
+/// Warm starts (the optimising strategies): a T where the plan is likely feasible (above the
+/// least feasible T found so far) or far from the limits (the scan while its excess, extrapolated,
+/// stays above refine_excess) is planned from the durations of a planned neighbour (the nearest
+/// planned T below and above it, the one of lower excess; ties: below), recorded in its
+/// MinTimePoint; every other T (the first, next to a near miss, the refinement and the
+/// bracketing) from the planner's own starts. A warm-started plan that is infeasible is planned
+/// again from the planner's own starts and that plan kept (its warm_start then nullopt), so an
+/// infeasible point is infeasible from the planner's own starts (what a plan request at that T
+/// does), except a far miss of the scan: below every feasible T found so far, a plan warm-started
+/// from a far miss that misses the limits by more than refine_excess is kept as it is.
 [[nodiscard]] MinTimeResult min_time(const Format& format, Strategy strategy,
                                      const MinTimeOptions& options);
 
 /// The headline over several strategies' searches.
 struct MinTimeSummary {
-  /// Index of the strategy with the least t_min among the kOptimal results (ties: the first);
+  /// Index of the strategy with the least t_min among the results whose t_min is final (kOptimal,
+  /// or kTimeLimit with a partial curve; ties: the first);
   /// nullopt when none found one.
   std::optional<std::size_t> winner;
-  /// The uniform law's (baseline) result index when it was searched and found a T_min.
+  /// The uniform law's (baseline) result index when it was searched and found a final T_min.
   std::optional<std::size_t> baseline;
   /// 100 (T_baseline - T_winner) / T_baseline [%], when both exist.
   std::optional<double> gain_pct;
