@@ -157,7 +157,7 @@ const std::vector<Setting>& settings() {
        0,
        0,
        "a job spread",
-       {"owner", "replicas"}},
+       {"helpers", "owner", "replicas"}},
       {"batch_job_max_takes", "SLOSH_BATCH_JOB_MAX_TAKES", &C::batch_job_max_takes, 1, 100,
        "a take count"},
   };

@@ -125,6 +125,9 @@ class JobStore {
   /// shared store refuses or fails their writes (naming it and its reason); empty otherwise.
   [[nodiscard]] virtual std::string sharing_problem() { return {}; }
 
+  /// Forgets this replica's own copy of job `id` and leaves the shared store as it is (another
+  /// replica took the job over). Default: nothing (a store of one replica has no other copy).
+  virtual void drop_local(const std::string& id) { (void)id; }
   /// What the store holds of job `id` besides a record (asked when it has no record for it):
   /// its rows, or its cancel flag while its heartbeat lives (the replica that runs it publishes
   /// the record again at its next heartbeat), so the job must not be answered as unknown. A
