@@ -41,11 +41,19 @@ using namespace std::chrono_literals;
 /// redis-server, two replicas sharing it (one solve worker each, Redis timeout
 /// `redis_timeout_ms`) and nginx in front.
 struct Cluster {
-  explicit Cluster(int redis_timeout_ms = 200)
-      : replicas{2,
-                 {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms",
-                  std::to_string(redis_timeout_ms)},
-                 "line"} {}
+  /// `spread`: the replicas' batch_job_spread ("" for the default).
+  explicit Cluster(int redis_timeout_ms = 200, const std::string& spread = "")
+      : replicas(start(redis, redis_timeout_ms, spread)) {}
+  static test::ReplicaSet start(const test::RedisServer& redis, int redis_timeout_ms,
+                                const std::string& spread) {
+    if (!spread.empty()) ::setenv("SLOSH_BATCH_JOB_SPREAD", spread.c_str(), 1);  // read at start
+    test::ReplicaSet set{2,
+                         {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms",
+                          std::to_string(redis_timeout_ms)},
+                         "line"};
+    ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
+    return set;
+  }
   test::RedisServer redis;
   test::ReplicaSet replicas;
   test::NginxProxy proxy{replicas.ports(), true};
@@ -170,7 +178,8 @@ TEST(Cluster, APlanSolvedThroughTheProxyIsAHitOnTheOtherReplica) {
 }
 
 TEST(Cluster, ABatchJobStartedOnOneReplicaIsReadDownloadedAndCancelledThroughTheOther) {
-  Cluster cluster{kSharingRedisTimeoutMs};
+  // One replica runs the job alone (B solves none of it): "owner", named.
+  Cluster cluster{kSharingRedisTimeoutMs, "owner"};
   auto a = cluster.replicas[0].client();
   auto b = cluster.replicas[1].client();
   // A small job, run on A, read through B: the same record, rows and CSV file.
@@ -283,7 +292,8 @@ std::pair<double, std::string> timed_plan(httplib::Client& proxy, std::size_t i)
 // item, the window's queued one and one each side of the metric reads start meanwhile), and takes
 // at most 5 times + 1 s the slowest of the same kind of plan on the idle cluster.
 TEST(Cluster, AnInteractivePlanThroughTheProxyOvertakesRunningJobs) {
-  Cluster cluster{kSharingRedisTimeoutMs};
+  // One job per replica, each running on its own replica alone: "owner", named.
+  Cluster cluster{kSharingRedisTimeoutMs, "owner"};
   auto proxy = cluster.proxy.client();
   double idle = 0.0;
   for (std::size_t i = 0; i < 4; ++i) idle = std::max(idle, timed_plan(proxy, 9000 + i).first);

@@ -634,6 +634,51 @@ TEST(SharedJobs, TwoLiveReplicasWithOneIdSaySoInTheirLogs) {
 // With a Redis cache, a calibration stored through one replica is in Redis: another replica
 // plans with it by name (before, it answered 404 on options.model), with the same plan as the
 // fitted model given inline.
+// A cancelled job lost with an emptying of Redis (the replica that accepted it, the only one
+// that could publish it again, was killed): the replica that took its DELETE sends the cancel
+// flag again, which alone says nothing lives. Once the emptying's settling time has passed,
+// every replica answers 404 for GET and DELETE, never a 503 promising a publication that cannot
+// come; before that, a 503 that says only what is true.
+TEST(SharedJobs, ACancelledJobLostWithAnEmptyingIsUnknownOnceTheEmptyingHasSettled) {
+  SharedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto second = cluster.replicas[1].client();
+  auto third = cluster.replicas[2].client();
+  const std::string id = post_table(owner, 3000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(second, id, 30).at("state"), "running");
+  const auto deleted = second.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  ASSERT_EQ(deleted->status, 202) << deleted->body;
+  ASSERT_EQ(wait_finished(second, id).at("state"), "cancelled");
+  ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  ASSERT_TRUE(redis.command({"FLUSHALL"}));
+  // The replica that took the DELETE records it again after the emptying (never lost).
+  ASSERT_TRUE(test::wait_until([&] {
+    const auto cancel = redis.command({"EXISTS", "slosh:jobs:" + id + ":cancel"});
+    return cancel && cancel->integer == 1;
+  }));
+  for (auto* c : {&second, &third}) {
+    int last = 0;
+    ASSERT_TRUE(test::wait_until(
+        [&] {
+          const auto r = c->Get("/v1/batches/" + id);
+          last = r ? r->status : 0;
+          if (last == 503) {
+            const std::string message = json::parse(r->body).value("message", "");
+            EXPECT_EQ(message.find("its results are there"), std::string::npos) << message;
+          }
+          return last == 404;
+        },
+        std::chrono::seconds(20)))
+        << "still " << last;
+    const auto again = c->Delete("/v1/batches/" + id);
+    ASSERT_TRUE(again);
+    EXPECT_EQ(again->status, 404) << again->body;
+  }
+}
+
 TEST(SharedCalibrations, ACalibrationStoredThroughOneReplicaPlansOnAnother) {
   test::RedisServer redis;
   test::ReplicaSet replicas{

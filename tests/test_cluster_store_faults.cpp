@@ -20,6 +20,7 @@
 #include "support/job_tables.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
+#include "support/server.hpp"
 #include "support/stalling_relay.hpp"
 
 namespace slosh {
@@ -109,20 +110,24 @@ bool poll_until(std::chrono::milliseconds limit, Attempt attempt) {
 
 /// Two replicas sharing `redis` (one worker each), reading batch_job_stale_s = `stale_s`.
 struct Pair {
-  explicit Pair(const test::RedisServer& redis, const char* stale_s = "30")
-      : replicas(start(redis.url(), redis.url(), stale_s)) {}
+  /// `spread`: the replicas' batch_job_spread ("" for the default).
+  explicit Pair(const test::RedisServer& redis, const char* stale_s = "30", const char* spread = "")
+      : replicas(start(redis.url(), redis.url(), stale_s, spread)) {}
   Pair(const std::string& url_a, const std::string& url_b, const char* stale_s = "30")
-      : replicas(start(url_a, url_b, stale_s)) {}
+      : replicas(start(url_a, url_b, stale_s, "")) {}
   static std::vector<std::unique_ptr<test::Replica>> start(const std::string& url_a,
                                                            const std::string& url_b,
-                                                           const char* stale_s) {
+                                                           const char* stale_s,
+                                                           const char* spread) {
     ::setenv("SLOSH_BATCH_JOB_STALE_S", stale_s, 1);  // the replicas read it at start
+    if (*spread != '\0') ::setenv("SLOSH_BATCH_JOB_SPREAD", spread, 1);
     std::vector<std::unique_ptr<test::Replica>> out;
     out.push_back(std::make_unique<test::Replica>(
         "line-1", std::vector<std::string>{"--cache", url_a, "--workers", "1"}));
     out.push_back(std::make_unique<test::Replica>(
         "line-2", std::vector<std::string>{"--cache", url_b, "--workers", "1"}));
     ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+    ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
     return out;
   }
   std::vector<std::unique_ptr<test::Replica>> replicas;
@@ -272,11 +277,12 @@ TEST(ClusterStoreFaults, ADeleteThroughAnotherReplicaWhileTheOwnerIsPausedIsAnsw
   EXPECT_EQ(wait_finished(a, id).value("state", ""), "cancelled");
 }
 
-// An owner paused past batch_job_stale_s carries on and says so: a line in its log and a note in
-// the job's record (read through either replica), naming how long it did not run.
+// With "owner", an owner paused past batch_job_stale_s carries on and says so: a line in its log
+// and a note in the job's record (read through either replica), naming how long it did not run.
+// (With the default "helpers", another replica takes such a job over: the test below.)
 TEST(ClusterStoreFaults, AnOwnerResumedAfterAPauseSaysSoInItsLogAndTheJobsRecord) {
   test::RedisServer redis;
-  Pair pair(redis, "1.5");
+  Pair pair(redis, "1.5", "owner");
   auto a = pair.a().client();
   auto b = pair.b().client();
   const std::string id = post_job(a, recipes(200, 14000));
@@ -299,6 +305,40 @@ TEST(ClusterStoreFaults, AnOwnerResumedAfterAPauseSaysSoInItsLogAndTheJobsRecord
   EXPECT_NE(pair.a().log().find("batch job " + id + ": " + text), std::string::npos)
       << pair.a().log();
   EXPECT_EQ(get_json(b, "/v1/batches/" + id).value("note", ""), text);
+}
+
+// With the default "helpers", a job whose owner is paused past half of batch_job_stale_s is
+// taken over by the other replica from its record and rows in Redis and ends done there, each
+// row once; the owner, resumed, finds the job is no longer its own, says so and drops its copy
+// (it never writes over the new owner's record).
+TEST(ClusterStoreFaults, AJobOfAnOwnerPausedPastTheStaleTimeIsTakenOverAndEndsDone) {
+  test::RedisServer redis;
+  Pair pair(redis, "1.5");
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(200, 15000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(pair.a().pid(), SIGSTOP);
+  std::this_thread::sleep_for(3s);  // the pause itself (the fault), past the stale time
+  ::kill(pair.a().pid(), SIGCONT);
+  const json done = wait_finished(b, id);
+  EXPECT_EQ(done.value("state", ""), "done") << done.dump();
+  EXPECT_EQ(done.at("progress").at("done"), 200);
+  std::size_t sum = 0;
+  for (const auto& [replica, rows] : done.at("shares").items()) sum += rows.get<std::size_t>();
+  EXPECT_EQ(sum, 200u) << done.dump();
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return pair.a().log().find("batch job " + id + ": another replica took it over") !=
+               std::string::npos;
+      },
+      std::chrono::seconds(10)))
+      << pair.a().log();
+  EXPECT_EQ(wait_finished(a, id).value("state", ""), "done");
+  const auto csv = a.Get("/v1/batches/" + id + "/results.csv");
+  ASSERT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), "200");
 }
 
 // The table of a job that did not finish its rows (cancelled) is never answered as if it were

@@ -104,7 +104,7 @@ TEST(Config, RedisSettingsFromTheFileWithTheirTypes) {
             quoted + ": redis_required = \"true\" has the wrong type: allowed true or false");
   const std::string zero = write_temp(R"({"redis_timeout_ms": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(zero, c); }),
-            zero + ": redis_timeout_ms = 0 is not a timeout in milliseconds: allowed 1 to 60000");
+            zero + ": redis_timeout_ms = 0 is out of range: allowed 1 to 60000");
   const std::string bad = write_temp(R"({"cache": "redis://10.0.0.5:6380/99"})");
   EXPECT_EQ(error_of([&] { apply_config_file(bad, c); }),
             bad +
@@ -135,7 +135,7 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   ServerConfig c;
   const std::string path = write_temp(R"({"port": 70000})");
   EXPECT_EQ(error_of([&] { apply_config_file(path, c); }),
-            path + ": port = 70000 is not a TCP port: allowed 0 to 65535");
+            path + ": port = 70000 is out of range: allowed 0 to 65535");
   const std::string typo = write_temp(R"({"prot": 80})");
   EXPECT_EQ(
       error_of([&] { apply_config_file(typo, c); }),
@@ -151,16 +151,29 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
           "batch_job_spread, batch_job_max_takes");
   const std::string queue = write_temp(R"({"queue": 0})");
   EXPECT_EQ(error_of([&] { apply_config_file(queue, c); }),
-            queue + ": queue = 0 is not a queue size: allowed 1 to 100000");
+            queue + ": queue = 0 is out of range: allowed 1 to 100000");
   EXPECT_EQ(error_of([&] {
               apply_environment({{"SLOSH_BATCH_JOBS_BYTES", "65535"}}, c);
             }),
-            "SLOSH_BATCH_JOBS_BYTES = 65535 is not a size in bytes: allowed 65536 to "
+            "SLOSH_BATCH_JOBS_BYTES = 65535 is out of range: allowed 65536 to "
             "1099511627776");
   EXPECT_EQ(error_of([&] {
               apply_environment({{"SLOSH_SOLVE_BUDGET_S", "0"}}, c);
             }),
-            "SLOSH_SOLVE_BUDGET_S = 0 is not a duration: allowed > 0.0 and <= 600.0 s");
+            "SLOSH_SOLVE_BUDGET_S = 0 is out of range: allowed > 0.0 and <= 600.0 s");
+  // A number outside the range is out of range; only text that is no number is not a duration.
+  EXPECT_EQ(error_of([&] {
+              apply_environment({{"SLOSH_BATCH_JOB_STALE_S", "1"}}, c);
+            }),
+            "SLOSH_BATCH_JOB_STALE_S = 1 is out of range: allowed > 1.0 and <= 86400.0 s");
+  EXPECT_EQ(error_of([&] {
+              apply_environment({{"SLOSH_BATCH_JOB_STALE_S", "1s"}}, c);
+            }),
+            "SLOSH_BATCH_JOB_STALE_S = 1s is not a duration: allowed > 1.0 and <= 86400.0 s");
+  EXPECT_EQ(error_of([&] {
+              apply_environment({{"SLOSH_BATCH_JOB_STALE_S", "nan"}}, c);
+            }),
+            "SLOSH_BATCH_JOB_STALE_S = nan is not a duration: allowed > 1.0 and <= 86400.0 s");
   const std::string text_port = write_temp(R"({"port": "80"})");
   EXPECT_EQ(error_of([&] { apply_config_file(text_port, c); }),
             text_port + ": port = \"80\" is not a TCP port: allowed 0 to 65535");

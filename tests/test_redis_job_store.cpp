@@ -20,6 +20,7 @@
 namespace {
 
 using slosh::service::JobStore;
+using slosh::service::JobTraces;
 using slosh::service::RedisClient;
 using slosh::service::RedisJobStore;
 using slosh::test::RedisServer;
@@ -201,12 +202,21 @@ TEST(RedisJobStore, ALostRecordLeavesTracesAndRowSlotsShowEveryGap) {
   EXPECT_TRUE(store.records_missing_among({"j", "k"}).empty());
   ASSERT_TRUE(client->command({"DEL", store.key("j", "record")}));
   EXPECT_EQ(store.records_missing_among({"j", "k"}), std::vector<std::string>{"j"});
-  EXPECT_TRUE(store.has_traces("j"));
-  EXPECT_FALSE(store.has_traces("unknown"));
+  EXPECT_EQ(store.traces("j"), JobTraces::kRows);
+  EXPECT_EQ(store.traces("unknown"), JobTraces::kNone);
+  // A cancel flag alone (a DELETE sent again after an emptying) is a trace only while a
+  // replica's heartbeat of the job lives: then that replica writes the record back.
+  ASSERT_TRUE(store.request_cancel("c"));
+  EXPECT_EQ(store.traces("c"), JobTraces::kNone);
+  ASSERT_TRUE(store.put_record("c", "r"));  // sets the heartbeat with the record
+  ASSERT_TRUE(client->command({"DEL", store.key("c", "record")}));
+  EXPECT_EQ(store.traces("c"), JobTraces::kLiveCancel);
+  ASSERT_TRUE(client->command({"DEL", store.key("c", "alive")}));
+  EXPECT_EQ(store.traces("c"), JobTraces::kNone);
   // A removed job is neither missing (its owner must not publish it again) nor traced.
   ASSERT_TRUE(store.remove("k"));
   EXPECT_TRUE(store.records_missing_among({"k"}).empty());
-  EXPECT_FALSE(store.has_traces("k"));
+  EXPECT_EQ(store.traces("k"), JobTraces::kNone);
 }
 
 TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {

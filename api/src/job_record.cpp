@@ -184,4 +184,52 @@ std::optional<PlanTableRow> parse_result_row(std::string_view text, std::size_t 
   return table_row_of(std::move(row));
 }
 
+namespace {
+
+// The milliseconds of an iso_time() text; nullopt for anything else.
+std::optional<std::int64_t> unix_ms_of(const json& text) {
+  if (!text.is_string()) return std::nullopt;
+  std::tm utc{};
+  int millis = 0;
+  const std::string& s = text.get_ref<const std::string&>();
+  if (std::sscanf(s.c_str(), "%d-%d-%dT%d:%d:%d.%dZ", &utc.tm_year, &utc.tm_mon, &utc.tm_mday,
+                  &utc.tm_hour, &utc.tm_min, &utc.tm_sec, &millis) != 7) {
+    return std::nullopt;
+  }
+  utc.tm_year -= 1900;
+  utc.tm_mon -= 1;
+  return static_cast<std::int64_t>(timegm(&utc)) * 1000 + millis;
+}
+
+}  // namespace
+
+JobStatus job_status_of(const JobRecord& record) {
+  const json& d = record.document;
+  JobStatus s;
+  s.id = d.value("id", "");
+  s.state = record.state;
+  s.format = d.value("format", "csv");
+  if (const auto view = d.find("view"); view != d.end() && view->is_string()) {
+    s.view = view->get<std::string>();
+  }
+  s.total = record.total;
+  s.done = record.done;
+  if (const auto progress = d.find("progress"); progress != d.end()) {
+    s.failed = count_member(*progress, "failed").value_or(0);
+  }
+  s.created_ms = unix_ms_of(d.value("created_at", json())).value_or(0);
+  s.started_ms = unix_ms_of(d.value("started_at", json()));
+  s.message = record.message;
+  if (const auto note = d.find("note"); note != d.end() && note->is_string()) {
+    s.note = note->get<std::string>();
+  }
+  s.cancel_requested = record.cancel_requested;
+  if (const auto shares = d.find("shares"); shares != d.end() && shares->is_object()) {
+    for (const auto& [replica, rows] : shares->items()) {
+      if (rows.is_number_unsigned()) s.shares.emplace_back(replica, rows.get<std::size_t>());
+    }
+  }
+  return s;
+}
+
 }  // namespace slosh::api

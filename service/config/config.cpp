@@ -2,6 +2,7 @@
 
 #include <unistd.h>
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <iterator>
@@ -27,8 +28,12 @@ long long parse_integer(const std::string& where, const std::string& text, long 
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || text.empty() || v < lo || v > hi) {
-    throw std::runtime_error(where + " = " + text + " is not " + what + ": allowed " +
+  const bool parsed = used == text.size() && !text.empty();
+  if (!parsed || v < lo || v > hi) {
+    // A number of the right kind outside the range is out of range (as a request field is), not
+    // "not a TCP port": only text that is no integer at all is not one.
+    throw std::runtime_error(where + " = " + text +
+                             (parsed ? " is out of range" : " is not " + what) + ": allowed " +
                              std::to_string(lo) + " to " + std::to_string(hi));
   }
   return v;
@@ -42,10 +47,12 @@ double parse_seconds(const std::string& where, const std::string& text, double l
   } catch (const std::exception&) {
     used = 0;
   }
-  if (used != text.size() || text.empty() || !(v > lo && v <= hi)) {
-    throw std::runtime_error(where + " = " + text + " is not a duration: allowed > " +
-                             api::json_number_text(lo) + " and <= " + api::json_number_text(hi) +
-                             " s");
+  const bool parsed = used == text.size() && !text.empty() && std::isfinite(v);
+  if (!parsed || !(v > lo && v <= hi)) {
+    // 1 s below the bound is a duration out of range; "abc" or "nan" is not a duration at all.
+    throw std::runtime_error(
+        where + " = " + text + (parsed ? " is out of range" : " is not a duration") +
+        ": allowed > " + api::json_number_text(lo) + " and <= " + api::json_number_text(hi) + " s");
   }
   return v;
 }
@@ -150,7 +157,7 @@ const std::vector<Setting>& settings() {
        0,
        0,
        "a job spread",
-       {"owner", "replicas"}},
+       {"helpers", "owner", "replicas"}},
       {"batch_job_max_takes", "SLOSH_BATCH_JOB_MAX_TAKES", &C::batch_job_max_takes, 1, 100,
        "a take count"},
   };

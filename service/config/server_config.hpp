@@ -99,12 +99,16 @@ struct ServerConfig {
   /// A queued or running job whose record its replica has not rewritten for this long reads as
   /// failed ("the replica running it stopped"); the owner rewrites it every 0.5 s [s]. Default 30.
   double batch_job_stale_s{30.0};
-  /// Where a batch job's items are solved when the cache is Redis: "owner" (the replica that
-  /// accepted it runs them all; its record and rows are shared through Redis) or "replicas"
-  /// (its items go into a Redis stream with a consumer group, every replica's workers take them,
-  /// an item a stopped replica took is taken over after batch_job_stale_s, each row is stored
-  /// once). Without Redis a job always runs on its replica. Default "owner".
-  std::string batch_job_spread{"owner"};
+  /// Where a batch job's items are solved when the cache is Redis: "helpers" (the replica that
+  /// accepted it runs it as with "owner", and the other replicas solve its plans from the
+  /// table's end into the shared plan cache; when its replica goes silent for half of
+  /// batch_job_stale_s another one takes the job over from its record and rows in Redis),
+  /// "owner" (the replica that accepted it runs them all; its record and rows are shared through
+  /// Redis) or "replicas" (its items go into a Redis stream with a consumer group, every
+  /// replica's workers take them, an item a stopped replica took is taken over after
+  /// batch_job_stale_s, each row is stored once). Without Redis a job always runs on its
+  /// replica. Default "helpers".
+  std::string batch_job_spread{"helpers"};
   /// With batch_job_spread = "replicas": an item of a shared job taken this many times by
   /// replicas that never stored its row (each stopped, crashed or was cut off from Redis while
   /// solving it) is not handed out again: its row is recorded failed, naming this setting, so an

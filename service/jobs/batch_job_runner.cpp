@@ -32,6 +32,26 @@ constexpr std::chrono::milliseconds kHeartbeat{500};
 /// run (paused, starved), which its record and log then say.
 constexpr double kPauseNoteS = 2.0;
 
+// The index below which the helpers skip a job's items, at a heartbeat of its runner that starts
+// item `next` and started `at_beat` at the last one: about as many items as since then are
+// started before the next heartbeat. Sets `at_beat` to `next`.
+std::size_t front_of(std::size_t next, std::size_t& at_beat) {
+  const std::size_t front = next + (next - at_beat) + 2;
+  at_beat = next;
+  return front;
+}
+
+// One more row of `status` solved by `replica`.
+void add_share(JobStatus& status, const std::string& replica) {
+  for (auto& [name, rows] : status.shares) {
+    if (name == replica) {
+      ++rows;
+      return;
+    }
+  }
+  status.shares.emplace_back(replica, 1);
+}
+
 }  // namespace
 
 void BatchJobs::run_jobs() {
@@ -152,11 +172,14 @@ void BatchJobs::run(Job& job) {
                   "the service shut down before the job started; POST the job again");
   }
   s.state = JobState::kRunning;
-  s.started_ms = unix_ms_now();
+  if (!s.started_ms) s.started_ms = unix_ms_now();
   write_record(job);
   std::deque<StartedItem> window;
   std::vector<std::string> rows;
-  std::size_t next = 0;
+  // A job taken over from a silent owner carries on after the rows it had stored.
+  std::size_t next = s.done;
+  std::vector<std::size_t> cached;  // rows that were cache hits, not yet given their share
+  std::size_t next_at_beat = next;
   auto last_flush = std::chrono::steady_clock::now();
   RunStop stop = RunStop::kAllDone;
   bool heartbeat = false;
@@ -177,12 +200,7 @@ void BatchJobs::run(Job& job) {
     const StartedItem& head = window.front();
     if (!head.pending.valid() ||
         head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
-      const api::PlanTableRow row = plan_row(job.rows[s.done], head.get(), job.view);
-      if (row.failed) ++s.failed;
-      rows.push_back(api::table_row_text(row));
-      row_bytes += rows.back().size();
-      ++s.done;
-      ++items_stored_;
+      row_bytes += keep_row(job, head.get(), rows, cached);
       window.pop_front();
       if (row_bytes > max_bytes) {
         stop = RunStop::kTooLarge;
@@ -191,16 +209,63 @@ void BatchJobs::run(Job& job) {
     }
     heartbeat = std::chrono::steady_clock::now() - last_flush >= kHeartbeat;
     if (heartbeat) {
+      if (helped_ && !beat_helpers(job, cached, front_of(next, next_at_beat))) {
+        stop = RunStop::kTakenOver;
+        break;
+      }
       flush(job, rows);
       last_flush = std::chrono::steady_clock::now();
     }
   }
+  if (stop == RunStop::kTakenOver) return finish_run(job, stop);
+  if (helped_) (void)beat_helpers(job, cached, s.total);
   flush(job, rows);
   finish_run(job, stop);
 }
 
+std::size_t BatchJobs::keep_row(Job& job, const BatchResult& result, std::vector<std::string>& rows,
+                                std::vector<std::size_t>& cached) {
+  JobStatus& s = job.status;
+  const api::PlanTableRow row = plan_row(job.rows[s.done], result, job.view);
+  if (row.failed) ++s.failed;
+  // A cache hit may be a helper's solve: its share is known at the next heartbeat.
+  if (helped_ && result.cached) {
+    cached.push_back(s.done);
+  } else {
+    if (helped_) add_share(s, helped_->replica());
+    ++items_stored_;
+  }
+  rows.push_back(api::table_row_text(row));
+  ++s.done;
+  return rows.back().size();
+}
+
+bool BatchJobs::beat_helpers(Job& job, std::vector<std::size_t>& cached, std::size_t front) {
+  JobStatus& s = job.status;
+  const auto owner = helped_->beat(s.id, front);
+  // Another replica took the job over while this one was silent (paused, cut off): it runs it.
+  if (owner && !owner->empty() && *owner != helped_->replica()) return false;
+  const auto helpers = helped_->helpers_of(s.id, cached);
+  for (std::size_t k = 0; k < cached.size(); ++k) {
+    const bool helped = helpers && !(*helpers)[k].empty();
+    add_share(s, helped ? (*helpers)[k] : helped_->replica());
+    if (!helped) ++items_stored_;
+  }
+  cached.clear();
+  return true;
+}
+
 void BatchJobs::finish_run(Job& job, RunStop stop) {
   const JobStatus& s = job.status;
+  if (stop == RunStop::kTakenOver) {
+    spdlog::warn(
+        "batch job {}: another replica took it over while this one was silent; it "
+        "runs it on from its record in the shared job store",
+        s.id);
+    store_.drop_local(s.id);
+    return;
+  }
+  if (helped_) helped_->close(s.id);
   const std::string progress =
       std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
   if (stop == RunStop::kCancelled) {

@@ -210,7 +210,17 @@ Reply table_reply(const std::string& id, TableFormat format,
 BatchJobs::BatchJobs(PlanService& service, JobStore& store)
     : service_(service), store_(store), runner_([this] { run_jobs(); }) {
   const ServerConfig& config = service.config();
-  if (config.batch_job_spread != "replicas" || !service.redis()) return;
+  if (!service.redis()) return;
+  if (config.batch_job_spread == "helpers") {
+    const auto ttl = std::chrono::milliseconds(std::llround(config.batch_job_ttl_s * 1e3));
+    const auto stale = std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1e3));
+    helped_ = std::make_unique<HelpedJobs>(service.redis(), replica_name(config), ttl);
+    helper_ =
+        std::make_unique<HelperWorker>(service, service.redis(), replica_name(config), ttl, stale,
+                                       store, [this](const std::string& id) { return adopt(id); });
+    return;
+  }
+  if (config.batch_job_spread != "replicas") return;
   SharedQueueOptions options;
   options.replica = replica_name(config);
   // A replica silent for batch_job_stale_s is stopped: its items are taken over after that long.
@@ -235,6 +245,7 @@ void BatchJobs::shutdown() {
     stopping_ = true;
   }
   if (shared_) shared_->stop();  // its items in flight are taken over by the other replicas
+  if (helper_) helper_->stop();
   wake_.notify_all();
 }
 
@@ -326,6 +337,14 @@ Reply BatchJobs::post(const std::string& text) {
       if (auto refused = store_.create(job->status.id, record_text(*job))) {
         throw api::ApiError(api::ErrorCode::kUnavailable, "",
                             *refused + "; the job was not started: POST it again later");
+      }
+      // Offered to the other replicas once accepted; without them (Redis refused the offer) it
+      // runs here alone, as with "owner".
+      if (helped_ && !helped_->publish(job->status, job->rows)) {
+        spdlog::warn(
+            "batch job {}: its items could not be offered to the other replicas; it runs here "
+            "alone",
+            job->status.id);
       }
       active_[job->status.id] = job;
       queue_.push_back(job);

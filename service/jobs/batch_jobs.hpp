@@ -30,6 +30,8 @@
 
 #include "http/plan_service.hpp"
 #include "jobs/batch_job_record.hpp"
+#include "jobs/helped_jobs.hpp"
+#include "jobs/helper_worker.hpp"
 #include "jobs/job_store.hpp"
 #include "jobs/recipe_table.hpp"
 #include "jobs/shared_job_worker.hpp"
@@ -93,7 +95,8 @@ class BatchJobs {
   /// Job items (rows) this replica solved and stored, of its own jobs and of shared ones; a row
   /// of a shared job is counted by the one replica that stored it first.
   [[nodiscard]] std::uint64_t items_stored() const {
-    return items_stored_.load() + (shared_ ? shared_->items_stored() : 0);
+    return items_stored_.load() + (shared_ ? shared_->items_stored() : 0) +
+           (helper_ ? helper_->items_solved() : 0);
   }
 
   /// For /readyz: why some jobs' rows or records are held on this replica only (the shared
@@ -108,6 +111,18 @@ class BatchJobs {
   // when its done rows are the table's first (every job done), so that this replica publishes it
   // again if Redis loses it, as it does for a job it ran alone.
   void keep_finished_shared(const std::string& id);
+  // Runs job `id` here from where its silent owner left it (batch_job_spread = "helpers"): its
+  // table from the helpers' stream, its record and first `done` rows from the shared store.
+  // Whether it was taken.
+  bool adopt(const std::string& id);
+  // The helpers' shares of the rows stored since the last call (`cached`: the indexes of those
+  // that were cache hits) and the owner's heartbeat to them; false when another replica owns
+  // the job now (it took the job over while this one was silent).
+  bool beat_helpers(Job& job, std::vector<std::size_t>& cached, std::size_t front);
+  // Adds the row of the job's next item (`result`) to `rows`, counts it (and its share, or notes
+  // it in `cached` when it was a cache hit); returns its length.
+  std::size_t keep_row(Job& job, const BatchResult& result, std::vector<std::string>& rows,
+                       std::vector<std::size_t>& cached);
   void run_jobs();
   void run(Job& job);
   // Starts items until `workers` of the job's solves are in flight; returns the next item.
@@ -118,7 +133,7 @@ class BatchJobs {
   // that gap is long (paused, starved); sets `last_turn` to now.
   void note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
   // Why a run stopped: all rows done, cancelled, its rows passed batch_jobs_bytes, shutdown.
-  enum class RunStop { kAllDone, kCancelled, kTooLarge, kShutdown };
+  enum class RunStop { kAllDone, kCancelled, kTooLarge, kShutdown, kTakenOver };
   // Ends a run that stopped as `stop` with its state and message.
   void finish_run(Job& job, RunStop stop);
   // Ends `job` in `state` with `message`: its rows and final record stored.
@@ -151,6 +166,10 @@ class BatchJobs {
   std::atomic<std::uint64_t> items_stored_{0};  // rows of the jobs run here
   // The worker of the jobs shared out through Redis (batch_job_spread = "replicas"), else null.
   std::unique_ptr<SharedJobWorker> shared_;
+  // With batch_job_spread = "helpers": this replica's jobs offered to the others, and its help
+  // with theirs; else null.
+  std::unique_ptr<HelpedJobs> helped_;
+  std::unique_ptr<HelperWorker> helper_;
   std::thread runner_;  // last: started once the members above exist
 };
 

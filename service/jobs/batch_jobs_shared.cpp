@@ -12,6 +12,7 @@
 #include "jobs/batch_jobs.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
+#include "slosh/api/plan_view.hpp"
 
 namespace slosh::service {
 
@@ -65,6 +66,42 @@ void BatchJobs::keep_finished_shared(const std::string& id) {
     spdlog::info("batch job {}: no local copy kept (its rows are not the table's first {})", id,
                  record->done);
   }
+}
+
+bool BatchJobs::adopt(const std::string& id) {
+  const JobStore::RecordLookup lookup = store_.lookup_record(id);
+  const auto record = lookup.text ? api::parse_job_record(*lookup.text) : std::nullopt;
+  if (!record || api::is_final(record->state)) return false;
+  JobStatus status = api::job_status_of(*record);
+  status.id = id;
+  auto table = helped_->table(id, status.total);
+  if (!table) return false;
+  // The rows its record counts are in the shared store (its owner stored rows before records).
+  std::vector<std::string> rows;
+  rows.reserve(status.done);
+  for (std::size_t page = 0; page < status.done; page += kCopyPage) {
+    const std::size_t n = std::min(kCopyPage, status.done - page);
+    auto read = store_.read_slots(id, page, n);
+    if (!read.slots || read.slots->size() != n) return false;
+    for (auto& slot : *read.slots) {
+      if (!slot) return false;
+      rows.push_back(std::move(*slot));
+    }
+  }
+  if (!store_.keep_copy(id, *lookup.text, rows)) return false;
+  auto job = std::make_shared<Job>();
+  job->status = std::move(status);
+  job->rows = std::move(*table);
+  if (job->status.view) job->view = api::parse_plan_view(*job->status.view);
+  job->cancel = job->status.cancel_requested;
+  {
+    const std::lock_guard lock(mutex_);
+    if (stopping_) return false;
+    active_[id] = job;
+    queue_.push_back(job);
+  }
+  wake_.notify_all();
+  return true;
 }
 
 }  // namespace slosh::service

@@ -62,13 +62,23 @@ void refuse_missing_record(JobStore& store, const std::string& id,
         "' is not on this replica and the shared job store (Redis) was emptied or "
         "restarted a moment ago: the replicas are publishing their jobs again, retry later");
   }
-  if (store.has_traces(id)) {
+  const JobTraces traces = store.traces(id);
+  if (traces == JobTraces::kRows) {
     // The record key alone is gone (evicted under maxmemory, or deleted) while the job's rows
     // are there: its owner publishes it again at its next heartbeat. A 404 would lose a DELETE.
     unavailable("batch job '" + shown +
                 "' is not on this replica and its record is missing from the shared job store "
                 "(Redis) although its results are there (evicted or deleted): the replica that "
                 "runs it publishes it again, retry later");
+  }
+  if (traces == JobTraces::kLiveCancel) {
+    // Only its cancel flag and its heartbeat: the replica running it beats it within
+    // batch_job_stale_s and writes its record back at that heartbeat; once the heartbeat has
+    // expired, nobody will, and the job is unknown (404) rather than a 503 without end.
+    unavailable("batch job '" + shown +
+                "' is not on this replica and its record is missing from the shared job store "
+                "(Redis); its cancel is recorded there and the replica running it is alive: that "
+                "replica writes the record again at its next heartbeat, retry later");
   }
   throw api::ApiError(
       api::ErrorCode::kNotFound, "id",

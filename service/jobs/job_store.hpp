@@ -14,6 +14,13 @@
 
 namespace slosh::service {
 
+/// What a store holds of a job whose record it lacks (JobStore::traces).
+enum class JobTraces {
+  kNone,        ///< nothing that says the job lives: unknown
+  kRows,        ///< its rows (the record was evicted or deleted)
+  kLiveCancel,  ///< its cancel flag, and the heartbeat of a replica running it
+};
+
 class JobStore {
  public:
   virtual ~JobStore() = default;
@@ -118,12 +125,18 @@ class JobStore {
   /// shared store refuses or fails their writes (naming it and its reason); empty otherwise.
   [[nodiscard]] virtual std::string sharing_problem() { return {}; }
 
-  /// Whether the store holds other keys of job `id` (its rows or cancel flag) although it has no
-  /// record for it: the record was evicted or deleted and its owner publishes it again at its
-  /// next heartbeat, so the job must not be answered as unknown. Default false.
-  [[nodiscard]] virtual bool has_traces(const std::string& id) {
+  /// Forgets this replica's own copy of job `id` and leaves the shared store as it is (another
+  /// replica took the job over). Default: nothing (a store of one replica has no other copy).
+  virtual void drop_local(const std::string& id) { (void)id; }
+  /// What the store holds of job `id` besides a record (asked when it has no record for it):
+  /// its rows, or its cancel flag while its heartbeat lives (the replica that runs it publishes
+  /// the record again at its next heartbeat), so the job must not be answered as unknown. A
+  /// cancel flag alone, with no live heartbeat, is no trace: no replica will publish the job (it
+  /// was lost with an emptying of the store, and the flag is only a DELETE sent again). Default
+  /// none.
+  [[nodiscard]] virtual JobTraces traces(const std::string& id) {
     (void)id;
-    return false;
+    return JobTraces::kNone;
   }
   /// Which of `ids` have no record in this store and were not removed (a shared store that
   /// evicted or lost a record key): their owner publishes them again. Default none.

@@ -19,6 +19,15 @@ RedisJobStore::RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::s
 
 std::string RedisJobStore::write_failure(const std::string& id,
                                          std::vector<std::vector<std::string>> commands) {
+  {
+    // The generation this write lands in is known before it is sent: an emptying right after it
+    // (even before this replica's first heartbeat looked) is then seen as one, and what was
+    // written (a DELETE's cancel, a job) is written again.
+    const std::lock_guard lock(mutex_);
+    if (seen_generation_.empty()) {
+      if (auto mark = generation(0)) seen_generation_ = std::move(*mark);
+    }
+  }
   commands.insert(commands.begin(), {"MULTI"});
   for (const char* part : {"record", "rows", "cancel", "removed"}) {
     commands.push_back({"EXPIRE", key(id, part), ttl_});
@@ -203,11 +212,18 @@ JobStore::SlotsRead RedisJobStore::read_slots(const std::string& id, std::size_t
   return {std::move(out), {}};
 }
 
-bool RedisJobStore::has_traces(const std::string& id) {
-  const auto replies = client_->pipeline(
-      {{"EXISTS", key(id, "rows"), key(id, "cancel")}, {"EXISTS", key(id, "removed")}});
-  return replies && (*replies)[0].type == RedisReply::Type::kInteger && (*replies)[0].integer > 0 &&
-         (*replies)[1].type == RedisReply::Type::kInteger && (*replies)[1].integer == 0;
+JobTraces RedisJobStore::traces(const std::string& id) {
+  const auto replies = client_->pipeline({{"EXISTS", key(id, "rows")},
+                                          {"EXISTS", key(id, "cancel")},
+                                          {"EXISTS", key(id, "removed")},
+                                          {"EXISTS", key(id, "alive")}});
+  if (!replies) return JobTraces::kNone;
+  const auto exists = [&](std::size_t i) {
+    return (*replies)[i].type == RedisReply::Type::kInteger && (*replies)[i].integer > 0;
+  };
+  if (exists(2)) return JobTraces::kNone;  // removed: deleted on purpose
+  if (exists(0)) return JobTraces::kRows;
+  return exists(1) && exists(3) ? JobTraces::kLiveCancel : JobTraces::kNone;
 }
 
 std::vector<std::string> RedisJobStore::records_missing_among(const std::vector<std::string>& ids) {

@@ -64,7 +64,7 @@ class RedisJobStore final : public JobStore {
   [[nodiscard]] std::optional<std::int64_t> heartbeat_age_ms(const std::string& id) override;
   [[nodiscard]] std::string last_write_failure() override;
   /// The rows or cancel key exists (the removal mark does not).
-  [[nodiscard]] bool has_traces(const std::string& id) override;
+  [[nodiscard]] JobTraces traces(const std::string& id) override;
   [[nodiscard]] std::vector<std::string> records_missing_among(
       const std::vector<std::string>& ids) override;
   bool request_cancel(const std::string& id) override;

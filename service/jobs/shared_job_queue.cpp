@@ -71,8 +71,11 @@ std::size_t count_of(const RedisReply& flat, const std::string& field) {
   return v != nullptr ? static_cast<std::size_t>(std::strtoull(v->c_str(), nullptr, 10)) : 0;
 }
 
-std::vector<std::string> item_command(const std::string& stream, const JobStatus& job,
-                                      std::size_t index, const RecipeRow& r) {
+}  // namespace
+
+std::vector<std::string> SharedJobQueue::item_command(const std::string& stream,
+                                                      const JobStatus& job, std::size_t index,
+                                                      const RecipeRow& r) {
   std::vector<std::string> add{"XADD",
                                stream,
                                "*",
@@ -93,8 +96,6 @@ std::vector<std::string> item_command(const std::string& stream, const JobStatus
   if (job.view) add.insert(add.end(), {"view", *job.view});
   return add;
 }
-
-}  // namespace
 
 SharedJobQueue::SharedJobQueue(std::shared_ptr<RedisClient> client, SharedQueueOptions options)
     : client_(std::move(client)), options_(std::move(options)) {}

@@ -125,6 +125,13 @@ class SharedJobQueue {
 
   [[nodiscard]] const SharedQueueOptions& options() const { return options_; }
 
+  /// The items of a stream reply (XREADGROUP's, XAUTOCLAIM's or XRANGE's entry list).
+  [[nodiscard]] static std::vector<SharedItem> items_of(const RedisReply& entries);
+  /// The XADD of item `index` (recipe `r`) of job `status` to `stream`.
+  [[nodiscard]] static std::vector<std::string> item_command(const std::string& stream,
+                                                             const JobStatus& status,
+                                                             std::size_t index, const RecipeRow& r);
+
  private:
   // A job's state in Redis: its composed status (nullopt without a spec), whether it has its
   // final record or was removed, whether Redis answered.
@@ -143,8 +150,6 @@ class SharedJobQueue {
                                                  const RedisReply& counts, bool cancel) const;
   // Writes `record` (final: only the first final write lands, and no later running one).
   bool write_record(const std::string& id, const std::string& record, bool final);
-  // The items of a stream reply (XREADGROUP's or XAUTOCLAIM's entry list).
-  [[nodiscard]] static std::vector<SharedItem> items_of(const RedisReply& entries);
   // Sets the takes of `items` (taken over from another replica) from the group's delivery counts.
   void count_takes(const std::string& id, std::vector<SharedItem>& items);
   // Up to `n` entries of job `id` pending for this replica but not in `held`: a take whose reply

@@ -308,6 +308,14 @@ bool TieredJobStore::cancel_requested(const std::string& id) {
   return local_.cancel_requested(id) || shared_.cancel_requested(id);
 }
 
+void TieredJobStore::drop_local(const std::string& id) {
+  local_.remove(id);
+  const std::lock_guard lock(mutex_);
+  counts_.erase(id);
+  unsynced_.erase(id);
+  refused_.erase(id);
+}
+
 bool TieredJobStore::remove(const std::string& id) {
   const bool local = local_.remove(id);
   const bool shared = shared_.remove(id);

@@ -53,7 +53,8 @@ class TieredJobStore final : public JobStore {
   /// refusal or failure, or its emptying).
   [[nodiscard]] std::optional<Unshared> unshared(const std::string& id) override;
   [[nodiscard]] std::string sharing_problem() override;
-  [[nodiscard]] bool has_traces(const std::string& id) override { return shared_.has_traces(id); }
+  [[nodiscard]] JobTraces traces(const std::string& id) override { return shared_.traces(id); }
+  void drop_local(const std::string& id) override;
   /// Also remembered (the last kRemembered) and sent again after the shared store was emptied,
   /// so that a cancel this replica accepted reaches the owner that republishes the job.
   bool request_cancel(const std::string& id) override;

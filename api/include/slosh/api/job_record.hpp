@@ -92,6 +92,10 @@ void mark_cancel_requested(JobRecord& record);
 void add_cancel_note(JobRecord& record, const std::string& note);
 /// Adds "deleted": true (the answer of DELETE for a finished job).
 void mark_deleted(JobRecord& record);
+/// The status a record was written from (id, state, format, view, progress, times to the
+/// millisecond, note, cancel_requested, shares): what a replica that takes over a running job
+/// from its silent owner carries on from.
+[[nodiscard]] JobStatus job_status_of(const JobRecord& record);
 /// Adds "results": {"offset", "limit", "rows", "next_offset" (null after the last stored row),
 /// "partial" (fewer rows stored than the job's total)}, `rows` being the page from `offset`.
 void add_results(JobRecord& record, std::size_t offset, std::size_t limit,

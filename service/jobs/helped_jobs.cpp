@@ -1,0 +1,171 @@
+#include "jobs/helped_jobs.hpp"
+
+#include <algorithm>
+#include <cstdlib>
+#include <utility>
+
+namespace slosh::service {
+
+namespace {
+
+/// The consumer group of the helpers.
+constexpr const char* kGroup = "helpers";
+/// Items written to the stream in one round trip.
+constexpr std::size_t kChunk = 500;
+/// Entries read back at a time when a job is adopted.
+constexpr std::size_t kReadChunk = 1000;
+
+bool any_error(const std::optional<std::vector<RedisReply>>& replies) {
+  if (!replies) return true;
+  return std::any_of(replies->begin(), replies->end(), [](const RedisReply& r) {
+    return r.is_error() && r.text.rfind("BUSYGROUP", 0) != 0;
+  });
+}
+
+}  // namespace
+
+HelpedJobs::HelpedJobs(std::shared_ptr<RedisClient> client, std::string replica,
+                       std::chrono::milliseconds ttl, std::string prefix)
+    : client_(std::move(client)),
+      replica_(std::move(replica)),
+      ttl_ms_(std::to_string(ttl.count())),
+      prefix_(std::move(prefix)) {}
+
+bool HelpedJobs::publish(const JobStatus& status, const std::vector<RecipeRow>& recipes) {
+  const std::string& id = status.id;
+  const std::string stream = key(id, "items");
+  if (any_error(client_->pipeline({{"DEL", stream},
+                                   {"HSET", key(id, "help"), "owner", replica_, "front", "0"},
+                                   {"PEXPIRE", key(id, "help"), ttl_ms_},
+                                   {"XGROUP", "CREATE", stream, kGroup, "0", "MKSTREAM"},
+                                   {"PEXPIRE", stream, ttl_ms_}}))) {
+    return false;
+  }
+  // From the end: the helpers work from the table's end while the owner works from its start.
+  for (std::size_t done = 0; done < recipes.size(); done += kChunk) {
+    std::vector<std::vector<std::string>> adds;
+    for (std::size_t k = done; k < std::min(recipes.size(), done + kChunk); ++k) {
+      const std::size_t i = recipes.size() - 1 - k;
+      adds.push_back(SharedJobQueue::item_command(stream, status, i, recipes[i]));
+    }
+    if (any_error(client_->pipeline(adds))) return false;
+  }
+  return !any_error(
+      client_->pipeline({{"ZADD", prefix_ + "helping", std::to_string(status.created_ms), id}}));
+}
+
+std::optional<std::string> HelpedJobs::beat(const std::string& id, std::size_t front) {
+  const auto replies = client_->pipeline({{"HGET", key(id, "help"), "owner"},
+                                          {"HSET", key(id, "help"), "front", std::to_string(front)},
+                                          {"PEXPIRE", key(id, "help"), ttl_ms_},
+                                          {"PEXPIRE", key(id, "items"), ttl_ms_},
+                                          {"PEXPIRE", key(id, "helped"), ttl_ms_}});
+  if (!replies) return std::nullopt;
+  const RedisReply& owner = (*replies)[0];
+  if (owner.type != RedisReply::Type::kString) {
+    // Emptied or expired: the key the HSET just made holds no owner, and nobody helps.
+    (void)client_->command({"DEL", key(id, "help")});
+    return std::string();
+  }
+  return owner.text;
+}
+
+std::optional<std::vector<std::string>> HelpedJobs::helpers_of(
+    const std::string& id, const std::vector<std::size_t>& indexes) {
+  std::vector<std::string> out(indexes.size());
+  if (indexes.empty()) return out;
+  std::vector<std::string> ask{"HMGET", key(id, "helped")};
+  for (std::size_t i : indexes) ask.push_back(std::to_string(i));
+  const auto reply = client_->command(ask);
+  if (!reply || reply->type != RedisReply::Type::kArray) return std::nullopt;
+  for (std::size_t k = 0; k < out.size() && k < reply->elements.size(); ++k) {
+    if (reply->elements[k].type == RedisReply::Type::kString) out[k] = reply->elements[k].text;
+  }
+  return out;
+}
+
+void HelpedJobs::close(const std::string& id) {
+  (void)client_->pipeline(
+      {{"ZREM", prefix_ + "helping", id},
+       {"DEL", key(id, "items"), key(id, "help"), key(id, "helped"), key(id, "adopt")}});
+}
+
+std::vector<HelpedJobs::Helped> HelpedJobs::jobs() {
+  std::vector<Helped> out;
+  const auto ids = client_->command({"ZRANGE", prefix_ + "helping", "0", "-1"});
+  if (!ids || ids->type != RedisReply::Type::kArray) return out;
+  // Two HGETs a job in one round trip rather than an HMGET: the job's rows are read with HMGET,
+  // and a slow log or a proxy filtered on it then shows the row reads alone.
+  std::vector<std::vector<std::string>> asks;
+  for (const RedisReply& id : ids->elements) {
+    asks.push_back({"HGET", key(id.text, "help"), "owner"});
+    asks.push_back({"HGET", key(id.text, "help"), "front"});
+  }
+  if (asks.empty()) return out;
+  const auto replies = client_->pipeline(asks);
+  if (!replies) return out;
+  for (std::size_t i = 0; i < ids->elements.size(); ++i) {
+    const RedisReply& owner = (*replies)[2 * i];
+    const RedisReply& front = (*replies)[2 * i + 1];
+    if (owner.type != RedisReply::Type::kString) {
+      // No owner any more (closed, emptied): no help.
+      (void)client_->command({"ZREM", prefix_ + "helping", ids->elements[i].text});
+      continue;
+    }
+    Helped h;
+    h.id = ids->elements[i].text;
+    h.owner = owner.text;
+    h.front = static_cast<std::size_t>(std::strtoull(front.text.c_str(), nullptr, 10));
+    out.push_back(std::move(h));
+  }
+  return out;
+}
+
+std::vector<SharedItem> HelpedJobs::take(const std::string& id, std::size_t n) {
+  // NOACK: an item a helper took and never solved costs nothing (the owner solves every item).
+  const auto read =
+      client_->command({"XREADGROUP", "GROUP", kGroup, replica_, "COUNT", std::to_string(n),
+                        "NOACK", "STREAMS", key(id, "items"), ">"});
+  if (!read || read->type != RedisReply::Type::kArray || read->elements.empty() ||
+      read->elements[0].elements.size() != 2) {
+    return {};
+  }
+  return SharedJobQueue::items_of(read->elements[0].elements[1]);
+}
+
+void HelpedJobs::note_helped(const std::string& id, std::size_t index) {
+  (void)client_->pipeline({{"HSETNX", key(id, "helped"), std::to_string(index), replica_},
+                           {"PEXPIRE", key(id, "helped"), ttl_ms_}});
+}
+
+bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock) {
+  const auto replies = client_->pipeline(
+      {{"SET", key(id, "adopt"), replica_, "NX", "PX", std::to_string(lock.count())}});
+  if (!replies || (*replies)[0].type != RedisReply::Type::kStatus) return false;
+  return !any_error(client_->pipeline({{"HSET", key(id, "help"), "owner", replica_}}));
+}
+
+std::optional<std::vector<RecipeRow>> HelpedJobs::table(const std::string& id, std::size_t total) {
+  std::vector<std::optional<RecipeRow>> slots(total);
+  std::string from = "-";
+  for (;;) {
+    const auto read = client_->command(
+        {"XRANGE", key(id, "items"), from, "+", "COUNT", std::to_string(kReadChunk)});
+    if (!read || read->type != RedisReply::Type::kArray) return std::nullopt;
+    std::vector<SharedItem> items = SharedJobQueue::items_of(*read);
+    for (SharedItem& item : items) {
+      if (item.index < total) slots[item.index] = std::move(item.recipe);
+    }
+    if (read->elements.size() < kReadChunk) break;
+    from = "(" + read->elements.back().elements[0].text;
+  }
+  std::vector<RecipeRow> out;
+  out.reserve(total);
+  for (auto& slot : slots) {
+    if (!slot) return std::nullopt;
+    out.push_back(std::move(*slot));
+  }
+  return out;
+}
+
+}  // namespace slosh::service

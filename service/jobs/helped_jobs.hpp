@@ -1,0 +1,86 @@
+#pragma once
+// The Redis side of a batch job run by the replica that accepted it and helped by the others
+// (batch_job_spread = "helpers", the default with a Redis cache; SPEC §13). The owner runs the
+// job as "owner" does (its record, and every row in table order, through the tiered job store):
+// it finishes and serves the job alone while Redis refuses writes. The other replicas solve the
+// job's plans from the end of the table into the shared plan cache, so the owner's items there
+// are cache hits; they store no row, so every row is stored and counted once, by the owner.
+//
+// Keys of job <id> besides the job store's: <id>:help (a hash: owner = the replica running it,
+// front = the index below which the owner has started every item: helpers skip those),
+// <id>:items (a stream, one entry per recipe in reverse table order, read by the group
+// "helpers"), <id>:helped (a hash: index -> the replica that solved its plan, for the shares).
+// <prefix>helping is a sorted set of the helped jobs by creation time.
+//
+// When the owner's heartbeat (the job store's <id>:alive) has been silent for half of
+// batch_job_stale_s, a helper adopts the job (a lock, then owner = itself): it reads the table
+// from the stream's entries and the record and first `done` rows from Redis, and runs the job
+// from there as its owner. So kill -9 of the owner loses no row, and the job has one owner (one
+// writer of its record) at a time.
+
+#include <chrono>
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "jobs/batch_job_record.hpp"
+#include "jobs/recipe_table.hpp"
+#include "jobs/shared_job_queue.hpp"
+#include "storage/redis_client.hpp"
+
+namespace slosh::service {
+
+class HelpedJobs {
+ public:
+  /// `replica`: this replica's name; `ttl`: the job keys' time to live.
+  HelpedJobs(std::shared_ptr<RedisClient> client, std::string replica,
+             std::chrono::milliseconds ttl, std::string prefix = "slosh:jobs:");
+
+  /// Offers job `status` (run here) to the helpers: its owner, its items in reverse order.
+  /// Whether Redis took it all (else the job runs here alone).
+  bool publish(const JobStatus& status, const std::vector<RecipeRow>& recipes);
+  /// The owner's heartbeat: the helpers skip items below `front`. Returns the job's owner as
+  /// Redis holds it ("" when Redis does not hold the job; nullopt when it cannot be asked).
+  std::optional<std::string> beat(const std::string& id, std::size_t front);
+  /// The replica that solved the plan of each of `indexes` (0-based) of job `id`, "" for none;
+  /// nullopt when Redis cannot be asked.
+  std::optional<std::vector<std::string>> helpers_of(const std::string& id,
+                                                     const std::vector<std::size_t>& indexes);
+  /// The job has finished: no more help.
+  void close(const std::string& id);
+
+  /// A helped job as a helper sees it.
+  struct Helped {
+    std::string id;
+    std::string owner;
+    std::size_t front{0};
+  };
+  /// The helped jobs, oldest first; empty when Redis cannot be asked.
+  std::vector<Helped> jobs();
+  /// Up to `n` new items of job `id`, in stream order (from the table's end).
+  std::vector<SharedItem> take(const std::string& id, std::size_t n);
+  /// This replica solved the plan of item `index` of job `id`.
+  void note_helped(const std::string& id, std::size_t index);
+  /// Makes this replica the owner of job `id` when no other replica did within `lock`: whether
+  /// it now owns it.
+  bool adopt(const std::string& id, std::chrono::milliseconds lock);
+  /// The recipes of job `id` (`total` of them) from its stream; nullopt when some are missing or
+  /// Redis cannot be asked.
+  std::optional<std::vector<RecipeRow>> table(const std::string& id, std::size_t total);
+
+  [[nodiscard]] const std::string& replica() const { return replica_; }
+
+ private:
+  [[nodiscard]] std::string key(const std::string& id, const char* part) const {
+    return prefix_ + id + ":" + part;
+  }
+  std::shared_ptr<RedisClient> client_;
+  std::string replica_;
+  std::string ttl_ms_;
+  std::string prefix_;
+};
+
+}  // namespace slosh::service

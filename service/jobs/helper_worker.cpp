@@ -1,0 +1,145 @@
+#include "jobs/helper_worker.hpp"
+
+#include <spdlog/spdlog.h>
+
+#include <algorithm>
+#include <utility>
+
+#include "jobs/batch_job_record.hpp"
+#include "slosh/api/error.hpp"
+#include "slosh/api/job_record.hpp"
+#include "slosh/api/service_bodies.hpp"
+
+namespace slosh::service {
+
+namespace {
+
+/// How often the helper looks at the helped jobs (and their owners' heartbeats).
+constexpr std::chrono::milliseconds kLook{500};
+/// How long an idle helper waits before it looks for items again.
+constexpr std::chrono::milliseconds kIdlePoll{100};
+/// How long a busy helper waits for its oldest item.
+constexpr std::chrono::milliseconds kItemWait{20};
+
+}  // namespace
+
+HelperWorker::HelperWorker(PlanService& service, std::shared_ptr<RedisClient> client,
+                           std::string replica, std::chrono::milliseconds ttl,
+                           std::chrono::milliseconds stale, JobStore& store,
+                           std::function<bool(const std::string&)> adopt)
+    : service_(service),
+      jobs_(std::move(client), std::move(replica), ttl),
+      stale_(stale),
+      store_(store),
+      adopt_(std::move(adopt)),
+      thread_([this] { run(); }) {}
+
+HelperWorker::~HelperWorker() {
+  stop();
+  if (thread_.joinable()) thread_.join();
+}
+
+void HelperWorker::stop() {
+  {
+    const std::lock_guard lock(mutex_);
+    stopping_ = true;
+  }
+  wake_.notify_all();
+}
+
+bool HelperWorker::stopping() const {
+  const std::lock_guard lock(mutex_);
+  return stopping_;
+}
+
+std::vector<HelpedJobs::Helped> HelperWorker::look() {
+  std::vector<HelpedJobs::Helped> out;
+  for (HelpedJobs::Helped& job : jobs_.jobs()) {
+    if (job.owner == jobs_.replica()) continue;  // runs here
+    const JobStore::RecordLookup lookup = store_.lookup_record(job.id);
+    const auto record = lookup.text ? api::parse_job_record(*lookup.text) : std::nullopt;
+    if (record && api::is_final(record->state)) {
+      jobs_.close(job.id);  // its owner stopped before it closed it
+      continue;
+    }
+    // Half the stale time: adopted before any replica reads the job as failed.
+    const auto beat = store_.heartbeat_age_ms(job.id);
+    const bool silent = lookup.answered && record && (!beat || *beat > stale_.count() / 2);
+    if (silent && jobs_.adopt(job.id, stale_)) {
+      spdlog::warn("batch job {}: its replica {} stopped answering; this replica runs it on",
+                   job.id, job.owner);
+      if (adopt_ && adopt_(job.id)) continue;
+    }
+    out.push_back(std::move(job));
+  }
+  return out;
+}
+
+void HelperWorker::fill(const std::vector<HelpedJobs::Helped>& jobs) {
+  const std::size_t workers = std::max<std::size_t>(1, service_.workers());
+  const double budget = service_.engine().config().solve_budget_s;
+  for (const HelpedJobs::Helped& job : jobs) {
+    if (flight_.size() >= workers) return;
+    if (met_.count(job.id) != 0) continue;
+    for (SharedItem& item : jobs_.take(job.id, workers - flight_.size())) {
+      if (item.index < job.front) {
+        met_.insert(job.id);  // the owner has started this one, and every one before it
+        break;
+      }
+      if (item.recipe.error) continue;  // its row is its reading error: nothing to solve
+      try {
+        flight_.push_back(
+            {job.id, item.index,
+             service_.start_batch_item(api::batch_item_of(item.recipe.request, budget),
+                                       TaskPriority::kBackground)});
+      } catch (const api::ApiError&) {
+        // Refused (the queue is full): the owner solves it.
+      }
+    }
+  }
+}
+
+bool HelperWorker::finish_ready() {
+  bool any = false;
+  for (auto it = flight_.begin(); it != flight_.end();) {
+    const auto& pending = it->started.pending;
+    if (pending.valid() && pending.wait_for(std::chrono::seconds(0)) != std::future_status::ready) {
+      ++it;
+      continue;
+    }
+    const BatchResult result = it->started.get();
+    if (!result.error) {
+      jobs_.note_helped(it->job, it->index);
+      ++solved_;
+    }
+    any = true;
+    it = flight_.erase(it);
+  }
+  return any;
+}
+
+void HelperWorker::run() {
+  std::vector<HelpedJobs::Helped> jobs;
+  auto last_look = std::chrono::steady_clock::now() - kLook;
+  while (!stopping()) {
+    if (std::chrono::steady_clock::now() - last_look >= kLook) {
+      jobs = look();
+      last_look = std::chrono::steady_clock::now();
+      std::set<std::string> live;
+      for (const auto& j : jobs) live.insert(j.id);
+      for (auto it = met_.begin(); it != met_.end();) {
+        it = live.count(*it) != 0 ? std::next(it) : met_.erase(it);
+      }
+    }
+    fill(jobs);
+    if (finish_ready()) continue;
+    if (!flight_.empty()) {
+      (void)flight_.front().started.pending.wait_for(kItemWait);
+      continue;
+    }
+    std::unique_lock lock(mutex_);
+    wake_.wait_for(lock, kIdlePoll, [this] { return stopping_; });
+  }
+}
+
+}  // namespace slosh::service

@@ -1,0 +1,189 @@
+// A batch job with the default spread ("helpers", SPEC §13): the replica that accepted it runs it
+// as "owner" does and the other replicas solve its plans from the table's end into the shared
+// plan cache. Every part real and started by the test: a redis-server on a free port and three
+// `slosh serve` replicas (one solve worker each) sharing it. A job is worked on by all three
+// (each one's slosh_batch_job_items_total and its share in the record) and its table is the file
+// `slosh batch` writes, each row once; kill -9 of the accepting replica mid-job leaves the job to
+// another, which finishes it complete; Redis stopped mid-job leaves the accepting replica to
+// finish and serve it alone, and its rows reach Redis once Redis is back. The tests wait for
+// states and counters (polling), never for a fixed time.
+
+#include <httplib.h>
+#include <signal.h>
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cstdio>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "storage/redis_client.hpp"
+#include "storage/redis_url.hpp"
+#include "support/job_tables.hpp"
+#include "support/process.hpp"
+#include "support/redis_server.hpp"
+#include "support/replicas.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace {
+
+using nlohmann::json;
+using test::csv_cells;
+using test::csv_without_timing;
+using namespace std::chrono_literals;
+
+/// redis-server and three replicas with the default spread (batch_job_stale_s = 3 s: a silent
+/// owner's job is taken over after 1.5 s).
+struct HelpedCluster {
+  HelpedCluster() : replicas(start(redis)) {}
+  static test::ReplicaSet start(const test::RedisServer& redis) {
+    ::setenv("SLOSH_BATCH_JOB_STALE_S", "3", 1);  // the replicas read it at start
+    test::ReplicaSet set{
+        3, {"--cache", redis.url(), "--workers", "1", "--redis-timeout-ms", "10000"}, "line"};
+    ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
+    return set;
+  }
+  test::RedisServer redis;
+  test::ReplicaSet replicas;
+};
+
+/// A CSV recipe table of `n` distinct recipes (the motion time differs: no two share a plan).
+std::string table_of(std::size_t n, std::size_t first) {
+  std::string table = "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n";
+  for (std::size_t i = first; i < first + n; ++i) {
+    char time[32];
+    std::snprintf(time, sizeof time, "%.3f", 0.9 + 0.001 * static_cast<double>(i));
+    table += "r" + std::to_string(i) + ",48.5,82,water,800," + time + ",notch\n";
+  }
+  return table;
+}
+
+/// The table `slosh batch` writes for table_of(n, first) (no cache), without timing cells.
+std::vector<std::string> reference_of(std::size_t n, std::size_t first) {
+  const test::TempDir dir;
+  test::write_file(dir / "t.csv", table_of(n, first));
+  const auto r = test::run_slosh({"batch", "--in", (dir / "t.csv").string(), "--out",
+                                  (dir / "out.csv").string(), "--cache", ""});
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return csv_without_timing(test::read_file(dir / "out.csv"));
+}
+
+std::string post_table(httplib::Client& c, std::size_t n, std::size_t first) {
+  const json body{{"table", table_of(n, first)}, {"table_format", "csv"}, {"format", "csv"}};
+  const auto r = c.Post("/v1/batches", body.dump(), "application/json");
+  EXPECT_TRUE(r && r->status == 202) << (r ? r->body : "no answer");
+  return r && r->status == 202 ? json::parse(r->body).at("id").get<std::string>() : "";
+}
+
+json record_of(httplib::Client& c, const std::string& id) {
+  const auto r = c.Get("/v1/batches/" + id);
+  return r && r->status == 200 ? json::parse(r->body) : json();
+}
+
+json wait_finished(httplib::Client& c, const std::string& id) {
+  json record;
+  test::wait_until([&] { return test::is_final_record(record = record_of(c, id)); });
+  return record;
+}
+
+json wait_done(httplib::Client& c, const std::string& id, int done) {
+  json record;
+  test::wait_until([&] {
+    record = record_of(c, id);
+    return record.is_object() && record.at("progress").at("done").get<int>() >= done;
+  });
+  return record;
+}
+
+double items_of(const test::Replica& replica) {
+  auto c = replica.client();
+  const auto r = c.Get("/metrics");
+  return r ? test::metric(r->body, "slosh_batch_job_items_total") : -1.0;
+}
+
+/// The results.csv of finished job `id` through `c`: every row once, in table order.
+std::vector<std::string> whole_table(httplib::Client& c, const std::string& id, std::size_t n) {
+  const auto csv = c.Get("/v1/batches/" + id + "/results.csv");
+  EXPECT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
+  if (!csv || csv->status != 200) return {};
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Partial"), "false");
+  EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), std::to_string(n));
+  const std::vector<std::string> lines = csv_without_timing(csv->body);
+  std::set<std::string> numbers;
+  for (std::size_t i = 1; i < lines.size(); ++i) numbers.insert(csv_cells(lines[i]).at(0));
+  EXPECT_EQ(numbers.size(), n);
+  return lines;
+}
+
+TEST(HelpedJobs, ADefaultJobIsWorkedOnByEveryReplicaAndItsTableIsSloshBatchs) {
+  const std::vector<std::string> reference = reference_of(480, 0);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 480, 0);
+  ASSERT_FALSE(id.empty());
+  const json done = wait_finished(owner, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 480);
+  // The shares name every replica and add up to the table: each row counted once.
+  const json& shares = done.at("shares");
+  std::size_t sum = 0;
+  for (const auto& [replica, rows] : shares.items()) sum += rows.get<std::size_t>();
+  EXPECT_EQ(sum, 480u) << shares;
+  for (std::size_t i = 0; i < 3; ++i) {
+    const test::Replica& r = cluster.replicas[i];
+    EXPECT_GT(shares.value(r.id(), 0), 0) << r.id() << " has no share: " << shares;
+    EXPECT_GT(items_of(r), 0) << r.id() << " solved no item";
+  }
+  EXPECT_EQ(whole_table(owner, id, 480), reference);
+  auto other = cluster.replicas[2].client();
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+TEST(HelpedJobs, KillingTheAcceptingReplicaMidJobLeavesItToAnotherWhichFinishesIt) {
+  const std::vector<std::string> reference = reference_of(480, 1000);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[1].client();
+  const std::string id = post_table(owner, 480, 1000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(other, id, 100).at("state"), "running");
+  ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 480);
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+  auto third = cluster.replicas[2].client();
+  EXPECT_EQ(whole_table(third, id, 480), reference);
+}
+
+TEST(HelpedJobs, RedisStoppedMidJobLeavesTheOwnerToFinishItAloneAndItsRowsReachRedisAfter) {
+  const std::vector<std::string> reference = reference_of(480, 2000);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 480, 2000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(owner, id, 60).at("state"), "running");
+  cluster.redis.kill();
+  const json done = wait_finished(owner, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(whole_table(owner, id, 480), reference);
+  cluster.redis.start();  // the same port, empty: the owner publishes the job again
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        const auto rows = redis.command({"HLEN", "slosh:jobs:" + id + ":rows"});
+        return rows && rows->integer == 480;
+      },
+      30s));
+  auto other = cluster.replicas[1].client();
+  EXPECT_TRUE(test::wait_until([&] { return test::is_final_record(record_of(other, id)); }, 30s));
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+}  // namespace
+}  // namespace slosh
