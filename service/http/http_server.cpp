@@ -12,6 +12,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -68,6 +69,28 @@ thread_local std::optional<PlanFacts> request_plan;
 // pre-routing hook: the service codes its bodies itself, see send).
 thread_local bool request_accepts_gzip = false;
 std::atomic<std::uint64_t> request_counter{0};
+// The reply could not be written: the client had closed its side (sent its FIN) before it, and the
+// library writes nothing to such a connection. Logged and counted as 499, never as the status
+// and bytes it would have had.
+thread_local bool request_unwritten = false;
+constexpr int kClientClosedStatus = 499;
+
+// The socket of the connection this thread answers (the library does not expose it): found once
+// per connection by the reaper's listing, and kept with its peer address for the connection's
+// next requests (one getpeername confirms it is still that connection).
+struct ConnectionSocket {
+  int fd{-1};
+  sockaddr_storage peer{};
+  socklen_t length{0};
+};
+thread_local ConnectionSocket connection_socket;
+
+bool same_peer(int fd, const ConnectionSocket& known) {
+  sockaddr_storage peer{};
+  socklen_t length = sizeof peer;
+  return fd >= 0 && getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) == 0 &&
+         length == known.length && std::memcmp(&peer, &known.peer, length) == 0;
+}
 
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
@@ -189,6 +212,13 @@ void collect_cancelled_metrics(MetricsText& out, const PlanService& service,
              std::uint64_t{service.cancelled_min_times()});
   out.sample("slosh_solves_cancelled_total", "kind=\"calibration\"",
              std::uint64_t{calibrations.cancelled()});
+  out.family("slosh_solves_timed_out_total", "counter",
+             "Solves stopped because every request waiting for them had been answered 504 (their "
+             "budget plus queue_wait_s passed first): plans and min-time searches.");
+  out.sample("slosh_solves_timed_out_total", "kind=\"plan\"",
+             std::uint64_t{service.timed_out_plans()});
+  out.sample("slosh_solves_timed_out_total", "kind=\"min_time\"",
+             std::uint64_t{service.timed_out_min_times()});
 }
 
 // Everything the server answers with, built in order: the handlers and their engine, the job
@@ -273,12 +303,24 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
 // The reply of a request with its route label, whatever answered it: sent, counted under the
 // label, and the label (and the plan) kept for the access log and the latency histogram the
 // logger writes.
-void answer(Runtime& rt, std::string label, Reply reply, httplib::Response& res) {
+void answer(Runtime&, std::string label, Reply reply, httplib::Response& res) {
   request_route = std::move(label);
   request_plan = reply.plan;
-  const int status = reply.status;
-  send(std::move(reply), res);
-  rt.parts.service.metrics().count_request(request_route, status);
+  send(std::move(reply), res);  // counted right before it is written (post-routing hook)
+}
+
+// The socket of the request's connection; -1 without the reaper or when it is gone.
+int request_socket(const Runtime& rt, const httplib::Request& req) {
+  if (!rt.reaper) return -1;
+  ConnectionSocket& known = connection_socket;
+  if (same_peer(known.fd, known)) return known.fd;
+  known = ConnectionSocket{};
+  const int fd = rt.reaper->socket_of(peer_of(req));
+  if (fd < 0) return -1;
+  known.length = sizeof known.peer;
+  if (getpeername(fd, reinterpret_cast<sockaddr*>(&known.peer), &known.length) != 0) return -1;
+  known.fd = fd;
+  return fd;
 }
 
 // A routed request: its body read (POST), its query checked against the route's parameters
@@ -444,6 +486,17 @@ std::optional<Reply> encoded_slash_reply(const httplib::Request& req) {
   }
 }
 
+// The field lines of header `name` as one line: RFC 9110 5.3 combines repeated lines, in order,
+// with commas (a list split over two lines means the same as on one).
+std::string combined_field_lines(const httplib::Request& req, const char* name) {
+  std::string value;
+  const std::size_t lines = req.get_header_value_count(name);
+  for (std::size_t i = 0; i < lines; ++i) {
+    value += (i == 0 ? "" : ", ") + req.get_header_value(name, i);
+  }
+  return value;
+}
+
 // Request ids, the reaper's bookkeeping and one log line per request.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
@@ -451,8 +504,15 @@ void install_request_hooks(Runtime& rt) {
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
     // The service codes its bodies itself (send): the library must not compress them again.
-    request_accepts_gzip = accepts_gzip(req.get_header_value("Accept-Encoding"));
-    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
+    auto& headers = const_cast<httplib::Request&>(req).headers;
+    request_accepts_gzip = accepts_gzip(combined_field_lines(req, "Accept-Encoding"));
+    headers.erase("Accept-Encoding");
+    // The handlers read one If-None-Match line: a list of tags over several lines becomes one.
+    if (req.get_header_value_count("If-None-Match") > 1) {
+      std::string tags = combined_field_lines(req, "If-None-Match");
+      headers.erase("If-None-Match");
+      headers.emplace("If-None-Match", std::move(tags));
+    }
     res.set_header("X-Request-Id", request_id(req));
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
@@ -472,15 +532,30 @@ void install_request_hooks(Runtime& rt) {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+  // The library gives a reply without a body "Content-Length: 0"; a 304 must carry no
+  // Content-Length other than its 200's (RFC 9110 8.6), so it carries none.
+  rt.server.set_post_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
+    if (res.status == 304) res.headers.erase("Content-Length");
+    // Right before the library writes: a client that has sent its FIN gets nothing (the library's
+    // writer refuses such a socket), so the reply is recorded as unwritten.
+    const int fd = request_socket(rt, req);
+    request_unwritten = fd >= 0 && ConnectionReaper::peer_finished(fd);
+    // Counted before the bytes go out, so that a client that reads /metrics after its answer
+    // finds it counted.
+    rt.parts.service.metrics().count_request(request_route.empty() ? "other" : request_route,
+                                             request_unwritten ? kClientClosedStatus : res.status);
+  });
   rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
     if (rt.reaper) rt.reaper->end_request(peer_of(req));
     AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
                          .method = req.method.substr(0, 16),
                          .route = request_route.empty() ? "other" : request_route,
                          .path = path_as_sent(req).substr(0, 200),
-                         .status = res.status,
+                         .status = request_unwritten ? kClientClosedStatus : res.status,
                          .ms = std::nullopt,
-                         .bytes = res.content_provider_ ? res.content_length_ : res.body.size(),
+                         .bytes = request_unwritten       ? 0
+                                  : res.content_provider_ ? res.content_length_
+                                                          : res.body.size(),
                          .cache = res.get_header_value("X-Cache"),
                          .plan = std::move(request_plan)};
     if (request_start) {
@@ -490,6 +565,7 @@ void install_request_hooks(Runtime& rt) {
           entry.route, known_method(req.method) ? req.method : "other", took.count());
     }
     request_start.reset();
+    request_unwritten = false;
     request_route.clear();
     request_plan.reset();
     request_accepts_gzip = false;
