@@ -12,7 +12,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstring>
 #include <fstream>
 #include <functional>
 #include <memory>
@@ -26,6 +25,7 @@
 #include "http/client_wait.hpp"
 #include "http/connection_pool.hpp"
 #include "http/connection_reaper.hpp"
+#include "http/connection_socket.hpp"
 #include "http/gzip.hpp"
 #include "http/http_body.hpp"
 #include "http/library_replies.hpp"
@@ -34,6 +34,7 @@
 #include "http/plan_service.hpp"
 #include "http/route_handlers.hpp"
 #include "http/route_table.hpp"
+#include "http/server_metrics.hpp"
 #include "http/stop_signals.hpp"
 #include "jobs/batch_jobs.hpp"
 #include "jobs/job_stores.hpp"
@@ -74,23 +75,6 @@ std::atomic<std::uint64_t> request_counter{0};
 // and bytes it would have had.
 thread_local bool request_unwritten = false;
 constexpr int kClientClosedStatus = 499;
-
-// The socket of the connection this thread answers (the library does not expose it): found once
-// per connection by the reaper's listing, and kept with its peer address for the connection's
-// next requests (one getpeername confirms it is still that connection).
-struct ConnectionSocket {
-  int fd{-1};
-  sockaddr_storage peer{};
-  socklen_t length{0};
-};
-thread_local ConnectionSocket connection_socket;
-
-bool same_peer(int fd, const ConnectionSocket& known) {
-  sockaddr_storage peer{};
-  socklen_t length = sizeof peer;
-  return fd >= 0 && getpeername(fd, reinterpret_cast<sockaddr*>(&peer), &length) == 0 &&
-         length == known.length && std::memcmp(&peer, &known.peer, length) == 0;
-}
 
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
@@ -179,48 +163,6 @@ class ListeningServer : public httplib::Server {
   bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
 };
 
-// The batch jobs' and the pool's priority figures for /metrics.
-void collect_job_metrics(MetricsText& out, const BatchJobs& jobs, const WorkerPool& pool) {
-  out.family("slosh_batch_jobs_active", "gauge", "Batch jobs queued or running on this replica.");
-  out.sample("slosh_batch_jobs_active", "", std::uint64_t{jobs.active()});
-  out.family("slosh_batch_job_items_total", "counter",
-             "Batch job items (rows) this replica solved and stored; a shared job's row counts "
-             "on the one replica that stored it.");
-  out.sample("slosh_batch_job_items_total", "", jobs.items_stored());
-  out.family("slosh_pool_tasks_started_total", "counter",
-             "Solve tasks started by priority (interactive: plans of requests and batches; "
-             "background: items of batch jobs, min-time searches' strategies, calibration fits).");
-  out.sample("slosh_pool_tasks_started_total", "priority=\"interactive\"",
-             std::uint64_t{pool.started(TaskPriority::kInteractive)});
-  out.sample("slosh_pool_tasks_started_total", "priority=\"background\"",
-             std::uint64_t{pool.started(TaskPriority::kBackground)});
-  out.family("slosh_pool_background_queue_depth", "gauge",
-             "Background tasks waiting for a worker.");
-  out.sample("slosh_pool_background_queue_depth", "",
-             std::uint64_t{pool.queue_depth(TaskPriority::kBackground)});
-}
-
-// The solves stopped because their clients had gone, for /metrics.
-void collect_cancelled_metrics(MetricsText& out, const PlanService& service,
-                               const CalibrationService& calibrations) {
-  out.family("slosh_solves_cancelled_total", "counter",
-             "Solves stopped because every client waiting for them had closed its connection "
-             "(plans, min-time searches, calibration fits).");
-  out.sample("slosh_solves_cancelled_total", "kind=\"plan\"",
-             std::uint64_t{service.cancelled_plans()});
-  out.sample("slosh_solves_cancelled_total", "kind=\"min_time\"",
-             std::uint64_t{service.cancelled_min_times()});
-  out.sample("slosh_solves_cancelled_total", "kind=\"calibration\"",
-             std::uint64_t{calibrations.cancelled()});
-  out.family("slosh_solves_timed_out_total", "counter",
-             "Solves stopped because every request waiting for them had been answered 504 (their "
-             "budget plus queue_wait_s passed first): plans and min-time searches.");
-  out.sample("slosh_solves_timed_out_total", "kind=\"plan\"",
-             std::uint64_t{service.timed_out_plans()});
-  out.sample("slosh_solves_timed_out_total", "kind=\"min_time\"",
-             std::uint64_t{service.timed_out_min_times()});
-}
-
 // Everything the server answers with, built in order: the handlers and their engine, the job
 // stores and jobs, the calibrations; the batch jobs' and the cancellations' metrics registered.
 struct ServerParts {
@@ -307,20 +249,6 @@ void answer(Runtime&, std::string label, Reply reply, httplib::Response& res) {
   request_route = std::move(label);
   request_plan = reply.plan;
   send(std::move(reply), res);  // counted right before it is written (post-routing hook)
-}
-
-// The socket of the request's connection; -1 without the reaper or when it is gone.
-int request_socket(const Runtime& rt, const httplib::Request& req) {
-  if (!rt.reaper) return -1;
-  ConnectionSocket& known = connection_socket;
-  if (same_peer(known.fd, known)) return known.fd;
-  known = ConnectionSocket{};
-  const int fd = rt.reaper->socket_of(peer_of(req));
-  if (fd < 0) return -1;
-  known.length = sizeof known.peer;
-  if (getpeername(fd, reinterpret_cast<sockaddr*>(&known.peer), &known.length) != 0) return -1;
-  known.fd = fd;
-  return fd;
 }
 
 // A routed request: its body read (POST), its query checked against the route's parameters
@@ -497,7 +425,7 @@ std::string combined_field_lines(const httplib::Request& req, const char* name) 
   return value;
 }
 
-// Request ids, the reaper's bookkeeping and one log line per request.
+// Request ids, the request's codings and header lines, the reaper's bookkeeping, early refusals.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
@@ -532,13 +460,18 @@ void install_request_hooks(Runtime& rt) {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+}
+
+// What is done right before a reply is written (post-routing) and once it was (the logger): the
+// 304's framing, the request counter, the reaper's bookkeeping and one log line per request.
+void install_write_hooks(Runtime& rt) {
   // The library gives a reply without a body "Content-Length: 0"; a 304 must carry no
   // Content-Length other than its 200's (RFC 9110 8.6), so it carries none.
   rt.server.set_post_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     if (res.status == 304) res.headers.erase("Content-Length");
     // Right before the library writes: a client that has sent its FIN gets nothing (the library's
     // writer refuses such a socket), so the reply is recorded as unwritten.
-    const int fd = request_socket(rt, req);
+    const int fd = rt.reaper ? connection_socket(*rt.reaper, peer_of(req)) : -1;
     request_unwritten = fd >= 0 && ConnectionReaper::peer_finished(fd);
     // Counted before the bytes go out, so that a client that reads /metrics after its answer
     // finds it counted.
@@ -607,6 +540,7 @@ void install_http(Runtime& rt) {
   register_unrouted_body_methods(rt);
   install_error_handlers(rt);
   install_request_hooks(rt);
+  install_write_hooks(rt);
 }
 
 // Listens until stopped; true when the accept loop ended normally.
