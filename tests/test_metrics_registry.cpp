@@ -110,18 +110,22 @@ TEST(MetricsRegistry, TheServersMetricsHaveEachFamilyOnceInTheRegistrysOrder) {
   const auto at = [&](const std::string& family) {
     return std::find(order.begin(), order.end(), family) - order.begin();
   };
-  const std::vector<std::string> expected{
-      "slosh_http_requests_total", "slosh_workers",
-      "slosh_build_info",          "process_cpu_seconds_total",
-      "slosh_cache_store_ok",      "slosh_cam_export_budget_bytes",
-      "slosh_batch_jobs_active",   "slosh_solves_cancelled_total"};
+  const std::vector<std::string> expected{"slosh_http_requests_total",
+                                          "slosh_workers",
+                                          "slosh_build_info",
+                                          "process_cpu_seconds_total",
+                                          "slosh_cache_store_ok",
+                                          "slosh_cam_export_budget_bytes",
+                                          "slosh_batch_jobs_active",
+                                          "slosh_solves_cancelled_total",
+                                          "slosh_solves_timed_out_total"};
   for (std::size_t i = 0; i < expected.size(); ++i) {
     ASSERT_LT(at(expected[i]), static_cast<long>(order.size())) << expected[i] << " is missing";
     if (i > 0) {
       EXPECT_LT(at(expected[i - 1]), at(expected[i])) << expected[i];
     }
   }
-  EXPECT_EQ(order.back(), "slosh_solves_cancelled_total");
+  EXPECT_EQ(order.back(), "slosh_solves_timed_out_total");
 }
 
 }  // namespace

@@ -1163,7 +1163,8 @@ json plan_ok() {
   ok["headers"] = {{"ETag",
                     {{"description",
                       "The recipe key in quotes (with ;view=compact for the "
-                      "compact view, ;series=<period> with series)."},
+                      "compact view, ;series=<period> with series). Absent on a plan that is "
+                      "not cached (cut short by its time budget, or failed)."},
                      {"schema", {{"type", "string"}}}}}};
   return ok;
 }

@@ -14,6 +14,7 @@
 #include "engine/engine_errors.hpp"
 #include "export/plan_cam_file.hpp"
 #include "http/client_wait.hpp"
+#include "slosh/api/exact_number.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan_reply.hpp"
 
@@ -141,15 +142,21 @@ void PlanEngine::forget_flight(std::unordered_map<std::string, Flight>& flights,
   if (auto it = flights.find(key); it != flights.end() && it->second.id == id) flights.erase(it);
 }
 
+std::string PlanEngine::flight_name(const std::string& key, double budget) {
+  // The budget's exact bits: two budgets share a flight only when they are the same double.
+  return key + "@" + api::exact_number_text(budget);
+}
+
 std::optional<std::shared_future<PlanEngine::Outcome>> PlanEngine::join_or_add_flight(
     const std::string& key, double budget, const std::shared_future<Outcome>& future,
     const std::shared_ptr<FlightWaiters>& waiters, std::shared_ptr<FlightWaiters>* waiter,
     std::uint64_t& flight, bool* refused) {
-  // Single flight: a request for a recipe already being solved with at least its budget waits
-  // for that solve (a larger budget is another answer: it solves on its own). The lock covers
-  // only the map, never the queueing (workers take it to finish their task).
+  // Single flight: a request for a recipe already being solved with its budget waits for that
+  // solve (flight_name). The lock covers only the map, never the queueing (workers take it to
+  // finish their task).
+  const std::string name = flight_name(key, budget);
   const std::lock_guard lock(inflight_mutex_);
-  if (auto it = inflight_.find(key); it != inflight_.end() && it->second.budget >= budget) {
+  if (auto it = inflight_.find(name); it != inflight_.end()) {
     metrics_.count_singleflight_join();
     join_locked(*it->second.waiters, waiter != nullptr);
     if (waiter != nullptr) *waiter = it->second.waiters;
@@ -161,7 +168,7 @@ std::optional<std::shared_future<PlanEngine::Outcome>> PlanEngine::join_or_add_f
   }
   flight = ++flights_;
   join_locked(*waiters, waiter != nullptr);
-  inflight_[key] = Flight{future, budget, flight, waiters};
+  inflight_[name] = Flight{future, budget, flight, waiters};
   return std::nullopt;
 }
 
@@ -190,7 +197,7 @@ std::shared_future<PlanEngine::Outcome> PlanEngine::solve(
       wait_for_room ? pool_.submit_wait(task, priority) : pool_.try_submit(task, priority);
   if (!queued) {
     // Whoever joined this solve meanwhile gets the refusal too (never a future that hangs).
-    forget_flight(inflight_, key, flight);
+    forget_flight(inflight_, flight_name(key, request.options.time_limit), flight);
     promise->set_value(Outcome{{}, overloaded_error()});
     *refused = true;
     return {};
@@ -222,7 +229,7 @@ void PlanEngine::run_solve(const std::string& key, const api::PlanRequest& reque
           api::ApiError(api::ErrorCode::kInternal, "", "the solve failed with an unknown error");
     }
   }
-  forget_flight(inflight_, key, flight);
+  forget_flight(inflight_, flight_name(key, request.options.time_limit), flight);
   promise->set_value(std::move(outcome));
   // A client that asked for a plan is likely to ask again in the same view: what that hit
   // answers is rendered now, after the answer is out (only that view: a client rarely asks for
@@ -274,19 +281,25 @@ PlanAnswer PlanEngine::answer_plan(const std::string& text, api::PlanView view, 
   auto future = solve(key, request, false, &refused, TaskPriority::kInteractive,
                       abandoned ? &waiters : nullptr, HitView{view, gzip});
   if (refused) throw overloaded_error();
-  std::string body = wait_for_plan(key, request, future, waiters, abandoned);
-  return PlanAnswer{key, false, nullptr, std::move(body), std::move(request), sample_period, view};
+  Outcome outcome = wait_for_plan(key, request, future, waiters, abandoned);
+  return PlanAnswer{
+      key,           false, nullptr,        std::move(outcome.body), std::move(request),
+      sample_period, view,  outcome.partial};
 }
 
-std::string PlanEngine::wait_for_plan(const std::string& key, const api::PlanRequest& request,
-                                      const std::shared_future<Outcome>& future,
-                                      const std::shared_ptr<FlightWaiters>& waiters,
-                                      const std::function<bool()>& abandoned) {
+PlanEngine::Outcome PlanEngine::wait_for_plan(const std::string& key,
+                                              const api::PlanRequest& request,
+                                              const std::shared_future<Outcome>& future,
+                                              const std::shared_ptr<FlightWaiters>& waiters,
+                                              const std::function<bool()>& abandoned) {
   const WaitEnd end =
       wait_for_client(future, after(request.options.time_limit + config_.queue_wait_s), abandoned);
   // A request answered 504 waits no more either: its solve is stopped as for a client that hung
   // up (unless another request still waits for it), never run to its budget for nobody.
-  if (leave_flight(inflight_, key, waiters, end != WaitEnd::kReady)) ++cancelled_plans_;
+  if (leave_flight(inflight_, flight_name(key, request.options.time_limit), waiters,
+                   end != WaitEnd::kReady)) {
+    ++(end == WaitEnd::kTimeout ? timed_out_plans_ : cancelled_plans_);
+  }
   if (end == WaitEnd::kGone) throw cancelled_error();
   if (end == WaitEnd::kTimeout) {
     throw api::ApiError(api::ErrorCode::kTimeout, "",
@@ -296,7 +309,7 @@ std::string PlanEngine::wait_for_plan(const std::string& key, const api::PlanReq
   }
   const Outcome& outcome = future.get();
   if (outcome.error) throw *outcome.error;
-  return outcome.body;
+  return outcome;
 }
 
 std::shared_ptr<const CachedValue> PlanEngine::solve_once_across_replicas(
@@ -321,7 +334,8 @@ std::shared_ptr<const CachedValue> PlanEngine::solve_once_across_replicas(
     api::StoredPlan plan = api::solve_for_storing(request);
     // A solve stopped because nobody waits is cut short: never kept, whatever its status says.
     const bool stopped = request.options.stop != nullptr && request.options.stop->load();
-    if (api::is_cacheable(plan) && !stopped) stored = cache_.put(key, plan.body);
+    outcome.partial = !api::is_cacheable(plan) || stopped;
+    if (!outcome.partial) stored = cache_.put(key, plan.body);
     outcome.body = std::move(plan.body);
   } catch (...) {
     metrics_.observe_solve(to_string(request.strategy), seconds_since(started));

@@ -41,6 +41,9 @@ namespace slosh::service {
 struct SolveOutcome {
   std::string body;
   std::optional<api::ApiError> error;
+  /// The body was cut short (a time budget ran out, or the solve was stopped) or failed: it is not
+  /// cached, and a later complete answer of the same key would be another body.
+  bool partial{false};
 };
 
 /// Who waits for a running solve or search (one per flight): a flight that only clients wait for
@@ -63,6 +66,8 @@ struct PendingMinTime {
   std::shared_future<SolveOutcome> search;
   /// The waiters of the search this request waits for, when it was started `cancellable`.
   std::shared_ptr<FlightWaiters> waiters;
+  /// The single-flight entry of that search (PlanEngine::flight_name of its key and budget).
+  std::string flight;
 };
 
 /// One item of a batch: a rendered plan, or the error of the item (field paths relative to the
@@ -89,6 +94,10 @@ class PendingBatch {
   friend class PlanEngine;
   std::vector<BatchResult> results_;
   std::vector<std::shared_future<SolveOutcome>> pending_;  // invalid where results_ is final
+  // For a batch whose client may hang up: each solving item's flight (its name and waiters), so
+  // that the items still queued or running stop when the client has gone (PlanEngine::leave_batch).
+  std::vector<std::string> flights_;
+  std::vector<std::shared_ptr<FlightWaiters>> waiters_;
 };
 
 /// One batch item on its way (PlanEngine::start_batch_item): finished now (a cache hit, an
@@ -116,6 +125,9 @@ struct PlanAnswer {
   std::optional<api::PlanRequest> request;  ///< the parsed request when `hit` is null
   std::optional<double> sample_period;      ///< the series the request asks for [s]
   api::PlanView view{api::PlanView::kFull};
+  /// Solved for this request and cut short (SolveOutcome::partial): its reply carries no ETag,
+  /// since the key's tag names the complete plan a later request gets from the cache.
+  bool partial{false};
 };
 
 /// A min-time request's answer (PlanEngine::answer_min_time): the stored answer of its key.
@@ -123,6 +135,8 @@ struct MinTimeAnswer {
   std::string key;
   std::string stored;
   bool cached{false};  ///< from the cache; false also for one that joined another's search
+  /// Not cacheable (a search cut short by its budget or failed): its reply carries no ETag.
+  bool partial{false};
 };
 
 /// The readiness of the engine (PlanEngine::readiness).
@@ -166,14 +180,23 @@ class PlanEngine {
   /// Starts a batch of read plan requests (api::read_batch_items): cache hits and invalid items
   /// finish at once, the others are queued on the pool at background priority (waiting for queue
   /// room; interactive plans overtake them) with single-flight per recipe. `abandoned` (optional)
-  /// tells whether the client has gone away: no further solves are queued for it then.
+  /// tells whether the client has gone away: no further solves are queued for it then, and its
+  /// items wait as clients that may hang up (call leave_batch when the client has gone).
   PendingBatch start_batch(const std::vector<api::BatchItem>& requests,
                            const std::function<bool()>& abandoned = {});
+  /// The client of `batch` (started with `abandoned`) has gone: each item not finished stops
+  /// waiting, so its solve is skipped (queued) or stopped (running) unless another request waits
+  /// for it. Counted in cancelled_plans().
+  void leave_batch(const PendingBatch& batch);
   /// Starts one batch item: a cache hit or an invalid request finishes at once; otherwise its
   /// solve is queued at `priority` (waiting for queue room), or joins a running solve of the same
   /// recipe. Never throws: errors are the item's.
+  /// `waiter` (optional): the item's client may hang up; receives the flight's waiters and
+  /// `flight` its name (see leave_batch). Without it the flight is pinned (runs to its end).
   StartedItem start_batch_item(const api::BatchItem& request,
-                               TaskPriority priority = TaskPriority::kInteractive);
+                               TaskPriority priority = TaskPriority::kInteractive,
+                               std::shared_ptr<FlightWaiters>* waiter = nullptr,
+                               std::string* flight = nullptr);
 
   /// The answer of a validated min-time request (SPEC §9): each strategy's search is one task on
   /// the worker pool, within options.time_limit_s per search. Throws api::ApiError: overloaded
@@ -182,7 +205,7 @@ class PlanEngine {
   MinTimeAnswer answer_min_time(const api::MinTimeRequest& request,
                                 const std::function<bool()>& abandoned = {});
   /// Starts a validated min-time request: the cached answer, or the running search of the same
-  /// key (single flight, when that search has at least this request's budget), or a new search
+  /// key (single flight, when that search has the same budget), or a new search
   /// of one pool task per strategy (`wait_for_room`: wait for queue slots instead of refusing
   /// with 503). The last task to finish assembles, caches and publishes the answer, so nobody
   /// waits on a worker and no lock is held while searching or queueing.
@@ -190,9 +213,9 @@ class PlanEngine {
   /// stops waiting); otherwise the search runs to its end whoever else leaves.
   PendingMinTime start_min_time(const api::MinTimeRequest& request, bool wait_for_room,
                                 bool cancellable = false);
-  /// The caller of a cancellable start_min_time stops waiting; `gone`: its client hung up (the
-  /// search stops when nobody else waits for it).
-  void leave_min_time(const PendingMinTime& pending, bool gone);
+  /// The caller of a cancellable start_min_time stops waiting; `gone`: its client hung up, or
+  /// (`timed_out`) it was answered 504 (the search stops when nobody else waits for it).
+  void leave_min_time(const PendingMinTime& pending, bool gone, bool timed_out = false);
 
   /// The cam table file of the cached plan `key` with `options` (plan_cam_file), holding its
   /// reservation of the export budget. Throws api::ApiError: not found (field "key"), the
@@ -208,6 +231,10 @@ class PlanEngine {
   /// Solves and searches stopped because every client waiting for them had gone.
   [[nodiscard]] std::uint64_t cancelled_plans() const { return cancelled_plans_; }
   [[nodiscard]] std::uint64_t cancelled_min_times() const { return cancelled_min_times_; }
+  /// Solves and searches stopped because every request waiting for them had been answered 504
+  /// (their budget plus queue_wait_s passed).
+  [[nodiscard]] std::uint64_t timed_out_plans() const { return timed_out_plans_; }
+  [[nodiscard]] std::uint64_t timed_out_min_times() const { return timed_out_min_times_; }
 
   /// No new solve is queued (queued ones are refused, running ones finish); readiness says so.
   void begin_shutdown();
@@ -255,7 +282,12 @@ class PlanEngine {
                                     TaskPriority priority = TaskPriority::kInteractive,
                                     std::shared_ptr<FlightWaiters>* waiter = nullptr,
                                     HitView hit = {});
-  // Adds a new flight of `key` to inflight_ unless one with at least `budget` runs (then joins
+  // The single-flight entry of `key` solved or searched within `budget` [s]: requests share a
+  // solve only with the same budget. A smaller budget never waits for a larger one's solve (it
+  // would wait past its own budget and be answered by another client's), and a larger one never
+  // takes a smaller one's answer (a larger budget may find another).
+  static std::string flight_name(const std::string& key, double budget);
+  // Adds a new flight of `key` to inflight_ unless one with the same `budget` runs (then joins
   // it and returns its future). `refused` when the engine is shutting down.
   std::optional<std::shared_future<Outcome>> join_or_add_flight(
       const std::string& key, double budget, const std::shared_future<Outcome>& future,
@@ -265,11 +297,12 @@ class PlanEngine {
   void run_solve(const std::string& key, const api::PlanRequest& request,
                  const std::shared_ptr<std::promise<Outcome>>& promise, std::uint64_t flight,
                  const std::shared_ptr<FlightWaiters>& waiters, HitView hit);
-  // Waits for `future` of `key` on behalf of a client (`abandoned`); the stored body, or throws.
-  std::string wait_for_plan(const std::string& key, const api::PlanRequest& request,
-                            const std::shared_future<Outcome>& future,
-                            const std::shared_ptr<FlightWaiters>& waiters,
-                            const std::function<bool()>& abandoned);
+  // Waits for `future` of `key` on behalf of a client (`abandoned`); the outcome with its stored
+  // body, or throws its error.
+  Outcome wait_for_plan(const std::string& key, const api::PlanRequest& request,
+                        const std::shared_future<Outcome>& future,
+                        const std::shared_ptr<FlightWaiters>& waiters,
+                        const std::function<bool()>& abandoned);
   // Joins `waiters` (under inflight_mutex_): counted when `cancellable`, else pinned.
   static void join_locked(FlightWaiters& waiters, bool cancellable);
   // A waiter of the flight `waiters` of `key` in `flights` stops waiting; when its client is
@@ -285,7 +318,7 @@ class PlanEngine {
   void remember_key(const std::string& text, const std::string& key);
   // The batch item `request` of a client that has gone: a cache hit, else cancelled.
   BatchResult abandoned_item(const api::BatchItem& request);
-  // Joins a running search of `pending.key` with at least `budget`, or registers `search` as
+  // Joins a running search of `pending.key` with the same `budget`, or registers `search` as
   // the flight (unless shutting down: then search->flight stays 0). True when it joined.
   bool join_or_add_search(PendingMinTime& pending, const std::shared_ptr<MinTimeSearch>& search,
                           double budget, bool cancellable);
@@ -336,6 +369,8 @@ class PlanEngine {
   std::uint64_t flights_{0};
   std::atomic<std::uint64_t> cancelled_plans_{0};
   std::atomic<std::uint64_t> cancelled_min_times_{0};
+  std::atomic<std::uint64_t> timed_out_plans_{0};
+  std::atomic<std::uint64_t> timed_out_min_times_{0};
   std::atomic<bool> ready_{true};
   // Memory of the cam exports in flight (config cam_export_bytes).
   ExportBudget export_budget_;

@@ -46,7 +46,9 @@ BatchResult StartedItem::get() const {
   return pending.valid() ? batch_result(pending.get()) : result;
 }
 
-StartedItem PlanEngine::start_batch_item(const api::BatchItem& item, TaskPriority priority) {
+StartedItem PlanEngine::start_batch_item(const api::BatchItem& item, TaskPriority priority,
+                                         std::shared_ptr<FlightWaiters>* waiter,
+                                         std::string* flight) {
   StartedItem started;
   BatchResult& result = started.result;
   if (item.error) {
@@ -64,8 +66,9 @@ StartedItem PlanEngine::start_batch_item(const api::BatchItem& item, TaskPriorit
       return started;
     }
     bool refused = false;
-    started.pending = solve(key, request, true, &refused, priority);
+    started.pending = solve(key, request, true, &refused, priority, waiter);
     if (refused) result.error = overloaded_error();
+    if (flight != nullptr) *flight = flight_name(key, request.options.time_limit);
   } catch (const api::ApiError& e) {
     result.error = e;
   } catch (const std::exception& e) {
@@ -103,10 +106,14 @@ PendingBatch PlanEngine::start_batch(const std::vector<api::BatchItem>& requests
   const std::size_t n = requests.size();
   batch.results_.resize(n);
   batch.pending_.resize(n);
+  if (abandoned) {
+    batch.flights_.resize(n);
+    batch.waiters_.resize(n);
+  }
   bool gone = false;
   for (std::size_t i = 0; i < n; ++i) {
-    // A client that went away gets no more solves queued for it (the queued ones still run);
-    // cache hits and invalid items are still answered.
+    // A client that went away gets no more solves queued for it (leave_batch stops the queued
+    // ones); cache hits and invalid items are still answered.
     gone = gone || (abandoned && abandoned());
     if (gone) {
       batch.results_[i] = abandoned_item(requests[i]);
@@ -115,11 +122,20 @@ PendingBatch PlanEngine::start_batch(const std::vector<api::BatchItem>& requests
     // Below interactive plans (as batch jobs' items): a batch of up to batch_max recipes fills
     // the background queue as it drains, and an HMI's plan must still overtake it instead of
     // finding the queue full for the whole batch.
-    StartedItem started = start_batch_item(requests[i], TaskPriority::kBackground);
+    StartedItem started = abandoned ? start_batch_item(requests[i], TaskPriority::kBackground,
+                                                       &batch.waiters_[i], &batch.flights_[i])
+                                    : start_batch_item(requests[i], TaskPriority::kBackground);
     batch.results_[i] = std::move(started.result);
     batch.pending_[i] = std::move(started.pending);
   }
   return batch;
+}
+
+void PlanEngine::leave_batch(const PendingBatch& batch) {
+  for (std::size_t i = 0; i < batch.waiters_.size(); ++i) {
+    if (!batch.waiters_[i] || batch.wait_for(i, std::chrono::milliseconds(0))) continue;
+    if (leave_flight(inflight_, batch.flights_[i], batch.waiters_[i], true)) ++cancelled_plans_;
+  }
 }
 
 }  // namespace slosh::service

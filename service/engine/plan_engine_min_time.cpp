@@ -20,6 +20,7 @@ namespace slosh::service {
 struct PlanEngine::MinTimeSearch {
   api::MinTimeRequest request;
   std::string key;
+  std::string flight_name;  // its single-flight entry (flight_name of key and budget)
   std::uint64_t flight{};
   std::vector<MinTimeResult> results;
   // Pool tasks of the search: task i searches strategies i, i + tasks, i + 2 tasks, ...
@@ -30,23 +31,27 @@ struct PlanEngine::MinTimeSearch {
   std::atomic<bool> refused{false};
   // A task was still queued when shutdown began: the search answers 503, as queued plan solves do.
   std::atomic<bool> shut_down{false};
+  // Counted in slosh_min_time_searches_total (by its first strategy that runs).
+  std::atomic<bool> counted{false};
   std::promise<Outcome> promise;
   // Who waits; its stop flag ends every strategy's search between two plans.
   std::shared_ptr<FlightWaiters> waiters{std::make_shared<FlightWaiters>()};
 };
 
-void PlanEngine::leave_min_time(const PendingMinTime& pending, bool gone) {
-  if (leave_flight(min_time_inflight_, pending.key, pending.waiters, gone)) ++cancelled_min_times_;
+void PlanEngine::leave_min_time(const PendingMinTime& pending, bool gone, bool timed_out) {
+  if (leave_flight(min_time_inflight_, pending.flight, pending.waiters, gone || timed_out)) {
+    ++(timed_out ? timed_out_min_times_ : cancelled_min_times_);
+  }
 }
 
 bool PlanEngine::join_or_add_search(PendingMinTime& pending,
                                     const std::shared_ptr<MinTimeSearch>& search, double budget,
                                     bool cancellable) {
-  // Single flight, as for plans: a request joins a running search of its key that has at least
-  // its budget (a larger budget may find more). The lock covers only the map.
+  // Single flight, as for plans: a request joins a running search of its key with its budget
+  // (flight_name). The lock covers only the map.
+  pending.flight = flight_name(pending.key, budget);
   const std::lock_guard lock(inflight_mutex_);
-  if (auto it = min_time_inflight_.find(pending.key);
-      it != min_time_inflight_.end() && it->second.budget >= budget) {
+  if (auto it = min_time_inflight_.find(pending.flight); it != min_time_inflight_.end()) {
     metrics_.count_min_time_join();
     pending.search = it->second.future;
     join_locked(*it->second.waiters, cancellable);
@@ -56,7 +61,7 @@ bool PlanEngine::join_or_add_search(PendingMinTime& pending,
   if (ready_) {
     search->flight = ++flights_;
     join_locked(*search->waiters, cancellable);
-    min_time_inflight_[pending.key] =
+    min_time_inflight_[pending.flight] =
         Flight{pending.search, budget, search->flight, search->waiters};
     if (cancellable) pending.waiters = search->waiters;
   }
@@ -84,7 +89,7 @@ PendingMinTime PlanEngine::start_min_time(const api::MinTimeRequest& request, bo
   }
   // A search of this key may have finished (cached, then forgotten) since the lookup above.
   if (auto hit = min_time_cache_.get(pending.key, &level)) {
-    forget_flight(min_time_inflight_, pending.key, search->flight);
+    forget_flight(min_time_inflight_, pending.flight, search->flight);
     search->promise.set_value(Outcome{*hit, std::nullopt});  // for whoever joined meanwhile
     metrics_.count_cache_hit(level);
     pending.cached = std::move(hit);
@@ -94,6 +99,7 @@ PendingMinTime PlanEngine::start_min_time(const api::MinTimeRequest& request, bo
   }
   search->request = request;
   search->key = pending.key;
+  search->flight_name = pending.flight;
   search->results.resize(request.strategies.size());
   queue_min_time_tasks(search, wait_for_room);
   return pending;
@@ -121,13 +127,12 @@ void PlanEngine::queue_min_time_tasks(const std::shared_ptr<MinTimeSearch>& sear
       // Whoever joined this search gets the refusal too (never a future that hangs), and a new
       // request starts afresh; the i tasks already queued skip their strategy.
       search->refused = true;
-      forget_flight(min_time_inflight_, search->key, search->flight);
+      forget_flight(min_time_inflight_, search->flight_name, search->flight);
       search->promise.set_value(Outcome{{}, overloaded_error()});
       search->remaining -= n - i + 1;
       return;
     }
   }
-  metrics_.count_min_time_search();
   metrics_.count_cache_miss();
   if (search->remaining.fetch_sub(1) == 1) finish_min_time(*search);
 }
@@ -151,6 +156,9 @@ void PlanEngine::run_min_time_strategy(MinTimeSearch& search, std::size_t i) {
     slot.status = SolveStatus::kTimeLimit;  // nobody waits: not searched (and not cached)
     slot.message = "not searched: every client waiting for it closed the connection";
   } else {
+    // A search is counted (and each strategy timed) when it runs: one skipped while queued because
+    // its clients left is counted in the cancellations only, as a skipped plan solve is.
+    if (!search.counted.exchange(true)) metrics_.count_min_time_search();
     try {
       MinTimeOptions options = request.options;
       options.plan.stop = &search.waiters->stop;
@@ -161,10 +169,10 @@ void PlanEngine::run_min_time_strategy(MinTimeSearch& search, std::size_t i) {
       slot.status = SolveStatus::kFailed;
       slot.message = "the search failed";
     }
+    metrics_.observe_solve(
+        "min_time:" + to_string(request.strategies[i]),
+        std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
   }
-  metrics_.observe_solve(
-      "min_time:" + to_string(request.strategies[i]),
-      std::chrono::duration<double>(std::chrono::steady_clock::now() - started).count());
 }
 
 void PlanEngine::finish_min_time(MinTimeSearch& search) {
@@ -177,7 +185,8 @@ void PlanEngine::finish_min_time(MinTimeSearch& search) {
     api::check_min_time_inputs(search.request, search.results);
     outcome.body = api::stored_min_time(search.request, search.results, search.key);
     // Cached before the flight is forgotten: a new request finds one or the other.
-    if (api::is_min_time_cacheable(search.results)) min_time_cache_.put(search.key, outcome.body);
+    outcome.partial = !api::is_min_time_cacheable(search.results);
+    if (!outcome.partial) min_time_cache_.put(search.key, outcome.body);
   } catch (const api::ApiError& e) {
     outcome.error = e;
   } catch (const std::exception& e) {
@@ -186,7 +195,7 @@ void PlanEngine::finish_min_time(MinTimeSearch& search) {
     outcome.error = api::ApiError(api::ErrorCode::kInternal, "",
                                   "the min-time answer failed with an unknown error");
   }
-  forget_flight(min_time_inflight_, search.key, search.flight);
+  forget_flight(min_time_inflight_, search.flight_name, search.flight);
   search.promise.set_value(std::move(outcome));
 }
 
@@ -202,7 +211,7 @@ MinTimeAnswer PlanEngine::answer_min_time(const api::MinTimeRequest& request,
       request.options.plan.time_limit * static_cast<double>((n + tasks - 1) / tasks);
   const WaitEnd end =
       wait_for_client(pending.search, after(budget + config_.queue_wait_s), abandoned);
-  leave_min_time(pending, end != WaitEnd::kReady);  // a 504 waits no more either
+  leave_min_time(pending, end == WaitEnd::kGone, end == WaitEnd::kTimeout);  // a 504 waits no more
   if (end == WaitEnd::kGone) throw cancelled_error();
   if (end == WaitEnd::kTimeout) {
     throw api::ApiError(api::ErrorCode::kTimeout, "",
@@ -213,7 +222,7 @@ MinTimeAnswer PlanEngine::answer_min_time(const api::MinTimeRequest& request,
   const Outcome& outcome = pending.search.get();
   if (outcome.error) throw *outcome.error;
   // A request that joined another's search answers as that one did: a miss, the same body.
-  return MinTimeAnswer{pending.key, outcome.body, false};
+  return MinTimeAnswer{pending.key, outcome.body, false, outcome.partial};
 }
 
 }  // namespace slosh::service

@@ -3,6 +3,8 @@
 
 #include <string>
 
+#include "engine/engine_errors.hpp"
+#include "http/client_wait.hpp"
 #include "http/plan_service.hpp"
 #include "slosh/api/plan_reply.hpp"
 #include "slosh/api/plan_view.hpp"
@@ -18,6 +20,16 @@ Reply PlanService::post_batch(const std::string& text, const std::function<bool(
     const api::PlanView view = api::batch_view(view_query, body.view);
     const PendingBatch batch =
         engine_.start_batch(api::read_batch_items(body.requests, config.solve_budget_s), abandoned);
+    // While waiting, the client is asked every kClientPoll whether it is still there: once it has
+    // gone, the items still queued or running stop (unless another request waits for them).
+    for (std::size_t i = 0; abandoned && i < batch.size(); ++i) {
+      while (!batch.wait_for(i, kClientPoll)) {
+        if (abandoned()) {
+          engine_.leave_batch(batch);
+          throw cancelled_error();
+        }
+      }
+    }
     api::BatchReplyWriter writer(config.max_response_bytes);
     for (std::size_t i = 0; i < batch.size(); ++i) {
       const BatchResult item = batch.get(i);

@@ -119,14 +119,22 @@ std::map<int, std::string> ConnectionReaper::connections() const {
   return live;
 }
 
+bool ConnectionReaper::peer_finished(int fd) {
+  char byte = 0;
+  // 0: the peer sent its FIN (nothing more will come); -1 with EAGAIN: still connected.
+  return ::recv(fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) == 0;
+}
+
 bool ConnectionReaper::closed_by_peer(const std::string& peer) const {
+  const int fd = socket_of(peer);
+  return fd < 0 || peer_finished(fd);  // its socket is gone, or the peer sent its FIN
+}
+
+int ConnectionReaper::socket_of(const std::string& peer) const {
   for (const auto& [fd, name] : connections()) {
-    if (name != peer) continue;
-    char byte = 0;
-    // 0: the peer sent its FIN (nothing more will come); -1 with EAGAIN: still connected.
-    return ::recv(fd, &byte, 1, MSG_PEEK | MSG_DONTWAIT) == 0;
+    if (name == peer) return fd;
   }
-  return true;  // its socket is gone
+  return -1;
 }
 
 void ConnectionReaper::scan() {

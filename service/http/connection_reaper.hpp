@@ -36,6 +36,12 @@ class ConnectionReaper {
   /// Whether the client `peer` has closed its side of the connection (or the connection is gone):
   /// work queued for it can stop. One listing of the process's descriptors.
   [[nodiscard]] bool closed_by_peer(const std::string& peer) const;
+  /// The socket of the connection from `peer`; -1 when there is none. One listing of the
+  /// process's descriptors.
+  [[nodiscard]] int socket_of(const std::string& peer) const;
+  /// Whether the peer of socket `fd` has sent its FIN with nothing left unread before it: the
+  /// HTTP library then writes nothing more to it (its writer refuses such a socket).
+  [[nodiscard]] static bool peer_finished(int fd);
   /// From now on every connection that is not being answered is closed at once (shutdown).
   void close_idle_now();
 

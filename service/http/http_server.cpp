@@ -25,6 +25,7 @@
 #include "http/client_wait.hpp"
 #include "http/connection_pool.hpp"
 #include "http/connection_reaper.hpp"
+#include "http/connection_socket.hpp"
 #include "http/gzip.hpp"
 #include "http/http_body.hpp"
 #include "http/library_replies.hpp"
@@ -33,6 +34,7 @@
 #include "http/plan_service.hpp"
 #include "http/route_handlers.hpp"
 #include "http/route_table.hpp"
+#include "http/server_metrics.hpp"
 #include "http/stop_signals.hpp"
 #include "jobs/batch_jobs.hpp"
 #include "jobs/job_stores.hpp"
@@ -68,6 +70,11 @@ thread_local std::optional<PlanFacts> request_plan;
 // pre-routing hook: the service codes its bodies itself, see send).
 thread_local bool request_accepts_gzip = false;
 std::atomic<std::uint64_t> request_counter{0};
+// The reply could not be written: the client had closed its side (sent its FIN) before it, and the
+// library writes nothing to such a connection. Logged and counted as 499, never as the status
+// and bytes it would have had.
+thread_local bool request_unwritten = false;
+constexpr int kClientClosedStatus = 499;
 
 /// Bytes a held body hands to the library per write [bytes].
 constexpr std::size_t kHeldBodyChunk = std::size_t{64} << 10;
@@ -156,41 +163,6 @@ class ListeningServer : public httplib::Server {
   bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
 };
 
-// The batch jobs' and the pool's priority figures for /metrics.
-void collect_job_metrics(MetricsText& out, const BatchJobs& jobs, const WorkerPool& pool) {
-  out.family("slosh_batch_jobs_active", "gauge", "Batch jobs queued or running on this replica.");
-  out.sample("slosh_batch_jobs_active", "", std::uint64_t{jobs.active()});
-  out.family("slosh_batch_job_items_total", "counter",
-             "Batch job items (rows) this replica solved and stored; a shared job's row counts "
-             "on the one replica that stored it.");
-  out.sample("slosh_batch_job_items_total", "", jobs.items_stored());
-  out.family("slosh_pool_tasks_started_total", "counter",
-             "Solve tasks started by priority (interactive: plans of requests and batches; "
-             "background: items of batch jobs, min-time searches' strategies, calibration fits).");
-  out.sample("slosh_pool_tasks_started_total", "priority=\"interactive\"",
-             std::uint64_t{pool.started(TaskPriority::kInteractive)});
-  out.sample("slosh_pool_tasks_started_total", "priority=\"background\"",
-             std::uint64_t{pool.started(TaskPriority::kBackground)});
-  out.family("slosh_pool_background_queue_depth", "gauge",
-             "Background tasks waiting for a worker.");
-  out.sample("slosh_pool_background_queue_depth", "",
-             std::uint64_t{pool.queue_depth(TaskPriority::kBackground)});
-}
-
-// The solves stopped because their clients had gone, for /metrics.
-void collect_cancelled_metrics(MetricsText& out, const PlanService& service,
-                               const CalibrationService& calibrations) {
-  out.family("slosh_solves_cancelled_total", "counter",
-             "Solves stopped because every client waiting for them had closed its connection "
-             "(plans, min-time searches, calibration fits).");
-  out.sample("slosh_solves_cancelled_total", "kind=\"plan\"",
-             std::uint64_t{service.cancelled_plans()});
-  out.sample("slosh_solves_cancelled_total", "kind=\"min_time\"",
-             std::uint64_t{service.cancelled_min_times()});
-  out.sample("slosh_solves_cancelled_total", "kind=\"calibration\"",
-             std::uint64_t{calibrations.cancelled()});
-}
-
 // Everything the server answers with, built in order: the handlers and their engine, the job
 // stores and jobs, the calibrations; the batch jobs' and the cancellations' metrics registered.
 struct ServerParts {
@@ -273,12 +245,10 @@ std::function<bool()> client_gone(const Runtime& rt, const httplib::Request& req
 // The reply of a request with its route label, whatever answered it: sent, counted under the
 // label, and the label (and the plan) kept for the access log and the latency histogram the
 // logger writes.
-void answer(Runtime& rt, std::string label, Reply reply, httplib::Response& res) {
+void answer(Runtime&, std::string label, Reply reply, httplib::Response& res) {
   request_route = std::move(label);
   request_plan = reply.plan;
-  const int status = reply.status;
-  send(std::move(reply), res);
-  rt.parts.service.metrics().count_request(request_route, status);
+  send(std::move(reply), res);  // counted right before it is written (post-routing hook)
 }
 
 // A routed request: its body read (POST), its query checked against the route's parameters
@@ -444,15 +414,33 @@ std::optional<Reply> encoded_slash_reply(const httplib::Request& req) {
   }
 }
 
-// Request ids, the reaper's bookkeeping and one log line per request.
+// The field lines of header `name` as one line: RFC 9110 5.3 combines repeated lines, in order,
+// with commas (a list split over two lines means the same as on one).
+std::string combined_field_lines(const httplib::Request& req, const char* name) {
+  std::string value;
+  const std::size_t lines = req.get_header_value_count(name);
+  for (std::size_t i = 0; i < lines; ++i) {
+    value += (i == 0 ? "" : ", ") + req.get_header_value(name, i);
+  }
+  return value;
+}
+
+// Request ids, the request's codings and header lines, the reaper's bookkeeping, early refusals.
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
     // The service codes its bodies itself (send): the library must not compress them again.
-    request_accepts_gzip = accepts_gzip(req.get_header_value("Accept-Encoding"));
-    const_cast<httplib::Request&>(req).headers.erase("Accept-Encoding");
+    auto& headers = const_cast<httplib::Request&>(req).headers;
+    request_accepts_gzip = accepts_gzip(combined_field_lines(req, "Accept-Encoding"));
+    headers.erase("Accept-Encoding");
+    // The handlers read one If-None-Match line: a list of tags over several lines becomes one.
+    if (req.get_header_value_count("If-None-Match") > 1) {
+      std::string tags = combined_field_lines(req, "If-None-Match");
+      headers.erase("If-None-Match");
+      headers.emplace("If-None-Match", std::move(tags));
+    }
     res.set_header("X-Request-Id", request_id(req));
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
@@ -472,15 +460,35 @@ void install_request_hooks(Runtime& rt) {
     }
     return httplib::Server::HandlerResponse::Unhandled;
   });
+}
+
+// What is done right before a reply is written (post-routing) and once it was (the logger): the
+// 304's framing, the request counter, the reaper's bookkeeping and one log line per request.
+void install_write_hooks(Runtime& rt) {
+  // The library gives a reply without a body "Content-Length: 0"; a 304 must carry no
+  // Content-Length other than its 200's (RFC 9110 8.6), so it carries none.
+  rt.server.set_post_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
+    if (res.status == 304) res.headers.erase("Content-Length");
+    // Right before the library writes: a client that has sent its FIN gets nothing (the library's
+    // writer refuses such a socket), so the reply is recorded as unwritten.
+    const int fd = rt.reaper ? connection_socket(*rt.reaper, peer_of(req)) : -1;
+    request_unwritten = fd >= 0 && ConnectionReaper::peer_finished(fd);
+    // Counted before the bytes go out, so that a client that reads /metrics after its answer
+    // finds it counted.
+    rt.parts.service.metrics().count_request(request_route.empty() ? "other" : request_route,
+                                             request_unwritten ? kClientClosedStatus : res.status);
+  });
   rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
     if (rt.reaper) rt.reaper->end_request(peer_of(req));
     AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
                          .method = req.method.substr(0, 16),
                          .route = request_route.empty() ? "other" : request_route,
                          .path = path_as_sent(req).substr(0, 200),
-                         .status = res.status,
+                         .status = request_unwritten ? kClientClosedStatus : res.status,
                          .ms = std::nullopt,
-                         .bytes = res.content_provider_ ? res.content_length_ : res.body.size(),
+                         .bytes = request_unwritten       ? 0
+                                  : res.content_provider_ ? res.content_length_
+                                                          : res.body.size(),
                          .cache = res.get_header_value("X-Cache"),
                          .plan = std::move(request_plan)};
     if (request_start) {
@@ -490,6 +498,7 @@ void install_request_hooks(Runtime& rt) {
           entry.route, known_method(req.method) ? req.method : "other", took.count());
     }
     request_start.reset();
+    request_unwritten = false;
     request_route.clear();
     request_plan.reset();
     request_accepts_gzip = false;
@@ -531,6 +540,7 @@ void install_http(Runtime& rt) {
   register_unrouted_body_methods(rt);
   install_error_handlers(rt);
   install_request_hooks(rt);
+  install_write_hooks(rt);
 }
 
 // Listens until stopped; true when the accept loop ended normally.

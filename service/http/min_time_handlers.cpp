@@ -12,10 +12,11 @@ namespace slosh::service {
 namespace {
 
 // The reply of a stored min-time answer: ETag = the key (one body per key), 304 for a cached
-// answer whose ETag `if_none_match` names.
+// answer whose ETag `if_none_match` names. An answer that is not cached (a search cut short by its
+// budget) has no tag: the key's tag names the complete answer a later request gets.
 Reply min_time_reply(const MinTimeAnswer& answer, const std::string& if_none_match) {
   Reply r;
-  r.headers.emplace_back("ETag", etag(answer.key));
+  if (!answer.partial) r.headers.emplace_back("ETag", etag(answer.key));
   r.headers.emplace_back("X-Cache", answer.cached ? "hit" : "miss");
   if (answer.cached && etag_matches(if_none_match, etag(answer.key))) {
     r.status = 304;

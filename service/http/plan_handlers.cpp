@@ -47,7 +47,10 @@ Reply PlanService::plan_reply(const PlanAnswer& answer, const std::string& if_no
                               bool gzip) {
   Reply r;
   const std::string tag = plan_etag(answer.key, answer.view, answer.sample_period);
-  r.headers.emplace_back("ETag", tag);
+  // A plan cut short by its time budget is not cached: the key's tag names the complete plan a
+  // later request gets, so this body has no tag (a client revalidating it must never get a 304
+  // and keep it).
+  if (!answer.partial) r.headers.emplace_back("ETag", tag);
   r.headers.emplace_back("X-Cache", answer.cached ? "hit" : "miss");
   r.plan = engine_.plan_facts(answer);
   engine_.count_plan(*r.plan);

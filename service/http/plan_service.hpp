@@ -96,8 +96,8 @@ class PlanService {
                                 bool cancellable = false) {
     return engine_.start_min_time(request, wait_for_room, cancellable);
   }
-  void leave_min_time(const PendingMinTime& pending, bool gone) {
-    engine_.leave_min_time(pending, gone);
+  void leave_min_time(const PendingMinTime& pending, bool gone, bool timed_out = false) {
+    engine_.leave_min_time(pending, gone, timed_out);
   }
   [[nodiscard]] const WorkerPool& pool() const { return engine_.pool(); }
   [[nodiscard]] WorkerPool& worker_pool() { return engine_.worker_pool(); }
@@ -105,6 +105,8 @@ class PlanService {
   [[nodiscard]] bool accepting() const { return engine_.accepting(); }
   [[nodiscard]] std::uint64_t cancelled_plans() const { return engine_.cancelled_plans(); }
   [[nodiscard]] std::uint64_t cancelled_min_times() const { return engine_.cancelled_min_times(); }
+  [[nodiscard]] std::uint64_t timed_out_plans() const { return engine_.timed_out_plans(); }
+  [[nodiscard]] std::uint64_t timed_out_min_times() const { return engine_.timed_out_min_times(); }
   void begin_shutdown() { engine_.begin_shutdown(); }
   Metrics& metrics() { return engine_.metrics(); }
   [[nodiscard]] std::size_t workers() const { return engine_.workers(); }

@@ -80,7 +80,8 @@ void Metrics::collect_counters(MetricsText& out) const {
           "Plan requests that waited for the running solve of the same recipe.",
           singleflight_joins_);
   counter("slosh_min_time_searches_total",
-          "Min-time requests that started a search (one pool task per strategy).",
+          "Min-time searches that ran (one pool task per strategy); one skipped while queued "
+          "because its clients left is counted in slosh_solves_cancelled_total only.",
           min_time_searches_);
   counter("slosh_min_time_joins_total",
           "Min-time requests that waited for the running search of the same request.",

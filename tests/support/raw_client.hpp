@@ -33,6 +33,8 @@ class Raw {
   bool send(const std::string& data) {
     return ::send(fd_, data.data(), data.size(), MSG_NOSIGNAL) == static_cast<ssize_t>(data.size());
   }
+  /// Closes the sending side (a FIN: nothing more will be sent), as `nc -N` does after its input.
+  void half_close() { ::shutdown(fd_, SHUT_WR); }
   /// Everything until the server closes or goes quiet for 10 s.
   std::string read_all() {
     std::string out;
