@@ -1,6 +1,7 @@
 #!/usr/bin/env bash
 # Throughput of one batch job shared out to 1, 2 and 3 `slosh serve` replicas through Redis
-# (batch_job_spread = "replicas", one solve worker each), all started here on loopback: for each
+# (batch_job_spread as given, by default the default "helpers"; one solve worker each), all started
+# here on loopback: for each
 # replica count, one job of N distinct recipes (time_domain, or the strategy given; the motion
 # time differs, and each run uses other recipes, so nothing is cached) is POSTed to the first
 # replica and polled until done; prints recipes/s, each replica's share and the machine's load
@@ -8,7 +9,7 @@
 # accepted the job) is killed (-9) at 30 %: prints the time from the kill to the job's end, the
 # rows stored and whether each row is there once, against the time the remaining 70 % would take
 # at the 2-replica rate (the excess is the take-over time, batch_job_stale_s, plus start-up).
-# Usage: scripts/jobs-shared.sh [slosh-binary] [recipes] [stale-s] [strategy]
+# Usage: scripts/jobs-shared.sh [slosh-binary] [recipes] [stale-s] [strategy] [spread]
 # Use a strategy whose recipes cost real solve time (time_domain, ~13 ms each on a quiet core):
 # with notch (~1 ms) the Redis round trips per item dominate and the figures measure overhead.
 # Needs: redis-server, redis-cli, python3. Stops everything it started (scripts/lib/loopback.sh).
@@ -18,6 +19,7 @@ slosh="${1:-$here/build/slosh}"
 n="${2:-600}"
 stale="${3:-5}"
 strategy="${4:-time_domain}"
+spread="${5:-helpers}"
 # shellcheck source=scripts/lib/loopback.sh
 . "$here/scripts/lib/loopback.sh"
 lb_redis
@@ -27,7 +29,7 @@ start_replicas() {
   ports=()
   run_pids=()
   for i in $(seq "$2"); do
-    SLOSH_BATCH_JOB_SPREAD=replicas SLOSH_BATCH_JOB_STALE_S="$stale" \
+    SLOSH_BATCH_JOB_SPREAD="$spread" SLOSH_BATCH_JOB_STALE_S="$stale" \
       lb_serve "slosh-$1-$i" "$slosh" --workers 1 --cache "$lb_redis_url" --replica-id "run$1-$i"
     run_pids+=("$lb_pid")
     ports+=("$lb_port")
