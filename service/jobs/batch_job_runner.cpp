@@ -166,7 +166,13 @@ void BatchJobs::finish(Job& job, JobState state, const std::string& message) {
 
 void BatchJobs::run(Job& job) {
   JobStatus& s = job.status;
-  if (cancelled(job, true)) return finish(job, JobState::kCancelled, "cancelled before it started");
+  if (cancelled(job, true)) {
+    // A job taken over from a silent owner may be cancelled with the owner's rows stored.
+    return finish(job, JobState::kCancelled,
+                  s.done == 0 ? "cancelled before it started"
+                              : "cancelled after " + std::to_string(s.done) + " of " +
+                                    std::to_string(s.total) + " recipes");
+  }
   if (stopping()) {
     return finish(job, JobState::kFailed,
                   "the service shut down before the job started; POST the job again");
