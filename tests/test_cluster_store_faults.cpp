@@ -17,6 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "storage/redis_client.hpp"
+#include "storage/redis_url.hpp"
 #include "support/job_tables.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
@@ -355,6 +357,67 @@ TEST(ClusterStoreFaults, AJobOfAnOwnerPausedPastTheStaleTimeIsTakenOverAndEndsDo
   const auto csv = a.Get("/v1/batches/" + id + "/results.csv");
   ASSERT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
   EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), "200");
+}
+
+/// The stored text of Redis key `key` ("" when absent).
+std::string stored(service::RedisClient& redis, const std::string& key) {
+  const auto reply = redis.command({"GET", key});
+  return reply && reply->type == service::RedisReply::Type::kString ? reply->text : std::string();
+}
+
+// An owner paused until after the other replica took its job over and FINISHED it (then, with
+// `forget`, after the job was DELETEd too) finds, once it runs again, that the job is no longer
+// its own whatever its state: it says so in its log and writes nothing to Redis (the record is
+// byte-identical, no rows come back for a forgotten job).
+void resumed_owner_of_an_ended_job_writes_nothing(bool forget) {
+  test::RedisServer redis;
+  Pair pair(redis, "1.5");
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(200, forget ? 18000 : 17000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(pair.a().pid(), SIGSTOP);
+  const json done = wait_finished(b, id);
+  ASSERT_EQ(done.value("state", ""), "done") << done.value("message", "");
+  service::RedisClient store({service::parse_redis_url(redis.url())});
+  const std::string record_key = "slosh:jobs:" + id + ":record";
+  const std::string before = stored(store, record_key);
+  if (forget) {
+    const auto deleted = b.Delete("/v1/batches/" + id);
+    ASSERT_TRUE(deleted && deleted->status == 200) << (deleted ? deleted->body : "no answer");
+  }
+  ::kill(pair.a().pid(), SIGCONT);
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return pair.a().log().find("batch job " + id + ": another replica took it over") !=
+               std::string::npos;
+      },
+      std::chrono::seconds(10)))
+      << pair.a().log();
+  std::this_thread::sleep_for(1s);  // anything A would still write after its log line
+  EXPECT_EQ(pair.a().log().find("carried on with the job"), std::string::npos) << pair.a().log();
+  if (forget) {
+    EXPECT_EQ(stored(store, record_key), "");
+    const auto rows = store.command({"EXISTS", "slosh:jobs:" + id + ":rows"});
+    ASSERT_TRUE(rows);
+    EXPECT_EQ(rows->integer, 0);
+    const auto gone = b.Get("/v1/batches/" + id);
+    EXPECT_TRUE(gone && gone->status == 404);
+  } else {
+    EXPECT_EQ(stored(store, record_key), before);
+    const json after = get_json(b, "/v1/batches/" + id);
+    EXPECT_EQ(after.value("state", ""), "done");
+    EXPECT_EQ(after.at("shares"), done.at("shares"));
+  }
+}
+
+TEST(ClusterStoreFaults, AnOwnerResumedAfterItsJobWasTakenOverAndFinishedWritesNothing) {
+  resumed_owner_of_an_ended_job_writes_nothing(false);
+}
+
+TEST(ClusterStoreFaults, AnOwnerResumedAfterItsTakenOverJobWasDeletedWritesNothing) {
+  resumed_owner_of_an_ended_job_writes_nothing(true);
 }
 
 // A job cancelled while its owner is paused, before the other replica takes it over: the taker
