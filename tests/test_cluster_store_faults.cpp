@@ -17,6 +17,8 @@
 
 #include <nlohmann/json.hpp>
 
+#include "storage/redis_client.hpp"
+#include "storage/redis_url.hpp"
 #include "support/job_tables.hpp"
 #include "support/redis_server.hpp"
 #include "support/replicas.hpp"
@@ -247,10 +249,11 @@ TEST(ClusterStoreFaults, AStallWhileReadingRowsIsTheStoreNotAnsweringInTimeNotDa
 
 // A DELETE through B of a job whose owner A is paused (SIGSTOP) is recorded in Redis and
 // answered at once (within the Redis timeouts), saying the owner has not answered and stops the
-// job when it next reads the store; once A runs again, it does.
-TEST(ClusterStoreFaults, ADeleteThroughAnotherReplicaWhileTheOwnerIsPausedIsAnsweredAtOnce) {
+// job when it next reads the store, and what happens if it stays silent under `spread` (the
+// end of the note, `then`); once A runs again, it does stop it.
+void delete_while_the_owner_is_paused(const char* spread, const std::string& then) {
   test::RedisServer redis;
-  Pair pair(redis);
+  Pair pair(redis, "30", spread);
   auto a = pair.a().client();
   auto b = pair.b().client();
   const std::string id = post_job(a, recipes(300, 13000));
@@ -271,10 +274,25 @@ TEST(ClusterStoreFaults, ADeleteThroughAnotherReplicaWhileTheOwnerIsPausedIsAnsw
   const std::regex note(
       "the cancel is recorded in the shared job store; the replica running the job has not "
       "answered for [0-9.]+ s \\(paused, stalled or cut off from the store\\): it stops the job "
-      "when it next reads the store, and the job reads as failed once it has been silent for "
-      "batch_job_stale_s = 30 s");
+      "when it next reads the store, " +
+      then);
   EXPECT_TRUE(std::regex_match(record.value("cancel_note", ""), note)) << record.dump();
   EXPECT_EQ(wait_finished(a, id).value("state", ""), "cancelled");
+}
+
+// With the default "helpers", a silent owner's job is taken over (and so stopped) by another
+// replica at half of batch_job_stale_s: it never reads as failed.
+TEST(ClusterStoreFaults, ADeleteThroughAnotherReplicaWhileTheOwnerIsPausedIsAnsweredAtOnce) {
+  delete_while_the_owner_is_paused(
+      "",
+      "or another replica takes the job over once it has been silent for half of "
+      "batch_job_stale_s = 30 s \\(15 s\\) and stops it then");
+}
+
+// With "owner", nothing takes the job over: it reads as failed at batch_job_stale_s.
+TEST(ClusterStoreFaults, ADeleteWhileTheOwnerIsPausedSaysTheJobReadsAsFailedWithOwnerSpread) {
+  delete_while_the_owner_is_paused(
+      "owner", "and the job reads as failed once it has been silent for batch_job_stale_s = 30 s");
 }
 
 // With "owner", an owner paused past batch_job_stale_s carries on and says so: a line in its log
@@ -339,6 +357,99 @@ TEST(ClusterStoreFaults, AJobOfAnOwnerPausedPastTheStaleTimeIsTakenOverAndEndsDo
   const auto csv = a.Get("/v1/batches/" + id + "/results.csv");
   ASSERT_TRUE(csv && csv->status == 200) << (csv ? csv->body : "no answer");
   EXPECT_EQ(csv->get_header_value("X-Slosh-Rows"), "200");
+}
+
+/// The stored text of Redis key `key` ("" when absent).
+std::string stored(service::RedisClient& redis, const std::string& key) {
+  const auto reply = redis.command({"GET", key});
+  return reply && reply->type == service::RedisReply::Type::kString ? reply->text : std::string();
+}
+
+// An owner paused until after the other replica took its job over and FINISHED it (then, with
+// `forget`, after the job was DELETEd too) finds, once it runs again, that the job is no longer
+// its own whatever its state: it says so in its log and writes nothing to Redis (the record is
+// byte-identical, no rows come back for a forgotten job).
+void resumed_owner_of_an_ended_job_writes_nothing(bool forget) {
+  test::RedisServer redis;
+  Pair pair(redis, "1.5");
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(200, forget ? 18000 : 17000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(pair.a().pid(), SIGSTOP);
+  const json done = wait_finished(b, id);
+  ASSERT_EQ(done.value("state", ""), "done") << done.value("message", "");
+  service::RedisClient store({service::parse_redis_url(redis.url())});
+  const std::string record_key = "slosh:jobs:" + id + ":record";
+  const std::string before = stored(store, record_key);
+  if (forget) {
+    const auto deleted = b.Delete("/v1/batches/" + id);
+    ASSERT_TRUE(deleted && deleted->status == 200) << (deleted ? deleted->body : "no answer");
+  }
+  ::kill(pair.a().pid(), SIGCONT);
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return pair.a().log().find("batch job " + id + ": another replica took it over") !=
+               std::string::npos;
+      },
+      std::chrono::seconds(10)))
+      << pair.a().log();
+  std::this_thread::sleep_for(1s);  // anything A would still write after its log line
+  EXPECT_EQ(pair.a().log().find("carried on with the job"), std::string::npos) << pair.a().log();
+  if (forget) {
+    EXPECT_EQ(stored(store, record_key), "");
+    const auto rows = store.command({"EXISTS", "slosh:jobs:" + id + ":rows"});
+    ASSERT_TRUE(rows);
+    EXPECT_EQ(rows->integer, 0);
+    const auto gone = b.Get("/v1/batches/" + id);
+    EXPECT_TRUE(gone && gone->status == 404);
+  } else {
+    EXPECT_EQ(stored(store, record_key), before);
+    const json after = get_json(b, "/v1/batches/" + id);
+    EXPECT_EQ(after.value("state", ""), "done");
+    EXPECT_EQ(after.at("shares"), done.at("shares"));
+  }
+}
+
+TEST(ClusterStoreFaults, AnOwnerResumedAfterItsJobWasTakenOverAndFinishedWritesNothing) {
+  resumed_owner_of_an_ended_job_writes_nothing(false);
+}
+
+TEST(ClusterStoreFaults, AnOwnerResumedAfterItsTakenOverJobWasDeletedWritesNothing) {
+  resumed_owner_of_an_ended_job_writes_nothing(true);
+}
+
+// A job cancelled while its owner is paused, before the other replica takes it over: the taker
+// reads the cancel at once and ends the job cancelled, naming the rows the owner had stored
+// (never "cancelled before it started" with rows done).
+TEST(ClusterStoreFaults, AJobCancelledBeforeItsTakeoverNamesTheRowsItsOwnerHadDone) {
+  test::RedisServer redis;
+  Pair pair(redis, "4");  // taken over once A has been silent for 2 s
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(300, 16000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  ::kill(pair.a().pid(), SIGSTOP);
+  const auto deleted = b.Delete("/v1/batches/" + id);
+  ASSERT_TRUE(deleted);
+  EXPECT_EQ(deleted->status, 202) << deleted->body;
+  const json cancelled = wait_finished(b, id);
+  ::kill(pair.a().pid(), SIGCONT);
+  EXPECT_EQ(cancelled.value("state", ""), "cancelled") << cancelled.value("message", "");
+  const int done = cancelled.at("progress").at("done").get<int>();
+  EXPECT_GE(done, 2) << cancelled.at("progress").dump();
+  EXPECT_EQ(cancelled.value("message", ""),
+            "cancelled after " + std::to_string(done) + " of 300 recipes")
+      << cancelled.at("progress").dump();
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return pair.b().log().find("batch job " + id + ": its replica line-1 stopped answering") !=
+               std::string::npos;
+      },
+      std::chrono::seconds(10)))
+      << pair.b().log();
 }
 
 // The table of a job that did not finish its rows (cancelled) is never answered as if it were

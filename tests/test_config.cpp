@@ -65,6 +65,8 @@ TEST(Config, ShippedFileHoldsTheEmbeddedDefaults) {
   EXPECT_EQ(from_file.batch_jobs_kept, defaults.batch_jobs_kept);
   EXPECT_EQ(from_file.batch_job_ttl_s, defaults.batch_job_ttl_s);
   EXPECT_EQ(from_file.batch_job_stale_s, defaults.batch_job_stale_s);
+  EXPECT_EQ(from_file.batch_job_spread, defaults.batch_job_spread);
+  EXPECT_EQ(from_file.batch_job_max_takes, defaults.batch_job_max_takes);
 }
 
 TEST(Config, LogFormatIsTextOrJson) {

@@ -144,14 +144,21 @@ void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
   for (const auto& q : queued) write_record(*q);
 }
 
-void BatchJobs::note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn) {
+bool BatchJobs::note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn) {
   const auto now = std::chrono::steady_clock::now();
   const double gap = std::chrono::duration<double>(now - last_turn).count();
   last_turn = now;
-  if (gap <= kPauseNoteS) return;
+  if (gap <= kPauseNoteS) return true;
+  if (helped_) {
+    // Another replica may have taken the job over meanwhile, and even finished or forgotten it:
+    // its record must not be written over.
+    const auto owner = helped_->owner_of(job.status.id);
+    if (owner && !owner->empty() && *owner != helped_->replica()) return false;
+  }
   job.status.note = resumed_note(gap, service_.config().batch_job_stale_s);
   spdlog::warn("batch job {}: {}", job.status.id, job.status.note);
   write_record(job);  // at once: other replicas may have read it as failed meanwhile
+  return true;
 }
 
 void BatchJobs::finish(Job& job, JobState state, const std::string& message) {
@@ -166,7 +173,13 @@ void BatchJobs::finish(Job& job, JobState state, const std::string& message) {
 
 void BatchJobs::run(Job& job) {
   JobStatus& s = job.status;
-  if (cancelled(job, true)) return finish(job, JobState::kCancelled, "cancelled before it started");
+  if (cancelled(job, true)) {
+    // A job taken over from a silent owner may be cancelled with the owner's rows stored.
+    return finish(job, JobState::kCancelled,
+                  s.done == 0 ? "cancelled before it started"
+                              : "cancelled after " + std::to_string(s.done) + " of " +
+                                    std::to_string(s.total) + " recipes");
+  }
   if (stopping()) {
     return finish(job, JobState::kFailed,
                   "the service shut down before the job started; POST the job again");
@@ -187,7 +200,10 @@ void BatchJobs::run(Job& job) {
   const std::size_t max_bytes = service_.config().batch_jobs_bytes;
   auto last_turn = std::chrono::steady_clock::now();
   while (s.done < s.total) {
-    note_if_paused(job, last_turn);
+    if (!note_if_paused(job, last_turn)) {
+      stop = RunStop::kTakenOver;
+      break;
+    }
     if (cancelled(job, heartbeat)) {
       stop = RunStop::kCancelled;
       break;

@@ -493,7 +493,8 @@ Reply BatchJobs::cancel(const std::string& id) {
       const std::int64_t age = unix_ms_now() - record.updated_unix_ms;
       const auto beat = age > kBehindMs ? store_.heartbeat_age_ms(id) : std::nullopt;
       api::add_cancel_note(
-          record, remote_cancel_text(age, beat.value_or(-1), service_.config().batch_job_stale_s));
+          record, remote_cancel_text(age, beat.value_or(-1), service_.config().batch_job_stale_s,
+                                     helped_ != nullptr));
     }
     return record_reply(202, record);
   });

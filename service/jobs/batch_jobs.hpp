@@ -131,7 +131,9 @@ class BatchJobs {
   void flush(Job& job, std::vector<std::string>& rows);
   // Notes in the job's record and the log that this process did not run since `last_turn` when
   // that gap is long (paused, starved); sets `last_turn` to now.
-  void note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
+  // Returns false when, after a pause, the job's owner mark names another replica (it took the
+  // job over): then nothing is written and the job is dropped here.
+  bool note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
   // Why a run stopped: all rows done, cancelled, its rows passed batch_jobs_bytes, shutdown.
   enum class RunStop { kAllDone, kCancelled, kTooLarge, kShutdown, kTakenOver };
   // Ends a run that stopped as `stop` with its state and message.

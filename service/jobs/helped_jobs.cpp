@@ -37,6 +37,7 @@ bool HelpedJobs::publish(const JobStatus& status, const std::vector<RecipeRow>& 
   if (any_error(client_->pipeline({{"DEL", stream},
                                    {"HSET", key(id, "help"), "owner", replica_, "front", "0"},
                                    {"PEXPIRE", key(id, "help"), ttl_ms_},
+                                   {"SET", key(id, "owner"), replica_, "PX", ttl_ms_},
                                    {"XGROUP", "CREATE", stream, kGroup, "0", "MKSTREAM"},
                                    {"PEXPIRE", stream, ttl_ms_}}))) {
     return false;
@@ -59,15 +60,30 @@ std::optional<std::string> HelpedJobs::beat(const std::string& id, std::size_t f
                                           {"HSET", key(id, "help"), "front", std::to_string(front)},
                                           {"PEXPIRE", key(id, "help"), ttl_ms_},
                                           {"PEXPIRE", key(id, "items"), ttl_ms_},
-                                          {"PEXPIRE", key(id, "helped"), ttl_ms_}});
+                                          {"PEXPIRE", key(id, "helped"), ttl_ms_},
+                                          {"GET", key(id, "owner")}});
   if (!replies) return std::nullopt;
   const RedisReply& owner = (*replies)[0];
+  const RedisReply& last_owner = (*replies)[5];
+  if (owner.type != RedisReply::Type::kString && last_owner.type == RedisReply::Type::kString &&
+      last_owner.text != replica_) {
+    // The help offer is gone because another replica took the job over and ended it (its
+    // owner mark outlives the job's end): the job is no longer this replica's.
+    (void)client_->command({"DEL", key(id, "help")});
+    return last_owner.text;
+  }
   if (owner.type != RedisReply::Type::kString) {
     // Emptied or expired: the key the HSET just made holds no owner, and nobody helps.
     (void)client_->command({"DEL", key(id, "help")});
     return std::string();
   }
   return owner.text;
+}
+
+std::optional<std::string> HelpedJobs::owner_of(const std::string& id) {
+  const auto reply = client_->command({"GET", key(id, "owner")});
+  if (!reply || reply->type == RedisReply::Type::kError) return std::nullopt;
+  return reply->type == RedisReply::Type::kString ? reply->text : std::string();
 }
 
 std::optional<std::vector<std::string>> HelpedJobs::helpers_of(
@@ -87,7 +103,9 @@ std::optional<std::vector<std::string>> HelpedJobs::helpers_of(
 void HelpedJobs::close(const std::string& id) {
   (void)client_->pipeline(
       {{"ZREM", prefix_ + "helping", id},
-       {"DEL", key(id, "items"), key(id, "help"), key(id, "helped"), key(id, "adopt")}});
+       {"DEL", key(id, "items"), key(id, "help"), key(id, "helped"), key(id, "adopt")},
+       // The owner mark stays as long as the record: a paused former owner reads it.
+       {"PEXPIRE", key(id, "owner"), ttl_ms_}});
 }
 
 std::vector<HelpedJobs::Helped> HelpedJobs::jobs() {
@@ -142,7 +160,8 @@ bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock) {
   const auto replies = client_->pipeline(
       {{"SET", key(id, "adopt"), replica_, "NX", "PX", std::to_string(lock.count())}});
   if (!replies || (*replies)[0].type != RedisReply::Type::kStatus) return false;
-  return !any_error(client_->pipeline({{"HSET", key(id, "help"), "owner", replica_}}));
+  return !any_error(client_->pipeline({{"HSET", key(id, "help"), "owner", replica_},
+                                       {"SET", key(id, "owner"), replica_, "PX", ttl_ms_}}));
 }
 
 std::optional<std::vector<RecipeRow>> HelpedJobs::table(const std::string& id, std::size_t total) {

@@ -45,6 +45,10 @@ class HelpedJobs {
   /// The owner's heartbeat: the helpers skip items below `front`. Returns the job's owner as
   /// Redis holds it ("" when Redis does not hold the job; nullopt when it cannot be asked).
   std::optional<std::string> beat(const std::string& id, std::size_t front);
+  /// The replica that owns job `id` as its owner mark in Redis says (the mark outlives the job's
+  /// end, so a paused former owner learns another replica took the job over and ended it); ""
+  /// when Redis holds no mark, nullopt when it cannot be asked. Writes nothing.
+  std::optional<std::string> owner_of(const std::string& id);
   /// The replica that solved the plan of each of `indexes` (0-based) of job `id`, "" for none;
   /// nullopt when Redis cannot be asked.
   std::optional<std::vector<std::string>> helpers_of(const std::string& id,

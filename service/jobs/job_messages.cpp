@@ -163,7 +163,7 @@ std::string results_behind_text(const std::string& id, const std::string& why) {
 }
 
 std::string remote_cancel_text(std::int64_t record_age_ms, std::int64_t heartbeat_age_ms,
-                               double stale_s) {
+                               double stale_s, bool taken_over) {
   const std::string recorded = "the cancel is recorded in the shared job store; ";
   if (heartbeat_age_ms >= 0 && heartbeat_age_ms <= 2000) {
     return recorded +
@@ -179,8 +179,16 @@ std::string remote_cancel_text(std::int64_t record_age_ms, std::int64_t heartbea
   return recorded + "the replica running the job has not answered for " +
          seconds_of_ms(record_age_ms) +
          " (paused, stalled or cut off from the store): it stops the job when it next reads the "
-         "store, and the job reads as failed once it has been silent for batch_job_stale_s = " +
-         api::number_text(stale_s) + " s";
+         "store, " +
+         (taken_over
+              // A helper takes a silent owner's job over at half of stale_s and, reading the
+              // cancel flag at once, stops it there: the job never reads as failed.
+              ? "or another replica takes the job over once it has been silent for half of "
+                "batch_job_stale_s = " +
+                    api::number_text(stale_s) + " s (" + api::number_text(stale_s / 2) +
+                    " s) and stops it then"
+              : "and the job reads as failed once it has been silent for batch_job_stale_s = " +
+                    api::number_text(stale_s) + " s");
 }
 
 std::string resumed_note(double gap_s, double stale_s) {

@@ -73,9 +73,12 @@ struct JobKeepBounds {
 [[nodiscard]] std::string results_behind_text(const std::string& id, const std::string& why);
 
 /// What a DELETE accepted for another replica's job says about when it takes effect: the owner's
-/// record is `record_age_ms` old; `heartbeat_age_ms` < 0 when its heartbeat is unknown or old.
+/// record is `record_age_ms` old; `heartbeat_age_ms` < 0 when its heartbeat is unknown or old;
+/// `taken_over`: a silent owner's job is taken over by another replica at stale_s / 2
+/// (batch_job_spread = "helpers") rather than read as failed at stale_s.
 [[nodiscard]] std::string remote_cancel_text(std::int64_t record_age_ms,
-                                             std::int64_t heartbeat_age_ms, double stale_s);
+                                             std::int64_t heartbeat_age_ms, double stale_s,
+                                             bool taken_over);
 
 /// The message of a job that stopped failed because its rows passed `max_bytes`
 /// (batch_jobs_bytes) after `done` of `total` recipes.

@@ -144,6 +144,9 @@ def check_k8s(root):
     port = container["ports"][0]
     check(port["containerPort"] == config["port"], "k8s: containerPort != config port")
     check(config["host"] == "0.0.0.0", "k8s: config not bound to 0.0.0.0")
+    check(config.get("batch_job_spread") == "helpers",
+          "k8s: batch_job_spread is not \"helpers\": the replicas would not help a job nor take "
+          "over a dead replica's job")
     check(flag(container["args"], "--config") == "/etc/slosh/slosh.json" and
           any(m["mountPath"] == "/etc/slosh" for m in container["volumeMounts"]),
           "k8s: the ConfigMap is not the config file")
