@@ -171,6 +171,14 @@ void BatchJobs::finish(Job& job, JobState state, const std::string& message) {
                message.empty() ? "" : ": ", message);
 }
 
+std::optional<BatchJobs::RunStop> BatchJobs::stop_before_row(
+    Job& job, std::chrono::steady_clock::time_point& last_turn, bool heartbeat) {
+  if (!note_if_paused(job, last_turn)) return RunStop::kTakenOver;
+  if (cancelled(job, heartbeat)) return RunStop::kCancelled;
+  if (stopping()) return RunStop::kShutdown;
+  return std::nullopt;
+}
+
 void BatchJobs::run(Job& job) {
   JobStatus& s = job.status;
   if (cancelled(job, true)) {
@@ -200,16 +208,8 @@ void BatchJobs::run(Job& job) {
   const std::size_t max_bytes = service_.config().batch_jobs_bytes;
   auto last_turn = std::chrono::steady_clock::now();
   while (s.done < s.total) {
-    if (!note_if_paused(job, last_turn)) {
-      stop = RunStop::kTakenOver;
-      break;
-    }
-    if (cancelled(job, heartbeat)) {
-      stop = RunStop::kCancelled;
-      break;
-    }
-    if (stopping()) {
-      stop = RunStop::kShutdown;
+    if (const std::optional<RunStop> before = stop_before_row(job, last_turn, heartbeat)) {
+      stop = *before;
       break;
     }
     next = fill_window(job, next, window);

@@ -23,6 +23,7 @@
 #include <functional>
 #include <memory>
 #include <mutex>
+#include <optional>
 #include <string>
 #include <thread>
 #include <unordered_map>
@@ -136,6 +137,9 @@ class BatchJobs {
   bool note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
   // Why a run stopped: all rows done, cancelled, its rows passed batch_jobs_bytes, shutdown.
   enum class RunStop { kAllDone, kCancelled, kTooLarge, kShutdown, kTakenOver };
+  // Why a run stops before its next row (taken over, cancelled, shutdown), if it does.
+  std::optional<RunStop> stop_before_row(Job& job, std::chrono::steady_clock::time_point& last_turn,
+                                         bool heartbeat);
   // Ends a run that stopped as `stop` with its state and message.
   void finish_run(Job& job, RunStop stop);
   // Ends `job` in `state` with `message`: its rows and final record stored.
