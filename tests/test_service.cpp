@@ -277,7 +277,16 @@ TEST(Service, ARequestQueuedPastItsWaitAnswers504) {
   auto first = std::async(std::launch::async, [&] {
     return server.client().Post("/v1/plans", slow.dump(), "application/json");
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(20));
+  // The quick request is sent once the slow solve holds the worker (a fixed 20 ms raced the slow
+  // request's arrival on a loaded machine: the quick one then took the worker and answered 200).
+  bool solving = false;
+  for (int i = 0; i < 1000 && !solving; ++i) {
+    const auto m = server.client().Get("/metrics");
+    solving = m && m->body.find("\nslosh_busy_workers 0\n") == std::string::npos &&
+              m->body.find("\nslosh_busy_workers ") != std::string::npos;
+    if (!solving) std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  ASSERT_TRUE(solving) << "the slow plan never reached a worker";
   json quick = plan_body("notch");
   quick["options"] = {{"time_limit_s", 0.001}};
   const auto r = server.client().Post("/v1/plans", quick.dump(), "application/json");
