@@ -1,5 +1,6 @@
 #include "slosh/api/spatial_series.hpp"
 
+#include <array>
 #include <cmath>
 #include <cstddef>
 #include <numbers>
@@ -19,26 +20,26 @@ struct Columns {
 
 }  // namespace
 
-nlohmann::json spatial_series_json(const SloshingModel& model, const PlanarDrive& drive,
-                                   const MotionLaw* law, double rest_time, double dt) {
+nlohmann::json spatial_series_columns(const PlanarDrive& drive, const MotionLaw* law,
+                                      double rest_time, double dt,
+                                      const SpatialSeriesSample& sample) {
   const double span = drive.duration() + rest_time;
   // Samples at 0, dt, ..., both ends included (as the straight line's series).
   const auto n = static_cast<std::size_t>(std::floor(span / dt + 1e-9)) + 1;
-  const PlanarLinearResponse linear(model, drive, rest_time);
-  const PlanarNonlinearResponse nonlinear(model, drive, rest_time);
   Columns c;
   for (std::size_t k = 0; k < n; ++k) {
     const double t = static_cast<double>(k) * dt;
     const PlanarKinematics p = drive.kinematics(t);
+    const std::array<double, 4> w = sample(t, p);
     c.t.push_back(t);
     c.x.push_back(p.x * 1e3);
     c.y.push_back(p.y * 1e3);
     c.theta.push_back(p.theta * kDegPerRad);
     c.a_h.push_back(std::hypot(p.ax, p.ay));
-    c.eta_lin.push_back(linear.eta(t) * 1e3);
-    c.eta_non.push_back(nonlinear.eta(t) * 1e3);
-    c.dir_lin.push_back(linear.direction(t) * kDegPerRad);
-    c.dir_non.push_back(nonlinear.direction(t) * kDegPerRad);
+    c.eta_lin.push_back(w[0] * 1e3);
+    c.eta_non.push_back(w[1] * 1e3);
+    c.dir_lin.push_back(w[2] * kDegPerRad);
+    c.dir_non.push_back(w[3] * kDegPerRad);
     if (law != nullptr) {
       const KinematicState s = law->at(t);
       c.s.push_back(s.position);
@@ -74,6 +75,16 @@ nlohmann::json spatial_series_json(const SloshingModel& model, const PlanarDrive
   }
   out["units"] = units;
   return out;
+}
+
+nlohmann::json spatial_series_json(const SloshingModel& model, const PlanarDrive& drive,
+                                   const MotionLaw* law, double rest_time, double dt) {
+  const PlanarLinearResponse linear(model, drive, rest_time);
+  const PlanarNonlinearResponse nonlinear(model, drive, rest_time);
+  return spatial_series_columns(drive, law, rest_time, dt, [&](double t, const PlanarKinematics&) {
+    return std::array<double, 4>{linear.eta(t), nonlinear.eta(t), linear.direction(t),
+                                 nonlinear.direction(t)};
+  });
 }
 
 }  // namespace slosh::api

@@ -124,6 +124,25 @@ nlohmann::json motion_summary(const SpatialMotion& motion, const PlanarDrive& dr
   return summary;
 }
 
+/// The answer's echo of what was simulated: the format with its motion (a trajectory has no
+/// stroke or motion time), the law when there is one, and the motion's summary.
+nlohmann::json motion_echo(const SimulateRequest& request, const SpatialMotion& motion,
+                           const PlanarDrive& drive, const MotionLaw& law,
+                           const std::optional<SevenSegmentLaw>& seven) {
+  nlohmann::json out;
+  nlohmann::json format = format_json(request.format);
+  if (motion.trajectory) {
+    format.erase("stroke_mm");
+    format.erase("motion_time_s");
+  } else {
+    out["law"] = law_json(request, law, seven);
+  }
+  format["motion"] = motion.echo;
+  out["format"] = format;
+  out["motion"] = motion_summary(motion, drive);
+  return out;
+}
+
 /// A rectangular tank along the motion: the tank-frame models of rectangular_planar.hpp.
 nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const MotionLaw& law,
                                const std::optional<SevenSegmentLaw>& seven) {
@@ -149,17 +168,7 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
                   "format: the motion is outside what the model describes");
     }
   }
-  nlohmann::json out;
-  nlohmann::json format = format_json(request.format);
-  if (motion.trajectory) {
-    format.erase("stroke_mm");
-    format.erase("motion_time_s");
-  } else {
-    out["law"] = law_json(request, law, seven);
-  }
-  format["motion"] = motion.echo;
-  out["format"] = format;
-  out["motion"] = motion_summary(motion, drive);
+  nlohmann::json out = motion_echo(request, motion, drive, law, seven);
   out["model"] =
       model_json(make_sloshing_model(request.format, request.options.model), request.options.model);
   add_rectangular_model(out["model"], tank, request.options.model);
@@ -253,17 +262,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
                   "outside what the model describes");
     }
   }
-  nlohmann::json out;
-  nlohmann::json format = format_json(request.format);
-  if (motion.trajectory) {
-    format.erase("stroke_mm");
-    format.erase("motion_time_s");
-  } else {
-    out["law"] = law_json(request, law, seven);
-  }
-  format["motion"] = motion.echo;
-  out["format"] = format;
-  out["motion"] = motion_summary(motion, drive);
+  nlohmann::json out = motion_echo(request, motion, drive, law, seven);
   out["model"] = model_json(model, request.options.model);
   out["prediction"] = {{"nonlinear", planar_peaks_json(nonlinear)},
                        {"linear", planar_peaks_json(linear)}};

@@ -3,6 +3,9 @@
 // the wall of both planar models, the wall direction of that maximum, and the container's pose,
 // at equal steps from the motion's start to the end of the rest window.
 
+#include <array>
+#include <functional>
+
 #include <nlohmann/json.hpp>
 
 #include "slosh/core/law/motion_law.hpp"
@@ -22,5 +25,16 @@ namespace slosh::api {
 [[nodiscard]] nlohmann::json spatial_series_json(const SloshingModel& model,
                                                  const PlanarDrive& drive, const MotionLaw* law,
                                                  double rest_time, double dt);
+
+/// One sample of a series' wall heights [m] and their wall directions [rad, world frame]:
+/// {linear, nonlinear, linear direction, nonlinear direction}.
+using SpatialSeriesSample = std::function<std::array<double, 4>(double t, const PlanarKinematics&)>;
+
+/// The series' columns and units as spatial_series_json documents them, at the same samples,
+/// with the heights and directions of `sample` (the one layout of the cylinder's and the
+/// rectangular tank's series).
+[[nodiscard]] nlohmann::json spatial_series_columns(const PlanarDrive& drive, const MotionLaw* law,
+                                                    double rest_time, double dt,
+                                                    const SpatialSeriesSample& sample);
 
 }  // namespace slosh::api
