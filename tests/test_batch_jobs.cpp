@@ -444,6 +444,39 @@ TEST(BatchJobs, ARecordItsReplicaStoppedRewritingReadsAsFailed) {
   EXPECT_EQ(api::iso_time(1'795'566'103'512), "2026-11-25T00:21:43.512Z");
 }
 
+// A job several replicas work on counts the items its helpers solved ahead of its stored rows:
+// "solved" is the stored rows plus those, and the rate and ETA are of it; once the job has ended
+// only the stored rows count. A job one replica runs (no shares) renders no "solved".
+TEST(BatchJobs, AHelpedJobsProgressCountsTheItemsItsHelpersSolvedAheadOfItsRows) {
+  service::JobStatus status;
+  status.id = "abc";
+  status.state = service::JobState::kRunning;
+  status.total = 20;
+  status.done = 4;
+  status.solved_ahead = 6;
+  status.shares = {{"line-1", 4}};
+  status.created_ms = 1'000'000;
+  status.started_ms = 1'000'000;
+  json rendered = json::parse(api::job_record_text(status, 1'002'000));
+  EXPECT_EQ(rendered["progress"]["done"], 4);
+  EXPECT_EQ(rendered["progress"]["solved"], 10);
+  EXPECT_EQ(rendered["progress"]["rate_per_s"], 5.0);  // 10 items in 2 s
+  EXPECT_EQ(rendered["progress"]["eta_s"], 2.0);       // 10 items left at 5 items/s
+  status.solved_ahead = 30;                            // never more than the table
+  rendered = json::parse(api::job_record_text(status, 1'002'000));
+  EXPECT_EQ(rendered["progress"]["solved"], 20);
+  EXPECT_EQ(rendered["progress"]["eta_s"], 0.0);
+  status.state = service::JobState::kCancelled;
+  status.finished_ms = 1'002'000;
+  rendered = json::parse(api::job_record_text(status, 1'002'000));
+  EXPECT_EQ(rendered["progress"]["solved"], 4);
+  EXPECT_EQ(rendered["progress"]["rate_per_s"], 2.0);
+  status.shares.clear();
+  status.state = service::JobState::kRunning;
+  rendered = json::parse(api::job_record_text(status, 1'002'000));
+  EXPECT_FALSE(rendered["progress"].contains("solved"));
+}
+
 // A replica of the previous version shares Redis: the records it stored (this text is one, byte
 // for byte, as it wrote it) are read, judged and answered unchanged, and this version stores the
 // same text for the same job.

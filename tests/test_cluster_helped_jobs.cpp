@@ -126,7 +126,18 @@ TEST(HelpedJobs, ADefaultJobIsWorkedOnByEveryReplicaAndItsTableIsSloshBatchs) {
   auto owner = cluster.replicas[0].client();
   const std::string id = post_table(owner, 480, 0);
   ASSERT_FALSE(id.empty());
+  // While it runs, its progress counts the items the helpers solved ahead of its stored rows.
+  json ahead;
+  test::wait_until([&] {
+    ahead = record_of(owner, id);
+    return ahead.is_object() &&
+           (test::is_final_record(ahead) ||
+            ahead.at("progress").value("solved", 0) > ahead.at("progress").value("done", 0));
+  });
+  EXPECT_EQ(ahead.value("state", ""), "running") << ahead;
+  EXPECT_LE(ahead.at("progress").value("solved", 0), 480) << ahead;
   const json done = wait_finished(owner, id);
+  EXPECT_EQ(done.at("progress").at("solved"), 480);
   ASSERT_EQ(done.at("state"), "done") << done;
   EXPECT_EQ(done.at("progress").at("done"), 480);
   // The shares name every replica and add up to the table: each row counted once.
@@ -134,10 +145,12 @@ TEST(HelpedJobs, ADefaultJobIsWorkedOnByEveryReplicaAndItsTableIsSloshBatchs) {
   std::size_t sum = 0;
   for (const auto& [replica, rows] : shares.items()) sum += rows.get<std::size_t>();
   EXPECT_EQ(sum, 480u) << shares;
+  // Each replica counts exactly its share (a plan two replicas solved is counted by the one
+  // credited with it).
   for (std::size_t i = 0; i < 3; ++i) {
     const test::Replica& r = cluster.replicas[i];
     EXPECT_GT(shares.value(r.id(), 0), 0) << r.id() << " has no share: " << shares;
-    EXPECT_GT(items_of(r), 0) << r.id() << " solved no item";
+    EXPECT_EQ(items_of(r), shares.value(r.id(), 0)) << r.id() << ": " << shares;
   }
   EXPECT_EQ(whole_table(owner, id, 480), reference);
   auto other = cluster.replicas[2].client();
@@ -156,6 +169,12 @@ TEST(HelpedJobs, KillingTheAcceptingReplicaMidJobLeavesItToAnotherWhichFinishesI
   const json done = wait_finished(other, id);
   ASSERT_EQ(done.at("state"), "done") << done;
   EXPECT_EQ(done.at("progress").at("done"), 480);
+  // The live replicas' counters are their shares in the record, across the takeover.
+  for (std::size_t i = 1; i < 3; ++i) {
+    const test::Replica& r = cluster.replicas[i];
+    EXPECT_EQ(items_of(r), done.at("shares").value(r.id(), 0))
+        << r.id() << ": " << done.at("shares");
+  }
   EXPECT_EQ(whole_table(other, id, 480), reference);
   auto third = cluster.replicas[2].client();
   EXPECT_EQ(whole_table(third, id, 480), reference);
@@ -183,6 +202,37 @@ TEST(HelpedJobs, RedisStoppedMidJobLeavesTheOwnerToFinishItAloneAndItsRowsReachR
   auto other = cluster.replicas[1].client();
   EXPECT_TRUE(test::wait_until([&] { return test::is_final_record(record_of(other, id)); }, 30s));
   EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+// Redis emptied (FLUSHALL) mid-job loses the job's help offer with everything else: the owner
+// offers the job again at its next heartbeat (its help offer naming it, its items, its record and
+// rows), so that the other replicas help again and one of them takes the job over when the owner
+// is then killed: the job ends done, every row once.
+TEST(HelpedJobs, AfterRedisIsEmptiedMidJobTheOwnerOffersItAgainAndAnotherTakesItOverWhenItDies) {
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[1].client();
+  const std::string id = post_table(owner, 400, 3000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(owner, id, 10).at("state"), "running");
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  ASSERT_TRUE(redis.command({"FLUSHALL"}));
+  const std::string keys = "slosh:jobs:" + id + ":";
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        const auto help = redis.command({"HGET", keys + "help", "owner"});
+        const auto items = redis.command({"XLEN", keys + "items"});
+        const auto record = redis.command({"EXISTS", keys + "record"});
+        return help && help->text == cluster.replicas[0].id() && items && items->integer == 400 &&
+               record && record->integer == 1;
+      },
+      10s));
+  ASSERT_EQ(record_of(owner, id).at("state"), "running");
+  ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
+  const json done = wait_finished(other, id);
+  ASSERT_EQ(done.at("state"), "done") << done;
+  EXPECT_EQ(done.at("progress").at("done"), 400);
+  (void)whole_table(other, id, 400);
 }
 
 }  // namespace

@@ -420,6 +420,51 @@ TEST(ClusterStoreFaults, AnOwnerResumedAfterItsTakenOverJobWasDeletedWritesNothi
   resumed_owner_of_an_ended_job_writes_nothing(true);
 }
 
+// Redis stalls for the owner A only (a relay holds every request of A's), past half of
+// batch_job_stale_s: B reads A's heartbeat as silent and takes the job over, while A, cut off,
+// finishes the job alone. Once A reaches Redis again (its held writes land late, its resync
+// publishes what it kept), the job's owner mark names B: A's writes are refused, A drops its
+// copy and says so, and both replicas serve B's record and one table (never A's finished record
+// on A and B's on B).
+TEST(ClusterStoreFaults, AnOwnerThatFinishedItsJobCutOffFromRedisPastItsTakeoverDropsItsCopy) {
+  test::RedisServer redis;
+  test::StallingRelay relay(redis.port());
+  Pair pair(relay.url(), redis.url(), "2");  // taken over once A has been silent for 1 s
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(120, 19000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  relay.stall_on("*", 4000ms);  // every RESP request: A's Redis stalls
+  const auto logged = [](test::Replica& r, const std::string& text) {
+    return test::wait_until([&] { return r.log().find(text) != std::string::npos; },
+                            std::chrono::seconds(30));
+  };
+  EXPECT_TRUE(logged(pair.b(), "batch job " + id + ": its replica line-1 stopped answering"))
+      << pair.b().log();
+  EXPECT_TRUE(logged(pair.a(), "batch job " + id + " done: 120 of 120 recipes")) << pair.a().log();
+  relay.stall_on("", 0ms);
+  const json done = wait_finished(b, id);
+  ASSERT_EQ(done.value("state", ""), "done") << done.value("message", "");
+  EXPECT_EQ(done.at("progress").at("done"), 120);
+  EXPECT_TRUE(logged(pair.a(), "batch job " + id +
+                                   ": replica line-2 took it over while this replica could not "
+                                   "write to the shared job store; this replica's copy is dropped "
+                                   "and the job is served as replica line-2 runs it"))
+      << pair.a().log();
+  const json via_a = get_json(a, "/v1/batches/" + id);
+  EXPECT_EQ(via_a.value("state", ""), "done");
+  EXPECT_EQ(via_a.at("shares"), done.at("shares"));
+  EXPECT_EQ(via_a.at("finished_at"), done.at("finished_at"));
+  EXPECT_GT(done.at("shares").value("line-2", 0), 0) << done.at("shares");
+  const auto table_a = a.Get("/v1/batches/" + id + "/results.csv");
+  const auto table_b = b.Get("/v1/batches/" + id + "/results.csv");
+  ASSERT_TRUE(table_a && table_b);
+  ASSERT_EQ(table_a->status, 200) << table_a->body;
+  EXPECT_EQ(lines_of(table_a->body), 121u);
+  EXPECT_EQ(test::csv_without_timing(table_a->body), test::csv_without_timing(table_b->body));
+}
+
 // A job cancelled while its owner is paused, before the other replica takes it over: the taker
 // reads the cancel at once and ends the job cancelled, naming the rows the owner had stored
 // (never "cancelled before it started" with rows done).

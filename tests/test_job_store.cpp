@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <atomic>
+#include <functional>
 #include <future>
 #include <mutex>
 #include <optional>
@@ -456,6 +457,117 @@ TEST(TieredJobStore, ARemovalOrCancelAcceptedElsewhereSurvivesAnEmptyingAndTheOw
   a.resync();
   EXPECT_EQ(b.record("finished2"), std::nullopt);
   EXPECT_EQ(a.record("finished2"), std::nullopt);
+}
+
+// A local store whose row writes first run `on_rows` (a reader on another thread, in effect).
+class HookedStore final : public JobStore {
+ public:
+  MemoryJobStore inner;
+  std::function<void()> on_rows;
+  bool put_record(const std::string& id, const std::string& r) override {
+    return inner.put_record(id, r);
+  }
+  RecordLookup lookup_record(const std::string& id) override { return inner.lookup_record(id); }
+  bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
+    if (on_rows) on_rows();
+    return inner.put_rows(id, first, rows);
+  }
+  std::optional<Rows> rows(const std::string& id, std::size_t offset, std::size_t count) override {
+    return inner.rows(id, offset, count);
+  }
+  bool request_cancel(const std::string& id) override { return inner.request_cancel(id); }
+  bool cancel_requested(const std::string& id) override { return inner.cancel_requested(id); }
+  bool remove(const std::string& id) override { return inner.remove(id); }
+};
+
+// A copy of a finished job kept here is read only once it is whole: while its rows are being
+// copied, a reader gets the shared store's record and every row, never the copy's final record
+// with rows missing (which a GET answers 503).
+TEST(TieredJobStore, AJobBeingCopiedHereIsReadFromTheSharedStoreUntilTheCopyIsWhole) {
+  HookedStore local;
+  SwitchableStore shared;
+  TieredJobStore replica(local, shared);
+  const Rows rows{"r0", "r1", "r2"};
+  ASSERT_TRUE(shared.inner.put_record("job", "done"));
+  ASSERT_TRUE(shared.inner.put_rows("job", 0, rows));
+  std::optional<std::vector<std::optional<std::string>>> seen;
+  std::optional<std::string> record;
+  local.on_rows = [&] {
+    record = replica.record("job");
+    seen = replica.read_slots("job", 0, 3).slots;
+  };
+  ASSERT_TRUE(replica.keep_copy("job", "done", rows));
+  EXPECT_EQ(record, "done");
+  EXPECT_EQ(seen, (std::vector<std::optional<std::string>>{"r0", "r1", "r2"}));
+  local.on_rows = nullptr;
+  shared.down = true;  // the copy answers alone now
+  EXPECT_EQ(replica.rows("job", 0, 3), rows);
+}
+
+// A shared store that refuses every write of job "job" once `taken` because its owner mark names
+// "line-2" (and fails every write while `down`).
+class TakenOverStore final : public JobStore {
+ public:
+  MemoryJobStore inner;
+  bool taken{false};
+  bool down{false};
+  bool put_record(const std::string& id, const std::string& r) override {
+    return !taken && !down && inner.put_record(id, r);
+  }
+  RecordLookup lookup_record(const std::string& id) override { return inner.lookup_record(id); }
+  bool put_rows(const std::string& id, std::size_t first, const Rows& rows) override {
+    return !taken && !down && inner.put_rows(id, first, rows);
+  }
+  std::optional<Rows> rows(const std::string& id, std::size_t offset, std::size_t count) override {
+    return inner.rows(id, offset, count);
+  }
+  std::optional<std::string> taken_over_by(const std::string& id) override {
+    return taken && !down && id == "job" ? std::optional<std::string>("line-2") : std::nullopt;
+  }
+  bool request_cancel(const std::string& id) override { return inner.request_cancel(id); }
+  bool cancel_requested(const std::string& id) override { return inner.cancel_requested(id); }
+  bool remove(const std::string& id) override { return inner.remove(id); }
+};
+
+// A job another replica took over (the shared store refuses this replica's writes of it, naming
+// the new owner) is dropped here at the first refused write, by a write or by the resync of what
+// this replica kept: its local record and rows are gone, it is read from the shared store as the
+// new owner wrote it, and nothing of it is written here again.
+TEST(TieredJobStore, AJobAnotherReplicaTookOverIsDroppedHereAndNeverWrittenHereAgain) {
+  for (const bool by_resync : {false, true}) {
+    MemoryJobStore local;
+    TakenOverStore shared;
+    TieredJobStore owner(local, shared);
+    ASSERT_TRUE(owner.put_record("job", "running 0"));
+    ASSERT_TRUE(owner.put_rows("job", 0, {"r0"}));
+    if (by_resync) {
+      // Cut off from the shared store: the job's end is kept here, to be sent at the heartbeat.
+      shared.down = true;
+      ASSERT_TRUE(owner.put_rows("job", 1, {"r1"}));
+      ASSERT_TRUE(owner.put_record("job", "done here"));
+      EXPECT_EQ(owner.record("job"), "done here");
+      shared.down = false;
+    }
+    shared.taken = true;
+    ASSERT_TRUE(shared.inner.put_record("job", "running 1 by line-2"));
+    if (by_resync) {
+      owner.resync();
+    } else {
+      EXPECT_FALSE(owner.put_rows("job", 1, {"r1"}));
+    }
+    EXPECT_EQ(local.record("job"), std::nullopt) << by_resync;
+    EXPECT_EQ(owner.record("job"), "running 1 by line-2") << by_resync;
+    EXPECT_FALSE(owner.unshared("job")) << by_resync;
+    EXPECT_FALSE(owner.put_record("job", "done here"));
+    EXPECT_FALSE(owner.put_rows("job", 2, {"r2"}));
+    owner.resync();
+    EXPECT_EQ(local.record("job"), std::nullopt) << by_resync;
+    // Taken back over (keep_copy at a takeover): written here again.
+    shared.taken = false;
+    ASSERT_TRUE(owner.keep_copy("job", "running 1", {"r0"}));
+    EXPECT_TRUE(owner.put_record("job", "running 2"));
+    EXPECT_EQ(shared.inner.record("job"), "running 2");
+  }
 }
 
 TEST(MemoryJobStore, RowsAreKeyedByIndexAndAGapIsRefused) {

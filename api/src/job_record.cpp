@@ -22,12 +22,19 @@ json optional_time(const std::optional<std::int64_t>& ms) {
   return ms ? json(iso_time(*ms)) : json(nullptr);
 }
 
-// Rows per second since the job started (to 0.1 row/s); 0 before it has.
+// Items solved: the stored rows and, while a helped job runs, the items its helpers solved ahead
+// of them (each item once).
+std::size_t solved_of(const JobStatus& s) {
+  if (is_final(s.state)) return s.done;
+  return std::min(s.total, s.done + s.solved_ahead);
+}
+
+// Items solved per second since the job started (to 0.1 item/s); 0 before it has.
 double rate_per_s(const JobStatus& s, std::int64_t now_ms) {
   if (!s.started_ms) return 0.0;
   const std::int64_t end = s.finished_ms.value_or(now_ms);
   const double seconds = static_cast<double>(std::max<std::int64_t>(1, end - *s.started_ms)) / 1e3;
-  return std::round(static_cast<double>(s.done) / seconds * 10.0) / 10.0;
+  return std::round(static_cast<double>(solved_of(s)) / seconds * 10.0) / 10.0;
 }
 
 // The member `name` of `object` as a whole count; nullopt when absent or not a number.
@@ -64,7 +71,7 @@ std::string job_record_text(const JobStatus& s, std::int64_t now_ms) {
   if (is_final(s.state)) {
     eta = 0;
   } else if (rate > 0.0) {
-    eta = std::ceil(static_cast<double>(s.total - s.done) / rate);
+    eta = std::ceil(static_cast<double>(s.total - solved_of(s)) / rate);
   }
   const std::string base = "/v1/batches/" + s.id;
   json record{{"id", s.id},
@@ -91,6 +98,8 @@ std::string job_record_text(const JobStatus& s, std::int64_t now_ms) {
     json shares = json::object();
     for (const auto& [replica, rows] : s.shares) shares[replica] = rows;
     record["shares"] = std::move(shares);
+    // A job several replicas work on: its items solved on any of them, each once.
+    record["progress"]["solved"] = solved_of(s);
   }
   return dump_json(record);
 }

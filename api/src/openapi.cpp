@@ -1378,7 +1378,12 @@ void add_batch_job_schemas(json& s) {
   json progress = object({{"done", integer("Rows finished (planned or in error), in order.")},
                           {"total", integer("Rows of the job.")},
                           {"failed", integer("Rows in error among the done ones.")},
-                          {"rate_per_s", number("Rows per second since the job started.")},
+                          {"solved", integer("A job several replicas work on (with "
+                                             "\"shares\"): its items solved on any replica, "
+                                             "each once: the done rows and the items the helping "
+                                             "replicas solved ahead of them.")},
+                          {"rate_per_s", number("Items solved per second since the job started "
+                                                "(the done rows, or \"solved\" when present).")},
                           {"eta_s", nullable(number("Seconds left at that rate (null before "
                                                     "the first row)."))}},
                          {"done", "total", "failed", "rate_per_s", "eta_s"}, "", false);

@@ -233,8 +233,13 @@ void BatchJobs::run(Job& job) {
       last_flush = std::chrono::steady_clock::now();
     }
   }
+  // The last row may have come in the very turn this replica resumed after a pause long enough
+  // for another replica to take the job over: asked once more before the final writes (which
+  // the job store makes only while the job's owner mark names this replica anyway).
+  if (stop != RunStop::kTakenOver && helped_ && !beat_helpers(job, cached, s.total, true)) {
+    stop = RunStop::kTakenOver;
+  }
   if (stop == RunStop::kTakenOver) return finish_run(job, stop);
-  if (helped_) (void)beat_helpers(job, cached, s.total);
   flush(job, rows);
   finish_run(job, stop);
 }
@@ -244,11 +249,11 @@ std::size_t BatchJobs::keep_row(Job& job, const BatchResult& result, std::vector
   JobStatus& s = job.status;
   const api::PlanTableRow row = plan_row(job.rows[s.done], result, job.view);
   if (row.failed) ++s.failed;
-  // A cache hit may be a helper's solve: its share is known at the next heartbeat.
-  if (helped_ && result.cached) {
+  // A helped job's row is credited at the next heartbeat to the replica that solved its plan
+  // first (a helper's solve may have been a cache hit here, or raced this replica's).
+  if (helped_) {
     cached.push_back(s.done);
   } else {
-    if (helped_) add_share(s, helped_->replica());
     ++items_stored_;
   }
   rows.push_back(api::table_row_text(row));
@@ -256,18 +261,36 @@ std::size_t BatchJobs::keep_row(Job& job, const BatchResult& result, std::vector
   return rows.back().size();
 }
 
-bool BatchJobs::beat_helpers(Job& job, std::vector<std::size_t>& cached, std::size_t front) {
+bool BatchJobs::beat_helpers(Job& job, std::vector<std::size_t>& cached, std::size_t front,
+                             bool last) {
   JobStatus& s = job.status;
   const auto owner = helped_->beat(s.id, front);
   // Another replica took the job over while this one was silent (paused, cut off): it runs it.
   if (owner && !owner->empty() && *owner != helped_->replica()) return false;
-  const auto helpers = helped_->helpers_of(s.id, cached);
-  for (std::size_t k = 0; k < cached.size(); ++k) {
-    const bool helped = helpers && !(*helpers)[k].empty();
-    add_share(s, helped ? (*helpers)[k] : helped_->replica());
-    if (!helped) ++items_stored_;
+  if (owner && owner->empty() && !job.cancel) {
+    // Redis answered without the help offer and without an owner mark: it was emptied (or the
+    // keys expired) while the job ran. Offered again from where this replica is, so that the
+    // other replicas help, and take the job over if this one stops.
+    if (helped_->publish(s, job.rows, std::min(front, s.total))) {
+      spdlog::info("batch job {}: offered to the other replicas again (Redis had lost the offer)",
+                   s.id);
+    }
   }
-  cached.clear();
+  const auto solvers = helped_->credit(s.id, cached);
+  if (solvers || last) {
+    // Without an answer at the job's end the rows are this replica's: its record must name a
+    // solver for each (the helpers' note of them is then not counted either).
+    for (std::size_t k = 0; k < cached.size(); ++k) {
+      add_share(s, solvers ? (*solvers)[k].solver : helped_->replica());
+      // Counted where it was noted: here now, or by the helper that noted it first (which may
+      // be this replica's own, for a job it took over).
+      if (!solvers || (*solvers)[k].noted_now) ++items_stored_;
+    }
+    cached.clear();
+  }
+  // The items the helpers solved ahead of the stored rows count in the progress too.
+  if (const auto ahead = helped_->solved_from(s.id, s.done)) s.solved_ahead = *ahead;
+  if (last) s.solved_ahead = 0;
   return true;
 }
 
@@ -281,7 +304,7 @@ void BatchJobs::finish_run(Job& job, RunStop stop) {
     store_.drop_local(s.id);
     return;
   }
-  if (helped_) helped_->close(s.id);
+  if (helped_) helped_->close(s.id, true);
   const std::string progress =
       std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
   if (stop == RunStop::kCancelled) {

@@ -94,7 +94,8 @@ class BatchJobs {
   /// here that have not finished).
   [[nodiscard]] std::size_t active() const;
   /// Job items (rows) this replica solved and stored, of its own jobs and of shared ones; a row
-  /// of a shared job is counted by the one replica that stored it first.
+  /// of a shared job is counted by the one replica that stored it first, a row of a helped job
+  /// by the one credited with it in the job's shares (the first to solve its plan).
   [[nodiscard]] std::uint64_t items_stored() const {
     return items_stored_.load() + (shared_ ? shared_->items_stored() : 0) +
            (helper_ ? helper_->items_solved() : 0);
@@ -116,12 +117,14 @@ class BatchJobs {
   // table from the helpers' stream, its record and first `done` rows from the shared store.
   // Whether it was taken.
   bool adopt(const std::string& id);
-  // The helpers' shares of the rows stored since the last call (`cached`: the indexes of those
-  // that were cache hits) and the owner's heartbeat to them; false when another replica owns
-  // the job now (it took the job over while this one was silent).
-  bool beat_helpers(Job& job, std::vector<std::size_t>& cached, std::size_t front);
-  // Adds the row of the job's next item (`result`) to `rows`, counts it (and its share, or notes
-  // it in `cached` when it was a cache hit); returns its length.
+  // The owner's heartbeat to the helpers and the shares of the rows stored and not credited yet
+  // (`cached`: their indexes; kept while Redis does not answer, unless `last`: the job's end);
+  // false when another replica owns the job now (it took the job over while this one was
+  // silent). Offers the job again when Redis lost its offer (emptied).
+  bool beat_helpers(Job& job, std::vector<std::size_t>& cached, std::size_t front,
+                    bool last = false);
+  // Adds the row of the job's next item (`result`) to `rows` and counts it (a helped job's row:
+  // noted in `cached`, credited at the next heartbeat); returns its length.
   std::size_t keep_row(Job& job, const BatchResult& result, std::vector<std::string>& rows,
                        std::vector<std::size_t>& cached);
   void run_jobs();

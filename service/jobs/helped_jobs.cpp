@@ -14,6 +14,27 @@ constexpr const char* kGroup = "helpers";
 constexpr std::size_t kChunk = 500;
 /// Entries read back at a time when a job is adopted.
 constexpr std::size_t kReadChunk = 1000;
+/// note_helped(): KEYS help offer, helped, solved; ARGV the index, this replica, the TTL [ms].
+/// Nothing once the offer is gone (the job ended: its owner has credited every row), so a plan
+/// finished after the job's end is not credited nor counted.
+constexpr const char* kNoteHelped = R"lua(
+if redis.call('EXISTS', KEYS[1]) == 0 then return 0 end
+local won = redis.call('HSETNX', KEYS[2], ARGV[1], ARGV[2])
+redis.call('PEXPIRE', KEYS[2], ARGV[3])
+redis.call('ZADD', KEYS[3], ARGV[1], ARGV[1])
+redis.call('PEXPIRE', KEYS[3], ARGV[3])
+return won
+)lua";
+/// close() by the owner: KEYS owner mark, helping set, items, help, helped, adopt, solved; ARGV
+/// this replica, the job's id, the keys' TTL [ms]. Nothing when the mark names another replica.
+constexpr const char* kCloseOwned = R"lua(
+local mark = redis.call('GET', KEYS[1])
+if mark and mark ~= ARGV[1] then return 0 end
+redis.call('ZREM', KEYS[2], ARGV[2])
+redis.call('DEL', KEYS[3], KEYS[4], KEYS[5], KEYS[6], KEYS[7])
+redis.call('PEXPIRE', KEYS[1], ARGV[3])
+return 1
+)lua";
 
 bool any_error(const std::optional<std::vector<RedisReply>>& replies) {
   if (!replies) return true;
@@ -31,18 +52,23 @@ HelpedJobs::HelpedJobs(std::shared_ptr<RedisClient> client, std::string replica,
       ttl_ms_(std::to_string(ttl.count())),
       prefix_(std::move(prefix)) {}
 
-bool HelpedJobs::publish(const JobStatus& status, const std::vector<RecipeRow>& recipes) {
+bool HelpedJobs::publish(const JobStatus& status, const std::vector<RecipeRow>& recipes,
+                         std::size_t front) {
   const std::string& id = status.id;
   const std::string stream = key(id, "items");
-  if (any_error(client_->pipeline({{"DEL", stream},
-                                   {"HSET", key(id, "help"), "owner", replica_, "front", "0"},
-                                   {"PEXPIRE", key(id, "help"), ttl_ms_},
-                                   {"SET", key(id, "owner"), replica_, "PX", ttl_ms_},
-                                   {"XGROUP", "CREATE", stream, kGroup, "0", "MKSTREAM"},
-                                   {"PEXPIRE", stream, ttl_ms_}}))) {
+  front = std::min(front, recipes.size());
+  if (any_error(client_->pipeline(
+          {{"DEL", stream},
+           {"HSET", key(id, "help"), "owner", replica_, "front", std::to_string(front)},
+           {"PEXPIRE", key(id, "help"), ttl_ms_},
+           {"SET", key(id, "owner"), replica_, "PX", ttl_ms_},
+           {"XGROUP", "CREATE", stream, kGroup, "0", "MKSTREAM"},
+           {"PEXPIRE", stream, ttl_ms_}}))) {
     return false;
   }
   // From the end: the helpers work from the table's end while the owner works from its start.
+  // Every item, also those below `front`: a replica that takes the job over reads its table
+  // from them.
   for (std::size_t done = 0; done < recipes.size(); done += kChunk) {
     std::vector<std::vector<std::string>> adds;
     for (std::size_t k = done; k < std::min(recipes.size(), done + kChunk); ++k) {
@@ -61,7 +87,8 @@ std::optional<std::string> HelpedJobs::beat(const std::string& id, std::size_t f
                                           {"PEXPIRE", key(id, "help"), ttl_ms_},
                                           {"PEXPIRE", key(id, "items"), ttl_ms_},
                                           {"PEXPIRE", key(id, "helped"), ttl_ms_},
-                                          {"GET", key(id, "owner")}});
+                                          {"GET", key(id, "owner")},
+                                          {"PEXPIRE", key(id, "solved"), ttl_ms_}});
   if (!replies) return std::nullopt;
   const RedisReply& owner = (*replies)[0];
   const RedisReply& last_owner = (*replies)[5];
@@ -86,24 +113,56 @@ std::optional<std::string> HelpedJobs::owner_of(const std::string& id) {
   return reply->type == RedisReply::Type::kString ? reply->text : std::string();
 }
 
-std::optional<std::vector<std::string>> HelpedJobs::helpers_of(
+std::optional<std::vector<HelpedJobs::Credit>> HelpedJobs::credit(
     const std::string& id, const std::vector<std::size_t>& indexes) {
-  std::vector<std::string> out(indexes.size());
+  std::vector<Credit> out(indexes.size());
   if (indexes.empty()) return out;
-  std::vector<std::string> ask{"HMGET", key(id, "helped")};
-  for (std::size_t i : indexes) ask.push_back(std::to_string(i));
-  const auto reply = client_->command(ask);
-  if (!reply || reply->type != RedisReply::Type::kArray) return std::nullopt;
-  for (std::size_t k = 0; k < out.size() && k < reply->elements.size(); ++k) {
-    if (reply->elements[k].type == RedisReply::Type::kString) out[k] = reply->elements[k].text;
+  // HSETNX: an item a helper noted first stays its own; the others become this replica's. Then
+  // HGETs in the same round trip (not an HMGET: that is the job's row read, see jobs()).
+  // In chunks (rows held while Redis did not answer may be thousands); a chunk sent again after
+  // a failure credits the same replicas (HSETNX keeps the first).
+  for (std::size_t first = 0; first < indexes.size(); first += kChunk) {
+    const std::size_t n = std::min(kChunk, indexes.size() - first);
+    std::vector<std::vector<std::string>> asks;
+    for (std::size_t k = first; k < first + n; ++k) {
+      asks.push_back({"HSETNX", key(id, "helped"), std::to_string(indexes[k]), replica_});
+    }
+    for (std::size_t k = first; k < first + n; ++k) {
+      asks.push_back({"HGET", key(id, "helped"), std::to_string(indexes[k])});
+    }
+    asks.push_back({"PEXPIRE", key(id, "helped"), ttl_ms_});
+    const auto replies = client_->pipeline(asks);
+    if (!replies || replies->size() != asks.size()) return std::nullopt;
+    for (std::size_t k = 0; k < n; ++k) {
+      const RedisReply& noted = (*replies)[k];
+      const RedisReply& name = (*replies)[n + k];
+      if (name.type != RedisReply::Type::kString) return std::nullopt;
+      out[first + k].solver = name.text;
+      out[first + k].noted_now = noted.type == RedisReply::Type::kInteger && noted.integer == 1;
+    }
   }
   return out;
 }
 
-void HelpedJobs::close(const std::string& id) {
+std::optional<std::size_t> HelpedJobs::solved_from(const std::string& id, std::size_t done) {
+  const auto reply = client_->command({"ZCOUNT", key(id, "solved"), std::to_string(done), "+inf"});
+  if (!reply || reply->type != RedisReply::Type::kInteger) return std::nullopt;
+  return static_cast<std::size_t>(std::max<long long>(0, reply->integer));
+}
+
+void HelpedJobs::close(const std::string& id, bool as_owner) {
+  if (as_owner) {
+    // Only while the owner mark still names this replica: a job another replica took over while
+    // this one was cut off keeps its offer (this one's close may reach Redis late).
+    (void)client_->command({"EVAL", kCloseOwned, "7", key(id, "owner"), prefix_ + "helping",
+                            key(id, "items"), key(id, "help"), key(id, "helped"), key(id, "adopt"),
+                            key(id, "solved"), replica_, id, ttl_ms_});
+    return;
+  }
   (void)client_->pipeline(
       {{"ZREM", prefix_ + "helping", id},
-       {"DEL", key(id, "items"), key(id, "help"), key(id, "helped"), key(id, "adopt")},
+       {"DEL", key(id, "items"), key(id, "help"), key(id, "helped"), key(id, "adopt"),
+        key(id, "solved")},
        // The owner mark stays as long as the record: a paused former owner reads it.
        {"PEXPIRE", key(id, "owner"), ttl_ms_}});
 }
@@ -151,9 +210,11 @@ std::vector<SharedItem> HelpedJobs::take(const std::string& id, std::size_t n) {
   return SharedJobQueue::items_of(read->elements[0].elements[1]);
 }
 
-void HelpedJobs::note_helped(const std::string& id, std::size_t index) {
-  (void)client_->pipeline({{"HSETNX", key(id, "helped"), std::to_string(index), replica_},
-                           {"PEXPIRE", key(id, "helped"), ttl_ms_}});
+bool HelpedJobs::note_helped(const std::string& id, std::size_t index) {
+  const auto reply =
+      client_->command({"EVAL", kNoteHelped, "3", key(id, "help"), key(id, "helped"),
+                        key(id, "solved"), std::to_string(index), replica_, ttl_ms_});
+  return reply && reply->type == RedisReply::Type::kInteger && reply->integer == 1;
 }
 
 bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock) {

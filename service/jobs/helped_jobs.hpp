@@ -9,7 +9,10 @@
 // Keys of job <id> besides the job store's: <id>:help (a hash: owner = the replica running it,
 // front = the index below which the owner has started every item: helpers skip those),
 // <id>:items (a stream, one entry per recipe in reverse table order, read by the group
-// "helpers"), <id>:helped (a hash: index -> the replica that solved its plan, for the shares).
+// "helpers"), <id>:helped (a hash: index -> the replica credited with the item, the first that
+// solved it: a helper when it noted it, else the owner when it stored the row; the shares and
+// each replica's slosh_batch_job_items_total count the same), <id>:solved (a sorted set of the
+// indexes the helpers solved, scored by index: the items solved ahead of the owner's rows).
 // <prefix>helping is a sorted set of the helped jobs by creation time.
 //
 // When the owner's heartbeat (the job store's <id>:alive) has been silent for half of
@@ -39,9 +42,11 @@ class HelpedJobs {
   HelpedJobs(std::shared_ptr<RedisClient> client, std::string replica,
              std::chrono::milliseconds ttl, std::string prefix = "slosh:jobs:");
 
-  /// Offers job `status` (run here) to the helpers: its owner, its items in reverse order.
-  /// Whether Redis took it all (else the job runs here alone).
-  bool publish(const JobStatus& status, const std::vector<RecipeRow>& recipes);
+  /// Offers job `status` (run here) to the helpers: its owner, its items in reverse order, and
+  /// `front` (the owner has started the items below it: the helpers skip them). Whether Redis
+  /// took it all (else the job runs here alone).
+  bool publish(const JobStatus& status, const std::vector<RecipeRow>& recipes,
+               std::size_t front = 0);
   /// The owner's heartbeat: the helpers skip items below `front`. Returns the job's owner as
   /// Redis holds it ("" when Redis does not hold the job; nullopt when it cannot be asked).
   std::optional<std::string> beat(const std::string& id, std::size_t front);
@@ -49,12 +54,24 @@ class HelpedJobs {
   /// end, so a paused former owner learns another replica took the job over and ended it); ""
   /// when Redis holds no mark, nullopt when it cannot be asked. Writes nothing.
   std::optional<std::string> owner_of(const std::string& id);
-  /// The replica that solved the plan of each of `indexes` (0-based) of job `id`, "" for none;
-  /// nullopt when Redis cannot be asked.
-  std::optional<std::vector<std::string>> helpers_of(const std::string& id,
-                                                     const std::vector<std::size_t>& indexes);
-  /// The job has finished: no more help.
-  void close(const std::string& id);
+  /// Who is credited with a stored row: the replica that solved its plan first, and whether
+  /// this call noted it for this replica (else a helper did, maybe this replica's own helper,
+  /// which counted it then).
+  struct Credit {
+    std::string solver;
+    bool noted_now{false};
+  };
+  /// The owner stored the rows `indexes` (0-based) of job `id`: each is credited to the replica
+  /// that solved its plan first (a helper that noted it, else this replica, noted now); nullopt
+  /// when Redis cannot be asked (nothing credited yet).
+  std::optional<std::vector<Credit>> credit(const std::string& id,
+                                            const std::vector<std::size_t>& indexes);
+  /// Items of job `id` from index `done` on whose plans the helpers have solved (the owner has
+  /// not stored their rows yet); nullopt when Redis cannot be asked.
+  std::optional<std::size_t> solved_from(const std::string& id, std::size_t done);
+  /// The job has finished: no more help. `as_owner`: closed by the replica that ran it, only
+  /// while its owner mark names this replica (one atomic script).
+  void close(const std::string& id, bool as_owner = false);
 
   /// A helped job as a helper sees it.
   struct Helped {
@@ -66,8 +83,9 @@ class HelpedJobs {
   std::vector<Helped> jobs();
   /// Up to `n` new items of job `id`, in stream order (from the table's end).
   std::vector<SharedItem> take(const std::string& id, std::size_t n);
-  /// This replica solved the plan of item `index` of job `id`.
-  void note_helped(const std::string& id, std::size_t index);
+  /// This replica solved the plan of item `index` of job `id`: whether it is credited with it
+  /// (the first replica to note an item is; false also when Redis cannot be asked).
+  bool note_helped(const std::string& id, std::size_t index);
   /// Makes this replica the owner of job `id` when no other replica did within `lock`: whether
   /// it now owns it.
   bool adopt(const std::string& id, std::chrono::milliseconds lock);

@@ -108,10 +108,9 @@ bool HelperWorker::finish_ready() {
       continue;
     }
     const BatchResult result = it->started.get();
-    if (!result.error) {
-      jobs_.note_helped(it->job, it->index);
-      ++solved_;
-    }
+    // Counted only when credited with the item (the first replica to solve it), as the job's
+    // shares count it: a plan the owner or another helper finished first is not this one's.
+    if (!result.error && jobs_.note_helped(it->job, it->index)) ++solved_;
     any = true;
     it = flight_.erase(it);
   }

@@ -37,7 +37,8 @@ class HelperWorker {
   HelperWorker& operator=(const HelperWorker&) = delete;
 
   void stop();
-  /// Plans this replica solved for jobs other replicas run.
+  /// Plans this replica solved first for jobs other replicas run (credited to it in their
+  /// shares).
   [[nodiscard]] std::uint64_t items_solved() const { return solved_.load(); }
 
  private:

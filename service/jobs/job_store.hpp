@@ -121,6 +121,13 @@ class JobStore {
   /// store (redis://127.0.0.1:6379/0) refused the write: OOM command not allowed when used memory
   /// > 'maxmemory'."); empty when no write failed yet. Default empty.
   [[nodiscard]] virtual std::string last_write_failure() { return {}; }
+  /// The replica that took job `id` over, when this (shared) store refused this replica's last
+  /// write of the job's record or rows because the job's owner mark names that replica; nullopt
+  /// otherwise. Default nullopt (a store of one replica has no other owner).
+  [[nodiscard]] virtual std::optional<std::string> taken_over_by(const std::string& id) {
+    (void)id;
+    return std::nullopt;
+  }
   /// A sentence for /readyz while some jobs' rows or records are held here only because the
   /// shared store refuses or fails their writes (naming it and its reason); empty otherwise.
   [[nodiscard]] virtual std::string sharing_problem() { return {}; }

@@ -11,7 +11,8 @@ JobStores::JobStores(const ServerConfig& config, const std::shared_ptr<RedisClie
                                  .max_bytes = config.batch_jobs_bytes}) {
   if (!shared) return;
   redis.emplace(shared, std::chrono::seconds(std::llround(config.batch_job_ttl_s)), "slosh:jobs:",
-                std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1000)));
+                std::chrono::milliseconds(std::llround(config.batch_job_stale_s * 1000)),
+                replica_name(config));
   tiered.emplace(local, *redis);
 }
 

@@ -10,15 +10,39 @@
 
 namespace slosh::service {
 
+namespace {
+
+// KEYS[1]: the job's owner mark; ARGV[1]: this replica; then each command as its argument count
+// and its arguments. Writes nothing and answers {0, owner} when the mark names another replica;
+// else runs the commands and answers {1}, or the first command's error (Redis refuses the first
+// write when full, so a refusal writes nothing, as an aborted MULTI).
+constexpr const char* kOwnedWrite = R"lua(
+local mark = redis.call('GET', KEYS[1])
+if mark and mark ~= ARGV[1] then return {0, mark} end
+local i = 2
+while i <= #ARGV do
+  local n = tonumber(ARGV[i])
+  local r = redis.pcall(unpack(ARGV, i + 1, i + n))
+  if type(r) == 'table' and r.err then return r end
+  i = i + n + 1
+end
+return {1}
+)lua";
+
+}  // namespace
+
 RedisJobStore::RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::seconds ttl,
-                             std::string prefix, std::chrono::milliseconds settle)
+                             std::string prefix, std::chrono::milliseconds settle,
+                             std::string owner)
     : client_(std::move(client)),
       ttl_(std::to_string(std::max<long long>(1, ttl.count()))),
       prefix_(std::move(prefix)),
-      settle_ms_(settle.count()) {}
+      settle_ms_(settle.count()),
+      owner_(std::move(owner)) {}
 
 std::string RedisJobStore::write_failure(const std::string& id,
-                                         std::vector<std::vector<std::string>> commands) {
+                                         std::vector<std::vector<std::string>> commands,
+                                         bool owned) {
   {
     // The generation this write lands in is known before it is sent: an emptying right after it
     // (even before this replica's first heartbeat looked) is then seen as one, and what was
@@ -28,12 +52,20 @@ std::string RedisJobStore::write_failure(const std::string& id,
       if (auto mark = generation(0)) seen_generation_ = std::move(*mark);
     }
   }
-  commands.insert(commands.begin(), {"MULTI"});
   for (const char* part : {"record", "rows", "cancel", "removed"}) {
     commands.push_back({"EXPIRE", key(id, part), ttl_});
   }
-  commands.push_back({"EXEC"});
-  const std::string failure = write_replies_failure(client_->pipeline(commands));
+  std::string failure;
+  if (owned && !owner_.empty()) {
+    bool taken = false;
+    failure = owned_write(id, commands, taken);
+    // Not the store's failure: another replica runs the job (the caller drops its copy).
+    if (taken) return failure;
+  } else {
+    commands.insert(commands.begin(), {"MULTI"});
+    commands.push_back({"EXEC"});
+    failure = write_replies_failure(client_->pipeline(commands));
+  }
   if (!failure.empty()) {
     const std::string store = "the shared job store (" + client_->options().url.display() + ") ";
     const std::string refused = "Redis refused the write: ";
@@ -43,6 +75,45 @@ std::string RedisJobStore::write_failure(const std::string& id,
                         : store + "is unavailable: " + failure;
   }
   return failure;
+}
+
+std::string RedisJobStore::owned_write(const std::string& id,
+                                       const std::vector<std::vector<std::string>>& commands,
+                                       bool& taken) {
+  std::vector<std::string> eval{"EVAL", kOwnedWrite, "1", key(id, "owner"), owner_};
+  for (const auto& command : commands) {
+    eval.push_back(std::to_string(command.size()));
+    eval.insert(eval.end(), command.begin(), command.end());
+  }
+  const auto reply = client_->command(eval);
+  if (!reply) {
+    const std::string error = client_->state().error;
+    return error.empty() ? "no reply" : error;
+  }
+  if (reply->is_error()) return "Redis refused the write: " + reply->text;
+  if (reply->type != RedisReply::Type::kArray || reply->elements.empty() ||
+      reply->elements[0].type != RedisReply::Type::kInteger) {
+    return "Redis refused the write (the script answered no result)";
+  }
+  if (reply->elements[0].integer == 1) {
+    const std::lock_guard lock(taken_mutex_);
+    taken_.erase(id);
+    return "";
+  }
+  taken = true;
+  const std::string other = reply->elements.size() > 1 ? reply->elements[1].text : "";
+  {
+    const std::lock_guard lock(taken_mutex_);
+    taken_[id] = other;
+  }
+  return "replica " + other + " took the job over (its owner mark names it)";
+}
+
+std::optional<std::string> RedisJobStore::taken_over_by(const std::string& id) {
+  const std::lock_guard lock(taken_mutex_);
+  const auto it = taken_.find(id);
+  if (it == taken_.end()) return std::nullopt;
+  return it->second;
 }
 
 std::string RedisJobStore::write_replies_failure(
@@ -72,7 +143,7 @@ std::vector<std::string> RedisJobStore::alive_command(const std::string& id) con
 }
 
 bool RedisJobStore::put_record(const std::string& id, const std::string& record) {
-  return write(id, {{"SET", key(id, "record"), record}, alive_command(id)});
+  return write(id, {{"SET", key(id, "record"), record}, alive_command(id)}, true);
 }
 
 bool RedisJobStore::touch(const std::string& id) {
@@ -162,7 +233,7 @@ bool RedisJobStore::put_rows(const std::string& id, std::size_t first,
     set.push_back(std::to_string(first + i));
     set.push_back(rows[i]);
   }
-  return write(id, {std::move(set)});
+  return write(id, {std::move(set)}, true);
 }
 
 std::optional<std::vector<std::string>> RedisJobStore::rows(const std::string& id,

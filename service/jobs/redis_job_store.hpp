@@ -12,6 +12,15 @@
 // replicas' batch_job_stale_s) and renewed by touch() while the record cannot be written (Redis
 // at maxmemory refuses SET and HSET but takes PEXPIRE), so that another replica does not read a
 // live job as failed.
+//
+// With an `owner` (the replica's name), the record and row writes are conditional: they land only
+// while the job's owner mark (<id>:owner, set by HelpedJobs when a replica publishes or takes the
+// job over) is missing or names this replica, checked and written in one Lua script (EVAL), so a
+// replica that was cut off or paused while another took its job over never writes over the new
+// owner's state, whatever it finished meanwhile. A Lua script rather than WATCH/MULTI: WATCH needs
+// the check and the transaction on one pinned connection in two round trips (the client's
+// connections are a pool), and a lost race then only shows as a nil EXEC to tell apart from a
+// refusal; the script is one atomic round trip with the other replica's name as its answer.
 
 #include <chrono>
 #include <cstdint>
@@ -19,6 +28,7 @@
 #include <mutex>
 #include <optional>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
 #include "jobs/job_store.hpp"
@@ -35,7 +45,8 @@ class RedisJobStore final : public JobStore {
   /// failed anyway).
   RedisJobStore(std::shared_ptr<RedisClient> client, std::chrono::seconds ttl,
                 std::string prefix = "slosh:jobs:",
-                std::chrono::milliseconds settle = std::chrono::milliseconds(kSettleMs));
+                std::chrono::milliseconds settle = std::chrono::milliseconds(kSettleMs),
+                std::string owner = "");
 
   bool put_record(const std::string& id, const std::string& record) override;
   /// put_record(); on failure "the shared job store (<url>) is unavailable: <why>" (the client's
@@ -63,6 +74,9 @@ class RedisJobStore final : public JobStore {
   /// its PTTL.
   [[nodiscard]] std::optional<std::int64_t> heartbeat_age_ms(const std::string& id) override;
   [[nodiscard]] std::string last_write_failure() override;
+  /// The replica the owner mark of job `id` named when it refused this replica's last record or
+  /// row write of the job; nullopt when none was refused so.
+  [[nodiscard]] std::optional<std::string> taken_over_by(const std::string& id) override;
   /// The rows or cancel key exists (the removal mark does not).
   [[nodiscard]] JobTraces traces(const std::string& id) override;
   [[nodiscard]] std::vector<std::string> records_missing_among(
@@ -90,11 +104,19 @@ class RedisJobStore final : public JobStore {
 
  private:
   // Runs `commands` in MULTI ... EXEC with the TTL of the job's keys renewed; false on failure.
-  bool write(const std::string& id, std::vector<std::vector<std::string>> commands) {
-    return write_failure(id, std::move(commands)).empty();
+  // `owned`: a write of the job's state, made only while its owner mark allows it (owned_write).
+  bool write(const std::string& id, std::vector<std::vector<std::string>> commands,
+             bool owned = false) {
+    return write_failure(id, std::move(commands), owned).empty();
   }
   // write(): "" on success, else why it failed (the client's last failure or Redis's error).
-  std::string write_failure(const std::string& id, std::vector<std::vector<std::string>> commands);
+  std::string write_failure(const std::string& id, std::vector<std::vector<std::string>> commands,
+                            bool owned = false);
+  // `commands` (with their TTL renewals) in one Lua script that first checks the owner mark;
+  // "" on success, else why not; a refusal by the mark sets `taken` and is noted for
+  // taken_over_by().
+  std::string owned_write(const std::string& id,
+                          const std::vector<std::vector<std::string>>& commands, bool& taken);
   // Why the replies of a write (MULTI ... EXEC) are a failure; "" when they are not.
   std::string write_replies_failure(const std::optional<std::vector<RedisReply>>& replies) const;
 
@@ -115,6 +137,10 @@ class RedisJobStore final : public JobStore {
   const std::string ttl_;        // seconds, as text
   const std::string prefix_;
   const std::int64_t settle_ms_;
+  const std::string owner_;  // this replica's name; empty: writes are not conditional
+  // Jobs whose write the owner mark refused, and the replica it named.
+  std::mutex taken_mutex_;
+  std::unordered_map<std::string, std::string> taken_;
 };
 
 }  // namespace slosh::service

@@ -14,6 +14,10 @@ constexpr std::size_t kMaxCountedJobs = 1024;
 }  // namespace
 
 bool TieredJobStore::put_record(const std::string& id, const std::string& record) {
+  {
+    const std::lock_guard lock(mutex_);
+    if (disowned_locked(id)) return false;
+  }
   const bool local = local_.put_record(id, record);
   {
     // The shared store is behind on this job: the record goes with its rows at the next resync
@@ -22,11 +26,31 @@ bool TieredJobStore::put_record(const std::string& id, const std::string& record
     if (local && unsynced_.count(id) != 0) return true;
   }
   const bool shared = shared_.put_record(id, record);
+  if (!shared && lost_to_another(id)) return false;
   if (local && !shared) {
     const std::lock_guard lock(mutex_);
     fell_behind(id);
   }
   return local || shared;
+}
+
+bool TieredJobStore::lost_to_another(const std::string& id) {
+  const auto other = shared_.taken_over_by(id);
+  if (!other) return false;
+  local_.remove(id);
+  {
+    const std::lock_guard lock(mutex_);
+    counts_.erase(id);
+    unsynced_.erase(id);
+    refused_.erase(id);
+    if (disowned_.size() >= kRemembered) disowned_.clear();
+    if (!disowned_.insert(id).second) return true;
+  }
+  spdlog::warn(
+      "batch job {}: replica {} took it over while this replica could not write to the shared "
+      "job store; this replica's copy is dropped and the job is served as replica {} runs it",
+      id, *other, *other);
+  return true;
 }
 
 void TieredJobStore::fell_behind(const std::string& id) {
@@ -89,6 +113,10 @@ std::optional<std::string> TieredJobStore::create(const std::string& id,
 
 bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
                               const std::vector<std::string>& rows) {
+  {
+    const std::lock_guard lock(mutex_);
+    if (disowned_locked(id)) return false;
+  }
   const bool local = local_.put_rows(id, first, rows);
   {
     const std::lock_guard lock(mutex_);
@@ -106,6 +134,7 @@ bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
     }
   }
   const bool shared = shared_.put_rows(id, first, rows);
+  if (!shared && lost_to_another(id)) return false;
   const std::lock_guard lock(mutex_);
   if (shared) {
     RowCounts& counts = counts_[id];
@@ -118,6 +147,24 @@ bool TieredJobStore::put_rows(const std::string& id, std::size_t first,
 
 bool TieredJobStore::keep_copy(const std::string& id, const std::string& record,
                                const std::vector<std::string>& rows) {
+  {
+    // Read from the shared store until the copy is whole: the local store takes the record
+    // before the rows, and a reader meanwhile would find the final record without its rows.
+    const std::lock_guard lock(mutex_);
+    copying_.insert(id);
+  }
+  const bool kept = copy_here(id, record, rows);
+  const std::lock_guard lock(mutex_);
+  copying_.erase(id);
+  if (kept) {
+    counts_[id] = RowCounts{rows.size(), rows.size()};
+    disowned_.erase(id);  // taken (back) over by this replica
+  }
+  return kept;
+}
+
+bool TieredJobStore::copy_here(const std::string& id, const std::string& record,
+                               const std::vector<std::string>& rows) {
   if (!local_.put_record(id, record)) return false;
   for (std::size_t first = 0; first < rows.size(); first += kPublishChunk) {
     const std::vector<std::string> chunk(
@@ -128,20 +175,26 @@ bool TieredJobStore::keep_copy(const std::string& id, const std::string& record,
       return false;
     }
   }
-  const std::lock_guard lock(mutex_);
-  counts_[id] = RowCounts{rows.size(), rows.size()};
   return true;
 }
 
-bool TieredJobStore::publish(const std::string& id) {
+bool TieredJobStore::copying(const std::string& id) {
+  const std::lock_guard lock(mutex_);
+  return copying_.count(id) != 0;
+}
+
+TieredJobStore::Published TieredJobStore::publish(const std::string& id) {
   // The record first: it counts no more rows than the local store held when it was written
   // (rows are stored before their record), so the rows sent below cover it.
   const auto record = local_.record(id);
   if (!record) {  // dropped here (expired, removed): nothing to publish
     const std::lock_guard lock(mutex_);
     counts_.erase(id);
-    return true;
+    return Published::kDone;
   }
+  // Every write below lands only while the job's owner mark allows it: one that another replica
+  // took over meanwhile is dropped here.
+  const auto failed = [&] { return lost_to_another(id) ? Published::kLost : Published::kFailed; };
   std::size_t from = 0;
   std::size_t to = 0;
   {
@@ -163,13 +216,13 @@ bool TieredJobStore::publish(const std::string& id) {
           id, rows ? rows->size() : 0, at + 1, at + n);
       break;
     }
-    if (!shared_.put_rows(id, at, *rows)) return false;
+    if (!shared_.put_rows(id, at, *rows)) return failed();
     const std::lock_guard lock(mutex_);
     RowCounts& counts = counts_[id];
     counts.shared = std::max(counts.shared, at + n);
   }
-  if (local_.cancel_requested(id) && !shared_.request_cancel(id)) return false;
-  return shared_.put_record(id, *record);
+  if (local_.cancel_requested(id) && !shared_.request_cancel(id)) return Published::kFailed;
+  return shared_.put_record(id, *record) ? Published::kDone : failed();
 }
 
 void TieredJobStore::remember(const std::string& id, bool removed, bool told) {
@@ -254,7 +307,9 @@ void TieredJobStore::publish_unsynced() {
     pending.assign(unsynced_.begin(), unsynced_.end());
   }
   for (const std::string& id : pending) {
-    if (!publish(id)) {
+    const Published published = publish(id);
+    if (published == Published::kLost) continue;
+    if (published == Published::kFailed) {
       // Still refused: the reason may have changed, and other replicas must keep reading the job
       // as alive (a full Redis takes the heartbeat's PEXPIRE though it refuses the record).
       (void)shared_.touch(id);
@@ -271,26 +326,34 @@ void TieredJobStore::publish_unsynced() {
 }
 
 JobStore::RecordLookup TieredJobStore::lookup_record(const std::string& id) {
-  if (auto r = local_.record(id)) return {std::move(r), true};
+  if (!copying(id)) {
+    if (auto r = local_.record(id)) return {std::move(r), true};
+  }
   return shared_.lookup_record(id);
 }
 
 std::optional<std::vector<std::string>> TieredJobStore::rows(const std::string& id,
                                                              std::size_t offset,
                                                              std::size_t count) {
-  if (auto r = local_.rows(id, offset, count)) return r;
+  if (!copying(id)) {
+    if (auto r = local_.rows(id, offset, count)) return r;
+  }
   return shared_.rows(id, offset, count);
 }
 
 JobStore::SlotsRead TieredJobStore::read_slots(const std::string& id, std::size_t offset,
                                                std::size_t count) {
-  if (auto r = local_.row_slots(id, offset, count)) return {std::move(r), {}};
+  if (!copying(id)) {
+    if (auto r = local_.row_slots(id, offset, count)) return {std::move(r), {}};
+  }
   return shared_.read_slots(id, offset, count);
 }
 
 std::optional<std::vector<std::optional<std::string>>> TieredJobStore::row_slots(
     const std::string& id, std::size_t offset, std::size_t count) {
-  if (auto r = local_.row_slots(id, offset, count)) return r;
+  if (!copying(id)) {
+    if (auto r = local_.row_slots(id, offset, count)) return r;
+  }
   return shared_.row_slots(id, offset, count);
 }
 

@@ -20,7 +20,9 @@ namespace slosh::service {
 /// record; later writes succeed when the local store took them. A job whose write to the
 /// shared store failed is "unsynced": its later records and rows go to the local store only, and
 /// resync() sends the shared store what it misses (the rows in chunks, then the latest record),
-/// so the shared copy never has a gap and nothing is sent twice.
+/// so the shared copy never has a gap and nothing is sent twice. A job whose write the shared
+/// store refused because another replica took it over (taken_over_by()) is dropped here, logged,
+/// and never written here again: this replica then serves the new owner's state, not its own.
 class TieredJobStore final : public JobStore {
  public:
   /// Both stores outlive this one.
@@ -65,7 +67,8 @@ class TieredJobStore final : public JobStore {
   [[nodiscard]] bool reachable() const override { return shared_.reachable(); }
   [[nodiscard]] bool recently_emptied() override { return shared_.recently_emptied(); }
   /// Written to the local store only; counted as held by the shared store too, so that only an
-  /// emptying (or a lost record) sends it there again.
+  /// emptying (or a lost record) sends it there again. Until the copy is whole, the job is read
+  /// from the shared store (never the copy's record without its rows).
   bool keep_copy(const std::string& id, const std::string& record,
                  const std::vector<std::string>& rows) override;
   /// Also renews the heartbeat (touch()) of every job the shared store is still behind on, so
@@ -79,11 +82,26 @@ class TieredJobStore final : public JobStore {
 
  private:
   // Writes the rows the shared store misses of job `id` (in chunks), its cancel flag and its
-  // local record; false when the shared store failed (tried again at the next resync). The lock
-  // is not held: other writes and reads go on meanwhile.
-  bool publish(const std::string& id);
+  // local record; kFailed when the shared store failed (tried again at the next resync), kLost
+  // when another replica took the job over (lost_to_another()). The lock is not held: other
+  // writes and reads go on meanwhile.
+  enum class Published { kDone, kFailed, kLost };
+  Published publish(const std::string& id);
+  // keep_copy() without its bookkeeping: the record, then the rows; removed again on failure.
+  bool copy_here(const std::string& id, const std::string& record,
+                 const std::vector<std::string>& rows);
+  // Whether keep_copy() of job `id` is under way (reads then go to the shared store).
+  bool copying(const std::string& id);
   // Publishes every unsynced job; renews the heartbeat of those the shared store still refuses.
   void publish_unsynced();
+  // After a failed write to the shared store: whether it refused it because another replica
+  // took job `id` over; then the local copy is dropped, logged, and the job refused here from
+  // now on. The lock is not held.
+  bool lost_to_another(const std::string& id);
+  // Whether job `id` was lost to another replica (lost_to_another()); the lock is held.
+  [[nodiscard]] bool disowned_locked(const std::string& id) const {
+    return disowned_.count(id) != 0;
+  }
   // Sends the remembered cancels and removals the shared store has not taken.
   void tell_shared();
   // Remembers a cancel (`removed` false) or a removal of `id`; the lock is held.
@@ -109,6 +127,9 @@ class TieredJobStore final : public JobStore {
   std::unordered_map<std::string, bool> remembered_;
   std::list<std::string> remembered_order_;
   std::unordered_set<std::string> untold_;
+  // Jobs another replica took over (their writes here refused): at most kRemembered.
+  std::unordered_set<std::string> disowned_;
+  std::unordered_set<std::string> copying_;  // keep_copy() under way
 };
 
 }  // namespace slosh::service

@@ -47,6 +47,9 @@ struct JobStatus {
   /// stored, by replica name, rendered as "shares": {"<replica>": rows}; empty (no member) for a
   /// job one replica runs.
   std::vector<std::pair<std::string, std::size_t>> shares;
+  /// A job helped by other replicas (batch_job_spread = "helpers"): items whose plans they solved
+  /// ahead of the stored rows (`done`), counted in "solved", the rate and the ETA until stored.
+  std::size_t solved_ahead{0};
 };
 
 /// The state named `name` ("queued", ...); nullopt for any other text.
