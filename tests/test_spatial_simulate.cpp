@@ -331,5 +331,69 @@ TEST(SpatialSimulate, CliPlainCsvEqualsTheJsonTrajectoryAndNamesABadLine) {
                                        " line 3: x_mm = \"nan\" must be a finite number");
 }
 
+// The models take a trajectory at rest before its first sample and after its last: one that
+// starts or ends moving gets a warning naming the end, its sample and the speed. The samples are
+// cubics in t, which the not-a-knot splines reproduce, so the speeds are the cubics' own.
+TEST(SpatialSimulate, ATrajectoryThatStartsOrEndsMovingIsWarnedOf) {
+  // x(u) = a u + b u^2 mm, theta(u) = c u^2 deg, u = t - 0.5 s over 0.8 s at 5 ms.
+  auto cubic = [](double a, double b, double c) {
+    std::vector<double> t, x, y, theta;
+    for (int i = 0; i <= 160; ++i) {
+      const double u = 0.005 * i;
+      t.push_back(0.5 + u);
+      x.push_back(a * u + b * u * u);
+      y.push_back(0.0);
+      theta.push_back(c * u * u);
+    }
+    return json{{"type", "trajectory"}, {"t_s", t}, {"x_mm", x}, {"y_mm", y}, {"theta_deg", theta}};
+  };
+  auto body = [](const json& motion, bool rectangular) {
+    json format{{"container", {{"radius_mm", 48.5}}}, {"fill_height_mm", 82}, {"fluid", "water"}};
+    if (rectangular) {
+      format["container"] = {{"shape", "rectangular"}, {"length_mm", 100}, {"width_mm", 60}};
+    }
+    format["motion"] = motion;
+    return json{{"format", format}};
+  };
+  auto moving = [](const json& answer) {
+    std::vector<std::string> out;
+    for (const json& w : answer["warnings"]) {
+      if (w.get<std::string>().rfind("the trajectory ", 0) == 0) out.push_back(w);
+    }
+    return out;
+  };
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  // Starts at dx/du = 300 mm/s, ends at 300 - 2 * 187.5 * 0.8 = 0, turning at 0 deg/s first.
+  const json starts = post(server, "/v1/simulate", body(cubic(300.0, -187.5, 0.0), false));
+  EXPECT_EQ(moving(starts),
+            std::vector<std::string>{
+                "the trajectory starts moving: at its first sample (t_s[0] = 0.5 s) the container "
+                "moves at 300 mm/s and turns at 0 deg/s; the models take the liquid at rest "
+                "there, as if the container had always moved at that speed: the wave of the "
+                "acceleration that brought it to that speed is not in the prediction; start the "
+                "trajectory at rest"});
+  // Ends at 2 * 250 * 0.8 = 400 mm/s turning at 2 * 45 * 0.8 = 72 deg/s; starts at rest. A
+  // rectangular tank's answer warns alike.
+  for (const bool rectangular : {false, true}) {
+    const json ends = post(server, "/v1/simulate", body(cubic(0.0, 250.0, 45.0), rectangular));
+    EXPECT_EQ(moving(ends),
+              std::vector<std::string>{
+                  "the trajectory ends moving: at its last sample (t_s[160] = 1.3 s) the "
+                  "container moves at 400 mm/s and turns at 72 deg/s; the models see no "
+                  "acceleration after it, as if the container went on at that speed through "
+                  "the rest window: the wave of stopping it is not in the prediction (eta_rest "
+                  "in particular); end the trajectory at rest"})
+        << rectangular;
+  }
+  // At rest at both ends (x = 3 u^2 - 2 u^3 scaled: zero slope at 0 and 0.8 s): no warning.
+  json rest = cubic(0.0, 0.0, 0.0);
+  for (std::size_t i = 0; i < rest["t_s"].size(); ++i) {
+    const double u = 0.005 * static_cast<double>(i) / 0.8;
+    rest["x_mm"][i] = 200.0 * u * u * (3.0 - 2.0 * u);
+  }
+  EXPECT_TRUE(moving(post(server, "/v1/simulate", body(rest, false))).empty());
+}
+
 }  // namespace
 }  // namespace slosh

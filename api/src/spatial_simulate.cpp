@@ -18,6 +18,7 @@
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/motion/trajectory_ends.hpp"
 #include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
@@ -79,6 +80,13 @@ double peak_horizontal_acceleration(const SpatialMotion& motion, const PlanarDri
     }
   }
   return peak;
+}
+
+/// A trajectory that starts or ends moving: the models take it at rest before its first sample and
+/// after its last (trajectory_ends.hpp), so the answer says which end moves and how fast.
+void add_moving_end_warnings(const SpatialMotion& motion, std::vector<std::string>& warnings) {
+  if (!motion.trajectory) return;
+  for (std::string& w : moving_end_warnings(*motion.trajectory)) warnings.push_back(std::move(w));
 }
 
 const char* type_name(MotionType type) {
@@ -188,6 +196,7 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
                         linear.highest.motion.value, nl.highest.motion.value, nonlinear.nonlinear);
   if (!nonlinear.warning.empty()) warnings.push_back(nonlinear.warning);
+  add_moving_end_warnings(motion, warnings);
   out["warnings"] = warnings;
   require_finite(out);
   return out;
@@ -273,9 +282,11 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   }
   // The validity warnings of a straight-line simulate or a plan along the same motion, on the
   // planar peaks and the total horizontal acceleration.
-  out["warnings"] =
+  std::vector<std::string> warnings =
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
                         linear.motion.value, nonlinear.motion.value);
+  add_moving_end_warnings(motion, warnings);
+  out["warnings"] = warnings;
   require_finite(out);
   return out;
 }

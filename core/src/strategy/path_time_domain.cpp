@@ -87,7 +87,35 @@ struct Workspace {
   std::vector<std::array<double, kSegments>> gradients;
   std::array<double, kSegments> last{};
   bool valid{false};
+  /// An evaluation kept aside: solve_round evaluates every start for its epigraph level before
+  /// the solver runs from any, and the run from a start takes its evaluation back instead of
+  /// integrating it again (the steps of both are frozen at that start: the same numbers).
+  struct Kept {
+    std::array<double, kSegments> x{};
+    std::vector<double> times;
+    std::vector<double> values;
+    std::vector<std::array<double, kSegments>> gradients;
+  };
+  std::vector<Kept> kept;
 };
+
+void keep_evaluation(Workspace& ws) {
+  ws.kept.push_back({ws.last, ws.times, ws.values, ws.gradients});
+}
+
+/// Takes back the evaluation kept at x, if any (Workspace::kept).
+void restore_evaluation(Workspace& ws, const double* x) {
+  for (auto it = ws.kept.begin(); it != ws.kept.end(); ++it) {
+    if (!std::equal(x, x + kSegments, it->x.begin())) continue;
+    ws.times.swap(it->times);
+    ws.values.swap(it->values);
+    ws.gradients.swap(it->gradients);
+    ws.last = it->x;
+    ws.valid = true;
+    ws.kept.erase(it);
+    return;
+  }
+}
 
 void evaluate(Workspace& ws, const Samples& samples, double eta_ref, const double* x) {
   if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
@@ -191,6 +219,7 @@ NlpProblem epigraph(Setup& s, Workspace& ws) {
   p.before_start = [&ws](const double* x0) {
     ws.sensitivity.freeze_steps(x0);
     ws.valid = false;
+    restore_evaluation(ws, x0);
   };
   return p;
 }
@@ -226,10 +255,12 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
   const StrategyContext& c = *s.c;
   NlpProblem p = epigraph(s, ws);
   std::vector<std::vector<double>> x0 = as_vectors(starts);
+  ws.kept.clear();
   for (std::vector<double>& x : x0) {
     ws.sensitivity.freeze_steps(x.data());
     ws.valid = false;
     evaluate(ws, s.samples, c.eta_ref, x.data());
+    keep_evaluation(ws);
     double z = 0.0;
     for (std::size_t k = 0; k < s.samples.t.size(); ++k) {
       if (static_cast<bool>(s.samples.motion[k]) == s.minimise_motion) {
@@ -336,7 +367,8 @@ StrategyOutcome run_phase(const StrategyContext& c, const PlanarPath& path, bool
                {},
                {},
                {},
-               false};
+               false,
+               {}};
   MultiStartResult total;
   int evaluations = 0, solved = 0;
   // The bound the solver sees is the bound over (1 + scheme), less `margin`: `scheme` is how far

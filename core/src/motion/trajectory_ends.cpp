@@ -1,0 +1,37 @@
+#include "slosh/core/motion/trajectory_ends.hpp"
+
+#include <cmath>
+#include <numbers>
+
+#include "text.hpp"
+
+namespace slosh {
+
+std::vector<std::string> moving_end_warnings(const SampledTrajectory& trajectory) {
+  std::vector<std::string> out;
+  for (const bool last : {false, true}) {
+    const double t = last ? trajectory.end_time() : trajectory.start_time();
+    const PlanarKinematics k = trajectory.at(t);
+    const double speed = std::sqrt(k.vx * k.vx + k.vy * k.vy + k.vz * k.vz);
+    const double rate = std::abs(k.theta_dot);
+    if (!(speed > kMovingEndSpeed) && !(rate > kTurningEndRate)) continue;
+    const std::string sample =
+        last ? "t_s[" + std::to_string(trajectory.size() - 1) + "]" : std::string("t_s[0]");
+    std::string w = std::string("the trajectory ") + (last ? "ends" : "starts") +
+                    " moving: at its " + (last ? "last" : "first") + " sample (" + sample + " = " +
+                    detail::significant(t, 6) + " s) the container moves at " +
+                    detail::sig3(speed * 1e3) + " mm/s and turns at " +
+                    detail::sig3(rate * 180.0 / std::numbers::pi) + " deg/s; ";
+    w += last ? "the models see no acceleration after it, as if the container went on at that "
+                "speed through the rest window: the wave of stopping it is not in the prediction "
+                "(eta_rest in particular); end the trajectory at rest"
+              : "the models take the liquid at rest there, as if the container had always moved "
+                "at that speed: the wave of the acceleration that brought it to that speed is not "
+                "in the "
+                "prediction; start the trajectory at rest";
+    out.push_back(std::move(w));
+  }
+  return out;
+}
+
+}  // namespace slosh
