@@ -37,9 +37,11 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v8" since multi_notch leaves a run within
-// 0.12 of the range of a poor optimum instead of 0.03 (an exact zero can then be another one, to
-// 1e-14 of X_ref^2); "plan-v7" was time_domain's exchanged peaks as rows that follow their peak,
+// kVersion. The planner version in the recipe is "plan-v9" since the strategies act on both
+// first modes of a turned rectangular tank, weighed by each direction's share, instead of
+// designing at the middle of the two above a 5 % share; "plan-v8" was multi_notch leaving a run
+// within 0.12 of the range of a poor optimum instead of 0.03 (an exact zero can then be another
+// one, to 1e-14 of X_ref^2); "plan-v7" was time_domain's exchanged peaks as rows that follow their peak,
 // on a line and along a path, and a robust time_domain plan's starting samples covering the whole
 // rest window again ("plan-v6" was time_domain's starting samples
 // of the rest window covering its first period only and multi_notch leaving a run at the mirror

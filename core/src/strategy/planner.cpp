@@ -1353,6 +1353,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   Selection s = strategy == Strategy::kAuto ? run_auto(c, guard, r.candidates)
                                             : run_single(c, strategy, guard);
   const Strategy result_strategy = s.outcome.strategy;
+  r.notch_omega = detail::notched_frequencies(c, result_strategy);
   take_selection(r, s, format);
   take_own_figures(r, s, axis_tank.has_value(), uniform, baseline_out_of_range, options.rest_time);
   take_move_absolute(r, options, format);

@@ -90,6 +90,11 @@ struct StrategyContext {
   /// [-], the most excited direction first (the shaper cancels each).
   std::array<double, 2> direction_omega{};
   std::array<double, 2> direction_zeta{};
+  /// With over_directions: each direction's first-mode residual gain relative to the most
+  /// excited one's (its wave per unit |X_a(omega_1)|: 1, then the other's share) [-].
+  std::array<double, 2> direction_weight{1.0, 0.0};
+  /// With over_directions: the directions' names ("length", "width"), most excited first.
+  std::array<const char*, 2> direction_name{"length", "width"};
 
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }
@@ -103,6 +108,23 @@ void set_design(StrategyContext& context);
 /// p_notch over both directions' first modes, and time_domain's models (rectangular_plan.cpp).
 /// Nothing for a cylinder or a tank square to the motion. Called by set_design.
 void set_directions(StrategyContext& context);
+
+/// A first mode a spectral strategy notches: its frequency [rad/s] and weight [-].
+struct NotchTarget {
+  double omega{};
+  double weight{1.0};
+  const char* name{nullptr};  ///< the tank direction's name, or null for the one model
+};
+
+/// The first modes notch and multi_notch cancel: the design model's, or on a turned tank each
+/// excited direction's (at the middle of an uncertainty range's scale), weighed by its share of
+/// the residual wave (direction_weight).
+[[nodiscard]] std::vector<NotchTarget> notch_targets(const StrategyContext& context);
+
+/// The frequencies the law of `strategy` notches [rad/s]: notch's targets, multi_notch's three
+/// per target (empty for the other strategies).
+[[nodiscard]] std::vector<double> notched_frequencies(const StrategyContext& context,
+                                                      Strategy strategy);
 
 /// The relative half band around the middle of `range` that reaches (1 + band) scale_hi (and
 /// covers (1 - band) scale_lo) [-].

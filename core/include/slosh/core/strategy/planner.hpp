@@ -414,6 +414,10 @@ struct PlanResult {
   LawPrediction baseline;    ///< of the uniform law
   /// The band of min_jerk_band (also reported for the other strategies as w1 +- band) [rad/s].
   std::array<double, 2> band_omega{};
+  /// The frequencies the returned law notches [rad/s], ascending: notch's (one, or one per
+  /// excited direction of a turned tank), multi_notch's three per such mode; empty for the other
+  /// strategies.
+  std::vector<double> notch_omega;
   SolverReport solver;
   std::vector<std::string> warnings;
   std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
