@@ -252,9 +252,10 @@ nlohmann::json spectrum_json(const PlanRequest& request, const PlanResult& r) {
   // Where the returned law notches (notch, multi_notch, or auto's choice of either): on a turned
   // tank around each excited direction's first mode, under an uncertainty range at its middle
   // with the side notches at its ends.
-  if (!r.notch_omega.empty()) {
+  if (const std::vector<double> notched = notched_frequencies(f, request.options, r);
+      !notched.empty()) {
     nlohmann::json notch = nlohmann::json::array();
-    for (double w : r.notch_omega) notch.push_back(w / (2.0 * std::numbers::pi));
+    for (double w : notched) notch.push_back(w / (2.0 * std::numbers::pi));
     markers["notch_hz"] = std::move(notch);
   }
   return {{"f_hz", f_hz},

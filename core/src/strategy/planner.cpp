@@ -1284,6 +1284,25 @@ void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format&
 
 }  // namespace
 
+std::vector<double> notched_frequencies(const Format& format, const PlanOptions& options,
+                                        const PlanResult& r) {
+  if (r.invalid_input) return {};
+  Strategy strategy = r.strategy;
+  for (const PlanCandidate& k : r.candidates) {
+    if (k.chosen) strategy = k.strategy;
+  }
+  // The design plan() gave the strategies (set_design), rebuilt: the same format, options and
+  // tank (turned onto its axis where plan() turned it).
+  const detail::Deadline deadline(0.0);
+  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
+                            deadline};
+  const std::optional<RectangularModel> axis_tank =
+      r.rectangular ? rectangular_axis_tank(*r.rectangular) : std::nullopt;
+  c.rectangular = axis_tank ? &*axis_tank : (r.rectangular ? &*r.rectangular : nullptr);
+  detail::set_design(c);
+  return detail::notched_frequencies(c, strategy);
+}
+
 RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
                                const PlanResult& r) {
   if (r.rectangular) {
@@ -1353,7 +1372,6 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   Selection s = strategy == Strategy::kAuto ? run_auto(c, guard, r.candidates)
                                             : run_single(c, strategy, guard);
   const Strategy result_strategy = s.outcome.strategy;
-  r.notch_omega = detail::notched_frequencies(c, result_strategy);
   take_selection(r, s, format);
   take_own_figures(r, s, axis_tank.has_value(), uniform, baseline_out_of_range, options.rest_time);
   take_move_absolute(r, options, format);

@@ -414,10 +414,6 @@ struct PlanResult {
   LawPrediction baseline;    ///< of the uniform law
   /// The band of min_jerk_band (also reported for the other strategies as w1 +- band) [rad/s].
   std::array<double, 2> band_omega{};
-  /// The frequencies the returned law notches [rad/s], ascending: notch's (one, or one per
-  /// excited direction of a turned tank), multi_notch's three per such mode; empty for the other
-  /// strategies.
-  std::vector<double> notch_omega;
   SolverReport solver;
   std::vector<std::string> warnings;
   std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
@@ -439,6 +435,14 @@ struct PlanResult {
            status == SolveStatus::kTimeLimit;
   }
 };
+
+/// The frequencies the returned law of `r` (planned for `format` with `options`) notches
+/// [rad/s], ascending: notch's (one, or one per excited direction of a turned rectangular tank),
+/// multi_notch's three around each such mode (also as auto's choice); empty for the other
+/// strategies. The spectrum's notch markers.
+[[nodiscard]] std::vector<double> notched_frequencies(const Format& format,
+                                                      const PlanOptions& options,
+                                                      const PlanResult& r);
 
 /// The robustness report (SPEC §10) of a plan's law: swept over the uncertainty range of
 /// `options` at its least damping when active, else over +-10 % at the model's zeta; judged by
