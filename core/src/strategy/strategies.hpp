@@ -83,8 +83,10 @@ struct StrategyContext {
   /// excited direction driven by the motion (driven_directions); the plan's laws are verified
   /// on this model's walls and corners (rectangular_prediction).
   const RectangularModel* rectangular{nullptr};
-  /// True when set_directions designs at the middle of a turned tank's two first modes: then
-  /// design_model.omega1() is neither direction's frequency (the reports say so).
+  /// True when the motion drives both of a turned tank's directions (set_directions): the
+  /// strategies act on each direction's first mode (direction_omega, weighed by
+  /// direction_weight); design_model, at the middle of the two, serves min_jerk_band's band and
+  /// the filters under an uncertainty range only.
   bool over_directions{false};
   /// With over_directions: the two directions' first-mode frequencies [rad/s] and damping ratios
   /// [-], the most excited direction first (the shaper cancels each).
@@ -104,8 +106,8 @@ struct StrategyContext {
 /// after construction, before set_references).
 void set_design(StrategyContext& context);
 
-/// A tank turned to the motion (both directions excited): the design frequency, band and
-/// p_notch over both directions' first modes, and time_domain's models (rectangular_plan.cpp).
+/// A tank turned to the motion (both directions excited): each direction's first mode, damping,
+/// share and name, the band over both, and time_domain's models (rectangular_plan.cpp).
 /// Nothing for a cylinder or a tank square to the motion. Called by set_design.
 void set_directions(StrategyContext& context);
 
