@@ -290,7 +290,7 @@ export const PLOTS = [
         shade: [{ from: m.band_hz[0], to: m.band_hz[1], label: 'band' }],
         vlines: m.f_modes_hz.map((f, i) => ({ x: f, label: `f${i + 1}`, color: i === 0 ? '#b3261e' : '#444' })),
       };
-      for (const f of m.notch_hz || []) {  // multi_notch: (1 - p) f1, f1, (1 + p) f1
+      for (const f of m.notch_hz || []) {  // every frequency the law notches
         if (f !== m.f1_hz) markers.vlines.push({ x: f, label: 'notch', color: '#7a3db8' });
       }
       const config = timeChart([

@@ -514,7 +514,11 @@ void add_plan_block_schemas(json& s) {
       object({{"f1_hz", number("First natural frequency [Hz].")},
               {"band_hz", fixed_numbers(2, "Band edges (1 ± band) f1 [Hz].")},
               {"f_modes_hz", numbers("Natural frequencies of the modes [Hz].")},
-              {"notch_hz", fixed_numbers(3, "multi_notch only: (1 - p) f1, f1, (1 + p) f1 [Hz].")}},
+              {"notch_hz",
+               numbers("notch and multi_notch only (also as auto's choice): the frequencies the "
+                       "law notches, ascending: notch's f1, multi_notch's (1 - p) f, f, (1 + p) f; "
+                       "on a turned rectangular tank around each excited direction's first mode, "
+                       "under an uncertainty range around its middle [Hz].")}},
              {"f1_hz", "band_hz", "f_modes_hz"}, "", false);
   json spectrum_units{{"type", "object"},
                       {"additionalProperties", {{"type", "string"}}},

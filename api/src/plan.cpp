@@ -25,7 +25,7 @@ namespace slosh::api {
 namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
-constexpr const char* kPlannerVersion = "plan-v8";
+constexpr const char* kPlannerVersion = "plan-v9";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
@@ -249,9 +249,14 @@ nlohmann::json spectrum_json(const PlanRequest& request, const PlanResult& r) {
       {"band_hz",
        {r.band_omega[0] / (2.0 * std::numbers::pi), r.band_omega[1] / (2.0 * std::numbers::pi)}},
       {"f_modes_hz", f_modes}};
-  if (r.strategy == Strategy::kMultiNotch) {
-    const double p = request.options.p_notch;
-    markers["notch_hz"] = {(1.0 - p) * f1, f1, (1.0 + p) * f1};
+  // Where the returned law notches (notch, multi_notch, or auto's choice of either): on a turned
+  // tank around each excited direction's first mode, under an uncertainty range at its middle
+  // with the side notches at its ends.
+  if (const std::vector<double> notched = notched_frequencies(f, request.options, r);
+      !notched.empty()) {
+    nlohmann::json notch = nlohmann::json::array();
+    for (double w : notched) notch.push_back(w / (2.0 * std::numbers::pi));
+    markers["notch_hz"] = std::move(notch);
   }
   return {{"f_hz", f_hz},
           {"amplitude", amp},

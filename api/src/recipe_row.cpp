@@ -413,6 +413,8 @@ constexpr std::array kPlanColumns{
     PlanColumn{"v_peak_m_s", "/kinematics/v_peak"},
     PlanColumn{"j_peak_m_s3", "/kinematics/j_peak"},
     PlanColumn{"f1_hz", "/f1_hz"},
+    PlanColumn{"f1_length_hz", "/f1_length_hz"},
+    PlanColumn{"f1_width_hz", "/f1_width_hz"},
     PlanColumn{"eta_motion_nonlinear_mm", "/prediction/nonlinear/eta_motion_mm"},
     PlanColumn{"eta_rest_nonlinear_mm", "/prediction/nonlinear/eta_rest_mm"},
     PlanColumn{"eta_motion_linear_mm", "/prediction/linear/eta_motion_mm"},
@@ -471,6 +473,14 @@ json plan_row_figures(const json& plan) {
   row["law_type"] = nested_or_null(plan, "law", "type");
   const json f_hz = nested_or_null(plan, "model", "f_hz");
   row["f1_hz"] = f_hz.is_array() && !f_hz.empty() ? f_hz[0] : json(nullptr);
+  // A rectangular tank's first frequency along each side (f1_hz is its most excited
+  // direction's): a turned tank sloshes at both. Null for a cylinder.
+  const json rectangular = nested_or_null(plan, "model", "rectangular");
+  for (const char* side : {"length", "width"}) {
+    const json side_f = nested_or_null(rectangular, side, "f_hz");
+    row[std::string("f1_") + side + "_hz"] =
+        side_f.is_array() && !side_f.empty() ? side_f[0] : json(nullptr);
+  }
   row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
   row.update(robustness_row_figures(find_member(plan, "robustness")));
   row.update(motion_row_figures(plan));

@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <functional>
 #include <numbers>
+#include <optional>
 #include <utility>
 #include <vector>
 
@@ -93,10 +95,75 @@ std::string over_damped(const StrategyContext& c, const std::string& method) {
 
 }  // namespace
 
+namespace {
+
+std::string hz(double omega) {
+  return sig3(omega / (2.0 * std::numbers::pi)) + " Hz";
+}
+
+/// A turned tank (both directions excited, no uncertainty range): true when the filters cancel
+/// each direction's first mode rather than one design mode.
+bool per_direction(const StrategyContext& c) {
+  return c.over_directions && !c.robust() && c.direction_zeta[0] < 1.0 && c.direction_zeta[1] < 1.0;
+}
+
+/// "the length's f1 = 2.37 Hz".
+std::string direction_f1(const StrategyContext& c, std::size_t k) {
+  return std::string("the ") + c.direction_name[k] + "'s f1 = " + hz(c.direction_omega[k]);
+}
+
+/// fir_chain on a turned tank: two of the three filters last the two directions' damped
+/// periods (a rectangular filter of duration P has its spectral zeros at 2 pi k / P, so each
+/// cancels one direction's first mode), the third the rest of T; ordered longest first so that
+/// conditions (14) decide whether the law is a 7-segment law. Nullopt when T is not longer than
+/// the two periods together.
+std::optional<std::array<double, 3>> fir_chain_both(const StrategyContext& c) {
+  const double Pa = damped_period(c.direction_omega[0], c.direction_zeta[0]);
+  const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+  const double rest = c.format.motion_time - Pa - Pb;
+  if (!(rest > 0.0)) return std::nullopt;
+  std::array<double, 3> t{rest, Pa, Pb};
+  std::sort(t.begin(), t.end(), std::greater<>());
+  return t;
+}
+
+}  // namespace
+
+/// The chain of filters T1, T2, T3 checked against the limits and options; `how` says how they
+/// were chosen, `left` (empty or "; ...") which mode the chain leaves.
+FilterOutcome fir_chain_of(const StrategyContext& c, double T1, double T2, double T3,
+                           const std::string& how, const std::string& left, bool two_modes);
+
 FilterOutcome design_fir_chain(const StrategyContext& c) {
   const double S = c.format.stroke, T = c.format.motion_time;
   if (std::string why = over_damped(c, "fir_chain"); !why.empty()) return no_law(c, why);
-  const double T3 = damped_period(c.design_model.omega1(), c.design_model.zeta);
+  // On a turned tank: both directions' modes cancelled when T allows, else the most excited
+  // direction's alone (never the middle of the two, which cancels neither), and the plan says
+  // which mode is left.
+  std::optional<std::array<double, 3>> both;
+  std::string left;
+  const bool directions = per_direction(c);
+  if (directions) {
+    both = fir_chain_both(c);
+    if (!both) {
+      const double Pa = damped_period(c.direction_omega[0], c.direction_zeta[0]);
+      const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+      left = "; it cancels " + direction_f1(c, 0) + " only: cancelling " + direction_f1(c, 1) +
+             " (share " + sig3(c.direction_weight[1]) +
+             " of the residual wave) as well needs T > " + sig3(Pa + Pb) +
+             " s, the sum of both damped periods";
+    }
+  }
+  if (both)
+    return fir_chain_of(c, (*both)[0], (*both)[1], (*both)[2],
+                        "T1, T2, T3 = " + sig3((*both)[0]) + ", " + sig3((*both)[1]) + ", " +
+                            sig3((*both)[2]) + " s: two of them the damped periods of " +
+                            direction_f1(c, 0) + " and " + direction_f1(c, 1) +
+                            ", which they cancel",
+                        "", true);
+  const double design_omega = directions ? c.direction_omega[0] : c.design_model.omega1();
+  const double design_zeta = directions ? c.direction_zeta[0] : c.design_model.zeta;
+  const double T3 = damped_period(design_omega, design_zeta);
   if (!(T > T3)) {
     FilterOutcome o =
         no_law(c, "fir_chain needs T > T3: the damped period of mode 1 is T3 = " + sig3(T3) +
@@ -121,11 +188,23 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     choice = " (T1 = T2: the least peak acceleration)";
   }
   const double T2 = std::max(T - T3 - T1, 0.0);
+  FilterOutcome o = fir_chain_of(c, T1, T2, T3,
+                                 "T3 = " + sig3(T3) + " s (the damped period of " +
+                                     (directions ? direction_f1(c, 0) : std::string("mode 1")) +
+                                     "), T1 = " + sig3(T1) + " s, T2 = " + sig3(T2) + " s" + choice,
+                                 left, false);
+  // A mode left uncancelled: the law is what fir_chain can do, not what it promises.
+  if (!left.empty() && o.status == SolveStatus::kOptimal) o.status = SolveStatus::kAcceptable;
+  return o;
+}
+
+FilterOutcome fir_chain_of(const StrategyContext& c, double T1, double T2, double T3,
+                           const std::string& how, const std::string& left, bool two_modes) {
+  const double S = c.format.stroke, T = c.format.motion_time;
   const FirChain chain = make_fir_chain(S, T1, T2, T3);
   FilterOutcome o;
   o.design = FirChainDesign{T1, T2, T3, chain.durations.has_value()};
-  o.detail = "T3 = " + sig3(T3) + " s (the damped period of mode 1), T1 = " + sig3(T1) +
-             " s, T2 = " + sig3(T2) + " s" + choice;
+  o.detail = how;
   if (chain.durations) {
     // T1 + T2 + T3 is the motion time only to round-off: the sum is closed on T itself.
     o.durations = clean_durations(*chain.durations, c.format.motion_time);
@@ -133,8 +212,10 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     o.detail += ": conditions (14) hold, a 7-segment law";
   } else {
     o.law = chain.law;
-    o.detail += ": conditions (14) need T >= 4 T3 = " + sig3(4.0 * T3) + " s (T = " + sig3(T) +
-                " s), so the law is not a 7-segment law (acceleration ramps without plateaus)";
+    o.detail += (two_modes ? ": conditions (14) need T1 >= T2 + T3 (T = " + sig3(T) + " s)"
+                           : ": conditions (14) need T >= 4 T3 = " + sig3(4.0 * T3) +
+                                 " s (T = " + sig3(T) + " s)") +
+                ", so the law is not a 7-segment law (acceleration ramps without plateaus)";
   }
   const KinematicSummary peaks = o.law.summary();
   if (std::string why = beyond_any_machine(peaks); !why.empty()) {
@@ -142,6 +223,7 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     none.design = o.design;
     return none;
   }
+  o.detail += left;
   check_limits(c, peaks, &o);
   if (o.status != SolveStatus::kOptimal || !o.durations) return o;
   // The 7-segment options that constrain its durations.
@@ -294,6 +376,36 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   return o;
 }
 
+namespace {
+
+/// The filter f then g: the product of their transfer functions, times one sample of delay.
+/// apply_iir runs y(k) = -sum a_i y(k-1-i) + sum b_i u(k+1-i), the transfer function
+/// z B(1/z) / A(1/z) with A = 1 + sum a_i z^-(i+1); the cascade's z^2 Bf Bg / (Af Ag) is one
+/// sample ahead of what that form holds, so the product is taken with one sample of delay
+/// (z Bf Bg / (Af Ag)), which keeps every zero and the unit DC gain (the delay compensation
+/// absorbs the sample).
+IirFilter cascade(const IirFilter& f, const IirFilter& g) {
+  auto multiply = [](const std::vector<long double>& p, const std::vector<long double>& q) {
+    std::vector<long double> out(p.size() + q.size() - 1, 0.0L);
+    for (std::size_t i = 0; i < p.size(); ++i) {
+      for (std::size_t j = 0; j < q.size(); ++j) out[i + j] += p[i] * q[j];
+    }
+    return out;
+  };
+  auto with_one = [](const std::vector<long double>& a) {
+    std::vector<long double> out{1.0L};
+    out.insert(out.end(), a.begin(), a.end());
+    return out;
+  };
+  IirFilter out = f;
+  const std::vector<long double> a = multiply(with_one(f.a), with_one(g.a));
+  out.a.assign(a.begin() + 1, a.end());
+  out.b = multiply(f.b, g.b);
+  return out;
+}
+
+}  // namespace
+
 FilterOutcome design_iir(const StrategyContext& c) {
   const PlanOptions& opt = c.options;
   const double S = c.format.stroke, T = c.format.motion_time;
@@ -306,13 +418,24 @@ FilterOutcome design_iir(const StrategyContext& c) {
                std::to_string(kIirMaxSamples) +
                " the iir strategy plans: use iir_sample_period_s >= " + ms(T / kIirMaxSamples));
   }
-  const IirFilter filter = make_iir_filter(opt.iir_order, c.design_model.omega1(),
-                                           c.design_model.zeta, opt.iir_tau, opt.iir_sample_period);
+  // On a turned tank one filter per direction, in cascade: each cancels its direction's first
+  // mode (a filter at the middle of the two would cancel neither).
+  const bool directions = per_direction(c);
+  const IirFilter filter =
+      directions ? cascade(make_iir_filter(opt.iir_order, c.direction_omega[0], c.direction_zeta[0],
+                                           opt.iir_tau, opt.iir_sample_period),
+                           make_iir_filter(opt.iir_order, c.direction_omega[1], c.direction_zeta[1],
+                                           opt.iir_tau, opt.iir_sample_period))
+                 : make_iir_filter(opt.iir_order, c.design_model.omega1(), c.design_model.zeta,
+                                   opt.iir_tau, opt.iir_sample_period);
   const IirLaw law = make_iir_law(
       [&](double duration) { return make_base_law(opt.base, S, duration); }, filter, S, T);
-  const std::string name = "order-" + std::to_string(static_cast<int>(opt.iir_order)) +
-                           " IIR filter (tau = " + sig3(opt.iir_tau) +
-                           " 1/s, T_s = " + ms(opt.iir_sample_period) + ")";
+  const std::string name =
+      (directions ? "two order-" : "order-") + std::to_string(static_cast<int>(opt.iir_order)) +
+      (directions ? " IIR filters in cascade (at " + direction_f1(c, 0) + " and " +
+                        direction_f1(c, 1) + ", each cancelling its mode; "
+                  : " IIR filter (") +
+      "tau = " + sig3(opt.iir_tau) + " 1/s, T_s = " + ms(opt.iir_sample_period) + ")";
   IirDesign design{
       opt.base,       filter,        law.base_duration, law.delay, law.filtered_duration,
       law.iterations, law.correction};

@@ -1284,6 +1284,25 @@ void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format&
 
 }  // namespace
 
+std::vector<double> notched_frequencies(const Format& format, const PlanOptions& options,
+                                        const PlanResult& r) {
+  if (r.invalid_input) return {};
+  Strategy strategy = r.strategy;
+  for (const PlanCandidate& k : r.candidates) {
+    if (k.chosen) strategy = k.strategy;
+  }
+  // The design plan() gave the strategies (set_design), rebuilt: the same format, options and
+  // tank (turned onto its axis where plan() turned it).
+  const detail::Deadline deadline(0.0);
+  detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
+                            deadline};
+  const std::optional<RectangularModel> axis_tank =
+      r.rectangular ? rectangular_axis_tank(*r.rectangular) : std::nullopt;
+  c.rectangular = axis_tank ? &*axis_tank : (r.rectangular ? &*r.rectangular : nullptr);
+  detail::set_design(c);
+  return detail::notched_frequencies(c, strategy);
+}
+
 RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
                                const PlanResult& r) {
   if (r.rectangular) {

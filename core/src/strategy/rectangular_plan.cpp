@@ -1,6 +1,7 @@
 #include "slosh/core/strategy/rectangular_plan.hpp"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -85,13 +86,15 @@ RobustnessReport rectangular_robustness_report(
 
 namespace {
 
-/// A direction whose static wall height is below this share of the other's is not designed for
-/// (the law is still verified on both): a tank turned a hair off an axis, e.g. 89.9999999 degrees
-/// from a PLC's float, plans as on the axis instead of jumping to the two-mode design.
-constexpr double kMinDesignShare{0.05};
-
 double static_wall_height(const DrivenDirection& d) {
   return d.model.eta_gain.front() / (d.model.omega1() * d.model.omega1());
+}
+
+/// The residual wave a unit |X_a(omega_1)| leaves on the direction's walls: its first mode's
+/// gain over omega_1 (the undamped residual amplitude is |X_a(omega_1)| / omega_1 of the modal
+/// coordinate) [s].
+double residual_gain(const DrivenDirection& d) {
+  return d.model.eta_gain.front() / d.model.omega1();
 }
 
 }  // namespace
@@ -114,14 +117,12 @@ void set_directions(StrategyContext& c) {
   if (c.rectangular == nullptr) return;
   const std::vector<DrivenDirection> directions = driven_directions(*c.rectangular);
   if (directions.size() < 2) return;
-  // driven_directions puts the direction of the higher static wall height first.
-  if (static_wall_height(directions[1]) < kMinDesignShare * static_wall_height(directions[0])) {
-    return;
-  }
-  // Both directions excited: the spectral strategies design over the range of the two first
-  // frequencies (multi_notch's side notches at its ends, min_jerk_band's band over both, notch
-  // and the filters at its middle), as they do over an uncertainty range; with one, over the
-  // union of both directions' ranges (uncertainty_range's factors cover each direction's own).
+  // Both directions excited (rectangular_axis_tank has put a tank a hair off an axis onto it):
+  // notch and multi_notch weigh each direction's first mode by its residual wave (a share that
+  // goes to 0 with the orientation, so the law moves continuously with it); fir_chain, iir and
+  // the shaper cancel both modes; min_jerk_band's band runs over both, as over an uncertainty
+  // range; with one, over the union of both directions' ranges (uncertainty_range's factors
+  // cover each direction's own).
   const double s_lo = c.range ? c.range->scale_lo : 1.0;
   const double s_hi = c.range ? c.range->scale_hi : 1.0;
   const double w_a = directions[0].model.omega1(), w_b = directions[1].model.omega1();
@@ -133,30 +134,63 @@ void set_directions(StrategyContext& c) {
   c.over_directions = true;
   c.direction_omega = {w_a, w_b};
   c.direction_zeta = {directions[0].model.zeta, directions[1].model.zeta};
+  c.direction_weight = {1.0, residual_gain(directions[1]) / residual_gain(directions[0])};
+  for (std::size_t k = 0; k < 2; ++k) {
+    c.direction_name[k] = directions[k].axis == TankAxis::kLength ? "length" : "width";
+  }
   const double band = c.options.band;
   c.band = std::max((1.0 + band) * hi / mid - 1.0, 1.0 - (1.0 - band) * lo / mid);
-  c.p_notch = std::max(c.options.p_notch, (hi - lo) / (hi + lo));
-  // time_domain bounds the corners, |eta_L| + |eta_W| <= 2 max(|eta_L|, |eta_W|): each driven
-  // direction at twice its wall height (exact for a square tank at 45 degrees, where both are
-  // equal; conservative otherwise, and the plan is verified on the corners themselves); over a
-  // range, each direction at the range's sample points and checked at the sweep's points.
+  // time_domain bounds the corners, |eta_A| + |eta_B| <= max((1 + rho) |eta_A|,
+  // (1 + 1/rho) |eta_B|) for every rho > 0 (if rho |eta_A| >= |eta_B| the first term holds the
+  // sum, else the second): each driven direction at its height times its factor. rho, the square
+  // root of the ratio of the static wall heights (B the less excited), is 1 for a square tank at
+  // 45 degrees (both at twice their height, exact where both are equal) and takes both factors'
+  // bounds continuously to the one-direction bound as the orientation nears an axis: A's factor
+  // 1 + rho -> 1, and B's bounded height (1 + 1/rho) h_B = h_B + sqrt(h_A h_B) -> 0. The plan is
+  // verified on the corners themselves. Over a range, each direction at the range's sample
+  // points and checked at the sweep's points.
+  const double rho =
+      std::sqrt(static_wall_height(directions[1]) / static_wall_height(directions[0]));
+  const std::array<double, 2> factors{1.0 + rho, 1.0 + 1.0 / rho};
   c.sample_models.clear();
   c.check_models.clear();
-  for (const DrivenDirection& d : directions) {
-    const SloshingModel doubled = with_height_factor(d.model, 2.0);
+  for (std::size_t k = 0; k < directions.size(); ++k) {
+    const SloshingModel bounded = with_height_factor(directions[k].model, factors[k]);
     if (!c.range) {
-      c.sample_models.push_back(doubled);
-      c.check_models.push_back(doubled);
+      c.sample_models.push_back(bounded);
+      c.check_models.push_back(bounded);
       continue;
     }
     for (const SloshingModel& m :
-         sample_models(doubled, *c.range, c.options.uncertainty.sample_points)) {
+         sample_models(bounded, *c.range, c.options.uncertainty.sample_points)) {
       c.sample_models.push_back(m);
     }
     for (double delta : robustness_deltas(c.sweep)) {
-      c.check_models.push_back(scaled_model(doubled, 1.0 + delta, c.sweep.zeta));
+      c.check_models.push_back(scaled_model(bounded, 1.0 + delta, c.sweep.zeta));
     }
   }
+}
+
+std::vector<NotchTarget> notch_targets(const StrategyContext& c) {
+  if (!c.over_directions) return {{c.design_model.omega1(), 1.0, nullptr}};
+  const double scale = c.range ? c.range->scale_mid() : 1.0;
+  std::vector<NotchTarget> out;
+  for (std::size_t k = 0; k < 2; ++k) {
+    out.push_back({c.direction_omega[k] * scale, c.direction_weight[k], c.direction_name[k]});
+  }
+  return out;
+}
+
+std::vector<double> notched_frequencies(const StrategyContext& c, Strategy strategy) {
+  std::vector<double> out;
+  if (strategy != Strategy::kNotch && strategy != Strategy::kMultiNotch) return out;
+  for (const NotchTarget& t : notch_targets(c)) {
+    if (strategy == Strategy::kMultiNotch) out.push_back((1.0 - c.p_notch) * t.omega);
+    out.push_back(t.omega);
+    if (strategy == Strategy::kMultiNotch) out.push_back((1.0 + c.p_notch) * t.omega);
+  }
+  std::sort(out.begin(), out.end());
+  return out;
 }
 
 }  // namespace detail

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <functional>
+#include <numbers>
 #include <optional>
 
 #include "slosh/core/response/peak_finder.hpp"
@@ -243,33 +244,74 @@ std::string band_limit_sentence(const StrategyContext& c, double best_ratio) {
          "lengthen the motion";
 }
 
+namespace {
+
+std::string hz(double omega) {
+  return sig3(omega / (2.0 * std::numbers::pi)) + " Hz";
+}
+
+/// "the length's f1 = 2.37 Hz (share 1) and the width's f1 = 3.06 Hz (share 0.431)".
+std::string notch_list(const std::vector<NotchTarget>& targets) {
+  std::string out;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (k > 0) out += " and ";
+    out += std::string("the ") + targets[k].name + "'s f1 = " + hz(targets[k].omega) + " (share " +
+           sig3(targets[k].weight) + ")";
+  }
+  return out;
+}
+
+/// "0.1 % and 2.3 %": |X| / X_ref of `d` at each target.
+std::string residual_list(const StrategyContext& c, const std::vector<NotchTarget>& targets,
+                          const Durations& d) {
+  std::string out;
+  for (std::size_t k = 0; k < targets.size(); ++k) {
+    if (k > 0) out += " and ";
+    out +=
+        percent(std::abs(seven_segment_spectrum(d, c.format.stroke, targets[k].omega)) / c.x_ref);
+  }
+  return out;
+}
+
+}  // namespace
+
 StrategyOutcome solve_notch(const StrategyContext& c) {
   return solve_notch(c, StartUse::kEconomical);
 }
 
 StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
-  const double w1 = c.design_model.omega1();
-  // Among the exact zeros of X(w1) (a 4-dimensional manifold of the 6 free durations), the one
-  // with the least jerk integral: min int j^2 dt s.t. |Re X|, |Im X| <= kNotchDepth x_ref.
+  const std::vector<NotchTarget> targets = notch_targets(c);
+  // Among the exact zeros of X at every target (a 4-dimensional manifold of the 6 free durations
+  // for one, 2-dimensional for a turned tank's two), the one with the least jerk integral:
+  // min int j^2 dt s.t. w_k |Re X(w_k)|, w_k |Im X(w_k)| <= kNotchDepth x_ref. The weight w_k
+  // (a direction's share of the residual wave) makes each zero exact on the tank's walls, and
+  // lets the law move continuously to the one-direction notch as the orientation nears an axis
+  // (the second target's rows go slack once its share is small enough).
   NlpProblem p = c.space.problem();
   p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
   const double stroke = c.format.stroke;
   const double inv = 1.0 / c.x_ref;
-  add_limits(p, c, 4, [stroke, w1, inv](const double* x, double* g, double* jac) {
+  const int rows = 4 * static_cast<int>(targets.size());
+  add_limits(p, c, rows, [stroke, targets, inv](const double* x, double* g, double* jac) {
     Durations d;
     std::copy(x, x + kSegments, d.begin());
-    const SpectrumGradient sg = spectrum_gradient(d, stroke, w1);
-    const double re = sg.X.real() * inv, im = sg.X.imag() * inv;
-    g[0] = re - kNotchDepth;
-    g[1] = -re - kNotchDepth;
-    g[2] = im - kNotchDepth;
-    g[3] = -im - kNotchDepth;
-    if (jac != nullptr) {
-      for (std::size_t i = 0; i < kSegments; ++i) {
-        jac[0 * kSegments + i] = sg.dX[i].real() * inv;
-        jac[1 * kSegments + i] = -sg.dX[i].real() * inv;
-        jac[2 * kSegments + i] = sg.dX[i].imag() * inv;
-        jac[3 * kSegments + i] = -sg.dX[i].imag() * inv;
+    for (std::size_t t = 0; t < targets.size(); ++t) {
+      const double scale = targets[t].weight * inv;
+      const SpectrumGradient sg = spectrum_gradient(d, stroke, targets[t].omega);
+      const double re = sg.X.real() * scale, im = sg.X.imag() * scale;
+      double* gt = g + 4 * t;
+      gt[0] = re - kNotchDepth;
+      gt[1] = -re - kNotchDepth;
+      gt[2] = im - kNotchDepth;
+      gt[3] = -im - kNotchDepth;
+      if (jac != nullptr) {
+        double* jt = jac + 4 * t * kSegments;
+        for (std::size_t i = 0; i < kSegments; ++i) {
+          jt[0 * kSegments + i] = sg.dX[i].real() * scale;
+          jt[1 * kSegments + i] = -sg.dX[i].real() * scale;
+          jt[2 * kSegments + i] = sg.dX[i].imag() * scale;
+          jt[3 * kSegments + i] = -sg.dX[i].imag() * scale;
+        }
       }
     }
   });
@@ -277,24 +319,39 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
                                    spectral_options(), notch_policy(c, uses));
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
-    o.detail =
-        "exact notch at f1 (|Re X(w1)|, |Im X(w1)| <= 1e-6 of X_ref, so |X(w1)| <= 1.42e-6 of "
-        "X_ref), the one with the least "
-        "jerk integral among the zeros (" +
-        percent(o.objective) + " of the uniform law's)";
+    o.detail = (targets.size() == 1
+                    ? std::string("exact notch at f1 (|Re X(w1)|, |Im X(w1)| <= 1e-6 of X_ref, so "
+                                  "|X(w1)| <= 1.42e-6 of X_ref)")
+                    : "exact notches at " + notch_list(targets) +
+                          " (for each, |Re X|, |Im X| times its share of the residual wave <= "
+                          "1e-6 of X_ref)") +
+               ", the one with the least jerk integral among the zeros (" + percent(o.objective) +
+               " of the uniform law's)";
     return o;
   }
-  // No zero reachable within the bounds and limits: the deepest notch instead.
+  // No zero reachable within the bounds and limits: the deepest notch instead (on a turned
+  // tank, the least sum of the directions' residual powers, each weighed by its share).
+  std::vector<double> omegas, weights;
+  for (const NotchTarget& t : targets) {
+    omegas.push_back(t.omega);
+    weights.push_back(t.weight * t.weight);
+  }
   MultiStartResult deepest =
-      minimise_power(c, {w1}, {1.0}, kSpectralRandomStarts, notch_policy(c, uses));
+      minimise_power(c, omegas, weights, kSpectralRandomStarts, notch_policy(c, uses));
   deepest.evaluations += m.evaluations;
   deepest.starts += m.starts;
   StrategyOutcome o = outcome_from(deepest, c);
   if (o.status != SolveStatus::kInfeasible) {
-    o.detail =
-        "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
-        "notch leaves |X(w1)| at " +
-        percent(std::sqrt(o.objective)) + " of X_ref";
+    if (targets.size() == 1) {
+      o.detail =
+          "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
+          "notch leaves |X(w1)| at " +
+          percent(std::sqrt(o.objective)) + " of X_ref";
+    } else {
+      o.detail = "no exact zero of X at both " + notch_list(targets) +
+                 " is reachable within the bounds and limits; the deepest notches leave |X| at " +
+                 residual_list(c, targets, o.durations) + " of X_ref";
+    }
   }
   return o;
 }
@@ -304,10 +361,18 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c) {
 }
 
 StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
-  const double w1 = c.design_model.omega1();
   const double p_notch = c.p_notch;
-  const std::vector<double> omegas{(1.0 - p_notch) * w1, w1, (1.0 + p_notch) * w1};
-  const std::vector<double> weights(c.options.weights.begin(), c.options.weights.end());
+  // Three notches around each target; on a turned tank each direction's weighed by the square
+  // of its share of the residual wave (the objective is a power), so that the law moves
+  // continuously to the one-direction law as the orientation nears an axis.
+  const std::vector<NotchTarget> targets = notch_targets(c);
+  std::vector<double> omegas, weights;
+  for (const NotchTarget& t : targets) {
+    for (std::size_t i = 0; i < 3; ++i) {
+      omegas.push_back((1.0 + (static_cast<double>(i) - 1.0) * p_notch) * t.omega);
+      weights.push_back(c.options.weights[i] * t.weight * t.weight);
+    }
+  }
   // Every start runs (its objective has many basins), each left once it reaches a known one.
   StartPolicy policy;
   policy.leave_known_optima = uses == StartUse::kEconomical;
@@ -322,7 +387,11 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
       if (!parts.empty()) parts += ", ";
       parts += percent(std::abs(seven_segment_spectrum(d, c.format.stroke, w)) / c.x_ref);
     }
-    o.detail = "|X| at (1-p) f1, f1, (1+p) f1 = " + parts + " of X_ref";
+    o.detail = targets.size() == 1
+                   ? "|X| at (1-p) f1, f1, (1+p) f1 = " + parts + " of X_ref"
+                   : "|X| at (1-p) f, f, (1+p) f around " + notch_list(targets) + " = " + parts +
+                         " of X_ref (each direction weighed by the square of its share "
+                         "of the residual wave)";
   }
   return o;
 }

@@ -83,13 +83,20 @@ struct StrategyContext {
   /// excited direction driven by the motion (driven_directions); the plan's laws are verified
   /// on this model's walls and corners (rectangular_prediction).
   const RectangularModel* rectangular{nullptr};
-  /// True when set_directions designs at the middle of a turned tank's two first modes: then
-  /// design_model.omega1() is neither direction's frequency (the reports say so).
+  /// True when the motion drives both of a turned tank's directions (set_directions): the
+  /// strategies act on each direction's first mode (direction_omega, weighed by
+  /// direction_weight); design_model, at the middle of the two, serves min_jerk_band's band and
+  /// the filters under an uncertainty range only.
   bool over_directions{false};
   /// With over_directions: the two directions' first-mode frequencies [rad/s] and damping ratios
   /// [-], the most excited direction first (the shaper cancels each).
   std::array<double, 2> direction_omega{};
   std::array<double, 2> direction_zeta{};
+  /// With over_directions: each direction's first-mode residual gain relative to the most
+  /// excited one's (its wave per unit |X_a(omega_1)|: 1, then the other's share) [-].
+  std::array<double, 2> direction_weight{1.0, 0.0};
+  /// With over_directions: the directions' names ("length", "width"), most excited first.
+  std::array<const char*, 2> direction_name{"length", "width"};
 
   /// True when the plan must hold over an uncertainty range.
   [[nodiscard]] bool robust() const { return range.has_value(); }
@@ -99,10 +106,27 @@ struct StrategyContext {
 /// after construction, before set_references).
 void set_design(StrategyContext& context);
 
-/// A tank turned to the motion (both directions excited): the design frequency, band and
-/// p_notch over both directions' first modes, and time_domain's models (rectangular_plan.cpp).
+/// A tank turned to the motion (both directions excited): each direction's first mode, damping,
+/// share and name, the band over both, and time_domain's models (rectangular_plan.cpp).
 /// Nothing for a cylinder or a tank square to the motion. Called by set_design.
 void set_directions(StrategyContext& context);
+
+/// A first mode a spectral strategy notches: its frequency [rad/s] and weight [-].
+struct NotchTarget {
+  double omega{};
+  double weight{1.0};
+  const char* name{nullptr};  ///< the tank direction's name, or null for the one model
+};
+
+/// The first modes notch and multi_notch cancel: the design model's, or on a turned tank each
+/// excited direction's (at the middle of an uncertainty range's scale), weighed by its share of
+/// the residual wave (direction_weight).
+[[nodiscard]] std::vector<NotchTarget> notch_targets(const StrategyContext& context);
+
+/// The frequencies the law of `strategy` notches [rad/s]: notch's targets, multi_notch's three
+/// per target (empty for the other strategies).
+[[nodiscard]] std::vector<double> notched_frequencies(const StrategyContext& context,
+                                                      Strategy strategy);
 
 /// The relative half band around the middle of `range` that reaches (1 + band) scale_hi (and
 /// covers (1 - band) scale_lo) [-].

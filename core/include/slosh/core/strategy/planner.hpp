@@ -436,6 +436,14 @@ struct PlanResult {
   }
 };
 
+/// The frequencies the returned law of `r` (planned for `format` with `options`) notches
+/// [rad/s], ascending: notch's (one, or one per excited direction of a turned rectangular tank),
+/// multi_notch's three around each such mode (also as auto's choice); empty for the other
+/// strategies. The spectrum's notch markers.
+[[nodiscard]] std::vector<double> notched_frequencies(const Format& format,
+                                                      const PlanOptions& options,
+                                                      const PlanResult& r);
+
 /// The robustness report (SPEC §10) of a plan's law: swept over the uncertainty range of
 /// `options` at its least damping when active, else over +-10 % at the model's zeta; judged by
 /// options.eta_rest_max and, when given, options.eta_motion_max. plan() attaches it when
