@@ -566,5 +566,34 @@ TEST(RectangularSpatialApi, ATankTurnedInPlaceSaysTheYawModesAreLeftOut) {
   }
 }
 
+// A tank turned twice round a table: every wall angle it reports is in (-180, 180], as the
+// cylinder's (it gave -246.5 deg and series up to 866 deg), the same direction as the raw sum.
+TEST(RectangularSpatialApi, WallAnglesOfATankTurnedTwiceAreInOneTurn) {
+  nlohmann::json body = {{"format", cup_format(170.0)},
+                         {"law", {{"type", "seven_segment_uniform"}}},
+                         {"sample_period_s", 0.01}};
+  body["format"]["motion_time_s"] = 6.0;
+  body["format"]["motion"] = {{"type", "arc"},
+                              {"radius_mm", 300},
+                              {"angle_deg", -720},
+                              {"container_turns", true},
+                              {"start_heading_deg", -170}};
+  const nlohmann::json out = api::simulate_response(body);
+  std::vector<double> angles;
+  for (const char* model : {"linear", "nonlinear"}) {
+    for (const char* key : {"direction_motion_deg", "direction_rest_deg"}) {
+      angles.push_back(out["prediction"][model][key].get<double>());
+    }
+  }
+  for (const char* key : {"direction_linear_deg", "direction_nonlinear_deg"}) {
+    for (const auto& a : out["series"][key]) angles.push_back(a.get<double>());
+  }
+  ASSERT_GT(angles.size(), 100u);
+  for (double a : angles) {
+    EXPECT_GT(a, -180.0);
+    EXPECT_LE(a, 180.0);
+  }
+}
+
 }  // namespace
 }  // namespace slosh
