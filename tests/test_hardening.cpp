@@ -185,7 +185,10 @@ TEST(Hardening, ChunkedBodiesHoldTheBodyLimit) {
   while (sent < (std::size_t{16} << 20) && raw.send(chunk)) sent += 0x10000;
   const std::string answer = raw.read_all();
   EXPECT_EQ(answer.rfind("HTTP/1.1 413", 0), 0u) << answer.substr(0, 200);
-  EXPECT_NE(answer.find(R"("message":"the body is larger than the limit of 1048576 bytes")"),
+  EXPECT_NE(answer.find(R"("message":"the body is larger than the limit of 1048576 bytes )"
+                        R"((max_body_bytes); a trajectory of more samples than a body holds )"
+                        R"((about 30 000 t, x, y samples in 1 MiB) is simulated from a CSV file )"
+                        R"(by slosh simulate --trajectory, up to 200000 samples")"),
             std::string::npos)
       << answer;
   const long after = rss_kib(server.child().pid());

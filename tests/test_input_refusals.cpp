@@ -210,7 +210,7 @@ TEST(InputRefusals, ADeclaredBodyTheServiceRefusesIsRefusedBeforeItIsRead) {
       raw_answer(server.port(), head + "Connection: close\r\nContent-Length: 2000000\r\n\r\n{");
   EXPECT_EQ(large.rfind("HTTP/1.1 413", 0), 0u) << large.substr(0, 300);
   EXPECT_NE(large.find(R"({"error":{"code":"payload_too_large","field":null,"message":"the body )"
-                       R"(is larger than the limit of 1048576 bytes"}})"),
+                       R"(is larger than the limit of 1048576 bytes (max_body_bytes); )"),
             std::string::npos)
       << large;
   EXPECT_EQ(count_of(large, "Connection: close\r\n"), 1u) << large;

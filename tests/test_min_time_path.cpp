@@ -9,7 +9,9 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdio>
 #include <functional>
 #include <numbers>
 #include <string>
@@ -423,6 +425,40 @@ TEST(PathRobustness, PointsAreThePlanarPeaksOfTheScaledModels) {
     EXPECT_LE(r.nonlinear->lo, 0.0);
     EXPECT_GE(r.nonlinear->hi, 0.0);
   }
+}
+
+// A corner of 1 um radius between two lines: no T keeps a_max = 5 m/s^2 (the speed through it
+// must stay below sqrt(a_max rho) = 2.24 mm/s), and the answer names a_max, not the eta limits
+// ("relax the limits" sent the engineer to eta_rest, which changes nothing). The figure at T_max
+// is checked against the plan's own verification along the path.
+TEST(MinTimePath, ACornerNoSpeedCanCrossNamesAMax) {
+  json body = body_with(json{{"type", "path"},
+                             {"segments",
+                              {{{"line_mm", 200}},
+                               {{"arc", {{"radius_mm", 0.001}, {"angle_deg", 90}}}},
+                               {{"line_mm", 200}}}}});
+  body["options"]["limits"]["a_max"] = 5.0;
+  body["motion_time_max_s"] = 1.0;
+  const json answer = api::run_min_time(api::parse_min_time_request(body, 60.0));
+  const json& s = answer["strategies"][0];
+  EXPECT_EQ(s["status"], "infeasible");
+  // The uniform law at T = 1 s crosses the corner (s = 200 mm, the middle) at its cruise speed.
+  const test::ReferenceSevenSegment law(uniform_durations(1.0), 0.4);
+  const double normal = law.v_peak() * law.v_peak() / 1e-6;
+  auto fmt = [](const char* f, double v) {
+    std::array<char, 32> b{};
+    std::snprintf(b.data(), b.size(), f, v);
+    return std::string(b.data());
+  };
+  EXPECT_EQ(s["message"],
+            "no motion time from " + fmt("%.3f", s["scan_start_s"].get<double>()) +
+                " s to 1.000 s (scanned every 0.040 s) keeps limits.a_max = 5 m/s^2 on the total "
+                "horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) along the path with baseline: "
+                "at T = 1.000 s its law reaches " +
+                fmt("%.3g", normal) +
+                " m/s^2 (on the tightest arc, radius 0.001 mm, the speed must stay below "
+                "sqrt(a_max rho) = 2.24 mm/s); a longer motion does not help a law that must cross "
+                "that arc at speed: raise limits.a_max or widen the arc");
 }
 
 }  // namespace

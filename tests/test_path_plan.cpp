@@ -149,6 +149,76 @@ TEST(PathPlan, TimeDomainOnAnArcHoldsOnAnIndependentSimulation) {
       << r.message;
 }
 
+// On the table index, objective "rest" reaches a residual wave near 0 whatever the eta_motion
+// limit between 13 and 15 mm, and a looser eta_rest limit never costs eta_motion: SLSQP stops
+// as soon as its epigraph level sits at 0 under rows it does not meet yet, and such runs lost
+// to the unchanged notch start (5.39 mm at rest, "optimal") or a 1 mm limit was called
+// infeasible at 1.0000067 mm. Every figure is checked on the RK4 simulation written above.
+TEST(PathPlan, TimeDomainOnTheTableIndexReachesWhatItsLimitsAllow) {
+  const PlanarPath arc = table_arc();
+  const Format f = format_for(arc, 1.2);
+  for (double limit : {13e-3, 15e-3}) {
+    PlanOptions o = quiet_options();
+    o.objective = TimeDomainObjective::kRest;
+    o.eta_motion_max = limit;
+    const PlanResult r = plan_on_path(f, arc, Strategy::kTimeDomain, o);
+    ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+    ASSERT_TRUE(r.durations.has_value());
+    const ArcSimulation sim =
+        simulate_on_arc(r.model, *r.durations, arc.length(), 0.3, o.rest_time);
+    EXPECT_LE(sim.eta_motion, limit * (1.0 + 1e-3)) << limit;
+    EXPECT_LT(sim.eta_rest, 0.05e-3) << limit;  // the notch start rests at 5.39 mm here
+  }
+  std::vector<double> motion;
+  for (double limit : {1e-3, 4e-3, 5e-3}) {
+    PlanOptions o = quiet_options();
+    o.eta_rest_max = limit;
+    const PlanResult r = plan_on_path(f, arc, Strategy::kTimeDomain, o);
+    ASSERT_EQ(r.status, SolveStatus::kOptimal) << limit << ": " << r.message;
+    const ArcSimulation sim =
+        simulate_on_arc(r.model, *r.durations, arc.length(), 0.3, o.rest_time);
+    EXPECT_LE(sim.eta_rest, limit * (1.0 + 1e-3)) << limit;
+    motion.push_back(sim.eta_motion);
+  }
+  // Looser limits, no higher wave in motion (min_jerk_band's law, 15.2 mm, was returned at 5 mm).
+  EXPECT_LT(motion[1], motion[0]);
+  EXPECT_LE(motion[2], motion[1] * (1.0 + 1e-3));
+}
+
+// SPEC §5: auto never returns a worse_than_baseline candidate while a usable one is not. Along
+// an arc the uniform law can sit far above the eta_rest bound while only a flagged candidate meets
+// it; that one was returned as optimal, its warning saying the uniform law sloshes less.
+TEST(PathPlan, AutoAlongAnArcNeverReturnsAFlaggedLawWhileTheUniformLawQualifies) {
+  const PlanarPath track = PlanarPath::arc(0.3, kPi / 2, false);
+  Format tank = thesis_format();
+  tank.container.rectangular = RectangularTank{0.12, 0.08, 90.0};
+  tank.container.height = 0.1;
+  tank.fill_height = 0.05;
+  tank.stroke = track.length();
+  tank.motion_time = 1.2;
+  Format cup = format_for(PlanarPath::arc(0.15, kPi, true), 0.9);
+  const std::vector<std::pair<Format, PlanarPath>> cases{{tank, track},
+                                                         {cup, PlanarPath::arc(0.15, kPi, true)}};
+  for (const auto& [f, path] : cases) {
+    const PlanResult r = plan_on_path(f, path, Strategy::kAuto, quiet_options());
+    bool flagged = false;
+    for (const std::string& w : r.warnings)
+      flagged = flagged || w.rfind("worse_than_baseline", 0) == 0;
+    EXPECT_FALSE(flagged && r.status == SolveStatus::kOptimal) << r.message;
+    for (const PlanCandidate& k : r.candidates) {
+      if (k.chosen) {
+        EXPECT_TRUE(k.worse_than_baseline.empty()) << to_string(k.strategy);
+      }
+    }
+  }
+  const PlanResult r = plan_on_path(tank, track, Strategy::kAuto, quiet_options());
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible);
+  EXPECT_EQ(r.message.substr(0, r.message.find(";")),
+            "not a solution: no candidate that is not worse_than_baseline meets eta_rest <= 3 mm "
+            "(eta_rest_max_mm): shaper meets it (2.91 mm) but sloshes more than the uniform law "
+            "elsewhere (ask for it by name to accept that)");
+}
+
 // An arc of a kilometre's radius is a straight line to the liquid: its time_domain plan is the
 // straight line's, and so are the tangential strategies' predictions.
 TEST(PathPlan, AnArcOfHugeRadiusTendsToTheLinePlan) {

@@ -182,6 +182,18 @@ TEST(CompactPlan, IsUnder1kBForEveryStrategyWithASevenSegmentLaw) {
   std::printf("longest compact plan: %zu bytes\n", longest);
 }
 
+// Two sentences of one kind (say both models beyond their theory) are one finding: the compact
+// view listed "linear model beyond its theory" twice, two warnings read as one repeated.
+TEST(CompactPlan, ListsEachFindingOnce) {
+  json plan = api::run_plan(api::parse_plan_request(thesis("baseline")));
+  plan["warnings"] = {"worse_than_baseline: eta_motion (nonlinear) 22.8 mm vs 20.8 mm",
+                      "model beyond its theory: the linear one",
+                      "model beyond its theory: the other",
+                      "worse_than_baseline: eta_rest (linear) 12.7 mm vs 8.72 mm"};
+  EXPECT_EQ(api::compact_plan(plan)["warnings"],
+            json({"worse_than_baseline", "model beyond its theory"}));
+}
+
 TEST(CompactPlan, AGeneralLawKeepsItsPiecesWithTheMove) {
   const json request = thesis("iir");
   const json plan = api::run_plan(api::parse_plan_request(request));

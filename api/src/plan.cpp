@@ -26,6 +26,8 @@ namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
 constexpr const char* kPlannerVersion = "plan-v9";
+/// Version of the numerics of plans along an arc or a path (in their keys only).
+constexpr const char* kPathPlannerVersion = "path-v2";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
@@ -198,7 +200,12 @@ nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& regi
                            {"strategy", to_string(r.strategy)},
                            {"options", std::move(options)}};
   // Only a plan along an arc or a path has the member: every other key stays as it was.
-  if (r.motion) recipe["motion"] = canonical_motion(*r.motion);
+  // Plans along a path have numerics of their own (plan_on_path), versioned beside the
+  // planner's: bumped with them, the straight line's keys unchanged.
+  if (r.motion) {
+    recipe["motion"] = canonical_motion(*r.motion);
+    recipe["path_planner"] = kPathPlannerVersion;
+  }
   // A rectangular container is another answer; the cylinder's keys stay as they were.
   if (const auto& t = f.container.rectangular) {
     nlohmann::json& format = recipe["format"];

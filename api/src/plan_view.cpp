@@ -1,5 +1,7 @@
 #include "slosh/api/plan_view.hpp"
 
+#include <algorithm>
+
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/plan_warnings.hpp"
@@ -160,9 +162,15 @@ json compact_plan(const json& plan) {
   out["prediction"] = {{"nonlinear", compact_peaks(p.at("nonlinear"))},
                        {"linear", compact_peaks(p.at("linear"))}};
   if (const auto path = plan.find("path"); path != plan.end()) out["path"] = compact_path(*path);
+  // One code per finding: two sentences of one kind (e.g. both models beyond their theory) would
+  // read as the same warning twice.
   json findings = json::array();
-  for (const json& w : plan.at("warnings"))
-    findings.push_back(warning_finding(w.get<std::string>()));
+  for (const json& w : plan.at("warnings")) {
+    const std::string code = warning_finding(w.get<std::string>());
+    if (std::find(findings.begin(), findings.end(), code) == findings.end()) {
+      findings.push_back(code);
+    }
+  }
   out["warnings"] = std::move(findings);
   // The MC_MoveAbsolute inputs are what a drive needs of a one-jerk plan.
   if (const auto m = plan.find("move_absolute"); m != plan.end()) out["move_absolute"] = *m;

@@ -23,8 +23,8 @@ nlohmann::json rectangular_spatial_series_json(const RectangularModel& model,
       drive, law, rest_time, dt, [&](double t, const PlanarKinematics& p) {
         const double heading = frame_angle + p.theta;
         return std::array<double, 4>{linear.eta_highest(t), nonlinear.eta_highest(t),
-                                     heading + linear.corner_angle(t),
-                                     heading + nonlinear.corner_angle(t)};
+                                     linear.world_corner_angle(heading, t),
+                                     nonlinear.world_corner_angle(heading, t)};
       });
 }
 

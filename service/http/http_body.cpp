@@ -22,7 +22,10 @@ bool json_content_type(const std::string& value) {
 Reply too_large_reply(const ServerConfig& config) {
   return error_reply(
       api::ErrorCode::kPayloadTooLarge,
-      "the body is larger than the limit of " + std::to_string(config.max_body_bytes) + " bytes");
+      "the body is larger than the limit of " + std::to_string(config.max_body_bytes) +
+          " bytes (max_body_bytes); a trajectory of more samples than a body holds (about 30 000 "
+          "t, x, y samples in 1 MiB) is simulated from a CSV file by slosh simulate --trajectory, "
+          "up to 200000 samples");
 }
 
 Reply not_json_reply(const httplib::Request& req) {

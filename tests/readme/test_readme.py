@@ -37,7 +37,7 @@ KNOWN = {"server", "redis", "no-test"}
 
 
 def blocks(readme):
-    """(line, marks, text) of every ```sh block."""
+    """(line, marks, text, shown key) of every ```sh block."""
     out, lines, i = [], readme.split("\n"), 0
     while i < len(lines):
         m = re.match(r"^```(\S*)\s*(.*)$", lines[i])
@@ -51,8 +51,24 @@ def blocks(readme):
             i += 1
         i += 1
         if lang == "sh":
-            out.append((start, marks, "\n".join(body) + "\n"))
+            out.append((start, marks, "\n".join(body) + "\n", shown_key(lines, i)))
     return out
+
+
+def shown_key(lines, i):
+    """The recipe key printed by the ```text block right after line i (the output the README shows
+    for the block above it), or None: a shown key must be the one the command prints."""
+    while i < len(lines) and not lines[i].strip():
+        i += 1
+    if i >= len(lines) or not lines[i].startswith("```text"):
+        return None
+    i += 1
+    while i < len(lines) and not lines[i].startswith("```"):
+        m = re.match(r"^key\s+([0-9a-f]{32})\b", lines[i])
+        if m:
+            return m.group(1)
+        i += 1
+    return None
 
 
 def free_port():
@@ -139,8 +155,8 @@ def main():
         text = open(os.path.join(args.source, name), encoding="utf-8").read()
         if "../shared" in text:
             failures.append(f"{name} refers to ../shared: the repository must stand alone")
-        found += [(f"{name}:{line}", marks, body) for line, marks, body in blocks(text)]
-    if not any(where.startswith("README.md:") for where, _, _ in found):
+        found += [(f"{name}:{line}", marks, body, key) for line, marks, body, key in blocks(text)]
+    if not any(where.startswith("README.md:") for where, _, _, _ in found):
         failures.append("README.md has no ```sh block")
     scratch = scratch_tree(args.source, os.path.dirname(os.path.abspath(args.slosh)))
     home = os.path.join(scratch, ".home")
@@ -150,7 +166,7 @@ def main():
     server = redis = redis_server = None
     ran = skipped = 0
     try:
-        for line, marks, text in found:
+        for line, marks, text, key in found:
             unknown = [m for m in marks if m not in KNOWN]
             if "no-test" in marks or unknown:
                 why = "no-test" if "no-test" in marks else "needs " + ", ".join(unknown)
@@ -178,6 +194,10 @@ def main():
             if r.returncode != 0:
                 failures.append(f"{line}: exit {r.returncode}\n--- block\n{text}"
                                 f"--- stdout\n{r.stdout[-3000:]}--- stderr\n{r.stderr[-3000:]}")
+            printed = re.search(r"^key\s+([0-9a-f]{32})\b", r.stdout, re.M)
+            if key and (printed is None or printed.group(1) != key):
+                failures.append(f"{line}: the README shows key {key}, the command printed "
+                                f"{printed.group(1) if printed else 'none'}")
     finally:
         for running in (server, redis_server, redis):
             if running is not None:

@@ -252,7 +252,7 @@ RectangularPlanarResponse::RectangularPlanarResponse(const RectangularModel& mod
   auto corner = [&](const Peak& p) {
     const double t = std::clamp(p.time, 0.0, T);
     return PlanarPeak{p.value, p.time,
-                      frame_angle + drive.kinematics(t).theta + corner_angle(p.time)};
+                      world_corner_angle(frame_angle + drive.kinematics(t).theta, p.time)};
   };
   peaks_.highest = {corner(h.motion), corner(h.rest)};
 }

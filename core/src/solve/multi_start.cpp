@@ -142,6 +142,24 @@ MultiStartResult solve_starts(const NlpProblem& given,
       if (optional) ++stale;
       continue;
     }
+    // A run that ended outside the constraints goes again from its repaired end point.
+    for (int again = 0; again < policy.restarts && policy.repair && !r.abandoned &&
+                        r.status != SolveStatus::kTimeLimit && std::isfinite(r.objective) &&
+                        r.max_violation > feasible_tol;
+         ++again) {
+      std::vector<double> x = r.x;
+      if (problem.before_start) problem.before_start(x.data());
+      if (!policy.repair(x)) break;
+      o.time_limit = context.deadline.remaining();
+      if (o.time_limit <= 0.0) break;
+      NlpResult next = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x, o)
+                                                                  : solve_with_nlopt(problem, x, o);
+      out.evaluations += next.evaluations;
+      if (next.status == SolveStatus::kTimeLimit) out.timed_out = true;
+      if (next.abandoned || !std::isfinite(next.objective)) break;
+      if (next.max_violation >= r.max_violation && next.max_violation > feasible_tol) break;
+      r = std::move(next);
+    }
     const bool feasible = r.max_violation <= feasible_tol;
     if (feasible && r.usable()) {
       optima.push_back({r.x, r.objective});

@@ -522,9 +522,44 @@ bool coarse_scan(SearchRun& run) {
   return true;
 }
 
+// Along a path: every scanned law broke limits.a_max on the total horizontal acceleration, as a
+// sentence naming it (the η limits are then not what no T meets); empty otherwise.
+std::string a_max_unreachable(const SearchRun& run) {
+  const MinTimeResult& r = run.r;
+  const std::optional<double>& a_max = run.options.plan.limits.a_max;
+  if (!run.options.path || !a_max || run.scanned.empty()) return {};
+  for (const MinTimePoint& p : run.scanned) {
+    if (!breaks_a_max(p)) return {};
+  }
+  const MinTimePoint& last = run.scanned.back();
+  double rho = std::numeric_limits<double>::infinity();
+  for (const PathElement& e : run.options.path->elements()) {
+    if (e.kind == PathElement::Kind::kArc) rho = std::min(rho, e.radius);
+  }
+  std::string out = "no motion time from " + sec(r.scan_start) + " to " +
+                    sec(run.options.motion_time_max) + " (scanned every " +
+                    sec(run.options.scan_step) + ") keeps limits.a_max = " + sig3(*a_max) +
+                    " m/s^2 on the total horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) along "
+                    "the path with " +
+                    to_string(run.strategy) + ": at T = " + sec(last.motion_time) +
+                    " its law reaches " + sig3(last.a_max_ratio * *a_max) + " m/s^2";
+  if (std::isfinite(rho)) {
+    out += " (on the tightest arc, radius " + mm(rho) +
+           ", the speed must stay below sqrt(a_max rho) = " + sig3(std::sqrt(*a_max * rho) * 1e3) +
+           " mm/s)";
+  }
+  return out +
+         "; a longer motion does not help a law that must cross that arc at speed: raise "
+         "limits.a_max or widen the arc";
+}
+
 void report_infeasible(SearchRun& run) {
   MinTimeResult& r = run.r;
   r.status = SolveStatus::kInfeasible;
+  if (std::string a_max = a_max_unreachable(run); !a_max.empty()) {
+    r.message = std::move(a_max);
+    return;
+  }
   std::string message = "no motion time from " + sec(r.scan_start) + " to " +
                         sec(run.options.motion_time_max) + " (scanned every " +
                         sec(run.options.scan_step) + ") meets " + run.limits + " with " +

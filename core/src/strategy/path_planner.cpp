@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <optional>
 
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
@@ -101,8 +102,9 @@ std::string bound_violation(const PathContext& c, const PathPrediction& p) {
                               : c.options.eta_motion_max.value_or(c.uniform.nonlinear.motion.value);
   const double value = motion ? p.nonlinear.rest.value : p.nonlinear.motion.value;
   if (value <= bound * (1.0 + kBoundTolerance)) return {};
-  return std::string(motion ? "eta_rest" : "eta_motion") + " " + sig3(value * 1e3) +
-         " mm of the planar nonlinear model exceeds its bound " + sig3(bound * 1e3) + " mm";
+  return std::string(motion ? "eta_rest" : "eta_motion") + " " + sig3(value * 1e3) + " mm of " +
+         (c.tank ? "the tank's model" : "the planar nonlinear model") + " exceeds its bound " +
+         sig3(bound * 1e3) + " mm";
 }
 
 std::string worse_than_uniform(const PathPrediction& p, const PathPrediction& b) {
@@ -229,6 +231,80 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
   return o;
 }
 
+/// A law's standing against time_domain's problem along the path: whether it meets the bound
+/// and the path limits, its bounded figure and its objective (the other window's peak) [m].
+struct Standing {
+  bool meets{false};
+  double bounded{};
+  double objective{};
+  bool keeps_limits{false};
+};
+
+Standing standing(const PathContext& c, const PathOutcome& o) {
+  const BoundVerdict b = bound_verdict(c, o);
+  Standing st;
+  st.keeps_limits = path_limit_violation(c.options.limits, o.prediction).empty();
+  st.bounded = b.value;
+  st.objective =
+      b.on_rest ? o.prediction.nonlinear.motion.value : o.prediction.nonlinear.rest.value;
+  st.meets = st.keeps_limits && b.value <= b.bound * (1.0 + kBoundTolerance);
+  return st;
+}
+
+/// time_domain's law against its own starts verified along the path (the uniform law and the
+/// spectral optima): the plan never returns a law worse than one of them. A start that meets the
+/// bound and the path limits where the law does not, or with a lower objective, is returned
+/// instead (`acceptable`: its objective was not minimised), and the message says so; when none
+/// meets them, the least infeasible of the law and the starts that keep the limits is returned.
+void keep_best_start(const PathContext& c, PathOutcome& o,
+                     const std::vector<const PathOutcome*>& starts) {
+  const Standing own = standing(c, o);
+  const PathOutcome* best = nullptr;
+  Standing best_standing = own;
+  for (const PathOutcome* s : starts) {
+    if (s == nullptr || !s->plan.durations) continue;
+    const Standing st = standing(c, *s);
+    const bool better =
+        st.meets ? !best_standing.meets || st.objective < best_standing.objective * (1.0 - 1e-6)
+                 : !best_standing.meets && st.keeps_limits &&
+                       (!best_standing.keeps_limits || st.bounded < best_standing.bounded);
+    if (better) {
+      best = s;
+      best_standing = st;
+    }
+  }
+  if (best == nullptr) return;
+  const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+  const std::string bounded = motion ? "eta_rest" : "eta_motion";
+  const std::string objective = motion ? "eta_motion" : "eta_rest";
+  const std::string name = best->plan.strategy == Strategy::kBaseline
+                               ? std::string("the uniform law")
+                               : to_string(best->plan.strategy) + "'s law";
+  const std::string own_figures = "time_domain's own law reached " + bounded + " " +
+                                  sig3(own.bounded * 1e3) + " mm, " + objective + " " +
+                                  sig3(own.objective * 1e3) + " mm";
+  PathOutcome chosen = *best;
+  chosen.plan.strategy = Strategy::kTimeDomain;
+  chosen.plan.solver = o.plan.solver;
+  chosen.worse = worse_than_uniform(chosen.prediction, c.uniform);
+  if (best_standing.meets) {
+    chosen.plan.status = SolveStatus::kAcceptable;
+    chosen.detail = name + ", one of time_domain's starts, meets " + bounded +
+                    " <= " + sig3(bound_verdict(c, o).bound * 1e3) + " mm along the path (" +
+                    sig3(best_standing.bounded * 1e3) + " mm) with " + objective + " " +
+                    sig3(best_standing.objective * 1e3) + " mm and is returned (" + own_figures +
+                    "; the " + objective + " objective was not minimised from it)";
+  } else {
+    chosen.plan.status = SolveStatus::kInfeasible;
+    chosen.detail =
+        "no law found that meets " + bounded + " <= " + sig3(bound_verdict(c, o).bound * 1e3) +
+        " mm along the path: the least is " + name + "'s, one of time_domain's starts (" +
+        sig3(best_standing.bounded * 1e3) + " mm), which is returned (" + own_figures +
+        "); lengthen the motion or relax the limit";
+  }
+  o = std::move(chosen);
+}
+
 /// The message: what happened, then what the law does along the path.
 std::string path_message(const PathContext& c, const PlanResult& r, const PathPrediction& p,
                          std::string detail) {
@@ -306,6 +382,50 @@ std::vector<PathOutcome> spectral_outcomes(const PathContext& c) {
   return out;
 }
 
+/// SPEC §5: auto never returns a worse_than_baseline candidate while a usable one is not worse
+/// on both. choose_auto keeps the candidates that meet time_domain's eta bound apart from those
+/// that break it, so where only flagged candidates meet the bound (along a path the normal
+/// acceleration, which no tangential law shapes, often leaves the uniform law far above it) it
+/// returned a flagged one as optimal. Then the least infeasible law among the usable candidates
+/// that are not flagged is returned, `infeasible`, naming the flagged one that meets the bound.
+void refuse_worse_choice(const std::vector<PlanCandidate>& candidates,
+                         const std::vector<bool>& worse, const std::vector<BoundVerdict>& bounds,
+                         AutoChoice& choice) {
+  if (choice.bound_missed || !choice.eligible || !worse[choice.index]) return;
+  std::optional<std::size_t> least;
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    const SolveStatus st = candidates[k].status;
+    const bool usable = st == SolveStatus::kOptimal || st == SolveStatus::kAcceptable ||
+                        st == SolveStatus::kTimeLimit;
+    if (!usable || worse[k]) continue;
+    if (!least || bounds[k].value < bounds[*least].value) least = k;
+  }
+  if (!least) return;
+  const std::size_t flagged = choice.index;
+  const BoundVerdict& b = bounds[*least];
+  const std::string figure = b.on_rest ? "eta_rest" : "eta_motion";
+  const std::string option = b.on_rest ? "eta_rest_max_mm" : "eta_motion_max_mm";
+  choice.index = *least;
+  choice.eligible = false;
+  choice.bound_missed = true;
+  choice.lost[*least] = CandidateLoss::kNone;
+  choice.lost_detail[*least].clear();
+  choice.lost[flagged] = CandidateLoss::kWorseThanBaseline;
+  choice.lost_detail[flagged] =
+      "meets " + figure + " <= " + sig3(b.bound * 1e3) +
+      " mm but is worse than the uniform law (its worse_than_baseline warning) while a usable "
+      "candidate that is not remains";
+  choice.bound_sentence =
+      "no candidate that is not worse_than_baseline meets " + figure +
+      " <= " + sig3(b.bound * 1e3) + " mm (" + option +
+      "): " + to_string(candidates[flagged].strategy) + " meets it (" +
+      sig3(bounds[flagged].value * 1e3) +
+      " mm) but sloshes more than the uniform law elsewhere (ask for it by name to accept that); "
+      "the lowest of the others is " +
+      sig3(b.value * 1e3) + " mm (" + to_string(candidates[*least].strategy) +
+      "), which auto returns";
+}
+
 PlanResult run_auto(const PathContext& c, const PlanResult& base) {
   std::vector<PathOutcome> outcomes;
   outcomes.push_back(run_tangential(c, Strategy::kBaseline));
@@ -313,6 +433,11 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
   const std::vector<Durations> seeds = seeds_of(spectral);
   for (PathOutcome& o : spectral) outcomes.push_back(std::move(o));
   outcomes.push_back(run_time_domain(c, base, seeds));
+  {
+    std::vector<const PathOutcome*> starts;
+    for (std::size_t i = 0; i + 1 < outcomes.size(); ++i) starts.push_back(&outcomes[i]);
+    keep_best_start(c, outcomes.back(), starts);
+  }
   outcomes.push_back(run_tangential(c, Strategy::kFirChain));
   if (c.options.drive_profile != DriveProfile::kMoveAbsolute) {
     outcomes.push_back(run_tangential(c, Strategy::kShaper));
@@ -339,7 +464,8 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
     candidates.push_back(std::move(k));
     kept.push_back(i);
   }
-  const AutoChoice choice = choose_auto(candidates, worse, bounds);
+  AutoChoice choice = choose_auto(candidates, worse, bounds);
+  refuse_worse_choice(candidates, worse, bounds, choice);
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     candidates[k].chosen = k == choice.index;
     candidates[k].lost = choice.lost[k];
@@ -373,10 +499,19 @@ PlanResult run_single(const PathContext& c, const PlanResult& base, Strategy s) 
     std::string detail = o.detail;
     return finish(c, s, std::move(o), std::move(detail));
   }
+  // Its starts verified along the path: the uniform law and (fresh plans) the spectral optima,
+  // which also seed the cylinder's search (a rectangular tank's time_domain plans on the line).
+  std::vector<PathOutcome> starts;
+  starts.push_back(run_tangential(c, Strategy::kBaseline));
+  if (!c.options.warm_start) {
+    for (PathOutcome& o : spectral_outcomes(c)) starts.push_back(std::move(o));
+  }
   std::vector<Durations> seeds;
-  // (A rectangular tank's time_domain plans on the line: no seeds along the path.)
-  if (!c.options.warm_start && !c.tank) seeds = seeds_of(spectral_outcomes(c));
+  if (!c.tank) seeds = seeds_of(starts);
   PathOutcome o = run_time_domain(c, base, seeds);
+  std::vector<const PathOutcome*> verified;
+  for (const PathOutcome& k : starts) verified.push_back(&k);
+  keep_best_start(c, o, verified);
   std::string detail = o.detail;
   return finish(c, s, std::move(o), std::move(detail));
 }

@@ -32,6 +32,8 @@ constexpr double kRestSamplePeriods{1.0};
 /// Windows per period of mode 1 of the dense check [-].
 constexpr double kWindowsPerPeriod{4.0};
 constexpr int kExchangeRounds{8};
+/// Times a run that ended outside its rows goes again from its repaired end point [-].
+constexpr int kRestarts{3};
 /// Relative excess over a bound the dense check tolerates, and of a minimised peak over z [-].
 constexpr double kDenseTolerance{1e-7};
 constexpr double kObjectiveTolerance{1e-6};
@@ -273,6 +275,23 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
   // A run that reaches an optimum an earlier start found ends there (it would find nothing new).
   StartPolicy policy;
   policy.leave_known_optima = true;
+  // A run SLSQP left outside the rows (its level z at 0 under rows it does not meet: where the
+  // least of the free window's peak is near 0, as for objective "rest", it stops there at once)
+  // goes again with z raised onto its rows: the point then meets every row it can by itself.
+  policy.restarts = kRestarts;
+  policy.repair = [&s, &ws, eta_ref = c.eta_ref](std::vector<double>& x) {
+    ws.valid = false;
+    evaluate(ws, s.samples, eta_ref, x.data());
+    double z = 0.0;
+    for (std::size_t k = 0; k < s.samples.t.size(); ++k) {
+      if (static_cast<bool>(s.samples.motion[k]) == s.minimise_motion) {
+        z = std::max(z, ws.values[k]);
+      }
+    }
+    if (!(z > x[kSegments])) return false;
+    x[kSegments] = z;
+    return true;
+  };
   return multi_start(p, x0, c, time_domain_options(), policy);
 }
 

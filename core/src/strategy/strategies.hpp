@@ -5,6 +5,7 @@
 #include <array>
 #include <atomic>
 #include <chrono>
+#include <functional>
 #include <optional>
 #include <string>
 #include <vector>
@@ -177,6 +178,13 @@ struct StartPolicy {
   /// find nothing new. The basins of the low optima keep kKnownOptimumBasin alone (their twins,
   /// a few 1e-4 apart in the objective, decide the answer). 0: off.
   double approach_basin{0.0};
+  /// Moves the end point of a run that ended outside the constraints onto what it can reach
+  /// without a solve (an epigraph's level raised onto its rows), returning whether it moved; the
+  /// run then goes again from there, up to `restarts` times while it stays outside. SLSQP stops
+  /// once its objective stalls, also while infeasible: an epigraph level pushed to its lower
+  /// bound 0 under rows it does not meet yet stalls there at once. Empty: off.
+  std::function<bool(std::vector<double>&)> repair;
+  int restarts{0};
 };
 
 /// Relative distance (of each duration's range) within which a run has reached a known optimum.

@@ -22,7 +22,9 @@
 // period, golden-section refinement, peak_finder.hpp).
 
 #include <array>
+#include <cmath>
 #include <cstddef>
+#include <numbers>
 #include <string>
 #include <vector>
 
@@ -70,6 +72,13 @@ class RectangularPlanarResponse {
   /// The angle of the highest corner in the tank's frame at t, from its L axis [rad] (of the
   /// wall's middle when one direction is at rest; 0 when both are).
   [[nodiscard]] double corner_angle(double t) const;
+  /// The world angle of the highest corner at t for the tank's L axis at `heading` [rad], in
+  /// (-pi, pi] as the cylinder's wall angles (a tank turned several times spells one direction
+  /// once).
+  [[nodiscard]] double world_corner_angle(double heading, double t) const {
+    const double a = std::remainder(heading + corner_angle(t), 2.0 * std::numbers::pi);
+    return a <= -std::numbers::pi ? a + 2.0 * std::numbers::pi : a;
+  }
   [[nodiscard]] const RectangularPlanarPeaks& peaks() const { return peaks_; }
   [[nodiscard]] double motion_time() const { return motion_time_; }
   [[nodiscard]] std::size_t steps() const { return steps_.size(); }
