@@ -2,8 +2,10 @@
 
 #include <gtest/gtest.h>
 
+#include <atomic>
 #include <chrono>
 #include <cmath>
+#include <string>
 
 #include "slosh/core/solve/nlp_solver.hpp"
 
@@ -105,6 +107,43 @@ TEST_P(NlpSolvers, StopsAtTheTimeBudget) {
   const NlpResult r = GetParam().solve(p, {-1.9, 1.9, 3.0}, options);
   EXPECT_EQ(r.status, SolveStatus::kTimeLimit) << r.message;
   EXPECT_LT(r.evaluations, 40);
+}
+
+// The stop flag (a client that hung up) ends a run within it, not at its end: NLopt at the next
+// evaluation, Ipopt at the end of the iteration under way. Set here by the objective itself at its
+// third call, so the count of calls after it is exact, whatever the machine's speed.
+TEST_P(NlpSolvers, StopsWithinTheRunWhenTheStopFlagIsSet) {
+  std::atomic<bool> stop{false};
+  int calls = 0;
+  int calls_when_set = -1;
+  NlpProblem p = rosenbrock_with_equality();
+  const auto plain = p.objective;
+  p.objective = [&](const double* x, double* g) {
+    if (++calls == 3) {
+      stop = true;
+      calls_when_set = calls;
+    }
+    return plain(x, g);
+  };
+  NlpOptions options;
+  options.tolerance = 1e-15;
+  options.time_limit = 0.0;
+  options.stop = &stop;
+  const NlpResult r = GetParam().solve(p, {-1.9, 1.9, 3.0}, options);
+  EXPECT_EQ(r.status, SolveStatus::kTimeLimit) << r.message;
+  EXPECT_FALSE(r.abandoned);
+  ASSERT_EQ(calls_when_set, 3);
+  // NLopt: none in the run after the flag, one for the returned point's objective; Ipopt: the
+  // rest of the iteration's line search as well.
+  const bool nlopt = std::string(GetParam().name) == "nlopt";
+  EXPECT_LE(calls - calls_when_set, nlopt ? 1 : 8);
+  // Without the flag the same run goes on well past that.
+  calls = 0;
+  stop = false;
+  options.stop = nullptr;
+  const NlpResult full = GetParam().solve(p, {-1.9, 1.9, 3.0}, options);
+  EXPECT_TRUE(full.usable()) << full.message;
+  EXPECT_GT(calls, 12);
 }
 
 INSTANTIATE_TEST_SUITE_P(Solvers, NlpSolvers,

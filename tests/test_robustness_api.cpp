@@ -337,6 +337,39 @@ TEST(RobustnessKeys, RequestsWithoutTheNewOptionsKeepTheirKeys) {
   }
 }
 
+// An option a strategy does not read stays out of its key: requests differing only there share one
+// plan (the cached one answers the second), and the echo of the option is null; the strategies
+// that read it (time_domain, auto) still key it.
+TEST_F(RobustnessApi, SamplePointsSplitsOnlyTheKeysOfTheStrategiesThatReadIt) {
+  const json five = with_uncertainty({{"omega_error_pct", 5}, {"sample_points", 5}});
+  const json nine = with_uncertainty({{"omega_error_pct", 5}, {"sample_points", 9}});
+  auto key = [](const std::string& strategy, const json& options) {
+    return api::recipe_key(api::parse_plan_request(plan_body(strategy, options)));
+  };
+  for (const std::string strategy : {"notch", "multi_notch", "min_jerk_band", "shaper"}) {
+    EXPECT_EQ(key(strategy, five), key(strategy, nine)) << strategy;
+  }
+  for (const std::string strategy : {"time_domain", "auto"}) {
+    EXPECT_NE(key(strategy, five), key(strategy, nine)) << strategy;
+  }
+  const std::string hits = R"(slosh_cache_hits_total{level="memory"})";
+  const double hits_before = test::metric_of(*server(), hits);
+  const Reply first = post("/v1/plans", plan_body("notch", five));
+  const Reply second = post("/v1/plans", plan_body("notch", nine));
+  ASSERT_EQ(first.status, 200) << first.raw;
+  ASSERT_EQ(second.status, 200) << second.raw;
+  EXPECT_EQ(second.body["key"], first.body["key"]);
+  EXPECT_EQ(second.body["key"], key("notch", nine));
+  EXPECT_EQ(second.body["cached"], true);
+  json stored = first.body, served = second.body;
+  stored.erase("cached");
+  served.erase("cached");
+  EXPECT_EQ(served, stored);  // the same plan
+  EXPECT_EQ(test::metric_of(*server(), hits), std::max(hits_before, 0.0) + 1.0);
+  EXPECT_EQ(first.body["uncertainty"]["sample_points"], nullptr);
+  EXPECT_EQ(first.body["uncertainty"]["omega_error_pct"], 5.0);
+}
+
 TEST(RobustnessKeys, TheUncertaintyIsKeyedOnlyWhenItSaysSomething) {
   auto key = [](const json& options) {
     return api::recipe_key(api::parse_plan_request(plan_body("shaper", options)));
@@ -351,7 +384,8 @@ TEST(RobustnessKeys, TheUncertaintyIsKeyedOnlyWhenItSaysSomething) {
   const std::string five = key(with_uncertainty({{"omega_error_pct", 5}}));
   EXPECT_NE(five, none);
   EXPECT_EQ(key(with_uncertainty({{"omega_error_pct", 5}, {"sample_points", 5}})), five);
-  EXPECT_NE(key(with_uncertainty({{"omega_error_pct", 5}, {"sample_points", 9}})), five);
+  // The shaper does not read sample_points: it stays out of the key (time_domain's below).
+  EXPECT_EQ(key(with_uncertainty({{"omega_error_pct", 5}, {"sample_points", 9}})), five);
   EXPECT_NE(key(with_uncertainty({{"omega_error_pct", 6}})), five);
   const std::string fill = key(with_uncertainty({{"fill_height_mm", {75, 90}}}));
   EXPECT_NE(fill, none);
@@ -539,7 +573,7 @@ TEST_F(RobustnessApi, TheUncertaintyBlockIsTheRangeTheModelImpliesAndTheSweepCov
   EXPECT_EQ(u["omega_error_pct"], 5.0);
   EXPECT_EQ(u["fill_height_mm"], json::array({75.0, 90.0}));
   EXPECT_EQ(u["viscosity_pa_s"], json::array({0.0008, 0.0015}));
-  EXPECT_EQ(u["sample_points"], 5);
+  EXPECT_EQ(u["sample_points"], nullptr);  // multi_notch does not read it
 
   const double R = 48.5 * 1e-3, h = 82 * 1e-3, rho = 998.2, mu = 0.0010016;
   ASSERT_EQ(plan["format"]["fluid"]["density_kg_m3"], rho);

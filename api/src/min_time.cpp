@@ -22,8 +22,9 @@ using nlohmann::json;
 namespace mr = min_time_ranges;
 
 /// Version of the search; part of every min-time key, bumped when results change.
-constexpr const char* kMinTimeVersion =
-    "min-time-v3";  // v3: infeasible points confirmed from the planner's own starts
+// v3: infeasible points confirmed from the planner's own starts; v4: above T_min only up to the
+// first one that fails from them, the warm-started failures above it left off the curve.
+constexpr const char* kMinTimeVersion = "min-time-v4";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",
@@ -348,7 +349,7 @@ std::string min_time_key(const MinTimeRequest& request, std::string_view version
   at_max.format = request.format;
   at_max.strategy = Strategy::kBaseline;
   at_max.options = request.options.plan;
-  json recipe = canonical_recipe(at_max, plan_option_registry(), version);
+  json recipe = canonical_recipe(at_max, plan_option_registry(), version, request.strategies);
   recipe["format"].erase("motion_time_s");
   recipe.erase("strategy");
   const MinTimeOptions& o = request.options;

@@ -701,7 +701,10 @@ void add_uncertainty_range_schemas(json& s) {
        {"viscosity_pa_s", nullable(fixed_numbers(2,
                                                  "options.uncertainty.viscosity_pa_s as given, "
                                                  "null when not given [Pa·s]."))},
-       {"sample_points", integer("options.uncertainty.sample_points.")},
+       {"sample_points",
+        nullable(integer("options.uncertainty.sample_points; null for a strategy that does not "
+                         "read it (every one but time_domain and auto): it is not part of "
+                         "that plan's key."))},
        {"omega1_rad_s", range("omega_1 over the range [rad/s]")},
        {"f1_hz", range("f1 over the range [Hz]")},
        {"scale", range("Factor on every nominal mode frequency [-]")},

@@ -487,6 +487,7 @@ std::vector<OptionSpec> uncertainty_options() {
       "time_domain: models evenly over the frequency range (both ends included) whose worst "
       "eta_motion it minimises with eta_rest <= eta_rest_max_mm at every one.");
   samples.keyed_only_if = [](const PlanOptions& o) { return o.uncertainty.active(); };
+  samples.read_by = {Strategy::kTimeDomain, Strategy::kAuto};
   return {in_uncertainty(std::move(omega), "omega_error"),
           in_uncertainty(std::move(fill), "uncertainty_fill_height_m"),
           in_uncertainty(std::move(viscosity), "uncertainty_viscosity_pa_s"),
@@ -682,11 +683,20 @@ void OptionRegistry::parse(const json& object, const Format& format, PlanOptions
   }
 }
 
-json OptionRegistry::recipe(const PlanOptions& options) const {
+bool OptionSpec::read_by_any(std::span<const Strategy> strategies) const {
+  if (read_by.empty()) return true;
+  return std::any_of(strategies.begin(), strategies.end(), [this](Strategy s) {
+    return std::find(read_by.begin(), read_by.end(), s) != read_by.end();
+  });
+}
+
+json OptionRegistry::recipe(const PlanOptions& options,
+                            std::span<const Strategy> strategies) const {
   json out = json::object();
   const PlanOptions defaults;
   for (const OptionSpec& o : options_) {
     if (o.recipe_name.empty()) continue;
+    if (!o.read_by_any(strategies)) continue;
     nlohmann::json value = o.get(options);
     if (o.keyed_when_set && value == o.get(defaults)) continue;
     if (o.keyed_only_if && !o.keyed_only_if(options)) continue;

@@ -2,6 +2,7 @@
 
 #include <openssl/evp.h>
 
+#include <array>
 #include <cmath>
 #include <numbers>
 
@@ -169,12 +170,14 @@ PlanRequest parse_plan_request(const nlohmann::json& given, const OptionRegistry
 }
 
 nlohmann::json canonical_recipe(const PlanRequest& r, const OptionRegistry& registry,
-                                std::string_view version) {
+                                std::string_view version, std::span<const Strategy> read_by) {
   const Format& f = r.format;
   auto optional = [](const std::optional<double>& v) {
     return v ? nlohmann::json(*v) : nlohmann::json(nullptr);
   };
-  nlohmann::json options = registry.recipe(r.options);
+  const std::array<Strategy, 1> own{r.strategy};
+  nlohmann::json options =
+      registry.recipe(r.options, read_by.empty() ? std::span<const Strategy>(own) : read_by);
   // A warm start (min-time searches) is part of the answer; absent, the keys stay as they were.
   if (r.options.warm_start) options["warm_start_s"] = *r.options.warm_start;
   // A shaper named under an uncertainty range is used as given (not the family for the range):
@@ -349,8 +352,14 @@ nlohmann::json candidates_json(const std::vector<PlanCandidate>& candidates) {
 /// The blocks of SPEC §10: the uncertainty range and the worst case over it (when the request
 /// gives one), the robustness report (unless the request opts out).
 void add_robustness(const PlanRequest& request, const PlanResult& r, nlohmann::json& out) {
-  if (r.uncertainty)
-    out["uncertainty"] = uncertainty_json(*r.uncertainty, request.options.uncertainty);
+  if (r.uncertainty) {
+    // An option the strategy does not read stays out of the key, so the plan answers requests
+    // that differ there: its echo is null.
+    const OptionSpec* samples = plan_option_registry().find("sample_points");
+    const std::array<Strategy, 1> own{request.strategy};
+    out["uncertainty"] = uncertainty_json(*r.uncertainty, request.options.uncertainty,
+                                          samples == nullptr || samples->read_by_any(own));
+  }
   if (r.worst_case) out["worst_case"] = worst_case_json(*r.worst_case);
   if (r.robustness) out["robustness"] = robustness_json(*r.robustness, r.model);
 }

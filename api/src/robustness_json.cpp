@@ -70,11 +70,11 @@ json robustness_json(const RobustnessReport& report, const SloshingModel& model)
       {"worst", {{"linear", worst_json(report, false)}, {"nonlinear", worst_json(report, true)}}}};
 }
 
-json uncertainty_json(const UncertaintyRange& range, const Uncertainty& given) {
+json uncertainty_json(const UncertaintyRange& range, const Uncertainty& given, bool samples_read) {
   return {{"omega_error_pct", pct_of(given.omega_error)},
           {"fill_height_mm", pair_or_null(given.fill_height, true)},
           {"viscosity_pa_s", pair_or_null(given.viscosity, false)},
-          {"sample_points", given.sample_points},
+          {"sample_points", samples_read ? json(given.sample_points) : json(nullptr)},
           {"omega1_rad_s", {range.omega_lo, range.omega_hi}},
           {"f1_hz", {range.omega_lo / kTwoPi, range.omega_hi / kTwoPi}},
           {"scale", {range.scale_lo, range.scale_hi}},

@@ -25,8 +25,9 @@ class Adapter : public Ipopt::TNLP {
   using Clock = std::chrono::steady_clock;
 
   Adapter(const NlpProblem& problem, const std::vector<double>& x0,
-          std::optional<Clock::time_point> deadline)
+          std::optional<Clock::time_point> deadline, const std::atomic<bool>* stop)
       : deadline_(deadline),
+        stop_(stop),
         problem_(problem),
         x0_(x0),
         n_(problem.size()),
@@ -117,11 +118,13 @@ class Adapter : public Ipopt::TNLP {
     objective_ = obj_value;
   }
 
-  // Called once per iteration: the wall-clock budget (Ipopt's own max_cpu_time counts CPU time).
+  // Called once per iteration: the wall-clock budget (Ipopt's own max_cpu_time counts CPU time)
+  // and the caller's stop flag.
   bool intermediate_callback(Ipopt::AlgorithmMode, Index, Number, Number, Number, Number, Number,
                              Number, Number, Number, Index, const Ipopt::IpoptData*,
                              Ipopt::IpoptCalculatedQuantities*) override {
-    if (deadline_ && Clock::now() >= *deadline_) {
+    if ((deadline_ && Clock::now() >= *deadline_) ||
+        (stop_ != nullptr && stop_->load(std::memory_order_relaxed))) {
       out_of_time_ = true;
       return false;
     }
@@ -133,6 +136,7 @@ class Adapter : public Ipopt::TNLP {
   int evaluations_{0};
   bool out_of_time_{false};
   std::optional<Clock::time_point> deadline_;
+  const std::atomic<bool>* stop_;
 
  private:
   const NlpProblem& problem_;
@@ -150,7 +154,7 @@ SolveStatus translate(Ipopt::ApplicationReturnStatus status) {
     case Ipopt::Infeasible_Problem_Detected:
       return SolveStatus::kInfeasible;
     case Ipopt::Maximum_CpuTime_Exceeded:
-    case Ipopt::User_Requested_Stop:  // only the wall-clock budget of intermediate_callback stops
+    case Ipopt::User_Requested_Stop:  // only intermediate_callback stops: budget or stop flag
       return SolveStatus::kTimeLimit;
     default:
       return SolveStatus::kFailed;
@@ -182,7 +186,7 @@ NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>&
     out.message = "ipopt: the time budget ran out waiting for another Ipopt solve";
     return out;
   }
-  Ipopt::SmartPtr<Adapter> adapter = new Adapter(problem, x0, deadline);
+  Ipopt::SmartPtr<Adapter> adapter = new Adapter(problem, x0, deadline, options.stop);
   Ipopt::SmartPtr<Ipopt::IpoptApplication> app = IpoptApplicationFactory();
   app->Options()->SetIntegerValue("print_level", 0);
   app->Options()->SetStringValue("sb", "yes");  // no banner

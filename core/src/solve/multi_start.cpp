@@ -127,6 +127,9 @@ MultiStartResult solve_starts(const NlpProblem& given,
     if (problem.before_start) problem.before_start(x0.data());
     NlpOptions o = options;
     o.time_limit = remaining;
+    // A stop request ends the run at its next evaluation, not after it (a path plan's run takes
+    // seconds).
+    if (o.stop == nullptr) o.stop = context.deadline.stop_flag();
     if (policy.leave_known_optima && !optima.empty()) {
       o.abandon = [&problem, &optima, &last_f, approach = policy.approach_basin](const double* x) {
         return near_known_optimum(problem, optima, x, last_f, approach);

@@ -2,6 +2,7 @@
 
 #include <nlopt.hpp>
 
+#include <algorithm>
 #include <chrono>
 #include <stdexcept>
 
@@ -17,12 +18,30 @@ struct Context {
   nlopt::opt* opt{nullptr};
   int evaluations{0};
   bool abandoned{false};
+  bool stopped{false};
 };
+
+/// True when the caller's stop flag is set: the run is ended at once (force_stop) and reported
+/// as out of time.
+bool stop_requested(Context* c) {
+  if (c->options->stop == nullptr || !c->options->stop->load(std::memory_order_relaxed)) {
+    return false;
+  }
+  if (!c->stopped) {
+    c->stopped = true;
+    c->opt->force_stop();
+  }
+  return true;
+}
 
 double objective_callback(unsigned n, const double* x, double* grad, void* data) {
   auto* c = static_cast<Context*>(data);
   ++c->evaluations;
-  (void)n;
+  if (stop_requested(c)) {
+    // Not evaluated: the run ends here.
+    if (grad != nullptr) std::fill(grad, grad + n, 0.0);
+    return 0.0;
+  }
   // The value first: an abandon test may read it (multi_start's record of the last value).
   const double f = c->problem->objective(x, grad);
   if (c->options->abandon && !c->abandoned && c->options->abandon(x)) {
@@ -48,9 +67,14 @@ double equality_callback(unsigned n, const double* x, double* grad, void* data) 
 
 void inequality_callback(unsigned m, double* result, unsigned n, const double* x, double* grad,
                          void* data) {
-  (void)m;
-  (void)n;
-  static_cast<Context*>(data)->problem->inequalities(x, result, grad);
+  auto* c = static_cast<Context*>(data);
+  if (stop_requested(c)) {
+    // Not evaluated: the run ends here.
+    std::fill(result, result + m, 0.0);
+    if (grad != nullptr) std::fill(grad, grad + static_cast<std::size_t>(m) * n, 0.0);
+    return;
+  }
+  c->problem->inequalities(x, result, grad);
 }
 
 }  // namespace
@@ -109,8 +133,13 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
     out.message = std::string("nlopt SLSQP: result code ") + std::to_string(static_cast<int>(r)) +
                   (r == nlopt::MAXEVAL_REACHED ? " (evaluation limit reached)" : "");
   } catch (const nlopt::forced_stop&) {
-    out.status = SolveStatus::kFailed;
-    out.message = "nlopt SLSQP: abandoned (an optimum another start found)";
+    if (context.stopped) {
+      out.status = SolveStatus::kTimeLimit;
+      out.message = "nlopt SLSQP: stopped (the caller no longer waits for it)";
+    } else {
+      out.status = SolveStatus::kFailed;
+      out.message = "nlopt SLSQP: abandoned (an optimum another start found)";
+    }
   } catch (const nlopt::roundoff_limited&) {
     out.status = SolveStatus::kAcceptable;
     out.message = "nlopt SLSQP: stopped by round-off";
@@ -119,7 +148,7 @@ NlpResult solve_with_nlopt(const NlpProblem& problem, const std::vector<double>&
     out.message = std::string("nlopt SLSQP: ") + e.what();
   }
   out.evaluations = context.evaluations;
-  out.abandoned = context.abandoned;
+  out.abandoned = context.abandoned && !context.stopped;
   out.objective = problem.objective(out.x.data(), nullptr);
   out.max_violation = max_violation(problem, out.x);
   // SLSQP does not certify infeasibility: judge the returned point.

@@ -112,6 +112,21 @@ class Search {
     return record(std::move(*point));
   }
 
+  /// Plans T from a neighbour's warm start (see warm_start_for) and keeps the plan as it is, even
+  /// when it misses the limits: the curve above T_min, whose failing points are confirmed
+  /// afterwards only as far as feasible_above needs (extend_curve_and_report). Nullopt when the
+  /// budget ran out.
+  std::optional<MinTimePoint> evaluate_warm(double T) {
+    std::optional<Planned> point = plan_at(T, warm_start_for(T));
+    if (!point) return std::nullopt;
+    return record(std::move(*point));
+  }
+
+  /// Removes T's point from the curve (a plan kept out of it; it still counts in `plans`).
+  void drop(double T) {
+    std::erase_if(result_.curve, [&](const MinTimePoint& p) { return p.motion_time == T; });
+  }
+
   /// Plans T again from the planner's own starts when its point on the curve is infeasible and
   /// was warm-started (a far miss taken as it was during the scan), and puts that plan in its
   /// place. False when the budget ran out; true when there was nothing to do or it was done.
@@ -664,7 +679,7 @@ bool bisect(SearchRun& run) {
 }
 
 // 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (3 points when
-// the budget allows): feasible_above is judged on every T planned above T_min, each infeasible
+// the budget allows): feasible_above is judged on the T planned above T_min, the least failing
 // one confirmed from the planner's own starts. When the budget runs out here, T_min stands
 // (bracketed) but the curve is partial: kTimeLimit, and feasible_above is unknown unless a failing
 // T was found.
@@ -681,25 +696,45 @@ void extend_curve_and_report(SearchRun& run) {
     const double T =
         round_to_grid(run.first_feasible + (curve_end - run.first_feasible) * k / curve_points);
     if (T <= run.first_feasible || T > t_max) break;
-    if (!run.search.evaluate(T, false)) cut = T;
+    if (!run.search.evaluate_warm(T)) cut = T;
   }
   // An infeasible T above T_min calls feasibility non-monotone: it must be infeasible from the
-  // planner's own starts too (the scan may have taken a far miss from a warm start).
+  // planner's own starts too (a warm start may follow a branch they do not). One such T decides
+  // feasible_above, so the warm-started failures are planned again from the planner's own starts
+  // in ascending order only until one fails from them too; the warm-started failures above it are
+  // left off the curve (no point on it is called infeasible unless the planner's own starts
+  // miss there), which saves their second plan.
   std::vector<double> unconfirmed;
   for (const MinTimePoint& p : r.curve) {
     if (p.motion_time > t_min && !p.feasible && p.warm_start) unconfirmed.push_back(p.motion_time);
   }
-  for (double T : unconfirmed) {
-    if (cut) break;
-    if (!run.search.confirm(T)) cut = T;
+  std::sort(unconfirmed.begin(), unconfirmed.end());
+  std::optional<double> confirmed_bad;
+  for (const MinTimePoint& p : r.curve) {
+    if (p.motion_time > t_min && !p.feasible && !p.warm_start &&
+        (!confirmed_bad || p.motion_time < *confirmed_bad)) {
+      confirmed_bad = p.motion_time;
+    }
   }
-  const MinTimePoint* first_bad = nullptr;
+  double lowest_dropped = kInf;
+  for (double T : unconfirmed) {
+    if (!cut && !(confirmed_bad && T > *confirmed_bad)) {
+      if (run.search.confirm(T)) {
+        const MinTimePoint* again = point_at(r, T);
+        if (again != nullptr && !again->feasible) confirmed_bad = T;
+        continue;
+      }
+      cut = T;
+    }
+    run.search.drop(T);
+    lowest_dropped = std::min(lowest_dropped, T);
+  }
+  const MinTimePoint* first_bad = confirmed_bad ? point_at(r, *confirmed_bad) : nullptr;
+  // With the budget cut: the T above T_min known to be feasible, up to the first one left
+  // unjudged.
   double last_planned = t_min;
   for (const MinTimePoint& p : r.curve) {
-    last_planned = std::max(last_planned, p.motion_time);
-    if (p.motion_time > t_min && !p.feasible && (!p.warm_start || !cut)) {
-      if (first_bad == nullptr || p.motion_time < first_bad->motion_time) first_bad = &p;
-    }
+    if (p.motion_time < lowest_dropped) last_planned = std::max(last_planned, p.motion_time);
   }
   r.feasible_above = first_bad != nullptr ? std::optional<bool>(false)
                      : cut                ? std::nullopt

@@ -32,6 +32,8 @@ class Deadline {
     return std::chrono::duration<double>(end_ - std::chrono::steady_clock::now()).count();
   }
   [[nodiscard]] bool expired() const { return remaining() <= 0.0; }
+  /// The stop flag (may be null), for the solvers to read within a run.
+  [[nodiscard]] const std::atomic<bool>* stop_flag() const { return stop_; }
 
  private:
   std::chrono::steady_clock::time_point end_;

@@ -67,6 +67,13 @@ struct OptionSpec {
   bool keyed_when_set{false};
   /// When set, keyed only when it returns true as well (sample_points: only with a range).
   std::function<bool(const PlanOptions&)> keyed_only_if;
+  /// The strategies whose plans read the option; empty: every strategy. A strategy that does
+  /// not read it leaves it out of its recipe key, so that requests differing only there share
+  /// one plan (sample_points: only time_domain and auto, which runs it, read it).
+  std::vector<Strategy> read_by;
+
+  /// Whether a plan of one of `strategies` reads the option.
+  [[nodiscard]] bool read_by_any(std::span<const Strategy> strategies) const;
 };
 
 /// An object of "options" holding several options ("limits", "uncertainty").
@@ -104,9 +111,10 @@ class OptionRegistry {
   void parse(const nlohmann::json& json_options, const Format& format, PlanOptions& options) const;
 
   /// {recipe_name: SI value} of every keyed option (those keyed_when_set only when they differ
-  /// from their default, those with keyed_only_if only when it holds): the "options" of the
-  /// canonical recipe.
-  [[nodiscard]] nlohmann::json recipe(const PlanOptions& options) const;
+  /// from their default, those with keyed_only_if only when it holds, those with read_by only
+  /// when one of `strategies` reads them): the "options" of the canonical recipe.
+  [[nodiscard]] nlohmann::json recipe(const PlanOptions& options,
+                                      std::span<const Strategy> strategies) const;
 
  private:
   std::vector<OptionSpec> options_;

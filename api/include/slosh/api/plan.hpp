@@ -2,6 +2,7 @@
 // POST /v1/plans and `slosh plan`: a format + strategy + options -> the plan of SPEC §6-§7.
 
 #include <optional>
+#include <span>
 #include <string>
 #include <string_view>
 
@@ -70,11 +71,12 @@ struct PlanRequest {
 [[nodiscard]] std::string sha256_key(const std::string& text);
 
 /// The canonical JSON the key is computed from: "format" (SI), "strategy", "options" (the
-/// registry's recipe() of the options), "version" (of the planner's numerics) and
-/// "slosh_version" (`version`).
+/// registry's recipe() of the options the request's strategy reads, or with `read_by` those one
+/// of these strategies reads), "version" (of the planner's numerics) and "slosh_version"
+/// (`version`).
 [[nodiscard]] nlohmann::json canonical_recipe(
     const PlanRequest& request, const OptionRegistry& registry = plan_option_registry(),
-    std::string_view version = kVersion);
+    std::string_view version = kVersion, std::span<const Strategy> read_by = {});
 
 /// Plans a validated request; throws ApiError(kInvalidValue, "format") when the planner refuses
 /// inputs that passed the API's ranges.

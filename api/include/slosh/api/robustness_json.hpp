@@ -24,10 +24,11 @@ namespace slosh::api {
                                              const SloshingModel& model);
 
 /// "uncertainty" of a plan with an active Uncertainty `given` (echoed in the request's units:
-/// omega_error_pct, fill_height_mm and viscosity_pa_s, null when not given, sample_points) and
-/// the range it implies: omega1_rad_s, f1_hz, scale and zeta, each [lo, hi].
+/// omega_error_pct, fill_height_mm and viscosity_pa_s, null when not given, sample_points, null
+/// unless `samples_read`: the strategy reads it) and the range it implies: omega1_rad_s, f1_hz,
+/// scale and zeta, each [lo, hi].
 [[nodiscard]] nlohmann::json uncertainty_json(const UncertaintyRange& range,
-                                              const Uncertainty& given);
+                                              const Uncertainty& given, bool samples_read);
 
 /// The robustness of a compact plan, from the full plan's "robustness", on the nonlinear model and
 /// rounded to hundredths (the compact plan stays under 1 kB): {holds_pct: [from_pct, to_pct] or

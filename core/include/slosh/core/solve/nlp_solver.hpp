@@ -3,6 +3,7 @@
 // Ipopt). Each library is wrapped in exactly one source file and its status is translated into
 // SolveStatus here; nothing else in the product includes a solver header.
 
+#include <atomic>
 #include <functional>
 #include <optional>
 #include <string>
@@ -78,6 +79,10 @@ struct NlpOptions {
   /// abandons the run there (NlpResult::abandoned). A multi-start leaves a run this way once it
   /// has reached an optimum an earlier start found. Default: none.
   std::function<bool(const double* x)> abandon;
+  /// Set true (a client hung up, the service shuts down), it ends the run at its next evaluation
+  /// (NLopt) or iteration (Ipopt) with status kTimeLimit: a run can take seconds, far longer than
+  /// a caller should wait for work nobody reads. May be null. Default: none.
+  const std::atomic<bool>* stop{nullptr};
 };
 
 /// Result of one solve.

@@ -173,7 +173,9 @@ struct MinTimeResult {
   std::optional<MinTimePoint> best;
   /// Every planned T with finite predictions, ascending (the eta curve over T for plots;
   /// includes the bracketing points; a plan that refused its inputs or whose model diverged has
-  /// no point here, though it counts in `plans`).
+  /// no point here, though it counts in `plans`; nor has a warm-started plan above t_min that
+  /// missed the limits above the first T that misses them from the planner's own starts, or
+  /// that the budget left unconfirmed: see min_time()).
   std::vector<MinTimePoint> curve;
   int plans{};         ///< plan() calls
   double search_ms{};  ///< wall-clock time of the search [ms]
@@ -193,7 +195,10 @@ struct MinTimeResult {
 /// again from the planner's own starts and that plan kept (its warm_start then nullopt), so an
 /// infeasible point is infeasible from the planner's own starts (what a plan request at that T
 /// does), except a far miss of the scan: below every feasible T found so far, a plan warm-started
-/// from a far miss that misses the limits by more than refine_excess is kept as it is.
+/// from a far miss that misses the limits by more than refine_excess is kept as it is. Above
+/// T_min one T failing from the planner's own starts decides feasible_above: the warm-started
+/// failures there are planned again in ascending T only until one fails from the planner's own
+/// starts too, and those above it are left off the curve (counted in `plans`).
 [[nodiscard]] MinTimeResult min_time(const Format& format, Strategy strategy,
                                      const MinTimeOptions& options);
 
