@@ -116,7 +116,7 @@ TEST(RectangularCalibration, RecoversSimulatesPerDirectionScalesFromATurnedTank)
   expect_relative(fit.height_gain, truth.gain, 1e-3, "height_gain");
   // simulate's own series is reproduced to far below a measurement's resolution.
   EXPECT_LT(fit.sigma, 1e-7);
-  std::printf("recovered at 30 deg: omega %.6f / %.6f, zeta %.6f / %.6f, gain %.6f, sigma %.3g m\n",
+  std::printf("recovered at 30 deg: omega %.9f / %.9f, zeta %.9f / %.9f, gain %.9f, sigma %.3g m\n",
               fit.length.omega_scale.value, fit.width.omega_scale.value, fit.length.zeta.value,
               fit.width.zeta.value, fit.height_gain.value, fit.sigma);
 }
