@@ -9,6 +9,7 @@
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
+#include "slosh/core/model/rectangular_calibration.hpp"
 #include "slosh/core/strategy/rectangular_plan.hpp"
 
 namespace slosh::api {
@@ -102,9 +103,22 @@ MeasuredPeaks parse_peaks(const json& p, const std::string& path) {
   return out;
 }
 
-MeasuredMove parse_move(const json& m, const std::string& path, const Format& format) {
+MeasuredMove parse_move(const json& m, const std::string& path, const Format& format,
+                        std::vector<double>* orientations) {
   require_object(m, path);
-  reject_unknown_fields(m, path, {"name", "motion_time_s", "law", "series", "peaks"});
+  reject_unknown_fields(m, path,
+                        {"name", "motion_time_s", "orientation_deg", "law", "series", "peaks"});
+  if (format.container.rectangular) {
+    double phi = optional_number(m, path, "orientation_deg", ranges::kOrientationDeg,
+                                 format.container.rectangular->orientation_deg);
+    if (phi == -180.0) phi = 180.0;  // the same turn, as format.container.orientation_deg
+    orientations->push_back(phi + 0.0);
+  } else if (given_member(m, "orientation_deg") != nullptr) {
+    const std::string field = join_path(path, "orientation_deg");
+    invalid(field, field +
+                       " applies to a rectangular container only (the turn of its sides "
+                       "against the move)");
+  }
   MeasuredMove out;
   out.name = m.contains("name") && m["name"].is_string() ? m["name"].get<std::string>() : path;
   Format f = format;
@@ -196,14 +210,6 @@ void validate_calibration_name(const std::string& name, const std::string& field
 /// direction, whose scales are then the tank's), and its Duffing coefficient follows from the
 /// depth: alpha is not fitted but held at the theory's value.
 void fix_rectangular_alpha(const json& body, CalibrationRequest& r) {
-  const RectangularTank& t = *r.format.container.rectangular;
-  if (both_directions_excited(t.orientation_deg)) {
-    invalid("format.container.orientation_deg",
-            "format.container.orientation_deg = " + number_text(t.orientation_deg) +
-                " is not calibrated: allowed 0, 90, -90 or 180 degrees (a rectangular "
-                "container is calibrated by moves along one of its sides, each exciting one "
-                "direction; the scales of both directions are not fitted from turned moves)");
-  }
   const json* fit = given_member(body, "fit");
   const json* alpha_fit = fit != nullptr ? given_member(*fit, "alpha") : nullptr;
   // {"fit": false} asks for what happens anyway (the theory's alpha, held): accepted.
@@ -249,7 +255,8 @@ CalibrationRequest parse_calibration_request(const json& body) {
                          " measured moves, got " + (moves ? show(*moves) : "nothing"));
   }
   for (std::size_t i = 0; i < moves->size(); ++i) {
-    r.moves.push_back(parse_move((*moves)[i], "moves[" + std::to_string(i) + "]", r.format));
+    r.moves.push_back(
+        parse_move((*moves)[i], "moves[" + std::to_string(i) + "]", r.format, &r.orientations));
   }
   parse_fit(body, r.settings);
   if (r.format.container.rectangular) fix_rectangular_alpha(body, r);
@@ -264,7 +271,93 @@ json calibrated_model_json(const ModelOptions& m) {
           {"height_gain", m.height_gain}};
 }
 
+bool fitted_per_direction(const CalibrationRequest& request) {
+  if (!request.format.container.rectangular) return false;
+  const double own = request.format.container.rectangular->orientation_deg;
+  return both_directions_excited(own) ||
+         std::any_of(request.orientations.begin(), request.orientations.end(),
+                     [own](double phi) { return phi != own; });
+}
+
+namespace {
+
+json parameter_json(const FittedParameter& p) {
+  return {{"value", p.value},
+          {"prior", p.prior},
+          {"standard_error", p.standard_error ? json(*p.standard_error) : json(nullptr)},
+          {"state", name_of(p.state)},
+          {"at_bound", p.at_bound}};
+}
+
+json move_fits_json(const std::vector<MoveFit>& fits) {
+  json moves = json::array();
+  for (const MoveFit& m : fits) {
+    moves.push_back({{"name", m.name},
+                     {"residuals", m.residuals},
+                     {"rms_before_mm", m.rms_before * 1e3},
+                     {"rms_after_mm", m.rms_after * 1e3},
+                     {"offset_s", m.offset ? json(*m.offset) : json(nullptr)},
+                     {"offset_standard_error_s",
+                      m.offset_standard_error ? json(*m.offset_standard_error) : json(nullptr)}});
+  }
+  return moves;
+}
+
+/// A rectangular container fitted per direction (calibrate_rectangular): its parameters and
+/// model named as options.model takes them: omega_scale and zeta of the length and
+/// width_omega_scale and width_zeta of the width when the moves drove both, else omega_scale
+/// and zeta of the one direction they drove.
+json run_per_direction(const CalibrationRequest& request) {
+  std::vector<RectangularMeasuredMove> moves;
+  for (std::size_t i = 0; i < request.moves.size(); ++i) {
+    moves.push_back({request.moves[i], request.orientations[i]});
+  }
+  const RectangularCalibrationResult fit =
+      calibrate_rectangular(request.format, request.base, moves, request.settings);
+  if (!fit.refused.empty()) {
+    invalid("moves", "moves cannot calibrate this container: " + fit.refused);
+  }
+  json out;
+  out["status"] = name_of(fit.status);
+  out["iterations"] = fit.iterations;
+  out["sigma_mm"] = fit.sigma * 1e3;
+  const bool both = fit.length.measured && fit.width.measured;
+  const DirectionCalibration& first = fit.length.measured ? fit.length : fit.width;
+  json parameters{{"omega_scale", parameter_json(first.omega_scale)},
+                  {"zeta", parameter_json(first.zeta)},
+                  {"height_gain", parameter_json(fit.height_gain)}};
+  json model{{"omega_scale", first.omega_scale.value},
+             {"zeta", first.zeta.value},
+             {"height_gain", fit.height_gain.value}};
+  if (both) {
+    parameters["width_omega_scale"] = parameter_json(fit.width.omega_scale);
+    parameters["width_zeta"] = parameter_json(fit.width.zeta);
+    model["width_omega_scale"] = fit.width.omega_scale.value;
+    model["width_zeta"] = fit.width.zeta.value;
+  }
+  // A zeta neither fitted nor given is the tank's own boundary-layer damping at the fitted
+  // fill: left out, so that a plan at another fill keeps its own.
+  const auto zeta = static_cast<std::size_t>(CalibrationParameter::kZeta);
+  if (!request.settings.parameters[zeta].initial) {
+    if (first.zeta.state != ParameterState::kFitted) model.erase("zeta");
+    if (both && fit.width.zeta.state != ParameterState::kFitted) model.erase("width_zeta");
+  }
+  out["parameters"] = std::move(parameters);
+  out["moves"] = move_fits_json(fit.moves);
+  out["identifiability"] = fit.notes;
+  out["model"] = std::move(model);
+  json container = fitted_container_json(request.format);
+  container["directions"] = both ? json::array({"length", "width"})
+                                 : json::array({fit.length.measured ? "length" : "width"});
+  out["container"] = std::move(container);
+  if (request.name) out["name"] = *request.name;
+  return out;
+}
+
+}  // namespace
+
 json run_calibration(const CalibrationRequest& request) {
+  if (fitted_per_direction(request)) return run_per_direction(request);
   const CalibrationResult fit =
       calibrate(request.format, request.base, request.moves, request.settings);
   json out;

@@ -265,6 +265,8 @@ constexpr FieldOfInput kFieldOfInput[] = {
     {PlanInput::kContainerLength, "format.container.length_mm"},
     {PlanInput::kContainerWidth, "format.container.width_mm"},
     {PlanInput::kContainerOrientation, "format.container.orientation_deg"},
+    {PlanInput::kWidthOmegaScale, "options.model.width_omega_scale"},
+    {PlanInput::kWidthZeta, "options.model.width_zeta"},
 };
 
 }  // namespace

@@ -175,7 +175,9 @@ void parse_calibrated_model(const nlohmann::json& options, const std::string& pa
   if (m == nullptr) return;
   const std::string mpath = join_path(path, "model");
   require_object(*m, mpath);
-  reject_unknown_fields(*m, mpath, {"omega_scale", "zeta", "alpha", "height_gain"});
+  reject_unknown_fields(
+      *m, mpath,
+      {"omega_scale", "zeta", "alpha", "height_gain", "width_omega_scale", "width_zeta"});
   for (const auto& [member, top] :
        {std::pair<std::string_view, std::string_view>{"alpha", "alpha"}, {"zeta", "damping"}}) {
     if (given_member(*m, member) != nullptr && given_member(options, top) != nullptr) {
@@ -193,6 +195,12 @@ void parse_calibrated_model(const nlohmann::json& options, const std::string& pa
     model.alpha = required_number(*m, mpath, "alpha", ranges::kAlpha);
   }
   model.height_gain = optional_number(*m, mpath, "height_gain", ranges::kModelScale, 1.0);
+  if (given_member(*m, "width_omega_scale") != nullptr) {
+    model.width_omega_scale = required_number(*m, mpath, "width_omega_scale", ranges::kModelScale);
+  }
+  if (given_member(*m, "width_zeta") != nullptr) {
+    model.width_zeta = required_number(*m, mpath, "width_zeta", ranges::kZeta);
+  }
 }
 
 void parse_damping(const nlohmann::json& options, const std::string& path, ModelOptions& model) {
@@ -222,7 +230,21 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
 
 void refuse_cylinder_model_options(const Format& format, const nlohmann::json& options,
                                    const std::string& path) {
-  if (!format.container.rectangular || !options.is_object()) return;
+  if (!options.is_object()) return;
+  const nlohmann::json* model = given_member(options, "model");
+  if (!format.container.rectangular && model != nullptr && model->is_object()) {
+    // A cylinder has one set of modes: a width of its own is a rectangular tank's.
+    for (const char* member : {"width_omega_scale", "width_zeta"}) {
+      if (given_member(*model, member) != nullptr) {
+        const std::string field = join_path(join_path(path, "model"), member);
+        invalid(field, field +
+                           " applies to a rectangular container only (the scale or damping of "
+                           "its modes along the width): a cylinder's modes take omega_scale and "
+                           "zeta");
+      }
+    }
+  }
+  if (!format.container.rectangular) return;
   const std::string why =
       " applies to the cylinder's model only: a rectangular container's damping is its "
       "boundary layer's unless a zeta is given, and its nonlinear coefficient follows from its "
@@ -275,9 +297,13 @@ nlohmann::json model_json(const SloshingModel& m, const ModelOptions& options) {
                         {"fluid_mass_kg", m.fluid_mass},
                         {"eta_gain", m.eta_gain}};
   // A calibrated model (options.model) says so; f_hz, K_mm and eta_gain include it.
-  if (options.omega_scale != 1.0 || options.height_gain != 1.0) {
+  if (options.omega_scale != 1.0 || options.height_gain != 1.0 || options.width_omega_scale ||
+      options.width_zeta) {
     out["calibration"] = {{"omega_scale", options.omega_scale},
                           {"height_gain", options.height_gain}};
+    if (options.width_omega_scale)
+      out["calibration"]["width_omega_scale"] = *options.width_omega_scale;
+    if (options.width_zeta) out["calibration"]["width_zeta"] = *options.width_zeta;
   }
   return out;
 }

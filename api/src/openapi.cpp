@@ -1753,6 +1753,14 @@ void add_calibration_schemas(json& s) {
              "Measured peak heights; at least one of the two.", true);
   s["MeasuredMove"] = object({{"name", {{"type", "string"}}},
                               {"motion_time_s", number},
+                              {"orientation_deg",
+                               {{"type", "number"},
+                                {"minimum", -180},
+                                {"maximum", 180},
+                                {"description",
+                                 "A rectangular container's turn against this move [deg] "
+                                 "(default format.container.orientation_deg); refused for a "
+                                 "cylinder."}}},
                               {"law", ref("LawSpec")},
                               {"series", ref("MeasuredSeries")},
                               {"peaks", ref("MeasuredPeaks")}},
@@ -1776,14 +1784,17 @@ void add_calibration_schemas(json& s) {
        {"name", {{"type", "string"}, {"pattern", "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$"}}}},
       {"format", "moves"},
       "Bench measurements to calibrate the nonlinear model on (bounded Levenberg-Marquardt with "
-      "exact gradients).",
+      "exact gradients). A rectangular container moved turned (or along both sides) is fitted "
+      "per direction: fit.omega_scale and fit.zeta set both directions' parameters.",
       true);
   s["CalibrationResponse"] = {
       {"type", "object"},
       {"description",
        "status (converged, max_iterations, time_limit, failed), iterations, sigma_mm, parameters "
        "{name: {value, prior, standard_error (null unless fitted), state (fitted, fixed, "
-       "unidentifiable), at_bound}}, moves [{name, residuals, rms_before_mm, rms_after_mm, "
+       "unidentifiable), at_bound}} (a rectangular container whose moves drove both of its "
+       "directions: omega_scale and zeta of the length, width_omega_scale and width_zeta of the "
+       "width), moves [{name, residuals, rms_before_mm, rms_after_mm, "
        "offset_s, offset_standard_error_s}], identifiability [sentences], model (options.model), "
        "container (the container fitted on: shape, radius_mm or length_mm, width_mm and the "
        "directions moved; a request naming the calibration on another container is refused), "

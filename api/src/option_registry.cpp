@@ -533,6 +533,21 @@ std::vector<OptionSpec> calibrated_model_options() {
                    [](PlanOptions& o) -> double& { return o.model.height_gain; },
                    "Calibrated gain on the predicted wall height, linear and nonlinear (1: none)"),
                "model_height_gain"),
+      in_model(
+          nullable_number(
+              "width_omega_scale", ranges::kModelScale,
+              [](PlanOptions& o) -> std::optional<double>& { return o.model.width_omega_scale; },
+              "A rectangular container calibrated in both directions (a turned tank): the "
+              "scale of the natural frequencies of its modes along the width; omega_scale "
+              "is then the length's (absent: omega_scale holds for both)"),
+          "model_width_omega_scale"),
+      in_model(nullable_number(
+                   "width_zeta", ranges::kZeta,
+                   [](PlanOptions& o) -> std::optional<double>& { return o.model.width_zeta; },
+                   "A rectangular container calibrated in both directions: the damping ratio of "
+                   "its modes along the width; zeta is then the length's (absent: the damping of "
+                   "the length holds for both)"),
+               "model_width_zeta"),
   };
 }
 

@@ -100,6 +100,8 @@ std::string_view input_unit(PlanInput input) {
     case PlanInput::kUncertaintySamples:
     case PlanInput::kOmegaScale:
     case PlanInput::kHeightGain:
+    case PlanInput::kWidthOmegaScale:
+    case PlanInput::kWidthZeta:
       return "";
   }
   return "";

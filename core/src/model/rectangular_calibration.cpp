@@ -10,9 +10,11 @@
 
 #include <Eigen/Dense>
 
-#include "model/calibration_response.hpp"
+#include "model/rectangular_direction_dual.hpp"
+#include "slosh/core/constants.hpp"
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/response/peak_finder.hpp"
+#include "slosh/core/response/rectangular_response.hpp"
 #include "solve/least_squares.hpp"
 
 namespace slosh {
@@ -26,10 +28,6 @@ using Values = std::array<double, kColumns>;
 constexpr std::array<const char*, kColumns> kNames{"the length's omega_scale", "the length's zeta",
                                                    "the width's omega_scale", "the width's zeta",
                                                    "height_gain"};
-
-std::size_t omega_column(TankAxis axis) {
-  return axis == TankAxis::kLength ? kOmegaL : kOmegaW;
-}
 
 bool of_length(std::size_t column) {
   return column == kOmegaL || column == kZetaL;
@@ -60,46 +58,77 @@ struct Sample {
   Values gradient{};
 };
 
-/// One driven direction's dual-number response in a move.
+/// One driven direction of a move as simulate models it, in dual numbers.
 struct DirectionResponse {
-  detail::CalibrationResponse response;
+  detail::RectangularDirectionDual response;
   std::size_t omega;  ///< its omega column (zeta's is the next)
-  double sign;        ///< the sign of its share of the acceleration
-  double period;      ///< of its first mode at the prior frequency [s]
 };
 
-Sample direction_sample(const DirectionResponse& d, const detail::EtaSample& s, double gain) {
+/// `s` (height gain 1) as a Sample of the direction's columns, times `gain` and `sign`.
+Sample direction_sample(const DirectionResponse& d, const detail::DirectionSample& s, double gain,
+                        double sign) {
   Sample out;
-  out.value = d.sign * s.value;
-  out.gradient[d.omega] = d.sign * s.gradient[0];
-  out.gradient[d.omega + 1] = d.sign * s.gradient[1];
-  out.gradient[kGain] = out.value / gain;
+  out.value = sign * gain * s.value;
+  out.gradient[d.omega] = sign * gain * s.gradient[0];
+  out.gradient[d.omega + 1] = sign * gain * s.gradient[1];
+  out.gradient[kGain] = sign * s.value;
   return out;
 }
 
-/// simulate's wave height at t: the signed wall ahead, or the highest corner.
-Sample wave_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
-  if (dirs.size() == 1) return direction_sample(dirs[0], dirs[0].response.eta_at(t), gain);
+Sample operator+(Sample a, const Sample& b) {
+  a.value += b.value;
+  for (std::size_t j = 0; j < kColumns; ++j) a.gradient[j] += b.gradient[j];
+  return a;
+}
+
+Sample abs_of(Sample s) {
+  if (s.value < 0.0) {
+    s.value = -s.value;
+    for (double& g : s.gradient) g = -g;
+  }
+  return s;
+}
+
+/// simulate's series value at t (RectangularSeries::eta_nonlinear, or eta_linear where the
+/// nonlinear model does not hold, the second modes then being 0): the signed wall ahead,
+/// odd + even, when one direction moves; the sum of both directions' higher walls
+/// |odd| + |even| when both do.
+Sample series_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
+  if (dirs.size() == 1) {
+    const DirectionResponse& d = dirs[0];
+    return direction_sample(d, d.response.odd(t), gain, 1.0) +
+           direction_sample(d, d.response.even(t), gain, 1.0);
+  }
   Sample out;
   for (const DirectionResponse& d : dirs) {
-    const Sample s = direction_sample(d, d.response.eta_at(t), gain);
-    const double sign = s.value < 0.0 ? -1.0 : 1.0;
-    out.value += sign * s.value;
-    for (std::size_t j = 0; j < kColumns; ++j) out.gradient[j] += sign * s.gradient[j];
+    out = out + abs_of(direction_sample(d, d.response.odd(t), gain, 1.0)) +
+          abs_of(direction_sample(d, d.response.even(t), gain, 1.0));
   }
   return out;
 }
 
-/// The largest wave height over [a, b], with its gradient at its time.
-Sample peak_of(const std::vector<DirectionResponse>& dirs, double a, double b, double gain) {
-  if (dirs.size() == 1) {
-    return direction_sample(dirs[0], dirs[0].response.abs_peak(a, b), gain);
+/// The wall height simulate's peaks search (RectangularNonlinearDirection::wall for one
+/// direction; rectangular_nonlinear_peaks' corner |odd_L| + |odd_W| + |even_L + even_W| for
+/// both; RectangularLinearResponse's |eta| or |eta_L| + |eta_W| where the nonlinear model does
+/// not hold, the second modes then being 0).
+Sample wall_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
+  Sample odd, even;
+  for (const DirectionResponse& d : dirs) {
+    odd = odd + abs_of(direction_sample(d, d.response.odd(t), gain, 1.0));
+    even = even + direction_sample(d, d.response.even(t), gain, 1.0);
   }
-  // The corner |eta_L| + |eta_W|: sampled at 1/64 of the faster first period and refined.
-  const double step = std::min(dirs[0].period, dirs[1].period) / 64.0;
-  const Peak p = find_max([&dirs, gain](double t) { return wave_at(dirs, t, gain).value; }, a, b,
-                          std::min(step, 1e-3));
-  return wave_at(dirs, p.time, gain);
+  return odd + abs_of(even);
+}
+
+/// The largest wall height over [a, b] located as simulate locates it (sampled at its step,
+/// refined by golden section), with its gradient at that time (exact where the peak is a
+/// smooth maximum: the time's own derivative multiplies a zero slope).
+Sample peak_of(const std::vector<DirectionResponse>& dirs, double a, double b, double gain) {
+  double step = kMaxPeakStep;
+  for (const DirectionResponse& d : dirs) step = std::min(step, d.response.peak_step());
+  const Peak p =
+      find_max([&dirs, gain](double t) { return wall_at(dirs, t, gain).value; }, a, b, step);
+  return wall_at(dirs, p.time, gain);
 }
 
 struct Evaluation {
@@ -112,22 +141,27 @@ struct Problem {
   RectangularModel tank;  // the unscaled tank (omega_scale 1, gain 1)
   const std::vector<RectangularMeasuredMove>* moves{};
   NonlinearOptions nonlinear;
+  /// Per move: whether simulate's nonlinear model holds for it (judged on the prior tank).
+  std::vector<bool> nonlinear_holds;
   Values prior{};
   Values lower{}, upper{};
   std::array<bool, kColumns> free{};
 
   [[nodiscard]] Evaluation run(const Values& v) const {
     Evaluation e;
-    for (const RectangularMeasuredMove& m : *moves) {
-      RectangularModel turned = tank;
-      turned.orientation_deg = m.orientation_deg;
+    for (std::size_t i = 0; i < moves->size(); ++i) {
+      const RectangularMeasuredMove& m = (*moves)[i];
       std::vector<DirectionResponse> dirs;
-      for (const DrivenDirection& d : driven_directions(turned)) {
-        const std::size_t omega = omega_column(d.axis);
+      const AxisComponents c = axis_components(m.orientation_deg);
+      for (const auto& [component, base, omega] :
+           {std::tuple{c.along_length, &tank.along_length, std::size_t{kOmegaL}},
+            std::tuple{c.along_width, &tank.along_width, std::size_t{kOmegaW}}}) {
+        if (component == 0.0) continue;
         dirs.push_back(
-            {detail::CalibrationResponse(d.model, m.move.law, horizon(m.move), nonlinear), omega,
-             d.component < 0.0 ? -1.0 : 1.0, 2.0 * std::numbers::pi / d.model.omega1()});
-        dirs.back().response.compute({v[omega], v[omega + 1], d.model.alpha}, v[kGain]);
+            {detail::RectangularDirectionDual(*base, m.move.law.scaled(component), horizon(m.move),
+                                              nonlinear, nonlinear_holds[i]),
+             omega});
+        dirs.back().response.compute(v[omega], v[omega + 1]);
       }
       auto push = [&e](const Sample& s, double measured) {
         e.r.push_back(s.value - measured);
@@ -136,7 +170,7 @@ struct Problem {
       if (m.move.series) {
         const MeasuredSeries& s = *m.move.series;
         for (std::size_t k = 0; k < s.t.size(); ++k) {
-          push(wave_at(dirs, std::clamp(s.t[k] - s.offset, 0.0, HUGE_VAL), v[kGain]), s.eta[k]);
+          push(series_at(dirs, std::clamp(s.t[k] - s.offset, 0.0, HUGE_VAL), v[kGain]), s.eta[k]);
         }
       }
       if (m.move.peaks) {
@@ -261,17 +295,24 @@ Problem make_problem(const Format& format, const ModelOptions& base,
   ModelOptions unscaled = base;
   unscaled.omega_scale = 1.0;
   unscaled.height_gain = 1.0;
+  unscaled.width_omega_scale.reset();
+  unscaled.width_zeta.reset();
   Problem pb;
   pb.tank = rectangular_model_of(format, unscaled);
   pb.moves = &moves;
   pb.nonlinear = settings.nonlinear;
   *driven = {false, false};
   for (const RectangularMeasuredMove& m : moves) {
+    const AxisComponents c = axis_components(m.orientation_deg);
+    (*driven)[0] = (*driven)[0] || c.along_length != 0.0;
+    (*driven)[1] = (*driven)[1] || c.along_width != 0.0;
+    // simulate answers with its linear model outside the nonlinear model's range; the fit
+    // follows it, judged once on the theory's tank (the fitted scales move the wave little).
     RectangularModel turned = pb.tank;
     turned.orientation_deg = m.orientation_deg;
-    for (const DrivenDirection& d : driven_directions(turned)) {
-      (*driven)[d.axis == TankAxis::kLength ? 0 : 1] = true;
-    }
+    pb.nonlinear_holds.push_back(
+        rectangular_nonlinear_peaks(turned, m.move.law, horizon(m.move), settings.nonlinear)
+            .nonlinear);
   }
   const auto& p = settings.parameters;
   const std::array<const ParameterSetting*, kColumns> setting{&p[0], &p[1], &p[0], &p[1], &p[3]};
@@ -445,6 +486,21 @@ RectangularCalibrationResult calibrate_rectangular(
   out.sigma = sigma;
   out.status = out.refused.empty() ? status_of(ls.status) : CalibrationStatus::kFailed;
   return out;
+}
+
+void rectangular_calibration_residuals(const Format& format, const ModelOptions& base,
+                                       const std::vector<RectangularMeasuredMove>& moves,
+                                       const RectangularCalibrationValues& p,
+                                       const NonlinearOptions& nonlinear,
+                                       std::vector<double>* residuals,
+                                       std::vector<RectangularCalibrationValues>* jacobian) {
+  CalibrationSettings settings;
+  settings.nonlinear = nonlinear;
+  std::array<bool, 2> driven{};
+  const Problem pb = make_problem(format, base, moves, settings, &driven);
+  Evaluation e = pb.run(p);
+  *residuals = std::move(e.r);
+  if (jacobian != nullptr) *jacobian = std::move(e.J);
 }
 
 }  // namespace slosh

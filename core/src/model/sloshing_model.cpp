@@ -88,6 +88,13 @@ std::optional<InvalidInput> validate_model_options(const ModelOptions& m) {
   if (!calibration_scale_range().contains(m.height_gain)) {
     return out_of_range(PlanInput::kHeightGain, -1, m.height_gain, calibration_scale_range());
   }
+  if (m.width_omega_scale && !calibration_scale_range().contains(*m.width_omega_scale)) {
+    return out_of_range(PlanInput::kWidthOmegaScale, -1, *m.width_omega_scale,
+                        calibration_scale_range());
+  }
+  if (m.width_zeta && !non_negative().contains(*m.width_zeta)) {
+    return out_of_range(PlanInput::kWidthZeta, -1, *m.width_zeta, non_negative());
+  }
   return std::nullopt;
 }
 

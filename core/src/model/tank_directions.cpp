@@ -16,8 +16,18 @@ RectangularModelOptions rectangular_model_options(const ModelOptions& options) {
 }
 
 RectangularModel rectangular_model_of(const Format& format, const ModelOptions& options) {
-  return make_rectangular_model(*format.container.rectangular, format.fill_height, format.fluid,
-                                rectangular_model_options(options));
+  const RectangularTank& tank = *format.container.rectangular;
+  RectangularModel m = make_rectangular_model(tank, format.fill_height, format.fluid,
+                                              rectangular_model_options(options));
+  // A calibration of both directions gives the width's modes their own scale and damping.
+  if (options.width_omega_scale || options.width_zeta) {
+    RectangularModelOptions width = rectangular_model_options(options);
+    if (options.width_omega_scale) width.omega_scale = *options.width_omega_scale;
+    if (options.width_zeta) width.explicit_zeta = *options.width_zeta;
+    m.along_width = make_rectangular_direction_model(tank, format.fill_height, format.fluid,
+                                                     TankAxis::kWidth, width);
+  }
+  return m;
 }
 
 SloshingModel with_height_factor(const SloshingModel& model, double factor) {

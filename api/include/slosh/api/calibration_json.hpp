@@ -7,6 +7,7 @@
 // Request:
 //   {"format": {...as a plan...}, "options": {"modes", "damping", "alpha"} (the base model),
 //    "moves": [{"name": "...", "motion_time_s": T (default format.motion_time_s),
+//               "orientation_deg": phi (a rectangular container's, default its own),
 //               "law": {...as simulate...},
 //               "series": {"t_s": [...], "eta_mm": [...], "offset_s": 0, "fit_offset": false,
 //                          "max_offset_s": 0.25},
@@ -36,6 +37,9 @@ struct CalibrationRequest {
   Format format;
   ModelOptions base;
   std::vector<MeasuredMove> moves;
+  /// A rectangular container's: each move's orientation [deg] (moves[i].orientation_deg, else
+  /// format.container.orientation_deg); empty for the cylinder.
+  std::vector<double> orientations;
   CalibrationSettings settings;
   std::optional<std::string> name;
 };
@@ -52,11 +56,18 @@ void validate_calibration_name(const std::string& name, const std::string& field
 /// options.model accepts.
 [[nodiscard]] nlohmann::json calibrated_model_json(const ModelOptions& model);
 
+/// Whether `request` is fitted per direction (calibrate_rectangular): a rectangular container
+/// whose moves drive both of its directions, or whose moves are not all at its own orientation.
+[[nodiscard]] bool fitted_per_direction(const CalibrationRequest& request);
+
 /// Runs the fit and renders the response: {"status", "iterations", "sigma_mm", "parameters":
 /// {name: {"value", "prior", "standard_error" (null when not fitted), "state", "at_bound"}},
 /// "moves": [{"name", "residuals", "rms_before_mm", "rms_after_mm", "offset_s",
 /// "offset_standard_error_s"}], "identifiability": [...], "model": {omega_scale, zeta, alpha,
-/// height_gain}, "name" (when given)}.
+/// height_gain}, "name" (when given)}. A fit per direction names the width's parameters
+/// width_omega_scale and width_zeta (omega_scale and zeta are then the length's), in
+/// "parameters" and "model" alike; moves that cannot tell the directions apart are a 422 on
+/// "moves".
 [[nodiscard]] nlohmann::json run_calibration(const CalibrationRequest& request);
 
 }  // namespace slosh::api

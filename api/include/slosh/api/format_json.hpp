@@ -66,7 +66,8 @@ void parse_damping(const nlohmann::json& options, const std::string& path, Model
 /// A rectangular container's model takes neither the cylinder's damping correlations nor its
 /// alpha (its damping is the tank's boundary layer unless a zeta is given, its Duffing
 /// coefficient follows from the depth): a 422 naming options.damping given as a correlation
-/// name, options.alpha or options.model.alpha. Nothing for the cylinder.
+/// name, options.alpha or options.model.alpha; for a cylinder, a 422 naming
+/// options.model.width_omega_scale or width_zeta (a rectangular tank's width only).
 void refuse_cylinder_model_options(const Format& format, const nlohmann::json& options,
                                    const std::string& path);
 

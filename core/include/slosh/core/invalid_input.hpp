@@ -69,11 +69,13 @@ enum class PlanInput {
   kContainerLength,       ///< RectangularTank::length [m]
   kContainerWidth,        ///< RectangularTank::width [m]
   kContainerOrientation,  ///< RectangularTank::orientation_deg [deg]
+  kWidthOmegaScale,       ///< ModelOptions::width_omega_scale [-]
+  kWidthZeta,             ///< ModelOptions::width_zeta [-]
 };
 
 template <>
 struct EnumNames<PlanInput> {
-  static constexpr std::array<EnumName<PlanInput>, 51> table{{
+  static constexpr std::array<EnumName<PlanInput>, 53> table{{
       {PlanInput::kContainerRadius, "container_radius"},
       {PlanInput::kContainerHeight, "container_height"},
       {PlanInput::kFillHeight, "fill_height"},
@@ -125,6 +127,8 @@ struct EnumNames<PlanInput> {
       {PlanInput::kContainerLength, "container_length"},
       {PlanInput::kContainerWidth, "container_width"},
       {PlanInput::kContainerOrientation, "container_orientation"},
+      {PlanInput::kWidthOmegaScale, "width_omega_scale"},
+      {PlanInput::kWidthZeta, "width_zeta"},
   }};
 };
 

@@ -1,9 +1,12 @@
 #pragma once
 // Calibration of a rectangular tank (SPEC §15) from moves that drive one or both of its
 // directions: the frequency scale and damping ratio of each direction the moves drive, and one
-// height gain, fitted by bounded least squares with exact gradients (each driven direction's
-// dominant-mode oscillator integrated in dual numbers, as calibrate() does for one model).
+// height gain, fitted by bounded least squares with exact gradients. The model fitted is
+// simulate's (every linear mode, the dominant mode's third-order oscillator and the second mode
+// it drives; its linear model where the nonlinear one does not hold), integrated in dual
+// numbers over each direction's scale and damping (model/rectangular_direction_dual.hpp).
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -56,5 +59,19 @@ struct RectangularCalibrationResult {
 [[nodiscard]] RectangularCalibrationResult calibrate_rectangular(
     const Format& format, const ModelOptions& base,
     const std::vector<RectangularMeasuredMove>& moves, const CalibrationSettings& settings);
+
+/// The fit's parameters in the order of rectangular_calibration_residuals: the length's
+/// omega_scale and zeta, the width's omega_scale and zeta, height_gain.
+using RectangularCalibrationValues = std::array<double, 5>;
+
+/// The fit's residuals at `p` (simulate's wave height minus the measured one: every series
+/// sample, then the motion and rest peaks, move by move) and, when `jacobian` is given, their
+/// exact derivatives with respect to `p` (one row per residual). For tests and diagnostics.
+void rectangular_calibration_residuals(const Format& format, const ModelOptions& base,
+                                       const std::vector<RectangularMeasuredMove>& moves,
+                                       const RectangularCalibrationValues& p,
+                                       const NonlinearOptions& nonlinear,
+                                       std::vector<double>* residuals,
+                                       std::vector<RectangularCalibrationValues>* jacobian);
 
 }  // namespace slosh

@@ -37,6 +37,13 @@ struct ModelOptions {
   /// Calibrated gain on the predicted wall height (linear eta_gain_n and nonlinear K) [-].
   /// Default 1, allowed (0, 10].
   double height_gain{1.0};
+  /// A rectangular tank calibrated in both of its directions (calibrate_rectangular): the scale
+  /// of the natural frequencies of its modes along the width [-], (0, 10]; nullopt (default):
+  /// omega_scale holds for both directions. Not used by the cylinder.
+  std::optional<double> width_omega_scale;
+  /// Likewise the damping ratio of the modes along the width [-], 0 <= zeta < 0.5; nullopt
+  /// (default): the damping above (explicit, or the tank's own) holds for both directions.
+  std::optional<double> width_zeta;
 };
 
 /// Immutable model parameters of one format. All SI.
