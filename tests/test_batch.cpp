@@ -937,7 +937,7 @@ TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
       "solver, time_limit_s, base, shaper, residual, iir_order, iir_tau, iir_sample_period_s, "
       "robustness, uncertainty_omega_error_pct, uncertainty_fill_height_mm, "
       "uncertainty_viscosity_pa_s, uncertainty_sample_points, model_omega_scale, model_zeta, "
-      "model_alpha, model_height_gain";
+      "model_alpha, model_height_gain, model_width_omega_scale, model_width_zeta";
   const std::vector<TableErrorCase> cases{
       {"unknown column",
        "recipe_id,radius,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"

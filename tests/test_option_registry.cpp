@@ -124,7 +124,8 @@ TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {
             (std::vector<std::string_view>{"omega_error_pct", "fill_height_mm", "viscosity_pa_s",
                                            "sample_points"}));
   EXPECT_EQ(registry.group_keys("model"),
-            (std::vector<std::string_view>{"omega_scale", "zeta", "alpha", "height_gain"}));
+            (std::vector<std::string_view>{"omega_scale", "zeta", "alpha", "height_gain",
+                                           "width_omega_scale", "width_zeta"}));
   std::set<std::string_view> recipe_names;
   for (const OptionSpec& o : registry.options()) {
     if (o.name == "time_limit_s") {

@@ -179,19 +179,27 @@ std::optional<BatchJobs::RunStop> BatchJobs::stop_before_row(
   return std::nullopt;
 }
 
-void BatchJobs::run(Job& job) {
-  JobStatus& s = job.status;
+bool BatchJobs::ended_before_start(Job& job) {
+  const JobStatus& s = job.status;
   if (cancelled(job, true)) {
     // A job taken over from a silent owner may be cancelled with the owner's rows stored.
-    return finish(job, JobState::kCancelled,
-                  s.done == 0 ? "cancelled before it started"
-                              : "cancelled after " + std::to_string(s.done) + " of " +
-                                    std::to_string(s.total) + " recipes");
+    finish(job, JobState::kCancelled,
+           s.done == 0 ? "cancelled before it started"
+                       : "cancelled after " + std::to_string(s.done) + " of " +
+                             std::to_string(s.total) + " recipes");
+    return true;
   }
   if (stopping()) {
-    return finish(job, JobState::kFailed,
-                  "the service shut down before the job started; POST the job again");
+    finish(job, JobState::kFailed,
+           "the service shut down before the job started; POST the job again");
+    return true;
   }
+  return false;
+}
+
+void BatchJobs::run(Job& job) {
+  if (ended_before_start(job)) return;
+  JobStatus& s = job.status;
   s.state = JobState::kRunning;
   if (!s.started_ms) s.started_ms = unix_ms_now();
   write_record(job);

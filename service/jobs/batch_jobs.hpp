@@ -140,6 +140,8 @@ class BatchJobs {
   bool note_if_paused(Job& job, std::chrono::steady_clock::time_point& last_turn);
   // Why a run stopped: all rows done, cancelled, its rows passed batch_jobs_bytes, shutdown.
   enum class RunStop { kAllDone, kCancelled, kTooLarge, kShutdown, kTakenOver };
+  // Ends a job cancelled or caught by shutdown before its run started; false when it may run.
+  bool ended_before_start(Job& job);
   // Why a run stops before its next row (taken over, cancelled, shutdown), if it does.
   std::optional<RunStop> stop_before_row(Job& job, std::chrono::steady_clock::time_point& last_turn,
                                          bool heartbeat);

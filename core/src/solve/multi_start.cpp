@@ -95,6 +95,35 @@ std::optional<NlpProblem> recording(const NlpProblem& given, const StartPolicy& 
   return p;
 }
 
+NlpResult run_solver(const NlpProblem& problem, const StrategyContext& context,
+                     const std::vector<double>& x0, const NlpOptions& o) {
+  return effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)
+                                                    : solve_with_nlopt(problem, x0, o);
+}
+
+// A run that ended outside the constraints goes again from its repaired end point (up to
+// policy.restarts times), kept while it comes closer to the feasible set.
+void rerun_repaired(const NlpProblem& problem, const StrategyContext& context,
+                    const StartPolicy& policy, double feasible_tol, NlpOptions& o, NlpResult& r,
+                    MultiStartResult& out) {
+  for (int again = 0; again < policy.restarts && policy.repair && !r.abandoned &&
+                      r.status != SolveStatus::kTimeLimit && std::isfinite(r.objective) &&
+                      r.max_violation > feasible_tol;
+       ++again) {
+    std::vector<double> x = r.x;
+    if (problem.before_start) problem.before_start(x.data());
+    if (!policy.repair(x)) break;
+    o.time_limit = context.deadline.remaining();
+    if (o.time_limit <= 0.0) break;
+    NlpResult next = run_solver(problem, context, x, o);
+    out.evaluations += next.evaluations;
+    if (next.status == SolveStatus::kTimeLimit) out.timed_out = true;
+    if (next.abandoned || !std::isfinite(next.objective)) break;
+    if (next.max_violation >= r.max_violation && next.max_violation > feasible_tol) break;
+    r = std::move(next);
+  }
+}
+
 MultiStartResult solve_starts(const NlpProblem& given,
                               const std::vector<std::vector<double>>& starts,
                               const StrategyContext& context, const NlpOptions& options,
@@ -135,8 +164,7 @@ MultiStartResult solve_starts(const NlpProblem& given,
         return near_known_optimum(problem, optima, x, last_f, approach);
       };
     }
-    NlpResult r = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x0, o)
-                                                             : solve_with_nlopt(problem, x0, o);
+    NlpResult r = run_solver(problem, context, x0, o);
     ++out.starts;
     out.evaluations += r.evaluations;
     if (r.status == SolveStatus::kTimeLimit) out.timed_out = true;
@@ -145,24 +173,7 @@ MultiStartResult solve_starts(const NlpProblem& given,
       if (optional) ++stale;
       continue;
     }
-    // A run that ended outside the constraints goes again from its repaired end point.
-    for (int again = 0; again < policy.restarts && policy.repair && !r.abandoned &&
-                        r.status != SolveStatus::kTimeLimit && std::isfinite(r.objective) &&
-                        r.max_violation > feasible_tol;
-         ++again) {
-      std::vector<double> x = r.x;
-      if (problem.before_start) problem.before_start(x.data());
-      if (!policy.repair(x)) break;
-      o.time_limit = context.deadline.remaining();
-      if (o.time_limit <= 0.0) break;
-      NlpResult next = effective(context) == SolverChoice::kIpopt ? solve_with_ipopt(problem, x, o)
-                                                                  : solve_with_nlopt(problem, x, o);
-      out.evaluations += next.evaluations;
-      if (next.status == SolveStatus::kTimeLimit) out.timed_out = true;
-      if (next.abandoned || !std::isfinite(next.objective)) break;
-      if (next.max_violation >= r.max_violation && next.max_violation > feasible_tol) break;
-      r = std::move(next);
-    }
+    rerun_repaired(problem, context, policy, feasible_tol, o, r, out);
     const bool feasible = r.max_violation <= feasible_tol;
     if (feasible && r.usable()) {
       optima.push_back({r.x, r.objective});

@@ -678,6 +678,48 @@ bool bisect(SearchRun& run) {
   }
 }
 
+// The judgement of the T above T_min that failed: the lowest one that fails from the planner's own
+// starts, and the lowest warm-started failure left off the curve.
+struct FailuresAbove {
+  std::optional<double> confirmed_bad;
+  double lowest_dropped = kInf;
+};
+
+// An infeasible T above T_min calls feasibility non-monotone: it must be infeasible from the
+// planner's own starts too (a warm start may follow a branch they do not). One such T decides
+// feasible_above, so the warm-started failures are planned again from the planner's own starts
+// in ascending order only until one fails from them too; the warm-started failures above it are
+// left off the curve (no point on it is called infeasible unless the planner's own starts
+// miss there), which saves their second plan.
+FailuresAbove confirm_failures_above(SearchRun& run, double t_min, std::optional<double>& cut) {
+  MinTimeResult& r = run.r;
+  std::vector<double> unconfirmed;
+  for (const MinTimePoint& p : r.curve) {
+    if (p.motion_time > t_min && !p.feasible && p.warm_start) unconfirmed.push_back(p.motion_time);
+  }
+  std::sort(unconfirmed.begin(), unconfirmed.end());
+  FailuresAbove out;
+  for (const MinTimePoint& p : r.curve) {
+    if (p.motion_time > t_min && !p.feasible && !p.warm_start &&
+        (!out.confirmed_bad || p.motion_time < *out.confirmed_bad)) {
+      out.confirmed_bad = p.motion_time;
+    }
+  }
+  for (double T : unconfirmed) {
+    if (!cut && !(out.confirmed_bad && T > *out.confirmed_bad)) {
+      if (run.search.confirm(T)) {
+        const MinTimePoint* again = point_at(r, T);
+        if (again != nullptr && !again->feasible) out.confirmed_bad = T;
+        continue;
+      }
+      cut = T;
+    }
+    run.search.drop(T);
+    out.lowest_dropped = std::min(out.lowest_dropped, T);
+  }
+  return out;
+}
+
 // 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (3 points when
 // the budget allows): feasible_above is judged on the T planned above T_min, the least failing
 // one confirmed from the planner's own starts. When the budget runs out here, T_min stands
@@ -698,37 +740,9 @@ void extend_curve_and_report(SearchRun& run) {
     if (T <= run.first_feasible || T > t_max) break;
     if (!run.search.evaluate_warm(T)) cut = T;
   }
-  // An infeasible T above T_min calls feasibility non-monotone: it must be infeasible from the
-  // planner's own starts too (a warm start may follow a branch they do not). One such T decides
-  // feasible_above, so the warm-started failures are planned again from the planner's own starts
-  // in ascending order only until one fails from them too; the warm-started failures above it are
-  // left off the curve (no point on it is called infeasible unless the planner's own starts
-  // miss there), which saves their second plan.
-  std::vector<double> unconfirmed;
-  for (const MinTimePoint& p : r.curve) {
-    if (p.motion_time > t_min && !p.feasible && p.warm_start) unconfirmed.push_back(p.motion_time);
-  }
-  std::sort(unconfirmed.begin(), unconfirmed.end());
-  std::optional<double> confirmed_bad;
-  for (const MinTimePoint& p : r.curve) {
-    if (p.motion_time > t_min && !p.feasible && !p.warm_start &&
-        (!confirmed_bad || p.motion_time < *confirmed_bad)) {
-      confirmed_bad = p.motion_time;
-    }
-  }
-  double lowest_dropped = kInf;
-  for (double T : unconfirmed) {
-    if (!cut && !(confirmed_bad && T > *confirmed_bad)) {
-      if (run.search.confirm(T)) {
-        const MinTimePoint* again = point_at(r, T);
-        if (again != nullptr && !again->feasible) confirmed_bad = T;
-        continue;
-      }
-      cut = T;
-    }
-    run.search.drop(T);
-    lowest_dropped = std::min(lowest_dropped, T);
-  }
+  const FailuresAbove failures = confirm_failures_above(run, t_min, cut);
+  const std::optional<double>& confirmed_bad = failures.confirmed_bad;
+  const double lowest_dropped = failures.lowest_dropped;
   const MinTimePoint* first_bad = confirmed_bad ? point_at(r, *confirmed_bad) : nullptr;
   // With the budget cut: the T above T_min known to be feasible, up to the first one left
   // unjudged.

@@ -181,14 +181,14 @@ struct Setup {
 NlpProblem epigraph(Setup& s, Workspace& ws) {
   const StrategyContext& c = *s.c;
   NlpProblem p = c.space.problem(1);
-  const int n = kSegments + 1;
+  constexpr int n = kSegments + 1;
   const int count = static_cast<int>(s.samples.t.size());
   const int points = static_cast<int>(s.points.size());
   const int limits = c.space.limit_count();
   p.inequality_count = count + points + limits;
   const double eta_ref = c.eta_ref;
   const double scaled_bound = s.bound / eta_ref;
-  p.inequalities = [&s, &ws, eta_ref, scaled_bound, count, points, limits, n](
+  p.inequalities = [&s, &ws, eta_ref, scaled_bound, count, points, limits](
                        const double* x, double* g, double* jac) {
     evaluate(ws, s.samples, eta_ref, x);
     for (int r = 0; r < count; ++r) {
