@@ -188,8 +188,8 @@ NlpProblem epigraph(Setup& s, Workspace& ws) {
   p.inequality_count = count + points + limits;
   const double eta_ref = c.eta_ref;
   const double scaled_bound = s.bound / eta_ref;
-  p.inequalities = [&s, &ws, eta_ref, scaled_bound, count, points, limits](
-                       const double* x, double* g, double* jac) {
+  p.inequalities = [&s, &ws, eta_ref, scaled_bound, count, points, limits](const double* x,
+                                                                           double* g, double* jac) {
     evaluate(ws, s.samples, eta_ref, x);
     for (int r = 0; r < count; ++r) {
       const auto k = static_cast<std::size_t>(r);
