@@ -375,17 +375,7 @@ json run_calibration(const CalibrationRequest& request) {
         {"at_bound", p.at_bound}};
   }
   out["parameters"] = std::move(parameters);
-  json moves = json::array();
-  for (const MoveFit& m : fit.moves) {
-    moves.push_back({{"name", m.name},
-                     {"residuals", m.residuals},
-                     {"rms_before_mm", m.rms_before * 1e3},
-                     {"rms_after_mm", m.rms_after * 1e3},
-                     {"offset_s", m.offset ? json(*m.offset) : json(nullptr)},
-                     {"offset_standard_error_s",
-                      m.offset_standard_error ? json(*m.offset_standard_error) : json(nullptr)}});
-  }
-  out["moves"] = std::move(moves);
+  out["moves"] = move_fits_json(fit.moves);
   out["identifiability"] = fit.identifiability;
   out["model"] = calibrated_model_json(fit.model);
   // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans). Its
