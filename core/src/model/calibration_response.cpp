@@ -5,6 +5,8 @@
 #include <numbers>
 #include <utility>
 
+#include "response/law_pieces_dop.hpp"
+
 namespace slosh::detail {
 
 namespace {
@@ -46,28 +48,12 @@ void CalibrationResponse::compute(const MotionParameters& p, double height_gain)
   auto f = [&](const Dual3& x, const Dual3& v, double a) {
     return rhs(params.w, params.zeta, params.alpha, base_, x, v, a);
   };
-  Dual3 x(0.0), v(0.0);
-  DopStep<Dual3> step;
-  for (const LawPiece& piece : pieces) {
-    const double L = piece.duration();
-    if (!(L > 0.0)) continue;
-    const auto n =
-        step_count(L, piece_max_step(h_max, piece.harmonic_omega, options_.steps_per_period), 1);
-    const double h = L / static_cast<double>(n);
-    Dual3 f0 = f(x, v, piece.acceleration(0.0));
-    for (std::size_t i = 0; i < n; ++i) {
-      const double tau = h * static_cast<double>(i);
-      dop853_step(
-          f, [&](std::size_t k) { return piece.acceleration(tau + kDopC[k] * h); }, x, v, f0,
-          Dual3(h), true, step, false);
-      t_.push_back(piece.t_begin + tau);
-      h_.push_back(h);
-      x_.push_back(step.x_poly);
-      x = step.x1;
-      v = step.v1;
-      f0 = step.f1;
-    }
-  }
+  integrate_law_pieces<Dual3>(pieces, h_max, options_.steps_per_period, f, false,
+                              [&](double t0, double h, const DopStep<Dual3>& step) {
+                                t_.push_back(t0);
+                                h_.push_back(h);
+                                x_.push_back(step.x_poly);
+                              });
   end_ = T + rest_time_;
 }
 

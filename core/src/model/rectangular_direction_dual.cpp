@@ -5,6 +5,7 @@
 #include <numbers>
 #include <utility>
 
+#include "response/law_pieces_dop.hpp"
 #include "slosh/core/constants.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/response/rectangular_nonlinear_direction.hpp"
@@ -40,29 +41,13 @@ RectangularDirectionDual::Trajectory integrate(const Rhs& f, double w, const Mot
   std::vector<LawPiece> pieces = law.pieces();
   const double T = law.duration();
   pieces.push_back(LawPiece{T, T + rest_time});
-  Dual2 x(0.0), v(0.0);
-  DopStep<Dual2> step;
-  for (const LawPiece& piece : pieces) {
-    const double L = piece.duration();
-    if (!(L > 0.0)) continue;
-    const auto n =
-        step_count(L, piece_max_step(h_max, piece.harmonic_omega, options.steps_per_period), 1);
-    const double h = L / static_cast<double>(n);
-    Dual2 f0 = f(x, v, piece.acceleration(0.0));
-    for (std::size_t i = 0; i < n; ++i) {
-      const double tau = h * static_cast<double>(i);
-      dop853_step(
-          f, [&](std::size_t k) { return piece.acceleration(tau + kDopC[k] * h); }, x, v, f0,
-          Dual2(h), true, step, true);
-      tr.t0.push_back(piece.t_begin + tau);
-      tr.h.push_back(h);
-      tr.x.push_back(step.x_poly);
-      tr.v.push_back(step.v_poly);
-      x = step.x1;
-      v = step.v1;
-      f0 = step.f1;
-    }
-  }
+  integrate_law_pieces<Dual2>(pieces, h_max, options.steps_per_period, f, true,
+                              [&](double t0, double h, const DopStep<Dual2>& step) {
+                                tr.t0.push_back(t0);
+                                tr.h.push_back(h);
+                                tr.x.push_back(step.x_poly);
+                                tr.v.push_back(step.v_poly);
+                              });
   return tr;
 }
 
