@@ -5,14 +5,12 @@ HOST ?= 127.0.0.1
 PORT ?= 8080
 SLOSH_WERROR ?= OFF
 CMAKE_FLAGS ?=
-# Sanitizer and fuzzing builds (README "Fuzzing and sanitizers").
+# The sanitizer build, which also holds the fuzzers (README "Fuzzing and sanitizers").
 ASAN_DIR ?= build-asan
-FUZZ_DIR ?= build-fuzz
+FUZZ_DIR ?= $(ASAN_DIR)
 FUZZ_SECONDS ?= 60
 FUZZ_SMOKE_SECONDS ?= 20
 FUZZ_TARGETS ?=
-ASAN_FLAGS := -fsanitize=address,undefined,float-cast-overflow -fno-omit-frame-pointer \
-              -fno-sanitize-recover=undefined,float-cast-overflow
 # Leaks of third-party libraries only (Ipopt/MUMPS/gfortran): tests/sanitizers/lsan.supp.
 SANITIZER_ENV := ASAN_OPTIONS=detect_stack_use_after_return=1:strict_string_checks=1 \
                  LSAN_OPTIONS=suppressions=$(CURDIR)/tests/sanitizers/lsan.supp:print_suppressions=0 \
@@ -62,28 +60,27 @@ bench-budgets: deps configure
 	cmake --build $(BUILD_DIR) -j $(JOBS) --target bench_check
 	@bash scripts/bench-check.sh $(BUILD_DIR) --update
 
-# The unit tests (and the corpus replays) under AddressSanitizer + UndefinedBehaviorSanitizer. The
-# tests that drive the release binary from outside (browser, node-opcua, README commands, deploy
-# and layout checks, the benchmark guard) are left to `make test`: docs/testing.md says why.
+# One clang build in build-asan/ serves the sanitizers and the fuzzers: the product (core, api,
+# service, the slosh binary) with ASan + UBSan and libFuzzer's coverage, the harnesses plain, and
+# the test drivers the release build compiled, linked again (docs/testing.md): test-asan builds
+# the release build first. It runs the in-process tests there; what drives the
+# release binary from outside (browser, node-opcua, README commands, deploy and layout checks, the
+# benchmark guard) and the replicas timed against each other (slosh_cluster_job_tests, not built
+# there) are left to `make test`.
 ASAN_SKIP := ^(browser|deploy|layout|readme|opcua|bench)\.
 $(ASAN_DIR)/build.ninja:
-	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g -DNDEBUG" -DCMAKE_CXX_FLAGS="$(ASAN_FLAGS)" \
-	  -DCMAKE_EXE_LINKER_FLAGS="$(ASAN_FLAGS)" -DSLOSH_BUILD_BENCHMARKS=OFF -DSLOSH_WERROR=OFF \
-	  -DSLOSH_PLAIN_TEST_DRIVERS=ON
+	cmake -S . -B $(ASAN_DIR) -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -gline-tables-only -DNDEBUG" -DSLOSH_SANITIZE=ON \
+	  -DSLOSH_BUILD_FUZZERS=ON -DSLOSH_BUILD_BENCHMARKS=OFF -DSLOSH_WERROR=OFF \
+	  -DSLOSH_TEST_OBJECTS_FROM=$(abspath $(BUILD_DIR))
 
-test-asan: deps $(ASAN_DIR)/build.ninja
+test-asan: build $(ASAN_DIR)/build.ninja
 	$(SANITIZER_ENV) cmake --build $(ASAN_DIR) -j $(JOBS)
 	@$(SANITIZER_ENV) bash scripts/run-tests.sh $(ASAN_DIR) -E '$(ASAN_SKIP)'
 
-# libFuzzer targets (clang): fuzz/, scripts/fuzz.sh. Reproducers land in fuzz-artifacts/<target>/.
-$(FUZZ_DIR)/build.ninja:
-	cmake -S . -B $(FUZZ_DIR) -G Ninja -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
-	  -DCMAKE_CXX_FLAGS_RELWITHDEBINFO="-O1 -g" -DSLOSH_BUILD_FUZZERS=ON -DSLOSH_BUILD_TESTS=OFF \
-	  -DSLOSH_BUILD_BENCHMARKS=OFF -DSLOSH_WERROR=OFF
-
-fuzz-build: deps $(FUZZ_DIR)/build.ninja
-	cmake --build $(FUZZ_DIR) -j $(JOBS) --target fuzzers
+# libFuzzer targets: fuzz/, scripts/fuzz.sh. Reproducers land in fuzz-artifacts/<target>/.
+fuzz-build: deps $(ASAN_DIR)/build.ninja
+	cmake --build $(ASAN_DIR) -j $(JOBS) --target fuzzers
 
 fuzz: fuzz-build
 	@bash scripts/fuzz.sh $(FUZZ_DIR) $(FUZZ_SECONDS) $(FUZZ_TARGETS)

@@ -26,7 +26,7 @@ packages=(
   libgtest-dev libgmock-dev                        # unit and integration tests
   libbenchmark-dev                                 # Google Benchmark targets
   clang-format                                     # formatting check
-  clang libclang-rt-14-dev llvm                    # fuzzers: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
+  clang libclang-rt-14-dev llvm                    # sanitizer build + fuzzers: libFuzzer, ASan/UBSan runtimes, llvm-symbolizer
   curl wrk jq                                      # loopback load script; JSON in the documented commands
   nginx-light                                      # reverse proxy of the replica tests (tests/support/proxy.hpp)
   yamllint                                         # lint of deploy/compose.yaml and deploy/k8s (tests/deploy)

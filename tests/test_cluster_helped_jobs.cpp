@@ -13,10 +13,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -178,6 +180,88 @@ TEST(HelpedJobs, KillingTheAcceptingReplicaMidJobLeavesItToAnotherWhichFinishesI
   EXPECT_EQ(whole_table(other, id, 480), reference);
   auto third = cluster.replicas[2].client();
   EXPECT_EQ(whole_table(third, id, 480), reference);
+}
+
+// The replica that took a job over dies right after: the last one takes it over in turn after
+// half the stale time, as it would any silent owner, so no replica ever reads the job as failed
+// (a client that saw `failed` stops and posts the table again) and it ends done, every row once.
+TEST(HelpedJobs, ATakerThatDiesRightAfterItsTakeoverIsTakenOverBeforeTheJobReadsAsFailed) {
+  const std::vector<std::string> reference = reference_of(480, 4000);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 480, 4000);
+  ASSERT_FALSE(id.empty());
+  auto watcher = cluster.replicas[2].client();
+  ASSERT_EQ(wait_done(watcher, id, 60).at("state"), "running");
+  ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
+  const std::string took = "batch job " + id + ": its replica line-1 stopped answering";
+  std::size_t taker = 0;
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        for (std::size_t i = 1; i < 3; ++i) {
+          if (cluster.replicas[i].log().find(took) != std::string::npos) taker = i;
+        }
+        return taker != 0;
+      },
+      60s));
+  ASSERT_TRUE(cluster.replicas[taker].kill(SIGKILL));
+  auto survivor = cluster.replicas[3 - taker].client();
+  std::vector<std::string> states;
+  json record;
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        record = record_of(survivor, id);
+        if (record.is_object()) states.push_back(record.value("state", ""));
+        return test::is_final_record(record);
+      },
+      120s));
+  EXPECT_EQ(record.at("state"), "done") << record;
+  EXPECT_EQ(std::count(states.begin(), states.end(), "failed"), 0) << record;
+  EXPECT_EQ(whole_table(survivor, id, 480), reference);
+}
+
+// A graceful stop of the owner (SIGTERM, as a rolling deploy sends) hands its job to the replicas
+// that help it: one takes it over at once from the rows stored so far. No replica reads it as
+// failed, and it ends done with the whole table, every row once.
+TEST(HelpedJobs, ASigtermOfTheOwnerHandsItsJobToTheHelpersWhichFinishIt) {
+  const std::vector<std::string> reference = reference_of(480, 5000);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 480, 5000);
+  ASSERT_FALSE(id.empty());
+  auto other = cluster.replicas[1].client();
+  ASSERT_EQ(wait_done(other, id, 60).at("state"), "running");
+  ASSERT_EQ(cluster.replicas[0].kill(SIGTERM), 0);
+  EXPECT_NE(cluster.replicas[0].log().find("handed to the replicas that help it"),
+            std::string::npos);
+  std::vector<std::string> states;
+  json record;
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        record = record_of(other, id);
+        if (record.is_object()) states.push_back(record.value("state", ""));
+        return test::is_final_record(record);
+      },
+      120s));
+  EXPECT_EQ(record.at("state"), "done") << record;
+  EXPECT_EQ(std::count(states.begin(), states.end(), "failed"), 0) << record;
+  EXPECT_EQ(whole_table(other, id, 480), reference);
+}
+
+// Two replicas started with one --replica-id in the default spread: neither would help nor take
+// over the other's jobs, and the owner mark cannot tell them apart. Each says so in its log, as in
+// the replicas spread.
+TEST(HelpedJobs, TwoLiveReplicasWithOneIdSaySoInTheirLogs) {
+  test::RedisServer redis;
+  test::ReplicaSet first{1, {"--cache", redis.url()}, "same"};
+  test::ReplicaSet second{1, {"--cache", redis.url()}, "same"};
+  const std::string warning = "another live replica uses the replica id 'same-1' on this Redis";
+  EXPECT_TRUE(test::wait_until(
+      [&] {
+        return first[0].log().find(warning) != std::string::npos &&
+               second[0].log().find(warning) != std::string::npos;
+      },
+      std::chrono::seconds(20)));
 }
 
 TEST(HelpedJobs, RedisStoppedMidJobLeavesTheOwnerToFinishItAloneAndItsRowsReachRedisAfter) {

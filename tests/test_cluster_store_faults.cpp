@@ -14,6 +14,8 @@
 #include <regex>
 #include <string>
 #include <thread>
+#include <utility>
+#include <vector>
 
 #include <nlohmann/json.hpp>
 
@@ -115,19 +117,21 @@ struct Pair {
   /// `spread`: the replicas' batch_job_spread ("" for the default).
   explicit Pair(const test::RedisServer& redis, const char* stale_s = "30", const char* spread = "")
       : replicas(start(redis.url(), redis.url(), stale_s, spread)) {}
-  Pair(const std::string& url_a, const std::string& url_b, const char* stale_s = "30")
-      : replicas(start(url_a, url_b, stale_s, "")) {}
-  static std::vector<std::unique_ptr<test::Replica>> start(const std::string& url_a,
-                                                           const std::string& url_b,
-                                                           const char* stale_s,
-                                                           const char* spread) {
+  /// `extra`: more arguments of both replicas.
+  Pair(const std::string& url_a, const std::string& url_b, const char* stale_s = "30",
+       const std::vector<std::string>& extra = {})
+      : replicas(start(url_a, url_b, stale_s, "", extra)) {}
+  static std::vector<std::unique_ptr<test::Replica>> start(
+      const std::string& url_a, const std::string& url_b, const char* stale_s, const char* spread,
+      const std::vector<std::string>& extra = {}) {
     ::setenv("SLOSH_BATCH_JOB_STALE_S", stale_s, 1);  // the replicas read it at start
     if (*spread != '\0') ::setenv("SLOSH_BATCH_JOB_SPREAD", spread, 1);
     std::vector<std::unique_ptr<test::Replica>> out;
-    out.push_back(std::make_unique<test::Replica>(
-        "line-1", std::vector<std::string>{"--cache", url_a, "--workers", "1"}));
-    out.push_back(std::make_unique<test::Replica>(
-        "line-2", std::vector<std::string>{"--cache", url_b, "--workers", "1"}));
+    for (const auto& [name, url] : {std::pair{"line-1", url_a}, std::pair{"line-2", url_b}}) {
+      std::vector<std::string> args{"--cache", url, "--workers", "1"};
+      args.insert(args.end(), extra.begin(), extra.end());
+      out.push_back(std::make_unique<test::Replica>(name, args));
+    }
     ::unsetenv("SLOSH_BATCH_JOB_STALE_S");
     ::unsetenv("SLOSH_BATCH_JOB_SPREAD");
     return out;
@@ -463,6 +467,33 @@ TEST(ClusterStoreFaults, AnOwnerThatFinishedItsJobCutOffFromRedisPastItsTakeover
   ASSERT_EQ(table_a->status, 200) << table_a->body;
   EXPECT_EQ(lines_of(table_a->body), 121u);
   EXPECT_EQ(test::csv_without_timing(table_a->body), test::csv_without_timing(table_b->body));
+}
+
+// Redis stalls (paused) past half of batch_job_stale_s while A runs a job: every heartbeat has
+// aged by the stall, and B's first look after it reads A as silent (a relay holds A's heartbeat
+// writes 0.1 s, so A's first one after the stall lands after that look). A live owner beats again
+// at once, and B takes a job over only when its owner was silent at two looks in a row: A keeps
+// its job, which ends done on A with every row once, never run again by B.
+TEST(ClusterStoreFaults, ARedisStallPastHalfTheStaleTimeIsNotASilentOwner) {
+  test::RedisServer redis;
+  test::StallingRelay relay(redis.port());
+  Pair pair(relay.url(), redis.url(), "2", {"--redis-timeout-ms", "10000"});
+  auto a = pair.a().client();
+  const std::string id = post_job(a, recipes(160, 23000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  relay.stall_on("alive", 100ms);
+  std::this_thread::sleep_for(1s);
+  redis.pause();
+  std::this_thread::sleep_for(1600ms);  // past 1 s, half of batch_job_stale_s
+  redis.resume();
+  const json done = wait_finished(a, id);
+  relay.stall_on("", 0ms);
+  ASSERT_EQ(done.value("state", ""), "done") << done.value("message", "");
+  EXPECT_EQ(done.at("progress").at("done"), 160);
+  EXPECT_EQ(pair.b().log().find("stopped answering; this replica runs it on"), std::string::npos)
+      << pair.b().log();
+  EXPECT_EQ(pair.a().log().find("took it over"), std::string::npos) << pair.a().log();
 }
 
 // A job cancelled while its owner is paused, before the other replica takes it over: the taker

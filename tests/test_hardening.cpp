@@ -28,6 +28,7 @@
 #include "slosh/api/simulate.hpp"
 #include "support/process.hpp"
 #include "support/raw_client.hpp"
+#include "support/sanitizers.hpp"
 #include "support/server.hpp"
 
 namespace slosh {
@@ -165,14 +166,14 @@ TEST(Hardening, DeepNestingIsA400NotACrash) {
 
 // Item 4: a chunked body was read whole whatever its size (878 MiB of RSS for a 32 MiB one).
 TEST(Hardening, ChunkedBodiesHoldTheBodyLimit) {
-#if defined(__SANITIZE_ADDRESS__) || defined(SLOSH_PRODUCT_ADDRESS_SANITIZED)
-  // AddressSanitizer keeps freed blocks in a quarantine of up to 256 MiB, so every 64 KiB chunk
-  // the server read and dropped would stay resident: a small quarantine keeps RSS the measure of
-  // what the server holds.
-  const char* asan = std::getenv("ASAN_OPTIONS");
-  const std::string options = std::string(asan != nullptr ? asan : "") + ":quarantine_size_mb=4";
-  ::setenv("ASAN_OPTIONS", options.c_str(), 1);
-#endif
+  if (test::product_sanitized()) {
+    // AddressSanitizer keeps freed blocks in a quarantine of up to 256 MiB, so every 64 KiB chunk
+    // the server read and dropped would stay resident: a small quarantine keeps RSS the measure
+    // of what the server holds.
+    const char* asan = std::getenv("ASAN_OPTIONS");
+    const std::string options = std::string(asan != nullptr ? asan : "") + ":quarantine_size_mb=4";
+    ::setenv("ASAN_OPTIONS", options.c_str(), 1);
+  }
   Server server({"--workers", "1"});
   const long before = rss_kib(server.child().pid());
   Raw raw(server.port());
@@ -640,16 +641,29 @@ TEST(Hardening, ACachedPlanEchoesThisRequestsFluidName) {
 // Regression: a request with a larger budget joined a running solve of the same recipe with
 // a smaller one and got its time_limit answer.
 TEST(Hardening, ALargerBudgetDoesNotJoinASmallerOne) {
+  // The patient plan must finish within its budget: 20 times longer under the sanitizers, and the
+  // server's own budget raised to allow it.
+  const double patient_s = test::solve_budget(10);
+  ::setenv("SLOSH_SOLVE_BUDGET_S", std::to_string(patient_s).c_str(), 1);
   Server server({"--workers", "2"});
+  ::unsetenv("SLOSH_SOLVE_BUDGET_S");
   json hurried = plan_body("multi_notch", 613);
   hurried["options"] = {{"solver", "ipopt"}, {"time_limit_s", 0.3}};
   json patient = hurried;
-  patient["options"]["time_limit_s"] = 10;
+  patient["options"]["time_limit_s"] = patient_s;
   auto first = std::async(std::launch::async, [&] {
     httplib::Client c = server.client();
     return post(c, "/v1/plans", hurried);
   });
-  std::this_thread::sleep_for(std::chrono::milliseconds(50));
+  // The hurried plan must be solving before the patient one is sent: a slower build (the
+  // sanitizers) may take longer than any fixed pause to start it, and a hurried plan arriving
+  // second joins the patient flight, as a smaller budget may.
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        return first.wait_for(std::chrono::seconds(0)) == std::future_status::ready ||
+               test::metric_of(server, "slosh_busy_workers") >= 1;
+      },
+      std::chrono::seconds(30)));
   httplib::Client c = server.client();
   const auto second = post(c, "/v1/plans", patient);
   ASSERT_TRUE(second);
@@ -804,11 +818,12 @@ long vm_size_kib(pid_t pid) {
 // less than a thread's stack: each connection is answered 503 with Retry-After by the pool's
 // refusing thread, and once threads can be started again the server answers as before.
 TEST(Hardening, AConnectionThatGetsNoThreadIsAnswered503AndTheServerLivesOn) {
-#if defined(__SANITIZE_ADDRESS__) || defined(SLOSH_PRODUCT_ADDRESS_SANITIZED)
-  // AddressSanitizer's allocator aborts the process when the address space runs out (instead of
-  // the std::bad_alloc / std::system_error the server handles): the limit tests the sanitizer.
-  GTEST_SKIP() << "an address-space limit under AddressSanitizer aborts in its allocator";
-#endif
+  if (test::product_sanitized()) {
+    // AddressSanitizer's allocator aborts the process when the address space runs out (instead
+    // of the std::bad_alloc / std::system_error the server handles): the limit tests the
+    // sanitizer.
+    GTEST_SKIP() << "an address-space limit under AddressSanitizer aborts in its allocator";
+  }
   Server server({"--workers", "1"});
   ASSERT_GT(server.port(), 0) << server.log();
   const pid_t pid = server.child().pid();

@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "jobs/job_messages.hpp"
 #include "jobs/memory_job_store.hpp"
 #include "jobs/tiered_job_store.hpp"
 
@@ -524,10 +525,33 @@ class TakenOverStore final : public JobStore {
   std::optional<std::string> taken_over_by(const std::string& id) override {
     return taken && !down && id == "job" ? std::optional<std::string>("line-2") : std::nullopt;
   }
-  bool request_cancel(const std::string& id) override { return inner.request_cancel(id); }
+  bool request_cancel(const std::string& id) override { return !down && inner.request_cancel(id); }
   bool cancel_requested(const std::string& id) override { return inner.cancel_requested(id); }
   bool remove(const std::string& id) override { return inner.remove(id); }
 };
+
+// A DELETE answered by a replica resumed after a pause, cut off from the shared store, for a job
+// another replica took over meanwhile: the cancel was kept with the local copy only, which the
+// next refused write of the job drops as taken over; the cancel still reaches the shared store at
+// the resync, where the new owner reads it.
+TEST(TieredJobStore, ACancelOnlyTheLocalCopyTookReachesTheSharedStoreThoughTheCopyIsDropped) {
+  MemoryJobStore local;
+  TakenOverStore shared;
+  TieredJobStore old_owner(local, shared);
+  ASSERT_TRUE(old_owner.put_record("job", "running 0"));
+  ASSERT_TRUE(old_owner.put_rows("job", 0, {"r0"}));
+  shared.down = true;
+  EXPECT_TRUE(old_owner.request_cancel("job"));  // accepted: the DELETE is answered 202
+  EXPECT_FALSE(shared.inner.cancel_requested("job"));
+  shared.down = false;
+  shared.taken = true;
+  ASSERT_TRUE(shared.inner.put_record("job", "running 1 by line-2"));
+  old_owner.resync();
+  EXPECT_FALSE(old_owner.put_record("job", "cancelled 0"));  // its heartbeat's write is refused
+  EXPECT_EQ(local.record("job"), std::nullopt);              // and the copy here dropped
+  EXPECT_TRUE(shared.inner.cancel_requested("job"));
+  EXPECT_TRUE(old_owner.cancel_requested("job"));
+}
 
 // A job another replica took over (the shared store refuses this replica's writes of it, naming
 // the new owner) is dropped here at the first refused write, by a write or by the resync of what
@@ -591,6 +615,19 @@ TEST(TieredJobStore, WithBothStoresDownWritesFailAndReadsFindNothing) {
   EXPECT_EQ(store.record("job"), std::nullopt);
   EXPECT_EQ(store.rows("job", 0, 1), std::nullopt);
   EXPECT_FALSE(store.request_cancel("job"));
+}
+
+// The note of a DELETE taken for another replica's job says when the owner stops it: at its next
+// read of the store (every 0.5 s) only while its record is fresh; an owner that has missed a
+// heartbeat is said to be silent, with how long.
+TEST(JobMessages, ACancelNotePromisesAStopAtTheNextReadOnlyFromAnOwnerThatMissedNoHeartbeat) {
+  const std::string fresh = remote_cancel_text(400, -1, 30, true);
+  EXPECT_NE(fresh.find("stops it when it next reads the store (every 0.5 s)"), std::string::npos)
+      << fresh;
+  const std::string silent = remote_cancel_text(1500, -1, 30, true);
+  EXPECT_EQ(silent.find("every 0.5 s"), std::string::npos) << silent;
+  EXPECT_NE(silent.find("has not answered for 1.5 s"), std::string::npos) << silent;
+  EXPECT_NE(silent.find("half of batch_job_stale_s = 30 s (15 s)"), std::string::npos) << silent;
 }
 
 }  // namespace

@@ -25,6 +25,7 @@
 #include "slosh/core/strategy/planner.hpp"
 #include "support/random_format.hpp"
 #include "support/reference_optimum.hpp"
+#include "support/sanitizers.hpp"
 
 namespace slosh {
 namespace {
@@ -150,7 +151,11 @@ struct Stats {
 
 TEST(PlanProperties, SeededRandomFormatsKeepEveryPromise) {
   const std::vector<RandomFormat> formats = random_formats(format_count());
-  const PlanOptions o;
+  const PlanOptions o = [] {
+    PlanOptions options;
+    options.time_limit = test::solve_budget(options.time_limit);
+    return options;
+  }();
   Stats stats;
   const Strategy strategies[] = {
       Strategy::kBaseline,    Strategy::kNotch,      Strategy::kMultiNotch,

@@ -335,6 +335,33 @@ TEST(RedisCacheLevel, ConcurrentRequestsOnTwoReplicasSolveOnce) {
   EXPECT_TRUE(locks->elements.empty());
 }
 
+// A lock is a lease renewed while it is held: held past the lease, it stays its holder's; a holder
+// that stops renewing it (a replica killed or paused mid-solve) loses it after the lease, and a
+// waiter then takes it, instead of waiting out the holder's whole solve budget.
+TEST(RedisCacheLevel, ALockIsALeaseRenewedWhileHeldAndTakenOnceItsHolderStopsRenewingIt) {
+  RedisServer redis;
+  auto client = client_of(redis);
+  const std::string name = "slosh:v" + std::string(kVersion) + ":lock:plans:recipe";
+  const auto waited_hold = std::chrono::duration_cast<std::chrono::milliseconds>(60s);
+  std::string held;
+  {
+    service::RedisCache holder(client, kVersion, "plans", 0s);
+    ASSERT_EQ(holder.lock_or_wait("recipe", waited_hold, held), std::nullopt);
+    ASSERT_FALSE(held.empty());
+    EXPECT_LE(reply_of(*client, {"PTTL", name}).integer, service::RedisCache::kLockLease.count());
+    std::this_thread::sleep_for(service::RedisCache::kLockLease + 1s);
+    EXPECT_EQ(reply_of(*client, {"GET", name}).text, held);  // renewed past its lease
+    // The holder stops renewing without unlocking, as a killed replica does.
+  }
+  service::RedisCache waiter(client, kVersion, "plans", 0s);
+  std::string taken;
+  EXPECT_EQ(waiter.lock_or_wait("recipe", waited_hold, taken), std::nullopt);
+  EXPECT_FALSE(taken.empty()) << "the waiter did not get the lock within its hold";
+  EXPECT_NE(taken, held);
+  waiter.unlock("recipe", taken);
+  EXPECT_EQ(reply_of(*client, {"EXISTS", name}).integer, 0);
+}
+
 TEST(RedisCacheLevel, ALockOfADeadReplicaExpiresAndTheRecipeIsSolved) {
   RedisServer redis;
   service::PlanService service(service_config(redis));

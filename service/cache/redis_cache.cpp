@@ -5,6 +5,7 @@
 #include <random>
 #include <string_view>
 #include <thread>
+#include <vector>
 
 #include "slosh/api/plan.hpp"
 
@@ -36,7 +37,35 @@ RedisCache::RedisCache(std::shared_ptr<RedisClient> client, const std::string& v
     : client_(std::move(client)),
       prefix_("slosh:v" + version + ":" + table + ":"),
       lock_prefix_("slosh:v" + version + ":lock:" + table + ":"),
-      ttl_(ttl) {}
+      ttl_(ttl),
+      renewer_([this] { renew_leases(); }) {}
+
+RedisCache::~RedisCache() {
+  {
+    const std::lock_guard lock(leases_mutex_);
+    stopping_ = true;
+  }
+  leases_wake_.notify_all();
+  renewer_.join();
+}
+
+void RedisCache::renew_leases() {
+  const std::string lease = std::to_string(kLockLease.count());
+  std::unique_lock lock(leases_mutex_);
+  while (!leases_wake_.wait_for(lock, kLockRenewal, [this] { return stopping_; })) {
+    if (leases_.empty()) continue;
+    std::vector<std::vector<std::string>> renewals;
+    for (const auto& [name, token] : leases_) {
+      renewals.push_back({"EVAL",
+                          "if redis.call('GET', KEYS[1]) == ARGV[1] then "
+                          "return redis.call('PEXPIRE', KEYS[1], ARGV[2]) end return 0",
+                          "1", name, token, lease});
+    }
+    lock.unlock();
+    (void)client_->pipeline(renewals);  // a lock Redis does not renew expires: others solve
+    lock.lock();
+  }
+}
 
 std::optional<std::string> RedisCache::get(const std::string& key) {
   const std::string name = redis_key(key);
@@ -80,10 +109,14 @@ std::optional<std::string> RedisCache::lock_or_wait(const std::string& key,
   token.clear();
   while (true) {
     const auto taken =
-        client_->command({"SET", lock, candidate, "NX", "PX", std::to_string(hold.count())});
+        client_->command({"SET", lock, candidate, "NX", "PX", std::to_string(kLockLease.count())});
     if (!taken || taken->is_error()) return std::nullopt;  // Redis down: solve without a lock
     if (taken->type == RedisReply::Type::kStatus) {
       token = candidate;
+      {
+        const std::lock_guard held(leases_mutex_);
+        leases_[lock] = token;
+      }
       // The holder before may have stored the value and released the lock since our lookup.
       auto value = get(key);
       if (value) unlock(key, token);
@@ -101,6 +134,12 @@ std::optional<std::string> RedisCache::lock_or_wait(const std::string& key,
 
 void RedisCache::unlock(const std::string& key, const std::string& token) {
   if (token.empty()) return;
+  {
+    const std::lock_guard held(leases_mutex_);
+    if (auto it = leases_.find(lock_prefix_ + key); it != leases_.end() && it->second == token) {
+      leases_.erase(it);
+    }
+  }
   (void)client_->command({"EVAL",
                           "if redis.call('GET', KEYS[1]) == ARGV[1] then "
                           "return redis.call('DEL', KEYS[1]) end return 0",

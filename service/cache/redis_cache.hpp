@@ -11,10 +11,14 @@
 
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
+#include <map>
 #include <memory>
+#include <mutex>
 #include <optional>
 #include <string>
+#include <thread>
 
 #include "storage/redis_client.hpp"
 
@@ -25,6 +29,16 @@ class RedisCache {
   /// `table`: plans or min_times; `ttl`: expiry of each value written (0 = none).
   RedisCache(std::shared_ptr<RedisClient> client, const std::string& version,
              const std::string& table, std::chrono::seconds ttl);
+  /// Stops renewing the locks held (they expire within kLockLease, as a dead replica's do).
+  ~RedisCache();
+  RedisCache(const RedisCache&) = delete;
+  RedisCache& operator=(const RedisCache&) = delete;
+
+  /// A lock taken by lock_or_wait is a lease of this long, renewed every kLockRenewal by a thread
+  /// of this cache until unlock(): a replica that dies or is paused holding it delays the others
+  /// by at most the lease, however long the solve's budget.
+  static constexpr std::chrono::milliseconds kLockLease{3000};
+  static constexpr std::chrono::milliseconds kLockRenewal{1000};
 
   /// The value of `key`; nullopt when absent, rejected (bad digest: deleted, logged) or when
   /// Redis is down or slow (the client's timeout bounds the wait).
@@ -33,11 +47,12 @@ class RedisCache {
   bool put(const std::string& key, const std::string& value);
 
   /// Cross-replica single flight before a solve of `key`: takes the lock
-  /// slosh:v<version>:lock:<table>:<key> (SET NX PX `hold`: a lock whose replica died expires by
-  /// itself). While another replica holds it, polls every 20 ms for the value it writes (then
-  /// answers it) or for the lock to go (then takes it). Returns the value when another replica
-  /// stored it; else nullopt, and `token` names the lock taken ("" when none was: Redis down, or
-  /// still held after `hold`; the caller then solves without one).
+  /// slosh:v<version>:lock:<table>:<key> (SET NX PX kLockLease, renewed while held: a lock whose
+  /// replica died or was paused expires by itself). While another replica holds it, polls every
+  /// 20 ms for the value it writes (then answers it) or for the lock to go (then takes it), for
+  /// at most `hold`. Returns the value when another replica stored it; else nullopt, and `token`
+  /// names the lock taken ("" when none was: Redis down, or still held after `hold`; the caller
+  /// then solves without one).
   [[nodiscard]] std::optional<std::string> lock_or_wait(const std::string& key,
                                                         std::chrono::milliseconds hold,
                                                         std::string& token);
@@ -56,6 +71,14 @@ class RedisCache {
   const std::string lock_prefix_;
   const std::chrono::seconds ttl_;
   std::atomic<std::uint64_t> rejected_{0};
+
+  // The locks this cache holds (lock key -> token) and the thread that renews them.
+  void renew_leases();
+  std::mutex leases_mutex_;
+  std::condition_variable leases_wake_;
+  std::map<std::string, std::string> leases_;
+  bool stopping_{false};
+  std::thread renewer_;  // last: started once the members above exist
 };
 
 /// The stored form of `body` under Redis key `redis_key` (exposed for the tests).

@@ -318,8 +318,8 @@ std::shared_ptr<const CachedValue> PlanEngine::solve_once_across_replicas(
   RedisCache* shared = cache_.shared();
   std::string token;
   if (shared != nullptr) {
-    // The lock outlives the solve's budget by a second; a replica that dies holding it delays the
-    // others by at most that, never forever.
+    // Another replica's solve is waited for at most its budget and a second; one that dies or is
+    // paused holding the lock stops renewing it, and it expires within RedisCache::kLockLease.
     const auto hold = std::chrono::milliseconds(
         static_cast<long long>(std::ceil(request.options.time_limit * 1000.0)) + 1000);
     if (auto body = shared->lock_or_wait(key, hold, token)) {

@@ -190,6 +190,13 @@ bool BatchJobs::ended_before_start(Job& job) {
     return true;
   }
   if (stopping()) {
+    if (helped_ && helped_->hand_over(s.id)) {
+      spdlog::info(
+          "batch job {}: this replica stops before the job started; handed to the "
+          "replicas that help it",
+          s.id);
+      return true;
+    }
     finish(job, JobState::kFailed,
            "the service shut down before the job started; POST the job again");
     return true;
@@ -244,7 +251,9 @@ void BatchJobs::run(Job& job) {
   // The last row may have come in the very turn this replica resumed after a pause long enough
   // for another replica to take the job over: asked once more before the final writes (which
   // the job store makes only while the job's owner mark names this replica anyway).
-  if (stop != RunStop::kTakenOver && helped_ && !beat_helpers(job, cached, s.total, true)) {
+  // A job handed over at a shutdown keeps its helpers on the items from its stored rows on.
+  const std::size_t front = stop == RunStop::kShutdown ? s.done : s.total;
+  if (stop != RunStop::kTakenOver && helped_ && !beat_helpers(job, cached, front, true)) {
     stop = RunStop::kTakenOver;
   }
   if (stop == RunStop::kTakenOver) return finish_run(job, stop);
@@ -312,9 +321,16 @@ void BatchJobs::finish_run(Job& job, RunStop stop) {
     store_.drop_local(s.id);
     return;
   }
-  if (helped_) helped_->close(s.id, true);
   const std::string progress =
       std::to_string(s.done) + " of " + std::to_string(s.total) + " recipes";
+  // A graceful stop (a rolling deploy) leaves a helped job to the replicas that help it: one of
+  // them takes it over at once from the rows stored so far, as it would from a silent owner.
+  if (stop == RunStop::kShutdown && helped_ && helped_->hand_over(s.id)) {
+    spdlog::info("batch job {}: this replica stops after {}; handed to the replicas that help it",
+                 s.id, progress);
+    return;
+  }
+  if (helped_) helped_->close(s.id, true);
   if (stop == RunStop::kCancelled) {
     return finish(job, JobState::kCancelled, "cancelled after " + progress);
   }

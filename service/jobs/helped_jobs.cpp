@@ -36,6 +36,25 @@ redis.call('PEXPIRE', KEYS[1], ARGV[3])
 return 1
 )lua";
 
+/// hand_over(): KEYS owner mark, heartbeat, helpers set, help offer; ARGV this replica, the
+/// prefix of the replicas' name keys. Takes the heartbeat away when a helper other than this
+/// replica holds its name (forgetting those that no longer do); 1 when it did.
+constexpr const char* kHandOver = R"lua(
+local mark = redis.call('GET', KEYS[1])
+if mark and mark ~= ARGV[1] then return 0 end
+if redis.call('EXISTS', KEYS[4]) == 0 then return 0 end
+for _, r in ipairs(redis.call('SMEMBERS', KEYS[3])) do
+  if r ~= ARGV[1] then
+    if redis.call('EXISTS', ARGV[2] .. r) == 1 then
+      redis.call('DEL', KEYS[2])
+      return 1
+    end
+    redis.call('SREM', KEYS[3], r)
+  end
+end
+return 0
+)lua";
+
 bool any_error(const std::optional<std::vector<RedisReply>>& replies) {
   if (!replies) return true;
   return std::any_of(replies->begin(), replies->end(), [](const RedisReply& r) {
@@ -217,12 +236,35 @@ bool HelpedJobs::note_helped(const std::string& id, std::size_t index) {
   return reply && reply->type == RedisReply::Type::kInteger && reply->integer == 1;
 }
 
-bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock) {
+bool HelpedJobs::hold_name(const std::string& token, std::chrono::milliseconds alive) {
+  // The key of the replicas spread's workers (SharedJobQueue::hold_name): a duplicate is seen
+  // whichever spread each of the two runs.
+  const auto replies =
+      client_->pipeline({{"SET", prefix_ + "replicas:" + replica_, token, "PX",
+                          std::to_string(std::max<std::int64_t>(1, alive.count())), "GET"},
+                         {"SADD", prefix_ + "helpers", replica_}});
+  if (!replies) return true;
+  const RedisReply& held = (*replies)[0];
+  return held.type != RedisReply::Type::kString || held.text == token;
+}
+
+bool HelpedJobs::hand_over(const std::string& id) {
+  const auto reply =
+      client_->command({"EVAL", kHandOver, "4", key(id, "owner"), key(id, "alive"),
+                        prefix_ + "helpers", key(id, "help"), replica_, prefix_ + "replicas:"});
+  return reply && reply->type == RedisReply::Type::kInteger && reply->integer == 1;
+}
+
+bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock,
+                       std::chrono::milliseconds alive) {
   const auto replies = client_->pipeline(
       {{"SET", key(id, "adopt"), replica_, "NX", "PX", std::to_string(lock.count())}});
   if (!replies || (*replies)[0].type != RedisReply::Type::kStatus) return false;
+  // The heartbeat as the job store writes it (RedisJobStore::alive_command).
+  const std::string beat = std::to_string(std::max<std::int64_t>(1, alive.count()));
   return !any_error(client_->pipeline({{"HSET", key(id, "help"), "owner", replica_},
-                                       {"SET", key(id, "owner"), replica_, "PX", ttl_ms_}}));
+                                       {"SET", key(id, "owner"), replica_, "PX", ttl_ms_},
+                                       {"SET", key(id, "alive"), beat, "PX", beat}}));
 }
 
 std::optional<std::vector<RecipeRow>> HelpedJobs::table(const std::string& id, std::size_t total) {

@@ -50,6 +50,10 @@ class HelpedJobs {
   /// The owner's heartbeat: the helpers skip items below `front`. Returns the job's owner as
   /// Redis holds it ("" when Redis does not hold the job; nullopt when it cannot be asked).
   std::optional<std::string> beat(const std::string& id, std::size_t front);
+  /// Holds this replica's name in Redis for `alive` under this process's `token` (and lists it
+  /// among the helpers); false when another live process holds it (a duplicate --replica-id).
+  /// True when Redis does not answer.
+  bool hold_name(const std::string& token, std::chrono::milliseconds alive);
   /// The replica that owns job `id` as its owner mark in Redis says (the mark outlives the job's
   /// end, so a paused former owner learns another replica took the job over and ended it); ""
   /// when Redis holds no mark, nullopt when it cannot be asked. Writes nothing.
@@ -69,6 +73,11 @@ class HelpedJobs {
   /// Items of job `id` from index `done` on whose plans the helpers have solved (the owner has
   /// not stored their rows yet); nullopt when Redis cannot be asked.
   std::optional<std::size_t> solved_from(const std::string& id, std::size_t done);
+  /// This replica stops (SIGTERM) while it runs job `id`: when the job is offered and another
+  /// helper is live, its heartbeat is taken away so that a helper adopts it at once (its record
+  /// stays running, with every row stored so far); whether it was handed over. Only while the
+  /// owner mark names this replica (one atomic script).
+  bool hand_over(const std::string& id);
   /// The job has finished: no more help. `as_owner`: closed by the replica that ran it, only
   /// while its owner mark names this replica (one atomic script).
   void close(const std::string& id, bool as_owner = false);
@@ -87,8 +96,10 @@ class HelpedJobs {
   /// (the first replica to note an item is; false also when Redis cannot be asked).
   bool note_helped(const std::string& id, std::size_t index);
   /// Makes this replica the owner of job `id` when no other replica did within `lock`: whether
-  /// it now owns it.
-  bool adopt(const std::string& id, std::chrono::milliseconds lock);
+  /// it now owns it. Its heartbeat (`alive`, batch_job_stale_s) starts at once: a taker that dies
+  /// before its first is judged from its takeover, not from the silence of the owner before it.
+  bool adopt(const std::string& id, std::chrono::milliseconds lock,
+             std::chrono::milliseconds alive);
   /// The recipes of job `id` (`total` of them) from its stream; nullopt when some are missing or
   /// Redis cannot be asked.
   std::optional<std::vector<RecipeRow>> table(const std::string& id, std::size_t total);

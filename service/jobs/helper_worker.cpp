@@ -6,6 +6,7 @@
 #include <utility>
 
 #include "jobs/batch_job_record.hpp"
+#include "jobs/job_messages.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/service_bodies.hpp"
@@ -20,6 +21,11 @@ constexpr std::chrono::milliseconds kLook{500};
 constexpr std::chrono::milliseconds kIdlePoll{100};
 /// How long a busy helper waits for its oldest item.
 constexpr std::chrono::milliseconds kItemWait{20};
+/// The shortest adoption lock: two heartbeats of the runner (batch_job_runner.cpp), so that the
+/// replica that won it has beaten before another may try.
+constexpr std::chrono::milliseconds kAdoptLockFloor{1000};
+/// How often a replica whose name another live replica uses says so in its log.
+constexpr std::chrono::seconds kNameWarnEvery{60};
 
 }  // namespace
 
@@ -32,6 +38,7 @@ HelperWorker::HelperWorker(PlanService& service, std::shared_ptr<RedisClient> cl
       stale_(stale),
       store_(store),
       adopt_(std::move(adopt)),
+      token_(new_job_id()),
       thread_([this] { run(); }) {}
 
 HelperWorker::~HelperWorker() {
@@ -52,9 +59,35 @@ bool HelperWorker::stopping() const {
   return stopping_;
 }
 
+void HelperWorker::hold_name() {
+  if (jobs_.hold_name(token_, stale_)) return;
+  const auto now = std::chrono::steady_clock::now();
+  if (warned_name_ == std::chrono::steady_clock::time_point{} ||
+      now - warned_name_ > kNameWarnEvery) {
+    warned_name_ = now;
+    spdlog::warn("{}", duplicate_replica_id_text(jobs_.replica()));
+  }
+}
+
+bool HelperWorker::silent_for_long(const std::string& id) {
+  // Seen silent at two looks in a row: a stall of Redis ages every heartbeat at once (their
+  // expiry runs on), and the first look after it may be answered before the owner's heartbeat
+  // that waited through it; a live owner has beaten again by the next look.
+  const auto now = std::chrono::steady_clock::now();
+  const auto [seen, first] = silent_since_.try_emplace(id, now);
+  return !first && now - seen->second >= kLook;
+}
+
 std::vector<HelpedJobs::Helped> HelperWorker::look() {
+  hold_name();
   std::vector<HelpedJobs::Helped> out;
-  for (HelpedJobs::Helped& job : jobs_.jobs()) {
+  std::vector<HelpedJobs::Helped> listed = jobs_.jobs();
+  for (auto it = silent_since_.begin(); it != silent_since_.end();) {
+    const bool still = std::any_of(listed.begin(), listed.end(),
+                                   [&](const HelpedJobs::Helped& j) { return j.id == it->first; });
+    it = still ? std::next(it) : silent_since_.erase(it);
+  }
+  for (HelpedJobs::Helped& job : listed) {
     if (job.owner == jobs_.replica()) continue;  // runs here
     const JobStore::RecordLookup lookup = store_.lookup_record(job.id);
     const auto record = lookup.text ? api::parse_job_record(*lookup.text) : std::nullopt;
@@ -65,7 +98,16 @@ std::vector<HelpedJobs::Helped> HelperWorker::look() {
     // Half the stale time: adopted before any replica reads the job as failed.
     const auto beat = store_.heartbeat_age_ms(job.id);
     const bool silent = lookup.answered && record && (!beat || *beat > stale_.count() / 2);
-    if (silent && jobs_.adopt(job.id, stale_)) {
+    if (!silent) silent_since_.erase(job.id);
+    if (!silent || !silent_for_long(job.id)) {
+      out.push_back(std::move(job));
+      continue;
+    }
+    // The lock only picks one taker among the helpers, whose heartbeat starts at once: a taker
+    // that dies right after must be adopted after half the stale time like any silent owner,
+    // before the job reads as failed, not after a lock of the whole stale time.
+    const auto lock = std::max(stale_ / 2, kAdoptLockFloor);
+    if (jobs_.adopt(job.id, lock, stale_)) {
       spdlog::warn("batch job {}: its replica {} stopped answering; this replica runs it on",
                    job.id, job.owner);
       if (adopt_ && adopt_(job.id)) continue;

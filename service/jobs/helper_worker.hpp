@@ -12,6 +12,7 @@
 #include <condition_variable>
 #include <cstdint>
 #include <functional>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <set>
@@ -50,6 +51,10 @@ class HelperWorker {
   void run();
   // Adopts the jobs whose owner went silent; returns the jobs to help, oldest first.
   std::vector<HelpedJobs::Helped> look();
+  // Holds this replica's name in Redis; warns (once a minute) while another process holds it.
+  void hold_name();
+  // Whether job `id`, silent at this look, was already silent at a look a while before.
+  bool silent_for_long(const std::string& id);
   void fill(const std::vector<HelpedJobs::Helped>& jobs);
   bool finish_ready();
   [[nodiscard]] bool stopping() const;
@@ -62,7 +67,13 @@ class HelperWorker {
   std::vector<InFlight> flight_;
   // Jobs whose owner has started every item left in their stream: not read again.
   std::set<std::string> met_;
+  // When each helped job was first seen with its owner silent (since then at every look).
+  std::map<std::string, std::chrono::steady_clock::time_point> silent_since_;
   std::atomic<std::uint64_t> solved_{0};
+  // This process's token for its replica name in Redis (HelpedJobs::hold_name), and when it last
+  // warned that another live replica uses the same name.
+  std::string token_;
+  std::chrono::steady_clock::time_point warned_name_{};
   mutable std::mutex mutex_;
   std::condition_variable wake_;
   bool stopping_{false};

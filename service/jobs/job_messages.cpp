@@ -24,6 +24,12 @@ std::string seconds_of_ms(std::int64_t ms) {
 
 }  // namespace
 
+std::string duplicate_replica_id_text(const std::string& replica) {
+  return "another live replica uses the replica id '" + replica +
+         "' on this Redis: their shares of batch jobs and their consumer names merge, and neither "
+         "helps nor takes over the other's jobs; give each replica its own --replica-id";
+}
+
 std::string new_job_id() {
   static std::mutex m;
   static std::random_device device;
@@ -171,7 +177,9 @@ std::string remote_cancel_text(std::int64_t record_age_ms, std::int64_t heartbea
            "store (its record there is " +
            seconds_of_ms(record_age_ms) + " old: the store refuses or fails its writes)";
   }
-  if (record_age_ms <= 2000) {
+  // The owner rewrites its record every 0.5 s: one older than two of those has missed a beat, and
+  // a stop at its next read is no longer promised.
+  if (record_age_ms <= 1000) {
     return recorded +
            "the replica running the job stops it when it next reads the store (every "
            "0.5 s)";

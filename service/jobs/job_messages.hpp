@@ -32,6 +32,9 @@ struct JobKeepBounds {
 /// A job id: 128 random bits as 32 hex digits (not guessable from another job's id).
 [[nodiscard]] std::string new_job_id();
 
+/// The warning of a replica whose --replica-id another live replica uses on the same Redis.
+[[nodiscard]] std::string duplicate_replica_id_text(const std::string& replica);
+
 /// "row 5", "rows 5, 6 and 9" (at most 10 named, then how many more).
 [[nodiscard]] std::string row_list(const std::vector<std::size_t>& rows);
 

@@ -91,10 +91,7 @@ std::vector<std::string> SharedJobWorker::heartbeat(std::vector<InFlight>& fligh
     if (warned_name_ == std::chrono::steady_clock::time_point{} ||
         now - warned_name_ > kNameWarnEvery) {
       warned_name_ = now;
-      spdlog::warn(
-          "another live replica uses the replica id '{}' on this Redis: their shares of batch "
-          "jobs and their consumer names merge; give each replica its own --replica-id",
-          queue_.options().replica);
+      spdlog::warn("{}", duplicate_replica_id_text(queue_.options().replica));
     }
   }
   std::vector<std::string> jobs = queue_.jobs();

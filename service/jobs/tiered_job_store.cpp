@@ -360,9 +360,12 @@ std::optional<std::vector<std::optional<std::string>>> TieredJobStore::row_slots
 bool TieredJobStore::request_cancel(const std::string& id) {
   const bool local = local_.request_cancel(id);
   const bool shared = shared_.request_cancel(id);
-  if (shared) {
+  // A cancel only the local copy took is told to the shared store at the next resync, whatever
+  // becomes of that copy: another replica may have taken the job over meanwhile, and this copy is
+  // then dropped at its first refused write while the cancel was answered as accepted.
+  if (local || shared) {
     const std::lock_guard lock(mutex_);
-    remember(id, false, true);
+    remember(id, false, shared);
   }
   return local || shared;
 }
