@@ -28,8 +28,10 @@ Reply PlanService::fluids() const {
 }
 
 Reply PlanService::openapi() const {
+  // The document depends on nothing but this build: rendered once, at the first request.
+  static const std::string document = api::dump_json(api::openapi_document(kVersion));
   Reply r;
-  r.body = api::dump_json(api::openapi_document(kVersion));
+  r.body = document;
   return r;
 }
 

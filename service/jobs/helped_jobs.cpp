@@ -4,6 +4,8 @@
 #include <cstdlib>
 #include <utility>
 
+#include "jobs/replica_name.hpp"
+
 namespace slosh::service {
 
 namespace {
@@ -237,15 +239,10 @@ bool HelpedJobs::note_helped(const std::string& id, std::size_t index) {
 }
 
 bool HelpedJobs::hold_name(const std::string& token, std::chrono::milliseconds alive) {
-  // The key of the replicas spread's workers (SharedJobQueue::hold_name): a duplicate is seen
+  // The key of the replicas spread's workers too (SharedJobQueue::hold_name): a duplicate is seen
   // whichever spread each of the two runs.
-  const auto replies =
-      client_->pipeline({{"SET", prefix_ + "replicas:" + replica_, token, "PX",
-                          std::to_string(std::max<std::int64_t>(1, alive.count())), "GET"},
-                         {"SADD", prefix_ + "helpers", replica_}});
-  if (!replies) return true;
-  const RedisReply& held = (*replies)[0];
-  return held.type != RedisReply::Type::kString || held.text == token;
+  return hold_replica_name(*client_, prefix_, replica_, token, alive,
+                           {{"SADD", prefix_ + "helpers", replica_}});
 }
 
 bool HelpedJobs::hand_over(const std::string& id) {

@@ -5,6 +5,7 @@
 #include <utility>
 
 #include "jobs/job_messages.hpp"
+#include "jobs/replica_name.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/json_text.hpp"
@@ -335,10 +336,7 @@ SharedJobQueue::Snapshot SharedJobQueue::read(const std::string& id, bool renew)
 }
 
 bool SharedJobQueue::hold_name(const std::string& token) {
-  const auto reply =
-      client_->command({"SET", options_.prefix + "replicas:" + options_.replica, token, "PX",
-                        std::to_string(std::max<std::int64_t>(1, options_.alive.count())), "GET"});
-  return !reply || reply->type != RedisReply::Type::kString || reply->text == token;
+  return hold_replica_name(*client_, options_.prefix, options_.replica, token, options_.alive);
 }
 
 bool SharedJobQueue::request_cancel(const std::string& id) {
