@@ -230,6 +230,42 @@ TEST(HelpedJobs, ASigtermOfTheOwnerHandsItsJobToTheHelpersWhichFinishIt) {
   EXPECT_EQ(whole_table(other, id, 480), reference);
 }
 
+// The taker of a job handed over by a SIGTERM is itself stopped gracefully right after its
+// takeover: it hands the job on together with its adoption lock, so the last replica takes the
+// job at its next looks (not once the lock, half of batch_job_stale_s, has run out), and the job
+// ends done whole. The last replica is paused until then, so that the taker is the second one
+// and still has rows to plan when it is stopped.
+TEST(HelpedJobs, ATakerStoppedRightAfterItsTakeoverHandsTheJobOnWithoutItsLock) {
+  const std::vector<std::string> reference = reference_of(600, 6000);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  const std::string id = post_table(owner, 600, 6000);
+  ASSERT_FALSE(id.empty());
+  auto last = cluster.replicas[2].client();
+  ASSERT_EQ(wait_done(last, id, 60).at("state"), "running");
+  ::kill(cluster.replicas[2].pid(), SIGSTOP);
+  ASSERT_EQ(cluster.replicas[0].kill(SIGTERM), 0);
+  ASSERT_TRUE(test::wait_until(
+      [&] {
+        return cluster.replicas[1].log().find("batch job " + id +
+                                              ": its replica line-1 stopped answering") !=
+               std::string::npos;
+      },
+      std::chrono::seconds(20)));
+  ASSERT_EQ(cluster.replicas[1].kill(SIGTERM), 0);
+  ::kill(cluster.replicas[2].pid(), SIGCONT);
+  EXPECT_NE(cluster.replicas[1].log().find("handed to the replicas that help it"),
+            std::string::npos)
+      << cluster.replicas[1].log();
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  const auto lock = redis.command({"GET", "slosh:jobs:" + id + ":adopt"});
+  ASSERT_TRUE(lock);
+  EXPECT_NE(lock->text, "line-2") << "the stopped taker still holds the adoption lock";
+  const json record = wait_finished(last, id);
+  EXPECT_EQ(record.at("state"), "done") << record;
+  EXPECT_EQ(whole_table(last, id, 600), reference);
+}
+
 // Two replicas started with one --replica-id in the default spread: neither would help nor take
 // over the other's jobs, and the owner mark cannot tell them apart. Each says so in its log, as in
 // the replicas spread.

@@ -496,6 +496,85 @@ TEST(ClusterStoreFaults, ARedisStallPastHalfTheStaleTimeIsNotASilentOwner) {
   EXPECT_EQ(pair.a().log().find("took it over"), std::string::npos) << pair.a().log();
 }
 
+// Redis stalls (paused) a little past batch_job_stale_s while A runs a job, and A's first
+// heartbeats after it are held back a moment longer (a relay holds them 0.7 s, past A's Redis
+// timeout): A's record is older than the stale time when B reads it, but A is alive. B never
+// answers the job as failed (a final state a client stops polling at): its first reading of the
+// silent record says so in the job's note, and by the time a record still silent would be called
+// failed, A has written again (or B, helping, has taken the job over).
+TEST(ClusterStoreFaults, ARedisStallPastTheStaleTimeDoesNotFailALiveOwnersJobOnTheOtherReplica) {
+  test::RedisServer redis;
+  test::StallingRelay relay(redis.port());
+  Pair pair(relay.url(), redis.url(), "2");
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(160, 24000));
+  ASSERT_FALSE(id.empty());
+  wait_progress(a, id, 2);
+  redis.pause();
+  std::this_thread::sleep_for(2300ms);  // past batch_job_stale_s = 2 s
+  relay.stall_on("alive", 700ms);
+  redis.resume();
+  std::thread release([&] {
+    std::this_thread::sleep_for(1500ms);
+    relay.stall_on("", 0ms);
+  });
+  bool noted = false;
+  json last;
+  const auto deadline = std::chrono::steady_clock::now() + 60s;
+  while (std::chrono::steady_clock::now() < deadline) {
+    const auto got = b.Get("/v1/batches/" + id);
+    if (got && got->status == 200) {
+      last = json::parse(got->body);
+      ASSERT_NE(last.value("state", ""), "failed") << last.dump();
+      const std::string note =
+          last.value("note", json()).is_string() ? last["note"].get<std::string>() : "";
+      if (note.find("past batch_job_stale_s") != std::string::npos) {
+        noted = true;
+        EXPECT_TRUE(std::regex_match(
+            note, std::regex("the replica running it has not updated it for [0-9.]+ s, past "
+                             "batch_job_stale_s = 2 s \\(paused, stalled or cut off from the "
+                             "shared store\\): another replica takes it over, or it reads as "
+                             "failed if still silent in [0-9.]+ s")))
+            << note;
+      }
+      if (last.value("state", "") == "done") break;
+    }
+    std::this_thread::sleep_for(50ms);
+  }
+  EXPECT_EQ(last.value("state", ""), "done") << last.dump();
+  EXPECT_EQ(last.at("progress").at("done"), 160);
+  release.join();
+  EXPECT_TRUE(noted) << "B never read the silent record";
+}
+
+// A DELETE accepted (202) as the owner stored a job's last row, before the owner read the flag
+// again, finds the job done: the cancel recorded in Redis then is not dropped. Every replica
+// answers the done job with "cancel_requested": true and a note saying the cancel came as it
+// finished. (The flag is set here as such a DELETE leaves it, after the job ended.)
+TEST(ClusterStoreFaults, ACancelRecordedAsTheJobFinishedIsKeptOnItsDoneRecord) {
+  test::RedisServer redis;
+  Pair pair(redis);
+  auto a = pair.a().client();
+  auto b = pair.b().client();
+  const std::string id = post_job(a, recipes(6, 25000));
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_finished(a, id).value("state", ""), "done");
+  ASSERT_EQ(redis_cli(redis, "set slosh:jobs:" + id + ":cancel 1"), 0);
+  for (auto* client : {&a, &b}) {
+    const auto got = client->Get("/v1/batches/" + id);
+    ASSERT_TRUE(got && got->status == 200) << (got ? got->body : "no answer");
+    const json record = json::parse(got->body);
+    EXPECT_EQ(record.value("state", ""), "done") << record.dump();
+    EXPECT_EQ(record.at("progress").at("done"), 6);
+    EXPECT_EQ(record.value("cancel_requested", false), true) << record.dump();
+    EXPECT_EQ(record.value("note", json()),
+              "a cancel was asked as its last row was stored: the job had finished, its table is "
+              "whole")
+        << record.dump();
+  }
+}
+
 // A job cancelled while its owner is paused, before the other replica takes it over: the taker
 // reads the cancel at once and ends the job cancelled, naming the rows the owner had stored
 // (never "cancelled before it started" with rows done).

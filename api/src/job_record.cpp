@@ -157,6 +157,10 @@ void mark_cancel_requested(JobRecord& record) {
   record.document["cancel_requested"] = true;
 }
 
+void add_note(JobRecord& record, const std::string& note) {
+  record.document["note"] = note;
+}
+
 void add_cancel_note(JobRecord& record, const std::string& note) {
   record.document["cancel_note"] = note;
 }

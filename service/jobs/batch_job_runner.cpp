@@ -343,6 +343,9 @@ void BatchJobs::finish_run(Job& job, RunStop stop) {
                   "the service shut down after " + progress +
                       "; POST the job again (the finished plans are cached)");
   }
+  // A DELETE accepted after the last row was stored, before the run read the flag again: the job
+  // is done, and its record keeps the cancel it was asked.
+  if (cancelled(job, true)) job.status.note = late_cancel_note(job.status.note);
   finish(job, JobState::kDone, "");
 }
 

@@ -33,6 +33,11 @@ constexpr std::size_t kRowsPage = 500;
 /// or the shared store refuses or fails its writes (its heartbeat then says it is alive).
 constexpr std::int64_t kBehindMs = 2000;
 
+/// The shortest time a replica sees another replica's record silent past batch_job_stale_s
+/// before it reads the job as failed: the owner's Redis client retries a second after a failure
+/// (RedisOptions::retry_interval), then writes at its next heartbeat (every 0.5 s).
+constexpr std::chrono::milliseconds kSilenceConfirmFloor{2000};
+
 [[noreturn]] void invalid(const std::string& field, const std::string& message) {
   throw api::ApiError(api::ErrorCode::kInvalidValue, field, message);
 }
@@ -263,7 +268,10 @@ void BatchJobs::judge_liveness(JobRecord& record, const std::string& id) const {
     if (active_.count(id) != 0) return;
   }
   if (shared_ && shared_->owns(id)) return;  // its worker here beats it
-  if (api::is_final(record.state)) return;
+  if (api::is_final(record.state)) {
+    forget_silence(id);
+    return;
+  }
   const std::int64_t now = unix_ms_now();
   const std::int64_t age = now - record.updated_unix_ms;
   const double stale_s = service_.config().batch_job_stale_s;
@@ -277,7 +285,43 @@ void BatchJobs::judge_liveness(JobRecord& record, const std::string& id) const {
       return;
     }
   }
-  mark_if_stale(record, now, stale_s);
+  if (static_cast<double>(age) <= stale_s * 1e3) {
+    forget_silence(id);
+    return;
+  }
+  // A stall of the shared store ages every record at once, and the live owner's next write comes
+  // right after it: a record is only called failed once this replica has seen it silent for a
+  // while longer, the owner's chance to write (and a helper's to take the job over) first.
+  const auto seen_for = silence_seen_for(id, record.updated_unix_ms);
+  const auto confirm = silence_confirmation(stale_s);
+  if (seen_for >= confirm) {
+    mark_if_stale(record, now, stale_s);
+    return;
+  }
+  api::add_note(record, silent_owner_text(age, stale_s, confirm - seen_for, helped_ != nullptr));
+}
+
+std::chrono::milliseconds BatchJobs::silence_confirmation(double stale_s) {
+  return std::max(kSilenceConfirmFloor, std::chrono::milliseconds(std::llround(stale_s * 1e3 / 2)));
+}
+
+std::chrono::milliseconds BatchJobs::silence_seen_for(const std::string& id,
+                                                      std::int64_t updated_unix_ms) const {
+  const auto now = std::chrono::steady_clock::now();
+  const std::lock_guard lock(mutex_);
+  // Jobs that were never read again are dropped once their records have expired.
+  const auto keep = std::chrono::milliseconds(std::llround(
+      (service_.config().batch_job_ttl_s + service_.config().batch_job_stale_s) * 1e3));
+  std::erase_if(silences_, [&](const auto& entry) { return now - entry.second.first > keep; });
+  auto [it, inserted] = silences_.try_emplace(id, Silence{updated_unix_ms, now});
+  if (!inserted && it->second.updated_unix_ms != updated_unix_ms)
+    it->second = {updated_unix_ms, now};
+  return std::chrono::duration_cast<std::chrono::milliseconds>(now - it->second.first);
+}
+
+void BatchJobs::forget_silence(const std::string& id) const {
+  const std::lock_guard lock(mutex_);
+  silences_.erase(id);
 }
 
 JobRecord BatchJobs::load(const std::string& id) const {
@@ -405,10 +449,18 @@ Reply BatchJobs::get(const std::string& id, const JobPageQuery& query) {
     if (const auto kept = store_.unshared(id)) {  // this replica runs it, the store is behind
       api::mark_unshared(record, kept->rows, kept->reason);
     }
-    if (!api::is_final(record.state) && !record.cancel_requested && store_.cancel_requested(id)) {
+    if ((!api::is_final(record.state) || record.state == JobState::kDone) &&
+        !record.cancel_requested && store_.cancel_requested(id)) {
       // A DELETE through another replica is recorded in the shared store at once; the owner
-      // rewrites the record when it next polls the flag (a queued job: when it starts).
+      // rewrites the record when it next polls the flag (a queued job: when it starts). One it
+      // accepted as the owner stored the last row finds the job done: it is kept, and said.
       api::mark_cancel_requested(record);
+      if (record.state == JobState::kDone) {
+        const auto note = record.document.find("note");
+        api::add_note(record, late_cancel_note(note != record.document.end() && note->is_string()
+                                                   ? note->get<std::string>()
+                                                   : std::string()));
+      }
     }
     if (api::is_final(record.state)) {
       const std::size_t stored = record.done;

@@ -158,7 +158,14 @@ class BatchJobs {
   // Marks a stale queued or running record failed, unless the job runs on this replica or its
   // owner's heartbeat in the shared store says it is alive (then "unshared" says the record
   // there is behind).
+  // A record silent past batch_job_stale_s reads as failed only once this replica has seen it so
+  // for silence_confirmation(); until then it reads as it is, with a note saying so.
   void judge_liveness(JobRecord& record, const std::string& id) const;
+  static std::chrono::milliseconds silence_confirmation(double stale_s);
+  // How long this replica has seen job `id`'s record, written at `updated_unix_ms`, silent.
+  std::chrono::milliseconds silence_seen_for(const std::string& id,
+                                             std::int64_t updated_unix_ms) const;
+  void forget_silence(const std::string& id) const;
   // The record of job `id` (load_record()); while the store cannot be asked, a shared job
   // posted here answers with this replica's last view of it, marked unshared.
   [[nodiscard]] JobRecord load(const std::string& id) const;
@@ -173,6 +180,13 @@ class BatchJobs {
   std::deque<std::shared_ptr<Job>> queue_;                        // waiting to run, in order
   std::unordered_map<std::string, std::shared_ptr<Job>> active_;  // queued or running here
   bool stopping_{false};
+  // Other replicas' jobs seen silent past batch_job_stale_s: the record's write time and when this
+  // replica first saw it so.
+  struct Silence {
+    std::int64_t updated_unix_ms;
+    std::chrono::steady_clock::time_point first;
+  };
+  mutable std::unordered_map<std::string, Silence> silences_;
   std::function<std::string(const std::string&)> resolve_models_;
   std::atomic<std::uint64_t> items_stored_{0};  // rows of the jobs run here
   // The worker of the jobs shared out through Redis (batch_job_spread = "replicas"), else null.

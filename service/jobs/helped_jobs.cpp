@@ -38,9 +38,10 @@ redis.call('PEXPIRE', KEYS[1], ARGV[3])
 return 1
 )lua";
 
-/// hand_over(): KEYS owner mark, heartbeat, helpers set, help offer; ARGV this replica, the
-/// prefix of the replicas' name keys. Takes the heartbeat away when a helper other than this
-/// replica holds its name (forgetting those that no longer do); 1 when it did.
+/// hand_over(): KEYS owner mark, heartbeat, helpers set, help offer, adoption lock; ARGV this
+/// replica, the prefix of the replicas' name keys. Takes the heartbeat away when a helper other
+/// than this replica holds its name (forgetting those that no longer do), and this replica's
+/// adoption lock with it, so that the helper may take the job at once; 1 when it did.
 constexpr const char* kHandOver = R"lua(
 local mark = redis.call('GET', KEYS[1])
 if mark and mark ~= ARGV[1] then return 0 end
@@ -49,12 +50,22 @@ for _, r in ipairs(redis.call('SMEMBERS', KEYS[3])) do
   if r ~= ARGV[1] then
     if redis.call('EXISTS', ARGV[2] .. r) == 1 then
       redis.call('DEL', KEYS[2])
+      if redis.call('GET', KEYS[5]) == ARGV[1] then redis.call('DEL', KEYS[5]) end
       return 1
     end
     redis.call('SREM', KEYS[3], r)
   end
 end
 return 0
+)lua";
+
+/// give_back(): KEYS owner mark, heartbeat, adoption lock; ARGV this replica. A takeover that did
+/// not start here: its heartbeat and this replica's lock go, while the mark names this replica.
+constexpr const char* kGiveBack = R"lua(
+if redis.call('GET', KEYS[1]) ~= ARGV[1] then return 0 end
+redis.call('DEL', KEYS[2])
+if redis.call('GET', KEYS[3]) == ARGV[1] then redis.call('DEL', KEYS[3]) end
+return 1
 )lua";
 
 bool any_error(const std::optional<std::vector<RedisReply>>& replies) {
@@ -246,10 +257,15 @@ bool HelpedJobs::hold_name(const std::string& token, std::chrono::milliseconds a
 }
 
 bool HelpedJobs::hand_over(const std::string& id) {
-  const auto reply =
-      client_->command({"EVAL", kHandOver, "4", key(id, "owner"), key(id, "alive"),
-                        prefix_ + "helpers", key(id, "help"), replica_, prefix_ + "replicas:"});
+  const auto reply = client_->command({"EVAL", kHandOver, "5", key(id, "owner"), key(id, "alive"),
+                                       prefix_ + "helpers", key(id, "help"), key(id, "adopt"),
+                                       replica_, prefix_ + "replicas:"});
   return reply && reply->type == RedisReply::Type::kInteger && reply->integer == 1;
+}
+
+void HelpedJobs::give_back(const std::string& id) {
+  (void)client_->command(
+      {"EVAL", kGiveBack, "3", key(id, "owner"), key(id, "alive"), key(id, "adopt"), replica_});
 }
 
 bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock,

@@ -78,6 +78,10 @@ class HelpedJobs {
   /// stays running, with every row stored so far); whether it was handed over. Only while the
   /// owner mark names this replica (one atomic script).
   bool hand_over(const std::string& id);
+  /// This replica won job `id`'s takeover but could not start it (it is stopping, or Redis did
+  /// not give the job's table): its heartbeat and adoption lock go, so that another helper takes
+  /// the job at its next looks instead of after the lock.
+  void give_back(const std::string& id);
   /// The job has finished: no more help. `as_owner`: closed by the replica that ran it, only
   /// while its owner mark names this replica (one atomic script).
   void close(const std::string& id, bool as_owner = false);

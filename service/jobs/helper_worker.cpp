@@ -111,6 +111,11 @@ std::vector<HelpedJobs::Helped> HelperWorker::look() {
       spdlog::warn("batch job {}: its replica {} stopped answering; this replica runs it on",
                    job.id, job.owner);
       if (adopt_ && adopt_(job.id)) continue;
+      jobs_.give_back(job.id);
+      spdlog::warn(
+          "batch job {}: this replica could not run it on (it is stopping, or the shared store "
+          "did not give the job's table); handed to the replicas that help it",
+          job.id);
     }
     out.push_back(std::move(job));
   }

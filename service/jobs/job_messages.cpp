@@ -168,6 +168,22 @@ std::string results_behind_text(const std::string& id, const std::string& why) {
          "; retry later, or ask the replica that runs it";
 }
 
+std::string late_cancel_note(const std::string& note) {
+  const std::string late =
+      "a cancel was asked as its last row was stored: the job had finished, its table is whole";
+  if (note.find(late) != std::string::npos) return note;
+  return note.empty() ? late : note + "; " + late;
+}
+
+std::string silent_owner_text(std::int64_t record_age_ms, double stale_s,
+                              std::chrono::milliseconds left, bool taken_over) {
+  return "the replica running it has not updated it for " + seconds_of_ms(record_age_ms) +
+         ", past batch_job_stale_s = " + api::number_text(stale_s) +
+         " s (paused, stalled or cut off from the shared store)" +
+         (taken_over ? ": another replica takes it over, or it " : ": it ") +
+         "reads as failed if still silent in " + seconds_of_ms(left.count());
+}
+
 std::string remote_cancel_text(std::int64_t record_age_ms, std::int64_t heartbeat_age_ms,
                                double stale_s, bool taken_over) {
   const std::string recorded = "the cancel is recorded in the shared job store; ";

@@ -4,6 +4,7 @@
 // for an owner that does not answer, or the owner was paused. Kept apart from the JSON handling so
 // that each sentence is written once and read in one place.
 
+#include <chrono>
 #include <cstddef>
 #include <cstdint>
 #include <string>
@@ -74,6 +75,15 @@ struct JobKeepBounds {
 
 /// The 503 of the results of such a job: its rows are not all in the shared store.
 [[nodiscard]] std::string results_behind_text(const std::string& id, const std::string& why);
+
+/// The note of a job that was done when its cancel was read: `note` (its note so far, may be
+/// empty) with the late cancel said after it.
+[[nodiscard]] std::string late_cancel_note(const std::string& note);
+/// The note of another replica's job whose record has not been rewritten for `record_age_ms`,
+/// past batch_job_stale_s = `stale_s`, which this replica reads as failed in `left` unless the
+/// owner writes again (or, `taken_over`, a helper takes the job over) first.
+[[nodiscard]] std::string silent_owner_text(std::int64_t record_age_ms, double stale_s,
+                                            std::chrono::milliseconds left, bool taken_over);
 
 /// What a DELETE accepted for another replica's job says about when it takes effect: the owner's
 /// record is `record_age_ms` old; `heartbeat_age_ms` < 0 when its heartbeat is unknown or old;

@@ -91,6 +91,8 @@ void mark_failed(JobRecord& record, const std::string& message);
 void mark_unshared(JobRecord& record, std::optional<std::size_t> rows, const std::string& reason);
 /// Sets "cancel_requested": true.
 void mark_cancel_requested(JobRecord& record);
+/// Sets "note": what happened besides the job's state.
+void add_note(JobRecord& record, const std::string& note);
 /// Adds "cancel_note": when the owner will see a cancel asked through another replica.
 void add_cancel_note(JobRecord& record, const std::string& note);
 /// Adds "deleted": true (the answer of DELETE for a finished job).
