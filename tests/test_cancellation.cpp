@@ -15,6 +15,7 @@
 #include <functional>
 #include <future>
 #include <memory>
+#include <numbers>
 #include <string>
 #include <thread>
 #include <vector>
@@ -22,7 +23,9 @@
 #include <nlohmann/json.hpp>
 
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/motion/planar_path.hpp"
 #include "slosh/core/strategy/min_time.hpp"
+#include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "support/process.hpp"
 #include "support/raw_client.hpp"
@@ -114,6 +117,26 @@ TEST(Cancellation, AMinTimeSearchWhoseClientHungUpFreesItsWorker) {
   EXPECT_EQ(test::metric_of(server, R"(slosh_cache_hits_total{level="memory"})"), 0);
 }
 
+// The endless search along a rotary table's quarter turn (SPEC §14): a path's search stops with
+// its client as the line's does.
+TEST(Cancellation, AMinTimeSearchAlongAPathWhoseClientHungUpFreesItsWorker) {
+  const LongBudgetServer holder({"--workers", "2"});
+  const test::Server& server = *holder;
+  json body = json::parse(endless_min_time());
+  body["format"].erase("stroke_mm");
+  body["format"]["motion"] = {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
+  {
+    test::Raw client(server.port());
+    ASSERT_TRUE(client.send(raw_post("/v1/min-time", body.dump())));
+    ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }))
+        << server.log();
+  }  // the client hangs up mid-search
+  ASSERT_TRUE(test::wait_until([&] {
+    return test::metric_of(server, kCancelledMinTime) == 1 && test::metric_of(server, kBusy) == 0;
+  })) << server.log();
+  EXPECT_EQ(test::metric_of(server, "slosh_min_time_searches_total"), 1);
+}
+
 TEST(Cancellation, ASearchTwoClientsWaitForStopsOnlyWhenBothHaveGone) {
   const LongBudgetServer holder({"--workers", "2"});
   const test::Server& server = *holder;
@@ -187,9 +210,20 @@ TEST(Cancellation, PlanAndMinTimeEndAtOnceWhenTheirStopIsSet) {
   const MinTimeResult result = min_time(format, Strategy::kNotch, search);
   EXPECT_EQ(result.status, SolveStatus::kTimeLimit);
   EXPECT_EQ(result.plans, 0);
+  // Along a path too: plan_on_path and a min-time search on the path.
+  const PlanarPath arc = PlanarPath::arc(0.3, std::numbers::pi / 2.0, true);
+  for (const Strategy strategy : {Strategy::kNotch, Strategy::kTimeDomain}) {
+    EXPECT_EQ(plan_on_path(format, arc, strategy, options).status, SolveStatus::kTimeLimit)
+        << to_string(strategy);
+  }
+  search.path = arc;
+  const MinTimeResult on_path = min_time(format, Strategy::kTimeDomain, search);
+  EXPECT_EQ(on_path.status, SolveStatus::kTimeLimit);
+  EXPECT_EQ(on_path.plans, 0);
   // The same calls without the flag set solve as usual.
   stop = false;
   EXPECT_EQ(plan(format, Strategy::kNotch, options).status, SolveStatus::kOptimal);
+  EXPECT_NE(plan_on_path(format, arc, Strategy::kNotch, options).status, SolveStatus::kTimeLimit);
 }
 
 TEST(Cancellation, IdenticalConcurrentRobustPlansShareOneSolve) {
