@@ -127,6 +127,17 @@ TEST(TurnedTankCalibration, RefusalsNameTheField) {
                "direction): add a move along the length (orientation 0 or 180 degrees) and one "
                "along the width (90 or -90 degrees), or a measured series of a turned move, "
                "whose two frequencies tell the directions apart");
+  // The per-direction fit takes a series' offset as given: asking it to fit one is refused.
+  json offset = turned_calibration();
+  offset["moves"][1]["series"]["fit_offset"] = true;
+  e = calibration_error(offset);
+  EXPECT_EQ(e.status(), 422);
+  EXPECT_EQ(e.field(), "moves[1].series.fit_offset");
+  EXPECT_STREQ(e.what(),
+               "moves[1].series.fit_offset applies to moves along one side of a rectangular "
+               "container: the fit of a turned tank's directions takes each series' offset_s as "
+               "given; set offset_s to the move's start on the series' clock and fit_offset to "
+               "false");
   // A move's own orientation: in range, and a rectangular container's only.
   json turned = turned_calibration();
   turned["moves"][0]["orientation_deg"] = 200;

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include "slosh/api/calibration_container.hpp"
@@ -231,6 +232,25 @@ void fix_rectangular_alpha(const json& body, CalibrationRequest& r) {
   alpha.upper = std::max(alpha.upper, r.base.alpha + 1.0);
 }
 
+namespace {
+
+/// The per-direction fit of a turned tank takes each series' offset as given
+/// (calibrate_rectangular): a fit_offset asked of it is refused, never dropped.
+void refuse_turned_offset_fit(const CalibrationRequest& r) {
+  for (std::size_t i = 0; i < r.moves.size(); ++i) {
+    const std::optional<MeasuredSeries>& s = r.moves[i].series;
+    if (!s || !s->fit_offset) continue;
+    const std::string field = "moves[" + std::to_string(i) + "].series.fit_offset";
+    invalid(field, field +
+                       " applies to moves along one side of a rectangular container: the fit of "
+                       "a turned tank's directions takes each series' offset_s as given; set "
+                       "offset_s to the move's start on the series' clock and fit_offset to "
+                       "false");
+  }
+}
+
+}  // namespace
+
 CalibrationRequest parse_calibration_request(const json& body) {
   require_object(body, "");
   reject_unknown_fields(body, "", {"format", "options", "moves", "fit", "name"});
@@ -260,6 +280,7 @@ CalibrationRequest parse_calibration_request(const json& body) {
   }
   parse_fit(body, r.settings);
   if (r.format.container.rectangular) fix_rectangular_alpha(body, r);
+  if (fitted_per_direction(r)) refuse_turned_offset_fit(r);
   check_priors(r);
   return r;
 }
