@@ -136,6 +136,26 @@ json compact_path(const json& path) {
           {"a_total_peak", p.at("kinematics").at("a_total_peak")}};
 }
 
+/// The motion in a compact plan: a line or an arc as it is (a few members), a path summarised
+/// (its segments would take the 1 kB of a compact plan): the segment count, the signed turn
+/// (the arcs' angles summed: 0 for an S-bend), the start heading and container_turns. Its length
+/// is the law's stroke_mm; the segments are in the full plan of the same key.
+json compact_motion(const json& motion) {
+  if (motion.value("type", "") != "path") return motion;
+  const json& segments = motion.at("segments");
+  double turn = 0.0;
+  for (const json& segment : segments) {
+    if (const auto arc = segment.find("arc"); arc != segment.end()) {
+      turn += arc->at("angle_deg").get<double>();
+    }
+  }
+  return {{"type", "path"},
+          {"segment_count", segments.size()},
+          {"turn_deg", turn},
+          {"start_heading_deg", motion.at("start_heading_deg")},
+          {"container_turns", motion.at("container_turns")}};
+}
+
 }  // namespace
 
 json compact_plan(const json& plan) {
@@ -150,7 +170,7 @@ json compact_plan(const json& plan) {
     law["stroke_mm"] = format.at("stroke_mm");
     law["motion_time_s"] = format.at("motion_time_s");
     // Along an arc or a path the law's stroke is the length along it: the motion says where.
-    if (const auto m = format.find("motion"); m != format.end()) law["motion"] = *m;
+    if (const auto m = format.find("motion"); m != format.end()) law["motion"] = compact_motion(*m);
   }
   out["law"] = std::move(law);
   const json& k = plan.at("kinematics");
