@@ -1,6 +1,7 @@
 #include "slosh/api/plan_view.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
@@ -125,15 +126,21 @@ std::string warning_finding(const std::string& warning) {
 
 namespace {
 
-/// Along an arc or a path: the wall directions of the nonlinear peaks and the peak horizontal
-/// acceleration (tangential and normal together), what a line engineer checks on the arc.
+/// A value rounded to 1 / `per` (the compact view's figures that need no more), divided by the
+/// integer count so that it prints as the short decimal (130.7, not 130.70000000000002).
+double rounded(double value, double per) {
+  return std::round(value * per) / per;
+}
+
+/// Along an arc or a path: the wall directions of the nonlinear peaks (to 0.1 degree) and the
+/// peak horizontal acceleration, tangential and normal together (to 1 mm/s^2), what a line
+/// engineer checks on the arc. The path's length is the law's stroke_mm.
 json compact_path(const json& path) {
   const json& p = path.at("prediction");
   const json& nl = p.at("nonlinear");
-  return {{"length_mm", path.at("length_mm")},
-          {"direction_motion_deg", nl.at("direction_motion_deg")},
-          {"direction_rest_deg", nl.at("direction_rest_deg")},
-          {"a_total_peak", p.at("kinematics").at("a_total_peak")}};
+  return {{"direction_motion_deg", rounded(nl.at("direction_motion_deg").get<double>(), 10.0)},
+          {"direction_rest_deg", rounded(nl.at("direction_rest_deg").get<double>(), 10.0)},
+          {"a_total_peak", rounded(p.at("kinematics").at("a_total_peak").get<double>(), 1e3)}};
 }
 
 /// The motion in a compact plan: a line or an arc as it is (a few members), a path summarised
