@@ -14,6 +14,7 @@
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -325,6 +326,66 @@ TEST(MinTimePath, ASmallArcWithAMaxEndsWithTMinWithinTheDefaultBudget) {
     EXPECT_NEAR(v, 0.0, 1e-6);
     EXPECT_LE(peak, kAMaxSmall * (1.0 + 1e-4));
     EXPECT_GT(peak, 0.5 * kAMaxSmall);  // the machine limit is what holds T_min up here
+  }
+}
+
+/// Feasibility of T along `path` judged here: a plan_on_path (from `warm_start` when given, else
+/// from the planner's own starts) and its verified planar nonlinear peaks against the limits.
+bool feasible_on_path(const api::MinTimeRequest& request, Strategy strategy, double T,
+                      const std::optional<Durations>& warm_start) {
+  Format f = request.format;
+  f.motion_time = T;
+  PlanOptions o = request.options.plan;
+  o.eta_rest_max = request.options.eta_rest_max;
+  o.eta_motion_max = *request.options.eta_motion_limit(request.format);
+  o.warm_start = warm_start;
+  o.robustness = false;
+  o.time_limit = request.options.plan.time_limit;
+  const PlanResult r = plan_on_path(f, *request.options.path, strategy, o);
+  const bool usable = r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable;
+  return usable && r.prediction.nonlinear.motion.value <= *o.eta_motion_max * (1.0 + 1e-6) &&
+         r.prediction.nonlinear.rest.value <= o.eta_rest_max * (1.0 + 1e-6);
+}
+
+// The 90 degree index of a 300 mm table with the default search and no machine limits: nothing
+// bounds T from below but the ramps (0.2 s), and the excess stays far above 1 up to 0.8 s and
+// more. The fixed 40 ms scan spent the default 40 plans on baseline (no T_min), min_jerk_band and
+// fir_chain (time_limit); the grown steps find T_min in fewer than 30, and T_min is feasible
+// here and 1 ms below it is not, both planned in the test.
+TEST(MinTimePath, TheTableIndexIsSearchedWithinThirtyPlansWithoutMachineLimits) {
+  const json body{
+      {"format",
+       {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+        {"fill_height_mm", 82},
+        {"fluid", "water"},
+        {"motion",
+         {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}}}}},
+      {"strategies", {"baseline", "min_jerk_band", "fir_chain"}}};
+  const api::MinTimeRequest request = api::parse_min_time_request(body, 60.0);
+  ASSERT_TRUE(request.options.path);
+  const json answer = api::run_min_time(request);
+  ASSERT_EQ(answer.at("strategies").size(), 3U);
+  for (std::size_t i = 0; i < 3; ++i) {
+    const json& s = answer["strategies"][i];
+    const Strategy strategy = request.strategies[i];
+    SCOPED_TRACE(s["strategy"].dump());
+    ASSERT_EQ(s["status"], "optimal") << s["message"];
+    EXPECT_LT(s["plans"].get<int>(), 30);
+    EXPECT_EQ(s["scan_start_s"].get<double>(), 0.2);
+    const double t_min = s.at("t_min_s");
+    EXPECT_GT(t_min, 0.6);  // well above the scan start: the steps had to grow
+    std::optional<Durations> warm;
+    if (const json& w = s["plan"]["warm_start_s"]; w.is_array()) {
+      Durations d{};
+      for (std::size_t k = 0; k < d.size(); ++k) d[k] = w.at(k);
+      warm = d;
+    }
+    // 1 ms below on the grid as the search spells it (a count of ms over 1000): min_jerk_band's
+    // plan at 1.202 s and at 1.2020000000000002 s (1.203 - 0.001) land on different optima.
+    const double below = (std::round(t_min * 1e3) - 1.0) / 1e3;
+    EXPECT_TRUE(feasible_on_path(request, strategy, t_min, warm));
+    EXPECT_FALSE(feasible_on_path(request, strategy, below, std::nullopt));
+    EXPECT_EQ(s["infeasible_below_s"].get<double>(), below);
   }
 }
 

@@ -823,6 +823,16 @@ TEST(OpenApiResponses, PlansAndSearchesAlongAnArcEchoTheirMotion) {
   EXPECT_TRUE(errors.empty()) << joined(errors);
   const auto echo_errors = validation_errors("FormatEcho", plan["format"]);
   EXPECT_TRUE(echo_errors.empty()) << joined(echo_errors);
+  // The compact plans: an arc as it is, a path summarised.
+  const auto compact_errors = validation_errors("CompactPlan", compact_plan(plan));
+  EXPECT_TRUE(compact_errors.empty()) << joined(compact_errors);
+  body["format"]["motion"] = json::parse(R"({"type": "path", "segments": [{"line_mm": 200},
+      {"arc": {"radius_mm": 150, "angle_deg": 90}}, {"line_mm": 150},
+      {"arc": {"radius_mm": 120, "angle_deg": -60}}]})");
+  const json compact_path = compact_plan(run_plan(parse_plan_request(body)));
+  ASSERT_EQ(compact_path["law"]["motion"]["segment_count"], 4);
+  const auto path_errors = validation_errors("CompactPlan", compact_path);
+  EXPECT_TRUE(path_errors.empty()) << joined(path_errors);
 
   json search{{"format",
                {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},

@@ -182,6 +182,49 @@ TEST(CompactPlan, IsUnder1kBForEveryStrategyWithASevenSegmentLaw) {
   std::printf("longest compact plan: %zu bytes\n", longest);
 }
 
+// Along a path the compact plan carries a summary of the motion (segment count, signed turn,
+// start heading, container_turns: the segments themselves took it past 1 kB, 1127 bytes for
+// multi_notch here) and the path's figures rounded (directions to 0.1 degree, the total
+// acceleration to 1 mm/s^2): under 1 kB on a 4-segment path for every strategy with a 7-segment
+// law; the length is the law's stroke, computed here from the segments.
+TEST(CompactPlan, APathPlanSummarisesItsMotionAndIsUnder1kB) {
+  constexpr double kPi = 3.14159265358979323846;
+  json request = json::parse(R"({"format": {"container": {"radius_mm": 48.5, "height_mm": 150},
+      "fill_height_mm": 82, "fluid": "water", "motion_time_s": 1.6,
+      "motion": {"type": "path", "segments": [{"line_mm": 200},
+                 {"arc": {"radius_mm": 150, "angle_deg": 90}}, {"line_mm": 150},
+                 {"arc": {"radius_mm": 120, "angle_deg": -60}}],
+                 "start_heading_deg": 30, "container_turns": false}}})");
+  const double length_mm = 200.0 + 150.0 * kPi / 2.0 + 150.0 + 120.0 * kPi / 3.0;
+  for (const char* strategy :
+       {"baseline", "notch", "multi_notch", "min_jerk_band", "time_domain"}) {
+    SCOPED_TRACE(strategy);
+    request["strategy"] = strategy;
+    json plan = api::run_plan(api::parse_plan_request(request));
+    plan["cached"] = true;  // the longer spelling of the flag
+    ASSERT_EQ(plan["law"]["type"], "seven_segment");
+    ASSERT_EQ(plan["format"]["motion"]["segments"].size(), 4U);
+    const json compact = api::compact_plan(plan);
+    const std::string text = api::dump_json(compact);
+    EXPECT_LT(text.size(), api::kCompactPlanMaxBytes) << text;
+    EXPECT_EQ(compact["law"]["motion"], json({{"type", "path"},
+                                              {"segment_count", 4},
+                                              {"turn_deg", 30.0},
+                                              {"start_heading_deg", 30.0},
+                                              {"container_turns", false}}));
+    EXPECT_NEAR(compact["law"]["stroke_mm"].get<double>(), length_mm, 1e-9);
+    EXPECT_EQ(compact["law"]["durations_s"], plan["durations_s"]);
+    const json& full = plan["path"]["prediction"];
+    EXPECT_NEAR(compact["path"]["direction_motion_deg"].get<double>(),
+                full["nonlinear"]["direction_motion_deg"].get<double>(), 0.05 + 1e-12);
+    EXPECT_NEAR(compact["path"]["direction_rest_deg"].get<double>(),
+                full["nonlinear"]["direction_rest_deg"].get<double>(), 0.05 + 1e-12);
+    EXPECT_NEAR(compact["path"]["a_total_peak"].get<double>(),
+                full["kinematics"]["a_total_peak"].get<double>(), 5e-4 + 1e-12);
+    EXPECT_FALSE(compact["path"].contains("length_mm"));
+  }
+}
+
 // Two sentences of one kind (say both models beyond their theory) are one finding: the compact
 // view listed "linear model beyond its theory" twice, two warnings read as one repeated.
 TEST(CompactPlan, ListsEachFindingOnce) {

@@ -25,6 +25,9 @@ namespace mr = min_time_ranges;
 // v3: infeasible points confirmed from the planner's own starts; v4: above T_min only up to the
 // first one that fails from them, the warm-started failures above it left off the curve.
 constexpr const char* kMinTimeVersion = "min-time-v4";
+/// Version of the search along an arc or a path, in those keys only (the line's keys unchanged).
+// v2: the scan's step grows geometrically far from the limits (path_scan_step).
+constexpr const char* kMinTimePathVersion = "min-time-path-v2";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",
@@ -367,6 +370,7 @@ std::string min_time_key(const MinTimeRequest& request, std::string_view version
                         {"max_plans", o.max_plans},
                         {"curve_factor", o.curve_factor},
                         {"refine_excess", o.refine_excess}};
+  if (request.motion) recipe["min_time"]["path_search"] = kMinTimePathVersion;
   return sha256_key(recipe.dump());
 }
 

@@ -966,15 +966,28 @@ void add_path_plan_schemas(json& s) {
              "baseline of the plan hold the same peaks), with the wall angle of each peak.",
              false);
   s["PlanResponse"]["properties"]["path"] = ref("PathPlan");
-  s["CompactPlan"]["properties"]["path"] =
-      object({{"length_mm", number("[mm]")},
-              {"direction_motion_deg", number("Wall angle of the nonlinear motion peak [deg].")},
-              {"direction_rest_deg", number("Wall angle of the nonlinear rest peak [deg].")},
-              {"a_total_peak", number("Largest total horizontal acceleration sqrt(s''^2 + "
-                                      "(s'^2/rho)^2) [m/s^2]: what limits.a_max bounds "
-                                      "(kinematics.a_max is the tangential s'' alone).")}},
-             {}, "Only along an arc or a path.", false);
-  s["CompactLaw"]["properties"]["motion"] = ref("Motion");
+  s["CompactPlan"]["properties"]["path"] = object(
+      {{"direction_motion_deg",
+        number("Wall angle of the nonlinear motion peak, to 0.1 degree [deg].")},
+       {"direction_rest_deg",
+        number("Wall angle of the nonlinear rest peak, to 0.1 degree [deg].")},
+       {"a_total_peak", number("Largest total horizontal acceleration sqrt(s''^2 + "
+                               "(s'^2/rho)^2), to 1 mm/s^2 [m/s^2]: what limits.a_max bounds "
+                               "(kinematics.a_max is the tangential s'' alone).")}},
+      {}, "Only along an arc or a path (its length is law.stroke_mm).", false);
+  s["CompactLaw"]["properties"]["motion"] =
+      json{{"description",
+            "A line or an arc as in format.motion; a path summarised (its segments are in the full "
+            "plan of the same key), so that the compact plan stays under 1 kB."},
+           {"oneOf",
+            {ref("Motion"),
+             object({{"type", string_enum({"path"}, "A path of lines and arcs.")},
+                     {"segment_count", integer("Its lines and arcs.")},
+                     {"turn_deg", number("The arcs' signed angles summed (left positive) [deg].")},
+                     {"start_heading_deg", number("Heading at the start [deg].")},
+                     {"container_turns", boolean("Whether the container turns with the path.")}},
+                    {"type", "segment_count", "turn_deg", "start_heading_deg", "container_turns"},
+                    "A path's summary in a compact plan.", true)}}};
 }
 
 // The answer of simulate with format.motion: both planar models' peaks with their wall angles.

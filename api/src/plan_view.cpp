@@ -1,6 +1,7 @@
 #include "slosh/api/plan_view.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
@@ -125,15 +126,41 @@ std::string warning_finding(const std::string& warning) {
 
 namespace {
 
-/// Along an arc or a path: the wall directions of the nonlinear peaks and the peak horizontal
-/// acceleration (tangential and normal together), what a line engineer checks on the arc.
+/// A value rounded to 1 / `per` (the compact view's figures that need no more), divided by the
+/// integer count so that it prints as the short decimal (130.7, not 130.70000000000002).
+double rounded(double value, double per) {
+  return std::round(value * per) / per;
+}
+
+/// Along an arc or a path: the wall directions of the nonlinear peaks (to 0.1 degree) and the
+/// peak horizontal acceleration, tangential and normal together (to 1 mm/s^2), what a line
+/// engineer checks on the arc. The path's length is the law's stroke_mm.
 json compact_path(const json& path) {
   const json& p = path.at("prediction");
   const json& nl = p.at("nonlinear");
-  return {{"length_mm", path.at("length_mm")},
-          {"direction_motion_deg", nl.at("direction_motion_deg")},
-          {"direction_rest_deg", nl.at("direction_rest_deg")},
-          {"a_total_peak", p.at("kinematics").at("a_total_peak")}};
+  return {{"direction_motion_deg", rounded(nl.at("direction_motion_deg").get<double>(), 10.0)},
+          {"direction_rest_deg", rounded(nl.at("direction_rest_deg").get<double>(), 10.0)},
+          {"a_total_peak", rounded(p.at("kinematics").at("a_total_peak").get<double>(), 1e3)}};
+}
+
+/// The motion in a compact plan: a line or an arc as it is (a few members), a path summarised
+/// (its segments would take the 1 kB of a compact plan): the segment count, the signed turn
+/// (the arcs' angles summed: 0 for an S-bend), the start heading and container_turns. Its length
+/// is the law's stroke_mm; the segments are in the full plan of the same key.
+json compact_motion(const json& motion) {
+  if (motion.value("type", "") != "path") return motion;
+  const json& segments = motion.at("segments");
+  double turn = 0.0;
+  for (const json& segment : segments) {
+    if (const auto arc = segment.find("arc"); arc != segment.end()) {
+      turn += arc->at("angle_deg").get<double>();
+    }
+  }
+  return {{"type", "path"},
+          {"segment_count", segments.size()},
+          {"turn_deg", turn},
+          {"start_heading_deg", motion.at("start_heading_deg")},
+          {"container_turns", motion.at("container_turns")}};
 }
 
 }  // namespace
@@ -150,7 +177,7 @@ json compact_plan(const json& plan) {
     law["stroke_mm"] = format.at("stroke_mm");
     law["motion_time_s"] = format.at("motion_time_s");
     // Along an arc or a path the law's stroke is the length along it: the motion says where.
-    if (const auto m = format.find("motion"); m != format.end()) law["motion"] = *m;
+    if (const auto m = format.find("motion"); m != format.end()) law["motion"] = compact_motion(*m);
   }
   out["law"] = std::move(law);
   const json& k = plan.at("kinematics");
