@@ -230,6 +230,28 @@ TEST(HelpedJobs, ASigtermOfTheOwnerHandsItsJobToTheHelpersWhichFinishIt) {
   EXPECT_EQ(whole_table(other, id, 480), reference);
 }
 
+// The owner is stopped gracefully while its worker also helps another replica's job, so the
+// solve of its own job's next row is often still queued when the shutdown refuses what is
+// queued: that refusal is not stored as the row (the job would end done with a failed row where
+// `slosh batch` plans it). The job is handed over before that row, and ends as `slosh batch`.
+TEST(HelpedJobs, ASolveTheShutdownRefusedIsNotStoredAsTheRowOfTheHandedOverJob) {
+  const std::vector<std::string> reference = reference_of(240, 7000);
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[1].client();
+  auto last = cluster.replicas[2].client();
+  std::vector<std::string> others;
+  for (std::size_t k = 0; k < 3; ++k) others.push_back(post_table(other, 240, 7300 + 240 * k));
+  const std::string id = post_table(owner, 240, 7000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(last, id, 20).at("state"), "running");
+  ASSERT_EQ(cluster.replicas[0].kill(SIGTERM), 0);
+  const json record = wait_finished(last, id);
+  EXPECT_EQ(record.at("state"), "done") << record;
+  EXPECT_EQ(record.at("progress").at("failed"), 0) << record;
+  EXPECT_EQ(whole_table(last, id, 240), reference);
+}
+
 // The taker of a job handed over by a SIGTERM is itself stopped gracefully right after its
 // takeover: it hands the job on together with its adoption lock, so the last replica takes the
 // job at its next looks (not once the lock, half of batch_job_stale_s, has run out), and the job

@@ -231,8 +231,15 @@ void BatchJobs::run(Job& job) {
     const StartedItem& head = window.front();
     if (!head.pending.valid() ||
         head.pending.wait_for(std::chrono::milliseconds(100)) == std::future_status::ready) {
-      row_bytes += keep_row(job, head.get(), rows, cached);
+      const BatchResult result = head.get();
       window.pop_front();
+      // A solve the shutdown refused is not the recipe's row: the job stops before it, and the
+      // replica that takes it over (or a POST again) plans it.
+      if (result.error && result.error->code() == api::ErrorCode::kOverloaded && stopping()) {
+        stop = RunStop::kShutdown;
+        break;
+      }
+      row_bytes += keep_row(job, result, rows, cached);
       if (row_bytes > max_bytes) {
         stop = RunStop::kTooLarge;
         break;

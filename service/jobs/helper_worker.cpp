@@ -34,6 +34,7 @@ HelperWorker::HelperWorker(PlanService& service, std::shared_ptr<RedisClient> cl
                            std::chrono::milliseconds stale, JobStore& store,
                            std::function<bool(const std::string&)> adopt)
     : service_(service),
+      client_(client),
       jobs_(std::move(client), std::move(replica), ttl),
       stale_(stale),
       store_(store),
@@ -74,6 +75,14 @@ bool HelperWorker::silent_for_long(const std::string& id) {
   // expiry runs on), and the first look after it may be answered before the owner's heartbeat
   // that waited through it; a live owner has beaten again by the next look.
   const auto now = std::chrono::steady_clock::now();
+  // When Redis failed this replica's own commands a moment ago it stalled or was cut off for
+  // every replica: the owner's client waits out its retry interval before it writes again (at
+  // its next heartbeat), so its silence is only judged once that has passed.
+  const auto settle = client_->options().retry_interval + 2 * kLook;
+  if (now - client_->state().last_failure < settle) {
+    silent_since_.erase(id);
+    return false;
+  }
   const auto [seen, first] = silent_since_.try_emplace(id, now);
   return !first && now - seen->second >= kLook;
 }

@@ -60,6 +60,7 @@ class HelperWorker {
   [[nodiscard]] bool stopping() const;
 
   PlanService& service_;
+  std::shared_ptr<RedisClient> client_;  // this replica's, shared with jobs_
   HelpedJobs jobs_;
   std::chrono::milliseconds stale_;
   JobStore& store_;

@@ -114,7 +114,8 @@ void RedisClient::mark_up() {
 void RedisClient::mark_down(const std::string& error) {
   const std::lock_guard lock(state_mutex_);
   ++failures_;  // connections made before this failure are replaced on their next use
-  retry_at_ = Clock::now() + options_.retry_interval;
+  last_failure_ = Clock::now();
+  retry_at_ = last_failure_ + options_.retry_interval;
   error_ = error;
   if (!up_ && known_) return;
   spdlog::warn("redis {} is down ({}); answering from the local cache levels, retrying every {} ms",
@@ -135,7 +136,7 @@ void RedisClient::probe() {
 
 RedisClient::State RedisClient::state() const {
   const std::lock_guard lock(state_mutex_);
-  return State{up_, error_};
+  return State{up_, error_, last_failure_};
 }
 
 redisContext* RedisClient::connect(Slot& slot, Clock::time_point deadline, std::string& error) {

@@ -68,6 +68,8 @@ class RedisClient {
   struct State {
     bool up{false};
     std::string error;  ///< the last failure while down; empty while up
+    /// When a command last failed (epoch when none has).
+    std::chrono::steady_clock::time_point last_failure{};
   };
   [[nodiscard]] State state() const;
   [[nodiscard]] const RedisOptions& options() const { return options_; }
@@ -96,6 +98,7 @@ class RedisClient {
   bool known_{false};  // a state has been logged once
   std::string error_;
   Clock::time_point retry_at_{};
+  Clock::time_point last_failure_{};
   Clock::time_point next_probe_{};
   std::uint64_t failures_{0};  // counts failures: connections older than the last are replaced
 };
