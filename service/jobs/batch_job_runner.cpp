@@ -255,11 +255,16 @@ void BatchJobs::run(Job& job) {
       last_flush = std::chrono::steady_clock::now();
     }
   }
+  end_run(job, stop, rows, cached);
+}
+
+void BatchJobs::end_run(Job& job, RunStop stop, std::vector<std::string>& rows,
+                        std::vector<std::size_t>& cached) {
   // The last row may have come in the very turn this replica resumed after a pause long enough
   // for another replica to take the job over: asked once more before the final writes (which
   // the job store makes only while the job's owner mark names this replica anyway).
   // A job handed over at a shutdown keeps its helpers on the items from its stored rows on.
-  const std::size_t front = stop == RunStop::kShutdown ? s.done : s.total;
+  const std::size_t front = stop == RunStop::kShutdown ? job.status.done : job.status.total;
   if (stop != RunStop::kTakenOver && helped_ && !beat_helpers(job, cached, front, true)) {
     stop = RunStop::kTakenOver;
   }

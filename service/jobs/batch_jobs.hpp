@@ -145,6 +145,10 @@ class BatchJobs {
   // Why a run stops before its next row (taken over, cancelled, shutdown), if it does.
   std::optional<RunStop> stop_before_row(Job& job, std::chrono::steady_clock::time_point& last_turn,
                                          bool heartbeat);
+  // The last writes of a run that stopped as `stop` (its rows not yet flushed, the cache hits not
+  // yet credited), then finish_run().
+  void end_run(Job& job, RunStop stop, std::vector<std::string>& rows,
+               std::vector<std::size_t>& cached);
   // Ends a run that stopped as `stop` with its state and message.
   void finish_run(Job& job, RunStop stop);
   // Ends `job` in `state` with `message`: its rows and final record stored.
