@@ -88,20 +88,26 @@ const std::string kCancelledPlan = R"(slosh_solves_cancelled_total{kind="plan"})
 const std::string kBackground = R"(slosh_pool_tasks_started_total{priority="background"})";
 const std::string kInteractive = R"(slosh_pool_tasks_started_total{priority="interactive"})";
 
-TEST(Cancellation, AMinTimeSearchWhoseClientHungUpFreesItsWorker) {
-  const LongBudgetServer holder({"--workers", "2"});
-  const test::Server& server = *holder;
-  EXPECT_EQ(test::metric_of(server, kCancelledMinTime), 0);
+// Posts min-time request `body`, hangs up once its search runs, and checks the search stopped
+// and freed its worker: the `n`-th cancelled search of `server`.
+void hang_up_mid_search(const test::Server& server, const std::string& body, int n) {
   {
     test::Raw client(server.port());
-    ASSERT_TRUE(client.send(raw_post("/v1/min-time", endless_min_time())));
+    ASSERT_TRUE(client.send(raw_post("/v1/min-time", body)));
     ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }))
         << server.log();
   }  // the client hangs up mid-search
   ASSERT_TRUE(test::wait_until([&] {
-    return test::metric_of(server, kCancelledMinTime) == 1 && test::metric_of(server, kBusy) == 0;
+    return test::metric_of(server, kCancelledMinTime) == n && test::metric_of(server, kBusy) == 0;
   })) << server.log();
-  EXPECT_EQ(test::metric_of(server, "slosh_min_time_searches_total"), 1);
+  EXPECT_EQ(test::metric_of(server, "slosh_min_time_searches_total"), n);
+}
+
+TEST(Cancellation, AMinTimeSearchWhoseClientHungUpFreesItsWorker) {
+  const LongBudgetServer holder({"--workers", "2"});
+  const test::Server& server = *holder;
+  EXPECT_EQ(test::metric_of(server, kCancelledMinTime), 0);
+  hang_up_mid_search(server, endless_min_time(), 1);
   // Nothing half-searched was kept: the same request searches again instead of a cache hit.
   {
     test::Raw again(server.port());
@@ -125,16 +131,7 @@ TEST(Cancellation, AMinTimeSearchAlongAPathWhoseClientHungUpFreesItsWorker) {
   json body = json::parse(endless_min_time());
   body["format"].erase("stroke_mm");
   body["format"]["motion"] = {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}};
-  {
-    test::Raw client(server.port());
-    ASSERT_TRUE(client.send(raw_post("/v1/min-time", body.dump())));
-    ASSERT_TRUE(test::wait_until([&] { return test::metric_of(server, kBusy) == 1; }))
-        << server.log();
-  }  // the client hangs up mid-search
-  ASSERT_TRUE(test::wait_until([&] {
-    return test::metric_of(server, kCancelledMinTime) == 1 && test::metric_of(server, kBusy) == 0;
-  })) << server.log();
-  EXPECT_EQ(test::metric_of(server, "slosh_min_time_searches_total"), 1);
+  hang_up_mid_search(server, body.dump(), 1);
 }
 
 TEST(Cancellation, ASearchTwoClientsWaitForStopsOnlyWhenBothHaveGone) {

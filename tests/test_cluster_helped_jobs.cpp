@@ -240,8 +240,7 @@ TEST(HelpedJobs, ASolveTheShutdownRefusedIsNotStoredAsTheRowOfTheHandedOverJob) 
   auto owner = cluster.replicas[0].client();
   auto other = cluster.replicas[1].client();
   auto last = cluster.replicas[2].client();
-  std::vector<std::string> others;
-  for (std::size_t k = 0; k < 3; ++k) others.push_back(post_table(other, 240, 7300 + 240 * k));
+  for (std::size_t k = 0; k < 3; ++k) ASSERT_FALSE(post_table(other, 240, 7300 + 240 * k).empty());
   const std::string id = post_table(owner, 240, 7000);
   ASSERT_FALSE(id.empty());
   ASSERT_EQ(wait_done(last, id, 20).at("state"), "running");
