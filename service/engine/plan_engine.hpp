@@ -77,6 +77,11 @@ struct BatchResult {
   std::optional<api::ApiError> error;  ///< set when the item failed
   bool cached{false};                  ///< the plan came from the cache
   [[nodiscard]] bool ok() const { return !error; }
+  /// The pool refused the solve (kOverloaded). Batch items wait for room in the queue, so for
+  /// them this is only ever the shutdown's refusal: not the recipe's result.
+  [[nodiscard]] bool refused() const {
+    return error && error->code() == api::ErrorCode::kOverloaded;
+  }
 };
 
 /// The items of a batch in request order while their solves run on the pool.

@@ -235,7 +235,7 @@ void BatchJobs::run(Job& job) {
       window.pop_front();
       // A solve the shutdown refused is not the recipe's row: the job stops before it, and the
       // replica that takes it over (or a POST again) plans it.
-      if (result.error && result.error->code() == api::ErrorCode::kOverloaded && stopping()) {
+      if (result.refused() && stopping()) {
         stop = RunStop::kShutdown;
         break;
       }

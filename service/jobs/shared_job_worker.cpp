@@ -231,9 +231,17 @@ bool SharedJobWorker::store_ready(std::vector<InFlight>& flight, bool& complete)
         ++it;
         continue;
       }
+      const BatchResult result = s.get();
+      // The shutdown refused this solve (it was still queued, or taken as the replica stopped):
+      // not the recipe's row. Left unstored, the item stays pending in the job's stream for
+      // another replica to take.
+      if (result.refused() && stopping()) {
+        it = flight.erase(it);
+        continue;
+      }
       std::optional<api::PlanView> view;
       if (it->item.view) view = api::parse_plan_view(*it->item.view);
-      const api::PlanTableRow row = plan_row(it->item.recipe, s.get(), view);
+      const api::PlanTableRow row = plan_row(it->item.recipe, result, view);
       it->text = api::table_row_text(row);
       it->failed = row.failed;
     } else if (now < it->retry_at) {

@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "support/process.hpp"
+#include "support/server.hpp"
 
 namespace slosh::test {
 
@@ -139,5 +140,18 @@ class ReplicaSet {
  private:
   std::vector<std::unique_ptr<Replica>> replicas_;
 };
+
+/// True once both replicas' logs (each started with the same --replica-id) say that another
+/// live replica uses their id, within 20 s.
+inline bool both_say_their_id_is_shared(Replica& first, Replica& second) {
+  const std::string warning =
+      "another live replica uses the replica id '" + first.id() + "' on this Redis";
+  return wait_until(
+      [&] {
+        return first.log().find(warning) != std::string::npos &&
+               second.log().find(warning) != std::string::npos;
+      },
+      std::chrono::seconds(20));
+}
 
 }  // namespace slosh::test
