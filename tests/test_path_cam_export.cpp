@@ -376,15 +376,22 @@ TEST(PathCamCli, StructuredTextHasTheCsvColumnsAndRows) {
     json motion;
     std::vector<std::string> extra;
     std::string type;
+    std::string dwell;  // where a master cam's slave dwells, as the header says
   };
+  // The path's length, 200 mm and a quarter circle of 100 mm, to 10 digits as headers print.
+  const std::string path_mm = "357.0796327";
   for (const Case& c :
-       {Case{arc, {}, "SLOSH_TABLE_CAM_POINT"}, Case{path, {}, "SLOSH_PATH_CAM_POINT"},
+       {Case{arc, {}, "SLOSH_TABLE_CAM_POINT", ""}, Case{path, {}, "SLOSH_PATH_CAM_POINT", ""},
         Case{arc,
              {"--master-period", "360", "--master-start", "30", "--master-end", "210"},
-             "SLOSH_TABLE_MASTER_CAM_POINT"},
+             "SLOSH_TABLE_MASTER_CAM_POINT",
+             "the slave dwells at 0 deg before the start and at 90 deg (the table's rotation) "
+             "from the end on"},
         Case{path,
              {"--master-period", "100", "--master-start", "0", "--master-end", "100"},
-             "SLOSH_PATH_MASTER_CAM_POINT"}}) {
+             "SLOSH_PATH_MASTER_CAM_POINT",
+             "the slave dwells at s = 0 mm before the start and at s = " + path_mm +
+                 " mm (the path's end) from the end on"}}) {
     SCOPED_TRACE(c.type);
     write_file(dir / "law.json", law_request(c.motion, 1.0).dump());
     std::vector<std::string> csv_args{"export", "--request", (dir / "law.json").string(), "--out",
@@ -410,6 +417,8 @@ TEST(PathCamCli, StructuredTextHasTheCsvColumnsAndRows) {
                                               : "   path: a path of 2 segments (lines and arcs)"),
         std::string::npos)
         << st.out.substr(0, 800);
+    if (!c.dwell.empty())
+      EXPECT_NE(st.out.find(c.dwell), std::string::npos) << st.out.substr(0, 800);
     ASSERT_EQ(rows.rows.size(), table.rows.size());
     for (std::size_t k = 0; k < table.rows.size(); ++k) {
       ASSERT_EQ(rows.rows[k].size(), table.rows[k].size()) << k;

@@ -231,6 +231,20 @@ TEST(PathHostile, RefusalsNameMemberValueAndLimit) {
     return json{{"type", "path"}, {"segments", segments}};
   };
   simulate_uniform(server, thirds(100.0));
+  // A path's arc is a segment as long as a line may be, as a lone arc is.
+  json corner = lines({200, 200});
+  corner["segments"].insert(corner["segments"].begin() + 1,
+                            {{"arc", {{"radius_mm", 1e-9}, {"angle_deg", 90}}}});
+  refusal(corner, "format.motion.segments[1].arc",
+          "format.motion.segments[1].arc is 1.570796327e-09 mm long (radius_mm × angle); allowed "
+          "0.01 to 100000 mm");
+  // Segments that add up to the limit are at it, whatever the sum's rounding (99.99 m + 0.01 m
+  // is 100.00000000000001 m in doubles); beyond it by a hundredth of a millimetre is refused.
+  simulate_uniform(server, lines({99990, 10}));
+  simulate_uniform(server, lines(std::vector<double>(10000, 10)));
+  refusal(lines({99990, 10.01}), "format.motion",
+          "format.motion is 100000.01 mm long (the length the law moves along it); allowed 0.01 "
+          "to 100000 mm");
   refusal(thirds(99.999999 + 1e-5 * 180.0 / std::numbers::pi), "format.motion.segments[3]",
           "format.motion.segments[3] starts at heading 100.000572 deg but the path arrives at "
           "heading 99.999999 deg: lines and arcs must join with a common tangent (within 1e-6 "
@@ -289,6 +303,14 @@ TEST(PathHostile, ACachedPlanEchoesTheCanonicalMotionNotAnotherClients) {
                               {"container_turns", true}};
   EXPECT_EQ(arc["format"]["motion"], arc_canonical) << arc["format"]["motion"].dump();
   EXPECT_EQ(arc_again["format"]["motion"], arc_canonical);
+  // -0 and -360 are the heading 0 of the default: one echo (never "-0.0"), one recipe.
+  const json at_zero = plan({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}});
+  for (const double heading : {-0.0, -360.0, 360.0}) {
+    const json turned = plan(
+        {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"start_heading_deg", heading}});
+    EXPECT_EQ(turned["key"], at_zero["key"]) << heading;
+    EXPECT_EQ(turned["format"]["motion"].dump(), at_zero["format"]["motion"].dump()) << heading;
+  }
 
   // The CLI's flags plan the same recipe with the same echo.
   const RunResult cli =

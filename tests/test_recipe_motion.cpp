@@ -87,6 +87,12 @@ TEST(RecipeMotion, MisplacedCellsNameTheirColumn) {
        "stroke_mm",
        "stroke_mm is given but motion_type is arc: the arc's length is the stroke; leave it "
        "empty"},
+      {{"a", "48.5", "82", "water", "", "1", "ARC", "300", "90", "", "", "notch"},
+       "motion_type",
+       "motion_type = \"ARC\" is not allowed: one of \"line\", \"arc\", \"path\""},
+      {{"a", "48.5", "82", "water", "", "1", "trajectory", "", "", "", "", "notch"},
+       "motion_type",
+       "motion_type = \"trajectory\" is not allowed: one of \"line\", \"arc\", \"path\""},
       {{"a", "48.5", "82", "water", "", "1", "path", "", "", "", "[{\"line_mm\": 2", "notch"},
        "path_json",
        "path_json = \"[{\\\"line_mm\\\": 2\" is not JSON"},

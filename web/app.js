@@ -59,7 +59,7 @@ function clearResults() {
 function simulateRequest(plan, law) {
   const m = plan.model;
   const T = plan.format.motion_time_s;
-  const options = { damping: m.damping === 'explicit' ? m.zeta : m.damping, alpha: m.alpha, modes: m.f_hz.length, min_ramp_s: 0.001 };
+  const options = { damping: m.damping === 'explicit' ? { zeta: m.zeta } : m.damping, alpha: m.alpha, modes: m.f_hz.length, min_ramp_s: 0.001 };
   // A rectangular tank's model reports its own damping ("rectangular"), which simulate applies
   // when none is given, and its own nonlinear model (the cylinder's alpha is not part of it).
   if (m.rectangular) {

@@ -20,6 +20,9 @@ namespace {
 using json = nlohmann::json;
 
 constexpr double kRadPerDeg{std::numbers::pi / 180.0};
+// Bound on the relative rounding of a path's length summed over its segments (at most
+// kMaxPathSegments terms, each rounding by 2^-53).
+constexpr double kPathLengthRounding{1e-11};
 const std::string kMotion{"format.motion"};
 
 using motion_ranges::kAngleDeg;
@@ -82,7 +85,7 @@ double normal_heading_deg(double deg) {
   double h = std::fmod(deg, 360.0);
   if (h <= -180.0) h += 360.0;
   if (h > 180.0) h -= 360.0;
-  return h;
+  return h + 0.0;  // -0 (from -0 or -360) is 0: one echo, one recipe key
 }
 
 // The start heading of an arc or a path [rad], normalised.
@@ -149,7 +152,15 @@ PathElement parse_segment(const json& segment, const std::string& path) {
   require_object(a, apath);
   reject_unknown_fields(a, apath, {"radius_mm", "angle_deg"});
   const double radius = arc_radius_m(a, apath);
-  return PathElement::arc(radius, arc_angle_deg(a, apath) * kRadPerDeg, heading);
+  const double angle = arc_angle_deg(a, apath) * kRadPerDeg;
+  // A segment is at least as long as a line may be: an arc shorter than that is a corner the
+  // container cannot follow (its normal acceleration grows as 1 / radius).
+  const double length_mm = mm_of(radius * std::abs(angle));
+  if (!ranges::kStrokeMm.contains(length_mm)) {
+    invalid(apath, apath + " is " + number_text(length_mm) +
+                       " mm long (radius_mm × angle); allowed " + ranges::kStrokeMm.describe());
+  }
+  return PathElement::arc(radius, angle, heading);
 }
 
 PlanarPath parse_path(const json& m) {
@@ -332,9 +343,15 @@ SpatialFormat parse_spatial_format(const nlohmann::json& body, bool trajectory_a
             "format.stroke_mm and format.motion both give the move: give one of them (stroke_mm "
             "is the short form of a motion of type \"line\")");
   }
-  const double length_mm = out.motion.type == MotionType::kLine
-                               ? format["motion"]["length_mm"].get<double>()
-                               : out.motion.path->length() * 1e3;
+  double length_mm = out.motion.type == MotionType::kLine
+                         ? format["motion"]["length_mm"].get<double>()
+                         : out.motion.path->length() * 1e3;
+  // A path's length is a sum of its segments': segments that add up to the limit exactly may
+  // exceed it by the sum's rounding, which is not the client's length.
+  if (out.motion.path && length_mm > ranges::kStrokeMm.hi &&
+      length_mm <= ranges::kStrokeMm.hi * (1.0 + kPathLengthRounding)) {
+    length_mm = ranges::kStrokeMm.hi;
+  }
   if (!ranges::kStrokeMm.contains(length_mm)) {
     invalid(kMotion, kMotion + " is " + number_text(length_mm) +
                          " mm long (the length the law moves along it); allowed " +

@@ -53,6 +53,11 @@ void complete_row_motion(json& request) {
                                 "path with it"};
   }
   const std::string type = motion["type"].is_string() ? motion["type"].get<std::string>() : "";
+  // A recipe table moves along a line, an arc or a path (a sampled trajectory is simulate's).
+  if (type != "line" && type != "arc" && type != "path") {
+    throw CellError{"motion_type", "motion_type = " + show(motion["type"]) +
+                                       " is not allowed: one of \"line\", \"arc\", \"path\""};
+  }
   for (const MemberColumn& m : kMembers) {
     const bool belongs = m.type.empty() ? type != "line" : m.type == type;
     if (motion.contains(m.member) && !belongs) {

@@ -340,12 +340,14 @@ std::string st_format_line(const CamTable& table) {
 }
 
 // The "master axis:" line of the ST header of a master-axis table.
-std::string st_master_line(const MasterAxis& a, double motion_time) {
+std::string st_master_line(const MasterAxis& a, const CamSource& source) {
+  const std::string dwell = source.slave_dwell.empty()
+                                ? "0 mm before the start and at the stroke from the end on"
+                                : source.slave_dwell;
   return "   master axis: period " + api::number_text(a.period) + ", motion from " +
          api::number_text(a.start) + " to " + api::number_text(a.end) + " at " +
-         api::number_text((a.end - a.start) / motion_time) +
-         " master units/s; the slave dwells at 0 mm before the start and at the stroke from the "
-         "end on\n";
+         api::number_text((a.end - a.start) / source.motion_time) +
+         " master units/s; the slave dwells at " + dwell + "\n";
 }
 
 std::string st_header(const CamTable& table, const CamSource& source, std::string_view type,
@@ -359,7 +361,7 @@ std::string st_header(const CamTable& table, const CamSource& source, std::strin
   h += "   law: " + comment_text(source.law_type) + ", stroke " +
        api::number_text(source.stroke * kMmPerM) + " mm, motion time " +
        api::number_text(source.motion_time) + " s\n";
-  if (table.axis) h += st_master_line(*table.axis, source.motion_time);
+  if (table.axis) h += st_master_line(*table.axis, source);
   h += extra;
   h += "   TYPE " + std::string(type) +
        " is the same in every slosh export: declare it once per project *)\n";

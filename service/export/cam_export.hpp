@@ -130,6 +130,9 @@ struct CamSource {
   std::string key;       ///< recipe key; empty for a law request
   double stroke{};       ///< [m]
   double motion_time{};  ///< [s]
+  /// Where a master-axis table's slave dwells, as the ST header says it; empty: the straight
+  /// line's "0 mm before the start and at the stroke from the end on".
+  std::string slave_dwell;
 };
 
 /// A sampled cam table: time-based (`time`, every `period` seconds) or master-axis (`master`

@@ -136,7 +136,16 @@ std::string path_cam_file(const CamTable& table, const PlanarPath& path, const C
                           const CamTableSpec& spec) {
   const PathRows t = rows_of(table, path);
   if (spec.format == CamFileFormat::kCsv) return csv_of(t);
-  return st_declaration(cam_st_header(table, source, t.type, path_line(path)), t.type, t.columns,
+  // The slave of a table's master cam is the table's rotation; of any other path, s along it.
+  CamSource along = source;
+  const std::optional<double> table_deg = table_rotation_deg(path);
+  along.slave_dwell =
+      table_deg
+          ? "0 deg before the start and at " + api::number_text(*table_deg) +
+                " deg (the table's rotation) from the end on"
+          : "s = 0 mm before the start and at s = " + api::number_text(api::mm_of(path.length())) +
+                " mm (the path's end) from the end on";
+  return st_declaration(cam_st_header(table, along, t.type, path_line(path)), t.type, t.columns,
                         t.rows, spec.st_name);
 }
 

@@ -42,7 +42,7 @@ std::string plan_cam_file(const std::string& plan_text, const CamOptions& option
     admit(motion ? kPathCamWidthFactor * bytes : bytes);
   }
   const CamTable table = sample_cam(plan.law, plan.stroke, spec, query_option_names());
-  CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration};
+  CamSource source{api::to_string(plan.type), plan.strategy, plan.key, plan.stroke, duration, {}};
   if (motion) return path_cam_file(table, *motion->path, source, spec);
   return cam_file(table, source, spec);
 }

@@ -547,6 +547,28 @@ def check_key_view_custom_fluid(port):
         driver.quit()
 
 
+def check_key_view_explicit_damping(port):
+    """A plan made with an explicit damping ratio ({"zeta": z}) is opened by key and its plots
+    are computed: the page asks simulate for that damping in the form the API takes."""
+    request = request_of(THESIS, "notch")
+    request["options"] = {"damping": {"zeta": 0.02}}
+    status, plan = api_json(port, "POST", "/v1/plans", request)
+    check(status == 200, f"the API plans with an explicit damping ({status}: {plan})")
+    if status != 200:
+        return
+    driver = browser()
+    try:
+        driver.get(f"http://127.0.0.1:{port}/?key={plan['key']}")
+        wait_for(driver, "return document.body.dataset.ready === 'notch' || "
+                         "document.getElementById('form-error').textContent !== ''")
+        error = driver.find_element(By.ID, "form-error").text
+        check(error == "", f"the plots of an explicit damping are computed: {error!r}")
+        check(driver.execute_script("return document.body.dataset.ready") == "notch",
+              "the plan opened by key is drawn")
+    finally:
+        driver.quit()
+
+
 def check_key_view(port, plan):
     driver = browser()
     try:
@@ -1256,6 +1278,7 @@ def main():
         check_errors_at_fields(driver, port)
         check_key_view(port, plan)
         check_key_view_custom_fluid(port)
+        check_key_view_explicit_damping(port)
         check_bad_link(port)
         check_sub_path(port)
         severe = [e for e in driver.get_log("browser") if e["level"] == "SEVERE"
