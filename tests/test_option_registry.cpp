@@ -39,21 +39,21 @@ json request(const std::string& rest = "") {
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
 // kVersion. The planner version in the recipe is "plan-v10" since fir_chain, iir, the shaper
 // and min_jerk_band take a turned tank's second direction in by its engagement (its share of the
-// residual wave over kFullDirectionShare) instead of in full from a 1e-8 share on, and a turned
-// tank's nonlinear series and peaks are one corner-and-wall measure; "plan-v9" was the
-// strategies acting on both first modes of a turned rectangular tank, weighed by each
-// direction's share, instead of designing at the middle of the two above a 5 % share; "plan-v8" was multi_notch leaving a run
-// within 0.12 of the range of a poor optimum instead of 0.03 (an exact zero can then be another
-// one, to 1e-14 of X_ref^2); "plan-v7" was time_domain's exchanged peaks as rows that follow their
-// peak, on a line and along a path, and a robust time_domain plan's starting samples covering the
-// whole rest window again ("plan-v6" was time_domain's starting samples of the rest window covering
-// its first period only and multi_notch leaving a run at the mirror image of a known optimum and on
-// its approach; "plan-v5" was time_domain's sensitivities as the scheme linearised in double
-// instead of dual numbers, min_jerk_band's screening stopping its random starts once two in a row
-// find nothing lower, every returned law keeping its bounds to the last ulp, filters without a law
-// returning baseline's admissible law and the baseline guard comparing with that law; "plan-v4" was
-// the spectral strategies' fewer starts and band rows, "plan-v3" the faster response schemes): the
-// pinned keys are those of the same recipes with that version; everything else is unchanged.
+// residual wave over kFullDirectionShare) instead of in full from a 1e-8 share on; "plan-v9" was
+// the strategies acting on both first modes of a turned rectangular tank, weighed by each
+// direction's share, instead of designing at the middle of the two above a 5 % share; "plan-v8" was
+// multi_notch leaving a run within 0.12 of the range of a poor optimum instead of 0.03 (an exact
+// zero can then be another one, to 1e-14 of X_ref^2); "plan-v7" was time_domain's exchanged peaks
+// as rows that follow their peak, on a line and along a path, and a robust time_domain plan's
+// starting samples covering the whole rest window again ("plan-v6" was time_domain's starting
+// samples of the rest window covering its first period only and multi_notch leaving a run at the
+// mirror image of a known optimum and on its approach; "plan-v5" was time_domain's sensitivities as
+// the scheme linearised in double instead of dual numbers, min_jerk_band's screening stopping its
+// random starts once two in a row find nothing lower, every returned law keeping its bounds to the
+// last ulp, filters without a law returning baseline's admissible law and the baseline guard
+// comparing with that law; "plan-v4" was the spectral strategies' fewer starts and band rows,
+// "plan-v3" the faster response schemes): the pinned keys are those of the same recipes with that
+// version; everything else is unchanged.
 std::string key_before_versions(const json& request) {
   json recipe = canonical_recipe(parse_plan_request(request));
   EXPECT_EQ(recipe.at("slosh_version"), kVersion);
