@@ -50,10 +50,11 @@ inline constexpr double kNegligibleDirectionShare{1e-8};
 /// The share of the residual wave (the second direction's first-mode wave per unit spectrum over
 /// the most excited one's) from which fir_chain, iir, the shaper and min_jerk_band design for
 /// both directions in full [-]. Below it the second direction enters their designs by its
-/// engagement, share / kFullDirectionShare: a wave of that share is at most a thousandth of what
-/// the law leaves on the other direction unshaped, below the linear model's accuracy and any
-/// measured fill, so a partial design costs nothing that matters, and every design moves
-/// continuously from the one-direction design on the axis (share 0) to the two-direction one.
+/// engagement, share / kFullDirectionShare: its first mode then leaves, per unit spectrum at its
+/// frequency, under a thousandth of the wave the first direction's leaves at its own, below the
+/// linear model's accuracy and any measured fill, so a partial design costs nothing that
+/// matters, and every design moves continuously from the one-direction design on the axis
+/// (share 0) to the two-direction one.
 inline constexpr double kFullDirectionShare{1e-3};
 
 /// How far the second direction of a turned tank enters the filters' and min_jerk_band's
