@@ -37,20 +37,23 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v9" since the strategies act on both
-// first modes of a turned rectangular tank, weighed by each direction's share, instead of
-// designing at the middle of the two above a 5 % share; "plan-v8" was multi_notch leaving a run
-// within 0.12 of the range of a poor optimum instead of 0.03 (an exact zero can then be another
-// one, to 1e-14 of X_ref^2); "plan-v7" was time_domain's exchanged peaks as rows that follow their
-// peak, on a line and along a path, and a robust time_domain plan's starting samples covering the
-// whole rest window again ("plan-v6" was time_domain's starting samples of the rest window covering
-// its first period only and multi_notch leaving a run at the mirror image of a known optimum and on
-// its approach; "plan-v5" was time_domain's sensitivities as the scheme linearised in double
-// instead of dual numbers, min_jerk_band's screening stopping its random starts once two in a row
-// find nothing lower, every returned law keeping its bounds to the last ulp, filters without a law
-// returning baseline's admissible law and the baseline guard comparing with that law; "plan-v4" was
-// the spectral strategies' fewer starts and band rows, "plan-v3" the faster response schemes): the
-// pinned keys are those of the same recipes with that version; everything else is unchanged.
+// kVersion. The planner version in the recipe is "plan-v10" since fir_chain, iir, the shaper
+// and min_jerk_band take a turned tank's second direction in by its engagement (its share of the
+// residual wave over kFullDirectionShare) instead of in full from a 1e-8 share on; "plan-v9" was
+// the strategies acting on both first modes of a turned rectangular tank, weighed by each
+// direction's share, instead of designing at the middle of the two above a 5 % share; "plan-v8" was
+// multi_notch leaving a run within 0.12 of the range of a poor optimum instead of 0.03 (an exact
+// zero can then be another one, to 1e-14 of X_ref^2); "plan-v7" was time_domain's exchanged peaks
+// as rows that follow their peak, on a line and along a path, and a robust time_domain plan's
+// starting samples covering the whole rest window again ("plan-v6" was time_domain's starting
+// samples of the rest window covering its first period only and multi_notch leaving a run at the
+// mirror image of a known optimum and on its approach; "plan-v5" was time_domain's sensitivities as
+// the scheme linearised in double instead of dual numbers, min_jerk_band's screening stopping its
+// random starts once two in a row find nothing lower, every returned law keeping its bounds to the
+// last ulp, filters without a law returning baseline's admissible law and the baseline guard
+// comparing with that law; "plan-v4" was the spectral strategies' fewer starts and band rows,
+// "plan-v3" the faster response schemes): the pinned keys are those of the same recipes with that
+// version; everything else is unchanged.
 std::string key_before_versions(const json& request) {
   json recipe = canonical_recipe(parse_plan_request(request));
   EXPECT_EQ(recipe.at("slosh_version"), kVersion);
@@ -60,13 +63,13 @@ std::string key_before_versions(const json& request) {
 }
 
 TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
-  EXPECT_EQ(key_before_versions(request()), "745a10da92bf03040e900b82588b503d");
+  EXPECT_EQ(key_before_versions(request()), "26a1e1693e1e95422cc4add8ce758637");
   EXPECT_EQ(key_before_versions(request(R"(, "strategy": "multi_notch")")),
-            "72073d7566e177ae4dd649d84cec2e14");
+            "1354f67ba291c63536f50e4accac751b");
   EXPECT_EQ(key_before_versions(request(R"(, "options": {"damping": {"zeta": 0.1}})")),
-            "3efa6398bfdc138597c2ccc537e352bd");
+            "08c68ab0db998b54c921b6cde576c910");
   EXPECT_EQ(key_before_versions(request(R"(, "options": {"limits": {"a_max": 10}})")),
-            "c46885bb65cf864f87533c29238a6c37");
+            "6c1b273012a99bf869b4da6dceaf73dd");
   EXPECT_EQ(key_before_versions(request(
                 R"(, "sample_period_s": 0.001, "options": {"p_notch": 0.2, "weights": [1, 2, 3],
                 "band": 0.1, "n_band": 31, "tol_rel": 0.3, "eta_rest_max_mm": 2.5,
@@ -76,14 +79,14 @@ TEST(OptionRegistry, RecipeKeysAreThoseBeforeTheRegistry) {
                 "alpha": 0.5, "modes": 2, "solver": "ipopt", "time_limit_s": 3,
                 "base": "modified_trapezoid", "shaper": "ei", "residual": 0.1, "iir_order": 2,
                 "iir_tau": 40, "iir_sample_period_s": 0.002})")),
-            "5b58fc20b7a9202f90c04181b958e17a");
+            "59c85c091c2f46cb8ac36345f115d12f");
   EXPECT_EQ(key_before_versions(json::parse(
                 R"({"format": {"container": {"radius_mm": 30}, "fill_height_mm": 40,
                 "fluid": {"density_kg_m3": 1100, "viscosity_pa_s": 0.002, "name": "syrup"},
                 "stroke_mm": 250.5, "motion_time_s": 0.7}, "strategy": "time_domain",
                 "options": {"objective": "rest", "eta_motion_max_mm": 4.5,
                 "limits": {"j_max": 300}}})")),
-            "328d71e0f520f77fabe3f1c5701259ab");
+            "4392e055ecf90f315a6b530e7a756560");
 }
 
 TEST(OptionRegistry, ListsEveryOptionOnceInTheApiOrder) {

@@ -13,7 +13,9 @@
 #include <vector>
 
 #include "slosh/core/model/format.hpp"
+#include "slosh/core/response/simulation.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "support/rectangular_reference.hpp"
 #include "support/reference_integrators.hpp"
@@ -150,6 +152,168 @@ TEST(RectangularTurned, AutoKeepsItsChoiceAcrossTheOldCutOff) {
   EXPECT_EQ(chosen(below), chosen(above)) << below.message << "\n" << above.message;
   EXPECT_LT(std::abs(above.prediction.nonlinear.rest.value - below.prediction.nonlinear.rest.value),
             0.01 * below.prediction.nonlinear.rest.value + 1e-6);
+}
+
+TEST(RectangularTurned, FiltersAndTheBandDoNotJumpOffAnAxis) {
+  // A tank 1e-6 degree off an axis drives its second direction at a share of about 1e-8: these
+  // four used to design for both directions in full there, and for one at 1e-7 degree (below
+  // the 1e-8 share that puts the tank on its axis). On the README's cup eta_rest jumped by 40 %
+  // (min_jerk_band), 19 % (shaper), 26 % (fir_chain) and 57 % (iir) next to 0 degrees, and by up
+  // to 360 % next to 90. The second direction now enters by its share: the plans meet.
+  const PlanOptions o = quick_options();
+  for (Strategy s :
+       {Strategy::kMinJerkBand, Strategy::kShaper, Strategy::kFirChain, Strategy::kIir}) {
+    for (double axis : {0.0, 90.0}) {
+      const PlanResult on = plan(cup(axis), s, o);
+      const PlanResult off = plan(cup(axis == 0.0 ? 1e-6 : 90.0 - 1e-6), s, o);
+      // (min_jerk_band's band is out of reach at 90 degrees: both are its least infeasible law;
+      // next to 0 its solver may end the same law as optimal or acceptable.)
+      EXPECT_EQ(off.usable(), on.usable()) << to_string(s) << " " << axis << ": " << off.message;
+      // iir's delay compensation keeps whole samples of its filter: a small change of the tank
+      // can move its law by one (0.5 % of the peaks here).
+      const double tol = s == Strategy::kIir ? 1e-2 : 1e-4;
+      const SloshPeaks &a = on.prediction.nonlinear, &b = off.prediction.nonlinear;
+      EXPECT_NEAR(b.rest.value, a.rest.value, tol * a.rest.value) << to_string(s) << " " << axis;
+      EXPECT_NEAR(b.motion.value, a.motion.value, tol * a.motion.value)
+          << to_string(s) << " " << axis;
+    }
+  }
+}
+
+TEST(RectangularTurned, ShaperTimesTheWeakDirectionsShaperByItsShare) {
+  // At 0.02 degree the width's share of the residual wave (first-mode wall gain times its
+  // component, over omega_1, relative to the length's) is below kFullDirectionShare = 1e-3:
+  // its ZV shaper is timed at e = share / 1e-3 of its delay. The law rebuilt here: the poly5
+  // base law of T minus the delay, convolved with both two-impulse ZV shapers.
+  const double phi = 0.02, h = 0.04, T = 1.2, S = 0.2;
+  const PlanResult r = plan(cup(phi), Strategy::kShaper, quick_options());
+  ASSERT_TRUE(r.usable()) << r.message;
+  const double c = std::cos(phi * kPi / 180), s = std::sin(phi * kPi / 180);
+  const double w_l = omega1(0.12, h), w_w = omega1(0.08, h);
+  const double g_l = 4 * std::tanh(kPi / 0.12 * h) / kPi, g_w = 4 * std::tanh(kPi / 0.08 * h) / kPi;
+  const double e = (g_w * s / w_w) / (g_l * c / w_l) / 1e-3;
+  ASSERT_GT(e, 0.2);
+  ASSERT_LT(e, 0.8);
+  struct Impulse {
+    double t, a;
+  };
+  auto zv = [](double w, double zeta, double scale) {
+    const double K = std::exp(-zeta * kPi / std::sqrt(1 - zeta * zeta));
+    return std::vector<Impulse>{{0.0, 1 / (1 + K)},
+                                {scale * kPi / (w * std::sqrt(1 - zeta * zeta)), K / (1 + K)}};
+  };
+  const std::vector<Impulse> a = zv(w_l, r.rectangular->along_length.zeta, 1.0);
+  const std::vector<Impulse> b = zv(w_w, r.rectangular->along_width.zeta, e);
+  const double Tb = T - a[1].t - b[1].t;
+  auto base = [&](double t) {
+    if (t <= 0 || t >= Tb) return 0.0;
+    const double x = t / Tb;
+    return S / (Tb * Tb) * (60 * x - 180 * x * x + 120 * x * x * x);
+  };
+  double peak = 0.0, worst = 0.0;
+  for (int k = 0; k <= 1200; ++k) {
+    const double t = T * k / 1200.0;
+    double acc = 0.0;
+    for (const Impulse& i : a) {
+      for (const Impulse& j : b) acc += i.a * j.a * base(t - i.t - j.t);
+    }
+    peak = std::max(peak, std::abs(acc));
+    worst = std::max(worst, std::abs(r.law.at(t).acceleration - acc));
+  }
+  EXPECT_LT(worst, 1e-9 * peak) << worst << " of " << peak;
+  char text[64];
+  std::snprintf(text, sizeof text, "timed at %.3g %% of its delay", 100 * e);
+  EXPECT_NE(r.message.find(text), std::string::npos) << r.message << "\n" << text;
+}
+
+TEST(RectangularTurned, TimeDomainMovesContinuouslyWithTheOrientation) {
+  // The README's cup (120 x 80 mm, 40 mm of water, 200 mm in 1.2 s) over 0-10 and 85-90
+  // degrees in half degrees: time_domain's verified figures move by little between neighbours
+  // (its bound eta_rest <= 3 mm holds throughout, eta_motion moves with the corners' bound), and
+  // its linear rest peak is that of the modes integrated independently.
+  const PlanOptions o = quick_options();
+  std::vector<double> phis;
+  for (int k = 0; k <= 20; ++k) phis.push_back(0.5 * k);
+  for (int k = 0; k <= 10; ++k) phis.push_back(85.0 + 0.5 * k);
+  std::vector<PlanResult> sweep;
+  for (double phi : phis) {
+    sweep.push_back(plan(cup(phi), Strategy::kTimeDomain, o));
+    ASSERT_TRUE(sweep.back().usable()) << phi << ": " << sweep.back().message;
+    EXPECT_LE(sweep.back().prediction.nonlinear.rest.value, o.eta_rest_max * (1 + 1e-6)) << phi;
+  }
+  for (std::size_t k = 1; k < sweep.size(); ++k) {
+    if (phis[k] - phis[k - 1] > 1.0) continue;  // from 10 to 85 degrees: not neighbours
+    const SloshPeaks &a = sweep[k - 1].prediction.nonlinear, &b = sweep[k].prediction.nonlinear;
+    EXPECT_LT(std::abs(b.rest.value - a.rest.value), 0.05 * a.rest.value) << phis[k];
+    // Its local search ends in one of neighbouring optima, whose eta_motion differ by up to 8 %
+    // (measured: 5.92 mm at 0.4 degree, 6.39 mm at 0.5; 6.05 mm at 2 degrees between 6.44 and
+    // 6.48 mm at 1.5 and 2.5): the bound holds at each, and no orientation changes the problem
+    // in kind.
+    EXPECT_LT(std::abs(b.motion.value - a.motion.value), 0.1 * a.motion.value) << phis[k];
+  }
+  for (std::size_t k : {std::size_t{1}, std::size_t{10}, std::size_t{25}}) {
+    const double phi = phis[k] * kPi / 180;
+    std::vector<test::Modes> modes{test::direction(0.12, 0.08, 0.04, std::cos(phi), 3),
+                                   test::direction(0.08, 0.12, 0.04, std::sin(phi), 3)};
+    modes[0].zeta = sweep[k].rectangular->along_length.zeta;
+    modes[1].zeta = sweep[k].rectangular->along_width.zeta;
+    const double rest = test::rk4_peaks(modes, sweep[k].law, o.rest_time, 1e-5).rest;
+    EXPECT_NEAR(sweep[k].prediction.linear.rest.value, rest, 1e-3 * rest) << phis[k];
+  }
+}
+
+TEST(RectangularTurned, MinTimeDoesNotJumpOffAnAxis) {
+  // The shaper's T_min on the cup (70 mm high: the free board bounds eta_motion) was 0.669 s on
+  // the axis and 0.779 s 1e-6 degree off it, where the second direction's shaper joined in
+  // full; 0.619 s at 90 and 0.700 s at 90 - 1e-6. Now the same within the 1 ms grid; and
+  // time_domain's, which bounds each direction by a weight that shrinks with the share, moves by
+  // a few ms over the first degrees.
+  MinTimeOptions o;
+  o.plan = quick_options();
+  o.motion_time_max = 3.0;
+  auto t_min = [&o](double phi, Strategy s) {
+    Format f = cup(phi);
+    f.container.height = 0.07;
+    const MinTimeResult r = min_time(f, s, o);
+    EXPECT_EQ(r.status, SolveStatus::kOptimal) << phi << ": " << r.message;
+    return r.t_min.value_or(0.0);
+  };
+  EXPECT_NEAR(t_min(1e-6, Strategy::kShaper), t_min(0.0, Strategy::kShaper), 1.5e-3);
+  EXPECT_NEAR(t_min(90.0 - 1e-6, Strategy::kShaper), t_min(90.0, Strategy::kShaper), 1.5e-3);
+  double before = t_min(0.0, Strategy::kTimeDomain);
+  for (double phi : {1e-6, 1.0, 2.0, 3.0}) {
+    const double now = t_min(phi, Strategy::kTimeDomain);
+    EXPECT_LT(std::abs(now - before), 0.012) << phi;
+    before = now;
+  }
+}
+
+TEST(RectangularTurned, SimulateSeriesMaximumIsThePeak) {
+  // A square-ish move of the cup at 45 degrees (100 mm in 1.5 s, 50 mm of water: inside the
+  // nonlinear model's range): the series is the highest corner, the measure the peaks take, so
+  // its maximum over each window is the peak (to the series' 0.1 ms sampling). The sum of both
+  // directions' walls the series took before rose 3.5 % above the rest peak here: the two
+  // second modes had opposite signs.
+  for (double phi : {45.0, 30.0}) {
+    Format f = cup(phi, 50.0, 1.5);
+    f.stroke = 0.1;
+    const MotionLaw law = SevenSegmentLaw(uniform_durations(1.5), 0.1).law();
+    SimulationOptions o;
+    o.sample_period = 1e-4;
+    const SimulationResult r = simulate(f, law, o);
+    ASSERT_TRUE(r.series);
+    ASSERT_TRUE(r.warnings.empty()) << r.warnings.front();
+    double motion = 0.0, rest = 0.0;
+    for (std::size_t k = 0; k < r.series->t.size(); ++k) {
+      const double eta = r.series->eta_nonlinear[k];
+      if (r.series->t[k] <= 1.5) motion = std::max(motion, eta);
+      if (r.series->t[k] >= 1.5) rest = std::max(rest, eta);
+    }
+    EXPECT_LE(motion, r.nonlinear.motion.value * (1 + 1e-12)) << phi;
+    EXPECT_GE(motion, r.nonlinear.motion.value * (1 - 1e-6)) << phi;
+    EXPECT_LE(rest, r.nonlinear.rest.value * (1 + 1e-12)) << phi;
+    EXPECT_GE(rest, r.nonlinear.rest.value * (1 - 1e-6)) << phi;
+  }
 }
 
 }  // namespace

@@ -89,28 +89,10 @@ Sample abs_of(Sample s) {
   return s;
 }
 
-/// simulate's series value at t (RectangularSeries::eta_nonlinear, or eta_linear where the
-/// nonlinear model does not hold, the second modes then being 0): the signed wall ahead,
-/// odd + even, when one direction moves; the sum of both directions' higher walls
-/// |odd| + |even| when both do.
-Sample series_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
-  if (dirs.size() == 1) {
-    const DirectionResponse& d = dirs[0];
-    return direction_sample(d, d.response.odd(t), gain, 1.0) +
-           direction_sample(d, d.response.even(t), gain, 1.0);
-  }
-  Sample out;
-  for (const DirectionResponse& d : dirs) {
-    out = out + abs_of(direction_sample(d, d.response.odd(t), gain, 1.0)) +
-          abs_of(direction_sample(d, d.response.even(t), gain, 1.0));
-  }
-  return out;
-}
-
 /// The wall height simulate's peaks search (RectangularNonlinearDirection::wall for one
-/// direction; rectangular_nonlinear_peaks' corner |odd_L| + |odd_W| + |even_L + even_W| for
-/// both; RectangularLinearResponse's |eta| or |eta_L| + |eta_W| where the nonlinear model does
-/// not hold, the second modes then being 0).
+/// direction; highest_corner, |odd_L| + |odd_W| + |even_L + even_W|, for both;
+/// RectangularLinearResponse's |eta| or |eta_L| + |eta_W| where the nonlinear model does not
+/// hold, the second modes then being 0).
 Sample wall_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
   Sample odd, even;
   for (const DirectionResponse& d : dirs) {
@@ -118,6 +100,18 @@ Sample wall_at(const std::vector<DirectionResponse>& dirs, double t, double gain
     even = even + direction_sample(d, d.response.even(t), gain, 1.0);
   }
   return odd + abs_of(even);
+}
+
+/// simulate's series value at t (RectangularSeries::eta_nonlinear, or eta_linear where the
+/// nonlinear model does not hold, the second modes then being 0): the signed wall ahead,
+/// odd + even, when one direction moves; the highest corner (wall_at) when both do.
+Sample series_at(const std::vector<DirectionResponse>& dirs, double t, double gain) {
+  if (dirs.size() == 1) {
+    const DirectionResponse& d = dirs[0];
+    return direction_sample(d, d.response.odd(t), gain, 1.0) +
+           direction_sample(d, d.response.even(t), gain, 1.0);
+  }
+  return wall_at(dirs, t, gain);
 }
 
 /// The largest wall height over [a, b] located as simulate locates it (sampled at its step,

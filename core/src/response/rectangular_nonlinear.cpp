@@ -47,14 +47,11 @@ RectangularNonlinearPeaks rectangular_nonlinear_peaks(const RectangularModel& mo
     out.peaks.highest = directions.front().peaks();
     return out;
   }
-  // Both directions: the corners carry +-odd_L +-odd_W + b_2L + b_2W (the second modes are even,
-  // alike at both walls of their direction), the highest |odd_L| + |odd_W| + |b_2L + b_2W|,
-  // searched on the continuous responses.
+  // Both directions: the highest corner (highest_corner), searched on the continuous responses.
   const RectangularNonlinearDirection& l = directions[0];
   const RectangularNonlinearDirection& w = directions[1];
   auto highest = [&l, &w](double t) {
-    return std::abs(l.eta_odd(t)) + std::abs(w.eta_odd(t)) +
-           std::abs(l.eta_even(t) + w.eta_even(t));
+    return highest_corner(l.eta_odd(t), l.eta_even(t), w.eta_odd(t), w.eta_even(t));
   };
   const double step = std::min(l.peak_step(), w.peak_step());
   const double T = law.duration();

@@ -298,9 +298,8 @@ double RectangularPlanarResponse::eta_highest(double t) const {
   double s = 0.0;
   const Step* st = step_at(t, s);
   if (st == nullptr) return 0.0;
-  double r = std::abs(detail::dense_value(st->eta[0], s)) +
-             std::abs(detail::dense_value(st->eta[2], s)) +
-             std::abs(detail::dense_value(st->eta[1], s) + detail::dense_value(st->eta[3], s));
+  double r = highest_corner(detail::dense_value(st->eta[0], s), detail::dense_value(st->eta[1], s),
+                            detail::dense_value(st->eta[2], s), detail::dense_value(st->eta[3], s));
   if (spin_gain_ != 0.0) {
     const double w = detail::dense_value(st->spin, s);
     r += spin_gain_ * w * w;

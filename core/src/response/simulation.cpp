@@ -185,7 +185,8 @@ TimeSeries sampled_series(const MotionLaw& law, const SimulationOptions& options
 }
 
 /// The wave height series of a rectangular tank: signed at the wall ahead when one direction
-/// moves, else the highest corner; the nonlinear one by each direction's nonlinear response
+/// moves, else the highest corner (highest_corner, the measure of the peaks, so that the
+/// series' maximum is the peak); the nonlinear one by each direction's nonlinear response
 /// (RectangularNonlinearDirection), or the linear model's where the nonlinear model does not
 /// hold (`nonlinear_holds` false).
 struct RectangularSeries {
@@ -200,7 +201,9 @@ struct RectangularSeries {
   [[nodiscard]] double eta_nonlinear(double t) const {
     if (!nonlinear_holds) return eta_linear(t);
     if (nonlinear.size() == 1) return nonlinear[0].eta_odd(t) + nonlinear[0].eta_even(t);
-    return nonlinear[0].wall(t) + nonlinear[1].wall(t);
+    // The measure the peaks take (rectangular_nonlinear_peaks): the series' maximum is the peak.
+    return highest_corner(nonlinear[0].eta_odd(t), nonlinear[0].eta_even(t),
+                          nonlinear[1].eta_odd(t), nonlinear[1].eta_even(t));
   }
 };
 

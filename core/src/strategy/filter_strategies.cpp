@@ -11,6 +11,7 @@
 #include <utility>
 #include <vector>
 
+#include "slosh/core/strategy/rectangular_plan.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
 
@@ -154,7 +155,7 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
              " s, the sum of both damped periods";
     }
   }
-  if (both)
+  if (both && c.direction_engagement >= 1.0)
     return fir_chain_of(c, (*both)[0], (*both)[1], (*both)[2],
                         "T1, T2, T3 = " + sig3((*both)[0]) + ", " + sig3((*both)[1]) + ", " +
                             sig3((*both)[2]) + " s: two of them the damped periods of " +
@@ -188,6 +189,25 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     choice = " (T1 = T2: the least peak acceleration)";
   }
   const double T2 = std::max(T - T3 - T1, 0.0);
+  if (both) {
+    // The second direction below kFullDirectionShare: the chain moves from the first
+    // direction's own (T1, T2, its period) toward the two periods by the engagement e, one
+    // filter's duration from T2 to the second direction's period (T1 taking the rest of T):
+    // continuous in the share, the first mode cancelled throughout.
+    const double e = c.direction_engagement;
+    const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+    const double T2e = (1.0 - e) * T2 + e * Pb;
+    std::array<double, 3> t{T - T3 - T2e, T2e, T3};
+    std::sort(t.begin(), t.end(), std::greater<>());
+    return fir_chain_of(c, t[0], t[1], t[2],
+                        "T1, T2, T3 = " + sig3(t[0]) + ", " + sig3(t[1]) + ", " + sig3(t[2]) +
+                            " s: the damped period of " + direction_f1(c, 0) +
+                            ", which it cancels, and one filter moved from " + sig3(T2) +
+                            " s toward the damped period of " + direction_f1(c, 1) + " by " +
+                            percent(e) + " (its share " + sig3(c.direction_weight[1]) +
+                            " of the residual wave is below " + sig3(kFullDirectionShare) + ")",
+                        "", true);
+  }
   FilterOutcome o = fir_chain_of(c, T1, T2, T3,
                                  "T3 = " + sig3(T3) + " s (the damped period of " +
                                      (directions ? direction_f1(c, 0) : std::string("mode 1")) +
@@ -276,13 +296,28 @@ InputShaper convolved(const InputShaper& a, const InputShaper& b) {
   return out;
 }
 
-/// Every mode the shaper must cancel: the design model's first, or a turned tank's two.
-std::vector<std::pair<double, double>> shaped_modes(const StrategyContext& c) {
+/// `s` with its impulse times scaled by `factor`: the same family designed at omega / factor.
+/// Toward factor 0 it nears the single unit impulse (no shaping).
+InputShaper time_scaled(InputShaper s, double factor) {
+  for (Impulse& i : s.impulses) i.time *= factor;
+  return s;
+}
+
+/// A mode the shaper must cancel, and the weight its residual is judged by.
+struct ShapedMode {
+  double omega, zeta, weight;
+};
+
+/// Every mode the shaper must cancel: the design model's first, or a turned tank's two; the
+/// second direction's residual weighed by its share of the residual wave while it enters the
+/// design only partly (direction_engagement below 1).
+std::vector<ShapedMode> shaped_modes(const StrategyContext& c) {
   if (c.over_directions && !c.robust()) {
-    return {{c.direction_omega[0], c.direction_zeta[0]},
-            {c.direction_omega[1], c.direction_zeta[1]}};
+    const double second = c.direction_engagement < 1.0 ? c.direction_weight[1] : 1.0;
+    return {{c.direction_omega[0], c.direction_zeta[0], 1.0},
+            {c.direction_omega[1], c.direction_zeta[1], second}};
   }
-  return {{c.design_model.omega1(), c.design_model.zeta}};
+  return {{c.design_model.omega1(), c.design_model.zeta, 1.0}};
 }
 
 InputShaper shaper_for(const StrategyContext& c, std::string* choice) {
@@ -290,13 +325,23 @@ InputShaper shaper_for(const StrategyContext& c, std::string* choice) {
   const double w = c.design_model.omega1(), z = c.design_model.zeta;
   if (c.over_directions && !c.robust()) {
     // A turned tank: a shaper at the middle of its two first modes cancels neither; one per
-    // direction, convolved, cancels both (at the sum of their delays).
+    // direction, convolved, cancels both (at the sum of their delays). Below
+    // kFullDirectionShare the second direction's shaper is timed at its engagement (designed at
+    // omega / engagement): its delay, and the law, go continuously to the first direction's
+    // shaper alone as the share goes to 0.
     const double f = 0.5 / std::numbers::pi;
+    const double e = c.direction_engagement;
     *choice = "one per direction, at " + sig3(c.direction_omega[0] * f) + " and " +
               sig3(c.direction_omega[1] * f) + " Hz, convolved";
+    if (e < 1.0) {
+      *choice += "; the " + std::string(c.direction_name[1]) + "'s, at a share " +
+                 sig3(c.direction_weight[1]) + " of the residual wave, timed at " + percent(e) +
+                 " of its delay";
+    }
     return convolved(
         make_shaper(opt.shaper, c.direction_omega[0], c.direction_zeta[0], opt.residual),
-        make_shaper(opt.shaper, c.direction_omega[1], c.direction_zeta[1], opt.residual));
+        time_scaled(
+            make_shaper(opt.shaper, c.direction_omega[1], c.direction_zeta[1], opt.residual), e));
   }
   if (!c.robust() || !opt.shaper_for_range) return make_shaper(opt.shaper, w, z, opt.residual);
   const UncertaintyRange& r = *c.range;
@@ -336,8 +381,8 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   const std::string name =
       to_string(shaper.type) + " shaper" + (choice.empty() ? "" : " (" + choice + ")");
   double residual = 0.0;
-  for (const auto& [omega, zeta] : shaped_modes(c)) {
-    residual = std::max(residual, shaper_residual(shaper, omega, zeta));
+  for (const ShapedMode& m : shaped_modes(c)) {
+    residual = std::max(residual, m.weight * shaper_residual(shaper, m.omega, m.zeta));
   }
   if (!(Tb >= kMinBaseDuration)) {
     FilterOutcome o = no_law(c, "the " + name + " delays the law by " + sig3(shaper.delay()) +
@@ -363,10 +408,14 @@ FilterOutcome design_shaper(const StrategyContext& c) {
   // first modes: neither of them is cancelled exactly, and the text must not claim so.
   const std::string at =
       !c.over_directions ? " at f1"
-      : !c.robust()      ? " at both directions' first modes"
-                         : " at " + sig3(c.design_model.omega1() / (2.0 * std::numbers::pi)) +
-                          " Hz, the middle of the two directions' first modes (each keeps a "
-                          "residual)";
+      : !c.robust()
+          ? std::string(" at both directions' first modes") +
+                (c.direction_engagement < 1.0
+                     ? " (the " + std::string(c.direction_name[1]) + "'s weighed by its share)"
+                     : "")
+          : " at " + sig3(c.design_model.omega1() / (2.0 * std::numbers::pi)) +
+                " Hz, the middle of the two directions' first modes (each keeps a "
+                "residual)";
   const std::string residual_text =
       (residual < 1e-9 ? "no residual" : "residual " + percent(residual)) + at;
   o.detail = name + " (" + std::to_string(shaper.impulses.size()) + " impulses over " +
@@ -404,6 +453,22 @@ IirFilter cascade(const IirFilter& f, const IirFilter& g) {
   return out;
 }
 
+/// The second factor of a turned tank's cascade at engagement e: (1 - e) z + e f. cascade()
+/// takes its product with one sample of delay, so the cascade is (1 - e) h + e (h f cascaded):
+/// the first direction's filter h alone at e = 0, both at e = 1, and continuous between. With
+/// f's form z B(1/z) / A(1/z), the numerator (1 - e) z A(1/z) + e z B(1/z) is z C(1/z) with
+/// C = e B + (1 - e) (1, a_1, ..., a_n).
+IirFilter engaged(IirFilter f, double e) {
+  if (e >= 1.0) return f;
+  const auto le = static_cast<long double>(e);
+  std::vector<long double> c(std::max(f.b.size(), f.a.size() + 1), 0.0L);
+  for (std::size_t i = 0; i < f.b.size(); ++i) c[i] += le * f.b[i];
+  c[0] += 1.0L - le;
+  for (std::size_t i = 0; i < f.a.size(); ++i) c[i + 1] += (1.0L - le) * f.a[i];
+  f.b = std::move(c);
+  return f;
+}
+
 }  // namespace
 
 FilterOutcome design_iir(const StrategyContext& c) {
@@ -420,14 +485,19 @@ FilterOutcome design_iir(const StrategyContext& c) {
   }
   // On a turned tank one filter per direction, in cascade: each cancels its direction's first
   // mode (a filter at the middle of the two would cancel neither).
+  // Below kFullDirectionShare the second filter enters by its engagement e (engaged): unit DC
+  // gain, continuous in the share, the first filter alone at share 0.
   const bool directions = per_direction(c);
   const IirFilter filter =
-      directions ? cascade(make_iir_filter(opt.iir_order, c.direction_omega[0], c.direction_zeta[0],
-                                           opt.iir_tau, opt.iir_sample_period),
-                           make_iir_filter(opt.iir_order, c.direction_omega[1], c.direction_zeta[1],
-                                           opt.iir_tau, opt.iir_sample_period))
-                 : make_iir_filter(opt.iir_order, c.design_model.omega1(), c.design_model.zeta,
-                                   opt.iir_tau, opt.iir_sample_period);
+      directions
+          ? cascade(
+                make_iir_filter(opt.iir_order, c.direction_omega[0], c.direction_zeta[0],
+                                opt.iir_tau, opt.iir_sample_period),
+                engaged(make_iir_filter(opt.iir_order, c.direction_omega[1], c.direction_zeta[1],
+                                        opt.iir_tau, opt.iir_sample_period),
+                        c.direction_engagement))
+          : make_iir_filter(opt.iir_order, c.design_model.omega1(), c.design_model.zeta,
+                            opt.iir_tau, opt.iir_sample_period);
   const IirLaw law = make_iir_law(
       [&](double duration) { return make_base_law(opt.base, S, duration); }, filter, S, T);
   const std::string name =

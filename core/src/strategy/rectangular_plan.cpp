@@ -111,35 +111,58 @@ std::optional<RectangularModel> rectangular_axis_tank(const RectangularModel& mo
   return axis;
 }
 
+double direction_engagement(double share) {
+  return std::min(1.0, share / kFullDirectionShare);
+}
+
 namespace detail {
 
 void set_directions(StrategyContext& c) {
   if (c.rectangular == nullptr) return;
   const std::vector<DrivenDirection> directions = driven_directions(*c.rectangular);
   if (directions.size() < 2) return;
-  // Both directions excited (rectangular_axis_tank has put a tank a hair off an axis onto it):
+  // Both directions excited (rectangular_axis_tank has put a tank a hair off an axis onto it).
   // notch and multi_notch weigh each direction's first mode by its residual wave (a share that
-  // goes to 0 with the orientation, so the law moves continuously with it); fir_chain, iir and
-  // the shaper cancel both modes; min_jerk_band's band runs over both, as over an uncertainty
-  // range; with one, over the union of both directions' ranges (uncertainty_range's factors
-  // cover each direction's own).
+  // goes to 0 with the orientation, so the law moves continuously with it). fir_chain, iir, the
+  // shaper and min_jerk_band's band take the second direction in by its engagement
+  // (kFullDirectionShare): fully above that share of the residual wave (both modes cancelled,
+  // the band over both), and below it on a path that reaches the most excited direction's own
+  // design as the share goes to 0, so that none of them changes in kind at an orientation.
+  const double axis_zeta = c.design_model.zeta;
+  const double axis_lo = (1.0 - c.band) * c.design_model.omega1();
+  const double axis_hi = (1.0 + c.band) * c.design_model.omega1();
   const double s_lo = c.range ? c.range->scale_lo : 1.0;
   const double s_hi = c.range ? c.range->scale_hi : 1.0;
   const double w_a = directions[0].model.omega1(), w_b = directions[1].model.omega1();
-  const double lo = std::min(w_a, w_b) * s_lo, hi = std::max(w_a, w_b) * s_hi;
-  const double mid = 0.5 * (lo + hi);
-  double zeta = std::min(directions[0].model.zeta, directions[1].model.zeta);
-  if (c.range) zeta = std::min(zeta, c.range->zeta_lo);
-  c.design_model = scaled_model(c.model, mid / c.model.omega1(), zeta);
   c.over_directions = true;
   c.direction_omega = {w_a, w_b};
   c.direction_zeta = {directions[0].model.zeta, directions[1].model.zeta};
   c.direction_weight = {1.0, residual_gain(directions[1]) / residual_gain(directions[0])};
+  c.direction_engagement = direction_engagement(c.direction_weight[1]);
   for (std::size_t k = 0; k < 2; ++k) {
     c.direction_name[k] = directions[k].axis == TankAxis::kLength ? "length" : "width";
   }
+  // The band over both directions: around the middle of their first modes (with a range, the
+  // union of both directions' ranges: uncertainty_range's factors cover each direction's own),
+  // reaching the option's band beyond each; its edges, and the damping the design takes (the
+  // least of both), are met from the most excited direction's by the engagement.
+  const double lo = std::min(w_a, w_b) * s_lo, hi = std::max(w_a, w_b) * s_hi;
+  const double mid = 0.5 * (lo + hi);
   const double band = c.options.band;
-  c.band = std::max((1.0 + band) * hi / mid - 1.0, 1.0 - (1.0 - band) * lo / mid);
+  const double both_band = std::max((1.0 + band) * hi / mid - 1.0, 1.0 - (1.0 - band) * lo / mid);
+  double both_zeta = std::min(directions[0].model.zeta, directions[1].model.zeta);
+  if (c.range) both_zeta = std::min(both_zeta, c.range->zeta_lo);
+  const double e = c.direction_engagement;
+  if (e >= 1.0) {
+    c.design_model = scaled_model(c.model, mid / c.model.omega1(), both_zeta);
+    c.band = both_band;
+  } else {
+    const double edge_lo = (1.0 - e) * axis_lo + e * (1.0 - both_band) * mid;
+    const double edge_hi = (1.0 - e) * axis_hi + e * (1.0 + both_band) * mid;
+    c.design_model = scaled_model(c.model, 0.5 * (edge_lo + edge_hi) / c.model.omega1(),
+                                  (1.0 - e) * axis_zeta + e * both_zeta);
+    c.band = (edge_hi - edge_lo) / (edge_hi + edge_lo);
+  }
   // time_domain bounds the corners, |eta_A| + |eta_B| <= max((1 + rho) |eta_A|,
   // (1 + 1/rho) |eta_B|) for every rho > 0 (if rho |eta_A| >= |eta_B| the first term holds the
   // sum, else the second): each driven direction at its height times its factor. rho, the square

@@ -88,8 +88,9 @@ struct StrategyContext {
   const RectangularModel* rectangular{nullptr};
   /// True when the motion drives both of a turned tank's directions (set_directions): the
   /// strategies act on each direction's first mode (direction_omega, weighed by
-  /// direction_weight); design_model, at the middle of the two, serves min_jerk_band's band and
-  /// the filters under an uncertainty range only.
+  /// direction_weight); design_model, at the middle of the two (reached from the most excited
+  /// direction's by direction_engagement), serves min_jerk_band's band and the filters under an
+  /// uncertainty range only.
   bool over_directions{false};
   /// With over_directions: the two directions' first-mode frequencies [rad/s] and damping ratios
   /// [-], the most excited direction first (the shaper cancels each).
@@ -98,6 +99,10 @@ struct StrategyContext {
   /// With over_directions: each direction's first-mode residual gain relative to the most
   /// excited one's (its wave per unit |X_a(omega_1)|: 1, then the other's share) [-].
   std::array<double, 2> direction_weight{1.0, 0.0};
+  /// With over_directions: how far the second direction enters the filters' and min_jerk_band's
+  /// designs, direction_engagement of its share (1: fully; toward 0 the design nears the most
+  /// excited direction's own) [-].
+  double direction_engagement{1.0};
   /// With over_directions: the directions' names ("length", "width"), most excited first.
   std::array<const char*, 2> direction_name{"length", "width"};
 

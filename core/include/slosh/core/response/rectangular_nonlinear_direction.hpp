@@ -10,6 +10,7 @@
 // b_2 is the even mode cos(2 pi x' / side) (x' from a wall): it raises both walls alike, so the
 // higher wall is |beta_1 + higher| + |b_2| (crests higher than troughs are deep).
 
+#include <cmath>
 #include <optional>
 #include <vector>
 
@@ -30,6 +31,16 @@ struct RectangularSecondMode {
   double d5{};      ///< [1/m]
 };
 [[nodiscard]] RectangularSecondMode rectangular_second_mode(const SloshingModel& model);
+
+/// The highest |eta| over the four corners of a tank whose two directions both slosh, from each
+/// direction's odd wave (its antisymmetric modes: opposite at its two walls) and its second mode
+/// b_2 (the even mode cos(2 pi x' / side): alike at both walls) [m]: the corners carry
+/// +-odd_L +-odd_W + even_L + even_W, the highest |odd_L| + |odd_W| + |even_L + even_W|.
+/// simulate's series and every peak search of a turned tank take this one measure.
+[[nodiscard]] inline double highest_corner(double odd_l, double even_l, double odd_w,
+                                           double even_w) {
+  return std::abs(odd_l) + std::abs(odd_w) + std::abs(even_l + even_w);
+}
 
 /// The response of one direction to the acceleration `law` (already scaled by the direction's
 /// component), over [0, T + rest_time].

@@ -47,6 +47,20 @@ inline constexpr double kMinMotionPeriodShare{0.1};
 /// see a different problem.
 inline constexpr double kNegligibleDirectionShare{1e-8};
 
+/// The share of the residual wave (the second direction's first-mode wave per unit spectrum over
+/// the most excited one's) from which fir_chain, iir, the shaper and min_jerk_band design for
+/// both directions in full [-]. Below it the second direction enters their designs by its
+/// engagement, share / kFullDirectionShare: its first mode then leaves, per unit spectrum at its
+/// frequency, under a thousandth of the wave the first direction's leaves at its own, below the
+/// linear model's accuracy and any measured fill, so a partial design costs nothing that
+/// matters, and every design moves continuously from the one-direction design on the axis
+/// (share 0) to the two-direction one.
+inline constexpr double kFullDirectionShare{1e-3};
+
+/// How far the second direction of a turned tank enters the filters' and min_jerk_band's
+/// designs: min(1, share / kFullDirectionShare) [-], 0 on an axis.
+[[nodiscard]] double direction_engagement(double share);
+
 /// The tank turned onto its nearest axis (orientation a multiple of 90 degrees) when the motion
 /// drives a direction below kNegligibleDirectionShare of the other's static wall height; nullopt
 /// otherwise (the tank on an axis already, or both directions driven). The planner's strategies
