@@ -110,6 +110,7 @@ TEST(CalibrationRequest, FitsTheSeriesAndReturnsTheModel) {
   EXPECT_TRUE(out["parameters"]["alpha"]["standard_error"].is_null());
   EXPECT_LT(out["moves"][0]["rms_after_mm"].get<double>(), 1e-4);
   EXPECT_GT(out["moves"][0]["rms_before_mm"].get<double>(), 1.0);
+  EXPECT_EQ(out["fit_version"], "calibration-v2");
 }
 
 TEST(CalibrationRequest, BadInputNamesTheField) {

@@ -121,26 +121,23 @@ TEST(RectangularApi, TheCylindersModelOptionsAreRefusedForARectangularContainer)
   EXPECT_EQ(api::parse_plan_request(zeta).options.model.explicit_zeta, 0.02);
 }
 
-/// A calibration of the cup moved along L from a series of the model with omega_scale 1.05 and
-/// height_gain 0.9.
+/// A calibration of the cup moved along one side from simulate's series of the cup with
+/// omega_scale 1.05 and height_gain 0.9 (its own damping).
 json cup_calibration(double orientation) {
   json body = {{"format", cup_request()["format"]}};
   body["format"]["container"]["orientation_deg"] = orientation;
   body["format"]["stroke_mm"] = 100;
-  const Format f = api::parse_request_format(body);
-  ModelOptions truth;
-  truth.omega_scale = 1.05;
-  truth.height_gain = 0.9;
-  const NonlinearResponse response(make_sloshing_model(f, truth),
-                                   make_modified_trapezoid_law(0.1, 0.8), 1.2);
-  json t = json::array(), eta = json::array();
-  for (int k = 0; k <= 100; ++k) {
-    t.push_back(0.02 * k);
-    eta.push_back(response.eta(0.02 * k) * 1e3);
-  }
-  body["moves"] = json::array({{{"motion_time_s", 0.8},
-                                {"law", {{"type", "modified_trapezoid"}}},
-                                {"series", {{"t_s", t}, {"eta_mm", eta}}}}});
+  const json sim = api::run_simulate(api::parse_simulate_request(
+      {{"format", body["format"]},
+       {"law", {{"type", "modified_trapezoid"}}},
+       {"rest_time_s", 1.2},
+       {"sample_period_s", 0.02},
+       {"options", {{"model", {{"omega_scale", 1.05}, {"height_gain", 0.9}}}}}}));
+  body["moves"] = json::array(
+      {{{"motion_time_s", 0.8},
+        {"law", {{"type", "modified_trapezoid"}}},
+        {"series",
+         {{"t_s", sim["series"]["t_s"]}, {"eta_mm", sim["series"]["eta_nonlinear_mm"]}}}}});
   body["fit"] = {{"zeta", {{"fit", false}}}};
   return body;
 }

@@ -2,9 +2,10 @@
 // (core/model/rectangular_calibration): the measured runs are made by the product's simulate()
 // with per-direction scales (options.model.width_omega_scale / width_zeta), and the fit, whose
 // model is simulate's, recovers them: exactly without noise, within a bound derived here with
-// +-2 % on measured peaks, over seeded random tanks; its Jacobian equals Richardson-extrapolated
-// central differences of its residuals; a run along one side fits that side only and says the
-// other is unmeasured; moves that cannot tell the directions apart are refused with the text.
+// +-2 % on measured peaks, over seeded random tanks; its Jacobian (a series offset's column too)
+// equals Richardson-extrapolated central differences of its residuals; a run along one side fits
+// that side only and says the other is unmeasured; moves that cannot tell the directions apart
+// are refused with the text.
 
 #include <gtest/gtest.h>
 
@@ -223,26 +224,33 @@ TEST(RectangularCalibration, RecoversRandomTanksTurnedRandomly) {
 }
 
 TEST(RectangularCalibration, JacobianEqualsRichardsonDifferencesOfTheResiduals) {
-  // Residuals of a turned series and of turned peaks; the fit's exact Jacobian against central
-  // differences at h and h/2 extrapolated (error O(h^4)) with h = 1e-4 of each value.
+  // Residuals of a turned series whose offset is fitted, of a series along the width and of
+  // turned peaks; the fit's exact Jacobian (the 5 parameters, then the offset) against central
+  // differences at h and h/2 extrapolated (error O(h^4)) with h = 1e-4 of each value (1e-5 s of
+  // the offset).
   const Truth truth;
-  const std::vector<RectangularMeasuredMove> moves{
+  std::vector<RectangularMeasuredMove> moves{
       series_move(cup(), 30.0, make_modified_trapezoid_law(0.2, 0.8), truth),
+      series_move(cup(), 90.0, make_poly5_law(0.2, 0.7), truth),
       peaks_move(cup(), -50.0, make_poly5_law(0.2, 0.9), truth)};
+  moves[0].move.series->fit_offset = true;
   const RectangularCalibrationValues at{0.97, 0.015, 1.02, 0.018, 0.95};
+  const std::vector<double> offsets{0.015, 0.0, 0.0};
   std::vector<double> r;
-  std::vector<RectangularCalibrationValues> J;
-  rectangular_calibration_residuals(cup(), {}, moves, at, {}, &r, &J);
+  std::vector<std::vector<double>> J;
+  rectangular_calibration_residuals(cup(), {}, moves, at, offsets, {}, &r, &J);
   ASSERT_EQ(J.size(), r.size());
+  ASSERT_EQ(J.front().size(), at.size() + 1);
   auto residuals = [&](std::size_t k, double delta) {
     RectangularCalibrationValues p = at;
-    p[k] += delta;
+    std::vector<double> o = offsets;
+    (k < p.size() ? p[k] : o[0]) += delta;
     std::vector<double> out;
-    rectangular_calibration_residuals(cup(), {}, moves, p, {}, &out, nullptr);
+    rectangular_calibration_residuals(cup(), {}, moves, p, o, {}, &out, nullptr);
     return out;
   };
-  for (std::size_t k = 0; k < at.size(); ++k) {
-    const double h = 1e-4 * at[k];
+  for (std::size_t k = 0; k <= at.size(); ++k) {
+    const double h = k < at.size() ? 1e-4 * at[k] : 1e-5;
     const std::vector<double> a = residuals(k, h), b = residuals(k, -h);
     const std::vector<double> c = residuals(k, 0.5 * h), d = residuals(k, -0.5 * h);
     double scale = 0.0, worst = 0.0;

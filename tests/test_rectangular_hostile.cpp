@@ -98,11 +98,13 @@ json two_cup_moves() {
 // A calibration whose zeta stayed at the cup's prior must not override another tank's damping:
 // another tank is refused by name, and the same cup at another fill keeps its own damping there.
 TEST_F(RectangularHostile, CalibrationOfOneCupDoesNotImposeItsDampingPriorElsewhere) {
-  const json fitted =
-      post(*server_, "/v1/calibrations",
-           {{"name", "hostile-cup"}, {"format", cup(0.0)}, {"moves", two_cup_moves()}});
-  // The two peak pairs do not determine zeta: it is held, and the stored model carries none.
-  ASSERT_EQ(fitted["parameters"]["zeta"]["state"], "unidentifiable") << fitted.dump();
+  const json fitted = post(*server_, "/v1/calibrations",
+                           {{"name", "hostile-cup"},
+                            {"format", cup(0.0)},
+                            {"moves", two_cup_moves()},
+                            {"fit", {{"zeta", {{"fit", false}}}}}});
+  // zeta held at the cup's prior (not fitted): the stored model carries none.
+  ASSERT_EQ(fitted["parameters"]["zeta"]["state"], "fixed") << fitted.dump();
   EXPECT_FALSE(fitted["model"].contains("zeta")) << fitted["model"].dump();
   // Another tank: refused, naming the calibration and both containers.
   json big = cup(0.0, 300, 200, 100);

@@ -11,7 +11,6 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/law_json.hpp"
 #include "slosh/core/model/rectangular_calibration.hpp"
-#include "slosh/core/strategy/rectangular_plan.hpp"
 
 namespace slosh::api {
 
@@ -207,9 +206,9 @@ void validate_calibration_name(const std::string& name, const std::string& field
   }
 }
 
-/// A rectangular tank is calibrated by moves along one of its sides (each move drives one
-/// direction, whose scales are then the tank's), and its Duffing coefficient follows from the
-/// depth: alpha is not fitted but held at the theory's value.
+/// A rectangular tank is calibrated per direction (calibrate_rectangular), each direction's
+/// Duffing coefficient following from the depth: alpha is not fitted but held at the theory's
+/// value (the settings say so, and the priors' check passes it whatever its sign).
 void fix_rectangular_alpha(const json& body, CalibrationRequest& r) {
   const json* fit = given_member(body, "fit");
   const json* alpha_fit = fit != nullptr ? given_member(*fit, "alpha") : nullptr;
@@ -231,25 +230,6 @@ void fix_rectangular_alpha(const json& body, CalibrationRequest& r) {
   alpha.lower = std::min(alpha.lower, r.base.alpha - 1.0);
   alpha.upper = std::max(alpha.upper, r.base.alpha + 1.0);
 }
-
-namespace {
-
-/// The per-direction fit of a turned tank takes each series' offset as given
-/// (calibrate_rectangular): a fit_offset asked of it is refused, never dropped.
-void refuse_turned_offset_fit(const CalibrationRequest& r) {
-  for (std::size_t i = 0; i < r.moves.size(); ++i) {
-    const std::optional<MeasuredSeries>& s = r.moves[i].series;
-    if (!s || !s->fit_offset) continue;
-    const std::string field = "moves[" + std::to_string(i) + "].series.fit_offset";
-    invalid(field, field +
-                       " applies to moves along one side of a rectangular container: the fit of "
-                       "a turned tank's directions takes each series' offset_s as given; set "
-                       "offset_s to the move's start on the series' clock and fit_offset to "
-                       "false");
-  }
-}
-
-}  // namespace
 
 CalibrationRequest parse_calibration_request(const json& body) {
   require_object(body, "");
@@ -280,7 +260,6 @@ CalibrationRequest parse_calibration_request(const json& body) {
   }
   parse_fit(body, r.settings);
   if (r.format.container.rectangular) fix_rectangular_alpha(body, r);
-  if (fitted_per_direction(r)) refuse_turned_offset_fit(r);
   check_priors(r);
   return r;
 }
@@ -290,14 +269,6 @@ json calibrated_model_json(const ModelOptions& m) {
           {"zeta", m.explicit_zeta},
           {"alpha", m.alpha},
           {"height_gain", m.height_gain}};
-}
-
-bool fitted_per_direction(const CalibrationRequest& request) {
-  if (!request.format.container.rectangular) return false;
-  const double own = request.format.container.rectangular->orientation_deg;
-  return both_directions_excited(own) ||
-         std::any_of(request.orientations.begin(), request.orientations.end(),
-                     [own](double phi) { return phi != own; });
 }
 
 namespace {
@@ -375,10 +346,8 @@ json run_per_direction(const CalibrationRequest& request) {
   return out;
 }
 
-}  // namespace
-
-json run_calibration(const CalibrationRequest& request) {
-  if (fitted_per_direction(request)) return run_per_direction(request);
+/// The cylinder's fit (calibrate): its four parameters, its model as options.model takes it.
+json run_cylinder(const CalibrationRequest& request) {
   const CalibrationResult fit =
       calibrate(request.format, request.base, request.moves, request.settings);
   json out;
@@ -387,32 +356,25 @@ json run_calibration(const CalibrationRequest& request) {
   out["sigma_mm"] = fit.sigma * 1e3;
   json parameters = json::object();
   for (std::size_t j = 0; j < kCalibrationParameters; ++j) {
-    const FittedParameter& p = fit.parameters[j];
-    parameters[std::string(name_of(static_cast<CalibrationParameter>(j)))] = {
-        {"value", p.value},
-        {"prior", p.prior},
-        {"standard_error", p.standard_error ? json(*p.standard_error) : json(nullptr)},
-        {"state", name_of(p.state)},
-        {"at_bound", p.at_bound}};
+    parameters[std::string(name_of(static_cast<CalibrationParameter>(j)))] =
+        parameter_json(fit.parameters[j]);
   }
   out["parameters"] = std::move(parameters);
   out["moves"] = move_fits_json(fit.moves);
   out["identifiability"] = fit.identifiability;
   out["model"] = calibrated_model_json(fit.model);
-  // A rectangular tank's alpha is the theory's (not fitted, not an option of its plans). Its
-  // zeta, when the moves did not fit it and no value was given, is the tank's own boundary-layer
-  // damping at the fitted fill: left out, so that a plan at another fill keeps its own.
-  if (request.format.container.rectangular) {
-    out["model"].erase("alpha");
-    const auto zeta = static_cast<std::size_t>(CalibrationParameter::kZeta);
-    if (fit.parameters[zeta].state != ParameterState::kFitted &&
-        !request.settings.parameters[zeta].initial) {
-      out["model"].erase("zeta");
-    }
-  }
   // What the fit holds for: a request naming it on another container is refused.
   out["container"] = fitted_container_json(request.format);
   if (request.name) out["name"] = *request.name;
+  return out;
+}
+
+}  // namespace
+
+json run_calibration(const CalibrationRequest& request) {
+  json out =
+      request.format.container.rectangular ? run_per_direction(request) : run_cylinder(request);
+  out["fit_version"] = kCalibrationFitVersion;
   return out;
 }
 

@@ -1759,7 +1759,8 @@ void add_calibration_schemas(json& s) {
       {"t_s", "eta_mm"},
       "A measured wall height eta(t) (the sign of simulate's series), any sampling rate; t_s "
       "strictly increasing on the measurement clock; offset_s is the move start on that clock "
-      "(estimated within +-max_offset_s when fit_offset).",
+      "(estimated within +-max_offset_s when fit_offset, for a cylinder and a rectangular "
+      "container alike).",
       true);
   s["MeasuredPeaks"] =
       object({{"eta_motion_mm", number}, {"eta_rest_mm", number}, {"rest_window_s", number}}, {},
@@ -1797,21 +1798,26 @@ void add_calibration_schemas(json& s) {
        {"name", {{"type", "string"}, {"pattern", "^[A-Za-z0-9][A-Za-z0-9._-]{0,63}$"}}}},
       {"format", "moves"},
       "Bench measurements to calibrate the nonlinear model on (bounded Levenberg-Marquardt with "
-      "exact gradients). A rectangular container moved turned (or along both sides) is fitted "
-      "per direction: fit.omega_scale and fit.zeta set both directions' parameters.",
+      "exact gradients). A rectangular container is fitted per direction on simulate's model of "
+      "the tank, whether its moves run along one side or turned: fit.omega_scale and fit.zeta "
+      "set each driven direction's parameters and fit.alpha is refused (the depth's).",
       true);
   s["CalibrationResponse"] = {
       {"type", "object"},
       {"description",
        "status (converged, max_iterations, time_limit, failed), iterations, sigma_mm, parameters "
        "{name: {value, prior, standard_error (null unless fitted), state (fitted, fixed, "
-       "unidentifiable), at_bound}} (a rectangular container whose moves drove both of its "
-       "directions: omega_scale and zeta of the length, width_omega_scale and width_zeta of the "
-       "width), moves [{name, residuals, rms_before_mm, rms_after_mm, "
-       "offset_s, offset_standard_error_s}], identifiability [sentences], model (options.model), "
-       "container (the container fitted on: shape, radius_mm or length_mm, width_mm and the "
-       "directions moved; a request naming the calibration on another container is refused), "
-       "name."}};
+       "unidentifiable), at_bound}} (a cylinder: omega_scale, zeta, alpha, height_gain; a "
+       "rectangular container: omega_scale, zeta and height_gain of the direction its moves "
+       "drove, or when they drove both, omega_scale and zeta of the length and "
+       "width_omega_scale and width_zeta of the width; a direction no move drove is not "
+       "estimated and identifiability says it is unmeasured), moves [{name, residuals, "
+       "rms_before_mm, rms_after_mm, offset_s, offset_standard_error_s}], identifiability "
+       "[sentences], model (options.model), container (the container fitted on: shape, "
+       "radius_mm or length_mm, width_mm and the directions moved; a request naming the "
+       "calibration on another container or direction is refused), fit_version (the fit's "
+       "numerics, calibration-v2; a rectangular container's calibration along one side stored "
+       "without it is refused by name), name."}};
 }
 
 /// Request and response details of one route's operation.

@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <numbers>
 #include <optional>
+#include <string>
 #include <tuple>
+#include <vector>
 
 #include <Eigen/Dense>
 
@@ -21,9 +23,12 @@ namespace slosh {
 
 namespace {
 
-/// The fitted columns, in this order: each direction's omega scale and zeta, then the gain.
+/// The fitted parameters, in this order: each direction's omega scale and zeta, then the gain;
+/// the columns after them are the series offsets fitted, one per move that asks, in move order.
 enum Column : std::size_t { kOmegaL, kZetaL, kOmegaW, kZetaW, kGain, kColumns };
 using Values = std::array<double, kColumns>;
+/// Every column's value: the parameters, then the fitted offsets.
+using Columns = std::vector<double>;
 
 constexpr std::array<const char*, kColumns> kNames{"the length's omega_scale", "the length's zeta",
                                                    "the width's omega_scale", "the width's zeta",
@@ -42,20 +47,24 @@ std::string sig3(double v) {
   return buf;
 }
 
-// The rest window a move's response is integrated over (as calibrate()'s horizon).
+// The rest window a move's response is integrated over (as calibrate()'s horizon): the peaks'
+// window and every series sample at the smallest offset allowed.
 double horizon(const MeasuredMove& move) {
   double rest = 0.01;
   if (move.peaks) rest = std::max(rest, move.peaks->rest_window);
   if (move.series && !move.series->t.empty()) {
-    rest = std::max(rest, move.series->t.back() - move.series->offset - move.law.duration() + 0.01);
+    const MeasuredSeries& s = *move.series;
+    const double earliest_offset = s.offset - (s.fit_offset ? s.max_offset : 0.0);
+    rest = std::max(rest, s.t.back() - earliest_offset - move.law.duration() + 0.01);
   }
   return rest;
 }
 
-/// A wave height with its gradient over the columns.
+/// A wave height with its gradient over the parameters and its rate in time.
 struct Sample {
   double value{};
   Values gradient{};
+  double rate{};  ///< [m/s]
 };
 
 /// One driven direction of a move as simulate models it, in dual numbers.
@@ -72,12 +81,14 @@ Sample direction_sample(const DirectionResponse& d, const detail::DirectionSampl
   out.gradient[d.omega] = sign * gain * s.gradient[0];
   out.gradient[d.omega + 1] = sign * gain * s.gradient[1];
   out.gradient[kGain] = sign * s.value;
+  out.rate = sign * gain * s.rate;
   return out;
 }
 
 Sample operator+(Sample a, const Sample& b) {
   a.value += b.value;
   for (std::size_t j = 0; j < kColumns; ++j) a.gradient[j] += b.gradient[j];
+  a.rate += b.rate;
   return a;
 }
 
@@ -85,6 +96,7 @@ Sample abs_of(Sample s) {
   if (s.value < 0.0) {
     s.value = -s.value;
     for (double& g : s.gradient) g = -g;
+    s.rate = -s.rate;
   }
   return s;
 }
@@ -127,7 +139,7 @@ Sample peak_of(const std::vector<DirectionResponse>& dirs, double a, double b, d
 
 struct Evaluation {
   std::vector<double> r;
-  std::vector<Values> J;
+  std::vector<std::vector<double>> J;  // per residual, every column
   std::vector<std::size_t> move_end;
 };
 
@@ -137,11 +149,15 @@ struct Problem {
   NonlinearOptions nonlinear;
   /// Per move: whether simulate's nonlinear model holds for it (judged on the prior tank).
   std::vector<bool> nonlinear_holds;
-  Values prior{};
-  Values lower{}, upper{};
-  std::array<bool, kColumns> free{};
+  /// Per move: its offset column (kColumns on), or 0 when its series' offset is given.
+  std::vector<std::size_t> offset_column;
+  /// Per column (the parameters, then the offsets): start value and prior, bounds, fitted.
+  Columns prior, lower, upper;
+  std::vector<bool> free;
 
-  [[nodiscard]] Evaluation run(const Values& v) const {
+  [[nodiscard]] std::size_t columns() const { return prior.size(); }
+
+  [[nodiscard]] Evaluation run(const Columns& v) const {
     Evaluation e;
     for (std::size_t i = 0; i < moves->size(); ++i) {
       const RectangularMeasuredMove& m = (*moves)[i];
@@ -157,22 +173,30 @@ struct Problem {
              omega});
         dirs.back().response.compute(v[omega], v[omega + 1]);
       }
-      auto push = [&e](const Sample& s, double measured) {
+      // col: the move's offset column, 0 for none (a peak does not depend on the offset).
+      auto push = [&e, this](const Sample& s, double measured, std::size_t col) {
         e.r.push_back(s.value - measured);
-        e.J.push_back(s.gradient);
+        std::vector<double> row(columns(), 0.0);
+        std::copy(s.gradient.begin(), s.gradient.end(), row.begin());
+        if (col != 0) row[col] = -s.rate;
+        e.J.push_back(std::move(row));
       };
       if (m.move.series) {
         const MeasuredSeries& s = *m.move.series;
+        const std::size_t col = offset_column[i];
+        const double offset = col != 0 ? v[col] : s.offset;
         for (std::size_t k = 0; k < s.t.size(); ++k) {
-          push(series_at(dirs, std::clamp(s.t[k] - s.offset, 0.0, HUGE_VAL), v[kGain]), s.eta[k]);
+          // Before the move's start the tank is at rest: the wave and its rate are 0 there.
+          push(series_at(dirs, std::max(s.t[k] - offset, 0.0), v[kGain]), s.eta[k], col);
         }
       }
       if (m.move.peaks) {
         const double T = m.move.law.duration();
         if (m.move.peaks->eta_motion)
-          push(peak_of(dirs, 0.0, T, v[kGain]), *m.move.peaks->eta_motion);
+          push(peak_of(dirs, 0.0, T, v[kGain]), *m.move.peaks->eta_motion, 0);
         if (m.move.peaks->eta_rest) {
-          push(peak_of(dirs, T, T + m.move.peaks->rest_window, v[kGain]), *m.move.peaks->eta_rest);
+          push(peak_of(dirs, T, T + m.move.peaks->rest_window, v[kGain]), *m.move.peaks->eta_rest,
+               0);
         }
       }
       e.move_end.push_back(e.r.size());
@@ -182,10 +206,18 @@ struct Problem {
 
   [[nodiscard]] std::vector<std::size_t> free_columns() const {
     std::vector<std::size_t> c;
-    for (std::size_t j = 0; j < kColumns; ++j) {
+    for (std::size_t j = 0; j < columns(); ++j) {
       if (free[j]) c.push_back(j);
     }
     return c;
+  }
+
+  /// A column's name in the notes.
+  [[nodiscard]] std::string name(std::size_t column) const {
+    if (column < kColumns) return kNames[column];
+    const auto move = static_cast<std::size_t>(
+        std::find(offset_column.begin(), offset_column.end(), column) - offset_column.begin());
+    return "the offset of move " + std::to_string(move + 1);
   }
 };
 
@@ -253,19 +285,16 @@ std::optional<WeakDirection> unidentifiable(const Problem& pb, const std::vector
   return weak;
 }
 
-std::string names_of(const std::vector<std::size_t>& columns) {
+std::string names_of(const Problem& pb, const std::vector<std::size_t>& columns) {
   std::string out;
   for (std::size_t k = 0; k < columns.size(); ++k) {
-    out += (k == 0                    ? ""
-            : k + 1 == columns.size() ? " and "
-                                      : ", ") +
-           std::string(kNames[columns[k]]);
+    out += (k == 0 ? "" : k + 1 == columns.size() ? " and " : ", ") + pb.name(columns[k]);
   }
   return out;
 }
 
 // Column j's result; `held`: held at its prior as not determined by the moves.
-FittedParameter parameter(const Problem& pb, const Values& v, std::size_t j,
+FittedParameter parameter(const Problem& pb, const Columns& v, std::size_t j,
                           const std::optional<double>& se, bool held) {
   FittedParameter f;
   f.prior = pb.prior[j];
@@ -312,11 +341,23 @@ Problem make_problem(const Format& format, const ModelOptions& base,
   const std::array<const ParameterSetting*, kColumns> setting{&p[0], &p[1], &p[0], &p[1], &p[3]};
   const Values own{1.0, pb.tank.along_length.zeta, 1.0, pb.tank.along_width.zeta, 1.0};
   for (std::size_t j = 0; j < kColumns; ++j) {
-    pb.prior[j] = setting[j]->initial.value_or(own[j]);
-    pb.lower[j] = setting[j]->lower;
-    pb.upper[j] = setting[j]->upper;
+    pb.prior.push_back(setting[j]->initial.value_or(own[j]));
+    pb.lower.push_back(setting[j]->lower);
+    pb.upper.push_back(setting[j]->upper);
     const bool measured = of_length(j) ? (*driven)[0] : of_width(j) ? (*driven)[1] : true;
-    pb.free[j] = setting[j]->fit && measured;
+    pb.free.push_back(setting[j]->fit && measured);
+  }
+  for (const RectangularMeasuredMove& m : moves) {
+    const std::optional<MeasuredSeries>& s = m.move.series;
+    if (!s || !s->fit_offset) {
+      pb.offset_column.push_back(0);
+      continue;
+    }
+    pb.offset_column.push_back(pb.prior.size());
+    pb.prior.push_back(s->offset);
+    pb.lower.push_back(s->offset - s->max_offset);
+    pb.upper.push_back(s->offset + s->max_offset);
+    pb.free.push_back(true);
   }
   return pb;
 }
@@ -338,7 +379,7 @@ std::vector<std::string> unmeasured_notes(const std::array<bool, 2>& driven) {
 }
 
 /// The bounded least-squares fit of the free columns `cols` from `v`, into `v`.
-detail::LeastSquaresOutcome fit(const Problem& pb, const std::vector<std::size_t>& cols, Values& v,
+detail::LeastSquaresOutcome fit(const Problem& pb, const std::vector<std::size_t>& cols, Columns& v,
                                 const CalibrationSettings& settings) {
   const auto n = static_cast<Eigen::Index>(cols.size());
   detail::BoundedLeastSquares problem;
@@ -353,7 +394,7 @@ detail::LeastSquaresOutcome fit(const Problem& pb, const std::vector<std::size_t
   }
   problem.evaluate = [&pb, &cols, &v](const Eigen::VectorXd& x, Eigen::VectorXd& r,
                                       Eigen::MatrixXd& jac) {
-    Values trial = v;
+    Columns trial = v;
     for (std::size_t k = 0; k < cols.size(); ++k) trial[cols[k]] = x[static_cast<Eigen::Index>(k)];
     const Evaluation e = pb.run(trial);
     r = Eigen::Map<const Eigen::VectorXd>(e.r.data(), static_cast<Eigen::Index>(e.r.size()));
@@ -369,11 +410,10 @@ detail::LeastSquaresOutcome fit(const Problem& pb, const std::vector<std::size_t
 }
 
 /// sigma sqrt((J^T J)^-1_ii) of every free column (in the bound-scaled variables, as calibrate()).
-std::array<std::optional<double>, kColumns> standard_errors(const Problem& pb,
-                                                            const std::vector<std::size_t>& cols,
-                                                            const Eigen::MatrixXd& J,
-                                                            double sigma) {
-  std::array<std::optional<double>, kColumns> se{};
+std::vector<std::optional<double>> standard_errors(const Problem& pb,
+                                                   const std::vector<std::size_t>& cols,
+                                                   const Eigen::MatrixXd& J, double sigma) {
+  std::vector<std::optional<double>> se(pb.columns());
   if (cols.empty() || !(sigma > 0.0)) return se;
   const Eigen::VectorXd w = widths(pb, cols);
   const Eigen::MatrixXd Js = J * w.asDiagonal();
@@ -386,17 +426,22 @@ std::array<std::optional<double>, kColumns> standard_errors(const Problem& pb,
   return se;
 }
 
-/// Every move's residual count and RMS before and after.
-std::vector<MoveFit> move_fits(const std::vector<RectangularMeasuredMove>& moves,
+/// Every move's residual count, RMS before and after, and fitted offset.
+std::vector<MoveFit> move_fits(const Problem& pb, const Columns& v,
+                               const std::vector<std::optional<double>>& se,
                                const Evaluation& before, const Evaluation& after) {
   std::vector<MoveFit> out;
   std::size_t begin = 0;
-  for (std::size_t i = 0; i < moves.size(); ++i) {
+  for (std::size_t i = 0; i < pb.moves->size(); ++i) {
     MoveFit m;
-    m.name = moves[i].move.name;
+    m.name = (*pb.moves)[i].move.name;
     m.residuals = after.move_end[i] - begin;
     m.rms_before = rms(before.r, begin, before.move_end[i]);
     m.rms_after = rms(after.r, begin, after.move_end[i]);
+    if (const std::size_t col = pb.offset_column[i]; col != 0) {
+      m.offset = v[col];
+      m.offset_standard_error = se[col];
+    }
     out.push_back(std::move(m));
     begin = after.move_end[i];
   }
@@ -426,9 +471,9 @@ RectangularCalibrationResult calibrate_rectangular(
   std::array<bool, 2> driven{};
   Problem pb = make_problem(format, base, moves, settings, &driven);
   out.notes = unmeasured_notes(driven);
-  Values v = pb.prior;
+  Columns v = pb.prior;
   const Evaluation before = pb.run(v);
-  std::array<bool, kColumns> held{};  // held at the prior as not determined by the moves
+  std::vector<bool> held(pb.columns(), false);  // held at the prior as not determined by the moves
   detail::LeastSquaresOutcome ls;
   ls.status = detail::LeastSquaresStatus::kConverged;  // nothing to fit: the priors stand
   std::vector<std::size_t> cols = pb.free_columns();
@@ -449,21 +494,21 @@ RectangularCalibrationResult calibrate_rectangular(
     if (std::any_of(shared.begin(), shared.end(), of_length) &&
         std::any_of(shared.begin(), shared.end(), of_width)) {
       // The moves drive both directions but do not tell them apart: no values to report.
-      out.refused = names_of(shared) + " cannot be separated by these moves (" + why +
+      out.refused = names_of(pb, shared) + " cannot be separated by these moves (" + why +
                     "): add a move along the length (orientation 0 or 180 degrees) and one "
                     "along the width (90 or -90 degrees), or a measured series of a turned "
                     "move, whose two frequencies tell the directions apart";
       v = pb.prior;
-      pb.free.fill(false);
+      pb.free.assign(pb.columns(), false);
       after = before;
       cols.clear();
       sigma = residual_sigma(after, 0);
       break;
     }
     const std::size_t hold = weak->largest;
-    out.notes.push_back(names_of(shared) +
+    out.notes.push_back(names_of(pb, shared) +
                         (shared.size() > 1 ? " cannot be separated" : " is not determined") +
-                        " by these moves (" + why + "): " + kNames[hold] +
+                        " by these moves (" + why + "): " + pb.name(hold) +
                         " is held at its prior " + sig3(pb.prior[hold]) +
                         "; add moves that excite it (faster or larger moves, a measured series)");
     pb.free[hold] = false;
@@ -476,7 +521,7 @@ RectangularCalibrationResult calibrate_rectangular(
   out.length = {driven[0], param(kOmegaL), param(kZetaL)};
   out.width = {driven[1], param(kOmegaW), param(kZetaW)};
   out.height_gain = param(kGain);
-  out.moves = move_fits(moves, before, after);
+  out.moves = move_fits(pb, v, se, before, after);
   out.sigma = sigma;
   out.status = out.refused.empty() ? status_of(ls.status) : CalibrationStatus::kFailed;
   return out;
@@ -485,14 +530,20 @@ RectangularCalibrationResult calibrate_rectangular(
 void rectangular_calibration_residuals(const Format& format, const ModelOptions& base,
                                        const std::vector<RectangularMeasuredMove>& moves,
                                        const RectangularCalibrationValues& p,
+                                       const std::vector<double>& offsets,
                                        const NonlinearOptions& nonlinear,
                                        std::vector<double>* residuals,
-                                       std::vector<RectangularCalibrationValues>* jacobian) {
+                                       std::vector<std::vector<double>>* jacobian) {
   CalibrationSettings settings;
   settings.nonlinear = nonlinear;
   std::array<bool, 2> driven{};
   const Problem pb = make_problem(format, base, moves, settings, &driven);
-  Evaluation e = pb.run(p);
+  Columns v(p.begin(), p.end());
+  v.resize(pb.columns());
+  for (std::size_t i = 0; i < moves.size(); ++i) {
+    if (pb.offset_column[i] != 0) v[pb.offset_column[i]] = offsets[i];
+  }
+  Evaluation e = pb.run(v);
   *residuals = std::move(e.r);
   if (jacobian != nullptr) *jacobian = std::move(e.J);
 }

@@ -51,8 +51,8 @@ RectangularDirectionDual::Trajectory integrate(const Rhs& f, double w, const Mot
   return tr;
 }
 
-DirectionSample sample_of(const Dual2& value) {
-  return {value.v, {value.d[0], value.d[1]}};
+DirectionSample sample_of(const Dual2& value, double rate) {
+  return {value.v, {value.d[0], value.d[1]}, rate};
 }
 
 }  // namespace
@@ -157,21 +157,32 @@ void RectangularDirectionDual::integrate_second_mode(const Dual2& w1, const Dual
 
 DirectionSample RectangularDirectionDual::odd(double t) const {
   Dual2 eta(0.0);
-  for (const Trajectory& tr : modes_) eta = eta + tr.gain * state_at(tr, t).x;
-  return sample_of(eta);
+  double rate = 0.0;
+  for (const Trajectory& tr : modes_) {
+    const State s = state_at(tr, t);
+    eta = eta + tr.gain * s.x;
+    rate += tr.gain * s.v.v;
+  }
+  return sample_of(eta, rate);
 }
 
 DirectionSample RectangularDirectionDual::even(double t) const {
   if (b_.empty()) return {};
-  if (t <= t2_.front()) return sample_of(b_.front());
-  if (t >= t2_.back()) return sample_of(b_.back());
+  if (t <= t2_.front()) return sample_of(b_.front(), 0.0);
+  if (t >= t2_.back()) return sample_of(b_.back(), 0.0);
   const std::size_t i =
       static_cast<std::size_t>(std::upper_bound(t2_.begin(), t2_.end(), t) - t2_.begin()) - 1;
   const double h = t2_[i + 1] - t2_[i];
   const double s = (t - t2_[i]) / h;
   const double s2 = s * s, s3 = s2 * s;
+  // The cubic Hermite interpolant and its time derivative.
+  const double rate =
+      ((6.0 * s2 - 6.0 * s) * b_[i].v + (3.0 * s2 - 4.0 * s + 1.0) * h * b_dot_[i].v +
+       (6.0 * s - 6.0 * s2) * b_[i + 1].v + (3.0 * s2 - 2.0 * s) * h * b_dot_[i + 1].v) /
+      h;
   return sample_of((2.0 * s3 - 3.0 * s2 + 1.0) * b_[i] + (s3 - 2.0 * s2 + s) * h * b_dot_[i] +
-                   (-2.0 * s3 + 3.0 * s2) * b_[i + 1] + (s3 - s2) * h * b_dot_[i + 1]);
+                       (-2.0 * s3 + 3.0 * s2) * b_[i + 1] + (s3 - s2) * h * b_dot_[i + 1],
+                   rate);
 }
 
 }  // namespace slosh::detail

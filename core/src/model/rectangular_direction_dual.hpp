@@ -26,10 +26,11 @@ namespace slosh::detail {
 /// Derivative directions: the direction's omega_scale (0) and zeta (1).
 using Dual2 = Dual<2>;
 
-/// A wall elevation with its gradient over (omega_scale, zeta).
+/// A wall elevation with its gradient over (omega_scale, zeta) and its rate in time.
 struct DirectionSample {
   double value{};                    ///< [m]
   std::array<double, 2> gradient{};  ///< [m]
+  double rate{};                     ///< d value / dt [m/s] (a series offset's derivative)
 };
 
 class RectangularDirectionDual {

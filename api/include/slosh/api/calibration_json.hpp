@@ -18,6 +18,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -56,18 +57,23 @@ void validate_calibration_name(const std::string& name, const std::string& field
 /// options.model accepts.
 [[nodiscard]] nlohmann::json calibrated_model_json(const ModelOptions& model);
 
-/// Whether `request` is fitted per direction (calibrate_rectangular): a rectangular container
-/// whose moves drive both of its directions, or whose moves are not all at its own orientation.
-[[nodiscard]] bool fitted_per_direction(const CalibrationRequest& request);
+/// The numerics of the fit behind an answer, recorded in it ("fit_version") and so in every
+/// stored calibration; bumped whenever a fit's numbers change for the same request. v1 (answers
+/// without the member) fitted a rectangular container moved along one side on its dominant mode
+/// alone; v2 fits every rectangular container on simulate's model, per direction.
+inline constexpr std::string_view kCalibrationFitVersion{"calibration-v2"};
 
 /// Runs the fit and renders the response: {"status", "iterations", "sigma_mm", "parameters":
 /// {name: {"value", "prior", "standard_error" (null when not fitted), "state", "at_bound"}},
 /// "moves": [{"name", "residuals", "rms_before_mm", "rms_after_mm", "offset_s",
 /// "offset_standard_error_s"}], "identifiability": [...], "model": {omega_scale, zeta, alpha,
-/// height_gain}, "name" (when given)}. A fit per direction names the width's parameters
-/// width_omega_scale and width_zeta (omega_scale and zeta are then the length's), in
-/// "parameters" and "model" alike; moves that cannot tell the directions apart are a 422 on
-/// "moves".
+/// height_gain}, "container", "fit_version", "name" (when given)}. A rectangular container is
+/// fitted per direction (calibrate_rectangular): its parameters are omega_scale, zeta and
+/// height_gain of the one direction its moves drove, and when they drove both, omega_scale and
+/// zeta are the length's and width_omega_scale and width_zeta the width's, in "parameters" and
+/// "model" alike (no alpha: the depth's); a direction no move drove is named unmeasured in
+/// "identifiability" and left out of "container.directions"; moves that cannot tell the
+/// directions apart are a 422 on "moves".
 [[nodiscard]] nlohmann::json run_calibration(const CalibrationRequest& request);
 
 }  // namespace slosh::api

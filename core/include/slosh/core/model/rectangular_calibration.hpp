@@ -1,10 +1,11 @@
 #pragma once
 // Calibration of a rectangular tank (SPEC §15) from moves that drive one or both of its
 // directions: the frequency scale and damping ratio of each direction the moves drive, and one
-// height gain, fitted by bounded least squares with exact gradients. The model fitted is
-// simulate's (every linear mode, the dominant mode's third-order oscillator and the second mode
-// it drives; its linear model where the nonlinear one does not hold), integrated in dual
-// numbers over each direction's scale and damping (model/rectangular_direction_dual.hpp).
+// height gain (and each series' time offset where asked), fitted by bounded least squares with
+// exact gradients. The model fitted is simulate's (every linear mode, the dominant mode's
+// third-order oscillator and the second mode it drives; its linear model where the nonlinear
+// one does not hold), integrated in dual numbers over each direction's scale and damping
+// (model/rectangular_direction_dual.hpp).
 
 #include <array>
 #include <string>
@@ -19,7 +20,7 @@ namespace slosh {
 struct RectangularMeasuredMove {
   /// Its law and what was measured: a series or peaks of simulate's wave height (the signed
   /// wall ahead when one direction moves, the highest corner |eta_L| + |eta_W| when both do).
-  /// A series' offset is taken as given (not fitted here).
+  /// A series' offset is estimated when it says fit_offset, as calibrate() does.
   MeasuredMove move;
   /// Angle from the motion to the tank's side L [deg], as RectangularTank::orientation_deg.
   double orientation_deg{};
@@ -64,14 +65,17 @@ struct RectangularCalibrationResult {
 /// omega_scale and zeta, the width's omega_scale and zeta, height_gain.
 using RectangularCalibrationValues = std::array<double, 5>;
 
-/// The fit's residuals at `p` (simulate's wave height minus the measured one: every series
-/// sample, then the motion and rest peaks, move by move) and, when `jacobian` is given, their
-/// exact derivatives with respect to `p` (one row per residual). For tests and diagnostics.
+/// The fit's residuals at `p` with each move's series starting at `offsets[i]` on its clock
+/// (simulate's wave height minus the measured one: every series sample, then the motion and rest
+/// peaks, move by move) and, when `jacobian` is given, their exact derivatives (one row per
+/// residual; columns: the 5 values of `p`, then one per move whose series fits its offset, in
+/// move order). For tests and diagnostics.
 void rectangular_calibration_residuals(const Format& format, const ModelOptions& base,
                                        const std::vector<RectangularMeasuredMove>& moves,
                                        const RectangularCalibrationValues& p,
+                                       const std::vector<double>& offsets,
                                        const NonlinearOptions& nonlinear,
                                        std::vector<double>* residuals,
-                                       std::vector<RectangularCalibrationValues>* jacobian);
+                                       std::vector<std::vector<double>>* jacobian);
 
 }  // namespace slosh
