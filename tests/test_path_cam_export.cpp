@@ -417,8 +417,9 @@ TEST(PathCamCli, StructuredTextHasTheCsvColumnsAndRows) {
                                               : "   path: a path of 2 segments (lines and arcs)"),
         std::string::npos)
         << st.out.substr(0, 800);
-    if (!c.dwell.empty())
+    if (!c.dwell.empty()) {
       EXPECT_NE(st.out.find(c.dwell), std::string::npos) << st.out.substr(0, 800);
+    }
     ASSERT_EQ(rows.rows.size(), table.rows.size());
     for (std::size_t k = 0; k < table.rows.size(); ++k) {
       ASSERT_EQ(rows.rows[k].size(), table.rows[k].size()) << k;

@@ -234,7 +234,7 @@ TEST(PathHostile, RefusalsNameMemberValueAndLimit) {
   // A path's arc is a segment as long as a line may be, as a lone arc is.
   json corner = lines({200, 200});
   corner["segments"].insert(corner["segments"].begin() + 1,
-                            {{"arc", {{"radius_mm", 1e-9}, {"angle_deg", 90}}}});
+                            json::object({{"arc", {{"radius_mm", 1e-9}, {"angle_deg", 90}}}}));
   refusal(corner, "format.motion.segments[1].arc",
           "format.motion.segments[1].arc is 1.570796327e-09 mm long (radius_mm × angle); allowed "
           "0.01 to 100000 mm");
