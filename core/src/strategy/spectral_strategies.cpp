@@ -292,12 +292,26 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   const double stroke = c.format.stroke;
   const double inv = 1.0 / c.x_ref;
   const int rows = 4 * static_cast<int>(targets.size());
-  add_limits(p, c, rows, [stroke, targets, inv](const double* x, double* g, double* jac) {
+  // X and its gradient at the targets for the durations `of`: SLSQP evaluates an accepted
+  // line-search point twice (without, then with the Jacobian), the second call reuses the first's.
+  struct TargetSpectra {
+    std::optional<Durations> of;
+    std::vector<SpectrumGradient> at;
+  } spectra;
+  TargetSpectra* cache = &spectra;
+  add_limits(p, c, rows, [stroke, targets, inv, cache](const double* x, double* g, double* jac) {
     Durations d;
     std::copy(x, x + kSegments, d.begin());
+    if (cache->of != d) {
+      cache->at.resize(targets.size());
+      for (std::size_t t = 0; t < targets.size(); ++t) {
+        cache->at[t] = spectrum_gradient(d, stroke, targets[t].omega);
+      }
+      cache->of = d;
+    }
     for (std::size_t t = 0; t < targets.size(); ++t) {
       const double scale = targets[t].weight * inv;
-      const SpectrumGradient sg = spectrum_gradient(d, stroke, targets[t].omega);
+      const SpectrumGradient& sg = cache->at[t];
       const double re = sg.X.real() * scale, im = sg.X.imag() * scale;
       double* gt = g + 4 * t;
       gt[0] = re - kNotchDepth;
