@@ -292,12 +292,26 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   const double stroke = c.format.stroke;
   const double inv = 1.0 / c.x_ref;
   const int rows = 4 * static_cast<int>(targets.size());
-  add_limits(p, c, rows, [stroke, targets, inv](const double* x, double* g, double* jac) {
+  // X and its gradient at the targets for the durations `of`: SLSQP evaluates an accepted
+  // line-search point twice (without, then with the Jacobian), the second call reuses the first's.
+  struct TargetSpectra {
+    std::optional<Durations> of;
+    std::vector<SpectrumGradient> at;
+  } spectra;
+  TargetSpectra* cache = &spectra;
+  add_limits(p, c, rows, [stroke, targets, inv, cache](const double* x, double* g, double* jac) {
     Durations d;
     std::copy(x, x + kSegments, d.begin());
+    if (cache->of != d) {
+      cache->at.resize(targets.size());
+      for (std::size_t t = 0; t < targets.size(); ++t) {
+        cache->at[t] = spectrum_gradient(d, stroke, targets[t].omega);
+      }
+      cache->of = d;
+    }
     for (std::size_t t = 0; t < targets.size(); ++t) {
       const double scale = targets[t].weight * inv;
-      const SpectrumGradient sg = spectrum_gradient(d, stroke, targets[t].omega);
+      const SpectrumGradient& sg = cache->at[t];
       const double re = sg.X.real() * scale, im = sg.X.imag() * scale;
       double* gt = g + 4 * t;
       gt[0] = re - kNotchDepth;
@@ -398,11 +412,16 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
 
 namespace {
 
-/// Scratch of the band rows: |X|^2 and its gradient at the rows' frequencies, refilled at every
-/// evaluation. Owned by the caller beside the rows' data (as Pinocchio passes Data beside Model)
-/// and outliving every problem that evaluates into it; the solves run one at a time.
+/// Scratch of the band rows: |X|^2 and its gradient at the rows' frequencies `omegas` for the
+/// durations `of`, refilled when either differs. Owned by the caller beside the rows' data (as
+/// Pinocchio passes Data beside Model) and outliving every problem that evaluates into it; the
+/// solves run one at a time. SLSQP evaluates a backtracked line-search point without its
+/// Jacobian and then, once it accepts it, again with it: the second call reuses the first's
+/// powers (which carry the gradient anyway), so the rows' numbers are the same either way.
 struct BandWorkspace {
   std::vector<SpectrumPowerGradient> powers;
+  std::vector<double> omegas;
+  std::optional<Durations> of;
 };
 
 /// Band rows relative to their bound: |X(w_k)|^2 scale - limit <= 0 (phase J), or
@@ -420,7 +439,11 @@ void evaluate_band_rows(const BandRows& rows, BandWorkspace& ws, const double* x
   const int n = kSegments + (rows.epigraph ? 1 : 0);
   Durations d;
   std::copy(x, x + kSegments, d.begin());
-  spectrum_power_gradients(d, rows.stroke, rows.omegas, &ws.powers);
+  if (ws.of != d || ws.omegas != rows.omegas) {
+    spectrum_power_gradients(d, rows.stroke, rows.omegas, &ws.powers);
+    ws.of = d;
+    ws.omegas = rows.omegas;
+  }
   for (std::size_t k = 0; k < rows.omegas.size(); ++k) {
     const auto& pg = ws.powers[k];
     g[k] = pg.power * rows.scale - (rows.epigraph ? x[kSegments] : rows.limit);
