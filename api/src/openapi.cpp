@@ -621,8 +621,9 @@ void add_compact_plan_schemas(json& s) {
   law["required"] = {"type", "stroke_mm", "motion_time_s"};
   law["description"] = "The plan's law (a 7-segment law: its 7 durations) with the move it makes.";
   s["CompactLaw"] = law;
-  const json eta{{"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm].")},
-                 {"eta_rest_mm", number("Peak |eta| in the rest window [mm].")}};
+  const json eta{
+      {"eta_motion_mm", number("Peak |eta| at the wall during the motion [mm], to 1 um.")},
+      {"eta_rest_mm", number("Peak |eta| in the rest window [mm], to 1 um.")}};
   const json peaks = object(eta, {"eta_motion_mm", "eta_rest_mm"}, "", false);
   s["CompactPlan"] = object(
       {{"view", string_enum({"compact"}, "Always compact: the view of this plan.")},
@@ -632,20 +633,23 @@ void add_compact_plan_schemas(json& s) {
        {"strategy", ref("Strategy")},
        {"status", ref("SolveStatus")},
        {"law", ref("CompactLaw")},
-       {"kinematics", object({{"a_max", number("Positive plateau level A [m/s^2]; along an arc "
-                                               "or a path the tangential s'' alone (the total "
-                                               "is path.a_total_peak).")},
-                              {"a_min", number("Negative plateau level B (magnitude) [m/s^2].")},
-                              {"v_peak", number("Peak velocity [m/s].")},
-                              {"j_peak", number("Peak |jerk| [m/s^3].")}},
-                             {"a_max", "a_min", "v_peak", "j_peak"}, "Peaks of the law.", false)},
+       {"kinematics",
+        object({{"a_max", number("Positive plateau level A [m/s^2], to 1e-4; along an arc "
+                                 "or a path the tangential s'' alone (the total "
+                                 "is path.a_total_peak).")},
+                {"a_min", number("Negative plateau level B (magnitude) [m/s^2], to 1e-4.")},
+                {"v_peak", number("Peak velocity [m/s], to 1e-5.")},
+                {"j_peak", number("Peak |jerk| [m/s^3], to 1e-3.")}},
+               {"a_max", "a_min", "v_peak", "j_peak"},
+               "Peaks of the law; absent when move_absolute is given (its acceleration, "
+               "deceleration, velocity and jerk are the same peaks).",
+               false)},
        {"prediction", object({{"nonlinear", peaks}, {"linear", peaks}}, {"nonlinear", "linear"},
                              "Predicted peaks of both models.", false)},
        {"warnings", strings(warning_codes_description())},
        {"move_absolute", ref("MoveAbsolute")},
        {"robustness", ref("CompactRobustness")}},
-      {"view", "key", "cached", "version", "strategy", "status", "law", "kinematics", "prediction",
-       "warnings"},
+      {"view", "key", "cached", "version", "strategy", "status", "law", "prediction", "warnings"},
       "The compact plan (?view=compact): what a controller needs, under 1 kB for a 7-segment "
       "law. The message is not in it: the full plan of the same key has it.",
       false);

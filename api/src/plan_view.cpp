@@ -16,14 +16,48 @@ using nlohmann::json;
 
 constexpr std::string_view kField = "view";
 
+// The compact kinematics' resolutions (per m/s^2, per m/s, per m/s^3).
+constexpr double kAccelerationPer{1e4};
+constexpr double kSpeedPer{1e5};
+constexpr double kJerkPer{1e3};
+
 [[noreturn]] void not_a_view(const json& value) {
   invalid(std::string(kField), std::string(kField) + " = " + show(value) +
                                    " is not allowed: one of " + quoted_names(plan_view_names()));
 }
 
-/// The two figures of one model's peaks.
+/// A value rounded to 1 / `per` (the compact view's figures that need no more), divided by the
+/// integer count so that it prints as the short decimal (130.7, not 130.70000000000002).
+double rounded(double value, double per) {
+  return std::round(value * per) / per;
+}
+
+/// A figure of the full plan rounded as above; anything but a number (none is expected) as it is.
+json rounded_figure(const json& value, double per) {
+  return value.is_number() ? json(rounded(value.get<double>(), per)) : value;
+}
+
+/// A figure to 7 significant digits: what the REAL (32-bit) inputs of an MC_MoveAbsolute block
+/// hold; anything but a number as it is.
+json real_figure(const json& value) {
+  if (!value.is_number()) return value;
+  const double x = value.get<double>();
+  if (x == 0.0 || !std::isfinite(x)) return value;
+  // An exact power of ten, multiplied or divided by once, rounds as the decimal text would.
+  const double digits = 6.0 - std::floor(std::log10(std::abs(x)));
+  if (digits >= 0.0) {
+    const double scale = std::pow(10.0, digits);
+    return std::round(x * scale) / scale;
+  }
+  const double step = std::pow(10.0, -digits);
+  return std::round(x / step) * step;
+}
+
+/// The two figures of one model's peaks, to 1 um (a wave height an HMI shows; the full plan has
+/// them to the last digit).
 json compact_peaks(const json& peaks) {
-  return {{"eta_motion_mm", peaks.at("eta_motion_mm")}, {"eta_rest_mm", peaks.at("eta_rest_mm")}};
+  return {{"eta_motion_mm", rounded_figure(peaks.at("eta_motion_mm"), 1e3)},
+          {"eta_rest_mm", rounded_figure(peaks.at("eta_rest_mm"), 1e3)}};
 }
 
 }  // namespace
@@ -96,18 +130,27 @@ constexpr PlanWarningKind kWarningKinds[] = {
      "spill"},
     {"worse_than_baseline", "worse_than_baseline: ",
      "the chosen law leaves more residual sloshing than the uniform baseline law"},
+    {"linear_model_beyond_theory", "linear model beyond its theory: ",
+     "a rectangular tank: the linear model's wall height is not small against the depth, or "
+     "steeper than the steepest standing wave: its figures are not reliable"},
+    {"nonlinear_model_not_valid", "rectangular nonlinear model not valid along the ",
+     "a rectangular tank: its nonlinear model is outside its theory (shallow fill, steep wave, "
+     "critical depth) or diverged along a side, and the linear model answers there"},
     {kTimeLimitedCandidates, "time_limited_candidates: ",
      "auto only: a candidate ran out of its time budget (status time_limit), so the choice "
      "depends on the budget and the machine's load; such a plan is not cached"},
 };
 
 /// Sentences that belong to a kind above but open otherwise: the rectangular tank's surface
-/// tension is judged on half its shorter side rather than a radius.
+/// tension is judged on half its shorter side rather than a radius; its nonlinear model that
+/// diverged is not valid either.
 struct WarningAlias {
   std::string_view prefix;
   std::string_view code;
 };
-constexpr WarningAlias kWarningAliases[] = {{"half the shorter side ", "surface_tension"}};
+constexpr WarningAlias kWarningAliases[] = {
+    {"half the shorter side ", "surface_tension"},
+    {"rectangular nonlinear model diverges along the ", "nonlinear_model_not_valid"}};
 
 std::span<const PlanWarningKind> plan_warning_kinds() {
   return kWarningKinds;
@@ -125,12 +168,6 @@ std::string warning_finding(const std::string& warning) {
 }
 
 namespace {
-
-/// A value rounded to 1 / `per` (the compact view's figures that need no more), divided by the
-/// integer count so that it prints as the short decimal (130.7, not 130.70000000000002).
-double rounded(double value, double per) {
-  return std::round(value * per) / per;
-}
 
 /// Along an arc or a path: the wall directions of the nonlinear peaks (to 0.1 degree) and the
 /// peak horizontal acceleration, tangential and normal together (to 1 mm/s^2), what a line
@@ -180,11 +217,23 @@ json compact_plan(const json& plan) {
     if (const auto m = format.find("motion"); m != format.end()) law["motion"] = compact_motion(*m);
   }
   out["law"] = std::move(law);
-  const json& k = plan.at("kinematics");
-  out["kinematics"] = {{"a_max", k.at("a_max")},
-                       {"a_min", k.at("a_min")},
-                       {"v_peak", k.at("v_peak")},
-                       {"j_peak", k.at("j_peak")}};
+  const auto move_absolute = plan.find("move_absolute");
+  if (move_absolute == plan.end()) {
+    const json& k = plan.at("kinematics");
+    // The law's peaks as an HMI shows them, to 0.1 mm/s^2, 0.01 mm/s and 1 mm/s^3 (the law
+    // itself, its durations or pieces, is exact: a drive runs it).
+    out["kinematics"] = {{"a_max", rounded_figure(k.at("a_max"), kAccelerationPer)},
+                         {"a_min", rounded_figure(k.at("a_min"), kAccelerationPer)},
+                         {"v_peak", rounded_figure(k.at("v_peak"), kSpeedPer)},
+                         {"j_peak", rounded_figure(k.at("j_peak"), kJerkPer)}};
+  } else {
+    // The MC_MoveAbsolute inputs are what a drive needs of a one-jerk plan, as its REAL inputs
+    // hold them; they are the law's peaks too (acceleration, deceleration, velocity, jerk), so
+    // the kinematics are not repeated: a path plan with every warning took 1105 B with both.
+    json block = json::object();
+    for (const auto& [name, value] : move_absolute->items()) block[name] = real_figure(value);
+    out["move_absolute"] = std::move(block);
+  }
   const json& p = plan.at("prediction");
   out["prediction"] = {{"nonlinear", compact_peaks(p.at("nonlinear"))},
                        {"linear", compact_peaks(p.at("linear"))}};
@@ -199,8 +248,6 @@ json compact_plan(const json& plan) {
     }
   }
   out["warnings"] = std::move(findings);
-  // The MC_MoveAbsolute inputs are what a drive needs of a one-jerk plan.
-  if (const auto m = plan.find("move_absolute"); m != plan.end()) out["move_absolute"] = *m;
   // How far the tank's frequencies may be off (SPEC §10): the interval and the worst case.
   if (const auto r = plan.find("robustness"); r != plan.end()) {
     out["robustness"] = compact_robustness(*r);
