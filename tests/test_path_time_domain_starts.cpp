@@ -144,7 +144,7 @@ TEST(PathTimeDomainStarts, LineArcLineMeetsTheBoundWhereALawExists) {
 }
 
 // U-turn track (300 mm, 180 deg r 200 mm, 300 mm) in 2.2 s: "optimal" at 42.2 mm in motion, more
-// than the uniform law's 38.2 mm, where a law at 21.9 / 2.99 mm exists.
+// than the uniform law's 38.2 mm, where a law at 21.9 / 2.99 mm exists; infeasible at 1.9 s.
 TEST(PathTimeDomainStarts, UTurnBeatsTheUniformLaw) {
   const LineArcLine g{0.3, 0.2, kPi};
   const PlanOptions o = quiet_options();
@@ -160,6 +160,13 @@ TEST(PathTimeDomainStarts, UTurnBeatsTheUniformLaw) {
               std::none_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
                 return w.find("worse_than_baseline") != std::string::npos;
               }));
+  // At 1.9 s (min-time's T_min was 1.983 s: "infeasible, best 6.34 mm" here) a law meets both
+  // of min-time's limits, eta_rest <= 3 mm and eta_motion <= 63 mm.
+  const PlanResult fast = plan_on_path(format_for(g, 1.9), g.path(), Strategy::kTimeDomain, o);
+  ASSERT_EQ(fast.status, SolveStatus::kOptimal) << fast.message;
+  const Peaks at_19 = simulate(fast.model, *fast.durations, g, o.rest_time);
+  EXPECT_LE(at_19.rest, o.eta_rest_max * (1.0 + 1e-3));
+  EXPECT_LE(at_19.motion, 0.063);
 }
 
 }  // namespace
