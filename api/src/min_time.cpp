@@ -27,7 +27,9 @@ namespace mr = min_time_ranges;
 constexpr const char* kMinTimeVersion = "min-time-v4";
 /// Version of the search along an arc or a path, in those keys only (the line's keys unchanged).
 // v2: the scan's step grows geometrically far from the limits (path_scan_step).
-constexpr const char* kMinTimePathVersion = "min-time-path-v3";
+// v3: a spectral law's better mirror along the path.
+// v4: time_domain along a path starts from the symmetric families and retries a failed round.
+constexpr const char* kMinTimePathVersion = "min-time-path-v4";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",
