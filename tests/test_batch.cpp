@@ -111,10 +111,11 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "arc_radius_mm",
                                             "arc_angle_deg",
                                             "container_turns",
-                                            "path_length_mm"};
-const std::set<std::string> kTextColumns{"recipe_id",   "status",   "key",
-                                         "strategy",    "law_type", "message",
-                                         "error_field", "version",  "motion_type"};
+                                            "path_length_mm",
+                                            "warnings"};
+const std::set<std::string> kTextColumns{"recipe_id",   "status",  "key",         "strategy",
+                                         "law_type",    "message", "error_field", "version",
+                                         "motion_type", "warnings"};
 
 /// One row of a plan table by column name.
 struct OutRow {

@@ -145,5 +145,21 @@ TEST(RecipeMotion, PlanRowsCarryTheMotion) {
   EXPECT_EQ(motion_row_figures(json::object())["motion_type"], nullptr);
 }
 
+// A plan's warnings are in its row, as the compact view's codes: a table row that reads
+// `optimal` says that its law spills or sloshes more than the uniform law.
+TEST(RecipeMotion, PlanRowsCarryTheWarningsCodes) {
+  const json plan{{"status", "optimal"},
+                  {"warnings",
+                   {"predicted sloshing height during the motion 34.7 mm exceeds the free board "
+                    "20 mm: liquid will spill",
+                    "worse_than_baseline: eta_rest 28.9 mm against the uniform law's 15.7 mm"}}};
+  EXPECT_EQ(plan_row_figures(plan)["warnings"], "spill; worse_than_baseline");
+  EXPECT_EQ(plan_row_figures(json{{"status", "optimal"}, {"warnings", json::array()}})["warnings"],
+            nullptr);
+  const json line_row =
+      request_of({"l", "48.5", "82", "water", "800", "1.2", "", "", "", "", "", "baseline"});
+  EXPECT_EQ(plan_row_figures(run_plan(parse_plan_request(line_row)))["warnings"], nullptr);
+}
+
 }  // namespace
 }  // namespace slosh::api

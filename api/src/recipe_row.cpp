@@ -13,6 +13,7 @@
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/min_time.hpp"
+#include "slosh/api/plan_view.hpp"
 #include "slosh/api/recipe_motion.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/service_bodies.hpp"
@@ -435,6 +436,7 @@ constexpr std::array kPlanColumns{
     PlanColumn{"arc_angle_deg", "/arc_angle_deg"},
     PlanColumn{"container_turns", "/container_turns"},
     PlanColumn{"path_length_mm", "/path_length_mm"},
+    PlanColumn{"warnings", "/warnings"},
 };
 
 /// object[key], null when absent (or when `object` is not an object).
@@ -447,6 +449,20 @@ json value_or_null(const json& object, std::string_view key) {
 json nested_or_null(const json& object, std::string_view outer, std::string_view inner) {
   const json* value = find_member(object, outer);
   return value == nullptr ? json(nullptr) : value_or_null(*value, inner);
+}
+
+/// The findings of the plan's warnings (the compact view's codes), "; "-separated; null when
+/// it has none, so a row that reads `optimal` with a warning shows it in the table.
+json warning_findings(const json& plan) {
+  const json* warnings = find_member(plan, "warnings");
+  if (warnings == nullptr || !warnings->is_array() || warnings->empty()) return nullptr;
+  std::string out;
+  for (const json& w : *warnings) {
+    if (!w.is_string()) continue;
+    if (!out.empty()) out += "; ";
+    out += warning_finding(w.get<std::string>());
+  }
+  return out.empty() ? json(nullptr) : json(out);
 }
 
 }  // namespace
@@ -484,6 +500,7 @@ json plan_row_figures(const json& plan) {
   row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
   row.update(robustness_row_figures(find_member(plan, "robustness")));
   row.update(motion_row_figures(plan));
+  row["warnings"] = warning_findings(plan);
   return row;
 }
 

@@ -234,7 +234,18 @@ MultiStartResult multi_start(const NlpProblem& problem,
   std::vector<std::vector<double>> reduced;
   reduced.reserve(starts.size());
   for (const auto& x0 : starts) reduced.push_back(chart->restrict(x0));
-  MultiStartResult out = solve_starts(chart->reduce(problem), reduced, context, options, policy);
+  // A repair is written for the full problem's points (7 durations, then the extra variables):
+  // it sees the reduced point lifted, and its result goes back to the family's coordinates.
+  StartPolicy in_chart = policy;
+  if (policy.repair) {
+    in_chart.repair = [&chart, repair = policy.repair](std::vector<double>& p) {
+      std::vector<double> x = chart->lift(p);
+      if (!repair(x)) return false;
+      p = chart->restrict(x);
+      return true;
+    };
+  }
+  MultiStartResult out = solve_starts(chart->reduce(problem), reduced, context, options, in_chart);
   if (!out.best.x.empty()) out.best.x = chart->lift(out.best.x);
   return out;
 }

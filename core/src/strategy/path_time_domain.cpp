@@ -584,12 +584,22 @@ StrategyOutcome solve_path_time_domain(const StrategyContext& c, const PlanarPat
   // can end outside them: every start is first moved onto the set they admit (a_max on the
   // tangential acceleration there, which the total one bounds from above).
   AdmissibleStarts admissible = admissible_starts(c, starts);
-  if (!admissible.relaxed) return solve_from(c, path, admissible.starts);
-  // A limit no law reaches: the law keeps its least reachable value (and every reachable limit);
-  // the verification then names that limit.
-  StrategyContext raised = c;
-  raised.space.limits = admissible.limits;
-  return solve_from(raised, path, admissible.starts);
+  StrategyOutcome o;
+  if (!admissible.relaxed) {
+    o = solve_from(c, path, admissible.starts);
+  } else {
+    // A limit no law reaches: the law keeps its least reachable value (and every reachable
+    // limit); the verification then names that limit.
+    StrategyContext raised = c;
+    raised.space.limits = admissible.limits;
+    o = solve_from(raised, path, admissible.starts);
+  }
+  // No law met the bound before the budget ran out: the phases that might have found one did
+  // not all run, so the search did not show that none exists (and a later, larger budget must
+  // not be answered from a cache of this one).
+  if (o.status == SolveStatus::kInfeasible && c.deadline.expired())
+    o.status = SolveStatus::kTimeLimit;
+  return o;
 }
 
 }  // namespace slosh::detail

@@ -189,7 +189,9 @@ struct StartPolicy {
   /// without a solve (an epigraph's level raised onto its rows), returning whether it moved; the
   /// run then goes again from there, up to `restarts` times while it stays outside. SLSQP stops
   /// once its objective stalls, also while infeasible: an epigraph level pushed to its lower
-  /// bound 0 under rows it does not meet yet stalls there at once. Empty: off.
+  /// bound 0 under rows it does not meet yet stalls there at once. It is given a point of the
+  /// full problem (7 durations, then the extra variables) also where multi_start solves in the
+  /// one-jerk family's coordinates. Empty: off.
   std::function<bool(std::vector<double>&)> repair;
   int restarts{0};
 };
