@@ -226,8 +226,8 @@ TEST(PoseCsv, RefusesTiltsAndBadRows) {
             "line 2 | run.csv line 2: the quaternion's norm 2 must be 1 (allowed 0.999 to 1.001; "
             "it is then normalised)");
   EXPECT_EQ(
-      refusal_of([&] { return read(header + "0,0,0,0,0,0,0.6,0.8\n0,0,0,0,0,0,0.6,0.8011\n"); }),
-      "line 3 | run.csv line 3: the quaternion's norm 1.000880218 must be 1 (allowed 0.999 "
+      refusal_of([&] { return read(header + "0,0,0,0,0,0,0.6,0.8\n0,0,0,0,0,0,0.6,0.8015\n"); }),
+      "line 3 | run.csv line 3: the quaternion's norm 1.001200405 must be 1 (allowed 0.999 "
       "to 1.001; it is then normalised)");
   EXPECT_EQ(refusal_of([&] { return read(header + "0,0,0,0,0,0,1\n"); }),
             "line 2 | run.csv line 2: expected 8 comma-separated numbers, got \"0,0,0,0,0,0,1\"");
