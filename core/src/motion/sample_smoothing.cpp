@@ -15,7 +15,8 @@ constexpr std::size_t kOrder{4};
 constexpr std::size_t kNoiseOrder{6};
 /// median |N(0, 1)|.
 constexpr double kMedianAbsNormal{0.6744897501960817};
-/// The residual sum of squares is matched to n sigma^2 within this relative tolerance.
+/// The residual sum of squares is matched to n sigma^2 within this relative tolerance, or lambda
+/// is bracketed to this relative width.
 constexpr double kResidualTolerance{1e-3};
 /// Noise at most this multiple of the largest |sample| is the samples' own round-off (a unit-norm
 /// difference of values each rounded by up to eps/2 of them has a deviation of ~0.3 eps): such
