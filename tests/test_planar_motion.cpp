@@ -220,15 +220,34 @@ TEST(PoseCsv, RefusesTiltsAndBadRows) {
               return read(header + "0,0,0,0,0,0,0,1\n0.1,0,0,0,0.1,0,0,0.99498743710662\n");
             }),
             "line 3 | run.csv line 3: the orientation tilts the container (qx = 0.1, qy = 0); only "
-            "rotations about the vertical axis are modelled (|qx|, |qy| <= 1e-6)");
+            "rotations about the vertical axis are modelled (allowed |qx|, |qy| <= 0.001, a tilt "
+            "of at most 0.16 deg)");
   EXPECT_EQ(refusal_of([&] { return read(header + "0,0,0,0,0,0,0,2\n"); }),
-            "line 2 | run.csv line 2: the quaternion's norm 2 must be 1 (within 1e-6)");
+            "line 2 | run.csv line 2: the quaternion's norm 2 must be 1 (allowed 0.999 to 1.001; "
+            "it is then normalised)");
+  EXPECT_EQ(
+      refusal_of([&] { return read(header + "0,0,0,0,0,0,0.6,0.8\n0,0,0,0,0,0,0.6,0.8015\n"); }),
+      "line 3 | run.csv line 3: the quaternion's norm 1.001200405 must be 1 (allowed 0.999 "
+      "to 1.001; it is then normalised)");
   EXPECT_EQ(refusal_of([&] { return read(header + "0,0,0,0,0,0,1\n"); }),
             "line 2 | run.csv line 2: expected 8 comma-separated numbers, got \"0,0,0,0,0,0,1\"");
   EXPECT_EQ(refusal_of([&] { return read(header + "0,0,x,0,0,0,0,1\n"); }),
             "line 2 | run.csv line 2: field 3 \"x\" is not a finite number");
   EXPECT_EQ(refusal_of([&] { return read("t,x,y\n"); }),
             "line 1 | run.csv line 1: header \"t,x,y\" must be t_s,x_m,y_m,z_m,qx,qy,qz,qw");
+}
+
+// Robot logs print quaternions to a few decimals and carry a little tilt: a yaw of 30 deg
+// rounded to 3 decimals (|q| = 1.000118) and a tilt of 2e-6 read as the same heading to 1e-3
+// rad; a spreadsheet's byte order mark before the header is skipped.
+TEST(PoseCsv, AcceptsRoundedQuaternionsSmallTiltsAndAByteOrderMark) {
+  const std::string rows = "0,0,0,0,0,0,0.259,0.966\n0.1,0,0,0,2e-6,-2e-6,0.258819,0.965926\n";
+  std::istringstream in("\xEF\xBB\xBFt_s,x_m,y_m,z_m,qx,qy,qz,qw\n" + rows);
+  const TrajectorySamples s = read_pose_csv(in, "run.csv");
+  ASSERT_EQ(s.theta.size(), 2u);
+  EXPECT_NEAR(s.theta[0], kPi / 6, 1e-3);
+  EXPECT_NEAR(s.theta[1], kPi / 6, 1e-6);
+  EXPECT_NEAR(s.theta[0], 2.0 * std::atan2(0.259, 0.966), 1e-15);
 }
 
 // Along an arc the drive's excitation is the path's acceleration at the law's s(t), and the

@@ -278,7 +278,8 @@ TEST(SpatialSimulate, CliTrajectoryOfAMeasuredRunGivesTheCorePeaks) {
   EXPECT_FALSE(r["format"].contains("stroke_mm"));
 }
 
-// A plain CSV in mm and degrees is the same trajectory as the JSON samples; a bad line is named.
+// A plain CSV in mm and degrees (with a byte order mark) is the same trajectory as the JSON
+// samples; a bad line is named.
 TEST(SpatialSimulate, CliPlainCsvEqualsTheJsonTrajectoryAndNamesABadLine) {
   std::vector<double> t, x, y, theta;
   std::string text = "t_s,x_mm,y_mm,theta_deg\n";
@@ -297,7 +298,8 @@ TEST(SpatialSimulate, CliPlainCsvEqualsTheJsonTrajectoryAndNamesABadLine) {
        {{"container", {{"radius_mm", 48.5}}}, {"fill_height_mm", 82}, {"fluid", "water"}}}};
   const test::TempDir dir;
   test::write_file(dir / "request.json", request.dump());
-  test::write_file(dir / "run.csv", text);
+  // Saved as a spreadsheet's "CSV UTF-8" does: a byte order mark before the header.
+  test::write_file(dir / "run.csv", "\xEF\xBB\xBF" + text);
   const test::RunResult run =
       test::run_slosh({"simulate", "--request", (dir / "request.json").string(), "--trajectory",
                        (dir / "run.csv").string()});

@@ -924,10 +924,15 @@ void add_motion_request_schemas(json& s) {
        {"x_mm", numbers("Positions [mm].")},
        {"y_mm", numbers("Positions [mm].")},
        {"z_mm", numbers("Optional: heights (up) [mm].")},
-       {"theta_deg", numbers("Optional: heading about the vertical axis, unwrapped [deg].")}},
+       {"theta_deg", numbers("Optional: heading about the vertical axis [deg]; may be logged "
+                             "wrapped to +-180 deg: each sample is taken at the turn nearest "
+                             "the previous one.")}},
       {"type", "t_s", "x_mm", "y_mm"},
-      "Interpolated by natural cubic splines; the format then has no stroke_mm, no "
-      "motion_time_s and the request no law.",
+      "Smoothing cubic splines with not-a-knot ends: each coordinate is smoothed with a penalty "
+      "on its fourth divided differences (a cubic is never bent), weighted so that the residual "
+      "matches the noise estimated from the samples' sixth differences (Reinsch's criterion); "
+      "a clean commanded trajectory is kept to round-off, a log's rounding does not become "
+      "acceleration. The format then has no stroke_mm, no motion_time_s and the request no law.",
       true);
   s["Motion"] = {
       {"oneOf", {ref("LineMotion"), ref("ArcMotion"), ref("PathMotion"), ref("TrajectoryMotion")}},

@@ -14,6 +14,7 @@ namespace slosh::api {
 namespace {
 
 constexpr std::string_view kPoseHeader{"t_s,x_m,y_m,z_m,qx,qy,qz,qw"};
+constexpr std::string_view kByteOrderMark{"\xEF\xBB\xBF"};
 
 std::vector<std::string_view> split(std::string_view line) {
   std::vector<std::string_view> out;
@@ -43,6 +44,8 @@ TrajectorySamples read_trajectory_csv(std::istream& in, const std::string& sourc
                               std::string(kPoseHeader) + " (metres and a unit quaternion)";
   if (!std::getline(in, line)) fail("empty; expected the header " + headers);
   strip_cr(line);
+  // Spreadsheets save "CSV UTF-8" with a byte order mark before the header.
+  if (line.starts_with(kByteOrderMark)) line.erase(0, kByteOrderMark.size());
   if (line == kPoseHeader) {
     std::ostringstream all;
     all << line << '\n' << in.rdbuf();

@@ -8,13 +8,22 @@
 #include <string_view>
 
 #include "slosh/core/motion/invalid_motion.hpp"
+#include "slosh/core/motion/sample_smoothing.hpp"
 
 namespace slosh {
 
 namespace {
 
-/// Largest |qx|, |qy| of a rotation about the vertical axis, and largest | |q| - 1 | [-].
-constexpr double kQuaternionTolerance{1e-6};
+/// Largest | |q| - 1 | of a logged orientation [-]: a unit quaternion printed to 3 decimals is
+/// off by up to ~1e-3 (5e-4 in each of two components); within it the quaternion is normalised,
+/// beyond it the row is not a rotation.
+constexpr double kQuaternionNormTolerance{1e-3};
+/// Largest |qx|, |qy| taken as a rotation about the vertical axis [-]: a tilt of at most
+/// 2 asin(sqrt 2 1e-3) = 2.8e-3 rad (0.16 deg), the level a robot's log carries as noise; its
+/// static effect on the wall height (R tan 0.16 deg, 0.14 mm at R = 50 mm) is ignored.
+constexpr double kTiltTolerance{1e-3};
+/// UTF-8's byte order mark, which spreadsheets put before a CSV's header.
+constexpr std::string_view kByteOrderMark{"\xEF\xBB\xBF"};
 
 std::string number(double v) {
   std::ostringstream out;
@@ -130,10 +139,13 @@ SampledTrajectory::SampledTrajectory(TrajectorySamples samples) : samples_(std::
                                                " s (times strictly increasing)");
     }
   }
-  x_ = not_a_knot_spline(samples_.t, samples_.x);
-  y_ = not_a_knot_spline(samples_.t, samples_.y);
-  z_ = not_a_knot_spline(samples_.t, samples_.z);
-  theta_ = not_a_knot_spline(samples_.t, samples_.theta);
+  auto spline = [&](const std::vector<double>& v) {
+    return not_a_knot_spline(samples_.t, smoothed_samples(samples_.t, v).value);
+  };
+  x_ = spline(samples_.x);
+  y_ = spline(samples_.y);
+  z_ = spline(samples_.z);
+  theta_ = spline(samples_.theta);
   auto varies = [](const std::vector<double>& v) {
     return std::any_of(v.begin(), v.end(), [&](double e) { return e != v.front(); });
   };
@@ -224,6 +236,7 @@ TrajectorySamples read_pose_csv(std::istream& in, const std::string& source) {
   }
   line_no = 1;
   if (!line.empty() && line.back() == '\r') line.pop_back();
+  if (line.starts_with(kByteOrderMark)) line.erase(0, kByteOrderMark.size());
   if (line != "t_s,x_m,y_m,z_m,qx,qy,qz,qw") {
     fail("header \"" + line + "\" must be t_s,x_m,y_m,z_m,qx,qy,qz,qw");
   }
@@ -247,14 +260,16 @@ TrajectorySamples read_pose_csv(std::istream& in, const std::string& source) {
       }
       if (comma != std::string_view::npos) rest.remove_prefix(comma + 1);
     }
-    const double qx = f[4], qy = f[5], qz = f[6], qw = f[7];
-    const double norm = std::sqrt(qx * qx + qy * qy + qz * qz + qw * qw);
-    if (std::abs(norm - 1.0) > kQuaternionTolerance) {
-      fail("the quaternion's norm " + number(norm) + " must be 1 (within 1e-6)");
+    const double norm = std::sqrt(f[4] * f[4] + f[5] * f[5] + f[6] * f[6] + f[7] * f[7]);
+    if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
+      fail("the quaternion's norm " + number(norm) +
+           " must be 1 (allowed 0.999 to 1.001; it is then normalised)");
     }
-    if (std::abs(qx) > kQuaternionTolerance || std::abs(qy) > kQuaternionTolerance) {
+    const double qx = f[4] / norm, qy = f[5] / norm, qz = f[6] / norm, qw = f[7] / norm;
+    if (std::abs(qx) > kTiltTolerance || std::abs(qy) > kTiltTolerance) {
       fail("the orientation tilts the container (qx = " + number(qx) + ", qy = " + number(qy) +
-           "); only rotations about the vertical axis are modelled (|qx|, |qy| <= 1e-6)");
+           "); only rotations about the vertical axis are modelled (allowed |qx|, |qy| <= "
+           "0.001, a tilt of at most 0.16 deg)");
     }
     double theta = 2.0 * std::atan2(qz, qw);
     if (!s.theta.empty()) {  // unwrap: the nearest turn to the previous sample

@@ -3,7 +3,8 @@
 // - the measured runs' poses: header `t_s,x_m,y_m,z_m,qx,qy,qz,qw` (metres and a unit quaternion,
 //   read by the core's read_pose_csv), or
 // - plain columns: header `t_s,x_mm,y_mm[,z_mm][,theta_deg]` (seconds, millimetres, degrees).
-// One sample a line; blank lines are skipped; a trailing carriage return is allowed.
+// One sample a line; blank lines are skipped; a trailing carriage return and a UTF-8 byte order
+// mark before the header are allowed.
 
 #include <istream>
 #include <string>

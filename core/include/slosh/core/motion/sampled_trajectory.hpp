@@ -1,13 +1,13 @@
 #pragma once
 // A sampled spatial trajectory (a robot's log or a commanded pose table): times, positions and
-// the heading about the vertical axis, interpolated by not-a-knot cubic splines (SPEC §14: the
-// end pieces are the cubics through the four nearest samples, so a motion that starts or stops
-// with an acceleration step keeps it). The acceleration the models need is the splines' second
-// derivative: continuous and piecewise linear between samples, so a simulation steps from sample
-// to sample exactly on its pieces.
-// The splines interpolate (no smoothing): commanded poses are smooth to their printed digits
-// (1e-9 m at 500 Hz moves the acceleration by ~1e-4 m/s^2); a noisy measured log should be
-// filtered before it is given here.
+// the heading about the vertical axis, through smoothing cubic splines (SPEC §14): each
+// coordinate's samples are smoothed against the noise estimated from them (sample_smoothing.hpp;
+// a clean commanded table is kept to round-off, a log's rounding does not become acceleration),
+// then interpolated by the not-a-knot cubic spline (the end pieces are the cubics through the
+// four nearest smoothed samples, so a motion that starts or stops with an acceleration step
+// keeps it). The acceleration the models need is the splines' second derivative: continuous and
+// piecewise linear between samples, so a simulation steps from sample to sample exactly on its
+// pieces.
 
 #include <cstddef>
 #include <istream>
@@ -25,7 +25,7 @@ struct TrajectorySamples {
   std::vector<double> x;      ///< [m]
   std::vector<double> y;      ///< [m]
   std::vector<double> z;      ///< [m], up
-  std::vector<double> theta;  ///< heading about the vertical axis [rad], unwrapped
+  std::vector<double> theta;  ///< heading about the vertical axis [rad], continuous
 };
 
 /// Least samples per period of the first sloshing mode a trajectory must have [-]: the cubic
@@ -40,7 +40,7 @@ inline constexpr double kMinStepPerFirstPeriod{1e-9};
 
 /// Cubic spline of one coordinate: second derivatives at the knots.
 struct CubicSpline {
-  std::vector<double> value;   ///< samples
+  std::vector<double> value;   ///< smoothed samples
   std::vector<double> second;  ///< second derivative at each knot (not-a-knot ends)
 };
 
@@ -80,11 +80,12 @@ class SampledTrajectory {
 };
 
 /// Reads the measured runs' pose CSV: a header `t_s,x_m,y_m,z_m,qx,qy,qz,qw` (positions in
-/// metres, orientation a unit quaternion) and one sample a line. The heading is
-/// theta = 2 atan2(qz, qw), unwrapped to a continuous angle. Throws InvalidMotion naming the
-/// line ("line 17") for a wrong header, a missing or non-numeric field, a quaternion that is not
-/// a unit one (|q| off 1 by more than 1e-6), or one that tilts the container (|qx| or |qy| above
-/// 1e-6: only rotations about the vertical axis are modelled). `source` names the input in the
+/// metres, orientation a unit quaternion; a UTF-8 byte order mark before it is skipped) and one
+/// sample a line. The heading is theta = 2 atan2(qz, qw), unwrapped to a continuous angle. A
+/// quaternion whose norm is within 1e-3 of 1 (a log printed to 3 decimals) is normalised. Throws
+/// InvalidMotion naming the line ("line 17") for a wrong header, a missing or non-numeric field,
+/// a norm further from 1, or a quaternion that tilts the container (|qx| or |qy| above 1e-3:
+/// only rotations about the vertical axis are modelled). `source` names the input in the
 /// messages.
 [[nodiscard]] TrajectorySamples read_pose_csv(std::istream& in, const std::string& source);
 

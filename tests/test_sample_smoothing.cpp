@@ -1,0 +1,122 @@
+// The smoothing of a trajectory's samples (sample_smoothing.hpp): a log's rounding does not
+// become acceleration, and a clean commanded motion is left as it is.
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <vector>
+
+#include "slosh/core/motion/sample_smoothing.hpp"
+#include "slosh/core/motion/sampled_trajectory.hpp"
+
+namespace slosh {
+namespace {
+
+constexpr double kPi = std::numbers::pi;
+
+/// x = 250 (1 - cos(pi t / 1.2)) mm for 1.2 s, then 0.3 s at rest, sampled at 1 kHz, its
+/// positions rounded to `quantum` metres (0: exact).
+TrajectorySamples half_cosine(double quantum) {
+  TrajectorySamples s;
+  for (int i = 0; i <= 1500; ++i) {
+    const double t = 1e-3 * i;
+    const double x = 0.25 * (1.0 - std::cos(kPi * std::min(t, 1.2) / 1.2));
+    s.t.push_back(t);
+    s.x.push_back(quantum > 0.0 ? quantum * std::round(x / quantum) : x);
+    s.y.push_back(0.0);
+  }
+  return s;
+}
+
+double exact_acceleration(double t) {
+  const double w = kPi / 1.2;
+  return t < 1.2 ? 0.25 * w * w * std::cos(w * t) : 0.0;
+}
+
+/// Largest |ax| over the spline on a grid of 0.1 ms.
+double peak_acceleration(const SampledTrajectory& tr) {
+  double peak = 0.0;
+  for (int i = 0; i <= 15000; ++i) peak = std::max(peak, std::abs(tr.at(1e-4 * i).ax));
+  return peak;
+}
+
+// Rounding to q is a uniform error of standard deviation q / sqrt(12) where the log moves.
+TEST(SampleSmoothing, NoiseOfARoundedLogIsItsQuantisation) {
+  const TrajectorySamples s = half_cosine(1e-5);
+  EXPECT_NEAR(sample_noise(s.t, s.x), 1e-5 / std::sqrt(12.0), 0.1e-5 / std::sqrt(12.0));
+  // The exact samples: round-off of 0.5 m (1e-16) is all there is; a log at rest has none.
+  const TrajectorySamples exact = half_cosine(0.0);
+  EXPECT_LT(sample_noise(exact.t, exact.x), 1e-15);
+  EXPECT_EQ(sample_noise(exact.t, exact.y), 0.0);
+}
+
+// A log rounded to 0.01 mm (and 0.1 mm) at 1 kHz: the interpolating spline made its peak
+// acceleration 29.8 m/s^2 (300) instead of the motion's 1.71 (1.94 on the exact samples: the
+// spline's overshoot at the stop's acceleration step). Smoothed, the acceleration follows the
+// motion within 2.5 % (7 %) of its peak away from the stop, the peak lies between the motion's
+// and the exact samples' spline's, and the log starts and ends at rest (below the 1 mm/s a
+// moving end is warned of).
+TEST(SampleSmoothing, ARoundedLogKeepsItsAcceleration) {
+  const SampledTrajectory exact(half_cosine(0.0));
+  const double exact_peak = peak_acceleration(exact);
+  EXPECT_NEAR(exact_peak, 1.943, 1e-3);
+  for (double quantum : {1e-5, 1e-4}) {
+    const SampledTrajectory rounded(half_cosine(quantum));
+    double worst = 0.0;
+    for (int i = 0; i <= 1100; ++i) {
+      const double t = 0.05 + 1e-3 * i;
+      worst = std::max(worst, std::abs(rounded.at(t).ax - exact_acceleration(t)));
+    }
+    const double tolerance = quantum == 1e-5 ? 0.025 : 0.07;
+    EXPECT_LT(worst, tolerance * 1.71) << quantum;
+    const double peak = peak_acceleration(rounded);
+    EXPECT_GT(peak, 1.71) << quantum;
+    EXPECT_LT(peak, exact_peak) << quantum;
+    EXPECT_LT(std::abs(rounded.at(0.0).vx), 1e-3) << quantum;
+    EXPECT_LT(std::abs(rounded.at(1.5).vx), 1e-3) << quantum;
+  }
+}
+
+// A clean quintic at uneven times is reproduced to round-off (its sixth differences are
+// round-off, so nothing is smoothed); a cubic trend is never bent: the smoothing of noise plus
+// a cubic is the cubic plus the smoothing of the noise alone (the penalty's fourth differences
+// and the noise's sixth differences of a cubic are 0).
+TEST(SampleSmoothing, CleanPolynomialsAreKept) {
+  TrajectorySamples s;
+  auto x = [](double t) { return 0.1 + t * (0.2 + t * (-0.3 + t * (0.4 + t * (-0.5 + 0.6 * t)))); };
+  auto a = [](double t) { return -0.6 + t * (2.4 + t * (-6.0 + 12.0 * t)); };
+  for (int i = 0; i <= 1000; ++i) {
+    const double t = 1e-3 * i + 2e-4 * std::sin(1.0 * i);  // jittered times
+    s.t.push_back(t);
+    s.x.push_back(x(t));
+    s.y.push_back(0.0);
+  }
+  const SampledTrajectory tr(s);
+  for (double t : {0.0, 0.3337, 0.5, 0.999}) {
+    EXPECT_NEAR(tr.at(t).x, x(t), 1e-12) << t;
+    EXPECT_NEAR(tr.at(t).ax, a(t), 2e-5) << t;
+  }
+  std::vector<double> noise, noisy;
+  for (double t : s.t) {
+    noise.push_back(1e-4 * std::sin(1e4 * t * t));  // aliased far above the samples' Nyquist
+    noisy.push_back(noise.back() + 1.0 + t * (-2.0 + t * (3.0 - 4.0 * t)));
+  }
+  const SmoothedSamples alone = smoothed_samples(s.t, noise);
+  const SmoothedSamples trend = smoothed_samples(s.t, noisy);
+  EXPECT_GT(alone.lambda, 1.0);
+  EXPECT_NEAR(trend.lambda / alone.lambda, 1.0, 1e-6);
+  for (std::size_t i = 0; i < noisy.size(); ++i) {
+    ASSERT_NEAR(trend.value[i] - (noisy[i] - noise[i]), alone.value[i], 1e-12) << i;
+  }
+  // Reinsch's criterion: the residual sum of squares is n sigma^2.
+  double rss = 0.0;
+  for (std::size_t i = 0; i < noise.size(); ++i) {
+    rss += (noise[i] - alone.value[i]) * (noise[i] - alone.value[i]);
+  }
+  const double n = static_cast<double>(noise.size());
+  EXPECT_NEAR(rss / (n * alone.noise * alone.noise), 1.0, 2e-3);
+}
+
+}  // namespace
+}  // namespace slosh
