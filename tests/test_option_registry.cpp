@@ -37,7 +37,10 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v10" since fir_chain, iir, the shaper
+// kVersion. The planner version in the recipe is "plan-v11" since a plan whose law spills, is
+// worse than the uniform law or cannot act on a too short motion is `acceptable`, not `optimal`,
+// and a rectangular tank's linear-theory warning judges the wave after the motion too; "plan-v10"
+// was since fir_chain, iir, the shaper
 // and min_jerk_band take a turned tank's second direction in by its engagement (its share of the
 // residual wave over kFullDirectionShare) instead of in full from a 1e-8 share on; "plan-v9" was
 // the strategies acting on both first modes of a turned rectangular tank, weighed by each
