@@ -227,6 +227,7 @@ TEST_F(RectangularHostile, SpillingLawWorseThanTheUniformLawIsNotOptimalAlongAPa
 // no plan can reduce it, so a shaping strategy's plan is not optimal; the uniform law's is.
 TEST_F(RectangularHostile, NoPlanCanActIsNotOptimal) {
   json format = cup(0.0, 4000, 4000, 50);
+  format["container"]["height_mm"] = 200;  // no spill: the uniform law's 22 mm would exceed 20 mm
   const json plan = post(*server_, "/v1/plans", {{"format", format}, {"strategy", "multi_notch"}});
   ASSERT_TRUE(has_warning(plan, "no plan can reduce it")) << plan["warnings"].dump();
   EXPECT_EQ(plan["status"], "acceptable") << plan.dump();
