@@ -825,6 +825,35 @@ TEST(BatchCsv, RecipeIdOfABadRowComesFromItsColumn) {
   EXPECT_EQ(rows[2].text("recipe_id"), "third");
 }
 
+// A row's refusal names the CSV columns throughout (not a JSON path beside a column) and the
+// conflict the row has: a rectangular row with a radius and no sides has a radius too many, a
+// cylinder row with an orientation an orientation too many.
+TEST(BatchCsv, ContainerRefusalsNameTheColumnsAndTheRealConflict) {
+  const std::string text =
+      "recipe_id,container_shape,radius_mm,length_mm,width_mm,orientation_deg,fill_height_mm,"
+      "fluid,stroke_mm,motion_time_s,strategy\n"
+      "rect-radius,rectangular,40,,,0,50,water,200,1.0,baseline\n"
+      "cyl-sides,cylinder,,120,80,0,50,water,200,1.0,baseline\n"
+      "cyl-turned,cylinder,40,,,30,50,water,200,1.0,baseline\n";
+  const RunResult r = run_slosh({"batch", "--cache", ""}, text);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(r.out);
+  ASSERT_EQ(rows.size(), 3u) << r.out;
+  EXPECT_EQ(rows[0].text("error_field"), "radius_mm");
+  EXPECT_EQ(rows[0].text("message"),
+            "radius_mm belongs to a cylinder: a container with container_shape = "
+            "\"rectangular\" has length_mm, width_mm and orientation_deg (leave shape out for a "
+            "cylinder)");
+  EXPECT_EQ(rows[1].text("error_field"), "length_mm");
+  EXPECT_EQ(rows[1].text("message"),
+            "length_mm belongs to a rectangular container: give container_shape = "
+            "\"rectangular\" (the cylinder has radius_mm)");
+  EXPECT_EQ(rows[2].text("error_field"), "orientation_deg");
+  EXPECT_EQ(rows[2].text("message"),
+            "orientation_deg belongs to a rectangular container: give container_shape = "
+            "\"rectangular\" (the cylinder has radius_mm)");
+}
+
 // ---------------------------------------------------------------------------------------------
 
 const std::string kSmallTable =

@@ -496,7 +496,7 @@ TEST(MinTimePath, ACornerNoSpeedCanCrossNamesAMax) {
   json body = body_with(json{{"type", "path"},
                              {"segments",
                               {{{"line_mm", 200}},
-                               {{"arc", {{"radius_mm", 0.001}, {"angle_deg", 90}}}},
+                               {{"arc", {{"radius_mm", 0.01}, {"angle_deg", 90}}}},
                                {{"line_mm", 200}}}}});
   body["options"]["limits"]["a_max"] = 5.0;
   body["motion_time_max_s"] = 1.0;
@@ -504,8 +504,9 @@ TEST(MinTimePath, ACornerNoSpeedCanCrossNamesAMax) {
   const json& s = answer["strategies"][0];
   EXPECT_EQ(s["status"], "infeasible");
   // The uniform law at T = 1 s crosses the corner (s = 200 mm, the middle) at its cruise speed.
-  const test::ReferenceSevenSegment law(uniform_durations(1.0), 0.4);
-  const double normal = law.v_peak() * law.v_peak() / 1e-6;
+  // The shortest arc a path takes (0.01 mm long and more): a quarter circle of 0.01 mm.
+  const test::ReferenceSevenSegment law(uniform_durations(1.0), 0.4 + 1e-5 * std::numbers::pi / 2);
+  const double normal = law.v_peak() * law.v_peak() / 1e-5;
   auto fmt = [](const char* f, double v) {
     std::array<char, 32> b{};
     std::snprintf(b.data(), b.size(), f, v);
@@ -517,8 +518,8 @@ TEST(MinTimePath, ACornerNoSpeedCanCrossNamesAMax) {
                 "horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) along the path with baseline: "
                 "at T = 1.000 s its law reaches " +
                 fmt("%.3g", normal) +
-                " m/s^2 (on the tightest arc, radius 0.001 mm, the speed must stay below "
-                "sqrt(a_max rho) = 2.24 mm/s); a longer motion does not help a law that must cross "
+                " m/s^2 (on the tightest arc, radius 0.01 mm, the speed must stay below "
+                "sqrt(a_max rho) = 7.07 mm/s); a longer motion does not help a law that must cross "
                 "that arc at speed: raise limits.a_max or widen the arc");
 }
 

@@ -112,6 +112,17 @@ TEST(RectangularApi, TheCylindersModelOptionsAreRefusedForARectangularContainer)
   json paper = cup_request();
   paper["options"]["damping"] = "paper";
   expect_refusal(paper, "options.damping", "options.damping = \"paper\"" + why);
+  // A viscosity range with an explicit zeta: the advice is the tank's own damping, not a
+  // correlation the tank refuses.
+  json explicit_zeta = cup_request();
+  explicit_zeta["options"]["damping"] = {{"zeta", 0.01}};
+  explicit_zeta["options"]["uncertainty"] = {{"viscosity_pa_s", {0.0008, 0.002}}};
+  expect_refusal(explicit_zeta, "options.uncertainty.viscosity_pa_s",
+                 "options.uncertainty.viscosity_pa_s = [0.0008, 0.002] Pa·s is not allowed with "
+                 "an explicit damping (options.damping = {\"zeta\": 0.01}): a viscosity range "
+                 "acts through the damping correlation; omit options.damping (the rectangular "
+                 "tank's boundary-layer damping, the one that takes the viscosity) or give no "
+                 "viscosity range");
   json model_alpha = cup_request();
   model_alpha["options"]["model"] = {{"alpha", 0.5}};
   expect_refusal(model_alpha, "options.model.alpha", "options.model.alpha" + why);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <nlohmann/json.hpp>
 #include <string>
 
@@ -164,6 +165,80 @@ TEST_F(RectangularHostile, EquivalentOrientationsShareTheRecipeKey) {
   const std::string minus_180 = post(*server_, "/v1/plans", {{"format", cup(-180.0)}})["key"];
   EXPECT_EQ(zero, minus_zero);
   EXPECT_EQ(plus_180, minus_180);
+}
+
+std::string fixed(double value, int digits) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%.*f", digits, value);
+  return text;
+}
+
+bool has_warning(const json& plan, const std::string& text) {
+  for (const auto& w : plan["warnings"]) {
+    if (w.get<std::string>().find(text) != std::string::npos) return true;
+  }
+  return false;
+}
+
+// A shallow fill rings on after the motion: the linear-theory warning must quote the larger wave
+// (here the one left at rest, 1.5 times the depth), not only the peak during the motion.
+TEST_F(RectangularHostile, ShallowFillWarningQuotesTheLargerWaveAfterTheMotion) {
+  json format = cup(0.0, 300, 80, 10);
+  format["container"]["height_mm"] = 40;
+  const json plan = post(*server_, "/v1/plans", {{"format", format}, {"strategy", "multi_notch"}});
+  const double motion = plan["prediction"]["linear"]["eta_motion_mm"].get<double>();
+  const double after = plan["prediction"]["linear"]["eta_rest_mm"].get<double>();
+  ASSERT_GT(after, motion) << "the case must leave the larger wave after the motion";
+  ASSERT_GT(after, 10.0) << "and a wave deeper than the fill";
+  EXPECT_TRUE(has_warning(plan, "linear model beyond its theory: wall height " + fixed(after, 1) +
+                                    " mm (after the motion; " + fixed(motion, 1) +
+                                    " mm during it) is " + fixed(after / 10.0, 2) +
+                                    " of the fill height 10.0 mm (above 0.5), a wave not small "
+                                    "against the depth; the figures are not reliable"))
+      << plan["warnings"].dump();
+}
+
+// SPEC §5 "Honest status": a law that spills and sloshes more than the uniform law is not called
+// optimal, on a path as on a line; the uniform law itself stays optimal unless it spills.
+TEST_F(RectangularHostile, SpillingLawWorseThanTheUniformLawIsNotOptimalAlongAPath) {
+  json format = cup(30.0);
+  format.erase("stroke_mm");
+  format["motion_time_s"] = 1.5;
+  format["motion"] = {{"type", "path"},
+                      {"segments", json::array({{{"line_mm", 100}},
+                                                {{"arc", {{"radius_mm", 100}, {"angle_deg", 90}}}},
+                                                {{"line_mm", 100}}})},
+                      {"start_heading_deg", 0},
+                      {"container_turns", false}};
+  const json plan = post(*server_, "/v1/plans", {{"format", format}, {"strategy", "multi_notch"}});
+  EXPECT_EQ(plan["status"], "acceptable") << plan.dump();
+  const std::string message = plan["message"];
+  EXPECT_EQ(message.rfind("multi_notch acceptable: not optimal: the predicted sloshing exceeds "
+                          "the free board (liquid will spill); the law sloshes more than the "
+                          "uniform law (worse_than_baseline)",
+                          0),
+            0u)
+      << message;
+  const json uniform = post(*server_, "/v1/plans", {{"format", format}, {"strategy", "baseline"}});
+  EXPECT_EQ(uniform["status"], "optimal") << uniform.dump();
+}
+
+// A motion far shorter than the tank's period: every law leaves the same wave and the warning says
+// no plan can reduce it, so a shaping strategy's plan is not optimal; the uniform law's is.
+TEST_F(RectangularHostile, NoPlanCanActIsNotOptimal) {
+  json format = cup(0.0, 4000, 4000, 50);
+  format["container"]["height_mm"] = 200;  // no spill: the uniform law's 22 mm would exceed 20 mm
+  const json plan = post(*server_, "/v1/plans", {{"format", format}, {"strategy", "multi_notch"}});
+  ASSERT_TRUE(has_warning(plan, "no plan can reduce it")) << plan["warnings"].dump();
+  EXPECT_EQ(plan["status"], "acceptable") << plan.dump();
+  EXPECT_EQ(plan["message"].get<std::string>().rfind(
+                "multi_notch acceptable: not optimal: the motion is too short for any law to "
+                "act on the tank's mode",
+                0),
+            0u)
+      << plan["message"];
+  const json uniform = post(*server_, "/v1/plans", {{"format", format}, {"strategy", "baseline"}});
+  EXPECT_EQ(uniform["status"], "optimal") << uniform.dump();
 }
 
 }  // namespace

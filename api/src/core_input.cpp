@@ -129,8 +129,13 @@ std::optional<std::string> uncertainty_sentence(const InvalidInput& e, const For
         return "uncertainty.viscosity_pa_s = " + pair_text(u.viscosity.value_or(none), "Pa·s") +
                " is not allowed with an explicit damping (options.damping = {\"zeta\": " +
                number_text(o.model.explicit_zeta) +
-               "}): a viscosity range acts through the damping correlation; give a correlation "
-               "(thesis, paper, eq227, eq228) or no viscosity range";
+               "}): a viscosity range acts through the damping correlation; " +
+               (format.container.rectangular
+                    ? std::string("omit options.damping (the rectangular tank's boundary-layer "
+                                  "damping, the one that takes the viscosity) or give no "
+                                  "viscosity range")
+                    : std::string("give a correlation (thesis, paper, eq227, eq228) or no "
+                                  "viscosity range"));
       }
       return pair_sentence("viscosity_pa_s", u.viscosity.value_or(none), format.fluid.viscosity,
                            "Pa·s", "viscosity", e, 1.0);

@@ -38,7 +38,10 @@ bool container_shape(const nlohmann::json& c, const std::string& path) {
     }
     rectangular = *shape == "rectangular";
   }
-  for (std::string_view side : {"length_mm", "width_mm", "orientation_deg"}) {
+  // A radius with an orientation but no side is not this conflict: it is a cylinder turned (the
+  // orientation belongs to a rectangle) or a rectangle with a radius instead of its sides, which
+  // parse_container names.
+  for (std::string_view side : {"length_mm", "width_mm"}) {
     if (given_member(c, "radius_mm") == nullptr || given_member(c, side) == nullptr) continue;
     const std::string field = join_path(path, rectangular ? "radius_mm" : side);
     invalid(field, join_path(path, "radius_mm") + " and " + join_path(path, side) +

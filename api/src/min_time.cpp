@@ -23,13 +23,16 @@ namespace mr = min_time_ranges;
 
 /// Version of the search; part of every min-time key, bumped when results change.
 // v3: infeasible points confirmed from the planner's own starts; v4: above T_min only up to the
-// first one that fails from them, the warm-started failures above it left off the curve.
-constexpr const char* kMinTimeVersion = "min-time-v4";
+// first one that fails from them, the warm-started failures above it left off the curve; v5: a
+// rectangular tank's near misses refined only where eta_rest alone misses (the plans' statuses of
+// plan-v11 too).
+constexpr const char* kMinTimeVersion = "min-time-v5";
 /// Version of the search along an arc or a path, in those keys only (the line's keys unchanged).
 // v2: the scan's step grows geometrically far from the limits (path_scan_step).
 // v3: a spectral law's better mirror along the path.
 // v4: time_domain along a path starts from the symmetric families and retries a failed round.
-constexpr const char* kMinTimePathVersion = "min-time-path-v4";
+// v5: as min-time-v5.
+constexpr const char* kMinTimePathVersion = "min-time-path-v5";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",

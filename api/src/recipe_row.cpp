@@ -383,11 +383,34 @@ std::string column_of_field(const std::string& field, const OptionRegistry& regi
 
 std::string in_column_terms(const std::string& field, const std::string& message,
                             const OptionRegistry& registry) {
-  const std::optional<RecipeColumn> column = column_for(field, registry);
-  if (!column) return message;
-  const std::string path = dotted(column->pointer);
-  if (message.rfind(path, 0) != 0) return message;
-  return column->name + message.substr(path.size());
+  if (!column_for(field, registry)) return message;
+  // Every request path the message names that a column maps, not only its first: a refusal
+  // naming two members ("... and ... are both given", "give ... = ...") reads in one language.
+  // Longest paths first, each replaced only as a whole member name.
+  std::vector<RecipeColumn> columns = recipe_columns(registry);
+  std::sort(columns.begin(), columns.end(), [](const RecipeColumn& a, const RecipeColumn& b) {
+    return a.pointer.size() > b.pointer.size();
+  });
+  auto member_char = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.';
+  };
+  std::string out = message;
+  for (const RecipeColumn& column : columns) {
+    if (column.pointer.empty()) continue;
+    const std::string path = dotted(column.pointer);
+    for (std::size_t at = out.find(path); at != std::string::npos; at = out.find(path, at)) {
+      const std::size_t end = at + path.size();
+      const bool whole =
+          (at == 0 || !member_char(out[at - 1])) && (end == out.size() || !member_char(out[end]));
+      if (!whole) {
+        at = end;
+        continue;
+      }
+      out.replace(at, path.size(), column.name);
+      at += column.name.size();
+    }
+  }
+  return out;
 }
 
 // ---- plan tables -------------------------------------------------------------------------------

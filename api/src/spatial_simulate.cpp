@@ -23,6 +23,7 @@
 #include "slosh/core/motion/trajectory_ends.hpp"
 #include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/simulation.hpp"
+#include "slosh/core/response/validity.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 
 namespace slosh::api {
@@ -235,7 +236,7 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
   const double horizontal = peak_horizontal_acceleration(motion, drive, law);
   std::vector<std::string> warnings =
       validity_warnings(request.format, horizontal, linear.highest.motion.value,
-                        nl.highest.motion.value, nonlinear.nonlinear);
+                        nl.highest.motion.value, nonlinear.nonlinear, linear.highest.rest.value);
   if (!nonlinear.warning.empty()) warnings.push_back(nonlinear.warning);
   const std::string yaw = yaw_mode_warning(*request.format.container.rectangular,
                                            request.format.fill_height, drive, horizontal);
@@ -328,7 +329,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   // planar peaks and the total horizontal acceleration.
   std::vector<std::string> warnings =
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
-                        linear.motion.value, nonlinear.motion.value);
+                        linear.motion.value, nonlinear.motion.value, true, linear.rest.value);
   add_moving_end_warnings(motion, warnings);
   out["warnings"] = warnings;
   require_finite(out);

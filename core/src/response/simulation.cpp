@@ -1,4 +1,5 @@
 #include "slosh/core/response/simulation.hpp"
+#include "slosh/core/response/validity.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -20,23 +21,30 @@ namespace {
 /// steeper along the longer side than the steepest standing wave (Penney & Price 1952: k A =
 /// 0.68), which no liquid can carry. Only the nonlinear model's range was checked before, and
 /// outside it the linear model answers: these say that this answer is out of theory too.
-std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h, double eta) {
+std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h, double eta_motion,
+                                              double eta_rest) {
   constexpr double kLinearMaxDepthShare{0.5};
   constexpr double kSteepestStandingWave{0.68};
   std::vector<std::string> w;
+  // The larger wall height decides: the wave left after the motion can exceed the one during it
+  // (a shallow fill rings on), and the sentence then names both.
+  const bool after = std::isfinite(eta_rest) && eta_rest > eta_motion;
+  const double eta = after ? eta_rest : eta_motion;
   if (!std::isfinite(eta)) return w;
+  const std::string height =
+      "wall height " + fixed(eta * 1e3, 1) + " mm" +
+      (after ? " (after the motion; " + fixed(eta_motion * 1e3, 1) + " mm during it)" : "");
   if (eta > kLinearMaxDepthShare * h) {
-    w.push_back("linear model beyond its theory: wall height " + fixed(eta * 1e3, 1) + " mm is " +
-                fixed(eta / h, 2) + " of the fill height " + fixed(h * 1e3, 1) + " mm (above " +
+    w.push_back("linear model beyond its theory: " + height + " is " + fixed(eta / h, 2) +
+                " of the fill height " + fixed(h * 1e3, 1) + " mm (above " +
                 fixed(kLinearMaxDepthShare, 1) +
                 "), a wave not small against the depth; the figures are not reliable");
   }
   const double side = std::max(t.length, t.width);
   const double steepness = rectangular_wavenumber(side, 1) * eta;
   if (steepness > kSteepestStandingWave) {
-    w.push_back("linear model beyond its theory: wall height " + fixed(eta * 1e3, 1) +
-                " mm is a wave steepness k1 eta = " + fixed(steepness, 2) +
-                " along the longer side " + fixed(side * 1e3, 1) +
+    w.push_back("linear model beyond its theory: " + height + " is a wave steepness k1 eta = " +
+                fixed(steepness, 2) + " along the longer side " + fixed(side * 1e3, 1) +
                 " mm, above the steepest standing wave " + fixed(kSteepestStandingWave, 2) +
                 " (Penney & Price 1952); the figures are not reliable");
   }
@@ -48,6 +56,13 @@ std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h
 std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
                                            double eta_motion_linear, double eta_motion_nonlinear,
                                            bool nonlinear_in_range) {
+  return validity_warnings(format, peak_abs_acceleration, eta_motion_linear, eta_motion_nonlinear,
+                           nonlinear_in_range, 0.0);
+}
+
+std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
+                                           double eta_motion_linear, double eta_motion_nonlinear,
+                                           bool nonlinear_in_range, double eta_rest_linear) {
   std::vector<std::string> w;
   const double R = format.container.radius;
   const double h = format.fill_height;
@@ -81,7 +96,7 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
                   fixed(kMinModelledRadius * 1e3, 0) +
                   " mm: surface tension matters and is not modelled");
     }
-    for (std::string& beyond : beyond_linear_theory(t, h, eta_motion_linear)) {
+    for (std::string& beyond : beyond_linear_theory(t, h, eta_motion_linear, eta_rest_linear)) {
       w.push_back(std::move(beyond));
     }
   } else if (R < kMinModelledRadius) {
@@ -260,7 +275,7 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   const bool nonlinear_in_range = r.warnings.empty();
   std::vector<std::string> warnings = validity_warnings(
       format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
-      r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range);
+      r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range, r.linear.rest.value);
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   r.warnings = std::move(warnings);
   return r;

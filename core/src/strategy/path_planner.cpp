@@ -6,10 +6,12 @@
 #include <cmath>
 #include <optional>
 
+#include "slosh/core/response/validity.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
 #include "slosh/core/strategy/robustness.hpp"
 #include "strategy/path_time_domain.hpp"
+#include "strategy/status_caveat.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
 
@@ -393,6 +395,7 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
 
 /// The result of the outcome `o` for the requested strategy.
 PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::string detail) {
+  const Strategy law_strategy = o.plan.strategy;
   PlanResult r = std::move(o.plan);
   r.strategy = requested;
   r.prediction = as_prediction(o.prediction, r.prediction.kinematics);
@@ -400,12 +403,13 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   r.robustness.reset();
   r.worst_case.reset();
   r.uncertainty.reset();
-  r.message = path_message(c, r, o.prediction, std::move(detail));
   r.warnings =
       validity_warnings(c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
-                        o.prediction.nonlinear.motion.value);
+                        o.prediction.nonlinear.motion.value, true, o.prediction.linear.rest.value);
   if (!o.model_warning.empty()) r.warnings.push_back(o.model_warning);
   if (!o.worse.empty()) r.warnings.push_back(o.worse);
+  detail::apply_optimal_caveat(r.status, detail, r.warnings, law_strategy);
+  r.message = path_message(c, r, o.prediction, std::move(detail));
   return r;
 }
 

@@ -3,11 +3,14 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <numbers>
 
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/response/spectrum.hpp"
+#include "slosh/core/response/validity.hpp"
 #include "slosh/core/strategy/rectangular_plan.hpp"
 #include "solve/one_jerk_chart.hpp"
+#include "strategy/status_caveat.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
 
@@ -708,7 +711,7 @@ std::optional<RangeJudgement> judge_over_range(const detail::StrategyContext& c,
   // second mode and the range checks included), as simulate() of the scaled tank answers.
   const std::pair at_zero{nominal.linear, nominal.nonlinear};
   RangeJudgement j{c.rectangular != nullptr
-                       ? rectangular_robustness_report(*c.rectangular, law, c.sweep, at_zero)
+                       ? *rectangular_robustness_report(*c.rectangular, law, c.sweep, at_zero)
                        : robustness_report(c.model, law, c.sweep, at_zero),
                    {}};
   j.worst.kinematics = nominal.kinematics;
@@ -1259,7 +1262,8 @@ std::vector<std::string> plan_warnings(const Format& format, const PlanResult& r
   std::vector<std::string> w = validity_warnings(
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
-      r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value, law_in_range);
+      r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value, law_in_range,
+      r.prediction.linear.rest.value);
   if (!worse.empty()) w.push_back(worse);
   if (!law_in_range) w.push_back(std::move(out_of_range));
   if (law_in_range && !baseline_out_of_range.empty()) {
@@ -1306,13 +1310,32 @@ std::vector<double> notched_frequencies(const Format& format, const PlanOptions&
 RobustnessReport robustness_of(const Format& format, const PlanOptions& options,
                                const PlanResult& r) {
   if (r.rectangular) {
-    return rectangular_robustness_report(*r.rectangular, r.law,
-                                         sweep_for(format, options, r.model.zeta),
-                                         std::pair{r.prediction.linear, r.prediction.nonlinear});
+    return *rectangular_robustness_report(*r.rectangular, r.law,
+                                          sweep_for(format, options, r.model.zeta),
+                                          std::pair{r.prediction.linear, r.prediction.nonlinear});
   }
   return robustness_report(r.model, r.law, sweep_for(format, options, r.model.zeta),
                            std::pair{r.prediction.linear, r.prediction.nonlinear});
 }
+
+namespace {
+
+/// robustness_of within the plan's budget, which covers the report: nullopt when the budget ran
+/// out before it was complete. A rectangular tank is asked before each point (a tank whose period
+/// is tiny against a long motion makes each point's simulation cost a second or more); a
+/// cylinder's sweep, at most a few hundred periods per point, only before it starts.
+std::optional<RobustnessReport> robustness_within(const Format& format, const PlanOptions& options,
+                                                  const PlanResult& r,
+                                                  const detail::Deadline& deadline) {
+  if (deadline.expired()) return std::nullopt;
+  if (!r.rectangular) return robustness_of(format, options, r);
+  return rectangular_robustness_report(*r.rectangular, r.law,
+                                       sweep_for(format, options, r.model.zeta),
+                                       std::pair{r.prediction.linear, r.prediction.nonlinear},
+                                       [&deadline] { return deadline.expired(); });
+}
+
+}  // namespace
 
 PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
@@ -1385,12 +1408,28 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   if (s.range) r.worst_case = s.range->worst;
   if (options.robustness) {
     // A robust plan's law was swept over the range already: that sweep is its report.
-    r.robustness = s.range ? std::move(s.range->report) : robustness_of(format, options, r);
+    if (s.range) {
+      r.robustness = std::move(s.range->report);
+    } else if (std::optional<RobustnessReport> report =
+                   robustness_within(format, options, r, deadline)) {
+      r.robustness = std::move(*report);
+    } else {
+      // The law is found and verified at the nominal model; the budget, which covers the
+      // report, is spent: the plan says so instead of overrunning it.
+      r.status = SolveStatus::kTimeLimit;
+      s.detail =
+          "the robustness report was left unfinished (each of its points simulates "
+          "the whole motion, " +
+          sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
+          " first-mode periods here); the law is returned without it, verified at the nominal "
+          "model: raise time_limit_s or set robustness to false";
+    }
   }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-  r.message = brief_report(c, r, result_strategy, std::move(s.detail));
   r.warnings = plan_warnings(format, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);
+  detail::apply_optimal_caveat(r.status, s.detail, r.warnings, result_strategy);
+  r.message = brief_report(c, r, result_strategy, std::move(s.detail));
   return r;
 }
 

@@ -62,9 +62,10 @@ RectangularModel scaled(const RectangularModel& m, double scale, bool common, do
 
 }  // namespace
 
-RobustnessReport rectangular_robustness_report(
+std::optional<RobustnessReport> rectangular_robustness_report(
     const RectangularModel& model, const MotionLaw& law, const RobustnessSweep& sweep,
-    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero) {
+    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero,
+    const std::function<bool()>& out_of_time) {
   const bool common = sweep.zeta != driven_directions(model).front().model.zeta;
   std::vector<RobustnessPoint> points;
   for (double delta : robustness_deltas(sweep)) {
@@ -74,6 +75,7 @@ RobustnessReport rectangular_robustness_report(
       p.linear = at_zero->first;
       p.nonlinear = at_zero->second;
     } else {
+      if (out_of_time && out_of_time()) return std::nullopt;
       const RectangularPrediction q = rectangular_prediction(
           scaled(model, 1.0 + delta, common, sweep.zeta), law, sweep.rest_time);
       p.linear = q.linear;

@@ -151,8 +151,10 @@ class RecipeHeader {
 [[nodiscard]] std::string column_of_field(const std::string& field,
                                           const OptionRegistry& registry = plan_option_registry());
 
-/// `message` with a leading request path replaced by its column ("format.container.radius_mm =
-/// -3 is out of range ..." -> "radius_mm = -3 is out of range ...").
+/// `message` with every request path a column maps replaced by its column
+/// ("format.container.radius_mm = -3 is out of range ..." -> "radius_mm = -3 is out of range
+/// ..."; "give format.container.shape = ..." -> "give container_shape = ..."), when `field`
+/// itself maps to a column.
 [[nodiscard]] std::string in_column_terms(const std::string& field, const std::string& message,
                                           const OptionRegistry& registry = plan_option_registry());
 

@@ -3,6 +3,7 @@
 // (RectangularLinearResponse and the rectangular nonlinear model, the highest wall or corner),
 // not the driven direction models the strategies optimise on.
 
+#include <functional>
 #include <optional>
 #include <string>
 #include <utility>
@@ -74,9 +75,12 @@ inline constexpr double kFullDirectionShare{1e-3};
 /// The sweep of SPEC §10 on the tank: every frequency of both directions scaled by (1 + delta);
 /// each direction keeps its own damping ratio unless `sweep.zeta` differs from the most excited
 /// direction's (an uncertainty range's least damping), which then holds for both. `at_zero` as
-/// in robustness_report.
-[[nodiscard]] RobustnessReport rectangular_robustness_report(
+/// in robustness_report. `out_of_time`, when given, is asked before each point's simulation: a
+/// tank whose period is tiny against a long motion makes every point costly, and a plan's budget
+/// covers its report; nullopt when it said true (the report left unfinished).
+[[nodiscard]] std::optional<RobustnessReport> rectangular_robustness_report(
     const RectangularModel& model, const MotionLaw& law, const RobustnessSweep& sweep,
-    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero = std::nullopt);
+    const std::optional<std::pair<SloshPeaks, SloshPeaks>>& at_zero = std::nullopt,
+    const std::function<bool()>& out_of_time = {});
 
 }  // namespace slosh
