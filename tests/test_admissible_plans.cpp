@@ -322,7 +322,8 @@ TEST(AdmissiblePlans, TimeDomainsLeastInfeasibleLawKeepsAReachableAccelerationLi
   const json format = format_json(48.5, 82, 800, 1.0);
   const json options = {{"limits", {{"a_max", 3.6}}}};
   const json notch = plan_of(format, "notch", options);
-  ASSERT_EQ(notch["status"], "optimal");
+  // Its law keeps the limit but leaves more at rest than the uniform law: acceptable.
+  ASSERT_EQ(notch["status"], "acceptable") << notch["message"];
   const json plan = plan_of(format, "time_domain", options);
   test::SevenDurations d;
   for (std::size_t i = 0; i < 7; ++i) d[i] = plan["durations_s"][i].get<double>();

@@ -619,7 +619,8 @@ TEST(ShaperPlan, MultiHumpShapersLeaveZeroOrVAtF1AndConvolveExactly) {
   for (const auto& [type, V] : {std::pair<std::string, double>{"ei2", 0.05}, {"ei3", 0.1}}) {
     SCOPED_TRACE(type);
     const json& plan = plan_of(plan_body("shaper", T, {{"shaper", type}, {"residual", V}}));
-    EXPECT_EQ(plan["status"], "optimal");
+    // ei3 leaves the 10 % asked for at f1, more at rest than the uniform law: acceptable.
+    EXPECT_EQ(plan["status"], type == "ei2" ? "optimal" : "acceptable") << plan["message"];
     const json& d = plan["design"];
     EXPECT_EQ(d["shaper"], type);
     ASSERT_EQ(d["impulses"].size(), type == "ei2" ? 4u : 5u);
@@ -862,7 +863,9 @@ TEST(FilterRoundTrip, EveryOptimalPlanLawIsAcceptedBySimulate) {
   body["format"]["fill_height_mm"] = 100;
   body["format"]["stroke_mm"] = 2000;
   const json& plan = plan_of(body);
-  ASSERT_EQ(plan["status"], "optimal") << plan["message"];
+  // The filter is designed exactly, but its law spills and sloshes more than the uniform law:
+  // acceptable, not optimal. Its law is the plan's all the same.
+  ASSERT_EQ(plan["status"], "acceptable") << plan["message"];
   const json request{{"format", body["format"]}, {"law", plan["law"]}};
   try {
     (void)parse_simulate_request(request);

@@ -163,7 +163,9 @@ TEST(PathTimeDomainStarts, UTurnBeatsTheUniformLaw) {
   // At 1.9 s (min-time's T_min was 1.983 s: "infeasible, best 6.34 mm" here) a law meets both
   // of min-time's limits, eta_rest <= 3 mm and eta_motion <= 63 mm.
   const PlanResult fast = plan_on_path(format_for(g, 1.9), g.path(), Strategy::kTimeDomain, o);
-  ASSERT_EQ(fast.status, SolveStatus::kOptimal) << fast.message;
+  // The linear model's wave in motion reaches the free board there: acceptable, a law min-time
+  // counts as meeting its limits.
+  ASSERT_EQ(fast.status, SolveStatus::kAcceptable) << fast.message;
   const Peaks at_19 = simulate(fast.model, *fast.durations, g, o.rest_time);
   EXPECT_LE(at_19.rest, o.eta_rest_max * (1.0 + 1e-3));
   EXPECT_LE(at_19.motion, 0.063);

@@ -135,6 +135,31 @@ std::optional<std::array<double, 3>> fir_chain_both(const StrategyContext& c) {
 FilterOutcome fir_chain_of(const StrategyContext& c, double T1, double T2, double T3,
                            const std::string& how, const std::string& left, bool two_modes);
 
+namespace {
+
+// A turned tank whose second direction is below kFullDirectionShare: the chain moves from the
+// first direction's own (T1, T2, its period T3) toward the two periods by the engagement e, one
+// filter's duration from T2 to the second direction's period (T1 taking the rest of T):
+// continuous in the share, the first mode cancelled throughout.
+FilterOutcome fir_chain_engaged(const StrategyContext& c, double T2, double T3) {
+  const double T = c.format.motion_time;
+  const double e = c.direction_engagement;
+  const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+  const double T2e = (1.0 - e) * T2 + e * Pb;
+  std::array<double, 3> t{T - T3 - T2e, T2e, T3};
+  std::sort(t.begin(), t.end(), std::greater<>());
+  return fir_chain_of(c, t[0], t[1], t[2],
+                      "T1, T2, T3 = " + sig3(t[0]) + ", " + sig3(t[1]) + ", " + sig3(t[2]) +
+                          " s: the damped period of " + direction_f1(c, 0) +
+                          ", which it cancels, and one filter moved from " + sig3(T2) +
+                          " s toward the damped period of " + direction_f1(c, 1) + " by " +
+                          percent(e) + " (its share " + sig3(c.direction_weight[1]) +
+                          " of the residual wave is below " + sig3(kFullDirectionShare) + ")",
+                      "", true);
+}
+
+}  // namespace
+
 FilterOutcome design_fir_chain(const StrategyContext& c) {
   const double S = c.format.stroke, T = c.format.motion_time;
   if (std::string why = over_damped(c, "fir_chain"); !why.empty()) return no_law(c, why);
@@ -189,25 +214,7 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
     choice = " (T1 = T2: the least peak acceleration)";
   }
   const double T2 = std::max(T - T3 - T1, 0.0);
-  if (both) {
-    // The second direction below kFullDirectionShare: the chain moves from the first
-    // direction's own (T1, T2, its period) toward the two periods by the engagement e, one
-    // filter's duration from T2 to the second direction's period (T1 taking the rest of T):
-    // continuous in the share, the first mode cancelled throughout.
-    const double e = c.direction_engagement;
-    const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
-    const double T2e = (1.0 - e) * T2 + e * Pb;
-    std::array<double, 3> t{T - T3 - T2e, T2e, T3};
-    std::sort(t.begin(), t.end(), std::greater<>());
-    return fir_chain_of(c, t[0], t[1], t[2],
-                        "T1, T2, T3 = " + sig3(t[0]) + ", " + sig3(t[1]) + ", " + sig3(t[2]) +
-                            " s: the damped period of " + direction_f1(c, 0) +
-                            ", which it cancels, and one filter moved from " + sig3(T2) +
-                            " s toward the damped period of " + direction_f1(c, 1) + " by " +
-                            percent(e) + " (its share " + sig3(c.direction_weight[1]) +
-                            " of the residual wave is below " + sig3(kFullDirectionShare) + ")",
-                        "", true);
-  }
+  if (both) return fir_chain_engaged(c, T2, T3);
   FilterOutcome o = fir_chain_of(c, T1, T2, T3,
                                  "T3 = " + sig3(T3) + " s (the damped period of " +
                                      (directions ? direction_f1(c, 0) : std::string("mode 1")) +

@@ -458,50 +458,34 @@ std::vector<Durations> with_families(const StrategyContext& c, std::vector<Durat
   return starts;
 }
 
-/// time_domain along the path from starts that keep the context's machine limits.
-StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
-                           const std::vector<Durations>& starts) {
-  const bool motion = c.options.objective == TimeDomainObjective::kMotion;
-  const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
-  StrategyOutcome o = run_phase(c, path, motion, bound, starts);
-  if (!motion && o.status != SolveStatus::kInfeasible && !c.deadline.expired()) {
-    // Objective "rest": the least residual wave sits in narrow basins the first starts often
-    // miss (12.9 mm at rest "optimal" at 1.55 s on a line-arc-line path, 3 mm from a family):
-    // the families and draws below run too, and the lower verified eta_rest is kept.
-    const std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
-    if (from.size() == starts.size()) return o;
-    StrategyOutcome wider =
-        run_phase(c, path, motion, bound,
-                  std::vector<Durations>(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
-                                         from.end()));
-    wider.evaluations += o.evaluations;
-    wider.starts += o.starts;
-    const bool better =
-        wider.status != SolveStatus::kInfeasible &&
-        verified_bounded_peak(c, path, true, wider.durations) <
-            verified_bounded_peak(c, path, true, o.durations) * (1.0 - kObjectiveTolerance);
-    if (better) return wider;
-    o.evaluations = wider.evaluations;
-    o.starts = wider.starts;
-    return o;
-  }
-  if (o.status != SolveStatus::kInfeasible || c.deadline.expired()) return o;
-  // A fresh plan then starts from the symmetric families and a few random draws: along a path
-  // the uniform law and the spectral optima often lie in basins outside the bound (the normal
-  // acceleration on the arcs moves the optimum away from the line's) where one of these reaches
-  // a law inside it (1.55 s on a line-arc-line path: 12.9 mm at rest from the first starts, the
-  // bound met from a family). Only then: a plan whose first phase meets the bound costs nothing.
-  std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
-  if (from.size() > starts.size()) {
-    std::vector<Durations> more(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
-                                from.end());
-    StrategyOutcome wider = run_phase(c, path, motion, bound, more);
-    wider.evaluations += o.evaluations;
-    wider.starts += o.starts;
-    if (wider.status != SolveStatus::kInfeasible || c.deadline.expired()) return wider;
-    o.evaluations = wider.evaluations;
-    o.starts = wider.starts;
-  }
+/// Objective "rest": the least residual wave sits in narrow basins the first starts often miss
+/// (12.9 mm at rest "optimal" at 1.55 s on a line-arc-line path, 3 mm from a family): the
+/// families and draws run too, and the lower verified eta_rest of `o` and theirs is kept.
+StrategyOutcome rest_from_families(const StrategyContext& c, const PlanarPath& path,
+                                   const std::vector<Durations>& starts, double bound,
+                                   StrategyOutcome o) {
+  const std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
+  if (from.size() == starts.size()) return o;
+  StrategyOutcome wider =
+      run_phase(c, path, /*minimise_motion=*/false, bound,
+                std::vector<Durations>(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
+                                       from.end()));
+  wider.evaluations += o.evaluations;
+  wider.starts += o.starts;
+  const bool better =
+      wider.status != SolveStatus::kInfeasible &&
+      verified_bounded_peak(c, path, true, wider.durations) <
+          verified_bounded_peak(c, path, true, o.durations) * (1.0 - kObjectiveTolerance);
+  if (better) return wider;
+  o.evaluations = wider.evaluations;
+  o.starts = wider.starts;
+  return o;
+}
+
+/// The least infeasible law when no phase met the bound from `from`, the first phase's outcome `o`.
+StrategyOutcome least_infeasible(const StrategyContext& c, const PlanarPath& path, bool motion,
+                                 double bound, const std::vector<Durations>& starts,
+                                 const std::vector<Durations>& from, StrategyOutcome o) {
   // Least infeasible (as time_domain on a line): SLSQP from a start far outside the bound often
   // ends outside it although laws inside exist. The bounded window's peak alone is minimised from
   // every start on its own (a multi-start keeps one basin, and from the uniform law alone it can
@@ -569,6 +553,35 @@ StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
              " starts), so a law may exist that it did not find: a longer motion or a looser "
              "limit makes one likelier";
   return o;
+}
+
+/// time_domain along the path from starts that keep the context's machine limits.
+StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
+                           const std::vector<Durations>& starts) {
+  const bool motion = c.options.objective == TimeDomainObjective::kMotion;
+  const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
+  StrategyOutcome o = run_phase(c, path, motion, bound, starts);
+  if (!motion && o.status != SolveStatus::kInfeasible && !c.deadline.expired()) {
+    return rest_from_families(c, path, starts, bound, std::move(o));
+  }
+  if (o.status != SolveStatus::kInfeasible || c.deadline.expired()) return o;
+  // A fresh plan then starts from the symmetric families and a few random draws: along a path
+  // the uniform law and the spectral optima often lie in basins outside the bound (the normal
+  // acceleration on the arcs moves the optimum away from the line's) where one of these reaches
+  // a law inside it (1.55 s on a line-arc-line path: 12.9 mm at rest from the first starts, the
+  // bound met from a family). Only then: a plan whose first phase meets the bound costs nothing.
+  std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
+  if (from.size() > starts.size()) {
+    std::vector<Durations> more(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
+                                from.end());
+    StrategyOutcome wider = run_phase(c, path, motion, bound, more);
+    wider.evaluations += o.evaluations;
+    wider.starts += o.starts;
+    if (wider.status != SolveStatus::kInfeasible || c.deadline.expired()) return wider;
+    o.evaluations = wider.evaluations;
+    o.starts = wider.starts;
+  }
+  return least_infeasible(c, path, motion, bound, starts, from, std::move(o));
 }
 
 }  // namespace

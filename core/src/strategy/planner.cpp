@@ -1337,6 +1337,34 @@ std::optional<RobustnessReport> robustness_within(const Format& format, const Pl
 
 }  // namespace
 
+namespace {
+
+// The plan's robustness report (with options.robustness): a robust plan's own sweep, else a
+// sweep within what is left of the budget.
+void take_robustness(PlanResult& r, Selection& s, const Format& format, const PlanOptions& options,
+                     const detail::Deadline& deadline) {
+  if (!options.robustness) return;
+  // A robust plan's law was swept over the range already: that sweep is its report.
+  if (s.range) {
+    r.robustness = std::move(s.range->report);
+  } else if (std::optional<RobustnessReport> report =
+                 robustness_within(format, options, r, deadline)) {
+    r.robustness = std::move(*report);
+  } else {
+    // The law is found and verified at the nominal model; the budget, which covers the
+    // report, is spent: the plan says so instead of overrunning it.
+    r.status = SolveStatus::kTimeLimit;
+    s.detail =
+        "the robustness report was left unfinished (each of its points simulates "
+        "the whole motion, " +
+        sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
+        " first-mode periods here); the law is returned without it, verified at the nominal "
+        "model: raise time_limit_s or set robustness to false";
+  }
+}
+
+}  // namespace
+
 PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
   if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
@@ -1406,25 +1434,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                    diverging_law(r.prediction.kinematics, result_strategy, nominal_diverges));
   }
   if (s.range) r.worst_case = s.range->worst;
-  if (options.robustness) {
-    // A robust plan's law was swept over the range already: that sweep is its report.
-    if (s.range) {
-      r.robustness = std::move(s.range->report);
-    } else if (std::optional<RobustnessReport> report =
-                   robustness_within(format, options, r, deadline)) {
-      r.robustness = std::move(*report);
-    } else {
-      // The law is found and verified at the nominal model; the budget, which covers the
-      // report, is spent: the plan says so instead of overrunning it.
-      r.status = SolveStatus::kTimeLimit;
-      s.detail =
-          "the robustness report was left unfinished (each of its points simulates "
-          "the whole motion, " +
-          sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
-          " first-mode periods here); the law is returned without it, verified at the nominal "
-          "model: raise time_limit_s or set robustness to false";
-    }
-  }
+  take_robustness(r, s, format, options, deadline);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.warnings = plan_warnings(format, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);

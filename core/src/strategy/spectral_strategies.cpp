@@ -279,6 +279,40 @@ StrategyOutcome solve_notch(const StrategyContext& c) {
   return solve_notch(c, StartUse::kEconomical);
 }
 
+namespace {
+
+// No zero reachable within the bounds and limits: the deepest notch instead (on a turned tank,
+// the least sum of the directions' residual powers, each weighed by its share). `m` is the
+// search for the zeros, whose work the outcome counts.
+StrategyOutcome deepest_notch(const StrategyContext& c, const std::vector<NotchTarget>& targets,
+                              StartUse uses, const MultiStartResult& m) {
+  std::vector<double> omegas, weights;
+  for (const NotchTarget& t : targets) {
+    omegas.push_back(t.omega);
+    weights.push_back(t.weight * t.weight);
+  }
+  MultiStartResult deepest =
+      minimise_power(c, omegas, weights, kSpectralRandomStarts, notch_policy(c, uses));
+  deepest.evaluations += m.evaluations;
+  deepest.starts += m.starts;
+  StrategyOutcome o = outcome_from(deepest, c);
+  if (o.status != SolveStatus::kInfeasible) {
+    if (targets.size() == 1) {
+      o.detail =
+          "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
+          "notch leaves |X(w1)| at " +
+          percent(std::sqrt(o.objective)) + " of X_ref";
+    } else {
+      o.detail = "no exact zero of X at both " + notch_list(targets) +
+                 " is reachable within the bounds and limits; the deepest notches leave |X| at " +
+                 residual_list(c, targets, o.durations) + " of X_ref";
+    }
+  }
+  return o;
+}
+
+}  // namespace
+
 StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   const std::vector<NotchTarget> targets = notch_targets(c);
   // Among the exact zeros of X at every target (a 4-dimensional manifold of the 6 free durations
@@ -343,31 +377,7 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
                " of the uniform law's)";
     return o;
   }
-  // No zero reachable within the bounds and limits: the deepest notch instead (on a turned
-  // tank, the least sum of the directions' residual powers, each weighed by its share).
-  std::vector<double> omegas, weights;
-  for (const NotchTarget& t : targets) {
-    omegas.push_back(t.omega);
-    weights.push_back(t.weight * t.weight);
-  }
-  MultiStartResult deepest =
-      minimise_power(c, omegas, weights, kSpectralRandomStarts, notch_policy(c, uses));
-  deepest.evaluations += m.evaluations;
-  deepest.starts += m.starts;
-  StrategyOutcome o = outcome_from(deepest, c);
-  if (o.status != SolveStatus::kInfeasible) {
-    if (targets.size() == 1) {
-      o.detail =
-          "no exact zero of X(w1) is reachable within the bounds and limits; the deepest "
-          "notch leaves |X(w1)| at " +
-          percent(std::sqrt(o.objective)) + " of X_ref";
-    } else {
-      o.detail = "no exact zero of X at both " + notch_list(targets) +
-                 " is reachable within the bounds and limits; the deepest notches leave |X| at " +
-                 residual_list(c, targets, o.durations) + " of X_ref";
-    }
-  }
-  return o;
+  return deepest_notch(c, targets, uses, m);
 }
 
 StrategyOutcome solve_multi_notch(const StrategyContext& c) {
