@@ -131,10 +131,12 @@ void BatchJobs::flush(Job& job, std::vector<std::string>& rows) {
       spdlog::warn("batch job {}: the job store did not take {} rows", job.status.id, rows.size());
     }
   }
-  write_record(job);
-  // Then what the shared store missed (this job's rows and record after a failed write, every
-  // job after an emptying): each row and record is sent once, after the rows it counts.
+  // What the shared store missed first (this job's rows and record after a failed write, every
+  // job after an emptying): each row and record is sent once, after the rows it counts. The
+  // record after that: written before, it would announce to the other replicas rows an emptying
+  // took (one that took the job over from here would find its table damaged).
   store_.resync();
+  write_record(job);
   // The queued jobs' heartbeat: they are alive, only waiting.
   std::vector<std::shared_ptr<Job>> queued;
   {
