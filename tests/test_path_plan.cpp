@@ -41,82 +41,26 @@ PlanOptions quiet_options() {
   return o;
 }
 
-/// Independent simulation of the planar spherical-pendulum model, re-typed from SPEC §14 and
-/// docs/models.md: M q'' + C^2 |q'|^2 q + 2 zeta w M q' + w^2 (1 + alpha |q|^2) q + a_h / R = 0,
-/// M = I + C^2 q q^T, driven by the 7-segment law (rebuilt from SPEC §3) moved along an arc of
-/// radius rho from heading 0, turning left: a_h = s'' T + s'^2 / rho N. Classical RK4 with the
-/// tangential state (s, s') integrated alongside, on steps that end at every switch time.
+/// The model's parameters as the test's own integration takes them.
+test::PendulumParameters pendulum_of(const SloshingModel& m) {
+  return {m.omega1(), m.zeta, m.C, m.alpha, m.K, m.radius};
+}
+
+/// The planar model along an arc of radius rho from heading 0, turning left, on the test's
+/// own RK4 (test::planar_pendulum_peaks, 0.2 ms steps).
 struct ArcSimulation {
   double eta_motion{}, eta_rest{}, t_rest{};
 };
 
 ArcSimulation simulate_on_arc(const SloshingModel& m, const Durations& d, double length, double rho,
                               double rest_time) {
-  // A and B from the two lobes' balance and the stroke: B = A area_p / area_n, then A by the
-  // stroke reached with A = 1 (computed by the same integration, the law linear in A).
-  const double area_p = 0.5 * d[0] + d[1] + 0.5 * d[2];
-  const double area_n = 0.5 * d[4] + d[5] + 0.5 * d[6];
-  test::TrapezoidAcceleration unit{d, 1.0, area_p / area_n};
-  const auto knots = unit.knots();
-  const double T = knots[7];
-  using State = std::array<double, 6>;  // s, s', qx, qy, qx', qy'
-  const double w = m.omega1(), c2 = m.C * m.C;
-  auto run = [&](const test::TrapezoidAcceleration& a, bool drive, ArcSimulation* out) {
-    auto f = [&](double t, const State& y) {
-      const double acc = t < T ? a(t) : 0.0;
-      const double v = t < T ? y[1] : 0.0;
-      const double psi = y[0] / rho;
-      const double ax = drive ? acc * std::cos(psi) - v * v / rho * std::sin(psi) : 0.0;
-      const double ay = drive ? acc * std::sin(psi) + v * v / rho * std::cos(psi) : 0.0;
-      const double qx = y[2], qy = y[3], vx = y[4], vy = y[5];
-      const double r2 = qx * qx + qy * qy, v2 = vx * vx + vy * vy, qv = qx * vx + qy * vy;
-      // b = -(C^2 |q'|^2 q + 2 zeta w M q' + w^2 (1 + alpha r2) q + a / R); q'' = M^-1 b.
-      const double k = w * w * (1.0 + m.alpha * r2);
-      const double bx =
-          -(c2 * v2 * qx + 2 * m.zeta * w * (vx + c2 * qx * qv) + k * qx + ax / m.radius);
-      const double by =
-          -(c2 * v2 * qy + 2 * m.zeta * w * (vy + c2 * qy * qv) + k * qy + ay / m.radius);
-      const double lam = c2 * (qx * bx + qy * by) / (1.0 + c2 * r2);
-      return State{y[1], acc, vx, vy, bx - lam * qx, by - lam * qy};
-    };
-    State y{};
-    std::vector<double> cuts(knots.begin(), knots.end());
-    cuts.push_back(T + rest_time);
-    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-      const double L = cuts[k + 1] - cuts[k];
-      if (!(L > 0.0)) continue;
-      const int n = static_cast<int>(std::ceil(L / 2e-4));
-      const double h = L / n;
-      for (int i = 0; i < n; ++i) {
-        const double t = cuts[k] + h * i;
-        auto add = [](const State& base, const State& slope, double s) {
-          State r;
-          for (std::size_t j = 0; j < 6; ++j) r[j] = base[j] + s * slope[j];
-          return r;
-        };
-        // Stages just inside the step, so each sees the piece it belongs to.
-        const double e = 1e-12;
-        const State k1 = f(t + e, y), k2 = f(t + h / 2, add(y, k1, h / 2));
-        const State k3 = f(t + h / 2, add(y, k2, h / 2)), k4 = f(t + h - e, add(y, k3, h));
-        for (std::size_t j = 0; j < 6; ++j) y[j] += h / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
-        if (out != nullptr) {
-          const double eta = m.K * std::hypot(y[2], y[3]);
-          if (t + h <= T + 1e-12) {
-            out->eta_motion = std::max(out->eta_motion, eta);
-          } else if (eta > out->eta_rest) {
-            out->eta_rest = eta;
-            out->t_rest = t + h;
-          }
-        }
-      }
-    }
-    return y[0];
-  };
-  const double unit_stroke = run(unit, false, nullptr);
-  const double A = length / unit_stroke;
-  ArcSimulation out;
-  run(test::TrapezoidAcceleration{d, A, A * area_p / area_n}, true, &out);
-  return out;
+  const test::PlanarPendulumPeaks p = test::planar_pendulum_peaks(
+      pendulum_of(m), d, length,
+      [rho](double s) {
+        return std::pair{s / rho, 1.0 / rho};
+      },
+      rest_time, 2e-4);
+  return {p.motion, p.rest, p.t_rest};
 }
 
 TEST(PathPlan, TimeDomainOnAnArcHoldsOnAnIndependentSimulation) {

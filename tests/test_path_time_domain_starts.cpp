@@ -45,69 +45,13 @@ struct Peaks {
   double motion{}, rest{};
 };
 
-/// The planar spherical-pendulum model (SPEC §14, docs/models.md), M q'' + C^2 |q'|^2 q +
-/// 2 zeta w M q' + w^2 (1 + alpha |q|^2) q + a_h / R = 0 with M = I + C^2 q q^T, driven by the
-/// 7-segment law (SPEC §3) along the path in the world frame (the container does not turn):
-/// a_h = s'' T(psi) + kappa s'^2 N(psi). Classical RK4, 0.1 ms steps ending at every switch time,
-/// with the tangential state (s, s') integrated alongside.
+/// The planar model along the path (test::planar_pendulum_peaks: SPEC §14's equations on the
+/// test's own RK4, 0.1 ms steps ending at every switch time).
 Peaks simulate(const SloshingModel& m, const Durations& d, const LineArcLine& g, double rest_time) {
-  const double area_p = 0.5 * d[0] + d[1] + 0.5 * d[2];
-  const double area_n = 0.5 * d[4] + d[5] + 0.5 * d[6];
-  const test::TrapezoidAcceleration unit{d, 1.0, area_p / area_n};
-  const auto knots = unit.knots();
-  const double T = knots[7];
-  using State = std::array<double, 6>;  // s, s', qx, qy, qx', qy'
-  const double w = m.omega1(), c2 = m.C * m.C;
-  auto run = [&](const test::TrapezoidAcceleration& a, bool drive, Peaks* out) {
-    auto f = [&](double t, const State& y) {
-      const double acc = t < T ? a(t) : 0.0;
-      const double v = t < T ? y[1] : 0.0;
-      const auto [psi, kappa] = g.at(y[0]);
-      const double an = kappa * v * v;
-      const double ax = drive ? acc * std::cos(psi) - an * std::sin(psi) : 0.0;
-      const double ay = drive ? acc * std::sin(psi) + an * std::cos(psi) : 0.0;
-      const double qx = y[2], qy = y[3], vx = y[4], vy = y[5];
-      const double r2 = qx * qx + qy * qy, v2 = vx * vx + vy * vy, qv = qx * vx + qy * vy;
-      const double k = w * w * (1.0 + m.alpha * r2);
-      const double bx =
-          -(c2 * v2 * qx + 2 * m.zeta * w * (vx + c2 * qx * qv) + k * qx + ax / m.radius);
-      const double by =
-          -(c2 * v2 * qy + 2 * m.zeta * w * (vy + c2 * qy * qv) + k * qy + ay / m.radius);
-      const double lam = c2 * (qx * bx + qy * by) / (1.0 + c2 * r2);
-      return State{y[1], acc, vx, vy, bx - lam * qx, by - lam * qy};
-    };
-    State y{};
-    std::vector<double> cuts(knots.begin(), knots.end());
-    cuts.push_back(T + rest_time);
-    for (std::size_t k = 0; k + 1 < cuts.size(); ++k) {
-      const double L = cuts[k + 1] - cuts[k];
-      if (!(L > 0.0)) continue;
-      const int n = static_cast<int>(std::ceil(L / 1e-4));
-      const double h = L / n;
-      for (int i = 0; i < n; ++i) {
-        const double t = cuts[k] + h * i;
-        auto add = [](const State& base, const State& slope, double s) {
-          State r;
-          for (std::size_t j = 0; j < 6; ++j) r[j] = base[j] + s * slope[j];
-          return r;
-        };
-        const double e = 1e-12;  // stages just inside the step: each sees its own piece
-        const State k1 = f(t + e, y), k2 = f(t + h / 2, add(y, k1, h / 2));
-        const State k3 = f(t + h / 2, add(y, k2, h / 2)), k4 = f(t + h - e, add(y, k3, h));
-        for (std::size_t j = 0; j < 6; ++j) y[j] += h / 6 * (k1[j] + 2 * k2[j] + 2 * k3[j] + k4[j]);
-        if (out != nullptr) {
-          const double eta = m.K * std::hypot(y[2], y[3]);
-          double& peak = t + h <= T + 1e-12 ? out->motion : out->rest;
-          peak = std::max(peak, eta);
-        }
-      }
-    }
-    return y[0];
-  };
-  const double A = g.length() / run(unit, false, nullptr);
-  Peaks out;
-  run(test::TrapezoidAcceleration{d, A, A * area_p / area_n}, true, &out);
-  return out;
+  const test::PlanarPendulumPeaks p = test::planar_pendulum_peaks(
+      {m.omega1(), m.zeta, m.C, m.alpha, m.K, m.radius}, d, g.length(),
+      [&g](double s) { return g.at(s); }, rest_time, 1e-4);
+  return {p.motion, p.rest};
 }
 
 /// The thesis format of the service's requests (R 48.5 mm, 150 mm high, 82 mm of water).

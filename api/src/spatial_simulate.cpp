@@ -23,7 +23,6 @@
 #include "slosh/core/motion/trajectory_ends.hpp"
 #include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/simulation.hpp"
-#include "slosh/core/response/validity.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 
 namespace slosh::api {

@@ -518,14 +518,20 @@ def check_infeasible_cam_link(driver, port):
     check(urllib.request.urlopen(href, timeout=60).status == 200, "the infeasible plan's cam table downloads")
 
 
+def planned(port, request, what):
+    """The API's plan of `request` (checked to be 200, `what` naming it), or None."""
+    status, plan = api_json(port, "POST", "/v1/plans", request)
+    check(status == 200, f"the API plans {what} ({status}: {plan})")
+    return plan if status == 200 else None
+
+
 def check_key_view_custom_fluid(port):
     """A plan whose custom fluid carries a catalogue name but other properties is refilled as a
     custom fluid with its own density and viscosity, and replanned with them."""
     request = request_of(THESIS, "notch")
     request["format"]["fluid"] = {"name": "water", "density_kg_m3": 1260, "viscosity_pa_s": 1.4}
-    status, plan = api_json(port, "POST", "/v1/plans", request)
-    check(status == 200, f"the API plans the custom fluid ({status}: {plan})")
-    if status != 200:
+    plan = planned(port, request, "the custom fluid")
+    if plan is None:
         return
     driver = browser()
     try:
@@ -552,9 +558,8 @@ def check_key_view_explicit_damping(port):
     are computed: the page asks simulate for that damping in the form the API takes."""
     request = request_of(THESIS, "notch")
     request["options"] = {"damping": {"zeta": 0.02}}
-    status, plan = api_json(port, "POST", "/v1/plans", request)
-    check(status == 200, f"the API plans with an explicit damping ({status}: {plan})")
-    if status != 200:
+    plan = planned(port, request, "an explicit damping")
+    if plan is None:
         return
     driver = browser()
     try:

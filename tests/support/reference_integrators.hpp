@@ -5,6 +5,7 @@
 #include <array>
 #include <complex>
 #include <functional>
+#include <utility>
 #include <vector>
 
 namespace slosh::test {
@@ -66,6 +67,31 @@ struct Rk4Trajectory {
 /// radius R [m].
 [[nodiscard]] double eq235_xbar_dd(double omega, double zeta, double C, double alpha, double radius,
                                    double x, double v, double a);
+
+/// The parameters of the planar spherical-pendulum model (SPEC §14): omega_1 [rad/s], zeta, C,
+/// alpha, the wall-height factor K [m per unit] and the radius R [m].
+struct PendulumParameters {
+  double omega{}, zeta{}, C{}, alpha{}, K{}, radius{};
+};
+
+/// Heading psi [rad] and curvature kappa [1/m] of a planar path at arc length s [m].
+using PathGeometry = std::function<std::pair<double, double>(double s)>;
+
+/// The wall height's peaks of the planar model along a path [m], and when the rest one is.
+struct PlanarPendulumPeaks {
+  double motion{}, rest{}, t_rest{};
+};
+
+/// The planar spherical-pendulum model, re-typed from SPEC §14 and docs/models.md:
+/// M q'' + C^2 |q'|^2 q + 2 zeta w M q' + w^2 (1 + alpha |q|^2) q + a_h / R = 0 with
+/// M = I + C^2 q q^T, driven by the 7-segment law of durations `d` (rebuilt from SPEC §3, its
+/// levels set so that it moves `length`) along the path in the world frame (the container does
+/// not turn): a_h = s'' T(psi) + kappa s'^2 N(psi). Classical RK4 with the tangential state
+/// (s, s') integrated alongside, on steps of at most `step` [s] that end at every switch time.
+[[nodiscard]] PlanarPendulumPeaks planar_pendulum_peaks(const PendulumParameters& m,
+                                                        const std::array<double, 7>& d,
+                                                        double length, const PathGeometry& at,
+                                                        double rest_time, double step);
 
 /// Fourier integral int f(t) exp(-j w t) dt of a sampled signal by the DFT sum
 /// dt * sum f(n dt) exp(-j w n dt) (rectangle rule, as an FFT bin computes it).

@@ -1,5 +1,4 @@
 #include "slosh/core/response/simulation.hpp"
-#include "slosh/core/response/validity.hpp"
 
 #include <algorithm>
 #include <cmath>
@@ -52,13 +51,6 @@ std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h
 }
 
 }  // namespace
-
-std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
-                                           double eta_motion_linear, double eta_motion_nonlinear,
-                                           bool nonlinear_in_range) {
-  return validity_warnings(format, peak_abs_acceleration, eta_motion_linear, eta_motion_nonlinear,
-                           nonlinear_in_range, 0.0);
-}
 
 std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
                                            double eta_motion_linear, double eta_motion_nonlinear,

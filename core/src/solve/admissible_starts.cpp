@@ -122,4 +122,13 @@ AdmissibleStarts admissible_starts(const StrategyContext& c, const std::vector<D
   return out;
 }
 
+std::vector<Durations> with_families(const StrategyContext& c, std::vector<Durations> starts,
+                                     int random) {
+  if (c.space.warm_start) return starts;
+  for (const Durations& d : admissible_starts(c, c.space.starts(random)).starts) {
+    if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
+  }
+  return starts;
+}
+
 }  // namespace slosh::detail

@@ -36,4 +36,10 @@ inline constexpr double kLimitSlack{1e-8};
 [[nodiscard]] AdmissibleStarts admissible_starts(const StrategyContext& context,
                                                  const std::vector<Durations>& starts);
 
+/// `starts` and, for a fresh plan (no warm start), the design space's symmetric families and
+/// `random` seeded random starts (DurationSpace::starts), each moved onto the set the machine
+/// limits admit and added once: where a time-domain search from its first starts falls short.
+[[nodiscard]] std::vector<Durations> with_families(const StrategyContext& context,
+                                                   std::vector<Durations> starts, int random);
+
 }  // namespace slosh::detail

@@ -6,7 +6,7 @@
 #include <cmath>
 #include <optional>
 
-#include "slosh/core/response/validity.hpp"
+#include "slosh/core/response/simulation.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
 #include "slosh/core/strategy/robustness.hpp"

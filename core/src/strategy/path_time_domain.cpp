@@ -447,15 +447,21 @@ constexpr double kUnbounded{1e3};
 /// line-arc-line path: 4.6 mm at rest from the families, 3 mm from a draw).
 constexpr int kLeastRandomStarts{4};
 
-/// `starts` and, for a fresh plan (no warm start), the symmetric families and `random` random
-/// starts moved onto the set the machine limits admit, each once.
-std::vector<Durations> with_families(const StrategyContext& c, std::vector<Durations> starts,
-                                     int random) {
-  if (c.space.warm_start) return starts;
-  for (const Durations& d : admissible_starts(c, c.space.starts(random)).starts) {
-    if (std::find(starts.begin(), starts.end(), d) == starts.end()) starts.push_back(d);
-  }
-  return starts;
+/// The phase from the starts `from` adds to `starts` (the families and draws of with_families),
+/// counting `o`'s work too; nullopt when it adds none.
+std::optional<StrategyOutcome> phase_from_families(const StrategyContext& c, const PlanarPath& path,
+                                                   bool motion, double bound,
+                                                   const std::vector<Durations>& starts,
+                                                   const std::vector<Durations>& from,
+                                                   const StrategyOutcome& o) {
+  if (from.size() <= starts.size()) return std::nullopt;
+  StrategyOutcome wider =
+      run_phase(c, path, motion, bound,
+                std::vector<Durations>(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
+                                       from.end()));
+  wider.evaluations += o.evaluations;
+  wider.starts += o.starts;
+  return wider;
 }
 
 /// Objective "rest": the least residual wave sits in narrow basins the first starts often miss
@@ -465,20 +471,16 @@ StrategyOutcome rest_from_families(const StrategyContext& c, const PlanarPath& p
                                    const std::vector<Durations>& starts, double bound,
                                    StrategyOutcome o) {
   const std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
-  if (from.size() == starts.size()) return o;
-  StrategyOutcome wider =
-      run_phase(c, path, /*minimise_motion=*/false, bound,
-                std::vector<Durations>(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
-                                       from.end()));
-  wider.evaluations += o.evaluations;
-  wider.starts += o.starts;
+  std::optional<StrategyOutcome> wider =
+      phase_from_families(c, path, /*motion=*/false, bound, starts, from, o);
+  if (!wider) return o;
   const bool better =
-      wider.status != SolveStatus::kInfeasible &&
-      verified_bounded_peak(c, path, true, wider.durations) <
+      wider->status != SolveStatus::kInfeasible &&
+      verified_bounded_peak(c, path, true, wider->durations) <
           verified_bounded_peak(c, path, true, o.durations) * (1.0 - kObjectiveTolerance);
-  if (better) return wider;
-  o.evaluations = wider.evaluations;
-  o.starts = wider.starts;
+  if (better) return std::move(*wider);
+  o.evaluations = wider->evaluations;
+  o.starts = wider->starts;
   return o;
 }
 
@@ -570,16 +572,12 @@ StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
   // acceleration on the arcs moves the optimum away from the line's) where one of these reaches
   // a law inside it (1.55 s on a line-arc-line path: 12.9 mm at rest from the first starts, the
   // bound met from a family). Only then: a plan whose first phase meets the bound costs nothing.
-  std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
-  if (from.size() > starts.size()) {
-    std::vector<Durations> more(from.begin() + static_cast<std::ptrdiff_t>(starts.size()),
-                                from.end());
-    StrategyOutcome wider = run_phase(c, path, motion, bound, more);
-    wider.evaluations += o.evaluations;
-    wider.starts += o.starts;
-    if (wider.status != SolveStatus::kInfeasible || c.deadline.expired()) return wider;
-    o.evaluations = wider.evaluations;
-    o.starts = wider.starts;
+  const std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
+  if (std::optional<StrategyOutcome> wider =
+          phase_from_families(c, path, motion, bound, starts, from, o)) {
+    if (wider->status != SolveStatus::kInfeasible || c.deadline.expired()) return std::move(*wider);
+    o.evaluations = wider->evaluations;
+    o.starts = wider->starts;
   }
   return least_infeasible(c, path, motion, bound, starts, from, std::move(o));
 }

@@ -6,8 +6,8 @@
 #include <numbers>
 
 #include "slosh/core/model/tank_directions.hpp"
+#include "slosh/core/response/simulation.hpp"
 #include "slosh/core/response/spectrum.hpp"
-#include "slosh/core/response/validity.hpp"
 #include "slosh/core/strategy/rectangular_plan.hpp"
 #include "solve/one_jerk_chart.hpp"
 #include "strategy/status_caveat.hpp"
@@ -1334,10 +1334,6 @@ std::optional<RobustnessReport> robustness_within(const Format& format, const Pl
                                        std::pair{r.prediction.linear, r.prediction.nonlinear},
                                        [&deadline] { return deadline.expired(); });
 }
-
-}  // namespace
-
-namespace {
 
 // The plan's robustness report (with options.robustness): a robust plan's own sweep, else a
 // sweep within what is left of the budget.

@@ -756,12 +756,7 @@ std::string one_admissible_law(const StrategyContext& c) {
 // does not claim that none exists.
 StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double bound,
                                  const std::vector<Durations>& starts, StrategyOutcome o) {
-  std::vector<Durations> from = starts;
-  if (!c.space.warm_start) {
-    for (const Durations& d : admissible_starts(c, c.space.starts(0)).starts) {
-      if (std::find(from.begin(), from.end(), d) == from.end()) from.push_back(d);
-    }
-  }
+  const std::vector<Durations> from = with_families(c, starts, 0);
   const LeastResolution least{bound * kHopeless, bound * kMetWithRoom};
   // The admissible laws at hand: the minimisers' points, the starts and the bounded phase's point.
   std::vector<Durations> candidates;

@@ -58,12 +58,13 @@ constexpr double kMinFillRatio{0.3};                 ///< h/R below: shallow-liq
 /// Validity warnings of SPEC §2 for a format, a law's peak |a| and predicted eta_motion values.
 /// `nonlinear_in_range` false says the nonlinear figures are the linear model's (a rectangular
 /// tank outside its nonlinear model's range): the sentences then neither send the user to the
-/// nonlinear prediction nor call a figure nonlinear.
-[[nodiscard]] std::vector<std::string> validity_warnings(const Format& format,
-                                                         double peak_abs_acceleration,
-                                                         double eta_motion_linear,
-                                                         double eta_motion_nonlinear,
-                                                         bool nonlinear_in_range = true);
+/// nonlinear prediction nor call a figure nonlinear. `eta_rest_linear` [m], the linear wave left
+/// after the motion: a rectangular tank's linear-theory check judges the larger of eta_motion and
+/// eta_rest (a shallow fill rings on after the motion, and its wave there can exceed the one
+/// during it) and quotes both when the rest one is larger.
+[[nodiscard]] std::vector<std::string> validity_warnings(
+    const Format& format, double peak_abs_acceleration, double eta_motion_linear,
+    double eta_motion_nonlinear, bool nonlinear_in_range = true, double eta_rest_linear = 0.0);
 
 /// The first input simulate() refuses, or nullopt: the format (radius, fill height, density
 /// finite and > 0; viscosity, stroke finite and >= 0; motion time and the container height when
