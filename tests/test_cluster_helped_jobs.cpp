@@ -17,6 +17,7 @@
 #include <cstdio>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -350,6 +351,38 @@ TEST(HelpedJobs, AfterRedisIsEmptiedMidJobTheOwnerOffersItAgainAndAnotherTakesIt
   ASSERT_EQ(done.at("state"), "done") << done;
   EXPECT_EQ(done.at("progress").at("done"), 400);
   (void)whole_table(other, id, 400);
+}
+
+// The shared store lost rows of a job while its owner was silent (evicted, or emptied before the
+// owner could publish them again): the replica that takes the job over cannot run it on, and ends
+// it as failed at once, naming what was lost and keeping the rows before it, instead of handing
+// it back and taking it over again forever.
+TEST(HelpedJobs, AJobWhoseRowsRedisLostWhileItsOwnerWasSilentFailsNamingThem) {
+  HelpedCluster cluster;
+  auto owner = cluster.replicas[0].client();
+  auto other = cluster.replicas[1].client();
+  const std::string id = post_table(owner, 400, 5000);
+  ASSERT_FALSE(id.empty());
+  ASSERT_EQ(wait_done(owner, id, 10).at("state"), "running");
+  ASSERT_EQ(::kill(cluster.replicas[0].pid(), SIGSTOP), 0);  // silent, its rows unchanged
+  service::RedisClient redis({service::parse_redis_url(cluster.redis.url())});
+  const std::string keys = "slosh:jobs:" + id + ":";
+  const auto deleted = redis.command({"HDEL", keys + "rows", "2", "3"});
+  ASSERT_TRUE(deleted && deleted->integer == 2);
+  ASSERT_TRUE(cluster.replicas[0].kill(SIGKILL));
+  const json failed = wait_finished(other, id);
+  ASSERT_EQ(failed.value("state", ""), "failed") << failed;
+  EXPECT_EQ(failed.at("message"),
+            "its replica stopped answering, and the shared job store no longer holds rows 3 and "
+            "4 of its results (Redis was emptied, or evicted them, meanwhile): no replica can "
+            "run it on; the first 2 of 400 rows are kept; POST the job again (the finished plans "
+            "are cached)");
+  EXPECT_EQ(failed.at("progress").at("done"), 2);
+  // It stays failed: no replica takes it over again.
+  std::this_thread::sleep_for(2s);
+  EXPECT_EQ(record_of(other, id).value("state", ""), "failed");
+  auto third = cluster.replicas[2].client();
+  EXPECT_EQ(record_of(third, id).value("state", ""), "failed");
 }
 
 }  // namespace

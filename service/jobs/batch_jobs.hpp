@@ -117,6 +117,16 @@ class BatchJobs {
   // table from the helpers' stream, its record and first `done` rows from the shared store.
   // Whether it was taken.
   bool adopt(const std::string& id);
+  // The first `done` rows of job `id` as the shared store holds them.
+  struct DoneRows {
+    std::vector<std::string> rows;  // the rows before the first lost one
+    std::vector<std::size_t> lost;  // 1-based numbers of the rows it answered without
+    bool answered{true};            // false: the store did not answer (nothing is known)
+  };
+  DoneRows read_done_rows(const std::string& id, std::size_t done);
+  // Ends job `id`, taken over from its silent owner, as failed: the shared store lost parts of
+  // it. Keeps the rows before the first lost one.
+  void fail_lost_job(Job& job, std::size_t recipes_lost, const DoneRows& done);
   // The owner's heartbeat to the helpers and the shares of the rows stored and not credited yet
   // (`cached`: their indexes; kept while Redis does not answer, unless `last`: the job's end);
   // false when another replica owns the job now (it took the job over while this one was

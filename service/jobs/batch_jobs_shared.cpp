@@ -10,6 +10,7 @@
 
 #include "jobs/batch_job_state.hpp"
 #include "jobs/batch_jobs.hpp"
+#include "jobs/job_messages.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/plan_view.hpp"
@@ -68,30 +69,48 @@ void BatchJobs::keep_finished_shared(const std::string& id) {
   }
 }
 
+BatchJobs::DoneRows BatchJobs::read_done_rows(const std::string& id, std::size_t done) {
+  DoneRows out;
+  out.rows.reserve(done);
+  for (std::size_t page = 0; page < done; page += kCopyPage) {
+    const std::size_t n = std::min(kCopyPage, done - page);
+    auto read = store_.read_slots(id, page, n);
+    if (!read.slots) {
+      out.answered = false;
+      return out;
+    }
+    read.slots->resize(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      auto& slot = (*read.slots)[i];
+      if (!slot) {
+        out.lost.push_back(page + i + 1);
+      } else if (out.lost.empty()) {
+        out.rows.push_back(std::move(*slot));
+      }
+    }
+  }
+  return out;
+}
+
 bool BatchJobs::adopt(const std::string& id) {
   const JobStore::RecordLookup lookup = store_.lookup_record(id);
   const auto record = lookup.text ? api::parse_job_record(*lookup.text) : std::nullopt;
   if (!record || api::is_final(record->state)) return false;
-  JobStatus status = api::job_status_of(*record);
-  status.id = id;
-  auto table = helped_->table(id, status.total);
-  if (!table) return false;
-  // The rows its record counts are in the shared store (its owner stored rows before records).
-  std::vector<std::string> rows;
-  rows.reserve(status.done);
-  for (std::size_t page = 0; page < status.done; page += kCopyPage) {
-    const std::size_t n = std::min(kCopyPage, status.done - page);
-    auto read = store_.read_slots(id, page, n);
-    if (!read.slots || read.slots->size() != n) return false;
-    for (auto& slot : *read.slots) {
-      if (!slot) return false;
-      rows.push_back(std::move(*slot));
-    }
-  }
-  if (!store_.keep_copy(id, *lookup.text, rows)) return false;
   auto job = std::make_shared<Job>();
-  job->status = std::move(status);
-  job->rows = std::move(*table);
+  job->status = api::job_status_of(*record);
+  job->status.id = id;
+  HelpedJobs::TableRead table = helped_->table(id, job->status.total);
+  // The rows its record counts are in the shared store (its owner stored rows before records).
+  DoneRows done = read_done_rows(id, job->status.done);
+  // A store that did not answer may answer at the next look; one that answered without parts of
+  // the job lost them (emptied, evicted): taking the job over again would find the same.
+  if (!table.answered || !done.answered) return false;
+  if (!table.recipes || !done.lost.empty()) {
+    fail_lost_job(*job, table.missing, done);
+    return true;
+  }
+  if (!store_.keep_copy(id, *lookup.text, done.rows)) return false;
+  job->rows = std::move(*table.recipes);
   if (job->status.view) job->view = api::parse_plan_view(*job->status.view);
   job->cancel = job->status.cancel_requested;
   {
@@ -102,6 +121,21 @@ bool BatchJobs::adopt(const std::string& id) {
   }
   wake_.notify_all();
   return true;
+}
+
+void BatchJobs::fail_lost_job(Job& job, std::size_t recipes_lost, const DoneRows& done) {
+  JobStatus& s = job.status;
+  const std::string message = lost_job_text(recipes_lost, done.lost, done.rows.size(), s.total);
+  // Its record counts the rows that are still the table's first, and the local copy holds them,
+  // so that this replica serves them and publishes them again if Redis loses them.
+  s.done = done.rows.size();
+  s.state = JobState::kFailed;
+  s.message = message;
+  s.finished_ms = unix_ms_now();
+  (void)store_.keep_copy(s.id, record_text(job), done.rows);
+  write_record(job);
+  helped_->close(s.id, true);
+  spdlog::warn("batch job {} failed: {}", s.id, message);
 }
 
 }  // namespace slosh::service

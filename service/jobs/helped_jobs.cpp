@@ -280,13 +280,13 @@ bool HelpedJobs::adopt(const std::string& id, std::chrono::milliseconds lock,
                                        {"SET", key(id, "alive"), beat, "PX", beat}}));
 }
 
-std::optional<std::vector<RecipeRow>> HelpedJobs::table(const std::string& id, std::size_t total) {
+HelpedJobs::TableRead HelpedJobs::table(const std::string& id, std::size_t total) {
   std::vector<std::optional<RecipeRow>> slots(total);
   std::string from = "-";
   for (;;) {
     const auto read = client_->command(
         {"XRANGE", key(id, "items"), from, "+", "COUNT", std::to_string(kReadChunk)});
-    if (!read || read->type != RedisReply::Type::kArray) return std::nullopt;
+    if (!read || read->type != RedisReply::Type::kArray) return {std::nullopt, false, 0};
     std::vector<SharedItem> items = SharedJobQueue::items_of(*read);
     for (SharedItem& item : items) {
       if (item.index < total) slots[item.index] = std::move(item.recipe);
@@ -294,12 +294,13 @@ std::optional<std::vector<RecipeRow>> HelpedJobs::table(const std::string& id, s
     if (read->elements.size() < kReadChunk) break;
     from = "(" + read->elements.back().elements[0].text;
   }
-  std::vector<RecipeRow> out;
-  out.reserve(total);
-  for (auto& slot : slots) {
-    if (!slot) return std::nullopt;
-    out.push_back(std::move(*slot));
-  }
+  TableRead out;
+  out.missing = static_cast<std::size_t>(
+      std::count_if(slots.begin(), slots.end(), [](const auto& s) { return !s.has_value(); }));
+  if (out.missing != 0) return out;
+  out.recipes.emplace();
+  out.recipes->reserve(total);
+  for (auto& slot : slots) out.recipes->push_back(std::move(*slot));
   return out;
 }
 

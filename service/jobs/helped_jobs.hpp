@@ -104,9 +104,16 @@ class HelpedJobs {
   /// before its first is judged from its takeover, not from the silence of the owner before it.
   bool adopt(const std::string& id, std::chrono::milliseconds lock,
              std::chrono::milliseconds alive);
-  /// The recipes of job `id` (`total` of them) from its stream; nullopt when some are missing or
-  /// Redis cannot be asked.
-  std::optional<std::vector<RecipeRow>> table(const std::string& id, std::size_t total);
+  /// Job `id`'s table as its stream holds it.
+  struct TableRead {
+    /// All `total` recipes; nullopt when some are missing or Redis did not answer.
+    std::optional<std::vector<RecipeRow>> recipes;
+    /// Whether Redis answered every read (then a missing recipe is lost, not late).
+    bool answered{true};
+    std::size_t missing{0};  ///< recipes Redis answered without
+  };
+  /// The recipes of job `id` (`total` of them) from its stream.
+  TableRead table(const std::string& id, std::size_t total);
 
   [[nodiscard]] const std::string& replica() const { return replica_; }
 

@@ -124,6 +124,22 @@ std::string rows_problem_text(const std::string& id, std::size_t readable, std::
          std::to_string(last) + detail + "): ask the replica that ran it, or POST the job again";
 }
 
+std::string lost_job_text(std::size_t recipes_lost, const std::vector<std::size_t>& rows_lost,
+                          std::size_t kept, std::size_t total) {
+  std::string lost;
+  if (recipes_lost != 0) {
+    lost =
+        std::to_string(recipes_lost) + " of the " + std::to_string(total) + " recipes of its table";
+  }
+  if (!rows_lost.empty()) {
+    lost += (lost.empty() ? "" : ", and ") + row_list(rows_lost) + " of its results";
+  }
+  return "its replica stopped answering, and the shared job store no longer holds " + lost +
+         " (Redis was emptied, or evicted them, meanwhile): no replica can run it on; the first " +
+         std::to_string(kept) + " of " + std::to_string(total) +
+         " rows are kept; POST the job again (the finished plans are cached)";
+}
+
 std::string rows_unread_text(const std::string& id, std::size_t first, std::size_t last,
                              const std::string& failure) {
   return "the results of batch job '" + id.substr(0, 64) + "' could not be read: " + failure +

@@ -46,6 +46,13 @@ struct JobKeepBounds {
                                             const std::vector<std::size_t>& missing,
                                             const std::vector<std::size_t>& damaged);
 
+/// The failure of a job taken over from its silent owner when the shared store (Redis) answered
+/// without parts of it (emptied or evicted meanwhile): `recipes_lost` recipes of its table and
+/// the rows `rows_lost` (1-based) its record counted; the first `kept` rows of `total` stay.
+[[nodiscard]] std::string lost_job_text(std::size_t recipes_lost,
+                                        const std::vector<std::size_t>& rows_lost, std::size_t kept,
+                                        std::size_t total);
+
 /// The 503 of a read of rows [first, last] (1-based) that the store did not answer (`failure`
 /// names the store and why, e.g. its timeout).
 [[nodiscard]] std::string rows_unread_text(const std::string& id, std::size_t first,
