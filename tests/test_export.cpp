@@ -56,8 +56,10 @@ void expect_samples_match(const std::vector<CamSample>& table, const Reference7&
   const double j_scale = ref.max_jerk();
   for (std::size_t k = 0; k < table.size(); ++k) {
     const CamSample& got = table[k];
-    const double t = static_cast<double>(k) * period;
-    ASSERT_EQ(got.t, t) << "sample " << k;
+    // k x period up to its rounding (the sample holds the decimal k x cycle: the test below).
+    const double t = got.t;
+    ASSERT_NEAR(t, static_cast<double>(k) * period, 4e-16 * static_cast<double>(k) * period)
+        << "sample " << k;
     const State want = ref.at(t);
     EXPECT_NEAR(got.position, want.s, 1e-11 * stroke) << "t = " << t;
     EXPECT_NEAR(got.velocity, want.v, 1e-11 * v_scale) << "t = " << t;
@@ -162,6 +164,29 @@ TEST(CamTable, CyclesAndLimits) {
   EXPECT_THROW((void)sample_cam_table(law, 0.5, 0.0), std::invalid_argument);
   EXPECT_THROW((void)sample_cam_table(law, 0.5, std::nan("")), std::invalid_argument);
   EXPECT_EQ(sample_cam_table(law, 0.5, 1e-3).size(), 1001u);
+}
+
+// A sample's time is the decimal k x cycle (the double nearest it), not the product k x 0.001
+// with its rounding (9 x 0.001 = 0.009000000000000001, 1400 x 0.001 = 1.4000000000000001): the
+// shortest text of each time is the decimal a controller's own table holds.
+TEST(CamTable, SampleTimesAreTheDecimalMultiplesOfTheCycle) {
+  const MotionLaw law = make_poly5_law(0.5, 1.4);
+  for (const auto& [period, places] : {std::pair{1e-3, 3}, {2e-3, 3}, {5e-4, 4}, {0.004, 3}}) {
+    SCOPED_TRACE(period);
+    const std::vector<CamSample> table = sample_cam_table(law, 0.5, period);
+    const auto step = static_cast<long long>(std::llround(period * std::pow(10.0, places)));
+    for (std::size_t k = 0; k < table.size(); ++k) {
+      // The decimal text k x step / 10^places, parsed: the double nearest that decimal.
+      const long long units = static_cast<long long>(k) * step;
+      const std::string whole =
+          std::to_string(units / static_cast<long long>(std::pow(10, places)));
+      std::string frac = std::to_string(units % static_cast<long long>(std::pow(10, places)));
+      frac.insert(0, static_cast<std::size_t>(places) - frac.size(), '0');
+      const double decimal = std::stod(whole + "." + frac);
+      ASSERT_EQ(table[k].t, decimal) << k;
+    }
+    EXPECT_EQ(table.back().t, 1.4);
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -328,6 +328,16 @@ TEST(PathCamCli, RefusalsNameTheMemberOrTheOption) {
             "format.motion: a trajectory cannot be exported: its samples are the motion already "
             "(export a law along a line, an arc or a path)");
 
+  // A simulate request of a trajectory has no law: it is refused as a trajectory, not as a plan.
+  trajectory.erase("law");
+  write_file(dir / "trajectory-simulate.json", trajectory.dump());
+  r = run_slosh({"export", "--request", (dir / "trajectory-simulate.json").string(), "--out",
+                 (dir / "cam.csv").string()});
+  EXPECT_EQ(r.exit_code, 2);
+  EXPECT_EQ(error_of(r)["error"]["message"],
+            "format.motion: a trajectory cannot be exported: its samples are the motion already "
+            "(export a law along a line, an arc or a path)");
+
   write_file(dir / "bad.json",
              law_request({{"type", "arc"}, {"radius_mm", 0}, {"angle_deg", 90}}, 1.0).dump());
   r = run_slosh({"export", "--request", (dir / "bad.json").string(), "--out", "-"});
@@ -429,6 +439,17 @@ TEST(PathCamCli, StructuredTextHasTheCsvColumnsAndRows) {
       }
     }
   }
+  // An arc whose container keeps its heading is a carriage on a curved track, not a table.
+  json track = arc;
+  track["container_turns"] = false;
+  write_file(dir / "track.json", law_request(track, 1.0).dump());
+  const RunResult st = run_slosh(
+      {"export", "--request", (dir / "track.json").string(), "--out", "-", "--format", "st"});
+  ASSERT_EQ(st.exit_code, 0) << st.err;
+  EXPECT_NE(st.out.find("   path: one arc (a curved track), angle 90 deg, length "),
+            std::string::npos)
+      << st.out.substr(0, 800);
+  EXPECT_NE(st.out.find("the container keeps its heading"), std::string::npos);
 }
 
 // GET /v1/plans/{key}/cam.csv and cam.st of a plan along an arc: the bytes `slosh export`

@@ -146,6 +146,78 @@ TEST(SpatialSeries, APlanAlongAnArcHasThePlanarSeriesOfItsLaw) {
   for (std::size_t k = 0; k < a.size(); ++k) EXPECT_NEAR(a[k], b[k], 1e-12) << k;
 }
 
+// A rectangular tank's plan along an arc: its series is the tank's (the highest corner, as its
+// prediction), not a cylinder's of the same fill.
+TEST(SpatialSeries, ATankPlanAlongAnArcHasTheTanksSeries) {
+  json body = body_with({{"type", "arc"}, {"radius_mm", 150}, {"angle_deg", 90}}, 0.001);
+  body.erase("law");
+  body["strategy"] = "multi_notch";
+  body["format"]["container"] = {{"shape", "rectangular"},
+                                 {"length_mm", 120},
+                                 {"width_mm", 80},
+                                 {"height_mm", 60},
+                                 {"orientation_deg", 30}};
+  body["format"]["fill_height_mm"] = 30;
+  const json plan = api::run_plan(api::parse_plan_request(body));
+  const json& series = plan.at("series");
+  const std::vector<double> t = column(series, "t_s");
+  for (const char* model : {"linear", "nonlinear"}) {
+    SCOPED_TRACE(model);
+    const std::vector<double> eta = column(series, ("eta_" + std::string(model) + "_mm").c_str());
+    double motion = 0.0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if (t[k] <= 1.2) motion = std::max(motion, eta[k]);
+    }
+    const double want = plan["prediction"][model]["eta_motion_mm"].get<double>();
+    EXPECT_LE(motion, want * (1 + 1e-7));
+    EXPECT_GE(motion, want * (1 - 1e-3));
+  }
+}
+
+// The series' pose is one world frame (theta_deg the heading, start_heading_deg at the start),
+// so a series fed back as a trajectory is the same motion: a turned tank on an arc that starts
+// at 37 degrees gives the same heights both ways.
+TEST(SpatialSeries, ASeriesFedBackAsATrajectoryIsTheSameMotion) {
+  for (const bool turns : {true, false}) {
+    SCOPED_TRACE(turns);
+    json body = body_with({{"type", "arc"},
+                           {"radius_mm", 150},
+                           {"angle_deg", 90},
+                           {"start_heading_deg", 37},
+                           {"container_turns", turns}},
+                          0.001);
+    body["format"]["container"] = {{"shape", "rectangular"},
+                                   {"length_mm", 120},
+                                   {"width_mm", 80},
+                                   {"height_mm", 60},
+                                   {"orientation_deg", 30}};
+    body["format"]["fill_height_mm"] = 30;
+    const json arc = api::simulate_response(body);
+    const json& series = arc.at("series");
+    EXPECT_DOUBLE_EQ(series["theta_deg"][0].get<double>(), 37.0);
+    json trajectory{{"type", "trajectory"}};
+    for (const char* c : {"t_s", "x_mm", "y_mm", "theta_deg"}) {
+      for (std::size_t k = 0; k < series["t_s"].size(); ++k) {
+        if (series["t_s"][k].get<double>() > 1.2 + 1e-9) break;
+        trajectory[c].push_back(series[c][k]);
+      }
+    }
+    json again = body;
+    again.erase("law");
+    again.erase("sample_period_s");
+    again["format"].erase("motion_time_s");
+    again["format"]["motion"] = trajectory;
+    const json replay = api::simulate_response(again);
+    for (const char* model : {"linear", "nonlinear"}) {
+      SCOPED_TRACE(model);
+      for (const char* peak : {"eta_motion_mm", "eta_rest_mm"}) {
+        const double want = arc["prediction"][model][peak].get<double>();
+        EXPECT_NEAR(replay["prediction"][model][peak].get<double>(), want, 2e-3 * want) << peak;
+      }
+    }
+  }
+}
+
 TEST(SpatialSeries, TrajectorySeriesHasThePoseButNoPathDistance) {
   // A circle of radius 20 mm at 1 turn/s, sampled at 200 Hz for 1 s.
   json motion{{"type", "trajectory"}};

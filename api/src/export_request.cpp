@@ -20,21 +20,22 @@ bool has_type(const nlohmann::json& motion, const char* type) {
 
 std::optional<ExportLawRequest> parse_export_request(std::string_view text) {
   const nlohmann::json body = parse_json_body(text);
+  const nlohmann::json* motion = body.is_object() ? given_motion(body) : nullptr;
+  // Before the plan's parse: a simulate request with a trajectory has no law either.
+  if (motion != nullptr && has_type(*motion, "trajectory")) {
+    invalid(join_path("format", "motion"),
+            "format.motion: a trajectory cannot be exported: its samples are the motion already "
+            "(export a law along a line, an arc or a path)");
+  }
   if (!body.is_object() || !body.contains("law")) {
     (void)parse_plan_request(body);
     return std::nullopt;
   }
-  const nlohmann::json* motion = given_motion(body);
   if (motion == nullptr || has_type(*motion, "line")) {
     // The straight line: its cam is the stroke's, exported as it always was.
     const std::optional<nlohmann::json> line = straight_line_body(body);
     return ExportLawRequest{parse_simulate_request(line ? *line : body), std::nullopt,
                             MotionType::kLine};
-  }
-  if (has_type(*motion, "trajectory")) {
-    invalid(join_path("format", "motion"),
-            "format.motion: a trajectory cannot be exported: its samples are the motion already "
-            "(export a law along a line, an arc or a path)");
   }
   SpatialSimulateRequest spatial = parse_spatial_simulate_request(body);
   return ExportLawRequest{std::move(spatial.base), std::move(spatial.motion.path),

@@ -1044,7 +1044,9 @@ void add_motion_response_schemas(json& s) {
       {{"t_s", numbers("Time from the motion's start [s].")},
        {"x_mm", numbers("Container position, world frame [mm].")},
        {"y_mm", numbers("Container position, world frame [mm].")},
-       {"theta_deg", numbers("Container heading from the start [deg].")},
+       {"theta_deg", numbers("Container heading about the vertical, world frame as x_mm and y_mm: "
+                             "the path's start heading at the start (the heading a trajectory's "
+                             "theta_deg gives) [deg].")},
        {"a_h", numbers("Magnitude of the horizontal acceleration, normal part included [m/s^2].")},
        {"eta_linear_mm", numbers("Linear planar model: wall height maximised over the wall [mm].")},
        {"eta_nonlinear_mm", numbers("Nonlinear planar model: the same [mm].")},

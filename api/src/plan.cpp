@@ -16,7 +16,6 @@
 #include "slosh/api/plan_reply.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
-#include "slosh/api/spatial_series.hpp"
 #include "slosh/api/spatial_simulate.hpp"
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
@@ -446,13 +445,10 @@ void add_series(const PlanRequest& request, nlohmann::json& plan) {
   s.options.model = request.options.model;
   s.options.rest_time = request.options.rest_time;
   s.options.sample_period = request.sample_period;
-  if (request.motion) {  // along the path: both planar models, maximised over the wall
-    const SloshingModel model = make_sloshing_model(request.format, request.options.model);
-    const std::optional<SevenSegmentLaw> seven = seven_segment_law(s);
-    const MotionLaw& drive_law = seven ? seven->law() : s.law;
-    plan["series"] =
-        spatial_series_json(model, PlanarDrive(*request.motion->path, drive_law), &drive_law,
-                            request.options.rest_time, *request.sample_period);
+  if (request.motion) {
+    // Along the path, simulate's own series of the container's models (a tank's highest corner,
+    // a cylinder's wall maximum), the ones the plan's figures come from.
+    plan["series"] = run_spatial_simulate({std::move(s), *request.motion})["series"];
     return;
   }
   plan["series"] = run_simulate(s)["series"];

@@ -22,7 +22,7 @@ struct Columns {
 
 nlohmann::json spatial_series_columns(const PlanarDrive& drive, const MotionLaw* law,
                                       double rest_time, double dt,
-                                      const SpatialSeriesSample& sample) {
+                                      const SpatialSeriesSample& sample, double theta_origin) {
   const double span = drive.duration() + rest_time;
   // Samples at 0, dt, ..., both ends included (as the straight line's series).
   const auto n = static_cast<std::size_t>(std::floor(span / dt + 1e-9)) + 1;
@@ -34,7 +34,7 @@ nlohmann::json spatial_series_columns(const PlanarDrive& drive, const MotionLaw*
     c.t.push_back(t);
     c.x.push_back(p.x * 1e3);
     c.y.push_back(p.y * 1e3);
-    c.theta.push_back(p.theta * kDegPerRad);
+    c.theta.push_back((theta_origin + p.theta) * kDegPerRad);
     c.a_h.push_back(std::hypot(p.ax, p.ay));
     c.eta_lin.push_back(w[0] * 1e3);
     c.eta_non.push_back(w[1] * 1e3);
@@ -78,13 +78,17 @@ nlohmann::json spatial_series_columns(const PlanarDrive& drive, const MotionLaw*
 }
 
 nlohmann::json spatial_series_json(const SloshingModel& model, const PlanarDrive& drive,
-                                   const MotionLaw* law, double rest_time, double dt) {
+                                   const MotionLaw* law, double rest_time, double dt,
+                                   double theta_origin) {
   const PlanarLinearResponse linear(model, drive, rest_time);
   const PlanarNonlinearResponse nonlinear(model, drive, rest_time);
-  return spatial_series_columns(drive, law, rest_time, dt, [&](double t, const PlanarKinematics&) {
-    return std::array<double, 4>{linear.eta(t), nonlinear.eta(t), linear.direction(t),
-                                 nonlinear.direction(t)};
-  });
+  return spatial_series_columns(
+      drive, law, rest_time, dt,
+      [&](double t, const PlanarKinematics&) {
+        return std::array<double, 4>{linear.eta(t), nonlinear.eta(t), linear.direction(t),
+                                     nonlinear.direction(t)};
+      },
+      theta_origin);
 }
 
 }  // namespace slosh::api

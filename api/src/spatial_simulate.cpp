@@ -113,6 +113,12 @@ double tank_frame_angle(const SpatialMotion& motion, const RectangularTank& tank
   return start + tank.orientation_deg / kDegPerRad;
 }
 
+/// What a series' theta counts from [rad]: a path's start heading (its drive's theta is the
+/// heading change since the start), 0 for a trajectory (its theta is the world heading).
+double theta_origin(const SpatialMotion& motion) {
+  return motion.path ? motion.path->start_heading() : 0.0;
+}
+
 nlohmann::json law_json(const SimulateRequest& request, const MotionLaw& law,
                         const std::optional<SevenSegmentLaw>& seven) {
   nlohmann::json out{{"type", to_string(request.law_type)},
@@ -228,9 +234,9 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
        {{"length", peaks_json(nl.along_length)}, {"width", peaks_json(nl.along_width)}}}};
   out["rest_time_s"] = rest;
   if (request.options.sample_period) {
-    out["series"] =
-        rectangular_spatial_series_json(tank, drive, frame, motion.trajectory ? nullptr : &law,
-                                        rest, *request.options.sample_period, nonlinear.nonlinear);
+    out["series"] = rectangular_spatial_series_json(
+        tank, drive, frame, motion.trajectory ? nullptr : &law, rest,
+        *request.options.sample_period, nonlinear.nonlinear, theta_origin(motion));
   }
   const double horizontal = peak_horizontal_acceleration(motion, drive, law);
   std::vector<std::string> warnings =
@@ -322,7 +328,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   out["rest_time_s"] = rest;
   if (request.options.sample_period) {
     out["series"] = spatial_series_json(model, drive, motion.trajectory ? nullptr : &law, rest,
-                                        *request.options.sample_period);
+                                        *request.options.sample_period, theta_origin(motion));
   }
   // The validity warnings of a straight-line simulate or a plan along the same motion, on the
   // planar peaks and the total horizontal acceleration.

@@ -30,7 +30,9 @@ struct PathRows {
 const std::vector<CamColumn> kPoseColumns{
     {"x_mm", "container position x, world frame from the path's start [mm]"},
     {"y_mm", "container position y [mm]"},
-    {"theta_deg", "container heading about the vertical from the start [deg]"}};
+    {"theta_deg",
+     "container heading about the vertical, world frame as x_mm and y_mm (the path's start heading "
+     "at the start) [deg]"}};
 
 std::vector<CamColumn> with_pose(std::vector<CamColumn> columns) {
   columns.insert(columns.end(), kPoseColumns.begin(), kPoseColumns.end());
@@ -118,7 +120,9 @@ std::string csv_of(const PathRows& t) {
 std::string path_line(const PlanarPath& path) {
   const std::optional<double> table_deg = table_rotation_deg(path);
   std::string line = "   path: ";
-  line += table_deg ? "one arc (a rotary table), rotation " + api::number_text(*table_deg) + " deg"
+  const char* arc = path.container_turns() ? "one arc (a rotary table), rotation "
+                                           : "one arc (a curved track), angle ";
+  line += table_deg ? arc + api::number_text(*table_deg) + " deg"
                     : "a path of " + std::to_string(path.elements().size()) +
                           " segments (lines and arcs)";
   line += ", length " + api::number_text(api::mm_of(path.length())) + " mm; the container " +

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -36,6 +37,28 @@ KinematicState state_at_sample(const MotionLaw& law, const std::vector<double>& 
   return law.at(t_eval);
 }
 
+// The decimal step of `period`: m / 10^p with the fewest places p (<= 9) that give the period
+// back, so that sample k's time k m / 10^p is the double nearest that decimal (0.009 s, not
+// 9 x 0.001 = 0.009000000000000001, which a controller's import or a diff trips on); nullopt
+// when the period is no such decimal (then k x period).
+struct DecimalStep {
+  double units{};  // m
+  double scale{};  // 10^p
+};
+std::optional<DecimalStep> decimal_step(double period) {
+  double scale = 1.0;
+  for (int places = 0; places <= 9; ++places, scale *= 10.0) {
+    const double units = std::round(period * scale);
+    if (units >= 1.0 && units < 9.0e15 && units / scale == period) return DecimalStep{units, scale};
+  }
+  return std::nullopt;
+}
+
+double sample_time(std::size_t k, double period, const std::optional<DecimalStep>& step) {
+  const auto kd = static_cast<double>(k);
+  return step ? kd * step->units / step->scale : kd * period;
+}
+
 }  // namespace
 
 std::size_t cam_cycles(double motion_time, double period) {
@@ -58,8 +81,9 @@ std::vector<CamSample> sample_cam_table(const MotionLaw& law, double stroke, dou
   const std::vector<double> switches = law.breakpoints();
   std::vector<CamSample> table;
   table.reserve(cycles + 1);
+  const std::optional<DecimalStep> step = decimal_step(period);
   for (std::size_t k = 0; k <= cycles; ++k) {
-    const double t = static_cast<double>(k) * period;
+    const double t = sample_time(k, period, step);
     if (t >= T - kCamTimeTolerance) {
       table.push_back({t, stroke, 0.0, 0.0, 0.0});
       continue;

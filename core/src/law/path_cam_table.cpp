@@ -14,7 +14,9 @@ std::vector<PathCamSample> cam_along_path(const std::vector<CamSample>& cam,
   out.reserve(cam.size());
   for (const CamSample& c : cam) {
     const PlanarKinematics k = path.at(c.position, c.velocity, c.acceleration, c.jerk);
-    out.push_back({c.t, c.position, c.velocity, c.acceleration, c.jerk, k.x, k.y, k.theta});
+    // The world heading, in the frame of x and y (theta counts from the path's start heading).
+    out.push_back({c.t, c.position, c.velocity, c.acceleration, c.jerk, k.x, k.y,
+                   path.start_heading() + k.theta});
   }
   return out;
 }

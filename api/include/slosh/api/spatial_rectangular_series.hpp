@@ -19,6 +19,7 @@ namespace slosh::api {
                                                              const PlanarDrive& drive,
                                                              double frame_angle,
                                                              const MotionLaw* law, double rest_time,
-                                                             double dt, bool nonlinear_holds);
+                                                             double dt, bool nonlinear_holds,
+                                                             double theta_origin = 0.0);
 
 }  // namespace slosh::api

@@ -22,9 +22,13 @@ namespace slosh::api {
 /// path, SI as the straight line's series); "units"}. Samples at k dt, k = 0 .. floor(span / dt),
 /// span = the drive's duration + rest_time; the heights from the stored planar responses
 /// (PlanarLinearResponse, PlanarNonlinearResponse). `law` is null for a trajectory.
+/// "theta_deg" is the container's world heading, the frame of x_mm and y_mm: the drive's theta
+/// plus `theta_origin` [rad] (a path's start heading; 0 for a trajectory, whose theta is the
+/// world heading already), so that the series fed back as a trajectory is the same motion.
 [[nodiscard]] nlohmann::json spatial_series_json(const SloshingModel& model,
                                                  const PlanarDrive& drive, const MotionLaw* law,
-                                                 double rest_time, double dt);
+                                                 double rest_time, double dt,
+                                                 double theta_origin = 0.0);
 
 /// One sample of a series' wall heights [m] and their wall directions [rad, world frame]:
 /// {linear, nonlinear, linear direction, nonlinear direction}.
@@ -35,6 +39,7 @@ using SpatialSeriesSample = std::function<std::array<double, 4>(double t, const 
 /// rectangular tank's series).
 [[nodiscard]] nlohmann::json spatial_series_columns(const PlanarDrive& drive, const MotionLaw* law,
                                                     double rest_time, double dt,
-                                                    const SpatialSeriesSample& sample);
+                                                    const SpatialSeriesSample& sample,
+                                                    double theta_origin = 0.0);
 
 }  // namespace slosh::api

@@ -22,7 +22,9 @@ struct PathCamSample {
   double acceleration{};  ///< d2s/dt2 (tangential) [m/s^2]
   double jerk{};          ///< d3s/dt3 [m/s^3]
   double x{}, y{};        ///< the container's position, world frame [m]
-  double theta{};         ///< the container's heading about the vertical axis [rad]
+  /// The container's heading about the vertical axis, world frame as x and y: the path's start
+  /// heading at the start [rad].
+  double theta{};
 };
 
 /// The rows of a time-based cam table of a law along `path` (sample_cam_table(law,
