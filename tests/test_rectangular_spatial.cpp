@@ -497,6 +497,27 @@ TEST(RectangularSpatialApi, ALineOrAStraightPathAtAnyHeadingIsTheStraightStroke)
   }
 }
 
+// A tank moved along one of its sides excites that side's direction alone (the other is driven
+// by cos 90 deg = 6e-17 round-off): the highest wall is the middle of a wall normal to the
+// motion, along the line (mod 180 deg) at any heading, not a corner.
+TEST(RectangularSpatialApi, ATankMovedAlongOneSideHasItsHighestWallAtTheWallsMiddle) {
+  for (double orientation : {0.0, 90.0, -90.0, 180.0}) {
+    for (double heading : {0.0, 37.0, -45.0}) {
+      nlohmann::json body = {{"format", cup_format(orientation)},
+                             {"law", {{"type", "seven_segment_uniform"}}}};
+      body["format"]["motion"] = {{"type", "line"}, {"length_mm", 250}, {"direction_deg", heading}};
+      const nlohmann::json out = api::simulate_response(body);
+      for (const char* model : {"linear", "nonlinear"}) {
+        for (const char* key : {"direction_motion_deg", "direction_rest_deg"}) {
+          const double a = out["prediction"][model][key].get<double>();
+          EXPECT_NEAR(std::remainder(a - heading, 180.0), 0.0, 1e-9)
+              << orientation << " " << heading << " " << model << " " << key << " " << a;
+        }
+      }
+    }
+  }
+}
+
 TEST(RectangularSpatialApi, ACalibrationAlongOneSideDoesNotCoverATurningMotion) {
   Format measured = thesis_format();
   measured.container.rectangular = RectangularTank{0.12, 0.08, 0.0};

@@ -21,6 +21,9 @@ namespace slosh {
 
 namespace {
 
+/// The share of the larger direction's wave below which the other is round-off, at rest.
+constexpr double kRestShare{1e-9};
+
 /// The excitation in the tank's frame at one instant.
 struct TankExcitation {
   double a[2]{};        ///< along L, along W [m/s^2]
@@ -279,8 +282,11 @@ double RectangularPlanarResponse::value(double t, std::size_t signal) const {
 
 double RectangularPlanarResponse::corner_angle(double t) const {
   const double eL = eta_length(t), eW = eta_width(t);
-  const double sx = eL > 0.0 ? 1.0 : eL < 0.0 ? -1.0 : 0.0;
-  const double sy = eW > 0.0 ? 1.0 : eW < 0.0 ? -1.0 : 0.0;
+  // A direction whose wave is round-off of the other's (a tank moved along W: cos 90 deg =
+  // 6e-17 drives L) is at rest: the highest wall is the other direction's middle.
+  const double floor = kRestShare * std::max(std::abs(eL), std::abs(eW));
+  const double sx = eL > floor ? 1.0 : eL < -floor ? -1.0 : 0.0;
+  const double sy = eW > floor ? 1.0 : eW < -floor ? -1.0 : 0.0;
   if (sx == 0.0 && sy == 0.0) return 0.0;
   return std::atan2(sy * half_width_, sx * half_length_);
 }
