@@ -421,8 +421,14 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
                         o.prediction.nonlinear.motion.value, true, o.prediction.linear.rest.value);
   if (!o.model_warning.empty()) r.warnings.push_back(o.model_warning);
   if (!o.worse.empty()) r.warnings.push_back(o.worse);
-  if (c.deadline.expired() &&
-      (r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
+  if (c.deadline.expired() && r.status == SolveStatus::kInfeasible &&
+      law_strategy == Strategy::kTimeDomain && r.invalid_input == std::nullopt) {
+    // time_domain's "no law found" is its search's claim, which a search cut short by the
+    // budget does not make (and a later, larger budget must not be answered from a cache of it).
+    r.status = SolveStatus::kTimeLimit;
+    detail = "the budget ran out before time_domain's search along the path ended; " + detail;
+  } else if (c.deadline.expired() &&
+             (r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
     // The budget covers the verification along the path, which on a long path costs more than
     // the solves (a 60 s motion along 10 000 arcs: about a second per law): a plan that ran past
     // it says so, as a solve that ran out does, and is not cached as the budget's answer.
