@@ -4,11 +4,16 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <fstream>
 #include <numbers>
+#include <sstream>
+#include <string>
 #include <vector>
 
 #include "slosh/core/motion/sample_smoothing.hpp"
 #include "slosh/core/motion/sampled_trajectory.hpp"
+#include "slosh/core/motion/trajectory_ends.hpp"
 
 namespace slosh {
 namespace {
@@ -116,6 +121,83 @@ TEST(SampleSmoothing, CleanPolynomialsAreKept) {
   }
   const double n = static_cast<double>(noise.size());
   EXPECT_NEAR(rss / (n * alone.noise * alone.noise), 1.0, 2e-3);
+}
+
+/// A Bologna run's pose CSV (tests/data/bologna-4d, University of Bologna, MIT licence) with its
+/// positions printed to `position_digits` decimals of a metre and its quaternions to
+/// `quaternion_digits` (0: as logged), as a robot's log prints them.
+TrajectorySamples rounded_bologna(int position_digits, int quaternion_digits) {
+  std::ifstream in(std::string(SLOSH_SOURCE_DIR) +
+                   "/tests/data/bologna-4d/TRD_2D_0.3m_2.2s_270deg.trajectory.csv");
+  std::string line;
+  std::getline(in, line);
+  std::ostringstream out;
+  out << line << "\n";
+  while (std::getline(in, line)) {
+    std::vector<double> f;
+    std::istringstream fields(line);
+    for (std::string field; std::getline(fields, field, ',');) f.push_back(std::stod(field));
+    char buf[512];
+    const int p = position_digits, q = quaternion_digits;
+    if (q > 0) {
+      std::snprintf(buf, sizeof buf, "%.17g,%.*f,%.*f,%.*f,%.*f,%.*f,%.*f,%.*f", f[0], p, f[1], p,
+                    f[2], p, f[3], q, f[4], q, f[5], q, f[6], q, f[7]);
+    } else {
+      std::snprintf(buf, sizeof buf, "%.17g,%.*f,%.*f,%.*f,%.17g,%.17g,%.17g,%.17g", f[0], p, f[1],
+                    p, f[2], p, f[3], f[4], f[5], f[6], f[7]);
+    }
+    out << buf << "\n";
+  }
+  std::istringstream csv(out.str());
+  return read_pose_csv(csv, "rounded");
+}
+
+// The Bologna 270 deg run ends by creeping the last 0.05 mm into its pose over 50 ms. Printed to
+// 0.1 mm, its positions repeat one value over the last 25 samples (and its quaternions, printed
+// to 4 decimals, over 27), but the smoothed spline ends at 11.6 mm/s (1.24 deg/s), and the end
+// was warned of as moving. The verdict is now the samples': they hold still there, and the end is
+// at rest; the rounded log stays within a quantum of the logged one.
+TEST(SampleSmoothing, ALogThatSitsStillAtItsEndEndsAtRest) {
+  const SampledTrajectory logged(rounded_bologna(9, 0));
+  for (const auto& [p, q] : {std::pair{4, 0}, std::pair{9, 4}}) {
+    const TrajectorySamples s = rounded_bologna(p, q);
+    const std::size_t n = s.t.size();
+    // The samples' own verdict, counted here: the last samples equal to the last one.
+    const std::vector<double>& still = p == 4 ? s.y : s.theta;
+    std::size_t run = 0;
+    while (still[n - 1 - run] == still.back()) ++run;
+    ASSERT_GE(run, 25U) << p;
+    EXPECT_GE(rest_runs(still, sample_noise(s.t, still)).tail, run) << p;
+    const SampledTrajectory tr(s);
+    EXPECT_TRUE(moving_end_warnings(tr).empty()) << p << ": " << moving_end_warnings(tr).front();
+    if (p == 4) {
+      for (std::size_t i = 0; i < n; i += 7) {
+        EXPECT_NEAR(tr.at(s.t[i]).y, logged.at(s.t[i]).y, 2e-4) << i;
+      }
+    }
+  }
+}
+
+// Only a run that holds still counts: the clean half-cosine's smoothed samples are its samples
+// (its 301 rest samples hold still exactly); rounded to 0.1 mm and cut at 0.9 s, while it moves at
+// 0.25 (pi / 1.2) sin(0.75 pi) = 0.463 m/s, the log is still warned of as ending moving, at that
+// speed.
+TEST(SampleSmoothing, OnlyRunsThatHoldStillAreAtRest) {
+  const TrajectorySamples exact = half_cosine(0.0);
+  const SmoothedSamples g = smoothed_samples(exact.t, exact.x);
+  EXPECT_EQ(g.value, exact.x);
+  EXPECT_EQ(g.rest.head, 0U);
+  EXPECT_EQ(g.rest.tail, 301U);  // t = 1.2 .. 1.5 s
+  TrajectorySamples cut = half_cosine(1e-4);
+  for (auto* v : {&cut.t, &cut.x, &cut.y}) v->resize(901);
+  const SampledTrajectory tr(cut);
+  const std::vector<std::string> w = moving_end_warnings(tr);
+  ASSERT_EQ(w.size(), 1U);
+  const std::string head =
+      "the trajectory ends moving: at its last sample (t_s[900] = 0.9 s) the container moves at ";
+  ASSERT_EQ(w.front().substr(0, head.size()), head);
+  const double speed = 0.25 * kPi / 1.2 * std::sin(kPi * 0.9 / 1.2);
+  EXPECT_NEAR(std::stod(w.front().substr(head.size())), speed * 1e3, 0.01 * speed * 1e3);
 }
 
 }  // namespace

@@ -25,6 +25,9 @@ constexpr double kExactNoise{16.0 * std::numeric_limits<double>::epsilon()};
 /// Smallest lambda the search starts from [-]: the fit then moves the samples by ~1e-12 of
 /// their fourth differences.
 constexpr double kMinSmoothing{1e-12};
+/// Multiple of the noise beyond which a sample no longer holds still with its end (rest_runs),
+/// whatever the quantum [-].
+constexpr double kRestNoise{4.0};
 
 /// Coefficients of the divided difference of order K over samples j..j+K, scaled to unit norm.
 /// Computed in times relative to the rows' span, so no spacing overflows the products.
@@ -103,6 +106,15 @@ std::vector<double> residual(const Penalty& p, const std::vector<double>& dy, do
   return r;
 }
 
+/// Samples within `tolerance` of the end sample, counted from the end `last` (or the first).
+std::size_t still_run(const std::vector<double>& v, double tolerance, bool last) {
+  const std::size_t n = v.size();
+  const double end = last ? v.back() : v.front();
+  std::size_t k = 0;
+  while (k < n && std::abs(v[last ? n - 1 - k : k] - end) <= tolerance) ++k;
+  return k >= kMinRestSamples ? k : 0;
+}
+
 double sum_of_squares(const std::vector<double>& r) {
   double s = 0.0;
   for (double e : r) s += e * e;
@@ -130,8 +142,23 @@ double sample_noise(const std::vector<double>& t, const std::vector<double>& v) 
   return *mid / kMedianAbsNormal;
 }
 
+RestRuns rest_runs(const std::vector<double>& v, double noise) {
+  // Half the samples' quantum: a log rounded to q steps by multiples of q, so only samples that
+  // repeat the end's value lie within q / 2 of it (and a last approach by one quantum is not
+  // taken for rest); a log with continuous noise has a tiny smallest step, and only samples
+  // repeated exactly hold still there.
+  double quantum = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 1; i < v.size(); ++i) {
+    const double step = std::abs(v[i] - v[i - 1]);
+    if (step > 0.0) quantum = std::min(quantum, step);
+  }
+  const double tolerance = std::min(0.5 * quantum, kRestNoise * noise);
+  return {still_run(v, tolerance, false), still_run(v, tolerance, true)};
+}
+
 SmoothedSamples smoothed_samples(const std::vector<double>& t, const std::vector<double>& v) {
   SmoothedSamples out{v, sample_noise(t, v), 0.0};
+  out.rest = rest_runs(v, out.noise);
   double largest = 0.0;
   for (double e : v) largest = std::max(largest, std::abs(e));
   if (out.noise <= kExactNoise * largest) return out;

@@ -3,15 +3,41 @@
 #include <cmath>
 #include <numbers>
 
+#include "slosh/core/motion/sample_smoothing.hpp"
 #include "text.hpp"
 
 namespace slosh {
+
+namespace {
+
+/// Whether the samples v hold still at the end `last` (or the first): a run of at least
+/// kMinRestSamples samples within their resolution (rest_runs).
+bool holds_still(const std::vector<double>& t, const std::vector<double>& v, bool last) {
+  const RestRuns runs = rest_runs(v, sample_noise(t, v));
+  return (last ? runs.tail : runs.head) > 0;
+}
+
+/// The motion at the end `last` (or the first) as the samples show it: the splines' derivatives
+/// there, but 0 for a coordinate whose samples hold still at that end (its smoothed spline may
+/// end with a small slope there, a few mm/s on a log rounded to 0.1 mm, that the samples do not
+/// show).
+PlanarKinematics end_motion(const SampledTrajectory& trajectory, bool last) {
+  const TrajectorySamples& s = trajectory.samples();
+  PlanarKinematics k = trajectory.at(last ? trajectory.end_time() : trajectory.start_time());
+  if (holds_still(s.t, s.x, last)) k.vx = 0.0;
+  if (holds_still(s.t, s.y, last)) k.vy = 0.0;
+  if (holds_still(s.t, s.z, last)) k.vz = 0.0;
+  if (holds_still(s.t, s.theta, last)) k.theta_dot = 0.0;
+  return k;
+}
+
+}  // namespace
 
 std::vector<std::string> moving_end_warnings(const SampledTrajectory& trajectory) {
   std::vector<std::string> out;
   for (const bool last : {false, true}) {
     const double t = last ? trajectory.end_time() : trajectory.start_time();
-    const PlanarKinematics k = trajectory.at(t);
+    const PlanarKinematics k = end_motion(trajectory, last);
     const double speed = std::sqrt(k.vx * k.vx + k.vy * k.vy + k.vz * k.vz);
     const double rate = std::abs(k.theta_dot);
     if (!(speed > kMovingEndSpeed) && !(rate > kTurningEndRate)) continue;

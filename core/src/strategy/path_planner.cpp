@@ -218,10 +218,23 @@ void keep_better_mirror(const PathContext& c, PathOutcome& o) {
   o.model_warning = std::move(warning);
 }
 
+/// The options of a strategy's plan on the line: the path plan's remaining budget (plan() takes
+/// a fresh budget of time_limit), at least kLeastBudget (a positive time_limit is an input rule).
+PlanOptions remaining_budget(const PathContext& c) {
+  constexpr double kLeastBudget{1e-6};
+  PlanOptions o = c.options;
+  o.time_limit = std::max(c.deadline.remaining(), kLeastBudget);
+  return o;
+}
+
 PathOutcome run_tangential(const PathContext& c, Strategy s) {
   PathOutcome o;
-  o.plan = plan(c.format, s, c.options);
-  o.prediction = c.predict(o.plan.law, &o.model_warning);
+  o.plan = plan(c.format, s, remaining_budget(c));
+  // The uniform law is the reference the context verified already (a cylinder's: a rectangular
+  // tank's verification also names its model's range), so a long path is not verified twice.
+  const bool uniform = s == Strategy::kBaseline && !c.tank &&
+                       o.plan.durations == uniform_durations(c.format.motion_time);
+  o.prediction = uniform ? c.uniform : c.predict(o.plan.law, &o.model_warning);
   keep_better_mirror(c, o);
   if (s == Strategy::kTimeDomain) {
     // (A rectangular tank: no planar nonlinear model with exact sensitivities to optimise.)
@@ -408,6 +421,23 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
                         o.prediction.nonlinear.motion.value, true, o.prediction.linear.rest.value);
   if (!o.model_warning.empty()) r.warnings.push_back(o.model_warning);
   if (!o.worse.empty()) r.warnings.push_back(o.worse);
+  if (c.deadline.expired() && r.status == SolveStatus::kInfeasible &&
+      law_strategy == Strategy::kTimeDomain && r.invalid_input == std::nullopt) {
+    // time_domain's "no law found" is its search's claim, which a search cut short by the
+    // budget does not make (and a later, larger budget must not be answered from a cache of it).
+    r.status = SolveStatus::kTimeLimit;
+    detail = "the budget ran out before time_domain's search along the path ended; " + detail;
+  } else if (c.deadline.expired() &&
+             (r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
+    // The budget covers the verification along the path, which on a long path costs more than
+    // the solves (a 60 s motion along 10 000 arcs: about a second per law): a plan that ran past
+    // it says so, as a solve that ran out does, and is not cached as the budget's answer.
+    r.status = SolveStatus::kTimeLimit;
+    detail = "the budget ran out while the law was verified along the path (" +
+             std::to_string(c.path.elements().size()) +
+             " segments); the law is returned with its verified figures" +
+             (detail.empty() ? std::string() : "; " + detail);
+  }
   detail::apply_optimal_caveat(r.status, detail, r.warnings, law_strategy);
   r.message = path_message(c, r, o.prediction, std::move(detail));
   return r;
@@ -432,6 +462,7 @@ std::vector<Durations> seeds_of(const std::vector<PathOutcome>& outcomes) {
 std::vector<PathOutcome> spectral_outcomes(const PathContext& c) {
   std::vector<PathOutcome> out;
   for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+    if (c.deadline.expired()) break;
     out.push_back(run_tangential(c, s));
   }
   return out;
@@ -484,19 +515,26 @@ void refuse_worse_choice(const std::vector<PlanCandidate>& candidates,
 PlanResult run_auto(const PathContext& c, const PlanResult& base) {
   std::vector<PathOutcome> outcomes;
   outcomes.push_back(run_tangential(c, Strategy::kBaseline));
-  std::vector<PathOutcome> spectral = spectral_outcomes(c);
-  const std::vector<Durations> seeds = seeds_of(spectral);
-  for (PathOutcome& o : spectral) outcomes.push_back(std::move(o));
-  outcomes.push_back(run_time_domain(c, base, seeds));
-  {
-    std::vector<const PathOutcome*> starts;
-    for (std::size_t i = 0; i + 1 < outcomes.size(); ++i) starts.push_back(&outcomes[i]);
-    keep_best_start(c, outcomes.back(), starts);
+  // Once the budget is spent no further candidate is planned and verified (each costs a
+  // verification along the path): auto chooses among those it has, and its plan is time_limit.
+  if (!c.deadline.expired()) {
+    std::vector<PathOutcome> spectral = spectral_outcomes(c);
+    const std::vector<Durations> seeds = seeds_of(spectral);
+    for (PathOutcome& o : spectral) outcomes.push_back(std::move(o));
+    if (!c.deadline.expired()) {
+      outcomes.push_back(run_time_domain(c, base, seeds));
+      std::vector<const PathOutcome*> starts;
+      for (std::size_t i = 0; i + 1 < outcomes.size(); ++i) starts.push_back(&outcomes[i]);
+      keep_best_start(c, outcomes.back(), starts);
+    }
   }
-  outcomes.push_back(run_tangential(c, Strategy::kFirChain));
-  if (c.options.drive_profile != DriveProfile::kMoveAbsolute) {
+  if (!c.deadline.expired()) outcomes.push_back(run_tangential(c, Strategy::kFirChain));
+  if (c.options.drive_profile != DriveProfile::kMoveAbsolute && !c.deadline.expired()) {
     outcomes.push_back(run_tangential(c, Strategy::kShaper));
   }
+  const std::size_t all_candidates =
+      c.options.drive_profile != DriveProfile::kMoveAbsolute ? 7U : 6U;
+  const bool cut = outcomes.size() < all_candidates;
   std::vector<PlanCandidate> candidates;
   std::vector<bool> worse;
   std::vector<BoundVerdict> bounds;
@@ -541,6 +579,14 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
                 c.models() + " along the path)"
           : std::string("no candidate meets every constraint; auto returns the uniform law");
   if (!chosen.detail.empty()) detail += "; " + chosen.detail;
+  if (cut) {
+    // The candidates not planned might have met the bound: not infeasible, out of time.
+    if (chosen.plan.status == SolveStatus::kInfeasible)
+      chosen.plan.status = SolveStatus::kTimeLimit;
+    detail = "auto planned " + std::to_string(outcomes.size()) + " of its " +
+             std::to_string(all_candidates) +
+             " candidates before the budget ran out (each is verified along the path); " + detail;
+  }
   PlanResult r = finish(c, Strategy::kAuto, std::move(chosen), std::move(detail));
   r.solver.iterations = evaluations;
   r.solver.starts = starts;
@@ -584,6 +630,9 @@ PathPlanReport path_plan_report(const PlanResult& result, const PlanarPath& path
 PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy strategy,
                         const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
+  // One budget for the whole plan: the uniform law's verification along the path, each
+  // strategy's solve (with what remains) and each law's verification.
+  const detail::Deadline deadline(options.time_limit, options.stop);
   Format f = format;
   f.stroke = path.length();
   PlanOptions o = options;
@@ -596,7 +645,6 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
     return base;
   }
   const MotionLaw uniform = SevenSegmentLaw(uniform_durations(f.motion_time), f.stroke).law();
-  const detail::Deadline deadline(o.time_limit, o.stop);
   PathContext c{f,
                 path,
                 o,

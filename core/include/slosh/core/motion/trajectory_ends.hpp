@@ -20,8 +20,11 @@ inline constexpr double kMovingEndSpeed{1e-3};
 /// Turning rate at an end sample above which the container is told as turning [rad/s] (1°/s).
 inline constexpr double kTurningEndRate{0.017453292519943295};
 
-/// One warning for each end of `trajectory` where the splines' speed exceeds kMovingEndSpeed or
-/// their turning rate kTurningEndRate, naming the end, its sample time, the speed and the rate.
+/// One warning for each end of `trajectory` where its speed exceeds kMovingEndSpeed or its
+/// turning rate kTurningEndRate, naming the end, its sample time, the speed and the rate. The
+/// verdict is the samples' (rest_runs in sample_smoothing.hpp): a coordinate whose samples hold
+/// still at that end (a log rounded to 0.1 mm that repeats its last value for 25 samples) is at
+/// rest there, whatever slope a spline might give it; the others move at their splines' slopes.
 [[nodiscard]] std::vector<std::string> moving_end_warnings(const SampledTrajectory& trajectory);
 
 }  // namespace slosh
