@@ -28,7 +28,7 @@ namespace {
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
 constexpr const char* kPlannerVersion = "plan-v11";
 /// Version of the numerics of plans along an arc or a path (in their keys only).
-constexpr const char* kPathPlannerVersion = "path-v4";
+constexpr const char* kPathPlannerVersion = "path-v5";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
