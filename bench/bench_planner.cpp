@@ -287,6 +287,36 @@ BENCHMARK(BM_PlanArc)
     ->Args({8, 0})
     ->Unit(benchmark::kMillisecond);
 
+// A rectangular tank on the same index (the README cup: 120 x 80 mm, 50 mm of water), turning
+// with the table: time_domain optimises the tank's models along the arc. Arg 0 = the arc, 1 =
+// the line of the same length (plan(), the tank's line models).
+void BM_PlanTankArc(benchmark::State& state) {
+  const bool on_line = state.range(0) == 1;
+  const slosh::PlanarPath arc = slosh::PlanarPath::arc(0.3, 3.141592653589793 / 2.0, true);
+  slosh::Format format = slosh::thesis_format();
+  format.container.rectangular = slosh::RectangularTank{0.12, 0.08, 0.0};
+  format.fill_height = 0.05;
+  format.stroke = arc.length();
+  format.motion_time = 1.2;
+  PlanOptions options;
+  options.robustness = false;
+  options.time_limit = 60.0;
+  double rest = 0.0;
+  int evaluations = 0;
+  for (auto _ : state) {
+    const slosh::PlanResult r =
+        on_line ? slosh::plan(format, Strategy::kTimeDomain, options)
+                : slosh::plan_on_path(format, arc, Strategy::kTimeDomain, options);
+    rest = r.prediction.nonlinear.rest.value;
+    evaluations = r.solver.iterations;
+    benchmark::DoNotOptimize(r);
+  }
+  state.SetLabel(on_line ? "time_domain tank line" : "time_domain tank arc");
+  state.counters["eta_rest_mm"] = rest * 1e3;
+  state.counters["evaluations"] = evaluations;
+}
+BENCHMARK(BM_PlanTankArc)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
+
 // One evaluation of time_domain's planar response with its gradient along the arc (the uniform
 // law, 12 steps per period, 1 s of rest): what each SLSQP evaluation integrates.
 void BM_PlanarSensitivity(benchmark::State& state) {

@@ -193,12 +193,15 @@ TEST(PathPlan, AutoAlongAnArcNeverReturnsAFlaggedLawWhileTheUniformLawQualifies)
       }
     }
   }
+  // The tank's time_domain, which optimises its models along the arc, meets the bound without
+  // the flag (where it optimised on the line, only shaper's flagged law met it, and auto returned
+  // the least infeasible of the others).
   const PlanResult r = plan_on_path(tank, track, Strategy::kAuto, quiet_options());
-  EXPECT_EQ(r.status, SolveStatus::kInfeasible);
+  EXPECT_EQ(r.status, SolveStatus::kOptimal) << r.message;
   EXPECT_EQ(r.message.substr(0, r.message.find(";")),
-            "not a solution: no candidate that is not worse_than_baseline meets eta_rest <= 3 mm "
-            "(eta_rest_max_mm): shaper meets it (2.91 mm) but sloshes more than the uniform law "
-            "elsewhere (ask for it by name to accept that)");
+            "auto optimal: auto chose time_domain (lowest eta_rest among the candidates within 5 % "
+            "of the best eta_motion, judged on the tank's models along the path)");
+  EXPECT_LE(r.prediction.nonlinear.rest.value, 3e-3 * (1.0 + 1e-6));
 }
 
 // An arc of a kilometre's radius is a straight line to the liquid: its time_domain plan is the

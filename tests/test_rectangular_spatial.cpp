@@ -8,7 +8,9 @@
 #include <cmath>
 #include <complex>
 #include <cstdio>
+#include <functional>
 #include <numbers>
+#include <utility>
 #include <vector>
 
 #include <nlohmann/json.hpp>
@@ -26,6 +28,9 @@
 #include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
+#include "slosh/core/strategy/planner.hpp"
+#include "slosh/core/strategy/rectangular_path_plan.hpp"
+#include "slosh/core/strategy/rectangular_plan.hpp"
 #include "support/rectangular_reference.hpp"
 
 namespace slosh {
@@ -231,12 +236,10 @@ test::RefPeaks arc_reference(double L, double W, double h, const ArcCase& c, con
       spin_w += dt / 6 * (k1 + 2 * k2 + 2 * k3 + k4);
       eta += spin_gain * spin_w * spin_w;
     }
+    // The windows [0, T] and [T, T + rest] share the sample at T.
     const double t1 = static_cast<double>(i + 1) * dt;
-    if (t1 <= T + 1e-12) {
-      p.motion = std::max(p.motion, eta);
-    } else {
-      p.rest = std::max(p.rest, eta);
-    }
+    if (t1 <= T + 1e-12) p.motion = std::max(p.motion, eta);
+    if (t1 >= T - 1e-12) p.rest = std::max(p.rest, eta);
   }
   return p;
 }
@@ -282,11 +285,12 @@ TEST(RectangularSpatial, PlanForATankOnANinetyDegreeTableIsVerifiedByAnIndepende
   }
 }
 
-// time_domain for a tank on a table optimises the line's models and is verified along the arc;
-// where that law breaks the bound (3.9 mm at rest here) while one of its own starts meets it, the
-// plan is that start, never "infeasible" with a law worse than the uniform law. The returned law's
-// linear figures are checked on the fine-step integration written here.
-TEST(RectangularSpatial, TimeDomainOnATableIsNeverWorseThanItsOwnStarts) {
+// time_domain for a tank on a table optimises the tank's models along the arc: its law meets
+// eta_rest <= 3 mm there with a lower eta_motion than the uniform law (whose 0.85 mm at rest it
+// trades for it: min eta_motion s.t. eta_rest <= 3 mm, so it is flagged worse_than_baseline and
+// acceptable, as on the line). The returned law's linear figures are checked on the fine-step
+// integration written here.
+TEST(RectangularSpatial, TimeDomainOnATableMeetsItsBoundAlongTheArc) {
   const double L = 0.12, W = 0.08, h = 0.04;
   Format f = thesis_format();
   f.container.rectangular = RectangularTank{L, W, 0.0};
@@ -299,41 +303,54 @@ TEST(RectangularSpatial, TimeDomainOnATableIsNeverWorseThanItsOwnStarts) {
   const PlanResult r = plan_on_path(f, table, Strategy::kTimeDomain, o);
   ASSERT_FALSE(r.invalid_input) << r.message;
   EXPECT_EQ(r.status, SolveStatus::kAcceptable) << r.message;
-  EXPECT_LE(r.prediction.nonlinear.rest.value, o.eta_rest_max);
-  EXPECT_LE(r.prediction.nonlinear.rest.value, r.baseline.nonlinear.rest.value);
-  EXPECT_LE(r.prediction.nonlinear.motion.value, r.baseline.nonlinear.motion.value);
+  EXPECT_LE(r.prediction.nonlinear.rest.value, o.eta_rest_max * (1.0 + 1e-6));
+  EXPECT_LT(r.prediction.nonlinear.motion.value, r.baseline.nonlinear.motion.value);
   const test::RefPeaks ref =
       arc_reference(L, W, h, {0.3, 90.0, 0.0, true}, r.law, o.rest_time, 2e-5, true);
   EXPECT_NEAR(r.prediction.linear.rest.value / ref.rest, 1.0, 1e-5);
-  EXPECT_LE(ref.rest, o.eta_rest_max);
+  EXPECT_LE(ref.rest, o.eta_rest_max * (1.0 + 1e-4));
   EXPECT_EQ(r.message.substr(0, 94),
-            "time_domain acceptable: notch's law, one of time_domain's starts, meets eta_rest <= 3 "
-            "mm along");
-  for (const std::string& w : r.warnings)
-    EXPECT_EQ(w.find("worse_than_baseline"), std::string::npos);
+            "time_domain acceptable: not optimal: the law sloshes more than the uniform law "
+            "(worse_than_bas");
+  EXPECT_NE(r.message.find("time_domain optimised the tank's linear model along the path"),
+            std::string::npos)
+      << r.message;
 }
 
-/// The nonlinear model along an arc by RK4 at step dt, re-typed from docs/models.md: per
+/// The heading psi [rad] and the curvature kappa [1/m] at arc length s of a path.
+using Geometry = std::function<std::pair<double, double>(double s)>;
+
+/// The nonlinear model along a path by RK4 at step dt, re-typed from docs/models.md: per
 /// direction the dominant mode xbar'' = -2 zeta w1 xbar' - w1^2 xbar (1 + alpha xbar^2) - a/side,
 /// the higher modes x_n'' = -2 zeta w_n x_n' - w_n^2 x_n - a, the second mode b'' = -2 zeta s2 b'
 /// - s2^2 b - d4 beta beta'' - d5 beta'^2 with beta = G_1 side xbar; the corner
-/// |K xbar_L + sum G x_L| + |K xbar_W + sum G x_W| + |b_L + b_W| (K = G_1 side, no gain).
-test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase& c,
-                                       const MotionLaw& law, double rest, double dt) {
-  const double T = law.duration(), phi = c.orientation_deg * kDeg;
-  const double sign = c.angle_deg > 0 ? 1.0 : -1.0;
-  auto forcing = [&](double t, double out[2]) {
-    out[0] = out[1] = 0.0;
+/// |K xbar_L + sum G x_L| + |K xbar_W + sum G x_W| + |b_L + b_W| (K = G_1 side, no gain), a the
+/// tank-frame components of s'' T + kappa s'^2 N, the tank's L axis at `phi` from the start
+/// tangent (turning with the tangent when `turns`). With `spin`, plus the corner rise
+/// (L^2 + W^2) w^2 / (12 g) of the liquid's spin w' = sqrt(nu max(|theta'|, |w|)) / h (theta' - w),
+/// theta' = kappa s' (nu = 1e-6 m^2/s). With `linear`, the linear model: alpha = 0 and no second
+/// mode.
+test::RefPeaks nonlinear_path_reference(const RectangularModel& m, const Geometry& geometry,
+                                        double phi, bool turns, const MotionLaw& law, double rest,
+                                        double dt, bool spin = false, bool linear = false) {
+  const double T = law.duration();
+  const double psi_start = geometry(0.0).first;
+  auto forcing = [&](double t, double out[3]) {
+    out[0] = out[1] = out[2] = 0.0;
     if (t >= T) return;
     const KinematicState k = law.at(t);
-    const double psi = sign * k.position / c.radius, kappa = sign / c.radius;
+    const auto [psi, kappa] = geometry(k.position);
     const double an = kappa * k.velocity * k.velocity;
     const double ax = k.acceleration * std::cos(psi) - an * std::sin(psi);
     const double ay = k.acceleration * std::sin(psi) + an * std::cos(psi);
-    const double frame = phi + (c.turns ? psi : 0.0);
+    const double frame = psi_start + phi + (turns ? psi - psi_start : 0.0);
     out[0] = ax * std::cos(frame) + ay * std::sin(frame);
     out[1] = -ax * std::sin(frame) + ay * std::cos(frame);
+    out[2] = turns ? kappa * k.velocity : 0.0;
   };
+  const double h = m.along_length.fill_height;
+  const double L = m.along_length.radius, W = m.along_width.radius;
+  const double spin_gain = spin ? (L * L + W * W) / (12.0 * 9.81) : 0.0;
   const SloshingModel* dirs[2] = {&m.along_length, &m.along_width};
   const std::size_t M = m.along_length.omega.size();
   const std::size_t n_state = 2 * (M + 1);
@@ -345,8 +362,9 @@ test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase&
       const RectangularSecondMode s2 = rectangular_second_mode(sm);
       const std::size_t o = d * (M + 1);
       const double w1 = sm.omega[0], z = sm.zeta;
+      const double alpha = linear ? 0.0 : sm.alpha;
       const double xdd =
-          -2 * z * w1 * v[o] - w1 * w1 * x[o] * (1 + sm.alpha * x[o] * x[o]) - a[d] / sm.radius;
+          -2 * z * w1 * v[o] - w1 * w1 * x[o] * (1 + alpha * x[o] * x[o]) - a[d] / sm.radius;
       out[o] = xdd;
       for (std::size_t n = 1; n < M; ++n) {
         const double w = sm.omega[n];
@@ -354,8 +372,9 @@ test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase&
       }
       const double kr = sm.K;  // G_1 side
       const double b = kr * x[o], bd = kr * v[o], bdd = kr * xdd;
-      out[o + M] = -2 * z * s2.sigma2 * v[o + M] - s2.sigma2 * s2.sigma2 * x[o + M] -
-                   s2.d4 * b * bdd - s2.d5 * bd * bd;
+      out[o + M] = linear ? 0.0
+                          : -2 * z * s2.sigma2 * v[o + M] - s2.sigma2 * s2.sigma2 * x[o + M] -
+                                s2.d4 * b * bdd - s2.d5 * bd * bd;
     }
   };
   auto corner = [&](const std::vector<double>& x) {
@@ -368,13 +387,17 @@ test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase&
     }
     return std::abs(odd[0]) + std::abs(odd[1]) + std::abs(even);
   };
+  auto spin_rate = [h](double theta_dot, double w) {
+    return std::sqrt(1e-6 * std::max(std::abs(theta_dot), std::abs(w))) / h * (theta_dot - w);
+  };
+  double spin_w = 0.0;
   std::vector<double> x(n_state, 0.0), v(n_state, 0.0), k1x, k1v(n_state), k2x, k2v(n_state), k3x,
       k3v(n_state), k4x, k4v(n_state), tx(n_state), tv(n_state);
   test::RefPeaks p;
   const auto steps = static_cast<long>(std::llround((T + rest) / dt));
   for (long i = 0; i < steps; ++i) {
     const double t = static_cast<double>(i) * dt;
-    double a0[2], am[2], a1[2];
+    double a0[3], am[3], a1[3];
     forcing(t, a0);
     forcing(t + dt / 2, am);
     forcing(t + dt, a1);
@@ -402,14 +425,130 @@ test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase&
       x[j] += dt / 6 * (k1x[j] + 2 * k2x[j] + 2 * k3x[j] + k4x[j]);
       v[j] += dt / 6 * (k1v[j] + 2 * k2v[j] + 2 * k3v[j] + k4v[j]);
     }
-    const double eta = corner(x);
-    if (static_cast<double>(i + 1) * dt <= T + 1e-12) {
-      p.motion = std::max(p.motion, eta);
-    } else {
-      p.rest = std::max(p.rest, eta);
+    if (spin) {
+      const double s1 = spin_rate(a0[2], spin_w), s2 = spin_rate(am[2], spin_w + dt / 2 * s1);
+      const double s3 = spin_rate(am[2], spin_w + dt / 2 * s2);
+      const double s4 = spin_rate(a1[2], spin_w + dt * s3);
+      spin_w += dt / 6 * (s1 + 2 * s2 + 2 * s3 + s4);
     }
+    const double eta = corner(x) + spin_gain * spin_w * spin_w;
+    // The windows [0, T] and [T, T + rest] share the sample at T.
+    const double t1 = static_cast<double>(i + 1) * dt;
+    if (t1 <= T + 1e-12) p.motion = std::max(p.motion, eta);
+    if (t1 >= T - 1e-12) p.rest = std::max(p.rest, eta);
   }
   return p;
+}
+
+/// nonlinear_path_reference on the arc of `c` from heading 0.
+test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase& c,
+                                       const MotionLaw& law, double rest, double dt,
+                                       bool spin = false) {
+  const double sign = c.angle_deg > 0 ? 1.0 : -1.0;
+  const Geometry arc = [&c, sign](double s) {
+    return std::pair<double, double>{sign * s / c.radius, sign / c.radius};
+  };
+  return nonlinear_path_reference(m, arc, c.orientation_deg * kDeg, c.turns, law, rest, dt, spin);
+}
+
+// time_domain for a tank along a path optimises the tank's models along it (exact gradients):
+// on a 90 degree table turning the tank and on an L-shaped track (two lines joined by a 150 mm
+// arc) keeping its orientation, the law meets eta_rest <= 3 mm on a fine-step integration of the
+// model the verification answers with (here the linear one: these laws' waves lie outside the
+// nonlinear model's range), written here with the liquid's spin, and is no worse than the law
+// time_domain optimises on a line of the path's length, verified along the path (what the
+// planner returned before it optimised along the path).
+TEST(RectangularSpatial, TimeDomainAlongAPathMeetsTheBoundOnAnIndependentSimulation) {
+  Format f = thesis_format();
+  f.container.rectangular = RectangularTank{0.1, 0.08, 0.0};
+  f.fill_height = 0.05;
+  struct Case {
+    PlanarPath path;
+    Geometry geometry;
+    bool turns;
+    double motion_time;
+  };
+  const double R = 0.3, a = 0.2, r = 0.15, b = 0.15, corner = r * kPi / 2;
+  const std::vector<Case> cases = {
+      {PlanarPath::arc(R, kPi / 2, true),
+       [R](double s) {
+         return std::pair<double, double>{s / R, 1.0 / R};
+       },
+       true, 1.6},
+      {PlanarPath({PathElement::line(a), PathElement::arc(r, kPi / 2), PathElement::line(b)}, 0.0,
+                  false),
+       [=](double s) {
+         if (s < a) return std::pair<double, double>{0.0, 0.0};
+         if (s < a + corner) return std::pair<double, double>{(s - a) / r, 1.0 / r};
+         return std::pair<double, double>{kPi / 2, 0.0};
+       },
+       false, 2.6},
+  };
+  for (const Case& c : cases) {
+    f.motion_time = c.motion_time;
+    PlanOptions o;
+    o.robustness = false;
+    const PlanResult res = plan_on_path(f, c.path, Strategy::kTimeDomain, o);
+    ASSERT_FALSE(res.invalid_input) << res.message;
+    ASSERT_TRUE(res.rectangular.has_value());
+    EXPECT_TRUE(res.status == SolveStatus::kOptimal || res.status == SolveStatus::kAcceptable)
+        << res.message;
+    EXPECT_NE(res.message.find("time_domain optimised the tank's "), std::string::npos)
+        << res.message;
+    EXPECT_NE(res.message.find(" model along the path (its modes in its own frame, the highest "
+                               "corner; min eta_motion s.t. eta_rest <= 3 mm, exact gradients)"),
+              std::string::npos)
+        << res.message;
+    // The model the verification answers with (the nonlinear one outside its range: the linear).
+    const bool linear =
+        !rectangular_planar_nonlinear_peaks(*res.rectangular, PlanarDrive(c.path, res.law),
+                                            tank_frame_angle(c.path, 0.0), o.rest_time)
+             .nonlinear;
+    const test::RefPeaks ref = nonlinear_path_reference(*res.rectangular, c.geometry, 0.0, c.turns,
+                                                        res.law, o.rest_time, 2e-5, true, linear);
+    EXPECT_NEAR(res.prediction.nonlinear.rest.value / ref.rest, 1.0, 1e-4) << c.turns;
+    EXPECT_LE(ref.rest, o.eta_rest_max * (1.0 + 1e-4)) << c.turns;
+    // The law optimised on the line, verified along the path.
+    Format line = f;
+    line.stroke = c.path.length();
+    const PlanResult old = plan(line, Strategy::kTimeDomain, o);
+    const PathPrediction was = predict_tank_on_path(*old.rectangular, c.path, old.law, o.rest_time);
+    if (was.nonlinear.rest.value <= o.eta_rest_max) {
+      EXPECT_LE(res.prediction.nonlinear.motion.value, was.nonlinear.motion.value * (1.0 + 1e-3))
+          << c.turns;
+    } else {
+      EXPECT_LT(res.prediction.nonlinear.rest.value, was.nonlinear.rest.value) << c.turns;
+    }
+  }
+}
+
+// A tank very wide across the motion on a straight path: only its L modes move, as on the line,
+// so time_domain along the path solves the line's problem on the line's model: its law's
+// figures are the line's verification of it, it meets the bound, and it is no worse than the
+// line's own time_domain law (a local search each: here the path's finds the lower eta_motion).
+TEST(RectangularSpatial, TimeDomainOnAStraightPathIsTheLinesAnswer) {
+  Format f = thesis_format();
+  f.container.rectangular = RectangularTank{0.1, 0.6, 0.0};
+  f.fill_height = 0.05;
+  f.motion_time = 1.2;
+  f.stroke = 0.3;
+  const PlanarPath straight({PathElement::line(0.3)}, 0.0, false);
+  PlanOptions o;
+  o.robustness = false;
+  const PlanResult on_line = plan(f, Strategy::kTimeDomain, o);
+  const PlanResult on_path = plan_on_path(f, straight, Strategy::kTimeDomain, o);
+  ASSERT_FALSE(on_path.invalid_input) << on_path.message;
+  EXPECT_EQ(on_path.status, on_line.status) << on_path.message;
+  EXPECT_LE(on_path.prediction.nonlinear.rest.value, o.eta_rest_max * (1.0 + 1e-6));
+  const RectangularPrediction line_figures =
+      rectangular_prediction(*on_path.rectangular, on_path.law, o.rest_time);
+  EXPECT_NEAR(on_path.prediction.nonlinear.rest.value / line_figures.nonlinear.rest.value, 1.0,
+              1e-4);
+  EXPECT_NEAR(on_path.prediction.nonlinear.motion.value / line_figures.nonlinear.motion.value, 1.0,
+              1e-4);
+  EXPECT_LE(on_line.prediction.nonlinear.rest.value, o.eta_rest_max * (1.0 + 1e-6));
+  EXPECT_LE(on_path.prediction.nonlinear.motion.value,
+            on_line.prediction.nonlinear.motion.value * (1.0 + 1e-3));
 }
 
 TEST(RectangularSpatial, NonlinearTankOnAnArcMatchesAFineStepIntegrationOfTheRotatedForcing) {

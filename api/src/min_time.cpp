@@ -32,7 +32,7 @@ constexpr const char* kMinTimeVersion = "min-time-v5";
 // v3: a spectral law's better mirror along the path.
 // v4: time_domain along a path starts from the symmetric families and retries a failed round.
 // v5: as min-time-v5.
-constexpr const char* kMinTimePathVersion = "min-time-path-v5";
+constexpr const char* kMinTimePathVersion = "min-time-path-v6";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",

@@ -18,33 +18,6 @@
 
 namespace slosh::detail {
 
-namespace {
-
-/// cos x and sin x of a dual x (one kernel call for both).
-void dual_cos_sin(const D8& x, D8& c, D8& s) {
-  const SinCos v = fast_sincos(x.x[0]);
-  c = (-v.sin) * x;
-  c.x[0] = v.cos;
-  s = v.cos * x;
-  s.x[0] = v.sin;
-}
-
-using Accel = std::array<D8, 2>;
-
-/// The time where s(t) = target on a segment starting at t0 with (s0, v0, a0) and jerk J, by
-/// bisection then Newton's method on tau in [0, len] (s is increasing there).
-double crossing_tau(double s0, double v0, double a0, double J, double len, double target) {
-  auto s = [&](double tau) { return s0 + tau * (v0 + tau * (0.5 * a0 + tau * J / 6.0)); };
-  double lo = 0.0, hi = len;
-  for (int it = 0; it < 200 && hi - lo > 1e-15 * std::max(1.0, len); ++it) {
-    const double m = 0.5 * (lo + hi);
-    (s(m) < target ? lo : hi) = m;
-  }
-  return 0.5 * (lo + hi);
-}
-
-}  // namespace
-
 PlanarSensitivity::PlanarSensitivity(const SloshingModel& model, const PlanarPath& path,
                                      double rest_time, double steps_per_period)
     : model_(model),
@@ -52,84 +25,14 @@ PlanarSensitivity::PlanarSensitivity(const SloshingModel& model, const PlanarPat
       rest_time_(rest_time),
       h_max_(std::min(0.05, 2.0 * std::numbers::pi / model.omega1() / steps_per_period)) {}
 
-std::vector<PlanarSensitivity::Piece> PlanarSensitivity::pieces(
-    const std::array<Dual7, kSegments>& d) {
-  const auto lv = plateau_levels(d, Dual7(path_.length()));
-  jerk_ = {lv.A / d[0],  Dual7(0.0), -lv.A / d[2], Dual7(0.0),
-           -lv.B / d[4], Dual7(0.0), lv.B / d[6]};
-  t_start_[0] = s_start_[0] = v_start_[0] = a_start_[0] = Dual7(0.0);
-  for (std::size_t k = 0; k < kSegments; ++k) {
-    const Dual7& tau = d[k];
-    const Dual7& J = jerk_[k];
-    const Dual7& a = a_start_[k];
-    const Dual7& v = v_start_[k];
-    t_start_[k + 1] = t_start_[k] + tau;
-    s_start_[k + 1] = s_start_[k] + tau * (v + tau * (0.5 * a + tau * J * (1.0 / 6.0)));
-    v_start_[k + 1] = v + tau * (a + 0.5 * tau * J);
-    a_start_[k + 1] = a + J * tau;
-  }
-  // Boundaries: the switch times, then the joins' crossing times, each with its segment.
-  struct Cut {
-    Dual7 t;
-    std::size_t segment;
-  };
-  std::vector<Cut> cuts;
-  for (std::size_t k = 0; k <= kSegments; ++k) cuts.push_back({t_start_[k], k});
-  const std::vector<double>& starts = path_.element_starts();
-  for (std::size_t e = 1; e + 1 < starts.size(); ++e) {
-    const double target = starts[e];
-    for (std::size_t k = 0; k < kSegments; ++k) {
-      if (!(s_start_[k].v < target && target < s_start_[k + 1].v) || !(d[k].v > 0.0)) continue;
-      const double tau =
-          crossing_tau(s_start_[k].v, v_start_[k].v, a_start_[k].v, jerk_[k].v, d[k].v, target);
-      // s at the fixed time t_start + tau, as the durations move: tau shifts with t_start.
-      const Dual7 t_fixed = Dual7(t_start_[k].v + tau);
-      const Dual7 u = t_fixed - t_start_[k];
-      const Dual7 s =
-          s_start_[k] + u * (v_start_[k] + u * (0.5 * a_start_[k] + u * jerk_[k] * (1.0 / 6.0)));
-      const double speed = v_start_[k].v + tau * (a_start_[k].v + 0.5 * tau * jerk_[k].v);
-      Dual7 t = t_fixed;
-      for (std::size_t i = 0; i < kSegments; ++i) t.d[i] = -s.d[i] / speed;
-      cuts.push_back({t, k});
-    }
-  }
-  std::stable_sort(cuts.begin(), cuts.end(),
-                   [](const Cut& a, const Cut& b) { return a.t.v < b.t.v; });
-  std::vector<Piece> out;
-  for (std::size_t i = 0; i + 1 < cuts.size(); ++i) {
-    if (!(cuts[i + 1].t.v > cuts[i].t.v)) continue;
-    Piece p;
-    p.t_begin = cuts[i].t;
-    p.t_end = cuts[i + 1].t;
-    // The segment holding the middle of the piece: the last switch at or before its start.
-    p.segment = 0;
-    for (std::size_t k = 0; k < kSegments; ++k) {
-      if (t_start_[k].v <= cuts[i].t.v) p.segment = k;
-    }
-    const double mid = 0.5 * (p.t_begin.v + p.t_end.v) - t_start_[p.segment].v;
-    const std::size_t k = p.segment;
-    const double s_mid =
-        s_start_[k].v +
-        mid * (v_start_[k].v + mid * (0.5 * a_start_[k].v + mid * jerk_[k].v / 6.0));
-    p.element = path_.element_at(s_mid);
-    out.push_back(p);
-  }
-  Piece rest;
-  rest.t_begin = t_start_[kSegments];
-  rest.t_end = t_start_[kSegments] + rest_time_;
-  rest.rest = true;
-  out.push_back(rest);
-  return out;
-}
-
 /// The integration of compute() (a friend: it reads the law's duals and writes the steps).
 struct PlanarSensitivityPass {
-  static void run(PlanarSensitivity& s, const std::vector<PlanarSensitivity::Piece>& list);
+  static void run(PlanarSensitivity& s, const std::vector<DualPiece>& list);
 };
 
 // flatten: every helper is inlined, so the AVX clone's lane loops are AVX as well.
 SLOSH_PLANAR_CLONES [[gnu::flatten]] void PlanarSensitivityPass::run(
-    PlanarSensitivity& s, const std::vector<PlanarSensitivity::Piece>& list) {
+    PlanarSensitivity& s, const std::vector<DualPiece>& list) {
   const SloshingModel& m = s.model_;
   const PlanarPath& path = s.path_;
   const PlanarTangentRhs rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
@@ -143,41 +46,13 @@ SLOSH_PLANAR_CLONES [[gnu::flatten]] void PlanarSensitivityPass::run(
   DualPair x(0.0), v(0.0);
   DopStep<DualPair> step;
   for (std::size_t p = 0; p < list.size(); ++p) {
-    const PlanarSensitivity::Piece& piece = list[p];
+    const DualPiece& piece = list[p];
     const Dual7 length = piece.t_end - piece.t_begin;
     std::size_t n = step_count(length.v, s.h_max_, 1);
     if (same_pieces) n = std::max(n, s.frozen_[p]);
     const Dual7 h = length * (1.0 / static_cast<double>(n));
-    const std::size_t k = piece.segment;
-    const std::size_t e = piece.element;
-    const PlanarKinematics start = path.at(e, path.element_starts()[e], 1.0, 0.0, 0.0);
-    const double psi0 = std::atan2(start.vy, start.vx);
-    const double kappa = path.curvature(e);
-    const double s_e = path.element_starts()[e];
-    const D8 T_k(s.t_start_[k]), s_k(s.s_start_[k]), v_k(s.v_start_[k]), a_k(s.a_start_[k]),
-        J_k(s.jerk_[k]);
-    const D8 half_J = 0.5 * J_k, sixth_J = (1.0 / 6.0) * J_k, half_a = 0.5 * a_k;
-    const double cos0 = std::cos(psi0), sin0 = std::sin(psi0);
-    auto force = [&](const D8& t) {
-      Accel a{};
-      if (piece.rest) return a;
-      const D8 u = t - T_k;
-      const D8 acc = a_k + J_k * u;
-      if (kappa == 0.0) {
-        a[0] = cos0 * acc;
-        a[1] = sin0 * acc;
-        return a;
-      }
-      const D8 vel = v_k + u * (a_k + u * half_J);
-      const D8 pos = s_k + u * (v_k + u * (half_a + u * sixth_J));
-      const D8 psi = psi0 + kappa * (pos - s_e);
-      D8 c, sn;
-      dual_cos_sin(psi, c, sn);
-      const D8 normal = kappa * (vel * vel);
-      a[0] = acc * c - normal * sn;
-      a[1] = acc * sn + normal * c;
-      return a;
-    };
+    const PieceDrive drive(path, s.law_, piece);
+    auto force = [&drive](const D8& t) { return drive.world(t); };
     const D8 tb(piece.t_begin);
     const D8 hd(h);
     const DualPair hh(hd);
@@ -200,18 +75,18 @@ void PlanarSensitivity::compute(const double* d, double until) {
   until_ = until;
   std::array<Dual7, kSegments> D;
   for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7::variable(d[i], i);
-  const std::vector<Piece> list = pieces(D);
-  motion_time_ = t_start_[kSegments].v;
+  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, D);
+  motion_time_ = law_.t_start[kSegments].v;
   PlanarSensitivityPass::run(*this, list);
 }
 
 void PlanarSensitivity::freeze_steps(const double* d) {
   std::array<Dual7, kSegments> D;
   for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7(d[i]);
-  const std::vector<Piece> list = pieces(D);
+  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, D);
   frozen_.clear();
   frozen_key_.clear();
-  for (const Piece& p : list) {
+  for (const DualPiece& p : list) {
     frozen_.push_back(step_count(p.t_end.v - p.t_begin.v, h_max_, 1) + 1);
     frozen_key_.push_back(p.segment * 1000 + p.element);
   }

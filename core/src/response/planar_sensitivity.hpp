@@ -2,12 +2,9 @@
 // The planar nonlinear model (planar_nonlinear.cpp) driven by a 7-segment law along a planar
 // path, integrated by the same DOP853 scheme in dual numbers over the 7 durations: every step
 // carries the exact derivatives of its state and interpolant, so the wave height at any time
-// comes with its exact gradient (internal to the core; what time_domain optimises along a path).
-//
-// The steps never cross a point where the drive is not smooth: the law's switch times and the
-// times where s(t) crosses a join of the path (where the curvature jumps). Those times move with
-// the durations, and their derivatives follow: a switch time is a sum of durations, a crossing
-// time t_c of s(t_c) = s_join has dt_c/dd = -(ds/dd at fixed t) / s'(t_c).
+// comes with its exact gradient (internal to the core; what time_domain optimises along a path
+// for a cylinder). The steps never cross a point where the drive is not smooth
+// (path_law_duals.hpp).
 
 #include <array>
 #include <cstddef>
@@ -15,151 +12,16 @@
 #include <limits>
 #include <vector>
 
+#include "response/dual8.hpp"
 #include "response/nonlinear_scheme.hpp"
+#include "response/path_law_duals.hpp"
+#include "response/path_sensitivity.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/sloshing_model.hpp"
 #include "slosh/core/motion/planar_path.hpp"
 #include "solve/dual.hpp"
 
 namespace slosh::detail {
-
-/// A dual number over the 7 durations in 8 aligned lanes: x[0] the value, x[1 + i] the
-/// derivative by duration i. Its operations act on two 4-lane vectors (GCC's vector extension:
-/// AVX registers in the AVX clone, SSE pairs otherwise) and are always inlined: this integrator
-/// evaluates them millions of times per plan, and in its one large function the compiler's
-/// auto-vectoriser left most lane loops scalar. Each lane is the same IEEE operation in the same
-/// order as the scalar loop, so the numbers are the same to the bit.
-struct D8 {
-  alignas(32) std::array<double, 8> x{};
-  D8() = default;
-  explicit D8(double v) { x[0] = v; }
-  explicit D8(const Dual7& d) {
-    x[0] = d.v;
-    for (std::size_t i = 0; i < kSegments; ++i) x[1 + i] = d.d[i];
-  }
-  [[nodiscard]] double value() const { return x[0]; }
-};
-
-/// Four lanes of a D8.
-using Lanes4 = double __attribute__((vector_size(32)));
-
-// The lane helpers pass 32-byte vectors by value, whose ABI differs with and without AVX; they
-// are always inlined, so no call ever crosses that boundary. GCC reports the ABI note at the end
-// of the including file, where a pushed state is popped already: the note stays off in the
-// files that include this internal header.
-#pragma GCC diagnostic ignored "-Wpsabi"
-
-[[gnu::always_inline]] inline Lanes4 half(const D8& a, std::size_t h) {
-  Lanes4 r;
-  std::memcpy(&r, a.x.data() + 4 * h, sizeof r);
-  return r;
-}
-[[gnu::always_inline]] inline void set_half(D8& a, std::size_t h, Lanes4 v) {
-  std::memcpy(a.x.data() + 4 * h, &v, sizeof v);
-}
-[[gnu::always_inline]] inline Lanes4 broadcast(double v) {
-  return Lanes4{v, v, v, v};
-}
-
-#define SLOSH_D8_LANES(expr)                                \
-  D8 r;                                                     \
-  for (std::size_t h = 0; h < 2; ++h) set_half(r, h, expr); \
-  return r
-
-[[gnu::always_inline]] inline D8 operator+(const D8& a, const D8& b) {
-  SLOSH_D8_LANES(half(a, h) + half(b, h));
-}
-[[gnu::always_inline]] inline D8 operator-(const D8& a, const D8& b) {
-  SLOSH_D8_LANES(half(a, h) - half(b, h));
-}
-[[gnu::always_inline]] inline D8 operator-(const D8& a) {
-  SLOSH_D8_LANES(-half(a, h));
-}
-[[gnu::always_inline]] inline D8 operator*(double a, const D8& b) {
-  SLOSH_D8_LANES(broadcast(a) * half(b, h));
-}
-[[gnu::always_inline]] inline D8 operator*(const D8& b, double a) {
-  SLOSH_D8_LANES(broadcast(a) * half(b, h));
-}
-[[gnu::always_inline]] inline D8 operator+(const D8& a, double b) {
-  D8 r = a;
-  r.x[0] += b;
-  return r;
-}
-[[gnu::always_inline]] inline D8 operator+(double b, const D8& a) {
-  return a + b;
-}
-[[gnu::always_inline]] inline D8 operator-(const D8& a, double b) {
-  return a + (-b);
-}
-/// The dual product (lane 0 the product of the values, lane i the product rule).
-[[gnu::always_inline]] inline D8 operator*(const D8& a, const D8& b) {
-  const double a0 = a.x[0], b0 = b.x[0];
-  D8 r;
-  for (std::size_t h = 0; h < 2; ++h) {
-    set_half(r, h, half(a, h) * broadcast(b0) + broadcast(a0) * half(b, h));
-  }
-  r.x[0] = a0 * b0;
-  return r;
-}
-[[gnu::always_inline]] inline D8 operator/(const D8& a, const D8& b) {
-  const double inv = 1.0 / b.x[0];
-  const double q = a.x[0] * inv;
-  D8 r;
-  for (std::size_t h = 0; h < 2; ++h) {
-    set_half(r, h, (half(a, h) - broadcast(q) * half(b, h)) * broadcast(inv));
-  }
-  r.x[0] = q;
-  return r;
-}
-#undef SLOSH_D8_LANES
-
-/// Two duals (q_x, q_y), the state type the DOP853 templates integrate: the scheme's linear
-/// combinations act on all 16 lanes alike; only the products with the dual step length are dual
-/// products.
-struct DualPair {
-  std::array<D8, 2> c{};
-  DualPair() = default;
-  DualPair(double v) {  // NOLINT(google-explicit-constructor): scalars broadcast
-    c[0].x[0] = c[1].x[0] = v;
-  }
-  explicit DualPair(const D8& v) { c[0] = c[1] = v; }
-};
-
-// Element-wise arithmetic (what the DOP853 templates need), found by argument-dependent lookup.
-[[gnu::always_inline]] inline DualPair operator+(const DualPair& a, const DualPair& b) {
-  DualPair r;
-  r.c[0] = a.c[0] + b.c[0];
-  r.c[1] = a.c[1] + b.c[1];
-  return r;
-}
-[[gnu::always_inline]] inline DualPair operator-(const DualPair& a, const DualPair& b) {
-  DualPair r;
-  r.c[0] = a.c[0] - b.c[0];
-  r.c[1] = a.c[1] - b.c[1];
-  return r;
-}
-[[gnu::always_inline]] inline DualPair operator*(double a, const DualPair& b) {
-  DualPair r;
-  r.c[0] = a * b.c[0];
-  r.c[1] = a * b.c[1];
-  return r;
-}
-[[gnu::always_inline]] inline DualPair operator*(const DualPair& b, double a) {
-  return a * b;
-}
-[[gnu::always_inline]] inline DualPair operator*(const DualPair& a, const DualPair& b) {
-  DualPair r;
-  r.c[0] = a.c[0] * b.c[0];
-  r.c[1] = a.c[1] * b.c[1];
-  return r;
-}
-[[gnu::always_inline]] inline DualPair operator*(const DualPair& a, const D8& s) {
-  DualPair r;
-  r.c[0] = a.c[0] * s;
-  r.c[1] = a.c[1] * s;
-  return r;
-}
 
 /// The planar nonlinear model's right-hand side (planar_nonlinear.cpp) at a_z = 0 on dual
 /// states, linearised by hand: the value lanes are the model's formula in double, operation for
@@ -236,15 +98,9 @@ struct PlanarTangentRhs {
   }
 };
 
-/// A local maximum of the wall height over a window of the response.
-struct PlanarWindowPeak {
-  double value{};  ///< [m]
-  double time{};   ///< [s]
-};
-
 struct PlanarSensitivityPass;
 
-class PlanarSensitivity {
+class PlanarSensitivity final : public PathSensitivity {
  public:
   /// `steps_per_period`: steps per period of mode 1 (the step is also at most 50 ms).
   PlanarSensitivity(const SloshingModel& model, const PlanarPath& path, double rest_time,
@@ -253,38 +109,32 @@ class PlanarSensitivity {
   /// Integrates the model for the durations d over the motion and the rest window, or only as far
   /// as the step that reaches `until` [s] (the same steps as the whole window's, so the response
   /// up to there is the same to the last bit; times later than that are not to be read).
-  void compute(const double* d, double until = std::numeric_limits<double>::infinity());
+  void compute(const double* d, double until = std::numeric_limits<double>::infinity()) override;
   /// Fixes the least step count of every smooth piece at one more than d takes, for every
   /// compute() until the next call while the pieces keep their order (so the discrete response
   /// stays smooth in the durations during a solver's run).
-  void freeze_steps(const double* d);
+  void freeze_steps(const double* d) override;
   /// K |q(t)| at each time of `t` (any order) with its gradient over the durations.
   void eta_at(const std::vector<double>& t, std::vector<double>& values,
-              std::vector<std::array<double, kSegments>>& gradients) const;
+              std::vector<std::array<double, kSegments>>& gradients) const override;
   /// The time of the largest K |q| over [lo, hi] (any two times inside the response): the
   /// interior maximum where |q|^2 has one (its slope changes sign from + to -), else the larger
   /// end. A row bounded there follows its peak as the durations move, and its value (continuous
   /// in the durations) has the gradient at fixed time (envelope theorem).
-  [[nodiscard]] double peak_time(double lo, double hi) const;
+  [[nodiscard]] double peak_time(double lo, double hi) const override;
   /// The largest K |q| in every window of `window` seconds over [t_begin, t_end] (exact per
   /// step: the roots of the interpolant's slope).
   [[nodiscard]] std::vector<PlanarWindowPeak> window_peaks(double t_begin, double t_end,
-                                                           double window) const;
-  [[nodiscard]] double motion_time() const { return motion_time_; }
+                                                           double window) const override;
+  [[nodiscard]] double motion_time() const override { return motion_time_; }
 
  private:
-  struct Piece {
-    Dual7 t_begin, t_end;
-    std::size_t segment{}, element{};
-    bool rest{};
-  };
   struct Stored {
     D8 t0, h;
     DensePoly<DualPair> q;
   };
   friend struct PlanarSensitivityPass;
   double until_{std::numeric_limits<double>::infinity()};
-  [[nodiscard]] std::vector<Piece> pieces(const std::array<Dual7, kSegments>& d);
   [[nodiscard]] std::size_t step_at(double t) const;
 
   SloshingModel model_;
@@ -292,10 +142,8 @@ class PlanarSensitivity {
   double rest_time_;
   double h_max_;
   double motion_time_{};
-  // The law's state at each segment start and its jerks, in duals (set by pieces()).
-  std::array<Dual7, kSegments + 1> t_start_{}, s_start_{}, v_start_{}, a_start_{};
-  std::array<Dual7, kSegments> jerk_{};
-  std::vector<std::size_t> frozen_;      // least step count per piece
+  PathLawDuals law_;                 // the law's state at each segment start (set by its pieces())
+  std::vector<std::size_t> frozen_;  // least step count per piece
   std::vector<std::size_t> frozen_key_;  // the pieces' (segment, element) at the freeze
   std::vector<Stored> steps_;
   std::vector<double> t0_values_;

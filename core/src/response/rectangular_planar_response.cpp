@@ -16,32 +16,14 @@
 #include "response/nonlinear_scheme.hpp"
 #include "response/planar_scheme.hpp"
 #include "response/planar_spin.hpp"
+#include "response/rectangular_planar_model.hpp"
 
 namespace slosh {
 
-namespace {
+namespace detail {
 
-/// The share of the larger direction's wave below which the other is round-off, at rest.
-constexpr double kRestShare{1e-9};
-
-/// The excitation in the tank's frame at one instant.
-struct TankExcitation {
-  double a[2]{};        ///< along L, along W [m/s^2]
-  double g_scale{1.0};  ///< 1 + a_z / g
-};
-
-/// One direction's coefficients.
-struct Direction {
-  double side{};
-  double zeta{};
-  std::array<double, kMaxModes> w2{}, two_zw{}, gain{};
-  // Nonlinear dominant mode and second mode (RectangularNonlinearDirection).
-  double alpha{}, K{}, k_raw{}, even_gain{}, s2{}, two_zs{}, d4{}, d5{};
-  double fastest{};
-};
-
-Direction direction_of(const SloshingModel& m, bool nonlinear) {
-  Direction d;
+TankDirection tank_direction(const SloshingModel& m, bool nonlinear) {
+  TankDirection d;
   d.side = m.radius;
   d.zeta = m.zeta;
   for (int n = 0; n < m.modes(); ++n) {
@@ -66,64 +48,15 @@ Direction direction_of(const SloshingModel& m, bool nonlinear) {
   return d;
 }
 
-/// Both directions with M modes each. Linear state per direction: x_1..x_M (the sloshing
-/// masses' displacements [m]). Nonlinear: xbar (the dominant mode, [-]), x_2..x_M, b_2 (the
-/// second mode's elevation without the height gain [m]).
-template <std::size_t M, bool Nonlinear>
-struct TankModel {
-  static constexpr std::size_t kPer = Nonlinear ? M + 1 : M;
-  static constexpr std::size_t N = 2 * kPer;
-  using V = detail::Vec<N>;
-  std::array<Direction, 2> dir;
+}  // namespace detail
 
-  V rhs(const V& x, const V& v, const TankExcitation& e) const {
-    V out;
-    for (std::size_t d = 0; d < 2; ++d) {
-      const Direction& c = dir[d];
-      const std::size_t o = d * kPer;
-      const double a = e.a[d];
-      if constexpr (Nonlinear) {
-        const double xb = x[o], vb = v[o];
-        const double xdd =
-            -c.two_zw[0] * vb - c.w2[0] * e.g_scale * xb * (1.0 + c.alpha * xb * xb) - a / c.side;
-        out[o] = xdd;
-        for (std::size_t n = 1; n < M; ++n) {
-          out[o + n] = -c.two_zw[n] * v[o + n] - c.w2[n] * e.g_scale * x[o + n] - a;
-        }
-        const double beta = c.k_raw * xb, beta_dot = c.k_raw * vb, beta_dd = c.k_raw * xdd;
-        out[o + M] = -c.two_zs * v[o + M] - c.s2 * e.g_scale * x[o + M] - c.d4 * beta * beta_dd -
-                     c.d5 * beta_dot * beta_dot;
-      } else {
-        for (std::size_t n = 0; n < M; ++n) {
-          out[o + n] = -c.two_zw[n] * v[o + n] - c.w2[n] * e.g_scale * x[o + n] - a;
-        }
-      }
-    }
-    return out;
-  }
+namespace {
 
-  /// The four signals over a step: odd L, even L, odd W, even W.
-  void signals(const detail::DensePoly<V>& p, std::array<std::array<double, 8>, 4>& eta) const {
-    for (std::size_t k = 0; k < detail::kDenseTerms; ++k) {
-      for (std::size_t d = 0; d < 2; ++d) {
-        const Direction& c = dir[d];
-        const std::size_t o = d * kPer;
-        double odd = 0.0, even = 0.0;
-        if constexpr (Nonlinear) {
-          odd = c.K * p[k][o];
-          for (std::size_t n = 1; n < M; ++n) odd += c.gain[n] * p[k][o + n];
-          even = c.even_gain * p[k][o + M];
-        } else {
-          for (std::size_t n = 0; n < M; ++n) odd += c.gain[n] * p[k][o + n];
-        }
-        eta[2 * d][k] = odd;
-        eta[2 * d + 1][k] = even;
-      }
-    }
-  }
+/// The share of the larger direction's wave below which the other is round-off, at rest.
+constexpr double kRestShare{1e-9};
 
-  double fastest_omega() const { return std::max(dir[0].fastest, dir[1].fastest); }
-};
+using detail::TankExcitation;
+using detail::TankModel;
 
 /// Integrates the model over the drive and the rest window, keeping every step.
 template <std::size_t M, bool Nonlinear>
@@ -131,10 +64,10 @@ void integrate_tank(const RectangularModel& model, const PlanarDrive& drive, dou
                     double rest_time, const PlanarOptions& options, const detail::SpinTrack& spin,
                     std::vector<RectangularPlanarResponse::Step>& steps, double& fastest) {
   using Model = TankModel<M, Nonlinear>;
-  using V = typename Model::V;
+  using V = detail::Vec<Model::N>;
   Model m;
-  m.dir[0] = direction_of(model.along_length, Nonlinear);
-  m.dir[1] = direction_of(model.along_width, Nonlinear);
+  m.dir[0] = detail::tank_direction(model.along_length, Nonlinear);
+  m.dir[1] = detail::tank_direction(model.along_width, Nonlinear);
   fastest = m.fastest_omega();
   const double h_max =
       std::min(options.max_step, 2.0 * std::numbers::pi / fastest / options.steps_per_period);

@@ -4,8 +4,12 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <memory>
 #include <optional>
 
+#include "response/tank_planar_sensitivity.hpp"
+#include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
@@ -236,14 +240,7 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
                        o.plan.durations == uniform_durations(c.format.motion_time);
   o.prediction = uniform ? c.uniform : c.predict(o.plan.law, &o.model_warning);
   keep_better_mirror(c, o);
-  if (s == Strategy::kTimeDomain) {
-    // (A rectangular tank: no planar nonlinear model with exact sensitivities to optimise.)
-    o.detail =
-        "time_domain optimised the tank's models on a straight line of the path's length (not "
-        "along the path: the tank's models along it have no exact sensitivities here); the "
-        "normal acceleration s'^2/rho on the arcs is not shaped, and the figures are " +
-        std::string(c.models()) + " along the path";
-  } else if (s != Strategy::kBaseline) {
+  if (s != Strategy::kBaseline) {
     o.detail = to_string(s) +
                " shapes the tangential acceleration s'' as on a straight line of the path's "
                "length; the normal acceleration s'^2/rho on the arcs is not shaped, and the "
@@ -260,14 +257,52 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
   return o;
 }
 
+/// A rectangular tank's time_domain target: its models along the path, the nonlinear one where
+/// the uniform law's verification keeps it (within its range), else the linear one; each law is
+/// judged by its own verification (rectangular_planar_nonlinear_peaks), as the plan is.
+detail::PathTarget tank_target(const PathContext& c, bool& nonlinear) {
+  const RectangularModel& tank = *c.tank;
+  const double frame = tank_frame_angle(c.path, tank.orientation_deg);
+  const double rest = c.options.rest_time, stroke = c.format.stroke;
+  const PlanarPath& path = c.path;
+  const MotionLaw uniform = SevenSegmentLaw(uniform_durations(c.format.motion_time), stroke).law();
+  nonlinear =
+      rectangular_planar_nonlinear_peaks(tank, PlanarDrive(path, uniform), frame, rest).nonlinear;
+  const RectangularPlanarModel which =
+      nonlinear ? RectangularPlanarModel::kNonlinear : RectangularPlanarModel::kLinear;
+  detail::PathTarget t;
+  t.path = &path;
+  t.omega = std::max(tank.along_length.omega1(), tank.along_width.omega1());
+  t.sensitivity = [&tank, &path, frame, rest, which](double steps_per_period) {
+    return std::make_unique<detail::TankPlanarSensitivity>(tank, path, frame, rest, which,
+                                                           steps_per_period);
+  };
+  t.verified_peak = [&tank, &path, frame, rest, stroke](const Durations& d, bool motion) {
+    const PlanarDrive drive(path, SevenSegmentLaw(d, stroke).law());
+    const PlanarPeaks p =
+        rectangular_planar_nonlinear_peaks(tank, drive, frame, rest).peaks.highest;
+    return motion ? p.motion.value : p.rest.value;
+  };
+  return t;
+}
+
+/// What time_domain optimised, for its message.
+std::string optimised_models(const PathContext& c, bool nonlinear) {
+  if (!c.tank) return "the planar nonlinear model along the path";
+  return std::string("the tank's ") + (nonlinear ? "nonlinear" : "linear") +
+         " model along the path (its modes in its own frame, the highest corner";
+}
+
 PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
                             const std::vector<Durations>& seeds) {
-  if (c.tank) return run_tangential(c, Strategy::kTimeDomain);
   detail::StrategyContext sc{c.format, c.options, c.model,
                              detail::DurationSpace(c.format, c.options), c.deadline};
   detail::set_design(sc);
   detail::set_references(sc, c.uniform.nonlinear.motion.value);
-  detail::StrategyOutcome out = detail::solve_path_time_domain(sc, c.path, seeds);
+  bool nonlinear = true;
+  const detail::PathTarget target =
+      c.tank ? tank_target(c, nonlinear) : detail::planar_target(sc, c.path);
+  detail::StrategyOutcome out = detail::solve_path_time_domain(sc, target, seeds);
   if (out.status == SolveStatus::kFailed) out.durations = uniform_durations(c.format.motion_time);
   PathOutcome o;
   o.plan = base;
@@ -288,10 +323,10 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
   r.prediction.kinematics = r.law.summary();
   o.prediction = c.predict(r.law);
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
-  o.detail = std::string("time_domain optimised the planar nonlinear model along the path (") +
+  o.detail = "time_domain optimised " + optimised_models(c, nonlinear) + (c.tank ? "; " : " (") +
              (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
                      : "min eta_rest s.t. eta_motion <= " + sig3(sc.eta_motion_max * 1e3)) +
-             " mm over the whole wall, exact gradients)";
+             (c.tank ? " mm, exact gradients)" : " mm over the whole wall, exact gradients)");
   if (!out.detail.empty()) o.detail = out.detail + "; " + o.detail;
   verify_on_path(c, o, true);
   return o;
@@ -601,14 +636,13 @@ PlanResult run_single(const PathContext& c, const PlanResult& base, Strategy s) 
     return finish(c, s, std::move(o), std::move(detail));
   }
   // Its starts verified along the path: the uniform law and (fresh plans) the spectral optima,
-  // which also seed the cylinder's search (a rectangular tank's time_domain plans on the line).
+  // which also seed its search.
   std::vector<PathOutcome> starts;
   starts.push_back(run_tangential(c, Strategy::kBaseline));
   if (!c.options.warm_start) {
     for (PathOutcome& o : spectral_outcomes(c)) starts.push_back(std::move(o));
   }
-  std::vector<Durations> seeds;
-  if (!c.tank) seeds = seeds_of(starts);
+  const std::vector<Durations> seeds = seeds_of(starts);
   PathOutcome o = run_time_domain(c, base, seeds);
   std::vector<const PathOutcome*> verified;
   for (const PathOutcome& k : starts) verified.push_back(&k);

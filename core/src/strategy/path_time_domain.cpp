@@ -1,12 +1,14 @@
-// time_domain along a planar path: the epigraph problem of time_domain_strategy.cpp on the planar
-// nonlinear model (the wave height |E| = K |q| at the wall in the direction of q), closed by
-// exchange against the dense response of the solver's point and the verified prediction.
+// time_domain along a planar path: the epigraph problem of time_domain_strategy.cpp on a model
+// along the path (the cylinder's planar nonlinear model, the wave height |E| = K |q| at the wall in
+// the direction of q; a rectangular tank's models, the highest corner), closed by exchange
+// against the dense response of the solver's point and the verified prediction.
 
 #include "strategy/path_time_domain.hpp"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <numbers>
 #include <optional>
 
@@ -81,7 +83,7 @@ struct LawPoint {
 
 /// The sensitivity and its last evaluation.
 struct Workspace {
-  PlanarSensitivity sensitivity;
+  std::unique_ptr<PathSensitivity> sensitivity;
   double follow{};            ///< half span of a following row [s]
   double T{};                 ///< the motion window's end [s]
   double end{};               ///< the rest window's end [s]
@@ -129,16 +131,16 @@ void evaluate(Workspace& ws, const Samples& samples, double eta_ref, const doubl
     until =
         std::max(until, samples.t[k] + (static_cast<bool>(samples.follow[k]) ? ws.follow : 0.0));
   }
-  ws.sensitivity.compute(x, until);
+  ws.sensitivity->compute(x, until);
   ws.times = samples.t;
   for (std::size_t k = 0; k < ws.times.size(); ++k) {
     if (!static_cast<bool>(samples.follow[k])) continue;
     const bool motion = static_cast<bool>(samples.motion[k]);
     const double lo = std::max(samples.t[k] - ws.follow, motion ? 0.0 : ws.T);
     const double hi = std::min(samples.t[k] + ws.follow, motion ? ws.T : ws.end);
-    ws.times[k] = ws.sensitivity.peak_time(lo, hi);
+    ws.times[k] = ws.sensitivity->peak_time(lo, hi);
   }
-  ws.sensitivity.eta_at(ws.times, ws.values, ws.gradients);
+  ws.sensitivity->eta_at(ws.times, ws.values, ws.gradients);
   for (double& v : ws.values) v /= eta_ref;
   for (auto& g : ws.gradients) {
     for (double& gi : g) gi /= eta_ref;
@@ -172,7 +174,7 @@ double acceleration_row(const PlanarPath& path, const double* x, const LawPoint&
 /// The problem's data that outlives one solve.
 struct Setup {
   const StrategyContext* c;
-  const PlanarPath* path;
+  const PathTarget* target;
   bool minimise_motion;
   double bound;  ///< the solver's bound on the other window [m]
   Samples samples;
@@ -204,7 +206,7 @@ NlpProblem epigraph(Setup& s, Workspace& ws) {
     }
     for (int r = 0; r < points; ++r) {
       std::array<double, kSegments> grad{};
-      g[count + r] = acceleration_row(*s.path, x, s.points[static_cast<std::size_t>(r)],
+      g[count + r] = acceleration_row(*s.target->path, x, s.points[static_cast<std::size_t>(r)],
                                       *s.c->space.limits.a_max, grad.data());
       if (jac != nullptr) {
         double* row = jac + static_cast<std::ptrdiff_t>(count + r) * n;
@@ -220,18 +222,18 @@ NlpProblem epigraph(Setup& s, Workspace& ws) {
     }
   };
   p.before_start = [&ws](const double* x0) {
-    ws.sensitivity.freeze_steps(x0);
+    ws.sensitivity->freeze_steps(x0);
     ws.valid = false;
     restore_evaluation(ws, x0);
   };
   return p;
 }
 
-Samples initial_samples(const StrategyContext& c) {
+Samples initial_samples(const StrategyContext& c, double omega) {
   Samples s;
   const double T = c.format.motion_time;
   const double rest = c.options.rest_time;
-  const double dt = 2.0 * std::numbers::pi / c.model.omega1() / kSamplesPerPeriod;
+  const double dt = 2.0 * std::numbers::pi / omega / kSamplesPerPeriod;
   const auto n_motion = static_cast<std::size_t>(std::ceil(T / dt));
   for (std::size_t i = 1; i <= n_motion; ++i)
     s.add(T * static_cast<double>(i) / static_cast<double>(n_motion), true);
@@ -260,7 +262,7 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
   std::vector<std::vector<double>> x0 = as_vectors(starts);
   ws.kept.clear();
   for (std::vector<double>& x : x0) {
-    ws.sensitivity.freeze_steps(x.data());
+    ws.sensitivity->freeze_steps(x.data());
     ws.valid = false;
     evaluate(ws, s.samples, c.eta_ref, x.data());
     keep_evaluation(ws);
@@ -301,17 +303,17 @@ MultiStartResult solve_round(Setup& s, Workspace& ws, const std::vector<Duration
 /// raises `bounded_peak` to the bounded window's largest dense peak [m].
 bool add_peaks(Setup& s, Workspace& ws, const double* x, double bound, double& bounded_peak) {
   const StrategyContext& c = *s.c;
-  ws.sensitivity.compute(x);
+  ws.sensitivity->compute(x);
   ws.valid = false;
   const double T = c.format.motion_time;
-  const double window = 2.0 * std::numbers::pi / c.model.omega1() / kWindowsPerPeriod;
+  const double window = 2.0 * std::numbers::pi / s.target->omega / kWindowsPerPeriod;
   const double z = x[kSegments] * c.eta_ref;
   bool added = false;
   for (const bool motion : {true, false}) {
     const bool free = motion == s.minimise_motion;
     const double limit = free ? z * (1.0 + kObjectiveTolerance) : bound * (1.0 + kDenseTolerance);
-    const auto peaks = motion ? ws.sensitivity.window_peaks(0.0, T, window)
-                              : ws.sensitivity.window_peaks(T, T + c.options.rest_time, window);
+    const auto peaks = motion ? ws.sensitivity->window_peaks(0.0, T, window)
+                              : ws.sensitivity->window_peaks(T, T + c.options.rest_time, window);
     for (const PlanarWindowPeak& p : peaks) {
       if (!free) bounded_peak = std::max(bounded_peak, p.value);
       if (p.value <= limit) continue;
@@ -348,7 +350,7 @@ bool add_acceleration_point(Setup& s, const Durations& d) {
   const StrategyContext& c = *s.c;
   if (!c.space.limits.a_max) return false;
   const SevenSegmentLaw law(d, c.format.stroke);
-  const PathAcceleration a = path_acceleration(*s.path, law.law());
+  const PathAcceleration a = path_acceleration(*s.target->path, law.law());
   if (a.total <= *c.space.limits.a_max * (1.0 + kDenseTolerance)) return false;
   const auto switches = law.switch_times();
   std::size_t k = 0;
@@ -361,12 +363,9 @@ bool add_acceleration_point(Setup& s, const Durations& d) {
   return true;
 }
 
-/// The bounded window's peak of the verified planar nonlinear prediction of d [m].
-double verified_bounded_peak(const StrategyContext& c, const PlanarPath& path, bool minimise_motion,
-                             const Durations& d) {
-  const PlanarDrive drive(path, SevenSegmentLaw(d, c.format.stroke).law());
-  const PlanarPeaks p = planar_nonlinear_peaks(c.model, drive, c.options.rest_time);
-  return minimise_motion ? p.rest.value : p.motion.value;
+/// The bounded window's peak of the verified prediction of d [m].
+double verified_bounded_peak(const PathTarget& target, bool minimise_motion, const Durations& d) {
+  return target.verified_peak(d, !minimise_motion);
 }
 
 }  // namespace
@@ -375,11 +374,11 @@ namespace {
 
 /// One phase: min the free window's peak s.t. the other window's peak <= bound, from `starts`,
 /// closed by exchange (dense check of the sensitivities' response, then the verified prediction).
-StrategyOutcome run_phase(const StrategyContext& c, const PlanarPath& path, bool minimise_motion,
+StrategyOutcome run_phase(const StrategyContext& c, const PathTarget& path, bool minimise_motion,
                           double bound, std::vector<Durations> starts) {
-  Setup s{&c, &path, minimise_motion, bound, initial_samples(c), initial_points(c)};
-  const double period = 2.0 * std::numbers::pi / c.model.omega1();
-  Workspace ws{PlanarSensitivity(c.model, path, c.options.rest_time, kSensitivityStepsPerPeriod),
+  Setup s{&c, &path, minimise_motion, bound, initial_samples(c, path.omega), initial_points(c)};
+  const double period = 2.0 * std::numbers::pi / path.omega;
+  Workspace ws{path.sensitivity(kSensitivityStepsPerPeriod),
                kFollowPeriods * period,
                c.format.motion_time,
                c.format.motion_time + c.options.rest_time,
@@ -422,7 +421,7 @@ StrategyOutcome run_phase(const StrategyContext& c, const PlanarPath& path, bool
     bool added = add_peaks(s, ws, total.best.x.data(), bound, dense);
     added = add_acceleration_point(s, d) || added;
     // The bound is met only on the prediction the plan is verified by.
-    const double value = verified_bounded_peak(c, path, minimise_motion, d);
+    const double value = verified_bounded_peak(path, minimise_motion, d);
     if (dense > 0.0) scheme = std::max(0.0, value / dense - 1.0);
     miss = value > bound * (1.0 + kDenseTolerance) ? value / bound - 1.0 : 0.0;
     if (!added && miss == 0.0) break;
@@ -450,7 +449,7 @@ constexpr int kLeastRandomStarts{4};
 
 /// The phase from the starts `from` adds to `starts` (the families and draws of with_families),
 /// counting `o`'s work too; nullopt when it adds none.
-std::optional<StrategyOutcome> phase_from_families(const StrategyContext& c, const PlanarPath& path,
+std::optional<StrategyOutcome> phase_from_families(const StrategyContext& c, const PathTarget& path,
                                                    bool motion, double bound,
                                                    const std::vector<Durations>& starts,
                                                    const std::vector<Durations>& from,
@@ -468,7 +467,7 @@ std::optional<StrategyOutcome> phase_from_families(const StrategyContext& c, con
 /// Objective "rest": the least residual wave sits in narrow basins the first starts often miss
 /// (12.9 mm at rest "optimal" at 1.55 s on a line-arc-line path, 3 mm from a family): the
 /// families and draws run too, and the lower verified eta_rest of `o` and theirs is kept.
-StrategyOutcome rest_from_families(const StrategyContext& c, const PlanarPath& path,
+StrategyOutcome rest_from_families(const StrategyContext& c, const PathTarget& path,
                                    const std::vector<Durations>& starts, double bound,
                                    StrategyOutcome o) {
   const std::vector<Durations> from = with_families(c, starts, kLeastRandomStarts);
@@ -477,8 +476,8 @@ StrategyOutcome rest_from_families(const StrategyContext& c, const PlanarPath& p
   if (!wider) return o;
   const bool better =
       wider->status != SolveStatus::kInfeasible &&
-      verified_bounded_peak(c, path, true, wider->durations) <
-          verified_bounded_peak(c, path, true, o.durations) * (1.0 - kObjectiveTolerance);
+      verified_bounded_peak(path, true, wider->durations) <
+          verified_bounded_peak(path, true, o.durations) * (1.0 - kObjectiveTolerance);
   if (better) return std::move(*wider);
   o.evaluations = wider->evaluations;
   o.starts = wider->starts;
@@ -486,7 +485,7 @@ StrategyOutcome rest_from_families(const StrategyContext& c, const PlanarPath& p
 }
 
 /// The least infeasible law when no phase met the bound from `from`, the first phase's outcome `o`.
-StrategyOutcome least_infeasible(const StrategyContext& c, const PlanarPath& path, bool motion,
+StrategyOutcome least_infeasible(const StrategyContext& c, const PathTarget& path, bool motion,
                                  double bound, const std::vector<Durations>& starts,
                                  const std::vector<Durations>& from, StrategyOutcome o) {
   // Least infeasible (as time_domain on a line): SLSQP from a start far outside the bound often
@@ -512,7 +511,7 @@ StrategyOutcome least_infeasible(const StrategyContext& c, const PlanarPath& pat
   std::vector<Durations> met;  // the laws that meet the bound, distinct
   for (const Durations& d : candidates) {
     if (!keeps_limits(c.space, c.space.limits, d, kLimitSlack)) continue;
-    const double v = verified_bounded_peak(c, path, motion, d);
+    const double v = verified_bounded_peak(path, motion, d);
     if (v <= bound * (1.0 + kDenseTolerance) && std::find(met.begin(), met.end(), d) == met.end()) {
       met.push_back(d);
     }
@@ -619,7 +618,7 @@ StrategyOutcome rest_from_motion_law(const StrategyContext& c, const PlanarPath&
 }
 
 /// time_domain along the path from starts that keep the context's machine limits.
-StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
+StrategyOutcome solve_from(const StrategyContext& c, const PathTarget& path,
                            const std::vector<Durations>& starts) {
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   const double bound = motion ? c.options.eta_rest_max : c.eta_motion_max;
@@ -646,7 +645,25 @@ StrategyOutcome solve_from(const StrategyContext& c, const PlanarPath& path,
 
 }  // namespace
 
-StrategyOutcome solve_path_time_domain(const StrategyContext& c, const PlanarPath& path,
+PathTarget planar_target(const StrategyContext& c, const PlanarPath& path) {
+  PathTarget t;
+  t.path = &path;
+  t.omega = c.model.omega1();
+  const SloshingModel model = c.model;
+  const double rest = c.options.rest_time;
+  const double stroke = c.format.stroke;
+  t.sensitivity = [model, &path, rest](double steps_per_period) {
+    return std::make_unique<PlanarSensitivity>(model, path, rest, steps_per_period);
+  };
+  t.verified_peak = [model, &path, rest, stroke](const Durations& d, bool motion) {
+    const PlanarDrive drive(path, SevenSegmentLaw(d, stroke).law());
+    const PlanarPeaks p = planar_nonlinear_peaks(model, drive, rest);
+    return motion ? p.motion.value : p.rest.value;
+  };
+  return t;
+}
+
+StrategyOutcome solve_path_time_domain(const StrategyContext& c, const PathTarget& path,
                                        const std::vector<Durations>& seeds) {
   std::vector<Durations> starts = c.space.starts(0);
   if (!c.space.warm_start) starts.resize(1);
