@@ -563,7 +563,7 @@ StrategyOutcome least_infeasible(const StrategyContext& c, const PathTarget& pat
 /// eta_rest 7.11 mm "optimal" with eta_motion <= 63 mm, while that law reaches 3.00 mm with
 /// eta_motion 9 mm). That phase runs from the same starts; when its law meets the bound and rests
 /// lower than `o`, the rest phase runs again from it, and the lower verified eta_rest is kept.
-StrategyOutcome rest_from_motion_law(const StrategyContext& c, const PlanarPath& path,
+StrategyOutcome rest_from_motion_law(const StrategyContext& c, const PathTarget& path,
                                      const std::vector<Durations>& starts, double bound,
                                      StrategyOutcome o) {
   if (c.deadline.expired()) return o;
@@ -586,19 +586,19 @@ StrategyOutcome rest_from_motion_law(const StrategyContext& c, const PlanarPath&
   o.starts += motion.starts;
   if (motion.status == SolveStatus::kFailed || c.deadline.expired() ||
       !keeps_limits(c.space, c.space.limits, motion.durations, kLimitSlack) ||
-      verified_bounded_peak(c, path, false, motion.durations) > bound * (1.0 + kDenseTolerance)) {
+      verified_bounded_peak(path, false, motion.durations) > bound * (1.0 + kDenseTolerance)) {
     return o;
   }
   const double reached = o.status == SolveStatus::kFailed
                              ? std::numeric_limits<double>::infinity()
-                             : verified_bounded_peak(c, path, true, o.durations);
-  const double seed = verified_bounded_peak(c, path, true, motion.durations);
+                             : verified_bounded_peak(path, true, o.durations);
+  const double seed = verified_bounded_peak(path, true, motion.durations);
   if (!(seed < reached * (1.0 - kObjectiveTolerance))) return o;
   StrategyOutcome from = run_phase(c, path, /*minimise_motion=*/false, bound, {motion.durations});
   from.evaluations += o.evaluations;
   from.starts += o.starts;
   if (from.status != SolveStatus::kInfeasible && from.status != SolveStatus::kFailed &&
-      verified_bounded_peak(c, path, true, from.durations) <= seed) {
+      verified_bounded_peak(path, true, from.durations) <= seed) {
     return from;
   }
   // The rest phase from it ended no lower (the budget ran out, or SLSQP stalled off it): the law
@@ -609,7 +609,7 @@ StrategyOutcome rest_from_motion_law(const StrategyContext& c, const PlanarPath&
   o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kAcceptable;
   o.detail =
       "eta_motion <= " + sig3(bound * 1e3) + " mm met (" +
-      sig3(verified_bounded_peak(c, path, false, motion.durations) * 1e3) +
+      sig3(verified_bounded_peak(path, false, motion.durations) * 1e3) +
       " mm) by the law of min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3) +
       " mm, whose eta_rest " + sig3(seed * 1e3) + " mm is below the " + sig3(reached * 1e3) +
       " mm the rest objective's search reached; the eta_rest objective was not minimised "
