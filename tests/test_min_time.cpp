@@ -323,6 +323,55 @@ TEST(MinTime, SummaryNamesTheWinnerAndTheGainOverTheUniformLaw) {
   EXPECT_NEAR(*s.gain_cycles_per_min, 75.0 - 50.0, 1e-12);
 }
 
+// SPEC §5 "Honest status" in the headline: a T_min whose plan is not optimal by its own warnings
+// wins only when no strategy's T_min plan is optimal, and the summary then says why.
+TEST(MinTime, SummaryPrefersATMinWhosePlanIsOptimal) {
+  std::vector<MinTimeResult> results(3);
+  results[0].strategy = Strategy::kBaseline;
+  results[0].status = SolveStatus::kOptimal;
+  results[0].t_min = 1.2;
+  results[0].t_min_final = true;
+  results[1].strategy = Strategy::kTimeDomain;
+  results[1].status = SolveStatus::kAcceptable;
+  results[1].t_min = 0.8;
+  results[1].t_min_final = true;
+  results[1].not_optimal = "the predicted sloshing exceeds the free board (liquid will spill)";
+  results[2].strategy = Strategy::kNotch;
+  results[2].status = SolveStatus::kOptimal;
+  results[2].t_min = 1.0;
+  results[2].t_min_final = true;
+  MinTimeSummary s = summarize_min_time(results);
+  ASSERT_TRUE(s.winner);
+  EXPECT_EQ(*s.winner, 2u);
+  EXPECT_EQ(s.winner_not_optimal, "");
+  EXPECT_NEAR(*s.gain_pct, 100.0 * 0.2 / 1.2, 1e-12);
+  // None optimal: the least T_min wins, saying why it is not optimal.
+  results[0].not_optimal = results[2].not_optimal = "x";
+  s = summarize_min_time(results);
+  ASSERT_TRUE(s.winner);
+  EXPECT_EQ(*s.winner, 1u);
+  EXPECT_EQ(s.winner_not_optimal, results[1].not_optimal);
+}
+
+TEST(MinTime, ATMinWhosePlanSpillsByTheLargerModelIsAcceptableNotOptimal) {
+  // The thesis container, eta_motion <= the 68 mm free board on the nonlinear model: at the
+  // uniform law's T_min (0.682 s) the linear model's wave in motion (95 mm) is over the free
+  // board and deeper than the 82 mm fill, so the plan there says the liquid will spill.
+  const MinTimeResult r = min_time(thesis_container(), Strategy::kBaseline, issue_options());
+  ASSERT_TRUE(r.t_min && r.plan) << r.message;
+  ASSERT_GT(r.plan->prediction.linear.motion.value, 0.082);
+  ASSERT_LE(r.plan->prediction.nonlinear.motion.value, 0.068 * (1.0 + 1e-6));
+  EXPECT_EQ(r.plan->status, SolveStatus::kAcceptable) << r.plan->message;
+  EXPECT_EQ(r.status, SolveStatus::kAcceptable) << r.message;
+  const std::string why =
+      "the predicted sloshing exceeds the free board (liquid will spill); the predicted wave is "
+      "deeper than the fill (the liquid uncovers the bottom)";
+  EXPECT_EQ(r.not_optimal, why);
+  EXPECT_TRUE(
+      r.message.starts_with("not optimal: the plan at T_min is not (" + why + "); T_min = "))
+      << r.message;
+}
+
 }  // namespace
 }  // namespace slosh
 

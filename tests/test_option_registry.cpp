@@ -37,7 +37,10 @@ json request(const std::string& rest = "") {
 // identical requests must keep identical recipes. The key is the SHA-256 of that recipe with the
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
-// kVersion. The planner version in the recipe is "plan-v11" since a plan whose law spills, is
+// kVersion. The planner version in the recipe is "plan-v12" since every warning carries its kind
+// (the plan's warning_codes), a wave deeper than the fill makes a plan `acceptable`, and a
+// rectangular tank's motion is too short only when no law that moves one way can leave much less
+// than the uniform law's residual wave; "plan-v11" was since a plan whose law spills, is
 // worse than the uniform law or cannot act on a too short motion is `acceptable`, not `optimal`,
 // and a rectangular tank's linear-theory warning judges the wave after the motion too; "plan-v10"
 // was since fir_chain, iir, the shaper

@@ -309,7 +309,7 @@ TEST(RectangularSpatial, TimeDomainOnATableIsNeverWorseThanItsOwnStarts) {
   EXPECT_EQ(r.message.substr(0, 94),
             "time_domain acceptable: notch's law, one of time_domain's starts, meets eta_rest <= 3 "
             "mm along");
-  for (const std::string& w : r.warnings)
+  for (const std::string& w : warning_texts(r.warnings))
     EXPECT_EQ(w.find("worse_than_baseline"), std::string::npos);
 }
 

@@ -406,8 +406,10 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   r.warnings =
       validity_warnings(c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
                         o.prediction.nonlinear.motion.value, true, o.prediction.linear.rest.value);
-  if (!o.model_warning.empty()) r.warnings.push_back(o.model_warning);
-  if (!o.worse.empty()) r.warnings.push_back(o.worse);
+  if (!o.model_warning.empty()) {
+    r.warnings.push_back({WarningKind::kNonlinearModelNotValid, o.model_warning});
+  }
+  if (!o.worse.empty()) r.warnings.push_back({WarningKind::kWorseThanBaseline, o.worse});
   detail::apply_optimal_caveat(r.status, detail, r.warnings, law_strategy);
   r.message = path_message(c, r, o.prediction, std::move(detail));
   return r;
