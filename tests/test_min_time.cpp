@@ -24,6 +24,22 @@ Format thesis_container() {
   return f;
 }
 
+/// The search found its T_min: `optimal`, or `acceptable` because the plan at T_min is not
+/// optimal by its own warnings (SPEC §5; on the thesis container with eta_motion <= the free board
+/// on the nonlinear model, the linear model's wave at some strategies' T_min spills), which the
+/// message then leads with.
+::testing::AssertionResult found_t_min(const MinTimeResult& r) {
+  if (r.status == SolveStatus::kOptimal && r.not_optimal.empty()) {
+    return ::testing::AssertionSuccess();
+  }
+  if (r.status == SolveStatus::kAcceptable && !r.not_optimal.empty() && r.plan &&
+      r.plan->status == SolveStatus::kAcceptable &&
+      r.message.starts_with("not optimal: the plan at T_min is not (" + r.not_optimal + "); ")) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << to_string(r.status) << ": " << r.message;
+}
+
 MinTimeOptions issue_options() {
   MinTimeOptions o;
   o.free_board_margin = 0.0;  // eta_motion <= the free board, 68 mm
@@ -175,7 +191,7 @@ TEST(MinTime, EveryStrategyOnTheThesisContainerIsFeasibleAtTMinAndNotOneMillisec
         Strategy::kTimeDomain, Strategy::kFirChain, Strategy::kShaper}) {
     SCOPED_TRACE(to_string(s));
     const MinTimeResult r = min_time(f, s, o);
-    ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+    ASSERT_TRUE(found_t_min(r));
     EXPECT_FALSE(r.best);  // only infeasible searches report their least excess
     EXPECT_LE(r.plans, o.max_plans);
     // SPEC §8/§9: a search costs at most 30 plan solves per strategy on the thesis container (the
@@ -234,7 +250,7 @@ TEST(MinTime, TimeDomainNearMissesBelowTMinAreInfeasibleFromThePlannersOwnStarts
   const Format f = thesis_container();
   const MinTimeOptions o = issue_options();
   const MinTimeResult r = min_time(f, Strategy::kTimeDomain, o);
-  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  ASSERT_TRUE(found_t_min(r));
   int checked = 0;
   for (const MinTimePoint& p : r.curve) {
     const double k = (p.motion_time - r.scan_start) / o.scan_step;

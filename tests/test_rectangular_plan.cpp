@@ -55,6 +55,33 @@ PlanOptions quick_options() {
   return o;
 }
 
+/// The least residual wave a law of duration T that moves one way leaves, as a share of the
+/// uniform law's, re-typed from docs/models.md: per driven direction and mode n,
+/// eta_gain_n stroke cos(w_n T / 2) (0 from w_n T = pi) summed, over eta_gain_n |X_a(w_n)| / w_n
+/// summed, X_a of the uniform law by the midpoint rule on 20000 samples of its acceleration.
+double too_short_share(const RectangularModel& m, double stroke, double T) {
+  const MotionLaw law = SevenSegmentLaw(uniform_durations(T), stroke).law();
+  constexpr int kSamples = 20000;
+  double floor = 0.0, reference = 0.0;
+  for (const DrivenDirection& d : driven_directions(m)) {
+    for (std::size_t n = 0; n < d.model.omega.size(); ++n) {
+      const double w = d.model.omega[n], gain = std::abs(d.model.eta_gain[n]);
+      if (w * T < kPi) floor += gain * stroke * std::cos(0.5 * w * T);
+      std::complex<double> X{0.0, 0.0};
+      for (int i = 0; i < kSamples; ++i) {
+        const double t = (i + 0.5) * T / kSamples;
+        X += law.at(t).acceleration * std::exp(std::complex<double>(0.0, -w * t)) * (T / kSamples);
+      }
+      reference += gain * std::abs(X) / w;
+    }
+  }
+  return floor / reference;
+}
+
+bool has_kind(const PlanResult& r, WarningKind kind) {
+  return has_warning(r.warnings, kind);
+}
+
 double relative(double value, double reference) {
   return std::abs(value / reference - 1.0);
 }
@@ -254,8 +281,11 @@ TEST(RectangularPlan, FillHeightRangeOnATurnedTankMovesBothDirectionsFrequencies
   EXPECT_LT(std::abs(r.robustness->points.back().delta - (hi - 1.0)), 1e-12);
 }
 
-TEST(RectangularPlan, ShallowWideTankSaysTheLinearAnswerIsOutOfTheoryAndThePlanCannotAct) {
-  // 4 x 4 m in 20 mm of water, moved diagonally 200 mm in 1 s: the first period is about 18 s.
+TEST(RectangularPlan, ShallowWideTankSaysTheLinearAnswerIsOutOfTheory) {
+  // 4 x 4 m in 20 mm of water, moved diagonally 200 mm in 1 s: the first period is about 18 s,
+  // but the higher modes (near 3 and 5 omega_1 in shallow water) are no impulses at 1 s, so a law
+  // that moves one way can leave less than 0.9 of the uniform law's residual wave: the motion is
+  // not called too short.
   Format f = cup(4000, 4000, 45.0, 20.0);
   f.motion_time = 1.0;
   const PlanResult r = plan(f, Strategy::kMultiNotch, quick_options());
@@ -264,8 +294,6 @@ TEST(RectangularPlan, ShallowWideTankSaysTheLinearAnswerIsOutOfTheoryAndThePlanC
   const double k = kPi / 4.0;
   const double period = 2 * kPi / std::sqrt(9.81 * k * std::tanh(k * 0.02));
   ASSERT_GT(period, 10.0);
-  char expected_period[32];
-  std::snprintf(expected_period, sizeof expected_period, "%.3g", period);
   const double eta = r.prediction.linear.motion.value;
   ASSERT_GT(eta / 0.02, 0.5) << "the case must be beyond linear theory";
   char share[16];
@@ -281,10 +309,8 @@ TEST(RectangularPlan, ShallowWideTankSaysTheLinearAnswerIsOutOfTheoryAndThePlanC
                   share +
                   " of the fill height 20.0 mm (above 0.5), a wave not small against the depth"))
       << ::testing::PrintToString(warning_texts(r.warnings));
-  EXPECT_TRUE(has(std::string("motion too short for the tank: motion time 1 s is below 0.1 of "
-                              "the first sloshing period ") +
-                  expected_period + " s along the length; the move is an impulse to that mode"))
-      << ::testing::PrintToString(warning_texts(r.warnings));
+  EXPECT_LT(too_short_share(*r.rectangular, f.stroke, 1.0), kMotionTooShortShare);
+  EXPECT_FALSE(has("motion too short")) << ::testing::PrintToString(warning_texts(r.warnings));
   // Both directions out of the nonlinear model's range: one sentence names both.
   EXPECT_TRUE(has("not valid along the length: fill height / length = 0.005 is below 0.24 "))
       << ::testing::PrintToString(warning_texts(r.warnings));
@@ -298,33 +324,6 @@ TEST(RectangularPlan, ShallowWideTankSaysTheLinearAnswerIsOutOfTheoryAndThePlanC
     EXPECT_EQ(w.find("beyond its theory"), std::string::npos) << w;
     EXPECT_EQ(w.find("motion too short"), std::string::npos) << w;
   }
-}
-
-/// The least residual wave a law of duration T that moves one way leaves, as a share of the
-/// uniform law's, re-typed from docs/models.md: per driven direction and mode n,
-/// eta_gain_n stroke cos(w_n T / 2) (0 from w_n T = pi) summed, over eta_gain_n |X_a(w_n)| / w_n
-/// summed, X_a of the uniform law by the midpoint rule on 20000 samples of its acceleration.
-double too_short_share(const RectangularModel& m, double stroke, double T) {
-  const MotionLaw law = SevenSegmentLaw(uniform_durations(T), stroke).law();
-  constexpr int kSamples = 20000;
-  double floor = 0.0, reference = 0.0;
-  for (const DrivenDirection& d : driven_directions(m)) {
-    for (std::size_t n = 0; n < d.model.omega.size(); ++n) {
-      const double w = d.model.omega[n], gain = std::abs(d.model.eta_gain[n]);
-      if (w * T < kPi) floor += gain * stroke * std::cos(0.5 * w * T);
-      std::complex<double> X{0.0, 0.0};
-      for (int i = 0; i < kSamples; ++i) {
-        const double t = (i + 0.5) * T / kSamples;
-        X += law.at(t).acceleration * std::exp(std::complex<double>(0.0, -w * t)) * (T / kSamples);
-      }
-      reference += gain * std::abs(X) / w;
-    }
-  }
-  return floor / reference;
-}
-
-bool has_kind(const PlanResult& r, WarningKind kind) {
-  return has_warning(r.warnings, kind);
 }
 
 TEST(RectangularPlan, AShortMotionALawCanStillActOnIsNotCalledTooShort) {
@@ -355,7 +354,9 @@ TEST(RectangularPlan, AMotionTooShortForEveryLawHoldsShapingPlansFromOptimalButN
   // law of 0.2 s that moves one way leaves over 0.9 of the uniform law's residual wave.
   Format f = cup(4000, 4000, 0.0, 2000.0);
   f.motion_time = 0.2;
-  const PlanResult b = plan(f, Strategy::kBaseline, quick_options());
+  PlanOptions o = quick_options();
+  o.min_ramp = 0.01;  // room for the laws to differ: 4 ramps of 50 ms would fill the 0.2 s
+  const PlanResult b = plan(f, Strategy::kBaseline, o);
   ASSERT_TRUE(b.usable()) << b.message;
   const double share = too_short_share(*b.rectangular, f.stroke, 0.2);
   ASSERT_GE(share, kMotionTooShortShare);
@@ -378,7 +379,7 @@ TEST(RectangularPlan, AMotionTooShortForEveryLawHoldsShapingPlansFromOptimalButN
   EXPECT_TRUE(too_short(b)) << ::testing::PrintToString(warning_texts(b.warnings));
   EXPECT_EQ(b.status, SolveStatus::kOptimal) << b.message;
   for (Strategy s : {Strategy::kMultiNotch, Strategy::kTimeDomain}) {
-    const PlanResult r = plan(f, s, quick_options());
+    const PlanResult r = plan(f, s, o);
     ASSERT_FALSE(r.invalid_input) << r.message;
     EXPECT_TRUE(too_short(r)) << ::testing::PrintToString(warning_texts(r.warnings));
     if (r.usable()) {

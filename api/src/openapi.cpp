@@ -1342,7 +1342,10 @@ void add_min_time_response_schemas(json& s) {
   json plan = ref("PlanResponse");
   s["MinTimeStrategyResult"] = object(
       {{"strategy", text("Strategy searched.")},
-       {"status", text("optimal (T_min found, curve complete), infeasible (no T up to "
+       {"status", text("optimal (T_min found, curve complete), acceptable (the same, but the "
+                       "plan at T_min is not optimal by its own warnings, e.g. it spills by the "
+                       "larger model: the message leads with \"not optimal: \"), infeasible (no "
+                       "T up to "
                        "motion_time_max met the limits; best), time_limit (budget ran out; "
                        "t_min_s is the best bound so far, or T_min itself when "
                        "infeasible_below_s is t_min_s - 1 ms and the curve is partial), failed.")},
