@@ -169,7 +169,7 @@ TEST(MinTime, UniformLawMatchesABruteForceScanAtOneMillisecond) {
   const Format f = thesis_container();
   const MinTimeOptions o = issue_options();
   const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
-  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  ASSERT_TRUE(found_t_min(r));
   ASSERT_TRUE(r.t_min);
   EXPECT_LE(r.plans, 30);
   // Every ms from the scan start: the first feasible T is T_min.

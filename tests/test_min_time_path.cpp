@@ -307,7 +307,12 @@ TEST(MinTimePath, ASmallArcWithAMaxEndsWithTMinWithinTheDefaultBudget) {
   const json answer = api::run_min_time(api::parse_min_time_request(body, 60.0));
   for (const json& s : answer.at("strategies")) {
     SCOPED_TRACE(s["strategy"].dump());
-    ASSERT_EQ(s["status"], "optimal") << s["message"];
+    // Optimal, or acceptable because its T_min plan is not (SPEC §5), which it says first.
+    ASSERT_TRUE(
+        s["status"] == "optimal" ||
+        (s["status"] == "acceptable" && s["plan"]["status"] == "acceptable" &&
+         s["message"].get<std::string>().starts_with("not optimal: the plan at T_min is not (")))
+        << s["message"];
     const double t_min = s.at("t_min_s");
     // No rest-to-rest law covers the turn faster than at the normal speed limit sqrt(a_max R).
     EXPECT_GT(t_min, length / std::sqrt(kAMaxSmall * kRadius));

@@ -123,6 +123,7 @@ void expect_compact_of(const json& compact, const json& plan, const json& reques
       {"radius ", "surface_tension"},
       {"fill ratio ", "shallow_fill"},
       {"predicted sloshing height during the motion ", "spill"},
+      {"predicted wave ", "wave_exceeds_fill"},
       {"half the shorter side ", "surface_tension"},
       {"linear model beyond its theory: ", "linear_model_beyond_theory"},
       {"rectangular nonlinear model not valid along the ", "nonlinear_model_not_valid"},
@@ -362,7 +363,8 @@ TEST(CompactPlan, TheCodesAreTheWarningsKindsNotTheirSentences) {
   EXPECT_EQ(api::compact_plan(plan)["warnings"], json({"spill"}));
   // A motion too short for the tank has its code (it was the sentence's head "motion too short
   // for the tank"), and the full plan lists one code per warning, in its order.
-  const json tank = json::parse(R"({"format": {"container": {"length_mm": 4000, "width_mm": 4000},
+  const json tank = json::parse(R"({"format": {"container": {"shape": "rectangular",
+                                                            "length_mm": 4000, "width_mm": 4000},
                                               "fill_height_mm": 2000, "fluid": "water",
                                               "stroke_mm": 200, "motion_time_s": 0.2},
                                    "strategy": "multi_notch",

@@ -492,7 +492,9 @@ void check_min_time_inputs(const MinTimeRequest& request,
 
 bool is_min_time_cacheable(const std::vector<MinTimeResult>& results) {
   return std::all_of(results.begin(), results.end(), [](const MinTimeResult& r) {
-    return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kInfeasible;
+    // acceptable: T_min found, its plan not optimal by its warnings; as final as optimal.
+    return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable ||
+           r.status == SolveStatus::kInfeasible;
   });
 }
 
