@@ -33,6 +33,34 @@ json thesis_min_time_request() {
   })");
 }
 
+/// A strategy's answer found its T_min: `optimal`, or `acceptable` because its plan at T_min is
+/// not optimal by its own warnings (SPEC §5: on the thesis container with eta_motion <= the free
+/// board on the nonlinear model, the linear model's wave at T_min can spill), which the message
+/// then leads with and the plan's status shows.
+::testing::AssertionResult found_t_min(const json& s) {
+  const std::string status = s.at("status");
+  if (status == "optimal") return ::testing::AssertionSuccess();
+  if (status == "acceptable" &&
+      s.at("message").get<std::string>().starts_with("not optimal: the plan at T_min is not (") &&
+      s.at("plan").at("status") == "acceptable") {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << status << ": " << s.at("message");
+}
+
+/// The same for the core's answer.
+::testing::AssertionResult found_t_min(const MinTimeResult& r) {
+  if (r.status == SolveStatus::kOptimal && r.not_optimal.empty()) {
+    return ::testing::AssertionSuccess();
+  }
+  if (r.status == SolveStatus::kAcceptable && !r.not_optimal.empty() && r.plan &&
+      r.plan->status == SolveStatus::kAcceptable &&
+      r.message.starts_with("not optimal: the plan at T_min is not (" + r.not_optimal + "); ")) {
+    return ::testing::AssertionSuccess();
+  }
+  return ::testing::AssertionFailure() << to_string(r.status) << ": " << r.message;
+}
+
 /// POST /v1/plans at T in process: the same format, strategy and limits, no warm start.
 json direct_plan(const json& min_time_request, const std::string& strategy, double T) {
   json body{{"format", min_time_request.at("format")},
@@ -59,7 +87,7 @@ TEST(MinTimeHonesty, ThesisTimeDomainCurveAgreesWithPlanRequestsAtTheSameT) {
   const json request = thesis_min_time_request();
   const json answer = api::run_min_time(api::parse_min_time_request(request, 600.0));
   const json& s = answer.at("strategies").at(0);
-  ASSERT_EQ(s.at("status"), "optimal") << s.at("message");
+  ASSERT_TRUE(found_t_min(s));
   const double t_min = s.at("t_min_s");
   EXPECT_EQ(s.at("feasible_above"), true) << s.at("message");
   EXPECT_EQ(s.at("message").get<std::string>().find("not monotone"), std::string::npos)
@@ -143,7 +171,7 @@ TEST(MinTimeHonesty, CurveVerdictsAgreeWithDirectPlansOnSeededRandomFormats) {
       SCOPED_TRACE("format " + std::to_string(k) + " " + to_string(s) + " stroke " +
                    std::to_string(f.stroke));
       const MinTimeResult r = min_time(f, s, o);
-      ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+      ASSERT_TRUE(found_t_min(r));
       EXPECT_LE(r.plans, 30);
       ASSERT_TRUE(r.plan);
       EXPECT_LE(r.plan->prediction.nonlinear.motion.value, r.eta_motion_max * (1.0 + 1e-6));
@@ -178,7 +206,7 @@ TEST(MinTimeHonesty, AStrokeNextToTheBenchmarkIsSearchedWithinThirtyPlans) {
   const json answer =
       api::run_min_time(api::parse_min_time_request(nearby_stroke_request(), 600.0));
   const json& s = answer.at("strategies").at(0);
-  ASSERT_EQ(s.at("status"), "optimal") << s.at("message");
+  ASSERT_TRUE(found_t_min(s));
   EXPECT_LE(s.at("plans").get<int>(), 30);
   const double t_min = s.at("t_min_s");
   const json& t = s.at("curve").at("t_s");
@@ -191,7 +219,7 @@ TEST(MinTimeHonesty, AStrokeNextToTheBenchmarkIsSearchedWithinThirtyPlans) {
 TEST(MinTimeHonesty, APlanBudgetThatEndsTheCurveGivesTimeLimitAndAPartialCurve) {
   const json full = api::run_min_time(api::parse_min_time_request(nearby_stroke_request(), 600.0));
   const json& whole = full.at("strategies").at(0);
-  ASSERT_EQ(whole.at("status"), "optimal");
+  ASSERT_TRUE(found_t_min(whole));
   json request = nearby_stroke_request();
   // One plan fewer than the whole search: the search is deterministic, so it runs out on its last
   // plan, a point of the curve above T_min.

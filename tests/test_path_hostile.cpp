@@ -395,9 +395,14 @@ TEST(PathHostile, SimulateAlongAMotionWarnsAsThePlanDoes) {
   ASSERT_EQ(sim.status, 200) << sim.body.dump();
   ASSERT_EQ(plan.status, 200) << plan.body.dump();
   EXPECT_EQ(sim.body["warnings"], plan.body["warnings"]);
-  ASSERT_EQ(sim.body["warnings"].size(), 2U) << sim.body["warnings"].dump();
+  // The wave (up to 179 mm) is deeper than the 82 mm fill too.
+  ASSERT_EQ(sim.body["warnings"].size(), 3U) << sim.body["warnings"].dump();
   EXPECT_EQ(sim.body["warnings"][0].get<std::string>().rfind("peak |acceleration| 12.6", 0), 0U);
-  EXPECT_NE(sim.body["warnings"][1].get<std::string>().find("liquid will spill"),
+  EXPECT_NE(
+      sim.body["warnings"][1].get<std::string>().find(
+          "is deeper than the fill height 82.0 mm: the liquid uncovers the container's bottom"),
+      std::string::npos);
+  EXPECT_NE(sim.body["warnings"][2].get<std::string>().find("liquid will spill"),
             std::string::npos);
 
   // A cycloidal 500 mm move in 0.5 s, x = L (t/T - sin(2 pi t/T) / (2 pi)): peak acceleration
@@ -414,11 +419,13 @@ TEST(PathHostile, SimulateAlongAMotionWarnsAsThePlanDoes) {
   const Reply log = post(server, "/v1/simulate", {{"format", tformat}});
   ASSERT_EQ(log.status, 200) << log.body.dump().substr(0, 400);
   const json& w = log.body["warnings"];
-  ASSERT_EQ(w.size(), 2U) << w.dump();
+  // Its 170 mm wave is deeper than the 82 mm fill too.
+  ASSERT_EQ(w.size(), 3U) << w.dump();
   EXPECT_EQ(w[0].get<std::string>().rfind("peak |acceleration| 12.57 m/s^2 exceeds 10 m/s^2", 0),
             0U)
       << w[0];
-  EXPECT_NE(w[1].get<std::string>().find("liquid will spill"), std::string::npos) << w[1];
+  EXPECT_EQ(w[1].get<std::string>().rfind("predicted wave ", 0), 0U) << w[1];
+  EXPECT_NE(w[2].get<std::string>().find("liquid will spill"), std::string::npos) << w[2];
 }
 
 // A log that accelerates downward faster than gravity leaves both models (g + a_z <= 0): a 422

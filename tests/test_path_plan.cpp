@@ -184,7 +184,7 @@ TEST(PathPlan, AutoAlongAnArcNeverReturnsAFlaggedLawWhileTheUniformLawQualifies)
   for (const auto& [f, path] : cases) {
     const PlanResult r = plan_on_path(f, path, Strategy::kAuto, quiet_options());
     bool flagged = false;
-    for (const std::string& w : r.warnings)
+    for (const std::string& w : warning_texts(r.warnings))
       flagged = flagged || w.rfind("worse_than_baseline", 0) == 0;
     EXPECT_FALSE(flagged && r.status == SolveStatus::kOptimal) << r.message;
     for (const PlanCandidate& k : r.candidates) {

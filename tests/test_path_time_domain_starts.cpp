@@ -100,10 +100,7 @@ TEST(PathTimeDomainStarts, UTurnBeatsTheUniformLaw) {
   EXPECT_LE(sim.rest, o.eta_rest_max * (1.0 + 1e-3));
   EXPECT_LT(sim.motion, uniform.motion);
   EXPECT_LT(sim.motion, 0.0225);  // the law found by a plain search: 21.95 mm
-  EXPECT_TRUE(r.warnings.empty() ||
-              std::none_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
-                return w.find("worse_than_baseline") != std::string::npos;
-              }));
+  EXPECT_FALSE(has_warning(r.warnings, WarningKind::kWorseThanBaseline));
   // At 1.9 s (min-time's T_min was 1.983 s: "infeasible, best 6.34 mm" here) a law meets both
   // of min-time's limits, eta_rest <= 3 mm and eta_motion <= 63 mm.
   const PlanResult fast = plan_on_path(format_for(g, 1.9), g.path(), Strategy::kTimeDomain, o);

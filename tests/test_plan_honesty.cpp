@@ -294,7 +294,7 @@ TEST(PlanHonesty, Issue15Case6WorseThanBaselineIsWarnedAndAutoAvoidsIt) {
            above(p.linear.rest.value, b.linear.rest.value);
   };
   auto warned = [](const PlanResult& r) {
-    for (const std::string& w : r.warnings) {
+    for (const std::string& w : warning_texts(r.warnings)) {
       if (w.rfind("worse_than_baseline", 0) == 0) return true;
     }
     return false;
@@ -572,7 +572,7 @@ namespace {
 TEST(PlanHonesty, TheBaselineIsNeverWorseThanTheBaseline) {
   const Format f = format_mm(48.5, 82, 800, 0.3);  // 0.3 s < 7 x 0.05 s
   const auto no_worse_warning = [](const PlanResult& r) {
-    for (const std::string& w : r.warnings) {
+    for (const std::string& w : warning_texts(r.warnings)) {
       EXPECT_FALSE(w.starts_with("worse_than_baseline")) << to_string(r.strategy) << ": " << w;
     }
   };

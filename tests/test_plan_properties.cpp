@@ -96,8 +96,7 @@ bool worse(const LawPrediction& p, const LawPrediction& b) {
 }
 
 bool warned_worse(const PlanResult& r) {
-  return std::any_of(r.warnings.begin(), r.warnings.end(),
-                     [](const std::string& w) { return w.rfind("worse_than_baseline", 0) == 0; });
+  return has_warning(r.warnings, WarningKind::kWorseThanBaseline);
 }
 
 bool all_finite(const PlanResult& r) {

@@ -123,6 +123,7 @@ void expect_compact_of(const json& compact, const json& plan, const json& reques
       {"radius ", "surface_tension"},
       {"fill ratio ", "shallow_fill"},
       {"predicted sloshing height during the motion ", "spill"},
+      {"predicted wave ", "wave_exceeds_fill"},
       {"half the shorter side ", "surface_tension"},
       {"linear model beyond its theory: ", "linear_model_beyond_theory"},
       {"rectangular nonlinear model not valid along the ", "nonlinear_model_not_valid"},
@@ -340,11 +341,50 @@ TEST(CompactPlan, EveryStrategyOnTheLineThePathAndTheTankIsUnder1kB) {
 TEST(CompactPlan, ListsEachFindingOnce) {
   json plan = api::run_plan(api::parse_plan_request(thesis("baseline")));
   plan["warnings"] = {"worse_than_baseline: eta_motion (nonlinear) 22.8 mm vs 20.8 mm",
-                      "model beyond its theory: the linear one",
-                      "model beyond its theory: the other",
+                      "linear model beyond its theory: the wall height",
+                      "linear model beyond its theory: the steepness",
                       "worse_than_baseline: eta_rest (linear) 12.7 mm vs 8.72 mm"};
+  plan["warning_codes"] = {"worse_than_baseline", "linear_model_beyond_theory",
+                           "linear_model_beyond_theory", "worse_than_baseline"};
   EXPECT_EQ(api::compact_plan(plan)["warnings"],
-            json({"worse_than_baseline", "model beyond its theory"}));
+            json({"worse_than_baseline", "linear_model_beyond_theory"}));
+  // A plan stored before its warnings carried their kinds: each sentence's finding, once.
+  plan.erase("warning_codes");
+  EXPECT_EQ(api::compact_plan(plan)["warnings"],
+            json({"worse_than_baseline", "linear model beyond its theory"}));
+}
+
+// The codes are the kinds the warnings were made with, never read back from the sentences: a
+// sentence worded otherwise keeps its code.
+TEST(CompactPlan, TheCodesAreTheWarningsKindsNotTheirSentences) {
+  json plan = api::run_plan(api::parse_plan_request(thesis("baseline")));
+  plan["warnings"] = {"the liquid goes over the rim"};
+  plan["warning_codes"] = {"spill"};
+  EXPECT_EQ(api::compact_plan(plan)["warnings"], json({"spill"}));
+  // A motion too short for the tank has its code (it was the sentence's head "motion too short
+  // for the tank"), and the full plan lists one code per warning, in its order.
+  const json tank = json::parse(R"({"format": {"container": {"shape": "rectangular",
+                                                            "length_mm": 4000, "width_mm": 4000},
+                                              "fill_height_mm": 2000, "fluid": "water",
+                                              "stroke_mm": 200, "motion_time_s": 0.2},
+                                   "strategy": "multi_notch",
+                                   "options": {"robustness": false}})");
+  const json full = api::run_plan(api::parse_plan_request(tank));
+  ASSERT_EQ(full["warning_codes"].size(), full["warnings"].size()) << full.dump();
+  std::size_t at = full["warnings"].size();
+  for (std::size_t i = 0; i < full["warnings"].size(); ++i) {
+    if (full["warnings"][i].get<std::string>().starts_with("motion too short for the tank: ")) {
+      at = i;
+    }
+  }
+  ASSERT_LT(at, full["warnings"].size()) << full["warnings"].dump();
+  EXPECT_EQ(full["warning_codes"][at], "motion_too_short");
+  EXPECT_EQ(full["status"], "acceptable") << full["message"];
+  const json compact = api::compact_plan(full);
+  EXPECT_NE(
+      std::find(compact["warnings"].begin(), compact["warnings"].end(), json("motion_too_short")),
+      compact["warnings"].end())
+      << compact["warnings"].dump();
 }
 
 TEST(CompactPlan, AGeneralLawKeepsItsPiecesWithTheMove) {

@@ -152,7 +152,8 @@ TEST(RecipeMotion, PlanRowsCarryTheWarningsCodes) {
                   {"warnings",
                    {"predicted sloshing height during the motion 34.7 mm exceeds the free board "
                     "20 mm: liquid will spill",
-                    "worse_than_baseline: eta_rest 28.9 mm against the uniform law's 15.7 mm"}}};
+                    "worse_than_baseline: eta_rest 28.9 mm against the uniform law's 15.7 mm"}},
+                  {"warning_codes", {"spill", "worse_than_baseline"}}};
   EXPECT_EQ(plan_row_figures(plan)["warnings"], "spill; worse_than_baseline");
   EXPECT_EQ(plan_row_figures(json{{"status", "optimal"}, {"warnings", json::array()}})["warnings"],
             nullptr);

@@ -302,7 +302,7 @@ TEST(RectangularTurned, SimulateSeriesMaximumIsThePeak) {
     o.sample_period = 1e-4;
     const SimulationResult r = simulate(f, law, o);
     ASSERT_TRUE(r.series);
-    ASSERT_TRUE(r.warnings.empty()) << r.warnings.front();
+    ASSERT_TRUE(r.warnings.empty()) << r.warnings.front().text;
     double motion = 0.0, rest = 0.0;
     for (std::size_t k = 0; k < r.series->t.size(); ++k) {
       const double eta = r.series->eta_nonlinear[k];

@@ -16,7 +16,7 @@ TEST(ValidityWarnings, NoneOnTheThesisFormatWithinLimits) {
 TEST(ValidityWarnings, AccelerationAboveTheLinearModelLimit) {
   const auto w = validity_warnings(thesis_format(), 10.5, 0.01, 0.01);
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_EQ(w[0],
+  EXPECT_EQ(w[0].text,
             "peak |acceleration| 10.50 m/s^2 exceeds 10 m/s^2: the linear model is unreliable at "
             "this level (JDSMC 2022 sec. 5, 7); rely on the nonlinear prediction");
 }
@@ -27,8 +27,9 @@ TEST(ValidityWarnings, SmallRadiusAndShallowFill) {
   f.fill_height = 0.003;
   const auto w = validity_warnings(f, 1.0, 0.001, 0.001);
   ASSERT_EQ(w.size(), 2u);
-  EXPECT_EQ(w[0], "radius 12.0 mm is below 15 mm: surface tension matters and is not modelled");
-  EXPECT_EQ(w[1], "fill ratio h/R = 0.250 is below 0.3: shallow-liquid regime, not modelled");
+  EXPECT_EQ(w[0].text,
+            "radius 12.0 mm is below 15 mm: surface tension matters and is not modelled");
+  EXPECT_EQ(w[1].text, "fill ratio h/R = 0.250 is below 0.3: shallow-liquid regime, not modelled");
   f.container.radius = 0.015;
   f.fill_height = 0.0045;  // exactly at both limits: no warning
   EXPECT_TRUE(validity_warnings(f, 1.0, 0.001, 0.001).empty());
@@ -40,13 +41,13 @@ TEST(ValidityWarnings, FreeBoardUsesTheLargerPrediction) {
   EXPECT_TRUE(validity_warnings(f, 5.0, 0.037, 0.030).empty());
   const auto w = validity_warnings(f, 5.0, 0.030, 0.0391);
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_EQ(w[0],
+  EXPECT_EQ(w[0].text,
             "predicted sloshing height during the motion 39.1 mm (nonlinear model; linear model "
             "30.0 mm) exceeds the free board 38.0 mm (container height - fill height): liquid "
             "will spill");
   const auto linear = validity_warnings(f, 5.0, 0.0773, 0.0582);
   ASSERT_EQ(linear.size(), 1u);
-  EXPECT_EQ(linear[0],
+  EXPECT_EQ(linear[0].text,
             "predicted sloshing height during the motion 77.3 mm (linear model; nonlinear model "
             "58.2 mm) exceeds the free board 38.0 mm (container height - fill height): liquid "
             "will spill");

@@ -172,7 +172,11 @@ TEST(TimeDomainHonesty, AtMinTimesBoundaryFreshPlansAreHonestAndNearTheSearchsLa
     char name[160];
     std::snprintf(name, sizeof name, "R %.4g mm, h %.4g mm, s %.4g mm", base.container.radius * 1e3,
                   base.fill_height * 1e3, base.stroke * 1e3);
-    if (mt.status != SolveStatus::kOptimal || !mt.t_min || !mt.plan || !mt.plan->durations) {
+    // acceptable: T_min found, its plan not optimal by its warnings (the rest bound alone decides
+    // T_min, and the wave in motion may spill).
+    const bool found = mt.status == SolveStatus::kOptimal ||
+                       (mt.status == SolveStatus::kAcceptable && !mt.not_optimal.empty());
+    if (!found || !mt.t_min || !mt.plan || !mt.plan->durations) {
       ADD_FAILURE() << name << ": min-time found no T_min: " << mt.message;
       continue;
     }

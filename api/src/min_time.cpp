@@ -25,13 +25,15 @@ namespace mr = min_time_ranges;
 // v3: infeasible points confirmed from the planner's own starts; v4: above T_min only up to the
 // first one that fails from them, the warm-started failures above it left off the curve; v5: a
 // rectangular tank's near misses refined only where eta_rest alone misses (the plans' statuses of
-// plan-v11 too).
-constexpr const char* kMinTimeVersion = "min-time-v5";
+// plan-v11 too); v6: a T_min whose plan is not optimal by its warnings (it spills, ...) makes the
+// strategy acceptable and wins the headline only when no T_min plan is optimal (plan-v12 too).
+constexpr const char* kMinTimeVersion = "min-time-v6";
 /// Version of the search along an arc or a path, in those keys only (the line's keys unchanged).
 // v2: the scan's step grows geometrically far from the limits (path_scan_step).
 // v3: a spectral law's better mirror along the path.
 // v4: time_domain along a path starts from the symmetric families and retries a failed round.
 // v5: as min-time-v5.
+// v6: as min-time-v6, and a rectangular tank's time_domain plans optimise along the path.
 constexpr const char* kMinTimePathVersion = "min-time-path-v6";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
@@ -405,13 +407,15 @@ json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResul
   for (const MinTimeResult& r : results) list.push_back(strategy_json(request, r));
   out["strategies"] = list;
   const MinTimeSummary s = summarize_min_time(results);
-  json headline{{"winner", nullptr},
-                {"t_min_s", nullptr},
-                {"cycles_per_min", nullptr},
-                {"baseline_t_min_s", nullptr},
-                {"baseline_cycles_per_min", nullptr},
-                {"gain_pct", optional_json(s.gain_pct)},
-                {"gain_cycles_per_min", optional_json(s.gain_cycles_per_min)}};
+  json headline{
+      {"winner", nullptr},
+      {"t_min_s", nullptr},
+      {"cycles_per_min", nullptr},
+      {"baseline_t_min_s", nullptr},
+      {"baseline_cycles_per_min", nullptr},
+      {"gain_pct", optional_json(s.gain_pct)},
+      {"gain_cycles_per_min", optional_json(s.gain_cycles_per_min)},
+      {"not_optimal", s.winner_not_optimal.empty() ? json(nullptr) : json(s.winner_not_optimal)}};
   if (s.winner) {
     const double t = *results[*s.winner].t_min;
     headline["winner"] = to_string(results[*s.winner].strategy);
@@ -488,7 +492,9 @@ void check_min_time_inputs(const MinTimeRequest& request,
 
 bool is_min_time_cacheable(const std::vector<MinTimeResult>& results) {
   return std::all_of(results.begin(), results.end(), [](const MinTimeResult& r) {
-    return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kInfeasible;
+    // acceptable: T_min found, its plan not optimal by its warnings; as final as optimal.
+    return r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable ||
+           r.status == SolveStatus::kInfeasible;
   });
 }
 

@@ -91,9 +91,9 @@ std::string warning_codes_description() {
   for (const PlanWarningKind& kind : plan_warning_kinds()) {
     codes += (codes.empty() ? "" : ", ") + std::string(kind.code);
   }
-  return "A code per warning (" + codes +
-         "), else the warning's finding (its text up to the first \": \"); the full plan has "
-         "the explanation.";
+  return "The code of each warning's kind, each once (" + codes +
+         "); the full plan has the sentences. A plan stored before the codes existed lists each "
+         "warning's finding (its text up to the first \": \").";
 }
 
 /// An object with the given properties; `closed` marks request objects (unknown members are
@@ -839,15 +839,20 @@ void add_plan_response_schemas(json& s) {
        {"format", ref("FormatEcho")},
        {"rest_time_s", number("Rest window [s].")},
        {"warnings", strings(warning_kinds_description())},
+       {"warning_codes",
+        strings("The code of each warning's kind, one per entry of warnings and in its order (the "
+                "codes of the warnings description). A plan that meets its constraints but has a "
+                "warning of kind spill or wave_exceeds_fill, or (all but baseline) "
+                "worse_than_baseline or motion_too_short, is acceptable, not optimal.")},
        {"move_absolute", ref("MoveAbsolute")},
        {"uncertainty", ref("UncertaintyRange")},
        {"worst_case", ref("WorstCase")},
        {"robustness", ref("Robustness")},
        {"series", ref("Series")}},
-      {"key",        "cached",      "version",       "strategy",       "status",
-       "message",    "durations_s", "durations_pct", "switch_times_s", "law",
-       "kinematics", "model",       "prediction",    "baseline",       "reduction_pct",
-       "spectrum",   "solver",      "format",        "rest_time_s",    "warnings"},
+      {"key",         "cached",        "version",        "strategy", "status",     "message",
+       "durations_s", "durations_pct", "switch_times_s", "law",      "kinematics", "model",
+       "prediction",  "baseline",      "reduction_pct",  "spectrum", "solver",     "format",
+       "rest_time_s", "warnings",      "warning_codes"},
       "The plan of SPEC §6-§7 (also what `slosh plan` prints).", false);
   add_compact_plan_schemas(s);
   add_batch_response_schemas(s);
@@ -1339,7 +1344,10 @@ void add_min_time_response_schemas(json& s) {
   json plan = ref("PlanResponse");
   s["MinTimeStrategyResult"] = object(
       {{"strategy", text("Strategy searched.")},
-       {"status", text("optimal (T_min found, curve complete), infeasible (no T up to "
+       {"status", text("optimal (T_min found, curve complete), acceptable (the same, but the "
+                       "plan at T_min is not optimal by its own warnings, e.g. it spills by the "
+                       "larger model: the message leads with \"not optimal: \"), infeasible (no "
+                       "T up to "
                        "motion_time_max met the limits; best), time_limit (budget ran out; "
                        "t_min_s is the best bound so far, or T_min itself when "
                        "infeasible_below_s is t_min_s - 1 ms and the curve is partial), failed.")},
@@ -1378,7 +1386,14 @@ void add_min_time_response_schemas(json& s) {
                 {"baseline_t_min_s", nullable_number},
                 {"baseline_cycles_per_min", nullable_number},
                 {"gain_pct", nullable_number},
-                {"gain_cycles_per_min", nullable_number}},
+                {"gain_cycles_per_min", nullable_number},
+                {"not_optimal",
+                 {{"type", "string"},
+                  {"nullable", true},
+                  {"description",
+                   "Null, or why the winner's plan at its T_min is not optimal (its warnings: "
+                   "spill, wave_exceeds_fill, ...): then no strategy's T_min plan is optimal. A "
+                   "strategy whose T_min plan is not optimal is acceptable and wins only then."}}}},
                {}, "The winner and its gain over the uniform law (motion time only).", false)}},
       {"key", "cached", "version", "strategies", "headline"}, "Minimum motion time per strategy.",
       false);

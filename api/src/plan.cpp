@@ -14,6 +14,7 @@
 #include "slosh/api/motion_json.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan_reply.hpp"
+#include "slosh/api/plan_warnings.hpp"
 #include "slosh/api/robustness_json.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/api/spatial_simulate.hpp"
@@ -25,7 +26,7 @@ namespace slosh::api {
 namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
-constexpr const char* kPlannerVersion = "plan-v11";
+constexpr const char* kPlannerVersion = "plan-v12";
 /// Version of the numerics of plans along an arc or a path (in their keys only).
 constexpr const char* kPathPlannerVersion = "path-v5";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
@@ -423,9 +424,11 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
              out);
   }
   out["rest_time_s"] = request.options.rest_time;
-  out["warnings"] = r.warnings;
+  out["warnings"] = warning_texts(r.warnings);
+  out["warning_codes"] = warning_codes(r.warnings);
   if (std::string budget = budget_warning(r); !budget.empty()) {
     out["warnings"].push_back(std::move(budget));
+    out["warning_codes"].push_back(std::string(kTimeLimitedCandidates));
   }
   require_finite(out);
   return out;

@@ -114,57 +114,33 @@ void require_no_series(PlanView view, const std::optional<double>& sample_period
   }
 }
 
-constexpr PlanWarningKind kWarningKinds[] = {
-    {"linear_model_unreliable", "peak |acceleration| ",
-     "the law's peak acceleration is beyond the linear model's validity: rely on the nonlinear "
-     "prediction"},
-    {"models_out_of_range", "peak horizontal acceleration ",
-     "the law's peak horizontal acceleration tilts the free surface (quasi-statically) down to "
-     "the container's bottom: neither model describes the liquid there"},
-    {"surface_tension", "radius ",
-     "the container is so narrow that surface tension, which is not modelled, matters"},
-    {"shallow_fill", "fill ratio ",
-     "the fill ratio h/R is in the shallow-liquid regime, which is not modelled"},
-    {"spill", "predicted sloshing height during the motion ",
-     "the predicted sloshing height during the motion exceeds the free board: liquid will "
-     "spill"},
-    {"worse_than_baseline", "worse_than_baseline: ",
-     "the chosen law leaves more residual sloshing than the uniform baseline law"},
-    {"linear_model_beyond_theory", "linear model beyond its theory: ",
-     "a rectangular tank: the linear model's wall height is not small against the depth, or "
-     "steeper than the steepest standing wave: its figures are not reliable"},
-    {"nonlinear_model_not_valid", "rectangular nonlinear model not valid along the ",
-     "a rectangular tank: its nonlinear model is outside its theory (shallow fill, steep wave, "
-     "critical depth) or diverged along a side, and the linear model answers there"},
-    {kTimeLimitedCandidates, "time_limited_candidates: ",
-     "auto only: a candidate ran out of its time budget (status time_limit), so the choice "
-     "depends on the budget and the machine's load; such a plan is not cached"},
-};
-
-/// Sentences that belong to a kind above but open otherwise: the rectangular tank's surface
-/// tension is judged on half its shorter side rather than a radius; its nonlinear model that
-/// diverged is not valid either.
-struct WarningAlias {
-  std::string_view prefix;
-  std::string_view code;
-};
-constexpr WarningAlias kWarningAliases[] = {
-    {"half the shorter side ", "surface_tension"},
-    {"rectangular nonlinear model diverges along the ", "nonlinear_model_not_valid"}};
-
 std::span<const PlanWarningKind> plan_warning_kinds() {
-  return kWarningKinds;
+  return warning_kinds();
 }
 
-std::string warning_finding(const std::string& warning) {
-  // The code of a known kind; another warning keeps its finding (the text up to the first ": ").
-  for (const PlanWarningKind& kind : kWarningKinds) {
-    if (warning.starts_with(kind.prefix)) return std::string(kind.code);
+std::vector<std::string> plan_warning_codes(const json& plan) {
+  // One code per finding: two sentences of one kind (e.g. both models beyond their theory) would
+  // read as the same warning twice.
+  std::vector<std::string> out;
+  auto add = [&out](std::string code) {
+    if (std::find(out.begin(), out.end(), code) == out.end()) out.push_back(std::move(code));
+  };
+  if (const auto codes = plan.find("warning_codes"); codes != plan.end() && codes->is_array()) {
+    for (const json& c : *codes) {
+      if (c.is_string()) add(c.get<std::string>());
+    }
+    return out;
   }
-  for (const WarningAlias& alias : kWarningAliases) {
-    if (warning.starts_with(alias.prefix)) return std::string(alias.code);
+  // A plan stored before its warnings carried their kinds: each sentence's finding (the text up
+  // to the first ": "), the only thing known of it.
+  if (const auto warnings = plan.find("warnings"); warnings != plan.end() && warnings->is_array()) {
+    for (const json& w : *warnings) {
+      if (!w.is_string()) continue;
+      const std::string text = w.get<std::string>();
+      add(text.substr(0, text.find(": ")));
+    }
   }
-  return warning.substr(0, warning.find(": "));
+  return out;
 }
 
 namespace {
@@ -238,16 +214,7 @@ json compact_plan(const json& plan) {
   out["prediction"] = {{"nonlinear", compact_peaks(p.at("nonlinear"))},
                        {"linear", compact_peaks(p.at("linear"))}};
   if (const auto path = plan.find("path"); path != plan.end()) out["path"] = compact_path(*path);
-  // One code per finding: two sentences of one kind (e.g. both models beyond their theory) would
-  // read as the same warning twice.
-  json findings = json::array();
-  for (const json& w : plan.at("warnings")) {
-    const std::string code = warning_finding(w.get<std::string>());
-    if (std::find(findings.begin(), findings.end(), code) == findings.end()) {
-      findings.push_back(code);
-    }
-  }
-  out["warnings"] = std::move(findings);
+  out["warnings"] = plan_warning_codes(plan);
   // How far the tank's frequencies may be off (SPEC §10): the interval and the worst case.
   if (const auto r = plan.find("robustness"); r != plan.end()) {
     out["robustness"] = compact_robustness(*r);

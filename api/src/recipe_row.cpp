@@ -474,16 +474,12 @@ json nested_or_null(const json& object, std::string_view outer, std::string_view
   return value == nullptr ? json(nullptr) : value_or_null(*value, inner);
 }
 
-/// The findings of the plan's warnings (the compact view's codes), "; "-separated; null when
-/// it has none, so a row that reads `optimal` with a warning shows it in the table.
+/// The codes of the plan's warnings (the compact view's), "; "-separated; null when it has
+/// none, so a row that reads `optimal` with a warning shows it in the table.
 json warning_findings(const json& plan) {
-  const json* warnings = find_member(plan, "warnings");
-  if (warnings == nullptr || !warnings->is_array() || warnings->empty()) return nullptr;
   std::string out;
-  for (const json& w : *warnings) {
-    if (!w.is_string()) continue;
-    if (!out.empty()) out += "; ";
-    out += warning_finding(w.get<std::string>());
+  for (const std::string& code : plan_warning_codes(plan)) {
+    out += (out.empty() ? "" : "; ") + code;
   }
   return out.empty() ? json(nullptr) : json(out);
 }

@@ -291,7 +291,7 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
                        {"eta_linear_mm", "mm"},
                        {"eta_nonlinear_mm", "mm"}}}};
   }
-  out["warnings"] = r.warnings;
+  out["warnings"] = warning_texts(r.warnings);
   require_finite(out);
   return out;
 }

@@ -239,9 +239,9 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
         *request.options.sample_period, nonlinear.nonlinear, theta_origin(motion));
   }
   const double horizontal = peak_horizontal_acceleration(motion, drive, law);
-  std::vector<std::string> warnings =
+  std::vector<std::string> warnings = warning_texts(
       validity_warnings(request.format, horizontal, linear.highest.motion.value,
-                        nl.highest.motion.value, nonlinear.nonlinear, linear.highest.rest.value);
+                        nl.highest.motion.value, nonlinear.nonlinear, linear.highest.rest.value));
   if (!nonlinear.warning.empty()) warnings.push_back(nonlinear.warning);
   const std::string yaw = yaw_mode_warning(*request.format.container.rectangular,
                                            request.format.fill_height, drive, horizontal);
@@ -332,9 +332,9 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   }
   // The validity warnings of a straight-line simulate or a plan along the same motion, on the
   // planar peaks and the total horizontal acceleration.
-  std::vector<std::string> warnings =
+  std::vector<std::string> warnings = warning_texts(
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
-                        linear.motion.value, nonlinear.motion.value, true, linear.rest.value);
+                        linear.motion.value, nonlinear.motion.value, true, linear.rest.value));
   add_moving_end_warnings(motion, warnings);
   out["warnings"] = warnings;
   require_finite(out);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 
 #include "slosh/core/constants.hpp"
 #include "slosh/core/model/tank_directions.hpp"
@@ -50,21 +51,41 @@ std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h
   return w;
 }
 
+/// The sentence saying that the deepest of the predicted waves (`linear` and `nonlinear` during
+/// the motion, `rest_linear` after it) [m] exceeds the fill height `h` [m]: a trough that deep
+/// would uncover the bottom (the wall's crest and the trough are of one size in the models, the
+/// surface tilting about the mean level), which both models exclude. nullopt when none does.
+std::optional<std::string> wave_deeper_than_fill(double h, double linear, double nonlinear,
+                                                 double rest_linear) {
+  const double motion = std::max(linear, nonlinear);
+  const bool after = std::isfinite(rest_linear) && rest_linear > motion;
+  const double eta = after ? rest_linear : motion;
+  if (!std::isfinite(eta) || !(eta > h)) return std::nullopt;
+  const char* model = after || linear >= nonlinear ? "linear" : "nonlinear";
+  return "predicted wave " + fixed(eta * 1e3, 1) + " mm (" + model + " model, " +
+         (after ? "after" : "during") + " the motion) is deeper than the fill height " +
+         fixed(h * 1e3, 1) +
+         " mm: the liquid uncovers the container's bottom, which neither model describes; a "
+         "longer motion time or a deeper fill avoids it";
+}
+
 }  // namespace
 
-std::vector<std::string> validity_warnings(const Format& format, double peak_abs_acceleration,
-                                           double eta_motion_linear, double eta_motion_nonlinear,
-                                           bool nonlinear_in_range, double eta_rest_linear) {
-  std::vector<std::string> w;
+std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acceleration,
+                                       double eta_motion_linear, double eta_motion_nonlinear,
+                                       bool nonlinear_in_range, double eta_rest_linear) {
+  std::vector<Warning> w;
   const double R = format.container.radius;
   const double h = format.fill_height;
   if (peak_abs_acceleration > kLinearModelMaxAcceleration) {
-    w.push_back("peak |acceleration| " + fixed(peak_abs_acceleration, 2) + " m/s^2 exceeds " +
-                fixed(kLinearModelMaxAcceleration, 0) +
-                " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); " +
-                (nonlinear_in_range ? std::string("rely on the nonlinear prediction")
-                                    : std::string("the nonlinear model is out of its range too, "
-                                                  "so no prediction is reliable")));
+    w.push_back(
+        {WarningKind::kLinearModelUnreliable,
+         "peak |acceleration| " + fixed(peak_abs_acceleration, 2) + " m/s^2 exceeds " +
+             fixed(kLinearModelMaxAcceleration, 0) +
+             " m/s^2: the linear model is unreliable at this level (JDSMC 2022 sec. 5, 7); " +
+             (nonlinear_in_range ? std::string("rely on the nonlinear prediction")
+                                 : std::string("the nonlinear model is out of its range too, "
+                                               "so no prediction is reliable"))});
   }
   if (!format.container.rectangular && peak_abs_acceleration > kGravity * h / R) {
     // A steady horizontal acceleration a tilts the free surface to the slope a/g, raising it by
@@ -72,11 +93,13 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
     // models assume a liquid over the whole bottom with a small, unbroken surface, so neither
     // describes such a motion (a law that reaches it briefly may still slosh little, but no
     // figure of either model can be promised).
-    w.push_back("peak horizontal acceleration " + fixed(peak_abs_acceleration, 2) +
-                " m/s^2 exceeds g h / R = " + fixed(kGravity * h / R, 2) +
-                " m/s^2, where a free surface tilted to the quasi-static slope a/g reaches the "
-                "container's bottom: both models are outside what they describe (the liquid "
-                "may leave the bottom and the wave break), so neither prediction is reliable");
+    w.push_back(
+        {WarningKind::kModelsOutOfRange,
+         "peak horizontal acceleration " + fixed(peak_abs_acceleration, 2) +
+             " m/s^2 exceeds g h / R = " + fixed(kGravity * h / R, 2) +
+             " m/s^2, where a free surface tilted to the quasi-static slope a/g reaches the "
+             "container's bottom: both models are outside what they describe (the liquid "
+             "may leave the bottom and the wave break), so neither prediction is reliable"});
   }
   if (format.container.rectangular) {
     // A rectangular tank's shallow fill is judged by its nonlinear model's range
@@ -84,21 +107,28 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
     const RectangularTank& t = *format.container.rectangular;
     const double half = 0.5 * std::min(t.length, t.width);
     if (half < kMinModelledRadius) {
-      w.push_back("half the shorter side " + fixed(half * 1e3, 1) + " mm is below " +
-                  fixed(kMinModelledRadius * 1e3, 0) +
-                  " mm: surface tension matters and is not modelled");
+      w.push_back(
+          {WarningKind::kSurfaceTension, "half the shorter side " + fixed(half * 1e3, 1) +
+                                             " mm is below " + fixed(kMinModelledRadius * 1e3, 0) +
+                                             " mm: surface tension matters and is not modelled"});
     }
     for (std::string& beyond : beyond_linear_theory(t, h, eta_motion_linear, eta_rest_linear)) {
-      w.push_back(std::move(beyond));
+      w.push_back({WarningKind::kLinearModelBeyondTheory, std::move(beyond)});
     }
   } else if (R < kMinModelledRadius) {
-    w.push_back("radius " + fixed(R * 1e3, 1) + " mm is below " +
-                fixed(kMinModelledRadius * 1e3, 0) +
-                " mm: surface tension matters and is not modelled");
+    w.push_back({WarningKind::kSurfaceTension, "radius " + fixed(R * 1e3, 1) + " mm is below " +
+                                                   fixed(kMinModelledRadius * 1e3, 0) +
+                                                   " mm: surface tension matters and is not "
+                                                   "modelled"});
   }
   if (!format.container.rectangular && h / R < kMinFillRatio) {
-    w.push_back("fill ratio h/R = " + fixed(h / R, 3) + " is below " + fixed(kMinFillRatio, 1) +
-                ": shallow-liquid regime, not modelled");
+    w.push_back({WarningKind::kShallowFill, "fill ratio h/R = " + fixed(h / R, 3) + " is below " +
+                                                fixed(kMinFillRatio, 1) +
+                                                ": shallow-liquid regime, not modelled"});
+  }
+  if (std::optional<std::string> deeper = wave_deeper_than_fill(
+          h, eta_motion_linear, nonlinear_in_range ? eta_motion_nonlinear : 0.0, eta_rest_linear)) {
+    w.push_back({WarningKind::kWaveExceedsFill, std::move(*deeper)});
   }
   if (format.container.height) {
     const double free_board = *format.container.height - h;
@@ -107,17 +137,21 @@ std::vector<std::string> validity_warnings(const Format& format, double peak_abs
     const double eta = linear_larger ? eta_motion_linear : eta_motion_nonlinear;
     const double other = linear_larger ? eta_motion_nonlinear : eta_motion_linear;
     if (eta > free_board && !nonlinear_in_range) {
-      w.push_back(
-          "predicted sloshing height during the motion " + fixed(eta_motion_linear * 1e3, 1) +
-          " mm (linear model; the nonlinear model is out of its range) exceeds the free "
-          "board " +
-          fixed(free_board * 1e3, 1) + " mm (container height - fill height): liquid will spill");
+      w.push_back({WarningKind::kSpill,
+                   "predicted sloshing height during the motion " +
+                       fixed(eta_motion_linear * 1e3, 1) +
+                       " mm (linear model; the nonlinear model is out of its range) exceeds the "
+                       "free board " +
+                       fixed(free_board * 1e3, 1) +
+                       " mm (container height - fill height): liquid will spill"});
     } else if (eta > free_board) {
-      w.push_back("predicted sloshing height during the motion " + fixed(eta * 1e3, 1) + " mm (" +
-                  (linear_larger ? "linear" : "nonlinear") + " model; " +
-                  (linear_larger ? "nonlinear" : "linear") + " model " + fixed(other * 1e3, 1) +
-                  " mm) exceeds the free board " + fixed(free_board * 1e3, 1) +
-                  " mm (container height - fill height): liquid will spill");
+      w.push_back({WarningKind::kSpill,
+                   "predicted sloshing height during the motion " + fixed(eta * 1e3, 1) + " mm (" +
+                       (linear_larger ? "linear" : "nonlinear") + " model; " +
+                       (linear_larger ? "nonlinear" : "linear") + " model " +
+                       fixed(other * 1e3, 1) + " mm) exceeds the free board " +
+                       fixed(free_board * 1e3, 1) +
+                       " mm (container height - fill height): liquid will spill"});
     }
   }
   return w;
@@ -225,7 +259,9 @@ void simulate_rectangular(const Format& format, const MotionLaw& law,
   r.linear = series.linear.peaks().highest;
   r.nonlinear = nonlinear.peaks.highest;
   r.rectangular_peaks = nonlinear.peaks;
-  if (!nonlinear.warning.empty()) r.warnings.push_back(nonlinear.warning);
+  if (!nonlinear.warning.empty()) {
+    r.warnings.push_back({WarningKind::kNonlinearModelNotValid, nonlinear.warning});
+  }
   if (!options.sample_period) return;
   if (series.nonlinear_holds) {
     for (const DrivenDirection& d : driven_directions(m)) {
@@ -265,7 +301,7 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   }
   // So far r.warnings holds only the rectangular nonlinear model's out-of-range reason.
   const bool nonlinear_in_range = r.warnings.empty();
-  std::vector<std::string> warnings = validity_warnings(
+  std::vector<Warning> warnings = validity_warnings(
       format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
       r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range, r.linear.rest.value);
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());

@@ -8,6 +8,7 @@
 
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
+#include "status_caveat.hpp"
 #include "strategies.hpp"
 #include "text.hpp"
 
@@ -815,6 +816,14 @@ void extend_curve_and_report(SearchRun& run) {
     r.message += "; feasibility is not monotone: T = " + sec(first_bad->motion_time) +
                  " above it fails (" + why_not(*first_bad, r) + ")";
   }
+  // SPEC §5 "Honest status" carried into the search: T_min meets the limits asked, but when its
+  // plan's own warnings say it is not optimal (the liquid spills by the larger model, the wave
+  // uncovers the bottom, ...), the answer is acceptable and says why first.
+  if (r.plan) r.not_optimal = detail::optimal_caveat(r.plan->warnings, run.strategy);
+  if (!r.not_optimal.empty()) {
+    if (!cut) r.status = SolveStatus::kAcceptable;
+    r.message = "not optimal: the plan at T_min is not (" + r.not_optimal + "); " + r.message;
+  }
   if (cut) {
     r.message = run.budget_text() + " ran out at T = " + sec(*cut) + ", after T_min was " +
                 "bracketed, while the curve above it was planned (to " + sec(curve_end) +
@@ -876,9 +885,18 @@ MinTimeSummary summarize_min_time(const std::vector<MinTimeResult>& results) {
   MinTimeSummary s;
   for (std::size_t i = 0; i < results.size(); ++i) {
     const MinTimeResult& r = results[i];
-    if (!r.t_min || (r.status != SolveStatus::kOptimal && !r.t_min_final)) continue;
+    if (!r.t_min || !(r.status == SolveStatus::kOptimal || r.t_min_final)) continue;
     if (r.strategy == Strategy::kBaseline && !s.baseline) s.baseline = i;
-    if (!s.winner || *r.t_min < *results[*s.winner].t_min) s.winner = i;
+    // A T_min whose plan is not optimal wins only when no strategy's T_min plan is optimal.
+    const bool honest = r.not_optimal.empty();
+    const bool winner_honest = s.winner && results[*s.winner].not_optimal.empty();
+    if (!s.winner || (honest && !winner_honest) ||
+        (honest == winner_honest && *r.t_min < *results[*s.winner].t_min)) {
+      s.winner = i;
+    }
+  }
+  if (s.winner && !results[*s.winner].not_optimal.empty()) {
+    s.winner_not_optimal = results[*s.winner].not_optimal;
   }
   if (s.winner && s.baseline) {
     const double tw = *results[*s.winner].t_min;

@@ -451,11 +451,13 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   r.robustness.reset();
   r.worst_case.reset();
   r.uncertainty.reset();
-  r.warnings =
-      validity_warnings(c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
-                        o.prediction.nonlinear.motion.value, true, o.prediction.linear.rest.value);
-  if (!o.model_warning.empty()) r.warnings.push_back(o.model_warning);
-  if (!o.worse.empty()) r.warnings.push_back(o.worse);
+  r.warnings = validity_warnings(
+      c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
+      o.prediction.nonlinear.motion.value, o.model_warning.empty(), o.prediction.linear.rest.value);
+  if (!o.model_warning.empty()) {
+    r.warnings.push_back({WarningKind::kNonlinearModelNotValid, o.model_warning});
+  }
+  if (!o.worse.empty()) r.warnings.push_back({WarningKind::kWorseThanBaseline, o.worse});
   if (c.deadline.expired() && r.status == SolveStatus::kInfeasible &&
       law_strategy == Strategy::kTimeDomain && r.invalid_input == std::nullopt) {
     // time_domain's "no law found" is its search's claim, which a search cut short by the

@@ -1255,27 +1255,28 @@ void take_own_figures(PlanResult& r, Selection& s, bool on_axis, const Durations
 /// The plan's warnings: SPEC §2's validity warnings, the baseline guard's `worse`, and a
 /// rectangular tank's (its nonlinear model out of range for the law, `out_of_range`, or for the
 /// uniform law of reference, a motion too short to act on a mode), each once.
-std::vector<std::string> plan_warnings(const Format& format, const PlanResult& r,
-                                       const std::string& worse, std::string out_of_range,
-                                       const std::string& baseline_out_of_range) {
+std::vector<Warning> plan_warnings(const Format& format, const PlanResult& r,
+                                   const std::string& worse, std::string out_of_range,
+                                   const std::string& baseline_out_of_range) {
   const bool law_in_range = out_of_range.empty();
-  std::vector<std::string> w = validity_warnings(
+  std::vector<Warning> w = validity_warnings(
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
       r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value, law_in_range,
       r.prediction.linear.rest.value);
-  if (!worse.empty()) w.push_back(worse);
-  if (!law_in_range) w.push_back(std::move(out_of_range));
+  if (!worse.empty()) w.push_back({WarningKind::kWorseThanBaseline, worse});
+  if (!law_in_range) w.push_back({WarningKind::kNonlinearModelNotValid, std::move(out_of_range)});
   if (law_in_range && !baseline_out_of_range.empty()) {
     // The reductions then compare the law's nonlinear figures with the uniform law's linear ones.
-    w.push_back(
-        "the uniform law's nonlinear figures (the reference of the reductions) are the linear "
-        "model's: " +
-        baseline_out_of_range);
+    w.push_back({WarningKind::kReferenceLinear,
+                 "the uniform law's nonlinear figures (the reference of the reductions) are the "
+                 "linear model's: " +
+                     baseline_out_of_range});
   }
   if (r.rectangular) {
-    std::string too_short = motion_too_short_for_mode(*r.rectangular, r.law.duration());
-    if (!too_short.empty()) w.push_back(std::move(too_short));
+    std::string too_short =
+        motion_too_short_for_mode(*r.rectangular, format.stroke, r.law.duration());
+    if (!too_short.empty()) w.push_back({WarningKind::kMotionTooShort, std::move(too_short)});
   }
   return w;
 }

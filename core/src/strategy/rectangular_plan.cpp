@@ -8,6 +8,7 @@
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/model/uncertainty.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
+#include "slosh/core/response/spectrum.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
 
@@ -25,24 +26,46 @@ RectangularPrediction rectangular_prediction(const RectangularModel& model, cons
   return p;
 }
 
-std::string motion_too_short_for_mode(const RectangularModel& model, double motion_time) {
-  const AxisComponents c = axis_components(model.orientation_deg);
-  double period = 0.0;
+std::string motion_too_short_for_mode(const RectangularModel& model, double stroke,
+                                      double motion_time) {
+  // Every mode n of every driven direction: the residual wave the uniform law leaves, and the
+  // least one a law of this duration that moves one way can leave, both as the mode's amplitude
+  // on its wall (eta_gain_n |X_a(omega_n)| / omega_n, the modal coordinate's undamped residual
+  // |X_a| / omega_n), summed over the modes: a long rest window's peak nears that sum.
+  // With the velocity v >= 0, X_a(omega) = j omega int v e^{-j omega t} dt, and v / stroke is a
+  // distribution on [0, T], whose characteristic function is at least cos(omega T / 2) in
+  // magnitude for omega T <= pi (half the stroke at each end attains it), so
+  // |X_a(omega_n)| >= omega_n stroke cos(omega_n T / 2).
+  const Durations uniform = uniform_durations(motion_time);
+  double floor = 0.0, reference = 0.0, period = 0.0;
   const char* name = "length";
-  if (c.along_length != 0.0) period = 2.0 * std::numbers::pi / model.along_length.omega1();
-  if (c.along_width != 0.0) {
-    const double w = 2.0 * std::numbers::pi / model.along_width.omega1();
-    if (w > period) {
-      period = w;
-      name = "width";
+  for (const DrivenDirection& d : driven_directions(model)) {
+    const SloshingModel& m = d.model;
+    for (int n = 0; n < m.modes(); ++n) {
+      const double w = m.omega[n];
+      const double gain = std::abs(m.eta_gain[n]);
+      if (w * motion_time < std::numbers::pi) {
+        floor += gain * stroke * std::cos(0.5 * w * motion_time);
+      }
+      reference += gain * std::abs(seven_segment_spectrum(uniform, stroke, w)) / w;
+    }
+    const double own = 2.0 * std::numbers::pi / m.omega1();
+    if (own > period) {
+      period = own;
+      name = d.axis == TankAxis::kLength ? "length" : "width";
     }
   }
-  if (!(motion_time < kMinMotionPeriodShare * period)) return {};
-  return "motion too short for the tank: motion time " + detail::sig3(motion_time) +
-         " s is below " + detail::fixed(kMinMotionPeriodShare, 1) +
-         " of the first sloshing period " + detail::sig3(period) + " s along the " + name +
-         "; the move is an impulse to that mode, every law of this duration leaves about the "
-         "same sloshing, and no plan can reduce it (a longer motion time can)";
+  if (!(reference > 0.0) || !(floor >= kMotionTooShortShare * reference)) return {};
+  const double share = std::min(1.0, floor / reference);
+  return "motion too short for the tank: motion time " + detail::sig3(motion_time) + " s is " +
+         detail::sig3(motion_time / period) + " of the first sloshing period " +
+         detail::sig3(period) + " s along the " + name +
+         "; the move is an impulse to the tank's modes: every law of this duration that moves one "
+         "way leaves at least " +
+         detail::fixed(share, 2) +
+         " of the uniform law's residual wave (its modes' amplitudes summed), so no such plan can "
+         "reduce it by more than " +
+         detail::fixed(100.0 * (1.0 - share), 0) + " % (a longer motion time can)";
 }
 
 bool both_directions_excited(double orientation_deg) {

@@ -4,19 +4,19 @@
 #include <vector>
 
 #include "slosh/core/strategy/planner.hpp"
+#include "slosh/core/warning.hpp"
 
 namespace slosh::detail {
 
-/// Why a plan whose law meets its constraints is still not `optimal`, from its warnings: the
-/// liquid spills over the free board, the law sloshes more than the uniform law
-/// (worse_than_baseline), or the motion is too short for any law to act on the tank's mode (a
-/// plan of a shaping strategy then promises nothing). Empty when none holds. The uniform law
-/// (`strategy` baseline) reduces nothing by definition, so only the spill counts for it.
-std::string optimal_caveat(const std::vector<std::string>& warnings, Strategy strategy);
+/// Why a plan whose law meets its constraints is still not `optimal`: the reasons of its
+/// warnings' kinds whose StatusEffect applies to `strategy` (warning_kinds(); the uniform law,
+/// `strategy` baseline, reduces nothing by definition, so only the kinds that are the law's own
+/// outcome count for it), each once, in the table's order. Empty when none applies.
+std::string optimal_caveat(const std::vector<Warning>& warnings, Strategy strategy);
 
 /// SPEC §5 "Honest status": an `optimal` plan with a caveat becomes `acceptable` (its
-/// constraints still hold) and `detail` leads with the caveat.
+/// constraints still hold) and `detail` leads with "not optimal: <caveat>".
 void apply_optimal_caveat(SolveStatus& status, std::string& detail,
-                          const std::vector<std::string>& warnings, Strategy strategy);
+                          const std::vector<Warning>& warnings, Strategy strategy);
 
 }  // namespace slosh::detail

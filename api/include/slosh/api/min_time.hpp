@@ -78,8 +78,8 @@ struct MinTimeRequest {
 void check_min_time_inputs(const MinTimeRequest& request,
                            const std::vector<MinTimeResult>& results);
 
-/// Whether a min-time answer depends only on its request (every search optimal or infeasible; a
-/// time-limited one depends on the load).
+/// Whether a min-time answer depends only on its request (every search optimal, acceptable or
+/// infeasible; a time-limited one depends on the load).
 [[nodiscard]] bool is_min_time_cacheable(const std::vector<MinTimeResult>& results);
 
 /// The response as the service keeps it: without the per-reply member `cached`.

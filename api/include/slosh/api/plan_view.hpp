@@ -66,7 +66,9 @@ constexpr std::size_t kCompactPlanMaxBytes{1024};
 /// compact_plan of a plan reply's text, as text.
 [[nodiscard]] std::string compact_plan_text(std::string_view plan);
 
-/// The finding of a warning: its text up to the first ": " (all of it when it has none).
-[[nodiscard]] std::string warning_finding(const std::string& warning);
+/// The codes of a plan's warnings, each once, in order: its warning_codes (the kinds of
+/// warning_kinds()); for a plan stored without them, each sentence's finding (its text up to
+/// the first ": ").
+[[nodiscard]] std::vector<std::string> plan_warning_codes(const nlohmann::json& plan);
 
 }  // namespace slosh::api

@@ -1,23 +1,17 @@
 #pragma once
-// Every kind of warning a plan can carry in "warnings", in one table: the compact view's codes,
-// the OpenAPI description of the member and the planner's own texts all come from it, so a new
-// kind is documented where it is added.
+// Every kind of warning a plan can carry in "warnings": core's one table (slosh/core/warning.hpp),
+// from which the full plan's warning_codes, the compact view's codes, the OpenAPI description of
+// the member and the honest status all come, so a new kind is documented where it is added.
 
 #include <span>
 #include <string_view>
 
+#include "slosh/core/warning.hpp"
+
 namespace slosh::api {
 
-/// One kind of plan warning.
-struct PlanWarningKind {
-  /// The code: what the compact view lists for such a warning.
-  std::string_view code;
-  /// How the warning's text begins (the validity sentences of SPEC §2; "<code>: " for the kinds
-  /// whose text leads with its code).
-  std::string_view prefix;
-  /// When it is given, for the OpenAPI description.
-  std::string_view meaning;
-};
+/// One kind of plan warning: its code, how its sentence begins, what it means.
+using PlanWarningKind = WarningKindInfo;
 
 /// The time_limited_candidates warning's code: an auto plan with a candidate out of its budget.
 inline constexpr std::string_view kTimeLimitedCandidates = "time_limited_candidates";

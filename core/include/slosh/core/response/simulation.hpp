@@ -12,6 +12,7 @@
 #include "slosh/core/model/sloshing_model.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/response/response.hpp"
+#include "slosh/core/warning.hpp"
 
 namespace slosh {
 
@@ -45,7 +46,7 @@ struct SimulationResult {
   /// direction the motion does not drive) and the corners' (highest).
   std::optional<RectangularPeaks> rectangular_peaks;
   std::optional<TimeSeries> series;
-  std::vector<std::string> warnings;
+  std::vector<Warning> warnings;
   /// Set when simulate() refused its inputs (validate_simulation_input); nothing else is filled.
   std::optional<InvalidInput> invalid_input;
 };
@@ -61,8 +62,9 @@ constexpr double kMinFillRatio{0.3};                 ///< h/R below: shallow-liq
 /// nonlinear prediction nor call a figure nonlinear. `eta_rest_linear` [m], the linear wave left
 /// after the motion: a rectangular tank's linear-theory check judges the larger of eta_motion and
 /// eta_rest (a shallow fill rings on after the motion, and its wave there can exceed the one
-/// during it) and quotes both when the rest one is larger.
-[[nodiscard]] std::vector<std::string> validity_warnings(
+/// during it) and quotes both when the rest one is larger. A wave (eta_motion of either model,
+/// eta_rest_linear) deeper than the fill height is a warning of its own (kWaveExceedsFill).
+[[nodiscard]] std::vector<Warning> validity_warnings(
     const Format& format, double peak_abs_acceleration, double eta_motion_linear,
     double eta_motion_nonlinear, bool nonlinear_in_range = true, double eta_rest_linear = 0.0);
 

@@ -137,11 +137,13 @@ struct MinTimePoint {
 struct MinTimeResult {
   Strategy strategy{};
   /// kOptimal: T_min found (t_min; the plan at T_min) and the curve planned up to curve_factor
-  /// T_min. kInfeasible: no T from the lower bound to motion_time_max met the limits (best: the
-  /// least excess reached, with its plan). kTimeLimit: the budget (time or max_plans) ran out;
-  /// t_min, when set, is the best bound so far (a feasible T; the true T_min is at or below it),
-  /// or T_min itself when t_min_final (the budget ran out on the curve above it, which is then
-  /// partial; the message says so). kFailed: invalid input (invalid_input) or a plan that failed.
+  /// T_min. kAcceptable: the same, but the plan at T_min is not optimal by its own warnings
+  /// (not_optimal; SPEC §5 "Honest status"), and the message leads with "not optimal: ...".
+  /// kInfeasible: no T from the lower bound to motion_time_max met the limits (best: the least
+  /// excess reached, with its plan). kTimeLimit: the budget (time or max_plans) ran out; t_min,
+  /// when set, is the best bound so far (a feasible T; the true T_min is at or below it), or T_min
+  /// itself when t_min_final (the budget ran out on the curve above it, which is then partial; the
+  /// message says so). kFailed: invalid input (invalid_input) or a plan that failed.
   SolveStatus status{SolveStatus::kFailed};
   std::optional<InvalidInput> invalid_input;
   std::string message;
@@ -167,6 +169,10 @@ struct MinTimeResult {
   /// the residual wave of the uniform law has zeros). Nullopt without t_min, and when the budget
   /// ran out before the curve reached curve_factor t_min and no T above it had failed.
   std::optional<bool> feasible_above;
+  /// Why the plan at t_min is not optimal (its warnings' caveat, e.g. "the predicted sloshing
+  /// exceeds the free board (liquid will spill)": the limits hold on the limit model while the
+  /// larger model spills); empty when it is, and without t_min.
+  std::string not_optimal;
   /// The plan at t_min; for kInfeasible the plan of the best point reached.
   std::optional<PlanResult> plan;
   /// kInfeasible: the point of least excess reached.
@@ -205,9 +211,11 @@ struct MinTimeResult {
 /// The headline over several strategies' searches.
 struct MinTimeSummary {
   /// Index of the strategy with the least t_min among the results whose t_min is final (kOptimal,
-  /// or kTimeLimit with a partial curve; ties: the first);
-  /// nullopt when none found one.
+  /// kAcceptable, or kTimeLimit with a partial curve; ties: the first), taken among those whose
+  /// plan at t_min is optimal (empty not_optimal) when there is one; nullopt when none found one.
   std::optional<std::size_t> winner;
+  /// The winner's not_optimal when every final t_min's plan is not optimal; empty otherwise.
+  std::string winner_not_optimal;
   /// The uniform law's (baseline) result index when it was searched and found a final T_min.
   std::optional<std::size_t> baseline;
   /// 100 (T_baseline - T_winner) / T_baseline [%], when both exist.

@@ -11,6 +11,7 @@
 #include <string_view>
 #include <variant>
 #include <vector>
+
 #include "slosh/core/enum_names.hpp"
 #include "slosh/core/invalid_input.hpp"
 
@@ -24,6 +25,7 @@
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
 #include "slosh/core/strategy/robustness.hpp"
+#include "slosh/core/warning.hpp"
 
 namespace slosh {
 
@@ -415,7 +417,8 @@ struct PlanResult {
   /// The band of min_jerk_band (also reported for the other strategies as w1 +- band) [rad/s].
   std::array<double, 2> band_omega{};
   SolverReport solver;
-  std::vector<std::string> warnings;
+  /// Each with its kind (warning_kinds()); the kinds decide the honest status.
+  std::vector<Warning> warnings;
   std::vector<PlanCandidate> candidates;  ///< filled by kAuto only
   /// With PlanOptions::drive_profile kMoveAbsolute, the MC_MoveAbsolute numbers of the law (set
   /// whenever the returned law is a one-jerk 7-segment law).

@@ -28,16 +28,22 @@ struct RectangularPrediction {
 [[nodiscard]] RectangularPrediction rectangular_prediction(const RectangularModel& model,
                                                            const MotionLaw& law, double rest_time);
 
-/// Below this share of an excited direction's first sloshing period a move is an impulse to
-/// that mode: the residual of any law of this duration differs from the uniform law's by terms
-/// of order (omega_1 T)^2 / 12 < 4 % (a tenth of the period: omega_1 T = 0.63), so no planning
-/// can reduce it.
-inline constexpr double kMinMotionPeriodShare{0.1};
+/// The share of the uniform law's residual wave (its modes' amplitudes summed over the driven
+/// directions) from which a motion is too short for the tank (motion_too_short_for_mode) [-]:
+/// every law of the duration that moves one way leaves at least this share, so a plan can
+/// reduce the wave by a tenth at most. A short motion time alone does not decide it: on a long
+/// shallow tank the higher modes, n omega_1 apart, are not impulses yet and carry much of the
+/// uniform law's wave, which a law can reduce (4 m tank filled 50 mm, 1 s: 0.09 of the first
+/// period, and time_domain halves the wave).
+inline constexpr double kMotionTooShortShare{0.9};
 
-/// Empty, or the sentence saying that `motion_time` [s] is below kMinMotionPeriodShare of the
-/// first period 2 pi / omega_1 of an excited direction of `model` (the slowest such direction
-/// is named): the plan cannot act on that mode.
-[[nodiscard]] std::string motion_too_short_for_mode(const RectangularModel& model,
+/// Empty, or the sentence saying that the move of `stroke` [m] in `motion_time` [s] is an impulse
+/// to the tank's modes: a law of this duration that moves one way (velocity >= 0) leaves at least
+/// cos(omega_n T / 2) of each mode's impulse residual (zero from omega_n T = pi), and those
+/// floors, summed over the modes of the driven directions, reach kMotionTooShortShare of the
+/// uniform law's residual amplitudes summed the same way. It names the motion time's share of
+/// the slowest excited direction's first period and the floor's share of the uniform law's.
+[[nodiscard]] std::string motion_too_short_for_mode(const RectangularModel& model, double stroke,
                                                     double motion_time);
 
 /// A direction whose static wall height is below this share of the other's is left out of what
