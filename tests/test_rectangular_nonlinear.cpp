@@ -350,7 +350,8 @@ TEST(RectangularNonlinear, LargeResponseAnswersLinearlyAndSaysWhy) {
   const MotionLaw law = make_poly5_law(0.05, 0.4);  // 25 mm at the wall: k1 eta = 0.78
   const RectangularNonlinearPeaks p = rectangular_nonlinear_peaks(model, law, 1.0);
   EXPECT_FALSE(p.nonlinear);
-  const std::string head = "rectangular nonlinear model not valid along the length: wall height ";
+  const std::string head =
+      "rectangular nonlinear model not valid along the length: the nonlinear model's wall height ";
   const std::string tail = " above 0.30 (beyond the third-order theory); linear model used";
   ASSERT_GT(p.warning.size(), head.size() + tail.size());
   EXPECT_EQ(p.warning.substr(0, head.size()), head);

@@ -50,7 +50,8 @@ TEST(RectangularNonlinearValidity, SteepWaveNearTheCriticalDepthIsRefusedWithIts
   EXPECT_EQ(v.axis, TankAxis::kWidth);
   EXPECT_EQ(v.reason,
             "rectangular nonlinear model not valid along the width: fill height / width = 0.333 "
-            "is near the critical depth 0.3368, where at the wall height 4.5 mm (k1 eta = 0.14) "
+            "is near the critical depth 0.3368, where at the nonlinear model's wall height 4.5 mm "
+            "(k1 eta = 0.14) "
             "the fifth-order frequency shift the model leaves out exceeds its third-order one; "
             "linear model used");
 }
@@ -93,7 +94,8 @@ TEST(RectangularNonlinearValidity, SteepWaveIsRefusedWithItsSentence) {
   EXPECT_FALSE(v.valid);
   EXPECT_EQ(v.limit, Limit::kSteepness);
   EXPECT_EQ(v.reason,
-            "rectangular nonlinear model not valid along the length: wall height 10.0 mm is a "
+            "rectangular nonlinear model not valid along the length: the nonlinear model's wall "
+            "height 10.0 mm is a "
             "wave steepness k1 eta = 0.31 above 0.30 (beyond the third-order theory); linear "
             "model used");
 }
@@ -143,7 +145,8 @@ TEST(RectangularNonlinearValidity, BothDirectionsOutOfRangeAreBothNamedInOneSent
   // Different limits on the two sides: each sentence says its own (length steep, width shallow).
   const auto mixed = rectangular_nonlinear_validity(tank(0.1, 0.2, 30.0, 0.045), {0.01, 0.0});
   EXPECT_EQ(mixed.limit, Limit::kSteepness);
-  EXPECT_NE(mixed.reason.find("along the length: wall height 10.0 mm"), std::string::npos)
+  EXPECT_NE(mixed.reason.find("along the length: the nonlinear model's wall height 10.0 mm"),
+            std::string::npos)
       << mixed.reason;
   EXPECT_NE(mixed.reason.find("; rectangular nonlinear model not valid along the width: fill "
                               "height / width = 0.225 is below 0.24"),

@@ -45,7 +45,7 @@ RectangularNonlinearValidity check_direction(const SloshingModel& m, TankAxis ax
   const double steepness = rectangular_wavenumber(m.radius, 1) * height;
   if (steepness > kRectangularMaxSteepness) {
     return invalid(RectangularNonlinearLimit::kSteepness, axis,
-                   head + "wall height " + fixed(height * 1e3, 1) +
+                   head + "the nonlinear model's wall height " + fixed(height * 1e3, 1) +
                        " mm is a wave steepness k1 eta = " + fixed(steepness, 2) + " above " +
                        fixed(kRectangularMaxSteepness, 2) + " (beyond the third-order theory)" +
                        tail);
@@ -55,7 +55,7 @@ RectangularNonlinearValidity check_direction(const SloshingModel& m, TankAxis ax
     return invalid(RectangularNonlinearLimit::kCriticalDepth, axis,
                    head + "fill height / " + name + " = " + fixed(ratio, 3) +
                        " is near the critical depth " + fixed(kRectangularCriticalDepthRatio, 4) +
-                       ", where at the wall height " + fixed(height * 1e3, 1) +
+                       ", where at the nonlinear model's wall height " + fixed(height * 1e3, 1) +
                        " mm (k1 eta = " + fixed(steepness, 2) +
                        ") the fifth-order frequency shift the model leaves out exceeds its "
                        "third-order one" +
