@@ -362,7 +362,7 @@ TEST(RectangularPlan, AMotionTooShortForEveryLawHoldsShapingPlansFromOptimalButN
   ASSERT_GE(share, kMotionTooShortShare);
   const double k = kPi / 4.0;
   const double period = 2 * kPi / std::sqrt(9.81 * k * std::tanh(k * 2.0));
-  char expected[256];
+  char expected[1024];
   std::snprintf(expected, sizeof expected,
                 "motion too short for the tank: motion time 0.2 s is %.3g of the first sloshing "
                 "period %.3g s along the length; the move is an impulse to the tank's modes: "
