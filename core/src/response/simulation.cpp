@@ -69,6 +69,27 @@ std::optional<std::string> wave_deeper_than_fill(double h, double linear, double
          "longer motion time or a deeper fill avoids it";
 }
 
+/// The spill warning when a predicted eta_motion exceeds the free board [m]: the larger
+/// prediction decides, and the sentence says which model gave it and the other's (the linear
+/// one alone when the nonlinear figures are the linear model's).
+std::optional<std::string> spill_warning(double free_board, double eta_motion_linear,
+                                         double eta_motion_nonlinear, bool nonlinear_in_range) {
+  const bool linear_larger = eta_motion_linear > eta_motion_nonlinear;
+  const double eta = linear_larger ? eta_motion_linear : eta_motion_nonlinear;
+  const double other = linear_larger ? eta_motion_nonlinear : eta_motion_linear;
+  if (!(eta > free_board)) return std::nullopt;
+  const std::string board = " exceeds the free board " + fixed(free_board * 1e3, 1) +
+                            " mm (container height - fill height): liquid will spill";
+  if (!nonlinear_in_range) {
+    return "predicted sloshing height during the motion " + fixed(eta_motion_linear * 1e3, 1) +
+           " mm (linear model; the nonlinear model is out of its range)" + board;
+  }
+  return "predicted sloshing height during the motion " + fixed(eta * 1e3, 1) + " mm (" +
+         (linear_larger ? "linear" : "nonlinear") + " model; " +
+         (linear_larger ? "nonlinear" : "linear") + " model " + fixed(other * 1e3, 1) + " mm)" +
+         board;
+}
+
 }  // namespace
 
 std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acceleration,
@@ -131,27 +152,10 @@ std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acc
     w.push_back({WarningKind::kWaveExceedsFill, std::move(*deeper)});
   }
   if (format.container.height) {
-    const double free_board = *format.container.height - h;
-    // The larger prediction decides; the sentence says which model gave it and the other's.
-    const bool linear_larger = eta_motion_linear > eta_motion_nonlinear;
-    const double eta = linear_larger ? eta_motion_linear : eta_motion_nonlinear;
-    const double other = linear_larger ? eta_motion_nonlinear : eta_motion_linear;
-    if (eta > free_board && !nonlinear_in_range) {
-      w.push_back({WarningKind::kSpill,
-                   "predicted sloshing height during the motion " +
-                       fixed(eta_motion_linear * 1e3, 1) +
-                       " mm (linear model; the nonlinear model is out of its range) exceeds the "
-                       "free board " +
-                       fixed(free_board * 1e3, 1) +
-                       " mm (container height - fill height): liquid will spill"});
-    } else if (eta > free_board) {
-      w.push_back({WarningKind::kSpill,
-                   "predicted sloshing height during the motion " + fixed(eta * 1e3, 1) + " mm (" +
-                       (linear_larger ? "linear" : "nonlinear") + " model; " +
-                       (linear_larger ? "nonlinear" : "linear") + " model " +
-                       fixed(other * 1e3, 1) + " mm) exceeds the free board " +
-                       fixed(free_board * 1e3, 1) +
-                       " mm (container height - fill height): liquid will spill"});
+    if (std::optional<std::string> spill =
+            spill_warning(*format.container.height - h, eta_motion_linear, eta_motion_nonlinear,
+                          nonlinear_in_range)) {
+      w.push_back({WarningKind::kSpill, std::move(*spill)});
     }
   }
   return w;

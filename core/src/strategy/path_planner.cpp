@@ -549,11 +549,12 @@ void refuse_worse_choice(const std::vector<PlanCandidate>& candidates,
       "), which auto returns";
 }
 
-PlanResult run_auto(const PathContext& c, const PlanResult& base) {
+/// auto's candidates along the path, each planned and verified. Once the budget is spent no
+/// further candidate is planned (each costs a verification along the path): auto chooses among
+/// those it has, and its plan is time_limit.
+std::vector<PathOutcome> auto_outcomes(const PathContext& c, const PlanResult& base) {
   std::vector<PathOutcome> outcomes;
   outcomes.push_back(run_tangential(c, Strategy::kBaseline));
-  // Once the budget is spent no further candidate is planned and verified (each costs a
-  // verification along the path): auto chooses among those it has, and its plan is time_limit.
   if (!c.deadline.expired()) {
     std::vector<PathOutcome> spectral = spectral_outcomes(c);
     const std::vector<Durations> seeds = seeds_of(spectral);
@@ -569,6 +570,11 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
   if (c.options.drive_profile != DriveProfile::kMoveAbsolute && !c.deadline.expired()) {
     outcomes.push_back(run_tangential(c, Strategy::kShaper));
   }
+  return outcomes;
+}
+
+PlanResult run_auto(const PathContext& c, const PlanResult& base) {
+  std::vector<PathOutcome> outcomes = auto_outcomes(c, base);
   const std::size_t all_candidates =
       c.options.drive_profile != DriveProfile::kMoveAbsolute ? 7U : 6U;
   const bool cut = outcomes.size() < all_candidates;
