@@ -5,11 +5,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <complex>
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -17,6 +19,7 @@
 
 #include "slosh/api/calibration_container.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/plan.hpp"
 #include "slosh/api/spatial_simulate.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/law/seven_segment.hpp"
@@ -724,6 +727,99 @@ TEST(RectangularSpatialApi, ATankTurnedInPlaceSaysTheYawModesAreLeftOut) {
   for (const auto& w : api::simulate_response(table)["warnings"]) {
     EXPECT_NE(w.get<std::string>().rfind("yaw modes", 0), 0u) << w;
   }
+}
+
+// A plan on a small, fast rotary table carries simulate's yaw warning for its own law (the
+// figures are a lower bound), with its code in warning_codes and the compact view; a plan on a
+// large table, whose yaw is small against the horizontal acceleration, does not.
+TEST(RectangularSpatialApi, APlanOnAFastTableSaysTheYawModesAreLeftOutAsSimulateDoes) {
+  for (const double radius : {100.0, 300.0}) {
+    SCOPED_TRACE(radius);
+    nlohmann::json body = {{"format", cup_format(30.0)}, {"strategy", "baseline"}};
+    body["format"]["motion_time_s"] = radius == 100.0 ? 0.5 : 1.2;
+    body["format"]["motion"] = {
+        {"type", "arc"}, {"radius_mm", radius}, {"angle_deg", 90}, {"container_turns", true}};
+    const nlohmann::json plan = api::run_plan(api::parse_plan_request(body));
+    nlohmann::json simulate = {{"format", body["format"]}, {"law", plan["law"]}};
+    const nlohmann::json simulated = api::simulate_response(simulate);
+    std::string want;
+    for (const auto& w : simulated["warnings"]) {
+      if (w.get<std::string>().rfind("yaw modes not modelled: ", 0) == 0) want = w;
+    }
+    EXPECT_EQ(want.empty(), radius == 300.0) << simulated["warnings"].dump();
+    std::string got;
+    for (const auto& w : plan["warnings"]) {
+      if (w.get<std::string>().rfind("yaw modes not modelled: ", 0) == 0) got = w;
+    }
+    EXPECT_EQ(got, want) << plan["warnings"].dump();
+    const auto& codes = plan["warning_codes"];
+    EXPECT_EQ(std::find(codes.begin(), codes.end(), "yaw_modes_not_modelled") != codes.end(),
+              !want.empty())
+        << codes.dump();
+  }
+}
+
+// time_domain's plan for a tank along a path whose nonlinear model does not hold for its law
+// says so, as simulate of that law does (its nonlinear figures are the linear model's).
+TEST(RectangularSpatialApi, ATimeDomainPlanAlongAPathSaysWhereTheNonlinearModelDoesNotHold) {
+  nlohmann::json format = cup_format(0.0);
+  format["motion_time_s"] = 1.8;
+  format["motion"] = {{"type", "path"},
+                      {"segments",
+                       {{{"line_mm", 150}},
+                        {{"arc", {{"radius_mm", 150}, {"angle_deg", 90}}}},
+                        {{"line_mm", 150}}}}};
+  const nlohmann::json plan =
+      api::run_plan(api::parse_plan_request({{"format", format}, {"strategy", "time_domain"}}));
+  const nlohmann::json simulated =
+      api::simulate_response({{"format", format}, {"law", plan["law"]}});
+  std::vector<std::string> want, got;
+  for (const auto& w : simulated["warnings"]) {
+    if (w.get<std::string>().rfind("rectangular nonlinear model not valid", 0) == 0)
+      want.push_back(w);
+  }
+  for (const auto& w : plan["warnings"]) {
+    if (w.get<std::string>().rfind("rectangular nonlinear model not valid", 0) == 0)
+      got.push_back(w);
+  }
+  ASSERT_FALSE(want.empty()) << simulated["warnings"].dump();  // the case this test is about
+  EXPECT_EQ(got, want) << plan["warnings"].dump();
+  const auto& codes = plan["warning_codes"];
+  EXPECT_NE(std::find(codes.begin(), codes.end(), "nonlinear_model_not_valid"), codes.end());
+}
+
+// Every plan that spills says so first, whatever else made it acceptable (a local solve, a
+// spectral law verified along an arc): on a line and along a small fast table.
+TEST(RectangularSpatialApi, EveryPlanThatSpillsLeadsWithNotOptimal) {
+  nlohmann::json line = {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+                         {"fill_height_mm", 82},
+                         {"fluid", "water"},
+                         {"stroke_mm", 400},
+                         {"motion_time_s", 0.5}};
+  nlohmann::json table = line;
+  table.erase("stroke_mm");
+  table["fill_height_mm"] = 120;
+  table["motion"] = {
+      {"type", "arc"}, {"radius_mm", 100}, {"angle_deg", 90}, {"container_turns", true}};
+  int spilling = 0;
+  for (const nlohmann::json& format : {line, table}) {
+    for (const char* strategy : {"baseline", "time_domain", "fir_chain", "shaper"}) {
+      const nlohmann::json plan =
+          api::run_plan(api::parse_plan_request({{"format", format}, {"strategy", strategy}}));
+      const auto& codes = plan["warning_codes"];
+      // A law that meets its constraints (an infeasible one says what it misses instead).
+      if (std::find(codes.begin(), codes.end(), "spill") == codes.end() ||
+          plan["status"] == "infeasible") {
+        continue;
+      }
+      ++spilling;
+      EXPECT_EQ(plan["status"], "acceptable") << strategy << " " << format.dump();
+      EXPECT_NE(plan["message"].get<std::string>().find(" acceptable: not optimal: "),
+                std::string::npos)
+          << plan["message"];
+    }
+  }
+  EXPECT_GE(spilling, 3);
 }
 
 // A tank turned twice round a table: every wall angle it reports is in (-180, 180], as the

@@ -60,6 +60,11 @@ constexpr WarningKindInfo kKinds[] = {
      "strategy is not optimal (baseline's is, unless another kind says otherwise)",
      StatusEffect::kNotOptimalExceptBaseline,
      "the motion is too short for any law to act on the tank's modes"},
+    {WarningKind::kYawModesNotModelled, "yaw_modes_not_modelled", "yaw modes not modelled: ",
+     "a rectangular tank turns (a rotary table) with a yaw acceleration whose share at its "
+     "corners drives the modes odd in both directions, which the models leave out: the "
+     "predicted heights are a lower bound",
+     StatusEffect::kNone, ""},
     {WarningKind::kTimeLimitedCandidates, "time_limited_candidates", "time_limited_candidates: ",
      "auto only: a candidate ran out of its time budget (status time_limit), so the choice "
      "depends on the budget and the machine's load; such a plan is not cached",

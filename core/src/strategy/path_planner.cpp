@@ -10,6 +10,7 @@
 #include "response/tank_planar_sensitivity.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
 #include "slosh/core/response/rectangular_planar.hpp"
+#include "slosh/core/response/rectangular_yaw.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
@@ -321,7 +322,7 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
   }
   r.solver = {out.solver, out.evaluations, out.starts, out.objective, 0.0};
   r.prediction.kinematics = r.law.summary();
-  o.prediction = c.predict(r.law);
+  o.prediction = c.predict(r.law, &o.model_warning);
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   o.detail = "time_domain optimised " + optimised_models(c, nonlinear) + (c.tank ? "; " : " (") +
              (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
@@ -442,6 +443,16 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
 }
 
 /// The result of the outcome `o` for the requested strategy.
+/// A tank turning with the path (a rotary table) whose yaw drives the modes its models leave out:
+/// the plan says its figures are a lower bound, as simulate of the same law along the same path.
+void add_yaw_warning(const PathContext& c, const PlanResult& r, double horizontal_peak,
+                     std::vector<Warning>& warnings) {
+  if (!c.tank || !c.path.container_turns() || !c.format.container.rectangular) return;
+  std::string yaw = yaw_mode_warning(*c.format.container.rectangular, c.format.fill_height,
+                                     PlanarDrive(c.path, r.law), horizontal_peak);
+  if (!yaw.empty()) warnings.push_back({WarningKind::kYawModesNotModelled, std::move(yaw)});
+}
+
 PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::string detail) {
   const Strategy law_strategy = o.plan.strategy;
   PlanResult r = std::move(o.plan);
@@ -458,6 +469,7 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
     r.warnings.push_back({WarningKind::kNonlinearModelNotValid, o.model_warning});
   }
   if (!o.worse.empty()) r.warnings.push_back({WarningKind::kWorseThanBaseline, o.worse});
+  add_yaw_warning(c, r, o.prediction.a_total_peak, r.warnings);
   if (c.deadline.expired() && r.status == SolveStatus::kInfeasible &&
       law_strategy == Strategy::kTimeDomain && r.invalid_input == std::nullopt) {
     // time_domain's "no law found" is its search's claim, which a search cut short by the

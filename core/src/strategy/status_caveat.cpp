@@ -16,9 +16,11 @@ std::string optimal_caveat(const std::vector<Warning>& warnings, Strategy strate
 
 void apply_optimal_caveat(SolveStatus& status, std::string& detail,
                           const std::vector<Warning>& warnings, Strategy strategy) {
-  if (status != SolveStatus::kOptimal) return;
+  // An acceptable plan (a local solve's, a spectral law's) says it as well: whatever made it
+  // acceptable, a spill or a wave deeper than the fill is what the line engineer must read first.
+  if (status != SolveStatus::kOptimal && status != SolveStatus::kAcceptable) return;
   const std::string caveat = optimal_caveat(warnings, strategy);
-  if (caveat.empty()) return;
+  if (caveat.empty() || detail.starts_with("not optimal: ")) return;
   status = SolveStatus::kAcceptable;
   detail = "not optimal: " + caveat + (detail.empty() ? "" : "; " + detail);
 }

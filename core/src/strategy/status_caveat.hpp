@@ -15,7 +15,8 @@ namespace slosh::detail {
 std::string optimal_caveat(const std::vector<Warning>& warnings, Strategy strategy);
 
 /// SPEC §5 "Honest status": an `optimal` plan with a caveat becomes `acceptable` (its
-/// constraints still hold) and `detail` leads with "not optimal: <caveat>".
+/// constraints still hold), and the `detail` of such a plan, or of one `acceptable` already,
+/// leads with "not optimal: <caveat>" (once).
 void apply_optimal_caveat(SolveStatus& status, std::string& detail,
                           const std::vector<Warning>& warnings, Strategy strategy);
 
