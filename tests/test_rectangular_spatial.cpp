@@ -275,6 +275,7 @@ TEST(RectangularSpatial, PlanForATankOnANinetyDegreeTableIsVerifiedByAnIndepende
   const PlanarPath table = PlanarPath::arc(0.3, kPi / 2, true);
   for (Strategy s : {Strategy::kMultiNotch, Strategy::kTimeDomain, Strategy::kAuto}) {
     PlanOptions o;
+    o.time_limit = 60.0;  // what the plan reaches, not how fast (sanitizer builds)
     o.robustness = false;
     const PlanResult r = plan_on_path(f, table, s, o);
     ASSERT_FALSE(r.invalid_input) << r.message;
@@ -302,6 +303,7 @@ TEST(RectangularSpatial, TimeDomainOnATableMeetsItsBoundAlongTheArc) {
   f.motion_time = 1.5;
   const PlanarPath table = PlanarPath::arc(0.3, kPi / 2, true);
   PlanOptions o;
+  o.time_limit = 60.0;  // what the plan reaches, not how fast (sanitizer builds)
   o.robustness = false;
   const PlanResult r = plan_on_path(f, table, Strategy::kTimeDomain, o);
   ASSERT_FALSE(r.invalid_input) << r.message;
@@ -490,6 +492,7 @@ TEST(RectangularSpatial, TimeDomainAlongAPathMeetsTheBoundOnAnIndependentSimulat
   for (const Case& c : cases) {
     f.motion_time = c.motion_time;
     PlanOptions o;
+    o.time_limit = 60.0;  // what the plan reaches, not how fast (sanitizer builds)
     o.robustness = false;
     const PlanResult res = plan_on_path(f, c.path, Strategy::kTimeDomain, o);
     ASSERT_FALSE(res.invalid_input) << res.message;
@@ -537,6 +540,7 @@ TEST(RectangularSpatial, TimeDomainOnAStraightPathIsTheLinesAnswer) {
   f.stroke = 0.3;
   const PlanarPath straight({PathElement::line(0.3)}, 0.0, false);
   PlanOptions o;
+  o.time_limit = 60.0;  // what the plan reaches, not how fast (sanitizer builds)
   o.robustness = false;
   const PlanResult on_line = plan(f, Strategy::kTimeDomain, o);
   const PlanResult on_path = plan_on_path(f, straight, Strategy::kTimeDomain, o);
@@ -769,8 +773,8 @@ TEST(RectangularSpatialApi, ATimeDomainPlanAlongAPathSaysWhereTheNonlinearModelD
                        {{{"line_mm", 150}},
                         {{"arc", {{"radius_mm", 150}, {"angle_deg", 90}}}},
                         {{"line_mm", 150}}}}};
-  const nlohmann::json plan =
-      api::run_plan(api::parse_plan_request({{"format", format}, {"strategy", "time_domain"}}));
+  const nlohmann::json plan = api::run_plan(api::parse_plan_request(
+      {{"format", format}, {"strategy", "time_domain"}, {"options", {{"time_limit_s", 60}}}}));
   const nlohmann::json simulated =
       api::simulate_response({{"format", format}, {"law", plan["law"]}});
   std::vector<std::string> want, got;
@@ -804,8 +808,8 @@ TEST(RectangularSpatialApi, EveryPlanThatSpillsLeadsWithNotOptimal) {
   int spilling = 0;
   for (const nlohmann::json& format : {line, table}) {
     for (const char* strategy : {"baseline", "time_domain", "fir_chain", "shaper"}) {
-      const nlohmann::json plan =
-          api::run_plan(api::parse_plan_request({{"format", format}, {"strategy", strategy}}));
+      const nlohmann::json plan = api::run_plan(api::parse_plan_request(
+          {{"format", format}, {"strategy", strategy}, {"options", {{"time_limit_s", 60}}}}));
       const auto& codes = plan["warning_codes"];
       // A law that meets its constraints (an infeasible one says what it misses instead).
       if (std::find(codes.begin(), codes.end(), "spill") == codes.end() ||
