@@ -6,6 +6,7 @@
 #include <benchmark/benchmark.h>
 
 #include <random>
+#include <string>
 #include <vector>
 
 #include "fixtures.hpp"
@@ -255,11 +256,11 @@ BENCHMARK(BM_MinTimeFormats)->Arg(4)->Unit(benchmark::kMillisecond);
 // Along an arc (SPEC §14): the 90-degree index of a 300 mm table in 1.2 s, the container turning,
 // against the straight line of the same length and time. Arg 0 = the arc (plan_on_path), 1 = the
 // straight line (plan()); the SPEC's target: time_domain on the arc within 3 x the line's.
-void BM_PlanArc(benchmark::State& state) {
-  const auto strategy = static_cast<Strategy>(state.range(0));
-  const bool on_line = state.range(1) == 1;
+/// Plans `format` by `strategy` along the 90-degree index of a 300 mm table (the container
+/// turning) or, `on_line`, on the straight line of the same length, labelled `label`.
+void run_index_plan(benchmark::State& state, slosh::Format format, Strategy strategy, bool on_line,
+                    const std::string& label) {
   const slosh::PlanarPath arc = slosh::PlanarPath::arc(0.3, 3.141592653589793 / 2.0, true);
-  slosh::Format format = slosh::thesis_format();
   format.stroke = arc.length();
   format.motion_time = 1.2;
   PlanOptions options;
@@ -275,9 +276,16 @@ void BM_PlanArc(benchmark::State& state) {
     evaluations = r.solver.iterations;
     benchmark::DoNotOptimize(r);
   }
-  state.SetLabel(slosh::to_string(strategy) + (on_line ? " line" : " arc"));
+  state.SetLabel(label);
   state.counters["eta_rest_mm"] = rest * 1e3;
   state.counters["evaluations"] = evaluations;
+}
+
+void BM_PlanArc(benchmark::State& state) {
+  const auto strategy = static_cast<Strategy>(state.range(0));
+  const bool on_line = state.range(1) == 1;
+  run_index_plan(state, slosh::thesis_format(), strategy, on_line,
+                 slosh::to_string(strategy) + (on_line ? " line" : " arc"));
 }
 // 4 time_domain, 8 auto, 1 notch; second arg 0 = arc, 1 = line.
 BENCHMARK(BM_PlanArc)
@@ -292,28 +300,11 @@ BENCHMARK(BM_PlanArc)
 // the line of the same length (plan(), the tank's line models).
 void BM_PlanTankArc(benchmark::State& state) {
   const bool on_line = state.range(0) == 1;
-  const slosh::PlanarPath arc = slosh::PlanarPath::arc(0.3, 3.141592653589793 / 2.0, true);
   slosh::Format format = slosh::thesis_format();
   format.container.rectangular = slosh::RectangularTank{0.12, 0.08, 0.0};
   format.fill_height = 0.05;
-  format.stroke = arc.length();
-  format.motion_time = 1.2;
-  PlanOptions options;
-  options.robustness = false;
-  options.time_limit = 60.0;
-  double rest = 0.0;
-  int evaluations = 0;
-  for (auto _ : state) {
-    const slosh::PlanResult r =
-        on_line ? slosh::plan(format, Strategy::kTimeDomain, options)
-                : slosh::plan_on_path(format, arc, Strategy::kTimeDomain, options);
-    rest = r.prediction.nonlinear.rest.value;
-    evaluations = r.solver.iterations;
-    benchmark::DoNotOptimize(r);
-  }
-  state.SetLabel(on_line ? "time_domain tank line" : "time_domain tank arc");
-  state.counters["eta_rest_mm"] = rest * 1e3;
-  state.counters["evaluations"] = evaluations;
+  run_index_plan(state, format, Strategy::kTimeDomain, on_line,
+                 on_line ? "time_domain tank line" : "time_domain tank arc");
 }
 BENCHMARK(BM_PlanTankArc)->Arg(0)->Arg(1)->Unit(benchmark::kMillisecond);
 

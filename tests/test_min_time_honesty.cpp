@@ -18,6 +18,7 @@
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "support/min_time_checks.hpp"
 
 namespace slosh {
 namespace {
@@ -48,18 +49,7 @@ json thesis_min_time_request() {
   return ::testing::AssertionFailure() << status << ": " << s.at("message");
 }
 
-/// The same for the core's answer.
-::testing::AssertionResult found_t_min(const MinTimeResult& r) {
-  if (r.status == SolveStatus::kOptimal && r.not_optimal.empty()) {
-    return ::testing::AssertionSuccess();
-  }
-  if (r.status == SolveStatus::kAcceptable && !r.not_optimal.empty() && r.plan &&
-      r.plan->status == SolveStatus::kAcceptable &&
-      r.message.starts_with("not optimal: the plan at T_min is not (" + r.not_optimal + "); ")) {
-    return ::testing::AssertionSuccess();
-  }
-  return ::testing::AssertionFailure() << to_string(r.status) << ": " << r.message;
-}
+using test::found_t_min;
 
 /// POST /v1/plans at T in process: the same format, strategy and limits, no warm start.
 json direct_plan(const json& min_time_request, const std::string& strategy, double T) {

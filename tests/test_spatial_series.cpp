@@ -49,6 +49,24 @@ double peak_of(const std::vector<double>& v) {
   return m;
 }
 
+/// Each model's largest height of a plan's series over the motion [0, T] is its predicted
+/// eta_motion, from below within the sampling.
+void expect_motion_peak_is_the_prediction(const json& plan, double T) {
+  const json& series = plan.at("series");
+  const std::vector<double> t = column(series, "t_s");
+  for (const char* model : {"linear", "nonlinear"}) {
+    SCOPED_TRACE(model);
+    const std::vector<double> eta = column(series, ("eta_" + std::string(model) + "_mm").c_str());
+    double motion = 0.0;
+    for (std::size_t k = 0; k < t.size(); ++k) {
+      if (t[k] <= T) motion = std::max(motion, eta[k]);
+    }
+    const double want = plan["prediction"][model]["eta_motion_mm"].get<double>();
+    EXPECT_LE(motion, want * (1 + 1e-7));
+    EXPECT_GE(motion, want * (1 - 1e-3));
+  }
+}
+
 TEST(SpatialSeries, OneLinePathAt37DegreesIsTheStraightLinesWave) {
   const json path{{"type", "path"}, {"segments", {{{"line_mm", 500}}}}, {"start_heading_deg", 37}};
   const json spatial = api::simulate_response(body_with(path, 0.002));
@@ -124,18 +142,7 @@ TEST(SpatialSeries, APlanAlongAnArcHasThePlanarSeriesOfItsLaw) {
   const json plan = api::run_plan(api::parse_plan_request(body));
   const json& series = plan.at("series");
   ASSERT_TRUE(series.contains("direction_nonlinear_deg"));  // the planar series, not the line's
-  const std::vector<double> t = column(series, "t_s");
-  for (const char* model : {"linear", "nonlinear"}) {
-    SCOPED_TRACE(model);
-    const std::vector<double> eta = column(series, ("eta_" + std::string(model) + "_mm").c_str());
-    double motion = 0.0;
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      if (t[k] <= 1.2) motion = std::max(motion, eta[k]);
-    }
-    const double want = plan["prediction"][model]["eta_motion_mm"].get<double>();
-    EXPECT_LE(motion, want * (1 + 1e-7));
-    EXPECT_GE(motion, want * (1 - 1e-3));
-  }
+  expect_motion_peak_is_the_prediction(plan, 1.2);
   // The same law simulated along the arc gives the same series.
   json simulate = body_with(
       {{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}}, 0.001);
@@ -159,19 +166,7 @@ TEST(SpatialSeries, ATankPlanAlongAnArcHasTheTanksSeries) {
                                  {"orientation_deg", 30}};
   body["format"]["fill_height_mm"] = 30;
   const json plan = api::run_plan(api::parse_plan_request(body));
-  const json& series = plan.at("series");
-  const std::vector<double> t = column(series, "t_s");
-  for (const char* model : {"linear", "nonlinear"}) {
-    SCOPED_TRACE(model);
-    const std::vector<double> eta = column(series, ("eta_" + std::string(model) + "_mm").c_str());
-    double motion = 0.0;
-    for (std::size_t k = 0; k < t.size(); ++k) {
-      if (t[k] <= 1.2) motion = std::max(motion, eta[k]);
-    }
-    const double want = plan["prediction"][model]["eta_motion_mm"].get<double>();
-    EXPECT_LE(motion, want * (1 + 1e-7));
-    EXPECT_GE(motion, want * (1 - 1e-3));
-  }
+  expect_motion_peak_is_the_prediction(plan, 1.2);
 }
 
 // The series' pose is one world frame (theta_deg the heading, start_heading_deg at the start),
