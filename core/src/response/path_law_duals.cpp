@@ -1,5 +1,7 @@
 #include "response/path_law_duals.hpp"
 
+#include "slosh/core/response/response.hpp"
+
 #include <algorithm>
 
 namespace slosh::detail {
@@ -97,6 +99,42 @@ std::vector<DualPiece> PathLawDuals::pieces(const PlanarPath& path, double rest_
   rest.rest = true;
   out.push_back(rest);
   return out;
+}
+
+std::array<Dual7, kSegments> dual_durations(const double* d, bool variables) {
+  std::array<Dual7, kSegments> D;
+  for (std::size_t i = 0; i < kSegments; ++i)
+    D[i] = variables ? Dual7::variable(d[i], i) : Dual7(d[i]);
+  return D;
+}
+
+void FrozenSteps::freeze(const std::vector<DualPiece>& pieces, double h_max) {
+  count.clear();
+  key.clear();
+  for (const DualPiece& p : pieces) {
+    count.push_back(step_count(p.t_end.v - p.t_begin.v, h_max, 1) + 1);
+    key.push_back(p.segment * 1000 + p.element);
+  }
+}
+
+std::vector<std::size_t> FrozenSteps::steps(const std::vector<DualPiece>& pieces,
+                                            double h_max) const {
+  bool same = count.size() == pieces.size();
+  for (std::size_t i = 0; same && i < pieces.size(); ++i) {
+    same = key[i] == pieces[i].segment * 1000 + pieces[i].element;
+  }
+  std::vector<std::size_t> n(pieces.size());
+  for (std::size_t p = 0; p < pieces.size(); ++p) {
+    n[p] = step_count(pieces[p].t_end.v - pieces[p].t_begin.v, h_max, 1);
+    if (same) n[p] = std::max(n[p], count[p]);
+  }
+  return n;
+}
+
+std::size_t step_index(const std::vector<double>& t0, double t) {
+  const auto it = std::upper_bound(t0.begin(), t0.end(), t);
+  if (it == t0.begin()) return 0;
+  return static_cast<std::size_t>(it - t0.begin()) - 1;
 }
 
 }  // namespace slosh::detail

@@ -37,6 +37,27 @@ struct PathLawDuals {
                                 const std::array<Dual7, kSegments>& d);
 };
 
+/// The durations d as dual numbers: each the variable of its own lane (`variables`), or
+/// constants.
+[[nodiscard]] std::array<Dual7, kSegments> dual_durations(const double* d, bool variables);
+
+/// The step counts a path sensitivity holds while a solver runs: at freeze(), one more than each
+/// piece takes then; while later pieces keep that order (the same segment and element each),
+/// every piece takes at least its frozen count, so the discrete response stays smooth in the
+/// durations.
+struct FrozenSteps {
+  std::vector<std::size_t> count;  // least step count per piece
+  std::vector<std::size_t> key;    // the pieces' (segment, element) at the freeze
+
+  void freeze(const std::vector<DualPiece>& pieces, double h_max);
+  /// The step count of each piece of `pieces` at most `h_max` long.
+  [[nodiscard]] std::vector<std::size_t> steps(const std::vector<DualPiece>& pieces,
+                                               double h_max) const;
+};
+
+/// The index of the stored step that holds t, of steps starting at `t0` (ascending).
+[[nodiscard]] std::size_t step_index(const std::vector<double>& t0, double t);
+
 /// The tangential and normal acceleration and the speed at one time of a piece.
 struct PieceMotion {
   D8 acc, normal, speed;

@@ -37,10 +37,7 @@ SLOSH_PLANAR_CLONES [[gnu::flatten]] void PlanarSensitivityPass::run(
   const PlanarPath& path = s.path_;
   const PlanarTangentRhs rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
                              1.0 / m.radius};
-  bool same_pieces = s.frozen_.size() == list.size();
-  for (std::size_t i = 0; same_pieces && i < list.size(); ++i) {
-    same_pieces = s.frozen_key_[i] == list[i].segment * 1000 + list[i].element;
-  }
+  const std::vector<std::size_t> counts = s.frozen_.steps(list, s.h_max_);
   s.steps_.clear();
   s.t0_values_.clear();
   DualPair x(0.0), v(0.0);
@@ -48,8 +45,7 @@ SLOSH_PLANAR_CLONES [[gnu::flatten]] void PlanarSensitivityPass::run(
   for (std::size_t p = 0; p < list.size(); ++p) {
     const DualPiece& piece = list[p];
     const Dual7 length = piece.t_end - piece.t_begin;
-    std::size_t n = step_count(length.v, s.h_max_, 1);
-    if (same_pieces) n = std::max(n, s.frozen_[p]);
+    const std::size_t n = counts[p];
     const Dual7 h = length * (1.0 / static_cast<double>(n));
     const PieceDrive drive(path, s.law_, piece);
     auto force = [&drive](const D8& t) { return drive.world(t); };
@@ -73,29 +69,17 @@ SLOSH_PLANAR_CLONES [[gnu::flatten]] void PlanarSensitivityPass::run(
 
 void PlanarSensitivity::compute(const double* d, double until) {
   until_ = until;
-  std::array<Dual7, kSegments> D;
-  for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7::variable(d[i], i);
-  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, D);
+  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, dual_durations(d, true));
   motion_time_ = law_.t_start[kSegments].v;
   PlanarSensitivityPass::run(*this, list);
 }
 
 void PlanarSensitivity::freeze_steps(const double* d) {
-  std::array<Dual7, kSegments> D;
-  for (std::size_t i = 0; i < kSegments; ++i) D[i] = Dual7(d[i]);
-  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, D);
-  frozen_.clear();
-  frozen_key_.clear();
-  for (const DualPiece& p : list) {
-    frozen_.push_back(step_count(p.t_end.v - p.t_begin.v, h_max_, 1) + 1);
-    frozen_key_.push_back(p.segment * 1000 + p.element);
-  }
+  frozen_.freeze(law_.pieces(path_, rest_time_, dual_durations(d, false)), h_max_);
 }
 
 std::size_t PlanarSensitivity::step_at(double t) const {
-  const auto it = std::upper_bound(t0_values_.begin(), t0_values_.end(), t);
-  if (it == t0_values_.begin()) return 0;
-  return static_cast<std::size_t>(it - t0_values_.begin()) - 1;
+  return step_index(t0_values_, t);
 }
 
 void PlanarSensitivity::eta_at(const std::vector<double>& t, std::vector<double>& values,

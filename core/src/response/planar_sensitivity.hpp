@@ -142,9 +142,8 @@ class PlanarSensitivity final : public PathSensitivity {
   double rest_time_;
   double h_max_;
   double motion_time_{};
-  PathLawDuals law_;                 // the law's state at each segment start (set by its pieces())
-  std::vector<std::size_t> frozen_;  // least step count per piece
-  std::vector<std::size_t> frozen_key_;  // the pieces' (segment, element) at the freeze
+  PathLawDuals law_;  // the law's state at each segment start (set by its pieces())
+  FrozenSteps frozen_;
   std::vector<Stored> steps_;
   std::vector<double> t0_values_;
 };

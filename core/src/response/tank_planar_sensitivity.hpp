@@ -81,8 +81,7 @@ class TankPlanarSensitivity final : public PathSensitivity {
   double until_{std::numeric_limits<double>::infinity()};
   double motion_time_{};
   PathLawDuals law_;
-  std::vector<std::size_t> frozen_;      // least step count per piece
-  std::vector<std::size_t> frozen_key_;  // the pieces' (segment, element) at the freeze
+  FrozenSteps frozen_;
   std::vector<Stored> steps_;
   std::vector<double> t0_values_;
 };
