@@ -27,6 +27,7 @@
 #include "slosh/core/strategy/robustness.hpp"
 #include "support/process.hpp"
 #include "support/reference_seven_segment.hpp"
+#include "support/sanitizers.hpp"
 
 namespace slosh {
 namespace {
@@ -408,7 +409,8 @@ TEST(MinTimePath, ATMinWhosePlanSpillsIsAcceptableAndWinsNoHeadline) {
                     {"fluid", "water"},
                     {"motion", motion}}},
                   {"strategies", {"time_domain", "baseline"}}};
-  const json answer = api::run_min_time(api::parse_min_time_request(body, 60.0));
+  const json answer =
+      api::run_min_time(api::parse_min_time_request(body, test::solve_budget(60.0)));
   const json& td = answer.at("strategies").at(0);
   const json& base = answer.at("strategies").at(1);
   ASSERT_TRUE(td.at("t_min_s").is_number()) << td["message"];
