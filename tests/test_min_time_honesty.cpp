@@ -19,6 +19,7 @@
 #include "slosh/core/strategy/min_time.hpp"
 #include "slosh/core/strategy/planner.hpp"
 #include "support/min_time_checks.hpp"
+#include "support/random_format.hpp"
 
 namespace slosh {
 namespace {
@@ -144,7 +145,8 @@ Judged judge(const Format& format, Strategy strategy, const MinTimeOptions& o,
 // search costs at most 30 plans. time_domain, whose plans are local optima that depend on their
 // start, and min_jerk_band.
 TEST(MinTimeHonesty, CurveVerdictsAgreeWithDirectPlansOnSeededRandomFormats) {
-  for (int k = 0; k < 5; ++k) {
+  const int count = test::property_format_count(5);
+  for (int k = 0; k < count; ++k) {
     std::mt19937 rng(static_cast<unsigned>(2026 + k));
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     Format f = thesis_container();

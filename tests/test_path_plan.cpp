@@ -15,6 +15,7 @@
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "support/fixtures.hpp"
+#include "support/random_format.hpp"
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
@@ -291,7 +292,8 @@ TEST(PathPlan, LimitsHoldOnSeededRandomArcs) {
       scale(0.85, 1.3);
   PlanOptions o = quiet_options();
   int held = 0, refused = 0;
-  for (int k = 0; k < 6; ++k) {
+  const int count = test::property_format_count(6);
+  for (int k = 0; k < count; ++k) {
     const double rho = radius(rng);
     const PlanarPath arc = table_arc(angle(rng), rho);
     const Format f = format_for(arc, time(rng));
