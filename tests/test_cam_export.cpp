@@ -365,6 +365,26 @@ TEST(StRealLiteral, EveryValueIsAValidLiteralThatReadsBack) {
   }
 }
 
+// A CSV cell is decimal (controllers' importers do not all read exponents) and reads back as the
+// value exactly; a period of 0.3 ms writes 0.0003, not 3e-04.
+TEST(CamCsvNumber, EveryValueIsDecimalAndReadsBack) {
+  EXPECT_EQ(csv_number(3 * 0.0001), "0.00030000000000000003");
+  EXPECT_EQ(csv_number(0.0003), "0.0003");
+  EXPECT_EQ(csv_number(1e-05), "0.00001");
+  EXPECT_EQ(csv_number(800.0), "800");
+  EXPECT_EQ(csv_number(-0.0), "0");
+  EXPECT_EQ(csv_number(1e22), "10000000000000000000000");
+  EXPECT_EQ(csv_number(5e-324), "4.9406564584124654e-324");  // too long for decimal text
+  std::mt19937_64 rng(7u);
+  for (int i = 0; i < 20000; ++i) {
+    const double mantissa = std::uniform_real_distribution<double>(-10.0, 10.0)(rng);
+    const double v = std::ldexp(mantissa, std::uniform_int_distribution<int>(-120, 120)(rng));
+    const std::string text = csv_number(v);
+    ASSERT_EQ(text.find_first_of("eE"), std::string::npos) << text;
+    ASSERT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
+  }
+}
+
 TEST(StGrammarCheck, RefusesWhatAnIecCompilerWouldRefuse) {
   const std::string good =
       "(* header *)\nTYPE\n  P :\n  STRUCT\n    a : LREAL; (* x *)\n    b : LREAL;\n  "

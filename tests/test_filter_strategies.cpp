@@ -183,6 +183,17 @@ TEST(FirChainStrategy, NoLawWhenTheMotionIsNotLongerThanT3) {
   EXPECT_FALSE(r.usable());
 }
 
+// T = 0.35 s: T/7 is 0.049999999999999996 in doubles, min_ramp_s 0.05 to round-off. The uniform
+// law holds the ramp minimum there: baseline returns it without claiming it breaks an option.
+TEST(BaselineStrategy, RampsEqualToMinRampUpToRoundOffAreTheUniformLaw) {
+  const Format f = with_time(0.35);
+  ASSERT_LT(f.motion_time / 7.0, PlanOptions{}.min_ramp);
+  const PlanResult r = plan(f, Strategy::kBaseline, PlanOptions{});
+  EXPECT_FALSE(Contains(r.message, "breaks the options")) << r.message;
+  ASSERT_TRUE(r.durations.has_value());
+  for (std::size_t i = 0; i < kSegments; ++i) EXPECT_NEAR((*r.durations)[i], 0.05, 1e-15) << i;
+}
+
 TEST(ShaperStrategy, ExactlyTLongRestToRestAndNoLinearResidualForTheZvFamily) {
   const Format f = thesis_format();
   for (BaseLaw base :

@@ -225,6 +225,25 @@ TEST(PathCamCli, ArcTableHasThePoseAndTheTableRotation) {
   }
 }
 
+// A table turning a container that starts at 37 deg through 90 deg ends at a heading of 127 deg,
+// written 127: the pose is given to 1e-10 of its unit, not with its radians' round-off.
+TEST(PathCamCli, TheLastHeadingIsTheStartPlusTheArcExactly) {
+  const TempDir dir;
+  const json motion{{"type", "arc"},
+                    {"radius_mm", 300},
+                    {"angle_deg", 90},
+                    {"start_heading_deg", 37},
+                    {"container_turns", true}};
+  write_file(dir / "law.json", law_request(motion, 1.2).dump());
+  const RunResult r = run_slosh({"export", "--request", (dir / "law.json").string(), "--out", "-"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const Csv cam = read_csv(r.out);
+  ASSERT_FALSE(cam.rows.empty());
+  EXPECT_EQ(cam.rows.front()[7], 37.0);
+  EXPECT_EQ(cam.rows.back()[7], 127.0);
+  EXPECT_EQ(r.out.find("126.99"), std::string::npos);
+}
+
 TEST(PathCamCli, RotaryTableMasterCamIsInDegreesOfTableRotation) {
   const TempDir dir;
   const json motion{{"type", "arc"}, {"radius_mm", 250}, {"angle_deg", -45}};

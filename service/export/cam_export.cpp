@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <stdexcept>
+#include <system_error>
 
 #include "config/version.hpp"
 #include "slosh/api/error.hpp"
@@ -395,9 +396,16 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
 }  // namespace
 
 std::string csv_number(double v) {
-  std::array<char, 32> buffer{};
-  const auto written =
-      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v == 0.0 ? 0.0 : v);
+  if (v == 0.0) return "0";  // also -0
+  // Decimal notation (0.0003, not 3e-04): controllers' CSV importers do not all read exponents.
+  // Only a value whose decimal text does not fit the buffer (below about 1e-45, far under any
+  // figure of a plan) falls back to the exponent form.
+  std::array<char, 64> buffer{};
+  auto written =
+      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed);
+  if (written.ec != std::errc{}) {
+    written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
+  }
   return {buffer.data(), written.ptr};
 }
 

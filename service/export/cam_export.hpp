@@ -164,9 +164,9 @@ struct CamTable {
 /// header [bytes].
 [[nodiscard]] std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows);
 
-/// `v` as a CSV cell: the shortest text that reads back as `v` exactly ("800", "0.1",
-/// "1.2345678901234567e-05"; std::to_chars), never "-0" (12 significant digits
-/// did not hold a stroke of many digits exactly in the last row).
+/// `v` as a CSV cell: the shortest decimal text that reads back as `v` exactly ("800", "0.1",
+/// "0.000012345678901234567"; std::to_chars, fixed), never "-0" or an exponent (12 significant
+/// digits did not hold a stroke of many digits exactly in the last row).
 [[nodiscard]] std::string csv_number(double v);
 
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line

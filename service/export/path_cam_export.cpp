@@ -1,5 +1,6 @@
 #include "export/path_cam_export.hpp"
 
+#include <cmath>
 #include <numbers>
 #include <optional>
 #include <vector>
@@ -17,6 +18,12 @@ constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 // A distance along the path in mm: the path's end as the request gave it (api::mm_of).
 double s_mm(double s, double length) {
   return s == length ? api::mm_of(length) : s * kMmPerM;
+}
+
+// A pose value in the file's units to 1e-10 of them: a heading of 37 + 90 deg
+// reads 127, not the 126.99999999999999 its radians round to.
+double pose_value(double v) {
+  return std::round(v * 1e10) / 1e10;
 }
 
 // The rows of a path's table in the file's units, with its columns and ST type: one table
@@ -56,9 +63,9 @@ PathRows time_rows(const CamTable& table, const PlanarPath& path) {
                             r.velocity * kMmPerM,
                             r.acceleration * kMmPerM,
                             r.jerk * kMmPerM,
-                            r.x * kMmPerM,
-                            r.y * kMmPerM,
-                            r.theta * kDegPerRad};
+                            pose_value(r.x * kMmPerM),
+                            pose_value(r.y * kMmPerM),
+                            pose_value(r.theta * kDegPerRad)};
     if (table_deg) row.push_back(r.s / length * *table_deg);
     out.rows.push_back(std::move(row));
   }
@@ -89,8 +96,8 @@ PathRows master_rows(const CamTable& table, const PlanarPath& path) {
   for (const MasterCamSample& r : table.master) {
     const PlanarKinematics k = path.at(r.position, 0.0, 0.0, 0.0);
     out.rows.push_back({r.master, s_mm(r.position, length), r.velocity * kMmPerM,
-                        r.acceleration * kMmPerM, r.jerk * kMmPerM, k.x * kMmPerM, k.y * kMmPerM,
-                        k.theta * kDegPerRad});
+                        r.acceleration * kMmPerM, r.jerk * kMmPerM, pose_value(k.x * kMmPerM),
+                        pose_value(k.y * kMmPerM), pose_value(k.theta * kDegPerRad)});
   }
   return out;
 }

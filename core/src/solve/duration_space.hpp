@@ -54,7 +54,7 @@ struct DurationSpace {
   [[nodiscard]] Durations polish(const double* x) const;
 
   /// Whether the uniform law T/7 lies inside the bounds (min_ramp <= T/7, the plateau minimums,
-  /// a cruise allowed).
+  /// a cruise allowed), to within kZeroDuration.
   [[nodiscard]] bool uniform_inside() const;
   /// The admissible law nearest the uniform one: the uniform law when inside the bounds, else
   /// every segment at its lower bound plus an equal share of the remaining time (the baseline
