@@ -1,6 +1,8 @@
 #include "slosh/core/motion/trajectory_ends.hpp"
 
+#include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <numbers>
 
 #include "slosh/core/motion/sample_smoothing.hpp"
@@ -17,17 +19,62 @@ bool holds_still(const std::vector<double>& t, const std::vector<double>& v, boo
   return (last ? runs.tail : runs.head) > 0;
 }
 
-/// The motion at the end `last` (or the first) as the samples show it: the splines' derivatives
-/// there, but 0 for a coordinate whose samples hold still at that end (its smoothed spline may
+/// Span of samples at an end whose quadratic fit gives the end's slope [s]: long enough that a
+/// log rounded to 0.1 mm at 1 kHz reads to about 1 mm/s, short enough that a changing
+/// acceleration (a log cut mid-motion) moves the slope by well under 1 %.
+constexpr double kEndFitSpan{0.05};
+constexpr std::size_t kEndFitMinSamples{5};
+
+/// The slope dv/dt at the end `last` (or the first) of the least-squares quadratic through the
+/// samples of the last kEndFitSpan (at least kEndFitMinSamples of them). A spline's end slope
+/// follows the rounding steps of a logged pose (118 mm/s for a log creeping at 20 mm/s, rounded
+/// to 0.1 mm); the fit averages them out and is exact for a motion of constant acceleration.
+double end_slope(const std::vector<double>& t, const std::vector<double>& v, bool last) {
+  const std::size_t n = t.size();
+  const double t_end = last ? t[n - 1] : t[0];
+  std::size_t count = 0;
+  while (count < n) {
+    const double ti = last ? t[n - 1 - count] : t[count];
+    if (count >= kEndFitMinSamples && std::abs(ti - t_end) > kEndFitSpan) break;
+    ++count;
+  }
+  if (count < 3) return (v[n - 1] - v[0]) / (t[n - 1] - t[0]);
+  const double span = std::max(std::abs((last ? t[n - count] : t[count - 1]) - t_end), 1e-12);
+  // Normal equations of v = c0 + c1 u + c2 u^2 with u = (t - t_end) / span in [-1, 1].
+  double m[3][4] = {};
+  for (std::size_t j = 0; j < count; ++j) {
+    const std::size_t i = last ? n - 1 - j : j;
+    const double u = (t[i] - t_end) / span;
+    const double p[3] = {1.0, u, u * u};
+    for (int r = 0; r < 3; ++r) {
+      for (int c = 0; c < 3; ++c) m[r][c] += p[r] * p[c];
+      m[r][3] += p[r] * v[i];
+    }
+  }
+  for (int col = 0; col < 3; ++col) {  // Gauss-Jordan; the matrix is symmetric positive definite
+    for (int r = 0; r < 3; ++r) {
+      if (r == col) continue;
+      const double f = m[r][col] / m[col][col];
+      for (int c = col; c < 4; ++c) m[r][c] -= f * m[col][c];
+    }
+  }
+  return m[1][3] / m[1][1] / span;
+}
+
+/// The motion at the end `last` (or the first) as the samples show it: each coordinate's end
+/// slope, but 0 for a coordinate whose samples hold still at that end (its smoothed spline may
 /// end with a small slope there, a few mm/s on a log rounded to 0.1 mm, that the samples do not
 /// show).
 PlanarKinematics end_motion(const SampledTrajectory& trajectory, bool last) {
   const TrajectorySamples& s = trajectory.samples();
   PlanarKinematics k = trajectory.at(last ? trajectory.end_time() : trajectory.start_time());
-  if (holds_still(s.t, s.x, last)) k.vx = 0.0;
-  if (holds_still(s.t, s.y, last)) k.vy = 0.0;
-  if (holds_still(s.t, s.z, last)) k.vz = 0.0;
-  if (holds_still(s.t, s.theta, last)) k.theta_dot = 0.0;
+  const auto slope = [&](const std::vector<double>& v) {
+    return holds_still(s.t, v, last) ? 0.0 : end_slope(s.t, v, last);
+  };
+  k.vx = slope(s.x);
+  k.vy = slope(s.y);
+  k.vz = slope(s.z);
+  k.theta_dot = slope(s.theta);
   return k;
 }
 
