@@ -356,6 +356,45 @@ TEST(NonlinearSensitivity, ARestWindowCutAfterTheLastReadTimeChangesNothingBefor
   }
 }
 
+// compute(d, until, false) integrates the values alone (SLSQP's line-search trial points and the
+// dense checks read no gradient): every |eta|, window peak and its time is that of the full
+// computation to the last bit, the truncated rest window completed included.
+TEST(NonlinearSensitivity, ValuesAloneAreTheSameBitsAsWithTheirGradients) {
+  const SloshingModel model = thesis_model();
+  NonlinearOptions o;
+  o.steps_per_period = 20.0;  // time_domain's scheme
+  const double period = 2.0 * std::numbers::pi / model.omega1();
+  const double until = kMotionTime + 0.77 * period;
+  for (const Durations& d : random_durations(4, max_step(model))) {
+    NonlinearSensitivity full(model, kStroke, kRest, o);
+    NonlinearSensitivity values(model, kStroke, kRest, o);
+    full.freeze_steps(d.data());
+    values.freeze_steps(d.data());
+    full.compute(d.data(), until);
+    values.compute(d.data(), until, false);
+    EXPECT_TRUE(full.has_gradients());
+    EXPECT_FALSE(values.has_gradients());
+    std::vector<double> times;
+    for (int j = 0; j <= 300; ++j) times.push_back(until * j / 300.0);
+    std::vector<double> v_full, v_values;
+    std::vector<std::array<double, kSegments>> g_full;
+    full.abs_eta_at(times, &v_full, &g_full);
+    values.abs_eta_at(times, &v_values, nullptr);
+    EXPECT_EQ(v_full, v_values);
+    full.complete_rest();
+    values.complete_rest();
+    EXPECT_TRUE(values.complete());
+    for (const auto& [a, b] : {std::pair{0.0, kMotionTime}, std::pair{kMotionTime + 1e-12, until},
+                               std::pair{kMotionTime + 1e-12, kMotionTime + kRest}}) {
+      const WindowPeak f = full.window_peak(a, b);
+      const WindowPeak v = values.window_peak(a, b);
+      EXPECT_EQ(f.value, v.value) << a << " " << b;
+      EXPECT_EQ(f.time, v.time) << a << " " << b;
+      EXPECT_EQ(v.gradient, (std::array<double, kSegments>{})) << a << " " << b;
+    }
+  }
+}
+
 // A solver run frozen at d sees a smooth response while every segment keeps at most its frozen
 // count (freeze_steps: one step more than d takes); a segment grown by more than a step takes
 // more, and outgrows_frozen_steps says so (time_domain then runs the solver again from there).

@@ -96,6 +96,18 @@ struct Lanes {
   }
 };
 
+/// No derivatives at all: the values alone, by the same operations as with derivatives (the
+/// derivative operations compile to nothing), so they are the same to the last bit.
+template <>
+struct Lanes<0> {
+  Lanes() = default;
+  Lanes(double) {}  // NOLINT: implicit, as Lanes<N>'s
+  friend Lanes operator+(const Lanes&, const Lanes&) { return {}; }
+  friend Lanes operator-(const Lanes&, const Lanes&) { return {}; }
+  friend Lanes operator*(double, const Lanes&) { return {}; }
+  friend Lanes operator*(const Lanes&, double) { return {}; }
+};
+
 /// The 7 durations and a zero pad: two AVX vectors, no scalar tail.
 constexpr std::size_t kLanes{8};
 using Lanes8 = Lanes<kLanes>;
@@ -244,50 +256,68 @@ Lanes8 from_array(const std::array<double, kLanes>& a) {
 /// are inlined into it).
 struct SensitivityPass {
   static void run(NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv);
+  /// run() without the derivatives: the same values, a fraction of the work.
+  static void run_values(NonlinearSensitivity& s, const double* d, double A, double B);
   struct Eta;
 
  private:
-  /// The state at the end of the motion with its derivatives, T and dT.
+  /// The state at the end of the motion with its derivatives (N = kLanes, or none for N = 0),
+  /// T and dT.
+  template <std::size_t N>
   struct MotionEnd {
-    TangentState<kLanes> st;
+    TangentState<N> st;
     double t{};
-    Lanes8 dt;
+    Lanes<N> dt;
   };
-  static void store(NonlinearSensitivity& s, double t0, const Lanes8& dt0, double h,
-                    const Lanes8& dh, const DensePoly<double>& x,
-                    const std::array<Lanes8, kDenseTerms>& dx);
-  static MotionEnd motion(NonlinearSensitivity& s, const double* d,
-                          const PlateauLevelsT<Dual7>& lv);
-  static void rest(NonlinearSensitivity& s, const MotionEnd& end);
+  template <std::size_t N>
+  static void store(NonlinearSensitivity& s, double t0, const Lanes<N>& dt0, double h,
+                    const Lanes<N>& dh, const DensePoly<double>& x,
+                    const std::array<Lanes<N>, kDenseTerms>& dx);
+  template <std::size_t N>
+  static MotionEnd<N> motion(NonlinearSensitivity& s, const double* d, double A, double B,
+                             const Lanes<N>& dA, const Lanes<N>& dB);
+  template <std::size_t N>
+  static void rest(NonlinearSensitivity& s, const MotionEnd<N>& end);
+  template <std::size_t N>
+  static void save_end(NonlinearSensitivity& s, const MotionEnd<N>& end);
 
  public:
   /// The rest window from the motion end saved by run() (NonlinearSensitivity::complete_rest).
   static void finish_rest(NonlinearSensitivity& s);
+  static void finish_rest_values(NonlinearSensitivity& s);
+
+ private:
+  template <std::size_t N>
+  static void finish(NonlinearSensitivity& s);
 };
 
+template <std::size_t N>
 [[gnu::always_inline]] inline void SensitivityPass::store(
-    NonlinearSensitivity& s, double t0, const Lanes8& dt0, double h, const Lanes8& dh,
-    const DensePoly<double>& x, const std::array<Lanes8, kDenseTerms>& dx) {
+    NonlinearSensitivity& s, double t0, const Lanes<N>& dt0, double h, const Lanes<N>& dh,
+    const DensePoly<double>& x, const std::array<Lanes<N>, kDenseTerms>& dx) {
   s.tv_.push_back(t0);
   s.hv_.push_back(h);
   s.xv_.push_back(x);
-  s.dt_.push_back(array_of(dt0));
-  s.dh_.push_back(array_of(dh));
-  std::array<std::array<double, kLanes>, kDenseTerms> terms;
-  for (std::size_t k = 0; k < kDenseTerms; ++k) terms[k] = array_of(dx[k]);
-  s.dx_.push_back(terms);
+  if constexpr (N > 0) {
+    s.dt_.push_back(array_of(dt0));
+    s.dh_.push_back(array_of(dh));
+    std::array<std::array<double, kLanes>, kDenseTerms> terms;
+    for (std::size_t k = 0; k < kDenseTerms; ++k) terms[k] = array_of(dx[k]);
+    s.dx_.push_back(terms);
+  }
 }
 
 // The 7 segments, each in its equal steps; h_k = d_k / n_k moves with d_k, the acceleration with
 // A (segments 0-2) or B (4-6).
-[[gnu::always_inline]] inline SensitivityPass::MotionEnd SensitivityPass::motion(
-    NonlinearSensitivity& s, const double* d, const PlateauLevelsT<Dual7>& lv) {
-  const Lanes8 dA = lanes_of(lv.A), dB = lanes_of(lv.B);
-  MotionEnd e;
-  TangentState<kLanes>& st = e.st;
+template <std::size_t N>
+[[gnu::always_inline]] inline SensitivityPass::MotionEnd<N> SensitivityPass::motion(
+    NonlinearSensitivity& s, const double* d, double A, double B, const Lanes<N>& dA,
+    const Lanes<N>& dB) {
+  MotionEnd<N> e;
+  TangentState<N>& st = e.st;
   DensePoly<double> xp;
-  std::array<Lanes8, kDenseTerms> dxp;
-  StepForcing<kLanes> fo;
+  std::array<Lanes<N>, kDenseTerms> dxp;
+  StepForcing<N> fo;
   for (std::size_t k = 0; k < kSegments; ++k) {
     // A segment of zero length still takes one (empty) step so that its derivatives (the flow
     // of the state over dT_k) are carried; NonlinearResponse skips it, the values agree.
@@ -295,20 +325,20 @@ struct SensitivityPass {
     const std::size_t n = s.frozen_ ? std::max(own, s.steps_[k]) : own;
     const double inv_n = 1.0 / static_cast<double>(n);
     const double h = d[k] * inv_n;
-    Lanes8 dh;
-    dh[k] = inv_n;
-    fo.g = k < 3 ? dA : k > 3 ? dB : Lanes8{};
+    Lanes<N> dh;
+    if constexpr (N > 0) dh[k] = inv_n;
+    fo.g = k < 3 ? dA : k > 3 ? dB : Lanes<N>{};
     const double t_begin = e.t;
-    const Lanes8 dt_begin = e.dt;
+    const Lanes<N> dt_begin = e.dt;
     // As NonlinearResponse: the first stage of a segment is evaluated on that segment.
-    const auto [a0, c0] = segment_acceleration(lv.A.v, lv.B.v, k, 0.0);
+    const auto [a0, c0] = segment_acceleration(A, B, k, 0.0);
     const RhsJet j0 = rhs_jet(s.model_, st.x, st.v, a0);
     st.f = j0.f;
     st.df = j0.fx * st.dx + j0.fv * st.dv + (j0.fa * c0) * fo.g;
     for (std::size_t j = 0; j < n; ++j) {
       const double jd = static_cast<double>(j);
       for (std::size_t i = 1; i < kDopStages; ++i) {
-        const auto [a, c] = segment_acceleration(lv.A.v, lv.B.v, k, (jd + kDopC[i]) * inv_n);
+        const auto [a, c] = segment_acceleration(A, B, k, (jd + kDopC[i]) * inv_n);
         fo.a[i] = a;
         fo.c[i] = c;
       }
@@ -316,7 +346,7 @@ struct SensitivityPass {
       store(s, t_begin + h * jd, dt_begin + dh * jd, h, dh, xp, dxp);
     }
     e.t = t_begin + d[k];
-    e.dt[k] += 1.0;
+    if constexpr (N > 0) e.dt[k] += 1.0;
   }
   return e;
 }
@@ -324,23 +354,28 @@ struct SensitivityPass {
 // The rest window has no forcing: its states depend on the durations only through the state at
 // T, so it is integrated with derivatives with respect to (x_T, v_T) and chained (a quarter of
 // the work of carrying all 7 directions).
+template <std::size_t N>
 [[gnu::always_inline]] inline void SensitivityPass::rest(NonlinearSensitivity& s,
-                                                         const MotionEnd& end) {
+                                                         const MotionEnd<N>& end) {
+  // Derivatives with respect to (x_T, v_T), or none.
+  constexpr std::size_t M = N > 0 ? 2 : 0;
   const auto n_rest = step_count(s.rest_time_, s.h_max_, 1);
   const double h_rest = s.rest_time_ / static_cast<double>(n_rest);
-  TangentState<2> r;
+  TangentState<M> r;
   r.x = end.st.x;
   r.v = end.st.v;
-  r.dx[0] = 1.0;
-  r.dv[1] = 1.0;
+  if constexpr (M > 0) {
+    r.dx[0] = 1.0;
+    r.dv[1] = 1.0;
+  }
   const RhsJet j0 = rhs_jet(s.model_, r.x, r.v, 0.0);
   r.f = j0.f;
   r.df = j0.fx * r.dx + j0.fv * r.dv;
-  const StepForcing<2> rest_forcing{};
-  const Lanes<2> no_dh;
+  const StepForcing<M> rest_forcing{};
+  const Lanes<M> no_dh;
   DensePoly<double> rp;
-  std::array<Lanes<2>, kDenseTerms> drp;
-  std::array<Lanes8, kDenseTerms> dxp;
+  std::array<Lanes<M>, kDenseTerms> drp;
+  std::array<Lanes<N>, kDenseTerms> dxp;
   s.complete_ = true;
   for (std::size_t j = 0; j < n_rest; ++j) {
     if (j > 0 && end.t + h_rest * static_cast<double>(j) > s.until_) {
@@ -348,55 +383,91 @@ struct SensitivityPass {
       break;
     }
     tangent_step(s.model_, rest_forcing, h_rest, no_dh, r, rp, drp);
-    for (std::size_t k = 0; k < kDenseTerms; ++k) {
-      dxp[k] = drp[k][0] * end.st.dx + drp[k][1] * end.st.dv;
+    if constexpr (N > 0) {
+      for (std::size_t k = 0; k < kDenseTerms; ++k) {
+        dxp[k] = drp[k][0] * end.st.dx + drp[k][1] * end.st.dv;
+      }
     }
-    store(s, end.t + h_rest * static_cast<double>(j), end.dt, h_rest, Lanes8{}, rp, dxp);
+    store<N>(s, end.t + h_rest * static_cast<double>(j), end.dt, h_rest, Lanes<N>{}, rp, dxp);
   }
+}
+
+template <std::size_t N>
+[[gnu::always_inline]] inline void SensitivityPass::save_end(NonlinearSensitivity& s,
+                                                             const MotionEnd<N>& end) {
+  s.motion_time_ = end.t;
+  s.end_x_ = end.st.x;
+  s.end_v_ = end.st.v;
+  s.end_t_ = end.t;
+  if constexpr (N > 0) {
+    s.end_dx_ = array_of(end.st.dx);
+    s.end_dv_ = array_of(end.st.dv);
+    s.end_dt_ = array_of(end.dt);
+  }
+  s.motion_steps_ = s.tv_.size();
 }
 
 // flatten: every helper is inlined, so the AVX clone's lane loops are AVX as well.
 SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::run(NonlinearSensitivity& s,
                                                                 const double* d,
                                                                 const PlateauLevelsT<Dual7>& lv) {
-  const MotionEnd end = motion(s, d, lv);
-  s.motion_time_ = end.t;
-  s.end_x_ = end.st.x;
-  s.end_v_ = end.st.v;
-  s.end_t_ = end.t;
-  s.end_dx_ = array_of(end.st.dx);
-  s.end_dv_ = array_of(end.st.dv);
-  s.end_dt_ = array_of(end.dt);
-  s.motion_steps_ = s.tv_.size();
+  const MotionEnd<kLanes> end =
+      motion<kLanes>(s, d, lv.A.v, lv.B.v, lanes_of(lv.A), lanes_of(lv.B));
+  save_end(s, end);
   rest(s, end);
 }
 
-SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::finish_rest(NonlinearSensitivity& s) {
-  MotionEnd end;
+[[gnu::flatten]] void SensitivityPass::run_values(NonlinearSensitivity& s, const double* d,
+                                                  double A, double B) {
+  const MotionEnd<0> end = motion<0>(s, d, A, B, Lanes<0>{}, Lanes<0>{});
+  save_end(s, end);
+  rest(s, end);
+}
+
+template <std::size_t N>
+[[gnu::always_inline]] inline void SensitivityPass::finish(NonlinearSensitivity& s) {
+  MotionEnd<N> end;
   end.st.x = s.end_x_;
   end.st.v = s.end_v_;
-  end.st.dx = from_array(s.end_dx_);
-  end.st.dv = from_array(s.end_dv_);
+  if constexpr (N > 0) {
+    end.st.dx = from_array(s.end_dx_);
+    end.st.dv = from_array(s.end_dv_);
+    end.dt = from_array(s.end_dt_);
+    s.dt_.resize(s.motion_steps_);
+    s.dh_.resize(s.motion_steps_);
+    s.dx_.resize(s.motion_steps_);
+  }
   end.t = s.end_t_;
-  end.dt = from_array(s.end_dt_);
   s.tv_.resize(s.motion_steps_);
   s.hv_.resize(s.motion_steps_);
   s.xv_.resize(s.motion_steps_);
-  s.dt_.resize(s.motion_steps_);
-  s.dh_.resize(s.motion_steps_);
-  s.dx_.resize(s.motion_steps_);
   s.until_ = INFINITY;
   rest(s, end);
 }
 
-void NonlinearSensitivity::complete_rest() {
-  if (!complete_) SensitivityPass::finish_rest(*this);
+SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::finish_rest(NonlinearSensitivity& s) {
+  finish<kLanes>(s);
 }
 
-void NonlinearSensitivity::compute(const double* d, double until) {
+[[gnu::flatten]] void SensitivityPass::finish_rest_values(NonlinearSensitivity& s) {
+  finish<0>(s);
+}
+
+void NonlinearSensitivity::complete_rest() {
+  if (complete_) return;
+  if (gradients_) {
+    SensitivityPass::finish_rest(*this);
+  } else {
+    SensitivityPass::finish_rest_values(*this);
+  }
+}
+
+void NonlinearSensitivity::compute(const double* d, double until, bool gradients) {
   until_ = until;
+  gradients_ = gradients;
   std::array<Dual7, kSegments> dd;
   for (std::size_t i = 0; i < kSegments; ++i) dd[i] = Dual7::variable(d[i], i);
+  // The plateaus as duals either way: their values are the same bits as with derivatives.
   const auto lv = plateau_levels(dd, Dual7(stroke_));
   tv_.clear();
   hv_.clear();
@@ -404,7 +475,11 @@ void NonlinearSensitivity::compute(const double* d, double until) {
   dt_.clear();
   dh_.clear();
   dx_.clear();
-  SensitivityPass::run(*this, d, lv);
+  if (gradients) {
+    SensitivityPass::run(*this, d, lv);
+  } else {
+    SensitivityPass::run_values(*this, d, lv.A.v, lv.B.v);
+  }
 }
 
 Dual7 NonlinearSensitivity::x_at(std::size_t i, double t) const {
@@ -451,26 +526,28 @@ SLOSH_TANGENT_CLONES [[gnu::flatten]] void SensitivityPass::Eta::abs_at(
     while (i + 1 < s.tv_.size() && (s.tv_[i] + s.hv_[i] < tk || s.hv_[i] <= 0.0)) ++i;
     const double h = s.hv_[i];
     double theta = 1.0;
+    if (h > 0.0) theta = (tk - s.tv_[i]) * (1.0 / h);
+    const DensePoly<double>& p = s.xv_[i];
+    double rv = p[kDenseTerms - 1];
+    for (std::size_t j = kDenseTerms - 1; j > 0; --j) rv = rv * theta + p[j - 1];
+    const double sign = rv < 0.0 ? -1.0 : 1.0;
+    (*values)[k] = s.model_.K * (sign * rv);
+    if (gradients == nullptr) continue;
+    // The same Horner scheme on the derivatives, with those of theta.
     Lanes8 ds;
     if (h > 0.0) {
       const double inv = 1.0 / h;
-      theta = (tk - s.tv_[i]) * inv;
       ds = (Lanes8(0.0) - from_array(s.dt_[i]) - theta * from_array(s.dh_[i])) * inv;
     }
-    const DensePoly<double>& p = s.xv_[i];
     const auto& dp = s.dx_[i];
-    double rv = p[kDenseTerms - 1];
+    double pv = p[kDenseTerms - 1];
     Lanes8 rd = from_array(dp[kDenseTerms - 1]);
     for (std::size_t j = kDenseTerms - 1; j > 0; --j) {
-      rd = (rd * theta + rv * ds) + from_array(dp[j - 1]);
-      rv = rv * theta + p[j - 1];
+      rd = (rd * theta + pv * ds) + from_array(dp[j - 1]);
+      pv = pv * theta + p[j - 1];
     }
-    const double sign = rv < 0.0 ? -1.0 : 1.0;
-    (*values)[k] = s.model_.K * (sign * rv);
-    if (gradients != nullptr) {
-      const std::array<double, kLanes> g = array_of(s.model_.K * (sign * rd));
-      std::copy_n(g.begin(), kSegments, (*gradients)[k].begin());
-    }
+    const std::array<double, kLanes> g = array_of(s.model_.K * (sign * rd));
+    std::copy_n(g.begin(), kSegments, (*gradients)[k].begin());
   }
 }
 
@@ -502,6 +579,15 @@ WindowPeak NonlinearSensitivity::window_peak(double t_begin, double t_end) const
     }
   }
   WindowPeak out;
+  out.time = best_time;
+  if (!gradients_) {
+    // The value x_at would give (the same operations), without derivatives.
+    const double h = hv_[best_step];
+    const double s = h > 0.0 ? (best_time - tv_[best_step]) * (1.0 / h) : 1.0;
+    out.value = model_.K * std::abs(dense_value(xv_[best_step], s));
+    out.gradient.fill(0.0);
+    return out;
+  }
   Dual7 xs = x_at(best_step, best_time);
   if (xs.v < 0.0) xs = -xs;
   out.value = model_.K * xs.v;

@@ -38,7 +38,12 @@ class NonlinearSensitivity {
   /// `until` [s]: the rest window is integrated only up to the end of its step that holds this
   /// time (its step grid unchanged, so every value and gradient up to there is the same to the
   /// last bit); a caller that reads nothing later saves the rest of the window. Default: all.
-  void compute(const double* d, double until = INFINITY);
+  ///
+  /// `gradients` false: the values alone (a fifth of the work), the same to the last bit as with
+  /// the derivatives; window_peak's gradient is then zero and abs_eta_at takes no gradients.
+  void compute(const double* d, double until = INFINITY, bool gradients = true);
+  /// Whether the last compute() carried the derivatives.
+  [[nodiscard]] bool has_gradients() const { return gradients_; }
   /// Whether the last compute() covered the whole rest window.
   [[nodiscard]] bool complete() const { return complete_; }
   /// Integrates the rest window of the last compute() to its end, when compute() stopped it
@@ -77,6 +82,7 @@ class NonlinearSensitivity {
   bool frozen_{false};
   double until_{INFINITY};  // the rest window's last needed time of the running compute() [s]
   bool complete_{false};    // the last compute() integrated the whole rest window
+  bool gradients_{true};    // the last compute() carried the derivatives
   // The state at the end of the motion of the last compute() (x, v and their derivatives, T
   // and dT), where complete_rest() starts, and the number of motion steps before the rest's.
   double end_x_{}, end_v_{}, end_t_{};

@@ -154,12 +154,15 @@ struct TimeDomainWorkspace {
   double end{};                          ///< the rest window's end [s]
   std::array<double, kSegments> last{};  ///< the durations values and gradients are of
   bool valid{false};                     ///< false: values and gradients are stale
+  /// The gradients are those at `last` too (an evaluation for values alone leaves them stale).
+  bool with_gradients{false};
 
   /// An evaluation kept aside: solve_epigraph evaluates every start for its epigraph level
   /// before the solver runs from any, and the run from a start takes its evaluation back
   /// instead of integrating it again.
   struct Kept {
     std::array<double, kSegments> x{};
+    bool with_gradients{};
     std::vector<NonlinearSensitivity> sensitivity;
     std::vector<std::vector<double>> values;
     std::vector<std::vector<std::array<double, kSegments>>> gradients;
@@ -178,7 +181,7 @@ void freeze_steps(TimeDomainWorkspace& ws, const double* x) {
 
 // Keeps the workspace's current evaluation aside (TimeDomainWorkspace::kept).
 void keep_evaluation(TimeDomainWorkspace& ws) {
-  ws.kept.push_back({ws.last, ws.sensitivity, ws.values, ws.gradients});
+  ws.kept.push_back({ws.last, ws.with_gradients, ws.sensitivity, ws.values, ws.gradients});
 }
 
 // Takes back the evaluation kept at x, when there is one and the workspace does not hold x: the
@@ -191,17 +194,23 @@ void restore_evaluation(TimeDomainWorkspace& ws, const double* x) {
     ws.values.swap(it->values);
     ws.gradients.swap(it->gradients);
     ws.last = it->x;
+    ws.with_gradients = it->with_gradients;
     ws.valid = true;
     ws.kept.erase(it);
     return;
   }
 }
 
-// Evaluates |eta| / eta_ref and its gradient at the samples of every model for the durations x
-// into `ws`, unless x is the last point evaluated.
+// Evaluates |eta| / eta_ref and, with `gradients`, its gradient at the samples of every model for
+// the durations x into `ws`, unless x is the last point evaluated (with its gradients when they
+// are asked for). SLSQP asks for no gradients at the trial points of its line search, and most of
+// those it then steps away from: their values alone are integrated (the same bits).
 void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, double eta_ref,
-                      const double* x) {
-  if (ws.valid && std::equal(x, x + kSegments, ws.last.begin())) return;
+                      const double* x, bool gradients = true) {
+  if (ws.valid && (ws.with_gradients || !gradients) &&
+      std::equal(x, x + kSegments, ws.last.begin())) {
+    return;
+  }
   for (std::size_t m = 0; m < samples.size(); ++m) {
     const Samples& sm = samples[m];
     // Nothing after the last sample (or its following row's span) is read: the rest window's
@@ -210,8 +219,8 @@ void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, doub
     for (std::size_t k = 0; k < sm.t.size(); ++k) {
       until = std::max(until, static_cast<bool>(sm.follow[k]) ? sm.t[k] + sm.span : sm.t[k]);
     }
-    ws.sensitivity[m].compute(x, until);
-    ws.sensitivity[m].abs_eta_at(sm.t, &ws.values[m], &ws.gradients[m]);
+    ws.sensitivity[m].compute(x, until, gradients);
+    ws.sensitivity[m].abs_eta_at(sm.t, &ws.values[m], gradients ? &ws.gradients[m] : nullptr);
     for (std::size_t k = 0; k < sm.t.size(); ++k) {
       if (!static_cast<bool>(sm.follow[k])) continue;
       // Its phase: the motion up to T, the rest window after it (T fixed by the equality).
@@ -220,15 +229,17 @@ void evaluate_samples(TimeDomainWorkspace& ws, const ModelSamples& samples, doub
       const double hi = std::min(sm.t[k] + sm.span, motion ? ws.motion_time : ws.end);
       const WindowPeak p = ws.sensitivity[m].window_peak(lo, hi);
       ws.values[m][k] = p.value;
-      ws.gradients[m][k] = p.gradient;
+      if (gradients) ws.gradients[m][k] = p.gradient;
     }
     for (double& v : ws.values[m]) v /= eta_ref;
+    if (!gradients) continue;
     for (auto& g : ws.gradients[m]) {
       for (double& gi : g) gi /= eta_ref;
     }
   }
   std::copy(x, x + kSegments, ws.last.begin());
   ws.valid = true;
+  ws.with_gradients = gradients;
 }
 
 // A constrained sample: model m, sample k.
@@ -265,7 +276,7 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
   const double eta_ref = c.eta_ref;
   p.inequalities = [work, sampled, eta_ref, rows, minimise_motion, scaled_bound, count, limits, n,
                     space](const double* x, double* g, double* jac) {
-    evaluate_samples(*work, *sampled, eta_ref, x);
+    evaluate_samples(*work, *sampled, eta_ref, x, jac != nullptr);
     for (int r = 0; r < count; ++r) {
       const SampleRow& row_of = rows[static_cast<std::size_t>(r)];
       const bool free = static_cast<bool>((*sampled)[row_of.m].motion[row_of.k]) == minimise_motion;
@@ -353,7 +364,7 @@ bool check_dense(const StrategyContext& c, const SloshingModel& model, const dou
   if (computed != nullptr) computed->complete_rest();
   if (computed == nullptr) {
     own.emplace(model, c.format.stroke, rest, sensitivity_options());
-    own->compute(x);
+    own->compute(x, INFINITY, false);  // its peaks' values and times alone are read
     computed = &*own;
   }
   const NonlinearSensitivity& sens = *computed;
@@ -475,7 +486,7 @@ double model_gap(const StrategyContext& c, bool minimise_motion, const double* x
     const NonlinearSensitivity* sens = ws != nullptr ? &ws->sensitivity[m] : nullptr;
     if (sens == nullptr) {
       own.emplace(models[m], c.format.stroke, c.options.rest_time, sensitivity_options());
-      own->compute(x);
+      own->compute(x, INFINITY, false);
       sens = &*own;
     }
     dense = std::max(dense, minimise_motion ? sens->window_peak(T + 1e-12, end).value
@@ -840,7 +851,7 @@ std::optional<double> dense_objective(const StrategyContext& c, bool minimise_mo
   double value = 0.0;
   for (const SloshingModel& m : c.sample_models) {
     NonlinearSensitivity sens(m, c.format.stroke, rest, sensitivity_options());
-    sens.compute(d.data());
+    sens.compute(d.data(), INFINITY, false);
     value = std::max(value, minimise_motion ? sens.window_peak(0.0, T).value
                                             : sens.window_peak(T + 1e-12, T + rest).value);
   }
