@@ -366,9 +366,9 @@ TEST(CompactPlan, TheCodesAreTheWarningsKindsNotTheirSentences) {
   const json tank = json::parse(R"({"format": {"container": {"shape": "rectangular",
                                                             "length_mm": 4000, "width_mm": 4000},
                                               "fill_height_mm": 2000, "fluid": "water",
-                                              "stroke_mm": 200, "motion_time_s": 0.2},
+                                              "stroke_mm": 200, "motion_time_s": 0.1},
                                    "strategy": "multi_notch",
-                                   "options": {"robustness": false}})");
+                                   "options": {"robustness": false, "min_ramp_s": 0.01}})");
   const json full = api::run_plan(api::parse_plan_request(tank));
   ASSERT_EQ(full["warning_codes"].size(), full["warnings"].size()) << full.dump();
   std::size_t at = full["warnings"].size();

@@ -4,6 +4,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 #include <string>
@@ -259,6 +260,83 @@ TEST(RectangularApi, FormatEchoAndRecipeKeyCarryTheShape) {
   absent["format"]["container"].erase("orientation_deg");
   EXPECT_EQ(api::recipe_key(api::parse_plan_request(zero)),
             api::recipe_key(api::parse_plan_request(absent)));
+}
+
+/// 100 (1 - plan / uniform law) of a plan's returned figures on `model` ("nonlinear", "linear").
+double reduction_of(const json& plan, const std::string& model, const std::string& eta) {
+  return 100.0 * (1.0 - plan["prediction"][model][eta].get<double>() /
+                            plan["baseline"][model][eta].get<double>());
+}
+
+bool has_code(const json& plan, const std::string& code) {
+  const json& codes = plan["warning_codes"];
+  return std::find(codes.begin(), codes.end(), json(code)) != codes.end();
+}
+
+// When the rectangular nonlinear model holds for one of the plan's law and the uniform law only,
+// their "nonlinear" figures come from different models: the reductions compare both laws' linear
+// figures and a warning says so, in either direction, on a line and along a path alike. Both
+// laws within the range keep the nonlinear reductions.
+TEST(RectangularApi, ReductionsCompareOneModelWhenTheNonlinearModelHoldsForOneLawOnly) {
+  const json cup70 = json::parse(R"({"shape": "rectangular", "length_mm": 120, "width_mm": 80,
+      "height_mm": 70, "orientation_deg": 30})");
+  // The plan's law out of the range, the uniform law within it: a 150 mm / 90 deg arc in 1.2 s,
+  // the cup keeping its heading.
+  json arc = {
+      {"format",
+       {{"container", cup70},
+        {"fill_height_mm", 50},
+        {"fluid", "water"},
+        {"motion_time_s", 1.2},
+        {"motion",
+         {{"type", "arc"}, {"radius_mm", 150}, {"angle_deg", 90}, {"container_turns", false}}}}},
+      {"strategy", "multi_notch"},
+      {"options", {{"robustness", false}}}};
+  // The plan's law within the range, the uniform law out of it: 200 mm in 1 s along a line.
+  json line = {{"format",
+                {{"container", cup70},
+                 {"fill_height_mm", 50},
+                 {"fluid", "water"},
+                 {"stroke_mm", 200},
+                 {"motion_time_s", 1.0}}},
+               {"strategy", "shaper"},
+               {"options", {{"robustness", false}}}};
+  struct Case {
+    json request;
+    const char* out_of_range;  // the code of the law out of the range
+  };
+  for (const Case& c : {Case{arc, "nonlinear_model_not_valid"},
+                        Case{line, "reference_nonlinear_model_not_valid"}}) {
+    const json plan = api::run_plan(api::parse_plan_request(c.request));
+    ASSERT_TRUE(has_code(plan, c.out_of_range)) << plan["warnings"].dump();
+    EXPECT_TRUE(has_code(plan, "reductions_on_linear_model")) << plan["warnings"].dump();
+    const json& r = plan["reduction_pct"];
+    EXPECT_EQ(r["model"], "linear");
+    EXPECT_NEAR(r["motion"].get<double>(), reduction_of(plan, "linear", "eta_motion_mm"), 1e-9);
+    EXPECT_NEAR(r["rest"].get<double>(), reduction_of(plan, "linear", "eta_rest_mm"), 1e-9);
+    // The mixed comparison it replaces differs (else the case shows nothing).
+    EXPECT_GT(std::abs(reduction_of(plan, "nonlinear", "eta_rest_mm") - r["rest"].get<double>()),
+              1.0);
+    EXPECT_NE(plan["message"].get<std::string>().find("linear model (both laws on one model)"),
+              std::string::npos)
+        << plan["message"];
+  }
+  // Both within the range (100 mm in 1.2 s): the nonlinear reductions, as before.
+  json gentle = line;
+  gentle["format"]["stroke_mm"] = 100;
+  gentle["format"]["motion_time_s"] = 1.2;
+  gentle["strategy"] = "multi_notch";
+  const json both = api::run_plan(api::parse_plan_request(gentle));
+  ASSERT_NE(both["baseline"]["nonlinear"]["eta_rest_mm"],
+            both["baseline"]["linear"]["eta_rest_mm"]);
+  EXPECT_FALSE(has_code(both, "nonlinear_model_not_valid")) << both["warnings"].dump();
+  EXPECT_FALSE(has_code(both, "reference_nonlinear_model_not_valid")) << both["warnings"].dump();
+  EXPECT_FALSE(has_code(both, "reductions_on_linear_model")) << both["warnings"].dump();
+  EXPECT_EQ(both["reduction_pct"]["model"], "nonlinear");
+  EXPECT_NEAR(both["reduction_pct"]["motion"].get<double>(),
+              reduction_of(both, "nonlinear", "eta_motion_mm"), 1e-9);
+  EXPECT_NEAR(both["reduction_pct"]["rest"].get<double>(),
+              reduction_of(both, "nonlinear", "eta_rest_mm"), 1e-9);
 }
 
 /// The plan's echo, model and predictions against the core's planning of the same format.

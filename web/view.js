@@ -15,7 +15,9 @@ function cellsOf(plan) {
     plan.strategy, plan.status, plan.law.type,
     fmt(p.nonlinear.eta_motion_mm), fmt(p.nonlinear.eta_rest_mm),
     fmt(p.linear.eta_motion_mm), fmt(p.linear.eta_rest_mm),
-    fmt(r.motion, 1), fmt(r.rest, 1), fmt(k.a_max, 3), fmt(k.a_min, 3), fmt(k.j_peak, 1),
+    // On the linear model when the two laws' nonlinear figures are of different models.
+    ...[r.motion, r.rest].map((v) => fmt(v, 1) + (r.model === 'linear' ? ' (lin)' : '')),
+    fmt(k.a_max, 3), fmt(k.a_min, 3), fmt(k.j_peak, 1),
     (plan.warnings || []).join('; '),
   ];
 }

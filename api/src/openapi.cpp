@@ -504,12 +504,17 @@ void add_plan_block_schemas(json& s) {
       object(baseline_props, {"nonlinear", "linear", "durations_s"},
              "Predictions of the uniform law (the reference of the reductions).", false);
   json reduction_pair{{"motion", number("[%]")}, {"rest", number("[%]")}};
-  s["Reduction"] =
-      object({{"motion", number("eta_motion reduction vs the baseline, nonlinear model [%].")},
-              {"rest", number("eta_rest reduction vs the baseline, nonlinear model [%].")},
-              {"linear",
-               object(reduction_pair, {"motion", "rest"}, "The same on the linear model.", false)}},
-             {"motion", "rest", "linear"}, "100 (1 - plan / baseline).", false);
+  s["Reduction"] = object(
+      {{"motion", number("eta_motion reduction vs the baseline, on `model` [%].")},
+       {"rest", number("eta_rest reduction vs the baseline, on `model` [%].")},
+       {"model", string_enum({"nonlinear", "linear"},
+                             "The model motion and rest compare: nonlinear, or linear when the "
+                             "plan's and the uniform law's nonlinear figures come from different "
+                             "models (a rectangular tank's nonlinear model holds for one law only; "
+                             "warning reductions_on_linear_model).")},
+       {"linear",
+        object(reduction_pair, {"motion", "rest"}, "The same on the linear model.", false)}},
+      {"motion", "rest", "model", "linear"}, "100 (1 - plan / baseline).", false);
   json markers =
       object({{"f1_hz", number("First natural frequency [Hz].")},
               {"band_hz", fixed_numbers(2, "Band edges (1 ± band) f1 [Hz].")},

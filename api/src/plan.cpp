@@ -26,9 +26,10 @@ namespace slosh::api {
 namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
-constexpr const char* kPlannerVersion = "plan-v12";
-/// Version of the numerics of plans along an arc or a path (in their keys only).
-constexpr const char* kPathPlannerVersion = "path-v5";
+constexpr const char* kPlannerVersion = "plan-v13";
+/// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
+/// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13.
+constexpr const char* kPathPlannerVersion = "path-v6";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
@@ -306,12 +307,18 @@ void add_kinematics(const PlanRequest& request, const PlanResult& r, nlohmann::j
                        {"jerks_m_s3", nullptr}};
 }
 
-nlohmann::json reduction_json(const LawPrediction& baseline, const LawPrediction& plan) {
+/// The reductions against the uniform law: on the nonlinear model, or on the linear one when
+/// both laws' nonlinear figures do not come from one model (`one_model`, the warning
+/// reductions_on_linear_model: a rectangular tank's nonlinear model holds for one law only).
+nlohmann::json reduction_json(const LawPrediction& baseline, const LawPrediction& plan,
+                              bool one_model) {
   auto pair = [](const SloshPeaks& base, const SloshPeaks& p) {
     return nlohmann::json{{"motion", reduction_percent(base.motion.value, p.motion.value)},
                           {"rest", reduction_percent(base.rest.value, p.rest.value)}};
   };
-  nlohmann::json out = pair(baseline.nonlinear, plan.nonlinear);
+  nlohmann::json out =
+      one_model ? pair(baseline.linear, plan.linear) : pair(baseline.nonlinear, plan.nonlinear);
+  out["model"] = one_model ? "linear" : "nonlinear";
   out["linear"] = pair(baseline.linear, plan.linear);
   return out;
 }
@@ -406,7 +413,8 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["prediction"] = prediction_json(r.prediction);
   out["baseline"] = prediction_json(r.baseline);
   out["baseline"]["durations_s"] = uniform_durations(request.format.motion_time);
-  out["reduction_pct"] = reduction_json(r.baseline, r.prediction);
+  out["reduction_pct"] = reduction_json(
+      r.baseline, r.prediction, has_warning(r.warnings, WarningKind::kReductionsOnLinearModel));
   out["spectrum"] = spectrum_json(request, r);
   out["solver"] = {{"name", r.solver.name},
                    {"iterations", r.solver.iterations},

@@ -80,7 +80,10 @@ std::string prediction_lines(const json& plan) {
       "  rest      " + pad(both(p, "eta_rest_mm", 2), 22) + "(" + both(b, "eta_rest_mm", 2) + ")\n";
   out += "change vs uniform law: motion " + change(r["motion"]) + " / " +
          change(r["linear"]["motion"]) + ", rest " + change(r["rest"]) + " / " +
-         change(r["linear"]["rest"]) + " (nonlinear / linear)\n";
+         change(r["linear"]["rest"]) +
+         (r.value("model", "nonlinear") == "linear"
+              ? " (linear / linear: the laws' nonlinear figures are of different models)\n"
+              : " (nonlinear / linear)\n");
   return out;
 }
 

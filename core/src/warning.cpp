@@ -52,7 +52,15 @@ constexpr WarningKindInfo kKinds[] = {
     {WarningKind::kReferenceLinear, "reference_nonlinear_model_not_valid",
      "the uniform law's nonlinear figures ",
      "a rectangular tank: the uniform law (the reference of the reductions) is outside the "
-     "nonlinear model's range, so the reductions compare with its linear figures",
+     "nonlinear model's range, so its nonlinear figures are the linear model's (the reductions "
+     "then compare both laws' linear figures: reductions_on_linear_model)",
+     StatusEffect::kNone, ""},
+    {WarningKind::kReductionsOnLinearModel, "reductions_on_linear_model",
+     "reductions on the linear model: ",
+     "a rectangular tank: one of the plan's law and the uniform law is outside the nonlinear "
+     "model's range and the other within it, so their nonlinear figures come from different "
+     "models; reduction_pct (and the message's changes) compare both laws' linear figures, and "
+     "reduction_pct.model is \"linear\"",
      StatusEffect::kNone, ""},
     {WarningKind::kMotionTooShort, "motion_too_short", "motion too short for the tank: ",
      "a rectangular tank: the move is an impulse to the tank's modes; every law of this duration "

@@ -165,10 +165,12 @@ def fmt(value, digits=2):
 
 def expected_row(plan):
     p, r, k = plan["prediction"], plan["reduction_pct"], plan["kinematics"]
+    # Reductions on the linear model (the two laws' nonlinear figures of different models) say so.
+    lin = " (lin)" if r.get("model") == "linear" else ""
     return [plan["strategy"], plan["status"], plan["law"]["type"],
             fmt(p["nonlinear"]["eta_motion_mm"]), fmt(p["nonlinear"]["eta_rest_mm"]),
             fmt(p["linear"]["eta_motion_mm"]), fmt(p["linear"]["eta_rest_mm"]),
-            fmt(r["motion"], 1), fmt(r["rest"], 1), fmt(k["a_max"], 3), fmt(k["a_min"], 3),
+            fmt(r["motion"], 1) + lin, fmt(r["rest"], 1) + lin, fmt(k["a_max"], 3), fmt(k["a_min"], 3),
             fmt(k["j_peak"], 1), "; ".join(plan.get("warnings", []))]
 
 

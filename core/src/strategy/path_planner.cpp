@@ -74,6 +74,9 @@ struct PathContext {
   /// A rectangular tank's models (SPEC §15): the laws are then verified on them along the path
   /// (rectangular_path_plan.hpp) instead of on the cylinder's planar models.
   std::optional<RectangularModel> tank{};
+  /// Why a rectangular tank's nonlinear model does not hold for the uniform law along the path
+  /// (its nonlinear figures are then the linear model's), or empty.
+  std::string uniform_warning{};
 
   /// The verified figures of `law` along the path; the tank's nonlinear model's out-of-range
   /// reason in `*warning` when given.
@@ -431,14 +434,17 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
       break;
   }
   if (!detail.empty()) head += ": " + detail;
-  const PathPrediction& b = c.uniform;
-  const std::string models = c.tank ? "the tank's models in its own frame, the highest corner"
-                                    : "planar models, the wave maximised over the wall";
+  // Both laws on one model: the linear one when their nonlinear figures are of different models.
+  const bool one_model = has_warning(r.warnings, WarningKind::kReductionsOnLinearModel);
+  const auto& law = one_model ? p.linear : p.nonlinear;
+  const auto& b = one_model ? c.uniform.linear : c.uniform.nonlinear;
+  std::string models = c.tank ? "the tank's models in its own frame, the highest corner"
+                              : "planar models, the wave maximised over the wall";
+  if (one_model) models += "; linear model (both laws on one model)";
   return head + ". Along the path (" + sig3(c.path.length() * 1e3) + " mm; " + models +
-         "): eta_motion " + sig3(p.nonlinear.motion.value * 1e3) + " mm (uniform law " +
-         sig3(b.nonlinear.motion.value * 1e3) + " mm), eta_rest " +
-         sig3(p.nonlinear.rest.value * 1e3) + " mm (uniform law " +
-         sig3(b.nonlinear.rest.value * 1e3) + " mm); peak horizontal acceleration " +
+         "): eta_motion " + sig3(law.motion.value * 1e3) + " mm (uniform law " +
+         sig3(b.motion.value * 1e3) + " mm), eta_rest " + sig3(law.rest.value * 1e3) +
+         " mm (uniform law " + sig3(b.rest.value * 1e3) + " mm); peak horizontal acceleration " +
          sig3(p.a_total_peak) + " m/s^2 (normal " + sig3(p.a_normal_peak) + " m/s^2).";
 }
 
@@ -467,6 +473,19 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
       o.prediction.nonlinear.motion.value, o.model_warning.empty(), o.prediction.linear.rest.value);
   if (!o.model_warning.empty()) {
     r.warnings.push_back({WarningKind::kNonlinearModelNotValid, o.model_warning});
+  } else if (!c.uniform_warning.empty()) {
+    r.warnings.push_back({WarningKind::kReferenceLinear,
+                          "the uniform law's nonlinear figures (the reference of the reductions) "
+                          "are the linear model's: " +
+                              c.uniform_warning});
+  }
+  // As on a line: one law's nonlinear figures the nonlinear model's, the other's the linear
+  // model's, so the reductions compare both on the linear model.
+  std::string one_model = detail::one_model_reductions(
+      o.model_warning.empty(), c.uniform_warning.empty(), detail::peak_figures(o.prediction),
+      detail::peak_figures(c.uniform));
+  if (!one_model.empty()) {
+    r.warnings.push_back({WarningKind::kReductionsOnLinearModel, std::move(one_model)});
   }
   if (!o.worse.empty()) r.warnings.push_back({WarningKind::kWorseThanBaseline, o.worse});
   add_yaw_warning(c, r, o.prediction.a_total_peak, r.warnings);
@@ -699,14 +718,17 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
     return base;
   }
   const MotionLaw uniform = SevenSegmentLaw(uniform_durations(f.motion_time), f.stroke).law();
-  PathContext c{f,
-                path,
-                o,
-                base.model,
-                verified_on_path(base.model, base.rectangular, path, uniform, o.rest_time),
-                base.baseline,
-                deadline,
-                base.rectangular};
+  std::string uniform_warning;
+  PathContext c{
+      f,
+      path,
+      o,
+      base.model,
+      verified_on_path(base.model, base.rectangular, path, uniform, o.rest_time, &uniform_warning),
+      base.baseline,
+      deadline,
+      base.rectangular,
+      std::move(uniform_warning)};
   if (!finite(c.uniform)) {
     base.strategy = strategy;
     base.status = SolveStatus::kFailed;

@@ -63,7 +63,10 @@ RobustnessSweep sweep_for(const Format& format, const PlanOptions& options, doub
   return sweep;
 }
 
-std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
+/// The law's figures and their change against the uniform law's, on the nonlinear model unless
+/// `one_model` (both laws' nonlinear figures do not come from one model: the linear model's
+/// figures, as reduction_pct then compares).
+std::string summary_sentence(const LawPrediction& p, const LawPrediction& b, bool one_model) {
   auto change = [](double base, double v) {
     const double r = reduction_percent(base, v);
     if (std::abs(r) < 5e-4) return std::string("0 %");  // below the 3 digits shown
@@ -72,10 +75,12 @@ std::string summary_sentence(const LawPrediction& p, const LawPrediction& b) {
     text.append(" %");
     return text;
   };
-  return "nonlinear model: eta_motion " + sig3(p.nonlinear.motion.value * 1e3) + " mm (" +
-         change(b.nonlinear.motion.value, p.nonlinear.motion.value) + " vs the uniform law), " +
-         "eta_rest " + sig3(p.nonlinear.rest.value * 1e3) + " mm (" +
-         change(b.nonlinear.rest.value, p.nonlinear.rest.value) + ")";
+  const SloshPeaks& law = one_model ? p.linear : p.nonlinear;
+  const SloshPeaks& base = one_model ? b.linear : b.nonlinear;
+  return std::string(one_model ? "linear model (both laws on one model)" : "nonlinear model") +
+         ": eta_motion " + sig3(law.motion.value * 1e3) + " mm (" +
+         change(base.motion.value, law.motion.value) + " vs the uniform law), " + "eta_rest " +
+         sig3(law.rest.value * 1e3) + " mm (" + change(base.rest.value, law.rest.value) + ")";
 }
 
 /// What the baseline guard compares every law with: the law strategy baseline returns. That is
@@ -1190,7 +1195,9 @@ std::string brief_report(const detail::StrategyContext& c, const PlanResult& r,
       break;
   }
   if (!detail_text.empty()) message += ": " + detail_text;
-  return message + ". " + summary_sentence(r.prediction, r.baseline);
+  return message + ". " +
+         summary_sentence(r.prediction, r.baseline,
+                          has_warning(r.warnings, WarningKind::kReductionsOnLinearModel));
 }
 
 /// Fills the result from the selected law.
@@ -1257,7 +1264,7 @@ void take_own_figures(PlanResult& r, Selection& s, bool on_axis, const Durations
 /// uniform law of reference, a motion too short to act on a mode), each once.
 std::vector<Warning> plan_warnings(const Format& format, const PlanResult& r,
                                    const std::string& worse, std::string out_of_range,
-                                   const std::string& baseline_out_of_range) {
+                                   const std::string& baseline_out_of_range, double rest_time) {
   const bool law_in_range = out_of_range.empty();
   std::vector<Warning> w = validity_warnings(
       format,
@@ -1267,15 +1274,23 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanResult& r,
   if (!worse.empty()) w.push_back({WarningKind::kWorseThanBaseline, worse});
   if (!law_in_range) w.push_back({WarningKind::kNonlinearModelNotValid, std::move(out_of_range)});
   if (law_in_range && !baseline_out_of_range.empty()) {
-    // The reductions then compare the law's nonlinear figures with the uniform law's linear ones.
     w.push_back({WarningKind::kReferenceLinear,
                  "the uniform law's nonlinear figures (the reference of the reductions) are the "
                  "linear model's: " +
                      baseline_out_of_range});
   }
+  // One law's nonlinear figures the nonlinear model's, the other's the linear model's: the
+  // reductions (reduction_pct, the message) compare both on the linear model.
+  std::string one_model = detail::one_model_reductions(law_in_range, baseline_out_of_range.empty(),
+                                                       detail::peak_figures(r.prediction),
+                                                       detail::peak_figures(r.baseline));
+  if (!one_model.empty()) {
+    w.push_back({WarningKind::kReductionsOnLinearModel, std::move(one_model)});
+  }
   if (r.rectangular) {
-    std::string too_short =
-        motion_too_short_for_mode(*r.rectangular, format.stroke, r.law.duration());
+    // Against the uniform law's own linear eta_rest: the figure the floor bounds.
+    std::string too_short = motion_too_short_for_mode(
+        *r.rectangular, format.stroke, r.law.duration(), rest_time, r.baseline.linear.rest.value);
     if (!too_short.empty()) w.push_back({WarningKind::kMotionTooShort, std::move(too_short)});
   }
   return w;
@@ -1434,7 +1449,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   take_robustness(r, s, format, options, deadline);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-  r.warnings = plan_warnings(format, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);
+  r.warnings = plan_warnings(format, r, s.worse, std::move(s.out_of_range), baseline_out_of_range,
+                             options.rest_time);
   detail::apply_optimal_caveat(r.status, s.detail, r.warnings, result_strategy);
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));
   return r;
@@ -1458,6 +1474,24 @@ std::string worse_figures(const PeakFigures& law, const PeakFigures& reference) 
   check(law.linear_motion, reference.linear_motion, "eta_motion (linear)");
   check(law.linear_rest, reference.linear_rest, "eta_rest (linear)");
   return figures;
+}
+
+std::string one_model_reductions(bool law_in_range, bool reference_in_range, const PeakFigures& law,
+                                 const PeakFigures& reference) {
+  if (law_in_range == reference_in_range) return {};
+  const std::string which = law_in_range
+                                ? "the uniform law is outside the rectangular nonlinear model's "
+                                  "range (its nonlinear figures are the linear model's) and the "
+                                  "plan's law within it"
+                                : "the plan's law is outside the rectangular nonlinear model's "
+                                  "range (its nonlinear figures are the linear model's) and the "
+                                  "uniform law within it";
+  return "reductions on the linear model: " + which +
+         ", so both laws' nonlinear figures do not come from one model; the reductions compare "
+         "their linear figures: eta_motion " +
+         sig3(law.linear_motion * 1e3) + " mm vs " + sig3(reference.linear_motion * 1e3) +
+         " mm, eta_rest " + sig3(law.linear_rest * 1e3) + " mm vs " +
+         sig3(reference.linear_rest * 1e3) + " mm (the uniform law's)";
 }
 
 }  // namespace detail

@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <deque>
+#include <limits>
 #include <numbers>
+#include <vector>
 
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/model/uncertainty.hpp"
@@ -26,45 +29,120 @@ RectangularPrediction rectangular_prediction(const RectangularModel& model, cons
   return p;
 }
 
+namespace {
+
+/// The driven direction's wall height u >= 0 seconds after a unit step of the position (the
+/// velocity an impulse of unit area): each mode's coordinate x'' + 2 zeta w x' + w^2 x = -a
+/// then moves as -e^{-zeta w u} (cos w_d u - zeta w / w_d sin w_d u) [m per m].
+double step_wall_height(const SloshingModel& m, double u) {
+  double eta = 0.0;
+  for (int n = 0; n < m.modes(); ++n) {
+    const double w = m.omega[n];
+    const double wd = w * std::sqrt(1.0 - m.zeta * m.zeta);
+    const double decay = std::exp(-m.zeta * w * u);
+    eta -= m.eta_gain[n] * decay * (std::cos(wd * u) - m.zeta * w / wd * std::sin(wd * u));
+  }
+  return eta;
+}
+
+/// A bound of |d/du step_wall_height| over u >= 0: each mode's w^2 / w_d times |eta_gain| [1/s].
+double step_slope_bound(const SloshingModel& m) {
+  double slope = 0.0;
+  for (int n = 0; n < m.modes(); ++n) {
+    slope += std::abs(m.eta_gain[n]) * m.omega[n] / std::sqrt(1.0 - m.zeta * m.zeta);
+  }
+  return slope;
+}
+
+/// The least of `values` over every window of `width` + 1 consecutive samples, the largest of
+/// those least values over the windows that end at or after sample `width`.
+double best_window_minimum(const std::vector<double>& values, std::size_t width) {
+  std::deque<std::size_t> at;  // indices of increasing values: the window's minimum in front
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    while (!at.empty() && values[at.back()] >= values[i]) at.pop_back();
+    at.push_back(i);
+    if (at.front() + width < i) at.pop_front();
+    if (i >= width) best = std::max(best, values[at.front()]);
+  }
+  return best;
+}
+
+}  // namespace
+
+double one_way_rest_floor(const RectangularModel& model, double stroke, double motion_time,
+                          double rest_time) {
+  // The linear wall heights are convolutions of the velocity v with the step responses s_d:
+  // eta_d(t) = int_0^T v(tau) s_d(t - tau) dtau. With v >= 0 and int v = stroke, at any t in the
+  // rest window eta_L(t) + sigma eta_W(t) >= stroke min over u in [t - T, t] of
+  // (s_L + sigma s_W)(u), and a corner's |eta_L| + |eta_W| is at least |eta_L + sigma eta_W| for
+  // both signs sigma: the largest such minimum over t, over sigma and over the wave's sign is a
+  // floor of eta_rest for every such law (for one mode undamped it is the impulse residual's
+  // cos(omega T / 2)). The minima are taken on samples h apart, less the slope bound times h / 2
+  // (every point of a window is within h / 2 of a sample); t runs over the samples of the rest
+  // window's first four periods of the slowest mode (a max over fewer t is still a floor).
+  const std::vector<DrivenDirection> directions = driven_directions(model);
+  double slowest = 0.0, fastest = 0.0, slope = 0.0;
+  for (const DrivenDirection& d : directions) {
+    const SloshingModel& m = d.model;
+    if (!(m.zeta >= 0.0 && m.zeta < 1.0) || m.modes() == 0) return 0.0;
+    slowest = std::max(slowest, 2.0 * std::numbers::pi / m.omega1());
+    fastest = std::max(fastest, m.omega.back());
+    slope += step_slope_bound(m);
+  }
+  // A motion longer than half the slowest period lets a law cancel a first mode: no floor.
+  if (directions.empty() || !(motion_time > 0.0) || motion_time >= 0.5 * slowest) return 0.0;
+  constexpr std::size_t kLeastSamples{64};        // per motion time
+  constexpr double kFloorSamplesPerPeriod{64.0};  // of the fastest mode
+  const std::size_t width = std::max(
+      kLeastSamples, static_cast<std::size_t>(std::ceil(kFloorSamplesPerPeriod * fastest *
+                                                        motion_time / (2.0 * std::numbers::pi))));
+  const double h = motion_time / static_cast<double>(width);
+  const double window = std::min(rest_time, 4.0 * slowest);
+  const std::size_t samples = width + static_cast<std::size_t>(std::floor(window / h)) + 1;
+  std::vector<double> s_length(samples, 0.0), s_width(samples, 0.0);
+  for (const DrivenDirection& d : directions) {
+    std::vector<double>& s = d.axis == TankAxis::kLength ? s_length : s_width;
+    for (std::size_t i = 0; i < samples; ++i)
+      s[i] = step_wall_height(d.model, h * static_cast<double>(i));
+  }
+  double best = -std::numeric_limits<double>::infinity();
+  std::vector<double> combined(samples);
+  for (double sigma : {1.0, -1.0}) {
+    for (double sign : {1.0, -1.0}) {
+      for (std::size_t i = 0; i < samples; ++i) {
+        combined[i] = sign * (s_length[i] + sigma * s_width[i]);
+      }
+      best = std::max(best, best_window_minimum(combined, width));
+    }
+  }
+  return std::max(0.0, stroke * (best - 0.5 * slope * h));
+}
+
 std::string motion_too_short_for_mode(const RectangularModel& model, double stroke,
-                                      double motion_time) {
-  // Every mode n of every driven direction: the residual wave the uniform law leaves, and the
-  // least one a law of this duration that moves one way can leave, both as the mode's amplitude
-  // on its wall (eta_gain_n |X_a(omega_n)| / omega_n, the modal coordinate's undamped residual
-  // |X_a| / omega_n), summed over the modes: a long rest window's peak nears that sum.
-  // With the velocity v >= 0, X_a(omega) = j omega int v e^{-j omega t} dt, and v / stroke is a
-  // distribution on [0, T], whose characteristic function is at least cos(omega T / 2) in
-  // magnitude for omega T <= pi (half the stroke at each end attains it), so
-  // |X_a(omega_n)| >= omega_n stroke cos(omega_n T / 2).
-  const Durations uniform = uniform_durations(motion_time);
-  double floor = 0.0, reference = 0.0, period = 0.0;
+                                      double motion_time, double rest_time, double uniform_rest) {
+  const double floor = one_way_rest_floor(model, stroke, motion_time, rest_time);
+  if (!(uniform_rest > 0.0) || !(floor >= kMotionTooShortShare * uniform_rest)) return {};
+  double period = 0.0;
   const char* name = "length";
   for (const DrivenDirection& d : driven_directions(model)) {
-    const SloshingModel& m = d.model;
-    for (int n = 0; n < m.modes(); ++n) {
-      const double w = m.omega[n];
-      const double gain = std::abs(m.eta_gain[n]);
-      if (w * motion_time < std::numbers::pi) {
-        floor += gain * stroke * std::cos(0.5 * w * motion_time);
-      }
-      reference += gain * std::abs(seven_segment_spectrum(uniform, stroke, w)) / w;
-    }
-    const double own = 2.0 * std::numbers::pi / m.omega1();
+    const double own = 2.0 * std::numbers::pi / d.model.omega1();
     if (own > period) {
       period = own;
       name = d.axis == TankAxis::kLength ? "length" : "width";
     }
   }
-  if (!(reference > 0.0) || !(floor >= kMotionTooShortShare * reference)) return {};
-  const double share = std::min(1.0, floor / reference);
+  // Rounded down, so that the share quoted is a floor too.
+  const double share = std::floor(100.0 * std::min(1.0, floor / uniform_rest)) / 100.0;
   return "motion too short for the tank: motion time " + detail::sig3(motion_time) + " s is " +
          detail::sig3(motion_time / period) + " of the first sloshing period " +
          detail::sig3(period) + " s along the " + name +
-         "; the move is an impulse to the tank's modes: every law of this duration that moves one "
-         "way leaves at least " +
-         detail::fixed(share, 2) +
-         " of the uniform law's residual wave (its modes' amplitudes summed), so no such plan can "
-         "reduce it by more than " +
+         "; the move is an impulse to the tank's modes: on the linear model every law of this "
+         "duration that moves one way leaves an eta_rest of at least " +
+         detail::fixed(share, 2) + " of the uniform law's (" +
+         detail::fixed(std::floor(1e4 * floor) / 10.0, 1) + " of " +
+         detail::fixed(uniform_rest * 1e3, 1) +
+         " mm), so no such plan can reduce it by more than " +
          detail::fixed(100.0 * (1.0 - share), 0) + " % (a longer motion time can)";
 }
 

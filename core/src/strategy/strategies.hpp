@@ -327,4 +327,13 @@ PeakFigures peak_figures(const Prediction& p) {
 /// or empty: the test of every `worse_than_baseline` warning, on a line or along a path.
 [[nodiscard]] std::string worse_figures(const PeakFigures& law, const PeakFigures& reference);
 
+/// The `reductions_on_linear_model` warning's sentence when exactly one of the law and the
+/// uniform law (`reference`) is outside a rectangular tank's nonlinear range (`*_in_range`
+/// false: its nonlinear figures are the linear model's), so that their nonlinear figures come
+/// from different models and the reductions compare both laws' linear figures, which it names;
+/// empty when both figures come from one model. On a line or along a path alike.
+[[nodiscard]] std::string one_model_reductions(bool law_in_range, bool reference_in_range,
+                                               const PeakFigures& law,
+                                               const PeakFigures& reference);
+
 }  // namespace slosh::detail

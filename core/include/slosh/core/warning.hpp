@@ -22,6 +22,7 @@ enum class WarningKind {
   kLinearModelBeyondTheory,  ///< a rectangular tank's linear model out of its theory
   kNonlinearModelNotValid,   ///< a rectangular tank's nonlinear model out of range or diverged
   kReferenceLinear,          ///< the uniform law's nonlinear figures are the linear model's
+  kReductionsOnLinearModel,  ///< the law's and the uniform law's nonlinear figures differ in model
   kMotionTooShort,           ///< no law of this duration can act on the tank's modes
   kYawModesNotModelled,      ///< a turning tank's yaw drives modes the models leave out
   kTimeLimitedCandidates,    ///< auto: a candidate ran out of its time budget

@@ -28,23 +28,32 @@ struct RectangularPrediction {
 [[nodiscard]] RectangularPrediction rectangular_prediction(const RectangularModel& model,
                                                            const MotionLaw& law, double rest_time);
 
-/// The share of the uniform law's residual wave (its modes' amplitudes summed over the driven
-/// directions) from which a motion is too short for the tank (motion_too_short_for_mode) [-]:
-/// every law of the duration that moves one way leaves at least this share, so a plan can
-/// reduce the wave by a tenth at most. A short motion time alone does not decide it: on a long
-/// shallow tank the higher modes, n omega_1 apart, are not impulses yet and carry much of the
-/// uniform law's wave, which a law can reduce (4 m tank filled 50 mm, 1 s: 0.09 of the first
-/// period, and time_domain halves the wave).
+/// The share of the uniform law's eta_rest (linear model) from which a motion is too short for
+/// the tank (motion_too_short_for_mode) [-]: every law of the duration that moves one way leaves
+/// at least this share, so a plan can reduce the wave by a tenth at most. A short motion time
+/// alone does not decide it: on a long shallow tank the higher modes, n omega_1 apart, are not
+/// impulses yet and carry much of the uniform law's wave, which a law can reduce (4 m tank
+/// filled 50 mm, 1 s: 0.09 of the first period, and time_domain halves the wave).
 inline constexpr double kMotionTooShortShare{0.9};
 
+/// A floor of the linear eta_rest (the highest wall or corner over the rest window of
+/// `rest_time` [s]) that every law of `motion_time` [s] moving `stroke` [m] one way (velocity
+/// >= 0) leaves on the tank [m]: the wall heights are the velocity convolved with the step
+/// responses, so at any time of the rest window they are at least the stroke times the least
+/// step response over the last motion time (each direction's, and both summed with either
+/// sign for a corner). 0 when the motion lasts half the slowest first period or more (a law
+/// can then cancel a first mode) or a mode is not underdamped.
+[[nodiscard]] double one_way_rest_floor(const RectangularModel& model, double stroke,
+                                        double motion_time, double rest_time);
+
 /// Empty, or the sentence saying that the move of `stroke` [m] in `motion_time` [s] is an impulse
-/// to the tank's modes: a law of this duration that moves one way (velocity >= 0) leaves at least
-/// cos(omega_n T / 2) of each mode's impulse residual (zero from omega_n T = pi), and those
-/// floors, summed over the modes of the driven directions, reach kMotionTooShortShare of the
-/// uniform law's residual amplitudes summed the same way. It names the motion time's share of
-/// the slowest excited direction's first period and the floor's share of the uniform law's.
+/// to the tank's modes: one_way_rest_floor reaches kMotionTooShortShare of the uniform law's
+/// linear eta_rest `uniform_rest` [m] over the same rest window. It names the motion time's
+/// share of the slowest excited direction's first period and the floor's share of the uniform
+/// law's eta_rest, rounded down.
 [[nodiscard]] std::string motion_too_short_for_mode(const RectangularModel& model, double stroke,
-                                                    double motion_time);
+                                                    double motion_time, double rest_time,
+                                                    double uniform_rest);
 
 /// A direction whose static wall height is below this share of the other's is left out of what
 /// the strategies optimise (rectangular_axis_tank) [-]: its waves move the tank's peaks by less
