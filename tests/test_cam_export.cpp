@@ -379,6 +379,7 @@ TEST(CamCsvNumber, EveryValueIsDecimalAndReadsBack) {
   EXPECT_EQ(csv_number(-3.6891160426209526e-06), "-0.0000036891160426209526");
   // Longer than a cell as decimal text: round-off residues keep the exponent.
   EXPECT_EQ(csv_number(1.2345678901234567e-13), "1.2345678901234567e-13");
+  EXPECT_EQ(csv_number(1.25e-13), "0.000000000000125");
   EXPECT_EQ(csv_number(5e-324), "5e-324");
   std::mt19937_64 rng(7u);
   for (int i = 0; i < 20000; ++i) {
@@ -1164,16 +1165,21 @@ TEST(CamCsv, TheLastRowHoldsAStrokeOfManyDigitsExactly) {
     const std::size_t last = file.rfind('\n', file.size() - 2);
     const std::string line = file.substr(last + 1);
     EXPECT_NE(line.find(",800.123456789012,0,0,0\n"), std::string::npos) << line;
-    // Every cell is the shortest text of its number (no digit more than it needs).
+    // Every cell is the shortest decimal text of its number (no digit more than it needs), or
+    // its shortest exponent form where the decimal one passes 24 characters.
     std::size_t checked = 0;
     for (std::size_t at = file.find('\n') + 1; at < file.size() && checked < 4000;) {
       const std::size_t end = file.find_first_of(",\n", at);
       const std::string text = file.substr(at, end - at);
       double v = 0.0;
       std::from_chars(text.data(), text.data() + text.size(), v);
-      std::array<char, 32> shortest{};
-      const auto printed = std::to_chars(shortest.data(), shortest.data() + shortest.size(), v);
-      EXPECT_EQ(text, std::string(shortest.data(), printed.ptr));
+      std::array<char, 64> shortest{};
+      auto printed = std::to_chars(shortest.data(), shortest.data() + shortest.size(), v,
+                                   std::chars_format::fixed);
+      if (printed.ptr - shortest.data() > 24) {
+        printed = std::to_chars(shortest.data(), shortest.data() + shortest.size(), v);
+      }
+      EXPECT_EQ(text, v == 0.0 ? std::string("0") : std::string(shortest.data(), printed.ptr));
       at = end + 1;
       ++checked;
     }

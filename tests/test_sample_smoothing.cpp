@@ -200,30 +200,5 @@ TEST(SampleSmoothing, OnlyRunsThatHoldStillAreAtRest) {
   EXPECT_NEAR(std::stod(w.front().substr(head.size())), speed * 1e3, 0.01 * speed * 1e3);
 }
 
-// A log that creeps at 20 mm/s to its end (100 mm/s until t = 1 s, then 20 mm/s), rounded to
-// 0.1 mm at 1 kHz: its last 0.1 mm step lasts 5 ms, and a spline's end slope read 118 mm/s. The
-// warning gives the speed the samples show, 20 mm/s to 5 %.
-TEST(SampleSmoothing, ACreepingRoundedLogEndsMovingAtItsOwnSpeed) {
-  TrajectorySamples s;
-  for (int i = 0; i < 1500; ++i) {
-    const double t = i * 1e-3;
-    const double x_mm = t < 0.5   ? 100.0 * (t / 0.5) * (t / 0.5) / 2.0
-                        : t < 1.0 ? 25.0 + (t - 0.5) * 100.0
-                                  : 75.0 + 20.0 * (t - 1.0);
-    s.t.push_back(t);
-    s.x.push_back(std::round(x_mm * 10.0) / 1e4);
-    s.y.push_back(0.0);
-    s.z.push_back(0.0);
-    s.theta.push_back(0.0);
-  }
-  const std::vector<std::string> w = moving_end_warnings(SampledTrajectory(s));
-  ASSERT_EQ(w.size(), 1U);
-  const std::string head =
-      "the trajectory ends moving: at its last sample (t_s[1499] = 1.499 s) the container moves "
-      "at ";
-  ASSERT_EQ(w.front().substr(0, head.size()), head) << w.front();
-  EXPECT_NEAR(std::stod(w.front().substr(head.size())), 20.0, 1.0) << w.front();
-}
-
 }  // namespace
 }  // namespace slosh

@@ -19,12 +19,13 @@ constexpr int kStRealDigits = 15;
 std::string csv_number(double v) {
   if (v == 0.0) return "0";  // also -0
   // Decimal notation (0.0003, not 3e-04): controllers' CSV importers do not all read exponents.
-  // Only a value whose decimal text does not fit the buffer (below about 1e-45, far under any
-  // figure of a plan) falls back to the exponent form.
+  // Only a value whose decimal text is longer than kMaxCsvCell (a round-off residue such as
+  // 1.2345678901234567e-13, far below any figure of a plan) keeps the exponent form.
   std::array<char, 64> buffer{};
   auto written =
       std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed);
-  if (written.ec != std::errc{}) {
+  if (written.ec != std::errc{} ||
+      static_cast<std::size_t>(written.ptr - buffer.data()) > kMaxCsvCell) {
     written = std::to_chars(buffer.data(), buffer.data() + buffer.size(), v);
   }
   return {buffer.data(), written.ptr};

@@ -142,12 +142,6 @@ double sample_noise(const std::vector<double>& t, const std::vector<double>& v) 
   return *mid / kMedianAbsNormal;
 }
 
-bool samples_exact(double noise, const std::vector<double>& v) {
-  double largest = 0.0;
-  for (double e : v) largest = std::max(largest, std::abs(e));
-  return noise <= kExactNoise * largest;
-}
-
 RestRuns rest_runs(const std::vector<double>& v, double noise) {
   // Half the samples' quantum: a log rounded to q steps by multiples of q, so only samples that
   // repeat the end's value lie within q / 2 of it (and a last approach by one quantum is not
@@ -165,7 +159,9 @@ RestRuns rest_runs(const std::vector<double>& v, double noise) {
 SmoothedSamples smoothed_samples(const std::vector<double>& t, const std::vector<double>& v) {
   SmoothedSamples out{v, sample_noise(t, v), 0.0};
   out.rest = rest_runs(v, out.noise);
-  if (samples_exact(out.noise, v)) return out;
+  double largest = 0.0;
+  for (double e : v) largest = std::max(largest, std::abs(e));
+  if (out.noise <= kExactNoise * largest) return out;
   const std::size_t n = t.size();
   const Penalty p = penalty(t);
   std::vector<double> dy(p.rows.size(), 0.0);

@@ -70,10 +70,6 @@ struct SmoothedSamples {
 /// every sixth difference is 0).
 [[nodiscard]] double sample_noise(const std::vector<double>& t, const std::vector<double>& v);
 
-/// Whether samples whose noise is `noise` (sample_noise) are exact to round-off: they are then
-/// interpolated as they are, not smoothed.
-[[nodiscard]] bool samples_exact(double noise, const std::vector<double>& v);
-
 /// The runs of at least kMinRestSamples samples at each end of v within min(quantum / 2,
 /// 4 noise) of the end sample, where the quantum is the smallest nonzero |v[i+1] - v[i]| (exactly
 /// equal samples only when the noise is 0).

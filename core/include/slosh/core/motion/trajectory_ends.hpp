@@ -24,9 +24,7 @@ inline constexpr double kTurningEndRate{0.017453292519943295};
 /// turning rate kTurningEndRate, naming the end, its sample time, the speed and the rate. The
 /// verdict is the samples' (rest_runs in sample_smoothing.hpp): a coordinate whose samples hold
 /// still at that end (a log rounded to 0.1 mm that repeats its last value for 25 samples) is at
-/// rest there, whatever slope a spline might give it; exact samples move at their spline's slope,
-/// noisy ones at the end slope of a least-squares quadratic through their last 0.05 s of samples
-/// (a smoothed spline's end slope follows a log's rounding steps).
+/// rest there, whatever slope a spline might give it; the others move at their splines' slopes.
 [[nodiscard]] std::vector<std::string> moving_end_warnings(const SampledTrajectory& trajectory);
 
 }  // namespace slosh
