@@ -376,9 +376,10 @@ TEST(CamCsvNumber, EveryValueIsDecimalAndReadsBack) {
   EXPECT_EQ(csv_number(800.0), "800");
   EXPECT_EQ(csv_number(-0.0), "0");
   EXPECT_EQ(csv_number(1e22), "10000000000000000000000");
-  EXPECT_EQ(csv_number(-3.6891160426209526e-06), "-0.0000036891160426209526");
+  EXPECT_EQ(csv_number(3.6891160426209526e-06), "0.0000036891160426209526");
+  EXPECT_EQ(csv_number(-3.6891160426209526e-06), "-3.6891160426209526e-06");  // 25 as decimal
   // Longer than a cell as decimal text: round-off residues keep the exponent.
-  EXPECT_EQ(csv_number(1.2345678901234567e-13), "1.2345678901234567e-13");
+  EXPECT_EQ(csv_number(1.2345678901234566e-13), "1.2345678901234566e-13");
   EXPECT_EQ(csv_number(1.25e-13), "0.000000000000125");
   EXPECT_EQ(csv_number(5e-324), "5e-324");
   std::mt19937_64 rng(7u);

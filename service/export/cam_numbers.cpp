@@ -20,7 +20,7 @@ std::string csv_number(double v) {
   if (v == 0.0) return "0";  // also -0
   // Decimal notation (0.0003, not 3e-04): controllers' CSV importers do not all read exponents.
   // Only a value whose decimal text is longer than kMaxCsvCell (a round-off residue such as
-  // 1.2345678901234567e-13, far below any figure of a plan) keeps the exponent form.
+  // 1.2345678901234566e-13, far below any figure of a plan) keeps the exponent form.
   std::array<char, 64> buffer{};
   auto written =
       std::to_chars(buffer.data(), buffer.data() + buffer.size(), v, std::chars_format::fixed);
