@@ -411,8 +411,9 @@ void keep_best_start(const PathContext& c, PathOutcome& o,
 }
 
 /// The message: what happened, then what the law does along the path.
+/// `violation`: the limit or time_domain bound the law breaks on the verification, or empty.
 std::string path_message(const PathContext& c, const PlanResult& r, const PathPrediction& p,
-                         std::string detail) {
+                         std::string detail, const std::string& violation) {
   std::string head;
   switch (r.status) {
     case SolveStatus::kOptimal:
@@ -426,8 +427,11 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
                             : "; the law returned is the least infeasible found";
       break;
     case SolveStatus::kTimeLimit:
-      head = "the time budget of " + sig3(c.options.time_limit) +
-             " s ran out; returning the best admissible point found";
+      // A law that misses a constraint is not admissible, however the budget ended.
+      head = "the time budget of " + sig3(c.options.time_limit) + " s ran out; " +
+             (violation.empty() ? std::string("returning the best admissible point found")
+                                : "no admissible point was found (" + violation +
+                                      "); returning the least infeasible found");
       break;
     case SolveStatus::kFailed:
       head = "the solver failed; the durations returned are the uniform law";
@@ -507,7 +511,13 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
              (detail.empty() ? std::string() : "; " + detail);
   }
   detail::apply_optimal_caveat(r.status, detail, r.warnings, law_strategy);
-  r.message = path_message(c, r, o.prediction, std::move(detail));
+  // The eta bound binds time_domain's law and auto's choice (the uniform law promises none).
+  std::string violation = path_limit_violation(c.options.limits, o.prediction);
+  if (violation.empty() &&
+      (law_strategy == Strategy::kTimeDomain || requested == Strategy::kAuto)) {
+    violation = bound_violation(c, o.prediction);
+  }
+  r.message = path_message(c, r, o.prediction, std::move(detail), violation);
   return r;
 }
 
