@@ -16,6 +16,7 @@
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/strategy/path_plan.hpp"
 #include "support/reference_integrators.hpp"
+#include "support/sanitizers.hpp"
 
 namespace slosh {
 namespace {
@@ -70,7 +71,8 @@ Format format_for(const LineArcLine& g, double motion_time) {
 PlanOptions quiet_options() {
   PlanOptions o;
   o.robustness = false;
-  o.time_limit = 60.0;
+  // These tests check what a plan reaches: a budget the sanitizer build cannot run out of.
+  o.time_limit = test::solve_budget(60.0);
   return o;
 }
 
