@@ -477,19 +477,11 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
       o.prediction.nonlinear.motion.value, o.model_warning.empty(), o.prediction.linear.rest.value);
   if (!o.model_warning.empty()) {
     r.warnings.push_back({WarningKind::kNonlinearModelNotValid, o.model_warning});
-  } else if (!c.uniform_warning.empty()) {
-    r.warnings.push_back({WarningKind::kReferenceLinear,
-                          "the uniform law's nonlinear figures (the reference of the reductions) "
-                          "are the linear model's: " +
-                              c.uniform_warning});
   }
-  // As on a line: one law's nonlinear figures the nonlinear model's, the other's the linear
-  // model's, so the reductions compare both on the linear model.
-  std::string one_model = detail::one_model_reductions(
-      o.model_warning.empty(), c.uniform_warning.empty(), detail::peak_figures(o.prediction),
-      detail::peak_figures(c.uniform));
-  if (!one_model.empty()) {
-    r.warnings.push_back({WarningKind::kReductionsOnLinearModel, std::move(one_model)});
+  for (Warning& reference : detail::reference_model_warnings(
+           o.model_warning.empty(), c.uniform_warning, detail::peak_figures(o.prediction),
+           detail::peak_figures(c.uniform))) {
+    r.warnings.push_back(std::move(reference));
   }
   if (!o.worse.empty()) r.warnings.push_back({WarningKind::kWorseThanBaseline, o.worse});
   add_yaw_warning(c, r, o.prediction.a_total_peak, r.warnings);

@@ -1273,19 +1273,10 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanResult& r,
       r.prediction.linear.rest.value);
   if (!worse.empty()) w.push_back({WarningKind::kWorseThanBaseline, worse});
   if (!law_in_range) w.push_back({WarningKind::kNonlinearModelNotValid, std::move(out_of_range)});
-  if (law_in_range && !baseline_out_of_range.empty()) {
-    w.push_back({WarningKind::kReferenceLinear,
-                 "the uniform law's nonlinear figures (the reference of the reductions) are the "
-                 "linear model's: " +
-                     baseline_out_of_range});
-  }
-  // One law's nonlinear figures the nonlinear model's, the other's the linear model's: the
-  // reductions (reduction_pct, the message) compare both on the linear model.
-  std::string one_model = detail::one_model_reductions(law_in_range, baseline_out_of_range.empty(),
-                                                       detail::peak_figures(r.prediction),
-                                                       detail::peak_figures(r.baseline));
-  if (!one_model.empty()) {
-    w.push_back({WarningKind::kReductionsOnLinearModel, std::move(one_model)});
+  for (Warning& reference : detail::reference_model_warnings(law_in_range, baseline_out_of_range,
+                                                             detail::peak_figures(r.prediction),
+                                                             detail::peak_figures(r.baseline))) {
+    w.push_back(std::move(reference));
   }
   if (r.rectangular) {
     // Against the uniform law's own linear eta_rest: the figure the floor bounds.
@@ -1476,9 +1467,19 @@ std::string worse_figures(const PeakFigures& law, const PeakFigures& reference) 
   return figures;
 }
 
-std::string one_model_reductions(bool law_in_range, bool reference_in_range, const PeakFigures& law,
-                                 const PeakFigures& reference) {
-  if (law_in_range == reference_in_range) return {};
+std::vector<Warning> reference_model_warnings(bool law_in_range,
+                                              const std::string& reference_reason,
+                                              const PeakFigures& law,
+                                              const PeakFigures& reference) {
+  std::vector<Warning> out;
+  const bool reference_in_range = reference_reason.empty();
+  if (law_in_range && !reference_in_range) {
+    out.push_back({WarningKind::kReferenceLinear,
+                   "the uniform law's nonlinear figures (the reference of the reductions) are the "
+                   "linear model's: " +
+                       reference_reason});
+  }
+  if (law_in_range == reference_in_range) return out;
   const std::string which = law_in_range
                                 ? "the uniform law is outside the rectangular nonlinear model's "
                                   "range (its nonlinear figures are the linear model's) and the "
@@ -1486,12 +1487,15 @@ std::string one_model_reductions(bool law_in_range, bool reference_in_range, con
                                 : "the plan's law is outside the rectangular nonlinear model's "
                                   "range (its nonlinear figures are the linear model's) and the "
                                   "uniform law within it";
-  return "reductions on the linear model: " + which +
-         ", so both laws' nonlinear figures do not come from one model; the reductions compare "
-         "their linear figures: eta_motion " +
-         sig3(law.linear_motion * 1e3) + " mm vs " + sig3(reference.linear_motion * 1e3) +
-         " mm, eta_rest " + sig3(law.linear_rest * 1e3) + " mm vs " +
-         sig3(reference.linear_rest * 1e3) + " mm (the uniform law's)";
+  out.push_back({WarningKind::kReductionsOnLinearModel,
+                 "reductions on the linear model: " + which +
+                     ", so both laws' nonlinear figures do not come from one model; the "
+                     "reductions compare their linear figures: eta_motion " +
+                     sig3(law.linear_motion * 1e3) + " mm vs " +
+                     sig3(reference.linear_motion * 1e3) + " mm, eta_rest " +
+                     sig3(law.linear_rest * 1e3) + " mm vs " + sig3(reference.linear_rest * 1e3) +
+                     " mm (the uniform law's)"});
+  return out;
 }
 
 }  // namespace detail

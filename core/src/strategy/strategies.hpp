@@ -327,13 +327,15 @@ PeakFigures peak_figures(const Prediction& p) {
 /// or empty: the test of every `worse_than_baseline` warning, on a line or along a path.
 [[nodiscard]] std::string worse_figures(const PeakFigures& law, const PeakFigures& reference);
 
-/// The `reductions_on_linear_model` warning's sentence when exactly one of the law and the
-/// uniform law (`reference`) is outside a rectangular tank's nonlinear range (`*_in_range`
-/// false: its nonlinear figures are the linear model's), so that their nonlinear figures come
-/// from different models and the reductions compare both laws' linear figures, which it names;
-/// empty when both figures come from one model. On a line or along a path alike.
-[[nodiscard]] std::string one_model_reductions(bool law_in_range, bool reference_in_range,
-                                               const PeakFigures& law,
-                                               const PeakFigures& reference);
+/// The warnings on the uniform law of reference when a rectangular tank's nonlinear model does
+/// not hold for it or for the law (`*_in_range` false: its nonlinear figures are the linear
+/// model's; `reference_reason` says why for the uniform law): `reference_nonlinear_model_not_valid`
+/// when only the uniform law is out of range, and `reductions_on_linear_model`, naming both laws'
+/// linear figures, when exactly one of them is (the reductions then compare those). Empty when
+/// both figures come from one model. On a line or along a path alike.
+[[nodiscard]] std::vector<Warning> reference_model_warnings(bool law_in_range,
+                                                            const std::string& reference_reason,
+                                                            const PeakFigures& law,
+                                                            const PeakFigures& reference);
 
 }  // namespace slosh::detail
