@@ -139,16 +139,28 @@ std::string row(int n, const std::string& id) {
 struct Cli {
   TempDir dir;
   std::unique_ptr<test::Child> child;
-  explicit Cli(const std::string& server) {
+  explicit Cli(const std::string& server, const std::vector<std::string>& flags = {}) {
     write_file(dir / "t.csv",
                "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
                "a,48.5,82,water,800,1.5,notch\n"
                "b,48.5,82,water,800,1.6,notch\n");
     write_file(dir / "stdin", "");
     child = std::make_unique<test::Child>(
-        test::spawn({"batch", "--in", (dir / "t.csv").string(), "--out", (dir / "o.jsonl").string(),
-                     "--server", server, "--progress", "never"},
-                    dir / "stdin", dir / "stdout", dir / "stderr"));
+        test::spawn(arguments(server, flags), dir / "stdin", dir / "stdout", dir / "stderr"));
+  }
+  [[nodiscard]] std::vector<std::string> arguments(const std::string& server,
+                                                   const std::vector<std::string>& flags) const {
+    std::vector<std::string> args{"batch",
+                                  "--in",
+                                  (dir / "t.csv").string(),
+                                  "--out",
+                                  (dir / "o.jsonl").string(),
+                                  "--server",
+                                  server,
+                                  "--progress",
+                                  "never"};
+    args.insert(args.end(), flags.begin(), flags.end());
+    return args;
   }
   [[nodiscard]] std::string err() const { return read_file(dir / "stderr"); }
   /// The line that names the partial output file as empty (nothing was written before the stop).
@@ -297,20 +309,20 @@ TEST(BatchCliFaults, AJobPostRefused503EveryTimeIsRetriedAfterItsRetryAfterThenG
   ScriptedService service;
   service.post_503s = 1000;
   service.post_retry_after = "1";
-  Cli cli(service.url());
+  Cli cli(service.url(), {"--retries", "5"});
   const auto code = cli.child->wait_for(120s);
   ASSERT_TRUE(code.has_value()) << "the CLI still posts";
   EXPECT_EQ(*code, 1) << cli.err();
   const std::lock_guard lock(service.mutex);
-  ASSERT_EQ(service.posts, 31) << cli.err();
+  ASSERT_EQ(service.posts, 6) << cli.err();
   for (std::size_t i = 1; i < service.post_times.size(); ++i) {
     EXPECT_GE(service.post_times[i] - service.post_times[i - 1], 1s) << "POST " << i + 1;
   }
-  // The time the CLI reports spans its 31 POSTs: at least the 30 waits between their arrivals.
+  // The time the CLI reports spans its 6 POSTs: at least the 5 waits between their arrivals.
   const auto waited = std::chrono::duration_cast<std::chrono::seconds>(service.post_times.back() -
                                                                        service.post_times.front());
   const std::string head = "slosh batch: stopped after 0 of 2 recipes: " + service.url() +
-                           "/v1/batches answered HTTP 503: m (still 503 after 31 tries over ";
+                           "/v1/batches answered HTTP 503: m (still 503 after 6 tries over ";
   const std::string tail = " s, each after its Retry-After; no job was started)\n";
   const std::string err = cli.err();
   const auto at = err.find(head);
@@ -402,13 +414,13 @@ TEST(BatchCliFaults, A503WithRetryAfterIsRetriedNotFatal) {
 }
 
 // A replica that accepted the job and then stops answering for good: the CLI's progress polls
-// have a deadline and are repeated with backoff for 60 s, then it stops with exit 1 instead of
-// hanging, naming the job and saying its replica stopped answering. It does not DELETE the job
-// (a paused replica carries on with it when it runs again).
+// have a deadline and are repeated with backoff for --give-up-after, then it stops with exit 1
+// instead of hanging, naming the job and saying its replica stopped answering. It does not DELETE
+// the job (a paused replica carries on with it when it runs again).
 TEST(BatchCliFaults, AReplicaThatStopsAnsweringStopsTheRunNotHangsIt) {
   ScriptedService service;
   service.record_hangs = true;
-  Cli cli(service.url());
+  Cli cli(service.url(), {"--give-up-after", "4"});
   const auto code = cli.child->wait_for(120s);
   ASSERT_TRUE(code.has_value()) << "the CLI still hangs";
   EXPECT_EQ(*code, 1) << cli.err();
@@ -420,11 +432,45 @@ TEST(BatchCliFaults, AReplicaThatStopsAnsweringStopsTheRunNotHangsIt) {
                      "answering (no answer for "),
             std::string::npos)
       << err;
+  // Silent for at least --give-up-after: counted from the first poll that got no answer, whose
+  // own deadline is 3 s, and the last wait of the backoff (0.2 s doubling) is at most 3.2 s more.
+  const std::string lead = "(no answer for ";
+  const auto at = err.find(lead);
+  ASSERT_NE(at, std::string::npos) << err;
+  const long silent = std::stol(err.substr(at + lead.size()));
+  EXPECT_GE(silent, 4) << err;
+  EXPECT_LE(silent, 4 + 3 + 4) << err;
   EXPECT_NE(err.find("the job was not cancelled and may still finish: read it with GET " +
                      service.url() + "/v1/batches/" + kJobId),
             std::string::npos)
       << err;
   EXPECT_EQ(err.find("running there?"), std::string::npos) << err;
+}
+
+// The patience flags: their defaults are what docs/batch.md says, and a value outside the range is
+// refused with the flag, the value and the range, before anything is read or sent.
+TEST(BatchCliFaults, RetriesAndGiveUpAfterSayTheirDefaultsAndRefuseValuesOutsideTheirRange) {
+  const test::RunResult help = test::run_slosh({"batch", "--help"});
+  ASSERT_EQ(help.exit_code, 0) << help.err;
+  for (const char* line :
+       {"--retries INT:INT in [0 - 1000]=30", "--give-up-after INT:INT in [1 - 86400]=60"}) {
+    EXPECT_NE(help.out.find(line), std::string::npos) << line << "\n" << help.out;
+  }
+  struct Case {
+    const char* flag;
+    const char* value;
+    const char* range;
+  };
+  for (const Case& c :
+       {Case{"--retries", "-1", "0 to 1000"}, Case{"--retries", "1001", "0 to 1000"},
+        Case{"--give-up-after", "0", "1 to 86400"},
+        Case{"--give-up-after", "86401", "1 to 86400"}}) {
+    const test::RunResult r = test::run_slosh(
+        {"batch", "--in", "missing.csv", "--server", "http://127.0.0.1:9", c.flag, c.value});
+    EXPECT_EQ(r.exit_code, 2) << c.flag;
+    EXPECT_EQ(r.err, std::string(c.flag) + ": Value " + c.value + " not in range " + c.range +
+                         "\nRun with --help for more information.\n");
+  }
 }
 
 }  // namespace

@@ -34,6 +34,15 @@ struct BatchCommandOptions {
   /// Recipes per POST /v1/plans/batch in server mode (<= the server's batch_max; plan mode).
   /// Default 64.
   std::size_t chunk{64};
+  /// Server mode: how many times a call the service answers 503 ("not now", e.g. its replicas'
+  /// Redis is down) is sent again, each after the answer's Retry-After (1 to 30 s), before the
+  /// run stops. 0 to 1000. Default 30.
+  int retries{30};
+  /// Server mode: how long the progress of a started batch job is polled while the service does
+  /// not answer at all (the replica that runs it is paused or restarting) before the run stops,
+  /// leaving the job alone [s]. 1 to 86400. Default 60: twice the default batch_job_stale_s,
+  /// past which the other replicas call such a job failed.
+  int give_up_after_s{60};
   ProgressMode progress{ProgressMode::kAuto};
   /// Adds the whole plan to each JSON row (as view "full").
   bool full{false};

@@ -22,12 +22,8 @@ namespace {
 constexpr std::chrono::seconds kJobCallTimeout{3};
 /// How often a batch job's progress is asked for.
 constexpr std::chrono::milliseconds kJobPollInterval{200};
-/// How long the progress polls of a started job go on while the service does not answer at all
-/// (the replica that runs it is paused, restarting, or the network is down) before the run
-/// stops: a paused replica carries on with the job when it runs again, so the CLI waits for it
-/// (the waits between polls back off from kJobPollInterval to kJobPollBackoffMax). Twice the
-/// default batch_job_stale_s (30 s), past which the other replicas call such a job failed.
-constexpr std::chrono::seconds kJobUnreachableLimit{60};
+/// The waits between the polls of a job whose service does not answer back off from
+/// kJobPollInterval to this.
 constexpr std::chrono::milliseconds kJobPollBackoffMax{5000};
 
 // The answers of the results download that mean "not now": 409 from a replica that does not see
@@ -51,8 +47,9 @@ api::JobProgress poll_job(HttpClient& client, const RemoteJob& job) {
 
 // Polls the job until it has finished, drawing its progress; BatchAbort unless it is done,
 // BatchInterrupted on Ctrl-C, JobUnreachable when the service has not answered at all for
-// kJobUnreachableLimit (polls that get no answer are repeated with backoff until then).
-void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
+// `unreachable_limit` (polls that get no answer are repeated with backoff until then).
+void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar,
+                  std::chrono::seconds unreachable_limit) {
   std::optional<std::chrono::steady_clock::time_point> silent_since;
   std::chrono::milliseconds backoff = kJobPollInterval;
   for (;;) {
@@ -64,7 +61,7 @@ void wait_for_job(HttpClient& client, const RemoteJob& job, ProgressBar& bar) {
       const auto now = std::chrono::steady_clock::now();
       if (!silent_since) silent_since = now;
       const auto silent = std::chrono::duration_cast<std::chrono::seconds>(now - *silent_since);
-      if (silent >= kJobUnreachableLimit) {
+      if (silent >= unreachable_limit) {
         throw JobUnreachable("batch job " + job.id() + ": the replica that runs it stopped " +
                              "answering (no answer for " + std::to_string(silent.count()) +
                              " s; last: " + without_hint(e.what()) +
@@ -115,7 +112,8 @@ std::optional<std::string> post_job(const BatchInput& in, const BatchCommandOpti
         std::chrono::duration_cast<std::chrono::seconds>(std::chrono::steady_clock::now() - posting)
             .count();
     throw BatchAbort(reply_problem(client, "/v1/batches", posted) + " (still 503 after " +
-                     std::to_string(kServerRetries + 1) + " tries over " + std::to_string(waited) +
+                     std::to_string(client.retries() + 1) + " tries over " +
+                     std::to_string(waited) +
                      " s, each after its Retry-After; no job was started)");
   }
   if (posted.status != 202) throw BatchAbort(reply_problem(client, "/v1/batches", posted));
@@ -128,9 +126,10 @@ std::optional<std::string> post_job(const BatchInput& in, const BatchCommandOpti
 // job alone; Ctrl-C or a failure cancels it and writes the rows it finished to `sink` (the
 // .partial table then holds what the service did) before the BatchAbort goes on. The stop made
 // every call it could: the handle is released, so that no DELETE goes out behind its message.
-void follow_job(HttpClient& client, RemoteJob& job, RowSink& sink, ProgressBar& bar) {
+void follow_job(HttpClient& client, RemoteJob& job, RowSink& sink, ProgressBar& bar,
+                std::chrono::seconds unreachable_limit) {
   try {
-    wait_for_job(client, job, bar);
+    wait_for_job(client, job, bar, unreachable_limit);
   } catch (const JobUnreachable&) {
     job.release();  // not cancelled: the replica may be paused, and carries on with it
     throw;
@@ -150,7 +149,8 @@ void follow_job(HttpClient& client, RemoteJob& job, RowSink& sink, ProgressBar& 
 void download_job_rows(HttpClient& client, const RemoteJob& job, std::size_t recipes,
                        RowSink& sink) {
   const std::string path = job.path() + "/results.jsonl";
-  const HttpReply reply = retrying_transient([&] { return client.get(path); }, kResultsNotYet);
+  const HttpReply reply = retrying_transient(
+      client, [&] { return client.get(path); }, kResultsNotYet);
   if (reply.status != 200) throw BatchAbort(reply_problem(client, job.path(), reply));
   for (const api::PlanTableRow& row : job_rows_of(job, reply.body)) {
     // Rows come in recipe order, each once: anything else is not the table of this run.
@@ -180,7 +180,7 @@ bool run_job_remote(const BatchInput& in, const BatchCommandOptions& options, Ht
   // replica) is asked again with backoff instead of holding the run, and Ctrl-C, for as long.
   client.set_timeout(kJobCallTimeout);
   RemoteJob job(client, *id);
-  follow_job(client, job, sink, bar);
+  follow_job(client, job, sink, bar, std::chrono::seconds(options.give_up_after_s));
   // Done: nothing to cancel any more (a DELETE would forget the results).
   job.release();
   client.set_timeout(kServerTimeout);

@@ -13,18 +13,16 @@ namespace slosh::service::batch_cli {
 
 /// Timeout of one POST /v1/plans/batch chunk in server mode.
 constexpr std::chrono::seconds kServerTimeout{600};
-/// 503 answers retried per chunk before giving up.
-constexpr int kServerRetries = 30;
 
-/// Makes a call (`call`: one request), retrying 503 answers after their Retry-After (1 to 30 s,
-/// 1 s without one) kServerRetries times; the last answer. The waits are sliced so that Ctrl-C
-/// ends them at once: the 503 is then returned. ServiceUnreachable when the service cannot be
-/// reached.
-HttpReply retrying_503(const std::function<HttpReply()>& call);
+/// Makes a call (`call`: one request of `client`), retrying 503 answers after their Retry-After
+/// (1 to 30 s, 1 s without one) client.retries() times; the last answer. The waits are sliced so
+/// that Ctrl-C ends them at once: the 503 is then returned. ServiceUnreachable when the service
+/// cannot be reached.
+HttpReply retrying_503(const HttpClient& client, const std::function<HttpReply()>& call);
 
 /// retrying_503 for every status in `transient` (answers that say "not now" rather than "no", e.g.
 /// 409 from a replica that does not see yet that a job has finished).
-HttpReply retrying_transient(const std::function<HttpReply()>& call,
+HttpReply retrying_transient(const HttpClient& client, const std::function<HttpReply()>& call,
                              std::initializer_list<int> transient);
 
 /// POSTs `body` to `path`, retrying 503 answers; nothing is posted after an interrupt (BatchAbort,

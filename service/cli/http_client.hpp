@@ -42,6 +42,11 @@ class HttpClient {
   /// Bounds connecting and each read/write of the calls from now on.
   void set_timeout(std::chrono::milliseconds timeout);
 
+  /// How many times a call answered "not now" (503, and the like where the caller says so) is
+  /// sent again by the retrying calls of batch_retry.hpp before its last answer is taken. >= 0.
+  void set_retries(int retries) { retries_ = retries; }
+  [[nodiscard]] int retries() const { return retries_; }
+
   [[nodiscard]] const std::string& base_url() const { return base_url_; }
 
  private:
@@ -49,6 +54,7 @@ class HttpClient {
   std::unique_ptr<Impl> impl_;
   std::string base_url_;
   std::string prefix_;
+  int retries_{30};
 };
 
 }  // namespace slosh::service

@@ -181,6 +181,32 @@ CLI::App* add_plan(CLI::App& app, CliArgs& a) {
   return plan;
 }
 
+// The options of `slosh batch --server`: where, in what chunks, and how long a busy or silent
+// service is borne.
+void add_batch_server_options(CLI::App& batch, CliArgs& a) {
+  batch.add_option(
+      "--server", a.batch.server,
+      "Send the table to a running service (http://host:port) instead of solving here");
+  batch
+      .add_option(
+          "--chunk", a.batch.chunk,
+          "Recipes per request in --server mode (plan mode; min_time sends one recipe a request)")
+      ->check(CLI::Range(1, 100000))
+      ->capture_default_str();
+  batch
+      .add_option("--retries", a.batch.retries,
+                  "--server: times a call the service answers 503 (not now) is sent again, each "
+                  "after its Retry-After, before the run stops")
+      ->check(CLI::Range(0, 1000))
+      ->capture_default_str();
+  batch
+      .add_option("--give-up-after", a.batch.give_up_after_s,
+                  "--server: seconds a started job is polled while the service does not answer "
+                  "at all (a paused replica) before the run stops, leaving the job alone")
+      ->check(CLI::Range(1, 86400))
+      ->capture_default_str();
+}
+
 CLI::App* add_batch(CLI::App& app, CliArgs& a) {
   auto* batch = app.add_subcommand(
       "batch", "Plan a recipe table (CSV or JSON lines in, a plan table as CSV or JSON out)");
@@ -203,15 +229,7 @@ CLI::App* add_batch(CLI::App& app, CliArgs& a) {
       slosh::service::setting_help("Parallel solves, 0 = the cores", "workers", a.defaults));
   batch->add_option("--cache", a.cache,
                     cache_help(a, "SQLite plan cache shared with `slosh serve`"));
-  batch->add_option(
-      "--server", a.batch.server,
-      "Send the table to a running service (http://host:port) instead of solving here");
-  batch
-      ->add_option(
-          "--chunk", a.batch.chunk,
-          "Recipes per request in --server mode (plan mode; min_time sends one recipe a request)")
-      ->check(CLI::Range(1, 100000))
-      ->capture_default_str();
+  add_batch_server_options(*batch, a);
   batch
       ->add_option("--progress", a.batch_progress,
                    "Progress bar on stderr: auto (when stderr is a terminal), always, never")
