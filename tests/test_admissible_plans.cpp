@@ -20,7 +20,7 @@
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
-namespace {
+namespace test_admissible_plans {
 
 using nlohmann::json;
 
@@ -365,5 +365,5 @@ TEST(AdmissiblePlans, NotchsDepthSentenceHoldsForTheModulus) {
   EXPECT_GE(exact, 3);
 }
 
-}  // namespace
+}  // namespace test_admissible_plans
 }  // namespace slosh

@@ -22,7 +22,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_admission {
 
 using nlohmann::json;
 using namespace std::chrono_literals;
@@ -88,5 +88,5 @@ TEST(Admission, AMinTimeOfMoreStrategiesThanThePoolAdmitsRunsThemInTurn) {
   EXPECT_EQ(test::metric_of(server, R"(slosh_pool_tasks_started_total{priority="background"})"), 2);
 }
 
-}  // namespace
+}  // namespace test_admission
 }  // namespace slosh

@@ -18,7 +18,7 @@
 #include "slosh/api/simulate.hpp"
 
 namespace slosh {
-namespace {
+namespace test_api_docs {
 
 std::string api_doc() {
   std::ifstream in(std::string(SLOSH_SOURCE_DIR) + "/docs/api.md");
@@ -113,5 +113,5 @@ TEST(ApiDocs, AFluidNameWithControlCharactersIsRefused) {
             "breaks, ...), got \"a\\u0000b\"");
 }
 
-}  // namespace
+}  // namespace test_api_docs
 }  // namespace slosh

@@ -15,7 +15,7 @@
 #include "slosh/core/strategy/planner.hpp"
 
 namespace slosh {
-namespace {
+namespace test_auto_bound {
 
 bool usable(SolveStatus s) {
   return s == SolveStatus::kOptimal || s == SolveStatus::kAcceptable ||
@@ -148,5 +148,5 @@ TEST(AutoBound, AUsableCandidateAboveTheBoundLosesToOneWithin) {
             "mm");
 }
 
-}  // namespace
+}  // namespace test_auto_bound
 }  // namespace slosh

@@ -13,7 +13,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_auto_reasons {
 
 using nlohmann::json;
 
@@ -183,5 +183,5 @@ TEST(AutoReasons, EveryLosingCandidateSaysWhyByTheRule) {
   check_reasons(json::parse(thesis->body), "thesis");
 }
 
-}  // namespace
+}  // namespace test_auto_reasons
 }  // namespace slosh

@@ -23,7 +23,7 @@
 #include "support/random_format.hpp"
 
 namespace slosh {
-namespace {
+namespace test_band_rows {
 
 constexpr int kDefaultFormats{40};
 constexpr std::uint64_t kSeed{3011};
@@ -142,5 +142,5 @@ TEST(BandRows, ActiveRowsReachTheOptimumOfAllRowsOverRandomFormats) {
   EXPECT_GT(met, count / 4);
 }
 
-}  // namespace
+}  // namespace test_band_rows
 }  // namespace slosh

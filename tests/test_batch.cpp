@@ -43,7 +43,7 @@
 extern char** environ;
 
 namespace slosh {
-namespace {
+namespace test_batch {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -1172,5 +1172,5 @@ TEST(BatchCli, JsonLinesErrorsNameTheFileLine) {
   EXPECT_EQ(message.rfind("line 3: the body is not valid JSON: ", 0), 0u) << message;
 }
 
-}  // namespace
+}  // namespace test_batch
 }  // namespace slosh

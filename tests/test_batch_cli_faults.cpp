@@ -23,7 +23,7 @@
 #include "support/process.hpp"
 
 namespace slosh {
-namespace {
+namespace test_batch_cli_faults {
 
 using nlohmann::json;
 using test::read_file;
@@ -473,5 +473,5 @@ TEST(BatchCliFaults, RetriesAndGiveUpAfterSayTheirDefaultsAndRefuseValuesOutside
   }
 }
 
-}  // namespace
+}  // namespace test_batch_cli_faults
 }  // namespace slosh

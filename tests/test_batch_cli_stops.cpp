@@ -31,7 +31,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_batch_cli_stops {
 
 using nlohmann::json;
 using test::read_file;
@@ -429,5 +429,5 @@ TEST(BatchCliStopsCluster, AnInterruptThroughTheProxyWhileRedisIsPausedCancelsTh
   EXPECT_EQ(state, "cancelled");
 }
 
-}  // namespace
+}  // namespace test_batch_cli_stops
 }  // namespace slosh

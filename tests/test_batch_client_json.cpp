@@ -13,7 +13,7 @@
 #include "slosh/api/plan_table_row.hpp"
 
 namespace slosh {
-namespace {
+namespace test_batch_client_json {
 
 TEST(BatchClientJson, AJobRecordIsReadIntoItsTypedFields) {
   const auto p = api::parse_job_progress(
@@ -109,5 +109,5 @@ TEST(BatchClientJson, MinTimeErrorRowsNameTheColumnAndQuoteTheirCells) {
             R"(range, \"allowed\" 0.05 to 60 s","recipe_id":"x","row":4,"status":"error"})");
 }
 
-}  // namespace
+}  // namespace test_batch_client_json
 }  // namespace slosh

@@ -26,7 +26,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_batch_jobs {
 
 using nlohmann::json;
 using test::csv_without_timing;
@@ -672,5 +672,5 @@ TEST(BatchJobs, KeptResultsStayWithinTheirByteBudget) {
   EXPECT_NE(gone->body.find("batch_jobs_bytes = 65536 bytes"), std::string::npos) << gone->body;
 }
 
-}  // namespace
+}  // namespace test_batch_jobs
 }  // namespace slosh

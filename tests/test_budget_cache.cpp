@@ -18,7 +18,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_budget_cache {
 
 using nlohmann::json;
 
@@ -108,5 +108,5 @@ TEST(BudgetCache, ABudgetLimitedPlanAnOlderBuildStoredIsAMiss) {
   EXPECT_EQ(clean->value(), stored_body("optimal", "optimal"));
 }
 
-}  // namespace
+}  // namespace test_budget_cache
 }  // namespace slosh

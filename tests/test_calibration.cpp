@@ -26,7 +26,7 @@
 #include "slosh/core/response/response.hpp"
 
 namespace slosh {
-namespace {
+namespace test_calibration {
 
 using P = CalibrationParameter;
 constexpr auto idx = [](P p) { return static_cast<std::size_t>(p); };
@@ -331,5 +331,5 @@ TEST(CalibrationHeldOut, CalibratedPredictionOfUnseenMovesIsNoWorse) {
   EXPECT_LT(pooled_after, pooled_before);
 }
 
-}  // namespace
+}  // namespace test_calibration
 }  // namespace slosh

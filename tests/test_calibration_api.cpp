@@ -25,7 +25,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_calibration_api {
 
 using nlohmann::json;
 
@@ -277,5 +277,5 @@ TEST(CalibrationService, ABatchJobNamingAStoredCalibrationPlansWithIt) {
   server.stop();
 }
 
-}  // namespace
+}  // namespace test_calibration_api
 }  // namespace slosh

@@ -36,7 +36,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cam_export {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -1291,5 +1291,5 @@ TEST(CamRoutesOpenApi, BothRoutesArePublishedWithTheirParameters) {
   EXPECT_EQ(paths["/v1/plans/{key}/cam.csv"]["get"]["operationId"], "getCamTable");
 }
 
-}  // namespace
+}  // namespace test_cam_export
 }  // namespace slosh

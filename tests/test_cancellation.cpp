@@ -32,7 +32,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cancellation {
 
 using nlohmann::json;
 using namespace std::chrono_literals;
@@ -327,5 +327,5 @@ TEST(Cancellation, SigtermStopsARunningMinTimeSearchWithTheShutdownReply) {
   EXPECT_EQ(server.child().wait_for(std::chrono::seconds(20)), 0) << server.log();
 }
 
-}  // namespace
+}  // namespace test_cancellation
 }  // namespace slosh

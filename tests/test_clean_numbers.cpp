@@ -28,7 +28,7 @@
 #include "support/random_format.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_clean_numbers {
 
 using nlohmann::json;
 
@@ -261,5 +261,5 @@ TEST(CleanNumbers, MillimetresOfMetresAreTheShortestExactDecimal) {
             std::numeric_limits<double>::infinity());
 }
 
-}  // namespace
+}  // namespace test_clean_numbers
 }  // namespace slosh::api

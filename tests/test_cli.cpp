@@ -33,7 +33,7 @@
 #include "support/process.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cli {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -528,5 +528,5 @@ TEST(CliServe, HealthEndpointsAndGracefulSigterm) {
   EXPECT_EQ(*code, 0) << read_file(dir / "stderr");
 }
 
-}  // namespace
+}  // namespace test_cli
 }  // namespace slosh

@@ -33,7 +33,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cluster {
 
 using nlohmann::json;
 using namespace std::chrono_literals;
@@ -328,11 +328,11 @@ TEST(Cluster, AnInteractivePlanThroughTheProxyOvertakesRunningJobs) {
   }
 }
 
-}  // namespace
+}  // namespace test_cluster
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_cluster {
 
 /// Runs redis-cli against `redis` with `args` (each shell-quoted by the caller); its exit code.
 int redis_cli(const test::RedisServer& redis, const std::string& args) {
@@ -980,5 +980,5 @@ TEST(ClusterHostile, APlantedLockWithoutExpiryIsNotWaitedFor) {
   EXPECT_EQ(json::parse(solved->body).at("cached"), false);
 }
 
-}  // namespace
+}  // namespace test_cluster
 }  // namespace slosh

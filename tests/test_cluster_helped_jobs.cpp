@@ -31,7 +31,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cluster_helped_jobs {
 
 using nlohmann::json;
 using test::csv_cells;
@@ -385,5 +385,5 @@ TEST(HelpedJobs, AJobWhoseRowsRedisLostWhileItsOwnerWasSilentFailsNamingThem) {
   EXPECT_EQ(record_of(third, id).value("state", ""), "failed");
 }
 
-}  // namespace
+}  // namespace test_cluster_helped_jobs
 }  // namespace slosh

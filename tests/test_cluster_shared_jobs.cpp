@@ -41,7 +41,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cluster_shared_jobs {
 
 using nlohmann::json;
 using test::csv_cells;
@@ -724,5 +724,5 @@ TEST(SharedCalibrations, ACalibrationStoredThroughOneReplicaPlansOnAnother) {
   EXPECT_EQ(by_name.at("law"), inline_model.at("law"));
 }
 
-}  // namespace
+}  // namespace test_cluster_shared_jobs
 }  // namespace slosh

@@ -28,7 +28,7 @@
 #include "support/stalling_relay.hpp"
 
 namespace slosh {
-namespace {
+namespace test_cluster_store_faults {
 
 using nlohmann::json;
 using namespace std::chrono_literals;
@@ -662,5 +662,5 @@ TEST(ClusterStoreFaults, ACancelledJobsTableIsRefusedUnlessThePartialTableIsAske
   EXPECT_EQ(lines_of(table->body), 5u);
 }
 
-}  // namespace
+}  // namespace test_cluster_store_faults
 }  // namespace slosh

@@ -14,7 +14,7 @@
 #include "config/config.hpp"
 
 namespace slosh::service {
-namespace {
+namespace test_config {
 
 std::string write_temp(const std::string& text) {
   // One file per call and per process: ctest runs the Config tests in parallel.
@@ -189,5 +189,5 @@ TEST(Config, ErrorsNameTheSettingAndTheAllowedValues) {
   EXPECT_EQ(c.queue, 64u);
 }
 
-}  // namespace
+}  // namespace test_config
 }  // namespace slosh::service

@@ -15,7 +15,7 @@
 #include "support/fixtures.hpp"
 
 namespace slosh {
-namespace {
+namespace test_core_validation {
 
 constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 
@@ -203,11 +203,11 @@ TEST(CoreValidation, TheApiWordsARefusalAsItAlwaysHas) {
   EXPECT_EQ(api::input_sentence(*eta.validate(f), f, eta), "eta_rest_max_mm = 0 mm must be > 0");
 }
 
-}  // namespace
+}  // namespace test_core_validation
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_core_validation {
 
 PlanCandidate candidate(SolveStatus status, double eta_motion, double eta_rest, double a_peak) {
   PlanCandidate c;
@@ -282,5 +282,5 @@ TEST(ChooseAuto, SaysWhyEachOtherCandidateLost) {
   EXPECT_EQ(choice.lost_detail, detail);
 }
 
-}  // namespace
+}  // namespace test_core_validation
 }  // namespace slosh

@@ -26,7 +26,7 @@
 #include "support/reference_seven_segment.hpp"
 
 namespace slosh {
-namespace {
+namespace test_export {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -637,5 +637,5 @@ TEST(ExportCli, MissingOutIsAUsageError) {
   EXPECT_EQ(r.err.rfind("--out is required\n", 0), 0u) << r.err;
 }
 
-}  // namespace
+}  // namespace test_export
 }  // namespace slosh

@@ -44,7 +44,7 @@
 #include "support/server.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_filter_api {
 
 using nlohmann::json;
 namespace fs = std::filesystem;
@@ -1406,5 +1406,5 @@ TEST(FilterCli, BatchPlansTheNewStrategiesWithTheirOptionColumns) {
   EXPECT_EQ(cell(5, "law_type"), "");
 }
 
-}  // namespace
+}  // namespace test_filter_api
 }  // namespace slosh::api

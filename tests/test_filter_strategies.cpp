@@ -15,7 +15,7 @@
 #include "slosh/core/strategy/planner.hpp"
 
 namespace slosh {
-namespace {
+namespace test_filter_strategies {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -348,5 +348,5 @@ TEST(FilterStrategies, SeededRandomFormatsGiveRestToRestLawsOfDurationT) {
   }
 }
 
-}  // namespace
+}  // namespace test_filter_strategies
 }  // namespace slosh

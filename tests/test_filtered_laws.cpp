@@ -20,7 +20,7 @@
 #include "slosh/core/response/spectrum.hpp"
 
 namespace slosh {
-namespace {
+namespace test_filtered_laws {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -335,5 +335,5 @@ TEST(IirLaw, DoesNotFitWhenTheDelayExceedsTheMotionTime) {
   EXPECT_TRUE(law.law.pieces().empty());
 }
 
-}  // namespace
+}  // namespace test_filtered_laws
 }  // namespace slosh

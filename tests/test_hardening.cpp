@@ -32,7 +32,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_hardening {
 
 using nlohmann::json;
 using test::read_file;
@@ -865,5 +865,5 @@ TEST(Hardening, AConnectionThatGetsNoThreadIsAnswered503AndTheServerLivesOn) {
   EXPECT_EQ(server.stop(), 0) << server.log();
 }
 
-}  // namespace
+}  // namespace test_hardening
 }  // namespace slosh

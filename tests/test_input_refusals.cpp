@@ -30,7 +30,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_input_refusals {
 
 using nlohmann::json;
 using service::RecipeRow;
@@ -336,5 +336,5 @@ TEST(InputRefusals, EveryWarningTheModelsAndThePlannerWriteIsAKindOfTheTable) {
   }
 }
 
-}  // namespace
+}  // namespace test_input_refusals
 }  // namespace slosh

@@ -23,7 +23,7 @@
 #include "slosh/core/response/response.hpp"
 
 namespace slosh {
-namespace {
+namespace test_insensitive_shapers {
 
 constexpr double kPi = std::numbers::pi;
 /// The design frequency of most tests: undamped period 1 s, so times read in periods.
@@ -549,5 +549,5 @@ TEST(InsensitiveShapers, ConvolvedLawsAreRestToRestWithTheStrokeAndLeaveTheShape
   }
 }
 
-}  // namespace
+}  // namespace test_insensitive_shapers
 }  // namespace slosh

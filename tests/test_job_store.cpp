@@ -20,7 +20,7 @@
 #include "jobs/tiered_job_store.hpp"
 
 namespace slosh::service {
-namespace {
+namespace test_job_store {
 
 using Rows = std::vector<std::string>;
 using namespace std::chrono_literals;
@@ -630,5 +630,5 @@ TEST(JobMessages, ACancelNotePromisesAStopAtTheNextReadOnlyFromAnOwnerThatMissed
   EXPECT_NE(silent.find("half of batch_job_stale_s = 30 s (15 s)"), std::string::npos) << silent;
 }
 
-}  // namespace
+}  // namespace test_job_store
 }  // namespace slosh::service

@@ -14,7 +14,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_json_logs {
 
 using nlohmann::json;
 using test::Server;
@@ -138,5 +138,5 @@ TEST(ReplicaHeader, NamesTheReplicaOrTheHost) {
   EXPECT_EQ(c2.Get("/healthz")->get_header_value("X-Slosh-Replica"), host);
 }
 
-}  // namespace
+}  // namespace test_json_logs
 }  // namespace slosh

@@ -16,7 +16,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_linear_response {
 
 // Reference eta(t) on a grid: every mode integrated by RK4 with step h from rest.
 struct ReferenceEta {
@@ -148,11 +148,11 @@ TEST(LinearResponse, StartsAtRestAndDecaysAtTheDampingRate) {
   EXPECT_NEAR(std::log(e2 / e1), -2.0 * model.zeta * model.omega[0] * 20.0, 2e-2);
 }
 
-}  // namespace
+}  // namespace test_linear_response
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_linear_response {
 
 TEST(PeakFinder, TheTieRuleDecidesWhichOfTwoEqualPeaksIsFound) {
   // Two equal plateaus, [0.1, 0.3] and [0.7, 0.9], and zero between: the first golden-section
@@ -189,11 +189,11 @@ TEST(PeakFinder, FlatStretchesNeedNoRefinement) {
   EXPECT_NEAR(q.value, 1.0, 1e-14);
 }
 
-}  // namespace
+}  // namespace test_linear_response
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_linear_response {
 
 // The peak search of the linear response (sampled by complex rotation piece by piece, refined
 // by Newton's method, the rest window ended by the energy bound) against two independent
@@ -333,5 +333,5 @@ TEST(LinearResponsePeaks, TheRestPeakEndedByTheEnergyBoundIsTheWholeWindowMaximu
   }
 }
 
-}  // namespace
+}  // namespace test_linear_response
 }  // namespace slosh

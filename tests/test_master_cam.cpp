@@ -19,7 +19,7 @@
 #include "slosh/core/law/seven_segment.hpp"
 
 namespace slosh {
-namespace {
+namespace test_master_cam {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
 
@@ -401,5 +401,5 @@ TEST(MasterCamTable, AMasterSpeedThatIsNotAFiniteNumberIsRefusedAtThePeriod) {
   EXPECT_TRUE(check_master_speed({1e-6, 0.0, 1e-6, 1e-8}, 1e25).has_value());  // too slow
 }
 
-}  // namespace
+}  // namespace test_master_cam
 }  // namespace slosh

@@ -22,7 +22,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_metrics {
 
 using nlohmann::json;
 using test::PromText;
@@ -215,5 +215,5 @@ TEST(Metrics, PromtoolAcceptsTheExposition) {
   EXPECT_EQ(std::system(command.c_str()), 0) << test::read_file(dir / "out.txt");
 }
 
-}  // namespace
+}  // namespace test_metrics
 }  // namespace slosh

@@ -16,7 +16,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_metrics_registry {
 
 TEST(MetricsRegistry, AHistogramIsWrittenWithCumulativeBucketsSumAndCount) {
   const std::array<double, 3> bounds{0.001, 0.0025, 1.0};
@@ -128,5 +128,5 @@ TEST(MetricsRegistry, TheServersMetricsHaveEachFamilyOnceInTheRegistrysOrder) {
   EXPECT_EQ(order.back(), "slosh_solves_timed_out_total");
 }
 
-}  // namespace
+}  // namespace test_metrics_registry
 }  // namespace slosh

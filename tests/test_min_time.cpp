@@ -16,7 +16,7 @@
 #include "support/min_time_checks.hpp"
 
 namespace slosh {
-namespace {
+namespace test_min_time {
 
 /// The thesis container with its 150 mm height: free board 68 mm, eta_rest <= 3 mm.
 Format thesis_container() {
@@ -375,11 +375,11 @@ TEST(MinTime, ATMinWhosePlanSpillsByTheLargerModelIsAcceptableNotOptimal) {
       << r.message;
 }
 
-}  // namespace
+}  // namespace test_min_time
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time {
 
 // --- warm starts (PlanOptions::warm_start) ------------------------------------------------------
 
@@ -472,11 +472,11 @@ TEST(MinTime, EveryPlannedPointIsReproducedFromItsRecordedWarmStart) {
   EXPECT_GE(warm, static_cast<int>(r.curve.size()) / 2);
 }
 
-}  // namespace
+}  // namespace test_min_time
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time {
 
 // Regression: T_min at the scan start claimed the scan start as infeasible_below, and a
 // 100 m stroke (in range) put non-finite eta into the curve (a 500 over HTTP).
@@ -509,11 +509,11 @@ TEST(MinTime, PlansWithoutFinitePredictionsStayOffTheCurve) {
   }
 }
 
-}  // namespace
+}  // namespace test_min_time
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time {
 
 // Regression: motion_time_max_s 0.05 s (in range) was refused as "min_ramp and plateau_min
 // need 0.2 s, more than the motion time", naming "options", which the caller had not given.
@@ -531,11 +531,11 @@ TEST(MinTime, ASearchRangeShorterThanTheRampsIsInfeasibleNamingTheTimeTheyNeed) 
             "machine limits");
 }
 
-}  // namespace
+}  // namespace test_min_time
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time {
 
 // Hostile re-test: a 100 m stroke in 0.22 s (in range) gave a plan whose nonlinear prediction had
 // diverged, and POST /v1/plans answered 500. plan() refuses such a law, naming why.
@@ -555,5 +555,5 @@ TEST(PlanDivergence, ALawTheModelsCannotFollowIsRefusedNotPredicted) {
   EXPECT_FALSE(plan(f, Strategy::kShaper, PlanOptions{}).invalid_input);
 }
 
-}  // namespace
+}  // namespace test_min_time
 }  // namespace slosh

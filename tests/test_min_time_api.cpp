@@ -20,7 +20,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_min_time_api {
 
 using nlohmann::json;
 using test::run_slosh;
@@ -275,11 +275,11 @@ TEST(MinTimeApi, CliPrintsTheResponseFromAFileAndStdinAndRefusesBadInput) {
   EXPECT_TRUE(bad.out.empty());
 }
 
-}  // namespace
+}  // namespace test_min_time_api
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time_api {
 
 TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
   const test::TempDir dir;
@@ -324,11 +324,11 @@ TEST(MinTimeApi, BatchMinTimeModeWritesTMinPerStrategyWinnerAndGainPerRecipe) {
   EXPECT_EQ(bad["error_field"], "stroke_mm");
 }
 
-}  // namespace
+}  // namespace test_min_time_api
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time_api {
 
 // Regression: an in-range motion_time_max_s shorter than the ramps was a 422 on "options".
 TEST(MinTimeApi, ASearchRangeShorterThanTheRampsIsAnInfeasibleAnswerNotA422) {
@@ -351,11 +351,11 @@ TEST(MinTimeApi, ASearchRangeShorterThanTheRampsIsAnInfeasibleAnswerNotA422) {
   }
 }
 
-}  // namespace
+}  // namespace test_min_time_api
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time_api {
 
 // Regression: the default free board came out as 67.99999999999999 mm (metres subtracted),
 // so it did not share the key of the same explicit limit.
@@ -375,11 +375,11 @@ TEST(MinTimeApi, TheDefaultFreeBoardIsTheExplicitLimitInMillimetres) {
   EXPECT_EQ(*c.options.eta_motion_limit(c.format), 63e-3);
 }
 
-}  // namespace
+}  // namespace test_min_time_api
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time_api {
 
 // Hostile re-test: explicit ramp options were checked at motion_time_max_s (a 422 citing
 // format.motion_time_s), non-integer free boards missed the explicit limit's key, and a 100 m
@@ -429,5 +429,5 @@ TEST(MinTimeApi, ADivergingModelLeavesNoNonFiniteNumberWhateverTheLimitModel) {
   EXPECT_LT(s["curve"]["t_s"].size(), s["plans"].get<std::size_t>());
 }
 
-}  // namespace
+}  // namespace test_min_time_api
 }  // namespace slosh

@@ -22,7 +22,7 @@
 #include "support/random_format.hpp"
 
 namespace slosh {
-namespace {
+namespace test_min_time_honesty {
 
 using nlohmann::json;
 
@@ -238,5 +238,5 @@ TEST(MinTimeHonesty, APlanBudgetThatEndsTheCurveGivesTimeLimitAndAPartialCurve) 
   EXPECT_EQ(answer.at("headline").at("t_min_s"), whole.at("t_min_s"));
 }
 
-}  // namespace
+}  // namespace test_min_time_honesty
 }  // namespace slosh

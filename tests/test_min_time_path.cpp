@@ -30,7 +30,7 @@
 #include "support/sanitizers.hpp"
 
 namespace slosh {
-namespace {
+namespace test_min_time_path {
 
 using nlohmann::json;
 
@@ -495,11 +495,11 @@ TEST(MinTimePath, RefusalsNameTheMember) {
   EXPECT_EQ(refusal(bad).first, "format.motion.radius_mm");
 }
 
-}  // namespace
+}  // namespace test_min_time_path
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time_path {
 
 // The robustness report of a plan along an arc (SPEC §10 on the planar models): every point is
 // the planar models' peaks of the law on a model whose mode frequencies are scaled here by
@@ -571,5 +571,5 @@ TEST(MinTimePath, ACornerNoSpeedCanCrossNamesAMax) {
                 "that arc at speed: raise limits.a_max or widen the arc");
 }
 
-}  // namespace
+}  // namespace test_min_time_path
 }  // namespace slosh

@@ -24,7 +24,7 @@
 #include "support/sqlite_query.hpp"
 
 namespace slosh {
-namespace {
+namespace test_min_time_service {
 
 using nlohmann::json;
 using test::read_file;
@@ -381,11 +381,11 @@ TEST(MinTimeService, BatchStopsWhenTheServerIsUnreachable) {
   EXPECT_FALSE(std::filesystem::exists(dir / "out.csv"));
 }
 
-}  // namespace
+}  // namespace test_min_time_service
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_min_time_service {
 
 // Regression: a search still queued when shutdown began answered 200 with every strategy
 // "baseline" / time_limit. Queued work answers 503 at once, as queued plan solves do. The test
@@ -429,5 +429,5 @@ TEST(MinTimeService, ASearchStillQueuedAtShutdownAnswers503) {
   EXPECT_EQ(server.child().wait_for(std::chrono::seconds(20)), 0) << server.log();
 }
 
-}  // namespace
+}  // namespace test_min_time_service
 }  // namespace slosh

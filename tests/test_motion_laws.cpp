@@ -13,7 +13,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_motion_laws {
 
 struct LawCase {
   const char* name;
@@ -149,5 +149,5 @@ TEST(MotionLawSummary, LinearPiecesAgreeWithADenseScan) {
   }
 }
 
-}  // namespace
+}  // namespace test_motion_laws
 }  // namespace slosh

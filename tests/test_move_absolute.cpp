@@ -30,7 +30,7 @@
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
-namespace {
+namespace test_move_absolute {
 
 using detail::OneJerkChart;
 using nlohmann::json;
@@ -615,11 +615,11 @@ TEST(AutoHardening, CandidatesTheModelsCannotFollowAreLeftOutAndNamed) {
   }
 }
 
-}  // namespace
+}  // namespace test_move_absolute
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_move_absolute {
 
 // Regression: infeasible one-jerk plans under machine limits came without the
 // move_absolute block although their durations were in the family. Property over seeded random
@@ -652,5 +652,5 @@ TEST(MoveAbsoluteHardening, EveryPlanWithDurationsUnderLimitsCarriesTheProfile) 
   EXPECT_GE(checked, 20);
 }
 
-}  // namespace
+}  // namespace test_move_absolute
 }  // namespace slosh

@@ -10,7 +10,7 @@
 #include "slosh/core/solve/nlp_solver.hpp"
 
 namespace slosh {
-namespace {
+namespace test_nlp_solver {
 
 using Solver = NlpResult (*)(const NlpProblem&, const std::vector<double>&, const NlpOptions&);
 
@@ -159,5 +159,5 @@ TEST(SolveStatus, Names) {
   EXPECT_EQ(to_string(SolveStatus::kFailed), "failed");
 }
 
-}  // namespace
+}  // namespace test_nlp_solver
 }  // namespace slosh

@@ -16,7 +16,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_nonlinear_response {
 
 constexpr double kXi1 = 1.841184;
 
@@ -104,11 +104,11 @@ TEST(NonlinearResponse, RightHandSideIsEq235) {
   }
 }
 
-}  // namespace
+}  // namespace test_nonlinear_response
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_nonlinear_response {
 
 // A seven-segment law of random admissible durations summing to T (ramps >= 50 ms).
 MotionLaw random_seven_segment(std::mt19937& rng, double stroke, double T) {
@@ -222,5 +222,5 @@ TEST(NonlinearResponse, EarlyStoppedRestPeakIsTheWholeWindowMaximum) {
   }
 }
 
-}  // namespace
+}  // namespace test_nonlinear_response
 }  // namespace slosh

@@ -22,7 +22,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_nonlinear_sensitivity {
 
 using detail::NonlinearSensitivity;
 using detail::WindowPeak;
@@ -459,5 +459,5 @@ TEST_P(NonlinearSensitivityPeaks, MatchAnIndependentTenTimesFinerRk4) {
 
 INSTANTIATE_TEST_SUITE_P(StepsPerPeriod, NonlinearSensitivityPeaks, ::testing::Values(40.0, 20.0));
 
-}  // namespace
+}  // namespace test_nonlinear_sensitivity
 }  // namespace slosh

@@ -16,7 +16,7 @@
 #include "slosh/core/strategy/planner.hpp"
 
 namespace slosh {
-namespace {
+namespace test_only_point {
 
 /// Largest |X| over [(1 - band) w1, (1 + band) w1] on 4001 points (a reference for the
 /// min_jerk_band verdict; the planner refines its maxima, this grid only brackets them).
@@ -59,5 +59,5 @@ TEST(OnlyPoint, LowerBoundsThatFillTheMotionTimeAreSolvedWithoutASearch) {
   }
 }
 
-}  // namespace
+}  // namespace test_only_point
 }  // namespace slosh

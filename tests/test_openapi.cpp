@@ -29,7 +29,7 @@
 #include "slosh/core/strategy/planner.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_openapi {
 
 using nlohmann::json;
 
@@ -803,11 +803,11 @@ TEST(OpenApiResponses, ErrorEnvelopeFluidsAndExamplesFitTheirSchemas) {
   EXPECT_THROW((void)parse_plan_request(typo), ApiError);
 }
 
-}  // namespace
+}  // namespace test_openapi
 }  // namespace slosh::api
 
 namespace slosh::api {
-namespace {
+namespace test_openapi {
 
 // Along an arc a plan and a min-time search echo the canonical motion in their format: every
 // member documented (FormatEcho's motion), the echo holding the motion.
@@ -951,5 +951,5 @@ TEST(OpenApiResponses, MinTimeResponsesFitTheMinTimeResponseSchema) {
   EXPECT_EQ(parser, documented);
 }
 
-}  // namespace
+}  // namespace test_openapi
 }  // namespace slosh::api

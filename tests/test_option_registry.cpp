@@ -21,7 +21,7 @@
 #include "slosh/api/routes.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_option_registry {
 
 using nlohmann::json;
 
@@ -307,5 +307,5 @@ TEST(Routes, EveryRouteIsAnOpenApiOperation) {
   EXPECT_EQ(routes()[2].method, "GET");
 }
 
-}  // namespace
+}  // namespace test_option_registry
 }  // namespace slosh::api

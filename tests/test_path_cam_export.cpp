@@ -21,7 +21,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_path_cam_export {
 
 using nlohmann::json;
 using test::read_file;
@@ -522,5 +522,5 @@ TEST(PathCamHttp, CamRoutesOfAnArcPlanAreTheCliExport) {
   }
 }
 
-}  // namespace
+}  // namespace test_path_cam_export
 }  // namespace slosh

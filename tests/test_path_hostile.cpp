@@ -21,7 +21,7 @@
 #include "support/server.hpp"
 
 namespace slosh::test {
-namespace {
+namespace test_path_hostile {
 
 using nlohmann::json;
 
@@ -528,5 +528,5 @@ TEST(PathHostile, AnExtremeMotionSaysNeitherModelDescribesIt) {
       << codes.dump();
 }
 
-}  // namespace
+}  // namespace test_path_hostile
 }  // namespace slosh::test

@@ -19,7 +19,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_path_plan {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -450,5 +450,5 @@ TEST(PathPlan, TheBudgetCoversTheVerificationAlongThePath) {
   }
 }
 
-}  // namespace
+}  // namespace test_path_plan
 }  // namespace slosh

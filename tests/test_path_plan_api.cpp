@@ -23,7 +23,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_path_plan_api {
 
 using nlohmann::json;
 using test::Server;
@@ -239,5 +239,5 @@ TEST(PathPlanApi, TheCliPlansAlongAnArcAndRefusesConflictingFlags) {
   EXPECT_NE(zero.err.find("(flag --arc-angle)"), std::string::npos) << zero.err;
 }
 
-}  // namespace
+}  // namespace test_path_plan_api
 }  // namespace slosh

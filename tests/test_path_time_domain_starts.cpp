@@ -19,7 +19,7 @@
 #include "support/sanitizers.hpp"
 
 namespace slosh {
-namespace {
+namespace test_path_time_domain_starts {
 
 constexpr double kPi = std::numbers::pi;
 /// The simulation's absolute error on a peak near 0 [m]: its 0.1 ms RK4 steps err by ~5e-4 of
@@ -220,5 +220,5 @@ TEST(PathTimeDomainStarts, ABudgetThatEndsReturnsNoInadmissibleLawAsAdmissible) 
   EXPECT_LE(sim.motion, uniform.motion * (1.0 + 1e-3));
 }
 
-}  // namespace
+}  // namespace test_path_time_domain_starts
 }  // namespace slosh

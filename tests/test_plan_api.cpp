@@ -19,7 +19,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_plan_api {
 
 using nlohmann::json;
 
@@ -263,5 +263,5 @@ TEST(PlanResponse, AutoListsItsCandidates) {
   EXPECT_EQ(chosen, 1);
 }
 
-}  // namespace
+}  // namespace test_plan_api
 }  // namespace slosh::api

@@ -19,7 +19,7 @@
 #include "support/sqlite_query.hpp"
 
 namespace slosh::service {
-namespace {
+namespace test_plan_cache {
 
 class PlanCacheTest : public ::testing::Test {
  protected:
@@ -324,7 +324,6 @@ TEST_F(PlanCacheTest, StoreIsPrunedOldestFirst) {
   EXPECT_LE(std::stoll(query(path, "SELECT SUM(LENGTH(body)) FROM plans")), 100000);
 }
 
-}  // namespace
 using test::execute;
 
 TEST_F(PlanCacheTest, RowsOfAnotherBodyLayoutAreDroppedWhenTheStoreOpens) {
@@ -423,10 +422,11 @@ TEST_F(PlanCacheTest, TheMinTimeTableIsPrunedWithinItsOwnBound) {
   EXPECT_EQ(query(path, "SELECT count(*) FROM min_times WHERE key = 'answer0'"), "0");
 }
 
+}  // namespace test_plan_cache
 }  // namespace slosh::service
 
 namespace slosh::service {
-namespace {
+namespace test_plan_cache {
 
 // Regression: bytes changed inside the file (its header intact) were served as a cached
 // answer. SQLite checks the pages' structure, not their content: the digest of each row does.
@@ -461,11 +461,11 @@ TEST_F(PlanCacheTest, ARowWhoseBytesChangedOnDiskIsDroppedNotServed) {
   }
 }
 
-}  // namespace
+}  // namespace test_plan_cache
 }  // namespace slosh::service
 
 namespace slosh::service {
-namespace {
+namespace test_plan_cache {
 
 // Hostile re-test: the digest covered the body only, so a row whose key bytes changed answered
 // another recipe; a layout-2 file's damaged rows got digests; a layout-3 file without digests
@@ -501,5 +501,5 @@ TEST_F(PlanCacheTest, ALayoutThreeFileWithoutDigestsIsEmptiedAndUsable) {
   EXPECT_EQ(reopened.get("new"), "{\"key\":\"new\"}");
 }
 
-}  // namespace
+}  // namespace test_plan_cache
 }  // namespace slosh::service

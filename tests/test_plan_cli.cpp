@@ -19,7 +19,7 @@
 #include "support/process.hpp"
 
 namespace slosh {
-namespace {
+namespace test_plan_cli {
 
 using nlohmann::json;
 using test::run_slosh;
@@ -231,5 +231,5 @@ TEST(WarningModels, SpillWarningsQuoteTheModelOfTheirFigure) {
       << r.out;
 }
 
-}  // namespace
+}  // namespace test_plan_cli
 }  // namespace slosh

@@ -20,7 +20,7 @@
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
-namespace {
+namespace test_plan_honesty {
 
 ::testing::AssertionResult Contains(const std::string& text, const std::string& part) {
   if (text.find(part) != std::string::npos) return ::testing::AssertionSuccess();
@@ -526,11 +526,11 @@ TEST(PlanHonesty, AReachableLimitIsNotBlamedAndABrokenOneIsNamed) {
   }
 }
 
-}  // namespace
+}  // namespace test_plan_honesty
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_plan_honesty {
 
 // Regression: a fir_chain law whose ramps or plateaus break the options was
 // returned with those durations (flagged infeasible); SPEC §5 says never. It is now returned as a
@@ -561,11 +561,11 @@ TEST(PlanHonesty, APlateauMinimumBelowOneNanosecondIsRefused) {
   EXPECT_FALSE(o.validate(format_mm(48.5, 82, 800, 1.0)));
 }
 
-}  // namespace
+}  // namespace test_plan_honesty
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_plan_honesty {
 
 // Regression: with T < 7 min_ramp the baseline returns the nearest admissible
 // law, not T/7, and warned that it was worse than the baseline, i.e. than itself.
@@ -588,5 +588,5 @@ TEST(PlanHonesty, TheBaselineIsNeverWorseThanTheBaseline) {
   if (a.strategy == Strategy::kBaseline) no_worse_warning(a);
 }
 
-}  // namespace
+}  // namespace test_plan_honesty
 }  // namespace slosh

@@ -28,7 +28,7 @@
 #include "support/sanitizers.hpp"
 
 namespace slosh {
-namespace {
+namespace test_plan_properties {
 
 constexpr int kDefaultFormats{60};
 constexpr std::uint64_t kSeed{15};
@@ -337,5 +337,5 @@ TEST(PlanProperties, SeededRandomFormatsKeepEveryPromise) {
       stats.worst_notch_format.c_str());
 }
 
-}  // namespace
+}  // namespace test_plan_properties
 }  // namespace slosh

@@ -26,7 +26,7 @@
 #include "support/sqlite_query.hpp"
 
 namespace slosh {
-namespace {
+namespace test_plan_view {
 
 using nlohmann::json;
 
@@ -624,5 +624,5 @@ TEST(CompactPlanCli, PlanAndBatchPrintTheCompactView) {
             "slosh batch: --view = \"x\" is not allowed: one of \"full\", \"compact\"\n");
 }
 
-}  // namespace
+}  // namespace test_plan_view
 }  // namespace slosh

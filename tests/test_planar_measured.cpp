@@ -20,7 +20,7 @@
 #include "slosh/core/response/planar_response.hpp"
 
 namespace slosh {
-namespace {
+namespace test_planar_measured {
 
 constexpr double kMeasuredOmega1{18.961};  // [rad/s], the group's validation script
 constexpr double kRestTime{4.0};           // [s] after the trajectory's last sample
@@ -161,5 +161,5 @@ TEST(PlanarMeasured, BothModelsPredictTheNineBolognaRuns) {
               100 * median(nl_err), 100 * *std::max_element(nl_err.begin(), nl_err.end()));
 }
 
-}  // namespace
+}  // namespace test_planar_measured
 }  // namespace slosh

@@ -15,7 +15,7 @@
 #include "slosh/core/motion/sampled_trajectory.hpp"
 
 namespace slosh {
-namespace {
+namespace test_planar_motion {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -272,5 +272,5 @@ TEST(PlanarDrive, CutsPiecesAtJoinsAndForwardsTheAcceleration) {
   EXPECT_TRUE(drive.turns());
 }
 
-}  // namespace
+}  // namespace test_planar_motion
 }  // namespace slosh

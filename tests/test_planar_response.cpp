@@ -19,7 +19,7 @@
 #include "support/fixtures.hpp"
 
 namespace slosh {
-namespace {
+namespace test_planar_response {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -415,5 +415,5 @@ TEST(PlanarNonlinear, TinyArcMotionReducesToTheOneModeLinearModel) {
   }
 }
 
-}  // namespace
+}  // namespace test_planar_response
 }  // namespace slosh

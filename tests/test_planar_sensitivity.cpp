@@ -18,7 +18,7 @@
 #include "slosh/core/motion/planar_path.hpp"
 
 namespace slosh {
-namespace {
+namespace test_planar_sensitivity {
 
 using detail::D8;
 using detail::DualPair;
@@ -196,5 +196,5 @@ TEST(PlanarSensitivity, FollowedPeaksAreTheWindowPeaksWithTheEnvelopeGradient) {
   }
 }
 
-}  // namespace
+}  // namespace test_planar_sensitivity
 }  // namespace slosh

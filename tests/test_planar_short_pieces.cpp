@@ -17,7 +17,7 @@
 #include "support/fixtures.hpp"
 
 namespace slosh {
-namespace {
+namespace test_planar_short_pieces {
 
 // Seeded random strokes, breakpoints and offsets: a straight path of two collinear lines joined
 // at s(t_k + d), d = 0 or +-10^U(-15, -6) s, gives the one-line path's linear peaks to 1e-9.
@@ -74,5 +74,5 @@ TEST(PlanarShortPieces, ATrajectorySampledAt20kHzIsTheExactLine) {
   }
 }
 
-}  // namespace
+}  // namespace test_planar_short_pieces
 }  // namespace slosh

@@ -31,7 +31,7 @@
 #include "support/reference_optimum.hpp"
 
 namespace slosh {
-namespace {
+namespace test_planner {
 
 using test::quadrature_of;
 
@@ -880,5 +880,5 @@ TEST(ChooseAuto, ALoserSaysWhatItLostToWhenTheWinnerIsLaterReplaced) {
   EXPECT_EQ(choice.lost_detail[2], "");
 }
 
-}  // namespace
+}  // namespace test_planner
 }  // namespace slosh

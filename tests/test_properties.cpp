@@ -12,7 +12,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_properties {
 
 using test::quadrature_of;
 
@@ -154,5 +154,5 @@ TEST(Properties, LinearResponseMatchesRk4AndScalesWithTheStroke) {
   }
 }
 
-}  // namespace
+}  // namespace test_properties
 }  // namespace slosh

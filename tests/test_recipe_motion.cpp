@@ -15,7 +15,7 @@
 #include "slosh/api/recipe_row.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_recipe_motion {
 
 using nlohmann::json;
 
@@ -162,5 +162,5 @@ TEST(RecipeMotion, PlanRowsCarryTheWarningsCodes) {
   EXPECT_EQ(plan_row_figures(run_plan(parse_plan_request(line_row)))["warnings"], nullptr);
 }
 
-}  // namespace
+}  // namespace test_recipe_motion
 }  // namespace slosh::api

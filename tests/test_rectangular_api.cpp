@@ -25,7 +25,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_api {
 
 using nlohmann::json;
 
@@ -439,5 +439,5 @@ TEST(RectangularApi, HttpPlanAndSimulateOnLoopback) {
   EXPECT_TRUE(json::parse(simulated->body)["model"].contains("rectangular"));
 }
 
-}  // namespace
+}  // namespace test_rectangular_api
 }  // namespace slosh

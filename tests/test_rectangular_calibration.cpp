@@ -26,7 +26,7 @@
 #include "slosh/core/response/simulation.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_calibration {
 
 // The README's cup: 120 x 80 mm, 50 mm of water, moved 200 mm.
 Format cup(double orientation_deg = 0.0) {
@@ -311,5 +311,5 @@ TEST(RectangularCalibration, PeaksOfOneSquareDiagonalMoveCannotSeparateTheDirect
   EXPECT_EQ(fit.width.omega_scale.value, fit.width.omega_scale.prior);
 }
 
-}  // namespace
+}  // namespace test_rectangular_calibration
 }  // namespace slosh

@@ -32,7 +32,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_calibration_api {
 
 using nlohmann::json;
 
@@ -396,5 +396,5 @@ TEST(TurnedTankCalibration, StoredThroughTheServiceAndTheCommandAndPlannedByName
   server.stop();
 }
 
-}  // namespace
+}  // namespace test_rectangular_calibration_api
 }  // namespace slosh

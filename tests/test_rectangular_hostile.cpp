@@ -13,7 +13,7 @@
 #include "support/server.hpp"
 
 namespace slosh::test {
-namespace {
+namespace test_rectangular_hostile {
 
 using nlohmann::json;
 
@@ -266,5 +266,5 @@ TEST_F(RectangularHostile, AShortMoveALawCanActOnIsNotCalledTooShort) {
   EXPECT_EQ(plan["status"], "optimal") << plan["message"];
 }
 
-}  // namespace
+}  // namespace test_rectangular_hostile
 }  // namespace slosh::test

@@ -12,7 +12,7 @@
 #include "slosh/core/model/rectangular_model.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_model {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
@@ -222,5 +222,5 @@ TEST(RectangularModel, DuffingCoefficientReproducesTheThirdOrderBackbone) {
   }
 }
 
-}  // namespace
+}  // namespace test_rectangular_model
 }  // namespace slosh

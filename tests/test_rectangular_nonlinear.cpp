@@ -19,7 +19,7 @@
 #include "slosh/core/response/rectangular_response.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_nonlinear {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kG = 9.81;
@@ -360,11 +360,11 @@ TEST(RectangularNonlinear, LargeResponseAnswersLinearlyAndSaysWhy) {
             RectangularLinearResponse(model, law, 1.0).peaks().highest.motion.value);
 }
 
-}  // namespace
+}  // namespace test_rectangular_nonlinear
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_rectangular_nonlinear {
 
 TEST(RectangularNonlinear, CalibrationScalesTheSecondModeAlike) {
   // omega_scale moves the second mode's frequency with the first; height_gain scales the whole
@@ -389,5 +389,5 @@ TEST(RectangularNonlinear, CalibrationScalesTheSecondModeAlike) {
   EXPECT_NEAR(two.peaks.highest.rest.value / one.peaks.highest.rest.value, 2.0, 1e-9);
 }
 
-}  // namespace
+}  // namespace test_rectangular_nonlinear
 }  // namespace slosh

@@ -23,7 +23,7 @@
 #include "support/hos_tank.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_nonlinear_reference {
 
 using testing::HosTank;
 constexpr double kPi = std::numbers::pi;
@@ -183,5 +183,5 @@ TEST(RectangularNonlinearReference, PeakWallHeightFollowsTheFullyNonlinearTank) 
   }
 }
 
-}  // namespace
+}  // namespace test_rectangular_nonlinear_reference
 }  // namespace slosh

@@ -12,7 +12,7 @@
 #include "slosh/core/response/rectangular_nonlinear_validity.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_nonlinear_validity {
 
 using Limit = RectangularNonlinearLimit;
 
@@ -154,5 +154,5 @@ TEST(RectangularNonlinearValidity, BothDirectionsOutOfRangeAreBothNamedInOneSent
       << mixed.reason;
 }
 
-}  // namespace
+}  // namespace test_rectangular_nonlinear_validity
 }  // namespace slosh

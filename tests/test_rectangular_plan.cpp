@@ -29,7 +29,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_plan {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -860,5 +860,5 @@ TEST(RectangularPlan, MinTimeFindsMultiNotchOnTheReadmeCupWithinTheDefaultBudget
   EXPECT_LE(r.plan->prediction.nonlinear.rest.value, 0.003 * (1 + 1e-6));
 }
 
-}  // namespace
+}  // namespace test_rectangular_plan
 }  // namespace slosh

@@ -16,7 +16,7 @@
 #include "support/rectangular_reference.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_response {
 
 using test::direction;
 using test::RefPeaks;
@@ -118,5 +118,5 @@ TEST(RectangularResponse, AxisComponentsAreExactAtQuarterTurns) {
   EXPECT_DOUBLE_EQ(axis_components(-60.0).along_length, 0.5);
 }
 
-}  // namespace
+}  // namespace test_rectangular_response
 }  // namespace slosh

@@ -37,7 +37,7 @@
 #include "support/rectangular_reference.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_spatial {
 
 constexpr double kPi = std::numbers::pi;
 constexpr double kDeg = kPi / 180.0;
@@ -855,5 +855,5 @@ TEST(RectangularSpatialApi, WallAnglesOfATankTurnedTwiceAreInOneTurn) {
   }
 }
 
-}  // namespace
+}  // namespace test_rectangular_spatial
 }  // namespace slosh

@@ -21,7 +21,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_rectangular_turned {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -316,5 +316,5 @@ TEST(RectangularTurned, SimulateSeriesMaximumIsThePeak) {
   }
 }
 
-}  // namespace
+}  // namespace test_rectangular_turned
 }  // namespace slosh

@@ -28,7 +28,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_redis_cache {
 
 using nlohmann::json;
 using service::CacheConfig;
@@ -381,5 +381,5 @@ TEST(RedisCacheLevel, ALockOfADeadReplicaExpiresAndTheRecipeIsSolved) {
   EXPECT_EQ(reply_of(*service.redis(), {"GET", lock}).text, "other");
 }
 
-}  // namespace
+}  // namespace test_redis_cache
 }  // namespace slosh

@@ -15,7 +15,7 @@
 #include "storage/redis_client.hpp"
 #include "support/redis_server.hpp"
 
-namespace {
+namespace test_redis_client {
 
 using slosh::service::parse_redis_url;
 using slosh::service::RedisClient;
@@ -276,4 +276,4 @@ TEST(RedisClient, RecoversAfterARestartOnTheSamePort) {
   EXPECT_EQ(client.command({"GET", "before"})->type, RedisReply::Type::kNil);
 }
 
-}  // namespace
+}  // namespace test_redis_client

@@ -17,7 +17,7 @@
 #include "storage/redis_client.hpp"
 #include "support/redis_server.hpp"
 
-namespace {
+namespace test_redis_job_store {
 
 using slosh::service::JobStore;
 using slosh::service::JobTraces;
@@ -233,9 +233,9 @@ TEST(RedisJobStore, ADownRedisFailsEveryCallWithoutThrowing) {
   EXPECT_NO_THROW(store.remove("j"));
 }
 
-}  // namespace
+}  // namespace test_redis_job_store
 
-namespace {
+namespace test_redis_job_store {
 
 // Redis at maxmemory (noeviction) refuses the record and the rows with its OOM error, and the
 // store says so naming Redis; the heartbeat (PEXPIRE of <id>:alive) is still taken, so the job's
@@ -275,4 +275,4 @@ TEST(RedisJobStore, AFullRedisRefusesTheRecordButTakesTheHeartbeat) {
   EXPECT_EQ(store.record("j"), "r1");  // the record Redis took last
 }
 
-}  // namespace
+}  // namespace test_redis_job_store

@@ -17,7 +17,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_redis_replicas {
 
 using nlohmann::json;
 using test::metric;
@@ -165,5 +165,5 @@ TEST(RedisReplicas, ServeRefusesABadRedisUrlNamingIt) {
       << local.err;
 }
 
-}  // namespace
+}  // namespace test_redis_replicas
 }  // namespace slosh

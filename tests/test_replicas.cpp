@@ -18,7 +18,7 @@
 #include "support/replicas.hpp"
 
 namespace slosh {
-namespace {
+namespace test_replicas {
 
 using nlohmann::json;
 
@@ -144,5 +144,5 @@ TEST(Replicas, ProxyReachesBothAndAnswersWhenOneIsKilled) {
   EXPECT_EQ(seen, (std::set<std::string>{"line-1", "line-2"}));
 }
 
-}  // namespace
+}  // namespace test_replicas
 }  // namespace slosh

@@ -16,7 +16,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_retry_after {
 
 using nlohmann::json;
 
@@ -88,5 +88,5 @@ TEST(RetryAfter, TheCalibrationEndpointsOverloadedAnswerCarriesIt) {
   EXPECT_TRUE(queued.get());
 }
 
-}  // namespace
+}  // namespace test_retry_after
 }  // namespace slosh

@@ -23,7 +23,7 @@
 #include "support/random_format.hpp"
 
 namespace slosh {
-namespace {
+namespace test_robustness {
 
 // Every mode frequency times s on a law of duration T is, with tau = s t, the nominal model on the
 // same stroke moved in s T (x(t) = y(s t) turns eq. 2.35 and the linear modes into the nominal
@@ -438,5 +438,5 @@ TEST(Uncertainty, RangesThatAreEmptyExcludeTheNominalOrLeaveTheBoundsAreRefused)
             "no viscosity range");
 }
 
-}  // namespace
+}  // namespace test_robustness
 }  // namespace slosh

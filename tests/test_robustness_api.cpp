@@ -37,7 +37,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_robustness_api {
 
 using nlohmann::json;
 
@@ -801,5 +801,5 @@ TEST(RobustnessCore, AutoWhereEveryCandidateDivergesOverTheRangeAnswers) {
       << r.out << r.err;
 }
 
-}  // namespace
+}  // namespace test_robustness_api
 }  // namespace slosh

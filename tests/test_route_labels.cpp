@@ -14,7 +14,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_route_labels {
 
 // The template with each {parameter} filled in (a name the web page has for /assets/{name}).
 std::string concrete(std::string_view path) {
@@ -86,5 +86,5 @@ TEST(RouteLabels, EveryRouteAndMethodOfTheTableHasItsOwnLabel) {
   }
 }
 
-}  // namespace
+}  // namespace test_route_labels
 }  // namespace slosh

@@ -21,7 +21,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_route_rules {
 
 using nlohmann::json;
 using test::Server;
@@ -487,5 +487,5 @@ TEST(AccessLog, WritesThePathAsSentSoNoRequestForgesALine) {
   EXPECT_EQ(log.find("path=/admin"), std::string::npos);
 }
 
-}  // namespace
+}  // namespace test_route_rules
 }  // namespace slosh

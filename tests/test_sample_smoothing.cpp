@@ -16,7 +16,7 @@
 #include "slosh/core/motion/trajectory_ends.hpp"
 
 namespace slosh {
-namespace {
+namespace test_sample_smoothing {
 
 constexpr double kPi = std::numbers::pi;
 
@@ -200,5 +200,5 @@ TEST(SampleSmoothing, OnlyRunsThatHoldStillAreAtRest) {
   EXPECT_NEAR(std::stod(w.front().substr(head.size())), speed * 1e3, 0.01 * speed * 1e3);
 }
 
-}  // namespace
+}  // namespace test_sample_smoothing
 }  // namespace slosh

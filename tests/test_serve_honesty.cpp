@@ -22,7 +22,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_serve_honesty {
 
 using nlohmann::json;
 
@@ -447,5 +447,5 @@ TEST(HttpHalfClose, AReplyToAHalfClosedClientIsLoggedAsWhatWasSent) {
   EXPECT_EQ(unwritten == -1 ? 0 : unwritten, kClients - answered);
 }
 
-}  // namespace
+}  // namespace test_serve_honesty
 }  // namespace slosh

@@ -25,7 +25,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_service {
 
 using nlohmann::json;
 using test::Child;
@@ -343,5 +343,5 @@ TEST(Service, BatchSolvesEachRecipeAndReportsErrorsPerItem) {
   EXPECT_EQ(empty->status, 422);
 }
 
-}  // namespace
+}  // namespace test_service
 }  // namespace slosh

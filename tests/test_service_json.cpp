@@ -16,7 +16,7 @@
 #include "slosh/api/service_bodies.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_service_json {
 
 using nlohmann::json;
 
@@ -151,5 +151,5 @@ TEST(CalibrationModels, ANamedModelIsReplacedByTheStoredOneAndAnUnknownOneIsA404
       R"({"requests":[{"options":{"model":{"zeta":0.01}}},{"options":{"model":"nope"}}]})");
 }
 
-}  // namespace
+}  // namespace test_service_json
 }  // namespace slosh::api

@@ -18,7 +18,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_service_types {
 
 using nlohmann::json;
 
@@ -147,5 +147,5 @@ TEST(Routes, TheServerAnswersEveryRouteAndTheDocumentListsEachOnce) {
   }
 }
 
-}  // namespace
+}  // namespace test_service_types
 }  // namespace slosh

@@ -21,7 +21,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_serving {
 
 using nlohmann::json;
 
@@ -341,5 +341,5 @@ TEST(Serving, EachViewIsRenderedAtItsFirstHitAndOnlyIt) {
   EXPECT_EQ(memory_bytes(), plain + compact.body.size() + full_gzip.body.size());
 }
 
-}  // namespace
+}  // namespace test_serving
 }  // namespace slosh

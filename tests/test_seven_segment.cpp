@@ -9,7 +9,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_seven_segment {
 
 test::TrapezoidAcceleration reference_of(const SevenSegmentLaw& law) {
   return {law.durations(), law.A(), law.B()};
@@ -147,5 +147,5 @@ TEST(SevenSegment, LongDoubleLevelsAgree) {
   EXPECT_NEAR(static_cast<double>(l.B), law.B(), 1e-13);
 }
 
-}  // namespace
+}  // namespace test_seven_segment
 }  // namespace slosh

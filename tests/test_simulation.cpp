@@ -7,7 +7,7 @@
 #include "support/fixtures.hpp"
 
 namespace slosh {
-namespace {
+namespace test_simulation {
 
 TEST(ValidityWarnings, NoneOnTheThesisFormatWithinLimits) {
   EXPECT_TRUE(validity_warnings(thesis_format(), 10.0, 0.05, 0.05).empty());
@@ -79,5 +79,5 @@ TEST(Simulate, AgreesWithTheResponsesAndSamplesTheSeries) {
   EXPECT_NEAR(r.kinematics.v_peak, law.v_peak(), 1e-12);
 }
 
-}  // namespace
+}  // namespace test_simulation
 }  // namespace slosh

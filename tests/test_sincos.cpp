@@ -9,7 +9,7 @@
 #include "response/sincos.hpp"
 
 namespace slosh {
-namespace {
+namespace test_sincos {
 
 double ulp_error(double value, long double reference) {
   const long double ulp =
@@ -50,5 +50,5 @@ TEST(FastSinCos, QuadrantsAndSpecialArguments) {
   EXPECT_TRUE(std::isnan(detail::fast_sincos(std::nan("")).sin));
 }
 
-}  // namespace
+}  // namespace test_sincos
 }  // namespace slosh

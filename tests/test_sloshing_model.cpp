@@ -11,7 +11,7 @@
 #include "support/fixtures.hpp"
 
 namespace slosh {
-namespace {
+namespace test_sloshing_model {
 
 // The thesis container: R = 48.5 mm, h = 82 mm, water with rho = 1000, mu = 1.0e-3.
 TEST(SloshingModel, ThesisReferenceValues) {
@@ -122,5 +122,5 @@ TEST(FluidCatalogue, HoldsTheSpecFluidsWithSources) {
   EXPECT_FALSE(find_fluid("mercury").has_value());
 }
 
-}  // namespace
+}  // namespace test_sloshing_model
 }  // namespace slosh

@@ -18,7 +18,7 @@
 #include "slosh/api/spatial_simulate.hpp"
 
 namespace slosh {
-namespace {
+namespace test_spatial_series {
 
 using nlohmann::json;
 
@@ -237,5 +237,5 @@ TEST(SpatialSeries, TrajectorySeriesHasThePoseButNoPathDistance) {
   EXPECT_NEAR(a_h[50], 0.02 * 4 * kPi * kPi, 1e-3 * 0.02 * 4 * kPi * kPi);
 }
 
-}  // namespace
+}  // namespace test_spatial_series
 }  // namespace slosh

@@ -26,7 +26,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_spatial_simulate {
 
 using nlohmann::json;
 using test::Server;
@@ -397,5 +397,5 @@ TEST(SpatialSimulate, ATrajectoryThatStartsOrEndsMovingIsWarnedOf) {
   EXPECT_TRUE(moving(post(server, "/v1/simulate", body(rest, false))).empty());
 }
 
-}  // namespace
+}  // namespace test_spatial_simulate
 }  // namespace slosh

@@ -15,7 +15,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_spectrum {
 
 using test::quadrature_of;
 
@@ -125,11 +125,11 @@ TEST(SpectrumGradient, VanishesWhereTheSpectrumHasAZero) {
   for (double gi : g.gradient) EXPECT_LT(std::abs(gi), 1e-9);
 }
 
-}  // namespace
+}  // namespace test_spectrum
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_spectrum {
 
 TEST(Spectrum, BothFormsAgreeAroundTheSwitch) {
   // Short ramps, long cruise: the hardest case for the jerk-jump form at small omega T.
@@ -142,11 +142,11 @@ TEST(Spectrum, BothFormsAgreeAroundTheSwitch) {
   }
 }
 
-}  // namespace
+}  // namespace test_spectrum
 }  // namespace slosh
 
 namespace slosh {
-namespace {
+namespace test_spectrum {
 
 // The piecewise closed form on laws of every piece kind (cubic, harmonic, linear, many short
 // pieces) against Simpson on the sampled acceleration and against Gauss-Legendre.
@@ -232,5 +232,5 @@ TEST(Spectrum, GridMagnitudesMatchTheLongDoubleClosedForm) {
   }
 }
 
-}  // namespace
+}  // namespace test_spectrum
 }  // namespace slosh

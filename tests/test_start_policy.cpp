@@ -24,7 +24,7 @@
 #include "support/random_format.hpp"
 
 namespace slosh {
-namespace {
+namespace test_start_policy {
 
 constexpr int kDefaultFormats{40};
 constexpr std::uint64_t kSeed{3012};
@@ -149,5 +149,5 @@ TEST(StartPolicy, EconomicalStartsReachThePlainMultiStartsOptimaOverRandomFormat
   EXPECT_GT(notches, count / 3);
 }
 
-}  // namespace
+}  // namespace test_start_policy
 }  // namespace slosh

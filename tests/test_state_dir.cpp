@@ -19,7 +19,7 @@
 #include "support/process.hpp"
 
 namespace slosh::service {
-namespace {
+namespace test_state_dir {
 
 namespace fs = std::filesystem;
 using test::TempDir;
@@ -160,5 +160,5 @@ TEST(StateDirectory, WithoutHomeTheDefaultStopsTheStartNamingTheWayOut) {
   EXPECT_EQ(listing(tmp / "work"), (std::set<std::string>{"stdout", "stderr"}));
 }
 
-}  // namespace
+}  // namespace test_state_dir
 }  // namespace slosh::service

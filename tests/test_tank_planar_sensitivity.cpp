@@ -22,7 +22,7 @@
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
 
 namespace slosh {
-namespace {
+namespace test_tank_planar_sensitivity {
 
 struct TankCase {
   PlanarPath path;
@@ -138,5 +138,5 @@ TEST(TankPlanarSensitivity, PeakTimesAreTheLargestHeightsOfTheirSpan) {
   }
 }
 
-}  // namespace
+}  // namespace test_tank_planar_sensitivity
 }  // namespace slosh

@@ -25,7 +25,7 @@
 #include "support/reference_seven_segment.hpp"
 
 namespace slosh {
-namespace {
+namespace test_time_domain_honesty {
 
 /// A law keeps a machine limit to the solvers' feasibility tolerance (the verification allows
 /// 1e-6) [-].
@@ -267,5 +267,5 @@ TEST(TimeDomainHonesty, KeepsAReachableAccelerationLimitNearTheKinematicMinimum)
   EXPECT_GE(shown, 8);
 }
 
-}  // namespace
+}  // namespace test_time_domain_honesty
 }  // namespace slosh

@@ -25,7 +25,7 @@
 #include "support/reference_integrators.hpp"
 
 namespace slosh {
-namespace {
+namespace test_time_domain_rows {
 
 constexpr int kDefaultFormats{10};
 constexpr std::uint32_t kSeed{3013};
@@ -98,5 +98,5 @@ TEST(TimeDomainRows, PlansMeetEtaRestOverTheWholeRestWindowOverRandomFormats) {
   EXPECT_GT(met, count / 2);
 }
 
-}  // namespace
+}  // namespace test_time_domain_rows
 }  // namespace slosh

@@ -19,7 +19,7 @@
 #include "slosh/api/simulate.hpp"
 
 namespace slosh::api {
-namespace {
+namespace test_validation {
 
 using nlohmann::json;
 
@@ -977,5 +977,5 @@ TEST(ValidationEnvelope, DumpJsonReplacesInvalidUtf8) {
   EXPECT_EQ(dump_json(json{{"k", 1}}, 2), "{\n  \"k\": 1\n}");
 }
 
-}  // namespace
+}  // namespace test_validation
 }  // namespace slosh::api

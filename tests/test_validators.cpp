@@ -16,7 +16,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_validators {
 
 using nlohmann::json;
 
@@ -172,5 +172,5 @@ TEST(Validators, ACamTableIsGzipCodedForAGzipClient) {
   EXPECT_EQ(gunzip(coded->body), identity->body);
 }
 
-}  // namespace
+}  // namespace test_validators
 }  // namespace slosh

@@ -25,7 +25,7 @@
 #include "support/sqlite_query.hpp"
 
 namespace slosh {
-namespace {
+namespace test_versions {
 
 using nlohmann::json;
 using test::query;
@@ -284,5 +284,5 @@ TEST(Versions, TheBinaryTheServerAndThePlansStateTheProjectVersion) {
   EXPECT_EQ(json::parse(cli.out).at("version"), version);
 }
 
-}  // namespace
+}  // namespace test_versions
 }  // namespace slosh

@@ -19,7 +19,7 @@
 #include "support/server.hpp"
 
 namespace slosh {
-namespace {
+namespace test_web_page {
 
 using nlohmann::json;
 
@@ -190,5 +190,5 @@ TEST(WebPage, AnInfeasiblePlanIsExportedOnlyWhenAskedFor) {
             0u);
 }
 
-}  // namespace
+}  // namespace test_web_page
 }  // namespace slosh

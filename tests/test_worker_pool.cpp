@@ -22,7 +22,7 @@
 #include "support/sanitizers.hpp"
 
 namespace slosh::service {
-namespace {
+namespace test_worker_pool {
 
 using namespace std::chrono_literals;
 
@@ -206,5 +206,5 @@ TEST(WorkerPoolDeathTest, AWorkerTheSystemRefusesIsAnErrorNotAnAbort) {
   EXPECT_EXIT(start_workers_in_a_tight_address_space(), ::testing::ExitedWithCode(3), "");
 }
 
-}  // namespace
+}  // namespace test_worker_pool
 }  // namespace slosh::service

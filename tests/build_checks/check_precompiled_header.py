@@ -7,7 +7,8 @@ instead and says nothing, even under -Winvalid-pch. The build then still works, 
 This compiles one test driver as the build does (its command from compile_commands.json), with -H
 and -fsyntax-only, and fails unless the first header GCC reports is the .gch, marked '!' (used).
 
-Usage: check_precompiled_header.py BUILD_DIR SOURCE_SUFFIX
+Usage: check_precompiled_header.py BUILD_DIR SOURCE_SUFFIX...  (the first one the build compiles:
+a unity batch, or a file of a build without them)
 """
 import json
 import shlex
@@ -16,13 +17,15 @@ import sys
 
 
 def main() -> int:
-    build_dir, suffix = sys.argv[1], sys.argv[2]
+    build_dir, suffixes = sys.argv[1], sys.argv[2:]
     with open(f"{build_dir}/compile_commands.json", encoding="utf-8") as f:
-        entries = [e for e in json.load(f) if e["file"].endswith(suffix)]
+        commands = json.load(f)
+    entries = [e for suffix in suffixes for e in commands if e["file"].endswith(suffix)]
     if not entries:
-        print(f"check_precompiled_header: no compile command for {suffix} in {build_dir}")
+        print(f"check_precompiled_header: no compile command for {suffixes} in {build_dir}")
         return 1
     entry = entries[0]
+    suffix = entry["file"]
     args = shlex.split(entry["command"]) if "command" in entry else list(entry["arguments"])
     if "-o" in args:
         at = args.index("-o")

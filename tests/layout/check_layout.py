@@ -5,7 +5,10 @@
   over 80 lines (long functions hide the steps a reader needs to see; the limits are the brief's);
 - service/ names no JSON library type (JSON lives in api/; service decides on typed results);
 - no server file includes a header of the command-line tools (service/cli/);
-- no comment names an issue or a review (comments say why, the history is in git).
+- no comment names an issue or a review (comments say why, the history is in git);
+- no test file (tests/test_*.cpp) opens an anonymous namespace: the test drivers compile as a
+  unity build, which merges those of its files, so each file keeps its helpers in a namespace
+  named after it (test_plan_cache.cpp: `namespace test_plan_cache`).
 
 Problems listed in tests/layout/known_problems.txt are reported but do not fail the check until
 they are fixed; an entry that no longer occurs fails it, so the list only shrinks.
@@ -144,6 +147,12 @@ def main():
                     problems.append(f"{rel}: uses nlohmann/json (JSON lives in api/)")
                 if "cli" not in rel.parts and re.search(r'#include\s*"(\.\./)?cli/', text):
                     problems.append(f"{rel}: a server file includes a header of the CLI")
+    for path in sorted((ROOT / "tests").glob("test_*.cpp")):
+        for number, line_text in enumerate(path.read_text(encoding="utf-8").splitlines(), 1):
+            if re.match(r"\s*namespace\s*\{", line_text):
+                rel = path.relative_to(ROOT)
+                problems.append(f"{rel}: an anonymous namespace (name it {path.stem})")
+                details.append(f"{rel}:{number}: {line_text.strip()}")
     known_file = pathlib.Path(__file__).with_name("known_problems.txt")
     known = {line.strip() for line in known_file.read_text(encoding="utf-8").splitlines()
              if line.strip() and not line.startswith("#")} if known_file.exists() else set()
