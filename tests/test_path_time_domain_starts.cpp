@@ -79,6 +79,7 @@ PlanOptions quiet_options() {
 // Feasible at 1.45-1.65 s and 1.8 s, the plan said infeasible at 1.55 s (best 12.9 mm) and 1.7 s
 // (best 6.48 mm) and told the user to lengthen the motion.
 TEST(PathTimeDomainStarts, LineArcLineMeetsTheBoundWhereALawExists) {
+  SLOSH_SKIP_WHEN_SANITIZED("time_domain from several starts along a path (55 s there)");
   const LineArcLine g{0.2, 0.1, kPi / 2};
   for (double T : {1.55, 1.7}) {
     const PlanOptions o = quiet_options();
@@ -124,6 +125,7 @@ TEST(PathTimeDomainStarts, UTurnBeatsTheUniformLaw) {
 // problem admits (at 1.7 s the default objective reaches it only through its families and its
 // least infeasible phase). Its answer is now at least as good, on the test's simulation.
 TEST(PathTimeDomainStarts, RestObjectiveIsNeverAboveTheDefaultObjectivesLaw) {
+  SLOSH_SKIP_WHEN_SANITIZED("two time_domain objectives along a path (67 s there)");
   const LineArcLine g{0.2, 0.1, kPi / 2};
   PlanOptions o = quiet_options();
   o.objective = TimeDomainObjective::kRest;

@@ -35,6 +35,7 @@
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
 #include "slosh/core/strategy/rectangular_plan.hpp"
 #include "support/rectangular_reference.hpp"
+#include "support/sanitizers.hpp"
 
 namespace slosh {
 namespace test_rectangular_spatial {
@@ -464,6 +465,7 @@ test::RefPeaks nonlinear_arc_reference(const RectangularModel& m, const ArcCase&
 // time_domain optimises on a line of the path's length, verified along the path (what the
 // planner returned before it optimised along the path).
 TEST(RectangularSpatial, TimeDomainAlongAPathMeetsTheBoundOnAnIndependentSimulation) {
+  SLOSH_SKIP_WHEN_SANITIZED("time_domain for a tank along a path (73 s there)");
   Format f = thesis_format();
   f.container.rectangular = RectangularTank{0.1, 0.08, 0.0};
   f.fill_height = 0.05;
@@ -766,6 +768,7 @@ TEST(RectangularSpatialApi, APlanOnAFastTableSaysTheYawModesAreLeftOutAsSimulate
 // time_domain's plan for a tank along a path whose nonlinear model does not hold for its law
 // says so, as simulate of that law does (its nonlinear figures are the linear model's).
 TEST(RectangularSpatialApi, ATimeDomainPlanAlongAPathSaysWhereTheNonlinearModelDoesNotHold) {
+  SLOSH_SKIP_WHEN_SANITIZED("time_domain for a tank along a path (69 s there)");
   nlohmann::json format = cup_format(0.0);
   format["motion_time_s"] = 1.8;
   format["motion"] = {{"type", "path"},
