@@ -11,6 +11,8 @@ Usage: check_precompiled_header.py BUILD_DIR SOURCE_SUFFIX...  (the first one th
 a unity batch, or a file of a build without them)
 """
 import json
+import os
+import re
 import shlex
 import subprocess
 import sys
@@ -31,8 +33,12 @@ def main() -> int:
         at = args.index("-o")
         del args[at : at + 2]
     # The compiler launcher (ccache) would answer from its cache without printing the headers.
-    while args and not args[0].endswith(("c++", "g++", "gcc", "clang++", "clang")):
+    compiler = re.compile(r"(c\+\+|g\+\+|gcc|clang\+\+|clang)(-[0-9.]+)?$")
+    while args and not compiler.search(os.path.basename(args[0])):
         args.pop(0)
+    if not args:
+        print(f"check_precompiled_header: no compiler in the command of {entry['file']}")
+        return 1
     run = subprocess.run(args + ["-H", "-fsyntax-only"], cwd=entry["directory"],
                          capture_output=True, text=True, check=False)
     if run.returncode != 0:
