@@ -17,6 +17,12 @@ constexpr int kExitSomeRowsFailed = 3;
 /// Exit code of a run stopped by Ctrl-C (SIGINT), as a shell reports a process the signal ended.
 constexpr int kExitInterrupted = 130;
 
+/// The ranges of the server-mode patience options, checked by their flags and by
+/// run_batch_command alike.
+constexpr int kMaxRetries = 1000;
+constexpr int kMinGiveUpAfterS = 1;
+constexpr int kMaxGiveUpAfterS = 86400;
+
 struct BatchCommandOptions {
   /// Recipe table path, "-" = stdin. Default "-".
   std::string in{"-"};
@@ -36,11 +42,12 @@ struct BatchCommandOptions {
   std::size_t chunk{64};
   /// Server mode: how many times a call the service answers 503 ("not now", e.g. its replicas'
   /// Redis is down) is sent again, each after the answer's Retry-After (1 to 30 s), before the
-  /// run stops. 0 to 1000. Default 30.
+  /// run stops. 0 to kMaxRetries. Default 30.
   int retries{30};
   /// Server mode: how long the progress of a started batch job is polled while the service does
   /// not answer at all (the replica that runs it is paused or restarting) before the run stops,
-  /// leaving the job alone [s]. 1 to 86400. Default 60: twice the default batch_job_stale_s,
+  /// leaving the job alone [s]. kMinGiveUpAfterS to kMaxGiveUpAfterS. Default 60: twice the
+  /// default batch_job_stale_s,
   /// past which the other replicas call such a job failed.
   int give_up_after_s{60};
   ProgressMode progress{ProgressMode::kAuto};

@@ -87,11 +87,13 @@ std::optional<int> read_batch_input(const BatchCommandOptions& options, BatchInp
     if (!options.server.empty() && options.chunk == 0) {
       throw TableError("--chunk must be at least 1");
     }
-    if (options.retries < 0 || options.retries > 1000) {
-      throw TableError("--retries must be 0 to 1000 (got " + std::to_string(options.retries) + ")");
+    if (options.retries < 0 || options.retries > kMaxRetries) {
+      throw TableError("--retries must be 0 to " + std::to_string(kMaxRetries) + " (got " +
+                       std::to_string(options.retries) + ")");
     }
-    if (options.give_up_after_s < 1 || options.give_up_after_s > 86400) {
-      throw TableError("--give-up-after must be 1 to 86400 s (got " +
+    if (options.give_up_after_s < kMinGiveUpAfterS || options.give_up_after_s > kMaxGiveUpAfterS) {
+      throw TableError("--give-up-after must be " + std::to_string(kMinGiveUpAfterS) + " to " +
+                       std::to_string(kMaxGiveUpAfterS) + " s (got " +
                        std::to_string(options.give_up_after_s) + ")");
     }
     if (!options.server.empty()) {

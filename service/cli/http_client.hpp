@@ -43,7 +43,8 @@ class HttpClient {
   void set_timeout(std::chrono::milliseconds timeout);
 
   /// How many times a call answered "not now" (503, and the like where the caller says so) is
-  /// sent again by the retrying calls of batch_retry.hpp before its last answer is taken. >= 0.
+  /// sent again by the retrying calls of batch_retry.hpp before its last answer is taken. >= 0;
+  /// none until set (`slosh batch` sets its --retries).
   void set_retries(int retries) { retries_ = retries; }
   [[nodiscard]] int retries() const { return retries_; }
 
@@ -54,7 +55,7 @@ class HttpClient {
   std::unique_ptr<Impl> impl_;
   std::string base_url_;
   std::string prefix_;
-  int retries_{30};
+  int retries_{0};
 };
 
 }  // namespace slosh::service

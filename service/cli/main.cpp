@@ -197,13 +197,13 @@ void add_batch_server_options(CLI::App& batch, CliArgs& a) {
       .add_option("--retries", a.batch.retries,
                   "--server: times a call the service answers 503 (not now) is sent again, each "
                   "after its Retry-After, before the run stops")
-      ->check(CLI::Range(0, 1000))
+      ->check(CLI::Range(0, slosh::service::kMaxRetries))
       ->capture_default_str();
   batch
       .add_option("--give-up-after", a.batch.give_up_after_s,
                   "--server: seconds a started job is polled while the service does not answer "
                   "at all (a paused replica) before the run stops, leaving the job alone")
-      ->check(CLI::Range(1, 86400))
+      ->check(CLI::Range(slosh::service::kMinGiveUpAfterS, slosh::service::kMaxGiveUpAfterS))
       ->capture_default_str();
 }
 
