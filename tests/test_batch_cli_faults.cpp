@@ -20,6 +20,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/batch_server_run.hpp"
 #include "support/process.hpp"
 
 namespace slosh {
@@ -136,39 +137,8 @@ std::string row(int n, const std::string& id) {
          "\n";
 }
 
-struct Cli {
-  TempDir dir;
-  std::unique_ptr<test::Child> child;
-  explicit Cli(const std::string& server, const std::vector<std::string>& flags = {}) {
-    write_file(dir / "t.csv",
-               "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
-               "a,48.5,82,water,800,1.5,notch\n"
-               "b,48.5,82,water,800,1.6,notch\n");
-    write_file(dir / "stdin", "");
-    child = std::make_unique<test::Child>(
-        test::spawn(arguments(server, flags), dir / "stdin", dir / "stdout", dir / "stderr"));
-  }
-  [[nodiscard]] std::vector<std::string> arguments(const std::string& server,
-                                                   const std::vector<std::string>& flags) const {
-    std::vector<std::string> args{"batch",
-                                  "--in",
-                                  (dir / "t.csv").string(),
-                                  "--out",
-                                  (dir / "o.jsonl").string(),
-                                  "--server",
-                                  server,
-                                  "--progress",
-                                  "never"};
-    args.insert(args.end(), flags.begin(), flags.end());
-    return args;
-  }
-  [[nodiscard]] std::string err() const { return read_file(dir / "stderr"); }
-  /// The line that names the partial output file as empty (nothing was written before the stop).
-  [[nodiscard]] std::string empty_partial_line() const {
-    return "slosh batch: the rows written so far are in " + (dir / "o.jsonl.partial").string() +
-           " (none: it is empty)\n";
-  }
-};
+/// `slosh batch --server` of a two-recipe table into o.jsonl.
+using Cli = test::BatchServerRun;
 
 // Ctrl-C while the service holds the CLI's POST (hold_post), then the POST answered: the run
 // must end with exit 130.

@@ -24,6 +24,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include "support/batch_server_run.hpp"
 #include "support/process.hpp"
 #include "support/proxy.hpp"
 #include "support/redis_server.hpp"
@@ -143,30 +144,7 @@ struct JobService {
 };
 
 /// `slosh batch --server` of a two-recipe table into o.jsonl.
-struct Cli {
-  TempDir dir;
-  std::unique_ptr<test::Child> child;
-  explicit Cli(const std::string& server, std::vector<std::string> extra = {}) {
-    write_file(dir / "t.csv",
-               "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
-               "a,48.5,82,water,800,1.5,notch\n"
-               "b,48.5,82,water,800,1.6,notch\n");
-    write_file(dir / "stdin", "");
-    std::vector<std::string> args{"batch",
-                                  "--in",
-                                  (dir / "t.csv").string(),
-                                  "--out",
-                                  (dir / "o.jsonl").string(),
-                                  "--server",
-                                  server,
-                                  "--progress",
-                                  "never"};
-    args.insert(args.end(), extra.begin(), extra.end());
-    child = std::make_unique<test::Child>(
-        test::spawn(args, dir / "stdin", dir / "stdout", dir / "stderr"));
-  }
-  [[nodiscard]] std::string err() const { return read_file(dir / "stderr"); }
-};
+using Cli = test::BatchServerRun;
 
 // A replica that does not see yet that the job has finished answers the results download 409
 // (through a proxy, the poll that read "done" reached the job's owner): the CLI asks again, as

@@ -198,11 +198,10 @@ TEST(ConnectionPool, NoRefusingThreadMeansNoPool) {
 }
 
 TEST(WorkerPoolDeathTest, AWorkerTheSystemRefusesIsAnErrorNotAnAbort) {
-  if (test::product_sanitized()) {
-    // AddressSanitizer's own allocations (its fake stacks) abort in a tight address space before
-    // the worker pool can refuse: the limit would test the sanitizer.
-    GTEST_SKIP() << "an address-space limit under AddressSanitizer aborts in its allocator";
-  }
+  // AddressSanitizer's own allocations (its fake stacks) abort in a tight address space before
+  // the worker pool can refuse: the limit would test the sanitizer.
+  SLOSH_SKIP_WHEN_SANITIZED(
+      "an address-space limit under AddressSanitizer aborts in its allocator");
   EXPECT_EXIT(start_workers_in_a_tight_address_space(), ::testing::ExitedWithCode(3), "");
 }
 

@@ -22,9 +22,10 @@ inline double solve_budget(double release_s) {
 
 }  // namespace slosh::test
 
-/// Skips the calling test under the sanitizers, saying `why`. For the few tests that spend
-/// minutes there (50 times their release time) planning time_domain along paths and tanks, code
-/// that faster tests of the same suites run under the sanitizers too; the release run checks
-/// what these check (docs/testing.md lists them).
+/// Skips the calling test under the sanitizers, saying `why`: a test whose check would test the
+/// sanitizer there (an address-space limit), or one of the few that spend minutes there (50 times
+/// their release time) planning time_domain along paths and tanks, code that faster tests of the
+/// same suites run under the sanitizers too; the release run checks what these check
+/// (docs/testing.md lists them).
 #define SLOSH_SKIP_WHEN_SANITIZED(why) \
   if (::slosh::test::product_sanitized()) GTEST_SKIP() << "under the sanitizers: " << (why)
