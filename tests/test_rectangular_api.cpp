@@ -339,6 +339,96 @@ TEST(RectangularApi, ReductionsCompareOneModelWhenTheNonlinearModelHoldsForOneLa
               reduction_of(both, "nonlinear", "eta_rest_mm"), 1e-9);
 }
 
+/// SPEC §5's rule written again over auto's candidates on one model's figures ("linear" or
+/// "nonlinear"): among the usable candidates not worse than the uniform law (none is eta-bounded
+/// here), the lowest eta_rest of those within 5 % of the best eta_motion; ties are not expected.
+std::string rule_on(const json& candidates, const std::string& model) {
+  auto competes = [](const json& k) {
+    const std::string st = k["status"];
+    return (st == "optimal" || st == "acceptable") && k["warnings"].empty();
+  };
+  auto eta = [&](const json& k, const char* which) {
+    return k["prediction"][model][which].get<double>();
+  };
+  double best_motion = INFINITY;
+  for (const json& k : candidates) {
+    if (competes(k)) best_motion = std::min(best_motion, eta(k, "eta_motion_mm"));
+  }
+  std::string chosen;
+  double best_rest = INFINITY;
+  for (const json& k : candidates) {
+    if (!competes(k) || eta(k, "eta_motion_mm") > 1.05 * best_motion) continue;
+    if (eta(k, "eta_rest_mm") < best_rest) {
+      best_rest = eta(k, "eta_rest_mm");
+      chosen = k["strategy"];
+    }
+  }
+  return chosen;
+}
+
+std::string chosen_of(const json& plan) {
+  for (const json& k : plan["candidates"]) {
+    if (k["chosen"].get<bool>()) return k["strategy"];
+  }
+  return {};
+}
+
+TEST(RectangularApi, AutoAndTheBaselineGuardCompareOneModelWhenTheNonlinearModelHoldsForSomeLaws) {
+  // 80 x 100 mm, 60 mm of water, 300 mm in 1.2 s: the uniform law and multi_notch's law are
+  // beyond the nonlinear model's steepness (their nonlinear figures are the linear model's),
+  // notch's, time_domain's, fir_chain's and shaper's within it.
+  const json request = json::parse(R"({"format": {"container": {"shape": "rectangular",
+      "length_mm": 80, "width_mm": 100, "height_mm": 100, "orientation_deg": 0},
+      "fill_height_mm": 60, "fluid": "water", "stroke_mm": 300, "motion_time_s": 1.2},
+      "strategy": "auto", "options": {"robustness": false}})");
+  const json plan = api::run_plan(api::parse_plan_request(request));
+  ASSERT_TRUE(has_code(plan, "reference_nonlinear_model_not_valid")) << plan["warnings"].dump();
+  const json& candidates = plan["candidates"];
+  auto same_figures = [](const json& k) {
+    return k["prediction"]["linear"] == k["prediction"]["nonlinear"];
+  };
+  ASSERT_TRUE(std::any_of(candidates.begin(), candidates.end(), same_figures));
+  ASSERT_FALSE(std::all_of(candidates.begin(), candidates.end(), same_figures));
+  // Ranked on the linear model, and said so; on the mixed "nonlinear" figures the rule would
+  // choose another candidate (else the case shows nothing).
+  EXPECT_EQ(chosen_of(plan), rule_on(candidates, "linear"));
+  EXPECT_NE(rule_on(candidates, "nonlinear"), rule_on(candidates, "linear"));
+  EXPECT_NE(plan["message"].get<std::string>().find(
+                "ranked on the linear model: the rectangular nonlinear model does not hold for "
+                "every candidate's law"),
+            std::string::npos)
+      << plan["message"];
+  for (const json& k : candidates) {
+    if (!k["reason"].is_string()) continue;  // the chosen one
+    const std::string reason = k["reason"];
+    if (reason != "higher_eta_rest" && reason != "eta_motion_above_best") continue;
+    const std::string why = k["reason_detail"];
+    EXPECT_EQ(why.substr(why.size() - 15), " (linear model)") << why;
+  }
+  // time_domain's law is within the model, the uniform law is not: its guard names only linear
+  // figures.
+  const auto td = std::find_if(candidates.begin(), candidates.end(),
+                               [](const json& k) { return k["strategy"] == "time_domain"; });
+  ASSERT_NE(td, candidates.end());
+  ASSERT_FALSE(same_figures(*td));
+  ASSERT_EQ(td->at("warnings").size(), 1U) << td->dump();
+  const std::string guard = td->at("warnings")[0];
+  EXPECT_EQ(guard.rfind("worse_than_baseline: eta_rest (linear) ", 0), 0U) << guard;
+  EXPECT_EQ(guard.find("(nonlinear)"), std::string::npos) << guard;
+  EXPECT_NE(guard.find("(the linear figures alone: the rectangular nonlinear model holds for one "
+                       "of the two laws only)"),
+            std::string::npos)
+      << guard;
+  // When every law is within the model (100 mm in 1.2 s), the nonlinear figures decide.
+  json gentle = request;
+  gentle["format"]["stroke_mm"] = 100;
+  const json both = api::run_plan(api::parse_plan_request(gentle));
+  for (const json& k : both["candidates"]) ASSERT_FALSE(same_figures(k)) << k.dump();
+  EXPECT_EQ(chosen_of(both), rule_on(both["candidates"], "nonlinear"));
+  EXPECT_EQ(both["message"].get<std::string>().find("ranked on the linear model"),
+            std::string::npos);
+}
+
 /// The plan's echo, model and predictions against the core's planning of the same format.
 void expect_cup_plan(const json& plan) {
   EXPECT_EQ(plan["format"]["container"],

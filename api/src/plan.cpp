@@ -26,12 +26,16 @@ namespace slosh::api {
 namespace {
 
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
-constexpr const char* kPlannerVersion = "plan-v13";
+/// plan-v14: when a rectangular tank's nonlinear model holds for some of the laws compared and not
+/// for others, worse_than_baseline compares the linear figures alone and auto ranks its
+/// candidates on the linear model.
+constexpr const char* kPlannerVersion = "plan-v14";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;
 /// path-v7: objective rest's runs again from the solver's nearest evaluation, and a budget that
-/// ends returns only admissible laws as such.
-constexpr const char* kPathPlannerVersion = "path-v7";
+/// ends returns only admissible laws as such; path-v8: worse_than_baseline and auto's ranking on
+/// one model, as plan-v14.
+constexpr const char* kPathPlannerVersion = "path-v8";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;

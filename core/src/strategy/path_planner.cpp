@@ -119,10 +119,15 @@ std::string bound_violation(const PathContext& c, const PathPrediction& p) {
          sig3(bound * 1e3) + " mm";
 }
 
-std::string worse_than_uniform(const PathPrediction& p, const PathPrediction& b) {
-  const std::string figures =
-      detail::worse_figures(detail::peak_figures(p), detail::peak_figures(b));
+/// `law_in_range`: the law's nonlinear figures are a rectangular tank's nonlinear model's (the
+/// context's `uniform_warning` says the same of the uniform law's); when only one of the two laws'
+/// are, the linear figures alone are compared.
+std::string worse_than_uniform(const PathContext& c, const PathPrediction& p, bool law_in_range) {
+  const bool linear_only = law_in_range != c.uniform_warning.empty();
+  std::string figures =
+      detail::worse_figures(detail::peak_figures(p), detail::peak_figures(c.uniform), linear_only);
   if (figures.empty()) return {};
+  if (linear_only) figures += detail::kWorseOnLinearModel;
   return "worse_than_baseline: " + figures +
          " for the uniform law along the path (more than 5 % and 0.5 mm above it); the uniform "
          "law (strategy baseline) sloshes less there";
@@ -159,7 +164,9 @@ void verify_on_path(const PathContext& c, PathOutcome& o, bool time_domain) {
         "; the law meets every constraint on the verification, though its objective "
         "was not minimised";
   }
-  if (o.plan.strategy != Strategy::kBaseline) o.worse = worse_than_uniform(o.prediction, c.uniform);
+  if (o.plan.strategy != Strategy::kBaseline) {
+    o.worse = worse_than_uniform(c, o.prediction, o.model_warning.empty());
+  }
 }
 
 /// A verified candidate against time_domain's eta bound (BoundVerdict): its other constraints
@@ -391,7 +398,7 @@ void keep_best_start(const PathContext& c, PathOutcome& o,
   PathOutcome chosen = *best;
   chosen.plan.strategy = Strategy::kTimeDomain;
   chosen.plan.solver = o.plan.solver;
-  chosen.worse = worse_than_uniform(chosen.prediction, c.uniform);
+  chosen.worse = worse_than_uniform(c, chosen.prediction, chosen.model_warning.empty());
   if (best_standing.meets) {
     chosen.plan.status = SolveStatus::kAcceptable;
     chosen.detail = name + ", one of time_domain's starts, meets " + bounded +
@@ -615,6 +622,7 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
   std::vector<bool> worse;
   std::vector<BoundVerdict> bounds;
   std::vector<std::size_t> kept;
+  std::vector<bool> in_range;  // the tank's nonlinear model holds for candidate k's law
   int evaluations = 0, starts = 0;
   for (std::size_t i = 0; i < outcomes.size(); ++i) {
     const PathOutcome& o = outcomes[i];
@@ -632,8 +640,9 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
     bounds.push_back(bound_verdict(c, o));
     candidates.push_back(std::move(k));
     kept.push_back(i);
+    in_range.push_back(o.model_warning.empty());
   }
-  AutoChoice choice = choose_auto(candidates, worse, bounds);
+  AutoChoice choice = detail::choose_on_one_model(candidates, in_range, worse, bounds);
   refuse_worse_choice(candidates, worse, bounds, choice);
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     candidates[k].chosen = k == choice.index;
@@ -654,6 +663,7 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
                 "judged on " +
                 c.models() + " along the path)"
           : std::string("no candidate meets every constraint; auto returns the uniform law");
+  if (choice.ranked_on_linear && !choice.bound_missed) detail += detail::kRankedOnLinearModel;
   if (!chosen.detail.empty()) detail += "; " + chosen.detail;
   if (cut) {
     // The candidates not planned might have met the bound: not infeasible, out of time.

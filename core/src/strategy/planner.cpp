@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <functional>
 #include <numbers>
 
 #include "slosh/core/model/tank_directions.hpp"
@@ -89,13 +90,21 @@ std::string summary_sentence(const LawPrediction& p, const LawPrediction& b, boo
 struct GuardReference {
   LawPrediction prediction;
   bool uniform{true};  ///< the reference is the uniform law itself
+  /// Its nonlinear figures are the nonlinear model's (false: a rectangular tank's nonlinear
+  /// model does not hold for it, and they are the linear model's).
+  bool nonlinear_in_range{true};
 };
 
-/// The `worse_than_baseline` warning naming the figures, or empty.
-std::string worse_than_baseline(const LawPrediction& p, const GuardReference& ref) {
-  const std::string figures =
-      detail::worse_figures(detail::peak_figures(p), detail::peak_figures(ref.prediction));
+/// The `worse_than_baseline` warning naming the figures, or empty. `law_in_range`: the law's
+/// nonlinear figures are the nonlinear model's; when only one of the two laws' are, the linear
+/// figures alone are compared.
+std::string worse_than_baseline(const LawPrediction& p, const GuardReference& ref,
+                                bool law_in_range) {
+  const bool linear_only = law_in_range != ref.nonlinear_in_range;
+  std::string figures = detail::worse_figures(detail::peak_figures(p),
+                                              detail::peak_figures(ref.prediction), linear_only);
   if (figures.empty()) return {};
+  if (linear_only) figures += detail::kWorseOnLinearModel;
   if (!ref.uniform) {
     return "worse_than_baseline: " + figures +
            " for baseline's law (more than 5 % and 0.5 mm above it; the uniform law breaks the "
@@ -614,13 +623,14 @@ detail::StrategyOutcome uniform_or_admissible(const detail::StrategyContext& c) 
 
 /// The prediction of an outcome's law: the plan's uniform-law prediction when the law is the
 /// uniform 7-segment law (the same durations give the same law and the same responses, so it is
-/// not simulated twice; `out_of_range` is then left as it is), else simulated here.
+/// not simulated twice; `out_of_range` is then the context's reason of it), else simulated here.
 /// `out_of_range`, when given, receives why the rectangular nonlinear model does not hold for the
 /// law (empty when it does).
 LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o,
                               std::string* out_of_range = nullptr) {
   if (c.uniform_prediction != nullptr && o.law_of_durations() && o.durations &&
       *o.durations == uniform_durations(c.format.motion_time)) {
+    if (out_of_range != nullptr) *out_of_range = c.uniform_out_of_range;
     return *c.uniform_prediction;
   }
   return predict(c.model, c.rectangular, o.law, c.options.rest_time, out_of_range);
@@ -760,7 +770,9 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   s.detail = s.outcome.detail;
   // baseline is the reference itself (when the options exclude the uniform law, its nearest
   // admissible law): it is never "worse than the baseline".
-  if (strategy != Strategy::kBaseline) s.worse = worse_than_baseline(s.prediction, baseline);
+  if (strategy != Strategy::kBaseline) {
+    s.worse = worse_than_baseline(s.prediction, baseline, s.out_of_range.empty());
+  }
   return s;
 }
 
@@ -1034,7 +1046,8 @@ std::string record_choice(const detail::StrategyContext& c, const AutoChoice& ch
          "lowest eta_rest among the candidates within 5 % of the best eta_motion, " +
          (choice.any_not_worse
               ? "none worse than " + reference + ")"
-              : "all worse than " + reference + ", which does not meet the options)");
+              : "all worse than " + reference + ", which does not meet the options)") +
+         (choice.ranked_on_linear ? detail::kRankedOnLinearModel : "");
 }
 
 /// A verified candidate against time_domain's eta bound (BoundVerdict). Its other constraints
@@ -1051,6 +1064,25 @@ BoundVerdict bound_verdict(const detail::StrategyContext& c, const Outcome& o,
       (o.strategy == Strategy::kTimeDomain && o.durations &&
        detail::violated_constraint(c, Strategy::kBaseline, *o.durations, p.nonlinear).empty());
   return b;
+}
+
+/// The models diverge for every candidate of auto (over the uncertainty range, say): the uniform
+/// law `first` goes back to plan(), whose finiteness check refuses it with the reason.
+Selection all_diverged(const detail::StrategyContext& c, Outcome first,
+                       const std::string& diverged) {
+  Selection none;
+  none.outcome = std::move(first);
+  none.prediction = predict_outcome(c, none.outcome, &none.out_of_range);
+  none.range = judge_over_range(c, none.outcome.law, none.prediction);
+  none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
+  return none;
+}
+
+/// Per candidate, whether the rectangular nonlinear model holds for its law (no reason why not).
+std::vector<bool> in_range_of(const std::vector<std::string>& out_of_range) {
+  std::vector<bool> in_range;
+  for (const std::string& why : out_of_range) in_range.push_back(why.empty());
+  return in_range;
 }
 
 /// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
@@ -1091,7 +1123,7 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     cand.status = o.status;
     cand.durations = o.durations;
     if (o.strategy != Strategy::kBaseline) {
-      cand.worse_than_baseline = worse_than_baseline(cand.prediction, baseline);
+      cand.worse_than_baseline = worse_than_baseline(cand.prediction, baseline, why_linear.empty());
     }
     worse.push_back(!cand.worse_than_baseline.empty());
     candidates.push_back(std::move(cand));
@@ -1099,17 +1131,9 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     ranges.push_back(std::move(range));
     out_of_range.push_back(std::move(why_linear));
   }
-  if (candidates.empty()) {
-    // The models diverge for every candidate (over the uncertainty range, say): the uniform law
-    // goes back to plan(), whose finiteness check refuses it with the reason.
-    Selection none;
-    none.outcome = std::move(outcomes.front());
-    none.prediction = predict_outcome(c, none.outcome, &none.out_of_range);
-    none.range = judge_over_range(c, none.outcome.law, none.prediction);
-    none.detail = "left out, the sloshing models diverge for their laws: " + diverged;
-    return none;
-  }
-  const AutoChoice choice = choose_auto(candidates, worse, bounds);
+  if (candidates.empty()) return all_diverged(c, std::move(outcomes.front()), diverged);
+  const AutoChoice choice =
+      detail::choose_on_one_model(candidates, in_range_of(out_of_range), worse, bounds);
   Selection s;
   s.outcome = std::move(kept[choice.index]);
   // The least infeasible law when no candidate meets the eta bound: never optimal.
@@ -1133,13 +1157,16 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
 
 /// The guard's reference: the uniform law's prediction `uniform` when the options admit it, else
 /// that of baseline's admissible law (simulated here; the uniform law's when it is not finite).
-GuardReference guard_reference(const detail::StrategyContext& c, const LawPrediction& uniform) {
-  if (c.space.uniform_inside()) return {uniform, true};
+/// `uniform_in_range`: the rectangular nonlinear model holds for the uniform law.
+GuardReference guard_reference(const detail::StrategyContext& c, const LawPrediction& uniform,
+                               bool uniform_in_range) {
+  if (c.space.uniform_inside()) return {uniform, true, uniform_in_range};
   const Durations d = c.space.nearest_uniform();
+  std::string why_linear;
   LawPrediction p = predict(c.model, c.rectangular, SevenSegmentLaw(d, c.format.stroke).law(),
-                            c.options.rest_time);
-  if (!finite_prediction(p)) return {uniform, true};
-  return {std::move(p), false};
+                            c.options.rest_time, &why_linear);
+  if (!finite_prediction(p)) return {uniform, true, uniform_in_range};
+  return {std::move(p), false, why_linear.empty()};
 }
 
 /// The sentence of an infeasible optimised law: the machine limits first when they alone cannot
@@ -1236,12 +1263,22 @@ InvalidInput diverging_law(const KinematicSummary& k, Strategy strategy, bool at
                      (at_nominal ? "" : " or narrow the range"));
 }
 
-/// The uniform law's prediction on `tank`.
-LawPrediction uniform_prediction(const SloshingModel& model, const RectangularModel& tank,
-                                 const Format& format, double rest_time) {
-  return predict(model, &tank,
+/// The uniform law's prediction as the strategies see it: on the axis's tank when a rectangular
+/// tank is planned as on its axis (`axis_tank`), else the plan's own `r.baseline`;
+/// `out_of_range` receives why the rectangular nonlinear model does not hold for it, or empty
+/// (`baseline_out_of_range` is that of r.baseline).
+LawPrediction strategies_reference(const PlanResult& r,
+                                   const std::optional<RectangularModel>& axis_tank,
+                                   const Format& format, double rest_time,
+                                   const std::string& baseline_out_of_range,
+                                   std::string& out_of_range) {
+  if (!axis_tank) {
+    out_of_range = baseline_out_of_range;
+    return r.baseline;
+  }
+  return predict(r.model, &*axis_tank,
                  SevenSegmentLaw(uniform_durations(format.motion_time), format.stroke).law(),
-                 rest_time);
+                 rest_time, &out_of_range);
 }
 
 /// A rectangular tank's figures of the selected law on the tank itself, and why its nonlinear
@@ -1402,8 +1439,9 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   // and their references see the axis's tank, the plan's figures are the tank's own.
   const std::optional<RectangularModel> axis_tank =
       rectangular ? rectangular_axis_tank(*rectangular) : std::nullopt;
-  const LawPrediction reference =
-      axis_tank ? uniform_prediction(r.model, *axis_tank, format, options.rest_time) : r.baseline;
+  std::string reference_out_of_range;
+  const LawPrediction reference = strategies_reference(
+      r, axis_tank, format, options.rest_time, baseline_out_of_range, reference_out_of_range);
   detail::StrategyContext c{format, options, r.model, detail::DurationSpace(format, options),
                             deadline};
   c.rectangular = axis_tank ? &*axis_tank : rectangular;
@@ -1414,6 +1452,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   r.uncertainty = c.range;
   detail::set_references(c, reference.nonlinear.motion.value);
   c.uniform_prediction = &reference;
+  c.uniform_out_of_range = reference_out_of_range;
   if (!(std::isfinite(c.x_ref) && c.x_ref > 0.0 && std::isfinite(c.jerk_ref) && c.jerk_ref > 0.0)) {
     return refusal(
         format, strategy, options,
@@ -1422,7 +1461,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                     sig3(c.x_ref) + " m/s)"));
   }
 
-  const GuardReference guard = guard_reference(c, reference);
+  const GuardReference guard = guard_reference(c, reference, reference_out_of_range.empty());
   Selection s = strategy == Strategy::kAuto ? run_auto(c, guard, r.candidates)
                                             : run_single(c, strategy, guard);
   const Strategy result_strategy = s.outcome.strategy;
@@ -1449,7 +1488,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
 
 namespace detail {
 
-std::string worse_figures(const PeakFigures& law, const PeakFigures& reference) {
+std::string worse_figures(const PeakFigures& law, const PeakFigures& reference, bool linear_only) {
   // Above the reference by more than this fraction and by more than kWorseAbsolute [m].
   constexpr double kWorseRelative{0.05};
   constexpr double kWorseAbsolute{0.5e-3};
@@ -1460,11 +1499,37 @@ std::string worse_figures(const PeakFigures& law, const PeakFigures& reference) 
       figures += std::string(what) + " " + sig3(value * 1e3) + " mm vs " + sig3(base * 1e3) + " mm";
     }
   };
-  check(law.nonlinear_motion, reference.nonlinear_motion, "eta_motion (nonlinear)");
-  check(law.nonlinear_rest, reference.nonlinear_rest, "eta_rest (nonlinear)");
+  if (!linear_only) {
+    check(law.nonlinear_motion, reference.nonlinear_motion, "eta_motion (nonlinear)");
+    check(law.nonlinear_rest, reference.nonlinear_rest, "eta_rest (nonlinear)");
+  }
   check(law.linear_motion, reference.linear_motion, "eta_motion (linear)");
   check(law.linear_rest, reference.linear_rest, "eta_rest (linear)");
   return figures;
+}
+
+AutoChoice choose_on_one_model(const std::vector<PlanCandidate>& candidates,
+                               const std::vector<bool>& in_range,
+                               const std::vector<bool>& worse_than_baseline,
+                               const std::vector<BoundVerdict>& bounds) {
+  const bool mixed =
+      std::adjacent_find(in_range.begin(), in_range.end(), std::not_equal_to<>()) != in_range.end();
+  if (!mixed) return choose_auto(candidates, worse_than_baseline, bounds);
+  std::vector<PlanCandidate> linear = candidates;
+  for (PlanCandidate& k : linear) {
+    k.prediction.nonlinear = k.prediction.linear;
+    if (k.worst_case) k.worst_case->nonlinear = k.worst_case->linear;
+  }
+  AutoChoice choice = choose_auto(linear, worse_than_baseline, bounds);
+  choice.ranked_on_linear = true;
+  for (std::size_t k = 0; k < choice.lost.size(); ++k) {
+    const CandidateLoss l = choice.lost[k];
+    if (l == CandidateLoss::kMotionAboveBest || l == CandidateLoss::kTieOnRest ||
+        l == CandidateLoss::kHigherRest) {
+      choice.lost_detail[k] += " (linear model)";
+    }
+  }
+  return choice;
 }
 
 std::vector<Warning> reference_model_warnings(bool law_in_range,

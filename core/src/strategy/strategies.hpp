@@ -81,6 +81,9 @@ struct StrategyContext {
   /// once per plan by plan() and shared by everything that needs the uniform law's figures (the
   /// baseline comparison, auto's baseline candidate); null when the caller did not make it.
   const LawPrediction* uniform_prediction{nullptr};
+  /// Why a rectangular tank's nonlinear model does not hold for that uniform law (its nonlinear
+  /// figures are then the linear model's), or empty.
+  std::string uniform_out_of_range{};
 
   /// A rectangular tank's model (SPEC §15), or null for the cylinder. `model` is then its most
   /// excited direction driven by the motion (driven_directions); the plan's laws are verified
@@ -325,7 +328,30 @@ PeakFigures peak_figures(const Prediction& p) {
 /// The figures of `law` above `reference` by more than 5 % and by more than 0.5 mm (SPEC §5
 /// "Honest status"), each named with both values ("eta_rest (nonlinear) 3.1 mm vs 2.0 mm, ..."),
 /// or empty: the test of every `worse_than_baseline` warning, on a line or along a path.
-[[nodiscard]] std::string worse_figures(const PeakFigures& law, const PeakFigures& reference);
+/// `linear_only`: the two laws' nonlinear figures do not come from one model (a rectangular
+/// tank's nonlinear model holds for one of them only), so only the linear figures are compared.
+[[nodiscard]] std::string worse_figures(const PeakFigures& law, const PeakFigures& reference,
+                                        bool linear_only = false);
+
+/// What a `worse_than_baseline` warning adds when it compared the linear figures alone.
+inline constexpr const char* kWorseOnLinearModel =
+    " (the linear figures alone: the rectangular nonlinear model holds for one of the two laws "
+    "only)";
+
+/// choose_auto on one model: as it is when the candidates' nonlinear figures all come from one
+/// model; else (`in_range[k]` false: a rectangular tank's nonlinear model does not hold for
+/// candidate k's law, whose nonlinear figures are then the linear model's) on every candidate's
+/// linear figures, those of its worst case included, with `ranked_on_linear` set and " (linear
+/// model)" after every loss that compared figures.
+[[nodiscard]] AutoChoice choose_on_one_model(const std::vector<PlanCandidate>& candidates,
+                                             const std::vector<bool>& in_range,
+                                             const std::vector<bool>& worse_than_baseline,
+                                             const std::vector<BoundVerdict>& bounds);
+
+/// What auto's sentence adds when it ranked its candidates on the linear model.
+inline constexpr const char* kRankedOnLinearModel =
+    "; ranked on the linear model: the rectangular nonlinear model does not hold for every "
+    "candidate's law";
 
 /// The warnings on the uniform law of reference when a rectangular tank's nonlinear model does
 /// not hold for it or for the law (`*_in_range` false: its nonlinear figures are the linear

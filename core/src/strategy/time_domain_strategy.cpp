@@ -264,7 +264,7 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
         rows.push_back({m, k});
     }
   }
-  const int n = kSegments + 1;
+  constexpr int n = kSegments + 1;
   NlpProblem p = c.space.problem(1);
   const double scaled_bound = bound ? *bound / c.eta_ref : 0.0;
   const int count = static_cast<int>(rows.size());
@@ -274,7 +274,7 @@ MultiStartResult solve_epigraph(const StrategyContext& c, bool minimise_motion,
   TimeDomainWorkspace* work = &ws;
   const ModelSamples* sampled = &samples;
   const double eta_ref = c.eta_ref;
-  p.inequalities = [work, sampled, eta_ref, rows, minimise_motion, scaled_bound, count, limits, n,
+  p.inequalities = [work, sampled, eta_ref, rows, minimise_motion, scaled_bound, count, limits,
                     space](const double* x, double* g, double* jac) {
     evaluate_samples(*work, *sampled, eta_ref, x, jac != nullptr);
     for (int r = 0; r < count; ++r) {

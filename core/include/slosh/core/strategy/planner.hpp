@@ -374,6 +374,10 @@ struct AutoChoice {
   /// false and the plan is infeasible; `bound_sentence` says so with the figures.
   bool bound_missed{false};
   std::string bound_sentence;
+  /// The candidates were ranked on their linear figures: a rectangular tank's nonlinear model
+  /// holds for some of their laws and not for others, so their nonlinear figures do not come
+  /// from one model (set by the planners, not by choose_auto).
+  bool ranked_on_linear{false};
 };
 
 /// SPEC §5's rule, pure: among the usable candidates (not worse than the uniform law while one
