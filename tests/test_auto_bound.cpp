@@ -70,9 +70,17 @@ TEST(AutoBound, NoCandidateMeetsTheBoundOnALineIsInfeasibleWithTheLeastInfeasibl
   o.eta_motion_max = 1e-3;
   const PlanResult r = plan(f, Strategy::kAuto, o);
   EXPECT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+  // The lowest among those whose one fault is the bound, not worse than the uniform law while one
+  // of them is not (SPEC §5).
+  auto bound_only = [&](const PlanCandidate& k) {
+    return usable(k.status) || k.strategy == Strategy::kTimeDomain;
+  };
+  const bool any_not_worse = std::any_of(r.candidates.begin(), r.candidates.end(), [&](auto& k) {
+    return bound_only(k) && k.worse_than_baseline.empty();
+  });
   double lowest = std::numeric_limits<double>::infinity();
   for (const PlanCandidate& k : r.candidates) {
-    if (usable(k.status) || k.strategy == Strategy::kTimeDomain) {
+    if (bound_only(k) && (!any_not_worse || k.worse_than_baseline.empty())) {
       lowest = std::min(lowest, k.prediction.nonlinear.motion.value);
     }
   }

@@ -612,10 +612,18 @@ PlanResult expect_auto_rule(const Format& f) {
   for (const PlanCandidate& c : r.candidates)
     any_within = any_within || (usable(c.status) && within(c));
   if (!any_within) {
+    // Among those whose one fault is the bound, not worse than the uniform law while one is not.
+    auto bound_only = [&](const PlanCandidate& c) {
+      return usable(c.status) || c.strategy == Strategy::kTimeDomain;
+    };
+    bool any_not_worse = false;
+    for (const PlanCandidate& c : r.candidates) {
+      any_not_worse = any_not_worse || (bound_only(c) && c.worse_than_baseline.empty());
+    }
     std::size_t least = r.candidates.size();
     for (std::size_t k = 0; k < r.candidates.size(); ++k) {
       const PlanCandidate& c = r.candidates[k];
-      if (!usable(c.status) && c.strategy != Strategy::kTimeDomain) continue;
+      if (!bound_only(c) || (any_not_worse && !c.worse_than_baseline.empty())) continue;
       if (least == r.candidates.size() ||
           c.prediction.nonlinear.rest.value < r.candidates[least].prediction.nonlinear.rest.value) {
         least = k;

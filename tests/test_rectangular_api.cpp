@@ -15,6 +15,7 @@
 #include "slosh/api/calibration_models.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/plan_summary.hpp"
 #include "slosh/api/simulate.hpp"
 #include "slosh/core/law/motion_law.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
@@ -427,6 +428,100 @@ TEST(RectangularApi, AutoAndTheBaselineGuardCompareOneModelWhenTheNonlinearModel
   EXPECT_EQ(chosen_of(both), rule_on(both["candidates"], "nonlinear"));
   EXPECT_EQ(both["message"].get<std::string>().find("ranked on the linear model"),
             std::string::npos);
+}
+
+json tank_auto(double length, double width, double orientation, double fill, double stroke,
+               double time) {
+  return {{"format",
+           {{"container",
+             {{"shape", "rectangular"},
+              {"length_mm", length},
+              {"width_mm", width},
+              {"orientation_deg", orientation}}},
+            {"fill_height_mm", fill},
+            {"fluid", "water"},
+            {"stroke_mm", stroke},
+            {"motion_time_s", time}}},
+          {"strategy", "auto"}};
+}
+
+TEST(RectangularApi, NoCandidateMeetsTheBoundAutoReturnsTheLeastInfeasibleNotWorseOnOneModel) {
+  struct Case {
+    json request;
+    bool mixed;  // the tank's nonlinear model holds for some candidates' laws only
+  };
+  // A 200 x 120 mm tank at 60 deg, 100 mm in 0.74 s: time_domain's law leaves the nonlinear
+  // model (its figures the linear model's) and was returned with a linear eta_rest above the
+  // uniform law's true nonlinear one, worse than the uniform law, while notch beats it on both.
+  // A 200 mm square at 90 deg, 50 mm in 0.42 s: shaper, worse than the uniform law, was the
+  // least infeasible while notch is not worse.
+  for (const Case& c : {Case{tank_auto(200, 120, 60, 75.4, 100, 0.74), true},
+                        Case{tank_auto(200, 200, 90, 52.8, 50, 0.42), false}}) {
+    const json plan = api::run_plan(api::parse_plan_request(c.request));
+    ASSERT_EQ(plan["status"], "infeasible") << plan["message"];
+    const std::string model = c.mixed ? "linear" : "nonlinear";
+    // Rewritten here: the lowest eta_rest among the candidates whose one fault is the bound and
+    // that carry no worse_than_baseline warning.
+    std::string expected;
+    double lowest = INFINITY;
+    for (const json& k : plan["candidates"]) {
+      const bool bound_only = k["chosen"].get<bool>() || k["reason"] == "eta_above_limit";
+      if (!bound_only || !k["warnings"].empty()) continue;
+      const double rest = k["prediction"][model]["eta_rest_mm"];
+      if (rest < lowest) {
+        lowest = rest;
+        expected = k["strategy"];
+      }
+    }
+    ASSERT_FALSE(expected.empty());
+    EXPECT_EQ(chosen_of(plan), expected) << plan["message"];
+    EXPECT_FALSE(has_code(plan, "worse_than_baseline")) << plan["warnings"].dump();
+    const bool said =
+        plan["message"].get<std::string>().find("ranked on the linear model") != std::string::npos;
+    EXPECT_EQ(said, c.mixed) << plan["message"];
+    bool flagged_lost = false;
+    for (const json& k : plan["candidates"]) {
+      if (k["reason"] != "worse_than_baseline") continue;
+      flagged_lost = true;
+      EXPECT_NE(k["reason_detail"].get<std::string>().find(
+                    "but worse than the uniform law (its worse_than_baseline warning) while a "
+                    "candidate that is not remains"),
+                std::string::npos)
+          << k["reason_detail"];
+    }
+    EXPECT_TRUE(flagged_lost);
+  }
+}
+
+TEST(RectangularApi, ReductionsAreOnTheLinearModelWhenItHoldsForNeitherLaw) {
+  // 120 x 80 mm along L, 200 mm in 1 s: notch's law and the uniform law both leave the range.
+  json request = tank_auto(120, 80, 0, 50, 200, 1.0);
+  request["strategy"] = "notch";
+  const json plan = api::run_plan(api::parse_plan_request(request));
+  ASSERT_TRUE(has_code(plan, "nonlinear_model_not_valid")) << plan["warnings"].dump();
+  EXPECT_TRUE(has_code(plan, "reference_nonlinear_model_not_valid")) << plan["warnings"].dump();
+  EXPECT_FALSE(has_code(plan, "reductions_on_linear_model")) << plan["warnings"].dump();
+  EXPECT_EQ(plan["prediction"]["nonlinear"], plan["prediction"]["linear"]);
+  EXPECT_EQ(plan["baseline"]["nonlinear"], plan["baseline"]["linear"]);
+  EXPECT_EQ(plan["reduction_pct"]["model"], "linear");
+  EXPECT_NE(plan["message"].get<std::string>().find("linear model (both laws on one model)"),
+            std::string::npos)
+      << plan["message"];
+  const std::string text = api::plan_summary_text(plan);
+  EXPECT_NE(text.find("(linear / linear: the nonlinear model holds for neither law)"),
+            std::string::npos)
+      << text;
+}
+
+TEST(RectangularApi, AFillRatioJustBelowTheModelsLimitIsPrintedBelowIt) {
+  // 28.79 mm of water in a 120 mm length: h / L = 0.239917, which 3 decimals would print as
+  // "0.240 is below 0.24".
+  json request = tank_auto(120, 80, 0, 28.79, 100, 1.2);
+  request["strategy"] = "baseline";
+  const json plan = api::run_plan(api::parse_plan_request(request));
+  const std::string all = plan["warnings"].dump();
+  EXPECT_NE(all.find("fill height / length = 0.2399 is below 0.24"), std::string::npos) << all;
+  EXPECT_EQ(all.find("0.240 is below"), std::string::npos) << all;
 }
 
 /// The plan's echo, model and predictions against the core's planning of the same format.

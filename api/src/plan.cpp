@@ -419,8 +419,8 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   out["prediction"] = prediction_json(r.prediction);
   out["baseline"] = prediction_json(r.baseline);
   out["baseline"]["durations_s"] = uniform_durations(request.format.motion_time);
-  out["reduction_pct"] = reduction_json(
-      r.baseline, r.prediction, has_warning(r.warnings, WarningKind::kReductionsOnLinearModel));
+  out["reduction_pct"] =
+      reduction_json(r.baseline, r.prediction, compares_on_linear_model(r.warnings));
   out["spectrum"] = spectrum_json(request, r);
   out["solver"] = {{"name", r.solver.name},
                    {"iterations", r.solver.iterations},

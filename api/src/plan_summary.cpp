@@ -1,5 +1,6 @@
 #include "slosh/api/plan_summary.hpp"
 
+#include <algorithm>
 #include <cstdio>
 #include <string>
 
@@ -68,6 +69,11 @@ std::string path_line(const json& plan) {
          " m/s^2 together: what limits.a_max bounds)\n";
 }
 
+bool has_code(const json& plan, const char* code) {
+  const auto codes = plan.find("warning_codes");
+  return codes != plan.end() && std::find(codes->begin(), codes->end(), code) != codes->end();
+}
+
 std::string prediction_lines(const json& plan) {
   const json& p = plan["prediction"];
   const json& b = plan["baseline"];
@@ -81,9 +87,10 @@ std::string prediction_lines(const json& plan) {
   out += "change vs uniform law: motion " + change(r["motion"]) + " / " +
          change(r["linear"]["motion"]) + ", rest " + change(r["rest"]) + " / " +
          change(r["linear"]["rest"]) +
-         (r.value("model", "nonlinear") == "linear"
-              ? " (linear / linear: the laws' nonlinear figures are of different models)\n"
-              : " (nonlinear / linear)\n");
+         (r.value("model", "nonlinear") != "linear" ? " (nonlinear / linear)\n"
+          : has_code(plan, "reductions_on_linear_model")
+              ? " (linear / linear: the nonlinear model holds for one of the two laws only)\n"
+              : " (linear / linear: the nonlinear model holds for neither law)\n");
   return out;
 }
 

@@ -111,4 +111,10 @@ bool has_warning(const std::vector<Warning>& warnings, WarningKind kind) {
                      [kind](const Warning& w) { return w.kind == kind; });
 }
 
+bool compares_on_linear_model(const std::vector<Warning>& warnings) {
+  return has_warning(warnings, WarningKind::kReductionsOnLinearModel) ||
+         (has_warning(warnings, WarningKind::kNonlinearModelNotValid) &&
+          has_warning(warnings, WarningKind::kReferenceLinear));
+}
+
 }  // namespace slosh

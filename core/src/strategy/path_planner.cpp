@@ -446,7 +446,7 @@ std::string path_message(const PathContext& c, const PlanResult& r, const PathPr
   }
   if (!detail.empty()) head += ": " + detail;
   // Both laws on one model: the linear one when their nonlinear figures are of different models.
-  const bool one_model = has_warning(r.warnings, WarningKind::kReductionsOnLinearModel);
+  const bool one_model = compares_on_linear_model(r.warnings);
   const auto& law = one_model ? p.linear : p.nonlinear;
   const auto& b = one_model ? c.uniform.linear : c.uniform.nonlinear;
   std::string models = c.tank ? "the tank's models in its own frame, the highest corner"

@@ -909,16 +909,23 @@ std::string bound_option(const BoundVerdict& b) {
 }
 
 /// No usable candidate meets its bound: the least infeasible one (lowest bounded figure among
-/// those whose only fault is the bound; ties: the earlier) is returned, and every other one says
-/// why it was not.
+/// those whose only fault is the bound, and among those not worse than the uniform law while one
+/// is; ties: the earlier) is returned, and every other one says why it was not.
 AutoChoice least_infeasible(const std::vector<PlanCandidate>& candidates,
+                            const std::vector<bool>& worse_than_baseline,
                             const std::vector<BoundVerdict>& bounds) {
   AutoChoice choice;
   choice.bound_missed = true;
   choice.lost.assign(candidates.size(), CandidateLoss::kNotUsable);
   choice.lost_detail.assign(candidates.size(), std::string());
-  auto considered = [&](std::size_t k) {
+  auto fault_is_bound = [&](std::size_t k) {
     return usable_status(candidates[k].status) || bounds[k].others_met;
+  };
+  for (std::size_t k = 0; k < candidates.size(); ++k) {
+    choice.any_not_worse = choice.any_not_worse || (fault_is_bound(k) && !worse_than_baseline[k]);
+  }
+  auto considered = [&](std::size_t k) {
+    return fault_is_bound(k) && (!choice.any_not_worse || !worse_than_baseline[k]);
   };
   bool found = false;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
@@ -936,7 +943,13 @@ AutoChoice least_infeasible(const std::vector<PlanCandidate>& candidates,
   choice.lost[choice.index] = CandidateLoss::kNone;
   for (std::size_t k = 0; k < candidates.size(); ++k) {
     if (k == choice.index) continue;
-    if (considered(k)) {
+    if (fault_is_bound(k) && !considered(k)) {
+      choice.lost[k] = CandidateLoss::kWorseThanBaseline;
+      choice.lost_detail[k] = bound_figure(bounds[k]) + " " + mm(bounds[k].value) +
+                              " but worse than the uniform law (its worse_than_baseline warning) "
+                              "while a candidate that is not remains; no candidate meets " +
+                              bound_figure(best) + " <= " + mm(best.bound);
+    } else if (considered(k)) {
       choice.lost[k] = CandidateLoss::kAboveBound;
       choice.lost_detail[k] = bound_figure(bounds[k]) + " " + mm(bounds[k].value) + " vs " +
                               mm(best.value) + " of the chosen " + chosen +
@@ -994,7 +1007,7 @@ AutoChoice choose_auto(const std::vector<PlanCandidate>& candidates,
     any_considered = any_considered || usable_status(candidates[k].status) || bounds[k].others_met;
   }
   if (!any_within) {
-    return any_considered ? least_infeasible(candidates, bounds)
+    return any_considered ? least_infeasible(candidates, worse_than_baseline, bounds)
                           : choose_unbounded(candidates, worse_than_baseline);
   }
   // The rule among the candidates within the bound: the others are judged as not usable, then
@@ -1223,8 +1236,7 @@ std::string brief_report(const detail::StrategyContext& c, const PlanResult& r,
   }
   if (!detail_text.empty()) message += ": " + detail_text;
   return message + ". " +
-         summary_sentence(r.prediction, r.baseline,
-                          has_warning(r.warnings, WarningKind::kReductionsOnLinearModel));
+         summary_sentence(r.prediction, r.baseline, compares_on_linear_model(r.warnings));
 }
 
 /// Fills the result from the selected law.
@@ -1516,19 +1528,25 @@ AutoChoice choose_on_one_model(const std::vector<PlanCandidate>& candidates,
       std::adjacent_find(in_range.begin(), in_range.end(), std::not_equal_to<>()) != in_range.end();
   if (!mixed) return choose_auto(candidates, worse_than_baseline, bounds);
   std::vector<PlanCandidate> linear = candidates;
-  for (PlanCandidate& k : linear) {
-    k.prediction.nonlinear = k.prediction.linear;
-    if (k.worst_case) k.worst_case->nonlinear = k.worst_case->linear;
+  std::vector<BoundVerdict> linear_bounds = bounds;
+  for (std::size_t k = 0; k < linear.size(); ++k) {
+    PlanCandidate& cand = linear[k];
+    cand.prediction.nonlinear = cand.prediction.linear;
+    if (cand.worst_case) cand.worst_case->nonlinear = cand.worst_case->linear;
+    const SloshPeaks& judged = cand.worst_case ? cand.worst_case->linear : cand.prediction.linear;
+    linear_bounds[k].value = linear_bounds[k].on_rest ? judged.rest.value : judged.motion.value;
   }
-  AutoChoice choice = choose_auto(linear, worse_than_baseline, bounds);
+  AutoChoice choice = choose_auto(linear, worse_than_baseline, linear_bounds);
   choice.ranked_on_linear = true;
   for (std::size_t k = 0; k < choice.lost.size(); ++k) {
     const CandidateLoss l = choice.lost[k];
     if (l == CandidateLoss::kMotionAboveBest || l == CandidateLoss::kTieOnRest ||
-        l == CandidateLoss::kHigherRest) {
+        l == CandidateLoss::kHigherRest || l == CandidateLoss::kAboveBound ||
+        (l == CandidateLoss::kWorseThanBaseline && choice.bound_missed)) {
       choice.lost_detail[k] += " (linear model)";
     }
   }
+  if (choice.bound_missed) choice.bound_sentence += detail::kRankedOnLinearModel;
   return choice;
 }
 
@@ -1538,7 +1556,7 @@ std::vector<Warning> reference_model_warnings(bool law_in_range,
                                               const PeakFigures& reference) {
   std::vector<Warning> out;
   const bool reference_in_range = reference_reason.empty();
-  if (law_in_range && !reference_in_range) {
+  if (!reference_in_range) {
     out.push_back({WarningKind::kReferenceLinear,
                    "the uniform law's nonlinear figures (the reference of the reductions) are the "
                    "linear model's: " +

@@ -356,7 +356,7 @@ inline constexpr const char* kRankedOnLinearModel =
 /// The warnings on the uniform law of reference when a rectangular tank's nonlinear model does
 /// not hold for it or for the law (`*_in_range` false: its nonlinear figures are the linear
 /// model's; `reference_reason` says why for the uniform law): `reference_nonlinear_model_not_valid`
-/// when only the uniform law is out of range, and `reductions_on_linear_model`, naming both laws'
+/// when the uniform law is out of range, and `reductions_on_linear_model`, naming both laws'
 /// linear figures, when exactly one of them is (the reductions then compare those). Empty when
 /// both figures come from one model. On a line or along a path alike.
 [[nodiscard]] std::vector<Warning> reference_model_warnings(bool law_in_range,

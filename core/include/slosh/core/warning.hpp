@@ -72,4 +72,11 @@ struct Warning {
 /// True when one of `warnings` is of `kind`.
 [[nodiscard]] bool has_warning(const std::vector<Warning>& warnings, WarningKind kind);
 
+/// True when a plan with `warnings` compares its law with the uniform law on the linear model: a
+/// rectangular tank's nonlinear model holds for one of the two laws only
+/// (`reductions_on_linear_model`) or for neither (`nonlinear_model_not_valid` and
+/// `reference_nonlinear_model_not_valid`), so both laws' nonlinear figures are not the
+/// nonlinear model's.
+[[nodiscard]] bool compares_on_linear_model(const std::vector<Warning>& warnings);
+
 }  // namespace slosh
