@@ -6,7 +6,6 @@
 #include <cmath>
 #include <cstdlib>
 #include <limits>
-#include <numbers>
 #include <sstream>
 #include <utility>
 #include <vector>
@@ -15,6 +14,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/exact_number.hpp"
+#include "slosh/core/constants.hpp"
 
 namespace slosh::api {
 
@@ -91,7 +91,6 @@ double pct_of(double fraction) {
 }
 
 double deg_of(double radians) {
-  constexpr double kRadPerDeg{std::numbers::pi / 180.0};
   return shortest_decimal(radians / kRadPerDeg, radians, kRadPerDeg);
 }
 

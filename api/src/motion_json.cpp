@@ -11,6 +11,7 @@
 #include "slosh/api/export_request.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/core/constants.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 
 namespace slosh::api {
@@ -19,7 +20,6 @@ namespace {
 
 using json = nlohmann::json;
 
-constexpr double kRadPerDeg{std::numbers::pi / 180.0};
 // Bound on the relative rounding of a path's length summed over its segments (at most
 // kMaxPathSegments terms, each rounding by 2^-53).
 constexpr double kPathLengthRounding{1e-11};

@@ -3,16 +3,14 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
-#include <numbers>
 #include <vector>
 
+#include "slosh/core/constants.hpp"
 #include "slosh/core/response/planar_response.hpp"
 
 namespace slosh::api {
 
 namespace {
-
-constexpr double kDegPerRad{180.0 / std::numbers::pi};
 
 struct Columns {
   std::vector<double> t, x, y, theta, a_h, eta_lin, eta_non, dir_lin, dir_non, s, v, a;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <numbers>
 #include <optional>
 #include <string>
 #include <vector>
@@ -27,8 +26,6 @@
 namespace slosh::api {
 
 namespace {
-
-constexpr double kDegPerRad{180.0 / std::numbers::pi};
 
 // Both models hold the liquid on the bottom under the effective gravity g + a_z: a trajectory
 // that accelerates downward at g or more (a delta robot's fast descent) is outside both, refused

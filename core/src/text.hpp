@@ -2,6 +2,7 @@
 // Number formatting for the human messages of the core (internal).
 
 #include <cstdio>
+#include <sstream>
 #include <string>
 
 namespace slosh::detail {
@@ -18,6 +19,15 @@ inline std::string significant(double v, int digits) {
   char buf[64];
   std::snprintf(buf, sizeof buf, "%.*g", digits, v);
   return buf;
+}
+
+/// v as an ostream prints it with 10 significant digits ("0.1", "1e-12"): input echoed in an
+/// error message, close enough to what was sent to be recognised.
+inline std::string precise(double v) {
+  std::ostringstream out;
+  out.precision(10);
+  out << v;
+  return out.str();
 }
 
 /// v with 3 significant digits ("7.93", "0.0123").

@@ -1,11 +1,11 @@
 #include "export/path_cam_export.hpp"
 
 #include <cmath>
-#include <numbers>
 #include <optional>
 #include <vector>
 
 #include "slosh/api/fields.hpp"
+#include "slosh/core/constants.hpp"
 #include "slosh/core/law/path_cam_table.hpp"
 
 namespace slosh::service {
@@ -13,7 +13,6 @@ namespace slosh::service {
 namespace {
 
 constexpr double kMmPerM = 1e3;
-constexpr double kDegPerRad = 180.0 / std::numbers::pi;
 
 // A distance along the path in mm: the path's end as the request gave it (api::mm_of).
 double s_mm(double s, double length) {

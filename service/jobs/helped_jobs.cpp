@@ -11,7 +11,7 @@ namespace slosh::service {
 namespace {
 
 /// The consumer group of the helpers.
-constexpr const char* kGroup = "helpers";
+constexpr const char* kHelpersGroup = "helpers";
 /// Items written to the stream in one round trip.
 constexpr std::size_t kChunk = 500;
 /// Entries read back at a time when a job is adopted.
@@ -94,7 +94,7 @@ bool HelpedJobs::publish(const JobStatus& status, const std::vector<RecipeRow>& 
            {"HSET", key(id, "help"), "owner", replica_, "front", std::to_string(front)},
            {"PEXPIRE", key(id, "help"), ttl_ms_},
            {"SET", key(id, "owner"), replica_, "PX", ttl_ms_},
-           {"XGROUP", "CREATE", stream, kGroup, "0", "MKSTREAM"},
+           {"XGROUP", "CREATE", stream, kHelpersGroup, "0", "MKSTREAM"},
            {"PEXPIRE", stream, ttl_ms_}}))) {
     return false;
   }
@@ -233,7 +233,7 @@ std::vector<HelpedJobs::Helped> HelpedJobs::jobs() {
 std::vector<SharedItem> HelpedJobs::take(const std::string& id, std::size_t n) {
   // NOACK: an item a helper took and never solved costs nothing (the owner solves every item).
   const auto read =
-      client_->command({"XREADGROUP", "GROUP", kGroup, replica_, "COUNT", std::to_string(n),
+      client_->command({"XREADGROUP", "GROUP", kHelpersGroup, replica_, "COUNT", std::to_string(n),
                         "NOACK", "STREAMS", key(id, "items"), ">"});
   if (!read || read->type != RedisReply::Type::kArray || read->elements.empty() ||
       read->elements[0].elements.size() != 2) {

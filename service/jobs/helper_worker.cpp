@@ -7,6 +7,7 @@
 
 #include "jobs/batch_job_record.hpp"
 #include "jobs/job_messages.hpp"
+#include "jobs/worker_pace.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/service_bodies.hpp"
@@ -17,15 +18,9 @@ namespace {
 
 /// How often the helper looks at the helped jobs (and their owners' heartbeats).
 constexpr std::chrono::milliseconds kLook{500};
-/// How long an idle helper waits before it looks for items again.
-constexpr std::chrono::milliseconds kIdlePoll{100};
-/// How long a busy helper waits for its oldest item.
-constexpr std::chrono::milliseconds kItemWait{20};
 /// The shortest adoption lock: two heartbeats of the runner (batch_job_runner.cpp), so that the
 /// replica that won it has beaten before another may try.
 constexpr std::chrono::milliseconds kAdoptLockFloor{1000};
-/// How often a replica whose name another live replica uses says so in its log.
-constexpr std::chrono::seconds kNameWarnEvery{60};
 
 }  // namespace
 

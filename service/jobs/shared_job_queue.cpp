@@ -15,7 +15,7 @@ namespace slosh::service {
 namespace {
 
 /// The consumer group of every job's stream.
-constexpr const char* kGroup = "workers";
+constexpr const char* kWorkersGroup = "workers";
 
 /// Items written to the stream in one round trip when a job is published.
 constexpr std::size_t kPublishChunk = 500;
@@ -123,11 +123,12 @@ std::optional<std::string> SharedJobQueue::publish(const JobStatus& status,
                                 "created_ms", std::to_string(status.created_ms),
                                 "max_bytes",  std::to_string(options_.max_bytes)};
   if (status.view) spec.insert(spec.end(), {"view", *status.view});
-  if (failed(client_->pipeline({{"DEL", key(id, "items"), key(id, "final")},
-                                spec,
-                                {"PEXPIRE", key(id, "spec"), ttl},
-                                {"XGROUP", "CREATE", key(id, "items"), kGroup, "0", "MKSTREAM"},
-                                {"PEXPIRE", key(id, "items"), ttl}}))) {
+  if (failed(
+          client_->pipeline({{"DEL", key(id, "items"), key(id, "final")},
+                             spec,
+                             {"PEXPIRE", key(id, "spec"), ttl},
+                             {"XGROUP", "CREATE", key(id, "items"), kWorkersGroup, "0", "MKSTREAM"},
+                             {"PEXPIRE", key(id, "items"), ttl}}))) {
     return unavailable +
            (client_->state().error.empty() ? "it refused the job" : client_->state().error);
   }
@@ -184,7 +185,7 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
   std::vector<SharedItem> out;
   if (lost_.count(id) != 0) out = take_lost(id, n, held);
   if (out.size() < n) {
-    const auto claimed = client_->command({"XAUTOCLAIM", stream, kGroup, options_.replica,
+    const auto claimed = client_->command({"XAUTOCLAIM", stream, kWorkersGroup, options_.replica,
                                            std::to_string(options_.claim_idle.count()), "0-0",
                                            "COUNT", std::to_string(n - out.size())});
     if (!claimed) lost_.insert(id);  // it may have claimed entries all the same
@@ -195,8 +196,9 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
     }
   }
   if (out.size() < n) {
-    const auto read = client_->command({"XREADGROUP", "GROUP", kGroup, options_.replica, "COUNT",
-                                        std::to_string(n - out.size()), "STREAMS", stream, ">"});
+    const auto read =
+        client_->command({"XREADGROUP", "GROUP", kWorkersGroup, options_.replica, "COUNT",
+                          std::to_string(n - out.size()), "STREAMS", stream, ">"});
     if (!read) lost_.insert(id);  // Redis may have handed entries out with the lost reply
     // [[stream, [entries]]], nil when there are none.
     if (read && read->type == RedisReply::Type::kArray && !read->elements.empty() &&
@@ -216,10 +218,10 @@ std::vector<SharedItem> SharedJobQueue::take(const std::string& id, std::size_t 
 std::vector<SharedItem> SharedJobQueue::take_lost(const std::string& id, std::size_t n,
                                                   const std::set<std::string>& held) {
   // XPENDING of this consumer: [[entry, consumer, idle ms, deliveries], ...].
-  const auto pending =
-      client_->command({"XPENDING", key(id, "items"), kGroup, "-", "+", "1000", options_.replica});
+  const auto pending = client_->command(
+      {"XPENDING", key(id, "items"), kWorkersGroup, "-", "+", "1000", options_.replica});
   if (!pending || pending->type != RedisReply::Type::kArray) return {};
-  std::vector<std::string> claim{"XCLAIM", key(id, "items"), kGroup, options_.replica, "0"};
+  std::vector<std::string> claim{"XCLAIM", key(id, "items"), kWorkersGroup, options_.replica, "0"};
   for (const RedisReply& p : pending->elements) {
     if (claim.size() - 5 >= n) break;
     if (!p.elements.empty() && held.count(p.elements[0].text) == 0) {
@@ -241,7 +243,7 @@ void SharedJobQueue::count_takes(const std::string& id, std::vector<SharedItem>&
   // XPENDING of one entry: [[id, consumer, idle ms, deliveries]]. XAUTOCLAIM counted this take.
   std::vector<std::vector<std::string>> asks;
   for (const SharedItem& item : items) {
-    asks.push_back({"XPENDING", key(id, "items"), kGroup, item.entry, item.entry, "1"});
+    asks.push_back({"XPENDING", key(id, "items"), kWorkersGroup, item.entry, item.entry, "1"});
   }
   const auto replies = client_->pipeline(asks);
   if (!replies) return;
@@ -258,7 +260,7 @@ void SharedJobQueue::count_takes(const std::string& id, std::vector<SharedItem>&
 void SharedJobQueue::keep(const std::string& id, const std::vector<std::string>& entries) {
   if (entries.empty()) return;
   // XCLAIM by the holder itself resets the entries' idle time: nobody takes them over.
-  std::vector<std::string> claim{"XCLAIM", key(id, "items"), kGroup, options_.replica, "0"};
+  std::vector<std::string> claim{"XCLAIM", key(id, "items"), kWorkersGroup, options_.replica, "0"};
   claim.insert(claim.end(), entries.begin(), entries.end());
   claim.emplace_back("JUSTID");
   (void)client_->command(claim);

@@ -9,6 +9,7 @@
 
 #include "jobs/job_messages.hpp"
 #include "jobs/plan_table.hpp"
+#include "jobs/worker_pace.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/job_record.hpp"
 #include "slosh/api/plan_table_row.hpp"
@@ -21,12 +22,6 @@ namespace {
 
 /// How often the worker rewrites the shared jobs' records and renews its items (the heartbeat).
 constexpr std::chrono::milliseconds kHeartbeat{500};
-/// How long an idle worker waits before it looks for items again.
-constexpr std::chrono::milliseconds kIdlePoll{100};
-/// How long a busy worker waits for its oldest item before it looks at the others again.
-constexpr std::chrono::milliseconds kItemWait{20};
-/// How often a replica whose name another live replica uses says so in its log.
-constexpr std::chrono::seconds kNameWarnEvery{60};
 
 }  // namespace
 

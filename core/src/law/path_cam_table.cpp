@@ -3,8 +3,9 @@
 #include <array>
 #include <cstdio>
 #include <cstdlib>
-#include <numbers>
 #include <stdexcept>
+
+#include "slosh/core/constants.hpp"
 
 namespace slosh {
 
@@ -27,7 +28,6 @@ std::optional<double> table_rotation_deg(const PlanarPath& path) {
   // The degrees the angle was given in: the shortest decimal whose conversion deg * pi / 180 (the
   // request's) gives the radians back, so -120 deg ends the table at -120, not at
   // -119.99999999999999 (radians * 180 / pi).
-  constexpr double kRadPerDeg{std::numbers::pi / 180.0};
   const double radians = e.front().angle;
   const double degrees = radians / kRadPerDeg;
   for (int digits = 1; digits <= 17; ++digits) {

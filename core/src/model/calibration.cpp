@@ -8,6 +8,7 @@
 
 #include "model/calibration_response.hpp"
 #include "solve/least_squares.hpp"
+#include "text.hpp"
 
 namespace slosh {
 
@@ -86,12 +87,6 @@ double rms(const std::vector<double>& r, std::size_t begin, std::size_t end) {
   double s = 0.0;
   for (std::size_t k = begin; k < end; ++k) s += r[k] * r[k];
   return std::sqrt(s / static_cast<double>(end - begin));
-}
-
-std::string sig3(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.3g", v);
-  return buf;
 }
 
 }  // namespace
@@ -236,13 +231,14 @@ std::optional<std::size_t> unidentifiable(const Problem& pb, const std::vector<s
     names += (count++ == 0 ? "" : " and ") + column_name(pb, cols[static_cast<std::size_t>(k)]);
   }
   const std::size_t held = cols[static_cast<std::size_t>(worst)];
-  *sentence = (count > 1 ? names + " cannot be separated by these moves"
-                         : names + " is not determined by these moves") +
-              (singular ? " (J^T J is singular in that direction)"
-                        : " (standard deviation " + sig3(100.0 * sd) + " % of its bound box)") +
-              ": " + column_name(pb, held) + " is held at its prior " +
-              sig3(held < kP ? pb.prior[held] : pb.offset_init[pb.offset_move[held - kP]]) +
-              "; add moves that excite it (faster or larger moves, a measured series)";
+  *sentence =
+      (count > 1 ? names + " cannot be separated by these moves"
+                 : names + " is not determined by these moves") +
+      (singular ? " (J^T J is singular in that direction)"
+                : " (standard deviation " + detail::sig3(100.0 * sd) + " % of its bound box)") +
+      ": " + column_name(pb, held) + " is held at its prior " +
+      detail::sig3(held < kP ? pb.prior[held] : pb.offset_init[pb.offset_move[held - kP]]) +
+      "; add moves that excite it (faster or larger moves, a measured series)";
   return held;
 }
 

@@ -8,6 +8,7 @@
 
 #include "response/sincos.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
+#include "text.hpp"
 
 namespace slosh {
 
@@ -29,13 +30,6 @@ std::string degrees(double rad) {
   return out.str();
 }
 
-std::string number(double v) {
-  std::ostringstream out;
-  out.precision(10);
-  out << v;
-  return out.str();
-}
-
 /// a - b wrapped to (-pi, pi].
 double angle_difference(double a, double b) {
   double d = std::remainder(a - b, 2.0 * std::numbers::pi);
@@ -47,13 +41,13 @@ void check_element(const PathElement& e, std::size_t i) {
   const std::string name = element_name(i);
   if (e.kind == PathElement::Kind::kLine) {
     if (!(std::isfinite(e.length) && e.length > 0.0)) {
-      throw InvalidMotion(
-          name, name + ": a line's length " + number(e.length) + " m must be finite and > 0 m");
+      throw InvalidMotion(name, name + ": a line's length " + detail::precise(e.length) +
+                                    " m must be finite and > 0 m");
     }
   } else {
     if (!(std::isfinite(e.radius) && e.radius > 0.0)) {
-      throw InvalidMotion(
-          name, name + ": an arc's radius " + number(e.radius) + " m must be finite and > 0 m");
+      throw InvalidMotion(name, name + ": an arc's radius " + detail::precise(e.radius) +
+                                    " m must be finite and > 0 m");
     }
     if (!std::isfinite(e.angle) || e.angle == 0.0) {
       throw InvalidMotion(

@@ -4,11 +4,11 @@
 #include <charconv>
 #include <cmath>
 #include <numbers>
-#include <sstream>
 #include <string_view>
 
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/sample_smoothing.hpp"
+#include "text.hpp"
 
 namespace slosh {
 
@@ -24,13 +24,6 @@ constexpr double kQuaternionNormTolerance{1e-3};
 constexpr double kTiltTolerance{1e-3};
 /// UTF-8's byte order mark, which spreadsheets put before a CSV's header.
 constexpr std::string_view kByteOrderMark{"\xEF\xBB\xBF"};
-
-std::string number(double v) {
-  std::ostringstream out;
-  out.precision(10);
-  out << v;
-  return out.str();
-}
 
 std::string indexed(const char* name, std::size_t i) {
   return std::string(name) + "[" + std::to_string(i) + "]";
@@ -126,16 +119,18 @@ SampledTrajectory::SampledTrajectory(TrajectorySamples samples) : samples_(std::
     }
     for (std::size_t i = 0; i < n; ++i) {
       if (!std::isfinite((*column)[i])) {
-        throw InvalidMotion(indexed(name, i),
-                            indexed(name, i) + " = " + number((*column)[i]) + " must be finite");
+        throw InvalidMotion(
+            indexed(name, i),
+            indexed(name, i) + " = " + detail::precise((*column)[i]) + " must be finite");
       }
     }
   }
   for (std::size_t i = 1; i < n; ++i) {
     if (!(samples_.t[i] > samples_.t[i - 1])) {
-      throw InvalidMotion(indexed("t", i), indexed("t", i) + " = " + number(samples_.t[i]) +
+      throw InvalidMotion(indexed("t", i), indexed("t", i) + " = " +
+                                               detail::precise(samples_.t[i]) +
                                                " s must be greater than " + indexed("t", i - 1) +
-                                               " = " + number(samples_.t[i - 1]) +
+                                               " = " + detail::precise(samples_.t[i - 1]) +
                                                " s (times strictly increasing)");
     }
   }
@@ -166,20 +161,21 @@ void SampledTrajectory::check_sampling(double omega1) const {
     const double period = 2.0 * std::numbers::pi / omega1,
                  shortest = kMinStepPerFirstPeriod * period;
     if (gap < shortest) {
-      throw InvalidMotion(indexed("t", i), indexed("t", i) + ": samples " + std::to_string(i - 1) +
-                                               " and " + std::to_string(i) + " are " + number(gap) +
-                                               " s apart; the time step must be at least " +
-                                               number(shortest) +
-                                               " s (1e-9 of the first sloshing mode's period " +
-                                               number(period) + " s)");
+      throw InvalidMotion(
+          indexed("t", i),
+          indexed("t", i) + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) +
+              " are " + detail::precise(gap) + " s apart; the time step must be at least " +
+              detail::precise(shortest) + " s (1e-9 of the first sloshing mode's period " +
+              detail::precise(period) + " s)");
     }
     if (gap > spacing) {
       throw InvalidMotion(
           indexed("t", i),
           indexed("t", i) + ": samples " + std::to_string(i - 1) + " and " + std::to_string(i) +
-              " are " + number(gap) + " s apart; the first sloshing mode (" +
-              number(omega1 / (2.0 * std::numbers::pi)) + " Hz) needs at least " + number(rate) +
-              " samples per second (a spacing of at most " + number(spacing) + " s)");
+              " are " + detail::precise(gap) + " s apart; the first sloshing mode (" +
+              detail::precise(omega1 / (2.0 * std::numbers::pi)) + " Hz) needs at least " +
+              detail::precise(rate) + " samples per second (a spacing of at most " +
+              detail::precise(spacing) + " s)");
     }
   }
 }
@@ -262,12 +258,13 @@ TrajectorySamples read_pose_csv(std::istream& in, const std::string& source) {
     }
     const double norm = std::sqrt(f[4] * f[4] + f[5] * f[5] + f[6] * f[6] + f[7] * f[7]);
     if (!(std::abs(norm - 1.0) <= kQuaternionNormTolerance)) {
-      fail("the quaternion's norm " + number(norm) +
+      fail("the quaternion's norm " + detail::precise(norm) +
            " must be 1 (allowed 0.999 to 1.001; it is then normalised)");
     }
     const double qx = f[4] / norm, qy = f[5] / norm, qz = f[6] / norm, qw = f[7] / norm;
     if (std::abs(qx) > kTiltTolerance || std::abs(qy) > kTiltTolerance) {
-      fail("the orientation tilts the container (qx = " + number(qx) + ", qy = " + number(qy) +
+      fail("the orientation tilts the container (qx = " + detail::precise(qx) +
+           ", qy = " + detail::precise(qy) +
            "); only rotations about the vertical axis are modelled (allowed |qx|, |qy| <= "
            "0.001, a tilt of at most 0.16 deg)");
     }

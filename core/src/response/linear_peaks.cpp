@@ -25,6 +25,7 @@
 #include <memory>
 #include <vector>
 
+#include "plain_complex.hpp"
 #include "sincos.hpp"
 #include "slosh/core/constants.hpp"
 #include "slosh/core/response/response.hpp"
@@ -52,21 +53,6 @@ constexpr int kMaxNewtonSteps{60};
 /// as much as a sample; stopping up to this many samples late costs little).
 constexpr std::size_t kBoundStride{8};
 
-struct Complex {
-  double re{}, im{};
-};
-
-Complex mul(Complex a, Complex b) {
-  return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
-}
-
-/// exp((-sigma + i wd) tau).
-Complex decay_rotation(double sigma, double wd, double tau) {
-  const double e = std::exp(-sigma * tau);
-  const detail::SinCos sc = detail::fast_sincos(wd * tau);
-  return {e * sc.cos, e * sc.sin};
-}
-
 /// eta and its first two time derivatives at one instant.
 struct EtaJet {
   double eta{}, d1{}, d2{};
@@ -90,10 +76,11 @@ EtaJet mode_jet(const LinearModePiece& p, double tau) {
     j.d2 += -W * W * a + 2.0 * du - tau * W * W * u;
   }
   // Homogeneous part Re(Z e^{lambda tau}), Z = c1 - i c2.
-  const Complex lambda{-p.sigma, p.wd};
-  const Complex z = mul({p.c1, -p.c2}, decay_rotation(p.sigma, p.wd, tau));
-  const Complex dz = mul(lambda, z);
-  const Complex d2z = mul(lambda, dz);
+  const detail::Complex lambda{-p.sigma, p.wd};
+  const detail::Complex z =
+      detail::Complex{p.c1, -p.c2} * detail::decay_rotation(p.sigma, p.wd, tau);
+  const detail::Complex dz = lambda * z;
+  const detail::Complex d2z = lambda * dz;
   j.eta += z.re;
   j.d1 += dz.re;
   j.d2 += d2z.re;
@@ -133,7 +120,7 @@ using LaneBits = long long __attribute__((vector_size(8 * kScanLanes)));
   __builtin_memcpy(a.data(), &v, sizeof v);
 }
 
-/// One more step of every mode's rotation: z <- z exp(lambda h) (mul()'s operations).
+/// One more step of every mode's rotation: z <- z exp(lambda h) (the complex product's operations).
 SLOSH_LANE_CLONES void rotate_lanes(ScanLanes& s, std::size_t modes) {
   for (std::size_t m = 0; m < modes; ++m) {
     const LaneVector zr = load(s.zre[m]), zi = load(s.zim[m]);
@@ -293,8 +280,8 @@ class LinearPeakScan {
   /// costs one cubic, one harmonic rotation and one rotation per mode.
   struct PieceSum {
     double r0{}, r1{}, r2{}, r3{}, P{}, Q{}, U{}, V{};
-    bool harmonic{}, free{};  // free: no forcing on the piece (the energy bound applies)
-    Complex hz{}, hstep{};    // exp(i W tau) at the current sample, exp(i W h)
+    bool harmonic{}, free{};        // free: no forcing on the piece (the energy bound applies)
+    detail::Complex hz{}, hstep{};  // exp(i W tau) at the current sample, exp(i W h)
   };
 
   /// PieceSum of the M modes c[0..M) (the summation order is the samplers' own), with the
@@ -302,7 +289,7 @@ class LinearPeakScan {
   /// form. Inlined into the samplers so their registers and code stay what they were.
   template <std::size_t M>
   [[gnu::always_inline]] PieceSum piece_sum(const LinearModePiece* c, double tau0, double h,
-                                            std::array<Complex, M>& z) const {
+                                            std::array<detail::Complex, M>& z) const {
     PieceSum q;
     const double W = c[0].W;
     for (std::size_t m = 0; m < M; ++m) {
@@ -319,8 +306,8 @@ class LinearPeakScan {
     q.harmonic = W != 0.0;
     q.free = !q.harmonic && q.r0 == 0.0 && q.r1 == 0.0 && q.r2 == 0.0 && q.r3 == 0.0;
     for (std::size_t m = 0; m < M; ++m) {
-      const Complex rot = decay_rotation(c[m].sigma, c[m].wd, tau0);
-      z[m] = mul({gains_[m] * c[m].c1, -gains_[m] * c[m].c2}, rot);
+      const detail::Complex rot = detail::decay_rotation(c[m].sigma, c[m].wd, tau0);
+      z[m] = detail::Complex{gains_[m] * c[m].c1, -gains_[m] * c[m].c2} * rot;
     }
     if (q.harmonic) {
       const SinCos s0 = fast_sincos(W * tau0);
@@ -334,11 +321,12 @@ class LinearPeakScan {
   /// Rotation of every mode over one step, and the modes' natural frequencies |lambda_m| (the
   /// energy bound's scale): the same on every piece, so computed once per window.
   template <std::size_t M>
-  [[gnu::always_inline]] void step_rotations(double h, std::array<Complex, M>& step_rotation,
+  [[gnu::always_inline]] void step_rotations(double h,
+                                             std::array<detail::Complex, M>& step_rotation,
                                              std::array<double, M>& omega) const {
     for (std::size_t m = 0; m < M; ++m) {
       const LinearModePiece& p = coef_[m];
-      step_rotation[m] = decay_rotation(p.sigma, p.wd, h);
+      step_rotation[m] = detail::decay_rotation(p.sigma, p.wd, h);
       omega[m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
     }
   }
@@ -347,7 +335,7 @@ class LinearPeakScan {
   std::size_t sample_modes(double a, double b, double h, std::size_t n, bool rest,
                            std::vector<double>& values) const {
     auto t_of = [&](std::size_t i) { return i == n ? b : a + h * static_cast<double>(i); };
-    std::array<Complex, M> step_rotation{}, z{};
+    std::array<detail::Complex, M> step_rotation{}, z{};
     std::array<double, M> omega{};
     step_rotations<M>(h, step_rotation, omega);
     std::size_t i = 0;
@@ -376,7 +364,7 @@ class LinearPeakScan {
           e = q.r0 + tau * (q.r1 + tau * (q.r2 + tau * q.r3));
           if (q.harmonic) {
             e += q.P * q.hz.re + q.Q * q.hz.im + tau * (q.U * q.hz.re + q.V * q.hz.im);
-            q.hz = mul(q.hz, q.hstep);
+            q.hz = q.hz * q.hstep;
           }
         }
         for (std::size_t m = 0; m < M; ++m) e += z[m].re;
@@ -391,7 +379,7 @@ class LinearPeakScan {
             return i;
           }
         }
-        for (std::size_t m = 0; m < M; ++m) z[m] = mul(z[m], step_rotation[m]);
+        for (std::size_t m = 0; m < M; ++m) z[m] = z[m] * step_rotation[m];
       }
     }
     return n;
@@ -433,7 +421,7 @@ class LinearPeakScan {
   template <std::size_t M>
   void load_piece(const LinearModePiece* c, double tau0, double h, ScanLanes& s,
                   std::size_t l) const {
-    std::array<Complex, M> z{};
+    std::array<detail::Complex, M> z{};
     const PieceSum q = piece_sum<M>(c, tau0, h, z);
     s.r0[l] = q.r0;
     s.r1[l] = q.r1;
@@ -513,7 +501,7 @@ class LinearPeakScan {
     for (std::size_t l = 0; l < lanes; ++l) {
       for (std::size_t m = 0; m < modes; ++m) {
         const LinearModePiece& p = scans[l]->coef_[m];
-        const Complex r = decay_rotation(p.sigma, p.wd, h);
+        const detail::Complex r = detail::decay_rotation(p.sigma, p.wd, h);
         s.sre[m][l] = r.re;
         s.sim[m][l] = r.im;
         omega[l][m] = std::sqrt(p.sigma * p.sigma + p.wd * p.wd);
@@ -583,7 +571,7 @@ class LinearPeakScan {
   /// B(t) = sum_m |g_m| sqrt(x_m^2 + (x_m' / w_m)^2) on a free piece, from the rotations
   /// z_m = g_m Z_m exp(lambda_m tau) (so g_m x_m = Re z_m, g_m x_m' = Re(lambda_m z_m)).
   template <std::size_t M>
-  [[nodiscard]] static double energy_bound(const std::array<Complex, M>& z,
+  [[nodiscard]] static double energy_bound(const std::array<detail::Complex, M>& z,
                                            const LinearModePiece* c,
                                            const std::array<double, M>& omega) {
     double bound = 0.0;

@@ -42,13 +42,6 @@ constexpr std::size_t kLanes{12};
 constexpr std::size_t kNarrowLanes{8};
 constexpr std::size_t kNarrowestLanes{4};
 
-/// Largest |xbar| the fast path answers for [-] (as nonlinear_peaks: beyond it the lane is
-/// answered by nonlinear_peaks' fine fallback grid).
-constexpr double kModelRange{1.0};
-
-/// Relative margin of the rest window's stopping test (as nonlinear_peaks).
-constexpr double kEnergyStopMargin{1e-6};
-
 template <std::size_t N>
 using LaneArray = std::array<double, N>;
 
@@ -291,7 +284,7 @@ void store_lanes(const std::vector<SloshingModel>& models, std::size_t first, co
     const LaneCursor& c = cur[l];
     const double top = std::max(c.peaks.motion.value, c.peaks.rest.value);
     if (c.fallback || !std::isfinite(s.x[l]) || !std::isfinite(s.v[l]) ||
-        !(top <= kModelRange * c.K)) {
+        !(top <= detail::kModelRange * c.K)) {
       out[first + l] = nonlinear_peaks(models[first + l], law, rest_time, options);
     } else {
       out[first + l] = c.peaks;
@@ -346,8 +339,9 @@ void run_lanes(const std::vector<SloshingModel>& models, std::size_t first, cons
       s.x[l] = x;
       s.v[l] = v;
       s.f0[l] = s.f1[l];
-      if (c.in_rest && lane_free_motion_bound(s, l, c.K, x, v) * (1.0 + kEnergyStopMargin) <=
-                           c.peaks.rest.value) {
+      if (c.in_rest &&
+          lane_free_motion_bound(s, l, c.K, x, v) * (1.0 + detail::kEnergyStopMargin) <=
+              c.peaks.rest.value) {
         c.active = false;
         continue;
       }

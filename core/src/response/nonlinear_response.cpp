@@ -15,12 +15,20 @@ double nonlinear_acceleration(const SloshingModel& m, double x, double v, double
   return detail::nonlinear_rhs(m, x, v, a);
 }
 
+namespace detail {
+
+/// Where the rest window's integration stopped once its peak was proved found: the state after
+/// step j - 1 of the window's n steps of length h from t_begin.
+struct RestResume {
+  double x{}, v{}, f0{}, h{}, t_begin{};
+  std::size_t j{}, n{};
+};
+
+}  // namespace detail
+
 namespace {
 
-/// Relative margin of the rest window's stopping test: the bound is that of the exact solution
-/// from the integrated state, the integrated trajectory departs from it by far less (< 1e-7 of
-/// the peak), so a later integrated maximum cannot exceed the one found.
-constexpr double kEnergyStopMargin{1e-6};
+using detail::RestResume;
 
 /// The trajectory kept by NonlinearResponse (null for nonlinear_peaks).
 struct Keep {
@@ -28,13 +36,6 @@ struct Keep {
   std::vector<double>* h;
   std::vector<NonlinearResponse::StepPoly>* x_poly;
   std::vector<NonlinearResponse::StepPoly>* v_poly;
-};
-
-/// Where the rest window's integration stopped once its peak was proved found: the state after
-/// step j - 1 of the window's n steps of length h from t_begin.
-struct RestResume {
-  double x{}, v{}, f0{}, h{}, t_begin{};
-  std::size_t j{}, n{};
 };
 
 /// One classical RK4 step with the cubic Hermite interpolants of x (from x, v) and v (from v,
@@ -161,7 +162,7 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
       // Once the free motion cannot exceed the rest window's peak found, the window is done.
       if (in_rest && !rest_found && !rk4) {
         const double bound = free_motion_bound(K, w, c2, model.alpha, x, v);
-        if (bound * (1.0 + kEnergyStopMargin) <= peaks.rest.value) {
+        if (bound * (1.0 + detail::kEnergyStopMargin) <= peaks.rest.value) {
           rest_found = true;
           if (keep == nullptr) break;
           if (resume != nullptr) {
@@ -187,16 +188,13 @@ SloshPeaks integrate(const SloshingModel& model, const MotionLaw& law, double re
 /// of the period and the order-8 stages leave the region where the model is defined; the
 /// product's verdict there (a response, or "diverges") stays that of the fine low-order grid.
 constexpr double kDivergenceRetryStep{1e-3};
-/// Largest |xbar| the fast path answers for [-]: a fluid displacement of the container radius,
-/// far beyond the model's range (plans stay below 0.3).
-constexpr double kModelRange{1.0};
 constexpr double kDivergenceRetryStepsPerPeriod{100.0};
 
 SloshPeaks integrate_or_refine(const SloshingModel& model, const MotionLaw& law, double rest_time,
                                const NonlinearOptions& options, const Keep* keep, ModeState* last,
                                std::optional<RestResume>* resume = nullptr) {
   SloshPeaks p = integrate(model, law, rest_time, options, keep, last, false, resume);
-  if (std::max(p.motion.value, p.rest.value) <= kModelRange * model.K) return p;
+  if (std::max(p.motion.value, p.rest.value) <= detail::kModelRange * model.K) return p;
   NonlinearOptions fine = options;
   fine.max_step = std::min(options.max_step, kDivergenceRetryStep);
   fine.steps_per_period = std::max(options.steps_per_period, kDivergenceRetryStepsPerPeriod);

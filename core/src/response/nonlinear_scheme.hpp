@@ -135,6 +135,16 @@ inline constexpr std::array<std::array<double, kDopStages>, 4> kDopD{{
 /// Degree of the dense output in theta [-].
 inline constexpr std::size_t kDenseTerms{8};
 
+/// Largest |xbar| the fast paths answer for [-]: a fluid displacement of the container radius,
+/// far beyond the model's range (plans stay below 0.3). Beyond it nonlinear_peaks answers on its
+/// fine low-order grid, and the batch hands the lane to it.
+inline constexpr double kModelRange{1.0};
+
+/// Relative margin of the rest window's stopping test: the bound is that of the exact solution
+/// from the integrated state, the integrated trajectory departs from it by far less (< 1e-7 of
+/// the peak), so a later integrated maximum cannot exceed the one found.
+inline constexpr double kEnergyStopMargin{1e-6};
+
 /// A polynomial in the step fraction theta in [0, 1]: sum c_k theta^k.
 template <typename S>
 using DensePoly = std::array<S, kDenseTerms>;

@@ -15,6 +15,7 @@
 #include <numbers>
 #include <optional>
 
+#include "plain_complex.hpp"
 #include "response/planar_linear_exact.hpp"
 #include "response/planar_scheme.hpp"
 #include "response/planar_spin.hpp"
@@ -32,25 +33,6 @@ namespace slosh::detail {
 
 namespace {
 
-/// A complex number with plain arithmetic (std::complex's product checks for infinities and
-/// NaN on every call, which costs more than the product in the sampling loop).
-struct Complex {
-  double re{}, im{};
-  [[nodiscard]] double real() const { return re; }
-  [[nodiscard]] double imag() const { return im; }
-};
-Complex operator*(Complex a, Complex b) {
-  return {a.re * b.re - a.im * b.im, a.re * b.im + a.im * b.re};
-}
-Complex operator*(double a, Complex b) {
-  return {a * b.re, a * b.im};
-}
-/// exp((-sigma + i wd) tau) for lambda = (-sigma, wd).
-Complex exp_of(Complex lambda, double tau) {
-  const double e = std::exp(lambda.re * tau);
-  const SinCos sc = fast_sincos(lambda.im * tau);
-  return {e * sc.cos, e * sc.sin};
-}
 constexpr std::size_t kTerms{kFitTerms};
 using Coeffs = FitPoly;
 

@@ -3,11 +3,16 @@
 
 #include <array>
 #include <cstddef>
+#include <numbers>
 
 namespace slosh {
 
 /// Standard gravity [m/s^2] (SPEC §2).
 constexpr double kGravity{9.81};
+
+/// Radians per degree and degrees per radian: angles are radians inside, degrees at the edges.
+constexpr double kRadPerDeg{std::numbers::pi / 180.0};
+constexpr double kDegPerRad{180.0 / std::numbers::pi};
 
 /// Maximum number of radial sloshing modes the models carry.
 constexpr std::size_t kMaxModes{5};
