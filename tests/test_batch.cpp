@@ -107,15 +107,19 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "holds_from_pct",
                                             "holds_to_pct",
                                             "worst_eta_rest_mm",
+                                            "container_shape",
+                                            "length_mm",
+                                            "width_mm",
+                                            "orientation_deg",
                                             "motion_type",
                                             "arc_radius_mm",
                                             "arc_angle_deg",
                                             "container_turns",
                                             "path_length_mm",
                                             "warnings"};
-const std::set<std::string> kTextColumns{"recipe_id",   "status",  "key",         "strategy",
-                                         "law_type",    "message", "error_field", "version",
-                                         "motion_type", "warnings"};
+const std::set<std::string> kTextColumns{
+    "recipe_id",   "status",  "key",         "strategy", "law_type",       "message",
+    "error_field", "version", "motion_type", "warnings", "container_shape"};
 
 /// One row of a plan table by column name.
 struct OutRow {
@@ -834,16 +838,17 @@ TEST(BatchCsv, ContainerRefusalsNameTheColumnsAndTheRealConflict) {
       "fluid,stroke_mm,motion_time_s,strategy\n"
       "rect-radius,rectangular,40,,,0,50,water,200,1.0,baseline\n"
       "cyl-sides,cylinder,,120,80,0,50,water,200,1.0,baseline\n"
-      "cyl-turned,cylinder,40,,,30,50,water,200,1.0,baseline\n";
+      "cyl-turned,cylinder,40,,,30,50,water,200,1.0,baseline\n"
+      "both,,40,120,80,0,50,water,200,1.0,baseline\n";
   const RunResult r = run_slosh({"batch", "--cache", ""}, text);
   EXPECT_EQ(r.exit_code, 3) << r.err;
   const std::vector<OutRow> rows = read_plan_csv(r.out);
-  ASSERT_EQ(rows.size(), 3u) << r.out;
+  ASSERT_EQ(rows.size(), 4u) << r.out;
   EXPECT_EQ(rows[0].text("error_field"), "radius_mm");
   EXPECT_EQ(rows[0].text("message"),
             "radius_mm belongs to a cylinder: a container with container_shape = "
-            "\"rectangular\" has length_mm, width_mm and orientation_deg (leave shape out for a "
-            "cylinder)");
+            "\"rectangular\" has length_mm, width_mm and orientation_deg (leave container_shape "
+            "out for a cylinder)");
   EXPECT_EQ(rows[1].text("error_field"), "length_mm");
   EXPECT_EQ(rows[1].text("message"),
             "length_mm belongs to a rectangular container: give container_shape = "
@@ -852,6 +857,41 @@ TEST(BatchCsv, ContainerRefusalsNameTheColumnsAndTheRealConflict) {
   EXPECT_EQ(rows[2].text("message"),
             "orientation_deg belongs to a rectangular container: give container_shape = "
             "\"rectangular\" (the cylinder has radius_mm)");
+  // Both shapes in one row: the shape is named by its column, not as a JSON member.
+  EXPECT_EQ(rows[3].text("error_field"), "length_mm");
+  EXPECT_EQ(rows[3].text("message"),
+            "radius_mm and length_mm are both given: a container is a cylinder (radius_mm) or "
+            "rectangular (container_shape = \"rectangular\" with length_mm, width_mm and "
+            "orientation_deg), not both");
+}
+
+// A table of round and rectangular containers reads back which container each row planned, and
+// a tank's first frequency along each side: sqrt(g k tanh(k h)) / 2 pi with k = pi / side, the
+// rectangular tank's first mode written again here.
+TEST(BatchCsv, RowsSayWhichContainerTheyPlanned) {
+  const std::string text =
+      "recipe_id,container_shape,radius_mm,length_mm,width_mm,orientation_deg,fill_height_mm,"
+      "fluid,stroke_mm,motion_time_s,strategy\n"
+      "round,,48.5,,,,82,water,800,1.0,baseline\n"
+      "cup,rectangular,,120,80,30,50,water,200,1.0,baseline\n";
+  const RunResult r = run_slosh({"batch", "--cache", ""}, text);
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(r.out);
+  ASSERT_EQ(rows.size(), 2u) << r.out;
+  EXPECT_EQ(rows[0].text("container_shape"), "cylinder");
+  for (const char* empty : {"length_mm", "width_mm", "orientation_deg", "f1_length_hz"}) {
+    EXPECT_EQ(rows[0].text(empty), "") << empty;
+  }
+  EXPECT_EQ(rows[1].text("container_shape"), "rectangular");
+  EXPECT_EQ(rows[1].number("length_mm"), 120.0);
+  EXPECT_EQ(rows[1].number("width_mm"), 80.0);
+  EXPECT_EQ(rows[1].number("orientation_deg"), 30.0);
+  const auto first_mode_hz = [](double side, double fill) {
+    const double k = std::numbers::pi / side;
+    return std::sqrt(9.81 * k * std::tanh(k * fill)) / (2.0 * std::numbers::pi);
+  };
+  EXPECT_NEAR(rows[1].number("f1_length_hz"), first_mode_hz(0.12, 0.05), 1e-9);
+  EXPECT_NEAR(rows[1].number("f1_width_hz"), first_mode_hz(0.08, 0.05), 1e-9);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -1125,8 +1165,9 @@ TEST(BatchEndpoint, MixedItemsAnswerInRequestOrderWithPrefixedFields) {
                   {"field", "requests[1]"}}));
   EXPECT_EQ(out["results"][3]["error"]["field"], "requests[3].options.pnotch");
   EXPECT_EQ(out["results"][4]["error"]["field"], "requests[4].options.weights[1]");
+  // The message names the path as the field does, inside the batch.
   EXPECT_EQ(out["results"][4]["error"]["message"],
-            "options.weights[1] = -2 is out of range: allowed 0 to 1000000");
+            "requests[4].options.weights[1] = -2 is out of range: allowed 0 to 1000000");
   for (std::size_t i : {std::size_t{1}, std::size_t{3}, std::size_t{4}}) {
     EXPECT_FALSE(out["results"][i].contains("plan")) << i;
   }

@@ -417,6 +417,38 @@ TEST(OpenApiSchemas, RequestObjectsAreClosedAndListOnlyFieldsTheParserKnows) {
   }
 }
 
+// A request reads an optional member given null as absent; every closed (request) object's
+// optional typed members say so (nullable), and the parser agrees for each of them: null parses
+// to the same request as leaving the member out.
+TEST(OpenApiSchemas, OptionalRequestMembersAreNullableAsTheParserReadsThem) {
+  int closed = 0;
+  for (const auto& [name, s] : document().at("components").at("schemas").items()) {
+    if (s.value("additionalProperties", true) != false) continue;
+    ++closed;
+    const json required = s.value("required", json::array());
+    for (const auto& [key, property] : s.at("properties").items()) {
+      const bool optional = std::find(required.begin(), required.end(), key) == required.end();
+      if (!optional || !property.contains("type")) continue;
+      EXPECT_TRUE(property.value("nullable", false)) << name << "." << key;
+    }
+  }
+  EXPECT_GE(closed, 10);
+  // The rectangular container's orientation, the member the hostile pass found undocumented.
+  json cup = thesis_plan("notch");
+  cup["format"]["container"] = {{"shape", "rectangular"}, {"length_mm", 120}, {"width_mm", 80}};
+  json with_null = cup;
+  with_null["format"]["container"]["orientation_deg"] = nullptr;
+  EXPECT_EQ(canonical_recipe(parse_plan_request(with_null)),
+            canonical_recipe(parse_plan_request(cup)));
+  for (const auto& [key, property] : schema("PlanOptions")["properties"].items()) {
+    json body = thesis_plan("notch");
+    body["options"][key] = nullptr;
+    EXPECT_EQ(canonical_recipe(parse_plan_request(body)),
+              canonical_recipe(parse_plan_request(thesis_plan("notch"))))
+        << "options." << key;
+  }
+}
+
 // Every numeric bound of the plan options, probed through the parser: at the bound the value is
 // accepted unless the bound is exclusive; just beyond it is rejected naming the field.
 TEST(OpenApiSchemas, PlanOptionBoundsAreThoseTheParserEnforces) {

@@ -73,17 +73,17 @@ TEST(RectangularApi, RefusalsNameTheMemberTheValueAndTheRange) {
   both["radius_mm"] = 40;
   expect_refusal(with_container(both), "format.container.radius_mm",
                  "format.container.radius_mm and format.container.length_mm are both given: a "
-                 "container is a cylinder (radius_mm) or rectangular (\"shape\": \"rectangular\", "
-                 "length_mm, width_mm, orientation_deg), not both");
+                 "container is a cylinder (radius_mm) or rectangular (format.container.shape = "
+                 "\"rectangular\" with length_mm, width_mm and orientation_deg), not both");
   expect_refusal(with_container({{"radius_mm", 40}, {"width_mm", 80}}), "format.container.width_mm",
                  "format.container.radius_mm and format.container.width_mm are both given: a "
-                 "container is a cylinder (radius_mm) or rectangular (\"shape\": \"rectangular\", "
-                 "length_mm, width_mm, orientation_deg), not both");
+                 "container is a cylinder (radius_mm) or rectangular (format.container.shape = "
+                 "\"rectangular\" with length_mm, width_mm and orientation_deg), not both");
   expect_refusal(with_container({{"shape", "rectangular"}, {"radius_mm", 40}}),
                  "format.container.radius_mm",
                  "format.container.radius_mm belongs to a cylinder: a container with "
                  "format.container.shape = \"rectangular\" has length_mm, width_mm and "
-                 "orientation_deg (leave shape out for a cylinder)");
+                 "orientation_deg (leave format.container.shape out for a cylinder)");
   json oval = c;
   oval["shape"] = "oval";
   expect_refusal(with_container(oval), "format.container.shape",

@@ -858,6 +858,30 @@ TEST(RectangularPlan, MinTimeFindsMultiNotchOnTheReadmeCupWithinTheDefaultBudget
   ASSERT_TRUE(r.plan);
   EXPECT_LE(r.plan->prediction.nonlinear.motion.value, 0.015 * (1 + 1e-6));
   EXPECT_LE(r.plan->prediction.nonlinear.rest.value, 0.003 * (1 + 1e-6));
+  // The nonlinear model holds for that plan: the message names it alone.
+  EXPECT_FALSE(has_warning(r.plan->warnings, WarningKind::kNonlinearModelNotValid));
+  EXPECT_EQ(r.message.find("does not hold"), std::string::npos) << r.message;
+}
+
+// A shallow cup, its fill 0.2 of its length, below the 0.24 the nonlinear model needs: the plan
+// at T_min has no nonlinear figures of its own, its linear ones stand in for them, and the
+// message says so instead of naming the nonlinear model alone.
+TEST(RectangularPlan, MinTimeSaysWhenTheLinearFiguresStoodInAtTMin) {
+  Format f = cup(200, 80, 0.0, 40.0);
+  f.container.height = 0.1;
+  MinTimeOptions o;
+  o.plan = quick_options();
+  o.motion_time_max = 3.0;
+  const MinTimeResult r = min_time(f, Strategy::kMultiNotch, o);
+  ASSERT_TRUE(r.t_min) << r.message;
+  ASSERT_TRUE(r.plan);
+  ASSERT_TRUE(has_warning(r.plan->warnings, WarningKind::kNonlinearModelNotValid));
+  EXPECT_EQ(r.plan->prediction.nonlinear.rest.value, r.plan->prediction.linear.rest.value);
+  EXPECT_NE(r.message.find("; the nonlinear model does not hold for the plan at T_min, so its "
+                           "linear figures stood in for the nonlinear ones there "
+                           "(nonlinear_model_not_valid)"),
+            std::string::npos)
+      << r.message;
 }
 
 }  // namespace test_rectangular_plan

@@ -117,6 +117,38 @@ TEST(BatchReplyWriter, ItemsInOrderErrorsWithTheirItemPathAndTheSizeLimit) {
   }
 }
 
+// An item's message names the request paths inside the batch as its field does, each of them
+// (a refusal may name two members), and only whole paths; the CLI reads back the row's own.
+TEST(BatchReplyWriter, MessagesNameThePathsInsideTheBatchAndReadBackAsTheRowsOwn) {
+  const std::string both =
+      "format.container.radius_mm and format.container.length_mm are both given: a container is "
+      "a cylinder (radius_mm) or rectangular (format.container.shape = \"rectangular\" with "
+      "length_mm, width_mm and orientation_deg), not both";
+  api::BatchReplyWriter writer(1 << 20);
+  writer.add_error(
+      3, api::ApiError(api::ErrorCode::kInvalidValue, "format.container.length_mm", both));
+  writer.add_error(4, api::ApiError(api::ErrorCode::kInvalidValue, "strategy",
+                                    "strategy = \"fast\" is not allowed: the plan's options. "
+                                    "Its format.x stays"));
+  const std::string text = writer.finish();
+  const json out = json::parse(text);
+  EXPECT_EQ(out["results"][0]["error"]["message"],
+            "requests[3].format.container.radius_mm and requests[3].format.container.length_mm "
+            "are both given: a container is a cylinder (radius_mm) or rectangular "
+            "(requests[3].format.container.shape = \"rectangular\" with length_mm, width_mm and "
+            "orientation_deg), not both");
+  EXPECT_EQ(out["results"][1]["error"]["message"],
+            "requests[4].strategy = \"fast\" is not allowed: the plan's options. Its "
+            "requests[4].format.x stays");
+  const auto items = api::parse_batch_reply(text);
+  ASSERT_TRUE(items);
+  ASSERT_EQ(items->size(), 2u);
+  ASSERT_TRUE((*items)[0].error);
+  EXPECT_EQ((*items)[0].error->field(), "format.container.length_mm");
+  EXPECT_EQ(std::string((*items)[0].error->what()), both);
+  EXPECT_EQ((*items)[1].error->field(), "strategy");
+}
+
 TEST(Routes, TheServerAnswersEveryRouteAndTheDocumentListsEachOnce) {
   const json doc = api::openapi_document("test");
   std::size_t operations = 0;

@@ -45,9 +45,10 @@ bool container_shape(const nlohmann::json& c, const std::string& path) {
     if (given_member(c, "radius_mm") == nullptr || given_member(c, side) == nullptr) continue;
     const std::string field = join_path(path, rectangular ? "radius_mm" : side);
     invalid(field, join_path(path, "radius_mm") + " and " + join_path(path, side) +
-                       " are both given: a container is a cylinder (radius_mm) or rectangular "
-                       "(\"shape\": \"rectangular\", length_mm, width_mm, orientation_deg), "
-                       "not both");
+                       " are both given: a container is a cylinder (radius_mm) or rectangular (" +
+                       join_path(path, "shape") +
+                       " = \"rectangular\" with length_mm, width_mm and orientation_deg), not "
+                       "both");
   }
   return rectangular;
 }
@@ -77,7 +78,7 @@ Container parse_container(const nlohmann::json& c, const std::string& path) {
     const std::string field = join_path(path, "radius_mm");
     invalid(field, field + " belongs to a cylinder: a container with " + join_path(path, "shape") +
                        " = \"rectangular\" has length_mm, width_mm and orientation_deg (leave " +
-                       "shape out for a cylinder)");
+                       join_path(path, "shape") + " out for a cylinder)");
   }
   reject_unknown_fields(c, path,
                         {"shape", "length_mm", "width_mm", "height_mm", "orientation_deg"});

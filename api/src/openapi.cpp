@@ -1,5 +1,6 @@
 #include "slosh/api/openapi.hpp"
 
+#include <algorithm>
 #include <string_view>
 
 #include "slosh/api/error.hpp"
@@ -986,14 +987,13 @@ void add_path_plan_schemas(json& s) {
              false);
   s["PlanResponse"]["properties"]["path"] = ref("PathPlan");
   s["CompactPlan"]["properties"]["path"] = object(
-      {{"direction_motion_deg",
-        number("Wall angle of the nonlinear motion peak, to 0.1 degree [deg].")},
-       {"direction_rest_deg",
-        number("Wall angle of the nonlinear rest peak, to 0.1 degree [deg].")},
-       {"a_total_peak", number("Largest total horizontal acceleration sqrt(s''^2 + "
+      {{"a_total_peak", number("Largest total horizontal acceleration sqrt(s''^2 + "
                                "(s'^2/rho)^2), to 1 mm/s^2 [m/s^2]: what limits.a_max bounds "
                                "(kinematics.a_max is the tangential s'' alone).")}},
-      {}, "Only along an arc or a path (its length is law.stroke_mm).", false);
+      {"a_total_peak"},
+      "Only along an arc or a path (its length is law.stroke_mm; the peaks' wall directions are "
+      "in the full plan of the same key).",
+      false);
   s["CompactLaw"]["properties"]["motion"] =
       json{{"description",
             "A line or an arc as in format.motion; a path summarised (its segments are in the full "
@@ -1002,11 +1002,11 @@ void add_path_plan_schemas(json& s) {
             {ref("Motion"),
              object({{"type", string_enum({"path"}, "A path of lines and arcs.")},
                      {"segment_count", integer("Its lines and arcs.")},
-                     {"turn_deg", number("The arcs' signed angles summed (left positive) [deg].")},
-                     {"start_heading_deg", number("Heading at the start [deg].")},
-                     {"container_turns", boolean("Whether the container turns with the path.")}},
-                    {"type", "segment_count", "turn_deg", "start_heading_deg", "container_turns"},
-                    "A path's summary in a compact plan.", true)}}};
+                     {"turn_deg", number("The arcs' signed angles summed (left positive) [deg].")}},
+                    {"type", "segment_count", "turn_deg"},
+                    "A path's summary in a compact plan (the start heading and container_turns "
+                    "are in the full plan of the same key).",
+                    true)}}};
 }
 
 // The answer of simulate with format.motion: both planar models' peaks with their wall angles.
@@ -1888,6 +1888,22 @@ json paths() {
   return p;
 }
 
+/// A request reads an optional member given null as absent (given_member): every closed
+/// (request) object's optional typed members are nullable. Done once all schemas are built, as
+/// some are derived from others with fewer members required (PlanFormat, MinTimeFormat).
+void mark_optional_request_members_nullable(json& schemas) {
+  for (auto& [name, schema] : schemas.items()) {
+    if (schema.value("additionalProperties", true) != false || !schema.contains("properties")) {
+      continue;
+    }
+    const json required = schema.value("required", json::array());
+    for (auto& [key, property] : schema["properties"].items()) {
+      const bool optional = std::find(required.begin(), required.end(), key) == required.end();
+      if (optional && property.contains("type")) property["nullable"] = true;
+    }
+  }
+}
+
 }  // namespace
 
 json openapi_document(const std::string& version, const OptionRegistry& registry) {
@@ -1905,6 +1921,7 @@ json openapi_document(const std::string& version, const OptionRegistry& registry
   add_min_time_schemas(schemas);
   add_batch_job_schemas(schemas);
   add_calibration_schemas(schemas);
+  mark_optional_request_members_nullable(schemas);
   return {{"openapi", "3.0.3"},
           {"info",
            {{"title", "slosh planner"},

@@ -145,21 +145,19 @@ std::vector<std::string> plan_warning_codes(const json& plan) {
 
 namespace {
 
-/// Along an arc or a path: the wall directions of the nonlinear peaks (to 0.1 degree) and the
-/// peak horizontal acceleration, tangential and normal together (to 1 mm/s^2), what a line
-/// engineer checks on the arc. The path's length is the law's stroke_mm.
+/// Along an arc or a path: the peak horizontal acceleration, tangential and normal together (to
+/// 1 mm/s^2), the figure limits.a_max bounds there. The path's length is the law's stroke_mm; the
+/// peaks' wall directions are in the full plan of the same key (with them, a tank's plan along a
+/// path with move_absolute and every warning took 1099 B).
 json compact_path(const json& path) {
   const json& p = path.at("prediction");
-  const json& nl = p.at("nonlinear");
-  return {{"direction_motion_deg", rounded(nl.at("direction_motion_deg").get<double>(), 10.0)},
-          {"direction_rest_deg", rounded(nl.at("direction_rest_deg").get<double>(), 10.0)},
-          {"a_total_peak", rounded(p.at("kinematics").at("a_total_peak").get<double>(), 1e3)}};
+  return {{"a_total_peak", rounded(p.at("kinematics").at("a_total_peak").get<double>(), 1e3)}};
 }
 
 /// The motion in a compact plan: a line or an arc as it is (a few members), a path summarised
-/// (its segments would take the 1 kB of a compact plan): the segment count, the signed turn
-/// (the arcs' angles summed: 0 for an S-bend), the start heading and container_turns. Its length
-/// is the law's stroke_mm; the segments are in the full plan of the same key.
+/// (its segments would take the 1 kB of a compact plan): the segment count and the signed turn
+/// (the arcs' angles summed: 0 for an S-bend). Its length is the law's stroke_mm; the segments,
+/// the start heading and container_turns are in the full plan of the same key.
 json compact_motion(const json& motion) {
   if (motion.value("type", "") != "path") return motion;
   const json& segments = motion.at("segments");
@@ -169,11 +167,7 @@ json compact_motion(const json& motion) {
       turn += arc->at("angle_deg").get<double>();
     }
   }
-  return {{"type", "path"},
-          {"segment_count", segments.size()},
-          {"turn_deg", turn},
-          {"start_heading_deg", motion.at("start_heading_deg")},
-          {"container_turns", motion.at("container_turns")}};
+  return {{"type", "path"}, {"segment_count", segments.size()}, {"turn_deg", turn}};
 }
 
 }  // namespace

@@ -454,6 +454,10 @@ constexpr std::array kPlanColumns{
     PlanColumn{"holds_from_pct", "/holds_from_pct"},
     PlanColumn{"holds_to_pct", "/holds_to_pct"},
     PlanColumn{"worst_eta_rest_mm", "/worst_eta_rest_mm"},
+    PlanColumn{"container_shape", "/container_shape"},
+    PlanColumn{"length_mm", "/length_mm"},
+    PlanColumn{"width_mm", "/width_mm"},
+    PlanColumn{"orientation_deg", "/orientation_deg"},
     PlanColumn{"motion_type", "/motion_type"},
     PlanColumn{"arc_radius_mm", "/arc_radius_mm"},
     PlanColumn{"arc_angle_deg", "/arc_angle_deg"},
@@ -515,6 +519,14 @@ json plan_row_figures(const json& plan) {
     const json side_f = nested_or_null(rectangular, side, "f_hz");
     row[std::string("f1_") + side + "_hz"] =
         side_f.is_array() && !side_f.empty() ? side_f[0] : json(nullptr);
+  }
+  // Which container the row planned: a table of tanks reads back each one's sides and turn
+  // (empty for a cylinder, whose radius stays its input row's).
+  const json container = nested_or_null(plan, "format", "container");
+  row["container_shape"] =
+      container.is_object() ? container.value("shape", json("cylinder")) : json(nullptr);
+  for (const char* member : {"length_mm", "width_mm", "orientation_deg"}) {
+    row[member] = value_or_null(container, member);
   }
   row["solve_ms"] = nested_or_null(plan, "solver", "solve_ms");
   row.update(robustness_row_figures(find_member(plan, "robustness")));

@@ -1,5 +1,8 @@
 #include "slosh/api/service_bodies.hpp"
 
+#include <algorithm>
+#include <cctype>
+
 #include "slosh/api/error.hpp"
 #include "slosh/api/exact_number.hpp"
 #include "slosh/api/fields.hpp"
@@ -98,12 +101,55 @@ void BatchReplyWriter::add_plan(std::size_t index, const std::string& plan) {
   out_ += ",\"plan\":" + plan + '}';
 }
 
+namespace {
+
+bool member_char(char c) {
+  return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.' || c == ']';
+}
+
+/// `message` with the request paths it names read inside the batch: the item's own field where
+/// the message begins with it, and every "format." or "options." path, each after `prefix`.
+std::string paths_inside(const std::string& prefix, const std::string& field,
+                         const std::string& message) {
+  std::string out;
+  std::size_t at = 0;
+  if (!field.empty() && message.rfind(field, 0) == 0 &&
+      (message.size() == field.size() || !member_char(message[field.size()]))) {
+    out = prefix + "." + field;
+    at = field.size();
+  }
+  while (at < message.size()) {
+    std::size_t next = std::string::npos;
+    for (std::string_view root : {"format.", "options."}) {
+      for (std::size_t p = message.find(root, at); p != std::string::npos;
+           p = message.find(root, p + 1)) {
+        const std::size_t after = p + root.size();
+        const bool path = after < message.size() &&
+                          (std::isalpha(static_cast<unsigned char>(message[after])) != 0 ||
+                           message[after] == '_');
+        if (path && (p == 0 || !member_char(message[p - 1]))) {
+          next = std::min(next, p);
+          break;
+        }
+      }
+    }
+    if (next == std::string::npos) break;
+    out.append(message, at, next - at).append(prefix).append(".");
+    at = next;
+    // Past the path, so that none of its own members is taken for another root.
+    while (at < message.size() && member_char(message[at])) out += message[at++];
+  }
+  return out.append(message, std::min(at, message.size()));
+}
+
+}  // namespace
+
 void BatchReplyWriter::add_error(std::size_t index, const ApiError& error) {
   open_item(index, 0);
-  // Field paths inside the batch: requests[i].format....
+  // Paths inside the batch: requests[i].format..., in the field and in the message alike.
   const std::string prefix = "requests[" + std::to_string(index) + "]";
   const ApiError inside(error.code(), error.field().empty() ? prefix : prefix + "." + error.field(),
-                        error.what());
+                        paths_inside(prefix, error.field(), error.what()));
   out_ += ",\"error\":" + dump_json(error_envelope(inside)["error"]) + '}';
 }
 
@@ -132,13 +178,20 @@ std::optional<std::vector<BatchItemReply>> parse_batch_reply(std::string_view te
           item.is_object() && item.contains("error")
               ? item["error"]
               : nlohmann::json{{"code", "internal"}, {"message", "the service sent no result"}});
-      // The service prefixes fields with requests[k]; the row's own path is wanted.
+      // The service reads paths inside the batch (requests[k].); the row's own are wanted.
       std::string field = error.field();
       const std::size_t dot = field.find("].");
+      std::string message = error.what();
       if (field.rfind("requests[", 0) == 0) {
+        const std::string prefix =
+            dot == std::string::npos ? field + "." : field.substr(0, dot + 2);
         field = dot == std::string::npos ? "" : field.substr(dot + 2);
+        for (std::size_t p = message.find(prefix); p != std::string::npos;
+             p = message.find(prefix, p)) {
+          message.erase(p, prefix.size());
+        }
       }
-      reply.error = ApiError(error.code(), field, error.what());
+      reply.error = ApiError(error.code(), field, message);
     }
     items.push_back(std::move(reply));
   }

@@ -812,6 +812,14 @@ void extend_curve_and_report(SearchRun& run) {
   } else {
     r.message += "; it is the lower bound of the machine limits and ramps";
   }
+  // A rectangular tank's nonlinear model may not hold at T_min: its plan's nonlinear figures are
+  // then the linear ones standing in (SPEC §15), and the limits were judged on those.
+  if (run.options.model != LimitModel::kLinear && r.plan &&
+      has_warning(r.plan->warnings, WarningKind::kNonlinearModelNotValid)) {
+    r.message +=
+        "; the nonlinear model does not hold for the plan at T_min, so its linear "
+        "figures stood in for the nonlinear ones there (nonlinear_model_not_valid)";
+  }
   if (first_bad != nullptr) {
     r.message += "; feasibility is not monotone: T = " + sec(first_bad->motion_time) +
                  " above it fails (" + why_not(*first_bad, r) + ")";
