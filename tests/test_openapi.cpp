@@ -19,6 +19,7 @@
 
 #include "slosh/api/error.hpp"
 #include "slosh/api/format_json.hpp"
+#include "slosh/api/job_request.hpp"
 #include "slosh/api/min_time.hpp"
 #include "slosh/api/openapi.hpp"
 #include "slosh/api/plan.hpp"
@@ -281,7 +282,9 @@ TEST(OpenApiDocument, DescribesEveryEndpointWithItsStatuses) {
     }
     EXPECT_TRUE(has_view) << path;
   }
-  EXPECT_EQ(schema("BatchRequest")["properties"]["view"]["enum"], json({"full", "compact"}));
+  // (null: the member left out, as for every optional request member)
+  EXPECT_EQ(schema("BatchRequest")["properties"]["view"]["enum"],
+            json({"full", "compact", nullptr}));
   EXPECT_EQ(body_ref("/v1/plans/batch", "post"), "#/components/schemas/BatchRequest");
   EXPECT_EQ(ok_ref("/v1/plans/batch", "post"), "#/components/schemas/BatchResponse");
   EXPECT_EQ(body_ref("/v1/simulate", "post"), "#/components/schemas/SimulateRequest");
@@ -447,6 +450,32 @@ TEST(OpenApiSchemas, OptionalRequestMembersAreNullableAsTheParserReadsThem) {
               canonical_recipe(parse_plan_request(thesis_plan("notch"))))
         << "options." << key;
   }
+  // A nullable enum lists null: OpenAPI 3.0's nullable does not widen an enum.
+  const json& shape = schema("Container")["properties"]["shape"];
+  EXPECT_NE(std::find(shape["enum"].begin(), shape["enum"].end(), nullptr), shape["enum"].end());
+  // The cylinder's shape given null is the cylinder, as when left out.
+  json cylinder = thesis_plan("notch");
+  cylinder["format"]["container"]["shape"] = nullptr;
+  EXPECT_EQ(canonical_recipe(parse_plan_request(cylinder)),
+            canonical_recipe(parse_plan_request(thesis_plan("notch"))));
+  // Another law type's members given null are absent.
+  json simulate = schema("SimulateRequest")["example"];
+  simulate["law"] = {{"type", "seven_segment_uniform"},
+                     {"durations_s", nullptr},
+                     {"breakpoints_s", nullptr},
+                     {"acceleration_m_s2", nullptr},
+                     {"pieces", nullptr}};
+  EXPECT_NO_THROW((void)parse_simulate_request(simulate));
+  // A batch job's requests, table and table_format given null are absent.
+  const auto reads = [](const std::string& body) {
+    std::string format;
+    (void)parse_job_request(body, 10,
+                            [&](const std::string&, const std::string& f, bool) { format = f; });
+    return format;
+  };
+  const std::string one = dump_json(json::array({thesis_plan("notch")}));
+  EXPECT_EQ(reads(R"({"requests": )" + one + R"(, "table": null, "table_format": null})"), "json");
+  EXPECT_EQ(reads(R"({"table": "recipe_id\n", "table_format": "csv", "requests": null})"), "csv");
 }
 
 // Every numeric bound of the plan options, probed through the parser: at the bound the value is

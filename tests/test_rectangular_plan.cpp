@@ -884,5 +884,26 @@ TEST(RectangularPlan, MinTimeSaysWhenTheLinearFiguresStoodInAtTMin) {
       << r.message;
 }
 
+// The same when no motion time meets the limits: the best reached quotes the linear figures
+// that stood in for the nonlinear model there, and says so.
+TEST(RectangularPlan, MinTimeSaysWhenTheBestReachedQuotesLinearFigures) {
+  Format f = cup(120, 80, 0.0, 20.0);
+  f.container.height = 0.07;
+  MinTimeOptions o;
+  o.plan = quick_options();
+  o.eta_rest_max = 1e-5;
+  o.motion_time_max = 1.0;
+  const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+  ASSERT_TRUE(r.best);
+  EXPECT_TRUE(r.best->linear_stood_in);
+  EXPECT_NE(r.message.find("; the nonlinear model does not hold for the plan at T = " +
+                           std::string(r.best->motion_time == 1.0 ? "1.000" : "?") +
+                           " s, so its linear figures stood in for the nonlinear ones "
+                           "(nonlinear_model_not_valid)"),
+            std::string::npos)
+      << r.message;
+}
+
 }  // namespace test_rectangular_plan
 }  // namespace slosh

@@ -149,6 +149,24 @@ TEST(BatchReplyWriter, MessagesNameThePathsInsideTheBatchAndReadBackAsTheRowsOwn
   EXPECT_EQ((*items)[1].error->field(), "strategy");
 }
 
+// A value the message echoes stays as it was sent, even when it reads like a path: only the
+// message's own words are read inside the batch, and only those are read back.
+TEST(BatchReplyWriter, ValuesTheMessageEchoesStayAsSent) {
+  const std::string fluid =
+      "format.fluid = \"requests[0].format.stroke_mm \\\"options.x\\\"\" is not in the "
+      "catalogue; see format.fluid";
+  api::BatchReplyWriter writer(1 << 20);
+  writer.add_error(0, api::ApiError(api::ErrorCode::kInvalidValue, "format.fluid", fluid));
+  const std::string text = writer.finish();
+  EXPECT_EQ(json::parse(text)["results"][0]["error"]["message"],
+            "requests[0].format.fluid = \"requests[0].format.stroke_mm \\\"options.x\\\"\" is "
+            "not in the catalogue; see requests[0].format.fluid");
+  const auto items = api::parse_batch_reply(text);
+  ASSERT_TRUE(items);
+  ASSERT_TRUE((*items)[0].error);
+  EXPECT_EQ(std::string((*items)[0].error->what()), fluid);
+}
+
 TEST(Routes, TheServerAnswersEveryRouteAndTheDocumentListsEachOnce) {
   const json doc = api::openapi_document("test");
   std::size_t operations = 0;

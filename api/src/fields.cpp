@@ -29,6 +29,18 @@ const nlohmann::json* given_member(const nlohmann::json& object, std::string_vie
   return value == nullptr || value->is_null() ? nullptr : value;
 }
 
+bool inside_json_string(std::string_view text, std::size_t at) {
+  bool quoted = false;
+  for (std::size_t i = 0; i < at && i < text.size(); ++i) {
+    if (quoted && text[i] == '\\') {
+      ++i;  // an escaped character, a quote included
+    } else if (text[i] == '"') {
+      quoted = !quoted;
+    }
+  }
+  return quoted;
+}
+
 std::string number_text(double v) {
   std::ostringstream os;
   os.precision(10);

@@ -66,7 +66,7 @@ Container parse_container(const nlohmann::json& c, const std::string& path) {
                          "radius_mm)");
     }
     // (The cylinder's list without "shape" unless given: its refusals read as they always have.)
-    if (given_member(c, "shape") != nullptr) {
+    if (find_member(c, "shape") != nullptr) {  // given, or null (absent)
       reject_unknown_fields(c, path, {"shape", "radius_mm", "height_mm"});
     } else {
       reject_unknown_fields(c, path, {"radius_mm", "height_mm"});

@@ -50,13 +50,14 @@ JobRequest parse_job_request(const std::string& text, std::size_t max,
             "\"<recipe table>\", \"table_format\": \"csv\"}");
   }
   reject_unknown_fields(body, "", {"requests", "table", "table_format", "format", "view"});
-  const bool has_requests = body.contains("requests");
-  if (has_requests == body.contains("table")) {
+  // A member given null is absent, as every optional member is.
+  const bool has_requests = given_member(body, "requests") != nullptr;
+  if (has_requests == (given_member(body, "table") != nullptr)) {
     invalid(has_requests ? "table" : "requests",
             "give either requests (plan requests) or table (a recipe table's text), not " +
                 std::string(has_requests ? "both" : "neither"));
   }
-  if (has_requests && body.contains("table_format")) {
+  if (has_requests && given_member(body, "table_format") != nullptr) {
     invalid("table_format", "table_format goes with table, not with requests");
   }
   if (has_requests) {

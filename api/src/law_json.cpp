@@ -224,7 +224,13 @@ ParsedLaw parse_law(const nlohmann::json& law, const std::string& path, const Fo
     default:
       break;
   }
-  for (const auto& [key, value] : law.items()) {
+  // Another law type's member given null is absent, as every optional member is.
+  nlohmann::json present = law;
+  for (const char* key : {"durations_s", "breakpoints_s", "acceleration_m_s2", "pieces"}) {
+    const auto member = present.find(key);
+    if (member != present.end() && member->is_null()) present.erase(member);
+  }
+  for (const auto& [key, value] : present.items()) {
     if (std::find(allowed.begin(), allowed.end(), key) == allowed.end()) {
       const std::string field = join_path(path, key);
       const bool known = key == "durations_s" || key == "breakpoints_s" ||
@@ -239,7 +245,7 @@ ParsedLaw parse_law(const nlohmann::json& law, const std::string& path, const Fo
       }
     }
   }
-  reject_unknown_fields(law, path, allowed);
+  reject_unknown_fields(present, path, allowed);
   switch (out.type) {
     case LawType::kSevenSegment:
       out.durations = parse_durations(law, path, T, min_ramp);

@@ -994,19 +994,14 @@ void add_path_plan_schemas(json& s) {
       "Only along an arc or a path (its length is law.stroke_mm; the peaks' wall directions are "
       "in the full plan of the same key).",
       false);
-  s["CompactLaw"]["properties"]["motion"] =
-      json{{"description",
-            "A line or an arc as in format.motion; a path summarised (its segments are in the full "
-            "plan of the same key), so that the compact plan stays under 1 kB."},
-           {"oneOf",
-            {ref("Motion"),
-             object({{"type", string_enum({"path"}, "A path of lines and arcs.")},
-                     {"segment_count", integer("Its lines and arcs.")},
-                     {"turn_deg", number("The arcs' signed angles summed (left positive) [deg].")}},
-                    {"type", "segment_count", "turn_deg"},
-                    "A path's summary in a compact plan (the start heading and container_turns "
-                    "are in the full plan of the same key).",
-                    true)}}};
+  s["CompactLaw"]["properties"]["motion"] = object(
+      {{"type", string_enum({"line", "arc", "path"}, "The motion's type.")},
+       {"segment_count", integer("A path's lines and arcs (a path only).")}},
+      {"type"},
+      "The motion the law moves along, summarised: its length is law.stroke_mm; its geometry "
+      "(an arc's radius and angle, a path's segments, the start heading, container_turns) is in "
+      "the full plan of the same key, so that the compact plan stays under 1 kB.",
+      false);
 }
 
 // The answer of simulate with format.motion: both planar models' peaks with their wall angles.
@@ -1899,7 +1894,10 @@ void mark_optional_request_members_nullable(json& schemas) {
     const json required = schema.value("required", json::array());
     for (auto& [key, property] : schema["properties"].items()) {
       const bool optional = std::find(required.begin(), required.end(), key) == required.end();
-      if (optional && property.contains("type")) property["nullable"] = true;
+      if (!optional || !property.contains("type")) continue;
+      property["nullable"] = true;
+      // OpenAPI 3.0: nullable does not widen an enum, so null is one of its values.
+      if (property.contains("enum")) property["enum"].push_back(nullptr);
     }
   }
 }

@@ -402,7 +402,7 @@ std::string in_column_terms(const std::string& field, const std::string& message
       const std::size_t end = at + path.size();
       const bool whole =
           (at == 0 || !member_char(out[at - 1])) && (end == out.size() || !member_char(out[end]));
-      if (!whole) {
+      if (!whole || inside_json_string(out, at)) {  // a value the message echoes stays as sent
         at = end;
         continue;
       }

@@ -127,7 +127,7 @@ std::string paths_inside(const std::string& prefix, const std::string& field,
         const bool path = after < message.size() &&
                           (std::isalpha(static_cast<unsigned char>(message[after])) != 0 ||
                            message[after] == '_');
-        if (path && (p == 0 || !member_char(message[p - 1]))) {
+        if (path && (p == 0 || !member_char(message[p - 1])) && !inside_json_string(message, p)) {
           next = std::min(next, p);
           break;
         }
@@ -188,7 +188,11 @@ std::optional<std::vector<BatchItemReply>> parse_batch_reply(std::string_view te
         field = dot == std::string::npos ? "" : field.substr(dot + 2);
         for (std::size_t p = message.find(prefix); p != std::string::npos;
              p = message.find(prefix, p)) {
-          message.erase(p, prefix.size());
+          if (inside_json_string(message, p)) {
+            p += prefix.size();  // a value the message echoes, as it was sent
+          } else {
+            message.erase(p, prefix.size());
+          }
         }
       }
       reply.error = ApiError(error.code(), field, message);

@@ -60,6 +60,14 @@ std::string limits_text(const MinTimeResult& r, LimitModel model) {
          ")";
 }
 
+/// The clause saying that a point's nonlinear figures are its linear ones standing in (a
+/// rectangular tank's nonlinear model does not hold for its law), when the limits read them.
+std::string stood_in(const MinTimePoint& p, LimitModel model) {
+  if (!p.linear_stood_in || model == LimitModel::kLinear) return {};
+  return "; the nonlinear model does not hold for the plan at T = " + sec(p.motion_time) +
+         ", so its linear figures stood in for the nonlinear ones (nonlinear_model_not_valid)";
+}
+
 /// Why a point of the curve (finite predictions) is infeasible, for messages.
 std::string why_not(const MinTimePoint& p, const MinTimeResult& r) {
   std::string text;
@@ -176,6 +184,7 @@ class Search {
     p.warm_start = warm_start;
     p.durations = plan_result.durations;
     p.plan_status = plan_result.status;
+    p.linear_stood_in = has_warning(plan_result.warnings, WarningKind::kNonlinearModelNotValid);
     p.prediction = plan_result.prediction;
     // A robust plan is judged by its worst case over the uncertainty range.
     const LawPrediction& judged = plan_result.worst_case.value_or(plan_result.prediction);
@@ -398,6 +407,9 @@ struct SearchRun {
     r.message = budget_text() + " ran out " + where;
     if (r.t_min) {
       r.message += "; the best bound so far is T_min <= " + sec(*r.t_min);
+      for (const MinTimePoint& p : r.curve) {
+        if (p.motion_time == *r.t_min) r.message += stood_in(p, options.model);
+      }
     } else {
       r.best.reset();
       r.message += " before a motion time met " + limits;
@@ -626,7 +638,8 @@ void report_infeasible(SearchRun& run) {
                         to_string(run.strategy);
   if (r.best) {
     message += ": the best reached is eta_motion " + mm(r.best->eta_motion) + ", eta_rest " +
-               mm(r.best->eta_rest) + " at T = " + sec(r.best->motion_time);
+               mm(r.best->eta_rest) + " at T = " + sec(r.best->motion_time) +
+               stood_in(*r.best, run.options.model);
   }
   r.message = message + "; relax the limits, raise motion_time_max_s or try another strategy";
 }

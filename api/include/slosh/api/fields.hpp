@@ -25,6 +25,10 @@ struct Range {
 /// The member `key` of `object`, or nullptr when absent; a null member is returned as it is.
 [[nodiscard]] const nlohmann::json* find_member(const nlohmann::json& object, std::string_view key);
 
+/// Whether position `at` of a message lies inside a quoted JSON string (a value the message
+/// echoes, as show() writes it): the rewriting of the paths a message names leaves those alone.
+[[nodiscard]] bool inside_json_string(std::string_view text, std::size_t at);
+
 /// The member `key` of `object`, or nullptr when absent or null: null counts as absent (the
 /// request convention for optional members).
 [[nodiscard]] const nlohmann::json* given_member(const nlohmann::json& object,

@@ -131,6 +131,9 @@ struct MinTimePoint {
   std::optional<Durations> warm_start;
   /// The plan's seven durations, when its law is a 7-segment law [s].
   std::optional<Durations> durations;
+  /// A rectangular tank's nonlinear model did not hold for the plan's law: its nonlinear figures
+  /// (and eta_motion, eta_rest on that model) are the linear ones standing in.
+  bool linear_stood_in{false};
 };
 
 /// One strategy's search.
