@@ -865,6 +865,23 @@ TEST(BatchCsv, ContainerRefusalsNameTheColumnsAndTheRealConflict) {
             "orientation_deg), not both");
 }
 
+// A refusal of two members names their group as its field ("options", which no column holds);
+// its message names each member by its column all the same.
+TEST(BatchCsv, AGroupsRefusalNamesItsMembersByTheirColumns) {
+  const std::string text =
+      "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy,plateau_min_s\n"
+      "bad,48.5,82,water,800,1.0,notch,0.5;0.6\n";
+  const RunResult r = run_slosh({"batch", "--cache", ""}, text);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(r.out);
+  ASSERT_EQ(rows.size(), 1u) << r.out;
+  EXPECT_EQ(rows[0].text("error_field"), "options");
+  EXPECT_EQ(rows[0].text("message"),
+            "min_ramp_s = 0.05 s and plateau_min_s = [0.5, 0.6] s need 4 ramps + 2 plateaus = "
+            "1.3 s, more than the motion time 1 s: allowed min_ramp_s <= (T - plateau minimums) / "
+            "4 = -0.025 s");
+}
+
 // A table of round and rectangular containers reads back which container each row planned, and
 // a tank's first frequency along each side: sqrt(g k tanh(k h)) / 2 pi with k = pi / side, the
 // rectangular tank's first mode written again here.

@@ -381,9 +381,10 @@ std::string column_of_field(const std::string& field, const OptionRegistry& regi
   return column ? column->name : field;
 }
 
-std::string in_column_terms(const std::string& field, const std::string& message,
+// (The field is not needed: a refusal of two members names their group, "options", which has no
+// column, while the members it names do.)
+std::string in_column_terms(const std::string& /*field*/, const std::string& message,
                             const OptionRegistry& registry) {
-  if (!column_for(field, registry)) return message;
   // Every request path the message names that a column maps, not only its first: a refusal
   // naming two members ("... and ... are both given", "give ... = ...") reads in one language.
   // Longest paths first, each replaced only as a whole member name.

@@ -153,8 +153,8 @@ class RecipeHeader {
 
 /// `message` with every request path a column maps replaced by its column
 /// ("format.container.radius_mm = -3 is out of range ..." -> "radius_mm = -3 is out of range
-/// ..."; "give format.container.shape = ..." -> "give container_shape = ..."), when `field`
-/// itself maps to a column.
+/// ..."; "give format.container.shape = ..." -> "give container_shape = ..."), whether or not
+/// `field` itself maps to one (a refusal of two members names their group, "options").
 [[nodiscard]] std::string in_column_terms(const std::string& field, const std::string& message,
                                           const OptionRegistry& registry = plan_option_registry());
 
