@@ -25,11 +25,12 @@
 #include "http/client_wait.hpp"
 #include "http/connection_pool.hpp"
 #include "http/connection_reaper.hpp"
-#include "http/connection_socket.hpp"
+#include "http/connection_stream.hpp"
 #include "http/gzip.hpp"
 #include "http/http_body.hpp"
 #include "http/library_replies.hpp"
 #include "http/listen_address.hpp"
+#include "http/listening_server.hpp"
 #include "http/malloc_tuning.hpp"
 #include "http/plan_service.hpp"
 #include "http/route_handlers.hpp"
@@ -39,6 +40,7 @@
 #include "jobs/batch_jobs.hpp"
 #include "jobs/job_stores.hpp"
 #include "log/access_log.hpp"
+#include "log/batched_log.hpp"
 #include "metrics/metrics_registry.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/api/routes.hpp"
@@ -153,15 +155,6 @@ timeval to_timeval(double seconds) {
   const double whole = std::floor(seconds);
   return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
 }
-
-// The HTTP library with access to its listening socket.
-class ListeningServer : public httplib::Server {
- public:
-  /// The library listens with a backlog of 5: a burst of more simultaneous connections than that
-  /// loses SYNs and stalls those clients for a second or more. Listening again with the system's
-  /// maximum only raises the backlog (Linux).
-  bool raise_backlog() { return ::listen(svr_sock_, SOMAXCONN) == 0; }
-};
 
 // Everything the server answers with, built in order: the handlers and their engine, the job
 // stores and jobs, the calibrations; the batch jobs' and the cancellations' metrics registered.
@@ -467,12 +460,13 @@ void install_request_hooks(Runtime& rt) {
 void install_write_hooks(Runtime& rt) {
   // The library gives a reply without a body "Content-Length: 0"; a 304 must carry no
   // Content-Length other than its 200's (RFC 9110 8.6), so it carries none.
-  rt.server.set_post_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
+  rt.server.set_post_routing_handler([&rt](const httplib::Request& /*req*/,
+                                           httplib::Response& res) {
     if (res.status == 304) res.headers.erase("Content-Length");
-    // Right before the library writes: a client that has sent its FIN gets nothing (the library's
-    // writer refuses such a socket), so the reply is recorded as unwritten.
-    const int fd = rt.reaper ? connection_socket(*rt.reaper, peer_of(req)) : -1;
-    request_unwritten = fd >= 0 && ConnectionReaper::peer_finished(fd);
+    // Right before the reply is written: a client that has sent its FIN gets nothing (the
+    // connection refuses the reply), so the reply is recorded as unwritten.
+    ConnectionStream* connection = ConnectionStream::on_this_thread();
+    request_unwritten = connection != nullptr && connection->refuse_if_peer_finished();
     // Counted before the bytes go out, so that a client that reads /metrics after its answer
     // finds it counted.
     rt.parts.service.metrics().count_request(request_route.empty() ? "other" : request_route,
@@ -558,9 +552,10 @@ bool listen_until_stopped(Runtime& rt) {
 }  // namespace
 
 int run_server(const ServerConfig& config, const std::string& port_file) {
-  use_log_format(config.log_format);
-  StopSignals signals;
+  StopSignals signals;    // before any thread, which then leaves the signals to the waiter
   limit_malloc_arenas();  // before any thread; freed memory is trimmed by the signal waiter
+  const BatchedLog batched_log;
+  use_log_format(config.log_format);
   ServerParts parts(config);
   ListeningServer server;
   Runtime rt{config,

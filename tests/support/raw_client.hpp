@@ -35,6 +35,24 @@ class Raw {
   }
   /// Closes the sending side (a FIN: nothing more will be sent), as `nc -N` does after its input.
   void half_close() { ::shutdown(fd_, SHUT_WR); }
+  /// What arrives until it holds `marker` (all of it, with what came in the same reads), the
+  /// server closes, or it goes quiet for 10 s.
+  std::string read_until(const std::string& marker) {
+    std::string out;
+    char buf[4096];
+    while (out.find(marker) == std::string::npos) {
+      const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+      if (n <= 0) return out;
+      out.append(buf, static_cast<std::size_t>(n));
+    }
+    return out;
+  }
+  /// What one read returns: "" when the server closed or went quiet for 10 s.
+  std::string read_some() {
+    char buf[65536];
+    const ssize_t n = ::recv(fd_, buf, sizeof buf, 0);
+    return n > 0 ? std::string(buf, static_cast<std::size_t>(n)) : std::string();
+  }
   /// Everything until the server closes or goes quiet for 10 s.
   std::string read_all() {
     std::string out;

@@ -1,0 +1,229 @@
+// The connection transport (service/http/connection_stream, listening_server) as a client sees
+// it, over a real server on loopback: a reply's head is held until its body and the two leave
+// together, so what must reach the client before the service waits again (an interim
+// "100 Continue", a reply without a body, the last reply of a pipeline) has to be sent all the
+// same; large replies arrive whole; the keep-alive, read and write timeouts still end the
+// connections they should.
+
+#include <httplib.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <chrono>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "support/process.hpp"
+#include "support/raw_client.hpp"
+#include "support/server.hpp"
+
+namespace slosh {
+namespace test_http_transport {
+
+using nlohmann::json;
+
+const std::string kPlanBody =
+    R"({"format": {"container": {"radius_mm": 48.5}, "fill_height_mm": 82, "fluid": "water",)"
+    R"( "stroke_mm": 800, "motion_time_s": 1.0}, "strategy": "notch"})";
+
+// One reply of an HTTP/1.1 byte stream.
+struct ParsedReply {
+  int status{0};
+  std::string head;
+  std::string body;
+};
+
+// The value of header `name` (written as the service writes it) in `head`; "" when absent.
+std::string header_of(const std::string& head, const std::string& name) {
+  const auto at = head.find("\r\n" + name + ": ");
+  if (at == std::string::npos) return "";
+  const auto from = at + 4 + name.size();
+  return head.substr(from, head.find("\r\n", from) - from);
+}
+
+// The replies in `stream`, each framed by its Content-Length; stops at the first incomplete one.
+std::vector<ParsedReply> parse_replies(const std::string& stream) {
+  std::vector<ParsedReply> replies;
+  std::size_t at = 0;
+  while (at < stream.size()) {
+    const auto head_end = stream.find("\r\n\r\n", at);
+    if (head_end == std::string::npos) break;
+    ParsedReply r;
+    r.head = stream.substr(at, head_end + 2 - at);
+    r.status = std::stoi(r.head.substr(9, 3));
+    const std::string length = header_of(r.head, "Content-Length");
+    const std::size_t size = length.empty() ? 0 : std::stoul(length);
+    if (head_end + 4 + size > stream.size()) break;
+    r.body = stream.substr(head_end + 4, size);
+    at = head_end + 4 + size;
+    replies.push_back(std::move(r));
+  }
+  return replies;
+}
+
+// The next `count` replies on `raw` (fewer when the server closes or goes quiet).
+std::vector<ParsedReply> read_replies(test::Raw& raw, std::size_t count) {
+  std::string stream;
+  std::vector<ParsedReply> replies;
+  while ((replies = parse_replies(stream)).size() < count) {
+    const std::string more = raw.read_some();
+    if (more.empty()) break;
+    stream += more;
+  }
+  return replies;
+}
+
+std::string post_plan(const std::string& id, bool close = false) {
+  return "POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\nX-Request-Id: " +
+         id + "\r\nContent-Length: " + std::to_string(kPlanBody.size()) + "\r\n" +
+         (close ? "Connection: close\r\n" : "") + "\r\n" + kPlanBody;
+}
+
+std::string get(const std::string& path, const std::string& id, bool close = false) {
+  return "GET " + path + " HTTP/1.1\r\nHost: x\r\nX-Request-Id: " + id + "\r\n" +
+         (close ? "Connection: close\r\n" : "") + "\r\n";
+}
+
+// Requests sent in one write are answered in order, each whole: bodies of 2 bytes and of 40 kB,
+// a reply without a body (304) between them, and the last one before the connection closes.
+TEST(HttpTransport, PipelinedRequestsAreAnsweredInOrderAndWhole) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  httplib::Client c = server.client();
+  const auto first = c.Post("/v1/plans", kPlanBody, "application/json");
+  ASSERT_TRUE(first);
+  ASSERT_EQ(first->status, 200) << first->body;
+  const std::string tag = first->get_header_value("ETag");
+  ASSERT_FALSE(tag.empty());
+  const std::string key = json::parse(first->body).at("key").get<std::string>();
+
+  test::Raw raw(server.port());
+  ASSERT_TRUE(raw.connected());
+  const std::string conditional =
+      "GET /v1/plans/" + key + " HTTP/1.1\r\nHost: x\r\nX-Request-Id: p3\r\nIf-None-Match: " + tag +
+      "\r\n\r\n";
+  ASSERT_TRUE(raw.send(get("/healthz", "p1") + post_plan("p2") + conditional +
+                       get("/v1/plans/" + key, "p4") + get("/healthz", "p5", true)));
+  const std::vector<ParsedReply> replies = parse_replies(raw.read_all());
+  ASSERT_EQ(replies.size(), 5u);
+  const std::vector<int> statuses{200, 200, 304, 200, 200};
+  for (std::size_t i = 0; i < replies.size(); ++i) {
+    EXPECT_EQ(replies[i].status, statuses[i]) << i;
+    EXPECT_EQ(header_of(replies[i].head, "X-Request-Id"), "p" + std::to_string(i + 1));
+  }
+  EXPECT_GT(replies[1].body.size(), 20000u);
+  EXPECT_EQ(json::parse(replies[1].body).at("key"), key);
+  EXPECT_EQ(replies[2].body, "");
+  EXPECT_EQ(json::parse(replies[3].body).at("key"), key);
+}
+
+// A client that asks `Expect: 100-continue` waits for the interim reply before it sends the body:
+// the interim reply must leave before the service waits for the body (it is not held for a body
+// that will not come first).
+TEST(HttpTransport, TheInterimReplyReachesAClientThatWaitsForIt) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  test::Raw raw(server.port());
+  ASSERT_TRUE(
+      raw.send("POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+               "Expect: 100-continue\r\nConnection: close\r\nContent-Length: " +
+               std::to_string(kPlanBody.size()) + "\r\n\r\n"));
+  const std::string interim = raw.read_until("\r\n\r\n");
+  EXPECT_EQ(interim, "HTTP/1.1 100 Continue\r\n\r\n");
+  ASSERT_TRUE(raw.send(kPlanBody));
+  const std::vector<ParsedReply> replies = parse_replies(raw.read_all());
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].status, 200) << replies[0].body.substr(0, 300);
+}
+
+// A reply far larger than any buffer of the transport (a cam table of 100 001 rows, 7.9 MB, written
+// by the service in 64 kB pieces) arrives whole: as many bytes as its Content-Length, every row.
+TEST(HttpTransport, AMegabyteReplyArrivesWhole) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  httplib::Client c = server.client();
+  const auto plan = c.Post("/v1/plans", kPlanBody, "application/json");
+  ASSERT_TRUE(plan);
+  const std::string key = json::parse(plan->body).at("key").get<std::string>();
+  test::Raw raw(server.port());
+  ASSERT_TRUE(raw.send(get("/v1/plans/" + key + "/cam.csv?period_ms=0.01", "cam", true)));
+  const std::vector<ParsedReply> replies = parse_replies(raw.read_all());
+  ASSERT_EQ(replies.size(), 1u);
+  EXPECT_EQ(replies[0].status, 200);
+  const std::string& table = replies[0].body;
+  EXPECT_GT(table.size(), std::size_t{1} << 20);
+  EXPECT_EQ(std::count(table.begin(), table.end(), '\n'), 1 + 100001) << table.substr(0, 200);
+  // The same bytes as the library's client reads them.
+  const auto again = c.Get("/v1/plans/" + key + "/cam.csv?period_ms=0.01");
+  ASSERT_TRUE(again);
+  EXPECT_EQ(again->body, table);
+}
+
+// One connection carries many requests (the keep-alive loop), then is closed after the
+// keep-alive timeout of silence; a request inside the timeout is still answered.
+TEST(HttpTransport, KeepAliveServesManyRequestsThenClosesAfterItsTimeout) {
+  const test::TempDir dir;
+  test::write_file(dir / "keep.json", R"({"keep_alive_timeout_s": 1})");
+  test::Server server({"--config", (dir / "keep.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  test::Raw raw(server.port());
+  for (int i = 0; i < 200; ++i) {
+    ASSERT_TRUE(raw.send(get("/healthz", "k" + std::to_string(i))));
+    const std::vector<ParsedReply> reply = read_replies(raw, 1);
+    ASSERT_EQ(reply.size(), 1u) << i;
+    ASSERT_EQ(reply[0].status, 200) << i;
+    ASSERT_EQ(header_of(reply[0].head, "X-Request-Id"), "k" + std::to_string(i));
+  }
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  ASSERT_TRUE(raw.send(get("/healthz", "inside")));
+  const std::vector<ParsedReply> inside = read_replies(raw, 1);
+  ASSERT_EQ(inside.size(), 1u);
+  EXPECT_EQ(inside[0].status, 200);
+  const auto t0 = std::chrono::steady_clock::now();
+  EXPECT_EQ(raw.read_all(), "");  // the server closes the idle connection
+  const double waited =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  EXPECT_GT(waited, 0.8);
+  EXPECT_LT(waited, 5.0);
+}
+
+// A client that sends requests and stops reading holds its thread only until the write timeout:
+// the connection is then closed (the client gets fewer replies than it asked for), and the
+// service goes on serving others.
+TEST(HttpTransport, AClientThatStopsReadingIsDroppedAtTheWriteTimeout) {
+  const test::TempDir dir;
+  test::write_file(dir / "write.json", R"({"write_timeout_s": 0.5})");
+  test::Server server({"--config", (dir / "write.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  httplib::Client c = server.client();
+  const auto plan = c.Post("/v1/plans", kPlanBody, "application/json");
+  ASSERT_TRUE(plan);
+  const std::string key = json::parse(plan->body).at("key").get<std::string>();
+  test::Raw raw(server.port());
+  // 10 requests of a 7.9 MB cam table: 79 MB, far more than the sockets' buffers hold. A send
+  // that accepts part of its bytes within the timeout is followed by another; the connection
+  // ends when one accepts nothing (here about three timeouts, the kernel's buffers growing).
+  constexpr std::size_t kAsked = 10;
+  std::string requests;
+  for (std::size_t i = 0; i < kAsked; ++i) {
+    requests += get("/v1/plans/" + key + "/cam.csv?period_ms=0.01", "w" + std::to_string(i));
+  }
+  ASSERT_TRUE(raw.send(requests));
+  std::this_thread::sleep_for(std::chrono::seconds(5));
+  const auto probe = c.Get("/healthz");
+  ASSERT_TRUE(probe);
+  EXPECT_EQ(probe->status, 200);
+  // What the kernel had buffered, then the end of the connection (not 10 s of silence).
+  const auto t0 = std::chrono::steady_clock::now();
+  const std::string got = raw.read_all();
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 8.0);
+  EXPECT_EQ(got.substr(0, 12), "HTTP/1.1 200");
+  EXPECT_LT(parse_replies(got).size(), kAsked);
+}
+
+}  // namespace test_http_transport
+}  // namespace slosh
