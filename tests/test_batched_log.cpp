@@ -125,6 +125,42 @@ TEST(BatchedLog, ABatchPastItsLimitIsWrittenByTheLoggingThread) {
   EXPECT_EQ(file.text().size(), lines * (line.size() + 1));
 }
 
+// A non-blocking stream that a slow reader drains (a pipe set O_NONBLOCK by whoever reads the
+// log): the writer waits for room; no line is lost or cut.
+TEST(BatchedLog, ANonBlockingStreamReadSlowlyLosesNoLine) {
+  int fds[2];
+  ASSERT_EQ(::pipe(fds), 0);
+  ASSERT_EQ(::fcntl(fds[1], F_SETFL, ::fcntl(fds[1], F_GETFL) | O_NONBLOCK), 0);
+  std::string received;
+  std::thread reader([&received, fd = fds[0]] {
+    char buf[4096];
+    for (;;) {
+      std::this_thread::sleep_for(std::chrono::milliseconds(1));
+      const ssize_t n = ::read(fd, buf, sizeof buf);
+      if (n <= 0) return;
+      received.append(buf, static_cast<std::size_t>(n));
+    }
+  });
+  constexpr int kLines = 3000;
+  {
+    auto sink = std::make_shared<BatchedSink>(fds[1], std::chrono::milliseconds(2));
+    spdlog::logger logger("pipe", sink);
+    logger.set_pattern("%v");
+    for (int i = 0; i < kLines; ++i) logger.info("line {} {}", i, std::string(100, 'z'));
+  }
+  ::close(fds[1]);
+  reader.join();
+  ::close(fds[0]);
+  std::istringstream in(received);
+  std::string line;
+  int i = 0;
+  while (std::getline(in, line)) {
+    ASSERT_EQ(line, "line " + std::to_string(i) + " " + std::string(100, 'z'));
+    ++i;
+  }
+  EXPECT_EQ(i, kLines);
+}
+
 // The server's lines are batched, and its last lines are written when it stops.
 TEST(BatchedLog, TheServersLastLinesAreWrittenWhenItStops) {
   test::Server server;

@@ -225,5 +225,116 @@ TEST(HttpTransport, AClientThatStopsReadingIsDroppedAtTheWriteTimeout) {
   EXPECT_LT(parse_replies(got).size(), kAsked);
 }
 
+// A reply that says `Connection: close` ends the connection: the rest of a refused body is never
+// parsed as a request of its own, whatever it holds.
+TEST(HttpTransport, TheRestOfARefusedBodyIsNeverARequest) {
+  const test::TempDir dir;
+  test::write_file(dir / "small.json", R"({"max_body_bytes": 1024})");
+  test::Server server({"--config", (dir / "small.json").string()});
+  ASSERT_GT(server.port(), 0) << server.log();
+  const std::string smuggled = "GET /healthz HTTP/1.1\r\nHost: x\r\nX-Request-Id: smuggled\r\n\r\n";
+  const std::string body = smuggled + std::string(2000 - smuggled.size(), ' ');
+  test::Raw raw(server.port());
+  ASSERT_TRUE(
+      raw.send("POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Type: application/json\r\n"
+               "Content-Length: 2000\r\n\r\n" +
+               body));
+  const std::string stream = raw.read_all();
+  const std::vector<ParsedReply> replies = parse_replies(stream);
+  ASSERT_EQ(replies.size(), 1u) << stream;
+  EXPECT_EQ(replies[0].status, 413);
+  EXPECT_EQ(header_of(replies[0].head, "Connection"), "close");
+  EXPECT_EQ(stream.find("smuggled"), std::string::npos) << stream;
+}
+
+// A request the library cannot read (an unknown method, a bad request line) is answered, and the
+// connection ends: the bytes after it are not requests.
+TEST(HttpTransport, AnUnreadableRequestEndsItsConnection) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const std::vector<std::pair<std::string, int>> cases{
+      {"FOO / HTTP/1.1\r\nGET /healthz HTTP/1.1\r\nX-Request-Id: smuggled\r\n\r\n", 501},
+      {"GET /healthz HTTP/1.1 junk\r\nHost: x\r\n\r\nGET /healthz HTTP/1.1\r\n"
+       "X-Request-Id: smuggled\r\n\r\n",
+       400},
+  };
+  for (const auto& [request, status] : cases) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.send(request));
+    const std::string stream = raw.read_all();
+    const std::vector<ParsedReply> replies = parse_replies(stream);
+    ASSERT_EQ(replies.size(), 1u) << stream;
+    EXPECT_EQ(replies[0].status, status) << stream;
+    EXPECT_EQ(header_of(replies[0].head, "Connection"), "close") << stream;
+  }
+  EXPECT_EQ(server.log().find("id=smuggled"), std::string::npos) << server.log();
+}
+
+// The library reads no body of a GET: one that comes with a body is answered and its connection
+// ends, so the body is never taken for the next request.
+TEST(HttpTransport, TheBodyOfAGetIsNeverARequest) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const std::string inner = "GET /metrics HTTP/1.1\r\nHost: x\r\nX-Request-Id: smuggled\r\n\r\n";
+  test::Raw raw(server.port());
+  ASSERT_TRUE(raw.send("GET /healthz HTTP/1.1\r\nHost: x\r\nContent-Length: " +
+                       std::to_string(inner.size()) + "\r\n\r\n" + inner));
+  const std::string stream = raw.read_all();
+  const std::vector<ParsedReply> replies = parse_replies(stream);
+  ASSERT_EQ(replies.size(), 1u) << stream;
+  EXPECT_EQ(replies[0].status, 200);
+  EXPECT_EQ(header_of(replies[0].head, "Connection"), "close");
+  EXPECT_EQ(server.log().find("id=smuggled"), std::string::npos) << server.log();
+}
+
+// The request line and headers together are bounded (each line alone is, by the library): past
+// the bound the answer is a 400 naming it and the connection ends; just under it, the request is
+// answered.
+TEST(HttpTransport, HeadersPastTheirBoundAreRefusedNamingIt) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const auto headers_of = [](std::size_t bytes) {
+    std::string h;
+    for (std::size_t i = 0; h.size() < bytes; ++i) {
+      h += "X-Filler-" + std::to_string(i) + ": " + std::string(1000, 'f') + "\r\n";
+    }
+    return h;
+  };
+  {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.send("GET /healthz HTTP/1.1\r\nHost: x\r\n" + headers_of(60000) + "\r\n"));
+    const std::vector<ParsedReply> replies = read_replies(raw, 1);
+    ASSERT_EQ(replies.size(), 1u);
+    EXPECT_EQ(replies[0].status, 200);
+  }
+  test::Raw raw(server.port());
+  ASSERT_TRUE(raw.send("GET /healthz HTTP/1.1\r\nHost: x\r\n" + headers_of(70000) + "\r\n"));
+  const std::string stream = raw.read_all();
+  const std::vector<ParsedReply> replies = parse_replies(stream);
+  ASSERT_EQ(replies.size(), 1u) << stream.substr(0, 500);
+  EXPECT_EQ(replies[0].status, 400);
+  EXPECT_EQ(json::parse(replies[0].body)["error"]["message"],
+            "the request line and headers are longer than the limit of 65536 bytes");
+  EXPECT_EQ(header_of(replies[0].head, "Connection"), "close");
+}
+
+// A client that waits for "100 Continue" gets it, then the final answer of its request, also when
+// the path has no route (a 404) or the route not the method (a 405).
+TEST(HttpTransport, AnExpectationIsFollowedByTheFinalAnswer) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  for (const auto& [line, status] : std::vector<std::pair<std::string, int>>{
+           {"POST /nope", 404}, {"POST /healthz", 405}, {"GET /nope", 404}}) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.send(line + " HTTP/1.1\r\nHost: x\r\nExpect: 100-continue\r\n"
+                                "Content-Length: 2\r\nConnection: close\r\n\r\n{}"));
+    const std::string stream = raw.read_all();
+    ASSERT_EQ(stream.rfind("HTTP/1.1 100 Continue\r\n\r\n", 0), 0u) << line << ": " << stream;
+    const std::vector<ParsedReply> replies = parse_replies(stream.substr(25));
+    ASSERT_EQ(replies.size(), 1u) << line << ": " << stream;
+    EXPECT_EQ(replies[0].status, status) << line << ": " << stream;
+  }
+}
+
 }  // namespace test_http_transport
 }  // namespace slosh

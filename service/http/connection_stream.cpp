@@ -81,7 +81,28 @@ bool ConnectionStream::is_writable() const {
   return !failed_ && !refused_;
 }
 
+void ConnectionStream::begin_request() {
+  refused_ = false;
+  in_head_ = true;
+  head_overflowed_ = false;
+  head_bytes_ = 0;
+}
+
 ssize_t ConnectionStream::read(char* ptr, size_t size) {
+  if (in_head_) {
+    if (head_bytes_ >= kMaxHeadBytes) {
+      head_overflowed_ = true;
+      return -1;
+    }
+    size = std::min(size, kMaxHeadBytes - head_bytes_);
+    const ssize_t n = read_unbounded(ptr, size);
+    if (n > 0) head_bytes_ += static_cast<std::size_t>(n);
+    return n;
+  }
+  return read_unbounded(ptr, size);
+}
+
+ssize_t ConnectionStream::read_unbounded(char* ptr, size_t size) {
   if (in_begin_ < in_end_) {
     const std::size_t n = std::min(size, in_end_ - in_begin_);
     std::memcpy(ptr, in_.data() + in_begin_, n);
@@ -98,7 +119,7 @@ ssize_t ConnectionStream::read(char* ptr, size_t size) {
   if (n <= 0 || direct) return n;
   in_begin_ = 0;
   in_end_ = static_cast<std::size_t>(n);
-  return read(ptr, size);
+  return read_unbounded(ptr, size);
 }
 
 ssize_t ConnectionStream::write(const char* ptr, size_t size) {

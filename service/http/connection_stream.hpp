@@ -56,10 +56,23 @@ class ConnectionStream final : public httplib::Stream {
   /// When the peer has sent its FIN with nothing unread before it, the reply is not written
   /// (every later write fails) and true is returned. One non-blocking peek.
   bool refuse_if_peer_finished();
-  /// Starts a reply: the refusal of the previous one is forgotten.
-  void begin_reply() { refused_ = false; }
+  /// Starts the next request: what was said of the previous one is forgotten.
+  void begin_request();
+  /// The request's line and headers have been read: what is read next (its body) does not count
+  /// towards kMaxHeadBytes.
+  void head_read() { in_head_ = false; }
+  /// The request's line and headers passed kMaxHeadBytes: the read that would pass it failed.
+  [[nodiscard]] bool head_overflowed() const { return head_overflowed_; }
+  /// The connection ends after this reply (it said `Connection: close`).
+  void end_after_reply() { ending_ = true; }
+  [[nodiscard]] bool ending() const { return ending_; }
+
+  /// The most a request's line and headers may take [bytes]. The library bounds each line
+  /// (8 kB) but not their number.
+  static constexpr std::size_t kMaxHeadBytes = std::size_t{64} << 10;
 
  private:
+  ssize_t read_unbounded(char* ptr, size_t size);
   [[nodiscard]] bool poll_readable(int timeout_ms) const;
   bool send_all(const char* head, std::size_t head_size, const char* body, std::size_t body_size);
 
@@ -71,6 +84,10 @@ class ConnectionStream final : public httplib::Stream {
   std::string held_;  // written, not yet sent (a reply's head)
   bool failed_{false};
   bool refused_{false};
+  bool ending_{false};
+  bool in_head_{true};
+  bool head_overflowed_{false};
+  std::size_t head_bytes_{0};  // of the request's line and headers, read so far
   std::string remote_ip_;
   int remote_port_{0};
   std::string local_ip_;

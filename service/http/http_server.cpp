@@ -8,6 +8,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -17,6 +18,7 @@
 #include <memory>
 #include <optional>
 #include <regex>
+#include <string_view>
 #include <thread>
 #include <vector>
 
@@ -336,9 +338,31 @@ void register_unrouted_body_methods(Runtime& rt) {
 
 // The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
 // request line, bad Range).
+// Whether a framework answer of `status` leaves the connection's next bytes unknown: a request
+// line or headers the library could not read (400, 501 for an unknown method), a body it did not
+// read (413) or a request cut short (408, 414).
+bool ends_connection(int status) {
+  return status == 400 || status == 408 || status == 413 || status == 414 || status == 501;
+}
+
+// A request whose body the library does not read: it reads one for POST, PUT, PATCH and DELETE
+// only.
+bool has_unread_body(const httplib::Request& req) {
+  static constexpr std::array<std::string_view, 4> kRead{"POST", "PUT", "PATCH", "DELETE"};
+  if (std::find(kRead.begin(), kRead.end(), req.method) != kRead.end()) return false;
+  const std::string length = req.get_header_value("Content-Length");
+  return (!length.empty() && length != "0") || req.has_header("Transfer-Encoding");
+}
+
 Reply framework_reply(const httplib::Request& req, int status, const RouteTable::Match& match,
                       const Runtime& rt) {
   if (status == 404) return unrouted_reply(req, match);
+  if (const ConnectionStream* connection = ConnectionStream::on_this_thread();
+      status == 400 && connection != nullptr && connection->head_overflowed()) {
+    return error_reply(api::ErrorCode::kBadRequest,
+                       "the request line and headers are longer than the limit of " +
+                           std::to_string(ConnectionStream::kMaxHeadBytes) + " bytes");
+  }
   if (status == 413) return too_large_reply(rt.config);
   if (status == 415) return not_json_reply(req);
   if (status == 400 && !req.method.empty() && !known_method(req.method)) {
@@ -363,6 +387,8 @@ void install_error_handlers(Runtime& rt) {
         // A malformed request never reaches the pre-routing hook that names the replica.
         if (!res.has_header("X-Slosh-Replica")) res.set_header("X-Slosh-Replica", rt.replica);
         answer(rt, std::move(match.label), std::move(reply), res);
+        // The request's framing is unknown or its body unread: what follows is not a request.
+        if (ends_connection(res.status)) close_after_answer(req, res);
         return httplib::Server::HandlerResponse::Handled;
       }));
   rt.server.set_expect_100_continue_handler(
@@ -370,8 +396,11 @@ void install_error_handlers(Runtime& rt) {
         // The library asks before the pre-routing hook runs (and never runs it for a refusal):
         // the request is timed from here.
         request_start = std::chrono::steady_clock::now();
-        res.status = expect_continue_status(req, rt.config);
-        return res.status;
+        // A refusal is the answer; after a 100 the request is routed as any other (its status
+        // stays unset, so an unknown route is still a 404).
+        const int status = expect_continue_status(req, rt.config);
+        if (status != 100) res.status = status;
+        return status;
       });
   rt.server.set_exception_handler(
       [](const httplib::Request&, httplib::Response& res, std::exception_ptr ep) {
@@ -422,6 +451,10 @@ std::string combined_field_lines(const httplib::Request& req, const char* name) 
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
+    if (ConnectionStream* connection = ConnectionStream::on_this_thread()) connection->head_read();
+    // A body the library never reads would be parsed as the next request: the connection ends
+    // with this answer instead.
+    if (has_unread_body(req)) close_after_answer(req, res);
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
     // The service codes its bodies itself (send): the library must not compress them again.
@@ -474,6 +507,10 @@ void install_write_hooks(Runtime& rt) {
   });
   rt.server.set_logger([&rt](const httplib::Request& req, const httplib::Response& res) {
     if (rt.reaper) rt.reaper->end_request(peer_of(req));
+    ConnectionStream* connection = ConnectionStream::on_this_thread();
+    if (connection != nullptr && res.get_header_value("Connection") == "close") {
+      connection->end_after_reply();
+    }
     AccessLogEntry entry{.request_id = res.get_header_value("X-Request-Id"),
                          .method = req.method.substr(0, 16),
                          .route = request_route.empty() ? "other" : request_route,

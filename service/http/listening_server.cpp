@@ -33,11 +33,13 @@ bool ListeningServer::process_and_close_socket(socket_t sock) {
                                    running)) {
         break;
       }
-      stream.begin_reply();
+      stream.begin_request();
       bool closed = false;
       ok = process_request(stream, left == 1, closed, nullptr);
       ok = stream.flush() && ok;
-      if (!ok || closed) break;
+      // The library reads on after a reply that said `Connection: close` (the service's, after a
+      // body it did not read): what follows would be parsed as a request.
+      if (!ok || closed || stream.ending()) break;
     }
   }
   ::shutdown(sock, SHUT_RDWR);

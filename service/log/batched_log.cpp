@@ -1,5 +1,6 @@
 #include "log/batched_log.hpp"
 
+#include <poll.h>
 #include <spdlog/pattern_formatter.h>
 #include <spdlog/spdlog.h>
 #include <unistd.h>
@@ -10,6 +11,9 @@ namespace slosh::service {
 
 namespace {
 
+/// How long a stream may take nothing before a batch is given up [ms].
+constexpr int kStuckMs = 10000;
+
 // Writes all of `text` to `fd`; what the stream refuses (closed, full disk) is dropped, as a
 // logger cannot report its own failure anywhere else.
 void write_all(int fd, const std::string& text) {
@@ -17,6 +21,13 @@ void write_all(int fd, const std::string& text) {
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
+    if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
+      // A non-blocking stream (a pipe the reader drains slowly): wait for room rather than cut a
+      // line; a stream that takes nothing for kStuck loses the batch.
+      pollfd p{fd, POLLOUT, 0};
+      if (::poll(&p, 1, kStuckMs) <= 0) return;
+      continue;
+    }
     if (n <= 0) return;
     done += static_cast<std::size_t>(n);
   }
