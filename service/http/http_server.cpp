@@ -8,10 +8,8 @@
 #include <unistd.h>
 
 #include <algorithm>
-#include <array>
 #include <atomic>
 #include <chrono>
-#include <cmath>
 #include <cstdio>
 #include <fstream>
 #include <functional>
@@ -153,11 +151,6 @@ std::string path_as_sent(const httplib::Request& req) {
   return req.target.substr(0, req.target.find_first_of("?#"));
 }
 
-timeval to_timeval(double seconds) {
-  const double whole = std::floor(seconds);
-  return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
-}
-
 // Everything the server answers with, built in order: the handlers and their engine, the job
 // stores and jobs, the calibrations; the batch jobs' and the cancellations' metrics registered.
 struct ServerParts {
@@ -200,27 +193,6 @@ struct Runtime {
   std::string replica;  // the X-Slosh-Replica header of every response
   Resources resources;  // what the route handlers answer with
 };
-
-// The HTTP library's threads, timeouts and socket options.
-void configure_transport(ListeningServer& server, const ServerConfig& config) {
-  server.new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
-  // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
-  // for chunked bodies.
-  const timeval read_timeout = to_timeval(config.read_timeout_s);
-  const timeval write_timeout = to_timeval(config.write_timeout_s);
-  server.set_read_timeout(read_timeout.tv_sec, read_timeout.tv_usec);
-  server.set_write_timeout(write_timeout.tv_sec, write_timeout.tv_usec);
-  server.set_keep_alive_timeout(
-      std::max<time_t>(1, static_cast<time_t>(std::lround(config.keep_alive_timeout_s))));
-  server.set_keep_alive_max_count(100000);
-  server.set_tcp_nodelay(true);  // no 40 ms Nagle + delayed-ACK stall between header and body
-  // The library's default options add SO_REUSEPORT, which lets a second instance bind the same
-  // port and take half of the connections: only SO_REUSEADDR here, so that second bind fails.
-  server.set_socket_options([](socket_t sock) {
-    const int yes = 1;
-    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-  });
-}
 
 // Whether the client of `req` has closed its side of the connection: work nobody waits for is
 // stopped. Asked of the reaper at most every kClientPoll (each answer lists the process's
@@ -338,22 +310,6 @@ void register_unrouted_body_methods(Runtime& rt) {
 
 // The envelope of a status the HTTP library answers itself (unknown route, wrong method, bad
 // request line, bad Range).
-// Whether a framework answer of `status` leaves the connection's next bytes unknown: a request
-// line or headers the library could not read (400, 501 for an unknown method), a body it did not
-// read (413) or a request cut short (408, 414).
-bool ends_connection(int status) {
-  return status == 400 || status == 408 || status == 413 || status == 414 || status == 501;
-}
-
-// A request whose body the library does not read: it reads one for POST, PUT, PATCH and DELETE
-// only.
-bool has_unread_body(const httplib::Request& req) {
-  static constexpr std::array<std::string_view, 4> kRead{"POST", "PUT", "PATCH", "DELETE"};
-  if (std::find(kRead.begin(), kRead.end(), req.method) != kRead.end()) return false;
-  const std::string length = req.get_header_value("Content-Length");
-  return (!length.empty() && length != "0") || req.has_header("Transfer-Encoding");
-}
-
 Reply framework_reply(const httplib::Request& req, int status, const RouteTable::Match& match,
                       const Runtime& rt) {
   if (status == 404) return unrouted_reply(req, match);
@@ -566,7 +522,7 @@ void stop_on_signal(Runtime& rt, const StopSignals& signals, int signal_number) 
 
 // Routes, hooks and handlers installed on `rt.server`.
 void install_http(Runtime& rt) {
-  configure_transport(rt.server, rt.config);
+  rt.server.configure(rt.config);
   register_routes(rt);
   register_unrouted_body_methods(rt);
   install_error_handlers(rt);

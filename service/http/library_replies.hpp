@@ -18,4 +18,13 @@ namespace slosh::service {
 /// own when the request asked for "Connection: close").
 void close_after_answer(const httplib::Request& req, httplib::Response& res);
 
+/// Whether a framework answer of `status` leaves the connection's next bytes unknown: a request
+/// line or headers the library could not read (400, 501 for an unknown method), a body it did not
+/// read (413) or a request cut short (408, 414). The connection ends after it.
+[[nodiscard]] bool ends_connection(int status);
+
+/// Whether `req` comes with a body the library does not read: it reads one for POST, PUT, PATCH
+/// and DELETE only. The bytes of such a body would be parsed as the next request.
+[[nodiscard]] bool has_unread_body(const httplib::Request& req);
+
 }  // namespace slosh::service

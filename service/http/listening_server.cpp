@@ -3,8 +3,11 @@
 #include <sys/socket.h>
 #include <unistd.h>
 
+#include <algorithm>
 #include <chrono>
+#include <cmath>
 
+#include "http/connection_pool.hpp"
 #include "http/connection_stream.hpp"
 
 namespace slosh::service {
@@ -15,7 +18,32 @@ namespace {
 /// library's own loop does.
 constexpr std::chrono::milliseconds kStopCheck{10};
 
+timeval to_timeval(double seconds) {
+  const double whole = std::floor(seconds);
+  return {static_cast<time_t>(whole), static_cast<suseconds_t>((seconds - whole) * 1e6)};
+}
+
 }  // namespace
+
+void ListeningServer::configure(const ServerConfig& config) {
+  new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
+  // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
+  // for chunked bodies.
+  const timeval read_timeout = to_timeval(config.read_timeout_s);
+  const timeval write_timeout = to_timeval(config.write_timeout_s);
+  set_read_timeout(read_timeout.tv_sec, read_timeout.tv_usec);
+  set_write_timeout(write_timeout.tv_sec, write_timeout.tv_usec);
+  set_keep_alive_timeout(
+      std::max<time_t>(1, static_cast<time_t>(std::lround(config.keep_alive_timeout_s))));
+  set_keep_alive_max_count(100000);
+  set_tcp_nodelay(true);  // no 40 ms Nagle + delayed-ACK stall between header and body
+  // The library's default options add SO_REUSEPORT, which lets a second instance bind the same
+  // port and take half of the connections: only SO_REUSEADDR here, so that second bind fails.
+  set_socket_options([](socket_t sock) {
+    const int yes = 1;
+    setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+  });
+}
 
 bool ListeningServer::raise_backlog() {
   return ::listen(svr_sock_, SOMAXCONN) == 0;

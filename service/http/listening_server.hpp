@@ -4,10 +4,15 @@
 
 #include <httplib.h>
 
+#include "config/server_config.hpp"
+
 namespace slosh::service {
 
 class ListeningServer : public httplib::Server {
  public:
+  /// The connection threads (ConnectionPool, up to `config.http_threads`), the read, write and
+  /// keep-alive timeouts and the socket options of `config`.
+  void configure(const ServerConfig& config);
   /// The library listens with a backlog of 5: a burst of more simultaneous connections than that
   /// loses SYNs and stalls those clients for a second or more. Listening again with the system's
   /// maximum only raises the backlog (Linux).
