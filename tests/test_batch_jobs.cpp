@@ -596,7 +596,11 @@ TEST(BatchJobsCli, InterruptCancelsTheRemoteJob) {
     }
     ASSERT_EQ(test::metric_of(server, "slosh_batch_jobs_active"), 0);
   }
-  EXPECT_NE(server.log().find("method=DELETE path=/v1/batches/"), std::string::npos);
+  // The access log is written in batches: the line follows within milliseconds.
+  EXPECT_TRUE(test::wait_until(
+      [&] { return server.log().find("method=DELETE path=/v1/batches/") != std::string::npos; },
+      std::chrono::seconds(10)))
+      << server.log();
 }
 
 // Interrupted once the service has finished some of the job's rows, the CLI cancels the job and

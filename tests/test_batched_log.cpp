@@ -65,6 +65,7 @@ TEST(BatchedLog, LinesFromManyThreadsArriveWholeAndInEachThreadsOrder) {
   std::vector<std::thread> threads;
   for (int t = 0; t < kThreads; ++t) {
     threads.emplace_back([&file, t] {
+      const BatchedSink::Batchable batchable;
       for (int i = 0; i < kLines; ++i) {
         file.logger().info("thread {} line {} {}", t, i,
                            std::string(static_cast<std::size_t>(i % 97), 'x'));
@@ -92,10 +93,11 @@ TEST(BatchedLog, LinesFromManyThreadsArriveWholeAndInEachThreadsOrder) {
   EXPECT_EQ(count, kThreads * kLines);
 }
 
-// With a batch interval far longer than the test, an info line waits for its batch, and a warning
-// is written at once together with it.
+// With a batch interval far longer than the test, an access-log line waits for its batch, and a
+// warning is written at once together with it.
 TEST(BatchedLog, AWarningIsWrittenAtOnceWithTheLinesBeforeIt) {
   LogFile file(std::chrono::seconds(60));
+  const BatchedSink::Batchable batchable;
   file.logger().info("first");
   std::this_thread::sleep_for(std::chrono::milliseconds(100));
   EXPECT_EQ(file.text(), "");
@@ -108,8 +110,22 @@ TEST(BatchedLog, AWarningIsWrittenAtOnceWithTheLinesBeforeIt) {
   EXPECT_EQ(file.text(), "first\nsecond\nthird\n");
 }
 
+// A line that is not the access log's (a start, a job's event) is written at once, with the
+// access-log lines before it.
+TEST(BatchedLog, AnEventLineIsWrittenAtOnceWithTheLinesBeforeIt) {
+  LogFile file(std::chrono::seconds(60));
+  {
+    const BatchedSink::Batchable batchable;
+    file.logger().info("request");
+  }
+  EXPECT_EQ(file.text(), "");
+  file.logger().info("event");
+  EXPECT_EQ(file.text(), "request\nevent\n");
+}
+
 TEST(BatchedLog, ALineIsWrittenWithinTheBatchInterval) {
   LogFile file(std::chrono::milliseconds(5));
+  const BatchedSink::Batchable batchable;
   file.logger().info("soon");
   EXPECT_TRUE(test::wait_until([&] { return file.text() == "soon\n"; }, std::chrono::seconds(10)));
 }
@@ -117,6 +133,7 @@ TEST(BatchedLog, ALineIsWrittenWithinTheBatchInterval) {
 // Lines faster than the stream: past kBatchLimit the logging thread writes the batch itself.
 TEST(BatchedLog, ABatchPastItsLimitIsWrittenByTheLoggingThread) {
   LogFile file(std::chrono::seconds(60));
+  const BatchedSink::Batchable batchable;
   const std::string line(1000, 'y');
   const std::size_t lines = BatchedSink::kBatchLimit / (line.size() + 1) + 1;
   for (std::size_t i = 0; i < lines; ++i) file.logger().info("{}", line);
@@ -146,6 +163,7 @@ TEST(BatchedLog, ANonBlockingStreamReadSlowlyLosesNoLine) {
     auto sink = std::make_shared<BatchedSink>(fds[1], std::chrono::milliseconds(2));
     spdlog::logger logger("pipe", sink);
     logger.set_pattern("%v");
+    const BatchedSink::Batchable batchable;
     for (int i = 0; i < kLines; ++i) logger.info("line {} {}", i, std::string(100, 'z'));
   }
   ::close(fds[1]);

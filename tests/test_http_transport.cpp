@@ -267,6 +267,7 @@ TEST(HttpTransport, AnUnreadableRequestEndsItsConnection) {
     EXPECT_EQ(replies[0].status, status) << stream;
     EXPECT_EQ(header_of(replies[0].head, "Connection"), "close") << stream;
   }
+  ASSERT_EQ(server.stop(), 0);  // every access-log line written
   EXPECT_EQ(server.log().find("id=smuggled"), std::string::npos) << server.log();
 }
 
@@ -284,6 +285,7 @@ TEST(HttpTransport, TheBodyOfAGetIsNeverARequest) {
   ASSERT_EQ(replies.size(), 1u) << stream;
   EXPECT_EQ(replies[0].status, 200);
   EXPECT_EQ(header_of(replies[0].head, "Connection"), "close");
+  ASSERT_EQ(server.stop(), 0);  // every access-log line written
   EXPECT_EQ(server.log().find("id=smuggled"), std::string::npos) << server.log();
 }
 

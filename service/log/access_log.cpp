@@ -8,6 +8,7 @@
 #include <ctime>
 #include <memory>
 
+#include "log/batched_log.hpp"
 #include "slosh/api/log_json.hpp"
 
 namespace slosh::service {
@@ -95,6 +96,7 @@ void use_log_format(const std::string& format) {
 }
 
 void log_access(const AccessLogEntry& e) {
+  const BatchedSink::Batchable batchable;  // one line per request: it may wait for its batch
   if (json_logs) {
     spdlog::info("{}{}", kFieldsMarker, json_fields(e));
     return;

@@ -33,7 +33,17 @@ void write_all(int fd, const std::string& text) {
   }
 }
 
+thread_local bool batchable = false;
+
 }  // namespace
+
+BatchedSink::Batchable::Batchable() : was_(batchable) {
+  batchable = true;
+}
+
+BatchedSink::Batchable::~Batchable() {
+  batchable = was_;
+}
 
 BatchedSink::BatchedSink(int fd, std::chrono::milliseconds linger)
     : fd_(fd), linger_(linger), formatter_(std::make_unique<spdlog::pattern_formatter>()) {
@@ -62,8 +72,9 @@ void BatchedSink::log(const spdlog::details::log_msg& msg) {
     pending_.append(line.data(), line.size());
     full = pending_.size() >= kBatchLimit;
   }
-  if (full) {
-    flush();  // the stream is slower than the lines: the logging threads wait for it
+  if (full || !batchable) {
+    // A line that may not wait, or the stream slower than the lines: the logging thread writes.
+    flush();
   } else if (first) {
     wake_.notify_one();
   }

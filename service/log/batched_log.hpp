@@ -1,9 +1,10 @@
 #pragma once
-// The server's log lines written in batches: a request's access-log line is added to a buffer, and
-// a writer thread sends what gathered a few milliseconds after the first line of a batch in one
-// write. Under load that is one write for a hundred requests instead of one per request, and no
-// request thread waits on the log's stream (or on another thread writing to it). Warnings and
-// errors are written at once, with every line before them. A crash loses at most the lines of the
+// The server's access log written in batches: a request's access-log line is added to a buffer,
+// and a writer thread sends what gathered a few milliseconds after the first line of a batch in
+// one write. Under load that is one write for a hundred requests instead of one per request, and
+// no request thread waits on the log's stream (or on another thread writing to it). Every other
+// line (start, stop, a job's or a store's events, warnings, errors) is written at once, with every
+// line before it, as a synchronous log would. A crash loses at most the access-log lines of the
 // last batch interval.
 
 #include <spdlog/logger.h>
@@ -29,6 +30,19 @@ class BatchedSink final : public spdlog::sinks::sink {
   BatchedSink(const BatchedSink&) = delete;
   BatchedSink& operator=(const BatchedSink&) = delete;
 
+  /// Lines logged on this thread while one is alive may wait for their batch (the access log's);
+  /// every other line is written at once, with the lines before it.
+  class Batchable {
+   public:
+    Batchable();
+    ~Batchable();
+    Batchable(const Batchable&) = delete;
+    Batchable& operator=(const Batchable&) = delete;
+
+   private:
+    bool was_;
+  };
+
   void log(const spdlog::details::log_msg& msg) override;
   /// Writes every line logged so far.
   void flush() override;
@@ -52,8 +66,8 @@ class BatchedSink final : public spdlog::sinks::sink {
   std::thread writer_;
 };
 
-/// While alive, the default logger writes to standard output through a BatchedSink (warnings
-/// and errors at once); the logger it replaced is restored, every line written, at the end.
+/// While alive, the default logger writes to standard output through a BatchedSink; the logger it
+/// replaced is restored, every line written, at the end.
 class BatchedLog {
  public:
   /// How long a batch gathers lines after its first [ms].
