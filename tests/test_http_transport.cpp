@@ -338,5 +338,66 @@ TEST(HttpTransport, AnExpectationIsFollowedByTheFinalAnswer) {
   }
 }
 
+// A request whose framing a proxy could read another way is refused (400 naming why) and its
+// connection ends, so its body never runs as a request: a second Content-Length, white space
+// before a colon, an empty length, a coding other than chunked, both framings, a line without ':'.
+TEST(HttpTransport, AnAmbiguouslyFramedRequestIsRefusedAndEndsItsConnection) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const std::string inner = "GET /metrics HTTP/1.1\r\nHost: x\r\nX-Request-Id: smuggled\r\n\r\n";
+  const std::string n = std::to_string(inner.size());
+  const std::string ambiguous = "the request is framed ambiguously: ";
+  const std::vector<std::pair<std::string, std::string>> cases{
+      {"GET /healthz HTTP/1.1\r\nHost: x\r\nContent-Length: 0\r\nContent-Length: " + n,
+       ambiguous + "Content-Length is given more than once"},
+      {"POST /v1/plans HTTP/1.1\r\nHost: x\r\nContent-Length : " + n,
+       ambiguous + "header line 3 has white space in its field name"},
+      {"GET /healthz HTTP/1.1\r\nHost: x\r\nContent-Length:",
+       "Content-Length = \"\" is not a length: a whole number of bytes, at most 1048576"},
+      {"POST /v1/plans HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: gzip",
+       ambiguous + "Transfer-Encoding \"gzip\" is not supported (only chunked)"},
+      {"POST /v1/plans HTTP/1.1\r\nHost: x\r\nTransfer-Encoding: chunked\r\nContent-Length: 5",
+       "the request declares both Content-Length and Transfer-Encoding: send one of them (RFC "
+       "9112 6.3)"},
+      {"POST /v1/plans HTTP/1.1\r\nHost: x\r\nTransfer-Encoding chunked",
+       ambiguous + "header line 3 has no ':'"},
+  };
+  for (const auto& [head, why] : cases) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.send(head + "\r\n\r\n" + inner));
+    const std::string stream = raw.read_all();
+    const std::vector<ParsedReply> replies = parse_replies(stream);
+    ASSERT_EQ(replies.size(), 1u) << head << "\n" << stream;
+    EXPECT_EQ(replies[0].status, 400) << head;
+    EXPECT_EQ(json::parse(replies[0].body)["error"]["message"], why) << head;
+    EXPECT_EQ(header_of(replies[0].head, "Connection"), "close") << head;
+  }
+  ASSERT_EQ(server.stop(), 0);  // every access-log line written
+  EXPECT_EQ(server.log().find("id=smuggled"), std::string::npos) << server.log();
+}
+
+// A client that asks to close in any case or among other tokens is answered once, with
+// `Connection: close` said once, and nothing after.
+TEST(HttpTransport, ACloseInAnyCaseOrListEndsTheConnection) {
+  test::Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  for (const std::string value : {"Close", "CLOSE", "keep-alive, close"}) {
+    test::Raw raw(server.port());
+    ASSERT_TRUE(raw.send("GET /healthz HTTP/1.1\r\nHost: x\r\nConnection: " + value + "\r\n\r\n" +
+                         get("/healthz", "after")));
+    const std::string stream = raw.read_all();
+    const std::vector<ParsedReply> replies = parse_replies(stream);
+    ASSERT_EQ(replies.size(), 1u) << value << "\n" << stream;
+    EXPECT_EQ(replies[0].status, 200);
+    EXPECT_EQ(header_of(replies[0].head, "Connection"), "close") << value;
+  }
+  test::Raw raw(server.port());
+  ASSERT_TRUE(raw.send("TRACE /healthz HTTP/1.1\r\nHost: x\r\nContent-Length: 2\r\n\r\n{}"));
+  const std::string stream = raw.read_all();
+  const auto first = stream.find("\r\nConnection: close\r\n");
+  ASSERT_NE(first, std::string::npos) << stream;
+  EXPECT_EQ(stream.find("\r\nConnection: close\r\n", first + 1), std::string::npos) << stream;
+}
+
 }  // namespace test_http_transport
 }  // namespace slosh

@@ -85,18 +85,18 @@ void ConnectionStream::begin_request() {
   refused_ = false;
   in_head_ = true;
   head_overflowed_ = false;
-  head_bytes_ = 0;
+  head_.clear();
 }
 
 ssize_t ConnectionStream::read(char* ptr, size_t size) {
   if (in_head_) {
-    if (head_bytes_ >= kMaxHeadBytes) {
+    if (head_.size() >= kMaxHeadBytes) {
       head_overflowed_ = true;
       return -1;
     }
-    size = std::min(size, kMaxHeadBytes - head_bytes_);
+    size = std::min(size, kMaxHeadBytes - head_.size());
     const ssize_t n = read_unbounded(ptr, size);
-    if (n > 0) head_bytes_ += static_cast<std::size_t>(n);
+    if (n > 0) head_.append(ptr, static_cast<std::size_t>(n));
     return n;
   }
   return read_unbounded(ptr, size);

@@ -20,6 +20,7 @@
 #include <cstddef>
 #include <functional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace slosh::service {
@@ -61,6 +62,8 @@ class ConnectionStream final : public httplib::Stream {
   /// The request's line and headers have been read: what is read next (its body) does not count
   /// towards kMaxHeadBytes.
   void head_read() { in_head_ = false; }
+  /// The request's line and headers as read so far (all of them once head_read()).
+  [[nodiscard]] std::string_view head() const { return head_; }
   /// The request's line and headers passed kMaxHeadBytes: the read that would pass it failed.
   [[nodiscard]] bool head_overflowed() const { return head_overflowed_; }
   /// The connection ends after this reply (it said `Connection: close`).
@@ -87,7 +90,7 @@ class ConnectionStream final : public httplib::Stream {
   bool ending_{false};
   bool in_head_{true};
   bool head_overflowed_{false};
-  std::size_t head_bytes_{0};  // of the request's line and headers, read so far
+  std::string head_;  // the request's line and headers, read so far
   std::string remote_ip_;
   int remote_port_{0};
   std::string local_ip_;

@@ -407,10 +407,11 @@ std::string combined_field_lines(const httplib::Request& req, const char* name) 
 void install_request_hooks(Runtime& rt) {
   rt.server.set_pre_routing_handler([&rt](const httplib::Request& req, httplib::Response& res) {
     request_start = std::chrono::steady_clock::now();
-    if (ConnectionStream* connection = ConnectionStream::on_this_thread()) connection->head_read();
-    // A body the library never reads would be parsed as the next request: the connection ends
-    // with this answer instead.
-    if (has_unread_body(req)) close_after_answer(req, res);
+    ConnectionStream* connection = ConnectionStream::on_this_thread();
+    if (connection != nullptr) connection->head_read();
+    // A body the library never reads would be parsed as the next request, and the library reads
+    // only an exact "close": the connection ends with this answer instead.
+    if (has_unread_body(req) || asks_to_close(req)) close_after_answer(req, res);
     // Whole bodies only: the library would otherwise cut answers to a Range header.
     const_cast<httplib::Request&>(req).ranges.clear();
     // The service codes its bodies itself (send): the library must not compress them again.
@@ -426,6 +427,15 @@ void install_request_hooks(Runtime& rt) {
     res.set_header("X-Request-Id", request_id(req));
     res.set_header("X-Slosh-Replica", rt.replica);
     if (rt.reaper) rt.reaper->begin_request(peer_of(req));
+    if (const std::string error =
+            connection ? framing_error(connection->head(), rt.config.max_body_bytes) : "";
+        !error.empty()) {
+      // Read one way here and perhaps another by a proxy: refused, and the connection ends.
+      answer(rt, rt.routes.match(req.path).label, error_reply(api::ErrorCode::kBadRequest, error),
+             res);
+      close_after_answer(req, res);
+      return httplib::Server::HandlerResponse::Handled;
+    }
     if (auto slashed = encoded_slash_reply(req)) {
       // Under the route whose segment holds the %2F (the sent path matches its template).
       answer(rt, rt.routes.match(path_as_sent(req)).label, std::move(*slashed), res);

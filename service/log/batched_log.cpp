@@ -11,21 +11,23 @@ namespace slosh::service {
 
 namespace {
 
-/// How long a stream may take nothing before a batch is given up [ms].
-constexpr int kStuckMs = 10000;
+/// How long a stream may take nothing before the last batch is given up at exit [ms]: the
+/// process ends even when nobody reads its log.
+constexpr int kStuckAtExitMs = 10000;
 
 // Writes all of `text` to `fd`; what the stream refuses (closed, full disk) is dropped, as a
-// logger cannot report its own failure anywhere else.
-void write_all(int fd, const std::string& text) {
+// logger cannot report its own failure anywhere else. A stream with no room (a full non-blocking
+// pipe) is waited for, up to `stuck_ms` of no progress (-1: for ever, as a blocking one would).
+void write_all(int fd, const std::string& text, int stuck_ms) {
   std::size_t done = 0;
   while (done < text.size()) {
     const ssize_t n = ::write(fd, text.data() + done, text.size() - done);
     if (n < 0 && errno == EINTR) continue;
     if (n < 0 && (errno == EAGAIN || errno == EWOULDBLOCK)) {
       // A non-blocking stream (a pipe the reader drains slowly): wait for room rather than cut a
-      // line; a stream that takes nothing for kStuck loses the batch.
+      // line.
       pollfd p{fd, POLLOUT, 0};
-      if (::poll(&p, 1, kStuckMs) <= 0) return;
+      if (::poll(&p, 1, stuck_ms) == 0) return;
       continue;
     }
     if (n <= 0) return;
@@ -57,6 +59,7 @@ BatchedSink::~BatchedSink() {
   }
   wake_.notify_one();
   writer_.join();
+  ending_ = true;
   flush();
 }
 
@@ -87,7 +90,7 @@ void BatchedSink::flush() {
     const std::lock_guard lock(mutex_);
     batch.swap(pending_);
   }
-  write_all(fd_, batch);
+  write_all(fd_, batch, ending_ ? kStuckAtExitMs : -1);
 }
 
 void BatchedSink::set_pattern(const std::string& pattern) {

@@ -10,6 +10,7 @@
 #include <spdlog/logger.h>
 #include <spdlog/sinks/sink.h>
 
+#include <atomic>
 #include <chrono>
 #include <condition_variable>
 #include <memory>
@@ -62,7 +63,8 @@ class BatchedSink final : public spdlog::sinks::sink {
   std::string pending_;
   std::unique_ptr<spdlog::formatter> formatter_;
   bool stopping_{false};
-  std::mutex write_mutex_;  // one batch written at a time, in the order they were taken
+  std::atomic<bool> ending_{false};  // the last batch: a stream that takes nothing is given up
+  std::mutex write_mutex_;           // one batch written at a time, in the order they were taken
   std::thread writer_;
 };
 
