@@ -143,7 +143,9 @@ TEST(RedisReplicas, AStoppedRedisCostsARequestAtMostItsTimeoutAndIsSaidInReadyz)
   EXPECT_EQ(status, 200);
   EXPECT_EQ(body["cache"]["redis"]["error"], "no reply within 100 ms") << body;
   redis.resume();
-  EXPECT_EQ(ready_until(b, "ready").first, 200);
+  // Both wait to see Redis again: a's job worker also asked the paused Redis (its idle poll), so
+  // a may be backing off too, and while it does it fails Redis commands fast and solves.
+  for (const Server* s : {&a, &b}) EXPECT_EQ(ready_until(*s, "ready").first, 200);
   // (The plan b solved meanwhile may or may not be in Redis now: a write that timed out is still
   // applied by a stopped server once it continues. Either way it is a correct, digest-checked
   // value.) Sharing works again:
