@@ -193,6 +193,10 @@ TEST(PlanProperties, SeededRandomFormatsKeepEveryPromise) {
           << what;
       // The warning of SPEC §5.
       EXPECT_EQ(warned_worse(r), worse(r.prediction, r.baseline)) << what;
+      // An acceptable plan says why it is not optimal ("<strategy> acceptable: <why>. ...").
+      if (r.status == SolveStatus::kAcceptable) {
+        EXPECT_EQ(r.message.find(to_string(s) + " acceptable: "), 0u) << what;
+      }
       if (r.status == SolveStatus::kInfeasible) ++stats.infeasible;
       const bool optimiser = s == Strategy::kNotch || s == Strategy::kMultiNotch ||
                              s == Strategy::kMinJerkBand || s == Strategy::kTimeDomain;

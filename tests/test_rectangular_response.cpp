@@ -4,15 +4,20 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
+#include <string>
 #include <vector>
 
 #include "slosh/core/law/motion_law.hpp"
+#include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_model.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
+#include "slosh/core/response/simulation.hpp"
 #include "support/rectangular_reference.hpp"
 
 namespace slosh {
@@ -116,6 +121,55 @@ TEST(RectangularResponse, AxisComponentsAreExactAtQuarterTurns) {
   EXPECT_EQ(axis_components(-180.0).along_width, 0.0);
   EXPECT_DOUBLE_EQ(axis_components(30.0).along_width, 0.5);
   EXPECT_DOUBLE_EQ(axis_components(-60.0).along_length, 0.5);
+}
+
+/// The warnings of `r` that judge a wave's steepness.
+std::vector<std::string> steepness_warnings(const SimulationResult& r) {
+  std::vector<std::string> out;
+  for (const Warning& w : r.warnings) {
+    if (w.text.find("steepest standing wave") != std::string::npos) out.push_back(w.text);
+  }
+  return out;
+}
+
+// A corner adds both directions' waves, but each is a standing wave of its own side, and no
+// standing wave is steeper than k A = 0.68 (Penney & Price 1952): each direction's wave (here an
+// RK4 integration of that direction alone) is judged against k1 = pi / its side, never the sum.
+TEST(RectangularResponse, SteepnessWarningJudgesEachDirectionOnItsOwnSide) {
+  const double side = 0.1, h = 0.1, stroke = 0.3, T = 0.75;
+  const MotionLaw law = SevenSegmentLaw(uniform_durations(T), stroke).law();
+  const double k1 = kPi / side;
+  SimulationOptions options;
+  options.rest_time = 1.0;
+  for (const double phi : {45.0, -45.0, 0.0}) {
+    Format f = thesis_format();
+    f.container.rectangular = RectangularTank{side, side, phi};
+    f.container.height = 0.3;
+    f.fill_height = h;
+    f.stroke = stroke;
+    f.motion_time = T;
+    const SimulationResult r = simulate(f, law, options);
+    ASSERT_FALSE(r.invalid_input);
+    const double c = std::abs(std::cos(phi * kPi / 180));
+    const RefPeaks one = rk4_peaks({direction(side, side, h, c, 3)}, law, 1.0, 1e-5);
+    const double wave = std::max(one.motion, one.rest);
+    const std::vector<std::string> steep = steepness_warnings(r);
+    if (phi != 0.0) {
+      ASSERT_GT(k1 * r.linear.motion.value, 0.68) << "the corner's sum must be steeper";
+      ASSERT_LT(k1 * wave, 0.68) << "and each direction's wave less steep";
+      EXPECT_TRUE(steep.empty()) << phi << ": " << steep.front();
+      continue;
+    }
+    ASSERT_GT(k1 * wave, 0.68) << "moved along its length, the one wave is too steep";
+    ASSERT_GT(one.motion, one.rest);
+    char text[256];
+    std::snprintf(text, sizeof text,
+                  "linear model beyond its theory: along the length 100.0 mm, the wall height "
+                  "%.1f mm is a wave steepness k1 eta = %.2f, above the steepest standing wave "
+                  "0.68 (Penney & Price 1952); the figures are not reliable",
+                  wave * 1e3, k1 * wave);
+    EXPECT_EQ(steep, std::vector<std::string>{text});
+  }
 }
 
 }  // namespace test_rectangular_response

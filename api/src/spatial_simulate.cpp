@@ -197,9 +197,10 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
         *request.options.sample_period, nonlinear.nonlinear, theta_origin(motion));
   }
   const double horizontal = peak_horizontal_acceleration(motion, drive, law);
-  std::vector<std::string> warnings = warning_texts(
-      validity_warnings(request.format, horizontal, linear.highest.motion.value,
-                        nl.highest.motion.value, nonlinear.nonlinear, linear.highest.rest.value));
+  const DirectionWaves directions{linear.along_length, linear.along_width};
+  std::vector<std::string> warnings = warning_texts(validity_warnings(
+      request.format, horizontal, linear.highest.motion.value, nl.highest.motion.value,
+      nonlinear.nonlinear, linear.highest.rest.value, &directions));
   if (!nonlinear.warning.empty()) warnings.push_back(nonlinear.warning);
   const std::string yaw = yaw_mode_warning(*request.format.container.rectangular,
                                            request.format.fill_height, drive, horizontal);

@@ -30,6 +30,14 @@ inline std::string precise(double v) {
   return out.str();
 }
 
+/// `ratio`, below `limit`, to 3 decimals or as many more as show it below the limit's text
+/// (0.23992 against 0.24 reads "0.23992", not "0.240").
+inline std::string fixed_below(double ratio, double limit) {
+  int digits = 3;
+  while (digits < 12 && std::stod(fixed(ratio, digits)) >= limit) ++digits;
+  return fixed(ratio, digits);
+}
+
 /// v with 3 significant digits ("7.93", "0.0123").
 inline std::string sig3(double v) {
   return significant(v, 3);

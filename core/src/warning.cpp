@@ -73,6 +73,13 @@ constexpr WarningKindInfo kKinds[] = {
      "corners drives the modes odd in both directions, which the models leave out: the "
      "predicted heights are a lower bound",
      StatusEffect::kNone, ""},
+    {WarningKind::kFillRangeBeyondModels, "fill_range_beyond_models", "fill height range ",
+     "options.uncertainty.fill_height_mm reaches, at its low end, a fill the models do not "
+     "describe (a cylinder's shallow-liquid regime, a rectangular tank's fill below its "
+     "nonlinear model's depth range) while the nominal fill is within them: the range scales the "
+     "nominal fill's models, so the worst case and the robustness figures near that end are not "
+     "reliable",
+     StatusEffect::kNone, ""},
     {WarningKind::kTimeLimitedCandidates, "time_limited_candidates", "time_limited_candidates: ",
      "auto only: a candidate ran out of its time budget (status time_limit), so the choice "
      "depends on the budget and the machine's load; such a plan is not cached",

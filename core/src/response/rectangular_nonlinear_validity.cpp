@@ -13,6 +13,7 @@
 namespace slosh {
 
 using detail::fixed;
+using detail::fixed_below;
 
 namespace {
 
@@ -25,14 +26,6 @@ RectangularNonlinearValidity invalid(RectangularNonlinearLimit limit, TankAxis a
   return {false, limit, axis, std::move(reason)};
 }
 
-/// `ratio`, below `limit`, to 3 decimals or as many more as show it below the limit's text (0.23992
-/// against 0.24 reads "0.23992", not "0.240").
-std::string below(double ratio, double limit) {
-  int digits = 3;
-  while (digits < 12 && std::stod(fixed(ratio, digits)) >= limit) ++digits;
-  return fixed(ratio, digits);
-}
-
 /// The checks of one excited direction, in the order of the header's contract.
 RectangularNonlinearValidity check_direction(const SloshingModel& m, TankAxis axis, double height) {
   const std::string name = direction_name(axis);
@@ -42,7 +35,7 @@ RectangularNonlinearValidity check_direction(const SloshingModel& m, TankAxis ax
   if (ratio < kRectangularMinDepthRatio) {
     return invalid(RectangularNonlinearLimit::kShallowDepth, axis,
                    head + "fill height / " + name + " = " +
-                       below(ratio, kRectangularMinDepthRatio) + " is below " +
+                       fixed_below(ratio, kRectangularMinDepthRatio) + " is below " +
                        fixed(kRectangularMinDepthRatio, 2) +
                        " (shallow fill, outside the Moiseev-type modal theory of Faltinsen et "
                        "al. 2000)" +

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <string>
+#include <utility>
 
 #include "slosh/core/constants.hpp"
 #include "slosh/core/model/tank_directions.hpp"
@@ -15,38 +17,55 @@ using detail::fixed;
 
 namespace {
 
+/// The wall height judged of a wave `eta_motion` during and `eta_rest` after the motion [m]: the
+/// larger (a shallow fill rings on after the motion, and its wave there can exceed the one during
+/// it), with its sentence naming both when the one after is the larger; nullopt when not finite.
+std::optional<std::pair<double, std::string>> judged_height(double eta_motion, double eta_rest) {
+  const bool after = std::isfinite(eta_rest) && eta_rest > eta_motion;
+  const double eta = after ? eta_rest : eta_motion;
+  if (!std::isfinite(eta)) return std::nullopt;
+  return std::pair{
+      eta,
+      "wall height " + fixed(eta * 1e3, 1) + " mm" +
+          (after ? " (after the motion; " + fixed(eta_motion * 1e3, 1) + " mm during it)" : "")};
+}
+
 /// Where the linear model's own assumption, a wave small against the depth and the tank, fails
-/// on a rectangular tank: the linear wall height `eta` [m] above kLinearMaxDepthShare of the
-/// fill height `h` (shallow fill: the wave speed itself depends on the amplitude), or a wave
-/// steeper along the longer side than the steepest standing wave (Penney & Price 1952: k A =
-/// 0.68), which no liquid can carry. Only the nonlinear model's range was checked before, and
-/// outside it the linear model answers: these say that this answer is out of theory too.
+/// on a rectangular tank: the highest linear wall or corner height above kLinearMaxDepthShare of
+/// the fill height `h` (shallow fill: the wave speed itself depends on the amplitude), or one
+/// direction's wave (its walls alone, `directions`) steeper along its own side than the steepest
+/// standing wave (Penney & Price 1952: k A = 0.68), which no liquid can carry. A corner adds both
+/// directions' waves, but each is a standing wave of its own side and is judged on it. Only the
+/// nonlinear model's range was checked before, and outside it the linear model answers: these say
+/// that this answer is out of theory too.
 std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h, double eta_motion,
-                                              double eta_rest) {
+                                              double eta_rest, const DirectionWaves& directions) {
   constexpr double kLinearMaxDepthShare{0.5};
   constexpr double kSteepestStandingWave{0.68};
   std::vector<std::string> w;
-  // The larger wall height decides: the wave left after the motion can exceed the one during it
-  // (a shallow fill rings on), and the sentence then names both.
-  const bool after = std::isfinite(eta_rest) && eta_rest > eta_motion;
-  const double eta = after ? eta_rest : eta_motion;
-  if (!std::isfinite(eta)) return w;
-  const std::string height =
-      "wall height " + fixed(eta * 1e3, 1) + " mm" +
-      (after ? " (after the motion; " + fixed(eta_motion * 1e3, 1) + " mm during it)" : "");
-  if (eta > kLinearMaxDepthShare * h) {
-    w.push_back("linear model beyond its theory: " + height + " is " + fixed(eta / h, 2) +
-                " of the fill height " + fixed(h * 1e3, 1) + " mm (above " +
-                fixed(kLinearMaxDepthShare, 1) +
+  if (const auto highest = judged_height(eta_motion, eta_rest);
+      highest && highest->first > kLinearMaxDepthShare * h) {
+    w.push_back("linear model beyond its theory: " + highest->second + " is " +
+                fixed(highest->first / h, 2) + " of the fill height " + fixed(h * 1e3, 1) +
+                " mm (above " + fixed(kLinearMaxDepthShare, 1) +
                 "), a wave not small against the depth; the figures are not reliable");
   }
-  const double side = std::max(t.length, t.width);
-  const double steepness = rectangular_wavenumber(side, 1) * eta;
-  if (steepness > kSteepestStandingWave) {
-    w.push_back("linear model beyond its theory: " + height + " is a wave steepness k1 eta = " +
-                fixed(steepness, 2) + " along the longer side " + fixed(side * 1e3, 1) +
-                " mm, above the steepest standing wave " + fixed(kSteepestStandingWave, 2) +
-                " (Penney & Price 1952); the figures are not reliable");
+  const struct {
+    const char* name;
+    double side;
+    const SloshPeaks& wave;
+  } sides[] = {{"length", t.length, directions.length}, {"width", t.width, directions.width}};
+  for (const auto& [name, side, wave] : sides) {
+    const auto height = judged_height(wave.motion.value, wave.rest.value);
+    if (!height) continue;
+    const double steepness = rectangular_wavenumber(side, 1) * height->first;
+    if (steepness > kSteepestStandingWave) {
+      w.push_back("linear model beyond its theory: along the " + std::string(name) + " " +
+                  fixed(side * 1e3, 1) + " mm, the " + height->second +
+                  " is a wave steepness k1 eta = " + fixed(steepness, 2) +
+                  ", above the steepest standing wave " + fixed(kSteepestStandingWave, 2) +
+                  " (Penney & Price 1952); the figures are not reliable");
+    }
   }
   return w;
 }
@@ -94,7 +113,8 @@ std::optional<std::string> spill_warning(double free_board, double eta_motion_li
 
 std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acceleration,
                                        double eta_motion_linear, double eta_motion_nonlinear,
-                                       bool nonlinear_in_range, double eta_rest_linear) {
+                                       bool nonlinear_in_range, double eta_rest_linear,
+                                       const DirectionWaves* linear_directions) {
   std::vector<Warning> w;
   const double R = format.container.radius;
   const double h = format.fill_height;
@@ -133,7 +153,12 @@ std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acc
                                              " mm is below " + fixed(kMinModelledRadius * 1e3, 0) +
                                              " mm: surface tension matters and is not modelled"});
     }
-    for (std::string& beyond : beyond_linear_theory(t, h, eta_motion_linear, eta_rest_linear)) {
+    // Without each direction's waves, the corner's bounds both (it is their sum).
+    const SloshPeaks corner{{eta_motion_linear, 0.0}, {eta_rest_linear, 0.0}};
+    const DirectionWaves bound{corner, corner};
+    for (std::string& beyond :
+         beyond_linear_theory(t, h, eta_motion_linear, eta_rest_linear,
+                              linear_directions != nullptr ? *linear_directions : bound)) {
       w.push_back({WarningKind::kLinearModelBeyondTheory, std::move(beyond)});
     }
   } else if (R < kMinModelledRadius) {
@@ -252,21 +277,23 @@ struct RectangularSeries {
   }
 };
 
-void simulate_rectangular(const Format& format, const MotionLaw& law,
-                          const SimulationOptions& options, SimulationResult& r) {
+/// Fills `r` for a rectangular tank; the linear waves of each direction alone.
+DirectionWaves simulate_rectangular(const Format& format, const MotionLaw& law,
+                                    const SimulationOptions& options, SimulationResult& r) {
   r.rectangular = rectangular_model_of(format, options.model);
   const RectangularModel& m = *r.rectangular;
   const RectangularNonlinearPeaks nonlinear =
       rectangular_nonlinear_peaks(m, law, options.rest_time, options.nonlinear);
   RectangularSeries series{
       RectangularLinearResponse(m, law, options.rest_time), {}, nonlinear.nonlinear};
-  r.linear = series.linear.peaks().highest;
+  const RectangularPeaks linear = series.linear.peaks();
+  r.linear = linear.highest;
   r.nonlinear = nonlinear.peaks.highest;
   r.rectangular_peaks = nonlinear.peaks;
   if (!nonlinear.warning.empty()) {
     r.warnings.push_back({WarningKind::kNonlinearModelNotValid, nonlinear.warning});
   }
-  if (!options.sample_period) return;
+  if (!options.sample_period) return {linear.along_length, linear.along_width};
   if (series.nonlinear_holds) {
     for (const DrivenDirection& d : driven_directions(m)) {
       const SloshingModel& own = d.axis == TankAxis::kLength ? m.along_length : m.along_width;
@@ -277,6 +304,7 @@ void simulate_rectangular(const Format& format, const MotionLaw& law,
   r.series = sampled_series(
       law, options, [&series](double t) { return series.eta_linear(t); },
       [&series](double t) { return series.eta_nonlinear(t); });
+  return {linear.along_length, linear.along_width};
 }
 
 }  // namespace
@@ -290,8 +318,9 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   }
   r.model = make_sloshing_model(format, options.model);
   r.kinematics = law.summary();
+  std::optional<DirectionWaves> directions;
   if (format.container.rectangular) {
-    simulate_rectangular(format, law, options, r);
+    directions = simulate_rectangular(format, law, options, r);
   } else {
     const LinearResponse linear(r.model, law, options.rest_time);
     const NonlinearResponse nonlinear(r.model, law, options.rest_time, options.nonlinear);
@@ -307,7 +336,8 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   const bool nonlinear_in_range = r.warnings.empty();
   std::vector<Warning> warnings = validity_warnings(
       format, std::max(r.kinematics.a_peak_positive, r.kinematics.a_peak_negative),
-      r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range, r.linear.rest.value);
+      r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range, r.linear.rest.value,
+      directions ? &*directions : nullptr);
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   r.warnings = std::move(warnings);
   return r;

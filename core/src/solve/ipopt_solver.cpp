@@ -201,7 +201,11 @@ NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>&
   }
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(adapter);
   out.status = translate(status);
-  out.message = "ipopt: return status " + std::to_string(static_cast<int>(status));
+  out.message = status == Ipopt::Solved_To_Acceptable_Level
+                    ? std::string("ipopt: solved to its acceptable tolerance only")
+                : status == Ipopt::Feasible_Point_Found
+                    ? std::string("ipopt: stopped at a feasible point")
+                    : "ipopt: return status " + std::to_string(static_cast<int>(status));
   if (!adapter->x_final_.empty()) out.x = adapter->x_final_;
   out.evaluations = adapter->evaluations_;
   out.objective = problem.objective(out.x.data(), nullptr);

@@ -277,6 +277,11 @@ StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c
     // the iteration limit) meets the constraints without a certificate of optimality.
     o.status =
         m.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal : SolveStatus::kAcceptable;
+    if (o.status == SolveStatus::kAcceptable) {
+      o.detail = "the solver stopped at a point that meets the constraints without converging (" +
+                 (m.best.message.empty() ? std::string("its iteration limit") : m.best.message) +
+                 "), so the objective may not be minimal";
+    }
   }
   return o;
 }

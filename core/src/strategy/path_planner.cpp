@@ -41,7 +41,7 @@ SloshPeaks as_peaks(const PlanarPeaks& p) {
 }
 
 LawPrediction as_prediction(const PathPrediction& p, const KinematicSummary& kinematics) {
-  return {as_peaks(p.linear), as_peaks(p.nonlinear), kinematics};
+  return {as_peaks(p.linear), as_peaks(p.nonlinear), kinematics, p.linear_directions};
 }
 
 bool finite(const PathPrediction& p) {
@@ -481,7 +481,8 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   r.uncertainty.reset();
   r.warnings = validity_warnings(
       c.format, o.prediction.a_total_peak, o.prediction.linear.motion.value,
-      o.prediction.nonlinear.motion.value, o.model_warning.empty(), o.prediction.linear.rest.value);
+      o.prediction.nonlinear.motion.value, o.model_warning.empty(), o.prediction.linear.rest.value,
+      o.prediction.linear_directions ? &*o.prediction.linear_directions : nullptr);
   if (!o.model_warning.empty()) {
     r.warnings.push_back({WarningKind::kNonlinearModelNotValid, o.model_warning});
   }

@@ -11,6 +11,7 @@
 #include "slosh/core/response/spectrum.hpp"
 #include "slosh/core/strategy/rectangular_plan.hpp"
 #include "solve/one_jerk_chart.hpp"
+#include "strategy/fill_range_warning.hpp"
 #include "strategy/status_caveat.hpp"
 #include "strategy/strategies.hpp"
 #include "text.hpp"
@@ -38,6 +39,7 @@ LawPrediction predict(const SloshingModel& model, const RectangularModel* rectan
     RectangularPrediction r = rectangular_prediction(*rectangular, law, rest_time);
     p.linear = r.linear;
     p.nonlinear = r.nonlinear;
+    p.linear_directions = r.linear_directions;
     if (out_of_range != nullptr) *out_of_range = std::move(r.warning);
     return p;
   }
@@ -1311,15 +1313,18 @@ void take_own_figures(PlanResult& r, Selection& s, bool on_axis, const Durations
 /// The plan's warnings: SPEC §2's validity warnings, the baseline guard's `worse`, and a
 /// rectangular tank's (its nonlinear model out of range for the law, `out_of_range`, or for the
 /// uniform law of reference, a motion too short to act on a mode), each once.
-std::vector<Warning> plan_warnings(const Format& format, const PlanResult& r,
-                                   const std::string& worse, std::string out_of_range,
-                                   const std::string& baseline_out_of_range, double rest_time) {
+std::vector<Warning> plan_warnings(const Format& format, const PlanOptions& options,
+                                   const PlanResult& r, const std::string& worse,
+                                   std::string out_of_range,
+                                   const std::string& baseline_out_of_range) {
+  const double rest_time = options.rest_time;
   const bool law_in_range = out_of_range.empty();
   std::vector<Warning> w = validity_warnings(
       format,
       std::max(r.prediction.kinematics.a_peak_positive, r.prediction.kinematics.a_peak_negative),
       r.prediction.linear.motion.value, r.prediction.nonlinear.motion.value, law_in_range,
-      r.prediction.linear.rest.value);
+      r.prediction.linear.rest.value,
+      r.prediction.linear_directions ? &*r.prediction.linear_directions : nullptr);
   if (!worse.empty()) w.push_back({WarningKind::kWorseThanBaseline, worse});
   if (!law_in_range) w.push_back({WarningKind::kNonlinearModelNotValid, std::move(out_of_range)});
   for (Warning& reference : detail::reference_model_warnings(law_in_range, baseline_out_of_range,
@@ -1332,6 +1337,9 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanResult& r,
     std::string too_short = motion_too_short_for_mode(
         *r.rectangular, format.stroke, r.law.duration(), rest_time, r.baseline.linear.rest.value);
     if (!too_short.empty()) w.push_back({WarningKind::kMotionTooShort, std::move(too_short)});
+  }
+  if (auto range = detail::fill_range_beyond_models(format, options.uncertainty)) {
+    w.push_back({WarningKind::kFillRangeBeyondModels, std::move(*range)});
   }
   return w;
 }
@@ -1491,8 +1499,8 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   take_robustness(r, s, format, options, deadline);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
-  r.warnings = plan_warnings(format, r, s.worse, std::move(s.out_of_range), baseline_out_of_range,
-                             options.rest_time);
+  r.warnings =
+      plan_warnings(format, options, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);
   detail::apply_optimal_caveat(r.status, s.detail, r.warnings, result_strategy);
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));
   return r;

@@ -22,7 +22,10 @@ PathPrediction predict_tank_on_path(const RectangularModel& tank, const PlanarPa
   PathPrediction p;
   const PlanarDrive drive(path, law);
   const double frame = tank_frame_angle(path, tank.orientation_deg);
-  p.linear = rectangular_planar_linear_peaks(tank, drive, frame, rest_time).highest;
+  const RectangularPlanarPeaks linear =
+      rectangular_planar_linear_peaks(tank, drive, frame, rest_time);
+  p.linear = linear.highest;
+  p.linear_directions = DirectionWaves{linear.along_length, linear.along_width};
   RectangularPlanarNonlinearPeaks nl =
       rectangular_planar_nonlinear_peaks(tank, drive, frame, rest_time);
   p.nonlinear = nl.peaks.highest;

@@ -20,7 +20,9 @@ namespace slosh {
 RectangularPrediction rectangular_prediction(const RectangularModel& model, const MotionLaw& law,
                                              double rest_time) {
   RectangularPrediction p;
-  p.linear = RectangularLinearResponse(model, law, rest_time).peaks().highest;
+  const RectangularPeaks linear = RectangularLinearResponse(model, law, rest_time).peaks();
+  p.linear = linear.highest;
+  p.linear_directions = {linear.along_length, linear.along_width};
   RectangularNonlinearPeaks nonlinear = rectangular_nonlinear_peaks(model, law, rest_time);
   p.nonlinear = nonlinear.peaks.highest;
   p.length = nonlinear.peaks.along_length;

@@ -296,6 +296,7 @@ StrategyOutcome deepest_notch(const StrategyContext& c, const std::vector<NotchT
   deepest.evaluations += m.evaluations;
   deepest.starts += m.starts;
   StrategyOutcome o = outcome_from(deepest, c);
+  const std::string stopped = o.detail;  // why a feasible point is only acceptable
   if (o.status != SolveStatus::kInfeasible) {
     if (targets.size() == 1) {
       o.detail =
@@ -307,6 +308,7 @@ StrategyOutcome deepest_notch(const StrategyContext& c, const std::vector<NotchT
                  " is reachable within the bounds and limits; the deepest notches leave |X| at " +
                  residual_list(c, targets, o.durations) + " of X_ref";
     }
+    if (!stopped.empty()) o.detail += "; " + stopped;
   }
   return o;
 }
@@ -367,6 +369,7 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
                                    spectral_options(), notch_policy(c, uses));
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
+    const std::string stopped = o.detail;
     o.detail = (targets.size() == 1
                     ? std::string("exact notch at f1 (|Re X(w1)|, |Im X(w1)| <= 1e-6 of X_ref, so "
                                   "|X(w1)| <= 1.42e-6 of X_ref)")
@@ -375,6 +378,7 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
                           "1e-6 of X_ref)") +
                ", the one with the least jerk integral among the zeros (" + percent(o.objective) +
                " of the uniform law's)";
+    if (!stopped.empty()) o.detail += "; " + stopped;
     return o;
   }
   return deepest_notch(c, targets, uses, m);
@@ -404,6 +408,7 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
   policy.approach_basin = kMultiNotchApproach;
   const MultiStartResult m = minimise_power(c, omegas, weights, kMultiNotchRandomStarts, policy);
   StrategyOutcome o = outcome_from(m, c);
+  const std::string stopped = o.detail;
   if (o.status != SolveStatus::kInfeasible) {
     Durations d = o.durations;
     std::string parts;
@@ -416,6 +421,7 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
                    : "|X| at (1-p) f, f, (1+p) f around " + notch_list(targets) + " = " + parts +
                          " of X_ref (each direction weighed by the square of its share "
                          "of the residual wave)";
+    if (!stopped.empty()) o.detail += "; " + stopped;
   }
   return o;
 }

@@ -25,6 +25,7 @@ enum class WarningKind {
   kReductionsOnLinearModel,  ///< the law's and the uniform law's nonlinear figures differ in model
   kMotionTooShort,           ///< no law of this duration can act on the tank's modes
   kYawModesNotModelled,      ///< a turning tank's yaw drives modes the models leave out
+  kFillRangeBeyondModels,    ///< a fill height range reaching a fill the models do not describe
   kTimeLimitedCandidates,    ///< auto: a candidate ran out of its time budget
 };
 

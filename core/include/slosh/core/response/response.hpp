@@ -20,6 +20,13 @@ struct SloshPeaks {
   Peak rest;    ///< max |eta| on (T, T + rest_time]: value [m], time [s]
 };
 
+/// A rectangular tank's wall heights of each direction alone [m]: the walls normal to L (the
+/// modes along L) and those normal to W, during and after the motion.
+struct DirectionWaves {
+  SloshPeaks length;
+  SloshPeaks width;
+};
+
 /// State of one mode.
 struct ModeState {
   double x{};      ///< displacement [m] (linear) or xbar [-] (nonlinear)

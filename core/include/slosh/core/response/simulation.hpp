@@ -64,9 +64,13 @@ constexpr double kMinFillRatio{0.3};                 ///< h/R below: shallow-liq
 /// eta_rest (a shallow fill rings on after the motion, and its wave there can exceed the one
 /// during it) and quotes both when the rest one is larger. A wave (eta_motion of either model,
 /// eta_rest_linear) deeper than the fill height is a warning of its own (kWaveExceedsFill).
+/// `linear_directions`, a rectangular tank's linear waves of each direction alone: the steepness
+/// of each is judged on its own side (a corner's height is their sum, which no single standing
+/// wave carries); without them the corner's height stands for both, an upper bound.
 [[nodiscard]] std::vector<Warning> validity_warnings(
     const Format& format, double peak_abs_acceleration, double eta_motion_linear,
-    double eta_motion_nonlinear, bool nonlinear_in_range = true, double eta_rest_linear = 0.0);
+    double eta_motion_nonlinear, bool nonlinear_in_range = true, double eta_rest_linear = 0.0,
+    const DirectionWaves* linear_directions = nullptr);
 
 /// The first input simulate() refuses, or nullopt: the format (radius, fill height, density
 /// finite and > 0; viscosity, stroke finite and >= 0; motion time and the container height when

@@ -1,9 +1,11 @@
 #pragma once
 // The figures of a law along a planar path (path_plan.hpp).
 
+#include <optional>
 #include <vector>
 
 #include "slosh/core/response/planar_response.hpp"
+#include "slosh/core/response/response.hpp"
 
 namespace slosh {
 
@@ -17,6 +19,9 @@ struct PathPrediction {
   double a_normal_peak{};  ///< largest s'^2 / rho [m/s^2]
   double v_peak{};         ///< largest s' [m/s]
   double j_peak{};         ///< largest |s'''| (tangential jerk) [m/s^3]
+  /// A rectangular tank's linear waves of each direction alone (no spin rise); nullopt for the
+  /// cylinder.
+  std::optional<DirectionWaves> linear_directions;
 };
 
 /// What a plan along a path reports beside its PlanResult (whose predictions, values and times,

@@ -248,6 +248,9 @@ struct LawPrediction {
   SloshPeaks linear;
   SloshPeaks nonlinear;
   KinematicSummary kinematics;
+  /// A rectangular tank's linear waves of each direction alone (the validity warnings judge each
+  /// on its own side); nullopt for the cylinder.
+  std::optional<DirectionWaves> linear_directions;
 };
 
 /// How a filtering strategy built its law (the figures an engineer checks against the paper).

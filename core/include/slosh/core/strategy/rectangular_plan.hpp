@@ -21,6 +21,7 @@ struct RectangularPrediction {
   SloshPeaks nonlinear;  ///< of the nonlinear model, or the linear one outside its range [m]
   SloshPeaks length;     ///< the walls normal to L alone, nonlinear (or linear) model [m]
   SloshPeaks width;      ///< the walls normal to W alone [m]
+  DirectionWaves linear_directions;  ///< each direction's walls alone, linear model [m]
   /// Empty, or why the linear model answers for the nonlinear one (rectangular_nonlinear_peaks).
   std::string warning;
 };
