@@ -28,14 +28,16 @@ namespace {
 /// Version of the planner's numerics; part of every recipe key, bumped when results change.
 /// plan-v14: when a rectangular tank's nonlinear model holds for some of the laws compared and not
 /// for others, worse_than_baseline compares the linear figures alone and auto ranks its
-/// candidates on the linear model.
-constexpr const char* kPlannerVersion = "plan-v14";
+/// candidates on the linear model. plan-v15: a rectangular tank's steepness warning judges each
+/// direction's wave on its own side, a fill height range reaching a fill the models do not
+/// describe is said (fill_range_beyond_models), and an acceptable plan says why.
+constexpr const char* kPlannerVersion = "plan-v15";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;
 /// path-v7: objective rest's runs again from the solver's nearest evaluation, and a budget that
 /// ends returns only admissible laws as such; path-v8: worse_than_baseline and auto's ranking on
-/// one model, as plan-v14.
-constexpr const char* kPathPlannerVersion = "path-v8";
+/// one model, as plan-v14; path-v9: the steepness warning per direction, as plan-v15.
+constexpr const char* kPathPlannerVersion = "path-v9";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
