@@ -425,17 +425,41 @@ TEST(OpenApiSchemas, RequestObjectsAreClosedAndListOnlyFieldsTheParserKnows) {
 // to the same request as leaving the member out.
 TEST(OpenApiSchemas, OptionalRequestMembersAreNullableAsTheParserReadsThem) {
   int closed = 0;
+  int untyped = 0;
   for (const auto& [name, s] : document().at("components").at("schemas").items()) {
     if (s.value("additionalProperties", true) != false) continue;
     ++closed;
     const json required = s.value("required", json::array());
     for (const auto& [key, property] : s.at("properties").items()) {
       const bool optional = std::find(required.begin(), required.end(), key) == required.end();
-      if (!optional || !property.contains("type")) continue;
-      EXPECT_TRUE(property.value("nullable", false)) << name << "." << key;
+      if (!optional) continue;
+      if (property.contains("type")) {
+        EXPECT_TRUE(property.value("nullable", false)) << name << "." << key;
+        continue;
+      }
+      // A $ref or a oneOf: null is one of its alternatives, exactly one.
+      std::vector<std::string> errors;
+      validate(property, nullptr, name + "." + key, true, errors);
+      EXPECT_TRUE(errors.empty()) << ::testing::PrintToString(errors);
+      ++untyped;
     }
   }
   EXPECT_GE(closed, 10);
+  EXPECT_GE(untyped, 9);  // options, strategy, damping, limits, model, uncertainty, motion, ...
+  // And the parser reads those null as absent.
+  for (const char* member : {"options", "strategy"}) {
+    json body = thesis_plan("notch");
+    body[member] = nullptr;
+    json without = thesis_plan("notch");
+    without.erase(member);
+    EXPECT_EQ(canonical_recipe(parse_plan_request(body)),
+              canonical_recipe(parse_plan_request(without)))
+        << member;
+  }
+  json no_motion = thesis_plan("notch");
+  no_motion["format"]["motion"] = nullptr;
+  EXPECT_EQ(canonical_recipe(parse_plan_request(no_motion)),
+            canonical_recipe(parse_plan_request(thesis_plan("notch"))));
   // The rectangular container's orientation, the member the hostile pass found undocumented.
   json cup = thesis_plan("notch");
   cup["format"]["container"] = {{"shape", "rectangular"}, {"length_mm", 120}, {"width_mm", 80}};
@@ -567,7 +591,8 @@ TEST(OpenApiSchemas, PlanOptionDefaultsAreTheParserDefaults) {
   EXPECT_EQ(p["time_limit_s"]["default"].get<double>(), o.time_limit);
   EXPECT_EQ(p["modes"]["default"].get<int>(), o.model.modes);
   EXPECT_EQ(p["alpha"]["default"].get<double>(), o.model.alpha);
-  EXPECT_EQ(deref(p["damping"])["default"], to_string(o.model.damping));
+  // (An optional member that is a $ref admits null as a second alternative.)
+  EXPECT_EQ(deref(p["damping"]["oneOf"][0])["default"], to_string(o.model.damping));
   EXPECT_FALSE(o.limits.a_max || o.limits.v_max || o.limits.j_max);
   EXPECT_EQ(p["base"]["default"], to_string(o.base));
   EXPECT_EQ(p["shaper"]["default"], to_string(o.shaper));
@@ -693,7 +718,7 @@ TEST(OpenApiResponses, RobustAndUncertainPlansFitThePlanResponseSchema) {
 TEST(OpenApiSchemas, TheUncertaintyObjectIsClosedWithTheParsersBounds) {
   const json& u = schema("Uncertainty");
   EXPECT_EQ(u.at("additionalProperties"), false);
-  EXPECT_EQ(schema("PlanOptions")["properties"]["uncertainty"]["$ref"],
+  EXPECT_EQ(schema("PlanOptions")["properties"]["uncertainty"]["oneOf"][0]["$ref"],
             "#/components/schemas/Uncertainty");
   EXPECT_EQ(schema("PlanOptions")["properties"]["robustness"]["type"], "boolean");
   EXPECT_EQ(schema("PlanOptions")["properties"]["robustness"]["default"], true);

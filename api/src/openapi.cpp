@@ -1883,9 +1883,36 @@ json paths() {
   return p;
 }
 
+/// The alternative of a member that may be null: OpenAPI 3.0.3's `nullable` acts only beside a
+/// `type` in the same schema object, so a $ref or a oneOf takes null as one more alternative, a
+/// schema whose only value is null.
+json null_alternative() {
+  return {{"type", "object"},
+          {"nullable", true},
+          {"enum", json::array({nullptr})},
+          {"description", "null: read as if the member were left out"}};
+}
+
+/// `property` (a $ref, allOf or oneOf, without a type) admitting null too; its description stays
+/// beside the oneOf (a $ref's siblings are ignored).
+void admit_null(json& property) {
+  if (property.contains("oneOf")) {
+    property["oneOf"].push_back(null_alternative());
+    return;
+  }
+  json outer = json::object();
+  json inner = json::object();
+  for (auto& [k, v] : property.items()) {
+    (k == "description" || k == "default" ? outer : inner)[k] = v;
+  }
+  outer["oneOf"] = json::array({std::move(inner), null_alternative()});
+  property = std::move(outer);
+}
+
 /// A request reads an optional member given null as absent (given_member): every closed
-/// (request) object's optional typed members are nullable. Done once all schemas are built, as
-/// some are derived from others with fewer members required (PlanFormat, MinTimeFormat).
+/// (request) object's optional members say so (a typed one is nullable, another admits null as an
+/// alternative). Done once all schemas are built, as some are derived from others with fewer
+/// members required (PlanFormat, MinTimeFormat).
 void mark_optional_request_members_nullable(json& schemas) {
   for (auto& [name, schema] : schemas.items()) {
     if (schema.value("additionalProperties", true) != false || !schema.contains("properties")) {
@@ -1894,7 +1921,11 @@ void mark_optional_request_members_nullable(json& schemas) {
     const json required = schema.value("required", json::array());
     for (auto& [key, property] : schema["properties"].items()) {
       const bool optional = std::find(required.begin(), required.end(), key) == required.end();
-      if (!optional || !property.contains("type")) continue;
+      if (!optional) continue;
+      if (!property.contains("type")) {
+        admit_null(property);
+        continue;
+      }
       property["nullable"] = true;
       // OpenAPI 3.0: nullable does not widen an enum, so null is one of its values.
       if (property.contains("enum")) property["enum"].push_back(nullptr);
