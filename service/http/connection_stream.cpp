@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <cstdlib>
 #include <cstring>
+#include <optional>
 
 namespace slosh::service {
 
@@ -38,9 +39,13 @@ void numeric_address(const sockaddr_storage& addr, socklen_t length, std::string
 
 }  // namespace
 
-ConnectionStream::ConnectionStream(int sock, timeval read_timeout, timeval write_timeout)
+ConnectionStream::ConnectionStream(int sock, timeval read_timeout, timeval write_timeout,
+                                   std::chrono::milliseconds receive_slice)
     : sock_(sock), read_timeout_(read_timeout), in_(kReceiveBuffer) {
-  setsockopt(sock_, SOL_SOCKET, SO_RCVTIMEO, &read_timeout, sizeof read_timeout);
+  const auto slice_us = std::chrono::duration_cast<std::chrono::microseconds>(receive_slice);
+  const timeval slice{static_cast<time_t>(slice_us.count() / 1000000),
+                      static_cast<suseconds_t>(slice_us.count() % 1000000)};
+  setsockopt(sock_, SOL_SOCKET, SO_RCVTIMEO, &slice, sizeof slice);
   setsockopt(sock_, SOL_SOCKET, SO_SNDTIMEO, &write_timeout, sizeof write_timeout);
   sockaddr_storage addr{};
   socklen_t length = sizeof addr;
@@ -112,10 +117,19 @@ ssize_t ConnectionStream::read_unbounded(char* ptr, size_t size) {
   // Whatever the peer should see before it sends more (an interim reply) goes out first.
   if (!flush() && failed_) return -1;
   const bool direct = size >= in_.size();
+  // The read timeout is counted from the first slice that passes (a clock read only then).
+  std::optional<std::chrono::steady_clock::time_point> deadline;
   ssize_t n = 0;
-  do {
-    n = ::recv(sock_, direct ? ptr : in_.data(), direct ? size : in_.size(), 0);
-  } while (n < 0 && errno == EINTR);
+  while ((n = receive(direct ? ptr : in_.data(), direct ? size : in_.size())) < 0 &&
+         (errno == EAGAIN || errno == EWOULDBLOCK)) {
+    const auto now = std::chrono::steady_clock::now();
+    if (!deadline) {
+      deadline = now + std::chrono::seconds(read_timeout_.tv_sec) +
+                 std::chrono::microseconds(read_timeout_.tv_usec);
+    } else if (now >= *deadline) {
+      break;
+    }
+  }
   if (n <= 0 || direct) return n;
   in_begin_ = 0;
   in_end_ = static_cast<std::size_t>(n);
@@ -174,13 +188,26 @@ bool ConnectionStream::send_all(const char* head, std::size_t head_size, const c
   return true;
 }
 
+ssize_t ConnectionStream::receive(char* ptr, std::size_t size) {
+  ssize_t n = 0;
+  do {
+    n = ::recv(sock_, ptr, size, 0);
+  } while (n < 0 && errno == EINTR);
+  return n;
+}
+
 bool ConnectionStream::wait_for_request(std::chrono::milliseconds timeout,
-                                        std::chrono::milliseconds slice,
                                         const std::function<bool()>& keep_waiting) {
   if (in_begin_ < in_end_) return true;
   const auto deadline = std::chrono::steady_clock::now() + timeout;
   while (keep_waiting()) {
-    if (poll_readable(static_cast<int>(slice.count()))) return true;
+    const ssize_t n = receive(in_.data(), in_.size());
+    if (n > 0) {
+      in_begin_ = 0;
+      in_end_ = static_cast<std::size_t>(n);
+      return true;
+    }
+    if (n == 0 || (errno != EAGAIN && errno != EWOULDBLOCK)) return false;
     if (std::chrono::steady_clock::now() >= deadline) return false;
   }
   return false;

@@ -6,7 +6,10 @@
 // per request. Each call costs a few microseconds in a virtualised guest, more than the service's
 // own work for a cached reply. Here a request costs a recv, one send of head and body together
 // (sendmsg) and the half-close check of the reply's hook:
-// - reads block in recv under the socket's receive timeout (SO_RCVTIMEO) instead of polling first;
+// - reads block in recv instead of polling first: the socket's receive timeout (SO_RCVTIMEO) is
+//   a short slice, so that a connection waiting for its next request reads it in the same call
+//   that waits for it and still looks every slice whether the server stops; a read inside a
+//   request waits slice after slice up to the read timeout;
 // - small writes (a reply's head, a short first piece of its body) are gathered up to 16 kB and
 //   leave with the next larger one; anything held is sent before the stream blocks on a read (an
 //   interim "100 Continue") and when the reply ends;
@@ -27,9 +30,11 @@ namespace slosh::service {
 
 class ConnectionStream final : public httplib::Stream {
  public:
-  /// Serves socket `sock` (not owned: the caller closes it); sets its receive and send timeouts.
+  /// Serves socket `sock` (not owned: the caller closes it); sets its receive timeout to
+  /// `receive_slice` and its send timeout to `write_timeout`. A read waits up to `read_timeout`.
   /// The stream is the current one of the constructing thread until it is destroyed.
-  ConnectionStream(int sock, timeval read_timeout, timeval write_timeout);
+  ConnectionStream(int sock, timeval read_timeout, timeval write_timeout,
+                   std::chrono::milliseconds receive_slice);
   ~ConnectionStream() override;
   ConnectionStream(const ConnectionStream&) = delete;
   ConnectionStream& operator=(const ConnectionStream&) = delete;
@@ -47,10 +52,10 @@ class ConnectionStream final : public httplib::Stream {
   void get_local_ip_and_port(std::string& ip, int& port) const override;
   [[nodiscard]] socket_t socket() const override { return sock_; }
 
-  /// Waits until the next request can be read: true when bytes are buffered or arrive (or the
-  /// peer closed, which the read then sees), false after `timeout` of silence or once
-  /// `keep_waiting` says to stop (asked every `slice`).
-  bool wait_for_request(std::chrono::milliseconds timeout, std::chrono::milliseconds slice,
+  /// Waits until the next request can be read, receiving its first bytes: true when bytes are
+  /// buffered or arrive, false when the peer closed or failed, after `timeout` of silence, or once
+  /// `keep_waiting` says to stop (asked every receive slice).
+  bool wait_for_request(std::chrono::milliseconds timeout,
                         const std::function<bool()>& keep_waiting);
   /// Sends what is held; false when a send failed (now or before) or the reply was refused.
   bool flush();
@@ -76,6 +81,8 @@ class ConnectionStream final : public httplib::Stream {
 
  private:
   ssize_t read_unbounded(char* ptr, size_t size);
+  // One recv of at most `size` bytes into `ptr`; -1 with EAGAIN when a receive slice passed.
+  ssize_t receive(char* ptr, std::size_t size);
   [[nodiscard]] bool poll_readable(int timeout_ms) const;
   bool send_all(const char* head, std::size_t head_size, const char* body, std::size_t body_size);
 

@@ -54,11 +54,10 @@ bool ListeningServer::process_and_close_socket(socket_t sock) {
   {
     ConnectionStream stream(
         sock, timeval{read_timeout_sec_, static_cast<suseconds_t>(read_timeout_usec_)},
-        timeval{write_timeout_sec_, static_cast<suseconds_t>(write_timeout_usec_)});
+        timeval{write_timeout_sec_, static_cast<suseconds_t>(write_timeout_usec_)}, kStopCheck);
     const auto running = [this] { return svr_sock_ != INVALID_SOCKET; };
     for (std::size_t left = keep_alive_max_count_; left > 0; --left) {
-      if (!stream.wait_for_request(std::chrono::seconds(keep_alive_timeout_sec_), kStopCheck,
-                                   running)) {
+      if (!stream.wait_for_request(std::chrono::seconds(keep_alive_timeout_sec_), running)) {
         break;
       }
       stream.begin_request();
