@@ -58,7 +58,7 @@ std::string ratio(double v) {
 TEST(FillRangeWarning, ARectangularTanksRangeBelowItsDepthRatioIsSaidPerExcitedDirection) {
   // Along L (0 degrees): 20 / 120 = 0.167 < 0.24; W is not excited (20 / 80 would be too).
   EXPECT_EQ(range_warnings(plan_with_fills(cup(0.0, 0.04), 0.02, 0.05)),
-            std::vector<std::string>{"fill height range 20.0 to 50.0 mm: at its low end fill "
+            std::vector<std::string>{"fill height range 20 to 50 mm: at its low end fill "
                                      "height / length = " +
                                      ratio(0.02 / 0.12) +
                                      " is below 0.24 (shallow fill), where the rectangular "
@@ -66,7 +66,7 @@ TEST(FillRangeWarning, ARectangularTanksRangeBelowItsDepthRatioIsSaidPerExcitedD
                                      kTail});
   // Turned by 30 degrees both are excited; 24 mm: 0.2 along L, 0.3 along W (within).
   EXPECT_EQ(range_warnings(plan_with_fills(cup(30.0, 0.04), 0.024, 0.05)),
-            std::vector<std::string>{"fill height range 24.0 to 50.0 mm: at its low end fill "
+            std::vector<std::string>{"fill height range 24 to 50 mm: at its low end fill "
                                      "height / length = " +
                                      ratio(0.024 / 0.12) +
                                      " is below 0.24 (shallow fill), where the rectangular "
@@ -74,7 +74,7 @@ TEST(FillRangeWarning, ARectangularTanksRangeBelowItsDepthRatioIsSaidPerExcitedD
                                      kTail});
   // 15 mm: both below.
   EXPECT_EQ(range_warnings(plan_with_fills(cup(30.0, 0.04), 0.015, 0.05)),
-            std::vector<std::string>{"fill height range 15.0 to 50.0 mm: at its low end fill "
+            std::vector<std::string>{"fill height range 15 to 50 mm: at its low end fill "
                                      "height / length = " +
                                      ratio(0.015 / 0.12) +
                                      " and fill height / width = " + ratio(0.015 / 0.08) +
@@ -91,7 +91,7 @@ TEST(FillRangeWarning, ACylindersRangeInTheShallowLiquidRegimeIsSaid) {
   Format f = thesis_format();  // R 48.5 mm, fill 82 mm
   const double R = f.container.radius;
   EXPECT_EQ(range_warnings(plan_with_fills(f, 0.01, 0.09)),
-            std::vector<std::string>{"fill height range 10.0 to 90.0 mm: at its low end the fill "
+            std::vector<std::string>{"fill height range 10 to 90 mm: at its low end the fill "
                                      "ratio h/R = " +
                                      ratio(0.01 / R) +
                                      " is below 0.3, the shallow-liquid regime, which is not "
@@ -100,13 +100,28 @@ TEST(FillRangeWarning, ACylindersRangeInTheShallowLiquidRegimeIsSaid) {
   EXPECT_TRUE(range_warnings(plan_with_fills(f, 0.3 * R, 0.09)).empty());
 }
 
-// The ratio is written with as many decimals as show it below the limit.
+// The ratio is written with as many decimals as show it below the limit, the range as given; a
+// ratio at the limit in decimal (19.2 / 80, 0.23999999999999996 once in m) is within the model.
 TEST(FillRangeWarning, ARatioJustBelowTheLimitIsNotRoundedOntoIt) {
   const std::vector<std::string> w =
       range_warnings(plan_with_fills(cup(0.0, 0.04), 0.12 * 0.23996, 0.05));
   ASSERT_EQ(w.size(), 1u);
-  EXPECT_NE(w.front().find("fill height / length = 0.23996 is below 0.24"), std::string::npos)
+  EXPECT_EQ(w.front().rfind("fill height range 28.7952 to 50 mm: at its low end fill height / "
+                            "length = 0.23996 is below 0.24",
+                            0),
+            0u)
       << w.front();
+  EXPECT_TRUE(range_warnings(plan_with_fills(cup(90.0, 0.04), 0.0192, 0.05)).empty());
+  Format cylinder = thesis_format();
+  cylinder.container.radius = 0.05;
+  EXPECT_TRUE(range_warnings(plan_with_fills(cylinder, 0.015, 0.09)).empty());
+  const std::vector<std::string> near = range_warnings(plan_with_fills(cylinder, 0.01499, 0.09));
+  ASSERT_EQ(near.size(), 1u);
+  EXPECT_EQ(near.front().rfind("fill height range 14.99 to 90 mm: at its low end the fill ratio "
+                               "h/R = 0.2998 is below 0.3",
+                               0),
+            0u)
+      << near.front();
 }
 
 }  // namespace test_fill_range_warning

@@ -147,6 +147,16 @@ TEST(PlanCli, ConflictingAndMissingFlagsExit2WithExactTexts) {
   }
 }
 
+// The uniform law against itself changes nothing: "0.0 %", never "-0.0 %".
+TEST(PlanCli, BaselinesChangeIsZeroWithoutASign) {
+  const RunResult r = run_slosh({"plan", "--radius", "48.5", "--fill", "82", "--fluid", "water",
+                                 "--stroke", "800", "--time", "1", "--strategy", "baseline"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("change vs uniform law: motion 0.0 % / 0.0 %, rest 0.0 % / 0.0 %"),
+            std::string::npos)
+      << r.out;
+}
+
 TEST(PlanCli, HelpSaysFilteringStrategiesReturnGeneralLaws) {
   const RunResult r = run_slosh({"plan", "--help"});
   EXPECT_EQ(r.exit_code, 0);

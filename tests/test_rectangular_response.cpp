@@ -170,6 +170,21 @@ TEST(RectangularResponse, SteepnessWarningJudgesEachDirectionOnItsOwnSide) {
                   wave * 1e3, k1 * wave);
     EXPECT_EQ(steep, std::vector<std::string>{text});
   }
+  // A steepness just above the limit is written with the digits that show it above: 113 mm in
+  // 0.5 s at 45 degrees gives each side k1 eta = 0.6804, not "0.68, above ... 0.68".
+  Format f = thesis_format();
+  f.container.rectangular = RectangularTank{side, side, 45.0};
+  f.fill_height = h;
+  f.stroke = 0.113;
+  f.motion_time = 0.5;
+  const SimulationResult r =
+      simulate(f, SevenSegmentLaw(uniform_durations(0.5), 0.113).law(), options);
+  const std::vector<std::string> steep = steepness_warnings(r);
+  ASSERT_EQ(steep.size(), 2u);
+  for (const std::string& w : steep) {
+    EXPECT_NE(w.find("k1 eta = 0.680"), std::string::npos) << w;
+    EXPECT_EQ(w.find("k1 eta = 0.68,"), std::string::npos) << w;
+  }
 }
 
 }  // namespace test_rectangular_response

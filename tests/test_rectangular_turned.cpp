@@ -6,10 +6,14 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdio>
 #include <numbers>
 #include <string>
+#include <utility>
+#include <variant>
 #include <vector>
 
 #include "slosh/core/model/format.hpp"
@@ -313,6 +317,41 @@ TEST(RectangularTurned, SimulateSeriesMaximumIsThePeak) {
     EXPECT_GE(motion, r.nonlinear.motion.value * (1 - 1e-6)) << phi;
     EXPECT_LE(rest, r.nonlinear.rest.value * (1 + 1e-12)) << phi;
     EXPECT_GE(rest, r.nonlinear.rest.value * (1 - 1e-6)) << phi;
+  }
+}
+
+// Under an uncertainty range fir_chain and iir keep one filter per direction on a turned tank,
+// each at the middle of its direction's range: one filter between the two directions cancels
+// neither (a range of +-0.001 % left 7.5 times the nominal plan's eta_rest).
+TEST(RectangularTurned, TheFiltersCancelEachDirectionUnderAnUncertaintyRange) {
+  const Format f = cup(30.0, 50.0, 1.0);
+  for (const Strategy s : {Strategy::kFirChain, Strategy::kIir}) {
+    const PlanResult nominal = plan(f, s, quick_options());
+    PlanOptions tiny = quick_options();
+    tiny.uncertainty.omega_error = 1e-5;
+    const PlanResult r = plan(f, s, tiny);
+    ASSERT_TRUE(nominal.usable() && r.usable()) << nominal.message << " / " << r.message;
+    EXPECT_NEAR(r.prediction.nonlinear.rest.value / nominal.prediction.nonlinear.rest.value, 1.0,
+                1e-2)
+        << r.message;
+    EXPECT_NE(r.message.find("(the middle of its range)"), std::string::npos) << r.message;
+  }
+  // A fill range: fir_chain's filters last the two directions' damped periods at the range's
+  // middle frequency factor (closed-form frequencies, the plan's damping).
+  PlanOptions fills = quick_options();
+  fills.uncertainty.fill_height = std::array<double, 2>{0.04, 0.06};
+  const PlanResult r = plan(f, Strategy::kFirChain, fills);
+  ASSERT_TRUE(r.usable()) << r.message;
+  ASSERT_TRUE(r.uncertainty && r.design && r.rectangular);
+  const double mid = 0.5 * (r.uncertainty->scale_lo + r.uncertainty->scale_hi);
+  const auto& chain = std::get<FirChainDesign>(*r.design);
+  const std::vector<double> filters{chain.t1, chain.t2, chain.t3};
+  for (const auto& [side, zeta] : {std::pair{0.12, r.rectangular->along_length.zeta},
+                                   std::pair{0.08, r.rectangular->along_width.zeta}}) {
+    const double period = 2 * kPi / (omega1(side, 0.05) * mid * std::sqrt(1 - zeta * zeta));
+    EXPECT_TRUE(std::any_of(filters.begin(), filters.end(),
+                            [&](double t) { return std::abs(t - period) < 1e-6 * period; }))
+        << side << ": " << period << " not in " << chain.t1 << ", " << chain.t2 << ", " << chain.t3;
   }
 }
 

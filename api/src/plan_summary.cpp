@@ -31,7 +31,10 @@ std::string both(const json& block, const char* figure, int digits) {
 
 /// A reduction in % as "-42.0 %": the plan's change relative to the uniform law.
 std::string change(const json& reduction) {
-  return reduction.is_number() ? num(json(-reduction.get<double>()), 1) + " %" : "-";
+  if (!reduction.is_number()) return "-";
+  std::string text = num(json(-reduction.get<double>()), 1);
+  if (text == "-0.0") text = "0.0";  // no change, or less than the digit shown
+  return text + " %";
 }
 
 std::string law_line(const json& plan) {

@@ -38,6 +38,14 @@ inline std::string fixed_below(double ratio, double limit) {
   return fixed(ratio, digits);
 }
 
+/// `value`, above `limit`, to 2 decimals or as many more as show it above the limit's text
+/// (0.6804 against 0.68 reads "0.6804", not "0.68").
+inline std::string fixed_above(double value, double limit) {
+  int digits = 2;
+  while (digits < 12 && std::stod(fixed(value, digits)) <= limit) ++digits;
+  return fixed(value, digits);
+}
+
 /// v with 3 significant digits ("7.93", "0.0123").
 inline std::string sig3(double v) {
   return significant(v, 3);

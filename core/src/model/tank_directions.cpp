@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "slosh/core/constants.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 
 namespace slosh {
@@ -42,7 +43,7 @@ namespace {
 DrivenDirection driven(const SloshingModel& direction, TankAxis axis, double component) {
   DrivenDirection d{with_height_factor(direction, std::abs(component)), axis, component};
   const bool nonlinear_holds =
-      direction.fill_height / direction.radius >= kRectangularMinDepthRatio;
+      !below_limit(direction.fill_height / direction.radius, kRectangularMinDepthRatio);
   d.model.alpha = nonlinear_holds ? direction.alpha * component * component : 0.0;
   return d;
 }

@@ -8,11 +8,13 @@
 #include <limits>
 #include <string>
 
+#include "slosh/core/constants.hpp"
 #include "text.hpp"
 
 namespace slosh {
 
 using detail::fixed;
+using detail::fixed_above;
 using detail::fixed_below;
 
 namespace {
@@ -32,7 +34,7 @@ RectangularNonlinearValidity check_direction(const SloshingModel& m, TankAxis ax
   const std::string head = "rectangular nonlinear model not valid along the " + name + ": ";
   const std::string tail = "; linear model used";
   const double ratio = m.fill_height / m.radius;
-  if (ratio < kRectangularMinDepthRatio) {
+  if (below_limit(ratio, kRectangularMinDepthRatio)) {
     return invalid(RectangularNonlinearLimit::kShallowDepth, axis,
                    head + "fill height / " + name + " = " +
                        fixed_below(ratio, kRectangularMinDepthRatio) + " is below " +
@@ -47,11 +49,12 @@ RectangularNonlinearValidity check_direction(const SloshingModel& m, TankAxis ax
   }
   const double steepness = rectangular_wavenumber(m.radius, 1) * height;
   if (steepness > kRectangularMaxSteepness) {
-    return invalid(RectangularNonlinearLimit::kSteepness, axis,
-                   head + "the nonlinear model's wall height " + fixed(height * 1e3, 1) +
-                       " mm is a wave steepness k1 eta = " + fixed(steepness, 2) + " above " +
-                       fixed(kRectangularMaxSteepness, 2) + " (beyond the third-order theory)" +
-                       tail);
+    return invalid(
+        RectangularNonlinearLimit::kSteepness, axis,
+        head + "the nonlinear model's wall height " + fixed(height * 1e3, 1) +
+            " mm is a wave steepness k1 eta = " + fixed_above(steepness, kRectangularMaxSteepness) +
+            " above " + fixed(kRectangularMaxSteepness, 2) + " (beyond the third-order theory)" +
+            tail);
   }
   const double c = rectangular_frequency_correction(m.radius, m.fill_height);
   if (std::abs(c) < kRectangularCriticalFifthOrder * steepness * steepness) {

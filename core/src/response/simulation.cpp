@@ -14,6 +14,7 @@
 namespace slosh {
 
 using detail::fixed;
+using detail::fixed_above;
 
 namespace {
 
@@ -46,8 +47,8 @@ std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h
   if (const auto highest = judged_height(eta_motion, eta_rest);
       highest && highest->first > kLinearMaxDepthShare * h) {
     w.push_back("linear model beyond its theory: " + highest->second + " is " +
-                fixed(highest->first / h, 2) + " of the fill height " + fixed(h * 1e3, 1) +
-                " mm (above " + fixed(kLinearMaxDepthShare, 1) +
+                fixed_above(highest->first / h, kLinearMaxDepthShare) + " of the fill height " +
+                fixed(h * 1e3, 1) + " mm (above " + fixed(kLinearMaxDepthShare, 1) +
                 "), a wave not small against the depth; the figures are not reliable");
   }
   const struct {
@@ -62,7 +63,7 @@ std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h
     if (steepness > kSteepestStandingWave) {
       w.push_back("linear model beyond its theory: along the " + std::string(name) + " " +
                   fixed(side * 1e3, 1) + " mm, the " + height->second +
-                  " is a wave steepness k1 eta = " + fixed(steepness, 2) +
+                  " is a wave steepness k1 eta = " + fixed_above(steepness, kSteepestStandingWave) +
                   ", above the steepest standing wave " + fixed(kSteepestStandingWave, 2) +
                   " (Penney & Price 1952); the figures are not reliable");
     }
@@ -167,10 +168,10 @@ std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acc
                                                    " mm: surface tension matters and is not "
                                                    "modelled"});
   }
-  if (!format.container.rectangular && h / R < kMinFillRatio) {
-    w.push_back({WarningKind::kShallowFill, "fill ratio h/R = " + fixed(h / R, 3) + " is below " +
-                                                fixed(kMinFillRatio, 1) +
-                                                ": shallow-liquid regime, not modelled"});
+  if (!format.container.rectangular && below_limit(h / R, kMinFillRatio)) {
+    w.push_back({WarningKind::kShallowFill,
+                 "fill ratio h/R = " + detail::fixed_below(h / R, kMinFillRatio) + " is below " +
+                     fixed(kMinFillRatio, 1) + ": shallow-liquid regime, not modelled"});
   }
   if (std::optional<std::string> deeper = wave_deeper_than_fill(
           h, eta_motion_linear, nonlinear_in_range ? eta_motion_nonlinear : 0.0, eta_rest_linear)) {

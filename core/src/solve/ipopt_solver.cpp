@@ -201,7 +201,8 @@ NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>&
   }
   const Ipopt::ApplicationReturnStatus status = app->OptimizeTNLP(adapter);
   out.status = translate(status);
-  out.message = status == Ipopt::Solved_To_Acceptable_Level
+  out.message = status == Ipopt::Solve_Succeeded ? std::string("ipopt: converged")
+                : status == Ipopt::Solved_To_Acceptable_Level
                     ? std::string("ipopt: solved to its acceptable tolerance only")
                 : status == Ipopt::Feasible_Point_Found
                     ? std::string("ipopt: stopped at a feasible point")
@@ -210,7 +211,10 @@ NlpResult solve_with_ipopt(const NlpProblem& problem, const std::vector<double>&
   out.evaluations = adapter->evaluations_;
   out.objective = problem.objective(out.x.data(), nullptr);
   out.max_violation = max_violation(problem, out.x);
-  if (out.usable() && out.max_violation > 10.0 * options.constraint_tolerance) {
+  // A converged point within Ipopt's own relaxation of the bounds is a solution (the multi-start
+  // judges it by the same tolerance): only beyond it is the point infeasible.
+  if (out.usable() &&
+      out.max_violation > std::max(kIpoptRelaxedViolation, 10.0 * options.constraint_tolerance)) {
     out.status = SolveStatus::kInfeasible;
   }
   return out;

@@ -4,6 +4,7 @@
 #include <optional>
 
 #include "strategy/strategies.hpp"
+#include "text.hpp"
 
 namespace slosh::detail {
 
@@ -135,11 +136,10 @@ MultiStartResult solve_starts(const NlpProblem& given,
   // Optima reached (feasible, converged or stopped by round-off) by the runs so far.
   std::vector<KnownOptimum> optima;
   int stale = 0;  // optional starts in a row that did not lower the best
-  // Ipopt relaxes bounds and equalities by ~1e-8 (bound_relax_factor); the durations are polished
-  // onto the exact admissible set afterwards, so that much is not an infeasibility.
-  const double feasible_tol = effective(context) == SolverChoice::kIpopt
-                                  ? std::max(1e-7, 10.0 * options.constraint_tolerance)
-                                  : 10.0 * options.constraint_tolerance;
+  const double feasible_tol =
+      effective(context) == SolverChoice::kIpopt
+          ? std::max(kIpoptRelaxedViolation, 10.0 * options.constraint_tolerance)
+          : 10.0 * options.constraint_tolerance;
   bool have = false;
   const bool mirror =
       policy.leave_known_optima && policy.mirror_symmetric && symmetric_durations(problem, context);
@@ -250,6 +250,20 @@ MultiStartResult multi_start(const NlpProblem& problem,
   return out;
 }
 
+std::string not_converged(const NlpResult& best) {
+  const std::string words =
+      best.message.empty() ? std::string("its iteration limit") : best.message;
+  if (best.status == SolveStatus::kInfeasible) {
+    // It ended (converged or not) outside its constraint tolerance; polished onto the
+    // admissible set and verified, the point meets them.
+    return "the solver ended " + sig3(best.max_violation) + " outside a constraint (" + words +
+           "); polished onto the admissible set its point meets them, but the objective may not "
+           "be minimal";
+  }
+  return "the solver stopped at a point that meets the constraints without converging (" + words +
+         "), so the objective may not be minimal";
+}
+
 StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c) {
   StrategyOutcome o;
   o.evaluations = m.evaluations;
@@ -277,11 +291,7 @@ StrategyOutcome outcome_from(const MultiStartResult& m, const StrategyContext& c
     // the iteration limit) meets the constraints without a certificate of optimality.
     o.status =
         m.best.status == SolveStatus::kOptimal ? SolveStatus::kOptimal : SolveStatus::kAcceptable;
-    if (o.status == SolveStatus::kAcceptable) {
-      o.detail = "the solver stopped at a point that meets the constraints without converging (" +
-                 (m.best.message.empty() ? std::string("its iteration limit") : m.best.message) +
-                 "), so the objective may not be minimal";
-    }
+    if (o.status == SolveStatus::kAcceptable) o.detail = not_converged(m.best);
   }
   return o;
 }

@@ -3,6 +3,7 @@
 #include <utility>
 #include <vector>
 
+#include "slosh/core/constants.hpp"
 #include "slosh/core/response/rectangular_response.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "text.hpp"
@@ -11,9 +12,10 @@ namespace slosh::detail {
 
 namespace {
 
-/// "fill height range 20.0 to 60.0 mm: at its low end "
+/// "fill height range 20 to 60 mm: at its low end " (as given: a low end of 14.99 mm is not
+/// rounded onto the limit).
 std::string range_head(const std::array<double, 2>& range) {
-  return "fill height range " + fixed(range[0] * 1e3, 1) + " to " + fixed(range[1] * 1e3, 1) +
+  return "fill height range " + precise(range[0] * 1e3) + " to " + precise(range[1] * 1e3) +
          " mm: at its low end ";
 }
 
@@ -32,7 +34,9 @@ std::optional<std::string> fill_range_beyond_models(const Format& format,
   const double nominal = format.fill_height;
   if (!format.container.rectangular) {
     const double R = format.container.radius;
-    if (low / R >= kMinFillRatio || nominal / R < kMinFillRatio) return std::nullopt;
+    if (!below_limit(low / R, kMinFillRatio) || below_limit(nominal / R, kMinFillRatio)) {
+      return std::nullopt;
+    }
     return range_head(range) + "the fill ratio h/R = " + fixed_below(low / R, kMinFillRatio) +
            " is below " + fixed(kMinFillRatio, 1) +
            ", the shallow-liquid regime, which is not modelled" + kScaledTail;
@@ -45,7 +49,8 @@ std::optional<std::string> fill_range_beyond_models(const Format& format,
   std::vector<std::string> shallow;
   for (const auto& [name, side] : sides) {
     if (side == 0.0) continue;  // not excited by the motion
-    if (low / side >= kRectangularMinDepthRatio || nominal / side < kRectangularMinDepthRatio) {
+    if (!below_limit(low / side, kRectangularMinDepthRatio) ||
+        below_limit(nominal / side, kRectangularMinDepthRatio)) {
       continue;
     }
     shallow.push_back("fill height / " + std::string(name) + " = " +

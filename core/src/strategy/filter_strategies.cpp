@@ -102,15 +102,23 @@ std::string hz(double omega) {
   return sig3(omega / (2.0 * std::numbers::pi)) + " Hz";
 }
 
-/// A turned tank (both directions excited, no uncertainty range): true when the filters cancel
-/// each direction's first mode rather than one design mode.
+/// A turned tank (both directions excited): true when the filters cancel each direction's first
+/// mode rather than one design mode. Under an uncertainty range too: one design mode would lie
+/// between the two directions and cancel neither.
 bool per_direction(const StrategyContext& c) {
-  return c.over_directions && !c.robust() && c.direction_zeta[0] < 1.0 && c.direction_zeta[1] < 1.0;
+  return c.over_directions && c.direction_zeta[0] < 1.0 && c.direction_zeta[1] < 1.0;
 }
 
-/// "the length's f1 = 2.37 Hz".
+/// Direction k's first-mode frequency the filters are designed at [rad/s]: its own, at the
+/// middle of an uncertainty range's frequency factors (as one design mode is).
+double design_omega_of(const StrategyContext& c, std::size_t k) {
+  return c.direction_omega[k] * (c.range ? c.range->scale_mid() : 1.0);
+}
+
+/// "the length's f1 = 2.37 Hz" (", the middle of its range" under an uncertainty range).
 std::string direction_f1(const StrategyContext& c, std::size_t k) {
-  return std::string("the ") + c.direction_name[k] + "'s f1 = " + hz(c.direction_omega[k]);
+  return std::string("the ") + c.direction_name[k] + "'s f1 = " + hz(design_omega_of(c, k)) +
+         (c.range ? " (the middle of its range)" : "");
 }
 
 /// fir_chain on a turned tank: two of the three filters last the two directions' damped
@@ -119,8 +127,8 @@ std::string direction_f1(const StrategyContext& c, std::size_t k) {
 /// conditions (14) decide whether the law is a 7-segment law. Nullopt when T is not longer than
 /// the two periods together.
 std::optional<std::array<double, 3>> fir_chain_both(const StrategyContext& c) {
-  const double Pa = damped_period(c.direction_omega[0], c.direction_zeta[0]);
-  const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+  const double Pa = damped_period(design_omega_of(c, 0), c.direction_zeta[0]);
+  const double Pb = damped_period(design_omega_of(c, 1), c.direction_zeta[1]);
   const double rest = c.format.motion_time - Pa - Pb;
   if (!(rest > 0.0)) return std::nullopt;
   std::array<double, 3> t{rest, Pa, Pb};
@@ -144,7 +152,7 @@ namespace {
 FilterOutcome fir_chain_engaged(const StrategyContext& c, double T2, double T3) {
   const double T = c.format.motion_time;
   const double e = c.direction_engagement;
-  const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+  const double Pb = damped_period(design_omega_of(c, 1), c.direction_zeta[1]);
   const double T2e = (1.0 - e) * T2 + e * Pb;
   std::array<double, 3> t{T - T3 - T2e, T2e, T3};
   std::sort(t.begin(), t.end(), std::greater<>());
@@ -172,8 +180,8 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
   if (directions) {
     both = fir_chain_both(c);
     if (!both) {
-      const double Pa = damped_period(c.direction_omega[0], c.direction_zeta[0]);
-      const double Pb = damped_period(c.direction_omega[1], c.direction_zeta[1]);
+      const double Pa = damped_period(design_omega_of(c, 0), c.direction_zeta[0]);
+      const double Pb = damped_period(design_omega_of(c, 1), c.direction_zeta[1]);
       left = "; it cancels " + direction_f1(c, 0) + " only: cancelling " + direction_f1(c, 1) +
              " (share " + sig3(c.direction_weight[1]) +
              " of the residual wave) as well needs T > " + sig3(Pa + Pb) +
@@ -187,7 +195,7 @@ FilterOutcome design_fir_chain(const StrategyContext& c) {
                             direction_f1(c, 0) + " and " + direction_f1(c, 1) +
                             ", which they cancel",
                         "", true);
-  const double design_omega = directions ? c.direction_omega[0] : c.design_model.omega1();
+  const double design_omega = directions ? design_omega_of(c, 0) : c.design_model.omega1();
   const double design_zeta = directions ? c.direction_zeta[0] : c.design_model.zeta;
   const double T3 = damped_period(design_omega, design_zeta);
   if (!(T > T3)) {
@@ -250,7 +258,8 @@ FilterOutcome fir_chain_of(const StrategyContext& c, double T1, double T2, doubl
     none.design = o.design;
     return none;
   }
-  o.detail += left;
+  // The mode it leaves leads: it is why the plan is only acceptable.
+  if (!left.empty()) o.detail = left.substr(left.find_first_not_of("; ")) + "; " + o.detail;
   check_limits(c, peaks, &o);
   if (o.status != SolveStatus::kOptimal || !o.durations) return o;
   // The 7-segment options that constrain its durations.
@@ -498,9 +507,9 @@ FilterOutcome design_iir(const StrategyContext& c) {
   const IirFilter filter =
       directions
           ? cascade(
-                make_iir_filter(opt.iir_order, c.direction_omega[0], c.direction_zeta[0],
+                make_iir_filter(opt.iir_order, design_omega_of(c, 0), c.direction_zeta[0],
                                 opt.iir_tau, opt.iir_sample_period),
-                engaged(make_iir_filter(opt.iir_order, c.direction_omega[1], c.direction_zeta[1],
+                engaged(make_iir_filter(opt.iir_order, design_omega_of(c, 1), c.direction_zeta[1],
                                         opt.iir_tau, opt.iir_sample_period),
                         c.direction_engagement))
           : make_iir_filter(opt.iir_order, c.design_model.omega1(), c.design_model.zeta,

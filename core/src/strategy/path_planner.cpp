@@ -160,9 +160,10 @@ void verify_on_path(const PathContext& c, PathOutcome& o, bool time_domain) {
     o.detail = limit + "; " + o.detail;
   } else if (violation.empty() && time_domain && status == SolveStatus::kInfeasible) {
     status = SolveStatus::kAcceptable;
-    o.detail +=
-        "; the law meets every constraint on the verification, though its objective "
-        "was not minimised";
+    o.detail =
+        "the law meets every constraint on the verification, though its objective was not "
+        "minimised; " +
+        o.detail;
   }
   if (o.plan.strategy != Strategy::kBaseline) {
     o.worse = worse_than_uniform(c, o.prediction, o.model_warning.empty());
@@ -263,6 +264,14 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
     // Why the tangential law is not a solution (its own constraint: a band, a filter's limit).
     const std::string& m = o.plan.message;
     o.detail = "on the tangential law: " + m.substr(0, m.find(". ")) + "; " + o.detail;
+  } else if (o.plan.status == SolveStatus::kOptimal || o.plan.status == SolveStatus::kAcceptable) {
+    // The line's warnings do not hold along the path (its own are judged in finish): the status
+    // is the solve's, and when that is acceptable its reason leads, as on a line.
+    o.plan.status = o.plan.solved_status;
+    const std::string& d = o.plan.solved_detail;
+    if (o.plan.status == SolveStatus::kAcceptable && !d.empty()) {
+      o.detail = "on the tangential law, " + d.substr(0, d.find("; ")) + "; " + o.detail;
+    }
   }
   verify_on_path(c, o, s == Strategy::kTimeDomain);
   return o;
@@ -633,6 +642,11 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
     PlanCandidate k;
     k.strategy = o.plan.strategy;
     k.status = o.plan.status;
+    // As the strategy's own plan along the path: a law worse than the uniform law is not optimal.
+    if (!o.worse.empty() && k.strategy != Strategy::kBaseline &&
+        k.status == SolveStatus::kOptimal) {
+      k.status = SolveStatus::kAcceptable;
+    }
     k.durations = o.plan.durations;
     k.law = o.plan.law;
     k.prediction = as_prediction(o.prediction, o.plan.prediction.kinematics);

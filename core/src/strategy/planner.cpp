@@ -1158,11 +1158,19 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
   }
   s.outcome.solver.evaluations = evaluations;
   s.outcome.solver.starts = starts;
-  s.detail = record_choice(c, choice, baseline, candidates);
+  std::string chose = record_choice(c, choice, baseline, candidates);
   if (!diverged.empty()) {
-    s.detail += "; left out, the sloshing models diverge for their laws: " + diverged;
+    chose += "; left out, the sloshing models diverge for their laws: " + diverged;
   }
-  if (!s.outcome.detail.empty()) s.detail += "; " + s.outcome.detail;
+  const std::string& own = s.outcome.detail;
+  if (s.outcome.status == SolveStatus::kAcceptable && !own.empty()) {
+    // Why the chosen law is only acceptable (its own account's first clause) leads.
+    const std::size_t why = own.find("; ");
+    s.detail = own.substr(0, why) + "; " + chose +
+               (why == std::string::npos ? std::string() : own.substr(why));
+  } else {
+    s.detail = chose + (own.empty() ? "" : "; " + own);
+  }
   s.worse = candidates[choice.index].worse_than_baseline;
   s.prediction = candidates[choice.index].prediction;
   s.range = std::move(ranges[choice.index]);
@@ -1344,6 +1352,16 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanOptions& opti
   return w;
 }
 
+/// The status and message of a plan whose warnings are set: the solve's status and account kept
+/// (solved_status, solved_detail), then the warnings' caveats (SPEC §5 "Honest status").
+void finish_status(const detail::StrategyContext& c, PlanResult& r, Selection& s,
+                   Strategy result_strategy) {
+  r.solved_status = r.status;
+  r.solved_detail = s.detail;
+  detail::apply_optimal_caveat(r.status, s.detail, r.warnings, result_strategy);
+  r.message = brief_report(c, r, result_strategy, std::move(s.detail));
+}
+
 /// PlanResult::move_absolute of a one-jerk law under drive_profile kMoveAbsolute.
 void take_move_absolute(PlanResult& r, const PlanOptions& options, const Format& format) {
   if (options.drive_profile != DriveProfile::kMoveAbsolute || !r.durations) return;
@@ -1410,6 +1428,14 @@ void take_robustness(PlanResult& r, Selection& s, const Format& format, const Pl
   } else if (std::optional<RobustnessReport> report =
                  robustness_within(format, options, r, deadline)) {
     r.robustness = std::move(*report);
+  } else if (r.status == SolveStatus::kTimeLimit) {
+    // The solve itself ran out: its point is what the budget allowed, not a law that was found.
+    s.detail =
+        "the solve ran out of the budget first: its law is the best admissible point it "
+        "reached, which need not meet the options' bounds (verified at the nominal model: "
+        "the figures below)" +
+        (s.detail.empty() ? std::string() : " (" + s.detail + ")") +
+        "; the robustness report was left out too: raise time_limit_s";
   } else {
     // The law is found and verified at the nominal model; the budget, which covers the
     // report, is spent: the plan says so instead of overrunning it.
@@ -1501,8 +1527,7 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.warnings =
       plan_warnings(format, options, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);
-  detail::apply_optimal_caveat(r.status, s.detail, r.warnings, result_strategy);
-  r.message = brief_report(c, r, result_strategy, std::move(s.detail));
+  finish_status(c, r, s, result_strategy);
   return r;
 }
 

@@ -308,7 +308,7 @@ StrategyOutcome deepest_notch(const StrategyContext& c, const std::vector<NotchT
                  " is reachable within the bounds and limits; the deepest notches leave |X| at " +
                  residual_list(c, targets, o.durations) + " of X_ref";
     }
-    if (!stopped.empty()) o.detail += "; " + stopped;
+    if (!stopped.empty()) o.detail = stopped + "; " + o.detail;
   }
   return o;
 }
@@ -378,7 +378,7 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
                           "1e-6 of X_ref)") +
                ", the one with the least jerk integral among the zeros (" + percent(o.objective) +
                " of the uniform law's)";
-    if (!stopped.empty()) o.detail += "; " + stopped;
+    if (!stopped.empty()) o.detail = stopped + "; " + o.detail;
     return o;
   }
   return deepest_notch(c, targets, uses, m);
@@ -421,7 +421,7 @@ StrategyOutcome solve_multi_notch(const StrategyContext& c, StartUse uses) {
                    : "|X| at (1-p) f, f, (1+p) f around " + notch_list(targets) + " = " + parts +
                          " of X_ref (each direction weighed by the square of its share "
                          "of the residual wave)";
-    if (!stopped.empty()) o.detail += "; " + stopped;
+    if (!stopped.empty()) o.detail = stopped + "; " + o.detail;
   }
   return o;
 }
@@ -785,6 +785,7 @@ bool band_free_optimum(BandSearch& s, std::vector<std::vector<double>>& jerk_sta
     o.detail = "|X| <= " + percent(ratio) + " of X_ref over the whole band (limit " +
                percent(s.tol) + ", not binding), jerk integral " + percent(o.objective) +
                " of the uniform law's";
+    if (o.status == SolveStatus::kAcceptable) o.detail = not_converged(free.best) + "; " + o.detail;
     return true;
   }
   jerk_starts.insert(jerk_starts.begin(), free.best.x);
@@ -941,6 +942,9 @@ void finish_band(BandSearch& s, const BandPoint& jerk) {
     o.detail = "|X| <= " + percent(jerk.ratio) + " of X_ref over the whole band (limit " +
                percent(s.tol) + "), jerk integral " + percent(o.objective) +
                " of the uniform law's";
+    if (o.status == SolveStatus::kAcceptable) {
+      o.detail = not_converged(jerk.r.best) + "; " + o.detail;
+    }
     return;
   }
   if (c.deadline.expired()) {

@@ -212,6 +212,13 @@ inline constexpr double kPoorOptimum{10.0};
                                            const NlpOptions& options,
                                            const StartPolicy& policy = {});
 
+/// Why a feasible point of `best` (a run that did not converge, or ended outside its constraint
+/// tolerance and was polished onto the admissible set) is only acceptable: "the solver stopped at
+/// a point that meets the constraints without converging (<its words>), so the objective may not
+/// be minimal", or "the solver ended <v> outside a constraint (<its words>); polished ...". A
+/// strategy's outcome leads with it.
+[[nodiscard]] std::string not_converged(const NlpResult& best);
+
 /// The outcome of a multi-start: polished best point and translated status (time_limit with the
 /// first start when time ran out before any feasible point; infeasible when none was feasible).
 [[nodiscard]] StrategyOutcome outcome_from(const MultiStartResult& m,

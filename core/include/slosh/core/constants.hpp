@@ -11,6 +11,12 @@ namespace slosh {
 constexpr double kGravity{9.81};
 
 /// Radians per degree and degrees per radian: angles are radians inside, degrees at the edges.
+/// True when `ratio` is below `limit` by more than rounding: a ratio of two inputs given in mm
+/// and divided in m (19.2 / 80 = 0.23999999999999996) is at a limit it equals in decimal.
+constexpr bool below_limit(double ratio, double limit) {
+  return ratio < limit * (1.0 - 1e-12);
+}
+
 constexpr double kRadPerDeg{std::numbers::pi / 180.0};
 constexpr double kDegPerRad{180.0 / std::numbers::pi};
 

@@ -62,6 +62,11 @@ struct NlpProblem {
   [[nodiscard]] int size() const { return static_cast<int>(lower.size()); }
 };
 
+/// The violation an Ipopt point may keep and still be feasible [units of the constraints]:
+/// Ipopt relaxes bounds and equalities by about 1e-8 (bound_relax_factor), and the durations are
+/// polished onto the exact admissible set afterwards, so that much is not an infeasibility.
+inline constexpr double kIpoptRelaxedViolation{1e-7};
+
 /// Solver settings with safe defaults.
 struct NlpOptions {
   /// Relative tolerance on the objective / optimality error [-]. Default 1e-10.

@@ -168,7 +168,9 @@ struct PlanOptions {
   /// its eta bound at every one; min_jerk_band's band is widened to [(1 - band) omega_lo,
   /// (1 + band) omega_hi] (X_ref taken on it); notch and multi_notch are centred on the middle of
   /// [omega_lo, omega_hi], multi_notch's side notches at least at its ends; fir_chain, shaper and
-  /// iir are designed at the middle frequency and damping of the range, and the shaper type (when
+  /// iir are designed at the middle frequency and damping of the range (on a turned tank
+  /// fir_chain and iir keep one filter per direction, each at its range's middle frequency),
+  /// and the shaper type (when
   /// `shaper_for_range`) is the shortest whose residual stays <= `residual` over the range; auto
   /// compares its candidates by their worst case over the sample models. Default: none.
   Uncertainty uncertainty;
@@ -397,6 +399,12 @@ struct AutoChoice {
 struct PlanResult {
   Strategy strategy{};  ///< the requested strategy
   SolveStatus status{SolveStatus::kFailed};
+  /// The status the strategy's solve or design ended with, before the warnings' caveats made an
+  /// optimal plan `acceptable` (SPEC §5 "Honest status"), and its account, whose first clause (up
+  /// to "; ") says why when that status is acceptable. A plan along a path starts from them and
+  /// judges its own warnings.
+  SolveStatus solved_status{SolveStatus::kFailed};
+  std::string solved_detail;
   /// Set when plan() refused its inputs (validate_plan_input, or a model or uniform law that is
   /// not finite for them): status kFailed, the message is "invalid input: <its message>; nothing
   /// was planned", and nothing was planned: zero predictions; the model and the uniform law (as
