@@ -1039,6 +1039,13 @@ TEST(BatchTableErrors, Exit2WithTheExactMessageAndNoOutput) {
        "slosh batch: recipe table: missing column \"strategy\"; required: recipe_id, radius_mm, "
        "fill_height_mm, fluid (or density_kg_m3 and viscosity_pa_s), stroke_mm, motion_time_s, "
        "strategy\n"},
+      {"neither a radius nor sides",
+       "recipe_id,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy\n"
+       "a,82,water,800,1.0,notch\n",
+       "out.csv",
+       "slosh batch: recipe table: missing column \"radius_mm\" (or length_mm and width_mm for "
+       "rectangular containers); required: recipe_id, radius_mm, fill_height_mm, fluid (or "
+       "density_kg_m3 and viscosity_pa_s), stroke_mm, motion_time_s, strategy\n"},
       {"missing required column of a rectangular table",
        "recipe_id,container_shape,length_mm,width_mm,fill_height_mm,fluid,stroke_mm,"
        "motion_time_s\n"

@@ -240,7 +240,10 @@ RecipeHeader::RecipeHeader(const std::vector<std::string>& names, const OptionRe
     if (!has(name) && !(rectangular && name == "radius_mm")) {
       // A rectangular table names its sides instead of a radius.
       const std::string container = rectangular ? "length_mm, width_mm" : "radius_mm";
-      throw RecipeTableError("recipe table: missing column " + quote_text(name) +
+      // A table with neither a radius nor sides may be of rectangular containers.
+      const std::string or_sides =
+          name == "radius_mm" ? " (or length_mm and width_mm for rectangular containers)" : "";
+      throw RecipeTableError("recipe table: missing column " + quote_text(name) + or_sides +
                              "; required: " + "recipe_id, " + container +
                              ", fill_height_mm, fluid (or density_kg_m3 and " +
                              "viscosity_pa_s), stroke_mm, motion_time_s, strategy");

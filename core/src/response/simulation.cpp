@@ -56,17 +56,22 @@ std::vector<std::string> beyond_linear_theory(const RectangularTank& t, double h
     double side;
     const SloshPeaks& wave;
   } sides[] = {{"length", t.length, directions.length}, {"width", t.width, directions.width}};
+  // Both directions too steep: one sentence names both (as the nonlinear model's range does).
+  std::string steep;
   for (const auto& [name, side, wave] : sides) {
     const auto height = judged_height(wave.motion.value, wave.rest.value);
     if (!height) continue;
     const double steepness = rectangular_wavenumber(side, 1) * height->first;
     if (steepness > kSteepestStandingWave) {
-      w.push_back("linear model beyond its theory: along the " + std::string(name) + " " +
-                  fixed(side * 1e3, 1) + " mm, the " + height->second +
-                  " is a wave steepness k1 eta = " + fixed_above(steepness, kSteepestStandingWave) +
-                  ", above the steepest standing wave " + fixed(kSteepestStandingWave, 2) +
-                  " (Penney & Price 1952); the figures are not reliable");
+      steep += (steep.empty() ? "" : " and ") + std::string("along the ") + name + " " +
+               fixed(side * 1e3, 1) + " mm, the " + height->second +
+               " is a wave steepness k1 eta = " + fixed_above(steepness, kSteepestStandingWave);
     }
+  }
+  if (!steep.empty()) {
+    w.push_back("linear model beyond its theory: " + steep + ", above the steepest standing wave " +
+                fixed(kSteepestStandingWave, 2) +
+                " (Penney & Price 1952); the figures are not reliable");
   }
   return w;
 }
