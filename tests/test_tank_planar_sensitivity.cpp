@@ -30,6 +30,7 @@ struct TankCase {
   RectangularTank tank;
   double fill;
   RectangularPlanarModel which;
+  int modes{3};  // the pass's state is sized to at most 3 modes or to 5
 };
 
 /// The verification's response of the law d, integrated at 160 steps per period.
@@ -61,13 +62,20 @@ TEST(TankPlanarSensitivity, HeightsAndGradientsMatchTheVerificationsResponse) {
        0.05,
        RectangularPlanarModel::kNonlinear},
       {PlanarPath::arc(0.25, -2.0, true), {0.12, 0.1, 60.0}, 0.04, RectangularPlanarModel::kLinear},
+      {PlanarPath::arc(0.3, std::numbers::pi / 2, true),
+       {0.1, 0.08, 20.0},
+       0.05,
+       RectangularPlanarModel::kNonlinear,
+       5},
   };
   std::mt19937 rng(4242);
   std::uniform_real_distribution<double> u(0.0, 1.0);
   for (std::size_t n = 0; n < cases.size(); ++n) {
     const TankCase& c = cases[n];
     Format f = thesis_format();
-    const RectangularModel m = make_rectangular_model(c.tank, c.fill, f.fluid);
+    RectangularModelOptions options;
+    options.modes = c.modes;
+    const RectangularModel m = make_rectangular_model(c.tank, c.fill, f.fluid, options);
     Durations d = uniform_durations(1.3);
     for (double& x : d) x *= 0.8 + 0.4 * u(rng);
     detail::TankPlanarSensitivity sens(m, c.path, tank_frame_angle(c.path, c.tank.orientation_deg),

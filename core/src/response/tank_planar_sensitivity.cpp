@@ -95,62 +95,79 @@ TankPlanarSensitivity::TankPlanarSensitivity(const RectangularModel& tank, const
 
 namespace {
 
-/// The largest mode count per direction the tank's models take (as RectangularPlanarResponse).
+/// The largest mode count per direction the tank's models take (as RectangularPlanarResponse),
+/// and the default's.
 constexpr std::size_t kTankModes{5};
-/// One state for every mode count: both directions' coordinates (the nonlinear model's
-/// kTankModes + 1 each at most), then the liquid's spin, always last. DOP853 is instantiated once
-/// over it (a model with fewer modes leaves the rest at 0): the models differ only in their
-/// right-hand side and signals, behind TankDualModel.
-using TankState = DualVec<2 * (kTankModes + 1) + 1>;
-constexpr std::size_t kSpin{2 * (kTankModes + 1)};
+constexpr std::size_t kDefaultTankModes{3};
 
-/// A tank's models in dual numbers (TankModel of M modes, linear or nonlinear).
+/// The state of the models of at most `Modes` modes per direction: both directions' coordinates
+/// (the nonlinear model's Modes + 1 each at most), then the liquid's spin, always last. DOP853 is
+/// instantiated for the default's bound and for the largest (a model with fewer modes leaves the
+/// rest at 0): with a single 13-wide state for every count, the default 3-mode model spent a
+/// third of the pass on lanes it never used.
+template <std::size_t Modes>
+struct TankStateOf {
+  static constexpr std::size_t kSpin{2 * (Modes + 1)};
+  using Type = DualVec<kSpin + 1>;
+};
+
+/// A tank's models in dual numbers (TankModel of M <= Modes modes, linear or nonlinear).
+template <std::size_t Modes>
 struct TankDualModel {
+  using State = typename TankStateOf<Modes>::Type;
   virtual ~TankDualModel() = default;
-  [[nodiscard]] virtual TankState rhs(const TankState& x, const TankState& v,
-                                      const TankDualExcitation& e) const = 0;
-  virtual void signals(const DensePoly<TankState>& p,
+  [[nodiscard]] virtual State rhs(const State& x, const State& v,
+                                  const TankDualExcitation& e) const = 0;
+  virtual void signals(const DensePoly<State>& p,
                        std::array<std::array<D8, kDenseTerms>, 4>& eta) const = 0;
 };
 
-template <std::size_t M, bool Nonlinear>
-struct TankDualModelOf final : TankDualModel {
+template <std::size_t Modes, std::size_t M, bool Nonlinear>
+struct TankDualModelOf final : TankDualModel<Modes> {
+  using State = typename TankDualModel<Modes>::State;
   TankModel<M, Nonlinear> m;
   TankDualModelOf(const RectangularModel& tank) {
     m.dir[0] = tank_direction(tank.along_length, Nonlinear);
     m.dir[1] = tank_direction(tank.along_width, Nonlinear);
   }
-  [[nodiscard]] TankState rhs(const TankState& x, const TankState& v,
-                              const TankDualExcitation& e) const override {
+  [[nodiscard]] State rhs(const State& x, const State& v,
+                          const TankDualExcitation& e) const override {
     return m.rhs(x, v, e);
   }
-  void signals(const DensePoly<TankState>& p,
+  void signals(const DensePoly<State>& p,
                std::array<std::array<D8, kDenseTerms>, 4>& eta) const override {
     m.template signals<D8>(p, eta);
   }
 };
 
-template <bool Nonlinear>
-std::unique_ptr<TankDualModel> dual_model_of(const RectangularModel& tank) {
-  switch (tank.along_length.modes()) {
+template <std::size_t Modes, bool Nonlinear>
+std::unique_ptr<TankDualModel<Modes>> dual_model_of(const RectangularModel& tank) {
+  const std::size_t modes = static_cast<std::size_t>(tank.along_length.modes());
+  if (modes < 1 || modes > Modes) {
+    throw std::invalid_argument("rectangular planar model: modes must be in [1, 5]");
+  }
+  switch (modes) {
     case 1:
-      return std::make_unique<TankDualModelOf<1, Nonlinear>>(tank);
+      return std::make_unique<TankDualModelOf<Modes, 1, Nonlinear>>(tank);
     case 2:
-      return std::make_unique<TankDualModelOf<2, Nonlinear>>(tank);
+      return std::make_unique<TankDualModelOf<Modes, 2, Nonlinear>>(tank);
     case 3:
-      return std::make_unique<TankDualModelOf<3, Nonlinear>>(tank);
-    case 4:
-      return std::make_unique<TankDualModelOf<4, Nonlinear>>(tank);
-    case 5:
-      return std::make_unique<TankDualModelOf<5, Nonlinear>>(tank);
+      return std::make_unique<TankDualModelOf<Modes, 3, Nonlinear>>(tank);
     default:
+      if constexpr (Modes >= 5) {
+        if (modes == 4) return std::make_unique<TankDualModelOf<Modes, 4, Nonlinear>>(tank);
+        return std::make_unique<TankDualModelOf<Modes, 5, Nonlinear>>(tank);
+      }
       throw std::invalid_argument("rectangular planar model: modes must be in [1, 5]");
   }
 }
 
 /// One step's dense output as stored.
-TankPlanarSensitivity::Stored stored_step(const TankDualModel& m, const D8& t0, const D8& h,
-                                          const DensePoly<TankState>& x_poly) {
+template <std::size_t Modes>
+TankPlanarSensitivity::Stored stored_step(
+    const TankDualModel<Modes>& m, const D8& t0, const D8& h,
+    const DensePoly<typename TankStateOf<Modes>::Type>& x_poly) {
+  constexpr std::size_t kSpin = TankStateOf<Modes>::kSpin;
   TankPlanarSensitivity::Stored st;
   st.t0 = t0;
   st.h = h;
@@ -172,17 +189,28 @@ TankPlanarSensitivity::Stored stored_step(const TankDualModel& m, const D8& t0, 
 
 /// The integration of compute() (a friend: it reads the law's duals and writes the steps).
 struct TankSensitivityPass {
-  static void run(TankPlanarSensitivity& s, const std::vector<DualPiece>& list);
+  static void run(TankPlanarSensitivity& s, const std::vector<DualPiece>& list) {
+    if (s.tank_.along_length.modes() <= static_cast<int>(kDefaultTankModes)) {
+      run_sized<kDefaultTankModes>(s, list);
+    } else {
+      run_sized<kTankModes>(s, list);
+    }
+  }
+  template <std::size_t Modes>
+  static void run_sized(TankPlanarSensitivity& s, const std::vector<DualPiece>& list);
 };
 
 // flatten: the scheme and the dual arithmetic are inlined (their lane loops stay vectorised);
 // the model's right-hand side is one virtual call per stage.
-[[gnu::flatten]] void TankSensitivityPass::run(TankPlanarSensitivity& s,
-                                               const std::vector<DualPiece>& list) {
+template <std::size_t Modes>
+[[gnu::flatten]] void TankSensitivityPass::run_sized(TankPlanarSensitivity& s,
+                                                     const std::vector<DualPiece>& list) {
+  using TankState = typename TankStateOf<Modes>::Type;
+  constexpr std::size_t kSpin = TankStateOf<Modes>::kSpin;
   const bool nonlinear = s.which_ == RectangularPlanarModel::kNonlinear;
-  const std::unique_ptr<TankDualModel> model =
-      nonlinear ? dual_model_of<true>(s.tank_) : dual_model_of<false>(s.tank_);
-  const TankDualModel& m = *model;
+  const std::unique_ptr<TankDualModel<Modes>> model =
+      nonlinear ? dual_model_of<Modes, true>(s.tank_) : dual_model_of<Modes, false>(s.tank_);
+  const TankDualModel<Modes>& m = *model;
   const double spin_scale = s.spin_gain_ != 0.0 ? 1.0 / s.tank_.along_length.fill_height : 0.0;
   const double nu = s.nu_;
   auto rhs = [&m, spin_scale, nu](const TankState& x, const TankState& v,
@@ -218,7 +246,7 @@ struct TankSensitivityPass {
       const D8 t0 = tb + static_cast<double>(j) * hd;
       auto acc = [&](std::size_t i) { return excitation(t0 + kDopC[i] * hd); };
       dop853_step(rhs, acc, x, v, f0, hh, true, step, false);
-      s.steps_.push_back(stored_step(m, t0, hd, step.x_poly));
+      s.steps_.push_back(stored_step<Modes>(m, t0, hd, step.x_poly));
       s.t0_values_.push_back(t0.value());
       if (t0.value() + hd.value() >= s.until_) return;
       x = step.x1;
