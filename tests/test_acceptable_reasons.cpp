@@ -13,6 +13,7 @@
 #include "slosh/api/plan.hpp"
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/strategy/planner.hpp"
+#include "support/sanitizers.hpp"
 
 namespace slosh {
 namespace test_acceptable_reasons {
@@ -136,6 +137,24 @@ TEST(AcceptableReasons, ASolveCutByItsBudgetIsNotBlamedOnTheReport) {
             std::string::npos)
       << r.message;
   EXPECT_EQ(r.message.find("the robustness report was left unfinished"), std::string::npos)
+      << r.message;
+}
+
+// time_domain's best figure over several models (an uncertainty range's samples) is its
+// design's, which no figure of the plan reports: the sentence says so.
+TEST(AcceptableReasons, ABestFoundOverTheDesignsModelsIsSaidToBeTheirs) {
+  Format f = thesis_format();
+  f.container.rectangular = RectangularTank{0.12, 0.08, 0.0};
+  f.fill_height = 0.05;
+  f.stroke = 0.2;
+  f.motion_time = 1.0;
+  PlanOptions o;
+  o.time_limit = test::solve_budget(10.0);
+  o.uncertainty.fill_height = std::array<double, 2>{0.02, 0.05};
+  const PlanResult r = plan(f, Strategy::kTimeDomain, o);
+  ASSERT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+  EXPECT_NE(r.message.find(" mm on the design's 5 models (the plan's verified figures follow)"),
+            std::string::npos)
       << r.message;
 }
 

@@ -825,10 +825,16 @@ StrategyOutcome least_infeasible(const StrategyContext& c, bool motion, double b
   }
   o.status = SolveStatus::kInfeasible;
   o.durations = *chosen;
+  // Over several models (an uncertainty range's samples, a turned tank's two directions at
+  // their bounding factors) the figure is the design's largest, not one the plan reports.
+  const std::string over = c.sample_models.size() > 1
+                               ? " on the design's " + std::to_string(c.sample_models.size()) +
+                                     " models (the plan's verified figures follow)"
+                               : "";
   o.detail = "no law found that meets " + bounded_name + " <= " + sig3(bound * 1e3) + " mm in " +
-             sig3(c.format.motion_time) + " s: the best found is " + sig3(reached * 1e3) +
-             " mm (time_domain searches locally, from " + std::to_string(from.size()) + " starts)" +
-             one_admissible_law(c) + "; lengthen the motion or relax the limit";
+             sig3(c.format.motion_time) + " s: the best found is " + sig3(reached * 1e3) + " mm" +
+             over + " (time_domain searches locally, from " + std::to_string(from.size()) +
+             " starts)" + one_admissible_law(c) + "; lengthen the motion or relax the limit";
   return o;
 }
 
