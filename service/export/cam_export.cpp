@@ -10,6 +10,7 @@
 #include <system_error>
 
 #include "config/version.hpp"
+#include "export/export_units.hpp"
 #include "slosh/api/error.hpp"
 #include "slosh/api/fields.hpp"
 
@@ -20,8 +21,6 @@ namespace {
 /// Shortest and longest controller cycle of a time-based table [ms].
 constexpr double kMinPeriodMs = kCamMinPeriod * 1e3;
 constexpr double kMaxPeriodMs = 1000.0;
-/// Millimetres per metre: the slave columns are written in mm.
-constexpr double kMmPerM = 1e3;
 /// Characters of an ST row besides its members ("    (", ")," and the line break), and of each
 /// member besides its name and literal (" := ", ", ") [characters].
 constexpr std::size_t kStRowOverhead = 8;

@@ -4,6 +4,7 @@
 #include <optional>
 #include <vector>
 
+#include "export/export_units.hpp"
 #include "slosh/api/fields.hpp"
 #include "slosh/core/constants.hpp"
 #include "slosh/core/law/path_cam_table.hpp"
@@ -11,8 +12,6 @@
 namespace slosh::service {
 
 namespace {
-
-constexpr double kMmPerM = 1e3;
 
 // A distance along the path in mm: the path's end as the request gave it (api::mm_of).
 double s_mm(double s, double length) {
