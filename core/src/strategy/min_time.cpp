@@ -8,6 +8,7 @@
 
 #include "slosh/core/strategy/path_plan.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
+#include "slosh/core/strategy/robustness.hpp"
 #include "status_caveat.hpp"
 #include "strategies.hpp"
 #include "text.hpp"
@@ -91,13 +92,17 @@ bool takes_warm_start(Strategy s) {
 
 class Search {
  public:
+  /// The search's budget, time_limit, counts from `started` (the request's validation and
+  /// references count too).
   Search(const Format& format, Strategy strategy, const MinTimeOptions& options,
-         MinTimeResult& result)
+         MinTimeResult& result, Clock::time_point started)
       : format_(format),
         strategy_(strategy),
         options_(options),
         result_(result),
-        deadline_(options.plan.time_limit, options.plan.stop) {}
+        deadline_(
+            options.plan.time_limit - std::chrono::duration<double>(Clock::now() - started).count(),
+            options.plan.stop) {}
 
   /// Plans T, warm-started from a neighbour (see warm_start_for). A warm-started plan that is
   /// infeasible is planned again from the planner's own starts (what a plan request at T without
@@ -163,8 +168,9 @@ class Search {
 
   /// One plan() of T; nullopt when the budget ran out before or during it.
   std::optional<Planned> plan_at(double T, const std::optional<Durations>& warm_start) {
-    // The search's own budget: the plans share time_limit, and a stop request ends it at once.
-    const double remaining = deadline_.remaining();
+    // The search's own budget: the plans share time_limit, less what the returned plan's report
+    // will take, and a stop request ends it at once.
+    const double remaining = deadline_.remaining() - report_reserve_;
     if (remaining <= 0.0 || result_.plans >= options_.max_plans) return std::nullopt;
     Format f = format_;
     f.motion_time = T;
@@ -177,6 +183,7 @@ class Search {
     Planned out{MinTimePoint{}, options_.path ? plan_on_path(f, *options_.path, strategy_, o)
                                               : plan(f, strategy_, o)};
     ++result_.plans;
+    if (result_.plans == 1) reserve_for_report(out.plan);
     if (out.plan.status == SolveStatus::kTimeLimit) return std::nullopt;
     MinTimePoint& p = out.point;
     const PlanResult& plan_result = out.plan;
@@ -282,11 +289,31 @@ class Search {
     return *from->durations;
   }
 
+  /// Along a path, the returned plan's robustness report is made after the search (min_time())
+  /// and costs kRobustnessPoints verifications of its law (30 ms of a 1 s budget for a tank on a
+  /// rotary table's arc): the plans leave that time, estimated from one verification of the
+  /// first plan's law, twice over for the laws whose verification costs more.
+  void reserve_for_report(const PlanResult& first) {
+    if (!options_.path || !options_.plan.robustness || first.invalid_input ||
+        first.law.duration() <= 0.0) {
+      return;
+    }
+    constexpr double kMargin{2.0};
+    const auto started = Clock::now();
+    const double rest = options_.plan.rest_time;
+    (void)(first.rectangular
+               ? predict_tank_on_path(*first.rectangular, *options_.path, first.law, rest)
+               : predict_on_path(first.model, *options_.path, first.law, rest));
+    const double one = std::chrono::duration<double>(Clock::now() - started).count();
+    report_reserve_ = kMargin * kRobustnessPoints * one;
+  }
+
   const Format& format_;
   Strategy strategy_;
   const MinTimeOptions& options_;
   MinTimeResult& result_;
   detail::Deadline deadline_;
+  double report_reserve_{0.0};  // [s]
 };
 
 }  // namespace
@@ -386,13 +413,14 @@ struct SearchRun {
   double first_feasible{-1.0};
   std::vector<MinTimePoint> scanned;
 
-  SearchRun(const Format& f, Strategy s, const MinTimeOptions& o, MinTimeResult& result)
+  SearchRun(const Format& f, Strategy s, const MinTimeOptions& o, MinTimeResult& result,
+            Clock::time_point started)
       : format(f),
         strategy(s),
         options(o),
         r(result),
         limits(limits_text(result, o.model)),
-        search(f, s, o, result) {}
+        search(f, s, o, result, started) {}
 
   /// Which budget ran out, so the client raises the one that matters.
   [[nodiscard]] std::string budget_text() const {
@@ -891,7 +919,7 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
     return std::move(r);
   };
   if (!prepare_search(format, strategy, options, r)) return finish();
-  SearchRun run(format, strategy, options, r);
+  SearchRun run(format, strategy, options, r, started);
   if (!coarse_scan(run)) return finish();
   if (run.first_feasible < 0.0) {
     report_infeasible(run);

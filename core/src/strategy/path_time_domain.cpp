@@ -607,6 +607,9 @@ StrategyOutcome least_infeasible(const StrategyContext& c, const PathTarget& pat
   double reached = 0.0;
   std::vector<Durations> met;  // the laws that meet the bound, distinct
   for (const Durations& d : candidates) {
+    // Once the budget has run out the plan ends `time_limit` with the best law verified so far:
+    // verifying every other candidate would overrun the budget by as many verifications.
+    if (chosen && c.deadline.expired()) break;
     if (!keeps_limits(c.space, c.space.limits, d, kLimitSlack)) continue;
     const double v = verified_bounded_peak(path, motion, d);
     if (v <= bound * (1.0 + kDenseTolerance) && std::find(met.begin(), met.end(), d) == met.end()) {
