@@ -875,11 +875,29 @@ TEST(BatchCsv, AGroupsRefusalNamesItsMembersByTheirColumns) {
   EXPECT_EQ(r.exit_code, 3) << r.err;
   const std::vector<OutRow> rows = read_plan_csv(r.out);
   ASSERT_EQ(rows.size(), 1u) << r.out;
-  EXPECT_EQ(rows[0].text("error_field"), "options");
+  // The group, options, has no column: the row names the columns of the members it refuses.
+  EXPECT_EQ(rows[0].text("error_field"), "min_ramp_s;plateau_min_s");
   EXPECT_EQ(rows[0].text("message"),
             "min_ramp_s = 0.05 s and plateau_min_s = [0.5, 0.6] s need 4 ramps + 2 plateaus = "
             "1.3 s, more than the motion time 1 s: allowed min_ramp_s <= (T - plateau minimums) / "
             "4 = -0.025 s");
+}
+
+// A cylinder's row given a tank's width calibration is offered the cylinder's own columns.
+TEST(BatchCsv, AWidthCalibrationOnACylinderOffersTheCylindersColumns) {
+  const std::string text =
+      "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,strategy,"
+      "model_width_zeta\n"
+      "round,48.5,82,water,800,1.0,notch,0.01\n";
+  const RunResult r = run_slosh({"batch", "--cache", ""}, text);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(r.out);
+  ASSERT_EQ(rows.size(), 1u) << r.out;
+  EXPECT_EQ(rows[0].text("error_field"), "model_width_zeta");
+  EXPECT_EQ(rows[0].text("message"),
+            "model_width_zeta applies to a rectangular container only (the scale or damping of "
+            "its modes along the width): a cylinder's modes take model_omega_scale and "
+            "model_zeta");
 }
 
 // A table of round and rectangular containers reads back which container each row planned, and

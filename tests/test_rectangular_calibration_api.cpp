@@ -332,7 +332,7 @@ TEST(TurnedTankCalibration, RefusalsNameTheField) {
   EXPECT_STREQ(e.what(),
                "options.model.width_omega_scale applies to a rectangular container only (the "
                "scale or damping of its modes along the width): a cylinder's modes take "
-               "omega_scale and zeta");
+               "options.model.omega_scale and options.model.zeta");
   json out_of_range = {{"format", cup_format()},
                        {"strategy", "multi_notch"},
                        {"options", {{"model", {{"width_zeta", 0.7}}}}}};

@@ -240,11 +240,15 @@ void refuse_cylinder_model_options(const Format& format, const nlohmann::json& o
     // A cylinder has one set of modes: a width of its own is a rectangular tank's.
     for (const char* member : {"width_omega_scale", "width_zeta"}) {
       if (given_member(*model, member) != nullptr) {
-        const std::string field = join_path(join_path(path, "model"), member);
+        const std::string model_path = join_path(path, "model");
+        const std::string field = join_path(model_path, member);
+        // The members it offers by their paths, which a recipe table's refusal names by their
+        // columns.
         invalid(field, field +
                            " applies to a rectangular container only (the scale or damping of "
-                           "its modes along the width): a cylinder's modes take omega_scale and "
-                           "zeta");
+                           "its modes along the width): a cylinder's modes take " +
+                           join_path(model_path, "omega_scale") + " and " +
+                           join_path(model_path, "zeta"));
       }
     }
   }

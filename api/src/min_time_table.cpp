@@ -49,8 +49,9 @@ MinTimeTableRow min_time_error_row(std::size_t row, std::string_view recipe_id, 
       if (message.rfind(kMax, 0) == 0) message.replace(0, kMax.size(), "motion_time_s");
       field = "motion_time_s";
     } else {
-      message = in_column_terms(field, message);
-      field = column_of_field(field);
+      const std::string text = message;
+      message = in_column_terms(field, text);
+      field = error_columns(field, text);
     }
   }
   document["message"] = message;

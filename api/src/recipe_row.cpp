@@ -384,6 +384,26 @@ std::string column_of_field(const std::string& field, const OptionRegistry& regi
   return column ? column->name : field;
 }
 
+namespace {
+
+// Where `path` occurs in `text` from `from` as a whole member name, outside a value the text
+// echoes in quotes; npos when nowhere.
+std::size_t find_path_in(const std::string& text, const std::string& path, std::size_t from) {
+  auto member_char = [](char c) {
+    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.';
+  };
+  for (std::size_t at = text.find(path, from); at != std::string::npos;
+       at = text.find(path, at + path.size())) {
+    const std::size_t end = at + path.size();
+    const bool whole =
+        (at == 0 || !member_char(text[at - 1])) && (end == text.size() || !member_char(text[end]));
+    if (whole && !inside_json_string(text, at)) return at;
+  }
+  return std::string::npos;
+}
+
+}  // namespace
+
 // (The field is not needed: a refusal of two members names their group, "options", which has no
 // column, while the members it names do.)
 std::string in_column_terms(const std::string& /*field*/, const std::string& message,
@@ -395,24 +415,42 @@ std::string in_column_terms(const std::string& /*field*/, const std::string& mes
   std::sort(columns.begin(), columns.end(), [](const RecipeColumn& a, const RecipeColumn& b) {
     return a.pointer.size() > b.pointer.size();
   });
-  auto member_char = [](char c) {
-    return std::isalnum(static_cast<unsigned char>(c)) != 0 || c == '_' || c == '.';
-  };
   std::string out = message;
   for (const RecipeColumn& column : columns) {
     if (column.pointer.empty()) continue;
     const std::string path = dotted(column.pointer);
-    for (std::size_t at = out.find(path); at != std::string::npos; at = out.find(path, at)) {
-      const std::size_t end = at + path.size();
-      const bool whole =
-          (at == 0 || !member_char(out[at - 1])) && (end == out.size() || !member_char(out[end]));
-      if (!whole || inside_json_string(out, at)) {  // a value the message echoes stays as sent
-        at = end;
-        continue;
-      }
+    for (std::size_t at = find_path_in(out, path, 0); at != std::string::npos;
+         at = find_path_in(out, path, at + column.name.size())) {
       out.replace(at, path.size(), column.name);
-      at += column.name.size();
     }
+  }
+  return out;
+}
+
+std::string error_columns(const std::string& field, const std::string& message,
+                          const OptionRegistry& registry) {
+  if (const std::optional<RecipeColumn> own = column_for(field, registry)) {
+    return std::string(own->name);
+  }
+  std::vector<std::pair<std::size_t, std::string>> named;  // where the message names each
+  for (const RecipeColumn& column : recipe_columns(registry)) {
+    if (column.pointer.empty()) continue;
+    const std::string path = dotted(column.pointer);
+    if (!field.empty() && path.rfind(field + ".", 0) != 0) continue;
+    // A member is named by its path, or within its group's sentence by its path in the group
+    // ("options.min_ramp_s = ... and plateau_min_s = ...").
+    std::size_t at = find_path_in(message, path, 0);
+    if (at == std::string::npos && !field.empty()) {
+      at = find_path_in(message, path.substr(field.size() + 1), 0);
+    }
+    if (at != std::string::npos) named.emplace_back(at, std::string(column.name));
+  }
+  if (named.empty()) return field;
+  std::sort(named.begin(), named.end());
+  std::string out;
+  for (const auto& [at, name] : named) {
+    if (out.find(name) != std::string::npos) continue;
+    out += (out.empty() ? "" : ";") + name;
   }
   return out;
 }
@@ -545,8 +583,9 @@ json error_row_figures(const json& failure, bool csv) {
   std::string where = field.is_string() ? field.get<std::string>() : "";
   json message = value_or_null(error, "message");
   if (csv && !where.empty()) {
-    if (message.is_string()) message = in_column_terms(where, message.get<std::string>());
-    where = column_of_field(where);
+    const std::string text = message.is_string() ? message.get<std::string>() : std::string();
+    if (message.is_string()) message = in_column_terms(where, text);
+    where = error_columns(where, text);
   }
   return {{"status", "error"},
           {"message", std::move(message)},

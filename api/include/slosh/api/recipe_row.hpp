@@ -158,6 +158,14 @@ class RecipeHeader {
 [[nodiscard]] std::string in_column_terms(const std::string& field, const std::string& message,
                                           const OptionRegistry& registry = plan_option_registry());
 
+/// The column(s) a CSV row's refusal names in its `error_field`: the column of `field`, or, for
+/// a group that has none (a refusal of two members names their group: "options",
+/// "options.uncertainty", "format.container"), the columns of its members that `message` (the
+/// refusal's own text, in request paths) names by their paths or by their paths in the group, in
+/// its order, joined by ';'; `field` itself when it names none.
+[[nodiscard]] std::string error_columns(const std::string& field, const std::string& message,
+                                        const OptionRegistry& registry = plan_option_registry());
+
 /// One output column of CSV plan tables: a JSON pointer into the row of plan_row_figures.
 struct PlanColumn {
   std::string_view name;
