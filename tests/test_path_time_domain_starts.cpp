@@ -222,5 +222,26 @@ TEST(PathTimeDomainStarts, ABudgetThatEndsReturnsNoInadmissibleLawAsAdmissible) 
   EXPECT_LE(sim.motion, uniform.motion * (1.0 + 1e-3));
 }
 
+// A budget gone before time_domain's solve begins (spent on the uniform law's verification): no
+// solve is started past it. The uniform law, or a better verified start, is returned, and the
+// message says the solve did not run rather than what it would have optimised.
+TEST(PathTimeDomainStarts, ABudgetGoneBeforeTheSolveStartsNone) {
+  const LineArcLine g{0.15, 0.15, kPi / 2};
+  Format tank = format_for(g, 1.85);
+  tank.container.rectangular = RectangularTank{0.12, 0.08, 0.0};
+  PlanOptions o = quiet_options();
+  o.time_limit = 1e-6;
+  const PlanResult r = plan_on_path(tank, g.path(), Strategy::kTimeDomain, o);
+  ASSERT_EQ(r.status, SolveStatus::kTimeLimit) << r.message;
+  ASSERT_TRUE(r.durations.has_value());
+  EXPECT_EQ(*r.durations, uniform_durations(1.85));
+  EXPECT_NE(r.message.find("the time budget ran out before time_domain's solve began (the "
+                           "uniform law). Along the path"),
+            std::string::npos)
+      << r.message;
+  EXPECT_EQ(r.message.find("time_domain optimised"), std::string::npos) << r.message;
+  EXPECT_EQ(r.solver.starts, 0);
+}
+
 }  // namespace test_path_time_domain_starts
 }  // namespace slosh

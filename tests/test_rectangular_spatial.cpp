@@ -11,6 +11,7 @@
 #include <cstdio>
 #include <functional>
 #include <numbers>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,6 +35,7 @@
 #include "slosh/core/strategy/planner.hpp"
 #include "slosh/core/strategy/rectangular_path_plan.hpp"
 #include "slosh/core/strategy/rectangular_plan.hpp"
+#include "slosh/core/strategy/robustness.hpp"
 #include "support/rectangular_reference.hpp"
 #include "support/sanitizers.hpp"
 
@@ -599,6 +601,47 @@ TEST(RectangularSpatial, TheRobustnessSweepAlongAPathIsTheTanksModels) {
     EXPECT_DOUBLE_EQ(p.linear.motion.value, r.prediction.linear.motion.value);
   }
   EXPECT_TRUE(zero);
+}
+
+// The reports along a path ask the budget before each point (each verifies the law along the
+// whole path again): a budget that says stop ends the report without it, and one that never does
+// gives the report made without asking, to the last bit.
+TEST(RectangularSpatial, TheReportsAlongAPathAskTheBudgetBeforeEachPoint) {
+  const PlanarPath table = PlanarPath::arc(0.3, kPi / 2, true);
+  const MotionLaw law = SevenSegmentLaw(uniform_durations(1.2), table.length()).law();
+  Format f = thesis_format();
+  f.container.rectangular = RectangularTank{0.12, 0.08, 20.0};
+  f.fill_height = 0.05;
+  f.motion_time = 1.2;
+  PlanOptions o;
+  o.robustness = false;
+  const PlanResult tank_plan = plan_on_path(f, table, Strategy::kBaseline, o);
+  ASSERT_TRUE(tank_plan.rectangular.has_value());
+  Format round = thesis_format();
+  round.stroke = table.length();
+  round.motion_time = 1.2;
+  const PlanResult cylinder_plan = plan_on_path(round, table, Strategy::kBaseline, o);
+  RobustnessSweep sweep;
+  sweep.rest_time = 1.0;
+  for (const bool tank : {true, false}) {
+    const auto report = [&](const std::function<bool()>& out_of_time) {
+      sweep.zeta = tank ? tank_plan.model.zeta : cylinder_plan.model.zeta;
+      return tank ? rectangular_robustness_report_on_path(*tank_plan.rectangular, table, law, sweep,
+                                                          out_of_time)
+                  : robustness_report_on_path(cylinder_plan.model, table, law, sweep, out_of_time);
+    };
+    int asked = 0;
+    EXPECT_FALSE(report([&asked] { return ++asked > 3; }).has_value()) << tank;
+    EXPECT_EQ(asked, 4) << tank;  // three points made, the fourth not begun
+    const std::optional<RobustnessReport> whole = report({});
+    const std::optional<RobustnessReport> asking = report([] { return false; });
+    ASSERT_TRUE(whole && asking) << tank;
+    ASSERT_EQ(whole->points.size(), static_cast<std::size_t>(kRobustnessPoints)) << tank;
+    for (std::size_t i = 0; i < whole->points.size(); ++i) {
+      EXPECT_EQ(whole->points[i].nonlinear.rest.value, asking->points[i].nonlinear.rest.value);
+      EXPECT_EQ(whole->points[i].linear.motion.value, asking->points[i].linear.motion.value);
+    }
+  }
 }
 
 // ---- The answers of the API ----

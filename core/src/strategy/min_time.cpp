@@ -92,17 +92,15 @@ bool takes_warm_start(Strategy s) {
 
 class Search {
  public:
-  /// The search's budget, time_limit, counts from `started` (the request's validation and
+  /// `deadline`: the search's budget, time_limit, counted from the request (its validation and
   /// references count too).
   Search(const Format& format, Strategy strategy, const MinTimeOptions& options,
-         MinTimeResult& result, Clock::time_point started)
+         MinTimeResult& result, const detail::Deadline& deadline)
       : format_(format),
         strategy_(strategy),
         options_(options),
         result_(result),
-        deadline_(
-            options.plan.time_limit - std::chrono::duration<double>(Clock::now() - started).count(),
-            options.plan.stop) {}
+        deadline_(deadline) {}
 
   /// Plans T, warm-started from a neighbour (see warm_start_for). A warm-started plan that is
   /// infeasible is planned again from the planner's own starts (what a plan request at T without
@@ -168,9 +166,8 @@ class Search {
 
   /// One plan() of T; nullopt when the budget ran out before or during it.
   std::optional<Planned> plan_at(double T, const std::optional<Durations>& warm_start) {
-    // The search's own budget: the plans share time_limit, less what the returned plan's report
-    // will take, and a stop request ends it at once.
-    const double remaining = deadline_.remaining() - report_reserve_;
+    // The search's own budget: the plans share time_limit, and a stop request ends it at once.
+    const double remaining = deadline_.remaining();
     if (remaining <= 0.0 || result_.plans >= options_.max_plans) return std::nullopt;
     Format f = format_;
     f.motion_time = T;
@@ -183,7 +180,6 @@ class Search {
     Planned out{MinTimePoint{}, options_.path ? plan_on_path(f, *options_.path, strategy_, o)
                                               : plan(f, strategy_, o)};
     ++result_.plans;
-    if (result_.plans == 1) reserve_for_report(out.plan);
     if (out.plan.status == SolveStatus::kTimeLimit) return std::nullopt;
     MinTimePoint& p = out.point;
     const PlanResult& plan_result = out.plan;
@@ -289,31 +285,11 @@ class Search {
     return *from->durations;
   }
 
-  /// Along a path, the returned plan's robustness report is made after the search (min_time())
-  /// and costs kRobustnessPoints verifications of its law (30 ms of a 1 s budget for a tank on a
-  /// rotary table's arc): the plans leave that time, estimated from one verification of the
-  /// first plan's law, twice over for the laws whose verification costs more.
-  void reserve_for_report(const PlanResult& first) {
-    if (!options_.path || !options_.plan.robustness || first.invalid_input ||
-        first.law.duration() <= 0.0) {
-      return;
-    }
-    constexpr double kMargin{2.0};
-    const auto started = Clock::now();
-    const double rest = options_.plan.rest_time;
-    (void)(first.rectangular
-               ? predict_tank_on_path(*first.rectangular, *options_.path, first.law, rest)
-               : predict_on_path(first.model, *options_.path, first.law, rest));
-    const double one = std::chrono::duration<double>(Clock::now() - started).count();
-    report_reserve_ = kMargin * kRobustnessPoints * one;
-  }
-
   const Format& format_;
   Strategy strategy_;
   const MinTimeOptions& options_;
   MinTimeResult& result_;
-  detail::Deadline deadline_;
-  double report_reserve_{0.0};  // [s]
+  const detail::Deadline& deadline_;
 };
 
 }  // namespace
@@ -414,13 +390,13 @@ struct SearchRun {
   std::vector<MinTimePoint> scanned;
 
   SearchRun(const Format& f, Strategy s, const MinTimeOptions& o, MinTimeResult& result,
-            Clock::time_point started)
+            const detail::Deadline& deadline)
       : format(f),
         strategy(s),
         options(o),
         r(result),
         limits(limits_text(result, o.model)),
-        search(f, s, o, result, started) {}
+        search(f, s, o, result, deadline) {}
 
   /// Which budget ran out, so the client raises the one that matters.
   [[nodiscard]] std::string budget_text() const {
@@ -888,38 +864,56 @@ void extend_curve_and_report(SearchRun& run) {
 
 MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOptions& options) {
   const auto started = Clock::now();
+  // One budget for the whole search: its plans and the returned plan's robustness report.
+  const detail::Deadline budget(options.plan.time_limit, options.plan.stop);
   MinTimeResult r;
   r.strategy = strategy;
+  // The returned plan's robustness report, judged by the search's limits, within the budget.
+  auto take_report = [&](MinTimeResult& result, const detail::Deadline& deadline) {
+    PlanResult& plan = *result.plan;
+    std::optional<RobustnessReport> report;
+    if (options.path) {
+      // Along a path: the returned law swept over +-10 % of the mode frequencies on the planar
+      // models (as plan_on_path's report), each point verifying it along the whole path again.
+      RobustnessSweep sweep;
+      sweep.zeta = plan.model.zeta;
+      sweep.rest_time = options.plan.rest_time;
+      sweep.eta_rest_max = result.eta_rest_max;
+      sweep.eta_motion_max = result.eta_motion_max;
+      const auto out_of_time = [&deadline] { return deadline.expired(); };
+      report =
+          plan.rectangular
+              ? rectangular_robustness_report_on_path(*plan.rectangular, *options.path, plan.law,
+                                                      sweep, out_of_time)
+              : robustness_report_on_path(plan.model, *options.path, plan.law, sweep, out_of_time);
+    } else if (!deadline.expired()) {
+      Format at = format;
+      at.motion_time = plan.law.duration();
+      PlanOptions judged = options.plan;
+      judged.eta_rest_max = result.eta_rest_max;
+      judged.eta_motion_max = result.eta_motion_max;
+      report = robustness_of(at, judged, plan);
+    }
+    if (report) {
+      plan.robustness = std::move(*report);
+    } else {
+      // Not the budget's whole answer: time_limit, which is not cached.
+      result.status = SolveStatus::kTimeLimit;
+      result.message +=
+          "; the returned plan's robustness report was left out: the search's budget ran out "
+          "(raise time_limit_s)";
+    }
+  };
   auto finish = [&]() -> MinTimeResult {
     std::sort(r.curve.begin(), r.curve.end(), [](const MinTimePoint& a, const MinTimePoint& b) {
       return a.motion_time < b.motion_time;
     });
-    if (r.plan && options.plan.robustness && !r.plan->invalid_input && options.path) {
-      // Along a path: the returned law swept over +-10 % of the mode frequencies on the planar
-      // models, judged by the search's limits (as plan_on_path's report).
-      RobustnessSweep sweep;
-      sweep.zeta = r.plan->model.zeta;
-      sweep.rest_time = options.plan.rest_time;
-      sweep.eta_rest_max = r.eta_rest_max;
-      sweep.eta_motion_max = r.eta_motion_max;
-      r.plan->robustness =
-          r.plan->rectangular
-              ? rectangular_robustness_report_on_path(*r.plan->rectangular, *options.path,
-                                                      r.plan->law, sweep)
-              : robustness_report_on_path(r.plan->model, *options.path, r.plan->law, sweep);
-    } else if (r.plan && options.plan.robustness && !r.plan->invalid_input) {
-      Format at = format;
-      at.motion_time = r.plan->law.duration();
-      PlanOptions judged = options.plan;
-      judged.eta_rest_max = r.eta_rest_max;
-      judged.eta_motion_max = r.eta_motion_max;
-      r.plan->robustness = robustness_of(at, judged, *r.plan);
-    }
+    if (r.plan && options.plan.robustness && !r.plan->invalid_input) take_report(r, budget);
     r.search_ms = std::chrono::duration<double, std::milli>(Clock::now() - started).count();
     return std::move(r);
   };
   if (!prepare_search(format, strategy, options, r)) return finish();
-  SearchRun run(format, strategy, options, r, started);
+  SearchRun run(format, strategy, options, r, budget);
   if (!coarse_scan(run)) return finish();
   if (run.first_feasible < 0.0) {
     report_infeasible(run);

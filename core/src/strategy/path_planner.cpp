@@ -77,6 +77,8 @@ struct PathContext {
   /// Why a rectangular tank's nonlinear model does not hold for the uniform law along the path
   /// (its nonlinear figures are then the linear model's), or empty.
   std::string uniform_warning{};
+  /// The returned law gets a robustness report (the plan's options.robustness).
+  bool report{false};
 
   /// The verified figures of `law` along the path; the tank's nonlinear model's out-of-range
   /// reason in `*warning` when given.
@@ -260,7 +262,15 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
                (c.tank ? std::string(c.models()) : std::string("the planar models'")) +
                " along the path";
   }
-  if (o.plan.status == SolveStatus::kInfeasible) {
+  if (o.plan.status == SolveStatus::kTimeLimit && s != Strategy::kBaseline) {
+    // The law is not shaped as the sentence above says: the solve stopped where the budget left
+    // it (at the uniform law, where it starts, when it had no time at all).
+    const bool unsolved = o.plan.durations == uniform_durations(c.format.motion_time);
+    o.detail = "the solve on the line ran out of the budget first: its law is " +
+               std::string(unsolved ? "the uniform law, where it starts"
+                                    : "the best admissible point it reached") +
+               ", which need not meet the options' bounds (" + o.detail + ")";
+  } else if (o.plan.status == SolveStatus::kInfeasible) {
     // Why the tangential law is not a solution (its own constraint: a band, a filter's limit).
     const std::string& m = o.plan.message;
     o.detail = "on the tangential law: " + m.substr(0, m.find(". ")) + "; " + o.detail;
@@ -320,9 +330,19 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
   detail::set_design(sc);
   detail::set_references(sc, c.uniform.nonlinear.motion.value);
   bool nonlinear = true;
-  const detail::PathTarget target =
-      c.tank ? tank_target(c, nonlinear) : detail::planar_target(sc, c.path);
-  detail::StrategyOutcome out = detail::solve_path_time_domain(sc, target, seeds);
+  detail::StrategyOutcome out;
+  const bool solved = !c.deadline.expired();
+  if (!solved) {
+    // The budget is gone before the solve: the uniform law stands in (the best of the verified
+    // starts then replaces it, keep_best_start), and the plan ends time_limit.
+    out.status = SolveStatus::kTimeLimit;
+    out.durations = uniform_durations(c.format.motion_time);
+    out.detail = "the time budget ran out before time_domain's solve began (the uniform law)";
+  } else {
+    const detail::PathTarget target =
+        c.tank ? tank_target(c, nonlinear) : detail::planar_target(sc, c.path);
+    out = detail::solve_path_time_domain(sc, target, seeds);
+  }
   if (out.status == SolveStatus::kFailed) out.durations = uniform_durations(c.format.motion_time);
   PathOutcome o;
   o.plan = base;
@@ -341,13 +361,22 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
   }
   r.solver = {out.solver, out.evaluations, out.starts, out.objective, 0.0};
   r.prediction.kinematics = r.law.summary();
-  o.prediction = c.predict(r.law, &o.model_warning);
+  if (out.durations == uniform_durations(c.format.motion_time)) {
+    o.prediction = c.uniform;  // verified already, with its model's range
+    o.model_warning = c.uniform_warning;
+  } else {
+    o.prediction = c.predict(r.law, &o.model_warning);
+  }
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
   o.detail = "time_domain optimised " + optimised_models(c, nonlinear) + (c.tank ? "; " : " (") +
              (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
                      : "min eta_rest s.t. eta_motion <= " + sig3(sc.eta_motion_max * 1e3)) +
              (c.tank ? " mm, exact gradients)" : " mm over the whole wall, exact gradients)");
-  if (!out.detail.empty()) o.detail = out.detail + "; " + o.detail;
+  if (!solved) {
+    o.detail = out.detail;
+  } else if (!out.detail.empty()) {
+    o.detail = out.detail + "; " + o.detail;
+  }
   verify_on_path(c, o, true);
   return o;
 }
@@ -479,6 +508,36 @@ void add_yaw_warning(const PathContext& c, const PlanResult& r, double horizonta
   if (!yaw.empty()) warnings.push_back({WarningKind::kYawModesNotModelled, std::move(yaw)});
 }
 
+/// The returned law's robustness report along the path: swept over +-10 % of the mode
+/// frequencies on the planar models (SPEC §10), within what is left of the budget (each point
+/// verifies the law along the whole path again). A report the budget cuts short is left out and
+/// the plan says so, as a plan on the line does.
+void take_path_robustness(const PathContext& c, PlanResult& r, std::string& detail) {
+  if (!c.report || r.invalid_input || r.law.duration() <= 0.0) return;
+  RobustnessSweep sweep;
+  sweep.zeta = r.model.zeta;
+  sweep.rest_time = c.options.rest_time;
+  sweep.eta_rest_max = c.options.eta_rest_max;
+  sweep.eta_motion_max = c.options.eta_motion_max;
+  const auto out_of_time = [&c] { return c.deadline.expired(); };
+  std::optional<RobustnessReport> report =
+      c.tank ? rectangular_robustness_report_on_path(*c.tank, c.path, r.law, sweep, out_of_time)
+             : robustness_report_on_path(r.model, c.path, r.law, sweep, out_of_time);
+  if (report) {
+    r.robustness = std::move(*report);
+  } else if (r.status == SolveStatus::kTimeLimit) {
+    detail += std::string(detail.empty() ? "" : "; ") +
+              "the robustness report was left out too: raise time_limit_s";
+  } else {
+    r.status = SolveStatus::kTimeLimit;
+    detail =
+        "the robustness report was left unfinished (each of its points verifies the law "
+        "along the whole path again); the law is returned without it, with its verified "
+        "figures: raise time_limit_s or set robustness to false" +
+        (detail.empty() ? std::string() : "; " + detail);
+  }
+}
+
 PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::string detail) {
   const Strategy law_strategy = o.plan.strategy;
   PlanResult r = std::move(o.plan);
@@ -519,6 +578,7 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
              " segments); the law is returned with its verified figures" +
              (detail.empty() ? std::string() : "; " + detail);
   }
+  take_path_robustness(c, r, detail);
   detail::apply_optimal_caveat(r.status, detail, r.warnings, law_strategy);
   // The eta bound binds time_domain's law and auto's choice (the uniform law promises none).
   std::string violation = path_limit_violation(c.options.limits, o.prediction);
@@ -756,6 +816,7 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
       deadline,
       base.rectangular,
       std::move(uniform_warning)};
+  c.report = options.robustness;
   if (!finite(c.uniform)) {
     base.strategy = strategy;
     base.status = SolveStatus::kFailed;
@@ -767,16 +828,6 @@ PlanResult plan_on_path(const Format& format, const PlanarPath& path, Strategy s
     return base;
   }
   PlanResult r = strategy == Strategy::kAuto ? run_auto(c, base) : run_single(c, base, strategy);
-  if (options.robustness && !r.invalid_input && r.law.duration() > 0.0) {
-    // The returned law swept over +-10 % of the mode frequencies on the planar models (SPEC §10).
-    RobustnessSweep sweep;
-    sweep.zeta = r.model.zeta;
-    sweep.rest_time = o.rest_time;
-    sweep.eta_rest_max = o.eta_rest_max;
-    sweep.eta_motion_max = o.eta_motion_max;
-    r.robustness = c.tank ? rectangular_robustness_report_on_path(*c.tank, path, r.law, sweep)
-                          : robustness_report_on_path(r.model, path, r.law, sweep);
-  }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   return r;

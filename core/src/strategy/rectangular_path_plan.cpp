@@ -40,9 +40,9 @@ PathPrediction predict_tank_on_path(const RectangularModel& tank, const PlanarPa
   return p;
 }
 
-RobustnessReport rectangular_robustness_report_on_path(const RectangularModel& tank,
-                                                       const PlanarPath& path, const MotionLaw& law,
-                                                       const RobustnessSweep& sweep) {
+std::optional<RobustnessReport> rectangular_robustness_report_on_path(
+    const RectangularModel& tank, const PlanarPath& path, const MotionLaw& law,
+    const RobustnessSweep& sweep, const std::function<bool()>& out_of_time) {
   // As the line's sweep: the plan's zeta is the most excited direction's.
   const bool common = sweep.zeta != driven_directions(tank).front().model.zeta;
   auto peaks = [](const PlanarPeaks& p) {
@@ -50,6 +50,7 @@ RobustnessReport rectangular_robustness_report_on_path(const RectangularModel& t
   };
   std::vector<RobustnessPoint> points;
   for (const double delta : robustness_deltas(sweep)) {
+    if (out_of_time && out_of_time()) return std::nullopt;
     RectangularModel m = tank;
     const double z_l = common ? sweep.zeta : tank.along_length.zeta;
     const double z_w = common ? sweep.zeta : tank.along_width.zeta;

@@ -135,14 +135,16 @@ RobustnessReport judged_report(const RobustnessSweep& sweep, std::vector<Robustn
   return r;
 }
 
-RobustnessReport robustness_report_on_path(const SloshingModel& nominal, const PlanarPath& path,
-                                           const MotionLaw& law, const RobustnessSweep& sweep) {
+std::optional<RobustnessReport> robustness_report_on_path(
+    const SloshingModel& nominal, const PlanarPath& path, const MotionLaw& law,
+    const RobustnessSweep& sweep, const std::function<bool()>& out_of_time) {
   const PlanarDrive drive(path, law);
   auto peaks = [](const PlanarPeaks& p) {
     return SloshPeaks{{p.motion.value, p.motion.time}, {p.rest.value, p.rest.time}};
   };
   std::vector<RobustnessPoint> points;
   for (const double delta : robustness_deltas(sweep)) {
+    if (out_of_time && out_of_time()) return std::nullopt;
     const SloshingModel model = scaled_model(nominal, 1.0 + delta, sweep.zeta);
     RobustnessPoint p;
     p.delta = delta;

@@ -29,9 +29,8 @@ namespace slosh {
 /// each direction keeping its own damping ratio unless `sweep.zeta` differs from the most
 /// excited direction's on the line (driven_directions; then both take it), every point from the
 /// tank's models along the path.
-[[nodiscard]] RobustnessReport rectangular_robustness_report_on_path(const RectangularModel& tank,
-                                                                     const PlanarPath& path,
-                                                                     const MotionLaw& law,
-                                                                     const RobustnessSweep& sweep);
+[[nodiscard]] std::optional<RobustnessReport> rectangular_robustness_report_on_path(
+    const RectangularModel& tank, const PlanarPath& path, const MotionLaw& law,
+    const RobustnessSweep& sweep, const std::function<bool()>& out_of_time = {});
 
 }  // namespace slosh

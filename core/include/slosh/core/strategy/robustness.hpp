@@ -3,6 +3,7 @@
 // law re-simulated with every mode frequency scaled by (1 + delta) on both models (exact linear
 // response, accurate nonlinear one), and the interval of delta around 0 where the limits hold.
 
+#include <functional>
 #include <optional>
 #include <vector>
 
@@ -77,10 +78,11 @@ struct RobustnessReport {
 
 /// robustness_report of `law` moved along `path` (SPEC §14): every point's peaks from the planar
 /// models (planar_linear_peaks, planar_nonlinear_peaks), the wave maximised over the wall.
-[[nodiscard]] RobustnessReport robustness_report_on_path(const SloshingModel& nominal,
-                                                         const PlanarPath& path,
-                                                         const MotionLaw& law,
-                                                         const RobustnessSweep& sweep);
+/// `out_of_time` (optional) is asked before each point: nullopt once it says so (each point
+/// verifies the law along the whole path again).
+[[nodiscard]] std::optional<RobustnessReport> robustness_report_on_path(
+    const SloshingModel& nominal, const PlanarPath& path, const MotionLaw& law,
+    const RobustnessSweep& sweep, const std::function<bool()>& out_of_time = {});
 
 /// The report of a sweep whose points are simulated already (sorted by delta, one at delta = 0,
 /// each with its peaks): each point judged by the sweep's limits, the holding intervals and the
