@@ -883,6 +883,24 @@ TEST(BatchCsv, AGroupsRefusalNamesItsMembersByTheirColumns) {
             "4 = -0.025 s");
 }
 
+// A range of the model given along an arc is refused by its column (not the group
+// options.uncertainty, which has none).
+TEST(BatchCsv, AnUncertaintyRangeAlongAnArcIsRefusedByItsColumn) {
+  const std::string text =
+      "recipe_id,radius_mm,fill_height_mm,fluid,motion_time_s,strategy,"
+      "uncertainty_omega_error_pct,motion_type,arc_radius_mm,arc_angle_deg\n"
+      "u_arc,48.5,82,water,1.0,notch,10,arc,300,90\n";
+  const RunResult r = run_slosh({"batch", "--cache", ""}, text);
+  EXPECT_EQ(r.exit_code, 3) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(r.out);
+  ASSERT_EQ(rows.size(), 1u) << r.out;
+  EXPECT_EQ(rows[0].text("error_field"), "uncertainty_omega_error_pct");
+  EXPECT_EQ(rows[0].text("message"),
+            "uncertainty_omega_error_pct is not available along an arc or a path yet: a plan "
+            "along a path is verified at the nominal model (leave options.uncertainty out, or "
+            "plan on a straight line)");
+}
+
 // A cylinder's row given a tank's width calibration is offered the cylinder's own columns.
 TEST(BatchCsv, AWidthCalibrationOnACylinderOffersTheCylindersColumns) {
   const std::string text =

@@ -479,11 +479,11 @@ TEST(MinTimePath, RefusalsNameTheMember) {
   json robust = body_with(arc_of(0.3));
   robust["options"]["uncertainty"] = {{"omega_error_pct", 5}};
   EXPECT_EQ(refusal(robust),
-            std::make_pair(std::string("options.uncertainty"),
-                           std::string("options.uncertainty is not available along an arc or a "
-                                       "path yet: a plan along a path is verified at the nominal "
-                                       "model (leave options.uncertainty out, or search on a "
-                                       "straight line)")));
+            std::make_pair(std::string("options.uncertainty.omega_error_pct"),
+                           std::string("options.uncertainty.omega_error_pct is not available "
+                                       "along an arc or a path yet: a plan along a path is "
+                                       "verified at the nominal model (leave "
+                                       "options.uncertainty out, or search on a straight line)")));
   const json trajectory = body_with(json::parse(
       R"({"type": "trajectory", "t_s": [0, 0.01, 0.02, 0.03], "x_mm": [0, 1, 2, 3],
           "y_mm": [0, 0, 0, 0]})"));

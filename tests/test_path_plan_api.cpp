@@ -144,9 +144,12 @@ TEST(PathPlanApi, RefusalsNameTheMember) {
   json uncertain = arc_plan("auto");
   uncertain["options"] = {{"uncertainty", {{"omega_error_pct", 10}}}};
   EXPECT_EQ(error_of(uncertain),
-            "options.uncertainty | options.uncertainty is not available along an arc or a path "
-            "yet: a plan along a path is verified at the nominal model (leave "
-            "options.uncertainty out, or plan on a straight line)");
+            "options.uncertainty.omega_error_pct | options.uncertainty.omega_error_pct is not "
+            "available along an arc or a path yet: a plan along a path is verified at the "
+            "nominal model (leave options.uncertainty out, or plan on a straight line)");
+  json fill_range = arc_plan("notch");
+  fill_range["options"] = {{"uncertainty", {{"fill_height_mm", {70, 90}}}}};
+  EXPECT_EQ(error_of(fill_range).substr(0, 37), "options.uncertainty.fill_height_mm | ");
   json trajectory = arc_plan("auto");
   trajectory["format"]["motion"] = {{"type", "trajectory"},
                                     {"t_s", {0, 1, 2, 3}},

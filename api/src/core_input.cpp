@@ -284,6 +284,13 @@ std::string_view api_field_path(PlanInput input, Endpoint endpoint) {
   return "";
 }
 
+std::string uncertainty_range_field(const Uncertainty& uncertainty) {
+  const char* member = uncertainty.omega_error > 0.0         ? "omega_error_pct"
+                       : uncertainty.fill_height.has_value() ? "fill_height_mm"
+                                                             : "viscosity_pa_s";
+  return std::string("options.uncertainty.") + member;
+}
+
 std::string options_field(const InvalidInput& invalid, const PlanOptions& options) {
   switch (invalid.input) {
     case PlanInput::kDriveProfile:

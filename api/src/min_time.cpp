@@ -343,10 +343,11 @@ MinTimeRequest parse_min_time_request(const json& given, double budget) {
   }
   if (motion) {
     if (o.plan.uncertainty.active()) {
-      invalid("options.uncertainty",
-              "options.uncertainty is not available along an arc or a path yet: a plan along a "
-              "path is verified at the nominal model (leave options.uncertainty out, or search "
-              "on a straight line)");
+      const std::string field = uncertainty_range_field(o.plan.uncertainty);
+      invalid(field, field +
+                         " is not available along an arc or a path yet: a plan along a path is "
+                         "verified at the nominal model (leave options.uncertainty out, or "
+                         "search on a straight line)");
     }
     o.path = motion->path;
     r.motion = std::move(motion);

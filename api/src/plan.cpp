@@ -130,12 +130,13 @@ std::string to_hex(const unsigned char* data, std::size_t n) {
 
 /// The options a plan along an arc or a path does not apply yet: refused rather than ignored.
 void refuse_path_options(const PlanOptions& o) {
-  if (o.uncertainty.active()) {
-    invalid("options.uncertainty",
-            "options.uncertainty is not available along an arc or a path yet: a plan along a "
-            "path is verified at the nominal model (leave options.uncertainty out, or plan on "
-            "a straight line)");
-  }
+  if (!o.uncertainty.active()) return;
+  // The range given is named (a recipe table then names its column).
+  const std::string field = uncertainty_range_field(o.uncertainty);
+  invalid(field, field +
+                     " is not available along an arc or a path yet: a plan along a path is "
+                     "verified at the nominal model (leave options.uncertainty out, or plan on "
+                     "a straight line)");
 }
 
 }  // namespace

@@ -27,6 +27,11 @@ enum class Endpoint { kPlan, kSimulate };
 /// (a relation between options, e.g. ramps and plateau minimums longer than T).
 [[nodiscard]] std::string options_field(const InvalidInput& invalid, const PlanOptions& options);
 
+/// The request path of the range an active `uncertainty` was given by
+/// ("options.uncertainty.omega_error_pct", "...fill_height_mm" or "...viscosity_pa_s", the first
+/// given): what a refusal of the whole range names, so that a recipe table names its column.
+[[nodiscard]] std::string uncertainty_range_field(const Uncertainty& uncertainty);
+
 /// The API's sentence for a refused input, as the API words it (its field names, mm for eta).
 /// `format` and `options` are the request's (the relation of the floors quotes them).
 [[nodiscard]] std::string input_sentence(const InvalidInput& invalid, const Format& format,
