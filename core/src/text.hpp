@@ -51,6 +51,14 @@ inline std::string sig3(double v) {
   return significant(v, 3);
 }
 
+/// `value`, above `limit`, to 3 significant digits or as many more as show it above the limit's
+/// text (2.0004 against 2 reads "2.0004", not "2").
+inline std::string sig_above(double value, double limit) {
+  int digits = 3;
+  while (digits < 15 && std::stod(significant(value, digits)) <= limit) ++digits;
+  return significant(value, digits);
+}
+
 /// A fraction as a percentage with 3 significant digits ("12.5 %").
 inline std::string percent(double fraction) {
   return sig3(100.0 * fraction) + " %";

@@ -545,7 +545,7 @@ bool listen_until_stopped(Runtime& rt) {
   try {
     return rt.server.listen_after_bind();
   } catch (const std::exception& e) {
-    // E.g. the connection pool's refusing thread could not be started (std::system_error).
+    // Whatever escapes the library's accept loop ends the server with a message, not an abort.
     spdlog::error("the server stopped: {}", e.what());
     rt.parts.service.begin_shutdown();
     return false;
@@ -569,7 +569,12 @@ int run_server(const ServerConfig& config, const std::string& port_file) {
              replica_name(config),
              Resources{parts.service, parts.jobs, parts.calibrations, {}}};
   rt.resources.client_gone = [&rt](const httplib::Request& req) { return client_gone(rt, req); };
-  install_http(rt);
+  try {
+    install_http(rt);
+  } catch (const std::exception& e) {  // the connection pool's first thread refused
+    spdlog::error("the server cannot start: {}", e.what());
+    return 1;
+  }
   const int port = bind_port(server, config);
   if (port < 0) return 1;
   rt.reaper = std::make_unique<ConnectionReaper>(

@@ -26,7 +26,12 @@ timeval to_timeval(double seconds) {
 }  // namespace
 
 void ListeningServer::configure(const ServerConfig& config) {
-  new_task_queue = [n = config.http_threads] { return new ConnectionPool(n); };
+  // The connection threads' pool, with its refusing thread, is made here, before the port is
+  // announced (the library makes it when its accept loop starts): a limit the system sets on the
+  // process once it has announced its port (a thread limit, `ulimit -v`) cannot stop the server
+  // then. The accept loop takes it over.
+  pool_ = std::make_unique<ConnectionPool>(config.http_threads);
+  new_task_queue = [this] { return pool_.release(); };
   // Bodies are read by the handlers themselves (read_body): the library's own limit does not hold
   // for chunked bodies.
   const timeval read_timeout = to_timeval(config.read_timeout_s);

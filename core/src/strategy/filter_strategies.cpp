@@ -30,8 +30,8 @@ std::string limit_violation(const MachineLimits& lim, double a_peak, double v_pe
                 {"j_max", "jerk", "m/s^3", lim.j_max, j_peak}};
   for (const auto& k : checks) {
     if (k.limit && k.value > *k.limit * (1.0 + slack)) {
-      return std::string("the law's peak ") + k.what + " " + sig3(k.value) + " " + k.unit +
-             " exceeds limits." + k.name + " = " + sig3(*k.limit) + " " + k.unit;
+      return std::string("the law's peak ") + k.what + " " + sig_above(k.value, *k.limit) + " " +
+             k.unit + " exceeds limits." + k.name + " = " + sig3(*k.limit) + " " + k.unit;
     }
   }
   return {};

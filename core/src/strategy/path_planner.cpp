@@ -25,6 +25,7 @@ namespace slosh {
 namespace {
 
 using detail::sig3;
+using detail::sig_above;
 
 constexpr double kLimitSlack{1e-9};
 constexpr double kBoundTolerance{1e-7};
@@ -94,16 +95,17 @@ struct PathContext {
 /// The first path limit the prediction breaks, as a sentence; empty when all hold.
 std::string path_limit_violation(const MachineLimits& lim, const PathPrediction& p) {
   if (lim.v_max && p.v_peak > *lim.v_max * (1.0 + kLimitSlack)) {
-    return "the law's peak speed s' " + sig3(p.v_peak) +
+    return "the law's peak speed s' " + sig_above(p.v_peak, *lim.v_max) +
            " m/s exceeds limits.v_max = " + sig3(*lim.v_max) + " m/s";
   }
   if (lim.a_max && p.a_total_peak > *lim.a_max * (1.0 + kLimitSlack)) {
     return "the law's peak horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) " +
-           sig3(p.a_total_peak) + " m/s^2 exceeds limits.a_max = " + sig3(*lim.a_max) +
+           sig_above(p.a_total_peak, *lim.a_max) +
+           " m/s^2 exceeds limits.a_max = " + sig3(*lim.a_max) +
            " m/s^2 (normal acceleration up to " + sig3(p.a_normal_peak) + " m/s^2 on the arcs)";
   }
   if (lim.j_max && p.j_peak > *lim.j_max * (1.0 + kLimitSlack)) {
-    return "the law's peak tangential jerk " + sig3(p.j_peak) +
+    return "the law's peak tangential jerk " + sig_above(p.j_peak, *lim.j_max) +
            " m/s^3 exceeds limits.j_max = " + sig3(*lim.j_max) + " m/s^3";
   }
   return {};
@@ -273,7 +275,8 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
   } else if (o.plan.status == SolveStatus::kInfeasible) {
     // Why the tangential law is not a solution (its own constraint: a band, a filter's limit).
     const std::string& m = o.plan.message;
-    o.detail = "on the tangential law: " + m.substr(0, m.find(". ")) + "; " + o.detail;
+    o.detail = "on the tangential law: " + m.substr(0, m.find(". ")) +
+               (o.detail.empty() ? std::string() : "; " + o.detail);
   } else if (o.plan.status == SolveStatus::kOptimal || o.plan.status == SolveStatus::kAcceptable) {
     // The line's warnings do not hold along the path (its own are judged in finish): the status
     // is the solve's, and when that is acceptable its reason leads, as on a line.
@@ -573,9 +576,10 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
     // the solves (a 60 s motion along 10 000 arcs: about a second per law): a plan that ran past
     // it says so, as a solve that ran out does, and is not cached as the budget's answer.
     r.status = SolveStatus::kTimeLimit;
+    const std::size_t segments = c.path.elements().size();
     detail = "the budget ran out while the law was verified along the path (" +
-             std::to_string(c.path.elements().size()) +
-             " segments); the law is returned with its verified figures" +
+             std::to_string(segments) + (segments == 1 ? " segment" : " segments") +
+             "); the law is returned with its verified figures" +
              (detail.empty() ? std::string() : "; " + detail);
   }
   take_path_robustness(c, r, detail);

@@ -647,7 +647,14 @@ StrategyOutcome least_infeasible(const StrategyContext& c, const PathTarget& pat
                " objective was not minimised";
     return o;
   }
-  o.status = c.deadline.expired() ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
+  if (c.deadline.expired()) {
+    // The budget, not the motion or the limit, ended the search: no advice to change them.
+    o.status = SolveStatus::kTimeLimit;
+    o.detail = "the budget ran out before a law that meets " + name + " <= " + sig3(bound * 1e3) +
+               " mm was found along the path: the best found is " + sig3(reached * 1e3) + " mm";
+    return o;
+  }
+  o.status = SolveStatus::kInfeasible;
   o.detail = "no law found that meets " + name + " <= " + sig3(bound * 1e3) + " mm in " +
              sig3(c.format.motion_time) + " s along the path: the best found is " +
              sig3(reached * 1e3) + " mm; time_domain searches locally (from " +
