@@ -17,6 +17,7 @@
 #include "support/fixtures.hpp"
 #include "support/random_format.hpp"
 #include "support/reference_integrators.hpp"
+#include "text.hpp"
 
 namespace slosh {
 namespace test_path_plan {
@@ -448,6 +449,25 @@ TEST(PathPlan, TheBudgetCoversTheVerificationAlongThePath) {
       EXPECT_EQ(r.candidates.front().strategy, Strategy::kBaseline);
     }
   }
+}
+
+// A limit's sentence shows the value above the limit it breaks (2.0004 against 2 read "2 m/s^2
+// exceeds limits.a_max = 2 m/s^2"), and a tangential law that breaks the options along an arc
+// reads as one sentence list (its empty clause left a "; ;").
+TEST(PathPlan, LimitSentencesShowTheValueAboveItsLimit) {
+  EXPECT_EQ(detail::sig_above(2.0004, 2.0), "2.0004");
+  EXPECT_EQ(detail::sig_above(2.00000004, 2.0), "2.00000004");
+  EXPECT_EQ(detail::sig_above(3.16, 2.0), "3.16");
+  const PlanarPath table = table_arc();
+  PlanOptions o = quiet_options();
+  o.limits.a_max = 2.0;
+  const PlanResult r = plan_on_path(format_for(table, 1.2), table, Strategy::kBaseline, o);
+  EXPECT_EQ(r.status, SolveStatus::kInfeasible) << r.message;
+  EXPECT_EQ(r.message.find("; ;"), std::string::npos) << r.message;
+  EXPECT_NE(r.message.find("plan with a strategy that holds the options; the durations returned "
+                           "are the least infeasible found"),
+            std::string::npos)
+      << r.message;
 }
 
 }  // namespace test_path_plan
