@@ -150,6 +150,10 @@ TEST(MinTimeApi, BadInputIsRefusedNamingFieldValueAndRange) {
       {{{"options", {{"time_limit_s", 20}}}},
        "options.time_limit_s",
        "options.time_limit_s = 20 is out of range: this server allows at most 10 s"},
+      {{{"options", {{"time_limit_s", 0}}}},
+       "options.time_limit_s",
+       "options.time_limit_s = 0 is out of range: allowed > 0 and <= 10 s (this server's "
+       "budget)"},
       {{{"options", {{"limits", {{"a_max", 0}}}}}},
        "options.limits.a_max",
        "options.limits.a_max = 0 is out of range: allowed > 0 and <= 1000 m/s^2"},

@@ -162,6 +162,13 @@ TEST(Service, EveryErrorClassHasTheEnvelope) {
   expect_error(over, 422, "invalid_value", "options.time_limit_s");
   EXPECT_EQ(parse(over->body)["error"]["message"],
             "options.time_limit_s = 3 is out of range: this server allows at most 2 s");
+  // Below the API's own range too, the range said is this server's.
+  budget["options"] = {{"time_limit_s", -1}};
+  const auto negative = client.Post("/v1/plans", budget.dump(), "application/json");
+  expect_error(negative, 422, "invalid_value", "options.time_limit_s");
+  EXPECT_EQ(parse(negative->body)["error"]["message"],
+            "options.time_limit_s = -1 is out of range: allowed > 0 and <= 2 s (this server's "
+            "budget)");
   expect_error(client.Get("/v1/plans/0123456789abcdef0123456789abcdef"), 404, "not_found", "key");
   expect_error(client.Get("/v1/nothing"), 404, "not_found", nullptr);
   expect_error(client.Post("/v1/plans", std::string(5000, ' '), "application/json"), 413,

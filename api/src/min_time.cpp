@@ -13,6 +13,7 @@
 #include "slosh/api/motion_json.hpp"
 #include "slosh/api/option_registry.hpp"
 #include "slosh/api/plan.hpp"
+#include "slosh/api/service_bodies.hpp"
 
 namespace slosh::api {
 
@@ -248,7 +249,11 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
   // allows: ramps too long for motion_time_max_s make an empty search, answered infeasible.
   Format widest = format;
   widest.motion_time = mr::kMotionTimeMax.hi;
-  registry.parse(options, widest, plan);
+  try {
+    registry.parse(options, widest, plan);
+  } catch (const ApiError& e) {
+    throw with_server_range(e, budget);
+  }
   Format at = format;  // the plan options hold at the longest T planned (see plan_validation_time)
   at.motion_time = plan_validation_time(format.motion_time, plan);
   InvalidInput error;

@@ -10,8 +10,27 @@
 
 namespace slosh::api {
 
+ApiError with_server_range(const ApiError& e, double budget) {
+  // The API's range, (0, 600] s, read with this server's most, its budget.
+  const std::string api_most = "<= " + number_text(plan_ranges::kTimeLimit.hi) + " s";
+  const std::string message = e.what();
+  if (e.field() != "options.time_limit_s" || !(budget < plan_ranges::kTimeLimit.hi) ||
+      message.size() < api_most.size() ||
+      message.compare(message.size() - api_most.size(), api_most.size(), api_most) != 0) {
+    return e;
+  }
+  return ApiError(e.code(), e.field(),
+                  message.substr(0, message.size() - api_most.size()) +
+                      "<= " + number_text(budget) + " s (this server's budget)");
+}
+
 PlanRequest parse_plan_with_budget(const nlohmann::json& body, double budget) {
-  PlanRequest request = parse_plan_request(body);
+  PlanRequest request;
+  try {
+    request = parse_plan_request(body);
+  } catch (const ApiError& e) {
+    throw with_server_range(e, budget);
+  }
   const nlohmann::json* options =
       body.contains("options") && body["options"].is_object() ? &body["options"] : nullptr;
   if (options == nullptr || !options->contains("time_limit_s") ||

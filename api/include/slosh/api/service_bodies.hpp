@@ -16,6 +16,11 @@
 
 namespace slosh::api {
 
+/// `e` when it is not a refusal of options.time_limit_s by the API's range; else the same
+/// refusal naming this server's most, `budget` [s], when that is below the API's ("allowed > 0
+/// and <= 10 s (this server's budget)").
+[[nodiscard]] ApiError with_server_range(const ApiError& e, double budget);
+
 /// A plan request with the server's budget applied: options.time_limit_s defaults to `budget`;
 /// more than `budget` is a 422 naming the field.
 [[nodiscard]] PlanRequest parse_plan_with_budget(const nlohmann::json& body, double budget);
