@@ -528,7 +528,14 @@ TEST(MinTime, ASearchRangeShorterThanTheRampsIsInfeasibleNamingTheTimeTheyNeed) 
   EXPECT_EQ(r.message,
             "no motion time up to motion_time_max 0.050 s is possible: the stroke 800 mm needs at "
             "least 0.200 s (machine limits and ramps >= min_ramp); raise motion_time_max_s or the "
-            "machine limits");
+            "machine limits, or lower min_ramp_s and plateau_min_s");
+  // Where the machine limits need the time, lowering the ramps would not help: not advised.
+  o.plan.limits.a_max = 0.5;
+  const MinTimeResult limits = min_time(f, Strategy::kNotch, o);
+  EXPECT_EQ(limits.status, SolveStatus::kInfeasible);
+  EXPECT_EQ(limits.message.find("lower min_ramp_s"), std::string::npos) << limits.message;
+  EXPECT_NE(limits.message.find("raise motion_time_max_s or the machine limits"), std::string::npos)
+      << limits.message;
 }
 
 }  // namespace test_min_time

@@ -459,7 +459,11 @@ bool prepare_search(const Format& format, Strategy strategy, const MinTimeOption
                 " is possible: " + (options.path ? "the path length " : "the stroke ") +
                 mm(format.stroke) + " needs at least " + sec(r.scan_start) +
                 " (machine limits and ramps >= min_ramp); raise " +
-                "motion_time_max_s or the machine limits";
+                "motion_time_max_s or the machine limits" +
+                // Where the ramps and plateaus alone need the time, lowering them is the remedy
+                // (motion_time_max_s has a most of its own).
+                (admissible >= r.scan_start ? std::string(", or lower min_ramp_s and plateau_min_s")
+                                            : std::string());
     return false;
   }
   return true;
