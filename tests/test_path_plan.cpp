@@ -440,6 +440,9 @@ TEST(PathPlan, TheBudgetCoversTheVerificationAlongThePath) {
               "along the path); no candidate meets eta_rest <= 3 mm"
             : "the time budget ran out before time_domain's solve began (the uniform law)";
     EXPECT_NE(r.message.find(why), std::string::npos) << r.message;
+    // The budget ended the search: it, not the motion or the limit, is what to change.
+    EXPECT_EQ(r.message.find("lengthen the motion"), std::string::npos) << r.message;
+    EXPECT_EQ(r.message.find("time_domain optimised"), std::string::npos) << r.message;
     if (s == Strategy::kTimeDomain) continue;  // its law: the least infeasible it holds
     EXPECT_EQ(r.durations, uniform_durations(20.0)) << to_string(s);
     EXPECT_EQ(r.prediction.nonlinear.rest.value, ample.prediction.nonlinear.rest.value);

@@ -31,7 +31,7 @@ std::string limit_violation(const MachineLimits& lim, double a_peak, double v_pe
   for (const auto& k : checks) {
     if (k.limit && k.value > *k.limit * (1.0 + slack)) {
       return std::string("the law's peak ") + k.what + " " + sig_above(k.value, *k.limit) + " " +
-             k.unit + " exceeds limits." + k.name + " = " + sig3(*k.limit) + " " + k.unit;
+             k.unit + " exceeds limits." + k.name + " = " + precise(*k.limit) + " " + k.unit;
     }
   }
   return {};

@@ -903,6 +903,7 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
     } else {
       // Not the budget's whole answer: time_limit, which is not cached.
       result.status = SolveStatus::kTimeLimit;
+      plan.message += " The robustness report was left out: the search's budget ran out.";
       result.message +=
           "; the returned plan's robustness report was left out: the search's budget ran out "
           "(raise time_limit_s)";

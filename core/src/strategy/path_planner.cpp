@@ -92,21 +92,38 @@ struct PathContext {
   }
 };
 
+/// `first` and `then` as one list of clauses ("a; b"), either of which may be empty.
+std::string clauses(const std::string& first, const std::string& then) {
+  if (first.empty()) return then;
+  if (then.empty()) return first;
+  return first + "; " + then;
+}
+
+/// `text` for a search its budget ended: the budget, not the motion or the limit, is what to
+/// change.
+std::string budget_advice(std::string text) {
+  constexpr std::string_view kAdvice = "lengthen the motion or relax the limit";
+  for (std::size_t at = text.find(kAdvice); at != std::string::npos; at = text.find(kAdvice, at)) {
+    text.replace(at, kAdvice.size(), "raise time_limit_s");
+  }
+  return text;
+}
+
 /// The first path limit the prediction breaks, as a sentence; empty when all hold.
 std::string path_limit_violation(const MachineLimits& lim, const PathPrediction& p) {
   if (lim.v_max && p.v_peak > *lim.v_max * (1.0 + kLimitSlack)) {
     return "the law's peak speed s' " + sig_above(p.v_peak, *lim.v_max) +
-           " m/s exceeds limits.v_max = " + sig3(*lim.v_max) + " m/s";
+           " m/s exceeds limits.v_max = " + detail::precise(*lim.v_max) + " m/s";
   }
   if (lim.a_max && p.a_total_peak > *lim.a_max * (1.0 + kLimitSlack)) {
     return "the law's peak horizontal acceleration sqrt(s''^2 + (s'^2/rho)^2) " +
            sig_above(p.a_total_peak, *lim.a_max) +
-           " m/s^2 exceeds limits.a_max = " + sig3(*lim.a_max) +
+           " m/s^2 exceeds limits.a_max = " + detail::precise(*lim.a_max) +
            " m/s^2 (normal acceleration up to " + sig3(p.a_normal_peak) + " m/s^2 on the arcs)";
   }
   if (lim.j_max && p.j_peak > *lim.j_max * (1.0 + kLimitSlack)) {
     return "the law's peak tangential jerk " + sig_above(p.j_peak, *lim.j_max) +
-           " m/s^3 exceeds limits.j_max = " + sig3(*lim.j_max) + " m/s^3";
+           " m/s^3 exceeds limits.j_max = " + detail::precise(*lim.j_max) + " m/s^3";
   }
   return {};
 }
@@ -158,16 +175,16 @@ void verify_on_path(const PathContext& c, PathOutcome& o, bool time_domain) {
   const bool usable = status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable;
   if (!violation.empty() && usable) {
     status = SolveStatus::kInfeasible;
-    o.detail = violation + "; " + o.detail;
+    o.detail = clauses(violation, o.detail);
   } else if (!limit.empty()) {
     // (time_domain's own sentence already names its bound and the least value found.)
-    o.detail = limit + "; " + o.detail;
+    o.detail = clauses(limit, o.detail);
   } else if (violation.empty() && time_domain && status == SolveStatus::kInfeasible) {
     status = SolveStatus::kAcceptable;
-    o.detail =
+    o.detail = clauses(
         "the law meets every constraint on the verification, though its objective was not "
-        "minimised; " +
-        o.detail;
+        "minimised",
+        o.detail);
   }
   if (o.plan.strategy != Strategy::kBaseline) {
     o.worse = worse_than_uniform(c, o.prediction, o.model_warning.empty());
@@ -371,7 +388,11 @@ PathOutcome run_time_domain(const PathContext& c, const PlanResult& base,
     o.prediction = c.predict(r.law, &o.model_warning);
   }
   const bool motion = c.options.objective == TimeDomainObjective::kMotion;
-  o.detail = "time_domain optimised " + optimised_models(c, nonlinear) + (c.tank ? "; " : " (") +
+  // A search the budget cut short did not optimise: it says so.
+  o.detail = std::string(out.status == SolveStatus::kTimeLimit
+                             ? "the budget cut short time_domain's optimisation of "
+                             : "time_domain optimised ") +
+             optimised_models(c, nonlinear) + (c.tank ? "; " : " (") +
              (motion ? "min eta_motion s.t. eta_rest <= " + sig3(c.options.eta_rest_max * 1e3)
                      : "min eta_rest s.t. eta_motion <= " + sig3(sc.eta_motion_max * 1e3)) +
              (c.tank ? " mm, exact gradients)" : " mm over the whole wall, exact gradients)");
@@ -448,12 +469,14 @@ void keep_best_start(const PathContext& c, PathOutcome& o,
                     sig3(best_standing.objective * 1e3) + " mm and is returned (" + own_figures +
                     "; the " + objective + " objective was not minimised from it)";
   } else {
-    chosen.plan.status = SolveStatus::kInfeasible;
-    chosen.detail =
-        "no law found that meets " + bounded + " <= " + sig3(bound_verdict(c, o).bound * 1e3) +
-        " mm along the path: the least is " + name + "'s, one of time_domain's starts (" +
-        sig3(best_standing.bounded * 1e3) + " mm), which is returned (" + own_figures +
-        "); lengthen the motion or relax the limit";
+    // A search the budget ended proves nothing: time_limit, and the budget is what to raise.
+    const bool cut = c.deadline.expired();
+    chosen.plan.status = cut ? SolveStatus::kTimeLimit : SolveStatus::kInfeasible;
+    chosen.detail = std::string(cut ? "no law found within the budget" : "no law found") +
+                    " that meets " + bounded + " <= " + sig3(bound_verdict(c, o).bound * 1e3) +
+                    " mm along the path: the least is " + name + ", one of time_domain's starts (" +
+                    sig3(best_standing.bounded * 1e3) + " mm), which is returned (" + own_figures +
+                    (cut ? "); raise time_limit_s" : "); lengthen the motion or relax the limit");
   }
   o = std::move(chosen);
 }
@@ -569,7 +592,8 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
     // time_domain's "no law found" is its search's claim, which a search cut short by the
     // budget does not make (and a later, larger budget must not be answered from a cache of it).
     r.status = SolveStatus::kTimeLimit;
-    detail = "the budget ran out before time_domain's search along the path ended; " + detail;
+    detail = "the budget ran out before time_domain's search along the path ended; " +
+             budget_advice(detail);
   } else if (c.deadline.expired() &&
              (r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
     // The budget covers the verification along the path, which on a long path costs more than
@@ -582,6 +606,7 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
              "); the law is returned with its verified figures" +
              (detail.empty() ? std::string() : "; " + detail);
   }
+  const bool not_a_solution = r.status == SolveStatus::kInfeasible;
   take_path_robustness(c, r, detail);
   detail::apply_optimal_caveat(r.status, detail, r.warnings, law_strategy);
   // The eta bound binds time_domain's law and auto's choice (the uniform law promises none).
@@ -589,6 +614,10 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   if (violation.empty() &&
       (law_strategy == Strategy::kTimeDomain || requested == Strategy::kAuto)) {
     violation = bound_violation(c, o.prediction);
+  }
+  // A law that was not a solution stays one whatever cut its report short.
+  if (violation.empty() && not_a_solution && r.status == SolveStatus::kTimeLimit) {
+    violation = "the law is not a solution of " + std::string(to_string(law_strategy));
   }
   r.message = path_message(c, r, o.prediction, std::move(detail), violation);
   return r;
@@ -750,7 +779,8 @@ PlanResult run_auto(const PathContext& c, const PlanResult& base) {
       chosen.plan.status = SolveStatus::kTimeLimit;
     detail = "auto planned " + std::to_string(outcomes.size()) + " of its " +
              std::to_string(all_candidates) +
-             " candidates before the budget ran out (each is verified along the path); " + detail;
+             " candidates before the budget ran out (each is verified along the path); " +
+             budget_advice(detail);
   }
   PlanResult r = finish(c, Strategy::kAuto, std::move(chosen), std::move(detail));
   r.solver.iterations = evaluations;
