@@ -150,6 +150,10 @@ TEST(MinTimeApi, BadInputIsRefusedNamingFieldValueAndRange) {
       {{{"options", {{"time_limit_s", 20}}}},
        "options.time_limit_s",
        "options.time_limit_s = 20 is out of range: this server allows at most 10 s"},
+      {{{"options", {{"min_ramp_s", 16}}}},
+       "options.min_ramp_s",
+       "options.min_ramp_s = 16 is out of range: allowed 0.001 to 15 s (the upper bound is the "
+       "longest motion time a search plans (60 s) / 4: four ramps must fit)"},
       {{{"options", {{"time_limit_s", 0}}}},
        "options.time_limit_s",
        "options.time_limit_s = 0 is out of range: allowed > 0 and <= 10 s (this server's "

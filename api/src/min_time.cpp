@@ -225,6 +225,20 @@ void parse_sloshing_limits(const json& body, const Format& format, MinTimeOption
   }
 }
 
+// A plan option's refusal in a min-time request's terms: its motion time is the search's, not
+// format.motion_time_s (which a min-time request does not take).
+ApiError in_search_terms(const ApiError& e) {
+  constexpr std::string_view kPlanTime = "format.motion_time_s";
+  std::string message = e.what();
+  const std::string search_time =
+      "the longest motion time a search plans (" + number_text(mr::kMotionTimeMax.hi) + " s)";
+  for (std::size_t at = message.find(kPlanTime); at != std::string::npos;
+       at = message.find(kPlanTime, at + search_time.size())) {
+    message.replace(at, kPlanTime.size(), search_time);
+  }
+  return ApiError(e.code(), e.field(), message);
+}
+
 // The plan options, as a plan request reads them (at T = motion_time_max for the ranges that
 // depend on T), but for the limits the search sets itself; the server's budget applies.
 void parse_min_time_plan_options(const json& body, const Format& format, double budget,
@@ -252,7 +266,7 @@ void parse_min_time_plan_options(const json& body, const Format& format, double 
   try {
     registry.parse(options, widest, plan);
   } catch (const ApiError& e) {
-    throw with_server_range(e, budget);
+    throw in_search_terms(with_server_range(e, budget));
   }
   Format at = format;  // the plan options hold at the longest T planned (see plan_validation_time)
   at.motion_time = plan_validation_time(format.motion_time, plan);
