@@ -9,6 +9,8 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <string>
+#include <utility>
 #include <vector>
 
 #include "response/planar_sensitivity.hpp"
@@ -471,6 +473,56 @@ TEST(PathPlan, LimitSentencesShowTheValueAboveItsLimit) {
                            "are the least infeasible found"),
             std::string::npos)
       << r.message;
+}
+
+/// Every figure of two verifications of a law along a path, bit for bit.
+void expect_same_figures(const PathPrediction& a, const PathPrediction& b,
+                         const std::string& what) {
+  for (const auto& [x, y] : {std::pair{&a.linear, &b.linear}, {&a.nonlinear, &b.nonlinear}}) {
+    for (const auto& [p, q] : {std::pair{&x->motion, &y->motion}, {&x->rest, &y->rest}}) {
+      EXPECT_EQ(p->value, q->value) << what;
+      EXPECT_EQ(p->time, q->time) << what;
+      EXPECT_EQ(p->direction, q->direction) << what;
+    }
+  }
+  EXPECT_EQ(a.a_total_peak, b.a_total_peak) << what;
+  EXPECT_EQ(a.a_total_time, b.a_total_time) << what;
+  EXPECT_EQ(a.a_normal_peak, b.a_normal_peak) << what;
+  EXPECT_EQ(a.v_peak, b.v_peak) << what;
+  EXPECT_EQ(a.j_peak, b.j_peak) << what;
+  ASSERT_EQ(a.linear_directions.has_value(), b.linear_directions.has_value()) << what;
+  if (a.linear_directions) {
+    EXPECT_EQ(a.linear_directions->length.motion.value, b.linear_directions->length.motion.value);
+    EXPECT_EQ(a.linear_directions->width.rest.value, b.linear_directions->width.rest.value);
+  }
+}
+
+// The report a plan along a path carries is its own verification (the answer's "path" block is
+// rendered from it, not integrated again): the same figures as verifying the returned law and the
+// uniform law afresh, for a cylinder and a turned tank, every kind of law.
+TEST(PathPlan, ItsReportIsTheVerificationOfItsLaw) {
+  const PlanarPath arc = table_arc();
+  Format cylinder = format_for(arc, 1.2);
+  Format tank = cylinder;
+  tank.container.rectangular = RectangularTank{0.12, 0.08, 30.0};
+  tank.fill_height = 0.05;
+  const PlanOptions o = quiet_options();
+  for (const Format& f : {cylinder, tank}) {
+    for (Strategy s : {Strategy::kBaseline, Strategy::kNotch, Strategy::kShaper,
+                       Strategy::kTimeDomain, Strategy::kAuto}) {
+      const PlanResult r = plan_on_path(f, arc, s, o);
+      const std::string what = std::string(to_string(s)) + (f.container.rectangular ? " tank" : "");
+      ASSERT_TRUE(r.path.has_value()) << what;
+      ASSERT_TRUE(r.usable()) << what << ": " << r.message;
+      const PathPlanReport fresh = path_plan_report(r, arc, f.motion_time, o.rest_time);
+      EXPECT_EQ(r.path->length, fresh.length) << what;
+      expect_same_figures(r.path->prediction, fresh.prediction, what);
+      expect_same_figures(r.path->baseline, fresh.baseline, what);
+      EXPECT_EQ(r.prediction.nonlinear.rest.value, r.path->prediction.nonlinear.rest.value) << what;
+    }
+  }
+  // On a straight line there is none.
+  EXPECT_FALSE(plan(cylinder, Strategy::kNotch, o).path.has_value());
 }
 
 }  // namespace test_path_plan

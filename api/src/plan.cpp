@@ -435,9 +435,11 @@ nlohmann::json plan_json(const PlanRequest& request, const PlanResult& r) {
   add_robustness(request, r, out);
   out["format"] = format_json(request.format);
   if (request.motion) {
+    // The plan's own verification along the path; a result made otherwise is verified here.
     add_path(*request.motion,
-             path_plan_report(r, *request.motion->path, request.format.motion_time,
-                              request.options.rest_time),
+             r.path ? *r.path
+                    : path_plan_report(r, *request.motion->path, request.format.motion_time,
+                                       request.options.rest_time),
              out);
   }
   out["rest_time_s"] = request.options.rest_time;

@@ -315,9 +315,9 @@ detail::PathTarget tank_target(const PathContext& c, bool& nonlinear) {
   const double frame = tank_frame_angle(c.path, tank.orientation_deg);
   const double rest = c.options.rest_time, stroke = c.format.stroke;
   const PlanarPath& path = c.path;
-  const MotionLaw uniform = SevenSegmentLaw(uniform_durations(c.format.motion_time), stroke).law();
-  nonlinear =
-      rectangular_planar_nonlinear_peaks(tank, PlanarDrive(path, uniform), frame, rest).nonlinear;
+  // The context's verification of the uniform law says why the nonlinear model does not hold
+  // for it, or nothing when it does: a long motion is not integrated again to ask.
+  nonlinear = c.uniform_warning.empty();
   const RectangularPlanarModel which =
       nonlinear ? RectangularPlanarModel::kNonlinear : RectangularPlanarModel::kLinear;
   detail::PathTarget t;
@@ -570,6 +570,7 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
   r.strategy = requested;
   r.prediction = as_prediction(o.prediction, r.prediction.kinematics);
   r.baseline = as_prediction(c.uniform, c.uniform_line.kinematics);
+  r.path = PathPlanReport{c.path.length(), o.prediction, c.uniform};
   r.robustness.reset();
   r.worst_case.reset();
   r.uncertainty.reset();

@@ -24,6 +24,7 @@
 #include "slosh/core/model/uncertainty.hpp"
 #include "slosh/core/response/simulation.hpp"
 #include "slosh/core/solve/nlp_solver.hpp"
+#include "slosh/core/strategy/path_report.hpp"
 #include "slosh/core/strategy/robustness.hpp"
 #include "slosh/core/warning.hpp"
 
@@ -446,6 +447,10 @@ struct PlanResult {
   /// With PlanOptions::uncertainty active: the returned law's largest verified eta over the
   /// sample models (the figure robust designs and auto are judged by).
   std::optional<LawPrediction> worst_case;
+  /// A plan along a path (plan_on_path): the returned law's and the uniform law's verified
+  /// figures along it, with the wall directions of the peaks (what its predictions were taken
+  /// from); nullopt on a straight line.
+  std::optional<PathPlanReport> path;
 
   /// True when the law can be run: optimal, acceptable, or time-limited (best admissible).
   [[nodiscard]] bool usable() const {
