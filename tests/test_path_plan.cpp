@@ -525,5 +525,32 @@ TEST(PathPlan, ItsReportIsTheVerificationOfItsLaw) {
   EXPECT_FALSE(plan(cylinder, Strategy::kNotch, o).path.has_value());
 }
 
+// limits.a_max bounds the total acceleration along an arc for every strategy: a spectral law the
+// line admits (its plateaus at a_max) breaks it once the normal part adds, so the line is planned
+// again with lower plateaus, and the law keeps the limit on the acceleration sampled here.
+TEST(PathPlan, SpectralLawsKeepTheTotalAccelerationLimitAlongAnArc) {
+  const PlanarPath arc = table_arc();
+  const Format f = format_for(arc, 1.2);
+  PlanOptions o = quiet_options();
+  const PlanResult free = plan_on_path(f, arc, Strategy::kMultiNotch, o);
+  ASSERT_TRUE(free.durations.has_value());
+  EXPECT_GT(sampled_total_acceleration(*free.durations, arc.length(), 0.3), 2.1);
+  EXPECT_EQ(free.message.find("held to"), std::string::npos) << free.message;
+  o.limits.a_max = 2.0;
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch}) {
+    const PlanResult r = plan_on_path(f, arc, s, o);
+    ASSERT_TRUE(r.usable()) << r.message;
+    ASSERT_TRUE(r.durations.has_value());
+    EXPECT_LE(sampled_total_acceleration(*r.durations, arc.length(), 0.3), 2.0 * (1.0 + 1e-6))
+        << to_string(s);
+    EXPECT_EQ(r.message.find("exceeds limits.a_max"), std::string::npos) << r.message;
+  }
+  const PlanResult held = plan_on_path(f, arc, Strategy::kMultiNotch, o);
+  EXPECT_NE(held.message.find("(its tangential acceleration held to 1.76 m/s^2 so that the total "
+                              "keeps limits.a_max = 2 m/s^2)"),
+            std::string::npos)
+      << held.message;
+}
+
 }  // namespace test_path_plan
 }  // namespace slosh
