@@ -616,6 +616,10 @@ TEST(ExportCli, AnInfeasiblePlanIsExportedOnlyWhenAllowed) {
   EXPECT_EQ(refused.exit_code, 1);
   EXPECT_FALSE(fs::exists(dir / "cam.csv"));
   const std::string message = error_of(refused)["error"]["message"];
+  // The service's refusal (a 422 naming allow_infeasible), not an internal error.
+  EXPECT_EQ(error_of(refused)["error"]["code"], "invalid_value");
+  EXPECT_EQ(error_of(refused)["error"]["field"], "allow_infeasible");
+  EXPECT_EQ(message.find(".."), std::string::npos) << message;
   EXPECT_EQ(message.rfind("the plan is infeasible, its law misses the requested limits: ", 0), 0u)
       << message;
   EXPECT_NE(message.find("pass --allow-infeasible"), std::string::npos) << message;

@@ -290,6 +290,35 @@ TEST(PathCamCli, PathMasterCamHasThePoseAtEachRow) {
   }
 }
 
+// theta_deg is the world heading in both tables: a path that starts at 30 deg reads 30 at its
+// start and 30 + 90 at its end in the master table as in the time table (the master table read
+// 0 and 90 before, the time table 30 and 120).
+TEST(PathCamCli, BothTablesGiveTheWorldHeading) {
+  const TempDir dir;
+  json motion = json::parse(R"({"type": "path", "segments": [{"line_mm": 200},
+      {"arc": {"radius_mm": 100, "angle_deg": 90}}, {"line_mm": 200}],
+      "start_heading_deg": 30, "container_turns": true})");
+  for (const bool turns : {true, false}) {
+    motion["container_turns"] = turns;
+    write_file(dir / "law.json", law_request(motion, 1.0).dump());
+    const RunResult timed =
+        run_slosh({"export", "--request", (dir / "law.json").string(), "--out", "-"});
+    const RunResult master =
+        run_slosh({"export", "--request", (dir / "law.json").string(), "--out", "-",
+                   "--master-period", "360", "--master-start", "0", "--master-end", "360"});
+    ASSERT_EQ(timed.exit_code, 0) << timed.err;
+    ASSERT_EQ(master.exit_code, 0) << master.err;
+    const Csv t = read_csv(timed.out), m = read_csv(master.out);
+    ASSERT_FALSE(t.rows.empty());
+    ASSERT_FALSE(m.rows.empty());
+    const double end = turns ? 120.0 : 30.0;
+    EXPECT_EQ(t.rows.front()[7], 30.0);
+    EXPECT_EQ(t.rows.back()[7], end);
+    EXPECT_EQ(m.rows.front()[7], 30.0);
+    EXPECT_EQ(m.rows.back()[7], end);
+  }
+}
+
 TEST(PathCamCli, APlanAlongAnArcExportsItsLawWithThePose) {
   const TempDir dir;
   json request = law_request({{"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}}, 1.2);

@@ -773,8 +773,32 @@ TEST(RectangularSpatialApi, ATankTurnedInPlaceSaysTheYawModesAreLeftOut) {
   table["format"]["motion_time_s"] = 1.2;
   table["format"]["motion"] = {
       {"type", "arc"}, {"radius_mm", 300}, {"angle_deg", 90}, {"container_turns", true}};
-  for (const auto& w : api::simulate_response(table)["warnings"]) {
+  const nlohmann::json on_table = api::simulate_response(table);
+  for (const auto& w : on_table["warnings"]) {
     EXPECT_NE(w.get<std::string>().rfind("yaw modes", 0), 0u) << w;
+  }
+}
+
+// The yaw acceleration of a smooth law peaks inside its one piece: poly5's theta'' = s''/rho
+// peaks at 10/sqrt(3) L/T^2 / rho (at 0.21 and 0.79 of the motion, where its middle has none),
+// cycloidal's at 2 pi L/T^2 / rho (a quarter in). On a 20 mm table turned 180 deg in 1 s (L =
+// pi rho): 18.1 and 19.7 rad/s^2, written here from those closed forms.
+TEST(RectangularSpatialApi, TheYawWarningFindsThePeakInsideASmoothLaw) {
+  for (const auto& [law, yaw] :
+       {std::pair{"poly5", kPi * 10.0 / std::sqrt(3.0)}, std::pair{"cycloidal", 2.0 * kPi * kPi}}) {
+    nlohmann::json body = {{"format", cup_format(0.0)}, {"law", {{"type", law}}}};
+    body["format"]["motion_time_s"] = 1.0;
+    body["format"]["fill_height_mm"] = 40;
+    body["format"]["motion"] = {
+        {"type", "arc"}, {"radius_mm", 20}, {"angle_deg", 180}, {"container_turns", true}};
+    std::string found;
+    const nlohmann::json out = api::simulate_response(body);
+    for (const auto& w : out["warnings"]) {
+      if (w.get<std::string>().rfind("yaw modes not modelled: ", 0) == 0) found = w;
+    }
+    char text[64];
+    std::snprintf(text, sizeof text, "an angular acceleration up to %.3g rad/s^2 (", yaw);
+    EXPECT_NE(found.find(text), std::string::npos) << law << ": " << found;
   }
 }
 

@@ -39,9 +39,11 @@ bool exportable(SolveStatus status) {
 }
 
 std::string not_exportable_message(const PlanLaw& plan, std::string_view how_to_force) {
+  // A message that ends its last sentence already gets no second full stop.
+  const bool ended = !plan.message.empty() && plan.message.back() == '.';
   return "the plan is " + to_string(plan.status) +
-         ", its law misses the requested limits: " + plan.message + ". Not exported; " +
-         std::string(how_to_force) + " to export the best reachable law anyway";
+         ", its law misses the requested limits: " + plan.message + (ended ? " " : ". ") +
+         "Not exported; " + std::string(how_to_force) + " to export the best reachable law anyway";
 }
 
 }  // namespace slosh::api

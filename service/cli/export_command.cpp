@@ -201,8 +201,9 @@ std::optional<ExportFailure> check_exportable(const ExportSource& source,
     api::PlanLaw plan;
     plan.status = source.plan->status;
     plan.message = source.plan->message;
+    // The refusal the service gives (422 naming allow_infeasible), with the command's exit code.
     return ExportFailure{
-        kExitFailure, api::ApiError(api::ErrorCode::kInternal, "",
+        kExitFailure, api::ApiError(api::ErrorCode::kInvalidValue, "allow_infeasible",
                                     api::not_exportable_message(plan, "pass --allow-infeasible"))};
   }
   if (!options.segments.empty() && !source.seven) {

@@ -95,7 +95,9 @@ PathRows master_rows(const CamTable& table, const PlanarPath& path) {
     const PlanarKinematics k = path.at(r.position, 0.0, 0.0, 0.0);
     out.rows.push_back({r.master, s_mm(r.position, length), r.velocity * kMmPerM,
                         r.acceleration * kMmPerM, r.jerk * kMmPerM, pose_value(k.x * kMmPerM),
-                        pose_value(k.y * kMmPerM), pose_value(k.theta * kDegPerRad)});
+                        pose_value(k.y * kMmPerM),
+                        // The world heading, as the time table's (theta counts from the start).
+                        pose_value((path.start_heading() + k.theta) * kDegPerRad)});
   }
   return out;
 }

@@ -25,18 +25,53 @@ std::string three_digits(double v) {
   return b.data();
 }
 
-}  // namespace
-
-std::string yaw_mode_warning(const RectangularTank& tank, double fill_height,
-                             const PlanarDrive& drive, double horizontal_peak) {
+/// The largest |theta''| of the drive [rad/s^2]. On a turning arc theta'' = kappa s'', which
+/// peaks inside a piece of a smooth law (poly5's at 0.21 and 0.79 of the motion, where its one
+/// piece's middle has none), so each piece is sampled and its largest sample refined by golden
+/// section. A drive of many pieces (a sampled trajectory, a law along thousands of arcs) has
+/// pieces on which theta'' is linear (the spline's, the 7-segment law's s''): their ends and
+/// middle are sampled only.
+double largest_yaw_acceleration(const PlanarDrive& drive) {
+  constexpr std::size_t kManyPieces{2000};
+  constexpr int kSamples{32}, kGoldenSteps{40};
+  const bool few = drive.pieces().size() <= kManyPieces;
   double yaw = 0.0;
   for (const DrivePiece& p : drive.pieces()) {
     const double span = p.t_end - p.t_begin;
     if (!(span > 0.0)) continue;
-    for (const double u : {1e-9, 0.5, 1.0 - 1e-9}) {
-      yaw = std::max(yaw, std::abs(drive.kinematics(p.t_begin + u * span).theta_ddot));
+    auto at = [&](double u) { return std::abs(drive.kinematics(p.t_begin + u * span).theta_ddot); };
+    for (const double u : {1e-9, 0.5, 1.0 - 1e-9}) yaw = std::max(yaw, at(u));
+    if (!few) continue;
+    int best = 1;
+    double best_value = -1.0;
+    for (int i = 1; i < kSamples; ++i) {
+      const double v = at(static_cast<double>(i) / kSamples);
+      if (v > best_value) {
+        best_value = v;
+        best = i;
+      }
     }
+    double a = static_cast<double>(best - 1) / kSamples,
+           b = static_cast<double>(best + 1) / kSamples;
+    const double g = 0.5 * (std::sqrt(5.0) - 1.0);
+    for (int k = 0; k < kGoldenSteps; ++k) {
+      const double c = b - g * (b - a), d = a + g * (b - a);
+      if (at(c) >= at(d)) {
+        b = d;
+      } else {
+        a = c;
+      }
+    }
+    yaw = std::max({yaw, best_value, at(0.5 * (a + b))});
   }
+  return yaw;
+}
+
+}  // namespace
+
+std::string yaw_mode_warning(const RectangularTank& tank, double fill_height,
+                             const PlanarDrive& drive, double horizontal_peak) {
+  const double yaw = largest_yaw_acceleration(drive);
   const double half_diagonal = 0.5 * std::hypot(tank.length, tank.width);
   const double corner = yaw * half_diagonal;
   if (!(corner > kYawShare * horizontal_peak) || !(yaw > 0.0)) return {};

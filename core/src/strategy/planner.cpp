@@ -1119,9 +1119,17 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
   std::vector<std::optional<RangeJudgement>> ranges;  // and their sweeps over the range
   std::vector<std::string> out_of_range;  // and why the rectangular nonlinear model does not hold
   std::string diverged;                   // the candidates the models cannot follow, left out
+  std::string unverified;                 // the candidates the budget left no time to verify
   for (Outcome& o : outcomes) {
     evaluations += o.solver.evaluations;
     starts += o.solver.starts;
+    if (!candidates.empty() && c.deadline.expired()) {
+      // Each verification simulates the whole motion on the models (a second or more for a tank
+      // whose period is tiny against a long motion): once the budget is spent, auto chooses
+      // among the laws it verified in time.
+      unverified += (unverified.empty() ? "" : ", ") + to_string(o.strategy);
+      continue;
+    }
     PlanCandidate cand;
     cand.strategy = o.strategy;
     cand.law = o.law;
@@ -1161,6 +1169,9 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
   std::string chose = record_choice(c, choice, baseline, candidates);
   if (!diverged.empty()) {
     chose += "; left out, the sloshing models diverge for their laws: " + diverged;
+  }
+  if (!unverified.empty()) {
+    chose += "; left out, the budget ran out before their laws were verified: " + unverified;
   }
   const std::string& own = s.outcome.detail;
   if (s.outcome.status == SolveStatus::kAcceptable && !own.empty()) {
@@ -1523,6 +1534,17 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
   }
   if (s.range) r.worst_case = s.range->worst;
   take_robustness(r, s, format, options, deadline);
+  if (deadline.expired() &&
+      (r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
+    // The budget covers the verification of the laws on the models, which for a tank whose
+    // period is tiny against a long motion costs more than the solves: a plan that ran past it
+    // says so, as a solve that ran out does, and is not cached as the budget's answer.
+    r.status = SolveStatus::kTimeLimit;
+    s.detail = "the budget ran out while the laws were verified on the models (" +
+               sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
+               " first-mode periods each); the law is returned with its verified figures" +
+               (s.detail.empty() ? std::string() : "; " + s.detail);
+  }
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.warnings =
