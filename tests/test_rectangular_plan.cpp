@@ -721,9 +721,16 @@ TEST(RectangularPlan, MinTimeFindsATimeForTimeDomainOnTheCup) {
   o.plan = quick_options();
   o.motion_time_max = 1.5;
   const MinTimeResult r = min_time(f, Strategy::kTimeDomain, o);
-  ASSERT_EQ(r.status, SolveStatus::kOptimal) << r.message;
+  // At its T_min (0.790 s) the nonlinear model is out of its range and the linear figures stand
+  // in, where 0.789 s misses eta_motion on the nonlinear model: found, but not optimal.
+  ASSERT_EQ(r.status, SolveStatus::kAcceptable) << r.message;
   ASSERT_TRUE(r.t_min);
   ASSERT_TRUE(r.plan);
+  EXPECT_EQ(r.message.rfind("not optimal: the plan at T_min is not (its nonlinear figures are the "
+                            "linear model's standing in",
+                            0),
+            0U)
+      << r.message;
   EXPECT_LT(*r.t_min, 1.0);
   EXPECT_LE(r.plan->prediction.nonlinear.rest.value, 0.003 * (1 + 1e-6));
 }
@@ -882,6 +889,39 @@ TEST(RectangularPlan, MinTimeSaysWhenTheLinearFiguresStoodInAtTMin) {
                            "(nonlinear_model_not_valid)"),
             std::string::npos)
       << r.message;
+  // The limits were met on those figures, not on the nonlinear model: not optimal.
+  EXPECT_EQ(r.status, SolveStatus::kAcceptable) << r.message;
+}
+
+// The README cup moved 200 mm with eta_motion <= 11.3 mm: at baseline's T_min 1.204 s the
+// nonlinear model is out of its range and the linear 11.297 mm stands in, while 1.222-1.226 s,
+// where the nonlinear model holds again, reach 11.33-11.45 mm (checked here with plans at those
+// times). The T_min stands, but it is acceptable and says why first.
+TEST(RectangularPlan, ATMinMetOnTheLinearStandInIsAcceptable) {
+  const Format f = readme_cup(0.0);
+  MinTimeOptions o;
+  o.plan = quick_options();
+  o.eta_motion_max = 0.0113;
+  o.eta_rest_max = 0.010;
+  o.motion_time_max = 3.0;
+  const MinTimeResult r = min_time(f, Strategy::kBaseline, o);
+  ASSERT_TRUE(r.t_min) << r.message;
+  EXPECT_NEAR(*r.t_min, 1.204, 0.0005) << r.message;
+  EXPECT_EQ(r.status, SolveStatus::kAcceptable) << r.message;
+  EXPECT_EQ(r.message.rfind("not optimal: the plan at T_min is not (its nonlinear figures are the "
+                            "linear model's standing in (nonlinear_model_not_valid), which "
+                            "under-predict the steep waves that put the nonlinear model out of "
+                            "its range: the limits were met on them, not on the nonlinear "
+                            "model); T_min = 1.204 s",
+                            0),
+            0U)
+      << r.message;
+  // Why: a little longer, the nonlinear model holds and its figure misses the limit.
+  Format later = f;
+  later.motion_time = 1.224;
+  const PlanResult p = plan(later, Strategy::kBaseline, quick_options());
+  EXPECT_FALSE(has_warning(p.warnings, WarningKind::kNonlinearModelNotValid)) << p.message;
+  EXPECT_GT(p.prediction.nonlinear.motion.value, 0.0113);
 }
 
 // The same when no motion time meets the limits: the best reached quotes the linear figures

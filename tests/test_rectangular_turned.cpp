@@ -279,7 +279,10 @@ TEST(RectangularTurned, MinTimeDoesNotJumpOffAnAxis) {
     Format f = cup(phi);
     f.container.height = 0.07;
     const MinTimeResult r = min_time(f, s, o);
-    EXPECT_EQ(r.status, SolveStatus::kOptimal) << phi << ": " << r.message;
+    // Found (acceptable where the linear figures stand in at T_min, the nonlinear model out of
+    // its range there).
+    EXPECT_TRUE(r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)
+        << phi << ": " << r.message;
     return r.t_min.value_or(0.0);
   };
   EXPECT_NEAR(t_min(1e-6, Strategy::kShaper), t_min(0.0, Strategy::kShaper), 1.5e-3);

@@ -36,8 +36,10 @@ constexpr const char* kPlannerVersion = "plan-v15";
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;
 /// path-v7: objective rest's runs again from the solver's nearest evaluation, and a budget that
 /// ends returns only admissible laws as such; path-v8: worse_than_baseline and auto's ranking on
-/// one model, as plan-v14; path-v9: the steepness warning per direction, as plan-v15.
-constexpr const char* kPathPlannerVersion = "path-v9";
+/// one model, as plan-v14; path-v9: the steepness warning per direction, as plan-v15; path-v10:
+/// the spectral strategies keep a_max on the total acceleration, and the yaw warning finds the
+/// peak inside a smooth law's piece.
+constexpr const char* kPathPlannerVersion = "path-v10";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;
