@@ -511,7 +511,9 @@ TEST_F(BatchTable, EveryRowInInputOrderErrorsNamedGoodRowsEqualTheJsonPlan) {
 TEST_F(BatchTable, ErrorMessagesNameTheValueAndTheRule) {
   const std::vector<OutRow> rows = read_plan_csv(local_csv_);
   ASSERT_EQ(rows.size(), 50u);
-  EXPECT_EQ(rows[9].text("message"), "stroke_mm = \"8O0\" is not a number");
+  // A cell that is not a number is refused with the column's range, as its JSON value is.
+  EXPECT_EQ(rows[9].text("message"),
+            "stroke_mm must be a number, got \"8O0\"; allowed 0.01 to 100000 mm");
   EXPECT_EQ(rows[22].text("message"), "row 23 has 14 cells, the header has 16");
   // Request paths are rewritten in the terms of the CSV columns.
   EXPECT_EQ(rows[3].text("message"), "radius_mm = -12.5 is out of range: allowed 1 to 2000 mm");

@@ -15,6 +15,7 @@
 
 #include "slosh/api/calibration_json.hpp"
 #include "slosh/api/error.hpp"
+#include "slosh/api/fields.hpp"
 #include "slosh/api/format_json.hpp"
 #include "slosh/api/plan.hpp"
 #include "slosh/api/simulate.hpp"
@@ -235,6 +236,44 @@ TEST(CalibrationService, StoredCalibrationPlansAsTheInlineModel) {
   ASSERT_TRUE(unknown);
   EXPECT_EQ(unknown->status, 404);
   EXPECT_EQ(json::parse(unknown->body)["error"]["field"], "options.model");
+  server.stop();
+}
+
+// Only a fit that converged is stored: one stopped by its iteration cap answers with its numbers
+// and "stored": false saying why, and a plan naming it finds no such calibration.
+TEST(CalibrationService, AFitThatDidNotConvergeIsNotStored) {
+  test::Server server;
+  httplib::Client client = server.client();
+  json body = calibration_body();
+  body["name"] = "capped";
+  body["fit"] = {{"max_iterations", 1}};
+  auto posted = client.Post("/v1/calibrations", body.dump(), "application/json");
+  ASSERT_TRUE(posted);
+  ASSERT_EQ(posted->status, 200) << posted->body;
+  const json fit = json::parse(posted->body);
+  ASSERT_EQ(fit["status"], "max_iterations") << posted->body;
+  EXPECT_EQ(fit["stored"], false);
+  EXPECT_EQ(fit["not_stored"],
+            "the fit did not converge (status max_iterations after 1 iterations, sigma " +
+                api::number_text(fit["sigma_mm"].get<double>()) +
+                " mm): a plan naming it would apply parameters the fit did not settle, so it is "
+                "not stored; raise fit.max_iterations or check the moves, then calibrate again");
+  auto got = client.Get("/v1/calibrations/capped");
+  ASSERT_TRUE(got);
+  EXPECT_EQ(got->status, 404);
+  auto plan = client.Post("/v1/plans", plan_body({{"model", "capped"}}).dump(), "application/json");
+  ASSERT_TRUE(plan);
+  EXPECT_EQ(plan->status, 404);
+  // The same body converged: stored, and said so.
+  body.erase("fit");
+  auto stored = client.Post("/v1/calibrations", body.dump(), "application/json");
+  ASSERT_TRUE(stored);
+  ASSERT_EQ(stored->status, 200) << stored->body;
+  EXPECT_EQ(json::parse(stored->body)["stored"], true);
+  EXPECT_TRUE(json::parse(stored->body)["not_stored"].is_null());
+  auto now = client.Get("/v1/calibrations/capped");
+  ASSERT_TRUE(now);
+  EXPECT_EQ(now->status, 200);
   server.stop();
 }
 

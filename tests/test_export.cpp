@@ -605,6 +605,26 @@ TEST(ExportCli, WarningsGoToStderrWhenTheCamTableGoesToStdout) {
   EXPECT_EQ(r.out.rfind("t_s,position_mm,", 0), 0u);
 }
 
+// The summary carries the plan's own warnings (plan_warnings) beside the cam table's: the README
+// cup in 55 mm of height spills, and the export says so as the plan does.
+TEST(ExportCli, TheSummaryCarriesThePlansWarnings) {
+  const json request = json::parse(R"({"format": {"container": {"shape": "rectangular",
+      "length_mm": 120, "width_mm": 80, "height_mm": 55}, "fill_height_mm": 50,
+      "fluid": "water", "stroke_mm": 200, "motion_time_s": 1.0}, "strategy": "notch",
+      "options": {"robustness": false}})");
+  const RunResult planned = run_slosh({"plan", "--request", "-"}, request.dump());
+  ASSERT_EQ(planned.exit_code, 0) << planned.err;
+  const json plan = json::parse(planned.out);
+  ASSERT_FALSE(plan["warnings"].empty()) << planned.out;
+  const TempDir dir;
+  write_file(dir / "request.json", request.dump());
+  const RunResult r = run_slosh({"export", "--request", (dir / "request.json").string(), "--out",
+                                 (dir / "cam.csv").string(), "--cache", "", "--allow-infeasible"});
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const json summary = json::parse(r.out);
+  EXPECT_EQ(summary["plan_warnings"], plan["warnings"]);
+}
+
 TEST(ExportCli, AnInfeasiblePlanIsExportedOnlyWhenAllowed) {
   // a_max = 0.5 m/s^2 cannot move 650 mm in 1 s: the plan is infeasible, its law misses a_max.
   json request = notch_request(1.0);

@@ -356,6 +356,44 @@ TEST(MinTime, SummaryPrefersATMinWhosePlanIsOptimal) {
   EXPECT_EQ(s.winner_not_optimal, results[1].not_optimal);
 }
 
+// A search its budget cut with a verified plan at its bound competes with that bound: the line
+// can run at it (time_domain's 1.800 s on a U-turn track, where min_jerk_band's final T_min was
+// 2.779 s and headlined before), and the summary says the winner's T is a bound. A bound whose
+// plan is not optimal wins only when no other is.
+TEST(MinTime, SummaryCountsAVerifiedBoundOfASearchItsBudgetCut) {
+  std::vector<MinTimeResult> results(2);
+  results[0].strategy = Strategy::kMinJerkBand;
+  results[0].status = SolveStatus::kOptimal;
+  results[0].t_min = 2.779;
+  results[0].t_min_final = true;
+  results[1].strategy = Strategy::kTimeDomain;
+  results[1].status = SolveStatus::kTimeLimit;
+  results[1].t_min = 1.8;
+  results[1].plan = PlanResult{};
+  results[1].plan->status = SolveStatus::kOptimal;
+  MinTimeSummary s = summarize_min_time(results);
+  ASSERT_TRUE(s.winner);
+  EXPECT_EQ(*s.winner, 1u);
+  EXPECT_TRUE(s.winner_bound);
+  EXPECT_EQ(s.winner_not_optimal, "");
+  // Its plan acceptable: the optimal final T_min wins.
+  results[1].plan->status = SolveStatus::kAcceptable;
+  s = summarize_min_time(results);
+  ASSERT_TRUE(s.winner);
+  EXPECT_EQ(*s.winner, 0u);
+  EXPECT_FALSE(s.winner_bound);
+  // Alone, it wins and says why it is not optimal.
+  results[0].status = SolveStatus::kInfeasible;
+  results[0].t_min.reset();
+  s = summarize_min_time(results);
+  ASSERT_TRUE(s.winner);
+  EXPECT_EQ(*s.winner, 1u);
+  EXPECT_EQ(s.winner_not_optimal, "the plan at its bound is acceptable");
+  // Without a plan at it (or no t_min), a cut search does not compete.
+  results[1].plan.reset();
+  EXPECT_FALSE(summarize_min_time(results).winner);
+}
+
 TEST(MinTime, ATMinWhosePlanSpillsByTheLargerModelIsAcceptableNotOptimal) {
   // The thesis container, eta_motion <= the 68 mm free board on the nonlinear model: at the
   // uniform law's T_min (0.682 s) the linear model's wave in motion (95 mm) is over the free

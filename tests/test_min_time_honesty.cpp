@@ -236,6 +236,7 @@ TEST(MinTimeHonesty, APlanBudgetThatEndsTheCurveGivesTimeLimitAndAPartialCurve) 
   // T_min is final: the headline still names it.
   EXPECT_EQ(answer.at("headline").at("winner"), "time_domain");
   EXPECT_EQ(answer.at("headline").at("t_min_s"), whole.at("t_min_s"));
+  EXPECT_EQ(answer.at("headline").at("t_min_is_bound"), false);
 }
 
 }  // namespace test_min_time_honesty

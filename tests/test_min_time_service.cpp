@@ -352,7 +352,7 @@ TEST(MinTimeService, BatchOverServerNamesTheCsvColumnOfABadRow) {
       {"stroke_mm", "stroke_mm = -5 is out of range: allowed 0.01 to 100000 mm"},
       {"radius_mm", "radius_mm = -3 is out of range: allowed 1 to 2000 mm"},
       {"eta_rest_max_mm", "eta_rest_max_mm = 0 is out of range: allowed > 0 and <= 10000 mm"},
-      {"radius_mm", "radius_mm = \"abc\" is not a number"},
+      {"radius_mm", "radius_mm must be a number, got \"abc\"; allowed 1 to 2000 mm"},
       {"container_height_mm",
        "container_height_mm = 80 is out of range: allowed > 82 and <= 10000 mm"},
       {"motion_time_s", "motion_time_s = 100 is out of range: allowed 0.05 to 60 s"},

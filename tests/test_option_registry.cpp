@@ -246,9 +246,19 @@ TEST(OptionRegistry, AFakeOptionIsACsvColumn) {
   EXPECT_EQ(rows[0].request.body()["options"]["fake_gap_mm"], 7.5);
   (void)parse_plan_request(rows[0].request.body(), registry);
   EXPECT_DOUBLE_EQ(sink.value.value(), 0.0075);
-  ASSERT_TRUE(rows[1].error.has_value());
-  EXPECT_EQ(rows[1].error->field(), "fake_gap_mm");
-  EXPECT_STREQ(rows[1].error->what(), "fake_gap_mm = \"wide\" is not a number");
+  // A cell that is not a number reaches the request as its text, which the option's own parser
+  // refuses with its range (as it refuses that JSON value).
+  ASSERT_FALSE(rows[1].error.has_value()) << rows[1].error->what();
+  EXPECT_EQ(rows[1].request.body()["options"]["fake_gap_mm"], "wide");
+  try {
+    (void)parse_plan_request(rows[1].request.body(), registry);
+    ADD_FAILURE() << "a gap of \"wide\" was parsed";
+  } catch (const ApiError& e) {
+    EXPECT_EQ(e.field(), "options.fake_gap_mm");
+    EXPECT_STREQ(e.what(),
+                 "options.fake_gap_mm must be a number, got \"wide\"; allowed > 0 and "
+                 "<= 50 mm");
+  }
   EXPECT_EQ(column_of_field("options.fake_gap_mm", registry), "fake_gap_mm");
   // The built-in registry has no such column.
   EXPECT_THROW((void)service::read_recipe_table(table, service::TableFormat::kCsv),

@@ -97,6 +97,10 @@ TEST(PlanarPath, RefusalsNameTheElement) {
             }),
             "segments[1] | segments[1] starts at heading 0 deg but the path arrives at heading "
             "90 deg: lines and arcs must join with a common tangent (within 1e-6 rad)");
+  // The first segment joins nothing: it is told the path's start heading.
+  EXPECT_EQ(refusal_of([] { return PlanarPath({PathElement::line(0.2, kPi / 6)}, 0.0, false); }),
+            "segments[0] | segments[0] starts at heading 30 deg but the path starts at heading "
+            "0 deg (start_heading_deg): give the first segment that heading");
   EXPECT_EQ(refusal_of([] { return PlanarPath::arc(0.0, 1.0, true); }),
             "segments[0] | segments[0]: an arc's radius 0 m must be finite and > 0 m");
   EXPECT_EQ(refusal_of([] { return PlanarPath::arc(0.3, 0.0, true); }),

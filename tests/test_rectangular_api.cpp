@@ -261,6 +261,20 @@ TEST(RectangularApi, FormatEchoAndRecipeKeyCarryTheShape) {
   absent["format"]["container"].erase("orientation_deg");
   EXPECT_EQ(api::recipe_key(api::parse_plan_request(zero)),
             api::recipe_key(api::parse_plan_request(absent)));
+  // The other shape's members given null are left out, as every optional member's null is (a
+  // form sending each field, blanks as null): the same recipe, for either shape.
+  json nulls = cup_request();
+  nulls["format"]["container"]["radius_mm"] = nullptr;
+  EXPECT_EQ(api::recipe_key(api::parse_plan_request(nulls)), api::recipe_key(request));
+  json cylinder = cup_request();
+  cylinder["format"]["container"] = {{"radius_mm", 48.5},
+                                     {"length_mm", nullptr},
+                                     {"width_mm", nullptr},
+                                     {"orientation_deg", nullptr}};
+  json plain = cup_request();
+  plain["format"]["container"] = {{"radius_mm", 48.5}};
+  EXPECT_EQ(api::recipe_key(api::parse_plan_request(cylinder)),
+            api::recipe_key(api::parse_plan_request(plain)));
 }
 
 /// 100 (1 - plan / uniform law) of a plan's returned figures on `model` ("nonlinear", "linear").

@@ -85,6 +85,24 @@ std::string run_calibration_text(const CalibrationRequest& request) {
   return dump_json(run_calibration(request));
 }
 
+std::string named_fit_reply(const std::string& fit_text, bool& storable) {
+  nlohmann::json fit = nlohmann::json::parse(fit_text);
+  const std::string status = fit.value("status", std::string());
+  storable = status == "converged";
+  fit["stored"] = storable;
+  if (storable) {
+    fit["not_stored"] = nullptr;
+  } else {
+    fit["not_stored"] = "the fit did not converge (status " + status + " after " +
+                        std::to_string(fit.value("iterations", 0)) + " iterations, sigma " +
+                        number_text(fit.value("sigma_mm", 0.0)) +
+                        " mm): a plan naming it would apply parameters the fit did not settle, "
+                        "so it is not stored; raise fit.max_iterations or check the moves, then "
+                        "calibrate again";
+  }
+  return dump_json(fit);
+}
+
 std::string stored_calibration_reply(std::string_view stored) {
   return dump_json(nlohmann::json::parse(stored, nullptr, false));
 }

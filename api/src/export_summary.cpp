@@ -31,9 +31,13 @@ nlohmann::json segments_json(const SevenSegmentLaw& law) {
 std::string export_summary_json(const ExportSummary& s) {
   nlohmann::json out;
   if (s.plan) {
-    out = {{"source", "plan"},         {"key", s.plan->key},
-           {"cached", s.plan->cached}, {"status", name_of(s.plan->status)},
-           {"law", s.law_type},        {"message", s.plan->message}};
+    out = {{"source", "plan"},
+           {"key", s.plan->key},
+           {"cached", s.plan->cached},
+           {"status", name_of(s.plan->status)},
+           {"law", s.law_type},
+           {"message", s.plan->message},
+           {"plan_warnings", s.plan->warnings}};
   } else {
     out = {{"source", "law"}, {"law", s.law_type}};
   }

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string>
+#include <string_view>
+#include <vector>
 
 #include "slosh/api/control_characters.hpp"
 #include "slosh/api/error.hpp"
@@ -53,9 +56,24 @@ bool container_shape(const nlohmann::json& c, const std::string& path) {
   return rectangular;
 }
 
+/// `c` without the other shape's members given null (read as left out, as every optional
+/// member's null is: a form that sends each field, blanks as null, names them all).
+nlohmann::json without_other_shapes_nulls(const nlohmann::json& c, bool rectangular) {
+  nlohmann::json out = c;
+  const std::vector<std::string_view> other =
+      rectangular ? std::vector<std::string_view>{"radius_mm"}
+                  : std::vector<std::string_view>{"length_mm", "width_mm", "orientation_deg"};
+  for (std::string_view key : other) {
+    const auto it = out.find(std::string(key));
+    if (it != out.end() && it->is_null()) out.erase(it);
+  }
+  return out;
+}
+
 /// The container of a format (parse_format).
-Container parse_container(const nlohmann::json& c, const std::string& path) {
-  const bool rectangular = container_shape(c, path);
+Container parse_container(const nlohmann::json& given, const std::string& path) {
+  const bool rectangular = container_shape(given, path);
+  const nlohmann::json c = without_other_shapes_nulls(given, rectangular);
   Container out;
   if (!rectangular) {
     for (std::string_view side : {"length_mm", "width_mm", "orientation_deg"}) {

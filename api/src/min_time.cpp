@@ -438,7 +438,8 @@ json min_time_json(const MinTimeRequest& request, const std::vector<MinTimeResul
       {"baseline_cycles_per_min", nullptr},
       {"gain_pct", optional_json(s.gain_pct)},
       {"gain_cycles_per_min", optional_json(s.gain_cycles_per_min)},
-      {"not_optimal", s.winner_not_optimal.empty() ? json(nullptr) : json(s.winner_not_optimal)}};
+      {"not_optimal", s.winner_not_optimal.empty() ? json(nullptr) : json(s.winner_not_optimal)},
+      {"t_min_is_bound", s.winner_bound}};
   if (s.winner) {
     const double t = *results[*s.winner].t_min;
     headline["winner"] = to_string(results[*s.winner].strategy);

@@ -1087,8 +1087,11 @@ void add_simulate_response_schemas(json& s) {
               {"prediction", {{"oneOf", {ref("Prediction"), ref("PlanarPrediction")}}}},
               {"rest_time_s", number("Rest window [s].")},
               {"series", {{"oneOf", {ref("Series"), ref("SpatialSeries")}}}},
-              {"warnings", strings("Validity limits of the models reached by this law.")}},
-             {"format", "model", "prediction", "rest_time_s", "warnings"},
+              {"warnings", strings("Validity limits of the models reached by this law.")},
+              {"warning_codes",
+               strings("The code of each warning's kind, one per entry of warnings and in its "
+                       "order (the codes of the plan's warnings description).")}},
+             {"format", "model", "prediction", "rest_time_s", "warnings", "warning_codes"},
              "Wave-height response of the law (also what `slosh simulate` prints); with "
              "format.motion: motion, no kinematics, no law for a trajectory.",
              false);
@@ -1393,7 +1396,11 @@ void add_min_time_response_schemas(json& s) {
                   {"description",
                    "Null, or why the winner's plan at its T_min is not optimal (its warnings: "
                    "spill, wave_exceeds_fill, ...): then no strategy's T_min plan is optimal. A "
-                   "strategy whose T_min plan is not optimal is acceptable and wins only then."}}}},
+                   "strategy whose T_min plan is not optimal is acceptable and wins only then."}}},
+                {"t_min_is_bound",
+                 boolean("True when the winner's search ran out of its budget before its T_min "
+                         "was final (status time_limit): t_min_s is a motion time its verified "
+                         "plan meets, the true minimum at or below it.")}},
                {}, "The winner and its gain over the uniform law (motion time only).", false)}},
       {"key", "cached", "version", "strategies", "headline"}, "Minimum motion time per strategy.",
       false);
@@ -1843,7 +1850,9 @@ void add_calibration_schemas(json& s) {
        "radius_mm or length_mm, width_mm and the directions moved; a request naming the "
        "calibration on another container or direction is refused), fit_version (the fit's "
        "numerics, calibration-v2; a rectangular container's calibration along one side stored "
-       "without it is refused by name), name."}};
+       "without it is refused by name), name; with a name, stored (true when the fit "
+       "converged and was stored) and not_stored (null, or why a fit that did not converge was "
+       "not stored)."}};
 }
 
 /// Request and response details of one route's operation.

@@ -27,6 +27,11 @@ PlanLaw plan_law(std::string_view plan_text) {
   out.status = enum_from_name<SolveStatus>(plan.value("status", std::string()))
                    .value_or(SolveStatus::kFailed);
   out.message = plan.value("message", std::string());
+  if (const auto w = plan.find("warnings"); w != plan.end() && w->is_array()) {
+    for (const nlohmann::json& text : *w) {
+      if (text.is_string()) out.warnings.push_back(text.get<std::string>());
+    }
+  }
   out.type = law.type;
   out.law = law.law;
   if (law.durations) out.seven.emplace(*law.durations, format.stroke);

@@ -149,8 +149,10 @@ json cell_value(const RecipeColumn& column, std::string_view text) {
     case CellKind::kText:
       return std::string(text);
     case CellKind::kNumber:
+      // A cell that is not a number goes to the request as the text it is, so that the request's
+      // parser refuses it with the member's allowed range, as it refuses such a JSON value.
       if (auto v = parse_number(text)) return *v;
-      throw CellError{column.name, column.name + " = " + quote_text(text) + " is not a number"};
+      return std::string(text);
     case CellKind::kDamping:
       if (auto v = parse_number(text)) return json{{"zeta", *v}};
       return std::string(text);

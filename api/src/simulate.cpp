@@ -292,6 +292,7 @@ nlohmann::json run_simulate(const SimulateRequest& request) {
                        {"eta_nonlinear_mm", "mm"}}}};
   }
   out["warnings"] = warning_texts(r.warnings);
+  out["warning_codes"] = warning_codes(r.warnings);
   require_finite(out);
   return out;
 }

@@ -14,6 +14,7 @@
 #include "slosh/api/spatial_series.hpp"
 #include "slosh/api/trajectory_csv.hpp"
 #include "slosh/core/constants.hpp"
+#include "slosh/core/model/modal_truncation.hpp"
 #include "slosh/core/model/tank_directions.hpp"
 #include "slosh/core/motion/invalid_motion.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
@@ -82,9 +83,17 @@ double peak_horizontal_acceleration(const SpatialMotion& motion, const PlanarDri
 
 /// A trajectory that starts or ends moving: the models take it at rest before its first sample and
 /// after its last (trajectory_ends.hpp), so the answer says which end moves and how fast.
-void add_moving_end_warnings(const SpatialMotion& motion, std::vector<std::string>& warnings) {
+void add_moving_end_warnings(const SpatialMotion& motion, std::vector<Warning>& warnings) {
   if (!motion.trajectory) return;
-  for (std::string& w : moving_end_warnings(*motion.trajectory)) warnings.push_back(std::move(w));
+  for (std::string& w : moving_end_warnings(*motion.trajectory)) {
+    warnings.push_back({WarningKind::kTrajectoryEndMoving, std::move(w)});
+  }
+}
+
+/// The answer's warnings and, one per entry in their order, their kinds' codes.
+void put_warnings(const std::vector<Warning>& warnings, nlohmann::json& out) {
+  out["warnings"] = warning_texts(warnings);
+  out["warning_codes"] = warning_codes(warnings);
 }
 
 const char* type_name(MotionType type) {
@@ -198,15 +207,23 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
   }
   const double horizontal = peak_horizontal_acceleration(motion, drive, law);
   const DirectionWaves directions{linear.along_length, linear.along_width};
-  std::vector<std::string> warnings = warning_texts(validity_warnings(
+  std::vector<Warning> warnings = validity_warnings(
       request.format, horizontal, linear.highest.motion.value, nl.highest.motion.value,
-      nonlinear.nonlinear, linear.highest.rest.value, &directions));
-  if (!nonlinear.warning.empty()) warnings.push_back(nonlinear.warning);
+      nonlinear.nonlinear, linear.highest.rest.value, &directions);
+  if (!nonlinear.warning.empty()) {
+    warnings.push_back({WarningKind::kNonlinearModelNotValid, nonlinear.warning});
+  }
+  // Every motion but a line may drive both directions; a line the orientation's.
+  for (const Warning& t :
+       modal_truncation_warnings(*request.format.container.rectangular, request.format.fill_height,
+                                 tank, drive.duration(), motion.type != MotionType::kLine)) {
+    warnings.push_back(t);
+  }
   const std::string yaw = yaw_mode_warning(*request.format.container.rectangular,
                                            request.format.fill_height, drive, horizontal);
-  if (!yaw.empty()) warnings.push_back(yaw);
+  if (!yaw.empty()) warnings.push_back({WarningKind::kYawModesNotModelled, yaw});
   add_moving_end_warnings(motion, warnings);
-  out["warnings"] = warnings;
+  put_warnings(warnings, out);
   require_finite(out);
   return out;
 }
@@ -291,11 +308,11 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   }
   // The validity warnings of a straight-line simulate or a plan along the same motion, on the
   // planar peaks and the total horizontal acceleration.
-  std::vector<std::string> warnings = warning_texts(
+  std::vector<Warning> warnings =
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
-                        linear.motion.value, nonlinear.motion.value, true, linear.rest.value));
+                        linear.motion.value, nonlinear.motion.value, true, linear.rest.value);
   add_moving_end_warnings(motion, warnings);
-  out["warnings"] = warnings;
+  put_warnings(warnings, out);
   require_finite(out);
   return out;
 }

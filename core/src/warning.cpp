@@ -73,6 +73,17 @@ constexpr WarningKindInfo kKinds[] = {
      "corners drives the modes odd in both directions, which the models leave out: the "
      "predicted heights are a lower bound",
      StatusEffect::kNone, ""},
+    {WarningKind::kModalSumNotConverged, "modal_sum_not_converged",
+     "modal sum not converged along the ",
+     "a rectangular tank long against the distance a wave travels in the motion: the first mode "
+     "the model leaves out has a period over half the motion time, so the higher modes answer "
+     "the motion dynamically and their waves are missing from the figures, which are not "
+     "reliable",
+     StatusEffect::kNone, ""},
+    {WarningKind::kTrajectoryEndMoving, "trajectory_end_moving", "the trajectory ",
+     "simulate of a sampled trajectory: it starts or ends moving (at a speed or turning rate "
+     "above what the samples' rounding explains), and the answer says what it assumed there",
+     StatusEffect::kNone, ""},
     {WarningKind::kFillRangeBeyondModels, "fill_range_beyond_models", "fill height range ",
      "options.uncertainty.fill_height_mm reaches, at its low end, a fill the models do not "
      "describe (a cylinder's shallow-liquid regime, a rectangular tank's fill below its "

@@ -69,9 +69,13 @@ Reply CalibrationService::post_calibration(const std::string& text,
                                       "not fitted: the client closed the connection");
     }
     std::string fit = result.get();
-    if (request->name && !store_->put(*request->name, fit)) {
-      return PlanService::error_reply(api::ErrorCode::kInternal,
-                                      "the calibration could not be stored", "name");
+    if (request->name) {
+      bool storable = false;
+      fit = api::named_fit_reply(fit, storable);
+      if (storable && !store_->put(*request->name, fit)) {
+        return PlanService::error_reply(api::ErrorCode::kInternal,
+                                        "the calibration could not be stored", "name");
+      }
     }
     Reply r;
     r.body = std::move(fit);

@@ -108,7 +108,7 @@ ExportSource plan_source(const std::string& text, const ServerConfig& config) {
   source.stroke = plan.stroke;
   source.law_type = api::to_string(plan.type);
   source.strategy = plan.strategy;
-  source.plan = api::ExportedPlan{plan.key, plan.cached, plan.status, plan.message};
+  source.plan = api::ExportedPlan{plan.key, plan.cached, plan.status, plan.message, plan.warnings};
   // A plan along an arc or a path: its cam table carries the pose too.
   if (std::optional<api::SpatialMotion> motion = api::plan_path_motion(plan_text)) {
     source.path = std::move(motion->path);

@@ -86,10 +86,14 @@ PlanarPath::PlanarPath(std::vector<PathElement> elements, double start_heading,
       const double d = angle_difference(*e.start_heading, psi);
       if (std::abs(d) > kTangentTolerance) {
         const std::string name = element_name(i);
+        // The first segment joins nothing: its heading must be the path's start heading.
         throw InvalidMotion(
             name, name + " starts at heading " + degrees(*e.start_heading) +
-                      " but the path arrives at heading " + degrees(psi) +
-                      ": lines and arcs must join with a common tangent (within 1e-6 rad)");
+                      (i == 0 ? " but the path starts at heading " + degrees(psi) +
+                                    " (start_heading_deg): give the first segment that heading"
+                              : " but the path arrives at heading " + degrees(psi) +
+                                    ": lines and arcs must join with a common tangent (within "
+                                    "1e-6 rad)"));
       }
     }
     const double kappa =

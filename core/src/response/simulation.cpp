@@ -1,5 +1,7 @@
 #include "slosh/core/response/simulation.hpp"
 
+#include "slosh/core/model/modal_truncation.hpp"
+
 #include <algorithm>
 #include <cmath>
 #include <optional>
@@ -345,6 +347,12 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
       r.linear.motion.value, r.nonlinear.motion.value, nonlinear_in_range, r.linear.rest.value,
       directions ? &*directions : nullptr);
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
+  if (format.container.rectangular && r.rectangular) {
+    for (Warning& t : modal_truncation_warnings(*format.container.rectangular, format.fill_height,
+                                                *r.rectangular, law.duration(), false)) {
+      warnings.push_back(std::move(t));
+    }
+  }
   r.warnings = std::move(warnings);
   return r;
 }

@@ -409,13 +409,13 @@ struct SearchRun {
   void out_of_budget(const std::string& where) {
     r.status = SolveStatus::kTimeLimit;
     r.message = budget_text() + " ran out " + where;
+    r.best.reset();  // the least excess is the infeasible searches' answer
     if (r.t_min) {
       r.message += "; the best bound so far is T_min <= " + sec(*r.t_min);
       for (const MinTimePoint& p : r.curve) {
         if (p.motion_time == *r.t_min) r.message += stood_in(p, options.model);
       }
     } else {
-      r.best.reset();
       r.message += " before a motion time met " + limits;
     }
   }
@@ -793,6 +793,23 @@ bool stood_in_at_t_min(const SearchRun& run) {
          has_warning(run.r.plan->warnings, WarningKind::kNonlinearModelNotValid);
 }
 
+// Why the plan at T_min is not optimal, or empty: its own warnings (SPEC §5 "Honest status"),
+// or the limits met on a tank's linear figures standing in, which under-predict the steep waves
+// that put the nonlinear model out of its range: a T a little longer, where it holds again, can
+// miss them (a 120 x 80 mm cup, 200 mm, eta_motion <= 11.3 mm: T_min 1.204 s on the linear
+// 11.297 mm; 1.222-1.226 s reach 11.33-11.45 mm on the nonlinear model).
+std::string t_min_caveat(const SearchRun& run) {
+  const MinTimeResult& r = run.r;
+  std::string caveat = r.plan ? detail::optimal_caveat(r.plan->warnings, run.strategy) : "";
+  if (caveat.empty() && stood_in_at_t_min(run)) {
+    caveat =
+        "its nonlinear figures are the linear model's standing in (nonlinear_model_not_valid), "
+        "which under-predict the steep waves that put the nonlinear model out of its range: the "
+        "limits were met on them, not on the nonlinear model";
+  }
+  return caveat;
+}
+
 // 3. The curve above T_min, up to curve_factor T_min, on the scan grid continued (3 points when
 // the budget allows): feasible_above is judged on the T planned above T_min, the least failing
 // one confirmed from the planner's own starts. When the budget runs out here, T_min stands
@@ -854,17 +871,7 @@ void extend_curve_and_report(SearchRun& run) {
   // SPEC §5 "Honest status" carried into the search: T_min meets the limits asked, but when its
   // plan's own warnings say it is not optimal (the liquid spills by the larger model, the wave
   // uncovers the bottom, ...), the answer is acceptable and says why first.
-  if (r.plan) r.not_optimal = detail::optimal_caveat(r.plan->warnings, run.strategy);
-  if (r.not_optimal.empty() && stood_in_at_t_min(run)) {
-    // The limits were met on the linear figures standing in, which under-predict the steep waves
-    // that put the nonlinear model out of its range: a T a little longer, where it holds again,
-    // can miss them (a 120 x 80 mm cup, 200 mm, eta_motion <= 11.3 mm: T_min 1.204 s on the
-    // linear 11.297 mm; 1.222-1.226 s reach 11.33-11.45 mm on the nonlinear model).
-    r.not_optimal =
-        "its nonlinear figures are the linear model's standing in (nonlinear_model_not_valid), "
-        "which under-predict the steep waves that put the nonlinear model out of its range: the "
-        "limits were met on them, not on the nonlinear model";
-  }
+  r.not_optimal = t_min_caveat(run);
   if (!r.not_optimal.empty()) {
     if (!cut) r.status = SolveStatus::kAcceptable;
     r.message = "not optimal: the plan at T_min is not (" + r.not_optimal + "); " + r.message;
@@ -947,13 +954,24 @@ MinTimeResult min_time(const Format& format, Strategy strategy, const MinTimeOpt
 
 MinTimeSummary summarize_min_time(const std::vector<MinTimeResult>& results) {
   MinTimeSummary s;
+  // A search its budget cut before T_min was final still verified a plan at its bound: the line
+  // can run at that T (the true minimum is at or below it), so it competes, as a bound.
+  auto bound = [](const MinTimeResult& r) {
+    return r.t_min && r.status == SolveStatus::kTimeLimit && !r.t_min_final && r.plan &&
+           r.plan->usable();
+  };
+  // Its plan's own status stands for the caveats the search had no time to judge.
+  auto honest_at = [&bound](const MinTimeResult& r) {
+    return r.not_optimal.empty() && (!bound(r) || r.plan->status == SolveStatus::kOptimal);
+  };
   for (std::size_t i = 0; i < results.size(); ++i) {
     const MinTimeResult& r = results[i];
-    if (!r.t_min || !(r.status == SolveStatus::kOptimal || r.t_min_final)) continue;
-    if (r.strategy == Strategy::kBaseline && !s.baseline) s.baseline = i;
+    const bool found = r.t_min && (r.status == SolveStatus::kOptimal || r.t_min_final);
+    if (!found && !bound(r)) continue;
+    if (found && r.strategy == Strategy::kBaseline && !s.baseline) s.baseline = i;
     // A T_min whose plan is not optimal wins only when no strategy's T_min plan is optimal.
-    const bool honest = r.not_optimal.empty();
-    const bool winner_honest = s.winner && results[*s.winner].not_optimal.empty();
+    const bool honest = honest_at(r);
+    const bool winner_honest = s.winner && honest_at(results[*s.winner]);
     if (!s.winner || (honest && !winner_honest) ||
         (honest == winner_honest && *r.t_min < *results[*s.winner].t_min)) {
       s.winner = i;
@@ -961,6 +979,11 @@ MinTimeSummary summarize_min_time(const std::vector<MinTimeResult>& results) {
   }
   if (s.winner && !results[*s.winner].not_optimal.empty()) {
     s.winner_not_optimal = results[*s.winner].not_optimal;
+  }
+  if (s.winner) s.winner_bound = bound(results[*s.winner]);
+  if (s.winner_bound && s.winner_not_optimal.empty() && !honest_at(results[*s.winner])) {
+    s.winner_not_optimal =
+        "the plan at its bound is " + std::string(to_string(results[*s.winner].plan->status));
   }
   if (s.winner && s.baseline) {
     const double tw = *results[*s.winner].t_min;

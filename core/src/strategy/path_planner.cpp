@@ -8,6 +8,7 @@
 #include <optional>
 
 #include "response/tank_planar_sensitivity.hpp"
+#include "slosh/core/model/modal_truncation.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
 #include "slosh/core/response/rectangular_planar.hpp"
 #include "slosh/core/response/rectangular_yaw.hpp"
@@ -264,6 +265,12 @@ PlanOptions remaining_budget(const PathContext& c) {
   return o;
 }
 
+/// Whether the path has an arc (then its normal acceleration drives a tank across the motion).
+bool has_arcs(const PlanarPath& path) {
+  return std::any_of(path.elements().begin(), path.elements().end(),
+                     [](const PathElement& e) { return e.kind == PathElement::Kind::kArc; });
+}
+
 /// Whether `law` keeps limits.a_max on the total horizontal acceleration along the path.
 bool keeps_total_acceleration(const PathContext& c, const MotionLaw& law) {
   return path_acceleration(c.path, law).total <= *c.options.limits.a_max * (1.0 + kLimitSlack);
@@ -280,9 +287,7 @@ bool keeps_total_acceleration(const PathContext& c, const MotionLaw& law) {
 PlanResult plan_keeping_total_acceleration(const PathContext& c, Strategy s, std::string& note) {
   PlanResult first = plan(c.format, s, remaining_budget(c));
   const std::optional<double>& a_max = c.options.limits.a_max;
-  const bool arcs =
-      std::any_of(c.path.elements().begin(), c.path.elements().end(),
-                  [](const PathElement& e) { return e.kind == PathElement::Kind::kArc; });
+  const bool arcs = has_arcs(c.path);
   if (s == Strategy::kBaseline || !a_max || !arcs || !first.usable() ||
       keeps_total_acceleration(c, first.law)) {
     return first;
@@ -343,6 +348,11 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
                " along the path";
     if (!held.empty()) o.detail += " (" + held + ")";
   }
+  // A line plan that ran past the budget while its law was verified on the line's models was
+  // solved: the path's own verification and budget decide (finish).
+  const bool solved = o.plan.solved_status == SolveStatus::kOptimal ||
+                      o.plan.solved_status == SolveStatus::kAcceptable;
+  if (o.plan.status == SolveStatus::kTimeLimit && solved) o.plan.status = o.plan.solved_status;
   if (o.plan.status == SolveStatus::kTimeLimit && s != Strategy::kBaseline) {
     // The law is not shaped as the sentence above says: the solve stopped where the budget left
     // it (at the uniform law, where it starts, when it had no time at all).
@@ -649,6 +659,14 @@ PlanResult finish(const PathContext& c, Strategy requested, PathOutcome o, std::
     r.warnings.push_back(std::move(reference));
   }
   if (!o.worse.empty()) r.warnings.push_back({WarningKind::kWorseThanBaseline, o.worse});
+  if (c.tank) {
+    // Along arcs the normal acceleration drives the direction across the motion too.
+    for (Warning& t :
+         modal_truncation_warnings(*c.format.container.rectangular, c.format.fill_height, *c.tank,
+                                   c.format.motion_time, has_arcs(c.path))) {
+      r.warnings.push_back(std::move(t));
+    }
+  }
   add_yaw_warning(c, r, o.prediction.a_total_peak, r.warnings);
   if (c.deadline.expired() && r.status == SolveStatus::kInfeasible &&
       law_strategy == Strategy::kTimeDomain && r.invalid_input == std::nullopt) {

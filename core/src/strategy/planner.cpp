@@ -1,5 +1,7 @@
 #include "slosh/core/strategy/planner.hpp"
 
+#include "slosh/core/model/modal_truncation.hpp"
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -743,6 +745,13 @@ const LawPrediction& judged(const std::optional<RangeJudgement>& range,
   return range ? range->worst : nominal;
 }
 
+/// The strategy's own outcome, before the budget's verdicts on its report and its verification
+/// (PlanResult::solved_status and solved_detail).
+struct Solved {
+  SolveStatus status;
+  std::string detail;
+};
+
 /// The law plan() returns: its outcome (solver figures summed over the candidates for kAuto), its
 /// verified prediction, the sentence about how it was obtained, and its worse_than_baseline
 /// warning (or empty).
@@ -1101,17 +1110,23 @@ std::vector<bool> in_range_of(const std::vector<std::string>& out_of_range) {
 }
 
 /// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
-Selection run_auto(const detail::StrategyContext& c, const GuardReference& baseline,
-                   std::vector<PlanCandidate>& candidates) {
+/// auto's candidates solved: every strategy but iir (the shaper's general law not for a
+/// MC_MoveAbsolute block), baseline first.
+std::vector<Outcome> auto_outcomes(const detail::StrategyContext& c) {
   std::vector<Outcome> outcomes;
   outcomes.push_back(run_strategy(c, Strategy::kBaseline, {}));
   const std::vector<Durations> seeds = spectral_seeds(c, &outcomes);
   outcomes.push_back(run_strategy(c, Strategy::kTimeDomain, seeds));
   outcomes.push_back(run_strategy(c, Strategy::kFirChain, {}));
-  // The shaper's law is a general law: no candidate for a MC_MoveAbsolute block.
   if (c.options.drive_profile != DriveProfile::kMoveAbsolute) {
     outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
   }
+  return outcomes;
+}
+
+Selection run_auto(const detail::StrategyContext& c, const GuardReference& baseline,
+                   std::vector<PlanCandidate>& candidates) {
+  std::vector<Outcome> outcomes = auto_outcomes(c);
   int evaluations = 0, starts = 0;
   std::vector<bool> worse;           // candidate k carries a worse_than_baseline warning
   std::vector<BoundVerdict> bounds;  // and how it stands against the eta bound
@@ -1346,6 +1361,12 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanOptions& opti
       r.prediction.linear_directions ? &*r.prediction.linear_directions : nullptr);
   if (!worse.empty()) w.push_back({WarningKind::kWorseThanBaseline, worse});
   if (!law_in_range) w.push_back({WarningKind::kNonlinearModelNotValid, std::move(out_of_range)});
+  if (format.container.rectangular && r.rectangular) {
+    for (Warning& t : modal_truncation_warnings(*format.container.rectangular, format.fill_height,
+                                                *r.rectangular, format.motion_time, false)) {
+      w.push_back(std::move(t));
+    }
+  }
   for (Warning& reference : detail::reference_model_warnings(law_in_range, baseline_out_of_range,
                                                              detail::peak_figures(r.prediction),
                                                              detail::peak_figures(r.baseline))) {
@@ -1365,10 +1386,36 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanOptions& opti
 
 /// The status and message of a plan whose warnings are set: the solve's status and account kept
 /// (solved_status, solved_detail), then the warnings' caveats (SPEC §5 "Honest status").
+/// The first rule the inputs break (the plan's inputs, the drive profile, the band), or nullopt.
+std::optional<InvalidInput> input_refusal(const Format& format, Strategy strategy,
+                                          const PlanOptions& options) {
+  if (std::optional<InvalidInput> why = validate_plan_input(format, options)) return why;
+  if (std::optional<InvalidInput> why = drive_profile_refusal(strategy, options.drive_profile)) {
+    return why;
+  }
+  return band_refusal(strategy, format, options);
+}
+
+/// The budget covers the verification of the laws on the models, which for a tank whose period
+/// is tiny against a long motion costs more than the solves: a plan that ran past it says so, as
+/// a solve that ran out does, and is not cached as the budget's answer.
+void take_budget_overrun(PlanResult& r, Selection& s, const Format& format,
+                         const detail::Deadline& deadline) {
+  if (!deadline.expired() ||
+      !(r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
+    return;
+  }
+  r.status = SolveStatus::kTimeLimit;
+  s.detail = "the budget ran out while the laws were verified on the models (" +
+             sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
+             " first-mode periods each); the law is returned with its verified figures" +
+             (s.detail.empty() ? std::string() : "; " + s.detail);
+}
+
 void finish_status(const detail::StrategyContext& c, PlanResult& r, Selection& s,
-                   Strategy result_strategy) {
-  r.solved_status = r.status;
-  r.solved_detail = s.detail;
+                   Strategy result_strategy, const Solved& solved) {
+  r.solved_status = solved.status;
+  r.solved_detail = solved.detail;
   detail::apply_optimal_caveat(r.status, s.detail, r.warnings, result_strategy);
   r.message = brief_report(c, r, result_strategy, std::move(s.detail));
 }
@@ -1456,7 +1503,8 @@ void take_robustness(PlanResult& r, Selection& s, const Format& format, const Pl
         "the whole motion, " +
         sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
         " first-mode periods here); the law is returned without it, verified at the nominal "
-        "model: raise time_limit_s or set robustness to false";
+        "model: raise time_limit_s or set robustness to false" +
+        (s.detail.empty() ? std::string() : "; " + s.detail);
   }
 }
 
@@ -1464,13 +1512,7 @@ void take_robustness(PlanResult& r, Selection& s, const Format& format, const Pl
 
 PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& options) {
   const auto started = std::chrono::steady_clock::now();
-  if (std::optional<InvalidInput> why = validate_plan_input(format, options)) {
-    return refusal(format, strategy, options, std::move(*why));
-  }
-  if (std::optional<InvalidInput> why = drive_profile_refusal(strategy, options.drive_profile)) {
-    return refusal(format, strategy, options, std::move(*why));
-  }
-  if (std::optional<InvalidInput> why = band_refusal(strategy, format, options)) {
+  if (std::optional<InvalidInput> why = input_refusal(format, strategy, options)) {
     return refusal(format, strategy, options, std::move(*why));
   }
   const detail::Deadline deadline(options.time_limit, options.stop);
@@ -1533,23 +1575,14 @@ PlanResult plan(const Format& format, Strategy strategy, const PlanOptions& opti
                    diverging_law(r.prediction.kinematics, result_strategy, nominal_diverges));
   }
   if (s.range) r.worst_case = s.range->worst;
+  const Solved solved{r.status, s.detail};
   take_robustness(r, s, format, options, deadline);
-  if (deadline.expired() &&
-      (r.status == SolveStatus::kOptimal || r.status == SolveStatus::kAcceptable)) {
-    // The budget covers the verification of the laws on the models, which for a tank whose
-    // period is tiny against a long motion costs more than the solves: a plan that ran past it
-    // says so, as a solve that ran out does, and is not cached as the budget's answer.
-    r.status = SolveStatus::kTimeLimit;
-    s.detail = "the budget ran out while the laws were verified on the models (" +
-               sig3(format.motion_time * r.model.omega1() / (2.0 * std::numbers::pi)) +
-               " first-mode periods each); the law is returned with its verified figures" +
-               (s.detail.empty() ? std::string() : "; " + s.detail);
-  }
+  take_budget_overrun(r, s, format, deadline);
   r.solver.solve_ms =
       std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - started).count();
   r.warnings =
       plan_warnings(format, options, r, s.worse, std::move(s.out_of_range), baseline_out_of_range);
-  finish_status(c, r, s, result_strategy);
+  finish_status(c, r, s, result_strategy, solved);
   return r;
 }
 

@@ -18,6 +18,11 @@ namespace slosh::api {
 /// The fit of `request` rendered as its response body (run_calibration as JSON text).
 [[nodiscard]] std::string run_calibration_text(const CalibrationRequest& request);
 
+/// A fit the request named to be stored, as answered: `fit_text` with "stored": true when it
+/// converged, else false with "not_stored" saying why (a plan naming it would apply parameters
+/// the fit did not settle, so it is not stored). `storable` says which.
+[[nodiscard]] std::string named_fit_reply(const std::string& fit_text, bool& storable);
+
 /// A stored calibration's text as GET /v1/calibrations/{name} answers it (read and written
 /// again, so the answer has the current rendering of the stored JSON).
 [[nodiscard]] std::string stored_calibration_reply(std::string_view stored);

@@ -19,6 +19,7 @@ struct ExportedPlan {
   bool cached{false};
   SolveStatus status{SolveStatus::kFailed};
   std::string message;
+  std::vector<std::string> warnings;  ///< the plan's own (the cam table's are the summary's)
 };
 
 /// What an export wrote.
@@ -43,7 +44,8 @@ struct ExportSummary {
   std::optional<double> table_rotation_deg;
 };
 
-/// The summary as JSON text (2-space indented): source, key, cached, status, message (plans),
+/// The summary as JSON text (2-space indented): source, key, cached, status, message and
+/// plan_warnings (plans: the plan's warnings, which the law carries into the table),
 /// law, cam_table, file_format, table ("time" or "master"), period_s (time) or master {period,
 /// start, end, step, speed_per_s, equidistant} (master), samples, motion_time_s, end_time_s
 /// (time), stroke_mm, and for 7-segment laws durations_s, A_mm_s2, B_mm_s2, v_peak_mm_s, segments

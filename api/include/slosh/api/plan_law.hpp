@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <vector>
 
 #include "slosh/api/law_json.hpp"
 #include "slosh/core/law/seven_segment.hpp"
@@ -19,6 +20,7 @@ struct PlanLaw {
   bool cached{false};
   SolveStatus status{SolveStatus::kFailed};
   std::string message;
+  std::vector<std::string> warnings;  ///< the plan's warnings, as it gave them
   LawType type{LawType::kSevenSegment};
   MotionLaw law;
   std::optional<SevenSegmentLaw> seven;  ///< when the law is a 7-segment law

@@ -26,6 +26,8 @@ enum class WarningKind {
   kMotionTooShort,           ///< no law of this duration can act on the tank's modes
   kYawModesNotModelled,      ///< a turning tank's yaw drives modes the models leave out
   kFillRangeBeyondModels,    ///< a fill height range reaching a fill the models do not describe
+  kModalSumNotConverged,     ///< a rectangular tank's modes left out answer the motion dynamically
+  kTrajectoryEndMoving,      ///< a sampled trajectory starts or ends moving
   kTimeLimitedCandidates,    ///< auto: a candidate ran out of its time budget
 };
 

@@ -214,9 +214,14 @@ struct MinTimeResult {
 /// The headline over several strategies' searches.
 struct MinTimeSummary {
   /// Index of the strategy with the least t_min among the results whose t_min is final (kOptimal,
-  /// kAcceptable, or kTimeLimit with a partial curve; ties: the first), taken among those whose
-  /// plan at t_min is optimal (empty not_optimal) when there is one; nullopt when none found one.
+  /// kAcceptable, or kTimeLimit with a partial curve) or a bound (kTimeLimit before T_min was
+  /// final, with a usable plan at it; ties: the first), taken among those whose plan at t_min is
+  /// optimal (empty not_optimal; a bound's plan itself optimal) when there is one; nullopt when
+  /// none found one.
   std::optional<std::size_t> winner;
+  /// The winner's t_min is a bound: its search ran out of budget before T_min was final (the line
+  /// can run at it; the true minimum is at or below it).
+  bool winner_bound{false};
   /// The winner's not_optimal when every final t_min's plan is not optimal; empty otherwise.
   std::string winner_not_optimal;
   /// The uniform law's (baseline) result index when it was searched and found a final T_min.
