@@ -1,8 +1,10 @@
 #include "response/path_law_duals.hpp"
 
+#include "response/nonlinear_scheme.hpp"
 #include "slosh/core/response/response.hpp"
 
 #include <algorithm>
+#include <cmath>
 
 namespace slosh::detail {
 
@@ -108,24 +110,44 @@ std::array<Dual7, kSegments> dual_durations(const double* d, bool variables) {
   return D;
 }
 
-void FrozenSteps::freeze(const std::vector<DualPiece>& pieces, double h_max) {
+std::vector<double> piece_steps(const PathLawDuals& law, const PlanarPath& path,
+                                const std::vector<DualPiece>& pieces, double h_max,
+                                double steps_per_period) {
+  std::vector<double> h(pieces.size(), h_max);
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const DualPiece& p = pieces[i];
+    const double kappa = p.rest ? 0.0 : std::abs(path.curvature(p.element));
+    if (kappa == 0.0) continue;
+    const std::size_t k = p.segment;
+    const double v = law.v_start[k].v, a = law.a_start[k].v, J = law.jerk[k].v;
+    auto speed = [&](double u) { return std::abs(v + u * (a + 0.5 * u * J)); };
+    const double lo = p.t_begin.v - law.t_start[k].v, hi = p.t_end.v - law.t_start[k].v;
+    double fastest = std::max(speed(lo), speed(hi));
+    if (J != 0.0 && -a / J > lo && -a / J < hi) fastest = std::max(fastest, speed(-a / J));
+    h[i] = piece_max_step(h_max, kappa * fastest, steps_per_period);
+  }
+  return h;
+}
+
+void FrozenSteps::freeze(const std::vector<DualPiece>& pieces, const std::vector<double>& h_max) {
   count.clear();
   key.clear();
-  for (const DualPiece& p : pieces) {
-    count.push_back(step_count(p.t_end.v - p.t_begin.v, h_max, 1) + 1);
+  for (std::size_t i = 0; i < pieces.size(); ++i) {
+    const DualPiece& p = pieces[i];
+    count.push_back(step_count(p.t_end.v - p.t_begin.v, h_max[i], 1) + 1);
     key.push_back(p.segment * 1000 + p.element);
   }
 }
 
 std::vector<std::size_t> FrozenSteps::steps(const std::vector<DualPiece>& pieces,
-                                            double h_max) const {
+                                            const std::vector<double>& h_max) const {
   bool same = count.size() == pieces.size();
   for (std::size_t i = 0; same && i < pieces.size(); ++i) {
     same = key[i] == pieces[i].segment * 1000 + pieces[i].element;
   }
   std::vector<std::size_t> n(pieces.size());
   for (std::size_t p = 0; p < pieces.size(); ++p) {
-    n[p] = step_count(pieces[p].t_end.v - pieces[p].t_begin.v, h_max, 1);
+    n[p] = step_count(pieces[p].t_end.v - pieces[p].t_begin.v, h_max[p], 1);
     if (same) n[p] = std::max(n[p], count[p]);
   }
   return n;

@@ -37,6 +37,14 @@ struct PathLawDuals {
                                 const std::array<Dual7, kSegments>& d);
 };
 
+/// The longest step of each piece of `pieces` [s] (the law's state set by the pieces() that
+/// returned them): at most h_max, and steps_per_period steps per turn of the heading on an arc at
+/// the piece's largest rate |kappa s'| (s' is a quadratic on a segment: its largest magnitude is
+/// at an end or at its vertex), as the stored responses bound theirs (planar_scheme.hpp).
+[[nodiscard]] std::vector<double> piece_steps(const PathLawDuals& law, const PlanarPath& path,
+                                              const std::vector<DualPiece>& pieces, double h_max,
+                                              double steps_per_period);
+
 /// The durations d as dual numbers: each the variable of its own lane (`variables`), or
 /// constants.
 [[nodiscard]] std::array<Dual7, kSegments> dual_durations(const double* d, bool variables);
@@ -49,10 +57,11 @@ struct FrozenSteps {
   std::vector<std::size_t> count;  // least step count per piece
   std::vector<std::size_t> key;    // the pieces' (segment, element) at the freeze
 
-  void freeze(const std::vector<DualPiece>& pieces, double h_max);
-  /// The step count of each piece of `pieces` at most `h_max` long.
+  /// `h_max`: the longest step of each piece (piece_steps()).
+  void freeze(const std::vector<DualPiece>& pieces, const std::vector<double>& h_max);
+  /// The step count of each piece of `pieces`, its steps at most `h_max` of it long.
   [[nodiscard]] std::vector<std::size_t> steps(const std::vector<DualPiece>& pieces,
-                                               double h_max) const;
+                                               const std::vector<double>& h_max) const;
 };
 
 /// The index of the stored step that holds t, of steps starting at `t0` (ascending).

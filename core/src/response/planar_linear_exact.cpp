@@ -3,8 +3,10 @@
 // polynomial at Chebyshev nodes (error ~ (W H / 2)^8 / (2^7 8!) of the forcing for content at
 // W rad/s, below 1e-9 for the sub-steps used), and every mode's response to a polynomial
 // forcing is a polynomial particular solution plus the damped homogeneous one in closed form,
-// so no step follows the fastest mode's period. The height |E| + R^2 w_l^2 / (4 g) is sampled
-// at min(1 ms, fastest period / 64) by complex rotation (as linear_peaks.cpp) and every sampled
+// so no step follows the fastest mode's period (on an arc the sub-steps also take
+// kFitStepsPerTurn per turn of the heading, with which the forcing turns). The height
+// |E| + R^2 w_l^2 / (4 g) is sampled at min(1 ms, fastest period / 64, 1/64 of a turn of the
+// heading) by complex rotation (as linear_peaks.cpp) and every sampled
 // local maximum within 5 % of the best sample is refined by safeguarded Newton steps on its
 // exact derivatives. The liquid's spin is the SpinTrack's (planar_spin.hpp), on the same
 // sub-steps. Applies when the effective gravity is constant (no vertical motion) and every mode
@@ -557,9 +559,10 @@ PlanarPeaks ExactPlanarLinear<M>::run(const PlanarDrive& drive, double rest_time
     const DrivePiece p = rest ? DrivePiece{T, T + rest_time} : pieces[k];
     const double L = p.t_end - p.t_begin;
     if (!(L > 0.0)) continue;
-    const std::size_t n = fit_steps(L, h_fit, p.harmonic_omega);
+    const std::size_t n = fit_steps(L, h_fit, p);
     const double H = L / static_cast<double>(n);
-    const std::size_t m = step_count(H, sample_step_, 1);
+    const std::size_t m =
+        step_count(H, piece_max_step(sample_step_, p.heading_rate, kSamplesPerPeriod), 1);
     bool done = false;
     for (std::size_t j = 0; j < n && !done; ++j) {
       steps_.emplace_back();

@@ -139,6 +139,15 @@ inline double oscillator_reach_over(double e, double l2, double alpha, double k,
   return best;
 }
 
+/// The longest step on drive piece p [s]: at most h_max, and steps_per_period steps per period of
+/// the law piece's harmonic and per turn of the heading at the piece's largest rate (on an arc
+/// the world-frame acceleration turns with the heading, so a fast whirl on a tiny radius forces
+/// the liquid far faster than its modes). Exactly h_max where neither bound is shorter.
+inline double drive_piece_step(double h_max, const DrivePiece& p, double steps_per_period) {
+  return piece_max_step(piece_max_step(h_max, p.harmonic_omega, steps_per_period), p.heading_rate,
+                        steps_per_period);
+}
+
 /// Relative margin of the rest window's stopping test (as nonlinear_response.cpp).
 inline constexpr double kPlanarStopMargin{1e-6};
 
@@ -171,8 +180,7 @@ PlanarPeaks integrate_planar(const Model& model, const PlanarDrive& drive, doubl
     const DrivePiece p = in_rest ? DrivePiece{T, T + rest_time} : pieces[k];
     const double L = p.t_end - p.t_begin;
     if (!(L > 0.0)) continue;
-    const double hp = piece_max_step(h_max, p.harmonic_omega, options.steps_per_period);
-    const std::size_t n = step_count(L, hp, 1);
+    const std::size_t n = step_count(L, drive_piece_step(h_max, p, options.steps_per_period), 1);
     const double h = L / static_cast<double>(n);
     auto excitation = [&](double t) { return in_rest ? at_rest : drive.excitation(k, t); };
     V f0 = rhs(x, v, excitation(p.t_begin));

@@ -23,7 +23,8 @@ PlanarSensitivity::PlanarSensitivity(const SloshingModel& model, const PlanarPat
     : model_(model),
       path_(path),
       rest_time_(rest_time),
-      h_max_(std::min(0.05, 2.0 * std::numbers::pi / model.omega1() / steps_per_period)) {}
+      h_max_(std::min(0.05, 2.0 * std::numbers::pi / model.omega1() / steps_per_period)),
+      steps_per_period_(steps_per_period) {}
 
 /// The integration of compute() (a friend: it reads the law's duals and writes the steps).
 struct PlanarSensitivityPass {
@@ -37,7 +38,8 @@ SLOSH_PLANAR_CLONES [[gnu::flatten]] void PlanarSensitivityPass::run(
   const PlanarPath& path = s.path_;
   const PlanarTangentRhs rhs{m.omega1() * m.omega1(), 2.0 * m.zeta * m.omega1(), m.C * m.C, m.alpha,
                              1.0 / m.radius};
-  const std::vector<std::size_t> counts = s.frozen_.steps(list, s.h_max_);
+  const std::vector<std::size_t> counts =
+      s.frozen_.steps(list, piece_steps(s.law_, path, list, s.h_max_, s.steps_per_period_));
   s.steps_.clear();
   s.t0_values_.clear();
   DualPair x(0.0), v(0.0);
@@ -75,7 +77,8 @@ void PlanarSensitivity::compute(const double* d, double until) {
 }
 
 void PlanarSensitivity::freeze_steps(const double* d) {
-  frozen_.freeze(law_.pieces(path_, rest_time_, dual_durations(d, false)), h_max_);
+  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, dual_durations(d, false));
+  frozen_.freeze(list, piece_steps(law_, path_, list, h_max_, steps_per_period_));
 }
 
 std::size_t PlanarSensitivity::step_at(double t) const {

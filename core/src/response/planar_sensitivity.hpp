@@ -141,6 +141,7 @@ class PlanarSensitivity final : public PathSensitivity {
   PlanarPath path_;
   double rest_time_;
   double h_max_;
+  double steps_per_period_;
   double motion_time_{};
   PathLawDuals law_;  // the law's state at each segment start (set by its pieces())
   FrozenSteps frozen_;

@@ -45,8 +45,9 @@ double fit_step(const SloshingModel& model, const PlanarOptions& options) {
   return std::min(options.max_step, 2.0 * std::numbers::pi / model.omega1() / kFitStepsPerPeriod);
 }
 
-std::size_t fit_steps(double L, double h_fit, double harmonic_omega) {
-  return step_count(L, piece_max_step(h_fit, harmonic_omega, kFitStepsPerPeriod), 1);
+std::size_t fit_steps(double L, double h_fit, const DrivePiece& p) {
+  const double h = piece_max_step(h_fit, p.heading_rate, kFitStepsPerTurn);
+  return step_count(L, piece_max_step(h, p.harmonic_omega, kFitStepsPerPeriod), 1);
 }
 
 namespace {
@@ -78,7 +79,7 @@ SpinTrack::SpinTrack(const PlanarDrive& drive, double rest_time, const SloshingM
     const DrivePiece p = rest ? DrivePiece{T, T + rest_time} : pieces[k];
     const double L = p.t_end - p.t_begin;
     if (!(L > 0.0)) continue;
-    const std::size_t n = fit_steps(L, h_fit, p.harmonic_omega);
+    const std::size_t n = fit_steps(L, h_fit, p);
     const double H = L / static_cast<double>(n);
     for (std::size_t j = 0; j < n; ++j) {
       const double t0 = p.t_begin + H * static_cast<double>(j);

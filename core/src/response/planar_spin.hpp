@@ -4,7 +4,8 @@
 //
 // The spin depends on the container's turning rate alone, not on the wave, so it is integrated
 // once per drive, ahead of the wave: on sub-steps of every drive piece (at most a quarter of the
-// first mode's period and of a law piece's harmonic, and max_step) the turning rate is
+// first mode's period and of a law piece's harmonic, an eighth of a turn of the heading, and
+// max_step) the turning rate is
 // interpolated by a degree-7 polynomial at Chebyshev nodes and the spin's equation
 // w_l' = sqrt(nu Omega) / h (theta' - w_l) is stepped by DOP853, whose dense output gives w_l on
 // the sub-step. In the rest window (theta' = 0) the equation has a closed form, interpolated on
@@ -29,6 +30,11 @@ using FitPoly = std::array<double, kFitTerms>;
 /// interpolant of content at W rad/s over H errs by ~ (W H / 2)^8 / (2^7 8!), below 1e-8 of
 /// the forcing at the first mode's frequency (and far below for the slower content of paths).
 inline constexpr double kFitStepsPerPeriod{4.0};
+/// Sub-steps per turn of the heading on an arc (DrivePiece::heading_rate) of the planar linear
+/// model's exact solution [-]: the world-frame acceleration turns with the heading, and at
+/// W H = pi / 4 its interpolant errs by ~1e-10 of the forcing (a whirl's peaks within ~5e-9 of a
+/// fine integration; 4 per turn left 3e-7).
+inline constexpr double kFitStepsPerTurn{8.0};
 
 /// Chebyshev nodes on [0, 1] and the inverse of their monomial Vandermonde matrix: the
 /// interpolating polynomial's coefficients in u are inverse * values.
@@ -56,8 +62,10 @@ inline double horner(const FitPoly& c, double u) {
 
 /// The longest fit sub-step of a model [s].
 double fit_step(const SloshingModel& model, const PlanarOptions& options);
-/// Sub-steps of a drive piece of length L carrying a harmonic of W rad/s (0: none).
-std::size_t fit_steps(double L, double h_fit, double harmonic_omega);
+/// Sub-steps of drive piece p of length L (the rest window: no harmonic, no heading rate): at
+/// most h_fit, kFitStepsPerPeriod per period of its harmonic and kFitStepsPerTurn per turn of
+/// its heading. The spin and the linear model's exact solution share them.
+std::size_t fit_steps(double L, double h_fit, const DrivePiece& p);
 
 /// The liquid's spin rate over the drive and the rest window, piecewise polynomial.
 class SpinTrack {

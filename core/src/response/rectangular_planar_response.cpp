@@ -84,7 +84,7 @@ void integrate_tank(const RectangularModel& model, const PlanarDrive& drive, dou
     const DrivePiece p = in_rest ? DrivePiece{T, T + rest_time} : pieces[k];
     const double L = p.t_end - p.t_begin;
     if (!(L > 0.0)) continue;
-    const double hp = detail::piece_max_step(h_max, p.harmonic_omega, options.steps_per_period);
+    const double hp = detail::drive_piece_step(h_max, p, options.steps_per_period);
     const std::size_t n = step_count(L, hp, 1);
     const double h = L / static_cast<double>(n);
     auto excitation = [&](double t) {
@@ -173,9 +173,13 @@ RectangularPlanarResponse::RectangularPlanarResponse(const RectangularModel& mod
   }
   // The peaks as the rectangular line responses locate theirs.
   const double step = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / fastest / kSamplesPerPeriod);
+  // In motion the waves also follow the forcing's turn with the heading (a whirl).
+  double heading_rate = 0.0;
+  for (const DrivePiece& p : drive.pieces()) heading_rate = std::max(heading_rate, p.heading_rate);
+  const double motion_step = detail::piece_max_step(step, heading_rate, kSamplesPerPeriod);
   const double T = motion_time_, end = T + rest_time;
   auto search = [&](const auto& f) -> SloshPeaks {
-    return {find_max(f, 0.0, T, step), find_max(f, T, end, step)};
+    return {find_max(f, 0.0, T, motion_step), find_max(f, T, end, step)};
   };
   auto highest = [this](double t) { return eta_highest(t); };
   auto length = [this](double t) { return std::abs(value(t, 0)) + std::abs(value(t, 1)); };

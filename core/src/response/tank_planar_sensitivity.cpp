@@ -86,6 +86,7 @@ TankPlanarSensitivity::TankPlanarSensitivity(const RectangularModel& tank, const
     throw std::invalid_argument("rectangular planar model: both directions need as many modes");
   }
   h_max_ = std::min(0.05, 2.0 * std::numbers::pi / fastest_ / steps_per_period);
+  steps_per_period_ = steps_per_period;
   peak_step_ = std::min(kMaxPeakStep, 2.0 * std::numbers::pi / fastest_ / kSamplesPerPeriod);
   const double L = tank.along_length.radius, W = tank.along_width.radius;
   if (turns_on(path) && options.spin != SpinLag::kNone) {
@@ -226,7 +227,8 @@ template <std::size_t Modes>
     return out;
   };
   const TankFrame frame(s.path_, s.frame_angle_);
-  const std::vector<std::size_t> counts = s.frozen_.steps(list, s.h_max_);
+  const std::vector<std::size_t> counts =
+      s.frozen_.steps(list, piece_steps(s.law_, s.path_, list, s.h_max_, s.steps_per_period_));
   s.steps_.clear();
   s.t0_values_.clear();
   TankState x(0.0), v(0.0);
@@ -264,7 +266,8 @@ void TankPlanarSensitivity::compute(const double* d, double until) {
 }
 
 void TankPlanarSensitivity::freeze_steps(const double* d) {
-  frozen_.freeze(law_.pieces(path_, rest_time_, dual_durations(d, false)), h_max_);
+  const std::vector<DualPiece> list = law_.pieces(path_, rest_time_, dual_durations(d, false));
+  frozen_.freeze(list, piece_steps(law_, path_, list, h_max_, steps_per_period_));
 }
 
 std::size_t TankPlanarSensitivity::step_at(double t) const {

@@ -74,6 +74,7 @@ class TankPlanarSensitivity final : public PathSensitivity {
   double rest_time_;
   RectangularPlanarModel which_;
   double h_max_{};
+  double steps_per_period_{};
   double fastest_{};
   double peak_step_{};
   double spin_gain_{};  ///< (L^2 + W^2) / (12 g) when the tank turns and spins, else 0 [s^2 m]

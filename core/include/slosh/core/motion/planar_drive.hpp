@@ -33,6 +33,10 @@ struct DrivePiece {
   std::size_t element{};
   /// Period of the law piece's harmonic term [s] (0: none): steps must resolve it too.
   double harmonic_omega{};
+  /// The largest heading rate |kappa s'| over the piece [rad/s] (0 on a line and for a sampled
+  /// trajectory): the world-frame acceleration turns at this rate on an arc, so steps must
+  /// resolve it too (a fast whirl on a tiny radius turns it far faster than any mode).
+  double heading_rate{};
 };
 
 class PlanarDrive {

@@ -21,7 +21,8 @@
 //
 // The stored responses of both models are integrated as the straight-line nonlinear model is
 // (nonlinear_response.cpp): DOP853 in equal steps on every smooth piece of the drive (never
-// across a piece boundary), steps of at most 1/steps_per_period of the fastest modelled period;
+// across a piece boundary), steps of at most 1/steps_per_period of the fastest modelled period
+// and, on an arc, of a turn of the heading (the world-frame acceleration turns with it);
 // between steps the order-7 dense output, on which the maximum over the wall is located exactly
 // on every step (the roots of its derivative). planar_linear_peaks() solves the linear model
 // exactly piece by piece instead (planar_linear_exact.cpp). The liquid's spin depends on the
