@@ -108,5 +108,17 @@ TEST(ModalTruncation, OnlyTheDrivenDirectionsAreJudged) {
             0U);
 }
 
+// A plateau of exactly 10 m/s^2 computes as 10 + 2e-15: it is at the linear model's limit, not
+// beyond it ("10.00 m/s^2 exceeds 10 m/s^2" was said); 10.01 is beyond.
+TEST(ValidityWarnings, TheLinearModelsLimitIsNotCrossedByRoundOff) {
+  const Format f = thesis_format();
+  auto unreliable = [&f](double a) {
+    return has_warning(validity_warnings(f, a, 0.01, 0.01, true, 0.001),
+                       WarningKind::kLinearModelUnreliable);
+  };
+  EXPECT_FALSE(unreliable(10.000000000000002));
+  EXPECT_TRUE(unreliable(10.01));
+}
+
 }  // namespace test_modal_truncation
 }  // namespace slosh

@@ -916,6 +916,13 @@ TEST(RectangularPlan, ATMinMetOnTheLinearStandInIsAcceptable) {
                             0),
             0U)
       << r.message;
+  // Nor is a claim made about the T above it (1.222-1.226 s fail, between the curve's points).
+  EXPECT_FALSE(r.feasible_above.has_value());
+  EXPECT_NE(r.message.find("; feasibility above T_min is not established: where the nonlinear "
+                           "model's range begins, its figures can miss the limits the linear "
+                           "ones met"),
+            std::string::npos)
+      << r.message;
   // Why: a little longer, the nonlinear model holds and its figure misses the limit.
   Format later = f;
   later.motion_time = 1.224;

@@ -161,10 +161,20 @@ void add_format_schemas(json& s) {
   json height = number_in(ranges::kContainerHeightMm,
                           "Container height (optional; used for the spill warning). Must exceed "
                           "fill_height_mm");
+  // The other shape's member given null is read as left out (a form sending every field).
+  auto only_null = [](const char* of) {
+    return json{{"type", "number"},
+                {"nullable", true},
+                {"enum", json::array({nullptr})},
+                {"description", std::string("Only null (read as left out): ") + of}};
+  };
   s["Container"] = object(
       {{"shape", string_enum({"cylinder"}, "The cylinder (the default when absent).")},
        {"radius_mm", number_in(ranges::kRadiusMm, "Inner radius R of the cylindrical container")},
-       {"height_mm", height}},
+       {"height_mm", height},
+       {"length_mm", only_null("a rectangular container's side")},
+       {"width_mm", only_null("a rectangular container's side")},
+       {"orientation_deg", only_null("a rectangular container's orientation")}},
       {"radius_mm"}, "Cylindrical container.", true);
   s["RectangularContainer"] = object(
       {{"shape", string_enum({"rectangular"}, "A rectangular container (SPEC §15).")},
@@ -176,7 +186,8 @@ void add_format_schemas(json& s) {
         with_default(number_in(ranges::kOrientationDeg,
                                "Angle of the side L to the direction of motion: 0 moves the tank "
                                "along L, 90 along W; between them both directions slosh"),
-                     0)}},
+                     0)},
+       {"radius_mm", only_null("the cylinder's radius")}},
       {"shape", "length_mm", "width_mm"},
       "Open rectangular container (cup, tray of a form-fill-seal line): each horizontal "
       "direction's modes on their own, the wall height reported the highest over its walls and "

@@ -126,7 +126,8 @@ std::vector<Warning> validity_warnings(const Format& format, double peak_abs_acc
   std::vector<Warning> w;
   const double R = format.container.radius;
   const double h = format.fill_height;
-  if (peak_abs_acceleration > kLinearModelMaxAcceleration) {
+  // Beyond the limit by more than round-off (a plateau of exactly 10 m/s^2 computes as 10 + 2e-15).
+  if (peak_abs_acceleration > kLinearModelMaxAcceleration * (1.0 + 1e-12)) {
     w.push_back(
         {WarningKind::kLinearModelUnreliable,
          "peak |acceleration| " + fixed(peak_abs_acceleration, 2) + " m/s^2 exceeds " +

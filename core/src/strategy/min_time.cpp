@@ -863,6 +863,14 @@ void extend_curve_and_report(SearchRun& run) {
     r.message +=
         "; the nonlinear model does not hold for the plan at T_min, so its linear "
         "figures stood in for the nonlinear ones there (nonlinear_model_not_valid)";
+    // Where the nonlinear model's range begins above T_min its figures can miss the limits the
+    // linear ones met, between the few T the curve plans: no claim about the T above.
+    if (r.feasible_above == true) {
+      r.feasible_above.reset();
+      r.message +=
+          "; feasibility above T_min is not established: where the nonlinear model's range "
+          "begins, its figures can miss the limits the linear ones met";
+    }
   }
   if (first_bad != nullptr) {
     r.message += "; feasibility is not monotone: T = " + sec(first_bad->motion_time) +
