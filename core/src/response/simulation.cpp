@@ -350,7 +350,7 @@ SimulationResult simulate(const Format& format, const MotionLaw& law,
   warnings.insert(warnings.end(), r.warnings.begin(), r.warnings.end());
   if (format.container.rectangular && r.rectangular) {
     for (Warning& t : modal_truncation_warnings(*format.container.rectangular, format.fill_height,
-                                                *r.rectangular, law.duration(), false)) {
+                                                *r.rectangular, law, options.rest_time)) {
       warnings.push_back(std::move(t));
     }
   }

@@ -1363,7 +1363,7 @@ std::vector<Warning> plan_warnings(const Format& format, const PlanOptions& opti
   if (!law_in_range) w.push_back({WarningKind::kNonlinearModelNotValid, std::move(out_of_range)});
   if (format.container.rectangular && r.rectangular) {
     for (Warning& t : modal_truncation_warnings(*format.container.rectangular, format.fill_height,
-                                                *r.rectangular, format.motion_time, false)) {
+                                                *r.rectangular, r.law, rest_time)) {
       w.push_back(std::move(t));
     }
   }
