@@ -726,8 +726,8 @@ TEST(RectangularPlan, MinTimeFindsATimeForTimeDomainOnTheCup) {
   ASSERT_EQ(r.status, SolveStatus::kAcceptable) << r.message;
   ASSERT_TRUE(r.t_min);
   ASSERT_TRUE(r.plan);
-  EXPECT_EQ(r.message.rfind("not optimal: the plan at T_min is not (its nonlinear figures are the "
-                            "linear model's standing in",
+  EXPECT_EQ(r.message.rfind("not optimal: the plan at T_min is not (its eta bound was met on the "
+                            "linear figures standing in for the nonlinear model",
                             0),
             0U)
       << r.message;

@@ -30,8 +30,11 @@ namespace {
 /// for others, worse_than_baseline compares the linear figures alone and auto ranks its
 /// candidates on the linear model. plan-v15: a rectangular tank's steepness warning judges each
 /// direction's wave on its own side, a fill height range reaching a fill the models do not
-/// describe is said (fill_range_beyond_models), and an acceptable plan says why.
-constexpr const char* kPlannerVersion = "plan-v15";
+/// describe is said (fill_range_beyond_models), and an acceptable plan says why. plan-v16: a
+/// bound met on a rectangular tank's linear figures standing in for its nonlinear model keeps
+/// time_domain and auto from optimal, the modal sum's convergence is said
+/// (modal_sum_not_converged), and a plan past its budget is time_limit.
+constexpr const char* kPlannerVersion = "plan-v16";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;
 /// path-v7: objective rest's runs again from the solver's nearest evaluation, and a budget that

@@ -47,8 +47,12 @@ constexpr WarningKindInfo kKinds[] = {
      "rectangular nonlinear model not valid along the ",
      "a rectangular tank: its nonlinear model is outside its theory (shallow fill, steep wave, "
      "critical depth) or diverged along a side (\"rectangular nonlinear model diverges along "
-     "the ...\"), and the linear model answers there",
-     StatusEffect::kNone, ""},
+     "the ...\"), and the linear model answers there; a law held to an eta bound on the "
+     "nonlinear model (time_domain's, auto's) met it on those figures, so its plan is not "
+     "optimal",
+     StatusEffect::kNotOptimalWhenBounded,
+     "its eta bound was met on the linear figures standing in for the nonlinear model, out of its "
+     "range for this law (nonlinear_model_not_valid)"},
     {WarningKind::kReferenceLinear, "reference_nonlinear_model_not_valid",
      "the uniform law's nonlinear figures ",
      "a rectangular tank: the uniform law (the reference of the reductions) is outside the "

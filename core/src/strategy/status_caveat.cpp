@@ -5,9 +5,11 @@ namespace slosh::detail {
 std::string optimal_caveat(const std::vector<Warning>& warnings, Strategy strategy) {
   std::string caveat;
   for (const WarningKindInfo& info : warning_kinds()) {
-    const bool applies =
-        info.effect == StatusEffect::kNotOptimal ||
-        (info.effect == StatusEffect::kNotOptimalExceptBaseline && strategy != Strategy::kBaseline);
+    const bool bounded = strategy == Strategy::kTimeDomain || strategy == Strategy::kAuto;
+    const bool applies = info.effect == StatusEffect::kNotOptimal ||
+                         (info.effect == StatusEffect::kNotOptimalExceptBaseline &&
+                          strategy != Strategy::kBaseline) ||
+                         (info.effect == StatusEffect::kNotOptimalWhenBounded && bounded);
     if (!applies || !has_warning(warnings, info.kind)) continue;
     caveat += (caveat.empty() ? "" : "; ") + std::string(info.reason);
   }

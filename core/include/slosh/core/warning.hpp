@@ -37,6 +37,9 @@ enum class StatusEffect {
   kNone,        ///< a caveat on the figures only
   kNotOptimal,  ///< for every strategy: the law's own outcome (spill, bottom uncovered)
   kNotOptimalExceptBaseline,  ///< a shaping law's promise fails; the uniform law promises none
+  /// For the strategies held to an eta bound on the nonlinear model (time_domain, auto): the
+  /// bound was met on figures that stand in for that model.
+  kNotOptimalWhenBounded,
 };
 
 /// One kind's row of the table.
