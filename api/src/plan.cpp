@@ -33,16 +33,18 @@ namespace {
 /// describe is said (fill_range_beyond_models), and an acceptable plan says why. plan-v16: a
 /// bound met on a rectangular tank's linear figures standing in for its nonlinear model keeps
 /// time_domain and auto from optimal, the modal sum's convergence is said
-/// (modal_sum_not_converged), and a plan past its budget is time_limit.
-constexpr const char* kPlannerVersion = "plan-v16";
+/// (modal_sum_not_converged), and a plan past its budget is time_limit. plan-v17: a turned
+/// tank's design over both directions is weighed against the most excited direction's own on the
+/// tank, and two first modes within 0.1 % of each other are notched double.
+constexpr const char* kPlannerVersion = "plan-v17";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;
 /// path-v7: objective rest's runs again from the solver's nearest evaluation, and a budget that
 /// ends returns only admissible laws as such; path-v8: worse_than_baseline and auto's ranking on
 /// one model, as plan-v14; path-v9: the steepness warning per direction, as plan-v15; path-v10:
 /// the spectral strategies keep a_max on the total acceleration, and the yaw warning finds the
-/// peak inside a smooth law's piece.
-constexpr const char* kPathPlannerVersion = "path-v10";
+/// peak inside a smooth law's piece; path-v11: as plan-v17.
+constexpr const char* kPathPlannerVersion = "path-v11";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;

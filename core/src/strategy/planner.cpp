@@ -432,6 +432,7 @@ void set_design(StrategyContext& c) {
   c.design_model = c.model;
   c.sample_models = {c.model};
   c.check_models = {c.model};
+  c.over_directions = false;
   if (o.uncertainty.active()) set_range(c);
   set_directions(c);
   c.band_grid = band_check_grid(c.design_model.omega1(), c.band, o.n_band);
@@ -568,6 +569,21 @@ std::optional<InvalidInput> model_refusal(const SloshingModel& model) {
                      " rad/s, zeta = " + sig3(model.zeta) + ")");
 }
 
+/// With an uncertainty range, a law swept over it: the robustness report (the plan's, when it is
+/// the returned law) and the worst case it gives, which the law is verified and judged by.
+struct RangeJudgement {
+  RobustnessReport report;
+  LawPrediction worst;
+};
+
+/// A law's verification: its prediction at the nominal model, its sweep over the uncertainty
+/// range when robust, and why the rectangular nonlinear model does not hold for it (or empty).
+struct Verification {
+  LawPrediction prediction;
+  std::optional<RangeJudgement> range;
+  std::string out_of_range;
+};
+
 /// One strategy's outcome in one shape (the optimisers' durations become their law), carrying
 /// the strategy that produced it.
 struct Outcome {
@@ -578,6 +594,8 @@ struct Outcome {
   std::optional<FilterDesign> design;
   std::string detail;
   detail::StrategyOutcome solver;  // evaluations, starts, objective, solver name
+  /// Set when the law was verified (and its status judged) while it was chosen among designs.
+  std::optional<Verification> verification;
 
   /// `law` is the 7-segment law of `durations`: the optimisers' laws are, the filters' are not.
   [[nodiscard]] bool law_of_durations() const { return !is_filter_strategy(strategy); }
@@ -640,9 +658,9 @@ LawPrediction predict_outcome(const detail::StrategyContext& c, const Outcome& o
   return predict(c.model, c.rectangular, o.law, c.options.rest_time, out_of_range);
 }
 
-/// Runs one strategy (not kAuto); `seeds` are time_domain's extra starts.
-Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
-                     const std::vector<Durations>& seeds) {
+/// One strategy's design in the context `c` (not kAuto); `seeds` are time_domain's extra starts.
+Outcome run_design(const detail::StrategyContext& c, Strategy s,
+                   const std::vector<Durations>& seeds) {
   switch (s) {
     case Strategy::kNotch:
       return from_solver(c, s, detail::solve_notch(c));
@@ -700,28 +718,6 @@ void verify(const detail::StrategyContext& c, Outcome& o, const LawPrediction& p
   }
 }
 
-/// The spectral optima, which seed the time-domain starts (SPEC §5); their outcomes are appended
-/// to `outcomes` when not null.
-std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
-                                      std::vector<Outcome>* outcomes) {
-  std::vector<Durations> seeds;
-  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
-    Outcome o = run_strategy(c, s, {});
-    if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
-      seeds.push_back(*o.durations);
-    }
-    if (outcomes != nullptr) outcomes->push_back(std::move(o));
-  }
-  return seeds;
-}
-
-/// With an uncertainty range, a law swept over it: the robustness report (the plan's, when it is
-/// the returned law) and the worst case it gives, which the law is verified and judged by.
-struct RangeJudgement {
-  RobustnessReport report;
-  LawPrediction worst;
-};
-
 std::optional<RangeJudgement> judge_over_range(const detail::StrategyContext& c,
                                                const MotionLaw& law, const LawPrediction& nominal) {
   if (!c.robust()) return std::nullopt;
@@ -743,6 +739,115 @@ std::optional<RangeJudgement> judge_over_range(const detail::StrategyContext& c,
 const LawPrediction& judged(const std::optional<RangeJudgement>& range,
                             const LawPrediction& nominal) {
   return range ? range->worst : nominal;
+}
+
+bool usable_status(SolveStatus status) {
+  return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
+         status == SolveStatus::kTimeLimit;
+}
+
+bool finite_verification(const Verification& v) {
+  return finite_prediction(v.prediction) && (!v.range || finite_prediction(v.range->worst));
+}
+
+/// The outcome's verification in the context `c` (the one made while choosing its design, when
+/// made), its status judged by it (SPEC §5 "Honest status"; a law the models cannot follow is
+/// left to its caller's refusal).
+Verification verification_of(const detail::StrategyContext& c, Outcome& o) {
+  if (o.verification) return *std::exchange(o.verification, std::nullopt);
+  Verification v;
+  v.prediction = predict_outcome(c, o, &v.out_of_range);
+  v.range = judge_over_range(c, o.law, v.prediction);
+  if (finite_verification(v)) verify(c, o, judged(v.range, v.prediction));
+  return v;
+}
+
+/// The strategies whose design takes a turned tank's second direction in (set_directions).
+bool designs_over_directions(Strategy s) {
+  switch (s) {
+    case Strategy::kNotch:
+    case Strategy::kMultiNotch:
+    case Strategy::kMinJerkBand:
+    case Strategy::kFirChain:
+    case Strategy::kShaper:
+    case Strategy::kIir:
+      return true;
+    default:
+      return false;
+  }
+}
+
+/// Whether `a` (with its verification) is a better law on the tank than `b`: usable before not,
+/// then the lower eta_rest as judged (at the nominal model, or the worst over the range).
+bool verifies_better(const Outcome& a, const Verification& va, const Outcome& b,
+                     const Verification& vb) {
+  const bool usable_a = finite_verification(va) && usable_status(a.status);
+  const bool usable_b = finite_verification(vb) && usable_status(b.status);
+  if (usable_a != usable_b) return usable_a;
+  const double rest_a = judged(va.range, va.prediction).nonlinear.rest.value;
+  const double rest_b = judged(vb.range, vb.prediction).nonlinear.rest.value;
+  return rest_a < rest_b || (std::isfinite(rest_a) && !std::isfinite(rest_b));
+}
+
+/// A design over both of a turned tank's directions against the most excited direction's own
+/// design (the axis's, set_directions left out), both verified on the tank: the better one. Where
+/// the second direction's share is small, or its mode lies where the law leaves little anyway,
+/// the design over both can be the worse law on the tank itself (min_jerk_band's band over both
+/// modes unreachable, a notch's second zero bought with a shallower first), and a plan is never
+/// worse than the simpler design it could have returned. eta_rest is continuous in the
+/// orientation for each design, and so is the lesser of the two.
+Outcome better_of_designs(const detail::StrategyContext& c, Outcome both) {
+  detail::StrategyContext axis = c;
+  axis.one_direction = true;
+  detail::set_design(axis);
+  detail::set_references(axis, c.eta_ref);
+  Outcome own = run_design(axis, both.strategy, {});
+  Verification v_both = verification_of(c, both);
+  Verification v_own = verification_of(axis, own);
+  Outcome& kept = verifies_better(own, v_own, both, v_both) ? own : both;
+  Outcome& left = &kept == &own ? both : own;
+  kept.solver.evaluations += left.solver.evaluations;
+  kept.solver.starts += left.solver.starts;
+  if (&kept == &own) {
+    const double rest_own = judged(v_own.range, v_own.prediction).nonlinear.rest.value;
+    const double rest_both = judged(v_both.range, v_both.prediction).nonlinear.rest.value;
+    kept.detail +=
+        std::string(kept.detail.empty() ? "" : "; ") + "designed for the " + c.direction_name[0] +
+        "'s first mode alone: on the tank it verifies better than the design "
+        "over both directions (the " +
+        c.direction_name[1] + "'s share " + sig3(c.direction_weight[1]) + "), eta_rest " +
+        sig3(rest_own * 1e3) + " mm against " + sig3(rest_both * 1e3) + " mm";
+  }
+  kept.verification = &kept == &own ? std::move(v_own) : std::move(v_both);
+  return std::move(kept);
+}
+
+/// `o`, designed in the plan's context, against the axis's design where the tank is turned.
+Outcome with_axis_alternative(const detail::StrategyContext& c, Outcome o) {
+  if (!c.over_directions || !designs_over_directions(o.strategy) || c.deadline.expired()) return o;
+  return better_of_designs(c, std::move(o));
+}
+
+/// Runs one strategy (not kAuto) on the plan's tank; `seeds` are time_domain's extra starts.
+Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
+                     const std::vector<Durations>& seeds) {
+  return with_axis_alternative(c, run_design(c, s, seeds));
+}
+
+/// The spectral optima, which seed the time-domain starts (SPEC §5): the designs in the plan's
+/// context (on a turned tank, over both directions: time_domain bounds both); their outcomes,
+/// each weighed against the axis's design, are appended to `outcomes` when not null.
+std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
+                                      std::vector<Outcome>* outcomes) {
+  std::vector<Durations> seeds;
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
+    Outcome o = run_design(c, s, {});
+    if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
+      seeds.push_back(*o.durations);
+    }
+    if (outcomes != nullptr) outcomes->push_back(with_axis_alternative(c, std::move(o)));
+  }
+  return seeds;
 }
 
 /// The strategy's own outcome, before the budget's verdicts on its report and its verification
@@ -775,9 +880,10 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   }
   Selection s;
   s.outcome = run_strategy(c, strategy, seeds);
-  s.prediction = predict_outcome(c, s.outcome, &s.out_of_range);
-  s.range = judge_over_range(c, s.outcome.law, s.prediction);
-  verify(c, s.outcome, judged(s.range, s.prediction));
+  Verification v = verification_of(c, s.outcome);
+  s.prediction = std::move(v.prediction);
+  s.range = std::move(v.range);
+  s.out_of_range = std::move(v.out_of_range);
   s.detail = s.outcome.detail;
   // baseline is the reference itself (when the options exclude the uniform law, its nearest
   // admissible law): it is never "worse than the baseline".
@@ -785,11 +891,6 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
     s.worse = worse_than_baseline(s.prediction, baseline, s.out_of_range.empty());
   }
   return s;
-}
-
-bool usable_status(SolveStatus status) {
-  return status == SolveStatus::kOptimal || status == SolveStatus::kAcceptable ||
-         status == SolveStatus::kTimeLimit;
 }
 
 /// Whether a candidate competes in choose_auto: usable, and not worse than the uniform law while
@@ -1148,15 +1249,15 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     PlanCandidate cand;
     cand.strategy = o.strategy;
     cand.law = o.law;
-    std::string why_linear;
-    cand.prediction = predict_outcome(c, o, &why_linear);
-    std::optional<RangeJudgement> range = judge_over_range(c, cand.law, cand.prediction);
-    if (!finite_prediction(cand.prediction) || (range && !finite_prediction(range->worst))) {
+    Verification v = verification_of(c, o);
+    if (!finite_verification(v)) {
       diverged += (diverged.empty() ? "" : ", ") + to_string(o.strategy);
       continue;
     }
+    std::string why_linear = std::move(v.out_of_range);
+    cand.prediction = std::move(v.prediction);
+    std::optional<RangeJudgement> range = std::move(v.range);
     if (range) cand.worst_case = range->worst;
-    verify(c, o, judged(range, cand.prediction));
     bounds.push_back(bound_verdict(c, o, judged(range, cand.prediction)));
     cand.status = o.status;
     cand.durations = o.durations;

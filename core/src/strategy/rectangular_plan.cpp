@@ -223,7 +223,7 @@ double direction_engagement(double share) {
 namespace detail {
 
 void set_directions(StrategyContext& c) {
-  if (c.rectangular == nullptr) return;
+  if (c.rectangular == nullptr || c.one_direction) return;
   const std::vector<DrivenDirection> directions = driven_directions(*c.rectangular);
   if (directions.size() < 2) return;
   // Both directions excited (rectangular_axis_tank has put a tank a hair off an axis onto it).

@@ -6,6 +6,8 @@
 #include <functional>
 #include <numbers>
 #include <optional>
+#include <string>
+#include <vector>
 
 #include "slosh/core/response/peak_finder.hpp"
 #include "slosh/core/response/spectrum.hpp"
@@ -315,6 +317,107 @@ StrategyOutcome deepest_notch(const StrategyContext& c, const std::vector<NotchT
 
 }  // namespace
 
+namespace {
+
+/// Two first modes closer than this (relative to their middle) are also notched double [-]: as
+/// the two close, the zeros at both force a double zero of X (flat across them) while one zero
+/// at their common frequency does not, so the law would change in kind between a square tank and
+/// one a micrometre off square. Below this span a condition that X be equal at the span's ends
+/// (weighed by the less excited direction's share times 1 - separation / span) takes over
+/// continuously; at and above it the two zeros are what they always were.
+constexpr double kDoubleNotchSpan{1e-3};
+
+/// One condition of notch: sum_j coeff_j X(omega_j), its Re and Im held to kNotchDepth X_ref.
+struct NotchCondition {
+  std::vector<double> omegas;
+  std::vector<double> coeffs;
+};
+
+/// The double notch of two targets closer than kDoubleNotchSpan, or nothing.
+std::optional<NotchCondition> double_notch(const std::vector<NotchTarget>& targets) {
+  if (targets.size() != 2) return std::nullopt;
+  const double middle = 0.5 * (targets[0].omega + targets[1].omega);
+  const double span = kDoubleNotchSpan * middle;
+  const double gap = std::abs(targets[1].omega - targets[0].omega);
+  const double weight = std::min(targets[0].weight, targets[1].weight) * (1.0 - gap / span);
+  if (!(weight > 0.0)) return std::nullopt;
+  return NotchCondition{{middle - 0.5 * span, middle + 0.5 * span}, {-weight, weight}};
+}
+
+std::vector<NotchCondition> notch_conditions(const std::vector<NotchTarget>& targets) {
+  std::vector<NotchCondition> out;
+  for (const NotchTarget& t : targets) out.push_back({{t.omega}, {t.weight}});
+  if (std::optional<NotchCondition> d = double_notch(targets)) out.push_back(std::move(*d));
+  return out;
+}
+
+/// X and its gradient at the conditions' frequencies for the durations `of`: SLSQP evaluates an
+/// accepted line-search point twice (without, then with the Jacobian), the second call reuses
+/// the first's.
+struct ConditionSpectra {
+  std::optional<Durations> of;
+  std::vector<std::vector<SpectrumGradient>> at;
+};
+
+/// The 4 rows per condition (+-Re, +-Im of its sum minus kNotchDepth, relative to X_ref) and
+/// their Jacobian when `jac` is not null.
+void notch_rows(const std::vector<NotchCondition>& conditions, double stroke, double inv,
+                ConditionSpectra& cache, const double* x, double* g, double* jac) {
+  Durations d;
+  std::copy(x, x + kSegments, d.begin());
+  if (cache.of != d) {
+    cache.at.resize(conditions.size());
+    for (std::size_t k = 0; k < conditions.size(); ++k) {
+      cache.at[k].clear();
+      for (double w : conditions[k].omegas) cache.at[k].push_back(spectrum_gradient(d, stroke, w));
+    }
+    cache.of = d;
+  }
+  for (std::size_t k = 0; k < conditions.size(); ++k) {
+    SpectrumGradient sum{};
+    for (std::size_t j = 0; j < conditions[k].omegas.size(); ++j) {
+      const double scale = conditions[k].coeffs[j] * inv;
+      const SpectrumGradient& sg = cache.at[k][j];
+      sum.X += sg.X * scale;
+      for (std::size_t i = 0; i < kSegments; ++i) sum.dX[i] += sg.dX[i] * scale;
+    }
+    double* gk = g + 4 * k;
+    gk[0] = sum.X.real() - kNotchDepth;
+    gk[1] = -sum.X.real() - kNotchDepth;
+    gk[2] = sum.X.imag() - kNotchDepth;
+    gk[3] = -sum.X.imag() - kNotchDepth;
+    if (jac == nullptr) continue;
+    double* jk = jac + 4 * k * kSegments;
+    for (std::size_t i = 0; i < kSegments; ++i) {
+      jk[0 * kSegments + i] = sum.dX[i].real();
+      jk[1 * kSegments + i] = -sum.dX[i].real();
+      jk[2 * kSegments + i] = sum.dX[i].imag();
+      jk[3 * kSegments + i] = -sum.dX[i].imag();
+    }
+  }
+}
+
+std::string exact_notch_sentence(const std::vector<NotchTarget>& targets, double jerk_share) {
+  std::string out =
+      targets.size() == 1
+          ? std::string(
+                "exact notch at f1 (|Re X(w1)|, |Im X(w1)| <= 1e-6 of X_ref, so |X(w1)| "
+                "<= 1.42e-6 of X_ref)")
+          : "exact notches at " + notch_list(targets) +
+                " (for each, |Re X|, |Im X| times its share of the residual wave <= 1e-6 of "
+                "X_ref)";
+  if (double_notch(targets)) {
+    out +=
+        ", made double as the two lie within 0.1 % of each other (X held equal at 0.05 % on "
+        "either side of their middle, weighed by the lesser share), so that the law does not "
+        "jump as the tank's sides become equal";
+  }
+  return out + ", the one with the least jerk integral among the zeros (" + percent(jerk_share) +
+         " of the uniform law's)";
+}
+
+}  // namespace
+
 StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   const std::vector<NotchTarget> targets = notch_targets(c);
   // Among the exact zeros of X at every target (a 4-dimensional manifold of the 6 free durations
@@ -327,57 +430,19 @@ StrategyOutcome solve_notch(const StrategyContext& c, StartUse uses) {
   p.objective = [&c](const double* x, double* grad) { return jerk_objective(x, grad, c); };
   const double stroke = c.format.stroke;
   const double inv = 1.0 / c.x_ref;
-  const int rows = 4 * static_cast<int>(targets.size());
-  // X and its gradient at the targets for the durations `of`: SLSQP evaluates an accepted
-  // line-search point twice (without, then with the Jacobian), the second call reuses the first's.
-  struct TargetSpectra {
-    std::optional<Durations> of;
-    std::vector<SpectrumGradient> at;
-  } spectra;
-  TargetSpectra* cache = &spectra;
-  add_limits(p, c, rows, [stroke, targets, inv, cache](const double* x, double* g, double* jac) {
-    Durations d;
-    std::copy(x, x + kSegments, d.begin());
-    if (cache->of != d) {
-      cache->at.resize(targets.size());
-      for (std::size_t t = 0; t < targets.size(); ++t) {
-        cache->at[t] = spectrum_gradient(d, stroke, targets[t].omega);
-      }
-      cache->of = d;
-    }
-    for (std::size_t t = 0; t < targets.size(); ++t) {
-      const double scale = targets[t].weight * inv;
-      const SpectrumGradient& sg = cache->at[t];
-      const double re = sg.X.real() * scale, im = sg.X.imag() * scale;
-      double* gt = g + 4 * t;
-      gt[0] = re - kNotchDepth;
-      gt[1] = -re - kNotchDepth;
-      gt[2] = im - kNotchDepth;
-      gt[3] = -im - kNotchDepth;
-      if (jac != nullptr) {
-        double* jt = jac + 4 * t * kSegments;
-        for (std::size_t i = 0; i < kSegments; ++i) {
-          jt[0 * kSegments + i] = sg.dX[i].real() * scale;
-          jt[1 * kSegments + i] = -sg.dX[i].real() * scale;
-          jt[2 * kSegments + i] = sg.dX[i].imag() * scale;
-          jt[3 * kSegments + i] = -sg.dX[i].imag() * scale;
-        }
-      }
-    }
-  });
+  const std::vector<NotchCondition> conditions = notch_conditions(targets);
+  const int rows = 4 * static_cast<int>(conditions.size());
+  ConditionSpectra spectra;
+  add_limits(p, c, rows,
+             [&conditions, stroke, inv, cache = &spectra](const double* x, double* g, double* jac) {
+               notch_rows(conditions, stroke, inv, *cache, x, g, jac);
+             });
   MultiStartResult m = multi_start(p, as_vectors(c.space.starts(kSpectralRandomStarts)), c,
                                    spectral_options(), notch_policy(c, uses));
   if (m.feasible) {
     StrategyOutcome o = outcome_from(m, c);
     const std::string stopped = o.detail;
-    o.detail = (targets.size() == 1
-                    ? std::string("exact notch at f1 (|Re X(w1)|, |Im X(w1)| <= 1e-6 of X_ref, so "
-                                  "|X(w1)| <= 1.42e-6 of X_ref)")
-                    : "exact notches at " + notch_list(targets) +
-                          " (for each, |Re X|, |Im X| times its share of the residual wave <= "
-                          "1e-6 of X_ref)") +
-               ", the one with the least jerk integral among the zeros (" + percent(o.objective) +
-               " of the uniform law's)";
+    o.detail = exact_notch_sentence(targets, o.objective);
     if (!stopped.empty()) o.detail = stopped + "; " + o.detail;
     return o;
   }

@@ -95,6 +95,9 @@ struct StrategyContext {
   /// direction's by direction_engagement), serves min_jerk_band's band and the filters under an
   /// uncertainty range only.
   bool over_directions{false};
+  /// Set before set_design: a turned tank's design for its most excited direction alone (as on
+  /// the axis), which plan() weighs against the design over both directions on the tank.
+  bool one_direction{false};
   /// With over_directions: the two directions' first-mode frequencies [rad/s] and damping ratios
   /// [-], the most excited direction first (the shaper cancels each).
   std::array<double, 2> direction_omega{};
