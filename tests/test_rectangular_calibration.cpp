@@ -289,9 +289,10 @@ TEST(RectangularCalibration, ARunAlongOneSideFitsThatSideAndSaysTheOtherIsUnmeas
             "measure it");
 }
 
-TEST(RectangularCalibration, PeaksOfOneSquareDiagonalMoveCannotSeparateTheDirections) {
+TEST(RectangularCalibration, PeaksOfOneSquareDiagonalMoveFitTheDirectionsTied) {
   // A square tank at 45 degrees: both directions are the same oscillator, driven alike, and
-  // their peaks say nothing about which is which.
+  // their peaks say nothing about which is which (the fit apart is singular in their split). They
+  // were refused; the fit with the directions tied is what the peaks do measure.
   Format f = cup();
   f.container.rectangular = RectangularTank{0.1, 0.1, 0.0};
   RectangularMeasuredMove m;
@@ -301,14 +302,116 @@ TEST(RectangularCalibration, PeaksOfOneSquareDiagonalMoveCannotSeparateTheDirect
   CalibrationSettings settings;
   settings.parameters[1].fit = false;  // zeta held: only the two frequency scales and the gain
   const RectangularCalibrationResult fit = calibrate_rectangular(f, {}, {m}, settings);
-  EXPECT_EQ(fit.status, CalibrationStatus::kFailed);
-  EXPECT_EQ(fit.refused,
-            "the length's omega_scale and the width's omega_scale cannot be separated by these "
-            "moves (J^T J is singular in that direction): add a move along the length "
-            "(orientation 0 or 180 degrees) and one along the width (90 or -90 degrees), or a "
-            "measured series of a turned move, whose two frequencies tell the directions apart");
-  EXPECT_EQ(fit.length.omega_scale.value, fit.length.omega_scale.prior);
-  EXPECT_EQ(fit.width.omega_scale.value, fit.width.omega_scale.prior);
+  EXPECT_EQ(fit.status, CalibrationStatus::kConverged);
+  EXPECT_EQ(fit.refused, "");
+  ASSERT_EQ(fit.notes.size(), 1u);
+  EXPECT_EQ(fit.notes[0],
+            "the moves do not tell the directions apart (the length's omega_scale and the "
+            "width's omega_scale cannot be separated by these moves (J^T J is singular in that "
+            "direction)): fitted with their omega scales tied, each pair one factor of its "
+            "priors; a move along the length (orientation 0 or 180 degrees) and one along the "
+            "width (90 or -90 degrees) would measure each direction on its own");
+  EXPECT_EQ(fit.length.omega_scale.value, fit.width.omega_scale.value);
+  EXPECT_NE(fit.length.omega_scale.value, fit.length.omega_scale.prior);
+  ASSERT_TRUE(fit.length.omega_scale.standard_error && fit.width.omega_scale.standard_error);
+  EXPECT_EQ(*fit.length.omega_scale.standard_error, *fit.width.omega_scale.standard_error);
+  // The tied tank simulated: two parameters (the common scale, the gain) for two peaks, met.
+  ModelOptions fitted;
+  fitted.omega_scale = fit.length.omega_scale.value;
+  fitted.width_omega_scale = fit.width.omega_scale.value;
+  fitted.height_gain = fit.height_gain.value;
+  Format turned = f;
+  turned.container.rectangular->orientation_deg = 45.0;
+  SimulationOptions o;
+  o.model = fitted;
+  const SimulationResult sim = simulate(turned, m.move.law, o);
+  EXPECT_NEAR(sim.nonlinear.motion.value, 12e-3, 1e-3 * 12e-3);
+  EXPECT_NEAR(sim.nonlinear.rest.value, 4e-3, 1e-3 * 4e-3);
+}
+
+// An 80 x `width_mm` mm tank of 35 mm of water at 30 degrees, 60 mm in 1 s: the series of a
+// tank whose two directions share one truth (scales 0.95, zeta 0.012), plus seeded uniform noise
+// of +-`noise` of its peak.
+RectangularMeasuredMove noisy_square_move(double width_mm, double noise, std::uint32_t seed,
+                                          Format* format) {
+  Format f = cup();
+  f.container.rectangular = RectangularTank{0.08, width_mm * 1e-3, 0.0};
+  f.container.height.reset();
+  f.fill_height = 0.035;
+  f.stroke = 0.06;
+  *format = f;
+  Truth truth;
+  truth.omega_l = truth.omega_w = 0.95;
+  truth.zeta_l = truth.zeta_w = 0.012;
+  truth.gain = 1.0;
+  RectangularMeasuredMove m = series_move(f, 30.0, make_modified_trapezoid_law(0.06, 1.0), truth);
+  double peak = 0.0;
+  for (double e : m.move.series->eta) peak = std::max(peak, std::abs(e));
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(-noise, noise);
+  for (double& e : m.move.series->eta) e += u(rng) * peak;
+  return m;
+}
+
+TEST(RectangularCalibration, ANearlySquareTankIsFittedWithItsDirectionsTied) {
+  // 80 x 81 mm: the two first modes 0.6 % apart. Fitted apart from the priors, the search
+  // wandered to a width's scale of 0.66 and ended at max_iterations with sigma 20 times the
+  // noise; from the fit with the directions tied it recovers the truth, and the split, which the
+  // noise explains, is not kept.
+  Format f;
+  const RectangularMeasuredMove clean = noisy_square_move(81.0, 0.0, 1, &f);
+  const RectangularCalibrationResult exact = calibrate_rectangular(f, {}, {clean}, {});
+  EXPECT_EQ(exact.status, CalibrationStatus::kConverged);
+  expect_relative(exact.length.omega_scale, 0.95, 1e-6, "length omega_scale");
+  expect_relative(exact.width.omega_scale, 0.95, 1e-6, "width omega_scale");
+  expect_relative(exact.length.zeta, 0.012, 1e-5, "length zeta");
+  expect_relative(exact.width.zeta, 0.012, 1e-5, "width zeta");
+  // +-1 % noise on an exactly square tank (80 x 80 mm): fitted apart, zeta came out 4 to 5
+  // standard errors off (0.0087 and 0.0187 for 0.012), the errors linearised where the split is
+  // barely determined. Tied, each seed's zeta is within 3.5 standard errors of the truth.
+  int tied = 0;
+  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+    const RectangularMeasuredMove m = noisy_square_move(80.0, 0.01, seed, &f);
+    const RectangularCalibrationResult fit = calibrate_rectangular(f, {}, {m}, {});
+    ASSERT_EQ(fit.status, CalibrationStatus::kConverged) << seed;
+    if (fit.notes.empty()) continue;  // the split significant at 5 %: once in 20 by chance
+    ++tied;
+    EXPECT_TRUE(fit.notes[0].starts_with(
+        "the moves do not tell the directions apart (fitted apart, they lower the residuals' sum "
+        "of squares by "))
+        << fit.notes[0];
+    EXPECT_NE(fit.notes[0].find("): fitted with their omega scales and zetas tied, each pair "
+                                "one factor of its priors; a move along the length"),
+              std::string::npos)
+        << fit.notes[0];
+    EXPECT_EQ(fit.length.zeta.value, fit.width.zeta.value);
+    for (const FittedParameter* p : {&fit.length.zeta, &fit.width.zeta}) {
+      ASSERT_TRUE(p->standard_error.has_value());
+      EXPECT_LT(std::abs(p->value - 0.012), 3.5 * *p->standard_error) << seed;
+    }
+    EXPECT_LT(std::abs(fit.length.omega_scale.value - 0.95),
+              3.5 * *fit.length.omega_scale.standard_error)
+        << seed;
+  }
+  EXPECT_GE(tied, 5);
+}
+
+TEST(RectangularCalibration, DistinctDirectionsStayApartUnderNoise) {
+  // The README's cup (2.3 and 2.9 Hz) with +-1 % noise: its two directions' different truths are
+  // a split far beyond the noise, kept.
+  const Truth truth;
+  RectangularMeasuredMove m =
+      series_move(cup(), 30.0, make_modified_trapezoid_law(0.2, 1.0), truth);
+  double peak = 0.0;
+  for (double e : m.move.series->eta) peak = std::max(peak, std::abs(e));
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-0.01, 0.01);
+  for (double& e : m.move.series->eta) e += u(rng) * peak;
+  const RectangularCalibrationResult fit = calibrate_rectangular(cup(30.0), {}, {m}, {});
+  EXPECT_EQ(fit.status, CalibrationStatus::kConverged);
+  EXPECT_TRUE(fit.notes.empty()) << fit.notes.front();
+  EXPECT_LT(std::abs(fit.width.omega_scale.value - truth.omega_w), 0.01);
+  EXPECT_LT(std::abs(fit.length.omega_scale.value - truth.omega_l), 0.01);
 }
 
 }  // namespace test_rectangular_calibration
