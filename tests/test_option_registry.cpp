@@ -38,8 +38,8 @@ json request(const std::string& rest = "") {
 // slosh version added: the digest of the canonical recipe without "slosh_version" is
 // still the key of commit 3f8474d, and the key is the digest of it with "slosh_version":
 // kVersion. The planner version in the recipe is "plan-v17" since a turned tank's design over
-// both directions is weighed against the most excited direction's own and two first modes within
-// 0.1 % of each other are notched double; "plan-v16" was since a bound met on a rectangular
+// both directions that is not usable gives way to a direction's own design and two first modes
+// within 0.1 % of each other are notched double; "plan-v16" was since a bound met on a rectangular
 // tank's linear figures standing in keeps time_domain and auto from optimal, the modal sum's
 // convergence is said and a plan past its budget is time_limit; "plan-v15" was since a
 // rectangular tank's steepness warning judges each direction on its own side, a fill height range

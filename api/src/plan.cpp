@@ -34,8 +34,9 @@ namespace {
 /// bound met on a rectangular tank's linear figures standing in for its nonlinear model keeps
 /// time_domain and auto from optimal, the modal sum's convergence is said
 /// (modal_sum_not_converged), and a plan past its budget is time_limit. plan-v17: a turned
-/// tank's design over both directions is weighed against the most excited direction's own on the
-/// tank, and two first modes within 0.1 % of each other are notched double.
+/// tank's design over both directions that is not usable, or sloshes more than the uniform law,
+/// gives way to a direction's own design that is neither, and two first modes within 0.1 % of
+/// each other are notched double.
 constexpr const char* kPlannerVersion = "plan-v17";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;

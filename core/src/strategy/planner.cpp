@@ -777,75 +777,148 @@ bool designs_over_directions(Strategy s) {
   }
 }
 
-/// Whether `a` (with its verification) is a better law on the tank than `b`: usable before not,
-/// then the lower eta_rest as judged (at the nominal model, or the worst over the range).
-bool verifies_better(const Outcome& a, const Verification& va, const Outcome& b,
-                     const Verification& vb) {
-  const bool usable_a = finite_verification(va) && usable_status(a.status);
-  const bool usable_b = finite_verification(vb) && usable_status(b.status);
-  if (usable_a != usable_b) return usable_a;
-  const double rest_a = judged(va.range, va.prediction).nonlinear.rest.value;
-  const double rest_b = judged(vb.range, vb.prediction).nonlinear.rest.value;
-  return rest_a < rest_b || (std::isfinite(rest_a) && !std::isfinite(rest_b));
-}
-
-/// A design over both of a turned tank's directions against the most excited direction's own
-/// design (the axis's, set_directions left out), both verified on the tank: the better one. Where
-/// the second direction's share is small, or its mode lies where the law leaves little anyway,
-/// the design over both can be the worse law on the tank itself (min_jerk_band's band over both
-/// modes unreachable, a notch's second zero bought with a shallower first), and a plan is never
-/// worse than the simpler design it could have returned. eta_rest is continuous in the
-/// orientation for each design, and so is the lesser of the two.
-Outcome better_of_designs(const detail::StrategyContext& c, Outcome both) {
-  detail::StrategyContext axis = c;
-  axis.one_direction = true;
-  detail::set_design(axis);
-  detail::set_references(axis, c.eta_ref);
-  Outcome own = run_design(axis, both.strategy, {});
-  Verification v_both = verification_of(c, both);
-  Verification v_own = verification_of(axis, own);
-  Outcome& kept = verifies_better(own, v_own, both, v_both) ? own : both;
-  Outcome& left = &kept == &own ? both : own;
-  kept.solver.evaluations += left.solver.evaluations;
-  kept.solver.starts += left.solver.starts;
-  if (&kept == &own) {
-    const double rest_own = judged(v_own.range, v_own.prediction).nonlinear.rest.value;
-    const double rest_both = judged(v_both.range, v_both.prediction).nonlinear.rest.value;
-    kept.detail +=
-        std::string(kept.detail.empty() ? "" : "; ") + "designed for the " + c.direction_name[0] +
-        "'s first mode alone: on the tank it verifies better than the design "
-        "over both directions (the " +
-        c.direction_name[1] + "'s share " + sig3(c.direction_weight[1]) + "), eta_rest " +
-        sig3(rest_own * 1e3) + " mm against " + sig3(rest_both * 1e3) + " mm";
+/// One design of a strategy on a turned tank: its outcome and verification, the direction it was
+/// designed for alone (null: over both) and its rank, lower better: 0 usable and not worse than
+/// the uniform law, 1 usable but worse, 2 not usable (a design the budget cut included).
+struct Design {
+  Outcome outcome;
+  Verification verification;
+  const char* alone{nullptr};
+  int rank{2};
+  [[nodiscard]] double rest() const {
+    return judged(verification.range, verification.prediction).nonlinear.rest.value;
   }
-  kept.verification = &kept == &own ? std::move(v_own) : std::move(v_both);
-  return std::move(kept);
+};
+
+Design ranked(Outcome o, Verification v, const char* alone, const GuardReference& guard) {
+  Design d{std::move(o), std::move(v), alone, 2};
+  // A design the budget cut is not a design of this strategy to prefer.
+  const SolveStatus st = d.outcome.status;
+  if (finite_verification(d.verification) &&
+      (st == SolveStatus::kOptimal || st == SolveStatus::kAcceptable)) {
+    const bool worse =
+        !worse_than_baseline(d.verification.prediction, guard, d.verification.out_of_range.empty())
+             .empty();
+    d.rank = worse ? 1 : 0;
+  }
+  return d;
 }
 
-/// `o`, designed in the plan's context, against the axis's design where the tank is turned.
-Outcome with_axis_alternative(const detail::StrategyContext& c, Outcome o) {
+bool ranks_before(const Design& a, const Design& b) {
+  if (a.rank != b.rank) return a.rank < b.rank;
+  return a.rest() < b.rest() || (std::isfinite(a.rest()) && !std::isfinite(b.rest()));
+}
+
+/// The design for `direction` alone: the law the strategy gives on that direction's axis (the
+/// context of `c` with that direction's model and set_directions left out), verified on the tank.
+Design own_design(const detail::StrategyContext& c, Strategy s, const DrivenDirection& direction,
+                  const GuardReference& guard) {
+  detail::StrategyContext own{c.format, c.options, direction.model, c.space, c.deadline};
+  own.rectangular = c.rectangular;
+  own.uniform_prediction = c.uniform_prediction;
+  own.uniform_out_of_range = c.uniform_out_of_range;
+  own.one_direction = true;
+  detail::set_design(own);
+  detail::set_references(own, c.eta_ref);
+  Outcome o = run_design(own, s, {});
+  Verification v = verification_of(own, o);
+  return ranked(std::move(o), std::move(v),
+                direction.axis == TankAxis::kLength ? "length" : "width", guard);
+}
+
+/// Why `own`, designed for one direction alone, is the plan's law rather than `both`.
+std::string why_alone(const Design& own, const Design& both) {
+  const std::string head = std::string("designed for the ") + own.alone +
+                           "'s first mode alone (the law this strategy gives along the " +
+                           own.alone + "): ";
+  if (both.rank == 2 && own.rank < 2) {
+    // Why: an optimiser's detail is its violation; a filter's ends with it.
+    const std::string& d = both.outcome.detail;
+    const std::size_t last = d.rfind("; ");
+    const std::string why = is_filter_strategy(both.outcome.strategy)
+                                ? (last == std::string::npos ? d : d.substr(last + 2))
+                                : d.substr(0, d.find("; "));
+    return head + "the design over both directions is " + to_string(both.outcome.status) +
+           " on the tank" + (why.empty() ? "" : " (" + why + ")");
+  }
+  if (both.rank == 1 && own.rank == 0) {
+    return head + "the design over both directions sloshes more than the uniform law on the tank";
+  }
+  return head + "on the tank it rests at " + sig3(own.rest() * 1e3) + " mm, the design over " +
+         "both directions at " + sig3(both.rest() * 1e3) + " mm";
+}
+
+/// A design over both of a turned tank's directions that is not usable on the tank (its own
+/// criterion missed: min_jerk_band's band over both modes out of reach where each mode's own is
+/// not), or sloshes more than the uniform law there, against each direction's own design (the
+/// law the strategy gives on that axis), all verified on the tank: the best by rank, then the
+/// lower eta_rest as judged (nominal, or the worst over the range). A usable design over both
+/// stands: it is the strategy's design for the turned tank, and it moves continuously with the
+/// orientation; the choice among designs is made only where its status changes anyway. Both
+/// directions' own designs are weighed, not only the most excited one's: which direction that is
+/// changes at an orientation (atan(L / W) for the static wall heights), and the choice would
+/// jump there.
+Outcome best_of_designs(const detail::StrategyContext& c, Outcome both,
+                        const GuardReference& guard) {
+  const Strategy s = both.strategy;
+  Verification v = verification_of(c, both);
+  std::vector<Design> designs;
+  designs.push_back(ranked(std::move(both), std::move(v), nullptr, guard));
+  if (designs.front().rank == 0) {
+    designs.front().outcome.verification = std::move(designs.front().verification);
+    return std::move(designs.front().outcome);
+  }
+  const std::vector<DrivenDirection> directions = driven_directions(*c.rectangular);
+  for (const DrivenDirection& d : directions) {
+    if (c.deadline.expired()) break;
+    designs.push_back(own_design(c, s, d, guard));
+  }
+  // Only a proper plan replaces the design over both: a direction's own design that is usable
+  // and no worse than the uniform law (where none is, the design over both stays, and with it
+  // the plan's continuity with the orientation).
+  std::size_t best = 0;
+  for (std::size_t k = 1; k < designs.size(); ++k) {
+    if (designs[k].rank == 0 && ranks_before(designs[k], designs[best])) best = k;
+  }
+  Design& kept = designs[best];
+  for (std::size_t k = 0; k < designs.size(); ++k) {
+    if (k == best) continue;
+    kept.outcome.solver.evaluations += designs[k].outcome.solver.evaluations;
+    kept.outcome.solver.starts += designs[k].outcome.solver.starts;
+  }
+  if (kept.alone != nullptr) {
+    const std::string& d = kept.outcome.detail;
+    kept.outcome.detail = (d.empty() ? "" : d + "; ") + why_alone(kept, designs.front());
+  }
+  kept.outcome.verification = std::move(kept.verification);
+  return std::move(kept.outcome);
+}
+
+/// `o`, designed in the plan's context, against each direction's own design where the tank is
+/// turned (not once the budget is spent).
+Outcome with_own_designs(const detail::StrategyContext& c, Outcome o, const GuardReference& guard) {
   if (!c.over_directions || !designs_over_directions(o.strategy) || c.deadline.expired()) return o;
-  return better_of_designs(c, std::move(o));
+  return best_of_designs(c, std::move(o), guard);
 }
 
 /// Runs one strategy (not kAuto) on the plan's tank; `seeds` are time_domain's extra starts.
 Outcome run_strategy(const detail::StrategyContext& c, Strategy s,
-                     const std::vector<Durations>& seeds) {
-  return with_axis_alternative(c, run_design(c, s, seeds));
+                     const std::vector<Durations>& seeds, const GuardReference& guard) {
+  return with_own_designs(c, run_design(c, s, seeds), guard);
 }
 
 /// The spectral optima, which seed the time-domain starts (SPEC §5): the designs in the plan's
 /// context (on a turned tank, over both directions: time_domain bounds both); their outcomes,
 /// each weighed against the axis's design, are appended to `outcomes` when not null.
 std::vector<Durations> spectral_seeds(const detail::StrategyContext& c,
-                                      std::vector<Outcome>* outcomes) {
+                                      std::vector<Outcome>* outcomes, const GuardReference& guard) {
   std::vector<Durations> seeds;
   for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch, Strategy::kMinJerkBand}) {
     Outcome o = run_design(c, s, {});
     if (o.status == SolveStatus::kOptimal || o.status == SolveStatus::kAcceptable) {
       seeds.push_back(*o.durations);
     }
-    if (outcomes != nullptr) outcomes->push_back(with_axis_alternative(c, std::move(o)));
+    if (outcomes != nullptr) outcomes->push_back(with_own_designs(c, std::move(o), guard));
   }
   return seeds;
 }
@@ -876,10 +949,10 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
   std::vector<Durations> seeds;
   // A warm start replaces the multi-start, the spectral seeds included (continuation).
   if (strategy == Strategy::kTimeDomain && !c.options.warm_start) {
-    seeds = spectral_seeds(c, nullptr);
+    seeds = spectral_seeds(c, nullptr, baseline);
   }
   Selection s;
-  s.outcome = run_strategy(c, strategy, seeds);
+  s.outcome = run_strategy(c, strategy, seeds, baseline);
   Verification v = verification_of(c, s.outcome);
   s.prediction = std::move(v.prediction);
   s.range = std::move(v.range);
@@ -1213,21 +1286,21 @@ std::vector<bool> in_range_of(const std::vector<std::string>& out_of_range) {
 /// kAuto: every strategy but iir, verified, into `candidates`; the one choose_auto picks.
 /// auto's candidates solved: every strategy but iir (the shaper's general law not for a
 /// MC_MoveAbsolute block), baseline first.
-std::vector<Outcome> auto_outcomes(const detail::StrategyContext& c) {
+std::vector<Outcome> auto_outcomes(const detail::StrategyContext& c, const GuardReference& guard) {
   std::vector<Outcome> outcomes;
-  outcomes.push_back(run_strategy(c, Strategy::kBaseline, {}));
-  const std::vector<Durations> seeds = spectral_seeds(c, &outcomes);
-  outcomes.push_back(run_strategy(c, Strategy::kTimeDomain, seeds));
-  outcomes.push_back(run_strategy(c, Strategy::kFirChain, {}));
+  outcomes.push_back(run_strategy(c, Strategy::kBaseline, {}, guard));
+  const std::vector<Durations> seeds = spectral_seeds(c, &outcomes, guard);
+  outcomes.push_back(run_strategy(c, Strategy::kTimeDomain, seeds, guard));
+  outcomes.push_back(run_strategy(c, Strategy::kFirChain, {}, guard));
   if (c.options.drive_profile != DriveProfile::kMoveAbsolute) {
-    outcomes.push_back(run_strategy(c, Strategy::kShaper, {}));
+    outcomes.push_back(run_strategy(c, Strategy::kShaper, {}, guard));
   }
   return outcomes;
 }
 
 Selection run_auto(const detail::StrategyContext& c, const GuardReference& baseline,
                    std::vector<PlanCandidate>& candidates) {
-  std::vector<Outcome> outcomes = auto_outcomes(c);
+  std::vector<Outcome> outcomes = auto_outcomes(c, baseline);
   int evaluations = 0, starts = 0;
   std::vector<bool> worse;           // candidate k carries a worse_than_baseline warning
   std::vector<BoundVerdict> bounds;  // and how it stands against the eta bound
