@@ -90,6 +90,34 @@ void add_moving_end_warnings(const SpatialMotion& motion, std::vector<Warning>& 
   }
 }
 
+/// The clock the answer's times are on [s]: a trajectory's own, whose first sample is at t_s[0]
+/// (a log cut out of a run at 0.5 s, or stamped with the machine's clock at 1e6 s), so that its
+/// peaks, its series and its warnings name the same instants as its samples; 0 for a law along a
+/// line, an arc or a path, which starts at 0.
+double time_origin(const SpatialMotion& motion) {
+  return motion.trajectory ? motion.trajectory->start_time() : 0.0;
+}
+
+/// Puts the answer's times, computed from the motion's start, on the clock of time_origin: the
+/// peaks' t_motion_s and t_rest_s (each model's and each direction's of a rectangular tank) and
+/// the series' t_s. Nothing changes for an origin of 0 (a law's answer stays as it was).
+void to_motion_clock(nlohmann::json& out, double origin) {
+  if (origin == 0.0) return;
+  auto shift = [origin](nlohmann::json& peaks) {
+    for (const char* key : {"t_motion_s", "t_rest_s"}) {
+      if (peaks.contains(key)) peaks[key] = peaks[key].get<double>() + origin;
+    }
+  };
+  nlohmann::json& prediction = out["prediction"];
+  for (const char* model : {"nonlinear", "linear"}) shift(prediction[model]);
+  if (prediction.contains("directions")) {
+    for (auto& [name, peaks] : prediction["directions"].items()) shift(peaks);
+  }
+  if (out.contains("series")) {
+    for (nlohmann::json& t : out["series"]["t_s"]) t = t.get<double>() + origin;
+  }
+}
+
 /// The answer's warnings and, one per entry in their order, their kinds' codes.
 void put_warnings(const std::vector<Warning>& warnings, nlohmann::json& out) {
   out["warnings"] = warning_texts(warnings);
@@ -224,6 +252,7 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
   if (!yaw.empty()) warnings.push_back({WarningKind::kYawModesNotModelled, yaw});
   add_moving_end_warnings(motion, warnings);
   put_warnings(warnings, out);
+  to_motion_clock(out, time_origin(motion));
   require_finite(out);
   return out;
 }
@@ -313,6 +342,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
                         linear.motion.value, nonlinear.motion.value, true, linear.rest.value);
   add_moving_end_warnings(motion, warnings);
   put_warnings(warnings, out);
+  to_motion_clock(out, time_origin(motion));
   require_finite(out);
   return out;
 }

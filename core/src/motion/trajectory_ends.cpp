@@ -45,9 +45,9 @@ std::vector<std::string> moving_end_warnings(const SampledTrajectory& trajectory
         last ? "t_s[" + std::to_string(trajectory.size() - 1) + "]" : std::string("t_s[0]");
     std::string w = std::string("the trajectory ") + (last ? "ends" : "starts") +
                     " moving: at its " + (last ? "last" : "first") + " sample (" + sample + " = " +
-                    detail::significant(t, 6) + " s) the container moves at " +
-                    detail::sig3(speed * 1e3) + " mm/s and turns at " +
-                    detail::sig3(rate * 180.0 / std::numbers::pi) + " deg/s; ";
+                    detail::precise(t) + " s) the container moves at " + detail::sig3(speed * 1e3) +
+                    " mm/s and turns at " + detail::sig3(rate * 180.0 / std::numbers::pi) +
+                    " deg/s; ";
     w += last ? "the models see no acceleration after it, as if the container went on at that "
                 "speed through the rest window: the wave of stopping it is not in the prediction "
                 "(eta_rest in particular); end the trajectory at rest"
