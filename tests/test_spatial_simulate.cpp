@@ -388,7 +388,9 @@ TEST(SpatialSimulate, ATrajectoryThatStartsOrEndsMovingIsWarnedOf) {
                   "container moves at 400 mm/s and turns at 72 deg/s; the models see no "
                   "acceleration after it, as if the container went on at that speed through "
                   "the rest window: the wave of stopping it is not in the prediction (eta_rest "
-                  "in particular); end the trajectory at rest"})
+                  "in particular); the models stop its turning at once at that sample: the rest "
+                  "window holds the liquid's spin running down after that sudden stop, not the "
+                  "turning going on nor a real stop of it; end the trajectory at rest"})
         << rectangular;
   }
   // At rest at both ends (x = 3 u^2 - 2 u^3 scaled: zero slope at 0 and 0.8 s): no warning.
@@ -466,6 +468,45 @@ TEST(SpatialSimulate, ATrajectorysTimesAreOnItsSamplesClock) {
           << k;
     }
   }
+}
+
+// A container spinning in place at 600 deg/s from its first sample to its last: the spin term
+// takes the turning rate, 0 outside the samples, so the models start the turning at once at the
+// first sample and stop it at once at the last, and the warnings say so. What they say is what
+// was computed: the rest window's peak is the vortex at the stop (t_rest_s the last sample's
+// time, the motion's peak there too), running down after it, not a turning that goes on (whose
+// vortex would keep rising as the liquid spins up).
+TEST(SpatialSimulate, ATurningEndSaysTheModelsStopTheTurning) {
+  const auto spin = [](double u) { return 600.0 * u; };
+  json format{{"container", {{"radius_mm", 48.5}}}, {"fill_height_mm", 82}, {"fluid", "water"}};
+  format["motion"] = clocked_trajectory(
+      0.0, 1.0, [](double) { return 0.0; }, spin);
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json answer =
+      post(server, "/v1/simulate", {{"format", format}, {"sample_period_s", 0.001}});
+  EXPECT_EQ(answer["warnings"],
+            json::array(
+                {"the trajectory starts moving: at its first sample (t_s[0] = 0 s) the container "
+                 "moves at 0 mm/s and turns at 600 deg/s; the models start its turning at once at "
+                 "that sample with the liquid at rest: the liquid's spin-up from that sudden "
+                 "start is in the prediction, not the turning before it; start the trajectory at "
+                 "rest",
+                 "the trajectory ends moving: at its last sample (t_s[500] = 1 s) the container "
+                 "moves at 0 mm/s and turns at 600 deg/s; the models stop its turning at once at "
+                 "that sample: the rest window holds the liquid's spin running down after that "
+                 "sudden stop, not the turning going on nor a real stop of it; end the trajectory "
+                 "at rest"}));
+  for (const char* name : {"linear", "nonlinear"}) {
+    const json& p = answer["prediction"][name];
+    EXPECT_NEAR(p["t_rest_s"].get<double>(), 1.0, 1e-6) << name;
+    EXPECT_NEAR(p["eta_rest_mm"].get<double>(), p["eta_motion_mm"].get<double>(), 1e-9) << name;
+  }
+  // The series falls from the stop on (the spin runs down); a turning that went on would rise.
+  const json& eta = answer["series"]["eta_linear_mm"];
+  EXPECT_GT(eta[1000].get<double>(), 0.0);
+  EXPECT_LT(eta[1500].get<double>(), eta[1000].get<double>());
+  EXPECT_LT(eta[2000].get<double>(), eta[1500].get<double>());
 }
 
 }  // namespace test_spatial_simulate

@@ -80,10 +80,12 @@ double peak_horizontal_acceleration(const SpatialMotion& motion, const PlanarDri
 }
 
 /// A trajectory that starts or ends moving: the models take it at rest before its first sample and
-/// after its last (trajectory_ends.hpp), so the answer says which end moves and how fast.
-void add_moving_end_warnings(const SpatialMotion& motion, std::vector<Warning>& warnings) {
+/// after its last (trajectory_ends.hpp), so the answer says which end moves and how fast. Its
+/// ends are judged over a stretch of the first mode's period `omega1` [rad/s].
+void add_moving_end_warnings(const SpatialMotion& motion, double omega1,
+                             std::vector<Warning>& warnings) {
   if (!motion.trajectory) return;
-  for (std::string& w : moving_end_warnings(*motion.trajectory)) {
+  for (std::string& w : moving_end_warnings(*motion.trajectory, omega1)) {
     warnings.push_back({WarningKind::kTrajectoryEndMoving, std::move(w)});
   }
 }
@@ -248,7 +250,7 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
   const std::string yaw = yaw_mode_warning(*request.format.container.rectangular,
                                            request.format.fill_height, drive, horizontal);
   if (!yaw.empty()) warnings.push_back({WarningKind::kYawModesNotModelled, yaw});
-  add_moving_end_warnings(motion, warnings);
+  add_moving_end_warnings(motion, fastest.omega1(), warnings);
   put_warnings(warnings, out);
   to_motion_clock(out, time_origin(motion));
   require_finite(out);
@@ -338,7 +340,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   std::vector<Warning> warnings =
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
                         linear.motion.value, nonlinear.motion.value, true, linear.rest.value);
-  add_moving_end_warnings(motion, warnings);
+  add_moving_end_warnings(motion, model.omega1(), warnings);
   put_warnings(warnings, out);
   to_motion_clock(out, time_origin(motion));
   require_finite(out);
