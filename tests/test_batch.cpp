@@ -116,10 +116,11 @@ const std::vector<std::string> kPlanColumns{"row",
                                             "arc_angle_deg",
                                             "container_turns",
                                             "path_length_mm",
+                                            "path_json",
                                             "warnings"};
 const std::set<std::string> kTextColumns{
-    "recipe_id",   "status",  "key",         "strategy", "law_type",       "message",
-    "error_field", "version", "motion_type", "warnings", "container_shape"};
+    "recipe_id",   "status",  "key",         "strategy", "law_type",        "message",
+    "error_field", "version", "motion_type", "warnings", "container_shape", "path_json"};
 
 /// One row of a plan table by column name.
 struct OutRow {
@@ -947,6 +948,43 @@ TEST(BatchCsv, RowsSayWhichContainerTheyPlanned) {
   };
   EXPECT_NEAR(rows[1].number("f1_length_hz"), first_mode_hz(0.12, 0.05), 1e-9);
   EXPECT_NEAR(rows[1].number("f1_width_hz"), first_mode_hz(0.08, 0.05), 1e-9);
+}
+
+// Two paths of one length (500 mm: a line then a left or a right quarter arc, or the arc first)
+// are told apart by their rows: each echoes its path as the path_json cell that gave it, which
+// reads back as the segments of its input row; a line row leaves the cell empty.
+TEST(BatchCsv, PathRowsEchoTheirPath) {
+  const std::vector<std::string> paths{
+      R"([{"line_mm": 200}, {"arc": {"radius_mm": 191, "angle_deg": 90}}])",
+      R"([{"line_mm": 200}, {"arc": {"radius_mm": 191, "angle_deg": -90}}])",
+      R"([{"arc": {"radius_mm": 191, "angle_deg": 90}}, {"line_mm": 200}])"};
+  std::string text =
+      "recipe_id,radius_mm,fill_height_mm,fluid,stroke_mm,motion_time_s,motion_type,path_json,"
+      "strategy\n"
+      "line,48.5,82,water,500,1.2,,,baseline\n";
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    std::string cell;
+    for (const char c : paths[i]) cell += c == '"' ? std::string("\"\"") : std::string(1, c);
+    text += "p" + std::to_string(i) + ",48.5,82,water,,1.2,path,\"" + cell + "\",baseline\n";
+  }
+  const RunResult r = run_slosh({"batch", "--cache", ""}, text);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const std::vector<OutRow> rows = read_plan_csv(r.out);
+  ASSERT_EQ(rows.size(), 1 + paths.size()) << r.out;
+  EXPECT_EQ(rows[0].text("motion_type"), "line");
+  EXPECT_EQ(rows[0].text("path_json"), "");
+  EXPECT_FALSE(rows[0].cells.at("path_json").quoted);
+  const double length = 200.0 + 191.0 * std::numbers::pi / 2.0;
+  for (std::size_t i = 0; i < paths.size(); ++i) {
+    const OutRow& row = rows[1 + i];
+    EXPECT_EQ(row.text("status"), "optimal") << row.text("message");
+    EXPECT_NEAR(row.number("path_length_mm"), length, 1e-9);
+    const nlohmann::json echoed = nlohmann::json::parse(row.text("path_json"), nullptr, false);
+    EXPECT_EQ(echoed, nlohmann::json::parse(paths[i])) << row.text("path_json");
+    for (std::size_t j = 0; j < i; ++j) {
+      EXPECT_NE(row.text("path_json"), rows[1 + j].text("path_json")) << i << ' ' << j;
+    }
+  }
 }
 
 // ---------------------------------------------------------------------------------------------

@@ -472,6 +472,60 @@ TEST(PathHostile, ADescentFasterThanGravityIsRefusedNamingTheSample) {
       << message;
 }
 
+// A descent stopped at once: z = -Z (1 - cos(2 pi t / 0.6)) for 0.6 s, then held, with
+// Z (2 pi / 0.6)^2 = 9 m/s^2, so a_z runs from -9 m/s^2 back to -9 m/s^2 and steps to 0 at the
+// stop; x a 200 mm half-cosine, 500 Hz. The samples never ask more than -9 m/s^2 (their second
+// differences, computed here), but the spline, which keeps its acceleration continuous,
+// overshoots the step to -10.2 m/s^2 at t = 0.598 s, and that was refused as a fall faster than
+// gravity. It is simulated now.
+TEST(PathHostile, AVerticalStopIsNotRefusedOnTheSplinesOvershoot) {
+  Server server({"--cache", ""});
+  const double w = 2.0 * std::numbers::pi / 0.6, Z = 9.0 / (w * w) * 1e3;
+  json format = thesis_format();
+  format["motion"] = trajectory(
+      1.0, 500.0, [](double t) { return 100.0 * (1.0 - std::cos(std::numbers::pi * t)); },
+      [&](double t) { return -Z * (1.0 - std::cos(w * std::min(t, 0.6))); },
+      [](double) { return 0.0; });
+  const json& t = format["motion"]["t_s"];
+  const json& z = format["motion"]["z_mm"];
+  double lowest = 0.0;
+  for (std::size_t i = 1; i + 1 < t.size(); ++i) {
+    const double h = t[i + 1].get<double>() - t[i].get<double>();
+    const double d2 = (z[i + 1].get<double>() - 2.0 * z[i].get<double>() + z[i - 1].get<double>()) /
+                      (h * h) * 1e-3;
+    lowest = std::min(lowest, d2);
+  }
+  EXPECT_NEAR(lowest, -9.0, 5e-3);  // -9 cos(w 2 ms) next to the ends of the descent
+  const Reply r = post(server, "/v1/simulate", {{"format", format}});
+  EXPECT_EQ(r.status, 200) << r.body.dump().substr(0, 400);
+  EXPECT_TRUE(r.body["prediction"]["linear"]["eta_motion_mm"].get<double>() > 0.0);
+}
+
+// A trajectory that really falls faster than gravity (a_z = -1.2 g on every sample) is still
+// refused, at its first sample where the samples show it, with the sentence as before; its time
+// on the samples' clock (a log started at 0.5 s).
+TEST(PathHostile, AFreeFallIsRefusedWithTheExactSentence) {
+  Server server({"--cache", ""});
+  std::vector<double> t, x, y, z;
+  for (int i = 0; i <= 150; ++i) {
+    const double u = i / 500.0;
+    t.push_back(0.5 + u);
+    x.push_back(0.0);
+    y.push_back(0.0);
+    z.push_back(-0.5 * 1.2 * 9.81 * u * u * 1e3);
+  }
+  json format = thesis_format();
+  format["motion"] = {{"type", "trajectory"}, {"t_s", t}, {"x_mm", x}, {"y_mm", y}, {"z_mm", z}};
+  const Reply r = post(server, "/v1/simulate", {{"format", format}});
+  ASSERT_EQ(r.status, 422) << r.body.dump().substr(0, 400);
+  EXPECT_EQ(r.body["error"]["field"], "format.motion.z_mm[1]");
+  EXPECT_EQ(r.body["error"]["message"],
+            "format.motion.z_mm[1]: the vertical acceleration of the samples' spline is -11.772 "
+            "m/s^2 at t = 0.502 s, so the effective gravity g + a_z = -1.962 m/s^2 is not "
+            "positive: the liquid leaves the bottom and neither model describes it; allowed a_z > "
+            "-9.81 m/s^2");
+}
+
 // A heading logged wrapped to +-180 deg is the same turn as the unwrapped log: 720 deg in 4 s
 // about the container's own axis. Before, each wrap was a -360 deg turn in 2 ms (the spin term
 // 940 times larger).

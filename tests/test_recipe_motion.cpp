@@ -142,6 +142,8 @@ TEST(RecipeMotion, PlanRowsCarryTheMotion) {
   EXPECT_EQ(line["arc_radius_mm"], nullptr);
   EXPECT_EQ(line["container_turns"], nullptr);
   EXPECT_EQ(line["path_length_mm"], 800);
+  EXPECT_EQ(line["path_json"], nullptr);  // only a path echoes its segments
+  EXPECT_EQ(arc["path_json"], nullptr);
   EXPECT_EQ(motion_row_figures(json::object())["motion_type"], nullptr);
 }
 

@@ -9,8 +9,10 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <functional>
 #include <numbers>
 #include <string>
 #include <vector>
@@ -20,6 +22,7 @@
 #include "slosh/api/format_json.hpp"
 #include "slosh/core/law/seven_segment.hpp"
 #include "slosh/core/motion/planar_drive.hpp"
+#include "slosh/core/motion/sampled_trajectory.hpp"
 #include "slosh/core/response/planar_response.hpp"
 #include "support/paths.hpp"
 #include "support/process.hpp"
@@ -385,7 +388,9 @@ TEST(SpatialSimulate, ATrajectoryThatStartsOrEndsMovingIsWarnedOf) {
                   "container moves at 400 mm/s and turns at 72 deg/s; the models see no "
                   "acceleration after it, as if the container went on at that speed through "
                   "the rest window: the wave of stopping it is not in the prediction (eta_rest "
-                  "in particular); end the trajectory at rest"})
+                  "in particular); the models stop its turning at once at that sample: the rest "
+                  "window holds the liquid's spin running down after that sudden stop, not the "
+                  "turning going on nor a real stop of it; end the trajectory at rest"})
         << rectangular;
   }
   // At rest at both ends (x = 3 u^2 - 2 u^3 scaled: zero slope at 0 and 0.8 s): no warning.
@@ -395,6 +400,113 @@ TEST(SpatialSimulate, ATrajectoryThatStartsOrEndsMovingIsWarnedOf) {
     rest["x_mm"][i] = 200.0 * u * u * (3.0 - 2.0 * u);
   }
   EXPECT_TRUE(moving(post(server, "/v1/simulate", body(rest, false))).empty());
+}
+
+/// A 500 Hz trajectory of `duration` s whose clock starts at t0: x(u), theta(u) of the time u
+/// since its first sample.
+json clocked_trajectory(double t0, double duration, const std::function<double(double)>& x,
+                        const std::function<double(double)>& theta) {
+  std::vector<double> t, xs, ys, th;
+  const int n = static_cast<int>(std::lround(duration * 500.0));
+  for (int i = 0; i <= n; ++i) {
+    const double u = i / 500.0;
+    t.push_back(t0 + u);
+    xs.push_back(x(u));
+    ys.push_back(0.0);
+    th.push_back(theta(u));
+  }
+  return json{{"type", "trajectory"}, {"t_s", t}, {"x_mm", xs}, {"y_mm", ys}, {"theta_deg", th}};
+}
+
+// One clock for the whole answer: a log whose samples start at 0.5 s or at 1e6 s (a machine's
+// clock) has the peaks of the same log started at 0 (the core's planar models on it), with
+// t_motion_s, t_rest_s and the series' t_s shifted by exactly its first sample's time, as the
+// samples and the warnings name them. Before, the peaks and the series counted from the first
+// sample while the warnings quoted the samples' times.
+TEST(SpatialSimulate, ATrajectorysTimesAreOnItsSamplesClock) {
+  const auto x = [](double u) { return 100.0 * (1.0 - std::cos(kPi * std::min(u, 0.8) / 0.8)); };
+  const auto still = [](double) { return 0.0; };
+  json format{{"container", {{"radius_mm", 48.5}}}, {"fill_height_mm", 82}, {"fluid", "water"}};
+  format["motion"] = clocked_trajectory(0.0, 1.0, x, still);
+  std::vector<double> t, xs, ys;
+  for (const json& v : format["motion"]["t_s"]) t.push_back(v.get<double>());
+  for (const json& v : format["motion"]["x_mm"]) xs.push_back(v.get<double>() * 1e-3);
+  ys.assign(t.size(), 0.0);
+  const SampledTrajectory samples(TrajectorySamples{t, xs, ys, {}, {}});
+  json timed = format;  // the model's format needs a motion time, which a trajectory has not
+  timed["motion_time_s"] = 1.0;
+  const SloshingModel model = default_model(timed);
+  const PlanarDrive drive(samples);
+  const PlanarPeaks linear = planar_linear_peaks(model, drive, 1.0);
+  const PlanarPeaks nonlinear = planar_nonlinear_peaks(model, drive, 1.0);
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json origin = post(server, "/v1/simulate", {{"format", format}, {"sample_period_s", 0.01}});
+  for (const double t0 : {0.5, 1e6}) {
+    format["motion"] = clocked_trajectory(t0, 1.0, x, still);
+    const json answer =
+        post(server, "/v1/simulate", {{"format", format}, {"sample_period_s", 0.01}});
+    // The clock's rounding at 1e6 s (1e-10 s) moves the samples by ~1e-11 m.
+    const double rel = t0 > 1.0 ? 1e-4 : 1e-9, dt = t0 > 1.0 ? 1e-6 : 1e-9;
+    for (const auto& [name, want] : {std::pair{"linear", &linear}, {"nonlinear", &nonlinear}}) {
+      const json& got = answer["prediction"][name];
+      EXPECT_NEAR(got["eta_motion_mm"].get<double>(), want->motion.value * 1e3, rel) << name;
+      EXPECT_NEAR(got["eta_rest_mm"].get<double>(), want->rest.value * 1e3, rel) << name;
+      EXPECT_NEAR(got["t_motion_s"].get<double>() - t0, want->motion.time, dt) << name << t0;
+      EXPECT_NEAR(got["t_rest_s"].get<double>() - t0, want->rest.time, dt) << name << t0;
+      // Within the samples' span, and the rest window after the last sample, on their clock.
+      EXPECT_GE(got["t_motion_s"].get<double>(), t0) << name;
+      EXPECT_GT(got["t_rest_s"].get<double>(), t0 + 1.0) << name;
+    }
+    const json& series = answer["series"]["t_s"];
+    ASSERT_EQ(series.size(), origin["series"]["t_s"].size());
+    EXPECT_EQ(series[0].get<double>(), t0);
+    for (std::size_t k = 0; k < series.size(); k += 17) {
+      EXPECT_NEAR(series[k].get<double>(), t0 + 0.01 * static_cast<double>(k), 1e-9 * t0) << k;
+      EXPECT_NEAR(answer["series"]["eta_linear_mm"][k].get<double>(),
+                  origin["series"]["eta_linear_mm"][k].get<double>(), rel)
+          << k;
+    }
+  }
+}
+
+// A container spinning in place at 600 deg/s from its first sample to its last: the spin term
+// takes the turning rate, 0 outside the samples, so the models start the turning at once at the
+// first sample and stop it at once at the last, and the warnings say so. What they say is what
+// was computed: the rest window's peak is the vortex at the stop (t_rest_s the last sample's
+// time, the motion's peak there too), running down after it, not a turning that goes on (whose
+// vortex would keep rising as the liquid spins up).
+TEST(SpatialSimulate, ATurningEndSaysTheModelsStopTheTurning) {
+  const auto spin = [](double u) { return 600.0 * u; };
+  json format{{"container", {{"radius_mm", 48.5}}}, {"fill_height_mm", 82}, {"fluid", "water"}};
+  format["motion"] = clocked_trajectory(
+      0.0, 1.0, [](double) { return 0.0; }, spin);
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json answer =
+      post(server, "/v1/simulate", {{"format", format}, {"sample_period_s", 0.001}});
+  EXPECT_EQ(answer["warnings"],
+            json::array(
+                {"the trajectory starts moving: at its first sample (t_s[0] = 0 s) the container "
+                 "moves at 0 mm/s and turns at 600 deg/s; the models start its turning at once at "
+                 "that sample with the liquid at rest: the liquid's spin-up from that sudden "
+                 "start is in the prediction, not the turning before it; start the trajectory at "
+                 "rest",
+                 "the trajectory ends moving: at its last sample (t_s[500] = 1 s) the container "
+                 "moves at 0 mm/s and turns at 600 deg/s; the models stop its turning at once at "
+                 "that sample: the rest window holds the liquid's spin running down after that "
+                 "sudden stop, not the turning going on nor a real stop of it; end the trajectory "
+                 "at rest"}));
+  for (const char* name : {"linear", "nonlinear"}) {
+    const json& p = answer["prediction"][name];
+    EXPECT_NEAR(p["t_rest_s"].get<double>(), 1.0, 1e-6) << name;
+    EXPECT_NEAR(p["eta_rest_mm"].get<double>(), p["eta_motion_mm"].get<double>(), 1e-9) << name;
+  }
+  // The series falls from the stop on (the spin runs down); a turning that went on would rise.
+  const json& eta = answer["series"]["eta_linear_mm"];
+  EXPECT_GT(eta[1000].get<double>(), 0.0);
+  EXPECT_LT(eta[1500].get<double>(), eta[1000].get<double>());
+  EXPECT_LT(eta[2000].get<double>(), eta[1500].get<double>());
 }
 
 }  // namespace test_spatial_simulate

@@ -1023,6 +1023,10 @@ void add_motion_response_schemas(json& s) {
   peaks["properties"]["direction_rest_deg"] = number("Wall angle of the rest peak [deg].");
   peaks["required"].push_back("direction_motion_deg");
   peaks["required"].push_back("direction_rest_deg");
+  peaks["properties"]["t_motion_s"] = number(
+      "Time of the motion peak: from the start of a law, on the samples' clock (as t_s "
+      "gives it) for a trajectory [s].");
+  peaks["properties"]["t_rest_s"] = number("Time of the rest peak, on the same clock [s].");
   peaks["description"] = "Peaks of one planar model, maximised over the wall.";
   s["PlanarPeaks"] = peaks;
   s["PlanarPrediction"] = object(
@@ -1057,7 +1061,8 @@ void add_motion_response_schemas(json& s) {
              {"additionalProperties", {{"type", "string"}}},
              {"description", "Unit of each series."}};
   s["SpatialSeries"] = object(
-      {{"t_s", numbers("Time from the motion's start [s].")},
+      {{"t_s", numbers("Time: from the start of a law (0, dt, ...), on the samples' clock for a "
+                       "trajectory (t_s[0], t_s[0] + dt, ...) [s].")},
        {"x_mm", numbers("Container position, world frame [mm].")},
        {"y_mm", numbers("Container position, world frame [mm].")},
        {"theta_deg", numbers("Container heading about the vertical, world frame as x_mm and y_mm: "

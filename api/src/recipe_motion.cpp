@@ -77,11 +77,8 @@ void complete_row_motion(json& request) {
 }
 
 json motion_row_figures(const json& plan) {
-  json row{{"motion_type", nullptr},
-           {"arc_radius_mm", nullptr},
-           {"arc_angle_deg", nullptr},
-           {"container_turns", nullptr},
-           {"path_length_mm", nullptr}};
+  json row{{"motion_type", nullptr},     {"arc_radius_mm", nullptr},  {"arc_angle_deg", nullptr},
+           {"container_turns", nullptr}, {"path_length_mm", nullptr}, {"path_json", nullptr}};
   const json* format = find_member(plan, "format");
   if (format == nullptr || !format->is_object()) return row;
   if (const json* stroke = find_member(*format, "stroke_mm")) row["path_length_mm"] = *stroke;
@@ -94,6 +91,12 @@ json motion_row_figures(const json& plan) {
   if ((*motion)["type"] == "arc") {
     row["arc_radius_mm"] = motion->value("radius_mm", json(nullptr));
     row["arc_angle_deg"] = motion->value("angle_deg", json(nullptr));
+  }
+  // The path itself, as the path_json cell that gives it: two paths of one length (a turn left
+  // or right, an arc before or after a line) are otherwise the same row. Compact JSON text, so
+  // the CSV cell holds it whole and reads back as the input column.
+  if (const json* segments = find_member(*motion, "segments")) {
+    if ((*motion)["type"] == "path") row["path_json"] = dump_json(*segments);
   }
   // The plan's path block says whether the container turns (the echo may leave the default out).
   if (const json* path = find_member(plan, "path")) {

@@ -507,6 +507,7 @@ constexpr std::array kPlanColumns{
     PlanColumn{"arc_angle_deg", "/arc_angle_deg"},
     PlanColumn{"container_turns", "/container_turns"},
     PlanColumn{"path_length_mm", "/path_length_mm"},
+    PlanColumn{"path_json", "/path_json"},
     PlanColumn{"warnings", "/warnings"},
 };
 

@@ -30,24 +30,23 @@ namespace {
 
 // Both models hold the liquid on the bottom under the effective gravity g + a_z: a trajectory
 // that accelerates downward at g or more (a delta robot's fast descent) is outside both, refused
-// at the first sample where it happens. The samples' spline has a vertical acceleration linear
-// on every interval, so its least value is at a sample.
-void require_positive_gravity(const PlanarDrive& drive) {
-  const std::vector<DrivePiece>& pieces = drive.pieces();
-  for (std::size_t k = 0; k < pieces.size(); ++k) {
-    for (const bool end : {false, true}) {
-      const double t = end ? pieces[k].t_end : pieces[k].t_begin;
-      const double az = drive.excitation(k, t).az;
-      if (kGravity + az > 0.0) continue;
-      const std::string field =
-          "format.motion.z_mm[" + std::to_string(pieces[k].source + (end ? 1 : 0)) + "]";
-      invalid(field, field + ": the vertical acceleration of the samples' spline is " +
-                         number_text(az) + " m/s^2 at t = " + number_text(t) +
-                         " s, so the effective gravity g + a_z = " + number_text(kGravity + az) +
-                         " m/s^2 is not positive: the liquid leaves the bottom and neither model "
-                         "describes it; allowed a_z > " +
-                         number_text(-kGravity) + " m/s^2");
-    }
+// at the first sample where it happens (its time on the samples' clock). The acceleration is the
+// samples' (sample_vertical_acceleration), not the spline's between them: where a descent stops
+// at once the spline overshoots the step (-10.2 m/s^2 on a stop from -9 m/s^2), an artefact of
+// the interpolation that is no reason to refuse the motion; the models are driven by the spline
+// all the same, whose overshoot lasts a sample interval.
+void require_positive_gravity(const SampledTrajectory& trajectory) {
+  const std::vector<double>& t = trajectory.samples().t;
+  for (std::size_t i = 1; i + 1 < t.size(); ++i) {
+    const double az = trajectory.sample_vertical_acceleration(i);
+    if (kGravity + az > 0.0) continue;
+    const std::string field = "format.motion.z_mm[" + std::to_string(i) + "]";
+    invalid(field, field + ": the vertical acceleration of the samples' spline is " +
+                       number_text(az) + " m/s^2 at t = " + number_text(t[i]) +
+                       " s, so the effective gravity g + a_z = " + number_text(kGravity + az) +
+                       " m/s^2 is not positive: the liquid leaves the bottom and neither model "
+                       "describes it; allowed a_z > " +
+                       number_text(-kGravity) + " m/s^2");
   }
 }
 
@@ -59,9 +58,8 @@ PlanarDrive make_drive(const SpatialMotion& motion, const SloshingModel& model,
   } catch (const InvalidMotion& e) {
     motion_refusal(e.member(), e.what());
   }
-  PlanarDrive drive(*motion.trajectory);
-  if (drive.vertical()) require_positive_gravity(drive);
-  return drive;
+  if (motion.trajectory->has_vertical_motion()) require_positive_gravity(*motion.trajectory);
+  return PlanarDrive(*motion.trajectory);
 }
 
 // The largest horizontal acceleration of the motion [m/s^2]: along a path the law's exact
@@ -82,11 +80,41 @@ double peak_horizontal_acceleration(const SpatialMotion& motion, const PlanarDri
 }
 
 /// A trajectory that starts or ends moving: the models take it at rest before its first sample and
-/// after its last (trajectory_ends.hpp), so the answer says which end moves and how fast.
-void add_moving_end_warnings(const SpatialMotion& motion, std::vector<Warning>& warnings) {
+/// after its last (trajectory_ends.hpp), so the answer says which end moves and how fast. Its
+/// ends are judged over a stretch of the first mode's period `omega1` [rad/s].
+void add_moving_end_warnings(const SpatialMotion& motion, double omega1,
+                             std::vector<Warning>& warnings) {
   if (!motion.trajectory) return;
-  for (std::string& w : moving_end_warnings(*motion.trajectory)) {
+  for (std::string& w : moving_end_warnings(*motion.trajectory, omega1)) {
     warnings.push_back({WarningKind::kTrajectoryEndMoving, std::move(w)});
+  }
+}
+
+/// The clock the answer's times are on [s]: a trajectory's own, whose first sample is at t_s[0]
+/// (a log cut out of a run at 0.5 s, or stamped with the machine's clock at 1e6 s), so that its
+/// peaks, its series and its warnings name the same instants as its samples; 0 for a law along a
+/// line, an arc or a path, which starts at 0.
+double time_origin(const SpatialMotion& motion) {
+  return motion.trajectory ? motion.trajectory->start_time() : 0.0;
+}
+
+/// Puts the answer's times, computed from the motion's start, on the clock of time_origin: the
+/// peaks' t_motion_s and t_rest_s (each model's and each direction's of a rectangular tank) and
+/// the series' t_s. Nothing changes for an origin of 0 (a law's answer stays as it was).
+void to_motion_clock(nlohmann::json& out, double origin) {
+  if (origin == 0.0) return;
+  auto shift = [origin](nlohmann::json& peaks) {
+    for (const char* key : {"t_motion_s", "t_rest_s"}) {
+      if (peaks.contains(key)) peaks[key] = peaks[key].get<double>() + origin;
+    }
+  };
+  nlohmann::json& prediction = out["prediction"];
+  for (const char* model : {"nonlinear", "linear"}) shift(prediction[model]);
+  if (prediction.contains("directions")) {
+    for (auto& [name, peaks] : prediction["directions"].items()) shift(peaks);
+  }
+  if (out.contains("series")) {
+    for (nlohmann::json& t : out["series"]["t_s"]) t = t.get<double>() + origin;
   }
 }
 
@@ -222,8 +250,9 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
   const std::string yaw = yaw_mode_warning(*request.format.container.rectangular,
                                            request.format.fill_height, drive, horizontal);
   if (!yaw.empty()) warnings.push_back({WarningKind::kYawModesNotModelled, yaw});
-  add_moving_end_warnings(motion, warnings);
+  add_moving_end_warnings(motion, fastest.omega1(), warnings);
   put_warnings(warnings, out);
+  to_motion_clock(out, time_origin(motion));
   require_finite(out);
   return out;
 }
@@ -311,8 +340,9 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   std::vector<Warning> warnings =
       validity_warnings(request.format, peak_horizontal_acceleration(motion, drive, law),
                         linear.motion.value, nonlinear.motion.value, true, linear.rest.value);
-  add_moving_end_warnings(motion, warnings);
+  add_moving_end_warnings(motion, model.omega1(), warnings);
   put_warnings(warnings, out);
+  to_motion_clock(out, time_origin(motion));
   require_finite(out);
   return out;
 }

@@ -218,6 +218,13 @@ PlanarKinematics SampledTrajectory::at(std::size_t i, double t) const {
   return k;
 }
 
+double SampledTrajectory::sample_vertical_acceleration(std::size_t i) const {
+  const std::vector<double>& t = samples_.t;
+  const std::vector<double>& z = z_.value;
+  const double h0 = t[i] - t[i - 1], h1 = t[i + 1] - t[i];
+  return 2.0 * ((z[i + 1] - z[i]) / h1 - (z[i] - z[i - 1]) / h0) / (h0 + h1);
+}
+
 TrajectorySamples read_pose_csv(std::istream& in, const std::string& source) {
   TrajectorySamples s;
   std::string line;

@@ -33,8 +33,10 @@ void complete_row_motion(nlohmann::json& request);
 
 /// The motion figures of a rendered plan a table row shows: motion_type ("line" for a plan of
 /// stroke_mm, else the type of format.motion), arc_radius_mm and arc_angle_deg (an arc; null
-/// otherwise), container_turns (an arc or a path; null on a line) and path_length_mm (the length
-/// the law moves, format.stroke_mm); all null when the plan has no format (a compact view).
+/// otherwise), container_turns (an arc or a path; null on a line), path_length_mm (the length
+/// the law moves, format.stroke_mm) and path_json (a path's segments as compact JSON text, the
+/// path_json cell that gives them; null otherwise); all null when the plan has no format (a
+/// compact view).
 [[nodiscard]] nlohmann::json motion_row_figures(const nlohmann::json& plan);
 
 }  // namespace slosh::api
