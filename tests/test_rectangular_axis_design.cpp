@@ -114,8 +114,9 @@ TEST(RectangularAxisDesign, ThePlanIsContinuousWhereTheMostExcitedDirectionChang
               1e-4 * below.prediction.nonlinear.rest.value);
   // The design over both directions is infeasible on its band there, and the plan says so
   // rather than calling the length's law better on a figure.
-  EXPECT_NE(above.message.find("designed for the length's first mode alone (the law this "
-                               "strategy gives along the length): the design over both "
+  EXPECT_NE(above.message.find("min_jerk_band optimal: designed for the length's first mode "
+                               "alone (the law this strategy gives along the length, which does "
+                               "not act on the width's first mode): the design over both "
                                "directions is infeasible on the tank (|X| <= 20 % of X_ref on "
                                "the band is not reachable in 1.5 s"),
             std::string::npos)

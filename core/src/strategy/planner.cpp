@@ -828,9 +828,10 @@ Design own_design(const detail::StrategyContext& c, Strategy s, const DrivenDire
 
 /// Why `own`, designed for one direction alone, is the plan's law rather than `both`.
 std::string why_alone(const Design& own, const Design& both) {
+  const std::string other = std::string(own.alone) == "length" ? "width" : "length";
   const std::string head = std::string("designed for the ") + own.alone +
                            "'s first mode alone (the law this strategy gives along the " +
-                           own.alone + "): ";
+                           own.alone + ", which does not act on the " + other + "'s first mode): ";
   if (both.rank == 2 && own.rank < 2) {
     // Why: an optimiser's detail is its violation; a filter's ends with it.
     const std::string& d = both.outcome.detail;
@@ -887,8 +888,10 @@ Outcome best_of_designs(const detail::StrategyContext& c, Outcome both,
     kept.outcome.solver.starts += designs[k].outcome.solver.starts;
   }
   if (kept.alone != nullptr) {
+    // The choice leads: the design's own account (a shaper's "no residual at f1") is that of
+    // the one direction.
     const std::string& d = kept.outcome.detail;
-    kept.outcome.detail = (d.empty() ? "" : d + "; ") + why_alone(kept, designs.front());
+    kept.outcome.detail = why_alone(kept, designs.front()) + (d.empty() ? "" : "; " + d);
   }
   kept.outcome.verification = std::move(kept.verification);
   return std::move(kept.outcome);
