@@ -24,6 +24,7 @@
 #include "slosh/core/model/format.hpp"
 #include "slosh/core/model/rectangular_calibration.hpp"
 #include "slosh/core/response/simulation.hpp"
+#include "support/sanitizers.hpp"
 
 namespace slosh {
 namespace test_rectangular_calibration {
@@ -374,8 +375,11 @@ TEST(RectangularCalibration, ANearlySquareTankIsFittedWithItsDirectionsTied) {
   // +-1 % noise on an exactly square tank (80 x 80 mm): fitted apart, zeta came out 4 to 5
   // standard errors off (0.0087 and 0.0187 for 0.012), the errors linearised where the split is
   // barely determined. Tied, each seed's zeta is within 3.5 standard errors of the truth.
+  // (Two seeds under the sanitizers, where each calibration of this tank, six fits apart and
+  // the tie, takes 20 s; the release run checks four.)
+  const std::uint32_t seeds = test::product_sanitized() ? 2 : 4;
   int tied = 0;
-  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+  for (std::uint32_t seed = 1; seed <= seeds; ++seed) {
     const RectangularMeasuredMove m = noisy_square_move(80.0, 0.01, seed, &f);
     const RectangularCalibrationResult fit = calibrate_rectangular(f, {}, {m}, {});
     ASSERT_EQ(fit.status, CalibrationStatus::kConverged) << seed;
@@ -398,7 +402,7 @@ TEST(RectangularCalibration, ANearlySquareTankIsFittedWithItsDirectionsTied) {
               3.5 * *fit.length.omega_scale.standard_error)
         << seed;
   }
-  EXPECT_GE(tied, 3);
+  EXPECT_GE(tied, static_cast<int>(seeds) - 1);
 }
 
 TEST(RectangularCalibration, DistinctDirectionsStayApartUnderNoise) {

@@ -707,8 +707,13 @@ std::string why_tied(const Problem& pb, const FreeFit& f, const TiedFit& tied, s
 /// frequency, and a start in the wrong valley converges there).
 std::vector<Columns> apart_starts(const Problem& pb, const std::optional<TiedFit>& tied) {
   constexpr std::array<double, 2> kSplitStarts{0.04, 0.1};
+  // Tanks whose two directions' own first frequencies are this far apart (relative to their
+  // middle) have one valley per direction's frequency: the tie's point alone starts them.
+  constexpr double kDistinctFrequencies{0.1};
   std::vector<Columns> starts;
   if (tied) starts.push_back(tied->v);  // converged or not, the tie's best point
+  const double f_l = pb.tank.along_length.omega1(), f_w = pb.tank.along_width.omega1();
+  if (tied && std::abs(f_l - f_w) > kDistinctFrequencies * 0.5 * (f_l + f_w)) return starts;
   starts.push_back(pb.prior);
   if (!tied || !pb.free[kOmegaL] || !pb.free[kOmegaW]) return starts;
   // (Centred on the priors as well, and split by 2, 5, 10 and 20 %, the starts found no other
@@ -743,12 +748,15 @@ FreeFit best_apart(Problem& pb, const std::optional<TiedFit>& tied, const Evalua
   std::optional<FreeFit> best;
   Problem best_pb = pb;
   RectangularCalibrationResult best_out = out;
+  bool stopped = false;
   for (const Columns& start : apart_starts(pb, tied)) {
+    if (stopped) break;
     Problem trial_pb = pb;
     RectangularCalibrationResult trial_out = out;
     trial_out.iterations = 0;
     FreeFit f = fit_apart(trial_pb, start, before, settings, trial_out);
     out.iterations += trial_out.iterations;
+    stopped = stopped || f.ls.status == detail::LeastSquaresStatus::kStopped;
     // Refused, or a column held at its prior, ranks after a fit of every column.
     const auto rank = [](const FreeFit& x, const RectangularCalibrationResult& o) {
       const bool held = std::find(x.held.begin(), x.held.end(), true) != x.held.end();
@@ -761,6 +769,8 @@ FreeFit best_apart(Problem& pb, const std::optional<TiedFit>& tied, const Evalua
     }
   }
   int iterations = out.iterations;
+  // A search the budget cut is the budget's answer, whichever start gave its best point.
+  if (stopped) best->ls.status = detail::LeastSquaresStatus::kStopped;
   if (best->ls.status == detail::LeastSquaresStatus::kMaxIterations && best_out.refused.empty()) {
     Problem again_pb = best_pb;
     RectangularCalibrationResult again_out = best_out;
@@ -823,12 +833,12 @@ RectangularCalibrationResult calibrate_rectangular(
     tied = fit_tied(pb, *vars, pb.prior, settings);
     out.iterations += tied->ls.iterations;
   }
-  FreeFit f = best_apart(pb, tied, before, settings, out);
-  std::vector<std::optional<double>> se = standard_errors(pb, f.cols, f.J, f.sigma);
   const std::size_t removed =
       vars ? static_cast<std::size_t>(std::count(free_before.begin(), free_before.end(), true)) -
                  vars->size()
            : 0;
+  FreeFit f = best_apart(pb, tied, before, settings, out);
+  std::vector<std::optional<double>> se = standard_errors(pb, f.cols, f.J, f.sigma);
   if (const std::string why = tied ? why_tied(pb, f, *tied, removed, out.refused) : std::string();
       !why.empty()) {
     out.notes = unmeasured_notes(driven);  // the fit apart's notes are not the answer's
