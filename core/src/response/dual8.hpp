@@ -23,7 +23,7 @@ namespace slosh::detail {
 struct D8 {
   alignas(32) std::array<double, 8> x{};
   D8() = default;
-  explicit D8(double v) { x[0] = v; }
+  explicit D8(double v) : x{v} {}
   explicit D8(const Dual7& d) {
     x[0] = d.v;
     for (std::size_t i = 0; i < kSegments; ++i) x[1 + i] = d.d[i];
@@ -52,6 +52,18 @@ using Lanes4 = double __attribute__((vector_size(32)));
   return Lanes4{v, v, v, v};
 }
 
+/// The D8 of two halves, the value lane of `lo` replaced by `value`. Lane 0 is set in the
+/// register, never by a scalar store into a stored half: a vector load of a half that a scalar
+/// store wrote part of cannot be forwarded from the store buffer and stalls until the store
+/// retires (most of this integrator's time went to such stalls).
+[[gnu::always_inline]] inline D8 d8_of(Lanes4 lo, Lanes4 hi, double value) {
+  lo[0] = value;
+  D8 r;
+  set_half(r, 0, lo);
+  set_half(r, 1, hi);
+  return r;
+}
+
 #define SLOSH_D8_LANES(expr)                                \
   D8 r;                                                     \
   for (std::size_t h = 0; h < 2; ++h) set_half(r, h, expr); \
@@ -73,9 +85,7 @@ using Lanes4 = double __attribute__((vector_size(32)));
   SLOSH_D8_LANES(broadcast(a) * half(b, h));
 }
 [[gnu::always_inline]] inline D8 operator+(const D8& a, double b) {
-  D8 r = a;
-  r.x[0] += b;
-  return r;
+  return d8_of(half(a, 0), half(a, 1), a.x[0] + b);
 }
 [[gnu::always_inline]] inline D8 operator+(double b, const D8& a) {
   return a + b;
@@ -86,22 +96,14 @@ using Lanes4 = double __attribute__((vector_size(32)));
 /// The dual product (lane 0 the product of the values, lane i the product rule).
 [[gnu::always_inline]] inline D8 operator*(const D8& a, const D8& b) {
   const double a0 = a.x[0], b0 = b.x[0];
-  D8 r;
-  for (std::size_t h = 0; h < 2; ++h) {
-    set_half(r, h, half(a, h) * broadcast(b0) + broadcast(a0) * half(b, h));
-  }
-  r.x[0] = a0 * b0;
-  return r;
+  return d8_of(half(a, 0) * broadcast(b0) + broadcast(a0) * half(b, 0),
+               half(a, 1) * broadcast(b0) + broadcast(a0) * half(b, 1), a0 * b0);
 }
 [[gnu::always_inline]] inline D8 operator/(const D8& a, const D8& b) {
   const double inv = 1.0 / b.x[0];
   const double q = a.x[0] * inv;
-  D8 r;
-  for (std::size_t h = 0; h < 2; ++h) {
-    set_half(r, h, (half(a, h) - broadcast(q) * half(b, h)) * broadcast(inv));
-  }
-  r.x[0] = q;
-  return r;
+  return d8_of((half(a, 0) - broadcast(q) * half(b, 0)) * broadcast(inv),
+               (half(a, 1) - broadcast(q) * half(b, 1)) * broadcast(inv), q);
 }
 #undef SLOSH_D8_LANES
 
@@ -111,9 +113,7 @@ using Lanes4 = double __attribute__((vector_size(32)));
 struct DualPair {
   std::array<D8, 2> c{};
   DualPair() = default;
-  DualPair(double v) {  // NOLINT(google-explicit-constructor): scalars broadcast
-    c[0].x[0] = c[1].x[0] = v;
-  }
+  DualPair(double v) : c{D8(v), D8(v)} {}  // NOLINT(google-explicit-constructor): scalars broadcast
   explicit DualPair(const D8& v) { c[0] = c[1] = v; }
 };
 
@@ -155,10 +155,8 @@ struct DualPair {
 /// cos x and sin x of a dual x (one kernel call for both).
 [[gnu::always_inline]] inline void dual_cos_sin(const D8& x, D8& c, D8& s) {
   const SinCos v = fast_sincos(x.x[0]);
-  c = (-v.sin) * x;
-  c.x[0] = v.cos;
-  s = v.cos * x;
-  s.x[0] = v.sin;
+  c = d8_of(broadcast(-v.sin) * half(x, 0), broadcast(-v.sin) * half(x, 1), v.cos);
+  s = d8_of(broadcast(v.cos) * half(x, 0), broadcast(v.cos) * half(x, 1), v.sin);
 }
 
 /// a / b for a double b (each lane divided).
@@ -174,9 +172,8 @@ struct DualPair {
 }
 [[gnu::always_inline]] inline D8 dual_sqrt(const D8& x) {
   const double r = std::sqrt(x.x[0]);
-  D8 out = (r > 0.0 ? 0.5 / r : 0.0) * x;
-  out.x[0] = r;
-  return out;
+  const Lanes4 f = broadcast(r > 0.0 ? 0.5 / r : 0.0);
+  return d8_of(f * half(x, 0), f * half(x, 1), r);
 }
 
 /// N duals, the state type of a model with N coordinates: as DualPair, element-wise.
@@ -185,7 +182,7 @@ struct DualVec {
   std::array<D8, N> c{};
   DualVec() = default;
   DualVec(double v) {  // NOLINT(google-explicit-constructor): scalars broadcast
-    for (D8& e : c) e.x[0] = v;
+    c.fill(D8(v));
   }
   explicit DualVec(const D8& v) { c.fill(v); }
   [[gnu::always_inline]] D8& operator[](std::size_t i) { return c[i]; }

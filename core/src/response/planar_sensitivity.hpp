@@ -80,20 +80,19 @@ struct PlanarTangentRhs {
     }
     jx[0] -= lam;
     jy[1] -= lam;
-    DualPair out;
+    std::array<Lanes4, 2> ox, oy;
     for (std::size_t h = 0; h < 2; ++h) {
       const Lanes4 qx4 = half(x.c[0], h), qy4 = half(x.c[1], h);
       const Lanes4 vx4 = half(v.c[0], h), vy4 = half(v.c[1], h);
       const Lanes4 ax4 = half(a[0], h), ay4 = half(a[1], h);
-      set_half(out.c[0], h,
-               broadcast(jx[0]) * qx4 + broadcast(jx[1]) * qy4 + broadcast(jx[2]) * vx4 +
-                   broadcast(jx[3]) * vy4 + broadcast(jx[4]) * ax4 + broadcast(jx[5]) * ay4);
-      set_half(out.c[1], h,
-               broadcast(jy[0]) * qx4 + broadcast(jy[1]) * qy4 + broadcast(jy[2]) * vx4 +
-                   broadcast(jy[3]) * vy4 + broadcast(jy[4]) * ax4 + broadcast(jy[5]) * ay4);
+      ox[h] = broadcast(jx[0]) * qx4 + broadcast(jx[1]) * qy4 + broadcast(jx[2]) * vx4 +
+              broadcast(jx[3]) * vy4 + broadcast(jx[4]) * ax4 + broadcast(jx[5]) * ay4;
+      oy[h] = broadcast(jy[0]) * qx4 + broadcast(jy[1]) * qy4 + broadcast(jy[2]) * vx4 +
+              broadcast(jy[3]) * vy4 + broadcast(jy[4]) * ax4 + broadcast(jy[5]) * ay4;
     }
-    out.c[0].x[0] = bx - lam * qx;
-    out.c[1].x[0] = by - lam * qy;
+    DualPair out;
+    out.c[0] = d8_of(ox[0], ox[1], bx - lam * qx);
+    out.c[1] = d8_of(oy[0], oy[1], by - lam * qy);
     return out;
   }
 };
