@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 #include <numbers>
 #include <random>
 #include <string>
@@ -268,9 +269,12 @@ TEST(PathPlan, ALineAt0And37DegreesGivesTheSamePlan) {
   }
 }
 
-/// The largest total horizontal acceleration of the 7-segment law d moved along an arc of radius
-/// rho, sampled every 10 us (the law rebuilt from SPEC §3, its speed integrated here).
-double sampled_total_acceleration(const Durations& d, double length, double rho) {
+/// The largest total horizontal acceleration of the 7-segment law d moved along a path of
+/// `length` whose stretch [from, to] of arc length is an arc of radius rho (the whole path by
+/// default), the rest straight, sampled every 10 us (the law rebuilt from SPEC §3, its speed
+/// integrated here).
+double sampled_total_acceleration(const Durations& d, double length, double rho, double from = 0.0,
+                                  double to = std::numeric_limits<double>::infinity()) {
   const double area_p = 0.5 * d[0] + d[1] + 0.5 * d[2];
   const double area_n = 0.5 * d[4] + d[5] + 0.5 * d[6];
   test::TrapezoidAcceleration unit{d, 1.0, area_p / area_n};
@@ -281,7 +285,8 @@ double sampled_total_acceleration(const Durations& d, double length, double rho)
     for (double t = 0.0; t < T; t += dt) {
       // Trapezoidal rule on the piecewise linear acceleration: exact but at the knots.
       const double a0 = a(t), a1 = a(std::min(t + dt, T));
-      if (peak != nullptr) *peak = std::max(*peak, std::hypot(a0, v * v / rho));
+      const double normal = s >= from && s <= to ? v * v / rho : 0.0;
+      if (peak != nullptr) *peak = std::max(*peak, std::hypot(a0, normal));
       s += v * dt + (2.0 * a0 + a1) * dt * dt / 6.0;
       v += 0.5 * (a0 + a1) * dt;
     }
@@ -460,6 +465,20 @@ TEST(PathPlan, TheBudgetCoversTheVerificationAlongThePath) {
       EXPECT_EQ(r.candidates.front().strategy, Strategy::kBaseline);
     }
   }
+  // A strategy's law is not verified once the budget is spent (each verification integrates the
+  // whole motion: iir along 10 000 arcs over 60 s with 0.01 s took 1.3-1.5 s, the uniform law's
+  // verification and its own): the uniform law, verified first, stands in.
+  for (const Strategy s : {Strategy::kNotch, Strategy::kIir}) {
+    const PlanResult r = plan_on_path(f, path, s, o);
+    EXPECT_EQ(r.status, SolveStatus::kTimeLimit) << to_string(s);
+    EXPECT_NE(r.message.find("the budget ran out before " + to_string(s) +
+                             "'s law was verified along the path (each verification integrates "
+                             "the whole motion): the uniform law, verified already, stands in"),
+              std::string::npos)
+        << r.message;
+    EXPECT_EQ(r.durations, uniform_durations(20.0)) << to_string(s);
+    EXPECT_EQ(r.prediction.nonlinear.rest.value, ample.prediction.nonlinear.rest.value);
+  }
 }
 
 // A limit's sentence shows the value above the limit it breaks (2.0004 against 2 read "2 m/s^2
@@ -556,6 +575,33 @@ TEST(PathPlan, SpectralLawsKeepTheTotalAccelerationLimitAlongAnArc) {
                               "keeps limits.a_max = 2 m/s^2)"),
             std::string::npos)
       << held.message;
+}
+
+// Where the normal acceleration alone breaks a_max on an arc, lower tangential accelerations
+// only raise the speed: the spectral laws are planned with the speed that keeps it. 200 mm, a
+// quarter circle of 100 mm and 200 mm in 1.6 s with a_max 2.5, v_max 0.6 and j_max 30: notch and
+// multi_notch were infeasible at 3.6 m/s^2 (0.6^2 / 0.1), and optimal with v_max 0.5.
+TEST(PathPlan, ASpeedCapKeepsTheNormalAccelerationOnATightArc) {
+  const PlanarPath path = track(0.1);
+  const Format f = format_for(path, 1.6);
+  PlanOptions o = quiet_options();
+  o.limits.a_max = 2.5;
+  o.limits.v_max = 0.6;
+  o.limits.j_max = 30.0;
+  for (Strategy s : {Strategy::kNotch, Strategy::kMultiNotch}) {
+    const PlanResult r = plan_on_path(f, path, s, o);
+    ASSERT_EQ(r.status, SolveStatus::kOptimal) << to_string(s) << ": " << r.message;
+    ASSERT_TRUE(r.durations.has_value());
+    EXPECT_NE(r.message.find("(its speed held to 0.5 m/s so that the normal acceleration on the "
+                             "arcs keeps limits.a_max = 2.5 m/s^2)"),
+              std::string::npos)
+        << r.message;
+    EXPECT_LE(
+        sampled_total_acceleration(*r.durations, path.length(), 0.1, 0.2, 0.2 + 0.1 * kPi / 2),
+        2.5 * (1.0 + 1e-6))
+        << to_string(s);
+    EXPECT_LE(r.prediction.kinematics.v_peak, 0.5 * (1.0 + 1e-9)) << to_string(s);
+  }
 }
 
 }  // namespace test_path_plan

@@ -334,6 +334,59 @@ TEST(SpatialSimulate, CliPlainCsvEqualsTheJsonTrajectoryAndNamesABadLine) {
   EXPECT_EQ(e["error"]["field"], "--trajectory");
   EXPECT_EQ(e["error"]["message"], "--trajectory " + (dir / "bad.csv").string() +
                                        " line 3: x_mm = \"nan\" must be a finite number");
+
+  // A sample the checks of the motion refuse is named by its line of the file, not by the
+  // request's format.motion (which the user did not write): a row repeated on line 5, after a
+  // blank line 3, is sample 2.
+  test::write_file(dir / "repeat.csv", "t_s,x_mm,y_mm\n0,0,0\n\n0.004,0,0\n0.004,0,0\n" +
+                                           std::string("0.008,0,0\n0.012,0,0\n"));
+  const test::RunResult repeat =
+      test::run_slosh({"simulate", "--request", (dir / "request.json").string(), "--trajectory",
+                       (dir / "repeat.csv").string()});
+  EXPECT_EQ(repeat.exit_code, 2);
+  const json r = json::parse(repeat.err);
+  EXPECT_EQ(r["error"]["field"], "--trajectory");
+  EXPECT_EQ(r["error"]["message"].get<std::string>().rfind(
+                "--trajectory " + (dir / "repeat.csv").string() +
+                    " line 5 (sample 2, from 0): t_s[2] = 0.004 s must be ",
+                0),
+            0U)
+      << r["error"]["message"];
+}
+
+// One sample out of line with its neighbours (a logger's extra sample 1 ns after another and
+// 1 um off) makes the samples' spline accelerate beyond anything the models describe: the
+// refusal names that sample and the acceleration (it said only "outside what the model
+// describes").
+TEST(SpatialSimulate, ADivergingTrajectoryIsRefusedAtItsSample) {
+  std::vector<double> t, x, y;
+  for (int i = 0; i <= 600; ++i) {
+    t.push_back(i * 0.002);
+    x.push_back(150.0 * (1.0 - std::cos(kPi * t.back() / 1.2)));
+    y.push_back(0.0);
+    if (i == 300) {
+      t.push_back(0.600000001);
+      x.push_back(x.back() + 1e-3);
+      y.push_back(0.0);
+    }
+  }
+  json request{{"format",
+                {{"container", {{"radius_mm", 48.5}, {"height_mm", 150}}},
+                 {"fill_height_mm", 82},
+                 {"fluid", "water"},
+                 {"motion", {{"type", "trajectory"}, {"t_s", t}, {"x_mm", x}, {"y_mm", y}}}}}};
+  Server server;
+  ASSERT_GT(server.port(), 0) << server.log();
+  const json e = post(server, "/v1/simulate", request, 422)["error"];
+  const std::string field = e["field"];
+  EXPECT_TRUE(field == "format.motion.x_mm[300]" || field == "format.motion.x_mm[301]") << field;
+  const std::string message = e["message"];
+  EXPECT_EQ(message.rfind(field + ": the ", 0), 0U) << message;
+  EXPECT_NE(message.find(" diverges for this motion on this format: the motion is outside what "
+                         "the model describes (the samples' spline accelerates at "),
+            std::string::npos)
+      << message;
+  EXPECT_NE(message.find(" m/s^2 horizontally there, t = 0.6"), std::string::npos) << message;
 }
 
 // The models take a trajectory at rest before its first sample and after its last: one that

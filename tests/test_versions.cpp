@@ -81,7 +81,7 @@ TEST(Versions, TheRecipeKeyIsTheDigestOfTheCanonicalTextWithTheSloshVersion) {
       R"("objective":"motion","p_notch":0.15,"plateau_min_s":[0.0,0.0],"residual":0.05,)"
       R"("rest_time_s":1.0,"shaper":"zv","solver":"auto","tol_rel":0.2,"v_max":null,)"
       R"("weights":[1.0,1.0,1.0]},"slosh_version":")" +
-      std::string(kVersion) + R"(","strategy":"multi_notch","version":"plan-v17"})";
+      std::string(kVersion) + R"(","strategy":"multi_notch","version":"plan-v18"})";
   EXPECT_EQ(api::canonical_recipe(request).dump(), expected);
   EXPECT_EQ(api::recipe_key(request), sha256_32(expected));
   // Planned by another version: the same recipe, another key.

@@ -29,8 +29,8 @@ namespace mr = min_time_ranges;
 // plan-v11 too); v6: a T_min whose plan is not optimal by its warnings (it spills, ...) makes the
 // strategy acceptable and wins the headline only when no T_min plan is optimal (plan-v12 too);
 // v7: so does a T_min met on a rectangular tank's linear figures standing in for the nonlinear
-// model, and a plan past its budget is time_limit; v8: the plans of plan-v17.
-constexpr const char* kMinTimeVersion = "min-time-v8";
+// model, and a plan past its budget is time_limit; v8: the plans of plan-v17; v9: of plan-v18.
+constexpr const char* kMinTimeVersion = "min-time-v9";
 /// Version of the search along an arc or a path, in those keys only (the line's keys unchanged).
 // v2: the scan's step grows geometrically far from the limits (path_scan_step).
 // v3: a spectral law's better mirror along the path.
@@ -39,7 +39,8 @@ constexpr const char* kMinTimeVersion = "min-time-v8";
 // v6: as min-time-v6, and a rectangular tank's time_domain plans optimise along the path.
 // v7: as min-time-v7, and the spectral strategies keep a_max on the total acceleration.
 // v8: as min-time-v8.
-constexpr const char* kMinTimePathVersion = "min-time-path-v8";
+// v9: as min-time-v9, the plans of path-v12.
+constexpr const char* kMinTimePathVersion = "min-time-path-v9";
 
 /// Members of a min-time request's format (a plan's format without motion_time_s).
 const std::vector<std::string_view> kFormatMembers{"container", "fill_height_mm", "fluid",

@@ -36,16 +36,19 @@ namespace {
 /// (modal_sum_not_converged), and a plan past its budget is time_limit. plan-v17: a turned
 /// tank's design over both directions that is not usable, or sloshes more than the uniform law,
 /// gives way to a direction's own design that is neither, and two first modes within 0.1 % of
-/// each other are notched double.
-constexpr const char* kPlannerVersion = "plan-v17";
+/// each other are notched double. plan-v18: a turned tank's design over both directions that
+/// rests above the uniform law gives way to a direction's own design that rests lower.
+constexpr const char* kPlannerVersion = "plan-v18";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;
 /// path-v7: objective rest's runs again from the solver's nearest evaluation, and a budget that
 /// ends returns only admissible laws as such; path-v8: worse_than_baseline and auto's ranking on
 /// one model, as plan-v14; path-v9: the steepness warning per direction, as plan-v15; path-v10:
 /// the spectral strategies keep a_max on the total acceleration, and the yaw warning finds the
-/// peak inside a smooth law's piece; path-v11: as plan-v17.
-constexpr const char* kPathPlannerVersion = "path-v11";
+/// peak inside a smooth law's piece; path-v11: as plan-v17; path-v12: as plan-v18, a spectral
+/// law's speed held where the normal acceleration alone breaks a_max, and no law verified once
+/// the budget is spent (the uniform law stands in).
+constexpr const char* kPathPlannerVersion = "path-v12";
 /// Spectrum grid of the response: 0 .. kSpectrumMaxF1 f1 in kSpectrumPoints points (SPEC §6).
 constexpr double kSpectrumMaxF1 = 5.0;
 constexpr int kSpectrumPoints = 512;

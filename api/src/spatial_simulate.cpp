@@ -2,8 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
 #include <optional>
+#include <sstream>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "slosh/api/error.hpp"
@@ -77,6 +80,38 @@ double peak_horizontal_acceleration(const SpatialMotion& motion, const PlanarDri
     }
   }
   return peak;
+}
+
+/// The refusal of a motion on which a model diverged (`model`: "the nonlinear planar sloshing
+/// model", …). A trajectory's is named by its sample of largest horizontal acceleration (the
+/// spline's, which peaks at a sample), with the figure: one sample out of line with its
+/// neighbours (a logger's extra sample 1 ns after another and 1 um off) makes the spline
+/// accelerate at 1e6 m/s^2 and more there, and the refusal said only "outside what the model
+/// describes".
+[[noreturn]] void refuse_diverging_motion(const SpatialMotion& motion, const std::string& model) {
+  const std::string head =
+      model +
+      " diverges for this motion on this format: the motion is outside what the model describes";
+  if (!motion.trajectory) invalid(join_path("format", "motion"), head);
+  const SampledTrajectory& tr = *motion.trajectory;
+  const std::vector<double>& t = tr.samples().t;
+  std::size_t at = 0;
+  double peak = -1.0;
+  bool along_x = true;
+  for (std::size_t i = 0; i < t.size(); ++i) {
+    const PlanarKinematics k = tr.at(std::min(i, t.size() - 2), t[i]);
+    const double a = std::hypot(k.ax, k.ay);
+    if (a > peak || !std::isfinite(a)) {
+      peak = a;
+      at = i;
+      along_x = !(std::abs(k.ay) > std::abs(k.ax));
+      if (!std::isfinite(a)) break;
+    }
+  }
+  const std::string field =
+      "format.motion." + std::string(along_x ? "x_mm" : "y_mm") + "[" + std::to_string(at) + "]";
+  invalid(field, field + ": " + head + " (the samples' spline accelerates at " + number_text(peak) +
+                     " m/s^2 horizontally there, t = " + number_text(t[at]) + " s)");
 }
 
 /// A trajectory that starts or ends moving: the models take it at rest before its first sample and
@@ -211,10 +246,8 @@ nlohmann::json run_rectangular(const SpatialSimulateRequest& spatial, const Moti
   for (const auto& [name, p] :
        {std::pair{"nonlinear", &nonlinear.peaks}, std::pair{"linear", &linear}}) {
     if (!std::isfinite(p->highest.motion.value) || !std::isfinite(p->highest.rest.value)) {
-      invalid(join_path("format", "motion"),
-              std::string("the ") + name +
-                  " sloshing model of the rectangular tank diverges for this motion on this "
-                  "format: the motion is outside what the model describes");
+      refuse_diverging_motion(
+          motion, std::string("the ") + name + " sloshing model of the rectangular tank");
     }
   }
   nlohmann::json out = motion_echo(request, motion, drive, law, seven);
@@ -320,10 +353,7 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   const PlanarPeaks nonlinear = planar_nonlinear_peaks(model, drive, rest);
   for (const auto& [name, p] : {std::pair{"nonlinear", &nonlinear}, {"linear", &linear}}) {
     if (!std::isfinite(p->motion.value) || !std::isfinite(p->rest.value)) {
-      invalid(join_path("format", "motion"),
-              std::string("the ") + name +
-                  " planar sloshing model diverges for this motion on this format: the motion is "
-                  "outside what the model describes");
+      refuse_diverging_motion(motion, std::string("the ") + name + " planar sloshing model");
     }
   }
   nlohmann::json out = motion_echo(request, motion, drive, law, seven);
@@ -347,6 +377,44 @@ nlohmann::json run_spatial_simulate(const SpatialSimulateRequest& spatial) {
   return out;
 }
 
+namespace {
+
+/// The line of each sample of a trajectory CSV, 1-based: the header is line 1, and blank lines
+/// (after a trailing carriage return) hold no sample, as the readers skip them.
+std::vector<std::size_t> sample_lines(const std::string& text) {
+  std::vector<std::size_t> lines;
+  std::size_t line = 0, begin = 0;
+  while (begin < text.size()) {
+    std::size_t end = text.find('\n', begin);
+    if (end == std::string::npos) end = text.size();
+    ++line;
+    std::size_t length = end - begin;
+    if (length > 0 && text[begin + length - 1] == '\r') --length;
+    if (line > 1 && length > 0) lines.push_back(line);
+    begin = end + 1;
+  }
+  return lines;
+}
+
+/// The index i of a field "format.motion.<column>[i]", or nullopt.
+std::optional<std::size_t> sample_index(const std::string& field) {
+  constexpr std::string_view kMotionPrefix{"format.motion."};
+  if (!field.starts_with(kMotionPrefix)) return std::nullopt;
+  const std::size_t open = field.find('[', kMotionPrefix.size());
+  const std::size_t close = field.find(']', open);
+  if (open == std::string::npos || close != field.size() - 1 || close == open + 1) {
+    return std::nullopt;
+  }
+  std::size_t i = 0;
+  for (std::size_t k = open + 1; k < close; ++k) {
+    if (field[k] < '0' || field[k] > '9') return std::nullopt;
+    i = 10 * i + static_cast<std::size_t>(field[k] - '0');
+  }
+  return i;
+}
+
+}  // namespace
+
 std::string simulate_trajectory_reply(std::string_view request, std::istream& csv,
                                       const std::string& source) {
   nlohmann::json body = parse_json_body(request);
@@ -354,16 +422,31 @@ std::string simulate_trajectory_reply(std::string_view request, std::istream& cs
     invalid("--trajectory",
             "--trajectory and the request's format.motion both give the motion: give one of them");
   }
+  const std::string text{std::istreambuf_iterator<char>(csv), std::istreambuf_iterator<char>()};
+  std::istringstream in(text);
   TrajectorySamples samples;
   try {
-    samples = read_trajectory_csv(csv, source);
+    samples = read_trajectory_csv(in, source);
   } catch (const InvalidMotion& e) {
     invalid("--trajectory", "--trajectory " + std::string(e.what()));
   }
   if (body.is_object() && body.contains("format") && body["format"].is_object()) {
     body["format"]["motion"] = trajectory_motion_json(samples);
   }
-  return dump_json(simulate_response(body), 2);
+  try {
+    return dump_json(simulate_response(body), 2);
+  } catch (const ApiError& e) {
+    // A sample the checks refuse is the file's: named by its line, not by the request's
+    // format.motion the file was turned into.
+    const std::optional<std::size_t> i = sample_index(e.field());
+    const std::vector<std::size_t> lines = i ? sample_lines(text) : std::vector<std::size_t>{};
+    if (!i || *i >= lines.size()) throw;
+    std::string message = e.what();
+    if (message.starts_with("format.motion.")) message.erase(0, 14);
+    throw ApiError(e.code(), "--trajectory",
+                   "--trajectory " + source + " line " + std::to_string(lines[*i]) + " (sample " +
+                       std::to_string(*i) + ", from 0): " + message);
+  }
 }
 
 }  // namespace slosh::api

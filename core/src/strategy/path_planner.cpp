@@ -236,7 +236,8 @@ bool better_mirror(const PathContext& c, const PathPrediction& a, const Duration
 /// Along a path, where the normal acceleration tells them apart, both are verified and the better
 /// is kept: neighbouring times give the same law.
 void keep_better_mirror(const PathContext& c, PathOutcome& o) {
-  if (!mirror_blind(o.plan.strategy) || !o.plan.durations) return;
+  // Each verification integrates the whole motion: none is begun once the budget is spent.
+  if (!mirror_blind(o.plan.strategy) || !o.plan.durations || c.deadline.expired()) return;
   const Durations& own = *o.plan.durations;
   Durations mirrored;
   std::reverse_copy(own.begin(), own.end(), mirrored.begin());
@@ -276,14 +277,28 @@ bool keeps_total_acceleration(const PathContext& c, const MotionLaw& law) {
   return path_acceleration(c.path, law).total <= *c.options.limits.a_max * (1.0 + kLimitSlack);
 }
 
-/// A strategy's plan on the line, its tangential acceleration held low enough that the total
+/// The largest curvature of the path's arcs [1/m] (0 for lines only).
+double largest_curvature(const PlanarPath& path) {
+  double kappa = 0.0;
+  for (std::size_t e = 0; e < path.elements().size(); ++e) {
+    kappa = std::max(kappa, std::abs(path.curvature(e)));
+  }
+  return kappa;
+}
+
+/// A strategy's plan on the line, held so that the total horizontal acceleration
 /// sqrt(s''^2 + (s'^2/rho)^2) along the path keeps limits.a_max. The line's plan bounds s'' alone
 /// by a_max; on an arc the normal part adds to it, so a law the line admits can break the limit
-/// that a law of the same strategy with lower plateaus keeps (multi_notch on a 90 degree index of
-/// a 300 mm table at 1.2 s: 2.21 m/s^2 against a_max = 2, where notch keeps it). The line is then
-/// planned again with a_max scaled by a factor: first by a_max / total, shrunk the same way while
-/// the total breaks the limit, then the largest factor that keeps it (bisection), so the strategy's
-/// own objective loses as little as it must. `note` says what the tangential limit became.
+/// that a law of the same strategy keeps (multi_notch on a 90 degree index of a 300 mm table at
+/// 1.2 s: 2.21 m/s^2 against a_max = 2, where notch keeps it). Where the normal part alone breaks
+/// it, the speed is what must come down, and lower accelerations over the same time and stroke
+/// only raise it: the line is planned again with v_max at sqrt(a_max / kappa_max), at which the
+/// normal part keeps the limit on every arc (a 100 mm arc at 1.6 s with v_max 0.6 m/s: notch
+/// infeasible at 3.6 m/s^2 against 2.5, optimal with that speed). Where the total still breaks
+/// it, the line is planned again with a_max scaled by a factor: first by a_max / total, shrunk
+/// the same way while the total breaks the limit, then the largest factor that keeps it
+/// (bisection), so the strategy's own objective loses as little as it must. `note` says what the
+/// limits became.
 PlanResult plan_keeping_total_acceleration(const PathContext& c, Strategy s, std::string& note) {
   PlanResult first = plan(c.format, s, remaining_budget(c));
   const std::optional<double>& a_max = c.options.limits.a_max;
@@ -292,10 +307,31 @@ PlanResult plan_keeping_total_acceleration(const PathContext& c, Strategy s, std
       keeps_total_acceleration(c, first.law)) {
     return first;
   }
+  std::optional<double> v_cap;
+  std::string speed_note;
+  if (path_acceleration(c.path, first.law).normal > *a_max * (1.0 + kLimitSlack)) {
+    const double cap = std::sqrt(*a_max / largest_curvature(c.path));
+    const std::optional<double>& v_max = c.options.limits.v_max;
+    PlanOptions o = remaining_budget(c);
+    o.limits.v_max = v_max ? std::min(*v_max, cap) : cap;
+    PlanResult r = plan(c.format, s, o);
+    if (r.usable() && r.status != SolveStatus::kTimeLimit) {
+      v_cap = o.limits.v_max;
+      speed_note = "its speed held to " + sig3(*v_cap) +
+                   " m/s so that the normal acceleration on the arcs keeps limits.a_max = " +
+                   detail::precise(*a_max) + " m/s^2";
+      if (keeps_total_acceleration(c, r.law)) {
+        note = speed_note;
+        return r;
+      }
+      first = std::move(r);
+    }
+  }
   constexpr int kShrinks{6}, kBisections{5};
-  auto plan_at = [&c, s, &a_max](double factor) {
+  auto plan_at = [&c, s, &a_max, &v_cap](double factor) {
     PlanOptions o = remaining_budget(c);
     o.limits.a_max = factor * *a_max;
+    if (v_cap) o.limits.v_max = v_cap;
     return plan(c.format, s, o);
   };
   std::optional<PlanResult> kept;
@@ -324,9 +360,36 @@ PlanResult plan_keeping_total_acceleration(const PathContext& c, Strategy s, std
       breaks = mid;
     }
   }
-  note = "its tangential acceleration held to " + sig3(keeps * *a_max) +
+  note = (speed_note.empty() ? std::string() : speed_note + ", and ") +
+         "its tangential acceleration held to " + sig3(keeps * *a_max) +
          " m/s^2 so that the total keeps limits.a_max = " + detail::precise(*a_max) + " m/s^2";
   return std::move(*kept);
+}
+
+/// `s`'s outcome `o` when the budget ran out before its law was verified along the path (a
+/// verification integrates the whole motion, 0.4-0.9 s along 10 000 arcs over 60 s): the
+/// uniform law, verified already, stands in, time_limit.
+PathOutcome uniform_in_its_place(const PathContext& c, Strategy s, PathOutcome o) {
+  const SevenSegmentLaw law(uniform_durations(c.format.motion_time), c.format.stroke);
+  PlanResult& r = o.plan;
+  r.status = SolveStatus::kTimeLimit;
+  r.durations = uniform_durations(c.format.motion_time);
+  r.law = law.law();
+  r.A = law.A();
+  r.B = law.B();
+  r.design.reset();
+  r.move_absolute.reset();
+  if (c.options.drive_profile == DriveProfile::kMoveAbsolute) {
+    r.move_absolute = move_absolute_profile(*r.durations, c.format.stroke);
+  }
+  r.prediction.kinematics = r.law.summary();
+  o.prediction = c.uniform;
+  o.model_warning = c.uniform_warning;
+  o.detail = "the budget ran out before " + to_string(s) +
+             "'s law was verified along the path (each verification integrates the whole "
+             "motion): the uniform law, verified already, stands in";
+  verify_on_path(c, o, false);
+  return o;
 }
 
 PathOutcome run_tangential(const PathContext& c, Strategy s) {
@@ -337,6 +400,7 @@ PathOutcome run_tangential(const PathContext& c, Strategy s) {
   // tank's verification also names its model's range), so a long path is not verified twice.
   const bool uniform = s == Strategy::kBaseline && !c.tank &&
                        o.plan.durations == uniform_durations(c.format.motion_time);
+  if (!uniform && c.deadline.expired()) return uniform_in_its_place(c, s, std::move(o));
   o.prediction = uniform ? c.uniform : c.predict(o.plan.law, &o.model_warning);
   keep_better_mirror(c, o);
   if (s != Strategy::kBaseline) {
