@@ -29,7 +29,8 @@ namespace mr = min_time_ranges;
 // plan-v11 too); v6: a T_min whose plan is not optimal by its warnings (it spills, ...) makes the
 // strategy acceptable and wins the headline only when no T_min plan is optimal (plan-v12 too);
 // v7: so does a T_min met on a rectangular tank's linear figures standing in for the nonlinear
-// model, and a plan past its budget is time_limit; v8: the plans of plan-v17; v9: of plan-v18.
+// model, and a plan past its budget is time_limit; v8: the plans of plan-v17; v9: of plan-v18,
+// and a bound the budget left is judged as a T_min (its linear figures standing in).
 constexpr const char* kMinTimeVersion = "min-time-v9";
 /// Version of the search along an arc or a path, in those keys only (the line's keys unchanged).
 // v2: the scan's step grows geometrically far from the limits (path_scan_step).

@@ -37,7 +37,10 @@ namespace {
 /// tank's design over both directions that is not usable, or sloshes more than the uniform law,
 /// gives way to a direction's own design that is neither, and two first modes within 0.1 % of
 /// each other are notched double. plan-v18: a turned tank's design over both directions that
-/// rests above the uniform law gives way to a direction's own design that rests lower.
+/// rests above the uniform law gives way to a direction's own design that rests lower, an
+/// unusable one to an unusable own design that rests lower, a spectral law on a turned tank is
+/// weighed against its mirror, and auto's candidates that slosh more than the uniform law are
+/// not optimal.
 constexpr const char* kPlannerVersion = "plan-v18";
 /// Version of the numerics of plans along an arc or a path (in their keys only). path-v6: the
 /// reductions on one model and the uniform law's out-of-range warning along a path, as plan-v13;

@@ -809,6 +809,46 @@ bool ranks_before(const Design& a, const Design& b) {
   return a.rest() < b.rest() || (std::isfinite(a.rest()) && !std::isfinite(b.rest()));
 }
 
+/// The lower eta_rest of a verified verification (nominal, or the worst over the range), on the
+/// linear model where the tank's nonlinear model holds for only one of the two.
+bool rests_lower(const Verification& a, const Verification& b) {
+  const LawPrediction& pa = judged(a.range, a.prediction);
+  const LawPrediction& pb = judged(b.range, b.prediction);
+  const bool linear = a.out_of_range.empty() != b.out_of_range.empty();
+  return linear ? pa.linear.rest.value < pb.linear.rest.value
+                : pa.nonlinear.rest.value < pb.nonlinear.rest.value;
+}
+
+/// A spectral law and its mirror (its durations reversed) reach the same objective: |X| and the
+/// jerk do not see the direction of time, so which of the two a solve returns turns on the last
+/// digits of its inputs. On a turned tank the two directions' waves add at the corners with
+/// phases the mirror changes (multi_notch on the README's cup flipped between the two across
+/// 1e-12 degree, eta_rest 0.857 and 0.936 mm): both are verified on the tank and the one that
+/// rests lower is kept, the one whose durations compare lower on a tie. `v` is `o`'s
+/// verification.
+void keep_better_mirror(const detail::StrategyContext& c, Outcome& o, Verification& v) {
+  const Strategy s = o.strategy;
+  const bool mirror_blind =
+      s == Strategy::kNotch || s == Strategy::kMultiNotch || s == Strategy::kMinJerkBand;
+  if (!mirror_blind || !o.durations || !finite_verification(v) || c.deadline.expired()) return;
+  Durations mirrored;
+  std::reverse_copy(o.durations->begin(), o.durations->end(), mirrored.begin());
+  if (mirrored == *o.durations) return;
+  Outcome m = o;
+  m.durations = mirrored;
+  m.law = SevenSegmentLaw(mirrored, c.format.stroke).law();
+  m.verification.reset();
+  Verification mv = verification_of(c, m);
+  if (!finite_verification(mv)) return;
+  const bool better = rests_lower(mv, v) ||
+                      (!rests_lower(v, mv) &&
+                       std::lexicographical_compare(mirrored.begin(), mirrored.end(),
+                                                    o.durations->begin(), o.durations->end()));
+  if (!better) return;
+  o = std::move(m);
+  v = std::move(mv);
+}
+
 /// The design for `direction` alone: the law the strategy gives on that direction's axis (the
 /// context of `c` with that direction's model and set_directions left out), verified on the tank.
 Design own_design(const detail::StrategyContext& c, Strategy s, const DrivenDirection& direction,
@@ -822,6 +862,7 @@ Design own_design(const detail::StrategyContext& c, Strategy s, const DrivenDire
   detail::set_references(own, c.eta_ref);
   Outcome o = run_design(own, s, {});
   Verification v = verification_of(own, o);
+  keep_better_mirror(own, o, v);
   return ranked(std::move(o), std::move(v),
                 direction.axis == TankAxis::kLength ? "length" : "width", guard);
 }
@@ -829,12 +870,24 @@ Design own_design(const detail::StrategyContext& c, Strategy s, const DrivenDire
 /// Whether `d` rests above the reference law of `guard` (the uniform law) on the tank: its
 /// nominal eta_rest on the nonlinear model, on the linear one where the tank's nonlinear model
 /// holds for only one of the two laws (as worse_than_baseline compares them).
-bool rests_above_reference(const Design& d, const GuardReference& guard) {
-  const bool linear_only = d.verification.out_of_range.empty() != guard.nonlinear_in_range;
+/// The nominal eta_rest of `d` and of the reference law of `guard` [m] as they are compared: on
+/// the nonlinear model, on the linear one (`linear`) where the tank's nonlinear model holds for
+/// only one of the two laws (as worse_than_baseline compares them).
+struct RestComparison {
+  double own{}, reference{};
+  bool linear{false};
+};
+RestComparison rest_comparison(const Design& d, const GuardReference& guard) {
+  const bool linear = d.verification.out_of_range.empty() != guard.nonlinear_in_range;
   const LawPrediction& p = d.verification.prediction;
   const LawPrediction& ref = guard.prediction;
-  return linear_only ? p.linear.rest.value > ref.linear.rest.value
-                     : p.nonlinear.rest.value > ref.nonlinear.rest.value;
+  return linear ? RestComparison{p.linear.rest.value, ref.linear.rest.value, true}
+                : RestComparison{p.nonlinear.rest.value, ref.nonlinear.rest.value, false};
+}
+
+bool rests_above_reference(const Design& d, const GuardReference& guard) {
+  const RestComparison c = rest_comparison(d, guard);
+  return c.own > c.reference;
 }
 
 /// Why `own`, designed for one direction alone, is the plan's law rather than `both`.
@@ -843,6 +896,12 @@ std::string why_alone(const Design& own, const Design& both, const GuardReferenc
   const std::string head = std::string("designed for the ") + own.alone +
                            "'s first mode alone (the law this strategy gives along the " +
                            own.alone + ", which does not act on the " + other + "'s first mode): ";
+  if (both.rank == 2 && own.rank == 2) {
+    return head + "neither it nor the design over both directions is usable on the tank, and it " +
+           "rests lower: on the tank at " + sig3(own.rest() * 1e3) +
+           " mm, the design over both directions (" + to_string(both.outcome.status) + ") at " +
+           sig3(both.rest() * 1e3) + " mm";
+  }
   if (both.rank == 2 && own.rank < 2) {
     // Why: an optimiser's detail is its violation; a filter's ends with it.
     const std::string& d = both.outcome.detail;
@@ -853,9 +912,12 @@ std::string why_alone(const Design& own, const Design& both, const GuardReferenc
     return head + "the design over both directions is " + to_string(both.outcome.status) +
            " on the tank" + (why.empty() ? "" : " (" + why + ")");
   }
-  const std::string rests = "on the tank it rests at " + sig3(own.rest() * 1e3) +
-                            " mm, the design over both directions at " + sig3(both.rest() * 1e3) +
-                            " mm";
+  // The designs are ranked on the figures they are judged by: the worst over the uncertainty
+  // range when one is given.
+  const std::string rests =
+      "on the tank it rests at " + sig3(own.rest() * 1e3) +
+      " mm, the design over both directions at " + sig3(both.rest() * 1e3) + " mm" +
+      (both.verification.range ? " (each its worst over the uncertainty range)" : "");
   if (both.rank == 1 && own.rank == 0) {
     return head +
            "the design over both directions sloshes more than the uniform law on the tank (its "
@@ -863,14 +925,13 @@ std::string why_alone(const Design& own, const Design& both, const GuardReferenc
            rests;
   }
   if (both.rank == 0 && rests_above_reference(both, guard)) {
+    // The nominal figures, as the uniform law has no others here.
     const std::string reference = guard.uniform ? "the uniform law" : "baseline's law";
-    return head + "the design over both directions rests above " + reference + " on the tank; " +
-           rests + ", " + reference + " at " +
-           sig3((both.verification.out_of_range.empty() != guard.nonlinear_in_range
-                     ? guard.prediction.linear.rest.value
-                     : guard.prediction.nonlinear.rest.value) *
-                1e3) +
-           " mm";
+    const RestComparison c = rest_comparison(both, guard);
+    return head + "the design over both directions rests above " + reference +
+           " on the tank (nominal eta_rest " + sig3(c.own * 1e3) + " mm against " +
+           sig3(c.reference * 1e3) + " mm" + (c.linear ? ", on the linear model" : "") + "); " +
+           rests;
   }
   return head + rests;
 }
@@ -892,6 +953,7 @@ Outcome best_of_designs(const detail::StrategyContext& c, Outcome both,
                         const GuardReference& guard) {
   const Strategy s = both.strategy;
   Verification v = verification_of(c, both);
+  keep_better_mirror(c, both, v);
   std::vector<Design> designs;
   designs.push_back(ranked(std::move(both), std::move(v), nullptr, guard));
   if (designs.front().rank == 0 && !rests_above_reference(designs.front(), guard)) {
@@ -906,9 +968,14 @@ Outcome best_of_designs(const detail::StrategyContext& c, Outcome both,
   // Only a proper plan replaces the design over both: a direction's own design that is usable
   // and no worse than the uniform law (where none is, the design over both stays, and with it
   // the plan's continuity with the orientation).
+  // An unusable design over both also gives way to an unusable own design that rests lower
+  // (infeasible either way): min_jerk_band over both directions of a 200 x 60 mm tray at 15
+  // degrees rested at 15.1 mm, its length's own law (its band out of reach too) at 2.9 mm.
+  const bool both_unusable = designs.front().rank == 2;
   std::size_t best = 0;
   for (std::size_t k = 1; k < designs.size(); ++k) {
-    if (designs[k].rank == 0 && ranks_before(designs[k], designs[best])) best = k;
+    const bool qualifies = designs[k].rank == 0 || (both_unusable && designs[k].rank == 2);
+    if (qualifies && ranks_before(designs[k], designs[best])) best = k;
   }
   Design& kept = designs[best];
   for (std::size_t k = 0; k < designs.size(); ++k) {
@@ -996,6 +1063,14 @@ Selection run_single(const detail::StrategyContext& c, Strategy strategy,
     s.worse = worse_than_baseline(s.prediction, baseline, s.out_of_range.empty());
   }
   return s;
+}
+
+/// As the strategy's own plan says (SPEC §5): a candidate that sloshes more than the uniform law
+/// (its worse_than_baseline warning) is not optimal.
+void not_optimal_when_worse(PlanCandidate& k) {
+  if (!k.worse_than_baseline.empty() && k.status == SolveStatus::kOptimal) {
+    k.status = SolveStatus::kAcceptable;
+  }
 }
 
 /// Whether a candidate competes in choose_auto: usable, and not worse than the uniform law while
@@ -1369,6 +1444,7 @@ Selection run_auto(const detail::StrategyContext& c, const GuardReference& basel
     if (o.strategy != Strategy::kBaseline) {
       cand.worse_than_baseline = worse_than_baseline(cand.prediction, baseline, why_linear.empty());
     }
+    not_optimal_when_worse(cand);
     worse.push_back(!cand.worse_than_baseline.empty());
     candidates.push_back(std::move(cand));
     kept.push_back(std::move(o));
