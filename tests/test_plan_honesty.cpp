@@ -544,6 +544,15 @@ TEST(PlanHonesty, AFirChainLawThatBreaksTheRampMinimumCarriesNoDurations) {
   EXPECT_FALSE(r.durations.has_value()) << describe(r);
   EXPECT_TRUE(Contains(r.message, "are shorter than min_ramp_s = 0.4 s")) << r.message;
   EXPECT_GT(r.law.duration(), 0.0);
+  // The sentence says which min_ramp_s admits the law, and that one does.
+  const std::string advice = "(a min_ramp_s of at most ";
+  const std::size_t at = r.message.find(advice);
+  ASSERT_NE(at, std::string::npos) << r.message;
+  o.min_ramp = std::stod(r.message.substr(at + advice.size()));
+  EXPECT_TRUE(Contains(r.message, " s admits the law)")) << r.message;
+  const PlanResult admitted = plan(f, Strategy::kFirChain, o);
+  EXPECT_EQ(admitted.status, SolveStatus::kOptimal) << describe(admitted);
+  EXPECT_TRUE(admitted.durations.has_value()) << describe(admitted);
 }
 
 // Regression: a plateau minimum below 1 ns gave a 2e-10 s plateau, which the

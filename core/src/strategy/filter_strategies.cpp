@@ -39,6 +39,16 @@ std::string limit_violation(const MachineLimits& lim, double a_peak, double v_pe
 
 namespace {
 
+/// v > 0 rounded down to 3 significant digits, as text: a bound that the value keeps.
+std::string sig3_below(double v) {
+  const double scale = std::pow(10.0, 2.0 - std::floor(std::log10(v)));
+  return sig3(std::floor(v * scale) / scale);
+}
+
+}  // namespace
+
+namespace {
+
 /// Relative slack of the limit checks (round-off of the closed forms) [-].
 constexpr double kLimitSlack{1e-9};
 
@@ -267,14 +277,17 @@ FilterOutcome fir_chain_of(const StrategyContext& c, double T1, double T2, doubl
   std::string broken;
   if (T3 < c.options.min_ramp * (1.0 - kLimitSlack)) {
     broken = "its ramps T3 = " + sig3(T3) +
-             " s are shorter than min_ramp_s = " + sig3(c.options.min_ramp) + " s";
+             " s are shorter than min_ramp_s = " + sig3(c.options.min_ramp) +
+             " s (a min_ramp_s of at most " + sig3(T3) + " s admits the law)";
   } else if (d[1] < c.options.plateau_min[0] * (1.0 - kLimitSlack) ||
              d[5] < c.options.plateau_min[1] * (1.0 - kLimitSlack)) {
     broken = "its plateaus T2 - T3 = " + sig3(d[1]) + " s are shorter than plateau_min_s = [" +
-             sig3(c.options.plateau_min[0]) + ", " + sig3(c.options.plateau_min[1]) + "] s";
+             sig3(c.options.plateau_min[0]) + ", " + sig3(c.options.plateau_min[1]) +
+             "] s (plateau_min_s of at most " + sig3_below(std::min(d[1], d[5])) +
+             " s admits the law)";
   } else if (c.options.fix_constant_velocity_zero && d[3] > 1e-9 * T) {
     broken = "its constant-velocity segment is " + sig3(d[3]) +
-             " s but fix_constant_velocity_zero is set";
+             " s but fix_constant_velocity_zero is set (without it the law is admitted)";
   }
   if (!broken.empty()) {
     // SPEC §5: no durations that break the admissibility rules; the law is still reported.
